@@ -1,0 +1,103 @@
+#pragma once
+// The evaluator: pull-based, lazy, content-addressed, parallel.
+//
+// evaluate() computes the cache key of every node upstream of the request (from type, version, canonical
+// parameters, input keys and domain, without computing anything), then walks back from the requested nodes
+// and stops at every key found in the memory or disk cache. Only the remaining nodes run, on a oneTBB
+// arena: independent branches concurrently, each node as soon as its inputs are ready. A failure skips the
+// failed node's downstream only; cancellation stops at the next check and caches no partial result.
+#include <chrono>
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "evaluator/cache_key.h"
+#include "graph/cancel.h"
+#include "graph/graph.h"
+#include "graph/output_path.h"
+#include "graph/port_value.h"
+
+namespace orogen {
+
+struct EvaluatorOptions {
+  int threads = 0;                                 // 0: all cores
+  std::size_t cache_bytes = std::size_t(2) << 30;  // in-memory LRU bound (2 GiB)
+  std::filesystem::path cache_dir;                 // empty: no persistent cache
+  OutputPolicy output;                             // where writer nodes may write
+};
+
+enum class NodeStatus { Pending, Computed, Cached, Failed, Skipped, Cancelled };
+std::string_view to_string(NodeStatus s);
+
+struct NodeReport {
+  NodeStatus status = NodeStatus::Pending;
+  double milliseconds = 0.0;   // compute time (0 for cached)
+  std::size_t output_bytes = 0;
+  std::string message;         // failure reason, or the upstream node that failed for Skipped
+  CacheKey key;
+};
+
+struct EvalEvent {
+  enum class Kind { Started, Progress, Finished, Cached, Failed, Skipped, Cancelled };
+  Kind kind = Kind::Started;
+  std::string node;
+  double fraction = 0.0;       // Progress
+  double milliseconds = 0.0;   // Finished
+  std::size_t output_bytes = 0;  // Finished, Cached
+  std::string message;         // Failed, Skipped
+};
+using EventCallback = std::function<void(const EvalEvent&)>;  // called from worker threads
+
+struct EvalRequest {
+  Domain domain;
+  // Nodes whose outputs are wanted. Empty: every node that writes files or has no downstream.
+  std::vector<std::string> nodes;
+  const CancelToken* cancel = nullptr;
+  EventCallback on_event;
+};
+
+struct EvalResult {
+  std::map<std::string, NodeReport> nodes;               // every node the request touched
+  std::map<std::string, std::vector<PortValue>> outputs;  // outputs of the requested nodes that succeeded
+  bool cancelled = false;
+  double milliseconds = 0.0;
+  bool ok() const;  // nothing failed and not cancelled
+  // The value of output `port` of `node`, or monostate.
+  PortValue output(const std::string& node, const std::string& port, const Graph& graph) const;
+};
+
+struct CacheStats {
+  std::size_t entries = 0, bytes = 0, capacity = 0;
+  std::size_t hits = 0, misses = 0, disk_hits = 0, disk_rejected = 0, evictions = 0;
+};
+
+// Cache keys of every node in the graph for `domain`; nodes with an invalid input link get no key.
+std::map<std::string, CacheKey> compute_cache_keys(const Graph& graph, const Domain& domain,
+                                                   const OutputPolicy& output = {});
+
+class Evaluator {
+ public:
+  explicit Evaluator(EvaluatorOptions options = {});
+  ~Evaluator();
+  Evaluator(const Evaluator&) = delete;
+  Evaluator& operator=(const Evaluator&) = delete;
+
+  // One evaluation at a time per Evaluator; cancel through request.cancel from any thread.
+  EvalResult evaluate(const Graph& graph, const EvalRequest& request);
+
+  CacheStats cache_stats() const;
+  void clear_memory_cache();
+  void set_output_policy(OutputPolicy policy);
+  const EvaluatorOptions& options() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace orogen

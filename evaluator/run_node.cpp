@@ -1,0 +1,46 @@
+#include "evaluator/run_node.h"
+
+#include <stdexcept>
+
+#include "graph/exec_context.h"
+#include "graph/graph.h"
+#include "graph/registry.h"
+
+namespace orogen {
+
+NodeRun run_node(const std::string& type_name, const Domain& domain, const std::map<std::string, ParamValue>& params,
+                 const std::map<std::string, PortValue>& inputs, const OutputPolicy& output,
+                 const CancelToken* cancel) {
+  const NodeType* type = NodeRegistry::instance().find(type_name);
+  if (!type) throw std::logic_error("run_node: unknown node type '" + type_name + "'");
+  std::vector<ParamValue> values;
+  for (const auto& decl : type->params) {
+    const auto it = params.find(decl.name);
+    if (it == params.end()) {
+      values.push_back(decl.default_value);
+      continue;
+    }
+    if (auto why = decl.check(it->second); !why.empty()) throw GraphError(type_name + "." + decl.name + ": " + why);
+    values.push_back(it->second);
+  }
+  for (const auto& [name, v] : params)
+    if (!type->find_param(name)) throw std::logic_error("run_node: '" + type_name + "' has no parameter '" + name + "'");
+  std::vector<PortValue> in(type->inputs.size());
+  for (const auto& [name, v] : inputs) {
+    const int i = type->input_index(name);
+    if (i < 0) throw std::logic_error("run_node: '" + type_name + "' has no input '" + name + "'");
+    if (has_value(v) && port_type_of(v) != type->inputs[static_cast<std::size_t>(i)].type)
+      throw std::logic_error("run_node: input '" + name + "' has the wrong type");
+    in[static_cast<std::size_t>(i)] = v;
+  }
+  for (std::size_t i = 0; i < type->inputs.size(); ++i)
+    if (!type->inputs[i].optional && !has_value(in[i]))
+      throw NodeError("required input '" + type->inputs[i].name + "' is not connected");
+  ExecContext ctx(*type, type_name, domain, std::move(in), std::move(values));
+  ctx.set_output_policy(output);
+  ctx.set_cancel_token(cancel);
+  type->execute(ctx);
+  return NodeRun{std::move(ctx.outputs())};
+}
+
+}  // namespace orogen

@@ -1,0 +1,31 @@
+#pragma once
+// Runs one node type directly, without a graph or cache: the third front door, for unit tests of single
+// nodes and for library use.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "graph/cancel.h"
+#include "graph/domain.h"
+#include "graph/output_path.h"
+#include "graph/param_value.h"
+#include "graph/port_value.h"
+
+namespace orogen {
+
+struct NodeRun {
+  std::vector<PortValue> outputs;  // by output index
+  template <class T>
+  std::shared_ptr<const T> get(std::size_t index = 0) const {
+    return std::get<std::shared_ptr<const T>>(outputs.at(index));
+  }
+};
+
+// Params not given take their defaults; params are checked like in a graph (GraphError on a bad value).
+// Throws NodeError if the node fails, std::logic_error for unknown names.
+NodeRun run_node(const std::string& type_name, const Domain& domain,
+                 const std::map<std::string, ParamValue>& params = {},
+                 const std::map<std::string, PortValue>& inputs = {}, const OutputPolicy& output = {},
+                 const CancelToken* cancel = nullptr);
+
+}  // namespace orogen

@@ -1,0 +1,60 @@
+#pragma once
+// The graph file: JSON, readable and diff-friendly (see DESIGN.md, "The graph file").
+//
+// Loading reports every problem at once, each with its JSON path and node id, instead of stopping at the
+// first. Files of older format versions are migrated; newer ones are refused.
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "graph/graph.h"
+
+namespace orogen {
+
+inline constexpr int kGraphFormatVersion = 1;
+inline constexpr const char* kGraphFormatName = "orogen-graph";
+
+struct Diagnostic {
+  std::string path;     // JSON pointer of the offending value, e.g. "/nodes/2/params/octaves"
+  std::string node;     // id of the node concerned, or "" for file-level problems
+  std::string message;  // what is wrong, and what would be right
+  std::string str() const;  // "path [node id]: message"
+};
+
+struct LoadResult {
+  std::optional<Graph> graph;  // set only when there are no diagnostics
+  std::vector<Diagnostic> diagnostics;
+  bool ok() const { return graph.has_value(); }
+  std::string error_text() const;  // every diagnostic, one per line
+};
+
+struct LoadOptions {
+  // Accept links to nodes that are not in the file and drop them (pasting a fragment in the editor).
+  bool drop_dangling_links = false;
+};
+
+LoadResult parse_graph(std::string_view json_text, const LoadOptions& options = {});
+LoadResult load_graph_file(const std::filesystem::path& path, const LoadOptions& options = {});
+
+// Pretty-printed, stable JSON: node order as in the graph, only explicitly set parameters.
+std::string serialize_graph(const Graph& graph);
+// Atomic: writes a temporary file beside `path`, then renames it over. Throws std::runtime_error.
+void save_graph_file(const Graph& graph, const std::filesystem::path& path);
+
+// A migration turns a file of format version `from_version` into version from_version + 1, in place.
+using GraphMigration = std::function<void(nlohmann::json& file)>;
+void register_graph_migration(int from_version, GraphMigration migration);
+
+// Parameter values <-> JSON, as used in the "params" object of a node.
+nlohmann::json param_to_json(const ParamValue& value);
+// Converts and checks (type, range, choices); returns nullopt and sets `error` on failure.
+std::optional<ParamValue> param_from_json(const nlohmann::json& j, const ParamDecl& decl, std::string& error);
+// Parses command-line text for `--set node.param=TEXT`: JSON if it parses, else a bare string.
+std::optional<ParamValue> param_from_text(const std::string& text, const ParamDecl& decl, std::string& error);
+
+}  // namespace orogen

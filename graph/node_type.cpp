@@ -1,0 +1,260 @@
+#include "graph/node_type.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace orogen {
+namespace {
+
+template <class List>
+int index_of(const List& list, std::string_view n) {
+  for (std::size_t i = 0; i < list.size(); ++i)
+    if (list[i].name == n) return static_cast<int>(i);
+  return -1;
+}
+
+std::string format_number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+std::string ParamDecl::check(const ParamValue& v) const {
+  if (!holds_param_type(v, type)) return "expected a value of type " + std::string(to_string(type));
+  auto check_number = [&](double x, const std::string& what) -> std::string {
+    if (!std::isfinite(x)) return what + " must be a finite number";
+    if (min && x < *min) return what + " " + format_number(x) + " is below the minimum " + format_number(*min);
+    if (max && x > *max) return what + " " + format_number(x) + " is above the maximum " + format_number(*max);
+    return {};
+  };
+  switch (type) {
+    case ParamType::Float: return check_number(std::get<double>(v), "value");
+    case ParamType::Int: return check_number(static_cast<double>(std::get<std::int64_t>(v)), "value");
+    case ParamType::Vec2: {
+      const auto& p = std::get<glm::dvec2>(v);
+      for (int k = 0; k < 2; ++k)
+        if (auto e = check_number(p[k], "component " + std::to_string(k)); !e.empty()) return e;
+      return {};
+    }
+    case ParamType::Vec3: {
+      const auto& p = std::get<glm::dvec3>(v);
+      for (int k = 0; k < 3; ++k)
+        if (auto e = check_number(p[k], "component " + std::to_string(k)); !e.empty()) return e;
+      return {};
+    }
+    case ParamType::Color: {
+      const auto& c = std::get<glm::vec4>(v);
+      for (int k = 0; k < 4; ++k)
+        if (!std::isfinite(c[k])) return "colour components must be finite";
+      return {};
+    }
+    case ParamType::Enum: {
+      const auto& s = std::get<std::string>(v);
+      if (std::find(choices.begin(), choices.end(), s) != choices.end()) return {};
+      std::string all;
+      for (const auto& c : choices) all += (all.empty() ? "" : ", ") + c;
+      return "'" + s + "' is not one of: " + all;
+    }
+    case ParamType::Path: {
+      const auto& s = std::get<std::string>(v);
+      if (extensions.empty() || s.empty()) return {};
+      for (const auto& ext : extensions) {
+        if (s.size() >= ext.size()) {
+          std::string tail = s.substr(s.size() - ext.size());
+          std::transform(tail.begin(), tail.end(), tail.begin(), [](unsigned char ch) { return std::tolower(ch); });
+          if (tail == ext) return {};
+        }
+      }
+      std::string all;
+      for (const auto& e : extensions) all += (all.empty() ? "" : ", ") + e;
+      return "file extension must be one of: " + all;
+    }
+    case ParamType::Curve: {
+      const auto& c = std::get<CurveValue>(v);
+      if (c.points.empty()) return "a curve needs at least one point";
+      for (std::size_t i = 0; i < c.points.size(); ++i) {
+        if (!std::isfinite(c.points[i].x) || !std::isfinite(c.points[i].y)) return "curve points must be finite";
+        if (i > 0 && c.points[i].x <= c.points[i - 1].x) return "curve points must have strictly increasing x";
+      }
+      return {};
+    }
+    case ParamType::Gradient: {
+      const auto& g = std::get<GradientValue>(v);
+      if (g.stops.empty()) return "a gradient needs at least one stop";
+      for (std::size_t i = 0; i < g.stops.size(); ++i) {
+        if (!std::isfinite(g.stops[i].position)) return "gradient stop positions must be finite";
+        if (i > 0 && g.stops[i].position < g.stops[i - 1].position) return "gradient stops must be sorted by position";
+      }
+      return {};
+    }
+    case ParamType::Bool:
+    case ParamType::String:
+    case ParamType::Seed: return {};
+  }
+  return {};
+}
+
+const PortDecl* NodeType::find_input(std::string_view n) const {
+  const int i = input_index(n);
+  return i < 0 ? nullptr : &inputs[static_cast<std::size_t>(i)];
+}
+const PortDecl* NodeType::find_output(std::string_view n) const {
+  const int i = output_index(n);
+  return i < 0 ? nullptr : &outputs[static_cast<std::size_t>(i)];
+}
+const ParamDecl* NodeType::find_param(std::string_view n) const {
+  const int i = param_index(n);
+  return i < 0 ? nullptr : &params[static_cast<std::size_t>(i)];
+}
+int NodeType::input_index(std::string_view n) const { return index_of(inputs, n); }
+int NodeType::output_index(std::string_view n) const { return index_of(outputs, n); }
+int NodeType::param_index(std::string_view n) const { return index_of(params, n); }
+
+NodeBuilder::Port& NodeBuilder::Port::description(std::string text) {
+  list_[index_].description = std::move(text);
+  return *this;
+}
+NodeBuilder::Port& NodeBuilder::Port::optional(bool value) {
+  list_[index_].optional = value;
+  return *this;
+}
+
+ParamDecl& NodeBuilder::Param::decl() { return type_.params[index_]; }
+NodeBuilder::Param& NodeBuilder::Param::range(double lo, double hi) {
+  decl().min = lo;
+  decl().max = hi;
+  return *this;
+}
+NodeBuilder::Param& NodeBuilder::Param::min(double lo) {
+  decl().min = lo;
+  return *this;
+}
+NodeBuilder::Param& NodeBuilder::Param::max(double hi) {
+  decl().max = hi;
+  return *this;
+}
+NodeBuilder::Param& NodeBuilder::Param::soft_range(double lo, double hi) {
+  decl().soft_min = lo;
+  decl().soft_max = hi;
+  return *this;
+}
+NodeBuilder::Param& NodeBuilder::Param::unit(std::string u) {
+  decl().unit = std::move(u);
+  return *this;
+}
+NodeBuilder::Param& NodeBuilder::Param::description(std::string text) {
+  decl().description = std::move(text);
+  return *this;
+}
+NodeBuilder::Param& NodeBuilder::Param::extensions(std::vector<std::string> exts) {
+  decl().extensions = std::move(exts);
+  return *this;
+}
+NodeBuilder::Param& NodeBuilder::Param::output_file(bool value) {
+  decl().output_file = value;
+  return *this;
+}
+
+NodeBuilder& NodeBuilder::category(std::string c) {
+  type_.category = std::move(c);
+  return *this;
+}
+NodeBuilder& NodeBuilder::description(std::string d) {
+  type_.description = std::move(d);
+  return *this;
+}
+NodeBuilder& NodeBuilder::version(int v) {
+  type_.version = v;
+  return *this;
+}
+NodeBuilder& NodeBuilder::domain_independent(bool value) {
+  type_.domain_independent = value;
+  return *this;
+}
+NodeBuilder& NodeBuilder::writes_files(bool value) {
+  type_.writes_files = value;
+  return *this;
+}
+void NodeBuilder::execute(ExecuteFn fn) { type_.execute = std::move(fn); }
+
+NodeBuilder::Port NodeBuilder::input(std::string name, PortType type) {
+  type_.inputs.push_back({std::move(name), type, {}, false});
+  return Port(type_.inputs, type_.inputs.size() - 1);
+}
+NodeBuilder::Port NodeBuilder::output(std::string name, PortType type) {
+  type_.outputs.push_back({std::move(name), type, {}, false});
+  return Port(type_.outputs, type_.outputs.size() - 1);
+}
+
+NodeBuilder::Param NodeBuilder::add_param(std::string name, ParamType type, ParamValue def) {
+  ParamDecl d;
+  d.name = std::move(name);
+  d.type = type;
+  d.default_value = std::move(def);
+  type_.params.push_back(std::move(d));
+  return Param(type_, type_.params.size() - 1);
+}
+NodeBuilder::Param NodeBuilder::param_float(std::string name, double def) {
+  return add_param(std::move(name), ParamType::Float, def);
+}
+NodeBuilder::Param NodeBuilder::param_int(std::string name, std::int64_t def) {
+  return add_param(std::move(name), ParamType::Int, def);
+}
+NodeBuilder::Param NodeBuilder::param_bool(std::string name, bool def) {
+  return add_param(std::move(name), ParamType::Bool, def);
+}
+NodeBuilder::Param NodeBuilder::param_vec2(std::string name, glm::dvec2 def) {
+  return add_param(std::move(name), ParamType::Vec2, def);
+}
+NodeBuilder::Param NodeBuilder::param_vec3(std::string name, glm::dvec3 def) {
+  return add_param(std::move(name), ParamType::Vec3, def);
+}
+NodeBuilder::Param NodeBuilder::param_color(std::string name, glm::vec4 def) {
+  return add_param(std::move(name), ParamType::Color, def);
+}
+NodeBuilder::Param NodeBuilder::param_enum(std::string name, std::vector<std::string> choices, std::string def) {
+  auto p = add_param(std::move(name), ParamType::Enum, std::move(def));
+  type_.params.back().choices = std::move(choices);
+  return p;
+}
+NodeBuilder::Param NodeBuilder::param_string(std::string name, std::string def) {
+  return add_param(std::move(name), ParamType::String, std::move(def));
+}
+NodeBuilder::Param NodeBuilder::param_path(std::string name, std::string def) {
+  return add_param(std::move(name), ParamType::Path, std::move(def));
+}
+NodeBuilder::Param NodeBuilder::param_seed(std::string name, std::uint64_t def) {
+  return add_param(std::move(name), ParamType::Seed, def);
+}
+NodeBuilder::Param NodeBuilder::param_curve(std::string name, CurveValue def) {
+  return add_param(std::move(name), ParamType::Curve, std::move(def));
+}
+NodeBuilder::Param NodeBuilder::param_gradient(std::string name, GradientValue def) {
+  return add_param(std::move(name), ParamType::Gradient, std::move(def));
+}
+
+void check_declaration(const NodeType& type) {
+  auto fail = [&](const std::string& why) { throw std::logic_error("node type '" + type.name + "': " + why); };
+  if (type.name.empty()) fail("empty name");
+  if (type.category.empty()) fail("no category");
+  if (type.description.empty()) fail("no description");
+  if (!type.execute) fail("no execute function");
+  std::set<std::string> names;
+  for (const auto& p : type.inputs)
+    if (!names.insert("in:" + p.name).second) fail("duplicate input '" + p.name + "'");
+  for (const auto& p : type.outputs)
+    if (!names.insert("out:" + p.name).second) fail("duplicate output '" + p.name + "'");
+  for (const auto& p : type.params) {
+    if (!names.insert("param:" + p.name).second) fail("duplicate parameter '" + p.name + "'");
+    if (p.description.empty()) fail("parameter '" + p.name + "' has no description");
+    if (auto why = p.check(p.default_value); !why.empty()) fail("default of '" + p.name + "': " + why);
+  }
+  if (type.outputs.empty() && !type.writes_files) fail("no outputs and writes no files");
+}
+
+}  // namespace orogen

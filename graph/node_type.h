@@ -1,0 +1,141 @@
+#pragma once
+// A node type: documented typed ports and parameters plus the function that evaluates it.
+// Declared in one place beside its algorithm with OROGEN_NODE (see registry.h), in the style of Blender's
+// geometry-node declarations:
+//
+//   OROGEN_NODE(Add) {
+//     b.category("field").description("Sum of two fields.");
+//     b.input("a", PortType::Heightfield).description("First field");
+//     b.output("out", PortType::Heightfield);
+//     b.param_float("scale", 1.0).range(-1e3, 1e3).unit("x").description("Multiplier of b");
+//     b.execute([](ExecContext& ctx) { ... });
+//   }
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "graph/param_value.h"
+#include "graph/value_type.h"
+
+namespace orogen {
+
+class ExecContext;
+
+struct PortDecl {
+  std::string name;
+  PortType type = PortType::Heightfield;
+  std::string description;
+  bool optional = false;  // inputs only: may stay unconnected
+};
+
+struct ParamDecl {
+  std::string name;
+  ParamType type = ParamType::Float;
+  ParamValue default_value;
+  // Hard bounds, checked on load and on edit (numbers, and each component of vectors).
+  std::optional<double> min, max;
+  // Suggested slider range for the editor; defaults to the hard bounds.
+  std::optional<double> soft_min, soft_max;
+  std::string unit;                  // "m", "deg", "1/m", "" for unitless
+  std::string description;
+  std::vector<std::string> choices;  // Enum: allowed values
+  bool output_file = false;          // Path: a file this node writes (resolved inside the output directory)
+  std::vector<std::string> extensions;  // Path: accepted file extensions, e.g. {".exr", ".png"}
+
+  // Empty if `v` is a valid value for this parameter, else why not.
+  std::string check(const ParamValue& v) const;
+};
+
+using ExecuteFn = std::function<void(ExecContext&)>;
+
+struct NodeType {
+  std::string name;
+  std::string category;
+  std::string description;
+  int version = 1;
+  std::vector<PortDecl> inputs;
+  std::vector<PortDecl> outputs;
+  std::vector<ParamDecl> params;
+  ExecuteFn execute;
+  // The result does not depend on the requested domain (meshes of rocks, L-system strings): the domain is
+  // left out of the cache key so preview and build share the result.
+  bool domain_independent = false;
+  // The node writes files (writers): it is evaluated for its side effect and its cached result is only
+  // trusted while the files it wrote are still there unchanged.
+  bool writes_files = false;
+
+  const PortDecl* find_input(std::string_view n) const;
+  const PortDecl* find_output(std::string_view n) const;
+  const ParamDecl* find_param(std::string_view n) const;
+  int input_index(std::string_view n) const;   // -1 if absent
+  int output_index(std::string_view n) const;  // -1 if absent
+  int param_index(std::string_view n) const;   // -1 if absent
+};
+
+// Fluent declaration of a NodeType. Port and parameter builders refer to entries by index, so they stay
+// valid while more entries are added.
+class NodeBuilder {
+ public:
+  class Port {
+   public:
+    Port(std::vector<PortDecl>& list, std::size_t index) : list_(list), index_(index) {}
+    Port& description(std::string text);
+    Port& optional(bool value = true);
+   private:
+    std::vector<PortDecl>& list_;
+    std::size_t index_;
+  };
+  class Param {
+   public:
+    Param(NodeType& type, std::size_t index) : type_(type), index_(index) {}
+    Param& range(double lo, double hi);
+    Param& min(double lo);
+    Param& max(double hi);
+    Param& soft_range(double lo, double hi);
+    Param& unit(std::string u);
+    Param& description(std::string text);
+    Param& extensions(std::vector<std::string> exts);
+    Param& output_file(bool value = true);
+   private:
+    ParamDecl& decl();
+    NodeType& type_;
+    std::size_t index_;
+  };
+
+  explicit NodeBuilder(NodeType& type) : type_(type) {}
+
+  NodeBuilder& category(std::string c);
+  NodeBuilder& description(std::string d);
+  NodeBuilder& version(int v);
+  NodeBuilder& domain_independent(bool value = true);
+  NodeBuilder& writes_files(bool value = true);
+  void execute(ExecuteFn fn);
+
+  Port input(std::string name, PortType type);
+  Port output(std::string name, PortType type);
+
+  Param param_float(std::string name, double def);
+  Param param_int(std::string name, std::int64_t def);
+  Param param_bool(std::string name, bool def);
+  Param param_vec2(std::string name, glm::dvec2 def);
+  Param param_vec3(std::string name, glm::dvec3 def);
+  Param param_color(std::string name, glm::vec4 def);
+  Param param_enum(std::string name, std::vector<std::string> choices, std::string def);
+  Param param_string(std::string name, std::string def);
+  Param param_path(std::string name, std::string def);
+  Param param_seed(std::string name = "seed", std::uint64_t def = 0);
+  Param param_curve(std::string name, CurveValue def);
+  Param param_gradient(std::string name, GradientValue def);
+
+ private:
+  Param add_param(std::string name, ParamType type, ParamValue def);
+  NodeType& type_;
+};
+
+// Throws std::logic_error describing the first inconsistency (duplicate names, default out of range, enum
+// default not among the choices, no execute function, ...). Run at registration.
+void check_declaration(const NodeType& type);
+
+}  // namespace orogen

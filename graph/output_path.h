@@ -1,0 +1,23 @@
+#pragma once
+// Where writer nodes may write. A graph file from someone else is data, not a program: its output paths
+// resolve inside the output directory, and absolute paths or paths climbing out with ".." are refused
+// unless explicitly allowed.
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+namespace orogen {
+
+struct OutputPolicy {
+  std::filesystem::path output_dir = "out";
+  bool allow_any_path = false;
+};
+
+struct OutputPathError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// The file a graph path refers to under `policy`; throws OutputPathError when the rule refuses it.
+std::filesystem::path resolve_output_path(const OutputPolicy& policy, const std::string& graph_path);
+
+}  // namespace orogen
