@@ -1,1 +1,56 @@
-int main() { return 0; }
+// orogen: evaluate, validate and document terrain graphs from the command line.
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/commands.h"
+
+int main(int argc, char** argv) {
+  using namespace orogen::cli;
+  CLI::App app{"Orogen: node-graph procedural terrain compositor"};
+  app.set_version_flag("--version", std::string("orogen ") + OROGEN_VERSION);
+  app.require_subcommand(1);
+
+  EvalCommand eval;
+  auto* eval_cmd = app.add_subcommand("eval", "Evaluate a graph file and write its outputs");
+  eval_cmd->add_option("FILE", eval.graph_file, "Graph file (.json)")->required();
+  eval_cmd->add_option("-o,--output", eval.output_dir, "Output directory; graph output paths resolve inside it")
+      ->capture_default_str();
+  eval_cmd->add_option("--set", eval.set, "Override a parameter: NODE.PARAM=VALUE (JSON or bare text); repeatable");
+  eval_cmd->add_option("--resolution", eval.resolution, "Override the sample counts, WxH (e.g. 2048x2048)");
+  eval_cmd->add_option("--threads", eval.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
+  eval_cmd->add_option("--cache-dir", eval.cache_dir, "Persistent cache directory (results survive the process)");
+  eval_cmd->add_option("--cache-mb", eval.cache_mb, "In-memory cache bound in MiB")->capture_default_str();
+  eval_cmd->add_option("--stats", eval.stats_file, "Write per-node status, timings and memory as JSON");
+  eval_cmd->add_flag("-q,--quiet", eval.quiet, "Print nothing but errors");
+  eval_cmd->add_flag("--allow-any-path", eval.allow_any_path,
+                     "Let the graph write to absolute paths or outside the output directory");
+
+  std::string validate_file;
+  auto* validate_cmd = app.add_subcommand("validate", "Check a graph file and report every problem");
+  validate_cmd->add_option("FILE", validate_file, "Graph file (.json)")->required();
+
+  std::string node_type;
+  bool json = false, markdown = false;
+  auto* nodes_cmd = app.add_subcommand("nodes", "List node types, or document one");
+  nodes_cmd->add_option("TYPE", node_type, "A node type to document in full");
+  nodes_cmd->add_flag("--json", json, "Machine-readable output");
+  nodes_cmd->add_flag("--markdown", markdown, "The whole reference as Markdown");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kExitOk : kExitInvalid;
+  }
+
+  try {
+    if (*eval_cmd) return run_eval(eval);
+    if (*validate_cmd) return run_validate(validate_file);
+    if (*nodes_cmd) return run_nodes(node_type, json, markdown);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kExitEvalFailed;
+  }
+  return kExitInvalid;
+}

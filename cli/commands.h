@@ -1,0 +1,31 @@
+#pragma once
+// The `orogen` subcommands. Each returns the process exit code:
+// 0 success, 1 evaluation failed (or was interrupted), 2 invalid graph or usage.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace orogen::cli {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitEvalFailed = 1;
+inline constexpr int kExitInvalid = 2;
+
+struct EvalCommand {
+  std::filesystem::path graph_file;
+  std::filesystem::path output_dir = "out";
+  std::vector<std::string> set;
+  std::string resolution;  // "WxH", empty: the graph's
+  int threads = 0;
+  std::filesystem::path cache_dir;
+  double cache_mb = 2048;
+  std::filesystem::path stats_file;
+  bool quiet = false;
+  bool allow_any_path = false;
+};
+
+int run_eval(const EvalCommand& cmd);
+int run_validate(const std::filesystem::path& graph_file);
+int run_nodes(const std::string& type, bool json, bool markdown);
+
+}  // namespace orogen::cli

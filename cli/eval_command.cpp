@@ -1,0 +1,109 @@
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+
+#include "cli/commands.h"
+#include "cli/graph_overrides.h"
+#include "cli/progress_display.h"
+#include "cli/stats_report.h"
+#include "evaluator/evaluator.h"
+#include "graph/atomic_file.h"
+#include "graph/graph_file.h"
+
+namespace orogen::cli {
+namespace {
+
+CancelToken g_interrupt;  // set by SIGINT/SIGTERM; CancelToken is a lock-free atomic, safe in a handler
+
+extern "C" void on_interrupt(int) { g_interrupt.cancel(); }
+
+}  // namespace
+
+int run_eval(const EvalCommand& cmd) {
+  auto loaded = load_graph_file(cmd.graph_file);
+  if (!loaded.ok()) {
+    std::cerr << cmd.graph_file.string() << ": invalid graph\n" << loaded.error_text();
+    return kExitInvalid;
+  }
+  Graph graph = std::move(*loaded.graph);
+
+  std::vector<std::string> errors = apply_param_overrides(graph, cmd.set);
+  if (!cmd.resolution.empty()) {
+    if (auto r = parse_resolution(cmd.resolution)) graph.domain.resolution = *r;
+    else errors.push_back("--resolution '" + cmd.resolution + "': expected WxH with sides in [2, 65536]");
+  }
+  OutputPolicy policy{cmd.output_dir, cmd.allow_any_path};
+  for (auto& e : check_output_paths(graph, policy)) errors.push_back(std::move(e));
+  if (cmd.cache_mb < 0) errors.push_back("--cache-mb must not be negative");
+  if (!errors.empty()) {
+    for (const auto& e : errors) std::cerr << "error: " << e << "\n";
+    return kExitInvalid;
+  }
+
+  EvaluatorOptions options;
+  options.threads = cmd.threads;
+  options.cache_bytes = static_cast<std::size_t>(cmd.cache_mb * 1024.0 * 1024.0);
+  options.cache_dir = cmd.cache_dir;
+  options.output = policy;
+  Evaluator evaluator(options);
+
+  EvalRequest request;
+  request.domain = graph.domain.to_domain();
+  request.cancel = &g_interrupt;
+  const bool live = !cmd.quiet && ::isatty(STDERR_FILENO);
+  ProgressDisplay display(stderr, graph.nodes().size());
+  if (live) request.on_event = [&](const EvalEvent& e) { display.on_event(e); };
+
+  std::signal(SIGINT, on_interrupt);
+  std::signal(SIGTERM, on_interrupt);
+  const EvalResult result = evaluator.evaluate(graph, request);
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  if (live) display.finish();
+
+  if (!cmd.stats_file.empty()) {
+    try {
+      write_text_atomically(cmd.stats_file, stats_json(result));
+    } catch (const std::exception& e) {
+      std::cerr << "error: cannot write stats to " << cmd.stats_file.string() << ": " << e.what() << "\n";
+      return kExitEvalFailed;
+    }
+  }
+
+  std::size_t computed = 0, cached = 0, failed = 0, skipped = 0;
+  for (const auto& [id, r] : result.nodes) {
+    switch (r.status) {
+      case NodeStatus::Computed: ++computed; break;
+      case NodeStatus::Cached: ++cached; break;
+      case NodeStatus::Failed:
+        ++failed;
+        std::cerr << "error: node '" << id << "' failed: " << r.message << "\n";
+        break;
+      case NodeStatus::Skipped: ++skipped; break;
+      default: break;
+    }
+  }
+  if (result.cancelled) {
+    std::cerr << "interrupted: nothing partial was written or cached\n";
+    return kExitEvalFailed;
+  }
+  if (!cmd.quiet) {
+    std::fprintf(stderr, "%zu computed, %zu cached, %zu failed, %zu skipped in %.1f ms\n", computed, cached, failed,
+                 skipped, result.milliseconds);
+  }
+  return failed == 0 ? kExitOk : kExitEvalFailed;
+}
+
+int run_validate(const std::filesystem::path& graph_file) {
+  auto loaded = load_graph_file(graph_file);
+  if (!loaded.ok()) {
+    std::cerr << graph_file.string() << ": invalid graph\n" << loaded.error_text();
+    return kExitInvalid;
+  }
+  std::cout << graph_file.string() << ": valid (" << loaded.graph->nodes().size() << " nodes)\n";
+  return kExitOk;
+}
+
+}  // namespace orogen::cli

@@ -1,0 +1,45 @@
+#include "cli/stats_report.h"
+
+#include <sys/resource.h>
+
+#include <nlohmann/json.hpp>
+
+namespace orogen::cli {
+
+std::size_t peak_memory_bytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<std::size_t>(usage.ru_maxrss) * 1024;  // ru_maxrss is in KiB on Linux
+}
+
+std::string stats_json(const EvalResult& result) {
+  nlohmann::json nodes = nlohmann::json::object();
+  std::map<std::string, int> counts{{"computed", 0}, {"cached", 0}, {"failed", 0}, {"skipped", 0}, {"cancelled", 0}};
+  double node_ms = 0.0;
+  std::size_t bytes = 0;
+  for (const auto& [id, report] : result.nodes) {
+    const std::string status(to_string(report.status));
+    nlohmann::json entry = {{"status", status},
+                            {"milliseconds", report.milliseconds},
+                            {"output_bytes", report.output_bytes},
+                            {"key", report.key.hex()}};
+    if (!report.message.empty()) entry["message"] = report.message;
+    nodes[id] = std::move(entry);
+    ++counts[status];
+    node_ms += report.milliseconds;
+    bytes += report.output_bytes;
+  }
+  nlohmann::json totals = {{"nodes", result.nodes.size()},
+                           {"node_milliseconds", node_ms},
+                           {"wall_milliseconds", result.milliseconds},
+                           {"output_bytes", bytes}};
+  for (const auto& [status, n] : counts) totals[status] = n;
+  nlohmann::json doc = {{"nodes", nodes},
+                        {"totals", totals},
+                        {"ok", result.ok()},
+                        {"cancelled", result.cancelled},
+                        {"peak_memory_bytes", peak_memory_bytes()}};
+  return doc.dump(2) + "\n";
+}
+
+}  // namespace orogen::cli

@@ -1,0 +1,14 @@
+#pragma once
+// The `--stats FILE.json` report: per-node status, time and output bytes, totals and peak memory.
+#include <cstddef>
+#include <string>
+
+#include "evaluator/evaluator.h"
+
+namespace orogen::cli {
+
+// Peak resident memory of this process in bytes (getrusage).
+std::size_t peak_memory_bytes();
+std::string stats_json(const EvalResult& result);
+
+}  // namespace orogen::cli
