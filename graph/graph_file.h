@@ -36,6 +36,9 @@ struct LoadResult {
 struct LoadOptions {
   // Accept links to nodes that are not in the file and drop them (pasting a fragment in the editor).
   bool drop_dangling_links = false;
+  // Accept nodes whose required inputs are not connected (a work in progress saved by the editor); the
+  // evaluator reports them when such a node is evaluated.
+  bool allow_unconnected_inputs = false;
 };
 
 LoadResult parse_graph(std::string_view json_text, const LoadOptions& options = {});

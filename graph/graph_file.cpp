@@ -1,0 +1,530 @@
+// Reading graph files: strict JSON, format-version migration, and validation that reports every problem
+// with its JSON path and node id. Writing is in graph_file_writer.cpp, parameter values in param_json.cpp.
+#include "graph/graph_file.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <climits>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "graph/json_util.h"
+#include "graph/registry.h"
+
+namespace orogen {
+
+std::string Diagnostic::str() const {
+  std::string where = path;
+  if (!node.empty()) where += (where.empty() ? "" : " ") + std::string("[node '") + node + "']";
+  return where.empty() ? message : where + ": " + message;
+}
+
+std::string LoadResult::error_text() const {
+  std::string text;
+  for (const auto& d : diagnostics) text += d.str() + "\n";
+  return text;
+}
+
+namespace {
+
+using nlohmann::json;
+using json_util::describe;
+using json_util::pointer_token;
+using json_util::suggestion;
+
+struct MigrationTable {
+  std::mutex mutex;
+  std::map<int, GraphMigration> by_version;
+};
+
+MigrationTable& migrations() {
+  static MigrationTable table;
+  return table;
+}
+
+std::optional<GraphMigration> find_migration(int from_version) {
+  auto& table = migrations();
+  std::lock_guard lock(table.mutex);
+  const auto it = table.by_version.find(from_version);
+  if (it == table.by_version.end()) return std::nullopt;
+  return it->second;
+}
+
+template <class Decls>
+std::vector<std::string> names_of(const Decls& decls) {
+  std::vector<std::string> names;
+  for (const auto& d : decls) names.push_back(d.name);
+  return names;
+}
+
+// " (did you mean 'x'?)", " (expected one of: ...)", or `if_none` when there is nothing to choose from.
+std::string hint_or(std::string_view name, const std::vector<std::string>& candidates, std::string if_none) {
+  return candidates.empty() ? std::move(if_none) : suggestion(name, candidates);
+}
+
+// One "inputs" entry of a node, kept until every node is known.
+struct PendingLink {
+  std::string path;             // /nodes/i/inputs/port
+  std::string node;             // id of the node the link feeds
+  std::size_t node_index;       // its index in "nodes"
+  std::string port;             // input port name
+  const PortDecl* input;        // its declaration, or null if the port or the node type is unknown
+  const NodeType* node_type;    // null if unknown
+  PortRef from;
+};
+
+class GraphReader {
+ public:
+  GraphReader(const LoadOptions& options, std::vector<Diagnostic>& diagnostics)
+      : options_(options), diagnostics_(diagnostics) {}
+
+  std::optional<Graph> read(json doc) {
+    if (!doc.is_object()) {
+      report("", "", "a graph file must be a JSON object {\"format\": \"orogen-graph\", ...}, found " + describe(doc));
+      return std::nullopt;
+    }
+    check_format(doc);
+    if (!check_version_and_migrate(doc)) return std::nullopt;
+    check_fields(doc, "", "", {"format", "version", "domain", "nodes", "editor"}, "in the file");
+
+    if (doc.contains("domain")) read_domain(doc["domain"]);
+    if (!doc.contains("nodes")) report("/nodes", "", "missing \"nodes\": the list of nodes (may be empty: [])");
+    else read_nodes(doc["nodes"]);
+    if (doc.contains("editor")) read_editor(doc["editor"]);
+
+    if (!diagnostics_.empty()) return std::nullopt;
+    return std::move(graph_);
+  }
+
+ private:
+  void report(std::string path, std::string node, std::string message) {
+    diagnostics_.push_back({std::move(path), std::move(node), std::move(message)});
+  }
+
+  // Reports every key of `object` that is not in `known`.
+  void check_fields(const json& object, const std::string& path, const std::string& node,
+                    const std::vector<std::string>& known, const std::string& where) {
+    for (const auto& [key, value] : object.items())
+      if (std::find(known.begin(), known.end(), key) == known.end())
+        report(path + "/" + pointer_token(key), node, "unknown field '" + key + "' " + where + suggestion(key, known));
+  }
+
+  void check_format(const json& doc) {
+    if (!doc.contains("format")) {
+      report("/format", "", "missing \"format\": \"orogen-graph\" (is this an Orogen graph file?)");
+      return;
+    }
+    const json& f = doc["format"];
+    if (!f.is_string() || f.get<std::string>() != kGraphFormatName)
+      report("/format", "", "\"format\" must be \"orogen-graph\", found " + describe(f));
+  }
+
+  // False when the rest of the file cannot be read (newer version, impossible migration).
+  bool check_version_and_migrate(json& doc) {
+    if (!doc.contains("version")) {
+      report("/version", "", "missing \"version\": the format version (this build writes " +
+                                 std::to_string(kGraphFormatVersion) + ")");
+      return true;  // read the rest as the current version, to report its problems too
+    }
+    const json& v = doc["version"];
+    if (!v.is_number_integer()) {
+      report("/version", "", "\"version\" must be an integer, found " + describe(v));
+      return true;
+    }
+    if (v.is_number_unsigned() ? v.get<std::uint64_t>() > static_cast<std::uint64_t>(kGraphFormatVersion)
+                               : v.get<std::int64_t>() > kGraphFormatVersion) {
+      report("/version", "",
+             "this file was written by a newer Orogen (version " + v.dump() + ", this build reads up to " +
+                 std::to_string(kGraphFormatVersion) + "); update Orogen to open it");
+      return false;
+    }
+    const std::int64_t from = v.get<std::int64_t>();
+    for (std::int64_t k = from; k < kGraphFormatVersion; ++k) {
+      const auto migration = k < INT32_MIN ? std::nullopt : find_migration(static_cast<int>(k));
+      if (!migration) {
+        report("/version", "",
+               "cannot read format version " + std::to_string(from) + ": no migration from version " +
+                   std::to_string(k) + " to " + std::to_string(k + 1) + " is known");
+        return false;
+      }
+      try {
+        (*migration)(doc);
+      } catch (const std::exception& e) {
+        report("/version", "",
+               "migrating the file from format version " + std::to_string(k) + " to " + std::to_string(k + 1) +
+                   " failed: " + e.what());
+        return false;
+      }
+      if (!doc.is_object()) {
+        report("", "", "migrating the file from format version " + std::to_string(k) + " to " +
+                           std::to_string(k + 1) + " did not leave a JSON object");
+        return false;
+      }
+      doc["version"] = k + 1;
+    }
+    return true;
+  }
+
+  // [x, y] of finite numbers; reports and returns nullopt otherwise.
+  std::optional<glm::dvec2> read_pair(const json& j, const std::string& path, const std::string& node,
+                                      const std::string& shape) {
+    if (!j.is_array() || j.size() != 2) {
+      report(path, node, "expected " + shape + ", found " + describe(j));
+      return std::nullopt;
+    }
+    glm::dvec2 out{};
+    bool ok = true;
+    for (std::size_t k = 0; k < 2; ++k) {
+      if (!j[k].is_number()) {
+        report(path + "/" + std::to_string(k), node, "expected a number, found " + describe(j[k]));
+        ok = false;
+      } else {
+        out[static_cast<int>(k)] = j[k].get<double>();
+      }
+    }
+    return ok ? std::optional(out) : std::nullopt;
+  }
+
+  void read_domain(const json& d) {
+    if (!d.is_object()) {
+      report("/domain", "", "\"domain\" must be an object {\"size\": [w, h], \"resolution\": [nx, ny]}, found " +
+                                describe(d));
+      return;
+    }
+    check_fields(d, "/domain", "", {"size", "resolution", "origin"}, "in \"domain\"");
+    if (!d.contains("size")) {
+      report("/domain/size", "", "missing \"size\": the world size [width, height] in metres");
+    } else if (auto size = read_pair(d["size"], "/domain/size", "", "[width, height] in metres")) {
+      for (int k = 0; k < 2; ++k)
+        if (!((*size)[k] > 0.0))
+          report("/domain/size/" + std::to_string(k), "",
+                 std::string(k == 0 ? "width" : "height") + " must be greater than 0 m, found " +
+                     json_util::format_double((*size)[k]));
+      graph_.domain.size = *size;
+    }
+    if (!d.contains("resolution")) {
+      report("/domain/resolution", "", "missing \"resolution\": the sample counts [nx, ny]");
+    } else {
+      const json& r = d["resolution"];
+      if (!r.is_array() || r.size() != 2) {
+        report("/domain/resolution", "", "expected [nx, ny] (2 integers), found " + describe(r));
+      } else {
+        for (std::size_t k = 0; k < 2; ++k) {
+          const json& n = r[k];
+          const bool in_range = n.is_number_integer() && !(n.is_number_unsigned() && n.get<std::uint64_t>() > 65536) &&
+                                n.get<std::int64_t>() >= 2 && n.get<std::int64_t>() <= 65536;
+          if (!in_range)
+            report("/domain/resolution/" + std::to_string(k), "",
+                   "the resolution must be an integer from 2 to 65536, found " + describe(n));
+          else
+            graph_.domain.resolution[static_cast<int>(k)] = static_cast<int>(n.get<std::int64_t>());
+        }
+      }
+    }
+    if (d.contains("origin"))
+      if (auto origin = read_pair(d["origin"], "/domain/origin", "", "[x, y] in metres")) graph_.domain.origin = *origin;
+  }
+
+  void read_nodes(const json& nodes) {
+    if (!nodes.is_array()) {
+      report("/nodes", "", "\"nodes\" must be an array of nodes, found " + describe(nodes));
+      return;
+    }
+    nodes_read_ = true;
+    std::map<std::string, std::size_t> first_use;  // valid id -> index of the node that has it
+    for (std::size_t i = 0; i < nodes.size(); ++i) read_node(nodes[i], i, first_use);
+    for (const auto& [id, index] : first_use) index_of_id_[id] = index;
+    resolve_links();
+    check_required_inputs();
+    check_cycles();
+  }
+
+  void read_node(const json& n, std::size_t i, std::map<std::string, std::size_t>& first_use) {
+    const std::string path = "/nodes/" + std::to_string(i);
+    if (!n.is_object()) {
+      report(path, "", "a node must be an object {\"id\": ..., \"type\": ...}, found " + describe(n));
+      return;
+    }
+    std::string id;
+    bool id_ok = false;
+    if (n.contains("id") && n["id"].is_string()) {
+      id = n["id"].get<std::string>();
+      mentioned_ids_.insert(id);
+    }
+    check_fields(n, path, id, {"id", "type", "params", "inputs"}, "in a node");
+    if (!n.contains("id")) {
+      report(path + "/id", "", "missing \"id\": every node needs a unique id");
+    } else if (!n["id"].is_string()) {
+      report(path + "/id", "", "\"id\" must be a string, found " + describe(n["id"]));
+    } else if (!Graph::valid_id(id)) {
+      report(path + "/id", id,
+             "invalid node id '" + id + "': use up to 128 letters, digits, '_' and '-', starting with a letter or '_'");
+    } else if (auto it = first_use.find(id); it != first_use.end()) {
+      report(path + "/id", id,
+             "duplicate node id '" + id + "' (already used by /nodes/" + std::to_string(it->second) + ")");
+    } else {
+      first_use[id] = i;
+      id_ok = true;
+    }
+
+    const NodeType* type = nullptr;
+    if (!n.contains("type")) {
+      report(path + "/type", id, "missing \"type\": the name of the node type");
+    } else if (!n["type"].is_string()) {
+      report(path + "/type", id, "\"type\" must be a string, found " + describe(n["type"]));
+    } else {
+      const auto name = n["type"].get<std::string>();
+      type = NodeRegistry::instance().find(name);
+      if (!type) {
+        const auto hint = NodeRegistry::instance().closest(name);
+        report(path + "/type", id,
+               "unknown node type '" + name + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)"));
+      }
+    }
+
+    Node* node = nullptr;
+    if (id_ok && type) node = &graph_.add_node(*type, id);
+    if (n.contains("params")) read_params(n["params"], path + "/params", id, type, node);
+    if (n.contains("inputs")) read_inputs(n["inputs"], path + "/inputs", id, i, type);
+  }
+
+  void read_params(const json& params, const std::string& path, const std::string& id, const NodeType* type,
+                   Node* node) {
+    if (!params.is_object()) {
+      report(path, id, "\"params\" must be an object {\"name\": value, ...}, found " + describe(params));
+      return;
+    }
+    if (!type) return;  // unknown type: already reported, its parameters cannot be checked
+    for (const auto& [name, value] : params.items()) {
+      const std::string p = path + "/" + pointer_token(name);
+      const ParamDecl* decl = type->find_param(name);
+      if (!decl) {
+        report(p, id, "unknown parameter '" + name + "' for node type " + type->name +
+                          hint_or(name, names_of(type->params), " (it has no parameters)"));
+        continue;
+      }
+      std::string error;
+      auto v = param_from_json(value, *decl, error);
+      if (!v) {
+        report(p, id, "parameter '" + name + "' (" + std::string(to_string(decl->type)) + "): " + error);
+        continue;
+      }
+      if (node) node->params[name] = std::move(*v);
+    }
+  }
+
+  void read_inputs(const json& inputs, const std::string& path, const std::string& id, std::size_t index,
+                   const NodeType* type) {
+    if (!inputs.is_object()) {
+      report(path, id, "\"inputs\" must be an object {\"port\": \"node.port\", ...}, found " + describe(inputs));
+      return;
+    }
+    for (const auto& [port, value] : inputs.items()) {
+      const std::string p = path + "/" + pointer_token(port);
+      const PortDecl* input = type ? type->find_input(port) : nullptr;
+      if (type && !input)
+        report(p, id, "unknown input '" + port + "' for node type " + type->name +
+                          hint_or(port, names_of(type->inputs), " (it has no inputs)"));
+      links_attempted_.insert({index, port});
+      if (!value.is_string()) {
+        report(p, id, "a link must be a string \"node.port\", found " + describe(value));
+        continue;
+      }
+      const auto text = value.get<std::string>();
+      const auto dot = text.find('.');
+      if (dot == std::string::npos || dot == 0 || dot + 1 == text.size() || text.find('.', dot + 1) != std::string::npos) {
+        report(p, id, "malformed link \"" + text + "\": expected \"node.port\", the id of a node and one of its outputs");
+        continue;
+      }
+      pending_.push_back({p, id, index, port, input, type, PortRef{text.substr(0, dot), text.substr(dot + 1)}});
+    }
+  }
+
+  void resolve_links() {
+    const std::vector<std::string> all_ids(mentioned_ids_.begin(), mentioned_ids_.end());
+    for (const auto& link : pending_) {
+      const std::string& src_id = link.from.node;
+      if (!mentioned_ids_.count(src_id)) {
+        if (options_.drop_dangling_links) continue;
+        const auto hint = json_util::closest_name(src_id, all_ids);
+        report(link.path, link.node,
+               "link to missing node '" + src_id + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)"));
+        continue;
+      }
+      const Node* src = graph_.find(src_id);
+      if (!src) continue;  // that node has an invalid id or an unknown type, reported already
+      const PortDecl* output = src->type->find_output(link.from.port);
+      if (!output) {
+        report(link.path, link.node,
+               "link to missing output '" + link.from.port + "' of node '" + src_id + "' (" + src->type->name + ")" +
+                   hint_or(link.from.port, names_of(src->type->outputs), " (it has no outputs)"));
+        continue;
+      }
+      if (!link.input) continue;  // unknown port or node type, reported already
+      if (output->type != link.input->type) {
+        report(link.path, link.node,
+               "type mismatch: " + link.from.str() + " is " + std::string(to_string(output->type)) + " but input '" +
+                   link.port + "' of " + link.node_type->name + " takes " + std::string(to_string(link.input->type)));
+        continue;
+      }
+      if (Node* dst = graph_.find(link.node); dst && index_of_id_.count(link.node) &&
+                                              index_of_id_.at(link.node) == link.node_index)
+        dst->inputs[link.port] = link.from;
+    }
+  }
+
+  void check_required_inputs() {
+    if (options_.allow_unconnected_inputs) return;
+    for (const auto& node : graph_.nodes()) {
+      const std::size_t index = index_of_id_.at(node.id);
+      for (const auto& input : node.type->inputs) {
+        if (input.optional || node.inputs.count(input.name)) continue;
+        // A link that was written but is broken is reported as such; a dropped dangling link is expected.
+        if (links_attempted_.count({index, input.name})) continue;
+        report("/nodes/" + std::to_string(index) + "/inputs/" + pointer_token(input.name), node.id,
+               "missing required input '" + input.name + "' (" + std::string(to_string(input.type)) +
+                   ") of node type " + node.type->name);
+      }
+    }
+  }
+
+  // Reports each cycle found by a depth-first search against the links (every cycle has at least one edge
+  // that closes it), naming its nodes in the direction data flows.
+  void check_cycles() {
+    enum class State { New, Active, Done };
+    std::map<std::string, State> state;
+    struct Frame {
+      const Node* node;
+      std::vector<std::pair<std::string, PortRef>> inputs;
+      std::size_t next = 0;
+    };
+    for (const auto& root : graph_.nodes()) {
+      if (state[root.id] != State::New) continue;
+      std::vector<Frame> stack;
+      auto push = [&](const Node& n) {
+        state[n.id] = State::Active;
+        stack.push_back({&n, {n.inputs.begin(), n.inputs.end()}, 0});
+      };
+      push(root);
+      while (!stack.empty()) {
+        Frame& f = stack.back();
+        if (f.next == f.inputs.size()) {
+          state[f.node->id] = State::Done;
+          stack.pop_back();
+          continue;
+        }
+        const auto [port, from] = f.inputs[f.next++];  // a copy: push() below may move the frame
+        const Node* up = graph_.find(from.node);
+        if (!up) continue;
+        const State s = state[up->id];
+        if (s == State::New) {
+          push(*up);
+        } else if (s == State::Active) {
+          // The stack holds nodes each fed by the next; `up` feeds the top. Data flows up -> top -> ... -> up.
+          std::string cycle = up->id;
+          for (auto it = stack.rbegin(); it != stack.rend(); ++it) {
+            cycle += " -> " + it->node->id;
+            if (it->node == up) break;
+          }
+          const Node* node = stack.back().node;
+          report("/nodes/" + std::to_string(index_of_id_.at(node->id)) + "/inputs/" + pointer_token(port), node->id,
+                 "the links form a cycle: " + cycle);
+        }
+      }
+    }
+  }
+
+  void read_editor(const json& e) {
+    if (!e.is_object()) {
+      report("/editor", "", "\"editor\" must be an object {\"positions\": {...}}, found " + describe(e));
+      return;
+    }
+    check_fields(e, "/editor", "", {"positions"}, "in \"editor\"");
+    if (!e.contains("positions")) return;
+    const json& positions = e["positions"];
+    if (!positions.is_object()) {
+      report("/editor/positions", "", "\"positions\" must be an object {\"node id\": [x, y], ...}, found " +
+                                          describe(positions));
+      return;
+    }
+    for (const auto& [id, value] : positions.items()) {
+      const std::string p = "/editor/positions/" + pointer_token(id);
+      if (nodes_read_ && !mentioned_ids_.count(id)) {
+        report(p, id, "editor position for unknown node '" + id + "'");
+        continue;
+      }
+      auto xy = read_pair(value, p, id, "a canvas position [x, y]");
+      if (xy && graph_.find(id)) graph_.editor.positions[id] = *xy;
+    }
+  }
+
+  const LoadOptions& options_;
+  std::vector<Diagnostic>& diagnostics_;
+  Graph graph_;
+  std::set<std::string> mentioned_ids_;          // every string id in the file, valid or not
+  std::map<std::string, std::size_t> index_of_id_;  // node id -> index in "nodes", for nodes in the graph
+  std::vector<PendingLink> pending_;
+  std::set<std::pair<std::size_t, std::string>> links_attempted_;  // (node index, input) written in the file
+  bool nodes_read_ = false;  // "nodes" was an array, so the set of ids is known
+};
+
+// The id of the node a path such as /nodes/3/params/x points into, if the document has one there.
+std::string node_id_at(const json& doc, const std::string& path) {
+  static const std::string prefix = "/nodes/";
+  if (path.rfind(prefix, 0) != 0 || !doc.is_object() || !doc.contains("nodes") || !doc["nodes"].is_array()) return {};
+  std::size_t index = 0, k = prefix.size();
+  if (k >= path.size() || !std::isdigit(static_cast<unsigned char>(path[k]))) return {};
+  for (; k < path.size() && std::isdigit(static_cast<unsigned char>(path[k])); ++k) index = index * 10 + (path[k] - '0');
+  const json& nodes = doc["nodes"];
+  if (index >= nodes.size() || !nodes[index].is_object() || !nodes[index].contains("id") ||
+      !nodes[index]["id"].is_string())
+    return {};
+  return nodes[index]["id"].get<std::string>();
+}
+
+}  // namespace
+
+void register_graph_migration(int from_version, GraphMigration migration) {
+  auto& table = migrations();
+  std::lock_guard lock(table.mutex);
+  table.by_version[from_version] = std::move(migration);
+}
+
+LoadResult parse_graph(std::string_view json_text, const LoadOptions& options) {
+  LoadResult result;
+  std::vector<json_util::ParseProblem> problems;
+  auto doc = json_util::parse_strict(json_text, problems);
+  for (auto& p : problems)
+    result.diagnostics.push_back({p.path, doc ? node_id_at(*doc, p.path) : std::string(), std::move(p.message)});
+  if (!doc) return result;
+  GraphReader reader(options, result.diagnostics);
+  auto graph = reader.read(std::move(*doc));
+  if (graph && result.diagnostics.empty()) result.graph = std::move(graph);
+  return result;
+}
+
+LoadResult load_graph_file(const std::filesystem::path& path, const LoadOptions& options) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    LoadResult result;
+    result.diagnostics.push_back({"", "", "cannot open " + path.string() + ": " + std::strerror(errno)});
+    return result;
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) {
+    LoadResult result;
+    result.diagnostics.push_back({"", "", "cannot read " + path.string()});
+    return result;
+  }
+  return parse_graph(text.str(), options);
+}
+
+}  // namespace orogen
