@@ -1,0 +1,325 @@
+#include "nodes/io/heightfield_file.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <memory>
+
+#include <OpenImageIO/half.h>
+#include <OpenImageIO/imageio.h>
+
+namespace orogen {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string lower_extension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+// Shortest text that reads back as the same double.
+std::string exact_number(double v) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+std::optional<double> parse_number(std::string_view s) {
+  double v = 0.0;
+  while (!s.empty() && s.front() == ' ') s.remove_prefix(1);
+  const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (r.ec != std::errc() || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+// "key=value" inside a free-text description (value up to ';' or the end).
+std::optional<double> find_key(std::string_view text, std::string_view key) {
+  const auto at = text.find(std::string(key) + "=");
+  if (at == std::string_view::npos) return std::nullopt;
+  auto rest = text.substr(at + key.size() + 1);
+  return parse_number(rest.substr(0, rest.find(';')));
+}
+
+std::string describe_domain(const Domain& d) {
+  const auto lo = d.min_corner();
+  const auto sz = d.size();
+  return "world_origin=" + exact_number(lo.x) + "," + exact_number(lo.y) + " m; world_size=" + exact_number(sz.x) +
+         "," + exact_number(sz.y) + " m";
+}
+
+void check_finite(float v, int i, int j) {
+  if (!std::isfinite(v))
+    throw FileError("height at sample (" + std::to_string(i) + ", " + std::to_string(j) +
+                    ") is not a finite number and cannot be stored in a 16-bit format");
+}
+
+void report(const WriteProgress& progress, int rows_done, int rows) {
+  if (progress) progress(static_cast<double>(rows_done) / std::max(rows, 1));
+}
+
+// Writes through OpenImageIO one scanline at a time (north row first), converting each heightfield row with
+// `convert` into `line` (of element type T) first.
+template <class T, class Convert>
+void write_oiio(const Heightfield& h, const fs::path& path, OIIO::ImageSpec spec, const WriteProgress& progress,
+                Convert convert) {
+  auto out = OIIO::ImageOutput::create(path.string());
+  if (!out) throw FileError("cannot write '" + path.string() + "': " + OIIO::geterror());
+  if (!out->open(path.string(), spec)) throw FileError("cannot create '" + path.string() + "': " + out->geterror());
+  std::vector<T> line(static_cast<std::size_t>(h.width()));
+  for (int r = 0; r < h.height(); ++r) {
+    const int j = h.height() - 1 - r;  // north row first
+    convert(j, h.row(j), line);
+    if (!out->write_scanline(r, 0, spec.format, line.data()))
+      throw FileError("cannot write '" + path.string() + "': " + out->geterror());
+    report(progress, r + 1, h.height());
+  }
+  if (!out->close()) throw FileError("cannot finish '" + path.string() + "': " + out->geterror());
+}
+
+void write_raw16(const Heightfield& h, const fs::path& path, const HeightRange& range, const WriteProgress& progress) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw FileError("cannot create '" + path.string() + "'");
+  std::vector<unsigned char> bytes(static_cast<std::size_t>(h.width()) * 2);
+  for (int r = 0; r < h.height(); ++r) {
+    const int j = h.height() - 1 - r;
+    const auto row = h.row(j);
+    for (int i = 0; i < h.width(); ++i) {
+      check_finite(row[static_cast<std::size_t>(i)], i, j);
+      const std::uint16_t q = quantize16(row[static_cast<std::size_t>(i)], range);
+      bytes[2 * static_cast<std::size_t>(i)] = static_cast<unsigned char>(q & 0xff);  // little endian
+      bytes[2 * static_cast<std::size_t>(i) + 1] = static_cast<unsigned char>(q >> 8);
+    }
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    if (!out) throw FileError("cannot write '" + path.string() + "' (disk full?)");
+    report(progress, r + 1, h.height());
+  }
+  out.close();
+  if (!out) throw FileError("cannot finish '" + path.string() + "'");
+}
+
+HeightRaster read_raw16(const fs::path& path, int channel) {
+  if (channel != 0) throw FileError("'" + path.string() + "' is a RAW file with one channel; channel " +
+                                    std::to_string(channel) + " does not exist");
+  std::error_code ec;
+  const auto bytes = fs::file_size(path, ec);
+  if (ec) throw FileError("cannot read '" + path.string() + "': " + ec.message());
+  const auto side = static_cast<std::uint64_t>(std::llround(std::sqrt(static_cast<double>(bytes / 2))));
+  if (bytes == 0 || bytes % 2 != 0 || side * side * 2 != bytes)
+    throw FileError("'" + path.string() + "' is not a square RAW 16-bit heightmap (" + std::to_string(bytes) +
+                    " bytes is not 2 * side * side)");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw FileError("cannot open '" + path.string() + "'");
+  std::vector<unsigned char> data(bytes);
+  in.read(reinterpret_cast<char*>(data.data()), static_cast<std::streamsize>(bytes));
+  if (!in) throw FileError("cannot read '" + path.string() + "'");
+  HeightRaster r;
+  r.width = r.height = static_cast<int>(side);
+  r.channels = 1;
+  r.unsigned_integer = true;
+  r.format = "uint16 (raw, little endian)";
+  r.values.resize(side * side);
+  for (std::size_t k = 0; k < r.values.size(); ++k)
+    r.values[k] = (data[2 * k] | (data[2 * k + 1] << 8)) / 65535.0;
+  return r;
+}
+
+// Values of a native-format buffer as doubles: unsigned integers as fractions of full scale, signed integers
+// and floats as stored.
+double native_value(const unsigned char* p, OIIO::TypeDesc t) {
+  using B = OIIO::TypeDesc::BASETYPE;
+  switch (t.basetype) {
+    case B::UINT8: return *p / 255.0;
+    case B::UINT16: { std::uint16_t v; std::memcpy(&v, p, 2); return v / 65535.0; }
+    case B::UINT32: { std::uint32_t v; std::memcpy(&v, p, 4); return v / 4294967295.0; }
+    case B::INT8: return static_cast<double>(*reinterpret_cast<const std::int8_t*>(p));
+    case B::INT16: { std::int16_t v; std::memcpy(&v, p, 2); return v; }
+    case B::INT32: { std::int32_t v; std::memcpy(&v, p, 4); return v; }
+    case B::HALF: { Imath::half v; std::memcpy(&v, p, 2); return static_cast<float>(v); }
+    case B::FLOAT: { float v; std::memcpy(&v, p, 4); return v; }
+    case B::DOUBLE: { double v; std::memcpy(&v, p, 8); return v; }
+    default: return std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+bool is_unsigned_integer(OIIO::TypeDesc t) {
+  using B = OIIO::TypeDesc::BASETYPE;
+  return t.basetype == B::UINT8 || t.basetype == B::UINT16 || t.basetype == B::UINT32;
+}
+
+bool is_supported(OIIO::TypeDesc t) {
+  using B = OIIO::TypeDesc::BASETYPE;
+  switch (t.basetype) {
+    case B::UINT8: case B::UINT16: case B::UINT32: case B::INT8: case B::INT16: case B::INT32:
+    case B::HALF: case B::FLOAT: case B::DOUBLE: return true;
+    default: return false;
+  }
+}
+
+std::optional<HeightRange> mapping_from_spec(const OIIO::ImageSpec& spec) {
+  const std::string lo = spec.get_string_attribute("orogen:height_min");
+  const std::string hi = spec.get_string_attribute("orogen:height_max");
+  if (auto a = parse_number(lo), b = parse_number(hi); a && b) return HeightRange{*a, *b};
+  const std::string desc = spec.get_string_attribute("ImageDescription");
+  if (desc.find("Orogen heightfield") != std::string::npos) {
+    auto a = find_key(desc, "height_min"), b = find_key(desc, "height_max");
+    if (a && b) return HeightRange{*a, *b};
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<HeightFormat> height_format_from_path(const fs::path& path) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".exr") return HeightFormat::Exr;
+  if (ext == ".png") return HeightFormat::Png16;
+  if (ext == ".raw" || ext == ".r16") return HeightFormat::Raw16;
+  if (ext == ".tif" || ext == ".tiff") return HeightFormat::Tiff;
+  return std::nullopt;
+}
+
+const char* to_string(HeightFormat f) {
+  switch (f) {
+    case HeightFormat::Exr: return "exr";
+    case HeightFormat::Png16: return "png16";
+    case HeightFormat::Raw16: return "raw16";
+    case HeightFormat::Tiff: return "tiff";
+  }
+  return "?";
+}
+
+HeightRange data_range(const Heightfield& h) {
+  if (h.data.empty()) throw FileError("the heightfield has no samples");
+  HeightRange r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (int j = 0; j < h.height(); ++j)
+    for (int i = 0; i < h.width(); ++i) {
+      const float v = h.at(i, j);
+      check_finite(v, i, j);
+      r.min = std::min(r.min, static_cast<double>(v));
+      r.max = std::max(r.max, static_cast<double>(v));
+    }
+  return r;
+}
+
+std::uint16_t quantize16(double h, const HeightRange& range) {
+  if (!std::isfinite(h)) throw FileError("a height is not a finite number and cannot be stored in a 16-bit format");
+  if (!(range.max > range.min)) return 0;
+  const double t = std::clamp((h - range.min) / (range.max - range.min), 0.0, 1.0);
+  return static_cast<std::uint16_t>(std::lround(t * 65535.0));
+}
+
+double dequantize16(std::uint16_t q, const HeightRange& range) {
+  return range.min + (q / 65535.0) * (range.max - range.min);
+}
+
+std::optional<HeightRange> write_heightfield_file(const Heightfield& h, const fs::path& path,
+                                                  const HeightfieldWriteOptions& options) {
+  if (h.width() < 1 || h.height() < 1 || h.data.size() != h.domain.sample_count())
+    throw FileError("cannot write '" + path.string() + "': the heightfield is empty or inconsistent");
+  const bool sixteen = options.format == HeightFormat::Png16 || options.format == HeightFormat::Raw16;
+  std::optional<HeightRange> range;
+  if (sixteen) {
+    range = options.range ? *options.range : data_range(h);
+    if (range->max < range->min)
+      throw FileError("height range maximum " + exact_number(range->max) + " m is below the minimum " +
+                      exact_number(range->min) + " m");
+  }
+  if (options.format == HeightFormat::Raw16) {
+    write_raw16(h, path, *range, options.progress);
+    return range;
+  }
+
+  const bool is_float = options.format != HeightFormat::Png16;
+  OIIO::ImageSpec spec(h.width(), h.height(), 1, is_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT16);
+  spec.channelnames = {"Y"};
+  spec.attribute("Software", "Orogen");
+  std::string description = "Orogen heightfield; ";
+  if (is_float) {
+    description += "float32 heights in metres; ";
+    spec.attribute("compression", "zip");
+  } else {
+    description += "height_min=" + exact_number(range->min) + " m; height_max=" + exact_number(range->max) +
+                   " m (heights of 0 and full scale); ";
+    spec.attribute("orogen:height_min", exact_number(range->min));
+    spec.attribute("orogen:height_max", exact_number(range->max));
+  }
+  description += describe_domain(h.domain) + "; north row first";
+  spec.attribute("ImageDescription", description);
+
+  if (is_float) {
+    write_oiio<float>(h, path, spec, options.progress, [](int, std::span<const float> row, std::vector<float>& line) {
+      std::copy(row.begin(), row.end(), line.begin());
+    });
+  } else {
+    const HeightRange r = *range;
+    write_oiio<std::uint16_t>(h, path, spec, options.progress,
+                              [&](int j, std::span<const float> row, std::vector<std::uint16_t>& line) {
+                                for (std::size_t i = 0; i < row.size(); ++i) {
+                                  check_finite(row[i], static_cast<int>(i), j);
+                                  line[i] = quantize16(row[i], r);
+                                }
+                              });
+  }
+  return range;
+}
+
+HeightRaster read_height_raster(const fs::path& path, int channel) {
+  std::error_code ec;
+  if (!fs::exists(path, ec))
+    throw FileError("file '" + path.string() + "' does not exist (relative paths are resolved against the current "
+                    "directory " + fs::current_path(ec).string() + ")");
+  if (fs::is_directory(path, ec)) throw FileError("'" + path.string() + "' is a directory, not an image file");
+  if (const std::string ext = lower_extension(path); ext == ".raw" || ext == ".r16") return read_raw16(path, channel);
+
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);  // never premultiply a height channel by alpha
+  auto in = OIIO::ImageInput::open(path.string(), &config);
+  if (!in) throw FileError("cannot read '" + path.string() + "': " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  if (channel < 0 || channel >= spec.nchannels)
+    throw FileError("'" + path.string() + "' has " + std::to_string(spec.nchannels) + " channel(s); channel " +
+                    std::to_string(channel) + " does not exist");
+  if (spec.width < 1 || spec.height < 1 || spec.depth > 1)
+    throw FileError("'" + path.string() + "' is not a 2D image");
+  const OIIO::TypeDesc type = spec.channelformat(channel);
+  if (!is_supported(type))
+    throw FileError("'" + path.string() + "' stores pixels as " + std::string(type.c_str()) + ", which is not supported");
+
+  HeightRaster r;
+  r.width = spec.width;
+  r.height = spec.height;
+  r.channels = spec.nchannels;
+  r.format = type.c_str();
+  r.unsigned_integer = is_unsigned_integer(type);
+  r.file_mapping = mapping_from_spec(spec);
+  const std::size_t n = static_cast<std::size_t>(spec.width) * static_cast<std::size_t>(spec.height);
+  std::vector<unsigned char> buffer(n * type.size());
+  if (!in->read_image(0, 0, channel, channel + 1, type, buffer.data()))
+    throw FileError("cannot read the pixels of '" + path.string() + "': " + in->geterror());
+  r.values.resize(n);
+  for (std::size_t k = 0; k < n; ++k) r.values[k] = native_value(buffer.data() + k * type.size(), type);
+  return r;
+}
+
+Heightfield raster_to_heightfield(const HeightRaster& raster, const HeightfieldReadOptions& options) {
+  if (!(options.size.x > 0) || !(options.size.y > 0)) throw FileError("the image rectangle must have a positive size");
+  const HeightRange range = options.use_file_mapping && raster.file_mapping ? *raster.file_mapping : options.range;
+  const bool map = raster.unsigned_integer || options.remap_float;
+  Heightfield h(Domain::from_extent(options.origin, options.size, {raster.width, raster.height}));
+  for (int r = 0; r < raster.height; ++r) {
+    const int j = raster.height - 1 - r;  // the file's first row is the northern one
+    for (int i = 0; i < raster.width; ++i) {
+      const double v = raster.values[static_cast<std::size_t>(r) * static_cast<std::size_t>(raster.width) +
+                                     static_cast<std::size_t>(i)];
+      h.at(i, j) = static_cast<float>(map ? range.min + v * (range.max - range.min) : v);
+    }
+  }
+  return h;
+}
+
+}  // namespace orogen

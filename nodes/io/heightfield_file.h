@@ -1,0 +1,92 @@
+#pragma once
+// Heightfields to and from image files: EXR, PNG, TIFF (through OpenImageIO) and RAW 16-bit.
+//
+// Row order: files store rows from north to south, like a map seen from above with +x to the right and +y
+// up. The first row of a file is the heightfield's last row (largest y), the last row its row 0. Columns run
+// west to east (increasing x). RAW files use the same order (the first 2 * width bytes are the northern row).
+//
+// Height mapping: integer formats store a fraction of full scale; `HeightRange` says which heights in metres
+// 0 and full scale stand for. Float formats (EXR, TIFF float32) store metres directly.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "graph/heightfield.h"
+#include "nodes/io/file_error.h"
+
+namespace orogen {
+
+enum class HeightFormat {
+  Exr,    // OpenEXR, float32, zip (lossless)
+  Png16,  // PNG, 16-bit grey, mapped through a HeightRange
+  Raw16,  // headerless unsigned 16-bit little-endian, row-major, north row first (Unity/Unreal .raw/.r16)
+  Tiff,   // TIFF, float32, zip
+};
+
+// The format a file name's extension designates (.exr, .png, .raw, .r16, .tif, .tiff; case-insensitive).
+std::optional<HeightFormat> height_format_from_path(const std::filesystem::path& path);
+const char* to_string(HeightFormat f);
+
+// Heights in metres stored as 0 and as full scale by integer formats.
+struct HeightRange {
+  double min = 0.0;
+  double max = 1.0;
+  bool operator==(const HeightRange&) const = default;
+};
+
+// Smallest and largest sample; throws FileError if some sample is not finite (NaN or infinite).
+HeightRange data_range(const Heightfield& h);
+
+// The unsigned 16-bit code of height `h` under `range`: round((h - min) / (max - min) * 65535), clamped to
+// 0..65535; 0 when max == min. Throws FileError for a non-finite height.
+std::uint16_t quantize16(double h, const HeightRange& range);
+// The height a 16-bit code stands for under `range`.
+double dequantize16(std::uint16_t q, const HeightRange& range);
+
+struct HeightfieldWriteOptions {
+  HeightFormat format = HeightFormat::Exr;
+  // Mapping for the 16-bit formats; nullopt: the data's own range (data_range).
+  std::optional<HeightRange> range;
+  WriteProgress progress;  // optional
+};
+
+// Writes `h` to `path` in `options.format` (the extension is not consulted, but OpenImageIO formats need a
+// matching one). Not atomic by itself: writer nodes call it through write_file_atomically. Records the
+// mapping used in the file's metadata where the format allows it (EXR and PNG attributes
+// "orogen:height_min", "orogen:height_max" and, for all three image formats, the ImageDescription).
+// Returns the mapping used by the 16-bit formats, nullopt for the float formats (they store metres).
+// Throws FileError on failure; `options.progress` may throw to abort.
+std::optional<HeightRange> write_heightfield_file(const Heightfield& h, const std::filesystem::path& path,
+                                                  const HeightfieldWriteOptions& options);
+
+// One channel of an image file as read, before any mapping, top (north) row first.
+struct HeightRaster {
+  int width = 0, height = 0;
+  int channels = 0;               // channels in the file
+  std::vector<double> values;     // the chosen channel: fraction of full scale for unsigned integers,
+                                  // the stored value for signed integers and floats
+  bool unsigned_integer = false;  // values are fractions 0..1 of full scale
+  std::string format;             // e.g. "uint16", "float"
+  std::optional<HeightRange> file_mapping;  // Orogen's mapping metadata, if the file carries it
+};
+
+// Reads channel `channel` of an EXR, PNG (8/16-bit), TIFF or RAW 16-bit file. RAW files must be square
+// (side = sqrt(bytes / 2)) and are returned as unsigned integer fractions. Throws FileError if the file is
+// missing, unreadable, or has no such channel.
+HeightRaster read_height_raster(const std::filesystem::path& path, int channel = 0);
+
+struct HeightfieldReadOptions {
+  glm::dvec2 origin{0.0, 0.0};     // world position of the south-west pixel centre, metres
+  glm::dvec2 size{1024.0, 1024.0};  // world extent from the first to the last pixel centre, metres
+  HeightRange range{0.0, 1000.0};  // heights for 0 and full scale of unsigned integer formats
+  bool remap_float = false;        // also map float and signed values v to min + v * (max - min)
+  bool use_file_mapping = true;    // prefer the file's Orogen mapping metadata over `range`
+};
+
+// The raster as a heightfield on its own lattice: pixel centres span [origin, origin + size] edge to edge
+// (Domain::from_extent with the image's pixel counts), rows flipped so row 0 is the southern row.
+Heightfield raster_to_heightfield(const HeightRaster& raster, const HeightfieldReadOptions& options);
+
+}  // namespace orogen

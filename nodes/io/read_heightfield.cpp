@@ -1,0 +1,64 @@
+// ReadHeightfield: a heightfield from an image file, placed on a world rectangle and resampled to the
+// requested domain.
+#include <memory>
+
+#include "graph/exec_context.h"
+#include "graph/registry.h"
+#include "nodes/common/parallel_rows.h"
+#include "nodes/common/resample.h"
+#include "nodes/io/heightfield_file.h"
+
+namespace orogen {
+
+OROGEN_NODE(ReadHeightfield) {
+  b.category("io").description(
+      "Reads a heightfield from an EXR, PNG (8 or 16-bit), TIFF or RAW 16-bit file and resamples it "
+      "(bilinear) to the requested domain. The image's pixel centres span the world rectangle "
+      "[origin, origin + size] edge to edge, the first file row being the northern one (largest y); samples "
+      "outside the rectangle repeat its edge. Unsigned integer pixels are mapped to heights through "
+      "height_min/height_max (or the mapping WriteHeightfield stored in the file); float and signed integer "
+      "pixels are heights in metres. RAW files must be square.");
+  b.output("height", PortType::Heightfield).description("The heightfield on the requested domain, metres");
+  b.param_path("path", "").extensions({".exr", ".png", ".tif", ".tiff", ".raw", ".r16"}).description(
+      "Image file to read. A relative path is resolved against the current working directory (not the output "
+      "directory)");
+  b.param_int("channel", 0).range(0, 63).description("Channel of the image to read (0 = first)");
+  b.param_vec2("origin", {0.0, 0.0}).range(-1e7, 1e7).unit("m").description(
+      "World position of the south-west pixel centre (first column, last file row)");
+  b.param_vec2("size", {1024.0, 1024.0}).range(1e-3, 1e7).unit("m").description(
+      "World extent from the first to the last pixel centre in x and y");
+  b.param_float("height_min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description(
+      "Height of pixel value 0 in integer formats (and of 0.0 in float formats when remap_float is on)");
+  b.param_float("height_max", 1000.0).range(-1e6, 1e6).soft_range(-1000, 9000).unit("m").description(
+      "Height of full scale (255 or 65535) in integer formats (and of 1.0 in float formats when remap_float "
+      "is on)");
+  b.param_bool("remap_float", false).description(
+      "Treat float (and signed integer) pixels as fractions 0..1 and map them through height_min/height_max; "
+      "off: they are heights in metres");
+  b.param_bool("use_file_mapping", true).description(
+      "When the file carries the height mapping WriteHeightfield records (PNG, EXR, TIFF metadata), use it "
+      "instead of height_min/height_max");
+  b.execute([](ExecContext& ctx) {
+    const std::string& path = ctx.param<std::string>("path");
+    if (path.empty()) throw NodeError("no file given: set 'path' to the image to read");
+    HeightfieldReadOptions options;
+    options.origin = ctx.param<glm::dvec2>("origin");
+    options.size = ctx.param<glm::dvec2>("size");
+    options.range = {ctx.param<double>("height_min"), ctx.param<double>("height_max")};
+    options.remap_float = ctx.param<bool>("remap_float");
+    options.use_file_mapping = ctx.param<bool>("use_file_mapping");
+    Heightfield image;
+    try {
+      image = raster_to_heightfield(read_height_raster(path, static_cast<int>(ctx.param<std::int64_t>("channel"))), options);
+    } catch (const FileError& e) {
+      throw NodeError(e.what());
+    }
+    ctx.progress(0.5);
+    auto out = std::make_shared<Heightfield>(ctx.domain());
+    parallel_rows(
+        ctx, ctx.domain().height(), [&](int j) { resample_bilinear_row(image, ctx.domain(), j, out->row(j)); }, 0.5, 1.0);
+    ctx.set_output("height", std::move(out));
+  });
+}
+
+}  // namespace orogen

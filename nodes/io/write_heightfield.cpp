@@ -1,0 +1,51 @@
+// WriteHeightfield: a heightfield to EXR, PNG 16-bit, RAW 16-bit or TIFF, atomically.
+#include "graph/exec_context.h"
+#include "graph/registry.h"
+#include "nodes/io/heightfield_file.h"
+#include "nodes/io/write_output.h"
+
+namespace orogen {
+
+OROGEN_NODE(WriteHeightfield) {
+  b.category("io").writes_files().description(
+      "Writes a heightfield to a file inside the output directory, atomically (a failed or cancelled write "
+      "leaves the previous file untouched). Formats: EXR (float32 metres), PNG (16-bit grey), RAW (16-bit "
+      "unsigned little-endian, headerless, as Unity and Unreal import; .raw or .r16), TIFF (float32 metres). "
+      "Rows are stored north (largest y) first. The 16-bit formats map heights linearly to 0..65535 over the "
+      "data's own range ('auto') or a fixed range; the mapping is recorded in PNG metadata (and in the "
+      "description of every image format) so ReadHeightfield restores metres.");
+  b.input("height", PortType::Heightfield).description("Heightfield to write, metres");
+  b.param_path("path", "height.exr").output_file().extensions({".exr", ".png", ".raw", ".r16", ".tif", ".tiff"}).description(
+      "Output file, relative to the output directory; the extension selects the format");
+  b.param_enum("format", {"auto", "exr", "png16", "raw16", "tiff"}, "auto").description(
+      "File format; 'auto' follows the extension. An explicit format must agree with the extension");
+  b.param_enum("range", {"auto", "fixed"}, "auto").description(
+      "Height mapping of the 16-bit formats: 'auto' maps the data's minimum to 0 and maximum to 65535; "
+      "'fixed' maps height_min and height_max (heights outside are clamped). Float formats store metres");
+  b.param_float("height_min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description(
+      "Height stored as 0 when range is 'fixed'");
+  b.param_float("height_max", 1000.0).range(-1e6, 1e6).soft_range(-1000, 9000).unit("m").description(
+      "Height stored as 65535 when range is 'fixed'; must exceed height_min");
+  b.execute([](ExecContext& ctx) {
+    const auto h = ctx.require<Heightfield>("height");
+    const std::string& path = ctx.param<std::string>("path");
+    const auto by_extension = height_format_from_path(path);
+    if (!by_extension) throw NodeError("cannot tell the format of '" + path + "' from its extension");
+    HeightfieldWriteOptions options;
+    options.format = *by_extension;
+    if (const auto& f = ctx.param<std::string>("format"); f != "auto" && f != to_string(*by_extension))
+      throw NodeError("format '" + f + "' does not match the extension of '" + path + "' (" +
+                      to_string(*by_extension) + ")");
+    if (ctx.param<std::string>("range") == "fixed") {
+      const HeightRange r{ctx.param<double>("height_min"), ctx.param<double>("height_max")};
+      if (!(r.max > r.min)) throw NodeError("height_max must be greater than height_min for a fixed range");
+      options.range = r;
+    }
+    write_node_output(ctx, "path", [&](const std::filesystem::path& temporary, const WriteProgress& progress) {
+      options.progress = progress;
+      write_heightfield_file(*h, temporary, options);
+    });
+  });
+}
+
+}  // namespace orogen

@@ -1,0 +1,371 @@
+// Readers and writers: round trips per format, byte layout of RAW, resampling on read, clear errors, atomic
+// replacement when a write fails part-way, and the output-path rule.
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <OpenImageIO/imageio.h>
+
+#include "evaluator/run_node.h"
+#include "graph/exec_context.h"
+#include "graph/registry.h"
+#include "nodes/io/heightfield_file.h"
+#include "nodes/io/image_file.h"
+#include "support/test_paths.h"
+
+namespace orogen {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A field with values of every magnitude and sign, so a lossy path would show.
+HeightfieldPtr varied_field(const Domain& d) {
+  auto h = std::make_shared<Heightfield>(d);
+  for (int j = 0; j < d.height(); ++j)
+    for (int i = 0; i < d.width(); ++i)
+      h->at(i, j) = static_cast<float>(300.0 * std::sin(0.37 * i + 0.11 * j * j) + 1e-3 * i - 7.25 * j) *
+                    (i % 5 == 0 ? 1e-4f : 1.0f);
+  return h;
+}
+
+HeightfieldPtr ramp_field(const Domain& d, double ax, double ay, double c) {
+  auto h = std::make_shared<Heightfield>(d);
+  for (int j = 0; j < d.height(); ++j)
+    for (int i = 0; i < d.width(); ++i) h->at(i, j) = static_cast<float>(ax * d.x(i) + ay * d.y(j) + c);
+  return h;
+}
+
+std::string read_bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::vector<fs::path> temporaries_in(const fs::path& dir) {
+  std::vector<fs::path> found;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.path().filename().string().find(".tmp-") != std::string::npos) found.push_back(e.path());
+  return found;
+}
+
+// Runs a writer node through an ExecContext (like the evaluator does), returning the files it recorded.
+// `on_progress` sees every progress report; `cancel` is the run's cancel token.
+std::vector<fs::path> run_writer(const std::string& type_name, const std::map<std::string, ParamValue>& params,
+                                 const std::map<std::string, PortValue>& inputs, const OutputPolicy& policy,
+                                 std::function<void(double)> on_progress = {}, const CancelToken* cancel = nullptr) {
+  const NodeType* type = NodeRegistry::instance().find(type_name);
+  EXPECT_NE(type, nullptr);
+  std::vector<ParamValue> values;
+  for (const auto& decl : type->params) {
+    const auto it = params.find(decl.name);
+    values.push_back(it == params.end() ? decl.default_value : it->second);
+  }
+  std::vector<PortValue> in(type->inputs.size());
+  for (const auto& [name, v] : inputs) in[static_cast<std::size_t>(type->input_index(name))] = v;
+  ExecContext ctx(*type, "writer", Domain{}, std::move(in), std::move(values));
+  ctx.set_output_policy(policy);
+  ctx.set_progress_callback(std::move(on_progress));
+  ctx.set_cancel_token(cancel);
+  type->execute(ctx);
+  return ctx.written_files();
+}
+
+class IoTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = test::scratch_dir("io");
+    policy_.output_dir = dir_ / "out";
+  }
+  // Writes `h` with WriteHeightfield to out/<name>; returns the file.
+  fs::path write_height(const HeightfieldPtr& h, const std::string& name, std::map<std::string, ParamValue> params = {}) {
+    params["path"] = name;
+    const auto files = run_writer("WriteHeightfield", params, {{"height", h}}, policy_);
+    EXPECT_EQ(files.size(), 1u);
+    return files.empty() ? fs::path() : files.front();
+  }
+  HeightfieldPtr read_height(const fs::path& file, const Domain& d, std::map<std::string, ParamValue> params = {}) {
+    params["path"] = file.string();
+    if (!params.count("origin")) params["origin"] = d.min_corner();
+    if (!params.count("size")) params["size"] = d.size();
+    return run_node("ReadHeightfield", d, params).get<Heightfield>();
+  }
+  fs::path dir_;
+  OutputPolicy policy_;
+};
+
+TEST_F(IoTest, ExrRoundTripIsBitExact) {
+  const Domain d = Domain::from_extent({100, -50}, {300, 200}, {37, 23});
+  const auto h = varied_field(d);
+  const fs::path file = write_height(h, "sub/dir/height.exr");  // parent directories are created
+  EXPECT_EQ(file, policy_.output_dir / "sub/dir/height.exr");
+  ASSERT_TRUE(fs::exists(file));
+  const auto back = read_height(file, d);
+  ASSERT_EQ(back->domain, d);
+  for (std::size_t k = 0; k < h->data.size(); ++k)
+    ASSERT_EQ(std::bit_cast<std::uint32_t>(back->data[k]), std::bit_cast<std::uint32_t>(h->data[k])) << k;
+  EXPECT_EQ(read_height_raster(file).format, "float");
+  EXPECT_TRUE(temporaries_in(dir_).empty());
+}
+
+TEST_F(IoTest, TiffRoundTripIsBitExact) {
+  const Domain d = Domain::from_extent({0, 0}, {64, 48}, {17, 13});
+  const auto h = varied_field(d);
+  const auto back = read_height(write_height(h, "height.tif"), d);
+  EXPECT_EQ(back->data, h->data);
+  const auto raster = read_height_raster(policy_.output_dir / "height.tif");
+  EXPECT_EQ(raster.format, "float");
+  EXPECT_EQ(raster.width, 17);
+  EXPECT_EQ(raster.height, 13);
+}
+
+TEST_F(IoTest, Png16RoundTripWithinOneQuantisationStep) {
+  const Domain d = Domain::from_extent({-20, 30}, {500, 400}, {41, 33});
+  const auto h = varied_field(d);
+  const HeightRange range = data_range(*h);
+  const double step = (range.max - range.min) / 65535.0;
+  const fs::path file = write_height(h, "height.png");
+  const auto raster = read_height_raster(file);
+  EXPECT_EQ(raster.format, "uint16");
+  ASSERT_TRUE(raster.file_mapping.has_value());  // the mapping used is in the file's metadata
+  EXPECT_EQ(*raster.file_mapping, range);
+  // Decoy params: the file's mapping takes precedence.
+  const auto back = read_height(file, d, {{"height_min", -1.0}, {"height_max", 1.0}});
+  double worst = 0;
+  for (std::size_t k = 0; k < h->data.size(); ++k) worst = std::max(worst, std::abs(double(back->data[k]) - h->data[k]));
+  EXPECT_LE(worst, step);
+  EXPECT_GT(worst, 0.0);  // it really was quantised
+  // The extremes map to 0 and 65535 exactly.
+  EXPECT_EQ(*std::min_element(raster.values.begin(), raster.values.end()), 0.0);
+  EXPECT_EQ(*std::max_element(raster.values.begin(), raster.values.end()), 1.0);
+  // Without the file's mapping the params apply.
+  const auto by_params = read_height(file, d, {{"height_min", 0.0}, {"height_max", 1.0}, {"use_file_mapping", false}});
+  for (std::size_t k = 0; k < h->data.size(); ++k)
+    ASSERT_NEAR(by_params->data[k], (h->data[k] - range.min) / (range.max - range.min), 1.0 / 65535.0);
+}
+
+TEST_F(IoTest, Png16FixedRangeClampsAndRecordsTheRange) {
+  const Domain d = Domain::from_extent({0, 0}, {100, 100}, {21, 21});
+  const auto h = ramp_field(d, 1.0, 0.0, -25.0);  // -25 .. 75
+  const fs::path file = write_height(h, "fixed.png", {{"range", std::string("fixed")}, {"height_min", 0.0}, {"height_max", 50.0}});
+  const auto raster = read_height_raster(file);
+  ASSERT_TRUE(raster.file_mapping.has_value());
+  EXPECT_EQ(*raster.file_mapping, (HeightRange{0.0, 50.0}));
+  const auto back = read_height(file, d);
+  for (int j = 0; j < 21; ++j)
+    for (int i = 0; i < 21; ++i)
+      ASSERT_NEAR(back->at(i, j), std::clamp(h->at(i, j), 0.0f, 50.0f), 50.0 / 65535.0) << i << "," << j;
+}
+
+TEST_F(IoTest, Raw16RoundTripWithinOneQuantisationStep) {
+  const Domain d = Domain::from_extent({0, 0}, {1000, 1000}, {65, 65});  // RAW files are square
+  const auto h = varied_field(d);
+  const HeightRange range = data_range(*h);
+  const fs::path file = write_height(h, "height.r16");
+  EXPECT_EQ(fs::file_size(file), 65u * 65u * 2u);
+  // RAW carries no metadata: the reader is told the range.
+  const auto back = read_height(file, d, {{"height_min", range.min}, {"height_max", range.max}});
+  for (std::size_t k = 0; k < h->data.size(); ++k)
+    ASSERT_LE(std::abs(double(back->data[k]) - h->data[k]), (range.max - range.min) / 65535.0) << k;
+}
+
+TEST_F(IoTest, Raw16ByteLayoutIsLittleEndianNorthRowFirst) {
+  // 3 x 2 samples, fixed range 0..65535 m so the code equals the height.
+  const Domain d = Domain::from_extent({0, 0}, {2, 1}, {3, 2});
+  auto h = std::make_shared<Heightfield>(d);
+  h->at(0, 0) = 0x0102;  // south row (y = 0)
+  h->at(1, 0) = 0x0304;
+  h->at(2, 0) = 0xfffe;
+  h->at(0, 1) = 0x0a0b;  // north row (y = 1)
+  h->at(1, 1) = 0;
+  h->at(2, 1) = 65535;
+  const fs::path file =
+      write_height(h, "layout.raw", {{"range", std::string("fixed")}, {"height_min", 0.0}, {"height_max", 65535.0}});
+  const std::string bytes = read_bytes(file);
+  const std::string expected("\x0b\x0a\x00\x00\xff\xff"   // north row first, west to east, low byte first
+                             "\x02\x01\x04\x03\xfe\xff",
+                             12);
+  EXPECT_EQ(bytes, expected);
+}
+
+TEST_F(IoTest, Reads8BitPngAndChosenChannel) {
+  // An RGB 8-bit PNG written by OpenImageIO directly: R = column * 10, G = 255 - row * 20, B = 7.
+  const fs::path file = dir_ / "rgb.png";
+  const int w = 12, hgt = 9;
+  std::vector<std::uint8_t> px(static_cast<std::size_t>(w * hgt * 3));
+  for (int r = 0; r < hgt; ++r)
+    for (int c = 0; c < w; ++c) {
+      auto* p = &px[static_cast<std::size_t>((r * w + c) * 3)];
+      p[0] = static_cast<std::uint8_t>(c * 10);
+      p[1] = static_cast<std::uint8_t>(255 - r * 20);
+      p[2] = 7;
+    }
+  {
+    auto out = OIIO::ImageOutput::create(file.string());
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open(file.string(), OIIO::ImageSpec(w, hgt, 3, OIIO::TypeDesc::UINT8)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px.data()));
+    out->close();
+  }
+  const Domain d = Domain::from_extent({0, 0}, {110, 80}, {w, hgt});  // pixel centres every 10 m
+  const auto red = read_height(file, d, {{"height_min", 100.0}, {"height_max", 355.0}});  // 1 m per code
+  const auto green = read_height(file, d, {{"channel", std::int64_t(1)}, {"height_min", 0.0}, {"height_max", 255.0}});
+  for (int j = 0; j < hgt; ++j)
+    for (int i = 0; i < w; ++i) {
+      EXPECT_NEAR(red->at(i, j), 100.0 + i * 10, 1e-4);
+      EXPECT_NEAR(green->at(i, j), 255.0 - (hgt - 1 - j) * 20, 1e-4);  // file row 0 is the north row
+    }
+  EXPECT_THROW(read_height(file, d, {{"channel", std::int64_t(3)}}), NodeError);
+}
+
+TEST_F(IoTest, ReadResamplesOntoAnotherDomainAndLinearStaysLinear) {
+  // A ramp on a 33 x 17 image over [0, 320] x [0, 160]; read onto a finer, shifted domain.
+  const Domain img = Domain::from_extent({0, 0}, {320, 160}, {33, 17});
+  const auto h = ramp_field(img, 0.25, -0.5, 40.0);
+  const fs::path file = write_height(h, "ramp.exr");
+  const Domain target = Domain::from_extent({-40, 10}, {400, 100}, {101, 26});
+  const auto back = read_height(file, target, {{"origin", glm::dvec2(0, 0)}, {"size", glm::dvec2(320, 160)}});
+  ASSERT_EQ(back->domain, target);
+  for (int j = 0; j < target.height(); ++j)
+    for (int i = 0; i < target.width(); ++i) {
+      const double x = std::clamp(target.x(i), 0.0, 320.0), y = target.y(j);  // clamped outside the image
+      ASSERT_NEAR(back->at(i, j), 0.25 * x - 0.5 * y + 40.0, 1e-4) << i << "," << j;
+    }
+  // A shifted image rectangle moves the terrain with it.
+  const auto moved = read_height(file, img, {{"origin", glm::dvec2(40, 0)}, {"size", glm::dvec2(320, 160)}});
+  for (int j = 0; j < img.height(); ++j)
+    for (int i = 4; i < img.width(); ++i) ASSERT_NEAR(moved->at(i, j), h->at(i - 4, j), 1e-4);
+}
+
+TEST_F(IoTest, ReadErrorsAreClear) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
+  try {
+    read_height(dir_ / "no_such.exr", d);
+    FAIL() << "no error for a missing file";
+  } catch (const NodeError& e) {
+    EXPECT_NE(std::string(e.what()).find("no_such.exr"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("does not exist"), std::string::npos) << e.what();
+  }
+  {
+    std::ofstream(dir_ / "garbage.png") << "this is not a PNG";
+  }
+  EXPECT_THROW(read_height(dir_ / "garbage.png", d), NodeError);
+  {
+    std::ofstream(dir_ / "odd.raw", std::ios::binary) << std::string(6, '\0');  // 3 samples: not square
+  }
+  EXPECT_THROW(read_height(dir_ / "odd.raw", d), NodeError);
+  EXPECT_THROW(run_node("ReadHeightfield", d, {}), NodeError);  // no path
+}
+
+TEST_F(IoTest, ReadPathIsRelativeToTheCurrentDirectory) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {5, 5});
+  const auto h = ramp_field(d, 1, 1, 0);
+  const fs::path file = write_height(h, "rel.exr");
+  const fs::path old = fs::current_path();
+  fs::current_path(policy_.output_dir);
+  HeightfieldPtr back;
+  EXPECT_NO_THROW(back = read_height("rel.exr", d));
+  fs::current_path(old);
+  ASSERT_TRUE(back);
+  EXPECT_EQ(back->data, h->data);
+}
+
+TEST_F(IoTest, FailureMidWriteLeavesThePreviousFileIntact) {
+  const Domain d = Domain::from_extent({0, 0}, {100, 100}, {64, 64});
+  const fs::path file = write_height(ramp_field(d, 1, 0, 0), "keep.png");
+  const std::string before = read_bytes(file);
+
+  // 1. Cancelled half way through the rows, after the temporary file was created.
+  CancelToken cancel;
+  bool temporary_seen = false;
+  auto on_progress = [&](double f) {
+    if (f >= 0.5 && !cancel.cancelled()) {
+      temporary_seen = !temporaries_in(dir_).empty();
+      cancel.cancel();
+    }
+  };
+  EXPECT_THROW(run_writer("WriteHeightfield", {{"path", std::string("keep.png")}},
+                          {{"height", varied_field(d)}}, policy_, on_progress, &cancel),
+               Cancelled);
+  EXPECT_TRUE(temporary_seen);
+  EXPECT_EQ(read_bytes(file), before);
+  EXPECT_TRUE(temporaries_in(dir_).empty());
+
+  // 2. Invalid data found inside the writer (a NaN in the last row, met after the others were written).
+  auto bad = std::make_shared<Heightfield>(*varied_field(d));
+  bad->at(10, 0) = std::nanf("");
+  for (const std::string name : {"keep.png", "keep.raw"}) {
+    if (name == "keep.raw") write_height(ramp_field(d, 1, 0, 0), name);
+    const std::string old = read_bytes(policy_.output_dir / name);
+    try {
+      run_writer("WriteHeightfield",
+                 {{"path", name}, {"range", std::string("fixed")}, {"height_min", -500.0}, {"height_max", 500.0}},
+                 {{"height", HeightfieldPtr(bad)}}, policy_);
+      FAIL() << "no error for a NaN height in " << name;
+    } catch (const NodeError& e) {
+      EXPECT_NE(std::string(e.what()).find("not a finite number"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find((policy_.output_dir / name).string()), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).find(".tmp-"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(read_bytes(policy_.output_dir / name), old) << name;
+    EXPECT_TRUE(temporaries_in(dir_).empty()) << name;
+  }
+}
+
+TEST_F(IoTest, OutputPathRule) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
+  const auto h = ramp_field(d, 1, 0, 0);
+  const std::map<std::string, PortValue> in{{"height", h}};
+  const fs::path outside = dir_ / "outside.exr";
+  // Absolute and climbing paths are refused under the default policy, through run_node as well.
+  EXPECT_THROW(run_node("WriteHeightfield", d, {{"path", outside.string()}}, in, policy_), NodeError);
+  EXPECT_THROW(run_node("WriteHeightfield", d, {{"path", std::string("../outside.exr")}}, in, policy_), NodeError);
+  EXPECT_THROW(run_node("WriteHeightfield", d, {{"path", std::string("a/../../outside.exr")}}, in, policy_), NodeError);
+  EXPECT_FALSE(fs::exists(outside));
+  // Inside is fine, and relative paths land in the output directory.
+  run_node("WriteHeightfield", d, {{"path", std::string("a/b.exr")}}, in, policy_);
+  EXPECT_TRUE(fs::exists(policy_.output_dir / "a/b.exr"));
+  // Allowed explicitly.
+  OutputPolicy any = policy_;
+  any.allow_any_path = true;
+  run_node("WriteHeightfield", d, {{"path", std::string("../outside.exr")}}, in, any);
+  EXPECT_TRUE(fs::exists(outside));
+  fs::remove(outside);
+  run_node("WriteHeightfield", d, {{"path", outside.string()}}, in, any);
+  EXPECT_TRUE(fs::exists(outside));
+}
+
+TEST_F(IoTest, WriterParameterErrors) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
+  const std::map<std::string, PortValue> in{{"height", ramp_field(d, 1, 0, 0)}};
+  EXPECT_THROW(run_node("WriteHeightfield", d, {{"path", std::string("h.exr")}, {"format", std::string("png16")}}, in, policy_),
+               NodeError);
+  EXPECT_THROW(run_node("WriteHeightfield", d,
+                        {{"path", std::string("h.png")}, {"range", std::string("fixed")}, {"height_min", 5.0}, {"height_max", 5.0}},
+                        in, policy_),
+               NodeError);
+  EXPECT_NO_THROW(run_node("WriteHeightfield", d, {{"path", std::string("h.png")}, {"format", std::string("png16")}}, in, policy_));
+  // A flat field in auto range writes code 0 and reads back exactly.
+  const auto flat = std::make_shared<Heightfield>(d, 12.5f);
+  const fs::path file = write_height(flat, "flat.png");
+  const auto back = read_height(file, d);
+  for (float v : back->data) EXPECT_EQ(v, 12.5f);
+}
+
+TEST_F(IoTest, QuantisationIsRoundToNearest) {
+  const HeightRange r{-10.0, 10.0};
+  EXPECT_EQ(quantize16(-10.0, r), 0);
+  EXPECT_EQ(quantize16(10.0, r), 65535);
+  EXPECT_EQ(quantize16(-11.0, r), 0);
+  EXPECT_EQ(quantize16(1e9, r), 65535);
+  EXPECT_EQ(quantize16(0.0, r), 32768);  // 32767.5 rounds up
+  for (int q : {0, 1, 12345, 65534, 65535})
+    EXPECT_EQ(quantize16(dequantize16(static_cast<std::uint16_t>(q), r), r), q);
+}
+
+}  // namespace
+}  // namespace orogen
