@@ -1,0 +1,123 @@
+#include "editor/model/document.h"
+
+#include "editor/model/node_layout.h"
+#include "graph/graph_file.h"
+
+namespace orogen::editor {
+
+bool same_content(const Graph& a, const Graph& b) { return a.domain == b.domain && a.nodes() == b.nodes(); }
+
+Document::Document() = default;
+
+Document::Document(Graph graph, std::filesystem::path path) : graph_(std::move(graph)), path_(std::move(path)) {}
+
+Document Document::open(const std::filesystem::path& path) {
+  LoadOptions options;
+  options.allow_unconnected_inputs = true;  // work in progress is a normal state in the editor
+  auto result = load_graph_file(path, options);
+  if (!result.ok()) throw DocumentError("cannot open " + path.string() + ":\n" + result.error_text());
+  // Files written by hand or by other tools may carry no layout: place those nodes, outside the history.
+  place_unpositioned_nodes(*result.graph);
+  return Document(std::move(*result.graph), path);
+}
+
+std::string Document::display_name() const { return has_path() ? path_.filename().string() : "Untitled"; }
+
+std::string Document::window_title() const { return display_name() + (dirty() ? "*" : "") + " - Orogen"; }
+
+void Document::replace(Graph graph, std::uint64_t state) {
+  const bool content_changed = !same_content(graph, graph_);
+  graph_ = std::move(graph);
+  state_ = state;
+  ++revision_;
+  if (content_changed) ++content_revision_;
+}
+
+bool Document::edit(const std::string& label, const std::function<void(Graph&)>& fn, const std::string& merge_key) {
+  Graph next = graph_;
+  fn(next);
+  if (next == graph_) return false;
+  const auto state = history_.record(graph_, state_, label, merge_key);
+  replace(std::move(next), state);
+  return true;
+}
+
+bool Document::undo() {
+  auto restored = history_.undo(graph_, state_);
+  if (!restored) return false;
+  replace(std::move(restored->graph), restored->state);
+  return true;
+}
+
+bool Document::redo() {
+  auto restored = history_.redo(graph_, state_);
+  if (!restored) return false;
+  replace(std::move(restored->graph), restored->state);
+  return true;
+}
+
+std::string Document::add_node(const std::string& type_name, glm::dvec2 position) {
+  std::string id;
+  edit("Add " + type_name, [&](Graph& g) {
+    id = g.add_node(type_name).id;
+    g.editor.positions[id] = position;
+  });
+  return id;
+}
+
+void Document::remove_nodes(const std::vector<std::string>& ids) {
+  if (ids.empty()) return;
+  edit(ids.size() == 1 ? "Delete " + ids.front() : "Delete " + std::to_string(ids.size()) + " nodes", [&](Graph& g) {
+    for (const auto& id : ids)
+      if (g.find(id)) g.remove_node(id);
+  });
+}
+
+void Document::connect(const PortRef& from, const std::string& to_node, const std::string& to_port) {
+  edit("Connect " + from.str() + " to " + to_node + "." + to_port, [&](Graph& g) { g.connect(from, to_node, to_port); });
+}
+
+void Document::disconnect(const std::string& to_node, const std::string& to_port) {
+  edit("Disconnect " + to_node + "." + to_port, [&](Graph& g) { g.disconnect(to_node, to_port); });
+}
+
+void Document::set_param(const std::string& node, const std::string& name, const ParamValue& value, bool gesture) {
+  edit("Set " + node + "." + name, [&](Graph& g) { g.set_param(node, name, value); },
+       gesture ? "param:" + node + "." + name : std::string());
+}
+
+void Document::reset_param(const std::string& node, const std::string& name) {
+  edit("Reset " + node + "." + name, [&](Graph& g) { g.reset_param(node, name); });
+}
+
+void Document::move_nodes(const std::vector<std::string>& ids, glm::dvec2 delta, bool gesture) {
+  if (ids.empty()) return;
+  edit(ids.size() == 1 ? "Move " + ids.front() : "Move " + std::to_string(ids.size()) + " nodes",
+       [&](Graph& g) {
+         for (const auto& id : ids)
+           if (g.find(id)) g.editor.positions[id] += delta;
+       },
+       gesture ? std::string("move") : std::string());
+}
+
+void Document::rename_node(const std::string& id, const std::string& new_id) {
+  edit("Rename " + id + " to " + new_id, [&](Graph& g) { g.rename_node(id, new_id); });
+}
+
+void Document::set_domain(const GraphDomain& domain) {
+  edit("Change domain", [&](Graph& g) { g.domain = domain; });
+}
+
+void Document::save() {
+  if (!has_path()) throw std::runtime_error("the document has no file name yet: use Save As");
+  save_graph_file(graph_, path_);
+  saved_state_ = state_;
+}
+
+void Document::save_as(const std::filesystem::path& path) {
+  save_graph_file(graph_, path);
+  path_ = path;
+  saved_state_ = state_;
+}
+
+}  // namespace orogen::editor

@@ -1,0 +1,291 @@
+#include "editor/model/evaluation_controller.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace orogen::editor {
+
+std::string_view to_string(NodeRunState::Phase phase) {
+  switch (phase) {
+    case NodeRunState::Phase::Unknown: return "not evaluated";
+    case NodeRunState::Phase::Stale: return "out of date";
+    case NodeRunState::Phase::Computing: return "computing";
+    case NodeRunState::Phase::Computed: return "up to date";
+    case NodeRunState::Phase::Cached: return "cached";
+    case NodeRunState::Phase::Failed: return "failed";
+    case NodeRunState::Phase::Skipped: return "skipped";
+  }
+  return "?";
+}
+
+EvaluatorOptions EvaluationController::preview_defaults() {
+  EvaluatorOptions o;
+  o.cache_bytes = std::size_t(1) << 30;  // previews are small; many edits' worth of them fit in 1 GiB
+  return o;
+}
+
+EvaluationController::EvaluationController(EvaluatorOptions preview_options, EvaluatorOptions build_options)
+    : preview_evaluator_(std::move(preview_options)), build_evaluator_(std::move(build_options)) {
+  preview_thread_ = std::thread([this] { preview_loop(); });
+}
+
+EvaluationController::~EvaluationController() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+    preview_cancel_.cancel();
+    build_cancel_.cancel();
+  }
+  wake_.notify_all();
+  if (preview_thread_.joinable()) preview_thread_.join();
+  if (build_thread_.joinable()) build_thread_.join();
+}
+
+void EvaluationController::set_preview_resolution(int samples) {
+  std::lock_guard lock(mutex_);
+  preview_resolution_ = std::clamp(samples, 16, 8192);
+}
+
+int EvaluationController::preview_resolution() const {
+  std::lock_guard lock(mutex_);
+  return preview_resolution_;
+}
+
+Domain EvaluationController::preview_domain(const GraphDomain& domain) const {
+  const int n = preview_resolution();
+  const double longer = std::max(domain.size.x, domain.size.y);
+  // At most the graph's own resolution: a preview never computes more than the build.
+  const auto along = [&](double size, int full) {
+    const int scaled = std::max(2, static_cast<int>(std::lround(n * size / longer)));
+    return std::min(scaled, std::max(full, 2));
+  };
+  return Domain::from_extent(domain.origin, domain.size,
+                             {along(domain.size.x, domain.resolution.x), along(domain.size.y, domain.resolution.y)});
+}
+
+void EvaluationController::request_preview(const Graph& graph, std::vector<std::string> nodes, std::uint64_t revision) {
+  Job job{graph, std::move(nodes), revision, preview_domain(graph.domain)};
+  // Which results the edit made stale: the nodes whose key changed.
+  std::map<std::string, CacheKey> keys;
+  try {
+    keys = compute_cache_keys(job.graph, job.domain);
+  } catch (const std::exception&) {
+    // An invalid graph (the evaluator reports why when it runs); every state becomes stale.
+  }
+  {
+    std::lock_guard lock(mutex_);
+    std::erase_if(states_, [&](const auto& kv) { return !job.graph.find(kv.first); });
+    for (const auto& node : job.graph.nodes()) {
+      auto& s = states_[node.id];
+      const auto k = keys.find(node.id);
+      const bool current = k != keys.end() && s.key && *s.key == k->second &&
+                           (s.phase == NodeRunState::Phase::Computed || s.phase == NodeRunState::Phase::Cached);
+      if (!current && s.phase != NodeRunState::Phase::Unknown) s.phase = NodeRunState::Phase::Stale;
+      if (!current) s.progress = 0.0;
+    }
+    pending_ = std::move(job);
+    if (running_) preview_cancel_.cancel();
+  }
+  wake_.notify_all();
+}
+
+std::shared_ptr<const PreviewResult> EvaluationController::preview() const {
+  std::lock_guard lock(mutex_);
+  return preview_;
+}
+
+bool EvaluationController::preview_busy() const {
+  std::lock_guard lock(mutex_);
+  return running_ || pending_.has_value();
+}
+
+std::map<std::string, NodeRunState> EvaluationController::node_states() const {
+  std::lock_guard lock(mutex_);
+  return states_;
+}
+
+NodeRunState EvaluationController::node_state(const std::string& id) const {
+  std::lock_guard lock(mutex_);
+  auto it = states_.find(id);
+  return it == states_.end() ? NodeRunState{} : it->second;
+}
+
+void EvaluationController::on_preview_event(const EvalEvent& e) {
+  std::lock_guard lock(mutex_);
+  auto& s = states_[e.node];
+  const auto key = running_keys_.find(e.node);
+  switch (e.kind) {
+    case EvalEvent::Kind::Started:
+      s.phase = NodeRunState::Phase::Computing;
+      s.progress = 0.0;
+      break;
+    case EvalEvent::Kind::Progress:
+      s.progress = e.fraction;
+      break;
+    case EvalEvent::Kind::Finished:
+      s.phase = NodeRunState::Phase::Computed;
+      s.progress = 1.0;
+      s.milliseconds = e.milliseconds;
+      s.message.clear();
+      if (key != running_keys_.end()) s.key = key->second;
+      break;
+    case EvalEvent::Kind::Cached:
+      s.phase = NodeRunState::Phase::Cached;
+      s.progress = 1.0;
+      s.message.clear();
+      if (key != running_keys_.end()) s.key = key->second;
+      break;
+    case EvalEvent::Kind::Failed:
+      s.phase = NodeRunState::Phase::Failed;
+      s.message = e.message;
+      s.key.reset();
+      break;
+    case EvalEvent::Kind::Skipped:
+      s.phase = NodeRunState::Phase::Skipped;
+      s.message = e.message;
+      s.key.reset();
+      break;
+    case EvalEvent::Kind::Cancelled:
+      s.phase = NodeRunState::Phase::Stale;
+      s.progress = 0.0;
+      break;
+  }
+}
+
+void EvaluationController::preview_loop() {
+  for (;;) {
+    Job job;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [&] { return stop_ || pending_.has_value(); });
+      if (stop_) return;
+      job = std::move(*pending_);
+      pending_.reset();
+      running_ = true;
+      preview_cancel_.reset();
+      running_keys_.clear();
+    }
+    std::map<std::string, CacheKey> keys;
+    try {
+      keys = compute_cache_keys(job.graph, job.domain);
+    } catch (const std::exception&) {
+    }
+    {
+      std::lock_guard lock(mutex_);
+      running_keys_ = std::move(keys);
+    }
+
+    if (job.nodes.empty()) {
+      // Everything visible: the nodes nothing reads, except writers (a preview never writes files).
+      for (const auto& node : job.graph.nodes())
+        if (!node.type->writes_files && job.graph.downstream(node.id).empty()) job.nodes.push_back(node.id);
+    }
+    auto result = std::make_shared<PreviewResult>();
+    result->revision = job.revision;
+    result->domain = job.domain;
+    result->requested = job.nodes;
+    bool cancelled = false;
+    try {
+      EvalRequest request;
+      request.domain = job.domain;
+      request.nodes = job.nodes;
+      request.cancel = &preview_cancel_;
+      request.on_event = [this](const EvalEvent& e) { on_preview_event(e); };
+      EvalResult r = preview_evaluator_.evaluate(job.graph, request);
+      cancelled = r.cancelled;
+      result->outputs = std::move(r.outputs);
+      result->reports = std::move(r.nodes);
+      result->milliseconds = r.milliseconds;
+    } catch (const std::exception& e) {
+      result->error = e.what();
+    }
+
+    {
+      std::lock_guard lock(mutex_);
+      running_ = false;
+      if (!cancelled) {
+        result->serial = ++serial_;
+        preview_ = std::move(result);
+      }
+    }
+    idle_.notify_all();
+  }
+}
+
+void EvaluationController::start_build(const Graph& graph, const OutputPolicy& policy) {
+  std::lock_guard lock(mutex_);
+  if (build_.running) return;
+  if (build_thread_.joinable()) build_thread_.join();  // the previous build has finished
+  build_evaluator_.set_output_policy(policy);
+  build_cancel_.reset();
+  build_ = BuildStatus{};
+  build_.running = true;
+  build_.domain = graph.domain.to_domain();
+  build_node_progress_.clear();
+  build_total_ = std::max<std::size_t>(1, graph.nodes().size());
+  build_thread_ = std::thread([this, g = graph, d = build_.domain]() mutable { run_build(std::move(g), d); });
+}
+
+void EvaluationController::cancel_build() {
+  std::lock_guard lock(mutex_);
+  if (build_.running) build_cancel_.cancel();
+}
+
+BuildStatus EvaluationController::build_status() const {
+  std::lock_guard lock(mutex_);
+  return build_;
+}
+
+void EvaluationController::run_build(Graph graph, Domain domain) {
+  EvalRequest request;
+  request.domain = domain;
+  request.cancel = &build_cancel_;
+  request.on_event = [this](const EvalEvent& e) {
+    std::lock_guard lock(mutex_);
+    switch (e.kind) {
+      case EvalEvent::Kind::Started:
+        build_node_progress_[e.node] = 0.0;
+        build_.current = e.node;
+        break;
+      case EvalEvent::Kind::Progress:
+        build_node_progress_[e.node] = e.fraction;
+        build_.current = e.node;
+        break;
+      default:
+        build_node_progress_[e.node] = 1.0;
+        break;
+    }
+    double done = 0.0;
+    for (const auto& [id, f] : build_node_progress_) done += f;
+    build_.fraction = std::min(1.0, done / static_cast<double>(build_total_));
+  };
+  BuildStatus status;
+  status.domain = domain;
+  try {
+    EvalResult r = build_evaluator_.evaluate(graph, request);
+    status.cancelled = r.cancelled;
+    status.ok = r.ok();
+    status.milliseconds = r.milliseconds;
+    for (const auto& [id, report] : r.nodes)
+      if (report.status == NodeStatus::Failed) status.failures.push_back(id + ": " + report.message);
+  } catch (const std::exception& e) {
+    status.ok = false;
+    status.failures.push_back(e.what());
+  }
+  {
+    std::lock_guard lock(mutex_);
+    status.running = false;
+    status.finished = true;
+    status.fraction = status.ok ? 1.0 : build_.fraction;
+    build_ = std::move(status);
+  }
+  idle_.notify_all();
+}
+
+void EvaluationController::wait_idle() {
+  std::unique_lock lock(mutex_);
+  idle_.wait(lock, [&] { return !running_ && !pending_.has_value() && !build_.running; });
+}
+
+}  // namespace orogen::editor

@@ -1,0 +1,50 @@
+#pragma once
+// The node palette (Tab or right-click on the canvas): ranked fuzzy search over the registered node types'
+// names, categories and descriptions.
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "graph/node_type.h"
+
+namespace orogen::editor {
+
+struct PaletteMatch {
+  const NodeType* type = nullptr;
+  double score = 0.0;
+  std::vector<int> name_positions;  // matched characters of the name, for highlighting
+};
+
+// Every word of the query must match the name (fuzzy, strongest), the category (fuzzy) or a word of the
+// description (prefix). Best first; ties by shorter name, then alphabetically. An empty query lists every
+// type by category, then name.
+std::vector<PaletteMatch> search_palette(std::string_view query, const std::vector<const NodeType*>& types);
+
+// The palette's state while it is open: the query typed so far, the ranked results and the highlighted
+// row. Where the chosen node goes (and what it connects to) is the canvas's business.
+class PaletteState {
+ public:
+  explicit PaletteState(std::vector<const NodeType*> types = {});
+  void set_types(std::vector<const NodeType*> types);
+
+  const std::string& query() const { return query_; }
+  void set_query(std::string query);
+  void type_text(std::string_view text) { set_query(query_ + std::string(text)); }
+  void backspace();
+
+  const std::vector<PaletteMatch>& results() const { return results_; }
+  int highlighted() const { return highlighted_; }
+  void move_highlight(int delta);
+  void set_highlight(int index);
+  // The highlighted type, if any result.
+  const NodeType* choice() const;
+
+ private:
+  std::vector<const NodeType*> types_;
+  std::string query_;
+  std::vector<PaletteMatch> results_;
+  int highlighted_ = 0;
+};
+
+}  // namespace orogen::editor
