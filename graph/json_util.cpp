@@ -66,7 +66,7 @@ class StrictBuilder {
   bool key(std::string& k) {
     Frame& f = stack_.back();
     if (!f.keys.insert(k).second)
-      problems_.push_back({path() + "/" + pointer_token(k),
+      problems_.push_back({container_path() + "/" + pointer_token(k),
                            "duplicate key '" + k + "': each key may appear only once in an object"});
     f.key = k;
     return true;
@@ -90,7 +90,10 @@ class StrictBuilder {
     const auto last_newline = read.rfind('\n');
     const auto column = last_newline == std::string_view::npos ? read.size() : read.size() - last_newline - 1;
     syntax_error_ = true;
-    problems_.push_back({path(), "malformed JSON at line " + std::to_string(line) + ", column " +
+    // A number too large is located by its path; a syntax error only by line and column, since the path
+    // of the last value read is often not where the mistake is (a missing comma after it, say).
+    const bool number_overflow = ex.id == 406;
+    problems_.push_back({number_overflow ? path() : std::string(), "malformed JSON at line " + std::to_string(line) + ", column " +
                                      std::to_string(column) + ": " + detail});
     return false;
   }
@@ -107,9 +110,15 @@ class StrictBuilder {
     std::size_t index;
   };
 
-  std::string path() const {
+  // The path of the value being read.
+  std::string path() const { return path_of(stack_.size()); }
+  // The path of the innermost object or array.
+  std::string container_path() const { return path_of(stack_.empty() ? 0 : stack_.size() - 1); }
+
+  std::string path_of(std::size_t levels) const {
     std::string p;
-    for (const auto& f : stack_) {
+    for (std::size_t i = 0; i < levels; ++i) {
+      const Frame& f = stack_[i];
       p += '/';
       p += f.is_object ? pointer_token(f.key) : std::to_string(f.index);
     }
@@ -170,7 +179,12 @@ std::string describe(const nlohmann::json& j) {
     }
     case nlohmann::json::value_t::number_integer:
     case nlohmann::json::value_t::number_unsigned: return "the number " + j.dump();
-    case nlohmann::json::value_t::number_float: return "the number " + format_double(j.get<double>());
+    case nlohmann::json::value_t::number_float: {
+      // Say "1.0", not "1", so that a message about a non-integer does not show an integer.
+      std::string text = format_double(j.get<double>());
+      if (text.find_first_of(".en") == std::string::npos) text += ".0";
+      return "the number " + text;
+    }
     case nlohmann::json::value_t::array:
       return j.size() == 1 ? "an array of 1 element" : "an array of " + std::to_string(j.size()) + " elements";
     case nlohmann::json::value_t::object: return "an object";
