@@ -1,0 +1,109 @@
+// Canvas math: zoom around the cursor, panning, framing, node geometry and hit testing.
+#include <gtest/gtest.h>
+
+#include "editor/model/canvas_view.h"
+#include "editor/model/node_layout.h"
+#include "support/editor_test_support.h"
+
+namespace orogen::editor {
+namespace {
+
+void expect_near(glm::dvec2 a, glm::dvec2 b, double tol = 1e-9) {
+  EXPECT_NEAR(a.x, b.x, tol);
+  EXPECT_NEAR(a.y, b.y, tol);
+}
+
+TEST(CanvasView, WorldScreenRoundTrip) {
+  CanvasView v;
+  v.set_viewport({100, 50}, {800, 600});
+  v.set({-30, 20}, 1.7);
+  for (glm::dvec2 p : {glm::dvec2(0, 0), glm::dvec2(123.5, -88), glm::dvec2(1e4, 3)})
+    expect_near(v.to_world(v.to_screen(p)), p, 1e-9);
+  expect_near(v.to_screen(v.scroll()), v.origin());
+}
+
+TEST(CanvasView, ZoomKeepsThePointUnderTheCursorFixed) {
+  CanvasView v;
+  v.set_viewport({100, 50}, {800, 600});
+  v.set({-30, 20}, 1.0);
+  const glm::dvec2 cursor{437.0, 291.0};
+  const glm::dvec2 world = v.to_world(cursor);
+  for (double f : {1.15, 1.15, 2.0, 0.5, 0.87, 10.0, 0.01}) {
+    v.zoom_at(cursor, f);
+    expect_near(v.to_world(cursor), world, 1e-9);
+    EXPECT_GE(v.zoom(), CanvasView::kMinZoom);
+    EXPECT_LE(v.zoom(), CanvasView::kMaxZoom);
+  }
+  // Zoom really changed scale: a point 100 world units right of the anchor moves accordingly.
+  v.set(v.scroll(), 1.0);
+  v.zoom_at(cursor, 2.0);
+  expect_near(v.to_screen(v.to_world(cursor) + glm::dvec2(100, 0)), cursor + glm::dvec2(200, 0), 1e-9);
+}
+
+TEST(CanvasView, PanFollowsTheMouse) {
+  CanvasView v;
+  v.set({0, 0}, 2.0);
+  const glm::dvec2 world{50, 60};
+  const glm::dvec2 before = v.to_screen(world);
+  v.pan({30, -10});
+  expect_near(v.to_screen(world), before + glm::dvec2(30, -10));
+}
+
+TEST(CanvasView, FrameFitsTheRectangle) {
+  CanvasView v;
+  v.set_viewport({0, 0}, {1000, 500});
+  const Rect box{{200, 300}, {1200, 700}};
+  v.frame(box, 40);
+  EXPECT_TRUE(v.visible().contains(box.min));
+  EXPECT_TRUE(v.visible().contains(box.max));
+  expect_near(v.to_screen(box.center()), {500, 250}, 1e-9);
+  EXPECT_NEAR(v.zoom(), 920.0 / 1000.0, 1e-12);  // width-limited: (1000 - 80) / 1000 < (500 - 80) / 400
+}
+
+TEST(NodeLayout, PinsSitOnTheEdgesInDeclarationOrder) {
+  const Graph g = test::chain_graph();
+  const NodeLayout l = layout_node(g.at("mid"), {100, 200});
+  EXPECT_EQ(l.rect.min, glm::dvec2(100, 200));
+  ASSERT_EQ(l.inputs.size(), 2u);
+  ASSERT_EQ(l.outputs.size(), 1u);
+  EXPECT_EQ(l.inputs[0].pin.port, "a");
+  EXPECT_EQ(l.inputs[1].pin.port, "b");
+  EXPECT_LT(l.inputs[0].position.y, l.inputs[1].position.y);
+  EXPECT_EQ(l.inputs[0].position.x, l.rect.min.x);
+  EXPECT_EQ(l.outputs[0].position.x, l.rect.max.x);
+  EXPECT_GT(l.inputs[0].position.y, l.title.max.y);
+  EXPECT_LT(l.inputs[1].position.y, l.status.min.y);
+}
+
+TEST(CanvasLayout, HitTestingNodesPinsAndBoxes) {
+  const Graph g = test::chain_graph();
+  const CanvasLayout layout(g);
+  const auto* mid = layout.find("mid");
+  ASSERT_NE(mid, nullptr);
+  EXPECT_EQ(layout.node_at(mid->rect.center()), "mid");
+  EXPECT_FALSE(layout.node_at({-500, -500}));
+  const auto pin = layout.pin_at(mid->inputs[1].position + glm::dvec2(2, 1), 8);
+  ASSERT_TRUE(pin);
+  EXPECT_EQ(pin->pin, (PinId{"mid", "b", false}));
+  EXPECT_FALSE(layout.pin_at(mid->rect.center(), 8));
+  const auto boxed = layout.nodes_in({{-10, -10}, {320, 50}});
+  EXPECT_EQ(boxed, (std::vector<std::string>{"src", "mid"}));
+  const auto all = layout.bounds();
+  ASSERT_TRUE(all);
+  for (const auto& n : layout.nodes()) EXPECT_TRUE(all->contains(n.rect.min) && all->contains(n.rect.max));
+}
+
+TEST(CanvasLayout, UnplacedNodesGetColumnsByDepth) {
+  Graph g = test::chain_graph();
+  g.editor.positions.clear();
+  place_unpositioned_nodes(g);
+  const auto& p = g.editor.positions;
+  ASSERT_EQ(p.size(), 4u);
+  EXPECT_LT(p.at("src").x, p.at("mid").x);
+  EXPECT_LT(p.at("mid").x, p.at("out").x);
+  EXPECT_EQ(p.at("mid").x, p.at("scatter").x);
+  EXPECT_NE(p.at("mid").y, p.at("scatter").y);
+}
+
+}  // namespace
+}  // namespace orogen::editor

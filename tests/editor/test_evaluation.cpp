@@ -1,0 +1,167 @@
+// The evaluation controller: previews run in the background, recompute only what an edit affects, hit the
+// cache after undo, cancel superseded runs, and builds write at full resolution.
+#include <chrono>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "editor/model/document.h"
+#include "editor/model/evaluation_controller.h"
+#include "support/editor_test_support.h"
+
+namespace orogen::editor {
+namespace {
+
+using Phase = NodeRunState::Phase;
+
+std::map<std::string, NodeStatus> statuses(const PreviewResult& r) {
+  std::map<std::string, NodeStatus> out;
+  for (const auto& [id, report] : r.reports) out[id] = report.status;
+  return out;
+}
+
+TEST(EvaluationController, PreviewUsesThePreviewResolutionOfTheSameWorld) {
+  EvaluationController ec;
+  GraphDomain d;
+  d.origin = {100, 200};
+  d.size = {4000, 2000};
+  d.resolution = {4096, 2048};
+  const Domain p = ec.preview_domain(d);
+  EXPECT_EQ(p.resolution, glm::ivec2(512, 256));
+  EXPECT_EQ(p.min_corner(), glm::dvec2(100, 200));
+  EXPECT_NEAR(p.max_corner().x, 4100, 1e-9);
+  EXPECT_NEAR(p.max_corner().y, 2200, 1e-9);
+  ec.set_preview_resolution(256);
+  EXPECT_EQ(ec.preview_domain(d).resolution, glm::ivec2(256, 128));
+  d.resolution = {64, 32};  // never more than the build
+  EXPECT_EQ(ec.preview_domain(d).resolution, glm::ivec2(64, 32));
+}
+
+TEST(EvaluationController, EditRecomputesOnlyDownstreamAndUndoHitsTheCache) {
+  EvaluationController ec;
+  Document doc(test::chain_graph());
+  ec.request_preview(doc.graph(), {"out"}, doc.content_revision());
+  ec.wait_idle();
+  auto first = ec.preview();
+  ASSERT_TRUE(first);
+  EXPECT_EQ(statuses(*first), (std::map<std::string, NodeStatus>{
+                                  {"src", NodeStatus::Computed}, {"mid", NodeStatus::Computed}, {"out", NodeStatus::Computed}}));
+  ASSERT_TRUE(first->outputs.count("out"));
+  const auto out_before = std::get<HeightfieldPtr>(first->outputs.at("out").at(0));
+  EXPECT_EQ(out_before->domain, ec.preview_domain(doc.graph().domain));
+
+  // Edit the middle node: src is cached, mid and out are recomputed.
+  doc.set_param("mid", "weight", 0.9);
+  doc.connect({"src", "out"}, "mid", "b");
+  ec.request_preview(doc.graph(), {"out"}, doc.content_revision());
+  ec.wait_idle();
+  auto second = ec.preview();
+  EXPECT_EQ(statuses(*second), (std::map<std::string, NodeStatus>{
+                                   {"src", NodeStatus::Cached}, {"mid", NodeStatus::Computed}, {"out", NodeStatus::Computed}}));
+  EXPECT_EQ(ec.node_state("src").phase, Phase::Cached);
+  EXPECT_EQ(ec.node_state("mid").phase, Phase::Computed);
+  EXPECT_GT(second->serial, first->serial);
+  EXPECT_EQ(second->revision, doc.content_revision());
+
+  // Undo both edits: everything is a cache hit and the result is the first one's.
+  doc.undo();
+  doc.undo();
+  ec.request_preview(doc.graph(), {"out"}, doc.content_revision());
+  ec.wait_idle();
+  auto third = ec.preview();
+  for (const auto& [id, status] : statuses(*third)) EXPECT_EQ(status, NodeStatus::Cached) << id;
+  EXPECT_EQ(std::get<HeightfieldPtr>(third->outputs.at("out").at(0))->data, out_before->data);
+  EXPECT_EQ(ec.node_state("out").phase, Phase::Cached);
+  EXPECT_GT(ec.node_state("out").milliseconds, 0.0) << "the last compute time is kept";
+}
+
+TEST(EvaluationController, EditMarksTheAffectedNodesOutOfDate) {
+  EvaluationController ec;
+  Document doc(test::chain_graph());
+  ec.request_preview(doc.graph(), {"out"}, doc.content_revision());
+  ec.wait_idle();
+  doc.set_param("mid", "weight", 0.75);
+  doc.connect({"src", "out"}, "mid", "b");
+  // Preview only src: mid and out are not evaluated, and show that they are out of date.
+  ec.request_preview(doc.graph(), {"src"}, doc.content_revision());
+  ec.wait_idle();
+  EXPECT_EQ(ec.node_state("src").phase, Phase::Cached);
+  EXPECT_EQ(ec.node_state("mid").phase, Phase::Stale);
+  EXPECT_EQ(ec.node_state("out").phase, Phase::Stale);
+  EXPECT_EQ(ec.node_state("scatter").phase, Phase::Unknown);
+  // Moving a node changes no key: nothing becomes stale.
+  ec.request_preview(doc.graph(), {"out"}, doc.content_revision());
+  ec.wait_idle();
+  doc.move_nodes({"mid"}, {5, 5});
+  ec.request_preview(doc.graph(), {"src"}, doc.content_revision());
+  ec.wait_idle();
+  EXPECT_EQ(ec.node_state("out").phase, Phase::Computed);
+}
+
+TEST(EvaluationController, NewRequestCancelsTheRunItSupersedes) {
+  EvaluationController ec;
+  Graph g = test::chain_graph();
+  g.add_node("EdSlow", "slow");
+  g.connect({"out", "out"}, "slow", "in");
+  g.set_param("slow", "milliseconds", std::int64_t{20000});
+  const auto start = std::chrono::steady_clock::now();
+  ec.request_preview(g, {"slow"}, 1);
+  // Wait until the slow node is running, then supersede it with a quick request.
+  while (ec.node_state("slow").phase != Phase::Computing) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  EXPECT_TRUE(ec.preview_busy());
+  g.set_param("slow", "milliseconds", std::int64_t{0});
+  ec.request_preview(g, {"slow"}, 2);
+  ec.wait_idle();
+  const auto elapsed = std::chrono::steady_clock::now() - start;
+  EXPECT_LT(elapsed, std::chrono::seconds(15)) << "the 20 s run was cancelled";
+  auto r = ec.preview();
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->revision, 2u) << "only the newest request's result is published";
+  EXPECT_EQ(ec.node_state("slow").phase, Phase::Computed);
+}
+
+TEST(EvaluationController, FailuresAreReportedPerNode) {
+  EvaluationController ec;
+  Graph g = test::chain_graph();
+  g.disconnect("mid", "a");  // mid's required input: mid fails, out is skipped
+  ec.request_preview(g, {"out"}, 1);
+  ec.wait_idle();
+  EXPECT_EQ(ec.node_state("mid").phase, Phase::Failed);
+  EXPECT_FALSE(ec.node_state("mid").message.empty());
+  EXPECT_EQ(ec.node_state("out").phase, Phase::Skipped);
+}
+
+TEST(EvaluationController, BuildEvaluatesAtFullResolution) {
+  EvaluationController ec;
+  Graph g = test::chain_graph();
+  g.domain.resolution = {200, 100};
+  OutputPolicy policy;
+  policy.output_dir = test::scratch_dir("build");
+  ec.start_build(g, policy);
+  ec.wait_idle();
+  const auto status = ec.build_status();
+  EXPECT_TRUE(status.finished);
+  EXPECT_TRUE(status.ok);
+  EXPECT_FALSE(status.running);
+  EXPECT_EQ(status.fraction, 1.0);
+  EXPECT_EQ(status.domain.resolution, glm::ivec2(200, 100));
+}
+
+TEST(EvaluationController, BuildCanBeCancelled) {
+  EvaluationController ec;
+  Graph g = test::chain_graph();
+  g.add_node("EdSlow", "slow");
+  g.connect({"out", "out"}, "slow", "in");
+  g.set_param("slow", "milliseconds", std::int64_t{30000});
+  ec.start_build(g, {});
+  while (ec.build_status().fraction <= 0.0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  ec.cancel_build();
+  ec.wait_idle();
+  const auto status = ec.build_status();
+  EXPECT_TRUE(status.finished);
+  EXPECT_TRUE(status.cancelled);
+  EXPECT_FALSE(status.ok);
+}
+
+}  // namespace
+}  // namespace orogen::editor

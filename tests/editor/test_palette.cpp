@@ -1,0 +1,103 @@
+// Fuzzy search of the node palette: typed names, abbreviations, categories and descriptions rank the
+// expected type first.
+#include <gtest/gtest.h>
+
+#include "editor/model/fuzzy_match.h"
+#include "editor/model/palette.h"
+
+namespace orogen::editor {
+namespace {
+
+NodeType make(std::string name, std::string category, std::string description) {
+  NodeType t;
+  t.name = std::move(name);
+  t.category = std::move(category);
+  t.description = std::move(description);
+  return t;
+}
+
+class PaletteTest : public ::testing::Test {
+ protected:
+  std::vector<NodeType> storage{
+      make("Perlin", "noise", "Gradient noise on a lattice."),
+      make("PerlinWarp", "noise", "Perlin noise domain warp."),
+      make("FBM", "noise", "Fractal Brownian motion: octaves of a basis noise."),
+      make("HydraulicErosion", "erosion", "Pipe-model water erosion after Mei et al."),
+      make("ThermalErosion", "erosion", "Talus-angle slumping of steep slopes."),
+      make("Constant", "field", "A flat field: every sample has the same value."),
+      make("WriteHeightfield", "io", "Writes a heightfield to EXR, PNG, RAW or TIFF."),
+      make("ReadHeightfield", "io", "Reads a heightfield file."),
+      make("Worley", "noise", "Cellular noise: distances to feature points."),
+  };
+  std::vector<const NodeType*> types() const {
+    std::vector<const NodeType*> out;
+    for (const auto& t : storage) out.push_back(&t);
+    return out;
+  }
+  std::string first(std::string_view q) const {
+    auto r = search_palette(q, types());
+    return r.empty() ? "" : r.front().type->name;
+  }
+};
+
+TEST(FuzzyMatch, SubsequenceRequiredAndPositionsReported) {
+  EXPECT_FALSE(fuzzy_match("xyz", "Perlin"));
+  auto m = fuzzy_match("hyer", "HydraulicErosion");
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m->positions, (std::vector<int>{0, 1, 9, 10}));  // "Hy" then the "Er" of the second word
+}
+
+TEST(FuzzyMatch, WordStartsAndRunsScoreHigher) {
+  EXPECT_GT(fuzzy_match("er", "HydraulicErosion")->score, fuzzy_match("er", "Perlin")->score);
+  EXPECT_GT(fuzzy_match("per", "Perlin")->score, fuzzy_match("per", "SuperWarp")->score);
+}
+
+TEST_F(PaletteTest, ExactAndPrefixNamesComeFirst) {
+  EXPECT_EQ(first("perlin"), "Perlin");
+  EXPECT_EQ(first("Perl"), "Perlin");
+  EXPECT_EQ(first("fbm"), "FBM");
+  EXPECT_EQ(first("worley"), "Worley");
+}
+
+TEST_F(PaletteTest, AbbreviationsAndCamelHumps) {
+  EXPECT_EQ(first("hyd"), "HydraulicErosion");
+  EXPECT_EQ(first("therm ero"), "ThermalErosion");
+  EXPECT_EQ(first("wh"), "WriteHeightfield");
+  EXPECT_EQ(first("rh"), "ReadHeightfield");
+}
+
+TEST_F(PaletteTest, CategoriesAndDescriptionsMatchToo) {
+  const auto erosion = search_palette("erosion", types());
+  ASSERT_GE(erosion.size(), 2u);
+  EXPECT_EQ(erosion[0].type->category, "erosion");
+  EXPECT_EQ(erosion[1].type->category, "erosion");
+  EXPECT_EQ(first("flat"), "Constant");      // only its description says "flat"
+  EXPECT_EQ(first("cellular"), "Worley");
+  EXPECT_TRUE(search_palette("zzzz", types()).empty());
+}
+
+TEST_F(PaletteTest, EmptyQueryListsEverythingByCategory) {
+  const auto all = search_palette("", types());
+  ASSERT_EQ(all.size(), storage.size());
+  for (std::size_t k = 1; k < all.size(); ++k)
+    EXPECT_LE(all[k - 1].type->category, all[k].type->category);
+}
+
+TEST_F(PaletteTest, StateTypesBackspacesAndHighlights) {
+  PaletteState p(types());
+  p.type_text("hyd");
+  ASSERT_NE(p.choice(), nullptr);
+  EXPECT_EQ(p.choice()->name, "HydraulicErosion");
+  p.backspace();
+  p.backspace();
+  p.backspace();
+  EXPECT_EQ(p.query(), "");
+  EXPECT_EQ(p.results().size(), storage.size());
+  p.move_highlight(+100);
+  EXPECT_EQ(p.highlighted(), static_cast<int>(storage.size()) - 1);
+  p.move_highlight(-1000);
+  EXPECT_EQ(p.highlighted(), 0);
+}
+
+}  // namespace
+}  // namespace orogen::editor
