@@ -1,0 +1,27 @@
+#pragma once
+// Ports and parameters every noise generator node shares, declared once so they read the same everywhere.
+#include <memory>
+
+#include "graph/exec_context.h"
+#include "graph/node_type.h"
+#include "nodes/noise/noise_field.h"
+
+namespace orogen::noise {
+
+// Optional inputs warp_x and warp_y (metres).
+void declare_warp_inputs(NodeBuilder& b);
+// feature_size (m) with the given default.
+void declare_feature_size(NodeBuilder& b, double default_metres, const char* description);
+// amplitude (m) with the given default.
+void declare_amplitude(NodeBuilder& b, double default_metres, const char* description);
+// seed
+void declare_seed(NodeBuilder& b);
+
+// The warp fields connected to the node (null where unconnected); they stay alive as long as ctx.
+NoiseInputs warp_inputs(const ExecContext& ctx);
+
+inline void set_field_output(ExecContext& ctx, Heightfield&& field) {
+  ctx.set_output("out", std::make_shared<Heightfield>(std::move(field)));
+}
+
+}  // namespace orogen::noise

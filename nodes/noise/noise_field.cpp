@@ -1,0 +1,235 @@
+#include "nodes/noise/noise_field.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "graph/exec_context.h"
+#include "nodes/common/parallel_rows.h"
+#include "nodes/noise/noise_kernels.h"
+#include "nodes/noise/noise_reference.h"
+#include "nodes/noise/worley_neighbourhood.h"
+
+namespace orogen::noise {
+
+namespace {
+
+constexpr int kRun = 256;  // samples per kernel call: the scratch buffers of a run stay in L1
+
+// Working memory of one row run.
+struct alignas(64) Scratch {
+  double u[kRun], v[kRun];
+  std::uint32_t cx[kRun], cy[kRun];
+  float fx[kRun], fy[kRun];
+  float warp_x[kRun], warp_y[kRun];
+  float noise[kRun], sum[kRun], aux[kRun], q[kRun], amplitude[kRun];
+};
+
+template <class Fn>
+void for_each_row(const ExecContext* ctx, int count, Fn&& fn) {
+  if (ctx) {
+    parallel_rows(*ctx, count, fn);
+    return;
+  }
+  tbb::parallel_for(tbb::blocked_range<int>(0, count, 8), [&](const tbb::blocked_range<int>& r) {
+    for (int j = r.begin(); j != r.end(); ++j) fn(j);
+  });
+}
+
+void check_input(const Heightfield* f, const char* name, const Domain& domain) {
+  if (f && f->domain.resolution != domain.resolution)
+    throw NodeError(std::string("input '") + name + "' has " + std::to_string(f->width()) + "x" +
+                    std::to_string(f->height()) + " samples but the requested domain has " +
+                    std::to_string(domain.width()) + "x" + std::to_string(domain.height()));
+}
+
+// Copies samples [c0, c0 + n) of row j into dst and pads it to `padded` with `fill`.
+const float* copy_run(const Heightfield* f, int j, int c0, int n, int padded, float fill, float* dst) {
+  if (!f) return nullptr;
+  std::memcpy(dst, f->row(j).data() + c0, sizeof(float) * static_cast<std::size_t>(n));
+  std::fill(dst + n, dst + padded, fill);
+  return dst;
+}
+
+// Per-octave lattice coordinates of every column (unwarped evaluation).
+struct ColumnCoords {
+  std::vector<double> u;            // simplex: u per column
+  std::vector<std::uint32_t> cell;  // lattice bases
+  std::vector<float> frac;
+};
+
+}  // namespace
+
+Heightfield evaluate_noise(const Domain& domain, const NoisePlan& plan, const NoiseInputs& inputs,
+                           const ExecContext* ctx) {
+  if (plan.octaves.empty()) throw NodeError("noise plan without octaves");
+  check_input(inputs.warp_x, "warp_x", domain);
+  check_input(inputs.warp_y, "warp_y", domain);
+  check_input(inputs.roughness, "roughness", domain);
+  check_input(inputs.amplitude, "amplitude", domain);
+
+  Heightfield out(domain);
+  const int width = domain.width(), height = domain.height();
+  const int padded_width = kernels::padded(width);
+  const bool warped = inputs.warp_x || inputs.warp_y;
+  const bool simplex = plan.basis == Basis::Simplex;
+  const auto octave_count = plan.octaves.size();
+
+  // World x of every column, padded with the (real) columns beyond the domain.
+  std::vector<double> xs(static_cast<std::size_t>(padded_width));
+  for (int i = 0; i < padded_width; ++i) xs[static_cast<std::size_t>(i)] = domain.x(i);
+
+  // Unwarped: x coordinates are shared by all rows, so they are split once per octave.
+  std::vector<ColumnCoords> columns(warped ? 0 : octave_count);
+  for (std::size_t k = 0; k < columns.size(); ++k) {
+    const OctavePlan& o = plan.octaves[k];
+    ColumnCoords& c = columns[k];
+    if (simplex) {
+      c.u.resize(xs.size());
+      for (std::size_t i = 0; i < xs.size(); ++i) c.u[i] = xs[i] * o.frequency + o.shift_x;
+    } else {
+      c.cell.resize(xs.size());
+      c.frac.resize(xs.size());
+      for (std::size_t i = 0; i < xs.size(); ++i) {
+        const auto s = reference::split(xs[i] * o.frequency + o.shift_x);
+        c.cell[i] = s.cell;
+        c.frac[i] = s.frac;
+      }
+    }
+  }
+
+  WorleyNeighbourhood neighbourhood;
+  kernels::WorleyRun worley;
+  if (plan.basis == Basis::Worley) {
+    neighbourhood = worley_neighbourhood(plan.worley_metric, plan.worley_jitter, worley_rank(plan.worley_output));
+    worley = {plan.worley_metric, plan.worley_output, plan.worley_jitter, neighbourhood.dx.data(),
+              neighbourhood.dy.data(), neighbourhood.size()};
+  }
+
+  const float ln_r = std::log(plan.lacunarity);
+  const float q_constant = std::exp(ln_r * (plan.roughness - 1.0f));
+  const bool fbm = plan.mode == FractalMode::Fbm;
+
+  for_each_row(ctx, height, [&](int j) {
+    Scratch s;
+    const double y = domain.y(j);
+    float* row = out.row(j).data();
+    for (int c0 = 0; c0 < width; c0 += kRun) {
+      const int n = std::min(kRun, width - c0);
+      const int np = kernels::padded(n);
+      const float* wx = copy_run(inputs.warp_x, j, c0, n, np, 0.0f, s.warp_x);
+      const float* wy = copy_run(inputs.warp_y, j, c0, n, np, 0.0f, s.warp_y);
+      const float* amplitude = copy_run(inputs.amplitude, j, c0, n, np, 0.0f, s.amplitude);
+      if (plan.mode == FractalMode::Multifractal) {
+        if (inputs.roughness) {
+          copy_run(inputs.roughness, j, c0, n, np, 0.0f, s.aux);
+          kernels::roughness_ratio(s.aux, ln_r, np, s.q);
+        } else {
+          std::fill(s.q, s.q + np, q_constant);
+        }
+      }
+      for (std::size_t k = 0; k < octave_count; ++k) {
+        const OctavePlan& o = plan.octaves[k];
+        const bool first = k == 0;
+        // fbm accumulates straight into the sum; other modes combine a separate noise run.
+        const kernels::Output dst = fbm ? kernels::Output{s.sum, o.amplitude * plan.scale, !first}
+                                        : kernels::Output{s.noise, 1.0f, false};
+        if (simplex) {
+          if (warped) {
+            kernels::displaced(xs.data() + c0, 0.0, wx, o.frequency, o.shift_x, np, s.u);
+            kernels::displaced(nullptr, y, wy, o.frequency, o.shift_y, np, s.v);
+            kernels::simplex_skew(s.u, s.v, 0.0, np, s.cx, s.cy, s.fx, s.fy);
+          } else {
+            kernels::simplex_skew(columns[k].u.data() + c0, nullptr, y * o.frequency + o.shift_y, np, s.cx, s.cy,
+                                  s.fx, s.fy);
+          }
+          kernels::simplex({s.cx, s.cy, s.fx, s.fy}, o.key, np, dst);
+        } else {
+          kernels::LatticeRun run;
+          if (warped) {
+            kernels::displaced(xs.data() + c0, 0.0, wx, o.frequency, o.shift_x, np, s.u);
+            kernels::split_lattice(s.u, np, s.cx, s.fx);
+            kernels::displaced(nullptr, y, wy, o.frequency, o.shift_y, np, s.v);
+            kernels::split_lattice(s.v, np, s.cy, s.fy);
+            run = {s.cx, s.fx, s.cy, s.fy, 0, 0.0f};
+          } else {
+            const auto ys = reference::split(y * o.frequency + o.shift_y);
+            run = {columns[k].cell.data() + c0, columns[k].frac.data() + c0, nullptr, nullptr, ys.cell, ys.frac};
+          }
+          switch (plan.basis) {
+            case Basis::Perlin: kernels::perlin(run, o.key, np, dst); break;
+            case Basis::Value: kernels::value(run, o.key, np, dst); break;
+            case Basis::White: kernels::white(run, o.key, np, dst); break;
+            case Basis::Worley: kernels::worley(run, o.key, worley, np, dst); break;
+            case Basis::Simplex: break;  // handled above
+          }
+        }
+        switch (plan.mode) {
+          case FractalMode::Fbm: break;
+          case FractalMode::Billow: kernels::billow_step(s.noise, o.amplitude, first, np, s.sum); break;
+          case FractalMode::Ridged: kernels::ridged_step(s.noise, o.amplitude, plan.offset, first, np, s.sum, s.aux); break;
+          case FractalMode::Hybrid: kernels::hybrid_step(s.noise, o.amplitude, plan.offset, first, np, s.sum, s.aux); break;
+          case FractalMode::Multifractal: kernels::multifractal_step(s.noise, s.q, first, np, s.sum, s.aux); break;
+        }
+      }
+      if (!fbm || amplitude) kernels::finish(s.sum, amplitude, fbm ? 1.0f : plan.scale, np, s.sum);
+      std::memcpy(row + c0, s.sum, sizeof(float) * static_cast<std::size_t>(n));
+    }
+  });
+  return out;
+}
+
+float evaluate_noise_reference(const NoisePlan& plan, double x, double y, const ReferenceInputs& in) {
+  const float ln_r = std::log(plan.lacunarity);
+  const float q = std::exp(ln_r * (in.roughness.value_or(plan.roughness) - 1.0f));
+  float sum = 0.0f, aux = 0.0f;
+  for (std::size_t k = 0; k < plan.octaves.size(); ++k) {
+    const OctavePlan& o = plan.octaves[k];
+    const double u = (x + static_cast<double>(in.warp_x)) * o.frequency + o.shift_x;
+    const double v = (y + static_cast<double>(in.warp_y)) * o.frequency + o.shift_y;
+    const float n = plan.basis == Basis::Worley
+                        ? reference::worley_select(reference::worley_brute_force(u, v, o.key, plan.worley_metric,
+                                                                                 plan.worley_jitter),
+                                                   plan.worley_output)
+                        : reference::basis(plan.basis, u, v, o.key);
+    const bool first = k == 0;
+    switch (plan.mode) {
+      case FractalMode::Fbm: sum += o.amplitude * n; break;
+      case FractalMode::Billow: sum += o.amplitude * (2.0f * std::fabs(n) - 1.0f); break;
+      case FractalMode::Ridged: {
+        float s = (plan.offset - std::fabs(n)) * (plan.offset - std::fabs(n));
+        if (!first) s *= std::clamp(2.0f * aux, 0.0f, 1.0f);
+        aux = s;
+        sum += o.amplitude * s;
+        break;
+      }
+      case FractalMode::Hybrid: {
+        const float s = (n + plan.offset) * o.amplitude;
+        if (first) {
+          sum = aux = s;
+        } else {
+          const float w = std::min(aux, 1.0f);
+          sum += w * s;
+          aux = w * s;
+        }
+        break;
+      }
+      case FractalMode::Multifractal:
+        if (first) {
+          sum = n;
+          aux = q;
+        } else {
+          sum += aux * n;
+          aux *= q;
+        }
+        break;
+    }
+  }
+  return sum * plan.scale * in.amplitude;
+}
+
+}  // namespace orogen::noise

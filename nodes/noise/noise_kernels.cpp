@@ -1,0 +1,581 @@
+// SIMD batch kernels of the noise generators (see noise_kernels.h), written once with Highway and
+// compiled for several x86-64 levels; HWY_DYNAMIC_DISPATCH picks the best one the CPU supports.
+//
+// This file is compiled once per target: foreach_target.h re-includes it with HWY_NAMESPACE set to each
+// target's namespace, and the HWY_ONCE section at the end holds the dispatching entry points.
+
+// SSSE3 and AVX3_DL bring nothing over SSE4 and AVX3 for these kernels; leaving them out halves the
+// compile time of this file. Older CPUs run the scalar target.
+#ifndef HWY_DISABLED_TARGETS
+#define HWY_DISABLED_TARGETS (HWY_SSSE3 | HWY_AVX3_DL)
+#endif
+
+#include "nodes/noise/noise_kernels.h"
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "nodes/noise/noise_kernels.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+#include <hwy/contrib/math/math-inl.h>
+
+#include <cassert>
+#include <limits>
+
+#include "nodes/noise/lattice_hash.h"
+#include "nodes/noise/noise_reference.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace orogen::noise::kernels::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using DF = hn::ScalableTag<float>;
+using DU = hn::RebindToUnsigned<DF>;
+using DI = hn::RebindToSigned<DF>;
+using VF = hn::Vec<DF>;
+using VU = hn::Vec<DU>;
+using DD = hn::ScalableTag<double>;
+using VD = hn::Vec<DD>;
+using DFH = hn::Rebind<float, DD>;         // floats, as many lanes as a double vector
+using DIH = hn::Rebind<std::int32_t, DD>;
+using DUH = hn::Rebind<std::uint32_t, DD>;
+
+// ---------------------------------------------------------------------------------------------------
+// Shared pieces (the vector forms of lattice_hash.h and noise_reference.h)
+
+// lowbias32
+HWY_INLINE VU Mix(VU h) {
+  const DU du;
+  h = hn::Xor(h, hn::ShiftRight<16>(h));
+  h = hn::Mul(h, hn::Set(du, kMixA));
+  h = hn::Xor(h, hn::ShiftRight<15>(h));
+  h = hn::Mul(h, hn::Set(du, kMixB));
+  return hn::Xor(h, hn::ShiftRight<15>(h));
+}
+
+// Top 24 bits as a float in [0, 1).
+HWY_INLINE VF UnitFloat(VU h) {
+  const DF df;
+  const DI di;
+  return hn::Mul(hn::ConvertTo(df, hn::BitCast(di, hn::ShiftRight<8>(h))), hn::Set(df, 1.0f / 16777216.0f));
+}
+
+HWY_INLINE VF SignedUnit(VU h) {
+  const DF df;
+  return hn::MulAdd(UnitFloat(h), hn::Set(df, 2.0f), hn::Set(df, -1.0f));
+}
+
+// Dot product of gradient (h >> 29), the unit vector at angle k * 45 degrees, with (dx, dy), without a
+// table: bit 29 picks axis (k even) or diagonal (k odd), bit 30 rotates by 90 degrees, bit 31 negates.
+//   k even: P, with P = bit30 ? dy : dx;       k odd: (P + Q) / sqrt2, with Q = bit30 ? -dx : dy.
+HWY_INLINE VF GradDot(VU h, VF dx, VF dy) {
+  const DF df;
+  const DU du;
+  const auto odd = hn::RebindMask(df, hn::TestBit(h, hn::Set(du, 1u << 29)));
+  const auto quarter = hn::RebindMask(df, hn::TestBit(h, hn::Set(du, 1u << 30)));
+  const VF p = hn::IfThenElse(quarter, dy, dx);
+  const VF q = hn::IfThenElse(quarter, hn::Neg(dx), dy);
+  const VF v = hn::IfThenElse(odd, hn::Mul(hn::Add(p, q), hn::Set(df, 0.70710678118654752f)), p);
+  const VU sign = hn::And(h, hn::Set(du, 0x80000000u));
+  return hn::BitCast(df, hn::Xor(hn::BitCast(du, v), sign));
+}
+
+HWY_INLINE VF Fade(VF t) {
+  const DF df;
+  const VF inner = hn::MulAdd(t, hn::MulAdd(t, hn::Set(df, 6.0f), hn::Set(df, -15.0f)), hn::Set(df, 10.0f));
+  return hn::Mul(hn::Mul(hn::Mul(t, t), t), inner);
+}
+
+HWY_INLINE VF Lerp(VF a, VF b, VF t) { return hn::MulAdd(t, hn::Sub(b, a), a); }
+
+template <bool kAccumulate>
+HWY_INLINE void Put(VF v, float* out, std::size_t i) {
+  const DF df;
+  if constexpr (kAccumulate) v = hn::Add(v, hn::LoadU(df, out + i));
+  hn::StoreU(v, df, out + i);
+}
+
+// Lattice coordinates of lanes i.. of a run; y from the arrays or the row constants.
+struct LatticeLanes {
+  VU cx;
+  VF fx;
+  VU cy;
+  VF fy;
+};
+
+template <bool kRowY>
+HWY_INLINE LatticeLanes LoadLattice(const LatticeRun& in, std::size_t i) {
+  const DF df;
+  const DU du;
+  if constexpr (kRowY) {
+    return {hn::LoadU(du, in.cell_x + i), hn::LoadU(df, in.frac_x + i), hn::Set(du, in.row_cell_y),
+            hn::Set(df, in.row_frac_y)};
+  } else {
+    return {hn::LoadU(du, in.cell_x + i), hn::LoadU(df, in.frac_x + i), hn::LoadU(du, in.cell_y + i),
+            hn::LoadU(df, in.frac_y + i)};
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Coordinate stages
+
+void Displaced(const double* x, double x_const, const float* warp, double frequency, double shift, int n,
+               double* u) {
+  const DD dd;
+  const DFH dfh;
+  const VD f = hn::Set(dd, frequency), s = hn::Set(dd, shift);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(dd)) {
+    VD xv = x ? hn::LoadU(dd, x + i) : hn::Set(dd, x_const);
+    if (warp) xv = hn::Add(xv, hn::PromoteTo(dd, hn::LoadU(dfh, warp + i)));
+    hn::StoreU(hn::Add(hn::Mul(xv, f), s), dd, u + i);
+  }
+}
+
+// floor(c) mod 2^32 for an integer-valued c in [0, 2^32), through int32 (the conversion x86 has).
+HWY_INLINE hn::Vec<DUH> WrapCell(VD c_reduced) {
+  const DD dd;
+  const DIH dih;
+  const DUH duh;
+  const auto as_int = hn::DemoteTo(dih, hn::Sub(c_reduced, hn::Set(dd, 2147483648.0)));
+  return hn::Xor(hn::BitCast(duh, as_int), hn::Set(duh, 0x80000000u));
+}
+
+// u reduced modulo 2^32 (exact in double).
+HWY_INLINE VD Reduce(VD u) {
+  const DD dd;
+  return hn::Sub(u, hn::Mul(hn::Floor(hn::Mul(u, hn::Set(dd, 0x1.0p-32))), hn::Set(dd, 0x1.0p32)));
+}
+
+void SplitLattice(const double* u, int n, std::uint32_t* cell, float* frac) {
+  const DD dd;
+  const DFH dfh;
+  const DUH duh;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(dd)) {
+    const VD t = Reduce(hn::LoadU(dd, u + i));
+    const VD c = hn::Floor(t);
+    hn::StoreU(hn::DemoteTo(dfh, hn::Sub(t, c)), dfh, frac + i);
+    hn::StoreU(WrapCell(c), duh, cell + i);
+  }
+}
+
+void SimplexSkew(const double* u, const double* v, double v_const, int n, std::uint32_t* ci, std::uint32_t* cj,
+                 float* x0, float* y0) {
+  const DD dd;
+  const DFH dfh;
+  const DUH duh;
+  const VD f2 = hn::Set(dd, reference::kSimplexF2), g2 = hn::Set(dd, reference::kSimplexG2);
+  for (std::size_t k = 0; k < static_cast<std::size_t>(n); k += hn::Lanes(dd)) {
+    const VD uv = hn::LoadU(dd, u + k);
+    const VD vv = v ? hn::LoadU(dd, v + k) : hn::Set(dd, v_const);
+    const VD s = hn::Mul(hn::Add(uv, vv), f2);
+    const VD i = hn::Floor(hn::Add(uv, s)), j = hn::Floor(hn::Add(vv, s));
+    const VD t = hn::Mul(hn::Add(i, j), g2);
+    hn::StoreU(hn::DemoteTo(dfh, hn::Sub(uv, hn::Sub(i, t))), dfh, x0 + k);
+    hn::StoreU(hn::DemoteTo(dfh, hn::Sub(vv, hn::Sub(j, t))), dfh, y0 + k);
+    hn::StoreU(WrapCell(Reduce(i)), duh, ci + k);
+    hn::StoreU(WrapCell(Reduce(j)), duh, cj + k);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Bases
+
+template <bool kRowY, bool kAccumulate>
+void PerlinImpl(const LatticeRun& in, std::uint32_t key, int n, float* out, float scale) {
+  const DF df;
+  const DU du;
+  const VU px = hn::Set(du, kHashPrimeX), py = hn::Set(du, kHashPrimeY), vkey = hn::Set(du, key);
+  const VF one = hn::Set(df, 1.0f), vscale = hn::Set(df, scale * reference::kPerlinScale);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
+    const LatticeLanes c = LoadLattice<kRowY>(in, i);
+    const VU x0 = hn::Mul(c.cx, px), x1 = hn::Add(x0, px);
+    const VU yb = hn::Mul(c.cy, py);
+    const VU y0 = hn::Xor(yb, vkey), y1 = hn::Xor(hn::Add(yb, py), vkey);
+    const VF fx1 = hn::Sub(c.fx, one), fy1 = hn::Sub(c.fy, one);
+    const VF n00 = GradDot(Mix(hn::Xor(x0, y0)), c.fx, c.fy);
+    const VF n10 = GradDot(Mix(hn::Xor(x1, y0)), fx1, c.fy);
+    const VF n01 = GradDot(Mix(hn::Xor(x0, y1)), c.fx, fy1);
+    const VF n11 = GradDot(Mix(hn::Xor(x1, y1)), fx1, fy1);
+    const VF ux = Fade(c.fx), uy = Fade(c.fy);
+    const VF r = Lerp(Lerp(n00, n10, ux), Lerp(n01, n11, ux), uy);
+    Put<kAccumulate>(hn::Mul(r, vscale), out, i);
+  }
+}
+
+template <bool kRowY, bool kAccumulate>
+void ValueImpl(const LatticeRun& in, std::uint32_t key, int n, float* out, float scale) {
+  const DF df;
+  const DU du;
+  const VU px = hn::Set(du, kHashPrimeX), py = hn::Set(du, kHashPrimeY), vkey = hn::Set(du, key);
+  const VF vscale = hn::Set(df, scale);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
+    const LatticeLanes c = LoadLattice<kRowY>(in, i);
+    const VU x0 = hn::Mul(c.cx, px), x1 = hn::Add(x0, px);
+    const VU yb = hn::Mul(c.cy, py);
+    const VU y0 = hn::Xor(yb, vkey), y1 = hn::Xor(hn::Add(yb, py), vkey);
+    const VF v00 = SignedUnit(Mix(hn::Xor(x0, y0))), v10 = SignedUnit(Mix(hn::Xor(x1, y0)));
+    const VF v01 = SignedUnit(Mix(hn::Xor(x0, y1))), v11 = SignedUnit(Mix(hn::Xor(x1, y1)));
+    const VF ux = Fade(c.fx), uy = Fade(c.fy);
+    Put<kAccumulate>(hn::Mul(Lerp(Lerp(v00, v10, ux), Lerp(v01, v11, ux), uy), vscale), out, i);
+  }
+}
+
+template <bool kRowY, bool kAccumulate>
+void WhiteImpl(const LatticeRun& in, std::uint32_t key, int n, float* out, float scale) {
+  const DF df;
+  const DU du;
+  const VU px = hn::Set(du, kHashPrimeX), py = hn::Set(du, kHashPrimeY), vkey = hn::Set(du, key);
+  const VF vscale = hn::Set(df, scale);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
+    const LatticeLanes c = LoadLattice<kRowY>(in, i);
+    const VU h = Mix(hn::Xor(hn::Xor(hn::Mul(c.cx, px), hn::Mul(c.cy, py)), vkey));
+    Put<kAccumulate>(hn::Mul(SignedUnit(h), vscale), out, i);
+  }
+}
+
+template <bool kAccumulate>
+void SimplexImpl(const SimplexRun& in, std::uint32_t key, int n, float* out, float scale) {
+  const DF df;
+  const DU du;
+  const VU px = hn::Set(du, kHashPrimeX), py = hn::Set(du, kHashPrimeY), vkey = hn::Set(du, key);
+  constexpr float g2 = static_cast<float>(reference::kSimplexG2);
+  const VF one = hn::Set(df, 1.0f), vg2 = hn::Set(df, g2), vg2x2 = hn::Set(df, 2.0f * g2);
+  const VF half = hn::Set(df, 0.5f), zero = hn::Zero(df);
+  const VF vscale = hn::Set(df, scale * reference::kSimplexScale);
+  auto corner = [&](VF x, VF y, VU h) {
+    const VF w = hn::Max(zero, hn::NegMulAdd(y, y, hn::NegMulAdd(x, x, half)));  // 0 beyond the radius
+    const VF w2 = hn::Mul(w, w);
+    return hn::Mul(hn::Mul(w2, w2), GradDot(h, x, y));
+  };
+  for (std::size_t k = 0; k < static_cast<std::size_t>(n); k += hn::Lanes(df)) {
+    const VF x0 = hn::LoadU(df, in.x0 + k), y0 = hn::LoadU(df, in.y0 + k);
+    const VU ib = hn::Mul(hn::LoadU(du, in.i + k), px), jb = hn::Mul(hn::LoadU(du, in.j + k), py);
+    const auto lower = x0 > y0;  // lower triangle: the middle corner is (1, 0), else (0, 1)
+    const auto lower_u = hn::RebindMask(du, lower);
+    const VF i1 = hn::IfThenElseZero(lower, one), j1 = hn::Sub(one, i1);
+    const VF x1 = hn::Add(hn::Sub(x0, i1), vg2), y1 = hn::Add(hn::Sub(y0, j1), vg2);
+    const VF x2 = hn::Add(hn::Sub(x0, one), vg2x2), y2 = hn::Add(hn::Sub(y0, one), vg2x2);
+    const VU i_mid = hn::Add(ib, hn::IfThenElseZero(lower_u, px));
+    const VU j_mid = hn::Add(jb, hn::IfThenZeroElse(lower_u, py));
+    const VF sum = hn::Add(hn::Add(corner(x0, y0, Mix(hn::Xor(hn::Xor(ib, jb), vkey))),
+                                   corner(x1, y1, Mix(hn::Xor(hn::Xor(i_mid, j_mid), vkey)))),
+                           corner(x2, y2, Mix(hn::Xor(hn::Xor(hn::Add(ib, px), hn::Add(jb, py)), vkey))));
+    Put<kAccumulate>(hn::Mul(sum, vscale), out, k);
+  }
+}
+
+// Inserts d into the sorted F1..F_rank kept in f[].
+template <int kRank>
+HWY_INLINE void Insert(VF (&f)[4], VF d) {
+  if constexpr (kRank == 1) {
+    f[0] = hn::Min(f[0], d);
+  } else {
+    VF t = d;
+    for (int r = 0; r < kRank; ++r) {
+      const VF lo = hn::Min(f[r], t);
+      if (r + 1 < kRank) t = hn::Max(f[r], t);
+      f[r] = lo;
+    }
+  }
+}
+
+template <WorleyMetric kMetric, WorleyOutput kOutput, bool kRowY, bool kAccumulate>
+void WorleyImpl(const LatticeRun& in, std::uint32_t key, const WorleyRun& search, int n, float* out, float scale) {
+  constexpr int kRank = worley_rank(kOutput);
+  const DF df;
+  const DU du;
+  const int count = search.offset_count;
+  // Per offset: its hash contribution and float value, for both mirror states (+d and -d).
+  std::uint32_t hx[kMaxWorleyOffsets], hx_m[kMaxWorleyOffsets], hy[kMaxWorleyOffsets], hy_m[kMaxWorleyOffsets];
+  float ox[kMaxWorleyOffsets], oy[kMaxWorleyOffsets];
+  for (int o = 0; o < count; ++o) {
+    const auto dx = static_cast<std::uint32_t>(search.offset_x[o]), dy = static_cast<std::uint32_t>(search.offset_y[o]);
+    hx[o] = dx * kHashPrimeX;
+    hx_m[o] = (0u - dx) * kHashPrimeX;
+    hy[o] = dy * kHashPrimeY;
+    hy_m[o] = (0u - dy) * kHashPrimeY;
+    ox[o] = static_cast<float>(search.offset_x[o]);
+    oy[o] = static_cast<float>(search.offset_y[o]);
+  }
+  const VU vkey = hn::Set(du, key), second = hn::Set(du, kSecondDraw);
+  const VF jitter = hn::Set(df, search.jitter), half = hn::Set(df, 0.5f);
+  const VF base = hn::Set(df, 0.5f - 0.5f * search.jitter);
+  const VF vscale = hn::Set(df, scale);
+  const VF inf = hn::Set(df, std::numeric_limits<float>::infinity());
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
+    const LatticeLanes c = LoadLattice<kRowY>(in, i);
+    const auto mirror_x = c.fx < half, mirror_y = c.fy < half;  // sample in the lower half: mirror offsets
+    const auto mirror_xu = hn::RebindMask(du, mirror_x), mirror_yu = hn::RebindMask(du, mirror_y);
+    const VU xb = hn::Mul(c.cx, hn::Set(du, kHashPrimeX)), yb = hn::Mul(c.cy, hn::Set(du, kHashPrimeY));
+    const VF bx = hn::Sub(base, c.fx), by = hn::Sub(base, c.fy);
+    VF f[4] = {inf, inf, inf, inf};
+    for (int o = 0; o < count; ++o) {
+      const VU xo = hn::IfThenElse(mirror_xu, hn::Set(du, hx_m[o]), hn::Set(du, hx[o]));
+      const VU yo = hn::IfThenElse(mirror_yu, hn::Set(du, hy_m[o]), hn::Set(du, hy[o]));
+      const VU h = Mix(hn::Xor(hn::Xor(hn::Add(xb, xo), hn::Add(yb, yo)), vkey));
+      const VF rx = UnitFloat(h), ry = UnitFloat(hn::Mul(h, second));
+      const VF dxf = hn::IfThenElse(mirror_x, hn::Set(df, -ox[o]), hn::Set(df, ox[o]));
+      const VF dyf = hn::IfThenElse(mirror_y, hn::Set(df, -oy[o]), hn::Set(df, oy[o]));
+      const VF qx = hn::MulAdd(jitter, rx, hn::Add(dxf, bx));
+      const VF qy = hn::MulAdd(jitter, ry, hn::Add(dyf, by));
+      VF d;
+      if constexpr (kMetric == WorleyMetric::Euclidean) {
+        d = hn::MulAdd(qx, qx, hn::Mul(qy, qy));  // squared: same order, one sqrt at the end
+      } else if constexpr (kMetric == WorleyMetric::Manhattan) {
+        d = hn::Add(hn::Abs(qx), hn::Abs(qy));
+      } else {
+        d = hn::Max(hn::Abs(qx), hn::Abs(qy));
+      }
+      Insert<kRank>(f, d);
+    }
+    if constexpr (kMetric == WorleyMetric::Euclidean)
+      for (int r = 0; r < kRank; ++r) f[r] = hn::Sqrt(f[r]);
+    VF v;
+    if constexpr (kOutput == WorleyOutput::F1) v = f[0];
+    else if constexpr (kOutput == WorleyOutput::F2) v = f[1];
+    else if constexpr (kOutput == WorleyOutput::F2MinusF1) v = hn::Sub(f[1], f[0]);
+    else if constexpr (kOutput == WorleyOutput::F1TimesF2) v = hn::Mul(f[0], f[1]);
+    else v = hn::Mul(hn::Add(hn::Add(f[0], f[1]), hn::Add(f[2], f[3])), hn::Set(df, 0.25f));
+    Put<kAccumulate>(hn::Mul(v, vscale), out, i);
+  }
+}
+
+// Turns the run-time choices (y per row or per sample, accumulate or store) into template arguments.
+template <template <bool, bool> class Impl, class... Args>
+void DispatchLattice(const LatticeRun& in, const Output& o, Args&&... args) {
+  const bool row_y = in.cell_y == nullptr;
+  if (row_y && o.accumulate) Impl<true, true>::run(in, args..., o.out, o.scale);
+  else if (row_y) Impl<true, false>::run(in, args..., o.out, o.scale);
+  else if (o.accumulate) Impl<false, true>::run(in, args..., o.out, o.scale);
+  else Impl<false, false>::run(in, args..., o.out, o.scale);
+}
+
+template <bool A, bool B>
+struct PerlinOp {
+  static void run(const LatticeRun& in, std::uint32_t key, int n, float* out, float scale) {
+    PerlinImpl<A, B>(in, key, n, out, scale);
+  }
+};
+template <bool A, bool B>
+struct ValueOp {
+  static void run(const LatticeRun& in, std::uint32_t key, int n, float* out, float scale) {
+    ValueImpl<A, B>(in, key, n, out, scale);
+  }
+};
+template <bool A, bool B>
+struct WhiteOp {
+  static void run(const LatticeRun& in, std::uint32_t key, int n, float* out, float scale) {
+    WhiteImpl<A, B>(in, key, n, out, scale);
+  }
+};
+
+void Perlin(const LatticeRun& in, std::uint32_t key, int n, const Output& o) {
+  DispatchLattice<PerlinOp>(in, o, key, n);
+}
+void Value(const LatticeRun& in, std::uint32_t key, int n, const Output& o) {
+  DispatchLattice<ValueOp>(in, o, key, n);
+}
+void White(const LatticeRun& in, std::uint32_t key, int n, const Output& o) {
+  DispatchLattice<WhiteOp>(in, o, key, n);
+}
+void Simplex(const SimplexRun& in, std::uint32_t key, int n, const Output& o) {
+  if (o.accumulate) SimplexImpl<true>(in, key, n, o.out, o.scale);
+  else SimplexImpl<false>(in, key, n, o.out, o.scale);
+}
+
+template <WorleyMetric M, WorleyOutput O>
+struct WorleyOf {
+  template <bool A, bool B>
+  struct Op {
+    static void run(const LatticeRun& in, std::uint32_t key, const WorleyRun& s, int n, float* out, float scale) {
+      WorleyImpl<M, O, A, B>(in, key, s, n, out, scale);
+    }
+  };
+};
+
+template <WorleyMetric M>
+void WorleyMetricDispatch(const LatticeRun& in, std::uint32_t key, const WorleyRun& s, int n, const Output& o) {
+  switch (s.output) {
+    case WorleyOutput::F1: DispatchLattice<WorleyOf<M, WorleyOutput::F1>::template Op>(in, o, key, s, n); break;
+    case WorleyOutput::F2: DispatchLattice<WorleyOf<M, WorleyOutput::F2>::template Op>(in, o, key, s, n); break;
+    case WorleyOutput::F2MinusF1:
+      DispatchLattice<WorleyOf<M, WorleyOutput::F2MinusF1>::template Op>(in, o, key, s, n);
+      break;
+    case WorleyOutput::F1TimesF2:
+      DispatchLattice<WorleyOf<M, WorleyOutput::F1TimesF2>::template Op>(in, o, key, s, n);
+      break;
+    case WorleyOutput::MeanF1ToF4:
+      DispatchLattice<WorleyOf<M, WorleyOutput::MeanF1ToF4>::template Op>(in, o, key, s, n);
+      break;
+  }
+}
+
+void Worley(const LatticeRun& in, std::uint32_t key, const WorleyRun& s, int n, const Output& o) {
+  switch (s.metric) {
+    case WorleyMetric::Euclidean: WorleyMetricDispatch<WorleyMetric::Euclidean>(in, key, s, n, o); break;
+    case WorleyMetric::Manhattan: WorleyMetricDispatch<WorleyMetric::Manhattan>(in, key, s, n, o); break;
+    case WorleyMetric::Chebyshev: WorleyMetricDispatch<WorleyMetric::Chebyshev>(in, key, s, n, o); break;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Fractal combination
+
+void BillowStep(const float* noise, float amp, bool first, int n, float* sum) {
+  const DF df;
+  const VF a2 = hn::Set(df, 2.0f * amp), na = hn::Set(df, -amp);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
+    const VF term = hn::MulAdd(hn::Abs(hn::LoadU(df, noise + i)), a2, na);
+    hn::StoreU(first ? term : hn::Add(hn::LoadU(df, sum + i), term), df, sum + i);
+  }
+}
+
+void RidgedStep(const float* noise, float amp, float offset, bool first, int n, float* sum, float* prev) {
+  const DF df;
+  const VF vamp = hn::Set(df, amp), voff = hn::Set(df, offset), two = hn::Set(df, 2.0f);
+  const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
+    const VF r = hn::Sub(voff, hn::Abs(hn::LoadU(df, noise + i)));
+    VF s = hn::Mul(r, r);
+    if (!first) s = hn::Mul(s, hn::Min(one, hn::Max(zero, hn::Mul(hn::LoadU(df, prev + i), two))));
+    hn::StoreU(s, df, prev + i);
+    hn::StoreU(first ? hn::Mul(s, vamp) : hn::MulAdd(s, vamp, hn::LoadU(df, sum + i)), df, sum + i);
+  }
+}
+
+void HybridStep(const float* noise, float amp, float offset, bool first, int n, float* sum, float* weight) {
+  const DF df;
+  const VF vamp = hn::Set(df, amp), voff = hn::Set(df, offset), one = hn::Set(df, 1.0f);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
+    const VF s = hn::Mul(hn::Add(hn::LoadU(df, noise + i), voff), vamp);
+    if (first) {
+      hn::StoreU(s, df, sum + i);
+      hn::StoreU(s, df, weight + i);
+    } else {
+      const VF w = hn::Min(hn::LoadU(df, weight + i), one);
+      hn::StoreU(hn::MulAdd(w, s, hn::LoadU(df, sum + i)), df, sum + i);
+      hn::StoreU(hn::Mul(w, s), df, weight + i);
+    }
+  }
+}
+
+void MultifractalStep(const float* noise, const float* q, bool first, int n, float* sum, float* w) {
+  const DF df;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
+    const VF nv = hn::LoadU(df, noise + i);
+    if (first) {
+      hn::StoreU(nv, df, sum + i);
+      hn::StoreU(hn::LoadU(df, q + i), df, w + i);
+    } else {
+      const VF wv = hn::LoadU(df, w + i);
+      hn::StoreU(hn::MulAdd(wv, nv, hn::LoadU(df, sum + i)), df, sum + i);
+      hn::StoreU(hn::Mul(wv, hn::LoadU(df, q + i)), df, w + i);
+    }
+  }
+}
+
+void RoughnessRatio(const float* roughness, float ln_r, int n, float* q) {
+  const DF df;
+  const VF vln = hn::Set(df, ln_r), one = hn::Set(df, 1.0f);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df))
+    hn::StoreU(hn::Exp(df, hn::Mul(vln, hn::Sub(hn::LoadU(df, roughness + i), one))), df, q + i);
+}
+
+void Finish(const float* sum, const float* amplitude, float scale, int n, float* out) {
+  const DF df;
+  const VF vs = hn::Set(df, scale);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
+    VF v = hn::Mul(hn::LoadU(df, sum + i), vs);
+    if (amplitude) v = hn::Mul(v, hn::LoadU(df, amplitude + i));
+    hn::StoreU(v, df, out + i);
+  }
+}
+
+}  // namespace orogen::noise::kernels::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace orogen::noise::kernels {
+
+HWY_EXPORT(Displaced);
+HWY_EXPORT(SplitLattice);
+HWY_EXPORT(SimplexSkew);
+HWY_EXPORT(Perlin);
+HWY_EXPORT(Value);
+HWY_EXPORT(White);
+HWY_EXPORT(Simplex);
+HWY_EXPORT(Worley);
+HWY_EXPORT(BillowStep);
+HWY_EXPORT(RidgedStep);
+HWY_EXPORT(HybridStep);
+HWY_EXPORT(MultifractalStep);
+HWY_EXPORT(RoughnessRatio);
+HWY_EXPORT(Finish);
+
+void displaced(const double* x, double x_const, const float* warp, double frequency, double shift, int n, double* u) {
+  assert(n % kBatchAlign == 0);
+  HWY_DYNAMIC_DISPATCH(Displaced)(x, x_const, warp, frequency, shift, n, u);
+}
+void split_lattice(const double* u, int n, std::uint32_t* cell, float* frac) {
+  assert(n % kBatchAlign == 0);
+  HWY_DYNAMIC_DISPATCH(SplitLattice)(u, n, cell, frac);
+}
+void simplex_skew(const double* u, const double* v, double v_const, int n, std::uint32_t* i, std::uint32_t* j,
+                  float* x0, float* y0) {
+  assert(n % kBatchAlign == 0);
+  HWY_DYNAMIC_DISPATCH(SimplexSkew)(u, v, v_const, n, i, j, x0, y0);
+}
+void perlin(const LatticeRun& in, std::uint32_t key, int n, const Output& out) {
+  assert(n % kBatchAlign == 0);
+  HWY_DYNAMIC_DISPATCH(Perlin)(in, key, n, out);
+}
+void value(const LatticeRun& in, std::uint32_t key, int n, const Output& out) {
+  assert(n % kBatchAlign == 0);
+  HWY_DYNAMIC_DISPATCH(Value)(in, key, n, out);
+}
+void white(const LatticeRun& in, std::uint32_t key, int n, const Output& out) {
+  assert(n % kBatchAlign == 0);
+  HWY_DYNAMIC_DISPATCH(White)(in, key, n, out);
+}
+void simplex(const SimplexRun& in, std::uint32_t key, int n, const Output& out) {
+  assert(n % kBatchAlign == 0);
+  HWY_DYNAMIC_DISPATCH(Simplex)(in, key, n, out);
+}
+void worley(const LatticeRun& in, std::uint32_t key, const WorleyRun& search, int n, const Output& out) {
+  assert(n % kBatchAlign == 0);
+  assert(search.offset_count <= kMaxWorleyOffsets);
+  HWY_DYNAMIC_DISPATCH(Worley)(in, key, search, n, out);
+}
+void billow_step(const float* noise, float amp, bool first, int n, float* sum) {
+  HWY_DYNAMIC_DISPATCH(BillowStep)(noise, amp, first, n, sum);
+}
+void ridged_step(const float* noise, float amp, float offset, bool first, int n, float* sum, float* prev) {
+  HWY_DYNAMIC_DISPATCH(RidgedStep)(noise, amp, offset, first, n, sum, prev);
+}
+void hybrid_step(const float* noise, float amp, float offset, bool first, int n, float* sum, float* weight) {
+  HWY_DYNAMIC_DISPATCH(HybridStep)(noise, amp, offset, first, n, sum, weight);
+}
+void multifractal_step(const float* noise, const float* q, bool first, int n, float* sum, float* w) {
+  HWY_DYNAMIC_DISPATCH(MultifractalStep)(noise, q, first, n, sum, w);
+}
+void roughness_ratio(const float* roughness, float ln_r, int n, float* q) {
+  HWY_DYNAMIC_DISPATCH(RoughnessRatio)(roughness, ln_r, n, q);
+}
+void finish(const float* sum, const float* amplitude, float scale, int n, float* out) {
+  HWY_DYNAMIC_DISPATCH(Finish)(sum, amplitude, scale, n, out);
+}
+
+const char* active_target() {
+  const std::int64_t available = hwy::SupportedTargets() & HWY_TARGETS;
+  return hwy::TargetName(available & -available);  // lowest bit = best target
+}
+
+std::vector<std::int64_t> available_targets() {
+  std::vector<std::int64_t> out;
+  for (std::int64_t t = hwy::SupportedTargets() & HWY_TARGETS; t != 0; t &= t - 1) out.push_back(t & -t);
+  return out;
+}
+
+const char* target_name(std::int64_t target) { return hwy::TargetName(target); }
+
+}  // namespace orogen::noise::kernels
+#endif  // HWY_ONCE
