@@ -51,7 +51,9 @@ struct EvalEvent {
   std::size_t output_bytes = 0;  // Finished, Cached
   std::string message;         // Failed, Skipped
 };
-using EventCallback = std::function<void(const EvalEvent&)>;  // called from worker threads
+// Called from worker threads, one event at a time (never concurrently). Per node the order is Started,
+// Progress..., then Finished, Failed or Cancelled; or a single Cached, Skipped or Cancelled (not started).
+using EventCallback = std::function<void(const EvalEvent&)>;
 
 struct EvalRequest {
   Domain domain;
@@ -71,9 +73,13 @@ struct EvalResult {
   PortValue output(const std::string& node, const std::string& port, const Graph& graph) const;
 };
 
+// Counters accumulate over the Evaluator's life. hits counts results found in memory or on disk (disk_hits
+// is the part found on disk), misses the lookups that found nothing valid (the node then runs),
+// disk_rejected the damaged or mismatched disk entries deleted, evictions the LRU evictions.
 struct CacheStats {
   std::size_t entries = 0, bytes = 0, capacity = 0;
   std::size_t hits = 0, misses = 0, disk_hits = 0, disk_rejected = 0, evictions = 0;
+  std::size_t disk_writes = 0, disk_write_errors = 0;  // entries written to the cache directory, and failures
 };
 
 // Cache keys of every node in the graph for `domain`; nodes with an invalid input link get no key.

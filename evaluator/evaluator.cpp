@@ -1,0 +1,490 @@
+#include "evaluator/evaluator.h"
+
+#include <algorithm>
+#include <atomic>
+#include <deque>
+#include <mutex>
+#include <set>
+#include <unordered_map>
+
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
+
+#include "evaluator/cached_result.h"
+#include "evaluator/disk_cache.h"
+#include "evaluator/memory_cache.h"
+#include "evaluator/node_keys.h"
+#include "graph/exec_context.h"
+
+namespace orogen {
+
+using Clock = std::chrono::steady_clock;
+
+static double milliseconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+std::string_view to_string(NodeStatus s) {
+  switch (s) {
+    case NodeStatus::Pending: return "pending";
+    case NodeStatus::Computed: return "computed";
+    case NodeStatus::Cached: return "cached";
+    case NodeStatus::Failed: return "failed";
+    case NodeStatus::Skipped: return "skipped";
+    case NodeStatus::Cancelled: return "cancelled";
+  }
+  return "unknown";
+}
+
+bool EvalResult::ok() const {
+  if (cancelled) return false;
+  return std::all_of(nodes.begin(), nodes.end(), [](const auto& entry) {
+    return entry.second.status == NodeStatus::Computed || entry.second.status == NodeStatus::Cached;
+  });
+}
+
+PortValue EvalResult::output(const std::string& node, const std::string& port, const Graph& graph) const {
+  const auto it = outputs.find(node);
+  const Node* n = graph.find(node);
+  if (it == outputs.end() || !n) return std::monostate{};
+  const int index = n->type->output_index(port);
+  if (index < 0 || static_cast<std::size_t>(index) >= it->second.size()) return std::monostate{};
+  return it->second[static_cast<std::size_t>(index)];
+}
+
+std::map<std::string, CacheKey> compute_cache_keys(const Graph& graph, const Domain& domain,
+                                                   const OutputPolicy& output) {
+  NodeKeys keys(graph, domain, output);
+  std::map<std::string, CacheKey> result;
+  for (const auto& node : graph.nodes())
+    if (const auto& info = keys.of(node.id); info.key) result.emplace(node.id, *info.key);
+  return result;
+}
+
+namespace {
+
+// Whether a cached result has the shape of `type`'s outputs: every output set, with the declared type.
+bool fits(const NodeType& type, const CachedResult& r) {
+  if (r.outputs.size() != type.outputs.size()) return false;
+  for (std::size_t i = 0; i < r.outputs.size(); ++i)
+    if (!has_value(r.outputs[i]) || port_type_of(r.outputs[i]) != type.outputs[i].type) return false;
+  return true;
+}
+
+// Progress events of one node are at most this frequent, and each advances by at least kProgressStep.
+constexpr auto kProgressInterval = std::chrono::milliseconds(20);
+constexpr double kProgressStep = 0.01;
+
+// The state that outlives one evaluation: options, caches, thread arena, statistics.
+struct EvaluatorState {
+  explicit EvaluatorState(EvaluatorOptions o) : options(std::move(o)), memory(options.cache_bytes) {
+    if (!options.cache_dir.empty()) disk = std::make_unique<DiskCache>(options.cache_dir);
+    arena = options.threads > 0 ? std::make_unique<tbb::task_arena>(options.threads)
+                                : std::make_unique<tbb::task_arena>();  // all cores
+  }
+
+  EvaluatorOptions options;
+  MemoryCache memory;
+  std::unique_ptr<DiskCache> disk;
+  std::unique_ptr<tbb::task_arena> arena;
+  std::mutex evaluate_mutex;  // one evaluation at a time
+  std::atomic<std::size_t> hits{0}, misses{0}, disk_hits{0}, disk_rejected{0}, disk_writes{0},
+      disk_write_errors{0};
+
+  // The valid cached result of `key` for a node of `type`, from memory or disk, or nullptr.
+  std::shared_ptr<const CachedResult> lookup(const CacheKey& key, const NodeType& type) {
+    if (auto r = memory.find(key)) {
+      if (fits(type, *r) && (!type.writes_files || r->files_unchanged())) {
+        ++hits;
+        return r;
+      }
+      memory.erase(key);  // a writer whose files changed, or an entry that does not fit
+    }
+    if (disk) {
+      auto loaded = disk->load(key);
+      if (loaded.rejected) {
+        ++disk_rejected;
+      } else if (loaded.result && !fits(type, *loaded.result)) {
+        disk->remove(key);
+        ++disk_rejected;
+      } else if (loaded.result && (!type.writes_files || loaded.result->files_unchanged())) {
+        ++hits;
+        ++disk_hits;
+        memory.insert(key, loaded.result, loaded.result->value_bytes());
+        return loaded.result;
+      }
+    }
+    ++misses;
+    return nullptr;
+  }
+};
+
+// One unit of work: a distinct cache key (nodes with equal keys share one job), or a node that cannot run.
+struct Job {
+  enum class Kind { Run, Hit, Fail, Skip };
+  Kind kind = Kind::Run;
+  std::optional<CacheKey> key;
+  const Node* node = nullptr;     // the representative node: the first one planned with this key
+  std::vector<std::string> ids;   // every node of the request with this key; ids[0] is the representative
+  std::string planned_message;    // Fail: the node's error; Skip: the upstream node that has the error
+  bool requested = false;
+
+  struct Input {
+    int job = -1;   // producer job, -1 for an unconnected optional input
+    int port = -1;  // its output index
+  };
+  std::vector<Input> inputs;   // by input port
+  std::vector<int> producers;  // distinct
+  std::vector<int> consumers;  // distinct
+  std::atomic<int> waiting{0};         // producers not finished yet
+  std::atomic<int> consumers_left{0};  // consumers not finished yet
+
+  // Outcome, written by the one task that runs the job, read after its consumers were scheduled.
+  NodeStatus status = NodeStatus::Pending;
+  std::string message;
+  std::shared_ptr<const CachedResult> result;
+  double milliseconds = 0.0;
+  std::size_t bytes = 0;
+
+  std::mutex progress_mutex;
+  double last_fraction = -1.0;
+  Clock::time_point last_progress;
+};
+
+// One call of evaluate(): plans the jobs, runs them, collects the reports.
+class Run {
+ public:
+  Run(EvaluatorState& impl, const Graph& graph, const EvalRequest& request)
+      : impl_(impl),
+        graph_(graph),
+        request_(request),
+        policy_(impl.options.output),
+        keys_(graph, request.domain, policy_) {}
+
+  EvalResult execute() {
+    const auto t0 = Clock::now();
+    for (const auto& id : requested_ids()) jobs_[static_cast<std::size_t>(plan(id))].requested = true;
+    for (auto& job : jobs_) job.consumers_left.store(static_cast<int>(job.consumers.size()));
+
+    impl_.arena->execute([&] {
+      for (std::size_t j = 0; j < jobs_.size(); ++j)
+        if (jobs_[j].producers.empty()) group_.run([this, j] { launch(static_cast<int>(j)); });
+      group_.wait();
+    });
+
+    EvalResult result;
+    const std::set<std::string> requested_set(requested_.begin(), requested_.end());
+    for (const auto& [id, j] : job_of_node_) {
+      const Job& job = jobs_[static_cast<std::size_t>(j)];
+      NodeReport report;
+      report.status = job.status;
+      report.milliseconds = job.milliseconds;
+      report.output_bytes = job.bytes;
+      report.message = job.message;
+      if (job.key) report.key = *job.key;
+      if (id != job.ids.front() && job.status == NodeStatus::Computed) {
+        report.status = NodeStatus::Cached;
+        report.milliseconds = 0.0;
+        report.message = "same result as node '" + job.ids.front() + "'";
+      }
+      if (report.status == NodeStatus::Cancelled) result.cancelled = true;
+      if (job.requested && job.result && requested_set.count(id))
+        result.outputs[id] = job.result->outputs;
+      result.nodes[id] = std::move(report);
+    }
+    result.milliseconds = milliseconds_since(t0);
+    return result;
+  }
+
+ private:
+  // The request's nodes, or by default every writer and every node whose outputs nothing reads.
+  const std::vector<std::string>& requested_ids() {
+    if (!request_.nodes.empty()) {
+      for (const auto& id : request_.nodes)
+        if (!graph_.find(id)) throw GraphError("cannot evaluate node '" + id + "': no such node");
+      requested_ = request_.nodes;
+      return requested_;
+    }
+    std::set<std::string> feeding;
+    for (const auto& n : graph_.nodes())
+      for (const auto& [port, link] : n.inputs) feeding.insert(link.node);
+    for (const auto& n : graph_.nodes())
+      if (n.type->writes_files || !feeding.count(n.id)) requested_.push_back(n.id);
+    return requested_;
+  }
+
+  // Walks back from node `id`, stopping at cache hits; returns its job.
+  int plan(const std::string& id) {
+    if (const auto it = job_of_node_.find(id); it != job_of_node_.end()) return it->second;
+    const NodeKeyInfo& info = keys_.of(id);
+    if (info.key)
+      if (const auto it = job_of_key_.find(*info.key); it != job_of_key_.end()) {
+        jobs_[static_cast<std::size_t>(it->second)].ids.push_back(id);
+        job_of_node_[id] = it->second;
+        return it->second;
+      }
+    const int j = static_cast<int>(jobs_.size());
+    Job& job = jobs_.emplace_back();  // a deque: references stay valid while planning adds jobs
+    job.node = &graph_.at(id);
+    job.key = info.key;
+    job.ids.push_back(id);
+    job_of_node_[id] = j;
+    if (info.key) job_of_key_[*info.key] = j;
+
+    if (!info.error.empty()) {
+      job.kind = Job::Kind::Fail;
+      job.planned_message = info.error;
+      return j;
+    }
+    if (!info.blocked_by.empty()) {
+      job.kind = Job::Kind::Skip;
+      job.planned_message = info.blocked_by;
+      plan(info.blocked_by);  // so the node at fault is reported too
+      return j;
+    }
+    const NodeType& type = *job.node->type;
+    if ((job.result = impl_.lookup(*info.key, type))) {
+      job.kind = Job::Kind::Hit;
+      return j;
+    }
+    job.kind = Job::Kind::Run;
+    job.inputs.resize(type.inputs.size());
+    for (std::size_t i = 0; i < type.inputs.size(); ++i) {
+      const ResolvedLink link = resolve_link(graph_, *job.node, type.inputs[i]);
+      if (!link.source) continue;  // an absent optional input (errors were caught by the key analysis)
+      const int p = plan(link.source->id);
+      job.inputs[i] = {p, link.output};
+      if (std::find(job.producers.begin(), job.producers.end(), p) == job.producers.end()) {
+        job.producers.push_back(p);
+        jobs_[static_cast<std::size_t>(p)].consumers.push_back(j);
+      }
+    }
+    job.waiting.store(static_cast<int>(job.producers.size()));
+    return j;
+  }
+
+  void emit(EvalEvent event) {
+    if (!request_.on_event) return;
+    std::lock_guard lock(event_mutex_);  // events are delivered one at a time
+    try {
+      request_.on_event(event);
+    } catch (...) {
+      // An observer's failure must not break the evaluation.
+    }
+  }
+
+  void emit_for_all(const Job& job, EvalEvent::Kind kind) {
+    for (const auto& id : job.ids) {
+      EvalEvent e;
+      e.kind = kind;
+      e.node = id;
+      e.output_bytes = job.bytes;
+      e.message = job.message;
+      emit(std::move(e));
+    }
+  }
+
+  bool cancel_requested() const { return request_.cancel && request_.cancel->cancelled(); }
+
+  void launch(int j) {
+    Job& job = jobs_[static_cast<std::size_t>(j)];
+    switch (job.kind) {
+      case Job::Kind::Hit:
+        job.status = NodeStatus::Cached;
+        job.bytes = job.result->value_bytes();
+        emit_for_all(job, EvalEvent::Kind::Cached);
+        break;
+      case Job::Kind::Fail:
+        job.status = NodeStatus::Failed;
+        job.message = job.planned_message;
+        emit_for_all(job, EvalEvent::Kind::Failed);
+        break;
+      case Job::Kind::Skip:
+        job.status = NodeStatus::Skipped;
+        job.message = job.planned_message;
+        emit_for_all(job, EvalEvent::Kind::Skipped);
+        break;
+      case Job::Kind::Run:
+        run(job);
+        break;
+    }
+    finish(job);
+  }
+
+  void run(Job& job) {
+    // Inputs that did not succeed: cancelled wins over failed (cancelling is the user's latest intent).
+    std::string failed_upstream;
+    bool upstream_cancelled = false;
+    for (int p : job.producers) {
+      const Job& producer = jobs_[static_cast<std::size_t>(p)];
+      if (producer.status == NodeStatus::Cancelled) upstream_cancelled = true;
+      else if (producer.status == NodeStatus::Failed && failed_upstream.empty()) failed_upstream = producer.ids.front();
+      else if (producer.status == NodeStatus::Skipped && failed_upstream.empty()) failed_upstream = producer.message;
+    }
+    if (upstream_cancelled || cancel_requested()) {
+      job.status = NodeStatus::Cancelled;
+      job.message = "not started: the evaluation was cancelled";
+      emit_for_all(job, EvalEvent::Kind::Cancelled);
+      return;
+    }
+    if (!failed_upstream.empty()) {
+      job.status = NodeStatus::Skipped;
+      job.message = failed_upstream;
+      emit_for_all(job, EvalEvent::Kind::Skipped);
+      return;
+    }
+    compute(job);
+  }
+
+  void compute(Job& job) {
+    const Node& node = *job.node;
+    const NodeType& type = *node.type;
+    const std::string& id = job.ids.front();
+    emit({EvalEvent::Kind::Started, id, 0.0, 0.0, 0, {}});
+    const auto t0 = Clock::now();
+    std::shared_ptr<CachedResult> result;
+    try {
+      std::vector<PortValue> inputs(type.inputs.size());
+      for (std::size_t i = 0; i < job.inputs.size(); ++i)
+        if (job.inputs[i].job >= 0)
+          inputs[i] = jobs_[static_cast<std::size_t>(job.inputs[i].job)]
+                          .result->outputs[static_cast<std::size_t>(job.inputs[i].port)];
+      ExecContext ctx(type, id, request_.domain, std::move(inputs), graph_.effective_params(node));
+      ctx.set_cancel_token(request_.cancel);
+      ctx.set_output_policy(policy_);
+      if (request_.on_event) ctx.set_progress_callback([this, &job](double f) { progress(job, f); });
+      type.execute(ctx);
+      // A node that returns after a cancel may have stopped early without saying so: never keep its result.
+      if (cancel_requested()) throw Cancelled{};
+      for (std::size_t i = 0; i < type.outputs.size(); ++i)
+        if (!has_value(ctx.outputs()[i]))
+          throw NodeError("the node did not set its output '" + type.outputs[i].name + "'");
+      result = std::make_shared<CachedResult>();
+      result->outputs = std::move(ctx.outputs());
+      for (const auto& path : ctx.written_files()) {
+        try {
+          result->files.push_back(WrittenFile::stat(path));
+        } catch (const std::exception& e) {
+          throw NodeError("the node reported writing '" + path.string() + "', but it cannot be read: " + e.what());
+        }
+      }
+    } catch (const Cancelled&) {
+      job.milliseconds = milliseconds_since(t0);
+      job.status = NodeStatus::Cancelled;
+      job.message = "cancelled";
+      emit_for_all(job, EvalEvent::Kind::Cancelled);
+      return;
+    } catch (const std::exception& e) {
+      fail(job, e.what(), t0);
+      return;
+    } catch (...) {
+      fail(job, "unknown error", t0);
+      return;
+    }
+    job.milliseconds = milliseconds_since(t0);
+    job.bytes = result->value_bytes();
+    job.result = result;
+    job.status = NodeStatus::Computed;
+    store(*job.key, result, job.bytes);
+
+    emit({EvalEvent::Kind::Finished, id, 1.0, job.milliseconds, job.bytes, {}});
+    for (std::size_t k = 1; k < job.ids.size(); ++k)
+      emit({EvalEvent::Kind::Cached, job.ids[k], 0.0, 0.0, job.bytes, {}});
+  }
+
+  void fail(Job& job, std::string message, Clock::time_point t0) {
+    job.milliseconds = milliseconds_since(t0);
+    job.status = NodeStatus::Failed;
+    job.message = message.empty() ? "failed without a message" : std::move(message);
+    emit_for_all(job, EvalEvent::Kind::Failed);
+  }
+
+  // Keeps a complete result: in memory now, on disk in a separate task so consumers need not wait for it.
+  void store(const CacheKey& key, std::shared_ptr<const CachedResult> result, std::size_t bytes) {
+    impl_.memory.insert(key, result, bytes);
+    if (!impl_.disk) return;
+    group_.run([this, key, result] {
+      try {
+        impl_.disk->store(key, *result);
+        ++impl_.disk_writes;
+      } catch (...) {
+        ++impl_.disk_write_errors;  // the cache is an optimisation: a full disk must not fail the node
+      }
+    });
+  }
+
+  void progress(Job& job, double fraction) {
+    {
+      std::lock_guard lock(job.progress_mutex);
+      const auto now = Clock::now();
+      if (fraction < job.last_fraction + kProgressStep) return;
+      if (job.last_fraction >= 0.0 && now - job.last_progress < kProgressInterval) return;
+      job.last_fraction = fraction;
+      job.last_progress = now;
+    }
+    emit({EvalEvent::Kind::Progress, job.ids.front(), fraction, 0.0, 0, {}});
+  }
+
+  // Releases inputs nobody needs any more, then starts the consumers that have all their inputs.
+  void finish(Job& job) {
+    for (int p : job.producers) {
+      Job& producer = jobs_[static_cast<std::size_t>(p)];
+      if (producer.consumers_left.fetch_sub(1) == 1 && !producer.requested) producer.result.reset();
+    }
+    for (int c : job.consumers)
+      if (jobs_[static_cast<std::size_t>(c)].waiting.fetch_sub(1) == 1) group_.run([this, c] { launch(c); });
+  }
+
+  EvaluatorState& impl_;
+  const Graph& graph_;
+  const EvalRequest& request_;
+  OutputPolicy policy_;
+  NodeKeys keys_;
+  std::vector<std::string> requested_;
+  std::deque<Job> jobs_;
+  std::unordered_map<std::string, int> job_of_node_;
+  std::unordered_map<CacheKey, int, CacheKeyHash> job_of_key_;
+  tbb::task_group group_;
+  std::mutex event_mutex_;
+};
+
+}  // namespace
+
+struct Evaluator::Impl : EvaluatorState {
+  using EvaluatorState::EvaluatorState;
+};
+
+Evaluator::Evaluator(EvaluatorOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
+Evaluator::~Evaluator() = default;
+
+EvalResult Evaluator::evaluate(const Graph& graph, const EvalRequest& request) {
+  std::lock_guard lock(impl_->evaluate_mutex);
+  Run run(*impl_, graph, request);
+  return run.execute();
+}
+
+CacheStats Evaluator::cache_stats() const {
+  CacheStats s;
+  s.entries = impl_->memory.entries();
+  s.bytes = impl_->memory.bytes();
+  s.capacity = impl_->memory.capacity();
+  s.evictions = impl_->memory.evictions();
+  s.hits = impl_->hits.load();
+  s.misses = impl_->misses.load();
+  s.disk_hits = impl_->disk_hits.load();
+  s.disk_rejected = impl_->disk_rejected.load();
+  s.disk_writes = impl_->disk_writes.load();
+  s.disk_write_errors = impl_->disk_write_errors.load();
+  return s;
+}
+
+void Evaluator::clear_memory_cache() { impl_->memory.clear(); }
+
+void Evaluator::set_output_policy(OutputPolicy policy) {
+  std::lock_guard lock(impl_->evaluate_mutex);
+  impl_->options.output = std::move(policy);
+}
+
+const EvaluatorOptions& Evaluator::options() const { return impl_->options; }
+
+}  // namespace orogen

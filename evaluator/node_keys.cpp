@@ -1,0 +1,116 @@
+#include "evaluator/node_keys.h"
+
+#include <system_error>
+
+#include "graph/node_type.h"
+
+namespace orogen {
+
+ResolvedLink resolve_link(const Graph& graph, const Node& node, const PortDecl& port) {
+  ResolvedLink r;
+  const auto it = node.inputs.find(port.name);
+  if (it == node.inputs.end()) return r;
+  const PortRef& from = it->second;
+  r.source = graph.find(from.node);
+  if (!r.source) {
+    r.error = "input '" + port.name + "' is linked to missing node '" + from.node + "'";
+    return r;
+  }
+  r.output = r.source->type->output_index(from.port);
+  if (r.output < 0) {
+    r.error = "input '" + port.name + "' is linked to " + from.str() + ", but node '" + from.node + "' (" +
+              r.source->type->name + ") has no output '" + from.port + "'";
+    return r;
+  }
+  const PortType type = r.source->type->outputs[static_cast<std::size_t>(r.output)].type;
+  if (type != port.type)
+    r.error = "input '" + port.name + "' takes " + std::string(to_string(port.type)) + " but is linked to " +
+              from.str() + " which is " + std::string(to_string(type));
+  return r;
+}
+
+const NodeKeyInfo& NodeKeys::of(const std::string& id) {
+  if (const auto it = done_.find(id); it != done_.end()) return it->second;
+  const Node& node = graph_.at(id);
+  const NodeType& type = *node.type;
+  NodeKeyInfo info;
+  auto finish = [&]() -> const NodeKeyInfo& {
+    visiting_.erase(id);
+    return done_[id] = std::move(info);
+  };
+  if (visiting_[id]) {
+    // Only reachable for graphs that bypassed Graph::connect's cycle check.
+    info.error = "the node is part of a cycle";
+    return done_.emplace(id, info).first->second;
+  }
+  visiting_[id] = true;
+
+  for (const auto& [port, link] : node.inputs)
+    if (!type.find_input(port)) {
+      info.error = "input '" + port + "' is linked, but node type '" + type.name + "' has no input '" + port + "'";
+      return finish();
+    }
+
+  KeyHasher h;
+  h.add(std::string_view(kNodeKeySchema)).add(std::string_view(type.name)).add(std::int64_t{type.version});
+
+  const auto params = graph_.effective_params(node);
+  for (std::size_t i = 0; i < type.params.size(); ++i) {
+    const ParamDecl& decl = type.params[i];
+    if (auto why = decl.check(params[i]); !why.empty() && info.error.empty())
+      info.error = "parameter '" + decl.name + "': " + why;
+    h.add(std::string_view(decl.name)).add(params[i]);
+  }
+
+  for (const PortDecl& port : type.inputs) {
+    h.add(std::string_view(port.name));
+    const ResolvedLink link = resolve_link(graph_, node, port);
+    if (!link.error.empty()) {
+      info.error = link.error;
+      return finish();
+    }
+    if (!link.source) {
+      if (!port.optional && info.error.empty()) info.error = "required input '" + port.name + "' is not connected";
+      h.add(false);  // the fixed "absent" marker
+      continue;
+    }
+    const NodeKeyInfo& up = of(link.source->id);
+    if (!up.key) {
+      info.blocked_by = up.error.empty() ? up.blocked_by : link.source->id;
+      if (info.blocked_by == id) {  // a cycle came back to this node
+        info.blocked_by.clear();
+        info.error = "the node is part of a cycle";
+      }
+      return finish();
+    }
+    h.add(true).add(*up.key).add(std::string_view(link.source->type->outputs[static_cast<std::size_t>(link.output)].name));
+  }
+
+  if (type.domain_independent) {
+    h.add(false);
+  } else {
+    h.add(true).add(domain_);
+  }
+
+  if (type.writes_files) {
+    // Where the files go is part of what the node does: another output directory is another result.
+    for (std::size_t i = 0; i < type.params.size(); ++i) {
+      if (!type.params[i].output_file) continue;
+      const auto* value = std::get_if<std::string>(&params[i]);
+      if (!value) continue;
+      try {
+        std::error_code ec;
+        auto path = resolve_output_path(output_, *value);
+        auto absolute = std::filesystem::absolute(path, ec);
+        h.add(true).add(std::string_view((ec ? path : absolute).lexically_normal().generic_string()));
+      } catch (const OutputPathError& e) {
+        h.add(false).add(std::string_view(e.what()));  // the node will fail with this message when it runs
+      }
+    }
+  }
+
+  info.key = h.finish();
+  return finish();
+}
+
+}  // namespace orogen

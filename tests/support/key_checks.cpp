@@ -1,0 +1,260 @@
+#include "support/key_checks.h"
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "evaluator/evaluator.h"
+#include "graph/exec_context.h"
+#include "graph/graph.h"
+#include "graph/registry.h"
+
+namespace orogen::test {
+namespace {
+
+const std::string kNode = "under_test";
+
+// Upstream stand-ins, one per port type: only their key matters (the "variant" parameter makes different
+// ones), they are never evaluated. Not registered, so they never show up in node listings.
+const NodeType& source_type(PortType t) {
+  static const auto types = [] {
+    std::vector<NodeType> v;
+    for (PortType pt : kAllPortTypes) {
+      NodeType type;
+      type.name = "TestKeySource" + std::string(to_string(pt));
+      type.category = "test";
+      type.description = "Stand-in upstream node for cache-key checks";
+      NodeBuilder b(type);
+      b.output("out", pt).description("A value of the port type");
+      b.param_int("variant", 0).description("Distinguishes stand-ins");
+      b.execute([](ExecContext&) { throw NodeError("key-check stand-ins are not evaluable"); });
+      v.push_back(std::move(type));
+    }
+    return v;
+  }();
+  return types.at(static_cast<std::size_t>(t));
+}
+
+std::optional<CacheKey> key_of(const Graph& g, const Domain& d, const std::string& id = kNode) {
+  const auto keys = compute_cache_keys(g, d);
+  const auto it = keys.find(id);
+  if (it == keys.end()) return std::nullopt;
+  return it->second;
+}
+
+std::string hex(const std::optional<CacheKey>& k) { return k ? k->hex() : std::string("<no key>"); }
+
+// Valid numbers different from v: halfway towards each bound, else steps of max(1, |v|/2), else v +- 1.
+std::vector<double> other_numbers(double v, const ParamDecl& decl, bool integer) {
+  std::vector<double> out;
+  const double step = integer ? 1.0 : std::max(1.0, std::abs(v) * 0.5);
+  std::vector<double> tries;
+  if (integer) {
+    tries = {v + 1, v - 1};
+  } else {
+    if (decl.max) tries.push_back(v + (*decl.max - v) * 0.5);
+    if (decl.min) tries.push_back(v + (*decl.min - v) * 0.5);
+    tries.push_back(v + step);
+    tries.push_back(v - step);
+    tries.push_back(v + 1e-3 * step);
+    tries.push_back(v - 1e-3 * step);
+  }
+  for (double x : tries) {
+    if (!std::isfinite(x) || x == v) continue;
+    if ((decl.min && x < *decl.min) || (decl.max && x > *decl.max)) continue;
+    out.push_back(x);
+    break;  // one is enough
+  }
+  return out;
+}
+
+float other_colour(float c) { return c < 0.5f ? c + 0.25f : c - 0.25f; }
+
+std::string changed_path(const std::string& v, const ParamDecl& decl) {
+  if (v.empty()) return "key_check" + (decl.extensions.empty() ? std::string(".dat") : decl.extensions.front());
+  for (const auto& ext : decl.extensions)
+    if (v.size() > ext.size() && v.compare(v.size() - ext.size(), ext.size(), ext) == 0)
+      return v.substr(0, v.size() - ext.size()) + "_changed" + ext;
+  return v + "_changed";
+}
+
+// Changed values of a parameter to try, each with a label naming what was changed.
+std::vector<std::pair<std::string, ParamValue>> perturbations(const ParamDecl& decl, const ParamValue& v) {
+  std::vector<std::pair<std::string, ParamValue>> out;
+  switch (decl.type) {
+    case ParamType::Float:
+      for (double x : other_numbers(std::get<double>(v), decl, false)) out.push_back({"", x});
+      break;
+    case ParamType::Int:
+      for (double x : other_numbers(static_cast<double>(std::get<std::int64_t>(v)), decl, true))
+        out.push_back({"", static_cast<std::int64_t>(x)});
+      break;
+    case ParamType::Bool: out.push_back({"", !std::get<bool>(v)}); break;
+    case ParamType::Vec2:
+      for (int c = 0; c < 2; ++c) {
+        for (double x : other_numbers(std::get<glm::dvec2>(v)[c], decl, false)) {
+          auto p = std::get<glm::dvec2>(v);
+          p[c] = x;
+          out.push_back({"component " + std::to_string(c), p});
+        }
+      }
+      break;
+    case ParamType::Vec3:
+      for (int c = 0; c < 3; ++c) {
+        for (double x : other_numbers(std::get<glm::dvec3>(v)[c], decl, false)) {
+          auto p = std::get<glm::dvec3>(v);
+          p[c] = x;
+          out.push_back({"component " + std::to_string(c), p});
+        }
+      }
+      break;
+    case ParamType::Color:
+      for (int c = 0; c < 4; ++c) {
+        auto p = std::get<glm::vec4>(v);
+        p[c] = other_colour(p[c]);
+        out.push_back({"component " + std::to_string(c), p});
+      }
+      break;
+    case ParamType::Enum:
+      for (const auto& choice : decl.choices)
+        if (choice != std::get<std::string>(v)) out.push_back({"choice " + choice, choice});
+      break;
+    case ParamType::String: out.push_back({"", std::get<std::string>(v) + "_changed"}); break;
+    case ParamType::Path: out.push_back({"", changed_path(std::get<std::string>(v), decl)}); break;
+    case ParamType::Seed: out.push_back({"", std::get<std::uint64_t>(v) + 1}); break;
+    case ParamType::Curve: {
+      auto c = std::get<CurveValue>(v);
+      if (c.points.empty()) c.points.push_back({0.0, 0.0});
+      else c.points.front().y += 0.25;
+      out.push_back({"first point", c});
+      auto more = std::get<CurveValue>(v);
+      more.points.push_back({more.points.empty() ? 0.0 : more.points.back().x + 1.0, 0.5});
+      out.push_back({"added point", more});
+      break;
+    }
+    case ParamType::Gradient: {
+      auto g = std::get<GradientValue>(v);
+      if (g.stops.empty()) g.stops.push_back({});
+      else g.stops.front().color.r = other_colour(g.stops.front().color.r);
+      out.push_back({"first stop colour", g});
+      auto more = std::get<GradientValue>(v);
+      more.stops.push_back({more.stops.empty() ? 0.0 : more.stops.back().position + 0.0, {0.3f, 0.6f, 0.9f, 1.0f}});
+      out.push_back({"added stop", more});
+      break;
+    }
+  }
+  std::erase_if(out, [&](const auto& entry) { return entry.second == v || !decl.check(entry.second).empty(); });
+  return out;
+}
+
+const NodeType* find_type(const std::string& type_name) {
+  const NodeType* type = NodeRegistry::instance().find(type_name);
+  if (!type) ADD_FAILURE() << "no registered node type '" << type_name << "'";
+  return type;
+}
+
+}  // namespace
+
+void expect_every_param_changes_key(const std::string& type_name, const Domain& d) {
+  const NodeType* type = find_type(type_name);
+  if (!type) return;
+  Graph g;
+  g.add_node(*type, kNode);
+  const auto k0 = key_of(g, d);
+  ASSERT_TRUE(k0) << type_name << ": the node has no cache key";
+
+  for (const ParamDecl& decl : type->params) {
+    const ParamValue original = g.param(kNode, decl.name);
+    const auto changes = perturbations(decl, original);
+    const bool no_alternative =
+        (decl.type == ParamType::Enum && decl.choices.size() < 2) ||
+        ((decl.type == ParamType::Float || decl.type == ParamType::Int) && decl.min && decl.max && *decl.min == *decl.max);
+    if (changes.empty() && !no_alternative)
+      ADD_FAILURE() << type_name << "." << decl.name << ": found no valid value other than " << describe(original)
+                    << " to check the key with";
+    for (const auto& [what, value] : changes) {
+      g.set_param(kNode, decl.name, value);
+      const auto k1 = key_of(g, d);
+      EXPECT_TRUE(k1 && *k1 != *k0) << type_name << "." << decl.name << (what.empty() ? "" : " (" + what + ")")
+                                    << ": changing it from " << describe(original) << " to " << describe(value)
+                                    << " did not change the cache key " << hex(k0);
+      g.set_param(kNode, decl.name, original);
+      EXPECT_EQ(hex(key_of(g, d)), hex(k0)) << type_name << "." << decl.name
+                                            << ": setting it back to " << describe(original)
+                                            << " did not restore the cache key";
+    }
+  }
+
+  // The domain: another resolution of the same rectangle, and the same resolution somewhere else.
+  const Domain other_resolution = d.resampled(d.resolution + glm::ivec2(1, 1));
+  Domain shifted = d;
+  shifted.origin += glm::dvec2(d.spacing.x * 3.0, -d.spacing.y * 2.0);
+  for (const Domain& other : {other_resolution, shifted}) {
+    const auto k1 = key_of(g, other);
+    if (type->domain_independent)
+      EXPECT_EQ(hex(k1), hex(k0)) << type_name << " is domain_independent, but its key changed with the domain ("
+                                  << d.describe() << " -> " << other.describe() << ")";
+    else
+      EXPECT_NE(hex(k1), hex(k0)) << type_name << ": changing the domain (" << d.describe() << " -> "
+                                  << other.describe() << ") did not change the cache key";
+  }
+
+  // Nothing else: the node's id, its editor position, other nodes.
+  g.editor.positions[kNode] = {123.0, -45.0};
+  EXPECT_EQ(hex(key_of(g, d)), hex(k0)) << type_name << ": the editor position changed the cache key";
+  g.rename_node(kNode, "renamed_node");
+  EXPECT_EQ(hex(key_of(g, d, "renamed_node")), hex(k0)) << type_name << ": the node id changed the cache key";
+  g.add_node(*type, "an_unrelated_node");
+  EXPECT_EQ(hex(key_of(g, d, "renamed_node")), hex(k0)) << type_name << ": an unrelated node changed the cache key";
+}
+
+void expect_every_input_changes_key(const std::string& type_name, const Domain& d) {
+  const NodeType* type = find_type(type_name);
+  if (!type) return;
+  Graph g;
+  g.add_node(*type, kNode);
+  // Every input connected to its own stand-in, all different.
+  std::vector<std::string> sources;
+  for (std::size_t i = 0; i < type->inputs.size(); ++i) {
+    const auto& port = type->inputs[i];
+    const std::string src = "source_" + std::to_string(i);
+    g.add_node(source_type(port.type), src);
+    g.set_param(src, "variant", static_cast<std::int64_t>(i));
+    g.connect({src, "out"}, kNode, port.name);
+    sources.push_back(src);
+  }
+  const auto k0 = key_of(g, d);
+  ASSERT_TRUE(k0) << type_name << ": the node has no cache key with every input connected";
+
+  for (std::size_t i = 0; i < type->inputs.size(); ++i) {
+    const auto& port = type->inputs[i];
+    const std::string alt = "other_source_" + std::to_string(i);
+    g.add_node(source_type(port.type), alt);
+    g.set_param(alt, "variant", static_cast<std::int64_t>(1000 + i));
+    g.connect({alt, "out"}, kNode, port.name);
+    const auto k1 = key_of(g, d);
+    EXPECT_TRUE(k1 && *k1 != *k0) << type_name << ": connecting a different upstream node to input '" << port.name
+                                  << "' did not change the cache key";
+    g.connect({sources[i], "out"}, kNode, port.name);
+    EXPECT_EQ(hex(key_of(g, d)), hex(k0)) << type_name << ": reconnecting the original upstream node to input '"
+                                          << port.name << "' did not restore the cache key";
+    if (port.optional) {
+      g.disconnect(kNode, port.name);
+      EXPECT_NE(hex(key_of(g, d)), hex(k0)) << type_name << ": disconnecting the optional input '" << port.name
+                                            << "' did not change the cache key";
+      g.connect({sources[i], "out"}, kNode, port.name);
+    }
+    g.remove_node(alt);
+    // Changing the upstream node's parameters must reach this node's key too.
+    g.set_param(sources[i], "variant", static_cast<std::int64_t>(2000 + i));
+    EXPECT_NE(hex(key_of(g, d)), hex(k0)) << type_name << ": a parameter change upstream of input '" << port.name
+                                          << "' did not change the cache key";
+    g.set_param(sources[i], "variant", static_cast<std::int64_t>(i));
+  }
+  EXPECT_EQ(hex(key_of(g, d)), hex(k0)) << type_name << ": the key did not come back after the input checks";
+}
+
+}  // namespace orogen::test
