@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <thread>
 
 #include <tbb/task_arena.h>
 
@@ -48,6 +49,11 @@ template <class Fn>
 auto with_threads(int threads, Fn&& fn) {
   tbb::task_arena arena(threads);
   return arena.execute(fn);
+}
+
+// A thread count above one that the machine can honour (2..4).
+inline int several_threads() {
+  return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 2u, 4u));
 }
 
 inline HeightfieldPtr run_field(const std::string& type, const Domain& d, const std::map<std::string, ParamValue>& params = {},

@@ -14,10 +14,13 @@ namespace {
 // Index of the sample that stands in for position i of a line of n samples.
 int edge_index(long i, int n, BlurEdges edges) {
   if (edges == BlurEdges::Clamp) return static_cast<int>(std::clamp<long>(i, 0, n - 1));
-  const long period = 2L * n;
+  if (n == 1) return 0;
+  // Whole-sample reflection about the edge samples (x[-k] = x[k]): the mirror lies on the domain's world
+  // edge at every resolution.
+  const long period = 2L * (n - 1);
   long m = i % period;
   if (m < 0) m += period;
-  return static_cast<int>(m < n ? m : period - 1 - m);
+  return static_cast<int>(m < n ? m : period - m);
 }
 
 // The line extended by `pad` samples on both sides according to the edge rule.
@@ -138,7 +141,7 @@ OROGEN_NODE(Blur) {
       "Gaussian blur with its standard deviation in metres, so the result does not depend on the resolution "
       "(separable; the exact sampled Gaussian up to 24 samples of sigma, beyond that a decimated evaluation "
       "accurate to about 1e-3 at O(1) cost per sample). Edges: clamp repeats the edge sample, mirror reflects "
-      "the field and preserves its mean.");
+      "the field about the domain edges and preserves its integral.");
   b.input("in", PortType::Heightfield).description("Field to blur");
   b.output("out", PortType::Heightfield).description("Blurred field");
   b.param_float("sigma", 10.0).range(0.0, 1e5).soft_range(0.0, 500.0).unit("m")

@@ -9,10 +9,11 @@
 //   variance counts towards sigma^2), the exact Gaussian on the coarse line (>= 8 coarse samples of sigma),
 //   and Catmull-Rom interpolation back: O(1) per sample whatever sigma, within about 1e-3 of the peak of
 //   the true Gaussian response (checked against it in the tests).
-// Edges: Clamp repeats the edge sample; Mirror reflects about the half-sample beyond the edge
-// (..., x1, x0 | x0, x1, ...), which makes the direct operator symmetric so the sum (and mean) of the field
-// is preserved exactly up to rounding (to about 1e-5 with the decimated evaluation). Both preserve a
-// constant field.
+// Edges: Clamp repeats the edge sample; Mirror reflects the field about the edge samples
+// (..., x2, x1 | x0, x1, x2, ...), i.e. about the domain's world edges, so it behaves the same at any
+// resolution. Mirror makes the direct operator symmetric on the periodic mirrored signal, which preserves the
+// field's integral (the trapezoid sum, border samples weighted 1/2, as they are shared with neighbouring
+// tiles) exactly up to rounding, and to about 1e-5 with the decimated evaluation. Both preserve a constant.
 #include "graph/exec_context.h"
 #include "graph/heightfield.h"
 
