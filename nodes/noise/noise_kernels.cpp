@@ -139,10 +139,10 @@ HWY_INLINE hn::Vec<DUH> WrapCell(VD c_reduced) {
   return hn::Xor(hn::BitCast(duh, as_int), hn::Set(duh, 0x80000000u));
 }
 
-// u reduced modulo 2^32 (exact in double).
-HWY_INLINE VD Reduce(VD u) {
+// An integer-valued c reduced modulo 2^32 (exact in double for any magnitude).
+HWY_INLINE VD Reduce(VD c) {
   const DD dd;
-  return hn::Sub(u, hn::Mul(hn::Floor(hn::Mul(u, hn::Set(dd, 0x1.0p-32))), hn::Set(dd, 0x1.0p32)));
+  return hn::Sub(c, hn::Mul(hn::Floor(hn::Mul(c, hn::Set(dd, 0x1.0p-32))), hn::Set(dd, 0x1.0p32)));
 }
 
 void SplitLattice(const double* u, int n, std::uint32_t* cell, float* frac) {
@@ -150,10 +150,10 @@ void SplitLattice(const double* u, int n, std::uint32_t* cell, float* frac) {
   const DFH dfh;
   const DUH duh;
   for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(dd)) {
-    const VD t = Reduce(hn::LoadU(dd, u + i));
-    const VD c = hn::Floor(t);
-    hn::StoreU(hn::DemoteTo(dfh, hn::Sub(t, c)), dfh, frac + i);
-    hn::StoreU(WrapCell(c), duh, cell + i);
+    const VD uv = hn::LoadU(dd, u + i);
+    const VD c = hn::Floor(uv);
+    hn::StoreU(hn::DemoteTo(dfh, hn::Sub(uv, c)), dfh, frac + i);
+    hn::StoreU(WrapCell(Reduce(c)), duh, cell + i);
   }
 }
 

@@ -9,11 +9,11 @@
 namespace orogen::noise::reference {
 
 LatticeCoord split(double u) {
-  // Reduce modulo 2^32 first (exact in double) so the integer conversion is always defined.
-  const double t = u - std::floor(u * 0x1.0p-32) * 0x1.0p32;
-  if (!(t >= 0.0 && t < 0x1.0p32)) return {0, static_cast<float>(u - std::floor(u))};  // NaN or infinite
-  const double c = std::floor(t);
-  return {static_cast<std::uint32_t>(static_cast<std::int64_t>(c)), static_cast<float>(t - c)};
+  const double c = std::floor(u);
+  // The cell modulo 2^32, exact for any integer-valued double, so the conversion is always defined.
+  const double r = c - std::floor(c * 0x1.0p-32) * 0x1.0p32;
+  if (!(r >= 0.0 && r < 0x1.0p32)) return {0, 0.0f};  // NaN or infinite coordinates
+  return {static_cast<std::uint32_t>(r), static_cast<float>(u - c)};
 }
 
 float gradient_dot(std::uint32_t hash, float dx, float dy) {
