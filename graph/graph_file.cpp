@@ -475,13 +475,24 @@ class GraphReader {
   bool nodes_read_ = false;  // "nodes" was an array, so the set of ids is known
 };
 
+// The index of the node a path such as /nodes/3/params/x points into.
+std::optional<std::size_t> node_index_of(const std::string& path) {
+  static const std::string prefix = "/nodes/";
+  if (path.rfind(prefix, 0) != 0) return std::nullopt;
+  std::size_t index = 0, k = prefix.size();
+  if (k >= path.size() || !std::isdigit(static_cast<unsigned char>(path[k]))) return std::nullopt;
+  for (; k < path.size() && std::isdigit(static_cast<unsigned char>(path[k])); ++k) {
+    if (index > 1'000'000'000) return std::nullopt;
+    index = index * 10 + static_cast<std::size_t>(path[k] - '0');
+  }
+  return index;
+}
+
 // The id of the node a path such as /nodes/3/params/x points into, if the document has one there.
 std::string node_id_at(const json& doc, const std::string& path) {
-  static const std::string prefix = "/nodes/";
-  if (path.rfind(prefix, 0) != 0 || !doc.is_object() || !doc.contains("nodes") || !doc["nodes"].is_array()) return {};
-  std::size_t index = 0, k = prefix.size();
-  if (k >= path.size() || !std::isdigit(static_cast<unsigned char>(path[k]))) return {};
-  for (; k < path.size() && std::isdigit(static_cast<unsigned char>(path[k])); ++k) index = index * 10 + (path[k] - '0');
+  const auto at = node_index_of(path);
+  if (!at || !doc.is_object() || !doc.contains("nodes") || !doc["nodes"].is_array()) return {};
+  const std::size_t index = *at;
   const json& nodes = doc["nodes"];
   if (index >= nodes.size() || !nodes[index].is_object() || !nodes[index].contains("id") ||
       !nodes[index]["id"].is_string())
@@ -507,6 +518,15 @@ LoadResult parse_graph(std::string_view json_text, const LoadOptions& options) {
   GraphReader reader(options, result.diagnostics);
   auto graph = reader.read(std::move(*doc));
   if (graph && result.diagnostics.empty()) result.graph = std::move(graph);
+  // Checks run in passes (links need every node); list the problems in file order instead: file-level and
+  // domain first, then node by node, then the editor section.
+  auto rank = [](const Diagnostic& d) {
+    if (d.path.rfind("/editor", 0) == 0) return std::pair<int, std::size_t>(2, 0);
+    if (auto index = node_index_of(d.path)) return std::pair<int, std::size_t>(1, *index);
+    return std::pair<int, std::size_t>(0, 0);
+  };
+  std::stable_sort(result.diagnostics.begin(), result.diagnostics.end(),
+                   [&](const Diagnostic& a, const Diagnostic& b) { return rank(a) < rank(b); });
   return result;
 }
 

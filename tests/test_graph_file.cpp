@@ -416,6 +416,46 @@ TEST(GraphFile, DiagnosticText) {
             "/extra: unknown field 'extra' in the file (expected one of: format, version, domain, nodes, editor)\n");
 }
 
+// Damaged files (characters deleted, inserted or replaced at random) never crash the loader: each gives a
+// graph that saves and reloads to itself, or diagnostics that all say something.
+TEST(GraphFile, RandomlyDamagedFilesAreEitherValidOrDiagnosed) {
+  const std::string original = serialize_graph(full_graph());
+  const std::string alphabet = "{}[],:\".0123456789-eE \n\\abcxyz_";
+  std::uint64_t state = 77;
+  auto rnd = [&](std::size_t n) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<std::size_t>((state >> 33) % n);
+  };
+  int valid = 0, invalid = 0;
+  for (int trial = 0; trial < 1500; ++trial) {
+    std::string text = original;
+    const int edits = 1 + static_cast<int>(rnd(3));
+    for (int e = 0; e < edits; ++e) {
+      const std::size_t at = rnd(text.size());
+      switch (rnd(3)) {
+        case 0: text.erase(at, 1); break;
+        case 1: text.insert(at, 1, alphabet[rnd(alphabet.size())]); break;
+        default: text[at] = alphabet[rnd(alphabet.size())]; break;
+      }
+    }
+    const auto r = parse_graph(text);
+    if (r.ok()) {
+      ++valid;
+      EXPECT_TRUE(r.diagnostics.empty());
+      const auto again = parse_graph(serialize_graph(*r.graph));
+      ASSERT_TRUE(again.ok()) << again.error_text() << "\nfrom:\n" << text;
+      EXPECT_TRUE(*again.graph == *r.graph) << text;
+    } else {
+      ++invalid;
+      ASSERT_FALSE(r.diagnostics.empty()) << text;
+      for (const auto& d : r.diagnostics) EXPECT_FALSE(d.message.empty()) << text;
+    }
+  }
+  // Both outcomes occur (whitespace and digit edits often leave a valid file).
+  EXPECT_GT(valid, 20);
+  EXPECT_GT(invalid, 500);
+}
+
 // ---- Parameter values from JSON and from command-line text ----
 
 const ParamDecl& decl_of(const char* type, const char* name) {
@@ -654,6 +694,22 @@ TEST_P(MalformedFile, GivesItsOwnDiagnostic) {
 INSTANTIATE_TEST_SUITE_P(GraphFile, MalformedFile, ::testing::ValuesIn(malformed_cases()),
                          [](const ::testing::TestParamInfo<Malformed>& info) { return info.param.name; });
 
+TEST(GraphFile, EveryExampleGraphRoundTrips) {
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(test::source_dir() / "graphs")) {
+    if (entry.path().extension() != ".json") continue;
+    ++count;
+    const auto loaded = load_graph_file(entry.path());
+    ASSERT_TRUE(loaded.ok()) << entry.path() << "\n" << loaded.error_text();
+    const std::string text = serialize_graph(*loaded.graph);
+    const auto again = parse_graph(text);
+    ASSERT_TRUE(again.ok()) << again.error_text();
+    EXPECT_TRUE(*again.graph == *loaded.graph) << entry.path();
+    EXPECT_EQ(serialize_graph(*again.graph), text) << entry.path();
+  }
+  EXPECT_GT(count, 0);
+}
+
 TEST(GraphFile, EveryProblemInAFileIsReported) {
   const std::string text = R"({
   "format": "orogen-graph",
@@ -681,11 +737,11 @@ TEST(GraphFile, EveryProblemInAFileIsReported) {
       {"/nodes/0/params/octaves", "src"},
       {"/nodes/0/params/tnit", "src"},
       {"/nodes/1/type", "noise"},
-      {"/nodes/6/id", "src"},
       {"/nodes/2/inputs/height", "f"},
       {"/nodes/2/inputs/mask", "f"},
-      {"/nodes/5/inputs/height", "lonely"},
       {"/nodes/4/inputs/height", "b"},
+      {"/nodes/5/inputs/height", "lonely"},
+      {"/nodes/6/id", "src"},
       {"/editor/positions/ghost", "ghost"},
   };
   EXPECT_EQ(where, expected) << r.error_text();
