@@ -1,5 +1,6 @@
 // Readers and writers: round trips per format, byte layout of RAW, resampling on read, clear errors, atomic
 // replacement when a write fails part-way, and the output-path rule.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -17,6 +18,7 @@
 #include "graph/registry.h"
 #include "nodes/io/heightfield_file.h"
 #include "nodes/io/image_file.h"
+#include "nodes/io/points_file.h"
 #include "support/test_paths.h"
 
 namespace orogen {
@@ -365,6 +367,193 @@ TEST_F(IoTest, QuantisationIsRoundToNearest) {
   EXPECT_EQ(quantize16(0.0, r), 32768);  // 32767.5 rounds up
   for (int q : {0, 1, 12345, 65534, 65535})
     EXPECT_EQ(quantize16(dequantize16(static_cast<std::uint16_t>(q), r), r), q);
+}
+
+
+// --- WriteImage ---
+
+ImagePtr test_image(const Domain& d, int channels) {
+  auto img = std::make_shared<Image>(d, channels);
+  for (int j = 0; j < d.height(); ++j)
+    for (int i = 0; i < d.width(); ++i)
+      for (int c = 0; c < channels; ++c)
+        img->pixel(i, j)[c] = static_cast<float>(std::fmod(0.013 * i + 0.071 * j + 0.29 * c, 1.0));
+  img->pixel(0, 0)[0] = -0.5f;  // clamped to 0
+  img->pixel(1, 0)[0] = 1.5f;   // clamped to 1
+  return img;
+}
+
+// Pixels of a file as read by OpenImageIO in the file's own integer type, file row 0 first.
+template <class T>
+std::vector<T> read_pixels(const fs::path& file, OIIO::TypeDesc type, int& w, int& h, int& n) {
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);  // the file's straight alpha as stored, not premultiplied
+  auto in = OIIO::ImageInput::open(file.string(), &config);
+  EXPECT_TRUE(in) << OIIO::geterror();
+  if (!in) return {};
+  const auto& spec = in->spec();
+  EXPECT_EQ(spec.format, type);
+  w = spec.width;
+  h = spec.height;
+  n = spec.nchannels;
+  std::vector<T> px(static_cast<std::size_t>(w * h * n));
+  EXPECT_TRUE(in->read_image(0, 0, 0, n, type, px.data()));
+  return px;
+}
+
+TEST(ImageFile, SrgbTransferCurve) {
+  EXPECT_DOUBLE_EQ(linear_to_srgb(0.0), 0.0);
+  EXPECT_DOUBLE_EQ(linear_to_srgb(1.0), 1.0);
+  EXPECT_NEAR(linear_to_srgb(0.5), 0.735357, 1e-6);
+  EXPECT_NEAR(linear_to_srgb(0.001), 0.01292, 1e-9);  // linear toe
+  for (double v = 0; v <= 1.0; v += 0.01) EXPECT_NEAR(srgb_to_linear(linear_to_srgb(v)), v, 1e-12);
+}
+
+TEST_F(IoTest, WriteImagePng8EncodesSrgbAndKeepsAlphaLinear) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {23, 11});
+  const auto img = test_image(d, 4);
+  const auto files = run_writer("WriteImage", {{"path", std::string("img/colour.png")}}, {{"image", img}}, policy_);
+  ASSERT_EQ(files.size(), 1u);
+  int w = 0, h = 0, n = 0;
+  const auto px = read_pixels<std::uint8_t>(files[0], OIIO::TypeDesc::UINT8, w, h, n);
+  ASSERT_EQ(w, 23);
+  ASSERT_EQ(h, 11);
+  ASSERT_EQ(n, 4);
+  for (int r = 0; r < h; ++r)
+    for (int i = 0; i < w; ++i)
+      for (int c = 0; c < 4; ++c) {
+        const double v = std::clamp(img->pixel(i, h - 1 - r)[c], 0.0f, 1.0f);  // north row first
+        const double stored = c == 3 ? v : linear_to_srgb(v);
+        ASSERT_EQ(px[static_cast<std::size_t>((r * w + i) * 4 + c)], std::lround(stored * 255)) << i << "," << r << "," << c;
+      }
+}
+
+TEST_F(IoTest, WriteImagePng16Linear) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {9, 7});
+  const auto img = test_image(d, 1);
+  const auto files = run_writer("WriteImage",
+                                {{"path", std::string("grey.png")}, {"bit_depth", std::string("16")}, {"srgb", false}},
+                                {{"image", img}}, policy_);
+  int w = 0, h = 0, n = 0;
+  const auto px = read_pixels<std::uint16_t>(files.at(0), OIIO::TypeDesc::UINT16, w, h, n);
+  ASSERT_EQ(n, 1);
+  for (int r = 0; r < h; ++r)
+    for (int i = 0; i < w; ++i)
+      ASSERT_EQ(px[static_cast<std::size_t>(r * w + i)],
+                std::lround(std::clamp(img->pixel(i, h - 1 - r)[0], 0.0f, 1.0f) * 65535.0));
+}
+
+TEST_F(IoTest, WriteImageFloatFormatsAreExact) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {13, 6});
+  auto img = std::make_shared<Image>(*test_image(d, 5));
+  img->channel_names = {"grass", "rock", "sand", "snow", "water"};
+  for (const std::string name : {"weights.exr", "weights.tif"}) {
+    const auto files = run_writer("WriteImage", {{"path", name}}, {{"image", ImagePtr(img)}}, policy_);
+    int w = 0, h = 0, n = 0;
+    const auto px = read_pixels<float>(files.at(0), OIIO::TypeDesc::FLOAT, w, h, n);
+    ASSERT_EQ(n, 5);
+    for (int r = 0; r < h; ++r)
+      for (int i = 0; i < w; ++i)
+        for (int c = 0; c < n; ++c)
+          ASSERT_EQ(px[static_cast<std::size_t>((r * w + i) * n + c)], img->pixel(i, h - 1 - r)[c]) << name;
+    if (name == "weights.exr") {
+      auto in = OIIO::ImageInput::open(files[0].string());
+      ASSERT_TRUE(in);
+      std::vector<std::string> names(in->spec().channelnames.begin(), in->spec().channelnames.end());
+      std::sort(names.begin(), names.end());  // EXR stores channels sorted by name
+      EXPECT_EQ(names, img->channel_names);
+    }
+  }
+  // PNG cannot hold 5 channels: a clear error, no file.
+  EXPECT_THROW(run_writer("WriteImage", {{"path", std::string("weights.png")}}, {{"image", ImagePtr(img)}}, policy_),
+               NodeError);
+  EXPECT_FALSE(fs::exists(policy_.output_dir / "weights.png"));
+  EXPECT_TRUE(temporaries_in(dir_).empty());
+}
+
+// --- WritePoints ---
+
+PointsPtr test_points() {
+  auto p = std::make_shared<Points>();
+  for (int k = 0; k < 37; ++k) {
+    const auto idx = p->add({k * 1.5f, -k * 0.25f, 100.0f + k / 3.0f}, k % 4);
+    p->rotation[idx] = glm::normalize(glm::quat(1.0f, 0.1f * k, 0.0f, -0.2f));
+    p->scale[idx] = {1.0f + k / 7.0f, 1.0f, 0.5f};
+  }
+  auto& age = p->attribute("zeta_age");
+  auto& density = p->attribute("density");
+  for (std::size_t k = 0; k < p->size(); ++k) {
+    age[k] = static_cast<float>(k) / 9.0f;
+    density[k] = 1e-7f * static_cast<float>(k);
+  }
+  return p;
+}
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  for (std::string item; std::getline(in, item, sep);) out.push_back(item);
+  return out;
+}
+
+void expect_row(const std::vector<std::string>& fields, const Points& p, std::size_t k) {
+  ASSERT_EQ(fields.size(), 13u);
+  const auto& q = p.rotation[k];
+  const float expected[] = {p.position[k].x, p.position[k].y, p.position[k].z, q.w, q.x, q.y, q.z,
+                            p.scale[k].x, p.scale[k].y, p.scale[k].z};
+  for (int c = 0; c < 10; ++c) EXPECT_EQ(std::stof(fields[static_cast<std::size_t>(c)]), expected[c]) << k << "," << c;
+  EXPECT_EQ(std::stoi(fields[10]), p.class_id[k]);
+  EXPECT_EQ(std::stof(fields[11]), p.attributes.at("density")[k]);  // attributes sorted by name
+  EXPECT_EQ(std::stof(fields[12]), p.attributes.at("zeta_age")[k]);
+}
+
+TEST_F(IoTest, WritePointsCsv) {
+  const auto p = test_points();
+  const auto files = run_writer("WritePoints", {{"path", std::string("pts/trees.csv")}}, {{"points", p}}, policy_);
+  const auto lines = split(read_bytes(files.at(0)), '\n');
+  ASSERT_EQ(lines.size(), p->size() + 1);
+  EXPECT_EQ(lines[0], "x,y,z,qw,qx,qy,qz,sx,sy,sz,class,density,zeta_age");
+  for (std::size_t k = 0; k < p->size(); ++k) expect_row(split(lines[k + 1], ','), *p, k);
+}
+
+TEST_F(IoTest, WritePointsPly) {
+  const auto p = test_points();
+  const auto files = run_writer("WritePoints", {{"path", std::string("trees.ply")}}, {{"points", p}}, policy_);
+  const auto lines = split(read_bytes(files.at(0)), '\n');
+  const auto end = std::find(lines.begin(), lines.end(), "end_header");
+  ASSERT_NE(end, lines.end());
+  const std::vector<std::string> header(lines.begin(), end);
+  EXPECT_EQ(header[0], "ply");
+  EXPECT_EQ(header[1], "format ascii 1.0");
+  EXPECT_NE(std::find(header.begin(), header.end(), "element vertex 37"), header.end());
+  std::vector<std::string> props;
+  for (const auto& l : header)
+    if (l.rfind("property ", 0) == 0) props.push_back(l);
+  ASSERT_EQ(props.size(), 13u);
+  EXPECT_EQ(props[0], "property float x");
+  EXPECT_EQ(props[10], "property int class");
+  EXPECT_EQ(props[11], "property float density");
+  EXPECT_EQ(props[12], "property float zeta_age");
+  ASSERT_EQ(static_cast<std::size_t>(lines.end() - end - 1), p->size());
+  for (std::size_t k = 0; k < p->size(); ++k) expect_row(split(*(end + 1 + static_cast<std::ptrdiff_t>(k)), ' '), *p, k);
+}
+
+TEST_F(IoTest, WritePointsAttributeNames) {
+  auto p = std::make_shared<Points>(*test_points());
+  p->attribute("height, m");
+  const auto csv = run_writer("WritePoints", {{"path", std::string("q.csv")}}, {{"points", PointsPtr(p)}}, policy_);
+  EXPECT_EQ(split(read_bytes(csv.at(0)), '\n')[0], "x,y,z,qw,qx,qy,qz,sx,sy,sz,class,density,\"height, m\",zeta_age");
+  EXPECT_THROW(run_writer("WritePoints", {{"path", std::string("q.ply")}}, {{"points", PointsPtr(p)}}, policy_), NodeError);
+  auto clash = std::make_shared<Points>(*test_points());
+  clash->attribute("x");
+  EXPECT_THROW(run_writer("WritePoints", {{"path", std::string("c.csv")}}, {{"points", PointsPtr(clash)}}, policy_), NodeError);
+  EXPECT_TRUE(temporaries_in(dir_).empty());
+  EXPECT_FALSE(fs::exists(policy_.output_dir / "q.ply"));
+}
+
+TEST_F(IoTest, WritePointsEmpty) {
+  const auto files = run_writer("WritePoints", {{"path", std::string("none.csv")}}, {{"points", std::make_shared<const Points>()}}, policy_);
+  EXPECT_EQ(read_bytes(files.at(0)), "x,y,z,qw,qx,qy,qz,sx,sy,sz,class\n");
 }
 
 }  // namespace

@@ -1,0 +1,35 @@
+#pragma once
+// Images (N float channels, linear) to PNG 8/16-bit, EXR and TIFF through OpenImageIO.
+// Rows are stored north (largest y) first, like heightfields (see heightfield_file.h).
+#include <filesystem>
+#include <optional>
+
+#include "graph/image.h"
+#include "nodes/io/file_error.h"
+
+namespace orogen {
+
+enum class ImageFormat { Png8, Png16, Exr, Tiff };
+
+// Linear to sRGB-encoded (IEC 61966-2-1), for values in 0..1.
+double linear_to_srgb(double v);
+double srgb_to_linear(double v);
+
+struct ImageWriteOptions {
+  ImageFormat format = ImageFormat::Png8;
+  // PNG only: encode colour channels with the sRGB transfer curve (alpha stays linear). EXR and TIFF store
+  // the linear floats as they are.
+  bool srgb = true;
+  WriteProgress progress;  // optional
+};
+
+// Writes `image` to `path`. PNG takes 1 (grey), 2 (grey + alpha), 3 (RGB) or 4 (RGBA) channels; values are
+// clamped to 0..1 and rounded to the nearest code (NaN stores 0). Alpha, when present, is straight (not
+// premultiplied). EXR and TIFF store any channel count as float32, with the image's channel names if it has
+// them. Not atomic by itself (writer nodes use write_file_atomically). Throws FileError on failure.
+void write_image_file(const Image& image, const std::filesystem::path& path, const ImageWriteOptions& options);
+
+// The format designated by a file name's extension (.png -> Png8, .exr, .tif/.tiff), or nullopt.
+std::optional<ImageFormat> image_format_from_path(const std::filesystem::path& path);
+
+}  // namespace orogen
