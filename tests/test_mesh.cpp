@@ -1,0 +1,362 @@
+// HeightfieldToMesh and WriteMesh: grid triangulation counts, normals, colours, error-bounded decimation,
+// and OBJ/PLY/STL round trips through OpenMesh.
+// OpenMesh's IO header first: it registers the readers before the mesh kernel is instantiated.
+#include <OpenMesh/Core/IO/MeshIO.hh>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <numbers>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "evaluator/run_node.h"
+#include "graph/exec_context.h"
+#include "graph/mesh.h"
+#include "nodes/geometry/heightfield_mesh.h"
+#include "nodes/io/image_file.h"
+#include "support/test_paths.h"
+
+namespace orogen {
+namespace {
+
+namespace fs = std::filesystem;
+
+HeightfieldPtr field(const Domain& d, double (*f)(double, double)) {
+  auto h = std::make_shared<Heightfield>(d);
+  for (int j = 0; j < d.height(); ++j)
+    for (int i = 0; i < d.width(); ++i) h->at(i, j) = static_cast<float>(f(d.x(i), d.y(j)));
+  return h;
+}
+
+double plane(double x, double y) { return 0.3 * x - 0.2 * y + 5.0; }
+double hills(double x, double y) { return 20.0 * std::sin(x / 30.0) * std::cos(y / 40.0) + 0.002 * x * y; }
+
+// The vertical distance from (x, y, z) to the mesh surface above or below it, or NaN if no face covers
+// (x, y), by an independent barycentric test over the faces whose bounding box holds the point (bucketed in a
+// uniform grid so the check stays fast).
+class VerticalDistance {
+ public:
+  VerticalDistance(const TriMesh& m, const Domain& d) : m_(m), d_(d), cells_(kCells * kCells) {
+    for (auto f : m.faces()) {
+      auto [lo, hi] = bbox(f);
+      for (int cy = cell(lo[1], 1); cy <= cell(hi[1], 1); ++cy)
+        for (int cx = cell(lo[0], 0); cx <= cell(hi[0], 0); ++cx) cells_[static_cast<std::size_t>(cy * kCells + cx)].push_back(f);
+    }
+  }
+  double operator()(double x, double y, double z) const {
+    double best = std::numeric_limits<double>::quiet_NaN();
+    for (auto f : cells_[static_cast<std::size_t>(cell(y, 1) * kCells + cell(x, 0))]) {
+      auto fv = m_.cfv_iter(f);
+      const auto a = m_.point(*fv), b = m_.point(*++fv), c = m_.point(*++fv);
+      const double det = (double(b[0]) - a[0]) * (double(c[1]) - a[1]) - (double(c[0]) - a[0]) * (double(b[1]) - a[1]);
+      if (det == 0.0) continue;
+      const double l1 = ((x - a[0]) * (double(c[1]) - a[1]) - (double(c[0]) - a[0]) * (y - a[1])) / det;
+      const double l2 = ((double(b[0]) - a[0]) * (y - a[1]) - (x - a[0]) * (double(b[1]) - a[1])) / det;
+      const double l0 = 1 - l1 - l2;
+      if (l0 < -1e-7 || l1 < -1e-7 || l2 < -1e-7) continue;
+      const double dist = std::abs(z - (l0 * a[2] + l1 * b[2] + l2 * c[2]));
+      if (std::isnan(best) || dist < best) best = dist;
+    }
+    return best;
+  }
+
+ private:
+  static constexpr int kCells = 32;
+  std::pair<OpenMesh::Vec3f, OpenMesh::Vec3f> bbox(TriMesh::FaceHandle f) const {
+    auto fv = m_.cfv_iter(f);
+    const auto a = m_.point(*fv), b = m_.point(*++fv), c = m_.point(*++fv);
+    return {OpenMesh::Vec3f(std::min({a[0], b[0], c[0]}), std::min({a[1], b[1], c[1]}), 0),
+            OpenMesh::Vec3f(std::max({a[0], b[0], c[0]}), std::max({a[1], b[1], c[1]}), 0)};
+  }
+  int cell(double v, int axis) const {
+    const double t = (v - d_.min_corner()[axis]) / d_.size()[axis];
+    return std::clamp(static_cast<int>(t * kCells), 0, kCells - 1);
+  }
+  const TriMesh& m_;
+  Domain d_;
+  std::vector<std::vector<TriMesh::FaceHandle>> cells_;
+};
+
+// Largest vertical distance of the original samples to the mesh (infinity if some sample is not covered).
+double max_vertical_error(const TriMesh& m, const Heightfield& h) {
+  const VerticalDistance distance(m, h.domain);
+  double worst = 0.0;
+  for (int j = 0; j < h.height(); ++j)
+    for (int i = 0; i < h.width(); ++i) {
+      const double d = distance(h.domain.x(i), h.domain.y(j), h.at(i, j));
+      if (std::isnan(d)) return std::numeric_limits<double>::infinity();
+      worst = std::max(worst, d);
+    }
+  return worst;
+}
+
+bool all_faces_face_up(const TriMesh& m) {
+  for (auto f : m.faces())
+    if (!(m.calc_face_normal(f)[2] > 0.0f)) return false;
+  return true;
+}
+
+TEST(HeightfieldMesh, GridCountsPositionsAndWinding) {
+  const Domain d = Domain::from_extent({100, -40}, {60, 40}, {7, 5});
+  const auto h = field(d, hills);
+  const Mesh mesh = heightfield_grid_mesh(*h);
+  EXPECT_EQ(mesh.vertex_count(), 35u);
+  EXPECT_EQ(mesh.face_count(), 2u * 6u * 4u);
+  const TriMesh& m = mesh.mesh;
+  for (int j = 0; j < 5; ++j)
+    for (int i = 0; i < 7; ++i) {
+      const auto p = m.point(TriMesh::VertexHandle(j * 7 + i));
+      EXPECT_FLOAT_EQ(p[0], static_cast<float>(d.x(i)));
+      EXPECT_FLOAT_EQ(p[1], static_cast<float>(d.y(j)));
+      EXPECT_EQ(p[2], h->at(i, j));
+    }
+  EXPECT_TRUE(all_faces_face_up(m));
+  for (auto v : m.vertices()) EXPECT_GT(m.normal(v)[2], 0.0f);
+  // A closed-boundary check: a grid is one disc, so V - E + F = 1.
+  EXPECT_EQ(static_cast<long>(m.n_vertices()) - static_cast<long>(m.n_edges()) + static_cast<long>(m.n_faces()), 1);
+}
+
+TEST(HeightfieldMesh, NormalsMatchTheAnalyticNormalOfATiltedPlane) {
+  const Domain d = Domain::from_extent({0, 0}, {90, 50}, {10, 6});
+  const Mesh mesh = heightfield_grid_mesh(*field(d, plane));
+  const double len = std::sqrt(0.3 * 0.3 + 0.2 * 0.2 + 1.0);
+  const OpenMesh::Vec3f expected(static_cast<float>(-0.3 / len), static_cast<float>(0.2 / len), static_cast<float>(1.0 / len));
+  for (auto v : mesh.mesh.vertices())
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(mesh.mesh.normal(v)[k], expected[k], 1e-5);
+  for (auto f : mesh.mesh.faces())
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(mesh.mesh.normal(f)[k], expected[k], 1e-5);
+}
+
+TEST(HeightfieldMesh, CellsSplitAlongTheShorterDiagonal) {
+  const Domain d = Domain::from_extent({0, 0}, {1, 1}, {2, 2});
+  auto h = std::make_shared<Heightfield>(d);
+  h->at(0, 0) = 0;  // a
+  h->at(1, 0) = 5;  // b
+  h->at(1, 1) = 0;  // c: a-c is short (flat), b-d long
+  h->at(0, 1) = 9;  // d
+  Mesh mesh = heightfield_grid_mesh(*h);
+  using VH = TriMesh::VertexHandle;
+  EXPECT_TRUE(mesh.mesh.find_halfedge(VH(0), VH(3)).is_valid());
+  EXPECT_FALSE(mesh.mesh.find_halfedge(VH(1), VH(2)).is_valid());
+  h->at(1, 1) = 20;  // now b-d is the shorter one
+  mesh = heightfield_grid_mesh(*h);
+  EXPECT_TRUE(mesh.mesh.find_halfedge(VH(1), VH(2)).is_valid());
+  EXPECT_TRUE(all_faces_face_up(mesh.mesh));
+}
+
+TEST(HeightfieldMesh, VertexColoursFromImage) {
+  const Domain d = Domain::from_extent({0, 0}, {100, 100}, {11, 11});
+  const auto h = field(d, plane);
+  // A coarser RGB image: R ramps in x, G in y, B constant; bilinear sampling reproduces the ramps.
+  const Domain di = Domain::from_extent({0, 0}, {100, 100}, {5, 3});
+  auto img = std::make_shared<Image>(di, 3);
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 5; ++i) {
+      img->pixel(i, j)[0] = static_cast<float>(di.x(i) / 100);
+      img->pixel(i, j)[1] = static_cast<float>(di.y(j) / 100);
+      img->pixel(i, j)[2] = 0.25f;
+    }
+  const auto run = run_node("HeightfieldToMesh", d, {}, {{"height", h}, {"colors", ImagePtr(img)}});
+  const auto mesh = run.get<Mesh>();
+  for (int j = 0; j < 11; ++j)
+    for (int i = 0; i < 11; ++i) {
+      const auto c = mesh->mesh.color(TriMesh::VertexHandle(j * 11 + i));
+      EXPECT_NEAR(c[0], d.x(i) / 100, 1e-6);
+      EXPECT_NEAR(c[1], d.y(j) / 100, 1e-6);
+      EXPECT_NEAR(c[2], 0.25, 1e-6);
+      EXPECT_EQ(c[3], 1.0f);
+    }
+  const auto plain = run_node("HeightfieldToMesh", d, {}, {{"height", h}}).get<Mesh>();
+  for (auto v : plain->mesh.vertices()) EXPECT_EQ(plain->mesh.color(v), OpenMesh::Vec4f(1, 1, 1, 1));
+}
+
+TEST(HeightfieldMesh, TooSmallIsAnError) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {1, 5});
+  EXPECT_THROW(run_node("HeightfieldToMesh", d, {}, {{"height", field(d, plane)}}), NodeError);
+}
+
+TEST(Decimation, PlaneCollapsesToAHandfulOfFaces) {
+  const Domain d = Domain::from_extent({0, 0}, {640, 480}, {65, 49});
+  const auto h = field(d, plane);
+  const auto mesh = run_node("HeightfieldToMesh", d, {{"max_error", 0.01}}, {{"height", h}}).get<Mesh>();
+  EXPECT_LE(mesh->face_count(), 8u) << "from " << 2 * 64 * 48;
+  EXPECT_GE(mesh->face_count(), 2u);
+  EXPECT_TRUE(all_faces_face_up(mesh->mesh));
+  EXPECT_LE(max_vertical_error(mesh->mesh, *h), 0.01);
+  // Still spans the whole rectangle: the corners are vertices.
+  const auto lo = d.min_corner(), hi = d.max_corner();
+  for (auto corner : {lo, hi, glm::dvec2(lo.x, hi.y), glm::dvec2(hi.x, lo.y)}) {
+    bool found = false;
+    for (auto v : mesh->mesh.vertices()) {
+      const auto p = mesh->mesh.point(v);
+      found = found || (p[0] == static_cast<float>(corner.x) && p[1] == static_cast<float>(corner.y));
+    }
+    EXPECT_TRUE(found) << corner.x << "," << corner.y;
+  }
+}
+
+TEST(Decimation, CurvedSurfaceRespectsTheErrorBound) {
+  const Domain d = Domain::from_extent({-150, -150}, {300, 300}, {81, 81});
+  const auto h = field(d, hills);
+  const std::size_t full = 2u * 80u * 80u;
+  std::size_t previous_faces = 0;
+  for (double bound : {0.05, 0.5, 2.0}) {
+    Mesh mesh = heightfield_grid_mesh(*h);
+    DecimationOptions options;
+    options.max_error = bound;
+    decimate_heightfield_mesh(mesh, options);
+    const double err = max_vertical_error(mesh.mesh, *h);
+    EXPECT_LE(err, bound + 1e-5) << "bound " << bound;
+    EXPECT_GT(err, bound * 0.3) << "the bound is used, not just respected: " << bound;
+    EXPECT_TRUE(all_faces_face_up(mesh.mesh));
+    EXPECT_LT(mesh.face_count(), full);
+    if (previous_faces) {
+      EXPECT_LT(mesh.face_count(), previous_faces) << "a looser bound removes more";
+    }
+    previous_faces = mesh.face_count();
+    // Surviving vertices are original samples with their heights, normals and colours.
+    for (auto v : mesh.mesh.vertices()) {
+      const auto p = mesh.mesh.point(v);
+      const auto s = d.to_sample({p[0], p[1]});
+      const int i = static_cast<int>(std::lround(s.x)), j = static_cast<int>(std::lround(s.y));
+      ASSERT_NEAR(s.x, i, 1e-3);
+      ASSERT_NEAR(s.y, j, 1e-3);
+      ASSERT_EQ(p[2], h->at(i, j));
+    }
+  }
+  EXPECT_LT(previous_faces, full / 10);  // 2 m on 40 m hills removes most of the grid
+}
+
+TEST(Decimation, TargetFaceCount) {
+  const Domain d = Domain::from_extent({0, 0}, {300, 300}, {49, 49});
+  const auto h = field(d, hills);
+  const auto only_target = run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(300)}}, {{"height", h}}).get<Mesh>();
+  EXPECT_LE(only_target->face_count(), 300u);
+  EXPECT_GE(only_target->face_count(), 250u);
+  EXPECT_TRUE(all_faces_face_up(only_target->mesh));
+  // With an error bound too, the tighter of the two wins.
+  const auto both = run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(300)}, {"max_error", 0.01}},
+                             {{"height", h}}).get<Mesh>();
+  EXPECT_GT(both->face_count(), 300u);
+  EXPECT_LE(max_vertical_error(both->mesh, *h), 0.01 + 1e-5);
+}
+
+TEST(Decimation, NodeMatchesFunctionAndIsDeterministic) {
+  const Domain d = Domain::from_extent({0, 0}, {300, 300}, {33, 33});
+  const auto h = field(d, hills);
+  Mesh direct = heightfield_grid_mesh(*h);
+  DecimationOptions options;
+  options.max_error = 0.3;
+  decimate_heightfield_mesh(direct, options);
+  const auto a = run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"height", h}}).get<Mesh>();
+  const auto b = run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"height", h}}).get<Mesh>();
+  ASSERT_EQ(a->face_count(), direct.face_count());
+  ASSERT_EQ(a->face_count(), b->face_count());
+  for (auto v : a->mesh.vertices()) {
+    ASSERT_EQ(a->mesh.point(v), direct.mesh.point(v));
+    ASSERT_EQ(a->mesh.point(v), b->mesh.point(v));
+  }
+}
+
+TEST(Decimation, CancelledRunThrows) {
+  const Domain d = Domain::from_extent({0, 0}, {300, 300}, {33, 33});
+  CancelToken cancel;
+  cancel.cancel();
+  EXPECT_THROW(run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"height", field(d, hills)}}, {}, &cancel), Cancelled);
+}
+
+// --- WriteMesh ---
+
+class MeshFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    policy_.output_dir = test::scratch_dir("mesh") / "out";
+    const Domain d = Domain::from_extent({10, 20}, {90, 60}, {10, 7});
+    height_ = field(d, hills);
+    auto img = std::make_shared<Image>(d, 3);
+    for (std::size_t k = 0; k < img->data.size(); ++k) img->data[k] = static_cast<float>((k * 37 % 101) / 100.0);
+    mesh_ = run_node("HeightfieldToMesh", d, {}, {{"height", height_}, {"colors", ImagePtr(img)}}).get<Mesh>();
+  }
+  fs::path write(const std::string& name, std::map<std::string, ParamValue> params = {}) {
+    params["path"] = name;
+    run_node("WriteMesh", Domain{}, params, {{"mesh", mesh_}}, policy_);
+    return policy_.output_dir / name;
+  }
+  OutputPolicy policy_;
+  HeightfieldPtr height_;
+  MeshPtr mesh_;
+};
+
+TEST_F(MeshFileTest, ObjPlyStlRoundTripThroughOpenMesh) {
+  for (const std::string name : {"t.obj", "t.ply", "t_ascii.ply", "t.stl", "t_ascii.stl"}) {
+    const bool ascii = name.find("ascii") != std::string::npos;
+    const fs::path file = write("meshes/" + name, {{"binary", !ascii}});
+    ASSERT_TRUE(fs::exists(file)) << name;
+    TriMesh back;
+    back.request_vertex_normals();
+    back.request_vertex_colors();
+    OpenMesh::IO::Options opt;
+    if (name.find(".stl") == std::string::npos) opt += OpenMesh::IO::Options::VertexNormal;
+    if (name.find(".ply") != std::string::npos) opt += OpenMesh::IO::Options::VertexColor;
+    if (!ascii && name.find(".obj") == std::string::npos) opt += OpenMesh::IO::Options::Binary;
+    ASSERT_TRUE(OpenMesh::IO::read_mesh(back, file.string(), opt)) << name;
+    EXPECT_EQ(back.n_vertices(), mesh_->vertex_count()) << name;
+    EXPECT_EQ(back.n_faces(), mesh_->face_count()) << name;
+    // The same surface: every written vertex is an original vertex (STL merges by position, so compare sets).
+    for (auto v : back.vertices()) {
+      const auto p = back.point(v);
+      const auto s = height_->domain.to_sample({p[0], p[1]});
+      const int i = static_cast<int>(std::lround(s.x)), j = static_cast<int>(std::lround(s.y));
+      ASSERT_NEAR(p[2], height_->at(i, j), 1e-3) << name;
+    }
+    if (name.find(".stl") == std::string::npos) {
+      EXPECT_TRUE(opt.check(OpenMesh::IO::Options::VertexNormal)) << name << " has normals";
+      for (auto v : back.vertices()) {
+        const auto n = back.normal(v), n0 = mesh_->mesh.normal(v);
+        for (int k = 0; k < 3; ++k) ASSERT_NEAR(n[k], n0[k], 1e-4) << name;
+      }
+    }
+    if (name.find(".ply") != std::string::npos) {
+      ASSERT_TRUE(opt.check(OpenMesh::IO::Options::VertexColor)) << name << " has colours";
+      for (auto v : back.vertices()) {
+        const auto c = back.color(v), c0 = mesh_->mesh.color(v);
+        for (int k = 0; k < 3; ++k) ASSERT_NEAR(c[k], linear_to_srgb(c0[k]), 0.5 / 255 + 1e-6) << name;  // 8-bit sRGB
+      }
+    }
+  }
+}
+
+TEST_F(MeshFileTest, UpAxisYSwapsToYUp) {
+  const fs::path file = write("yup.obj", {{"up_axis", std::string("Y")}});
+  TriMesh back;
+  back.request_vertex_normals();
+  OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexNormal;
+  ASSERT_TRUE(OpenMesh::IO::read_mesh(back, file.string(), opt));
+  ASSERT_EQ(back.n_vertices(), mesh_->vertex_count());
+  for (auto v : back.vertices()) {
+    const auto p = back.point(v), p0 = mesh_->mesh.point(v);
+    ASSERT_NEAR(p[0], p0[0], 1e-4);
+    ASSERT_NEAR(p[1], p0[2], 1e-4);  // height is now y
+    ASSERT_NEAR(p[2], -p0[1], 1e-4);
+    const auto n = back.normal(v), n0 = mesh_->mesh.normal(v);
+    ASSERT_NEAR(n[1], n0[2], 1e-4);
+    ASSERT_NEAR(n[2], -n0[1], 1e-4);
+  }
+  // A proper rotation: the winding still makes faces point up, now along +y.
+  back.update_face_normals();
+  for (auto f : back.faces()) ASSERT_GT(back.normal(f)[1], 0.0f);
+}
+
+TEST_F(MeshFileTest, Errors) {
+  EXPECT_THROW(write("../escape.obj"), NodeError);
+  EXPECT_FALSE(fs::exists(policy_.output_dir.parent_path() / "escape.obj"));
+  EXPECT_THROW(run_node("WriteMesh", Domain{}, {{"path", std::string("empty.ply")}}, {{"mesh", std::make_shared<const Mesh>()}}, policy_),
+               NodeError);
+  EXPECT_FALSE(fs::exists(policy_.output_dir / "empty.ply"));
+}
+
+}  // namespace
+}  // namespace orogen
