@@ -7,6 +7,7 @@
 #include <set>
 #include <unordered_map>
 
+#include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
@@ -75,18 +76,25 @@ bool fits(const NodeType& type, const CachedResult& r) {
 constexpr auto kProgressInterval = std::chrono::milliseconds(20);
 constexpr double kProgressStep = 0.01;
 
-// The state that outlives one evaluation: options, caches, thread arena, statistics.
+// The state that outlives one evaluation: options, caches, statistics.
 struct EvaluatorState {
   explicit EvaluatorState(EvaluatorOptions o) : options(std::move(o)), memory(options.cache_bytes) {
     if (!options.cache_dir.empty()) disk = std::make_unique<DiskCache>(options.cache_dir);
-    arena = options.threads > 0 ? std::make_unique<tbb::task_arena>(options.threads)
-                                : std::make_unique<tbb::task_arena>();  // all cores
+  }
+
+  // An arena of options.threads threads (0: all cores), created per evaluation so it follows the process's
+  // current parallelism limit: asking for more threads than that limit only oversubscribes the cores (and
+  // makes oneTBB print a warning), so the request is capped to it.
+  std::unique_ptr<tbb::task_arena> make_arena() const {
+    if (options.threads <= 0) return std::make_unique<tbb::task_arena>();
+    const auto limit = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+    return std::make_unique<tbb::task_arena>(static_cast<int>(std::min<std::size_t>(
+        static_cast<std::size_t>(options.threads), std::max<std::size_t>(limit, 1))));
   }
 
   EvaluatorOptions options;
   MemoryCache memory;
   std::unique_ptr<DiskCache> disk;
-  std::unique_ptr<tbb::task_arena> arena;
   std::mutex evaluate_mutex;  // one evaluation at a time
   std::atomic<std::size_t> hits{0}, misses{0}, disk_hits{0}, disk_rejected{0}, disk_writes{0},
       disk_write_errors{0};
@@ -166,7 +174,8 @@ class Run {
     for (const auto& id : requested_ids()) jobs_[static_cast<std::size_t>(plan(id))].requested = true;
     for (auto& job : jobs_) job.consumers_left.store(static_cast<int>(job.consumers.size()));
 
-    impl_.arena->execute([&] {
+    const auto arena = impl_.make_arena();
+    arena->execute([&] {
       for (std::size_t j = 0; j < jobs_.size(); ++j)
         if (jobs_[j].producers.empty()) group_.run([this, j] { launch(static_cast<int>(j)); });
       group_.wait();
@@ -413,15 +422,14 @@ class Run {
     });
   }
 
+  // Called from the node's own worker threads; the job's lock keeps its progress events in increasing order.
   void progress(Job& job, double fraction) {
-    {
-      std::lock_guard lock(job.progress_mutex);
-      const auto now = Clock::now();
-      if (fraction < job.last_fraction + kProgressStep) return;
-      if (job.last_fraction >= 0.0 && now - job.last_progress < kProgressInterval) return;
-      job.last_fraction = fraction;
-      job.last_progress = now;
-    }
+    std::lock_guard lock(job.progress_mutex);
+    const auto now = Clock::now();
+    if (fraction < job.last_fraction + kProgressStep) return;
+    if (job.last_fraction >= 0.0 && now - job.last_progress < kProgressInterval) return;
+    job.last_fraction = fraction;
+    job.last_progress = now;
     emit({EvalEvent::Kind::Progress, job.ids.front(), fraction, 0.0, 0, {}});
   }
 

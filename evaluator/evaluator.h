@@ -25,7 +25,7 @@
 namespace orogen {
 
 struct EvaluatorOptions {
-  int threads = 0;                                 // 0: all cores
+  int threads = 0;  // 0: all cores; capped at the process's oneTBB parallelism limit
   std::size_t cache_bytes = std::size_t(2) << 30;  // in-memory LRU bound (2 GiB)
   std::filesystem::path cache_dir;                 // empty: no persistent cache
   OutputPolicy output;                             // where writer nodes may write

@@ -37,11 +37,23 @@ std::atomic<bool> g_slow_release{false};
 std::mutex g_probe_mutex;
 std::weak_ptr<const Heightfield> g_last_source_output;
 
+// TestRendezvous: counts the nodes that arrived and those that met all the others.
+std::mutex g_rendezvous_mutex;
+std::condition_variable g_rendezvous_cv;
+int g_rendezvous_arrived = 0;
+std::atomic<int> g_rendezvous_met{0};
+
 void reset_counters() {
-  for (auto* c : {&g_source_runs, &g_add_runs, &g_slow_runs, &g_fail_runs, &g_writer_runs, &g_ripple_runs}) c->store(0);
-  std::lock_guard lock(g_slow_mutex);
-  g_slow_started = false;
-  g_slow_release = false;
+  for (auto* c : {&g_source_runs, &g_add_runs, &g_slow_runs, &g_fail_runs, &g_writer_runs, &g_ripple_runs,
+                  &g_rendezvous_met})
+    c->store(0);
+  {
+    std::lock_guard lock(g_slow_mutex);
+    g_slow_started = false;
+    g_slow_release = false;
+  }
+  std::lock_guard lock(g_rendezvous_mutex);
+  g_rendezvous_arrived = 0;
 }
 
 }  // namespace
@@ -184,10 +196,6 @@ OROGEN_NODE(TestPair) {
 
 // Waits until `parties` TestRendezvous nodes are running at the same time: only possible if the evaluator
 // runs independent branches concurrently. Gives up after a long safety timeout and records the failure.
-std::mutex g_rendezvous_mutex;
-std::condition_variable g_rendezvous_cv;
-int g_rendezvous_arrived = 0;
-std::atomic<int> g_rendezvous_met{0};
 OROGEN_NODE(TestRendezvous) {
   b.category("test").description("Waits for the other rendezvous nodes to be running too.");
   b.output("out", PortType::Heightfield).description("A zero field");
