@@ -153,7 +153,7 @@ TEST(Cli, FailingNodeExitsOneAndReportsIt) {
   "domain": { "size": [100, 100], "resolution": [16, 16] },
   "nodes": [
     { "id": "missing", "type": "ReadHeightfield", "params": { "path": "/nonexistent/height.exr" } },
-    { "id": "save_missing", "type": "WriteHeightfield", "inputs": { "height": "missing.out" }, "params": { "path": "a.exr" } },
+    { "id": "save_missing", "type": "WriteHeightfield", "inputs": { "height": "missing.height" }, "params": { "path": "a.exr" } },
     { "id": "flat", "type": "Constant" },
     { "id": "save_flat", "type": "WriteHeightfield", "inputs": { "height": "flat.out" }, "params": { "path": "b.exr" } }
   ]
