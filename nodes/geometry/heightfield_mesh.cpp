@@ -55,8 +55,8 @@ OpenMesh::Vec3f surface_normal(const Heightfield& h, int i, int j) {
 
 // ModQuadricT without an error bound, its priority clamped at 0. On flat or planar regions the quadric error
 // is zero up to round-off, and DecimaterT treats a negative priority (say -1e-12) as an illegal collapse,
-// which stalls the decimation of planes at hundreds of faces. Without a bound ModQuadricT never returns
-// ILLEGAL_COLLAPSE itself, so clamping only removes the round-off.
+// which stalls the decimation of planes at hundreds of faces. Only the round-off is clamped: an actual
+// ILLEGAL_COLLAPSE (not returned without an error bound, but kept meaningful) passes through.
 template <class MeshT>
 class ModQuadricClampedT : public OpenMesh::Decimater::ModQuadricT<MeshT> {
  public:
@@ -68,7 +68,8 @@ class ModQuadricClampedT : public OpenMesh::Decimater::ModQuadricT<MeshT> {
     return n;
   }
   float collapse_priority(const typename Quadric::CollapseInfo& ci) override {
-    return std::max(0.0f, Quadric::collapse_priority(ci));
+    const float p = Quadric::collapse_priority(ci);
+    return p == float(Quadric::ILLEGAL_COLLAPSE) ? p : std::max(0.0f, p);
   }
 };
 
