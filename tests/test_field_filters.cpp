@@ -9,6 +9,7 @@
 #include "field_ops_fixtures.h"
 #include "nodes/field/bicubic.h"
 #include "nodes/field/blur.h"
+#include "nodes/field/resample_field.h"
 #include "nodes/field/warp.h"
 
 namespace orogen {
@@ -138,6 +139,45 @@ TEST(Blur, ZeroSigmaCopies) {
   const Domain d = Domain::from_extent({0, 0}, {100, 100}, {21, 21});
   const auto in = field_from(d, test::rolling_hills);
   EXPECT_TRUE(test::bit_identical(run_field("Blur", d, {{"sigma", 0.0}}, {{"in", in}})->data, in->data));
+}
+
+TEST(Resample, FixedSpacingWhateverTheRequestedResolution) {
+  for (int n : {257, 1025}) {
+    const Domain d = Domain::from_extent({100, -50}, {4096, 2048}, {n, (n + 1) / 2});
+    const auto out = run_field("Resample", d, {{"spacing", 32.0}}, {{"in", field_from(d, test::rolling_hills)}});
+    ASSERT_EQ(out->domain.resolution, glm::ivec2(129, 65)) << n;
+    EXPECT_DOUBLE_EQ(out->domain.spacing.x, 32.0);
+    EXPECT_EQ(out->domain.min_corner(), d.min_corner());
+    EXPECT_EQ(out->domain.max_corner(), d.max_corner());
+    // Output samples coincide with input samples (32 m is a multiple of 16 m and 4 m): exact copies.
+    for (int j = 0; j < 65; j += 8)
+      for (int i = 0; i < 129; i += 8) {
+        const auto s = d.to_sample(out->domain.position(i, j));
+        ASSERT_EQ(out->at(i, j), field_from(d, test::rolling_hills)->at(static_cast<int>(std::lround(s.x)), static_cast<int>(std::lround(s.y))));
+      }
+  }
+  // Spacing that does not divide the extent: rounded sample count, borders kept.
+  const Domain d = Domain::from_extent({0, 0}, {1000, 1000}, {101, 101});
+  const Domain r = resampled_domain(d, 30.0);
+  EXPECT_EQ(r.resolution, glm::ivec2(34, 34));  // round(33.3) + 1
+  EXPECT_EQ(r.max_corner(), d.max_corner());
+}
+
+TEST(Resample, PrefilterRemovesDetailTheCoarseLatticeCannotHold) {
+  // A 20 m wave sampled at 16 m would alias into a false long wave; the prefilter suppresses it.
+  const Domain d = Domain::from_extent({0, 0}, {2048, 256}, {1025, 129});  // 2 m
+  const auto wave = field_from(d, [](double x, double) { return 10.0 * std::sin(2 * std::numbers::pi * x / 20.0); });
+  const auto raw = run_field("Resample", d, {{"spacing", 16.0}}, {{"in", wave}});
+  const auto filtered = run_field("Resample", d, {{"spacing", 16.0}, {"prefilter", true}}, {{"in", wave}});
+  double raw_amp = 0, filtered_amp = 0;
+  for (int j = 0; j < raw->height(); ++j)
+    for (int i = 8; i < raw->width() - 8; ++i) {  // away from the mirrored edges
+      raw_amp = std::max(raw_amp, double(std::abs(raw->at(i, j))));
+      filtered_amp = std::max(filtered_amp, double(std::abs(filtered->at(i, j))));
+    }
+  EXPECT_GT(raw_amp, 5.0);
+  // Gaussian response at a 20 m wavelength with sigma 8 m: exp(-2 pi^2 64 / 400) = 0.042.
+  EXPECT_NEAR(filtered_amp, 10.0 * 0.042, 0.05);
 }
 
 TEST(Warp, ZeroDisplacementIsTheIdentity) {

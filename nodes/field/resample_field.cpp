@@ -1,0 +1,56 @@
+#include "nodes/field/resample_field.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "graph/registry.h"
+#include "nodes/common/resample.h"
+#include "nodes/field/blur.h"
+#include "nodes/field/row_loop.h"
+
+namespace orogen {
+
+Domain resampled_domain(const Domain& in, double spacing) {
+  const glm::dvec2 size = in.size();
+  const auto count = [&](double extent) {
+    return static_cast<int>(std::clamp(std::llround(extent / spacing) + 1, 2LL, 1LL << 20));
+  };
+  return Domain::from_extent(in.min_corner(), size, {count(size.x), count(size.y)});
+}
+
+std::shared_ptr<Heightfield> resample_field(const Heightfield& in, const ResampleParams& p, const ExecContext* ctx) {
+  const Domain target = resampled_domain(in.domain, p.spacing);
+  const Heightfield* source = &in;
+  Heightfield filtered;
+  if (p.prefilter) {
+    // Fixed in metres (not derived from the input's spacing), so every input resolution is filtered alike.
+    const double sigma = 0.5 * std::max(target.spacing.x, target.spacing.y);
+    filtered = gaussian_blur(in, {sigma, BlurEdges::Mirror}, ctx);
+    source = &filtered;
+  }
+  auto out = std::make_shared<Heightfield>(target);
+  for_each_row(ctx, target.height(), [&](int j) { resample_bilinear_row(*source, target, j, out->row(j)); });
+  return out;
+}
+
+OROGEN_NODE(Resample) {
+  b.category("field").description(
+      "The same world rectangle at a chosen spacing in metres (about size / spacing + 1 samples per axis), "
+      "whatever resolution was requested: a fixed level of detail for meshes, exports or coarse simulations. "
+      "Bilinear, exact where samples coincide; the optional Gaussian prefilter (sigma = half the output "
+      "spacing, mirrored edges) anti-aliases when the output is coarser than the input.");
+  b.input("in", PortType::Heightfield).description("Field to resample");
+  b.output("out", PortType::Heightfield).description("The field on the new lattice");
+  b.param_float("spacing", 16.0).range(1e-3, 1e6).soft_range(0.5, 256.0).unit("m").description("Distance between output samples");
+  b.param_bool("prefilter", false).description("Blur away detail finer than the output spacing before sampling");
+  b.execute([](ExecContext& ctx) {
+    const auto in = ctx.require<Heightfield>("in");
+    const ResampleParams p{ctx.param<double>("spacing"), ctx.param<bool>("prefilter")};
+    const Domain target = resampled_domain(in->domain, p.spacing);
+    if (target.sample_count() > (std::size_t{1} << 28))
+      throw NodeError("Resample: " + target.describe() + " is too many samples; increase the spacing");
+    ctx.set_output("out", resample_field(*in, p, &ctx));
+  });
+}
+
+}  // namespace orogen
