@@ -6,6 +6,17 @@
 // and stops at every key found in the memory or disk cache. Only the remaining nodes run, on a oneTBB
 // arena: independent branches concurrently, each node as soon as its inputs are ready. A failure skips the
 // failed node's downstream only; cancellation stops at the next check and caches no partial result.
+//
+// Details of the contract:
+// - Nodes with equal keys in one request (identical subgraphs) run once; the others report Cached.
+// - Every computed result goes to the memory LRU (unless it alone exceeds the bound) and, with a cache_dir,
+//   to disk; a damaged disk entry is deleted and recomputed. Failed and cancelled nodes are never cached.
+//   Nodes that completed before a cancel keep their cached results: they are complete and content-addressed,
+//   so the next run reuses them. A node that returns normally after the cancel is treated as cancelled.
+// - A writer's result records the files it wrote (size, modification time); it is a hit only while all of
+//   them are unchanged, otherwise the writer runs again (with its inputs from the cache).
+// - Values between nodes are released as soon as every consumer in the run is done, unless requested.
+// - Throws GraphError if a requested node does not exist; every other problem is reported per node.
 #include <chrono>
 #include <cstddef>
 #include <filesystem>

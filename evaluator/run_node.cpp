@@ -40,6 +40,10 @@ NodeRun run_node(const std::string& type_name, const Domain& domain, const std::
   ctx.set_output_policy(output);
   ctx.set_cancel_token(cancel);
   type->execute(ctx);
+  // The same contract as in a graph: every declared output is set.
+  for (std::size_t i = 0; i < type->outputs.size(); ++i)
+    if (!has_value(ctx.outputs()[i]))
+      throw NodeError("the node did not set its output '" + type->outputs[i].name + "'");
   return NodeRun{std::move(ctx.outputs())};
 }
 

@@ -22,7 +22,8 @@ struct NodeRun {
 };
 
 // Params not given take their defaults; params are checked like in a graph (GraphError on a bad value).
-// Throws NodeError if the node fails, std::logic_error for unknown names.
+// Throws NodeError if the node fails (or leaves an output unset), Cancelled if it was cancelled,
+// std::logic_error for unknown names.
 NodeRun run_node(const std::string& type_name, const Domain& domain,
                  const std::map<std::string, ParamValue>& params = {},
                  const std::map<std::string, PortValue>& inputs = {}, const OutputPolicy& output = {},

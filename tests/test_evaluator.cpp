@@ -16,6 +16,7 @@
 
 #include "evaluator/disk_cache.h"
 #include "evaluator/evaluator.h"
+#include "evaluator/run_node.h"
 #include "graph/atomic_file.h"
 #include "graph/exec_context.h"
 #include "graph/registry.h"
@@ -683,6 +684,17 @@ TEST_F(EvaluatorTest, FailureMessages) {
   EXPECT_EQ(keys.count("bad_link"), 0u);
   EXPECT_EQ(keys.count("after_bad_link"), 0u);
   EXPECT_EQ(keys.count("source"), 1u);
+}
+
+TEST_F(EvaluatorTest, RunNodeHasTheSameOutputContract) {
+  try {
+    run_node("TestFail", kDomain, {{"how", std::string("no_output")}});
+    ADD_FAILURE() << "expected a NodeError";
+  } catch (const NodeError& e) {
+    EXPECT_NE(std::string(e.what()).find("output 'out'"), std::string::npos) << e.what();
+  }
+  const auto run = run_node("TestSource", kDomain, {{"value", 4.0}});
+  EXPECT_EQ(run.get<Heightfield>()->at(1, 1), 4.0f);
 }
 
 TEST_F(EvaluatorTest, UnknownRequestedNodeThrows) {
