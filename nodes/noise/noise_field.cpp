@@ -10,6 +10,7 @@
 
 #include "graph/exec_context.h"
 #include "nodes/common/parallel_rows.h"
+#include "nodes/noise/lattice_hash.h"
 #include "nodes/noise/noise_kernels.h"
 #include "nodes/noise/noise_reference.h"
 #include "nodes/noise/worley_neighbourhood.h"
@@ -26,7 +27,7 @@ struct alignas(64) Scratch {
   std::uint32_t cx[kRun], cy[kRun];
   float fx[kRun], fy[kRun];
   float warp_x[kRun], warp_y[kRun];
-  float noise[kRun], sum[kRun], aux[kRun], q[kRun], amplitude[kRun];
+  float noise[kRun], sum[kRun], aux[kRun], q[kRun], amplitude[kRun], tail[kRun];
 };
 
 template <class Fn>
@@ -58,7 +59,7 @@ const float* copy_run(const Heightfield* f, int j, int c0, int n, int padded, fl
 // Per-octave lattice coordinates of every column (unwarped evaluation).
 struct ColumnCoords {
   std::vector<double> u;            // simplex: u per column
-  std::vector<std::uint32_t> cell;  // lattice bases
+  std::vector<std::uint32_t> cell;  // lattice bases: cell * kHashPrimeX
   std::vector<float> frac;
 };
 
@@ -66,13 +67,21 @@ struct ColumnCoords {
 
 Heightfield evaluate_noise(const Domain& domain, const NoisePlan& plan, const NoiseInputs& inputs,
                            const ExecContext* ctx) {
+  Heightfield out;
+  out.domain = domain;
+  evaluate_noise_into(out, plan, inputs, ctx);
+  return out;
+}
+
+void evaluate_noise_into(Heightfield& out, const NoisePlan& plan, const NoiseInputs& inputs, const ExecContext* ctx) {
+  const Domain domain = out.domain;
   if (plan.octaves.empty()) throw NodeError("noise plan without octaves");
   check_input(inputs.warp_x, "warp_x", domain);
   check_input(inputs.warp_y, "warp_y", domain);
   check_input(inputs.roughness, "roughness", domain);
   check_input(inputs.amplitude, "amplitude", domain);
 
-  Heightfield out(domain);
+  out.data.resize(domain.sample_count());
   const int width = domain.width(), height = domain.height();
   const int padded_width = kernels::padded(width);
   const bool warped = inputs.warp_x || inputs.warp_y;
@@ -96,7 +105,7 @@ Heightfield evaluate_noise(const Domain& domain, const NoisePlan& plan, const No
       c.frac.resize(xs.size());
       for (std::size_t i = 0; i < xs.size(); ++i) {
         const auto s = reference::split(xs[i] * o.frequency + o.shift_x);
-        c.cell[i] = s.cell;
+        c.cell[i] = s.cell * kHashPrimeX;
         c.frac[i] = s.frac;
       }
     }
@@ -121,6 +130,8 @@ Heightfield evaluate_noise(const Domain& domain, const NoisePlan& plan, const No
     for (int c0 = 0; c0 < width; c0 += kRun) {
       const int n = std::min(kRun, width - c0);
       const int np = kernels::padded(n);
+      // Whole vectors go straight into the row; a padded tail goes through scratch.
+      float* target = np == n ? row + c0 : s.tail;
       const float* wx = copy_run(inputs.warp_x, j, c0, n, np, 0.0f, s.warp_x);
       const float* wy = copy_run(inputs.warp_y, j, c0, n, np, 0.0f, s.warp_y);
       const float* amplitude = copy_run(inputs.amplitude, j, c0, n, np, 0.0f, s.amplitude);
@@ -136,7 +147,7 @@ Heightfield evaluate_noise(const Domain& domain, const NoisePlan& plan, const No
         const OctavePlan& o = plan.octaves[k];
         const bool first = k == 0;
         // fbm accumulates straight into the sum; other modes combine a separate noise run.
-        const kernels::Output dst = fbm ? kernels::Output{s.sum, o.amplitude * plan.scale, !first}
+        const kernels::Output dst = fbm ? kernels::Output{target, o.amplitude * plan.scale, !first}
                                         : kernels::Output{s.noise, 1.0f, false};
         if (simplex) {
           if (warped) {
@@ -152,13 +163,14 @@ Heightfield evaluate_noise(const Domain& domain, const NoisePlan& plan, const No
           kernels::LatticeRun run;
           if (warped) {
             kernels::displaced(xs.data() + c0, 0.0, wx, o.frequency, o.shift_x, np, s.u);
-            kernels::split_lattice(s.u, np, s.cx, s.fx);
+            kernels::split_lattice(s.u, kHashPrimeX, np, s.cx, s.fx);
             kernels::displaced(nullptr, y, wy, o.frequency, o.shift_y, np, s.v);
-            kernels::split_lattice(s.v, np, s.cy, s.fy);
+            kernels::split_lattice(s.v, kHashPrimeY, np, s.cy, s.fy);
             run = {s.cx, s.fx, s.cy, s.fy, 0, 0.0f};
           } else {
             const auto ys = reference::split(y * o.frequency + o.shift_y);
-            run = {columns[k].cell.data() + c0, columns[k].frac.data() + c0, nullptr, nullptr, ys.cell, ys.frac};
+            run = {columns[k].cell.data() + c0, columns[k].frac.data() + c0, nullptr, nullptr, ys.cell * kHashPrimeY,
+                   ys.frac};
           }
           switch (plan.basis) {
             case Basis::Perlin: kernels::perlin(run, o.key, np, dst); break;
@@ -176,11 +188,11 @@ Heightfield evaluate_noise(const Domain& domain, const NoisePlan& plan, const No
           case FractalMode::Multifractal: kernels::multifractal_step(s.noise, s.q, first, np, s.sum, s.aux); break;
         }
       }
-      if (!fbm || amplitude) kernels::finish(s.sum, amplitude, fbm ? 1.0f : plan.scale, np, s.sum);
-      std::memcpy(row + c0, s.sum, sizeof(float) * static_cast<std::size_t>(n));
+      if (fbm && amplitude) kernels::finish(target, amplitude, 1.0f, np, target);
+      if (!fbm) kernels::finish(s.sum, amplitude, plan.scale, np, target);
+      if (target != row + c0) std::memcpy(row + c0, target, sizeof(float) * static_cast<std::size_t>(n));
     }
   });
-  return out;
 }
 
 float evaluate_noise_reference(const NoisePlan& plan, double x, double y, const ReferenceInputs& in) {

@@ -54,6 +54,9 @@ struct NoiseInputs {
 // Throws NodeError if an input field does not have the domain's resolution or the plan is invalid.
 Heightfield evaluate_noise(const Domain& domain, const NoisePlan& plan, const NoiseInputs& inputs = {},
                            const ExecContext* ctx = nullptr);
+// The same into existing storage: `out` is resized to out.domain (memory is reused when it fits).
+void evaluate_noise_into(Heightfield& out, const NoisePlan& plan, const NoiseInputs& inputs = {},
+                         const ExecContext* ctx = nullptr);
 
 // Per-sample input values for the scalar reference.
 struct ReferenceInputs {

@@ -64,20 +64,54 @@ HWY_INLINE VF SignedUnit(VU h) {
   return hn::MulAdd(UnitFloat(h), hn::Set(df, 2.0f), hn::Set(df, -1.0f));
 }
 
-// Dot product of gradient (h >> 29), the unit vector at angle k * 45 degrees, with (dx, dy), without a
-// table: bit 29 picks axis (k even) or diagonal (k odd), bit 30 rotates by 90 degrees, bit 31 negates.
-//   k even: P, with P = bit30 ? dy : dx;       k odd: (P + Q) / sqrt2, with Q = bit30 ? -dx : dy.
-HWY_INLINE VF GradDot(VU h, VF dx, VF dy) {
-  const DF df;
-  const DU du;
-  const auto odd = hn::RebindMask(df, hn::TestBit(h, hn::Set(du, 1u << 29)));
-  const auto quarter = hn::RebindMask(df, hn::TestBit(h, hn::Set(du, 1u << 30)));
-  const VF p = hn::IfThenElse(quarter, dy, dx);
-  const VF q = hn::IfThenElse(quarter, hn::Neg(dx), dy);
-  const VF v = hn::IfThenElse(odd, hn::Mul(hn::Add(p, q), hn::Set(df, 0.70710678118654752f)), p);
-  const VU sign = hn::And(h, hn::Set(du, 0x80000000u));
-  return hn::BitCast(df, hn::Xor(hn::BitCast(du, v), sign));
-}
+// The gradient table of noise_reference.h: 16 unit vectors at 22.5-degree steps, the second half the
+// negated first half. With 16 float lanes (AVX-512) the whole table sits in a register and the top 4 hash
+// bits index it directly; with 8 lanes (AVX2) the first half does and bit 31 flips the sign; narrower
+// targets gather the first half from memory. The vectors are the same exact constants on every target and
+// negation commutes with rounding, so every target computes the same dot products.
+struct Gradients {
+  static constexpr std::size_t kLanes = HWY_LANES(float);
+  VF x, y;
+  Gradients() {
+    const DF df;
+    if constexpr (kLanes >= 8) {
+      alignas(64) float tx[kLanes], ty[kLanes];
+      for (std::size_t i = 0; i < kLanes; ++i) {
+        const float sign = (i % 16) >= 8 ? -1.0f : 1.0f;
+        tx[i] = sign * reference::kGradientX[i % 8];
+        ty[i] = sign * reference::kGradientY[i % 8];
+      }
+      x = hn::Load(df, tx);
+      y = hn::Load(df, ty);
+    } else {
+      x = y = hn::Zero(df);
+    }
+  }
+
+  // g_(h >> 28) . (dx, dy)
+  HWY_INLINE VF Dot(VU h, VF dx, VF dy) const {
+    const DF df;
+    const DU du;
+    const DI di;
+    if constexpr (kLanes >= 16) {
+      const auto lanes = hn::IndicesFromVec(df, hn::BitCast(di, hn::ShiftRight<28>(h)));
+      return hn::MulAdd(hn::TableLookupLanes(x, lanes), dx, hn::Mul(hn::TableLookupLanes(y, lanes), dy));
+    } else {
+      const auto index = hn::BitCast(di, hn::And(hn::ShiftRight<28>(h), hn::Set(du, 7u)));
+      VF gx, gy;
+      if constexpr (kLanes >= 8) {
+        const auto lanes = hn::IndicesFromVec(df, index);
+        gx = hn::TableLookupLanes(x, lanes);
+        gy = hn::TableLookupLanes(y, lanes);
+      } else {
+        gx = hn::GatherIndex(df, reference::kGradientX, index);
+        gy = hn::GatherIndex(df, reference::kGradientY, index);
+      }
+      const VF d = hn::MulAdd(gx, dx, hn::Mul(gy, dy));
+      return hn::BitCast(df, hn::Xor(hn::BitCast(du, d), hn::And(h, hn::Set(du, 0x80000000u))));
+    }
+  }
+};
 
 HWY_INLINE VF Fade(VF t) {
   const DF df;
@@ -94,11 +128,12 @@ HWY_INLINE void Put(VF v, float* out, std::size_t i) {
   hn::StoreU(v, df, out + i);
 }
 
-// Lattice coordinates of lanes i.. of a run; y from the arrays or the row constants.
+// Lattice coordinates of lanes i.. of a run; y from the arrays or the row constants (which the compiler
+// hoists out of the loop: runs are passed by value so no store can alias them).
 struct LatticeLanes {
-  VU cx;
+  VU hx;
   VF fx;
-  VU cy;
+  VU hy;
   VF fy;
 };
 
@@ -107,11 +142,9 @@ HWY_INLINE LatticeLanes LoadLattice(const LatticeRun& in, std::size_t i) {
   const DF df;
   const DU du;
   if constexpr (kRowY) {
-    return {hn::LoadU(du, in.cell_x + i), hn::LoadU(df, in.frac_x + i), hn::Set(du, in.row_cell_y),
-            hn::Set(df, in.row_frac_y)};
+    return {hn::LoadU(du, in.hx + i), hn::LoadU(df, in.fx + i), hn::Set(du, in.row_hy), hn::Set(df, in.row_fy)};
   } else {
-    return {hn::LoadU(du, in.cell_x + i), hn::LoadU(df, in.frac_x + i), hn::LoadU(du, in.cell_y + i),
-            hn::LoadU(df, in.frac_y + i)};
+    return {hn::LoadU(du, in.hx + i), hn::LoadU(df, in.fx + i), hn::LoadU(du, in.hy + i), hn::LoadU(df, in.fy + i)};
   }
 }
 
@@ -145,15 +178,16 @@ HWY_INLINE VD Reduce(VD c) {
   return hn::Sub(c, hn::Mul(hn::Floor(hn::Mul(c, hn::Set(dd, 0x1.0p-32))), hn::Set(dd, 0x1.0p32)));
 }
 
-void SplitLattice(const double* u, int n, std::uint32_t* cell, float* frac) {
+void SplitLattice(const double* u, std::uint32_t multiplier, int n, std::uint32_t* cell, float* frac) {
   const DD dd;
   const DFH dfh;
   const DUH duh;
+  const auto m = hn::Set(duh, multiplier);
   for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(dd)) {
     const VD uv = hn::LoadU(dd, u + i);
     const VD c = hn::Floor(uv);
     hn::StoreU(hn::DemoteTo(dfh, hn::Sub(uv, c)), dfh, frac + i);
-    hn::StoreU(WrapCell(Reduce(c)), duh, cell + i);
+    hn::StoreU(hn::Mul(WrapCell(Reduce(c)), m), duh, cell + i);
   }
 }
 
@@ -171,8 +205,8 @@ void SimplexSkew(const double* u, const double* v, double v_const, int n, std::u
     const VD t = hn::Mul(hn::Add(i, j), g2);
     hn::StoreU(hn::DemoteTo(dfh, hn::Sub(uv, hn::Sub(i, t))), dfh, x0 + k);
     hn::StoreU(hn::DemoteTo(dfh, hn::Sub(vv, hn::Sub(j, t))), dfh, y0 + k);
-    hn::StoreU(WrapCell(Reduce(i)), duh, ci + k);
-    hn::StoreU(WrapCell(Reduce(j)), duh, cj + k);
+    hn::StoreU(hn::Mul(WrapCell(Reduce(i)), hn::Set(duh, kHashPrimeX)), duh, ci + k);
+    hn::StoreU(hn::Mul(WrapCell(Reduce(j)), hn::Set(duh, kHashPrimeY)), duh, cj + k);
   }
 }
 
@@ -180,21 +214,21 @@ void SimplexSkew(const double* u, const double* v, double v_const, int n, std::u
 // Bases
 
 template <bool kRowY, bool kAccumulate>
-void PerlinImpl(const LatticeRun& in, std::uint32_t key, int n, float* out, float scale) {
+void PerlinImpl(const LatticeRun in, std::uint32_t key, int n, float* out, float scale) {
   const DF df;
   const DU du;
   const VU px = hn::Set(du, kHashPrimeX), py = hn::Set(du, kHashPrimeY), vkey = hn::Set(du, key);
   const VF one = hn::Set(df, 1.0f), vscale = hn::Set(df, scale * reference::kPerlinScale);
+  const Gradients g;
   for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
     const LatticeLanes c = LoadLattice<kRowY>(in, i);
-    const VU x0 = hn::Mul(c.cx, px), x1 = hn::Add(x0, px);
-    const VU yb = hn::Mul(c.cy, py);
-    const VU y0 = hn::Xor(yb, vkey), y1 = hn::Xor(hn::Add(yb, py), vkey);
+    const VU x0 = c.hx, x1 = hn::Add(x0, px);
+    const VU y0 = hn::Xor(c.hy, vkey), y1 = hn::Xor(hn::Add(c.hy, py), vkey);
     const VF fx1 = hn::Sub(c.fx, one), fy1 = hn::Sub(c.fy, one);
-    const VF n00 = GradDot(Mix(hn::Xor(x0, y0)), c.fx, c.fy);
-    const VF n10 = GradDot(Mix(hn::Xor(x1, y0)), fx1, c.fy);
-    const VF n01 = GradDot(Mix(hn::Xor(x0, y1)), c.fx, fy1);
-    const VF n11 = GradDot(Mix(hn::Xor(x1, y1)), fx1, fy1);
+    const VF n00 = g.Dot(Mix(hn::Xor(x0, y0)), c.fx, c.fy);
+    const VF n10 = g.Dot(Mix(hn::Xor(x1, y0)), fx1, c.fy);
+    const VF n01 = g.Dot(Mix(hn::Xor(x0, y1)), c.fx, fy1);
+    const VF n11 = g.Dot(Mix(hn::Xor(x1, y1)), fx1, fy1);
     const VF ux = Fade(c.fx), uy = Fade(c.fy);
     const VF r = Lerp(Lerp(n00, n10, ux), Lerp(n01, n11, ux), uy);
     Put<kAccumulate>(hn::Mul(r, vscale), out, i);
@@ -202,16 +236,15 @@ void PerlinImpl(const LatticeRun& in, std::uint32_t key, int n, float* out, floa
 }
 
 template <bool kRowY, bool kAccumulate>
-void ValueImpl(const LatticeRun& in, std::uint32_t key, int n, float* out, float scale) {
+void ValueImpl(const LatticeRun in, std::uint32_t key, int n, float* out, float scale) {
   const DF df;
   const DU du;
   const VU px = hn::Set(du, kHashPrimeX), py = hn::Set(du, kHashPrimeY), vkey = hn::Set(du, key);
   const VF vscale = hn::Set(df, scale);
   for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
     const LatticeLanes c = LoadLattice<kRowY>(in, i);
-    const VU x0 = hn::Mul(c.cx, px), x1 = hn::Add(x0, px);
-    const VU yb = hn::Mul(c.cy, py);
-    const VU y0 = hn::Xor(yb, vkey), y1 = hn::Xor(hn::Add(yb, py), vkey);
+    const VU x0 = c.hx, x1 = hn::Add(x0, px);
+    const VU y0 = hn::Xor(c.hy, vkey), y1 = hn::Xor(hn::Add(c.hy, py), vkey);
     const VF v00 = SignedUnit(Mix(hn::Xor(x0, y0))), v10 = SignedUnit(Mix(hn::Xor(x1, y0)));
     const VF v01 = SignedUnit(Mix(hn::Xor(x0, y1))), v11 = SignedUnit(Mix(hn::Xor(x1, y1)));
     const VF ux = Fade(c.fx), uy = Fade(c.fy);
@@ -220,20 +253,20 @@ void ValueImpl(const LatticeRun& in, std::uint32_t key, int n, float* out, float
 }
 
 template <bool kRowY, bool kAccumulate>
-void WhiteImpl(const LatticeRun& in, std::uint32_t key, int n, float* out, float scale) {
+void WhiteImpl(const LatticeRun in, std::uint32_t key, int n, float* out, float scale) {
   const DF df;
   const DU du;
-  const VU px = hn::Set(du, kHashPrimeX), py = hn::Set(du, kHashPrimeY), vkey = hn::Set(du, key);
+  const VU vkey = hn::Set(du, key);
   const VF vscale = hn::Set(df, scale);
   for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
     const LatticeLanes c = LoadLattice<kRowY>(in, i);
-    const VU h = Mix(hn::Xor(hn::Xor(hn::Mul(c.cx, px), hn::Mul(c.cy, py)), vkey));
+    const VU h = Mix(hn::Xor(hn::Xor(c.hx, c.hy), vkey));
     Put<kAccumulate>(hn::Mul(SignedUnit(h), vscale), out, i);
   }
 }
 
 template <bool kAccumulate>
-void SimplexImpl(const SimplexRun& in, std::uint32_t key, int n, float* out, float scale) {
+void SimplexImpl(const SimplexRun in, std::uint32_t key, int n, float* out, float scale) {
   const DF df;
   const DU du;
   const VU px = hn::Set(du, kHashPrimeX), py = hn::Set(du, kHashPrimeY), vkey = hn::Set(du, key);
@@ -241,14 +274,15 @@ void SimplexImpl(const SimplexRun& in, std::uint32_t key, int n, float* out, flo
   const VF one = hn::Set(df, 1.0f), vg2 = hn::Set(df, g2), vg2x2 = hn::Set(df, 2.0f * g2);
   const VF half = hn::Set(df, 0.5f), zero = hn::Zero(df);
   const VF vscale = hn::Set(df, scale * reference::kSimplexScale);
+  const Gradients g;
   auto corner = [&](VF x, VF y, VU h) {
     const VF w = hn::Max(zero, hn::NegMulAdd(y, y, hn::NegMulAdd(x, x, half)));  // 0 beyond the radius
     const VF w2 = hn::Mul(w, w);
-    return hn::Mul(hn::Mul(w2, w2), GradDot(h, x, y));
+    return hn::Mul(hn::Mul(w2, w2), g.Dot(h, x, y));
   };
   for (std::size_t k = 0; k < static_cast<std::size_t>(n); k += hn::Lanes(df)) {
     const VF x0 = hn::LoadU(df, in.x0 + k), y0 = hn::LoadU(df, in.y0 + k);
-    const VU ib = hn::Mul(hn::LoadU(du, in.i + k), px), jb = hn::Mul(hn::LoadU(du, in.j + k), py);
+    const VU ib = hn::LoadU(du, in.hi + k), jb = hn::LoadU(du, in.hj + k);
     const auto lower = x0 > y0;  // lower triangle: the middle corner is (1, 0), else (0, 1)
     const auto lower_u = hn::RebindMask(du, lower);
     const VF i1 = hn::IfThenElseZero(lower, one), j1 = hn::Sub(one, i1);
@@ -279,7 +313,7 @@ HWY_INLINE void Insert(VF (&f)[4], VF d) {
 }
 
 template <WorleyMetric kMetric, WorleyOutput kOutput, bool kRowY, bool kAccumulate>
-void WorleyImpl(const LatticeRun& in, std::uint32_t key, const WorleyRun& search, int n, float* out, float scale) {
+void WorleyImpl(const LatticeRun in, std::uint32_t key, const WorleyRun& search, int n, float* out, float scale) {
   constexpr int kRank = worley_rank(kOutput);
   const DF df;
   const DU du;
@@ -305,7 +339,7 @@ void WorleyImpl(const LatticeRun& in, std::uint32_t key, const WorleyRun& search
     const LatticeLanes c = LoadLattice<kRowY>(in, i);
     const auto mirror_x = c.fx < half, mirror_y = c.fy < half;  // sample in the lower half: mirror offsets
     const auto mirror_xu = hn::RebindMask(du, mirror_x), mirror_yu = hn::RebindMask(du, mirror_y);
-    const VU xb = hn::Mul(c.cx, hn::Set(du, kHashPrimeX)), yb = hn::Mul(c.cy, hn::Set(du, kHashPrimeY));
+    const VU xb = c.hx, yb = c.hy;
     const VF bx = hn::Sub(base, c.fx), by = hn::Sub(base, c.fy);
     VF f[4] = {inf, inf, inf, inf};
     for (int o = 0; o < count; ++o) {
@@ -342,7 +376,7 @@ void WorleyImpl(const LatticeRun& in, std::uint32_t key, const WorleyRun& search
 // Turns the run-time choices (y per row or per sample, accumulate or store) into template arguments.
 template <template <bool, bool> class Impl, class... Args>
 void DispatchLattice(const LatticeRun& in, const Output& o, Args&&... args) {
-  const bool row_y = in.cell_y == nullptr;
+  const bool row_y = in.hy == nullptr;
   if (row_y && o.accumulate) Impl<true, true>::run(in, args..., o.out, o.scale);
   else if (row_y) Impl<true, false>::run(in, args..., o.out, o.scale);
   else if (o.accumulate) Impl<false, true>::run(in, args..., o.out, o.scale);
@@ -515,9 +549,9 @@ void displaced(const double* x, double x_const, const float* warp, double freque
   assert(n % kBatchAlign == 0);
   HWY_DYNAMIC_DISPATCH(Displaced)(x, x_const, warp, frequency, shift, n, u);
 }
-void split_lattice(const double* u, int n, std::uint32_t* cell, float* frac) {
+void split_lattice(const double* u, std::uint32_t multiplier, int n, std::uint32_t* cell, float* frac) {
   assert(n % kBatchAlign == 0);
-  HWY_DYNAMIC_DISPATCH(SplitLattice)(u, n, cell, frac);
+  HWY_DYNAMIC_DISPATCH(SplitLattice)(u, multiplier, n, cell, frac);
 }
 void simplex_skew(const double* u, const double* v, double v_const, int n, std::uint32_t* i, std::uint32_t* j,
                   float* x0, float* y0) {

@@ -24,21 +24,25 @@ namespace orogen::noise::kernels {
 inline constexpr int kBatchAlign = 16;
 constexpr int padded(int n) { return (n + kBatchAlign - 1) / kBatchAlign * kBatchAlign; }
 
-// Lattice coordinates of a run of samples. When cell_y is null, every sample lies on the same row of
-// the lattice (row_cell_y, row_frac_y): the unwarped case, where the y split is done once per row.
+// Lattice coordinates of a run of samples. The integer cells come pre-multiplied by the hash primes
+// (hx = cell_x * kHashPrimeX, hy = cell_y * kHashPrimeY, modulo 2^32): every kernel starts the lattice
+// hash with these products, and the next cell is one addition away (hx + kHashPrimeX). When hy is null,
+// every sample lies on the same lattice row (row_hy, row_fy): the unwarped case, where the y split is done
+// once per row.
 struct LatticeRun {
-  const std::uint32_t* cell_x = nullptr;
-  const float* frac_x = nullptr;
-  const std::uint32_t* cell_y = nullptr;
-  const float* frac_y = nullptr;
-  std::uint32_t row_cell_y = 0;
-  float row_frac_y = 0.0f;
+  const std::uint32_t* hx = nullptr;
+  const float* fx = nullptr;
+  const std::uint32_t* hy = nullptr;
+  const float* fy = nullptr;
+  std::uint32_t row_hy = 0;
+  float row_fy = 0.0f;
 };
 
-// Simplex coordinates: skewed cell (i, j) modulo 2^32 and the unskewed offset (x0, y0) from its origin.
+// Simplex coordinates: skewed cell (i, j), pre-multiplied like LatticeRun (hi = i * kHashPrimeX,
+// hj = j * kHashPrimeY), and the unskewed offset (x0, y0) from its origin.
 struct SimplexRun {
-  const std::uint32_t* i = nullptr;
-  const std::uint32_t* j = nullptr;
+  const std::uint32_t* hi = nullptr;
+  const std::uint32_t* hj = nullptr;
   const float* x0 = nullptr;
   const float* y0 = nullptr;
 };
@@ -68,12 +72,12 @@ struct WorleyRun {
 // null (no displacement).
 void displaced(const double* x, double x_const, const float* warp, double frequency, double shift, int n, double* u);
 
-// cell[k] = floor(u[k]) mod 2^32, frac[k] = u[k] - floor(u[k]) rounded to float.
-void split_lattice(const double* u, int n, std::uint32_t* cell, float* frac);
+// hashed_cell[k] = (floor(u[k]) mod 2^32) * multiplier, frac[k] = u[k] - floor(u[k]) rounded to float.
+void split_lattice(const double* u, std::uint32_t multiplier, int n, std::uint32_t* hashed_cell, float* frac);
 
-// Skews (u, v) onto the simplex lattice (F2 = (sqrt3 - 1) / 2, G2 = (3 - sqrt3) / 6). v may be null (then
-// v_const for every sample).
-void simplex_skew(const double* u, const double* v, double v_const, int n, std::uint32_t* i, std::uint32_t* j,
+// Skews (u, v) onto the simplex lattice (F2 = (sqrt3 - 1) / 2, G2 = (3 - sqrt3) / 6), giving the hashed
+// cells of SimplexRun. v may be null (then v_const for every sample).
+void simplex_skew(const double* u, const double* v, double v_const, int n, std::uint32_t* hi, std::uint32_t* hj,
                   float* x0, float* y0);
 
 // ---- bases ----

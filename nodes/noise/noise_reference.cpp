@@ -17,11 +17,9 @@ LatticeCoord split(double u) {
 }
 
 float gradient_dot(std::uint32_t hash, float dx, float dy) {
-  constexpr float s = 0.70710678118654752f;
-  static constexpr float gx[8] = {1.0f, s, 0.0f, -s, -1.0f, -s, 0.0f, s};
-  static constexpr float gy[8] = {0.0f, s, 1.0f, s, 0.0f, -s, -1.0f, -s};
-  const std::uint32_t k = hash >> 29;
-  return gx[k] * dx + gy[k] * dy;
+  const std::uint32_t k = (hash >> 28) & 7u;
+  const float d = std::fma(kGradientX[k], dx, kGradientY[k] * dy);
+  return (hash & 0x80000000u) ? -d : d;
 }
 
 namespace {

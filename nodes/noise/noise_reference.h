@@ -16,7 +16,7 @@ namespace orogen::noise::reference {
 inline constexpr float kPerlinScale = 1.41421356237309505f;
 // Simplex: the largest value of sum over the 3 corners of (1/2 - r^2)^4 * r (gradients aligned with the
 // offsets) is 2 * (1/3)^4 * sqrt(1/6) = 0.0100802 at the midpoint of a simplex edge; its inverse maps
-// the noise to [-1, 1]. Diagonal gradients exist in the set, so the bound is reached.
+// the noise to [-1, 1]. The diagonal gradients along those edges are in the set, so the bound is reached.
 inline constexpr float kSimplexScale = 99.2043345827f;
 inline constexpr double kSimplexF2 = 0.36602540378443864676;  // (sqrt(3) - 1) / 2: skew
 inline constexpr double kSimplexG2 = 0.21132486540518711775;  // (3 - sqrt(3)) / 6: unskew
@@ -30,7 +30,16 @@ LatticeCoord split(double u);
 // Quintic fade 6t^5 - 15t^4 + 10t^3: zero first and second derivatives at 0 and 1.
 constexpr float fade(float t) { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
 
-// Gradient number k (0..7) is the unit vector at angle k * 45 degrees; it is the top 3 bits of the hash.
+// Gradients: the 16 unit vectors at angles k * 22.5 degrees, k = the top 4 bits of the lattice hash. A
+// proper 2D set: evenly spread directions, not seed 003's 3D edge vectors with z dropped (which collapse
+// onto the axes); and more than the 8 axis-and-diagonal directions, whose lattice bias shows as a maze of
+// horizontal and vertical streaks. Vector k + 8 is the negation of vector k, so the kernels look up the
+// first half (kGradientX/Y) and flip the sign of the dot product with bit 31.
+inline constexpr float kGradientX[8] = {1.0f,  0.923879532511f,  0.707106781187f,  0.382683432365f,
+                                        0.0f, -0.382683432365f, -0.707106781187f, -0.923879532511f};
+inline constexpr float kGradientY[8] = {0.0f,           0.382683432365f, 0.707106781187f, 0.923879532511f,
+                                        1.0f,           0.923879532511f, 0.707106781187f, 0.382683432365f};
+// g_k . (dx, dy) for k = hash >> 28, computed as fma(gx, dx, gy * dy) then negated for k >= 8.
 float gradient_dot(std::uint32_t hash, float dx, float dy);
 
 float perlin(double u, double v, std::uint32_t key);   // [-1, 1], 0 at lattice points

@@ -7,7 +7,7 @@ namespace orogen::noise {
 
 OROGEN_NODE(Perlin) {
   b.category("noise").description(
-      "Improved Perlin gradient noise (quintic fade, 8 unit gradients at 45-degree steps): smooth "
+      "Improved Perlin gradient noise (quintic fade, 16 unit gradients at 22.5-degree steps): smooth "
       "hills, 0 at every lattice point, within [-amplitude, amplitude].");
   declare_warp_inputs(b);
   b.output("out", PortType::Heightfield).description("The noise, in metres");

@@ -1,0 +1,161 @@
+// Noise speed against libnoise, in the same run: a 4096 x 4096 grid of 4096 m with 64 m features.
+//
+//   orogen_bench_noise [--benchmark_filter=...]
+//
+// Single-threaded (a oneTBB arena of one thread): Orogen's Perlin, Simplex, Worley F1 and 5-octave Perlin
+// fBm beside libnoise's module::Perlin at 1 and 5 octaves (default NoiseQuality, sampled on the plane
+// z = 0). Then the Orogen generators on all cores, for the thread speed-up. At the end a table gives
+// ns per sample, the speed ratio to libnoise (1 octave for single-octave generators, 5 octaves for fBm)
+// and the speed-up on all cores.
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <noise.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+#include <tbb/task_arena.h>
+
+#include "nodes/noise/fbm.h"
+#include "nodes/noise/lattice_noise.h"
+#include "nodes/noise/noise_field.h"
+#include "nodes/noise/noise_kernels.h"
+#include "nodes/noise/worley.h"
+
+namespace {
+
+using namespace orogen;
+using namespace orogen::noise;
+
+constexpr int kSide = 4096;
+constexpr double kWorld = 4096.0;       // metres
+constexpr double kFeature = 64.0;       // metres: 64 cells across
+constexpr double kSamples = double(kSide) * kSide;
+
+const Domain& grid() {
+  static const Domain d = Domain::from_extent({0.0, 0.0}, {kWorld, kWorld}, {kSide, kSide});
+  return d;
+}
+
+// ---- libnoise ----
+
+void libnoise_perlin(benchmark::State& state, int octaves) {
+  ::noise::module::Perlin perlin;
+  perlin.SetOctaveCount(octaves);
+  perlin.SetFrequency(1.0 / kFeature);
+  std::vector<float> out(static_cast<std::size_t>(kSamples));
+  const Domain& d = grid();
+  for (auto _ : state) {
+    float* o = out.data();
+    for (int j = 0; j < kSide; ++j) {
+      const double y = d.y(j);
+      for (int i = 0; i < kSide; ++i) *o++ = static_cast<float>(perlin.GetValue(d.x(i), y, 0.0));
+    }
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kSamples));
+}
+
+// ---- Orogen ----
+
+NoisePlan plan_of(const std::string& name) {
+  LatticeNoiseParams lp;
+  lp.feature_size = kFeature;
+  lp.amplitude = 1.0;
+  if (name == "Perlin") return lattice_noise_plan(Basis::Perlin, lp);
+  if (name == "Simplex") return lattice_noise_plan(Basis::Simplex, lp);
+  if (name == "Value") return lattice_noise_plan(Basis::Value, lp);
+  if (name == "WorleyF1") {
+    WorleyParams wp;
+    wp.feature_size = kFeature;
+    wp.amplitude = 1.0;
+    return worley_plan(wp);
+  }
+  FbmParams fp;  // "FBM5Perlin"
+  fp.feature_size = kFeature;
+  fp.amplitude = 1.0;
+  fp.octaves = 5;
+  return fbm_plan(fp);
+}
+
+void orogen_noise(benchmark::State& state, const std::string& name, bool single_thread) {
+  const NoisePlan plan = plan_of(name);
+  Heightfield out;
+  out.domain = grid();
+  tbb::task_arena arena(single_thread ? 1 : tbb::info::default_concurrency());
+  for (auto _ : state) {
+    arena.execute([&] { evaluate_noise_into(out, plan); });
+    benchmark::DoNotOptimize(out.data.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kSamples));
+}
+
+// Collects ns per sample of every run for the summary table: CPU time of the calling thread (which does
+// all the work of a single-thread arena, and is robust to other processes on a busy machine) and wall time.
+class TableReporter : public benchmark::ConsoleReporter {
+ public:
+  struct Times {
+    double cpu_ns = 0, wall_ns = 0;
+  };
+  void ReportRuns(const std::vector<Run>& runs) override {
+    ConsoleReporter::ReportRuns(runs);
+    for (const Run& r : runs) {
+      if (r.run_type != Run::RT_Iteration || r.iterations <= 0) continue;
+      const double per = 1e9 / static_cast<double>(r.iterations) / kSamples;
+      times[r.run_name.function_name] = {r.cpu_accumulated_time * per, r.real_accumulated_time * per};
+    }
+  }
+  std::map<std::string, Times> times;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::RegisterBenchmark("libnoise/Perlin/1octave", libnoise_perlin, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
+  benchmark::RegisterBenchmark("libnoise/Perlin/5octaves", libnoise_perlin, 5)->Unit(benchmark::kMillisecond)->UseRealTime();
+  const std::vector<std::string> ours = {"Perlin", "Simplex", "Value", "WorleyF1", "FBM5Perlin"};
+  for (bool single : {true, false})
+    for (const std::string& name : ours)
+      benchmark::RegisterBenchmark(("orogen/" + name + (single ? "/1thread" : "/allthreads")).c_str(), orogen_noise,
+                                   name, single)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  std::printf("Noise kernels: %s; %d cores for the all-threads runs; grid %dx%d\n", kernels::active_target(),
+              tbb::info::default_concurrency(), kSide, kSide);
+  TableReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+
+  const auto& t = reporter.times;
+  auto get = [&](const std::string& k) { return t.count(k) ? t.at(k) : TableReporter::Times{}; };
+  auto fmt = [](double v, const char* suffix = "") {
+    char b[32];
+    std::snprintf(b, sizeof b, v > 0 ? "%.2f%s" : "-", v, suffix);
+    return std::string(b);
+  };
+  const auto lib1 = get("libnoise/Perlin/1octave"), lib5 = get("libnoise/Perlin/5octaves");
+  std::printf("\nns per sample; ratios are libnoise time / Orogen time in this run (CPU time of the single thread)\n");
+  std::printf("| generator | ns/sample, 1 thread (CPU) | (wall) | vs libnoise | ns/sample, %d threads (wall) | speed-up |\n",
+              tbb::info::default_concurrency());
+  std::printf("|---|---|---|---|---|---|\n");
+  std::printf("| libnoise Perlin, 1 octave | %s | %s | 1x | | |\n", fmt(lib1.cpu_ns).c_str(), fmt(lib1.wall_ns).c_str());
+  std::printf("| libnoise Perlin, 5 octaves | %s | %s | 1x | | |\n", fmt(lib5.cpu_ns).c_str(), fmt(lib5.wall_ns).c_str());
+  for (const std::string& name : ours) {
+    const auto one = get("orogen/" + name + "/1thread"), all = get("orogen/" + name + "/allthreads");
+    if (one.cpu_ns <= 0) continue;
+    const auto lib = name == "FBM5Perlin" ? lib5 : lib1;
+    std::printf("| %s | %s | %s | %s | %s | %s |\n", name.c_str(), fmt(one.cpu_ns).c_str(), fmt(one.wall_ns).c_str(),
+                lib.cpu_ns > 0 ? fmt(lib.cpu_ns / one.cpu_ns, "x").c_str() : "-", fmt(all.wall_ns).c_str(),
+                all.wall_ns > 0 ? fmt(one.wall_ns / all.wall_ns, "x").c_str() : "-");
+  }
+  benchmark::Shutdown();
+  return 0;
+}
