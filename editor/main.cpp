@@ -1,1 +1,39 @@
-int main() { return 0; }
+// orogen-editor: the node editor.
+//
+//   orogen-editor [FILE]                       open a graph (or start with an empty one)
+//   orogen-editor FILE --screenshot PNG --frames N
+//                                              render N frames (and until the preview is evaluated), save
+//                                              the window as PNG and exit: for tests and documentation
+#include <cstdio>
+#include <exception>
+
+#include <CLI/CLI.hpp>
+
+#include "editor/ui/app.h"
+
+int main(int argc, char** argv) {
+  orogen::editor::AppOptions options;
+  CLI::App cli{"orogen-editor: build and tune Orogen terrain graphs with live 2D and 3D preview"};
+  cli.add_option("file", options.file, "Graph file to open")->check(CLI::ExistingFile);
+  cli.add_option("--screenshot", options.screenshot, "Save the window as this PNG after the frames, then exit");
+  cli.add_option("--frames", options.frames, "Frames to render before the screenshot")->check(CLI::Range(1, 100000));
+  cli.add_option("--size", options.width, "Window width in pixels (height follows 16:9 unless --height)")
+      ->check(CLI::Range(320, 8192))
+      ->each([&](const std::string&) { options.height = options.width * 9 / 16; });
+  cli.add_option("--height", options.height, "Window height in pixels")->check(CLI::Range(240, 8192));
+  cli.add_option("--select", options.select, "Select this node at start (its parameters and preview are shown)");
+  cli.add_option("--view", options.view, "Preview panel at start")->check(CLI::IsMember({"2d", "3d"}));
+  cli.add_option("--preview-resolution", options.preview_resolution,
+                 "Preview samples along the longer side (default 512)")
+      ->check(CLI::Range(16, 8192));
+  cli.add_option("--state-dir", options.state_dir,
+                 "Where recent files and crash-recovery files live (default $XDG_STATE_HOME/orogen)");
+  CLI11_PARSE(cli, argc, argv);
+  try {
+    orogen::editor::App app(std::move(options));
+    return app.run();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "orogen-editor: %s\n", e.what());
+    return 1;
+  }
+}

@@ -42,10 +42,15 @@ void CanvasController::set_document(Document& document) {
 
 const CanvasLayout& CanvasController::layout() {
   if (layout_revision_ != document_->revision()) {
-    layout_.build(document_->graph());
+    layout_.build(document_->graph(), measure_);
     layout_revision_ = document_->revision();
   }
   return layout_;
+}
+
+void CanvasController::set_text_measure(TextMeasure measure) {
+  measure_ = std::move(measure);
+  layout_revision_ = ~std::uint64_t(0);
 }
 
 void CanvasController::after_edit() {

@@ -41,6 +41,8 @@ class CanvasController {
   const CanvasView& view() const { return view_; }
   // The node geometry of the current graph (rebuilt after every change).
   const CanvasLayout& layout();
+  // How the canvas font measures text (the UI's real font; monospace estimate by default).
+  void set_text_measure(TextMeasure measure);
   Mode mode() const { return mode_; }
   glm::dvec2 mouse() const { return mouse_; }  // screen
   glm::dvec2 mouse_world() const { return view_.to_world(mouse_); }
@@ -49,6 +51,9 @@ class CanvasController {
   // Hover state, for highlighting and tooltips.
   const std::optional<PinLayout>& hovered_pin() const { return hovered_pin_; }
   const std::optional<std::string>& hovered_node() const { return hovered_node_; }
+  bool is_selected(const std::string& id) const { return selection_.contains(id); }
+  const std::string& active_node() const { return selection_.active(); }
+  Selection& selection() { return selection_; }
   // The link being dragged, and the screen box being drawn.
   const std::optional<LinkDrag>& link_drag() const { return link_drag_; }
   std::optional<Rect> selection_box() const;  // screen
@@ -92,6 +97,7 @@ class CanvasController {
   ClipboardAccess clipboard_;
   CanvasView view_;
   CanvasLayout layout_;
+  TextMeasure measure_ = monospace_width;
   std::uint64_t layout_revision_ = ~std::uint64_t(0);
 
   Mode mode_ = Mode::Idle;

@@ -32,6 +32,8 @@ class Document {
   bool has_path() const { return !path_.empty(); }
   std::string display_name() const;  // file name, or "Untitled"
   bool dirty() const { return state_ != saved_state_; }
+  // Marks the document as differing from its file (a recovered session's work).
+  void mark_unsaved() { saved_state_ = ~std::uint64_t(0); }
   // "terrain.json* - Orogen": '*' marks unsaved changes.
   std::string window_title() const;
 

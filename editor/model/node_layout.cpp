@@ -21,17 +21,18 @@ std::string node_title(const Node& node) {
   return node.id + " : " + node.type->name;
 }
 
-NodeLayout layout_node(const Node& node, glm::dvec2 position) {
+double monospace_width(std::string_view text) { return static_cast<double>(text.size()) * NodeMetrics::kGlyphWidth; }
+
+NodeLayout layout_node(const Node& node, glm::dvec2 position, const TextMeasure& measure) {
   using M = NodeMetrics;
   const NodeType& type = *node.type;
-  const auto text_width = [](std::size_t chars) { return static_cast<double>(chars) * M::kGlyphWidth; };
 
-  double width = text_width(node_title(node).size()) + 2 * M::kPadding + 8.0;
+  double width = measure(node_title(node)) + 2 * M::kPadding + 8.0;
   const std::size_t rows = std::max<std::size_t>({type.inputs.size(), type.outputs.size(), 1});
   for (std::size_t r = 0; r < rows; ++r) {
-    const std::size_t in = r < type.inputs.size() ? type.inputs[r].name.size() : 0;
-    const std::size_t out = r < type.outputs.size() ? type.outputs[r].name.size() : 0;
-    width = std::max(width, text_width(in + out) + 4 * M::kPadding);
+    const double in = r < type.inputs.size() ? measure(type.inputs[r].name) : 0.0;
+    const double out = r < type.outputs.size() ? measure(type.outputs[r].name) : 0.0;
+    width = std::max(width, in + out + 4 * M::kPadding);
   }
   width = std::clamp(width, M::kMinWidth, M::kMaxWidth);
   const double height = M::kTitleHeight + static_cast<double>(rows) * M::kRowHeight + M::kStatusHeight + 4.0;
@@ -53,29 +54,62 @@ NodeLayout layout_node(const Node& node, glm::dvec2 position) {
 }
 
 std::map<std::string, glm::dvec2> auto_positions(const Graph& graph) {
-  constexpr double kColumn = 260.0, kRow = 150.0;
-  std::map<std::string, int> depth;
+  constexpr double kColumnGap = 70.0, kRowGap = 36.0;
+  std::vector<std::string> unplaced;
+  for (const auto& n : graph.nodes())
+    if (!graph.editor.positions.count(n.id)) unplaced.push_back(n.id);
+  if (unplaced.empty()) return {};
+
+  // Columns by longest path from the sources.
   std::vector<std::string> order;
   try {
     order = graph.topological_order();
   } catch (const GraphError&) {
     for (const auto& n : graph.nodes()) order.push_back(n.id);
   }
+  std::map<std::string, int> depth;
   for (const auto& id : order) {
     int d = 0;
     for (const auto& [port, src] : graph.at(id).inputs)
       if (auto it = depth.find(src.node); it != depth.end()) d = std::max(d, it->second + 1);
     depth[id] = d;
   }
+  std::map<int, std::vector<std::string>> columns;
+  for (const auto& id : unplaced) columns[depth[id]].push_back(id);
+
+  // Order each column by the mean row of the nodes feeding it (the barycentre heuristic), which untangles
+  // most links of a left-to-right flow.
+  std::map<std::string, double> row;
+  for (auto& [d, ids] : columns) {
+    std::map<std::string, double> key;
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      double sum = 0.0;
+      int count = 0;
+      for (const auto& [port, src] : graph.at(ids[k]).inputs)
+        if (auto it = row.find(src.node); it != row.end()) {
+          sum += it->second;
+          ++count;
+        }
+      key[ids[k]] = count ? sum / count : static_cast<double>(k);
+    }
+    std::stable_sort(ids.begin(), ids.end(), [&](const auto& a, const auto& b) { return key[a] < key[b]; });
+    for (std::size_t k = 0; k < ids.size(); ++k) row[ids[k]] = static_cast<double>(k);
+  }
+
   // Start below whatever is already placed.
   double top = 0.0;
-  for (const auto& [id, p] : graph.editor.positions) top = std::max(top, p.y + kRow);
-  std::map<int, int> rows;
+  for (const auto& [id, p] : graph.editor.positions) top = std::max(top, p.y + 200.0);
   std::map<std::string, glm::dvec2> out;
-  for (const auto& n : graph.nodes()) {
-    if (graph.editor.positions.count(n.id)) continue;
-    const int d = depth.count(n.id) ? depth[n.id] : 0;
-    out[n.id] = {d * kColumn, top + rows[d]++ * kRow};
+  double x = 0.0;
+  for (const auto& [d, ids] : columns) {
+    double y = top, width = 0.0;
+    for (const auto& id : ids) {
+      const NodeLayout l = layout_node(graph.at(id), {x, y});
+      out[id] = {x, y};
+      y += l.rect.size().y + kRowGap;
+      width = std::max(width, l.rect.size().x);
+    }
+    x += width + kColumnGap;
   }
   return out;
 }
@@ -84,7 +118,7 @@ void place_unpositioned_nodes(Graph& graph) {
   for (const auto& [id, p] : auto_positions(graph)) graph.editor.positions[id] = p;
 }
 
-void CanvasLayout::build(const Graph& graph) {
+void CanvasLayout::build(const Graph& graph, const TextMeasure& measure) {
   nodes_.clear();
   index_.clear();
   std::map<std::string, glm::dvec2> fallback;
@@ -93,7 +127,7 @@ void CanvasLayout::build(const Graph& graph) {
     auto it = graph.editor.positions.find(node.id);
     const glm::dvec2 pos = it != graph.editor.positions.end() ? it->second : fallback[node.id];
     index_[node.id] = nodes_.size();
-    nodes_.push_back(layout_node(node, pos));
+    nodes_.push_back(layout_node(node, pos, measure));
   }
 }
 

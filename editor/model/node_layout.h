@@ -3,9 +3,11 @@
 // positions and the status line. The UI draws with it and the interaction code hit-tests with it, so what
 // you see is exactly what you click. Text widths use the metrics of ImGui's default font (ProggyClean,
 // monospace, 7 px per glyph at 13 px), so the layout is computed without a window.
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -50,9 +52,14 @@ struct NodeLayout {
   const PinLayout* find_pin(const std::string& port, bool output) const;
 };
 
+// Width of a text at the canvas font size, in world units. The UI measures with its real font; headless
+// code uses the monospace estimate.
+using TextMeasure = std::function<double(std::string_view)>;
+double monospace_width(std::string_view text);
+
 // The title text of a node: its id, plus the type when the id does not already say it.
 std::string node_title(const Node& node);
-NodeLayout layout_node(const Node& node, glm::dvec2 position);
+NodeLayout layout_node(const Node& node, glm::dvec2 position, const TextMeasure& measure = monospace_width);
 
 // Positions for nodes the file gives none: columns by depth from the sources, rows in graph order, to the
 // right of / below what is already placed.
@@ -65,7 +72,7 @@ class CanvasLayout {
  public:
   CanvasLayout() = default;
   explicit CanvasLayout(const Graph& graph) { build(graph); }
-  void build(const Graph& graph);
+  void build(const Graph& graph, const TextMeasure& measure = monospace_width);
 
   const std::vector<NodeLayout>& nodes() const { return nodes_; }
   const NodeLayout* find(const std::string& id) const;

@@ -102,7 +102,12 @@ TEST(CanvasLayout, UnplacedNodesGetColumnsByDepth) {
   EXPECT_LT(p.at("src").x, p.at("mid").x);
   EXPECT_LT(p.at("mid").x, p.at("out").x);
   EXPECT_EQ(p.at("mid").x, p.at("scatter").x);
-  EXPECT_NE(p.at("mid").y, p.at("scatter").y);
+  const CanvasLayout layout(g);
+  for (const auto& a : layout.nodes())
+    for (const auto& b : layout.nodes())
+      if (a.id != b.id) {
+        EXPECT_FALSE(a.rect.overlaps(b.rect)) << a.id << " overlaps " << b.id;
+      }
 }
 
 }  // namespace

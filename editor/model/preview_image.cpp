@@ -1,0 +1,151 @@
+#include "editor/model/preview_image.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace orogen::editor {
+
+namespace {
+
+struct Stop {
+  double t;
+  glm::vec3 c;
+};
+
+// Hypsometric tints: deep water, shallow water, lowland green, upland ochre, rock brown, snow.
+constexpr std::array<Stop, 7> kTerrain{{{0.00, {0.11f, 0.20f, 0.42f}},
+                                        {0.18, {0.25f, 0.47f, 0.70f}},
+                                        {0.22, {0.36f, 0.56f, 0.33f}},
+                                        {0.45, {0.62f, 0.70f, 0.40f}},
+                                        {0.68, {0.72f, 0.60f, 0.42f}},
+                                        {0.86, {0.56f, 0.46f, 0.40f}},
+                                        {1.00, {0.97f, 0.97f, 0.98f}}}};
+// Matplotlib's viridis at nine evenly spaced points (sRGB).
+constexpr std::array<Stop, 9> kViridis{{{0.000, {0.267f, 0.005f, 0.329f}},
+                                        {0.125, {0.283f, 0.141f, 0.458f}},
+                                        {0.250, {0.254f, 0.265f, 0.530f}},
+                                        {0.375, {0.207f, 0.372f, 0.553f}},
+                                        {0.500, {0.164f, 0.471f, 0.558f}},
+                                        {0.625, {0.128f, 0.567f, 0.551f}},
+                                        {0.750, {0.135f, 0.659f, 0.518f}},
+                                        {0.875, {0.478f, 0.821f, 0.318f}},
+                                        {1.000, {0.993f, 0.906f, 0.144f}}}};
+
+template <std::size_t N>
+glm::vec3 lookup(const std::array<Stop, N>& stops, double t) {
+  if (t <= stops.front().t) return stops.front().c;
+  for (std::size_t k = 1; k < N; ++k)
+    if (t <= stops[k].t) {
+      const float f = static_cast<float>((t - stops[k - 1].t) / (stops[k].t - stops[k - 1].t));
+      return stops[k - 1].c + (stops[k].c - stops[k - 1].c) * f;
+    }
+  return stops.back().c;
+}
+
+std::uint8_t to_byte(float v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+
+float linear_to_srgb(float v) {
+  v = std::clamp(v, 0.0f, 1.0f);
+  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+}  // namespace
+
+glm::vec3 colormap(ColorMap map, double t) {
+  t = std::clamp(std::isfinite(t) ? t : 0.0, 0.0, 1.0);
+  switch (map) {
+    case ColorMap::Grey: return glm::vec3(static_cast<float>(t));
+    case ColorMap::Terrain: return lookup(kTerrain, t);
+    case ColorMap::Viridis: return lookup(kViridis, t);
+  }
+  return glm::vec3(0.0f);
+}
+
+ValueRange value_range(const Heightfield& field) {
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  for (float v : field.data)
+    if (std::isfinite(v)) {
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  if (!(lo <= hi)) return {0.0f, 1.0f};
+  if (hi - lo < 1e-6f * std::max(1.0f, std::abs(lo))) return {lo - 0.5f, lo + 0.5f};
+  return {lo, hi};
+}
+
+std::vector<float> hillshade(const Heightfield& field, double azimuth_deg, double altitude_deg, double z_factor) {
+  const int w = field.width(), h = field.height();
+  const double az = azimuth_deg * M_PI / 180.0, alt = altitude_deg * M_PI / 180.0;
+  const double lx = std::sin(az) * std::cos(alt), ly = std::cos(az) * std::cos(alt), lz = std::sin(alt);
+  const double sx = field.domain.spacing.x, sy = field.domain.spacing.y;
+  std::vector<float> out(field.data.size(), 1.0f);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const int i0 = std::max(i - 1, 0), i1 = std::min(i + 1, w - 1);
+      const int j0 = std::max(j - 1, 0), j1 = std::min(j + 1, h - 1);
+      const double dzdx = i1 > i0 ? z_factor * (field.at(i1, j) - field.at(i0, j)) / ((i1 - i0) * sx) : 0.0;
+      const double dzdy = j1 > j0 ? z_factor * (field.at(i, j1) - field.at(i, j0)) / ((j1 - j0) * sy) : 0.0;
+      const double nx = -dzdx, ny = -dzdy, nz = 1.0;
+      const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
+      const double shade = (nx * lx + ny * ly + nz * lz) / len;
+      out[field.index(i, j)] = std::isfinite(shade) ? static_cast<float>(std::max(0.0, shade)) : 1.0f;
+    }
+  return out;
+}
+
+PreviewPixels render_heightfield(const Heightfield& field, const HeightfieldStyle& style) {
+  PreviewPixels px;
+  px.width = field.width();
+  px.height = field.height();
+  px.rgba.resize(static_cast<std::size_t>(px.width) * px.height * 4);
+  const ValueRange range = style.range ? *style.range : value_range(field);
+  const float span = range.hi - range.lo;
+  std::vector<float> shade;
+  if (style.hillshade) shade = hillshade(field);
+  for (int r = 0; r < px.height; ++r) {
+    const int j = px.height - 1 - r;
+    for (int i = 0; i < px.width; ++i) {
+      const float v = field.at(i, j);
+      glm::vec3 c = std::isfinite(v) ? colormap(style.map, (v - range.lo) / span) : glm::vec3(1.0f, 0.0f, 1.0f);
+      // Hillshade as a soft multiply: ambient 0.35 keeps valleys readable.
+      if (style.hillshade) c *= 0.35f + 0.75f * shade[field.index(i, j)];
+      std::uint8_t* p = &px.rgba[(static_cast<std::size_t>(r) * px.width + i) * 4];
+      p[0] = to_byte(c.r);
+      p[1] = to_byte(c.g);
+      p[2] = to_byte(c.b);
+      p[3] = 255;
+    }
+  }
+  return px;
+}
+
+PreviewPixels render_image(const Image& image) {
+  PreviewPixels px;
+  px.width = image.width();
+  px.height = image.height();
+  px.rgba.resize(static_cast<std::size_t>(px.width) * px.height * 4);
+  const int n = image.channels;
+  for (int r = 0; r < px.height; ++r) {
+    const int j = px.height - 1 - r;
+    for (int i = 0; i < px.width; ++i) {
+      const float* s = image.pixel(i, j);
+      float c[4] = {0, 0, 0, 1};
+      if (n == 1 || n == 2) {
+        c[0] = c[1] = c[2] = s[0];
+        if (n == 2) c[3] = s[1];
+      } else if (n >= 3) {
+        c[0] = s[0];
+        c[1] = s[1];
+        c[2] = s[2];
+        if (n >= 4) c[3] = s[3];
+      }
+      std::uint8_t* p = &px.rgba[(static_cast<std::size_t>(r) * px.width + i) * 4];
+      for (int k = 0; k < 3; ++k) p[k] = to_byte(linear_to_srgb(c[k]));
+      p[3] = to_byte(c[3]);
+    }
+  }
+  return px;
+}
+
+}  // namespace orogen::editor

@@ -1,0 +1,781 @@
+#include "editor/ui/app.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <thread>
+#include <utility>
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+#include <imgui_stdlib.h>
+
+#include "editor/model/node_layout.h"
+#include "editor/model/state_dir.h"
+#include "editor/ui/gl.h"
+#include "editor/ui/screenshot.h"
+#include "editor/ui/theme.h"
+#include "graph/graph_file.h"
+#include "graph/registry.h"
+
+namespace orogen::editor {
+
+namespace {
+
+constexpr float kStatusBarHeight = 26.0f;
+constexpr auto kRequestThrottle = std::chrono::milliseconds(120);  // between superseding previews while busy
+
+std::filesystem::path resolve_state_dir(const AppOptions& o) {
+  return o.state_dir.empty() ? default_state_dir() : o.state_dir;
+}
+
+void glfw_error(int code, const char* text) { std::fprintf(stderr, "orogen-editor: GLFW error %d: %s\n", code, text); }
+
+// Splitter between panels; returns the drag delta along its axis.
+float splitter(const char* id, bool vertical, float thickness, float length) {
+  ImGui::InvisibleButton(id, vertical ? ImVec2(thickness, length) : ImVec2(length, thickness));
+  const bool active = ImGui::IsItemActive();
+  if (ImGui::IsItemHovered() || active)
+    ImGui::SetMouseCursor(vertical ? ImGuiMouseCursor_ResizeEW : ImGuiMouseCursor_ResizeNS);
+  const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+  ImGui::GetWindowDrawList()->AddRectFilled(a, b, active ? IM_COL32(255, 176, 60, 200) : IM_COL32(40, 43, 48, 255));
+  return active ? (vertical ? ImGui::GetIO().MouseDelta.x : ImGui::GetIO().MouseDelta.y) : 0.0f;
+}
+
+std::string format_duration(double ms) {
+  char buf[32];
+  if (ms < 1000.0) std::snprintf(buf, sizeof buf, "%.0f ms", ms);
+  else std::snprintf(buf, sizeof buf, "%.1f s", ms / 1000.0);
+  return buf;
+}
+
+}  // namespace
+
+App::App(AppOptions options)
+    : options_(std::move(options)),
+      document_(std::make_unique<Document>()),
+      inspector_(evaluation_),
+      state_dir_(resolve_state_dir(options_)),
+      recovery_(state_dir_ / "recovery"),
+      autosaver_(recovery_),
+      recent_(state_dir_ / "recent.json") {
+  glfwSetErrorCallback(glfw_error);
+  if (!glfwInit()) throw std::runtime_error("cannot initialise GLFW (is there a display?)");
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  window_ = glfwCreateWindow(options_.width, options_.height, "Orogen", nullptr, nullptr);
+  if (!window_) {
+    glfwTerminate();
+    throw std::runtime_error("cannot open an OpenGL 3.3 window");
+  }
+  glfwMakeContextCurrent(window_);
+  glfwSwapInterval(options_.screenshot.empty() ? 1 : 0);
+
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGuiIO& io = ImGui::GetIO();
+  io.IniFilename = nullptr;  // the layout is ours; nothing to persist in the working directory
+  theme::apply_style();
+  // DejaVu Sans when installed (fonts-dejavu-core), ImGui's built-in font otherwise. The canvas gets a
+  // larger bake of the same font so zoomed-in node text stays sharp.
+  const char* kFont = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+  if (std::filesystem::exists(kFont)) {
+    io.Fonts->AddFontFromFileTTF(kFont, 15.0f);
+    canvas_font_ = io.Fonts->AddFontFromFileTTF(kFont, 28.0f);
+  } else {
+    io.Fonts->AddFontDefault();
+  }
+  ImGui_ImplGlfw_InitForOpenGL(window_, true);
+  ImGui_ImplOpenGL3_Init("#version 330 core");
+
+  evaluation_.set_preview_resolution(options_.preview_resolution);
+  canvas_ = std::make_unique<CanvasController>(*document_, selection_, ClipboardAccess{
+      [] { const char* t = ImGui::GetClipboardText(); return std::string(t ? t : ""); },
+      [](const std::string& s) { ImGui::SetClipboardText(s.c_str()); }});
+  canvas_view_ = std::make_unique<NodeCanvasView>(*canvas_, evaluation_);
+  viewport_3d_ = std::make_unique<Viewport3D>();
+  show_3d_ = options_.view == "3d";
+
+  if (!options_.file.empty()) open_file(options_.file);
+  if (!options_.select.empty() && document_->graph().find(options_.select)) selection_.select_only(options_.select);
+  // A screenshot run is not a session: it never offers (or takes) someone's recovery files.
+  if (options_.screenshot.empty()) recovery_offer_ = recovery_.orphans();
+}
+
+App::~App() {
+  // GL objects go while the context exists.
+  viewport_3d_.reset();
+  preview_2d_ = Preview2D();
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  glfwDestroyWindow(window_);
+  glfwTerminate();
+}
+
+int App::run() {
+  using clock = std::chrono::steady_clock;
+  const bool screenshot = !options_.screenshot.empty();
+  const auto deadline = clock::now() + std::chrono::seconds(180);
+  int settle = -1;  // frames left before the screenshot once everything is evaluated
+  while (!quit_) {
+    // Idle: wake at 20 Hz for status updates; busy: run at display rate.
+    const bool busy = evaluation_.preview_busy() || evaluation_.build_status().running || ImGui::IsAnyMouseDown();
+    if (screenshot || busy) glfwPollEvents();
+    else glfwWaitEventsTimeout(0.05);
+    if (glfwWindowShouldClose(window_)) {
+      glfwSetWindowShouldClose(window_, GLFW_FALSE);
+      request_quit();
+    }
+    frame();
+    ++frame_count_;
+    if (screenshot) {
+      if (settle < 0 && frame_count_ >= options_.frames &&
+          ((!evaluation_.preview_busy() && !pending_request_) || clock::now() > deadline))
+        settle = 3;  // a few frames more so the last result is uploaded and drawn
+      if (settle == 0) {
+        int w = 0, h = 0;
+        glfwGetFramebufferSize(window_, &w, &h);
+        save_framebuffer_png(options_.screenshot, w, h);
+        quit_ = true;
+      }
+      if (settle > 0) --settle;
+    }
+    glfwSwapBuffers(window_);
+  }
+  recovery_.discard();  // a clean exit leaves nothing to recover
+  return 0;
+}
+
+void App::frame() {
+  ImGui_ImplOpenGL3_NewFrame();
+  ImGui_ImplGlfw_NewFrame();
+  ImGui::NewFrame();
+
+  handle_shortcuts();
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(vp->WorkPos);
+  ImGui::SetNextWindowSize(vp->WorkSize);
+  ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, {0, 0});
+  ImGui::Begin("##main", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings |
+                   ImGuiWindowFlags_MenuBar | ImGuiWindowFlags_NoBringToFrontOnFocus);
+  ImGui::PopStyleVar();
+  draw_menu_bar();
+  draw_panels();
+  ImGui::End();
+  draw_modals();
+
+  update_preview();
+  autosaver_.tick(*document_, std::chrono::steady_clock::now());
+  const std::string title = document_->window_title();
+  if (title != title_) {
+    glfwSetWindowTitle(window_, title.c_str());
+    title_ = title;
+  }
+
+  ImGui::Render();
+  int w = 0, h = 0;
+  glfwGetFramebufferSize(window_, &w, &h);
+  glViewport(0, 0, w, h);
+  glClearColor(0.1f, 0.1f, 0.11f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT);
+  ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+}
+
+void App::handle_shortcuts() {
+  ImGuiIO& io = ImGui::GetIO();
+  if (io.WantTextInput || !io.KeyCtrl) return;
+  const bool shift = io.KeyShift;
+  if (ImGui::IsKeyPressed(GLFW_KEY_Z, false)) shift ? canvas_->redo() : canvas_->undo();
+  if (ImGui::IsKeyPressed(GLFW_KEY_Y, false)) canvas_->redo();
+  if (ImGui::IsKeyPressed(GLFW_KEY_S, false)) {
+    if (shift || !document_->has_path()) {
+      file_action_ = FileAction::SaveAs;
+      file_dialog_.show(FileDialog::Mode::Save, "Save As", document_->path(), {".json"});
+    } else {
+      save();
+    }
+  }
+  if (ImGui::IsKeyPressed(GLFW_KEY_O, false))
+    guard_unsaved([this] {
+      file_action_ = FileAction::Open;
+      file_dialog_.show(FileDialog::Mode::Open, "Open", document_->path(), {".json"});
+    });
+  if (ImGui::IsKeyPressed(GLFW_KEY_N, false)) guard_unsaved([this] { set_document(std::make_unique<Document>()); });
+  if (ImGui::IsKeyPressed(GLFW_KEY_Q, false)) request_quit();
+  if (ImGui::IsKeyPressed(GLFW_KEY_B, false)) start_build();
+}
+
+void App::draw_menu_bar() {
+  if (!ImGui::BeginMenuBar()) return;
+  if (ImGui::BeginMenu("File")) {
+    if (ImGui::MenuItem("New", "Ctrl+N")) guard_unsaved([this] { set_document(std::make_unique<Document>()); });
+    if (ImGui::MenuItem("Open...", "Ctrl+O"))
+      guard_unsaved([this] {
+        file_action_ = FileAction::Open;
+        file_dialog_.show(FileDialog::Mode::Open, "Open", document_->path(), {".json"});
+      });
+    if (ImGui::BeginMenu("Open Recent", !recent_.paths().empty())) {
+      for (const auto& p : recent_.paths())
+        if (ImGui::MenuItem(p.filename().string().c_str())) guard_unsaved([this, p] { open_file(p); });
+        else if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", p.string().c_str());
+      ImGui::Separator();
+      if (ImGui::MenuItem("Clear list")) recent_.clear();
+      ImGui::EndMenu();
+    }
+    const auto ex = examples();
+    if (ImGui::BeginMenu("Examples", !ex.empty())) {
+      for (const auto& p : ex)
+        if (ImGui::MenuItem(p.stem().string().c_str())) guard_unsaved([this, p] { open_file(p); });
+      ImGui::EndMenu();
+    }
+    ImGui::Separator();
+    if (ImGui::MenuItem("Save", "Ctrl+S")) {
+      if (!save()) {
+        file_action_ = FileAction::SaveAs;
+        file_dialog_.show(FileDialog::Mode::Save, "Save As", document_->path(), {".json"});
+      }
+    }
+    if (ImGui::MenuItem("Save As...", "Ctrl+Shift+S")) {
+      file_action_ = FileAction::SaveAs;
+      file_dialog_.show(FileDialog::Mode::Save, "Save As", document_->path(), {".json"});
+    }
+    ImGui::Separator();
+    if (ImGui::MenuItem("Quit", "Ctrl+Q")) request_quit();
+    ImGui::EndMenu();
+  }
+  if (ImGui::BeginMenu("Edit")) {
+    const auto& h = document_->history();
+    if (ImGui::MenuItem(h.can_undo() ? ("Undo " + h.undo_label()).c_str() : "Undo", "Ctrl+Z", false, h.can_undo()))
+      canvas_->undo();
+    if (ImGui::MenuItem(h.can_redo() ? ("Redo " + h.redo_label()).c_str() : "Redo", "Ctrl+Shift+Z", false, h.can_redo()))
+      canvas_->redo();
+    ImGui::Separator();
+    const bool any = !selection_.empty();
+    if (ImGui::MenuItem("Copy", "Ctrl+C", false, any)) canvas_->copy_selection();
+    if (ImGui::MenuItem("Paste", "Ctrl+V")) canvas_->paste();
+    if (ImGui::MenuItem("Duplicate", "Ctrl+D", false, any)) canvas_->duplicate_selection();
+    if (ImGui::MenuItem("Delete", "Del / X", false, any)) canvas_->delete_selection();
+    ImGui::Separator();
+    if (ImGui::MenuItem("Select All", "Ctrl+A")) canvas_->select_all();
+    if (ImGui::MenuItem("Add Node...", "Tab")) canvas_->open_palette(canvas_->view().viewport().center());
+    ImGui::EndMenu();
+  }
+  if (ImGui::BeginMenu("View")) {
+    if (ImGui::MenuItem("Frame All", "Home")) canvas_->frame(false);
+    if (ImGui::MenuItem("Frame Selected", "F", false, !selection_.empty())) canvas_->frame(true);
+    ImGui::Separator();
+    const bool pinned = !pinned_.empty();
+    if (ImGui::MenuItem("Pin Preview to Selected", "double-click", pinned, pinned || !selection_.active().empty()))
+      pinned_ = pinned ? std::string() : selection_.active();
+    if (ImGui::MenuItem("3D Viewport", nullptr, show_3d_)) show_3d_ = !show_3d_;
+    if (ImGui::BeginMenu("Preview Resolution")) {
+      for (int r : {128, 256, 512, 1024, 2048})
+        if (ImGui::MenuItem((std::to_string(r) + " samples").c_str(), nullptr, evaluation_.preview_resolution() == r))
+          evaluation_.set_preview_resolution(r);
+      ImGui::EndMenu();
+    }
+    ImGui::EndMenu();
+  }
+  if (ImGui::BeginMenu("Build")) {
+    const auto status = evaluation_.build_status();
+    const auto& d = document_->graph().domain;
+    const std::string label = "Build at " + std::to_string(d.resolution.x) + " x " + std::to_string(d.resolution.y);
+    if (ImGui::MenuItem(label.c_str(), "Ctrl+B", false, !status.running)) start_build();
+    if (ImGui::MenuItem("Cancel Build", nullptr, false, status.running)) evaluation_.cancel_build();
+    ImGui::Separator();
+    std::string dir = output_dir_.string();
+    ImGui::SetNextItemWidth(240);
+    if (ImGui::InputText("Output folder", &dir)) output_dir_ = dir;
+    ImGui::EndMenu();
+  }
+  if (ImGui::BeginMenu("Help")) {
+    if (ImGui::MenuItem("Keyboard and Mouse")) show_shortcuts_ = true;
+    if (ImGui::MenuItem("About Orogen")) show_about_ = true;
+    ImGui::EndMenu();
+  }
+  ImGui::EndMenuBar();
+}
+
+void App::draw_panels() {
+  const ImVec2 avail = ImGui::GetContentRegionAvail();
+  const float splitter_w = 5.0f;
+  if (right_width_ <= 0.0f) right_width_ = std::clamp(avail.x * 0.36f, 360.0f, 640.0f);
+  right_width_ = std::clamp(right_width_, 260.0f, std::max(260.0f, avail.x - 300.0f));
+  const float body_h = avail.y - kStatusBarHeight;
+
+  // Node canvas.
+  ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, {0, 0});
+  ImGui::BeginChild("##canvas-panel", {avail.x - right_width_ - splitter_w, body_h}, false,
+                    ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse | ImGuiWindowFlags_NoMove);
+  ImGui::PopStyleVar();
+  const std::string previewed = preview_node();
+  canvas_view_->set_fonts(ImGui::GetIO().Fonts->Fonts[0], canvas_font_);
+  canvas_view_->draw(previewed);
+  if (frame_canvas_ && canvas_->view().size().x > 60) {
+    canvas_->frame(false);
+    frame_canvas_ = false;
+  }
+  if (const auto& id = canvas_view_->double_clicked()) pinned_ = pinned_ == *id ? std::string() : *id;
+  ImGui::EndChild();
+
+  ImGui::SameLine(0, 0);
+  right_width_ -= splitter("##vsplit", true, splitter_w, body_h);
+  ImGui::SameLine(0, 0);
+
+  // Right column: preview on top, inspector below.
+  ImGui::BeginChild("##right", {right_width_, body_h}, false, ImGuiWindowFlags_NoScrollbar);
+  const float preview_h = std::clamp(preview_fraction_ * body_h, 120.0f, body_h - 120.0f);
+  ImGui::BeginChild("##preview", {0, preview_h}, false, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+  {
+    const PreviewContent content = preview_content(previewed);
+    // Header: what is previewed, which output, pinning, 2D/3D.
+    ImGui::SetCursorPos({6, 4});
+    if (ImGui::RadioButton("2D", !show_3d_)) show_3d_ = false;
+    ImGui::SameLine();
+    if (ImGui::RadioButton("3D", show_3d_)) show_3d_ = true;
+    ImGui::SameLine();
+    const Node* node = previewed.empty() ? nullptr : document_->graph().find(previewed);
+    if (node) {
+      ImGui::TextColored(ImColor(theme::category_color(node->type->category)), "%s", previewed.c_str());
+      if (node->type->outputs.size() > 1) {
+        ImGui::SameLine();
+        int& port = shown_port_[previewed];
+        ImGui::SetNextItemWidth(110);
+        if (ImGui::BeginCombo("##port", node->type->outputs[static_cast<std::size_t>(std::clamp(port, 0, static_cast<int>(node->type->outputs.size()) - 1))].name.c_str())) {
+          for (int k = 0; k < static_cast<int>(node->type->outputs.size()); ++k)
+            if (ImGui::Selectable(node->type->outputs[static_cast<std::size_t>(k)].name.c_str(), k == port)) port = k;
+          ImGui::EndCombo();
+        }
+      }
+      ImGui::SameLine();
+      bool pin = pinned_ == previewed;
+      if (ImGui::Checkbox("pin", &pin)) pinned_ = pin ? previewed : std::string();
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("Keep previewing this node whatever is selected (double-click a node)");
+    } else {
+      ImGui::TextDisabled("no node");
+    }
+    if (show_3d_) {
+      ImGui::SameLine();
+      std::vector<std::string> images;
+      for (const auto& n : document_->graph().nodes())
+        for (const auto& o : n.type->outputs)
+          if (o.type == PortType::Image) {
+            images.push_back(n.id);
+            break;
+          }
+      ImGui::SetNextItemWidth(130);
+      if (ImGui::BeginCombo("##drape", drape_node_.empty() ? "no drape" : drape_node_.c_str())) {
+        if (ImGui::Selectable("no drape", drape_node_.empty())) drape_node_.clear();
+        for (const auto& id : images)
+          if (ImGui::Selectable(id.c_str(), id == drape_node_)) drape_node_ = id;
+        ImGui::EndCombo();
+      }
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("Colour image draped over the terrain");
+    }
+    ImGui::SetCursorPosX(6);
+    ImGui::BeginGroup();
+    if (show_3d_) viewport_3d_->draw(content);
+    else preview_2d_.draw(content);
+    ImGui::EndGroup();
+  }
+  ImGui::EndChild();
+  preview_fraction_ += splitter("##hsplit", false, 5.0f, right_width_) / std::max(1.0f, body_h);
+  ImGui::BeginChild("##inspector", {0, 0}, false);
+  ImGui::SetCursorPos({8, 6});
+  ImGui::BeginGroup();
+  ImGui::PushItemWidth(-1);
+  inspector_.draw(*document_, selection_);
+  ImGui::PopItemWidth();
+  ImGui::EndGroup();
+  ImGui::EndChild();
+  ImGui::EndChild();
+
+  draw_status_bar(kStatusBarHeight);
+}
+
+void App::draw_status_bar(float height) {
+  ImGui::PushStyleColor(ImGuiCol_ChildBg, ImVec4(0.09f, 0.10f, 0.11f, 1.0f));
+  ImGui::BeginChild("##status", {0, height}, false, ImGuiWindowFlags_NoScrollbar);
+  ImGui::SetCursorPos({8, (height - ImGui::GetTextLineHeight()) * 0.5f});
+  const auto build = evaluation_.build_status();
+  if (!canvas_->message().empty()) {
+    ImGui::TextColored(ImColor(theme::kError), "%s", canvas_->message().c_str());
+  } else if (!autosaver_.last_error().empty()) {
+    ImGui::TextColored(ImColor(theme::kError), "%s", autosaver_.last_error().c_str());
+  } else if (auto p = evaluation_.preview()) {
+    std::size_t computed = 0, cached = 0;
+    for (const auto& [id, r] : p->reports) {
+      if (r.status == NodeStatus::Cached) ++cached;
+      else if (r.status == NodeStatus::Computed) ++computed;
+    }
+    ImGui::TextDisabled("preview %d x %d: %zu computed, %zu cached in %s%s", p->domain.width(), p->domain.height(),
+                        computed, cached, format_duration(p->milliseconds).c_str(),
+                        evaluation_.preview_busy() ? "   (updating...)" : "");
+    if (!p->error.empty()) {
+      ImGui::SameLine();
+      ImGui::TextColored(ImColor(theme::kError), "%s", p->error.c_str());
+    }
+  } else {
+    ImGui::TextDisabled("%s", evaluation_.preview_busy() ? "evaluating..." : "ready");
+  }
+  // Build progress on the right.
+  const float right = ImGui::GetWindowWidth() - 8.0f;
+  if (build.running) {
+    ImGui::SameLine(right - 420.0f);
+    ImGui::TextUnformatted("Building");
+    ImGui::SameLine();
+    char overlay[128];
+    std::snprintf(overlay, sizeof overlay, "%.0f%%  %s", build.fraction * 100.0, build.current.c_str());
+    ImGui::ProgressBar(static_cast<float>(build.fraction), {260, ImGui::GetTextLineHeight()}, overlay);
+    ImGui::SameLine();
+    ImGui::SetCursorPosY(ImGui::GetCursorPosY() - 2);
+    if (ImGui::SmallButton("Cancel")) evaluation_.cancel_build();
+  } else if (build.finished) {
+    std::string text = build.cancelled ? "build cancelled"
+                       : build.ok      ? "build done in " + format_duration(build.milliseconds) + " -> " + output_dir_.string()
+                                       : "build failed: " + (build.failures.empty() ? std::string("?") : build.failures.front());
+    const float w = ImGui::CalcTextSize(text.c_str()).x;
+    ImGui::SameLine(std::max(200.0f, right - w));
+    ImGui::TextColored(build.ok ? ImVec4(0.5f, 0.85f, 0.5f, 1) : ImVec4(0.95f, 0.45f, 0.4f, 1), "%s", text.c_str());
+  }
+  ImGui::EndChild();
+  ImGui::PopStyleColor();
+}
+
+void App::draw_modals() {
+  if (const auto chosen = file_dialog_.draw()) {
+    const auto action = std::exchange(file_action_, FileAction::None);
+    if (action == FileAction::Open) open_file(*chosen);
+    else if (action == FileAction::SaveAs || action == FileAction::SaveAsThen) {
+      save_as(*chosen);
+      if (action == FileAction::SaveAsThen && !document_->dirty() && after_save_) std::exchange(after_save_, nullptr)();
+    }
+  } else if (!file_dialog_.visible()) {
+    file_action_ = FileAction::None;
+    after_save_ = nullptr;
+  }
+
+  if (prompt_unsaved_) {
+    ImGui::OpenPopup("Unsaved changes");
+    prompt_unsaved_ = false;
+  }
+  ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, {0.5f, 0.5f});
+  if (ImGui::BeginPopupModal("Unsaved changes", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::Text("Save the changes to %s?", document_->display_name().c_str());
+    ImGui::TextDisabled("Your changes are lost if you don't save them.");
+    ImGui::Spacing();
+    if (ImGui::Button("Save", {110, 0})) {
+      ImGui::CloseCurrentPopup();
+      if (save()) {
+        std::exchange(pending_action_, nullptr)();
+      } else if (!document_->has_path()) {
+        after_save_ = std::exchange(pending_action_, nullptr);
+        file_action_ = FileAction::SaveAsThen;
+        file_dialog_.show(FileDialog::Mode::Save, "Save As", {}, {".json"});
+      }
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Don't Save", {110, 0})) {
+      ImGui::CloseCurrentPopup();
+      std::exchange(pending_action_, nullptr)();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel", {110, 0}) || ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) {
+      ImGui::CloseCurrentPopup();
+      pending_action_ = nullptr;
+    }
+    ImGui::EndPopup();
+  }
+
+  if (!recovery_offer_.empty() && !ImGui::IsPopupOpen("Recover unsaved work")) ImGui::OpenPopup("Recover unsaved work");
+  ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, {0.5f, 0.5f});
+  if (ImGui::BeginPopupModal("Recover unsaved work", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    const RecoveryFile& rf = recovery_offer_.front();
+    ImGui::TextUnformatted("Orogen was not closed properly last time.");
+    ImGui::Text("Unsaved work of %s was autosaved at %s.",
+                rf.original.empty() ? "an untitled graph" : rf.original.filename().string().c_str(), rf.saved_at.c_str());
+    if (!rf.original.empty()) ImGui::TextDisabled("%s", rf.original.string().c_str());
+    ImGui::Spacing();
+    if (ImGui::Button("Recover", {110, 0})) {
+      try {
+        auto doc = std::make_unique<Document>(RecoveryStore::load(rf), rf.original);
+        doc->mark_unsaved();
+        set_document(std::move(doc));
+        RecoveryStore::remove(rf);
+        autosaver_.flush(*document_);  // the recovered work is now this session's to protect
+      } catch (const std::exception& e) {
+        show_error(e.what());
+      }
+      recovery_offer_.erase(recovery_offer_.begin());
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Discard", {110, 0})) {
+      RecoveryStore::remove(rf);
+      recovery_offer_.erase(recovery_offer_.begin());
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Later", {110, 0})) {
+      recovery_offer_.clear();  // kept on disk, offered again next time
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::EndPopup();
+  }
+
+  if (!error_text_.empty() && !ImGui::IsPopupOpen("Error")) ImGui::OpenPopup("Error");
+  ImGui::SetNextWindowPos(ImGui::GetMainViewport()->GetCenter(), ImGuiCond_Appearing, {0.5f, 0.5f});
+  if (ImGui::BeginPopupModal("Error", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::PushTextWrapPos(700);
+    ImGui::TextUnformatted(error_text_.c_str());
+    ImGui::PopTextWrapPos();
+    if (ImGui::Button("OK", {110, 0}) || ImGui::IsKeyPressed(GLFW_KEY_ENTER) || ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) {
+      error_text_.clear();
+      ImGui::CloseCurrentPopup();
+    }
+    ImGui::EndPopup();
+  }
+
+  if (show_shortcuts_) {
+    ImGui::SetNextWindowSize({520, 0}, ImGuiCond_Appearing);
+    if (ImGui::Begin("Keyboard and Mouse", &show_shortcuts_, ImGuiWindowFlags_NoSavedSettings)) {
+      static constexpr const char* kRows[][2] = {
+          {"Tab / right-click", "add a node (type to search)"},
+          {"drag pin to pin", "connect (incompatible pins dim)"},
+          {"drag from a connected input", "move or detach its link"},
+          {"click / Shift-click / drag on empty", "select / toggle / box select"},
+          {"drag a node", "move the selection"},
+          {"Delete / X", "delete"},
+          {"Ctrl+D, Ctrl+C, Ctrl+V", "duplicate, copy, paste (graph JSON)"},
+          {"F / Home", "frame selected / all"},
+          {"middle drag or Space+drag, wheel", "pan, zoom around the cursor"},
+          {"double-click a node", "pin the preview to it"},
+          {"Ctrl+Z / Ctrl+Shift+Z", "undo / redo"},
+          {"Ctrl+S, Ctrl+Shift+S, Ctrl+O, Ctrl+N", "save, save as, open, new"},
+          {"Ctrl+B", "build at full resolution"},
+          {"3D: left / right drag, wheel, F", "orbit / pan, zoom, frame"},
+      };
+      if (ImGui::BeginTable("##keys", 2, ImGuiTableFlags_RowBg)) {
+        for (const auto& row : kRows) {
+          ImGui::TableNextRow();
+          ImGui::TableSetColumnIndex(0);
+          ImGui::TextUnformatted(row[0]);
+          ImGui::TableSetColumnIndex(1);
+          ImGui::TextDisabled("%s", row[1]);
+        }
+        ImGui::EndTable();
+      }
+    }
+    ImGui::End();
+  }
+  if (show_about_) {
+    if (ImGui::Begin("About Orogen", &show_about_, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings)) {
+      ImGui::Text("Orogen %s", OROGEN_VERSION);
+      ImGui::TextDisabled("A node-graph procedural terrain compositor.");
+      ImGui::Text("%zu node types registered.", NodeRegistry::instance().all().size());
+      ImGui::TextDisabled("Dear ImGui %s, OpenGL %s", ImGui::GetVersion(),
+                          reinterpret_cast<const char*>(glGetString(GL_VERSION)));
+    }
+    ImGui::End();
+  }
+}
+
+void App::set_document(std::unique_ptr<Document> document) {
+  // The old document's unsaved work is gone by the user's choice; so is its recovery file.
+  recovery_.discard();
+  document_ = std::move(document);
+  canvas_->set_document(*document_);
+  pinned_.clear();
+  drape_node_.clear();
+  shown_port_.clear();
+  requested_revision_ = ~std::uint64_t(0);
+  frame_canvas_ = true;
+}
+
+void App::open_file(const std::filesystem::path& path) {
+  try {
+    set_document(std::make_unique<Document>(Document::open(path)));
+    recent_.add(path);
+  } catch (const std::exception& e) {
+    show_error(e.what());
+    recent_.remove(path);
+  }
+}
+
+bool App::save() {
+  if (!document_->has_path()) return false;
+  try {
+    document_->save();
+    recent_.add(document_->path());
+    recovery_.discard();
+    return true;
+  } catch (const std::exception& e) {
+    show_error(std::string("Saving failed, nothing was overwritten:\n") + e.what());
+    return false;
+  }
+}
+
+void App::save_as(const std::filesystem::path& path) {
+  try {
+    document_->save_as(path);
+    recent_.add(path);
+    recovery_.discard();
+  } catch (const std::exception& e) {
+    show_error(std::string("Saving failed, nothing was overwritten:\n") + e.what());
+  }
+}
+
+void App::guard_unsaved(std::function<void()> action) {
+  if (!document_->dirty()) {
+    action();
+    return;
+  }
+  pending_action_ = std::move(action);
+  prompt_unsaved_ = true;
+}
+
+void App::request_quit() {
+  guard_unsaved([this] { quit_ = true; });
+}
+
+std::vector<std::filesystem::path> App::examples() const {
+  std::vector<std::filesystem::path> dirs;
+  if (!options_.examples_dir.empty()) dirs.push_back(options_.examples_dir);
+  dirs.push_back("graphs");
+  dirs.push_back(std::filesystem::path(OROGEN_SOURCE_DIR) / "graphs");
+  std::vector<std::filesystem::path> out;
+  for (const auto& d : dirs) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(d, ec)) continue;
+    for (const auto& e : std::filesystem::directory_iterator(d, ec))
+      if (e.path().extension() == ".json") out.push_back(std::filesystem::absolute(e.path(), ec));
+    if (!out.empty()) break;
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string App::preview_node() const {
+  const Graph& g = document_->graph();
+  auto viewable = [&](const std::string& id) -> std::string {
+    const Node* n = g.find(id);
+    if (!n) return {};
+    if (!n->type->outputs.empty()) return id;
+    // A writer shows what it writes.
+    for (const auto& in : n->type->inputs)
+      if (auto it = n->inputs.find(in.name); it != n->inputs.end()) return it->second.node;
+    return {};
+  };
+  if (!pinned_.empty())
+    if (auto id = viewable(pinned_); !id.empty()) return id;
+  if (!selection_.active().empty())
+    if (auto id = viewable(selection_.active()); !id.empty()) return id;
+  // Nothing chosen: the heightfield the graph writes (what a build produces), else the last heightfield of
+  // the flow, else the last node with outputs.
+  std::vector<std::string> order;
+  try {
+    order = g.topological_order();
+  } catch (const std::exception&) {
+    return {};
+  }
+  auto first_output_is_field = [&](const std::string& id) {
+    const Node* n = g.find(id);
+    return n && !n->type->outputs.empty() && n->type->outputs.front().type == PortType::Heightfield;
+  };
+  for (auto it = order.rbegin(); it != order.rend(); ++it)
+    if (const Node* n = g.find(*it); n && n->type->writes_files)
+      if (auto id = viewable(*it); first_output_is_field(id)) return id;
+  for (auto it = order.rbegin(); it != order.rend(); ++it)
+    if (first_output_is_field(*it)) return *it;
+  for (auto it = order.rbegin(); it != order.rend(); ++it)
+    if (auto id = viewable(*it); !id.empty()) return id;
+  return {};
+}
+
+std::vector<std::string> App::preview_request(const std::string& node) const {
+  std::vector<std::string> nodes;
+  const Node* n = document_->graph().find(node);
+  if (!n) return nodes;
+  nodes.push_back(node);
+  const int port = std::clamp(shown_port_.count(node) ? shown_port_.at(node) : 0, 0,
+                              std::max(0, static_cast<int>(n->type->outputs.size()) - 1));
+  const bool field_like = n->type->outputs.empty() || n->type->outputs[static_cast<std::size_t>(port)].type == PortType::Heightfield ||
+                          n->type->outputs[static_cast<std::size_t>(port)].type == PortType::Image;
+  if (!field_like) {
+    // Points, curves, maps and meshes are drawn over the heightfield they came from.
+    for (const auto& in : n->type->inputs)
+      if (in.type == PortType::Heightfield)
+        if (auto it = n->inputs.find(in.name); it != n->inputs.end()) {
+          nodes.push_back(it->second.node);
+          break;
+        }
+  }
+  if (show_3d_ && !drape_node_.empty() && document_->graph().find(drape_node_) && drape_node_ != node)
+    nodes.push_back(drape_node_);
+  return nodes;
+}
+
+void App::update_preview() {
+  const std::string node = preview_node();
+  const auto nodes = preview_request(node);
+  const bool changed = document_->content_revision() != requested_revision_ || nodes != requested_nodes_ ||
+                       evaluation_.preview_resolution() != requested_resolution_;
+  pending_request_ = changed && !nodes.empty();
+  if (!pending_request_) return;
+  // While a run is busy, superseding it at most every few frames lets drags show intermediate results.
+  const auto now = std::chrono::steady_clock::now();
+  if (evaluation_.preview_busy() && now - last_request_ < kRequestThrottle) return;
+  evaluation_.request_preview(document_->graph(), nodes, document_->content_revision());
+  requested_revision_ = document_->content_revision();
+  requested_nodes_ = nodes;
+  requested_resolution_ = evaluation_.preview_resolution();
+  last_request_ = now;
+  pending_request_ = false;
+}
+
+PreviewContent App::preview_content(const std::string& node) const {
+  PreviewContent c;
+  c.node = node;
+  const Node* n = node.empty() ? nullptr : document_->graph().find(node);
+  if (!n || n->type->outputs.empty()) return c;
+  const int port = std::clamp(shown_port_.count(node) ? shown_port_.at(node) : 0, 0,
+                              static_cast<int>(n->type->outputs.size()) - 1);
+  c.port = n->type->outputs[static_cast<std::size_t>(port)].name;
+  const auto result = evaluation_.preview();
+  c.stale = evaluation_.preview_busy() || pending_request_;
+  if (!result) return c;
+  c.serial = result->serial;
+  if (auto it = result->outputs.find(node); it != result->outputs.end() && static_cast<std::size_t>(port) < it->second.size())
+    c.value = it->second[static_cast<std::size_t>(port)];
+  const auto nodes = preview_request(node);
+  if (nodes.size() > 1 && nodes[1] != drape_node_)
+    if (auto it = result->outputs.find(nodes[1]); it != result->outputs.end())
+      for (const auto& v : it->second)
+        if (auto* h = std::get_if<HeightfieldPtr>(&v)) {
+          c.backdrop = *h;
+          c.backdrop_node = nodes[1];
+          break;
+        }
+  if (!drape_node_.empty())
+    if (auto it = result->outputs.find(drape_node_); it != result->outputs.end())
+      for (const auto& v : it->second)
+        if (auto* im = std::get_if<ImagePtr>(&v)) {
+          c.drape = *im;
+          break;
+        }
+  return c;
+}
+
+void App::start_build() {
+  if (evaluation_.build_status().running) return;
+  OutputPolicy policy;
+  policy.output_dir = output_dir_;
+  evaluation_.start_build(document_->graph(), policy);
+}
+
+}  // namespace orogen::editor

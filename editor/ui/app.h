@@ -1,0 +1,132 @@
+#pragma once
+// The editor application: the window, the panels (node canvas, 2D/3D preview, inspector, status bar), the
+// menus, file handling with unsaved-changes prompts, autosave and crash recovery, recent files and
+// examples, background preview and build.
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "editor/model/canvas_controller.h"
+#include "editor/model/document.h"
+#include "editor/model/evaluation_controller.h"
+#include "editor/model/recent_files.h"
+#include "editor/model/recovery.h"
+#include "editor/model/selection.h"
+#include "editor/ui/file_dialog.h"
+#include "editor/ui/inspector.h"
+#include "editor/ui/node_canvas.h"
+#include "editor/ui/preview_2d.h"
+#include "editor/ui/preview_panel.h"
+#include "editor/ui/viewport_3d.h"
+
+struct GLFWwindow;
+struct ImFont;
+
+namespace orogen::editor {
+
+struct AppOptions {
+  std::filesystem::path file;        // opened at start
+  std::filesystem::path screenshot;  // save the window as PNG after `frames` frames and exit
+  int frames = 60;
+  int width = 1600, height = 900;
+  std::string select;                // node selected at start (documentation screenshots)
+  std::string view = "2d";           // preview panel at start: 2d or 3d
+  std::filesystem::path state_dir;   // recent files and recovery; default_state_dir() if empty
+  std::filesystem::path examples_dir;  // graphs/ of the installation; searched if empty
+  int preview_resolution = EvaluationController::kDefaultPreviewResolution;
+};
+
+class App {
+ public:
+  explicit App(AppOptions options);
+  ~App();
+  App(const App&) = delete;
+  App& operator=(const App&) = delete;
+
+  // Runs until the user quits (or the screenshot is taken). Returns the process exit code.
+  int run();
+
+ private:
+  // Frame.
+  void frame();
+  void draw_menu_bar();
+  void draw_panels();
+  void draw_status_bar(float height);
+  void draw_modals();
+  void handle_shortcuts();
+
+  // Documents.
+  void set_document(std::unique_ptr<Document> document);
+  void open_file(const std::filesystem::path& path);
+  bool save();  // false if it needs Save As first or failed
+  void save_as(const std::filesystem::path& path);
+  // Runs `action` now, or after asking what to do with unsaved changes.
+  void guard_unsaved(std::function<void()> action);
+  void request_quit();
+  std::vector<std::filesystem::path> examples() const;
+
+  // Preview.
+  std::string preview_node() const;
+  std::vector<std::string> preview_request(const std::string& node) const;
+  void update_preview();
+  PreviewContent preview_content(const std::string& node) const;
+
+  // Build.
+  void start_build();
+
+  void show_error(std::string text) { error_text_ = std::move(text); }
+
+  AppOptions options_;
+  GLFWwindow* window_ = nullptr;
+  ImFont* canvas_font_ = nullptr;
+
+  std::unique_ptr<Document> document_;
+  Selection selection_;
+  EvaluationController evaluation_;
+  std::unique_ptr<CanvasController> canvas_;
+  std::unique_ptr<NodeCanvasView> canvas_view_;
+  Inspector inspector_;
+  Preview2D preview_2d_;
+  std::unique_ptr<Viewport3D> viewport_3d_;
+
+  std::filesystem::path state_dir_;
+  RecoveryStore recovery_;
+  Autosaver autosaver_;
+  RecentFiles recent_;
+  std::vector<RecoveryFile> recovery_offer_;
+
+  FileDialog file_dialog_;
+  enum class FileAction { None, Open, SaveAs, SaveAsThen } file_action_ = FileAction::None;
+  std::function<void()> after_save_;     // continuation of Save As from the unsaved-changes prompt
+  std::function<void()> pending_action_;  // waiting for the unsaved-changes prompt
+  bool prompt_unsaved_ = false;
+  bool show_shortcuts_ = false, show_about_ = false;
+  std::string error_text_;
+
+  // Preview state.
+  std::string pinned_;                   // preview pinned to this node (double-click on a node)
+  std::map<std::string, int> shown_port_;  // output shown per node
+  std::string drape_node_;               // an Image node draped over the 3D terrain
+  std::uint64_t requested_revision_ = ~std::uint64_t(0);
+  std::vector<std::string> requested_nodes_;
+  int requested_resolution_ = 0;
+  std::chrono::steady_clock::time_point last_request_{};
+  bool pending_request_ = false;
+  bool show_3d_ = false;
+  bool frame_canvas_ = true;
+
+  // Layout.
+  float right_width_ = 0.0f;
+  float preview_fraction_ = 0.56f;
+
+  std::filesystem::path output_dir_ = "out";
+  std::string title_;
+  bool quit_ = false;
+  int frame_count_ = 0;
+};
+
+}  // namespace orogen::editor

@@ -1,0 +1,36 @@
+#pragma once
+// The inspector: the active node's parameters, generated from its type's declarations (sliders and drags
+// with units and ranges, seeds with re-roll, enum combos, curve and gradient editors, file paths), each
+// with its description on hover and a reset to the default. With no node selected it shows the graph's
+// domain and the preview resolution.
+#include <map>
+#include <string>
+
+#include "editor/model/document.h"
+#include "editor/model/evaluation_controller.h"
+#include "editor/model/selection.h"
+#include "editor/ui/file_dialog.h"
+
+namespace orogen::editor {
+
+class Inspector {
+ public:
+  explicit Inspector(EvaluationController& evaluation) : evaluation_(evaluation) {}
+  void draw(Document& document, Selection& selection);
+
+ private:
+  void draw_node(Document& document, Selection& selection, const Node& node);
+  void draw_param(Document& document, const Node& node, const ParamDecl& decl);
+  void draw_graph(Document& document);
+  // Applies a value, reporting a refused one under the parameter.
+  void apply(Document& document, const Node& node, const ParamDecl& decl, const ParamValue& value, bool gesture);
+
+  EvaluationController& evaluation_;
+  FileDialog file_dialog_;
+  std::string browse_node_, browse_param_;
+  std::map<std::string, std::string> text_;  // in-progress text of string and path fields, by node.param
+  std::string rename_of_, rename_text_;
+  std::string error_key_, error_;
+};
+
+}  // namespace orogen::editor

@@ -1,0 +1,201 @@
+#include "editor/ui/preview_2d.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <imgui.h>
+
+#include "editor/ui/theme.h"
+#include "graph/curves.h"
+#include "graph/mesh.h"
+#include "graph/points.h"
+#include "graph/polygon_map.h"
+
+namespace orogen::editor {
+
+namespace {
+
+const Domain* domain_of(const PreviewContent& c) {
+  if (auto* h = std::get_if<HeightfieldPtr>(&c.value); h && *h) return &(*h)->domain;
+  if (auto* i = std::get_if<ImagePtr>(&c.value); i && *i) return &(*i)->domain;
+  if (c.backdrop) return &c.backdrop->domain;
+  return nullptr;
+}
+
+ImU32 class_color(int cls) {
+  static constexpr ImU32 kColors[] = {IM_COL32(255, 80, 80, 255),  IM_COL32(255, 220, 60, 255),
+                                      IM_COL32(80, 220, 255, 255), IM_COL32(200, 120, 255, 255),
+                                      IM_COL32(120, 255, 120, 255), IM_COL32(255, 150, 60, 255)};
+  return kColors[static_cast<unsigned>(cls) % 6];
+}
+
+}  // namespace
+
+void Preview2D::fit(const Domain& domain, glm::dvec2 size) {
+  const glm::dvec2 extent = glm::max(domain.size() + domain.spacing, glm::dvec2(1e-9));
+  center_ = (domain.min_corner() + domain.max_corner()) * 0.5;
+  scale_ = std::min(size.x / extent.x, size.y / extent.y) * 0.96;
+  fitted_domain_ = domain;
+  fitted_ = true;
+}
+
+void Preview2D::upload(const PreviewContent& content) {
+  // The texture shows the value itself (heightfield or image) or the backdrop heightfield.
+  HeightfieldPtr field;
+  ImagePtr image;
+  if (auto* h = std::get_if<HeightfieldPtr>(&content.value)) field = *h;
+  else if (auto* i = std::get_if<ImagePtr>(&content.value)) image = *i;
+  else field = content.backdrop;
+  char key[256];
+  std::snprintf(key, sizeof key, "%llu|%s|%s|%d|%d", static_cast<unsigned long long>(content.serial), content.node.c_str(),
+                content.port.c_str(), static_cast<int>(style_.map), style_.hillshade ? 1 : 0);
+  if (texture_key_ == key) return;
+  texture_key_ = key;
+  has_range_ = false;
+  if (field) {
+    const auto px = render_heightfield(*field, style_);
+    texture_.upload(px.width, px.height, px.rgba.data());
+    texture_domain_ = field->domain;
+    shown_range_ = value_range(*field);
+    has_range_ = true;
+  } else if (image) {
+    const auto px = render_image(*image);
+    texture_.upload(px.width, px.height, px.rgba.data());
+    texture_domain_ = image->domain;
+  } else {
+    texture_ = GlTexture();
+  }
+}
+
+void Preview2D::draw(const PreviewContent& content) {
+  const bool is_field = std::holds_alternative<HeightfieldPtr>(content.value) || content.backdrop;
+  // Toolbar.
+  if (is_field) {
+    int map = static_cast<int>(style_.map);
+    ImGui::SetNextItemWidth(90);
+    if (ImGui::Combo("##map", &map, kColorMapNames, 3)) style_.map = static_cast<ColorMap>(map);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Colour map");
+    ImGui::SameLine();
+    ImGui::Checkbox("hillshade", &style_.hillshade);
+    ImGui::SameLine();
+  }
+  if (ImGui::Button("Fit") && domain_of(content)) fitted_ = false;
+  if (has_range_) {
+    ImGui::SameLine();
+    ImGui::TextDisabled("%.4g .. %.4g", shown_range_.lo, shown_range_.hi);
+  }
+  if (content.stale) {
+    ImGui::SameLine();
+    ImGui::TextColored(ImColor(theme::status_color(NodeRunState::Phase::Computing)), "updating");
+  }
+
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  ImVec2 size = ImGui::GetContentRegionAvail();
+  size.y -= ImGui::GetTextLineHeightWithSpacing();
+  size.x = std::max(size.x, 32.0f);
+  size.y = std::max(size.y, 32.0f);
+  panel_size_ = {size.x, size.y};
+  ImGui::InvisibleButton("##preview2d", size, ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonMiddle);
+  const bool hovered = ImGui::IsItemHovered();
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  const ImVec2 end{origin.x + size.x, origin.y + size.y};
+  dl->PushClipRect(origin, end, true);
+  dl->AddRectFilled(origin, end, IM_COL32(22, 23, 26, 255));
+
+  const Domain* domain = domain_of(content);
+  if (!domain) {
+    const char* text = content.node.empty() ? "Select a node to preview it"
+                       : has_value(content.value) ? "Nothing to draw in 2D for this output"
+                                                  : "Waiting for the evaluation...";
+    if (has_value(content.value) && std::holds_alternative<MeshPtr>(content.value)) text = "A mesh: see the 3D view";
+    const ImVec2 ts = ImGui::CalcTextSize(text);
+    dl->AddText({origin.x + (size.x - ts.x) * 0.5f, origin.y + (size.y - ts.y) * 0.5f}, theme::kTextDim, text);
+    dl->PopClipRect();
+    ImGui::TextDisabled(" ");
+    return;
+  }
+  upload(content);
+  if (!fitted_ || !(fitted_domain_.min_corner() == domain->min_corner() && fitted_domain_.max_corner() == domain->max_corner()))
+    fit(*domain, panel_size_);
+
+  const glm::dvec2 pc{origin.x + size.x * 0.5, origin.y + size.y * 0.5};
+  auto to_screen = [&](glm::dvec2 w) {
+    const glm::dvec2 s = pc + glm::dvec2(w.x - center_.x, -(w.y - center_.y)) * scale_;
+    return ImVec2{static_cast<float>(s.x), static_cast<float>(s.y)};
+  };
+  auto to_world = [&](ImVec2 s) {
+    return glm::dvec2(center_.x + (s.x - pc.x) / scale_, center_.y - (s.y - pc.y) / scale_);
+  };
+
+  // Pan and zoom.
+  ImGuiIO& io = ImGui::GetIO();
+  if (hovered && io.MouseWheel != 0.0f) {
+    const glm::dvec2 anchor = to_world(io.MousePos);
+    scale_ = std::clamp(scale_ * std::pow(1.2, io.MouseWheel), 1e-6, 1e6);
+    center_ = anchor - glm::dvec2(io.MousePos.x - pc.x, -(io.MousePos.y - pc.y)) / scale_;
+  }
+  if (ImGui::IsItemActive() && (ImGui::IsMouseDragging(0) || ImGui::IsMouseDragging(2)))
+    center_ -= glm::dvec2(io.MouseDelta.x, -io.MouseDelta.y) / scale_;
+
+  if (texture_.valid()) {
+    // Texels are centred on samples: the texture covers half a spacing beyond the border samples.
+    const glm::dvec2 half = texture_domain_.spacing * 0.5;
+    const ImVec2 a = to_screen({texture_domain_.min_corner().x - half.x, texture_domain_.max_corner().y + half.y});
+    const ImVec2 b = to_screen({texture_domain_.max_corner().x + half.x, texture_domain_.min_corner().y - half.y});
+    dl->AddImage(texture_.imgui_id(), a, b);
+  }
+
+  // Overlays.
+  if (auto* p = std::get_if<PointsPtr>(&content.value); p && *p) {
+    const Points& pts = **p;
+    const float r = std::clamp(static_cast<float>(scale_ * 2.0), 1.5f, 5.0f);
+    const std::size_t step = std::max<std::size_t>(1, pts.size() / 50000);
+    for (std::size_t k = 0; k < pts.size(); k += step)
+      dl->AddCircleFilled(to_screen({pts.position[k].x, pts.position[k].y}), r,
+                          class_color(k < pts.class_id.size() ? pts.class_id[k] : 0), 8);
+  } else if (auto* c = std::get_if<CurvesPtr>(&content.value); c && *c) {
+    for (const auto& curve : (*c)->curves) {
+      for (const auto& q : curve.points) dl->PathLineTo(to_screen({q.x, q.y}));
+      dl->PathStroke(IM_COL32(70, 190, 255, 255), 0, 2.0f);
+    }
+  } else if (auto* m = std::get_if<PolygonMapPtr>(&content.value); m && *m) {
+    const PolygonMap& map = **m;
+    for (const auto& e : map.edges)
+      if (e.corners[0] >= 0 && e.corners[1] >= 0)
+        dl->AddLine(to_screen(map.corners[static_cast<std::size_t>(e.corners[0])].position),
+                    to_screen(map.corners[static_cast<std::size_t>(e.corners[1])].position), IM_COL32(230, 230, 240, 160));
+  }
+  // Outline of the domain.
+  dl->AddRect(to_screen({domain->min_corner().x, domain->max_corner().y}), to_screen({domain->max_corner().x, domain->min_corner().y}),
+              IM_COL32(255, 255, 255, 40));
+  dl->PopClipRect();
+
+  // Readout under the cursor.
+  if (hovered) {
+    const glm::dvec2 w = to_world(io.MousePos);
+    char value[160] = "";
+    HeightfieldPtr field = content.backdrop;
+    if (auto* h = std::get_if<HeightfieldPtr>(&content.value)) field = *h;
+    if (auto* im = std::get_if<ImagePtr>(&content.value); im && *im) {
+      const Image& img = **im;
+      const glm::dvec2 s = img.domain.to_sample(w);
+      const int i = static_cast<int>(std::lround(s.x)), j = static_cast<int>(std::lround(s.y));
+      if (i >= 0 && j >= 0 && i < img.width() && j < img.height()) {
+        const float* px = img.pixel(i, j);
+        int n = std::snprintf(value, sizeof value, "  value");
+        for (int k = 0; k < std::min(img.channels, 4) && n < 150; ++k) n += std::snprintf(value + n, sizeof value - n, " %.3g", px[k]);
+      }
+    } else if (field) {
+      const glm::dvec2 s = field->domain.to_sample(w);
+      if (s.x >= -0.5 && s.y >= -0.5 && s.x <= field->width() - 0.5 && s.y <= field->height() - 0.5)
+        std::snprintf(value, sizeof value, "  value %.5g", field->sample_world(w.x, w.y));
+    }
+    ImGui::Text("x %.1f m  y %.1f m%s", w.x, w.y, value);
+  } else {
+    ImGui::TextDisabled("%s.%s   %d x %d samples, spacing %.3g m", content.node.c_str(), content.port.c_str(),
+                        domain->width(), domain->height(), domain->spacing.x);
+  }
+}
+
+}  // namespace orogen::editor

@@ -1,0 +1,38 @@
+#pragma once
+// The 2D preview: heightfields through a colour map with hillshade, images, and points, curves and polygon
+// maps drawn over their terrain; pan (drag) and zoom (wheel) in world units; the world position and value
+// under the cursor.
+#include <cstdint>
+#include <string>
+
+#include <glm/vec2.hpp>
+
+#include "editor/model/preview_image.h"
+#include "editor/ui/gl_texture.h"
+#include "editor/ui/preview_panel.h"
+
+namespace orogen::editor {
+
+class Preview2D {
+ public:
+  void draw(const PreviewContent& content);
+
+ private:
+  void upload(const PreviewContent& content);
+  void fit(const Domain& domain, glm::dvec2 size);
+
+  HeightfieldStyle style_;
+  GlTexture texture_;
+  std::string texture_key_;   // what the texture holds
+  Domain texture_domain_;
+  ValueRange shown_range_;
+  bool has_range_ = false;
+  // View: world point at the panel centre and pixels per metre; refitted when the domain changes.
+  glm::dvec2 center_{0.0};
+  double scale_ = 1.0;
+  Domain fitted_domain_;
+  bool fitted_ = false;
+  glm::dvec2 panel_size_{0.0};
+};
+
+}  // namespace orogen::editor

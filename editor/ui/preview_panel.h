@@ -1,0 +1,21 @@
+#pragma once
+// What the preview panels show: the output of the previewed node, plus (for points, curves, polygon maps
+// and meshes) the heightfield it was built on as a backdrop, plus an optional image to drape in 3D.
+#include <string>
+
+#include "graph/port_value.h"
+
+namespace orogen::editor {
+
+struct PreviewContent {
+  std::string node;            // the previewed node ("" if none)
+  std::string port;            // its shown output
+  PortValue value;             // monostate while not (yet) evaluated
+  std::string backdrop_node;   // the heightfield under points / curves / meshes
+  HeightfieldPtr backdrop;
+  ImagePtr drape;              // 3D: colour image draped over the terrain
+  std::uint64_t serial = 0;    // the evaluation result it comes from; changes when the data do
+  bool stale = false;          // a newer evaluation is running
+};
+
+}  // namespace orogen::editor

@@ -1,0 +1,388 @@
+#include "editor/ui/viewport_3d.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <vector>
+
+#include <GLFW/glfw3.h>
+#include <glm/gtc/type_ptr.hpp>
+#include <imgui.h>
+
+#include "editor/model/terrain_mesh.h"
+#include "editor/ui/gl.h"
+#include "editor/ui/theme.h"
+#include "graph/mesh.h"
+#include "graph/points.h"
+
+namespace orogen::editor {
+
+namespace {
+
+// Position, normal, sRGB colour per vertex; lit in linear space, a little haze with distance.
+constexpr const char* kVertex = R"(#version 330 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 normal;
+layout(location = 2) in vec4 color;
+uniform mat4 view_projection;
+uniform float vertical_scale;
+uniform vec3 offset;
+out vec3 v_normal;
+out vec4 v_color;
+out vec3 v_world;
+void main() {
+  vec3 p = position - offset;
+  p.z *= vertical_scale;
+  v_world = p;
+  v_normal = normalize(vec3(normal.xy * vertical_scale, normal.z));
+  v_color = color;
+  gl_Position = view_projection * vec4(p, 1.0);
+})";
+
+constexpr const char* kFragment = R"(#version 330 core
+in vec3 v_normal;
+in vec4 v_color;
+in vec3 v_world;
+uniform vec3 sun;
+uniform vec3 eye;
+uniform float haze_distance;
+out vec4 frag;
+void main() {
+  vec3 n = normalize(v_normal);
+  if (!gl_FrontFacing) n = -n;
+  vec3 albedo = pow(v_color.rgb, vec3(2.2));
+  float diffuse = max(dot(n, sun), 0.0);
+  float sky = 0.5 + 0.5 * n.z;                       // hemisphere ambient
+  vec3 lit = albedo * (0.85 * diffuse * vec3(1.0, 0.97, 0.9) + 0.28 * sky * vec3(0.75, 0.85, 1.0));
+  float haze = clamp(length(v_world - eye) / haze_distance, 0.0, 1.0);
+  lit = mix(lit, vec3(0.52, 0.62, 0.75), 0.35 * haze * haze);
+  frag = vec4(pow(lit, vec3(1.0 / 2.2)), 1.0);
+})";
+
+constexpr const char* kPointsVertex = R"(#version 330 core
+layout(location = 0) in vec3 position;
+layout(location = 2) in vec4 color;
+uniform mat4 view_projection;
+uniform float vertical_scale;
+uniform vec3 offset;
+uniform float point_size;
+out vec4 v_color;
+void main() {
+  vec3 p = position - offset;
+  p.z *= vertical_scale;
+  v_color = color;
+  gl_Position = view_projection * vec4(p, 1.0);
+  gl_PointSize = point_size;
+})";
+
+constexpr const char* kPointsFragment = R"(#version 330 core
+in vec4 v_color;
+out vec4 frag;
+void main() {
+  vec2 d = gl_PointCoord - vec2(0.5);
+  if (dot(d, d) > 0.25) discard;
+  frag = vec4(mix(v_color.rgb, vec3(0.0), smoothstep(0.12, 0.25, dot(d, d))), 1.0);
+})";
+
+unsigned compile(GLenum kind, const char* source) {
+  const unsigned s = glCreateShader(kind);
+  glShaderSource(s, 1, &source, nullptr);
+  glCompileShader(s);
+  int ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048];
+    glGetShaderInfoLog(s, sizeof log, nullptr, log);
+    throw std::runtime_error(std::string("3D viewport shader: ") + log);
+  }
+  return s;
+}
+
+unsigned link(const char* vs, const char* fs) {
+  const unsigned p = glCreateProgram();
+  const unsigned v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
+  glAttachShader(p, v);
+  glAttachShader(p, f);
+  glLinkProgram(p);
+  glDeleteShader(v);
+  glDeleteShader(f);
+  int ok = 0;
+  glGetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[2048];
+    glGetProgramInfoLog(p, sizeof log, nullptr, log);
+    throw std::runtime_error(std::string("3D viewport program: ") + log);
+  }
+  return p;
+}
+
+void push_vertex(std::vector<float>& v, glm::vec3 p, glm::vec3 n, glm::vec4 c) {
+  v.insert(v.end(), {p.x, p.y, p.z, n.x, n.y, n.z, c.r, c.g, c.b, c.a});
+}
+
+glm::vec4 class_color(int cls) {
+  static constexpr glm::vec4 kColors[] = {{1.0f, 0.31f, 0.31f, 1}, {1.0f, 0.86f, 0.24f, 1}, {0.31f, 0.86f, 1.0f, 1},
+                                          {0.78f, 0.47f, 1.0f, 1}, {0.47f, 1.0f, 0.47f, 1},  {1.0f, 0.59f, 0.24f, 1}};
+  return kColors[static_cast<unsigned>(cls) % 6];
+}
+
+}  // namespace
+
+Viewport3D::~Viewport3D() {
+  release(terrain_);
+  release(markers_);
+  release(mesh_);
+  if (program_) glDeleteProgram(program_);
+  if (points_program_) glDeleteProgram(points_program_);
+  if (fbo_) glDeleteFramebuffers(1, &fbo_);
+  if (color_) glDeleteTextures(1, &color_);
+  if (depth_) glDeleteRenderbuffers(1, &depth_);
+}
+
+void Viewport3D::release(Buffers& b) {
+  if (b.vao) glDeleteVertexArrays(1, &b.vao);
+  if (b.vbo) glDeleteBuffers(1, &b.vbo);
+  if (b.ebo) glDeleteBuffers(1, &b.ebo);
+  b = {};
+}
+
+void Viewport3D::upload(Buffers& b, const std::vector<float>& vertices, const std::vector<std::uint32_t>& indices) {
+  if (!b.vao) {
+    glGenVertexArrays(1, &b.vao);
+    glGenBuffers(1, &b.vbo);
+    glGenBuffers(1, &b.ebo);
+  }
+  glBindVertexArray(b.vao);
+  glBindBuffer(GL_ARRAY_BUFFER, b.vbo);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)), vertices.data(), GL_STATIC_DRAW);
+  const GLsizei stride = 10 * sizeof(float);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(0));
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(3 * sizeof(float)));
+  glEnableVertexAttribArray(2);
+  glVertexAttribPointer(2, 4, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(6 * sizeof(float)));
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, b.ebo);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data(),
+               GL_STATIC_DRAW);
+  glBindVertexArray(0);
+  b.count = static_cast<int>(indices.empty() ? vertices.size() / 10 : indices.size());
+}
+
+void Viewport3D::ensure_gl() {
+  if (program_) return;
+  program_ = link(kVertex, kFragment);
+  points_program_ = link(kPointsVertex, kPointsFragment);
+}
+
+void Viewport3D::resize_target(int width, int height) {
+  if (width == target_w_ && height == target_h_ && fbo_) return;
+  if (!fbo_) {
+    glGenFramebuffers(1, &fbo_);
+    glGenTextures(1, &color_);
+    glGenRenderbuffers(1, &depth_);
+  }
+  glBindTexture(GL_TEXTURE_2D, color_);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glBindTexture(GL_TEXTURE_2D, 0);
+  glBindRenderbuffer(GL_RENDERBUFFER, depth_);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+  glBindRenderbuffer(GL_RENDERBUFFER, 0);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_, 0);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  target_w_ = width;
+  target_h_ = height;
+}
+
+void Viewport3D::update_geometry(const PreviewContent& content) {
+  HeightfieldPtr field = content.backdrop;
+  if (auto* h = std::get_if<HeightfieldPtr>(&content.value); h && *h) field = *h;
+  char key[256];
+  std::snprintf(key, sizeof key, "%llu|%s|%s|%p|%p", static_cast<unsigned long long>(content.serial),
+                content.node.c_str(), content.port.c_str(), static_cast<const void*>(field.get()),
+                static_cast<const void*>(content.drape.get()));
+  if (geometry_key_ == key) return;
+  geometry_key_ = key;
+  bool have_bounds = false;
+  glm::dvec3 lo(0.0), hi(0.0);
+  auto extend = [&](glm::vec3 p) {
+    lo = have_bounds ? glm::min(lo, glm::dvec3(p)) : glm::dvec3(p);
+    hi = have_bounds ? glm::max(hi, glm::dvec3(p)) : glm::dvec3(p);
+    have_bounds = true;
+  };
+
+  std::vector<float> vertices;
+  if (field) {
+    TerrainMeshOptions options;
+    options.drape = content.drape.get();
+    const TerrainMesh tm = build_terrain_mesh(*field, options);
+    vertices.reserve(tm.positions.size() * 10);
+    for (std::size_t k = 0; k < tm.positions.size(); ++k) push_vertex(vertices, tm.positions[k], tm.normals[k], tm.colors[k]);
+    upload(terrain_, vertices, tm.indices);
+    extend(tm.min);
+    extend(tm.max);
+  } else {
+    terrain_.count = 0;
+  }
+
+  vertices.clear();
+  if (auto* p = std::get_if<PointsPtr>(&content.value); p && *p) {
+    const Points& pts = **p;
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      push_vertex(vertices, pts.position[k], {0, 0, 1}, class_color(k < pts.class_id.size() ? pts.class_id[k] : 0));
+      extend(pts.position[k]);
+    }
+    upload(markers_, vertices, {});
+  } else {
+    markers_.count = 0;
+  }
+
+  vertices.clear();
+  if (auto* m = std::get_if<MeshPtr>(&content.value); m && *m) {
+    const TriMesh& mesh = (*m)->mesh;
+    std::vector<std::uint32_t> indices;
+    for (auto v : mesh.vertices()) {
+      const auto& p = mesh.point(v);
+      const auto n = mesh.has_vertex_normals() ? mesh.normal(v) : OpenMesh::Vec3f(0, 0, 1);
+      const auto c = mesh.has_vertex_colors() ? mesh.color(v) : OpenMesh::Vec4f(0.7f, 0.7f, 0.7f, 1.0f);
+      push_vertex(vertices, {p[0], p[1], p[2]}, {n[0], n[1], n[2]}, {c[0], c[1], c[2], c[3]});
+      extend({p[0], p[1], p[2]});
+    }
+    for (auto f : mesh.faces())
+      for (auto v : mesh.fv_range(f)) indices.push_back(static_cast<std::uint32_t>(v.idx()));
+    upload(mesh_, vertices, indices);
+  } else {
+    mesh_.count = 0;
+  }
+  if (have_bounds) {
+    const bool changed = !framed_ || glm::length(lo - bounds_min_) + glm::length(hi - bounds_max_) >
+                                         1e-3 * glm::length(hi - lo);
+    bounds_min_ = lo;
+    bounds_max_ = hi;
+    if (changed) framed_ = false;
+  }
+}
+
+void Viewport3D::render(int width, int height) {
+  resize_target(width, height);
+  GLint previous_fbo = 0, previous_viewport[4];
+  glGetIntegerv(GL_FRAMEBUFFER_BINDING, &previous_fbo);
+  glGetIntegerv(GL_VIEWPORT, previous_viewport);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glViewport(0, 0, width, height);
+  glClearColor(0.50f, 0.60f, 0.72f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_CULL_FACE);
+
+  // Geometry is drawn relative to the bounds' centre (float precision holds for large worlds), with heights
+  // scaled; the camera lives in that space.
+  const glm::dvec3 centre = (bounds_min_ + bounds_max_) * 0.5;
+  const OrbitCamera& cam = camera_;
+  const glm::mat4 vp = cam.projection(static_cast<double>(width) / height) * cam.view();
+  const glm::vec3 offset(static_cast<float>(centre.x), static_cast<float>(centre.y), static_cast<float>(centre.z));
+  const glm::vec3 sun = glm::normalize(glm::vec3(-0.45f, 0.35f, 0.62f));
+  const glm::vec3 eye = glm::vec3(cam.eye());
+  const float haze = static_cast<float>(std::max(cam.distance * 2.5, 1.0));
+
+  glUseProgram(program_);
+  glUniformMatrix4fv(glGetUniformLocation(program_, "view_projection"), 1, GL_FALSE, glm::value_ptr(vp));
+  glUniform1f(glGetUniformLocation(program_, "vertical_scale"), vertical_scale_);
+  glUniform3fv(glGetUniformLocation(program_, "offset"), 1, glm::value_ptr(offset));
+  glUniform3fv(glGetUniformLocation(program_, "sun"), 1, glm::value_ptr(sun));
+  glUniform3fv(glGetUniformLocation(program_, "eye"), 1, glm::value_ptr(eye));
+  glUniform1f(glGetUniformLocation(program_, "haze_distance"), haze);
+  if (wireframe_) glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+  for (const Buffers* b : {&terrain_, &mesh_})
+    if (b->count > 0) {
+      glBindVertexArray(b->vao);
+      glDrawElements(GL_TRIANGLES, b->count, GL_UNSIGNED_INT, nullptr);
+    }
+  if (wireframe_) glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  if (markers_.count > 0) {
+    glEnable(GL_PROGRAM_POINT_SIZE);
+    glUseProgram(points_program_);
+    glUniformMatrix4fv(glGetUniformLocation(points_program_, "view_projection"), 1, GL_FALSE, glm::value_ptr(vp));
+    glUniform1f(glGetUniformLocation(points_program_, "vertical_scale"), vertical_scale_);
+    glUniform3fv(glGetUniformLocation(points_program_, "offset"), 1, glm::value_ptr(offset));
+    glUniform1f(glGetUniformLocation(points_program_, "point_size"), marker_size_);
+    glBindVertexArray(markers_.vao);
+    glDrawArrays(GL_POINTS, 0, markers_.count);
+    glDisable(GL_PROGRAM_POINT_SIZE);
+  }
+  glBindVertexArray(0);
+  glUseProgram(0);
+  glDisable(GL_DEPTH_TEST);
+  glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
+  glViewport(previous_viewport[0], previous_viewport[1], previous_viewport[2], previous_viewport[3]);
+}
+
+void Viewport3D::draw(const PreviewContent& content) {
+  ImGui::SetNextItemWidth(140);
+  ImGui::SliderFloat("##vscale", &vertical_scale_, 0.1f, 10.0f, "height x%.2f", ImGuiSliderFlags_Logarithmic);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Vertical exaggeration");
+  ImGui::SameLine();
+  ImGui::Checkbox("wireframe", &wireframe_);
+  ImGui::SameLine();
+  if (ImGui::Button("Frame")) framed_ = false;
+  if (content.stale) {
+    ImGui::SameLine();
+    ImGui::TextColored(ImColor(theme::status_color(NodeRunState::Phase::Computing)), "updating");
+  }
+
+  ImVec2 size = ImGui::GetContentRegionAvail();
+  size.x = std::max(size.x, 32.0f);
+  size.y = std::max(size.y, 32.0f);
+  try {
+    ensure_gl();
+    update_geometry(content);
+  } catch (const std::exception& e) {
+    ImGui::TextColored(ImColor(theme::kError), "%s", e.what());
+    return;
+  }
+  if (terrain_.count == 0 && markers_.count == 0 && mesh_.count == 0) {
+    ImGui::InvisibleButton("##empty3d", size);
+    const ImVec2 o = ImGui::GetItemRectMin();
+    const char* text = content.node.empty() ? "Select a node to view it in 3D" : "Nothing to show in 3D for this output";
+    const ImVec2 ts = ImGui::CalcTextSize(text);
+    ImGui::GetWindowDrawList()->AddRectFilled(o, ImGui::GetItemRectMax(), IM_COL32(22, 23, 26, 255));
+    ImGui::GetWindowDrawList()->AddText({o.x + (size.x - ts.x) * 0.5f, o.y + (size.y - ts.y) * 0.5f}, theme::kTextDim, text);
+    return;
+  }
+  if (!framed_) {
+    const glm::dvec3 centre = (bounds_min_ + bounds_max_) * 0.5;
+    const glm::dvec3 lo = (bounds_min_ - centre) * glm::dvec3(1, 1, vertical_scale_);
+    const glm::dvec3 hi = (bounds_max_ - centre) * glm::dvec3(1, 1, vertical_scale_);
+    camera_.frame(lo, hi);
+    framed_ = true;
+  }
+
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  ImGui::InvisibleButton("##viewport3d", size,
+                         ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight | ImGuiButtonFlags_MouseButtonMiddle);
+  const ImGuiIO& io = ImGui::GetIO();
+  if (ImGui::IsItemActive()) {
+    const glm::dvec2 d{io.MouseDelta.x, io.MouseDelta.y};
+    if (ImGui::IsMouseDown(ImGuiMouseButton_Left)) camera_.orbit({d.x, d.y});
+    else camera_.pan(d, size.y);
+  }
+  if (ImGui::IsItemHovered()) {
+    if (io.MouseWheel != 0.0f) camera_.zoom(io.MouseWheel);
+    if (ImGui::IsKeyPressed(GLFW_KEY_F, false) && !io.WantTextInput) framed_ = false;
+  }
+  const int w = std::max(1, static_cast<int>(size.x * io.DisplayFramebufferScale.x));
+  const int h = std::max(1, static_cast<int>(size.y * io.DisplayFramebufferScale.y));
+  render(w, h);
+  // The framebuffer's rows start at the bottom: flip v.
+  ImGui::GetWindowDrawList()->AddImage(reinterpret_cast<ImTextureID>(static_cast<std::uintptr_t>(color_)), origin,
+                                       {origin.x + size.x, origin.y + size.y}, {0, 1}, {1, 0});
+}
+
+}  // namespace orogen::editor
