@@ -17,7 +17,7 @@ packages=(
   libbenchmark-dev
   libnoise-dev
   libhwy-dev
-  libimgui-dev libglfw3-dev libgl-dev libgl1-mesa-dri libegl1
+  libimgui-dev libglfw3-dev libgl-dev libgl1-mesa-dri libegl1 fonts-dejavu-core
   xvfb xauth
 )
 
