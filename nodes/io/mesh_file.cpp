@@ -59,7 +59,9 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
     if (translucent) opt += OpenMesh::IO::Options::ColorAlpha;
   }
   if (format == MeshFormat::Stl) opt += OpenMesh::IO::Options::FaceNormal;
-  if (!OpenMesh::IO::write_mesh(out, path.string(), opt))
+  // 9 significant digits: text formats read back the same float (OpenMesh's default of 6 would round
+  // x = 12345.67 m to 12345.7 m).
+  if (!OpenMesh::IO::write_mesh(out, path.string(), opt, 9))
     throw FileError("cannot write '" + path.string() + "' (OpenMesh could not write the mesh)");
 }
 
