@@ -303,6 +303,17 @@ TEST(FBM, RougherMapsGiveRougherTerrain) {
   EXPECT_GT(rough, 4.0 * smooth);
 }
 
+TEST(FBM, OctaveLatticesDoNotLineUp) {
+  // At the lattice points of octave 0 Perlin vanishes; with lacunarity 2 the finer octaves' lattices would
+  // vanish there too (a visible grid of zeros) unless each octave is shifted, as fbm_plan does.
+  const double fs = 256.0;
+  const Domain d = Domain::from_extent({0, 0}, {fs * 40, fs * 40}, {41, 41});  // one sample per lattice point
+  const auto h = eval("FBM", d, {{"feature_size", fs}, {"octaves", std::int64_t{5}}, {"amplitude", 1.0}});
+  std::size_t clearly_nonzero = 0;
+  for (float v : h->data) clearly_nonzero += std::fabs(v) > 0.01f;
+  EXPECT_GT(clearly_nonzero, h->data.size() * 3 / 4);
+}
+
 TEST(FBM, RejectsWhiteBasisAndBadOctaves) {
   noise::FbmParams p;
   p.basis = noise::Basis::White;
