@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 namespace orogen::editor {
 
 namespace {
@@ -43,7 +45,7 @@ glm::vec3 lookup(const std::array<Stop, N>& stops, double t) {
   return stops.back().c;
 }
 
-std::uint8_t to_byte(float v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
+std::uint8_t to_byte(float v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); }
 
 float linear_to_srgb(float v) {
   v = std::clamp(v, 0.0f, 1.0f);
@@ -77,20 +79,27 @@ ValueRange value_range(const Heightfield& field) {
 std::vector<float> hillshade(const Heightfield& field, double azimuth_deg, double altitude_deg, double z_factor) {
   const int w = field.width(), h = field.height();
   const double az = azimuth_deg * M_PI / 180.0, alt = altitude_deg * M_PI / 180.0;
-  const double lx = std::sin(az) * std::cos(alt), ly = std::cos(az) * std::cos(alt), lz = std::sin(alt);
-  const double sx = field.domain.spacing.x, sy = field.domain.spacing.y;
+  const float lx = static_cast<float>(std::sin(az) * std::cos(alt)), ly = static_cast<float>(std::cos(az) * std::cos(alt));
+  const float lz = static_cast<float>(std::sin(alt));
+  const float kx = static_cast<float>(z_factor / field.domain.spacing.x), ky = static_cast<float>(z_factor / field.domain.spacing.y);
   std::vector<float> out(field.data.size(), 1.0f);
-  for (int j = 0; j < h; ++j)
+  tbb::parallel_for(0, h, [&](int j) {
+    // Central differences inside, one-sided at the borders.
+    const int j0 = std::max(j - 1, 0), j1 = std::min(j + 1, h - 1);
+    const float fy = j1 > j0 ? ky / static_cast<float>(j1 - j0) : 0.0f;
+    const float* up = field.data.data() + field.index(0, j1);
+    const float* down = field.data.data() + field.index(0, j0);
+    const float* row = field.data.data() + field.index(0, j);
+    float* dst = out.data() + field.index(0, j);
     for (int i = 0; i < w; ++i) {
       const int i0 = std::max(i - 1, 0), i1 = std::min(i + 1, w - 1);
-      const int j0 = std::max(j - 1, 0), j1 = std::min(j + 1, h - 1);
-      const double dzdx = i1 > i0 ? z_factor * (field.at(i1, j) - field.at(i0, j)) / ((i1 - i0) * sx) : 0.0;
-      const double dzdy = j1 > j0 ? z_factor * (field.at(i, j1) - field.at(i, j0)) / ((j1 - j0) * sy) : 0.0;
-      const double nx = -dzdx, ny = -dzdy, nz = 1.0;
-      const double len = std::sqrt(nx * nx + ny * ny + nz * nz);
-      const double shade = (nx * lx + ny * ly + nz * lz) / len;
-      out[field.index(i, j)] = std::isfinite(shade) ? static_cast<float>(std::max(0.0, shade)) : 1.0f;
+      const float dzdx = i1 > i0 ? (row[i1] - row[i0]) * kx / static_cast<float>(i1 - i0) : 0.0f;
+      const float dzdy = (up[i] - down[i]) * fy;
+      // Normal (-dzdx, -dzdy, 1), normalised, dotted with the light.
+      const float shade = (lz - dzdx * lx - dzdy * ly) / std::sqrt(dzdx * dzdx + dzdy * dzdy + 1.0f);
+      dst[i] = std::isfinite(shade) ? std::max(0.0f, shade) : 1.0f;
     }
+  });
   return out;
 }
 
@@ -100,23 +109,29 @@ PreviewPixels render_heightfield(const Heightfield& field, const HeightfieldStyl
   px.height = field.height();
   px.rgba.resize(static_cast<std::size_t>(px.width) * px.height * 4);
   const ValueRange range = style.range ? *style.range : value_range(field);
-  const float span = range.hi - range.lo;
+  // The colour map as a table: one lookup per sample instead of a search through the stops.
+  constexpr int kTable = 1024;
+  std::array<glm::vec3, kTable> table;
+  for (int k = 0; k < kTable; ++k) table[static_cast<std::size_t>(k)] = colormap(style.map, (k + 0.5) / kTable);
+  const float to_index = static_cast<float>(kTable) / (range.hi - range.lo);
   std::vector<float> shade;
   if (style.hillshade) shade = hillshade(field);
-  for (int r = 0; r < px.height; ++r) {
+  // Rows in parallel: the UI thread waits for this after every evaluation.
+  tbb::parallel_for(0, px.height, [&](int r) {
     const int j = px.height - 1 - r;
-    for (int i = 0; i < px.width; ++i) {
+    std::uint8_t* p = &px.rgba[static_cast<std::size_t>(r) * px.width * 4];
+    for (int i = 0; i < px.width; ++i, p += 4) {
       const float v = field.at(i, j);
-      glm::vec3 c = std::isfinite(v) ? colormap(style.map, (v - range.lo) / span) : glm::vec3(1.0f, 0.0f, 1.0f);
+      glm::vec3 c{1.0f, 0.0f, 1.0f};  // magenta marks NaN and infinity
+      if (std::isfinite(v)) c = table[static_cast<std::size_t>(std::clamp(static_cast<int>((v - range.lo) * to_index), 0, kTable - 1))];
       // Hillshade as a soft multiply: ambient 0.35 keeps valleys readable.
       if (style.hillshade) c *= 0.35f + 0.75f * shade[field.index(i, j)];
-      std::uint8_t* p = &px.rgba[(static_cast<std::size_t>(r) * px.width + i) * 4];
       p[0] = to_byte(c.r);
       p[1] = to_byte(c.g);
       p[2] = to_byte(c.b);
       p[3] = 255;
     }
-  }
+  });
   return px;
 }
 
@@ -126,7 +141,7 @@ PreviewPixels render_image(const Image& image) {
   px.height = image.height();
   px.rgba.resize(static_cast<std::size_t>(px.width) * px.height * 4);
   const int n = image.channels;
-  for (int r = 0; r < px.height; ++r) {
+  tbb::parallel_for(0, px.height, [&](int r) {
     const int j = px.height - 1 - r;
     for (int i = 0; i < px.width; ++i) {
       const float* s = image.pixel(i, j);
@@ -144,7 +159,7 @@ PreviewPixels render_image(const Image& image) {
       for (int k = 0; k < 3; ++k) p[k] = to_byte(linear_to_srgb(c[k]));
       p[3] = to_byte(c[3]);
     }
-  }
+  });
   return px;
 }
 
