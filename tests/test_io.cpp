@@ -341,6 +341,18 @@ TEST_F(IoTest, OutputPathRule) {
   EXPECT_TRUE(fs::exists(outside));
 }
 
+TEST_F(IoTest, UncreatableDirectoryIsANodeError) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
+  fs::create_directories(policy_.output_dir);
+  std::ofstream(policy_.output_dir / "blocked") << "a file where a directory is needed";
+  try {
+    run_node("WriteHeightfield", d, {{"path", std::string("blocked/h.exr")}}, {{"height", ramp_field(d, 1, 0, 0)}}, policy_);
+    FAIL() << "no error";
+  } catch (const NodeError& e) {
+    EXPECT_NE(std::string(e.what()).find("blocked"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(IoTest, WriterParameterErrors) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
   const std::map<std::string, PortValue> in{{"height", ramp_field(d, 1, 0, 0)}};
