@@ -31,7 +31,7 @@ OROGEN_NODE(Curve) {
   b.param_enum("range", {"fixed", "field"}, "fixed")
       .description("fixed: normalise with input_min/input_max (tile-independent); field: with the field's min/max");
   b.param_float("input_min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("lo of the fixed range");
-  b.param_float("input_max", 1.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("hi of the fixed range (> input_min)");
+  b.param_float("input_max", 1000.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("hi of the fixed range (> input_min)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     double lo = ctx.param<double>("input_min"), hi = ctx.param<double>("input_max");

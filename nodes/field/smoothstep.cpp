@@ -13,7 +13,7 @@ OROGEN_NODE(SmoothStep) {
   b.input("in", PortType::Heightfield).description("Field (e.g. heights in metres)");
   b.output("out", PortType::Heightfield).description("Mask in 0..1");
   b.param_float("edge0", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("Value where the mask is 0");
-  b.param_float("edge1", 1.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("Value where the mask is 1");
+  b.param_float("edge1", 100.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("Value where the mask is 1");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const double e0 = ctx.param<double>("edge0"), e1 = ctx.param<double>("edge1");
