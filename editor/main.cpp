@@ -28,6 +28,12 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(16, 8192));
   cli.add_option("--state-dir", options.state_dir,
                  "Where recent files and crash-recovery files live (default $XDG_STATE_HOME/orogen)");
+  cli.add_option("--output-dir", options.output_dir, "Where builds write their files (default out/)");
+  cli.add_flag("--benchmark-build", options.benchmark_build,
+               "Start a build at once, print the frame times while it runs, exit when it is done");
+  cli.add_option("--build-resolution", options.build_resolution, "With --benchmark-build: build at N x N samples")
+      ->check(CLI::Range(2, 32768));
+  cli.add_option("--palette", options.palette_query, "Open the node palette with this search typed (screenshots)");
   CLI11_PARSE(cli, argc, argv);
   try {
     orogen::editor::App app(std::move(options));

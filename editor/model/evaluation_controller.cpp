@@ -25,6 +25,12 @@ EvaluatorOptions EvaluationController::preview_defaults() {
   return o;
 }
 
+EvaluatorOptions EvaluationController::build_defaults() {
+  EvaluatorOptions o;
+  o.threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) - 1);
+  return o;
+}
+
 EvaluationController::EvaluationController(EvaluatorOptions preview_options, EvaluatorOptions build_options)
     : preview_evaluator_(std::move(preview_options)), build_evaluator_(std::move(build_options)) {
   preview_thread_ = std::thread([this] { preview_loop(); });

@@ -72,12 +72,14 @@ class EvaluationController {
   static constexpr int kDefaultPreviewResolution = 512;
 
   explicit EvaluationController(EvaluatorOptions preview_options = preview_defaults(),
-                                EvaluatorOptions build_options = {});
+                                EvaluatorOptions build_options = build_defaults());
   ~EvaluationController();  // cancels and joins
   EvaluationController(const EvaluationController&) = delete;
   EvaluationController& operator=(const EvaluationController&) = delete;
 
   static EvaluatorOptions preview_defaults();
+  // Builds leave one core to the UI thread and the previews (the CLI is there for batch builds).
+  static EvaluatorOptions build_defaults();
 
   // Samples along the longer side of the previewed rectangle (the other side keeps the aspect ratio).
   void set_preview_resolution(int samples);

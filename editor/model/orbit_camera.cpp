@@ -43,10 +43,21 @@ void OrbitCamera::pan(glm::dvec2 d, double viewport_height) {
 
 void OrbitCamera::zoom(double notches) { distance = std::clamp(distance * std::pow(0.85, notches), 1e-2, 1e8); }
 
-void OrbitCamera::frame(glm::dvec3 lo, glm::dvec3 hi) {
+void OrbitCamera::frame(glm::dvec3 lo, glm::dvec3 hi, double aspect) {
   target = (lo + hi) * 0.5;
-  const double radius = std::max(glm::length(hi - lo) * 0.5, 1e-3);
-  distance = radius / std::sin(fov_y * 0.5) * 1.05;
+  const glm::dvec3 f = forward();
+  const glm::dvec3 r = glm::normalize(glm::cross(f, glm::dvec3(0, 0, 1)));
+  const glm::dvec3 u = glm::cross(r, f);
+  const double tan_y = std::tan(fov_y * 0.5) / 1.08, tan_x = tan_y * std::max(aspect, 1e-3);  // 8% margin
+  // A corner at (x, y) across the view and z along it is in view from distance d when
+  // |x| <= (d + z) tan_x and |y| <= (d + z) tan_y.
+  double d = 1e-3;
+  for (int k = 0; k < 8; ++k) {
+    const glm::dvec3 c = glm::dvec3((k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z) - target;
+    const double x = glm::dot(c, r), y = glm::dot(c, u), z = glm::dot(c, f);
+    d = std::max({d, std::abs(x) / tan_x - z, std::abs(y) / tan_y - z});
+  }
+  distance = d;
 }
 
 }  // namespace orogen::editor

@@ -24,8 +24,9 @@ class OrbitCamera {
   void orbit(glm::dvec2 delta_pixels);
   void pan(glm::dvec2 delta_pixels, double viewport_height);
   void zoom(double notches);
-  // Looks at the centre of a box from a distance that shows all of it.
-  void frame(glm::dvec3 min, glm::dvec3 max);
+  // Looks at the centre of a box from the distance at which all of its corners are in view (with a small
+  // margin) for the current direction and the viewport's aspect ratio.
+  void frame(glm::dvec3 min, glm::dvec3 max, double aspect = 1.0);
 };
 
 }  // namespace orogen::editor

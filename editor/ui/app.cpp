@@ -92,6 +92,7 @@ App::App(AppOptions options)
   ImGui_ImplOpenGL3_Init("#version 330 core");
 
   evaluation_.set_preview_resolution(options_.preview_resolution);
+  output_dir_ = options_.output_dir;
   canvas_ = std::make_unique<CanvasController>(*document_, selection_, ClipboardAccess{
       [] { const char* t = ImGui::GetClipboardText(); return std::string(t ? t : ""); },
       [](const std::string& s) { ImGui::SetClipboardText(s.c_str()); }});
@@ -121,14 +122,34 @@ int App::run() {
   const bool screenshot = !options_.screenshot.empty();
   const auto deadline = clock::now() + std::chrono::seconds(180);
   int settle = -1;  // frames left before the screenshot once everything is evaluated
+  std::vector<double> build_frames, idle_frames;  // --benchmark-build: frame times with and without the build
+  bool build_started = false;
+  auto last_frame = clock::now();
   while (!quit_) {
+    const auto frame_start = clock::now();
+    if (options_.benchmark_build && !build_started && !evaluation_.preview_busy() && frame_count_ >= 10) {
+      idle_frames.push_back(std::chrono::duration<double, std::milli>(frame_start - last_frame).count());
+    }
+    last_frame = frame_start;
+    if (options_.benchmark_build && !build_started && idle_frames.size() >= 60) {
+      Graph g = document_->graph();
+      if (options_.build_resolution > 0) g.domain.resolution = {options_.build_resolution, options_.build_resolution};
+      OutputPolicy policy;
+      policy.output_dir = output_dir_;
+      evaluation_.start_build(g, policy);
+      build_started = true;
+    }
     // Idle: wake at 20 Hz for status updates; busy: run at display rate.
     const bool busy = evaluation_.preview_busy() || evaluation_.build_status().running || ImGui::IsAnyMouseDown();
-    if (screenshot || busy) glfwPollEvents();
+    if (screenshot || busy || options_.benchmark_build) glfwPollEvents();
     else glfwWaitEventsTimeout(0.05);
     if (glfwWindowShouldClose(window_)) {
       glfwSetWindowShouldClose(window_, GLFW_FALSE);
       request_quit();
+    }
+    if (!options_.palette_query.empty() && frame_count_ == 5) {
+      canvas_->open_palette(canvas_->view().viewport().center() - glm::dvec2(160.0, 180.0));
+      canvas_->palette().set_query(options_.palette_query);
     }
     frame();
     ++frame_count_;
@@ -145,6 +166,24 @@ int App::run() {
       if (settle > 0) --settle;
     }
     glfwSwapBuffers(window_);
+    if (build_started) {
+      const auto status = evaluation_.build_status();
+      if (status.running) {
+        build_frames.push_back(std::chrono::duration<double, std::milli>(clock::now() - frame_start).count());
+      } else {
+        const auto report = [](const char* what, std::vector<double> v) {
+          std::sort(v.begin(), v.end());
+          const auto pick = [&](double q) { return v.empty() ? 0.0 : v[std::min(v.size() - 1, static_cast<std::size_t>(q * v.size()))]; };
+          std::printf("%s: %zu frames, median %.1f ms, p90 %.1f ms, p99 %.1f ms, max %.1f ms\n", what, v.size(), pick(0.5),
+                      pick(0.9), pick(0.99), v.empty() ? 0.0 : v.back());
+        };
+        std::printf("build %s at %d x %d in %.1f s\n", status.ok ? "ok" : "failed", status.domain.width(),
+                    status.domain.height(), status.milliseconds / 1000.0);
+        report("frame time, idle", idle_frames);
+        report("frame time during the build", build_frames);
+        quit_ = true;
+      }
+    }
   }
   recovery_.discard();  // a clean exit leaves nothing to recover
   return 0;

@@ -38,6 +38,12 @@ struct AppOptions {
   std::filesystem::path state_dir;   // recent files and recovery; default_state_dir() if empty
   std::filesystem::path examples_dir;  // graphs/ of the installation; searched if empty
   int preview_resolution = EvaluationController::kDefaultPreviewResolution;
+  std::filesystem::path output_dir = "out";  // where builds write
+  // Measurement: start a build at once (at `build_resolution` if set), print the frame times while it runs,
+  // and exit when it is done.
+  bool benchmark_build = false;
+  std::string palette_query;  // documentation screenshots: open the node palette with this query typed
+  int build_resolution = 0;
 };
 
 class App {

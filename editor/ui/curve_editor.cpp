@@ -218,14 +218,16 @@ WidgetEdit gradient_editor(const char* id, GradientValue& gradient, float width)
   if (selected >= 0 && selected < static_cast<int>(gradient.stops.size())) {
     auto& s = gradient.stops[static_cast<std::size_t>(selected)];
     float c[4] = {s.color.r, s.color.g, s.color.b, s.color.a};
-    ImGui::SetNextItemWidth(width * 0.6f);
-    if (ImGui::ColorEdit4("##stop", c, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_AlphaPreviewHalf)) {
+    // The stop's colour as a swatch (click for the picker) and its position.
+    if (ImGui::ColorEdit4("##stop", c, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_AlphaPreviewHalf | ImGuiColorEditFlags_NoInputs)) {
       s.color = {c[0], c[1], c[2], c[3]};
       edit.changed = true;
     }
     if (ImGui::IsItemDeactivatedAfterEdit()) edit.finished = true;
     ImGui::SameLine();
-    ImGui::SetNextItemWidth(std::max(40.0f, width * 0.4f - ImGui::GetStyle().ItemSpacing.x));
+    ImGui::TextDisabled("stop %d of %zu at", selected + 1, gradient.stops.size());
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(std::max(60.0f, ImGui::GetContentRegionAvail().x));
     double pos = s.position;
     const double lo = 0.0, hi = 1.0;
     if (ImGui::DragScalar("##pos", ImGuiDataType_Double, &pos, 0.002f, &lo, &hi, "%.3f")) {

@@ -287,6 +287,8 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
                           sc, 3.0f * zoom);
       } else {
         std::string text(to_string(state.phase));
+        // Previews never write files: writers run in builds only.
+        if (node.type->writes_files && state.phase == NodeRunState::Phase::Unknown) text = "runs on build";
         if (state.milliseconds > 0.0 && (state.phase == NodeRunState::Phase::Computed ||
                                          state.phase == NodeRunState::Phase::Cached ||
                                          state.phase == NodeRunState::Phase::Stale))

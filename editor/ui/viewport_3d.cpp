@@ -360,7 +360,7 @@ void Viewport3D::draw(const PreviewContent& content) {
     const glm::dvec3 centre = (bounds_min_ + bounds_max_) * 0.5;
     const glm::dvec3 lo = (bounds_min_ - centre) * glm::dvec3(1, 1, vertical_scale_);
     const glm::dvec3 hi = (bounds_max_ - centre) * glm::dvec3(1, 1, vertical_scale_);
-    camera_.frame(lo, hi);
+    camera_.frame(lo, hi, static_cast<double>(size.x) / size.y);
     framed_ = true;
   }
 

@@ -95,18 +95,23 @@ TEST(TerrainMesh, GridDecimationNormalsAndWinding) {
 
 TEST(OrbitCamera, OrbitKeepsDistanceAndFrameShowsTheBox) {
   OrbitCamera cam;
-  cam.frame({0, 0, 0}, {1000, 500, 200});
+  for (double aspect : {1.0, 1.6}) {
+    cam.frame({0, 0, 0}, {1000, 500, 200}, aspect);
+    const glm::mat4 mvp = cam.projection(aspect) * cam.view();
+    float widest = 0.0f;
+    for (int k = 0; k < 8; ++k) {
+      const glm::vec4 corner((k & 1) ? 1000 : 0, (k & 2) ? 500 : 0, (k & 4) ? 200 : 0, 1);
+      const glm::vec4 clip = mvp * corner;
+      EXPECT_GT(clip.w, 0.0f);
+      EXPECT_LE(std::abs(clip.x / clip.w), 1.0f) << k;
+      EXPECT_LE(std::abs(clip.y / clip.w), 1.0f) << k;
+      widest = std::max({widest, std::abs(clip.x / clip.w), std::abs(clip.y / clip.w)});
+    }
+    EXPECT_GT(widest, 0.85f) << "framing is tight, not a distant speck";
+  }
   const double d = cam.distance;
   cam.orbit({120, -40});
   EXPECT_NEAR(glm::length(cam.eye() - cam.target), d, 1e-6 * d);
-  const glm::mat4 mvp = cam.projection(1.0) * cam.view();
-  for (int k = 0; k < 8; ++k) {
-    const glm::vec4 corner((k & 1) ? 1000 : 0, (k & 2) ? 500 : 0, (k & 4) ? 200 : 0, 1);
-    const glm::vec4 clip = mvp * corner;
-    EXPECT_GT(clip.w, 0.0f);
-    EXPECT_LE(std::abs(clip.x / clip.w), 1.0f) << k;
-    EXPECT_LE(std::abs(clip.y / clip.w), 1.0f) << k;
-  }
   const glm::dvec3 t0 = cam.target;
   cam.pan({100, 0}, 500);
   EXPECT_GT(glm::length(cam.target - t0), 0.0);
