@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   cli.add_option("--height", options.height, "Window height in pixels")->check(CLI::Range(240, 8192));
   cli.add_option("--select", options.select, "Select this node at start (its parameters and preview are shown)");
   cli.add_option("--view", options.view, "Preview panel at start")->check(CLI::IsMember({"2d", "3d"}));
+  cli.add_option("--drape", options.drape, "Image node draped over the 3D terrain at start");
   cli.add_option("--preview-resolution", options.preview_resolution,
                  "Preview samples along the longer side (default 512)")
       ->check(CLI::Range(16, 8192));

@@ -99,8 +99,11 @@ App::App(AppOptions options)
   canvas_view_ = std::make_unique<NodeCanvasView>(*canvas_, evaluation_);
   viewport_3d_ = std::make_unique<Viewport3D>();
   show_3d_ = options_.view == "3d";
+  drape_node_ = options_.drape;
 
   if (!options_.file.empty()) open_file(options_.file);
+  if (!document_->graph().find(options_.drape)) drape_node_.clear();
+  else drape_node_ = options_.drape;
   if (!options_.select.empty() && document_->graph().find(options_.select)) selection_.select_only(options_.select);
   // A screenshot run is not a session: it never offers (or takes) someone's recovery files.
   if (options_.screenshot.empty()) recovery_offer_ = recovery_.orphans();

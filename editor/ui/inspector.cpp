@@ -81,7 +81,7 @@ void Inspector::apply(Document& document, const Node& node, const ParamDecl& dec
 
 void Inspector::draw(Document& document, Selection& selection) {
   if (const auto chosen = file_dialog_.draw(); chosen && document.graph().find(browse_node_)) {
-    const Node& node = document.graph().at(browse_node_);
+    const Node node = document.graph().at(browse_node_);
     if (const auto* decl = node.type->find_param(browse_param_)) {
       apply(document, node, *decl, chosen->string(), false);
       text_.erase(browse_node_ + "." + browse_param_);
@@ -92,7 +92,9 @@ void Inspector::draw(Document& document, Selection& selection) {
     draw_graph(document);
     return;
   }
-  draw_node(document, selection, *node);
+  // A copy: every edit replaces the document's graph, which would leave a reference dangling.
+  const Node snapshot = *node;
+  draw_node(document, selection, snapshot);
 }
 
 void Inspector::draw_node(Document& document, Selection& selection, const Node& node) {
@@ -122,7 +124,7 @@ void Inspector::draw_node(Document& document, Selection& selection, const Node& 
   }
   ImGui::TextDisabled("%s  /  %s  v%d", node.type->category.c_str(), node.type->name.c_str(), node.type->version);
   if (!node.type->description.empty()) {
-    ImGui::PushTextWrapPos(0.0f);
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + ImGui::GetContentRegionAvail().x - 6.0f);
     ImGui::TextUnformatted(node.type->description.c_str());
     ImGui::PopTextWrapPos();
   }
@@ -133,7 +135,7 @@ void Inspector::draw_node(Document& document, Selection& selection, const Node& 
     ImGui::TextDisabled("last computed in %.1f ms", state.milliseconds);
   }
   if (!state.message.empty()) {
-    ImGui::PushTextWrapPos(0.0f);
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + ImGui::GetContentRegionAvail().x - 6.0f);
     ImGui::TextColored(ImColor(theme::kError), "%s", state.message.c_str());
     ImGui::PopTextWrapPos();
   }
@@ -149,10 +151,8 @@ void Inspector::draw_node(Document& document, Selection& selection, const Node& 
     ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch, 0.62f);
     ImGui::TableSetupColumn("reset", ImGuiTableColumnFlags_WidthFixed, ImGui::GetFrameHeight());
     for (const auto& decl : node.type->params) {
-      const Node* current = document.graph().find(node.id);
-      if (!current) break;
       ImGui::PushID(decl.name.c_str());
-      draw_param(document, *current, decl);
+      draw_param(document, node, decl);
       ImGui::PopID();
     }
     ImGui::EndTable();
@@ -161,7 +161,7 @@ void Inspector::draw_node(Document& document, Selection& selection, const Node& 
 
 void Inspector::draw_param(Document& document, const Node& node, const ParamDecl& decl) {
   const std::string key = node.id + "." + decl.name;
-  const ParamValue& value = document.graph().param(node.id, decl.name);
+  const ParamValue value = document.graph().param(node.id, decl.name);
   const bool is_set = node.params.count(decl.name) != 0 && !(node.params.at(decl.name) == decl.default_value);
 
   ImGui::TableNextRow();
@@ -320,7 +320,7 @@ void Inspector::draw_param(Document& document, const Node& node, const ParamDecl
     }
   }
   if (error_key_ == key && !error_.empty()) {
-    ImGui::PushTextWrapPos(0.0f);
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + ImGui::GetContentRegionAvail().x - 6.0f);
     ImGui::TextColored(ImColor(theme::kError), "%s", error_.c_str());
     ImGui::PopTextWrapPos();
   }
