@@ -149,7 +149,7 @@ void EvaluationController::on_preview_event(const EvalEvent& e) {
       break;
     case EvalEvent::Kind::Skipped:
       s.phase = NodeRunState::Phase::Skipped;
-      s.message = e.message;
+      s.message = "not evaluated: upstream node '" + e.message + "' failed";
       s.key.reset();
       break;
     case EvalEvent::Kind::Cancelled:

@@ -155,6 +155,12 @@ bool Autosaver::tick(const Document& document, std::chrono::steady_clock::time_p
   return error_.empty();
 }
 
+void Autosaver::reset() {
+  written_ = false;
+  written_revision_ = 0;
+  last_write_ = {};
+}
+
 void Autosaver::flush(const Document& document) {
   if (!document.dirty()) return;
   try {

@@ -62,6 +62,8 @@ class Autosaver {
   bool tick(const Document& document, std::chrono::steady_clock::time_point now);
   // Writes now if there is anything unsaved (before a risky operation, or on a signal).
   void flush(const Document& document);
+  // Another document replaced the previous one: forget what was written for that one.
+  void reset();
   const std::string& last_error() const { return error_; }
 
  private:

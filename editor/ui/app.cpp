@@ -630,6 +630,7 @@ void App::draw_modals() {
 void App::set_document(std::unique_ptr<Document> document) {
   // The old document's unsaved work is gone by the user's choice; so is its recovery file.
   recovery_.discard();
+  autosaver_.reset();
   document_ = std::move(document);
   canvas_->set_document(*document_);
   pinned_.clear();
@@ -794,6 +795,12 @@ PreviewContent App::preview_content(const std::string& node) const {
   c.serial = result->serial;
   if (auto it = result->outputs.find(node); it != result->outputs.end() && static_cast<std::size_t>(port) < it->second.size())
     c.value = it->second[static_cast<std::size_t>(port)];
+  if (auto it = result->reports.find(node); it != result->reports.end() &&
+                                            (it->second.status == NodeStatus::Failed || it->second.status == NodeStatus::Skipped))
+    c.error = it->second.status == NodeStatus::Failed
+                  ? node + " failed: " + it->second.message
+                  : node + " is not evaluated: upstream node '" + it->second.message + "' failed";
+  if (!result->error.empty()) c.error = result->error;
   const auto nodes = preview_request(node);
   if (nodes.size() > 1 && nodes[1] != drape_node_)
     if (auto it = result->outputs.find(nodes[1]); it != result->outputs.end())

@@ -104,6 +104,14 @@ void Preview2D::draw(const PreviewContent& content) {
   dl->AddRectFilled(origin, end, IM_COL32(22, 23, 26, 255));
 
   const Domain* domain = domain_of(content);
+  if (!domain && !content.error.empty()) {
+    ImGui::SetCursorScreenPos({origin.x + 12, origin.y + 12});
+    ImGui::PushTextWrapPos(origin.x + size.x - 12 - ImGui::GetWindowPos().x);
+    ImGui::TextColored(ImColor(theme::kError), "%s", content.error.c_str());
+    ImGui::PopTextWrapPos();
+    dl->PopClipRect();
+    return;
+  }
   if (!domain) {
     const char* text = content.node.empty() ? "Select a node to preview it"
                        : has_value(content.value) ? "Nothing to draw in 2D for this output"

@@ -16,6 +16,7 @@ struct PreviewContent {
   ImagePtr drape;              // 3D: colour image draped over the terrain
   std::uint64_t serial = 0;    // the evaluation result it comes from; changes when the data do
   bool stale = false;          // a newer evaluation is running
+  std::string error;           // why there is no value (the node failed, or an upstream node did)
 };
 
 }  // namespace orogen::editor

@@ -350,7 +350,10 @@ void Viewport3D::draw(const PreviewContent& content) {
   if (terrain_.count == 0 && markers_.count == 0 && mesh_.count == 0) {
     ImGui::InvisibleButton("##empty3d", size);
     const ImVec2 o = ImGui::GetItemRectMin();
-    const char* text = content.node.empty() ? "Select a node to view it in 3D" : "Nothing to show in 3D for this output";
+    const char* text = content.node.empty()     ? "Select a node to view it in 3D"
+                       : !content.error.empty() ? content.error.c_str()
+                       : has_value(content.value) ? "Nothing to show in 3D for this output"
+                                                  : "Waiting for the evaluation...";
     const ImVec2 ts = ImGui::CalcTextSize(text);
     ImGui::GetWindowDrawList()->AddRectFilled(o, ImGui::GetItemRectMax(), IM_COL32(22, 23, 26, 255));
     ImGui::GetWindowDrawList()->AddText({o.x + (size.x - ts.x) * 0.5f, o.y + (size.y - ts.y) * 0.5f}, theme::kTextDim, text);

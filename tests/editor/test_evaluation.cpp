@@ -129,6 +129,7 @@ TEST(EvaluationController, FailuresAreReportedPerNode) {
   EXPECT_EQ(ec.node_state("mid").phase, Phase::Failed);
   EXPECT_FALSE(ec.node_state("mid").message.empty());
   EXPECT_EQ(ec.node_state("out").phase, Phase::Skipped);
+  EXPECT_NE(ec.node_state("out").message.find("'mid'"), std::string::npos) << ec.node_state("out").message;
 }
 
 TEST(EvaluationController, BuildEvaluatesAtFullResolution) {
