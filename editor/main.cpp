@@ -35,6 +35,8 @@ int main(int argc, char** argv) {
   cli.add_option("--build-resolution", options.build_resolution, "With --benchmark-build: build at N x N samples")
       ->check(CLI::Range(2, 32768));
   cli.add_option("--palette", options.palette_query, "Open the node palette with this search typed (screenshots)");
+  cli.add_flag("--offer-recovery", options.offer_recovery_in_screenshot,
+               "With --screenshot: still offer crash-recovery files (screenshots of the prompt)");
   CLI11_PARSE(cli, argc, argv);
   try {
     orogen::editor::App app(std::move(options));

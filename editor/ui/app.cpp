@@ -106,7 +106,7 @@ App::App(AppOptions options)
   else drape_node_ = options_.drape;
   if (!options_.select.empty() && document_->graph().find(options_.select)) selection_.select_only(options_.select);
   // A screenshot run is not a session: it never offers (or takes) someone's recovery files.
-  if (options_.screenshot.empty()) recovery_offer_ = recovery_.orphans();
+  if (options_.screenshot.empty() || options_.offer_recovery_in_screenshot) recovery_offer_ = recovery_.orphans();
 }
 
 App::~App() {

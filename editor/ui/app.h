@@ -43,7 +43,8 @@ struct AppOptions {
   // Measurement: start a build at once (at `build_resolution` if set), print the frame times while it runs,
   // and exit when it is done.
   bool benchmark_build = false;
-  std::string palette_query;  // documentation screenshots: open the node palette with this query typed
+  std::string palette_query;
+  bool offer_recovery_in_screenshot = false;  // screenshots normally skip the crash-recovery prompt  // documentation screenshots: open the node palette with this query typed
   int build_resolution = 0;
 };
 
