@@ -200,6 +200,7 @@ void CanvasController::on_mouse_up(const MouseUp& e) {
       const LinkDrag drag = *link_drag_;
       link_drag_.reset();
       mode_ = Mode::Idle;
+      if (!moved_) break;  // a click on a pin is not a link
       if (!target && !drag.detached() && moved_) {
         // A new link dropped on empty canvas: offer the nodes that can take it, Blender-style.
         palette_link_ = drag;

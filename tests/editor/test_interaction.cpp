@@ -98,6 +98,15 @@ TEST_F(Interaction, IncompatiblePinsAreDimmedAndTheLinkRefused) {
   EXPECT_FALSE(doc.history().can_undo());
 }
 
+TEST_F(Interaction, ClickingAPinChangesNothing) {
+  const Graph before = doc.graph();
+  click(pin("src", "out", true));
+  click(pin("out", "a", false));
+  EXPECT_EQ(canvas.message(), "");
+  EXPECT_TRUE(doc.graph() == before);
+  EXPECT_EQ(canvas.mode(), CanvasController::Mode::Idle);
+}
+
 TEST_F(Interaction, CycleIsRefused) {
   const Graph before = doc.graph();
   drag(pin("out", "out", true), pin("mid", "b", false));
