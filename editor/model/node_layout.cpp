@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <functional>
 #include <limits>
 
 namespace orogen::editor {
@@ -53,14 +55,58 @@ NodeLayout layout_node(const Node& node, glm::dvec2 position, const TextMeasure&
   return layout;
 }
 
-std::map<std::string, glm::dvec2> auto_positions(const Graph& graph) {
+namespace {
+
+// Layered layout of some nodes from (0, 0): columns by longest path from the sources, each column ordered by
+// the mean row of the nodes feeding it (the barycentre heuristic, which untangles most links of a
+// left-to-right flow), nodes stacked by their real heights.
+std::map<std::string, glm::dvec2> layered(const Graph& graph, const std::vector<std::string>& ids,
+                                          const std::map<std::string, int>& depth, glm::dvec2* extent) {
   constexpr double kColumnGap = 70.0, kRowGap = 36.0;
+  std::map<int, std::vector<std::string>> columns;
+  for (const auto& id : ids) columns[depth.at(id)].push_back(id);
+  std::map<std::string, double> row;
+  for (auto& [d, column] : columns) {
+    std::map<std::string, double> key;
+    for (std::size_t k = 0; k < column.size(); ++k) {
+      double sum = 0.0;
+      int count = 0;
+      for (const auto& [port, src] : graph.at(column[k]).inputs)
+        if (auto it = row.find(src.node); it != row.end()) {
+          sum += it->second;
+          ++count;
+        }
+      key[column[k]] = count ? sum / count : static_cast<double>(k);
+    }
+    std::stable_sort(column.begin(), column.end(), [&](const auto& a, const auto& b) { return key[a] < key[b]; });
+    for (std::size_t k = 0; k < column.size(); ++k) row[column[k]] = static_cast<double>(k);
+  }
+  std::map<std::string, glm::dvec2> out;
+  double x = 0.0, height = 0.0;
+  for (const auto& [d, column] : columns) {
+    double y = 0.0, width = 0.0;
+    for (const auto& id : column) {
+      const NodeLayout l = layout_node(graph.at(id), {x, y});
+      out[id] = {x, y};
+      y += l.rect.size().y + kRowGap;
+      width = std::max(width, l.rect.size().x);
+    }
+    height = std::max(height, y - kRowGap);
+    x += width + kColumnGap;
+  }
+  *extent = {x - kColumnGap, height};
+  return out;
+}
+
+}  // namespace
+
+std::map<std::string, glm::dvec2> auto_positions(const Graph& graph) {
+  constexpr double kGap = 90.0;
   std::vector<std::string> unplaced;
   for (const auto& n : graph.nodes())
     if (!graph.editor.positions.count(n.id)) unplaced.push_back(n.id);
   if (unplaced.empty()) return {};
 
-  // Columns by longest path from the sources.
   std::vector<std::string> order;
   try {
     order = graph.topological_order();
@@ -74,42 +120,51 @@ std::map<std::string, glm::dvec2> auto_positions(const Graph& graph) {
       if (auto it = depth.find(src.node); it != depth.end()) d = std::max(d, it->second + 1);
     depth[id] = d;
   }
-  std::map<int, std::vector<std::string>> columns;
-  for (const auto& id : unplaced) columns[depth[id]].push_back(id);
 
-  // Order each column by the mean row of the nodes feeding it (the barycentre heuristic), which untangles
-  // most links of a left-to-right flow.
-  std::map<std::string, double> row;
-  for (auto& [d, ids] : columns) {
-    std::map<std::string, double> key;
-    for (std::size_t k = 0; k < ids.size(); ++k) {
-      double sum = 0.0;
-      int count = 0;
-      for (const auto& [port, src] : graph.at(ids[k]).inputs)
-        if (auto it = row.find(src.node); it != row.end()) {
-          sum += it->second;
-          ++count;
-        }
-      key[ids[k]] = count ? sum / count : static_cast<double>(k);
+  // Connected groups of unplaced nodes (union-find over links), in graph order.
+  std::map<std::string, std::string> parent;
+  for (const auto& id : unplaced) parent[id] = id;
+  std::function<std::string(const std::string&)> root = [&](const std::string& id) {
+    return parent[id] == id ? id : parent[id] = root(parent[id]);
+  };
+  for (const auto& id : unplaced)
+    for (const auto& [port, src] : graph.at(id).inputs)
+      if (parent.count(src.node)) parent[root(src.node)] = root(id);
+  std::vector<std::vector<std::string>> groups;
+  std::map<std::string, std::size_t> group_of;
+  for (const auto& id : unplaced) {
+    const auto r = root(id);
+    if (!group_of.count(r)) {
+      group_of[r] = groups.size();
+      groups.emplace_back();
     }
-    std::stable_sort(ids.begin(), ids.end(), [&](const auto& a, const auto& b) { return key[a] < key[b]; });
-    for (std::size_t k = 0; k < ids.size(); ++k) row[ids[k]] = static_cast<double>(k);
+    groups[group_of[r]].push_back(id);
   }
 
-  // Start below whatever is already placed.
-  double top = 0.0;
+  // Lay out each group, then pack the groups in rows about as wide as a screen's aspect wants.
+  std::vector<std::map<std::string, glm::dvec2>> placed(groups.size());
+  std::vector<glm::dvec2> extent(groups.size());
+  double area = 0.0, widest = 0.0;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    placed[g] = layered(graph, groups[g], depth, &extent[g]);
+    area += (extent[g].x + kGap) * (extent[g].y + kGap);
+    widest = std::max(widest, extent[g].x);
+  }
+  const double row_width = std::max(widest, std::sqrt(area * 1.8));
+
+  double top = 0.0;  // below whatever is already placed
   for (const auto& [id, p] : graph.editor.positions) top = std::max(top, p.y + 200.0);
   std::map<std::string, glm::dvec2> out;
-  double x = 0.0;
-  for (const auto& [d, ids] : columns) {
-    double y = top, width = 0.0;
-    for (const auto& id : ids) {
-      const NodeLayout l = layout_node(graph.at(id), {x, y});
-      out[id] = {x, y};
-      y += l.rect.size().y + kRowGap;
-      width = std::max(width, l.rect.size().x);
+  double x = 0.0, y = top, row_height = 0.0;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    if (x > 0.0 && x + extent[g].x > row_width) {
+      x = 0.0;
+      y += row_height + kGap;
+      row_height = 0.0;
     }
-    x += width + kColumnGap;
+    for (const auto& [id, p] : placed[g]) out[id] = p + glm::dvec2(x, y);
+    x += extent[g].x + kGap;
+    row_height = std::max(row_height, extent[g].y);
   }
   return out;
 }
