@@ -60,6 +60,19 @@ TEST_F(Interaction, AddNodeFromPaletteByTypingItsName) {
   EXPECT_FALSE(doc.graph().find("edscatter"));
 }
 
+TEST_F(Interaction, PaletteFindsRegisteredNodeTypesByName) {
+  // Every registered type is found first by typing its exact name.
+  for (const NodeType* type : NodeRegistry::instance().all()) {
+    key(Key::Tab);
+    ASSERT_EQ(canvas.mode(), CanvasController::Mode::Palette);
+    canvas.handle(TextInput{type->name});
+    ASSERT_NE(canvas.palette().choice(), nullptr) << type->name;
+    EXPECT_EQ(canvas.palette().choice()->name, type->name);
+    key(Key::Escape);
+  }
+  EXPECT_FALSE(doc.history().can_undo());
+}
+
 TEST_F(Interaction, RightClickOpensPaletteEscapeClosesIt) {
   canvas.handle(MouseDown{MouseButton::Right, {900, 700}, {}});
   canvas.handle(MouseUp{MouseButton::Right, {900, 700}, {}});
