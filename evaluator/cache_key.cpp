@@ -4,10 +4,10 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <new>
 #include <stdexcept>
 #include <type_traits>
 
+#define XXH_STATIC_LINKING_ONLY  // for the size of XXH3_state_t
 #include <xxhash.h>
 
 namespace orogen {
@@ -26,7 +26,21 @@ enum Tag : unsigned char {
   kParam = 'P',
 };
 
-XXH3_state_t* state_of(void* p) { return static_cast<XXH3_state_t*>(p); }
+// The XXH3-128 streaming state plus a small buffer: a key is built from many values of a few bytes each,
+// and handing them to XXH3 in batches costs far less than one update call per value. The digest is the
+// same as for one update per value.
+struct HasherState {
+  XXH3_state_t xxh;
+  std::size_t used = 0;
+  unsigned char buffer[512];
+
+  void flush() {
+    if (used) XXH3_128bits_update(&xxh, buffer, used);
+    used = 0;
+  }
+};
+
+HasherState* state_of(void* p) { return static_cast<HasherState*>(p); }
 
 int hex_digit(char c) {
   if (c >= '0' && c <= '9') return c - '0';
@@ -59,14 +73,23 @@ CacheKey CacheKey::from_hex(std::string_view s) {
   return k;
 }
 
-KeyHasher::KeyHasher() : state_(XXH3_createState()) {
-  if (!state_) throw std::bad_alloc();
-  XXH3_128bits_reset(state_of(state_));
+KeyHasher::KeyHasher() : state_(new HasherState) { XXH3_128bits_reset(&state_of(state_)->xxh); }
+
+KeyHasher::~KeyHasher() { delete state_of(state_); }
+
+void KeyHasher::bytes(const void* data, std::size_t n) {
+  if (n == 0) return;
+  HasherState& s = *state_of(state_);
+  if (s.used + n > sizeof s.buffer) {
+    s.flush();
+    if (n > sizeof s.buffer) {
+      XXH3_128bits_update(&s.xxh, data, n);
+      return;
+    }
+  }
+  std::memcpy(s.buffer + s.used, data, n);
+  s.used += n;
 }
-
-KeyHasher::~KeyHasher() { XXH3_freeState(state_of(state_)); }
-
-void KeyHasher::bytes(const void* data, std::size_t n) { XXH3_128bits_update(state_of(state_), data, n); }
 
 // Integers are written little-endian whatever the host, so keys (and the disk cache) agree across machines.
 namespace {
@@ -175,7 +198,9 @@ KeyHasher& KeyHasher::add(const ParamValue& v) {
 }
 
 CacheKey KeyHasher::finish() const {
-  const XXH128_hash_t h = XXH3_128bits_digest(state_of(state_));
+  HasherState& s = *state_of(state_);
+  s.flush();
+  const XXH128_hash_t h = XXH3_128bits_digest(&s.xxh);
   return CacheKey{h.high64, h.low64};
 }
 

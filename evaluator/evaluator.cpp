@@ -174,12 +174,19 @@ class Run {
     for (const auto& id : requested_ids()) jobs_[static_cast<std::size_t>(plan(id))].requested = true;
     for (auto& job : jobs_) job.consumers_left.store(static_cast<int>(job.consumers.size()));
 
-    const auto arena = impl_.make_arena();
-    arena->execute([&] {
-      for (std::size_t j = 0; j < jobs_.size(); ++j)
-        if (jobs_[j].producers.empty()) group_.run([this, j] { launch(static_cast<int>(j)); });
-      group_.wait();
-    });
+    const bool anything_to_run =
+        std::any_of(jobs_.begin(), jobs_.end(), [](const Job& job) { return job.kind == Job::Kind::Run; });
+    if (anything_to_run) {
+      const auto arena = impl_.make_arena();
+      arena->execute([&] {
+        for (std::size_t j = 0; j < jobs_.size(); ++j)
+          if (jobs_[j].producers.empty()) group_.run([this, j] { launch(static_cast<int>(j)); });
+        group_.wait();
+      });
+    } else {
+      // Only hits and planned failures, none of which has producers: no need to wake any thread.
+      for (std::size_t j = 0; j < jobs_.size(); ++j) launch(static_cast<int>(j));
+    }
 
     EvalResult result;
     const std::set<std::string> requested_set(requested_.begin(), requested_.end());

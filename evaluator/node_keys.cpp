@@ -29,21 +29,20 @@ ResolvedLink resolve_link(const Graph& graph, const Node& node, const PortDecl& 
   return r;
 }
 
-const NodeKeyInfo& NodeKeys::of(const std::string& id) {
-  if (const auto it = done_.find(id); it != done_.end()) return it->second;
-  const Node& node = graph_.at(id);
+const NodeKeyInfo& NodeKeys::of(const Node& node) {
+  if (const auto it = done_.find(&node); it != done_.end()) return it->second;
+  const std::string& id = node.id;
   const NodeType& type = *node.type;
   NodeKeyInfo info;
   auto finish = [&]() -> const NodeKeyInfo& {
-    visiting_.erase(id);
-    return done_[id] = std::move(info);
+    visiting_.erase(&node);
+    return done_[&node] = std::move(info);
   };
-  if (visiting_[id]) {
+  if (!visiting_.insert(&node).second) {
     // Only reachable for graphs that bypassed Graph::connect's cycle check.
     info.error = "the node is part of a cycle";
-    return done_.emplace(id, info).first->second;
+    return done_.emplace(&node, info).first->second;
   }
-  visiting_[id] = true;
 
   for (const auto& [port, link] : node.inputs)
     if (!type.find_input(port)) {
@@ -54,12 +53,15 @@ const NodeKeyInfo& NodeKeys::of(const std::string& id) {
   KeyHasher h;
   h.add(std::string_view(kNodeKeySchema)).add(std::string_view(type.name)).add(std::int64_t{type.version});
 
-  const auto params = graph_.effective_params(node);
+  // Effective values (explicit or default) without copying them.
+  std::vector<const ParamValue*> params(type.params.size());
   for (std::size_t i = 0; i < type.params.size(); ++i) {
     const ParamDecl& decl = type.params[i];
-    if (auto why = decl.check(params[i]); !why.empty() && info.error.empty())
+    const auto it = node.params.find(decl.name);
+    params[i] = it != node.params.end() ? &it->second : &decl.default_value;
+    if (auto why = decl.check(*params[i]); !why.empty() && info.error.empty())
       info.error = "parameter '" + decl.name + "': " + why;
-    h.add(std::string_view(decl.name)).add(params[i]);
+    h.add(std::string_view(decl.name)).add(*params[i]);
   }
 
   for (const PortDecl& port : type.inputs) {
@@ -74,7 +76,7 @@ const NodeKeyInfo& NodeKeys::of(const std::string& id) {
       h.add(false);  // the fixed "absent" marker
       continue;
     }
-    const NodeKeyInfo& up = of(link.source->id);
+    const NodeKeyInfo& up = of(*link.source);
     if (!up.key) {
       info.blocked_by = up.error.empty() ? up.blocked_by : link.source->id;
       if (info.blocked_by == id) {  // a cycle came back to this node
@@ -96,7 +98,7 @@ const NodeKeyInfo& NodeKeys::of(const std::string& id) {
     // Where the files go is part of what the node does: another output directory is another result.
     for (std::size_t i = 0; i < type.params.size(); ++i) {
       if (!type.params[i].output_file) continue;
-      const auto* value = std::get_if<std::string>(&params[i]);
+      const auto* value = std::get_if<std::string>(params[i]);
       if (!value) continue;
       try {
         std::error_code ec;

@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "evaluator/cache_key.h"
 #include "graph/graph.h"
@@ -30,14 +31,15 @@ class NodeKeys {
       : graph_(graph), domain_(domain), output_(output) {}
 
   // The analysis of node `id` (which must exist), computing its upstream first.
-  const NodeKeyInfo& of(const std::string& id);
+  const NodeKeyInfo& of(const std::string& id) { return of(graph_.at(id)); }
+  const NodeKeyInfo& of(const Node& node);
 
  private:
   const Graph& graph_;
   const Domain& domain_;
   const OutputPolicy& output_;
-  std::unordered_map<std::string, NodeKeyInfo> done_;
-  std::unordered_map<std::string, bool> visiting_;  // cycle detection
+  std::unordered_map<const Node*, NodeKeyInfo> done_;
+  std::unordered_set<const Node*> visiting_;  // cycle detection
 };
 
 // The node feeding input `port` of `node`, with the index of its output port, or an error message.
