@@ -85,6 +85,27 @@ TEST(KeyHasher, EncodingIsTheDocumentedTaggedStream) {
   EXPECT_EQ(d.finish(), key_of_bytes({'d', 0, 0, 0, 0, 0, 0, 0xf0, 0x3f}));
 }
 
+TEST(KeyHasher, LongStreamsGiveTheDigestOfTheWholeStream) {
+  // Many small values (crossing the hasher's internal batches) and one value longer than a batch.
+  std::vector<unsigned char> expected;
+  KeyHasher h;
+  for (std::int64_t v = 0; v < 300; ++v) {
+    h.add(v);
+    expected.push_back('i');
+    for (int b = 0; b < 8; ++b) expected.push_back(static_cast<unsigned char>(static_cast<std::uint64_t>(v) >> (8 * b)));
+  }
+  const std::string big(3000, 'x');
+  h.add(std::string_view(big));
+  expected.push_back('s');
+  for (int b = 0; b < 8; ++b) expected.push_back(static_cast<unsigned char>(big.size() >> (8 * b)));
+  expected.insert(expected.end(), big.begin(), big.end());
+  h.add(std::string_view());  // an empty string still writes its tag and length
+  expected.push_back('s');
+  expected.insert(expected.end(), 8, 0);
+  EXPECT_EQ(h.finish(), key_of_bytes(expected));
+  EXPECT_EQ(h.finish(), key_of_bytes(expected)) << "finish() can be called again";
+}
+
 CacheKey hash(const std::function<void(KeyHasher&)>& f) {
   KeyHasher h;
   f(h);
