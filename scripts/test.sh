@@ -4,6 +4,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="$(nproc)"
+# Paths relative to the checkout in ccache keys, so a fresh clone reuses earlier compilations.
+export CCACHE_BASEDIR="$(pwd)"
 
 bash scripts/install-deps.sh
 
