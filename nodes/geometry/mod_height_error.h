@@ -38,30 +38,20 @@ class ModHeightErrorT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   }
 
   float collapse_priority(const CollapseInfo& ci) override {
-    gathered_.clear();
+    ring_.clear();
     faces_.clear();
     for (auto vf = mesh_.cvf_iter(ci.v0); vf.is_valid(); ++vf) {
-      const auto& s = mesh_.property(samples_, *vf);
-      gathered_.insert(gathered_.end(), s.begin(), s.end());
+      ring_.push_back(*vf);
       if (*vf != ci.fl && *vf != ci.fr) faces_.push_back(*vf);
     }
-    gathered_.push_back(ci.p0);
-
     mesh_.set_point(ci.v0, ci.p1);  // simulate the collapse
     bool ok = true;
     for (auto f : faces_)
       if (!(oriented_area(f) > 0.0)) ok = false;
-    for (std::size_t k = 0; ok && k < gathered_.size(); ++k) {
-      bool covered = false;
-      for (auto f : faces_) {
-        double dz = 0.0, slack = 0.0;
-        if (offset_over(f, gathered_[k], dz, slack) && std::abs(dz) <= tolerance_) {
-          covered = true;
-          break;
-        }
-      }
-      ok = covered;
-    }
+    for (std::size_t r = 0; ok && r < ring_.size(); ++r)
+      for (const Point& p : mesh_.property(samples_, ring_[r]))
+        if (!(ok = covered(p))) break;
+    ok = ok && covered(ci.p0);
     mesh_.set_point(ci.v0, ci.p0);
     return ok ? float(Base::LEGAL_COLLAPSE) : float(Base::ILLEGAL_COLLAPSE);
   }
@@ -101,6 +91,15 @@ class ModHeightErrorT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   }
 
  private:
+  // Whether p lies over one of faces_ within the tolerance.
+  bool covered(const Point& p) const {
+    for (auto f : faces_) {
+      double dz = 0.0, slack = 0.0;
+      if (offset_over(f, p, dz, slack) && std::abs(dz) <= tolerance_) return true;
+    }
+    return false;
+  }
+
   void take_samples(FaceHandle f) {
     auto& s = mesh_.property(samples_, f);
     gathered_.insert(gathered_.end(), s.begin(), s.end());
@@ -144,8 +143,9 @@ class ModHeightErrorT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   double tolerance_ = std::numeric_limits<double>::infinity();
   OpenMesh::FPropHandleT<std::vector<Point>> samples_;
   std::vector<Point> gathered_;
-  std::vector<FaceHandle> faces_;
-  std::vector<FaceHandle> changed_;
+  std::vector<FaceHandle> ring_;     // faces around v0 (collapse_priority)
+  std::vector<FaceHandle> faces_;    // the ones that survive the collapse
+  std::vector<FaceHandle> changed_;  // the same, kept from preprocess_collapse to postprocess_collapse
 };
 
 }  // namespace orogen
