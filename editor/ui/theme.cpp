@@ -80,7 +80,7 @@ void apply_style() {
   s.WindowPadding = {8, 8};
   ImVec4* c = s.Colors;
   c[ImGuiCol_WindowBg] = {0.13f, 0.14f, 0.16f, 1.0f};
-  c[ImGuiCol_ChildBg] = {0.12f, 0.13f, 0.15f, 1.0f};
+  c[ImGuiCol_ChildBg] = {0.0f, 0.0f, 0.0f, 0.0f};  // panels show the window background: no overdraw
   c[ImGuiCol_PopupBg] = {0.11f, 0.12f, 0.14f, 0.98f};
   c[ImGuiCol_MenuBarBg] = {0.10f, 0.11f, 0.12f, 1.0f};
   c[ImGuiCol_FrameBg] = {0.20f, 0.22f, 0.25f, 1.0f};
