@@ -17,10 +17,9 @@ int main(int argc, char** argv) {
   cli.add_option("file", options.file, "Graph file to open")->check(CLI::ExistingFile);
   cli.add_option("--screenshot", options.screenshot, "Save the window as this PNG after the frames, then exit");
   cli.add_option("--frames", options.frames, "Frames to render before the screenshot")->check(CLI::Range(1, 100000));
-  cli.add_option("--size", options.width, "Window width in pixels (height follows 16:9 unless --height)")
-      ->check(CLI::Range(320, 8192))
-      ->each([&](const std::string&) { options.height = options.width * 9 / 16; });
-  cli.add_option("--height", options.height, "Window height in pixels")->check(CLI::Range(240, 8192));
+  auto* width = cli.add_option("--size", options.width, "Window width in pixels (height follows 16:9 unless --height)")
+                    ->check(CLI::Range(320, 8192));
+  auto* height = cli.add_option("--height", options.height, "Window height in pixels")->check(CLI::Range(240, 8192));
   cli.add_option("--select", options.select, "Select this node at start (its parameters and preview are shown)");
   cli.add_option("--view", options.view, "Preview panel at start")->check(CLI::IsMember({"2d", "3d"}));
   cli.add_option("--drape", options.drape, "Image node draped over the 3D terrain at start");
@@ -38,6 +37,7 @@ int main(int argc, char** argv) {
   cli.add_flag("--offer-recovery", options.offer_recovery_in_screenshot,
                "With --screenshot: still offer crash-recovery files (screenshots of the prompt)");
   CLI11_PARSE(cli, argc, argv);
+  if (width->count() && !height->count()) options.height = options.width * 9 / 16;
   try {
     orogen::editor::App app(std::move(options));
     return app.run();
