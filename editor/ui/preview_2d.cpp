@@ -47,11 +47,16 @@ void Preview2D::upload(const PreviewContent& content) {
   if (auto* h = std::get_if<HeightfieldPtr>(&content.value)) field = *h;
   else if (auto* i = std::get_if<ImagePtr>(&content.value)) image = *i;
   else field = content.backdrop;
+  // Redrawn when the data or the style change: results are immutable and shared, so the same pointer means
+  // the same data (a cached result after an edit elsewhere is not redrawn). The pointers are held, so they
+  // cannot be reused for other data meanwhile.
   char key[256];
-  std::snprintf(key, sizeof key, "%llu|%s|%s|%d|%d", static_cast<unsigned long long>(content.serial), content.node.c_str(),
-                content.port.c_str(), static_cast<int>(style_.map), style_.hillshade ? 1 : 0);
+  std::snprintf(key, sizeof key, "%p|%p|%d|%d", static_cast<const void*>(field.get()), static_cast<const void*>(image.get()),
+                static_cast<int>(style_.map), style_.hillshade ? 1 : 0);
   if (texture_key_ == key) return;
   texture_key_ = key;
+  shown_field_ = field;
+  shown_image_ = image;
   has_range_ = false;
   if (field) {
     const auto px = render_heightfield(*field, style_);

@@ -24,6 +24,8 @@ class Preview2D {
   HeightfieldStyle style_;
   GlTexture texture_;
   std::string texture_key_;   // what the texture holds
+  HeightfieldPtr shown_field_;  // held so their addresses in the key stay theirs
+  ImagePtr shown_image_;
   Domain texture_domain_;
   ValueRange shown_range_;
   bool has_range_ = false;

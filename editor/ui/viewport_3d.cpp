@@ -202,12 +202,22 @@ void Viewport3D::resize_target(int width, int height) {
 void Viewport3D::update_geometry(const PreviewContent& content) {
   HeightfieldPtr field = content.backdrop;
   if (auto* h = std::get_if<HeightfieldPtr>(&content.value); h && *h) field = *h;
+  // Rebuilt when the data change (same pointers: same immutable data; they are held so the addresses
+  // cannot be reused meanwhile).
+  const void* value_ptr = std::visit(
+      [](const auto& v) -> const void* {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) return nullptr;
+        else return v.get();
+      },
+      content.value);
   char key[256];
-  std::snprintf(key, sizeof key, "%llu|%s|%s|%p|%p", static_cast<unsigned long long>(content.serial),
-                content.node.c_str(), content.port.c_str(), static_cast<const void*>(field.get()),
+  std::snprintf(key, sizeof key, "%p|%p|%p", value_ptr, static_cast<const void*>(field.get()),
                 static_cast<const void*>(content.drape.get()));
   if (geometry_key_ == key) return;
   geometry_key_ = key;
+  shown_value_ = content.value;
+  shown_field_ = field;
+  shown_drape_ = content.drape;
   bool have_bounds = false;
   glm::dvec3 lo(0.0), hi(0.0);
   auto extend = [&](glm::vec3 p) {

@@ -36,6 +36,9 @@ class Viewport3D {
   float vertical_scale_ = 1.0f;
   bool wireframe_ = false;
   std::string geometry_key_;
+  PortValue shown_value_;  // held so their addresses in the key stay theirs
+  HeightfieldPtr shown_field_;
+  ImagePtr shown_drape_;
   glm::dvec3 bounds_min_{0.0}, bounds_max_{1.0};
 
   unsigned program_ = 0, points_program_ = 0;
