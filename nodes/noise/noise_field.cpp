@@ -21,13 +21,14 @@ namespace {
 
 constexpr int kRun = 256;  // samples per kernel call: the scratch buffers of a run stay in L1
 
-// Working memory of one row run.
+// Working memory of one run of a block of rows (about 70 KB, on the stack of the task).
 struct alignas(64) Scratch {
   double u[kRun], v[kRun];
   std::uint32_t cx[kRun], cy[kRun];
   float fx[kRun], fy[kRun];
-  float warp_x[kRun], warp_y[kRun];
-  float noise[kRun], sum[kRun], aux[kRun], q[kRun], amplitude[kRun], tail[kRun];
+  float warp_x[kernels::kMaxRows][kRun], warp_y[kernels::kMaxRows][kRun];
+  float noise[kernels::kMaxRows][kRun], sum[kernels::kMaxRows][kRun], aux[kernels::kMaxRows][kRun];
+  float q[kernels::kMaxRows][kRun], amplitude[kernels::kMaxRows][kRun], tail[kernels::kMaxRows][kRun];
 };
 
 template <class Fn>
@@ -123,74 +124,122 @@ void evaluate_noise_into(Heightfield& out, const NoisePlan& plan, const NoiseInp
   const float q_constant = std::exp(ln_r * (plan.roughness - 1.0f));
   const bool fbm = plan.mode == FractalMode::Fbm;
 
-  for_each_row(ctx, height, [&](int j) {
+  // Rows go in blocks of kMaxRows. Unwarped Perlin, Value and White hand each group of rows lying in the
+  // same lattice row to one kernel call, which hashes every lattice corner once for the whole group.
+  const bool shared_rows = !warped && (plan.basis == Basis::Perlin || plan.basis == Basis::Value ||
+                                       plan.basis == Basis::White);
+  constexpr int kRows = kernels::kMaxRows;
+  const int blocks = (height + kRows - 1) / kRows;
+  for_each_row(ctx, blocks, [&](int block) {
     Scratch s;
-    const double y = domain.y(j);
-    float* row = out.row(j).data();
+    const int j0 = block * kRows, rows = std::min(kRows, height - j0);
+    double ys[kRows];
+    for (int r = 0; r < rows; ++r) ys[r] = domain.y(j0 + r);
     for (int c0 = 0; c0 < width; c0 += kRun) {
       const int n = std::min(kRun, width - c0);
       const int np = kernels::padded(n);
-      // Whole vectors go straight into the row; a padded tail goes through scratch.
-      float* target = np == n ? row + c0 : s.tail;
-      const float* wx = copy_run(inputs.warp_x, j, c0, n, np, 0.0f, s.warp_x);
-      const float* wy = copy_run(inputs.warp_y, j, c0, n, np, 0.0f, s.warp_y);
-      const float* amplitude = copy_run(inputs.amplitude, j, c0, n, np, 0.0f, s.amplitude);
-      if (plan.mode == FractalMode::Multifractal) {
-        if (inputs.roughness) {
-          copy_run(inputs.roughness, j, c0, n, np, 0.0f, s.aux);
-          kernels::roughness_ratio(s.aux, ln_r, np, s.q);
-        } else {
-          std::fill(s.q, s.q + np, q_constant);
+      // Whole vectors go straight into the rows; a padded tail goes through scratch.
+      const bool direct = np == n;
+      float* const target = direct ? out.row(j0).data() + c0 : s.tail[0];
+      const std::ptrdiff_t target_stride = direct ? width : kRun;
+      const float* wx[kRows];
+      const float* wy[kRows];
+      const float* amplitude[kRows];
+      for (int r = 0; r < rows; ++r) {
+        wx[r] = copy_run(inputs.warp_x, j0 + r, c0, n, np, 0.0f, s.warp_x[r]);
+        wy[r] = copy_run(inputs.warp_y, j0 + r, c0, n, np, 0.0f, s.warp_y[r]);
+        amplitude[r] = copy_run(inputs.amplitude, j0 + r, c0, n, np, 0.0f, s.amplitude[r]);
+        if (plan.mode == FractalMode::Multifractal) {
+          if (inputs.roughness) {
+            copy_run(inputs.roughness, j0 + r, c0, n, np, 0.0f, s.aux[r]);
+            kernels::roughness_ratio(s.aux[r], ln_r, np, s.q[r]);
+          } else {
+            std::fill(s.q[r], s.q[r] + np, q_constant);
+          }
         }
       }
       for (std::size_t k = 0; k < octave_count; ++k) {
         const OctavePlan& o = plan.octaves[k];
         const bool first = k == 0;
-        // fbm accumulates straight into the sum; other modes combine a separate noise run.
-        const kernels::Output dst = fbm ? kernels::Output{target, o.amplitude * plan.scale, !first}
-                                        : kernels::Output{s.noise, 1.0f, false};
-        if (simplex) {
-          if (warped) {
-            kernels::displaced(xs.data() + c0, 0.0, wx, o.frequency, o.shift_x, np, s.u);
-            kernels::displaced(nullptr, y, wy, o.frequency, o.shift_y, np, s.v);
-            kernels::simplex_skew(s.u, s.v, 0.0, np, s.cx, s.cy, s.fx, s.fy);
-          } else {
-            kernels::simplex_skew(columns[k].u.data() + c0, nullptr, y * o.frequency + o.shift_y, np, s.cx, s.cy,
-                                  s.fx, s.fy);
-          }
-          kernels::simplex({s.cx, s.cy, s.fx, s.fy}, o.key, np, dst);
-        } else {
-          kernels::LatticeRun run;
-          if (warped) {
-            kernels::displaced(xs.data() + c0, 0.0, wx, o.frequency, o.shift_x, np, s.u);
-            kernels::split_lattice(s.u, kHashPrimeX, np, s.cx, s.fx);
-            kernels::displaced(nullptr, y, wy, o.frequency, o.shift_y, np, s.v);
-            kernels::split_lattice(s.v, kHashPrimeY, np, s.cy, s.fy);
-            run = {s.cx, s.fx, s.cy, s.fy, 0, 0.0f};
-          } else {
-            const auto ys = reference::split(y * o.frequency + o.shift_y);
-            run = {columns[k].cell.data() + c0, columns[k].frac.data() + c0, nullptr, nullptr, ys.cell * kHashPrimeY,
-                   ys.frac};
-          }
+        // fbm accumulates straight into the output; other modes combine a separate noise run.
+        auto destination = [&](int r) {
+          return fbm ? kernels::Output{target + r * target_stride, o.amplitude * plan.scale, !first, target_stride}
+                     : kernels::Output{s.noise[r], 1.0f, false, kRun};
+        };
+        auto lattice_basis = [&](const kernels::LatticeRun& run, const kernels::Output& dst) {
           switch (plan.basis) {
             case Basis::Perlin: kernels::perlin(run, o.key, np, dst); break;
             case Basis::Value: kernels::value(run, o.key, np, dst); break;
             case Basis::White: kernels::white(run, o.key, np, dst); break;
             case Basis::Worley: kernels::worley(run, o.key, worley, np, dst); break;
-            case Basis::Simplex: break;  // handled above
+            case Basis::Simplex: break;  // not a lattice basis
+          }
+        };
+        if (shared_rows) {
+          std::uint32_t hy[kRows];
+          float fy[kRows];
+          for (int r = 0; r < rows; ++r) {
+            const auto split = reference::split(ys[r] * o.frequency + o.shift_y);
+            hy[r] = split.cell * kHashPrimeY;
+            fy[r] = split.frac;
+          }
+          for (int r0 = 0, r1 = 0; r0 < rows; r0 = r1) {
+            for (r1 = r0 + 1; r1 < rows && hy[r1] == hy[r0]; ++r1) {
+            }
+            const kernels::LatticeRun run{columns[k].cell.data() + c0, columns[k].frac.data() + c0, nullptr, nullptr,
+                                          hy[r0], fy + r0, r1 - r0};
+            lattice_basis(run, destination(r0));
+          }
+        } else {
+          for (int r = 0; r < rows; ++r) {
+            const double y = ys[r];
+            if (simplex) {
+              if (warped) {
+                kernels::displaced(xs.data() + c0, 0.0, wx[r], o.frequency, o.shift_x, np, s.u);
+                kernels::displaced(nullptr, y, wy[r], o.frequency, o.shift_y, np, s.v);
+                kernels::simplex_skew(s.u, s.v, 0.0, np, s.cx, s.cy, s.fx, s.fy);
+              } else {
+                kernels::simplex_skew(columns[k].u.data() + c0, nullptr, y * o.frequency + o.shift_y, np, s.cx,
+                                      s.cy, s.fx, s.fy);
+              }
+              kernels::simplex({s.cx, s.cy, s.fx, s.fy}, o.key, np, destination(r));
+            } else if (warped) {
+              kernels::displaced(xs.data() + c0, 0.0, wx[r], o.frequency, o.shift_x, np, s.u);
+              kernels::split_lattice(s.u, kHashPrimeX, np, s.cx, s.fx);
+              kernels::displaced(nullptr, y, wy[r], o.frequency, o.shift_y, np, s.v);
+              kernels::split_lattice(s.v, kHashPrimeY, np, s.cy, s.fy);
+              lattice_basis({s.cx, s.fx, s.cy, s.fy, 0, nullptr, 1}, destination(r));
+            } else {  // Worley, one row at a time
+              const auto split = reference::split(y * o.frequency + o.shift_y);
+              const float fy = split.frac;
+              lattice_basis({columns[k].cell.data() + c0, columns[k].frac.data() + c0, nullptr, nullptr,
+                             split.cell * kHashPrimeY, &fy, 1},
+                            destination(r));
+            }
           }
         }
-        switch (plan.mode) {
-          case FractalMode::Fbm: break;
-          case FractalMode::Billow: kernels::billow_step(s.noise, o.amplitude, first, np, s.sum); break;
-          case FractalMode::Ridged: kernels::ridged_step(s.noise, o.amplitude, plan.offset, first, np, s.sum, s.aux); break;
-          case FractalMode::Hybrid: kernels::hybrid_step(s.noise, o.amplitude, plan.offset, first, np, s.sum, s.aux); break;
-          case FractalMode::Multifractal: kernels::multifractal_step(s.noise, s.q, first, np, s.sum, s.aux); break;
+        for (int r = 0; r < rows; ++r) {
+          switch (plan.mode) {
+            case FractalMode::Fbm: break;
+            case FractalMode::Billow: kernels::billow_step(s.noise[r], o.amplitude, first, np, s.sum[r]); break;
+            case FractalMode::Ridged:
+              kernels::ridged_step(s.noise[r], o.amplitude, plan.offset, first, np, s.sum[r], s.aux[r]);
+              break;
+            case FractalMode::Hybrid:
+              kernels::hybrid_step(s.noise[r], o.amplitude, plan.offset, first, np, s.sum[r], s.aux[r]);
+              break;
+            case FractalMode::Multifractal:
+              kernels::multifractal_step(s.noise[r], s.q[r], first, np, s.sum[r], s.aux[r]);
+              break;
+          }
         }
       }
-      if (fbm && amplitude) kernels::finish(target, amplitude, 1.0f, np, target);
-      if (!fbm) kernels::finish(s.sum, amplitude, plan.scale, np, target);
-      if (target != row + c0) std::memcpy(row + c0, target, sizeof(float) * static_cast<std::size_t>(n));
+      for (int r = 0; r < rows; ++r) {
+        float* t = target + r * target_stride;
+        if (fbm && amplitude[r]) kernels::finish(t, amplitude[r], 1.0f, np, t);
+        if (!fbm) kernels::finish(s.sum[r], amplitude[r], plan.scale, np, t);
+        if (!direct) std::memcpy(out.row(j0 + r).data() + c0, t, sizeof(float) * static_cast<std::size_t>(n));
+      }
     }
   });
 }

@@ -9,7 +9,9 @@
 // displaced position, never resampled. Everything depends only on the global lattice index of a sample,
 // so any tile, at any thread count, gives exactly the same values as a larger domain containing it.
 //
-// Rows run in parallel; each row is processed in runs of up to 256 samples by the SIMD kernels.
+// Blocks of 8 rows run in parallel; each block is processed in runs of up to 256 columns by the SIMD kernels.
+// Unwarped Perlin, Value and White evaluate the rows of a block that fall in the same lattice row together,
+// hashing each lattice corner once for all of them (a row's values never depend on its companions).
 #include <cstdint>
 #include <optional>
 #include <vector>

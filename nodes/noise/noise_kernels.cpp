@@ -88,14 +88,18 @@ struct Gradients {
     }
   }
 
-  // g_(h >> 28) . (dx, dy)
-  HWY_INLINE VF Dot(VU h, VF dx, VF dy) const {
+  struct Vector {
+    VF x, y;
+  };
+
+  // Gradient number h >> 28.
+  HWY_INLINE Vector Lookup(VU h) const {
     const DF df;
     const DU du;
     const DI di;
     if constexpr (kLanes >= 16) {
       const auto lanes = hn::IndicesFromVec(df, hn::BitCast(di, hn::ShiftRight<28>(h)));
-      return hn::MulAdd(hn::TableLookupLanes(x, lanes), dx, hn::Mul(hn::TableLookupLanes(y, lanes), dy));
+      return {hn::TableLookupLanes(x, lanes), hn::TableLookupLanes(y, lanes)};
     } else {
       const auto index = hn::BitCast(di, hn::And(hn::ShiftRight<28>(h), hn::Set(du, 7u)));
       VF gx, gy;
@@ -107,10 +111,13 @@ struct Gradients {
         gx = hn::GatherIndex(df, reference::kGradientX, index);
         gy = hn::GatherIndex(df, reference::kGradientY, index);
       }
-      const VF d = hn::MulAdd(gx, dx, hn::Mul(gy, dy));
-      return hn::BitCast(df, hn::Xor(hn::BitCast(du, d), hn::And(h, hn::Set(du, 0x80000000u))));
+      const VU sign = hn::And(h, hn::Set(du, 0x80000000u));  // vectors 8..15 are the negated 0..7
+      return {hn::BitCast(df, hn::Xor(hn::BitCast(du, gx), sign)), hn::BitCast(df, hn::Xor(hn::BitCast(du, gy), sign))};
     }
   }
+
+  static HWY_INLINE VF Dot(const Vector& g, VF dx, VF dy) { return hn::MulAdd(g.x, dx, hn::Mul(g.y, dy)); }
+  HWY_INLINE VF Dot(VU h, VF dx, VF dy) const { return Dot(Lookup(h), dx, dy); }
 };
 
 HWY_INLINE VF Fade(VF t) {
@@ -128,8 +135,8 @@ HWY_INLINE void Put(VF v, float* out, std::size_t i) {
   hn::StoreU(v, df, out + i);
 }
 
-// Lattice coordinates of lanes i.. of a run; y from the arrays or the row constants (which the compiler
-// hoists out of the loop: runs are passed by value so no store can alias them).
+// Lattice coordinates of lanes i.. of a single-row run; y from the arrays or the row constants (which the
+// compiler hoists out of the loop: runs are passed by value so no store can alias them).
 struct LatticeLanes {
   VU hx;
   VF fx;
@@ -142,7 +149,7 @@ HWY_INLINE LatticeLanes LoadLattice(const LatticeRun& in, std::size_t i) {
   const DF df;
   const DU du;
   if constexpr (kRowY) {
-    return {hn::LoadU(du, in.hx + i), hn::LoadU(df, in.fx + i), hn::Set(du, in.row_hy), hn::Set(df, in.row_fy)};
+    return {hn::LoadU(du, in.hx + i), hn::LoadU(df, in.fx + i), hn::Set(du, in.row_hy), hn::Set(df, in.row_fy[0])};
   } else {
     return {hn::LoadU(du, in.hx + i), hn::LoadU(df, in.fx + i), hn::LoadU(du, in.hy + i), hn::LoadU(df, in.fy + i)};
   }
@@ -213,55 +220,102 @@ void SimplexSkew(const double* u, const double* v, double v_const, int n, std::u
 // ---------------------------------------------------------------------------------------------------
 // Bases
 
+// Per-row y constants of a multi-row run, computed with the same vector operations as the per-sample path.
+struct RowY {
+  VF fy[kMaxRows], fy1[kMaxRows], uy[kMaxRows];
+  explicit RowY(const LatticeRun& in) {
+    const DF df;
+    for (int r = 0; r < in.rows; ++r) {
+      fy[r] = hn::Set(df, in.row_fy[r]);
+      fy1[r] = hn::Sub(fy[r], hn::Set(df, 1.0f));
+      uy[r] = Fade(fy[r]);
+    }
+  }
+};
+
+// Perlin: the four corner gradients of a lattice cell, looked up once per vector and shared by every row
+// of a multi-row run; then per row the four dot products and the fade-weighted blend.
 template <bool kRowY, bool kAccumulate>
-void PerlinImpl(const LatticeRun in, std::uint32_t key, int n, float* out, float scale) {
+void PerlinImpl(const LatticeRun in, std::uint32_t key, int n, float* out, std::ptrdiff_t stride, float scale) {
   const DF df;
   const DU du;
   const VU px = hn::Set(du, kHashPrimeX), py = hn::Set(du, kHashPrimeY), vkey = hn::Set(du, key);
   const VF one = hn::Set(df, 1.0f), vscale = hn::Set(df, scale * reference::kPerlinScale);
   const Gradients g;
-  for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
-    const LatticeLanes c = LoadLattice<kRowY>(in, i);
-    const VU x0 = c.hx, x1 = hn::Add(x0, px);
-    const VU y0 = hn::Xor(c.hy, vkey), y1 = hn::Xor(hn::Add(c.hy, py), vkey);
-    const VF fx1 = hn::Sub(c.fx, one), fy1 = hn::Sub(c.fy, one);
-    const VF n00 = g.Dot(Mix(hn::Xor(x0, y0)), c.fx, c.fy);
-    const VF n10 = g.Dot(Mix(hn::Xor(x1, y0)), fx1, c.fy);
-    const VF n01 = g.Dot(Mix(hn::Xor(x0, y1)), c.fx, fy1);
-    const VF n11 = g.Dot(Mix(hn::Xor(x1, y1)), fx1, fy1);
-    const VF ux = Fade(c.fx), uy = Fade(c.fy);
-    const VF r = Lerp(Lerp(n00, n10, ux), Lerp(n01, n11, ux), uy);
-    Put<kAccumulate>(hn::Mul(r, vscale), out, i);
+  if constexpr (kRowY) {
+    const RowY ry(in);
+    const VU y0 = hn::Xor(hn::Set(du, in.row_hy), vkey), y1 = hn::Xor(hn::Set(du, in.row_hy + kHashPrimeY), vkey);
+    for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
+      const VU x0 = hn::LoadU(du, in.hx + i), x1 = hn::Add(x0, px);
+      const VF fx = hn::LoadU(df, in.fx + i), fx1 = hn::Sub(fx, one), ux = Fade(fx);
+      const auto g00 = g.Lookup(Mix(hn::Xor(x0, y0))), g10 = g.Lookup(Mix(hn::Xor(x1, y0)));
+      const auto g01 = g.Lookup(Mix(hn::Xor(x0, y1))), g11 = g.Lookup(Mix(hn::Xor(x1, y1)));
+      for (int r = 0; r < in.rows; ++r) {
+        const VF n00 = Gradients::Dot(g00, fx, ry.fy[r]), n10 = Gradients::Dot(g10, fx1, ry.fy[r]);
+        const VF n01 = Gradients::Dot(g01, fx, ry.fy1[r]), n11 = Gradients::Dot(g11, fx1, ry.fy1[r]);
+        const VF v = Lerp(Lerp(n00, n10, ux), Lerp(n01, n11, ux), ry.uy[r]);
+        Put<kAccumulate>(hn::Mul(v, vscale), out + r * stride, i);
+      }
+    }
+  } else {
+    for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
+      const LatticeLanes c = LoadLattice<false>(in, i);
+      const VU x0 = c.hx, x1 = hn::Add(x0, px);
+      const VU y0 = hn::Xor(c.hy, vkey), y1 = hn::Xor(hn::Add(c.hy, py), vkey);
+      const VF fx1 = hn::Sub(c.fx, one), fy1 = hn::Sub(c.fy, one);
+      const VF n00 = g.Dot(Mix(hn::Xor(x0, y0)), c.fx, c.fy);
+      const VF n10 = g.Dot(Mix(hn::Xor(x1, y0)), fx1, c.fy);
+      const VF n01 = g.Dot(Mix(hn::Xor(x0, y1)), c.fx, fy1);
+      const VF n11 = g.Dot(Mix(hn::Xor(x1, y1)), fx1, fy1);
+      const VF ux = Fade(c.fx), uy = Fade(c.fy);
+      const VF v = Lerp(Lerp(n00, n10, ux), Lerp(n01, n11, ux), uy);
+      Put<kAccumulate>(hn::Mul(v, vscale), out, i);
+    }
   }
 }
 
+// Value: the x blends of the lattice row pair are shared by every row of a multi-row run.
 template <bool kRowY, bool kAccumulate>
-void ValueImpl(const LatticeRun in, std::uint32_t key, int n, float* out, float scale) {
+void ValueImpl(const LatticeRun in, std::uint32_t key, int n, float* out, std::ptrdiff_t stride, float scale) {
   const DF df;
   const DU du;
   const VU px = hn::Set(du, kHashPrimeX), py = hn::Set(du, kHashPrimeY), vkey = hn::Set(du, key);
   const VF vscale = hn::Set(df, scale);
-  for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
-    const LatticeLanes c = LoadLattice<kRowY>(in, i);
-    const VU x0 = c.hx, x1 = hn::Add(x0, px);
-    const VU y0 = hn::Xor(c.hy, vkey), y1 = hn::Xor(hn::Add(c.hy, py), vkey);
-    const VF v00 = SignedUnit(Mix(hn::Xor(x0, y0))), v10 = SignedUnit(Mix(hn::Xor(x1, y0)));
-    const VF v01 = SignedUnit(Mix(hn::Xor(x0, y1))), v11 = SignedUnit(Mix(hn::Xor(x1, y1)));
-    const VF ux = Fade(c.fx), uy = Fade(c.fy);
-    Put<kAccumulate>(hn::Mul(Lerp(Lerp(v00, v10, ux), Lerp(v01, v11, ux), uy), vscale), out, i);
+  if constexpr (kRowY) {
+    const RowY ry(in);
+    const VU y0 = hn::Xor(hn::Set(du, in.row_hy), vkey), y1 = hn::Xor(hn::Set(du, in.row_hy + kHashPrimeY), vkey);
+    for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
+      const VU x0 = hn::LoadU(du, in.hx + i), x1 = hn::Add(x0, px);
+      const VF ux = Fade(hn::LoadU(df, in.fx + i));
+      const VF a = Lerp(SignedUnit(Mix(hn::Xor(x0, y0))), SignedUnit(Mix(hn::Xor(x1, y0))), ux);
+      const VF b = Lerp(SignedUnit(Mix(hn::Xor(x0, y1))), SignedUnit(Mix(hn::Xor(x1, y1))), ux);
+      for (int r = 0; r < in.rows; ++r) Put<kAccumulate>(hn::Mul(Lerp(a, b, ry.uy[r]), vscale), out + r * stride, i);
+    }
+  } else {
+    for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
+      const LatticeLanes c = LoadLattice<false>(in, i);
+      const VU x0 = c.hx, x1 = hn::Add(x0, px);
+      const VU y0 = hn::Xor(c.hy, vkey), y1 = hn::Xor(hn::Add(c.hy, py), vkey);
+      const VF ux = Fade(c.fx), uy = Fade(c.fy);
+      const VF a = Lerp(SignedUnit(Mix(hn::Xor(x0, y0))), SignedUnit(Mix(hn::Xor(x1, y0))), ux);
+      const VF b = Lerp(SignedUnit(Mix(hn::Xor(x0, y1))), SignedUnit(Mix(hn::Xor(x1, y1))), ux);
+      Put<kAccumulate>(hn::Mul(Lerp(a, b, uy), vscale), out, i);
+    }
   }
 }
 
+// White: one value per lattice cell, the same for every row of a multi-row run.
 template <bool kRowY, bool kAccumulate>
-void WhiteImpl(const LatticeRun in, std::uint32_t key, int n, float* out, float scale) {
+void WhiteImpl(const LatticeRun in, std::uint32_t key, int n, float* out, std::ptrdiff_t stride, float scale) {
   const DF df;
   const DU du;
   const VU vkey = hn::Set(du, key);
   const VF vscale = hn::Set(df, scale);
+  const int rows = kRowY ? in.rows : 1;
   for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
     const LatticeLanes c = LoadLattice<kRowY>(in, i);
-    const VU h = Mix(hn::Xor(hn::Xor(c.hx, c.hy), vkey));
-    Put<kAccumulate>(hn::Mul(SignedUnit(h), vscale), out, i);
+    const VF v = hn::Mul(SignedUnit(Mix(hn::Xor(hn::Xor(c.hx, c.hy), vkey))), vscale);
+    for (int r = 0; r < rows; ++r) Put<kAccumulate>(v, out + r * stride, i);
   }
 }
 
@@ -377,28 +431,28 @@ void WorleyImpl(const LatticeRun in, std::uint32_t key, const WorleyRun& search,
 template <template <bool, bool> class Impl, class... Args>
 void DispatchLattice(const LatticeRun& in, const Output& o, Args&&... args) {
   const bool row_y = in.hy == nullptr;
-  if (row_y && o.accumulate) Impl<true, true>::run(in, args..., o.out, o.scale);
-  else if (row_y) Impl<true, false>::run(in, args..., o.out, o.scale);
-  else if (o.accumulate) Impl<false, true>::run(in, args..., o.out, o.scale);
-  else Impl<false, false>::run(in, args..., o.out, o.scale);
+  if (row_y && o.accumulate) Impl<true, true>::run(in, args..., o.out, o.stride, o.scale);
+  else if (row_y) Impl<true, false>::run(in, args..., o.out, o.stride, o.scale);
+  else if (o.accumulate) Impl<false, true>::run(in, args..., o.out, o.stride, o.scale);
+  else Impl<false, false>::run(in, args..., o.out, o.stride, o.scale);
 }
 
 template <bool A, bool B>
 struct PerlinOp {
-  static void run(const LatticeRun& in, std::uint32_t key, int n, float* out, float scale) {
-    PerlinImpl<A, B>(in, key, n, out, scale);
+  static void run(const LatticeRun& in, std::uint32_t key, int n, float* out, std::ptrdiff_t stride, float scale) {
+    PerlinImpl<A, B>(in, key, n, out, stride, scale);
   }
 };
 template <bool A, bool B>
 struct ValueOp {
-  static void run(const LatticeRun& in, std::uint32_t key, int n, float* out, float scale) {
-    ValueImpl<A, B>(in, key, n, out, scale);
+  static void run(const LatticeRun& in, std::uint32_t key, int n, float* out, std::ptrdiff_t stride, float scale) {
+    ValueImpl<A, B>(in, key, n, out, stride, scale);
   }
 };
 template <bool A, bool B>
 struct WhiteOp {
-  static void run(const LatticeRun& in, std::uint32_t key, int n, float* out, float scale) {
-    WhiteImpl<A, B>(in, key, n, out, scale);
+  static void run(const LatticeRun& in, std::uint32_t key, int n, float* out, std::ptrdiff_t stride, float scale) {
+    WhiteImpl<A, B>(in, key, n, out, stride, scale);
   }
 };
 
@@ -420,7 +474,8 @@ template <WorleyMetric M, WorleyOutput O>
 struct WorleyOf {
   template <bool A, bool B>
   struct Op {
-    static void run(const LatticeRun& in, std::uint32_t key, const WorleyRun& s, int n, float* out, float scale) {
+    static void run(const LatticeRun& in, std::uint32_t key, const WorleyRun& s, int n, float* out,
+                    std::ptrdiff_t /*single row*/, float scale) {
       WorleyImpl<M, O, A, B>(in, key, s, n, out, scale);
     }
   };
@@ -560,14 +615,17 @@ void simplex_skew(const double* u, const double* v, double v_const, int n, std::
 }
 void perlin(const LatticeRun& in, std::uint32_t key, int n, const Output& out) {
   assert(n % kBatchAlign == 0);
+  assert(in.rows >= 1 && in.rows <= kMaxRows && (in.hy == nullptr || in.rows == 1));
   HWY_DYNAMIC_DISPATCH(Perlin)(in, key, n, out);
 }
 void value(const LatticeRun& in, std::uint32_t key, int n, const Output& out) {
   assert(n % kBatchAlign == 0);
+  assert(in.rows >= 1 && in.rows <= kMaxRows && (in.hy == nullptr || in.rows == 1));
   HWY_DYNAMIC_DISPATCH(Value)(in, key, n, out);
 }
 void white(const LatticeRun& in, std::uint32_t key, int n, const Output& out) {
   assert(n % kBatchAlign == 0);
+  assert(in.rows >= 1 && in.rows <= kMaxRows && (in.hy == nullptr || in.rows == 1));
   HWY_DYNAMIC_DISPATCH(White)(in, key, n, out);
 }
 void simplex(const SimplexRun& in, std::uint32_t key, int n, const Output& out) {
@@ -577,6 +635,7 @@ void simplex(const SimplexRun& in, std::uint32_t key, int n, const Output& out) 
 void worley(const LatticeRun& in, std::uint32_t key, const WorleyRun& search, int n, const Output& out) {
   assert(n % kBatchAlign == 0);
   assert(search.offset_count <= kMaxWorleyOffsets);
+  assert(in.rows == 1);
   HWY_DYNAMIC_DISPATCH(Worley)(in, key, search, n, out);
 }
 void billow_step(const float* noise, float amp, bool first, int n, float* sum) {

@@ -13,6 +13,7 @@
 //    double precision so that worlds far from the origin keep full float precision in the fraction.
 //  - The scalar reference (noise_reference.h) implements the same mathematics independently; tests check
 //    that both agree to 1e-5.
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -26,16 +27,24 @@ constexpr int padded(int n) { return (n + kBatchAlign - 1) / kBatchAlign * kBatc
 
 // Lattice coordinates of a run of samples. The integer cells come pre-multiplied by the hash primes
 // (hx = cell_x * kHashPrimeX, hy = cell_y * kHashPrimeY, modulo 2^32): every kernel starts the lattice
-// hash with these products, and the next cell is one addition away (hx + kHashPrimeX). When hy is null,
-// every sample lies on the same lattice row (row_hy, row_fy): the unwarped case, where the y split is done
-// once per row.
+// hash with these products, and the next cell is one addition away (hx + kHashPrimeX).
+//
+// Two forms:
+//  - per-sample y (hy, fy set; rows == 1): warped evaluation.
+//  - shared lattice row (hy null): `rows` sample rows with the same x coordinates that all lie in lattice
+//    row row_hy, with fractions row_fy[0..rows). This is the unwarped case, where neighbouring sample rows
+//    usually fall in the same lattice row: the Perlin, Value and White kernels then hash each lattice
+//    corner and look up its gradient once for all those rows. Simplex and Worley take one row at a time.
+//    The result of a row does not depend on which other rows share its batch.
+inline constexpr int kMaxRows = 8;
 struct LatticeRun {
   const std::uint32_t* hx = nullptr;
   const float* fx = nullptr;
   const std::uint32_t* hy = nullptr;
   const float* fy = nullptr;
   std::uint32_t row_hy = 0;
-  float row_fy = 0.0f;
+  const float* row_fy = nullptr;
+  int rows = 1;
 };
 
 // Simplex coordinates: skewed cell (i, j), pre-multiplied like LatticeRun (hi = i * kHashPrimeX,
@@ -48,10 +57,12 @@ struct SimplexRun {
 };
 
 // Where a basis kernel puts its result: out = scale * noise, or out += scale * noise when accumulating.
+// Row r of a multi-row run goes to out + r * stride.
 struct Output {
   float* out = nullptr;
   float scale = 1.0f;
   bool accumulate = false;
+  std::ptrdiff_t stride = 0;
 };
 
 // Worley search: cell offsets (in the frame where the sample lies in the upper half of its cell on
