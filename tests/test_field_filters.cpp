@@ -64,7 +64,7 @@ TEST(Blur, ClampEdgesPreserveTheSumOfAnInteriorBump) {
     const double r = std::hypot(x - 1000, y - 1000);
     return r < 200 ? 50.0 * (1 + std::cos(r / 200 * std::numbers::pi)) + 7 * test::hash01(std::llround(x), std::llround(y)) : 0.0;
   });
-  for (double sigma : {30.0, 150.0}) {
+  for (double sigma : {30.0, 160.0}) {  // 3 samples: direct; 16 samples: decimated. 4 sigma + 200 m < 1000 m
     const auto out = run_field("Blur", d, {{"sigma", sigma}}, {{"in", bump}});
     EXPECT_NEAR(sum(*out) / sum(*bump), 1.0, 1e-5) << sigma;
   }
@@ -104,11 +104,11 @@ TEST(Blur, ImpulseIsAGaussianWithSigmaInMetresAtTwoResolutions) {
 
 TEST(Blur, LineKernelIsTheGaussianOnBothSidesOfTheSwitch) {
   // The 1D response to an impulse against the continuous Gaussian density, for sigmas from the direct
-  // kernel through the switch to the decimated evaluation (24 samples) and far beyond.
+  // kernel through the switch to the decimated evaluation (15 samples) and far beyond.
   const int n = 6001;
   std::vector<float> impulse(n, 0.0f), out(n);
   impulse[n / 2] = 1.0f;
-  for (double sigma : {3.0, 23.9, 24.1, 29.0, 47.5, 100.0, 333.0}) {
+  for (double sigma : {3.0, 11.9, 14.9, 15.1, 19.0, 23.9, 29.0, 47.5, 100.0, 333.0}) {
     gaussian_blur_line(impulse.data(), out.data(), n, sigma, BlurEdges::Clamp);
     const double peak = 1.0 / (std::sqrt(2 * std::numbers::pi) * sigma);
     double worst = 0, mass = 0, m2 = 0;
@@ -118,7 +118,7 @@ TEST(Blur, LineKernelIsTheGaussianOnBothSidesOfTheSwitch) {
       mass += out[i];
       m2 += out[i] * x * x;
     }
-    EXPECT_LT(worst, 1e-3 * peak) << sigma;
+    EXPECT_LT(worst, 4e-4 * peak) << sigma;
     EXPECT_NEAR(mass, 1.0, 1e-5) << sigma;
     EXPECT_NEAR(std::sqrt(m2), sigma, 1e-3 * sigma) << sigma;
   }
