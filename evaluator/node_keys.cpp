@@ -1,5 +1,6 @@
 #include "evaluator/node_keys.h"
 
+#include <filesystem>
 #include <system_error>
 
 #include "graph/node_type.h"
@@ -92,6 +93,24 @@ const NodeKeyInfo& NodeKeys::of(const Node& node) {
     h.add(false);
   } else {
     h.add(true).add(domain_);
+  }
+
+  // Files a node reads (path parameters that are not outputs) are data too: their size and modification time
+  // join the key, so a file changed by another tool is read again instead of served stale from the cache.
+  for (std::size_t i = 0; i < type.params.size(); ++i) {
+    const ParamDecl& decl = type.params[i];
+    if (decl.type != ParamType::Path || decl.output_file) continue;
+    const auto* value = std::get_if<std::string>(params[i]);
+    if (!value || value->empty()) continue;
+    std::error_code ec;
+    const std::filesystem::path path(*value);
+    const auto size = std::filesystem::file_size(path, ec);
+    const auto mtime = ec ? std::filesystem::file_time_type{} : std::filesystem::last_write_time(path, ec);
+    if (ec) {
+      h.add(false);  // missing or unreadable: the node fails when it runs, and failures are never cached
+    } else {
+      h.add(true).add(std::uint64_t{size}).add(std::int64_t{mtime.time_since_epoch().count()});
+    }
   }
 
   if (type.writes_files) {
