@@ -13,6 +13,7 @@
 
 #include "editor/model/node_layout.h"
 #include "editor/model/state_dir.h"
+#include "editor/ui/frame_timing.h"
 #include "editor/ui/gl.h"
 #include "editor/ui/screenshot.h"
 #include "editor/ui/theme.h"
@@ -127,27 +128,33 @@ int App::run() {
   // Screenshots show the UI, not whatever tooltip the pointer's resting place would open.
   if (screenshot) glfwSetCursorPos(window_, 1.0, options_.height - 2.0);
   int settle = -1;  // frames left before the screenshot once everything is evaluated
-  // --benchmark-build: frame intervals with and without the build, and the UI thread's own work per frame
-  // (building and submitting the frame, without the rasterisation that software OpenGL does at the swap).
-  std::vector<double> build_frames, idle_frames, build_work, idle_work, build_raster, idle_raster;
-  double work_ms = 0.0, raster_ms = 0.0;
+  FrameTiming timing;  // --benchmark-build
+  double work_ms = 0.0, cpu_ms = 0.0, raster_ms = 0.0;
   bool build_started = false;
   auto last_frame = clock::now();
   while (!quit_) {
     const auto frame_start = clock::now();
-    if (options_.benchmark_build && !build_started && !evaluation_.preview_busy() && frame_count_ >= 10) {
-      idle_frames.push_back(std::chrono::duration<double, std::milli>(frame_start - last_frame).count());
-      idle_work.push_back(work_ms);
-      idle_raster.push_back(raster_ms);
-    }
+    const double interval_ms = std::chrono::duration<double, std::milli>(frame_start - last_frame).count();
     last_frame = frame_start;
-    if (options_.benchmark_build && !build_started && idle_frames.size() >= 60) {
-      Graph g = document_->graph();
-      if (options_.build_resolution > 0) g.domain.resolution = {options_.build_resolution, options_.build_resolution};
-      OutputPolicy policy;
-      policy.output_dir = output_dir_;
-      evaluation_.start_build(g, policy);
-      build_started = true;
+    if (options_.benchmark_build && !build_started && !evaluation_.preview_busy() && frame_count_ >= 10) {
+      timing.record(false, interval_ms, work_ms, cpu_ms, raster_ms);
+      if (timing.idle_frames() >= 60) {
+        Graph g = document_->graph();
+        if (options_.build_resolution > 0) g.domain.resolution = {options_.build_resolution, options_.build_resolution};
+        OutputPolicy policy;
+        policy.output_dir = output_dir_;
+        evaluation_.start_build(g, policy);
+        build_started = true;
+      }
+    } else if (build_started) {
+      const auto status = evaluation_.build_status();
+      if (status.running) {
+        timing.record(true, interval_ms, work_ms, cpu_ms, raster_ms);
+      } else {
+        timing.print(status, reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
+        quit_ = true;
+        break;
+      }
     }
     // Idle: wake at 20 Hz for status updates; busy: run at display rate.
     const bool busy = evaluation_.preview_busy() || evaluation_.build_status().running || ImGui::IsAnyMouseDown();
@@ -162,8 +169,10 @@ int App::run() {
       canvas_->palette().set_query(options_.palette_query);
     }
     const auto work_start = clock::now();
+    const double cpu_start = FrameTiming::thread_cpu_ms();
     frame();
     work_ms = std::chrono::duration<double, std::milli>(clock::now() - work_start).count();
+    cpu_ms = FrameTiming::thread_cpu_ms() - cpu_start;
     if (options_.benchmark_build) {
       // Separates the rasterisation (done by the CPU with software OpenGL) from the UI thread's own work.
       const auto raster_start = clock::now();
@@ -184,32 +193,6 @@ int App::run() {
       if (settle > 0) --settle;
     }
     glfwSwapBuffers(window_);
-    if (build_started) {
-      const auto status = evaluation_.build_status();
-      if (status.running) {
-        build_frames.push_back(std::chrono::duration<double, std::milli>(clock::now() - frame_start).count());
-        build_work.push_back(work_ms);
-        build_raster.push_back(raster_ms);
-      } else {
-        const auto report = [](const char* what, std::vector<double> v) {
-          std::sort(v.begin(), v.end());
-          const auto pick = [&](double q) { return v.empty() ? 0.0 : v[std::min(v.size() - 1, static_cast<std::size_t>(q * v.size()))]; };
-          std::printf("%s: %zu frames, median %.1f ms, p90 %.1f ms, p99 %.1f ms, max %.1f ms\n", what, v.size(), pick(0.5),
-                      pick(0.9), pick(0.99), v.empty() ? 0.0 : v.back());
-        };
-        std::printf("OpenGL: %s, %s\n", reinterpret_cast<const char*>(glGetString(GL_RENDERER)),
-                    reinterpret_cast<const char*>(glGetString(GL_VERSION)));
-        std::printf("build %s at %d x %d in %.1f s\n", status.ok ? "ok" : "failed", status.domain.width(),
-                    status.domain.height(), status.milliseconds / 1000.0);
-        report("frame interval, idle", idle_frames);
-        report("frame interval during the build", build_frames);
-        report("UI thread work per frame, idle", idle_work);
-        report("UI thread work per frame during the build", build_work);
-        report("OpenGL rasterisation per frame, idle", idle_raster);
-        report("OpenGL rasterisation per frame during the build", build_raster);
-        quit_ = true;
-      }
-    }
   }
   recovery_.discard();  // a clean exit leaves nothing to recover
   return 0;
