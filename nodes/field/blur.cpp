@@ -38,68 +38,73 @@ void blur_line_direct(const float* in, float* out, int n, double sigma, BlurEdge
     total += (k == 0 ? 1.0 : 2.0) * w[static_cast<std::size_t>(k)];
   }
   for (auto& v : w) v /= total;
-  std::vector<double> ext;
+  std::vector<double> ext, acc(static_cast<std::size_t>(n));
   extend(in, n, radius, edges, ext);
-  for (int i = 0; i < n; ++i) {
-    const double* c = ext.data() + i + radius;
-    double s = w[0] * c[0];
-    for (int k = 1; k <= radius; ++k) s += w[static_cast<std::size_t>(k)] * (c[k] + c[-k]);
-    out[i] = static_cast<float>(s);
+  // Tap by tap over the whole line (not sample by sample): the inner loop has no dependency chain and
+  // vectorises, and every sample still sums its taps in the same order.
+  const double* c = ext.data() + radius;
+  for (int i = 0; i < n; ++i) acc[static_cast<std::size_t>(i)] = w[0] * c[i];
+  for (int k = 1; k <= radius; ++k) {
+    const double wk = w[static_cast<std::size_t>(k)];
+    const double* left = c - k;
+    const double* right = c + k;
+    double* a = acc.data();
+    for (int i = 0; i < n; ++i) a[i] += wk * (right[i] + left[i]);
   }
+  for (int i = 0; i < n; ++i) out[i] = static_cast<float>(acc[static_cast<std::size_t>(i)]);
 }
 
-// Running-sum box filter of odd width `width` over a[lo, hi): b[k] = mean of a[k - h .. k + h], h = width / 2,
-// for k in [lo + h, hi - h). Returns the new valid range.
-void box_pass(const std::vector<double>& a, std::vector<double>& b, int width, int& lo, int& hi) {
-  const int h = width / 2;
-  b.assign(a.size(), 0.0);
-  double s = 0.0;
-  for (int k = lo; k < lo + width - 1; ++k) s += a[static_cast<std::size_t>(k)];
-  for (int k = lo + h; k < hi - h; ++k) {
-    s += a[static_cast<std::size_t>(k + h)];
-    b[static_cast<std::size_t>(k)] = s / width;
-    s -= a[static_cast<std::size_t>(k - h)];
+// The composition of three boxes of odd width f: a piecewise-quadratic kernel of 3f - 2 taps, summing to 1.
+std::vector<double> triple_box_kernel(int f) {
+  std::vector<double> k{1.0};
+  for (int pass = 0; pass < 3; ++pass) {
+    std::vector<double> next(k.size() + static_cast<std::size_t>(f) - 1, 0.0);
+    for (std::size_t i = 0; i < k.size(); ++i)
+      for (int t = 0; t < f; ++t) next[i + static_cast<std::size_t>(t)] += k[i] / f;
+    k = std::move(next);
   }
-  lo += h;
-  hi -= h;
+  return k;
 }
 
-// Wide kernels by decimation: three box passes of odd width f ~ sigma / 5 (anti-aliasing; their variance
-// 3 (f^2 - 1) / 12 is part of the total), keep every f-th sample, blur that coarse line with the exact
-// sampled Gaussian of the remaining variance (at least 5 coarse samples of sigma, so it is smooth enough for
-// cubic interpolation), and interpolate back with Catmull-Rom. The boxes' zeros sit on the frequencies that
-// would alias onto the low ones the Gaussian keeps; measured, the response stays within 3e-4 of the peak of
-// the true Gaussian (tests/test_field_filters.cpp), as close as the truncated direct kernel.
+// Wide kernels by decimation: the three-box kernel of odd width f ~ sigma / 5 (anti-aliasing; its variance
+// 3 (f^2 - 1) / 12 is part of the total) evaluated at every f-th sample only, the exact sampled Gaussian of
+// the remaining variance on that coarse line (at least 5 coarse samples of sigma, smooth enough for cubic
+// interpolation), and Catmull-Rom interpolation back. The boxes' zeros sit on the frequencies that would
+// alias onto the low ones the Gaussian keeps; measured, the response stays within 3e-4 of the peak of the
+// true Gaussian (tests/test_field_filters.cpp), as close as the truncated direct kernel. About 3 + 8 + 4
+// operations per sample whatever sigma.
 void blur_line_decimated(const float* in, float* out, int n, double sigma, BlurEdges edges) {
   int f = static_cast<int>(std::floor(sigma / 5.0));
   if (f % 2 == 0) --f;
   const double coarse_sigma = std::sqrt(sigma * sigma - 3.0 * (f * f - 1) / 12.0) / f;
   const int coarse_radius = static_cast<int>(std::ceil(4.0 * coarse_sigma));
-  // Padding in full samples, a multiple of f so full index 0 is a coarse sample.
-  const int reach = 3 * (f / 2) + (coarse_radius + 5) * f;  // boxes, coarse kernel, interpolation, margin
-  const int pad = (reach / f + 1) * f;
-  std::vector<double> a, b;
-  extend(in, n, pad, edges, a);
-  int lo = 0, hi = n + 2 * pad;
-  for (int pass = 0; pass < 3; ++pass) {
-    box_pass(a, b, f, lo, hi);
-    std::swap(a, b);
+  const std::vector<double> box = triple_box_kernel(f);
+  const int half = static_cast<int>(box.size() / 2);  // 3 (f - 1) / 2
+  // Coarse sample m sits at full index f * (m - pad_coarse). pad_coarse coarse samples beyond each end
+  // cover the coarse kernel and the interpolation, so the coarse line's own edge rule never matters.
+  const int pad_coarse = coarse_radius + 3;
+  const int count = (n - 1) / f + 2 + 2 * pad_coarse;
+  // Full index i is stored at ext[i + pad]; the box kernel around coarse sample m then reads
+  // ext[f * m + t + f] for taps t = 0 .. 3f - 3.
+  const int pad = pad_coarse * f + half + f;
+  std::vector<double> ext;
+  extend(in, n, pad, edges, ext);
+  std::vector<double> acc(static_cast<std::size_t>(count), 0.0);
+  for (std::size_t t = 0; t < box.size(); ++t) {  // tap by tap: no dependency chain, same order per sample
+    const double wt = box[t];
+    const double* src = ext.data() + f + t;
+    for (int m = 0; m < count; ++m) acc[static_cast<std::size_t>(m)] += wt * src[static_cast<std::size_t>(f) * m];
   }
-  // Coarse samples m at extended index f * m, for those inside the valid range.
-  const int m0 = (lo + f - 1) / f, m1 = (hi - 1) / f;  // inclusive
-  const int count = m1 - m0 + 1;
-  std::vector<float> coarse(static_cast<std::size_t>(count)), blurred(coarse.size());
-  for (int m = m0; m <= m1; ++m) coarse[static_cast<std::size_t>(m - m0)] = static_cast<float>(a[static_cast<std::size_t>(f * m)]);
-  // The coarse line is long enough that its own edge rule never reaches the samples used below.
+  std::vector<float> coarse(acc.begin(), acc.end()), blurred(coarse.size());
   blur_line_direct(coarse.data(), blurred.data(), count, coarse_sigma, BlurEdges::Clamp);
+  // Interpolation weights repeat with period f.
+  std::vector<double> weights(static_cast<std::size_t>(f) * 4);
+  for (int r = 0; r < f; ++r) catmull_rom_weights(static_cast<double>(r) / f, &weights[static_cast<std::size_t>(r) * 4]);
   for (int i = 0; i < n; ++i) {
-    const double u = static_cast<double>(i + pad) / f - m0;
-    const int k = static_cast<int>(std::floor(u));
-    double w[4];
-    catmull_rom_weights(u - k, w);
-    double v = 0.0;
-    for (int t = 0; t < 4; ++t) v += w[t] * blurred[static_cast<std::size_t>(k - 1 + t)];
-    out[i] = static_cast<float>(v);
+    const int k = i / f + pad_coarse, r = i % f;  // full index i lies at coarse k + r / f
+    const double* w = &weights[static_cast<std::size_t>(r) * 4];
+    const float* c = &blurred[static_cast<std::size_t>(k - 1)];
+    out[i] = static_cast<float>(w[0] * c[0] + w[1] * c[1] + w[2] * c[2] + w[3] * c[3]);
   }
 }
 
