@@ -755,10 +755,10 @@ std::vector<std::string> App::preview_request(const std::string& node) const {
   nodes.push_back(node);
   const int port = std::clamp(shown_port_.count(node) ? shown_port_.at(node) : 0, 0,
                               std::max(0, static_cast<int>(n->type->outputs.size()) - 1));
-  const bool field_like = n->type->outputs.empty() || n->type->outputs[static_cast<std::size_t>(port)].type == PortType::Heightfield ||
-                          n->type->outputs[static_cast<std::size_t>(port)].type == PortType::Image;
-  if (!field_like) {
-    // Points, curves, maps and meshes are drawn over the heightfield they came from.
+  const bool field = n->type->outputs.empty() || n->type->outputs[static_cast<std::size_t>(port)].type == PortType::Heightfield;
+  if (!field) {
+    // Points, curves, maps and meshes are drawn over the heightfield they came from; images are draped
+    // over it in 3D.
     for (const auto& in : n->type->inputs)
       if (in.type == PortType::Heightfield)
         if (auto it = n->inputs.find(in.name); it != n->inputs.end()) {
@@ -818,6 +818,7 @@ PreviewContent App::preview_content(const std::string& node) const {
           c.backdrop_node = nodes[1];
           break;
         }
+  if (auto* image = std::get_if<ImagePtr>(&c.value); image && *image && drape_node_.empty()) c.drape = *image;
   if (!drape_node_.empty())
     if (auto it = result->outputs.find(drape_node_); it != result->outputs.end())
       for (const auto& v : it->second)
