@@ -63,6 +63,8 @@ class CanvasController {
   void close_palette();
   PaletteState& palette() { return palette_; }
   glm::dvec2 palette_position() const { return palette_screen_; }  // screen
+  // The link dropped on empty canvas that opened the palette (drawn to it until a node is chosen).
+  const std::optional<LinkDrag>& palette_link() const { return palette_link_; }
   // Adds the highlighted (or given) type where the palette was opened, connecting it to the link that
   // opened the palette if any. Returns the new node's id, or "" if nothing was chosen.
   std::string confirm_palette(const NodeType* type = nullptr);

@@ -169,16 +169,19 @@ void NodeCanvasView::draw_links(ImDrawList* dl) {
              std::max(1.5f, (lit ? 3.5f : 2.5f) * zoom));
     }
   }
-  if (drag) {
-    const auto* anchor_node = layout.find(drag->anchor().node);
-    const auto* anchor = anchor_node ? anchor_node->find_pin(drag->anchor().port, drag->anchor().output) : nullptr;
+  // The link being dragged follows the mouse; a link dropped on empty canvas leads to the palette.
+  const bool palette = controller_.mode() == CanvasController::Mode::Palette;
+  const auto& pending = palette ? controller_.palette_link() : drag;
+  if (pending) {
+    const auto* anchor_node = layout.find(pending->anchor().node);
+    const auto* anchor = anchor_node ? anchor_node->find_pin(pending->anchor().port, pending->anchor().output) : nullptr;
     if (anchor) {
-      glm::dvec2 end = controller_.mouse();
-      if (const auto& hp = controller_.hovered_pin(); hp && drag->compatible(graph, hp->pin))
+      glm::dvec2 end = palette ? controller_.palette_position() : controller_.mouse();
+      if (const auto& hp = controller_.hovered_pin(); !palette && hp && pending->compatible(graph, hp->pin))
         end = v.to_screen(hp->position);
       const glm::dvec2 a = v.to_screen(anchor->position);
-      const ImU32 color = theme::port_color(drag->type());
-      if (drag->anchor().output) bezier(a, end, color, std::max(2.0f, 3.0f * zoom));
+      const ImU32 color = theme::port_color(pending->type());
+      if (pending->anchor().output) bezier(a, end, color, std::max(2.0f, 3.0f * zoom));
       else bezier(end, a, color, std::max(2.0f, 3.0f * zoom));
     }
   }
