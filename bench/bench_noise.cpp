@@ -2,6 +2,7 @@
 //
 //   orogen_bench_noise [--benchmark_filter=...]
 //   orogen_bench_noise --benchmark_repetitions=5 --benchmark_enable_random_interleaving=true   (busy machine)
+//   orogen_bench_noise --noise_target=AVX2   (kernels limited to an instruction set: AVX3, AVX2, SSE4, SCALAR)
 //
 // Single-threaded (a oneTBB arena of one thread): Orogen's Perlin, Simplex, Worley F1 and 5-octave Perlin
 // fBm beside libnoise's module::Perlin at 1 and 5 octaves (default NoiseQuality, sampled on the plane
@@ -12,12 +13,11 @@
 #include <cstdio>
 #include <map>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <benchmark/benchmark.h>
+#include <hwy/targets.h>
 #include <noise.h>
-#include <tbb/global_control.h>
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
 
@@ -134,6 +134,24 @@ int main(int argc, char** argv) {
           ->UseRealTime();
 
   benchmark::Initialize(&argc, argv);
+  // --noise_target=AVX2 (or SSE4, SCALAR, ...): run the kernels with a lower instruction set than the best.
+  for (int a = 1; a < argc; ++a) {
+    const std::string arg = argv[a], flag = "--noise_target=";
+    if (arg.rfind(flag, 0) != 0) continue;
+    bool found = false;
+    for (std::int64_t t : kernels::available_targets())
+      if (arg.substr(flag.size()) == kernels::target_name(t)) {
+        hwy::SetSupportedTargetsForTest(t);
+        found = true;
+      }
+    if (!found) {
+      std::fprintf(stderr, "unknown or unsupported target in %s\n", arg.c_str());
+      return 1;
+    }
+    for (int b = a; b + 1 < argc; ++b) argv[b] = argv[b + 1];
+    --argc;
+    --a;
+  }
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   std::printf("Noise kernels: %s; %d cores for the all-threads runs; grid %dx%d\n", kernels::active_target(),
               tbb::info::default_concurrency(), kSide, kSide);
