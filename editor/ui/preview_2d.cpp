@@ -74,7 +74,10 @@ void Preview2D::upload(const PreviewContent& content) {
 }
 
 void Preview2D::draw(const PreviewContent& content) {
-  const bool is_field = std::holds_alternative<HeightfieldPtr>(content.value) || content.backdrop;
+  // The colour map applies when a heightfield is drawn: the value itself, or the backdrop of points,
+  // curves and maps (an image is drawn as it is).
+  const bool is_field = std::holds_alternative<HeightfieldPtr>(content.value) ||
+                        (content.backdrop && !std::holds_alternative<ImagePtr>(content.value));
   // Toolbar.
   if (is_field) {
     int map = static_cast<int>(style_.map);
