@@ -25,6 +25,21 @@ void declare_seed(NodeBuilder& b) {
       "Seed of the random lattice; the same seed gives the same noise at every resolution and for every tile");
 }
 
+void declare_lattice_generator(NodeBuilder& b, const char* description, const char* feature_size_description,
+                               LatticeGenerator generate) {
+  b.category("noise").description(description);
+  declare_warp_inputs(b);
+  b.output("out", PortType::Heightfield).description("The noise, in metres");
+  declare_feature_size(b, 256.0, feature_size_description);
+  declare_amplitude(b, 100.0, "Output scale: the noise spans [-amplitude, amplitude]");
+  declare_seed(b);
+  b.execute([generate](ExecContext& ctx) {
+    const LatticeNoiseParams p{ctx.param<double>("feature_size"), ctx.param<double>("amplitude"),
+                               ctx.param<std::uint64_t>("seed")};
+    set_field_output(ctx, generate(ctx.domain(), p, warp_inputs(ctx), &ctx));
+  });
+}
+
 NoiseInputs warp_inputs(const ExecContext& ctx) {
   NoiseInputs in;
   in.warp_x = ctx.input<Heightfield>("warp_x").get();

@@ -4,6 +4,7 @@
 
 #include "graph/exec_context.h"
 #include "graph/node_type.h"
+#include "nodes/noise/lattice_noise.h"
 #include "nodes/noise/noise_field.h"
 
 namespace orogen::noise {
@@ -19,6 +20,13 @@ void declare_seed(NodeBuilder& b);
 
 // The warp fields connected to the node (null where unconnected); they stay alive as long as ctx.
 NoiseInputs warp_inputs(const ExecContext& ctx);
+
+// The whole declaration of a lattice generator (Perlin, Simplex, Value, White): warp inputs, the "out"
+// field, feature_size, amplitude and seed, executed by `generate`.
+using LatticeGenerator = Heightfield (*)(const Domain&, const LatticeNoiseParams&, const NoiseInputs&,
+                                         const ExecContext*);
+void declare_lattice_generator(NodeBuilder& b, const char* description, const char* feature_size_description,
+                               LatticeGenerator generate);
 
 inline void set_field_output(ExecContext& ctx, Heightfield&& field) {
   ctx.set_output("out", std::make_shared<Heightfield>(std::move(field)));

@@ -6,19 +6,11 @@
 namespace orogen::noise {
 
 OROGEN_NODE(Simplex) {
-  b.category("noise").description(
+  declare_lattice_generator(
+      b,
       "2D simplex noise (skew F2 = (sqrt3-1)/2, unskew G2 = (3-sqrt3)/6, corner radius sqrt(1/2)): "
-      "smooth noise with fewer axis-aligned artefacts than Perlin, within [-amplitude, amplitude].");
-  declare_warp_inputs(b);
-  b.output("out", PortType::Heightfield).description("The noise, in metres");
-  declare_feature_size(b, 256.0, "Lattice cell size: the wavelength of the dominant features");
-  declare_amplitude(b, 100.0, "Output scale: the noise spans [-amplitude, amplitude]");
-  declare_seed(b);
-  b.execute([](ExecContext& ctx) {
-    const LatticeNoiseParams p{ctx.param<double>("feature_size"), ctx.param<double>("amplitude"),
-                               ctx.param<std::uint64_t>("seed")};
-    set_field_output(ctx, simplex(ctx.domain(), p, warp_inputs(ctx), &ctx));
-  });
+      "smooth noise with fewer axis-aligned artefacts than Perlin, within [-amplitude, amplitude].",
+      "Lattice cell size: the wavelength of the dominant features", &simplex);
 }
 
 }  // namespace orogen::noise

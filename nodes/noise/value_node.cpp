@@ -6,19 +6,11 @@
 namespace orogen::noise {
 
 OROGEN_NODE(Value) {
-  b.category("noise").description(
+  declare_lattice_generator(
+      b,
       "Value noise: random heights in [-1, 1] at lattice points blended with a quintic fade, times "
-      "amplitude.");
-  declare_warp_inputs(b);
-  b.output("out", PortType::Heightfield).description("The noise, in metres");
-  declare_feature_size(b, 256.0, "Lattice cell size: the wavelength of the dominant features");
-  declare_amplitude(b, 100.0, "Output scale: the noise spans [-amplitude, amplitude]");
-  declare_seed(b);
-  b.execute([](ExecContext& ctx) {
-    const LatticeNoiseParams p{ctx.param<double>("feature_size"), ctx.param<double>("amplitude"),
-                               ctx.param<std::uint64_t>("seed")};
-    set_field_output(ctx, value_noise(ctx.domain(), p, warp_inputs(ctx), &ctx));
-  });
+      "amplitude.",
+      "Lattice cell size: the wavelength of the dominant features", &value_noise);
 }
 
 }  // namespace orogen::noise
