@@ -89,21 +89,66 @@ RiverResult extract_rivers(const Heightfield& in, const Heightfield* rainfall, c
   if (ctx) ctx->check_cancelled();
   const double runoff = p.runoff / 1000.0 / 3600.0;  // m/s
   auto width_of = [&](double area) { return p.width_coefficient * std::pow(area * runoff, p.width_exponent); };
+  // Lake cells: below the flat spill level of their depression.
+  std::vector<std::uint8_t> lake(g.size(), 0);
+  if (p.split_at_lakes) {
+    std::vector<float> flat = in.data;
+    fill_depressions(g, flat, FlatMode::Flat, {}, ctx);
+    for (std::size_t c = 0; c < g.size(); ++c) lake[c] = flat[c] > in.data[c];
+  }
+  // Pieces of every reach outside lakes (a piece may start and end on one lake cell, the mouth or the
+  // outflow). Reaches come downstream first, so the parent's first piece is known when a reach is cut.
+  std::vector<std::vector<std::int32_t>> pieces;
+  std::vector<int> piece_parent, piece_order;
+  std::vector<int> first_piece(reaches.size(), -1);  // most upstream piece of a reach, or the next one downstream
+  for (std::size_t ri = 0; ri < reaches.size(); ++ri) {
+    const Reach& reach = reaches[ri];
+    const int downstream = reach.parent >= 0 ? first_piece[static_cast<std::size_t>(reach.parent)] : -1;
+    std::vector<std::vector<std::int32_t>> cut;
+    std::vector<std::int32_t> cur;
+    const auto& cells = reach.cells;
+    auto flush = [&] {
+      if (cur.size() >= 2) cut.push_back(cur);
+      cur.clear();
+    };
+    for (std::size_t k = 0; k < cells.size();) {
+      if (!lake[cells[k]]) {
+        cur.push_back(cells[k++]);
+        continue;
+      }
+      std::size_t e = k;  // the wet run is k..e
+      while (e + 1 < cells.size() && lake[cells[e + 1]]) ++e;
+      if (!cur.empty()) cur.push_back(cells[k]);  // the mouth
+      flush();
+      if (e + 1 < cells.size()) cur.push_back(cells[e]);  // the outflow starts at the lake's last cell
+      k = e + 1;
+    }
+    flush();
+    // Emit downstream first so parents have lower indices: the last piece flows into `downstream`.
+    int next = downstream;
+    for (auto it = cut.rbegin(); it != cut.rend(); ++it) {
+      pieces.push_back(std::move(*it));
+      piece_parent.push_back(next);
+      piece_order.push_back(reach.order);
+      next = static_cast<int>(pieces.size()) - 1;
+    }
+    first_piece[ri] = next;
+  }
   RiverResult r;
   r.curves = std::make_shared<Curves>();
-  r.curves->curves.reserve(reaches.size());
-  for (const Reach& reach : reaches) {
+  r.curves->curves.reserve(pieces.size());
+  for (std::size_t pi = 0; pi < pieces.size(); ++pi) {
     Line line;
-    for (const std::int32_t c : reach.cells) {
+    for (const std::int32_t c : pieces[pi]) {
       const int i = g.column(c), j = g.row(c);
       line.p.emplace_back(in.domain.x(i), in.domain.y(j), static_cast<double>(z[c]));
       line.area.push_back(acc[c]);
       line.width.push_back(width_of(acc[c]));
-      line.order.push_back(reach.order);
+      line.order.push_back(piece_order[pi]);
     }
     for (int s = 0; s < p.smoothing; ++s) line = chaikin(line);
     Curve curve;
-    curve.parent = reach.parent;
+    curve.parent = piece_parent[pi];
     auto& discharge = curve.attributes["discharge"];
     auto& area = curve.attributes["area"];
     auto& so = curve.attributes["order"];
@@ -128,7 +173,7 @@ OROGEN_NODE(RiverExtract) {
       "outlet; parent = the reach it flows into) with per-vertex height (z, from the filled terrain, so it never "
       "rises downstream), discharge Q = area x runoff, Strahler order (Strahler 1957) and width from the "
       "hydraulic-geometry law w = k Q^b (Leopold & Maddock 1953, b about 0.5); plus a raster river mask drawn with "
-      "that width in world units. Optional Chaikin smoothing (Chaikin 1974) keeps the ends.");
+      "that width in world units. Optional Chaikin smoothing (Chaikin 1974) keeps the ends; lakes are left without lines.");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.input("rainfall", PortType::Heightfield).optional().description("Relative rainfall per cell (unitless weight, 1 = nominal)");
   b.output("out", PortType::Curves).description("River reaches; attributes discharge (m^3/s), area (m^2), order");
@@ -141,11 +186,14 @@ OROGEN_NODE(RiverExtract) {
       .description("k of w = k Q^b");
   b.param_float("width_exponent", 0.5).range(0.0, 1.0).description("b of w = k Q^b (about 0.5 in nature)");
   b.param_int("smoothing", 2).range(0, 5).description("Chaikin corner-cutting passes on each reach (0: cell centres)");
+  b.param_bool("split_at_lakes", true).description(
+      "Leave lakes (filled depressions) without polylines: a river ends at the shore and its parent is the reach "
+      "leaving the lake; off, reaches cross lakes along the filled surface's flow paths");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto rain = ctx.input<Heightfield>("rainfall");
     const RiverParams p{ctx.param<double>("threshold"), ctx.param<double>("runoff"), ctx.param<double>("width_coefficient"),
-                        ctx.param<double>("width_exponent"), static_cast<int>(ctx.param<std::int64_t>("smoothing"))};
+                        ctx.param<double>("width_exponent"), static_cast<int>(ctx.param<std::int64_t>("smoothing")), ctx.param<bool>("split_at_lakes")};
     RiverResult r = extract_rivers(*in, rain.get(), p, &ctx);
     ctx.set_output("out", r.curves);
     ctx.set_output("mask", r.mask);
