@@ -44,6 +44,16 @@ class Scanner {
  public:
   Scanner(int width, const float* z) : width_(width), z_(z) {}
 
+  // The vertical distance of sample (px, py) to the plane of grid triangle (a, b, c), as scan() computes it.
+  double point_error(int ax, int ay, int bx, int by, int cx, int cy, int px, int py) const {
+    const double za = z_[ay * width_ + ax], zb = z_[by * width_ + bx], zc = z_[cy * width_ + cx];
+    const double det = static_cast<double>(orient(ax, ay, bx, by, cx, cy));
+    const double ux = bx - ax, uy = by - ay, vx = cx - ax, vy = cy - ay, uz = zb - za, vz = zc - za;
+    const double gx = (uz * vy - vz * uy) / det, gy = (ux * vz - vx * uz) / det;
+    const double base = za - gx * ax + gy * (py - ay);
+    return std::abs(static_cast<double>(z_[py * width_ + px]) - (base + gx * static_cast<double>(px)));
+  }
+
   template <bool kStopAbove>
   Scan scan(int ax, int ay, int bx, int by, int cx, int cy, double limit = 0.0) const {
     const double za = z_[ay * width_ + ax], zb = z_[by * width_ + bx], zc = z_[cy * width_ + cx];
@@ -52,16 +62,45 @@ class Scanner {
     const double gx = (uz * vy - vz * uy) / det, gy = (ux * vz - vx * uz) / det;
     const int ymin = std::min({ay, by, cy}), ymax = std::max({ay, by, cy});
     const int xmin = std::min({ax, bx, cx}), xmax = std::max({ax, bx, cx});
+    // Each non-horizontal edge bounds the rows on one side: x <= px + floor(dx (y - py) / dy) for dy > 0, x >=
+    // px + ceil(dx (y - py) / dy) for dy < 0. The quotients are stepped exactly from row to row (quotient q
+    // and remainder r of n / d with d > 0), without a division per row.
+    struct Walk {
+      i64 q, r, d, step_q, step_r;
+      int px;
+      bool right;
+    } walks[3];
+    int n_walks = 0;
     const int ex[3] = {ax, bx, cx}, ey[3] = {ay, by, cy};
+    for (int k = 0; k < 3; ++k) {
+      const int px = ex[k], py = ey[k];
+      const i64 dy = ey[(k + 1) % 3] - py, dx = ex[(k + 1) % 3] - px;
+      if (dy == 0) continue;
+      Walk& w = walks[n_walks++];
+      w.right = dy > 0;
+      w.d = dy > 0 ? dy : -dy;
+      const i64 s = dy > 0 ? dx : -dx;  // n grows by s per row
+      const i64 n = s * (ymin - py);
+      w.q = floor_div(n, w.d);
+      w.r = n - w.q * w.d;
+      w.step_q = floor_div(s, w.d);
+      w.step_r = s - w.step_q * w.d;
+      w.px = px;
+    }
     Scan best;
     best.error = -1.0;
     for (int y = ymin; y <= ymax; ++y) {
       i64 xl = xmin, xr = xmax;
-      for (int k = 0; k < 3; ++k) {
-        const int px = ex[k], py = ey[k], qx = ex[(k + 1) % 3], qy = ey[(k + 1) % 3];
-        const i64 dy = qy - py, dx = qx - px;
-        if (dy > 0) xr = std::min(xr, px + floor_div(dx * (y - py), dy));
-        else if (dy < 0) xl = std::max(xl, px + ceil_div(dx * (y - py), dy));
+      for (int k = 0; k < n_walks; ++k) {
+        Walk& w = walks[k];
+        if (w.right) xr = std::min(xr, w.px + w.q);
+        else xl = std::max(xl, w.px + w.q + (w.r != 0 ? 1 : 0));
+        w.q += w.step_q;
+        w.r += w.step_r;
+        if (w.r >= w.d) {
+          ++w.q;
+          w.r -= w.d;
+        }
       }
       if (xl > xr) continue;
       const float* row = z_ + static_cast<std::ptrdiff_t>(y) * width_;
@@ -379,7 +418,7 @@ class Collapser {
     for (int u : nv_) {
       if (sv != 0 && (sides(u) & sv) == 0) continue;  // a border vertex moves only along its side
       // Every triangle of v that survives must stay counter-clockwise with u in v's place.
-      bool ok = true;
+      bool ok = true, v_checked = false;
       for (int t : star_[v]) {
         const auto& c = tris_[t];
         if (c[0] == u || c[1] == u || c[2] == u) continue;
@@ -392,6 +431,15 @@ class Collapser {
         if (orient(x[0], y[0], x[1], y[1], x[2], y[2]) <= 0) {
           ok = false;
           break;
+        }
+        // The removed vertex's own sample is the likeliest to break the bound: test it first, in O(1).
+        if (!v_checked && orient(x[0], y[0], x[1], y[1], vx_[v], vy_[v]) >= 0 &&
+            orient(x[1], y[1], x[2], y[2], vx_[v], vy_[v]) >= 0 && orient(x[2], y[2], x[0], y[0], vx_[v], vy_[v]) >= 0) {
+          v_checked = true;
+          if (scanner_.point_error(x[0], y[0], x[1], y[1], x[2], y[2], vx_[v], vy_[v]) > best) {
+            ok = false;
+            break;
+          }
         }
       }
       if (!ok || !link_condition(v, u)) continue;
