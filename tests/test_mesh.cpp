@@ -1,4 +1,4 @@
-// HeightfieldToMesh and WriteMesh: grid triangulation counts, normals, colours, error-bounded decimation,
+// HeightfieldToMesh and WriteMesh: grid triangulation counts, normals, colours, the error-bounded TIN,
 // and OBJ/PLY/STL round trips through OpenMesh.
 // OpenMesh's IO header first: it registers the readers before the mesh kernel is instantiated.
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
 #include "nodes/geometry/heightfield_mesh.h"
+#include "nodes/geometry/terrain_tin.h"
 #include "nodes/io/image_file.h"
 #include "support/test_paths.h"
 
@@ -179,37 +181,142 @@ TEST(HeightfieldMesh, TooSmallIsAnError) {
   EXPECT_THROW(run_node("HeightfieldToMesh", d, {}, {{"height", field(d, plane)}}), NodeError);
 }
 
-TEST(Decimation, PlaneCollapsesToAHandfulOfFaces) {
+// A rough terrain: hills plus a hashed value noise with sharp cell edges, cliffs and a flat plateau, so the
+// TIN meets ridges, steps and ties.
+HeightfieldPtr rough(const Domain& d) {
+  auto h = std::make_shared<Heightfield>(d);
+  for (int j = 0; j < d.height(); ++j)
+    for (int i = 0; i < d.width(); ++i) {
+      const double x = d.x(i), y = d.y(j);
+      std::uint32_t k = static_cast<std::uint32_t>((i / 5) * 73856093u ^ (j / 7) * 19349663u);
+      k = (k ^ (k >> 13)) * 0x5bd1e995u;
+      const double cell = static_cast<double>(k >> 8) / double(1u << 24);
+      double z = hills(x, y) + 3.0 * cell + (x > 40.0 ? 6.0 : 0.0);
+      if (x < -60.0 && y < -60.0) z = 12.0;  // plateau
+      h->at(i, j) = static_cast<float>(z);
+    }
+  return h;
+}
+
+// Twice the signed area of a TIN triangle on the grid.
+long long tin_area2(const Tin& tin, const std::array<std::int32_t, 3>& t) {
+  const long long ax = tin.samples[t[0]] % tin.width, ay = tin.samples[t[0]] / tin.width;
+  const long long bx = tin.samples[t[1]] % tin.width, by = tin.samples[t[1]] / tin.width;
+  const long long cx = tin.samples[t[2]] % tin.width, cy = tin.samples[t[2]] / tin.width;
+  return (bx - ax) * (cy - ay) - (cx - ax) * (by - ay);
+}
+
+// Every triangle counter-clockwise and not degenerate, every edge used once (on the border of the rectangle)
+// or twice in opposite directions, and the areas add up to the rectangle's: the triangles tile it exactly.
+void expect_exact_cover(const Tin& tin) {
+  long long area = 0;
+  std::map<std::pair<int, int>, int> edges;
+  for (const auto& t : tin.triangles) {
+    const long long a2 = tin_area2(tin, t);
+    ASSERT_GT(a2, 0) << "flipped or degenerate triangle";
+    area += a2;
+    for (int k = 0; k < 3; ++k) ++edges[{t[k], t[(k + 1) % 3]}];
+  }
+  EXPECT_EQ(area, 2LL * (tin.width - 1) * (tin.height - 1));
+  for (const auto& [e, n] : edges) {
+    ASSERT_EQ(n, 1) << "edge used twice in one direction";
+    if (edges.count({e.second, e.first})) continue;
+    const int ax = tin.samples[e.first] % tin.width, ay = tin.samples[e.first] / tin.width;
+    const int bx = tin.samples[e.second] % tin.width, by = tin.samples[e.second] / tin.width;
+    const bool on_border = (ax == bx && (ax == 0 || ax == tin.width - 1)) || (ay == by && (ay == 0 || ay == tin.height - 1));
+    EXPECT_TRUE(on_border) << "open edge inside the rectangle";
+  }
+  // No vertex twice.
+  std::vector<std::int32_t> samples = tin.samples;
+  std::sort(samples.begin(), samples.end());
+  EXPECT_EQ(std::adjacent_find(samples.begin(), samples.end()), samples.end());
+}
+
+TEST(TerrainTin, PlaneNeedsTwoTriangles) {
   const Domain d = Domain::from_extent({0, 0}, {640, 480}, {33, 25});
   const auto h = field(d, plane);
   const auto mesh = run_node("HeightfieldToMesh", d, {{"max_error", 0.01}}, {{"height", h}}).get<Mesh>();
-  EXPECT_LE(mesh->face_count(), 8u) << "from " << 2 * 32 * 24;
-  EXPECT_GE(mesh->face_count(), 2u);
+  EXPECT_EQ(mesh->face_count(), 2u);
   EXPECT_TRUE(all_faces_face_up(mesh->mesh));
   EXPECT_LE(max_vertical_error(mesh->mesh, *h), 0.01);
-  // Still spans the whole rectangle: the corners are vertices.
-  const auto lo = d.min_corner(), hi = d.max_corner();
-  for (auto corner : {lo, hi, glm::dvec2(lo.x, hi.y), glm::dvec2(hi.x, lo.y)}) {
-    bool found = false;
-    for (auto v : mesh->mesh.vertices()) {
-      const auto p = mesh->mesh.point(v);
-      found = found || (p[0] == static_cast<float>(corner.x) && p[1] == static_cast<float>(corner.y));
+}
+
+TEST(TerrainTin, BoundHoldsAtEverySampleAndTheTrianglesTileTheRectangle) {
+  const Domain d = Domain::from_extent({-150, -150}, {300, 260}, {97, 81});
+  const auto h = rough(d);
+  std::size_t previous = 0;
+  for (double bound : {0.05, 0.5, 2.0}) {
+    for (bool simplify : {false, true}) {
+      TinOptions options;
+      options.max_error = bound;
+      options.simplify = simplify;
+      const Tin tin = heightfield_tin(*h, options);
+      expect_exact_cover(tin);
+      // Brute force on the grid, in double precision: every sample against the one triangle that covers it.
+      double worst = 0.0;
+      std::vector<int> covered(static_cast<std::size_t>(tin.width) * tin.height, 0);
+      for (const auto& t : tin.triangles) {
+        const int ax = tin.samples[t[0]] % tin.width, ay = tin.samples[t[0]] / tin.width;
+        const int bx = tin.samples[t[1]] % tin.width, by = tin.samples[t[1]] / tin.width;
+        const int cx = tin.samples[t[2]] % tin.width, cy = tin.samples[t[2]] / tin.width;
+        const double det = static_cast<double>(tin_area2(tin, t));
+        for (int j = std::min({ay, by, cy}); j <= std::max({ay, by, cy}); ++j)
+          for (int i = std::min({ax, bx, cx}); i <= std::max({ax, bx, cx}); ++i) {
+            const double l1 = ((i - ax) * double(cy - ay) - (cx - ax) * double(j - ay)) / det;
+            const double l2 = ((bx - ax) * double(j - ay) - (i - ax) * double(by - ay)) / det;
+            const double l0 = 1.0 - l1 - l2;
+            if (l0 < -1e-12 || l1 < -1e-12 || l2 < -1e-12) continue;
+            const double z = l0 * h->at(ax, ay) + l1 * h->at(bx, by) + l2 * h->at(cx, cy);
+            worst = std::max(worst, std::abs(h->at(i, j) - z));
+            covered[h->index(i, j)] = 1;
+          }
+      }
+      EXPECT_EQ(std::count(covered.begin(), covered.end(), 0), 0);
+      EXPECT_LE(worst, bound * (1 + 1e-9)) << bound << " simplify " << simplify;
+      EXPECT_GT(worst, bound * 0.5) << "the bound is used, not just respected";
+      EXPECT_NEAR(tin.max_error, worst, 1e-9 * (1 + worst));
+      if (simplify) {
+        EXPECT_LT(tin.triangles.size(), previous) << "the collapses remove triangles of the greedy TIN";
+        if (bound >= 2.0) EXPECT_LT(tin.triangles.size(), 2u * 96u * 80u / 4u);
+      }
+      previous = tin.triangles.size();
     }
-    EXPECT_TRUE(found) << corner.x << "," << corner.y;
   }
 }
 
-TEST(Decimation, CurvedSurfaceRespectsTheErrorBound) {
+TEST(TerrainTin, GreedyInsertionIsDelaunay) {
+  const Domain d = Domain::from_extent({-150, -150}, {300, 300}, {65, 65});
+  const auto h = rough(d);
+  TinOptions options;
+  options.max_error = 0.3;
+  options.simplify = false;
+  const Tin tin = heightfield_tin(*h, options);
+  ASSERT_GT(tin.triangles.size(), 100u);
+  auto xy = [&](int v) { return std::pair<long long, long long>(tin.samples[v] % tin.width, tin.samples[v] / tin.width); };
+  for (const auto& t : tin.triangles) {
+    const auto [ax, ay] = xy(t[0]);
+    const auto [bx, by] = xy(t[1]);
+    const auto [cx, cy] = xy(t[2]);
+    for (std::size_t v = 0; v < tin.samples.size(); ++v) {
+      const auto [dx, dy] = xy(static_cast<int>(v));
+      const long long adx = ax - dx, ady = ay - dy, bdx = bx - dx, bdy = by - dy, cdx = cx - dx, cdy = cy - dy;
+      const long long det = (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy) + (bdx * bdx + bdy * bdy) * (cdx * ady - adx * cdy) +
+                            (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady);
+      ASSERT_LE(det, 0) << "vertex " << v << " inside a circumcircle";
+    }
+  }
+}
+
+TEST(TerrainTin, MeshBoundNormalsAndVertices) {
   const Domain d = Domain::from_extent({-150, -150}, {300, 300}, {61, 61});
   const auto h = field(d, hills);
   const std::size_t full = 2u * 60u * 60u;
   std::size_t previous_faces = 0;
   for (double bound : {0.05, 0.5, 2.0}) {
-    Mesh mesh = heightfield_grid_mesh(*h);
-    DecimationOptions options;
+    TinOptions options;
     options.max_error = bound;
-    decimate_heightfield_mesh(mesh, options);
-    const double err = max_vertical_error(mesh.mesh, *h);
+    Mesh mesh = heightfield_mesh(*h, nullptr, options);
+    const double err = max_vertical_error(mesh.mesh, *h);  // independent check on the float mesh
     EXPECT_LE(err, bound + 1e-5) << "bound " << bound;
     EXPECT_GT(err, bound * 0.3) << "the bound is used, not just respected: " << bound;
     EXPECT_TRUE(all_faces_face_up(mesh.mesh));
@@ -218,7 +325,8 @@ TEST(Decimation, CurvedSurfaceRespectsTheErrorBound) {
       EXPECT_LT(mesh.face_count(), previous_faces) << "a looser bound removes more";
     }
     previous_faces = mesh.face_count();
-    // Surviving vertices are original samples with their heights, normals and colours.
+    // Vertices are samples with their heights and the grid mesh's normals.
+    const Mesh grid = heightfield_grid_mesh(*h);
     for (auto v : mesh.mesh.vertices()) {
       const auto p = mesh.mesh.point(v);
       const auto s = d.to_sample({p[0], p[1]});
@@ -226,32 +334,37 @@ TEST(Decimation, CurvedSurfaceRespectsTheErrorBound) {
       ASSERT_NEAR(s.x, i, 1e-3);
       ASSERT_NEAR(s.y, j, 1e-3);
       ASSERT_EQ(p[2], h->at(i, j));
+      ASSERT_EQ(mesh.mesh.normal(v), grid.mesh.normal(TriMesh::VertexHandle(static_cast<int>(h->index(i, j)))));
+      ASSERT_GT(mesh.mesh.normal(v)[2], 0.0f);
     }
   }
   EXPECT_LT(previous_faces, full / 10);  // 2 m on 40 m hills removes most of the grid
 }
 
-TEST(Decimation, TargetFaceCount) {
+TEST(TerrainTin, TargetFaceCount) {
   const Domain d = Domain::from_extent({0, 0}, {300, 300}, {49, 49});
   const auto h = field(d, hills);
   const auto only_target = run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(300)}}, {{"height", h}}).get<Mesh>();
   EXPECT_LE(only_target->face_count(), 300u);
-  EXPECT_GE(only_target->face_count(), 250u);
+  EXPECT_GE(only_target->face_count(), 290u);
   EXPECT_TRUE(all_faces_face_up(only_target->mesh));
   // With an error bound too, the tighter of the two wins.
   const auto both = run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(300)}, {"max_error", 0.01}},
                              {{"height", h}}).get<Mesh>();
   EXPECT_GT(both->face_count(), 300u);
   EXPECT_LE(max_vertical_error(both->mesh, *h), 0.01 + 1e-5);
+  const auto loose = run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(3000)}, {"max_error", 2.0}},
+                              {{"height", h}}).get<Mesh>();
+  EXPECT_GE(loose->face_count(), 2900u);
+  EXPECT_LE(loose->face_count(), 3000u);
 }
 
-TEST(Decimation, NodeMatchesFunctionAndIsDeterministic) {
+TEST(TerrainTin, NodeMatchesFunctionAndIsDeterministic) {
   const Domain d = Domain::from_extent({0, 0}, {300, 300}, {33, 33});
-  const auto h = field(d, hills);
-  Mesh direct = heightfield_grid_mesh(*h);
-  DecimationOptions options;
+  const auto h = rough(d);
+  TinOptions options;
   options.max_error = 0.3;
-  decimate_heightfield_mesh(direct, options);
+  const Mesh direct = heightfield_mesh(*h, nullptr, options);
   const auto a = run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"height", h}}).get<Mesh>();
   const auto b = run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"height", h}}).get<Mesh>();
   ASSERT_EQ(a->face_count(), direct.face_count());
@@ -260,13 +373,25 @@ TEST(Decimation, NodeMatchesFunctionAndIsDeterministic) {
     ASSERT_EQ(a->mesh.point(v), direct.mesh.point(v));
     ASSERT_EQ(a->mesh.point(v), b->mesh.point(v));
   }
+  for (auto f : a->mesh.faces()) {
+    auto fa = a->mesh.cfv_iter(f);
+    auto fb = b->mesh.cfv_iter(TriMesh::FaceHandle(f.idx()));
+    for (int k = 0; k < 3; ++k, ++fa, ++fb) ASSERT_EQ(fa->idx(), fb->idx());
+  }
 }
 
-TEST(Decimation, CancelledRunThrows) {
+TEST(TerrainTin, CancelledRunThrows) {
   const Domain d = Domain::from_extent({0, 0}, {300, 300}, {33, 33});
   CancelToken cancel;
   cancel.cancel();
   EXPECT_THROW(run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"height", field(d, hills)}}, {}, &cancel), Cancelled);
+}
+
+TEST(TerrainTin, NonFiniteHeightsAreAnError) {
+  const Domain d = Domain::from_extent({0, 0}, {300, 300}, {9, 9});
+  auto h = std::make_shared<Heightfield>(d);
+  h->at(3, 3) = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW(run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"height", HeightfieldPtr(h)}}), NodeError);
 }
 
 // --- WriteMesh ---

@@ -1,4 +1,4 @@
-// HeightfieldToMesh: a terrain mesh from a heightfield, optionally decimated to an error bound in metres.
+// HeightfieldToMesh: a terrain mesh from a heightfield, the full grid or a TIN within an error bound in metres.
 #include <limits>
 #include <stdexcept>
 
@@ -10,7 +10,7 @@
 namespace orogen {
 
 OROGEN_NODE(HeightfieldToMesh) {
-  b.category("geometry").description(
+  b.category("geometry").version(2).description(
       "Turns a heightfield into a triangle mesh in world coordinates (x, y, z = height, metres, z up): one "
       "vertex per sample, two triangles per cell, vertex normals of the surface, and vertex colours from the "
       "optional image. With max_error or target_faces, a triangulated irregular network instead: greedy insertion "
