@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <memory>
@@ -18,6 +20,7 @@
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
 #include "nodes/geometry/heightfield_mesh.h"
+#include "nodes/geometry/mesh_base.h"
 #include "nodes/geometry/terrain_tin.h"
 #include "nodes/io/image_file.h"
 #include "support/test_paths.h"
@@ -476,6 +479,109 @@ TEST_F(MeshFileTest, UpAxisYSwapsToYUp) {
   // A proper rotation: the winding still makes faces point up, now along +y.
   back.update_face_normals();
   for (auto f : back.faces()) ASSERT_GT(back.normal(f)[1], 0.0f);
+}
+
+TEST_F(MeshFileTest, ObjTextureCoordinatesAndMaterial) {
+  const fs::path file = write("m/terrain.obj", {{"texture", std::string("colour.png")}});
+  const fs::path library = policy_.output_dir / "m" / "terrain.mtl";
+  ASSERT_TRUE(fs::exists(library));
+  std::ifstream mtl(library);
+  const std::string mtl_text((std::istreambuf_iterator<char>(mtl)), std::istreambuf_iterator<char>());
+  EXPECT_NE(mtl_text.find("newmtl terrain\n"), std::string::npos);
+  EXPECT_NE(mtl_text.find("map_Kd colour.png\n"), std::string::npos);
+  std::ifstream obj(file);
+  std::string line;
+  std::size_t vt = 0;
+  bool mtllib = false, usemtl = false;
+  while (std::getline(obj, line)) {
+    vt += line.rfind("vt ", 0) == 0;
+    mtllib = mtllib || line == "mtllib terrain.mtl";
+    usemtl = usemtl || line == "usemtl terrain";
+  }
+  EXPECT_TRUE(mtllib);
+  EXPECT_TRUE(usemtl);
+  EXPECT_EQ(vt, mesh_->vertex_count());
+  // Read back by OpenMesh: each vertex's (u, v) is its position over the footprint.
+  TriMesh back;
+  back.request_vertex_texcoords2D();
+  OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexTexCoord;
+  ASSERT_TRUE(OpenMesh::IO::read_mesh(back, file.string(), opt));
+  ASSERT_TRUE(opt.check(OpenMesh::IO::Options::VertexTexCoord));
+  ASSERT_EQ(back.n_vertices(), mesh_->vertex_count());
+  const Domain& d = height_->domain;
+  for (auto v : back.vertices()) {
+    const auto p = mesh_->mesh.point(v);
+    const auto uv = back.texcoord2D(v);
+    ASSERT_NEAR(uv[0], (p[0] - d.x(0)) / (d.x(d.width() - 1) - d.x(0)), 1e-5);
+    ASSERT_NEAR(uv[1], (p[1] - d.y(0)) / (d.y(d.height() - 1) - d.y(0)), 1e-5);
+  }
+  // Without a texture: UVs but no material; uvs off: neither.
+  const fs::path plain = write("plain.obj", {{"uvs", false}});
+  std::ifstream plain_in(plain);
+  const std::string plain_text((std::istreambuf_iterator<char>(plain_in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(plain_text.find("vt "), std::string::npos);
+  EXPECT_EQ(plain_text.find("mtllib"), std::string::npos);
+  EXPECT_FALSE(fs::exists(policy_.output_dir / "plain.mtl"));
+}
+
+// Closed: every edge has a face on both sides. The enclosed volume (divergence theorem) is positive, so the
+// faces point out, and equals the prism under the surface down to the base plane.
+void expect_closed_solid(const TriMesh& m, double expected_volume) {
+  ASSERT_GT(m.n_faces(), 0u);
+  for (auto e : m.edges()) ASSERT_FALSE(m.is_boundary(e)) << "open edge " << e.idx();
+  for (auto v : m.vertices()) ASSERT_FALSE(m.is_boundary(v));
+  double volume = 0.0;
+  for (auto f : m.faces()) {
+    auto fv = m.cfv_iter(f);
+    const OpenMesh::Vec3d a = OpenMesh::vector_cast<OpenMesh::Vec3d>(m.point(*fv));
+    const OpenMesh::Vec3d b = OpenMesh::vector_cast<OpenMesh::Vec3d>(m.point(*++fv));
+    const OpenMesh::Vec3d c = OpenMesh::vector_cast<OpenMesh::Vec3d>(m.point(*++fv));
+    volume += OpenMesh::dot(a, OpenMesh::cross(b, c)) / 6.0;
+  }
+  EXPECT_NEAR(volume, expected_volume, 1e-4 * std::abs(expected_volume));
+  // Euler characteristic of a sphere.
+  EXPECT_EQ(static_cast<long>(m.n_vertices()) - static_cast<long>(m.n_edges()) + static_cast<long>(m.n_faces()), 2);
+}
+
+TEST(MeshBase, ClosesATerrainIntoASolid) {
+  const Domain d = Domain::from_extent({-150, -150}, {300, 260}, {49, 41});
+  const auto h = rough(d);
+  TinOptions options;
+  options.max_error = 0.5;
+  const Mesh top = heightfield_mesh(*h, nullptr, options);
+  const double depth = 10.0;
+  const Mesh solid = mesh_with_base(top, depth);
+  float zmin = std::numeric_limits<float>::infinity();
+  for (auto v : top.mesh.vertices()) zmin = std::min(zmin, top.mesh.point(v)[2]);
+  const double zb = static_cast<float>(zmin - depth);
+  // The prism under each top triangle: its xy area times the mean height above the base.
+  double expected = 0.0;
+  for (auto f : top.mesh.faces()) {
+    auto fv = top.mesh.cfv_iter(f);
+    const auto a = top.mesh.point(*fv), b = top.mesh.point(*++fv), c = top.mesh.point(*++fv);
+    const double area = 0.5 * ((double(b[0]) - a[0]) * (double(c[1]) - a[1]) - (double(c[0]) - a[0]) * (double(b[1]) - a[1]));
+    expected += area * ((double(a[2]) + b[2] + c[2]) / 3.0 - zb);
+  }
+  expect_closed_solid(solid.mesh, expected);
+  // The top is unchanged, the bottom is flat at the base and faces down.
+  for (auto v : top.mesh.vertices()) ASSERT_EQ(solid.mesh.point(v), top.mesh.point(v));
+  for (auto f : solid.mesh.faces()) {
+    if (f.idx() < static_cast<int>(top.face_count())) continue;
+    const auto n = solid.mesh.calc_face_normal(f);
+    bool bottom = true;
+    for (auto v : solid.mesh.fv_range(f)) bottom = bottom && solid.mesh.point(v)[2] == static_cast<float>(zb);
+    if (bottom) ASSERT_LT(n[2], -0.999f);
+    else ASSERT_NEAR(n[2], 0.0f, 1e-5);  // walls are vertical
+  }
+}
+
+TEST_F(MeshFileTest, BaseDepthWritesAClosedStl) {
+  const fs::path file = write("solid.stl", {{"base_depth", 5.0}});
+  TriMesh back;
+  OpenMesh::IO::Options opt = OpenMesh::IO::Options::Binary;
+  ASSERT_TRUE(OpenMesh::IO::read_mesh(back, file.string(), opt));  // STL: vertices merged by position
+  for (auto e : back.edges()) ASSERT_FALSE(back.is_boundary(e));
+  EXPECT_GT(back.n_faces(), mesh_->face_count());
 }
 
 TEST_F(MeshFileTest, Errors) {
