@@ -1,5 +1,7 @@
 #include "nodes/geometry/terrain_tin.h"
 
+#include "nodes/geometry/tin_scan.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -42,7 +44,23 @@ struct Scan {
 // exceeds `limit` (then error > limit, sample undefined).
 class Scanner {
  public:
-  Scanner(int width, const float* z) : width_(width), z_(z) {}
+  // With `single`, scan() runs the SIMD single-precision scan (tin_scan.h), whose errors are within
+  // float_margin() of the exact ones; otherwise the double-precision scalar scan below.
+  Scanner(int width, const float* z, std::size_t size, bool single) : width_(width), z_(z), size_(size), single_(single) {}
+
+  template <bool kStopAbove>
+  Scan scan(int ax, int ay, int bx, int by, int cx, int cy, double limit = 0.0) const {
+    if (!single_) return scan_exact<kStopAbove>(ax, ay, bx, by, cx, cy, limit);
+    tin::ScanRequest r;
+    r.z = z_;
+    r.size = size_;
+    r.width = width_;
+    r.ax = ax, r.ay = ay, r.bx = bx, r.by = by, r.cx = cx, r.cy = cy;
+    r.stop_above = kStopAbove;
+    r.limit = static_cast<float>(limit);
+    const tin::ScanResult s = tin::scan_triangle(r);
+    return {static_cast<double>(s.error), s.sample};
+  }
 
   // The vertical distance of sample (px, py) to the plane of grid triangle (a, b, c), as scan() computes it.
   double point_error(int ax, int ay, int bx, int by, int cx, int cy, int px, int py) const {
@@ -55,7 +73,7 @@ class Scanner {
   }
 
   template <bool kStopAbove>
-  Scan scan(int ax, int ay, int bx, int by, int cx, int cy, double limit = 0.0) const {
+  Scan scan_exact(int ax, int ay, int bx, int by, int cx, int cy, double limit = 0.0) const {
     const double za = z_[ay * width_ + ax], zb = z_[by * width_ + bx], zc = z_[cy * width_ + cx];
     const double det = static_cast<double>(orient(ax, ay, bx, by, cx, cy));
     const double ux = bx - ax, uy = by - ay, vx = cx - ax, vy = cy - ay, uz = zb - za, vz = zc - za;
@@ -129,6 +147,8 @@ class Scanner {
  private:
   int width_;
   const float* z_;
+  std::size_t size_;
+  bool single_;
 };
 
 inline int next_edge(int e) { return e % 3 == 2 ? e - 2 : e + 1; }
@@ -355,17 +375,36 @@ class Collapser {
   void run(double bound, std::size_t target, const TinOptions& options) {
     bound_ = bound;
     std::size_t faces = tris_.size();
-    for (int v = 0; v < static_cast<int>(vx_.size()); ++v) evaluate(v);
+    // Lazily re-evaluated priorities: a collapse marks the vertices around it dirty instead of re-evaluating
+    // them at once; a dirty vertex is re-evaluated when its (now approximate) entry comes out of the queue,
+    // and dirty vertices without an entry (no legal collapse before) are swept once the queue runs dry. Most
+    // vertices are disturbed several times before their turn, so this evaluates each about twice instead of
+    // after every change around it, for almost the same order.
+    dirty_.assign(vx_.size(), 0);
+    for (int v = static_cast<int>(vx_.size()) - 1; v >= 0; --v) evaluate(v);
     std::size_t steps = 0;
-    while (!queue_.empty()) {
-      const Entry top = queue_.top();
-      queue_.pop();
-      if (top.version != version_[top.vertex] || !alive_vertex_[top.vertex]) continue;
-      const std::size_t removed = boundary(top.vertex) ? 1 : 2;
-      if (target > 0 && faces - removed < target) break;
-      collapse(top.vertex, top.into);
-      faces -= removed;
-      if ((++steps & 1023) == 0 && options.should_stop && options.should_stop()) return;
+    for (;;) {
+      while (!queue_.empty()) {
+        const Entry top = queue_.top();
+        queue_.pop();
+        if (top.version != version_[top.vertex] || !alive_vertex_[top.vertex]) continue;
+        if (dirty_[top.vertex]) {
+          evaluate(top.vertex);
+          continue;
+        }
+        const std::size_t removed = boundary(top.vertex) ? 1 : 2;
+        if (target > 0 && faces - removed < target) return;
+        collapse(top.vertex, top.into);
+        faces -= removed;
+        if ((++steps & 1023) == 0 && options.should_stop && options.should_stop()) return;
+      }
+      bool any = false;
+      for (int v = static_cast<int>(vx_.size()) - 1; v >= 0; --v)
+        if (alive_vertex_[v] && dirty_[v]) {
+          evaluate(v);
+          any = true;
+        }
+      if (!any) return;
     }
   }
 
@@ -410,6 +449,7 @@ class Collapser {
   // collapse is legal.
   void evaluate(int v) {
     ++version_[v];
+    dirty_[v] = 0;
     const int sv = sides(v);
     if (sv != 0 && (sv & (sv - 1)) != 0) return;  // a corner stays
     neighbours(v, nv_);
@@ -501,8 +541,8 @@ class Collapser {
     ++version_[v];
     std::vector<int> ring;
     neighbours(u, ring);
-    evaluate(u);
-    for (int w : ring) evaluate(w);
+    dirty_[u] = 1;
+    for (int w : ring) dirty_[w] = 1;
   }
 
   int width_, height_;
@@ -514,6 +554,7 @@ class Collapser {
   std::vector<std::uint32_t> version_;
   std::priority_queue<Entry> queue_;
   double bound_ = 0.0;
+  std::vector<std::uint8_t> dirty_;
   std::vector<int> nv_, nu_;
 };
 
@@ -535,17 +576,27 @@ Tin heightfield_tin(const Heightfield& height, const TinOptions& options) {
   const double bound = bounded ? std::max(options.max_error, tiny)
                                : (options.target_faces > 0 ? std::numeric_limits<double>::infinity() : tiny);
 
-  const Scanner scanner(w, height.data.data());
+  // The SIMD single-precision scan errs by at most 8 units in the last place of the largest |z| (rounding of
+  // the plane's value at the row start, of the slope times the offset, of their sum and of the difference;
+  // each term is at most twice that magnitude): 1e-6 |z|max covers it. Both stages then work to the bound
+  // minus this margin, so the exact error stays within the bound. Bounds too tight for it (below 16 margins)
+  // use the double-precision scan throughout.
+  const double margin = 1e-6 * zmax;
+  const bool single = std::isfinite(bound) && bound > 16.0 * margin;
+  const Scanner scanner(w, height.data.data(), height.data.size(), single);
+  const double working_bound = single ? bound - margin : bound;
   GreedyInsertion greedy(height, scanner);
   const bool simplify = options.simplify && bounded;
-  greedy.run(bound, options.target_faces, tiny, options, simplify ? 0.6 : 1.0);
+  // A vertex's own sample may show a float error up to the margin: never refine on less than twice that.
+  greedy.run(working_bound, options.target_faces, single ? std::max(tiny, 2.0 * margin) : tiny, options,
+             simplify ? 0.6 : 1.0);
 
   Tin tin;
   tin.width = w;
   tin.height = h;
   if (simplify && !(options.should_stop && options.should_stop())) {
     Collapser collapser(w, h, scanner, greedy.vx_, greedy.vy_, greedy.corner_);
-    collapser.run(bound, options.target_faces, options);
+    collapser.run(working_bound, options.target_faces, options);
     tin = collapser.result(std::move(tin));
   } else {
     tin.samples.reserve(greedy.vx_.size());
@@ -557,7 +608,7 @@ Tin heightfield_tin(const Heightfield& height, const TinOptions& options) {
   double worst = 0.0;
   for (const auto& t : tin.triangles) {
     const int a = tin.samples[t[0]], b = tin.samples[t[1]], c = tin.samples[t[2]];
-    worst = std::max(worst, scanner.scan<false>(a % w, a / w, b % w, b / w, c % w, c / w).error);
+    worst = std::max(worst, scanner.scan_exact<false>(a % w, a / w, b % w, b / w, c % w, c / w).error);
   }
   tin.max_error = worst;
   if (options.progress) options.progress(1.0);

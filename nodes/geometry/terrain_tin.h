@@ -11,12 +11,12 @@
 //     positions that are samples): a vertex is merged into the neighbour that leaves the smallest maximum
 //     vertical error, as long as every sample under the changed triangles stays within the bound and no
 //     triangle folds over. Greedy insertion over-refines (each insertion is chosen before the ones that make
-//     it redundant), so this removes about a third of its triangles and the result is not Delaunay; the
-//     collapses are followed by error-reducing edge flips (data-dependent triangulation, Dyn, Levin & Rippa
-//     1990) which enable further collapses.
+//     it redundant), so this removes about a third of its triangles; the result is no longer Delaunay. The
+//     priorities are re-evaluated lazily (when a disturbed vertex comes out of the queue).
 //
 // The bound is exact: after both stages every sample (i, j) lies within max_error metres, vertically, of the
-// linear interpolation over the triangle that covers it (evaluated in double precision on the grid).
+// linear interpolation over the triangle that covers it (evaluated in double precision on the grid). The
+// scans run in single precision with SIMD (tin_scan.h) against the bound minus their rounding margin.
 // The triangles cover the rectangle of samples exactly, all counter-clockwise seen from +z, none degenerate.
 #include <array>
 #include <cstddef>
@@ -35,7 +35,7 @@ struct TinOptions {
   // Refine until the mesh has about this many triangles (never more), even when the bound is already met;
   // with max_error 0 this alone decides the size; 0: no target.
   std::size_t target_faces = 0;
-  // Stage 2 (collapses and flips after the greedy insertion); off gives the plain greedy-insertion TIN.
+  // Stage 2 (collapses after the greedy insertion); off gives the plain greedy-insertion (Delaunay) TIN.
   bool simplify = true;
   std::function<void(double)> progress;  // optional, fraction done (approximate)
   std::function<bool()> should_stop;     // optional; true stops early (cancellation), leaving a valid TIN
