@@ -165,7 +165,7 @@ TEST(HeightfieldMesh, VertexColoursFromImage) {
       img->pixel(i, j)[1] = static_cast<float>(di.y(j) / 100);
       img->pixel(i, j)[2] = 0.25f;
     }
-  const auto run = run_node("HeightfieldToMesh", d, {}, {{"height", h}, {"colors", ImagePtr(img)}});
+  const auto run = run_node("HeightfieldToMesh", d, {}, {{"in", h}, {"colors", ImagePtr(img)}});
   const auto mesh = run.get<Mesh>();
   for (int j = 0; j < 11; ++j)
     for (int i = 0; i < 11; ++i) {
@@ -175,13 +175,13 @@ TEST(HeightfieldMesh, VertexColoursFromImage) {
       EXPECT_NEAR(c[2], 0.25, 1e-6);
       EXPECT_EQ(c[3], 1.0f);
     }
-  const auto plain = run_node("HeightfieldToMesh", d, {}, {{"height", h}}).get<Mesh>();
+  const auto plain = run_node("HeightfieldToMesh", d, {}, {{"in", h}}).get<Mesh>();
   for (auto v : plain->mesh.vertices()) EXPECT_EQ(plain->mesh.color(v), OpenMesh::Vec4f(1, 1, 1, 1));
 }
 
 TEST(HeightfieldMesh, TooSmallIsAnError) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {1, 5});
-  EXPECT_THROW(run_node("HeightfieldToMesh", d, {}, {{"height", field(d, plane)}}), NodeError);
+  EXPECT_THROW(run_node("HeightfieldToMesh", d, {}, {{"in", field(d, plane)}}), NodeError);
 }
 
 // A rough terrain: hills plus a hashed value noise with sharp cell edges, cliffs and a flat plateau, so the
@@ -238,7 +238,7 @@ void expect_exact_cover(const Tin& tin) {
 TEST(TerrainTin, PlaneNeedsTwoTriangles) {
   const Domain d = Domain::from_extent({0, 0}, {640, 480}, {33, 25});
   const auto h = field(d, plane);
-  const auto mesh = run_node("HeightfieldToMesh", d, {{"max_error", 0.01}}, {{"height", h}}).get<Mesh>();
+  const auto mesh = run_node("HeightfieldToMesh", d, {{"max_error", 0.01}}, {{"in", h}}).get<Mesh>();
   EXPECT_EQ(mesh->face_count(), 2u);
   EXPECT_TRUE(all_faces_face_up(mesh->mesh));
   EXPECT_LE(max_vertical_error(mesh->mesh, *h), 0.01);
@@ -352,17 +352,17 @@ TEST(TerrainTin, MeshBoundNormalsAndVertices) {
 TEST(TerrainTin, TargetFaceCount) {
   const Domain d = Domain::from_extent({0, 0}, {300, 300}, {49, 49});
   const auto h = field(d, hills);
-  const auto only_target = run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(300)}}, {{"height", h}}).get<Mesh>();
+  const auto only_target = run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(300)}}, {{"in", h}}).get<Mesh>();
   EXPECT_LE(only_target->face_count(), 300u);
   EXPECT_GE(only_target->face_count(), 290u);
   EXPECT_TRUE(all_faces_face_up(only_target->mesh));
   // With an error bound too, the tighter of the two wins.
   const auto both = run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(300)}, {"max_error", 0.01}},
-                             {{"height", h}}).get<Mesh>();
+                             {{"in", h}}).get<Mesh>();
   EXPECT_GT(both->face_count(), 300u);
   EXPECT_LE(max_vertical_error(both->mesh, *h), 0.01 + 1e-5);
   const auto loose = run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(3000)}, {"max_error", 2.0}},
-                              {{"height", h}}).get<Mesh>();
+                              {{"in", h}}).get<Mesh>();
   EXPECT_GE(loose->face_count(), 2900u);
   EXPECT_LE(loose->face_count(), 3000u);
 }
@@ -373,8 +373,8 @@ TEST(TerrainTin, NodeMatchesFunctionAndIsDeterministic) {
   TinOptions options;
   options.max_error = 0.3;
   const Mesh direct = heightfield_mesh(*h, nullptr, options);
-  const auto a = run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"height", h}}).get<Mesh>();
-  const auto b = run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"height", h}}).get<Mesh>();
+  const auto a = run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"in", h}}).get<Mesh>();
+  const auto b = run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"in", h}}).get<Mesh>();
   ASSERT_EQ(a->face_count(), direct.face_count());
   ASSERT_EQ(a->face_count(), b->face_count());
   for (auto v : a->mesh.vertices()) {
@@ -392,14 +392,14 @@ TEST(TerrainTin, CancelledRunThrows) {
   const Domain d = Domain::from_extent({0, 0}, {300, 300}, {33, 33});
   CancelToken cancel;
   cancel.cancel();
-  EXPECT_THROW(run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"height", field(d, hills)}}, {}, &cancel), Cancelled);
+  EXPECT_THROW(run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"in", field(d, hills)}}, {}, &cancel), Cancelled);
 }
 
 TEST(TerrainTin, NonFiniteHeightsAreAnError) {
   const Domain d = Domain::from_extent({0, 0}, {300, 300}, {9, 9});
   auto h = std::make_shared<Heightfield>(d);
   h->at(3, 3) = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_THROW(run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"height", HeightfieldPtr(h)}}), NodeError);
+  EXPECT_THROW(run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"in", HeightfieldPtr(h)}}), NodeError);
 }
 
 // --- WriteMesh ---
@@ -413,11 +413,11 @@ class MeshFileTest : public ::testing::Test {
     height_ = field(d, hills);
     auto img = std::make_shared<Image>(d, 3);
     for (std::size_t k = 0; k < img->data.size(); ++k) img->data[k] = static_cast<float>((k * 37 % 101) / 100.0);
-    mesh_ = run_node("HeightfieldToMesh", d, {}, {{"height", height_}, {"colors", ImagePtr(img)}}).get<Mesh>();
+    mesh_ = run_node("HeightfieldToMesh", d, {}, {{"in", height_}, {"colors", ImagePtr(img)}}).get<Mesh>();
   }
   fs::path write(const std::string& name, std::map<std::string, ParamValue> params = {}) {
     params["path"] = name;
-    run_node("WriteMesh", Domain{}, params, {{"mesh", mesh_}}, policy_);
+    run_node("WriteMesh", Domain{}, params, {{"in", mesh_}}, policy_);
     return policy_.output_dir / name;
   }
   OutputPolicy policy_;
@@ -592,7 +592,7 @@ TEST_F(MeshFileTest, BaseDepthWritesAClosedStl) {
 TEST_F(MeshFileTest, Errors) {
   EXPECT_THROW(write("../escape.obj"), NodeError);
   EXPECT_FALSE(fs::exists(policy_.output_dir.parent_path() / "escape.obj"));
-  EXPECT_THROW(run_node("WriteMesh", Domain{}, {{"path", std::string("empty.ply")}}, {{"mesh", std::make_shared<const Mesh>()}}, policy_),
+  EXPECT_THROW(run_node("WriteMesh", Domain{}, {{"path", std::string("empty.ply")}}, {{"in", std::make_shared<const Mesh>()}}, policy_),
                NodeError);
   EXPECT_FALSE(fs::exists(policy_.output_dir / "empty.ply"));
 }
