@@ -292,6 +292,26 @@ TEST(TerrainTin, BoundHoldsAtEverySampleAndTheTrianglesTileTheRectangle) {
   }
 }
 
+TEST(TerrainTin, TinyStripsAndFlatGrids) {
+  for (const glm::ivec2 res : {glm::ivec2(2, 2), glm::ivec2(2, 57), glm::ivec2(61, 2), glm::ivec2(3, 3), glm::ivec2(40, 33)}) {
+    const Domain d = Domain::from_extent({0, 0}, {100, 80}, res);
+    for (bool flat : {true, false}) {
+      auto h = std::make_shared<Heightfield>(d, 7.0f);
+      if (!flat) h = std::make_shared<Heightfield>(*rough(d));
+      for (std::size_t target : {std::size_t(0), std::size_t(40)}) {
+        TinOptions options;
+        options.max_error = target ? 0.0 : 0.1;
+        options.target_faces = target;
+        const Tin tin = heightfield_tin(*h, options);
+        expect_exact_cover(tin);
+        if (flat) EXPECT_EQ(tin.triangles.size(), 2u) << res.x << "x" << res.y;
+        if (target) EXPECT_LE(tin.triangles.size(), std::max<std::size_t>(target, 2));
+        else EXPECT_LE(tin.max_error, 0.1);
+      }
+    }
+  }
+}
+
 TEST(TerrainTin, GreedyInsertionIsDelaunay) {
   const Domain d = Domain::from_extent({-150, -150}, {300, 300}, {65, 65});
   const auto h = rough(d);
