@@ -482,7 +482,7 @@ class Collapser {
           }
         }
       }
-      if (!ok || !link_condition(v, u)) continue;
+      if (!ok) continue;
       double worst = 0.0;
       for (int t : star_[v]) {
         const auto& c = tris_[t];
@@ -497,7 +497,8 @@ class Collapser {
         worst = std::max(worst, s.error);
         if (worst > best) break;
       }
-      if (worst <= best) {
+      // The topological check last: it is the dearest per candidate and most candidates fail before it.
+      if (worst <= best && link_condition(v, u)) {
         best = worst;
         best_u = u;
       }
