@@ -107,7 +107,7 @@ void Color(benchmark::State& state, ImageFormat format, const char* name, int le
 }  // namespace
 
 // -1: each library's default level (what Orogen wrote before the compression_level parameter); 1: the
-// fastest zlib level, the nodes' default now.
+// fastest zlib level (WriteHeightfield's default now; WriteImage keeps 6).
 BENCHMARK_CAPTURE(Height, exr_float32, HeightFormat::Exr, "h.exr", -1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(Height, exr_float32_level1, HeightFormat::Exr, "h.exr", 1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(Height, png16, HeightFormat::Png16, "h.png", -1)->Unit(benchmark::kMillisecond)->UseRealTime();
