@@ -8,7 +8,7 @@ namespace orogen {
 // down to the plane z = (lowest vertex) - depth, and a flat bottom (a fan from the loop's centroid, so a
 // footprint that is star-shaped from its centroid, like a terrain's rectangle, gives non-overlapping bottom
 // triangles). Orientation follows the surface's: a terrain facing +z gives outward normals everywhere.
-// Wall and bottom vertices copy the colour of the border vertex above them; their normals point horizontally
+// Wall and bottom vertices copy the color of the border vertex above them; their normals point horizontally
 // out (walls) or down (bottom centre). A mesh without boundary is returned unchanged. depth must be > 0.
 Mesh mesh_with_base(const Mesh& mesh, double depth);
 

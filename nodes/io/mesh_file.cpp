@@ -139,7 +139,7 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
   }();
   (void)quiet;
   if (mesh.face_count() == 0) throw FileError("cannot write '" + path.string() + "': the mesh has no faces");
-  // A copy in file conventions: axes, and colours as 8-bit viewers expect them (sRGB, clamped to 0..1,
+  // A copy in file conventions: axes, and colors as 8-bit viewers expect them (sRGB, clamped to 0..1,
   // which also keeps OpenMesh's float-to-byte conversion in range).
   // Texture coordinates from the footprint, before any change of axes.
   std::vector<OpenMesh::Vec2f> uvs;

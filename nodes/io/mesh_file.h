@@ -20,7 +20,7 @@ struct MeshWriteOptions {
   bool y_up = false;
   bool binary = true;   // PLY and STL; OBJ is always text
   bool normals = true;  // per-vertex normals (OBJ, PLY); STL always carries face normals only
-  bool colors = true;   // per-vertex colours (PLY only: OBJ has no standard vertex colour, STL has none), stored
+  bool colors = true;   // per-vertex colors (PLY only: OBJ has no standard vertex color, STL has none), stored
                         // sRGB-encoded 8-bit with alpha when some vertex is not opaque
   // OBJ: per-vertex texture coordinates (vt), the mesh's xy footprint mapped onto [0, 1]^2: u grows east, v
   // north, so an image of the same domain (written north row first) drapes over a terrain mesh. For an

@@ -29,7 +29,7 @@ OROGEN_NODE(WriteMesh) {
       "OBJ: per-vertex texture coordinates, the xy footprint mapped onto 0..1 (u east, v north), so an image of "
       "the same domain drapes over the terrain");
   b.param_string("texture", "").description(
-      "OBJ: the color image to drape, as a path relative to the OBJ file (e.g. colour.png when WriteImage "
+      "OBJ: the color image to drape, as a path relative to the OBJ file (e.g. color.png when WriteImage "
       "writes it beside the mesh); written as map_Kd into <name>.mtl beside the OBJ, which the OBJ names with "
       "mtllib. Empty: no material file");
   b.param_float("base_depth", 0.0).range(0.0, 1e6).soft_range(0.0, 500.0).unit("m").description(
