@@ -79,7 +79,7 @@ constexpr double kProgressStep = 0.01;
 // The state that outlives one evaluation: options, caches, statistics.
 struct EvaluatorState {
   explicit EvaluatorState(EvaluatorOptions o) : options(std::move(o)), memory(options.cache_bytes) {
-    if (!options.cache_dir.empty()) disk = std::make_unique<DiskCache>(options.cache_dir);
+    if (!options.cache_dir.empty()) disk = std::make_unique<DiskCache>(options.cache_dir, options.cache_disk_bytes);
   }
 
   // An arena of options.threads threads (0: all cores), created per evaluation so it follows the process's
@@ -109,7 +109,12 @@ struct EvaluatorState {
       memory.erase(key);  // a writer whose files changed, or an entry that does not fit
     }
     if (disk) {
-      auto loaded = disk->load(key);
+      DiskCache::Loaded loaded;
+      try {
+        loaded = disk->load(key);
+      } catch (const std::exception&) {
+        loaded.rejected = true;  // the cache never fails a build: an entry we cannot even inspect is a miss
+      }
       if (loaded.rejected) {
         ++disk_rejected;
       } else if (loaded.result && !fits(type, *loaded.result)) {

@@ -11,6 +11,8 @@
 #include <OpenImageIO/half.h>
 #include <OpenImageIO/imageio.h>
 
+#include "nodes/io/checked_image_output.h"
+
 namespace orogen {
 namespace {
 
@@ -67,23 +69,31 @@ void report(const WriteProgress& progress, int rows_done, int rows) {
 template <class T, class Convert>
 void write_oiio(const Heightfield& h, const fs::path& path, OIIO::ImageSpec spec, const WriteProgress& progress,
                 Convert convert) {
-  auto out = OIIO::ImageOutput::create(path.string());
-  if (!out) throw FileError("cannot write '" + path.string() + "': " + OIIO::geterror());
-  if (!out->open(path.string(), spec)) throw FileError("cannot create '" + path.string() + "': " + out->geterror());
+  CheckedIOProxy proxy(path);
+  std::string error;
+  auto out = create_checked_output(path, proxy, spec, error);
+  if (!out) throw FileError("cannot create '" + path.string() + "': " + error);
   std::vector<T> line(static_cast<std::size_t>(h.width()));
   for (int r = 0; r < h.height(); ++r) {
     const int j = h.height() - 1 - r;  // north row first
     convert(j, h.row(j), line);
     if (!out->write_scanline(r, 0, spec.format, line.data()))
-      throw FileError("cannot write '" + path.string() + "': " + out->geterror());
+      throw FileError(proxy.file().ok() ? "cannot write '" + path.string() + "': " + out->geterror()
+                                        : proxy.file().error());
     report(progress, r + 1, h.height());
   }
-  if (!out->close()) throw FileError("cannot finish '" + path.string() + "': " + out->geterror());
+  const bool closed = out->close();
+  if (!proxy.file().ok()) throw FileError(proxy.file().error());  // a short write the plugin ignored
+  if (!closed) throw FileError("cannot finish '" + path.string() + "': " + out->geterror());
+  try {
+    proxy.file().finish();
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
 }
 
 void write_raw16(const Heightfield& h, const fs::path& path, const HeightRange& range, const WriteProgress& progress) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw FileError("cannot create '" + path.string() + "'");
+  CheckedFile out(path);
   std::vector<unsigned char> bytes(static_cast<std::size_t>(h.width()) * 2);
   for (int r = 0; r < h.height(); ++r) {
     const int j = h.height() - 1 - r;
@@ -94,12 +104,14 @@ void write_raw16(const Heightfield& h, const fs::path& path, const HeightRange& 
       bytes[2 * static_cast<std::size_t>(i)] = static_cast<unsigned char>(q & 0xff);  // little endian
       bytes[2 * static_cast<std::size_t>(i) + 1] = static_cast<unsigned char>(q >> 8);
     }
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    if (!out) throw FileError("cannot write '" + path.string() + "' (disk full?)");
+    if (!out.write(bytes.data(), bytes.size())) throw FileError(out.error());
     report(progress, r + 1, h.height());
   }
-  out.close();
-  if (!out) throw FileError("cannot finish '" + path.string() + "'");
+  try {
+    out.finish();
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
 }
 
 HeightRaster read_raw16(const fs::path& path, int channel) {

@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 
+#include "graph/checked_file.h"
 #include "graph/mesh.h"
 #include "nodes/io/image_file.h"
 
@@ -61,8 +63,22 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
   if (format == MeshFormat::Stl) opt += OpenMesh::IO::Options::FaceNormal;
   // 9 significant digits: text formats read back the same float (OpenMesh's default of 6 would round
   // x = 12345.67 m to 12345.7 m).
-  if (!OpenMesh::IO::write_mesh(out, path.string(), opt, 9))
-    throw FileError("cannot write '" + path.string() + "' (OpenMesh could not write the mesh)");
+  std::unique_ptr<CheckedOStream> stream;
+  try {
+    stream = std::make_unique<CheckedOStream>(path);
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const bool written = OpenMesh::IO::write_mesh(out, *stream, ext, opt, 9);
+  if (!stream->file().ok()) throw FileError(stream->file().error());
+  if (!written) throw FileError("cannot write '" + path.string() + "' (OpenMesh could not write the mesh)");
+  try {
+    stream->finish();
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
 }
 
 }  // namespace orogen
