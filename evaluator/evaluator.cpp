@@ -14,6 +14,7 @@
 #include "evaluator/cached_result.h"
 #include "evaluator/disk_cache.h"
 #include "evaluator/memory_cache.h"
+#include "evaluator/memory_estimate.h"
 #include "evaluator/node_keys.h"
 #include "graph/exec_context.h"
 
@@ -370,6 +371,12 @@ class Run {
         if (job.inputs[i].job >= 0)
           inputs[i] = jobs_[static_cast<std::size_t>(job.inputs[i].job)]
                           .result->outputs[static_cast<std::size_t>(job.inputs[i].port)];
+      if (auto why = check_domain(request_.domain); !why.empty()) throw NodeError(why);
+      if (impl_.options.max_memory > 0) {
+        const std::uint64_t need = estimate_node_bytes(type, request_.domain);
+        if (need > impl_.options.max_memory)
+          throw NodeError(memory_refusal(type, request_.domain, need, impl_.options.max_memory));
+      }
       ExecContext ctx(type, id, request_.domain, std::move(inputs), graph_.effective_params(node));
       ctx.set_cancel_token(request_.cancel);
       ctx.set_output_policy(policy_);
