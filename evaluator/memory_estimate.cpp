@@ -40,7 +40,7 @@ std::string format_bytes(std::uint64_t bytes) {
 
 std::string memory_refusal(const NodeType& type, const Domain& domain, std::uint64_t need, std::uint64_t limit) {
   std::ostringstream s;
-  s << "a " << type.name << " node needs at least " << format_bytes(need) << " (" << need << " bytes) at "
+  s << "its type " << type.name << " needs at least " << format_bytes(need) << " (" << need << " bytes) at "
     << domain.resolution.x << "x" << domain.resolution.y << " samples; the memory limit is " << format_bytes(limit)
     << " (--max-memory)";
   return s.str();
