@@ -445,7 +445,7 @@ TEST(DegenerateDomain, MeshWithColorsOnSmallestDomainAndBlurOnTinyDomainFinish) 
   write_text(dir / "g.json", R"({ "format": "orogen-graph", "version": 1,
     "domain": { "size": [1.5e-5, 1.5e-5], "resolution": [16, 16] },
     "nodes": [
-      { "id": "n", "type": "LinearGradient", "params": { "from": 0, "to": 1e-5, "length": 1.5e-5 } },
+      { "id": "n", "type": "LinearGradient", "params": { "from": 0, "to": 1e-5 } },
       { "id": "b", "type": "Blur", "inputs": { "in": "n.out" }, "params": { "sigma": 1000 } },
       { "id": "c", "type": "ColorRamp", "inputs": { "in": "n.out" } },
       { "id": "m", "type": "HeightfieldToMesh", "inputs": { "height": "n.out", "colors": "c.image" } },
