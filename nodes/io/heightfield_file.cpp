@@ -298,6 +298,10 @@ HeightRaster read_height_raster(const fs::path& path, int channel) {
                     std::to_string(channel) + " does not exist");
   if (spec.width < 1 || spec.height < 1 || spec.depth > 1)
     throw FileError("'" + path.string() + "' is not a 2D image");
+  // A header is not a promise: a few bytes can claim a gigapixel image. Refuse what no domain can hold.
+  if (spec.width > 65536 || spec.height > 65536)
+    throw FileError("'" + path.string() + "' is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                    " pixels; at most 65536 per side can be read");
   const OIIO::TypeDesc type = spec.channelformat(channel);
   if (!is_supported(type))
     throw FileError("'" + path.string() + "' stores pixels as " + std::string(type.c_str()) + ", which is not supported");
