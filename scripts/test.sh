@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite, as CI runs it: installs the dependencies, builds and tests a Release build (the
-# editor's Xvfb smoke test included), then builds and tests again under AddressSanitizer + UBSan.
+# editor's Xvfb smoke test included), then builds and tests again under AddressSanitizer + UBSan, then fuzzes
+# the readers for 60 s (scripts/fuzz.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="$(nproc)"
