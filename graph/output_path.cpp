@@ -40,7 +40,13 @@ void prepare_output_directory(const OutputPolicy& policy, const std::filesystem:
   const fs::path root = fs::canonical(root_dir);
   // Walk from the output directory down to the parent, one component at a time, so no directory is created
   // behind a link that leaves the output directory.
-  const fs::path relative = parent.lexically_relative(policy.output_dir.empty() ? fs::path(".") : policy.output_dir);
+  // Both sides normalised, without a trailing separator ("out/" and "./out" name the same directory).
+  auto normal = [](const fs::path& p) {
+    fs::path n = (p.empty() ? fs::path(".") : p).lexically_normal();
+    if (n.filename().empty() && n.has_parent_path() && n != n.root_path()) n = n.parent_path();
+    return n;
+  };
+  const fs::path relative = normal(parent).lexically_relative(normal(root_dir));
   fs::path at = root_dir;
   auto refuse = [&](const fs::path& where) {
     throw OutputPathError("output path '" + target.string() + "' leaves the output directory through the link '" +
@@ -64,10 +70,7 @@ void prepare_output_directory(const OutputPolicy& policy, const std::filesystem:
   // this narrows the window to the write itself).
   const fs::path real_parent = fs::canonical(parent.empty() ? root_dir : parent);
   if (!path_is_within(real_parent, root)) refuse(parent);
-  std::error_code ec;
-  if (fs::is_symlink(fs::symlink_status(target, ec))) {
-    // Renaming over a link replaces the link, never what it points to; still, say what will happen.
-  }
+  // (A link at the target itself is harmless: the rename replaces the link, never what it points to.)
 }
 
 std::filesystem::path resolve_output_path(const OutputPolicy& policy, const std::string& graph_path) {

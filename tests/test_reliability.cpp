@@ -31,6 +31,7 @@
 #include "graph/checked_file.h"
 #include "graph/domain.h"
 #include "graph/heightfield.h"
+#include "graph/output_path.h"
 #include "graph/param_value.h"
 #include "nodes/field/bicubic.h"
 #include "support/run_process.h"
@@ -224,6 +225,20 @@ TEST(SymlinkEscape, LinkInOutputFolderIsRefused) {
   EXPECT_TRUE(fs::exists(out / "real" / "ok.exr"));
   EXPECT_EQ(orogen({"eval", (dir / "g.json").string(), "-o", out.string(), "-q", "--allow-any-path"}).exit_code, 0);
   EXPECT_TRUE(fs::exists(elsewhere / "escaped.exr"));
+}
+
+TEST(SymlinkEscape, OutputDirectorySpellingsAreAccepted) {
+  const auto dir = scratch_dir("output-spellings");
+  for (const std::string spelling : {"out", "out/", "./out", "./out/", "out/./"}) {
+    SCOPED_TRACE(spelling);
+    const auto prev = fs::current_path();
+    fs::current_path(dir);
+    OutputPolicy policy{spelling, false};
+    EXPECT_NO_THROW(prepare_output_directory(policy, resolve_output_path(policy, "a/b/c.exr")));
+    EXPECT_NO_THROW(prepare_output_directory(policy, resolve_output_path(policy, "top.exr")));
+    fs::current_path(prev);
+  }
+  EXPECT_TRUE(fs::is_directory(dir / "out" / "a" / "b"));
 }
 
 TEST(SymlinkEscape, CacheSubdirectoryLinksAreNotFollowed) {
