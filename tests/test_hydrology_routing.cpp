@@ -76,6 +76,14 @@ TEST(HydrologyFill, FlatMatchesBruteForceOnRandomGrids) {
     fill_depressions(g, out, FlatMode::Flat);
     EXPECT_EQ(out, brute_fill(g, z)) << "seed " << seed;
   }
+  // Larger hilly grids (long queues, many depressions), also with an interior outlet.
+  for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+    const FlowGrid g(150, 120, 4.0, 4.0);
+    const std::vector<float> z = bumpy(g, seed, 6.0);
+    std::vector<float> out = z;
+    fill_depressions(g, out, FlatMode::Flat);
+    EXPECT_EQ(out, brute_fill(g, z)) << "seed " << seed;
+  }
 }
 
 TEST(HydrologyFill, EpsilonLeavesNoPitAndStaysCloseToFlatFill) {

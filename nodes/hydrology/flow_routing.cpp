@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <functional>
 #include <limits>
 
 #include <tbb/blocked_range.h>
@@ -21,31 +22,84 @@ void check(const ExecContext* ctx) {
   if (ctx) ctx->check_cancelled();
 }
 
-// Min-heap entry of the priority floods; ties broken by index so the order is fully specified.
+// Smallest float above v (v finite): one ulp up, without a libm call.
+inline float next_up(float v) {
+  if (v == 0.0f) return std::numeric_limits<float>::denorm_min();
+  std::uint32_t b = std::bit_cast<std::uint32_t>(v);
+  b += v > 0.0f ? 1u : static_cast<std::uint32_t>(-1);
+  return std::bit_cast<float>(b);
+}
+inline float next_down(float v) { return -next_up(-v); }
+
+// Order-preserving unsigned image of a float (for finite values and infinities).
+inline std::uint32_t ordered_bits(float v) {
+  const std::uint32_t b = std::bit_cast<std::uint32_t>(v);
+  return (b & 0x80000000u) ? ~b : (b | 0x80000000u);
+}
+
 struct Entry {
   float z;
   std::int32_t c;
 };
-struct EntryGreater {
-  bool operator()(const Entry& a, const Entry& b) const { return a.z > b.z || (a.z == b.z && a.c > b.c); }
-};
 
+// Monotone priority queue of (height, cell) pairs, smallest height first and ties by cell index: a radix heap
+// (Ahuja, Mehlhorn, Orlin & Tarjan 1990) over 64-bit keys (ordered height bits, cell). Priority-Flood only
+// pushes keys at or above the last one popped, which is what a radix heap requires; its buckets are plain
+// arrays, much cheaper than a binary heap's sift on large queues. peek_cell() settles the next minimum early
+// (so its neighbourhood can be prefetched); keys pushed after that but below it wait in a small binary heap
+// that is served first.
 class MinHeap {
  public:
   void push(float z, std::int32_t c) {
-    v_.push_back({z, c});
-    std::push_heap(v_.begin(), v_.end(), EntryGreater{});
+    const std::uint64_t key = (static_cast<std::uint64_t>(ordered_bits(z)) << 32) | static_cast<std::uint32_t>(c);
+    if (key < last_) {
+      early_.push_back(key);
+      std::push_heap(early_.begin(), early_.end(), std::greater<>{});
+      return;
+    }
+    buckets_[bucket(key)].push_back(key);
+    ++size_;
   }
   Entry pop() {
-    std::pop_heap(v_.begin(), v_.end(), EntryGreater{});
-    Entry e = v_.back();
-    v_.pop_back();
-    return e;
+    std::uint64_t key;
+    if (!early_.empty()) {
+      std::pop_heap(early_.begin(), early_.end(), std::greater<>{});
+      key = early_.back();
+      early_.pop_back();
+    } else {
+      refill();
+      key = buckets_[0].back();
+      buckets_[0].pop_back();
+      --size_;
+    }
+    const std::uint32_t zb = static_cast<std::uint32_t>(key >> 32);
+    const std::uint32_t bits = (zb & 0x80000000u) ? (zb & 0x7FFFFFFFu) : ~zb;
+    return {std::bit_cast<float>(bits), static_cast<std::int32_t>(static_cast<std::uint32_t>(key))};
   }
-  bool empty() const { return v_.empty(); }
+  // The cell pop() will return next (-1 if empty), so its neighbourhood can be prefetched.
+  std::int32_t peek_cell() {
+    if (!early_.empty()) return static_cast<std::int32_t>(static_cast<std::uint32_t>(early_.front()));
+    if (size_ == 0) return -1;
+    refill();
+    return static_cast<std::int32_t>(static_cast<std::uint32_t>(buckets_[0].back()));
+  }
+  bool empty() const { return size_ == 0 && early_.empty(); }
 
  private:
-  std::vector<Entry> v_;
+  void refill() {
+    if (!buckets_[0].empty()) return;
+    int i = 1;
+    while (buckets_[i].empty()) ++i;
+    auto& b = buckets_[i];
+    last_ = *std::min_element(b.begin(), b.end());
+    for (std::uint64_t k : b) buckets_[bucket(k)].push_back(k);
+    b.clear();
+  }
+  int bucket(std::uint64_t key) const { return key == last_ ? 0 : 64 - std::countl_zero(key ^ last_); }
+  std::vector<std::uint64_t> buckets_[65];
+  std::vector<std::uint64_t> early_;  // min-heap of keys below last_
+  std::uint64_t last_ = 0;
+  std::size_t size_ = 0;
 };
 
 // The grid with a one-cell frame: neighbours of every interior cell exist, the frame is closed and +inf.
@@ -81,7 +135,7 @@ void for_each_outlet(const FlowGrid& g, const Outlets& outlets, Fn&& fn) {
 template <bool kEpsilon>
 void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, const ExecContext* ctx) {
   Padded P(g, z);
-  auto step = [](float v) { return kEpsilon ? std::nextafter(v, kInf) : v; };
+  auto step = [](float v) { return kEpsilon ? next_up(v) : v; };
   MinHeap heap;
   for_each_outlet(g, outlets, [&](int i, int j) {
     const std::int32_t c = P.p(i, j);
@@ -95,9 +149,17 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
   std::uint8_t* closed = P.closed.data();
   const std::int32_t* off = P.off;
   std::size_t work = 0;
+  const std::int32_t W = P.W;
   while (!heap.empty()) {
     const Entry e = heap.pop();
-    const float raised = step(zp[e.c]);
+    // Popped cells are scattered over the grid: fetch the next one's neighbourhood while this one works.
+    if (const std::int32_t nx = heap.peek_cell(); nx >= 0) {
+      for (std::int32_t r : {nx - W, nx, nx + W}) {
+        __builtin_prefetch(zp + r - 1);
+        __builtin_prefetch(closed + r - 1);
+      }
+    }
+    const float raised = step(e.z);
     for (int k = 0; k < 8; ++k) {
       const std::int32_t n = e.c + off[k];
       if (closed[n]) continue;
@@ -184,11 +246,11 @@ void breach_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, 
       bool pit = true;
       for (int k = 0; k < 8 && pit; ++k) pit = !(zp[c + off[k]] < zp[c]);
       if (pit) {
-        float target = kEpsilon ? std::nextafter(zp[c], -kInf) : zp[c];
+        float target = kEpsilon ? next_down(zp[c]) : zp[c];
         for (std::int32_t b = backlink[c]; b >= 0; b = backlink[b]) {
           if (zp[b] <= target) break;
           zp[b] = target;
-          if (kEpsilon) target = std::nextafter(target, -kInf);
+          if (kEpsilon) target = next_down(target);
         }
       }
     }
@@ -197,7 +259,7 @@ void breach_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, 
       if (closed[n]) continue;
       closed[n] = 1;
       backlink[n] = c;
-      heap.push(zp[n], n);
+      heap.push(std::max(zp[n], e.z), n);  // the queue is monotone: a pit waits at the current level
     }
     if (++work > (1u << 16)) {
       work = 0;
@@ -261,8 +323,12 @@ int route_cell(const FlowGrid& g, const NeighbourTable& t, const float* z, int i
     }
     if (n == 0) return 0;
     double sum = 0.0;
+    // (s / smax)^p in single precision (expf/logf are several times cheaper than pow; the proportions are
+    // normalised below, so they still sum to 1).
+    const float p = static_cast<float>(opt.exponent);
     for (int m = 0; m < n; ++m) {
-      frac[m] = opt.exponent == 1.0 ? frac[m] / smax : std::pow(frac[m] / smax, opt.exponent);
+      const float t = static_cast<float>(frac[m] / smax);
+      frac[m] = opt.exponent == 1.0 ? t : std::exp(p * std::log(t));
       sum += frac[m];
     }
     const double inv = 1.0 / sum;
@@ -515,14 +581,20 @@ std::vector<double> accumulate(const FlowGrid& g, std::span<const float> z, cons
     for (int i = 0; i < g.nx; ++i) {
       const std::int32_t c = g.index(i, j);
       int cnt = 0;
-      for (int k = 0; k < 8; ++k) {
-        const int ii = i + kDi[k], jj = j + kDj[k];
-        if (!g.inside(ii, jj)) continue;
-        const std::int32_t m = c + t.off[k];
-        if (dinf) {
-          cnt += (dk1[m] == opposite(k)) + (dk2[m] == opposite(k));
-        } else {
-          cnt += zz[m] > zz[c] && !opt.outlets.is_outlet(g, ii, jj);
+      if (!dinf && interior_cell(g, i, j) && opt.outlets.mask.empty() && !opt.outlets.border) {
+        for (int k = 0; k < 8; ++k) cnt += zz[c + t.off[k]] > zz[c];
+      } else if (!dinf && i > 1 && j > 1 && i < g.nx - 2 && j < g.ny - 2 && opt.outlets.mask.empty()) {
+        for (int k = 0; k < 8; ++k) cnt += zz[c + t.off[k]] > zz[c];  // no neighbour is on the border
+      } else {
+        for (int k = 0; k < 8; ++k) {
+          const int ii = i + kDi[k], jj = j + kDj[k];
+          if (!g.inside(ii, jj)) continue;
+          const std::int32_t m = c + t.off[k];
+          if (dinf) {
+            cnt += (dk1[m] == opposite(k)) + (dk2[m] == opposite(k));
+          } else {
+            cnt += zz[m] > zz[c] && !opt.outlets.is_outlet(g, ii, jj);
+          }
         }
       }
       remaining[c] = static_cast<std::uint8_t>(cnt);
