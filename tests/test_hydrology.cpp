@@ -517,12 +517,12 @@ TEST(DrainageMetrics, ReportAppearsInCliStats) {
   const auto dir = std::filesystem::temp_directory_path() / "orogen_drainage_stats_test";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
-  test::write_text(dir / "g.json", R"({"format": "orogen-graph", "version": 1,
+  test::write_text(dir / "g.json", R"({"format": "orogen-graph", "version": 2,
     "domain": {"size": [2000, 2000], "resolution": [96, 96]},
     "nodes": [
       {"id": "h", "type": "FBM", "params": {"feature_size": 700, "amplitude": 100, "seed": 3}},
       {"id": "m", "type": "DrainageMetrics", "inputs": {"in": "h.out"}, "params": {"threshold": 20000}},
-      {"id": "w", "type": "WriteHeightfield", "inputs": {"height": "m.out"}, "params": {"path": "order.exr"}}
+      {"id": "w", "type": "WriteHeightfield", "inputs": {"in": "m.out"}, "params": {"path": "order.exr"}}
     ]})");
   const auto r = test::run_process(OROGEN_CLI, {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "--stats",
                                                 (dir / "stats.json").string(), "--quiet"});
