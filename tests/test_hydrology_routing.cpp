@@ -114,6 +114,25 @@ TEST(HydrologyFill, EpsilonLeavesNoPitAndStaysCloseToFlatFill) {
   }
 }
 
+TEST(HydrologyFill, EpsilonFillReportsTheFlatWaterLevel) {
+  const FlowGrid g(120, 100, 5.0, 5.0);
+  const std::vector<float> z = bumpy(g, 8);
+  std::vector<float> eps = z, level(g.size());
+  fill_depressions(g, eps, FlatMode::Epsilon, {}, nullptr, level);
+  const std::vector<float> flat = brute_fill(g, z);
+  int lakes = 0;
+  for (std::size_t c = 0; c < z.size(); ++c) {
+    ASSERT_NEAR(level[c], flat[c], 1e-4f * std::max(1.0f, std::abs(flat[c])));
+    ASSERT_EQ(level[c] > z[c], flat[c] > z[c]) << "same lakes";
+    ASSERT_LE(level[c], eps[c]);
+    lakes += flat[c] > z[c];
+  }
+  EXPECT_GT(lakes, 100);
+  std::vector<float> f2 = z, level2(g.size());
+  fill_depressions(g, f2, FlatMode::Flat, {}, nullptr, level2);
+  EXPECT_EQ(level2, f2);
+}
+
 TEST(HydrologyFill, BowlFillsExactlyToItsRim) {
   // A paraboloid bowl inside a rim at 10 m with one notch at 8 m that opens to low ground.
   const FlowGrid g(41, 41, 1.0, 1.0);

@@ -133,8 +133,14 @@ void for_each_outlet(const FlowGrid& g, const Outlets& outlets, Fn&& fn) {
 }
 
 template <bool kEpsilon>
-void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, const ExecContext* ctx) {
+void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, const ExecContext* ctx,
+               std::span<float> spill_level) {
   Padded P(g, z);
+  // Level of the flat water surface of every raised cell: the height of the queue cell its depression
+  // search started from (an unraised height).
+  std::vector<float> level_store;
+  if (!spill_level.empty()) level_store = P.z;
+  float* level = level_store.empty() ? nullptr : level_store.data();
   auto step = [](float v) { return kEpsilon ? next_up(v) : v; };
   MinHeap heap;
   for_each_outlet(g, outlets, [&](int i, int j) {
@@ -165,6 +171,7 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
       if (closed[n]) continue;
       closed[n] = 1;
       if (zp[n] <= raised) {
+        if (level) level[n] = std::max(zp[n], e.z);
         zp[n] = raised;
         pit.push_back(n);
       } else {
@@ -180,6 +187,7 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
         if (closed[n]) continue;
         closed[n] = 1;
         if (zp[n] <= r) {
+          if (level) level[n] = std::max(zp[n], e.z);
           zp[n] = r;
           pit.push_back(n);
         } else {
@@ -221,6 +229,10 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
     }
   }
   P.copy_back(g, z);
+  if (level) {
+    P.z.swap(level_store);
+    P.copy_back(g, spill_level);
+  }
 }
 
 template <bool kEpsilon>
@@ -338,8 +350,10 @@ int route_cell(const FlowGrid& g, const NeighbourTable& t, const float* z, int i
   if (opt.method == FlowMethod::DInfinity) {
     // Facets (cardinal k1, diagonal k2); Tarboton 1997.
     static constexpr int kFacets[8][2] = {{0, 1}, {2, 1}, {2, 3}, {4, 3}, {4, 5}, {6, 5}, {6, 7}, {0, 7}};
-    double best = 0.0, best_r = 0.0, best_rmax = 1.0;
-    int bf = -1;
+    // The angle r = atan2(s2, s1) is classified without trigonometry (r < 0, r > rmax = atan(d2 / d1), or
+    // inside the facet); atan2 is evaluated for the chosen facet only.
+    double best = 0.0, best_s1 = 0.0, best_s2 = 0.0;
+    int bf = -1, best_case = 0;  // 0: r = 0 (cardinal), 1: r = rmax (diagonal), 2: inside
     for (int f = 0; f < 8; ++f) {
       const int k1 = kFacets[f][0], k2 = kFacets[f][1];
       if (!kInterior && (!g.inside(i + kDi[k1], j + kDj[k1]) || !g.inside(i + kDi[k2], j + kDj[k2]))) continue;
@@ -347,23 +361,25 @@ int route_cell(const FlowGrid& g, const NeighbourTable& t, const float* z, int i
       const double d2 = (k1 & 2) ? g.dx : g.dy;
       const double e1 = z[c + t.off[k1]], e2 = z[c + t.off[k2]];
       const double s1 = (zc - e1) / d1, s2 = (e1 - e2) / d2;
-      const double rmax = std::atan2(d2, d1);
-      double r = std::atan2(s2, s1), s;
-      if (r < 0.0) {
-        r = 0.0;
-        s = s1;
-      } else if (r > rmax) {
-        r = rmax;
-        s = (zc - e2) / std::hypot(d1, d2);
+      double s;
+      int kind;
+      if (s2 < 0.0) {
+        s = s1, kind = 0;
+      } else if (s1 <= 0.0 || s2 * d1 > s1 * d2) {
+        s = (zc - e2) * t.inv_dist[k2], kind = 1;
       } else {
-        s = std::hypot(s1, s2);
+        s = std::sqrt(s1 * s1 + s2 * s2), kind = 2;
       }
       if (s > best) {
-        best = s;
-        bf = f;
-        best_r = r;
-        best_rmax = rmax;
+        best = s, bf = f, best_case = kind, best_s1 = s1, best_s2 = s2;
       }
+    }
+    double best_r = 0.0, best_rmax = 1.0;
+    if (bf >= 0) {
+      const int k1 = kFacets[bf][0];
+      const double d1 = (k1 & 2) ? g.dy : g.dx, d2 = (k1 & 2) ? g.dx : g.dy;
+      best_rmax = std::atan2(d2, d1);
+      best_r = best_case == 0 ? 0.0 : (best_case == 1 ? best_rmax : std::min(std::atan2(best_s2, best_s1), best_rmax));
     }
     if (bf < 0) return 0;
     const double p2 = best_r / best_rmax;
@@ -390,12 +406,12 @@ bool interior_cell(const FlowGrid& g, int i, int j) { return i > 0 && j > 0 && i
 }  // namespace
 
 void fill_depressions(const FlowGrid& g, std::span<float> z, FlatMode mode, const Outlets& outlets,
-                      const ExecContext* ctx) {
+                      const ExecContext* ctx, std::span<float> spill_level) {
   if (g.size() == 0) return;
   if (mode == FlatMode::Epsilon)
-    fill_impl<true>(g, z, outlets, ctx);
+    fill_impl<true>(g, z, outlets, ctx, spill_level);
   else
-    fill_impl<false>(g, z, outlets, ctx);
+    fill_impl<false>(g, z, outlets, ctx, spill_level);
 }
 
 void breach_depressions(const FlowGrid& g, std::span<float> z, FlatMode mode, const Outlets& outlets,
