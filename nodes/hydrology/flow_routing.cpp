@@ -154,7 +154,7 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
   float* zp = P.z.data();
   std::uint8_t* closed = P.closed.data();
   const std::int32_t* off = P.off;
-  std::size_t work = 0;
+  std::size_t work = 0, done = 0;
   const std::int32_t W = P.W;
   while (!heap.empty()) {
     const Entry e = heap.pop();
@@ -224,8 +224,10 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
       }
     }
     if (work > (1u << 18)) {
+      done += work;
       work = 0;
       check(ctx);
+      if (ctx) ctx->progress(std::min(1.0, static_cast<double>(done) / static_cast<double>(g.size())));
     }
   }
   P.copy_back(g, z);
