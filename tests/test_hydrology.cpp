@@ -16,6 +16,7 @@
 
 #include "field_ops_fixtures.h"
 #include "graph/registry.h"
+#include "evaluator/value_serialization.h"
 #include "graph/report.h"
 #include "nodes/hydrology/channels.h"
 #include "nodes/hydrology/drainage_metrics.h"
@@ -534,6 +535,14 @@ TEST(DrainageMetrics, ReportAppearsInCliStats) {
   EXPECT_GE(rep["max_strahler_order"].get<int>(), 1);
   EXPECT_TRUE(rep.contains("concavity_theta"));
   std::filesystem::remove_all(dir);
+}
+
+TEST(DrainageMetrics, ReportValuesRoundTripThroughTheCacheFormat) {
+  auto rep = std::make_shared<Report>();
+  rep->json = R"({"hack_exponent": 0.55, "stream_counts": [12, 3, 1]})";
+  const PortValue back = deserialize_value(serialize_value(PortValue(ReportPtr(rep))));
+  ASSERT_EQ(port_type_of(back), PortType::Report);
+  EXPECT_EQ(std::get<ReportPtr>(back)->json, rep->json);
 }
 
 // ---- Node contract -------------------------------------------------------------------------------------------
