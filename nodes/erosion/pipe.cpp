@@ -56,7 +56,10 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
   std::uint64_t step = 0;
   while (t < p.duration - 1e-9) {
     check_cancelled(ctx);
-    double dt = p.courant * spacing / (std::sqrt(p.gravity * std::max(dmax, p.depth_scale)) + vmax);
+    // The gravity-wave speed sqrt(g d) bounds the stable step of the pipe model. (The flow speed is not
+    // added: in thin films the flux limiter already caps it at spacing / dt, and feeding that back would
+    // shrink the step without end.)
+    double dt = p.courant * spacing / std::sqrt(p.gravity * std::max(dmax, p.depth_scale));
     dt = std::min(dt, p.duration - t);
     const float fdt = static_cast<float>(dt);
     const double before = check_conservation ? volume() : 0.0;
@@ -140,7 +143,7 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
         wy = 0.5f * (fin_d - fd[k] + fu[k] - fin_u);
         const float dmean = 0.5f * (dk + d1);
         float u = 0, v = 0;
-        if (dmean > 1e-4f) {
+        if (dmean > 1e-3f) {
           u = wx / (static_cast<float>(dy) * dmean);
           v = wy / (static_cast<float>(dx) * dmean);
         }

@@ -15,8 +15,7 @@
 // to float rounding, except what leaves through the domain border or into sinks (cells under sea level),
 // which is counted.
 //
-// Time: the step follows a CFL condition on the cell size, dt = courant x spacing / (sqrt(g x depth) +
-// |v|max), so a finer grid takes more, smaller steps of the same physical duration (seconds). Every pass
+// Time: the step follows a CFL condition on the cell size, dt = courant x spacing / sqrt(g x max depth), so a finer grid takes more, smaller steps of the same physical duration (seconds). Every pass
 // is a gather over rows, bit-identical for any thread count.
 #include <cstdint>
 

@@ -128,21 +128,20 @@ ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, cons
   const std::size_t n = in.data.size();
   const double dx = in.domain.spacing.x, dy = in.domain.spacing.y;
   const double diag = std::sqrt(dx * dx + dy * dy);
-  std::vector<unsigned char> outlet(n, 0);
+  // Fixed base level: the given outlets, else the border. Cells under sea level join them step by step
+  // (uplift can lift the sea floor into land).
+  std::vector<unsigned char> fixed(n, 0), outlet(n, 0);
   if (outlets) {
-    outlet = *outlets;
+    fixed = *outlets;
   } else {
     for (int j = 0; j < h; ++j)
-      for (int i = 0; i < w; ++i) {
-        const std::size_t k = in.index(i, j);
-        outlet[k] = i == 0 || j == 0 || i == w - 1 || j == h - 1 || in.data[k] < p.sea_level;
-      }
+      for (int i = 0; i < w; ++i) fixed[in.index(i, j)] = i == 0 || j == 0 || i == w - 1 || j == h - 1;
   }
   std::vector<double> z(in.data.begin(), in.data.end()), ero(n, 0.0), dep(n, 0.0), zprev(n), ztmp(n);
   std::vector<double> kfac(n), ufac(n);
   for (std::size_t k = 0; k < n; ++k) {
     kfac[k] = mask_at(mask, k);
-    ufac[k] = outlet[k] ? 0.0 : p.uplift * (uplift ? std::max(0.0f, uplift->data[k]) : 1.0f);
+    ufac[k] = fixed[k] ? 0.0 : p.uplift * (uplift ? std::max(0.0f, uplift->data[k]) : 1.0f);
   }
   const int steps = std::max(1, static_cast<int>(std::ceil(p.duration / p.dt - 1e-9)));
   const double dt = p.duration / steps;
@@ -154,7 +153,10 @@ ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, cons
   for (int s = 0; s < steps; ++s) {
     check_cancelled(ctx);
     zprev = z;
-    for (std::size_t k = 0; k < n; ++k) z[k] += ufac[k] * dt;
+    for (std::size_t k = 0; k < n; ++k) {
+      z[k] += ufac[k] * dt;
+      outlet[k] = fixed[k] || z[k] < p.sea_level;
+    }
     route(z, w, h, dx, dy, outlet, r);
     for (std::size_t k = 0; k < n; ++k) {
       dep[k] += r.filled[k] - z[k];

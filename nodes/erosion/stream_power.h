@@ -7,8 +7,9 @@
 // which the deposition map records), D8 steepest-descent receivers, drainage area, the implicit incision
 // sweep from the outlets upstream, then explicit hillslope diffusion in stable sub-steps.
 //
-// Units: K in m^(1-2m)/yr, U in m/yr, D in m^2/yr, time in years, lengths in metres. Border cells and cells
-// below sea level are base level (outlets, held fixed).
+// Units: K in m^(1-2m)/yr, U in m/yr, D in m^2/yr, time in years, lengths in metres. Border cells are base
+// level (held fixed); cells below sea level after the step's uplift are outlets too (they take no fluvial
+// erosion; uplift may raise them into land).
 #include <cstdint>
 #include <vector>
 
