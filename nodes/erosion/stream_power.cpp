@@ -1,5 +1,7 @@
 #include "nodes/erosion/stream_power.h"
 
+#include "nodes/hydrology/flow_routing.h"
+
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -28,106 +30,12 @@ void rows(int h, Fn&& fn) {
 
 }  // namespace
 
-void route(const std::vector<double>& z, int w, int h, double dx, double dy, const std::vector<unsigned char>& outlet,
-           Routing& r) {
-  const std::size_t n = z.size();
-  r.filled.assign(n, 0.0);
-  r.receiver.assign(n, -1);
-  std::vector<std::int32_t> parent(n, -1);
-  std::vector<unsigned char> closed(n, 0);
-  // Priority flood with epsilon (Barnes, Lehman and Mulla 2014): from the outlets inward, every cell is
-  // raised to just above the cell it was reached from if it lies lower, so every cell drains.
-  using Item = std::pair<double, std::int32_t>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> open;
-  std::deque<std::int32_t> pit;
-  for (std::size_t k = 0; k < n; ++k)
-    if (outlet[k]) {
-      closed[k] = 1;
-      r.filled[k] = z[k];
-      open.push({z[k], static_cast<std::int32_t>(k)});
-    }
-  while (!open.empty() || !pit.empty()) {
-    std::int32_t c;
-    if (!pit.empty()) {
-      c = pit.front();
-      pit.pop_front();
-    } else {
-      c = open.top().second;
-      open.pop();
-    }
-    const int ci = c % w, cj = c / w;
-    for (int q = 0; q < 8; ++q) {
-      const int i = ci + kDi[q], j = cj + kDj[q];
-      if (i < 0 || i >= w || j < 0 || j >= h) continue;
-      const std::int32_t nb = j * w + i;
-      if (closed[nb]) continue;
-      closed[nb] = 1;
-      parent[nb] = c;
-      const double lift = raise(r.filled[c]);
-      if (z[nb] <= lift) {
-        r.filled[nb] = lift;
-        pit.push_back(nb);
-      } else {
-        r.filled[nb] = z[nb];
-        open.push({z[nb], nb});
-      }
-    }
-  }
-  // D8 steepest descent on the filled surface.
-  const double diag = std::sqrt(dx * dx + dy * dy);
-  const double dist[8] = {dx, dx, dy, dy, diag, diag, diag, diag};
-  rows(h, [&](int j) {
-    for (int i = 0; i < w; ++i) {
-      const std::int32_t k = j * w + i;
-      if (outlet[k]) {
-        r.receiver[k] = k;
-        continue;
-      }
-      double best = 0.0;
-      std::int32_t rec = -1;
-      for (int q = 0; q < 8; ++q) {
-        const int ii = i + kDi[q], jj = j + kDj[q];
-        if (ii < 0 || ii >= w || jj < 0 || jj >= h) continue;
-        const std::int32_t nb = jj * w + ii;
-        const double s = (r.filled[k] - r.filled[nb]) / dist[q];
-        if (s > best) best = s, rec = nb;
-      }
-      r.receiver[k] = rec >= 0 ? rec : (parent[k] >= 0 ? parent[k] : k);
-    }
-  });
-  // Donors (CSR) and the stack: outlets first, then breadth-first upstream.
-  std::vector<std::int32_t> count(n + 1, 0), donors(n);
-  for (std::size_t k = 0; k < n; ++k)
-    if (r.receiver[k] != static_cast<std::int32_t>(k)) ++count[static_cast<std::size_t>(r.receiver[k]) + 1];
-  for (std::size_t k = 0; k < n; ++k) count[k + 1] += count[k];
-  {
-    std::vector<std::int32_t> fill(count.begin(), count.end() - 1);
-    for (std::size_t k = 0; k < n; ++k)
-      if (r.receiver[k] != static_cast<std::int32_t>(k)) donors[fill[r.receiver[k]]++] = static_cast<std::int32_t>(k);
-  }
-  r.stack.clear();
-  r.stack.reserve(n);
-  for (std::size_t k = 0; k < n; ++k)
-    if (r.receiver[k] == static_cast<std::int32_t>(k)) r.stack.push_back(static_cast<std::int32_t>(k));
-  for (std::size_t head = 0; head < r.stack.size(); ++head) {
-    const std::int32_t c = r.stack[head];
-    for (std::int32_t q = count[c]; q < count[c + 1]; ++q) r.stack.push_back(donors[q]);
-  }
-  // Drainage area, accumulated downstream.
-  r.area.assign(n, dx * dy);
-  for (std::size_t q = r.stack.size(); q-- > 0;) {
-    const std::int32_t k = r.stack[q];
-    if (r.receiver[k] != k) r.area[r.receiver[k]] += r.area[k];
-  }
-}
-
 ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, const Heightfield* uplift,
                          const Heightfield* mask, const ExecContext* ctx, StreamPowerStats* stats,
                          const std::vector<unsigned char>* outlets, std::shared_ptr<Heightfield>* accumulation) {
   const int w = in.width(), h = in.height();
   const std::size_t n = in.data.size();
   const double dx = in.domain.spacing.x, dy = in.domain.spacing.y;
-  const double diag = std::sqrt(dx * dx + dy * dy);
   // Fixed base level: the given outlets, else the border. Cells under sea level join them step by step
   // (uplift can lift the sea floor into land).
   std::vector<unsigned char> fixed(n, 0), outlet(n, 0);
@@ -148,7 +56,11 @@ ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, cons
   // Diffusion sub-steps: explicit FTCS is stable for D dt_sub (2/dx^2 + 2/dy^2) <= 1.
   const double dt_diff_max = 0.9 / (std::max(p.diffusion, 1e-30) * (2.0 / (dx * dx) + 2.0 / (dy * dy)));
   const int diff_steps = p.diffusion > 0 ? std::max(1, static_cast<int>(std::ceil(dt / dt_diff_max))) : 0;
-  Routing r;
+  const hydrology::FlowGrid grid = hydrology::FlowGrid::of(in.domain);
+  std::vector<float> zf(n), zround(n);
+  hydrology::D8Flow flow;
+  std::vector<std::int32_t> order;
+  std::vector<double> area;
   StreamPowerStats st;
   for (int s = 0; s < steps; ++s) {
     check_cancelled(ctx);
@@ -157,17 +69,28 @@ ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, cons
       z[k] += ufac[k] * dt;
       outlet[k] = fixed[k] || z[k] < p.sea_level;
     }
-    route(z, w, h, dx, dy, outlet, r);
-    for (std::size_t k = 0; k < n; ++k) {
-      dep[k] += r.filled[k] - z[k];
-      z[k] = r.filled[k];
-    }
+    // Routing over the depression-filled surface with the hydrology core: closed depressions fill with
+    // sediment (Priority-Flood+epsilon), then D8 receivers, the Braun-Willett stack and the drainage area.
+    for (std::size_t k = 0; k < n; ++k) zf[k] = static_cast<float>(z[k]);
+    zround = zf;
+    hydrology::Outlets outs;
+    outs.border = false;
+    outs.mask = outlet;
+    hydrology::fill_depressions(grid, zf, hydrology::FlatMode::Epsilon, outs, ctx);
+    for (std::size_t k = 0; k < n; ++k)
+      if (zf[k] != zround[k]) {
+        dep[k] += static_cast<double>(zf[k]) - z[k];
+        z[k] = zf[k];
+      }
+    flow = hydrology::d8_flow(grid, zf, outs, ctx);
+    order = hydrology::stack_order(grid, flow);
+    area = hydrology::accumulate_d8(grid, flow, {}, ctx);
     // Implicit incision from the outlets upstream (receivers are already at t + dt).
-    for (const std::int32_t k : r.stack) {
-      const std::int32_t rc = r.receiver[k];
+    for (const std::int32_t k : order) {
+      const std::int32_t rc = flow.receiver[k];
       if (rc == k) continue;
-      const double len = (k % w != rc % w && k / w != rc / w) ? diag : (k % w != rc % w ? dx : dy);
-      const double f = p.k * kfac[k] * dt * std::pow(r.area[k], p.m) / std::pow(len, p.n);
+      const double len = grid.distance(flow.direction[k]);
+      const double f = p.k * kfac[k] * dt * std::pow(area[k], p.m) / std::pow(len, p.n);
       const double z0 = z[k], zr = z[rc];
       double zn = z0;
       if (z0 > zr && f > 0) {
@@ -230,17 +153,17 @@ ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, cons
   maps.deposition = std::make_shared<Heightfield>(in.domain);
   maps.flow = std::make_shared<Heightfield>(in.domain);
   double amax = dx * dy;
-  for (double a : r.area) amax = std::max(amax, a);
+  for (double a : area) amax = std::max(amax, a);
   const double lmax = std::log(amax / (dx * dy));
   for (std::size_t k = 0; k < n; ++k) {
     maps.out->data[k] = static_cast<float>(z[k]);
     maps.erosion->data[k] = static_cast<float>(ero[k]);
     maps.deposition->data[k] = static_cast<float>(dep[k]);
-    maps.flow->data[k] = lmax > 0 && !r.area.empty() ? static_cast<float>(std::log(r.area[k] / (dx * dy)) / lmax) : 0.0f;
+    maps.flow->data[k] = lmax > 0 && !area.empty() ? static_cast<float>(std::log(area[k] / (dx * dy)) / lmax) : 0.0f;
   }
   if (accumulation) {
     *accumulation = std::make_shared<Heightfield>(in.domain);
-    for (std::size_t k = 0; k < n; ++k) (*accumulation)->data[k] = static_cast<float>(r.area.empty() ? dx * dy : r.area[k]);
+    for (std::size_t k = 0; k < n; ++k) (*accumulation)->data[k] = static_cast<float>(area.empty() ? dx * dy : area[k]);
   }
   return maps;
 }

@@ -3,9 +3,10 @@
 // fluvial incision (Howard 1994; Whipple and Tucker 1999), solved with the implicit O(N) scheme of Braun and
 // Willett 2013 ("A very efficient O(n), implicit and parallel method to solve the stream power equation
 // governing fluvial incision and landscape evolution") for n = 1 and a per-node Newton iteration for n != 1.
-// Each step: uplift, routing over the depression-filled surface (closed depressions fill with sediment,
-// which the deposition map records), D8 steepest-descent receivers, drainage area, the implicit incision
-// sweep from the outlets upstream, then explicit hillslope diffusion in stable sub-steps.
+// Each step: uplift, routing with the hydrology routing core (nodes/hydrology/flow_routing.h) over the
+// depression-filled surface (closed depressions fill with sediment, which the deposition map records), D8
+// steepest-descent receivers, the stack order and the drainage area, the implicit incision sweep from the
+// outlets upstream, then explicit hillslope diffusion in stable sub-steps.
 //
 // Units: K in m^(1-2m)/yr, U in m/yr, D in m^2/yr, time in years, lengths in metres. Border cells are base
 // level (held fixed); cells below sea level after the step's uplift are outlets too (they take no fluvial
@@ -27,18 +28,6 @@ struct StreamPowerParams {
   double duration = 1e6;      // years
   double sea_level = -1e9;    // metres: cells below are base level
 };
-
-// The drainage of one surface: D8 receivers of the filled surface, an upstream order and the area.
-struct Routing {
-  std::vector<std::int32_t> receiver;  // index of the receiver, itself for outlets
-  std::vector<std::int32_t> stack;     // every cell after its receiver (outlets first)
-  std::vector<double> area;            // drainage area, m^2
-  std::vector<double> filled;          // depression-filled surface (priority flood with a tiny gradient)
-};
-
-// Routing of `z` on a w x h grid; outlet[k] marks base-level cells (they drain out of the domain).
-void route(const std::vector<double>& z, int w, int h, double dx, double dy, const std::vector<unsigned char>& outlet,
-           Routing& r);
 
 struct StreamPowerStats {
   int steps = 0;
