@@ -6,20 +6,24 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 namespace orogen::erosion {
 namespace {
 
-struct Delta {
-  std::uint32_t index;
-  float dz;       // metres
-  bool erosion;   // removed (true) or laid down (false)
+// One change of the terrain by a droplet step, applied later in droplet order: a deposit spread
+// bilinearly over the 4 samples around (u, v) = (corner + (fu, fv)), or an erosion with the brush around a
+// sample (fu < 0), `amount` metres of height per unit weight.
+struct Change {
+  std::uint32_t node;
+  float amount;
+  float fu, fv;
 };
 
 struct DropletLog {
-  std::vector<Delta> deltas;
+  std::vector<Change> changes;
   std::vector<std::uint32_t> visits;
-  double carried_off = 0.0;
+  double eroded = 0.0, deposited = 0.0, carried_off = 0.0;  // m^3
   std::uint32_t steps = 0;
 };
 
@@ -43,8 +47,8 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
 
   // Brush around the nearest sample: weights 1 - distance / radius, normalised.
   std::vector<BrushTap> brush;
+  const int rx = static_cast<int>(std::ceil(p.radius / dx)), ry = static_cast<int>(std::ceil(p.radius / dy));
   {
-    const int rx = static_cast<int>(std::ceil(p.radius / dx)), ry = static_cast<int>(std::ceil(p.radius / dy));
     double total = 0.0;
     for (int dj = -ry; dj <= ry; ++dj)
       for (int di = -rx; di <= rx; ++di) {
@@ -87,22 +91,18 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   };
 
   auto simulate = [&](std::uint64_t id, DropletLog& log) {
-    log.deltas.clear();
+    log.changes.clear();
     log.visits.clear();
-    log.carried_off = 0.0;
+    log.eroded = log.deposited = log.carried_off = 0.0;
     log.steps = 0;
     const std::uint64_t key = hash64(p.seed, id);
     double u = hash01(key, 1) * (w - 1), v = hash01(key, 2) * (h - 1);
     double dirx = 0, diry = 0, speed = 1.0, water = 1.0, sed = 0.0;
     auto deposit = [&](double amt, double uu, double vv) {
       const int i = std::min(static_cast<int>(uu), w - 2), j = std::min(static_cast<int>(vv), h - 2);
-      const double fu = uu - i, fv = vv - j;
-      const std::uint32_t k = static_cast<std::uint32_t>(j * w + i);
-      const double hgt = amt / cell_area;
-      log.deltas.push_back({k, static_cast<float>(hgt * (1 - fu) * (1 - fv)), false});
-      log.deltas.push_back({k + 1, static_cast<float>(hgt * fu * (1 - fv)), false});
-      log.deltas.push_back({k + static_cast<std::uint32_t>(w), static_cast<float>(hgt * (1 - fu) * fv), false});
-      log.deltas.push_back({k + static_cast<std::uint32_t>(w) + 1, static_cast<float>(hgt * fu * fv), false});
+      log.changes.push_back({static_cast<std::uint32_t>(j * w + i), static_cast<float>(amt / cell_area),
+                             static_cast<float>(uu - i), static_cast<float>(vv - j)});
+      log.deposited += amt;
     };
     for (int s = 0; s < max_steps; ++s) {
       double hgt, gx, gy;
@@ -113,7 +113,7 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
       ++log.steps;
       dirx = dirx * inertia - gx * (1 - inertia);
       diry = diry * inertia - gy * (1 - inertia);
-      double len = std::hypot(dirx, diry);
+      double len = std::sqrt(dirx * dirx + diry * diry);
       if (len < 1e-12) {
         const double a = 2.0 * M_PI * hash01(key, 16 + static_cast<std::uint64_t>(s));
         dirx = std::cos(a);
@@ -143,17 +143,16 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
         const double amt = std::min((cap - sed) * p.erosion, -dh * brush_area) * m;
         if (amt > 0) {
           // Taps outside the grid are dropped and the rest renormalised.
-          double inside = 0.0;
-          for (const auto& t : brush) {
-            const int i = ni + t.di, j = nj + t.dj;
-            if (i >= 0 && i < w && j >= 0 && j < h) inside += t.w;
+          double inside = 1.0;
+          if (ni < rx || nj < ry || ni + rx >= w || nj + ry >= h) {
+            inside = 0.0;
+            for (const auto& t : brush) {
+              const int i = ni + t.di, j = nj + t.dj;
+              if (i >= 0 && i < w && j >= 0 && j < h) inside += t.w;
+            }
           }
-          const double hgt_total = amt / cell_area / inside;
-          for (const auto& t : brush) {
-            const int i = ni + t.di, j = nj + t.dj;
-            if (i >= 0 && i < w && j >= 0 && j < h)
-              log.deltas.push_back({static_cast<std::uint32_t>(j * w + i), static_cast<float>(-hgt_total * t.w), true});
-          }
+          log.changes.push_back({static_cast<std::uint32_t>(node), static_cast<float>(-amt / cell_area / inside), -1.0f, 0.0f});
+          log.eroded += amt;
           sed += amt;
         }
       }
@@ -174,16 +173,52 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
     tbb::parallel_for(tbb::blocked_range<int>(0, count, 16), [&](const tbb::blocked_range<int>& r) {
       for (int k = r.begin(); k != r.end(); ++k) simulate(first + static_cast<std::uint64_t>(k), logs[k]);
     });
-    // Apply in droplet order: the same sums in the same order for any thread count.
-    for (int k = 0; k < count; ++k) {
-      const DropletLog& log = logs[k];
-      for (const Delta& d : log.deltas) {
-        z[d.index] += d.dz;
-        (d.erosion ? st.eroded : st.deposited) += std::abs(static_cast<double>(d.dz)) * cell_area;
+    // Apply in droplet order: every sample receives its changes in the same order for any thread count.
+    // Bands of rows in parallel; each band walks all changes of the batch in order and applies the taps
+    // that fall in its rows (the band split does not change any sample's sequence of additions).
+    // One band per worker: the band count does not affect the result, only the speed.
+    const int bands = std::max(1, std::min(h / 4, tbb::this_task_arena::max_concurrency()));
+    tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const tbb::blocked_range<int>& br) {
+      for (int band = br.begin(); band != br.end(); ++band) {
+        const int j0 = static_cast<int>(static_cast<long>(h) * band / bands);
+        const int j1 = static_cast<int>(static_cast<long>(h) * (band + 1) / bands);
+        for (int k = 0; k < count; ++k) {
+          const DropletLog& log = logs[k];
+          for (const Change& c : log.changes) {
+            const int ci = static_cast<int>(c.node % static_cast<std::uint32_t>(w));
+            const int cj = static_cast<int>(c.node / static_cast<std::uint32_t>(w));
+            if (c.fu >= 0.0f) {
+              if (cj + 1 < j0 || cj >= j1) continue;
+              const float a = c.amount, fu = c.fu, fv = c.fv;
+              if (cj >= j0) {
+                z[c.node] += a * (1 - fu) * (1 - fv);
+                z[c.node + 1] += a * fu * (1 - fv);
+              }
+              if (cj + 1 < j1) {
+                z[c.node + w] += a * (1 - fu) * fv;
+                z[c.node + w + 1] += a * fu * fv;
+              }
+            } else {
+              if (cj + ry < j0 || cj - ry >= j1) continue;
+              for (const auto& t : brush) {
+                const int i = ci + t.di, j = cj + t.dj;
+                if (j < j0 || j >= j1 || i < 0 || i >= w) continue;
+                z[static_cast<std::size_t>(j) * w + i] += c.amount * t.w;
+              }
+            }
+          }
+          for (std::uint32_t vi : log.visits) {
+            const int vj = static_cast<int>(vi / static_cast<std::uint32_t>(w));
+            if (vj >= j0 && vj < j1) ++visits[vi];
+          }
+        }
       }
-      for (std::uint32_t vi : log.visits) ++visits[vi];
-      st.carried_off += log.carried_off;
-      st.steps += log.steps;
+    });
+    for (int k = 0; k < count; ++k) {
+      st.eroded += logs[k].eroded;
+      st.deposited += logs[k].deposited;
+      st.carried_off += logs[k].carried_off;
+      st.steps += logs[k].steps;
     }
     report(ctx, static_cast<double>(b + 1) / static_cast<double>(batches));
   }
