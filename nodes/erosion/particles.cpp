@@ -65,6 +65,8 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
     }
     for (auto& t : brush) t.w = static_cast<float>(t.w / total);
   }
+  std::vector<long> tap_offset;
+  for (const auto& t : brush) tap_offset.push_back(static_cast<long>(t.dj) * w + t.di);
   float w_centre = 0.0f;
   for (const auto& t : brush)
     if (t.di == 0 && t.dj == 0) w_centre = t.w;
@@ -104,9 +106,10 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
                              static_cast<float>(uu - i), static_cast<float>(vv - j)});
       log.deposited += amt;
     };
+    // Heights are frozen during a batch, so the height and gradient at the new position carry over.
+    double hgt, gx, gy;
+    height_grad(u, v, hgt, gx, gy);
     for (int s = 0; s < max_steps; ++s) {
-      double hgt, gx, gy;
-      height_grad(u, v, hgt, gx, gy);
       const int ni = static_cast<int>(u + 0.5), nj = static_cast<int>(v + 0.5);
       const std::size_t node = static_cast<std::size_t>(nj) * w + ni;
       log.visits.push_back(static_cast<std::uint32_t>(node));
@@ -160,6 +163,9 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
       water *= (1.0 - p.evaporation);
       u = nu;
       v = nv;
+      hgt = nh;
+      gx = ngx;
+      gy = ngy;
     }
     // End of life: what the droplet still carries settles where it stopped.
     if (sed > 0) deposit(sed, u, v);
@@ -200,6 +206,11 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
               }
             } else {
               if (cj + ry < j0 || cj - ry >= j1) continue;
+              if (ci >= rx && ci + rx < w && cj - ry >= j0 && cj + ry < j1) {  // wholly inside: no checks
+                float* zc = z.data() + c.node;
+                for (std::size_t q = 0; q < brush.size(); ++q) zc[tap_offset[q]] += c.amount * brush[q].w;
+                continue;
+              }
               for (const auto& t : brush) {
                 const int i = ci + t.di, j = cj + t.dj;
                 if (j < j0 || j >= j1 || i < 0 || i >= w) continue;
