@@ -17,6 +17,7 @@
 #include "nodes/erosion/pipe.h"
 #include "nodes/erosion/stream_power.h"
 #include "nodes/erosion/thermal.h"
+#include "nodes/hydrology/drainage_metrics.h"
 #include "support/key_checks.h"
 
 namespace orogen {
@@ -223,6 +224,31 @@ void check_1d_steady_state(double n_exp) {
 
 TEST(StreamPower, OneDimensionalSteadyStateMatchesAnalyticN1) { check_1d_steady_state(1.0); }
 TEST(StreamPower, OneDimensionalSteadyStateMatchesAnalyticN2) { check_1d_steady_state(2.0); }
+
+// At steady state under uniform uplift the channels follow S = (U/K)^(1/n) A^(-m/n): DrainageMetrics (the
+// hydrology family's slope-area fit, Flint 1974) recovers theta = m/n.
+void check_concavity(double diffusion) {
+  const Domain d = Domain::from_extent({0, 0}, {6000, 6000}, {121, 121});
+  const auto in = test::field_from(d, [](double x, double y) { return 20.0 * test::hash01(static_cast<int>(x), static_cast<int>(y)); });
+  StreamPowerParams p;
+  p.k = 4e-5;
+  p.m = 0.45;
+  p.n = 1.0;
+  p.uplift = 2e-3;
+  p.diffusion = diffusion;
+  p.dt = 2e4;
+  p.duration = 4e6;
+  StreamPowerStats st;
+  const auto m = stream_power(*in, p, nullptr, nullptr, nullptr, &st);
+  EXPECT_LT(st.mean_change_last_step, 1e-3 * p.uplift) << "steady state: erosion balances uplift";
+  const auto r = hydrology::drainage_metrics(*m.out, 2e5);
+  EXPECT_NEAR(-r.network.flint.slope, p.m / p.n, 0.05);
+  EXPECT_GE(r.network.flint.r2, 0.9);
+  EXPECT_EQ(r.pits_per_million, 0.0);
+}
+
+TEST(StreamPower, SlopeAreaRecoversConcavity) { check_concavity(0.0); }
+TEST(StreamPower, SlopeAreaRecoversConcavityWithHillslopeDiffusion) { check_concavity(0.02); }
 
 TEST(StreamPower, DeterministicAcrossThreads) {
   const auto in = terrain(64);

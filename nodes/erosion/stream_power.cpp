@@ -69,6 +69,27 @@ ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, cons
       z[k] += ufac[k] * dt;
       outlet[k] = fixed[k] || z[k] < p.sea_level;
     }
+    // Hillslope diffusion, base level fixed, before the incision: the implicit sweep then cuts through
+    // whatever diffusion laid into the channels within the same step, so river profiles stay clean.
+    for (int sd = 0; sd < diff_steps; ++sd) {
+      const double c = p.diffusion * dt / diff_steps;
+      rows(h, [&](int j) {
+        for (int i = 0; i < w; ++i) {
+          const std::size_t k = static_cast<std::size_t>(j) * w + i;
+          if (outlet[k]) {
+            ztmp[k] = z[k];
+            continue;
+          }
+          const double zc = z[k];
+          const double lx = (z[i > 0 ? k - 1 : k] + z[i < w - 1 ? k + 1 : k] - 2 * zc) / (dx * dx);
+          const double ly = (z[j > 0 ? k - w : k] + z[j < h - 1 ? k + w : k] - 2 * zc) / (dy * dy);
+          const double dz = c * kfac[k] * (lx + ly);
+          ztmp[k] = zc + dz;
+          (dz < 0 ? ero[k] : dep[k]) += std::abs(dz);
+        }
+      });
+      std::swap(z, ztmp);
+    }
     // Routing over the depression-filled surface with the hydrology core: closed depressions fill with
     // sediment (Priority-Flood+epsilon), then D8 receivers, the Braun-Willett stack and the drainage area.
     for (std::size_t k = 0; k < n; ++k) zf[k] = static_cast<float>(z[k]);
@@ -118,34 +139,38 @@ ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, cons
       ero[k] += z0 - zn;
       z[k] = zn;
     }
-    // Hillslope diffusion, base level fixed.
-    for (int sd = 0; sd < diff_steps; ++sd) {
-      const double c = p.diffusion * dt / diff_steps;
-      rows(h, [&](int j) {
-        for (int i = 0; i < w; ++i) {
-          const std::size_t k = static_cast<std::size_t>(j) * w + i;
-          if (outlet[k]) {
-            ztmp[k] = z[k];
-            continue;
-          }
-          const double zc = z[k];
-          const double lx = (z[i > 0 ? k - 1 : k] + z[i < w - 1 ? k + 1 : k] - 2 * zc) / (dx * dx);
-          const double ly = (z[j > 0 ? k - w : k] + z[j < h - 1 ? k + w : k] - 2 * zc) / (dy * dy);
-          const double dz = c * kfac[k] * (lx + ly);
-          ztmp[k] = zc + dz;
-          (dz < 0 ? ero[k] : dep[k]) += std::abs(dz);
-        }
-      });
-      std::swap(z, ztmp);
-    }
-    double mx = 0;
+    double mx = 0, sum = 0;
+    std::size_t count = 0;
     for (std::size_t k = 0; k < n; ++k)
-      if (!outlet[k]) mx = std::max(mx, std::abs(z[k] - zprev[k]) / dt);
+      if (!outlet[k]) {
+        const double c = std::abs(z[k] - zprev[k]) / dt;
+        mx = std::max(mx, c);
+        sum += c;
+        ++count;
+      }
     st.max_change_last_step = mx;
+    st.mean_change_last_step = count ? sum / count : 0.0;
     report(ctx, static_cast<double>(s + 1) / steps);
   }
   st.steps = steps;
   if (stats) *stats = st;
+  // The last diffusion sub-steps may leave shallow closed depressions on filled flats: fill them like every
+  // step does, so the result drains (sediment settles in them; recorded as deposition).
+  {
+    for (std::size_t k = 0; k < n; ++k) {
+      outlet[k] = fixed[k] || z[k] < p.sea_level;
+      zf[k] = static_cast<float>(z[k]);
+    }
+    zround = zf;
+    hydrology::Outlets outs;
+    outs.border = false;
+    outs.mask = outlet;
+    hydrology::fill_depressions(grid, zf, hydrology::FlatMode::Epsilon, outs, ctx);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (zf[k] != zround[k]) dep[k] += static_cast<double>(zf[k]) - z[k];
+      z[k] = zf[k];
+    }
+  }
 
   ErosionMaps maps;
   maps.out = std::make_shared<Heightfield>(in.domain);

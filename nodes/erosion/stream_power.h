@@ -3,10 +3,10 @@
 // fluvial incision (Howard 1994; Whipple and Tucker 1999), solved with the implicit O(N) scheme of Braun and
 // Willett 2013 ("A very efficient O(n), implicit and parallel method to solve the stream power equation
 // governing fluvial incision and landscape evolution") for n = 1 and a per-node Newton iteration for n != 1.
-// Each step: uplift, routing with the hydrology routing core (nodes/hydrology/flow_routing.h) over the
+// Each step: uplift, explicit hillslope diffusion in stable sub-steps, routing with the hydrology routing core (nodes/hydrology/flow_routing.h) over the
 // depression-filled surface (closed depressions fill with sediment, which the deposition map records), D8
-// steepest-descent receivers, the stack order and the drainage area, the implicit incision sweep from the
-// outlets upstream, then explicit hillslope diffusion in stable sub-steps.
+// steepest-descent receivers, the stack order and the drainage area, then the implicit incision sweep from
+// the outlets upstream.
 //
 // Units: K in m^(1-2m)/yr, U in m/yr, D in m^2/yr, time in years, lengths in metres. Border cells are base
 // level (held fixed); cells below sea level after the step's uplift are outlets too (they take no fluvial
@@ -31,7 +31,8 @@ struct StreamPowerParams {
 
 struct StreamPowerStats {
   int steps = 0;
-  double max_change_last_step = 0.0;  // m/yr: largest |dz/dt| of the last step (0 at steady state)
+  double max_change_last_step = 0.0;   // m/yr: largest |dz/dt| of the last step (0 at steady state)
+  double mean_change_last_step = 0.0;  // m/yr: mean |dz/dt| over the cells that are not base level
 };
 
 // `uplift`: factor (>= 0) on p.uplift per cell; `mask` (0..1) scales K and D per cell. Either may be null.
