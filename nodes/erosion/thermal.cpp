@@ -52,24 +52,28 @@ ErosionMaps thermal_erosion(const Heightfield& in, const ThermalParams& p, const
   for (; it < iterations; ++it) {
     check_cancelled(ctx);
     // Pass 1: each cell's outflow ratio: it moves strength x half its largest excess, split over the lower
-    // neighbours in proportion to their excess.
+    // neighbours in proportion to their excess. Loops run neighbour by neighbour along a row (vectorisable).
     tbb::parallel_for(tbb::blocked_range<int>(1, h + 1, 16), [&](const tbb::blocked_range<int>& r) {
+      std::vector<float> sum(static_cast<std::size_t>(w)), mx(static_cast<std::size_t>(w)), sc(static_cast<std::size_t>(w), 1.0f);
       for (int j = r.begin(); j != r.end(); ++j) {
-        const std::size_t q0 = static_cast<std::size_t>(j) * pw;
-        for (int i = 1; i <= w; ++i) {
-          const std::size_t q = q0 + static_cast<std::size_t>(i);
-          const float zc = z[q];
-          const float s = hardness ? tan_cell[q] / static_cast<float>(tan_t) : 1.0f;
-          float sum = 0.0f, mx = 0.0f;
-          for (int n = 0; n < 8; ++n) {
-            const float e = zc - z[q + off[n]] - tal[n] * s;
-            if (e > 0.0f) {
-              sum += e;
-              mx = std::max(mx, e);
-            }
+        const std::size_t q0 = static_cast<std::size_t>(j) * pw + 1;
+        const float* zr = z.data() + q0;
+        if (hardness)
+          for (int i = 0; i < w; ++i) sc[i] = tan_cell[q0 + i] / static_cast<float>(tan_t);
+        std::fill(sum.begin(), sum.end(), 0.0f);
+        std::fill(mx.begin(), mx.end(), 0.0f);
+        for (int n = 0; n < 8; ++n) {
+          const float* zn = zr + off[n];
+          const float tn = tal[n];
+          for (int i = 0; i < w; ++i) {
+            const float e = std::max(0.0f, zr[i] - zn[i] - tn * sc[i]);
+            sum[i] += e;
+            mx[i] = std::max(mx[i], e);
           }
-          ratio[q] = sum > 0.0f ? rate[q] * 0.5f * mx / sum : 0.0f;
         }
+        float* ra = ratio.data() + q0;
+        const float* rt = rate.data() + q0;
+        for (int i = 0; i < w; ++i) ra[i] = sum[i] > 0.0f ? rt[i] * 0.5f * mx[i] / sum[i] : 0.0f;
       }
     });
     // Pass 2: each cell loses what it sends and gains what its higher neighbours send it, computed with the
@@ -77,27 +81,34 @@ ErosionMaps thermal_erosion(const Heightfield& in, const ThermalParams& p, const
     const float change = tbb::parallel_reduce(
         tbb::blocked_range<int>(1, h + 1, 16), 0.0f,
         [&](const tbb::blocked_range<int>& r, float acc) {
+          std::vector<float> out(static_cast<std::size_t>(w)), gain(static_cast<std::size_t>(w));
+          std::vector<float> sc(static_cast<std::size_t>(w), 1.0f), sn(static_cast<std::size_t>(w), 1.0f);
           for (int j = r.begin(); j != r.end(); ++j) {
-            const std::size_t q0 = static_cast<std::size_t>(j) * pw;
-            for (int i = 1; i <= w; ++i) {
-              const std::size_t q = q0 + static_cast<std::size_t>(i);
-              const float zc = z[q];
-              const float sc = hardness ? tan_cell[q] / static_cast<float>(tan_t) : 1.0f;
-              float out = 0.0f, gain = 0.0f;
-              const float rc = ratio[q];
-              for (int n = 0; n < 8; ++n) {
-                const std::size_t nb = q + off[n];
-                const float zn = z[nb];
-                const float e_out = zc - zn - tal[n] * sc;
-                if (e_out > 0.0f) out += rc * e_out;
-                // Neighbour nb sends along the opposite direction (same distance, same talus index n).
-                const float sn = hardness ? tan_cell[nb] / static_cast<float>(tan_t) : 1.0f;
-                const float e_in = zn - zc - tal[n] * sn;
-                if (e_in > 0.0f) gain += ratio[nb] * e_in;
+            const std::size_t q0 = static_cast<std::size_t>(j) * pw + 1;
+            const float* zr = z.data() + q0;
+            const float* rc = ratio.data() + q0;
+            if (hardness)
+              for (int i = 0; i < w; ++i) sc[i] = tan_cell[q0 + i] / static_cast<float>(tan_t);
+            std::fill(out.begin(), out.end(), 0.0f);
+            std::fill(gain.begin(), gain.end(), 0.0f);
+            for (int n = 0; n < 8; ++n) {
+              const float* zn = zr + off[n];
+              const float* rn = rc + off[n];
+              const float tn = tal[n];
+              // Neighbour nb sends along the opposite direction (same distance, same talus index n).
+              if (hardness)
+                for (int i = 0; i < w; ++i) sn[i] = tan_cell[q0 + i + off[n]] / static_cast<float>(tan_t);
+              for (int i = 0; i < w; ++i) {
+                out[i] += rc[i] * std::max(0.0f, zr[i] - zn[i] - tn * sc[i]);
+                gain[i] += rn[i] * std::max(0.0f, zn[i] - zr[i] - tn * sn[i]);
               }
-              z2[q] = zc - out + gain;
-              moved[q] += out;
-              acc = std::max(acc, std::max(out, gain));
+            }
+            float* z2r = z2.data() + q0;
+            float* mv = moved.data() + q0;
+            for (int i = 0; i < w; ++i) {
+              z2r[i] = zr[i] - out[i] + gain[i];
+              mv[i] += out[i];
+              acc = std::max(acc, std::max(out[i], gain[i]));
             }
           }
           return acc;
