@@ -3,6 +3,7 @@
 //
 //   orogen_bench_erosion [--benchmark_filter=...] [--side=1024]
 //   orogen_bench_erosion --study     resolution study: every model at 257^2, 513^2, 1025^2 of one 4096 m world
+//   orogen_bench_erosion --study=StreamPower --channel_area=1e4    one model; StreamPower's channel threshold
 //
 // Figures (counters): StreamPower us_per_cell_step (routing + depression filling + solve + diffusion);
 // HydraulicErosion droplet_steps_per_s; PipeErosion and ThermalErosion cell_updates_per_s. Each per wall-clock
@@ -171,7 +172,7 @@ double eroded_per_km2(const ErosionMaps& m) {
   return v / (d.size().x * d.size().y * 1e-6);
 }
 
-int study() {
+int study(const std::string& only, double channel_area) {
   const double world = 4096.0;
   const int sides[3] = {257, 513, 1025};
   const char* names[4] = {"StreamPower", "HydraulicErosion", "PipeErosion", "ThermalErosion"};
@@ -180,6 +181,7 @@ int study() {
   std::printf("%-17s %14s %14s %14s %10s %10s %10s\n", "model", "m3/km2 257", "m3/km2 513", "m3/km2 1025",
               "corr257-1k", "corr513-1k", "vol 513/1k");
   for (int model = 0; model < 4; ++model) {
+    if (!only.empty() && only != names[model]) continue;
     std::vector<double> change[3];
     double vol[3];
     for (int s = 0; s < 3; ++s) {
@@ -190,6 +192,7 @@ int study() {
         StreamPowerParams p;
         p.dt = 1e4;
         p.duration = 1e5;
+        p.channel_area = channel_area;
         m = stream_power(in, p);
         // With uplift, the erosion map counts every removal; the comparable figure is the net volume
         // exported: uplifted input minus output (border cells are base level, not uplifted).
@@ -230,12 +233,16 @@ int study() {
 int main(int argc, char** argv) {
   std::vector<char*> args;
   bool run_study = false;
+  std::string only;
+  double channel_area = 0.0;
   for (int i = 0; i < argc; ++i) {
     if (std::strcmp(argv[i], "--study") == 0) run_study = true;
+    else if (std::strncmp(argv[i], "--study=", 8) == 0) run_study = true, only = argv[i] + 8;
+    else if (std::strncmp(argv[i], "--channel_area=", 15) == 0) channel_area = std::atof(argv[i] + 15);
     else if (std::strncmp(argv[i], "--side=", 7) == 0) g_side = std::atoi(argv[i] + 7);
     else args.push_back(argv[i]);
   }
-  if (run_study) return study();
+  if (run_study) return study(only, channel_area);
   int n = static_cast<int>(args.size());
   benchmark::Initialize(&n, args.data());
   benchmark::RunSpecifiedBenchmarks();

@@ -182,6 +182,10 @@ OROGEN_NODE(StreamPower) {
   b.param_float("time_step", 10000.0).range(1.0, 1e8).unit("yr").description("Years per step (the implicit scheme is stable at any step)");
   b.param_float("duration", 500000.0).range(0.0, 1e10).soft_range(1e4, 1e7).unit("yr").description("Simulated time");
   b.param_float("sea_level", -1e4).range(-1e9, 1e9).unit("m").description("Cells below are base level (sinks)");
+  b.param_float("channel_area", 0.0).range(0.0, 1e12).soft_range(0.0, 1e6).unit("m^2").description(
+      "Channel initiation: fluvial incision only where the drainage area reaches this; smaller areas are "
+      "hillslopes shaped by diffusion alone. A threshold above a few cells makes the result converge with "
+      "resolution (0: every cell incises, as in Braun and Willett 2013)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto mask = optional_on(ctx, "mask", in->domain);
@@ -195,6 +199,7 @@ OROGEN_NODE(StreamPower) {
     p.dt = ctx.param<double>("time_step");
     p.duration = ctx.param<double>("duration");
     p.sea_level = ctx.param<double>("sea_level");
+    p.channel_area = ctx.param<double>("channel_area");
     std::shared_ptr<Heightfield> acc;
     auto m = erosion::stream_power(*in, p, up.get(), mask.get(), &ctx, nullptr, nullptr, &acc);
     set_common_outputs(ctx, m);

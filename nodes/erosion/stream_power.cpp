@@ -109,7 +109,7 @@ ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, cons
     // Implicit incision from the outlets upstream (receivers are already at t + dt).
     for (const std::int32_t k : order) {
       const std::int32_t rc = flow.receiver[k];
-      if (rc == k) continue;
+      if (rc == k || area[k] < p.channel_area) continue;
       const double len = grid.distance(flow.direction[k]);
       const double f = p.k * kfac[k] * dt * std::pow(area[k], p.m) / std::pow(len, p.n);
       const double z0 = z[k], zr = z[rc];

@@ -27,6 +27,7 @@ struct StreamPowerParams {
   double dt = 10000.0;        // years per step
   double duration = 1e6;      // years
   double sea_level = -1e9;    // metres: cells below are base level
+  double channel_area = 0.0;  // m^2: fluvial incision only where the drainage area reaches this (0: everywhere)
 };
 
 struct StreamPowerStats {
