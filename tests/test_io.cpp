@@ -86,7 +86,7 @@ class IoTest : public ::testing::Test {
   // Writes `h` with WriteHeightfield to out/<name>; returns the file.
   fs::path write_height(const HeightfieldPtr& h, const std::string& name, std::map<std::string, ParamValue> params = {}) {
     params["path"] = name;
-    const auto files = run_writer("WriteHeightfield", params, {{"height", h}}, policy_);
+    const auto files = run_writer("WriteHeightfield", params, {{"in", h}}, policy_);
     EXPECT_EQ(files.size(), 1u);
     return files.empty() ? fs::path() : files.front();
   }
@@ -291,7 +291,7 @@ TEST_F(IoTest, FailureMidWriteLeavesThePreviousFileIntact) {
     }
   };
   EXPECT_THROW(run_writer("WriteHeightfield", {{"path", std::string("keep.png")}},
-                          {{"height", varied_field(d)}}, policy_, on_progress, &cancel),
+                          {{"in", varied_field(d)}}, policy_, on_progress, &cancel),
                Cancelled);
   EXPECT_TRUE(temporary_seen);
   EXPECT_EQ(read_bytes(file), before);
@@ -306,7 +306,7 @@ TEST_F(IoTest, FailureMidWriteLeavesThePreviousFileIntact) {
     try {
       run_writer("WriteHeightfield",
                  {{"path", name}, {"range", std::string("fixed")}, {"height_min", -500.0}, {"height_max", 500.0}},
-                 {{"height", HeightfieldPtr(bad)}}, policy_);
+                 {{"in", HeightfieldPtr(bad)}}, policy_);
       FAIL() << "no error for a NaN height in " << name;
     } catch (const NodeError& e) {
       EXPECT_NE(std::string(e.what()).find("not a finite number"), std::string::npos) << e.what();
@@ -321,7 +321,7 @@ TEST_F(IoTest, FailureMidWriteLeavesThePreviousFileIntact) {
 TEST_F(IoTest, OutputPathRule) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
   const auto h = ramp_field(d, 1, 0, 0);
-  const std::map<std::string, PortValue> in{{"height", h}};
+  const std::map<std::string, PortValue> in{{"in", h}};
   const fs::path outside = dir_ / "outside.exr";
   // Absolute and climbing paths are refused under the default policy, through run_node as well.
   EXPECT_THROW(run_node("WriteHeightfield", d, {{"path", outside.string()}}, in, policy_), NodeError);
@@ -346,7 +346,7 @@ TEST_F(IoTest, UncreatableDirectoryIsANodeError) {
   fs::create_directories(policy_.output_dir);
   std::ofstream(policy_.output_dir / "blocked") << "a file where a directory is needed";
   try {
-    run_node("WriteHeightfield", d, {{"path", std::string("blocked/h.exr")}}, {{"height", ramp_field(d, 1, 0, 0)}}, policy_);
+    run_node("WriteHeightfield", d, {{"path", std::string("blocked/h.exr")}}, {{"in", ramp_field(d, 1, 0, 0)}}, policy_);
     FAIL() << "no error";
   } catch (const NodeError& e) {
     EXPECT_NE(std::string(e.what()).find("blocked"), std::string::npos) << e.what();
@@ -355,7 +355,7 @@ TEST_F(IoTest, UncreatableDirectoryIsANodeError) {
 
 TEST_F(IoTest, WriterParameterErrors) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
-  const std::map<std::string, PortValue> in{{"height", ramp_field(d, 1, 0, 0)}};
+  const std::map<std::string, PortValue> in{{"in", ramp_field(d, 1, 0, 0)}};
   EXPECT_THROW(run_node("WriteHeightfield", d, {{"path", std::string("h.exr")}, {"format", std::string("png16")}}, in, policy_),
                NodeError);
   EXPECT_THROW(run_node("WriteHeightfield", d,
@@ -424,7 +424,7 @@ TEST(ImageFile, SrgbTransferCurve) {
 TEST_F(IoTest, WriteImagePng8EncodesSrgbAndKeepsAlphaLinear) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {23, 11});
   const auto img = test_image(d, 4);
-  const auto files = run_writer("WriteImage", {{"path", std::string("img/colour.png")}}, {{"image", img}}, policy_);
+  const auto files = run_writer("WriteImage", {{"path", std::string("img/colour.png")}}, {{"in", img}}, policy_);
   ASSERT_EQ(files.size(), 1u);
   int w = 0, h = 0, n = 0;
   const auto px = read_pixels<std::uint8_t>(files[0], OIIO::TypeDesc::UINT8, w, h, n);
@@ -445,7 +445,7 @@ TEST_F(IoTest, WriteImagePng16Linear) {
   const auto img = test_image(d, 1);
   const auto files = run_writer("WriteImage",
                                 {{"path", std::string("grey.png")}, {"bit_depth", std::string("16")}, {"srgb", false}},
-                                {{"image", img}}, policy_);
+                                {{"in", img}}, policy_);
   int w = 0, h = 0, n = 0;
   const auto px = read_pixels<std::uint16_t>(files.at(0), OIIO::TypeDesc::UINT16, w, h, n);
   ASSERT_EQ(n, 1);
@@ -460,7 +460,7 @@ TEST_F(IoTest, WriteImageFloatFormatsAreExact) {
   auto img = std::make_shared<Image>(*test_image(d, 5));
   img->channel_names = {"grass", "rock", "sand", "snow", "water"};
   for (const std::string name : {"weights.exr", "weights.tif"}) {
-    const auto files = run_writer("WriteImage", {{"path", name}}, {{"image", ImagePtr(img)}}, policy_);
+    const auto files = run_writer("WriteImage", {{"path", name}}, {{"in", ImagePtr(img)}}, policy_);
     int w = 0, h = 0, n = 0;
     const auto px = read_pixels<float>(files.at(0), OIIO::TypeDesc::FLOAT, w, h, n);
     ASSERT_EQ(n, 5);
@@ -477,7 +477,7 @@ TEST_F(IoTest, WriteImageFloatFormatsAreExact) {
     }
   }
   // PNG cannot hold 5 channels: a clear error, no file.
-  EXPECT_THROW(run_writer("WriteImage", {{"path", std::string("weights.png")}}, {{"image", ImagePtr(img)}}, policy_),
+  EXPECT_THROW(run_writer("WriteImage", {{"path", std::string("weights.png")}}, {{"in", ImagePtr(img)}}, policy_),
                NodeError);
   EXPECT_FALSE(fs::exists(policy_.output_dir / "weights.png"));
   EXPECT_TRUE(temporaries_in(dir_).empty());
@@ -521,7 +521,7 @@ void expect_row(const std::vector<std::string>& fields, const Points& p, std::si
 
 TEST_F(IoTest, WritePointsCsv) {
   const auto p = test_points();
-  const auto files = run_writer("WritePoints", {{"path", std::string("pts/trees.csv")}}, {{"points", p}}, policy_);
+  const auto files = run_writer("WritePoints", {{"path", std::string("pts/trees.csv")}}, {{"in", p}}, policy_);
   const auto lines = split(read_bytes(files.at(0)), '\n');
   ASSERT_EQ(lines.size(), p->size() + 1);
   EXPECT_EQ(lines[0], "x,y,z,qw,qx,qy,qz,sx,sy,sz,class,density,zeta_age");
@@ -530,7 +530,7 @@ TEST_F(IoTest, WritePointsCsv) {
 
 TEST_F(IoTest, WritePointsPly) {
   const auto p = test_points();
-  const auto files = run_writer("WritePoints", {{"path", std::string("trees.ply")}}, {{"points", p}}, policy_);
+  const auto files = run_writer("WritePoints", {{"path", std::string("trees.ply")}}, {{"in", p}}, policy_);
   const auto lines = split(read_bytes(files.at(0)), '\n');
   const auto end = std::find(lines.begin(), lines.end(), "end_header");
   ASSERT_NE(end, lines.end());
@@ -553,18 +553,18 @@ TEST_F(IoTest, WritePointsPly) {
 TEST_F(IoTest, WritePointsAttributeNames) {
   auto p = std::make_shared<Points>(*test_points());
   p->attribute("height, m");
-  const auto csv = run_writer("WritePoints", {{"path", std::string("q.csv")}}, {{"points", PointsPtr(p)}}, policy_);
+  const auto csv = run_writer("WritePoints", {{"path", std::string("q.csv")}}, {{"in", PointsPtr(p)}}, policy_);
   EXPECT_EQ(split(read_bytes(csv.at(0)), '\n')[0], "x,y,z,qw,qx,qy,qz,sx,sy,sz,class,density,\"height, m\",zeta_age");
-  EXPECT_THROW(run_writer("WritePoints", {{"path", std::string("q.ply")}}, {{"points", PointsPtr(p)}}, policy_), NodeError);
+  EXPECT_THROW(run_writer("WritePoints", {{"path", std::string("q.ply")}}, {{"in", PointsPtr(p)}}, policy_), NodeError);
   auto clash = std::make_shared<Points>(*test_points());
   clash->attribute("x");
-  EXPECT_THROW(run_writer("WritePoints", {{"path", std::string("c.csv")}}, {{"points", PointsPtr(clash)}}, policy_), NodeError);
+  EXPECT_THROW(run_writer("WritePoints", {{"path", std::string("c.csv")}}, {{"in", PointsPtr(clash)}}, policy_), NodeError);
   EXPECT_TRUE(temporaries_in(dir_).empty());
   EXPECT_FALSE(fs::exists(policy_.output_dir / "q.ply"));
 }
 
 TEST_F(IoTest, WritePointsEmpty) {
-  const auto files = run_writer("WritePoints", {{"path", std::string("none.csv")}}, {{"points", std::make_shared<const Points>()}}, policy_);
+  const auto files = run_writer("WritePoints", {{"path", std::string("none.csv")}}, {{"in", std::make_shared<const Points>()}}, policy_);
   EXPECT_EQ(read_bytes(files.at(0)), "x,y,z,qw,qx,qy,qz,sx,sy,sz,class\n");
 }
 

@@ -160,7 +160,7 @@ TEST(HeightfieldMesh, VertexColoursFromImage) {
       img->pixel(i, j)[1] = static_cast<float>(di.y(j) / 100);
       img->pixel(i, j)[2] = 0.25f;
     }
-  const auto run = run_node("HeightfieldToMesh", d, {}, {{"height", h}, {"colors", ImagePtr(img)}});
+  const auto run = run_node("HeightfieldToMesh", d, {}, {{"in", h}, {"colors", ImagePtr(img)}});
   const auto mesh = run.get<Mesh>();
   for (int j = 0; j < 11; ++j)
     for (int i = 0; i < 11; ++i) {
@@ -170,19 +170,19 @@ TEST(HeightfieldMesh, VertexColoursFromImage) {
       EXPECT_NEAR(c[2], 0.25, 1e-6);
       EXPECT_EQ(c[3], 1.0f);
     }
-  const auto plain = run_node("HeightfieldToMesh", d, {}, {{"height", h}}).get<Mesh>();
+  const auto plain = run_node("HeightfieldToMesh", d, {}, {{"in", h}}).get<Mesh>();
   for (auto v : plain->mesh.vertices()) EXPECT_EQ(plain->mesh.color(v), OpenMesh::Vec4f(1, 1, 1, 1));
 }
 
 TEST(HeightfieldMesh, TooSmallIsAnError) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {1, 5});
-  EXPECT_THROW(run_node("HeightfieldToMesh", d, {}, {{"height", field(d, plane)}}), NodeError);
+  EXPECT_THROW(run_node("HeightfieldToMesh", d, {}, {{"in", field(d, plane)}}), NodeError);
 }
 
 TEST(Decimation, PlaneCollapsesToAHandfulOfFaces) {
   const Domain d = Domain::from_extent({0, 0}, {640, 480}, {33, 25});
   const auto h = field(d, plane);
-  const auto mesh = run_node("HeightfieldToMesh", d, {{"max_error", 0.01}}, {{"height", h}}).get<Mesh>();
+  const auto mesh = run_node("HeightfieldToMesh", d, {{"max_error", 0.01}}, {{"in", h}}).get<Mesh>();
   EXPECT_LE(mesh->face_count(), 8u) << "from " << 2 * 32 * 24;
   EXPECT_GE(mesh->face_count(), 2u);
   EXPECT_TRUE(all_faces_face_up(mesh->mesh));
@@ -234,13 +234,13 @@ TEST(Decimation, CurvedSurfaceRespectsTheErrorBound) {
 TEST(Decimation, TargetFaceCount) {
   const Domain d = Domain::from_extent({0, 0}, {300, 300}, {49, 49});
   const auto h = field(d, hills);
-  const auto only_target = run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(300)}}, {{"height", h}}).get<Mesh>();
+  const auto only_target = run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(300)}}, {{"in", h}}).get<Mesh>();
   EXPECT_LE(only_target->face_count(), 300u);
   EXPECT_GE(only_target->face_count(), 250u);
   EXPECT_TRUE(all_faces_face_up(only_target->mesh));
   // With an error bound too, the tighter of the two wins.
   const auto both = run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(300)}, {"max_error", 0.01}},
-                             {{"height", h}}).get<Mesh>();
+                             {{"in", h}}).get<Mesh>();
   EXPECT_GT(both->face_count(), 300u);
   EXPECT_LE(max_vertical_error(both->mesh, *h), 0.01 + 1e-5);
 }
@@ -252,8 +252,8 @@ TEST(Decimation, NodeMatchesFunctionAndIsDeterministic) {
   DecimationOptions options;
   options.max_error = 0.3;
   decimate_heightfield_mesh(direct, options);
-  const auto a = run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"height", h}}).get<Mesh>();
-  const auto b = run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"height", h}}).get<Mesh>();
+  const auto a = run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"in", h}}).get<Mesh>();
+  const auto b = run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"in", h}}).get<Mesh>();
   ASSERT_EQ(a->face_count(), direct.face_count());
   ASSERT_EQ(a->face_count(), b->face_count());
   for (auto v : a->mesh.vertices()) {
@@ -266,7 +266,7 @@ TEST(Decimation, CancelledRunThrows) {
   const Domain d = Domain::from_extent({0, 0}, {300, 300}, {33, 33});
   CancelToken cancel;
   cancel.cancel();
-  EXPECT_THROW(run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"height", field(d, hills)}}, {}, &cancel), Cancelled);
+  EXPECT_THROW(run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"in", field(d, hills)}}, {}, &cancel), Cancelled);
 }
 
 // --- WriteMesh ---
@@ -280,11 +280,11 @@ class MeshFileTest : public ::testing::Test {
     height_ = field(d, hills);
     auto img = std::make_shared<Image>(d, 3);
     for (std::size_t k = 0; k < img->data.size(); ++k) img->data[k] = static_cast<float>((k * 37 % 101) / 100.0);
-    mesh_ = run_node("HeightfieldToMesh", d, {}, {{"height", height_}, {"colors", ImagePtr(img)}}).get<Mesh>();
+    mesh_ = run_node("HeightfieldToMesh", d, {}, {{"in", height_}, {"colors", ImagePtr(img)}}).get<Mesh>();
   }
   fs::path write(const std::string& name, std::map<std::string, ParamValue> params = {}) {
     params["path"] = name;
-    run_node("WriteMesh", Domain{}, params, {{"mesh", mesh_}}, policy_);
+    run_node("WriteMesh", Domain{}, params, {{"in", mesh_}}, policy_);
     return policy_.output_dir / name;
   }
   OutputPolicy policy_;
@@ -356,7 +356,7 @@ TEST_F(MeshFileTest, UpAxisYSwapsToYUp) {
 TEST_F(MeshFileTest, Errors) {
   EXPECT_THROW(write("../escape.obj"), NodeError);
   EXPECT_FALSE(fs::exists(policy_.output_dir.parent_path() / "escape.obj"));
-  EXPECT_THROW(run_node("WriteMesh", Domain{}, {{"path", std::string("empty.ply")}}, {{"mesh", std::make_shared<const Mesh>()}}, policy_),
+  EXPECT_THROW(run_node("WriteMesh", Domain{}, {{"path", std::string("empty.ply")}}, {{"in", std::make_shared<const Mesh>()}}, policy_),
                NodeError);
   EXPECT_FALSE(fs::exists(policy_.output_dir / "empty.ply"));
 }

@@ -95,7 +95,7 @@ Mesh heightfield_grid_mesh(const Heightfield& height, const Image* colors) {
   if (static_cast<double>(w - 1) * (h - 1) * 2 > static_cast<double>(std::numeric_limits<int>::max() / 2))
     throw std::invalid_argument("the heightfield is too large for one mesh (" + height.domain.describe() + ")");
   if (colors && (colors->channels < 1 || colors->width() < 1 || colors->height() < 1))
-    throw std::invalid_argument("the colour image is empty");
+    throw std::invalid_argument("the color image is empty");
 
   Mesh result;
   TriMesh& m = result.mesh;

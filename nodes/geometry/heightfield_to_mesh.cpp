@@ -12,14 +12,14 @@ namespace orogen {
 OROGEN_NODE(HeightfieldToMesh) {
   b.category("geometry").description(
       "Turns a heightfield into a triangle mesh in world coordinates (x, y, z = height, metres, z up): one "
-      "vertex per sample, two triangles per cell, vertex normals of the surface, and vertex colours from the "
+      "vertex per sample, two triangles per cell, vertex normals of the surface, and vertex colors from the "
       "optional image. Optionally decimated (OpenMesh decimater, quadric-ordered) so that every original "
       "sample stays within max_error metres vertically of the surface, and/or down to a target face count.");
-  b.input("height", PortType::Heightfield).description("Heights in metres; at least 2 x 2 samples");
+  b.input("in", PortType::Heightfield).description("Heights in metres; at least 2 x 2 samples");
   b.input("colors", PortType::Image).optional().description(
-      "Vertex colours, linear (grey, grey+alpha, RGB or RGBA), sampled at each vertex's world position; white "
+      "Vertex colors, linear (gray, gray+alpha, RGB or RGBA), sampled at each vertex's world position; white "
       "when unconnected");
-  b.output("mesh", PortType::Mesh).description("The terrain mesh");
+  b.output("out", PortType::Mesh).description("The terrain mesh");
   b.param_float("max_error", 0.0).range(0.0, 1e5).soft_range(0.0, 10.0).unit("m").description(
       "Decimate as long as every original sample stays within this vertical distance of the surface; 0 "
       "disables the error-bounded decimation");
@@ -27,7 +27,7 @@ OROGEN_NODE(HeightfieldToMesh) {
       "Stop decimating at this many faces (still within max_error when that is set); 0: no target. With "
       "max_error 0 this alone drives the decimation");
   b.execute([](ExecContext& ctx) {
-    const auto height = ctx.require<Heightfield>("height");
+    const auto height = ctx.require<Heightfield>("in");
     const auto colors = ctx.input<Image>("colors");
     auto mesh = std::make_shared<Mesh>();
     try {
@@ -46,7 +46,7 @@ OROGEN_NODE(HeightfieldToMesh) {
       decimate_heightfield_mesh(*mesh, options);
       ctx.check_cancelled();  // a stopped decimation is a cancelled run, not a result
     }
-    ctx.set_output("mesh", std::move(mesh));
+    ctx.set_output("out", std::move(mesh));
   });
 }
 
