@@ -207,7 +207,7 @@ int study(const std::string& only, double channel_area) {
         m = particle_erosion(in, p);
       } else if (model == 2) {
         PipeParams p;
-        p.duration = 300;
+        p.duration = 60;
         p.rain_rate = 100;
         m = pipe_erosion(in, p);
       } else {

@@ -31,7 +31,7 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
   const float kx = static_cast<float>(dy / dx), ky = static_cast<float>(dx / dy);
   const double mm_per_h = 1.0 / 3.6e6;  // mm/h -> m/s
 
-  std::vector<float> b = in.data, b2(n), d(n, 0.0f), d2(n), s(n, 0.0f), s2(n);
+  std::vector<float> b = in.data, b2(n), d(n, 0.0f), d2(n), s(n, 0.0f), s2(n), surf(n);
   std::vector<float> fl(n, 0.0f), fr(n, 0.0f), fd(n, 0.0f), fu(n, 0.0f), spd(n, 0.0f), flow_acc(n, 0.0f);
   std::vector<double> row_sed_out(h), row_water_out(h), row_vmax(h), row_dmax(h), row_sum(h);
   std::vector<unsigned char> sink(n);
@@ -79,25 +79,39 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
         }
       }
     });
-    // 2. Outflow fluxes.
+    // 2. Outflow fluxes. The water surface first, then the fluxes: a generic cell for the border and an
+    // unchecked loop for the interior of each row.
     rows(h, [&](int j) {
-      for (int i = 0; i < w; ++i) {
-        const std::size_t k = in.index(i, j);
-        const float dk = d[k];
-        const float hk = b[k] + dk;
-        const float c = fdt * g * dk;
-        auto head = [&](int ii, int jj) { return (ii < 0 || ii >= w || jj < 0 || jj >= h) ? dk : hk - b[in.index(ii, jj)] - d[in.index(ii, jj)]; };
-        float l = std::max(0.0f, fl[k] + c * kx * head(i - 1, j));
-        float r = std::max(0.0f, fr[k] + c * kx * head(i + 1, j));
-        float dn = std::max(0.0f, fd[k] + c * ky * head(i, j - 1));
-        float up = std::max(0.0f, fu[k] + c * ky * head(i, j + 1));
+      for (int i = 0; i < w; ++i) surf[in.index(i, j)] = b[in.index(i, j)] + d[in.index(i, j)];
+    });
+    rows(h, [&](int j) {
+      auto finish = [&](std::size_t k, float dk, float l, float r, float dn, float up) {
+        l = std::max(0.0f, l), r = std::max(0.0f, r), dn = std::max(0.0f, dn), up = std::max(0.0f, up);
         const float total = (l + r + dn + up) * fdt;
-        if (total > dk * A && total > 0.0f) {
-          const float K = dk * A / total;
-          l *= K, r *= K, dn *= K, up *= K;
-        }
-        fl[k] = l, fr[k] = r, fd[k] = dn, fu[k] = up;
+        const float K = total > dk * A ? dk * A / total : 1.0f;
+        fl[k] = l * K, fr[k] = r * K, fd[k] = dn * K, fu[k] = up * K;
+      };
+      auto generic = [&](int i) {
+        const std::size_t k = in.index(i, j);
+        const float dk = d[k], hk = surf[k], c = fdt * g * dk;
+        auto head = [&](int ii, int jj) { return (ii < 0 || ii >= w || jj < 0 || jj >= h) ? dk : hk - surf[in.index(ii, jj)]; };
+        finish(k, dk, fl[k] + c * kx * head(i - 1, j), fr[k] + c * kx * head(i + 1, j),
+               fd[k] + c * ky * head(i, j - 1), fu[k] + c * ky * head(i, j + 1));
+      };
+      if (j == 0 || j == h - 1 || w < 3) {
+        for (int i = 0; i < w; ++i) generic(i);
+        return;
       }
+      generic(0);
+      const std::size_t row = in.index(0, j);
+      const float* sf = surf.data();
+      const float cgx = fdt * g * kx, cgy = fdt * g * ky;
+      for (std::size_t k = row + 1; k < row + static_cast<std::size_t>(w) - 1; ++k) {
+        const float dk = d[k], hk = sf[k];
+        finish(k, dk, fl[k] + cgx * dk * (hk - sf[k - 1]), fr[k] + cgx * dk * (hk - sf[k + 1]),
+               fd[k] + cgy * dk * (hk - sf[k - w]), fu[k] + cgy * dk * (hk - sf[k + w]));
+      }
+      generic(w - 1);
     });
     // 3. Water, sediment transport, velocity, dissolution/deposition, evaporation, sinks.
     const float ks = static_cast<float>(p.dissolving * dt), kd = static_cast<float>(std::min(1.0, p.depositing * dt));
