@@ -126,7 +126,7 @@ OROGEN_NODE(PipeErosion) {
   b.param_float("rain_rate", 50.0).range(0.0, 1e5).soft_range(0.0, 500.0).unit("mm/h").description("Rain rate (uniform mode, or where no rainfall field)");
   b.param_enum("rain_mode", {"uniform", "drops"}, "uniform").description("uniform: rain everywhere; drops: random drops with a chance scaled by the moisture field (Mei 2007 / the Georgia Tech model)");
   b.param_float("drop_chance", 0.1).range(1e-6, 100.0).unit("1/s").description("Drops mode: chance of a drop per cell and second at moisture 1");
-  b.param_float("capacity", 0.5).range(0.0, 1e4).unit("s").description("Kc: sediment capacity (m) per unit sin(tilt) x speed (m/s)");
+  b.param_float("capacity", 1.0).range(0.0, 1e4).unit("s/m").description("Kc: sediment capacity (m) per unit sin(tilt) x speed (m/s) x water depth (m)");
   b.param_float("dissolving", 0.1).range(0.0, 1e3).unit("1/s").description("Ks: rate of dissolution toward capacity");
   b.param_float("depositing", 0.1).range(0.0, 1e3).unit("1/s").description("Kd: rate of deposition of the surplus");
   b.param_float("evaporation", 0.001).range(0.0, 10.0).unit("1/s").description("Ke: share of the water evaporated per second");

@@ -167,7 +167,9 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
         const float by = (b[j < h - 1 ? k + w : k] - b[j > 0 ? k - w : k]) / static_cast<float>((j > 0 && j < h - 1 ? 2 : 1) * dy);
         const float g2 = bx * bx + by * by;
         const float sin_tilt = std::clamp(std::sqrt(g2 / (1.0f + g2)), 0.005f, 0.5f);
-        const float cap = kc * sin_tilt * speed;
+        // Capacity in proportion to the water that carries it (a concentration times the depth): a film
+        // of water cannot hold metres of sediment however fast it runs.
+        const float cap = kc * sin_tilt * speed * d1;
         float bk = b[k];
         const float m = mask_at(mask, k);
         if (!sink[k]) {

@@ -6,7 +6,8 @@
 // and velocity (u, v; m/s). Per step: rain; fluxes accelerated by the head difference to each neighbour
 // through a pipe whose cross-section is the cell width times the upstream depth (the shallow-water wave);
 // outflow scaled so no cell's water goes negative; water volume change; velocity from the mean fluxes;
-// sediment capacity C = Kc x sin(tilt) x |v| (tilt clamped to [0.005, 0.5] as in the seed's model),
+// sediment capacity C = Kc x sin(tilt) x |v| x depth (tilt clamped to [0.005, 0.5] as in the seed's model;
+// the depth factor, absent in Mei et al., keeps thin films from carrying metres of sediment),
 // dissolution Ks (C - s) or deposition Kd (s - C) per second; evaporation by the temperature.
 //
 // Sediment moves with the water through the same pipes (the concentration s/d times the volume leaving
@@ -30,7 +31,7 @@ struct PipeParams {
   double rain_rate = 50.0;       // mm/h (scaled by the rainfall field if given)
   RainMode rain_mode = RainMode::Uniform;
   double drop_chance = 0.1;      // Drops: per cell and second, scaled by the moisture field (0..1)
-  double capacity = 0.5;         // Kc, seconds: capacity (m) per (sin tilt x speed m/s)
+  double capacity = 1.0;         // Kc, s/m: capacity (m of sediment) per (sin tilt x speed m/s x depth m)
   double dissolving = 0.1;       // Ks, 1/s
   double depositing = 0.1;       // Kd, 1/s
   double evaporation = 0.001;    // Ke, 1/s at temperature factor 1
