@@ -76,7 +76,7 @@ OROGEN_NODE(HydraulicErosion) {
   declare_common_ports(b, "Scales erosion and deposition per cell, 0..1 (1 if unconnected)");
   b.param_float("droplets_per_km2", 20000.0).range(0.0, 1e8).soft_range(1000.0, 200000.0).unit("1/km^2").description("Droplets per square kilometre of the domain");
   b.param_float("step_length", 10.0).range(0.01, 1e4).soft_range(1.0, 50.0).unit("m").description("Distance a droplet moves per step (about one sample spacing)");
-  b.param_float("lifetime", 300.0).range(0.01, 1e6).soft_range(10.0, 3000.0).unit("m").description("Distance a droplet travels before it evaporates");
+  b.param_float("lifetime", 300.0).range(0.01, 1e5).soft_range(10.0, 3000.0).unit("m").description("Distance a droplet travels before it evaporates");
   b.param_float("radius", 30.0).range(0.0, 1e4).soft_range(0.0, 200.0).unit("m").description("Erosion brush radius");
   b.param_float("inertia", 0.05).range(0.0, 1.0).description("Share of the previous direction a droplet keeps (unitless)");
   b.param_float("capacity", 4.0).range(0.0, 1e6).soft_range(0.0, 50.0).unit("m^3").description("Sediment a droplet carries per unit slope x speed x water");
