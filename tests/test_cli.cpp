@@ -235,10 +235,18 @@ TEST(Cli, NodeReferenceComesFromTheRegistry) {
   EXPECT_NE(list.out.find("Constant"), std::string::npos);
   EXPECT_NE(list.out.find("WriteHeightfield"), std::string::npos);
 
+  EXPECT_NE(list.out.find("Slope                 local"), std::string::npos) << list.out;
+  EXPECT_NE(list.out.find("Normalize             global"), std::string::npos) << list.out;
+
   auto one = orogen({"nodes", "Constant"});
   ASSERT_EQ(one.exit_code, 0);
   EXPECT_NE(one.out.find("value"), std::string::npos);
   EXPECT_NE(one.out.find("Parameters"), std::string::npos);
+  EXPECT_NE(one.out.find("Reach: point-wise"), std::string::npos) << one.out;
+  EXPECT_NE(orogen({"nodes", "Blur"}).out.find("Reach: local: 5 sigma + 2 samples"), std::string::npos);
+  auto markdown = orogen({"nodes", "--markdown"});
+  EXPECT_NE(markdown.out.find("### Slope"), std::string::npos);
+  EXPECT_NE(markdown.out.find("Reach: local: 1 sample."), std::string::npos);
 
   auto json = orogen({"nodes", "--json"});
   ASSERT_EQ(json.exit_code, 0);
@@ -246,6 +254,11 @@ TEST(Cli, NodeReferenceComesFromTheRegistry) {
   ASSERT_TRUE(all.is_array());
   for (const auto& t : all) {
     EXPECT_FALSE(t["description"].get<std::string>().empty()) << t["name"];
+    EXPECT_NE(t["reach"]["kind"], "undeclared") << t["name"];
+    if (t["name"] == "Slope") {
+      EXPECT_EQ(t["reach"]["kind"], "local");
+      EXPECT_EQ(t["reach"]["samples"], 1);
+    }
     for (const auto& p : t["params"]) EXPECT_FALSE(p["description"].get<std::string>().empty()) << t["name"] << "." << p["name"];
   }
 

@@ -11,6 +11,7 @@
 namespace orogen {
 
 OROGEN_NODE(ReadHeightfield) {
+  b.reach_pointwise();  // bilinear lookup of the file at each sample's world position
   b.category("io").description(
       "Reads a heightfield from an EXR, PNG (8 or 16-bit), TIFF or RAW 16-bit file and resamples it "
       "(bilinear) to the requested domain. The image's pixel centers span the world rectangle "
