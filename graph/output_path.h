@@ -20,4 +20,9 @@ struct OutputPathError : std::runtime_error {
 // The file a graph path refers to under `policy`; throws OutputPathError when the rule refuses it.
 std::filesystem::path resolve_output_path(const OutputPolicy& policy, const std::string& graph_path);
 
+// The file an input path of a graph designates: absolute paths as they are, relative ones against the
+// directory of the graph file (`graph_dir`; empty: the current directory). Unlike outputs, inputs may lie
+// anywhere: reading is not a risk to the user's files.
+std::filesystem::path resolve_input_path(const std::filesystem::path& graph_dir, const std::string& graph_path);
+
 }  // namespace orogen
