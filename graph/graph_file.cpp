@@ -43,7 +43,7 @@ using json_util::suggestion;
 struct MigrationTable {
   std::mutex mutex;
   // The format's own history (graph_migrations.h); tests may register more.
-  std::map<int, GraphMigration> by_version{{1, migrate_graph_v1_to_v2}};
+  std::map<int, GraphMigration> by_version{{1, migrate_graph_v1_to_v2}, {2, migrate_graph_v2_to_v3}};
 };
 
 MigrationTable& migrations() {
@@ -561,7 +561,13 @@ LoadResult load_graph_file(const std::filesystem::path& path, const LoadOptions&
                                               " MiB, the limit of a graph file"});
     return result;
   }
-  return parse_graph(text, options);
+  auto result = parse_graph(text, options);
+  if (result.graph) {
+    std::error_code ec;
+    const auto absolute = std::filesystem::absolute(path, ec);
+    result.graph->directory = (ec ? path : absolute).lexically_normal().parent_path();
+  }
+  return result;
 }
 
 }  // namespace orogen

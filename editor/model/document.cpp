@@ -117,6 +117,10 @@ void Document::save() {
 void Document::save_as(const std::filesystem::path& path) {
   save_graph_file(graph_, path);
   path_ = path;
+  // Relative input paths now resolve beside the new file, as they will when it is opened again.
+  std::error_code ec;
+  const auto absolute = std::filesystem::absolute(path, ec);
+  graph_.directory = (ec ? path : absolute).lexically_normal().parent_path();
   saved_state_ = state_;
 }
 

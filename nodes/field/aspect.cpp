@@ -37,6 +37,7 @@ std::shared_ptr<Heightfield> aspect_field(const Heightfield& z, AspectOutput out
 }
 
 OROGEN_NODE(Aspect) {
+  b.reach_local(0.0, 1);  // central differences
   b.category("field").description(
       "Direction a slope faces (downhill), clockwise from north: north = world +y (0 deg), east = +x (90 deg), "
       "south 180, west 270. 'northness' (cos) and 'eastness' (sin) avoid the wrap at north and are 0 on flats; "

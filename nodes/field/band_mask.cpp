@@ -7,6 +7,7 @@
 namespace orogen {
 
 OROGEN_NODE(BandMask) {
+  b.reach_pointwise();
   b.category("field").description(
       "Mask of where a field lies in a band [min, max]: 1 inside, a smooth falloff outside, 0 beyond it. Feed "
       "heights for elevation rules, Slope for slope rules, and multiply masks to combine rules, as in the "

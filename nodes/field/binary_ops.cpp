@@ -25,18 +25,21 @@ void declare_binary_ports(NodeBuilder& b, const char* a_text, const char* b_text
 }  // namespace
 
 OROGEN_NODE(Subtract) {
+  b.reach_pointwise();
   b.category("field").description("Difference of two fields, a - b, sample by sample.");
   declare_binary_ports(b, "Minuend", "Subtrahend", "a - b");
   b.execute([](ExecContext& ctx) { run_binary(ctx, [](double x, double y) { return x - y; }); });
 }
 
 OROGEN_NODE(Min) {
+  b.reach_pointwise();
   b.category("field").description("Sample-wise minimum of two fields (intersection of masks, carving).");
   declare_binary_ports(b, "First field", "Second field", "min(a, b)");
   b.execute([](ExecContext& ctx) { run_binary(ctx, [](double x, double y) { return std::min(x, y); }); });
 }
 
 OROGEN_NODE(Max) {
+  b.reach_pointwise();
   b.category("field").description("Sample-wise maximum of two fields (union of masks, stacking landforms).");
   declare_binary_ports(b, "First field", "Second field", "max(a, b)");
   b.execute([](ExecContext& ctx) { run_binary(ctx, [](double x, double y) { return std::max(x, y); }); });

@@ -15,6 +15,7 @@ std::shared_ptr<Heightfield> cone_field(const Domain& domain, const ConeParams& 
 }
 
 OROGEN_NODE(Cone) {
+  b.reach_pointwise();
   b.category("shape").description(
       "A cone: `height` at the center falling linearly to 0 at `radius` (slope atan(height / radius)), 0 "
       "beyond. A volcano or hill base shape; negative heights make a crater or basin.");

@@ -29,6 +29,7 @@ std::shared_ptr<Heightfield> curvature_field(const Heightfield& z, CurvatureKind
 }
 
 OROGEN_NODE(Curvature) {
+  b.reach_local(0.0, 1);  // 3 x 3 stencil
   b.category("field").description(
       "Surface curvature in 1/m, positive on convex forms (summits, ridges, spurs) and negative on concave ones "
       "(valleys, hollows). profile: along the slope line (flow acceleration); plan: of the contour line "

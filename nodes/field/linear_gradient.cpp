@@ -33,6 +33,7 @@ Heightfield linear_gradient(const LinearGradientParams& params, const Domain& do
 // --- node ---
 
 OROGEN_NODE(LinearGradient) {
+  b.reach_pointwise();
   b.category("field").description(
       "A linear ramp in world space: the value goes from 'from' to 'to' along the direction 'angle', across "
       "the span that begins at 'start' and is 'length' metres long. Before the span the value is 'from', after "

@@ -29,6 +29,7 @@ std::shared_ptr<Heightfield> radial_falloff(const Domain& domain, const RadialFa
 }
 
 OROGEN_NODE(RadialFalloff) {
+  b.reach_pointwise();
   b.category("shape").description(
       "Island mask: profile(clamp(d / radius, 0, 1)) with d the distance from the center in metres, plus the "
       "optional distance_offset field (connect noise in metres for a ragged coastline). The default profile "

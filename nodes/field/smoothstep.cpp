@@ -7,6 +7,7 @@
 namespace orogen {
 
 OROGEN_NODE(SmoothStep) {
+  b.reach_pointwise();
   b.category("field").description(
       "Soft threshold: 0 below edge0, 1 above edge1, a smooth Hermite ramp t^2 (3 - 2t) between. "
       "edge0 > edge1 gives a falling mask; equal edges a hard step.");
@@ -22,6 +23,7 @@ OROGEN_NODE(SmoothStep) {
 }
 
 OROGEN_NODE(Threshold) {
+  b.reach_pointwise();
   b.category("field").description("Hard threshold: 1 where the value is at or above `level`, else 0 (or the "
                                    "reverse with invert).");
   b.input("in", PortType::Heightfield).description("Field (e.g. heights in metres)");

@@ -164,6 +164,7 @@ FloodFillResult flood_fill(const Heightfield& in, const FloodFillParams& p, cons
 }
 
 OROGEN_NODE(FillDepressions) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "Removes closed depressions so every cell drains to the border: Priority-Flood (Barnes, Lehman & Mulla "
       "2014, 'Priority-Flood: an optimal depression-filling and watershed-labeling algorithm') with the slope "
@@ -192,6 +193,7 @@ OROGEN_NODE(FillDepressions) {
 }
 
 OROGEN_NODE(Lakes) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "Every closed depression as a lake filled to its spill level (Priority-Flood, Barnes, Lehman & Mulla 2014): "
       "a flat water surface, its depth and a lake id; depressions shallower than min_depth or smaller than "
@@ -214,6 +216,7 @@ OROGEN_NODE(Lakes) {
 }
 
 OROGEN_NODE(FloodFill) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "A lake from a seed point (Long 2016, 'Using procedural methods to generate realistic virtual rural worlds', section 3.4): every cell 8-connected to the seed "
       "whose ground lies below the water level is flooded, with a flat surface. The level is given, or is the "

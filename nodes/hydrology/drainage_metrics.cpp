@@ -178,6 +178,7 @@ DrainageReport drainage_metrics(const Heightfield& in, double threshold, const E
 }
 
 OROGEN_NODE(DrainageMetrics) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "Realism figures of a terrain's drainage, to compare with real basins: undrained pits per million cells; "
       "the Strahler order map (Strahler 1957) of the channels (D8 contributing area >= threshold on the "

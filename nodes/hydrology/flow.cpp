@@ -130,6 +130,7 @@ WatershedResult watersheds(const Heightfield& in, bool fill, double min_area, co
 }
 
 OROGEN_NODE(FlowAccumulation) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "Upslope contributing area of every cell in m^2, optionally weighted by a rainfall field, routed with D8, "
       "D-infinity or multiple flow directions; depressions are filled first (Priority-Flood+epsilon, Barnes et al. "
@@ -168,6 +169,7 @@ OROGEN_NODE(FlowAccumulation) {
 }
 
 OROGEN_NODE(FlowDirection) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "Direction water leaves each cell: the proportion-weighted mean of the receiver directions for D8 "
       "(O'Callaghan & Mark 1984), D-infinity (Tarboton 1997) or MFD (Freeman 1991, Holmgren 1994), as an angle "
@@ -191,6 +193,7 @@ OROGEN_NODE(FlowDirection) {
 }
 
 OROGEN_NODE(Watersheds) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "Drainage basins: every cell labelled with the outlet its D8 flow reaches (border cells and, without "
       "filling, pits), by Priority-Flood filling (Barnes, Lehman & Mulla 2014) and the receiver tree (Braun & "

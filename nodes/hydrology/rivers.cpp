@@ -164,6 +164,7 @@ RiverResult extract_rivers(const Heightfield& in, const Heightfield* rainfall, c
 }
 
 OROGEN_NODE(RiverExtract) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "Rivers: cells whose contributing area (D8 on the Priority-Flood+epsilon filled terrain, Barnes et al. 2014) "
       "exceeds a threshold, vectorised into one polyline per reach (source or confluence to the next confluence or "

@@ -122,6 +122,7 @@ WaterFlowResult water_flow(const Heightfield& in, const Heightfield* rainfall, c
 }
 
 OROGEN_NODE(WaterFlow) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "Where rain water settles: rainfall minus infiltration as the initial water, then repeated 8-neighbour "
       "redistribution on the water surface (after Long 2016, 'Using procedural methods to generate realistic "

@@ -12,6 +12,7 @@ constexpr Basis kFbmBases[] = {Basis::Perlin, Basis::Simplex, Basis::Value, Basi
 }  // namespace
 
 OROGEN_NODE(FBM) {
+  b.reach_pointwise();
   b.category("noise").description(
       "Fractal noise: octaves of a basis at frequencies lacunarity^k / feature_size and amplitudes gain^k, "
       "combined as fbm, ridged or hybrid multifractal, billow, or a multifractal whose octave weights "

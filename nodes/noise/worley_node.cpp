@@ -6,6 +6,7 @@
 namespace orogen::noise {
 
 OROGEN_NODE(Worley) {
+  b.reach_pointwise();
   b.category("noise").description(
       "Worley (cellular) noise: distances to the nearest feature points, one point per cell of side "
       "feature_size. Exact for every metric, output and jitter (the search covers every cell that can hold "

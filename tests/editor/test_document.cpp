@@ -111,6 +111,9 @@ TEST(Document, SaveReopenCompare) {
   EXPECT_EQ(serialize_graph(reopened.graph()), serialize_graph(doc.graph()));
   EXPECT_FALSE(reopened.dirty());
   EXPECT_EQ(reopened.path(), dir / "saved.json");
+  // Relative input paths resolve beside the file, before and after reopening it.
+  EXPECT_EQ(doc.graph().directory, dir.lexically_normal());
+  EXPECT_EQ(reopened.graph().directory, dir.lexically_normal());
 }
 
 TEST(Document, OpenReportsLoaderDiagnostics) {
