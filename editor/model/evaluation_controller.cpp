@@ -85,11 +85,18 @@ void EvaluationController::request_preview(const Graph& graph, std::vector<std::
     for (const auto& node : job.graph.nodes()) {
       auto& s = states_[node.id];
       const auto k = keys.find(node.id);
-      const bool current = k != keys.end() && s.key && *s.key == k->second &&
-                           (s.phase == NodeRunState::Phase::Computed || s.phase == NodeRunState::Phase::Cached);
+      bool current = k != keys.end() && s.key && *s.key == k->second &&
+                     (s.phase == NodeRunState::Phase::Computed || s.phase == NodeRunState::Phase::Cached);
+      if (s.by_build) {
+        // A build's state holds until an edit changes the node (its key differs from the last request's).
+        const auto before = requested_keys_.find(node.id);
+        current = k != keys.end() && before != requested_keys_.end() && before->second == k->second;
+        if (!current) s.by_build = false;
+      }
       if (!current && s.phase != NodeRunState::Phase::Unknown) s.phase = NodeRunState::Phase::Stale;
       if (!current) s.progress = 0.0;
     }
+    requested_keys_ = std::move(keys);
     pending_ = std::move(job);
     if (running_) preview_cancel_.cancel();
   }
@@ -125,6 +132,7 @@ void EvaluationController::on_preview_event(const EvalEvent& e) {
     case EvalEvent::Kind::Started:
       s.phase = NodeRunState::Phase::Computing;
       s.progress = 0.0;
+      s.by_build = false;
       break;
     case EvalEvent::Kind::Progress:
       s.progress = e.fraction;
@@ -216,6 +224,7 @@ void EvaluationController::preview_loop() {
       }
     }
     idle_.notify_all();
+    if (on_change_) on_change_();
   }
 }
 
@@ -268,6 +277,7 @@ void EvaluationController::run_build(Graph graph, Domain domain) {
   };
   BuildStatus status;
   status.domain = domain;
+  std::map<std::string, NodeReport> reports;
   try {
     EvalResult r = build_evaluator_.evaluate(graph, request);
     status.cancelled = r.cancelled;
@@ -275,6 +285,7 @@ void EvaluationController::run_build(Graph graph, Domain domain) {
     status.milliseconds = r.milliseconds;
     for (const auto& [id, report] : r.nodes)
       if (report.status == NodeStatus::Failed) status.failures.push_back(id + ": " + report.message);
+    reports = std::move(r.nodes);
   } catch (const std::exception& e) {
     status.ok = false;
     status.failures.push_back(e.what());
@@ -285,8 +296,29 @@ void EvaluationController::run_build(Graph graph, Domain domain) {
     status.finished = true;
     status.fraction = status.ok ? 1.0 : build_.fraction;
     build_ = std::move(status);
+    // What the build did shows on the nodes: its failures, and the nodes only a build evaluates (writers).
+    for (const auto& [id, report] : reports) {
+      const Node* node = graph.find(id);
+      auto& s = states_[id];
+      if (report.status == NodeStatus::Failed) {
+        s.phase = NodeRunState::Phase::Failed;
+        s.message = "build: " + report.message;
+        s.key.reset();
+        s.by_build = true;
+      } else if ((report.status == NodeStatus::Computed || report.status == NodeStatus::Cached) &&
+                 ((node && node->type->writes_files) || s.phase == NodeRunState::Phase::Unknown ||
+                  s.phase == NodeRunState::Phase::Failed || s.phase == NodeRunState::Phase::Skipped)) {
+        s.phase = report.status == NodeStatus::Computed ? NodeRunState::Phase::Computed : NodeRunState::Phase::Cached;
+        s.progress = 1.0;
+        s.milliseconds = report.milliseconds;
+        s.message.clear();
+        s.key.reset();
+        s.by_build = true;  // until an edit changes it
+      }
+    }
   }
   idle_.notify_all();
+  if (on_change_) on_change_();
 }
 
 void EvaluationController::wait_idle() {

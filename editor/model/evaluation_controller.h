@@ -8,10 +8,13 @@
 // and last compute times come from the evaluator's events.
 //
 // Build: start_build() evaluates at the graph's full resolution with a separate evaluator on its own
-// thread, writing the outputs, with progress and cancel; previews keep running meanwhile.
+// thread, writing the outputs, with progress and cancel; previews keep running meanwhile. When it ends the
+// node states show what it did: nodes it failed on are Failed ("build: ..."), writers and nodes no preview
+// has evaluated are Computed with the build's time (until the next edit makes them Stale).
 //
 // No method blocks on an evaluation except wait_idle() (for tests and tools).
 #include <condition_variable>
+#include <functional>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -40,6 +43,7 @@ struct NodeRunState {
   double milliseconds = 0.0;  // the last time it was computed (kept while cached or stale)
   std::string message;        // Failed, Skipped
   std::optional<CacheKey> key;  // the key of the result it is up to date with
+  bool by_build = false;        // the state comes from the last build (a full-resolution result)
 };
 
 std::string_view to_string(NodeRunState::Phase phase);
@@ -107,6 +111,10 @@ class EvaluationController {
   // Blocks until no preview is queued or running and no build runs (tests, tools, shutdown).
   void wait_idle();
 
+  // Called from the worker threads when a preview result is published or a build ends (the UI wakes from
+  // waiting for events with it). Set before the first request.
+  void set_on_change(std::function<void()> fn) { on_change_ = std::move(fn); }
+
   CacheStats preview_cache_stats() const { return preview_evaluator_.cache_stats(); }
 
  private:
@@ -132,6 +140,7 @@ class EvaluationController {
   int preview_resolution_ = kDefaultPreviewResolution;
   std::map<std::string, NodeRunState> states_;
   std::map<std::string, CacheKey> running_keys_;  // keys of the graph being evaluated
+  std::map<std::string, CacheKey> requested_keys_;  // keys of the last preview request
   std::shared_ptr<const PreviewResult> preview_;
   std::uint64_t serial_ = 0;
 
@@ -141,6 +150,7 @@ class EvaluationController {
   std::size_t build_total_ = 1;
   std::thread build_thread_;
 
+  std::function<void()> on_change_;
   std::thread preview_thread_;  // last: starts after everything it uses exists
 };
 

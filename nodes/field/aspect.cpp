@@ -42,7 +42,7 @@ OROGEN_NODE(Aspect) {
       "south 180, west 270. 'northness' (cos) and 'eastness' (sin) avoid the wrap at north and are 0 on flats; "
       "useful for sun-facing vegetation rules (000's skew).");
   b.input("height", PortType::Heightfield).description("Heights, metres");
-  b.output("aspect", PortType::Heightfield).description("Degrees in [0, 360), or northness / eastness in [-1, 1]");
+  b.output("aspect", PortType::Heightfield).description("Degrees in [0, 360), or northness / eastness in [-1, 1]").kind(OutputKind::Scalar);
   b.param_enum("output", {"degrees", "northness", "eastness"}, "degrees").description("What to output");
   b.param_float("flat_value", 0.0).range(-360.0, 360.0).unit("deg").description("degrees output on exactly flat samples");
   b.execute([](ExecContext& ctx) {

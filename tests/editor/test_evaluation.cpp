@@ -148,6 +148,42 @@ TEST(EvaluationController, BuildEvaluatesAtFullResolution) {
   EXPECT_EQ(status.domain.resolution, glm::ivec2(200, 100));
 }
 
+TEST(EvaluationController, NodeStatesShowWhatTheBuildDid) {
+  EvaluationController ec;
+  int notified = 0;
+  ec.set_on_change([&] { ++notified; });
+  Graph g = test::chain_graph();
+  ec.request_preview(g, {"out"}, 1);
+  ec.wait_idle();
+  EXPECT_EQ(ec.node_state("mid").phase, Phase::Computed);
+  g.disconnect("mid", "a");  // the build fails on mid (the preview did not see that graph)
+  ec.start_build(g, {});
+  ec.wait_idle();
+  EXPECT_GE(notified, 2);  // the preview and the build woke the UI
+  EXPECT_EQ(ec.node_state("mid").phase, Phase::Failed);
+  EXPECT_EQ(ec.node_state("mid").message.rfind("build: ", 0), 0u) << ec.node_state("mid").message;
+  EXPECT_EQ(ec.node_state("out").phase, Phase::Computed) << "a skip in the build keeps the preview's state";
+}
+
+TEST(EvaluationController, BuildStatesHoldUntilAnEdit) {
+  EvaluationController ec;
+  Graph g = test::chain_graph();
+  ec.request_preview(g, {"out"}, 1);  // scatter is never previewed
+  ec.wait_idle();
+  EXPECT_EQ(ec.node_state("scatter").phase, Phase::Unknown);
+  ec.start_build(g, {});
+  ec.wait_idle();
+  EXPECT_EQ(ec.node_state("scatter").phase, Phase::Computed);
+  EXPECT_TRUE(ec.node_state("scatter").by_build);
+  ec.request_preview(g, {"mid"}, 2);  // another node previewed: the build's state holds
+  ec.wait_idle();
+  EXPECT_EQ(ec.node_state("scatter").phase, Phase::Computed);
+  g.set_param("scatter", "count", std::int64_t{5});  // an edit of it: out of date
+  ec.request_preview(g, {"mid"}, 3);
+  ec.wait_idle();
+  EXPECT_EQ(ec.node_state("scatter").phase, Phase::Stale);
+}
+
 TEST(EvaluationController, BuildCanBeCancelled) {
   EvaluationController ec;
   Graph g = test::chain_graph();
