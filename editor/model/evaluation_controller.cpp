@@ -224,7 +224,7 @@ void EvaluationController::preview_loop() {
       }
     }
     idle_.notify_all();
-    if (on_change_) on_change_();
+    notify_change();
   }
 }
 
@@ -318,12 +318,22 @@ void EvaluationController::run_build(Graph graph, Domain domain) {
     }
   }
   idle_.notify_all();
-  if (on_change_) on_change_();
+  notify_change();
 }
 
 void EvaluationController::wait_idle() {
   std::unique_lock lock(mutex_);
   idle_.wait(lock, [&] { return !running_ && !pending_.has_value() && !build_.running; });
+}
+
+void EvaluationController::set_on_change(std::function<void()> fn) {
+  std::lock_guard lock(notify_mutex_);
+  on_change_ = std::move(fn);
+}
+
+void EvaluationController::notify_change() {
+  std::lock_guard lock(notify_mutex_);  // set_on_change({}) returns only once no call is in flight
+  if (on_change_) on_change_();
 }
 
 }  // namespace orogen::editor

@@ -113,7 +113,7 @@ class EvaluationController {
 
   // Called from the worker threads when a preview result is published or a build ends (the UI wakes from
   // waiting for events with it). Set before the first request.
-  void set_on_change(std::function<void()> fn) { on_change_ = std::move(fn); }
+  void set_on_change(std::function<void()> fn);
 
   CacheStats preview_cache_stats() const { return preview_evaluator_.cache_stats(); }
 
@@ -150,6 +150,8 @@ class EvaluationController {
   std::size_t build_total_ = 1;
   std::thread build_thread_;
 
+  void notify_change();
+  std::mutex notify_mutex_;
   std::function<void()> on_change_;
   std::thread preview_thread_;  // last: starts after everything it uses exists
 };

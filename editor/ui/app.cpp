@@ -1,6 +1,7 @@
 #include "editor/ui/app.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cstdio>
 #include <thread>
 #include <utility>
@@ -12,6 +13,7 @@
 #include <imgui_stdlib.h>
 
 #include "editor/model/node_layout.h"
+#include "editor/model/preview_image.h"
 #include "editor/model/state_dir.h"
 #include "editor/ui/frame_timing.h"
 #include "editor/ui/gl.h"
@@ -89,9 +91,13 @@ App::App(AppOptions options)
   } else {
     io.Fonts->AddFontDefault();
   }
-  ImGui_ImplGlfw_InitForOpenGL(window_, true);
+  // Our callbacks queue the input (see input_queue.h); the backend gets focus, enter and monitor events.
+  ImGui_ImplGlfw_InitForOpenGL(window_, false);
+  install_input_callbacks();
   ImGui_ImplOpenGL3_Init("#version 330 core");
 
+  // A finished preview or build wakes the loop from waiting for events.
+  evaluation_.set_on_change([] { glfwPostEmptyEvent(); });
   evaluation_.set_preview_resolution(options_.preview_resolution);
   output_dir_ = options_.output_dir;
   canvas_ = std::make_unique<CanvasController>(*document_, selection_, ClipboardAccess{
@@ -111,6 +117,7 @@ App::App(AppOptions options)
 }
 
 App::~App() {
+  evaluation_.set_on_change({});  // no wake-ups once GLFW is gone
   // GL objects go while the context exists.
   viewport_3d_.reset();
   preview_2d_ = Preview2D();
@@ -156,10 +163,18 @@ int App::run() {
         break;
       }
     }
-    // Idle: wake at 20 Hz for status updates; busy: run at display rate.
-    const bool busy = evaluation_.preview_busy() || evaluation_.build_status().running || ImGui::IsAnyMouseDown();
-    if (screenshot || busy || options_.benchmark_build) glfwPollEvents();
-    else glfwWaitEventsTimeout(0.05);
+    // Nothing changing and no input pending: sleep until an event (input, a finished evaluation posting an
+    // empty event) or a timeout for the autosave, tooltips and the text caret. Otherwise run at display rate.
+    if (animating()) redraw_frames_ = 3;  // and a few frames after, so the final state is drawn
+    if (screenshot || options_.benchmark_build || redraw_frames_ > 0 || !input_queue_.empty()) {
+      glfwPollEvents();
+    } else {
+      const bool recent_input = clock::now() - last_input_ < std::chrono::seconds(2);
+      glfwWaitEventsTimeout(recent_input ? 0.1 : ImGui::GetIO().WantTextInput ? 0.5 : 2.0);
+      redraw_frames_ = 1;
+    }
+    if (!input_queue_.empty()) redraw_frames_ = 3;
+    if (redraw_frames_ > 0) --redraw_frames_;
     if (glfwWindowShouldClose(window_)) {
       glfwSetWindowShouldClose(window_, GLFW_FALSE);
       request_quit();
@@ -198,9 +213,63 @@ int App::run() {
   return 0;
 }
 
+namespace {
+App* app_of(GLFWwindow* w) { return static_cast<App*>(glfwGetWindowUserPointer(w)); }
+}  // namespace
+
+void App::install_input_callbacks() {
+  glfwSetWindowUserPointer(window_, this);
+  glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int) {
+    if (action != GLFW_REPEAT) app_of(w)->input_queue_.push({RawInput::Kind::Key, key, action == GLFW_PRESS, {}});
+  });
+  glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int button, int action, int) {
+    app_of(w)->input_queue_.push({RawInput::Kind::Button, button, action == GLFW_PRESS, {}});
+  });
+  glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) {
+    app_of(w)->input_queue_.push({RawInput::Kind::Move, 0, false, {x, y}});
+  });
+  glfwSetScrollCallback(window_, [](GLFWwindow* w, double x, double y) {
+    app_of(w)->input_queue_.push({RawInput::Kind::Scroll, 0, false, {x, y}});
+  });
+  glfwSetCharCallback(window_, [](GLFWwindow* w, unsigned c) {
+    app_of(w)->input_queue_.push({RawInput::Kind::Char, static_cast<int>(c), false, {}});
+  });
+  glfwSetWindowFocusCallback(window_, ImGui_ImplGlfw_WindowFocusCallback);
+  glfwSetCursorEnterCallback(window_, ImGui_ImplGlfw_CursorEnterCallback);
+  glfwSetMonitorCallback(ImGui_ImplGlfw_MonitorCallback);
+  // Resizing and exposing redraw.
+  glfwSetWindowRefreshCallback(window_, [](GLFWwindow* w) { app_of(w)->redraw_frames_ = 3; });
+  glfwSetFramebufferSizeCallback(window_, [](GLFWwindow* w, int, int) { app_of(w)->redraw_frames_ = 3; });
+}
+
+void App::feed_queued_input() {
+  ImGuiIO& io = ImGui::GetIO();
+  if (input_queue_.next_frame(input_state_) > 0) last_input_ = std::chrono::steady_clock::now();
+  const InputFrame& in = input_state_;
+  for (int k = 0; k < InputFrame::kKeys && k < IM_ARRAYSIZE(io.KeysDown); ++k) io.KeysDown[k] = in.keys[static_cast<std::size_t>(k)];
+  io.KeyCtrl = in.keys[GLFW_KEY_LEFT_CONTROL] || in.keys[GLFW_KEY_RIGHT_CONTROL];
+  io.KeyShift = in.keys[GLFW_KEY_LEFT_SHIFT] || in.keys[GLFW_KEY_RIGHT_SHIFT];
+  io.KeyAlt = in.keys[GLFW_KEY_LEFT_ALT] || in.keys[GLFW_KEY_RIGHT_ALT];
+  io.KeySuper = in.keys[GLFW_KEY_LEFT_SUPER] || in.keys[GLFW_KEY_RIGHT_SUPER];
+  for (int b = 0; b < InputFrame::kButtons && b < IM_ARRAYSIZE(io.MouseDown); ++b) io.MouseDown[b] = in.buttons[static_cast<std::size_t>(b)];
+  // The backend polled the pointer; the queued position is where the released events happened (unless the
+  // pointer is outside an unfocused window, where the backend reports none).
+  if (in.has_pointer && io.MousePos.x > -FLT_MAX)
+    io.MousePos = ImVec2(static_cast<float>(in.pointer.x), static_cast<float>(in.pointer.y));
+  io.MouseWheelH += static_cast<float>(in.wheel.x);
+  io.MouseWheel += static_cast<float>(in.wheel.y);
+  for (unsigned c : in.chars) io.AddInputCharacter(c);
+}
+
+bool App::animating() const {
+  return evaluation_.preview_busy() || evaluation_.build_status().running || pending_request_ ||
+         std::any_of(input_state_.buttons.begin(), input_state_.buttons.end(), [](bool b) { return b; });
+}
+
 void App::frame() {
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
+  feed_queued_input();
   ImGui::NewFrame();
 
   handle_shortcuts();
@@ -756,7 +825,11 @@ std::vector<std::string> App::preview_request(const std::string& node) const {
   const int port = std::clamp(shown_port_.count(node) ? shown_port_.at(node) : 0, 0,
                               std::max(0, static_cast<int>(n->type->outputs.size()) - 1));
   const bool field = n->type->outputs.empty() || n->type->outputs[static_cast<std::size_t>(port)].type == PortType::Heightfield;
-  if (!field) {
+  // Water depth is shown on the terrain it lies in.
+  const bool water = field && !n->type->outputs.empty() &&
+                     resolve_output_kind(document_->graph(), node, n->type->outputs[static_cast<std::size_t>(port)].name) ==
+                         OutputKind::WaterDepth;
+  if (!field || water) {
     // Points, curves, maps and meshes are drawn over the heightfield they came from; images are draped
     // over it in 3D.
     for (const auto& in : n->type->inputs)
@@ -797,6 +870,8 @@ PreviewContent App::preview_content(const std::string& node) const {
   const int port = std::clamp(shown_port_.count(node) ? shown_port_.at(node) : 0, 0,
                               static_cast<int>(n->type->outputs.size()) - 1);
   c.port = n->type->outputs[static_cast<std::size_t>(port)].name;
+  if (n->type->outputs[static_cast<std::size_t>(port)].type == PortType::Heightfield)
+    c.kind = resolve_output_kind(document_->graph(), node, c.port);
   const auto result = evaluation_.preview();
   c.stale = evaluation_.preview_busy() || pending_request_;
   if (!result) return c;

@@ -13,6 +13,7 @@
 #include "editor/model/canvas_controller.h"
 #include "editor/model/document.h"
 #include "editor/model/evaluation_controller.h"
+#include "editor/model/input_queue.h"
 #include "editor/model/recent_files.h"
 #include "editor/model/recovery.h"
 #include "editor/model/selection.h"
@@ -61,6 +62,9 @@ class App {
  private:
   // Frame.
   void frame();
+  void install_input_callbacks();
+  void feed_queued_input();  // after the backend's NewFrame: this frame's share of the queued events
+  bool animating() const;    // something changes on screen without input
   void draw_menu_bar();
   void draw_panels();
   void draw_status_bar(float height);
@@ -135,6 +139,12 @@ class App {
   std::string title_;
   bool quit_ = false;
   int frame_count_ = 0;
+
+  // Input queued by the GLFW callbacks, released a frame at a time (see input_queue.h).
+  InputQueue input_queue_;
+  InputFrame input_state_;
+  int redraw_frames_ = 3;  // frames still to draw before waiting for events
+  std::chrono::steady_clock::time_point last_input_{};
 };
 
 }  // namespace orogen::editor

@@ -364,7 +364,11 @@ void NodeCanvasView::draw_palette() {
   PaletteState& palette = controller_.palette();
   const bool opening = !palette_focus_;
   if (opening) palette_buffer_ = palette.query();
-  ImGui::SetNextWindowPos(iv(controller_.palette_position()), ImGuiCond_Always);
+  // Kept on screen near the window's edges, using the size it had last frame.
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  const glm::dvec2 at = place_popup(controller_.palette_position(), palette_size_,
+                                    Rect{{0.0, 0.0}, {display.x, display.y}});
+  ImGui::SetNextWindowPos(iv(at), ImGuiCond_Always);
   ImGui::SetNextWindowSize({320, 0}, ImGuiCond_Always);
   ImGui::Begin("##palette", nullptr,
                ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
@@ -428,6 +432,7 @@ void NodeCanvasView::draw_palette() {
   } else if (results.empty()) {
     ImGui::TextDisabled("No node type matches.");
   }
+  palette_size_ = {ImGui::GetWindowSize().x, ImGui::GetWindowSize().y};
   ImGui::End();
 
   if (cancel) controller_.close_palette();

@@ -53,6 +53,7 @@ class NodeCanvasView {
   bool space_down_ = false;
   bool palette_focus_ = false;
   std::string palette_buffer_;
+  glm::dvec2 palette_size_{320.0, 420.0};  // last drawn
   std::optional<std::string> double_clicked_;
   std::string hover_key_;
   double hover_since_ = 0.0;
