@@ -75,8 +75,34 @@ void NodeCanvasView::draw(const std::string& previewed) {
     dl->AddText({origin.x + (size.x - ts.x) * 0.5f, origin.y + (size.y - ts.y) * 0.5f}, theme::kTextDim, hint);
   }
   dl->PopClipRect();
+  draw_problems_banner(origin, size);
   if (hovered) draw_tooltips();
   draw_palette();
+}
+
+void NodeCanvasView::draw_problems_banner(ImVec2 origin, ImVec2 size) {
+  const auto& problems = controller_.document().load_problems();
+  if (problems.empty() || dismissed_problems_ == &problems) return;
+  ImGui::SetCursorScreenPos({origin.x + 10, origin.y + 8});
+  ImGui::PushStyleColor(ImGuiCol_ChildBg, IM_COL32(90, 30, 30, 235));
+  const float line = ImGui::GetTextLineHeightWithSpacing();
+  const std::size_t lines = 1 + (show_problem_list_ ? problems.diagnostics.size() : 0);
+  const float height = std::min(size.y * 0.4f, static_cast<float>(lines) * line + 2.0f * ImGui::GetStyle().WindowPadding.y + 4.0f);
+  ImGui::BeginChild("##problems", {std::min(size.x - 20.0f, 760.0f), height}, true, ImGuiWindowFlags_AlwaysUseWindowPadding);
+  ImGui::TextColored(ImVec4(1, 0.85f, 0.8f, 1), "%zu problem%s in %s: what could be read is shown; the nodes concerned are framed in red",
+                     problems.diagnostics.size(), problems.diagnostics.size() == 1 ? "" : "s",
+                     controller_.document().display_name().c_str());
+  ImGui::SameLine();
+  if (ImGui::SmallButton(show_problem_list_ ? "Hide" : "Details")) show_problem_list_ = !show_problem_list_;
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Dismiss")) dismissed_problems_ = &problems;
+  if (show_problem_list_) {
+    ImGui::PushTextWrapPos(std::min(size.x - 40.0f, 740.0f));
+    for (const auto& d : problems.diagnostics) ImGui::BulletText("%s", d.str().c_str());
+    ImGui::PopTextWrapPos();
+  }
+  ImGui::EndChild();
+  ImGui::PopStyleColor();
 }
 
 void NodeCanvasView::feed_input(bool hovered) {
@@ -169,6 +195,24 @@ void NodeCanvasView::draw_links(ImDrawList* dl) {
              std::max(1.5f, (lit ? 3.5f : 2.5f) * zoom));
     }
   }
+  // Links of the file left out when it was opened (broken, or closing a cycle): dashed red from where they
+  // came (the source node's right edge when its port does not exist) to the input, while it stays empty.
+  for (const auto& d : controller_.document().load_problems().dropped_links) {
+    const Node* dst = graph.find(d.to_node);
+    const auto* to = layout.find(d.to_node);
+    const auto* from = layout.find(d.from.node);
+    if (!dst || !to || !from || dst->inputs.count(d.to_port)) continue;
+    const auto* in = to->find_pin(d.to_port, false);
+    const auto* out = from->find_pin(d.from.port, true);
+    const glm::dvec2 a = v.to_screen(out ? out->position : glm::dvec2(from->rect.max.x, from->title.center().y));
+    const glm::dvec2 b = v.to_screen(in ? in->position : glm::dvec2(to->rect.min.x, to->title.center().y));
+    const int dashes = std::max(4, static_cast<int>(glm::length(b - a) / 14.0));
+    for (int k = 0; k < dashes; k += 2) {
+      const glm::dvec2 p0 = a + (b - a) * (static_cast<double>(k) / dashes);
+      const glm::dvec2 p1 = a + (b - a) * (static_cast<double>(k + 1) / dashes);
+      dl->AddLine(iv(p0), iv(p1), theme::kError, std::max(1.5f, 2.5f * zoom));
+    }
+  }
   // The link being dragged follows the mouse; a link dropped on empty canvas leads to the palette.
   const bool palette = controller_.mode() == CanvasController::Mode::Palette;
   const auto& pending = palette ? controller_.palette_link() : drag;
@@ -223,6 +267,17 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
                       ImDrawFlags_RoundCornersBottom);
     const ImU32 border = active ? theme::kNodeActive : selected ? theme::kNodeSelected : theme::kNodeBorder;
     dl->AddRect(iv(r.min), iv(r.max), border, rounding, 0, selected ? 2.0f : 1.0f);
+    // A problem of the file it was loaded from: a red frame and a "!" (the tooltip explains).
+    const bool problem = !controller_.document().load_problems().for_node(nl.id).empty();
+    if (problem) {
+      dl->AddRect(iv(r.min - glm::dvec2(3.0 * zoom)), iv(r.max + glm::dvec2(3.0 * zoom)), theme::kError, rounding + 3.0f * zoom,
+                  0, std::max(1.5f, 2.5f * zoom));
+      const ImVec2 c{static_cast<float>(r.min.x), static_cast<float>(r.min.y)};
+      dl->AddCircleFilled(c, 8.0f * std::max(zoom, 0.6f), theme::kError);
+      const float fs = 13.0f * std::max(zoom, 0.6f);
+      const ImVec2 ts = font->CalcTextSizeA(fs, FLT_MAX, 0.0f, "!");
+      dl->AddText(font, fs, {c.x - ts.x * 0.5f, c.y - ts.y * 0.5f}, IM_COL32(255, 255, 255, 255), "!");
+    }
 
     const NodeRunState state = [&] {
       auto it = states_.find(nl.id);
@@ -339,6 +394,12 @@ void NodeCanvasView::draw_tooltips() {
       ImGui::Text("%s", node_title(*node).c_str());
       ImGui::TextDisabled("%s / %s", node->type->category.c_str(), node->type->name.c_str());
       if (!node->type->description.empty()) ImGui::TextUnformatted(node->type->description.c_str());
+      const auto problems = controller_.document().load_problems().for_node(*id);
+      if (!problems.empty()) {
+        ImGui::Separator();
+        ImGui::TextColored(ImColor(theme::kError), "When the file was opened:");
+        for (const auto& m : problems) ImGui::BulletText("%s", m.c_str());
+      }
       auto it = states_.find(*id);
       if (it != states_.end()) {
         const auto& s = it->second;

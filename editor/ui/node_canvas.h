@@ -40,6 +40,7 @@ class NodeCanvasView {
   void draw_nodes(ImDrawList* dl, const std::string& previewed);
   void draw_palette();
   void draw_tooltips();
+  void draw_problems_banner(ImVec2 origin, ImVec2 size);
 
   ImFont* text_font(float size) const;
 
@@ -54,6 +55,8 @@ class NodeCanvasView {
   bool palette_focus_ = false;
   std::string palette_buffer_;
   glm::dvec2 palette_size_{320.0, 420.0};  // last drawn
+  bool show_problem_list_ = true;
+  const void* dismissed_problems_ = nullptr;  // the load problems the user dismissed (of this document)
   std::optional<std::string> double_clicked_;
   std::string hover_key_;
   double hover_since_ = 0.0;
