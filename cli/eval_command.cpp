@@ -65,7 +65,7 @@ int run_eval(const EvalCommand& cmd) {
 
   if (!cmd.stats_file.empty()) {
     try {
-      write_text_atomically(cmd.stats_file, stats_json(result));
+      write_text_atomically(cmd.stats_file, stats_json(result, &graph));
     } catch (const std::exception& e) {
       std::cerr << "error: cannot write stats to " << cmd.stats_file.string() << ": " << e.what() << "\n";
       return kExitEvalFailed;

@@ -12,7 +12,7 @@ std::size_t peak_memory_bytes() {
   return static_cast<std::size_t>(usage.ru_maxrss) * 1024;  // ru_maxrss is in KiB on Linux
 }
 
-std::string stats_json(const EvalResult& result) {
+std::string stats_json(const EvalResult& result, const Graph* graph) {
   nlohmann::json nodes = nlohmann::json::object();
   std::map<std::string, int> counts{{"computed", 0}, {"cached", 0}, {"failed", 0}, {"skipped", 0}, {"cancelled", 0}};
   double node_ms = 0.0;
@@ -34,7 +34,18 @@ std::string stats_json(const EvalResult& result) {
                            {"wall_milliseconds", result.milliseconds},
                            {"output_bytes", bytes}};
   for (const auto& [status, n] : counts) totals[status] = n;
+  // Report values (drainage metrics, ...) of the requested nodes, by node and port.
+  nlohmann::json reports = nlohmann::json::object();
+  for (const auto& [id, values] : result.outputs)
+    for (std::size_t k = 0; k < values.size(); ++k)
+      if (const auto* r = std::get_if<ReportPtr>(&values[k]); r && *r) {
+        nlohmann::json parsed = nlohmann::json::parse((*r)->json, nullptr, false);
+        const Node* node = graph ? graph->find(id) : nullptr;
+        const std::string port = node && k < node->type->outputs.size() ? node->type->outputs[k].name : std::to_string(k);
+        reports[id][port] = parsed.is_discarded() ? nlohmann::json((*r)->json) : parsed;
+      }
   nlohmann::json doc = {{"nodes", nodes},
+                        {"reports", reports},
                         {"totals", totals},
                         {"ok", result.ok()},
                         {"cancelled", result.cancelled},

@@ -9,6 +9,7 @@ namespace orogen::cli {
 
 // Peak resident memory of this process in bytes (getrusage).
 std::size_t peak_memory_bytes();
-std::string stats_json(const EvalResult& result);
+// With the graph, Report outputs are listed under "reports" by node and port name.
+std::string stats_json(const EvalResult& result, const Graph* graph = nullptr);
 
 }  // namespace orogen::cli

@@ -224,8 +224,12 @@ class Run {
     std::set<std::string> feeding;
     for (const auto& n : graph_.nodes())
       for (const auto& [port, link] : n.inputs) feeding.insert(link.node);
+    // Nodes with a Report output are requested too: their figures are results in their own right.
+    auto reports = [](const NodeType& t) {
+      return std::any_of(t.outputs.begin(), t.outputs.end(), [](const PortDecl& p) { return p.type == PortType::Report; });
+    };
     for (const auto& n : graph_.nodes())
-      if (n.type->writes_files || !feeding.count(n.id)) requested_.push_back(n.id);
+      if (n.type->writes_files || !feeding.count(n.id) || reports(*n.type)) requested_.push_back(n.id);
     return requested_;
   }
 

@@ -68,7 +68,8 @@ using EventCallback = std::function<void(const EvalEvent&)>;
 
 struct EvalRequest {
   Domain domain;
-  // Nodes whose outputs are wanted. Empty: every node that writes files or has no downstream.
+  // Nodes whose outputs are wanted. Empty: every node that writes files, has no downstream or has a Report
+  // output.
   std::vector<std::string> nodes;
   const CancelToken* cancel = nullptr;
   EventCallback on_event;

@@ -357,6 +357,15 @@ PolygonMapPtr read_polygon_map(ByteReader& r) {
   return pm;
 }
 
+// --- Report -------------------------------------------------------------------------------------------------
+
+void write(ByteWriter& w, const Report& rep) { w.str(rep.json); }
+ReportPtr read_report(ByteReader& r) {
+  auto rep = std::make_shared<Report>();
+  rep->json = r.str();
+  return rep;
+}
+
 }  // namespace
 
 // --- values -------------------------------------------------------------------------------------------------
@@ -378,7 +387,7 @@ void write_value(ByteWriter& out, const PortValue& value) {
 PortValue read_value(ByteReader& in) {
   const auto tag = in.u8();
   if (tag == 0) return std::monostate{};
-  if (tag > static_cast<std::uint8_t>(PortType::PolygonMap) + 1) throw SerializationError("unknown value type");
+  if (tag > static_cast<std::uint8_t>(PortType::Report) + 1) throw SerializationError("unknown value type");
   switch (static_cast<PortType>(tag - 1)) {
     case PortType::Heightfield: return read_heightfield(in);
     case PortType::Image: return read_image(in);
@@ -386,6 +395,7 @@ PortValue read_value(ByteReader& in) {
     case PortType::Curves: return read_curves(in);
     case PortType::Mesh: return read_mesh(in);
     case PortType::PolygonMap: return read_polygon_map(in);
+    case PortType::Report: return read_report(in);
   }
   throw SerializationError("unknown value type");
 }

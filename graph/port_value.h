@@ -9,6 +9,7 @@
 #include "graph/image.h"
 #include "graph/points.h"
 #include "graph/polygon_map.h"
+#include "graph/report.h"
 #include "graph/value_type.h"
 
 namespace orogen {
@@ -18,7 +19,7 @@ using MeshPtr = std::shared_ptr<const Mesh>;
 
 // Alternative order matches PortType; monostate = no value.
 using PortValue =
-    std::variant<std::monostate, HeightfieldPtr, ImagePtr, PointsPtr, CurvesPtr, MeshPtr, PolygonMapPtr>;
+    std::variant<std::monostate, HeightfieldPtr, ImagePtr, PointsPtr, CurvesPtr, MeshPtr, PolygonMapPtr, ReportPtr>;
 
 // The PortType a value holds (undefined for monostate; check has_value first).
 PortType port_type_of(const PortValue& v);
@@ -33,5 +34,6 @@ template <> struct PortTypeOf<Points> { static constexpr PortType value = PortTy
 template <> struct PortTypeOf<Curves> { static constexpr PortType value = PortType::Curves; };
 template <> struct PortTypeOf<Mesh> { static constexpr PortType value = PortType::Mesh; };
 template <> struct PortTypeOf<PolygonMap> { static constexpr PortType value = PortType::PolygonMap; };
+template <> struct PortTypeOf<Report> { static constexpr PortType value = PortType::Report; };
 
 }  // namespace orogen

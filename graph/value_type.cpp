@@ -6,13 +6,14 @@
 namespace orogen {
 namespace {
 
-constexpr std::array<std::pair<PortType, std::string_view>, 6> kPortNames{{
+constexpr std::array<std::pair<PortType, std::string_view>, 7> kPortNames{{
     {PortType::Heightfield, "Heightfield"},
     {PortType::Image, "Image"},
     {PortType::Points, "Points"},
     {PortType::Curves, "Curves"},
     {PortType::Mesh, "Mesh"},
     {PortType::PolygonMap, "PolygonMap"},
+    {PortType::Report, "Report"},
 }};
 
 constexpr std::array<std::pair<ParamType, std::string_view>, 12> kParamNames{{

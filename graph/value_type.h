@@ -6,7 +6,7 @@
 namespace orogen {
 
 // What a port carries. Links connect ports of the same type only.
-enum class PortType { Heightfield, Image, Points, Curves, Mesh, PolygonMap };
+enum class PortType { Heightfield, Image, Points, Curves, Mesh, PolygonMap, Report };
 
 // What a parameter holds.
 enum class ParamType { Float, Int, Bool, Vec2, Vec3, Color, Enum, String, Path, Seed, Curve, Gradient };
@@ -17,6 +17,7 @@ std::optional<PortType> port_type_from_string(std::string_view s);
 std::optional<ParamType> param_type_from_string(std::string_view s);
 
 inline constexpr PortType kAllPortTypes[] = {PortType::Heightfield, PortType::Image, PortType::Points,
-                                             PortType::Curves,      PortType::Mesh,  PortType::PolygonMap};
+                                             PortType::Curves,      PortType::Mesh,  PortType::PolygonMap,
+                                             PortType::Report};
 
 }  // namespace orogen

@@ -42,6 +42,7 @@ ImU32 port_color(PortType type) {
     case PortType::Curves: return IM_COL32(90, 220, 220, 255);
     case PortType::Mesh: return IM_COL32(230, 110, 160, 255);
     case PortType::PolygonMap: return IM_COL32(190, 130, 240, 255);
+    case PortType::Report: return IM_COL32(200, 200, 200, 255);
   }
   return IM_COL32(200, 200, 200, 255);
 }

@@ -1,0 +1,56 @@
+#pragma once
+// DrainageMetrics: realism figures of a drainage network, comparable with real basins (Horton 1945,
+// Strahler 1957, Hack 1957, Flint 1974).
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "graph/exec_context.h"
+#include "graph/heightfield.h"
+#include "nodes/hydrology/flow_routing.h"
+
+namespace orogen::hydrology {
+
+struct LogFit {
+  double slope = NAN, intercept = NAN, r2 = NAN;
+  int points = 0;  // bins used
+};
+
+// Least-squares line through log10(y) against log10(x) over bins of log10(x) `bin_width` wide: each bin with at
+// least `min_count` samples contributes the mean of log10(y) at the mean of its log10(x). Samples with x or y
+// not positive are ignored.
+LogFit binned_log_fit(std::span<const double> x, std::span<const double> y, double bin_width = 0.1, int min_count = 3);
+
+struct NetworkMetrics {
+  std::size_t cells = 0;
+  std::size_t channel_cells = 0;
+  int max_order = 0;
+  std::vector<int> stream_counts;           // Horton N_w, w = 1..max_order
+  std::vector<double> mean_stream_length;   // m, w = 1..max_order
+  double bifurcation_ratio = NAN;           // R_b from log N_w against w
+  double length_ratio = NAN;                // R_L from log mean length against w
+  LogFit hack;                              // main-stream length L = c A^h over channel cells: slope = h
+  LogFit flint;                             // S = k A^-theta over channel cells: slope = -theta
+  std::vector<std::int32_t> order;          // Strahler order per cell (0 off the network)
+};
+
+// Metrics of the network of channel cells (channel[c] != 0; receivers of channel cells must be channel cells).
+// `z` gives the channel slopes (cells with `exclude_slope` set, e.g. lakes, are left out of Flint's fit).
+NetworkMetrics network_metrics(const FlowGrid& g, const D8Flow& f, std::span<const std::int32_t> stack,
+                               std::span<const std::uint8_t> channel, std::span<const double> area,
+                               std::span<const float> z, std::span<const std::uint8_t> exclude_slope = {});
+
+struct DrainageReport {
+  double pits_per_million = 0.0;  // interior cells without a lower neighbour in the input, per 10^6 cells
+  double threshold = 0.0;
+  NetworkMetrics network;
+  std::string json() const;
+};
+
+// Pits are counted on the input; the network comes from D8 on the Priority-Flood+epsilon filled input, with
+// channels where the contributing area reaches `threshold` (m^2).
+DrainageReport drainage_metrics(const Heightfield& in, double threshold, const ExecContext* ctx = nullptr);
+
+}  // namespace orogen::hydrology

@@ -1,0 +1,51 @@
+#pragma once
+// Flow direction, accumulation, flow map, wetness and watersheds of a heightfield (nodes FlowDirection,
+// FlowAccumulation, Watersheds), over the routing core (flow_routing.h).
+#include <memory>
+
+#include "graph/exec_context.h"
+#include "graph/heightfield.h"
+#include "nodes/hydrology/flow_routing.h"
+
+namespace orogen::hydrology {
+
+struct AccumulationParams {
+  FlowMethod method = FlowMethod::D8;
+  double exponent = 1.1;       // MFD
+  bool fill = true;            // fill depressions (epsilon) before routing
+  double flow_min_area = 0.0;  // m^2 mapped to 0 in the flow map (0: one cell)
+  double flow_max_area = 0.0;  // m^2 mapped to 1 (0: the largest accumulation)
+  double min_slope = 1e-3;     // tan beta floor of the wetness index
+};
+
+struct AccumulationResult {
+  std::shared_ptr<Heightfield> accumulation;  // m^2 (rainfall-weighted)
+  std::shared_ptr<Heightfield> flow;          // 0..1
+  std::shared_ptr<Heightfield> wetness;       // ln(a / tan beta), a in m
+};
+
+// `rainfall` (optional, same domain): relative weight per cell, 1 = nominal.
+AccumulationResult flow_accumulation(const Heightfield& in, const Heightfield* rainfall, const AccumulationParams& p,
+                                     const ExecContext* ctx = nullptr);
+
+// The normalised log flow map: ln(acc / lo) / ln(hi / lo) clamped to [0, 1].
+float flow_map_value(double acc, double lo, double hi);
+
+struct DirectionResult {
+  std::shared_ptr<Heightfield> angle;  // degrees counter-clockwise from +x in [0, 360), -1 where nothing drains
+  std::shared_ptr<Heightfield> dx, dy; // unit flow vector (0 where nothing drains)
+  std::shared_ptr<Heightfield> slope;  // tan beta of the steepest descent
+};
+
+DirectionResult flow_direction(const Heightfield& in, FlowMethod method, double exponent, bool fill,
+                               const ExecContext* ctx = nullptr);
+
+struct WatershedResult {
+  std::shared_ptr<Heightfield> id;    // 1..n by decreasing area; 0 for basins under the minimum area
+  std::shared_ptr<Heightfield> area;  // area of the cell's basin, m^2
+  int basins = 0;
+};
+
+WatershedResult watersheds(const Heightfield& in, bool fill, double min_area, const ExecContext* ctx = nullptr);
+
+}  // namespace orogen::hydrology

@@ -1,0 +1,310 @@
+// The routing core (nodes/hydrology/flow_routing.h) against brute-force references and analytic cases.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include "nodes/hydrology/flow_routing.h"
+
+namespace orogen::hydrology {
+namespace {
+
+float hash01(std::uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352du;
+  x ^= x >> 15;
+  x *= 0x846ca68bu;
+  x ^= x >> 16;
+  return static_cast<float>(x >> 8) / 16777216.0f;
+}
+
+// Hilly terrain with many closed depressions.
+std::vector<float> bumpy(const FlowGrid& g, std::uint32_t seed, double noise = 3.0) {
+  std::vector<float> z(g.size());
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) {
+      const double x = i * g.dx, y = j * g.dy;
+      z[g.index(i, j)] = static_cast<float>(40.0 * std::sin(x / 37.0) * std::cos(y / 29.0) + 25.0 * std::sin((x + 2 * y) / 71.0) +
+                                            noise * hash01(seed * 7919u + static_cast<std::uint32_t>(g.index(i, j))));
+    }
+  return z;
+}
+
+// Reference fill: W = max(z, min over neighbours of W) iterated to the fixed point (Planchon & Darboux 2001
+// without epsilon), border cells fixed.
+std::vector<float> brute_fill(const FlowGrid& g, const std::vector<float>& z) {
+  std::vector<float> w(z.size());
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) w[g.index(i, j)] = g.on_border(i, j) ? z[g.index(i, j)] : INFINITY;
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (int j = 1; j < g.ny - 1; ++j)
+      for (int i = 1; i < g.nx - 1; ++i) {
+        float m = INFINITY;
+        for (int k = 0; k < 8; ++k) m = std::min(m, w[g.index(i + kDi[k], j + kDj[k])]);
+        const float v = std::max(z[g.index(i, j)], m);
+        if (v < w[g.index(i, j)]) {
+          w[g.index(i, j)] = v;
+          changed = true;
+        }
+      }
+  }
+  return w;
+}
+
+int count_pits(const FlowGrid& g, const std::vector<float>& z) {
+  int pits = 0;
+  for (int j = 1; j < g.ny - 1; ++j)
+    for (int i = 1; i < g.nx - 1; ++i) {
+      bool lower = false;
+      for (int k = 0; k < 8; ++k) lower |= z[g.index(i + kDi[k], j + kDj[k])] < z[g.index(i, j)];
+      pits += !lower;
+    }
+  return pits;
+}
+
+TEST(HydrologyFill, FlatMatchesBruteForceOnRandomGrids) {
+  for (std::uint32_t seed = 1; seed <= 12; ++seed) {
+    const FlowGrid g(17 + static_cast<int>(seed % 5) * 7, 23 + static_cast<int>(seed % 3) * 5, 2.0, 3.0);
+    std::vector<float> z(g.size());
+    for (std::size_t c = 0; c < z.size(); ++c) z[c] = std::floor(hash01(seed * 1000003u + static_cast<std::uint32_t>(c)) * 20.0f);
+    std::vector<float> out = z;
+    fill_depressions(g, out, FlatMode::Flat);
+    EXPECT_EQ(out, brute_fill(g, z)) << "seed " << seed;
+  }
+}
+
+TEST(HydrologyFill, EpsilonLeavesNoPitAndStaysCloseToFlatFill) {
+  const FlowGrid g(96, 80, 5.0, 5.0);
+  const std::vector<float> z = bumpy(g, 3);
+  const std::vector<float> flat = brute_fill(g, z);
+  std::vector<float> out = z;
+  fill_depressions(g, out, FlatMode::Epsilon);
+  EXPECT_GT(count_pits(g, z), 5);
+  EXPECT_EQ(count_pits(g, out), 0);
+  int drained = 0;
+  for (std::size_t c = 0; c < z.size(); ++c) {
+    ASSERT_GE(out[c], z[c]);
+    ASSERT_GE(out[c], flat[c]);
+    ASSERT_LE(out[c] - flat[c], 1e-3f * std::max(1.0f, std::abs(flat[c])));
+    if (flat[c] == z[c]) {
+      ++drained;
+      ASSERT_EQ(out[c], z[c]) << "a cell that drains is unchanged";
+    }
+  }
+  EXPECT_GT(drained, static_cast<int>(z.size() / 2));
+  // Every cell has a strictly descending D8 path to the border.
+  const D8Flow f = d8_flow(g, out);
+  for (std::int32_t c = 0; c < static_cast<std::int32_t>(g.size()); ++c) {
+    std::int32_t x = c;
+    while (f.receiver[x] != x) x = f.receiver[x];
+    ASSERT_TRUE(g.on_border(g.column(x), g.row(x)));
+  }
+}
+
+TEST(HydrologyFill, BowlFillsExactlyToItsRim) {
+  // A paraboloid bowl inside a rim at 10 m with one notch at 8 m that opens to low ground.
+  const FlowGrid g(41, 41, 1.0, 1.0);
+  std::vector<float> z(g.size());
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) {
+      const double r = std::hypot(i - 20.0, j - 20.0);
+      z[g.index(i, j)] = r < 12 ? static_cast<float>(r * r / 30.0) : (r < 14 ? 10.0f : 0.0f);
+    }
+  for (int i = 32; i < 35; ++i) z[g.index(i, 20)] = 8.0f;  // the notch through the rim
+  std::vector<float> out = z;
+  fill_depressions(g, out, FlatMode::Flat);
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) {
+      const std::size_t c = g.index(i, j);
+      const double r = std::hypot(i - 20.0, j - 20.0);
+      if (r < 12) {
+        ASSERT_EQ(out[c], std::max(z[c], 8.0f)) << i << "," << j;
+      } else {
+        ASSERT_EQ(out[c], z[c]) << i << "," << j;
+      }
+    }
+}
+
+TEST(HydrologyFill, ExtraOutletsDrainTheirDepressions) {
+  const FlowGrid g(30, 30, 1.0, 1.0);
+  std::vector<float> z(g.size());
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) z[g.index(i, j)] = static_cast<float>(std::hypot(i - 15.0, j - 15.0));
+  std::vector<std::uint8_t> mask(g.size(), 0);
+  mask[g.index(15, 15)] = 1;
+  std::vector<float> out = z;
+  fill_depressions(g, out, FlatMode::Flat, Outlets{true, mask});
+  EXPECT_EQ(out, z);
+  fill_depressions(g, out, FlatMode::Flat);
+  EXPECT_GT(out[g.index(15, 15)], 10.0f);
+}
+
+TEST(HydrologyBreach, CarvesWithoutRaisingAndLeavesNoPit) {
+  const FlowGrid g(80, 72, 4.0, 4.0);
+  const std::vector<float> z = bumpy(g, 5);
+  std::vector<float> out = z;
+  breach_depressions(g, out, FlatMode::Epsilon);
+  for (std::size_t c = 0; c < z.size(); ++c) ASSERT_LE(out[c], z[c]);
+  EXPECT_GT(count_pits(g, z), 5);
+  EXPECT_EQ(count_pits(g, out), 0);
+  int changed = 0;
+  for (std::size_t c = 0; c < z.size(); ++c) changed += out[c] != z[c];
+  EXPECT_GT(changed, 0);
+  EXPECT_LT(changed, static_cast<int>(z.size() / 4));
+}
+
+TEST(HydrologyD8, ReceiversAreSteepestDescentInWorldUnits) {
+  const FlowGrid g(40, 33, 2.0, 5.0);
+  const std::vector<float> z = bumpy(g, 9, 10.0);
+  const D8Flow f = d8_flow(g, z);
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) {
+      const std::int32_t c = g.index(i, j);
+      if (g.on_border(i, j)) {
+        ASSERT_EQ(f.receiver[c], c);
+        continue;
+      }
+      double best = 0.0;
+      std::int32_t want = c;
+      for (int k = 0; k < 8; ++k) {
+        const double dist = std::hypot(kDi[k] * g.dx, kDj[k] * g.dy);
+        const std::int32_t n = g.index(i + kDi[k], j + kDj[k]);
+        const double s = (static_cast<double>(z[c]) - z[n]) / dist;
+        if (s > best) {
+          best = s;
+          want = n;
+        }
+      }
+      ASSERT_EQ(f.receiver[c], want) << i << "," << j;
+      if (want != c) { ASSERT_TRUE(f.donors[want] & (1u << opposite(f.direction[c]))); }
+    }
+}
+
+TEST(HydrologyD8, StackOrderAndBasins) {
+  const FlowGrid g(64, 48, 3.0, 3.0);
+  std::vector<float> z = bumpy(g, 11);
+  const D8Flow f = d8_flow(g, z);
+  const auto order = stack_order(g, f);
+  ASSERT_EQ(order.size(), g.size());
+  std::vector<int> pos(g.size(), -1);
+  for (std::size_t p = 0; p < order.size(); ++p) {
+    ASSERT_EQ(pos[order[p]], -1) << "cell listed twice";
+    pos[order[p]] = static_cast<int>(p);
+  }
+  for (std::int32_t c = 0; c < static_cast<std::int32_t>(g.size()); ++c)
+    if (f.receiver[c] != c) { ASSERT_LT(pos[f.receiver[c]], pos[c]); }
+  int count = 0;
+  const auto label = basin_labels(f, order, &count);
+  int outlets = 0;
+  for (std::int32_t c = 0; c < static_cast<std::int32_t>(g.size()); ++c) {
+    outlets += f.receiver[c] == c;
+    ASSERT_EQ(label[c], label[f.receiver[c]]);
+  }
+  EXPECT_EQ(count, outlets);
+}
+
+TEST(HydrologyAccumulation, InclinedPlaneGrowsLinearlyDownslope) {
+  const FlowGrid g(50, 40, 10.0, 10.0);
+  std::vector<float> z(g.size());
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) z[g.index(i, j)] = static_cast<float>((g.nx - 1 - i) * g.dx * 0.1);
+  const auto acc = accumulate_d8(g, d8_flow(g, z));
+  for (int j = 1; j < g.ny - 1; ++j)
+    for (int i = 1; i < g.nx; ++i) ASSERT_DOUBLE_EQ(acc[g.index(i, j)], i * g.cell_area()) << i << "," << j;
+  for (FlowMethod m : {FlowMethod::DInfinity, FlowMethod::MFD}) {
+    const auto a = accumulate(g, z, RoutingOptions{m, 1.1, {}});
+    for (int i = 1; i < g.nx; ++i) ASSERT_NEAR(a[g.index(i, g.ny / 2)], i * g.cell_area(), 1e-4 * i * g.cell_area());
+  }
+}
+
+TEST(HydrologyAccumulation, OutletsReceiveTheTotalWeight) {
+  const FlowGrid g(70, 60, 4.0, 6.0);
+  std::vector<float> z = bumpy(g, 13);
+  fill_depressions(g, z, FlatMode::Epsilon);
+  std::vector<float> rain(g.size());
+  for (std::size_t c = 0; c < rain.size(); ++c) rain[c] = 0.5f + hash01(static_cast<std::uint32_t>(c));
+  const double total = std::accumulate(rain.begin(), rain.end(), 0.0);
+  for (FlowMethod m : {FlowMethod::D8, FlowMethod::DInfinity, FlowMethod::MFD}) {
+    const auto acc = accumulate(g, z, RoutingOptions{m, 1.1, {}}, rain);
+    double at_outlets = 0.0;
+    for (int j = 0; j < g.ny; ++j)
+      for (int i = 0; i < g.nx; ++i)
+        if (g.on_border(i, j)) at_outlets += acc[g.index(i, j)];
+    EXPECT_NEAR(at_outlets, total, 1e-9 * total) << static_cast<int>(m);
+    for (std::size_t c = 0; c < acc.size(); ++c) ASSERT_GE(acc[c], rain[c] * (1 - 1e-12));
+  }
+}
+
+TEST(HydrologyAccumulation, ConeMatchesAnalyticSpecificCatchmentArea) {
+  // Flow diverging from the top of a cone: specific catchment area a = A / b = r / 2 (Tarboton 1997). The
+  // ring mean of acc / dx grows like r / 2; the constant differs from 1 by the cells a flow line visits per
+  // metre (D-infinity splits by angle: 0.92 at 20 degrees), so the ratio is bounded and independent of r.
+  const FlowGrid g(161, 161, 1.0, 1.0);
+  std::vector<float> z(g.size());
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) z[g.index(i, j)] = static_cast<float>(100.0 - std::hypot(i - 80.0, j - 80.0));
+  for (FlowMethod m : {FlowMethod::DInfinity, FlowMethod::MFD}) {
+    const auto acc = accumulate(g, z, RoutingOptions{m, 1.1, {}});
+    auto ratio = [&](double r0, double r1) {
+      double s = 0.0;
+      int n = 0;
+      for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) {
+          const double r = std::hypot(i - 80.0, j - 80.0);
+          if (r < r0 || r >= r1) continue;
+          s += acc[g.index(i, j)] / g.dx / (r / 2);
+          ++n;
+        }
+      return s / n;
+    };
+    const double inner = ratio(25, 30), outer = ratio(60, 65);
+    EXPECT_NEAR(inner, 1.0, 0.12) << static_cast<int>(m);
+    EXPECT_NEAR(outer, 1.0, 0.12) << static_cast<int>(m);
+    EXPECT_NEAR(outer / inner, 1.0, 0.03) << static_cast<int>(m);
+  }
+}
+
+TEST(HydrologyAccumulation, ProportionsAreNonNegativeAndSumToOne) {
+  const FlowGrid g(30, 30, 2.0, 3.0);
+  const std::vector<float> z = bumpy(g, 17, 8.0);
+  for (FlowMethod m : {FlowMethod::D8, FlowMethod::DInfinity, FlowMethod::MFD})
+    for (double p : {1.0, 1.1, 8.0})
+      for (int j = 1; j < g.ny - 1; ++j)
+        for (int i = 1; i < g.nx - 1; ++i) {
+          int nb[8];
+          double fr[8];
+          const int n = flow_proportions(g, z, i, j, RoutingOptions{m, p, {}}, nb, fr);
+          if (n == 0) continue;
+          double s = 0;
+          for (int q = 0; q < n; ++q) {
+            ASSERT_GE(fr[q], 0.0);
+            ASSERT_LT(z[g.index(i + kDi[nb[q]], j + kDj[nb[q]])], z[g.index(i, j)]) << "flow goes downhill";
+            s += fr[q];
+          }
+          ASSERT_NEAR(s, 1.0, 1e-12);
+          if (m != FlowMethod::MFD) { ASSERT_LE(n, m == FlowMethod::D8 ? 1 : 2); }
+        }
+}
+
+TEST(HydrologyAccumulation, DeterministicForAnyThreadCount) {
+  const FlowGrid g(300, 260, 5.0, 5.0);
+  std::vector<float> z = bumpy(g, 21);
+  fill_depressions(g, z, FlatMode::Epsilon);
+  std::vector<double> one, four;
+  tbb::task_arena(1).execute([&] { one = accumulate_d8(g, d8_flow(g, z)); });
+  tbb::task_arena(4).execute([&] { four = accumulate_d8(g, d8_flow(g, z)); });
+  EXPECT_EQ(one, four);
+  for (FlowMethod m : {FlowMethod::DInfinity, FlowMethod::MFD}) {
+    tbb::task_arena(1).execute([&] { one = accumulate(g, z, RoutingOptions{m, 1.1, {}}); });
+    tbb::task_arena(4).execute([&] { four = accumulate(g, z, RoutingOptions{m, 1.1, {}}); });
+    EXPECT_EQ(one, four);
+  }
+}
+
+}  // namespace
+}  // namespace orogen::hydrology
