@@ -111,7 +111,11 @@ App::App(AppOptions options)
   if (!options_.file.empty()) open_file(options_.file);
   if (!document_->graph().find(options_.drape)) drape_node_.clear();
   else drape_node_ = options_.drape;
-  if (!options_.select.empty() && document_->graph().find(options_.select)) selection_.select_only(options_.select);
+  if (!options_.select.empty() && document_->graph().find(options_.select)) {
+    selection_.select_only(options_.select);
+    if (const int k = document_->graph().at(options_.select).type->output_index(options_.port); k >= 0)
+      shown_port_[options_.select] = k;
+  }
   // A screenshot run is not a session: it never offers (or takes) someone's recovery files.
   if (options_.screenshot.empty() || options_.offer_recovery_in_screenshot) recovery_offer_ = recovery_.orphans();
 }

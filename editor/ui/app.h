@@ -35,6 +35,7 @@ struct AppOptions {
   int frames = 60;
   int width = 1600, height = 900;
   std::string select;                // node selected at start (documentation screenshots)
+  std::string port;                  // its output shown in the preview
   std::string view = "2d";           // preview panel at start: 2d or 3d
   std::string drape;                 // Image node draped over the 3D terrain at start
   std::filesystem::path state_dir;   // recent files and recovery; default_state_dir() if empty
