@@ -13,7 +13,7 @@ Document::Document() = default;
 
 Document::Document(Graph graph, std::filesystem::path path) : graph_(std::move(graph)), path_(std::move(path)) {}
 
-Document Document::open(const std::filesystem::path& path) {
+Document Document::open(const std::filesystem::path& path, bool room_for_thumbnails) {
   LoadOptions options;
   options.allow_unconnected_inputs = true;  // work in progress is a normal state in the editor
   options.keep_partial = true;              // a broken file opens with its problems marked
@@ -21,6 +21,7 @@ Document Document::open(const std::filesystem::path& path) {
   if (!result.graph) throw DocumentError("cannot open " + path.string() + ":\n" + result.error_text());
   // Files written by hand or by other tools may carry no layout: place those nodes, outside the history.
   place_unpositioned_nodes(*result.graph);
+  if (room_for_thumbnails) make_room_for_thumbnails(*result.graph);
   Document doc(std::move(*result.graph), path);
   if (!result.diagnostics.empty()) {
     doc.load_problems_ = {std::move(result.diagnostics), std::move(result.dropped_links)};

@@ -29,7 +29,9 @@ class Document {
   // what can be read (LoadOptions::keep_partial) and its problems in load_problems(); the document then
   // differs from its file. Throws DocumentError carrying the diagnostics when nothing can be read (not a
   // graph file, a newer format).
-  static Document open(const std::filesystem::path& path);
+  // With `room_for_thumbnails`, nodes are moved apart so thumbnails fit (make_room_for_thumbnails), as
+  // part of opening: not an edit, the document stays clean.
+  static Document open(const std::filesystem::path& path, bool room_for_thumbnails = false);
 
   // What was wrong in the file this document was opened from (empty for a clean file).
   struct LoadProblems {

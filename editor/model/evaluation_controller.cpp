@@ -98,7 +98,7 @@ void EvaluationController::request_preview(const Graph& graph, std::vector<std::
     }
     requested_keys_ = std::move(keys);
     pending_ = std::move(job);
-    if (running_) preview_cancel_.cancel();
+    if (running_ || thumbnails_running_) preview_cancel_.cancel();
   }
   wake_.notify_all();
 }
@@ -172,8 +172,18 @@ void EvaluationController::preview_loop() {
     Job job;
     {
       std::unique_lock lock(mutex_);
-      wake_.wait(lock, [&] { return stop_ || pending_.has_value(); });
+      wake_.wait(lock, [&] { return stop_ || pending_.has_value() || pending_thumbnails_.has_value(); });
       if (stop_) return;
+      if (!pending_) {
+        // Nothing to preview: thumbnails.
+        Job t = std::move(*pending_thumbnails_);
+        pending_thumbnails_.reset();
+        thumbnails_running_ = true;
+        preview_cancel_.reset();
+        lock.unlock();
+        run_thumbnails(std::move(t));
+        continue;
+      }
       job = std::move(*pending_);
       pending_.reset();
       running_ = true;
@@ -226,6 +236,58 @@ void EvaluationController::preview_loop() {
     idle_.notify_all();
     notify_change();
   }
+}
+
+void EvaluationController::request_thumbnails(const Graph& graph, std::uint64_t revision) {
+  Domain domain = preview_domain(graph.domain);
+  {
+    const double longer = std::max(graph.domain.size.x, graph.domain.size.y);
+    const auto along = [&](double size) { return std::max(2, static_cast<int>(std::lround(kThumbnailResolution * size / longer))); };
+    domain = Domain::from_extent(graph.domain.origin, graph.domain.size, {along(graph.domain.size.x), along(graph.domain.size.y)});
+  }
+  Job job{graph, {}, revision, domain};
+  for (const auto& node : graph.nodes())
+    if (!node.type->writes_files && !node.type->outputs.empty()) job.nodes.push_back(node.id);
+  {
+    std::lock_guard lock(mutex_);
+    pending_thumbnails_ = std::move(job);
+    if (thumbnails_running_) preview_cancel_.cancel();
+  }
+  wake_.notify_all();
+}
+
+std::shared_ptr<const Thumbnails> EvaluationController::thumbnails() const {
+  std::lock_guard lock(mutex_);
+  return thumbnails_;
+}
+
+void EvaluationController::run_thumbnails(Job job) {  // NOLINT(performance-unnecessary-value-param)
+  auto result = std::make_shared<Thumbnails>();
+  result->revision = job.revision;
+  bool cancelled = false;
+  try {
+    EvalRequest request;
+    request.domain = job.domain;
+    request.nodes = job.nodes;
+    request.cancel = &preview_cancel_;
+    EvalResult r = preview_evaluator_.evaluate(job.graph, request);
+    cancelled = r.cancelled;
+    result->outputs = std::move(r.outputs);
+  } catch (const std::exception&) {
+    // An invalid graph: no thumbnails (the preview reports why).
+  }
+  {
+    std::lock_guard lock(mutex_);
+    thumbnails_running_ = false;
+    if (!cancelled) {
+      result->serial = ++serial_;
+      thumbnails_ = std::move(result);
+    } else if (!pending_thumbnails_ && !stop_) {
+      pending_thumbnails_ = std::move(job);  // cut short by a preview: resumed after it (from the cache)
+    }
+  }
+  idle_.notify_all();
+  if (!cancelled) notify_change();
 }
 
 void EvaluationController::start_build(const Graph& graph, const OutputPolicy& policy) {
@@ -323,7 +385,9 @@ void EvaluationController::run_build(Graph graph, Domain domain) {
 
 void EvaluationController::wait_idle() {
   std::unique_lock lock(mutex_);
-  idle_.wait(lock, [&] { return !running_ && !pending_.has_value() && !build_.running; });
+  idle_.wait(lock, [&] {
+    return !running_ && !pending_.has_value() && !thumbnails_running_ && !pending_thumbnails_.has_value() && !build_.running;
+  });
 }
 
 void EvaluationController::set_on_change(std::function<void()> fn) {

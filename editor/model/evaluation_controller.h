@@ -59,6 +59,13 @@ struct PreviewResult {
   std::string error;                                      // an evaluation that threw (e.g. a cycle)
 };
 
+// Small pictures of every node's outputs for the canvas, evaluated after the preview at a low resolution.
+struct Thumbnails {
+  std::uint64_t revision = 0;                             // the request's tag
+  std::uint64_t serial = 0;
+  std::map<std::string, std::vector<PortValue>> outputs;  // nodes that succeeded
+};
+
 struct BuildStatus {
   bool running = false;
   bool finished = false;     // a build ran to its end (successfully or not) since start_build
@@ -94,6 +101,14 @@ class EvaluationController {
   // flight. An empty list previews every node without downstream that does not write files. `revision` is
   // returned with the result so the UI can tell which edit it shows.
   void request_preview(const Graph& graph, std::vector<std::string> nodes, std::uint64_t revision);
+  // Samples along the longer side of thumbnails.
+  static constexpr int kThumbnailResolution = 64;
+  // Evaluates every node that does not write files at thumbnail resolution, in the background, when no
+  // preview is waiting (a preview request cancels it); replaces the thumbnail request in flight. Node states
+  // are not touched.
+  void request_thumbnails(const Graph& graph, std::uint64_t revision);
+  std::shared_ptr<const Thumbnails> thumbnails() const;
+
   // The newest finished (not cancelled) preview, or null.
   std::shared_ptr<const PreviewResult> preview() const;
   // Whether a preview is queued or running.
@@ -125,6 +140,7 @@ class EvaluationController {
     Domain domain;
   };
   void preview_loop();
+  void run_thumbnails(Job job);
   void on_preview_event(const EvalEvent& e);
   void run_build(Graph graph, Domain domain);
 
@@ -134,6 +150,9 @@ class EvaluationController {
   mutable std::mutex mutex_;
   std::condition_variable wake_, idle_;
   std::optional<Job> pending_;
+  std::optional<Job> pending_thumbnails_;
+  bool thumbnails_running_ = false;
+  std::shared_ptr<const Thumbnails> thumbnails_;
   bool running_ = false;
   bool stop_ = false;
   CancelToken preview_cancel_;

@@ -104,6 +104,7 @@ App::App(AppOptions options)
       [] { const char* t = ImGui::GetClipboardText(); return std::string(t ? t : ""); },
       [](const std::string& s) { ImGui::SetClipboardText(s.c_str()); }});
   canvas_view_ = std::make_unique<NodeCanvasView>(*canvas_, evaluation_);
+  canvas_->set_thumbnails(options_.thumbnails);
   viewport_3d_ = std::make_unique<Viewport3D>();
   show_3d_ = options_.view == "3d";
   drape_node_ = options_.drape;
@@ -201,7 +202,7 @@ int App::run() {
     ++frame_count_;
     if (screenshot) {
       if (settle < 0 && frame_count_ >= options_.frames &&
-          ((!evaluation_.preview_busy() && !pending_request_) || clock::now() > deadline))
+          ((!evaluation_.preview_busy() && !pending_request_ && thumbnails_shown()) || clock::now() > deadline))
         settle = 3;  // a few frames more so the last result is uploaded and drawn
       if (settle == 0) {
         int w = 0, h = 0;
@@ -263,6 +264,12 @@ void App::feed_queued_input() {
   io.MouseWheelH += static_cast<float>(in.wheel.x);
   io.MouseWheel += static_cast<float>(in.wheel.y);
   for (unsigned c : in.chars) io.AddInputCharacter(c);
+}
+
+bool App::thumbnails_shown() const {
+  if (!canvas_->thumbnails()) return true;
+  const auto t = evaluation_.thumbnails();
+  return t && t->revision == document_->content_revision() && thumbnails_revision_ == document_->content_revision() + 1;
 }
 
 bool App::animating() const {
@@ -394,6 +401,11 @@ void App::draw_menu_bar() {
     if (ImGui::MenuItem("Pin Preview to Selected", "double-click", pinned, pinned || !selection_.active().empty()))
       pinned_ = pinned ? std::string() : selection_.active();
     if (ImGui::MenuItem("3D Viewport", nullptr, show_3d_)) show_3d_ = !show_3d_;
+    if (ImGui::MenuItem("Node Thumbnails", nullptr, canvas_->thumbnails())) {
+      canvas_->set_thumbnails(!canvas_->thumbnails());
+      // Nodes grow: move apart those that would overlap (one undoable step).
+      if (canvas_->thumbnails()) document_->edit("Make Room for Thumbnails", [](Graph& g) { make_room_for_thumbnails(g); });
+    }
     if (ImGui::BeginMenu("Preview Resolution")) {
       for (int r : {128, 256, 512, 1024, 2048})
         if (ImGui::MenuItem((std::to_string(r) + " samples").c_str(), nullptr, evaluation_.preview_resolution() == r))
@@ -718,12 +730,13 @@ void App::set_document(std::unique_ptr<Document> document) {
   drape_node_.clear();
   shown_port_.clear();
   requested_revision_ = ~std::uint64_t(0);
+  thumbnails_revision_ = 0;
   frame_canvas_ = true;
 }
 
 void App::open_file(const std::filesystem::path& path) {
   try {
-    set_document(std::make_unique<Document>(Document::open(path)));
+    set_document(std::make_unique<Document>(Document::open(path, canvas_->thumbnails())));
     recent_.add(path);
   } catch (const std::exception& e) {
     show_error(e.what());
@@ -849,6 +862,12 @@ std::vector<std::string> App::preview_request(const std::string& node) const {
 }
 
 void App::update_preview() {
+  // Thumbnails follow the content once the preview is done (they never delay it).
+  if (canvas_->thumbnails() && !evaluation_.preview_busy() && !pending_request_ &&
+      thumbnails_revision_ != document_->content_revision() + 1) {
+    evaluation_.request_thumbnails(document_->graph(), document_->content_revision());
+    thumbnails_revision_ = document_->content_revision() + 1;  // + 1: 0 means none requested
+  }
   const std::string node = preview_node();
   const auto nodes = preview_request(node);
   const bool changed = document_->content_revision() != requested_revision_ || nodes != requested_nodes_ ||

@@ -36,6 +36,7 @@ struct AppOptions {
   int width = 1600, height = 900;
   std::string select;                // node selected at start (documentation screenshots)
   std::string port;                  // its output shown in the preview
+  bool thumbnails = true;            // node thumbnails on the canvas
   std::string view = "2d";           // preview panel at start: 2d or 3d
   std::string drape;                 // Image node draped over the 3D terrain at start
   std::filesystem::path state_dir;   // recent files and recovery; default_state_dir() if empty
@@ -66,6 +67,7 @@ class App {
   void install_input_callbacks();
   void feed_queued_input();  // after the backend's NewFrame: this frame's share of the queued events
   bool animating() const;    // something changes on screen without input
+  bool thumbnails_shown() const;  // the canvas shows thumbnails of the current content (or none are wanted)
   void draw_menu_bar();
   void draw_panels();
   void draw_status_bar(float height);
@@ -129,6 +131,7 @@ class App {
   int requested_resolution_ = 0;
   std::chrono::steady_clock::time_point last_request_{};
   bool pending_request_ = false;
+  std::uint64_t thumbnails_revision_ = 0;  // content revision + 1 of the last thumbnail request
   bool show_3d_ = false;
   bool frame_canvas_ = true;
 

@@ -1,5 +1,7 @@
 #include "editor/ui/node_canvas.h"
 
+#include "editor/model/preview_image.h"
+
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -41,6 +43,8 @@ ImFont* NodeCanvasView::text_font(float size) const {
 
 void NodeCanvasView::draw(const std::string& previewed) {
   double_clicked_.reset();
+  // Thumbnails of nodes that are gone are released.
+  std::erase_if(thumbnails_, [&](const auto& kv) { return !controller_.document().graph().find(kv.first); });
   states_ = evaluation_.node_states();
   ImFont* font = small_font_ ? small_font_ : ImGui::GetFont();
   controller_.set_text_measure([font](std::string_view s) {
@@ -78,6 +82,43 @@ void NodeCanvasView::draw(const std::string& previewed) {
   draw_problems_banner(origin, size);
   if (hovered) draw_tooltips();
   draw_palette();
+}
+
+void NodeCanvasView::draw_thumbnail(ImDrawList* dl, const Node& node, const Rect& box) {
+  dl->AddRectFilled(iv(box.min), iv(box.max), IM_COL32(24, 25, 28, 255), 3.0f);
+  const auto thumbs = evaluation_.thumbnails();
+  if (!thumbs) return;
+  const auto it = thumbs->outputs.find(node.id);
+  if (it == thumbs->outputs.end()) return;
+  // The first heightfield or image output, in the colours of its kind.
+  HeightfieldPtr field;
+  ImagePtr image;
+  std::string port;
+  for (std::size_t k = 0; k < it->second.size() && k < node.type->outputs.size(); ++k) {
+    if (auto* h = std::get_if<HeightfieldPtr>(&it->second[k]); h && *h) field = *h;
+    else if (auto* im = std::get_if<ImagePtr>(&it->second[k]); im && *im) image = *im;
+    else continue;
+    port = node.type->outputs[k].name;
+    break;
+  }
+  const void* data = field ? static_cast<const void*>(field.get()) : static_cast<const void*>(image.get());
+  if (!data) return;
+  Thumbnail& t = thumbnails_[node.id];
+  if (t.data != data) {
+    const PreviewPixels px = field ? render_heightfield(*field, style_for(resolve_output_kind(controller_.document().graph(), node.id, port)))
+                                   : render_image(*image);
+    t.texture.upload(px.width, px.height, px.rgba.data());
+    t.data = data;
+    t.field = field;
+    t.image = image;
+  }
+  // Fitted, keeping the world's aspect ratio.
+  const double aspect = static_cast<double>(t.texture.width()) / std::max(1, t.texture.height());
+  glm::dvec2 size = box.size();
+  if (size.x / size.y > aspect) size.x = size.y * aspect;
+  else size.y = size.x / aspect;
+  const glm::dvec2 a = box.center() - size * 0.5;
+  dl->AddImage(t.texture.imgui_id(), iv(a), iv(a + size));
 }
 
 void NodeCanvasView::draw_problems_banner(ImVec2 origin, ImVec2 size) {
@@ -327,6 +368,8 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
                       theme::with_alpha(optional ? theme::kTextDim : theme::kText, alpha), label);
         }
       }
+
+    if (nl.thumbnail) draw_thumbnail(dl, node, v.to_screen(*nl.thumbnail));
 
     // Status line: phase and last time, or a progress bar while computing.
     if (show_text) {

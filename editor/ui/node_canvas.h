@@ -10,6 +10,7 @@
 
 #include "editor/model/canvas_controller.h"
 #include "editor/model/evaluation_controller.h"
+#include "editor/ui/gl_texture.h"
 
 namespace orogen::editor {
 
@@ -41,6 +42,15 @@ class NodeCanvasView {
   void draw_palette();
   void draw_tooltips();
   void draw_problems_banner(ImVec2 origin, ImVec2 size);
+  void draw_thumbnail(ImDrawList* dl, const Node& node, const Rect& screen_box);
+
+  struct Thumbnail {
+    GlTexture texture;
+    const void* data = nullptr;  // the result shown (held below, so the address stays its own)
+    HeightfieldPtr field;
+    ImagePtr image;
+  };
+  std::map<std::string, Thumbnail> thumbnails_;
 
   ImFont* text_font(float size) const;
 

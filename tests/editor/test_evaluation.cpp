@@ -184,6 +184,23 @@ TEST(EvaluationController, BuildStatesHoldUntilAnEdit) {
   EXPECT_EQ(ec.node_state("scatter").phase, Phase::Stale);
 }
 
+TEST(EvaluationController, ThumbnailsOfEveryNodeAtLowResolutionLeaveStatesAlone) {
+  EvaluationController ec;
+  Graph g = test::chain_graph();
+  g.domain.size = {2000.0, 1000.0};
+  ec.request_thumbnails(g, 7);
+  ec.request_preview(g, {"mid"}, 7);  // a preview goes first, cancelling the thumbnails, which then resume
+  ec.wait_idle();
+  const auto t = ec.thumbnails();
+  ASSERT_TRUE(t);
+  EXPECT_EQ(t->revision, 7u);
+  for (const char* id : {"src", "mid", "out", "scatter"}) EXPECT_TRUE(t->outputs.count(id)) << id;
+  const auto& h = std::get<HeightfieldPtr>(t->outputs.at("out").front());
+  EXPECT_EQ(h->domain.resolution, glm::ivec2(EvaluationController::kThumbnailResolution, EvaluationController::kThumbnailResolution / 2));
+  EXPECT_EQ(ec.node_state("out").phase, Phase::Unknown) << "thumbnails do not change the node states";
+  EXPECT_EQ(ec.node_state("mid").phase, Phase::Computed);
+}
+
 TEST(EvaluationController, BuildCanBeCancelled) {
   EvaluationController ec;
   Graph g = test::chain_graph();
