@@ -1,5 +1,6 @@
 // The evaluation controller: previews run in the background, recompute only what an edit affects, hit the
 // cache after undo, cancel superseded runs, and builds write at full resolution.
+#include <atomic>
 #include <chrono>
 #include <thread>
 
@@ -150,7 +151,7 @@ TEST(EvaluationController, BuildEvaluatesAtFullResolution) {
 
 TEST(EvaluationController, NodeStatesShowWhatTheBuildDid) {
   EvaluationController ec;
-  int notified = 0;
+  std::atomic<int> notified{0};
   ec.set_on_change([&] { ++notified; });
   Graph g = test::chain_graph();
   ec.request_preview(g, {"out"}, 1);
@@ -159,7 +160,9 @@ TEST(EvaluationController, NodeStatesShowWhatTheBuildDid) {
   g.disconnect("mid", "a");  // the build fails on mid (the preview did not see that graph)
   ec.start_build(g, {});
   ec.wait_idle();
-  EXPECT_GE(notified, 2);  // the preview and the build woke the UI
+  // The preview and the build woke the UI (the call follows the end of the run, so wait a moment for it).
+  for (int k = 0; k < 5000 && notified < 2; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_GE(notified.load(), 2);
   EXPECT_EQ(ec.node_state("mid").phase, Phase::Failed);
   EXPECT_EQ(ec.node_state("mid").message.rfind("build: ", 0), 0u) << ec.node_state("mid").message;
   EXPECT_EQ(ec.node_state("out").phase, Phase::Computed) << "a skip in the build keeps the preview's state";
