@@ -16,7 +16,7 @@
 
 namespace orogen {
 
-inline constexpr int kGraphFormatVersion = 1;
+inline constexpr int kGraphFormatVersion = 2;
 inline constexpr const char* kGraphFormatName = "orogen-graph";
 
 struct Diagnostic {

@@ -50,7 +50,7 @@ std::string ParamDecl::check(const ParamValue& v) const {
     case ParamType::Color: {
       const auto& c = std::get<glm::vec4>(v);
       for (int k = 0; k < 4; ++k)
-        if (!std::isfinite(c[k])) return "colour components must be finite";
+        if (!std::isfinite(c[k])) return "color components must be finite";
       return {};
     }
     case ParamType::Enum: {

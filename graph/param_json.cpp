@@ -46,7 +46,7 @@ std::optional<std::vector<double>> read_numbers(const json& j, std::size_t n, st
 }
 
 std::optional<glm::vec4> read_color(const json& j, const std::string& what, std::string& error) {
-  auto c = read_numbers(j, 4, 3, "a colour [r, g, b] or [r, g, b, a]", what, error);
+  auto c = read_numbers(j, 4, 3, "a color [r, g, b] or [r, g, b, a]", what, error);
   if (!c) return std::nullopt;
   return glm::vec4(static_cast<float>((*c)[0]), static_cast<float>((*c)[1]), static_cast<float>((*c)[2]),
                    c->size() == 4 ? static_cast<float>((*c)[3]) : 1.0f);
@@ -138,7 +138,7 @@ std::optional<ParamValue> convert(const json& j, const ParamDecl& decl, std::str
         }
         auto position = read_number(s[0], what + "position: ", error);
         if (!position) return std::nullopt;
-        auto color = read_color(s[1], what + "colour: ", error);
+        auto color = read_color(s[1], what + "color: ", error);
         if (!color) return std::nullopt;
         gradient.stops.push_back({*position, *color});
       }

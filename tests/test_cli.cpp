@@ -22,7 +22,7 @@ std::string constant_graph(const std::string& path, double value = 5.0) {
   "nodes": [
     { "id": "flat", "type": "Constant", "params": { "value": )" +
          std::to_string(value) + R"( } },
-    { "id": "save", "type": "WriteHeightfield", "inputs": { "height": "flat.out" }, "params": { "path": ")" + path +
+    { "id": "save", "type": "WriteHeightfield", "inputs": { "in": "flat.out" }, "params": { "path": ")" + path +
          R"(" } }
   ]
 })";
@@ -153,9 +153,9 @@ TEST(Cli, FailingNodeExitsOneAndReportsIt) {
   "domain": { "size": [100, 100], "resolution": [16, 16] },
   "nodes": [
     { "id": "missing", "type": "ReadHeightfield", "params": { "path": "/nonexistent/height.exr" } },
-    { "id": "save_missing", "type": "WriteHeightfield", "inputs": { "height": "missing.height" }, "params": { "path": "a.exr" } },
+    { "id": "save_missing", "type": "WriteHeightfield", "inputs": { "in": "missing.height" }, "params": { "path": "a.exr" } },
     { "id": "flat", "type": "Constant" },
-    { "id": "save_flat", "type": "WriteHeightfield", "inputs": { "height": "flat.out" }, "params": { "path": "b.exr" } }
+    { "id": "save_flat", "type": "WriteHeightfield", "inputs": { "in": "flat.out" }, "params": { "path": "b.exr" } }
   ]
 })");
   auto r = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "--stats",

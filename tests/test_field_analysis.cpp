@@ -23,7 +23,7 @@ TEST(Slope, PlaneZEqualsKxIsAtanKEverywhereForSeveralSpacings) {
     const Domain d = Domain::from_extent({0, 0}, {40 * spacing, 30 * spacing}, {41, 31});
     for (double k : {0.1, 0.5, 1.0, 3.0}) {
       const auto z = field_from(d, [=](double x, double) { return k * x; });
-      const auto s = run_field("Slope", d, {}, {{"height", z}});
+      const auto s = run_field("Slope", d, {}, {{"in", z}});
       const double expected = std::atan(k) * kDeg;
       for (int j = 0; j < d.height(); ++j)
         for (int i = 0; i < d.width(); ++i)
@@ -37,7 +37,7 @@ TEST(Slope, TiltedPlaneInAnyDirectionAndAnisotropicSpacing) {
   const Domain d = Domain::from_extent({-60, 100}, {60 * 3.0, 20 * 7.0}, {61, 21});
   const double a = 0.3, b = -0.4;  // |grad| = 0.5
   const auto z = field_from(d, [=](double x, double y) { return a * x + b * y + 17.0; });
-  const auto s = run_field("Slope", d, {}, {{"height", z}});
+  const auto s = run_field("Slope", d, {}, {{"in", z}});
   for (float v : s->data) ASSERT_NEAR(v, std::atan(0.5) * kDeg, 2e-3);
 }
 
@@ -55,9 +55,9 @@ TEST(Aspect, KnownPlanesFaceTheirDownhillCompassDirection) {
   };
   for (const auto& c : cases) {
     const auto z = field_from(d, [&](double x, double y) { return c.a * x + c.b * y; });
-    const auto asp = run_field("Aspect", d, {}, {{"height", z}});
-    const auto north = run_field("Aspect", d, {{"output", std::string("northness")}}, {{"height", z}});
-    const auto east = run_field("Aspect", d, {{"output", std::string("eastness")}}, {{"height", z}});
+    const auto asp = run_field("Aspect", d, {}, {{"in", z}});
+    const auto north = run_field("Aspect", d, {{"output", std::string("northness")}}, {{"in", z}});
+    const auto east = run_field("Aspect", d, {{"output", std::string("eastness")}}, {{"in", z}});
     for (int j = 0; j < 11; ++j)
       for (int i = 0; i < 11; ++i) {
         ASSERT_NEAR(asp->at(i, j), c.expected, 1e-3) << c.a << "," << c.b;
@@ -66,7 +66,7 @@ TEST(Aspect, KnownPlanesFaceTheirDownhillCompassDirection) {
       }
   }
   const auto flat = field_from(d, [](double, double) { return 5.0; });
-  EXPECT_EQ(run_field("Aspect", d, {{"flat_value", -1.0}}, {{"height", flat}})->at(4, 4), -1.0f);
+  EXPECT_EQ(run_field("Aspect", d, {{"flat_value", -1.0}}, {{"in", flat}})->at(4, 4), -1.0f);
   EXPECT_EQ(aspect_value(0, 0, AspectOutput::Northness, -1.0), 0.0);
 }
 
@@ -82,10 +82,10 @@ TEST(Curvature, SphereCapMatchesAnalyticValues) {
   for (int n : {201, 401}) {  // 4 m and 2 m spacing
     const Domain d = Domain::from_extent({0, 0}, {800, 800}, {n, n});
     const auto z = field_from(d, [&](double x, double y) { return cap.z(x, y); });
-    const auto profile = run_field("Curvature", d, {{"type", std::string("profile")}}, {{"height", z}});
-    const auto plan = run_field("Curvature", d, {{"type", std::string("plan")}}, {{"height", z}});
-    const auto tangential = run_field("Curvature", d, {{"type", std::string("tangential")}}, {{"height", z}});
-    const auto mean = run_field("Curvature", d, {{"type", std::string("mean")}}, {{"height", z}});
+    const auto profile = run_field("Curvature", d, {{"type", std::string("profile")}}, {{"in", z}});
+    const auto plan = run_field("Curvature", d, {{"type", std::string("plan")}}, {{"in", z}});
+    const auto tangential = run_field("Curvature", d, {{"type", std::string("tangential")}}, {{"in", z}});
+    const auto mean = run_field("Curvature", d, {{"type", std::string("mean")}}, {{"in", z}});
     int checked = 0;
     for (int j = 1; j < n - 1; j += 3)
       for (int i = 1; i < n - 1; i += 3) {
@@ -107,9 +107,9 @@ TEST(Curvature, ParaboloidBowlIsConcaveWithKnownValues) {
   const double a = 500.0;
   const Domain d = Domain::from_extent({-200, -200}, {400, 400}, {201, 201});
   const auto z = field_from(d, [&](double x, double y) { return (x * x + y * y) / (2 * a); });
-  const auto mean = run_field("Curvature", d, {{"type", std::string("mean")}}, {{"height", z}});
-  const auto profile = run_field("Curvature", d, {{"type", std::string("profile")}}, {{"height", z}});
-  const auto plan = run_field("Curvature", d, {{"type", std::string("plan")}}, {{"height", z}});
+  const auto mean = run_field("Curvature", d, {{"type", std::string("mean")}}, {{"in", z}});
+  const auto profile = run_field("Curvature", d, {{"type", std::string("profile")}}, {{"in", z}});
+  const auto plan = run_field("Curvature", d, {{"type", std::string("plan")}}, {{"in", z}});
   EXPECT_NEAR(mean->at(100, 100), -1.0 / a, 1e-6);
   // Along the slope line the parabola y = r^2/2a has curvature (1/a) / (1 + (r/a)^2)^1.5; contours are
   // circles of radius r, curving towards the bowl's axis (concave).
@@ -121,7 +121,7 @@ TEST(Curvature, ParaboloidBowlIsConcaveWithKnownValues) {
   // A plane has zero curvature of every kind.
   const auto plane = field_from(d, [](double x, double y) { return 0.2 * x - 0.1 * y; });
   for (const char* kind : {"profile", "plan", "tangential", "mean"}) {
-    const auto c = run_field("Curvature", d, {{"type", std::string(kind)}}, {{"height", plane}});
+    const auto c = run_field("Curvature", d, {{"type", std::string(kind)}}, {{"in", plane}});
     for (float v : c->data) ASSERT_NEAR(v, 0.0, 2e-5) << kind;  // float rounding of heights only
   }
 }
@@ -130,7 +130,7 @@ TEST(Normals, PlaneGivesItsUnitNormalEverywhere) {
   const Domain d = Domain::from_extent({0, 0}, {90, 50}, {31, 11});  // 3 m x 5 m spacing
   const double a = 0.6, b = -0.25;
   const auto z = field_from(d, [=](double x, double y) { return a * x + b * y; });
-  const auto img = run_node("Normals", d, {}, {{"height", z}}).get<Image>();
+  const auto img = run_node("Normals", d, {}, {{"in", z}}).get<Image>();
   ASSERT_EQ(img->channels, 3);
   const double len = std::sqrt(a * a + b * b + 1);
   for (int j = 0; j < d.height(); ++j)
@@ -141,7 +141,7 @@ TEST(Normals, PlaneGivesItsUnitNormalEverywhere) {
       ASSERT_NEAR(n[2], 1 / len, 1e-5);
       ASSERT_NEAR(n[0] * n[0] + n[1] * n[1] + n[2] * n[2], 1.0, 1e-5);
     }
-  const auto enc = run_node("Normals", d, {{"encoding", std::string("unsigned")}}, {{"height", z}}).get<Image>();
+  const auto enc = run_node("Normals", d, {{"encoding", std::string("unsigned")}}, {{"in", z}}).get<Image>();
   EXPECT_NEAR(enc->pixel(3, 3)[0], -a / len * 0.5 + 0.5, 1e-6);
   EXPECT_NEAR(enc->pixel(3, 3)[2], 1 / len * 0.5 + 0.5, 1e-6);
 }

@@ -43,7 +43,7 @@ struct Case {
 std::vector<Case> cases() {
   const std::map<std::string, InputFn> one{{"in", hills}};
   const std::map<std::string, InputFn> two{{"a", hills}, {"b", hills2}};
-  const std::map<std::string, InputFn> height{{"height", hills}};
+  const std::map<std::string, InputFn> height{{"in", hills}};
   return {
       {"Subtract", "Subtract", {}, two},
       {"Min", "Min", {}, two},
@@ -72,8 +72,8 @@ std::vector<Case> cases() {
       {"CurvatureMean", "Curvature", {{"type", std::string("mean")}}, height, 2e-2},
       {"Normals", "Normals", {}, height, 1e-3},
       {"ColorRamp", "ColorRamp", {{"input_min", -200.0}, {"input_max", 500.0}}, one},
-      {"RadialFalloff", "RadialFalloff", {{"centre", glm::dvec2(1000, 900)}, {"radius", 800.0}}, {{"distance_offset", displacement}}},
-      {"Cone", "Cone", {{"centre", glm::dvec2(1000, 900)}, {"radius", 700.0}, {"height", 300.0}}, {}},
+      {"RadialFalloff", "RadialFalloff", {{"center", glm::dvec2(1000, 900)}, {"radius", 800.0}}, {{"distance_offset", displacement}}},
+      {"Cone", "Cone", {{"center", glm::dvec2(1000, 900)}, {"radius", 700.0}, {"height", 300.0}}, {}},
       {"Resample", "Resample", {{"spacing", 32.0}}, one, 1e-6, true},
       {"ResamplePrefilter", "Resample", {{"spacing", 20.0}, {"prefilter", true}}, one, 2e-3, true},
   };

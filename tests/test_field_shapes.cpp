@@ -15,7 +15,7 @@ using test::run_field;
 
 TEST(RadialFalloff, OneAtTheCentreZeroBeyondTheRadiusAndMonotone) {
   const Domain d = Domain::from_extent({0, 0}, {4000, 4000}, {401, 401});  // 10 m, centre on a sample
-  const auto m = run_field("RadialFalloff", d, {{"centre", glm::dvec2(2000, 2000)}, {"radius", 1500.0}});
+  const auto m = run_field("RadialFalloff", d, {{"center", glm::dvec2(2000, 2000)}, {"radius", 1500.0}});
   EXPECT_EQ(m->at(200, 200), 1.0f);
   for (int j = 0; j < 401; ++j)
     for (int i = 0; i < 401; ++i) {
@@ -37,25 +37,25 @@ TEST(RadialFalloff, OneAtTheCentreZeroBeyondTheRadiusAndMonotone) {
 TEST(RadialFalloff, ProfileCurveAndDistanceOffset) {
   const Domain d = Domain::from_extent({-1000, -1000}, {2000, 2000}, {201, 201});
   const CurveValue linear{{{0.0, 1.0}, {1.0, 0.0}}};
-  const auto m = run_field("RadialFalloff", d, {{"centre", glm::dvec2(0, 0)}, {"radius", 800.0}, {"profile", linear}});
+  const auto m = run_field("RadialFalloff", d, {{"center", glm::dvec2(0, 0)}, {"radius", 800.0}, {"profile", linear}});
   EXPECT_NEAR(m->at(140, 100), 1.0 - 400.0 / 800.0, 1e-6);  // x = 400 m
   EXPECT_NEAR(m->at(100, 160), 1.0 - 600.0 / 800.0, 1e-6);  // y = 600 m
   // A constant offset of +200 m moves every contour 200 m inwards.
   const auto offset = field_from(d, [](double, double) { return 200.0; });
-  const auto shifted = run_field("RadialFalloff", d, {{"centre", glm::dvec2(0, 0)}, {"radius", 800.0}, {"profile", linear}},
+  const auto shifted = run_field("RadialFalloff", d, {{"center", glm::dvec2(0, 0)}, {"radius", 800.0}, {"profile", linear}},
                                  {{"distance_offset", offset}});
   EXPECT_NEAR(shifted->at(120, 100), m->at(140, 100), 1e-6);  // 200 m + 200 m == 400 m
 }
 
 TEST(Cone, ApexHeightLinearFlanksAndZeroBeyond) {
   const Domain d = Domain::from_extent({0, 0}, {1000, 1000}, {201, 201});  // 5 m
-  const auto h = run_field("Cone", d, {{"centre", glm::dvec2(500, 500)}, {"radius", 300.0}, {"height", 150.0}});
+  const auto h = run_field("Cone", d, {{"center", glm::dvec2(500, 500)}, {"radius", 300.0}, {"height", 150.0}});
   EXPECT_EQ(h->at(100, 100), 150.0f);
   EXPECT_NEAR(h->at(130, 100), 150.0 * (1 - 150.0 / 300.0), 1e-4);
   EXPECT_EQ(h->at(170, 100), 0.0f);
   EXPECT_EQ(h->at(0, 0), 0.0f);
   // On the flanks, away from apex and rim, the slope is atan(height / radius).
-  const auto s = run_field("Slope", d, {}, {{"height", h}});
+  const auto s = run_field("Slope", d, {}, {{"in", h}});
   for (int i : {110, 120, 150}) EXPECT_NEAR(s->at(i, 100), std::atan(0.5) * 180 / std::numbers::pi, 1e-3);
 }
 

@@ -121,7 +121,7 @@ TEST(GraphFile, CanonicalTextIsReproducedExactly) {
   // What serialize_graph writes: this is the documented look of a file.
   const std::string text = R"({
   "format": "orogen-graph",
-  "version": 1,
+  "version": 2,
   "domain": {
     "size": [4096, 2048.5],
     "resolution": [1025, 513],
@@ -209,7 +209,7 @@ TEST(GraphFile, WritesOnlyExplicitParametersInDeclarationOrderAndOmitsEmptySecti
 TEST(GraphFile, EmptyGraphRoundTrips) {
   const Graph g;
   const std::string text = serialize_graph(g);
-  EXPECT_EQ(text, "{\n  \"format\": \"orogen-graph\",\n  \"version\": 1,\n  \"domain\": {\n    \"size\": [1024, 1024],\n"
+  EXPECT_EQ(text, "{\n  \"format\": \"orogen-graph\",\n  \"version\": 2,\n  \"domain\": {\n    \"size\": [1024, 1024],\n"
                   "    \"resolution\": [256, 256]\n  },\n  \"nodes\": []\n}\n");
   const auto loaded = parse_ok(text);
   ASSERT_TRUE(loaded.ok());
@@ -362,7 +362,7 @@ TEST(GraphFile, OlderVersionsAreMigrated) {
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(std::get<std::int64_t>(r.graph->param("s", "octaves")), 9);
   // Saving writes the current version.
-  EXPECT_THAT(serialize_graph(*r.graph), HasSubstr("\"version\": 1,"));
+  EXPECT_THAT(serialize_graph(*r.graph), HasSubstr("\"version\": 2,"));
 
   // Problems in a migrated file are still reported, with paths in the migrated document.
   const auto bad = parse_graph(R"({"format": "orogen-graph", "version": 0,
@@ -572,12 +572,12 @@ std::vector<Malformed> malformed_cases() {
       {"WrongFormat", R"({"format": "gaea-graph", "version": 1, "nodes": []})", "/format", "",
        "\"format\" must be \"orogen-graph\", found the string \"gaea-graph\""},
       {"MissingVersion", R"({"format": "orogen-graph", "nodes": []})", "/version", "",
-       "missing \"version\": the format version (this build writes 1)"},
+       "missing \"version\": the format version (this build writes 2)"},
       {"VersionNotInteger", R"({"format": "orogen-graph", "version": 1.0, "nodes": []})", "/version", "",
        "\"version\" must be an integer, found the number 1.0"},
-      {"NewerVersion", R"({"format": "orogen-graph", "version": 2, "nodes": [{"bad": 1}], "future": true})",
+      {"NewerVersion", R"({"format": "orogen-graph", "version": 3, "nodes": [{"bad": 1}], "future": true})",
        "/version", "",
-       "this file was written by a newer Orogen (version 2, this build reads up to 1); update Orogen to open it"},
+       "this file was written by a newer Orogen (version 3, this build reads up to 2); update Orogen to open it"},
       {"UnknownTopLevelField", with_nodes("", R"(, "editr": {})"), "/editr", "",
        "unknown field 'editr' in the file (did you mean 'editor'?)"},
       {"MissingNodes", R"({"format": "orogen-graph", "version": 1})", "/nodes", "",
@@ -632,7 +632,7 @@ std::vector<Malformed> malformed_cases() {
        "/nodes/0/params/enabled", "src", "parameter 'enabled' (bool): expected true or false, found the number 1"},
       {"ShortColour", with_nodes(R"({"id": "src", "type": "TestSource", "params": {"tint": [1, 0]}})"),
        "/nodes/0/params/tint", "src",
-       "parameter 'tint' (color): expected a colour [r, g, b] or [r, g, b, a], found an array of 2 elements"},
+       "parameter 'tint' (color): expected a color [r, g, b] or [r, g, b, a], found an array of 2 elements"},
       {"Vec3ComponentNotNumber",
        with_nodes(R"({"id": "src", "type": "TestSource", "params": {"direction": [0, "up", 1]}})"),
        "/nodes/0/params/direction", "src",
@@ -643,7 +643,7 @@ std::vector<Malformed> malformed_cases() {
       {"GradientStopMalformed",
        with_nodes(R"({"id": "src", "type": "TestSource", "params": {"palette": [[0, [0, 0, 0]], [1, "white"]]}})"),
        "/nodes/0/params/palette", "src",
-       "parameter 'palette' (gradient): stop 1: colour: expected a colour [r, g, b] or [r, g, b, a], found the "
+       "parameter 'palette' (gradient): stop 1: color: expected a color [r, g, b] or [r, g, b, a], found the "
        "string \"white\""},
       {"WrongFileExtension", with_nodes(R"({"id": "src", "type": "TestSource", "params": {"file": "h.jpg"}})"),
        "/nodes/0/params/file", "src", "parameter 'file' (path): file extension must be one of: .exr, .png"},

@@ -12,7 +12,7 @@ namespace {
 void write_constant_exr(const std::filesystem::path& dir, const std::string& name, float value, int resolution) {
   const Domain d = Domain::from_extent({0, 0}, {100, 100}, {resolution, resolution});
   auto flat = run_node("Constant", d, {{"value", double{value}}});
-  run_node("WriteHeightfield", d, {{"path", std::string(name)}}, {{"height", flat.outputs[0]}},
+  run_node("WriteHeightfield", d, {{"path", std::string(name)}}, {{"in", flat.outputs[0]}},
            OutputPolicy{dir, false});
 }
 

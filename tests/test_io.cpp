@@ -86,7 +86,7 @@ class IoTest : public ::testing::Test {
   // Writes `h` with WriteHeightfield to out/<name>; returns the file.
   fs::path write_height(const HeightfieldPtr& h, const std::string& name, std::map<std::string, ParamValue> params = {}) {
     params["path"] = name;
-    const auto files = run_writer("WriteHeightfield", params, {{"height", h}}, policy_);
+    const auto files = run_writer("WriteHeightfield", params, {{"in", h}}, policy_);
     EXPECT_EQ(files.size(), 1u);
     return files.empty() ? fs::path() : files.front();
   }
@@ -123,6 +123,61 @@ TEST_F(IoTest, TiffRoundTripIsBitExact) {
   EXPECT_EQ(raster.format, "float");
   EXPECT_EQ(raster.width, 17);
   EXPECT_EQ(raster.height, 13);
+}
+
+std::vector<float> read_pixels_float(const fs::path& file, int& w, int& h, int& n);
+std::vector<std::uint8_t> read_pixels_u8(const fs::path& file, int& w, int& h, int& n);
+
+// Blocks of scanlines: a height that is not a multiple of the block (here 37 rows of 16, 16 and 5), every
+// format, every compression level reads back the same, and the level changes the file.
+TEST_F(IoTest, ChunkedWritesAndCompressionLevels) {
+  const Domain d = Domain::from_extent({0, 0}, {640, 370}, {129, 37});
+  // Smooth and on a 1/64 m grid: compressible, so the levels give different files.
+  auto smooth = std::make_shared<Heightfield>(d);
+  for (int j = 0; j < d.height(); ++j)
+    for (int i = 0; i < d.width(); ++i)
+      smooth->at(i, j) = static_cast<float>(std::round(64.0 * 100.0 * std::sin(d.x(i) / 50.0) * std::cos(d.y(j) / 30.0)) / 64.0);
+  const HeightfieldPtr h = smooth;
+  for (const std::string ext : {".exr", ".tif", ".png"}) {
+    std::map<int, std::uintmax_t> sizes;
+    for (int level : {0, 1, 9}) {
+      const std::string name = "level" + std::to_string(level) + ext;
+      const fs::path file = write_height(h, name, {{"compression_level", std::int64_t(level)}});
+      sizes[level] = fs::file_size(file);
+      const auto back = read_height(file, d);
+      for (std::size_t k = 0; k < h->data.size(); ++k) {
+        if (ext == ".png") {
+          const auto range = data_range(*h);
+          ASSERT_NEAR(back->data[k], h->data[k], 0.5 * (range.max - range.min) / 65535 + 1e-4) << name << " " << k;
+        } else {
+          ASSERT_EQ(back->data[k], h->data[k]) << name << " " << k;
+        }
+      }
+    }
+    EXPECT_GT(sizes[0], sizes[1]) << ext << ": level 0 stores, 1 compresses";
+    EXPECT_NE(sizes[1], sizes[9]) << ext << ": the level reaches the compressor";
+  }
+  // Images too: 8-bit PNG and float EXR, north row first across block boundaries.
+  auto img = std::make_shared<Image>(d, 3);
+  for (std::size_t k = 0; k < img->data.size(); ++k) img->data[k] = static_cast<float>((k * 7919 % 1000) / 1000.0);
+  for (const std::string name : {"c0.exr", "c9.png"}) {
+    const std::int64_t level = name[1] == '0' ? 0 : 9;
+    const auto files = run_writer("WriteImage", {{"path", name}, {"srgb", false}, {"compression_level", level}},
+                                  {{"in", ImagePtr(img)}}, policy_);
+    int w = 0, hh = 0, n = 0;
+    if (name == "c0.exr") {
+      const auto px = read_pixels_float(files.at(0), w, hh, n);
+      for (int r = 0; r < hh; ++r)
+        for (int i = 0; i < w; ++i)
+          for (int c = 0; c < n; ++c) ASSERT_EQ(px[static_cast<std::size_t>((r * w + i) * n + c)], img->pixel(i, hh - 1 - r)[c]);
+    } else {
+      const auto px = read_pixels_u8(files.at(0), w, hh, n);
+      for (int r = 0; r < hh; ++r)
+        for (int i = 0; i < w; ++i)
+          for (int c = 0; c < n; ++c)
+            ASSERT_EQ(px[static_cast<std::size_t>((r * w + i) * n + c)], std::lround(img->pixel(i, hh - 1 - r)[c] * 255.0));
+    }
+  }
 }
 
 TEST_F(IoTest, Png16RoundTripWithinOneQuantisationStep) {
@@ -291,7 +346,7 @@ TEST_F(IoTest, FailureMidWriteLeavesThePreviousFileIntact) {
     }
   };
   EXPECT_THROW(run_writer("WriteHeightfield", {{"path", std::string("keep.png")}},
-                          {{"height", varied_field(d)}}, policy_, on_progress, &cancel),
+                          {{"in", varied_field(d)}}, policy_, on_progress, &cancel),
                Cancelled);
   EXPECT_TRUE(temporary_seen);
   EXPECT_EQ(read_bytes(file), before);
@@ -306,7 +361,7 @@ TEST_F(IoTest, FailureMidWriteLeavesThePreviousFileIntact) {
     try {
       run_writer("WriteHeightfield",
                  {{"path", name}, {"range", std::string("fixed")}, {"height_min", -500.0}, {"height_max", 500.0}},
-                 {{"height", HeightfieldPtr(bad)}}, policy_);
+                 {{"in", HeightfieldPtr(bad)}}, policy_);
       FAIL() << "no error for a NaN height in " << name;
     } catch (const NodeError& e) {
       EXPECT_NE(std::string(e.what()).find("not a finite number"), std::string::npos) << e.what();
@@ -321,7 +376,7 @@ TEST_F(IoTest, FailureMidWriteLeavesThePreviousFileIntact) {
 TEST_F(IoTest, OutputPathRule) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
   const auto h = ramp_field(d, 1, 0, 0);
-  const std::map<std::string, PortValue> in{{"height", h}};
+  const std::map<std::string, PortValue> in{{"in", h}};
   const fs::path outside = dir_ / "outside.exr";
   // Absolute and climbing paths are refused under the default policy, through run_node as well.
   EXPECT_THROW(run_node("WriteHeightfield", d, {{"path", outside.string()}}, in, policy_), NodeError);
@@ -346,7 +401,7 @@ TEST_F(IoTest, UncreatableDirectoryIsANodeError) {
   fs::create_directories(policy_.output_dir);
   std::ofstream(policy_.output_dir / "blocked") << "a file where a directory is needed";
   try {
-    run_node("WriteHeightfield", d, {{"path", std::string("blocked/h.exr")}}, {{"height", ramp_field(d, 1, 0, 0)}}, policy_);
+    run_node("WriteHeightfield", d, {{"path", std::string("blocked/h.exr")}}, {{"in", ramp_field(d, 1, 0, 0)}}, policy_);
     FAIL() << "no error";
   } catch (const NodeError& e) {
     EXPECT_NE(std::string(e.what()).find("blocked"), std::string::npos) << e.what();
@@ -355,7 +410,7 @@ TEST_F(IoTest, UncreatableDirectoryIsANodeError) {
 
 TEST_F(IoTest, WriterParameterErrors) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
-  const std::map<std::string, PortValue> in{{"height", ramp_field(d, 1, 0, 0)}};
+  const std::map<std::string, PortValue> in{{"in", ramp_field(d, 1, 0, 0)}};
   EXPECT_THROW(run_node("WriteHeightfield", d, {{"path", std::string("h.exr")}, {"format", std::string("png16")}}, in, policy_),
                NodeError);
   EXPECT_THROW(run_node("WriteHeightfield", d,
@@ -413,6 +468,13 @@ std::vector<T> read_pixels(const fs::path& file, OIIO::TypeDesc type, int& w, in
   return px;
 }
 
+std::vector<float> read_pixels_float(const fs::path& file, int& w, int& h, int& n) {
+  return read_pixels<float>(file, OIIO::TypeDesc::FLOAT, w, h, n);
+}
+std::vector<std::uint8_t> read_pixels_u8(const fs::path& file, int& w, int& h, int& n) {
+  return read_pixels<std::uint8_t>(file, OIIO::TypeDesc::UINT8, w, h, n);
+}
+
 TEST(ImageFile, SrgbTransferCurve) {
   EXPECT_DOUBLE_EQ(linear_to_srgb(0.0), 0.0);
   EXPECT_DOUBLE_EQ(linear_to_srgb(1.0), 1.0);
@@ -424,7 +486,7 @@ TEST(ImageFile, SrgbTransferCurve) {
 TEST_F(IoTest, WriteImagePng8EncodesSrgbAndKeepsAlphaLinear) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {23, 11});
   const auto img = test_image(d, 4);
-  const auto files = run_writer("WriteImage", {{"path", std::string("img/colour.png")}}, {{"image", img}}, policy_);
+  const auto files = run_writer("WriteImage", {{"path", std::string("img/colour.png")}}, {{"in", img}}, policy_);
   ASSERT_EQ(files.size(), 1u);
   int w = 0, h = 0, n = 0;
   const auto px = read_pixels<std::uint8_t>(files[0], OIIO::TypeDesc::UINT8, w, h, n);
@@ -445,7 +507,7 @@ TEST_F(IoTest, WriteImagePng16Linear) {
   const auto img = test_image(d, 1);
   const auto files = run_writer("WriteImage",
                                 {{"path", std::string("grey.png")}, {"bit_depth", std::string("16")}, {"srgb", false}},
-                                {{"image", img}}, policy_);
+                                {{"in", img}}, policy_);
   int w = 0, h = 0, n = 0;
   const auto px = read_pixels<std::uint16_t>(files.at(0), OIIO::TypeDesc::UINT16, w, h, n);
   ASSERT_EQ(n, 1);
@@ -460,7 +522,7 @@ TEST_F(IoTest, WriteImageFloatFormatsAreExact) {
   auto img = std::make_shared<Image>(*test_image(d, 5));
   img->channel_names = {"grass", "rock", "sand", "snow", "water"};
   for (const std::string name : {"weights.exr", "weights.tif"}) {
-    const auto files = run_writer("WriteImage", {{"path", name}}, {{"image", ImagePtr(img)}}, policy_);
+    const auto files = run_writer("WriteImage", {{"path", name}}, {{"in", ImagePtr(img)}}, policy_);
     int w = 0, h = 0, n = 0;
     const auto px = read_pixels<float>(files.at(0), OIIO::TypeDesc::FLOAT, w, h, n);
     ASSERT_EQ(n, 5);
@@ -477,7 +539,7 @@ TEST_F(IoTest, WriteImageFloatFormatsAreExact) {
     }
   }
   // PNG cannot hold 5 channels: a clear error, no file.
-  EXPECT_THROW(run_writer("WriteImage", {{"path", std::string("weights.png")}}, {{"image", ImagePtr(img)}}, policy_),
+  EXPECT_THROW(run_writer("WriteImage", {{"path", std::string("weights.png")}}, {{"in", ImagePtr(img)}}, policy_),
                NodeError);
   EXPECT_FALSE(fs::exists(policy_.output_dir / "weights.png"));
   EXPECT_TRUE(temporaries_in(dir_).empty());
@@ -521,7 +583,7 @@ void expect_row(const std::vector<std::string>& fields, const Points& p, std::si
 
 TEST_F(IoTest, WritePointsCsv) {
   const auto p = test_points();
-  const auto files = run_writer("WritePoints", {{"path", std::string("pts/trees.csv")}}, {{"points", p}}, policy_);
+  const auto files = run_writer("WritePoints", {{"path", std::string("pts/trees.csv")}}, {{"in", p}}, policy_);
   const auto lines = split(read_bytes(files.at(0)), '\n');
   ASSERT_EQ(lines.size(), p->size() + 1);
   EXPECT_EQ(lines[0], "x,y,z,qw,qx,qy,qz,sx,sy,sz,class,density,zeta_age");
@@ -530,7 +592,7 @@ TEST_F(IoTest, WritePointsCsv) {
 
 TEST_F(IoTest, WritePointsPly) {
   const auto p = test_points();
-  const auto files = run_writer("WritePoints", {{"path", std::string("trees.ply")}}, {{"points", p}}, policy_);
+  const auto files = run_writer("WritePoints", {{"path", std::string("trees.ply")}}, {{"in", p}}, policy_);
   const auto lines = split(read_bytes(files.at(0)), '\n');
   const auto end = std::find(lines.begin(), lines.end(), "end_header");
   ASSERT_NE(end, lines.end());
@@ -553,18 +615,18 @@ TEST_F(IoTest, WritePointsPly) {
 TEST_F(IoTest, WritePointsAttributeNames) {
   auto p = std::make_shared<Points>(*test_points());
   p->attribute("height, m");
-  const auto csv = run_writer("WritePoints", {{"path", std::string("q.csv")}}, {{"points", PointsPtr(p)}}, policy_);
+  const auto csv = run_writer("WritePoints", {{"path", std::string("q.csv")}}, {{"in", PointsPtr(p)}}, policy_);
   EXPECT_EQ(split(read_bytes(csv.at(0)), '\n')[0], "x,y,z,qw,qx,qy,qz,sx,sy,sz,class,density,\"height, m\",zeta_age");
-  EXPECT_THROW(run_writer("WritePoints", {{"path", std::string("q.ply")}}, {{"points", PointsPtr(p)}}, policy_), NodeError);
+  EXPECT_THROW(run_writer("WritePoints", {{"path", std::string("q.ply")}}, {{"in", PointsPtr(p)}}, policy_), NodeError);
   auto clash = std::make_shared<Points>(*test_points());
   clash->attribute("x");
-  EXPECT_THROW(run_writer("WritePoints", {{"path", std::string("c.csv")}}, {{"points", PointsPtr(clash)}}, policy_), NodeError);
+  EXPECT_THROW(run_writer("WritePoints", {{"path", std::string("c.csv")}}, {{"in", PointsPtr(clash)}}, policy_), NodeError);
   EXPECT_TRUE(temporaries_in(dir_).empty());
   EXPECT_FALSE(fs::exists(policy_.output_dir / "q.ply"));
 }
 
 TEST_F(IoTest, WritePointsEmpty) {
-  const auto files = run_writer("WritePoints", {{"path", std::string("none.csv")}}, {{"points", std::make_shared<const Points>()}}, policy_);
+  const auto files = run_writer("WritePoints", {{"path", std::string("none.csv")}}, {{"in", std::make_shared<const Points>()}}, policy_);
   EXPECT_EQ(read_bytes(files.at(0)), "x,y,z,qw,qx,qy,qz,sx,sy,sz,class\n");
 }
 

@@ -28,12 +28,12 @@ TEST(TerrainGraph, IsAnIslandWithMountainsAndAColourMap) {
   Evaluator evaluator;
   EvalRequest request;
   request.domain = d;
-  request.nodes = {"elevation", "colour", "mesh"};
+  request.nodes = {"elevation", "color", "mesh"};
   const EvalResult result = evaluator.evaluate(graph, request);
   ASSERT_TRUE(result.ok());
   const auto height = std::get<HeightfieldPtr>(result.output("elevation", "out", graph));
-  const auto colour = std::get<ImagePtr>(result.output("colour", "image", graph));
-  const auto mesh = std::get<MeshPtr>(result.output("mesh", "mesh", graph));
+  const auto colour = std::get<ImagePtr>(result.output("color", "out", graph));
+  const auto mesh = std::get<MeshPtr>(result.output("mesh", "out", graph));
   ASSERT_TRUE(height && colour && mesh);
 
   // Sea all around the border, land in the middle, high mountains somewhere.
@@ -74,7 +74,7 @@ TEST(TerrainGraph, WritesItsFourFiles) {
   request.domain = Domain::from_extent({0, 0}, {4096, 4096}, {129, 129});
   const EvalResult result = evaluator.evaluate(graph, request);
   ASSERT_TRUE(result.ok());
-  for (const char* file : {"terrain/height.exr", "terrain/height.png", "terrain/colour.png", "terrain/terrain.obj"}) {
+  for (const char* file : {"terrain/height.exr", "terrain/height.png", "terrain/color.png", "terrain/terrain.obj"}) {
     const auto p = dir / file;
     ASSERT_TRUE(std::filesystem::exists(p)) << p;
     EXPECT_GT(std::filesystem::file_size(p), 1000u) << p;

@@ -40,14 +40,15 @@ OROGEN_NODE(Aspect) {
   b.category("field").description(
       "Direction a slope faces (downhill), clockwise from north: north = world +y (0 deg), east = +x (90 deg), "
       "south 180, west 270. 'northness' (cos) and 'eastness' (sin) avoid the wrap at north and are 0 on flats; "
-      "useful for sun-facing vegetation rules (000's skew).");
-  b.input("height", PortType::Heightfield).description("Heights, metres");
-  b.output("aspect", PortType::Heightfield).description("Degrees in [0, 360), or northness / eastness in [-1, 1]").kind(OutputKind::Scalar);
+      "useful for sun-facing vegetation rules (the 'skew' of J. Hammes (2001), \"Modeling of ecosystems as a "
+      "data source for real-time terrain rendering\", Digital Earth Moving, LNCS 2181).");
+  b.input("in", PortType::Heightfield).description("Heights, metres");
+  b.output("out", PortType::Heightfield).description("Degrees in [0, 360), or northness / eastness in [-1, 1]").kind(OutputKind::Scalar);
   b.param_enum("output", {"degrees", "northness", "eastness"}, "degrees").description("What to output");
   b.param_float("flat_value", 0.0).range(-360.0, 360.0).unit("deg").description("degrees output on exactly flat samples");
   b.execute([](ExecContext& ctx) {
-    const auto z = ctx.require<Heightfield>("height");
-    ctx.set_output("aspect", aspect_field(*z, static_cast<AspectOutput>(ctx.enum_index("output")),
+    const auto z = ctx.require<Heightfield>("in");
+    ctx.set_output("out", aspect_field(*z, static_cast<AspectOutput>(ctx.enum_index("output")),
                                           ctx.param<double>("flat_value"), &ctx));
   });
 }

@@ -9,11 +9,13 @@ namespace orogen {
 OROGEN_NODE(BandMask) {
   b.category("field").description(
       "Mask of where a field lies in a band [min, max]: 1 inside, a smooth falloff outside, 0 beyond it. Feed "
-      "heights for elevation rules, Slope for slope rules (seed 000 Table 1, seed 004 splat rules), and "
-      "multiply masks to combine rules. The falloff width is `falloff` in the field's units, or, when that is "
-      "0, (max - min) / sharpness (000's sharpness: 2 fades over half the band width on each side).");
+      "heights for elevation rules, Slope for slope rules, and multiply masks to combine rules, as in the "
+      "ecosystem rules of J. Hammes (2001), \"Modeling of ecosystems as a data source for real-time terrain "
+      "rendering\", Digital Earth Moving, LNCS 2181. The falloff width is `falloff` in the field's units, or, "
+      "when that is 0, (max - min) / sharpness (Hammes' sharpness: 2 fades over half the band width on each "
+      "side).");
   b.input("in", PortType::Heightfield).description("Any field: heights (m), slope (deg), moisture, ...");
-  b.output("mask", PortType::Heightfield).description("Mask in 0..1").kind(OutputKind::Mask);
+  b.output("out", PortType::Heightfield).description("Mask in 0..1").kind(OutputKind::Mask);
   b.param_float("min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Lower edge of the band, in the field's units");
   b.param_float("max", 100.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Upper edge of the band (>= min), in the field's units");
   b.param_float("sharpness", 2.0).range(0.0, 1e6).soft_range(0.5, 50.0)
@@ -25,7 +27,7 @@ OROGEN_NODE(BandMask) {
     BandParams p{ctx.param<double>("min"), ctx.param<double>("max"), ctx.param<double>("falloff")};
     if (p.min > p.max) throw NodeError("BandMask: min is above max");
     if (p.falloff == 0.0) p.falloff = falloff_from_sharpness(p.min, p.max, ctx.param<double>("sharpness"));
-    ctx.set_output("mask", map_field(*in, [&](double v) { return band_mask_value(v, p); }, &ctx));
+    ctx.set_output("out", map_field(*in, [&](double v) { return band_mask_value(v, p); }, &ctx));
   });
 }
 

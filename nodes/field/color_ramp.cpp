@@ -54,18 +54,18 @@ std::shared_ptr<Image> color_ramp(const Heightfield& in, const GradientValue& gr
 
 OROGEN_NODE(ColorRamp) {
   b.category("field").description(
-      "Colours a field through a gradient: t = (h - input_min) / (input_max - input_min) in 0..1 picks the "
-      "colour (beyond the ends, the end colours). The default gradient is seed 003's height colour map over "
-      "-100..900 m: deep and shallow water, a sand shore at 0 m, grass, forest, rock, snow. Output: linear RGBA.");
-  b.input("in", PortType::Heightfield).description("Field to colour (heights in metres for the default gradient)");
-  b.output("image", PortType::Image).description("Linear RGBA colours");
-  b.param_gradient("gradient", terrain_height_gradient()).description("Colour stops by position in 0..1 (linear RGBA)");
+      "Colors a field through a gradient: t = (h - input_min) / (input_max - input_min) in 0..1 picks the "
+      "color (beyond the ends, the end colors). The default gradient is a hypsometric tint (E. Imhof (1982), "
+      "Cartographic Relief Presentation) over -100..900 m: deep and shallow water, a sand shore at 0 m, grass, forest, rock, snow. Output: linear RGBA.");
+  b.input("in", PortType::Heightfield).description("Field to color (heights in metres for the default gradient)");
+  b.output("out", PortType::Image).description("Linear RGBA colors");
+  b.param_gradient("gradient", terrain_height_gradient()).description("Color stops by position in 0..1 (linear RGBA)");
   b.param_enum("range", {"fixed", "field"}, "fixed")
       .description("fixed: input_min..input_max maps to 0..1; field: the field's own min..max does");
-  b.param_float("input_min", kTerrainGradientMin).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m")
-      .description("Value at gradient position 0");
-  b.param_float("input_max", kTerrainGradientMax).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m")
-      .description("Value at gradient position 1 (!= input_min)");
+  b.param_float("input_min", kTerrainGradientMin).range(-1e6, 1e6).soft_range(-1000, 1000)
+      .description("Value at gradient position 0, in the input's units");
+  b.param_float("input_max", kTerrainGradientMax).range(-1e6, 1e6).soft_range(-1000, 1000)
+      .description("Value at gradient position 1 (!= input_min), in the input's units");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     double lo = ctx.param<double>("input_min"), hi = ctx.param<double>("input_max");
@@ -76,7 +76,7 @@ OROGEN_NODE(ColorRamp) {
     } else if (lo == hi) {
       throw NodeError("ColorRamp: input_min equals input_max");
     }
-    ctx.set_output("image", color_ramp(*in, ctx.param<GradientValue>("gradient"), lo, hi, &ctx));
+    ctx.set_output("out", color_ramp(*in, ctx.param<GradientValue>("gradient"), lo, hi, &ctx));
   });
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-// Cone: a volcano / hill primitive, height * max(0, 1 - d / radius) with d the distance from the centre:
-// `height` at the centre, falling linearly (constant slope height / radius) to 0 at the radius.
+// Cone: a volcano / hill primitive, height * max(0, 1 - d / radius) with d the distance from the center:
+// `height` at the center, falling linearly (constant slope height / radius) to 0 at the radius.
 #include <memory>
 
 #include <glm/vec2.hpp>
@@ -11,9 +11,9 @@
 namespace orogen {
 
 struct ConeParams {
-  glm::dvec2 centre{512.0, 512.0};  // m
+  glm::dvec2 center{512.0, 512.0};  // m
   double radius = 400.0;            // m, > 0
-  double height = 200.0;            // m at the centre
+  double height = 200.0;            // m at the center
 };
 
 std::shared_ptr<Heightfield> cone_field(const Domain& domain, const ConeParams& p, const ExecContext* ctx = nullptr);

@@ -34,12 +34,12 @@ OROGEN_NODE(Curvature) {
       "(valleys, hollows). profile: along the slope line (flow acceleration); plan: of the contour line "
       "(flow convergence, large near summits); tangential: plan curvature times the sine of the slope; "
       "mean: average of the principal curvatures. A sphere cap of radius R gives 1/R (plan: 1/rho).");
-  b.input("height", PortType::Heightfield).description("Heights, metres");
-  b.output("curvature", PortType::Heightfield).description("Curvature, 1/m").kind(OutputKind::Signed);
+  b.input("in", PortType::Heightfield).description("Heights, metres");
+  b.output("out", PortType::Heightfield).description("Curvature, 1/m").kind(OutputKind::Signed);
   b.param_enum("type", {"profile", "plan", "tangential", "mean"}, "profile").description("Which curvature");
   b.execute([](ExecContext& ctx) {
-    const auto z = ctx.require<Heightfield>("height");
-    ctx.set_output("curvature", curvature_field(*z, static_cast<CurvatureKind>(ctx.enum_index("type")), &ctx));
+    const auto z = ctx.require<Heightfield>("in");
+    ctx.set_output("out", curvature_field(*z, static_cast<CurvatureKind>(ctx.enum_index("type")), &ctx));
   });
 }
 

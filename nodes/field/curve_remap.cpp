@@ -21,17 +21,17 @@ std::shared_ptr<Heightfield> curve_remap(const Heightfield& in, const CurveValue
 OROGEN_NODE(Curve) {
   b.category("field").description(
       "Reshapes values through a monotone cubic curve (Fritsch-Carlson: no overshoot, monotone points give a "
-      "monotone result). Values are normalised to t = (h - lo) / (hi - lo) in [0, 1], mapped through the curve "
+      "monotone result). Values are normalized to t = (h - lo) / (hi - lo) in [0, 1], mapped through the curve "
       "(control points in the unit square) and scaled back to lo + curve(t) * (hi - lo). The range [lo, hi] is "
       "either fixed (input_min, input_max) or the field's own min and max. Values outside the range clamp.");
   b.input("in", PortType::Heightfield).description("Field to reshape");
   b.output("out", PortType::Heightfield).description("Reshaped field, inside [lo, hi]");
   b.param_curve("curve", CurveValue{{{0.0, 0.0}, {0.5, 0.3}, {1.0, 1.0}}})
-      .description("Transfer curve on normalised values: x = input t, y = output t, both 0..1");
+      .description("Transfer curve on normalized values: x = input t, y = output t, both 0..1");
   b.param_enum("range", {"fixed", "field"}, "fixed")
-      .description("fixed: normalise with input_min/input_max (tile-independent); field: with the field's min/max");
-  b.param_float("input_min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("lo of the fixed range");
-  b.param_float("input_max", 1000.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("hi of the fixed range (> input_min)");
+      .description("fixed: normalize with input_min/input_max (tile-independent); field: with the field's min/max");
+  b.param_float("input_min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("lo of the fixed range, in the input's units");
+  b.param_float("input_max", 1000.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("hi of the fixed range (> input_min), in the input's units");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     double lo = ctx.param<double>("input_min"), hi = ctx.param<double>("input_max");

@@ -20,11 +20,11 @@ OROGEN_NODE(Normalize) {
   b.category("field").description(
       "Stretches a field linearly so that its lowest sample becomes `min` and its highest `max` (a height "
       "range in metres, or 0..1 for a mask). Depends on the whole requested domain, so a tile and the full "
-      "map normalise differently; use Remap with fixed ranges when tiles must match.");
-  b.input("in", PortType::Heightfield).description("Field to normalise");
+      "map normalize differently; use Remap with fixed ranges when tiles must match.");
+  b.input("in", PortType::Heightfield).description("Field to normalize");
   b.output("out", PortType::Heightfield).description("Field spanning exactly [min, max]");
-  b.param_float("min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("Height of the lowest sample");
-  b.param_float("max", 1.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("Height of the highest sample");
+  b.param_float("min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Value of the lowest sample, in the input's units");
+  b.param_float("max", 1.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Value of the highest sample, in the input's units");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     ctx.set_output("out", normalize_field(*in, ctx.param<double>("min"), ctx.param<double>("max"), &ctx));

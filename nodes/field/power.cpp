@@ -9,14 +9,15 @@ namespace orogen {
 OROGEN_NODE(Power) {
   b.category("field").description(
       "Sign-preserving power about a pivot: out = pivot + scale * sign(t) * |t|^exponent, t = (h - pivot) / "
-      "scale (seed 002 Eq 3 with pivot 0, scale 1, exponent 1.5). exponent > 1 flattens values near the pivot "
+      "scale. With pivot 0, scale 1 and exponent 1.5 it is the elevation redistribution of A. Patel (2015), "
+      "\"Making maps with noise functions\", Red Blob Games. exponent > 1 flattens values near the pivot "
       "and exaggerates those beyond scale; < 1 the opposite. Values at pivot and pivot +- scale are fixed.");
   b.input("in", PortType::Heightfield).description("Field");
   b.output("out", PortType::Heightfield).description("Reshaped field");
   b.param_float("exponent", 1.5).range(0.01, 20.0).soft_range(0.25, 4.0).description("Exponent p (1 = identity)");
-  b.param_float("pivot", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("Value the power is taken about");
-  b.param_float("scale", 1.0).range(1e-6, 1e6).soft_range(0.01, 1000).unit("m")
-      .description("Distance from the pivot that stays fixed: values are divided by it before the power");
+  b.param_float("pivot", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Value the power is taken about, in the input's units");
+  b.param_float("scale", 1.0).range(1e-6, 1e6).soft_range(0.01, 1000)
+      .description("Distance from the pivot that stays fixed, in the input's units: values are divided by it before the power");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const PowerParams p{ctx.param<double>("exponent"), ctx.param<double>("pivot"), ctx.param<double>("scale")};

@@ -1,7 +1,7 @@
 #pragma once
-// Radial falloff: the island mask. With d the distance from `centre` (plus an optional per-sample
+// Radial falloff: the island mask. With d the distance from `center` (plus an optional per-sample
 // offset, so noise can roughen the coastline) and t = clamp(d / radius, 0, 1), the value is profile(t):
-// the profile curve maps normalised distance to the mask. The default profile goes from 1 at the centre
+// the profile curve maps normalised distance to the mask. The default profile goes from 1 at the center
 // to 0 at the radius and stays 0 beyond, with a broad plateau and a smooth shore.
 #include <memory>
 
@@ -14,7 +14,7 @@
 namespace orogen {
 
 struct RadialFalloffParams {
-  glm::dvec2 centre{512.0, 512.0};  // m
+  glm::dvec2 center{512.0, 512.0};  // m
   double radius = 480.0;            // m, > 0
   CurveValue profile;               // t in 0..1 -> mask
 };

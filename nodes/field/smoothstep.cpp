@@ -12,8 +12,8 @@ OROGEN_NODE(SmoothStep) {
       "edge0 > edge1 gives a falling mask; equal edges a hard step.");
   b.input("in", PortType::Heightfield).description("Field (e.g. heights in metres)");
   b.output("out", PortType::Heightfield).description("Mask in 0..1").kind(OutputKind::Mask);
-  b.param_float("edge0", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("Value where the mask is 0");
-  b.param_float("edge1", 100.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("Value where the mask is 1");
+  b.param_float("edge0", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Value where the mask is 0, in the input's units");
+  b.param_float("edge1", 100.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Value where the mask is 1, in the input's units");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const double e0 = ctx.param<double>("edge0"), e1 = ctx.param<double>("edge1");
@@ -26,7 +26,7 @@ OROGEN_NODE(Threshold) {
                                    "reverse with invert).");
   b.input("in", PortType::Heightfield).description("Field (e.g. heights in metres)");
   b.output("out", PortType::Heightfield).description("Mask of 0 and 1").kind(OutputKind::Mask);
-  b.param_float("level", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("Threshold value");
+  b.param_float("level", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Threshold value, in the input's units");
   b.param_bool("invert", false).description("1 below the level instead of above");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");

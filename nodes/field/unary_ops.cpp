@@ -12,8 +12,8 @@ OROGEN_NODE(Invert) {
                                    "Turns ridges into valleys and a 0..1 mask m into 1 - m with pivot 0.5.");
   b.input("in", PortType::Heightfield).description("Field to invert");
   b.output("out", PortType::Heightfield).description("2 * pivot - in");
-  b.param_float("pivot", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m")
-      .description("Value that stays fixed; use 0.5 to invert a 0..1 mask");
+  b.param_float("pivot", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000)
+      .description("Value that stays fixed, in the input's units; 0.5 inverts a 0..1 mask");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const double two_pivot = 2.0 * ctx.param<double>("pivot");
@@ -35,8 +35,8 @@ OROGEN_NODE(Clamp) {
   b.category("field").description("Limits every sample to [min, max].");
   b.input("in", PortType::Heightfield).description("Field to clamp");
   b.output("out", PortType::Heightfield).description("min(max(in, min), max)");
-  b.param_float("min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("Lower bound");
-  b.param_float("max", 1.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("Upper bound (>= min)");
+  b.param_float("min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Lower bound, in the input's units");
+  b.param_float("max", 1.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Upper bound (>= min), in the input's units");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const double lo = ctx.param<double>("min"), hi = ctx.param<double>("max");

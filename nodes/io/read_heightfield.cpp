@@ -13,20 +13,20 @@ namespace orogen {
 OROGEN_NODE(ReadHeightfield) {
   b.category("io").description(
       "Reads a heightfield from an EXR, PNG (8 or 16-bit), TIFF or RAW 16-bit file and resamples it "
-      "(bilinear) to the requested domain. The image's pixel centres span the world rectangle "
+      "(bilinear) to the requested domain. The image's pixel centers span the world rectangle "
       "[origin, origin + size] edge to edge, the first file row being the northern one (largest y); samples "
       "outside the rectangle repeat its edge. Unsigned integer pixels are mapped to heights through "
       "height_min/height_max (or the mapping WriteHeightfield stored in the file); float and signed integer "
       "pixels are heights in metres. RAW files must be square.");
-  b.output("height", PortType::Heightfield).description("The heightfield on the requested domain, metres").kind(OutputKind::Height);
+  b.output("out", PortType::Heightfield).description("The heightfield on the requested domain, metres").kind(OutputKind::Height);
   b.param_path("path", "").extensions({".exr", ".png", ".tif", ".tiff", ".raw", ".r16"}).description(
       "Image file to read. A relative path is resolved against the current working directory (not the output "
       "directory)");
   b.param_int("channel", 0).range(0, 63).description("Channel of the image to read (0 = first)");
   b.param_vec2("origin", {0.0, 0.0}).range(-1e7, 1e7).unit("m").description(
-      "World position of the south-west pixel centre (first column, last file row)");
+      "World position of the south-west pixel center (first column, last file row)");
   b.param_vec2("size", {1024.0, 1024.0}).range(1e-3, 1e7).unit("m").description(
-      "World extent from the first to the last pixel centre in x and y");
+      "World extent from the first to the last pixel center in x and y");
   b.param_float("height_min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description(
       "Height of pixel value 0 in integer formats (and of 0.0 in float formats when remap_float is on)");
   b.param_float("height_max", 1000.0).range(-1e6, 1e6).soft_range(-1000, 9000).unit("m").description(
@@ -57,7 +57,7 @@ OROGEN_NODE(ReadHeightfield) {
     auto out = std::make_shared<Heightfield>(ctx.domain());
     parallel_rows(
         ctx, ctx.domain().height(), [&](int j) { resample_bilinear_row(image, ctx.domain(), j, out->row(j)); }, 0.5, 1.0);
-    ctx.set_output("height", std::move(out));
+    ctx.set_output("out", std::move(out));
   });
 }
 

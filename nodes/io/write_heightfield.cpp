@@ -9,12 +9,12 @@ namespace orogen {
 OROGEN_NODE(WriteHeightfield) {
   b.category("io").writes_files().description(
       "Writes a heightfield to a file inside the output directory, atomically (a failed or cancelled write "
-      "leaves the previous file untouched). Formats: EXR (float32 metres), PNG (16-bit grey), RAW (16-bit "
+      "leaves the previous file untouched). Formats: EXR (float32 metres), PNG (16-bit gray), RAW (16-bit "
       "unsigned little-endian, headerless, as Unity and Unreal import; .raw or .r16), TIFF (float32 metres). "
       "Rows are stored north (largest y) first. The 16-bit formats map heights linearly to 0..65535 over the "
       "data's own range ('auto') or a fixed range; the mapping is recorded in PNG metadata (and in the "
       "description of every image format) so ReadHeightfield restores metres.");
-  b.input("height", PortType::Heightfield).description("Heightfield to write, metres");
+  b.input("in", PortType::Heightfield).description("Heightfield to write, metres");
   b.param_path("path", "height.exr").output_file().extensions({".exr", ".png", ".raw", ".r16", ".tif", ".tiff"}).description(
       "Output file, relative to the output directory; the extension selects the format");
   b.param_enum("format", {"auto", "exr", "png16", "raw16", "tiff"}, "auto").description(
@@ -26,13 +26,18 @@ OROGEN_NODE(WriteHeightfield) {
       "Height stored as 0 when range is 'fixed'");
   b.param_float("height_max", 1000.0).range(-1e6, 1e6).soft_range(-1000, 9000).unit("m").description(
       "Height stored as 65535 when range is 'fixed'; must exceed height_min");
+  b.param_int("compression_level", 1).range(0, 9).description(
+      "zlib (deflate) level of EXR (zip), 16-bit PNG and TIFF: 1 is the fastest (on terrain about 1% larger "
+      "than zlib's default 6 and a third of its time for PNG, 2% and 60% for TIFF; EXR float data hardly "
+      "compresses at any level), 9 the smallest and slowest, 0 no compression. RAW16 ignores it");
   b.execute([](ExecContext& ctx) {
-    const auto h = ctx.require<Heightfield>("height");
+    const auto h = ctx.require<Heightfield>("in");
     const std::string& path = ctx.param<std::string>("path");
     const auto by_extension = height_format_from_path(path);
     if (!by_extension) throw NodeError("cannot tell the format of '" + path + "' from its extension");
     HeightfieldWriteOptions options;
     options.format = *by_extension;
+    options.compression_level = static_cast<int>(ctx.param<std::int64_t>("compression_level"));
     if (const auto& f = ctx.param<std::string>("format"); f != "auto" && f != to_string(*by_extension))
       throw NodeError("format '" + f + "' does not match the extension of '" + path + "' (" +
                       to_string(*by_extension) + ")");

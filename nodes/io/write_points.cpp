@@ -11,11 +11,11 @@ OROGEN_NODE(WritePoints) {
       "Writes points (scatter results, sources, ...) to CSV or ASCII PLY inside the output directory, "
       "atomically. Columns: x, y, z (metres, z up), qw, qx, qy, qz (rotation quaternion), sx, sy, sz (scale), "
       "class, then the named attributes sorted by name.");
-  b.input("points", PortType::Points).description("Points to write");
+  b.input("in", PortType::Points).description("Points to write");
   b.param_path("path", "points.csv").output_file().extensions({".csv", ".ply"}).description(
       "Output file, relative to the output directory; the extension selects CSV or PLY");
   b.execute([](ExecContext& ctx) {
-    const auto points = ctx.require<Points>("points");
+    const auto points = ctx.require<Points>("in");
     const std::string& path = ctx.param<std::string>("path");
     const auto format = points_format_from_path(path);
     if (!format) throw NodeError("cannot tell the format of '" + path + "' from its extension");

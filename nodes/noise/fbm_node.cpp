@@ -14,8 +14,10 @@ constexpr Basis kFbmBases[] = {Basis::Perlin, Basis::Simplex, Basis::Value, Basi
 OROGEN_NODE(FBM) {
   b.category("noise").description(
       "Fractal noise: octaves of a basis at frequencies lacunarity^k / feature_size and amplitudes gain^k, "
-      "combined as fbm, ridged or hybrid multifractal (Musgrave), billow, or seed 002's multifractal whose "
-      "octave weights r^(-k(1-R)) follow a roughness map R (Eq 4).");
+      "combined as fbm, ridged or hybrid multifractal, billow, or a multifractal whose octave weights "
+      "r^(-k(1-R)) follow a roughness map R (a spatially varying spectral exponent), after F. K. Musgrave "
+      "(2003), \"Procedural fractal terrains\", in Ebert et al., Texturing and Modeling: A Procedural "
+      "Approach, 3rd ed.");
   declare_warp_inputs(b);
   b.input("roughness", PortType::Heightfield)
       .optional()

@@ -9,7 +9,8 @@ OROGEN_NODE(Perlin) {
   declare_lattice_generator(
       b,
       "Improved Perlin gradient noise (quintic fade, 16 unit gradients at 22.5-degree steps): smooth "
-      "hills, 0 at every lattice point, within [-amplitude, amplitude].",
+      "hills, 0 at every lattice point, within [-amplitude, amplitude]. K. Perlin (2002), \"Improving "
+      "noise\", SIGGRAPH.",
       "Lattice cell size: the wavelength of the dominant features", &perlin);
 }
 

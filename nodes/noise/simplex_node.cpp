@@ -9,7 +9,8 @@ OROGEN_NODE(Simplex) {
   declare_lattice_generator(
       b,
       "2D simplex noise (skew F2 = (sqrt3-1)/2, unskew G2 = (3-sqrt3)/6, corner radius sqrt(1/2)): "
-      "smooth noise with fewer axis-aligned artefacts than Perlin, within [-amplitude, amplitude].",
+      "smooth noise with fewer axis-aligned artifacts than Perlin, within [-amplitude, amplitude]. K. Perlin "
+      "(2001), \"Noise hardware\", SIGGRAPH course notes; S. Gustavson (2005), \"Simplex noise demystified\".",
       "Lattice cell size: the wavelength of the dominant features", &simplex);
 }
 

@@ -9,7 +9,7 @@ OROGEN_NODE(Worley) {
   b.category("noise").description(
       "Worley (cellular) noise: distances to the nearest feature points, one point per cell of side "
       "feature_size. Exact for every metric, output and jitter (the search covers every cell that can hold "
-      "one of the four nearest points).");
+      "one of the four nearest points). S. Worley (1996), \"A cellular texture basis function\", SIGGRAPH.");
   declare_warp_inputs(b);
   b.output("out", PortType::Heightfield).description("The chosen distance function times amplitude, in metres").kind(OutputKind::Height);
   declare_feature_size(b, 256.0, "Spacing of the feature points (lattice cell size)");
@@ -20,7 +20,7 @@ OROGEN_NODE(Worley) {
       .description("Function of the distances F1 <= F2 <= F3 <= F4 to the nearest points: f1 (cells, 0 at "
                    "the points), f2, f2_minus_f1 (ridges along the cell borders), f1_times_f2, mean_f1_f4");
   b.param_float("jitter", 1.0).range(0.0, 1.0).unit("").description(
-      "How far the feature points stray from the cell centres: 0 gives a regular grid, 1 the full cell");
+      "How far the feature points stray from the cell centers: 0 gives a regular grid, 1 the full cell");
   declare_seed(b);
   b.execute([](ExecContext& ctx) {
     WorleyParams p;

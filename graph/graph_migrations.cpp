@@ -1,0 +1,88 @@
+#include "graph/graph_migrations.h"
+
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+namespace orogen {
+
+const std::vector<NodeRenamesV1>& format_v1_renames() {
+  static const std::vector<NodeRenamesV1> table = {
+      {"Slope", {{"height", "in"}}, {{"slope", "out"}}, {}, {}},
+      {"Aspect", {{"height", "in"}}, {{"aspect", "out"}}, {}, {}},
+      {"Curvature", {{"height", "in"}}, {{"curvature", "out"}}, {}, {}},
+      {"Normals", {{"height", "in"}}, {{"normals", "out"}}, {}, {}},
+      {"BandMask", {}, {{"mask", "out"}}, {}, {}},
+      {"ColorRamp", {}, {{"image", "out"}}, {}, {}},
+      {"RadialFalloff", {}, {{"mask", "out"}}, {{"centre", "center"}}, {}},
+      {"Cone", {}, {{"height", "out"}}, {{"centre", "center"}}, {}},
+      {"ReadHeightfield", {}, {{"height", "out"}}, {}, {}},
+      {"HeightfieldToMesh", {{"height", "in"}}, {{"mesh", "out"}}, {}, {}},
+      {"WriteHeightfield", {{"height", "in"}}, {}, {}, {}},
+      {"WriteImage", {{"image", "in"}}, {}, {}, {}},
+      {"WriteMesh", {{"mesh", "in"}}, {}, {}, {}},
+      {"WritePoints", {{"points", "in"}}, {}, {}, {}},
+  };
+  return table;
+}
+
+namespace {
+
+using nlohmann::json;
+
+const NodeRenamesV1* renames_for(const json& node) {
+  if (!node.is_object() || !node.contains("type") || !node["type"].is_string()) return nullptr;
+  const auto type = node["type"].get<std::string>();
+  for (const auto& r : format_v1_renames())
+    if (r.type == type) return &r;
+  return nullptr;
+}
+
+// Renames the key `from` of `object` to `to`, unless `to` is already there (the loader then reports the
+// old name as unknown rather than silently dropping a value).
+void rename_key(json& object, const std::string& from, const std::string& to) {
+  if (!object.is_object() || !object.contains(from) || object.contains(to)) return;
+  object[to] = std::move(object[from]);
+  object.erase(from);
+}
+
+}  // namespace
+
+void migrate_graph_v1_to_v2(json& file) {
+  if (!file.is_object() || !file.contains("nodes") || !file["nodes"].is_array()) return;
+  json& nodes = file["nodes"];
+
+  // Output renames by node id, for the links that read them.
+  std::map<std::string, const NodeRenamesV1*> by_id;
+  for (const json& node : nodes)
+    if (const auto* r = renames_for(node); r && node.contains("id") && node["id"].is_string())
+      by_id[node["id"].get<std::string>()] = r;
+
+  for (json& node : nodes) {
+    if (!node.is_object()) continue;
+    if (const auto* r = renames_for(node)) {
+      if (node.contains("inputs"))
+        for (const auto& [from, to] : r->inputs) rename_key(node["inputs"], from, to);
+      if (node.contains("params")) {
+        json& params = node["params"];
+        for (const auto& [from, to] : r->params) rename_key(params, from, to);
+        for (const auto& e : r->enum_values)
+          if (params.is_object() && params.contains(e.param) && params[e.param] == e.from) params[e.param] = e.to;
+      }
+    }
+    if (!node.contains("inputs") || !node["inputs"].is_object()) continue;
+    for (auto& [port, link] : node["inputs"].items()) {
+      if (!link.is_string()) continue;
+      const auto text = link.get<std::string>();
+      const auto dot = text.find('.');
+      if (dot == std::string::npos) continue;
+      const auto source = by_id.find(text.substr(0, dot));
+      if (source == by_id.end()) continue;
+      const auto output = text.substr(dot + 1);
+      for (const auto& [from, to] : source->second->outputs)
+        if (output == from) link = text.substr(0, dot + 1) + to;
+    }
+  }
+}
+
+}  // namespace orogen

@@ -1,0 +1,39 @@
+#pragma once
+// The history of the graph file format: what each version changed and how older files are rewritten.
+//
+// Version 2 (port and spelling convention, docs/conventions.md): a node's primary input is `in` and its
+// primary output `out`; everything a user types is spelled American. The renames are data, one entry per
+// node type, so the migration and its tests read the same table.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+namespace orogen {
+
+struct Rename {
+  std::string from, to;
+};
+
+struct EnumValueRename {
+  std::string param;  // the parameter's name in version 2
+  std::string from, to;
+};
+
+// What changed for one node type between format versions 1 and 2.
+struct NodeRenamesV1 {
+  std::string type;
+  std::vector<Rename> inputs;
+  std::vector<Rename> outputs;
+  std::vector<Rename> params;
+  std::vector<EnumValueRename> enum_values;
+};
+
+const std::vector<NodeRenamesV1>& format_v1_renames();
+
+// Rewrites a version-1 file in place: input port names in "inputs", output port names in every link that
+// reads a renamed output, parameter names and enum values in "params". Parts of the file that are not
+// well formed are left as they are, for the loader to report.
+void migrate_graph_v1_to_v2(nlohmann::json& file);
+
+}  // namespace orogen
