@@ -216,6 +216,30 @@ PreviewPixels render_heightfield(const Heightfield& field, const HeightfieldStyl
   return px;
 }
 
+PreviewPixels render_water_over_terrain(const Heightfield& terrain, const Heightfield& depth) {
+  PreviewPixels px = render_heightfield(terrain, style_for(OutputKind::Height));
+  const bool same = depth.width() == terrain.width() && depth.height() == terrain.height() &&
+                    depth.domain.min_corner() == terrain.domain.min_corner() &&
+                    depth.domain.max_corner() == terrain.domain.max_corner();
+  float max_depth = 0.0f;
+  for (float v : depth.data)
+    if (std::isfinite(v)) max_depth = std::max(max_depth, v);
+  if (max_depth <= 0.0f) return px;
+  tbb::parallel_for(0, px.height, [&](int r) {
+    const int j = px.height - 1 - r;
+    for (int i = 0; i < px.width; ++i) {
+      const float d = same ? depth.at(i, j) : depth.sample_world(terrain.domain.x(i), terrain.domain.y(j));
+      if (!(d > 0.0f)) continue;
+      const float t = std::min(d / max_depth, 1.0f);
+      const glm::vec3 water(0.25f - 0.17f * t, 0.55f - 0.25f * t, 0.78f - 0.18f * t);
+      const float a = 0.55f + 0.4f * t;
+      std::uint8_t* p = &px.rgba[(static_cast<std::size_t>(r) * px.width + i) * 4];
+      for (int k = 0; k < 3; ++k) p[k] = to_byte((p[k] / 255.0f) * (1.0f - a) + water[k] * a);
+    }
+  });
+  return px;
+}
+
 PreviewPixels render_image(const Image& image) {
   PreviewPixels px;
   px.width = image.width();

@@ -60,6 +60,10 @@ HeightfieldStyle style_for(OutputKind kind);
 OutputKind resolve_output_kind(const Graph& graph, const std::string& node, const std::string& port);
 
 PreviewPixels render_heightfield(const Heightfield& field, const HeightfieldStyle& style);
+// Water depth (m) over its terrain: the terrain in its own style, and where depth > 0 the water, pale and
+// translucent in the shallows, deep blue and nearly opaque at the deepest point. `depth` is sampled at the
+// terrain's samples by world position.
+PreviewPixels render_water_over_terrain(const Heightfield& terrain, const Heightfield& depth);
 // 1 channel: grey; 2: grey + alpha; 3: RGB; 4+: RGBA of the first four. Linear values are sRGB-encoded.
 PreviewPixels render_image(const Image& image);
 

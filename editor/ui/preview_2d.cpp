@@ -60,19 +60,22 @@ void Preview2D::upload(const PreviewContent& content) {
   // Redrawn when the data or the style change: results are immutable and shared, so the same pointer means
   // the same data (a cached result after an edit elsewhere is not redrawn). The pointers are held, so they
   // cannot be reused for other data meanwhile.
+  // Water depth lies on its terrain (unless another colour map is chosen).
+  const HeightfieldPtr under = field && content.kind == OutputKind::WaterDepth && map_choice_ == 0 ? content.backdrop : nullptr;
   char key[256];
-  std::snprintf(key, sizeof key, "%p|%p|%d|%d|%d|%d", static_cast<const void*>(field.get()),
-                static_cast<const void*>(image.get()), static_cast<int>(style_.map), style_.hillshade ? 1 : 0,
-                style_.range ? 1 : 0, style_.symmetric ? 1 : 0);
+  std::snprintf(key, sizeof key, "%p|%p|%p|%d|%d|%d|%d", static_cast<const void*>(field.get()),
+                static_cast<const void*>(image.get()), static_cast<const void*>(under.get()), static_cast<int>(style_.map),
+                style_.hillshade ? 1 : 0, style_.range ? 1 : 0, style_.symmetric ? 1 : 0);
   if (texture_key_ == key) return;
   texture_key_ = key;
   shown_field_ = field;
   shown_image_ = image;
   has_range_ = false;
+  shown_under_ = under;
   if (field) {
-    const auto px = render_heightfield(*field, style_);
+    const auto px = under ? render_water_over_terrain(*under, *field) : render_heightfield(*field, style_);
     texture_.upload(px.width, px.height, px.rgba.data());
-    texture_domain_ = field->domain;
+    texture_domain_ = under ? under->domain : field->domain;
     shown_range_ = style_range(*field, style_);
     has_range_ = true;
   } else if (image) {

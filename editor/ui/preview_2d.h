@@ -31,6 +31,7 @@ class Preview2D {
   std::string texture_key_;   // what the texture holds
   HeightfieldPtr shown_field_;  // held so their addresses in the key stay theirs
   ImagePtr shown_image_;
+  HeightfieldPtr shown_under_;  // the terrain under water depth
   Domain texture_domain_;
   ValueRange shown_range_;
   bool has_range_ = false;

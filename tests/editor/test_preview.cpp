@@ -222,6 +222,22 @@ TEST(WaterMesh, FlatSurfaceAtTerrainPlusDepthOnlyOverWater) {
   EXPECT_TRUE(build_water_mesh(terrain, depth).indices.empty());
 }
 
+TEST(WaterOverTerrain, DryIsTheTerrainWetIsBlue) {
+  Heightfield terrain = ramp_x(16, 1.0f);
+  Heightfield depth(terrain.domain);
+  depth.at(3, 5) = 2.0f;
+  const auto plain = render_heightfield(terrain, style_for(OutputKind::Height));
+  const auto px = render_water_over_terrain(terrain, depth);
+  ASSERT_EQ(px.rgba.size(), plain.rgba.size());
+  const std::size_t wet = (static_cast<std::size_t>(15 - 5) * 16 + 3) * 4;  // row 5 from the bottom
+  for (std::size_t k = 0; k < px.rgba.size(); k += 4) {
+    if (k == wet) continue;
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(px.rgba[k + c], plain.rgba[k + c]) << k;
+  }
+  EXPECT_GT(px.rgba[wet + 2], px.rgba[wet + 0]);  // blue
+  EXPECT_NE(px.rgba[wet + 2], plain.rgba[wet + 2]);
+}
+
 TEST(CurveRibbons, WidthAwareAndOnTheTerrain) {
   Curves curves;
   Curve c;
