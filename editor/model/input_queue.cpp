@@ -3,12 +3,22 @@
 namespace orogen::editor {
 
 void InputQueue::push(const RawInput& e) {
+  if (e.kind == RawInput::Kind::Key && e.code >= 0 && e.code < InputFrame::kKeys) after_.keys[static_cast<std::size_t>(e.code)] = e.down;
+  if (e.kind == RawInput::Kind::Button && e.code >= 0 && e.code < InputFrame::kButtons)
+    after_.buttons[static_cast<std::size_t>(e.code)] = e.down;
   // Consecutive moves collapse into the last one (a fast mouse makes hundreds between frames).
   if (e.kind == RawInput::Kind::Move && !events_.empty() && events_.back().kind == RawInput::Kind::Move) {
     events_.back() = e;
     return;
   }
   events_.push_back(e);
+}
+
+void InputQueue::release_all() {
+  for (int k = 0; k < InputFrame::kKeys; ++k)
+    if (after_.keys[static_cast<std::size_t>(k)]) push({RawInput::Kind::Key, k, false, {}});
+  for (int b = 0; b < InputFrame::kButtons; ++b)
+    if (after_.buttons[static_cast<std::size_t>(b)]) push({RawInput::Kind::Button, b, false, {}});
 }
 
 std::size_t InputQueue::next_frame(InputFrame& state) {

@@ -44,10 +44,13 @@ class InputQueue {
   // next frame and removes them. Returns how many were applied.
   std::size_t next_frame(InputFrame& state);
   bool empty() const { return events_.empty(); }
+  // Queues the release of every key and button that is down after the queued events (focus lost).
+  void release_all();
   std::size_t size() const { return events_.size(); }
 
  private:
   std::deque<RawInput> events_;
+  InputFrame after_;  // the state once every queued event is applied
 };
 
 }  // namespace orogen::editor

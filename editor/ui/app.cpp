@@ -239,7 +239,11 @@ void App::install_input_callbacks() {
   glfwSetCharCallback(window_, [](GLFWwindow* w, unsigned c) {
     app_of(w)->input_queue_.push({RawInput::Kind::Char, static_cast<int>(c), false, {}});
   });
-  glfwSetWindowFocusCallback(window_, ImGui_ImplGlfw_WindowFocusCallback);
+  glfwSetWindowFocusCallback(window_, [](GLFWwindow* w, int focused) {
+    ImGui_ImplGlfw_WindowFocusCallback(w, focused);
+    // Releases happen elsewhere while unfocused: nothing stays held.
+    if (!focused) app_of(w)->input_queue_.release_all();
+  });
   glfwSetCursorEnterCallback(window_, ImGui_ImplGlfw_CursorEnterCallback);
   glfwSetMonitorCallback(ImGui_ImplGlfw_MonitorCallback);
   // Resizing and exposing redraw.

@@ -114,6 +114,21 @@ TEST(InputQueue, AClickIsSeenWhereItHappenedAndReleasesDoNotWait) {
   EXPECT_TRUE(q.empty());
 }
 
+TEST(InputQueue, FocusLostReleasesWhatIsHeld) {
+  InputQueue q;
+  InputFrame state;
+  q.push(key(kCtrl, true));
+  q.push(button(0, true));
+  q.next_frame(state);
+  q.next_frame(state);
+  q.push(key(kZ, true));  // still queued when the focus goes
+  q.release_all();
+  while (!q.empty()) q.next_frame(state);
+  EXPECT_FALSE(state.keys[kCtrl]);
+  EXPECT_FALSE(state.keys[kZ]);
+  EXPECT_FALSE(state.buttons[0]);
+}
+
 TEST(InputQueue, WheelAndTextAreThisFramesOnly) {
   InputQueue q;
   InputFrame state;
