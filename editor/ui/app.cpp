@@ -730,6 +730,7 @@ void App::set_document(std::unique_ptr<Document> document) {
   autosaver_.reset();
   document_ = std::move(document);
   canvas_->set_document(*document_);
+  canvas_view_->document_changed();
   pinned_.clear();
   drape_node_.clear();
   shown_port_.clear();

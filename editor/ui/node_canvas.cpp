@@ -123,7 +123,7 @@ void NodeCanvasView::draw_thumbnail(ImDrawList* dl, const Node& node, const Rect
 
 void NodeCanvasView::draw_problems_banner(ImVec2 origin, ImVec2 size) {
   const auto& problems = controller_.document().load_problems();
-  if (problems.empty() || dismissed_problems_ == &problems) return;
+  if (problems.empty() || dismissed_problems_) return;
   ImGui::SetCursorScreenPos({origin.x + 10, origin.y + 8});
   ImGui::PushStyleColor(ImGuiCol_ChildBg, IM_COL32(90, 30, 30, 235));
   const float line = ImGui::GetTextLineHeightWithSpacing();
@@ -136,7 +136,7 @@ void NodeCanvasView::draw_problems_banner(ImVec2 origin, ImVec2 size) {
   ImGui::SameLine();
   if (ImGui::SmallButton(show_problem_list_ ? "Hide" : "Details")) show_problem_list_ = !show_problem_list_;
   ImGui::SameLine();
-  if (ImGui::SmallButton("Dismiss")) dismissed_problems_ = &problems;
+  if (ImGui::SmallButton("Dismiss")) dismissed_problems_ = true;
   if (show_problem_list_) {
     ImGui::PushTextWrapPos(std::min(size.x - 40.0f, 740.0f));
     for (const auto& d : problems.diagnostics) ImGui::BulletText("%s", d.str().c_str());

@@ -30,6 +30,12 @@ class NodeCanvasView {
   // Draws the canvas into the remaining space of the current window and feeds it input.
   // `previewed` is the node shown in the preview (marked on its title bar).
   void draw(const std::string& previewed);
+  // Another document: its problems banner shows again, thumbnails are dropped.
+  void document_changed() {
+    dismissed_problems_ = false;
+    show_problem_list_ = true;
+    thumbnails_.clear();
+  }
 
   // A node double-clicked this frame (the app pins the preview to it).
   const std::optional<std::string>& double_clicked() const { return double_clicked_; }
@@ -66,7 +72,7 @@ class NodeCanvasView {
   std::string palette_buffer_;
   glm::dvec2 palette_size_{320.0, 420.0};  // last drawn
   bool show_problem_list_ = true;
-  const void* dismissed_problems_ = nullptr;  // the load problems the user dismissed (of this document)
+  bool dismissed_problems_ = false;  // the user dismissed the load problems of this document
   std::optional<std::string> double_clicked_;
   std::string hover_key_;
   double hover_since_ = 0.0;
