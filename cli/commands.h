@@ -18,7 +18,9 @@ struct EvalCommand {
   std::string resolution;  // "WxH", empty: the graph's
   int threads = 0;
   std::filesystem::path cache_dir;
-  double cache_mb = 2048;
+  std::string cache_mb = "2048";       // in-memory cache bound, MiB
+  std::string cache_disk_mb = "4096";  // bound of --cache-dir, MiB
+  std::string max_memory;              // empty: the machine's available memory
   std::filesystem::path stats_file;
   bool quiet = false;
   bool allow_any_path = false;

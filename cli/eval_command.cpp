@@ -9,6 +9,7 @@
 #include "cli/progress_display.h"
 #include "cli/stats_report.h"
 #include "evaluator/evaluator.h"
+#include "evaluator/memory_estimate.h"
 #include "graph/atomic_file.h"
 #include "graph/graph_file.h"
 
@@ -36,7 +37,24 @@ int run_eval(const EvalCommand& cmd) {
   }
   OutputPolicy policy{cmd.output_dir, cmd.allow_any_path};
   for (auto& e : check_output_paths(graph, policy)) errors.push_back(std::move(e));
-  if (cmd.cache_mb < 0) errors.push_back("--cache-mb must not be negative");
+  const auto cache_mb = parse_number(cmd.cache_mb, 0.0, 1e9);
+  if (!cache_mb) errors.push_back("--cache-mb '" + cmd.cache_mb + "': expected a number of MiB from 0 to 1e9");
+  const auto cache_disk_mb = parse_number(cmd.cache_disk_mb, 0.0, 1e9);
+  if (!cache_disk_mb)
+    errors.push_back("--cache-disk-mb '" + cmd.cache_disk_mb + "': expected a number of MiB from 0 to 1e9");
+  std::uint64_t max_memory = available_memory_bytes();
+  if (!cmd.max_memory.empty()) {
+    if (auto m = parse_memory_size(cmd.max_memory); m && *m > 0) max_memory = *m;
+    else errors.push_back("--max-memory '" + cmd.max_memory + "': expected a positive size such as 4096, 512M or 8G");
+  }
+  const Domain domain = graph.domain.to_domain();
+  if (auto why = check_domain(domain); !why.empty()) errors.push_back(why);
+  if (errors.empty() && max_memory > 0) {
+    for (const auto& node : graph.nodes()) {
+      const auto need = estimate_node_bytes(*node.type, domain);
+      if (need > max_memory) errors.push_back("node '" + node.id + "': " + memory_refusal(*node.type, domain, need, max_memory));
+    }
+  }
   if (!errors.empty()) {
     for (const auto& e : errors) std::cerr << "error: " << e << "\n";
     return kExitInvalid;
@@ -44,8 +62,12 @@ int run_eval(const EvalCommand& cmd) {
 
   EvaluatorOptions options;
   options.threads = cmd.threads;
-  options.cache_bytes = static_cast<std::size_t>(cmd.cache_mb * 1024.0 * 1024.0);
+  options.cache_bytes = static_cast<std::size_t>(*cache_mb * 1024.0 * 1024.0);
   options.cache_dir = cmd.cache_dir;
+  options.cache_disk_bytes = static_cast<std::uint64_t>(*cache_disk_mb * 1024.0 * 1024.0);
+  options.max_memory = max_memory;
+  // Temporaries a killed run left in the output directory (the cache sweeps its own directory).
+  remove_stale_temporaries(cmd.output_dir, 16);
   options.output = policy;
   Evaluator evaluator(options);
 

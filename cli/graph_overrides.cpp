@@ -1,5 +1,10 @@
 #include "cli/graph_overrides.h"
 
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
 #include <charconv>
 
 #include "graph/graph_file.h"
@@ -55,6 +60,35 @@ std::optional<glm::ivec2> parse_resolution(const std::string& text) {
   auto h = parse_int(std::string_view(text).substr(x + 1));
   if (!w || !h) return std::nullopt;
   return glm::ivec2(*w, *h);
+}
+
+std::optional<double> parse_number(const std::string& text, double lo, double hi) {
+  if (text.empty() || text.size() > 64) return std::nullopt;
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(v) || v < lo || v > hi) return std::nullopt;
+  return v;
+}
+
+std::optional<std::uint64_t> parse_memory_size(const std::string& text) {
+  std::string number = text;
+  double unit = 1024.0 * 1024.0;
+  if (!number.empty()) {
+    std::string suffix;
+    while (!number.empty() && std::isalpha(static_cast<unsigned char>(number.back()))) {
+      suffix.insert(suffix.begin(), static_cast<char>(std::toupper(static_cast<unsigned char>(number.back()))));
+      number.pop_back();
+    }
+    if (suffix == "K" || suffix == "KB" || suffix == "KIB") unit = 1024.0;
+    else if (suffix == "M" || suffix == "MB" || suffix == "MIB") unit = 1024.0 * 1024.0;
+    else if (suffix == "G" || suffix == "GB" || suffix == "GIB") unit = 1024.0 * 1024.0 * 1024.0;
+    else if (suffix == "T" || suffix == "TB" || suffix == "TIB") unit = 1024.0 * 1024.0 * 1024.0 * 1024.0;
+    else if (!suffix.empty()) return std::nullopt;
+  }
+  const auto v = parse_number(number, 0.0, std::ldexp(1.0, 60) / unit);
+  if (!v) return std::nullopt;
+  return static_cast<std::uint64_t>(*v * unit);
 }
 
 std::vector<std::string> check_output_paths(const Graph& graph, const OutputPolicy& policy) {

@@ -20,7 +20,13 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("--resolution", eval.resolution, "Override the sample counts, WxH (e.g. 2048x2048)");
   eval_cmd->add_option("--threads", eval.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
   eval_cmd->add_option("--cache-dir", eval.cache_dir, "Persistent cache directory (results survive the process)");
-  eval_cmd->add_option("--cache-mb", eval.cache_mb, "In-memory cache bound in MiB")->capture_default_str();
+  eval_cmd->add_option("--cache-mb", eval.cache_mb, "In-memory cache bound in MiB (0 to 1e9)")->capture_default_str();
+  eval_cmd->add_option("--cache-disk-mb", eval.cache_disk_mb,
+                       "Bound of the --cache-dir directory in MiB (0 to 1e9); least recently used entries are evicted")
+      ->capture_default_str();
+  eval_cmd->add_option("--max-memory", eval.max_memory,
+                       "Refuse nodes whose estimated memory exceeds this (MiB, or with a unit: 512M, 8G); "
+                       "default: the machine's available memory");
   eval_cmd->add_option("--stats", eval.stats_file, "Write per-node status, timings and memory as JSON");
   eval_cmd->add_flag("-q,--quiet", eval.quiet, "Print nothing but errors");
   eval_cmd->add_flag("--allow-any-path", eval.allow_any_path,

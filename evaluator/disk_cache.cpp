@@ -1,21 +1,77 @@
 #include "evaluator/disk_cache.h"
 
+#include <algorithm>
+#include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
 #include <system_error>
+#include <vector>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <xxhash.h>
+#include <zstd.h>
 
 #include "evaluator/value_serialization.h"
 #include "graph/atomic_file.h"
+#include "graph/checked_file.h"
 
 namespace orogen {
 namespace {
 
 constexpr char kMagic[8] = {'O', 'R', 'O', 'G', 'E', 'N', 'C', '1'};
-constexpr std::uint32_t kContainerVersion = 1;
+constexpr std::uint32_t kContainerVersion = 2;  // 2: zstd-compressed payload, uncompressed length in the header
+constexpr int kZstdLevel = 1;                     // fast: the cache is about time, not space
+constexpr std::uint64_t kMaxPayloadBytes = std::uint64_t(1) << 40;
+
+namespace fs = std::filesystem;
+
+// Removes whatever is at `path` without following a link: a file, a link, or a directory tree.
+void remove_entry(const fs::path& path) {
+  std::error_code ec;
+  const auto status = fs::symlink_status(path, ec);
+  if (ec) return;
+  if (fs::is_directory(status)) fs::remove_all(path, ec);
+  else ::unlink(path.c_str());
+}
+
+// Reads the whole of an open file; false on a read error.
+bool read_all(int fd, std::string& bytes, std::size_t size) {
+  bytes.resize(size);
+  std::size_t done = 0;
+  while (done < size) {
+    const ssize_t n = ::read(fd, bytes.data() + done, size - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    done += static_cast<std::size_t>(n);
+  }
+  char extra;
+  return ::read(fd, &extra, 1) == 0;  // the file did not grow while we read it
+}
+
+// Entries below `dir` (the two-level layout), with their modification times and sizes.
+struct EntryInfo {
+  fs::path path;
+  std::int64_t mtime_ns;
+  std::uint64_t bytes;
+};
+std::vector<EntryInfo> list_entries(const fs::path& dir) {
+  std::vector<EntryInfo> entries;
+  std::error_code ec;
+  for (fs::directory_iterator sub(dir, ec), end; !ec && sub != end; sub.increment(ec)) {
+    std::error_code ec2;
+    if (!fs::is_directory(sub->symlink_status(ec2))) continue;
+    for (fs::directory_iterator it(sub->path(), ec2); !ec2 && it != end; it.increment(ec2)) {
+      if (it->path().extension() != ".orc") continue;
+      struct stat st;
+      if (::lstat(it->path().c_str(), &st) != 0 || !S_ISREG(st.st_mode)) continue;
+      entries.push_back({it->path(), std::int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec,
+                         static_cast<std::uint64_t>(st.st_size)});
+    }
+  }
+  return entries;
+}
 
 std::string encode_payload(const CachedResult& result) {
   ByteWriter w;
@@ -47,6 +103,11 @@ std::shared_ptr<CachedResult> decode_payload(std::string_view payload) {
 
 }  // namespace
 
+DiskCache::DiskCache(std::filesystem::path dir, std::uint64_t max_bytes)
+    : dir_(std::move(dir)), max_bytes_(max_bytes) {
+  remove_stale_temporaries(dir_, 1);  // left by killed processes
+}
+
 std::filesystem::path DiskCache::path_of(const CacheKey& key) const {
   const auto hex = key.hex();
   return dir_ / hex.substr(0, 2) / (hex + ".orc");
@@ -54,64 +115,133 @@ std::filesystem::path DiskCache::path_of(const CacheKey& key) const {
 
 void DiskCache::store(const CacheKey& key, const CachedResult& result) const {
   const std::string payload = encode_payload(result);
+  std::string stored(ZSTD_compressBound(payload.size()), '\0');
+  const std::size_t packed = ZSTD_compress(stored.data(), stored.size(), payload.data(), payload.size(), kZstdLevel);
+  if (ZSTD_isError(packed)) throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(packed));
+  stored.resize(packed);
   ByteWriter header;
   header.raw(kMagic, sizeof kMagic);
   header.u32(kContainerVersion);
   header.u32(kValueFormatVersion);
   header.u64(key.high);
   header.u64(key.low);
+  header.u64(stored.size());
   header.u64(payload.size());
-  header.u64(XXH3_64bits(payload.data(), payload.size()));
+  header.u64(XXH3_64bits(stored.data(), stored.size()));
   if (header.buffer().size() != kHeaderBytes) throw std::logic_error("disk cache header size");
-  write_file_atomically(path_of(key), [&](const std::filesystem::path& temporary) {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot create cache file " + temporary.string());
-    out.write(header.buffer().data(), static_cast<std::streamsize>(header.buffer().size()));
-    out.write(payload.data(), static_cast<std::streamsize>(payload.size()));
-    out.flush();
-    if (!out) throw std::runtime_error("cannot write cache file " + temporary.string());
+
+  const fs::path path = path_of(key);
+  // The subdirectory must be a real directory inside the cache: a link there could send the entry anywhere.
+  const fs::path sub = path.parent_path();
+  std::error_code ec;
+  const auto status = fs::symlink_status(sub, ec);
+  if (fs::exists(status) && !fs::is_directory(status)) remove_entry(sub);
+  fs::create_directories(sub);
+  if (fs::is_directory(fs::symlink_status(path, ec))) remove_entry(path);  // a rename cannot replace a directory
+  write_file_atomically(path, [&](const fs::path& temporary) {
+    CheckedFile out(temporary);
+    out.write(header.buffer().data(), header.buffer().size());
+    out.write(stored.data(), stored.size());
+    out.finish();
   });
+
+  const auto bytes = static_cast<std::int64_t>(kHeaderBytes + stored.size());
+  std::int64_t estimate = estimate_.load();
+  if (estimate < 0) {
+    estimate_.store(static_cast<std::int64_t>(scan_bytes()));
+  } else {
+    estimate_ += bytes;
+  }
+  if (static_cast<std::uint64_t>(estimate_.load()) > max_bytes_) evict_to(max_bytes_ / 10 * 9);
 }
 
-void DiskCache::remove(const CacheKey& key) const {
-  std::error_code ignored;
-  std::filesystem::remove(path_of(key), ignored);
+std::uint64_t DiskCache::scan_bytes() const {
+  std::uint64_t total = 0;
+  for (const auto& e : list_entries(dir_)) total += e.bytes;
+  return total;
 }
+
+std::size_t DiskCache::evict_to(std::uint64_t target) const {
+  std::lock_guard lock(evict_mutex_);
+  auto entries = list_entries(dir_);
+  std::uint64_t total = 0;
+  for (const auto& e : entries) total += e.bytes;
+  std::sort(entries.begin(), entries.end(), [](const EntryInfo& a, const EntryInfo& b) {
+    return a.mtime_ns != b.mtime_ns ? a.mtime_ns < b.mtime_ns : a.path < b.path;
+  });
+  std::size_t removed = 0;
+  for (const auto& e : entries) {
+    if (total <= target) break;
+    if (::unlink(e.path.c_str()) == 0) ++removed;
+    total -= e.bytes;  // gone, whether we or another process removed it
+  }
+  estimate_.store(static_cast<std::int64_t>(total));
+  return removed;
+}
+
+void DiskCache::remove(const CacheKey& key) const { remove_entry(path_of(key)); }
 
 DiskCache::Loaded DiskCache::load(const CacheKey& key) const {
   Loaded loaded;
   const auto path = path_of(key);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return loaded;  // a miss
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const bool read_failed = in.bad();
-  in.close();
-
   auto reject = [&](std::string why) {
-    remove(key);
+    remove_entry(path);
     loaded.result = nullptr;
     loaded.rejected = true;
     loaded.reason = path.string() + ": " + std::move(why);
     return loaded;
   };
-  if (read_failed) return reject("read error");
-  if (bytes.size() < kHeaderBytes) return reject("truncated header");
+  // A link or a file where the subdirectory should be: never follow it out of the cache.
+  struct stat st;
+  if (::lstat(path.parent_path().c_str(), &st) != 0) return loaded;  // a miss
+  if (!S_ISDIR(st.st_mode)) {
+    remove_entry(path.parent_path());
+    loaded.rejected = true;
+    loaded.reason = path.parent_path().string() + ": not a directory";
+    return loaded;
+  }
+  int fd = -1;
+  do {
+    fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  } while (fd < 0 && errno == EINTR);
+  if (fd < 0) {
+    if (errno == ENOENT) return loaded;  // a miss
+    if (errno == ELOOP) return reject("a symbolic link, not a cache entry");
+    return reject(std::string("cannot open: ") + std::strerror(errno));
+  }
+  std::string bytes;
+  std::string why;
+  if (::fstat(fd, &st) != 0) why = std::string("cannot stat: ") + std::strerror(errno);
+  else if (!S_ISREG(st.st_mode)) why = S_ISDIR(st.st_mode) ? "a directory, not a cache entry" : "not a regular file";
+  else if (static_cast<std::uint64_t>(st.st_size) < kHeaderBytes) why = "truncated header";
+  else if (static_cast<std::uint64_t>(st.st_size) > kMaxPayloadBytes) why = "implausibly large";
+  else if (!read_all(fd, bytes, static_cast<std::size_t>(st.st_size))) why = "read error or changed while read";
+  else ::futimens(fd, nullptr);  // a use: least recently used entries are evicted first
+  ::close(fd);
+  if (!why.empty()) return reject(why);
+
   ByteReader header(std::string_view(bytes).substr(0, kHeaderBytes));
   char magic[sizeof kMagic];
   header.raw(magic, sizeof magic);
   if (std::memcmp(magic, kMagic, sizeof kMagic) != 0) return reject("not an Orogen cache file");
   if (header.u32() != kContainerVersion) return reject("other container format version");
   if (header.u32() != kValueFormatVersion) return reject("other value format version");
-  CacheKey stored;
-  stored.high = header.u64();
-  stored.low = header.u64();
-  if (!(stored == key)) return reject("filed under the wrong key");
+  CacheKey stored_key;
+  stored_key.high = header.u64();
+  stored_key.low = header.u64();
+  if (!(stored_key == key)) return reject("filed under the wrong key");
   const std::uint64_t length = header.u64();
+  const std::uint64_t raw_length = header.u64();
   const std::uint64_t checksum = header.u64();
-  const std::string_view payload = std::string_view(bytes).substr(kHeaderBytes);
-  if (payload.size() != length) return reject("payload length differs from the header (truncated?)");
-  if (XXH3_64bits(payload.data(), payload.size()) != checksum) return reject("checksum mismatch");
+  const std::string_view stored = std::string_view(bytes).substr(kHeaderBytes);
+  if (stored.size() != length) return reject("payload length differs from the header (truncated?)");
+  if (XXH3_64bits(stored.data(), stored.size()) != checksum) return reject("checksum mismatch");
+  if (raw_length > kMaxPayloadBytes || ZSTD_getFrameContentSize(stored.data(), stored.size()) != raw_length)
+    return reject("compressed length differs from the header");
   try {
+    std::string payload(static_cast<std::size_t>(raw_length), '\0');
+    const std::size_t n = ZSTD_decompress(payload.data(), payload.size(), stored.data(), stored.size());
+    if (ZSTD_isError(n) || n != raw_length) return reject("undecompressable payload");
     loaded.result = decode_payload(payload);
   } catch (const std::exception& e) {
     return reject(std::string("undecodable payload: ") + e.what());

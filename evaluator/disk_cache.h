@@ -1,11 +1,20 @@
 #pragma once
 // The persistent result cache: one file per key, <dir>/<first 2 hex digits>/<32 hex digits>.orc.
 //
-// A file is a fixed header (magic, container and value format versions, the key, the payload length and an
-// XXH3-64 checksum of the payload) followed by the serialized CachedResult. Files are written atomically, so
-// a crash leaves either the old entry or none; a file that is truncated, corrupted, written by another
-// format version or filed under the wrong key is rejected: deleted, and reported so the node is recomputed.
+// A file is a fixed header (magic, container and value format versions, the key, the stored and the
+// uncompressed payload lengths and an XXH3-64 checksum of the stored payload) followed by the serialized
+// CachedResult compressed with zstd at a fast level. Files are written to a temporary name, synced and
+// renamed, so a crash or a concurrent process sees either a whole entry or none; anything at an entry's
+// place that is not a valid entry (a directory, a link, an unreadable, truncated or corrupted file, another
+// format version, the wrong key) is rejected: removed if possible, and reported so the node is recomputed.
+// The cache never fails a build: every error of a lookup is a miss.
+//
+// The directory is bounded: after a store that takes it past max_bytes, the least recently used entries
+// (by modification time, which a hit refreshes) are removed until it is at 90% of the bound.
+#include <atomic>
+#include <cstdint>
 #include <filesystem>
+#include <mutex>
 #include <memory>
 #include <string>
 
@@ -16,7 +25,8 @@ namespace orogen {
 
 class DiskCache {
  public:
-  explicit DiskCache(std::filesystem::path dir) : dir_(std::move(dir)) {}
+  static constexpr std::uint64_t kDefaultMaxBytes = std::uint64_t(4) << 30;  // 4 GiB
+  explicit DiskCache(std::filesystem::path dir, std::uint64_t max_bytes = kDefaultMaxBytes);
 
   struct Loaded {
     std::shared_ptr<const CachedResult> result;  // null on a miss or a rejection
@@ -33,10 +43,20 @@ class DiskCache {
   std::filesystem::path path_of(const CacheKey& key) const;
   const std::filesystem::path& directory() const { return dir_; }
 
-  static constexpr std::size_t kHeaderBytes = 48;
+  static constexpr std::size_t kHeaderBytes = 56;
+
+  // Removes least recently used entries until the directory holds at most `target` bytes of entries.
+  // Returns how many were removed.
+  std::size_t evict_to(std::uint64_t target) const;
+  // Bytes of entries in the directory (a scan).
+  std::uint64_t scan_bytes() const;
+  std::uint64_t max_bytes() const { return max_bytes_; }
 
  private:
   std::filesystem::path dir_;
+  std::uint64_t max_bytes_;
+  mutable std::atomic<std::int64_t> estimate_{-1};  // bytes in the directory as this process sees it; -1: unknown
+  mutable std::mutex evict_mutex_;
 };
 
 }  // namespace orogen

@@ -14,6 +14,7 @@
 #include "evaluator/cached_result.h"
 #include "evaluator/disk_cache.h"
 #include "evaluator/memory_cache.h"
+#include "evaluator/memory_estimate.h"
 #include "evaluator/node_keys.h"
 #include "graph/exec_context.h"
 
@@ -79,7 +80,7 @@ constexpr double kProgressStep = 0.01;
 // The state that outlives one evaluation: options, caches, statistics.
 struct EvaluatorState {
   explicit EvaluatorState(EvaluatorOptions o) : options(std::move(o)), memory(options.cache_bytes) {
-    if (!options.cache_dir.empty()) disk = std::make_unique<DiskCache>(options.cache_dir);
+    if (!options.cache_dir.empty()) disk = std::make_unique<DiskCache>(options.cache_dir, options.cache_disk_bytes);
   }
 
   // An arena of options.threads threads (0: all cores), created per evaluation so it follows the process's
@@ -109,7 +110,12 @@ struct EvaluatorState {
       memory.erase(key);  // a writer whose files changed, or an entry that does not fit
     }
     if (disk) {
-      auto loaded = disk->load(key);
+      DiskCache::Loaded loaded;
+      try {
+        loaded = disk->load(key);
+      } catch (const std::exception&) {
+        loaded.rejected = true;  // the cache never fails a build: an entry we cannot even inspect is a miss
+      }
       if (loaded.rejected) {
         ++disk_rejected;
       } else if (loaded.result && !fits(type, *loaded.result)) {
@@ -369,6 +375,12 @@ class Run {
         if (job.inputs[i].job >= 0)
           inputs[i] = jobs_[static_cast<std::size_t>(job.inputs[i].job)]
                           .result->outputs[static_cast<std::size_t>(job.inputs[i].port)];
+      if (auto why = check_domain(request_.domain); !why.empty()) throw NodeError(why);
+      if (impl_.options.max_memory > 0) {
+        const std::uint64_t need = estimate_node_bytes(type, request_.domain);
+        if (need > impl_.options.max_memory)
+          throw NodeError(memory_refusal(type, request_.domain, need, impl_.options.max_memory));
+      }
       ExecContext ctx(type, id, request_.domain, std::move(inputs), graph_.effective_params(node));
       ctx.set_cancel_token(request_.cancel);
       ctx.set_output_policy(policy_);

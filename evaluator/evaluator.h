@@ -39,6 +39,8 @@ struct EvaluatorOptions {
   int threads = 0;  // 0: all cores; capped at the process's oneTBB parallelism limit
   std::size_t cache_bytes = std::size_t(2) << 30;  // in-memory LRU bound (2 GiB)
   std::filesystem::path cache_dir;                 // empty: no persistent cache
+  std::uint64_t max_memory = 0;  // bytes a node's outputs may need (estimate_node_bytes); 0: no limit
+  std::uint64_t cache_disk_bytes = std::uint64_t(4) << 30;  // bound of cache_dir; LRU eviction beyond it
   OutputPolicy output;                             // where writer nodes may write
 };
 

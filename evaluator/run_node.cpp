@@ -36,6 +36,7 @@ NodeRun run_node(const std::string& type_name, const Domain& domain, const std::
   for (std::size_t i = 0; i < type->inputs.size(); ++i)
     if (!type->inputs[i].optional && !has_value(in[i]))
       throw NodeError("required input '" + type->inputs[i].name + "' is not connected");
+  if (auto why = check_domain(domain); !why.empty()) throw NodeError(why);
   ExecContext ctx(*type, type_name, domain, std::move(in), std::move(values));
   ctx.set_output_policy(output);
   ctx.set_cancel_token(cancel);

@@ -14,6 +14,17 @@
 
 namespace orogen {
 
+// Limits of a usable domain: below kMinSpacing samples are closer than any terrain needs and coordinates
+// stop being distinct; beyond kMaxCoordinate a float cannot tell neighbouring samples apart and lattice
+// arithmetic loses its meaning.
+inline constexpr double kMinSpacing = 1e-6;     // m
+inline constexpr double kMaxCoordinate = 1e12;  // m, |x| and |y| of every sample
+
+struct Domain;
+// Empty if `d` is usable (sample counts >= 1, spacing finite and >= kMinSpacing, every sample position
+// finite and within kMaxCoordinate), else why not.
+std::string check_domain(const Domain& d);
+
 struct Domain {
   glm::dvec2 origin{0.0, 0.0};     // world position of lattice index (0, 0), metres
   glm::dvec2 spacing{1.0, 1.0};    // metres between neighbouring samples

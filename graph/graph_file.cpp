@@ -257,6 +257,8 @@ class GraphReader {
     }
     if (d.contains("origin"))
       if (auto origin = read_pair(d["origin"], "/domain/origin", "", "[x, y] in metres")) graph_.domain.origin = *origin;
+    if (graph_.domain.size.x > 0.0 && graph_.domain.size.y > 0.0)
+      if (auto why = check_domain(graph_.domain.to_domain()); !why.empty()) report("/domain", "", why);
   }
 
   void read_nodes(const json& nodes) {
@@ -619,14 +621,27 @@ LoadResult load_graph_file(const std::filesystem::path& path, const LoadOptions&
     result.diagnostics.push_back({"", "", "cannot open " + path.string() + ": " + std::strerror(errno)});
     return result;
   }
-  std::ostringstream text;
-  text << in.rdbuf();
+  // Read at most kMaxGraphFileBytes + 1 bytes: a graph file is text of a few kilobytes, and a device or a
+  // huge file must not be read without end.
+  std::string text;
+  char chunk[1 << 16];
+  while (in && text.size() <= kMaxGraphFileBytes) {
+    in.read(chunk, sizeof chunk);
+    text.append(chunk, static_cast<std::size_t>(in.gcount()));
+  }
   if (in.bad()) {
     LoadResult result;
     result.diagnostics.push_back({"", "", "cannot read " + path.string()});
     return result;
   }
-  return parse_graph(text.str(), options);
+  if (text.size() > kMaxGraphFileBytes) {
+    LoadResult result;
+    result.diagnostics.push_back({"", "", path.string() + " is larger than " +
+                                              std::to_string(kMaxGraphFileBytes >> 20) +
+                                              " MiB, the limit of a graph file"});
+    return result;
+  }
+  return parse_graph(text, options);
 }
 
 }  // namespace orogen

@@ -58,6 +58,7 @@ struct LoadOptions {
 };
 
 LoadResult parse_graph(std::string_view json_text, const LoadOptions& options = {});
+inline constexpr std::size_t kMaxGraphFileBytes = std::size_t(64) << 20;  // larger files are refused
 LoadResult load_graph_file(const std::filesystem::path& path, const LoadOptions& options = {});
 
 // Pretty-printed, stable JSON: node order as in the graph, only explicitly set parameters.

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <cmath>
 
 namespace orogen {
 
@@ -12,6 +14,7 @@ float Heightfield::clamped(int i, int j) const {
 }
 
 float Heightfield::bilinear(double u, double v) const {
+  if (std::isnan(u) || std::isnan(v)) return std::numeric_limits<float>::quiet_NaN();  // no position, no index
   u = std::clamp(u, 0.0, static_cast<double>(width() - 1));
   v = std::clamp(v, 0.0, static_cast<double>(height() - 1));
   const int i = std::min(static_cast<int>(u), std::max(width() - 2, 0));

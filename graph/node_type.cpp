@@ -6,6 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "graph/output_path.h"
+
 namespace orogen {
 namespace {
 
@@ -62,6 +64,7 @@ std::string ParamDecl::check(const ParamValue& v) const {
     }
     case ParamType::Path: {
       const auto& s = std::get<std::string>(v);
+      if (auto why = check_path_text(s); !why.empty()) return why;
       if (extensions.empty() || s.empty()) return {};
       for (const auto& ext : extensions) {
         if (s.size() >= ext.size()) {

@@ -20,4 +20,15 @@ struct OutputPathError : std::runtime_error {
 // The file a graph path refers to under `policy`; throws OutputPathError when the rule refuses it.
 std::filesystem::path resolve_output_path(const OutputPolicy& policy, const std::string& graph_path);
 
+// Creates the directories leading to `target` (a path from resolve_output_path) and checks, on the real file
+// system, that they lie inside the output directory: a symbolic link inside it that points elsewhere is
+// refused unless policy.allow_any_path. Throws OutputPathError (refused) or std::filesystem_error.
+void prepare_output_directory(const OutputPolicy& policy, const std::filesystem::path& target);
+
+// True if `real` (a canonical path) is `root` (canonical) or lies below it.
+bool path_is_within(const std::filesystem::path& real, const std::filesystem::path& root);
+
+// Empty if `text` may be a file path in a graph, else why not (control characters, NUL).
+std::string check_path_text(const std::string& text);
+
 }  // namespace orogen

@@ -2,13 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace orogen {
 
 double CurveValue::evaluate(double x) const {
   const auto n = points.size();
-  if (n == 0) return x;
+  if (n == 0 || std::isnan(x)) return x;  // NaN in, NaN out: no segment to look up
   if (n == 1 || x <= points.front().x) return points.front().y;
   if (x >= points.back().x) return points.back().y;
   // Secant slopes, then Fritsch-Carlson tangents limited so each segment stays monotone.
@@ -42,6 +43,7 @@ double CurveValue::evaluate(double x) const {
 }
 
 glm::vec4 GradientValue::evaluate(double t) const {
+  if (std::isnan(t)) return glm::vec4(std::numeric_limits<float>::quiet_NaN());  // NaN in, NaN out
   if (stops.empty()) return glm::vec4(static_cast<float>(t), static_cast<float>(t), static_cast<float>(t), 1.0f);
   if (t <= stops.front().position) return stops.front().color;
   if (t >= stops.back().position) return stops.back().color;

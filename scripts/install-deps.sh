@@ -12,7 +12,7 @@ packages=(
   libtbb-dev
   nlohmann-json3-dev
   libcli11-dev
-  libxxhash-dev
+  libxxhash-dev libzstd-dev
   libgtest-dev libgmock-dev
   libbenchmark-dev
   libnoise-dev

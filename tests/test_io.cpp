@@ -14,6 +14,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "evaluator/run_node.h"
+#include "graph/atomic_file.h"
 #include "graph/exec_context.h"
 #include "graph/registry.h"
 #include "nodes/io/heightfield_file.h"
@@ -51,7 +52,7 @@ std::string read_bytes(const fs::path& p) {
 std::vector<fs::path> temporaries_in(const fs::path& dir) {
   std::vector<fs::path> found;
   for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.path().filename().string().find(".tmp-") != std::string::npos) found.push_back(e.path());
+    if (is_temporary_name(e.path().filename().string())) found.push_back(e.path());
   return found;
 }
 

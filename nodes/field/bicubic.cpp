@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace orogen {
 
 double catmull_rom(const Heightfield& f, double u, double v) {
   const int w = f.width(), h = f.height();
+  // A NaN coordinate (from a NaN displacement) has no position: the lookup is NaN, never an index.
+  if (std::isnan(u) || std::isnan(v)) return std::numeric_limits<double>::quiet_NaN();
   u = std::clamp(u, 0.0, static_cast<double>(w - 1));
   v = std::clamp(v, 0.0, static_cast<double>(h - 1));
   const int i = static_cast<int>(std::floor(u)), j = static_cast<int>(std::floor(v));

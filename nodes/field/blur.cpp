@@ -123,7 +123,15 @@ void gaussian_blur_line(const float* in, float* out, int n, double sigma, BlurEd
 
 Heightfield gaussian_blur(const Heightfield& in, const BlurParams& p, const ExecContext* ctx) {
   const int w = in.width(), h = in.height();
-  const double sx = p.sigma / in.domain.spacing.x, sy = p.sigma / in.domain.spacing.y;
+  // The kernel is bounded by the field, not by sigma / spacing (which a tiny domain makes astronomically
+  // large): beyond 4 times the field's extent the blur is computed with sigma = that bound, where it is
+  // already as flat as the edge rule lets it be. Time and memory stay proportional to the samples.
+  const double bound = 4.0 * std::max(w, h) + 16.0;
+  auto in_samples = [&](double spacing) {
+    const double s = p.sigma / spacing;
+    return std::isnan(s) ? 0.0 : std::min(s, bound);
+  };
+  const double sx = in_samples(in.domain.spacing.x), sy = in_samples(in.domain.spacing.y);
   Heightfield tmp(in.domain), out(in.domain);
   for_each_row(ctx, h, [&](int j) { gaussian_blur_line(&in.row(j)[0], &tmp.row(j)[0], w, sx, p.edges); }, 0.0, 0.5);
   // Columns in blocks of adjacent ones, so each gathered row segment is one cache line.

@@ -14,6 +14,7 @@ namespace {
 // One channel of an image at continuous sample coordinates (u, v), bilinear, clamped at the borders.
 float image_bilinear(const Image& img, int channel, double u, double v) {
   const int w = img.width(), h = img.height();
+  if (std::isnan(u) || std::isnan(v)) return std::numeric_limits<float>::quiet_NaN();  // no position, no index
   u = std::clamp(u, 0.0, static_cast<double>(w - 1));
   v = std::clamp(v, 0.0, static_cast<double>(h - 1));
   const int i = std::min(static_cast<int>(u), std::max(w - 2, 0));

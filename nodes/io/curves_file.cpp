@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "graph/checked_file.h"
+
 namespace orogen {
 namespace {
 
@@ -107,11 +109,13 @@ void write_curves_file(const Curves& curves, const std::filesystem::path& path, 
       if (progress && (k & 255) == 0) progress(0.9 * static_cast<double>(k) / static_cast<double>(n));
     }
   }
-  std::ofstream f(path, std::ios::binary);
-  if (!f) throw FileError("cannot open " + path.string() + " for writing");
-  f.write(text.data(), static_cast<std::streamsize>(text.size()));
-  f.close();
-  if (!f) throw FileError("cannot write " + path.string());
+  try {
+    CheckedFile f(path);  // every write checked, synced before the rename (a full disk fails the node)
+    f.write(text.data(), text.size());
+    f.finish();
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
   if (progress) progress(1.0);
 }
 

@@ -14,6 +14,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "nodes/io/compression.h"
+#include "nodes/io/checked_image_output.h"
 
 namespace orogen {
 namespace {
@@ -77,9 +78,10 @@ int block_rows(int height) { return std::clamp((height / 8 + 15) / 16 * 16, 16, 
 template <class T, class Convert>
 void write_oiio(const Heightfield& h, const fs::path& path, OIIO::ImageSpec spec, const WriteProgress& progress,
                 Convert convert) {
-  auto out = OIIO::ImageOutput::create(path.string());
-  if (!out) throw FileError("cannot write '" + path.string() + "': " + OIIO::geterror());
-  if (!out->open(path.string(), spec)) throw FileError("cannot create '" + path.string() + "': " + out->geterror());
+  CheckedIOProxy proxy(path);
+  std::string error;
+  auto out = create_checked_output(path, proxy, spec, error);
+  if (!out) throw FileError("cannot create '" + path.string() + "': " + error);
   const std::size_t w = static_cast<std::size_t>(h.width());
   std::vector<T> block;
   const int rows_per_block = block_rows(h.height());
@@ -98,15 +100,23 @@ void write_oiio(const Heightfield& h, const fs::path& path, OIIO::ImageSpec spec
       }
       ok = out->write_scanlines(r0, r1, 0, spec.format, block.data());
     }
-    if (!ok) throw FileError("cannot write '" + path.string() + "': " + out->geterror());
+    if (!ok)
+      throw FileError(proxy.file().ok() ? "cannot write '" + path.string() + "': " + out->geterror()
+                                        : proxy.file().error());
     report(progress, r1, h.height());
   }
-  if (!out->close()) throw FileError("cannot finish '" + path.string() + "': " + out->geterror());
+  const bool closed = out->close();
+  if (!proxy.file().ok()) throw FileError(proxy.file().error());  // a short write the plugin ignored
+  if (!closed) throw FileError("cannot finish '" + path.string() + "': " + out->geterror());
+  try {
+    proxy.file().finish();
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
 }
 
 void write_raw16(const Heightfield& h, const fs::path& path, const HeightRange& range, const WriteProgress& progress) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw FileError("cannot create '" + path.string() + "'");
+  CheckedFile out(path);
   std::vector<unsigned char> bytes(static_cast<std::size_t>(h.width()) * 2);
   for (int r = 0; r < h.height(); ++r) {
     const int j = h.height() - 1 - r;
@@ -117,12 +127,14 @@ void write_raw16(const Heightfield& h, const fs::path& path, const HeightRange& 
       bytes[2 * static_cast<std::size_t>(i)] = static_cast<unsigned char>(q & 0xff);  // little endian
       bytes[2 * static_cast<std::size_t>(i) + 1] = static_cast<unsigned char>(q >> 8);
     }
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    if (!out) throw FileError("cannot write '" + path.string() + "' (disk full?)");
+    if (!out.write(bytes.data(), bytes.size())) throw FileError(out.error());
     report(progress, r + 1, h.height());
   }
-  out.close();
-  if (!out) throw FileError("cannot finish '" + path.string() + "'");
+  try {
+    out.finish();
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
 }
 
 HeightRaster read_raw16(const fs::path& path, int channel) {
@@ -308,6 +320,10 @@ HeightRaster read_height_raster(const fs::path& path, int channel) {
                     std::to_string(channel) + " does not exist");
   if (spec.width < 1 || spec.height < 1 || spec.depth > 1)
     throw FileError("'" + path.string() + "' is not a 2D image");
+  // A header is not a promise: a few bytes can claim a gigapixel image. Refuse what no domain can hold.
+  if (spec.width > 65536 || spec.height > 65536)
+    throw FileError("'" + path.string() + "' is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                    " pixels; at most 65536 per side can be read");
   const OIIO::TypeDesc type = spec.channelformat(channel);
   if (!is_supported(type))
     throw FileError("'" + path.string() + "' stores pixels as " + std::string(type.c_str()) + ", which is not supported");

@@ -11,6 +11,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "nodes/io/compression.h"
+#include "nodes/io/checked_image_output.h"
 
 namespace orogen {
 namespace {
@@ -53,9 +54,10 @@ int block_rows(int height) { return std::clamp((height / 8 + 15) / 16 * 16, 16, 
 template <class T>
 void write_scanlines(const Image& image, const fs::path& path, const OIIO::ImageSpec& spec,
                      const WriteProgress& progress, bool encode_srgb) {
-  auto out = OIIO::ImageOutput::create(path.string());
-  if (!out) throw FileError("cannot write '" + path.string() + "': " + OIIO::geterror());
-  if (!out->open(path.string(), spec)) throw FileError("cannot create '" + path.string() + "': " + out->geterror());
+  CheckedIOProxy proxy(path);
+  std::string error;
+  auto out = create_checked_output(path, proxy, spec, error);
+  if (!out) throw FileError("cannot create '" + path.string() + "': " + error);
   const int n = image.channels;
   const int alpha = alpha_channel(n);
   const std::size_t row_samples = static_cast<std::size_t>(image.width()) * static_cast<std::size_t>(n);
@@ -80,10 +82,19 @@ void write_scanlines(const Image& image, const fs::path& path, const OIIO::Image
       }
       ok = out->write_scanlines(r0, r1, 0, spec.format, block.data());
     }
-    if (!ok) throw FileError("cannot write '" + path.string() + "': " + out->geterror());
+    if (!ok)
+      throw FileError(proxy.file().ok() ? "cannot write '" + path.string() + "': " + out->geterror()
+                                        : proxy.file().error());
     if (progress) progress(static_cast<double>(r1) / image.height());
   }
-  if (!out->close()) throw FileError("cannot finish '" + path.string() + "': " + out->geterror());
+  const bool closed = out->close();
+  if (!proxy.file().ok()) throw FileError(proxy.file().error());  // a short write the plugin ignored
+  if (!closed) throw FileError("cannot finish '" + path.string() + "': " + out->geterror());
+  try {
+    proxy.file().finish();
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
 }
 
 }  // namespace

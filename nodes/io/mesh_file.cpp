@@ -7,10 +7,10 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <memory>
 #include <string>
 
+#include "graph/checked_file.h"
 #include "graph/mesh.h"
 #include "nodes/io/image_file.h"
 
@@ -47,14 +47,17 @@ void append(std::string& out, unsigned value) {
 // Formatted in memory in blocks of rows and flushed to the file as it goes.
 void write_obj(const TriMesh& m, const std::filesystem::path& path, const MeshWriteOptions& options,
                const std::vector<OpenMesh::Vec2f>& uvs) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "wb"), &std::fclose);
-  if (!file) throw FileError("cannot write '" + path.string() + "': cannot open the file");
+  std::unique_ptr<CheckedFile> file;
+  try {
+    file = std::make_unique<CheckedFile>(path);
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
   std::string out;
   out.reserve(1 << 20);
   auto flush = [&](bool force) {
     if (!force && out.size() < (1u << 20)) return;
-    if (std::fwrite(out.data(), 1, out.size(), file.get()) != out.size())
-      throw FileError("cannot write '" + path.string() + "': write failed (disk full?)");
+    if (!file->write(out.data(), out.size())) throw FileError(file->error());
     out.clear();
   };
   out += "# Orogen terrain mesh, metres\n";
@@ -111,7 +114,11 @@ void write_obj(const TriMesh& m, const std::filesystem::path& path, const MeshWr
     flush(false);
   }
   flush(true);
-  if (std::fflush(file.get()) != 0) throw FileError("cannot write '" + path.string() + "': write failed (disk full?)");
+  try {
+    file->finish();
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
 }
 
 }  // namespace
@@ -187,8 +194,22 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
   if (format == MeshFormat::Stl) opt += OpenMesh::IO::Options::FaceNormal;
   // 9 significant digits: text formats read back the same float (OpenMesh's default of 6 would round
   // x = 12345.67 m to 12345.7 m).
-  if (!OpenMesh::IO::write_mesh(out, path.string(), opt, 9))
-    throw FileError("cannot write '" + path.string() + "' (OpenMesh could not write the mesh)");
+  std::unique_ptr<CheckedOStream> stream;
+  try {
+    stream = std::make_unique<CheckedOStream>(path);
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const bool written = OpenMesh::IO::write_mesh(out, *stream, ext, opt, 9);
+  if (!stream->file().ok()) throw FileError(stream->file().error());
+  if (!written) throw FileError("cannot write '" + path.string() + "' (OpenMesh could not write the mesh)");
+  try {
+    stream->finish();
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
 }
 
 }  // namespace orogen

@@ -4,7 +4,10 @@
 #include <array>
 #include <charconv>
 #include <fstream>
+#include <memory>
 #include <string>
+
+#include "graph/checked_file.h"
 
 namespace orogen {
 namespace {
@@ -34,7 +37,9 @@ bool is_ply_word(const std::string& s) {
 
 void check_names(const Points& points, PointsFormat format, const fs::path& path) {
   for (const auto& [name, values] : points.attributes) {
-    if (std::find_if(kColumns.begin(), kColumns.end(), [&](const char* c) { return name == c; }) != kColumns.end())
+    // A named reference: clang 14 cannot capture a structured binding in a lambda.
+    const std::string& attribute = name;
+    if (std::find_if(kColumns.begin(), kColumns.end(), [&](const char* c) { return attribute == c; }) != kColumns.end())
       throw FileError("cannot write '" + path.string() + "': attribute '" + name + "' has the name of a fixed column");
     if (name.empty()) throw FileError("cannot write '" + path.string() + "': an attribute has an empty name");
     if (format == PointsFormat::Ply && !is_ply_word(name))
@@ -60,8 +65,13 @@ void write_points_file(const Points& points, const fs::path& path, PointsFormat 
     throw FileError("cannot write '" + path.string() + "': " + e.what());
   }
   check_names(points, format, path);
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw FileError("cannot create '" + path.string() + "'");
+  std::unique_ptr<CheckedOStream> stream;
+  try {
+    stream = std::make_unique<CheckedOStream>(path);
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
+  CheckedOStream& out = *stream;
 
   std::string line;
   if (format == PointsFormat::Csv) {
@@ -114,8 +124,11 @@ void write_points_file(const Points& points, const fs::path& path, PointsFormat 
       progress(static_cast<double>(k + 1) / static_cast<double>(n));
     }
   }
-  out.close();
-  if (!out) throw FileError("cannot write '" + path.string() + "' (disk full?)");
+  try {
+    out.finish();
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
   if (progress) progress(1.0);
 }
 

@@ -15,6 +15,7 @@ void write_node_output(ExecContext& ctx, std::string_view param,
   };
   std::string temporary_name;
   try {
+    prepare_output_directory(ctx.output_policy(), target);
     write_file_atomically(target, [&](const std::filesystem::path& temporary) {
       temporary_name = temporary.string();
       write(temporary, progress);
@@ -23,6 +24,8 @@ void write_node_output(ExecContext& ctx, std::string_view param,
     throw;
   } catch (const NodeError&) {
     throw;
+  } catch (const OutputPathError& e) {
+    throw NodeError(e.what());
   } catch (const std::exception& e) {
     // FileError, filesystem_error (directory not creatable, rename failed), bad_alloc, ...
     // The user knows the file by its target name, not by the temporary one.

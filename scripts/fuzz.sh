@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets with clang (ASan + UBSan + fuzzer coverage) in build/fuzz and runs each for a
+# share of a fixed time budget (default 60 s in all), from the seed corpora: graphs/*.json for the graph
+# reader, small images of each format for ReadHeightfield, parameter texts for the text grammars.
+#   scripts/fuzz.sh [SECONDS]
+# Exits 0 if clang cannot build a fuzzer here (reported), 1 if a target found a crash (the reproducer is in
+# build/fuzz/artifacts/).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+total="${1:-60}"
+export CCACHE_BASEDIR="$(pwd)"
+CXX_FUZZ="${CXX_FUZZ:-$(command -v clang++-14 || command -v clang++ || true)}"
+CC_FUZZ="${CC_FUZZ:-$(command -v clang-14 || command -v clang || true)}"
+if [ -z "$CXX_FUZZ" ]; then echo "fuzz.sh: no clang; skipped"; exit 0; fi
+probe="$(mktemp -d)"
+echo 'extern "C" int LLVMFuzzerTestOneInput(const unsigned char*, unsigned long) { return 0; }' > "$probe/p.cpp"
+if ! "$CXX_FUZZ" -fsanitize=fuzzer,address "$probe/p.cpp" -o "$probe/p" 2>/dev/null; then
+  echo "fuzz.sh: $CXX_FUZZ cannot build a libFuzzer target here; skipped"; rm -rf "$probe"; exit 0
+fi
+rm -rf "$probe"
+
+# -O1 with line tables only: instrumented code compiles about twice as fast as RelWithDebInfo and still
+# fuzzes quickly; stack traces keep file and line.
+cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -gline-tables-only" \
+  -DCMAKE_C_FLAGS_DEBUG="-O1 -gline-tables-only" -DCMAKE_C_COMPILER="$CC_FUZZ" \
+  -DCMAKE_CXX_COMPILER="$CXX_FUZZ" -DOROGEN_FUZZ=ON -DOROGEN_EDITOR=OFF -DOROGEN_BENCH=OFF -DOROGEN_TESTS=OFF
+cmake --build build/fuzz -j"$(nproc)" --target orogen_fuzz_graph_file orogen_fuzz_heightfield_image orogen_fuzz_param_text
+
+work=build/fuzz/run
+mkdir -p "$work/graph" "$work/image" "$work/param" build/fuzz/artifacts
+cp graphs/*.json "$work/graph/"
+bash tests/fuzz/make_image_seeds.sh "$work/image"
+cp tests/fuzz/param_seeds/* "$work/param/" 2>/dev/null || true
+
+export ASAN_OPTIONS=detect_leaks=0:abort_on_error=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+run() {  # target corpus seconds [extra args]
+  local target="$1" corpus="$2" seconds="$3"; shift 3
+  echo "== $target for ${seconds} s"
+  "build/fuzz/tests/fuzz/$target" "$corpus" -max_total_time="$seconds" -rss_limit_mb=3072 -malloc_limit_mb=2048 \
+    -timeout=20 -artifact_prefix=build/fuzz/artifacts/"$target"- -print_final_stats=1 "$@" 2>&1 | tail -n 12
+  return "${PIPESTATUS[0]}"
+}
+half=$((total / 2)); quarter=$((total / 4))
+run orogen_fuzz_graph_file "$work/graph" "$half" -dict=tests/fuzz/graph_file.dict
+run orogen_fuzz_heightfield_image "$work/image" "$quarter"
+run orogen_fuzz_param_text "$work/param" "$((total - half - quarter))" -dict=tests/fuzz/graph_file.dict
