@@ -126,6 +126,22 @@ NodeBuilder::Port& NodeBuilder::Port::optional(bool value) {
   list_[index_].optional = value;
   return *this;
 }
+NodeBuilder::Port& NodeBuilder::Port::kind(OutputKind k) {
+  list_[index_].kind = k;
+  return *this;
+}
+
+std::string_view to_string(OutputKind kind) {
+  switch (kind) {
+    case OutputKind::Auto: return "auto";
+    case OutputKind::Height: return "height";
+    case OutputKind::Mask: return "mask";
+    case OutputKind::Signed: return "signed";
+    case OutputKind::Scalar: return "scalar";
+    case OutputKind::WaterDepth: return "water_depth";
+  }
+  return "auto";
+}
 
 ParamDecl& NodeBuilder::Param::decl() { return type_.params[index_]; }
 NodeBuilder::Param& NodeBuilder::Param::range(double lo, double hi) {
@@ -327,8 +343,13 @@ void check_declaration(const NodeType& type) {
   std::set<std::string> names;
   for (const auto& p : type.inputs)
     if (!names.insert("in:" + p.name).second) fail("duplicate input '" + p.name + "'");
-  for (const auto& p : type.outputs)
+  for (const auto& p : type.outputs) {
     if (!names.insert("out:" + p.name).second) fail("duplicate output '" + p.name + "'");
+    if (p.kind != OutputKind::Auto && p.type != PortType::Heightfield)
+      fail("output '" + p.name + "' declares a kind but is not a heightfield");
+  }
+  for (const auto& p : type.inputs)
+    if (p.kind != OutputKind::Auto) fail("input '" + p.name + "' declares a kind (outputs only)");
   for (const auto& p : type.params) {
     if (!names.insert("param:" + p.name).second) fail("duplicate parameter '" + p.name + "'");
     if (p.description.empty()) fail("parameter '" + p.name + "' has no description");

@@ -24,11 +24,19 @@ namespace orogen {
 
 class ExecContext;
 
+// What a heightfield output holds, so viewers choose a colour map and range without guessing: terrain
+// heights (m), masks in 0..1, signed fields centred on 0 (curvature, differences, northness), non-negative
+// quantities (slope angle, flow), water depth (m; 0 = dry). Auto: inferred by the viewer (a port named like a
+// mask is a mask, an operator passes on the kind of its primary input, anything else is a height).
+enum class OutputKind { Auto, Height, Mask, Signed, Scalar, WaterDepth };
+std::string_view to_string(OutputKind kind);
+
 struct PortDecl {
   std::string name;
   PortType type = PortType::Heightfield;
   std::string description;
   bool optional = false;  // inputs only: may stay unconnected
+  OutputKind kind = OutputKind::Auto;  // heightfield outputs only: what the values mean (for viewers)
 };
 
 struct ParamDecl {
@@ -140,6 +148,7 @@ class NodeBuilder {
     Port(std::vector<PortDecl>& list, std::size_t index) : list_(list), index_(index) {}
     Port& description(std::string text);
     Port& optional(bool value = true);
+    Port& kind(OutputKind k);
    private:
     std::vector<PortDecl>& list_;
     std::size_t index_;

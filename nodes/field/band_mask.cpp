@@ -16,7 +16,7 @@ OROGEN_NODE(BandMask) {
       "when that is 0, (max - min) / sharpness (Hammes' sharpness: 2 fades over half the band width on each "
       "side).");
   b.input("in", PortType::Heightfield).description("Any field: heights (m), slope (deg), moisture, ...");
-  b.output("out", PortType::Heightfield).description("Mask in 0..1");
+  b.output("out", PortType::Heightfield).description("Mask in 0..1").kind(OutputKind::Mask);
   b.param_float("min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Lower edge of the band, in the field's units");
   b.param_float("max", 100.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Upper edge of the band (>= min), in the field's units");
   b.param_float("sharpness", 2.0).range(0.0, 1e6).soft_range(0.5, 50.0)

@@ -16,10 +16,11 @@ void run_binary(ExecContext& ctx, F&& f) {
   ctx.set_output("out", map_fields(*a, *b, f, &ctx));
 }
 
-void declare_binary_ports(NodeBuilder& b, const char* a_text, const char* b_text, const char* out_text) {
+void declare_binary_ports(NodeBuilder& b, const char* a_text, const char* b_text, const char* out_text,
+                          OutputKind kind = OutputKind::Auto) {
   b.input("a", PortType::Heightfield).description(a_text);
   b.input("b", PortType::Heightfield).description(std::string(b_text) + " (resampled onto a's domain if it differs)");
-  b.output("out", PortType::Heightfield).description(out_text);
+  b.output("out", PortType::Heightfield).description(out_text).kind(kind);
 }
 
 }  // namespace
@@ -27,7 +28,7 @@ void declare_binary_ports(NodeBuilder& b, const char* a_text, const char* b_text
 OROGEN_NODE(Subtract) {
   b.reach_pointwise();
   b.category("field").description("Difference of two fields, a - b, sample by sample.");
-  declare_binary_ports(b, "Minuend", "Subtrahend", "a - b");
+  declare_binary_ports(b, "Minuend", "Subtrahend", "a - b", OutputKind::Signed);
   b.execute([](ExecContext& ctx) { run_binary(ctx, [](double x, double y) { return x - y; }); });
 }
 

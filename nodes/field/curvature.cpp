@@ -36,7 +36,7 @@ OROGEN_NODE(Curvature) {
       "(flow convergence, large near summits); tangential: plan curvature times the sine of the slope; "
       "mean: average of the principal curvatures. A sphere cap of radius R gives 1/R (plan: 1/rho).");
   b.input("in", PortType::Heightfield).description("Heights, metres");
-  b.output("out", PortType::Heightfield).description("Curvature, 1/m");
+  b.output("out", PortType::Heightfield).description("Curvature, 1/m").kind(OutputKind::Signed);
   b.param_enum("type", {"profile", "plan", "tangential", "mean"}, "profile").description("Which curvature");
   b.execute([](ExecContext& ctx) {
     const auto z = ctx.require<Heightfield>("in");

@@ -23,7 +23,7 @@ OROGEN_NODE(ReadHeightfield) {
       "image's rectangle repeat its edge. Unsigned integer pixels are mapped to heights through "
       "height_min/height_max (or the mapping WriteHeightfield stored in the file); float and signed integer "
       "pixels are heights in metres. RAW files must be square.");
-  b.output("out", PortType::Heightfield).description("The heightfield on the requested domain, metres");
+  b.output("out", PortType::Heightfield).description("The heightfield on the requested domain, metres").kind(OutputKind::Height);
   b.param_path("path", "").extensions({".exr", ".png", ".tif", ".tiff", ".raw", ".r16"}).description(
       "Image file to read. A relative path is resolved against the directory of the graph file (not the "
       "current directory, not the output directory)");

@@ -12,7 +12,7 @@ OROGEN_NODE(Worley) {
       "feature_size. Exact for every metric, output and jitter (the search covers every cell that can hold "
       "one of the four nearest points). S. Worley (1996), \"A cellular texture basis function\", SIGGRAPH.");
   declare_warp_inputs(b);
-  b.output("out", PortType::Heightfield).description("The chosen distance function times amplitude, in metres");
+  b.output("out", PortType::Heightfield).description("The chosen distance function times amplitude, in metres").kind(OutputKind::Height);
   declare_feature_size(b, 256.0, "Spacing of the feature points (lattice cell size)");
   declare_amplitude(b, 100.0, "Metres per lattice cell of distance (F1 * F2: per square cell)");
   b.param_enum("metric", {"euclidean", "manhattan", "chebyshev"}, "euclidean")
