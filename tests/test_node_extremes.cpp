@@ -218,7 +218,7 @@ TEST_P(NodeExtremes, ResultOrClearErrorEverywhere) {
     // Parameter extremes on the first two domains (the others add nothing for parameters but time).
     if (dname != "non-square 23x7" && dname != "tiny spacing") continue;
     for (const auto& p : type->params) {
-      if (p.output_file || p.type == ParamType::Path) continue;
+      if (p.output_file || p.type == ::orogen::ParamType::Path) continue;
       for (const auto& [label, value] : extremes(p)) {
         if (!p.check(value).empty()) continue;  // outside what the loader accepts
         const std::map<std::string, ParamValue> params{{p.name, value}};
