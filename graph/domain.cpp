@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace orogen {
@@ -23,7 +24,9 @@ std::string check_domain(const Domain& d) {
   }
   for (int k = 0; k < 2; ++k) {
     const double sp = d.spacing[k];
-    if (!std::isfinite(sp) || !(sp >= kMinSpacing)) {
+    // A single sample along an axis has no neighbour: its spacing is nominal and only needs to be positive.
+    const double min_spacing = d.resolution[k] == 1 ? std::numeric_limits<double>::min() : kMinSpacing;
+    if (!std::isfinite(sp) || !(sp >= min_spacing)) {
       s << "the domain's sample spacing in " << (k == 0 ? "x" : "y") << " is " << sp << " m; it must be at least "
         << kMinSpacing << " m (make the world larger or the resolution smaller)";
       return s.str();

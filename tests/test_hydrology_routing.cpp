@@ -76,6 +76,14 @@ TEST(HydrologyFill, FlatMatchesBruteForceOnRandomGrids) {
     fill_depressions(g, out, FlatMode::Flat);
     EXPECT_EQ(out, brute_fill(g, z)) << "seed " << seed;
   }
+  // Larger hilly grids (long queues, many depressions), also with an interior outlet.
+  for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+    const FlowGrid g(150, 120, 4.0, 4.0);
+    const std::vector<float> z = bumpy(g, seed, 6.0);
+    std::vector<float> out = z;
+    fill_depressions(g, out, FlatMode::Flat);
+    EXPECT_EQ(out, brute_fill(g, z)) << "seed " << seed;
+  }
 }
 
 TEST(HydrologyFill, EpsilonLeavesNoPitAndStaysCloseToFlatFill) {
@@ -104,6 +112,25 @@ TEST(HydrologyFill, EpsilonLeavesNoPitAndStaysCloseToFlatFill) {
     while (f.receiver[x] != x) x = f.receiver[x];
     ASSERT_TRUE(g.on_border(g.column(x), g.row(x)));
   }
+}
+
+TEST(HydrologyFill, EpsilonFillReportsTheFlatWaterLevel) {
+  const FlowGrid g(120, 100, 5.0, 5.0);
+  const std::vector<float> z = bumpy(g, 8);
+  std::vector<float> eps = z, level(g.size());
+  fill_depressions(g, eps, FlatMode::Epsilon, {}, nullptr, level);
+  const std::vector<float> flat = brute_fill(g, z);
+  int lakes = 0;
+  for (std::size_t c = 0; c < z.size(); ++c) {
+    ASSERT_NEAR(level[c], flat[c], 1e-4f * std::max(1.0f, std::abs(flat[c])));
+    ASSERT_EQ(level[c] > z[c], flat[c] > z[c]) << "same lakes";
+    ASSERT_LE(level[c], eps[c]);
+    lakes += flat[c] > z[c];
+  }
+  EXPECT_GT(lakes, 100);
+  std::vector<float> f2 = z, level2(g.size());
+  fill_depressions(g, f2, FlatMode::Flat, {}, nullptr, level2);
+  EXPECT_EQ(level2, f2);
 }
 
 TEST(HydrologyFill, BowlFillsExactlyToItsRim) {

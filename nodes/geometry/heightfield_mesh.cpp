@@ -6,12 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
-#include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
-#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
-#include <OpenMesh/Tools/Decimater/Observer.hh>
 
-#include "nodes/geometry/mod_height_error.h"
 
 namespace orogen {
 namespace {
@@ -54,40 +49,6 @@ OpenMesh::Vec3f surface_normal(const Heightfield& h, int i, int j) {
   return {static_cast<float>(-dzdx / len), static_cast<float>(-dzdy / len), static_cast<float>(1.0 / len)};
 }
 
-// ModQuadricT without an error bound, its priority clamped at 0. On flat or planar regions the quadric error
-// is zero up to round-off, and DecimaterT treats a negative priority (say -1e-12) as an illegal collapse,
-// which stalls the decimation of planes at hundreds of faces. Only the round-off is clamped: an actual
-// ILLEGAL_COLLAPSE (not returned without an error bound, but kept meaningful) passes through.
-template <class MeshT>
-class ModQuadricClampedT : public OpenMesh::Decimater::ModQuadricT<MeshT> {
- public:
-  using Quadric = OpenMesh::Decimater::ModQuadricT<MeshT>;
-  using Handle = OpenMesh::Decimater::ModHandleT<ModQuadricClampedT>;
-  explicit ModQuadricClampedT(MeshT& mesh) : Quadric(mesh) {}
-  const std::string& name() const override {
-    static const std::string n("QuadricClamped");
-    return n;
-  }
-  float collapse_priority(const typename Quadric::CollapseInfo& ci) override {
-    const float p = Quadric::collapse_priority(ci);
-    return p == float(Quadric::ILLEGAL_COLLAPSE) ? p : std::max(0.0f, p);
-  }
-};
-
-class Progress : public OpenMesh::Decimater::Observer {
- public:
-  Progress(const DecimationOptions& options, std::size_t total)
-      : Observer(std::max<std::size_t>(1, total / 100)), options_(options), total_(std::max<std::size_t>(1, total)) {}
-  void notify(std::size_t step) override {
-    if (options_.progress) options_.progress(std::min(1.0, static_cast<double>(step) / static_cast<double>(total_)));
-  }
-  bool abort() const override { return options_.should_stop && options_.should_stop(); }
-
- private:
-  const DecimationOptions& options_;
-  std::size_t total_;
-};
-
 }  // namespace
 
 Mesh heightfield_grid_mesh(const Heightfield& height, const Image* colors) {
@@ -128,34 +89,25 @@ Mesh heightfield_grid_mesh(const Heightfield& height, const Image* colors) {
   return result;
 }
 
-std::size_t decimate_heightfield_mesh(Mesh& mesh, const DecimationOptions& options) {
-  const bool bounded = options.max_error > 0.0;
-  if (!bounded && options.target_faces == 0) return 0;
-  TriMesh& m = mesh.mesh;
-  m.update_face_normals();  // ModNormalFlippingT compares against the current face normals
-
-  using Decimater = OpenMesh::Decimater::DecimaterT<TriMesh>;
-  Decimater decimater(m);
-  ModQuadricClampedT<TriMesh>::Handle quadric;
-  OpenMesh::Decimater::ModNormalFlippingT<TriMesh>::Handle flipping;
-  ModHeightErrorT<TriMesh>::Handle height_error;
-  decimater.add(quadric);
-  decimater.add(flipping);
-  decimater.add(height_error);
-  // The quadric only orders the collapses: its error is area-weighted (m^4), not a distance, so the bound in
-  // metres is enforced exactly by the height-error module instead.
-  decimater.module(quadric).unset_max_err();
-  decimater.module(height_error).set_tolerance(bounded ? options.max_error : std::numeric_limits<double>::infinity());
-  if (!decimater.initialize()) throw std::logic_error("OpenMesh decimater failed to initialise");
-
-  Progress observer(options, m.n_vertices());
-  decimater.set_observer(&observer);
-  const std::size_t collapses =
-      options.target_faces > 0 ? decimater.decimate_to_faces(0, options.target_faces) : decimater.decimate();
-  decimater.set_observer(nullptr);
-  m.garbage_collection();
+Mesh heightfield_mesh(const Heightfield& height, const Image* colors, const TinOptions& options) {
+  if (!(options.max_error > 0.0) && options.target_faces == 0) return heightfield_grid_mesh(height, colors);
+  if (colors && (colors->channels < 1 || colors->width() < 1 || colors->height() < 1))
+    throw std::invalid_argument("the colour image is empty");
+  const Tin tin = heightfield_tin(height, options);
+  Mesh result;
+  TriMesh& m = result.mesh;
+  m.reserve(tin.samples.size(), tin.samples.size() + tin.triangles.size(), tin.triangles.size());
+  std::vector<TriMesh::VertexHandle> v(tin.samples.size());
+  for (std::size_t k = 0; k < tin.samples.size(); ++k) {
+    const int i = tin.samples[k] % tin.width, j = tin.samples[k] / tin.width;
+    const double x = height.domain.x(i), y = height.domain.y(j);
+    v[k] = m.add_vertex({static_cast<float>(x), static_cast<float>(y), height.at(i, j)});
+    m.set_normal(v[k], surface_normal(height, i, j));
+    m.set_color(v[k], colors ? color_at(*colors, x, y) : OpenMesh::Vec4f(1, 1, 1, 1));
+  }
+  for (const auto& t : tin.triangles) m.add_face(v[t[0]], v[t[1]], v[t[2]]);
   m.update_face_normals();
-  return collapses;
+  return result;
 }
 
 }  // namespace orogen

@@ -1,12 +1,12 @@
 #pragma once
-// Heightfield to triangle mesh: a grid triangulation in world coordinates and its decimation to a vertical
-// error bound in metres.
+// Heightfield to triangle mesh: the full grid triangulation, or a TIN within a vertical error bound in metres.
 #include <cstddef>
 #include <functional>
 
 #include "graph/heightfield.h"
 #include "graph/image.h"
 #include "graph/mesh.h"
+#include "nodes/geometry/terrain_tin.h"
 
 namespace orogen {
 
@@ -14,26 +14,14 @@ namespace orogen {
 // index j * width + i. Each cell is split into two counter-clockwise triangles (seen from +z) along its
 // shorter 3D diagonal, so ridges and valleys running diagonally are kept. Vertex normals are the surface
 // normals of the heightfield by central differences (one-sided at the border), exact for planes. Vertex
-// colours are the image bilinearly sampled at each vertex's world position (1 channel: grey, 2: grey +
+// colors are the image bilinearly sampled at each vertex's world position (1 channel: gray, 2: gray +
 // alpha, 3: RGB, 4+: RGBA), or opaque white without an image. Throws std::invalid_argument for fewer than
 // 2 x 2 samples or a field too large for 32-bit mesh indices.
 Mesh heightfield_grid_mesh(const Heightfield& height, const Image* colors = nullptr);
 
-struct DecimationOptions {
-  // Largest vertical distance, in metres, between any original sample and the decimated surface; 0 or
-  // less: no error bound (then target_faces alone stops the decimation).
-  double max_error = 0.0;
-  // Stop once the mesh has at most this many faces; 0: no target (decimate as far as max_error allows).
-  std::size_t target_faces = 0;
-  std::function<void(double)> progress;     // optional, fraction of the vertices removed so far (approximate)
-  std::function<bool()> should_stop;        // optional; true aborts early (cancellation), leaving a valid mesh
-};
-
-// Decimates a mesh made by heightfield_grid_mesh by halfedge collapses (OpenMesh Decimater): collapses are
-// ordered by the error quadric (ModQuadricT), may not flip a face normal (ModNormalFlippingT), and must keep
-// every original sample within max_error vertically of the surface and the mesh a heightfield over the same
-// rectangle (ModHeightErrorT). Surviving vertices keep their position, normal and colour. Returns the number
-// of collapses. Does nothing if neither max_error nor target_faces is set.
-std::size_t decimate_heightfield_mesh(Mesh& mesh, const DecimationOptions& options);
+// The TIN of the heightfield within options' bound (see terrain_tin.h) as a mesh: its vertices are samples,
+// with the positions, normals and colors heightfield_grid_mesh gives them. With neither max_error nor
+// target_faces set, the grid mesh. Throws std::invalid_argument like heightfield_grid_mesh.
+Mesh heightfield_mesh(const Heightfield& height, const Image* colors, const TinOptions& options);
 
 }  // namespace orogen

@@ -1,4 +1,4 @@
-// HeightfieldToMesh: a terrain mesh from a heightfield, optionally decimated to an error bound in metres.
+// HeightfieldToMesh: a terrain mesh from a heightfield, the full grid or a TIN within an error bound in metres.
 #include <limits>
 #include <stdexcept>
 
@@ -10,42 +10,39 @@
 namespace orogen {
 
 OROGEN_NODE(HeightfieldToMesh) {
-  b.category("geometry").description(
+  b.category("geometry").version(2).description(
       "Turns a heightfield into a triangle mesh in world coordinates (x, y, z = height, metres, z up): one "
       "vertex per sample, two triangles per cell, vertex normals of the surface, and vertex colors from the "
-      "optional image. Optionally decimated (OpenMesh decimater, quadric-ordered) so that every original "
-      "sample stays within max_error metres vertically of the surface, and/or down to a target face count.");
+      "optional image. With max_error or target_faces, a triangulated irregular network instead: greedy insertion "
+      "of the worst sample into a Delaunay triangulation (Garland & Heckbert 1995, Fast polygonal approximation "
+      "of terrains and height fields), then half-edge collapses (Hoppe 1996, Progressive meshes) that keep every "
+      "sample within max_error metres vertically of the surface.");
   b.input("in", PortType::Heightfield).description("Heights in metres; at least 2 x 2 samples");
   b.input("colors", PortType::Image).optional().description(
       "Vertex colors, linear (gray, gray+alpha, RGB or RGBA), sampled at each vertex's world position; white "
       "when unconnected");
   b.output("out", PortType::Mesh).description("The terrain mesh");
   b.param_float("max_error", 0.0).range(0.0, 1e5).soft_range(0.0, 10.0).unit("m").description(
-      "Decimate as long as every original sample stays within this vertical distance of the surface; 0 "
-      "disables the error-bounded decimation");
+      "Every sample stays within this vertical distance of the surface (exact, checked at every sample); 0 "
+      "disables the error bound");
   b.param_int("target_faces", 0).range(0, 1000000000).description(
-      "Stop decimating at this many faces (still within max_error when that is set); 0: no target. With "
-      "max_error 0 this alone drives the decimation");
+      "Refine to about this many faces, never more unless max_error needs them (the tighter of the two wins); "
+      "0: no target. With max_error 0 this alone decides the size");
   b.execute([](ExecContext& ctx) {
     const auto height = ctx.require<Heightfield>("in");
     const auto colors = ctx.input<Image>("colors");
+    TinOptions options;
+    options.max_error = ctx.param<double>("max_error");
+    options.target_faces = static_cast<std::size_t>(ctx.param<std::int64_t>("target_faces"));
+    options.progress = [&ctx](double f) { ctx.progress(f); };
+    options.should_stop = [&ctx] { return ctx.cancelled(); };
     auto mesh = std::make_shared<Mesh>();
     try {
-      *mesh = heightfield_grid_mesh(*height, colors.get());
+      *mesh = heightfield_mesh(*height, colors.get(), options);
     } catch (const std::invalid_argument& e) {
       throw NodeError(e.what());
     }
-    ctx.check_cancelled();
-    DecimationOptions options;
-    options.max_error = ctx.param<double>("max_error");
-    options.target_faces = static_cast<std::size_t>(ctx.param<std::int64_t>("target_faces"));
-    if (options.max_error > 0.0 || options.target_faces > 0) {
-      ctx.progress(0.2);
-      options.progress = [&ctx](double f) { ctx.progress(0.2 + 0.8 * f); };
-      options.should_stop = [&ctx] { return ctx.cancelled(); };
-      decimate_heightfield_mesh(*mesh, options);
-      ctx.check_cancelled();  // a stopped decimation is a cancelled run, not a result
-    }
+    ctx.check_cancelled();  // a stopped refinement is a cancelled run, not a result
     ctx.set_output("out", std::move(mesh));
   });
 }

@@ -45,7 +45,15 @@ std::vector<float> flat_filled(const Heightfield& in, const ExecContext* ctx) {
 
 FillResult fill_depressions(const Heightfield& in, const FillParams& p, const ExecContext* ctx) {
   const FlowGrid g = FlowGrid::of(in.domain);
-  const std::vector<float> flat = flat_filled(in, ctx);
+  // Fill with epsilon gives the flat water levels in the same pass.
+  std::vector<float> eps, flat;
+  if (!p.carve && p.epsilon) {
+    eps = in.data;
+    flat.resize(eps.size());
+    fill_depressions(g, eps, FlatMode::Epsilon, {}, ctx, flat);
+  } else {
+    flat = flat_filled(in, ctx);
+  }
   std::vector<std::uint8_t> wet(flat.size());
   for (std::size_t c = 0; c < flat.size(); ++c) wet[c] = flat[c] > in.data[c];
   std::vector<std::int32_t> label;
@@ -59,8 +67,7 @@ FillResult fill_depressions(const Heightfield& in, const FillParams& p, const Ex
   std::vector<std::uint8_t> keep(static_cast<std::size_t>(count) + 1, 1);
   keep[0] = 0;
   if (!p.carve) {
-    out = p.epsilon ? in.data : flat;
-    if (p.epsilon) fill_depressions(g, out, FlatMode::Epsilon, {}, ctx);
+    out = p.epsilon ? std::move(eps) : flat;
   } else {
     // Depressions no deeper than max_depth stay as (filled) lakes; the others are breached.
     std::vector<float> deepest(static_cast<std::size_t>(count) + 1, 0.0f);

@@ -163,15 +163,15 @@ DrainageReport drainage_metrics(const Heightfield& in, double threshold, const E
       pits += !lower;
     }
   r.pits_per_million = static_cast<double>(pits) * 1e6 / static_cast<double>(std::max<std::size_t>(1, g.size()));
-  std::vector<float> z = in.data;
-  fill_depressions(g, z, FlatMode::Epsilon, {}, ctx);
+  std::vector<float> z = in.data, spill(g.size());
+  fill_depressions(g, z, FlatMode::Epsilon, {}, ctx, spill);
   const D8Flow f = d8_flow(g, z, {}, ctx);
   const auto stack = stack_order(g, f);
   const auto area = accumulate_d8(g, f, {}, ctx);
   std::vector<std::uint8_t> channel(g.size()), lake(g.size());
   for (std::size_t c = 0; c < g.size(); ++c) {
     channel[c] = area[c] >= threshold;
-    lake[c] = z[c] > in.data[c];
+    lake[c] = spill[c] > in.data[c];
   }
   r.network = network_metrics(g, f, stack, channel, area, z, lake);
   return r;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <functional>
 #include <limits>
 
 #include <tbb/blocked_range.h>
@@ -21,31 +22,84 @@ void check(const ExecContext* ctx) {
   if (ctx) ctx->check_cancelled();
 }
 
-// Min-heap entry of the priority floods; ties broken by index so the order is fully specified.
+// Smallest float above v (v finite): one ulp up, without a libm call.
+inline float next_up(float v) {
+  if (v == 0.0f) return std::numeric_limits<float>::denorm_min();
+  std::uint32_t b = std::bit_cast<std::uint32_t>(v);
+  b += v > 0.0f ? 1u : static_cast<std::uint32_t>(-1);
+  return std::bit_cast<float>(b);
+}
+inline float next_down(float v) { return -next_up(-v); }
+
+// Order-preserving unsigned image of a float (for finite values and infinities).
+inline std::uint32_t ordered_bits(float v) {
+  const std::uint32_t b = std::bit_cast<std::uint32_t>(v);
+  return (b & 0x80000000u) ? ~b : (b | 0x80000000u);
+}
+
 struct Entry {
   float z;
   std::int32_t c;
 };
-struct EntryGreater {
-  bool operator()(const Entry& a, const Entry& b) const { return a.z > b.z || (a.z == b.z && a.c > b.c); }
-};
 
+// Monotone priority queue of (height, cell) pairs, smallest height first and ties by cell index: a radix heap
+// (Ahuja, Mehlhorn, Orlin & Tarjan 1990) over 64-bit keys (ordered height bits, cell). Priority-Flood only
+// pushes keys at or above the last one popped, which is what a radix heap requires; its buckets are plain
+// arrays, much cheaper than a binary heap's sift on large queues. peek_cell() settles the next minimum early
+// (so its neighbourhood can be prefetched); keys pushed after that but below it wait in a small binary heap
+// that is served first.
 class MinHeap {
  public:
   void push(float z, std::int32_t c) {
-    v_.push_back({z, c});
-    std::push_heap(v_.begin(), v_.end(), EntryGreater{});
+    const std::uint64_t key = (static_cast<std::uint64_t>(ordered_bits(z)) << 32) | static_cast<std::uint32_t>(c);
+    if (key < last_) {
+      early_.push_back(key);
+      std::push_heap(early_.begin(), early_.end(), std::greater<>{});
+      return;
+    }
+    buckets_[bucket(key)].push_back(key);
+    ++size_;
   }
   Entry pop() {
-    std::pop_heap(v_.begin(), v_.end(), EntryGreater{});
-    Entry e = v_.back();
-    v_.pop_back();
-    return e;
+    std::uint64_t key;
+    if (!early_.empty()) {
+      std::pop_heap(early_.begin(), early_.end(), std::greater<>{});
+      key = early_.back();
+      early_.pop_back();
+    } else {
+      refill();
+      key = buckets_[0].back();
+      buckets_[0].pop_back();
+      --size_;
+    }
+    const std::uint32_t zb = static_cast<std::uint32_t>(key >> 32);
+    const std::uint32_t bits = (zb & 0x80000000u) ? (zb & 0x7FFFFFFFu) : ~zb;
+    return {std::bit_cast<float>(bits), static_cast<std::int32_t>(static_cast<std::uint32_t>(key))};
   }
-  bool empty() const { return v_.empty(); }
+  // The cell pop() will return next (-1 if empty), so its neighbourhood can be prefetched.
+  std::int32_t peek_cell() {
+    if (!early_.empty()) return static_cast<std::int32_t>(static_cast<std::uint32_t>(early_.front()));
+    if (size_ == 0) return -1;
+    refill();
+    return static_cast<std::int32_t>(static_cast<std::uint32_t>(buckets_[0].back()));
+  }
+  bool empty() const { return size_ == 0 && early_.empty(); }
 
  private:
-  std::vector<Entry> v_;
+  void refill() {
+    if (!buckets_[0].empty()) return;
+    int i = 1;
+    while (buckets_[i].empty()) ++i;
+    auto& b = buckets_[i];
+    last_ = *std::min_element(b.begin(), b.end());
+    for (std::uint64_t k : b) buckets_[bucket(k)].push_back(k);
+    b.clear();
+  }
+  int bucket(std::uint64_t key) const { return key == last_ ? 0 : 64 - std::countl_zero(key ^ last_); }
+  std::vector<std::uint64_t> buckets_[65];
+  std::vector<std::uint64_t> early_;  // min-heap of keys below last_
+  std::uint64_t last_ = 0;
+  std::size_t size_ = 0;
 };
 
 // The grid with a one-cell frame: neighbours of every interior cell exist, the frame is closed and +inf.
@@ -79,9 +133,15 @@ void for_each_outlet(const FlowGrid& g, const Outlets& outlets, Fn&& fn) {
 }
 
 template <bool kEpsilon>
-void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, const ExecContext* ctx) {
+void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, const ExecContext* ctx,
+               std::span<float> spill_level) {
   Padded P(g, z);
-  auto step = [](float v) { return kEpsilon ? std::nextafter(v, kInf) : v; };
+  // Level of the flat water surface of every raised cell: the height of the queue cell its depression
+  // search started from (an unraised height).
+  std::vector<float> level_store;
+  if (!spill_level.empty()) level_store = P.z;
+  float* level = level_store.empty() ? nullptr : level_store.data();
+  auto step = [](float v) { return kEpsilon ? next_up(v) : v; };
   MinHeap heap;
   for_each_outlet(g, outlets, [&](int i, int j) {
     const std::int32_t c = P.p(i, j);
@@ -94,15 +154,24 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
   float* zp = P.z.data();
   std::uint8_t* closed = P.closed.data();
   const std::int32_t* off = P.off;
-  std::size_t work = 0;
+  std::size_t work = 0, done = 0;
+  const std::int32_t W = P.W;
   while (!heap.empty()) {
     const Entry e = heap.pop();
-    const float raised = step(zp[e.c]);
+    // Popped cells are scattered over the grid: fetch the next one's neighbourhood while this one works.
+    if (const std::int32_t nx = heap.peek_cell(); nx >= 0) {
+      for (std::int32_t r : {nx - W, nx, nx + W}) {
+        __builtin_prefetch(zp + r - 1);
+        __builtin_prefetch(closed + r - 1);
+      }
+    }
+    const float raised = step(e.z);
     for (int k = 0; k < 8; ++k) {
       const std::int32_t n = e.c + off[k];
       if (closed[n]) continue;
       closed[n] = 1;
       if (zp[n] <= raised) {
+        if (level) level[n] = std::max(zp[n], e.z);
         zp[n] = raised;
         pit.push_back(n);
       } else {
@@ -118,6 +187,7 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
         if (closed[n]) continue;
         closed[n] = 1;
         if (zp[n] <= r) {
+          if (level) level[n] = std::max(zp[n], e.z);
           zp[n] = r;
           pit.push_back(n);
         } else {
@@ -128,10 +198,10 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
     work += pit.size();
     pit.clear();
     // Slope cells: their height is final; climb while no unvisited neighbour could be lower (a potential
-    // spill into another depression), otherwise hand the cell to the priority queue.
-    while (!trace.empty()) {
-      const std::int32_t c = trace.back();
-      trace.pop_back();
+    // spill into another depression), otherwise hand the cell to the priority queue. Breadth first: the
+    // front stays compact, so half as many cells end up in the priority queue as with a stack.
+    for (std::size_t th = 0; th < trace.size(); ++th) {
+      const std::int32_t c = trace[th];
       ++work;
       const float r = step(zp[c]);
       bool low = false;
@@ -153,12 +223,19 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
         trace.push_back(n);
       }
     }
+    trace.clear();
     if (work > (1u << 18)) {
+      done += work;
       work = 0;
       check(ctx);
+      if (ctx) ctx->progress(std::min(1.0, static_cast<double>(done) / static_cast<double>(g.size())));
     }
   }
   P.copy_back(g, z);
+  if (level) {
+    P.z.swap(level_store);
+    P.copy_back(g, spill_level);
+  }
 }
 
 template <bool kEpsilon>
@@ -184,11 +261,11 @@ void breach_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, 
       bool pit = true;
       for (int k = 0; k < 8 && pit; ++k) pit = !(zp[c + off[k]] < zp[c]);
       if (pit) {
-        float target = kEpsilon ? std::nextafter(zp[c], -kInf) : zp[c];
+        float target = kEpsilon ? next_down(zp[c]) : zp[c];
         for (std::int32_t b = backlink[c]; b >= 0; b = backlink[b]) {
           if (zp[b] <= target) break;
           zp[b] = target;
-          if (kEpsilon) target = std::nextafter(target, -kInf);
+          if (kEpsilon) target = next_down(target);
         }
       }
     }
@@ -197,7 +274,7 @@ void breach_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, 
       if (closed[n]) continue;
       closed[n] = 1;
       backlink[n] = c;
-      heap.push(zp[n], n);
+      heap.push(std::max(zp[n], e.z), n);  // the queue is monotone: a pit waits at the current level
     }
     if (++work > (1u << 16)) {
       work = 0;
@@ -261,8 +338,12 @@ int route_cell(const FlowGrid& g, const NeighbourTable& t, const float* z, int i
     }
     if (n == 0) return 0;
     double sum = 0.0;
+    // (s / smax)^p in single precision (expf/logf are several times cheaper than pow; the proportions are
+    // normalised below, so they still sum to 1).
+    const float p = static_cast<float>(opt.exponent);
     for (int m = 0; m < n; ++m) {
-      frac[m] = opt.exponent == 1.0 ? frac[m] / smax : std::pow(frac[m] / smax, opt.exponent);
+      const float t = static_cast<float>(frac[m] / smax);
+      frac[m] = opt.exponent == 1.0 ? t : std::exp(p * std::log(t));
       sum += frac[m];
     }
     const double inv = 1.0 / sum;
@@ -272,8 +353,10 @@ int route_cell(const FlowGrid& g, const NeighbourTable& t, const float* z, int i
   if (opt.method == FlowMethod::DInfinity) {
     // Facets (cardinal k1, diagonal k2); Tarboton 1997.
     static constexpr int kFacets[8][2] = {{0, 1}, {2, 1}, {2, 3}, {4, 3}, {4, 5}, {6, 5}, {6, 7}, {0, 7}};
-    double best = 0.0, best_r = 0.0, best_rmax = 1.0;
-    int bf = -1;
+    // The angle r = atan2(s2, s1) is classified without trigonometry (r < 0, r > rmax = atan(d2 / d1), or
+    // inside the facet); atan2 is evaluated for the chosen facet only.
+    double best = 0.0, best_s1 = 0.0, best_s2 = 0.0;
+    int bf = -1, best_case = 0;  // 0: r = 0 (cardinal), 1: r = rmax (diagonal), 2: inside
     for (int f = 0; f < 8; ++f) {
       const int k1 = kFacets[f][0], k2 = kFacets[f][1];
       if (!kInterior && (!g.inside(i + kDi[k1], j + kDj[k1]) || !g.inside(i + kDi[k2], j + kDj[k2]))) continue;
@@ -281,23 +364,25 @@ int route_cell(const FlowGrid& g, const NeighbourTable& t, const float* z, int i
       const double d2 = (k1 & 2) ? g.dx : g.dy;
       const double e1 = z[c + t.off[k1]], e2 = z[c + t.off[k2]];
       const double s1 = (zc - e1) / d1, s2 = (e1 - e2) / d2;
-      const double rmax = std::atan2(d2, d1);
-      double r = std::atan2(s2, s1), s;
-      if (r < 0.0) {
-        r = 0.0;
-        s = s1;
-      } else if (r > rmax) {
-        r = rmax;
-        s = (zc - e2) / std::hypot(d1, d2);
+      double s;
+      int kind;
+      if (s2 < 0.0) {
+        s = s1, kind = 0;
+      } else if (s1 <= 0.0 || s2 * d1 > s1 * d2) {
+        s = (zc - e2) * t.inv_dist[k2], kind = 1;
       } else {
-        s = std::hypot(s1, s2);
+        s = std::sqrt(s1 * s1 + s2 * s2), kind = 2;
       }
       if (s > best) {
-        best = s;
-        bf = f;
-        best_r = r;
-        best_rmax = rmax;
+        best = s, bf = f, best_case = kind, best_s1 = s1, best_s2 = s2;
       }
+    }
+    double best_r = 0.0, best_rmax = 1.0;
+    if (bf >= 0) {
+      const int k1 = kFacets[bf][0];
+      const double d1 = (k1 & 2) ? g.dy : g.dx, d2 = (k1 & 2) ? g.dx : g.dy;
+      best_rmax = std::atan2(d2, d1);
+      best_r = best_case == 0 ? 0.0 : (best_case == 1 ? best_rmax : std::min(std::atan2(best_s2, best_s1), best_rmax));
     }
     if (bf < 0) return 0;
     const double p2 = best_r / best_rmax;
@@ -324,12 +409,12 @@ bool interior_cell(const FlowGrid& g, int i, int j) { return i > 0 && j > 0 && i
 }  // namespace
 
 void fill_depressions(const FlowGrid& g, std::span<float> z, FlatMode mode, const Outlets& outlets,
-                      const ExecContext* ctx) {
+                      const ExecContext* ctx, std::span<float> spill_level) {
   if (g.size() == 0) return;
   if (mode == FlatMode::Epsilon)
-    fill_impl<true>(g, z, outlets, ctx);
+    fill_impl<true>(g, z, outlets, ctx, spill_level);
   else
-    fill_impl<false>(g, z, outlets, ctx);
+    fill_impl<false>(g, z, outlets, ctx, spill_level);
 }
 
 void breach_depressions(const FlowGrid& g, std::span<float> z, FlatMode mode, const Outlets& outlets,
@@ -515,14 +600,20 @@ std::vector<double> accumulate(const FlowGrid& g, std::span<const float> z, cons
     for (int i = 0; i < g.nx; ++i) {
       const std::int32_t c = g.index(i, j);
       int cnt = 0;
-      for (int k = 0; k < 8; ++k) {
-        const int ii = i + kDi[k], jj = j + kDj[k];
-        if (!g.inside(ii, jj)) continue;
-        const std::int32_t m = c + t.off[k];
-        if (dinf) {
-          cnt += (dk1[m] == opposite(k)) + (dk2[m] == opposite(k));
-        } else {
-          cnt += zz[m] > zz[c] && !opt.outlets.is_outlet(g, ii, jj);
+      if (!dinf && interior_cell(g, i, j) && opt.outlets.mask.empty() && !opt.outlets.border) {
+        for (int k = 0; k < 8; ++k) cnt += zz[c + t.off[k]] > zz[c];
+      } else if (!dinf && i > 1 && j > 1 && i < g.nx - 2 && j < g.ny - 2 && opt.outlets.mask.empty()) {
+        for (int k = 0; k < 8; ++k) cnt += zz[c + t.off[k]] > zz[c];  // no neighbour is on the border
+      } else {
+        for (int k = 0; k < 8; ++k) {
+          const int ii = i + kDi[k], jj = j + kDj[k];
+          if (!g.inside(ii, jj)) continue;
+          const std::int32_t m = c + t.off[k];
+          if (dinf) {
+            cnt += (dk1[m] == opposite(k)) + (dk2[m] == opposite(k));
+          } else {
+            cnt += zz[m] > zz[c] && !opt.outlets.is_outlet(g, ii, jj);
+          }
         }
       }
       remaining[c] = static_cast<std::uint8_t>(cnt);

@@ -93,8 +93,12 @@ enum class FlatMode {
 // Raises every cell that has no descending path to an outlet to its spill level, in place. Priority-Flood
 // (Barnes et al. 2014) with the depression and slope queues of Zhou et al. 2016: only cells that can be
 // spill points enter the priority queue. O(n) plus O(m log m) for the m queued cells.
+// `spill_level` (optional, size nx*ny) receives the flat water level of every cell: max(input, the spill
+// level of its depression), the input where nothing was raised. With Flat it equals the result; with Epsilon
+// it is the flat fill computed in the same pass (within a few ulps of it on level ground at a spill), so
+// `spill_level > input` marks the lakes without a second fill.
 void fill_depressions(const FlowGrid& g, std::span<float> z, FlatMode mode, const Outlets& outlets = {},
-                      const ExecContext* ctx = nullptr);
+                      const ExecContext* ctx = nullptr, std::span<float> spill_level = {});
 
 // Carves instead of filling, in place: from every pit a channel is cut back along the least-cost
 // Priority-Flood path to the spill and beyond until the path descends (complete breaching, Lindsay 2016).

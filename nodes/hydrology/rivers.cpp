@@ -71,8 +71,8 @@ void draw_curves(const Curves& curves, Heightfield& mask) {
 RiverResult extract_rivers(const Heightfield& in, const Heightfield* rainfall, const RiverParams& p,
                            const ExecContext* ctx) {
   const FlowGrid g = FlowGrid::of(in.domain);
-  std::vector<float> z = in.data;
-  fill_depressions(g, z, FlatMode::Epsilon, {}, ctx);
+  std::vector<float> z = in.data, spill(g.size());
+  fill_depressions(g, z, FlatMode::Epsilon, {}, ctx, spill);
   const D8Flow f = d8_flow(g, z, {}, ctx);
   std::vector<float> weight;
   if (rainfall) {
@@ -91,11 +91,8 @@ RiverResult extract_rivers(const Heightfield& in, const Heightfield* rainfall, c
   auto width_of = [&](double area) { return p.width_coefficient * std::pow(area * runoff, p.width_exponent); };
   // Lake cells: below the flat spill level of their depression.
   std::vector<std::uint8_t> lake(g.size(), 0);
-  if (p.split_at_lakes) {
-    std::vector<float> flat = in.data;
-    fill_depressions(g, flat, FlatMode::Flat, {}, ctx);
-    for (std::size_t c = 0; c < g.size(); ++c) lake[c] = flat[c] > in.data[c];
-  }
+  if (p.split_at_lakes)
+    for (std::size_t c = 0; c < g.size(); ++c) lake[c] = spill[c] > in.data[c];
   // Pieces of every reach outside lakes (a piece may start and end on one lake cell, the mouth or the
   // outflow). Reaches come downstream first, so the parent's first piece is known when a reach is cut.
   std::vector<std::vector<std::int32_t>> pieces;

@@ -7,10 +7,13 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <span>
+#include <type_traits>
 
 #include <OpenImageIO/half.h>
 #include <OpenImageIO/imageio.h>
 
+#include "nodes/io/compression.h"
 #include "nodes/io/checked_image_output.h"
 
 namespace orogen {
@@ -64,8 +67,14 @@ void report(const WriteProgress& progress, int rows_done, int rows) {
   if (progress) progress(static_cast<double>(rows_done) / std::max(rows, 1));
 }
 
-// Writes through OpenImageIO one scanline at a time (north row first), converting each heightfield row with
-// `convert` into `line` (of element type T) first.
+// Rows per write call: enough zip chunks (16 rows each for EXR) for OpenEXR to compress them in parallel on
+// every core, few enough that the converted block stays small (at most 256 rows: 4 MB at 4096 floats).
+// Small images still go in a few blocks, so progress (and cancellation) happens during the write.
+int block_rows(int height) { return std::clamp((height / 8 + 15) / 16 * 16, 16, 256); }
+
+// Writes through OpenImageIO in blocks of block_rows() scanlines (north row first). `convert(j, row, out)`
+// turns heightfield row j into file samples of type T; for float files the rows go straight from the
+// heightfield (a negative row stride walks them north to south) without a copy.
 template <class T, class Convert>
 void write_oiio(const Heightfield& h, const fs::path& path, OIIO::ImageSpec spec, const WriteProgress& progress,
                 Convert convert) {
@@ -73,14 +82,28 @@ void write_oiio(const Heightfield& h, const fs::path& path, OIIO::ImageSpec spec
   std::string error;
   auto out = create_checked_output(path, proxy, spec, error);
   if (!out) throw FileError("cannot create '" + path.string() + "': " + error);
-  std::vector<T> line(static_cast<std::size_t>(h.width()));
-  for (int r = 0; r < h.height(); ++r) {
-    const int j = h.height() - 1 - r;  // north row first
-    convert(j, h.row(j), line);
-    if (!out->write_scanline(r, 0, spec.format, line.data()))
+  const std::size_t w = static_cast<std::size_t>(h.width());
+  std::vector<T> block;
+  const int rows_per_block = block_rows(h.height());
+  for (int r0 = 0; r0 < h.height(); r0 += rows_per_block) {
+    const int r1 = std::min(r0 + rows_per_block, h.height());
+    bool ok = false;
+    if constexpr (std::is_same_v<T, float>) {
+      const float* first = h.row(h.height() - 1 - r0).data();  // file row r0 is heightfield row H - 1 - r0
+      ok = out->write_scanlines(r0, r1, 0, spec.format, first, OIIO::AutoStride,
+                                -static_cast<OIIO::stride_t>(w * sizeof(float)));
+    } else {
+      block.resize(static_cast<std::size_t>(r1 - r0) * w);
+      for (int r = r0; r < r1; ++r) {
+        const int j = h.height() - 1 - r;
+        convert(j, h.row(j), std::span<T>(block.data() + static_cast<std::size_t>(r - r0) * w, w));
+      }
+      ok = out->write_scanlines(r0, r1, 0, spec.format, block.data());
+    }
+    if (!ok)
       throw FileError(proxy.file().ok() ? "cannot write '" + path.string() + "': " + out->geterror()
                                         : proxy.file().error());
-    report(progress, r + 1, h.height());
+    report(progress, r1, h.height());
   }
   const bool closed = out->close();
   if (!proxy.file().ok()) throw FileError(proxy.file().error());  // a short write the plugin ignored
@@ -251,9 +274,10 @@ std::optional<HeightRange> write_heightfield_file(const Heightfield& h, const fs
   spec.channelnames = {"Y"};
   spec.attribute("Software", "Orogen");
   std::string description = "Orogen heightfield; ";
+  set_compression(spec, options.format == HeightFormat::Exr ? "openexr" : is_float ? "tiff" : "png",
+                  options.compression_level);
   if (is_float) {
     description += "float32 heights in metres; ";
-    spec.attribute("compression", "zip");
   } else {
     description += "height_min=" + exact_number(range->min) + " m; height_max=" + exact_number(range->max) +
                    " m (heights of 0 and full scale); ";
@@ -264,13 +288,11 @@ std::optional<HeightRange> write_heightfield_file(const Heightfield& h, const fs
   spec.attribute("ImageDescription", description);
 
   if (is_float) {
-    write_oiio<float>(h, path, spec, options.progress, [](int, std::span<const float> row, std::vector<float>& line) {
-      std::copy(row.begin(), row.end(), line.begin());
-    });
+    write_oiio<float>(h, path, spec, options.progress, [](int, std::span<const float>, std::span<float>) {});
   } else {
     const HeightRange r = *range;
     write_oiio<std::uint16_t>(h, path, spec, options.progress,
-                              [&](int j, std::span<const float> row, std::vector<std::uint16_t>& line) {
+                              [&](int j, std::span<const float> row, std::span<std::uint16_t> line) {
                                 for (std::size_t i = 0; i < row.size(); ++i) {
                                   check_finite(row[i], static_cast<int>(i), j);
                                   line[i] = quantize16(row[i], r);

@@ -19,7 +19,7 @@
 namespace orogen {
 
 enum class HeightFormat {
-  Exr,    // OpenEXR, float32, zip (lossless)
+  Exr,    // OpenEXR, float32, zip (lossless), written in blocks of scanlines that OpenEXR compresses in parallel
   Png16,  // PNG, 16-bit grey, mapped through a HeightRange
   Raw16,  // headerless unsigned 16-bit little-endian, row-major, north row first (Unity/Unreal .raw/.r16)
   Tiff,   // TIFF, float32, zip
@@ -49,6 +49,9 @@ struct HeightfieldWriteOptions {
   HeightFormat format = HeightFormat::Exr;
   // Mapping for the 16-bit formats; nullopt: the data's own range (data_range).
   std::optional<HeightRange> range;
+  // zlib (deflate) level of EXR (zip), PNG and TIFF: 0 none, 1 fastest ... 9 smallest; -1 each library's
+  // default (see nodes/io/compression.h). RAW16 ignores it.
+  int compression_level = -1;
   WriteProgress progress;  // optional
 };
 

@@ -5,10 +5,12 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <OpenImageIO/imageio.h>
 
+#include "nodes/io/compression.h"
 #include "nodes/io/checked_image_output.h"
 
 namespace orogen {
@@ -42,6 +44,13 @@ std::vector<std::string> default_channel_names(int n) {
 // Index of the alpha channel of a PNG-able layout, or -1.
 int alpha_channel(int channels) { return channels == 2 ? 1 : channels == 4 ? 3 : -1; }
 
+// Rows per write call: enough zip chunks (16 rows each for EXR) for OpenEXR to compress them in parallel on
+// every core, few enough that the converted block stays small (at most 256 rows).
+// Small images still go in a few blocks, so progress (and cancellation) happens during the write.
+int block_rows(int height) { return std::clamp((height / 8 + 15) / 16 * 16, 16, 256); }
+
+// Writes in blocks of block_rows() scanlines, north row first: float files straight from the image (a negative
+// row stride walks it north to south), integer files through a converted block.
 template <class T>
 void write_scanlines(const Image& image, const fs::path& path, const OIIO::ImageSpec& spec,
                      const WriteProgress& progress, bool encode_srgb) {
@@ -51,22 +60,32 @@ void write_scanlines(const Image& image, const fs::path& path, const OIIO::Image
   if (!out) throw FileError("cannot create '" + path.string() + "': " + error);
   const int n = image.channels;
   const int alpha = alpha_channel(n);
-  std::vector<T> line(static_cast<std::size_t>(image.width()) * static_cast<std::size_t>(n));
-  for (int r = 0; r < image.height(); ++r) {
-    const float* src = image.pixel(0, image.height() - 1 - r);  // north row first
-    for (std::size_t k = 0; k < line.size(); ++k) {
-      if constexpr (std::is_same_v<T, float>) {
-        line[k] = src[k];
-      } else {
-        const int c = static_cast<int>(k % static_cast<std::size_t>(n));
-        const double v = encode_srgb && c != alpha ? linear_to_srgb(src[k]) : static_cast<double>(src[k]);
-        line[k] = quantize<T>(v);
+  const std::size_t row_samples = static_cast<std::size_t>(image.width()) * static_cast<std::size_t>(n);
+  std::vector<T> block;
+  const int rows_per_block = block_rows(image.height());
+  for (int r0 = 0; r0 < image.height(); r0 += rows_per_block) {
+    const int r1 = std::min(r0 + rows_per_block, image.height());
+    bool ok = false;
+    if constexpr (std::is_same_v<T, float>) {
+      ok = out->write_scanlines(r0, r1, 0, spec.format, image.pixel(0, image.height() - 1 - r0), OIIO::AutoStride,
+                                -static_cast<OIIO::stride_t>(row_samples * sizeof(float)));
+    } else {
+      block.resize(static_cast<std::size_t>(r1 - r0) * row_samples);
+      for (int r = r0; r < r1; ++r) {
+        const float* src = image.pixel(0, image.height() - 1 - r);  // north row first
+        T* line = block.data() + static_cast<std::size_t>(r - r0) * row_samples;
+        for (std::size_t k = 0; k < row_samples; ++k) {
+          const int c = static_cast<int>(k % static_cast<std::size_t>(n));
+          const double v = encode_srgb && c != alpha ? linear_to_srgb(src[k]) : static_cast<double>(src[k]);
+          line[k] = quantize<T>(v);
+        }
       }
+      ok = out->write_scanlines(r0, r1, 0, spec.format, block.data());
     }
-    if (!out->write_scanline(r, 0, spec.format, line.data()))
+    if (!ok)
       throw FileError(proxy.file().ok() ? "cannot write '" + path.string() + "': " + out->geterror()
                                         : proxy.file().error());
-    if (progress) progress(static_cast<double>(r + 1) / image.height());
+    if (progress) progress(static_cast<double>(r1) / image.height());
   }
   const bool closed = out->close();
   if (!proxy.file().ok()) throw FileError(proxy.file().error());  // a short write the plugin ignored
@@ -118,12 +137,8 @@ void write_image_file(const Image& image, const fs::path& path, const ImageWrite
   spec.alpha_channel = png ? alpha_channel(n) : -1;
   spec.attribute("Software", "Orogen");
   spec.attribute("oiio:UnassociatedAlpha", 1);  // our alpha is straight: store it as is
-  if (png) {
-    spec.attribute("oiio:ColorSpace", options.srgb ? "sRGB" : "Linear");
-  } else {
-    spec.attribute("compression", "zip");
-    spec.attribute("oiio:ColorSpace", "Linear");
-  }
+  set_compression(spec, png ? "png" : options.format == ImageFormat::Exr ? "openexr" : "tiff", options.compression_level);
+  spec.attribute("oiio:ColorSpace", png && options.srgb ? "sRGB" : "Linear");
   const bool srgb = png && options.srgb;
   switch (options.format) {
     case ImageFormat::Png8: return write_scanlines<std::uint8_t>(image, path, spec, options.progress, srgb);

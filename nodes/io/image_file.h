@@ -20,6 +20,7 @@ struct ImageWriteOptions {
   // PNG only: encode colour channels with the sRGB transfer curve (alpha stays linear). EXR and TIFF store
   // the linear floats as they are.
   bool srgb = true;
+  int compression_level = -1;  // see HeightfieldWriteOptions::compression_level
   WriteProgress progress;  // optional
 };
 

@@ -5,6 +5,7 @@
 #include "nodes/io/mesh_file.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -12,6 +13,9 @@
 #include "graph/checked_file.h"
 #include "graph/mesh.h"
 #include "nodes/io/image_file.h"
+
+#include <limits>
+#include <vector>
 
 namespace orogen {
 
@@ -24,6 +28,114 @@ std::optional<MeshFormat> mesh_format_from_path(const std::filesystem::path& pat
   return std::nullopt;
 }
 
+namespace {
+
+// 9 significant digits: a float reads back exactly.
+void append(std::string& out, float value) {
+  char buffer[32];
+  const auto r = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 9);
+  out.append(buffer, r.ptr);
+}
+void append(std::string& out, unsigned value) {
+  char buffer[16];
+  const auto r = std::to_chars(buffer, buffer + sizeof buffer, value);
+  out.append(buffer, r.ptr);
+}
+
+// OBJ (Wavefront) text with positions, optional normals and texture coordinates, and an optional material.
+// Written here rather than by OpenMesh's OBJ writer, which has no way to name a texture for vertex UVs.
+// Formatted in memory in blocks of rows and flushed to the file as it goes.
+void write_obj(const TriMesh& m, const std::filesystem::path& path, const MeshWriteOptions& options,
+               const std::vector<OpenMesh::Vec2f>& uvs) {
+  std::unique_ptr<CheckedFile> file;
+  try {
+    file = std::make_unique<CheckedFile>(path);
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
+  std::string out;
+  out.reserve(1 << 20);
+  auto flush = [&](bool force) {
+    if (!force && out.size() < (1u << 20)) return;
+    if (!file->write(out.data(), out.size())) throw FileError(file->error());
+    out.clear();
+  };
+  out += "# Orogen terrain mesh, metres\n";
+  if (!options.material_library.empty()) out += "mtllib " + options.material_library + "\n";
+  for (auto v : m.vertices()) {
+    const auto p = m.point(v);
+    out += "v ";
+    append(out, p[0]);
+    out += ' ';
+    append(out, p[1]);
+    out += ' ';
+    append(out, p[2]);
+    out += '\n';
+    flush(false);
+  }
+  const bool uv = !uvs.empty();
+  for (std::size_t k = 0; k < uvs.size(); ++k) {
+    out += "vt ";
+    append(out, uvs[k][0]);
+    out += ' ';
+    append(out, uvs[k][1]);
+    out += '\n';
+    flush(false);
+  }
+  if (options.normals)
+    for (auto v : m.vertices()) {
+      const auto n = m.normal(v);
+      out += "vn ";
+      append(out, n[0]);
+      out += ' ';
+      append(out, n[1]);
+      out += ' ';
+      append(out, n[2]);
+      out += '\n';
+      flush(false);
+    }
+  if (!options.material_library.empty()) out += "usemtl terrain\n";
+  for (auto f : m.faces()) {
+    out += 'f';
+    for (auto v : m.fv_range(f)) {
+      const unsigned i = static_cast<unsigned>(v.idx()) + 1;
+      out += ' ';
+      append(out, i);
+      if (uv || options.normals) {
+        out += '/';
+        if (uv) append(out, i);
+        if (options.normals) {
+          out += '/';
+          append(out, i);
+        }
+      }
+    }
+    out += '\n';
+    flush(false);
+  }
+  flush(true);
+  try {
+    file->finish();
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
+}
+
+}  // namespace
+
+std::string material_library_text(const std::string& texture) {
+  std::string s =
+      "# Orogen terrain material\n"
+      "newmtl terrain\n"
+      "Ka 0 0 0\n"
+      "Kd 1 1 1\n"
+      "Ks 0 0 0\n"
+      "d 1\n"
+      "illum 1\n";
+  if (!texture.empty()) s += "map_Kd " + texture + "\n";
+  return s;
+}
+
 void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFormat format,
                      const MeshWriteOptions& options) {
   // OpenMesh narrates every write on its log stream ("[OBJWriter] : write file"); the CLI and the editor
@@ -34,8 +146,23 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
   }();
   (void)quiet;
   if (mesh.face_count() == 0) throw FileError("cannot write '" + path.string() + "': the mesh has no faces");
-  // A copy in file conventions: axes, and colours as 8-bit viewers expect them (sRGB, clamped to 0..1,
+  // A copy in file conventions: axes, and colors as 8-bit viewers expect them (sRGB, clamped to 0..1,
   // which also keeps OpenMesh's float-to-byte conversion in range).
+  // Texture coordinates from the footprint, before any change of axes.
+  std::vector<OpenMesh::Vec2f> uvs;
+  if (format == MeshFormat::Obj && options.uvs) {
+    float x0 = std::numeric_limits<float>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+    for (auto v : mesh.mesh.vertices()) {
+      const auto p = mesh.mesh.point(v);
+      x0 = std::min(x0, p[0]), x1 = std::max(x1, p[0]), y0 = std::min(y0, p[1]), y1 = std::max(y1, p[1]);
+    }
+    const double sx = x1 > x0 ? 1.0 / (double(x1) - x0) : 0.0, sy = y1 > y0 ? 1.0 / (double(y1) - y0) : 0.0;
+    uvs.reserve(mesh.mesh.n_vertices());
+    for (auto v : mesh.mesh.vertices()) {
+      const auto p = mesh.mesh.point(v);
+      uvs.emplace_back(static_cast<float>((p[0] - double(x0)) * sx), static_cast<float>((p[1] - double(y0)) * sy));
+    }
+  }
   TriMesh out = mesh.mesh;
   bool translucent = false;
   for (auto v : out.vertices()) {
@@ -52,6 +179,10 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
     out.set_color(v, c);
   }
   out.update_face_normals();
+  if (format == MeshFormat::Obj) {
+    write_obj(out, path, options, uvs);
+    return;
+  }
 
   OpenMesh::IO::Options opt;
   if (options.binary && format != MeshFormat::Obj) opt += OpenMesh::IO::Options::Binary;

@@ -2,6 +2,7 @@
 // Meshes to OBJ, PLY and STL through OpenMesh's writers.
 #include <filesystem>
 #include <optional>
+#include <string>
 
 #include "nodes/io/file_error.h"
 
@@ -19,9 +20,21 @@ struct MeshWriteOptions {
   bool y_up = false;
   bool binary = true;   // PLY and STL; OBJ is always text
   bool normals = true;  // per-vertex normals (OBJ, PLY); STL always carries face normals only
-  bool colors = true;   // per-vertex colours (PLY only: OpenMesh's OBJ writer has none, STL has none), stored
+  bool colors = true;   // per-vertex colors (PLY only: OBJ has no standard vertex color, STL has none), stored
                         // sRGB-encoded 8-bit with alpha when some vertex is not opaque
+  // OBJ: per-vertex texture coordinates (vt), the mesh's xy footprint mapped onto [0, 1]^2: u grows east, v
+  // north, so an image of the same domain (written north row first) drapes over a terrain mesh. For an
+  // image with its pixel centres on the domain's samples this is exact at the centre and half a pixel off at
+  // the borders (invisible at a few hundred pixels).
+  bool uvs = true;
+  // OBJ: the material library named by "mtllib" and the material used by every face ("usemtl terrain");
+  // empty: none. write_material_file writes the library.
+  std::string material_library;
 };
+
+// The material library of an OBJ: material "terrain", white diffuse, no specular, with `texture` (a path
+// relative to the library, as OBJ readers resolve it) as its diffuse map (map_Kd). Text.
+std::string material_library_text(const std::string& texture);
 
 // Writes `mesh` to `path` in `format` (OpenMesh picks the writer by extension, so it must match). Not atomic
 // by itself. Throws FileError on failure.

@@ -26,6 +26,10 @@ OROGEN_NODE(WriteHeightfield) {
       "Height stored as 0 when range is 'fixed'");
   b.param_float("height_max", 1000.0).range(-1e6, 1e6).soft_range(-1000, 9000).unit("m").description(
       "Height stored as 65535 when range is 'fixed'; must exceed height_min");
+  b.param_int("compression_level", 1).range(0, 9).description(
+      "zlib (deflate) level of EXR (zip), 16-bit PNG and TIFF: 1 is the fastest (on terrain about 1% larger "
+      "than zlib's default 6 and a third of its time for PNG, 2% and 60% for TIFF; EXR float data hardly "
+      "compresses at any level), 9 the smallest and slowest, 0 no compression. RAW16 ignores it");
   b.execute([](ExecContext& ctx) {
     const auto h = ctx.require<Heightfield>("in");
     const std::string& path = ctx.param<std::string>("path");
@@ -33,6 +37,7 @@ OROGEN_NODE(WriteHeightfield) {
     if (!by_extension) throw NodeError("cannot tell the format of '" + path + "' from its extension");
     HeightfieldWriteOptions options;
     options.format = *by_extension;
+    options.compression_level = static_cast<int>(ctx.param<std::int64_t>("compression_level"));
     if (const auto& f = ctx.param<std::string>("format"); f != "auto" && f != to_string(*by_extension))
       throw NodeError("format '" + f + "' does not match the extension of '" + path + "' (" +
                       to_string(*by_extension) + ")");

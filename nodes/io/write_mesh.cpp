@@ -1,6 +1,9 @@
 // WriteMesh: a mesh to OBJ, PLY or STL, atomically.
+#include "graph/atomic_file.h"
 #include "graph/exec_context.h"
+#include "graph/mesh.h"
 #include "graph/registry.h"
+#include "nodes/geometry/mesh_base.h"
 #include "nodes/io/mesh_file.h"
 #include "nodes/io/write_output.h"
 
@@ -9,8 +12,11 @@ namespace orogen {
 OROGEN_NODE(WriteMesh) {
   b.category("io").writes_files().description(
       "Writes a mesh to OBJ, PLY or STL inside the output directory, atomically (through OpenMesh). Vertex "
-      "normals go to OBJ and PLY, vertex colors to PLY (sRGB 8-bit); STL has face normals only. up_axis Y "
-      "converts Orogen's z-up coordinates to y-up, (x, y, z) -> (x, z, -y), for Unity and Blender.");
+      "normals go to OBJ and PLY, vertex colors to PLY (sRGB 8-bit); STL has face normals only. OBJ also gets "
+      "texture coordinates over the mesh's footprint and, with a texture, a material library (.mtl beside the "
+      "OBJ) that drapes the image over the terrain. base_depth closes a terrain into a solid (skirt walls and a "
+      "flat bottom) for 3D printing. up_axis Y converts Orogen's z-up coordinates to y-up, (x, y, z) -> "
+      "(x, z, -y), for Unity and Blender.");
   b.input("in", PortType::Mesh).description("Mesh to write, metres");
   b.param_path("path", "terrain.obj").output_file().extensions({".obj", ".ply", ".stl"}).description(
       "Output file, relative to the output directory; the extension selects the format");
@@ -19,6 +25,16 @@ OROGEN_NODE(WriteMesh) {
   b.param_bool("binary", true).description("Binary PLY and STL (smaller, faster); off writes text. OBJ is always text");
   b.param_bool("normals", true).description("Write per-vertex normals (OBJ, PLY)");
   b.param_bool("colors", true).description("Write per-vertex colors (PLY only)");
+  b.param_bool("uvs", true).description(
+      "OBJ: per-vertex texture coordinates, the xy footprint mapped onto 0..1 (u east, v north), so an image of "
+      "the same domain drapes over the terrain");
+  b.param_string("texture", "").description(
+      "OBJ: the color image to drape, as a path relative to the OBJ file (e.g. color.png when WriteImage "
+      "writes it beside the mesh); written as map_Kd into <name>.mtl beside the OBJ, which the OBJ names with "
+      "mtllib. Empty: no material file");
+  b.param_float("base_depth", 0.0).range(0.0, 1e6).soft_range(0.0, 500.0).unit("m").description(
+      "Closes the mesh into a solid (every edge shared by two faces) for 3D printing: walls down from the open "
+      "border to this many metres below the lowest vertex and a flat bottom. 0: the open surface");
   b.execute([](ExecContext& ctx) {
     const auto mesh = ctx.require<Mesh>("in");
     const std::string& path = ctx.param<std::string>("path");
@@ -29,8 +45,25 @@ OROGEN_NODE(WriteMesh) {
     options.binary = ctx.param<bool>("binary");
     options.normals = ctx.param<bool>("normals");
     options.colors = ctx.param<bool>("colors");
+    options.uvs = ctx.param<bool>("uvs");
+    const std::string& texture = ctx.param<std::string>("texture");
+    const double base_depth = ctx.param<double>("base_depth");
+    MeshPtr solid = mesh;
+    if (base_depth > 0.0) solid = std::make_shared<const Mesh>(mesh_with_base(*mesh, base_depth));
+    if (*format == MeshFormat::Obj && !texture.empty()) {
+      // The material library beside the OBJ, written first so the OBJ never names a missing file.
+      std::filesystem::path library = ctx.output_path("path");
+      library.replace_extension(".mtl");
+      options.material_library = library.filename().string();
+      try {
+        write_text_atomically(library, material_library_text(texture));
+      } catch (const std::exception& e) {
+        throw NodeError("cannot write '" + library.string() + "': " + e.what());
+      }
+      ctx.record_written_file(library);
+    }
     write_node_output(ctx, "path", [&](const std::filesystem::path& temporary, const WriteProgress& progress) {
-      write_mesh_file(*mesh, temporary, *format, options);
+      write_mesh_file(*solid, temporary, *format, options);
       if (progress) progress(1.0);
     });
   });

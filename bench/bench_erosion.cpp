@@ -1,0 +1,251 @@
+// Erosion speed on fBm terrain, single thread and two threads (a oneTBB arena of each size), and the
+// resolution study.
+//
+//   orogen_bench_erosion [--benchmark_filter=...] [--side=1024]
+//   orogen_bench_erosion --study     resolution study: every model at 257^2, 513^2, 1025^2 of one 4096 m world
+//   orogen_bench_erosion --study=StreamPower --channel_area=1e4    one model; StreamPower's channel threshold
+//
+// Figures (counters): StreamPower us_per_cell_step (routing + depression filling + solve + diffusion);
+// HydraulicErosion droplet_steps_per_s; PipeErosion and ThermalErosion cell_updates_per_s. Each per wall-clock
+// time and (suffix _cpu) per process CPU time of all threads: on a shared machine the _cpu figure of the
+// single-thread run is the single-core speed, and the wall-clock ratio of 1 and 2 threads the speed-up
+// only when the cores are free. Whole-call figures: setup and the output maps are included.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <tbb/task_arena.h>
+
+#include "nodes/erosion/particles.h"
+#include "nodes/erosion/pipe.h"
+#include "nodes/erosion/stream_power.h"
+#include "nodes/erosion/thermal.h"
+#include "nodes/noise/fbm.h"
+
+namespace {
+
+using namespace orogen;
+using namespace orogen::erosion;
+
+int g_side = 1024;
+
+// fBm of `octaves` octaves, the first world / 3 across.
+Heightfield make_terrain(int side, double world, int octaves = 8) {
+  noise::FbmParams p;
+  p.feature_size = world / 3.0;
+  p.amplitude = 400.0;
+  p.octaves = octaves;
+  p.seed = 7;
+  const Domain d = Domain::from_extent({0, 0}, {world, world}, {side, side});
+  Heightfield h = noise::fbm(d, p);
+  for (float& v : h.data) v += 400.0f;
+  return h;
+}
+
+const Heightfield& terrain() {
+  static const Heightfield h = make_terrain(g_side, 10.0 * g_side);  // 10 m cells
+  return h;
+}
+
+double process_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+// Runs fn in an arena of `threads`, adding the process CPU time it took (all threads) to *cpu.
+template <class Fn>
+void in_arena(int threads, Fn&& fn, double* cpu) {
+  tbb::task_arena arena(threads);
+  const double t0 = process_cpu_seconds();
+  arena.execute(fn);
+  *cpu += process_cpu_seconds() - t0;
+}
+
+// Rate counters: per wall-clock second (real time, the speed-up on a free machine) and per CPU second of
+// all threads (robust on a shared machine; for one thread, the single-core speed).
+void rates(benchmark::State& state, const char* name, double work_per_iteration, double cpu) {
+  const double iterations = static_cast<double>(state.iterations());
+  state.counters[name] = benchmark::Counter(work_per_iteration, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters[std::string(name) + "_cpu"] = work_per_iteration * iterations / cpu;
+}
+
+void BM_StreamPower(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0));
+  StreamPowerParams p;
+  p.dt = 1e4;
+  p.duration = 5e4;  // 5 steps
+  const auto& in = terrain();
+  double cpu = 0;
+  for (auto _ : state) in_arena(threads, [&] { benchmark::DoNotOptimize(stream_power(in, p).out); }, &cpu);
+  const double cell_steps = static_cast<double>(in.data.size()) * 5.0;
+  state.counters["us_per_cell_step"] = benchmark::Counter(cell_steps * 1e-6, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["us_per_cell_step_cpu"] = cpu * 1e6 / (cell_steps * static_cast<double>(state.iterations()));
+}
+
+void BM_Particles(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0));
+  ParticleParams p;
+  p.droplets_per_km2 = 2000;
+  const auto& in = terrain();
+  ParticleStats st;
+  double cpu = 0;
+  for (auto _ : state) in_arena(threads, [&] { benchmark::DoNotOptimize(particle_erosion(in, p, nullptr, nullptr, &st).out); }, &cpu);
+  rates(state, "droplet_steps_per_s", static_cast<double>(st.steps), cpu);
+}
+
+void BM_Pipe(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0));
+  PipeParams p;
+  p.duration = 60;
+  const auto& in = terrain();
+  PipeStats st;
+  double cpu = 0;
+  for (auto _ : state)
+    in_arena(threads, [&] { benchmark::DoNotOptimize(pipe_erosion(in, p, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, &st).out); }, &cpu);
+  state.counters["steps"] = st.steps;
+  rates(state, "cell_updates_per_s", static_cast<double>(st.steps) * in.data.size(), cpu);
+}
+
+void BM_Thermal(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0));
+  ThermalParams p;
+  p.talus_angle = 30;
+  p.tolerance = 0;
+  const auto& in = terrain();
+  p.travel_distance = 10 * in.domain.spacing.x;  // 20 iterations
+  int its = 0;
+  double cpu = 0;
+  for (auto _ : state) in_arena(threads, [&] { benchmark::DoNotOptimize(thermal_erosion(in, p, nullptr, nullptr, nullptr, &its).out); }, &cpu);
+  state.counters["iterations"] = its;
+  rates(state, "cell_updates_per_s", static_cast<double>(its) * in.data.size(), cpu);
+}
+
+BENCHMARK(BM_StreamPower)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(2);
+BENCHMARK(BM_Particles)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(2);
+BENCHMARK(BM_Pipe)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(2);
+BENCHMARK(BM_Thermal)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(2);
+
+// ---- Resolution study ----
+
+// The change map (out - in) box-averaged onto the 257^2 lattice (every f-th sample, f = (side-1)/256).
+std::vector<double> coarse_change(const Heightfield& in, const Heightfield& out) {
+  const int f = (in.width() - 1) / 256, r = f / 2;
+  std::vector<double> c;
+  c.reserve(257 * 257);
+  for (int j = 0; j < 257; ++j)
+    for (int i = 0; i < 257; ++i) {
+      double s = 0;
+      int count = 0;
+      for (int b = -r; b <= r; ++b)
+        for (int a = -r; a <= r; ++a) {
+          const int x = f * i + a, y = f * j + b;
+          if (x < 0 || y < 0 || x >= in.width() || y >= in.height()) continue;
+          s += static_cast<double>(out.at(x, y)) - in.at(x, y);
+          ++count;
+        }
+      c.push_back(s / count);
+    }
+  return c;
+}
+
+double correlation(const std::vector<double>& a, const std::vector<double>& b) {
+  double ma = 0, mb = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) ma += a[k], mb += b[k];
+  ma /= a.size(), mb /= b.size();
+  double sab = 0, saa = 0, sbb = 0;
+  for (std::size_t k = 0; k < a.size(); ++k)
+    sab += (a[k] - ma) * (b[k] - mb), saa += (a[k] - ma) * (a[k] - ma), sbb += (b[k] - mb) * (b[k] - mb);
+  return sab / std::sqrt(saa * sbb);
+}
+
+double eroded_per_km2(const ErosionMaps& m) {
+  const Domain& d = m.out->domain;
+  double v = 0;
+  for (float e : m.erosion->data) v += e;
+  v *= d.spacing.x * d.spacing.y;
+  return v / (d.size().x * d.size().y * 1e-6);
+}
+
+int study(const std::string& only, double channel_area) {
+  const double world = 4096.0;
+  const int sides[3] = {257, 513, 1025};
+  const char* names[4] = {"StreamPower", "HydraulicErosion", "PipeErosion", "ThermalErosion"};
+  std::printf("resolution study: %g m world, change maps box-averaged to 257^2\n", world);
+  std::printf("eroded volume per km^2 (StreamPower: net volume exported), correlation of the change maps\n");
+  std::printf("%-17s %14s %14s %14s %10s %10s %10s\n", "model", "m3/km2 257", "m3/km2 513", "m3/km2 1025",
+              "corr257-1k", "corr513-1k", "vol 513/1k");
+  for (int model = 0; model < 4; ++model) {
+    if (!only.empty() && only != names[model]) continue;
+    std::vector<double> change[3];
+    double vol[3];
+    for (int s = 0; s < 3; ++s) {
+      // Five octaves: the finest (85 m) is resolved at every resolution, so all three see one terrain.
+      const Heightfield in = make_terrain(sides[s], world, 5);
+      ErosionMaps m;
+      if (model == 0) {
+        StreamPowerParams p;
+        p.dt = 1e4;
+        p.duration = 1e5;
+        p.channel_area = channel_area;
+        m = stream_power(in, p);
+        // With uplift, the erosion map counts every removal; the comparable figure is the net volume
+        // exported: uplifted input minus output (border cells are base level, not uplifted).
+        for (int j = 1; j + 1 < in.height(); ++j)
+          for (int i = 1; i + 1 < in.width(); ++i) {
+            const double net = in.at(i, j) + p.uplift * p.duration - m.out->at(i, j);
+            m.erosion->at(i, j) = static_cast<float>(net);
+          }
+      } else if (model == 1) {
+        ParticleParams p;
+        p.droplets_per_km2 = 20000;
+        m = particle_erosion(in, p);
+      } else if (model == 2) {
+        PipeParams p;
+        p.duration = 60;
+        p.rain_rate = 100;
+        m = pipe_erosion(in, p);
+      } else {
+        ThermalParams p;
+        p.talus_angle = 30;
+        p.travel_distance = 1e5;  // to convergence: the settled state is what the talus angle defines
+        p.tolerance = 1e-3;
+        m = thermal_erosion(in, p);
+      }
+      change[s] = coarse_change(in, *m.out);
+      vol[s] = eroded_per_km2(m);
+      std::fflush(stdout);
+    }
+    std::printf("%-17s %14.4g %14.4g %14.4g %10.3f %10.3f %10.3f\n", names[model], vol[0], vol[1], vol[2],
+                correlation(change[0], change[2]), correlation(change[1], change[2]), vol[1] / vol[2]);
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<char*> args;
+  bool run_study = false;
+  std::string only;
+  double channel_area = 0.0;
+  for (int i = 0; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--study") == 0) run_study = true;
+    else if (std::strncmp(argv[i], "--study=", 8) == 0) run_study = true, only = argv[i] + 8;
+    else if (std::strncmp(argv[i], "--channel_area=", 15) == 0) channel_area = std::atof(argv[i] + 15);
+    else if (std::strncmp(argv[i], "--side=", 7) == 0) g_side = std::atoi(argv[i] + 7);
+    else args.push_back(argv[i]);
+  }
+  if (run_study) return study(only, channel_area);
+  int n = static_cast<int>(args.size());
+  benchmark::Initialize(&n, args.data());
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,158 @@
+// Hydrology speed on a 4096 x 4096 fBm terrain (16 m spacing, 10 octaves of Perlin fBm; the counter
+// `closed_fraction` gives the share of cells inside closed depressions).
+//
+//   orogen_bench_hydrology [--benchmark_filter=...] [--benchmark_repetitions=5]
+//
+// Each benchmark runs in a oneTBB arena of 1 thread and of 2 threads (/threads:N in the name); the rate
+// counter `cells_per_s` is per second of CPU time for one thread (the process's CPU time) and of wall time
+// for two, so on a busy machine compare the single-thread figures. Measured:
+//  - FillEpsilon / FillFlat: Priority-Flood with Zhou et al. 2016 queues (serial)
+//  - Breach: complete breaching (serial, every cell through the priority queue)
+//  - D8Accumulation: D8 receivers and donors (parallel rows) + dependency-counting accumulation (parallel)
+//  - MFDAccumulation / DinfAccumulation: receivers and in-degrees (parallel) + serial accumulation
+//  - RiverExtract: the whole RiverExtract node function (fill, D8, accumulation, reaches, curves, mask)
+#include <algorithm>
+#include <cstdio>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+#include <tbb/task_arena.h>
+
+#include "nodes/hydrology/flow_routing.h"
+#include "nodes/hydrology/rivers.h"
+#include "nodes/noise/fbm.h"
+
+namespace {
+
+using namespace orogen;
+using namespace orogen::hydrology;
+
+constexpr int kSide = 4096;
+constexpr double kSpacing = 16.0;
+
+const Heightfield& terrain() {
+  static const Heightfield h = [] {
+    const Domain d = Domain::from_extent({0.0, 0.0}, {kSpacing * (kSide - 1), kSpacing * (kSide - 1)}, {kSide, kSide});
+    noise::FbmParams p;
+    p.feature_size = 12000.0;
+    p.amplitude = 900.0;
+    p.octaves = 10;
+    p.seed = 5;
+    return noise::fbm(d, p);
+  }();
+  return h;
+}
+
+const std::vector<float>& filled() {
+  static const std::vector<float> z = [] {
+    std::vector<float> v = terrain().data;
+    fill_depressions(FlowGrid::of(terrain().domain), v, FlatMode::Epsilon);
+    return v;
+  }();
+  return z;
+}
+
+double closed_fraction() {
+  static const double f = [] {
+    std::vector<float> flat = terrain().data;
+    fill_depressions(FlowGrid::of(terrain().domain), flat, FlatMode::Flat);
+    std::size_t n = 0;
+    for (std::size_t c = 0; c < flat.size(); ++c) n += flat[c] > terrain().data[c];
+    return static_cast<double>(n) / static_cast<double>(flat.size());
+  }();
+  return f;
+}
+
+template <class Fn>
+void run(benchmark::State& state, Fn&& fn) {
+  const int threads = static_cast<int>(state.range(0));
+  tbb::task_arena arena(threads);
+  const FlowGrid g = FlowGrid::of(terrain().domain);
+  (void)filled();
+  (void)closed_fraction();
+  for (auto _ : state) arena.execute([&] { fn(g); });
+  state.counters["cells_per_s"] =
+      benchmark::Counter(static_cast<double>(g.size()) * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["closed_fraction"] = closed_fraction();
+}
+
+void FillEpsilon(benchmark::State& state) {
+  run(state, [](const FlowGrid& g) {
+    std::vector<float> z = terrain().data;
+    fill_depressions(g, z, FlatMode::Epsilon);
+    benchmark::DoNotOptimize(z.data());
+  });
+}
+
+void FillFlat(benchmark::State& state) {
+  run(state, [](const FlowGrid& g) {
+    std::vector<float> z = terrain().data;
+    fill_depressions(g, z, FlatMode::Flat);
+    benchmark::DoNotOptimize(z.data());
+  });
+}
+
+void Breach(benchmark::State& state) {
+  run(state, [](const FlowGrid& g) {
+    std::vector<float> z = terrain().data;
+    breach_depressions(g, z, FlatMode::Epsilon);
+    benchmark::DoNotOptimize(z.data());
+  });
+}
+
+void D8Accumulation(benchmark::State& state) {
+  run(state, [](const FlowGrid& g) {
+    const D8Flow f = d8_flow(g, filled());
+    const auto acc = accumulate_d8(g, f);
+    benchmark::DoNotOptimize(acc.data());
+  });
+}
+
+void MFDAccumulation(benchmark::State& state) {
+  run(state, [](const FlowGrid& g) {
+    const auto acc = accumulate(g, filled(), RoutingOptions{FlowMethod::MFD, 1.1, {}});
+    benchmark::DoNotOptimize(acc.data());
+  });
+}
+
+void DinfAccumulation(benchmark::State& state) {
+  run(state, [](const FlowGrid& g) {
+    const auto acc = accumulate(g, filled(), RoutingOptions{FlowMethod::DInfinity, 1.1, {}});
+    benchmark::DoNotOptimize(acc.data());
+  });
+}
+
+void RiverExtract(benchmark::State& state) {
+  run(state, [](const FlowGrid&) {
+    RiverParams p;
+    p.threshold = 2e6;  // about 7800 cells
+    const RiverResult r = extract_rivers(terrain(), nullptr, p);
+    benchmark::DoNotOptimize(r.curves.get());
+  });
+}
+
+// One thread: rate per second of process CPU time. Two threads: per second of wall time (the CPU column then
+// shows the process's total).
+void args(benchmark::internal::Benchmark* b) {
+  b->ArgName("threads")->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+  b->Arg(1);
+}
+void args2(benchmark::internal::Benchmark* b) {
+  b->ArgName("threads")->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+  b->Arg(1)->Arg(2);
+}
+
+BENCHMARK(FillEpsilon)->Apply(args);
+BENCHMARK(FillFlat)->Apply(args);
+BENCHMARK(Breach)->Apply(args);
+BENCHMARK(D8Accumulation)->Apply(args);
+BENCHMARK(MFDAccumulation)->Apply(args);
+BENCHMARK(DinfAccumulation)->Apply(args);
+BENCHMARK(RiverExtract)->Apply(args);
+BENCHMARK(D8Accumulation)->Name("D8Accumulation/wall")->Apply(args2);
+BENCHMARK(MFDAccumulation)->Name("MFDAccumulation/wall")->Apply(args2);
+BENCHMARK(RiverExtract)->Name("RiverExtract/wall")->Apply(args2);
+
+}  // namespace
+
+BENCHMARK_MAIN();

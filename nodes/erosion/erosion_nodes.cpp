@@ -1,0 +1,210 @@
+// The erosion family's nodes: thin declarations over thermal.h, particles.h, pipe.h and stream_power.h.
+// Every node takes `in` (height, m) and an optional `mask` (0..1) scaling its effect, and outputs `out`
+// (eroded height), `erosion` (m removed), `deposition` (m laid down) and `flow` (0..1 where water ran).
+// All are global: a simulation's output at a point depends on the whole domain.
+#include "graph/registry.h"
+#include "nodes/erosion/particles.h"
+#include "nodes/erosion/pipe.h"
+#include "nodes/erosion/stream_power.h"
+#include "nodes/erosion/thermal.h"
+#include "nodes/field/match_domain.h"
+
+namespace orogen {
+namespace {
+
+using erosion::ErosionMaps;
+
+void declare_common_ports(NodeBuilder& b, const char* mask_text) {
+  b.input("in", PortType::Heightfield).description("Height to erode, metres");
+  b.input("mask", PortType::Heightfield).optional().description(mask_text);
+  b.output("out", PortType::Heightfield).description("Eroded height, metres");
+  b.output("erosion", PortType::Heightfield).description("Material removed, metres (>= 0); the 'wear' map");
+  b.output("deposition", PortType::Heightfield).description("Material laid down, metres (>= 0); the 'deposits' map");
+  b.output("flow", PortType::Heightfield).description("Where water (or material) ran, 0..1");
+}
+
+void set_common_outputs(ExecContext& ctx, ErosionMaps& m) {
+  ctx.set_output("out", m.out);
+  ctx.set_output("erosion", m.erosion);
+  ctx.set_output("deposition", m.deposition);
+  ctx.set_output("flow", m.flow);
+}
+
+HeightfieldPtr optional_on(ExecContext& ctx, const char* name, const Domain& d) {
+  return match_domain(ctx.input<Heightfield>(name), d, &ctx);
+}
+
+}  // namespace
+
+OROGEN_NODE(ThermalErosion) {
+  b.category("erosion").description(
+      "Thermal erosion (talus slumping): material steeper than the talus angle slides to its lower "
+      "neighbours until no slope exceeds the angle (Musgrave, Kolb and Mace 1989, 'The synthesis and "
+      "rendering of eroded fractal terrains'; Olsen 2004, 'Realtime procedural terrain generation'). Slopes "
+      "are measured over the true distance to all 8 neighbours, so an angle gives the same slopes at any "
+      "resolution. Volume is conserved; bit-identical for any thread count. Reach: global.");
+  declare_common_ports(b, "Scales how fast material leaves each cell, 0..1 (1 if unconnected)");
+  b.input("hardness", PortType::Heightfield).optional().description(
+      "Rock hardness 0..1: raises a cell's talus angle toward 89 degrees (1: cliffs that never slump)");
+  b.param_float("talus_angle", 35.0).range(1.0, 89.0).unit("deg").description("Angle of repose: steeper slopes slump");
+  b.param_float("strength", 0.5).range(0.01, 1.0).description("Share of the excess over the talus moved per iteration (unitless); lower is smoother but slower");
+  b.param_float("travel_distance", 500.0).range(1.0, 1e5).soft_range(10.0, 5000.0).unit("m").description(
+      "How far material may travel: the iteration count is 2 x distance / spacing (stops early once settled)");
+  b.param_float("tolerance", 1e-4).range(0.0, 10.0).unit("m").description("Stop when no cell moves more than this in an iteration");
+  b.execute([](ExecContext& ctx) {
+    const auto in = ctx.require<Heightfield>("in");
+    const auto mask = optional_on(ctx, "mask", in->domain);
+    const auto hard = optional_on(ctx, "hardness", in->domain);
+    erosion::ThermalParams p;
+    p.talus_angle = ctx.param<double>("talus_angle");
+    p.strength = ctx.param<double>("strength");
+    p.travel_distance = ctx.param<double>("travel_distance");
+    p.tolerance = ctx.param<double>("tolerance");
+    auto m = erosion::thermal_erosion(*in, p, mask.get(), hard.get(), &ctx);
+    set_common_outputs(ctx, m);
+  });
+}
+
+OROGEN_NODE(HydraulicErosion) {
+  b.category("erosion").description(
+      "Particle hydraulic erosion after Beyer 2015, 'Implementation of a method for hydraulic erosion' (TU "
+      "Munich): droplets start at random places, run downhill with inertia, erode with a brush where they "
+      "can carry more and deposit where they carry too much. Droplets per km^2, brush radius, step length "
+      "and lifetime are in metres and sediment is a volume, so results agree across resolutions. Droplets "
+      "run in parallel in fixed batches whose height changes are applied in droplet order: bit-identical "
+      "for any thread count. Reach: global.");
+  declare_common_ports(b, "Scales erosion and deposition per cell, 0..1 (1 if unconnected)");
+  b.param_float("droplets_per_km2", 20000.0).range(0.0, 1e8).soft_range(1000.0, 200000.0).unit("1/km^2").description("Droplets per square kilometre of the domain");
+  b.param_float("step_length", 10.0).range(0.01, 1e4).soft_range(1.0, 50.0).unit("m").description("Distance a droplet moves per step (about one sample spacing)");
+  b.param_float("lifetime", 300.0).range(0.01, 1e6).soft_range(10.0, 3000.0).unit("m").description("Distance a droplet travels before it evaporates");
+  b.param_float("radius", 30.0).range(0.0, 1e4).soft_range(0.0, 200.0).unit("m").description("Erosion brush radius");
+  b.param_float("inertia", 0.05).range(0.0, 1.0).description("Share of the previous direction a droplet keeps (unitless)");
+  b.param_float("capacity", 4.0).range(0.0, 1e6).soft_range(0.0, 50.0).unit("m^3").description("Sediment a droplet carries per unit slope x speed x water");
+  b.param_float("min_slope", 0.01).range(0.0, 10.0).unit("m/m").description("Slope floor of the capacity, so droplets on flats still carry");
+  b.param_float("deposition", 0.3).range(0.0, 1.0).description("Share of the surplus sediment deposited per step (unitless)");
+  b.param_float("erosion", 0.3).range(0.0, 1.0).description("Share of the free capacity eroded per step (unitless)");
+  b.param_float("evaporation", 0.01).range(0.0, 1.0).description("Share of the water evaporated per step (unitless)");
+  b.param_float("gravity", 4.0).range(0.0, 100.0).unit("m/s^2").description("Speed gain: speed^2 grows by gravity x drop in metres");
+  b.param_seed("seed", 0).description("Droplet origins and directions hash (seed, droplet index)");
+  b.execute([](ExecContext& ctx) {
+    const auto in = ctx.require<Heightfield>("in");
+    const auto mask = optional_on(ctx, "mask", in->domain);
+    erosion::ParticleParams p;
+    p.droplets_per_km2 = ctx.param<double>("droplets_per_km2");
+    p.step_length = ctx.param<double>("step_length");
+    p.lifetime = ctx.param<double>("lifetime");
+    p.radius = ctx.param<double>("radius");
+    p.inertia = ctx.param<double>("inertia");
+    p.capacity = ctx.param<double>("capacity");
+    p.min_slope = ctx.param<double>("min_slope");
+    p.deposition = ctx.param<double>("deposition");
+    p.erosion = ctx.param<double>("erosion");
+    p.evaporation = ctx.param<double>("evaporation");
+    p.gravity = ctx.param<double>("gravity");
+    p.seed = ctx.param<std::uint64_t>("seed");
+    auto m = erosion::particle_erosion(*in, p, mask.get(), &ctx);
+    set_common_outputs(ctx, m);
+  });
+}
+
+OROGEN_NODE(PipeErosion) {
+  b.category("erosion").description(
+      "Shallow-water hydraulic erosion on virtual pipes (Mei, Decaudin and Hu 2007, 'Fast hydraulic erosion "
+      "simulation and visualization on GPU'): rain, outflow fluxes, water and velocity fields, sediment "
+      "capacity from speed and tilt, dissolution, deposition, transport with the water, evaporation. The "
+      "time step follows a CFL condition on the cell size, so a finer grid takes more, smaller steps of the "
+      "same physical duration. Cells under sea level are sinks; water and sediment leave at the border. "
+      "Bit-identical for any thread count. Reach: global.");
+  declare_common_ports(b, "Scales dissolution and deposition per cell, 0..1 (1 if unconnected)");
+  b.input("rainfall", PortType::Heightfield).optional().description("Rain rate per cell, mm/h (replaces rain_rate)");
+  b.input("moisture", PortType::Heightfield).optional().description("Drops mode: chance factor of rain per cell, 0..1");
+  b.input("temperature", PortType::Heightfield).optional().description("Evaporation factor per cell (1 nominal, >= 0)");
+  b.input("hardness", PortType::Heightfield).optional().description("Soil hardness 0..1: slows dissolution by (1 - hardness)");
+  b.output("water", PortType::Heightfield).description("Water depth at the end, metres");
+  b.output("velocity", PortType::Heightfield).description("Water speed at the end, m/s");
+  b.param_float("duration", 1800.0).range(0.0, 1e7).soft_range(60.0, 20000.0).unit("s").description("Simulated time");
+  b.param_float("rain_rate", 50.0).range(0.0, 1e5).soft_range(0.0, 500.0).unit("mm/h").description("Rain rate (uniform mode, or where no rainfall field)");
+  b.param_enum("rain_mode", {"uniform", "drops"}, "uniform").description("uniform: rain everywhere; drops: random drops with a chance scaled by the moisture field (Mei 2007 / the Georgia Tech model)");
+  b.param_float("drop_chance", 0.1).range(1e-6, 100.0).unit("1/s").description("Drops mode: chance of a drop per cell and second at moisture 1");
+  b.param_float("capacity", 1.0).range(0.0, 1e4).unit("s/m").description("Kc: sediment capacity (m) per unit sin(tilt) x speed (m/s) x water depth (m)");
+  b.param_float("dissolving", 0.1).range(0.0, 1e3).unit("1/s").description("Ks: rate of dissolution toward capacity");
+  b.param_float("depositing", 0.1).range(0.0, 1e3).unit("1/s").description("Kd: rate of deposition of the surplus");
+  b.param_float("evaporation", 0.001).range(0.0, 10.0).unit("1/s").description("Ke: share of the water evaporated per second");
+  b.param_float("gravity", 9.81).range(0.1, 100.0).unit("m/s^2").description("Gravitational acceleration of the flow");
+  b.param_float("courant", 0.25).range(0.01, 0.5).description("CFL number of the time step (unitless)");
+  b.param_float("layer_depth", 0.0).range(0.0, 1e4).unit("m").description("Soil doubles in hardness every layer_depth eroded (0: uniform soil)");
+  b.param_float("sea_level", -1e4).range(-1e9, 1e9).unit("m").description("Cells below are sinks");
+  b.param_seed("seed", 0).description("Drops mode: where drops fall hashes (seed, step, cell)");
+  b.execute([](ExecContext& ctx) {
+    const auto in = ctx.require<Heightfield>("in");
+    const auto mask = optional_on(ctx, "mask", in->domain);
+    const auto rain = optional_on(ctx, "rainfall", in->domain);
+    const auto moist = optional_on(ctx, "moisture", in->domain);
+    const auto temp = optional_on(ctx, "temperature", in->domain);
+    const auto hard = optional_on(ctx, "hardness", in->domain);
+    erosion::PipeParams p;
+    p.duration = ctx.param<double>("duration");
+    p.rain_rate = ctx.param<double>("rain_rate");
+    p.rain_mode = ctx.enum_index("rain_mode") == 0 ? erosion::RainMode::Uniform : erosion::RainMode::Drops;
+    p.drop_chance = ctx.param<double>("drop_chance");
+    p.capacity = ctx.param<double>("capacity");
+    p.dissolving = ctx.param<double>("dissolving");
+    p.depositing = ctx.param<double>("depositing");
+    p.evaporation = ctx.param<double>("evaporation");
+    p.gravity = ctx.param<double>("gravity");
+    p.courant = ctx.param<double>("courant");
+    p.layer_depth = ctx.param<double>("layer_depth");
+    p.sea_level = ctx.param<double>("sea_level");
+    p.seed = ctx.param<std::uint64_t>("seed");
+    auto m = erosion::pipe_erosion(*in, p, mask.get(), rain.get(), moist.get(), temp.get(), hard.get(), &ctx);
+    set_common_outputs(ctx, m);
+    ctx.set_output("water", m.water);
+    ctx.set_output("velocity", m.velocity);
+  });
+}
+
+OROGEN_NODE(StreamPower) {
+  b.category("erosion").description(
+      "Landscape evolution by the stream-power law dz/dt = U - K A^m S^n + D laplacian(z) (Howard 1994; "
+      "Whipple and Tucker 1999), solved with the implicit O(n) scheme of Braun and Willett 2013, 'A very "
+      "efficient O(n), implicit and parallel method to solve the stream power equation' (Newton iteration "
+      "for n != 1), over D8 routing of the depression-filled surface (priority flood, Barnes et al. 2014; "
+      "closed depressions fill with sediment). Border cells and cells below sea level are base level. "
+      "Produces real drainage networks. Reach: global.");
+  declare_common_ports(b, "Scales erodibility K and diffusivity D per cell, 0..1 (1 if unconnected)");
+  b.input("uplift", PortType::Heightfield).optional().description("Uplift factor per cell (>= 0), times uplift_rate; 1 if unconnected");
+  b.output("accumulation", PortType::Heightfield).description("Drainage area of the final routing, m^2");
+  b.param_float("k", 2e-5).range(0.0, 1.0).soft_range(1e-7, 1e-3).unit("m^(1-2m)/yr").description("Erodibility K");
+  b.param_float("m", 0.45).range(0.0, 2.0).description("Drainage-area exponent m (unitless)");
+  b.param_float("n", 1.0).range(0.2, 4.0).description("Slope exponent n (unitless); 1 solves directly, else by Newton");
+  b.param_float("uplift_rate", 1e-3).range(0.0, 1.0).soft_range(0.0, 0.01).unit("m/yr").description("Rock uplift rate U");
+  b.param_float("diffusion", 0.01).range(0.0, 100.0).soft_range(0.0, 1.0).unit("m^2/yr").description("Hillslope diffusivity D");
+  b.param_float("time_step", 10000.0).range(1.0, 1e8).unit("yr").description("Years per step (the implicit scheme is stable at any step)");
+  b.param_float("duration", 500000.0).range(0.0, 1e10).soft_range(1e4, 1e7).unit("yr").description("Simulated time");
+  b.param_float("sea_level", -1e4).range(-1e9, 1e9).unit("m").description("Cells below are base level (sinks)");
+  b.param_float("channel_area", 0.0).range(0.0, 1e12).soft_range(0.0, 1e6).unit("m^2").description(
+      "Channel initiation: fluvial incision only where the drainage area reaches this; smaller areas are "
+      "hillslopes shaped by diffusion alone. A threshold above a few cells makes the result converge with "
+      "resolution (0: every cell incises, as in Braun and Willett 2013)");
+  b.execute([](ExecContext& ctx) {
+    const auto in = ctx.require<Heightfield>("in");
+    const auto mask = optional_on(ctx, "mask", in->domain);
+    const auto up = optional_on(ctx, "uplift", in->domain);
+    erosion::StreamPowerParams p;
+    p.k = ctx.param<double>("k");
+    p.m = ctx.param<double>("m");
+    p.n = ctx.param<double>("n");
+    p.uplift = ctx.param<double>("uplift_rate");
+    p.diffusion = ctx.param<double>("diffusion");
+    p.dt = ctx.param<double>("time_step");
+    p.duration = ctx.param<double>("duration");
+    p.sea_level = ctx.param<double>("sea_level");
+    p.channel_area = ctx.param<double>("channel_area");
+    std::shared_ptr<Heightfield> acc;
+    auto m = erosion::stream_power(*in, p, up.get(), mask.get(), &ctx, nullptr, nullptr, &acc);
+    set_common_outputs(ctx, m);
+    ctx.set_output("accumulation", acc);
+  });
+}
+
+}  // namespace orogen

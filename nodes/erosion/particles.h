@@ -1,0 +1,49 @@
+#pragma once
+// Particle hydraulic erosion after Beyer 2015 ("Implementation of a method for hydraulic erosion", TU
+// Munich), with the corrections noted in the seeds: droplets follow the negative gradient, the capacity is
+// max(slope, min_slope) x speed x water x capacity, and speed^2 grows by -dh x gravity going downhill.
+//
+// World units: droplets per km^2 of the domain (not a count), step length, brush radius and lifetime in
+// metres; sediment is a volume (m^3) that the brush spreads over its cells and divides by their area, so the
+// same parameters remove the same volume per km^2 at any resolution.
+//
+// Determinism while parallel: droplets run in fixed batches of kBatch (independent of the thread count).
+// Every droplet of a batch reads the same frozen heights and records its own height changes; the batch's
+// changes are then applied droplet by droplet in index order. The result is bit-identical for any number
+// of threads, with no atomics; droplets of one batch do not see each other's changes (they start at random
+// places over the whole domain, so they rarely meet), the price of the determinism.
+#include <cstdint>
+
+#include "nodes/erosion/erosion_common.h"
+
+namespace orogen::erosion {
+
+struct ParticleParams {
+  double droplets_per_km2 = 20000.0;  // droplets per km^2 of the domain
+  double step_length = 10.0;          // metres a droplet moves per step
+  double lifetime = 300.0;            // metres a droplet travels at most
+  double radius = 30.0;               // metres: erosion brush radius
+  double inertia = 0.05;              // 0..1: share of the old direction kept
+  double capacity = 4.0;              // m^3 of sediment per unit (slope x speed x water)
+  double min_slope = 0.01;            // slope floor of the capacity (m/m)
+  double deposition = 0.3;            // 0..1 share of the surplus deposited per step
+  double erosion = 0.3;               // 0..1 share of the free capacity eroded per step
+  double evaporation = 0.01;          // 0..1 share of the water evaporated per step
+  double gravity = 4.0;               // m/s^2 per metre of drop (speed^2 gain per metre)
+  std::uint64_t seed = 0;
+};
+
+struct ParticleStats {
+  double eroded = 0.0;       // m^3 removed from the terrain
+  double deposited = 0.0;    // m^3 laid down
+  double carried_off = 0.0;  // m^3 of sediment that left the domain with its droplet
+  std::uint64_t droplets = 0;
+  std::uint64_t steps = 0;   // droplet steps simulated
+};
+
+constexpr int kParticleBatch = 1024;
+
+ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, const Heightfield* mask = nullptr,
+                             const ExecContext* ctx = nullptr, ParticleStats* stats = nullptr);
+
+}  // namespace orogen::erosion

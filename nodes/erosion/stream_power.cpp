@@ -1,0 +1,196 @@
+#include "nodes/erosion/stream_power.h"
+
+#include "nodes/hydrology/flow_routing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <queue>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace orogen::erosion {
+namespace {
+
+constexpr int kDi[8] = {-1, 1, 0, 0, -1, 1, -1, 1};
+constexpr int kDj[8] = {0, 0, -1, 1, -1, -1, 1, 1};
+
+// The smallest increment that still orders the filled surface: relative to the height so that it survives
+// double rounding, and far below any real relief.
+inline double raise(double z) { return z + std::max(1e-9, std::abs(z) * 1e-12); }
+
+template <class Fn>
+void rows(int h, Fn&& fn) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& r) {
+    for (int j = r.begin(); j != r.end(); ++j) fn(j);
+  });
+}
+
+}  // namespace
+
+ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, const Heightfield* uplift,
+                         const Heightfield* mask, const ExecContext* ctx, StreamPowerStats* stats,
+                         const std::vector<unsigned char>* outlets, std::shared_ptr<Heightfield>* accumulation) {
+  const int w = in.width(), h = in.height();
+  const std::size_t n = in.data.size();
+  const double dx = in.domain.spacing.x, dy = in.domain.spacing.y;
+  // Fixed base level: the given outlets, else the border. Cells under sea level join them step by step
+  // (uplift can lift the sea floor into land).
+  std::vector<unsigned char> fixed(n, 0), outlet(n, 0);
+  if (outlets) {
+    fixed = *outlets;
+  } else {
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) fixed[in.index(i, j)] = i == 0 || j == 0 || i == w - 1 || j == h - 1;
+  }
+  std::vector<double> z(in.data.begin(), in.data.end()), ero(n, 0.0), dep(n, 0.0), zprev(n), ztmp(n);
+  std::vector<double> kfac(n), ufac(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    kfac[k] = mask_at(mask, k);
+    ufac[k] = fixed[k] ? 0.0 : p.uplift * (uplift ? std::max(0.0f, uplift->data[k]) : 1.0f);
+  }
+  const int steps = std::max(1, static_cast<int>(std::ceil(p.duration / p.dt - 1e-9)));
+  const double dt = p.duration / steps;
+  // Diffusion sub-steps: explicit FTCS is stable for D dt_sub (2/dx^2 + 2/dy^2) <= 1.
+  const double dt_diff_max = 0.9 / (std::max(p.diffusion, 1e-30) * (2.0 / (dx * dx) + 2.0 / (dy * dy)));
+  const int diff_steps = p.diffusion > 0 ? std::max(1, static_cast<int>(std::ceil(dt / dt_diff_max))) : 0;
+  const hydrology::FlowGrid grid = hydrology::FlowGrid::of(in.domain);
+  std::vector<float> zf(n), zround(n);
+  hydrology::D8Flow flow;
+  std::vector<std::int32_t> order;
+  std::vector<double> area;
+  StreamPowerStats st;
+  for (int s = 0; s < steps; ++s) {
+    check_cancelled(ctx);
+    zprev = z;
+    for (std::size_t k = 0; k < n; ++k) {
+      z[k] += ufac[k] * dt;
+      outlet[k] = fixed[k] || z[k] < p.sea_level;
+    }
+    // Hillslope diffusion, base level fixed, before the incision: the implicit sweep then cuts through
+    // whatever diffusion laid into the channels within the same step, so river profiles stay clean.
+    for (int sd = 0; sd < diff_steps; ++sd) {
+      const double c = p.diffusion * dt / diff_steps;
+      rows(h, [&](int j) {
+        for (int i = 0; i < w; ++i) {
+          const std::size_t k = static_cast<std::size_t>(j) * w + i;
+          if (outlet[k]) {
+            ztmp[k] = z[k];
+            continue;
+          }
+          const double zc = z[k];
+          const double lx = (z[i > 0 ? k - 1 : k] + z[i < w - 1 ? k + 1 : k] - 2 * zc) / (dx * dx);
+          const double ly = (z[j > 0 ? k - w : k] + z[j < h - 1 ? k + w : k] - 2 * zc) / (dy * dy);
+          const double dz = c * kfac[k] * (lx + ly);
+          ztmp[k] = zc + dz;
+          (dz < 0 ? ero[k] : dep[k]) += std::abs(dz);
+        }
+      });
+      std::swap(z, ztmp);
+    }
+    // Routing over the depression-filled surface with the hydrology core: closed depressions fill with
+    // sediment (Priority-Flood+epsilon), then D8 receivers, the Braun-Willett stack and the drainage area.
+    for (std::size_t k = 0; k < n; ++k) zf[k] = static_cast<float>(z[k]);
+    zround = zf;
+    hydrology::Outlets outs;
+    outs.border = false;
+    outs.mask = outlet;
+    hydrology::fill_depressions(grid, zf, hydrology::FlatMode::Epsilon, outs, ctx);
+    for (std::size_t k = 0; k < n; ++k)
+      if (zf[k] != zround[k]) {
+        dep[k] += static_cast<double>(zf[k]) - z[k];
+        z[k] = zf[k];
+      }
+    flow = hydrology::d8_flow(grid, zf, outs, ctx);
+    order = hydrology::stack_order(grid, flow);
+    area = hydrology::accumulate_d8(grid, flow, {}, ctx);
+    // Implicit incision from the outlets upstream (receivers are already at t + dt).
+    for (const std::int32_t k : order) {
+      const std::int32_t rc = flow.receiver[k];
+      if (rc == k || area[k] < p.channel_area) continue;
+      const double len = grid.distance(flow.direction[k]);
+      const double f = p.k * kfac[k] * dt * std::pow(area[k], p.m) / std::pow(len, p.n);
+      const double z0 = z[k], zr = z[rc];
+      double zn = z0;
+      if (z0 > zr && f > 0) {
+        if (p.n == 1.0) {
+          zn = (z0 + f * zr) / (1.0 + f);
+        } else {
+          // Newton on g(z) = z - z0 + f (z - zr)^n over (zr, z0], safeguarded by bisection.
+          double lo = zr, hi = z0;
+          zn = z0;
+          for (int it = 0; it < 50; ++it) {
+            const double d = zn - zr;
+            const double g = zn - z0 + f * std::pow(d, p.n);
+            if (g > 0) hi = zn; else lo = zn;
+            const double gp = 1.0 + f * p.n * std::pow(d, p.n - 1.0);
+            double next = zn - g / gp;
+            if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+            if (std::abs(next - zn) <= 1e-12 * std::max(1.0, std::abs(zn))) {
+              zn = next;
+              break;
+            }
+            zn = next;
+          }
+        }
+      }
+      ero[k] += z0 - zn;
+      z[k] = zn;
+    }
+    double mx = 0, sum = 0;
+    std::size_t count = 0;
+    for (std::size_t k = 0; k < n; ++k)
+      if (!outlet[k]) {
+        const double c = std::abs(z[k] - zprev[k]) / dt;
+        mx = std::max(mx, c);
+        sum += c;
+        ++count;
+      }
+    st.max_change_last_step = mx;
+    st.mean_change_last_step = count ? sum / count : 0.0;
+    report(ctx, static_cast<double>(s + 1) / steps);
+  }
+  st.steps = steps;
+  if (stats) *stats = st;
+  // The last diffusion sub-steps may leave shallow closed depressions on filled flats: fill them like every
+  // step does, so the result drains (sediment settles in them; recorded as deposition).
+  {
+    for (std::size_t k = 0; k < n; ++k) {
+      outlet[k] = fixed[k] || z[k] < p.sea_level;
+      zf[k] = static_cast<float>(z[k]);
+    }
+    zround = zf;
+    hydrology::Outlets outs;
+    outs.border = false;
+    outs.mask = outlet;
+    hydrology::fill_depressions(grid, zf, hydrology::FlatMode::Epsilon, outs, ctx);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (zf[k] != zround[k]) dep[k] += static_cast<double>(zf[k]) - z[k];
+      z[k] = zf[k];
+    }
+  }
+
+  ErosionMaps maps;
+  maps.out = std::make_shared<Heightfield>(in.domain);
+  maps.erosion = std::make_shared<Heightfield>(in.domain);
+  maps.deposition = std::make_shared<Heightfield>(in.domain);
+  maps.flow = std::make_shared<Heightfield>(in.domain);
+  double amax = dx * dy;
+  for (double a : area) amax = std::max(amax, a);
+  const double lmax = std::log(amax / (dx * dy));
+  for (std::size_t k = 0; k < n; ++k) {
+    maps.out->data[k] = static_cast<float>(z[k]);
+    maps.erosion->data[k] = static_cast<float>(ero[k]);
+    maps.deposition->data[k] = static_cast<float>(dep[k]);
+    maps.flow->data[k] = lmax > 0 && !area.empty() ? static_cast<float>(std::log(area[k] / (dx * dy)) / lmax) : 0.0f;
+  }
+  if (accumulation) {
+    *accumulation = std::make_shared<Heightfield>(in.domain);
+    for (std::size_t k = 0; k < n; ++k) (*accumulation)->data[k] = static_cast<float>(area.empty() ? dx * dy : area[k]);
+  }
+  return maps;
+}
+
+}  // namespace orogen::erosion

@@ -1,0 +1,346 @@
+// The erosion family: conservation, analytic steady states, talus bound, determinism across thread counts,
+// seed sensitivity, the node contract (documented parameters, every parameter in the cache key) and
+// cancellation.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "evaluator/evaluator.h"
+#include "field_ops_fixtures.h"
+#include "graph/graph.h"
+#include "graph/registry.h"
+#include "nodes/erosion/particles.h"
+#include "nodes/erosion/pipe.h"
+#include "nodes/erosion/stream_power.h"
+#include "nodes/erosion/thermal.h"
+#include "nodes/hydrology/drainage_metrics.h"
+#include "support/key_checks.h"
+
+namespace orogen {
+namespace {
+
+using namespace erosion;
+
+// Mountains: a few octaves of rotated sines, hundreds of metres of relief over a few kilometres.
+double mountains(double x, double y) {
+  double v = 0, amp = 300, f = 1.0 / 900.0;
+  for (int o = 0; o < 5; ++o) {
+    const double a = 0.7 * o + 0.3;
+    const double u = std::cos(a) * x - std::sin(a) * y, w = std::sin(a) * x + std::cos(a) * y;
+    v += amp * std::sin(u * f + o) * std::cos(w * f * 1.3 + 2 * o);
+    amp *= 0.5;
+    f *= 2.1;
+  }
+  return v + 400.0 + 0.02 * x;
+}
+
+std::shared_ptr<Heightfield> terrain(int res, double size = 4000.0) {
+  const Domain d = Domain::from_extent({0, 0}, {size, size}, {res, res});
+  auto h = std::const_pointer_cast<Heightfield>(test::field_from(d, mountains));
+  return h;
+}
+
+double total(const std::vector<float>& v) {
+  double s = 0;
+  for (float x : v) s += x;
+  return s;
+}
+
+// ---- Thermal ----
+
+TEST(ThermalErosion, ConservesVolume) {
+  const auto in = terrain(96);
+  ThermalParams p;
+  p.talus_angle = 20;
+  const auto m = thermal_erosion(*in, p);
+  const double a = total(in->data), b = total(m.out->data);
+  double absum = 0;
+  for (float x : in->data) absum += std::abs(x);
+  EXPECT_LE(std::abs(a - b), 1e-6 * absum) << a << " vs " << b;
+  EXPECT_GT(total(m.erosion->data), 100.0) << "something moved";
+}
+
+TEST(ThermalErosion, NoSlopeAboveTalusAfterConvergence) {
+  const auto in = terrain(80);
+  ThermalParams p;
+  p.talus_angle = 25;
+  p.travel_distance = 1e5;
+  p.tolerance = 1e-5;
+  int its = 0;
+  const auto m = thermal_erosion(*in, p, nullptr, nullptr, nullptr, &its);
+  const double dx = in->domain.spacing.x, tan_t = std::tan(25.0 * M_PI / 180.0);
+  double worst = 0, worst_in = 0;
+  const auto& z = m.out->data;
+  const int w = in->width();
+  for (int j = 0; j < in->height(); ++j)
+    for (int i = 0; i + 1 < w; ++i) {
+      worst = std::max(worst, std::abs(z[j * w + i + 1] - z[j * w + i]) / dx);
+      worst_in = std::max(worst_in, std::abs(in->data[j * w + i + 1] - in->data[j * w + i]) / dx);
+    }
+  EXPECT_GT(worst_in, 2 * tan_t) << "the input must be steeper than the talus";
+  EXPECT_LE(worst, tan_t * 1.02) << "after " << its << " iterations";
+}
+
+TEST(ThermalErosion, SameAngleSameSlopesAtAnyResolution) {
+  ThermalParams p;
+  p.talus_angle = 25;
+  p.travel_distance = 1e5;
+  p.tolerance = 1e-5;
+  const auto a = thermal_erosion(*terrain(41), p);
+  const auto b = thermal_erosion(*terrain(81), p);
+  std::vector<double> va, vb;
+  for (int j = 0; j < 41; ++j)
+    for (int i = 0; i < 41; ++i) va.push_back(a.out->at(i, j)), vb.push_back(b.out->at(2 * i, 2 * j));
+  EXPECT_GT(test::correlation(va, vb), 0.99);
+}
+
+TEST(ThermalErosion, HardnessAndMaskHoldMaterial) {
+  const auto in = terrain(64);
+  ThermalParams p;
+  p.talus_angle = 20;
+  Heightfield one(in->domain, 1.0f), zero(in->domain, 0.0f);
+  EXPECT_GT(total(thermal_erosion(*in, p).erosion->data), 1.0);
+  EXPECT_EQ(total(thermal_erosion(*in, p, nullptr, &one).erosion->data), 0.0);
+  EXPECT_EQ(total(thermal_erosion(*in, p, &zero).erosion->data), 0.0);
+}
+
+// ---- Particles ----
+
+TEST(HydraulicErosion, ErodedEqualsDepositedPlusCarriedOff) {
+  const auto in = terrain(128);
+  ParticleParams p;
+  p.droplets_per_km2 = 5000;
+  p.seed = 3;
+  ParticleStats st;
+  const auto m = particle_erosion(*in, p, nullptr, nullptr, &st);
+  EXPECT_GT(st.eroded, 0.0);
+  EXPECT_GT(st.carried_off, 0.0) << "some droplets leave the domain";
+  EXPECT_NEAR(st.eroded, st.deposited + st.carried_off, 1e-4 * st.eroded);
+  // And the terrain agrees: its volume fell by what was carried off.
+  const double cell = in->domain.spacing.x * in->domain.spacing.y;
+  double dv = 0;
+  for (std::size_t k = 0; k < in->data.size(); ++k) dv += (static_cast<double>(m.out->data[k]) - in->data[k]) * cell;
+  EXPECT_NEAR(-dv, st.carried_off, 1e-3 * st.eroded + 1e-4 * total(in->data) * cell * 1e-3);
+}
+
+TEST(HydraulicErosion, DeterministicAcrossThreadsAndSeedSensitive) {
+  const auto in = terrain(96);
+  ParticleParams p;
+  p.droplets_per_km2 = 3000;
+  p.seed = 5;
+  const auto one = test::with_threads(1, [&] { return particle_erosion(*in, p).out->data; });
+  const auto many = test::with_threads(test::several_threads(), [&] { return particle_erosion(*in, p).out->data; });
+  EXPECT_TRUE(test::bit_identical(one, many));
+  p.seed = 6;
+  const auto other = particle_erosion(*in, p).out->data;
+  EXPECT_FALSE(test::bit_identical(one, other));
+}
+
+TEST(HydraulicErosion, DropletCountFollowsArea) {
+  ParticleParams p;
+  p.droplets_per_km2 = 1000;
+  ParticleStats a, b;
+  particle_erosion(*terrain(64, 2000.0), p, nullptr, nullptr, &a);
+  particle_erosion(*terrain(128, 2000.0), p, nullptr, nullptr, &b);
+  EXPECT_EQ(a.droplets, 4000u);
+  EXPECT_EQ(b.droplets, 4000u) << "a finer grid of the same world gets the same droplets";
+}
+
+// ---- Pipe ----
+
+TEST(PipeErosion, ConservesTerrainPlusSedimentPerStep) {
+  const auto in = terrain(64);
+  PipeParams p;
+  p.duration = 600;
+  p.rain_rate = 200;
+  p.sea_level = 200;  // some sinks
+  PipeStats st;
+  const auto m = pipe_erosion(*in, p, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, &st, true);
+  EXPECT_GT(st.steps, 10);
+  EXPECT_GT(st.sediment_out, 0.0) << "border and sinks take sediment";
+  EXPECT_LE(st.max_conservation_error, 1e-6 * st.total_volume);
+  EXPECT_GT(total(m.erosion->data), 0.0);
+  // Over the whole run too: what the terrain lost is what left.
+  const double cell = in->domain.spacing.x * in->domain.spacing.y;
+  const double lost = (total(in->data) - total(m.out->data)) * cell;
+  EXPECT_NEAR(lost, st.sediment_out, 1e-6 * st.total_volume + 1e-3 * st.sediment_out);
+}
+
+TEST(PipeErosion, FinerGridTakesMoreSmallerStepsOfTheSameDuration) {
+  PipeParams p;
+  p.duration = 300;
+  PipeStats a, b;
+  pipe_erosion(*terrain(48), p, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, &a);
+  pipe_erosion(*terrain(95), p, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, &b);
+  EXPECT_GT(b.steps, a.steps * 3 / 2);
+}
+
+TEST(PipeErosion, DeterministicAcrossThreads) {
+  const auto in = terrain(64);
+  PipeParams p;
+  p.duration = 300;
+  p.rain_mode = RainMode::Drops;
+  p.seed = 4;
+  const auto one = test::with_threads(1, [&] { return pipe_erosion(*in, p).out->data; });
+  const auto many = test::with_threads(test::several_threads(), [&] { return pipe_erosion(*in, p).out->data; });
+  EXPECT_TRUE(test::bit_identical(one, many));
+}
+
+// ---- Stream power ----
+
+// A 1D profile: one row, base level at its left end only. Steady state of U = K A^m S^n with A the
+// upstream length x the row's width: S = (U/K)^(1/n) A^(-m/n).
+void check_1d_steady_state(double n_exp) {
+  const int w = 200;
+  Domain d;
+  d.spacing = {50.0, 50.0};
+  d.resolution = {w, 1};
+  Heightfield in(d, 0.0f);
+  for (int i = 0; i < w; ++i) in.at(i, 0) = static_cast<float>(0.5 * i);
+  std::vector<unsigned char> outlet(w, 0);
+  outlet[0] = 1;
+  StreamPowerParams p;
+  p.k = 1e-5;
+  p.m = 0.4;
+  p.n = n_exp;
+  p.uplift = 1e-3;
+  p.diffusion = 0;
+  p.dt = 50000;
+  p.duration = 3e7;
+  StreamPowerStats st;
+  const auto m = stream_power(in, p, nullptr, nullptr, nullptr, &st, &outlet);
+  EXPECT_LT(st.max_change_last_step, 1e-6 * p.uplift) << "steady state: erosion balances uplift";
+  double worst = 0;
+  for (int i = 1; i < w; ++i) {
+    const double area = (w - i) * 50.0 * 50.0;
+    const double s_num = (static_cast<double>(m.out->at(i, 0)) - m.out->at(i - 1, 0)) / 50.0;
+    const double s_ana = std::pow(p.uplift / p.k, 1.0 / p.n) * std::pow(area, -p.m / p.n);
+    worst = std::max(worst, std::abs(s_num / s_ana - 1.0));
+  }
+  EXPECT_LT(worst, 1e-3);
+}
+
+TEST(StreamPower, OneDimensionalSteadyStateMatchesAnalyticN1) { check_1d_steady_state(1.0); }
+TEST(StreamPower, OneDimensionalSteadyStateMatchesAnalyticN2) { check_1d_steady_state(2.0); }
+
+// At steady state under uniform uplift the channels follow S = (U/K)^(1/n) A^(-m/n): DrainageMetrics (the
+// hydrology family's slope-area fit, Flint 1974) recovers theta = m/n.
+void check_concavity(double diffusion) {
+  const Domain d = Domain::from_extent({0, 0}, {6000, 6000}, {121, 121});
+  const auto in = test::field_from(d, [](double x, double y) { return 20.0 * test::hash01(static_cast<int>(x), static_cast<int>(y)); });
+  StreamPowerParams p;
+  p.k = 4e-5;
+  p.m = 0.45;
+  p.n = 1.0;
+  p.uplift = 2e-3;
+  p.diffusion = diffusion;
+  p.dt = 2e4;
+  p.duration = 4e6;
+  StreamPowerStats st;
+  const auto m = stream_power(*in, p, nullptr, nullptr, nullptr, &st);
+  EXPECT_LT(st.mean_change_last_step, 1e-2 * p.uplift) << "steady state: erosion balances uplift (to 1%; divides still migrate)";
+  const auto r = hydrology::drainage_metrics(*m.out, 2e5);
+  EXPECT_NEAR(-r.network.flint.slope, p.m / p.n, 0.05);
+  EXPECT_GE(r.network.flint.r2, 0.9);
+  EXPECT_EQ(r.pits_per_million, 0.0);
+}
+
+TEST(StreamPower, SlopeAreaRecoversConcavity) { check_concavity(0.0); }
+TEST(StreamPower, SlopeAreaRecoversConcavityWithHillslopeDiffusion) { check_concavity(0.02); }
+
+TEST(StreamPower, DeterministicAcrossThreads) {
+  const auto in = terrain(64);
+  StreamPowerParams p;
+  p.duration = 2e5;
+  const auto one = test::with_threads(1, [&] { return stream_power(*in, p).out->data; });
+  const auto many = test::with_threads(test::several_threads(), [&] { return stream_power(*in, p).out->data; });
+  EXPECT_TRUE(test::bit_identical(one, many));
+}
+
+// ---- Node contract ----
+
+const char* const kTypes[] = {"ThermalErosion", "HydraulicErosion", "PipeErosion", "StreamPower"};
+
+TEST(ErosionNodes, DeclarationsAreDocumentedWithTheCommonPorts) {
+  for (const char* type : kTypes) {
+    const NodeType* t = NodeRegistry::instance().find(type);
+    ASSERT_NE(t, nullptr) << type;
+    EXPECT_FALSE(t->description.empty()) << type;
+    for (const auto& p : t->inputs) EXPECT_FALSE(p.description.empty()) << type << "." << p.name;
+    for (const auto& p : t->outputs) EXPECT_FALSE(p.description.empty()) << type << "." << p.name;
+    for (const auto& p : t->params) EXPECT_FALSE(p.description.empty()) << type << "." << p.name;
+    for (const char* port : {"in", "mask"}) EXPECT_NE(t->find_input(port), nullptr) << type << "." << port;
+    EXPECT_TRUE(t->find_input("mask")->optional) << type;
+    for (const char* port : {"out", "erosion", "deposition", "flow"})
+      EXPECT_NE(t->find_output(port), nullptr) << type << "." << port;
+  }
+}
+
+TEST(ErosionNodes, EveryParameterAndInputChangesTheCacheKey) {
+  const Domain d = Domain::from_extent({0, 0}, {1024, 1024}, {64, 64});
+  for (const char* type : kTypes) {
+    SCOPED_TRACE(type);
+    expect_every_param_changes_key(type, d);
+    expect_every_input_changes_key(type, d);
+  }
+}
+
+TEST(ErosionNodes, RunThroughTheNodeWithMaskAndOutputsInRange) {
+  const Domain d = Domain::from_extent({0, 0}, {2000, 2000}, {64, 64});
+  const auto in = test::field_from(d, mountains);
+  const auto half = std::make_shared<const Heightfield>(d, 0.5f);
+  const std::map<std::string, ParamValue> fast_sp{{"duration", 5e4}};
+  const std::map<std::string, ParamValue> fast_pipe{{"duration", 120.0}};
+  for (const char* type : kTypes) {
+    SCOPED_TRACE(type);
+    std::map<std::string, ParamValue> params;
+    if (std::string(type) == "StreamPower") params = fast_sp;
+    if (std::string(type) == "PipeErosion") params = fast_pipe;
+    const auto full = run_node(type, d, params, {{"in", PortValue(in)}});
+    const auto masked = run_node(type, d, params, {{"in", PortValue(in)}, {"mask", PortValue(HeightfieldPtr(half))}});
+    const auto& t = *NodeRegistry::instance().find(type);
+    const auto flow = full.get<Heightfield>(t.output_index("flow"));
+    for (float f : flow->data) ASSERT_TRUE(f >= 0.0f && f <= 1.0f) << f;
+    for (const char* map : {"erosion", "deposition"})
+      for (float v : full.get<Heightfield>(t.output_index(map))->data) ASSERT_GE(v, 0.0f) << map;
+    const double e_full = total(full.get<Heightfield>(t.output_index("erosion"))->data);
+    const double e_half = total(masked.get<Heightfield>(t.output_index("erosion"))->data);
+    EXPECT_GT(e_full, 0.0);
+    EXPECT_LT(e_half, e_full) << "the mask scales the effect";
+  }
+}
+
+TEST(ErosionNodes, CancellationLeavesNothingCached) {
+  for (const char* type : kTypes) {
+    SCOPED_TRACE(type);
+    Graph g;
+    g.add_node("FBM", "src");
+    g.set_param("src", "amplitude", 300.0);
+    g.add_node(type, "erode");
+    g.connect({"src", "out"}, "erode", "in");
+    if (std::string(type) == "ThermalErosion") g.set_param("erode", "tolerance", 0.0);
+    Evaluator ev;
+    CancelToken cancel;
+    EvalRequest req;
+    req.domain = Domain::from_extent({0, 0}, {4000, 4000}, {64, 64});
+    req.nodes = {"erode"};
+    req.cancel = &cancel;
+    req.on_event = [&](const EvalEvent& e) {
+      if (e.node == "erode" && e.kind == EvalEvent::Kind::Progress) cancel.cancel();
+    };
+    const auto r = ev.evaluate(g, req);
+    EXPECT_TRUE(r.cancelled);
+    EXPECT_EQ(r.nodes.at("erode").status, NodeStatus::Cancelled);
+    cancel.reset();
+    req.on_event = nullptr;
+    const auto again = ev.evaluate(g, req);
+    EXPECT_EQ(again.nodes.at("erode").status, NodeStatus::Computed) << "the cancelled result was not cached";
+  }
+}
+
+}  // namespace
+}  // namespace orogen
