@@ -27,7 +27,13 @@ struct EvalCommand {
 };
 
 int run_eval(const EvalCommand& cmd);
-int run_validate(const std::filesystem::path& graph_file);
+struct ValidateCommand {
+  std::filesystem::path graph_file;
+  std::filesystem::path output_dir = "out";  // as for eval: output paths are checked against it
+  bool allow_any_path = false;
+};
+
+int run_validate(const ValidateCommand& cmd);
 int run_nodes(const std::string& type, bool json, bool markdown);
 
 }  // namespace orogen::cli

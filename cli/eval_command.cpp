@@ -32,8 +32,9 @@ int run_eval(const EvalCommand& cmd) {
 
   std::vector<std::string> errors = apply_param_overrides(graph, cmd.set);
   if (!cmd.resolution.empty()) {
-    if (auto r = parse_resolution(cmd.resolution)) graph.domain.resolution = *r;
-    else errors.push_back("--resolution '" + cmd.resolution + "': expected WxH with sides in [2, 65536]");
+    std::string why;
+    if (auto r = resolution_for(cmd.resolution, graph.domain.size, why)) graph.domain.resolution = *r;
+    else errors.push_back(why);
   }
   OutputPolicy policy{cmd.output_dir, cmd.allow_any_path};
   for (auto& e : check_output_paths(graph, policy)) errors.push_back(std::move(e));
@@ -118,13 +119,21 @@ int run_eval(const EvalCommand& cmd) {
   return failed == 0 ? kExitOk : kExitEvalFailed;
 }
 
-int run_validate(const std::filesystem::path& graph_file) {
-  auto loaded = load_graph_file(graph_file);
+int run_validate(const ValidateCommand& cmd) {
+  auto loaded = load_graph_file(cmd.graph_file);
   if (!loaded.ok()) {
-    std::cerr << graph_file.string() << ": invalid graph\n" << loaded.error_text();
+    std::cerr << cmd.graph_file.string() << ": invalid graph\n" << loaded.error_text();
     return kExitInvalid;
   }
-  std::cout << graph_file.string() << ": valid (" << loaded.graph->nodes().size() << " nodes)\n";
+  const FileCheck files = check_files(*loaded.graph, OutputPolicy{cmd.output_dir, cmd.allow_any_path});
+  for (const auto& w : files.warnings) std::cerr << "warning: " << w << "\n";
+  if (!files.errors.empty()) {
+    std::cerr << cmd.graph_file.string() << ": invalid graph\n";
+    for (const auto& e : files.errors) std::cerr << "error: " << e << "\n";
+    return kExitInvalid;
+  }
+  std::cout << cmd.graph_file.string() << ": valid (" << loaded.graph->nodes().size() << " nodes"
+            << (files.warnings.empty() ? "" : ", " + std::to_string(files.warnings.size()) + " warning(s)") << ")\n";
   return kExitOk;
 }
 

@@ -1,11 +1,14 @@
 #include "cli/graph_overrides.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
-#include <cstdlib>
-
 #include <charconv>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <sstream>
 
 #include "graph/graph_file.h"
 #include "graph/output_path.h"
@@ -91,20 +94,101 @@ std::optional<std::uint64_t> parse_memory_size(const std::string& text) {
   return static_cast<std::uint64_t>(*v * unit);
 }
 
-std::vector<std::string> check_output_paths(const Graph& graph, const OutputPolicy& policy) {
-  std::vector<std::string> errors;
+std::optional<glm::ivec2> resolution_for(const std::string& text, glm::dvec2 size, std::string& error) {
+  auto r = parse_resolution(text);
+  if (!r) {
+    error = "--resolution '" + text + "': expected WxH with sides in [2, 65536], or a single number";
+    return std::nullopt;
+  }
+  const bool single = text.find_first_of("xX") == std::string::npos;
+  if (single && size.x > 0.0) {
+    // N along x, and along y whatever keeps the cells square.
+    const double rows = size.y / (size.x / (r->x - 1)) + 1.0;
+    r->y = static_cast<int>(std::clamp(std::llround(rows), 2LL, 65536LL));
+  }
+  const double sx = size.x / (r->x - 1), sy = size.y / (r->y - 1);
+  if (std::abs(sx - sy) <= 1e-9 * std::max(sx, sy)) return r;
+  std::ostringstream s;
+  s << "--resolution " << text << " on the graph's " << size.x << " x " << size.y << " m domain gives cells of "
+    << sx << " m x " << sy << " m; cells must be square (the same spacing in x and y)";
+  const double rows = size.y / sx + 1.0;
+  if (std::abs(rows - std::round(rows)) < 1e-6 && rows >= 2.0 && rows <= 65536.0)
+    s << ": use " << r->x << "x" << std::llround(rows) << " (or just " << r->x << ")";
+  else
+    s << ": choose W and H with (W - 1) / (H - 1) = " << size.x << " / " << size.y
+      << ", or change the domain's size in the graph";
+  error = s.str();
+  return std::nullopt;
+}
+
+namespace {
+
+// The normalized absolute form of a path, to tell whether two paths name one file.
+std::string file_identity(const std::filesystem::path& p) {
+  std::error_code ec;
+  const auto absolute = std::filesystem::absolute(p, ec);
+  return (ec ? p : absolute).lexically_normal().generic_string();
+}
+
+// Every output file of the graph's writers: identity -> "node.param", with the refused ones in `errors`.
+std::map<std::string, std::string> output_files(const Graph& graph, const OutputPolicy& policy,
+                                                std::vector<std::string>& errors) {
+  std::map<std::string, std::string> files;
   for (const auto& node : graph.nodes()) {
     for (const auto& decl : node.type->params) {
       if (!decl.output_file) continue;
       const auto& value = std::get<std::string>(graph.param(node.id, decl.name));
+      const std::string where = node.id + "." + decl.name;
       try {
-        resolve_output_path(policy, value);
+        const auto file = resolve_output_path(policy, value);
+        const auto [it, added] = files.emplace(file_identity(file), where);
+        if (!added)
+          errors.push_back(where + ": '" + value + "' is also written by " + it->second +
+                           "; two writers to one file would overwrite each other");
       } catch (const OutputPathError& e) {
-        errors.push_back(node.id + "." + decl.name + ": " + e.what());
+        errors.push_back(where + ": " + e.what());
       }
     }
   }
+  return files;
+}
+
+}  // namespace
+
+std::vector<std::string> check_output_paths(const Graph& graph, const OutputPolicy& policy) {
+  std::vector<std::string> errors;
+  output_files(graph, policy, errors);
   return errors;
+}
+
+FileCheck check_files(const Graph& graph, const OutputPolicy& policy) {
+  FileCheck check;
+  const auto outputs = output_files(graph, policy, check.errors);
+  for (const auto& node : graph.nodes()) {
+    for (const auto& decl : node.type->params) {
+      if (decl.type != ParamType::Path || decl.output_file) continue;
+      const auto& value = std::get<std::string>(graph.param(node.id, decl.name));
+      const std::string where = node.id + "." + decl.name;
+      if (value.empty()) {
+        check.errors.push_back(where + ": no file given");
+        continue;
+      }
+      const auto file = resolve_input_path(graph.directory, value);
+      std::error_code ec;
+      if (std::filesystem::is_regular_file(file, ec)) continue;
+      const auto writer = outputs.find(file_identity(file));
+      if (writer != outputs.end()) {
+        check.warnings.push_back(where + ": '" + file.string() + "' does not exist yet; " + writer->second +
+                                 " writes it during the evaluation (it may be read before it is written)");
+      } else {
+        check.errors.push_back(where + ": input file '" + file.string() + "' does not exist" +
+                               (std::filesystem::path(value).is_relative()
+                                    ? " (relative input paths resolve against the graph file's directory)"
+                                    : ""));
+      }
+    }
+  }
+  return check;
 }
 
 }  // namespace orogen::cli

@@ -21,7 +21,22 @@ std::optional<double> parse_number(const std::string& text, double lo, double hi
 // A memory size in bytes: a number of MiB, or a number with a unit K, M, G or T (binary: KiB, MiB, ...),
 // finite and at most 1 EiB; nullopt otherwise.
 std::optional<std::uint64_t> parse_memory_size(const std::string& text);
-// Output-path parameters of writer nodes that the output rule refuses, as "node.param: reason".
+// The sample counts `--resolution TEXT` asks for on a domain of `size` metres: "WxH", or a single number N
+// for N samples along x and as many along y as keep the cells square. Cells must be square (the same
+// spacing in x and y): anything else is refused with the resolution that would keep them square. nullopt
+// and `error` set on failure.
+std::optional<glm::ivec2> resolution_for(const std::string& text, glm::dvec2 size, std::string& error);
+
+// Output-path parameters of writer nodes that the output rule refuses, and outputs that two writers would
+// both write, as "node.param: reason".
 std::vector<std::string> check_output_paths(const Graph& graph, const OutputPolicy& policy);
+
+// What `orogen validate` checks beyond the file itself: the output paths (above) and the input files.
+// An input file that does not exist is an error, unless a writer of the same graph writes it (then a
+// warning: it may appear during the evaluation).
+struct FileCheck {
+  std::vector<std::string> errors, warnings;
+};
+FileCheck check_files(const Graph& graph, const OutputPolicy& policy);
 
 }  // namespace orogen::cli

@@ -17,7 +17,8 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("-o,--output", eval.output_dir, "Output directory; graph output paths resolve inside it")
       ->capture_default_str();
   eval_cmd->add_option("--set", eval.set, "Override a parameter: NODE.PARAM=VALUE (JSON or bare text); repeatable");
-  eval_cmd->add_option("--resolution", eval.resolution, "Override the sample counts, WxH (e.g. 2048x2048)");
+  eval_cmd->add_option("--resolution", eval.resolution, "Override the sample counts: WxH (e.g. 2048x2048), or N along x with square cells; cells must "
+                 "stay square");
   eval_cmd->add_option("--threads", eval.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
   eval_cmd->add_option("--cache-dir", eval.cache_dir, "Persistent cache directory (results survive the process)");
   eval_cmd->add_option("--cache-mb", eval.cache_mb, "In-memory cache bound in MiB (0 to 1e9)")->capture_default_str();
@@ -32,9 +33,14 @@ int main(int argc, char** argv) {
   eval_cmd->add_flag("--allow-any-path", eval.allow_any_path,
                      "Let the graph write to absolute paths or outside the output directory");
 
-  std::string validate_file;
-  auto* validate_cmd = app.add_subcommand("validate", "Check a graph file and report every problem");
-  validate_cmd->add_option("FILE", validate_file, "Graph file (.json)")->required();
+  ValidateCommand validate;
+  auto* validate_cmd = app.add_subcommand(
+      "validate", "Check a graph file and report every problem: the file, output paths, input files");
+  validate_cmd->add_option("FILE", validate.graph_file, "Graph file (.json)")->required();
+  validate_cmd->add_option("-o,--output", validate.output_dir, "Output directory the output paths are checked against")
+      ->capture_default_str();
+  validate_cmd->add_flag("--allow-any-path", validate.allow_any_path,
+                         "Accept absolute output paths and paths outside the output directory");
 
   std::string node_type;
   bool json = false, markdown = false;
@@ -52,7 +58,7 @@ int main(int argc, char** argv) {
 
   try {
     if (*eval_cmd) return run_eval(eval);
-    if (*validate_cmd) return run_validate(validate_file);
+    if (*validate_cmd) return run_validate(validate);
     if (*nodes_cmd) return run_nodes(node_type, json, markdown);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";

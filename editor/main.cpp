@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
                     ->check(CLI::Range(320, 8192));
   auto* height = cli.add_option("--height", options.height, "Window height in pixels")->check(CLI::Range(240, 8192));
   cli.add_option("--select", options.select, "Select this node at start (its parameters and preview are shown)");
+  cli.add_flag("!--no-thumbnails", options.thumbnails, "Nodes without thumbnails of their outputs");
+  cli.add_option("--port", options.port, "With --select: the output shown in the preview (default: the first)");
   cli.add_option("--view", options.view, "Preview panel at start")->check(CLI::IsMember({"2d", "3d"}));
   cli.add_option("--drape", options.drape, "Image node draped over the 3D terrain at start");
   cli.add_option("--preview-resolution", options.preview_resolution,

@@ -384,6 +384,7 @@ class Run {
       ExecContext ctx(type, id, request_.domain, std::move(inputs), graph_.effective_params(node));
       ctx.set_cancel_token(request_.cancel);
       ctx.set_output_policy(policy_);
+      ctx.set_input_dir(graph_.directory);
       if (request_.on_event) ctx.set_progress_callback([this, &job](double f) { progress(job, f); });
       type.execute(ctx);
       // A node that returns after a cancel may have stopped early without saying so: never keep its result.

@@ -103,7 +103,11 @@ const NodeKeyInfo& NodeKeys::of(const Node& node) {
     const auto* value = std::get_if<std::string>(params[i]);
     if (!value || value->empty()) continue;
     std::error_code ec;
-    const std::filesystem::path path(*value);
+    const std::filesystem::path path = resolve_input_path(graph_.directory, *value);
+    // The file itself, not just the text: the same relative path next to another graph file is another file.
+    const auto absolute = std::filesystem::absolute(path, ec);
+    h.add(std::string_view((ec ? path : absolute).lexically_normal().generic_string()));
+    ec.clear();
     const auto size = std::filesystem::file_size(path, ec);
     const auto mtime = ec ? std::filesystem::file_time_type{} : std::filesystem::last_write_time(path, ec);
     if (ec) {

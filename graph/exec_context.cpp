@@ -58,4 +58,8 @@ std::filesystem::path ExecContext::output_path(std::string_view param_name) cons
   }
 }
 
+std::filesystem::path ExecContext::input_path(std::string_view param_name) const {
+  return resolve_input_path(input_dir_, param<std::string>(param_name));
+}
+
 }  // namespace orogen

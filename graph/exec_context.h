@@ -75,6 +75,9 @@ class ExecContext {
   // The file that output-path parameter `name` designates under the output policy; throws NodeError if the
   // rule refuses it. Writers then record what they wrote with record_written_file.
   std::filesystem::path output_path(std::string_view param_name) const;
+  // The file that input-path parameter `name` designates: relative paths resolve against the graph file's
+  // directory (set_input_dir), absolute ones stay.
+  std::filesystem::path input_path(std::string_view param_name) const;
   void record_written_file(const std::filesystem::path& p) { written_files_.push_back(p); }
 
   // Evaluator hooks.
@@ -82,6 +85,8 @@ class ExecContext {
   void set_progress_callback(std::function<void(double)> cb) { on_progress_ = std::move(cb); }
   void set_output_policy(OutputPolicy policy) { output_policy_ = std::move(policy); }
   const OutputPolicy& output_policy() const { return output_policy_; }
+  void set_input_dir(std::filesystem::path dir) { input_dir_ = std::move(dir); }
+  const std::filesystem::path& input_dir() const { return input_dir_; }
   std::vector<PortValue>& outputs() { return outputs_; }
   const std::vector<std::filesystem::path>& written_files() const { return written_files_; }
 
@@ -99,6 +104,7 @@ class ExecContext {
   const CancelToken* cancel_ = nullptr;
   std::function<void(double)> on_progress_;
   OutputPolicy output_policy_;
+  std::filesystem::path input_dir_;
   std::vector<std::filesystem::path> written_files_;
 };
 

@@ -1,6 +1,7 @@
 #pragma once
 // The graph: node instances with their parameter values and input links, the default domain, and the
 // editor's layout. Edits are validated: links are type-checked and cycles are refused.
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -54,6 +55,10 @@ class Graph {
  public:
   GraphDomain domain;
   EditorState editor;
+  // The directory of the graph file it was loaded from (set by load_graph_file), against which relative
+  // input paths (ReadHeightfield's `path`, ...) resolve; empty: the current directory. Not saved in the
+  // file and not part of equality.
+  std::filesystem::path directory;
 
   const std::vector<Node>& nodes() const { return nodes_; }
   const Node* find(const std::string& id) const;

@@ -7,11 +7,13 @@
 #include <cerrno>
 #include <climits>
 #include <cstring>
+#include <deque>
 #include <fstream>
 #include <map>
 #include <mutex>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
@@ -43,7 +45,7 @@ using json_util::suggestion;
 struct MigrationTable {
   std::mutex mutex;
   // The format's own history (graph_migrations.h); tests may register more.
-  std::map<int, GraphMigration> by_version{{1, migrate_graph_v1_to_v2}};
+  std::map<int, GraphMigration> by_version{{1, migrate_graph_v1_to_v2}, {2, migrate_graph_v2_to_v3}};
 };
 
 MigrationTable& migrations() {
@@ -69,6 +71,24 @@ std::vector<std::string> names_of(const Decls& decls) {
 // " (did you mean 'x'?)", " (expected one of: ...)", or `if_none` when there is nothing to choose from.
 std::string hint_or(std::string_view name, const std::vector<std::string>& candidates, std::string if_none) {
   return candidates.empty() ? std::move(if_none) : suggestion(name, candidates);
+}
+
+// Placeholder types live for the whole program (graphs point at their types); identical ones are shared.
+const NodeType& placeholder_type(NodeType t) {
+  static std::mutex mutex;
+  static std::deque<NodeType> types;
+  std::lock_guard lock(mutex);
+  auto same_ports = [](const std::vector<PortDecl>& a, const std::vector<PortDecl>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t k = 0; k < a.size(); ++k)
+      if (a[k].name != b[k].name || a[k].type != b[k].type) return false;
+    return true;
+  };
+  for (const auto& existing : types)
+    if (existing.name == t.name && same_ports(existing.inputs, t.inputs) && same_ports(existing.outputs, t.outputs))
+      return existing;
+  types.push_back(std::move(t));
+  return types.back();
 }
 
 // One "inputs" entry of a node, kept until every node is known.
@@ -101,13 +121,18 @@ class GraphReader {
     else read_nodes(doc["nodes"]);
     if (doc.contains("editor")) read_editor(doc["editor"]);
 
-    if (!diagnostics_.empty()) return std::nullopt;
+    if (!diagnostics_.empty() && !options_.keep_partial) return std::nullopt;
     return std::move(graph_);
   }
+
+  std::vector<DroppedLink> take_dropped_links() { return std::move(dropped_); }
 
  private:
   void report(std::string path, std::string node, std::string message) {
     diagnostics_.push_back({std::move(path), std::move(node), std::move(message)});
+  }
+  void drop(const PendingLink& link, const std::string& reason) {
+    if (options_.keep_partial) dropped_.push_back({link.from, link.node, link.port, reason});
   }
 
   // Reports every key of `object` that is not in `known`.
@@ -245,6 +270,7 @@ class GraphReader {
     std::map<std::string, std::size_t> first_use;  // valid id -> index of the node that has it
     for (std::size_t i = 0; i < nodes.size(); ++i) read_node(nodes[i], i, first_use);
     for (const auto& [id, index] : first_use) index_of_id_[id] = index;
+    add_placeholders();
     resolve_links();
     check_required_inputs();
     check_cycles();
@@ -295,6 +321,8 @@ class GraphReader {
 
     Node* node = nullptr;
     if (id_ok && type) node = &graph_.add_node(*type, id);
+    if (id_ok && !type && options_.keep_partial && n.contains("type") && n["type"].is_string())
+      unknown_[id] = {i, n["type"].get<std::string>()};
     if (n.contains("params")) read_params(n["params"], path + "/params", id, type, node);
     if (n.contains("inputs")) read_inputs(n["inputs"], path + "/inputs", id, i, type);
   }
@@ -360,27 +388,71 @@ class GraphReader {
         const auto hint = json_util::closest_name(src_id, all_ids);
         report(link.path, link.node,
                "link to missing node '" + src_id + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)"));
+        drop(link, diagnostics_.back().message);
         continue;
       }
       const Node* src = graph_.find(src_id);
-      if (!src) continue;  // that node has an invalid id or an unknown type, reported already
+      if (!src) {  // that node has an invalid id or an unknown type, reported already
+        drop(link, "link from node '" + src_id + "', which could not be loaded");
+        continue;
+      }
       const PortDecl* output = src->type->find_output(link.from.port);
       if (!output) {
         report(link.path, link.node,
                "link to missing output '" + link.from.port + "' of node '" + src_id + "' (" + src->type->name + ")" +
                    hint_or(link.from.port, names_of(src->type->outputs), " (it has no outputs)"));
+        drop(link, diagnostics_.back().message);
         continue;
       }
-      if (!link.input) continue;  // unknown port or node type, reported already
+      if (!link.input) {  // unknown port or node type, reported already
+        drop(link, "link to unknown input '" + link.port + "'");
+        continue;
+      }
       if (output->type != link.input->type) {
         report(link.path, link.node,
                "type mismatch: " + link.from.str() + " is " + std::string(to_string(output->type)) + " but input '" +
                    link.port + "' of " + link.node_type->name + " takes " + std::string(to_string(link.input->type)));
+        drop(link, diagnostics_.back().message);
         continue;
       }
       if (Node* dst = graph_.find(link.node); dst && index_of_id_.count(link.node) &&
                                               index_of_id_.at(link.node) == link.node_index)
         dst->inputs[link.port] = link.from;
+    }
+  }
+
+  // keep_partial: nodes of unknown types as placeholders with the ports their links use. An input takes the
+  // type of the output feeding it, an output the type of the inputs it feeds (a heightfield if unknown).
+  void add_placeholders() {
+    for (const auto& [id, info] : unknown_) {
+      NodeType t;
+      t.name = info.second;
+      t.category = "missing";
+      t.description = "Placeholder for a node of unknown type '" + info.second +
+                      "' (not registered in this build): it cannot be evaluated; its parameters were not kept.";
+      for (const auto& link : pending_) {
+        if (link.node_index == info.first && !t.find_input(link.port)) {
+          PortDecl in{link.port, PortType::Heightfield, "", true, OutputKind::Auto};
+          if (const Node* src = graph_.find(link.from.node))
+            if (const PortDecl* out = src->type->find_output(link.from.port)) in.type = out->type;
+          t.inputs.push_back(in);
+        }
+        if (link.from.node == id && !t.find_output(link.from.port)) {
+          PortDecl out{link.from.port, link.input ? link.input->type : PortType::Heightfield, "", false, OutputKind::Auto};
+          t.outputs.push_back(out);
+        }
+      }
+      const std::string name = info.second;
+      t.execute = [name](ExecContext&) {
+        throw std::runtime_error("unknown node type '" + name + "': this build has no such node");
+      };
+      const NodeType& placeholder = placeholder_type(std::move(t));
+      graph_.add_node(placeholder, id);
+      for (auto& link : pending_)
+        if (link.node_index == info.first) {
+          link.node_type = &placeholder;
+          link.input = placeholder.find_input(link.port);
+        }
     }
   }
 
@@ -440,6 +512,11 @@ class GraphReader {
           const Node* node = stack.back().node;
           report("/nodes/" + std::to_string(index_of_id_.at(node->id)) + "/inputs/" + pointer_token(port), node->id,
                  "the links form a cycle: " + cycle);
+          if (options_.keep_partial) {
+            // Leave the closing link out so the rest of the graph can be evaluated.
+            dropped_.push_back({from, node->id, port, diagnostics_.back().message});
+            graph_.disconnect(node->id, port);
+          }
         }
       }
     }
@@ -475,6 +552,8 @@ class GraphReader {
   std::set<std::string> mentioned_ids_;          // every string id in the file, valid or not
   std::map<std::string, std::size_t> index_of_id_;  // node id -> index in "nodes", for nodes in the graph
   std::vector<PendingLink> pending_;
+  std::map<std::string, std::pair<std::size_t, std::string>> unknown_;  // id -> (index, type name)
+  std::vector<DroppedLink> dropped_;
   std::set<std::pair<std::size_t, std::string>> links_attempted_;  // (node index, input) written in the file
   bool nodes_read_ = false;  // "nodes" was an array, so the set of ids is known
 };
@@ -521,7 +600,8 @@ LoadResult parse_graph(std::string_view json_text, const LoadOptions& options) {
   if (!doc) return result;
   GraphReader reader(options, result.diagnostics);
   auto graph = reader.read(std::move(*doc));
-  if (graph && result.diagnostics.empty()) result.graph = std::move(graph);
+  if (graph && (result.diagnostics.empty() || options.keep_partial)) result.graph = std::move(graph);
+  result.dropped_links = reader.take_dropped_links();
   // Checks run in passes (links need every node); list the problems in file order instead: file-level and
   // domain first, then node by node, then the editor section.
   auto rank = [](const Diagnostic& d) {
@@ -561,7 +641,13 @@ LoadResult load_graph_file(const std::filesystem::path& path, const LoadOptions&
                                               " MiB, the limit of a graph file"});
     return result;
   }
-  return parse_graph(text, options);
+  auto result = parse_graph(text, options);
+  if (result.graph) {
+    std::error_code ec;
+    const auto absolute = std::filesystem::absolute(path, ec);
+    result.graph->directory = (ec ? path : absolute).lexically_normal().parent_path();
+  }
+  return result;
 }
 
 }  // namespace orogen

@@ -16,7 +16,7 @@
 
 namespace orogen {
 
-inline constexpr int kGraphFormatVersion = 2;
+inline constexpr int kGraphFormatVersion = 3;
 inline constexpr const char* kGraphFormatName = "orogen-graph";
 
 struct Diagnostic {
@@ -26,10 +26,19 @@ struct Diagnostic {
   std::string str() const;  // "path [node id]: message"
 };
 
+// A link of the file left out of a partially loaded graph (LoadOptions::keep_partial).
+struct DroppedLink {
+  PortRef from;         // as written ("node.port"); the node or port may not exist
+  std::string to_node;  // the node whose input it fed
+  std::string to_port;
+  std::string reason;
+};
+
 struct LoadResult {
-  std::optional<Graph> graph;  // set only when there are no diagnostics
+  std::optional<Graph> graph;  // set only when there are no diagnostics (unless keep_partial)
   std::vector<Diagnostic> diagnostics;
-  bool ok() const { return graph.has_value(); }
+  std::vector<DroppedLink> dropped_links;  // keep_partial: the links left out, and why
+  bool ok() const { return graph.has_value() && diagnostics.empty(); }
   std::string error_text() const;  // every diagnostic, one per line
 };
 
@@ -39,6 +48,13 @@ struct LoadOptions {
   // Accept nodes whose required inputs are not connected (a work in progress saved by the editor); the
   // evaluator reports them when such a node is evaluated.
   bool allow_unconnected_inputs = false;
+  // Return what can be read even when there are diagnostics, so the editor can show a broken file with its
+  // problems marked instead of nothing: parameters with invalid values keep their defaults, a node of an
+  // unknown type becomes a placeholder of that type name with the ports its links use (its evaluation fails
+  // with the reason; its parameters are not kept), broken links and the link closing each cycle are left
+  // out (see LoadResult::dropped_links), duplicate and invalid ids are dropped. A file that is not a graph
+  // (not JSON, another format, a newer version) still gives no graph.
+  bool keep_partial = false;
 };
 
 LoadResult parse_graph(std::string_view json_text, const LoadOptions& options = {});

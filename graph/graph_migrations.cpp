@@ -85,4 +85,25 @@ void migrate_graph_v1_to_v2(json& file) {
   }
 }
 
+const std::vector<ChangedDefault>& format_v2_changed_defaults() {
+  static const std::vector<ChangedDefault> table = {
+      {"ReadHeightfield", "size", "[1024, 1024]"},
+  };
+  return table;
+}
+
+void migrate_graph_v2_to_v3(json& file) {
+  if (!file.is_object() || !file.contains("nodes") || !file["nodes"].is_array()) return;
+  for (json& node : file["nodes"]) {
+    if (!node.is_object() || !node.contains("type") || !node["type"].is_string()) continue;
+    const auto type = node["type"].get<std::string>();
+    for (const auto& c : format_v2_changed_defaults()) {
+      if (c.type != type) continue;
+      if (!node.contains("params")) node["params"] = json::object();
+      json& params = node["params"];
+      if (params.is_object() && !params.contains(c.param)) params[c.param] = json::parse(c.old_default);
+    }
+  }
+}
+
 }  // namespace orogen

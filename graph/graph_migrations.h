@@ -31,6 +31,15 @@ struct NodeRenamesV1 {
 
 const std::vector<NodeRenamesV1>& format_v1_renames();
 
+// Version 3: parameters whose default changed; files that relied on the old default get it written out,
+// so they keep their meaning. ReadHeightfield.size: [1024, 1024] -> [0, 0] (the requested domain).
+struct ChangedDefault {
+  std::string type, param;
+  std::string old_default;  // JSON text
+};
+const std::vector<ChangedDefault>& format_v2_changed_defaults();
+void migrate_graph_v2_to_v3(nlohmann::json& file);
+
 // Rewrites a version-1 file in place: input port names in "inputs", output port names in every link that
 // reads a renamed output, parameter names and enum values in "params". Parts of the file that are not
 // well formed are left as they are, for the loader to report.

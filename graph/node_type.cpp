@@ -126,6 +126,22 @@ NodeBuilder::Port& NodeBuilder::Port::optional(bool value) {
   list_[index_].optional = value;
   return *this;
 }
+NodeBuilder::Port& NodeBuilder::Port::kind(OutputKind k) {
+  list_[index_].kind = k;
+  return *this;
+}
+
+std::string_view to_string(OutputKind kind) {
+  switch (kind) {
+    case OutputKind::Auto: return "auto";
+    case OutputKind::Height: return "height";
+    case OutputKind::Mask: return "mask";
+    case OutputKind::Signed: return "signed";
+    case OutputKind::Scalar: return "scalar";
+    case OutputKind::WaterDepth: return "water_depth";
+  }
+  return "auto";
+}
 
 ParamDecl& NodeBuilder::Param::decl() { return type_.params[index_]; }
 NodeBuilder::Param& NodeBuilder::Param::range(double lo, double hi) {
@@ -183,7 +199,80 @@ NodeBuilder& NodeBuilder::writes_files(bool value) {
   type_.writes_files = value;
   return *this;
 }
+NodeBuilder& NodeBuilder::reach_pointwise() {
+  type_.reach = Reach::pointwise();
+  return *this;
+}
+NodeBuilder& NodeBuilder::reach_local(double metres, int samples) {
+  type_.reach = Reach::local(metres, samples);
+  return *this;
+}
+NodeBuilder& NodeBuilder::reach_global() {
+  type_.reach = Reach::global();
+  return *this;
+}
+NodeBuilder& NodeBuilder::reach(ReachFn fn, std::string summary) {
+  type_.reach_fn = std::move(fn);
+  type_.reach_summary = std::move(summary);
+  return *this;
+}
 void NodeBuilder::execute(ExecuteFn fn) { type_.execute = std::move(fn); }
+
+const char* to_string(ReachKind kind) {
+  switch (kind) {
+    case ReachKind::Pointwise: return "pointwise";
+    case ReachKind::Local: return "local";
+    case ReachKind::Global: return "global";
+    case ReachKind::Undeclared: break;
+  }
+  return "undeclared";
+}
+
+glm::ivec2 Reach::halo(glm::dvec2 spacing) const {
+  switch (kind) {
+    case ReachKind::Pointwise: return {0, 0};
+    case ReachKind::Local: {
+      const auto axis = [&](double s) {
+        // The small tolerance keeps 40 m on a 10 m lattice at 4 samples, not 5 from rounding in the division.
+        return static_cast<int>(std::ceil(metres / s - 1e-9)) + samples;
+      };
+      return {axis(spacing.x), axis(spacing.y)};
+    }
+    case ReachKind::Global:
+    case ReachKind::Undeclared: break;
+  }
+  return {-1, -1};
+}
+
+std::string Reach::describe() const {
+  switch (kind) {
+    case ReachKind::Pointwise: return "point-wise";
+    case ReachKind::Local: {
+      std::string s = "local: ";
+      if (metres > 0.0) s += format_number(metres) + " m";
+      if (samples > 0) s += std::string(metres > 0.0 ? " + " : "") + std::to_string(samples) + (samples == 1 ? " sample" : " samples");
+      if (metres <= 0.0 && samples <= 0) s += "0";
+      return s;
+    }
+    case ReachKind::Global: return "global";
+    case ReachKind::Undeclared: break;
+  }
+  return "undeclared";
+}
+
+const ParamValue& ParamView::value(std::string_view name) const {
+  const int k = type_.param_index(name);
+  if (k < 0 || static_cast<std::size_t>(k) >= values_.size())
+    throw std::out_of_range("node type '" + type_.name + "' has no parameter '" + std::string(name) + "'");
+  return values_[static_cast<std::size_t>(k)];
+}
+
+Reach NodeType::reach_for(const std::vector<ParamValue>& params) const {
+  if (!reach_fn) return reach;
+  return reach_fn(ParamView(*this, params));
+}
+
+std::string NodeType::reach_text() const { return reach_fn ? reach_summary : reach.describe(); }
 
 NodeBuilder::Port NodeBuilder::input(std::string name, PortType type) {
   type_.inputs.push_back({std::move(name), type, {}, false});
@@ -247,11 +336,20 @@ void check_declaration(const NodeType& type) {
   if (type.category.empty()) fail("no category");
   if (type.description.empty()) fail("no description");
   if (!type.execute) fail("no execute function");
+  if (type.reach_fn && type.reach_summary.empty()) fail("a reach function needs a summary for the node reference");
+  if (type.reach.kind == ReachKind::Local &&
+      (!(type.reach.metres >= 0.0) || !std::isfinite(type.reach.metres) || type.reach.samples < 0))
+    fail("a local reach needs a finite radius >= 0");
   std::set<std::string> names;
   for (const auto& p : type.inputs)
     if (!names.insert("in:" + p.name).second) fail("duplicate input '" + p.name + "'");
-  for (const auto& p : type.outputs)
+  for (const auto& p : type.outputs) {
     if (!names.insert("out:" + p.name).second) fail("duplicate output '" + p.name + "'");
+    if (p.kind != OutputKind::Auto && p.type != PortType::Heightfield)
+      fail("output '" + p.name + "' declares a kind but is not a heightfield");
+  }
+  for (const auto& p : type.inputs)
+    if (p.kind != OutputKind::Auto) fail("input '" + p.name + "' declares a kind (outputs only)");
   for (const auto& p : type.params) {
     if (!names.insert("param:" + p.name).second) fail("duplicate parameter '" + p.name + "'");
     if (p.description.empty()) fail("parameter '" + p.name + "' has no description");

@@ -12,6 +12,7 @@
 //   }
 #include <functional>
 #include <optional>
+#include <variant>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,11 +24,19 @@ namespace orogen {
 
 class ExecContext;
 
+// What a heightfield output holds, so viewers choose a colour map and range without guessing: terrain
+// heights (m), masks in 0..1, signed fields centred on 0 (curvature, differences, northness), non-negative
+// quantities (slope angle, flow), water depth (m; 0 = dry). Auto: inferred by the viewer (a port named like a
+// mask is a mask, an operator passes on the kind of its primary input, anything else is a height).
+enum class OutputKind { Auto, Height, Mask, Signed, Scalar, WaterDepth };
+std::string_view to_string(OutputKind kind);
+
 struct PortDecl {
   std::string name;
   PortType type = PortType::Heightfield;
   std::string description;
   bool optional = false;  // inputs only: may stay unconnected
+  OutputKind kind = OutputKind::Auto;  // heightfield outputs only: what the values mean (for viewers)
 };
 
 struct ParamDecl {
@@ -48,7 +57,53 @@ struct ParamDecl {
   std::string check(const ParamValue& v) const;
 };
 
+struct NodeType;
 using ExecuteFn = std::function<void(ExecContext&)>;
+
+// How far a node's output at one sample depends on its inputs: the tiled build's halos, and the nodes it
+// cannot tile.
+//  - point-wise: the output at a sample depends only on the inputs at that sample (and on its world
+//    position);
+//  - local: on the inputs within `metres` + `samples` sample spacings of it (per axis);
+//  - global: on the whole domain (normalization over the domain, simulations, flow, meshes, writers).
+// A non-global node evaluated on a sub-domain expanded by its halo reproduces the full-domain result inside
+// the sub-domain bit for bit (tests/test_node_reach.cpp). Undeclared is the default, so a node that forgets
+// to declare fails that test.
+enum class ReachKind { Undeclared, Pointwise, Local, Global };
+
+struct Reach {
+  ReachKind kind = ReachKind::Undeclared;
+  double metres = 0.0;  // local: radius in metres ...
+  int samples = 0;      // ... plus this many samples
+
+  static Reach pointwise() { return {ReachKind::Pointwise, 0.0, 0}; }
+  static Reach local(double metres, int samples = 0) { return {ReachKind::Local, metres, samples}; }
+  static Reach global() { return {ReachKind::Global, 0.0, 0}; }
+
+  bool is_global() const { return kind == ReachKind::Global || kind == ReachKind::Undeclared; }
+  // The halo in samples along x and y on a lattice of `spacing`: ceil(metres / spacing) + samples; 0 for
+  // point-wise, -1 for global or undeclared.
+  glm::ivec2 halo(glm::dvec2 spacing) const;
+  // "point-wise", "local: 40 m + 2 samples", "global", "undeclared".
+  std::string describe() const;
+};
+
+const char* to_string(ReachKind kind);  // "pointwise", "local", "global", "undeclared"
+
+// Effective parameter values of a node by name, for reach functions.
+class ParamView {
+ public:
+  ParamView(const NodeType& type, const std::vector<ParamValue>& values) : type_(type), values_(values) {}
+  template <class T>
+  const T& get(std::string_view name) const { return std::get<T>(value(name)); }
+  const ParamValue& value(std::string_view name) const;  // throws std::out_of_range for an unknown name
+ private:
+  const NodeType& type_;
+  const std::vector<ParamValue>& values_;
+};
+
+// A reach that depends on parameter values (Blur's sigma, Normalize's range mode, ...).
+using ReachFn = std::function<Reach(const ParamView&)>;
 
 struct NodeType {
   std::string name;
@@ -65,6 +120,16 @@ struct NodeType {
   // The node writes files (writers): it is evaluated for its side effect and its cached result is only
   // trusted while the files it wrote are still there unchanged.
   bool writes_files = false;
+  // The reach (see Reach): fixed, or computed from the parameters by reach_fn when that is set, in which
+  // case `reach_summary` says how ("local: 5.2 sigma + 2 samples").
+  Reach reach;
+  ReachFn reach_fn;
+  std::string reach_summary;
+
+  // The reach for these effective parameter values (declaration order, as Graph::effective_params).
+  Reach reach_for(const std::vector<ParamValue>& params) const;
+  // How the reach reads in the node reference: the fixed reach, or the summary of the function.
+  std::string reach_text() const;
 
   const PortDecl* find_input(std::string_view n) const;
   const PortDecl* find_output(std::string_view n) const;
@@ -83,6 +148,7 @@ class NodeBuilder {
     Port(std::vector<PortDecl>& list, std::size_t index) : list_(list), index_(index) {}
     Port& description(std::string text);
     Port& optional(bool value = true);
+    Port& kind(OutputKind k);
    private:
     std::vector<PortDecl>& list_;
     std::size_t index_;
@@ -111,6 +177,11 @@ class NodeBuilder {
   NodeBuilder& version(int v);
   NodeBuilder& domain_independent(bool value = true);
   NodeBuilder& writes_files(bool value = true);
+  // Reach declarations; exactly one per node type.
+  NodeBuilder& reach_pointwise();
+  NodeBuilder& reach_local(double metres, int samples = 0);
+  NodeBuilder& reach_global();
+  NodeBuilder& reach(ReachFn fn, std::string summary);
   void execute(ExecuteFn fn);
 
   Port input(std::string name, PortType type);

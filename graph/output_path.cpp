@@ -90,4 +90,10 @@ std::filesystem::path resolve_output_path(const OutputPolicy& policy, const std:
   return policy.output_dir / p.lexically_normal();
 }
 
+std::filesystem::path resolve_input_path(const std::filesystem::path& graph_dir, const std::string& graph_path) {
+  const std::filesystem::path p(graph_path);
+  if (p.is_absolute() || graph_dir.empty()) return p;
+  return (graph_dir / p).lexically_normal();
+}
+
 }  // namespace orogen

@@ -31,4 +31,9 @@ bool path_is_within(const std::filesystem::path& real, const std::filesystem::pa
 // Empty if `text` may be a file path in a graph, else why not (control characters, NUL).
 std::string check_path_text(const std::string& text);
 
+// The file an input path of a graph designates: absolute paths as they are, relative ones against the
+// directory of the graph file (`graph_dir`; empty: the current directory). Unlike outputs, inputs may lie
+// anywhere: reading is not a risk to the user's files.
+std::filesystem::path resolve_input_path(const std::filesystem::path& graph_dir, const std::string& graph_path);
+
 }  // namespace orogen

@@ -1,5 +1,8 @@
 // End-to-end tests of the `orogen` command: every example graph, exit codes, the output-path rule,
 // overrides, statistics and the persistent cache across processes.
+#include <chrono>
+#include <thread>
+
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -195,7 +198,7 @@ TEST(Cli, SetAndResolutionOverrides) {
   const auto dir = scratch_dir("cli-set");
   write_text(dir / "g.json", constant_graph("flat.exr"));
   auto r = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "--set", "flat.value=42",
-                   "--resolution", "8x4", "--stats", (dir / "stats.json").string(), "--quiet"});
+                   "--resolution", "8x8", "--stats", (dir / "stats.json").string(), "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(read_json(dir / "stats.json")["nodes"]["flat"]["output_bytes"].get<std::size_t>() < 16u * 16u * 4u, true);
 
@@ -235,10 +238,18 @@ TEST(Cli, NodeReferenceComesFromTheRegistry) {
   EXPECT_NE(list.out.find("Constant"), std::string::npos);
   EXPECT_NE(list.out.find("WriteHeightfield"), std::string::npos);
 
+  EXPECT_NE(list.out.find("Slope                 local"), std::string::npos) << list.out;
+  EXPECT_NE(list.out.find("Normalize             global"), std::string::npos) << list.out;
+
   auto one = orogen({"nodes", "Constant"});
   ASSERT_EQ(one.exit_code, 0);
   EXPECT_NE(one.out.find("value"), std::string::npos);
   EXPECT_NE(one.out.find("Parameters"), std::string::npos);
+  EXPECT_NE(one.out.find("Reach: point-wise"), std::string::npos) << one.out;
+  EXPECT_NE(orogen({"nodes", "Blur"}).out.find("Reach: local: 5 sigma + 2 samples"), std::string::npos);
+  auto markdown = orogen({"nodes", "--markdown"});
+  EXPECT_NE(markdown.out.find("### Slope"), std::string::npos);
+  EXPECT_NE(markdown.out.find("Reach: local: 1 sample."), std::string::npos);
 
   auto json = orogen({"nodes", "--json"});
   ASSERT_EQ(json.exit_code, 0);
@@ -246,12 +257,130 @@ TEST(Cli, NodeReferenceComesFromTheRegistry) {
   ASSERT_TRUE(all.is_array());
   for (const auto& t : all) {
     EXPECT_FALSE(t["description"].get<std::string>().empty()) << t["name"];
+    EXPECT_NE(t["reach"]["kind"], "undeclared") << t["name"];
+    if (t["name"] == "Slope") {
+      EXPECT_EQ(t["reach"]["kind"], "local");
+      EXPECT_EQ(t["reach"]["samples"], 1);
+    }
     for (const auto& p : t["params"]) EXPECT_FALSE(p["description"].get<std::string>().empty()) << t["name"] << "." << p["name"];
   }
 
   auto unknown = orogen({"nodes", "Constnt"});
   EXPECT_EQ(unknown.exit_code, 2);
   EXPECT_NE(unknown.err.find("Constant"), std::string::npos);
+}
+
+// Input paths resolve against the graph file's directory, wherever orogen runs from; output paths inside -o.
+TEST(Cli, InputPathsResolveAgainstTheGraphFile) {
+  const auto dir = scratch_dir("cli-input-paths");
+  const auto project = dir / "project";
+  fs::create_directories(project / "data");
+  // First write the input file with a graph of its own.
+  auto made = orogen({"eval", (write_text(project / "make.json", constant_graph("made.exr", 42.0)), project / "make.json").string(),
+                      "-o", (project / "data").string(), "--quiet"});
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  write_text(project / "read.json", R"({
+  "format": "orogen-graph", "version": 3,
+  "domain": { "size": [100, 100], "resolution": [16, 16] },
+  "nodes": [
+    { "id": "read", "type": "ReadHeightfield", "params": { "path": "data/made.exr" } },
+    { "id": "save", "type": "WriteHeightfield", "inputs": { "in": "read.out" }, "params": { "path": "copy.exr" } }
+  ]
+})");
+  // Run from another directory: the relative input path still finds data/made.exr beside the graph.
+  fs::create_directories(dir / "elsewhere");
+  auto r = run_process(cli_binary(), {"eval", (project / "read.json").string(), "-o", "out", "--quiet"}, dir / "elsewhere");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "elsewhere" / "out" / "copy.exr"));
+  auto v = run_process(cli_binary(), {"validate", (project / "read.json").string()}, dir / "elsewhere");
+  EXPECT_EQ(v.exit_code, 0) << v.err;
+}
+
+TEST(Cli, ValidateChecksOutputPathsDuplicateWritersAndInputFiles) {
+  const auto dir = scratch_dir("cli-validate-files");
+  const auto check = [&](const std::string& name, const std::string& nodes) {
+    write_text(dir / name, R"({"format": "orogen-graph", "version": 3,
+      "domain": { "size": [100, 100], "resolution": [16, 16] }, "nodes": [
+      { "id": "flat", "type": "Constant" }, )" + nodes + "]}");
+    return orogen({"validate", (dir / name).string(), "-o", (dir / "out").string()});
+  };
+  auto climbing = check("climbing.json", R"({ "id": "w", "type": "WriteHeightfield", "inputs": { "in": "flat.out" },
+      "params": { "path": "../x.exr" } })");
+  EXPECT_EQ(climbing.exit_code, 2);
+  EXPECT_NE(climbing.err.find("w.path"), std::string::npos) << climbing.err;
+  EXPECT_NE(climbing.err.find("climbs out"), std::string::npos) << climbing.err;
+
+  auto twice = check("twice.json", R"({ "id": "w1", "type": "WriteHeightfield", "inputs": { "in": "flat.out" },
+      "params": { "path": "h.exr" } }, { "id": "w2", "type": "WriteHeightfield", "inputs": { "in": "flat.out" },
+      "params": { "path": "./h.exr" } })");
+  EXPECT_EQ(twice.exit_code, 2);
+  EXPECT_NE(twice.err.find("also written by w1.path"), std::string::npos) << twice.err;
+  // eval refuses it too, before writing anything.
+  auto eval_twice = orogen({"eval", (dir / "twice.json").string(), "-o", (dir / "out").string()});
+  EXPECT_EQ(eval_twice.exit_code, 2);
+  EXPECT_FALSE(fs::exists(dir / "out" / "h.exr"));
+
+  auto missing = check("missing.json", R"({ "id": "r", "type": "ReadHeightfield", "params": { "path": "nothere.exr" } })");
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("r.path: input file"), std::string::npos) << missing.err;
+  EXPECT_NE(missing.err.find("does not exist"), std::string::npos) << missing.err;
+
+  // A file the graph itself writes may appear later: a warning, not an error.
+  auto later = orogen({"validate", (write_text(dir / "later.json", R"({"format": "orogen-graph", "version": 3, "nodes": [
+      { "id": "flat", "type": "Constant" },
+      { "id": "w", "type": "WriteHeightfield", "inputs": { "in": "flat.out" }, "params": { "path": "h.exr" } },
+      { "id": "r", "type": "ReadHeightfield", "params": { "path": "out/h.exr" } }]})"), dir / "later.json").string(),
+                       "-o", (dir / "out").string()});
+  EXPECT_EQ(later.exit_code, 0) << later.err;
+  EXPECT_NE(later.err.find("warning: r.path"), std::string::npos) << later.err;
+  EXPECT_NE(later.err.find("w.path writes it"), std::string::npos) << later.err;
+}
+
+TEST(Cli, ResolutionKeepsCellsSquare) {
+  const auto dir = scratch_dir("cli-resolution");
+  write_text(dir / "g.json", constant_graph("h.exr"));  // a 100 x 100 m world
+  auto refused = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "--resolution", "100x50"});
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("cells must be square"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("use 100x100"), std::string::npos) << refused.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+
+  // A wide world: a single number gives the matching height.
+  write_text(dir / "wide.json", R"({"format": "orogen-graph", "version": 3,
+    "domain": { "size": [200, 100], "resolution": [21, 11] },
+    "nodes": [{ "id": "flat", "type": "Constant" },
+              { "id": "save", "type": "WriteHeightfield", "inputs": { "in": "flat.out" }, "params": { "path": "h.tif" } }]})");
+  auto single = orogen({"eval", (dir / "wide.json").string(), "-o", (dir / "out").string(), "--resolution", "41",
+                        "--stats", (dir / "s.json").string(), "--quiet"});
+  ASSERT_EQ(single.exit_code, 0) << single.err;
+  auto explicit_ok = orogen({"eval", (dir / "wide.json").string(), "-o", (dir / "out2").string(), "--resolution", "41x21", "--quiet"});
+  EXPECT_EQ(explicit_ok.exit_code, 0) << explicit_ok.err;
+  EXPECT_EQ(read_text(dir / "out" / "h.tif"), read_text(dir / "out2" / "h.tif"));  // 41 means 41x21 here
+  auto wide_refused = orogen({"eval", (dir / "wide.json").string(), "-o", (dir / "out3").string(), "--resolution", "41x41"});
+  EXPECT_EQ(wide_refused.exit_code, 2);
+  EXPECT_NE(wide_refused.err.find("use 41x21"), std::string::npos) << wide_refused.err;
+}
+
+TEST(Cli, OutputsAreByteReproducible) {
+  const auto dir = scratch_dir("cli-reproducible");
+  write_text(dir / "g.json", R"({"format": "orogen-graph", "version": 3,
+    "domain": { "size": [100, 100], "resolution": [16, 16] },
+    "nodes": [{ "id": "n", "type": "Perlin", "params": { "feature_size": 30 } },
+              { "id": "c", "type": "ColorRamp", "inputs": { "in": "n.out" } },
+              { "id": "he", "type": "WriteHeightfield", "inputs": { "in": "n.out" }, "params": { "path": "h.exr" } },
+              { "id": "ht", "type": "WriteHeightfield", "inputs": { "in": "n.out" }, "params": { "path": "h.tif" } },
+              { "id": "ie", "type": "WriteImage", "inputs": { "in": "c.out" }, "params": { "path": "c.exr" } },
+              { "id": "it", "type": "WriteImage", "inputs": { "in": "c.out" }, "params": { "path": "c.tif" } }]})");
+  auto a = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "a").string(), "--quiet"});
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // a header time of writing would now differ
+  auto b = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "b").string(), "--quiet"});
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  for (const char* f : {"h.exr", "h.tif", "c.exr", "c.tif"}) {
+    const auto x = read_text(dir / "a" / f);
+    EXPECT_FALSE(x.empty()) << f;
+    EXPECT_TRUE(x == read_text(dir / "b" / f)) << f << " differs between two runs";
+  }
 }
 
 }  // namespace

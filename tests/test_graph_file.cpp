@@ -121,7 +121,7 @@ TEST(GraphFile, CanonicalTextIsReproducedExactly) {
   // What serialize_graph writes: this is the documented look of a file.
   const std::string text = R"({
   "format": "orogen-graph",
-  "version": 2,
+  "version": 3,
   "domain": {
     "size": [4096, 2048.5],
     "resolution": [1025, 513],
@@ -209,7 +209,7 @@ TEST(GraphFile, WritesOnlyExplicitParametersInDeclarationOrderAndOmitsEmptySecti
 TEST(GraphFile, EmptyGraphRoundTrips) {
   const Graph g;
   const std::string text = serialize_graph(g);
-  EXPECT_EQ(text, "{\n  \"format\": \"orogen-graph\",\n  \"version\": 2,\n  \"domain\": {\n    \"size\": [1024, 1024],\n"
+  EXPECT_EQ(text, "{\n  \"format\": \"orogen-graph\",\n  \"version\": 3,\n  \"domain\": {\n    \"size\": [1024, 1024],\n"
                   "    \"resolution\": [256, 256]\n  },\n  \"nodes\": []\n}\n");
   const auto loaded = parse_ok(text);
   ASSERT_TRUE(loaded.ok());
@@ -362,7 +362,7 @@ TEST(GraphFile, OlderVersionsAreMigrated) {
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(std::get<std::int64_t>(r.graph->param("s", "octaves")), 9);
   // Saving writes the current version.
-  EXPECT_THAT(serialize_graph(*r.graph), HasSubstr("\"version\": 2,"));
+  EXPECT_THAT(serialize_graph(*r.graph), HasSubstr("\"version\": 3,"));
 
   // Problems in a migrated file are still reported, with paths in the migrated document.
   const auto bad = parse_graph(R"({"format": "orogen-graph", "version": 0,
@@ -572,12 +572,12 @@ std::vector<Malformed> malformed_cases() {
       {"WrongFormat", R"({"format": "gaea-graph", "version": 1, "nodes": []})", "/format", "",
        "\"format\" must be \"orogen-graph\", found the string \"gaea-graph\""},
       {"MissingVersion", R"({"format": "orogen-graph", "nodes": []})", "/version", "",
-       "missing \"version\": the format version (this build writes 2)"},
+       "missing \"version\": the format version (this build writes 3)"},
       {"VersionNotInteger", R"({"format": "orogen-graph", "version": 1.0, "nodes": []})", "/version", "",
        "\"version\" must be an integer, found the number 1.0"},
-      {"NewerVersion", R"({"format": "orogen-graph", "version": 3, "nodes": [{"bad": 1}], "future": true})",
+      {"NewerVersion", R"({"format": "orogen-graph", "version": 4, "nodes": [{"bad": 1}], "future": true})",
        "/version", "",
-       "this file was written by a newer Orogen (version 3, this build reads up to 2); update Orogen to open it"},
+       "this file was written by a newer Orogen (version 4, this build reads up to 3); update Orogen to open it"},
       {"UnknownTopLevelField", with_nodes("", R"(, "editr": {})"), "/editr", "",
        "unknown field 'editr' in the file (did you mean 'editor'?)"},
       {"MissingNodes", R"({"format": "orogen-graph", "version": 1})", "/nodes", "",
@@ -750,4 +750,57 @@ TEST(GraphFile, EveryProblemInAFileIsReported) {
 }
 
 }  // namespace
+TEST(GraphFilePartial, KeepsWhatCanBeReadWithEveryProblemListed) {
+  const std::string text = R"({"format": "orogen-graph", "version": 1,
+    "nodes": [
+      {"id": "src", "type": "TestSource", "params": {"scale": 500, "octaves": 3}},
+      {"id": "f", "type": "TestFilter", "inputs": {"height": "src.color"}},
+      {"id": "ghost", "type": "Erode", "params": {"iterations": 10}, "inputs": {"height": "src.height"}},
+      {"id": "g", "type": "TestFilter", "inputs": {"height": "ghost.out", "mask": "nowhere.out"}},
+      {"id": "c1", "type": "TestFilter", "inputs": {"height": "c2.out"}},
+      {"id": "c2", "type": "TestFilter", "inputs": {"height": "c1.out"}}
+    ],
+    "editor": {"positions": {"ghost": [10, 20]}}})";
+  // Without the option: no graph, as before.
+  EXPECT_FALSE(parse_graph(text).graph.has_value());
+  LoadOptions options;
+  options.keep_partial = true;
+  options.allow_unconnected_inputs = true;
+  const LoadResult r = parse_graph(text, options);
+  ASSERT_TRUE(r.graph.has_value());
+  EXPECT_FALSE(r.ok()) << "a partial graph is not ok";
+  const Graph& g = *r.graph;
+  EXPECT_EQ(g.nodes().size(), 6u);
+  // The invalid value keeps its default; the valid one is read.
+  EXPECT_EQ(std::get<double>(g.param("src", "scale")), 1.0);
+  EXPECT_EQ(std::get<std::int64_t>(g.param("src", "octaves")), 3);
+  // The unknown type is a placeholder with the ports its links use, connected, at its position.
+  const Node& ghost = g.at("ghost");
+  EXPECT_EQ(ghost.type->name, "Erode");
+  ASSERT_NE(ghost.type->find_input("height"), nullptr);
+  EXPECT_EQ(ghost.type->find_input("height")->type, PortType::Heightfield);
+  ASSERT_NE(ghost.type->find_output("out"), nullptr);
+  EXPECT_EQ(ghost.inputs.at("height"), (PortRef{"src", "height"}));
+  EXPECT_EQ(g.at("g").inputs.at("height"), (PortRef{"ghost", "out"}));
+  EXPECT_EQ(g.editor.positions.at("ghost"), glm::dvec2(10, 20));
+  // Broken links are left out and listed with their reason; one link of the cycle is cut.
+  EXPECT_FALSE(g.at("f").inputs.count("height"));
+  EXPECT_FALSE(g.at("g").inputs.count("mask"));
+  EXPECT_NO_THROW(g.topological_order());
+  auto dropped = [&](const std::string& node, const std::string& port) {
+    return std::any_of(r.dropped_links.begin(), r.dropped_links.end(),
+                       [&](const DroppedLink& d) { return d.to_node == node && d.to_port == port && !d.reason.empty(); });
+  };
+  EXPECT_TRUE(dropped("f", "height"));
+  EXPECT_TRUE(dropped("g", "mask"));
+  EXPECT_TRUE(dropped("c1", "height") || dropped("c2", "height"));
+  EXPECT_EQ(r.dropped_links.size(), 3u);
+  // Every problem is a diagnostic naming its node.
+  std::set<std::string> flagged;
+  for (const auto& d : r.diagnostics) flagged.insert(d.node);
+  for (const char* id : {"src", "f", "ghost", "g"}) EXPECT_TRUE(flagged.count(id)) << id;
+  // The placeholder fails with the reason when evaluated; saving keeps its type name.
+  EXPECT_NE(serialize_graph(g).find("\"Erode\""), std::string::npos);
+}
+
 }  // namespace orogen

@@ -10,6 +10,11 @@
 #include <string>
 #include <vector>
 
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <thread>
+
 #include <gtest/gtest.h>
 #include <OpenImageIO/imageio.h>
 
@@ -100,6 +105,38 @@ class IoTest : public ::testing::Test {
   fs::path dir_;
   OutputPolicy policy_;
 };
+
+// Identical inputs give identical files: no time of writing in EXR and TIFF headers, or SOURCE_DATE_EPOCH.
+TEST_F(IoTest, HeadersCarryNoTimeOfWritingButSourceDateEpoch) {
+  const Domain d = Domain::from_extent({0, 0}, {64, 48}, {17, 13});
+  const auto h = varied_field(d);
+  auto image = std::make_shared<Image>(d, 3, 0.25f);
+  auto bytes = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  auto write_all = [&](const std::string& prefix) {
+    write_height(h, prefix + "h.exr");
+    write_height(h, prefix + "h.tif");
+    run_writer("WriteImage", {{"path", prefix + "c.exr"}}, {{"in", ImagePtr(image)}}, policy_);
+    run_writer("WriteImage", {{"path", prefix + "c.tif"}}, {{"in", ImagePtr(image)}}, policy_);
+  };
+  ::unsetenv("SOURCE_DATE_EPOCH");
+  write_all("a_");
+  std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // a time of writing would now differ
+  write_all("b_");
+  for (const char* f : {"h.exr", "h.tif", "c.exr", "c.tif"}) {
+    const auto a = bytes(policy_.output_dir / (std::string("a_") + f));
+    ASSERT_FALSE(a.empty()) << f;
+    EXPECT_TRUE(a == bytes(policy_.output_dir / (std::string("b_") + f))) << f;
+    EXPECT_EQ(a.find(":20"), std::string::npos) << f << " has a date";  // "YYYY:MM:DD", e.g. 2026:12:01
+  }
+  ::setenv("SOURCE_DATE_EPOCH", "86400", 1);
+  write_all("e_");
+  ::unsetenv("SOURCE_DATE_EPOCH");
+  for (const char* f : {"h.exr", "h.tif", "c.exr", "c.tif"})
+    EXPECT_NE(bytes(policy_.output_dir / (std::string("e_") + f)).find("1970:01:02 00:00:00"), std::string::npos) << f;
+}
 
 TEST_F(IoTest, ExrRoundTripIsBitExact) {
   const Domain d = Domain::from_extent({100, -50}, {300, 200}, {37, 23});

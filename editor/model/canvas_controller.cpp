@@ -42,7 +42,7 @@ void CanvasController::set_document(Document& document) {
 
 const CanvasLayout& CanvasController::layout() {
   if (layout_revision_ != document_->revision()) {
-    layout_.build(document_->graph(), measure_);
+    layout_.build(document_->graph(), measure_, thumbnails_);
     layout_revision_ = document_->revision();
   }
   return layout_;

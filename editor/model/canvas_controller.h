@@ -43,6 +43,12 @@ class CanvasController {
   const CanvasLayout& layout();
   // How the canvas font measures text (the UI's real font; monospace estimate by default).
   void set_text_measure(TextMeasure measure);
+  // Whether nodes make room for a thumbnail of their output (View > Node Thumbnails).
+  void set_thumbnails(bool on) {
+    if (on != thumbnails_) layout_revision_ = ~std::uint64_t(0);
+    thumbnails_ = on;
+  }
+  bool thumbnails() const { return thumbnails_; }
   Mode mode() const { return mode_; }
   glm::dvec2 mouse() const { return mouse_; }  // screen
   glm::dvec2 mouse_world() const { return view_.to_world(mouse_); }
@@ -101,6 +107,7 @@ class CanvasController {
   CanvasLayout layout_;
   TextMeasure measure_ = monospace_width;
   std::uint64_t layout_revision_ = ~std::uint64_t(0);
+  bool thumbnails_ = false;
 
   Mode mode_ = Mode::Idle;
   glm::dvec2 mouse_{0.0}, press_{0.0};

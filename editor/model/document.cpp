@@ -1,5 +1,7 @@
 #include "editor/model/document.h"
 
+#include <algorithm>
+
 #include "editor/model/node_layout.h"
 #include "graph/graph_file.h"
 
@@ -11,14 +13,31 @@ Document::Document() = default;
 
 Document::Document(Graph graph, std::filesystem::path path) : graph_(std::move(graph)), path_(std::move(path)) {}
 
-Document Document::open(const std::filesystem::path& path) {
+Document Document::open(const std::filesystem::path& path, bool room_for_thumbnails) {
   LoadOptions options;
   options.allow_unconnected_inputs = true;  // work in progress is a normal state in the editor
+  options.keep_partial = true;              // a broken file opens with its problems marked
   auto result = load_graph_file(path, options);
-  if (!result.ok()) throw DocumentError("cannot open " + path.string() + ":\n" + result.error_text());
+  if (!result.graph) throw DocumentError("cannot open " + path.string() + ":\n" + result.error_text());
   // Files written by hand or by other tools may carry no layout: place those nodes, outside the history.
   place_unpositioned_nodes(*result.graph);
-  return Document(std::move(*result.graph), path);
+  if (room_for_thumbnails) make_room_for_thumbnails(*result.graph);
+  Document doc(std::move(*result.graph), path);
+  if (!result.diagnostics.empty()) {
+    doc.load_problems_ = {std::move(result.diagnostics), std::move(result.dropped_links)};
+    doc.mark_unsaved();  // what is shown is not what the file holds: saving writes the repaired graph
+  }
+  return doc;
+}
+
+std::vector<std::string> Document::LoadProblems::for_node(const std::string& id) const {
+  std::vector<std::string> out;
+  for (const auto& d : diagnostics)
+    if (d.node == id) out.push_back(d.message);
+  for (const auto& l : dropped_links)
+    if (l.to_node == id && std::none_of(out.begin(), out.end(), [&](const std::string& m) { return m == l.reason; }))
+      out.push_back("input '" + l.to_port + "' left unconnected: " + l.reason);
+  return out;
 }
 
 std::string Document::display_name() const { return has_path() ? path_.filename().string() : "Untitled"; }
@@ -117,6 +136,10 @@ void Document::save() {
 void Document::save_as(const std::filesystem::path& path) {
   save_graph_file(graph_, path);
   path_ = path;
+  // Relative input paths now resolve beside the new file, as they will when it is opened again.
+  std::error_code ec;
+  const auto absolute = std::filesystem::absolute(path, ec);
+  graph_.directory = (ec ? path : absolute).lexically_normal().parent_path();
   saved_state_ = state_;
 }
 

@@ -13,6 +13,7 @@
 
 #include "editor/model/undo_history.h"
 #include "graph/graph.h"
+#include "graph/graph_file.h"
 
 namespace orogen::editor {
 
@@ -24,8 +25,24 @@ class Document {
  public:
   Document();  // untitled, empty graph with the default domain
   explicit Document(Graph graph, std::filesystem::path path = {});
-  // Loads a graph file; throws DocumentError carrying every diagnostic of the loader.
-  static Document open(const std::filesystem::path& path);
+  // Loads a graph file. A file with problems (unknown node types, broken links, invalid values) opens with
+  // what can be read (LoadOptions::keep_partial) and its problems in load_problems(); the document then
+  // differs from its file. Throws DocumentError carrying the diagnostics when nothing can be read (not a
+  // graph file, a newer format).
+  // With `room_for_thumbnails`, nodes are moved apart so thumbnails fit (make_room_for_thumbnails), as
+  // part of opening: not an edit, the document stays clean.
+  static Document open(const std::filesystem::path& path, bool room_for_thumbnails = false);
+
+  // What was wrong in the file this document was opened from (empty for a clean file).
+  struct LoadProblems {
+    std::vector<Diagnostic> diagnostics;
+    std::vector<DroppedLink> dropped_links;
+    bool empty() const { return diagnostics.empty() && dropped_links.empty(); }
+    // The messages about one node (its own diagnostics, and the links into it that were left out).
+    std::vector<std::string> for_node(const std::string& id) const;
+  };
+  const LoadProblems& load_problems() const { return load_problems_; }
+  void clear_load_problems() { load_problems_ = {}; }
 
   const Graph& graph() const { return graph_; }
   const std::filesystem::path& path() const { return path_; }
@@ -74,6 +91,7 @@ class Document {
   void replace(Graph graph, std::uint64_t state);
 
   Graph graph_;
+  LoadProblems load_problems_;
   std::filesystem::path path_;
   UndoHistory history_;
   std::uint64_t state_ = 0, saved_state_ = 0;

@@ -85,13 +85,20 @@ void EvaluationController::request_preview(const Graph& graph, std::vector<std::
     for (const auto& node : job.graph.nodes()) {
       auto& s = states_[node.id];
       const auto k = keys.find(node.id);
-      const bool current = k != keys.end() && s.key && *s.key == k->second &&
-                           (s.phase == NodeRunState::Phase::Computed || s.phase == NodeRunState::Phase::Cached);
+      bool current = k != keys.end() && s.key && *s.key == k->second &&
+                     (s.phase == NodeRunState::Phase::Computed || s.phase == NodeRunState::Phase::Cached);
+      if (s.by_build) {
+        // A build's state holds until an edit changes the node (its key differs from the last request's).
+        const auto before = requested_keys_.find(node.id);
+        current = k != keys.end() && before != requested_keys_.end() && before->second == k->second;
+        if (!current) s.by_build = false;
+      }
       if (!current && s.phase != NodeRunState::Phase::Unknown) s.phase = NodeRunState::Phase::Stale;
       if (!current) s.progress = 0.0;
     }
+    requested_keys_ = std::move(keys);
     pending_ = std::move(job);
-    if (running_) preview_cancel_.cancel();
+    if (running_ || thumbnails_running_) preview_cancel_.cancel();
   }
   wake_.notify_all();
 }
@@ -125,6 +132,7 @@ void EvaluationController::on_preview_event(const EvalEvent& e) {
     case EvalEvent::Kind::Started:
       s.phase = NodeRunState::Phase::Computing;
       s.progress = 0.0;
+      s.by_build = false;
       break;
     case EvalEvent::Kind::Progress:
       s.progress = e.fraction;
@@ -164,8 +172,18 @@ void EvaluationController::preview_loop() {
     Job job;
     {
       std::unique_lock lock(mutex_);
-      wake_.wait(lock, [&] { return stop_ || pending_.has_value(); });
+      wake_.wait(lock, [&] { return stop_ || pending_.has_value() || pending_thumbnails_.has_value(); });
       if (stop_) return;
+      if (!pending_) {
+        // Nothing to preview: thumbnails.
+        Job t = std::move(*pending_thumbnails_);
+        pending_thumbnails_.reset();
+        thumbnails_running_ = true;
+        preview_cancel_.reset();
+        lock.unlock();
+        run_thumbnails(std::move(t));
+        continue;
+      }
       job = std::move(*pending_);
       pending_.reset();
       running_ = true;
@@ -216,7 +234,60 @@ void EvaluationController::preview_loop() {
       }
     }
     idle_.notify_all();
+    notify_change();
   }
+}
+
+void EvaluationController::request_thumbnails(const Graph& graph, std::uint64_t revision) {
+  Domain domain = preview_domain(graph.domain);
+  {
+    const double longer = std::max(graph.domain.size.x, graph.domain.size.y);
+    const auto along = [&](double size) { return std::max(2, static_cast<int>(std::lround(kThumbnailResolution * size / longer))); };
+    domain = Domain::from_extent(graph.domain.origin, graph.domain.size, {along(graph.domain.size.x), along(graph.domain.size.y)});
+  }
+  Job job{graph, {}, revision, domain};
+  for (const auto& node : graph.nodes())
+    if (!node.type->writes_files && !node.type->outputs.empty()) job.nodes.push_back(node.id);
+  {
+    std::lock_guard lock(mutex_);
+    pending_thumbnails_ = std::move(job);
+    if (thumbnails_running_) preview_cancel_.cancel();
+  }
+  wake_.notify_all();
+}
+
+std::shared_ptr<const Thumbnails> EvaluationController::thumbnails() const {
+  std::lock_guard lock(mutex_);
+  return thumbnails_;
+}
+
+void EvaluationController::run_thumbnails(Job job) {  // NOLINT(performance-unnecessary-value-param)
+  auto result = std::make_shared<Thumbnails>();
+  result->revision = job.revision;
+  bool cancelled = false;
+  try {
+    EvalRequest request;
+    request.domain = job.domain;
+    request.nodes = job.nodes;
+    request.cancel = &preview_cancel_;
+    EvalResult r = preview_evaluator_.evaluate(job.graph, request);
+    cancelled = r.cancelled;
+    result->outputs = std::move(r.outputs);
+  } catch (const std::exception&) {
+    // An invalid graph: no thumbnails (the preview reports why).
+  }
+  {
+    std::lock_guard lock(mutex_);
+    thumbnails_running_ = false;
+    if (!cancelled) {
+      result->serial = ++serial_;
+      thumbnails_ = std::move(result);
+    } else if (!pending_thumbnails_ && !stop_) {
+      pending_thumbnails_ = std::move(job);  // cut short by a preview: resumed after it (from the cache)
+    }
+  }
+  idle_.notify_all();
+  if (!cancelled) notify_change();
 }
 
 void EvaluationController::start_build(const Graph& graph, const OutputPolicy& policy) {
@@ -268,6 +339,7 @@ void EvaluationController::run_build(Graph graph, Domain domain) {
   };
   BuildStatus status;
   status.domain = domain;
+  std::map<std::string, NodeReport> reports;
   try {
     EvalResult r = build_evaluator_.evaluate(graph, request);
     status.cancelled = r.cancelled;
@@ -275,6 +347,7 @@ void EvaluationController::run_build(Graph graph, Domain domain) {
     status.milliseconds = r.milliseconds;
     for (const auto& [id, report] : r.nodes)
       if (report.status == NodeStatus::Failed) status.failures.push_back(id + ": " + report.message);
+    reports = std::move(r.nodes);
   } catch (const std::exception& e) {
     status.ok = false;
     status.failures.push_back(e.what());
@@ -285,13 +358,46 @@ void EvaluationController::run_build(Graph graph, Domain domain) {
     status.finished = true;
     status.fraction = status.ok ? 1.0 : build_.fraction;
     build_ = std::move(status);
+    // What the build did shows on the nodes: its failures, and the nodes only a build evaluates (writers).
+    for (const auto& [id, report] : reports) {
+      const Node* node = graph.find(id);
+      auto& s = states_[id];
+      if (report.status == NodeStatus::Failed) {
+        s.phase = NodeRunState::Phase::Failed;
+        s.message = "build: " + report.message;
+        s.key.reset();
+        s.by_build = true;
+      } else if ((report.status == NodeStatus::Computed || report.status == NodeStatus::Cached) &&
+                 ((node && node->type->writes_files) || s.phase == NodeRunState::Phase::Unknown ||
+                  s.phase == NodeRunState::Phase::Failed || s.phase == NodeRunState::Phase::Skipped)) {
+        s.phase = report.status == NodeStatus::Computed ? NodeRunState::Phase::Computed : NodeRunState::Phase::Cached;
+        s.progress = 1.0;
+        s.milliseconds = report.milliseconds;
+        s.message.clear();
+        s.key.reset();
+        s.by_build = true;  // until an edit changes it
+      }
+    }
   }
   idle_.notify_all();
+  notify_change();
 }
 
 void EvaluationController::wait_idle() {
   std::unique_lock lock(mutex_);
-  idle_.wait(lock, [&] { return !running_ && !pending_.has_value() && !build_.running; });
+  idle_.wait(lock, [&] {
+    return !running_ && !pending_.has_value() && !thumbnails_running_ && !pending_thumbnails_.has_value() && !build_.running;
+  });
+}
+
+void EvaluationController::set_on_change(std::function<void()> fn) {
+  std::lock_guard lock(notify_mutex_);
+  on_change_ = std::move(fn);
+}
+
+void EvaluationController::notify_change() {
+  std::lock_guard lock(notify_mutex_);  // set_on_change({}) returns only once no call is in flight
+  if (on_change_) on_change_();
 }
 
 }  // namespace orogen::editor

@@ -8,10 +8,13 @@
 // and last compute times come from the evaluator's events.
 //
 // Build: start_build() evaluates at the graph's full resolution with a separate evaluator on its own
-// thread, writing the outputs, with progress and cancel; previews keep running meanwhile.
+// thread, writing the outputs, with progress and cancel; previews keep running meanwhile. When it ends the
+// node states show what it did: nodes it failed on are Failed ("build: ..."), writers and nodes no preview
+// has evaluated are Computed with the build's time (until the next edit makes them Stale).
 //
 // No method blocks on an evaluation except wait_idle() (for tests and tools).
 #include <condition_variable>
+#include <functional>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -40,6 +43,7 @@ struct NodeRunState {
   double milliseconds = 0.0;  // the last time it was computed (kept while cached or stale)
   std::string message;        // Failed, Skipped
   std::optional<CacheKey> key;  // the key of the result it is up to date with
+  bool by_build = false;        // the state comes from the last build (a full-resolution result)
 };
 
 std::string_view to_string(NodeRunState::Phase phase);
@@ -53,6 +57,13 @@ struct PreviewResult {
   std::map<std::string, NodeReport> reports;              // every node the run touched
   double milliseconds = 0.0;
   std::string error;                                      // an evaluation that threw (e.g. a cycle)
+};
+
+// Small pictures of every node's outputs for the canvas, evaluated after the preview at a low resolution.
+struct Thumbnails {
+  std::uint64_t revision = 0;                             // the request's tag
+  std::uint64_t serial = 0;
+  std::map<std::string, std::vector<PortValue>> outputs;  // nodes that succeeded
 };
 
 struct BuildStatus {
@@ -90,6 +101,14 @@ class EvaluationController {
   // flight. An empty list previews every node without downstream that does not write files. `revision` is
   // returned with the result so the UI can tell which edit it shows.
   void request_preview(const Graph& graph, std::vector<std::string> nodes, std::uint64_t revision);
+  // Samples along the longer side of thumbnails.
+  static constexpr int kThumbnailResolution = 64;
+  // Evaluates every node that does not write files at thumbnail resolution, in the background, when no
+  // preview is waiting (a preview request cancels it); replaces the thumbnail request in flight. Node states
+  // are not touched.
+  void request_thumbnails(const Graph& graph, std::uint64_t revision);
+  std::shared_ptr<const Thumbnails> thumbnails() const;
+
   // The newest finished (not cancelled) preview, or null.
   std::shared_ptr<const PreviewResult> preview() const;
   // Whether a preview is queued or running.
@@ -107,6 +126,10 @@ class EvaluationController {
   // Blocks until no preview is queued or running and no build runs (tests, tools, shutdown).
   void wait_idle();
 
+  // Called from the worker threads when a preview result is published or a build ends (the UI wakes from
+  // waiting for events with it). Set before the first request.
+  void set_on_change(std::function<void()> fn);
+
   CacheStats preview_cache_stats() const { return preview_evaluator_.cache_stats(); }
 
  private:
@@ -117,6 +140,7 @@ class EvaluationController {
     Domain domain;
   };
   void preview_loop();
+  void run_thumbnails(Job job);
   void on_preview_event(const EvalEvent& e);
   void run_build(Graph graph, Domain domain);
 
@@ -126,12 +150,16 @@ class EvaluationController {
   mutable std::mutex mutex_;
   std::condition_variable wake_, idle_;
   std::optional<Job> pending_;
+  std::optional<Job> pending_thumbnails_;
+  bool thumbnails_running_ = false;
+  std::shared_ptr<const Thumbnails> thumbnails_;
   bool running_ = false;
   bool stop_ = false;
   CancelToken preview_cancel_;
   int preview_resolution_ = kDefaultPreviewResolution;
   std::map<std::string, NodeRunState> states_;
   std::map<std::string, CacheKey> running_keys_;  // keys of the graph being evaluated
+  std::map<std::string, CacheKey> requested_keys_;  // keys of the last preview request
   std::shared_ptr<const PreviewResult> preview_;
   std::uint64_t serial_ = 0;
 
@@ -141,6 +169,9 @@ class EvaluationController {
   std::size_t build_total_ = 1;
   std::thread build_thread_;
 
+  void notify_change();
+  std::mutex notify_mutex_;
+  std::function<void()> on_change_;
   std::thread preview_thread_;  // last: starts after everything it uses exists
 };
 

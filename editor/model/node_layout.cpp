@@ -25,7 +25,7 @@ std::string node_title(const Node& node) {
 
 double monospace_width(std::string_view text) { return static_cast<double>(text.size()) * NodeMetrics::kGlyphWidth; }
 
-NodeLayout layout_node(const Node& node, glm::dvec2 position, const TextMeasure& measure) {
+NodeLayout layout_node(const Node& node, glm::dvec2 position, const TextMeasure& measure, bool thumbnails) {
   using M = NodeMetrics;
   const NodeType& type = *node.type;
 
@@ -37,13 +37,21 @@ NodeLayout layout_node(const Node& node, glm::dvec2 position, const TextMeasure&
     width = std::max(width, in + out + 4 * M::kPadding);
   }
   width = std::clamp(width, M::kMinWidth, M::kMaxWidth);
-  const double height = M::kTitleHeight + static_cast<double>(rows) * M::kRowHeight + M::kStatusHeight + 4.0;
+  const bool picture = thumbnails && std::any_of(type.outputs.begin(), type.outputs.end(), [](const PortDecl& p) {
+    return p.type == PortType::Heightfield || p.type == PortType::Image;
+  });
+  const double pins_bottom = M::kTitleHeight + 2.0 + static_cast<double>(rows) * M::kRowHeight;
+  const double picture_height = picture ? M::kThumbnailHeight + 6.0 : 0.0;
+  const double height = pins_bottom + picture_height + M::kStatusHeight + 2.0;
 
   NodeLayout layout;
   layout.id = node.id;
   layout.rect = {position, position + glm::dvec2(width, height)};
   layout.title = {position, position + glm::dvec2(width, M::kTitleHeight)};
   layout.status = {{position.x, layout.rect.max.y - M::kStatusHeight}, layout.rect.max};
+  if (picture)
+    layout.thumbnail = Rect{{position.x + M::kPadding, position.y + pins_bottom + 2.0},
+                            {position.x + width - M::kPadding, position.y + pins_bottom + 2.0 + M::kThumbnailHeight}};
   const auto row_y = [&](std::size_t r) {
     return position.y + M::kTitleHeight + 2.0 + (static_cast<double>(r) + 0.5) * M::kRowHeight;
   };
@@ -173,7 +181,7 @@ void place_unpositioned_nodes(Graph& graph) {
   for (const auto& [id, p] : auto_positions(graph)) graph.editor.positions[id] = p;
 }
 
-void CanvasLayout::build(const Graph& graph, const TextMeasure& measure) {
+void CanvasLayout::build(const Graph& graph, const TextMeasure& measure, bool thumbnails) {
   nodes_.clear();
   index_.clear();
   std::map<std::string, glm::dvec2> fallback;
@@ -182,7 +190,7 @@ void CanvasLayout::build(const Graph& graph, const TextMeasure& measure) {
     auto it = graph.editor.positions.find(node.id);
     const glm::dvec2 pos = it != graph.editor.positions.end() ? it->second : fallback[node.id];
     index_[node.id] = nodes_.size();
-    nodes_.push_back(layout_node(node, pos, measure));
+    nodes_.push_back(layout_node(node, pos, measure, thumbnails));
   }
 }
 
@@ -232,6 +240,42 @@ std::optional<Rect> CanvasLayout::bounds(const std::vector<std::string>& ids) co
       if (const auto* n = find(id)) add(*n);
   }
   return box;
+}
+
+std::size_t make_room_for_thumbnails(Graph& graph, double margin) {
+  // Top to bottom: each node is pushed below every node above it that it now overlaps (the widths of the
+  // real font may differ a little from the estimate: a margin on both axes).
+  std::vector<const Node*> order;
+  for (const auto& n : graph.nodes())
+    if (graph.editor.positions.count(n.id)) order.push_back(&n);
+  std::stable_sort(order.begin(), order.end(), [&](const Node* a, const Node* b) {
+    const auto pa = graph.editor.positions.at(a->id), pb = graph.editor.positions.at(b->id);
+    return pa.y != pb.y ? pa.y < pb.y : pa.x < pb.x;
+  });
+  std::vector<Rect> placed;
+  std::size_t moved = 0;
+  for (const Node* n : order) {
+    glm::dvec2& pos = graph.editor.positions.at(n->id);
+    Rect r = layout_node(*n, pos, monospace_width, true).rect;
+    bool shifted = false;
+    for (bool again = true; again;) {
+      again = false;
+      for (const Rect& p : placed) {
+        const bool x_overlap = r.min.x < p.max.x + margin && p.min.x < r.max.x + margin;
+        const bool y_overlap = r.min.y < p.max.y + margin && p.min.y < r.max.y + margin;
+        if (x_overlap && y_overlap) {
+          const double dy = p.max.y + margin - r.min.y;
+          r.min.y += dy;
+          r.max.y += dy;
+          pos.y += dy;
+          shifted = again = true;
+        }
+      }
+    }
+    if (shifted) ++moved;
+    placed.push_back(r);
+  }
+  return moved;
 }
 
 }  // namespace orogen::editor

@@ -27,6 +27,7 @@ struct NodeMetrics {
   static constexpr double kMinWidth = 150.0;
   static constexpr double kMaxWidth = 340.0;
   static constexpr double kPadding = 10.0;
+  static constexpr double kThumbnailHeight = 96.0;  // the picture of a field or image output, under the pins
 };
 
 // A pin: one input or output port of a node.
@@ -48,6 +49,7 @@ struct NodeLayout {
   Rect rect;          // the whole node
   Rect title;         // the title bar
   Rect status;        // the status line at the bottom (time, progress bar)
+  std::optional<Rect> thumbnail;  // between the pins and the status line, for nodes with a field or image output
   std::vector<PinLayout> inputs, outputs;
   const PinLayout* find_pin(const std::string& port, bool output) const;
 };
@@ -59,20 +61,25 @@ double monospace_width(std::string_view text);
 
 // The title text of a node: its id, plus the type when the id does not already say it.
 std::string node_title(const Node& node);
-NodeLayout layout_node(const Node& node, glm::dvec2 position, const TextMeasure& measure = monospace_width);
+// With `thumbnails`, nodes with a heightfield or image output get room for a picture of it.
+NodeLayout layout_node(const Node& node, glm::dvec2 position, const TextMeasure& measure = monospace_width,
+                       bool thumbnails = false);
 
 // Positions for nodes the file gives none: columns by depth from the sources, rows in graph order, to the
 // right of / below what is already placed.
 std::map<std::string, glm::dvec2> auto_positions(const Graph& graph);
 // Gives every unplaced node of `graph` an auto position (opening files written by hand or the CLI).
 void place_unpositioned_nodes(Graph& graph);
+// Nodes grow by their thumbnail: moves nodes down (top to bottom, never up, keeping their order) so that
+// none overlaps another once thumbnails are shown, in files laid out without them. Returns how many moved.
+std::size_t make_room_for_thumbnails(Graph& graph, double margin = 12.0);
 
 // The layout of every node of a graph, in drawing order (later nodes drawn on top).
 class CanvasLayout {
  public:
   CanvasLayout() = default;
   explicit CanvasLayout(const Graph& graph) { build(graph); }
-  void build(const Graph& graph, const TextMeasure& measure = monospace_width);
+  void build(const Graph& graph, const TextMeasure& measure = monospace_width, bool thumbnails = false);
 
   const std::vector<NodeLayout>& nodes() const { return nodes_; }
   const NodeLayout* find(const std::string& id) const;

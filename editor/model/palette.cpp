@@ -132,4 +132,15 @@ const NodeType* PaletteState::choice() const {
   return results_[static_cast<std::size_t>(highlighted_)].type;
 }
 
+glm::dvec2 place_popup(glm::dvec2 anchor, glm::dvec2 size, const Rect& bounds) {
+  glm::dvec2 at = anchor;
+  for (int axis = 0; axis < 2; ++axis) {
+    if (at[axis] + size[axis] > bounds.max[axis] && anchor[axis] - size[axis] >= bounds.min[axis])
+      at[axis] = anchor[axis] - size[axis];  // flip to the other side of the anchor
+    at[axis] = std::min(at[axis], bounds.max[axis] - size[axis]);
+    at[axis] = std::max(at[axis], bounds.min[axis]);
+  }
+  return at;
+}
+
 }  // namespace orogen::editor

@@ -8,6 +8,10 @@
 
 #include "graph/node_type.h"
 
+#include <glm/vec2.hpp>
+
+#include "editor/model/rect.h"
+
 namespace orogen::editor {
 
 struct PaletteMatch {
@@ -46,5 +50,10 @@ class PaletteState {
   std::vector<PaletteMatch> results_;
   int highlighted_ = 0;
 };
+
+// Where a popup of `size` opened at `anchor` goes so that it stays inside `bounds` (the window): at the
+// anchor when it fits, else flipped to the anchor's other side (like a context menu), else pushed inside;
+// a popup larger than the bounds keeps its top-left corner inside.
+glm::dvec2 place_popup(glm::dvec2 anchor, glm::dvec2 size, const Rect& bounds);
 
 }  // namespace orogen::editor

@@ -34,6 +34,20 @@ constexpr std::array<Stop, 9> kViridis{{{0.000, {0.267f, 0.005f, 0.329f}},
                                         {0.875, {0.478f, 0.821f, 0.318f}},
                                         {1.000, {0.993f, 0.906f, 0.144f}}}};
 
+// Diverging blue - white - red (ColorBrewer RdBu, reversed so negative is blue).
+constexpr std::array<Stop, 7> kDiverging{{{0.000, {0.020f, 0.188f, 0.380f}},
+                                          {0.170, {0.129f, 0.400f, 0.675f}},
+                                          {0.330, {0.573f, 0.773f, 0.871f}},
+                                          {0.500, {0.969f, 0.969f, 0.969f}},
+                                          {0.670, {0.957f, 0.647f, 0.510f}},
+                                          {0.830, {0.839f, 0.376f, 0.302f}},
+                                          {1.000, {0.404f, 0.000f, 0.122f}}}};
+// Water depth: dry land dark gray, the shallowest water pale cyan, deepening to navy.
+constexpr std::array<Stop, 4> kWater{{{0.000, {0.18f, 0.18f, 0.19f}},
+                                      {0.002, {0.70f, 0.88f, 0.95f}},
+                                      {0.400, {0.20f, 0.50f, 0.80f}},
+                                      {1.000, {0.04f, 0.12f, 0.38f}}}};
+
 template <std::size_t N>
 glm::vec3 lookup(const std::array<Stop, N>& stops, double t) {
   if (t <= stops.front().t) return stops.front().c;
@@ -57,9 +71,11 @@ float linear_to_srgb(float v) {
 glm::vec3 colormap(ColorMap map, double t) {
   t = std::clamp(std::isfinite(t) ? t : 0.0, 0.0, 1.0);
   switch (map) {
-    case ColorMap::Grey: return glm::vec3(static_cast<float>(t));
+    case ColorMap::Gray: return glm::vec3(static_cast<float>(t));
     case ColorMap::Terrain: return lookup(kTerrain, t);
     case ColorMap::Viridis: return lookup(kViridis, t);
+    case ColorMap::Diverging: return lookup(kDiverging, t);
+    case ColorMap::Water: return lookup(kWater, t);
   }
   return glm::vec3(0.0f);
 }
@@ -103,12 +119,77 @@ std::vector<float> hillshade(const Heightfield& field, double azimuth_deg, doubl
   return out;
 }
 
+ValueRange style_range(const Heightfield& field, const HeightfieldStyle& style) {
+  if (style.range) return *style.range;
+  const ValueRange r = value_range(field);
+  if (!style.symmetric) return r;
+  const float m = std::max(std::abs(r.lo), std::abs(r.hi));
+  return m > 0.0f && std::isfinite(m) ? ValueRange{-m, m} : ValueRange{-1.0f, 1.0f};
+}
+
+HeightfieldStyle style_for(OutputKind kind) {
+  HeightfieldStyle s;
+  switch (kind) {
+    case OutputKind::Auto:
+    case OutputKind::Height: break;
+    case OutputKind::Mask:
+      s.map = ColorMap::Gray;
+      s.hillshade = false;
+      s.range = ValueRange{0.0f, 1.0f};
+      break;
+    case OutputKind::Signed:
+      s.map = ColorMap::Diverging;
+      s.hillshade = false;
+      s.symmetric = true;
+      break;
+    case OutputKind::Scalar:
+      s.map = ColorMap::Viridis;
+      s.hillshade = false;
+      break;
+    case OutputKind::WaterDepth:
+      s.map = ColorMap::Water;
+      s.hillshade = false;
+      break;
+  }
+  return s;
+}
+
+OutputKind resolve_output_kind(const Graph& graph, const std::string& node_id, const std::string& port) {
+  std::string id = node_id, name = port;
+  // Follows primary inputs upstream; a graph is acyclic, the bound only guards against a malformed one.
+  for (std::size_t hops = 0; hops <= graph.nodes().size(); ++hops) {
+    const Node* n = graph.find(id);
+    if (!n) return OutputKind::Height;
+    const PortDecl* out = n->type->find_output(name);
+    if (!out || out->type != PortType::Heightfield) return OutputKind::Height;
+    if (out->kind != OutputKind::Auto) return out->kind;
+    if (name == "mask" || (name.size() > 5 && name.compare(name.size() - 5, 5, "_mask") == 0)) return OutputKind::Mask;
+    const PortRef* from = nullptr;
+    for (const char* primary : {"in", "a"})
+      if (auto it = n->inputs.find(primary); it != n->inputs.end()) {
+        from = &it->second;
+        break;
+      }
+    if (!from)
+      for (const auto& in : n->type->inputs)
+        if (in.type == PortType::Heightfield)
+          if (auto it = n->inputs.find(in.name); it != n->inputs.end()) {
+            from = &it->second;
+            break;
+          }
+    if (!from) return OutputKind::Height;
+    id = from->node;
+    name = from->port;
+  }
+  return OutputKind::Height;
+}
+
 PreviewPixels render_heightfield(const Heightfield& field, const HeightfieldStyle& style) {
   PreviewPixels px;
   px.width = field.width();
   px.height = field.height();
   px.rgba.resize(static_cast<std::size_t>(px.width) * px.height * 4);
-  const ValueRange range = style.range ? *style.range : value_range(field);
+  const ValueRange range = style_range(field, style);
   // The colour map as a table: one lookup per sample instead of a search through the stops.
   constexpr int kTable = 1024;
   std::array<glm::vec3, kTable> table;
@@ -130,6 +211,30 @@ PreviewPixels render_heightfield(const Heightfield& field, const HeightfieldStyl
       p[1] = to_byte(c.g);
       p[2] = to_byte(c.b);
       p[3] = 255;
+    }
+  });
+  return px;
+}
+
+PreviewPixels render_water_over_terrain(const Heightfield& terrain, const Heightfield& depth) {
+  PreviewPixels px = render_heightfield(terrain, style_for(OutputKind::Height));
+  const bool same = depth.width() == terrain.width() && depth.height() == terrain.height() &&
+                    depth.domain.min_corner() == terrain.domain.min_corner() &&
+                    depth.domain.max_corner() == terrain.domain.max_corner();
+  float max_depth = 0.0f;
+  for (float v : depth.data)
+    if (std::isfinite(v)) max_depth = std::max(max_depth, v);
+  if (max_depth <= 0.0f) return px;
+  tbb::parallel_for(0, px.height, [&](int r) {
+    const int j = px.height - 1 - r;
+    for (int i = 0; i < px.width; ++i) {
+      const float d = same ? depth.at(i, j) : depth.sample_world(terrain.domain.x(i), terrain.domain.y(j));
+      if (!(d > 0.0f)) continue;
+      const float t = std::min(d / max_depth, 1.0f);
+      const glm::vec3 water(0.25f - 0.17f * t, 0.55f - 0.25f * t, 0.78f - 0.18f * t);
+      const float a = 0.55f + 0.4f * t;
+      std::uint8_t* p = &px.rgba[(static_cast<std::size_t>(r) * px.width + i) * 4];
+      for (int k = 0; k < 3; ++k) p[k] = to_byte((p[k] / 255.0f) * (1.0f - a) + water[k] * a);
     }
   });
   return px;

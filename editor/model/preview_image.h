@@ -1,6 +1,7 @@
 #pragma once
 // CPU side of the 2D preview: turns node outputs into RGBA8 pixels. Heightfields through a colour map
-// (grey, terrain, viridis) optionally multiplied by a hillshade; images from linear floats to sRGB.
+// (gray, terrain, viridis, diverging, water) optionally multiplied by a hillshade, chosen from the output's
+// kind (style_for); images from linear floats to sRGB.
 // Pixel row r shows the samples of row (height - 1 - r), so world +y points up on screen, as in the 3D
 // view seen from above.
 #include <cstdint>
@@ -9,13 +10,16 @@
 
 #include <glm/vec3.hpp>
 
+#include "graph/graph.h"
 #include "graph/heightfield.h"
 #include "graph/image.h"
+#include "graph/node_type.h"
 
 namespace orogen::editor {
 
-enum class ColorMap { Grey, Terrain, Viridis };
-inline constexpr const char* kColorMapNames[] = {"grey", "terrain", "viridis"};
+enum class ColorMap { Gray, Terrain, Viridis, Diverging, Water };
+inline constexpr const char* kColorMapNames[] = {"gray", "terrain", "viridis", "diverging", "water"};
+inline constexpr int kColorMapCount = 5;
 
 // Linear interpolation through the map's stops; t is clamped to [0, 1]. sRGB-encoded components in 0..1.
 glm::vec3 colormap(ColorMap map, double t);
@@ -40,9 +44,26 @@ struct HeightfieldStyle {
   ColorMap map = ColorMap::Terrain;
   bool hillshade = true;
   std::optional<ValueRange> range;  // default: the field's own range
+  bool symmetric = false;           // without `range`: [-m, m] with m the largest |value| (0 in the middle)
 };
 
+// The range the style maps to [0, 1] for this field.
+ValueRange style_range(const Heightfield& field, const HeightfieldStyle& style);
+
+// The default look of each kind: heights in terrain tints with hillshade over their own range; masks in
+// gray over exactly 0..1; signed fields diverging around 0; scalars in viridis; water depth in blues from 0.
+HeightfieldStyle style_for(OutputKind kind);
+
+// What heightfield output `port` of node `node` holds. A declared kind wins; otherwise a port named like a
+// mask ("mask", "..._mask") is a mask, an operator passes on the kind of its primary heightfield input (`in`,
+// else `a`, else the first connected one), and anything else is a height.
+OutputKind resolve_output_kind(const Graph& graph, const std::string& node, const std::string& port);
+
 PreviewPixels render_heightfield(const Heightfield& field, const HeightfieldStyle& style);
+// Water depth (m) over its terrain: the terrain in its own style, and where depth > 0 the water, pale and
+// translucent in the shallows, deep blue and nearly opaque at the deepest point. `depth` is sampled at the
+// terrain's samples by world position.
+PreviewPixels render_water_over_terrain(const Heightfield& terrain, const Heightfield& depth);
 // 1 channel: grey; 2: grey + alpha; 3: RGB; 4+: RGBA of the first four. Linear values are sRGB-encoded.
 PreviewPixels render_image(const Image& image);
 

@@ -1,6 +1,7 @@
 #include "editor/ui/app.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cstdio>
 #include <thread>
 #include <utility>
@@ -12,6 +13,7 @@
 #include <imgui_stdlib.h>
 
 #include "editor/model/node_layout.h"
+#include "editor/model/preview_image.h"
 #include "editor/model/state_dir.h"
 #include "editor/ui/frame_timing.h"
 #include "editor/ui/gl.h"
@@ -89,15 +91,20 @@ App::App(AppOptions options)
   } else {
     io.Fonts->AddFontDefault();
   }
-  ImGui_ImplGlfw_InitForOpenGL(window_, true);
+  // Our callbacks queue the input (see input_queue.h); the backend gets focus, enter and monitor events.
+  ImGui_ImplGlfw_InitForOpenGL(window_, false);
+  install_input_callbacks();
   ImGui_ImplOpenGL3_Init("#version 330 core");
 
+  // A finished preview or build wakes the loop from waiting for events.
+  evaluation_.set_on_change([] { glfwPostEmptyEvent(); });
   evaluation_.set_preview_resolution(options_.preview_resolution);
   output_dir_ = options_.output_dir;
   canvas_ = std::make_unique<CanvasController>(*document_, selection_, ClipboardAccess{
       [] { const char* t = ImGui::GetClipboardText(); return std::string(t ? t : ""); },
       [](const std::string& s) { ImGui::SetClipboardText(s.c_str()); }});
   canvas_view_ = std::make_unique<NodeCanvasView>(*canvas_, evaluation_);
+  canvas_->set_thumbnails(options_.thumbnails);
   viewport_3d_ = std::make_unique<Viewport3D>();
   show_3d_ = options_.view == "3d";
   drape_node_ = options_.drape;
@@ -105,12 +112,17 @@ App::App(AppOptions options)
   if (!options_.file.empty()) open_file(options_.file);
   if (!document_->graph().find(options_.drape)) drape_node_.clear();
   else drape_node_ = options_.drape;
-  if (!options_.select.empty() && document_->graph().find(options_.select)) selection_.select_only(options_.select);
+  if (!options_.select.empty() && document_->graph().find(options_.select)) {
+    selection_.select_only(options_.select);
+    if (const int k = document_->graph().at(options_.select).type->output_index(options_.port); k >= 0)
+      shown_port_[options_.select] = k;
+  }
   // A screenshot run is not a session: it never offers (or takes) someone's recovery files.
   if (options_.screenshot.empty() || options_.offer_recovery_in_screenshot) recovery_offer_ = recovery_.orphans();
 }
 
 App::~App() {
+  evaluation_.set_on_change({});  // no wake-ups once GLFW is gone
   // GL objects go while the context exists.
   viewport_3d_.reset();
   preview_2d_ = Preview2D();
@@ -156,10 +168,18 @@ int App::run() {
         break;
       }
     }
-    // Idle: wake at 20 Hz for status updates; busy: run at display rate.
-    const bool busy = evaluation_.preview_busy() || evaluation_.build_status().running || ImGui::IsAnyMouseDown();
-    if (screenshot || busy || options_.benchmark_build) glfwPollEvents();
-    else glfwWaitEventsTimeout(0.05);
+    // Nothing changing and no input pending: sleep until an event (input, a finished evaluation posting an
+    // empty event) or a timeout for the autosave, tooltips and the text caret. Otherwise run at display rate.
+    if (animating()) redraw_frames_ = 3;  // and a few frames after, so the final state is drawn
+    if (screenshot || options_.benchmark_build || redraw_frames_ > 0 || !input_queue_.empty()) {
+      glfwPollEvents();
+    } else {
+      const bool recent_input = clock::now() - last_input_ < std::chrono::seconds(2);
+      glfwWaitEventsTimeout(recent_input ? 0.1 : ImGui::GetIO().WantTextInput ? 0.5 : 2.0);
+      redraw_frames_ = 1;
+    }
+    if (!input_queue_.empty()) redraw_frames_ = 3;
+    if (redraw_frames_ > 0) --redraw_frames_;
     if (glfwWindowShouldClose(window_)) {
       glfwSetWindowShouldClose(window_, GLFW_FALSE);
       request_quit();
@@ -182,7 +202,7 @@ int App::run() {
     ++frame_count_;
     if (screenshot) {
       if (settle < 0 && frame_count_ >= options_.frames &&
-          ((!evaluation_.preview_busy() && !pending_request_) || clock::now() > deadline))
+          ((!evaluation_.preview_busy() && !pending_request_ && thumbnails_shown()) || clock::now() > deadline))
         settle = 3;  // a few frames more so the last result is uploaded and drawn
       if (settle == 0) {
         int w = 0, h = 0;
@@ -198,9 +218,73 @@ int App::run() {
   return 0;
 }
 
+namespace {
+App* app_of(GLFWwindow* w) { return static_cast<App*>(glfwGetWindowUserPointer(w)); }
+}  // namespace
+
+void App::install_input_callbacks() {
+  glfwSetWindowUserPointer(window_, this);
+  glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int) {
+    if (action != GLFW_REPEAT) app_of(w)->input_queue_.push({RawInput::Kind::Key, key, action == GLFW_PRESS, {}});
+  });
+  glfwSetMouseButtonCallback(window_, [](GLFWwindow* w, int button, int action, int) {
+    app_of(w)->input_queue_.push({RawInput::Kind::Button, button, action == GLFW_PRESS, {}});
+  });
+  glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) {
+    app_of(w)->input_queue_.push({RawInput::Kind::Move, 0, false, {x, y}});
+  });
+  glfwSetScrollCallback(window_, [](GLFWwindow* w, double x, double y) {
+    app_of(w)->input_queue_.push({RawInput::Kind::Scroll, 0, false, {x, y}});
+  });
+  glfwSetCharCallback(window_, [](GLFWwindow* w, unsigned c) {
+    app_of(w)->input_queue_.push({RawInput::Kind::Char, static_cast<int>(c), false, {}});
+  });
+  glfwSetWindowFocusCallback(window_, [](GLFWwindow* w, int focused) {
+    ImGui_ImplGlfw_WindowFocusCallback(w, focused);
+    // Releases happen elsewhere while unfocused: nothing stays held.
+    if (!focused) app_of(w)->input_queue_.release_all();
+  });
+  glfwSetCursorEnterCallback(window_, ImGui_ImplGlfw_CursorEnterCallback);
+  glfwSetMonitorCallback(ImGui_ImplGlfw_MonitorCallback);
+  // Resizing and exposing redraw.
+  glfwSetWindowRefreshCallback(window_, [](GLFWwindow* w) { app_of(w)->redraw_frames_ = 3; });
+  glfwSetFramebufferSizeCallback(window_, [](GLFWwindow* w, int, int) { app_of(w)->redraw_frames_ = 3; });
+}
+
+void App::feed_queued_input() {
+  ImGuiIO& io = ImGui::GetIO();
+  if (input_queue_.next_frame(input_state_) > 0) last_input_ = std::chrono::steady_clock::now();
+  const InputFrame& in = input_state_;
+  for (int k = 0; k < InputFrame::kKeys && k < IM_ARRAYSIZE(io.KeysDown); ++k) io.KeysDown[k] = in.keys[static_cast<std::size_t>(k)];
+  io.KeyCtrl = in.keys[GLFW_KEY_LEFT_CONTROL] || in.keys[GLFW_KEY_RIGHT_CONTROL];
+  io.KeyShift = in.keys[GLFW_KEY_LEFT_SHIFT] || in.keys[GLFW_KEY_RIGHT_SHIFT];
+  io.KeyAlt = in.keys[GLFW_KEY_LEFT_ALT] || in.keys[GLFW_KEY_RIGHT_ALT];
+  io.KeySuper = in.keys[GLFW_KEY_LEFT_SUPER] || in.keys[GLFW_KEY_RIGHT_SUPER];
+  for (int b = 0; b < InputFrame::kButtons && b < IM_ARRAYSIZE(io.MouseDown); ++b) io.MouseDown[b] = in.buttons[static_cast<std::size_t>(b)];
+  // The backend polled the pointer; the queued position is where the released events happened (unless the
+  // pointer is outside an unfocused window, where the backend reports none).
+  if (in.has_pointer && io.MousePos.x > -FLT_MAX)
+    io.MousePos = ImVec2(static_cast<float>(in.pointer.x), static_cast<float>(in.pointer.y));
+  io.MouseWheelH += static_cast<float>(in.wheel.x);
+  io.MouseWheel += static_cast<float>(in.wheel.y);
+  for (unsigned c : in.chars) io.AddInputCharacter(c);
+}
+
+bool App::thumbnails_shown() const {
+  if (!canvas_->thumbnails()) return true;
+  const auto t = evaluation_.thumbnails();
+  return t && t->revision == document_->content_revision() && thumbnails_revision_ == document_->content_revision() + 1;
+}
+
+bool App::animating() const {
+  return evaluation_.preview_busy() || evaluation_.build_status().running || pending_request_ ||
+         std::any_of(input_state_.buttons.begin(), input_state_.buttons.end(), [](bool b) { return b; });
+}
+
 void App::frame() {
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
+  feed_queued_input();
   ImGui::NewFrame();
 
   handle_shortcuts();
@@ -321,6 +405,11 @@ void App::draw_menu_bar() {
     if (ImGui::MenuItem("Pin Preview to Selected", "double-click", pinned, pinned || !selection_.active().empty()))
       pinned_ = pinned ? std::string() : selection_.active();
     if (ImGui::MenuItem("3D Viewport", nullptr, show_3d_)) show_3d_ = !show_3d_;
+    if (ImGui::MenuItem("Node Thumbnails", nullptr, canvas_->thumbnails())) {
+      canvas_->set_thumbnails(!canvas_->thumbnails());
+      // Nodes grow: move apart those that would overlap (one undoable step).
+      if (canvas_->thumbnails()) document_->edit("Make Room for Thumbnails", [](Graph& g) { make_room_for_thumbnails(g); });
+    }
     if (ImGui::BeginMenu("Preview Resolution")) {
       for (int r : {128, 256, 512, 1024, 2048})
         if (ImGui::MenuItem((std::to_string(r) + " samples").c_str(), nullptr, evaluation_.preview_resolution() == r))
@@ -641,16 +730,18 @@ void App::set_document(std::unique_ptr<Document> document) {
   autosaver_.reset();
   document_ = std::move(document);
   canvas_->set_document(*document_);
+  canvas_view_->document_changed();
   pinned_.clear();
   drape_node_.clear();
   shown_port_.clear();
   requested_revision_ = ~std::uint64_t(0);
+  thumbnails_revision_ = 0;
   frame_canvas_ = true;
 }
 
 void App::open_file(const std::filesystem::path& path) {
   try {
-    set_document(std::make_unique<Document>(Document::open(path)));
+    set_document(std::make_unique<Document>(Document::open(path, canvas_->thumbnails())));
     recent_.add(path);
   } catch (const std::exception& e) {
     show_error(e.what());
@@ -756,7 +847,11 @@ std::vector<std::string> App::preview_request(const std::string& node) const {
   const int port = std::clamp(shown_port_.count(node) ? shown_port_.at(node) : 0, 0,
                               std::max(0, static_cast<int>(n->type->outputs.size()) - 1));
   const bool field = n->type->outputs.empty() || n->type->outputs[static_cast<std::size_t>(port)].type == PortType::Heightfield;
-  if (!field) {
+  // Water depth is shown on the terrain it lies in.
+  const bool water = field && !n->type->outputs.empty() &&
+                     resolve_output_kind(document_->graph(), node, n->type->outputs[static_cast<std::size_t>(port)].name) ==
+                         OutputKind::WaterDepth;
+  if (!field || water) {
     // Points, curves, maps and meshes are drawn over the heightfield they came from; images are draped
     // over it in 3D.
     for (const auto& in : n->type->inputs)
@@ -772,6 +867,12 @@ std::vector<std::string> App::preview_request(const std::string& node) const {
 }
 
 void App::update_preview() {
+  // Thumbnails follow the content once the preview is done (they never delay it).
+  if (canvas_->thumbnails() && !evaluation_.preview_busy() && !pending_request_ &&
+      thumbnails_revision_ != document_->content_revision() + 1) {
+    evaluation_.request_thumbnails(document_->graph(), document_->content_revision());
+    thumbnails_revision_ = document_->content_revision() + 1;  // + 1: 0 means none requested
+  }
   const std::string node = preview_node();
   const auto nodes = preview_request(node);
   const bool changed = document_->content_revision() != requested_revision_ || nodes != requested_nodes_ ||
@@ -797,6 +898,8 @@ PreviewContent App::preview_content(const std::string& node) const {
   const int port = std::clamp(shown_port_.count(node) ? shown_port_.at(node) : 0, 0,
                               static_cast<int>(n->type->outputs.size()) - 1);
   c.port = n->type->outputs[static_cast<std::size_t>(port)].name;
+  if (n->type->outputs[static_cast<std::size_t>(port)].type == PortType::Heightfield)
+    c.kind = resolve_output_kind(document_->graph(), node, c.port);
   const auto result = evaluation_.preview();
   c.stale = evaluation_.preview_busy() || pending_request_;
   if (!result) return c;

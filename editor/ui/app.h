@@ -13,6 +13,7 @@
 #include "editor/model/canvas_controller.h"
 #include "editor/model/document.h"
 #include "editor/model/evaluation_controller.h"
+#include "editor/model/input_queue.h"
 #include "editor/model/recent_files.h"
 #include "editor/model/recovery.h"
 #include "editor/model/selection.h"
@@ -34,6 +35,8 @@ struct AppOptions {
   int frames = 60;
   int width = 1600, height = 900;
   std::string select;                // node selected at start (documentation screenshots)
+  std::string port;                  // its output shown in the preview
+  bool thumbnails = true;            // node thumbnails on the canvas
   std::string view = "2d";           // preview panel at start: 2d or 3d
   std::string drape;                 // Image node draped over the 3D terrain at start
   std::filesystem::path state_dir;   // recent files and recovery; default_state_dir() if empty
@@ -61,6 +64,10 @@ class App {
  private:
   // Frame.
   void frame();
+  void install_input_callbacks();
+  void feed_queued_input();  // after the backend's NewFrame: this frame's share of the queued events
+  bool animating() const;    // something changes on screen without input
+  bool thumbnails_shown() const;  // the canvas shows thumbnails of the current content (or none are wanted)
   void draw_menu_bar();
   void draw_panels();
   void draw_status_bar(float height);
@@ -124,6 +131,7 @@ class App {
   int requested_resolution_ = 0;
   std::chrono::steady_clock::time_point last_request_{};
   bool pending_request_ = false;
+  std::uint64_t thumbnails_revision_ = 0;  // content revision + 1 of the last thumbnail request
   bool show_3d_ = false;
   bool frame_canvas_ = true;
 
@@ -135,6 +143,12 @@ class App {
   std::string title_;
   bool quit_ = false;
   int frame_count_ = 0;
+
+  // Input queued by the GLFW callbacks, released a frame at a time (see input_queue.h).
+  InputQueue input_queue_;
+  InputFrame input_state_;
+  int redraw_frames_ = 3;  // frames still to draw before waiting for events
+  std::chrono::steady_clock::time_point last_input_{};
 };
 
 }  // namespace orogen::editor

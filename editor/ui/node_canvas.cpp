@@ -1,5 +1,7 @@
 #include "editor/ui/node_canvas.h"
 
+#include "editor/model/preview_image.h"
+
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -41,6 +43,8 @@ ImFont* NodeCanvasView::text_font(float size) const {
 
 void NodeCanvasView::draw(const std::string& previewed) {
   double_clicked_.reset();
+  // Thumbnails of nodes that are gone are released.
+  std::erase_if(thumbnails_, [&](const auto& kv) { return !controller_.document().graph().find(kv.first); });
   states_ = evaluation_.node_states();
   ImFont* font = small_font_ ? small_font_ : ImGui::GetFont();
   controller_.set_text_measure([font](std::string_view s) {
@@ -75,8 +79,71 @@ void NodeCanvasView::draw(const std::string& previewed) {
     dl->AddText({origin.x + (size.x - ts.x) * 0.5f, origin.y + (size.y - ts.y) * 0.5f}, theme::kTextDim, hint);
   }
   dl->PopClipRect();
+  draw_problems_banner(origin, size);
   if (hovered) draw_tooltips();
   draw_palette();
+}
+
+void NodeCanvasView::draw_thumbnail(ImDrawList* dl, const Node& node, const Rect& box) {
+  dl->AddRectFilled(iv(box.min), iv(box.max), IM_COL32(24, 25, 28, 255), 3.0f);
+  const auto thumbs = evaluation_.thumbnails();
+  if (!thumbs) return;
+  const auto it = thumbs->outputs.find(node.id);
+  if (it == thumbs->outputs.end()) return;
+  // The first heightfield or image output, in the colours of its kind.
+  HeightfieldPtr field;
+  ImagePtr image;
+  std::string port;
+  for (std::size_t k = 0; k < it->second.size() && k < node.type->outputs.size(); ++k) {
+    if (auto* h = std::get_if<HeightfieldPtr>(&it->second[k]); h && *h) field = *h;
+    else if (auto* im = std::get_if<ImagePtr>(&it->second[k]); im && *im) image = *im;
+    else continue;
+    port = node.type->outputs[k].name;
+    break;
+  }
+  const void* data = field ? static_cast<const void*>(field.get()) : static_cast<const void*>(image.get());
+  if (!data) return;
+  Thumbnail& t = thumbnails_[node.id];
+  if (t.data != data) {
+    const PreviewPixels px = field ? render_heightfield(*field, style_for(resolve_output_kind(controller_.document().graph(), node.id, port)))
+                                   : render_image(*image);
+    t.texture.upload(px.width, px.height, px.rgba.data());
+    t.data = data;
+    t.field = field;
+    t.image = image;
+  }
+  // Fitted, keeping the world's aspect ratio.
+  const double aspect = static_cast<double>(t.texture.width()) / std::max(1, t.texture.height());
+  glm::dvec2 size = box.size();
+  if (size.x / size.y > aspect) size.x = size.y * aspect;
+  else size.y = size.x / aspect;
+  const glm::dvec2 a = box.center() - size * 0.5;
+  dl->AddImage(t.texture.imgui_id(), iv(a), iv(a + size));
+}
+
+void NodeCanvasView::draw_problems_banner(ImVec2 origin, ImVec2 size) {
+  const auto& problems = controller_.document().load_problems();
+  if (problems.empty() || dismissed_problems_) return;
+  ImGui::SetCursorScreenPos({origin.x + 10, origin.y + 8});
+  ImGui::PushStyleColor(ImGuiCol_ChildBg, IM_COL32(90, 30, 30, 235));
+  const float line = ImGui::GetTextLineHeightWithSpacing();
+  const std::size_t lines = 1 + (show_problem_list_ ? problems.diagnostics.size() : 0);
+  const float height = std::min(size.y * 0.4f, static_cast<float>(lines) * line + 2.0f * ImGui::GetStyle().WindowPadding.y + 4.0f);
+  ImGui::BeginChild("##problems", {std::min(size.x - 20.0f, 760.0f), height}, true, ImGuiWindowFlags_AlwaysUseWindowPadding);
+  ImGui::TextColored(ImVec4(1, 0.85f, 0.8f, 1), "%zu problem%s in %s: what could be read is shown; the nodes concerned are framed in red",
+                     problems.diagnostics.size(), problems.diagnostics.size() == 1 ? "" : "s",
+                     controller_.document().display_name().c_str());
+  ImGui::SameLine();
+  if (ImGui::SmallButton(show_problem_list_ ? "Hide" : "Details")) show_problem_list_ = !show_problem_list_;
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Dismiss")) dismissed_problems_ = true;
+  if (show_problem_list_) {
+    ImGui::PushTextWrapPos(std::min(size.x - 40.0f, 740.0f));
+    for (const auto& d : problems.diagnostics) ImGui::BulletText("%s", d.str().c_str());
+    ImGui::PopTextWrapPos();
+  }
+  ImGui::EndChild();
+  ImGui::PopStyleColor();
 }
 
 void NodeCanvasView::feed_input(bool hovered) {
@@ -169,6 +236,24 @@ void NodeCanvasView::draw_links(ImDrawList* dl) {
              std::max(1.5f, (lit ? 3.5f : 2.5f) * zoom));
     }
   }
+  // Links of the file left out when it was opened (broken, or closing a cycle): dashed red from where they
+  // came (the source node's right edge when its port does not exist) to the input, while it stays empty.
+  for (const auto& d : controller_.document().load_problems().dropped_links) {
+    const Node* dst = graph.find(d.to_node);
+    const auto* to = layout.find(d.to_node);
+    const auto* from = layout.find(d.from.node);
+    if (!dst || !to || !from || dst->inputs.count(d.to_port)) continue;
+    const auto* in = to->find_pin(d.to_port, false);
+    const auto* out = from->find_pin(d.from.port, true);
+    const glm::dvec2 a = v.to_screen(out ? out->position : glm::dvec2(from->rect.max.x, from->title.center().y));
+    const glm::dvec2 b = v.to_screen(in ? in->position : glm::dvec2(to->rect.min.x, to->title.center().y));
+    const int dashes = std::max(4, static_cast<int>(glm::length(b - a) / 14.0));
+    for (int k = 0; k < dashes; k += 2) {
+      const glm::dvec2 p0 = a + (b - a) * (static_cast<double>(k) / dashes);
+      const glm::dvec2 p1 = a + (b - a) * (static_cast<double>(k + 1) / dashes);
+      dl->AddLine(iv(p0), iv(p1), theme::kError, std::max(1.5f, 2.5f * zoom));
+    }
+  }
   // The link being dragged follows the mouse; a link dropped on empty canvas leads to the palette.
   const bool palette = controller_.mode() == CanvasController::Mode::Palette;
   const auto& pending = palette ? controller_.palette_link() : drag;
@@ -223,6 +308,17 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
                       ImDrawFlags_RoundCornersBottom);
     const ImU32 border = active ? theme::kNodeActive : selected ? theme::kNodeSelected : theme::kNodeBorder;
     dl->AddRect(iv(r.min), iv(r.max), border, rounding, 0, selected ? 2.0f : 1.0f);
+    // A problem of the file it was loaded from: a red frame and a "!" (the tooltip explains).
+    const bool problem = !controller_.document().load_problems().for_node(nl.id).empty();
+    if (problem) {
+      dl->AddRect(iv(r.min - glm::dvec2(3.0 * zoom)), iv(r.max + glm::dvec2(3.0 * zoom)), theme::kError, rounding + 3.0f * zoom,
+                  0, std::max(1.5f, 2.5f * zoom));
+      const ImVec2 c{static_cast<float>(r.min.x), static_cast<float>(r.min.y)};
+      dl->AddCircleFilled(c, 8.0f * std::max(zoom, 0.6f), theme::kError);
+      const float fs = 13.0f * std::max(zoom, 0.6f);
+      const ImVec2 ts = font->CalcTextSizeA(fs, FLT_MAX, 0.0f, "!");
+      dl->AddText(font, fs, {c.x - ts.x * 0.5f, c.y - ts.y * 0.5f}, IM_COL32(255, 255, 255, 255), "!");
+    }
 
     const NodeRunState state = [&] {
       auto it = states_.find(nl.id);
@@ -272,6 +368,8 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
                       theme::with_alpha(optional ? theme::kTextDim : theme::kText, alpha), label);
         }
       }
+
+    if (nl.thumbnail) draw_thumbnail(dl, node, v.to_screen(*nl.thumbnail));
 
     // Status line: phase and last time, or a progress bar while computing.
     if (show_text) {
@@ -339,6 +437,12 @@ void NodeCanvasView::draw_tooltips() {
       ImGui::Text("%s", node_title(*node).c_str());
       ImGui::TextDisabled("%s / %s", node->type->category.c_str(), node->type->name.c_str());
       if (!node->type->description.empty()) ImGui::TextUnformatted(node->type->description.c_str());
+      const auto problems = controller_.document().load_problems().for_node(*id);
+      if (!problems.empty()) {
+        ImGui::Separator();
+        ImGui::TextColored(ImColor(theme::kError), "When the file was opened:");
+        for (const auto& m : problems) ImGui::BulletText("%s", m.c_str());
+      }
       auto it = states_.find(*id);
       if (it != states_.end()) {
         const auto& s = it->second;
@@ -364,7 +468,11 @@ void NodeCanvasView::draw_palette() {
   PaletteState& palette = controller_.palette();
   const bool opening = !palette_focus_;
   if (opening) palette_buffer_ = palette.query();
-  ImGui::SetNextWindowPos(iv(controller_.palette_position()), ImGuiCond_Always);
+  // Kept on screen near the window's edges, using the size it had last frame.
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  const glm::dvec2 at = place_popup(controller_.palette_position(), palette_size_,
+                                    Rect{{0.0, 0.0}, {display.x, display.y}});
+  ImGui::SetNextWindowPos(iv(at), ImGuiCond_Always);
   ImGui::SetNextWindowSize({320, 0}, ImGuiCond_Always);
   ImGui::Begin("##palette", nullptr,
                ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
@@ -428,6 +536,7 @@ void NodeCanvasView::draw_palette() {
   } else if (results.empty()) {
     ImGui::TextDisabled("No node type matches.");
   }
+  palette_size_ = {ImGui::GetWindowSize().x, ImGui::GetWindowSize().y};
   ImGui::End();
 
   if (cancel) controller_.close_palette();

@@ -10,6 +10,7 @@
 
 #include "editor/model/canvas_controller.h"
 #include "editor/model/evaluation_controller.h"
+#include "editor/ui/gl_texture.h"
 
 namespace orogen::editor {
 
@@ -29,6 +30,12 @@ class NodeCanvasView {
   // Draws the canvas into the remaining space of the current window and feeds it input.
   // `previewed` is the node shown in the preview (marked on its title bar).
   void draw(const std::string& previewed);
+  // Another document: its problems banner shows again, thumbnails are dropped.
+  void document_changed() {
+    dismissed_problems_ = false;
+    show_problem_list_ = true;
+    thumbnails_.clear();
+  }
 
   // A node double-clicked this frame (the app pins the preview to it).
   const std::optional<std::string>& double_clicked() const { return double_clicked_; }
@@ -40,6 +47,16 @@ class NodeCanvasView {
   void draw_nodes(ImDrawList* dl, const std::string& previewed);
   void draw_palette();
   void draw_tooltips();
+  void draw_problems_banner(ImVec2 origin, ImVec2 size);
+  void draw_thumbnail(ImDrawList* dl, const Node& node, const Rect& screen_box);
+
+  struct Thumbnail {
+    GlTexture texture;
+    const void* data = nullptr;  // the result shown (held below, so the address stays its own)
+    HeightfieldPtr field;
+    ImagePtr image;
+  };
+  std::map<std::string, Thumbnail> thumbnails_;
 
   ImFont* text_font(float size) const;
 
@@ -53,6 +70,9 @@ class NodeCanvasView {
   bool space_down_ = false;
   bool palette_focus_ = false;
   std::string palette_buffer_;
+  glm::dvec2 palette_size_{320.0, 420.0};  // last drawn
+  bool show_problem_list_ = true;
+  bool dismissed_problems_ = false;  // the user dismissed the load problems of this document
   std::optional<std::string> double_clicked_;
   std::string hover_key_;
   double hover_since_ = 0.0;

@@ -40,6 +40,15 @@ void Preview2D::fit(const Domain& domain, glm::dvec2 size) {
   fitted_ = true;
 }
 
+HeightfieldStyle Preview2D::style_for_content(const PreviewContent& content) const {
+  // The backdrop under points and curves, and a value without a kind, are terrain.
+  const bool value_field = std::holds_alternative<HeightfieldPtr>(content.value);
+  HeightfieldStyle s = style_for(value_field ? content.kind : OutputKind::Height);
+  if (map_choice_ > 0) s.map = static_cast<ColorMap>(map_choice_ - 1);
+  if (hillshade_choice_) s.hillshade = *hillshade_choice_;
+  return s;
+}
+
 void Preview2D::upload(const PreviewContent& content) {
   // The texture shows the value itself (heightfield or image) or the backdrop heightfield.
   HeightfieldPtr field;
@@ -47,22 +56,27 @@ void Preview2D::upload(const PreviewContent& content) {
   if (auto* h = std::get_if<HeightfieldPtr>(&content.value)) field = *h;
   else if (auto* i = std::get_if<ImagePtr>(&content.value)) image = *i;
   else field = content.backdrop;
+  style_ = style_for_content(content);
   // Redrawn when the data or the style change: results are immutable and shared, so the same pointer means
   // the same data (a cached result after an edit elsewhere is not redrawn). The pointers are held, so they
   // cannot be reused for other data meanwhile.
+  // Water depth lies on its terrain (unless another colour map is chosen).
+  const HeightfieldPtr under = field && content.kind == OutputKind::WaterDepth && map_choice_ == 0 ? content.backdrop : nullptr;
   char key[256];
-  std::snprintf(key, sizeof key, "%p|%p|%d|%d", static_cast<const void*>(field.get()), static_cast<const void*>(image.get()),
-                static_cast<int>(style_.map), style_.hillshade ? 1 : 0);
+  std::snprintf(key, sizeof key, "%p|%p|%p|%d|%d|%d|%d", static_cast<const void*>(field.get()),
+                static_cast<const void*>(image.get()), static_cast<const void*>(under.get()), static_cast<int>(style_.map),
+                style_.hillshade ? 1 : 0, style_.range ? 1 : 0, style_.symmetric ? 1 : 0);
   if (texture_key_ == key) return;
   texture_key_ = key;
   shown_field_ = field;
   shown_image_ = image;
   has_range_ = false;
+  shown_under_ = under;
   if (field) {
-    const auto px = render_heightfield(*field, style_);
+    const auto px = under ? render_water_over_terrain(*under, *field) : render_heightfield(*field, style_);
     texture_.upload(px.width, px.height, px.rgba.data());
-    texture_domain_ = field->domain;
-    shown_range_ = value_range(*field);
+    texture_domain_ = under ? under->domain : field->domain;
+    shown_range_ = style_range(*field, style_);
     has_range_ = true;
   } else if (image) {
     const auto px = render_image(*image);
@@ -80,12 +94,21 @@ void Preview2D::draw(const PreviewContent& content) {
                         (content.backdrop && !std::holds_alternative<ImagePtr>(content.value));
   // Toolbar.
   if (is_field) {
-    int map = static_cast<int>(style_.map);
-    ImGui::SetNextItemWidth(90);
-    if (ImGui::Combo("##map", &map, kColorMapNames, 3)) style_.map = static_cast<ColorMap>(map);
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Colour map");
+    const HeightfieldStyle current = style_for_content(content);
+    const bool value_field = std::holds_alternative<HeightfieldPtr>(content.value);
+    char automatic[48];
+    std::snprintf(automatic, sizeof automatic, "auto: %s", kColorMapNames[static_cast<int>(style_for(value_field ? content.kind : OutputKind::Height).map)]);
+    const char* items[1 + kColorMapCount] = {automatic};
+    for (int k = 0; k < kColorMapCount; ++k) items[k + 1] = kColorMapNames[k];
+    ImGui::SetNextItemWidth(120);
+    if (ImGui::Combo("##map", &map_choice_, items, 1 + kColorMapCount) && map_choice_ == 0) hillshade_choice_.reset();
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("Color map. Auto follows what the output holds (%s): heights in terrain tints, masks in "
+                        "gray over 0..1, signed fields diverging around 0, water depth in blues.",
+                        std::string(to_string(value_field ? content.kind : OutputKind::Height)).c_str());
     ImGui::SameLine();
-    ImGui::Checkbox("hillshade", &style_.hillshade);
+    bool shade = current.hillshade;
+    if (ImGui::Checkbox("hillshade", &shade)) hillshade_choice_ = shade;
     ImGui::SameLine();
   }
   if (ImGui::Button("Fit") && domain_of(content)) fitted_ = false;
@@ -171,9 +194,27 @@ void Preview2D::draw(const PreviewContent& content) {
       dl->AddCircleFilled(to_screen({pts.position[k].x, pts.position[k].y}), r,
                           class_color(k < pts.class_id.size() ? pts.class_id[k] : 0), 8);
   } else if (auto* c = std::get_if<CurvesPtr>(&content.value); c && *c) {
+    // Width-aware: each segment as wide as the curve there (world metres), at least 1.5 pixels; wider is
+    // deeper blue. Round joints where the stroke is thick enough to show gaps.
+    float max_width = 0.0f;
+    for (const auto& curve : (*c)->curves)
+      for (float wv : curve.width) max_width = std::max(max_width, wv);
+    auto color = [&](float wv) {
+      const float t = max_width > 0.0f ? std::clamp(wv / max_width, 0.0f, 1.0f) : 0.0f;
+      return ImColor(0.55f - 0.45f * t, 0.85f - 0.4f * t, 1.0f - 0.1f * t, 1.0f);
+    };
     for (const auto& curve : (*c)->curves) {
-      for (const auto& q : curve.points) dl->PathLineTo(to_screen({q.x, q.y}));
-      dl->PathStroke(IM_COL32(70, 190, 255, 255), 0, 2.0f);
+      const std::size_t n = curve.points.size();
+      auto width_at = [&](std::size_t k) { return k < curve.width.size() ? curve.width[k] : 0.0f; };
+      for (std::size_t k = 0; k + 1 < n; ++k) {
+        const float wv = 0.5f * (width_at(k) + width_at(k + 1));
+        const float px = std::max(1.5f, static_cast<float>(wv * scale_));
+        const ImVec2 a = to_screen({curve.points[k].x, curve.points[k].y});
+        const ImVec2 b = to_screen({curve.points[k + 1].x, curve.points[k + 1].y});
+        dl->AddLine(a, b, color(wv), px);
+        if (px > 3.0f) dl->AddCircleFilled(b, px * 0.5f, color(wv), 12);
+      }
+      if (n == 1) dl->AddCircleFilled(to_screen({curve.points[0].x, curve.points[0].y}), 2.0f, color(width_at(0)));
     }
   } else if (auto* m = std::get_if<PolygonMapPtr>(&content.value); m && *m) {
     const PolygonMap& map = **m;

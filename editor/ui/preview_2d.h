@@ -3,6 +3,7 @@
 // maps drawn over their terrain; pan (drag) and zoom (wheel) in world units; the world position and value
 // under the cursor.
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <glm/vec2.hpp>
@@ -21,11 +22,16 @@ class Preview2D {
   void upload(const PreviewContent& content);
   void fit(const Domain& domain, glm::dvec2 size);
 
-  HeightfieldStyle style_;
+  HeightfieldStyle style_for_content(const PreviewContent& content) const;
+
+  HeightfieldStyle style_;       // the style drawn
+  int map_choice_ = 0;           // 0: from the output's kind, else 1 + ColorMap
+  std::optional<bool> hillshade_choice_;  // unset: from the output's kind
   GlTexture texture_;
   std::string texture_key_;   // what the texture holds
   HeightfieldPtr shown_field_;  // held so their addresses in the key stay theirs
   ImagePtr shown_image_;
+  HeightfieldPtr shown_under_;  // the terrain under water depth
   Domain texture_domain_;
   ValueRange shown_range_;
   bool has_range_ = false;

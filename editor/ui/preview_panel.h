@@ -1,8 +1,10 @@
 #pragma once
-// What the preview panels show: the output of the previewed node, plus (for points, curves, polygon maps
-// and meshes) the heightfield it was built on as a backdrop, plus an optional image to drape in 3D.
+// What the preview panels show: the output of the previewed node, plus (for points, curves, polygon maps,
+// meshes and water depth) the heightfield it was built on as a backdrop, plus an optional image to drape
+// in 3D.
 #include <string>
 
+#include "graph/node_type.h"
 #include "graph/port_value.h"
 
 namespace orogen::editor {
@@ -11,6 +13,7 @@ struct PreviewContent {
   std::string node;            // the previewed node ("" if none)
   std::string port;            // its shown output
   PortValue value;             // monostate while not (yet) evaluated
+  OutputKind kind = OutputKind::Auto;  // of a heightfield value: chooses the colour map (and water in 3D)
   std::string backdrop_node;   // the heightfield under points / curves / meshes
   HeightfieldPtr backdrop;
   ImagePtr drape;              // 3D: colour image draped over the terrain

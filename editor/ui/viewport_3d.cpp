@@ -13,6 +13,7 @@
 #include "editor/model/terrain_mesh.h"
 #include "editor/ui/gl.h"
 #include "editor/ui/theme.h"
+#include "graph/curves.h"
 #include "graph/mesh.h"
 #include "graph/points.h"
 
@@ -57,7 +58,7 @@ void main() {
   vec3 lit = albedo * (0.85 * diffuse * vec3(1.0, 0.97, 0.9) + 0.28 * sky * vec3(0.75, 0.85, 1.0));
   float haze = clamp(length(v_world - eye) / haze_distance, 0.0, 1.0);
   lit = mix(lit, vec3(0.52, 0.62, 0.75), 0.35 * haze * haze);
-  frag = vec4(pow(lit, vec3(1.0 / 2.2)), 1.0);
+  frag = vec4(pow(lit, vec3(1.0 / 2.2)), v_color.a);
 })";
 
 constexpr const char* kPointsVertex = R"(#version 330 core
@@ -133,6 +134,8 @@ Viewport3D::~Viewport3D() {
   release(terrain_);
   release(markers_);
   release(mesh_);
+  release(ribbons_);
+  release(water_);
   if (program_) glDeleteProgram(program_);
   if (points_program_) glDeleteProgram(points_program_);
   if (fbo_) glDeleteFramebuffers(1, &fbo_);
@@ -227,17 +230,58 @@ void Viewport3D::update_geometry(const PreviewContent& content) {
   };
 
   std::vector<float> vertices;
+  auto upload_mesh = [&](Buffers& b, const TerrainMesh& tm) {
+    vertices.clear();
+    vertices.reserve(tm.positions.size() * 10);
+    for (std::size_t k = 0; k < tm.positions.size(); ++k) push_vertex(vertices, tm.positions[k], tm.normals[k], tm.colors[k]);
+    upload(b, vertices, tm.indices);
+  };
+  // Water depth stands on its terrain (the backdrop): the terrain is drawn, the water on it.
+  HeightfieldPtr water_depth;
+  if (auto* h = std::get_if<HeightfieldPtr>(&content.value);
+      h && *h && content.kind == OutputKind::WaterDepth && content.backdrop) {
+    water_depth = *h;
+    field = content.backdrop;
+  }
+  double cell = 0.0;  // the terrain mesh's cell size (m)
   if (field) {
     TerrainMeshOptions options;
     options.drape = content.drape.get();
+    // A field that is not a height (a mask, a signed field) wears its kind's colours.
+    const bool value_field = std::holds_alternative<HeightfieldPtr>(content.value) && !water_depth;
+    const HeightfieldStyle style = style_for(value_field ? content.kind : OutputKind::Height);
+    options.map = style.map;
+    options.color_range = style_range(*field, style);
     const TerrainMesh tm = build_terrain_mesh(*field, options);
-    vertices.reserve(tm.positions.size() * 10);
-    for (std::size_t k = 0; k < tm.positions.size(); ++k) push_vertex(vertices, tm.positions[k], tm.normals[k], tm.colors[k]);
-    upload(terrain_, vertices, tm.indices);
+    upload_mesh(terrain_, tm);
     extend(tm.min);
     extend(tm.max);
+    cell = std::max(field->domain.spacing.x, field->domain.spacing.y) *
+           std::max(1.0, static_cast<double>(std::max(field->width(), field->height()) - 1) / std::max(1, std::max(tm.columns, tm.rows) - 1));
   } else {
     terrain_.count = 0;
+  }
+  if (water_depth) {
+    const TerrainMesh wm = build_water_mesh(*field, *water_depth);
+    upload_mesh(water_, wm);
+  } else {
+    water_.count = 0;
+  }
+  if (auto* c = std::get_if<CurvesPtr>(&content.value); c && *c) {
+    CurveRibbonOptions options;
+    // At least a cell and a half of the terrain mesh wide, so every river stays visible; lifted a little
+    // above the ground so the ribbon is not lost in it.
+    options.min_width = static_cast<float>(1.5 * cell);
+    const double relief = field ? static_cast<double>(value_range(*field).hi - value_range(*field).lo) : 0.0;
+    options.lift = static_cast<float>(0.002 * relief);
+    const TerrainMesh rm = build_curve_ribbons(**c, field.get(), options);
+    upload_mesh(ribbons_, rm);
+    if (!rm.positions.empty()) {
+      extend(rm.min);
+      extend(rm.max);
+    }
+  } else {
+    ribbons_.count = 0;
   }
 
   vertices.clear();
@@ -316,6 +360,25 @@ void Viewport3D::render(int width, int height) {
       glDrawElements(GL_TRIANGLES, b->count, GL_UNSIGNED_INT, nullptr);
     }
   if (wireframe_) glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  if (ribbons_.count > 0) {
+    // Rivers lie on the terrain: pulled towards the eye in depth so they win against the ground they follow.
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(-2.0f, -4.0f);
+    glBindVertexArray(ribbons_.vao);
+    glDrawElements(GL_TRIANGLES, ribbons_.count, GL_UNSIGNED_INT, nullptr);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+  }
+  if (water_.count > 0) {
+    // Translucent water after everything opaque, tested against the terrain (which cuts the shoreline) but
+    // not writing depth; the target's alpha stays opaque.
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+    glDepthMask(GL_FALSE);
+    glBindVertexArray(water_.vao);
+    glDrawElements(GL_TRIANGLES, water_.count, GL_UNSIGNED_INT, nullptr);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+  }
   if (markers_.count > 0) {
     glEnable(GL_PROGRAM_POINT_SIZE);
     glUseProgram(points_program_);
@@ -357,7 +420,7 @@ void Viewport3D::draw(const PreviewContent& content) {
     ImGui::TextColored(ImColor(theme::kError), "%s", e.what());
     return;
   }
-  if (terrain_.count == 0 && markers_.count == 0 && mesh_.count == 0) {
+  if (terrain_.count == 0 && markers_.count == 0 && mesh_.count == 0 && ribbons_.count == 0) {
     ImGui::InvisibleButton("##empty3d", size);
     const ImVec2 o = ImGui::GetItemRectMin();
     const char* text = content.node.empty()     ? "Select a node to view it in 3D"

@@ -1,6 +1,7 @@
 #pragma once
-// The 3D viewport: the previewed heightfield as a lit mesh (terrain colours or a draped image), points as
-// markers, mesh outputs in place; rendered into an offscreen framebuffer shown as an ImGui image. Orbit
+// The 3D viewport: the previewed heightfield as a lit mesh (terrain colours or a draped image, or the colour
+// map of its kind), points as markers, curves as ribbons of their width on the terrain, water depth as a
+// flat translucent water surface on its terrain, mesh outputs in place; rendered into an offscreen framebuffer shown as an ImGui image. Orbit
 // with the left mouse button, pan with the right or middle one, zoom with the wheel, F to frame.
 #include <cstdint>
 #include <string>
@@ -44,7 +45,7 @@ class Viewport3D {
   unsigned program_ = 0, points_program_ = 0;
   unsigned fbo_ = 0, color_ = 0, depth_ = 0;
   int target_w_ = 0, target_h_ = 0;
-  Buffers terrain_, markers_, mesh_;
+  Buffers terrain_, markers_, mesh_, ribbons_, water_;
   float marker_size_ = 6.0f;
 };
 

@@ -18,9 +18,9 @@ void declare_common_ports(NodeBuilder& b, const char* mask_text) {
   b.input("in", PortType::Heightfield).description("Height to erode, metres");
   b.input("mask", PortType::Heightfield).optional().description(mask_text);
   b.output("out", PortType::Heightfield).description("Eroded height, metres");
-  b.output("erosion", PortType::Heightfield).description("Material removed, metres (>= 0); the 'wear' map");
-  b.output("deposition", PortType::Heightfield).description("Material laid down, metres (>= 0); the 'deposits' map");
-  b.output("flow", PortType::Heightfield).description("Where water (or material) ran, 0..1");
+  b.output("erosion", PortType::Heightfield).description("Material removed, metres (>= 0); the 'wear' map").kind(OutputKind::Scalar);
+  b.output("deposition", PortType::Heightfield).description("Material laid down, metres (>= 0); the 'deposits' map").kind(OutputKind::Scalar);
+  b.output("flow", PortType::Heightfield).description("Where water (or material) ran, 0..1").kind(OutputKind::Mask);
 }
 
 void set_common_outputs(ExecContext& ctx, ErosionMaps& m) {
@@ -76,7 +76,7 @@ OROGEN_NODE(HydraulicErosion) {
   declare_common_ports(b, "Scales erosion and deposition per cell, 0..1 (1 if unconnected)");
   b.param_float("droplets_per_km2", 20000.0).range(0.0, 1e8).soft_range(1000.0, 200000.0).unit("1/km^2").description("Droplets per square kilometre of the domain");
   b.param_float("step_length", 10.0).range(0.01, 1e4).soft_range(1.0, 50.0).unit("m").description("Distance a droplet moves per step (about one sample spacing)");
-  b.param_float("lifetime", 300.0).range(0.01, 1e6).soft_range(10.0, 3000.0).unit("m").description("Distance a droplet travels before it evaporates");
+  b.param_float("lifetime", 300.0).range(0.01, 1e5).soft_range(10.0, 3000.0).unit("m").description("Distance a droplet travels before it evaporates");
   b.param_float("radius", 30.0).range(0.0, 1e4).soft_range(0.0, 200.0).unit("m").description("Erosion brush radius");
   b.param_float("inertia", 0.05).range(0.0, 1.0).description("Share of the previous direction a droplet keeps (unitless)");
   b.param_float("capacity", 4.0).range(0.0, 1e6).soft_range(0.0, 50.0).unit("m^3").description("Sediment a droplet carries per unit slope x speed x water");
@@ -120,8 +120,8 @@ OROGEN_NODE(PipeErosion) {
   b.input("moisture", PortType::Heightfield).optional().description("Drops mode: chance factor of rain per cell, 0..1");
   b.input("temperature", PortType::Heightfield).optional().description("Evaporation factor per cell (1 nominal, >= 0)");
   b.input("hardness", PortType::Heightfield).optional().description("Soil hardness 0..1: slows dissolution by (1 - hardness)");
-  b.output("water", PortType::Heightfield).description("Water depth at the end, metres");
-  b.output("velocity", PortType::Heightfield).description("Water speed at the end, m/s");
+  b.output("water", PortType::Heightfield).description("Water depth at the end, metres").kind(OutputKind::WaterDepth);
+  b.output("velocity", PortType::Heightfield).description("Water speed at the end, m/s").kind(OutputKind::Scalar);
   b.param_float("duration", 1800.0).range(0.0, 1e7).soft_range(60.0, 20000.0).unit("s").description("Simulated time");
   b.param_float("rain_rate", 50.0).range(0.0, 1e5).soft_range(0.0, 500.0).unit("mm/h").description("Rain rate (uniform mode, or where no rainfall field)");
   b.param_enum("rain_mode", {"uniform", "drops"}, "uniform").description("uniform: rain everywhere; drops: random drops with a chance scaled by the moisture field (Mei 2007 / the Georgia Tech model)");
@@ -173,7 +173,7 @@ OROGEN_NODE(StreamPower) {
       "Produces real drainage networks. Reach: global.");
   declare_common_ports(b, "Scales erodibility K and diffusivity D per cell, 0..1 (1 if unconnected)");
   b.input("uplift", PortType::Heightfield).optional().description("Uplift factor per cell (>= 0), times uplift_rate; 1 if unconnected");
-  b.output("accumulation", PortType::Heightfield).description("Drainage area of the final routing, m^2");
+  b.output("accumulation", PortType::Heightfield).description("Drainage area of the final routing, m^2").kind(OutputKind::Scalar);
   b.param_float("k", 2e-5).range(0.0, 1.0).soft_range(1e-7, 1e-3).unit("m^(1-2m)/yr").description("Erodibility K");
   b.param_float("m", 0.45).range(0.0, 2.0).description("Drainage-area exponent m (unitless)");
   b.param_float("n", 1.0).range(0.2, 4.0).description("Slope exponent n (unitless); 1 solves directly, else by Newton");

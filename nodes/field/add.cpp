@@ -28,6 +28,7 @@ Heightfield add_fields(const Heightfield& a, const Heightfield& b, const AddPara
 // --- node ---
 
 OROGEN_NODE(Add) {
+  b.reach_pointwise();
   b.category("field").description(
       "Weighted sum of two fields: out = weight_a * a + weight_b * b, on a's domain. If b is sampled on a "
       "different domain it is resampled onto a's bilinearly (values beyond b's rectangle repeat its border).");

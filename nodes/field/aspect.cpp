@@ -37,13 +37,14 @@ std::shared_ptr<Heightfield> aspect_field(const Heightfield& z, AspectOutput out
 }
 
 OROGEN_NODE(Aspect) {
+  b.reach_local(0.0, 1);  // central differences
   b.category("field").description(
       "Direction a slope faces (downhill), clockwise from north: north = world +y (0 deg), east = +x (90 deg), "
       "south 180, west 270. 'northness' (cos) and 'eastness' (sin) avoid the wrap at north and are 0 on flats; "
       "useful for sun-facing vegetation rules (the 'skew' of J. Hammes (2001), \"Modeling of ecosystems as a "
       "data source for real-time terrain rendering\", Digital Earth Moving, LNCS 2181).");
   b.input("in", PortType::Heightfield).description("Heights, metres");
-  b.output("out", PortType::Heightfield).description("Degrees in [0, 360), or northness / eastness in [-1, 1]");
+  b.output("out", PortType::Heightfield).description("Degrees in [0, 360), or northness / eastness in [-1, 1]").kind(OutputKind::Scalar);
   b.param_enum("output", {"degrees", "northness", "eastness"}, "degrees").description("What to output");
   b.param_float("flat_value", 0.0).range(-360.0, 360.0).unit("deg").description("degrees output on exactly flat samples");
   b.execute([](ExecContext& ctx) {

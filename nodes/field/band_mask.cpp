@@ -7,6 +7,7 @@
 namespace orogen {
 
 OROGEN_NODE(BandMask) {
+  b.reach_pointwise();
   b.category("field").description(
       "Mask of where a field lies in a band [min, max]: 1 inside, a smooth falloff outside, 0 beyond it. Feed "
       "heights for elevation rules, Slope for slope rules, and multiply masks to combine rules, as in the "
@@ -15,7 +16,7 @@ OROGEN_NODE(BandMask) {
       "when that is 0, (max - min) / sharpness (Hammes' sharpness: 2 fades over half the band width on each "
       "side).");
   b.input("in", PortType::Heightfield).description("Any field: heights (m), slope (deg), moisture, ...");
-  b.output("out", PortType::Heightfield).description("Mask in 0..1");
+  b.output("out", PortType::Heightfield).description("Mask in 0..1").kind(OutputKind::Mask);
   b.param_float("min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Lower edge of the band, in the field's units");
   b.param_float("max", 100.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Upper edge of the band (>= min), in the field's units");
   b.param_float("sharpness", 2.0).range(0.0, 1e6).soft_range(0.5, 50.0)

@@ -8,6 +8,7 @@
 namespace orogen {
 
 OROGEN_NODE(Blend) {
+  b.reach_pointwise();
   b.category("field").description(
       "Blends b into a: out = a + (m(a, b) - a) * factor * mask, with m = b (lerp), a + b (add), "
       "1 - (1 - a)(1 - b) (screen, for 0..1 masks) or max(a, b). Without a mask the weight is factor.");

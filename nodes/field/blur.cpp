@@ -73,26 +73,28 @@ std::vector<double> triple_box_kernel(int f) {
 // alias onto the low ones the Gaussian keeps; measured, the response stays within 3e-4 of the peak of the
 // true Gaussian (tests/test_field_filters.cpp), as close as the truncated direct kernel. About 3 + 8 + 4
 // operations per sample whatever sigma.
-void blur_line_decimated(const float* in, float* out, int n, double sigma, BlurEdges edges) {
+void blur_line_decimated(const float* in, float* out, int n, double sigma, BlurEdges edges, long first) {
   int f = static_cast<int>(std::floor(sigma / 5.0));
   if (f % 2 == 0) --f;
   const double coarse_sigma = std::sqrt(sigma * sigma - 3.0 * (f * f - 1) / 12.0) / f;
   const int coarse_radius = static_cast<int>(std::ceil(4.0 * coarse_sigma));
   const std::vector<double> box = triple_box_kernel(f);
   const int half = static_cast<int>(box.size() / 2);  // 3 (f - 1) / 2
-  // Coarse sample m sits at full index f * (m - pad_coarse). pad_coarse coarse samples beyond each end
+  // Coarse samples sit on the global indices that are multiples of f: line index i is global first + i, and
+  // coarse sample m is at line index f * (m - pad_coarse) + shift. pad_coarse coarse samples beyond each end
   // cover the coarse kernel and the interpolation, so the coarse line's own edge rule never matters.
+  const int shift = static_cast<int>(((-first) % f + f) % f);
   const int pad_coarse = coarse_radius + 3;
   const int count = (n - 1) / f + 2 + 2 * pad_coarse;
-  // Full index i is stored at ext[i + pad]; the box kernel around coarse sample m then reads
-  // ext[f * m + t + f] for taps t = 0 .. 3f - 3.
-  const int pad = pad_coarse * f + half + f;
+  // Line index i is stored at ext[i + pad]; the box kernel around coarse sample m then reads
+  // ext[f * m + t + 2 f + shift] for taps t = 0 .. 3f - 3.
+  const int pad = pad_coarse * f + half + 2 * f;
   std::vector<double> ext;
   extend(in, n, pad, edges, ext);
   std::vector<double> acc(static_cast<std::size_t>(count), 0.0);
   for (std::size_t t = 0; t < box.size(); ++t) {  // tap by tap: no dependency chain, same order per sample
     const double wt = box[t];
-    const double* src = ext.data() + f + t;
+    const double* src = ext.data() + 2 * f + shift + t;
     for (int m = 0; m < count; ++m) acc[static_cast<std::size_t>(m)] += wt * src[static_cast<std::size_t>(f) * m];
   }
   std::vector<float> coarse(acc.begin(), acc.end()), blurred(coarse.size());
@@ -101,7 +103,8 @@ void blur_line_decimated(const float* in, float* out, int n, double sigma, BlurE
   std::vector<double> weights(static_cast<std::size_t>(f) * 4);
   for (int r = 0; r < f; ++r) catmull_rom_weights(static_cast<double>(r) / f, &weights[static_cast<std::size_t>(r) * 4]);
   for (int i = 0; i < n; ++i) {
-    const int k = i / f + pad_coarse, r = i % f;  // full index i lies at coarse k + r / f
+    const int q = i - shift + f;                  // >= 1
+    const int k = q / f - 1 + pad_coarse, r = q % f;  // line index i lies at coarse k + r / f
     const double* w = &weights[static_cast<std::size_t>(r) * 4];
     const float* c = &blurred[static_cast<std::size_t>(k - 1)];
     out[i] = static_cast<float>(w[0] * c[0] + w[1] * c[1] + w[2] * c[2] + w[3] * c[3]);
@@ -110,14 +113,14 @@ void blur_line_decimated(const float* in, float* out, int n, double sigma, BlurE
 
 }  // namespace
 
-void gaussian_blur_line(const float* in, float* out, int n, double sigma, BlurEdges edges) {
+void gaussian_blur_line(const float* in, float* out, int n, double sigma, BlurEdges edges, long first) {
   if (n <= 0) return;
   if (!(sigma > 1e-3) || n == 1) {
     std::copy(in, in + n, out);
   } else if (sigma <= kDirectMaxSigma) {
     blur_line_direct(in, out, n, sigma, edges);
   } else {
-    blur_line_decimated(in, out, n, sigma, edges);
+    blur_line_decimated(in, out, n, sigma, edges, first);
   }
 }
 
@@ -133,7 +136,7 @@ Heightfield gaussian_blur(const Heightfield& in, const BlurParams& p, const Exec
   };
   const double sx = in_samples(in.domain.spacing.x), sy = in_samples(in.domain.spacing.y);
   Heightfield tmp(in.domain), out(in.domain);
-  for_each_row(ctx, h, [&](int j) { gaussian_blur_line(&in.row(j)[0], &tmp.row(j)[0], w, sx, p.edges); }, 0.0, 0.5);
+  for_each_row(ctx, h, [&](int j) { gaussian_blur_line(&in.row(j)[0], &tmp.row(j)[0], w, sx, p.edges, in.domain.first.x); }, 0.0, 0.5);
   // Columns in blocks of adjacent ones, so each gathered row segment is one cache line.
   constexpr int kBlock = 16;
   const int blocks = (w + kBlock - 1) / kBlock;
@@ -143,7 +146,7 @@ Heightfield gaussian_blur(const Heightfield& in, const BlurParams& p, const Exec
     for (int j = 0; j < h; ++j)
       for (int i = i0; i < i1; ++i) col[static_cast<std::size_t>(i - i0) * h + j] = tmp.at(i, j);
     for (int i = i0; i < i1; ++i) {
-      gaussian_blur_line(&col[static_cast<std::size_t>(i - i0) * h], res.data(), h, sy, p.edges);
+      gaussian_blur_line(&col[static_cast<std::size_t>(i - i0) * h], res.data(), h, sy, p.edges, in.domain.first.y);
       for (int j = 0; j < h; ++j) out.at(i, j) = res[static_cast<std::size_t>(j)];
     }
   }, 0.5, 1.0);
@@ -151,6 +154,9 @@ Heightfield gaussian_blur(const Heightfield& in, const BlurParams& p, const Exec
 }
 
 OROGEN_NODE(Blur) {
+  b.version(2);  // 2: the decimated blur aligned to the global lattice (tile-exact)
+  b.reach([](const ParamView& p) { return Reach::local(blur_reach_metres(p.get<double>("sigma")), 2); },
+          "local: 5 sigma + 2 samples");
   b.category("field").description(
       "Gaussian blur with its standard deviation in metres, so the result does not depend on the resolution "
       "(separable; the sampled Gaussian up to 15 samples of sigma, beyond that a decimated evaluation as "

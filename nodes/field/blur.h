@@ -31,6 +31,13 @@ inline constexpr double kDirectMaxSigma = 15.0;  // samples
 Heightfield gaussian_blur(const Heightfield& in, const BlurParams& params, const ExecContext* ctx = nullptr);
 
 // One line filtered in place-independent buffers, `sigma` in samples (exposed for tests of the kernels).
-void gaussian_blur_line(const float* in, float* out, int n, double sigma_samples, BlurEdges edges);
+// `first` is the global lattice index of in[0] (Domain::first): the decimated evaluation places its coarse
+// samples on every f-th global index, so a line cut out of a longer one gives bit-identical results away
+// from its ends (tiling).
+void gaussian_blur_line(const float* in, float* out, int n, double sigma_samples, BlurEdges edges, long first = 0);
+
+// How far the blur reaches, in metres, for sigma in metres; with 2 more samples this bounds both
+// evaluations (direct: ceil(4 sigma) samples; decimated: under 4.9 sigma).
+inline double blur_reach_metres(double sigma) { return 5.0 * sigma; }
 
 }  // namespace orogen

@@ -53,6 +53,8 @@ std::shared_ptr<Image> color_ramp(const Heightfield& in, const GradientValue& gr
 }
 
 OROGEN_NODE(ColorRamp) {
+  b.reach([](const ParamView& p) { return p.get<std::string>("range") == "field" ? Reach::global() : Reach::pointwise(); },
+          "point-wise; global with range = field");
   b.category("field").description(
       "Colors a field through a gradient: t = (h - input_min) / (input_max - input_min) in 0..1 picks the "
       "color (beyond the ends, the end colors). The default gradient is a hypsometric tint (E. Imhof (1982), "

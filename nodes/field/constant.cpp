@@ -5,6 +5,7 @@
 namespace orogen {
 
 OROGEN_NODE(Constant) {
+  b.reach_pointwise();
   b.category("field").description("A flat field: every sample has the same value.");
   b.output("out", PortType::Heightfield).description("The constant field");
   b.param_float("value", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("Value of every sample");

@@ -29,13 +29,14 @@ std::shared_ptr<Heightfield> curvature_field(const Heightfield& z, CurvatureKind
 }
 
 OROGEN_NODE(Curvature) {
+  b.reach_local(0.0, 1);  // 3 x 3 stencil
   b.category("field").description(
       "Surface curvature in 1/m, positive on convex forms (summits, ridges, spurs) and negative on concave ones "
       "(valleys, hollows). profile: along the slope line (flow acceleration); plan: of the contour line "
       "(flow convergence, large near summits); tangential: plan curvature times the sine of the slope; "
       "mean: average of the principal curvatures. A sphere cap of radius R gives 1/R (plan: 1/rho).");
   b.input("in", PortType::Heightfield).description("Heights, metres");
-  b.output("out", PortType::Heightfield).description("Curvature, 1/m");
+  b.output("out", PortType::Heightfield).description("Curvature, 1/m").kind(OutputKind::Signed);
   b.param_enum("type", {"profile", "plan", "tangential", "mean"}, "profile").description("Which curvature");
   b.execute([](ExecContext& ctx) {
     const auto z = ctx.require<Heightfield>("in");

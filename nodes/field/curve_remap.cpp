@@ -19,6 +19,8 @@ std::shared_ptr<Heightfield> curve_remap(const Heightfield& in, const CurveValue
 }
 
 OROGEN_NODE(Curve) {
+  b.reach([](const ParamView& p) { return p.get<std::string>("range") == "field" ? Reach::global() : Reach::pointwise(); },
+          "point-wise; global with range = field");
   b.category("field").description(
       "Reshapes values through a monotone cubic curve (Fritsch-Carlson: no overshoot, monotone points give a "
       "monotone result). Values are normalized to t = (h - lo) / (hi - lo) in [0, 1], mapped through the curve "

@@ -33,11 +33,12 @@ Heightfield linear_gradient(const LinearGradientParams& params, const Domain& do
 // --- node ---
 
 OROGEN_NODE(LinearGradient) {
+  b.reach_pointwise();
   b.category("field").description(
       "A linear ramp in world space: the value goes from 'from' to 'to' along the direction 'angle', across "
       "the span that begins at 'start' and is 'length' metres long. Before the span the value is 'from', after "
       "it 'to' (clamped). Resolution independent.");
-  b.output("out", PortType::Heightfield).description("The ramp, metres");
+  b.output("out", PortType::Heightfield).description("The ramp, metres").kind(OutputKind::Height);
   b.param_float("from", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description(
       "Value at the start of the span and before it");
   b.param_float("to", 100.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description(

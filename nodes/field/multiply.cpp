@@ -29,6 +29,7 @@ Heightfield multiply_fields(const Heightfield& a, const Heightfield& b, const Mu
 // --- node ---
 
 OROGEN_NODE(Multiply) {
+  b.reach_pointwise();
   b.category("field").description(
       "Product of two fields: out = scale * a * b, on a's domain (masking, modulation). If b is sampled on a "
       "different domain it is resampled onto a's bilinearly (values beyond b's rectangle repeat its border).");

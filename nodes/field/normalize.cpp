@@ -17,6 +17,7 @@ std::shared_ptr<Heightfield> normalize_field(const Heightfield& in, double lo, d
 }
 
 OROGEN_NODE(Normalize) {
+  b.reach_global();  // the range of the whole domain
   b.category("field").description(
       "Stretches a field linearly so that its lowest sample becomes `min` and its highest `max` (a height "
       "range in metres, or 0..1 for a mask). Depends on the whole requested domain, so a tile and the full "

@@ -30,6 +30,7 @@ std::shared_ptr<Image> normal_map(const Heightfield& z, double height_scale, boo
 }
 
 OROGEN_NODE(Normals) {
+  b.reach_local(0.0, 1);  // central differences
   b.category("field").description(
       "Unit surface normals as a 3-channel image (X east, Y north, Z up), from the gradient in world units. "
       "The unsigned encoding (n * 0.5 + 0.5) is the usual normal-map texture for 8/16-bit image files.");

@@ -7,6 +7,7 @@
 namespace orogen {
 
 OROGEN_NODE(Power) {
+  b.reach_pointwise();
   b.category("field").description(
       "Sign-preserving power about a pivot: out = pivot + scale * sign(t) * |t|^exponent, t = (h - pivot) / "
       "scale. With pivot 0, scale 1 and exponent 1.5 it is the elevation redistribution of A. Patel (2015), "

@@ -29,6 +29,7 @@ std::shared_ptr<Heightfield> radial_falloff(const Domain& domain, const RadialFa
 }
 
 OROGEN_NODE(RadialFalloff) {
+  b.reach_pointwise();
   b.category("shape").description(
       "Island mask: profile(clamp(d / radius, 0, 1)) with d the distance from the center in metres, plus the "
       "optional distance_offset field (connect noise in metres for a ragged coastline). The default profile "
@@ -36,7 +37,7 @@ OROGEN_NODE(RadialFalloff) {
       "subtract an offset scaled by its inverse, to sink the map's edges into the sea.");
   b.input("distance_offset", PortType::Heightfield).optional()
       .description("Metres added to the distance from the center (resampled onto the requested domain)");
-  b.output("out", PortType::Heightfield).description("Falloff mask, normally 0..1");
+  b.output("out", PortType::Heightfield).description("Falloff mask, normally 0..1").kind(OutputKind::Mask);
   b.param_vec2("center", {512.0, 512.0}).range(-1e7, 1e7).unit("m").description("World position of the center");
   b.param_float("radius", 480.0).range(1e-3, 1e7).soft_range(10.0, 10000.0).unit("m")
       .description("Distance at which the profile reaches its end (t = 1)");

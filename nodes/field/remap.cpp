@@ -7,6 +7,7 @@
 namespace orogen {
 
 OROGEN_NODE(Remap) {
+  b.reach_pointwise();
   b.category("field").description(
       "Maps values linearly from an input range to an output range: in_min -> out_min, in_max -> out_max "
       "(reversed ranges invert). Values outside the input range extrapolate unless clamp is on.");

@@ -7,6 +7,7 @@
 namespace orogen {
 
 OROGEN_NODE(Terrace) {
+  b.reach_pointwise();
   b.category("field").description(
       "Stepped terraces (mesas, rice paddies, strata). mode 'count': `levels` equal steps between range_min and "
       "range_max, identity outside; mode 'spacing': a level every `spacing` metres starting at `offset`, "

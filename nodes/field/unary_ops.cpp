@@ -8,6 +8,7 @@
 namespace orogen {
 
 OROGEN_NODE(Invert) {
+  b.reach_pointwise();
   b.category("field").description("Mirrors heights about a pivot: out = 2 * pivot - h (pivot 0 gives -h). "
                                    "Turns ridges into valleys and a 0..1 mask m into 1 - m with pivot 0.5.");
   b.input("in", PortType::Heightfield).description("Field to invert");
@@ -22,6 +23,7 @@ OROGEN_NODE(Invert) {
 }
 
 OROGEN_NODE(Abs) {
+  b.reach_pointwise();
   b.category("field").description("Absolute value |h| of every sample (folds valleys up into ridges).");
   b.input("in", PortType::Heightfield).description("Field");
   b.output("out", PortType::Heightfield).description("|in|");
@@ -32,6 +34,7 @@ OROGEN_NODE(Abs) {
 }
 
 OROGEN_NODE(Clamp) {
+  b.reach_pointwise();
   b.category("field").description("Limits every sample to [min, max].");
   b.input("in", PortType::Heightfield).description("Field to clamp");
   b.output("out", PortType::Heightfield).description("min(max(in, min), max)");

@@ -26,6 +26,7 @@ std::shared_ptr<Heightfield> warp_field(const Heightfield& in, const Heightfield
 }
 
 OROGEN_NODE(Warp) {
+  b.reach_global();  // the displacement, read from the dx/dy fields, is unbounded
   b.category("field").description(
       "Domain warp by fields: out(x, y) = in(x + strength * dx, y + strength * dy), with the displacements in "
       "metres and bicubic (Catmull-Rom) lookups clamped at the edges. Feed noise into dx and dy for "

@@ -10,6 +10,7 @@
 namespace orogen {
 
 OROGEN_NODE(HeightfieldToMesh) {
+  b.reach_global();
   b.category("geometry").version(2).description(
       "Turns a heightfield into a triangle mesh in world coordinates (x, y, z = height, metres, z up): one "
       "vertex per sample, two triangles per cell, vertex normals of the surface, and vertex colors from the "

@@ -164,6 +164,7 @@ FloodFillResult flood_fill(const Heightfield& in, const FloodFillParams& p, cons
 }
 
 OROGEN_NODE(FillDepressions) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "Removes closed depressions so every cell drains to the border: Priority-Flood (Barnes, Lehman & Mulla "
       "2014, 'Priority-Flood: an optimal depression-filling and watershed-labeling algorithm') with the slope "
@@ -174,8 +175,8 @@ OROGEN_NODE(FillDepressions) {
       "(filled water) come out as a depth and an id per lake.");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Filled or carved height, metres");
-  b.output("depth", PortType::Heightfield).description("Water depth of the kept lakes (flat surface minus ground), metres");
-  b.output("lake_id", PortType::Heightfield).description("Lake number 1, 2, ... (row-major order of first cell), 0 on dry ground");
+  b.output("depth", PortType::Heightfield).description("Water depth of the kept lakes (flat surface minus ground), metres").kind(OutputKind::WaterDepth);
+  b.output("lake_id", PortType::Heightfield).description("Lake number 1, 2, ... (row-major order of first cell), 0 on dry ground").kind(OutputKind::Scalar);
   b.param_enum("mode", {"fill", "carve"}, "fill").description("fill: raise depressions to their spill level; carve: breach a channel out of them");
   b.param_enum("flats", {"epsilon", "flat"}, "epsilon")
       .description("epsilon: filled areas drain with a minimal gradient; flat: filled areas are exactly level");
@@ -192,14 +193,15 @@ OROGEN_NODE(FillDepressions) {
 }
 
 OROGEN_NODE(Lakes) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "Every closed depression as a lake filled to its spill level (Priority-Flood, Barnes, Lehman & Mulla 2014): "
       "a flat water surface, its depth and a lake id; depressions shallower than min_depth or smaller than "
       "min_area stay dry.");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Water surface on lakes, ground elsewhere, metres");
-  b.output("depth", PortType::Heightfield).description("Water depth, metres");
-  b.output("lake_id", PortType::Heightfield).description("Lake number 1, 2, ..., 0 on dry ground");
+  b.output("depth", PortType::Heightfield).description("Water depth, metres").kind(OutputKind::WaterDepth);
+  b.output("lake_id", PortType::Heightfield).description("Lake number 1, 2, ..., 0 on dry ground").kind(OutputKind::Scalar);
   b.param_float("min_depth", 0.0).range(0.0, 1e5).soft_range(0.0, 50.0).unit("m")
       .description("Depressions whose deepest point is shallower than this are not lakes");
   b.param_float("min_area", 0.0).range(0.0, 1e12).soft_range(0.0, 1e6).unit("m^2")
@@ -214,14 +216,15 @@ OROGEN_NODE(Lakes) {
 }
 
 OROGEN_NODE(FloodFill) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "A lake from a seed point (Long 2016, 'Using procedural methods to generate realistic virtual rural worlds', section 3.4): every cell 8-connected to the seed "
       "whose ground lies below the water level is flooded, with a flat surface. The level is given, or is the "
       "spill level of the seed's depression (the lowest rim point, from Priority-Flood, Barnes et al. 2014).");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Water surface in the lake, ground elsewhere, metres");
-  b.output("depth", PortType::Heightfield).description("Water depth, metres (0 outside the lake)");
-  b.output("mask", PortType::Heightfield).description("1 in the lake, 0 elsewhere");
+  b.output("depth", PortType::Heightfield).description("Water depth, metres (0 outside the lake)").kind(OutputKind::WaterDepth);
+  b.output("mask", PortType::Heightfield).description("1 in the lake, 0 elsewhere").kind(OutputKind::Mask);
   b.param_vec2("seed", glm::dvec2(0.0, 0.0)).range(-1e7, 1e7).unit("m").description("World position the lake grows from");
   b.param_enum("level_mode", {"spill", "level"}, "spill")
       .description("spill: fill to the depression's spill level; level: fill to the given level");

@@ -225,6 +225,7 @@ DrainageReport drainage_metrics(const Heightfield& in, double threshold, const E
 }
 
 OROGEN_NODE(DrainageMetrics) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "Realism figures of a terrain's drainage, to compare with real basins: undrained pits per million cells, "
       "in all and outside lakes (a lake is a depression of the Priority-Flood fill at least lake_depth deep and "
@@ -235,7 +236,7 @@ OROGEN_NODE(DrainageMetrics) {
       "theta of Flint's slope-area law S = ks A^-theta (Flint 1974; 0.35-0.6) with the R^2 of its fit on "
       "log-binned means (0.1 decade bins). The figures are a JSON report (orogen eval --stats lists it).");
   b.input("in", PortType::Heightfield).description("Height, metres");
-  b.output("out", PortType::Heightfield).description("Strahler order of channel cells, 0 elsewhere");
+  b.output("out", PortType::Heightfield).description("Strahler order of channel cells, 0 elsewhere").kind(OutputKind::Scalar);
   b.output("report", PortType::Report).description("The figures as a JSON object");
   b.param_float("threshold", 1e5).range(1.0, 1e14).soft_range(1e3, 1e8).unit("m^2")
       .description("Contributing area at which a channel starts");

@@ -130,6 +130,7 @@ WatershedResult watersheds(const Heightfield& in, bool fill, double min_area, co
 }
 
 OROGEN_NODE(FlowAccumulation) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "Upslope contributing area of every cell in m^2, optionally weighted by a rainfall field, routed with D8, "
       "D-infinity or multiple flow directions; depressions are filled first (Priority-Flood+epsilon, Barnes et al. "
@@ -139,9 +140,9 @@ OROGEN_NODE(FlowAccumulation) {
       "'Parallel non-divergent flow accumulation for trillion cell digital elevation models').");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.input("rainfall", PortType::Heightfield).optional().description("Relative rainfall per cell (unitless weight, 1 = nominal)");
-  b.output("out", PortType::Heightfield).description("Accumulated (rainfall-weighted) upslope area, m^2, the cell included");
-  b.output("flow", PortType::Heightfield).description("Normalised log flow map in [0, 1]");
-  b.output("wetness", PortType::Heightfield).description("Topographic wetness index ln(a / tan beta), a in metres");
+  b.output("out", PortType::Heightfield).description("Accumulated (rainfall-weighted) upslope area, m^2, the cell included").kind(OutputKind::Scalar);
+  b.output("flow", PortType::Heightfield).description("Normalised log flow map in [0, 1]").kind(OutputKind::Mask);
+  b.output("wetness", PortType::Heightfield).description("Topographic wetness index ln(a / tan beta), a in metres").kind(OutputKind::Scalar);
   b.param_enum("method", {"d8", "dinf", "mfd"}, "mfd").description(kMethodDoc);
   b.param_float("exponent", 1.1).range(0.1, 100.0).soft_range(1.0, 10.0)
       .description("MFD only: proportions follow tan(beta)^exponent (1.1 Freeman 1991; larger converges to D8)");
@@ -168,15 +169,16 @@ OROGEN_NODE(FlowAccumulation) {
 }
 
 OROGEN_NODE(FlowDirection) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "Direction water leaves each cell: the proportion-weighted mean of the receiver directions for D8 "
       "(O'Callaghan & Mark 1984), D-infinity (Tarboton 1997) or MFD (Freeman 1991, Holmgren 1994), as an angle "
       "and a unit vector, plus the steepest-descent slope tan(beta) in world units.");
   b.input("in", PortType::Heightfield).description("Height, metres");
-  b.output("out", PortType::Heightfield).description("Flow angle, degrees counter-clockwise from +x in [0, 360); -1 where nothing drains (border, pits)");
-  b.output("dx", PortType::Heightfield).description("x component of the unit flow vector (0 where nothing drains)");
-  b.output("dy", PortType::Heightfield).description("y component of the unit flow vector (0 where nothing drains)");
-  b.output("slope", PortType::Heightfield).description("tan(beta) of the steepest descent, m/m");
+  b.output("out", PortType::Heightfield).description("Flow angle, degrees counter-clockwise from +x in [0, 360); -1 where nothing drains (border, pits)").kind(OutputKind::Scalar);
+  b.output("dx", PortType::Heightfield).description("x component of the unit flow vector (0 where nothing drains)").kind(OutputKind::Signed);
+  b.output("dy", PortType::Heightfield).description("y component of the unit flow vector (0 where nothing drains)").kind(OutputKind::Signed);
+  b.output("slope", PortType::Heightfield).description("tan(beta) of the steepest descent, m/m").kind(OutputKind::Scalar);
   b.param_enum("method", {"d8", "dinf", "mfd"}, "d8").description(kMethodDoc);
   b.param_float("exponent", 1.1).range(0.1, 100.0).soft_range(1.0, 10.0).description("MFD only: proportions follow tan(beta)^exponent");
   b.param_bool("fill", true).description("Fill depressions (epsilon) first, so every cell but the border drains");
@@ -191,13 +193,14 @@ OROGEN_NODE(FlowDirection) {
 }
 
 OROGEN_NODE(Watersheds) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "Drainage basins: every cell labelled with the outlet its D8 flow reaches (border cells and, without "
       "filling, pits), by Priority-Flood filling (Barnes, Lehman & Mulla 2014) and the receiver tree (Braun & "
       "Willett 2013). Basins are numbered by decreasing area; those under min_area get 0.");
   b.input("in", PortType::Heightfield).description("Height, metres");
-  b.output("out", PortType::Heightfield).description("Basin number 1, 2, ... by decreasing area; 0 for basins under min_area");
-  b.output("area", PortType::Heightfield).description("Area of the cell's basin, m^2");
+  b.output("out", PortType::Heightfield).description("Basin number 1, 2, ... by decreasing area; 0 for basins under min_area").kind(OutputKind::Scalar);
+  b.output("area", PortType::Heightfield).description("Area of the cell's basin, m^2").kind(OutputKind::Scalar);
   b.param_bool("fill", true).description("Fill depressions first, so basins end at the border, not at pits");
   b.param_float("min_area", 0.0).range(0.0, 1e14).soft_range(0.0, 1e7).unit("m^2").description("Smaller basins are labelled 0");
   b.execute([](ExecContext& ctx) {

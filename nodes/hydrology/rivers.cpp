@@ -164,6 +164,7 @@ RiverResult extract_rivers(const Heightfield& in, const Heightfield* rainfall, c
 }
 
 OROGEN_NODE(RiverExtract) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "Rivers: cells whose contributing area (D8 on the Priority-Flood+epsilon filled terrain, Barnes et al. 2014) "
       "exceeds a threshold, vectorised into one polyline per reach (source or confluence to the next confluence or "
@@ -174,7 +175,7 @@ OROGEN_NODE(RiverExtract) {
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.input("rainfall", PortType::Heightfield).optional().description("Relative rainfall per cell (unitless weight, 1 = nominal)");
   b.output("out", PortType::Curves).description("River reaches; attributes discharge (m^3/s), area (m^2), order");
-  b.output("mask", PortType::Heightfield).description("River coverage in [0, 1], drawn with the river width");
+  b.output("mask", PortType::Heightfield).description("River coverage in [0, 1], drawn with the river width").kind(OutputKind::Mask);
   b.param_float("threshold", 1e5).range(1.0, 1e14).soft_range(1e3, 1e8).unit("m^2")
       .description("Contributing area at which a channel starts");
   b.param_float("runoff", 10.0).range(0.0, 1000.0).soft_range(0.0, 100.0).unit("mm/h")

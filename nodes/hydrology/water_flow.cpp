@@ -122,6 +122,7 @@ WaterFlowResult water_flow(const Heightfield& in, const Heightfield* rainfall, c
 }
 
 OROGEN_NODE(WaterFlow) {
+  b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
       "Where rain water settles: rainfall minus infiltration as the initial water, then repeated 8-neighbour "
       "redistribution on the water surface (after Long 2016, 'Using procedural methods to generate realistic "
@@ -132,8 +133,8 @@ OROGEN_NODE(WaterFlow) {
   b.input("in", PortType::Heightfield).description("Terrain height, metres");
   b.input("rainfall", PortType::Heightfield).optional().description("Rainfall per cell, mm (replaces the rainfall parameter)");
   b.input("sinks", PortType::Heightfield).optional().description("Cells above 0.5 drain (sea, swallow holes)");
-  b.output("out", PortType::Heightfield).description("Water depth, metres");
-  b.output("flux", PortType::Heightfield).description("Water volume that flowed out of each cell over the run, m^3");
+  b.output("out", PortType::Heightfield).description("Water depth, metres").kind(OutputKind::WaterDepth);
+  b.output("flux", PortType::Heightfield).description("Water volume that flowed out of each cell over the run, m^3").kind(OutputKind::Scalar);
   b.output("report", PortType::Report).description("Water balance: rain, stored, border outflow, sink inflow (m^3), iterations");
   b.param_float("rainfall", 50.0).range(0.0, 1e5).soft_range(0.0, 500.0).unit("mm").description("Uniform rainfall when no field is connected");
   b.param_float("infiltration", 10.0).range(0.0, 1e5).soft_range(0.0, 200.0).unit("mm").description("Soaked into the soil before any flow");

@@ -1,4 +1,5 @@
 #include "nodes/io/heightfield_file.h"
+#include "nodes/io/file_timestamp.h"
 
 #include <algorithm>
 #include <charconv>
@@ -273,6 +274,7 @@ std::optional<HeightRange> write_heightfield_file(const Heightfield& h, const fs
   OIIO::ImageSpec spec(h.width(), h.height(), 1, is_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT16);
   spec.channelnames = {"Y"};
   spec.attribute("Software", "Orogen");
+  spec.attribute("DateTime", file_timestamp());  // never the time of writing: reproducible files
   std::string description = "Orogen heightfield; ";
   set_compression(spec, options.format == HeightFormat::Exr ? "openexr" : is_float ? "tiff" : "png",
                   options.compression_level);

@@ -1,4 +1,5 @@
 #include "nodes/io/image_file.h"
+#include "nodes/io/file_timestamp.h"
 
 #include <algorithm>
 #include <cmath>
@@ -136,6 +137,7 @@ void write_image_file(const Image& image, const fs::path& path, const ImageWrite
   spec.channelnames = static_cast<int>(image.channel_names.size()) == n ? image.channel_names : default_channel_names(n);
   spec.alpha_channel = png ? alpha_channel(n) : -1;
   spec.attribute("Software", "Orogen");
+  spec.attribute("DateTime", file_timestamp());  // never the time of writing: reproducible files
   spec.attribute("oiio:UnassociatedAlpha", 1);  // our alpha is straight: store it as is
   set_compression(spec, png ? "png" : options.format == ImageFormat::Exr ? "openexr" : "tiff", options.compression_level);
   spec.attribute("oiio:ColorSpace", png && options.srgb ? "sRGB" : "Linear");

@@ -11,22 +11,28 @@
 namespace orogen {
 
 OROGEN_NODE(ReadHeightfield) {
+  b.reach([](const ParamView& p) {
+    // Spread over the request by default: what a sample reads then depends on the whole requested domain.
+    return p.get<glm::dvec2>("size") == glm::dvec2(0.0) ? Reach::global() : Reach::pointwise();
+  }, "global (the image spans the requested domain); point-wise when size is set");
   b.category("io").description(
       "Reads a heightfield from an EXR, PNG (8 or 16-bit), TIFF or RAW 16-bit file and resamples it "
-      "(bilinear) to the requested domain. The image's pixel centers span the world rectangle "
-      "[origin, origin + size] edge to edge, the first file row being the northern one (largest y); samples "
-      "outside the rectangle repeat its edge. Unsigned integer pixels are mapped to heights through "
+      "(bilinear) to the requested domain. By default the image covers the requested domain exactly (its "
+      "pixel centres span the domain's rectangle edge to edge); set `size` (and `origin`) to place it on a "
+      "fixed world rectangle instead. The first file row is the northern one (largest y); samples outside the "
+      "image's rectangle repeat its edge. Unsigned integer pixels are mapped to heights through "
       "height_min/height_max (or the mapping WriteHeightfield stored in the file); float and signed integer "
       "pixels are heights in metres. RAW files must be square.");
-  b.output("out", PortType::Heightfield).description("The heightfield on the requested domain, metres");
+  b.output("out", PortType::Heightfield).description("The heightfield on the requested domain, metres").kind(OutputKind::Height);
   b.param_path("path", "").extensions({".exr", ".png", ".tif", ".tiff", ".raw", ".r16"}).description(
-      "Image file to read. A relative path is resolved against the current working directory (not the output "
-      "directory)");
+      "Image file to read. A relative path is resolved against the directory of the graph file (not the "
+      "current directory, not the output directory)");
   b.param_int("channel", 0).range(0, 63).description("Channel of the image to read (0 = first)");
   b.param_vec2("origin", {0.0, 0.0}).range(-1e7, 1e7).unit("m").description(
-      "World position of the south-west pixel center (first column, last file row)");
-  b.param_vec2("size", {1024.0, 1024.0}).range(1e-3, 1e7).unit("m").description(
-      "World extent from the first to the last pixel center in x and y");
+      "With size set: world position of the south-west pixel center (first column, last file row)");
+  b.param_vec2("size", {0.0, 0.0}).range(0.0, 1e7).unit("m").description(
+      "World extent from the first to the last pixel center in x and y; [0, 0] (the default): the requested "
+      "domain's, at its origin");
   b.param_float("height_min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description(
       "Height of pixel value 0 in integer formats (and of 0.0 in float formats when remap_float is on)");
   b.param_float("height_max", 1000.0).range(-1e6, 1e6).soft_range(-1000, 9000).unit("m").description(
@@ -39,11 +45,17 @@ OROGEN_NODE(ReadHeightfield) {
       "When the file carries the height mapping WriteHeightfield records (PNG, EXR, TIFF metadata), use it "
       "instead of height_min/height_max");
   b.execute([](ExecContext& ctx) {
-    const std::string& path = ctx.param<std::string>("path");
-    if (path.empty()) throw NodeError("no file given: set 'path' to the image to read");
+    if (ctx.param<std::string>("path").empty()) throw NodeError("no file given: set 'path' to the image to read");
+    const std::filesystem::path path = ctx.input_path("path");
     HeightfieldReadOptions options;
     options.origin = ctx.param<glm::dvec2>("origin");
     options.size = ctx.param<glm::dvec2>("size");
+    if (options.size == glm::dvec2(0.0)) {
+      options.origin = ctx.domain().min_corner();
+      options.size = glm::max(ctx.domain().size(), glm::dvec2(1e-9));  // a single row or column: a line
+    } else if (!(options.size.x > 0.0 && options.size.y > 0.0)) {
+      throw NodeError("size must be [0, 0] (the requested domain) or positive in both x and y");
+    }
     options.range = {ctx.param<double>("height_min"), ctx.param<double>("height_max")};
     options.remap_float = ctx.param<bool>("remap_float");
     options.use_file_mapping = ctx.param<bool>("use_file_mapping");

@@ -7,6 +7,7 @@
 namespace orogen {
 
 OROGEN_NODE(WriteCurves) {
+  b.reach_global();  // writes the whole input
   b.category("io").writes_files().description(
       "Writes curves (rivers, feature curves) inside the output directory, atomically: GeoJSON-like JSON (a "
       "FeatureCollection of LineStrings in world metres with z, properties index, parent, per-vertex width and "

@@ -7,6 +7,7 @@
 namespace orogen {
 
 OROGEN_NODE(WriteHeightfield) {
+  b.reach_global();
   b.category("io").writes_files().description(
       "Writes a heightfield to a file inside the output directory, atomically (a failed or cancelled write "
       "leaves the previous file untouched). Formats: EXR (float32 metres), PNG (16-bit gray), RAW (16-bit "

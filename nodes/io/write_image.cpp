@@ -7,6 +7,7 @@
 namespace orogen {
 
 OROGEN_NODE(WriteImage) {
+  b.reach_global();
   b.category("io").writes_files().description(
       "Writes an image (color map, splat weights, ...) to a file inside the output directory, atomically. "
       "PNG (8 or 16-bit, 1 to 4 channels, values clamped to 0..1, color channels sRGB-encoded by default), "

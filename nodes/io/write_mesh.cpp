@@ -10,6 +10,7 @@
 namespace orogen {
 
 OROGEN_NODE(WriteMesh) {
+  b.reach_global();
   b.category("io").writes_files().description(
       "Writes a mesh to OBJ, PLY or STL inside the output directory, atomically (through OpenMesh). Vertex "
       "normals go to OBJ and PLY, vertex colors to PLY (sRGB 8-bit); STL has face normals only. OBJ also gets "

@@ -7,6 +7,7 @@
 namespace orogen {
 
 OROGEN_NODE(WritePoints) {
+  b.reach_global();
   b.category("io").writes_files().description(
       "Writes points (scatter results, sources, ...) to CSV or ASCII PLY inside the output directory, "
       "atomically. Columns: x, y, z (metres, z up), qw, qx, qy, qz (rotation quaternion), sx, sy, sz (scale), "

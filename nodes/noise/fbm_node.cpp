@@ -12,6 +12,7 @@ constexpr Basis kFbmBases[] = {Basis::Perlin, Basis::Simplex, Basis::Value, Basi
 }  // namespace
 
 OROGEN_NODE(FBM) {
+  b.reach_pointwise();
   b.category("noise").description(
       "Fractal noise: octaves of a basis at frequencies lacunarity^k / feature_size and amplitudes gain^k, "
       "combined as fbm, ridged or hybrid multifractal, billow, or a multifractal whose octave weights "
@@ -26,7 +27,7 @@ OROGEN_NODE(FBM) {
   b.input("amplitude", PortType::Heightfield)
       .optional()
       .description("Multiplies the output per sample (002's amplitude map A), in every mode");
-  b.output("out", PortType::Heightfield).description("The fractal noise, in metres");
+  b.output("out", PortType::Heightfield).description("The fractal noise, in metres").kind(OutputKind::Height);
   b.param_enum("basis", {"perlin", "simplex", "value", "worley"}, "perlin")
       .description("Noise of each octave; worley uses F1 (Euclidean, jitter 1)");
   b.param_enum("mode", {"fbm", "ridged", "billow", "hybrid", "multifractal"}, "fbm")

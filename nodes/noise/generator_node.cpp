@@ -29,7 +29,7 @@ void declare_lattice_generator(NodeBuilder& b, const char* description, const ch
                                LatticeGenerator generate) {
   b.category("noise").description(description);
   declare_warp_inputs(b);
-  b.output("out", PortType::Heightfield).description("The noise, in metres");
+  b.output("out", PortType::Heightfield).description("The noise, in metres").kind(OutputKind::Height);
   declare_feature_size(b, 256.0, feature_size_description);
   declare_amplitude(b, 100.0, "Output scale: the noise spans [-amplitude, amplitude]");
   declare_seed(b);

@@ -6,6 +6,7 @@
 namespace orogen::noise {
 
 OROGEN_NODE(Perlin) {
+  b.reach_pointwise();
   declare_lattice_generator(
       b,
       "Improved Perlin gradient noise (quintic fade, 16 unit gradients at 22.5-degree steps): smooth "

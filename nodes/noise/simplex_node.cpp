@@ -6,6 +6,7 @@
 namespace orogen::noise {
 
 OROGEN_NODE(Simplex) {
+  b.reach_pointwise();
   declare_lattice_generator(
       b,
       "2D simplex noise (skew F2 = (sqrt3-1)/2, unskew G2 = (3-sqrt3)/6, corner radius sqrt(1/2)): "

@@ -6,6 +6,7 @@
 namespace orogen::noise {
 
 OROGEN_NODE(Value) {
+  b.reach_pointwise();
   declare_lattice_generator(
       b,
       "Value noise: random heights in [-1, 1] at lattice points blended with a quintic fade, times "

@@ -6,6 +6,7 @@
 namespace orogen::noise {
 
 OROGEN_NODE(White) {
+  b.reach_pointwise();
   declare_lattice_generator(
       b,
       "White (cell) noise: one independent random value in [-1, 1] per square cell of side "

@@ -6,12 +6,13 @@
 namespace orogen::noise {
 
 OROGEN_NODE(Worley) {
+  b.reach_pointwise();
   b.category("noise").description(
       "Worley (cellular) noise: distances to the nearest feature points, one point per cell of side "
       "feature_size. Exact for every metric, output and jitter (the search covers every cell that can hold "
       "one of the four nearest points). S. Worley (1996), \"A cellular texture basis function\", SIGGRAPH.");
   declare_warp_inputs(b);
-  b.output("out", PortType::Heightfield).description("The chosen distance function times amplitude, in metres");
+  b.output("out", PortType::Heightfield).description("The chosen distance function times amplitude, in metres").kind(OutputKind::Height);
   declare_feature_size(b, 256.0, "Spacing of the feature points (lattice cell size)");
   declare_amplitude(b, 100.0, "Metres per lattice cell of distance (F1 * F2: per square cell)");
   b.param_enum("metric", {"euclidean", "manhattan", "chebyshev"}, "euclidean")

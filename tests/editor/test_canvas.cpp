@@ -75,6 +75,40 @@ TEST(NodeLayout, PinsSitOnTheEdgesInDeclarationOrder) {
   EXPECT_LT(l.inputs[1].position.y, l.status.min.y);
 }
 
+TEST(NodeLayout, ThumbnailsBetweenPinsAndStatusForFieldOutputsOnly) {
+  const Graph g = test::chain_graph();
+  const NodeLayout plain = layout_node(g.at("mid"), {100, 200});
+  const NodeLayout with = layout_node(g.at("mid"), {100, 200}, monospace_width, true);
+  EXPECT_FALSE(plain.thumbnail);
+  ASSERT_TRUE(with.thumbnail);
+  EXPECT_NEAR(with.rect.size().y - plain.rect.size().y, NodeMetrics::kThumbnailHeight + 6.0, 1e-9);
+  EXPECT_GT(with.thumbnail->min.y, with.inputs.back().position.y);
+  EXPECT_LE(with.thumbnail->max.y, with.status.min.y);
+  EXPECT_GE(with.thumbnail->min.x, with.rect.min.x);
+  EXPECT_LE(with.thumbnail->max.x, with.rect.max.x);
+  EXPECT_EQ(with.inputs[1].position, plain.inputs[1].position) << "pins stay where they were";
+  EXPECT_FALSE(layout_node(g.at("scatter"), {0, 0}, monospace_width, true).thumbnail) << "points: no picture";
+}
+
+TEST(NodeLayout, RoomForThumbnailsWithoutOverlaps) {
+  Graph g = test::chain_graph();
+  // Stacked as tightly as nodes without thumbnails allow.
+  g.editor.positions = {{"src", {0, 0}}, {"mid", {20, 90}}, {"out", {0, 180}}, {"scatter", {600, 95}}};
+  const Graph before = g;
+  EXPECT_EQ(make_room_for_thumbnails(g), 2u);  // mid and out move; scatter is in another column
+  std::vector<Rect> rects;
+  for (const auto& n : g.nodes()) rects.push_back(layout_node(n, g.editor.positions.at(n.id), monospace_width, true).rect);
+  for (std::size_t a = 0; a < rects.size(); ++a)
+    for (std::size_t b = a + 1; b < rects.size(); ++b) EXPECT_FALSE(rects[a].overlaps(rects[b])) << a << " " << b;
+  for (const auto& [id, p] : g.editor.positions) {
+    EXPECT_EQ(p.x, before.editor.positions.at(id).x) << id;  // only downwards
+    EXPECT_GE(p.y, before.editor.positions.at(id).y) << id;
+  }
+  EXPECT_EQ(g.editor.positions.at("src"), glm::dvec2(0, 0));
+  EXPECT_EQ(g.editor.positions.at("scatter"), glm::dvec2(600, 95));
+  EXPECT_EQ(make_room_for_thumbnails(g), 0u) << "a second pass has nothing to do";
+}
+
 TEST(CanvasLayout, HitTestingNodesPinsAndBoxes) {
   const Graph g = test::chain_graph();
   const CanvasLayout layout(g);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "editor/model/document.h"
+#include "editor/model/evaluation_controller.h"
 #include "graph/graph_file.h"
 #include "support/editor_test_support.h"
 
@@ -111,19 +112,52 @@ TEST(Document, SaveReopenCompare) {
   EXPECT_EQ(serialize_graph(reopened.graph()), serialize_graph(doc.graph()));
   EXPECT_FALSE(reopened.dirty());
   EXPECT_EQ(reopened.path(), dir / "saved.json");
+  // Relative input paths resolve beside the file, before and after reopening it.
+  EXPECT_EQ(doc.graph().directory, dir.lexically_normal());
+  EXPECT_EQ(reopened.graph().directory, dir.lexically_normal());
 }
 
-TEST(Document, OpenReportsLoaderDiagnostics) {
+TEST(Document, OpenReportsWhatCannotBeReadAtAll) {
   const auto dir = test::scratch_dir("bad");
   {
-    std::ofstream(dir / "bad.json") << R"({"format": "orogen-graph", "version": 1, "nodes": [{"id": "a", "type": "EdSorce"}]})";
+    std::ofstream(dir / "bad.json") << R"({"format": "orogen-graph", "version": 99, "nodes": []})";
   }
   try {
     Document::open(dir / "bad.json");
     FAIL() << "expected an error";
   } catch (const DocumentError& e) {
-    EXPECT_NE(std::string(e.what()).find("EdSource"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("version"), std::string::npos) << e.what();
   }
+}
+
+TEST(Document, ABrokenFileOpensWithItsProblemsOnTheNodes) {
+  const auto dir = test::scratch_dir("broken");
+  {
+    std::ofstream(dir / "broken.json") << R"({"format": "orogen-graph", "version": 1, "nodes": [
+      {"id": "src", "type": "EdSource", "params": {"height": 1e9}},
+      {"id": "a", "type": "EdSorce"},
+      {"id": "mid", "type": "EdBlend", "inputs": {"a": "src.out", "b": "a.out"}},
+      {"id": "pts", "type": "EdScatter", "inputs": {"height": "src.nope"}}]})";
+  }
+  const Document doc = Document::open(dir / "broken.json");
+  EXPECT_EQ(doc.graph().nodes().size(), 4u);
+  EXPECT_TRUE(doc.dirty()) << "what is shown differs from the file";
+  const auto& p = doc.load_problems();
+  EXPECT_FALSE(p.empty());
+  ASSERT_EQ(p.for_node("a").size(), 1u);
+  EXPECT_NE(p.for_node("a")[0].find("EdSource"), std::string::npos) << "the typo's suggestion: " << p.for_node("a")[0];
+  EXPECT_EQ(p.for_node("src").size(), 1u);  // the out-of-range height
+  ASSERT_EQ(p.for_node("pts").size(), 1u);  // the link to a missing output, left out
+  EXPECT_FALSE(doc.graph().at("pts").inputs.count("height"));
+  EXPECT_TRUE(p.for_node("mid").empty());  // its links are fine (a is a placeholder with an output 'out')
+  EXPECT_EQ(doc.graph().at("mid").inputs.at("b"), (PortRef{"a", "out"}));
+  // Evaluating reports the placeholder as failed with the reason, and the rest still evaluates.
+  EvaluationController ec;
+  ec.request_preview(doc.graph(), {"mid", "src"}, 1);
+  ec.wait_idle();
+  EXPECT_EQ(ec.node_state("a").phase, NodeRunState::Phase::Failed);
+  EXPECT_NE(ec.node_state("a").message.find("unknown node type"), std::string::npos) << ec.node_state("a").message;
+  EXPECT_EQ(ec.node_state("src").phase, NodeRunState::Phase::Computed);
 }
 
 // Random edits, undos and redos, checked against a plain list of the expected serialized states.

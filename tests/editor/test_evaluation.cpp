@@ -1,5 +1,6 @@
 // The evaluation controller: previews run in the background, recompute only what an edit affects, hit the
 // cache after undo, cancel superseded runs, and builds write at full resolution.
+#include <atomic>
 #include <chrono>
 #include <thread>
 
@@ -146,6 +147,61 @@ TEST(EvaluationController, BuildEvaluatesAtFullResolution) {
   EXPECT_FALSE(status.running);
   EXPECT_EQ(status.fraction, 1.0);
   EXPECT_EQ(status.domain.resolution, glm::ivec2(200, 100));
+}
+
+TEST(EvaluationController, NodeStatesShowWhatTheBuildDid) {
+  EvaluationController ec;
+  std::atomic<int> notified{0};
+  ec.set_on_change([&] { ++notified; });
+  Graph g = test::chain_graph();
+  ec.request_preview(g, {"out"}, 1);
+  ec.wait_idle();
+  EXPECT_EQ(ec.node_state("mid").phase, Phase::Computed);
+  g.disconnect("mid", "a");  // the build fails on mid (the preview did not see that graph)
+  ec.start_build(g, {});
+  ec.wait_idle();
+  // The preview and the build woke the UI (the call follows the end of the run, so wait a moment for it).
+  for (int k = 0; k < 5000 && notified < 2; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_GE(notified.load(), 2);
+  EXPECT_EQ(ec.node_state("mid").phase, Phase::Failed);
+  EXPECT_EQ(ec.node_state("mid").message.rfind("build: ", 0), 0u) << ec.node_state("mid").message;
+  EXPECT_EQ(ec.node_state("out").phase, Phase::Computed) << "a skip in the build keeps the preview's state";
+}
+
+TEST(EvaluationController, BuildStatesHoldUntilAnEdit) {
+  EvaluationController ec;
+  Graph g = test::chain_graph();
+  ec.request_preview(g, {"out"}, 1);  // scatter is never previewed
+  ec.wait_idle();
+  EXPECT_EQ(ec.node_state("scatter").phase, Phase::Unknown);
+  ec.start_build(g, {});
+  ec.wait_idle();
+  EXPECT_EQ(ec.node_state("scatter").phase, Phase::Computed);
+  EXPECT_TRUE(ec.node_state("scatter").by_build);
+  ec.request_preview(g, {"mid"}, 2);  // another node previewed: the build's state holds
+  ec.wait_idle();
+  EXPECT_EQ(ec.node_state("scatter").phase, Phase::Computed);
+  g.set_param("scatter", "count", std::int64_t{5});  // an edit of it: out of date
+  ec.request_preview(g, {"mid"}, 3);
+  ec.wait_idle();
+  EXPECT_EQ(ec.node_state("scatter").phase, Phase::Stale);
+}
+
+TEST(EvaluationController, ThumbnailsOfEveryNodeAtLowResolutionLeaveStatesAlone) {
+  EvaluationController ec;
+  Graph g = test::chain_graph();
+  g.domain.size = {2000.0, 1000.0};
+  ec.request_thumbnails(g, 7);
+  ec.request_preview(g, {"mid"}, 7);  // a preview goes first, cancelling the thumbnails, which then resume
+  ec.wait_idle();
+  const auto t = ec.thumbnails();
+  ASSERT_TRUE(t);
+  EXPECT_EQ(t->revision, 7u);
+  for (const char* id : {"src", "mid", "out", "scatter"}) EXPECT_TRUE(t->outputs.count(id)) << id;
+  const auto& h = std::get<HeightfieldPtr>(t->outputs.at("out").front());
+  EXPECT_EQ(h->domain.resolution, glm::ivec2(EvaluationController::kThumbnailResolution, EvaluationController::kThumbnailResolution / 2));
+  EXPECT_EQ(ec.node_state("out").phase, Phase::Unknown) << "thumbnails do not change the node states";
+  EXPECT_EQ(ec.node_state("mid").phase, Phase::Computed);
 }
 
 TEST(EvaluationController, BuildCanBeCancelled) {

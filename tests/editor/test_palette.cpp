@@ -99,5 +99,22 @@ TEST_F(PaletteTest, StateTypesBackspacesAndHighlights) {
   EXPECT_EQ(p.highlighted(), 0);
 }
 
+TEST(PlacePopup, StaysInsideTheWindowNearEveryEdge) {
+  const Rect window{{0, 0}, {1600, 900}};
+  const glm::dvec2 size{320, 420};
+  EXPECT_EQ(place_popup({100, 100}, size, window), glm::dvec2(100, 100));   // fits: at the anchor
+  EXPECT_EQ(place_popup({1500, 100}, size, window), glm::dvec2(1180, 100));  // right edge: flipped left
+  EXPECT_EQ(place_popup({100, 850}, size, window), glm::dvec2(100, 430));    // bottom: flipped up
+  EXPECT_EQ(place_popup({1590, 890}, size, window), glm::dvec2(1270, 470));  // corner
+  EXPECT_EQ(place_popup({100, 300}, size, {{0, 0}, {1600, 500}}), glm::dvec2(100, 80));  // neither side fits
+  EXPECT_EQ(place_popup({-20, -5}, size, window), glm::dvec2(0, 0));
+  EXPECT_EQ(place_popup({50, 50}, {2000, 1000}, window), glm::dvec2(0, 0));  // too large: top-left inside
+  for (double x = -50; x <= 1650; x += 37)
+    for (double y = -50; y <= 950; y += 41) {
+      const glm::dvec2 p = place_popup({x, y}, size, window);
+      EXPECT_TRUE(window.contains(p) && window.contains(p + size)) << x << "," << y;
+    }
+}
+
 }  // namespace
 }  // namespace orogen::editor

@@ -8,6 +8,10 @@
 #include "editor/model/orbit_camera.h"
 #include "editor/model/preview_image.h"
 #include "editor/model/terrain_mesh.h"
+#include "graph/graph.h"
+
+#include <algorithm>
+#include <cmath>
 
 namespace orogen::editor {
 namespace {
@@ -20,9 +24,9 @@ Heightfield ramp_x(int n, float slope) {
 }
 
 TEST(ColorMap, EndpointsAndClamping) {
-  EXPECT_EQ(colormap(ColorMap::Grey, 0.0), glm::vec3(0.0f));
-  EXPECT_EQ(colormap(ColorMap::Grey, 1.0), glm::vec3(1.0f));
-  EXPECT_EQ(colormap(ColorMap::Grey, 7.0), glm::vec3(1.0f));
+  EXPECT_EQ(colormap(ColorMap::Gray, 0.0), glm::vec3(0.0f));
+  EXPECT_EQ(colormap(ColorMap::Gray, 1.0), glm::vec3(1.0f));
+  EXPECT_EQ(colormap(ColorMap::Gray, 7.0), glm::vec3(1.0f));
   const glm::vec3 v0 = colormap(ColorMap::Viridis, 0.0), v1 = colormap(ColorMap::Viridis, 1.0);
   EXPECT_GT(v0.b, v0.g);  // viridis starts purple
   EXPECT_GT(v1.r, 0.9f);  // and ends yellow
@@ -56,7 +60,7 @@ TEST(RenderHeightfield, RowsFlippedSoWorldYPointsUp) {
   Heightfield h(Domain::from_extent({0, 0}, {10, 10}, {4, 4}));
   for (int j = 0; j < 4; ++j)
     for (int i = 0; i < 4; ++i) h.at(i, j) = static_cast<float>(j);
-  const auto px = render_heightfield(h, {ColorMap::Grey, false, {}});
+  const auto px = render_heightfield(h, {ColorMap::Gray, false, {}});
   ASSERT_EQ(px.rgba.size(), 64u);
   EXPECT_EQ(px.rgba[0], 255) << "top row shows the highest y (value 3 = white)";
   EXPECT_EQ(px.rgba[(3 * 4) * 4], 0) << "bottom row shows y = 0";
@@ -76,7 +80,9 @@ TEST(RenderImage, LinearToSrgb) {
 
 TEST(TerrainMesh, GridDecimationNormalsAndWinding) {
   const auto h = ramp_x(1001, 0.25f);
-  const auto mesh = build_terrain_mesh(h, {.max_side = 200});
+  TerrainMeshOptions options;
+  options.max_side = 200;
+  const auto mesh = build_terrain_mesh(h, options);
   EXPECT_LE(mesh.columns, 200);
   EXPECT_GE(mesh.columns, 100);
   EXPECT_EQ(mesh.positions.size(), static_cast<std::size_t>(mesh.columns) * mesh.rows);
@@ -118,6 +124,141 @@ TEST(OrbitCamera, OrbitKeepsDistanceAndFrameShowsTheBox) {
   EXPECT_NEAR(cam.target.z, t0.z, 1e-9 + std::abs(cam.target.x - t0.x));  // moved mostly sideways
   cam.zoom(2);
   EXPECT_LT(cam.distance, d);
+}
+
+// --- Output kinds choose the colour map --------------------------------------------------------------------
+
+NodeType kind_type(std::string name, std::vector<PortDecl> inputs, std::vector<PortDecl> outputs) {
+  NodeType t;
+  t.name = std::move(name);
+  t.inputs = std::move(inputs);
+  t.outputs = std::move(outputs);
+  t.execute = [](ExecContext&) {};
+  return t;
+}
+
+TEST(OutputKind, DeclaredInferredFromNameAndPassedThroughOperators) {
+  PortDecl hf_out{"out", PortType::Heightfield, "", false, OutputKind::Auto};
+  PortDecl hf_in{"in", PortType::Heightfield, "", false, OutputKind::Auto};
+  const NodeType gen = kind_type("Gen", {}, {hf_out});
+  PortDecl signed_out = hf_out;
+  signed_out.kind = OutputKind::Signed;
+  const NodeType curv = kind_type("Curv", {hf_in}, {signed_out, PortDecl{"band_mask", PortType::Heightfield, "", false, OutputKind::Auto}});
+  const NodeType op = kind_type("Op", {hf_in}, {hf_out});
+  PortDecl a = hf_in, b = hf_in;
+  a.name = "a";
+  b.name = "b";
+  const NodeType bin = kind_type("Bin", {a, b}, {hf_out});
+  Graph g;
+  g.add_node(gen, "gen");
+  g.add_node(curv, "curv");
+  g.add_node(op, "op");
+  g.add_node(op, "op2");
+  g.add_node(bin, "bin");
+  g.connect({"gen", "out"}, "curv", "in");
+  g.connect({"curv", "out"}, "op", "in");
+  g.connect({"curv", "band_mask"}, "bin", "a");
+  g.connect({"op", "out"}, "bin", "b");
+  EXPECT_EQ(resolve_output_kind(g, "gen", "out"), OutputKind::Height);       // a generator: a height
+  EXPECT_EQ(resolve_output_kind(g, "curv", "out"), OutputKind::Signed);      // declared
+  EXPECT_EQ(resolve_output_kind(g, "curv", "band_mask"), OutputKind::Mask);  // named like a mask
+  EXPECT_EQ(resolve_output_kind(g, "op", "out"), OutputKind::Signed);        // passes on its input's kind
+  EXPECT_EQ(resolve_output_kind(g, "bin", "out"), OutputKind::Mask);         // a binary op: input a
+  EXPECT_EQ(resolve_output_kind(g, "op2", "out"), OutputKind::Height);       // unconnected
+  EXPECT_EQ(resolve_output_kind(g, "nope", "out"), OutputKind::Height);
+}
+
+TEST(OutputKind, StylePerKind) {
+  EXPECT_EQ(style_for(OutputKind::Height).map, ColorMap::Terrain);
+  EXPECT_TRUE(style_for(OutputKind::Height).hillshade);
+  const auto mask = style_for(OutputKind::Mask);
+  EXPECT_EQ(mask.map, ColorMap::Gray);
+  ASSERT_TRUE(mask.range.has_value());
+  EXPECT_EQ(mask.range->lo, 0.0f);
+  EXPECT_EQ(mask.range->hi, 1.0f);
+  EXPECT_EQ(style_for(OutputKind::Signed).map, ColorMap::Diverging);
+  EXPECT_EQ(style_for(OutputKind::WaterDepth).map, ColorMap::Water);
+
+  // A mask of 0.5 everywhere is mid-gray (not stretched to its own range); a signed field puts 0 in the
+  // middle of the diverging map (white) whatever its asymmetry.
+  Heightfield half(Domain::from_extent({0, 0}, {10, 10}, {4, 4}));
+  std::fill(half.data.begin(), half.data.end(), 0.5f);
+  const auto px = render_heightfield(half, mask);
+  EXPECT_NEAR(px.rgba[0], 128, 1);
+  Heightfield s(Domain::from_extent({0, 0}, {10, 10}, {4, 1}));
+  s.data = {-1.0f, 0.0f, 3.0f, 0.5f};
+  const auto r = style_range(s, style_for(OutputKind::Signed));
+  EXPECT_EQ(r.lo, -3.0f);
+  EXPECT_EQ(r.hi, 3.0f);
+  const auto spx = render_heightfield(s, style_for(OutputKind::Signed));
+  EXPECT_GT(spx.rgba[4 + 0], 240);  // 0: white
+  EXPECT_GT(spx.rgba[4 + 2], 240);
+  EXPECT_GT(spx.rgba[0 + 2], spx.rgba[0 + 0]);  // negative: blue
+  EXPECT_GT(spx.rgba[8 + 0], spx.rgba[8 + 2]);  // positive: red
+}
+
+// --- Lakes and rivers in 3D --------------------------------------------------------------------------------
+
+TEST(WaterMesh, FlatSurfaceAtTerrainPlusDepthOnlyOverWater) {
+  // A bowl with a lake filled to level 5 in its middle.
+  const int n = 32;
+  Heightfield terrain(Domain::from_extent({0, 0}, {310, 310}, {n, n}));
+  Heightfield depth(terrain.domain);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double r = std::hypot(i - 15.5, j - 15.5);
+      terrain.at(i, j) = static_cast<float>(r);
+      depth.at(i, j) = r < 5.0 ? static_cast<float>(5.0 - r) : 0.0f;
+    }
+  const TerrainMesh water = build_water_mesh(terrain, depth);
+  ASSERT_FALSE(water.indices.empty());
+  for (const auto& p : water.positions) {
+    EXPECT_NEAR(p.z, 5.0f, 1e-4f);  // flat, at the water level (shore vertices too)
+    EXPECT_LT(std::hypot(p.x / 10.0 - 15.5, p.y / 10.0 - 15.5), 7.5);  // only around the lake
+  }
+  for (const auto& c : water.colors) EXPECT_LT(c.a, 1.0f);  // translucent
+  // Nothing wet: nothing drawn.
+  std::fill(depth.data.begin(), depth.data.end(), 0.0f);
+  EXPECT_TRUE(build_water_mesh(terrain, depth).indices.empty());
+}
+
+TEST(WaterOverTerrain, DryIsTheTerrainWetIsBlue) {
+  Heightfield terrain = ramp_x(16, 1.0f);
+  Heightfield depth(terrain.domain);
+  depth.at(3, 5) = 2.0f;
+  const auto plain = render_heightfield(terrain, style_for(OutputKind::Height));
+  const auto px = render_water_over_terrain(terrain, depth);
+  ASSERT_EQ(px.rgba.size(), plain.rgba.size());
+  const std::size_t wet = (static_cast<std::size_t>(15 - 5) * 16 + 3) * 4;  // row 5 from the bottom
+  for (std::size_t k = 0; k < px.rgba.size(); k += 4) {
+    if (k == wet) continue;
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(px.rgba[k + c], plain.rgba[k + c]) << k;
+  }
+  EXPECT_GT(px.rgba[wet + 2], px.rgba[wet + 0]);  // blue
+  EXPECT_NE(px.rgba[wet + 2], plain.rgba[wet + 2]);
+}
+
+TEST(CurveRibbons, WidthAwareAndOnTheTerrain) {
+  Curves curves;
+  Curve c;
+  c.points = {{0, 50, 1}, {50, 50, 1}, {100, 50, 1}};
+  c.width = {4, 8, 12};
+  curves.curves.push_back(c);
+  Heightfield ground(Domain::from_extent({0, 0}, {100, 100}, {11, 11}));
+  std::fill(ground.data.begin(), ground.data.end(), 3.0f);  // above the curve's own height
+  const TerrainMesh m = build_curve_ribbons(curves, &ground, {.min_width = 6.0f, .lift = 0.5f});
+  ASSERT_EQ(m.positions.size(), 6u);
+  ASSERT_EQ(m.indices.size(), 12u);
+  // Across the flow (y), as wide as the curve (at least min_width).
+  EXPECT_NEAR(m.positions[1].y - m.positions[0].y, 6.0f, 1e-4f);
+  EXPECT_NEAR(m.positions[3].y - m.positions[2].y, 8.0f, 1e-4f);
+  EXPECT_NEAR(m.positions[5].y - m.positions[4].y, 12.0f, 1e-4f);
+  for (const auto& p : m.positions) EXPECT_NEAR(p.z, 3.5f, 1e-4f);  // on the terrain, lifted
+  // Wider is deeper blue.
+  EXPECT_LT(m.colors[4].r, m.colors[0].r);
+  // Without terrain: at the curve's height.
+  const TerrainMesh bare = build_curve_ribbons(curves, nullptr, {});
+  for (const auto& p : bare.positions) EXPECT_NEAR(p.z, 1.0f, 1e-4f);
 }
 
 }  // namespace
