@@ -2,12 +2,14 @@
 // seed sensitivity, the node contract (documented parameters, every parameter in the cache key) and
 // cancellation.
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <numeric>
 #include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "evaluator/evaluator.h"
 #include "field_ops_fixtures.h"
@@ -19,6 +21,8 @@
 #include "nodes/erosion/thermal.h"
 #include "nodes/hydrology/drainage_metrics.h"
 #include "support/key_checks.h"
+#include "support/run_process.h"
+#include "support/test_paths.h"
 
 namespace orogen {
 namespace {
@@ -344,3 +348,70 @@ TEST(ErosionNodes, CancellationLeavesNothingCached) {
 
 }  // namespace
 }  // namespace orogen
+
+// ---- DrainageMetrics: pits outside lakes -----------------------------------------------------------------------
+
+// A tilted plane with a 5 m deep bowl (a lake: >= 2 m deep, >= 1 ha) and a 0.5 m single-cell dent (an
+// artefact): two pits, one of them outside lakes; raising the lake depth above 5 m makes both count.
+namespace orogen {
+TEST(DrainageMetrics, PitsInsideLakesAreCountedApart) {
+  const Domain d = Domain::from_extent({0, 0}, {640, 640}, {64, 64});
+  auto h = std::make_shared<Heightfield>(d);
+  for (int j = 0; j < 64; ++j)
+    for (int i = 0; i < 64; ++i) {
+      const double r = std::hypot(i - 40.0, j - 32.0);
+      h->at(i, j) = static_cast<float>(0.1 * i - (r < 8.0 ? 5.0 * (1.0 - r / 8.0) : 0.0) - (i == 15 && j == 20 ? 0.5 : 0.0));
+    }
+  hydrology::LakeThreshold lake;
+  lake.depth = 2.0;
+  lake.area = 10000.0;
+  const auto r = hydrology::drainage_metrics(*h, 1000.0, nullptr, lake);
+  const double one = 1e6 / (64.0 * 64.0);
+  EXPECT_EQ(r.depressions, 2u);
+  EXPECT_EQ(r.lakes, 1u);
+  EXPECT_DOUBLE_EQ(r.pits_per_million, 2 * one);
+  EXPECT_DOUBLE_EQ(r.pits_outside_lakes_per_million, one);
+  EXPECT_GT(r.lake_cells_fraction, 0.0);
+  lake.depth = 6.0;
+  const auto deep = hydrology::drainage_metrics(*h, 1000.0, nullptr, lake);
+  EXPECT_EQ(deep.lakes, 0u);
+  EXPECT_DOUBLE_EQ(deep.pits_outside_lakes_per_million, 2 * one);
+  lake.depth = 2.0;
+  lake.area = 1e6;
+  EXPECT_EQ(hydrology::drainage_metrics(*h, 1000.0, nullptr, lake).lakes, 0u);
+}
+}  // namespace orogen
+
+// ---- Realism: graphs/eroded_mountains.json --------------------------------------------------------------------
+
+// The example graph (StreamPower, thermal, a short StreamPower rework that carries the slumped debris off the
+// channel floors, a light particle pass) must show what real basins show (issue 8): under 10 undrained pits per
+// million cells outside lakes, Flint's concavity in [0.35, 0.6] with R^2 >= 0.9, Hack's exponent in [0.5, 0.6]
+// and a bifurcation ratio in [3, 5]. Any pass that dams channels or flattens the slope-area law fails it.
+TEST(ErosionRealism, ErodedMountainsGraphMeetsTheDrainageTargets) {
+  const auto dir = std::filesystem::temp_directory_path() / "orogen_eroded_mountains_realism";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto graph = orogen::test::source_dir() / "graphs" / "eroded_mountains.json";
+  const auto r = orogen::test::run_process(OROGEN_CLI, {"eval", graph.string(), "-o", (dir / "out").string(), "--stats",
+                                                (dir / "stats.json").string(), "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto stats = nlohmann::json::parse(orogen::test::read_text(dir / "stats.json"));
+  for (const char* id : {"metrics", "metrics_stream_power"}) {
+    SCOPED_TRACE(id);
+    ASSERT_TRUE(stats["reports"].contains(id)) << stats.dump(2);
+    const auto& rep = stats["reports"][id]["report"];
+    EXPECT_LT(rep["pits_outside_lakes_per_million_cells"].get<double>(), 10.0) << rep.dump(2);
+    const double theta = rep["concavity_theta"].get<double>();
+    EXPECT_GE(theta, 0.35);
+    EXPECT_LE(theta, 0.6);
+    EXPECT_GE(rep["concavity_r2"].get<double>(), 0.9);
+    const double hack = rep["hack_exponent"].get<double>();
+    EXPECT_GE(hack, 0.5);
+    EXPECT_LE(hack, 0.6);
+    const double rb = rep["bifurcation_ratio"].get<double>();
+    EXPECT_GE(rb, 3.0);
+    EXPECT_LE(rb, 5.0);
+  }
+  std::filesystem::remove_all(dir);
+}

@@ -37,6 +37,7 @@ HeightfieldPtr optional_on(ExecContext& ctx, const char* name, const Domain& d) 
 }  // namespace
 
 OROGEN_NODE(ThermalErosion) {
+  b.reach_global();  // a simulation: every output sample depends on the whole input
   b.category("erosion").description(
       "Thermal erosion (talus slumping): material steeper than the talus angle slides to its lower "
       "neighbours until no slope exceeds the angle (Musgrave, Kolb and Mace 1989, 'The synthesis and "
@@ -66,6 +67,7 @@ OROGEN_NODE(ThermalErosion) {
 }
 
 OROGEN_NODE(HydraulicErosion) {
+  b.reach_global();  // a simulation: every output sample depends on the whole input
   b.category("erosion").description(
       "Particle hydraulic erosion after Beyer 2015, 'Implementation of a method for hydraulic erosion' (TU "
       "Munich): droplets start at random places, run downhill with inertia, erode with a brush where they "
@@ -108,6 +110,7 @@ OROGEN_NODE(HydraulicErosion) {
 }
 
 OROGEN_NODE(PipeErosion) {
+  b.reach_global();  // a simulation: every output sample depends on the whole input
   b.category("erosion").description(
       "Shallow-water hydraulic erosion on virtual pipes (Mei, Decaudin and Hu 2007, 'Fast hydraulic erosion "
       "simulation and visualization on GPU'): rain, outflow fluxes, water and velocity fields, sediment "
@@ -164,6 +167,7 @@ OROGEN_NODE(PipeErosion) {
 }
 
 OROGEN_NODE(StreamPower) {
+  b.reach_global();  // a simulation: every output sample depends on the whole input
   b.category("erosion").description(
       "Landscape evolution by the stream-power law dz/dt = U - K A^m S^n + D laplacian(z) (Howard 1994; "
       "Whipple and Tucker 1999), solved with the implicit O(n) scheme of Braun and Willett 2013, 'A very "

@@ -16,6 +16,7 @@ namespace {
 // sample (fu < 0), `amount` metres of height per unit weight.
 struct Change {
   std::uint32_t node;
+  std::int32_t ci, cj;  // column and row of node (no division when the changes are applied)
   float amount;
   float fu, fv;
 };
@@ -80,6 +81,9 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   st.droplets = droplets;
 
   const double step_u = p.step_length / dx, step_v = p.step_length / dy;
+  const double inv_dx = 1.0 / dx, inv_dy = 1.0 / dy, inv_cell_area = 1.0 / cell_area, inv_step = 1.0 / p.step_length;
+  std::vector<float> brush_w;
+  for (const auto& t : brush) brush_w.push_back(t.w);
   const double inertia = std::clamp(p.inertia, 0.0, 1.0);
 
   auto height_grad = [&](double u, double v, double& hgt, double& gx, double& gy) {
@@ -87,88 +91,159 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
     const double fu = u - i, fv = v - j;
     const std::size_t k = static_cast<std::size_t>(j) * w + i;
     const double a = z[k], b = z[k + 1], c = z[k + w], d = z[k + w + 1];
-    gx = ((b - a) * (1 - fv) + (d - c) * fv) / dx;
-    gy = ((c - a) * (1 - fu) + (d - b) * fu) / dy;
+    gx = ((b - a) * (1 - fv) + (d - c) * fv) * inv_dx;
+    gy = ((c - a) * (1 - fu) + (d - b) * fu) * inv_dy;
     hgt = a * (1 - fu) * (1 - fv) + b * fu * (1 - fv) + c * (1 - fu) * fv + d * fu * fv;
   };
 
-  auto simulate = [&](std::uint64_t id, DropletLog& log) {
+  // One droplet's state; step() advances it one step and returns false when it has ended. Droplets are
+  // independent within a batch (frozen heights, own logs), so a thread advances a group of them in lock
+  // step: the cache misses of their height reads overlap (memory-level parallelism) while every droplet
+  // computes exactly what it would alone.
+  struct Droplet {
+    std::uint64_t key;
+    DropletLog* log;
+    double u, v, dirx, diry, speed, water, sed, hgt, gx, gy;
+    double nu, nv;  // the next position (move), read by advance
+    std::size_t node;
+    int ni, nj, s;
+  };
+  auto deposit = [&](DropletLog& log, double amt, double uu, double vv) {
+    const int i = std::min(static_cast<int>(uu), w - 2), j = std::min(static_cast<int>(vv), h - 2);
+    log.changes.push_back({static_cast<std::uint32_t>(j * w + i), i, j, static_cast<float>(amt * inv_cell_area),
+                           static_cast<float>(uu - i), static_cast<float>(vv - j)});
+    log.deposited += amt;
+  };
+  auto start = [&](std::uint64_t id, DropletLog& log, Droplet& d) {
     log.changes.clear();
     log.visits.clear();
     log.eroded = log.deposited = log.carried_off = 0.0;
     log.steps = 0;
-    const std::uint64_t key = hash64(p.seed, id);
-    double u = hash01(key, 1) * (w - 1), v = hash01(key, 2) * (h - 1);
-    double dirx = 0, diry = 0, speed = 1.0, water = 1.0, sed = 0.0;
-    auto deposit = [&](double amt, double uu, double vv) {
-      const int i = std::min(static_cast<int>(uu), w - 2), j = std::min(static_cast<int>(vv), h - 2);
-      log.changes.push_back({static_cast<std::uint32_t>(j * w + i), static_cast<float>(amt / cell_area),
-                             static_cast<float>(uu - i), static_cast<float>(vv - j)});
-      log.deposited += amt;
-    };
+    d.key = hash64(p.seed, id);
+    d.log = &log;
+    d.u = hash01(d.key, 1) * (w - 1);
+    d.v = hash01(d.key, 2) * (h - 1);
+    d.dirx = d.diry = 0.0;
+    d.speed = d.water = 1.0;
+    d.sed = 0.0;
+    d.s = 0;
     // Heights are frozen during a batch, so the height and gradient at the new position carry over.
-    double hgt, gx, gy;
-    height_grad(u, v, hgt, gx, gy);
-    for (int s = 0; s < max_steps; ++s) {
-      const int ni = static_cast<int>(u + 0.5), nj = static_cast<int>(v + 0.5);
-      const std::size_t node = static_cast<std::size_t>(nj) * w + ni;
-      log.visits.push_back(static_cast<std::uint32_t>(node));
-      ++log.steps;
-      dirx = dirx * inertia - gx * (1 - inertia);
-      diry = diry * inertia - gy * (1 - inertia);
-      double len = std::sqrt(dirx * dirx + diry * diry);
-      if (len < 1e-12) {
-        const double a = 2.0 * M_PI * hash01(key, 16 + static_cast<std::uint64_t>(s));
-        dirx = std::cos(a);
-        diry = std::sin(a);
-        len = 1.0;
-      }
-      dirx /= len;
-      diry /= len;
-      const double nu = u + dirx * step_u, nv = v + diry * step_v;
-      if (!(nu >= 0 && nu <= w - 1 && nv >= 0 && nv <= h - 1)) {
-        log.carried_off += sed;
-        sed = 0;
-        break;
-      }
-      double nh, ngx, ngy;
-      height_grad(nu, nv, nh, ngx, ngy);
-      const double dh = nh - hgt;
-      const double m = mask_at(mask, node);
-      const double cap = std::max(-dh / p.step_length, p.min_slope) * speed * water * p.capacity;
-      if (dh > 0 || sed > cap) {
-        const double amt = dh > 0 ? std::min(dh * cell_area, sed) : (sed - cap) * p.deposition * m;
-        if (amt > 0) {
-          sed -= amt;
-          deposit(amt, u, v);
-        }
-      } else {
-        const double amt = std::min((cap - sed) * p.erosion, -dh * brush_area) * m;
-        if (amt > 0) {
-          // Taps outside the grid are dropped and the rest renormalised.
-          double inside = 1.0;
-          if (ni < rx || nj < ry || ni + rx >= w || nj + ry >= h) {
-            inside = 0.0;
-            for (const auto& t : brush) {
-              const int i = ni + t.di, j = nj + t.dj;
-              if (i >= 0 && i < w && j >= 0 && j < h) inside += t.w;
-            }
-          }
-          log.changes.push_back({static_cast<std::uint32_t>(node), static_cast<float>(-amt / cell_area / inside), -1.0f, 0.0f});
-          log.eroded += amt;
-          sed += amt;
-        }
-      }
-      speed = std::sqrt(std::max(0.0, speed * speed - dh * p.gravity));
-      water *= (1.0 - p.evaporation);
-      u = nu;
-      v = nv;
-      hgt = nh;
-      gx = ngx;
-      gy = ngy;
-    }
+    height_grad(d.u, d.v, d.hgt, d.gx, d.gy);
+  };
+  auto finish = [&](Droplet& d) {
     // End of life: what the droplet still carries settles where it stopped.
-    if (sed > 0) deposit(sed, u, v);
+    if (d.sed > 0) deposit(*d.log, d.sed, d.u, d.v);
+  };
+  // A step in two halves: move() picks the direction and the next position and prefetches the heights
+  // there; advance() reads them and erodes or deposits. A group runs move() for all its droplets before
+  // advance(), so their cache misses overlap.
+  auto move = [&](Droplet& d) -> bool {
+    DropletLog& log = *d.log;
+    d.ni = static_cast<int>(d.u + 0.5);
+    d.nj = static_cast<int>(d.v + 0.5);
+    d.node = static_cast<std::size_t>(d.nj) * w + d.ni;
+    log.visits.push_back(static_cast<std::uint32_t>(d.node));
+    ++log.steps;
+    double dirx = d.dirx * inertia - d.gx * (1 - inertia);
+    double diry = d.diry * inertia - d.gy * (1 - inertia);
+    double len = std::sqrt(dirx * dirx + diry * diry);
+    if (len < 1e-12) {
+      const double a = 2.0 * M_PI * hash01(d.key, 16 + static_cast<std::uint64_t>(d.s));
+      dirx = std::cos(a);
+      diry = std::sin(a);
+      len = 1.0;
+    }
+    const double inv_len = 1.0 / len;
+    dirx *= inv_len;
+    diry *= inv_len;
+    d.dirx = dirx;
+    d.diry = diry;
+    d.nu = d.u + dirx * step_u;
+    d.nv = d.v + diry * step_v;
+    if (!(d.nu >= 0 && d.nu <= w - 1 && d.nv >= 0 && d.nv <= h - 1)) {
+      log.carried_off += d.sed;
+      d.sed = 0;
+      return false;
+    }
+    const int i = std::min(static_cast<int>(d.nu), w - 2), j = std::min(static_cast<int>(d.nv), h - 2);
+    const float* zk = z.data() + static_cast<std::size_t>(j) * w + i;
+    __builtin_prefetch(zk);
+    __builtin_prefetch(zk + 1);
+    __builtin_prefetch(zk + w);
+    __builtin_prefetch(zk + w + 1);
+    return true;
+  };
+  auto advance = [&](Droplet& d) -> bool {
+    DropletLog& log = *d.log;
+    const int ni = d.ni, nj = d.nj;
+    const std::size_t node = d.node;
+    const double nu = d.nu, nv = d.nv;
+    double nh, ngx, ngy;
+    height_grad(nu, nv, nh, ngx, ngy);
+    const double dh = nh - d.hgt;
+    const double m = mask ? mask_at(mask, node) : 1.0;
+    const double cap = std::max(-dh * inv_step, p.min_slope) * d.speed * d.water * p.capacity;
+    if (dh > 0 || d.sed > cap) {
+      const double amt = dh > 0 ? std::min(dh * cell_area, d.sed) : (d.sed - cap) * p.deposition * m;
+      if (amt > 0) {
+        d.sed -= amt;
+        deposit(log, amt, d.u, d.v);
+      }
+    } else {
+      const double amt = std::min((cap - d.sed) * p.erosion, -dh * brush_area) * m;
+      if (amt > 0) {
+        // Taps outside the grid are dropped and the rest renormalised.
+        double inside = 1.0;
+        if (ni < rx || nj < ry || ni + rx >= w || nj + ry >= h) {
+          inside = 0.0;
+          for (const auto& t : brush) {
+            const int i = ni + t.di, j = nj + t.dj;
+            if (i >= 0 && i < w && j >= 0 && j < h) inside += t.w;
+          }
+        }
+        log.changes.push_back({static_cast<std::uint32_t>(node), ni, nj, static_cast<float>(-amt * inv_cell_area / inside), -1.0f, 0.0f});
+        log.eroded += amt;
+        d.sed += amt;
+      }
+    }
+    d.speed = std::sqrt(std::max(0.0, d.speed * d.speed - dh * p.gravity));
+    d.water *= (1.0 - p.evaporation);
+    d.u = nu;
+    d.v = nv;
+    d.hgt = nh;
+    d.gx = ngx;
+    d.gy = ngy;
+    return ++d.s < max_steps;
+  };
+  // Droplets first..first+count-1 of a batch, kGroup at a time in lock step; an ended droplet's slot takes
+  // the next droplet of the range.
+  constexpr int kGroup = 16;
+  auto simulate_range = [&](std::uint64_t first, int k0, int k1) {
+    Droplet group[kGroup];
+    int live = 0, next = k0;
+    while (live < kGroup && next < k1) {
+      start(first + static_cast<std::uint64_t>(next), logs[next], group[live]);
+      ++live, ++next;
+    }
+    bool moved[kGroup];
+    while (live > 0) {
+      for (int g = 0; g < live; ++g) moved[g] = move(group[g]);
+      for (int g = 0; g < live; ++g) moved[g] = moved[g] && advance(group[g]);
+      // Ended droplets settle; their slots take the next droplets (the survivors keep their order).
+      int kept = 0;
+      for (int g = 0; g < live; ++g) {
+        if (moved[g]) {
+          group[kept++] = group[g];
+          continue;
+        }
+        finish(group[g]);
+      }
+      live = kept;
+      while (live < kGroup && next < k1) {
+        start(first + static_cast<std::uint64_t>(next), logs[next], group[live]);
+        ++live, ++next;
+      }
+    }
   };
 
   const std::uint64_t batches = (droplets + kParticleBatch - 1) / kParticleBatch;
@@ -177,7 +252,7 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
     const std::uint64_t first = b * kParticleBatch;
     const int count = static_cast<int>(std::min<std::uint64_t>(kParticleBatch, droplets - first));
     tbb::parallel_for(tbb::blocked_range<int>(0, count, 16), [&](const tbb::blocked_range<int>& r) {
-      for (int k = r.begin(); k != r.end(); ++k) simulate(first + static_cast<std::uint64_t>(k), logs[k]);
+      simulate_range(first, r.begin(), r.end());
     });
     // Apply in droplet order: every sample receives its changes in the same order for any thread count.
     // Bands of rows in parallel; each band walks all changes of the batch in order and applies the taps
@@ -191,8 +266,7 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
         for (int k = 0; k < count; ++k) {
           const DropletLog& log = logs[k];
           for (const Change& c : log.changes) {
-            const int ci = static_cast<int>(c.node % static_cast<std::uint32_t>(w));
-            const int cj = static_cast<int>(c.node / static_cast<std::uint32_t>(w));
+            const int ci = c.ci, cj = c.cj;
             if (c.fu >= 0.0f) {
               if (cj + 1 < j0 || cj >= j1) continue;
               const float a = c.amount, fu = c.fu, fv = c.fv;
@@ -208,7 +282,11 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
               if (cj + ry < j0 || cj - ry >= j1) continue;
               if (ci >= rx && ci + rx < w && cj - ry >= j0 && cj + ry < j1) {  // wholly inside: no checks
                 float* zc = z.data() + c.node;
-                for (std::size_t q = 0; q < brush.size(); ++q) zc[tap_offset[q]] += c.amount * brush[q].w;
+                const float a = c.amount;
+                const long* to = tap_offset.data();
+                const float* bw = brush_w.data();
+                const std::size_t nt = brush_w.size();
+                for (std::size_t q = 0; q < nt; ++q) zc[to[q]] += a * bw[q];
                 continue;
               }
               for (const auto& t : brush) {
@@ -218,10 +296,11 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
               }
             }
           }
-          for (std::uint32_t vi : log.visits) {
-            const int vj = static_cast<int>(vi / static_cast<std::uint32_t>(w));
-            if (vj >= j0 && vj < j1) ++visits[vi];
-          }
+          // Rows j0..j1 are the nodes j0 w .. j1 w: no division per visit.
+          const std::uint32_t v0 = static_cast<std::uint32_t>(j0) * static_cast<std::uint32_t>(w);
+          const std::uint32_t v1 = static_cast<std::uint32_t>(j1) * static_cast<std::uint32_t>(w);
+          for (std::uint32_t vi : log.visits)
+            if (vi >= v0 && vi < v1) ++visits[vi];
         }
       }
     });

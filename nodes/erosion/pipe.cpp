@@ -31,7 +31,7 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
   const float kx = static_cast<float>(dy / dx), ky = static_cast<float>(dx / dy);
   const double mm_per_h = 1.0 / 3.6e6;  // mm/h -> m/s
 
-  std::vector<float> b = in.data, b2(n), d(n, 0.0f), d2(n), s(n, 0.0f), s2(n), surf(n);
+  std::vector<float> b = in.data, b2(n), d(n, 0.0f), d2(n), s(n, 0.0f), s2(n), surf(n), conc_of(n);
   std::vector<float> fl(n, 0.0f), fr(n, 0.0f), fd(n, 0.0f), fu(n, 0.0f), spd(n, 0.0f), flow_acc(n, 0.0f);
   std::vector<double> row_sed_out(h), row_water_out(h), row_vmax(h), row_dmax(h), row_sum(h);
   std::vector<unsigned char> sink(n);
@@ -82,7 +82,13 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
     // 2. Outflow fluxes. The water surface first, then the fluxes: a generic cell for the border and an
     // unchecked loop for the interior of each row.
     rows(h, [&](int j) {
-      for (int i = 0; i < w; ++i) surf[in.index(i, j)] = b[in.index(i, j)] + d[in.index(i, j)];
+      // And each cell's sediment concentration (per m^3 of water), computed once instead of by every pipe.
+      for (int i = 0; i < w; ++i) {
+        const std::size_t k = in.index(i, j);
+        const float dk = d[k];
+        surf[k] = b[k] + dk;
+        conc_of[k] = dk > 0.0f ? s[k] / (dk * A) : 0.0f;
+      }
     });
     rows(h, [&](int j) {
       auto finish = [&](std::size_t k, float dk, float l, float r, float dn, float up) {
@@ -118,12 +124,27 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
     const float kc = static_cast<float>(p.capacity);
     rows(h, [&](int j) {
       double sed_out = 0, water_out = 0, vm = 0, dm = 0;
+      // Local restrict pointers: the closure's references are not reloaded for every access.
+      const float* __restrict FL = fl.data();
+      const float* __restrict FR = fr.data();
+      const float* __restrict FD = fd.data();
+      const float* __restrict FU = fu.data();
+      const float* __restrict D = d.data();
+      const float* __restrict S = s.data();
+      const float* __restrict B = b.data();
+      const float* __restrict C = conc_of.data();
+      const unsigned char* __restrict SINK = sink.data();
+      float* __restrict B2 = b2.data();
+      float* __restrict D2 = d2.data();
+      float* __restrict S2 = s2.data();
+      float* __restrict SPD = spd.data();
+      float* __restrict FACC = flow_acc.data();
       for (int i = 0; i < w; ++i) {
         const std::size_t k = in.index(i, j);
-        const float dk = d[k];
+        const float dk = D[k];
         // Volumes through each pipe this step and the sediment they carry (concentration of the source).
-        const float out_v = (fl[k] + fr[k] + fd[k] + fu[k]) * fdt;
-        const float conc = dk > 0.0f ? s[k] / (dk * A) : 0.0f;
+        const float out_v = (FL[k] + FR[k] + FD[k] + FU[k]) * fdt;
+        const float conc = C[k];
         float in_v = 0.0f, in_s = 0.0f, out_s = 0.0f;
         float wx = 0.0f, wy = 0.0f;
         auto pipe_out = [&](float f, bool border) {
@@ -135,26 +156,25 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
             sed_out += static_cast<double>(sv) * A;
           }
         };
-        pipe_out(fl[k], i == 0);
-        pipe_out(fr[k], i == w - 1);
-        pipe_out(fd[k], j == 0);
-        pipe_out(fu[k], j == h - 1);
+        pipe_out(FL[k], i == 0);
+        pipe_out(FR[k], i == w - 1);
+        pipe_out(FD[k], j == 0);
+        pipe_out(FU[k], j == h - 1);
         auto pipe_in = [&](std::size_t nb, float f) {
           const float vol = f * fdt;
           in_v += vol;
-          const float dn = d[nb];
-          in_s += (dn > 0.0f ? s[nb] / (dn * A) : 0.0f) * vol;
+          in_s += C[nb] * vol;
         };
         float fin_l = 0, fin_r = 0, fin_d = 0, fin_u = 0;
-        if (i > 0) fin_l = fr[k - 1], pipe_in(k - 1, fin_l);
-        if (i < w - 1) fin_r = fl[k + 1], pipe_in(k + 1, fin_r);
-        if (j > 0) fin_d = fu[k - w], pipe_in(k - w, fin_d);
-        if (j < h - 1) fin_u = fd[k + w], pipe_in(k + w, fin_u);
+        if (i > 0) fin_l = FR[k - 1], pipe_in(k - 1, fin_l);
+        if (i < w - 1) fin_r = FL[k + 1], pipe_in(k + 1, fin_r);
+        if (j > 0) fin_d = FU[k - w], pipe_in(k - w, fin_d);
+        if (j < h - 1) fin_u = FD[k + w], pipe_in(k + w, fin_u);
         float d1 = std::max(0.0f, dk + (in_v - out_v) / A);
         // Sediment heights moving in and out: the source's s / (d A) times the pipe's volume.
-        float s1 = s[k] + in_s - out_s;
-        wx = 0.5f * (fin_l - fl[k] + fr[k] - fin_r);
-        wy = 0.5f * (fin_d - fd[k] + fu[k] - fin_u);
+        float s1 = S[k] + in_s - out_s;
+        wx = 0.5f * (fin_l - FL[k] + FR[k] - fin_r);
+        wy = 0.5f * (fin_d - FD[k] + FU[k] - fin_u);
         const float dmean = 0.5f * (dk + d1);
         float u = 0, v = 0;
         if (dmean > 1e-3f) {
@@ -163,16 +183,16 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
         }
         const float speed = std::sqrt(u * u + v * v);
         // Tilt from the terrain's central differences.
-        const float bx = (b[i < w - 1 ? k + 1 : k] - b[i > 0 ? k - 1 : k]) / static_cast<float>((i > 0 && i < w - 1 ? 2 : 1) * dx);
-        const float by = (b[j < h - 1 ? k + w : k] - b[j > 0 ? k - w : k]) / static_cast<float>((j > 0 && j < h - 1 ? 2 : 1) * dy);
+        const float bx = (B[i < w - 1 ? k + 1 : k] - B[i > 0 ? k - 1 : k]) / static_cast<float>((i > 0 && i < w - 1 ? 2 : 1) * dx);
+        const float by = (B[j < h - 1 ? k + w : k] - B[j > 0 ? k - w : k]) / static_cast<float>((j > 0 && j < h - 1 ? 2 : 1) * dy);
         const float g2 = bx * bx + by * by;
         const float sin_tilt = std::clamp(std::sqrt(g2 / (1.0f + g2)), 0.005f, 0.5f);
         // Capacity in proportion to the water that carries it (a concentration times the depth): a film
         // of water cannot hold metres of sediment however fast it runs.
         const float cap = kc * sin_tilt * speed * d1;
-        float bk = b[k];
-        const float m = mask_at(mask, k);
-        if (!sink[k]) {
+        float bk = B[k];
+        const float m = mask ? mask_at(mask, k) : 1.0f;
+        if (!SINK[k]) {
           if (cap > s1) {
             float rate = ks * m;
             if (hardness) rate *= 1.0f - std::clamp(hardness->data[k], 0.0f, 1.0f);
@@ -188,13 +208,13 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
         }
         const float temp = temperature ? std::max(0.0f, temperature->data[k]) : 1.0f;
         d1 *= std::max(0.0f, 1.0f - static_cast<float>(p.evaporation * dt) * temp);
-        if (sink[k]) {
+        if (SINK[k]) {
           water_out += static_cast<double>(d1) * A;
           sed_out += static_cast<double>(s1) * A;
           d1 = 0, s1 = 0;
         }
-        b2[k] = bk, d2[k] = d1, s2[k] = s1, spd[k] = speed;
-        flow_acc[k] += static_cast<float>(dt) * speed * d1;
+        B2[k] = bk, D2[k] = d1, S2[k] = s1, SPD[k] = speed;
+        FACC[k] += static_cast<float>(dt) * speed * d1;
         vm = std::max<double>(vm, speed);
         dm = std::max<double>(dm, d1);
       }

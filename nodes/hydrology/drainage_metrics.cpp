@@ -132,6 +132,12 @@ std::string DrainageReport::json() const {
   nlohmann::ordered_json j;
   j["cells"] = n.cells;
   j["pits_per_million_cells"] = pits_per_million;
+  j["pits_outside_lakes_per_million_cells"] = pits_outside_lakes_per_million;
+  j["depressions"] = depressions;
+  j["lakes"] = lakes;
+  j["lake_cells_fraction"] = lake_cells_fraction;
+  j["lake_min_depth_m"] = lake.depth;
+  j["lake_min_area_m2"] = lake.area;
   j["channel_threshold_m2"] = threshold;
   j["channel_cells"] = n.channel_cells;
   j["max_strahler_order"] = n.max_order;
@@ -150,29 +156,70 @@ std::string DrainageReport::json() const {
   return j.dump(2);
 }
 
-DrainageReport drainage_metrics(const Heightfield& in, double threshold, const ExecContext* ctx) {
+DrainageReport drainage_metrics(const Heightfield& in, double threshold, const ExecContext* ctx,
+                                const LakeThreshold& lake_threshold) {
   const FlowGrid g = FlowGrid::of(in.domain);
   DrainageReport r;
   r.threshold = threshold;
-  std::size_t pits = 0;
+  r.lake = lake_threshold;
+  std::vector<float> z = in.data, spill(g.size());
+  fill_depressions(g, z, FlatMode::Epsilon, {}, ctx, spill);
+  std::vector<std::uint8_t> lake(g.size());
+  for (std::size_t c = 0; c < g.size(); ++c) lake[c] = spill[c] > in.data[c];
+  // Depressions: 8-connected components of raised cells. A component is a lake when it is deep and large
+  // enough; its cells keep lake = 2, the others lake = 1 (still left out of Flint's fit: their filled
+  // slopes are the epsilon of the fill, not the terrain's).
+  {
+    const double cell_area = in.domain.spacing.x * in.domain.spacing.y;
+    std::vector<std::int32_t> label(g.size(), -1), members;
+    for (std::size_t s = 0; s < g.size(); ++s) {
+      if (!lake[s] || label[s] >= 0) continue;
+      members.clear();
+      members.push_back(static_cast<std::int32_t>(s));
+      label[s] = static_cast<std::int32_t>(r.depressions);
+      double depth = 0.0;
+      for (std::size_t k = 0; k < members.size(); ++k) {
+        const std::int32_t c = members[k];
+        depth = std::max(depth, static_cast<double>(spill[c]) - in.data[c]);
+        const int ci = c % g.nx, cj = c / g.nx;
+        for (int n = 0; n < 8; ++n) {
+          const int i = ci + kDi[n], j = cj + kDj[n];
+          if (i < 0 || j < 0 || i >= g.nx || j >= g.ny) continue;
+          const std::int32_t d = g.index(i, j);
+          if (lake[d] && label[d] < 0) {
+            label[d] = label[s];
+            members.push_back(d);
+          }
+        }
+      }
+      ++r.depressions;
+      const bool is_lake = depth >= lake_threshold.depth &&
+                           static_cast<double>(members.size()) * cell_area >= lake_threshold.area;
+      if (is_lake) {
+        ++r.lakes;
+        for (std::int32_t c : members) lake[c] = 2;
+      }
+    }
+  }
+  std::size_t pits = 0, pits_outside = 0, lake_cells = 0;
+  for (std::size_t c = 0; c < g.size(); ++c) lake_cells += lake[c] == 2;
   for (int j = 1; j < g.ny - 1; ++j)
     for (int i = 1; i < g.nx - 1; ++i) {
       const std::int32_t c = g.index(i, j);
       bool lower = false;
       for (int k = 0; k < 8 && !lower; ++k) lower = in.data[c + g.offset(k)] < in.data[c];
       pits += !lower;
+      pits_outside += !lower && lake[c] != 2;
     }
-  r.pits_per_million = static_cast<double>(pits) * 1e6 / static_cast<double>(std::max<std::size_t>(1, g.size()));
-  std::vector<float> z = in.data, spill(g.size());
-  fill_depressions(g, z, FlatMode::Epsilon, {}, ctx, spill);
+  const double per = 1e6 / static_cast<double>(std::max<std::size_t>(1, g.size()));
+  r.pits_per_million = static_cast<double>(pits) * per;
+  r.pits_outside_lakes_per_million = static_cast<double>(pits_outside) * per;
+  r.lake_cells_fraction = static_cast<double>(lake_cells) / static_cast<double>(std::max<std::size_t>(1, g.size()));
   const D8Flow f = d8_flow(g, z, {}, ctx);
   const auto stack = stack_order(g, f);
   const auto area = accumulate_d8(g, f, {}, ctx);
-  std::vector<std::uint8_t> channel(g.size()), lake(g.size());
-  for (std::size_t c = 0; c < g.size(); ++c) {
-    channel[c] = area[c] >= threshold;
-    lake[c] = spill[c] > in.data[c];
-  }
+  std::vector<std::uint8_t> channel(g.size());
+  for (std::size_t c = 0; c < g.size(); ++c) channel[c] = area[c] >= threshold;
   r.network = network_metrics(g, f, stack, channel, area, z, lake);
   return r;
 }
@@ -180,7 +227,9 @@ DrainageReport drainage_metrics(const Heightfield& in, double threshold, const E
 OROGEN_NODE(DrainageMetrics) {
   b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
-      "Realism figures of a terrain's drainage, to compare with real basins: undrained pits per million cells; "
+      "Realism figures of a terrain's drainage, to compare with real basins: undrained pits per million cells, "
+      "in all and outside lakes (a lake is a depression of the Priority-Flood fill at least lake_depth deep and "
+      "lake_area large; smaller ones are artefacts and their pits count); "
       "the Strahler order map (Strahler 1957) of the channels (D8 contributing area >= threshold on the "
       "Priority-Flood+epsilon filled terrain); Horton's bifurcation and length ratios (Horton 1945; real networks "
       "3-5 and 1.5-3.5); Hack's exponent h of main-stream length L ~ A^h (Hack 1957; 0.5-0.6); and the concavity "
@@ -191,9 +240,16 @@ OROGEN_NODE(DrainageMetrics) {
   b.output("report", PortType::Report).description("The figures as a JSON object");
   b.param_float("threshold", 1e5).range(1.0, 1e14).soft_range(1e3, 1e8).unit("m^2")
       .description("Contributing area at which a channel starts");
+  b.param_float("lake_depth", 2.0).range(0.0, 1e4).soft_range(0.0, 50.0).unit("m")
+      .description("Depth (spill level minus lowest cell) from which a depression counts as a lake");
+  b.param_float("lake_area", 40000.0).range(0.0, 1e12).soft_range(0.0, 1e7).unit("m^2")
+      .description("Area from which a depression counts as a lake");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    DrainageReport r = drainage_metrics(*in, ctx.param<double>("threshold"), &ctx);
+    LakeThreshold lake;
+    lake.depth = ctx.param<double>("lake_depth");
+    lake.area = ctx.param<double>("lake_area");
+    DrainageReport r = drainage_metrics(*in, ctx.param<double>("threshold"), &ctx, lake);
     auto order = std::make_shared<Heightfield>(in->domain);
     for (std::size_t c = 0; c < order->data.size(); ++c) order->data[c] = static_cast<float>(r.network.order[c]);
     auto report = std::make_shared<Report>();

@@ -42,8 +42,21 @@ NetworkMetrics network_metrics(const FlowGrid& g, const D8Flow& f, std::span<con
                                std::span<const std::uint8_t> channel, std::span<const double> area,
                                std::span<const float> z, std::span<const std::uint8_t> exclude_slope = {});
 
+// A depression (connected cells the Priority-Flood fill raises) is a lake when it is at least `depth` deep
+// (spill level minus its lowest cell, m) and covers at least `area` (m^2); shallower or smaller ones are
+// artefacts of the terrain (dents and dams a few cells wide) and their pits count against it.
+struct LakeThreshold {
+  double depth = 2.0;     // m
+  double area = 40000.0;  // m^2 (4 ha)
+};
+
 struct DrainageReport {
   double pits_per_million = 0.0;  // interior cells without a lower neighbour in the input, per 10^6 cells
+  double pits_outside_lakes_per_million = 0.0;  // the same, leaving out pits inside lakes
+  std::size_t lakes = 0;          // depressions that pass the lake threshold
+  std::size_t depressions = 0;    // all depressions
+  double lake_cells_fraction = 0.0;
+  LakeThreshold lake;
   double threshold = 0.0;
   NetworkMetrics network;
   std::string json() const;
@@ -51,6 +64,8 @@ struct DrainageReport {
 
 // Pits are counted on the input; the network comes from D8 on the Priority-Flood+epsilon filled input, with
 // channels where the contributing area reaches `threshold` (m^2).
-DrainageReport drainage_metrics(const Heightfield& in, double threshold, const ExecContext* ctx = nullptr);
+// Pits inside depressions that pass `lake` are counted as lakes (pits_outside_lakes_per_million leaves them out).
+DrainageReport drainage_metrics(const Heightfield& in, double threshold, const ExecContext* ctx = nullptr,
+                                const LakeThreshold& lake = {});
 
 }  // namespace orogen::hydrology
