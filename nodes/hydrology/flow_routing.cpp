@@ -1,10 +1,13 @@
 #include "nodes/hydrology/flow_routing.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <functional>
 #include <limits>
+
+#include <emmintrin.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -434,34 +437,103 @@ D8Flow d8_flow(const FlowGrid& g, std::span<const float> z, const Outlets& outle
   f.donors.resize(n);
   const NeighbourTable t(g);
   const float* zz = z.data();
+  const bool any_mask = !outlets.mask.empty();
+  // One row at a time: the interior cells branch-free, neighbour by neighbour over the whole row (the same
+  // slopes, comparisons and tie rule as steepest(), so the same receivers), the border cells one by one.
+  auto border_cell = [&](int i, int j) {
+    const std::int32_t c = g.index(i, j);
+    int k;
+    if (outlets.is_outlet(g, i, j))
+      k = kNoDirection;
+    else if (interior_cell(g, i, j))
+      k = steepest<true>(g, t, zz, i, j, nullptr);
+    else
+      k = steepest<false>(g, t, zz, i, j, nullptr);
+    f.direction[c] = static_cast<std::uint8_t>(k);
+    f.receiver[c] = k == kNoDirection ? c : c + t.off[k];
+  };
   for_each_row(ctx, g.ny, [&](int j) {
-    for (int i = 0; i < g.nx; ++i) {
-      const std::int32_t c = g.index(i, j);
-      int k;
-      if (outlets.is_outlet(g, i, j))
-        k = kNoDirection;
-      else if (interior_cell(g, i, j))
-        k = steepest<true>(g, t, zz, i, j, nullptr);
-      else
-        k = steepest<false>(g, t, zz, i, j, nullptr);
-      f.direction[c] = static_cast<std::uint8_t>(k);
-      f.receiver[c] = k == kNoDirection ? c : c + t.off[k];
+    if (j == 0 || j == g.ny - 1 || g.nx < 3) {
+      for (int i = 0; i < g.nx; ++i) border_cell(i, j);
+      return;
     }
-  }, 0.0, 0.5);
-  for_each_row(ctx, g.ny, [&](int j) {
-    for (int i = 0; i < g.nx; ++i) {
-      const std::int32_t c = g.index(i, j);
-      std::uint8_t m = 0;
-      if (interior_cell(g, i, j)) {
-        for (int k = 0; k < 8; ++k)
-          if (f.direction[c + t.off[k]] == opposite(k)) m |= static_cast<std::uint8_t>(1u << k);
-      } else {
-        for (int k = 0; k < 8; ++k)
-          if (g.inside(i + kDi[k], j + kDj[k]) && f.direction[c + t.off[k]] == opposite(k))
-            m |= static_cast<std::uint8_t>(1u << k);
+    const int m = g.nx - 2;
+    std::vector<double> best(static_cast<std::size_t>(m), 0.0);
+    std::vector<std::int64_t> bk(static_cast<std::size_t>(m), kNoDirection);
+    const std::int32_t c1 = g.index(1, j);
+    const float* zr = zz + c1;
+    double* __restrict bs = best.data();
+    std::int64_t* __restrict bd = bk.data();
+    // SSE2, two cells per step: the same double arithmetic as steepest() (exact float -> double, subtract,
+    // multiply), strict > in increasing k.
+    const int m2 = m & ~1;
+    for (int k = 0; k < 8; ++k) {
+      const float* zn = zr + t.off[k];
+      const double w = t.inv_dist[k];
+      const __m128d wv = _mm_set1_pd(w);
+      const __m128i kv = _mm_set1_epi64x(k);
+      for (int i = 0; i < m2; i += 2) {
+        const __m128d a = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(zr + i))));
+        const __m128d n = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(zn + i))));
+        const __m128d sv = _mm_mul_pd(_mm_sub_pd(a, n), wv);
+        const __m128d bv = _mm_loadu_pd(bs + i);
+        const __m128d gt = _mm_cmpgt_pd(sv, bv);
+        _mm_storeu_pd(bs + i, _mm_or_pd(_mm_and_pd(gt, sv), _mm_andnot_pd(gt, bv)));
+        const __m128i gi = _mm_castpd_si128(gt);
+        const __m128i dv = _mm_loadu_si128(reinterpret_cast<const __m128i*>(bd + i));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(bd + i), _mm_or_si128(_mm_and_si128(gi, kv), _mm_andnot_si128(gi, dv)));
       }
-      f.donors[c] = m;
+      for (int i = m2; i < m; ++i) {
+        const double sc = (static_cast<double>(zr[i]) - static_cast<double>(zn[i])) * w;
+        if (sc > bs[i]) {
+          bs[i] = sc;
+          bd[i] = k;
+        }
+      }
     }
+    std::uint8_t* dir = f.direction.data() + c1;
+    std::int32_t* rec = f.receiver.data() + c1;
+    for (int i = 0; i < m; ++i) {
+      const int k = static_cast<int>(bd[i]);
+      dir[i] = static_cast<std::uint8_t>(k);
+      rec[i] = c1 + i + (k == kNoDirection ? 0 : t.off[k & 7]);
+    }
+    border_cell(0, j);
+    border_cell(g.nx - 1, j);
+    if (any_mask)
+      for (int i = 1; i < g.nx - 1; ++i)
+        if (outlets.mask[static_cast<std::size_t>(g.index(i, j))] != 0) {
+          f.direction[static_cast<std::size_t>(g.index(i, j))] = kNoDirection;
+          f.receiver[static_cast<std::size_t>(g.index(i, j))] = g.index(i, j);
+        }
+  }, 0.0, 0.5);
+  // Donor masks, again one row at a time: neighbour k is a donor when its direction points back (opposite(k)).
+  auto border_donors = [&](int i, int j) {
+    const std::int32_t c = g.index(i, j);
+    std::uint8_t m = 0;
+    for (int k = 0; k < 8; ++k)
+      if (g.inside(i + kDi[k], j + kDj[k]) && f.direction[c + t.off[k]] == opposite(k))
+        m |= static_cast<std::uint8_t>(1u << k);
+    f.donors[c] = m;
+  };
+  for_each_row(ctx, g.ny, [&](int j) {
+    if (j == 0 || j == g.ny - 1 || g.nx < 3) {
+      for (int i = 0; i < g.nx; ++i) border_donors(i, j);
+      return;
+    }
+    const int m = g.nx - 2;
+    const std::int32_t c1 = g.index(1, j);
+    std::uint8_t* dm = f.donors.data() + c1;
+    const std::uint8_t* dir = f.direction.data() + c1;
+    std::fill_n(dm, m, std::uint8_t{0});
+    for (int k = 0; k < 8; ++k) {
+      const std::uint8_t* dn = dir + t.off[k];
+      const std::uint8_t want = static_cast<std::uint8_t>(opposite(k));
+      const std::uint8_t bit = static_cast<std::uint8_t>(1u << k);
+      for (int i = 0; i < m; ++i) dm[i] |= dn[i] == want ? bit : std::uint8_t{0};
+    }
+    border_donors(0, j);
+    border_donors(g.nx - 1, j);
   }, 0.5, 1.0);
   return f;
 }
@@ -502,7 +574,13 @@ std::vector<double> accumulate_d8(const FlowGrid& g, const D8Flow& f, std::span<
   const std::size_t n = f.receiver.size();
   std::vector<double> acc(n);
   std::vector<std::uint8_t> remaining(n);
-  for (std::size_t c = 0; c < n; ++c) remaining[c] = static_cast<std::uint8_t>(std::popcount(f.donors[c]));
+  // Donor counts through a table: without -mpopcnt std::popcount is a libgcc call per cell.
+  static constexpr auto kBits = [] {
+    std::array<std::uint8_t, 256> b{};
+    for (int v = 0; v < 256; ++v) b[v] = static_cast<std::uint8_t>(std::popcount(static_cast<unsigned>(v)));
+    return b;
+  }();
+  for (std::size_t c = 0; c < n; ++c) remaining[c] = kBits[f.donors[c]];
   std::int32_t off[8];
   for (int k = 0; k < 8; ++k) off[k] = g.offset(k);
   const double area = g.cell_area();
