@@ -589,31 +589,38 @@ std::vector<double> accumulate_d8(const FlowGrid& g, const D8Flow& f, std::span<
   double* a = acc.data();
   // acc of a cell whose donors are all done: its own weight plus the donors in neighbour order, so the sum
   // does not depend on which thread finished last.
-  auto pull = [&](std::int32_t c) {
-    double s = cell_weight(weight, static_cast<std::size_t>(c), area);
-    for (unsigned m = donors[c]; m; m &= m - 1) s += a[c + off[std::countr_zero(m)]];
-    a[c] = s;
-  };
   const bool parallel = tbb::this_task_arena::max_concurrency() > 1 && n >= (1u << 16);
   const int rows_per_chunk = 32;
   const int chunks = (g.ny + rows_per_chunk - 1) / rows_per_chunk;
+  const float* wts = weight.empty() ? nullptr : weight.data();
+  // Local restrict pointers: the byte counters would otherwise alias every pointer the loop reloads.
   auto run_chunk = [&](int chunk, auto atomic_tag) {
     constexpr bool kAtomic = decltype(atomic_tag)::value;
+    const std::uint8_t* __restrict dn = donors;
+    std::uint8_t* __restrict rem = remaining.data();
+    const std::int32_t* __restrict rc = rec;
+    double* __restrict av = a;
+    const float* __restrict wv = wts;
+    std::int32_t o[8];
+    for (int k = 0; k < 8; ++k) o[k] = off[k];
     const std::int32_t begin = g.index(0, chunk * rows_per_chunk);
     const std::int32_t end = g.index(0, std::min(g.ny, (chunk + 1) * rows_per_chunk));
     for (std::int32_t c = begin; c < end; ++c) {
-      if (donors[c] != 0) continue;
-      pull(c);
+      if (dn[c] != 0) continue;
+      av[c] = wv ? static_cast<double>(wv[c]) : area;
       std::int32_t x = c;
       for (;;) {
-        const std::int32_t r = rec[x];
+        const std::int32_t r = rc[x];
         if (r == x) break;
         if constexpr (kAtomic) {
-          if (std::atomic_ref<std::uint8_t>(remaining[r]).fetch_sub(1, std::memory_order_acq_rel) != 1) break;
+          if (std::atomic_ref<std::uint8_t>(rem[r]).fetch_sub(1, std::memory_order_acq_rel) != 1) break;
         } else {
-          if (--remaining[r] != 0) break;
+          if (--rem[r] != 0) break;
         }
-        pull(r);
+        // Pull: own weight plus the donors in neighbour order.
+        double sum = wv ? static_cast<double>(wv[r]) : area;
+        for (unsigned m = dn[r]; m; m &= m - 1) sum += av[r + o[std::countr_zero(m)]];
+        av[r] = sum;
         x = r;
       }
     }
