@@ -580,7 +580,14 @@ std::vector<double> accumulate_d8(const FlowGrid& g, const D8Flow& f, std::span<
     for (int v = 0; v < 256; ++v) b[v] = static_cast<std::uint8_t>(std::popcount(static_cast<unsigned>(v)));
     return b;
   }();
-  for (std::size_t c = 0; c < n; ++c) remaining[c] = kBits[f.donors[c]];
+  auto count_donors = [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t c = lo; c < hi; ++c) remaining[c] = kBits[f.donors[c]];
+  };
+  if (tbb::this_task_arena::max_concurrency() > 1 && n >= (1u << 16))
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1u << 16),
+                      [&](const tbb::blocked_range<std::size_t>& r) { count_donors(r.begin(), r.end()); });
+  else
+    count_donors(0, n);
   std::int32_t off[8];
   for (int k = 0; k < 8; ++k) off[k] = g.offset(k);
   const double area = g.cell_area();
@@ -589,55 +596,67 @@ std::vector<double> accumulate_d8(const FlowGrid& g, const D8Flow& f, std::span<
   double* a = acc.data();
   // acc of a cell whose donors are all done: its own weight plus the donors in neighbour order, so the sum
   // does not depend on which thread finished last.
-  const bool parallel = tbb::this_task_arena::max_concurrency() > 1 && n >= (1u << 16);
-  const int rows_per_chunk = 32;
-  const int chunks = (g.ny + rows_per_chunk - 1) / rows_per_chunk;
+  const int threads = tbb::this_task_arena::max_concurrency();
+  const bool parallel = threads > 1 && n >= (1u << 16);
   const float* wts = weight.empty() ? nullptr : weight.data();
+  // Parallel (after Barnes 2017): the grid is cut into bands of rows, 2 per thread. Phase 1, bands in
+  // parallel with plain counters: walks stay inside their own band and a cell whose receiver lies in another
+  // band is recorded instead. Phase 2, serial: the recorded cells continue their walks across bands (only
+  // the cells downstream of a band boundary are left). Serial: one band, phase 1 only. Every cell is
+  // computed once by the same pull (own weight plus its donors in neighbour order), so the result does not
+  // depend on the band layout or the thread count.
+  const int rows_per_band = parallel ? std::max(32, (g.ny + 2 * threads - 1) / (2 * threads)) : g.ny;
+  const int bands = (g.ny + rows_per_band - 1) / rows_per_band;
+  std::vector<std::vector<std::int32_t>> exports(static_cast<std::size_t>(bands));
   // Local restrict pointers: the byte counters would otherwise alias every pointer the loop reloads.
-  auto run_chunk = [&](int chunk, auto atomic_tag) {
-    constexpr bool kAtomic = decltype(atomic_tag)::value;
+  auto walk = [&](std::int32_t x, std::int32_t lo, std::int32_t hi, std::vector<std::int32_t>* out) {
     const std::uint8_t* __restrict dn = donors;
     std::uint8_t* __restrict rem = remaining.data();
     const std::int32_t* __restrict rc = rec;
     double* __restrict av = a;
     const float* __restrict wv = wts;
-    std::int32_t o[8];
-    for (int k = 0; k < 8; ++k) o[k] = off[k];
-    const std::int32_t begin = g.index(0, chunk * rows_per_chunk);
-    const std::int32_t end = g.index(0, std::min(g.ny, (chunk + 1) * rows_per_chunk));
-    for (std::int32_t c = begin; c < end; ++c) {
-      if (dn[c] != 0) continue;
-      av[c] = wv ? static_cast<double>(wv[c]) : area;
-      std::int32_t x = c;
-      for (;;) {
-        const std::int32_t r = rc[x];
-        if (r == x) break;
-        if constexpr (kAtomic) {
-          if (std::atomic_ref<std::uint8_t>(rem[r]).fetch_sub(1, std::memory_order_acq_rel) != 1) break;
-        } else {
-          if (--rem[r] != 0) break;
-        }
-        // Pull: own weight plus the donors in neighbour order.
-        double sum = wv ? static_cast<double>(wv[r]) : area;
-        for (unsigned m = dn[r]; m; m &= m - 1) sum += av[r + o[std::countr_zero(m)]];
-        av[r] = sum;
-        x = r;
+    for (;;) {
+      const std::int32_t r = rc[x];
+      if (r == x) return;
+      if (r < lo || r >= hi) {
+        out->push_back(x);
+        return;
+      }
+      if (--rem[r] != 0) return;
+      // Pull: own weight plus the donors in neighbour order.
+      double sum = wv ? static_cast<double>(wv[r]) : area;
+      for (unsigned m = dn[r]; m; m &= m - 1) sum += av[r + off[std::countr_zero(m)]];
+      av[r] = sum;
+      x = r;
+    }
+  };
+  auto run_band = [&](int band) {
+    const std::int32_t begin = g.index(0, band * rows_per_band);
+    const std::int32_t end = g.index(0, std::min(g.ny, (band + 1) * rows_per_band));
+    std::vector<std::int32_t>* out = &exports[static_cast<std::size_t>(band)];
+    const std::uint8_t* __restrict dn = donors;
+    for (std::int32_t c0 = begin; c0 < end; c0 += 1 << 16) {
+      check(ctx);
+      const std::int32_t c1 = std::min(end, c0 + (1 << 16));
+      for (std::int32_t c = c0; c < c1; ++c) {
+        if (dn[c] != 0) continue;
+        a[c] = wts ? static_cast<double>(wts[c]) : area;
+        walk(c, begin, end, out);
       }
     }
   };
   if (parallel) {
     std::atomic<int> done{0};
-    tbb::parallel_for(tbb::blocked_range<int>(0, chunks, 1), [&](const tbb::blocked_range<int>& r) {
-      check(ctx);
-      for (int ch = r.begin(); ch != r.end(); ++ch) run_chunk(ch, std::true_type{});
+    tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const tbb::blocked_range<int>& r) {
+      for (int b = r.begin(); b != r.end(); ++b) run_band(b);
       const int d = done.fetch_add(static_cast<int>(r.size())) + static_cast<int>(r.size());
-      if (ctx) ctx->progress(static_cast<double>(d) / chunks);
+      if (ctx) ctx->progress(0.9 * d / bands);
     });
+    const std::int32_t all = static_cast<std::int32_t>(n);
+    for (const auto& e : exports)
+      for (std::int32_t x : e) walk(x, 0, all, nullptr);
   } else {
-    for (int ch = 0; ch < chunks; ++ch) {
-      if ((ch & 7) == 0) check(ctx);
-      run_chunk(ch, std::false_type{});
-    }
+    run_band(0);
   }
   check(ctx);
   return acc;
