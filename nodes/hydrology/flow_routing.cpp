@@ -458,46 +458,35 @@ D8Flow d8_flow(const FlowGrid& g, std::span<const float> z, const Outlets& outle
       return;
     }
     const int m = g.nx - 2;
-    std::vector<double> best(static_cast<std::size_t>(m), 0.0);
-    std::vector<std::int64_t> bk(static_cast<std::size_t>(m), kNoDirection);
     const std::int32_t c1 = g.index(1, j);
     const float* zr = zz + c1;
-    double* __restrict bs = best.data();
-    std::int64_t* __restrict bd = bk.data();
-    // SSE2, two cells per step: the same double arithmetic as steepest() (exact float -> double, subtract,
-    // multiply), strict > in increasing k.
-    const int m2 = m & ~1;
-    for (int k = 0; k < 8; ++k) {
-      const float* zn = zr + t.off[k];
-      const double w = t.inv_dist[k];
-      const __m128d wv = _mm_set1_pd(w);
-      const __m128i kv = _mm_set1_epi64x(k);
-      for (int i = 0; i < m2; i += 2) {
-        const __m128d a = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(zr + i))));
-        const __m128d n = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(zn + i))));
-        const __m128d sv = _mm_mul_pd(_mm_sub_pd(a, n), wv);
-        const __m128d bv = _mm_loadu_pd(bs + i);
-        const __m128d gt = _mm_cmpgt_pd(sv, bv);
-        _mm_storeu_pd(bs + i, _mm_or_pd(_mm_and_pd(gt, sv), _mm_andnot_pd(gt, bv)));
-        const __m128i gi = _mm_castpd_si128(gt);
-        const __m128i dv = _mm_loadu_si128(reinterpret_cast<const __m128i*>(bd + i));
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(bd + i), _mm_or_si128(_mm_and_si128(gi, kv), _mm_andnot_si128(gi, dv)));
-      }
-      for (int i = m2; i < m; ++i) {
-        const double sc = (static_cast<double>(zr[i]) - static_cast<double>(zn[i])) * w;
-        if (sc > bs[i]) {
-          bs[i] = sc;
-          bd[i] = k;
-        }
-      }
-    }
     std::uint8_t* dir = f.direction.data() + c1;
     std::int32_t* rec = f.receiver.data() + c1;
-    for (int i = 0; i < m; ++i) {
-      const int k = static_cast<int>(bd[i]);
-      dir[i] = static_cast<std::uint8_t>(k);
-      rec[i] = c1 + i + (k == kNoDirection ? 0 : t.off[k & 7]);
+    // SSE2, two cells per step, all 8 neighbours in registers: the same double arithmetic as steepest()
+    // (exact float -> double, subtract, multiply) and strict > in increasing k, so the same receivers.
+    __m128d wv[8];
+    for (int k = 0; k < 8; ++k) wv[k] = _mm_set1_pd(t.inv_dist[k]);
+    const int m2 = m & ~1;
+    for (int i = 0; i < m2; i += 2) {
+      const __m128d a = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(zr + i))));
+      __m128d bv = _mm_setzero_pd();
+      __m128i dv = _mm_set1_epi64x(kNoDirection);
+      for (int k = 0; k < 8; ++k) {
+        const __m128d n =
+            _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(zr + i + t.off[k]))));
+        const __m128d sv = _mm_mul_pd(_mm_sub_pd(a, n), wv[k]);
+        const __m128d gt = _mm_cmpgt_pd(sv, bv);
+        bv = _mm_or_pd(_mm_and_pd(gt, sv), _mm_andnot_pd(gt, bv));
+        const __m128i gi = _mm_castpd_si128(gt);
+        dv = _mm_or_si128(_mm_and_si128(gi, _mm_set1_epi64x(k)), _mm_andnot_si128(gi, dv));
+      }
+      const int k0 = _mm_cvtsi128_si32(dv), k1 = _mm_cvtsi128_si32(_mm_unpackhi_epi64(dv, dv));
+      dir[i] = static_cast<std::uint8_t>(k0);
+      dir[i + 1] = static_cast<std::uint8_t>(k1);
+      rec[i] = c1 + i + (k0 == kNoDirection ? 0 : t.off[k0 & 7]);
+      rec[i + 1] = c1 + i + 1 + (k1 == kNoDirection ? 0 : t.off[k1 & 7]);
     }
+    for (int i = m2; i < m; ++i) border_cell(i + 1, j);  // odd width: the last interior cell (scalar steepest)
     border_cell(0, j);
     border_cell(g.nx - 1, j);
     if (any_mask)
