@@ -1,10 +1,13 @@
 #include "nodes/hydrology/flow_routing.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <functional>
 #include <limits>
+
+#include <emmintrin.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -434,34 +437,92 @@ D8Flow d8_flow(const FlowGrid& g, std::span<const float> z, const Outlets& outle
   f.donors.resize(n);
   const NeighbourTable t(g);
   const float* zz = z.data();
+  const bool any_mask = !outlets.mask.empty();
+  // One row at a time: the interior cells branch-free, neighbour by neighbour over the whole row (the same
+  // slopes, comparisons and tie rule as steepest(), so the same receivers), the border cells one by one.
+  auto border_cell = [&](int i, int j) {
+    const std::int32_t c = g.index(i, j);
+    int k;
+    if (outlets.is_outlet(g, i, j))
+      k = kNoDirection;
+    else if (interior_cell(g, i, j))
+      k = steepest<true>(g, t, zz, i, j, nullptr);
+    else
+      k = steepest<false>(g, t, zz, i, j, nullptr);
+    f.direction[c] = static_cast<std::uint8_t>(k);
+    f.receiver[c] = k == kNoDirection ? c : c + t.off[k];
+  };
   for_each_row(ctx, g.ny, [&](int j) {
-    for (int i = 0; i < g.nx; ++i) {
-      const std::int32_t c = g.index(i, j);
-      int k;
-      if (outlets.is_outlet(g, i, j))
-        k = kNoDirection;
-      else if (interior_cell(g, i, j))
-        k = steepest<true>(g, t, zz, i, j, nullptr);
-      else
-        k = steepest<false>(g, t, zz, i, j, nullptr);
-      f.direction[c] = static_cast<std::uint8_t>(k);
-      f.receiver[c] = k == kNoDirection ? c : c + t.off[k];
+    if (j == 0 || j == g.ny - 1 || g.nx < 3) {
+      for (int i = 0; i < g.nx; ++i) border_cell(i, j);
+      return;
     }
-  }, 0.0, 0.5);
-  for_each_row(ctx, g.ny, [&](int j) {
-    for (int i = 0; i < g.nx; ++i) {
-      const std::int32_t c = g.index(i, j);
-      std::uint8_t m = 0;
-      if (interior_cell(g, i, j)) {
-        for (int k = 0; k < 8; ++k)
-          if (f.direction[c + t.off[k]] == opposite(k)) m |= static_cast<std::uint8_t>(1u << k);
-      } else {
-        for (int k = 0; k < 8; ++k)
-          if (g.inside(i + kDi[k], j + kDj[k]) && f.direction[c + t.off[k]] == opposite(k))
-            m |= static_cast<std::uint8_t>(1u << k);
+    const int m = g.nx - 2;
+    const std::int32_t c1 = g.index(1, j);
+    const float* zr = zz + c1;
+    std::uint8_t* dir = f.direction.data() + c1;
+    std::int32_t* rec = f.receiver.data() + c1;
+    // SSE2, two cells per step, all 8 neighbours in registers: the same double arithmetic as steepest()
+    // (exact float -> double, subtract, multiply) and strict > in increasing k, so the same receivers.
+    __m128d wv[8];
+    for (int k = 0; k < 8; ++k) wv[k] = _mm_set1_pd(t.inv_dist[k]);
+    const int m2 = m & ~1;
+    for (int i = 0; i < m2; i += 2) {
+      const __m128d a = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(zr + i))));
+      __m128d bv = _mm_setzero_pd();
+      __m128i dv = _mm_set1_epi64x(kNoDirection);
+      for (int k = 0; k < 8; ++k) {
+        const __m128d n =
+            _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(zr + i + t.off[k]))));
+        const __m128d sv = _mm_mul_pd(_mm_sub_pd(a, n), wv[k]);
+        const __m128d gt = _mm_cmpgt_pd(sv, bv);
+        bv = _mm_or_pd(_mm_and_pd(gt, sv), _mm_andnot_pd(gt, bv));
+        const __m128i gi = _mm_castpd_si128(gt);
+        dv = _mm_or_si128(_mm_and_si128(gi, _mm_set1_epi64x(k)), _mm_andnot_si128(gi, dv));
       }
-      f.donors[c] = m;
+      const int k0 = _mm_cvtsi128_si32(dv), k1 = _mm_cvtsi128_si32(_mm_unpackhi_epi64(dv, dv));
+      dir[i] = static_cast<std::uint8_t>(k0);
+      dir[i + 1] = static_cast<std::uint8_t>(k1);
+      rec[i] = c1 + i + (k0 == kNoDirection ? 0 : t.off[k0 & 7]);
+      rec[i + 1] = c1 + i + 1 + (k1 == kNoDirection ? 0 : t.off[k1 & 7]);
     }
+    for (int i = m2; i < m; ++i) border_cell(i + 1, j);  // odd width: the last interior cell (scalar steepest)
+    border_cell(0, j);
+    border_cell(g.nx - 1, j);
+    if (any_mask)
+      for (int i = 1; i < g.nx - 1; ++i)
+        if (outlets.mask[static_cast<std::size_t>(g.index(i, j))] != 0) {
+          f.direction[static_cast<std::size_t>(g.index(i, j))] = kNoDirection;
+          f.receiver[static_cast<std::size_t>(g.index(i, j))] = g.index(i, j);
+        }
+  }, 0.0, 0.5);
+  // Donor masks, again one row at a time: neighbour k is a donor when its direction points back (opposite(k)).
+  auto border_donors = [&](int i, int j) {
+    const std::int32_t c = g.index(i, j);
+    std::uint8_t m = 0;
+    for (int k = 0; k < 8; ++k)
+      if (g.inside(i + kDi[k], j + kDj[k]) && f.direction[c + t.off[k]] == opposite(k))
+        m |= static_cast<std::uint8_t>(1u << k);
+    f.donors[c] = m;
+  };
+  for_each_row(ctx, g.ny, [&](int j) {
+    if (j == 0 || j == g.ny - 1 || g.nx < 3) {
+      for (int i = 0; i < g.nx; ++i) border_donors(i, j);
+      return;
+    }
+    const int m = g.nx - 2;
+    const std::int32_t c1 = g.index(1, j);
+    std::uint8_t* dm = f.donors.data() + c1;
+    const std::uint8_t* dir = f.direction.data() + c1;
+    std::fill_n(dm, m, std::uint8_t{0});
+    for (int k = 0; k < 8; ++k) {
+      const std::uint8_t* dn = dir + t.off[k];
+      const std::uint8_t want = static_cast<std::uint8_t>(opposite(k));
+      const std::uint8_t bit = static_cast<std::uint8_t>(1u << k);
+      for (int i = 0; i < m; ++i) dm[i] |= dn[i] == want ? bit : std::uint8_t{0};
+    }
+    border_donors(0, j);
+    border_donors(g.nx - 1, j);
   }, 0.5, 1.0);
   return f;
 }
@@ -502,7 +563,20 @@ std::vector<double> accumulate_d8(const FlowGrid& g, const D8Flow& f, std::span<
   const std::size_t n = f.receiver.size();
   std::vector<double> acc(n);
   std::vector<std::uint8_t> remaining(n);
-  for (std::size_t c = 0; c < n; ++c) remaining[c] = static_cast<std::uint8_t>(std::popcount(f.donors[c]));
+  // Donor counts through a table: without -mpopcnt std::popcount is a libgcc call per cell.
+  static constexpr auto kBits = [] {
+    std::array<std::uint8_t, 256> b{};
+    for (int v = 0; v < 256; ++v) b[v] = static_cast<std::uint8_t>(std::popcount(static_cast<unsigned>(v)));
+    return b;
+  }();
+  auto count_donors = [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t c = lo; c < hi; ++c) remaining[c] = kBits[f.donors[c]];
+  };
+  if (tbb::this_task_arena::max_concurrency() > 1 && n >= (1u << 16))
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1u << 16),
+                      [&](const tbb::blocked_range<std::size_t>& r) { count_donors(r.begin(), r.end()); });
+  else
+    count_donors(0, n);
   std::int32_t off[8];
   for (int k = 0; k < 8; ++k) off[k] = g.offset(k);
   const double area = g.cell_area();
@@ -511,48 +585,76 @@ std::vector<double> accumulate_d8(const FlowGrid& g, const D8Flow& f, std::span<
   double* a = acc.data();
   // acc of a cell whose donors are all done: its own weight plus the donors in neighbour order, so the sum
   // does not depend on which thread finished last.
-  auto pull = [&](std::int32_t c) {
-    double s = cell_weight(weight, static_cast<std::size_t>(c), area);
-    for (unsigned m = donors[c]; m; m &= m - 1) s += a[c + off[std::countr_zero(m)]];
-    a[c] = s;
-  };
-  const bool parallel = tbb::this_task_arena::max_concurrency() > 1 && n >= (1u << 16);
-  const int rows_per_chunk = 32;
-  const int chunks = (g.ny + rows_per_chunk - 1) / rows_per_chunk;
-  auto run_chunk = [&](int chunk, auto atomic_tag) {
-    constexpr bool kAtomic = decltype(atomic_tag)::value;
-    const std::int32_t begin = g.index(0, chunk * rows_per_chunk);
-    const std::int32_t end = g.index(0, std::min(g.ny, (chunk + 1) * rows_per_chunk));
-    for (std::int32_t c = begin; c < end; ++c) {
-      if (donors[c] != 0) continue;
-      pull(c);
-      std::int32_t x = c;
-      for (;;) {
-        const std::int32_t r = rec[x];
-        if (r == x) break;
-        if constexpr (kAtomic) {
-          if (std::atomic_ref<std::uint8_t>(remaining[r]).fetch_sub(1, std::memory_order_acq_rel) != 1) break;
-        } else {
-          if (--remaining[r] != 0) break;
-        }
-        pull(r);
-        x = r;
+  const int threads = tbb::this_task_arena::max_concurrency();
+  const bool parallel = threads > 1 && n >= (1u << 16);
+  const float* wts = weight.empty() ? nullptr : weight.data();
+  // Parallel (after Barnes 2017): the grid is cut into bands of rows, 2 per thread. Phase 1, bands in
+  // parallel with plain counters: walks stay inside their own band and a cell whose receiver lies in another
+  // band is recorded instead. Phase 2, serial: the recorded cells continue their walks across bands (only
+  // the cells downstream of a band boundary are left). Serial: one band, phase 1 only. Every cell is
+  // computed once by the same pull (own weight plus its donors in neighbour order), so the result does not
+  // depend on the band layout or the thread count.
+  const int rows_per_band = parallel ? std::max(32, (g.ny + 2 * threads - 1) / (2 * threads)) : g.ny;
+  const int bands = (g.ny + rows_per_band - 1) / rows_per_band;
+  std::vector<std::vector<std::int32_t>> exports(static_cast<std::size_t>(bands));
+  // Local restrict pointers: the byte counters would otherwise alias every pointer the loop reloads.
+  auto walk = [&](std::int32_t x, std::int32_t lo, std::int32_t hi, std::vector<std::int32_t>* out) {
+    const std::uint8_t* __restrict dn = donors;
+    std::uint8_t* __restrict rem = remaining.data();
+    const std::int32_t* __restrict rc = rec;
+    double* __restrict av = a;
+    const float* __restrict wv = wts;
+    for (;;) {
+      const std::int32_t r = rc[x];
+      if (r == x) return;
+      if (r < lo || r >= hi) {
+        out->push_back(x);
+        return;
       }
+      if (--rem[r] != 0) return;
+      // Pull: own weight plus the donors in neighbour order.
+      double sum = wv ? static_cast<double>(wv[r]) : area;
+      for (unsigned m = dn[r]; m; m &= m - 1) sum += av[r + off[std::countr_zero(m)]];
+      av[r] = sum;
+      x = r;
+    }
+  };
+  auto run_band = [&](int band) {
+    const std::int32_t begin = g.index(0, band * rows_per_band);
+    const std::int32_t end = g.index(0, std::min(g.ny, (band + 1) * rows_per_band));
+    std::vector<std::int32_t>* out = &exports[static_cast<std::size_t>(band)];
+    const std::uint8_t* __restrict dn = donors;
+    for (std::int32_t c0 = begin; c0 < end; c0 += 1 << 16) {
+      check(ctx);
+      const std::int32_t c1 = std::min(end, c0 + (1 << 16));
+      auto source = [&](std::int32_t c) {
+        a[c] = wts ? static_cast<double>(wts[c]) : area;
+        walk(c, begin, end, out);
+      };
+      // Sources (no donors) found 16 at a time (SSE2 compare + bit mask) instead of one unpredictable
+      // branch per cell.
+      std::int32_t c = c0;
+      for (; c + 16 <= c1; c += 16) {
+        const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(dn + c));
+        for (unsigned m = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(v, _mm_setzero_si128()))); m; m &= m - 1)
+          source(c + std::countr_zero(m));
+      }
+      for (; c < c1; ++c)
+        if (dn[c] == 0) source(c);
     }
   };
   if (parallel) {
     std::atomic<int> done{0};
-    tbb::parallel_for(tbb::blocked_range<int>(0, chunks, 1), [&](const tbb::blocked_range<int>& r) {
-      check(ctx);
-      for (int ch = r.begin(); ch != r.end(); ++ch) run_chunk(ch, std::true_type{});
+    tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const tbb::blocked_range<int>& r) {
+      for (int b = r.begin(); b != r.end(); ++b) run_band(b);
       const int d = done.fetch_add(static_cast<int>(r.size())) + static_cast<int>(r.size());
-      if (ctx) ctx->progress(static_cast<double>(d) / chunks);
+      if (ctx) ctx->progress(0.9 * d / bands);
     });
+    const std::int32_t all = static_cast<std::int32_t>(n);
+    for (const auto& e : exports)
+      for (std::int32_t x : e) walk(x, 0, all, nullptr);
   } else {
-    for (int ch = 0; ch < chunks; ++ch) {
-      if ((ch & 7) == 0) check(ctx);
-      run_chunk(ch, std::false_type{});
-    }
+    run_band(0);
   }
   check(ctx);
   return acc;
