@@ -48,7 +48,10 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
 
   // Brush around the nearest sample: weights 1 - distance / radius, normalised.
   std::vector<BrushTap> brush;
-  const int rx = static_cast<int>(std::ceil(p.radius / dx)), ry = static_cast<int>(std::ceil(p.radius / dy));
+  // Taps farther than the grid's extent never land on a sample; clamping them keeps the brush finite on
+  // fine grids and huge radii without changing any result (deposits are normalised by the taps inside).
+  const int rx = static_cast<int>(std::min<double>(std::ceil(p.radius / dx), w));
+  const int ry = static_cast<int>(std::min<double>(std::ceil(p.radius / dy), h));
   {
     double total = 0.0;
     for (int dj = -ry; dj <= ry; ++dj)
