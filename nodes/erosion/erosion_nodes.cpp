@@ -43,7 +43,7 @@ OROGEN_NODE(ThermalErosion) {
       "neighbours until no slope exceeds the angle (Musgrave, Kolb and Mace 1989, 'The synthesis and "
       "rendering of eroded fractal terrains'; Olsen 2004, 'Realtime procedural terrain generation'). Slopes "
       "are measured over the true distance to all 8 neighbours, so an angle gives the same slopes at any "
-      "resolution. Volume is conserved; bit-identical for any thread count. Reach: global.");
+      "resolution. Volume is conserved; bit-identical for any thread count.");
   declare_common_ports(b, "Scales how fast material leaves each cell, 0..1 (1 if unconnected)");
   b.input("hardness", PortType::Heightfield).optional().description(
       "Rock hardness 0..1: raises a cell's talus angle toward 89 degrees (1: cliffs that never slump)");
@@ -74,7 +74,7 @@ OROGEN_NODE(HydraulicErosion) {
       "can carry more and deposit where they carry too much. Droplets per km^2, brush radius, step length "
       "and lifetime are in metres and sediment is a volume, so results agree across resolutions. Droplets "
       "run in parallel in fixed batches whose height changes are applied in droplet order: bit-identical "
-      "for any thread count. Reach: global.");
+      "for any thread count.");
   declare_common_ports(b, "Scales erosion and deposition per cell, 0..1 (1 if unconnected)");
   b.param_float("droplets_per_km2", 20000.0).range(0.0, 1e8).soft_range(1000.0, 200000.0).unit("1/km^2").description("Droplets per square kilometre of the domain");
   b.param_float("step_length", 10.0).range(0.01, 1e4).soft_range(1.0, 50.0).unit("m").description("Distance a droplet moves per step (about one sample spacing)");
@@ -117,7 +117,7 @@ OROGEN_NODE(PipeErosion) {
       "capacity from speed and tilt, dissolution, deposition, transport with the water, evaporation. The "
       "time step follows a CFL condition on the cell size, so a finer grid takes more, smaller steps of the "
       "same physical duration. Cells under sea level are sinks; water and sediment leave at the border. "
-      "Bit-identical for any thread count. Reach: global.");
+      "Bit-identical for any thread count.");
   declare_common_ports(b, "Scales dissolution and deposition per cell, 0..1 (1 if unconnected)");
   b.input("rainfall", PortType::Heightfield).optional().description("Rain rate per cell, mm/h (replaces rain_rate)");
   b.input("moisture", PortType::Heightfield).optional().description("Drops mode: chance factor of rain per cell, 0..1");
@@ -174,7 +174,7 @@ OROGEN_NODE(StreamPower) {
       "efficient O(n), implicit and parallel method to solve the stream power equation' (Newton iteration "
       "for n != 1), over D8 routing of the depression-filled surface (priority flood, Barnes et al. 2014; "
       "closed depressions fill with sediment). Border cells and cells below sea level are base level. "
-      "Produces real drainage networks. Reach: global.");
+      "Produces real drainage networks.");
   declare_common_ports(b, "Scales erodibility K and diffusivity D per cell, 0..1 (1 if unconnected)");
   b.input("uplift", PortType::Heightfield).optional().description("Uplift factor per cell (>= 0), times uplift_rate; 1 if unconnected");
   b.output("accumulation", PortType::Heightfield).description("Drainage area of the final routing, m^2").kind(OutputKind::Scalar);

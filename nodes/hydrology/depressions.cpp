@@ -163,6 +163,13 @@ FloodFillResult flood_fill(const Heightfield& in, const FloodFillParams& p, cons
   return r;
 }
 
+// The three outputs FillDepressions and Lakes share: water surface (or filled ground), depth and lake id.
+static void set_fill_outputs(ExecContext& ctx, const FillResult& r) {
+  ctx.set_output("out", r.out);
+  ctx.set_output("depth", r.depth);
+  ctx.set_output("lake_id", r.lake_id);
+}
+
 OROGEN_NODE(FillDepressions) {
   b.reach_global();  // flow routing over the whole domain
   b.category("hydrology").description(
@@ -185,10 +192,7 @@ OROGEN_NODE(FillDepressions) {
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const FillParams p{ctx.enum_index("mode") == 1, ctx.enum_index("flats") == 0, ctx.param<double>("max_depth")};
-    FillResult r = fill_depressions(*in, p, &ctx);
-    ctx.set_output("out", r.out);
-    ctx.set_output("depth", r.depth);
-    ctx.set_output("lake_id", r.lake_id);
+    set_fill_outputs(ctx, fill_depressions(*in, p, &ctx));
   });
 }
 
@@ -208,10 +212,7 @@ OROGEN_NODE(Lakes) {
       .description("Depressions covering less than this area are not lakes");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    FillResult r = lakes(*in, LakesParams{ctx.param<double>("min_depth"), ctx.param<double>("min_area")}, &ctx);
-    ctx.set_output("out", r.out);
-    ctx.set_output("depth", r.depth);
-    ctx.set_output("lake_id", r.lake_id);
+    set_fill_outputs(ctx, lakes(*in, LakesParams{ctx.param<double>("min_depth"), ctx.param<double>("min_area")}, &ctx));
   });
 }
 
