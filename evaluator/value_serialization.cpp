@@ -366,6 +366,30 @@ ReportPtr read_report(ByteReader& r) {
   return rep;
 }
 
+// --- ModuleString -------------------------------------------------------------------------------------------
+
+void write(ByteWriter& w, const ModuleString& m) {
+  w.u64(m.symbols.size());
+  w.raw(m.symbols.data(), m.symbols.size());
+  w.u64(m.offsets.size());
+  w.raw(m.offsets.data(), m.offsets.size() * sizeof(std::uint32_t));
+  w.floats(m.params);
+}
+ModuleStringPtr read_module_string(ByteReader& r) {
+  auto m = std::make_shared<ModuleString>();
+  m->symbols.resize(r.count(1));
+  r.raw(m->symbols.data(), m->symbols.size());
+  m->offsets.resize(r.count(sizeof(std::uint32_t)));
+  r.raw(m->offsets.data(), m->offsets.size() * sizeof(std::uint32_t));
+  m->params = r.floats();
+  try {
+    m->check_consistent();
+  } catch (const std::logic_error& e) {
+    throw SerializationError(e.what());
+  }
+  return m;
+}
+
 }  // namespace
 
 // --- values -------------------------------------------------------------------------------------------------
@@ -387,7 +411,7 @@ void write_value(ByteWriter& out, const PortValue& value) {
 PortValue read_value(ByteReader& in) {
   const auto tag = in.u8();
   if (tag == 0) return std::monostate{};
-  if (tag > static_cast<std::uint8_t>(PortType::Report) + 1) throw SerializationError("unknown value type");
+  if (tag > static_cast<std::uint8_t>(PortType::ModuleString) + 1) throw SerializationError("unknown value type");
   switch (static_cast<PortType>(tag - 1)) {
     case PortType::Heightfield: return read_heightfield(in);
     case PortType::Image: return read_image(in);
@@ -396,6 +420,7 @@ PortValue read_value(ByteReader& in) {
     case PortType::Mesh: return read_mesh(in);
     case PortType::PolygonMap: return read_polygon_map(in);
     case PortType::Report: return read_report(in);
+    case PortType::ModuleString: return read_module_string(in);
   }
   throw SerializationError("unknown value type");
 }

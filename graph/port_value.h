@@ -7,6 +7,7 @@
 #include "graph/curves.h"
 #include "graph/heightfield.h"
 #include "graph/image.h"
+#include "graph/module_string.h"
 #include "graph/points.h"
 #include "graph/polygon_map.h"
 #include "graph/report.h"
@@ -19,7 +20,8 @@ using MeshPtr = std::shared_ptr<const Mesh>;
 
 // Alternative order matches PortType; monostate = no value.
 using PortValue =
-    std::variant<std::monostate, HeightfieldPtr, ImagePtr, PointsPtr, CurvesPtr, MeshPtr, PolygonMapPtr, ReportPtr>;
+    std::variant<std::monostate, HeightfieldPtr, ImagePtr, PointsPtr, CurvesPtr, MeshPtr, PolygonMapPtr, ReportPtr,
+                 ModuleStringPtr>;
 
 // The PortType a value holds (undefined for monostate; check has_value first).
 PortType port_type_of(const PortValue& v);
@@ -35,5 +37,6 @@ template <> struct PortTypeOf<Curves> { static constexpr PortType value = PortTy
 template <> struct PortTypeOf<Mesh> { static constexpr PortType value = PortType::Mesh; };
 template <> struct PortTypeOf<PolygonMap> { static constexpr PortType value = PortType::PolygonMap; };
 template <> struct PortTypeOf<Report> { static constexpr PortType value = PortType::Report; };
+template <> struct PortTypeOf<ModuleString> { static constexpr PortType value = PortType::ModuleString; };
 
 }  // namespace orogen

@@ -6,7 +6,7 @@
 namespace orogen {
 namespace {
 
-constexpr std::array<std::pair<PortType, std::string_view>, 7> kPortNames{{
+constexpr std::array<std::pair<PortType, std::string_view>, 8> kPortNames{{
     {PortType::Heightfield, "Heightfield"},
     {PortType::Image, "Image"},
     {PortType::Points, "Points"},
@@ -14,6 +14,7 @@ constexpr std::array<std::pair<PortType, std::string_view>, 7> kPortNames{{
     {PortType::Mesh, "Mesh"},
     {PortType::PolygonMap, "PolygonMap"},
     {PortType::Report, "Report"},
+    {PortType::ModuleString, "ModuleString"},
 }};
 
 constexpr std::array<std::pair<ParamType, std::string_view>, 12> kParamNames{{

@@ -43,6 +43,7 @@ ImU32 port_color(PortType type) {
     case PortType::Mesh: return IM_COL32(230, 110, 160, 255);
     case PortType::PolygonMap: return IM_COL32(190, 130, 240, 255);
     case PortType::Report: return IM_COL32(200, 200, 200, 255);
+    case PortType::ModuleString: return IM_COL32(150, 210, 90, 255);
   }
   return IM_COL32(200, 200, 200, 255);
 }
