@@ -1,0 +1,147 @@
+// Plant nodes: LSystem (grammar -> module string), Turtle3D (module string -> skeleton curves and leaf
+// points), TreeMesh (skeleton and leaves -> mesh). Thin adapters over lsystem.h, turtle.h, tree_mesh.h.
+#include "graph/exec_context.h"
+#include "graph/mesh.h"
+#include "graph/registry.h"
+#include "nodes/plants/lsystem.h"
+#include "nodes/plants/tree_mesh.h"
+#include "nodes/plants/turtle.h"
+
+namespace orogen {
+
+OROGEN_NODE(LSystem) {
+  b.reach_global();
+  b.domain_independent();
+  b.category("plants").description(
+      "Derives a word of modules from an axiom and rules in the notation of Prusinkiewicz & Lindenmayer (1990), "
+      "The Algorithmic Beauty of Plants: parametric modules F(l,w) with arithmetic expressions, conditions "
+      "(A(x) : x < 3 -> ...), left and right context (A < B > C) matched across bracketed branches with an "
+      "ignore list, stochastic alternatives chosen by the roulette of their weights (A -> B : 2) as in "
+      "Chalmers et al. (2016), SeamScape, and random draws uniform(a,b) / gauss(m,s) keyed by the seed. One "
+      "rule per line or separated by ';'; 'let name = value' defines constants; '//' starts a comment line. "
+      "Errors name the line and column. Presets (docs/lsystems.md): algae (A -> AB; B -> A), the bush "
+      "and fern of ABOP Fig. 1.24, 3D Game Worlds rules 4.19 and 4.20, and SeamScape's green tree.");
+  b.output("out", PortType::ModuleString).description("The derived word (symbols with parameters)");
+  b.param_string("axiom", "X").description("The initial word, e.g. X or T(140,90,40,100)");
+  b.param_string("rules", "X -> F[+X][-X]FX\nF -> FF").description(
+      "Productions, one per line: [left <] predecessor [> right] [: condition] -> successor [: weight]");
+  b.param_int("iterations", 4).range(0, 40).soft_range(0, 8).description("Parallel rewriting steps");
+  b.param_string("ignore", "").description(
+      "Symbols that context matching skips (typically the turtle's +-&^\\/F)");
+  b.param_seed("seed", 0).description("Key of the stochastic choices and random draws; the same seed gives the same word");
+  b.param_int("max_modules", 1000000).range(1, 100000000).description(
+      "A word longer than this fails with an error instead of exhausting memory (modules)");
+  b.execute([](ExecContext& ctx) {
+    plants::DeriveOptions o;
+    o.iterations = static_cast<int>(ctx.param<std::int64_t>("iterations"));
+    o.seed = ctx.param<std::uint64_t>("seed");
+    o.max_modules = static_cast<std::size_t>(ctx.param<std::int64_t>("max_modules"));
+    o.progress = [&ctx](double f) { ctx.progress(f); };
+    o.should_stop = [&ctx] { return ctx.cancelled(); };
+    auto word = std::make_shared<ModuleString>();
+    try {
+      const plants::LSystem l(ctx.param<std::string>("axiom"), ctx.param<std::string>("rules"),
+                              ctx.param<std::string>("ignore"));
+      *word = l.derive(o);
+    } catch (const plants::LSystemError& e) {
+      throw NodeError(e.what());
+    }
+    ctx.check_cancelled();
+    ctx.set_output("out", std::move(word));
+  });
+}
+
+OROGEN_NODE(Turtle3D) {
+  b.reach_global();
+  b.domain_independent();
+  b.category("plants").description(
+      "Interprets a module string with a 3D turtle (Prusinkiewicz & Lindenmayer 1990, The Algorithmic Beauty of "
+      "Plants, ch. 1.5, 2.2): F f move, + - turn, & ^ pitch, \\ / roll, | turn around, $ level, [ ] branch, "
+      "#(r,g,b) color, < > ! width, L(size,r,g,b) leaf. The frame (heading, left, up) is re-orthonormalised "
+      "after every rotation; tropism bends the heading towards a direction after each F (ABOP eq. 2.5). The "
+      "plant grows from the origin along +z, in metres.");
+  b.input("in", PortType::ModuleString).description("Word from LSystem");
+  b.output("out", PortType::Curves).description(
+      "Skeleton: one curve per branch, parent = the branch it grows from; width (m) and attributes r, g, b "
+      "(linear color) and depth (branching depth) per point");
+  b.output("leaves", PortType::Points).description(
+      "Leaves: position, rotation (x = heading, y = left, z = up), scale = size (m), attributes r, g, b, branch");
+  b.param_float("step", 1.0).range(0.0, 1000.0).soft_range(0.01, 10.0).unit("m").description(
+      "Length of F and f without a parameter");
+  b.param_float("angle", 25.0).range(-360.0, 360.0).soft_range(0.0, 90.0).unit("deg").description(
+      "Rotation of + - & ^ \\ / without a parameter");
+  b.param_float("width", 0.1).range(0.0, 100.0).soft_range(0.0, 2.0).unit("m").description(
+      "Initial branch width (diameter)");
+  b.param_float("width_factor", 0.7).range(0.01, 1.0).unit("x").description(
+      "> multiplies and < divides the width by this when they have no parameter");
+  b.param_vec3("tropism", {0.0, 0.0, -1.0}).range(-1.0, 1.0).unit("direction").description(
+      "Direction the branches bend towards (gravity: 0, 0, -1)");
+  b.param_float("tropism_strength", 0.0).range(-1.0, 1.0).soft_range(0.0, 0.5).unit("rad").description(
+      "Susceptibility e: each F turns the heading by e |H x T| radians towards the tropism direction");
+  b.param_color("color", {0.35f, 0.22f, 0.12f, 1.0f}).description("Initial branch color (linear RGB)");
+  b.param_float("leaf_size", 0.2).range(0.0, 100.0).soft_range(0.0, 2.0).unit("m").description(
+      "Size of L without a parameter");
+  b.param_color("leaf_color", {0.1f, 0.35f, 0.05f, 1.0f}).description(
+      "Color of L without color parameters (linear RGB)");
+  b.execute([](ExecContext& ctx) {
+    const auto word = ctx.require<ModuleString>("in");
+    plants::TurtleOptions o;
+    o.step = ctx.param<double>("step");
+    o.angle = ctx.param<double>("angle");
+    o.width = ctx.param<double>("width");
+    o.width_factor = ctx.param<double>("width_factor");
+    o.tropism = ctx.param<glm::dvec3>("tropism");
+    o.tropism_strength = ctx.param<double>("tropism_strength");
+    const glm::vec4 c = ctx.param<glm::vec4>("color"), lc = ctx.param<glm::vec4>("leaf_color");
+    o.color = glm::dvec3(c.r, c.g, c.b);
+    o.leaf_size = ctx.param<double>("leaf_size");
+    o.leaf_color = glm::dvec3(lc.r, lc.g, lc.b);
+    o.should_stop = [&ctx] { return ctx.cancelled(); };
+    auto r = plants::interpret(*word, o);
+    ctx.check_cancelled();
+    ctx.set_output("out", std::make_shared<Curves>(std::move(r.skeleton)));
+    ctx.set_output("leaves", std::make_shared<Points>(std::move(r.leaves)));
+  });
+}
+
+OROGEN_NODE(TreeMesh) {
+  b.reach_global();
+  b.domain_independent();
+  b.category("plants").description(
+      "Meshes a plant skeleton as generalized cylinders (Bloomenthal 1985, Modeling the mighty maple; "
+      "Prusinkiewicz, Lindenmayer & Hanan 1988): a ring of k vertices at each point of each branch in a "
+      "rotation-minimising frame, radius and color interpolated along the branch, both ends capped, so every "
+      "branch is a closed surface; children start on their parent's axis, hiding the joint. Leaves become "
+      "small diamond quads or closed hull rocks (Chalmers et al. 2016). Texture coordinates run around (u) and "
+      "along (v, metres) each branch. Over the triangle budget the sides shrink first (down to 3), then the "
+      "thinnest twigs and their leaves are dropped.");
+  b.input("in", PortType::Curves).description("Skeleton from Turtle3D (width = diameter, m; colors r, g, b)");
+  b.input("leaves", PortType::Points).optional().description("Leaves from Turtle3D");
+  b.output("out", PortType::Mesh).description("The plant mesh, metres, z up");
+  b.param_int("sides", 8).range(3, 64).description("Vertices around each branch (k)");
+  b.param_int("max_triangles", 200000).range(16, 50000000).description(
+      "Triangle budget for branches and leaves together");
+  b.param_enum("leaf_shape", {"none", "quad", "rock"}, "quad").description(
+      "Leaves as nothing, one-sided diamond quads (2 triangles) or closed convex hulls of 8 points");
+  b.param_seed("seed", 0).description("Key of the rock leaves' shapes");
+  b.execute([](ExecContext& ctx) {
+    const auto skeleton = ctx.require<Curves>("in");
+    const auto leaves = ctx.input<Points>("leaves");
+    plants::TreeMeshOptions o;
+    o.sides = static_cast<int>(ctx.param<std::int64_t>("sides"));
+    o.max_triangles = static_cast<std::size_t>(ctx.param<std::int64_t>("max_triangles"));
+    o.leaf_shape = static_cast<plants::LeafShape>(ctx.enum_index("leaf_shape"));
+    o.seed = ctx.param<std::uint64_t>("seed");
+    o.should_stop = [&ctx] { return ctx.cancelled(); };
+    auto mesh = std::make_shared<Mesh>();
+    try {
+      *mesh = plants::tree_mesh(*skeleton, leaves.get(), o);
+    } catch (const std::invalid_argument& e) {
+      throw NodeError(e.what());
+    }
+    ctx.check_cancelled();
+    ctx.set_output("out", std::move(mesh));
+  });
+}
+
+}  // namespace orogen

@@ -1,0 +1,123 @@
+// Rock nodes: HullRock (one convex-hull rock) and RockSet (K variants for scattering). Thin adapters over
+// hull_rock.h.
+#include <cmath>
+#include <stdexcept>
+
+#include "graph/exec_context.h"
+#include "graph/mesh.h"
+#include "graph/registry.h"
+#include "nodes/rocks/hull_rock.h"
+
+namespace orogen {
+namespace {
+
+const char* kRockSource =
+    "Chalmers et al. (2016), SeamScape §3.8: N points uniformly on an ellipsoid (semi-axes a, b, c), each "
+    "moved by spherical Gaussian noise of standard deviation sigma, and their 3D convex hull (CGAL "
+    "convex_hull_3; hull vertices are input points) with outward faces and smooth normals";
+
+void declare_rock_params(NodeBuilder& b) {
+  b.param_int("points", 20).range(4, 10000).soft_range(8, 200).description("Points sampled on the ellipsoid (N)");
+  b.param_vec3("radii", {1.0, 0.7, 0.5}).range(0.001, 1000.0).unit("m").description(
+      "Ellipsoid semi-axes a, b, c along x, y, z");
+  b.param_float("sigma", 0.05).range(0.0, 1000.0).soft_range(0.0, 0.5).unit("m").description(
+      "Standard deviation of the Gaussian noise added to each point per axis");
+  b.param_int("subdivisions", 0).range(0, 5).description(
+      "Refinement levels: each splits every triangle in four (x4 faces) before the displacement");
+  b.param_float("displacement", 0.0).range(0.0, 1000.0).soft_range(0.0, 0.3).unit("m").description(
+      "Amplitude of the 3D value-noise displacement along the normals (0: the faceted hull)");
+  b.param_float("wavelength", 0.5).range(0.001, 1000.0).soft_range(0.05, 5.0).unit("m").description(
+      "Feature size of the displacement noise");
+  b.param_color("color", {0.35f, 0.33f, 0.3f, 1.0f}).description("Vertex color (linear RGB)");
+  b.param_seed("seed", 0).description("Key of the random points (and of each variant's radii)");
+}
+
+rocks::HullRockOptions rock_options(const ExecContext& ctx) {
+  rocks::HullRockOptions o;
+  o.points = static_cast<int>(ctx.param<std::int64_t>("points"));
+  o.radii = ctx.param<glm::dvec3>("radii");
+  o.sigma = ctx.param<double>("sigma");
+  o.subdivisions = static_cast<int>(ctx.param<std::int64_t>("subdivisions"));
+  o.displacement = ctx.param<double>("displacement");
+  o.wavelength = ctx.param<double>("wavelength");
+  o.seed = ctx.param<std::uint64_t>("seed");
+  return o;
+}
+
+TriMesh::Color color_of(const ExecContext& ctx) {
+  const glm::vec4 c = ctx.param<glm::vec4>("color");
+  return {c.r, c.g, c.b, 1.0f};
+}
+
+}  // namespace
+
+OROGEN_NODE(HullRock) {
+  b.reach_global();
+  b.domain_independent();
+  b.category("rocks").description(std::string("A low-polygon rock centred on the origin. ") + kRockSource +
+                                  ". Optionally subdivided and displaced by 3D noise in world units for a less "
+                                  "faceted look; the surface stays closed.");
+  b.output("out", PortType::Mesh).description("The rock, metres, z up");
+  declare_rock_params(b);
+  b.execute([](ExecContext& ctx) {
+    auto mesh = std::make_shared<Mesh>();
+    try {
+      rocks::append_hull_rock(mesh->mesh, rock_options(ctx), glm::dvec3(0.0), glm::dquat(1, 0, 0, 0), color_of(ctx));
+    } catch (const std::invalid_argument& e) {
+      throw NodeError(std::string("no rock: ") + e.what() + " (raise sigma or the radii)");
+    }
+    mesh->mesh.update_face_normals();
+    ctx.set_output("out", std::move(mesh));
+  });
+}
+
+OROGEN_NODE(RockSet) {
+  b.reach_global();
+  b.domain_independent();
+  b.category("rocks").description(std::string("K rock variants at once, for scattering: each a hull rock (") +
+                                  kRockSource +
+                                  ") with its own random points and radii scaled by up to +-variation, laid out "
+                                  "in a row along x; the placements output marks each variant's centre with "
+                                  "class_id = its index.");
+  b.output("out", PortType::Mesh).description("All variants in one mesh, side by side along x (m)");
+  b.output("placements", PortType::Points).description(
+      "Centre of each variant, class_id = variant index, scale = its radii (m)");
+  b.param_int("count", 8).range(1, 1000).soft_range(1, 32).description("Number of variants (K)");
+  b.param_float("variation", 0.3).range(0.0, 0.95).unit("x").description(
+      "Each variant's radii are multiplied by independent factors in 1 +- variation");
+  b.param_float("spacing", 0.5).range(0.0, 1e4).soft_range(0.0, 5.0).unit("m").description(
+      "Gap between neighbouring variants in the row");
+  declare_rock_params(b);
+  b.execute([](ExecContext& ctx) {
+    const int count = static_cast<int>(ctx.param<std::int64_t>("count"));
+    const double variation = ctx.param<double>("variation"), spacing = ctx.param<double>("spacing");
+    const rocks::HullRockOptions base = rock_options(ctx);
+    auto mesh = std::make_shared<Mesh>();
+    auto placements = std::make_shared<Points>();
+    double x = 0.0;
+    for (int k = 0; k < count; ++k) {
+      ctx.check_cancelled();
+      ctx.progress(static_cast<double>(k) / count);
+      rocks::HullRockOptions o = base;
+      o.variant = static_cast<std::uint64_t>(k);
+      for (int a = 0; a < 3; ++a)
+        o.radii[a] *= 1.0 + variation * (2.0 * rocks::variant_uniform(base.seed, o.variant, a) - 1.0);
+      const double half = std::max({o.radii.x, o.radii.y, o.radii.z}) + 3.0 * o.sigma + o.displacement;
+      if (k > 0) x += half;
+      const glm::dvec3 centre(x, 0.0, 0.0);
+      try {
+        rocks::append_hull_rock(mesh->mesh, o, centre, glm::dquat(1, 0, 0, 0), color_of(ctx));
+      } catch (const std::invalid_argument& e) {
+        throw NodeError("no rock " + std::to_string(k) + ": " + e.what() + " (raise sigma or the radii)");
+      }
+      const auto i = placements->add(glm::vec3(centre), k);
+      placements->scale[i] = glm::vec3(o.radii);
+      x += half + spacing;
+    }
+    mesh->mesh.update_face_normals();
+    ctx.set_output("out", std::move(mesh));
+    ctx.set_output("placements", std::move(placements));
+  });
+}
+
+}  // namespace orogen
