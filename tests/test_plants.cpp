@@ -5,14 +5,22 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <set>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include <glm/geometric.hpp>
+
+#include "evaluator/run_node.h"
 #include "evaluator/value_serialization.h"
+#include "graph/exec_context.h"
+#include "graph/mesh.h"
 #include "graph/module_string.h"
 #include "nodes/plants/lsystem.h"
+#include "nodes/plants/tree_mesh.h"
+#include "nodes/plants/turtle.h"
 
 namespace orogen::plants {
 namespace {
@@ -207,6 +215,275 @@ TEST(LSystem, ModuleStringRoundTripsThroughSerialization) {
   ASSERT_EQ(port_type_of(back), PortType::ModuleString);
   EXPECT_EQ(std::get<ModuleStringPtr>(back)->text(), w.text());
   EXPECT_EQ(w.text(), "A(2.5)[+B(2,2)][+B(1.5,2)][+B(1,2)]");
+}
+
+// --- turtle ------------------------------------------------------------------------------------------------
+
+ModuleString word(const std::string& axiom) { return LSystem(axiom, "").axiom(0); }
+
+void expect_near(const glm::dvec3& a, const glm::dvec3& b, double tol = 1e-6) {
+  EXPECT_NEAR(a.x, b.x, tol);
+  EXPECT_NEAR(a.y, b.y, tol);
+  EXPECT_NEAR(a.z, b.z, tol);
+}
+
+TEST(Turtle, KnownEndPositions) {
+  TurtleOptions o;
+  o.angle = 90.0;
+  // Start at the origin heading +z with left = -x and up = -y.
+  expect_near(interpret(word("F+F"), o).final_frame.position, {-1, 0, 1});
+  expect_near(interpret(word("F-F"), o).final_frame.position, {1, 0, 1});
+  expect_near(interpret(word("FF&F"), o).final_frame.position, {0, 1, 2});   // pitch down: towards -up
+  expect_near(interpret(word("FF^F"), o).final_frame.position, {0, -1, 2});
+  expect_near(interpret(word("\\(90)+F"), o).final_frame.position, {0, -1, 0});  // roll left: left -> up
+  expect_near(interpret(word("F(2.5)|F"), o).final_frame.position, {0, 0, 1.5});
+  expect_near(interpret(word("f(3)F(0.5)"), o).final_frame.position, {0, 0, 3.5});
+  // A square closes.
+  expect_near(interpret(word("F+F+F+F"), o).final_frame.position, {0, 0, 0});
+  // $ levels the left axis.
+  const auto f = interpret(word("&(30)\\(40)$"), o).final_frame;
+  EXPECT_NEAR(f.left.z, 0.0, 1e-12);
+}
+
+TEST(Turtle, FrameStaysOrthonormalOver100kTurns) {
+  ModuleString w;
+  const char ops[] = {'+', '-', '&', '^', '\\', '/'};
+  std::uint64_t h = 12345;
+  for (int k = 0; k < 100000; ++k) {
+    h = h * 6364136223846793005ull + 1442695040888963407ull;
+    const float a = static_cast<float>((h >> 33) % 3600000) / 10000.0f;  // irrational-ish angles
+    const float v[1] = {a};
+    w.append(ops[(h >> 20) % 6], v);
+  }
+  const auto f = interpret(w, TurtleOptions{}).final_frame;
+  EXPECT_NEAR(glm::length(f.heading), 1.0, 1e-12);
+  EXPECT_NEAR(glm::length(f.left), 1.0, 1e-12);
+  EXPECT_NEAR(glm::length(f.up), 1.0, 1e-12);
+  EXPECT_NEAR(glm::dot(f.heading, f.left), 0.0, 1e-12);
+  EXPECT_NEAR(glm::dot(f.heading, f.up), 0.0, 1e-12);
+  EXPECT_NEAR(glm::dot(f.left, f.up), 0.0, 1e-12);
+  EXPECT_NEAR(glm::dot(glm::cross(f.heading, f.left), f.up), 1.0, 1e-12);  // right-handed
+}
+
+TEST(Turtle, BracketPairReturnsExactly) {
+  TurtleOptions o;
+  o.tropism_strength = 0.3;
+  const auto a = interpret(word("F+(17)F&(3)"), o).final_frame;
+  const auto b = interpret(word("F+(17)F&(3)[+F&F\\(33)F[-F]F!(3)#(1,2,3)]"), o).final_frame;
+  EXPECT_EQ(a.position, b.position);
+  EXPECT_EQ(a.heading, b.heading);
+  EXPECT_EQ(a.left, b.left);
+  EXPECT_EQ(a.up, b.up);
+}
+
+TEST(Turtle, SkeletonBranchesAndWidths) {
+  TurtleOptions o;
+  o.angle = 90.0;
+  const auto r = interpret(word("!(0.4)F[+F>(0.5)F]F"), o);
+  ASSERT_EQ(r.skeleton.size(), 2u);
+  r.skeleton.check_consistent();
+  const Curve& trunk = r.skeleton.curves[0];
+  const Curve& branch = r.skeleton.curves[1];
+  EXPECT_EQ(trunk.parent, -1);
+  EXPECT_EQ(branch.parent, 0);
+  ASSERT_EQ(trunk.points.size(), 3u);  // the trunk continues after the branch
+  expect_near(glm::dvec3(trunk.points[2]), {0, 0, 2});
+  ASSERT_EQ(branch.points.size(), 3u);
+  expect_near(glm::dvec3(branch.points[0]), {0, 0, 1});  // the branch starts on its parent
+  expect_near(glm::dvec3(branch.points[2]), {-2, 0, 1});
+  EXPECT_FLOAT_EQ(branch.width[1], 0.4f);
+  EXPECT_FLOAT_EQ(branch.width[2], 0.2f);
+  EXPECT_FLOAT_EQ(trunk.width[2], 0.4f);  // popped
+  EXPECT_EQ(branch.attributes.at("depth")[0], 1.0f);
+}
+
+TEST(Turtle, LeavesCarryFrameSizeAndColor) {
+  const auto r = interpret(word("FL(0.5,0,255,0)"), TurtleOptions{});
+  ASSERT_EQ(r.leaves.size(), 1u);
+  r.leaves.check_consistent();
+  expect_near(glm::dvec3(r.leaves.position[0]), {0, 0, 1});
+  EXPECT_FLOAT_EQ(r.leaves.scale[0].x, 0.5f);
+  EXPECT_FLOAT_EQ(r.leaves.attributes.at("g")[0], 1.0f);
+  EXPECT_FLOAT_EQ(r.leaves.attributes.at("r")[0], 0.0f);
+  EXPECT_EQ(r.leaves.attributes.at("branch")[0], 0.0f);
+  expect_near(glm::dvec3(r.leaves.rotation[0] * glm::vec3(1, 0, 0)), {0, 0, 1});   // x = heading
+  expect_near(glm::dvec3(r.leaves.rotation[0] * glm::vec3(0, 1, 0)), {-1, 0, 0});  // y = left
+}
+
+TEST(Turtle, TropismBendsTowardsGravity) {
+  TurtleOptions o;
+  o.tropism_strength = 0.2;
+  const auto r = interpret(word("+(90)FFFFFFFF"), o);
+  const auto& p = r.skeleton.curves[0].points;
+  // Heading starts horizontal (-x); each step bends it down and the steps get steeper.
+  for (std::size_t i = 1; i + 1 < p.size(); ++i) EXPECT_LT(p[i + 1].z - p[i].z, p[i].z - p[i - 1].z - 1e-4);
+  EXPECT_LT(r.final_frame.heading.z, -0.5);
+  // Without tropism it stays horizontal.
+  EXPECT_NEAR(interpret(word("+(90)FFFFFFFF"), TurtleOptions{}).final_frame.position.z, 0.0, 1e-9);
+}
+
+// --- tree mesh ------------------------------------------------------------------------------------------------
+
+struct Topology {
+  std::size_t components = 0;
+  bool closed = true;  // no boundary edge
+  long euler = 0;      // V - E + F
+};
+
+Topology topology(const TriMesh& m) {
+  Topology t;
+  for (auto h : m.halfedges())
+    if (m.is_boundary(h)) t.closed = false;
+  t.euler = static_cast<long>(m.n_vertices()) - static_cast<long>(m.n_edges()) + static_cast<long>(m.n_faces());
+  std::vector<int> comp(m.n_vertices(), -1);
+  for (auto v : m.vertices()) {
+    if (comp[static_cast<std::size_t>(v.idx())] >= 0) continue;
+    std::vector<TriMesh::VertexHandle> stack{v};
+    comp[static_cast<std::size_t>(v.idx())] = static_cast<int>(t.components);
+    while (!stack.empty()) {
+      const auto u = stack.back();
+      stack.pop_back();
+      for (auto w : m.vv_range(u))
+        if (comp[static_cast<std::size_t>(w.idx())] < 0) {
+          comp[static_cast<std::size_t>(w.idx())] = static_cast<int>(t.components);
+          stack.push_back(w);
+        }
+    }
+    ++t.components;
+  }
+  return t;
+}
+
+double signed_volume(const TriMesh& m) {
+  double v = 0.0;
+  for (auto f : m.faces()) {
+    auto it = m.cfv_iter(f);
+    const auto a = m.point(*it), b = m.point(*++it), c = m.point(*++it);
+    v += glm::dot(glm::dvec3(a[0], a[1], a[2]), glm::cross(glm::dvec3(b[0], b[1], b[2]), glm::dvec3(c[0], c[1], c[2]))) / 6.0;
+  }
+  return v;
+}
+
+TEST(TreeMesh, StraightBranchIsAClosedOutwardPrism) {
+  TurtleOptions o;
+  const auto r = interpret(word("!(0.2)FF"), o);
+  TreeMeshOptions mo;
+  mo.sides = 8;
+  TreeMeshStats st;
+  const Mesh mesh = tree_mesh(r.skeleton, nullptr, mo, &st);
+  const auto t = topology(mesh.mesh);
+  EXPECT_TRUE(t.closed);
+  EXPECT_EQ(t.components, 1u);
+  EXPECT_EQ(t.euler, 2);
+  // Volume of an 8-gon prism of circumradius 0.1 and length 2: (k/2) r^2 sin(2 pi / k) L.
+  EXPECT_NEAR(signed_volume(mesh.mesh), 4.0 * 0.01 * std::sin(std::numbers::pi / 4.0) * 2.0, 1e-5);
+  EXPECT_EQ(mesh.face_count(), 2u * 8u * 3u);
+  // It stands on the ground: nothing below z = 0.
+  float zmin = 1e9f;
+  for (auto v : mesh.mesh.vertices()) zmin = std::min(zmin, mesh.mesh.point(v)[2]);
+  EXPECT_NEAR(zmin, 0.0f, 1e-6f);
+}
+
+Curves bush_skeleton(int iterations, std::uint64_t seed = 3) {
+  const LSystem l("!(0.3)F", "F -> F[+F!(0.5)F]F[-F]F : 1\nF -> F[&F]F[^F]F : 1\nF -> F[\\\\+F][/-F]F : 1");
+  DeriveOptions d;
+  d.iterations = iterations;
+  d.seed = seed;
+  TurtleOptions o;
+  o.tropism_strength = 0.05;
+  return interpret(l.derive(d), o).skeleton;
+}
+
+TEST(TreeMesh, EveryBranchIsAClosedManifoldWithOutwardFaces) {
+  const Curves sk = bush_skeleton(3);
+  ASSERT_GT(sk.size(), 20u);
+  TreeMeshOptions mo;
+  mo.sides = 6;
+  const Mesh mesh = tree_mesh(sk, nullptr, mo);
+  const auto t = topology(mesh.mesh);
+  EXPECT_TRUE(t.closed);
+  EXPECT_EQ(t.components, sk.size());              // one closed tube per branch
+  EXPECT_EQ(t.euler, 2 * static_cast<long>(sk.size()));  // each a topological sphere
+  // Consistent outward winding: every branch encloses a positive volume (checked per component).
+  EXPECT_GT(signed_volume(mesh.mesh), 0.0);
+  for (auto f : mesh.mesh.faces()) {
+    // Every face agrees with its neighbours (OpenMesh would have refused an inconsistent one); the face
+    // normal points away from the branch axis or along it at the caps.
+    EXPECT_TRUE(mesh.mesh.is_valid_handle(f));
+  }
+}
+
+TEST(TreeMesh, TriangleBudgetRespected) {
+  const Curves sk = bush_skeleton(4);
+  TreeMeshOptions mo;
+  mo.sides = 12;
+  const std::size_t full = tree_mesh(sk, nullptr, mo).face_count();
+  for (std::size_t budget : {full, full / 2, full / 4, full / 5, full / 20, std::size_t(500), std::size_t(16)}) {
+    mo.max_triangles = budget;
+    TreeMeshStats st;
+    const Mesh m = tree_mesh(sk, nullptr, mo, &st);
+    EXPECT_LE(m.face_count(), budget) << budget;
+    const auto t = topology(m.mesh);
+    EXPECT_TRUE(t.closed) << budget;
+    if (budget == full) EXPECT_EQ(st.sides, 12);
+    if (budget >= full / 4) EXPECT_EQ(st.dropped_branches, 0u) << budget;  // 3 sides suffice
+    else EXPECT_GT(st.dropped_branches, 0u) << budget;
+    if (budget == 500) EXPECT_GT(st.dropped_branches, 0u);
+  }
+}
+
+TEST(TreeMesh, LeafQuadsFaceTheirUpAxis) {
+  const auto r = interpret(word("F[&L(0.5)][^L(0.4)]L"), TurtleOptions{});
+  TreeMeshOptions mo;
+  TreeMeshStats st;
+  const Mesh m = tree_mesh(r.skeleton, &r.leaves, mo, &st);
+  EXPECT_EQ(st.leaf_triangles, 6u);
+  // The last six faces are the leaves; their normals agree with each leaf's up axis.
+  TriMesh mm = m.mesh;
+  mm.update_face_normals();
+  std::size_t k = 0;
+  for (auto f : mm.faces()) {
+    if (k++ < st.branch_triangles) continue;
+    const std::size_t leaf = (k - 1 - st.branch_triangles) / 2;
+    const glm::dvec3 up = glm::dquat(r.leaves.rotation[leaf]) * glm::dvec3(0, 0, 1);
+    const auto n = mm.normal(f);
+    EXPECT_GT(up.x * n[0] + up.y * n[1] + up.z * n[2], 0.99);
+  }
+}
+
+TEST(TreeMesh, RockLeavesAreClosed) {
+  const auto r = interpret(word("F[&L(0.5)][^L(0.4)]L"), TurtleOptions{});
+  TreeMeshOptions mo;
+  mo.leaf_shape = LeafShape::Rock;
+  const Mesh m = tree_mesh(r.skeleton, &r.leaves, mo);
+  const auto t = topology(m.mesh);
+  EXPECT_TRUE(t.closed);
+  EXPECT_EQ(t.components, 4u);
+  EXPECT_EQ(t.euler, 8);
+}
+
+TEST(PlantNodes, ChainRunsAndSeedChangesTheWord) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
+  const std::map<std::string, ParamValue> p{{"axiom", std::string("F")},
+                                            {"rules", std::string("F -> F[+F]F : 1; F -> F[-F]F : 1")},
+                                            {"iterations", std::int64_t(3)}};
+  auto w1 = run_node("LSystem", d, p).get<ModuleString>();
+  auto p2 = p;
+  p2["seed"] = std::uint64_t(5);
+  auto w2 = run_node("LSystem", d, p2).get<ModuleString>();
+  EXPECT_NE(w1->text(), w2->text());
+  const auto t = run_node("Turtle3D", d, {}, {{"in", PortValue(w1)}});
+  const auto mesh = run_node("TreeMesh", d, {}, {{"in", t.outputs[0]}, {"leaves", t.outputs[1]}}).get<Mesh>();
+  EXPECT_GT(mesh->face_count(), 0u);
+  // A bad grammar is a clear node error.
+  auto bad = p;
+  bad["rules"] = std::string("F -> F[");
+  try {
+    run_node("LSystem", d, bad);
+    FAIL();
+  } catch (const NodeError& e) {
+    EXPECT_NE(std::string(e.what()).find("column"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
