@@ -1,0 +1,133 @@
+// Hull rocks: convex, closed (V - E + F = 2), hull vertices among the input points, at most N vertices,
+// outward faces, deterministic per seed; refinement keeps the surface closed; RockSet makes K closed rocks.
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include "evaluator/run_node.h"
+#include "graph/mesh.h"
+#include "graph/points.h"
+#include "nodes/rocks/hull_rock.h"
+
+namespace orogen::rocks {
+namespace {
+
+struct Check {
+  long euler = 0;
+  bool closed = true;
+  double max_outside = 0.0;  // largest distance of a vertex in front of a face plane (convexity)
+  double min_outward = 1e9;  // smallest (face normal . (face centre - centroid)) (outward faces)
+};
+
+Check check(const Hull& h) {
+  Check c;
+  std::set<std::pair<int, int>> directed;
+  for (const auto& f : h.faces)
+    for (int k = 0; k < 3; ++k)
+      if (!directed.insert({f[k], f[(k + 1) % 3]}).second) c.closed = false;  // an edge used twice the same way
+  for (const auto& [a, b] : directed)
+    if (!directed.count({b, a})) c.closed = false;  // every edge has its twin
+  c.euler = static_cast<long>(h.vertices.size()) - static_cast<long>(directed.size() / 2) + static_cast<long>(h.faces.size());
+  glm::dvec3 centroid(0.0);
+  for (const auto& v : h.vertices) centroid += v;
+  centroid /= static_cast<double>(h.vertices.size());
+  for (const auto& f : h.faces) {
+    const glm::dvec3 a = h.vertices[f[0]], b = h.vertices[f[1]], cc = h.vertices[f[2]];
+    const glm::dvec3 n = glm::normalize(glm::cross(b - a, cc - a));
+    for (const auto& v : h.vertices) c.max_outside = std::max(c.max_outside, glm::dot(n, v - a));
+    c.min_outward = std::min(c.min_outward, glm::dot(n, (a + b + cc) / 3.0 - centroid));
+  }
+  return c;
+}
+
+TEST(HullRock, ConvexClosedOutwardAndMadeOfInputPoints) {
+  for (std::uint64_t seed = 0; seed < 50; ++seed) {
+    HullRockOptions o;
+    o.seed = seed;
+    o.points = 20 + static_cast<int>(seed % 3) * 40;
+    const auto pts = rock_points(o);
+    ASSERT_EQ(pts.size(), static_cast<std::size_t>(o.points));
+    const Hull h = hull_rock(o);
+    const Check c = check(h);
+    EXPECT_TRUE(c.closed) << seed;
+    EXPECT_EQ(c.euler, 2) << seed;
+    EXPECT_LE(c.max_outside, 1e-9) << seed;
+    EXPECT_GT(c.min_outward, 0.0) << seed;
+    EXPECT_LE(h.vertices.size(), pts.size());
+    for (const auto& v : h.vertices) EXPECT_NE(std::find(pts.begin(), pts.end(), v), pts.end()) << seed;
+    // Points not on the hull are inside it.
+  }
+}
+
+TEST(HullRock, PointsLieOnTheEllipsoidWithoutNoise) {
+  HullRockOptions o;
+  o.sigma = 0.0;
+  o.radii = {2.0, 1.0, 0.5};
+  o.points = 2000;
+  const auto pts = rock_points(o);
+  double mean_abs_z = 0.0;
+  for (const auto& p : pts) {
+    EXPECT_NEAR(p.x * p.x / 4.0 + p.y * p.y + p.z * p.z / 0.25, 1.0, 1e-9);
+    mean_abs_z += std::abs(p.z);
+  }
+  // Area-uniform: the mean |z| over the surface of this ellipsoid is 0.29304 (numerical quadrature of
+  // |z| dA / A); a uniform direction mapped by the radii would give c / 2 = 0.25. Standard error ~ 0.003.
+  EXPECT_NEAR(mean_abs_z / pts.size(), 0.29304, 0.012);
+}
+
+TEST(HullRock, DeterministicPerSeed) {
+  HullRockOptions a, b;
+  a.seed = b.seed = 17;
+  EXPECT_EQ(hull_rock(a).vertices, hull_rock(b).vertices);
+  b.seed = 18;
+  EXPECT_NE(hull_rock(a).vertices, hull_rock(b).vertices);
+  b.seed = 17;
+  b.variant = 1;
+  EXPECT_NE(hull_rock(a).vertices, hull_rock(b).vertices);
+}
+
+TEST(HullRock, RefinementStaysClosed) {
+  HullRockOptions o;
+  o.subdivisions = 2;
+  o.displacement = 0.08;
+  o.wavelength = 0.3;
+  const Hull h = hull_rock(o);
+  const Check c = check(h);
+  EXPECT_TRUE(c.closed);
+  EXPECT_EQ(c.euler, 2);
+  HullRockOptions flat = o;
+  flat.displacement = 0.0;
+  flat.subdivisions = 0;
+  EXPECT_EQ(h.faces.size(), hull_rock(flat).faces.size() * 16);
+}
+
+TEST(HullRock, DegenerateInputIsRejected) {
+  std::vector<glm::dvec3> plane;
+  for (int k = 0; k < 10; ++k) plane.emplace_back(std::cos(k), std::sin(k), 0.0);
+  EXPECT_THROW(convex_hull_cgal(plane), std::invalid_argument);
+  EXPECT_THROW(convex_hull_cgal({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), std::invalid_argument);
+}
+
+TEST(RockNodes, HullRockAndRockSet) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
+  const auto rock = run_node("HullRock", d, {{"points", std::int64_t(30)}}).get<Mesh>();
+  const long e = static_cast<long>(rock->mesh.n_vertices()) - static_cast<long>(rock->mesh.n_edges()) +
+                 static_cast<long>(rock->mesh.n_faces());
+  EXPECT_EQ(e, 2);
+  EXPECT_LE(rock->vertex_count(), 30u);
+  const auto set = run_node("RockSet", d, {{"count", std::int64_t(5)}});
+  const auto mesh = set.get<Mesh>(0);
+  const auto places = set.get<Points>(1);
+  EXPECT_EQ(places->size(), 5u);
+  const long e5 = static_cast<long>(mesh->mesh.n_vertices()) - static_cast<long>(mesh->mesh.n_edges()) +
+                  static_cast<long>(mesh->mesh.n_faces());
+  EXPECT_EQ(e5, 10);  // five spheres
+  for (auto h : mesh->mesh.halfedges()) ASSERT_FALSE(mesh->mesh.is_boundary(h));
+}
+
+}  // namespace
+}  // namespace orogen::rocks
