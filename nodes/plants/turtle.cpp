@@ -151,9 +151,7 @@ TurtleResult interpret(const ModuleString& word, const TurtleOptions& o) {
         break;
       case '<': st.width *= p(0, inv_factor); break;
       case '>': st.width *= p(0, o.width_factor); break;
-      case '!':
-        if (np >= 1) st.width = p(0, st.width);
-        break;
+      case '!': st.width = np >= 1 ? p(0, st.width) : st.width * o.width_factor; break;
       case 'L': {
         const double size = p(0, o.leaf_size);
         const glm::dvec3 color = np >= 4 ? glm::dvec3(srgb_to_linear(p(1, 0)), srgb_to_linear(p(2, 0)), srgb_to_linear(p(3, 0)))

@@ -9,7 +9,7 @@
 //   \(a)  roll left about the heading       /(a)  roll right          $     roll until left is horizontal
 //   [ ]   push / pop the turtle state       #(r,g,b) set the color (0..255 sRGB)
 //   <(k)  thicken: width * k (default 1/width_factor)   >(k)  narrow: width * k (default width_factor)
-//   !(w)  set the width to w metres         L(s,r,g,b) a leaf of size s metres (color optional, 0..255)
+//   !(w)  set the width to w metres (no parameter: like >)        L(s,r,g,b) a leaf of size s metres (color optional, 0..255)
 // Other symbols are ignored. The frame (heading H, left L, up U = H x L) starts with H = +z, L = -x,
 // U = -y, so a word drawn in the turtle's plane faces a viewer looking along +y. It is re-orthonormalised
 // after every rotation (Gram-Schmidt), so it stays orthonormal over any number of turns. Tropism (ABOP
