@@ -269,6 +269,15 @@ void write(ByteWriter& w, const Mesh& m) {
     const auto& n = mesh.normal(fh);
     for (int k = 0; k < 3; ++k) w.f32(n[k]);
   }
+  // Optional per-vertex texture coordinates (tree meshes, rocks): a flag, then u, v per live vertex.
+  const bool uv = mesh.has_vertex_texcoords2D();
+  w.u8(uv ? 1 : 0);
+  if (uv)
+    for (auto vh : mesh.vertices()) {
+      const auto& t = mesh.texcoord2D(vh);
+      w.f32(t[0]);
+      w.f32(t[1]);
+    }
 }
 MeshPtr read_mesh(ByteReader& r) {
   auto m = std::make_shared<Mesh>();
@@ -299,6 +308,16 @@ MeshPtr read_mesh(ByteReader& r) {
                                   vertices[static_cast<std::size_t>(v[2])]);
     if (!fh.is_valid()) throw SerializationError("mesh face cannot be rebuilt (non-manifold)");
     mesh.set_normal(fh, n);
+  }
+  const auto flag = r.u8();
+  if (flag > 1) throw SerializationError("invalid mesh texture-coordinate flag");
+  if (flag == 1) {
+    if (r.remaining() < nv * 2 * sizeof(float)) throw SerializationError("unexpected end of data");
+    mesh.request_vertex_texcoords2D();
+    for (auto vh : vertices) {
+      const float u = r.f32(), v = r.f32();
+      mesh.set_texcoord2D(vh, {u, v});
+    }
   }
   return m;
 }

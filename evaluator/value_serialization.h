@@ -16,7 +16,7 @@
 
 namespace orogen {
 
-inline constexpr std::uint32_t kValueFormatVersion = 1;
+inline constexpr std::uint32_t kValueFormatVersion = 2;  // 2: ModuleString; optional mesh texcoords
 
 struct SerializationError : std::runtime_error {
   using std::runtime_error::runtime_error;

@@ -462,6 +462,22 @@ TEST(TreeMesh, RockLeavesAreClosed) {
   EXPECT_EQ(t.euler, 8);
 }
 
+TEST(TreeMesh, TextureCoordinatesRunAroundAndAlongAndSurviveSerialization) {
+  const auto r = interpret(word("!(0.2)F(2)F(1)"), TurtleOptions{});
+  TreeMeshOptions mo;
+  mo.sides = 4;
+  const Mesh m = tree_mesh(r.skeleton, nullptr, mo);
+  ASSERT_TRUE(m.mesh.has_vertex_texcoords2D());
+  // Ring vertices: u = j / k around, v = arc length (0, 2, 3 m).
+  const auto t = m.mesh.texcoord2D(TriMesh::VertexHandle(4 * 2 + 3));
+  EXPECT_FLOAT_EQ(t[0], 0.75f);
+  EXPECT_FLOAT_EQ(t[1], 3.0f);
+  const PortValue back = deserialize_value(serialize_value(PortValue(MeshPtr(std::make_shared<Mesh>(m)))));
+  const auto& bm = std::get<MeshPtr>(back)->mesh;
+  ASSERT_TRUE(bm.has_vertex_texcoords2D());
+  EXPECT_EQ(bm.texcoord2D(TriMesh::VertexHandle(11)), t);
+}
+
 TEST(PlantNodes, ChainRunsAndSeedChangesTheWord) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
   const std::map<std::string, ParamValue> p{{"axiom", std::string("F")},

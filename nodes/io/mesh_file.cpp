@@ -150,7 +150,11 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
   // which also keeps OpenMesh's float-to-byte conversion in range).
   // Texture coordinates from the footprint, before any change of axes.
   std::vector<OpenMesh::Vec2f> uvs;
-  if (format == MeshFormat::Obj && options.uvs) {
+  if (format == MeshFormat::Obj && options.uvs && mesh.mesh.has_vertex_texcoords2D()) {
+    // The mesh's own texture coordinates (tree meshes: around and along each branch).
+    uvs.reserve(mesh.mesh.n_vertices());
+    for (auto v : mesh.mesh.vertices()) uvs.push_back(mesh.mesh.texcoord2D(v));
+  } else if (format == MeshFormat::Obj && options.uvs) {
     float x0 = std::numeric_limits<float>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
     for (auto v : mesh.mesh.vertices()) {
       const auto p = mesh.mesh.point(v);

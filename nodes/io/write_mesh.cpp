@@ -14,7 +14,7 @@ OROGEN_NODE(WriteMesh) {
   b.category("io").writes_files().description(
       "Writes a mesh to OBJ, PLY or STL inside the output directory, atomically (through OpenMesh). Vertex "
       "normals go to OBJ and PLY, vertex colors to PLY (sRGB 8-bit); STL has face normals only. OBJ also gets "
-      "texture coordinates over the mesh's footprint and, with a texture, a material library (.mtl beside the "
+      "texture coordinates (the mesh's own, e.g. around and along tree branches, else over its footprint) and, with a texture, a material library (.mtl beside the "
       "OBJ) that drapes the image over the terrain. base_depth closes a terrain into a solid (skirt walls and a "
       "flat bottom) for 3D printing. up_axis Y converts Orogen's z-up coordinates to y-up, (x, y, z) -> "
       "(x, z, -y), for Unity and Blender.");
@@ -27,7 +27,8 @@ OROGEN_NODE(WriteMesh) {
   b.param_bool("normals", true).description("Write per-vertex normals (OBJ, PLY)");
   b.param_bool("colors", true).description("Write per-vertex colors (PLY only)");
   b.param_bool("uvs", true).description(
-      "OBJ: per-vertex texture coordinates, the xy footprint mapped onto 0..1 (u east, v north), so an image of "
+      "OBJ: per-vertex texture coordinates: the mesh's own when it has them (TreeMesh, HullRock), else the xy "
+      "footprint mapped onto 0..1 (u east, v north), so an image of "
       "the same domain drapes over the terrain");
   b.param_string("texture", "").description(
       "OBJ: the color image to drape, as a path relative to the OBJ file (e.g. color.png when WriteImage "

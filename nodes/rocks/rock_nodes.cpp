@@ -61,6 +61,7 @@ OROGEN_NODE(HullRock) {
   declare_rock_params(b);
   b.execute([](ExecContext& ctx) {
     auto mesh = std::make_shared<Mesh>();
+    mesh->mesh.request_vertex_texcoords2D();
     try {
       rocks::append_hull_rock(mesh->mesh, rock_options(ctx), glm::dvec3(0.0), glm::dquat(1, 0, 0, 0), color_of(ctx));
     } catch (const std::invalid_argument& e) {
@@ -93,6 +94,7 @@ OROGEN_NODE(RockSet) {
     const double variation = ctx.param<double>("variation"), spacing = ctx.param<double>("spacing");
     const rocks::HullRockOptions base = rock_options(ctx);
     auto mesh = std::make_shared<Mesh>();
+    mesh->mesh.request_vertex_texcoords2D();
     auto placements = std::make_shared<Points>();
     double x = 0.0;
     for (int k = 0; k < count; ++k) {
