@@ -1,0 +1,115 @@
+// Plants and rocks: L-system derivation throughput, turtle and tree meshing of SeamScape's green tree
+// (Chalmers et al. 2016, the preset of graphs/plants.json), and convex hulls of 20 and 100 points on an
+// ellipsoid (CGAL convex_hull_3) and whole hull rocks.
+//
+//   Derive/rule_4_20/<iterations>  context-free bracketed grammar (3D Game Worlds rule 4.20, F -> FF)
+//   Derive/green_tree/<iterations> parametric, stochastic, conditional, with random draws
+//   Turtle/green_tree/5, TreeMesh/green_tree/5   the 5-iteration tree (skeleton, then mesh with leaves)
+//   Hull/<n>, HullRock/<n>         hull alone; sampling + hull + mesh
+//
+// Counter modules_per_s / hulls: read the CPU column; run on one core, e.g.
+//   taskset -c 0 build/release/bench/orogen_bench_plants
+// The machine may be shared.
+#include <benchmark/benchmark.h>
+
+#include "graph/mesh.h"
+#include "nodes/plants/lsystem.h"
+#include "nodes/plants/tree_mesh.h"
+#include "nodes/plants/turtle.h"
+#include "nodes/rocks/hull_rock.h"
+
+namespace {
+
+using namespace orogen;
+
+const char* kGreenTree =
+    "T(r,g,b,a) -> #(r,g,b)>F(0.5,1)[T(r,g,b,0.99*a)][+(60+U(-30,30))T(r,g,b,0.99*a)][-(60+U(-30,30))T(r,g,b,0.99*a)]"
+    "[&(60+U(-30,30))T(r,g,b,0.99*a)][^(60+U(-30,30))T(r,g,b,0.99*a)] : 75\n"
+    "F(d,n) -> F(1.7*d,n)>\n"
+    "T(r,g,b,a) : a < 98 -> F(0.8,1)L(1.2,40,140+U(-30,30),40) : 25";
+
+void derive(benchmark::State& state, const char* axiom, const char* rules) {
+  const plants::LSystem l(axiom, rules);
+  plants::DeriveOptions o;
+  o.iterations = static_cast<int>(state.range(0));
+  o.seed = 7;
+  o.max_modules = 100000000;
+  std::size_t n = 0;
+  for (auto _ : state) {
+    const ModuleString w = l.derive(o);
+    n = w.size();
+    benchmark::DoNotOptimize(w.symbols.data());
+  }
+  state.counters["modules"] = static_cast<double>(n);
+  state.counters["modules_per_s"] = benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_Derive_rule_4_20(benchmark::State& s) { derive(s, "X", "X -> F-[[X]+X]+F[+FX]-X\nF -> FF"); }
+BENCHMARK(BM_Derive_rule_4_20)->Name("Derive/rule_4_20")->Arg(9)->Unit(benchmark::kMillisecond);
+void BM_Derive_green(benchmark::State& s) { derive(s, "T(140,90,40,100)", kGreenTree); }
+BENCHMARK(BM_Derive_green)->Name("Derive/green_tree")->Arg(5)->Arg(8)->Unit(benchmark::kMillisecond);
+
+ModuleString green_tree_word(int iterations) {
+  plants::DeriveOptions o;
+  o.iterations = iterations;
+  o.seed = 7;
+  return plants::LSystem("T(140,90,40,100)", kGreenTree).derive(o);
+}
+
+plants::TurtleOptions green_turtle() {
+  plants::TurtleOptions t;
+  t.width = 0.9;
+  t.width_factor = 0.8;
+  t.tropism_strength = 0.05;
+  return t;
+}
+
+void BM_Turtle(benchmark::State& state) {
+  const ModuleString w = green_tree_word(5);
+  for (auto _ : state) benchmark::DoNotOptimize(plants::interpret(w, green_turtle()));
+  state.counters["modules"] = static_cast<double>(w.size());
+}
+BENCHMARK(BM_Turtle)->Name("Turtle/green_tree/5")->Unit(benchmark::kMillisecond);
+
+void BM_TreeMesh(benchmark::State& state) {
+  const auto r = plants::interpret(green_tree_word(5), green_turtle());
+  plants::TreeMeshOptions o;
+  std::size_t faces = 0;
+  for (auto _ : state) {
+    const Mesh m = plants::tree_mesh(r.skeleton, &r.leaves, o);
+    faces = m.face_count();
+  }
+  state.counters["triangles"] = static_cast<double>(faces);
+  state.counters["branches"] = static_cast<double>(r.skeleton.size());
+}
+BENCHMARK(BM_TreeMesh)->Name("TreeMesh/green_tree/5")->Unit(benchmark::kMillisecond);
+
+void BM_Hull(benchmark::State& state) {
+  std::vector<std::vector<glm::dvec3>> sets;
+  for (std::uint64_t k = 0; k < 64; ++k) {
+    rocks::HullRockOptions o;
+    o.points = static_cast<int>(state.range(0));
+    o.seed = k;
+    sets.push_back(rocks::rock_points(o));
+  }
+  std::size_t k = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(rocks::convex_hull_cgal(sets[k++ % sets.size()]));
+  state.counters["hulls"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_Hull)->Name("Hull/cgal")->Arg(20)->Arg(100)->Unit(benchmark::kMicrosecond);
+
+void BM_HullRock(benchmark::State& state) {
+  rocks::HullRockOptions o;
+  o.points = static_cast<int>(state.range(0));
+  for (auto _ : state) {
+    Mesh m;
+    ++o.seed;
+    rocks::append_hull_rock(m.mesh, o, glm::dvec3(0.0), glm::dquat(1, 0, 0, 0), TriMesh::Color(0.5f, 0.5f, 0.5f, 1.0f));
+    benchmark::DoNotOptimize(m.mesh.n_faces());
+  }
+}
+BENCHMARK(BM_HullRock)->Name("HullRock")->Arg(20)->Arg(100)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
