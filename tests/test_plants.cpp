@@ -21,6 +21,7 @@
 #include "nodes/plants/lsystem.h"
 #include "nodes/plants/tree_mesh.h"
 #include "nodes/plants/turtle.h"
+#include "support/key_checks.h"
 
 namespace orogen::plants {
 namespace {
@@ -476,6 +477,14 @@ TEST(TreeMesh, TextureCoordinatesRunAroundAndAlongAndSurviveSerialization) {
   const auto& bm = std::get<MeshPtr>(back)->mesh;
   ASSERT_TRUE(bm.has_vertex_texcoords2D());
   EXPECT_EQ(bm.texcoord2D(TriMesh::VertexHandle(11)), t);
+}
+
+TEST(PlantNodes, EveryParameterAndInputChangesTheKey) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
+  for (const char* type : {"LSystem", "Turtle3D", "TreeMesh"}) {
+    expect_every_param_changes_key(type, d);
+    expect_every_input_changes_key(type, d);
+  }
 }
 
 TEST(PlantNodes, ChainRunsAndSeedChangesTheWord) {

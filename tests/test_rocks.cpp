@@ -12,6 +12,7 @@
 #include "graph/mesh.h"
 #include "graph/points.h"
 #include "nodes/rocks/hull_rock.h"
+#include "support/key_checks.h"
 
 namespace orogen::rocks {
 namespace {
@@ -110,6 +111,12 @@ TEST(HullRock, DegenerateInputIsRejected) {
   for (int k = 0; k < 10; ++k) plane.emplace_back(std::cos(k), std::sin(k), 0.0);
   EXPECT_THROW(convex_hull_cgal(plane), std::invalid_argument);
   EXPECT_THROW(convex_hull_cgal({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), std::invalid_argument);
+}
+
+TEST(RockNodes, EveryParameterChangesTheKey) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
+  expect_every_param_changes_key("HullRock", d);
+  expect_every_param_changes_key("RockSet", d);
 }
 
 TEST(RockNodes, HullRockAndRockSet) {
