@@ -5,7 +5,8 @@
 //   Derive/rule_4_20/<iterations>  context-free bracketed grammar (3D Game Worlds rule 4.20, F -> FF)
 //   Derive/green_tree/<iterations> parametric, stochastic, conditional, with random draws
 //   Turtle/green_tree/5, TreeMesh/green_tree/5   the 5-iteration tree (skeleton, then mesh with leaves)
-//   Hull/<n>, HullRock/<n>         hull alone; sampling + hull + mesh
+//   Hull/cgal/<n>, Hull/small/<n>  hull alone (CGAL, the small-set incremental hull); HullRock/<n>: sampling
+//                                  + hull + mesh
 //
 // Counter modules_per_s / hulls: read the CPU column; run on one core, e.g.
 //   taskset -c 0 build/release/bench/orogen_bench_plants
@@ -97,6 +98,20 @@ void BM_Hull(benchmark::State& state) {
   state.counters["hulls"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_Hull)->Name("Hull/cgal")->Arg(20)->Arg(100)->Unit(benchmark::kMicrosecond);
+
+void BM_SmallHull(benchmark::State& state) {
+  std::vector<std::vector<glm::dvec3>> sets;
+  for (std::uint64_t k = 0; k < 64; ++k) {
+    rocks::HullRockOptions o;
+    o.points = static_cast<int>(state.range(0));
+    o.seed = k;
+    sets.push_back(rocks::rock_points(o));
+  }
+  std::size_t k = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(rocks::convex_hull_small(sets[k++ % sets.size()]));
+  state.counters["hulls"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_SmallHull)->Name("Hull/small")->Arg(20)->Arg(100)->Unit(benchmark::kMicrosecond);
 
 void BM_HullRock(benchmark::State& state) {
   rocks::HullRockOptions o;

@@ -113,6 +113,94 @@ TEST(HullRock, DegenerateInputIsRejected) {
   EXPECT_THROW(convex_hull_cgal({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), std::invalid_argument);
 }
 
+double volume(const Hull& h) {
+  double v = 0.0;
+  for (const auto& f : h.faces) v += glm::dot(h.vertices[f[0]], glm::cross(h.vertices[f[1]], h.vertices[f[2]])) / 6.0;
+  return v;
+}
+
+std::vector<glm::dvec3> sorted(std::vector<glm::dvec3> v) {
+  std::sort(v.begin(), v.end(), [](const glm::dvec3& a, const glm::dvec3& b) {
+    return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z < b.z;
+  });
+  return v;
+}
+
+// The small-set hull against CGAL on 10^5 sets: random in a cube and rock samples (80%) (general position: the
+// same vertices and face count), lattice points with duplicates and coplanar runs, and flat sets
+// (degenerate: the same volume, every input inside, or both rejected).
+TEST(SmallHull, MatchesCgalOn100kSets) {
+  std::uint64_t state = 88172645463325252ull;
+  auto next = [&] {
+    state ^= state << 13, state ^= state >> 7, state ^= state << 17;
+    return static_cast<double>(state >> 11) * 0x1.0p-53;
+  };
+  int general = 0, degenerate = 0, rejected = 0;
+  for (int k = 0; k < 100000; ++k) {
+    std::vector<glm::dvec3> pts;
+    const int kind = k % 10 < 4 ? 0 : k % 10 < 8 ? 1 : k % 10 == 8 ? 2 : 3;  // CGAL is slow on degenerate sets
+    const int n = 4 + static_cast<int>(next() * (kind == 1 ? 37 : 21));
+    if (kind == 0) {
+      for (int i = 0; i < n; ++i) pts.emplace_back(next() * 2 - 1, next() * 2 - 1, next() * 2 - 1);
+    } else if (kind == 1) {
+      HullRockOptions o;
+      o.points = n;
+      o.seed = static_cast<std::uint64_t>(k);
+      pts = rock_points(o);
+    } else if (kind == 2) {
+      for (int i = 0; i < n; ++i)  // a 3x3x3 lattice: coplanar faces, collinear edges, duplicates
+        pts.emplace_back(std::floor(next() * 3), std::floor(next() * 3), std::floor(next() * 3));
+    } else {
+      const bool flat = next() < 0.3;
+      for (int i = 0; i < n; ++i) {
+        const double x = next(), y = next();
+        pts.emplace_back(x, y, flat ? 0.5 * x - 0.25 * y : (i % 3 == 0 ? next() : 0.0));
+      }
+      if (next() < 0.5) pts.push_back(pts.front());  // a duplicate
+    }
+    bool cgal_ok = true, small_ok = true;
+    Hull a, b;
+    try {
+      a = convex_hull_cgal(pts);
+    } catch (const std::invalid_argument&) {
+      cgal_ok = false;
+    }
+    try {
+      b = convex_hull_small(pts);
+    } catch (const std::invalid_argument&) {
+      small_ok = false;
+    }
+    ASSERT_EQ(cgal_ok, small_ok) << "set " << k << " n " << pts.size() << " cgal volume " << (cgal_ok ? volume(a) : -1.0) << " faces " << a.faces.size() << " vertices " << a.vertices.size();
+    if (!cgal_ok) {
+      ++rejected;
+      continue;
+    }
+    if (k % 16 < 4) {  // the full check on a sample (it costs more than the hulls)
+      const Check c = check(b);
+      ASSERT_TRUE(c.closed) << "set " << k;
+      ASSERT_EQ(c.euler, 2) << "set " << k;
+      ASSERT_LE(c.max_outside, 1e-9) << "set " << k;
+    }
+    ASSERT_NEAR(volume(a), volume(b), 1e-9 * std::max(1.0, std::abs(volume(a)))) << "set " << k;
+    if (kind <= 1) {
+      ++general;
+      ASSERT_EQ(sorted(a.vertices), sorted(b.vertices)) << "set " << k;
+      ASSERT_EQ(a.faces.size(), b.faces.size()) << "set " << k;
+    } else {
+      ++degenerate;
+      if (k % 16 < 4)
+      for (const auto& q : pts)  // every input inside the small hull
+        for (const auto& f : b.faces) {
+          const glm::dvec3 nrm = glm::normalize(glm::cross(b.vertices[f[1]] - b.vertices[f[0]], b.vertices[f[2]] - b.vertices[f[0]]));
+          ASSERT_LE(glm::dot(nrm, q - b.vertices[f[0]]), 1e-9) << "set " << k;
+        }
+    }
+  }
+  EXPECT_EQ(general, 80000);
+  EXPECT_GT(degenerate, 15000);
+  EXPECT_GT(rejected, 1000);
+}
+
 TEST(RockNodes, EveryParameterChangesTheKey) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
   expect_every_param_changes_key("HullRock", d);

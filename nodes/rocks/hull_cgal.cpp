@@ -4,6 +4,7 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/boost/graph/helpers.h>
 #include <CGAL/convex_hull_3.h>
 #include <glm/geometric.hpp>
 
@@ -22,7 +23,7 @@ Hull convex_hull_cgal(const std::vector<glm::dvec3>& points) {
   SM sm;
   CGAL::convex_hull_3(pts.begin(), pts.end(), sm);
   Hull h;
-  if (sm.number_of_faces() < 4) throw std::invalid_argument("the points span less than three dimensions");
+  if (sm.number_of_faces() < 4 || !CGAL::is_closed(sm)) throw std::invalid_argument("the points span less than three dimensions");
   std::vector<int> index(sm.number_of_vertices(), -1);
   for (auto v : sm.vertices()) {
     const P& p = sm.point(v);
@@ -39,11 +40,14 @@ Hull convex_hull_cgal(const std::vector<glm::dvec3>& points) {
     if (k != 3) throw std::invalid_argument("hull face is not a triangle");
     h.faces.push_back(tri);
   }
-  // A coplanar set gives a flat, two-sided result whose volume is zero.
+  // A coplanar set gives an open, flat triangulation (rejected above) or a zero volume.
+  glm::dvec3 lo(h.vertices[0]), hi(h.vertices[0]);
+  for (const auto& v : h.vertices) lo = glm::min(lo, v), hi = glm::max(hi, v);
+  const double extent = glm::length(hi - lo);
   double volume = 0.0;
   for (const auto& t : h.faces)
-    volume += glm::dot(h.vertices[t[0]], glm::cross(h.vertices[t[1]], h.vertices[t[2]]));
-  if (!(volume > 0.0)) throw std::invalid_argument("the points span less than three dimensions");
+    volume += glm::dot(h.vertices[t[0]] - lo, glm::cross(h.vertices[t[1]] - lo, h.vertices[t[2]] - lo));
+  if (!(volume > 1e-12 * extent * extent * extent)) throw std::invalid_argument("the points span less than three dimensions");
   return h;
 }
 

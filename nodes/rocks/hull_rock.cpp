@@ -119,7 +119,7 @@ std::vector<glm::dvec3> rock_points(const HullRockOptions& o) {
 }
 
 Hull hull_rock(const HullRockOptions& o) {
-  Hull h = convex_hull_cgal(rock_points(o));
+  Hull h = convex_hull(rock_points(o));
   if (o.subdivisions > 0) {
     for (int s = 0; s < o.subdivisions; ++s) subdivide(h);
   }

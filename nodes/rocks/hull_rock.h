@@ -38,6 +38,12 @@ std::vector<glm::dvec3> rock_points(const HullRockOptions& options);
 // The convex hull of `points` with CGAL (convex_hull_3); vertices are a subset of the inputs. Throws
 // std::invalid_argument when the points span less than three dimensions.
 Hull convex_hull_cgal(const std::vector<glm::dvec3>& points);
+// The convex hull by incremental insertion with a floating-point tolerance of 1e-11 of the set's extent
+// (points within it of a face count as inside); a result that fails the closed-surface check is recomputed
+// with CGAL. Vertices are a subset of the inputs; throws like convex_hull_cgal.
+Hull convex_hull_small(const std::vector<glm::dvec3>& points);
+// convex_hull_small up to 512 points, CGAL above.
+Hull convex_hull(const std::vector<glm::dvec3>& points);
 // The rock of `options` (hull, then refinement).
 Hull hull_rock(const HullRockOptions& options);
 // Appends the rock transformed by `rotation` then moved to `offset`, with a color and per-vertex normals.
