@@ -9,6 +9,7 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev
   libcgal-dev libgmp-dev libmpfr-dev
   libopenmesh-dev
+  libtinygltf-dev
   libtbb-dev
   nlohmann-json3-dev
   libcli11-dev

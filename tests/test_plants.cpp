@@ -10,6 +10,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <tiny_gltf.h>
 
 #include <glm/geometric.hpp>
 
@@ -18,10 +19,12 @@
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
 #include "graph/module_string.h"
+#include "nodes/io/mesh_file.h"
 #include "nodes/plants/lsystem.h"
 #include "nodes/plants/tree_mesh.h"
 #include "nodes/plants/turtle.h"
 #include "support/key_checks.h"
+#include "support/test_paths.h"
 
 namespace orogen::plants {
 namespace {
@@ -426,10 +429,14 @@ TEST(TreeMesh, TriangleBudgetRespected) {
     EXPECT_LE(m.face_count(), budget) << budget;
     const auto t = topology(m.mesh);
     EXPECT_TRUE(t.closed) << budget;
-    if (budget == full) EXPECT_EQ(st.sides, 12);
-    if (budget >= full / 4) EXPECT_EQ(st.dropped_branches, 0u) << budget;  // 3 sides suffice
-    else EXPECT_GT(st.dropped_branches, 0u) << budget;
-    if (budget == 500) EXPECT_GT(st.dropped_branches, 0u);
+    if (budget == full) {
+      EXPECT_EQ(st.sides, 12);
+    }
+    if (budget >= full / 4) {
+      EXPECT_EQ(st.dropped_branches, 0u) << budget;  // 3 sides suffice
+    } else {
+      EXPECT_GT(st.dropped_branches, 0u) << budget;
+    }
   }
 }
 
@@ -477,6 +484,33 @@ TEST(TreeMesh, TextureCoordinatesRunAroundAndAlongAndSurviveSerialization) {
   const auto& bm = std::get<MeshPtr>(back)->mesh;
   ASSERT_TRUE(bm.has_vertex_texcoords2D());
   EXPECT_EQ(bm.texcoord2D(TriMesh::VertexHandle(11)), t);
+}
+
+TEST(TreeMesh, GltfRoundTrip) {
+  const auto r = interpret(word("!(0.2)F[+F]F"), TurtleOptions{});
+  const Mesh m = tree_mesh(r.skeleton, &r.leaves, TreeMeshOptions{});
+  const auto dir = test::scratch_dir("plants-gltf");
+  for (const char* name : {"tree.glb", "tree.gltf"}) {
+    const auto path = dir / name;
+    write_mesh_file(m, path, *mesh_format_from_path(path));
+    tinygltf::Model model;
+    tinygltf::TinyGLTF loader;
+    std::string err, warn;
+    const bool ok = std::string(name).ends_with(".glb") ? loader.LoadBinaryFromFile(&model, &err, &warn, path.string())
+                                                         : loader.LoadASCIIFromFile(&model, &err, &warn, path.string());
+    ASSERT_TRUE(ok) << err;
+    ASSERT_EQ(model.meshes.size(), 1u);
+    const auto& prim = model.meshes[0].primitives.at(0);
+    for (const char* attr : {"POSITION", "NORMAL", "COLOR_0", "TEXCOORD_0"}) {
+      ASSERT_TRUE(prim.attributes.count(attr)) << attr;
+      EXPECT_EQ(model.accessors[static_cast<std::size_t>(prim.attributes.at(attr))].count, m.vertex_count()) << attr;
+    }
+    EXPECT_EQ(model.accessors[static_cast<std::size_t>(prim.indices)].count, 3 * m.face_count());
+    // y-up: the tree's height (z in Orogen) is the file's y.
+    const auto& pos = model.accessors[static_cast<std::size_t>(prim.attributes.at("POSITION"))];
+    EXPECT_NEAR(pos.maxValues[1], 2.0, 1e-5);
+    EXPECT_NEAR(pos.minValues[1], 0.0, 1e-5);
+  }
 }
 
 TEST(PlantNodes, EveryParameterAndInputChangesTheKey) {

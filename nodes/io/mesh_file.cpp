@@ -25,6 +25,8 @@ std::optional<MeshFormat> mesh_format_from_path(const std::filesystem::path& pat
   if (ext == ".obj") return MeshFormat::Obj;
   if (ext == ".ply") return MeshFormat::Ply;
   if (ext == ".stl") return MeshFormat::Stl;
+  if (ext == ".gltf") return MeshFormat::Gltf;
+  if (ext == ".glb") return MeshFormat::Glb;
   return std::nullopt;
 }
 
@@ -146,6 +148,8 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
   }();
   (void)quiet;
   if (mesh.face_count() == 0) throw FileError("cannot write '" + path.string() + "': the mesh has no faces");
+  if (format == MeshFormat::Gltf || format == MeshFormat::Glb)
+    return write_gltf_file(mesh, path, format == MeshFormat::Glb, options.normals, options.colors, options.uvs);
   // A copy in file conventions: axes, and colors as 8-bit viewers expect them (sRGB, clamped to 0..1,
   // which also keeps OpenMesh's float-to-byte conversion in range).
   // Texture coordinates from the footprint, before any change of axes.

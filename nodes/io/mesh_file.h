@@ -1,5 +1,5 @@
 #pragma once
-// Meshes to OBJ, PLY and STL through OpenMesh's writers.
+// Meshes to OBJ, PLY and STL through OpenMesh's writers, and glTF 2.0 through tinygltf.
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -10,7 +10,7 @@ namespace orogen {
 
 struct Mesh;
 
-enum class MeshFormat { Obj, Ply, Stl };
+enum class MeshFormat { Obj, Ply, Stl, Gltf, Glb };
 
 std::optional<MeshFormat> mesh_format_from_path(const std::filesystem::path& path);
 
@@ -40,5 +40,11 @@ std::string material_library_text(const std::string& texture);
 // by itself. Throws FileError on failure.
 void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFormat format,
                      const MeshWriteOptions& options = {});
+
+// glTF 2.0 (.gltf with the buffer embedded, or binary .glb; y-up as glTF requires): positions, optional
+// normals, linear vertex colors (COLOR_0) and the mesh's own texture coordinates (TEXCOORD_0), 32-bit
+// indices, one rough non-metallic material. Throws FileError.
+void write_gltf_file(const Mesh& mesh, const std::filesystem::path& path, bool binary, bool normals, bool colors,
+                     bool uvs);
 
 }  // namespace orogen

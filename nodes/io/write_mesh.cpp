@@ -12,14 +12,16 @@ namespace orogen {
 OROGEN_NODE(WriteMesh) {
   b.reach_global();
   b.category("io").writes_files().description(
-      "Writes a mesh to OBJ, PLY or STL inside the output directory, atomically (through OpenMesh). Vertex "
+      "Writes a mesh to OBJ, PLY or STL (through OpenMesh) or glTF 2.0 (.gltf or binary .glb, through tinygltf; "
+      "always y-up, linear vertex colors, the mesh's own texture coordinates) inside the output directory, "
+      "atomically. Vertex "
       "normals go to OBJ and PLY, vertex colors to PLY (sRGB 8-bit); STL has face normals only. OBJ also gets "
       "texture coordinates (the mesh's own, e.g. around and along tree branches, else over its footprint) and, with a texture, a material library (.mtl beside the "
       "OBJ) that drapes the image over the terrain. base_depth closes a terrain into a solid (skirt walls and a "
       "flat bottom) for 3D printing. up_axis Y converts Orogen's z-up coordinates to y-up, (x, y, z) -> "
       "(x, z, -y), for Unity and Blender.");
   b.input("in", PortType::Mesh).description("Mesh to write, metres");
-  b.param_path("path", "terrain.obj").output_file().extensions({".obj", ".ply", ".stl"}).description(
+  b.param_path("path", "terrain.obj").output_file().extensions({".obj", ".ply", ".stl", ".gltf", ".glb"}).description(
       "Output file, relative to the output directory; the extension selects the format");
   b.param_enum("up_axis", {"Z", "Y"}, "Z").description(
       "Up axis of the file: Z keeps Orogen's coordinates; Y rotates to y-up (x, z, -y), right-handed");
