@@ -87,12 +87,18 @@ def main():
     ap.add_argument("--elevation", type=float, default=20.0)
     ap.add_argument("--size", type=int, default=480)
     ap.add_argument("--no-ground", action="store_true")
+    ap.add_argument("--centre", type=str, default="", help="look at x,y,z (m) instead of the model's centre")
+    ap.add_argument("--radius", type=float, default=0.0, help="frame this radius (m) around the centre")
     a = ap.parse_args()
     verts, cols, faces = read_ply(a.ply)
     lo = [min(v[k] for v in verts) for k in range(3)]
     hi = [max(v[k] for v in verts) for k in range(3)]
     centre = [(lo[k] + hi[k]) / 2 for k in range(3)]
     radius = max(1e-9, math.sqrt(sum((hi[k] - lo[k]) ** 2 for k in range(3))) / 2)
+    if a.centre:
+        centre = [float(x) for x in a.centre.split(",")]
+    if a.radius > 0:
+        radius = a.radius
     if not a.no_ground:
         g = radius * 1.3
         base = len(verts)

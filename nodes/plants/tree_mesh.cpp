@@ -139,6 +139,26 @@ Mesh tree_mesh(const Curves& skeleton, const Points* leaves, const TreeMeshOptio
   const std::size_t nc = skeleton.curves.size();
   std::vector<Branch> branches(nc);
   for (std::size_t c = 0; c < nc; ++c) branches[c] = prepare(skeleton.curves[c]);
+  // Continuations: the widest child that starts where its parent ends takes the parent's end radius at its
+  // start, so the axis tapers through the joint instead of stepping down at the parent's end cap.
+  {
+    std::vector<int> widest(nc, -1);
+    for (std::size_t c = 0; c < nc; ++c) {
+      const int parent = skeleton.curves[c].parent;
+      if (parent < 0 || static_cast<std::size_t>(parent) >= nc || branches[c].p.size() < 2) continue;
+      const Branch& pb = branches[static_cast<std::size_t>(parent)];
+      if (pb.p.size() < 2) continue;
+      const double tol = 1e-6 * std::max(1.0, glm::length(pb.p.back()));
+      if (glm::length(branches[c].p.front() - pb.p.back()) > tol) continue;
+      int& w = widest[static_cast<std::size_t>(parent)];
+      if (w < 0 || branches[c].radius.front() > branches[static_cast<std::size_t>(w)].radius.front()) w = static_cast<int>(c);
+    }
+    for (std::size_t p = 0; p < nc; ++p)
+      if (widest[p] >= 0) {
+        auto& r = branches[static_cast<std::size_t>(widest[p])].radius.front();
+        r = std::max(r, branches[p].radius.back());
+      }
+  }
   const std::size_t nl = leaves && o.leaf_shape != LeafShape::None ? leaves->size() : 0;
   const std::size_t leaf_tris = o.leaf_shape == LeafShape::Rock ? static_cast<std::size_t>(2 * o.rock_points - 4) : 2;
 

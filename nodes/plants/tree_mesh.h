@@ -31,7 +31,8 @@ struct TreeMeshStats {
 // Each branch (curve with >= 2 distinct points) becomes a closed tube: a ring of `sides` vertices at every
 // point, in a rotation-minimising (parallel transport) frame, radius = width / 2, colored by the curve's
 // "r", "g", "b" attributes (linear; gray when absent), capped by a fan at both ends. Children start on
-// their parent's axis, so their base caps sit inside the parent and the joint shows no gap. Faces wind
+// their parent's axis, so their base caps sit inside the parent and the joint shows no gap; the widest child
+// starting at its parent's end point starts with the parent's end radius (the axis tapers through the joint). Faces wind
 // counter-clockwise seen from outside. Texture coordinates: u around the branch (0..1), v along it in
 // metres of arc length (stored in the mesh's vertex texcoords; the seam vertex is not duplicated, so the
 // tube stays closed and u wraps from (k-1)/k back to 0).
