@@ -319,6 +319,8 @@ void Viewport3D::update_geometry(const PreviewContent& content) {
     bounds_min_ = lo;
     bounds_max_ = hi;
     if (changed) framed_ = false;
+    // An object on its own (a plant or rock mesh, no terrain under it) is first seen from the side.
+    if (changed && !field && std::holds_alternative<MeshPtr>(content.value)) camera_.pitch = 0.2;
   }
 }
 

@@ -13,8 +13,9 @@ namespace {
 
 const char* kRockSource =
     "Chalmers et al. (2016), SeamScape §3.8: N points uniformly on an ellipsoid (semi-axes a, b, c), each "
-    "moved by spherical Gaussian noise of standard deviation sigma, and their 3D convex hull (CGAL "
-    "convex_hull_3; hull vertices are input points) with outward faces and smooth normals";
+    "moved by spherical Gaussian noise of standard deviation sigma, and their 3D convex hull (incremental "
+    "insertion, Clarkson & Shor 1989, checked, with CGAL's exact convex_hull_3 for near-degenerate sets and "
+    "above 512 points; hull vertices are input points) with outward faces and smooth normals";
 
 void declare_rock_params(NodeBuilder& b) {
   b.param_int("points", 20).range(4, 10000).soft_range(8, 200).description("Points sampled on the ellipsoid (N)");
