@@ -4,6 +4,7 @@
 // F = 2V - 4); a set on which the floating-point visibility tests produced anything else is handed to CGAL.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
 #include <glm/geometric.hpp>
@@ -77,9 +78,8 @@ Hull incremental(const std::vector<glm::dvec3>& p) {
   if (i3 < 0) throw Degenerate{};
   if (glm::dot(base.n, p[static_cast<std::size_t>(i3)]) - base.d > 0.0) std::swap(i1, i2);  // i3 behind (i0 i1 i2)
 
-  std::vector<Face> faces(4), next;
-  faces.reserve(static_cast<std::size_t>(2 * n));
-  next.reserve(static_cast<std::size_t>(2 * n));
+  std::vector<Face> faces(4);
+  faces.reserve(static_cast<std::size_t>(2 * n + 8));
   if (!make_face(faces[0], p, i0, i1, i2) || !make_face(faces[1], p, i0, i3, i1) ||
       !make_face(faces[2], p, i1, i3, i2) || !make_face(faces[3], p, i2, i3, i0))
     throw Degenerate{};
@@ -97,14 +97,10 @@ Hull incremental(const std::vector<glm::dvec3>& p) {
     for (int f : visible)
       for (int k = 0; k < 3; ++k)
         edges.emplace_back(faces[static_cast<std::size_t>(f)].v[k], faces[static_cast<std::size_t>(f)].v[(k + 1) % 3]);
-    next.clear();
-    std::size_t vis = 0;
-    for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
-      if (vis < visible.size() && visible[vis] == f) {
-        ++vis;
-        continue;
-      }
-      next.push_back(faces[static_cast<std::size_t>(f)]);
+    // Remove the visible faces in place (from the highest index, so a face moved down is never visible).
+    for (auto it = visible.rbegin(); it != visible.rend(); ++it) {
+      faces[static_cast<std::size_t>(*it)] = faces.back();
+      faces.pop_back();
     }
     for (const auto& [a, b] : edges) {
       bool inner = false;
@@ -116,9 +112,8 @@ Hull incremental(const std::vector<glm::dvec3>& p) {
       if (inner) continue;
       Face nf;
       if (!make_face(nf, p, a, b, i)) throw Inconsistent{};
-      next.push_back(nf);
+      faces.push_back(nf);
     }
-    faces.swap(next);
   }
 
   // Check: a closed surface, every directed edge once with its twin, and F = 2V - 4.
@@ -134,11 +129,14 @@ Hull incremental(const std::vector<glm::dvec3>& p) {
       }
     }
   if (faces.size() != 2 * h.vertices.size() - 4) throw Inconsistent{};
-  std::sort(edges.begin(), edges.end());
-  for (std::size_t k = 0; k < edges.size(); ++k) {
-    if (k + 1 < edges.size() && edges[k] == edges[k + 1]) throw Inconsistent{};
-    if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(edges[k].second, edges[k].first))) throw Inconsistent{};
+  std::vector<std::uint8_t> used(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), 0);
+  for (const auto& [a, b] : edges) {
+    auto& u = used[static_cast<std::size_t>(a) * static_cast<std::size_t>(n) + static_cast<std::size_t>(b)];
+    if (u) throw Inconsistent{};  // a directed edge twice: not a 2-manifold
+    u = 1;
   }
+  for (const auto& [a, b] : edges)
+    if (!used[static_cast<std::size_t>(b) * static_cast<std::size_t>(n) + static_cast<std::size_t>(a)]) throw Inconsistent{};
   h.faces.reserve(faces.size());
   for (const Face& f : faces)
     h.faces.push_back({index[static_cast<std::size_t>(f.v[0])], index[static_cast<std::size_t>(f.v[1])], index[static_cast<std::size_t>(f.v[2])]});
