@@ -55,7 +55,8 @@ Branch prepare(const Curve& c) {
 
 std::size_t tube_triangles(std::size_t points, int k) { return points >= 2 ? 2 * static_cast<std::size_t>(k) * points : 0; }
 
-void add_tube(TriMesh& m, const Branch& b, int k) {
+// Returns the ring normal at the last point (children continue from it, so their rings line up).
+V3 add_tube(TriMesh& m, const Branch& b, int k, const V3* start_normal) {
   const std::size_t n = b.p.size();
   std::vector<V3> t(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -67,6 +68,10 @@ void add_tube(TriMesh& m, const Branch& b, int k) {
   }
   std::vector<TriMesh::VertexHandle> ring(static_cast<std::size_t>(k) * n);
   V3 normal = perpendicular(t[0]);
+  if (start_normal) {
+    const V3 q = *start_normal - glm::dot(*start_normal, t[0]) * t[0];
+    if (glm::length(q) > 1e-3) normal = glm::normalize(q);
+  }
   double arc = 0.0;
   const bool uv = m.has_vertex_texcoords2D();
   for (std::size_t i = 0; i < n; ++i) {
@@ -109,6 +114,7 @@ void add_tube(TriMesh& m, const Branch& b, int k) {
     m.add_face(base, at(0, j + 1), at(0, j));
     m.add_face(tip, at(n - 1, j), at(n - 1, j + 1));
   }
+  return normal;
 }
 
 void add_leaf_quad(TriMesh& m, const V3& p, const glm::dquat& q, double s, const TriMesh::Color& col) {
@@ -229,10 +235,14 @@ Mesh tree_mesh(const Curves& skeleton, const Points* leaves, const TreeMeshOptio
   Mesh out;
   TriMesh& m = out.mesh;
   m.request_vertex_texcoords2D();
+  std::vector<V3> end_normal(nc, V3(0.0));
   for (std::size_t c = 0; c < nc; ++c) {
     if ((c & 255) == 255 && o.should_stop && o.should_stop()) break;
     if (!keep_curve[c] || branches[c].p.size() < 2) continue;
-    add_tube(m, branches[c], k);
+    const int parent = skeleton.curves[c].parent;
+    // Parents come before their children (the turtle numbers branches as it starts them).
+    const bool from_parent = parent >= 0 && static_cast<std::size_t>(parent) < c && end_normal[static_cast<std::size_t>(parent)] != V3(0.0);
+    end_normal[c] = add_tube(m, branches[c], k, from_parent ? &end_normal[static_cast<std::size_t>(parent)] : nullptr);
   }
   st.branch_triangles = m.n_faces();
   for (std::size_t l = 0; l < nl; ++l) {
