@@ -20,7 +20,8 @@ OROGEN_NODE(LSystem) {
       "Chalmers et al. (2016), SeamScape, and random draws uniform(a,b) / gauss(m,s) keyed by the seed. One "
       "rule per line or separated by ';'; 'let name = value' defines constants; '//' starts a comment line. "
       "Errors name the line and column. Presets (docs/lsystems.md): algae (A -> AB; B -> A), the bush "
-      "and fern of ABOP Fig. 1.24, 3D Game Worlds rules 4.19 and 4.20, and SeamScape's green tree.");
+      "of ABOP Fig. 1.25, the fern-like plant of ABOP Fig. 1.24d, 3D Game Worlds rules 4.19 and 4.20, and "
+      "SeamScape's green tree.");
   b.output("out", PortType::ModuleString).description("The derived word (symbols with parameters)");
   b.param_string("axiom", "X").description("The initial word, e.g. X or T(140,90,40,100)");
   b.param_string("rules", "X -> F[+X][-X]FX\nF -> FF").description(
