@@ -143,6 +143,21 @@ void Preview2D::draw(const PreviewContent& content) {
     dl->PopClipRect();
     return;
   }
+  if (auto* w = std::get_if<ModuleStringPtr>(&content.value); !domain && w && *w) {
+    // An L-system word: its size and its beginning as text.
+    const ModuleString& word = **w;
+    std::string text = word.text();
+    constexpr std::size_t kShown = 4000;
+    const bool cut = text.size() > kShown;
+    if (cut) text.resize(kShown);
+    ImGui::SetCursorScreenPos({origin.x + 12, origin.y + 12});
+    ImGui::PushTextWrapPos(origin.x + size.x - 12 - ImGui::GetWindowPos().x);
+    ImGui::TextDisabled("%zu modules%s", word.size(), cut ? " (beginning shown)" : "");
+    ImGui::TextUnformatted(text.c_str(), text.c_str() + text.size());
+    ImGui::PopTextWrapPos();
+    dl->PopClipRect();
+    return;
+  }
   if (!domain) {
     const char* text = content.node.empty() ? "Select a node to preview it"
                        : has_value(content.value) ? "Nothing to draw in 2D for this output"
