@@ -1,5 +1,6 @@
 #include "nodes/plants/lsystem.h"
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <charconv>

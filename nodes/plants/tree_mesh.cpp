@@ -128,7 +128,7 @@ void add_leaf_quad(TriMesh& m, const V3& p, const glm::dquat& q, double s, const
     if (m.has_vertex_texcoords2D())
       m.set_texcoord2D(v[i], {static_cast<float>(glm::dot(c[i] - p, l) / s + 0.5), static_cast<float>(glm::dot(c[i] - p, h) / s)});
   }
-  // Counter-clockwise seen from +up: (h - 0.3 l) x (h) ... ordered so the normal is +u.
+  // Counter-clockwise seen from the leaf's up axis: the winding whose normal agrees with u.
   const V3 nrm = glm::cross(c[1] - c[0], c[2] - c[0]);
   if (glm::dot(nrm, u) >= 0.0) {
     m.add_face(v[0], v[1], v[2]);
@@ -264,9 +264,7 @@ Mesh tree_mesh(const Curves& skeleton, const Points* leaves, const TreeMeshOptio
       r.sigma = 0.05 * s;
       r.seed = o.seed;
       r.variant = l;
-      const std::size_t first = m.n_vertices();
       rocks::append_hull_rock(m, r, p + q * V3(0.5 * s, 0, 0), q, col);
-      (void)first;
     }
   }
   st.leaf_triangles = m.n_faces() - st.branch_triangles;

@@ -1,5 +1,6 @@
 #include "nodes/plants/turtle.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
