@@ -28,6 +28,7 @@ struct EvalCommand {
   std::string size;    // "W,H": the domain's size, metres; empty: the graph's
   std::string tiles;   // "NxM": a tiled build (cli/tiling.h); empty: one build of the whole domain
   std::string tile;    // "I,J": only this tile of --tiles; empty: every tile
+  std::string global_nodes;  // "whole" or "tile": how --tiles evaluates whole-domain nodes; empty: whole
 };
 
 int run_eval(const EvalCommand& cmd);

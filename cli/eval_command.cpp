@@ -92,6 +92,14 @@ int run_eval(const EvalCommand& cmd) {
   } else if (!cmd.tile.empty()) {
     errors.push_back("--tile " + cmd.tile + " needs --tiles NxM: it picks one tile of a tiled build");
   }
+  GlobalNodes global = GlobalNodes::Whole;
+  if (!cmd.global_nodes.empty()) {
+    if (cmd.tiles.empty())
+      errors.push_back("--global-nodes " + cmd.global_nodes + " needs --tiles NxM: it says how a tiled build "
+                       "evaluates nodes that need the whole domain");
+    else if (auto g = parse_global_nodes(cmd.global_nodes)) global = *g;
+    else errors.push_back("--global-nodes '" + cmd.global_nodes + "': expected 'whole' or 'tile'");
+  }
   const Domain domain = graph.domain.to_domain();
   if (tiled)
     if (auto e = check_tile_counts(domain.resolution, counts); !e.empty()) errors.push_back(e);
@@ -131,7 +139,7 @@ int run_eval(const EvalCommand& cmd) {
     std::map<std::string, Domain> node_domains;
     if (tiled)
       node_domains = tile_node_domains(graph, domain,
-                                       tile_window(domain.resolution, counts, only_tile.value_or(counts / 2)));
+                                       tile_window(domain.resolution, counts, only_tile.value_or(counts / 2)), global);
     for (const auto& node : graph.nodes()) {
       const auto it = node_domains.find(node.id);
       const Domain& d = it != node_domains.end() ? it->second : domain;
@@ -143,9 +151,10 @@ int run_eval(const EvalCommand& cmd) {
     for (const auto& e : errors) std::cerr << "error: " << e << "\n";
     return kExitInvalid;
   }
-  // A tiled build of nodes that need the whole domain is not seamless: say which (even with --quiet).
+  // Nodes that need the whole domain cost the whole domain's memory or leave seams: say which (even with
+  // --quiet).
   if (tiled)
-    for (const auto& w : seam_warnings(graph)) std::cerr << "warning: --tiles: " << w << "\n";
+    for (const auto& w : seam_warnings(graph, global)) std::cerr << "warning: --tiles: " << w << "\n";
 
   EvaluatorOptions options;
   options.threads = cmd.threads;
@@ -172,7 +181,7 @@ int run_eval(const EvalCommand& cmd) {
     std::string label;
     if (build.tile) {
       add_output_suffix(tile_graph, build.suffix);
-      request.node_domains = tile_node_domains(tile_graph, domain, *build.tile);
+      request.node_domains = tile_node_domains(tile_graph, domain, *build.tile, global);
       const Domain d = domain.subdomain(build.tile->first.x, build.tile->first.y, build.tile->size.x, build.tile->size.y);
       label = "tile " + std::to_string(build.tile->index.x) + "," + std::to_string(build.tile->index.y) + " (" +
               std::to_string(b + 1) + "/" + std::to_string(builds.size()) + ")";

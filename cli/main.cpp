@@ -27,11 +27,18 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("--tiles", eval.tiles,
                        "Tiled build: cut the domain into NxM tiles (N along x, M along y) that share their border "
                        "samples; each tile is written to its own files, named with the suffix _xI_yJ before the "
-                       "extension (--stats too). Point-wise and local nodes join bit for bit; nodes that need the "
-                       "whole domain (erosion, flow, normalization) are named in a warning");
+                       "extension (--stats too). Each tile is computed with the halo its local nodes need, so the "
+                       "tiles join bit for bit and equal the untiled build; nodes that need the whole domain are "
+                       "named in a warning (see --global-nodes). Tiles are equal when N divides W - 1 (e.g. 1025 "
+                       "samples in 4 tiles of 257)");
   eval_cmd->add_option("--tile", eval.tile,
                        "With --tiles: build only tile I,J (column I along x, row J along y, from 0 at the domain's "
                        "minimum corner), e.g. one job of a batch system");
+  eval_cmd->add_option("--global-nodes", eval.global_nodes,
+                       "With --tiles, how nodes that need the whole domain (reach global: erosion, flow, "
+                       "normalization) are built: 'whole' (default) evaluates them once on the whole domain and "
+                       "cuts their result into the tiles, so the tiles still join; 'tile' evaluates them on each "
+                       "tile alone (memory of a tile only, but seams). Either way a warning names them");
   eval_cmd->add_option("--threads", eval.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
   eval_cmd->add_option("--cache-dir", eval.cache_dir, "Persistent cache directory (results survive the process)");
   eval_cmd->add_option("--cache-mb", eval.cache_mb, "In-memory cache bound in MiB (0 to 1e9)")->capture_default_str();

@@ -30,8 +30,9 @@ std::optional<std::pair<std::string, std::string>> split_pair(const std::string&
   return std::make_pair(text.substr(0, at), text.substr(at + 1));
 }
 
-bool is_global(const Graph& graph, const Node& node) {
-  return node.type->reach_for(graph.effective_params(node)).is_global();
+bool needs_whole_domain(const Graph& graph, const Node& node) {
+  return !node.type->writes_files && !node.type->domain_independent &&
+         node.type->reach_for(graph.effective_params(node)).is_global();
 }
 
 }  // namespace
@@ -131,7 +132,21 @@ void add_output_suffix(Graph& graph, const std::string& suffix) {
     graph.set_param(id, name, with_suffix(std::get<std::string>(graph.param(id, name)), suffix));
 }
 
-std::map<std::string, Domain> tile_node_domains(const Graph& graph, const Domain& full, const TileWindow& window) {
+std::optional<GlobalNodes> parse_global_nodes(const std::string& text) {
+  if (text == "whole") return GlobalNodes::Whole;
+  if (text == "tile") return GlobalNodes::PerTile;
+  return std::nullopt;
+}
+
+std::vector<std::string> whole_domain_nodes(const Graph& graph) {
+  std::vector<std::string> ids;
+  for (const auto& node : graph.nodes())
+    if (needs_whole_domain(graph, node)) ids.push_back(node.id);
+  return ids;
+}
+
+std::map<std::string, Domain> tile_node_domains(const Graph& graph, const Domain& full, const TileWindow& window,
+                                                GlobalNodes global) {
   const std::vector<std::string> order = graph.topological_order();
   std::map<std::string, std::vector<const Node*>> consumers;
   for (const auto& node : graph.nodes())
@@ -143,7 +158,11 @@ std::map<std::string, Domain> tile_node_domains(const Graph& graph, const Domain
     const Node& node = graph.at(*it);
     glm::ivec2 n{0, 0};
     for (const Node* c : consumers[node.id]) n = glm::max(n, need.at(c->id) + halo.at(c->id));
-    const glm::ivec2 own = glm::max(node.type->reach_for(graph.effective_params(node)).halo(full.spacing), glm::ivec2(0));
+    // A whole-domain node evaluated whole: a halo that covers the domain from any tile.
+    const glm::ivec2 own = global == GlobalNodes::Whole && needs_whole_domain(graph, node)
+                               ? full.resolution
+                               : glm::max(node.type->reach_for(graph.effective_params(node)).halo(full.spacing),
+                                          glm::ivec2(0));
     need[node.id] = n;
     halo[node.id] = own;
     const glm::ivec2 margin = n + own;
@@ -154,17 +173,24 @@ std::map<std::string, Domain> tile_node_domains(const Graph& graph, const Domain
   return domains;
 }
 
-std::vector<std::string> seam_warnings(const Graph& graph) {
+std::vector<std::string> seam_warnings(const Graph& graph, GlobalNodes global) {
   std::vector<std::string> warnings;
-  for (const auto& node : graph.nodes()) {
+  for (const auto& id : whole_domain_nodes(graph)) {
+    const Node& node = graph.at(id);
     const NodeType& type = *node.type;
-    if (type.writes_files || type.domain_independent || !is_global(graph, node)) continue;
+    const std::string what = "node '" + id + "' (" + type.name + ", reach " +
+                             type.reach_for(graph.effective_params(node)).describe() + ") depends on the whole domain";
+    if (global == GlobalNodes::Whole) {
+      warnings.push_back(what + ": it (and what feeds it) is computed on the whole domain and cut into the tiles, "
+                         "so the tiles join but it needs the whole domain's memory and time (once per process: "
+                         "share a --cache-dir between --tile jobs; --global-nodes tile computes it per tile, "
+                         "not seamless)");
+      continue;
+    }
     std::string writers;
-    for (const auto& id : graph.downstream(node.id))
-      if (graph.at(id).type->writes_files) writers += (writers.empty() ? "'" : ", '") + id + "'";
-    const Reach reach = type.reach_for(graph.effective_params(node));
-    warnings.push_back("node '" + node.id + "' (" + type.name + ", reach " + reach.describe() +
-                       ") depends on the whole domain: each tile computes it from its own part only, so its "
+    for (const auto& down : graph.downstream(id))
+      if (graph.at(down).type->writes_files) writers += (writers.empty() ? "'" : ", '") + down + "'";
+    warnings.push_back(what + ": with --global-nodes tile each tile computes it from its own part only, so its "
                        "result" + (writers.empty() ? std::string() : " and the outputs of " + writers) +
                        " will not join seamlessly across tile borders nor match the untiled build");
   }

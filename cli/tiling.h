@@ -8,9 +8,13 @@
 // type declares (graph/node_type.h), clipped to the graph's domain: a writer sees exactly its tile, the
 // node feeding it the tile plus that node's consumers' halos, and so on upstream. Point-wise and local
 // nodes then reproduce, inside the tile, the full-domain result bit for bit, so neighbouring tiles agree on
-// their shared borders and the tiles put together are the untiled build. Nodes whose result depends on the
-// whole domain (reach global or undeclared) are computed from their tile's part alone: seam_warnings()
-// names them.
+// their shared borders and the tiles put together are the untiled build.
+//
+// Nodes whose result depends on the whole domain (reach global or undeclared; writers and
+// domain-independent nodes excepted) are either evaluated on the whole domain and cut into the tiles
+// (GlobalNodes::Whole: the tiles still join, and every tile's request has the same key for them, so the
+// cache computes them once), or on their tile's part alone (GlobalNodes::PerTile: each tile needs only its
+// own memory, but they do not join). seam_warnings() names them either way.
 #include <map>
 #include <optional>
 #include <string>
@@ -52,14 +56,23 @@ std::string with_suffix(const std::string& path, const std::string& suffix);
 // Adds `suffix` to every output-file parameter of the graph's writers.
 void add_output_suffix(Graph& graph, const std::string& suffix);
 
-// The domain each node is evaluated on for tile `window` of `full` (EvalRequest::node_domains): the tile
-// expanded by the halos downstream of the node plus the node's own halo, clipped to `full`. Nodes the
-// graph's sinks do not depend on are left out.
-std::map<std::string, Domain> tile_node_domains(const Graph& graph, const Domain& full, const TileWindow& window);
+enum class GlobalNodes { Whole, PerTile };
+// "whole" or "tile" (the --global-nodes option); nullopt otherwise.
+std::optional<GlobalNodes> parse_global_nodes(const std::string& text);
 
-// Why a tiled build of `graph` is not seamless: one message per problem, naming the nodes. Nodes with a
-// global or undeclared reach (writers and domain-independent nodes excepted), with the writers their
-// results reach; 16-bit heightfield writers whose height mapping follows each tile's own range.
-std::vector<std::string> seam_warnings(const Graph& graph);
+// The nodes of `graph` that need the whole domain: a global or undeclared reach, not a writer, not
+// domain-independent.
+std::vector<std::string> whole_domain_nodes(const Graph& graph);
+
+// The domain each node is evaluated on for tile `window` of `full` (EvalRequest::node_domains): the tile
+// expanded by the halos downstream of the node plus the node's own halo, clipped to `full`; with
+// GlobalNodes::Whole, `full` for the whole-domain nodes and everything upstream of them.
+std::map<std::string, Domain> tile_node_domains(const Graph& graph, const Domain& full, const TileWindow& window,
+                                                GlobalNodes global = GlobalNodes::Whole);
+
+// What a tiled build of `graph` cannot make seamless or cheap, one message per node, naming it: the
+// whole-domain nodes (PerTile: with the writers whose outputs then do not join; Whole: computed on the
+// whole domain), and 16-bit heightfield writers whose height mapping follows each tile's own range.
+std::vector<std::string> seam_warnings(const Graph& graph, GlobalNodes global);
 
 }  // namespace orogen::cli

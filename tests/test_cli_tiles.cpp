@@ -11,6 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <glm/vec2.hpp>
+
 #include "nodes/io/heightfield_file.h"
 #include "support/run_process.h"
 #include "support/test_paths.h"
@@ -54,7 +56,8 @@ const char* kGlobalGraph = R"({
     { "id": "smooth", "type": "Blur", "inputs": { "in": "noise.out" }, "params": { "sigma": 20 } },
     { "id": "save_stretch", "type": "WriteHeightfield", "inputs": { "in": "stretch.out" }, "params": { "path": "stretch.exr" } },
     { "id": "save_filled", "type": "WriteHeightfield", "inputs": { "in": "filled.out" }, "params": { "path": "filled.exr" } },
-    { "id": "save_smooth", "type": "WriteHeightfield", "inputs": { "in": "smooth.out" }, "params": { "path": "smooth.png" } }
+    { "id": "save_smooth", "type": "WriteHeightfield", "inputs": { "in": "smooth.out" }, "params": { "path": "smooth.png" } },
+    { "id": "save_smooth_exr", "type": "WriteHeightfield", "inputs": { "in": "smooth.out" }, "params": { "path": "smooth.exr" } }
   ]
 })";
 
@@ -132,6 +135,8 @@ TEST(CliTiles, BadArgumentsAreRefusedWithClearErrorsAndWriteNothing) {
       {{"--tiles", "6x2", "--resolution", "6x5"}, "fewer than 2 samples"},
       {{"--tiles", "2x2", "--tiles", "3x3"}, "--tiles"},  // given twice
       {{"--tiles", "2x2", "--tile", "0,0", "--tile", "1,1"}, "--tile"},
+      {{"--global-nodes", "tile"}, "--global-nodes tile needs --tiles"},
+      {{"--tiles", "2x2", "--global-nodes", "some"}, "--global-nodes 'some': expected 'whole' or 'tile'"},
       {{"--origin", "1"}, "--origin '1': expected two numbers"},
       {{"--origin", "1,nan"}, "--origin '1,nan': expected two numbers"},
       {{"--size", "0,400"}, "greater than 0 m"},
@@ -264,30 +269,38 @@ TEST(CliTiles, EveryTileEqualsItsWindowOfTheFullBuild) {
 TEST(CliTiles, GlobalNodesAreNamedInAWarning) {
   const auto dir = scratch_dir("tiles-global");
   write_text(dir / "g.json", kGlobalGraph);
-  for (const bool quiet : {false, true}) {
-    std::vector<std::string> args = {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "--tiles", "2x2"};
-    if (quiet) args.push_back("--quiet");
-    const auto r = orogen(args);
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    // One warning per global node, naming it, its type and the writers it reaches.
-    for (const auto& [node, type, writer] : {std::tuple{"stretch", "Normalize", "save_stretch"},
-                                             std::tuple{"filled", "FillDepressions", "save_filled"}}) {
-      const auto at = r.err.find(std::string("warning: --tiles: node '") + node + "' (" + type + ", reach global)");
-      ASSERT_NE(at, std::string::npos) << r.err;
-      const auto line = r.err.substr(at, r.err.find('\n', at) - at);
-      EXPECT_NE(line.find(std::string("'") + writer + "'"), std::string::npos) << line;
-      EXPECT_NE(line.find("whole domain"), std::string::npos) << line;
+  for (const std::string mode : {"", "whole", "tile"})
+    for (const bool quiet : {false, true}) {
+      SCOPED_TRACE(mode + (quiet ? " quiet" : ""));
+      std::vector<std::string> args = {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "--tiles", "2x2"};
+      if (!mode.empty()) args.insert(args.end(), {"--global-nodes", mode});
+      if (quiet) args.push_back("--quiet");
+      const auto r = orogen(args);
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      // One warning per global node, naming it and its type; per tile, also the writers it reaches.
+      for (const auto& [node, type, writer] : {std::tuple{"stretch", "Normalize", "save_stretch"},
+                                               std::tuple{"filled", "FillDepressions", "save_filled"}}) {
+        const auto at = r.err.find(std::string("warning: --tiles: node '") + node + "' (" + type + ", reach global)");
+        ASSERT_NE(at, std::string::npos) << r.err;
+        const auto line = r.err.substr(at, r.err.find('\n', at) - at);
+        EXPECT_NE(line.find("depends on the whole domain"), std::string::npos) << line;
+        if (mode == "tile") {
+          EXPECT_NE(line.find(std::string("'") + writer + "'"), std::string::npos) << line;
+          EXPECT_NE(line.find("will not join"), std::string::npos) << line;
+        } else {
+          EXPECT_NE(line.find("computed on the whole domain and cut into the tiles"), std::string::npos) << line;
+        }
+      }
+      // Local and point-wise nodes and the writers themselves are not reported.
+      EXPECT_EQ(r.err.find("node 'smooth'"), std::string::npos) << r.err;
+      EXPECT_EQ(r.err.find("node 'noise'"), std::string::npos) << r.err;
+      EXPECT_EQ(r.err.find("node 'save_"), std::string::npos) << r.err;
+      // A 16-bit PNG over each tile's own height range does not join either.
+      EXPECT_NE(r.err.find("writer 'save_smooth' (WriteHeightfield) maps 16-bit heights over each tile's own range"),
+                std::string::npos)
+          << r.err;
+      EXPECT_TRUE(fs::exists(dir / "out" / "filled_x1_y1.exr"));
     }
-    // Local and point-wise nodes and the writers themselves are not reported as seams.
-    EXPECT_EQ(r.err.find("node 'smooth'"), std::string::npos) << r.err;
-    EXPECT_EQ(r.err.find("node 'noise'"), std::string::npos) << r.err;
-    EXPECT_EQ(r.err.find("node 'save_"), std::string::npos) << r.err;
-    // A 16-bit PNG over each tile's own height range does not join either.
-    EXPECT_NE(r.err.find("writer 'save_smooth' (WriteHeightfield) maps 16-bit heights over each tile's own range"),
-              std::string::npos)
-        << r.err;
-    EXPECT_TRUE(fs::exists(dir / "out" / "filled_x1_y1.exr"));
-  }
   // The warnings are about tiling: the untiled build has none.
   const auto whole = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "whole").string()});
   ASSERT_EQ(whole.exit_code, 0) << whole.err;
@@ -299,20 +312,51 @@ TEST(CliTiles, GlobalNodesAreNamedInAWarning) {
   EXPECT_EQ(fixed.err.find("save_smooth"), std::string::npos) << fixed.err;
 }
 
-TEST(CliTiles, GlobalNodesReallyDifferAcrossTilesSoTheWarningIsNeeded) {
-  // The normalization of each tile stretches its own range: tile (0,0) differs from its window of the
-  // untiled build, while the local blur does not.
-  const auto dir = scratch_dir("tiles-global-differs");
+// Differing samples between tile (i, j) of `file` and its window of the untiled build.
+std::size_t window_differences(const fs::path& whole_dir, const fs::path& tiled_dir, const std::string& stem,
+                               glm::ivec2 samples, glm::ivec2 tiles, int i, int j) {
+  const Raster whole = read_raster(whole_dir / (stem + ".exr"));
+  const Raster t = read_raster(tiled_dir / tile_name(stem, i, j, ".exr"));
+  const int i0 = edge(i, samples.x, tiles.x), j0 = edge(j, samples.y, tiles.y);
+  EXPECT_EQ(t.width, edge(i + 1, samples.x, tiles.x) - i0 + 1);
+  EXPECT_EQ(t.height, edge(j + 1, samples.y, tiles.y) - j0 + 1);
+  std::size_t differing = 0;
+  for (int y = 0; y < t.height; ++y)
+    for (int x = 0; x < t.width; ++x) differing += !same_bits(t.at(0, x, y), whole.at(0, i0 + x, j0 + y));
+  return differing;
+}
+
+TEST(CliTiles, GlobalNodesJoinWhenEvaluatedWholeAndNotPerTile) {
+  const auto dir = scratch_dir("tiles-global-modes");
   write_text(dir / "g.json", kGlobalGraph);
   ASSERT_EQ(orogen({"eval", (dir / "g.json").string(), "-o", (dir / "whole").string(), "--quiet"}).exit_code, 0);
-  ASSERT_EQ(orogen({"eval", (dir / "g.json").string(), "-o", (dir / "tiled").string(), "--tiles", "2x2", "--quiet"})
-                .exit_code,
-            0);
-  const Raster whole = read_raster(dir / "whole" / "stretch.exr"), tile = read_raster(dir / "tiled" / "stretch_x0_y0.exr");
-  std::size_t differing = 0;
-  for (int y = 0; y < tile.height; ++y)
-    for (int x = 0; x < tile.width; ++x) differing += !same_bits(tile.at(0, x, y), whole.at(0, x, y));
-  EXPECT_GT(differing, 0u);
+  for (const std::string mode : {"whole", "tile"}) {
+    const auto out = dir / mode;
+    const auto r = orogen({"eval", (dir / "g.json").string(), "-o", out.string(), "--tiles", "2x2", "--global-nodes",
+                           mode, "--stats", (dir / (mode + ".json")).string(), "--quiet"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) {
+        SCOPED_TRACE(mode + " tile " + std::to_string(i) + "," + std::to_string(j));
+        // The local blur equals the untiled build in both modes.
+        EXPECT_EQ(window_differences(dir / "whole", out, "smooth", {65, 65}, {2, 2}, i, j), 0u);
+        const auto stretch = window_differences(dir / "whole", out, "stretch", {65, 65}, {2, 2}, i, j);
+        const auto filled = window_differences(dir / "whole", out, "filled", {65, 65}, {2, 2}, i, j);
+        const auto stats = nlohmann::json::parse(read_text(dir / tile_name(mode, i, j, ".json")));
+        if (mode == "whole") {
+          // Cut from one whole-domain result: the same samples as the untiled build, computed once.
+          EXPECT_EQ(stretch, 0u);
+          EXPECT_EQ(filled, 0u);
+          const std::string expected = i == 0 && j == 0 ? "computed" : "cached";
+          EXPECT_EQ(stats["nodes"]["stretch"]["status"], expected);
+          EXPECT_EQ(stats["nodes"]["filled"]["status"], expected);
+        } else {
+          // Each tile normalizes its own range: the warning is needed.
+          EXPECT_GT(stretch, 0u);
+          EXPECT_EQ(stats["nodes"]["stretch"]["status"], "computed");
+        }
+      }
+  }
 }
 
 // ---- --origin and --size ---------------------------------------------------------------------------------
