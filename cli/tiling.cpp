@@ -35,6 +35,33 @@ bool needs_whole_domain(const Graph& graph, const Node& node) {
          node.type->reach_for(graph.effective_params(node)).is_global();
 }
 
+// Whether a node has an output that can be cut into tiles (a raster on the domain's lattice).
+bool has_raster_output(const NodeType& type) {
+  return std::any_of(type.outputs.begin(), type.outputs.end(), [](const PortDecl& p) {
+    return p.type == PortType::Heightfield || p.type == PortType::Image;
+  });
+}
+
+// "mesh 'out'", "curves 'rivers' and points 'sources'": the outputs of `type` that are not rasters.
+std::string other_outputs(const NodeType& type) {
+  std::vector<std::string> parts;
+  for (const auto& p : type.outputs)
+    if (p.type != PortType::Heightfield && p.type != PortType::Image && p.type != PortType::Report) {
+      std::string t(to_string(p.type));
+      std::transform(t.begin(), t.end(), t.begin(), [](unsigned char c) { return std::tolower(c); });
+      parts.push_back(t + " '" + p.name + "'");
+    }
+  std::string text;
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    text += (k == 0 ? "" : k + 1 == parts.size() ? " and " : ", ") + parts[k];
+  return text;
+}
+
+// Evaluated on the whole domain and cut into the tiles (GlobalNodes::Whole and a raster output to cut).
+bool evaluated_whole(const Graph& graph, const Node& node, GlobalNodes global) {
+  return global == GlobalNodes::Whole && needs_whole_domain(graph, node) && has_raster_output(*node.type);
+}
+
 }  // namespace
 
 std::optional<glm::ivec2> parse_tile_counts(const std::string& text, std::string& error) {
@@ -159,7 +186,7 @@ std::map<std::string, Domain> tile_node_domains(const Graph& graph, const Domain
     glm::ivec2 n{0, 0};
     for (const Node* c : consumers[node.id]) n = glm::max(n, need.at(c->id) + halo.at(c->id));
     // A whole-domain node evaluated whole: a halo that covers the domain from any tile.
-    const glm::ivec2 own = global == GlobalNodes::Whole && needs_whole_domain(graph, node)
+    const glm::ivec2 own = evaluated_whole(graph, node, global)
                                ? full.resolution
                                : glm::max(node.type->reach_for(graph.effective_params(node)).halo(full.spacing),
                                           glm::ivec2(0));
@@ -180,18 +207,24 @@ std::vector<std::string> seam_warnings(const Graph& graph, GlobalNodes global) {
     const NodeType& type = *node.type;
     const std::string what = "node '" + id + "' (" + type.name + ", reach " +
                              type.reach_for(graph.effective_params(node)).describe() + ") depends on the whole domain";
-    if (global == GlobalNodes::Whole) {
+    const std::string others = other_outputs(type);
+    if (evaluated_whole(graph, node, global)) {
       warnings.push_back(what + ": it (and what feeds it) is computed on the whole domain and cut into the tiles, "
                          "so the tiles join but it needs the whole domain's memory and time (once per process: "
                          "share a --cache-dir between --tile jobs; --global-nodes tile computes it per tile, "
-                         "not seamless)");
+                         "not seamless)" +
+                         (others.empty() ? std::string()
+                                         : "; its " + others + " cannot be cut and cover the whole domain in every tile"));
       continue;
     }
     std::string writers;
     for (const auto& down : graph.downstream(id))
       if (graph.at(down).type->writes_files) writers += (writers.empty() ? "'" : ", '") + down + "'";
-    warnings.push_back(what + ": with --global-nodes tile each tile computes it from its own part only, so its "
-                       "result" + (writers.empty() ? std::string() : " and the outputs of " + writers) +
+    const std::string why = global == GlobalNodes::PerTile
+                                ? "with --global-nodes tile, each tile computes it"
+                                : "its " + others + " cannot be cut from a whole-domain result: each tile computes it";
+    warnings.push_back(what + ": " + why + " from its own part only, so its result" +
+                       (writers.empty() ? std::string() : " and the outputs of " + writers) +
                        " will not join seamlessly across tile borders nor match the untiled build");
   }
   for (const auto& node : graph.nodes()) {

@@ -14,7 +14,8 @@
 // domain-independent nodes excepted) are either evaluated on the whole domain and cut into the tiles
 // (GlobalNodes::Whole: the tiles still join, and every tile's request has the same key for them, so the
 // cache computes them once), or on their tile's part alone (GlobalNodes::PerTile: each tile needs only its
-// own memory, but they do not join). seam_warnings() names them either way.
+// own memory, but they do not join). Only rasters can be cut: a whole-domain node with no Heightfield or
+// Image output (a mesh, curves, points) is evaluated per tile in both modes. seam_warnings() names them.
 #include <map>
 #include <optional>
 #include <string>

@@ -359,6 +359,46 @@ TEST(CliTiles, GlobalNodesJoinWhenEvaluatedWholeAndNotPerTile) {
   }
 }
 
+TEST(CliTiles, WholeDomainNodesWithoutRastersAreBuiltPerTileAndSaySo) {
+  // A mesh cannot be cut from a whole-domain result: each tile meshes its own samples (and is named), while
+  // the rivers' raster mask is cut from one whole-domain result and their curves cover the whole domain.
+  const auto dir = scratch_dir("tiles-mesh");
+  write_text(dir / "g.json", R"({
+  "format": "orogen-graph", "version": 3,
+  "domain": { "size": [640, 640], "resolution": [65, 65] },
+  "nodes": [
+    { "id": "noise", "type": "FBM", "params": { "feature_size": 200, "seed": 5, "amplitude": 50 } },
+    { "id": "rivers", "type": "RiverExtract", "inputs": { "in": "noise.out" } },
+    { "id": "mesh", "type": "HeightfieldToMesh", "inputs": { "in": "noise.out" } },
+    { "id": "save_mesh", "type": "WriteMesh", "inputs": { "in": "mesh.out" }, "params": { "path": "terrain.obj" } },
+    { "id": "save_rivers", "type": "WriteCurves", "inputs": { "in": "rivers.out" }, "params": { "path": "rivers.json" } },
+    { "id": "save_mask", "type": "WriteHeightfield", "inputs": { "in": "rivers.mask" }, "params": { "path": "mask.exr" } }
+  ]
+})");
+  const auto r = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "tiled").string(), "--tiles", "2x2", "--quiet"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("node 'mesh' (HeightfieldToMesh, reach global) depends on the whole domain: its mesh 'out' "
+                       "cannot be cut from a whole-domain result: each tile computes it from its own part only"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("node 'rivers' (RiverExtract, reach global) depends on the whole domain: it (and what feeds "
+                       "it) is computed on the whole domain and cut into the tiles"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("its curves 'out' cannot be cut and cover the whole domain in every tile"), std::string::npos)
+      << r.err;
+  ASSERT_EQ(orogen({"eval", (dir / "g.json").string(), "-o", (dir / "whole").string(), "--quiet"}).exit_code, 0);
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const std::string obj = read_text(dir / "tiled" / tile_name("terrain", i, j, ".obj"));
+      std::size_t vertices = 0;
+      for (std::size_t at = obj.find("\nv "); at != std::string::npos; at = obj.find("\nv ", at + 1)) ++vertices;
+      EXPECT_EQ(vertices, 33u * 33u) << "tile " << i << "," << j << " meshes its own 33 x 33 samples";
+      EXPECT_EQ(window_differences(dir / "whole", dir / "tiled", "mask", {65, 65}, {2, 2}, i, j), 0u);
+      EXPECT_EQ(read_text(dir / "tiled" / tile_name("rivers", i, j, ".json")), read_text(dir / "whole" / "rivers.json"));
+    }
+}
+
 // ---- --origin and --size ---------------------------------------------------------------------------------
 
 TEST(CliTiles, OriginAndSizeEqualAnEditedGraph) {
