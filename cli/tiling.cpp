@@ -37,7 +37,7 @@ bool needs_whole_domain(const Graph& graph, const Node& node) {
 
 // Whether a node has an output that can be cut into tiles (a raster on the domain's lattice).
 bool has_raster_output(const NodeType& type) {
-  return std::any_of(type.outputs.begin(), type.outputs.end(), [](const PortDecl& p) {
+  return !type.own_lattice && std::any_of(type.outputs.begin(), type.outputs.end(), [](const PortDecl& p) {
     return p.type == PortType::Heightfield || p.type == PortType::Image;
   });
 }
@@ -46,10 +46,14 @@ bool has_raster_output(const NodeType& type) {
 std::string other_outputs(const NodeType& type) {
   std::vector<std::string> parts;
   for (const auto& p : type.outputs)
-    if (p.type != PortType::Heightfield && p.type != PortType::Image && p.type != PortType::Report) {
+    if (p.type == PortType::Report) {
+      continue;
+    } else if (p.type != PortType::Heightfield && p.type != PortType::Image) {
       std::string t(to_string(p.type));
       std::transform(t.begin(), t.end(), t.begin(), [](unsigned char c) { return std::tolower(c); });
       parts.push_back(t + " '" + p.name + "'");
+    } else if (type.own_lattice) {
+      parts.push_back("'" + p.name + "' on its own lattice");
     }
   std::string text;
   for (std::size_t k = 0; k < parts.size(); ++k)
@@ -202,31 +206,48 @@ std::map<std::string, Domain> tile_node_domains(const Graph& graph, const Domain
 
 std::vector<std::string> seam_warnings(const Graph& graph, GlobalNodes global) {
   std::vector<std::string> warnings;
+  auto quoted_list = [](const std::vector<std::string>& items) {
+    std::string text;
+    for (std::size_t k = 0; k < items.size(); ++k) text += (k == 0 ? "" : ", ") + items[k];
+    return text;
+  };
+  // Cut from one whole-domain result: seamless, at the whole domain's cost. One warning for all of them.
+  std::vector<std::string> whole, whole_uncut;
+  for (const auto& id : whole_domain_nodes(graph)) {
+    const Node& node = graph.at(id);
+    if (!evaluated_whole(graph, node, global)) continue;
+    whole.push_back("'" + id + "' (" + node.type->name + ")");
+    if (const auto others = other_outputs(*node.type); !others.empty()) whole_uncut.push_back("'" + id + "' " + others);
+  }
+  if (!whole.empty())
+    warnings.push_back(std::string(whole.size() == 1 ? "node " : "nodes ") + quoted_list(whole) +
+                       (whole.size() == 1 ? " depends" : " depend") +
+                       " on the whole domain (reach global): computed once on the whole domain, with what feeds "
+                       "them, and cut into the tiles, so the tiles join but these nodes take the whole domain's "
+                       "memory and time (share a --cache-dir between --tile jobs to compute them once; "
+                       "--global-nodes tile computes them per tile instead, with seams)" +
+                       (whole_uncut.empty() ? std::string()
+                                            : "; outputs that cannot be cut cover the whole domain in every tile: " +
+                                                  quoted_list(whole_uncut)));
+  // Computed per tile: not seamless. One warning per node, with the writers it reaches.
   for (const auto& id : whole_domain_nodes(graph)) {
     const Node& node = graph.at(id);
     const NodeType& type = *node.type;
-    const std::string what = "node '" + id + "' (" + type.name + ", reach " +
-                             type.reach_for(graph.effective_params(node)).describe() + ") depends on the whole domain";
-    const std::string others = other_outputs(type);
-    if (evaluated_whole(graph, node, global)) {
-      warnings.push_back(what + ": it (and what feeds it) is computed on the whole domain and cut into the tiles, "
-                         "so the tiles join but it needs the whole domain's memory and time (once per process: "
-                         "share a --cache-dir between --tile jobs; --global-nodes tile computes it per tile, "
-                         "not seamless)" +
-                         (others.empty() ? std::string()
-                                         : "; its " + others + " cannot be cut and cover the whole domain in every tile"));
-      continue;
-    }
-    std::string writers;
+    if (evaluated_whole(graph, node, global)) continue;
+    std::vector<std::string> writers;
     for (const auto& down : graph.downstream(id))
-      if (graph.at(down).type->writes_files) writers += (writers.empty() ? "'" : ", '") + down + "'";
+      if (graph.at(down).type->writes_files) writers.push_back("'" + down + "'");
     const std::string why = global == GlobalNodes::PerTile
                                 ? "with --global-nodes tile, each tile computes it"
-                                : "its " + others + " cannot be cut from a whole-domain result: each tile computes it";
-    warnings.push_back(what + ": " + why + " from its own part only, so its result" +
-                       (writers.empty() ? std::string() : " and the outputs of " + writers) +
+                                : "its " + other_outputs(type) + " cannot be cut from a whole-domain result: each tile computes it";
+    warnings.push_back("node '" + id + "' (" + type.name + ", reach " +
+                       type.reach_for(graph.effective_params(node)).describe() + ") depends on the whole domain: " +
+                       why + " from its own part only, so its result" +
+                       (writers.empty() ? std::string() : " and the outputs of " + quoted_list(writers)) +
                        " will not join seamlessly across tile borders nor match the untiled build");
   }
+  // 16-bit heightfield files mapped over each tile's own range.
+  std::vector<std::string> ranged;
   for (const auto& node : graph.nodes()) {
     const NodeType& type = *node.type;
     if (!type.writes_files || !type.find_param("range") || !type.find_param("path")) continue;
@@ -235,11 +256,14 @@ std::vector<std::string> seam_warnings(const Graph& graph, GlobalNodes global) {
     if (!range || !path || *range != "auto") continue;
     std::string ext = std::filesystem::path(*path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-    if (ext != ".png" && ext != ".raw" && ext != ".r16") continue;
-    warnings.push_back("writer '" + node.id + "' (" + type.name + ") maps 16-bit heights over each tile's own range "
-                       "(range 'auto'): neighbouring tiles store their shared border with different codes; set "
-                       "range to 'fixed' (or write EXR/TIFF) for tiles that join");
+    if (ext == ".png" || ext == ".raw" || ext == ".r16") ranged.push_back("'" + node.id + "'");
   }
+  if (!ranged.empty())
+    warnings.push_back(std::string(ranged.size() == 1 ? "writer " : "writers ") + quoted_list(ranged) +
+                       (ranged.size() == 1 ? " maps" : " map") +
+                       " 16-bit heights over each tile's own range (range 'auto'): neighbouring tiles store "
+                       "their shared border with different codes; set range to 'fixed' (or write EXR/TIFF) for "
+                       "tiles that join");
   return warnings;
 }
 

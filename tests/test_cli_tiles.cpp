@@ -277,26 +277,30 @@ TEST(CliTiles, GlobalNodesAreNamedInAWarning) {
       if (quiet) args.push_back("--quiet");
       const auto r = orogen(args);
       ASSERT_EQ(r.exit_code, 0) << r.err;
-      // One warning per global node, naming it and its type; per tile, also the writers it reaches.
-      for (const auto& [node, type, writer] : {std::tuple{"stretch", "Normalize", "save_stretch"},
-                                               std::tuple{"filled", "FillDepressions", "save_filled"}}) {
-        const auto at = r.err.find(std::string("warning: --tiles: node '") + node + "' (" + type + ", reach global)");
-        ASSERT_NE(at, std::string::npos) << r.err;
-        const auto line = r.err.substr(at, r.err.find('\n', at) - at);
-        EXPECT_NE(line.find("depends on the whole domain"), std::string::npos) << line;
-        if (mode == "tile") {
+      // Every global node is named with its type: evaluated whole, in one warning; per tile, one warning each
+      // with the writers it reaches.
+      if (mode == "tile") {
+        for (const auto& [node, type, writer] : {std::tuple{"stretch", "Normalize", "save_stretch"},
+                                                 std::tuple{"filled", "FillDepressions", "save_filled"}}) {
+          const auto at = r.err.find(std::string("warning: --tiles: node '") + node + "' (" + type + ", reach global)");
+          ASSERT_NE(at, std::string::npos) << r.err;
+          const auto line = r.err.substr(at, r.err.find('\n', at) - at);
+          EXPECT_NE(line.find("depends on the whole domain"), std::string::npos) << line;
           EXPECT_NE(line.find(std::string("'") + writer + "'"), std::string::npos) << line;
           EXPECT_NE(line.find("will not join"), std::string::npos) << line;
-        } else {
-          EXPECT_NE(line.find("computed on the whole domain and cut into the tiles"), std::string::npos) << line;
         }
+      } else {
+        EXPECT_NE(r.err.find("warning: --tiles: nodes 'stretch' (Normalize), 'filled' (FillDepressions) depend on the "
+                             "whole domain (reach global): computed once on the whole domain"),
+                  std::string::npos)
+            << r.err;
       }
       // Local and point-wise nodes and the writers themselves are not reported.
       EXPECT_EQ(r.err.find("node 'smooth'"), std::string::npos) << r.err;
       EXPECT_EQ(r.err.find("node 'noise'"), std::string::npos) << r.err;
       EXPECT_EQ(r.err.find("node 'save_"), std::string::npos) << r.err;
       // A 16-bit PNG over each tile's own height range does not join either.
-      EXPECT_NE(r.err.find("writer 'save_smooth' (WriteHeightfield) maps 16-bit heights over each tile's own range"),
+      EXPECT_NE(r.err.find("warning: --tiles: writer 'save_smooth' maps 16-bit heights over each tile's own range"),
                 std::string::npos)
           << r.err;
       EXPECT_TRUE(fs::exists(dir / "out" / "filled_x1_y1.exr"));
@@ -372,7 +376,10 @@ TEST(CliTiles, WholeDomainNodesWithoutRastersAreBuiltPerTileAndSaySo) {
     { "id": "mesh", "type": "HeightfieldToMesh", "inputs": { "in": "noise.out" } },
     { "id": "save_mesh", "type": "WriteMesh", "inputs": { "in": "mesh.out" }, "params": { "path": "terrain.obj" } },
     { "id": "save_rivers", "type": "WriteCurves", "inputs": { "in": "rivers.out" }, "params": { "path": "rivers.json" } },
-    { "id": "save_mask", "type": "WriteHeightfield", "inputs": { "in": "rivers.mask" }, "params": { "path": "mask.exr" } }
+    { "id": "save_mask", "type": "WriteHeightfield", "inputs": { "in": "rivers.mask" }, "params": { "path": "mask.exr" } },
+    { "id": "lod", "type": "Resample", "inputs": { "in": "noise.out" }, "params": { "spacing": 20 } },
+    { "id": "lod_mesh", "type": "HeightfieldToMesh", "inputs": { "in": "lod.out" } },
+    { "id": "save_lod", "type": "WriteMesh", "inputs": { "in": "lod_mesh.out" }, "params": { "path": "lod.obj" } }
   ]
 })");
   const auto r = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "tiled").string(), "--tiles", "2x2", "--quiet"});
@@ -381,19 +388,32 @@ TEST(CliTiles, WholeDomainNodesWithoutRastersAreBuiltPerTileAndSaySo) {
                        "cannot be cut from a whole-domain result: each tile computes it from its own part only"),
             std::string::npos)
       << r.err;
-  EXPECT_NE(r.err.find("node 'rivers' (RiverExtract, reach global) depends on the whole domain: it (and what feeds "
-                       "it) is computed on the whole domain and cut into the tiles"),
+  EXPECT_NE(r.err.find("node 'rivers' (RiverExtract) depends on the whole domain (reach global): computed once on "
+                       "the whole domain"),
             std::string::npos)
       << r.err;
-  EXPECT_NE(r.err.find("its curves 'out' cannot be cut and cover the whole domain in every tile"), std::string::npos)
+  EXPECT_NE(r.err.find("outputs that cannot be cut cover the whole domain in every tile: 'rivers' curves 'out'"),
+            std::string::npos)
+      << r.err;
+  // Resample puts its output on a lattice of its own: it cannot be cut either, and resamples each tile.
+  EXPECT_NE(r.err.find("node 'lod' (Resample, reach global) depends on the whole domain: its 'out' on its own lattice "
+                       "cannot be cut from a whole-domain result: each tile computes it"),
+            std::string::npos)
       << r.err;
   ASSERT_EQ(orogen({"eval", (dir / "g.json").string(), "-o", (dir / "whole").string(), "--quiet"}).exit_code, 0);
+  auto vertices = [](const fs::path& obj_file) {
+    const std::string obj = read_text(obj_file);
+    std::size_t n = 0;
+    for (std::size_t at = obj.find("\nv "); at != std::string::npos; at = obj.find("\nv ", at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(vertices(dir / "whole" / "lod.obj"), 33u * 33u);  // 640 m at 20 m
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i) {
-      const std::string obj = read_text(dir / "tiled" / tile_name("terrain", i, j, ".obj"));
-      std::size_t vertices = 0;
-      for (std::size_t at = obj.find("\nv "); at != std::string::npos; at = obj.find("\nv ", at + 1)) ++vertices;
-      EXPECT_EQ(vertices, 33u * 33u) << "tile " << i << "," << j << " meshes its own 33 x 33 samples";
+      EXPECT_EQ(vertices(dir / "tiled" / tile_name("terrain", i, j, ".obj")), 33u * 33u)
+          << "tile " << i << "," << j << " meshes its own 33 x 33 samples";
+      EXPECT_EQ(vertices(dir / "tiled" / tile_name("lod", i, j, ".obj")), 17u * 17u)
+          << "tile " << i << "," << j << " resamples its own 320 m at 20 m";
       EXPECT_EQ(window_differences(dir / "whole", dir / "tiled", "mask", {65, 65}, {2, 2}, i, j), 0u);
       EXPECT_EQ(read_text(dir / "tiled" / tile_name("rivers", i, j, ".json")), read_text(dir / "whole" / "rivers.json"));
     }
