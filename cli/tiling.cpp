@@ -66,6 +66,18 @@ bool evaluated_whole(const Graph& graph, const Node& node, GlobalNodes global) {
   return global == GlobalNodes::Whole && needs_whole_domain(graph, node) && has_raster_output(*node.type);
 }
 
+// Reach::halo, computed in double and capped at `cap` (a halo wider than the domain is the whole domain),
+// so an extreme radius on a fine lattice cannot overflow; 0 for point-wise and global reaches.
+glm::ivec2 capped_halo(const Reach& reach, glm::dvec2 spacing, glm::ivec2 cap) {
+  if (reach.kind != ReachKind::Local) return {0, 0};
+  glm::ivec2 h;
+  for (int k = 0; k < 2; ++k) {
+    const double v = std::ceil(reach.metres / spacing[k] - 1e-9) + reach.samples;  // as Reach::halo
+    h[k] = std::isfinite(v) ? static_cast<int>(std::clamp(v, 0.0, static_cast<double>(cap[k]))) : cap[k];
+  }
+  return h;
+}
+
 }  // namespace
 
 std::optional<glm::ivec2> parse_tile_counts(const std::string& text, std::string& error) {
@@ -192,11 +204,12 @@ std::map<std::string, Domain> tile_node_domains(const Graph& graph, const Domain
     // A whole-domain node evaluated whole: a halo that covers the domain from any tile.
     const glm::ivec2 own = evaluated_whole(graph, node, global)
                                ? full.resolution
-                               : glm::max(node.type->reach_for(graph.effective_params(node)).halo(full.spacing),
-                                          glm::ivec2(0));
-    need[node.id] = n;
-    halo[node.id] = own;
-    const glm::ivec2 margin = n + own;
+                               : capped_halo(node.type->reach_for(graph.effective_params(node)), full.spacing,
+                                             full.resolution);
+    // Margins beyond the domain's size change nothing: clamped, so long chains of wide halos cannot overflow.
+    need[node.id] = glm::min(n, full.resolution);
+    halo[node.id] = glm::min(own, full.resolution);
+    const glm::ivec2 margin = need[node.id] + halo[node.id];
     const glm::ivec2 lo = glm::max(window.first - margin, glm::ivec2(0));
     const glm::ivec2 hi = glm::min(window.first + window.size - 1 + margin, full.resolution - 1);
     domains[node.id] = full.subdomain(lo.x, lo.y, hi.x - lo.x + 1, hi.y - lo.y + 1);
