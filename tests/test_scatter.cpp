@@ -9,9 +9,11 @@
 #include <tbb/global_control.h>
 
 #include "evaluator/run_node.h"
+#include "graph/exec_context.h"
 #include "graph/heightfield.h"
 #include "graph/points.h"
 #include "nodes/scatter/poisson_disk.h"
+#include "nodes/scatter/scatter_rules.h"
 
 namespace orogen {
 namespace {
@@ -285,6 +287,128 @@ TEST(PoissonDisk, RefusesWhatItCannotHonour) {
   EXPECT_THROW(poisson_disk({0, 0}, {1e5, 1e5}, one_class(0.01)), std::runtime_error);
   EXPECT_THROW(poisson_disk({9e11, 0}, {9e11 + 100, 100}, one_class(1.0)), std::runtime_error);
   EXPECT_THROW(poisson_disk({0, 0}, {10, 10}, one_class(0.0)), std::invalid_argument);
+}
+
+
+// A terrain: flat at 0 m for x < 0, flat at 200 m for x > 100, a ramp in between (slope 2).
+std::shared_ptr<Heightfield> step_terrain() {
+  auto h = std::make_shared<Heightfield>(Domain::from_extent({-300, -300}, {700, 600}, {141, 121}));
+  for (int j = 0; j < h->height(); ++j)
+    for (int i = 0; i < h->width(); ++i) h->at(i, j) = static_cast<float>(std::clamp(h->domain.x(i), 0.0, 100.0) * 2.0);
+  return h;
+}
+
+TEST(ScatterRules, TableSelectsTheEcosystemByElevationAndSlope) {
+  const auto h = step_terrain();
+  EcosystemParams p;
+  p.ecosystems = parse_ecosystem_table(
+      "low  | elevation -10 10 1e9 | slope 0 0.5 1e9 | plant 1 0.02 1 1\n"
+      "high | elevation 150 250 1e9 | slope 0 0.5 1e9 | plant 2 0.01 2 3 | plant 3 0.005 0.5 0.5\n"
+      "ramp | slope 1.5 2.5 1e9 | plant 4 0.02 1 1  # the ramp\n");
+  p.seed = 1;
+  TerrainVariables vars{h.get(), nullptr, nullptr};
+  const Points pts = scatter_ecosystems({-200, -200}, {300, 200}, vars, p);
+  std::map<int, int> counts;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const auto& q = pts.position[i];
+    const int c = pts.class_id[i];
+    ++counts[c];
+    if (c == 1) EXPECT_LT(q.x, 0.5f);
+    if (c == 2 || c == 3) EXPECT_GT(q.x, 99.5f);
+    if (c == 4) EXPECT_TRUE(q.x > -0.5f && q.x < 100.5f) << q.x;
+    if (c == 2) EXPECT_TRUE(pts.scale[i].x >= 2.0f && pts.scale[i].x <= 3.0f);
+    EXPECT_FLOAT_EQ(q.z, h->sample_world(q.x, q.y));
+    // The ecosystem's ranges hold at every point.
+    const auto& e = p.ecosystems[static_cast<std::size_t>(pts.attributes.at("ecosystem")[i])];
+    EXPECT_GT(e.membership(vars.elevation(q.x, q.y), 0.0, vars.slope_at(q.x, q.y), 0.0), 0.0);
+  }
+  // Expected counts: density * area of the region each ecosystem covers (within 5 sigma of a Poisson count).
+  auto near = [](int n, double expected) { EXPECT_NEAR(n, expected, 5.0 * std::sqrt(expected)) << expected; };
+  near(counts[1], 0.02 * 200 * 400);
+  near(counts[2], 0.01 * 200 * 400);
+  near(counts[3], 0.005 * 200 * 400);
+  near(counts[4], 0.02 * 100 * 400);
+}
+
+TEST(ScatterRules, OverlapSharesCandidatesByMembership) {
+  // Two ecosystems that both hold everywhere: each keeps half of its candidates.
+  auto h = step_terrain();
+  EcosystemParams p;
+  p.ecosystems = parse_ecosystem_table("a | plant 0 0.02 1 1\nb | plant 1 0.02 1 1");
+  TerrainVariables vars{h.get(), nullptr, nullptr};
+  const Points pts = scatter_ecosystems({-200, -200}, {-100, 200}, vars, p);
+  int a = 0;
+  for (int c : pts.class_id) a += c == 0;
+  const double expected = 0.5 * 0.02 * 100 * 400;
+  EXPECT_NEAR(a, expected, 5.0 * std::sqrt(expected));
+  EXPECT_NEAR(static_cast<double>(pts.size() - a), expected, 5.0 * std::sqrt(expected));
+}
+
+TEST(ScatterRules, SoftEdgesReachOnlyTheMargin) {
+  const auto h = step_terrain();
+  EcosystemParams p;
+  p.ecosystems = parse_ecosystem_table("mid | elevation 80 120 2 | plant 0 0.05 1 1");  // margin 20 m
+  TerrainVariables vars{h.get(), nullptr, nullptr};
+  const Points pts = scatter_ecosystems({-200, -200}, {300, 200}, vars, p);
+  for (const auto& q : pts.position) EXPECT_TRUE(q.z > 60.0f && q.z < 140.0f) << q.z;
+  int inner = 0;
+  for (const auto& q : pts.position) inner += q.z >= 80.0f && q.z <= 120.0f;
+  EXPECT_GT(inner, 0);
+  EXPECT_LT(inner, static_cast<int>(pts.size()));
+}
+
+TEST(ScatterRules, TileInvariantAndDeterministic) {
+  const auto h = step_terrain();
+  EcosystemParams p;
+  p.ecosystems = parse_ecosystem_table(kDefaultEcosystemTable);
+  p.seed = 5;
+  TerrainVariables vars{h.get(), nullptr, nullptr};
+  const Points full = scatter_ecosystems({-200, -200}, {300, 200}, vars, p);
+  EXPECT_GT(full.size(), 100u);
+  const Points part = scatter_ecosystems({-13.3, 7}, {121, 88}, vars, p);
+  EXPECT_TRUE(same_points(part, inside(full, {-13.3, 7}, {121, 88})));
+  Points one;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = scatter_ecosystems({-200, -200}, {300, 200}, vars, p);
+  }
+  EXPECT_TRUE(same_points(one, full));
+  p.seed = 6;
+  EXPECT_FALSE(same_points(full, scatter_ecosystems({-200, -200}, {300, 200}, vars, p)));
+}
+
+TEST(ScatterRules, BadTablesAreClearErrors) {
+  EXPECT_THROW(parse_ecosystem_table(""), std::invalid_argument);
+  EXPECT_THROW(parse_ecosystem_table("a | elevation 10 0 1"), std::invalid_argument);
+  EXPECT_THROW(parse_ecosystem_table("a | height 0 1 1"), std::invalid_argument);
+  EXPECT_THROW(parse_ecosystem_table("a | plant 1 0.1 1"), std::invalid_argument);
+  EXPECT_THROW(parse_biome_table("1 2.0 | 0 1"), std::invalid_argument);
+  const auto h = step_terrain();
+  EXPECT_THROW(run_node("ScatterRules", h->domain, {{"table", std::string("x | slope 1")}}, {{"in", PortValue(HeightfieldPtr(h))}}),
+               NodeError);
+}
+
+TEST(BiomeScatter, CountsAndSpeciesFollowTheBiomeTable) {
+  // Biome 1 for x < 0, biome 2 for x >= 0.
+  auto biome = std::make_shared<Heightfield>(Domain::from_extent({-200, -200}, {400, 400}, {101, 101}));
+  for (int j = 0; j < biome->height(); ++j)
+    for (int i = 0; i < biome->width(); ++i) biome->at(i, j) = biome->domain.x(i) < 0 ? 1.0f : 2.0f;
+  BiomeScatterParams p;
+  p.table = parse_biome_table("1 0.2 | 0 1 | 1 3\n2 0.5 | 2 1");
+  p.factor = 0.8;
+  p.cell_size = 2.0;
+  const Points pts = scatter_biomes({-150, -150}, {150, 150}, *biome, nullptr, p);
+  std::map<int, int> counts;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    ++counts[pts.class_id[i]];
+    if (pts.class_id[i] == 2) EXPECT_GE(pts.position[i].x, -4.0f);
+    else EXPECT_LE(pts.position[i].x, 4.0f);
+  }
+  const double cells_left = 75.0 * 150.0;  // 150 m x 300 m in 2 m cells
+  auto near = [](int n, double expected) { EXPECT_NEAR(n, expected, 5.0 * std::sqrt(expected)) << expected; };
+  near(counts[0], cells_left * 0.16 * 0.25);
+  near(counts[1], cells_left * 0.16 * 0.75);
+  near(counts[2], cells_left * 0.4);
 }
 
 }  // namespace
