@@ -7,6 +7,7 @@
 #include <random>
 
 #include <tbb/global_control.h>
+#include <tiny_gltf.h>
 
 #include "evaluator/run_node.h"
 #include "graph/exec_context.h"
@@ -14,6 +15,9 @@
 #include "graph/points.h"
 #include "nodes/scatter/poisson_disk.h"
 #include "nodes/scatter/scatter_rules.h"
+#include "nodes/scatter/scene_gltf.h"
+#include "support/test_paths.h"
+#include "graph/mesh.h"
 
 namespace orogen {
 namespace {
@@ -409,6 +413,137 @@ TEST(BiomeScatter, CountsAndSpeciesFollowTheBiomeTable) {
   near(counts[0], cells_left * 0.16 * 0.25);
   near(counts[1], cells_left * 0.16 * 0.75);
   near(counts[2], cells_left * 0.4);
+}
+
+Points scene_points() {
+  Points pts;
+  for (int i = 0; i < 30; ++i) {
+    const auto k = pts.add({10.0f * i, -5.0f * i, 100.0f + i}, i % 3);
+    pts.rotation[k] = glm::angleAxis(0.1f * i, glm::normalize(glm::vec3(0.2f, 0.1f, 1.0f)));
+    pts.scale[k] = glm::vec3(1.0f + 0.1f * i, 1.0f, 2.0f);
+  }
+  return pts;
+}
+
+tinygltf::Model load_gltf(const std::filesystem::path& path) {
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model m;
+  std::string err, warn;
+  const bool ok = path.extension() == ".glb" ? loader.LoadBinaryFromFile(&m, &err, &warn, path.string())
+                                             : loader.LoadASCIIFromFile(&m, &err, &warn, path.string());
+  EXPECT_TRUE(ok) << err;
+  EXPECT_TRUE(err.empty()) << err;
+  return m;
+}
+
+const float* accessor_floats(const tinygltf::Model& m, int index) {
+  const auto& a = m.accessors.at(index);
+  const auto& v = m.bufferViews.at(a.bufferView);
+  return reinterpret_cast<const float*>(m.buffers.at(v.buffer).data.data() + v.byteOffset + a.byteOffset);
+}
+
+TEST(WriteScene, GpuInstancesLoadBackWithTheirTransforms) {
+  const auto dir = test::scratch_dir("scatter-scene");
+  OutputPolicy policy;
+  policy.output_dir = dir;
+  const auto pts = std::make_shared<Points>(scene_points());
+  const auto rock = proxy_mesh();
+  const Domain d = Domain::from_extent({0, 0}, {100, 100}, {3, 3});
+  for (const std::string file : {"s.glb", "s.gltf"}) {
+    run_node("WriteScene", d, {{"path", file}, {"proxies", false}},
+             {{"in", PortValue(PointsPtr(pts))}, {"mesh_0", PortValue(MeshPtr(rock))}, {"mesh_2", PortValue(MeshPtr(rock))},
+              {"terrain", PortValue(MeshPtr(rock))}},
+             policy);
+    const auto m = load_gltf(dir / file);
+    ASSERT_EQ(m.scenes.size(), 1u);
+    EXPECT_EQ(std::count(m.extensionsUsed.begin(), m.extensionsUsed.end(), "EXT_mesh_gpu_instancing"), 1);
+    int instanced_nodes = 0;
+    std::size_t instances = 0;
+    for (const auto& n : m.nodes) {
+      const auto it = n.extensions.find("EXT_mesh_gpu_instancing");
+      if (it == n.extensions.end()) continue;
+      ++instanced_nodes;
+      const int cls = std::stoi(n.name.substr(6));
+      const auto& attrs = it->second.Get("attributes");
+      const int t = attrs.Get("TRANSLATION").GetNumberAsInt();
+      const int r = attrs.Get("ROTATION").GetNumberAsInt();
+      const int sc = attrs.Get("SCALE").GetNumberAsInt();
+      const std::size_t count = m.accessors[t].count;
+      EXPECT_EQ(m.accessors[r].count, count);
+      EXPECT_EQ(m.accessors[sc].count, count);
+      const float* tp = accessor_floats(m, t);
+      const float* rp = accessor_floats(m, r);
+      const float* sp = accessor_floats(m, sc);
+      std::size_t j = 0;
+      for (std::size_t i = 0; i < pts->size(); ++i) {
+        if (pts->class_id[i] != cls) continue;
+        ASSERT_LT(j, count);
+        EXPECT_EQ(tp[3 * j + 2], pts->position[i].z);
+        EXPECT_EQ(tp[3 * j + 0], pts->position[i].x);
+        EXPECT_EQ(rp[4 * j + 3], pts->rotation[i].w);
+        EXPECT_EQ(sp[3 * j + 0], pts->scale[i].x);
+        ++j;
+      }
+      EXPECT_EQ(j, count);
+      instances += count;
+    }
+    EXPECT_EQ(instanced_nodes, 2);  // classes 0 and 2; class 1 has no mesh and no proxy
+    EXPECT_EQ(instances, 20u);
+  }
+}
+
+TEST(WriteScene, NodeInstancesOnePerPoint) {
+  const auto dir = test::scratch_dir("scatter-scene-nodes");
+  OutputPolicy policy;
+  policy.output_dir = dir;
+  const auto pts = std::make_shared<Points>(scene_points());
+  const Domain d = Domain::from_extent({0, 0}, {100, 100}, {3, 3});
+  run_node("WriteScene", d, {{"path", std::string("n.gltf")}, {"instancing", std::string("nodes")}},
+           {{"in", PortValue(PointsPtr(pts))}}, policy);
+  const auto m = load_gltf(dir / "n.gltf");
+  std::size_t instance_nodes = 0;
+  for (const auto& n : m.nodes)
+    if (n.mesh >= 0 && n.translation.size() == 3) ++instance_nodes;
+  EXPECT_EQ(instance_nodes, pts->size());  // proxies for every class
+  // The root turns z-up into y-up.
+  const auto& root = m.nodes[m.scenes[0].nodes[0]];
+  ASSERT_EQ(root.rotation.size(), 4u);
+  EXPECT_NEAR(root.rotation[0], -std::sqrt(0.5), 1e-12);
+}
+
+TEST(ProjectToTerrain, SetsHeightAndAlignsToTheNormal) {
+  auto h = std::make_shared<Heightfield>(Domain::from_extent({0, 0}, {100, 100}, {51, 51}));
+  for (int j = 0; j < h->height(); ++j)
+    for (int i = 0; i < h->width(); ++i) h->at(i, j) = static_cast<float>(0.5 * h->domain.x(i) + 3.0);  // slope 0.5 in x
+  auto pts = std::make_shared<Points>();
+  pts->add({20, 30, 0});
+  pts->add({70, 10, 0});
+  const auto out = run_node("ProjectToTerrain", h->domain, {{"align", 1.0}, {"offset", 1.0}},
+                            {{"in", PortValue(PointsPtr(pts))}, {"height", PortValue(HeightfieldPtr(h))}})
+                       .get<Points>();
+  EXPECT_NEAR(out->position[0].z, 0.5 * 20 + 3 + 1, 1e-4);
+  EXPECT_NEAR(out->position[1].z, 0.5 * 70 + 3 + 1, 1e-4);
+  const glm::vec3 up = out->rotation[0] * glm::vec3(0, 0, 1);
+  const glm::vec3 n = glm::normalize(glm::vec3(-0.5f, 0.0f, 1.0f));
+  EXPECT_NEAR(glm::dot(up, n), 1.0f, 1e-5f);
+}
+
+TEST(MergePoints, ConcatenatesWithAttributes) {
+  auto a = std::make_shared<Points>();
+  a->add({1, 2, 3}, 4);
+  a->attribute("age")[0] = 7;
+  auto b = std::make_shared<Points>();
+  b->add({5, 6, 7}, 1);
+  b->add({8, 9, 10}, 2);
+  b->attribute("radius", 2.0f);
+  const auto out = run_node("MergePoints", Domain{}, {}, {{"a", PortValue(PointsPtr(a))}, {"b", PortValue(PointsPtr(b))}}).get<Points>();
+  out->check_consistent();
+  ASSERT_EQ(out->size(), 3u);
+  EXPECT_EQ(out->class_id[2], 2);
+  EXPECT_EQ(out->attributes.at("age")[0], 7.0f);
+  EXPECT_EQ(out->attributes.at("age")[1], 0.0f);
+  EXPECT_EQ(out->attributes.at("radius")[0], 0.0f);
+  EXPECT_EQ(out->attributes.at("radius")[2], 2.0f);
 }
 
 }  // namespace
