@@ -16,6 +16,7 @@
 #include "nodes/scatter/poisson_disk.h"
 #include "nodes/scatter/scatter_rules.h"
 #include "nodes/scatter/scene_gltf.h"
+#include "nodes/scatter/forest.h"
 #include "support/test_paths.h"
 #include "graph/mesh.h"
 
@@ -544,6 +545,127 @@ TEST(MergePoints, ConcatenatesWithAttributes) {
   EXPECT_EQ(out->attributes.at("age")[1], 0.0f);
   EXPECT_EQ(out->attributes.at("radius")[0], 0.0f);
   EXPECT_EQ(out->attributes.at("radius")[2], 2.0f);
+}
+
+TEST(ShadePlacement, ShadowOfOneCrownIsTheExpectedEllipse) {
+  // One crown of radius 3 m centred 10 m above the origin; sun in the south at 45 degrees: on flat ground the
+  // shadow is an ellipse centred 10 m north, semi-axes 3 m (east) and 3 / sin 45 = 4.243 m (north).
+  Points tree;
+  tree.add({0, 0, 0});
+  CanopyParams cp;
+  cp.crown_radius = 3.0;
+  cp.crown_height = 10.0;
+  cp.sun = sun_direction(180.0, 45.0);
+  const Canopy canopy(tree, cp);
+  EXPECT_TRUE(canopy.shaded(0, 10, 0));
+  EXPECT_FALSE(canopy.shaded(0, -10, 0));
+  EXPECT_TRUE(canopy.shaded(0, 10 + 4.1, 0));
+  EXPECT_FALSE(canopy.shaded(0, 10 + 4.4, 0));
+  EXPECT_TRUE(canopy.shaded(0, 10 - 4.1, 0));
+  EXPECT_FALSE(canopy.shaded(0, 10 - 4.4, 0));
+  EXPECT_TRUE(canopy.shaded(2.9, 10, 0));
+  EXPECT_FALSE(canopy.shaded(3.1, 10, 0));
+  // Higher ground is closer to the crown: at z = 5 the shadow centre is 5 m north.
+  EXPECT_TRUE(canopy.shaded(0, 5, 5));
+  EXPECT_FALSE(canopy.shaded(0, 10, 5 + 4.0));
+}
+
+TEST(ShadePlacement, NodeKeepsShadeLoversInShadeAndOthersInSun) {
+  auto trees = std::make_shared<Points>();
+  trees->add({0, 0, 0});
+  trees->add({40, 40, 0});
+  auto cand = std::make_shared<Points>();
+  for (int j = 0; j <= 70; ++j)
+    for (int i = 0; i <= 70; ++i) cand->add({-10.0f + i, -10.0f + j, 0.0f}, 3);
+  const Domain d = Domain::from_extent({-10, -10}, {70, 70}, {71, 71});
+  const std::map<std::string, PortValue> in{{"in", PortValue(PointsPtr(cand))}, {"casters", PortValue(PointsPtr(trees))}};
+  const std::map<std::string, ParamValue> params{{"crown_radius", 3.0}, {"crown_height", 10.0}};
+  const auto shade = run_node("ShadePlacement", d, params, in);
+  auto sun_params = params;
+  sun_params["preference"] = std::string("sun");
+  const auto sun = run_node("ShadePlacement", d, sun_params, in);
+  const auto shaded = shade.get<Points>(0);
+  const auto lit = sun.get<Points>(0);
+  EXPECT_EQ(shaded->size() + lit->size(), cand->size());
+  // Two ellipses of area pi * 3 * 4.243 on a 1 m lattice.
+  EXPECT_NEAR(static_cast<double>(shaded->size()), 2 * 3.14159 * 3 * 4.243, 12.0);
+  for (const auto& q : shaded->position) {
+    const bool near_a = std::hypot(q.x / 3.0, (q.y - 10.0) / 4.243) < 1.0 + 1e-3;
+    const bool near_b = std::hypot((q.x - 40) / 3.0, (q.y - 50.0) / 4.243) < 1.0 + 1e-3;
+    EXPECT_TRUE(near_a || near_b) << q.x << "," << q.y;
+  }
+  for (float v : shaded->attributes.at("shade")) EXPECT_EQ(v, 1.0f);
+  for (float v : lit->attributes.at("shade")) EXPECT_EQ(v, 0.0f);
+  // The shadow map agrees with the point test.
+  const auto map = shade.get<Heightfield>(1);
+  double sum = 0;
+  for (float v : map->data) sum += v;
+  EXPECT_EQ(sum, static_cast<double>(shaded->size()));
+}
+
+Points initial_forest(int n, std::uint64_t seed) {
+  Points p;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 200.0);
+  for (int i = 0; i < n; ++i) p.add({static_cast<float>(u(rng)), static_cast<float>(u(rng)), 0.0f}, i % 2);
+  return p;
+}
+
+TEST(ForestLifeCycle, AgesScalesAndCompetitionHold) {
+  LifeCycleParams p;
+  p.years = 60;
+  p.lo = {0, 0};
+  p.hi = {200, 200};
+  p.seed = 3;
+  p.seed_probability = 0.3;
+  const Points forest = forest_life_cycle(initial_forest(150, 1), p);
+  forest.check_consistent();
+  ASSERT_GT(forest.size(), 50u);
+  const auto& age = forest.attributes.at("age");
+  bool young = false;
+  for (std::size_t i = 0; i < forest.size(); ++i) {
+    EXPECT_LE(age[i], p.max_age);
+    EXPECT_GE(forest.scale[i].x, p.min_scale - 1e-6);
+    EXPECT_LE(forest.scale[i].x, p.max_scale + 1e-6);
+    EXPECT_NEAR(forest.scale[i].x, p.min_scale + std::min(1.0, age[i] / p.maturity_age) * (p.max_scale - p.min_scale), 1e-5);
+    young = young || age[i] < 60;
+    const auto& q = forest.position[i];
+    EXPECT_TRUE(q.x >= 0 && q.x <= 200 && q.y >= 0 && q.y <= 200);
+  }
+  EXPECT_TRUE(young) << "seeds germinated during the run";
+  // Survivors keep the competition spacing (so the population is bounded by a disk packing).
+  for (std::size_t a = 0; a < forest.size(); ++a)
+    for (std::size_t b = a + 1; b < forest.size(); ++b) {
+      const double d = glm::length(glm::dvec2(forest.position[a]) - glm::dvec2(forest.position[b]));
+      EXPECT_GE(d, p.competition * 0.5 * (forest.scale[a].x + forest.scale[b].x) - 1e-3);
+    }
+  const double spacing = p.competition * p.min_scale;
+  EXPECT_LT(forest.size(), 200.0 * 200.0 / (0.5 * spacing * spacing));
+}
+
+TEST(ForestLifeCycle, SameSeedSameForestAndSuitabilityRespected) {
+  LifeCycleParams p;
+  p.years = 40;
+  p.lo = {0, 0};
+  p.hi = {200, 200};
+  p.seed_probability = 0.5;
+  auto suit = std::make_shared<Heightfield>(Domain::from_extent({0, 0}, {200, 200}, {41, 41}));
+  for (int j = 0; j < suit->height(); ++j)
+    for (int i = 0; i < suit->width(); ++i) suit->at(i, j) = suit->domain.x(i) < 100 ? 1.0f : 0.0f;
+  p.suitability = suit.get();
+  const Points initial = initial_forest(100, 2);
+  const Points a = forest_life_cycle(initial, p);
+  const Points b = forest_life_cycle(initial, p);
+  EXPECT_TRUE(same_points(a, b));
+  EXPECT_EQ(a.attributes.at("age"), b.attributes.at("age"));
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a.attributes.at("age")[i] < 40) EXPECT_LT(a.position[i].x, 100.5f) << "a seedling on unsuitable ground";
+  p.seed = 1;
+  EXPECT_FALSE(same_points(a, forest_life_cycle(initial, p)));
+  // Without seeds the population only shrinks.
+  p.seed_probability = 0.0;
+  p.max_age = 1000;
+  EXPECT_LE(forest_life_cycle(initial, p).size(), initial.size());
 }
 
 }  // namespace
