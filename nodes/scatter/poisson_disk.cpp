@@ -363,7 +363,16 @@ struct Sampler {
     };
     // Whether a cell may still hold a point: not inside one exclusion disk and, once cells are small (from
     // level 5, a 32nd of the class cell across and less), not blocked at its corners and centre.
+    auto excluded = [&](double x, double y) { return local_radius(k, x, y) <= 0.0; };
     auto open = [&](const Rect& c, int level) {
+      // Where the density admits no point at the corners and the centre the cell is dropped (masks: their
+      // borders are resolved to the cell size, not beyond).
+      if (varies) {
+        const double mx = 0.5 * (c.x0 + c.x1), my = 0.5 * (c.y0 + c.y1);
+        if (excluded(mx, my) && excluded(c.x0, c.y0) && excluded(c.x1, c.y0) && excluded(c.x0, c.y1) &&
+            excluded(c.x1, c.y1))
+          return false;
+      }
       if (covered(L, k, c.x0, c.y0, c.x1, c.y1)) return false;
       if (level < 5) return true;
       const double mx = 0.5 * (c.x0 + c.x1), my = 0.5 * (c.y0 + c.y1);
@@ -394,7 +403,7 @@ struct Sampler {
       }
       std::swap(cells, next);
       // Safety: a pathological field could keep cells open at every level; stop refining then.
-      if (cells.size() > 16 * (static_cast<std::size_t>(n) * n + 64)) break;
+      if (cells.size() > 4 * (static_cast<std::size_t>(n) * n + 16)) break;
     }
   }
 };
