@@ -163,36 +163,22 @@ struct Sampler {
       }
       if (!std::isfinite(r0)) r0 = p.classes[k].radius;
     }
-    // The disks that reach the rectangle, and the parameter interval of each edge they cover.
-    struct Cover {
-      double lo[4], hi[4];
-    };
+    // The disks that reach the rectangle: first whether one alone holds all four corners (it then holds the
+    // rectangle), then, for pairs, the parameter interval of each edge each disk covers.
     constexpr int kMaxDisks = 24;
-    Cover covers[kMaxDisks];
+    int disk[kMaxDisks];
+    double disk_c[kMaxDisks];
     int count = 0;
-    const double ex[4][4] = {{x0, y0, x1, y0}, {x1, y0, x1, y1}, {x1, y1, x0, y1}, {x0, y1, x0, y0}};
     auto consider = [&](int q, double c) {
-      const double qx = L.x[q], qy = L.y[q];
+      const double qx = L.x[q], qy = L.y[q], c2 = c * c;
       const double nx = std::clamp(qx, x0, x1) - qx, ny = std::clamp(qy, y0, y1) - qy;
-      if (nx * nx + ny * ny >= c * c) return false;  // does not reach the rectangle
-      Cover cv;
-      bool all = true;
-      for (int e = 0; e < 4; ++e) {
-        const double ax = ex[e][0] - qx, ay = ex[e][1] - qy, dx = ex[e][2] - ex[e][0], dy = ex[e][3] - ex[e][1];
-        const double aa = dx * dx + dy * dy, bb = ax * dx + ay * dy, cc = ax * ax + ay * ay - c * c;
-        const double disc = bb * bb - aa * cc;
-        if (disc <= 0.0 || aa <= 0.0) {
-          cv.lo[e] = 1.0;
-          cv.hi[e] = 0.0;
-        } else {
-          const double sq = std::sqrt(disc);
-          cv.lo[e] = (-bb - sq) / aa;
-          cv.hi[e] = (-bb + sq) / aa;
-        }
-        all = all && cv.lo[e] < 0.0 && cv.hi[e] > 1.0;
+      if (nx * nx + ny * ny >= c2) return false;  // does not reach the rectangle
+      const double fx = std::max(qx - x0, x1 - qx), fy = std::max(qy - y0, y1 - qy);
+      if (fx * fx + fy * fy < c2) return true;  // the farthest corner is inside
+      if (count < kMaxDisks) {
+        disk[count] = q;
+        disk_c[count++] = c;
       }
-      if (all) return true;
-      if (count < kMaxDisks) covers[count++] = cv;
       return false;
     };
     for (int j : order) {
@@ -215,6 +201,28 @@ struct Sampler {
             const int q = g.cells[static_cast<std::size_t>(jj) * g.n + ii];
             if (q >= 0 && consider(q, conflict(k, r0, j, L.r[q]))) return true;
           }
+      }
+    }
+    if (count < 2) return false;
+    struct Cover {
+      double lo[4], hi[4];
+    };
+    Cover covers[kMaxDisks];
+    const double ex[4][4] = {{x0, y0, x1, y0}, {x1, y0, x1, y1}, {x1, y1, x0, y1}, {x0, y1, x0, y0}};
+    for (int d = 0; d < count; ++d) {
+      const double qx = L.x[disk[d]], qy = L.y[disk[d]], c = disk_c[d];
+      for (int e = 0; e < 4; ++e) {
+        const double ax = ex[e][0] - qx, ay = ex[e][1] - qy, dx = ex[e][2] - ex[e][0], dy = ex[e][3] - ex[e][1];
+        const double aa = dx * dx + dy * dy, bb = ax * dx + ay * dy, cc = ax * ax + ay * ay - c * c;
+        const double disc = bb * bb - aa * cc;
+        if (disc <= 0.0 || aa <= 0.0) {
+          covers[d].lo[e] = 1.0;
+          covers[d].hi[e] = 0.0;
+        } else {
+          const double sq = std::sqrt(disc);
+          covers[d].lo[e] = (-bb - sq) / aa;
+          covers[d].hi[e] = (-bb + sq) / aa;
+        }
       }
     }
     for (int a = 0; a < count; ++a)
