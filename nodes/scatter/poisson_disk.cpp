@@ -334,8 +334,10 @@ struct Sampler {
         // Uniform in the annulus [r, 2r]: rejection from the square [-2r, 2r]^2 (accepts 3 pi / 16).
         double ox, oy, d2;
         do {
-          ox = (4.0 * draw.next() - 2.0) * ra;
-          oy = (4.0 * draw.next() - 2.0) * ra;
+          double u, v;
+          draw.next2(u, v);
+          ox = (4.0 * u - 2.0) * ra;
+          oy = (4.0 * v - 2.0) * ra;
           d2 = ox * ox + oy * oy;
         } while (d2 < ra * ra || d2 >= 4.0 * ra * ra);
         const int idx = try_place(L, k, L.x[a] + ox, L.y[a] + oy);
