@@ -191,6 +191,12 @@ glm::vec4 class_color(int cls) {
   return kColors[static_cast<unsigned>(cls) % 8];
 }
 
+glm::vec4 marker_color(int cls) {
+  static constexpr glm::vec4 kColors[] = {{1.0f, 0.31f, 0.31f, 1}, {1.0f, 0.86f, 0.24f, 1}, {0.31f, 0.86f, 1.0f, 1},
+                                          {0.78f, 0.47f, 1.0f, 1}, {0.47f, 1.0f, 0.47f, 1},  {1.0f, 0.59f, 0.24f, 1}};
+  return kColors[static_cast<unsigned>(cls) % 6];
+}
+
 SceneInstances build_instances(const Points& points, const std::vector<bool>& has_mesh) {
   SceneInstances out;
   out.per_class.resize(has_mesh.size());

@@ -73,8 +73,10 @@ TerrainMesh mesh_geometry(const Mesh& mesh, const MeshGeometryOptions& options =
 // base at the origin, in `color` (sRGB).
 TerrainMesh proxy_geometry(glm::vec4 color);
 
-// The colour of class `cls` in the previews (markers, proxies).
+// The colour of class `cls`'s proxies (muted, natural: greens, browns, greys), sRGB.
 glm::vec4 class_color(int cls);
+// The colour of class `cls`'s point markers (bright, to stand out over the terrain), sRGB.
+glm::vec4 marker_color(int cls);
 
 // Per class k, the model matrices (translate(position) * rotate(rotation) * scale(scale)) of the points of
 // class k, in point order. Points of a class with has_mesh[k] false, or a class id outside 0..slots-1, are

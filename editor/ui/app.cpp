@@ -108,6 +108,8 @@ App::App(AppOptions options)
   viewport_3d_ = std::make_unique<Viewport3D>();
   show_3d_ = options_.view == "3d";
   drape_node_ = options_.drape;
+  if (options_.camera.size() == 3) viewport_3d_->set_view(options_.camera[0], options_.camera[1], options_.camera[2]);
+  right_width_ = options_.preview_width;
 
   if (!options_.file.empty()) open_file(options_.file);
   if (!document_->graph().find(options_.drape)) drape_node_.clear();
@@ -807,7 +809,7 @@ std::string App::preview_node() const {
   auto viewable = [&](const std::string& id) -> std::string {
     const Node* n = g.find(id);
     if (!n) return {};
-    if (!n->type->outputs.empty()) return id;
+    if (!n->type->outputs.empty() || is_scene_writer(*n)) return id;  // a scene writer shows its scene
     // A writer shows what it writes.
     for (const auto& in : n->type->inputs)
       if (auto it = n->inputs.find(in.name); it != n->inputs.end()) return it->second.node;
@@ -843,6 +845,14 @@ std::vector<std::string> App::preview_request(const std::string& node) const {
   std::vector<std::string> nodes;
   const Node* n = document_->graph().find(node);
   if (!n) return nodes;
+  if (const auto scene = scene_sources(document_->graph(), node)) {
+    // The writer itself is not evaluated (it would write files): the nodes feeding it are.
+    nodes = scene->nodes();
+    if (show_3d_ && !drape_node_.empty() && document_->graph().find(drape_node_) &&
+        std::find(nodes.begin(), nodes.end(), drape_node_) == nodes.end())
+      nodes.push_back(drape_node_);
+    return nodes;
+  }
   nodes.push_back(node);
   const int port = std::clamp(shown_port_.count(node) ? shown_port_.at(node) : 0, 0,
                               std::max(0, static_cast<int>(n->type->outputs.size()) - 1));
@@ -894,6 +904,8 @@ PreviewContent App::preview_content(const std::string& node) const {
   PreviewContent c;
   c.node = node;
   const Node* n = node.empty() ? nullptr : document_->graph().find(node);
+  if (n)
+    if (const auto sources = scene_sources(document_->graph(), node)) return scene_content(node, *sources);
   if (!n || n->type->outputs.empty()) return c;
   const int port = std::clamp(shown_port_.count(node) ? shown_port_.at(node) : 0, 0,
                               static_cast<int>(n->type->outputs.size()) - 1);
@@ -929,6 +941,44 @@ PreviewContent App::preview_content(const std::string& node) const {
           c.drape = *im;
           break;
         }
+  return c;
+}
+
+PreviewContent App::scene_content(const std::string& node, const SceneSources& sources) const {
+  PreviewContent c;
+  c.node = node;
+  const auto result = evaluation_.preview();
+  c.stale = evaluation_.preview_busy() || pending_request_;
+  if (sources.points.node.empty()) {
+    c.error = node + ": connect the points to place (input in)";
+    return c;
+  }
+  if (!result) return c;
+  c.serial = result->serial;
+  // The first source that failed explains the missing scene.
+  for (const std::string& id : sources.nodes())
+    if (auto it = result->reports.find(id); it != result->reports.end() &&
+                                            (it->second.status == NodeStatus::Failed || it->second.status == NodeStatus::Skipped)) {
+      c.error = it->second.status == NodeStatus::Failed
+                    ? id + " failed: " + it->second.message
+                    : id + " is not evaluated: upstream node '" + it->second.message + "' failed";
+      break;
+    }
+  if (!result->error.empty()) c.error = result->error;
+  ScenePreview scene = assemble_scene(document_->graph(), sources, result->outputs);
+  if (scene.points) c.value = scene.points;
+  if (scene.ground) {
+    c.backdrop = scene.ground;
+    c.backdrop_node = sources.ground.node;
+  }
+  if (!drape_node_.empty())
+    if (auto it = result->outputs.find(drape_node_); it != result->outputs.end())
+      for (const auto& v : it->second)
+        if (auto* im = std::get_if<ImagePtr>(&v)) {
+          c.drape = *im;
+          break;
+        }
+  if (scene.points) c.scene = std::move(scene);
   return c;
 }
 
