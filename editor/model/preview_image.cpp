@@ -357,7 +357,7 @@ PreviewPixels render_curves(const Curves& curves, const Domain& domain, int max_
       const float w = 0.5f * (width_at(k) + width_at(k + 1));
       const float t = max_width > 0.0f ? std::clamp(w / max_width, 0.0f, 1.0f) : 0.0f;
       const glm::vec3 c(0.55f - 0.45f * t, 0.85f - 0.4f * t, 1.0f - 0.1f * t);
-      const double radius = std::max(0.5, 0.5 * w * ppm);
+      const double radius = std::max(0.75, 0.5 * w * ppm);  // thin lines stay connected
       // Every pixel within `radius` of the segment (its bounding box, clipped to the picture).
       const int i0 = std::max(0, static_cast<int>(std::floor(std::min(a.x, b.x) - radius)));
       const int i1 = std::min(px.width - 1, static_cast<int>(std::ceil(std::max(a.x, b.x) + radius)));

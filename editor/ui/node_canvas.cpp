@@ -90,21 +90,19 @@ void NodeCanvasView::draw_thumbnail(ImDrawList* dl, const Node& node, const Rect
   if (!thumbs) return;
   const auto it = thumbs->outputs.find(node.id);
   if (it == thumbs->outputs.end()) return;
-  // The first heightfield or image output, in the colours of its kind; else the first points or curves,
-  // drawn in the world rectangle.
+  // The first output that can be pictured: a heightfield in the colours of its kind, an image, points or
+  // curves drawn in the world rectangle.
   const PortValue* shown = nullptr;
   std::string port;
-  for (int pass = 0; pass < 2 && !shown; ++pass)
-    for (std::size_t k = 0; k < it->second.size() && k < node.type->outputs.size(); ++k) {
-      const PortValue& v = it->second[k];
-      const bool picture = std::holds_alternative<HeightfieldPtr>(v) || std::holds_alternative<ImagePtr>(v);
-      const bool drawing = std::holds_alternative<PointsPtr>(v) || std::holds_alternative<CurvesPtr>(v);
-      if ((pass == 0 ? picture : drawing) && has_value(v)) {
-        shown = &v;
-        port = node.type->outputs[k].name;
-        break;
-      }
-    }
+  for (std::size_t k = 0; k < it->second.size() && k < node.type->outputs.size(); ++k) {
+    const PortValue& v = it->second[k];
+    if (!has_value(v) || std::holds_alternative<MeshPtr>(v) || std::holds_alternative<PolygonMapPtr>(v) ||
+        std::holds_alternative<ReportPtr>(v))
+      continue;
+    shown = &v;
+    port = node.type->outputs[k].name;
+    break;
+  }
   if (!shown) return;
   const void* data = std::visit(
       [](const auto& v) -> const void* {
