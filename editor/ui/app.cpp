@@ -819,8 +819,8 @@ std::string App::preview_node() const {
     if (auto id = viewable(pinned_); !id.empty()) return id;
   if (!selection_.active().empty())
     if (auto id = viewable(selection_.active()); !id.empty()) return id;
-  // Nothing chosen: the heightfield the graph writes (what a build produces), else the last heightfield of
-  // the flow, else the last node with outputs.
+  // Nothing chosen: the heightfield or scene the graph writes (what a build produces), else the last
+  // heightfield of the flow, else the last node with outputs.
   std::vector<std::string> order;
   try {
     order = g.topological_order();
@@ -833,7 +833,7 @@ std::string App::preview_node() const {
   };
   for (auto it = order.rbegin(); it != order.rend(); ++it)
     if (const Node* n = g.find(*it); n && n->type->writes_files)
-      if (auto id = viewable(*it); first_output_is_field(id)) return id;
+      if (auto id = viewable(*it); first_output_is_field(id) || (id == *it && is_scene_writer(*n))) return id;
   for (auto it = order.rbegin(); it != order.rend(); ++it)
     if (first_output_is_field(*it)) return *it;
   for (auto it = order.rbegin(); it != order.rend(); ++it)

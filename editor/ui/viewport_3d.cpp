@@ -382,8 +382,9 @@ void Viewport3D::update_geometry(const PreviewContent& content) {
       upload_instances(b, inst.per_class[ks]);
       instanced_.push_back(b);
     }
+    // Framed on the terrain when there is one, so that editing the scatter does not move the camera.
     glm::vec3 ilo, ihi;
-    if (instance_bounds(inst, meshes, ilo, ihi)) {
+    if (terrain_.count == 0 && instance_bounds(inst, meshes, ilo, ihi)) {
       extend(ilo);
       extend(ihi);
     }
