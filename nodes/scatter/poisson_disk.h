@@ -7,14 +7,16 @@
 // (2011), "Efficient maximal Poisson-disk sampling" (darts into the still-uncovered cells of a quadtree), so
 // no point can be added when it finishes.
 //
-// Tile invariance: the world plane is cut into square chunks of side C anchored at world (0, 0), at least the
-// largest interaction distance. Chunks are processed class by class (largest radius first), and within a class
-// in four phases by the parity of their chunk indices: chunks of one phase are at least C apart and never
-// interact, so they run in parallel, and a chunk's points depend only on the seed, its own indices and the
-// points of its neighbours placed in earlier steps. A request computes the chunks it needs plus a halo of
-// (4 * classes - 1) chunks, so the points inside any rectangle are the same whichever rectangle asks, at any
-// raster resolution and for any thread count. (Fields that modulate the density must cover the halo for this
-// to hold exactly near the edges; outside its domain a field is extended by its edge values.)
+// Tile invariance: classes are placed one after the other, largest radius first. Each class cuts the world
+// plane into square chunks anchored at world (0, 0), of side C_k = max(2 r_max, 8 r) (at least twice its own
+// exclusion distance), processed in four phases by the parity of their chunk indices: chunks of one phase are
+// at least C_k apart and never interact, so they run in parallel, and a chunk's points depend only on the
+// seed, its indices, the points of its neighbours placed in earlier phases and the (final) points of the
+// earlier classes. A class's points are final three chunks inside what was computed, and each class is
+// computed far enough beyond the request for the later classes' reads, so the points inside any rectangle are
+// the same whichever rectangle asks, at any raster resolution and for any thread count. (Fields that modulate
+// the density must cover the halo for this to hold exactly near the edges; outside its domain a field is
+// extended by its edge values.)
 //
 // Precision: candidates are computed in double, rounded to the float positions Points store, and tested in
 // double against the stored (float) positions of their neighbours, so the minimum distance holds exactly for
@@ -56,9 +58,8 @@ struct PoissonParams {
 // Interaction distance, chunk side and halo (metres) of a parameter set.
 struct PoissonLayout {
   double interaction = 0.0;  // largest distance at which two points can conflict
-  double chunk = 0.0;        // chunk side C
-  int halo_chunks = 0;       // chunks computed beyond those overlapping the request
-  double halo() const { return chunk * halo_chunks; }
+  double chunk = 0.0;        // largest chunk side
+  double halo = 0.0;         // metres around a request within which points are computed
 };
 PoissonLayout poisson_layout(const PoissonParams& p);
 

@@ -18,7 +18,7 @@ OROGEN_NODE(PoissonDisk) {
       "candidates in the annulus [r, 2r], background grid of cell r/sqrt 2), run over world-space chunks in the "
       "phase order of Wei (2008), \"Parallel Poisson disk sampling\", and completed by the gap filling of Ebeida "
       "et al. (2011), \"Efficient maximal Poisson-disk sampling\", so the sampling is maximal. Up to four "
-      "classes (class ids 0..3), largest radius first; two classes keep cross_separation * (r_i + r_j) / 2 apart. "
+      "classes (class ids first_class + 0..3), largest radius first; two classes keep cross_separation * (r_i + r_j) / 2 apart. "
       "A density field makes the radius variable (r / sqrt(density)), so counts follow the density. Tile "
       "invariant and resolution independent: the points inside any rectangle are the same whichever domain "
       "asks, at any raster resolution and thread count (density fields must then cover the requested domain "
@@ -49,6 +49,8 @@ OROGEN_NODE(PoissonDisk) {
       "Bridson's k: candidates tried around an active point before it retires, 1..100");
   b.param_bool("fill_gaps", true).description(
       "Fill the gaps Bridson's sampling leaves (Ebeida et al. 2011) so no further point fits");
+  b.param_int("first_class", 0).range(0, 1000000).unit("").description(
+      "Class id of the first class; class k gets first_class + k, 0..1e6");
   b.param_seed("seed", 0).description("Every draw hashes (seed, class, world chunk, counter)");
   b.execute([](ExecContext& ctx) {
     PoissonParams p;
@@ -57,7 +59,7 @@ OROGEN_NODE(PoissonDisk) {
     for (int k = 0; k < count; ++k) {
       PoissonClass c;
       c.radius = ctx.param<double>("radius_" + std::to_string(k));
-      c.class_id = k;
+      c.class_id = static_cast<std::int32_t>(ctx.param<std::int64_t>("first_class") + k);
       auto d = ctx.input<Heightfield>("density_" + std::to_string(k));
       c.density = d.get();
       keep.push_back(d);

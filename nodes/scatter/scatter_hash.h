@@ -37,6 +37,12 @@ struct Draws {
   std::uint64_t key;
   std::uint64_t counter = 0;
   double next() { return unit(hash(key, counter++)); }
+  // Two values in [0, 1) with 32 bits each from one hash.
+  void next2(double& a, double& b) {
+    const std::uint64_t h = hash(key, counter++);
+    a = static_cast<double>(h >> 32) * 0x1.0p-32;
+    b = static_cast<double>(h & 0xFFFFFFFFull) * 0x1.0p-32;
+  }
 };
 
 }  // namespace orogen::scatter
