@@ -947,6 +947,7 @@ PreviewContent App::preview_content(const std::string& node) const {
 PreviewContent App::scene_content(const std::string& node, const SceneSources& sources) const {
   PreviewContent c;
   c.node = node;
+  c.port = "in";  // what is shown: the points it places
   const auto result = evaluation_.preview();
   c.stale = evaluation_.preview_busy() || pending_request_;
   if (sources.points.node.empty()) {
