@@ -359,24 +359,25 @@ void Viewport3D::update_geometry(const PreviewContent& content) {
     // Every class with a mesh (or WriteScene's 1 m proxy), its points as instances.
     std::vector<TerrainMesh> geometry(kSceneClassSlots);
     std::vector<bool> has_mesh(kSceneClassSlots, false);
-    int proxies = 0;
+    std::vector<bool> proxy(kSceneClassSlots, false);
     for (int k = 0; k < kSceneClassSlots; ++k) {
       const auto& m = scene->meshes[static_cast<std::size_t>(k)];
       if (m) geometry[static_cast<std::size_t>(k)] = mesh_geometry(*m);
       else if (scene->proxies) {
         geometry[static_cast<std::size_t>(k)] = proxy_geometry(class_color(k));
-        ++proxies;
+        proxy[static_cast<std::size_t>(k)] = true;
       }
       has_mesh[static_cast<std::size_t>(k)] = !geometry[static_cast<std::size_t>(k)].positions.empty();
     }
     const SceneInstances inst = build_instances(*scene->points, has_mesh);
     std::vector<const TerrainMesh*> meshes;
-    int classes = 0;
+    int classes = 0, proxies = 0;
     for (int k = 0; k < kSceneClassSlots; ++k) {
       const auto ks = static_cast<std::size_t>(k);
       meshes.push_back(&geometry[ks]);
       if (inst.per_class[ks].empty()) continue;
       ++classes;
+      proxies += proxy[ks] ? 1 : 0;
       Instanced b;
       upload_mesh(b.mesh, geometry[ks]);
       upload_instances(b, inst.per_class[ks]);
@@ -388,11 +389,10 @@ void Viewport3D::update_geometry(const PreviewContent& content) {
       extend(ilo);
       extend(ihi);
     }
-    char info[160];
-    std::snprintf(info, sizeof info, "%zu instances, %d class%s%s%s", inst.count, classes, classes == 1 ? "" : "es",
-                  proxies > 0 ? " (1 m proxies for classes without a mesh)" : "",
-                  inst.skipped ? ", points without a mesh left out" : "");
-    scene_info_ = info;
+    scene_info_ = std::to_string(inst.count) + " instances of " + std::to_string(classes) +
+                  (classes == 1 ? " class" : " classes");
+    if (proxies > 0) scene_info_ += ", " + std::to_string(proxies) + " without a mesh as 1 m proxies";
+    if (inst.skipped > 0) scene_info_ += "; " + std::to_string(inst.skipped) + " points without a mesh left out";
   }
 
   vertices.clear();
