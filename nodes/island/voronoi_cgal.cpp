@@ -118,28 +118,55 @@ bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, Polygo
       }
     }
   }
+  // Corners: one per circle. A corner's key is the sorted set of the (mirrored) sites on its circle; corners
+  // are numbered in key order and placed at the circumcentre of the key's first three points, so the result
+  // does not depend on how CGAL happened to triangulate a circle of four or more sites (its point location
+  // draws from a global random generator).
+  std::vector<int> class_of(faces.size(), -1);
+  std::vector<std::vector<int>> keys;
+  for (std::size_t k = 0; k < faces.size(); ++k) {
+    const int root = find_root(parent, static_cast<int>(k));
+    if (class_of[static_cast<std::size_t>(root)] < 0) {
+      class_of[static_cast<std::size_t>(root)] = static_cast<int>(keys.size());
+      keys.emplace_back();
+    }
+    const int c = class_of[static_cast<std::size_t>(root)];
+    class_of[k] = c;
+    for (int i = 0; i < 3; ++i) keys[static_cast<std::size_t>(c)].push_back(faces[k]->vertex(i)->info());
+  }
+  for (auto& key : keys) {
+    std::sort(key.begin(), key.end());
+    key.erase(std::unique(key.begin(), key.end()), key.end());
+  }
+  std::vector<int> order(keys.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return keys[static_cast<std::size_t>(a)] < keys[static_cast<std::size_t>(b)]; });
+  std::vector<int> rank(keys.size());
+  for (std::size_t r = 0; r < order.size(); ++r) rank[static_cast<std::size_t>(order[r])] = static_cast<int>(r);
   std::vector<int> corner_of(faces.size(), -1);
-  std::vector<int> flags;  // per corner: 1 left, 2 right, 4 bottom, 8 top
+  for (std::size_t k = 0; k < faces.size(); ++k) corner_of[k] = rank[static_cast<std::size_t>(class_of[k])];
+  const auto point_of = [&](int info) {
+    if (info >= 0) return Point(L.kx[static_cast<std::size_t>(info)], L.ky[static_cast<std::size_t>(info)]);
+    const int code = -1 - info, site = code >> 2, side = code & 3;
+    const double x = L.kx[static_cast<std::size_t>(site)], y = L.ky[static_cast<std::size_t>(site)];
+    switch (side) {
+      case 0: return Point(-x, y);
+      case 1: return Point(2.0 * L.w - x, y);
+      case 2: return Point(x, -y);
+      default: return Point(x, 2.0 * L.h - y);
+    }
+  };
   out = PolygonMap{};
   out.min_corner = lo;
   out.max_corner = hi;
-  for (std::size_t k = 0; k < faces.size(); ++k) {
-    const int root = find_root(parent, static_cast<int>(k));
-    if (corner_of[static_cast<std::size_t>(root)] < 0) {
-      corner_of[static_cast<std::size_t>(root)] = static_cast<int>(out.corners.size());
-      const auto f = faces[static_cast<std::size_t>(root)];
-      const Point c = CGAL::circumcenter(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
-      PolygonMap::Corner corner;
-      corner.position = {c.x(), c.y()};  // lattice units for now
-      out.corners.push_back(std::move(corner));
-      flags.push_back(0);
-    }
-    const int c = corner_of[static_cast<std::size_t>(root)];
-    corner_of[k] = c;
-    for (int i = 0; i < 3; ++i) {
-      const int info = faces[k]->vertex(i)->info();
-      if (info < 0) flags[static_cast<std::size_t>(c)] |= 1 << mirror_side(info);
-    }
+  out.corners.resize(keys.size());
+  std::vector<int> flags(keys.size(), 0);  // per corner: 1 left, 2 right, 4 bottom, 8 top
+  for (std::size_t r = 0; r < order.size(); ++r) {
+    const auto& key = keys[static_cast<std::size_t>(order[r])];
+    const Point c = CGAL::circumcenter(point_of(key[0]), point_of(key[1]), point_of(key[2]));
+    out.corners[r].position = {c.x(), c.y()};  // lattice units for now
+    for (int info : key)
+      if (info < 0) flags[r] |= 1 << mirror_side(info);
   }
   // Corners to world coordinates; corners on a side are placed exactly on it. A corner outside the
   // rectangle means a cell was not closed by the mirrors.
@@ -171,6 +198,7 @@ bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, Polygo
       if (cell.corners.empty() || cell.corners.back() != c) cell.corners.push_back(c);
     } while (++fc != done);
     if (cell.corners.size() > 1 && cell.corners.front() == cell.corners.back()) cell.corners.pop_back();
+    std::rotate(cell.corners.begin(), std::min_element(cell.corners.begin(), cell.corners.end()), cell.corners.end());
     for (int c : cell.corners) {
       auto& q = out.corners[static_cast<std::size_t>(c)];
       q.cells.push_back(i);
@@ -189,21 +217,31 @@ bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, Polygo
     if (cf == cg) continue;  // four sites on one circle: no edge
     PolygonMap::Edge edge;
     edge.cells = {std::max(ia, ib), std::min(ia, ib) >= 0 ? std::min(ia, ib) : -1};
-    edge.corners = {cf, cg};
-    const int k = static_cast<int>(out.edges.size());
+    edge.corners = {std::min(cf, cg), std::max(cf, cg)};
     out.edges.push_back(edge);
+  }
+  std::sort(out.edges.begin(), out.edges.end(), [](const PolygonMap::Edge& a, const PolygonMap::Edge& b) {
+    return a.corners < b.corners || (a.corners == b.corners && a.cells < b.cells);
+  });
+  for (std::size_t k = 0; k < out.edges.size(); ++k) {
+    const auto& edge = out.edges[k];
     for (int c : edge.cells)
-      if (c >= 0) out.cells[static_cast<std::size_t>(c)].edges.push_back(k);
+      if (c >= 0) out.cells[static_cast<std::size_t>(c)].edges.push_back(static_cast<int>(k));
     if (edge.cells[1] >= 0) {
       out.cells[static_cast<std::size_t>(edge.cells[0])].neighbours.push_back(edge.cells[1]);
       out.cells[static_cast<std::size_t>(edge.cells[1])].neighbours.push_back(edge.cells[0]);
     }
-    auto& qa = out.corners[static_cast<std::size_t>(cf)];
-    auto& qb = out.corners[static_cast<std::size_t>(cg)];
-    qa.edges.push_back(k);
-    qb.edges.push_back(k);
-    qa.adjacent.push_back(cg);
-    qb.adjacent.push_back(cf);
+    auto& qa = out.corners[static_cast<std::size_t>(edge.corners[0])];
+    auto& qb = out.corners[static_cast<std::size_t>(edge.corners[1])];
+    qa.edges.push_back(static_cast<int>(k));
+    qb.edges.push_back(static_cast<int>(k));
+    qa.adjacent.push_back(edge.corners[1]);
+    qb.adjacent.push_back(edge.corners[0]);
+  }
+  for (auto& cell : out.cells) std::sort(cell.neighbours.begin(), cell.neighbours.end());
+  for (auto& q : out.corners) {
+    std::sort(q.adjacent.begin(), q.adjacent.end());
+    std::sort(q.cells.begin(), q.cells.end());
   }
   return true;
 }
