@@ -143,18 +143,36 @@ std::vector<glm::dvec2> island_sites(const IslandParams& p) {
   return pts;
 }
 
-double island_shape_noise(const IslandParams& p, double x, double y) {
-  double sum = 0.0, amp = 0.5, freq = p.shape_frequency;
-  for (int i = 0; i < p.shape_octaves; ++i) {
-    const std::uint32_t key = noise::stream_key(p.seed, noise::Stream::Perlin, static_cast<std::uint32_t>(i) + 100u);
-    const double sx = noise::stream_unit(p.seed, noise::Stream::OctaveOffset, static_cast<std::uint32_t>(i) + 100u, 0);
-    const double sy = noise::stream_unit(p.seed, noise::Stream::OctaveOffset, static_cast<std::uint32_t>(i) + 100u, 1);
-    sum += amp * noise::reference::perlin(x * freq + sx * 0.9 + 0.05, y * freq + sy * 0.9 + 0.05, key);
-    amp *= p.shape_gain;
-    freq *= 2.0;
+namespace {
+
+// The shape noise's per-octave keys and lattice shifts (hashed once, not per corner).
+struct ShapeNoise {
+  struct Octave {
+    std::uint32_t key;
+    double sx, sy, freq, amp;
+  };
+  std::vector<Octave> octaves;
+  explicit ShapeNoise(const IslandParams& p) {
+    double amp = 0.5, freq = p.shape_frequency;
+    for (int i = 0; i < p.shape_octaves; ++i) {
+      const auto o = static_cast<std::uint32_t>(i) + 100u;
+      octaves.push_back({noise::stream_key(p.seed, noise::Stream::Perlin, o),
+                         noise::stream_unit(p.seed, noise::Stream::OctaveOffset, o, 0) * 0.9 + 0.05,
+                         noise::stream_unit(p.seed, noise::Stream::OctaveOffset, o, 1) * 0.9 + 0.05, freq, amp});
+      amp *= p.shape_gain;
+      freq *= 2.0;
+    }
   }
-  return sum;
-}
+  double operator()(double x, double y) const {
+    double sum = 0.0;
+    for (const auto& o : octaves) sum += o.amp * noise::reference::perlin(x * o.freq + o.sx, y * o.freq + o.sy, o.key);
+    return sum;
+  }
+};
+
+}  // namespace
+
+double island_shape_noise(const IslandParams& p, double x, double y) { return ShapeNoise(p)(x, y); }
 
 void classify_island(PolygonMap& map, const IslandParams& p, const Heightfield* mask, const ExecContext* ctx) {
   const std::size_t nc = map.cells.size(), nq = map.corners.size(), ne = map.edges.size();
@@ -162,6 +180,7 @@ void classify_island(PolygonMap& map, const IslandParams& p, const Heightfield* 
 
   // 3. Water per corner.
   std::vector<char> qwater(nq, 0);
+  const ShapeNoise shape_noise(p);
   for (std::size_t q = 0; q < nq; ++q) {
     const auto& corner = map.corners[q];
     if (corner.border) {
@@ -173,7 +192,7 @@ void classify_island(PolygonMap& map, const IslandParams& p, const Heightfield* 
       qwater[q] = !(v >= 0.5f);
     } else {
       const glm::dvec2 n = 2.0 * (corner.position - lo) / size - 1.0;
-      qwater[q] = island_shape_noise(p, n.x, n.y) < p.shape_offset + p.shape_scale * (n.x * n.x + n.y * n.y);
+      qwater[q] = shape_noise(n.x, n.y) < p.shape_offset + p.shape_scale * (n.x * n.x + n.y * n.y);
     }
   }
   if (ctx) ctx->check_cancelled();

@@ -73,7 +73,7 @@ int find_root(std::vector<int>& parent, int k) {
 
 // Builds the diagram with mirrors of the sites within `margin` lattice steps of a side. Returns false if
 // some cell is not closed by them (then the caller mirrors every site).
-bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, PolygonMap& out, const ExecContext* ctx) {
+void triangulate(const Lattice& L, double margin, Delaunay& dt) {
   const int n = static_cast<int>(L.kx.size());
   std::vector<std::pair<Point, int>> points;
   points.reserve(static_cast<std::size_t>(n) + 64);
@@ -85,10 +85,81 @@ bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, Polygo
     if (y < margin) points.emplace_back(Point(x, -y), mirror_info(i, 2));
     if (y > L.h - margin) points.emplace_back(Point(x, 2.0 * L.h - y), mirror_info(i, 3));
   }
-  Delaunay dt;
   dt.insert(points.begin(), points.end());
   if (dt.number_of_vertices() != points.size())
     throw std::runtime_error("Voronoi diagram: two sites coincide (closer than 2^-30 of the map size)");
+}
+
+Point lattice_point(const Lattice& L, int info) {
+  if (info >= 0) return Point(L.kx[static_cast<std::size_t>(info)], L.ky[static_cast<std::size_t>(info)]);
+  const int code = -1 - info, site = code >> 2, side = code & 3;
+  const double x = L.kx[static_cast<std::size_t>(site)], y = L.ky[static_cast<std::size_t>(site)];
+  switch (side) {
+    case 0: return Point(-x, y);
+    case 1: return Point(2.0 * L.w - x, y);
+    case 2: return Point(x, -y);
+    default: return Point(x, 2.0 * L.h - y);
+  }
+}
+
+// The circumcentre of a face from its vertices in a canonical order (sorted infos), so it does not depend on
+// how the face's vertices happen to be rotated.
+Point face_circumcentre(const Lattice& L, int a, int b, int c) {
+  if (a > b) std::swap(a, b);
+  if (b > c) std::swap(b, c);
+  if (a > b) std::swap(a, b);
+  return CGAL::circumcenter(lattice_point(L, a), lattice_point(L, b), lattice_point(L, c));
+}
+
+// Area centroids of the clipped cells straight from the triangulation (Lloyd passes need nothing else).
+// Returns false if a cell is not closed by the mirrors.
+bool centroids(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, std::vector<glm::dvec2>& out,
+               double* energy) {
+  Delaunay dt;
+  triangulate(L, margin, dt);
+  const std::size_t n = L.kx.size();
+  std::vector<Point> centre;
+  for (auto f : dt.all_face_handles()) f->info() = -1;
+  for (auto f : dt.finite_face_handles()) {
+    f->info() = static_cast<int>(centre.size());
+    centre.push_back(face_circumcentre(L, f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()));
+  }
+  out.assign(n, glm::dvec2(0.0));
+  double e = 0.0;
+  const double tol = 1.0;
+  for (auto v : dt.finite_vertex_handles()) {
+    const int i = v->info();
+    if (i < 0) continue;
+    const glm::dvec2 s(v->point().x(), v->point().y());
+    double area2 = 0.0;
+    glm::dvec2 acc(0.0);
+    auto fc = dt.incident_faces(v);
+    const auto done = fc;
+    std::vector<glm::dvec2> poly;
+    do {
+      if (dt.is_infinite(fc)) return false;
+      const Point& c = centre[static_cast<std::size_t>(fc->info())];
+      if (c.x() < -tol || c.x() > L.w + tol || c.y() < -tol || c.y() > L.h + tol) return false;
+      poly.emplace_back(std::clamp(c.x(), 0.0, L.w), std::clamp(c.y(), 0.0, L.h));
+    } while (++fc != done);
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+      const glm::dvec2 a = poly[k] - s, b = poly[(k + 1) % poly.size()] - s;
+      const double cr = a.x * b.y - b.x * a.y;
+      area2 += cr;
+      acc += cr * (a + b);
+      e += cr / 12.0 * (glm::dot(a, a) + glm::dot(a, b) + glm::dot(b, b));
+    }
+    const glm::dvec2 centroid = area2 != 0.0 ? s + acc / (3.0 * area2) : s;
+    out[static_cast<std::size_t>(i)] = glm::clamp(lo + centroid * L.scale, lo, hi);
+  }
+  if (energy) *energy = e * L.scale * L.scale * L.scale * L.scale;
+  return true;
+}
+
+bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, PolygonMap& out, const ExecContext* ctx) {
+  const int n = static_cast<int>(L.kx.size());
+  Delaunay dt;
+  triangulate(L, margin, dt);
   if (ctx) ctx->check_cancelled();
 
   std::vector<Delaunay::Vertex_handle> vertex_of(static_cast<std::size_t>(n));
@@ -145,17 +216,6 @@ bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, Polygo
   for (std::size_t r = 0; r < order.size(); ++r) rank[static_cast<std::size_t>(order[r])] = static_cast<int>(r);
   std::vector<int> corner_of(faces.size(), -1);
   for (std::size_t k = 0; k < faces.size(); ++k) corner_of[k] = rank[static_cast<std::size_t>(class_of[k])];
-  const auto point_of = [&](int info) {
-    if (info >= 0) return Point(L.kx[static_cast<std::size_t>(info)], L.ky[static_cast<std::size_t>(info)]);
-    const int code = -1 - info, site = code >> 2, side = code & 3;
-    const double x = L.kx[static_cast<std::size_t>(site)], y = L.ky[static_cast<std::size_t>(site)];
-    switch (side) {
-      case 0: return Point(-x, y);
-      case 1: return Point(2.0 * L.w - x, y);
-      case 2: return Point(x, -y);
-      default: return Point(x, 2.0 * L.h - y);
-    }
-  };
   out = PolygonMap{};
   out.min_corner = lo;
   out.max_corner = hi;
@@ -163,7 +223,7 @@ bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, Polygo
   std::vector<int> flags(keys.size(), 0);  // per corner: 1 left, 2 right, 4 bottom, 8 top
   for (std::size_t r = 0; r < order.size(); ++r) {
     const auto& key = keys[static_cast<std::size_t>(order[r])];
-    const Point c = CGAL::circumcenter(point_of(key[0]), point_of(key[1]), point_of(key[2]));
+    const Point c = face_circumcentre(L, key[0], key[1], key[2]);
     out.corners[r].position = {c.x(), c.y()};  // lattice units for now
     for (int info : key)
       if (info < 0) flags[r] |= 1 << mirror_side(info);
@@ -312,14 +372,20 @@ double centroidal_energy(const PolygonMap& map) {
 std::vector<glm::dvec2> lloyd_relax(std::vector<glm::dvec2> sites, glm::dvec2 lo, glm::dvec2 hi, int passes,
                                     std::vector<double>* energy, const ExecContext* ctx) {
   if (energy) energy->clear();
-  for (int pass = 0; pass < passes; ++pass) {
+  if (sites.empty()) return sites;
+  if (sites.size() > static_cast<std::size_t>(kMaxSites)) throw std::runtime_error("Voronoi diagram: too many sites");
+  std::vector<glm::dvec2> next;
+  for (int pass = 0; pass <= passes; ++pass) {
+    if (pass == passes && !energy) break;
     if (ctx) ctx->check_cancelled();
-    const PolygonMap map = voronoi_diagram(sites, lo, hi, ctx);
-    if (energy) energy->push_back(centroidal_energy(map));
-    for (std::size_t i = 0; i < sites.size(); ++i)
-      sites[i] = glm::clamp(polygon_centroid(cell_polygon(map, static_cast<int>(i))), lo, hi);
+    const Lattice L = snap(sites, lo, hi);
+    const double spacing = std::sqrt(L.w * L.h / static_cast<double>(sites.size()));
+    double e = 0.0;
+    if (!centroids(L, lo, hi, 4.0 * spacing, next, &e) && !centroids(L, lo, hi, 2.0 * std::max(L.w, L.h) + 1.0, next, &e))
+      throw std::logic_error("Voronoi diagram: a cell stayed open with every site mirrored");
+    if (energy) energy->push_back(e);
+    if (pass < passes) sites.swap(next);
   }
-  if (energy) energy->push_back(centroidal_energy(voronoi_diagram(sites, lo, hi, ctx)));
   return sites;
 }
 
