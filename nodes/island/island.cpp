@@ -40,7 +40,9 @@ inline Index ix(int k) { return static_cast<Index>(k); }
 // Bridson's Poisson-disk sampling (Bridson 2007) with k = 30 candidates in the annulus [r, 2r]; every draw is
 // a counter-based hash of (seed, draw number). The radius is chosen so about `n` points fill the rectangle
 // (maximal Poisson-disk sets reach a density of about 0.7 / r^2).
-std::vector<glm::dvec2> poisson_sites(glm::dvec2 lo, glm::dvec2 size, int n, std::uint64_t seed) {
+}  // namespace
+
+std::vector<glm::dvec2> poisson_sites(glm::dvec2 lo, glm::dvec2 size, int n, std::uint64_t seed, const ExecContext* ctx) {
   const double r = std::sqrt(0.7 * size.x * size.y / std::max(1, n));
   const double cell = r / std::sqrt(2.0);
   const int gw = std::max(1, static_cast<int>(std::ceil(size.x / cell)));
@@ -62,7 +64,8 @@ std::vector<glm::dvec2> poisson_sites(glm::dvec2 lo, glm::dvec2 size, int n, std
     pts.push_back(p);
   };
   add(lo + size * glm::dvec2(next(), next()));
-  while (!active.empty()) {
+  for (std::size_t iter = 1; !active.empty(); ++iter) {
+    if (ctx && (iter & 1023) == 0) ctx->check_cancelled();
     const std::size_t a = std::min(active.size() - 1, static_cast<std::size_t>(next() * static_cast<double>(active.size())));
     const glm::dvec2 base = pts[static_cast<std::size_t>(active[a])];
     bool placed = false;
@@ -93,6 +96,8 @@ std::vector<glm::dvec2> poisson_sites(glm::dvec2 lo, glm::dvec2 size, int n, std
   }
   return pts;
 }
+
+namespace {
 
 // Dijkstra over corners with a deterministic order (distance, then index).
 struct QueueItem {

@@ -97,6 +97,12 @@ struct IslandParams {
   std::uint64_t seed = 0;
 };
 
+// Bridson's Poisson-disk sampling (Bridson 2007, "Fast Poisson disk sampling in arbitrary dimensions") of
+// about n points in the open rectangle [lo, lo + size], radius sqrt(0.7 size.x size.y / n); every draw is a
+// counter-based hash of (seed, draw number).
+std::vector<glm::dvec2> poisson_sites(glm::dvec2 lo, glm::dvec2 size, int n, std::uint64_t seed,
+                                      const ExecContext* ctx = nullptr);
+
 // The sites of step 1 (before relaxation), inside the map rectangle.
 std::vector<glm::dvec2> island_sites(const IslandParams& p);
 

@@ -6,6 +6,7 @@
 #include "nodes/island/island.h"
 #include "nodes/island/island_raster.h"
 #include "nodes/island/river_curves.h"
+#include "nodes/island/river_network.h"
 
 namespace orogen::island {
 
@@ -122,6 +123,84 @@ OROGEN_NODE(PolygonMapRaster) {
     ctx.set_output("roughness", r.roughness);
     ctx.set_output("amplitude", r.amplitude);
     ctx.set_output("color", r.color);
+  });
+}
+
+}  // namespace orogen::island
+
+namespace orogen::island {
+
+OROGEN_NODE(RiverNetwork) {
+  b.reach_global();
+  b.domain_independent();
+  b.category("island").description(
+      "A river network grown as a tree before the terrain (S. Ekman et al. 2016, \"SeamScape\", Chalmers bachelor thesis, "
+      "§2.2 and §3.6, after J.-D. Génevaux et al. 2013, \"Terrain generation using procedural models based on "
+      "hydrology\"): outlets on the map border or on the coastline of a mask, inner points scattered by Poisson-disk "
+      "sampling (Bridson 2007) at a density; from a random pool point, the nearest unused inner point whose curve "
+      "crosses no existing curve joins the tree. Sizes are summed from the leaves; slopes d_c = d_p - 4 (s_c/s_p)"
+      "(s_c/s_p - 1) w and heights h_c = h_p + |c - p| d_c rise upstream from 0 at the outlets. Each edge is a "
+      "quadratic Bézier curve B(t) = (1-t)^2 P0 + 2(1-t)t P1 + t^2 P2; a point's first branch continues the tangent "
+      "of the curve arriving there. One curve per edge, upstream to downstream, parent = the curve it flows into.");
+  b.input("mask", PortType::Heightfield).optional().description(
+      "Land mask (unitless, land >= 0.5): outlets on its coastline, inner points and curves on land");
+  b.output("out", PortType::Curves).description(
+      "River curves: z = height (m), width (m); attributes size (leaves below), slope (m/m), smooth_join (1 where the "
+      "curve continues its parent's tangent)");
+  b.param_vec2("min_corner", {0.0, 0.0}).range(-1e7, 1e7).unit("m").description("World position of the network's lower-left corner");
+  b.param_vec2("size", {4096.0, 4096.0}).range(1.0, 1e7).soft_range(100.0, 1e5).unit("m").description("Width and height of the network's rectangle");
+  b.param_int("outlets", 5).range(0, 1000).soft_range(1, 50).description("Number of outlets (roots) on the border or the coastline");
+  b.param_float("density", 40.0).range(0.0, 10000.0).soft_range(1.0, 500.0).unit("1/km^2").description("Inner points per square kilometre");
+  b.param_float("max_length", 400.0).range(1.0, 1e6).soft_range(20.0, 5000.0).unit("m").description("Longest river segment (candidate search radius)");
+  b.param_float("base_slope", 0.02).range(0.0, 10.0).soft_range(0.0, 0.5).unit("m/m").description("Slope d at the outlets");
+  b.param_float("slope_weight", 0.02).range(0.0, 10.0).soft_range(0.0, 0.5).unit("m/m").description(
+      "w: slope added upstream, most for branches of half their parent's size");
+  b.param_float("river_width", 3.0).range(0.0, 1e4).soft_range(0.0, 100.0).unit("m").description("Width of a river of size 1");
+  b.param_float("width_exponent", 0.5).range(0.0, 1.0).description("Width = river_width * size^exponent (1: 000's width proportional to size)");
+  b.param_float("meander", 0.25).range(0.0, 1.0).description("Largest sideways offset of a free control point, as a fraction of the chord");
+  b.param_int("samples", 8).range(1, 64).description("Polyline segments per Bézier curve");
+  b.param_seed("seed", 0).description("Seed of the outlets, the inner points and the growth order");
+  b.execute([](ExecContext& ctx) {
+    RiverNetworkParams p;
+    p.min_corner = ctx.param<glm::dvec2>("min_corner");
+    p.size = ctx.param<glm::dvec2>("size");
+    p.outlets = static_cast<int>(ctx.param<std::int64_t>("outlets"));
+    p.density = ctx.param<double>("density");
+    p.max_length = ctx.param<double>("max_length");
+    p.base_slope = ctx.param<double>("base_slope");
+    p.slope_weight = ctx.param<double>("slope_weight");
+    p.river_width = ctx.param<double>("river_width");
+    p.width_exponent = ctx.param<double>("width_exponent");
+    p.meander = ctx.param<double>("meander");
+    p.samples = static_cast<int>(ctx.param<std::int64_t>("samples"));
+    p.seed = ctx.param<std::uint64_t>("seed");
+    const auto mask = ctx.input<Heightfield>("mask");
+    ctx.set_output("out", std::make_shared<Curves>(river_network(p, mask.get(), &ctx)));
+  });
+}
+
+OROGEN_NODE(CarveRivers) {
+  b.reach_pointwise();  // each sample reads the terrain at itself and the curves
+  b.category("island").description(
+      "Carves river curves into a terrain (S. Ekman et al. 2016, \"SeamScape\", Chalmers bachelor thesis, §2.2.4, with its "
+      "weight corrected): within `radius` the terrain blends toward the river height with the smoothstep weight "
+      "s(1 - d/r), s(t) = t^2 (3 - 2t); the river height is the nearest curve's height on it and the mean of the "
+      "nearby curves midway between two; inside the channel (d < width/2) a parabolic bed depth_ratio * width deep. "
+      "Takes any curves with per-vertex z and width: RiverNetwork, RiverExtract, VoronoiIsland rivers.");
+  b.input("in", PortType::Heightfield).description("Terrain heights, metres");
+  b.input("rivers", PortType::Curves).description("River curves: z = river height (m), per-vertex width (m)");
+  b.output("out", PortType::Heightfield).description("Carved terrain, metres").kind(OutputKind::Height);
+  b.output("mask", PortType::Heightfield).description("Channel coverage in [0, 1]").kind(OutputKind::Mask);
+  b.param_float("radius", 150.0).range(0.0, 1e6).soft_range(0.0, 2000.0).unit("m").description("Distance over which the terrain blends into the river height");
+  b.param_float("depth_ratio", 0.1).range(0.0, 10.0).soft_range(0.0, 1.0).unit("m/m").description("Channel depth per metre of river width");
+  b.param_float("strength", 1.0).range(0.0, 1.0).description("Scales the blend weight (0: only the channel is cut)");
+  b.execute([](ExecContext& ctx) {
+    const auto in = ctx.require<Heightfield>("in");
+    const auto rivers = ctx.require<Curves>("rivers");
+    const CarveParams p{ctx.param<double>("radius"), ctx.param<double>("depth_ratio"), ctx.param<double>("strength")};
+    CarveResult r = carve_rivers(*in, *rivers, p, &ctx);
+    ctx.set_output("out", r.terrain);
+    ctx.set_output("mask", r.mask);
   });
 }
 
