@@ -18,6 +18,7 @@
 #include "nodes/island/island.h"
 #include "nodes/island/island_raster.h"
 #include "nodes/island/river_curves.h"
+#include "nodes/island/river_network.h"
 #include "nodes/island/voronoi.h"
 #include "support/key_checks.h"
 
@@ -674,7 +675,11 @@ TEST(IslandNodes, EveryParameterAndInputChangesTheKey) {
   const Domain d = Domain::from_extent({0, 0}, {4096, 4096}, {33, 33});
   expect_every_param_changes_key("VoronoiIsland", d);
   expect_every_param_changes_key("PolygonMapRaster", d);
+  expect_every_param_changes_key("RiverNetwork", d);
+  expect_every_param_changes_key("CarveRivers", d);
+  expect_every_param_changes_key("SeaLevelNormalize", d);
   expect_every_input_changes_key("VoronoiIsland", d);
+  expect_every_input_changes_key("RiverNetwork", d);
 }
 
 TEST(IslandNodes, RunThroughTheRegistry) {
@@ -691,5 +696,227 @@ TEST(IslandNodes, RunThroughTheRegistry) {
   EXPECT_EQ(h->domain, d);
 }
 
+
+// ---------------------------------------------------------------------------------------------------------
+// River network (000)
+
+RiverNetworkParams network_params(std::uint64_t seed = 5) {
+  RiverNetworkParams p;
+  p.size = {3000, 2500};
+  p.min_corner = {-1000, 500};
+  p.outlets = 4;
+  p.density = 30;
+  p.max_length = 400;
+  p.seed = seed;
+  return p;
+}
+
+const Curves& test_network() {
+  static const Curves c = river_network(network_params());
+  return c;
+}
+
+bool proper_cross(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec2 d) {
+  auto orient = [](glm::dvec2 p, glm::dvec2 q, glm::dvec2 r) {
+    const double v = (q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x);
+    return (v > 0) - (v < 0);
+  };
+  if (a == c || a == d || b == c || b == d) return false;
+  const int o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
+  return o1 * o2 <= 0 && o3 * o4 <= 0 && !(o1 == 0 && o2 == 0);
+}
+
+TEST(RiverNetwork, NoTwoCurvesCross) {
+  const Curves& net = test_network();
+  EXPECT_NO_THROW(net.check_consistent());
+  ASSERT_GT(net.size(), 100u);
+  struct S {
+    glm::dvec2 a, b;
+    std::size_t curve;
+  };
+  std::vector<S> segs;
+  for (std::size_t k = 0; k < net.size(); ++k) {
+    const auto& pts = net.curves[k].points;
+    for (std::size_t i = 0; i + 1 < pts.size(); ++i) segs.push_back({{pts[i].x, pts[i].y}, {pts[i + 1].x, pts[i + 1].y}, k});
+  }
+  int crossings = 0;
+  for (std::size_t i = 0; i < segs.size(); ++i)
+    for (std::size_t j = i + 1; j < segs.size(); ++j)
+      if (segs[i].curve != segs[j].curve && proper_cross(segs[i].a, segs[i].b, segs[j].a, segs[j].b)) ++crossings;
+  EXPECT_EQ(crossings, 0);
+  // Every point inside the rectangle.
+  for (const auto& s : segs) {
+    EXPECT_GE(s.a.x, -1000.0 - 1e-3);
+    EXPECT_LE(s.a.x, 2000.0 + 1e-3);
+    EXPECT_GE(s.a.y, 500.0 - 1e-3);
+    EXPECT_LE(s.a.y, 3000.0 + 1e-3);
+  }
+}
+
+TEST(RiverNetwork, TreesSizesAndHeights) {
+  const RiverNetworkParams p = network_params();
+  const Curves& net = test_network();
+  std::set<std::pair<float, float>> sources;
+  std::vector<double> child_sum(net.size(), 0.0);
+  std::map<std::pair<float, float>, double> outlet_size;
+  for (std::size_t k = 0; k < net.size(); ++k) {
+    const Curve& c = net.curves[k];
+    // Each inner point starts exactly one curve.
+    EXPECT_TRUE(sources.insert({c.points.front().x, c.points.front().y}).second) << "point joined twice";
+    // The parent chain reaches an outlet without loops; a curve ends where its parent starts.
+    int at = static_cast<int>(k);
+    for (std::size_t steps = 0; at >= 0; ++steps) {
+      ASSERT_LT(steps, net.size());
+      at = net.curves[static_cast<std::size_t>(at)].parent;
+    }
+    if (c.parent >= 0) {
+      const Curve& q = net.curves[static_cast<std::size_t>(c.parent)];
+      EXPECT_EQ(c.points.back(), q.points.front());
+      child_sum[static_cast<std::size_t>(c.parent)] += c.attributes.at("size").front();
+    } else {
+      EXPECT_EQ(c.points.back().z, 0.0f) << "outlets are at height 0";
+      outlet_size[{c.points.back().x, c.points.back().y}] += c.attributes.at("size").front();
+    }
+    // Heights never decrease upstream (points run upstream -> downstream).
+    for (std::size_t i = 1; i < c.points.size(); ++i) EXPECT_LE(c.points[i].z, c.points[i - 1].z);
+  }
+  EXPECT_LE(outlet_size.size(), static_cast<std::size_t>(p.outlets));
+  EXPECT_GE(outlet_size.size(), 1u);
+  for (std::size_t k = 0; k < net.size(); ++k) {
+    const Curve& c = net.curves[k];
+    const double size = c.attributes.at("size").front();
+    EXPECT_EQ(size, child_sum[k] > 0.0 ? child_sum[k] : 1.0) << "size of curve " << k << " is not the sum of its children";
+    // Slope formula of 000 and h_c = h_p + |c - p| d_c.
+    const double parent_size = c.parent >= 0 ? net.curves[static_cast<std::size_t>(c.parent)].attributes.at("size").front()
+                                             : outlet_size.at({c.points.back().x, c.points.back().y});
+    const double parent_slope = c.parent >= 0 ? net.curves[static_cast<std::size_t>(c.parent)].attributes.at("slope").front() : p.base_slope;
+    const double r = size / parent_size;
+    const double slope = parent_slope - 4.0 * r * (r - 1.0) * p.slope_weight;
+    EXPECT_NEAR(c.attributes.at("slope").front(), slope, 1e-6);
+    const double chord = std::hypot(c.points.front().x - c.points.back().x, c.points.front().y - c.points.back().y);
+    EXPECT_NEAR(c.points.front().z - c.points.back().z, chord * slope, 1e-3 * (1.0 + c.points.front().z));
+    EXPECT_NEAR(c.width.front(), p.river_width * std::pow(size, p.width_exponent), 1e-3);
+  }
+}
+
+TEST(RiverNetwork, TangentsAreContinuousAtJoins) {
+  RiverNetworkParams p = network_params();
+  p.samples = 64;
+  const Curves net = river_network(p);
+  int smooth = 0;
+  for (const Curve& c : net.curves) {
+    if (c.parent < 0 || c.attributes.at("smooth_join").back() < 0.5f) continue;
+    ++smooth;
+    const Curve& q = net.curves[static_cast<std::size_t>(c.parent)];
+    const std::size_t n = c.points.size();
+    const glm::dvec2 in = glm::normalize(glm::dvec2(c.points[n - 1].x - c.points[n - 2].x, c.points[n - 1].y - c.points[n - 2].y));
+    const glm::dvec2 out = glm::normalize(glm::dvec2(q.points[1].x - q.points[0].x, q.points[1].y - q.points[0].y));
+    EXPECT_GT(glm::dot(in, out), 0.995) << "kink at a smooth join";
+  }
+  EXPECT_GT(smooth, static_cast<int>(net.size()) / 4);
+}
+
+TEST(RiverNetwork, DeterministicBySeed) {
+  const Curves a = river_network(network_params(5));
+  const Curves& b = test_network();
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a.curves[k].points, b.curves[k].points);
+    EXPECT_EQ(a.curves[k].parent, b.curves[k].parent);
+  }
+  const Curves c = river_network(network_params(6));
+  EXPECT_TRUE(c.size() != a.size() || c.curves[0].points != a.curves[0].points);
+}
+
+TEST(RiverNetwork, MaskKeepsRiversOnLand) {
+  const Domain d = Domain::from_extent({0, 0}, {3000, 3000}, {151, 151});
+  Heightfield mask(d);
+  for (int j = 0; j < d.height(); ++j)
+    for (int i = 0; i < d.width(); ++i) mask.at(i, j) = glm::length(d.position(i, j) - glm::dvec2(1500, 1500)) < 1100.0 ? 1.0f : 0.0f;
+  RiverNetworkParams p;
+  p.size = {3000, 3000};
+  p.outlets = 6;
+  p.density = 30;
+  p.max_length = 350;
+  const Curves net = river_network(p, &mask);
+  ASSERT_GT(net.size(), 50u);
+  for (const Curve& c : net.curves)
+    for (const auto& q : c.points) EXPECT_GE(mask.sample_world(q.x, q.y), 0.5f) << q.x << "," << q.y;
+}
+
+TEST(CarveRivers, BedFollowsTheCurveHeights) {
+  const Curves& net = test_network();
+  const Domain d = Domain::from_extent({-1000, 500}, {3000, 2500}, {301, 251});  // 10 m spacing
+  Heightfield flat(d, 400.0f);
+  CarveParams p;
+  p.radius = 300.0;
+  p.depth_ratio = 0.0;
+  const CarveResult r = carve_rivers(flat, net, p);
+  // On the curve itself (a 2 x 2 domain whose first sample is the curve point) the bed is the curve's height.
+  int checked = 0;
+  for (std::size_t k = 0; k < net.size(); k += 3) {
+    const Curve& c = net.curves[k];
+    for (std::size_t i = 0; i < c.points.size(); i += 2) {
+      const auto q = c.points[i];
+      const Domain one = Domain::from_extent({q.x, q.y}, {1e-3, 1e-3}, {2, 2});
+      const CarveResult at = carve_rivers(Heightfield(one, 400.0f), net, p);
+      EXPECT_NEAR(at.terrain->at(0, 0), q.z, 1e-3 * (1.0 + q.z)) << "curve bed at " << q.x << "," << q.y;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 200);
+  // On the 10 m raster, within the river's rise over a sample or two.
+  for (const Curve& c : net.curves) {
+    const auto q = c.points[c.points.size() / 2];
+    EXPECT_NEAR(r.terrain->sample_world(q.x, q.y), q.z, 2.0 + 20.0 * c.attributes.at("slope").front());
+  }
+  // Beyond the radius the terrain is untouched; carving never raises the terrain above the max of both.
+  for (std::size_t k = 0; k < d.sample_count(); ++k) {
+    EXPECT_GE(r.mask->data[k], 0.0f);
+    EXPECT_LE(r.mask->data[k], 1.0f);
+  }
+  // The channel: depth_ratio * width below the blended bed on the curve.
+  p.depth_ratio = 0.5;
+  for (std::size_t k = 0; k < net.size(); k += 7) {
+    const Curve& c = net.curves[k];
+    const auto q = c.points[c.points.size() / 2];
+    const Domain one = Domain::from_extent({q.x, q.y}, {1e-3, 1e-3}, {2, 2});
+    const CarveResult at = carve_rivers(Heightfield(one, 400.0f), net, p);
+    // The widest channel through the point sets the depth (rivers meet at joins).
+    EXPECT_LE(at.terrain->at(0, 0), q.z - 0.5 * c.width[c.points.size() / 2] + 1e-3);
+    EXPECT_GT(at.terrain->at(0, 0), q.z - 0.5 * 1000.0);
+    EXPECT_EQ(at.mask->at(0, 0), 1.0f);
+  }
+  // No curves: identity.
+  const CarveResult none = carve_rivers(flat, Curves{}, p);
+  EXPECT_EQ(none.terrain->data, flat.data);
+}
+
+TEST(CarveRivers, FarFromRiversTheTerrainIsUnchanged) {
+  Curves one;
+  Curve c;
+  c.points = {{0.0f, 500.0f, 10.0f}, {1000.0f, 500.0f, 0.0f}};
+  c.width = {8.0f, 8.0f};
+  one.curves.push_back(c);
+  const Domain d = Domain::from_extent({0, 0}, {1000, 1000}, {101, 101});
+  Heightfield h(d);
+  for (int j = 0; j < d.height(); ++j)
+    for (int i = 0; i < d.width(); ++i) h.at(i, j) = static_cast<float>(100.0 + 0.05 * d.x(i));
+  CarveParams p;
+  p.radius = 200.0;
+  p.depth_ratio = 0.25;
+  const CarveResult r = carve_rivers(h, one, p);
+  for (int j = 0; j < d.height(); ++j)
+    for (int i = 0; i < d.width(); ++i) {
+      const double dist = std::abs(d.y(j) - 500.0);
+      if (dist >= 200.0) EXPECT_EQ(r.terrain->at(i, j), h.at(i, j));
+      if (dist == 0.0) EXPECT_NEAR(r.terrain->at(i, j), 10.0 * (1.0 - d.x(i) / 1000.0) - 2.0, 1e-3);  // bed - 0.25 * 8
+      if (dist > 4.0 + 10.0) EXPECT_EQ(r.mask->at(i, j), 0.0f);
+      // Monotone blend: never outside the range of terrain and river.
+      const double river = 10.0 * (1.0 - d.x(i) / 1000.0);
+      EXPECT_GE(r.terrain->at(i, j), std::min<double>(h.at(i, j), river) - 2.0 - 1e-3);
+      EXPECT_LE(r.terrain->at(i, j), std::max<double>(h.at(i, j), river) + 1e-3);
+    }
+}
 }  // namespace
 }  // namespace orogen

@@ -213,6 +213,8 @@ Curves river_network(const RiverNetworkParams& p, const Heightfield* mask, const
       for (int s = 0; s <= samples; ++s) poly[ix(s)] = s == samples ? e : (s == 0 ? a : bezier(a, p1, e, static_cast<double>(s) / samples));
       bool ok = true;
       for (int s = 0; s < samples && ok; ++s) ok = !segments.crosses(poly[ix(s)], poly[ix(s + 1)]);
+      for (int s = 1; s <= samples && ok; ++s)
+        ok = poly[ix(s)].x >= lo.x && poly[ix(s)].y >= lo.y && poly[ix(s)].x <= hi.x && poly[ix(s)].y <= hi.y;
       if (ok && mask)
         for (int s = (k < roots ? 1 : 0); s <= samples && ok; ++s) ok = land(poly[ix(s)]);
       if (!ok) continue;
