@@ -15,6 +15,7 @@
 #include "field_ops_fixtures.h"
 #include "graph/curves.h"
 #include "graph/polygon_map.h"
+#include "graph/registry.h"
 #include "nodes/island/island.h"
 #include "nodes/island/island_raster.h"
 #include "nodes/island/river_curves.h"
@@ -143,6 +144,11 @@ TEST(IslandVoronoi, FewSitesAndCoincidentSites) {
   }
   for (const auto& e : mg.edges)
     EXPECT_GT(glm::length(mg.corners[static_cast<std::size_t>(e.corners[0])].position - mg.corners[static_cast<std::size_t>(e.corners[1])].position), 1e-6);
+  // A thin strip: the sites' near-border mirrors alone are collinear (regression: all sites are mirrored then).
+  const std::vector<glm::dvec2> strip{{0.98, 4.2e6}};
+  const PolygonMap ms = voronoi_diagram(strip, {0, 0}, {1, 1e7});
+  EXPECT_NEAR(polygon_area(cell_polygon(ms, 0)), 1e7, 1e-2);
+  EXPECT_EQ(lloyd_relax(strip, {0, 0}, {1, 1e7}, 2).size(), 1u);
   const std::vector<glm::dvec2> twice{{3, 4}, {3, 4}};
   EXPECT_THROW(voronoi_diagram(twice, lo, hi), std::runtime_error);
   const std::vector<glm::dvec2> outside{{11, 4}};

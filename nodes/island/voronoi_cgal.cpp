@@ -117,6 +117,7 @@ bool centroids(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, st
                double* energy) {
   Delaunay dt;
   triangulate(L, margin, dt);
+  if (dt.dimension() < 2) return false;  // too few mirrors to surround the sites
   const std::size_t n = L.kx.size();
   std::vector<Point> centre;
   for (auto f : dt.all_face_handles()) f->info() = -1;
@@ -160,6 +161,7 @@ bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, Polygo
   const int n = static_cast<int>(L.kx.size());
   Delaunay dt;
   triangulate(L, margin, dt);
+  if (dt.dimension() < 2) return false;  // too few mirrors to surround the sites
   if (ctx) ctx->check_cancelled();
 
   std::vector<Delaunay::Vertex_handle> vertex_of(static_cast<std::size_t>(n));
