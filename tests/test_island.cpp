@@ -924,5 +924,35 @@ TEST(CarveRivers, FarFromRiversTheTerrainIsUnchanged) {
       EXPECT_LE(r.terrain->at(i, j), std::max<double>(h.at(i, j), river) + 1e-3);
     }
 }
+
+TEST(CarveRivers, TakesTheRiversOfRiverExtract) {
+  const Domain d = Domain::from_extent({0, 0}, {2000, 2000}, {101, 101});
+  auto terrain = std::make_shared<Heightfield>(d);
+  for (int j = 0; j < d.height(); ++j)
+    for (int i = 0; i < d.width(); ++i)
+      terrain->at(i, j) = static_cast<float>(0.05 * d.x(i) + 30.0 * std::sin(d.y(j) / 180.0) * std::cos(d.x(i) / 240.0) + 40.0);
+  const auto extracted = run_node("RiverExtract", d, {{"threshold", 4e4}}, {{"in", PortValue(HeightfieldPtr(terrain))}});
+  const auto rivers = extracted.get<Curves>(0);
+  ASSERT_TRUE(rivers);
+  ASSERT_GT(rivers->size(), 3u);
+  const auto carved = run_node("CarveRivers", d, {{"radius", 60.0}, {"depth_ratio", 0.2}},
+                               {{"in", PortValue(HeightfieldPtr(terrain))}, {"rivers", PortValue(rivers)}});
+  const auto out = carved.get<Heightfield>(0);
+  const auto mask = carved.get<Heightfield>(1);
+  int on_river = 0;
+  for (const Curve& c : rivers->curves)
+    for (std::size_t k = 0; k < c.points.size(); ++k) {
+      // Curve vertices of RiverExtract sit on samples (no smoothing at the ends): the bed there is the river
+      // height minus the channel depth of the widest river through it.
+      if (k != 0 && k + 1 != c.points.size()) continue;
+      const glm::dvec2 s = d.to_sample({c.points[k].x, c.points[k].y});
+      const int i = static_cast<int>(std::lround(s.x)), j = static_cast<int>(std::lround(s.y));
+      if (std::abs(s.x - i) > 1e-3 || std::abs(s.y - j) > 1e-3) continue;
+      EXPECT_LE(out->at(i, j), c.points[k].z - 0.2 * c.width[k] + 1e-2);
+      EXPECT_GT(mask->at(i, j), 0.0f);
+      ++on_river;
+    }
+  EXPECT_GT(on_river, 3);
+}
 }  // namespace
 }  // namespace orogen
