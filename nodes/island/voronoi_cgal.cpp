@@ -196,39 +196,51 @@ bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, Polygo
   // does not depend on how CGAL happened to triangulate a circle of four or more sites (its point location
   // draws from a global random generator).
   std::vector<int> class_of(faces.size(), -1);
-  std::vector<std::vector<int>> keys;
+  // Keys as one sorted list of (class, info) pairs: class c owns the range [key_start[c], key_start[c + 1]).
+  std::vector<std::pair<int, int>> members;
+  members.reserve(3 * faces.size());
+  int classes = 0;
   for (std::size_t k = 0; k < faces.size(); ++k) {
     const int root = find_root(parent, static_cast<int>(k));
-    if (class_of[static_cast<std::size_t>(root)] < 0) {
-      class_of[static_cast<std::size_t>(root)] = static_cast<int>(keys.size());
-      keys.emplace_back();
-    }
+    if (class_of[static_cast<std::size_t>(root)] < 0) class_of[static_cast<std::size_t>(root)] = classes++;
     const int c = class_of[static_cast<std::size_t>(root)];
     class_of[k] = c;
-    for (int i = 0; i < 3; ++i) keys[static_cast<std::size_t>(c)].push_back(faces[k]->vertex(i)->info());
+    for (int i = 0; i < 3; ++i) members.emplace_back(c, faces[k]->vertex(i)->info());
   }
-  for (auto& key : keys) {
-    std::sort(key.begin(), key.end());
-    key.erase(std::unique(key.begin(), key.end()), key.end());
-  }
-  std::vector<int> order(keys.size());
+  std::sort(members.begin(), members.end());
+  members.erase(std::unique(members.begin(), members.end()), members.end());
+  std::vector<int> key_start(static_cast<std::size_t>(classes) + 1, 0);
+  for (const auto& m : members) ++key_start[static_cast<std::size_t>(m.first) + 1];
+  for (std::size_t c = 1; c < key_start.size(); ++c) key_start[c] += key_start[c - 1];
+  const auto key_info = [&](int c, int k) { return members[static_cast<std::size_t>(key_start[static_cast<std::size_t>(c)] + k)].second; };
+  const auto key_size = [&](int c) { return key_start[static_cast<std::size_t>(c) + 1] - key_start[static_cast<std::size_t>(c)]; };
+  std::vector<int> order(static_cast<std::size_t>(classes));
   std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return keys[static_cast<std::size_t>(a)] < keys[static_cast<std::size_t>(b)]; });
-  std::vector<int> rank(keys.size());
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const int na = key_size(a), nb = key_size(b);
+    for (int k = 0; k < std::min(na, nb); ++k)
+      if (key_info(a, k) != key_info(b, k)) return key_info(a, k) < key_info(b, k);
+    return na < nb;
+  });
+  std::vector<int> rank(static_cast<std::size_t>(classes));
   for (std::size_t r = 0; r < order.size(); ++r) rank[static_cast<std::size_t>(order[r])] = static_cast<int>(r);
   std::vector<int> corner_of(faces.size(), -1);
   for (std::size_t k = 0; k < faces.size(); ++k) corner_of[k] = rank[static_cast<std::size_t>(class_of[k])];
   out = PolygonMap{};
   out.min_corner = lo;
   out.max_corner = hi;
-  out.corners.resize(keys.size());
-  std::vector<int> flags(keys.size(), 0);  // per corner: 1 left, 2 right, 4 bottom, 8 top
+  out.corners.resize(static_cast<std::size_t>(classes));
+  std::vector<int> flags(static_cast<std::size_t>(classes), 0);  // per corner: 1 left, 2 right, 4 bottom, 8 top
   for (std::size_t r = 0; r < order.size(); ++r) {
-    const auto& key = keys[static_cast<std::size_t>(order[r])];
-    const Point c = face_circumcentre(L, key[0], key[1], key[2]);
-    out.corners[r].position = {c.x(), c.y()};  // lattice units for now
-    for (int info : key)
-      if (info < 0) flags[r] |= 1 << mirror_side(info);
+    const int c = order[r];
+    const Point centre = face_circumcentre(L, key_info(c, 0), key_info(c, 1), key_info(c, 2));
+    auto& q = out.corners[r];
+    q.position = {centre.x(), centre.y()};  // lattice units for now
+    q.cells.reserve(3);
+    q.adjacent.reserve(3);
+    q.edges.reserve(3);
+    for (int k = 0; k < key_size(c); ++k)
+      if (key_info(c, k) < 0) flags[r] |= 1 << mirror_side(key_info(c, k));
   }
   // Corners to world coordinates; corners on a side are placed exactly on it. A corner outside the
   // rectangle means a cell was not closed by the mirrors.
@@ -251,6 +263,9 @@ bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, Polygo
   out.cells.resize(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
     auto& cell = out.cells[static_cast<std::size_t>(i)];
+    cell.corners.reserve(8);
+    cell.edges.reserve(8);
+    cell.neighbours.reserve(8);
     cell.centre = lo + glm::dvec2(L.kx[static_cast<std::size_t>(i)], L.ky[static_cast<std::size_t>(i)]) * L.scale;
     auto fc = dt.incident_faces(vertex_of[static_cast<std::size_t>(i)]);
     const auto done = fc;
