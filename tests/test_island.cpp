@@ -893,6 +893,11 @@ TEST(CarveRivers, BedFollowsTheCurveHeights) {
     EXPECT_GT(at.terrain->at(0, 0), q.z - 0.5 * 1000.0);
     EXPECT_EQ(at.mask->at(0, 0), 1.0f);
   }
+  // Bit-identical for any thread count.
+  const auto one = test::with_threads(1, [&] { return carve_rivers(flat, net, p); });
+  const auto many = test::with_threads(test::several_threads(), [&] { return carve_rivers(flat, net, p); });
+  EXPECT_EQ(one.terrain->data, many.terrain->data);
+  EXPECT_EQ(one.mask->data, many.mask->data);
   // No curves: identity.
   const CarveResult none = carve_rivers(flat, Curves{}, p);
   EXPECT_EQ(none.terrain->data, flat.data);

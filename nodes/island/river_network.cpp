@@ -178,7 +178,10 @@ Curves river_network(const RiverNetworkParams& p, const Heightfield* mask, const
   std::vector<glm::dvec2> poly(static_cast<std::size_t>(samples) + 1);
   std::uint64_t draw = 0;
   for (std::size_t iter = 1; !pool.empty(); ++iter) {
-    if (ctx && (iter & 255) == 0) ctx->check_cancelled();
+    if (ctx && (iter & 255) == 0) {
+      ctx->check_cancelled();
+      ctx->progress(0.1 + 0.8 * static_cast<double>(order.size()) / std::max(1, n - roots));
+    }
     const std::size_t slot = std::min(pool.size() - 1, static_cast<std::size_t>(unit_hash(p.seed, 0x504f4f4cull, draw++) * static_cast<double>(pool.size())));
     const int k = pool[slot];
     const glm::dvec2 a = pts[ix(k)];
