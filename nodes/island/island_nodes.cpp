@@ -37,7 +37,7 @@ OROGEN_NODE(VoronoiIsland) {
       "Sites: uniform random, or Poisson-disk (Bridson 2007) with the radius that gives about `cells` sites");
   b.param_int("relaxation", 2).range(0, 10).description("Lloyd relaxation passes (each moves every site to its cell's area centroid)");
   b.param_float("shape_scale", 2.2).range(0.0, 20.0).description(
-      "Weight of the squared normalised distance from the map centre in the water test (unitless; larger: smaller island)");
+      "Weight of the squared normalized distance from the map center in the water test (unitless; larger: smaller island)");
   b.param_float("shape_offset", -0.2).range(-2.0, 2.0).description(
       "Offset of the water threshold (unitless; larger: smaller island)");
   b.param_float("shape_frequency", 6.0).range(0.1, 64.0).unit("1/half-width").description(
@@ -48,7 +48,7 @@ OROGEN_NODE(VoronoiIsland) {
   b.param_float("ocean_depth", 200.0).range(0.0, 1e5).soft_range(0.0, 2000.0).unit("m").description("Depth of the ocean corner farthest from the coast");
   b.param_float("lowland_bias", 2.0).range(0.1, 10.0).description(
       "Exponent k of the elevation distribution F(y) = 1 - (1 - y)^k (unitless; 1 uniform, larger: more lowland)");
-  b.param_int("rivers", 60).range(0, 100000).description("River sources drawn at inland corners with normalised elevation in [0.3, 0.9]");
+  b.param_int("rivers", 60).range(0, 100000).description("River sources drawn at inland corners with normalized elevation in [0.3, 0.9]");
   b.param_float("moisture_decay", 0.8).range(0.0, 1.0).description("Factor applied to moisture per corner step away from fresh water (unitless)");
   b.param_float("river_width", 6.0).range(0.0, 1e4).soft_range(0.0, 100.0).unit("m").description(
       "Width of a river of volume 1 in the rivers output; width = river_width * sqrt(volume)");
@@ -86,7 +86,7 @@ OROGEN_NODE(PolygonMapRaster) {
       "cell, looked up at positions displaced by fractal Perlin noise (Perlin 2002) to hide the straight cell edges "
       "(the noisy lookup of Patel's and the Georgia Tech report's renderings); biome id, water, ocean and lake masks "
       "per cell; a river mask of width river_width * sqrt(volume); the biome's multifractal amplitude and roughness "
-      "(table I of the report, for the FBM node's multifractal mode, Musgrave 1994); and the biome colours.");
+      "(table I of the report, for the FBM node's multifractal mode, Musgrave 1994); and the biome colors.");
   b.input("in", PortType::PolygonMap).description("Polygon map with the island's attributes (VoronoiIsland)");
   b.output("out", PortType::Heightfield).description("Elevation, metres (0 at the coast, negative at sea)").kind(OutputKind::Height);
   b.output("moisture", PortType::Heightfield).description("Moisture in [0, 1] (unitless)").kind(OutputKind::Mask);
@@ -97,7 +97,7 @@ OROGEN_NODE(PolygonMapRaster) {
   b.output("river", PortType::Heightfield).description("River coverage in [0, 1]").kind(OutputKind::Mask);
   b.output("roughness", PortType::Heightfield).description("Multifractal roughness R of the biome (table I), unitless").kind(OutputKind::Mask);
   b.output("amplitude", PortType::Heightfield).description("Multifractal amplitude A of the biome (table I), unitless").kind(OutputKind::Mask);
-  b.output("color", PortType::Image).description("Biome colours with rivers, linear RGBA");
+  b.output("color", PortType::Image).description("Biome colors with rivers, linear RGBA");
   b.param_float("perturb_distance", 40.0).range(0.0, 1e5).soft_range(0.0, 500.0).unit("m").description(
       "Amplitude of the lookup displacement (0: exact polygon lookup)");
   b.param_float("perturb_feature_size", 400.0).range(1e-3, 1e7).soft_range(10.0, 5000.0).unit("m").description(
