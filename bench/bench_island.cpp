@@ -7,12 +7,15 @@
 //    rivers, moisture, biomes)
 //  - Island/N: the same with the default 2 Lloyd passes (3 diagrams)
 //  - Raster/R: PolygonMapRaster of a 10^4-cell island on R x R samples (noise displacement on)
+//  - RiverNetwork/D: the river tree on a 4096 m square at D inner points per km^2
+//  - Carve/R: CarveRivers of that network (D = 15) into a flat R x R terrain, radius 250 m
 // Figures are CPU time; the machine may be shared, so compare runs made together.
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 
 #include "nodes/island/island.h"
 #include "nodes/island/island_raster.h"
+#include "nodes/island/river_network.h"
 #include "nodes/island/voronoi.h"
 
 namespace {
@@ -61,6 +64,33 @@ void Raster(benchmark::State& state) {
   state.counters["samples_per_s"] = benchmark::Counter(static_cast<double>(r) * r, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(Raster)->Arg(1024)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+
+void RiverNetwork(benchmark::State& state) {
+  RiverNetworkParams p;
+  p.density = static_cast<double>(state.range(0));
+  p.max_length = 500.0;
+  p.seed = 5;
+  std::size_t curves = 0;
+  for (auto _ : state) curves = river_network(p).size();
+  state.counters["curves"] = static_cast<double>(curves);
+}
+BENCHMARK(RiverNetwork)->Arg(15)->Arg(60)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+
+void Carve(benchmark::State& state) {
+  RiverNetworkParams p;
+  p.density = 15.0;
+  p.max_length = 500.0;
+  p.seed = 5;
+  static const Curves net = river_network(p);
+  const int r = static_cast<int>(state.range(0));
+  const Heightfield flat(Domain::from_extent({0, 0}, {4096, 4096}, {r, r}), 100.0f);
+  CarveParams c;
+  c.radius = 250.0;
+  tbb::task_arena arena(1);
+  for (auto _ : state) arena.execute([&] { benchmark::DoNotOptimize(carve_rivers(flat, net, c)); });
+  state.counters["samples_per_s"] = benchmark::Counter(static_cast<double>(r) * r, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(Carve)->Arg(512)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
 
 }  // namespace
 
