@@ -14,8 +14,8 @@
 //  4. a cell is water if at least `water_fraction` of its corners are (and every border cell is); ocean =
 //     water cells flood-filled from the border; lakes = the other water cells; corners: ocean if all their
 //     cells are, coast if they touch ocean and land, lake if they touch a lake and no ocean;
-//  5. elevation: shortest-path distance from the coast over the corner graph on land (a step costs 1 between
-//     two land corners, 0.01 along or across a lake: lakes come out flat), breadth-first steps over the
+//  5. elevation: shortest-path distance from the coast over the corner graph on land (a step costs 1.01
+//     between two dry corners, 0.01 when either touches a lake, Patel's 1 + 0.01; lakes are then flattened), breadth-first steps over the
 //     ocean; land redistributed so the fraction of land corners below normalised height y is
 //     F(y) = 1 - (1 - y)^lowland_bias (Patel's 1 - (1 - y)^2 by default), times max_elevation; the ocean
 //     falls linearly to -ocean_depth at the farthest ocean corner; every lake is flattened to its lowest
