@@ -128,6 +128,7 @@ bool centroids(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, st
   out.assign(n, glm::dvec2(0.0));
   double e = 0.0;
   const double tol = 1.0;
+  std::vector<glm::dvec2> poly;
   for (auto v : dt.finite_vertex_handles()) {
     const int i = v->info();
     if (i < 0) continue;
@@ -136,7 +137,7 @@ bool centroids(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, st
     glm::dvec2 acc(0.0);
     auto fc = dt.incident_faces(v);
     const auto done = fc;
-    std::vector<glm::dvec2> poly;
+    poly.clear();
     do {
       if (dt.is_infinite(fc)) return false;
       const Point& c = centre[static_cast<std::size_t>(fc->info())];
