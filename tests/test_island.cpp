@@ -285,7 +285,9 @@ TEST(Island, OceanTouchesTheBorderIsConnectedAndLakesAreEnclosed) {
       }
   }
   for (std::size_t c = 0; c < m.cells.size(); ++c) {
-    if (ocean[c] > 0.5f) EXPECT_TRUE(reached[c]) << "ocean cell " << c << " not connected to the border";
+    if (ocean[c] > 0.5f) {
+      EXPECT_TRUE(reached[c]) << "ocean cell " << c << " not connected to the border";
+    }
     if (lake[c] > 0.5f) {
       EXPECT_FALSE(m.cells[c].border);
       for (int d : m.cells[c].neighbours) EXPECT_LT(ocean[static_cast<std::size_t>(d)], 0.5f) << "lake " << c << " touches the ocean";
@@ -313,7 +315,9 @@ TEST(Island, ElevationSignsCoastAndFlatLakes) {
   for (std::size_t q = 0; q < m.corners.size(); ++q)
     if (lake[q] > 0.5f)
       for (int r : m.corners[q].adjacent)
-        if (lake[static_cast<std::size_t>(r)] > 0.5f) EXPECT_EQ(e[q], e[static_cast<std::size_t>(r)]);
+        if (lake[static_cast<std::size_t>(r)] > 0.5f) {
+          EXPECT_EQ(e[q], e[static_cast<std::size_t>(r)]);
+        }
 }
 
 TEST(Island, ElevationFollowsTheTargetDistribution) {
@@ -378,8 +382,9 @@ TEST(Island, RiversRunDownhillToTheOceanWithGrowingVolume) {
     if (river[q] > 0.0f && down[q] >= 0.0f)
       for (int k : m.corners[q].edges) {
         const auto& edge = m.edges[static_cast<std::size_t>(k)];
-        if (edge.corners[0] == static_cast<int>(down[q]) || edge.corners[1] == static_cast<int>(down[q]))
+        if (edge.corners[0] == static_cast<int>(down[q]) || edge.corners[1] == static_cast<int>(down[q])) {
           EXPECT_EQ(eriver[static_cast<std::size_t>(k)], river[q]);
+        }
       }
 }
 
@@ -543,8 +548,12 @@ TEST(Island, MaskShapesTheIsland) {
   const auto& water = cattr(m, "water");
   for (std::size_t c = 0; c < m.cells.size(); ++c) {
     const double r = glm::length(m.cells[c].centre - glm::dvec2(2048, 2048));
-    if (r < 1000.0) EXPECT_LT(water[c], 0.5f) << "cell " << c << " at r " << r;
-    if (r > 1400.0) EXPECT_GT(water[c], 0.5f) << "cell " << c << " at r " << r;
+    if (r < 1000.0) {
+      EXPECT_LT(water[c], 0.5f) << "cell " << c << " at r " << r;
+    }
+    if (r > 1400.0) {
+      EXPECT_GT(water[c], 0.5f) << "cell " << c << " at r " << r;
+    }
   }
 }
 
@@ -600,8 +609,12 @@ TEST(IslandRaster, BoundsMasksAndExactLookup) {
         EXPECT_LE(r.color->data[k * 4 + static_cast<std::size_t>(c)], 1.0f);
       }
       // Land above sea level, sea at or below it.
-      if (r.water->data[k] < 0.5f) EXPECT_GE(r.elevation->data[k], 0.0f);
-      if (r.ocean->data[k] > 0.5f) EXPECT_LE(r.elevation->data[k], 0.0f);
+      if (r.water->data[k] < 0.5f) {
+        EXPECT_GE(r.elevation->data[k], 0.0f);
+      }
+      if (r.ocean->data[k] > 0.5f) {
+        EXPECT_LE(r.elevation->data[k], 0.0f);
+      }
     }
     EXPECT_GT(river, 10);
     // The border of the map is ocean.
@@ -920,9 +933,15 @@ TEST(CarveRivers, FarFromRiversTheTerrainIsUnchanged) {
   for (int j = 0; j < d.height(); ++j)
     for (int i = 0; i < d.width(); ++i) {
       const double dist = std::abs(d.y(j) - 500.0);
-      if (dist >= 200.0) EXPECT_EQ(r.terrain->at(i, j), h.at(i, j));
-      if (dist == 0.0) EXPECT_NEAR(r.terrain->at(i, j), 10.0 * (1.0 - d.x(i) / 1000.0) - 2.0, 1e-3);  // bed - 0.25 * 8
-      if (dist > 4.0 + 10.0) EXPECT_EQ(r.mask->at(i, j), 0.0f);
+      if (dist >= 200.0) {
+        EXPECT_EQ(r.terrain->at(i, j), h.at(i, j));
+      }
+      if (dist == 0.0) {  // bed - 0.25 * 8
+        EXPECT_NEAR(r.terrain->at(i, j), 10.0 * (1.0 - d.x(i) / 1000.0) - 2.0, 1e-3);
+      }
+      if (dist > 4.0 + 10.0) {
+        EXPECT_EQ(r.mask->at(i, j), 0.0f);
+      }
       // Monotone blend: never outside the range of terrain and river.
       const double river = 10.0 * (1.0 - d.x(i) / 1000.0);
       EXPECT_GE(r.terrain->at(i, j), std::min<double>(h.at(i, j), river) - 2.0 - 1e-3);
