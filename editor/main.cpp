@@ -25,6 +25,13 @@ int main(int argc, char** argv) {
   cli.add_option("--port", options.port, "With --select: the output shown in the preview (default: the first)");
   cli.add_option("--view", options.view, "Preview panel at start")->check(CLI::IsMember({"2d", "3d"}));
   cli.add_option("--drape", options.drape, "Image node draped over the 3D terrain at start");
+  cli.add_option("--camera", options.camera,
+                 "3D view at start: YAW PITCH ZOOM (degrees around +z, 0 looks along +y; degrees above the horizon; "
+                 "wheel notches after framing, > 0 closer)")
+      ->expected(3)
+      ->delimiter(',');
+  cli.add_option("--preview-width", options.preview_width, "Width of the preview and inspector column at start (pixels)")
+      ->check(CLI::Range(260.0f, 8192.0f));
   cli.add_option("--preview-resolution", options.preview_resolution,
                  "Preview samples along the longer side (default 512)")
       ->check(CLI::Range(16, 8192));

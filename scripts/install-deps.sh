@@ -11,6 +11,7 @@ packages=(
   libopenmesh-dev
   libtbb-dev
   nlohmann-json3-dev
+  libtinygltf-dev
   libcli11-dev
   libxxhash-dev libzstd-dev
   libgtest-dev libgmock-dev

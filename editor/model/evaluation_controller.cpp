@@ -264,6 +264,7 @@ std::shared_ptr<const Thumbnails> EvaluationController::thumbnails() const {
 void EvaluationController::run_thumbnails(Job job) {  // NOLINT(performance-unnecessary-value-param)
   auto result = std::make_shared<Thumbnails>();
   result->revision = job.revision;
+  result->domain = job.domain;
   bool cancelled = false;
   try {
     EvalRequest request;

@@ -64,6 +64,7 @@ struct Thumbnails {
   std::uint64_t revision = 0;                             // the request's tag
   std::uint64_t serial = 0;
   std::map<std::string, std::vector<PortValue>> outputs;  // nodes that succeeded
+  Domain domain;                                          // the world rectangle (points and curves are drawn in it)
 };
 
 struct BuildStatus {

@@ -49,7 +49,7 @@ struct NodeLayout {
   Rect rect;          // the whole node
   Rect title;         // the title bar
   Rect status;        // the status line at the bottom (time, progress bar)
-  std::optional<Rect> thumbnail;  // between the pins and the status line, for nodes with a field or image output
+  std::optional<Rect> thumbnail;  // between the pins and the status line, for nodes with a field, image, points or curves output
   std::vector<PinLayout> inputs, outputs;
   const PinLayout* find_pin(const std::string& port, bool output) const;
 };
@@ -61,7 +61,7 @@ double monospace_width(std::string_view text);
 
 // The title text of a node: its id, plus the type when the id does not already say it.
 std::string node_title(const Node& node);
-// With `thumbnails`, nodes with a heightfield or image output get room for a picture of it.
+// With `thumbnails`, nodes with a heightfield, image, points or curves output get room for a picture of it.
 NodeLayout layout_node(const Node& node, glm::dvec2 position, const TextMeasure& measure = monospace_width,
                        bool thumbnails = false);
 

@@ -4,7 +4,11 @@
 #include <array>
 #include <cmath>
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
+
+#include "editor/model/scene_preview.h"
 
 namespace orogen::editor {
 
@@ -265,6 +269,111 @@ PreviewPixels render_image(const Image& image) {
       p[3] = to_byte(c[3]);
     }
   });
+  return px;
+}
+
+namespace {
+
+constexpr std::uint8_t kThumbBackground[3] = {24, 25, 28};
+
+// The pixel grid a world rectangle maps to, and the mapping.
+struct PixelFrame {
+  int width = 1, height = 1;
+  glm::dvec2 lo{0.0}, size{1.0};
+  PixelFrame(const Domain& domain, int max_side) {
+    lo = domain.min_corner();
+    size = glm::max(domain.max_corner() - lo, glm::dvec2(1e-9));
+    max_side = std::max(max_side, 1);
+    if (size.x >= size.y) {
+      width = max_side;
+      height = std::max(1, static_cast<int>(std::lround(max_side * size.y / size.x)));
+    } else {
+      height = max_side;
+      width = std::max(1, static_cast<int>(std::lround(max_side * size.x / size.y)));
+    }
+  }
+  // Continuous pixel coordinates (x right, y down; the top row shows the highest world y).
+  glm::dvec2 to_pixel(double x, double y) const {
+    return {(x - lo.x) / size.x * width, (1.0 - (y - lo.y) / size.y) * height};
+  }
+  double pixels_per_metre() const { return width / size.x; }
+  PreviewPixels blank() const {
+    PreviewPixels px;
+    px.width = width;
+    px.height = height;
+    px.rgba.resize(static_cast<std::size_t>(width) * height * 4);
+    for (std::size_t k = 0; k < px.rgba.size(); k += 4) {
+      px.rgba[k] = kThumbBackground[0];
+      px.rgba[k + 1] = kThumbBackground[1];
+      px.rgba[k + 2] = kThumbBackground[2];
+      px.rgba[k + 3] = 255;
+    }
+    return px;
+  }
+};
+
+void put(PreviewPixels& px, int i, int j, glm::vec3 c) {
+  if (i < 0 || j < 0 || i >= px.width || j >= px.height) return;
+  std::uint8_t* p = &px.rgba[(static_cast<std::size_t>(j) * px.width + i) * 4];
+  p[0] = static_cast<std::uint8_t>(std::lround(std::clamp(c.r, 0.0f, 1.0f) * 255.0f));
+  p[1] = static_cast<std::uint8_t>(std::lround(std::clamp(c.g, 0.0f, 1.0f) * 255.0f));
+  p[2] = static_cast<std::uint8_t>(std::lround(std::clamp(c.b, 0.0f, 1.0f) * 255.0f));
+  p[3] = 255;
+}
+
+
+}  // namespace
+
+PreviewPixels render_points(const Points& points, const Domain& domain, int max_side) {
+  const PixelFrame frame(domain, max_side);
+  PreviewPixels px = frame.blank();
+  // Sparse sets get 2 x 2 dots so they read at thumbnail size.
+  const int dot = points.size() * 8 < static_cast<std::size_t>(frame.width) * frame.height ? 2 : 1;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const glm::vec3 p = points.position[k];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
+    const glm::dvec2 q = frame.to_pixel(p.x, p.y);
+    const int i = static_cast<int>(std::floor(q.x - (dot - 1) * 0.5)), j = static_cast<int>(std::floor(q.y - (dot - 1) * 0.5));
+    const glm::vec3 c(marker_color(k < points.class_id.size() ? points.class_id[k] : 0));
+    for (int dj = 0; dj < dot; ++dj)
+      for (int di = 0; di < dot; ++di) put(px, i + di, j + dj, c);
+  }
+  return px;
+}
+
+PreviewPixels render_curves(const Curves& curves, const Domain& domain, int max_side) {
+  const PixelFrame frame(domain, max_side);
+  PreviewPixels px = frame.blank();
+  float max_width = 0.0f;
+  for (const auto& curve : curves.curves)
+    for (float w : curve.width) max_width = std::max(max_width, w);
+  const double ppm = frame.pixels_per_metre();
+  for (const auto& curve : curves.curves) {
+    auto width_at = [&](std::size_t k) { return k < curve.width.size() ? curve.width[k] : 0.0f; };
+    for (std::size_t k = 0; k + 1 < curve.points.size(); ++k) {
+      const glm::vec3 a3 = curve.points[k], b3 = curve.points[k + 1];
+      if (!std::isfinite(a3.x + a3.y + b3.x + b3.y)) continue;
+      const glm::dvec2 a = frame.to_pixel(a3.x, a3.y), b = frame.to_pixel(b3.x, b3.y);
+      const float w = 0.5f * (width_at(k) + width_at(k + 1));
+      const float t = max_width > 0.0f ? std::clamp(w / max_width, 0.0f, 1.0f) : 0.0f;
+      const glm::vec3 c(0.55f - 0.45f * t, 0.85f - 0.4f * t, 1.0f - 0.1f * t);
+      const double radius = std::max(0.75, 0.5 * w * ppm);  // thin lines stay connected
+      // Every pixel within `radius` of the segment (its bounding box, clipped to the picture).
+      const int i0 = std::max(0, static_cast<int>(std::floor(std::min(a.x, b.x) - radius)));
+      const int i1 = std::min(px.width - 1, static_cast<int>(std::ceil(std::max(a.x, b.x) + radius)));
+      const int j0 = std::max(0, static_cast<int>(std::floor(std::min(a.y, b.y) - radius)));
+      const int j1 = std::min(px.height - 1, static_cast<int>(std::ceil(std::max(a.y, b.y) + radius)));
+      const glm::dvec2 d = b - a;
+      const double len2 = glm::dot(d, d);
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) {
+          const glm::dvec2 q(i + 0.5, j + 0.5);
+          const double s = len2 > 0.0 ? std::clamp(glm::dot(q - a, d) / len2, 0.0, 1.0) : 0.0;
+          const glm::dvec2 e = q - (a + s * d);
+          if (glm::dot(e, e) <= radius * radius) put(px, i, j, c);
+        }
+    }
+  }
   return px;
 }
 

@@ -10,10 +10,12 @@
 
 #include <glm/vec3.hpp>
 
+#include "graph/curves.h"
 #include "graph/graph.h"
 #include "graph/heightfield.h"
 #include "graph/image.h"
 #include "graph/node_type.h"
+#include "graph/points.h"
 
 namespace orogen::editor {
 
@@ -66,5 +68,13 @@ PreviewPixels render_heightfield(const Heightfield& field, const HeightfieldStyl
 PreviewPixels render_water_over_terrain(const Heightfield& terrain, const Heightfield& depth);
 // 1 channel: grey; 2: grey + alpha; 3: RGB; 4+: RGBA of the first four. Linear values are sRGB-encoded.
 PreviewPixels render_image(const Image& image);
+
+// Small pictures of point sets and curves (node thumbnails): the world rectangle `domain` fitted into at
+// most max_side pixels along its longer side (aspect kept, world +y up), on a dark background. Points as
+// dots (2 x 2 pixels while they are sparse) in their class's marker colour; curves as lines as wide as the
+// curve (at least a pixel), pale blue for narrow ones to deep blue for the widest. Anything outside the
+// rectangle is clipped.
+PreviewPixels render_points(const Points& points, const Domain& domain, int max_side = 128);
+PreviewPixels render_curves(const Curves& curves, const Domain& domain, int max_side = 128);
 
 }  // namespace orogen::editor

@@ -108,6 +108,8 @@ App::App(AppOptions options)
   viewport_3d_ = std::make_unique<Viewport3D>();
   show_3d_ = options_.view == "3d";
   drape_node_ = options_.drape;
+  if (options_.camera.size() == 3) viewport_3d_->set_view(options_.camera[0], options_.camera[1], options_.camera[2]);
+  right_width_ = options_.preview_width;
 
   if (!options_.file.empty()) open_file(options_.file);
   if (!document_->graph().find(options_.drape)) drape_node_.clear();
@@ -807,7 +809,7 @@ std::string App::preview_node() const {
   auto viewable = [&](const std::string& id) -> std::string {
     const Node* n = g.find(id);
     if (!n) return {};
-    if (!n->type->outputs.empty()) return id;
+    if (!n->type->outputs.empty() || is_scene_writer(*n)) return id;  // a scene writer shows its scene
     // A writer shows what it writes.
     for (const auto& in : n->type->inputs)
       if (auto it = n->inputs.find(in.name); it != n->inputs.end()) return it->second.node;
@@ -817,8 +819,8 @@ std::string App::preview_node() const {
     if (auto id = viewable(pinned_); !id.empty()) return id;
   if (!selection_.active().empty())
     if (auto id = viewable(selection_.active()); !id.empty()) return id;
-  // Nothing chosen: the heightfield the graph writes (what a build produces), else the last heightfield of
-  // the flow, else the last node with outputs.
+  // Nothing chosen: the heightfield or scene the graph writes (what a build produces), else the last
+  // heightfield of the flow, else the last node with outputs.
   std::vector<std::string> order;
   try {
     order = g.topological_order();
@@ -831,7 +833,7 @@ std::string App::preview_node() const {
   };
   for (auto it = order.rbegin(); it != order.rend(); ++it)
     if (const Node* n = g.find(*it); n && n->type->writes_files)
-      if (auto id = viewable(*it); first_output_is_field(id)) return id;
+      if (auto id = viewable(*it); first_output_is_field(id) || (id == *it && is_scene_writer(*n))) return id;
   for (auto it = order.rbegin(); it != order.rend(); ++it)
     if (first_output_is_field(*it)) return *it;
   for (auto it = order.rbegin(); it != order.rend(); ++it)
@@ -843,6 +845,14 @@ std::vector<std::string> App::preview_request(const std::string& node) const {
   std::vector<std::string> nodes;
   const Node* n = document_->graph().find(node);
   if (!n) return nodes;
+  if (const auto scene = scene_sources(document_->graph(), node)) {
+    // The writer itself is not evaluated (it would write files): the nodes feeding it are.
+    nodes = scene->nodes();
+    if (show_3d_ && !drape_node_.empty() && document_->graph().find(drape_node_) &&
+        std::find(nodes.begin(), nodes.end(), drape_node_) == nodes.end())
+      nodes.push_back(drape_node_);
+    return nodes;
+  }
   nodes.push_back(node);
   const int port = std::clamp(shown_port_.count(node) ? shown_port_.at(node) : 0, 0,
                               std::max(0, static_cast<int>(n->type->outputs.size()) - 1));
@@ -894,6 +904,8 @@ PreviewContent App::preview_content(const std::string& node) const {
   PreviewContent c;
   c.node = node;
   const Node* n = node.empty() ? nullptr : document_->graph().find(node);
+  if (n)
+    if (const auto sources = scene_sources(document_->graph(), node)) return scene_content(node, *sources);
   if (!n || n->type->outputs.empty()) return c;
   const int port = std::clamp(shown_port_.count(node) ? shown_port_.at(node) : 0, 0,
                               static_cast<int>(n->type->outputs.size()) - 1);
@@ -929,6 +941,45 @@ PreviewContent App::preview_content(const std::string& node) const {
           c.drape = *im;
           break;
         }
+  return c;
+}
+
+PreviewContent App::scene_content(const std::string& node, const SceneSources& sources) const {
+  PreviewContent c;
+  c.node = node;
+  c.port = "in";  // what is shown: the points it places
+  const auto result = evaluation_.preview();
+  c.stale = evaluation_.preview_busy() || pending_request_;
+  if (sources.points.node.empty()) {
+    c.error = node + ": connect the points to place (input in)";
+    return c;
+  }
+  if (!result) return c;
+  c.serial = result->serial;
+  // The first source that failed explains the missing scene.
+  for (const std::string& id : sources.nodes())
+    if (auto it = result->reports.find(id); it != result->reports.end() &&
+                                            (it->second.status == NodeStatus::Failed || it->second.status == NodeStatus::Skipped)) {
+      c.error = it->second.status == NodeStatus::Failed
+                    ? id + " failed: " + it->second.message
+                    : id + " is not evaluated: upstream node '" + it->second.message + "' failed";
+      break;
+    }
+  if (!result->error.empty()) c.error = result->error;
+  ScenePreview scene = assemble_scene(document_->graph(), sources, result->outputs);
+  if (scene.points) c.value = scene.points;
+  if (scene.ground) {
+    c.backdrop = scene.ground;
+    c.backdrop_node = sources.ground.node;
+  }
+  if (!drape_node_.empty())
+    if (auto it = result->outputs.find(drape_node_); it != result->outputs.end())
+      for (const auto& v : it->second)
+        if (auto* im = std::get_if<ImagePtr>(&v)) {
+          c.drape = *im;
+          break;
+        }
+  if (scene.points) c.scene = std::move(scene);
   return c;
 }
 

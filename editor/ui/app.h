@@ -39,6 +39,8 @@ struct AppOptions {
   bool thumbnails = true;            // node thumbnails on the canvas
   std::string view = "2d";           // preview panel at start: 2d or 3d
   std::string drape;                 // Image node draped over the 3D terrain at start
+  std::vector<double> camera;        // 3D view at start: yaw, pitch (degrees), zoom (wheel notches after framing)
+  float preview_width = 0.0f;        // width of the preview / inspector column at start (pixels); 0: default
   std::filesystem::path state_dir;   // recent files and recovery; default_state_dir() if empty
   std::filesystem::path examples_dir;  // graphs/ of the installation; searched if empty
   int preview_resolution = EvaluationController::kDefaultPreviewResolution;
@@ -89,6 +91,7 @@ class App {
   std::vector<std::string> preview_request(const std::string& node) const;
   void update_preview();
   PreviewContent preview_content(const std::string& node) const;
+  PreviewContent scene_content(const std::string& node, const SceneSources& sources) const;
 
   // Build.
   void start_build();

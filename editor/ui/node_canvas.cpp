@@ -90,27 +90,38 @@ void NodeCanvasView::draw_thumbnail(ImDrawList* dl, const Node& node, const Rect
   if (!thumbs) return;
   const auto it = thumbs->outputs.find(node.id);
   if (it == thumbs->outputs.end()) return;
-  // The first heightfield or image output, in the colours of its kind.
-  HeightfieldPtr field;
-  ImagePtr image;
+  // The first output that can be pictured: a heightfield in the colours of its kind, an image, points or
+  // curves drawn in the world rectangle.
+  const PortValue* shown = nullptr;
   std::string port;
   for (std::size_t k = 0; k < it->second.size() && k < node.type->outputs.size(); ++k) {
-    if (auto* h = std::get_if<HeightfieldPtr>(&it->second[k]); h && *h) field = *h;
-    else if (auto* im = std::get_if<ImagePtr>(&it->second[k]); im && *im) image = *im;
-    else continue;
+    const PortValue& v = it->second[k];
+    if (!has_value(v) || std::holds_alternative<MeshPtr>(v) || std::holds_alternative<PolygonMapPtr>(v) ||
+        std::holds_alternative<ReportPtr>(v))
+      continue;
+    shown = &v;
     port = node.type->outputs[k].name;
     break;
   }
-  const void* data = field ? static_cast<const void*>(field.get()) : static_cast<const void*>(image.get());
-  if (!data) return;
+  if (!shown) return;
+  const void* data = std::visit(
+      [](const auto& v) -> const void* {
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) return nullptr;
+        else return v.get();
+      },
+      *shown);
   Thumbnail& t = thumbnails_[node.id];
   if (t.data != data) {
-    const PreviewPixels px = field ? render_heightfield(*field, style_for(resolve_output_kind(controller_.document().graph(), node.id, port)))
-                                   : render_image(*image);
+    PreviewPixels px;
+    if (auto* h = std::get_if<HeightfieldPtr>(shown))
+      px = render_heightfield(**h, style_for(resolve_output_kind(controller_.document().graph(), node.id, port)));
+    else if (auto* im = std::get_if<ImagePtr>(shown)) px = render_image(**im);
+    else if (auto* p = std::get_if<PointsPtr>(shown)) px = render_points(**p, thumbs->domain);
+    else if (auto* c = std::get_if<CurvesPtr>(shown)) px = render_curves(**c, thumbs->domain);
+    if (px.width <= 0) return;
     t.texture.upload(px.width, px.height, px.rgba.data());
     t.data = data;
-    t.field = field;
-    t.image = image;
+    t.value = *shown;
   }
   // Fitted, keeping the world's aspect ratio.
   const double aspect = static_cast<double>(t.texture.width()) / std::max(1, t.texture.height());

@@ -53,8 +53,7 @@ class NodeCanvasView {
   struct Thumbnail {
     GlTexture texture;
     const void* data = nullptr;  // the result shown (held below, so the address stays its own)
-    HeightfieldPtr field;
-    ImagePtr image;
+    PortValue value;  // holds the data shown
   };
   std::map<std::string, Thumbnail> thumbnails_;
 

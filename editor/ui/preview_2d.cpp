@@ -59,11 +59,9 @@ ImU32 ramp_color(float t) {
   return ImColor(r, g, std::clamp(b, 0.0f, 1.0f), 1.0f);
 }
 
-ImU32 class_color(int cls) {
-  static constexpr ImU32 kColors[] = {IM_COL32(255, 80, 80, 255),  IM_COL32(255, 220, 60, 255),
-                                      IM_COL32(80, 220, 255, 255), IM_COL32(200, 120, 255, 255),
-                                      IM_COL32(120, 255, 120, 255), IM_COL32(255, 150, 60, 255)};
-  return kColors[static_cast<unsigned>(cls) % 6];
+ImU32 marker_color_u32(int cls) {
+  const glm::vec4 c = marker_color(cls);
+  return ImColor(c.r, c.g, c.b, c.a);
 }
 
 }  // namespace
@@ -241,7 +239,7 @@ void Preview2D::draw(const PreviewContent& content) {
     const std::size_t step = std::max<std::size_t>(1, pts.size() / 50000);
     for (std::size_t k = 0; k < pts.size(); k += step)
       dl->AddCircleFilled(to_screen({pts.position[k].x, pts.position[k].y}), r,
-                          class_color(k < pts.class_id.size() ? pts.class_id[k] : 0), 8);
+                          marker_color_u32(k < pts.class_id.size() ? pts.class_id[k] : 0), 8);
   } else if (auto* c = std::get_if<CurvesPtr>(&content.value); c && *c) {
     // Width-aware: each segment as wide as the curve there (world metres), at least 1.5 pixels; wider is
     // deeper blue. Round joints where the stroke is thick enough to show gaps.

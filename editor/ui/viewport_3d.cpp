@@ -10,6 +10,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <imgui.h>
 
+#include "editor/model/scene_preview.h"
 #include "editor/model/terrain_mesh.h"
 #include "editor/ui/gl.h"
 #include "editor/ui/theme.h"
@@ -37,6 +38,31 @@ void main() {
   p.z *= vertical_scale;
   v_world = p;
   v_normal = normalize(vec3(normal.xy * vertical_scale, normal.z));
+  v_color = color;
+  gl_Position = view_projection * vec4(p, 1.0);
+})";
+
+// Instances: the class mesh's vertices through each instance's model matrix (translate * rotate * scale);
+// normals by the inverse transpose, which for rotate * scale is the matrix divided by the squared scales.
+constexpr const char* kInstancedVertex = R"(#version 330 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 normal;
+layout(location = 2) in vec4 color;
+layout(location = 3) in mat4 model;
+uniform mat4 view_projection;
+uniform float vertical_scale;
+uniform vec3 offset;
+out vec3 v_normal;
+out vec4 v_color;
+out vec3 v_world;
+void main() {
+  mat3 m = mat3(model);
+  vec3 s2 = vec3(dot(m[0], m[0]), dot(m[1], m[1]), dot(m[2], m[2]));
+  vec3 n = m * (normal / max(s2, vec3(1e-12)));
+  vec3 p = (model * vec4(position, 1.0)).xyz - offset;
+  p.z *= vertical_scale;
+  v_world = p;
+  v_normal = normalize(vec3(n.xy * vertical_scale, n.z));
   v_color = color;
   gl_Position = view_projection * vec4(p, 1.0);
 })";
@@ -122,12 +148,6 @@ void push_vertex(std::vector<float>& v, glm::vec3 p, glm::vec3 n, glm::vec4 c) {
   v.insert(v.end(), {p.x, p.y, p.z, n.x, n.y, n.z, c.r, c.g, c.b, c.a});
 }
 
-glm::vec4 class_color(int cls) {
-  static constexpr glm::vec4 kColors[] = {{1.0f, 0.31f, 0.31f, 1}, {1.0f, 0.86f, 0.24f, 1}, {0.31f, 0.86f, 1.0f, 1},
-                                          {0.78f, 0.47f, 1.0f, 1}, {0.47f, 1.0f, 0.47f, 1},  {1.0f, 0.59f, 0.24f, 1}};
-  return kColors[static_cast<unsigned>(cls) % 6];
-}
-
 }  // namespace
 
 Viewport3D::~Viewport3D() {
@@ -136,7 +156,9 @@ Viewport3D::~Viewport3D() {
   release(mesh_);
   release(ribbons_);
   release(water_);
+  for (auto& i : instanced_) release(i);
   if (program_) glDeleteProgram(program_);
+  if (instanced_program_) glDeleteProgram(instanced_program_);
   if (points_program_) glDeleteProgram(points_program_);
   if (fbo_) glDeleteFramebuffers(1, &fbo_);
   if (color_) glDeleteTextures(1, &color_);
@@ -173,10 +195,34 @@ void Viewport3D::upload(Buffers& b, const std::vector<float>& vertices, const st
   b.count = static_cast<int>(indices.empty() ? vertices.size() / 10 : indices.size());
 }
 
+void Viewport3D::release(Instanced& b) {
+  release(b.mesh);
+  if (b.instance_vbo) glDeleteBuffers(1, &b.instance_vbo);
+  b = {};
+}
+
+void Viewport3D::upload_instances(Instanced& b, const std::vector<glm::mat4>& transforms) {
+  if (!b.instance_vbo) glGenBuffers(1, &b.instance_vbo);
+  glBindVertexArray(b.mesh.vao);
+  glBindBuffer(GL_ARRAY_BUFFER, b.instance_vbo);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(transforms.size() * sizeof(glm::mat4)), transforms.data(),
+               GL_STATIC_DRAW);
+  // A mat4 attribute takes four locations, one column each, advancing once per instance.
+  for (int c = 0; c < 4; ++c) {
+    glEnableVertexAttribArray(static_cast<GLuint>(3 + c));
+    glVertexAttribPointer(static_cast<GLuint>(3 + c), 4, GL_FLOAT, GL_FALSE, sizeof(glm::mat4),
+                          reinterpret_cast<void*>(c * sizeof(glm::vec4)));
+    glVertexAttribDivisor(static_cast<GLuint>(3 + c), 1);
+  }
+  glBindVertexArray(0);
+  b.instances = static_cast<int>(transforms.size());
+}
+
 void Viewport3D::ensure_gl() {
   if (program_) return;
   program_ = link(kVertex, kFragment);
   points_program_ = link(kPointsVertex, kPointsFragment);
+  instanced_program_ = link(kInstancedVertex, kFragment);
 }
 
 void Viewport3D::resize_target(int width, int height) {
@@ -216,8 +262,21 @@ void Viewport3D::update_geometry(const PreviewContent& content) {
   char key[256];
   std::snprintf(key, sizeof key, "%p|%p|%p", value_ptr, static_cast<const void*>(field.get()),
                 static_cast<const void*>(content.drape.get()));
-  if (geometry_key_ == key) return;
-  geometry_key_ = key;
+  std::string full_key = key;
+  if (content.scene) {
+    // Every part of the scene, and whether proxies stand in for missing class meshes.
+    full_key += content.scene->proxies ? "|scene+" : "|scene-";
+    char part[32];
+    std::snprintf(part, sizeof part, "|%p", static_cast<const void*>(content.scene->terrain.get()));
+    full_key += part;
+    for (const auto& m : content.scene->meshes) {
+      std::snprintf(part, sizeof part, "|%p", static_cast<const void*>(m.get()));
+      full_key += part;
+    }
+  }
+  if (geometry_key_ == full_key) return;
+  geometry_key_ = full_key;
+  shown_scene_ = content.scene;
   shown_value_ = content.value;
   shown_field_ = field;
   shown_drape_ = content.drape;
@@ -244,7 +303,16 @@ void Viewport3D::update_geometry(const PreviewContent& content) {
     field = content.backdrop;
   }
   double cell = 0.0;  // the terrain mesh's cell size (m)
-  if (field) {
+  const ScenePreview* scene = content.scene ? &*content.scene : nullptr;
+  if (scene && scene->terrain) {
+    // The scene's own terrain mesh (what the file holds), tinted by height when it has no colours.
+    const TerrainMesh tm = mesh_geometry(*scene->terrain, {.tint_uniform_by_height = true});
+    upload_mesh(terrain_, tm);
+    if (!tm.positions.empty()) {
+      extend(tm.min);
+      extend(tm.max);
+    }
+  } else if (field) {
     TerrainMeshOptions options;
     options.drape = content.drape.get();
     // A field that is not a height (a mask, a signed field) wears its kind's colours.
@@ -284,11 +352,54 @@ void Viewport3D::update_geometry(const PreviewContent& content) {
     ribbons_.count = 0;
   }
 
+  for (auto& i : instanced_) release(i);
+  instanced_.clear();
+  scene_info_.clear();
+  if (scene && scene->points) {
+    // Every class with a mesh (or WriteScene's 1 m proxy), its points as instances.
+    std::vector<TerrainMesh> geometry(kSceneClassSlots);
+    std::vector<bool> has_mesh(kSceneClassSlots, false);
+    std::vector<bool> proxy(kSceneClassSlots, false);
+    for (int k = 0; k < kSceneClassSlots; ++k) {
+      const auto& m = scene->meshes[static_cast<std::size_t>(k)];
+      if (m) geometry[static_cast<std::size_t>(k)] = mesh_geometry(*m);
+      else if (scene->proxies) {
+        geometry[static_cast<std::size_t>(k)] = proxy_geometry(class_color(k));
+        proxy[static_cast<std::size_t>(k)] = true;
+      }
+      has_mesh[static_cast<std::size_t>(k)] = !geometry[static_cast<std::size_t>(k)].positions.empty();
+    }
+    const SceneInstances inst = build_instances(*scene->points, has_mesh);
+    std::vector<const TerrainMesh*> meshes;
+    int classes = 0, proxies = 0;
+    for (int k = 0; k < kSceneClassSlots; ++k) {
+      const auto ks = static_cast<std::size_t>(k);
+      meshes.push_back(&geometry[ks]);
+      if (inst.per_class[ks].empty()) continue;
+      ++classes;
+      proxies += proxy[ks] ? 1 : 0;
+      Instanced b;
+      upload_mesh(b.mesh, geometry[ks]);
+      upload_instances(b, inst.per_class[ks]);
+      instanced_.push_back(b);
+    }
+    // Framed on the terrain when there is one, so that editing the scatter does not move the camera.
+    glm::vec3 ilo, ihi;
+    if (terrain_.count == 0 && instance_bounds(inst, meshes, ilo, ihi)) {
+      extend(ilo);
+      extend(ihi);
+    }
+    scene_info_ = std::to_string(inst.count) + " instances of " + std::to_string(classes) +
+                  (classes == 1 ? " class" : " classes");
+    if (proxies > 0) scene_info_ += ", " + std::to_string(proxies) + " without a mesh as 1 m proxies";
+    if (inst.skipped > 0) scene_info_ += "; " + std::to_string(inst.skipped) + " points without a mesh left out";
+  }
+
   vertices.clear();
-  if (auto* p = std::get_if<PointsPtr>(&content.value); p && *p) {
+  if (auto* p = std::get_if<PointsPtr>(&content.value); p && *p && !scene) {
     const Points& pts = **p;
     for (std::size_t k = 0; k < pts.size(); ++k) {
-      push_vertex(vertices, pts.position[k], {0, 0, 1}, class_color(k < pts.class_id.size() ? pts.class_id[k] : 0));
+      push_vertex(vertices, pts.position[k], {0, 0, 1}, marker_color(k < pts.class_id.size() ? pts.class_id[k] : 0));
       extend(pts.position[k]);
     }
     upload(markers_, vertices, {});
@@ -298,18 +409,12 @@ void Viewport3D::update_geometry(const PreviewContent& content) {
 
   vertices.clear();
   if (auto* m = std::get_if<MeshPtr>(&content.value); m && *m) {
-    const TriMesh& mesh = (*m)->mesh;
-    std::vector<std::uint32_t> indices;
-    for (auto v : mesh.vertices()) {
-      const auto& p = mesh.point(v);
-      const auto n = mesh.has_vertex_normals() ? mesh.normal(v) : OpenMesh::Vec3f(0, 0, 1);
-      const auto c = mesh.has_vertex_colors() ? mesh.color(v) : OpenMesh::Vec4f(0.7f, 0.7f, 0.7f, 1.0f);
-      push_vertex(vertices, {p[0], p[1], p[2]}, {n[0], n[1], n[2]}, {c[0], c[1], c[2], c[3]});
-      extend({p[0], p[1], p[2]});
+    const TerrainMesh tm = mesh_geometry(**m);
+    upload_mesh(mesh_, tm);
+    if (!tm.positions.empty()) {
+      extend(tm.min);
+      extend(tm.max);
     }
-    for (auto f : mesh.faces())
-      for (auto v : mesh.fv_range(f)) indices.push_back(static_cast<std::uint32_t>(v.idx()));
-    upload(mesh_, vertices, indices);
   } else {
     mesh_.count = 0;
   }
@@ -359,6 +464,21 @@ void Viewport3D::render(int width, int height) {
       glBindVertexArray(b->vao);
       glDrawElements(GL_TRIANGLES, b->count, GL_UNSIGNED_INT, nullptr);
     }
+  if (!instanced_.empty()) {
+    glUseProgram(instanced_program_);
+    glUniformMatrix4fv(glGetUniformLocation(instanced_program_, "view_projection"), 1, GL_FALSE, glm::value_ptr(vp));
+    glUniform1f(glGetUniformLocation(instanced_program_, "vertical_scale"), vertical_scale_);
+    glUniform3fv(glGetUniformLocation(instanced_program_, "offset"), 1, glm::value_ptr(offset));
+    glUniform3fv(glGetUniformLocation(instanced_program_, "sun"), 1, glm::value_ptr(sun));
+    glUniform3fv(glGetUniformLocation(instanced_program_, "eye"), 1, glm::value_ptr(eye));
+    glUniform1f(glGetUniformLocation(instanced_program_, "haze_distance"), haze);
+    for (const Instanced& b : instanced_)
+      if (b.mesh.count > 0 && b.instances > 0) {
+        glBindVertexArray(b.mesh.vao);
+        glDrawElementsInstanced(GL_TRIANGLES, b.mesh.count, GL_UNSIGNED_INT, nullptr, b.instances);
+      }
+    glUseProgram(program_);
+  }
   if (wireframe_) glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
   if (ribbons_.count > 0) {
     // Rivers lie on the terrain: pulled towards the eye in depth so they win against the ground they follow.
@@ -397,6 +517,13 @@ void Viewport3D::render(int width, int height) {
   glViewport(previous_viewport[0], previous_viewport[1], previous_viewport[2], previous_viewport[3]);
 }
 
+void Viewport3D::set_view(double yaw_deg, double pitch_deg, double zoom_notches) {
+  camera_.yaw = yaw_deg * M_PI / 180.0;
+  camera_.pitch = std::clamp(pitch_deg, -89.0, 89.0) * M_PI / 180.0;
+  pending_zoom_ = zoom_notches;
+  framed_ = false;
+}
+
 void Viewport3D::draw(const PreviewContent& content) {
   ImGui::SetNextItemWidth(140);
   ImGui::SliderFloat("##vscale", &vertical_scale_, 0.1f, 10.0f, "height x%.2f", ImGuiSliderFlags_Logarithmic);
@@ -409,6 +536,10 @@ void Viewport3D::draw(const PreviewContent& content) {
     ImGui::SameLine();
     ImGui::TextColored(ImColor(theme::status_color(NodeRunState::Phase::Computing)), "updating");
   }
+  if (!scene_info_.empty() && content.scene) {
+    ImGui::SameLine();
+    ImGui::TextDisabled("%s", scene_info_.c_str());
+  }
 
   ImVec2 size = ImGui::GetContentRegionAvail();
   size.x = std::max(size.x, 32.0f);
@@ -420,7 +551,7 @@ void Viewport3D::draw(const PreviewContent& content) {
     ImGui::TextColored(ImColor(theme::kError), "%s", e.what());
     return;
   }
-  if (terrain_.count == 0 && markers_.count == 0 && mesh_.count == 0 && ribbons_.count == 0) {
+  if (terrain_.count == 0 && markers_.count == 0 && mesh_.count == 0 && ribbons_.count == 0 && instanced_.empty()) {
     ImGui::InvisibleButton("##empty3d", size);
     const ImVec2 o = ImGui::GetItemRectMin();
     const char* text = content.node.empty()     ? "Select a node to view it in 3D"
@@ -438,6 +569,10 @@ void Viewport3D::draw(const PreviewContent& content) {
     const glm::dvec3 hi = (bounds_max_ - centre) * glm::dvec3(1, 1, vertical_scale_);
     camera_.frame(lo, hi, static_cast<double>(size.x) / size.y);
     framed_ = true;
+    if (pending_zoom_ != 0.0 && !geometry_key_.empty()) {
+      camera_.zoom(pending_zoom_);
+      pending_zoom_ = 0.0;
+    }
   }
 
   const ImVec2 origin = ImGui::GetCursorScreenPos();

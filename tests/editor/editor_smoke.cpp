@@ -4,8 +4,10 @@
 // previewed terrain (many distinct colours in the preview area).
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -26,12 +28,13 @@ std::filesystem::path scratch() {
   return dir;
 }
 
-Shot take(const std::string& name, const std::string& extra) {
+Shot take(const std::string& name, const std::string& extra,
+          const std::string& graph = std::string(OROGEN_SOURCE_DIR) + "/graphs/terrain.json") {
   const auto dir = scratch();
   const auto png = dir / (name + ".png");
   std::filesystem::remove(png);
   const std::string cmd = "LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 1600x900x24\" \"" +
-                          std::string(OROGEN_EDITOR_BINARY) + "\" \"" + OROGEN_SOURCE_DIR + "/graphs/terrain.json\" --screenshot \"" +
+                          std::string(OROGEN_EDITOR_BINARY) + "\" \"" + graph + "\" --screenshot \"" +
                           png.string() + "\" --frames 60 --state-dir \"" + (dir / "state").string() + "\" " + extra +
                           " > \"" + (dir / (name + ".log")).string() + "\" 2>&1";
   const int rc = std::system(cmd.c_str());
@@ -94,6 +97,41 @@ TEST(EditorSmoke, ViewportRendersTheTerrainIn3D) {
     }
   EXPECT_GT(sky, 10000u) << "sky background of the 3D view";
   EXPECT_GT(distinct_colours(s, 1150, 200, 1450, 420), 200u) << "shaded terrain";
+}
+
+// WriteScene previewed in 3D draws its class meshes at the points: against the same view of the same graph
+// without class meshes and proxies (the terrain alone), many pixels of the viewport change.
+TEST(EditorSmoke, SceneWriterDrawsItsInstancesOnTheTerrain) {
+  const std::string graph = std::string(OROGEN_SOURCE_DIR) + "/graphs/scene.json";
+  std::ifstream in(graph);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string bare = text.str();
+  // Drop the class-mesh links and turn the proxies off.
+  const std::string links = R"("mesh_0": "tree.out", "mesh_3": "tree.out", "mesh_4": "rock.out")";
+  const auto at = bare.find(links);
+  ASSERT_NE(at, std::string::npos) << "graphs/scene.json changed: update this test";
+  bare.replace(at - 2, links.size() + 2, "");  // with the ", " before it
+  const std::string path_param = R"("path": "scene.glb")";
+  const auto p = bare.find(path_param);
+  ASSERT_NE(p, std::string::npos);
+  bare.insert(p + path_param.size(), R"(, "proxies": false)");
+  const auto bare_path = scratch() / "scene-bare.json";
+  std::ofstream(bare_path) << bare;
+
+  const std::string view = "--select write --view 3d --camera=-30,16,8 --preview-width 860";
+  const Shot with = take("scene", view, graph);
+  const Shot without = take("scene-bare", view, bare_path.string());
+  ASSERT_EQ(with.width, 1600);
+  ASSERT_EQ(without.width, 1600);
+  std::size_t changed = 0, total = 0;
+  for (int y = 100; y < 480; ++y)
+    for (int x = 760; x < 1590; ++x, ++total) {
+      const unsigned char *a = with.at(x, y), *b = without.at(x, y);
+      changed += std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]) > 30;
+    }
+  EXPECT_GT(changed, total / 20) << "instances cover a good part of the view";
+  EXPECT_LT(changed, total * 3 / 4) << "the terrain is still seen between them";
 }
 
 }  // namespace

@@ -75,7 +75,7 @@ TEST(NodeLayout, PinsSitOnTheEdgesInDeclarationOrder) {
   EXPECT_LT(l.inputs[1].position.y, l.status.min.y);
 }
 
-TEST(NodeLayout, ThumbnailsBetweenPinsAndStatusForFieldOutputsOnly) {
+TEST(NodeLayout, ThumbnailsBetweenPinsAndStatusForFieldImagePointsAndCurveOutputs) {
   const Graph g = test::chain_graph();
   const NodeLayout plain = layout_node(g.at("mid"), {100, 200});
   const NodeLayout with = layout_node(g.at("mid"), {100, 200}, monospace_width, true);
@@ -87,7 +87,7 @@ TEST(NodeLayout, ThumbnailsBetweenPinsAndStatusForFieldOutputsOnly) {
   EXPECT_GE(with.thumbnail->min.x, with.rect.min.x);
   EXPECT_LE(with.thumbnail->max.x, with.rect.max.x);
   EXPECT_EQ(with.inputs[1].position, plain.inputs[1].position) << "pins stay where they were";
-  EXPECT_FALSE(layout_node(g.at("scatter"), {0, 0}, monospace_width, true).thumbnail) << "points: no picture";
+  EXPECT_TRUE(layout_node(g.at("scatter"), {0, 0}, monospace_width, true).thumbnail) << "points: a drawing of them";
 }
 
 TEST(NodeLayout, RoomForThumbnailsWithoutOverlaps) {

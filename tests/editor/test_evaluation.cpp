@@ -200,6 +200,9 @@ TEST(EvaluationController, ThumbnailsOfEveryNodeAtLowResolutionLeaveStatesAlone)
   for (const char* id : {"src", "mid", "out", "scatter"}) EXPECT_TRUE(t->outputs.count(id)) << id;
   const auto& h = std::get<HeightfieldPtr>(t->outputs.at("out").front());
   EXPECT_EQ(h->domain.resolution, glm::ivec2(EvaluationController::kThumbnailResolution, EvaluationController::kThumbnailResolution / 2));
+  // The world rectangle points and curves are drawn in.
+  EXPECT_EQ(t->domain.resolution, h->domain.resolution);
+  EXPECT_EQ(t->domain.max_corner(), h->domain.max_corner());
   EXPECT_EQ(ec.node_state("out").phase, Phase::Unknown) << "thumbnails do not change the node states";
   EXPECT_EQ(ec.node_state("mid").phase, Phase::Computed);
 }

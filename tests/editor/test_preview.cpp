@@ -7,6 +7,7 @@
 
 #include "editor/model/orbit_camera.h"
 #include "editor/model/preview_image.h"
+#include "editor/model/scene_preview.h"
 #include "editor/model/terrain_mesh.h"
 #include "graph/graph.h"
 
@@ -64,6 +65,52 @@ TEST(RenderHeightfield, RowsFlippedSoWorldYPointsUp) {
   ASSERT_EQ(px.rgba.size(), 64u);
   EXPECT_EQ(px.rgba[0], 255) << "top row shows the highest y (value 3 = white)";
   EXPECT_EQ(px.rgba[(3 * 4) * 4], 0) << "bottom row shows y = 0";
+}
+
+TEST(RenderPoints, DotsInTheirClassColourWithWorldYUpAndAspectKept) {
+  const Domain d = Domain::from_extent({100, 0}, {200, 100}, {64, 32});
+  Points pts;
+  pts.add({101, 99, 0}, 0);   // top-left corner
+  pts.add({299, 1, 0}, 2);    // bottom-right corner
+  pts.add({5000, 50, 0}, 1);  // outside: clipped
+  const PreviewPixels px = render_points(pts, d, 128);
+  ASSERT_EQ(px.width, 128);
+  ASSERT_EQ(px.height, 64);
+  auto at = [&](int i, int j) { return &px.rgba[(static_cast<std::size_t>(j) * px.width + i) * 4]; };
+  const glm::vec4 c0 = marker_color(0), c2 = marker_color(2);
+  EXPECT_EQ(at(0, 0)[0], static_cast<int>(std::lround(c0.r * 255)));
+  EXPECT_EQ(at(0, 0)[1], static_cast<int>(std::lround(c0.g * 255)));
+  EXPECT_EQ(at(127, 63)[2], static_cast<int>(std::lround(c2.b * 255)));
+  EXPECT_EQ(at(64, 32)[0], at(64, 0)[0]) << "background elsewhere";
+  int coloured = 0;
+  for (int j = 0; j < px.height; ++j)
+    for (int i = 0; i < px.width; ++i) coloured += at(i, j)[0] != at(64, 32)[0];
+  EXPECT_GT(coloured, 1);
+  EXPECT_LE(coloured, 8) << "two sparse dots of 2 x 2 pixels at most";
+}
+
+TEST(RenderCurves, LinesAsWideAsTheCurve) {
+  const Domain d = Domain::from_extent({0, 0}, {128, 128}, {64, 64});  // 1 pixel per metre at 128
+  Curves cs;
+  Curve narrow, wide;
+  narrow.points = {{0, 96, 0}, {128, 96, 0}};
+  narrow.width = {1, 1};
+  wide.points = {{0, 32, 0}, {128, 32, 0}};
+  wide.width = {9, 9};
+  cs.curves = {narrow, wide};
+  const PreviewPixels px = render_curves(cs, d, 128);
+  ASSERT_EQ(px.width, 128);
+  auto column_cover = [&](int i, int j0, int j1) {
+    int n = 0;
+    for (int j = j0; j < j1; ++j) n += px.rgba[(static_cast<std::size_t>(j) * px.width + i) * 4 + 2] > 100;
+    return n;
+  };
+  // World y = 96 is pixel row 32 (y up), y = 32 is row 96.
+  EXPECT_NEAR(column_cover(64, 0, 64), 1, 1);
+  EXPECT_NEAR(column_cover(64, 64, 128), 9, 1);
+  const std::uint8_t* n = &px.rgba[(32 * 128 + 64) * 4];
+  const std::uint8_t* w = &px.rgba[(96 * 128 + 64) * 4];
+  EXPECT_GT(n[0], w[0]) << "the widest curve is the deepest blue";
 }
 
 TEST(RenderImage, LinearToSrgb) {

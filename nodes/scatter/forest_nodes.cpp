@@ -1,0 +1,128 @@
+// ShadePlacement and ForestLifeCycle: the nodes over forest.h.
+#include <stdexcept>
+
+#include "graph/exec_context.h"
+#include "graph/registry.h"
+#include "nodes/scatter/forest.h"
+
+namespace orogen {
+
+OROGEN_NODE(ShadePlacement) {
+  b.reach_global();  // a shadow cast from points anywhere in the domain
+  b.category("scatter").description(
+      "Context-sensitive placement by light, after Potter (2017), \"Generating a virtual forest environment using procedural content generation\" (shadow-map placement): "
+      "the crowns of the caster points (spheres of crown_radius * scale at crown_height * scale above them) cast "
+      "shadows along the sun direction; a candidate point is shaded if the ray from it toward the sun meets a "
+      "crown (exact ray-sphere tests, no raster). preference shade keeps the shaded candidates (undergrowth "
+      "under trees), sun keeps the lit ones, any keeps all. Attribute shade (1 shaded, 0 lit); output shade is "
+      "the shadow map on the domain.");
+  b.input("in", PortType::Points).description("Candidate points (e.g. undergrowth from PoissonDisk)");
+  b.input("casters", PortType::Points).description("Points whose crowns cast shade (e.g. trees)");
+  b.input("height", PortType::Heightfield).optional().description("Terrain heights (m) for the shadow map; else z = 0");
+  b.output("out", PortType::Points).description("The kept candidates, attribute shade");
+  b.output("shade", PortType::Heightfield).description("Shadow map, 1 shaded / 0 lit (unitless)").kind(OutputKind::Mask);
+  b.param_enum("preference", {"shade", "sun", "any"}, "shade").description(
+      "shade: keep shaded candidates; sun: keep lit ones; any: keep all (annotate only)");
+  b.param_float("sun_azimuth", 180.0).range(0.0, 360.0).unit("deg").description(
+      "Direction of the sun, degrees clockwise from north (180: the sun in the south), 0..360");
+  b.param_float("sun_elevation", 45.0).range(1.0, 90.0).unit("deg").description(
+      "Height of the sun above the horizon, degrees in [1, 90]");
+  b.param_float("crown_radius", 3.0).range(0.01, 1000.0).unit("m").description(
+      "Radius of a caster's crown at scale 1, metres in [0.01, 1000] (times the point's x scale)");
+  b.param_float("crown_height", 8.0).range(0.0, 1000.0).unit("m").description(
+      "Height of the crown's centre above the caster point at scale 1, metres in [0, 1000] (times its z scale)");
+  b.execute([](ExecContext& ctx) {
+    const auto in = ctx.require<Points>("in");
+    const auto casters = ctx.require<Points>("casters");
+    const auto height = ctx.input<Heightfield>("height");
+    CanopyParams cp;
+    cp.crown_radius = ctx.param<double>("crown_radius");
+    cp.crown_height = ctx.param<double>("crown_height");
+    cp.sun = sun_direction(ctx.param<double>("sun_azimuth"), ctx.param<double>("sun_elevation"));
+    const Canopy canopy(*casters, cp);
+    const int pref = ctx.enum_index("preference");
+    auto out = std::make_shared<Points>();
+    for (const auto& [name, values] : in->attributes) out->attribute(name);
+    auto& shade_attr = out->attribute("shade");
+    for (std::size_t i = 0; i < in->size(); ++i) {
+      if (i % 4096 == 0) ctx.check_cancelled();
+      const auto& q = in->position[i];
+      const bool s = canopy.shaded(q.x, q.y, q.z);
+      if ((pref == 0 && !s) || (pref == 1 && s)) continue;
+      const std::size_t k = out->add(q, in->class_id[i]);
+      out->rotation[k] = in->rotation[i];
+      out->scale[k] = in->scale[i];
+      for (const auto& [name, values] : in->attributes)
+        if (name != "shade") out->attributes[name][k] = values[i];
+      shade_attr[k] = s ? 1.0f : 0.0f;
+    }
+    ctx.set_output("out", out);
+    ctx.set_output("shade", std::make_shared<Heightfield>(shade_map(ctx.domain(), canopy, height.get(), &ctx)));
+  });
+}
+
+OROGEN_NODE(ForestLifeCycle) {
+  b.reach_global();  // a simulation
+  b.category("scatter").description(
+      "Forest life cycle after Potter (2017), \"Generating a virtual forest environment using procedural content generation\" (stepped ageing): each year every tree ages, "
+      "its scale grows linearly from min_scale to max_scale over maturity_age, trees older than max_age die and "
+      "drop one or two seeds within seed_distance, mature trees drop a seed with seed_probability; trees closer "
+      "than competition * (s_i + s_j) / 2 compete and the smaller dies (self-thinning); seeds germinate inside "
+      "the domain where suitability >= 0.5 and there is room. Deterministic per seed (fixed order, hashed "
+      "draws). Output: the survivors with attribute age (years) and their scale.");
+  b.input("in", PortType::Points).description("Initial trees (attribute age in years if present, else hashed)");
+  b.input("suitability", PortType::Heightfield).optional().description(
+      "Where seeds may germinate: >= 0.5 (unitless), e.g. a ScatterRules-like mask; everywhere if unconnected");
+  b.input("height", PortType::Heightfield).optional().description("Terrain heights (m): sets z of the survivors");
+  b.output("out", PortType::Points).description("Surviving trees: class id of their lineage, scale, attribute age");
+  b.param_int("years", 50).range(0, 1000).unit("years").description("Years simulated, 0..1000");
+  b.param_float("max_age", 80.0).range(1.0, 5000.0).unit("years").description("Age at which a tree dies, years");
+  b.param_float("maturity_age", 20.0).range(0.0, 5000.0).unit("years").description(
+      "Years to grow from min_scale to max_scale; from then on a tree drops seeds");
+  b.param_float("min_scale", 0.2).range(0.01, 100.0).unit("").description("Scale of a seedling, 0.01..100");
+  b.param_float("max_scale", 1.0).range(0.01, 100.0).unit("").description(
+      "Scale of a mature tree, 0.01..100 (at least min_scale)");
+  b.param_float("seed_distance", 12.0).range(0.0, 1e4).unit("m").description(
+      "Seeds land uniformly within this distance of their parent, metres");
+  b.param_float("seed_probability", 0.1).range(0.0, 1.0).unit("1/year").description(
+      "Probability per year that a mature tree drops a seed, 0..1");
+  b.param_float("competition", 6.0).range(0.0, 1e4).unit("m").description(
+      "Spacing two trees of scale 1 need, metres; two trees keep competition * (s_i + s_j) / 2 apart");
+  b.param_seed("seed", 0).description("Draws hash (seed, tree id, year)");
+  b.execute([](ExecContext& ctx) {
+    const auto in = ctx.require<Points>("in");
+    const auto suit = ctx.input<Heightfield>("suitability");
+    const auto height = ctx.input<Heightfield>("height");
+    LifeCycleParams p;
+    p.years = static_cast<int>(ctx.param<std::int64_t>("years"));
+    p.max_age = ctx.param<double>("max_age");
+    p.maturity_age = ctx.param<double>("maturity_age");
+    p.min_scale = ctx.param<double>("min_scale");
+    p.max_scale = ctx.param<double>("max_scale");
+    if (p.max_scale < p.min_scale) throw NodeError("ForestLifeCycle: max_scale is below min_scale");
+    p.seed_distance = ctx.param<double>("seed_distance");
+    p.seed_probability = ctx.param<double>("seed_probability");
+    p.competition = ctx.param<double>("competition");
+    p.suitability = suit.get();
+    p.lo = ctx.domain().min_corner();
+    p.hi = ctx.domain().max_corner();
+    p.seed = ctx.param<std::uint64_t>("seed");
+    if (in->size() > 5'000'000) throw NodeError("ForestLifeCycle: more than 5 million initial trees");
+    auto out = std::make_shared<Points>();
+    try {
+      *out = forest_life_cycle(*in, p, &ctx);
+    } catch (const std::invalid_argument& e) {
+      throw NodeError(e.what());
+    } catch (const std::runtime_error& e) {
+      throw NodeError(e.what());
+    }
+    if (height)
+      for (auto& q : out->position) {
+        const float z = height->sample_world(q.x, q.y);
+        q.z = std::isfinite(z) ? z : 0.0f;
+      }
+    ctx.set_output("out", out);
+  });
+}
+
+}  // namespace orogen

@@ -1,0 +1,576 @@
+#include "nodes/scatter/poisson_disk.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include "graph/exec_context.h"
+#include "nodes/field/row_loop.h"
+#include "nodes/scatter/scatter_hash.h"
+
+namespace orogen {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Pt {
+  float x, y;  // the output position
+  float r;     // local radius
+  int cls;     // class index into PoissonParams::classes
+};
+
+double field_value(const Heightfield* f, double x, double y) {
+  if (!f) return 1.0;
+  const double v = f->sample_world(x, y);
+  if (!(v > 0.0)) return 0.0;  // NaN too
+  return std::min(v, 1.0);
+}
+
+// The chunks of one class: a window of the class's world-space chunk grid (chunk side C, anchored at 0).
+struct ClassChunks {
+  double C = 1.0;
+  std::int64_t cx0 = 0, cy0 = 0;  // chunk index of the window's (0, 0)
+  int nx = 0, ny = 0;
+  std::int64_t core_x0 = 0, core_y0 = 0, core_x1 = 0, core_y1 = 0;  // chunks overlapping the final rectangle
+  std::vector<std::vector<Pt>> chunks;
+  std::vector<Pt>& at(std::int64_t gx, std::int64_t gy) {
+    return chunks[static_cast<std::size_t>(gy - cy0) * nx + static_cast<std::size_t>(gx - cx0)];
+  }
+  const std::vector<Pt>& at(std::int64_t gx, std::int64_t gy) const {
+    return chunks[static_cast<std::size_t>(gy - cy0) * nx + static_cast<std::size_t>(gx - cx0)];
+  }
+};
+
+struct Sampler {
+  const PoissonParams& p;
+  std::vector<int> order;       // class indices, largest radius first
+  std::vector<int> rank;        // position of each class in `order`
+  std::vector<double> rmax;     // per class: largest local radius
+  std::vector<double> cell;     // per class: background grid cell (r / sqrt 2, slightly less)
+  std::vector<double> chunk;    // per class: chunk side
+  std::vector<double> reach;    // per class: largest conflict distance with itself and the classes before it
+  std::vector<ClassChunks> grids;  // per class
+
+  explicit Sampler(const PoissonParams& params) : p(params) {}
+
+  double local_radius(int k, double x, double y) const {
+    double d = field_value(p.density, x, y) * field_value(p.classes[k].density, x, y);
+    if (p.mask) {
+      const double m = p.mask->sample_world(x, y);
+      if (!(m >= 0.5)) d = 0.0;
+    }
+    if (!(d >= p.min_density) || d <= 0.0) return 0.0;
+    return p.classes[k].radius / std::sqrt(d);
+  }
+
+  double conflict(int a, double ra, int b, double rb) const {
+    return a == b ? std::max(ra, rb) : p.cross_separation * 0.5 * (ra + rb);
+  }
+
+  // Per-chunk working state.
+  struct Local {
+    double ax0, ay0, ax1, ay1;  // the chunk [ax0, ax1) x [ay0, ay1)
+    double gx0, gy0;            // origin of the local grids (the chunk minus the interaction distance)
+    std::vector<double> x, y;   // gathered and new points (double copies of the float positions)
+    std::vector<float> r;
+    std::vector<int> cls;
+    std::vector<int> own;       // indices of the points placed in this chunk
+    struct Grid {
+      double h = 0;
+      int n = 0;
+      std::vector<int> cells;  // point index or -1
+    };
+    std::vector<Grid> grids;    // per class
+  };
+
+  void grid_insert(Local& L, int idx) const {
+    auto& g = L.grids[L.cls[idx]];
+    if (g.n == 0) return;
+    const int i = static_cast<int>(std::floor((L.x[idx] - L.gx0) / g.h));
+    const int j = static_cast<int>(std::floor((L.y[idx] - L.gy0) / g.h));
+    if (i < 0 || j < 0 || i >= g.n || j >= g.n) return;  // beyond the interaction distance of the chunk
+    int& c = g.cells[static_cast<std::size_t>(j) * g.n + i];
+    if (c >= 0) throw std::logic_error("PoissonDisk: two points of one class in one grid cell");
+    c = idx;
+  }
+
+  // Grid offsets (nearest first) of the cells of class j that can hold a point conflicting with a class-k
+  // point anywhere in a cell: the cells whose distance to the cell is below the largest conflict distance.
+  std::vector<std::vector<std::vector<std::pair<int, int>>>> offsets;  // [k][j]
+  bool varies = false;
+
+  void make_offsets() {
+    const std::size_t K = p.classes.size();
+    offsets.assign(K, std::vector<std::vector<std::pair<int, int>>>(K));
+    for (std::size_t k = 0; k < K; ++k)
+      for (std::size_t j = 0; j < K; ++j) {
+        const double reach_kj = conflict(static_cast<int>(k), rmax[k], static_cast<int>(j), rmax[j]);
+        if (reach_kj <= 0.0) continue;
+        // Cell sizes differ between classes: measure in class j's cells, from a class-k cell that may span
+        // several of them (the candidate's position is what is looked up, so one cell of class j suffices).
+        const double h = cell[j];
+        const int w = static_cast<int>(std::ceil(reach_kj / h)) + 1;
+        std::vector<std::pair<double, std::pair<int, int>>> list;
+        for (int dj = -w; dj <= w; ++dj)
+          for (int di = -w; di <= w; ++di) {
+            const double dx = std::max(0, std::abs(di) - 1) * h, dy = std::max(0, std::abs(dj) - 1) * h;
+            const double d = std::sqrt(dx * dx + dy * dy);
+            if (d < reach_kj) list.push_back({d, {di, dj}});
+          }
+        std::stable_sort(list.begin(), list.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+        for (const auto& e : list) offsets[k][j].push_back(e.second);
+      }
+  }
+
+  // True if a point of class k with radius rk at (x, y) conflicts with none placed so far.
+  bool free_at(const Local& L, int k, double x, double y, double rk) const {
+    for (int j : order) {
+      const auto& g = L.grids[j];
+      if (g.n == 0) continue;
+      const int ci = static_cast<int>(std::floor((x - L.gx0) / g.h));
+      const int cj = static_cast<int>(std::floor((y - L.gy0) / g.h));
+      for (const auto& [di, dj] : offsets[k][j]) {
+        const int ii = ci + di, jj = cj + dj;
+        if (ii < 0 || jj < 0 || ii >= g.n || jj >= g.n) continue;
+        const int q = g.cells[static_cast<std::size_t>(jj) * g.n + ii];
+        if (q < 0) continue;
+        const double dx = L.x[q] - x, dy = L.y[q] - y;
+        const double c = conflict(k, rk, j, L.r[q]);
+        if (dx * dx + dy * dy < c * c) return false;
+      }
+    }
+    return true;
+  }
+
+  // True if every point of the rectangle lies within the exclusion of the placed points: inside one exclusion
+  // disk, or inside the union of two (two overlapping disks form a simply connected region, so a convex
+  // rectangle whose boundary they cover lies inside them). Then no point of class k, whatever its radius, can
+  // go there. Exact for one and two disks; rectangles that need three are refined further.
+  bool covered(const Local& L, int k, double x0, double y0, double x1, double y1) const {
+    const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+    // A lower bound of the radius a class-k point would have in the rectangle: the smallest at its corners and
+    // centre (the class radius where none of them admits a point).
+    double r0 = p.classes[k].radius;
+    if (varies) {
+      r0 = INFINITY;
+      for (const auto& [px, py] : {std::pair{x0, y0}, {x1, y0}, {x0, y1}, {x1, y1}, {cx, cy}}) {
+        const double r = local_radius(k, px, py);
+        if (r > 0.0) r0 = std::min(r0, r);
+      }
+      if (!std::isfinite(r0)) r0 = p.classes[k].radius;
+    }
+    // The disks that reach the rectangle: first whether one alone holds all four corners (it then holds the
+    // rectangle), then, for pairs, the parameter interval of each edge each disk covers.
+    constexpr int kMaxDisks = 24;
+    int disk[kMaxDisks];
+    double disk_c[kMaxDisks];
+    int count = 0;
+    auto consider = [&](int q, double c) {
+      const double qx = L.x[q], qy = L.y[q], c2 = c * c;
+      const double nx = std::clamp(qx, x0, x1) - qx, ny = std::clamp(qy, y0, y1) - qy;
+      if (nx * nx + ny * ny >= c2) return false;  // does not reach the rectangle
+      const double fx = std::max(qx - x0, x1 - qx), fy = std::max(qy - y0, y1 - qy);
+      if (fx * fx + fy * fy < c2) return true;  // the farthest corner is inside
+      if (count < kMaxDisks) {
+        disk[count] = q;
+        disk_c[count++] = c;
+      }
+      return false;
+    };
+    for (int j : order) {
+      const auto& g = L.grids[j];
+      if (g.n == 0) continue;
+      // The rectangle may straddle class j's cells (other sizes): look around each of its corners' cells.
+      const int ci0 = static_cast<int>(std::floor((x0 - L.gx0) / g.h)), ci1 = static_cast<int>(std::floor((x1 - L.gx0) / g.h));
+      const int cj0 = static_cast<int>(std::floor((y0 - L.gy0) / g.h)), cj1 = static_cast<int>(std::floor((y1 - L.gy0) / g.h));
+      if (ci0 == ci1 && cj0 == cj1) {
+        for (const auto& [di, dj] : offsets[k][j]) {
+          const int ii = ci0 + di, jj = cj0 + dj;
+          if (ii < 0 || jj < 0 || ii >= g.n || jj >= g.n) continue;
+          const int q = g.cells[static_cast<std::size_t>(jj) * g.n + ii];
+          if (q >= 0 && consider(q, conflict(k, r0, j, L.r[q]))) return true;
+        }
+      } else {
+        const int w = static_cast<int>(std::ceil(reach[k] / g.h)) + 1;
+        for (int jj = std::max(cj0 - w, 0); jj <= std::min(cj1 + w, g.n - 1); ++jj)
+          for (int ii = std::max(ci0 - w, 0); ii <= std::min(ci1 + w, g.n - 1); ++ii) {
+            const int q = g.cells[static_cast<std::size_t>(jj) * g.n + ii];
+            if (q >= 0 && consider(q, conflict(k, r0, j, L.r[q]))) return true;
+          }
+      }
+    }
+    if (count < 2) return false;
+    struct Cover {
+      double lo[4], hi[4];
+    };
+    Cover covers[kMaxDisks];
+    const double ex[4][4] = {{x0, y0, x1, y0}, {x1, y0, x1, y1}, {x1, y1, x0, y1}, {x0, y1, x0, y0}};
+    for (int d = 0; d < count; ++d) {
+      const double qx = L.x[disk[d]], qy = L.y[disk[d]], c = disk_c[d];
+      for (int e = 0; e < 4; ++e) {
+        const double ax = ex[e][0] - qx, ay = ex[e][1] - qy, dx = ex[e][2] - ex[e][0], dy = ex[e][3] - ex[e][1];
+        const double aa = dx * dx + dy * dy, bb = ax * dx + ay * dy, cc = ax * ax + ay * ay - c * c;
+        const double disc = bb * bb - aa * cc;
+        if (disc <= 0.0 || aa <= 0.0) {
+          covers[d].lo[e] = 1.0;
+          covers[d].hi[e] = 0.0;
+        } else {
+          const double sq = std::sqrt(disc);
+          covers[d].lo[e] = (-bb - sq) / aa;
+          covers[d].hi[e] = (-bb + sq) / aa;
+        }
+      }
+    }
+    for (int a = 0; a < count; ++a)
+      for (int b = a + 1; b < count; ++b) {
+        bool all = true;
+        for (int e = 0; e < 4 && all; ++e) {
+          double l1 = covers[a].lo[e], h1 = covers[a].hi[e], l2 = covers[b].lo[e], h2 = covers[b].hi[e];
+          if (l1 > l2) {
+            std::swap(l1, l2);
+            std::swap(h1, h2);
+          }
+          const bool single = (l1 < 0.0 && h1 > 1.0) || (l2 < 0.0 && h2 > 1.0);
+          const bool joined = l1 < 0.0 && h1 > l2 && l2 < h2 && std::max(h1, h2) > 1.0;
+          all = single || joined;
+        }
+        if (all) return true;
+      }
+    return false;
+  }
+
+  // Tries to place a class-k point at (x, y) (double); returns its local index or -1.
+  int try_place(Local& L, int k, double x, double y) const {
+    const float fx = static_cast<float>(x), fy = static_cast<float>(y);
+    const double dx = fx, dy = fy;
+    if (!(dx >= L.ax0 && dx < L.ax1 && dy >= L.ay0 && dy < L.ay1)) return -1;
+    const double rk = varies ? local_radius(k, dx, dy) : p.classes[k].radius;
+    if (rk <= 0.0) return -1;
+    const float rf = static_cast<float>(rk);
+    if (!free_at(L, k, dx, dy, rf)) return -1;
+    const int idx = static_cast<int>(L.x.size());
+    L.x.push_back(dx);
+    L.y.push_back(dy);
+    L.r.push_back(rf);
+    L.cls.push_back(k);
+    L.own.push_back(idx);
+    grid_insert(L, idx);
+    return idx;
+  }
+
+  void process(std::int64_t gcx, std::int64_t gcy, int k) {
+    const double C = chunk[k], D = reach[k];
+    Local L;
+    L.ax0 = static_cast<double>(gcx) * C;
+    L.ax1 = static_cast<double>(gcx + 1) * C;
+    L.ay0 = static_cast<double>(gcy) * C;
+    L.ay1 = static_cast<double>(gcy + 1) * C;
+    L.gx0 = L.ax0 - D;
+    L.gy0 = L.ay0 - D;
+    L.grids.resize(p.classes.size());
+    // Grids for the classes placed so far and this one.
+    for (int j : order) {
+      auto& g = L.grids[j];
+      g.h = cell[j];
+      g.n = static_cast<int>(std::ceil((C + 2.0 * D) / g.h)) + 1;
+      g.cells.assign(static_cast<std::size_t>(g.n) * g.n, -1);
+      if (j == k) break;
+    }
+    // Gather the points within the interaction distance of the chunk: this class's from the neighbouring
+    // chunks (earlier phases), the earlier classes' from their final chunks.
+    std::vector<int> active;
+    const double seed_reach = 2.0 * rmax[k];
+    auto gather = [&](const Pt& q) {
+      const double qx = q.x, qy = q.y;
+      if (qx < L.ax0 - D || qx >= L.ax1 + D || qy < L.ay0 - D || qy >= L.ay1 + D) return;
+      const int idx = static_cast<int>(L.x.size());
+      L.x.push_back(qx);
+      L.y.push_back(qy);
+      L.r.push_back(q.r);
+      L.cls.push_back(q.cls);
+      grid_insert(L, idx);
+      if (q.cls == k && qx >= L.ax0 - seed_reach && qx < L.ax1 + seed_reach && qy >= L.ay0 - seed_reach &&
+          qy < L.ay1 + seed_reach)
+        active.push_back(idx);
+    };
+    for (int j : order) {
+      if (j == k) break;
+      const ClassChunks& g = grids[j];
+      const auto i0 = static_cast<std::int64_t>(std::floor((L.ax0 - D) / g.C));
+      const auto i1 = static_cast<std::int64_t>(std::floor((L.ax1 + D) / g.C));
+      const auto j0 = static_cast<std::int64_t>(std::floor((L.ay0 - D) / g.C));
+      const auto j1 = static_cast<std::int64_t>(std::floor((L.ay1 + D) / g.C));
+      for (auto cy = j0; cy <= j1; ++cy)
+        for (auto cx = i0; cx <= i1; ++cx) {
+          if (cx < g.core_x0 || cx > g.core_x1 || cy < g.core_y0 || cy > g.core_y1)
+            throw std::logic_error("PoissonDisk: a chunk reads beyond an earlier class's final chunks");
+          for (const Pt& q : g.at(cx, cy)) gather(q);
+        }
+    }
+    ClassChunks& own = grids[k];
+    for (std::int64_t dy = -1; dy <= 1; ++dy)
+      for (std::int64_t dx = -1; dx <= 1; ++dx)
+        for (const Pt& q : own.at(gcx + dx, gcy + dy)) gather(q);
+    scatter::Draws draw{scatter::hash(p.seed, 0x5CA77E5ull, static_cast<std::uint64_t>(k), scatter::bits(gcx),
+                                      scatter::bits(gcy))};
+    // Bridson: one initial dart into the chunk, then grow from the active points (neighbours' included).
+    for (int t = 0; t < 4; ++t) {
+      const int idx = try_place(L, k, L.ax0 + draw.next() * C, L.ay0 + draw.next() * C);
+      if (idx >= 0) {
+        active.push_back(idx);
+        break;
+      }
+    }
+    while (!active.empty()) {
+      const std::size_t pick = static_cast<std::size_t>(draw.next() * static_cast<double>(active.size()));
+      const int a = active[std::min(pick, active.size() - 1)];
+      const double ra = L.r[a];
+      bool placed = false;
+      for (int t = 0; t < p.attempts; ++t) {
+        // Uniform in the annulus [r, 2r]: rejection from the square [-2r, 2r]^2 (accepts 3 pi / 16).
+        double ox, oy, d2;
+        do {
+          double u, v;
+          draw.next2(u, v);
+          ox = (4.0 * u - 2.0) * ra;
+          oy = (4.0 * v - 2.0) * ra;
+          d2 = ox * ox + oy * oy;
+        } while (d2 < ra * ra || d2 >= 4.0 * ra * ra);
+        const int idx = try_place(L, k, L.x[a] + ox, L.y[a] + oy);
+        if (idx >= 0) {
+          active.push_back(idx);
+          placed = true;
+          break;
+        }
+      }
+      if (!placed) {
+        auto it = std::find(active.begin(), active.end(), a);
+        *it = active.back();
+        active.pop_back();
+      }
+    }
+    if (p.fill_gaps) fill(L, k, draw);
+    // Store this chunk's new points.
+    auto& dst = own.at(gcx, gcy);
+    for (int idx : L.own) dst.push_back({static_cast<float>(L.x[idx]), static_cast<float>(L.y[idx]), L.r[idx], k});
+  }
+
+  // Ebeida et al. (2011): darts into the cells not yet covered by an exclusion disk, then into their quarters.
+  void fill(Local& L, int k, scatter::Draws& draw) const {
+    struct Rect {
+      double x0, y0, x1, y1;
+    };
+    const double h = cell[k];
+    const int n = static_cast<int>(std::ceil(chunk[k] / h));
+    // No point of class k fits at (x, y): excluded by the density or within a placed point's exclusion.
+    auto point_blocked = [&](double x, double y) {
+      const double r = varies ? local_radius(k, x, y) : p.classes[k].radius;
+      return r <= 0.0 || !free_at(L, k, x, y, r);
+    };
+    // Whether a cell may still hold a point: not inside one exclusion disk and, once cells are small (from
+    // level 5, a 32nd of the class cell across and less), not blocked at its corners and centre.
+    auto excluded = [&](double x, double y) { return local_radius(k, x, y) <= 0.0; };
+    auto open = [&](const Rect& c, int level) {
+      // Where the density admits no point at the corners and the centre the cell is dropped (masks: their
+      // borders are resolved to the cell size, not beyond).
+      if (varies) {
+        const double mx = 0.5 * (c.x0 + c.x1), my = 0.5 * (c.y0 + c.y1);
+        if (excluded(mx, my) && excluded(c.x0, c.y0) && excluded(c.x1, c.y0) && excluded(c.x0, c.y1) &&
+            excluded(c.x1, c.y1))
+          return false;
+      }
+      if (covered(L, k, c.x0, c.y0, c.x1, c.y1)) return false;
+      if (level < 5) return true;
+      const double mx = 0.5 * (c.x0 + c.x1), my = 0.5 * (c.y0 + c.y1);
+      return !(point_blocked(mx, my) && point_blocked(c.x0, c.y0) && point_blocked(c.x1, c.y0) &&
+               point_blocked(c.x0, c.y1) && point_blocked(c.x1, c.y1));
+    };
+    std::vector<Rect> cells, next;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        Rect c{L.ax0 + i * h, L.ay0 + j * h, std::min(L.ax0 + (i + 1) * h, L.ax1),
+               std::min(L.ay0 + (j + 1) * h, L.ay1)};
+        if (c.x1 > c.x0 && c.y1 > c.y0 && open(c, 0)) cells.push_back(c);
+      }
+    constexpr int kLevels = 8;
+    for (int level = 0; level <= kLevels && !cells.empty(); ++level) {
+      for (const Rect& c : cells) try_place(L, k, c.x0 + draw.next() * (c.x1 - c.x0), c.y0 + draw.next() * (c.y1 - c.y0));
+      if (level == kLevels) {
+        for (const Rect& c : cells) try_place(L, k, 0.5 * (c.x0 + c.x1), 0.5 * (c.y0 + c.y1));
+        break;
+      }
+      next.clear();
+      for (const Rect& c : cells) {
+        if (covered(L, k, c.x0, c.y0, c.x1, c.y1)) continue;
+        const double mx = 0.5 * (c.x0 + c.x1), my = 0.5 * (c.y0 + c.y1);
+        const Rect q[4] = {{c.x0, c.y0, mx, my}, {mx, c.y0, c.x1, my}, {c.x0, my, mx, c.y1}, {mx, my, c.x1, c.y1}};
+        for (const Rect& sub : q)
+          if (open(sub, level + 1)) next.push_back(sub);
+      }
+      std::swap(cells, next);
+      // Safety: a pathological field could keep cells open at every level; stop refining then.
+      if (cells.size() > 4 * (static_cast<std::size_t>(n) * n + 16)) break;
+    }
+  }
+};
+
+}  // namespace
+
+double poisson_conflict_distance(const PoissonParams& p, int a, double ra, int b, double rb) {
+  return a == b ? std::max(ra, rb) : p.cross_separation * 0.5 * (ra + rb);
+}
+
+double poisson_local_radius(const PoissonParams& p, int k, double x, double y) {
+  Sampler s(p);
+  return s.local_radius(k, x, y);
+}
+
+namespace {
+
+// Per-class chunk sides, reaches and final margins (see poisson_disk).
+void setup(Sampler& s, const PoissonParams& p) {
+  const std::size_t K = p.classes.size();
+  s.order.resize(K);
+  std::iota(s.order.begin(), s.order.end(), 0);
+  std::stable_sort(s.order.begin(), s.order.end(),
+                   [&](int a, int b) { return p.classes[a].radius > p.classes[b].radius; });
+  s.rank.assign(K, 0);
+  for (std::size_t o = 0; o < K; ++o) s.rank[s.order[o]] = static_cast<int>(o);
+  const bool varies = p.density || p.mask ||
+                      std::any_of(p.classes.begin(), p.classes.end(), [](const auto& c) { return c.density; });
+  s.rmax.clear();
+  s.cell.clear();
+  for (std::size_t k = 0; k < K; ++k) {
+    const double r = p.classes[k].radius;
+    s.rmax.push_back(varies ? r / std::sqrt(p.min_density) : r);
+    s.cell.push_back(r / std::sqrt(2.0) * (1.0 - 1e-6));
+  }
+  s.varies = varies;
+  s.make_offsets();
+  s.chunk.assign(K, 0.0);
+  s.reach.assign(K, 0.0);
+  for (std::size_t o = 0; o < K; ++o) {
+    const int k = s.order[o];
+    double d = s.rmax[k];
+    for (std::size_t e = 0; e < o; ++e) d = std::max(d, s.conflict(k, s.rmax[k], s.order[e], s.rmax[s.order[e]]));
+    s.reach[k] = d;
+    s.chunk[k] = std::max(2.0 * s.rmax[k], 8.0 * p.classes[k].radius);
+  }
+}
+
+// Metres around the request within which class order[o] must be final: a later class computes chunks up to
+// four of its chunks beyond its own final rectangle and reads earlier classes within its reach of them.
+std::vector<double> margins(const Sampler& s) {
+  const std::size_t K = s.order.size();
+  std::vector<double> m(K, 0.0);
+  for (std::size_t o = K - 1; o-- > 0;) {
+    const int next = s.order[o + 1];
+    m[o] = (m[o + 1] + 4.0 * s.chunk[next] + s.reach[next]) * (1.0 + 1e-9) + 1e-9;
+  }
+  return m;
+}
+
+}  // namespace
+
+PoissonLayout poisson_layout(const PoissonParams& p) {
+  Sampler s(p);
+  setup(s, p);
+  PoissonLayout l;
+  for (double r : s.reach) l.interaction = std::max(l.interaction, r);
+  for (double c : s.chunk) l.chunk = std::max(l.chunk, c);
+  const auto m = margins(s);
+  l.halo = m.empty() ? 0.0 : m[0] + 4.0 * s.chunk[s.order[0]];
+  return l;
+}
+
+Points poisson_disk(glm::dvec2 lo, glm::dvec2 hi, const PoissonParams& p, const ExecContext* ctx) {
+  if (p.classes.empty()) throw std::invalid_argument("PoissonDisk: no classes");
+  for (const auto& c : p.classes)
+    if (!(c.radius > 0.0) || !std::isfinite(c.radius)) throw std::invalid_argument("PoissonDisk: radius must be > 0");
+  if (!(p.min_density > 0.0 && p.min_density <= 1.0))
+    throw std::invalid_argument("PoissonDisk: min_density must be in (0, 1]");
+  if (!(p.cross_separation >= 0.0 && p.cross_separation <= 1.0))
+    throw std::invalid_argument("PoissonDisk: cross_separation must be in [0, 1]");
+  if (p.attempts < 1) throw std::invalid_argument("PoissonDisk: attempts must be >= 1");
+
+  Sampler s(p);
+  setup(s, p);
+  const std::size_t K = p.classes.size();
+  const auto margin = margins(s);
+
+  // Requests the sampler cannot honour: float positions too coarse for the radius, or too many points.
+  double rmin = INFINITY;
+  for (const auto& c : p.classes) rmin = std::min(rmin, c.radius);
+  const double halo = margin[0] + 5.0 * s.chunk[s.order[0]];
+  const double extent = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(hi.x), std::abs(hi.y)}) + halo;
+  if (!(extent * 0x1.0p-23 <= 0.01 * rmin))
+    throw std::runtime_error("PoissonDisk: coordinates up to " + std::to_string(extent) +
+                             " m are too large for float positions at radius " + std::to_string(rmin) + " m");
+  double estimate = 0.0;
+  for (std::size_t o = 0; o < K; ++o) {
+    const int k = s.order[o];
+    const double grow = 2.0 * (margin[o] + 5.0 * s.chunk[k]);
+    estimate += (hi.x - lo.x + grow) * (hi.y - lo.y + grow) / (0.6 * p.classes[k].radius * p.classes[k].radius);
+  }
+  if (!(estimate <= static_cast<double>(p.max_points)))
+    throw std::runtime_error("PoissonDisk: the request would place about " + std::to_string(estimate) +
+                             " points (limit " + std::to_string(p.max_points) + "); raise the radius");
+
+  s.grids.resize(K);
+  std::vector<std::pair<std::int64_t, std::int64_t>> todo;
+  for (std::size_t o = 0; o < K; ++o) {
+    const int k = s.order[o];
+    ClassChunks& g = s.grids[k];
+    g.C = s.chunk[k];
+    const double M = margin[o];
+    g.core_x0 = static_cast<std::int64_t>(std::floor((lo.x - M) / g.C));
+    g.core_y0 = static_cast<std::int64_t>(std::floor((lo.y - M) / g.C));
+    g.core_x1 = static_cast<std::int64_t>(std::floor((hi.x + M) / g.C));
+    g.core_y1 = static_cast<std::int64_t>(std::floor((hi.y + M) / g.C));
+    // Three rings of phase dependencies and one of empty chunks, so neighbour lookups stay in the window.
+    g.cx0 = g.core_x0 - 4;
+    g.cy0 = g.core_y0 - 4;
+    g.nx = static_cast<int>(g.core_x1 - g.core_x0) + 9;
+    g.ny = static_cast<int>(g.core_y1 - g.core_y0) + 9;
+    g.chunks.resize(static_cast<std::size_t>(g.nx) * g.ny);
+    for (int phase = 0; phase < 4; ++phase) {
+      const int ring = 3 - phase;
+      todo.clear();
+      for (auto cy = g.core_y0 - ring; cy <= g.core_y1 + ring; ++cy)
+        for (auto cx = g.core_x0 - ring; cx <= g.core_x1 + ring; ++cx)
+          if (static_cast<int>((cx & 1) + 2 * (cy & 1)) == phase) todo.emplace_back(cx, cy);
+      const double step = static_cast<double>(o * 4 + phase);
+      for_each_row(ctx, static_cast<int>(todo.size()), [&](int t) { s.process(todo[t].first, todo[t].second, k); },
+                   step / (4.0 * K), (step + 1.0) / (4.0 * K));
+    }
+  }
+
+  // Output: the points inside [lo, hi], class by class (largest first), chunk rows first.
+  Points out;
+  auto& radius = out.attribute("radius");
+  for (int k : s.order) {
+    const ClassChunks& g = s.grids[k];
+    const auto i0 = static_cast<std::int64_t>(std::floor(lo.x / g.C)), i1 = static_cast<std::int64_t>(std::floor(hi.x / g.C));
+    const auto j0 = static_cast<std::int64_t>(std::floor(lo.y / g.C)), j1 = static_cast<std::int64_t>(std::floor(hi.y / g.C));
+    for (auto cy = j0; cy <= j1; ++cy)
+      for (auto cx = i0; cx <= i1; ++cx)
+        for (const Pt& q : g.at(cx, cy)) {
+          const double x = q.x, y = q.y;
+          if (x < lo.x || x > hi.x || y < lo.y || y > hi.y) continue;
+          out.position.emplace_back(q.x, q.y, 0.0f);
+          const double yaw =
+              2.0 * kPi * scatter::unit(scatter::hash(p.seed, 0x7A3ull, scatter::bits(q.x), scatter::bits(q.y)));
+          out.rotation.push_back(glm::angleAxis(static_cast<float>(yaw), glm::vec3(0.0f, 0.0f, 1.0f)));
+          out.scale.emplace_back(1.0f);
+          out.class_id.push_back(p.classes[q.cls].class_id);
+          radius.push_back(q.r);
+        }
+  }
+  return out;
+}
+
+}  // namespace orogen

@@ -1,0 +1,95 @@
+// PoissonDisk: the node over poisson_disk().
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "graph/exec_context.h"
+#include "graph/registry.h"
+#include "nodes/scatter/poisson_disk.h"
+
+namespace orogen {
+
+inline constexpr int kPoissonSlots = 4;
+
+OROGEN_NODE(PoissonDisk) {
+  b.reach_global();  // outputs points, not a field
+  b.category("scatter").description(
+      "Blue-noise placement: Bridson (2007), \"Fast Poisson disk sampling in arbitrary dimensions\" (k "
+      "candidates in the annulus [r, 2r], background grid of cell r/sqrt 2), run over world-space chunks in the "
+      "phase order of Wei (2008), \"Parallel Poisson disk sampling\", and completed by the gap filling of Ebeida "
+      "et al. (2011), \"Efficient maximal Poisson-disk sampling\", so the sampling is maximal. Up to four "
+      "classes (class ids first_class + 0..3), largest radius first; two classes keep cross_separation * (r_i + r_j) / 2 apart. "
+      "A density field makes the radius variable (r / sqrt(density)), so counts follow the density. Tile "
+      "invariant and resolution independent: the points inside any rectangle are the same whichever domain "
+      "asks, at any raster resolution and thread count (density fields must then cover the requested domain "
+      "plus the halo of (4 * classes - 1) chunks of max(2 r_max, 8 r_min)). Output attribute: radius (m).");
+  b.input("density", PortType::Heightfield).optional().description("Density for every class, 0..1 (unitless)");
+  b.input("mask", PortType::Heightfield).optional().description("Points only where mask >= 0.5 (unitless)");
+  for (int k = 0; k < kPoissonSlots; ++k)
+    b.input("density_" + std::to_string(k), PortType::Heightfield)
+        .optional()
+        .description("Density of class " + std::to_string(k) + ", 0..1 (unitless), times the common density");
+  b.input("height", PortType::Heightfield).optional().description("Terrain height (m): sets z of the points");
+  b.output("out", PortType::Points).description("The points, class id 0..class_count-1, attribute radius (m)");
+  b.param_int("class_count", 1).range(1, kPoissonSlots).unit("").description("Number of classes, 1..4");
+  const double defaults[kPoissonSlots] = {5.0, 2.0, 1.0, 0.5};
+  for (int k = 0; k < kPoissonSlots; ++k)
+    b.param_float("radius_" + std::to_string(k), defaults[k])
+        .range(0.01, 1e4)
+        .soft_range(0.1, 100)
+        .unit("m")
+        .description("Minimum distance between two points of class " + std::to_string(k) +
+                     " at density 1, metres in [0.01, 10000]");
+  b.param_float("cross_separation", 1.0).range(0.0, 1.0).unit("").description(
+      "Distance between points of different classes as a fraction of the mean of their radii, 0..1 "
+      "(0: classes ignore each other, like rocks placed beside trees)");
+  b.param_float("min_density", 0.1).range(0.01, 1.0).unit("").description(
+      "Density below which no point is placed, 0.01..1; bounds the largest radius at r / sqrt(min_density)");
+  b.param_int("attempts", 30).range(1, 100).unit("").description(
+      "Bridson's k: candidates tried around an active point before it retires, 1..100");
+  b.param_bool("fill_gaps", true).description(
+      "Fill the gaps Bridson's sampling leaves (Ebeida et al. 2011) so no further point fits");
+  b.param_int("first_class", 0).range(0, 1000000).unit("").description(
+      "Class id of the first class; class k gets first_class + k, 0..1e6");
+  b.param_seed("seed", 0).description("Every draw hashes (seed, class, world chunk, counter)");
+  b.execute([](ExecContext& ctx) {
+    PoissonParams p;
+    const int count = static_cast<int>(ctx.param<std::int64_t>("class_count"));
+    std::vector<HeightfieldPtr> keep;
+    for (int k = 0; k < count; ++k) {
+      PoissonClass c;
+      c.radius = ctx.param<double>("radius_" + std::to_string(k));
+      c.class_id = static_cast<std::int32_t>(ctx.param<std::int64_t>("first_class") + k);
+      auto d = ctx.input<Heightfield>("density_" + std::to_string(k));
+      c.density = d.get();
+      keep.push_back(d);
+      p.classes.push_back(c);
+    }
+    const auto density = ctx.input<Heightfield>("density");
+    const auto mask = ctx.input<Heightfield>("mask");
+    const auto height = ctx.input<Heightfield>("height");
+    p.density = density.get();
+    p.mask = mask.get();
+    p.cross_separation = ctx.param<double>("cross_separation");
+    p.min_density = ctx.param<double>("min_density");
+    p.attempts = static_cast<int>(ctx.param<std::int64_t>("attempts"));
+    p.fill_gaps = ctx.param<bool>("fill_gaps");
+    p.seed = ctx.param<std::uint64_t>("seed");
+    auto out = std::make_shared<Points>();
+    try {
+      *out = poisson_disk(ctx.domain().min_corner(), ctx.domain().max_corner(), p, &ctx);
+    } catch (const std::invalid_argument& e) {
+      throw NodeError(e.what());
+    } catch (const std::runtime_error& e) {
+      throw NodeError(e.what());
+    }
+    if (height)
+      for (auto& q : out->position) {
+        const float z = height->sample_world(q.x, q.y);
+        q.z = std::isfinite(z) ? z : 0.0f;
+      }
+    ctx.set_output("out", out);
+  });
+}
+
+}  // namespace orogen

@@ -1,0 +1,48 @@
+#pragma once
+// Counter-based randomness for the scatter family: every draw is a pure function of (seed, integers), so a
+// point gets the same value whichever tile, domain, thread or evaluation order asks for it.
+#include <bit>
+#include <cstdint>
+
+namespace orogen::scatter {
+
+// SplitMix64 finaliser (Steele, Lea & Flood 2014): a bijective 64-bit mixer with full avalanche.
+constexpr std::uint64_t mix64(std::uint64_t z) {
+  z += 0x9E3779B97F4A7C15ull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+// Hash of a tuple of integers under `key` (order matters).
+constexpr std::uint64_t hash(std::uint64_t key, std::uint64_t a) { return mix64(key ^ mix64(a)); }
+constexpr std::uint64_t hash(std::uint64_t key, std::uint64_t a, std::uint64_t b) { return hash(hash(key, a), b); }
+constexpr std::uint64_t hash(std::uint64_t key, std::uint64_t a, std::uint64_t b, std::uint64_t c) {
+  return hash(hash(hash(key, a), b), c);
+}
+constexpr std::uint64_t hash(std::uint64_t key, std::uint64_t a, std::uint64_t b, std::uint64_t c, std::uint64_t d) {
+  return hash(hash(hash(hash(key, a), b), c), d);
+}
+
+// The top 53 bits of a hash as a double in [0, 1).
+constexpr double unit(std::uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-53; }
+
+// Signed integers as hash inputs (two's complement bits).
+constexpr std::uint64_t bits(std::int64_t v) { return static_cast<std::uint64_t>(v); }
+inline std::uint64_t bits(double v) { return std::bit_cast<std::uint64_t>(v + 0.0); }  // +0.0: -0 == 0
+inline std::uint64_t bits(float v) { return std::bit_cast<std::uint32_t>(v + 0.0f); }
+
+// A stream of draws: (key, counter) -> hash. Sequential use only.
+struct Draws {
+  std::uint64_t key;
+  std::uint64_t counter = 0;
+  double next() { return unit(hash(key, counter++)); }
+  // Two values in [0, 1) with 32 bits each from one hash.
+  void next2(double& a, double& b) {
+    const std::uint64_t h = hash(key, counter++);
+    a = static_cast<double>(h >> 32) * 0x1.0p-32;
+    b = static_cast<double>(h & 0xFFFFFFFFull) * 0x1.0p-32;
+  }
+};
+
+}  // namespace orogen::scatter

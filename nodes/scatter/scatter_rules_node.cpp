@@ -1,0 +1,94 @@
+// ScatterRules and BiomeScatter: the nodes over scatter_ecosystems() and scatter_biomes().
+#include <stdexcept>
+
+#include "graph/exec_context.h"
+#include "graph/registry.h"
+#include "nodes/scatter/scatter_rules.h"
+
+namespace orogen {
+
+OROGEN_NODE(ScatterRules) {
+  b.reach_global();  // outputs points, not a field
+  b.category("scatter").description(
+      "Ecosystem placement after Hammes (2001), \"Modeling of ecosystems as a data source for real-time terrain "
+      "rendering\", as used by Ekman et al. (2016), \"SeamScape: a procedural generation system for accelerated creation of 3D landscapes\": each ecosystem prefers ranges of "
+      "elevation, relative elevation, slope and skew (1 inside [min, max], a smoothstep to 0 over "
+      "(max - min) / sharpness outside); each plant has a density and a scale range. In every world cell, "
+      "density * area candidates per plant at hashed positions; a candidate stays if the ecosystem drawn by "
+      "roulette over the memberships at its position is its own. Every draw hashes (seed, cell, ecosystem, "
+      "plant, counter): tile invariant. Attribute: ecosystem (row of the table).");
+  b.input("in", PortType::Heightfield).description("Terrain heights, metres");
+  b.input("relative_height", PortType::Heightfield).optional().description(
+      "Height above the local mean (m), e.g. height minus a blurred height; 0 if unconnected");
+  b.input("slope", PortType::Heightfield).optional().description(
+      "Slope as rise over run (unitless); from the height's gradient if unconnected");
+  b.output("out", PortType::Points).description("The plants: class ids from the table, scale, yaw, z on the terrain");
+  b.param_string("table", kDefaultEcosystemTable).description(
+      "One ecosystem per line: NAME | elevation MIN MAX SHARPNESS (m) | relative MIN MAX SHARPNESS (m) | slope "
+      "MIN MAX SHARPNESS (rise/run) | skew MIN MAX SHARPNESS (dz/dy) | plant CLASS DENSITY (per m^2, 0..100) "
+      "SCALE_MIN SCALE_MAX | plant ... Variables may be left out. Default: SeamScape's Table 1");
+  b.param_float("cell_size", 10.0).range(0.1, 1e4).unit("m").description(
+      "Side of the world cells candidates are drawn in, metres in [0.1, 10000]");
+  b.param_seed("seed", 0).description("Every draw hashes (seed, cell, ecosystem, plant, counter)");
+  b.execute([](ExecContext& ctx) {
+    const auto height = ctx.require<Heightfield>("in");
+    const auto relative = ctx.input<Heightfield>("relative_height");
+    const auto slope = ctx.input<Heightfield>("slope");
+    EcosystemParams p;
+    TerrainVariables vars{height.get(), relative.get(), slope.get()};
+    p.cell_size = ctx.param<double>("cell_size");
+    p.seed = ctx.param<std::uint64_t>("seed");
+    try {
+      p.ecosystems = parse_ecosystem_table(ctx.param<std::string>("table"));
+      ctx.set_output("out", std::make_shared<Points>(scatter_ecosystems(ctx.domain().min_corner(),
+                                                                        ctx.domain().max_corner(), vars, p, &ctx)));
+    } catch (const std::invalid_argument& e) {
+      throw NodeError(std::string("ScatterRules: ") + e.what());
+    } catch (const std::runtime_error& e) {
+      throw NodeError(std::string("ScatterRules: ") + e.what());
+    }
+  });
+}
+
+OROGEN_NODE(BiomeScatter) {
+  b.reach_global();  // outputs points, not a field
+  b.category("scatter").description(
+      "Per-biome tree placement after Weiss (2015), \"Procedural terrain\" (vegetation "
+      "chapter): in every world cell a plant appears with probability density(biome) * factor, its species "
+      "drawn from the biome's weighted table, at a hashed position in the cell. Every draw hashes (seed, cell): "
+      "tile invariant. Attribute: biome.");
+  b.input("in", PortType::Heightfield).description("Biome id per sample (integer values, nearest sample is used)");
+  b.input("height", PortType::Heightfield).optional().description("Terrain heights (m): sets z");
+  b.output("out", PortType::Points).description("The plants: class ids from the table, scale, yaw");
+  b.param_string("table", "0 0.0\n1 0.2 | 0 1 | 1 1\n2 0.6 | 0 3 | 2 1\n3 0.05 | 3 1").description(
+      "One biome per line: BIOME_ID DENSITY (probability per cell, 0..1) | CLASS WEIGHT | CLASS WEIGHT ...");
+  b.param_float("factor", 1.0).range(0.0, 100.0).unit("").description(
+      "Global density factor multiplying every biome's density, 0..100");
+  b.param_float("cell_size", 4.0).range(0.1, 1e4).unit("m").description(
+      "Side of the world cells (at most one plant each), metres in [0.1, 10000]");
+  b.param_vec2("scale_range", glm::dvec2(0.8, 1.2)).range(0.01, 100.0).unit("").description(
+      "Smallest and largest scale factor, 0.01..100 (uniform between them)");
+  b.param_seed("seed", 0).description("Every draw hashes (seed, cell)");
+  b.execute([](ExecContext& ctx) {
+    const auto biome = ctx.require<Heightfield>("in");
+    const auto height = ctx.input<Heightfield>("height");
+    BiomeScatterParams p;
+    p.factor = ctx.param<double>("factor");
+    p.cell_size = ctx.param<double>("cell_size");
+    const auto sr = ctx.param<glm::dvec2>("scale_range");
+    p.scale_min = std::min(sr.x, sr.y);
+    p.scale_max = std::max(sr.x, sr.y);
+    p.seed = ctx.param<std::uint64_t>("seed");
+    try {
+      p.table = parse_biome_table(ctx.param<std::string>("table"));
+      ctx.set_output("out", std::make_shared<Points>(scatter_biomes(ctx.domain().min_corner(), ctx.domain().max_corner(),
+                                                                    *biome, height.get(), p, &ctx)));
+    } catch (const std::invalid_argument& e) {
+      throw NodeError(std::string("BiomeScatter: ") + e.what());
+    } catch (const std::runtime_error& e) {
+      throw NodeError(std::string("BiomeScatter: ") + e.what());
+    }
+  });
+}
+
+}  // namespace orogen

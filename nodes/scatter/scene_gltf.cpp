@@ -1,0 +1,212 @@
+#include "nodes/scatter/scene_gltf.h"
+
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include <tiny_gltf.h>
+
+namespace orogen {
+namespace {
+
+// Appends raw bytes to buffer 0 (4-byte aligned) and adds a buffer view; returns its index.
+int add_view(tinygltf::Model& m, const void* data, std::size_t bytes, int target) {
+  auto& buf = m.buffers[0].data;
+  while (buf.size() % 4) buf.push_back(0);
+  const std::size_t offset = buf.size();
+  buf.resize(offset + bytes);
+  if (bytes) std::memcpy(buf.data() + offset, data, bytes);
+  tinygltf::BufferView v;
+  v.buffer = 0;
+  v.byteOffset = offset;
+  v.byteLength = bytes;
+  if (target) v.target = target;
+  m.bufferViews.push_back(v);
+  return static_cast<int>(m.bufferViews.size() - 1);
+}
+
+int add_accessor(tinygltf::Model& m, const std::vector<float>& values, int components, int type, int target,
+                 bool minmax = false) {
+  tinygltf::Accessor a;
+  a.bufferView = add_view(m, values.data(), values.size() * sizeof(float), target);
+  a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  a.count = values.size() / static_cast<std::size_t>(components);
+  a.type = type;
+  if (minmax && a.count) {
+    a.minValues.assign(components, INFINITY);
+    a.maxValues.assign(components, -INFINITY);
+    for (std::size_t i = 0; i < a.count; ++i)
+      for (int c = 0; c < components; ++c) {
+        const double v = values[i * components + c];
+        a.minValues[c] = std::min(a.minValues[c], v);
+        a.maxValues[c] = std::max(a.maxValues[c], v);
+      }
+  }
+  m.accessors.push_back(a);
+  return static_cast<int>(m.accessors.size() - 1);
+}
+
+// The mesh as one triangle primitive: POSITION, NORMAL, COLOR_0, uint32 indices. Returns the mesh index.
+int add_mesh(tinygltf::Model& m, const Mesh& mesh, const std::string& name) {
+  const TriMesh& t = mesh.mesh;
+  std::vector<float> pos, nrm, col;
+  pos.reserve(t.n_vertices() * 3);
+  for (auto v : t.vertices()) {
+    const auto p = t.point(v);
+    pos.insert(pos.end(), {p[0], p[1], p[2]});
+    if (t.has_vertex_normals()) {
+      auto n = t.normal(v);
+      const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      if (len > 0 && std::isfinite(len)) n /= len;
+      else n = OpenMesh::Vec3f(0, 0, 1);
+      nrm.insert(nrm.end(), {n[0], n[1], n[2]});
+    }
+    if (t.has_vertex_colors()) {
+      const auto c = t.color(v);
+      col.insert(col.end(), {c[0], c[1], c[2], c[3]});
+    }
+  }
+  std::vector<std::uint32_t> idx;
+  idx.reserve(t.n_faces() * 3);
+  for (auto f : t.faces())
+    for (auto v : t.fv_range(f)) idx.push_back(static_cast<std::uint32_t>(v.idx()));
+  tinygltf::Primitive prim;
+  prim.mode = TINYGLTF_MODE_TRIANGLES;
+  prim.attributes["POSITION"] = add_accessor(m, pos, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
+  if (!nrm.empty()) prim.attributes["NORMAL"] = add_accessor(m, nrm, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER);
+  if (!col.empty()) prim.attributes["COLOR_0"] = add_accessor(m, col, 4, TINYGLTF_TYPE_VEC4, TINYGLTF_TARGET_ARRAY_BUFFER);
+  tinygltf::Accessor ia;
+  ia.bufferView = add_view(m, idx.data(), idx.size() * sizeof(std::uint32_t), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+  ia.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+  ia.count = idx.size();
+  ia.type = TINYGLTF_TYPE_SCALAR;
+  m.accessors.push_back(ia);
+  prim.indices = static_cast<int>(m.accessors.size() - 1);
+  prim.material = 0;
+  tinygltf::Mesh gm;
+  gm.name = name;
+  gm.primitives.push_back(prim);
+  m.meshes.push_back(gm);
+  return static_cast<int>(m.meshes.size() - 1);
+}
+
+int add_node(tinygltf::Model& m, tinygltf::Node n) {
+  m.nodes.push_back(std::move(n));
+  return static_cast<int>(m.nodes.size() - 1);
+}
+
+}  // namespace
+
+std::shared_ptr<Mesh> proxy_mesh() {
+  auto out = std::make_shared<Mesh>();
+  TriMesh& t = out->mesh;
+  const TriMesh::VertexHandle v[6] = {t.add_vertex({0, 0, 0}),    t.add_vertex({0, 0, 1}),   t.add_vertex({0.5f, 0, 0.5f}),
+                                      t.add_vertex({0, 0.5f, 0.5f}), t.add_vertex({-0.5f, 0, 0.5f}), t.add_vertex({0, -0.5f, 0.5f})};
+  const int ring[4] = {2, 3, 4, 5};
+  for (int k = 0; k < 4; ++k) {
+    const auto a = v[ring[k]], b = v[ring[(k + 1) % 4]];
+    t.add_face(v[1], a, b);
+    t.add_face(v[0], b, a);
+  }
+  t.update_normals();
+  for (auto vh : t.vertices()) t.set_color(vh, OpenMesh::Vec4f(0.6f, 0.6f, 0.6f, 1.0f));
+  return out;
+}
+
+std::size_t write_scene_gltf(const SceneContent& scene, const std::filesystem::path& path, bool binary,
+                             const WriteProgress& progress) {
+  tinygltf::Model m;
+  m.asset.version = "2.0";
+  m.asset.generator = "Orogen";
+  m.buffers.resize(1);
+  tinygltf::Material mat;
+  mat.name = "default";
+  mat.pbrMetallicRoughness.baseColorFactor = {1.0, 1.0, 1.0, 1.0};
+  mat.pbrMetallicRoughness.metallicFactor = 0.0;
+  mat.pbrMetallicRoughness.roughnessFactor = 0.9;
+  mat.doubleSided = true;
+  m.materials.push_back(mat);
+
+  tinygltf::Node root;
+  root.name = "orogen";
+  root.rotation = {-std::sqrt(0.5), 0.0, 0.0, std::sqrt(0.5)};  // x, y, z, w: -90 degrees about x (z up -> y up)
+  std::vector<int> children;
+  if (scene.terrain) {
+    tinygltf::Node n;
+    n.name = "terrain";
+    n.mesh = add_mesh(m, *scene.terrain, "terrain");
+    children.push_back(add_node(m, n));
+  }
+  std::size_t instances = 0;
+  if (scene.points) {
+    const Points& pts = *scene.points;
+    pts.check_consistent();
+    bool gpu = false;
+    std::size_t done = 0;
+    for (const auto& [cls, mesh] : scene.meshes) {
+      if (!mesh) continue;
+      std::vector<std::size_t> members;
+      for (std::size_t i = 0; i < pts.size(); ++i)
+        if (pts.class_id[i] == cls) members.push_back(i);
+      if (members.empty()) continue;
+      const std::string name = "class_" + std::to_string(cls);
+      const int mesh_index = add_mesh(m, *mesh, name);
+      if (scene.instancing == SceneInstancing::GpuInstancing) {
+        std::vector<float> tr, rot, sc;
+        for (std::size_t i : members) {
+          const auto& p = pts.position[i];
+          const auto& q = pts.rotation[i];
+          const auto& s = pts.scale[i];
+          tr.insert(tr.end(), {p.x, p.y, p.z});
+          rot.insert(rot.end(), {q.x, q.y, q.z, q.w});
+          sc.insert(sc.end(), {s.x, s.y, s.z});
+        }
+        tinygltf::Value::Object attrs;
+        attrs["TRANSLATION"] = tinygltf::Value(add_accessor(m, tr, 3, TINYGLTF_TYPE_VEC3, 0, true));
+        attrs["ROTATION"] = tinygltf::Value(add_accessor(m, rot, 4, TINYGLTF_TYPE_VEC4, 0));
+        attrs["SCALE"] = tinygltf::Value(add_accessor(m, sc, 3, TINYGLTF_TYPE_VEC3, 0));
+        tinygltf::Value::Object ext;
+        ext["attributes"] = tinygltf::Value(attrs);
+        tinygltf::Node n;
+        n.name = name;
+        n.mesh = mesh_index;
+        n.extensions["EXT_mesh_gpu_instancing"] = tinygltf::Value(ext);
+        children.push_back(add_node(m, n));
+        gpu = true;
+      } else {
+        tinygltf::Node group;
+        group.name = name;
+        for (std::size_t i : members) {
+          const auto& p = pts.position[i];
+          const auto& q = pts.rotation[i];
+          const auto& s = pts.scale[i];
+          tinygltf::Node n;
+          n.mesh = mesh_index;
+          n.translation = {p.x, p.y, p.z};
+          n.rotation = {q.x, q.y, q.z, q.w};
+          n.scale = {s.x, s.y, s.z};
+          group.children.push_back(add_node(m, n));
+          if (++done % 4096 == 0 && progress) progress(0.9 * static_cast<double>(done) / pts.size());
+        }
+        children.push_back(add_node(m, group));
+      }
+      instances += members.size();
+    }
+    if (gpu) m.extensionsUsed.push_back("EXT_mesh_gpu_instancing");
+  }
+  root.children = children;
+  const int root_index = add_node(m, root);
+  tinygltf::Scene s;
+  s.name = "scene";
+  s.nodes = {root_index};
+  m.scenes.push_back(s);
+  m.defaultScene = 0;
+  // Buffers are embedded (base64 in .gltf, the BIN chunk in .glb): the file stands alone.
+  tinygltf::TinyGLTF writer;
+  if (!writer.WriteGltfSceneToFile(&m, path.string(), true, true, !binary, binary))
+    throw FileError("cannot write glTF scene '" + path.string() + "'");
+  if (progress) progress(1.0);
+  return instances;
+}
+
+}  // namespace orogen

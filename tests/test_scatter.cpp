@@ -1,0 +1,672 @@
+// The scatter family: Poisson-disk placement, ecosystem rules, shade, life cycle, scene export.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+
+#include <tbb/global_control.h>
+#include <tiny_gltf.h>
+
+#include "evaluator/run_node.h"
+#include "graph/exec_context.h"
+#include "graph/heightfield.h"
+#include "graph/points.h"
+#include "nodes/scatter/poisson_disk.h"
+#include "nodes/scatter/scatter_rules.h"
+#include "nodes/scatter/scene_gltf.h"
+#include "nodes/scatter/forest.h"
+#include "support/test_paths.h"
+#include "graph/mesh.h"
+
+namespace orogen {
+namespace {
+
+int class_index(const PoissonParams& p, int class_id) {
+  for (std::size_t k = 0; k < p.classes.size(); ++k)
+    if (p.classes[k].class_id == class_id) return static_cast<int>(k);
+  return -1;
+}
+
+// Every pair of points keeps the sampler's conflict distance (brute force, double precision on the stored
+// float positions).
+void expect_min_distance(const Points& pts, const PoissonParams& p) {
+  const auto& radius = pts.attributes.at("radius");
+  std::size_t violations = 0;
+  for (std::size_t a = 0; a < pts.size(); ++a)
+    for (std::size_t b = a + 1; b < pts.size(); ++b) {
+      const double dx = static_cast<double>(pts.position[a].x) - pts.position[b].x;
+      const double dy = static_cast<double>(pts.position[a].y) - pts.position[b].y;
+      const double c = poisson_conflict_distance(p, class_index(p, pts.class_id[a]), radius[a],
+                                                 class_index(p, pts.class_id[b]), radius[b]);
+      if (dx * dx + dy * dy < c * c) ++violations;
+    }
+  EXPECT_EQ(violations, 0u) << "of " << pts.size() << " points";
+}
+
+// Number of random probes in [lo, hi] where a point of class index k could still be placed.
+int free_probes(const Points& pts, const PoissonParams& p, int k, glm::dvec2 lo, glm::dvec2 hi, int probes,
+                unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> ux(lo.x, hi.x), uy(lo.y, hi.y);
+  const auto& radius = pts.attributes.at("radius");
+  int free = 0;
+  for (int t = 0; t < probes; ++t) {
+    const double x = static_cast<float>(ux(rng)), y = static_cast<float>(uy(rng));
+    const double rk = poisson_local_radius(p, k, x, y);
+    if (rk <= 0.0) continue;
+    bool ok = true;
+    for (std::size_t q = 0; q < pts.size() && ok; ++q) {
+      const double dx = pts.position[q].x - x, dy = pts.position[q].y - y;
+      const double c = poisson_conflict_distance(p, k, static_cast<float>(rk), class_index(p, pts.class_id[q]), radius[q]);
+      if (dx * dx + dy * dy < c * c) ok = false;
+    }
+    free += ok;
+  }
+  return free;
+}
+
+PoissonParams one_class(double r, std::uint64_t seed = 7) {
+  PoissonParams p;
+  p.classes = {{r, 0, nullptr}};
+  p.seed = seed;
+  return p;
+}
+
+bool same_points(const Points& a, const Points& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a.position[i] != b.position[i] || a.class_id[i] != b.class_id[i] || a.rotation[i] != b.rotation[i])
+      return false;
+  return true;
+}
+
+Points inside(const Points& pts, glm::dvec2 lo, glm::dvec2 hi) {
+  Points out;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const auto& q = pts.position[i];
+    if (q.x < lo.x || q.x > hi.x || q.y < lo.y || q.y > hi.y) continue;
+    const auto k = out.add(q, pts.class_id[i]);
+    out.rotation[k] = pts.rotation[i];
+  }
+  return out;
+}
+
+// A smooth density over a large world rectangle (covers every request and its halo).
+std::shared_ptr<Heightfield> density_field(double lo_value, double hi_value) {
+  auto h = std::make_shared<Heightfield>(Domain::from_extent({-2000, -2000}, {4000, 4000}, {401, 401}));
+  for (int j = 0; j < h->height(); ++j)
+    for (int i = 0; i < h->width(); ++i) {
+      const double x = h->domain.x(i);
+      h->at(i, j) = static_cast<float>(x < 100.0 ? lo_value : hi_value);
+    }
+  return h;
+}
+
+TEST(PoissonDisk, MinimumDistanceHoldsForEveryPair) {
+  const auto p = one_class(4.0);
+  const Points pts = poisson_disk({0, 0}, {240, 180}, p);
+  EXPECT_GT(pts.size(), 1500u);
+  expect_min_distance(pts, p);
+}
+
+TEST(PoissonDisk, MinimumDistanceHoldsWithVariableRadiusAndClasses) {
+  auto dens = std::make_shared<Heightfield>(Domain::from_extent({-1000, -1000}, {2000, 2000}, {201, 201}));
+  for (int j = 0; j < dens->height(); ++j)
+    for (int i = 0; i < dens->width(); ++i)
+      dens->at(i, j) = static_cast<float>(0.55 + 0.45 * std::sin(dens->domain.x(i) / 37.0) * std::cos(dens->domain.y(j) / 23.0));
+  PoissonParams p;
+  p.classes = {{3.0, 0, nullptr}, {8.0, 1, nullptr}, {1.5, 2, nullptr}};
+  p.density = dens.get();
+  p.cross_separation = 0.6;
+  p.seed = 11;
+  const Points pts = poisson_disk({-50, -30}, {150, 120}, p);
+  std::map<int, int> counts;
+  for (int c : pts.class_id) ++counts[c];
+  EXPECT_EQ(counts.size(), 3u);
+  expect_min_distance(pts, p);
+}
+
+TEST(PoissonDisk, MaximalNoPointCanBeAdded) {
+  const auto p = one_class(3.0, 3);
+  const glm::dvec2 lo{0, 0}, hi{150, 150};
+  const Points pts = poisson_disk(lo, hi, p);
+  // Probes away from the request's edges (points beyond them exist but are not returned).
+  EXPECT_EQ(free_probes(pts, p, 0, lo + 6.0, hi - 6.0, 20000, 1), 0);
+  // Without gap filling Bridson leaves room: the probe test can fail.
+  auto q = p;
+  q.fill_gaps = false;
+  q.attempts = 2;
+  const Points sparse = poisson_disk(lo, hi, q);
+  EXPECT_GT(free_probes(sparse, q, 0, lo + 6.0, hi - 6.0, 20000, 1), 0);
+}
+
+TEST(PoissonDisk, MaximalForEveryClassAndWithDensity) {
+  PoissonParams p;
+  auto dens = density_field(0.3, 1.0);
+  p.classes = {{2.0, 0, nullptr}, {5.0, 1, nullptr}};
+  p.density = dens.get();
+  p.cross_separation = 0.5;
+  p.seed = 5;
+  const glm::dvec2 lo{40, 0}, hi{160, 120};
+  const Points pts = poisson_disk(lo, hi, p);
+  const double margin = 2.0 * 5.0 / std::sqrt(0.1);
+  for (int k = 0; k < 2; ++k) EXPECT_EQ(free_probes(pts, p, k, lo + margin, hi - margin, 8000, 2 + k), 0) << k;
+}
+
+TEST(PoissonDisk, TileInvariantBitForBit) {
+  PoissonParams p;
+  auto dens = density_field(0.4, 0.9);
+  p.classes = {{2.5, 0, nullptr}, {6.0, 1, nullptr}};
+  p.density = dens.get();
+  p.seed = 42;
+  const glm::dvec2 lo{-300, -200}, hi{300, 250};
+  const Points full = poisson_disk(lo, hi, p);
+  for (const auto& [a, b] : std::vector<std::pair<glm::dvec2, glm::dvec2>>{
+           {{-37.5, 12.25}, {61.0, 99.0}}, {{-300, -200}, {-250, -120}}, {{200, 100}, {300, 250}}, {{0, 0}, {40, 40}}}) {
+    const Points part = poisson_disk(a, b, p);
+    const Points expected = inside(full, a, b);
+    EXPECT_GT(part.size(), 10u);
+    EXPECT_TRUE(same_points(part, expected)) << "tile [" << a.x << "," << a.y << "]-[" << b.x << "," << b.y << "]: "
+                                             << part.size() << " vs " << expected.size();
+  }
+}
+
+TEST(PoissonDisk, NodeIsResolutionIndependentAndTileInvariant) {
+  const Domain coarse = Domain::from_extent({1000, -500}, {400, 300}, {65, 49});
+  const Domain fine = Domain::from_extent({1000, -500}, {400, 300}, {257, 193});
+  const std::map<std::string, ParamValue> params{{"class_count", std::int64_t{2}}, {"radius_0", 6.0},
+                                                  {"radius_1", 2.0}, {"seed", std::uint64_t{9}}};
+  const auto a = run_node("PoissonDisk", coarse, params).get<Points>();
+  const auto b = run_node("PoissonDisk", fine, params).get<Points>();
+  EXPECT_GT(a->size(), 1000u);
+  EXPECT_TRUE(same_points(*a, *b));
+  // A tile of the fine lattice.
+  const Domain tile = fine.subdomain(40, 30, 100, 80);
+  const auto t = run_node("PoissonDisk", tile, params).get<Points>();
+  EXPECT_TRUE(same_points(*t, inside(*b, tile.min_corner(), tile.max_corner())));
+}
+
+TEST(PoissonDisk, CrossClassSeparation) {
+  PoissonParams p;
+  p.classes = {{2.0, 0, nullptr}, {6.0, 1, nullptr}};
+  p.seed = 3;
+  auto closest_cross = [&](const Points& pts) {
+    double best = INFINITY;
+    for (std::size_t a = 0; a < pts.size(); ++a)
+      for (std::size_t b = a + 1; b < pts.size(); ++b)
+        if (pts.class_id[a] != pts.class_id[b])
+          best = std::min(best, static_cast<double>(glm::length(glm::vec2(pts.position[a]) - glm::vec2(pts.position[b]))));
+    return best;
+  };
+  for (double cross : {1.0, 0.5}) {
+    p.cross_separation = cross;
+    const Points pts = poisson_disk({0, 0}, {120, 120}, p);
+    const double d = closest_cross(pts);
+    EXPECT_GE(d, cross * 4.0) << cross;
+    EXPECT_LT(d, cross * 4.0 * 1.5) << cross << ": maximal placement fills up to the separation";
+    expect_min_distance(pts, p);
+  }
+  p.cross_separation = 0.0;
+  EXPECT_LT(closest_cross(poisson_disk({0, 0}, {120, 120}, p)), 1.0);
+  // Large classes first: the big class alone and with a small class has the same points.
+  PoissonParams big = p;
+  big.classes = {{6.0, 1, nullptr}};
+  p.cross_separation = 1.0;
+  const Points both = poisson_disk({0, 0}, {120, 120}, p);
+  Points big_of_both;
+  for (std::size_t i = 0; i < both.size(); ++i)
+    if (both.class_id[i] == 1) big_of_both.add(both.position[i], 1);
+  const Points alone = poisson_disk({0, 0}, {120, 120}, big);
+  EXPECT_GT(alone.size(), 100u);
+  EXPECT_GT(big_of_both.size(), alone.size() / 2);
+}
+
+TEST(PoissonDisk, CountsFollowTheDensity) {
+  PoissonParams p = one_class(2.0, 8);
+  auto dens = density_field(0.25, 1.0);  // x < 100: 0.25, else 1
+  p.density = dens.get();
+  const Points pts = poisson_disk({0, 0}, {200, 200}, p);
+  int left = 0, right = 0;
+  for (const auto& q : pts.position) {
+    if (q.x > 10 && q.x < 90) ++left;
+    if (q.x > 110 && q.x < 190) ++right;
+  }
+  const double ratio = static_cast<double>(left) / right;
+  EXPECT_GT(right, 2000);
+  EXPECT_NEAR(ratio, 0.25, 0.03) << left << " / " << right;
+  // Uniform density 1: about 0.7 points per r^2 for maximal Poisson-disk sampling.
+  const double per_r2 = right / (80.0 * 200.0) * 4.0;
+  EXPECT_GT(per_r2, 0.6);
+  EXPECT_LT(per_r2, 0.8);
+}
+
+TEST(PoissonDisk, MaskAndMinDensityRespected) {
+  auto mask = density_field(0.0, 1.0);
+  PoissonParams p = one_class(3.0);
+  p.mask = mask.get();
+  const Points pts = poisson_disk({0, 0}, {200, 100}, p);
+  EXPECT_GT(pts.size(), 300u);
+  for (const auto& q : pts.position) EXPECT_GE(mask->sample_world(q.x, q.y), 0.5f);
+  auto low = density_field(0.05, 1.0);
+  p.mask = nullptr;
+  p.density = low.get();
+  const Points dense_only = poisson_disk({0, 0}, {200, 100}, p);
+  EXPECT_GT(dense_only.size(), 300u);
+  for (const auto& q : dense_only.position) {
+    EXPECT_GE(low->sample_world(q.x, q.y), 0.1f);  // min_density
+    EXPECT_GT(q.x, 90.0f);
+  }
+}
+
+TEST(PoissonDisk, DeterministicForAnyThreadCountAndSeedMatters) {
+  PoissonParams p;
+  auto dens = density_field(0.5, 1.0);
+  p.classes = {{3.0, 0, nullptr}, {1.0, 1, nullptr}};
+  p.density = dens.get();
+  p.seed = 77;
+  Points one, many;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = poisson_disk({0, 0}, {300, 200}, p);
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 4);
+    many = poisson_disk({0, 0}, {300, 200}, p);
+  }
+  EXPECT_TRUE(same_points(one, many));
+  p.seed = 78;
+  EXPECT_FALSE(same_points(one, poisson_disk({0, 0}, {300, 200}, p)));
+}
+
+TEST(PoissonDisk, GuaranteeHoldsAtLargeCoordinates) {
+  // 10 km from the origin a float step is ~1 mm: the radius still holds exactly on the stored floats.
+  const auto p = one_class(0.5, 4);
+  const Points pts = poisson_disk({10000, 10000}, {10030, 10020}, p);
+  EXPECT_GT(pts.size(), 1000u);
+  expect_min_distance(pts, p);
+}
+
+TEST(PoissonDisk, RefusesWhatItCannotHonour) {
+  EXPECT_THROW(poisson_disk({0, 0}, {1e5, 1e5}, one_class(0.01)), std::runtime_error);
+  EXPECT_THROW(poisson_disk({9e11, 0}, {9e11 + 100, 100}, one_class(1.0)), std::runtime_error);
+  EXPECT_THROW(poisson_disk({0, 0}, {10, 10}, one_class(0.0)), std::invalid_argument);
+}
+
+
+// A terrain: flat at 0 m for x < 0, flat at 200 m for x > 100, a ramp in between (slope 2).
+std::shared_ptr<Heightfield> step_terrain() {
+  auto h = std::make_shared<Heightfield>(Domain::from_extent({-300, -300}, {700, 600}, {141, 121}));
+  for (int j = 0; j < h->height(); ++j)
+    for (int i = 0; i < h->width(); ++i) h->at(i, j) = static_cast<float>(std::clamp(h->domain.x(i), 0.0, 100.0) * 2.0);
+  return h;
+}
+
+TEST(ScatterRules, TableSelectsTheEcosystemByElevationAndSlope) {
+  const auto h = step_terrain();
+  EcosystemParams p;
+  p.ecosystems = parse_ecosystem_table(
+      "low  | elevation -10 10 1e9 | slope 0 0.5 1e9 | plant 1 0.02 1 1\n"
+      "high | elevation 150 250 1e9 | slope 0 0.5 1e9 | plant 2 0.01 2 3 | plant 3 0.005 0.5 0.5\n"
+      "ramp | slope 1.5 2.5 1e9 | plant 4 0.02 1 1  # the ramp\n");
+  p.seed = 1;
+  TerrainVariables vars{h.get(), nullptr, nullptr};
+  const Points pts = scatter_ecosystems({-200, -200}, {300, 200}, vars, p);
+  std::map<int, int> counts;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const auto& q = pts.position[i];
+    const int c = pts.class_id[i];
+    ++counts[c];
+    if (c == 1) EXPECT_LT(q.x, 0.5f);
+    if (c == 2 || c == 3) EXPECT_GT(q.x, 99.5f);
+    if (c == 4) EXPECT_TRUE(q.x > -0.5f && q.x < 100.5f) << q.x;
+    if (c == 2) EXPECT_TRUE(pts.scale[i].x >= 2.0f && pts.scale[i].x <= 3.0f);
+    EXPECT_FLOAT_EQ(q.z, h->sample_world(q.x, q.y));
+    // The ecosystem's ranges hold at every point.
+    const auto& e = p.ecosystems[static_cast<std::size_t>(pts.attributes.at("ecosystem")[i])];
+    EXPECT_GT(e.membership(vars.elevation(q.x, q.y), 0.0, vars.slope_at(q.x, q.y), 0.0), 0.0);
+  }
+  // Expected counts: density * area of the region each ecosystem covers (within 5 sigma of a Poisson count).
+  auto near = [](int n, double expected) { EXPECT_NEAR(n, expected, 5.0 * std::sqrt(expected)) << expected; };
+  near(counts[1], 0.02 * 200 * 400);
+  near(counts[2], 0.01 * 200 * 400);
+  near(counts[3], 0.005 * 200 * 400);
+  near(counts[4], 0.02 * 100 * 400);
+}
+
+TEST(ScatterRules, OverlapSharesCandidatesByMembership) {
+  // Two ecosystems that both hold everywhere: each keeps half of its candidates.
+  auto h = step_terrain();
+  EcosystemParams p;
+  p.ecosystems = parse_ecosystem_table("a | plant 0 0.02 1 1\nb | plant 1 0.02 1 1");
+  TerrainVariables vars{h.get(), nullptr, nullptr};
+  const Points pts = scatter_ecosystems({-200, -200}, {-100, 200}, vars, p);
+  int a = 0;
+  for (int c : pts.class_id) a += c == 0;
+  const double expected = 0.5 * 0.02 * 100 * 400;
+  EXPECT_NEAR(a, expected, 5.0 * std::sqrt(expected));
+  EXPECT_NEAR(static_cast<double>(pts.size() - a), expected, 5.0 * std::sqrt(expected));
+}
+
+TEST(ScatterRules, SoftEdgesReachOnlyTheMargin) {
+  const auto h = step_terrain();
+  EcosystemParams p;
+  p.ecosystems = parse_ecosystem_table("mid | elevation 80 120 2 | plant 0 0.05 1 1");  // margin 20 m
+  TerrainVariables vars{h.get(), nullptr, nullptr};
+  const Points pts = scatter_ecosystems({-200, -200}, {300, 200}, vars, p);
+  for (const auto& q : pts.position) EXPECT_TRUE(q.z > 60.0f && q.z < 140.0f) << q.z;
+  int inner = 0;
+  for (const auto& q : pts.position) inner += q.z >= 80.0f && q.z <= 120.0f;
+  EXPECT_GT(inner, 0);
+  EXPECT_LT(inner, static_cast<int>(pts.size()));
+}
+
+TEST(ScatterRules, TileInvariantAndDeterministic) {
+  const auto h = step_terrain();
+  EcosystemParams p;
+  p.ecosystems = parse_ecosystem_table(kDefaultEcosystemTable);
+  p.seed = 5;
+  TerrainVariables vars{h.get(), nullptr, nullptr};
+  const Points full = scatter_ecosystems({-200, -200}, {300, 200}, vars, p);
+  EXPECT_GT(full.size(), 100u);
+  const Points part = scatter_ecosystems({-13.3, 7}, {121, 88}, vars, p);
+  EXPECT_TRUE(same_points(part, inside(full, {-13.3, 7}, {121, 88})));
+  Points one;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = scatter_ecosystems({-200, -200}, {300, 200}, vars, p);
+  }
+  EXPECT_TRUE(same_points(one, full));
+  p.seed = 6;
+  EXPECT_FALSE(same_points(full, scatter_ecosystems({-200, -200}, {300, 200}, vars, p)));
+}
+
+TEST(ScatterRules, BadTablesAreClearErrors) {
+  EXPECT_THROW(parse_ecosystem_table(""), std::invalid_argument);
+  EXPECT_THROW(parse_ecosystem_table("a | elevation 10 0 1"), std::invalid_argument);
+  EXPECT_THROW(parse_ecosystem_table("a | height 0 1 1"), std::invalid_argument);
+  EXPECT_THROW(parse_ecosystem_table("a | plant 1 0.1 1"), std::invalid_argument);
+  EXPECT_THROW(parse_biome_table("1 2.0 | 0 1"), std::invalid_argument);
+  const auto h = step_terrain();
+  EXPECT_THROW(run_node("ScatterRules", h->domain, {{"table", std::string("x | slope 1")}}, {{"in", PortValue(HeightfieldPtr(h))}}),
+               NodeError);
+}
+
+TEST(BiomeScatter, CountsAndSpeciesFollowTheBiomeTable) {
+  // Biome 1 for x < 0, biome 2 for x >= 0.
+  auto biome = std::make_shared<Heightfield>(Domain::from_extent({-200, -200}, {400, 400}, {101, 101}));
+  for (int j = 0; j < biome->height(); ++j)
+    for (int i = 0; i < biome->width(); ++i) biome->at(i, j) = biome->domain.x(i) < 0 ? 1.0f : 2.0f;
+  BiomeScatterParams p;
+  p.table = parse_biome_table("1 0.2 | 0 1 | 1 3\n2 0.5 | 2 1");
+  p.factor = 0.8;
+  p.cell_size = 2.0;
+  const Points pts = scatter_biomes({-150, -150}, {150, 150}, *biome, nullptr, p);
+  std::map<int, int> counts;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    ++counts[pts.class_id[i]];
+    if (pts.class_id[i] == 2) EXPECT_GE(pts.position[i].x, -4.0f);
+    else EXPECT_LE(pts.position[i].x, 4.0f);
+  }
+  const double cells_left = 75.0 * 150.0;  // 150 m x 300 m in 2 m cells
+  auto near = [](int n, double expected) { EXPECT_NEAR(n, expected, 5.0 * std::sqrt(expected)) << expected; };
+  near(counts[0], cells_left * 0.16 * 0.25);
+  near(counts[1], cells_left * 0.16 * 0.75);
+  near(counts[2], cells_left * 0.4);
+}
+
+Points scene_points() {
+  Points pts;
+  for (int i = 0; i < 30; ++i) {
+    const auto k = pts.add({10.0f * i, -5.0f * i, 100.0f + i}, i % 3);
+    pts.rotation[k] = glm::angleAxis(0.1f * i, glm::normalize(glm::vec3(0.2f, 0.1f, 1.0f)));
+    pts.scale[k] = glm::vec3(1.0f + 0.1f * i, 1.0f, 2.0f);
+  }
+  return pts;
+}
+
+tinygltf::Model load_gltf(const std::filesystem::path& path) {
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model m;
+  std::string err, warn;
+  const bool ok = path.extension() == ".glb" ? loader.LoadBinaryFromFile(&m, &err, &warn, path.string())
+                                             : loader.LoadASCIIFromFile(&m, &err, &warn, path.string());
+  EXPECT_TRUE(ok) << err;
+  EXPECT_TRUE(err.empty()) << err;
+  return m;
+}
+
+const float* accessor_floats(const tinygltf::Model& m, int index) {
+  const auto& a = m.accessors.at(index);
+  const auto& v = m.bufferViews.at(a.bufferView);
+  return reinterpret_cast<const float*>(m.buffers.at(v.buffer).data.data() + v.byteOffset + a.byteOffset);
+}
+
+TEST(WriteScene, GpuInstancesLoadBackWithTheirTransforms) {
+  const auto dir = test::scratch_dir("scatter-scene");
+  OutputPolicy policy;
+  policy.output_dir = dir;
+  const auto pts = std::make_shared<Points>(scene_points());
+  const auto rock = proxy_mesh();
+  const Domain d = Domain::from_extent({0, 0}, {100, 100}, {3, 3});
+  for (const std::string file : {"s.glb", "s.gltf"}) {
+    run_node("WriteScene", d, {{"path", file}, {"proxies", false}},
+             {{"in", PortValue(PointsPtr(pts))}, {"mesh_0", PortValue(MeshPtr(rock))}, {"mesh_2", PortValue(MeshPtr(rock))},
+              {"terrain", PortValue(MeshPtr(rock))}},
+             policy);
+    const auto m = load_gltf(dir / file);
+    ASSERT_EQ(m.scenes.size(), 1u);
+    EXPECT_EQ(std::count(m.extensionsUsed.begin(), m.extensionsUsed.end(), "EXT_mesh_gpu_instancing"), 1);
+    int instanced_nodes = 0;
+    std::size_t instances = 0;
+    for (const auto& n : m.nodes) {
+      const auto it = n.extensions.find("EXT_mesh_gpu_instancing");
+      if (it == n.extensions.end()) continue;
+      ++instanced_nodes;
+      const int cls = std::stoi(n.name.substr(6));
+      const auto& attrs = it->second.Get("attributes");
+      const int t = attrs.Get("TRANSLATION").GetNumberAsInt();
+      const int r = attrs.Get("ROTATION").GetNumberAsInt();
+      const int sc = attrs.Get("SCALE").GetNumberAsInt();
+      const std::size_t count = m.accessors[t].count;
+      EXPECT_EQ(m.accessors[r].count, count);
+      EXPECT_EQ(m.accessors[sc].count, count);
+      const float* tp = accessor_floats(m, t);
+      const float* rp = accessor_floats(m, r);
+      const float* sp = accessor_floats(m, sc);
+      std::size_t j = 0;
+      for (std::size_t i = 0; i < pts->size(); ++i) {
+        if (pts->class_id[i] != cls) continue;
+        ASSERT_LT(j, count);
+        EXPECT_EQ(tp[3 * j + 2], pts->position[i].z);
+        EXPECT_EQ(tp[3 * j + 0], pts->position[i].x);
+        EXPECT_EQ(rp[4 * j + 3], pts->rotation[i].w);
+        EXPECT_EQ(sp[3 * j + 0], pts->scale[i].x);
+        ++j;
+      }
+      EXPECT_EQ(j, count);
+      instances += count;
+    }
+    EXPECT_EQ(instanced_nodes, 2);  // classes 0 and 2; class 1 has no mesh and no proxy
+    EXPECT_EQ(instances, 20u);
+  }
+}
+
+TEST(WriteScene, NodeInstancesOnePerPoint) {
+  const auto dir = test::scratch_dir("scatter-scene-nodes");
+  OutputPolicy policy;
+  policy.output_dir = dir;
+  const auto pts = std::make_shared<Points>(scene_points());
+  const Domain d = Domain::from_extent({0, 0}, {100, 100}, {3, 3});
+  run_node("WriteScene", d, {{"path", std::string("n.gltf")}, {"instancing", std::string("nodes")}},
+           {{"in", PortValue(PointsPtr(pts))}}, policy);
+  const auto m = load_gltf(dir / "n.gltf");
+  std::size_t instance_nodes = 0;
+  for (const auto& n : m.nodes)
+    if (n.mesh >= 0 && n.translation.size() == 3) ++instance_nodes;
+  EXPECT_EQ(instance_nodes, pts->size());  // proxies for every class
+  // The root turns z-up into y-up.
+  const auto& root = m.nodes[m.scenes[0].nodes[0]];
+  ASSERT_EQ(root.rotation.size(), 4u);
+  EXPECT_NEAR(root.rotation[0], -std::sqrt(0.5), 1e-12);
+}
+
+TEST(ProjectToTerrain, SetsHeightAndAlignsToTheNormal) {
+  auto h = std::make_shared<Heightfield>(Domain::from_extent({0, 0}, {100, 100}, {51, 51}));
+  for (int j = 0; j < h->height(); ++j)
+    for (int i = 0; i < h->width(); ++i) h->at(i, j) = static_cast<float>(0.5 * h->domain.x(i) + 3.0);  // slope 0.5 in x
+  auto pts = std::make_shared<Points>();
+  pts->add({20, 30, 0});
+  pts->add({70, 10, 0});
+  const auto out = run_node("ProjectToTerrain", h->domain, {{"align", 1.0}, {"offset", 1.0}},
+                            {{"in", PortValue(PointsPtr(pts))}, {"height", PortValue(HeightfieldPtr(h))}})
+                       .get<Points>();
+  EXPECT_NEAR(out->position[0].z, 0.5 * 20 + 3 + 1, 1e-4);
+  EXPECT_NEAR(out->position[1].z, 0.5 * 70 + 3 + 1, 1e-4);
+  const glm::vec3 up = out->rotation[0] * glm::vec3(0, 0, 1);
+  const glm::vec3 n = glm::normalize(glm::vec3(-0.5f, 0.0f, 1.0f));
+  EXPECT_NEAR(glm::dot(up, n), 1.0f, 1e-5f);
+}
+
+TEST(MergePoints, ConcatenatesWithAttributes) {
+  auto a = std::make_shared<Points>();
+  a->add({1, 2, 3}, 4);
+  a->attribute("age")[0] = 7;
+  auto b = std::make_shared<Points>();
+  b->add({5, 6, 7}, 1);
+  b->add({8, 9, 10}, 2);
+  b->attribute("radius", 2.0f);
+  const auto out = run_node("MergePoints", Domain{}, {}, {{"a", PortValue(PointsPtr(a))}, {"b", PortValue(PointsPtr(b))}}).get<Points>();
+  out->check_consistent();
+  ASSERT_EQ(out->size(), 3u);
+  EXPECT_EQ(out->class_id[2], 2);
+  EXPECT_EQ(out->attributes.at("age")[0], 7.0f);
+  EXPECT_EQ(out->attributes.at("age")[1], 0.0f);
+  EXPECT_EQ(out->attributes.at("radius")[0], 0.0f);
+  EXPECT_EQ(out->attributes.at("radius")[2], 2.0f);
+}
+
+TEST(ShadePlacement, ShadowOfOneCrownIsTheExpectedEllipse) {
+  // One crown of radius 3 m centred 10 m above the origin; sun in the south at 45 degrees: on flat ground the
+  // shadow is an ellipse centred 10 m north, semi-axes 3 m (east) and 3 / sin 45 = 4.243 m (north).
+  Points tree;
+  tree.add({0, 0, 0});
+  CanopyParams cp;
+  cp.crown_radius = 3.0;
+  cp.crown_height = 10.0;
+  cp.sun = sun_direction(180.0, 45.0);
+  const Canopy canopy(tree, cp);
+  EXPECT_TRUE(canopy.shaded(0, 10, 0));
+  EXPECT_FALSE(canopy.shaded(0, -10, 0));
+  EXPECT_TRUE(canopy.shaded(0, 10 + 4.1, 0));
+  EXPECT_FALSE(canopy.shaded(0, 10 + 4.4, 0));
+  EXPECT_TRUE(canopy.shaded(0, 10 - 4.1, 0));
+  EXPECT_FALSE(canopy.shaded(0, 10 - 4.4, 0));
+  EXPECT_TRUE(canopy.shaded(2.9, 10, 0));
+  EXPECT_FALSE(canopy.shaded(3.1, 10, 0));
+  // Higher ground is closer to the crown: at z = 5 the shadow centre is 5 m north.
+  EXPECT_TRUE(canopy.shaded(0, 5, 5));
+  EXPECT_FALSE(canopy.shaded(0, 10, 5 + 4.0));
+}
+
+TEST(ShadePlacement, NodeKeepsShadeLoversInShadeAndOthersInSun) {
+  auto trees = std::make_shared<Points>();
+  trees->add({0, 0, 0});
+  trees->add({40, 40, 0});
+  auto cand = std::make_shared<Points>();
+  for (int j = 0; j <= 70; ++j)
+    for (int i = 0; i <= 70; ++i) cand->add({-10.0f + i, -10.0f + j, 0.0f}, 3);
+  const Domain d = Domain::from_extent({-10, -10}, {70, 70}, {71, 71});
+  const std::map<std::string, PortValue> in{{"in", PortValue(PointsPtr(cand))}, {"casters", PortValue(PointsPtr(trees))}};
+  const std::map<std::string, ParamValue> params{{"crown_radius", 3.0}, {"crown_height", 10.0}};
+  const auto shade = run_node("ShadePlacement", d, params, in);
+  auto sun_params = params;
+  sun_params["preference"] = std::string("sun");
+  const auto sun = run_node("ShadePlacement", d, sun_params, in);
+  const auto shaded = shade.get<Points>(0);
+  const auto lit = sun.get<Points>(0);
+  EXPECT_EQ(shaded->size() + lit->size(), cand->size());
+  // Two ellipses of area pi * 3 * 4.243 on a 1 m lattice.
+  EXPECT_NEAR(static_cast<double>(shaded->size()), 2 * 3.14159 * 3 * 4.243, 12.0);
+  for (const auto& q : shaded->position) {
+    const bool near_a = std::hypot(q.x / 3.0, (q.y - 10.0) / 4.243) < 1.0 + 1e-3;
+    const bool near_b = std::hypot((q.x - 40) / 3.0, (q.y - 50.0) / 4.243) < 1.0 + 1e-3;
+    EXPECT_TRUE(near_a || near_b) << q.x << "," << q.y;
+  }
+  for (float v : shaded->attributes.at("shade")) EXPECT_EQ(v, 1.0f);
+  for (float v : lit->attributes.at("shade")) EXPECT_EQ(v, 0.0f);
+  // The shadow map agrees with the point test.
+  const auto map = shade.get<Heightfield>(1);
+  double sum = 0;
+  for (float v : map->data) sum += v;
+  EXPECT_EQ(sum, static_cast<double>(shaded->size()));
+}
+
+Points initial_forest(int n, std::uint64_t seed) {
+  Points p;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 200.0);
+  for (int i = 0; i < n; ++i) p.add({static_cast<float>(u(rng)), static_cast<float>(u(rng)), 0.0f}, i % 2);
+  return p;
+}
+
+TEST(ForestLifeCycle, AgesScalesAndCompetitionHold) {
+  LifeCycleParams p;
+  p.years = 60;
+  p.lo = {0, 0};
+  p.hi = {200, 200};
+  p.seed = 3;
+  p.seed_probability = 0.3;
+  const Points forest = forest_life_cycle(initial_forest(150, 1), p);
+  forest.check_consistent();
+  ASSERT_GT(forest.size(), 50u);
+  const auto& age = forest.attributes.at("age");
+  bool young = false;
+  for (std::size_t i = 0; i < forest.size(); ++i) {
+    EXPECT_LE(age[i], p.max_age);
+    EXPECT_GE(forest.scale[i].x, p.min_scale - 1e-6);
+    EXPECT_LE(forest.scale[i].x, p.max_scale + 1e-6);
+    EXPECT_NEAR(forest.scale[i].x, p.min_scale + std::min(1.0, age[i] / p.maturity_age) * (p.max_scale - p.min_scale), 1e-5);
+    young = young || age[i] < 60;
+    const auto& q = forest.position[i];
+    EXPECT_TRUE(q.x >= 0 && q.x <= 200 && q.y >= 0 && q.y <= 200);
+  }
+  EXPECT_TRUE(young) << "seeds germinated during the run";
+  // Survivors keep the competition spacing (so the population is bounded by a disk packing).
+  for (std::size_t a = 0; a < forest.size(); ++a)
+    for (std::size_t b = a + 1; b < forest.size(); ++b) {
+      const double d = glm::length(glm::dvec2(forest.position[a]) - glm::dvec2(forest.position[b]));
+      EXPECT_GE(d, p.competition * 0.5 * (forest.scale[a].x + forest.scale[b].x) - 1e-3);
+    }
+  const double spacing = p.competition * p.min_scale;
+  EXPECT_LT(forest.size(), 200.0 * 200.0 / (0.5 * spacing * spacing));
+}
+
+TEST(ForestLifeCycle, SameSeedSameForestAndSuitabilityRespected) {
+  LifeCycleParams p;
+  p.years = 40;
+  p.lo = {0, 0};
+  p.hi = {200, 200};
+  p.seed_probability = 0.5;
+  auto suit = std::make_shared<Heightfield>(Domain::from_extent({0, 0}, {200, 200}, {41, 41}));
+  for (int j = 0; j < suit->height(); ++j)
+    for (int i = 0; i < suit->width(); ++i) suit->at(i, j) = suit->domain.x(i) < 100 ? 1.0f : 0.0f;
+  p.suitability = suit.get();
+  const Points initial = initial_forest(100, 2);
+  const Points a = forest_life_cycle(initial, p);
+  const Points b = forest_life_cycle(initial, p);
+  EXPECT_TRUE(same_points(a, b));
+  EXPECT_EQ(a.attributes.at("age"), b.attributes.at("age"));
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a.attributes.at("age")[i] < 40) EXPECT_LT(a.position[i].x, 100.5f) << "a seedling on unsuitable ground";
+  p.seed = 1;
+  EXPECT_FALSE(same_points(a, forest_life_cycle(initial, p)));
+  // Without seeds the population only shrinks.
+  p.seed_probability = 0.0;
+  p.max_age = 1000;
+  EXPECT_LE(forest_life_cycle(initial, p).size(), initial.size());
+}
+
+}  // namespace
+}  // namespace orogen
