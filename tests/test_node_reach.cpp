@@ -1,6 +1,7 @@
 // Reach (graph/node_type.h): every registered node type declares it, and every non-global one keeps it: an
 // evaluation on a sub-domain expanded by its halo reproduces the full-domain result inside the sub-domain
 // bit for bit. Generic over the registry, with inputs generated per port and every enum choice tried.
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <string>
@@ -10,7 +11,9 @@
 
 #include "evaluator/run_node.h"
 #include "field_ops_fixtures.h"
+#include "graph/curves.h"
 #include "graph/heightfield.h"
+#include "graph/polygon_map.h"
 #include "graph/image.h"
 #include "graph/registry.h"
 #include "support/test_paths.h"
@@ -24,7 +27,37 @@ double detail(const Domain& d, int i, int j) {
   return test::hash01(d.first.x + i, d.first.y + j) - 0.5;
 }
 
+// Curves and polygon maps in fixed world coordinates (the same for every domain) over the region the test's
+// domains cover: x in about [-1300, 0], y in about [500, 1600].
+PortValue fixed_curves() {
+  static const CurvesPtr curves = [] {
+    auto c = std::make_shared<Curves>();
+    for (int k = 0; k < 4; ++k) {
+      Curve curve;
+      for (int i = 0; i <= 40; ++i) {
+        const double t = i / 40.0;
+        curve.points.emplace_back(static_cast<float>(-1400.0 + 1500.0 * t), static_cast<float>(450.0 + 300.0 * k + 120.0 * std::sin(7.0 * t + k)),
+                                  static_cast<float>(50.0 * (1.0 - t) + 3.0 * k));
+        curve.width.push_back(static_cast<float>(6.0 + 4.0 * k));
+      }
+      c->curves.push_back(std::move(curve));
+    }
+    return c;
+  }();
+  return PortValue(curves);
+}
+
+PortValue fixed_polygon_map() {
+  static const PolygonMapPtr map = run_node("VoronoiIsland", Domain::from_extent({0, 0}, {1, 1}, {2, 2}),
+                                            {{"min_corner", glm::dvec2(-1500, 300)}, {"size", glm::dvec2(1700, 1500)},
+                                             {"cells", std::int64_t{300}}, {"shape_scale", 1.0}})
+                                       .get<PolygonMap>(0);
+  return PortValue(map);
+}
+
 PortValue input_for(const PortDecl& port, const Domain& d) {
+  if (port.type == PortType::Curves) return fixed_curves();
+  if (port.type == PortType::PolygonMap) return fixed_polygon_map();
   auto h = std::make_shared<Heightfield>(d);
   for (int j = 0; j < d.height(); ++j)
     for (int i = 0; i < d.width(); ++i) {

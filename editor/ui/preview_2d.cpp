@@ -16,11 +16,47 @@ namespace orogen::editor {
 
 namespace {
 
-const Domain* domain_of(const PreviewContent& c) {
+const Domain* domain_of(const PreviewContent& c, Domain& polygon_domain) {
   if (auto* h = std::get_if<HeightfieldPtr>(&c.value); h && *h) return &(*h)->domain;
   if (auto* i = std::get_if<ImagePtr>(&c.value); i && *i) return &(*i)->domain;
   if (c.backdrop) return &c.backdrop->domain;
+  if (auto* m = std::get_if<PolygonMapPtr>(&c.value); m && *m) {
+    // A polygon map without a terrain under it is framed by its own rectangle.
+    const glm::dvec2 size = glm::max((*m)->max_corner - (*m)->min_corner, glm::dvec2(1e-6));
+    polygon_domain = Domain::from_extent((*m)->min_corner, size, {2, 2});
+    return &polygon_domain;
+  }
+  if (auto* cv = std::get_if<CurvesPtr>(&c.value); cv && *cv && (*cv)->vertex_count() > 0) {
+    // Curves without a terrain under them are framed by their bounding box.
+    glm::dvec2 lo(1e300), hi(-1e300);
+    for (const auto& curve : (*cv)->curves)
+      for (const auto& p : curve.points)
+        if (std::isfinite(p.x) && std::isfinite(p.y)) {
+          lo = glm::min(lo, glm::dvec2(p.x, p.y));
+          hi = glm::max(hi, glm::dvec2(p.x, p.y));
+        }
+    if (!(lo.x <= hi.x)) return nullptr;
+    polygon_domain = Domain::from_extent(lo, glm::max(hi - lo, glm::dvec2(1e-6)), {2, 2});
+    return &polygon_domain;
+  }
   return nullptr;
+}
+
+// Biome colours of the island family (A. Patel's palette, in the order of nodes/island/island.h's Biome:
+// snow ... ocean), sRGB.
+constexpr ImU32 kBiomeColors[16] = {
+    IM_COL32(0xff, 0xff, 0xff, 255), IM_COL32(0xbb, 0xbb, 0xaa, 255), IM_COL32(0x88, 0x88, 0x88, 255),
+    IM_COL32(0x55, 0x55, 0x55, 255), IM_COL32(0x99, 0xaa, 0x77, 255), IM_COL32(0x88, 0x99, 0x77, 255),
+    IM_COL32(0xc9, 0xd2, 0x9b, 255), IM_COL32(0x44, 0x88, 0x55, 255), IM_COL32(0x67, 0x94, 0x59, 255),
+    IM_COL32(0x88, 0xaa, 0x55, 255), IM_COL32(0x33, 0x77, 0x55, 255), IM_COL32(0x55, 0x99, 0x44, 255),
+    IM_COL32(0xd2, 0xb9, 0x8b, 255), IM_COL32(0xa0, 0x90, 0x77, 255), IM_COL32(0x33, 0x66, 0x99, 255),
+    IM_COL32(0x44, 0x44, 0x7a, 255)};
+
+// A perceptual ramp (dark blue - teal - yellow) for any other attribute over its range.
+ImU32 ramp_color(float t) {
+  t = std::clamp(t, 0.0f, 1.0f);
+  const float r = 0.27f + t * (0.99f - 0.27f) * t, g = 0.00f + 0.9f * t, b = 0.33f + 0.25f * std::sin(3.14159f * t) - 0.2f * t;
+  return ImColor(r, g, std::clamp(b, 0.0f, 1.0f), 1.0f);
 }
 
 ImU32 marker_color_u32(int cls) {
@@ -109,10 +145,23 @@ void Preview2D::draw(const PreviewContent& content) {
     if (ImGui::Checkbox("hillshade", &shade)) hillshade_choice_ = shade;
     ImGui::SameLine();
   }
-  if (ImGui::Button("Fit") && domain_of(content)) fitted_ = false;
+  if (ImGui::Button("Fit") && domain_of(content, polygon_domain_)) fitted_ = false;
   if (has_range_) {
     ImGui::SameLine();
     ImGui::TextDisabled("%.4g .. %.4g", shown_range_.lo, shown_range_.hi);
+  }
+  if (auto* m = std::get_if<PolygonMapPtr>(&content.value); m && *m && !(*m)->cell_attributes.empty()) {
+    // Which cell attribute colours the cells.
+    const auto& attrs = (*m)->cell_attributes;
+    if (!attrs.count(polygon_attribute_)) polygon_attribute_ = attrs.count("biome") ? "biome" : attrs.begin()->first;
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(140);
+    if (ImGui::BeginCombo("##cell_attribute", polygon_attribute_.c_str())) {
+      for (const auto& [name, values] : attrs)
+        if (ImGui::Selectable(name.c_str(), name == polygon_attribute_)) polygon_attribute_ = name;
+      ImGui::EndCombo();
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Cell attribute coloring the cells (biome: the biome colors)");
   }
   if (content.stale) {
     ImGui::SameLine();
@@ -132,7 +181,7 @@ void Preview2D::draw(const PreviewContent& content) {
   dl->PushClipRect(origin, end, true);
   dl->AddRectFilled(origin, end, IM_COL32(22, 23, 26, 255));
 
-  const Domain* domain = domain_of(content);
+  const Domain* domain = domain_of(content, polygon_domain_);
   if (!domain && !content.error.empty()) {
     ImGui::SetCursorScreenPos({origin.x + 12, origin.y + 12});
     ImGui::PushTextWrapPos(origin.x + size.x - 12 - ImGui::GetWindowPos().x);
@@ -231,10 +280,48 @@ void Preview2D::draw(const PreviewContent& content) {
     }
   } else if (auto* m = std::get_if<PolygonMapPtr>(&content.value); m && *m) {
     const PolygonMap& map = **m;
-    for (const auto& e : map.edges)
-      if (e.corners[0] >= 0 && e.corners[1] >= 0)
-        dl->AddLine(to_screen(map.corners[static_cast<std::size_t>(e.corners[0])].position),
-                    to_screen(map.corners[static_cast<std::size_t>(e.corners[1])].position), IM_COL32(230, 230, 240, 160));
+    const auto corner_at = [&](int q) { return to_screen(map.corners[static_cast<std::size_t>(q)].position); };
+    // Cells filled by the chosen attribute (biome ids in the biome colors, anything else on a ramp).
+    const auto attr = map.cell_attributes.find(polygon_attribute_);
+    const std::vector<float>* values = attr != map.cell_attributes.end() && attr->second.size() == map.cells.size() ? &attr->second : nullptr;
+    float lo = 0.0f, hi = 1.0f;
+    if (values && !values->empty()) {
+      lo = *std::min_element(values->begin(), values->end());
+      hi = *std::max_element(values->begin(), values->end());
+    }
+    const bool biome = polygon_attribute_ == "biome";
+    std::vector<ImVec2> poly;
+    for (std::size_t c = 0; c < map.cells.size(); ++c) {
+      const auto& cell = map.cells[c];
+      if (cell.corners.size() < 3) continue;
+      poly.clear();
+      for (int q : cell.corners) poly.push_back(corner_at(q));
+      ImU32 col = IM_COL32(120, 120, 130, 255);
+      if (values) {
+        const float v = (*values)[c];
+        col = biome ? kBiomeColors[static_cast<unsigned>(std::clamp(static_cast<int>(v), 0, 15))]
+                    : ramp_color(hi > lo ? (v - lo) / (hi - lo) : 0.5f);
+      }
+      dl->AddConvexPolyFilled(poly.data(), static_cast<int>(poly.size()), col);
+    }
+    // Cell outlines when the cells are large enough on screen.
+    const double cell_px = scale_ * std::sqrt(std::max(1e-12, (map.max_corner.x - map.min_corner.x) * (map.max_corner.y - map.min_corner.y) /
+                                                         static_cast<double>(std::max<std::size_t>(1, map.cells.size()))));
+    const auto* ocean = map.cell_attributes.count("ocean") ? &map.cell_attributes.at("ocean") : nullptr;
+    const auto* river = map.edge_attributes.count("river") ? &map.edge_attributes.at("river") : nullptr;
+    for (std::size_t k = 0; k < map.edges.size(); ++k) {
+      const auto& e = map.edges[k];
+      if (e.corners[0] < 0 || e.corners[1] < 0) continue;
+      const ImVec2 a = corner_at(e.corners[0]), b = corner_at(e.corners[1]);
+      const bool coast = ocean && ocean->size() == map.cells.size() && e.cells[0] >= 0 && e.cells[1] >= 0 &&
+                         ((*ocean)[static_cast<std::size_t>(e.cells[0])] > 0.5f) != ((*ocean)[static_cast<std::size_t>(e.cells[1])] > 0.5f);
+      if (river && river->size() == map.edges.size() && (*river)[k] > 0.0f)
+        dl->AddLine(a, b, IM_COL32(0x22, 0x55, 0x88, 255), std::clamp(1.0f + std::sqrt((*river)[k]), 1.0f, 6.0f));
+      else if (coast)
+        dl->AddLine(a, b, IM_COL32(40, 30, 20, 255), 2.0f);
+      else if (cell_px > 8.0)
+        dl->AddLine(a, b, IM_COL32(20, 20, 24, 70), 1.0f);
+    }
   }
   // Outline of the domain.
   dl->AddRect(to_screen({domain->min_corner().x, domain->max_corner().y}), to_screen({domain->max_corner().x, domain->min_corner().y}),

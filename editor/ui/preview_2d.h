@@ -41,6 +41,8 @@ class Preview2D {
   Domain fitted_domain_;
   bool fitted_ = false;
   glm::dvec2 panel_size_{0.0};
+  std::string polygon_attribute_;  // cell attribute colouring a polygon map ("" = biome if present)
+  Domain polygon_domain_;          // a polygon map's rectangle, when it is what is shown
 };
 
 }  // namespace orogen::editor
