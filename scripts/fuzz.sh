@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang (ASan + UBSan + fuzzer coverage) in build/fuzz and runs each for a
 # share of a fixed time budget (default 60 s in all), from the seed corpora: graphs/*.json for the graph
-# reader, small images of each format for ReadHeightfield, parameter texts for the text grammars.
+# reader, small images of each format for ReadHeightfield, parameter texts for the text grammars, and the
+# L-system grammars of graphs/plants.json for LSystem.
 #   scripts/fuzz.sh [SECONDS]
 # Exits 0 if clang cannot build a fuzzer here (reported; 1 instead when OROGEN_FUZZ_REQUIRED=1, as CI sets it),
 # 1 if a target found a crash (the reproducer is in build/fuzz/artifacts/).
@@ -25,13 +26,15 @@ rm -rf "$probe"
 cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -gline-tables-only" \
   -DCMAKE_C_FLAGS_DEBUG="-O1 -gline-tables-only" -DCMAKE_C_COMPILER="$CC_FUZZ" \
   -DCMAKE_CXX_COMPILER="$CXX_FUZZ" -DOROGEN_FUZZ=ON -DOROGEN_EDITOR=OFF -DOROGEN_BENCH=OFF -DOROGEN_TESTS=OFF
-cmake --build build/fuzz -j"$(nproc)" --target orogen_fuzz_graph_file orogen_fuzz_heightfield_image orogen_fuzz_param_text
+cmake --build build/fuzz -j"$(nproc)" --target orogen_fuzz_graph_file orogen_fuzz_heightfield_image orogen_fuzz_param_text \
+  orogen_fuzz_lsystem
 
 work=build/fuzz/run
-mkdir -p "$work/graph" "$work/image" "$work/param" build/fuzz/artifacts
+mkdir -p "$work/graph" "$work/image" "$work/param" "$work/lsystem" build/fuzz/artifacts
 cp graphs/*.json "$work/graph/"
 bash tests/fuzz/make_image_seeds.sh "$work/image"
 cp tests/fuzz/param_seeds/* "$work/param/" 2>/dev/null || true
+cp tests/fuzz/lsystem_seeds/* "$work/lsystem/"
 
 export ASAN_OPTIONS=detect_leaks=0:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
@@ -42,7 +45,8 @@ run() {  # target corpus seconds [extra args]
     -timeout=20 -artifact_prefix=build/fuzz/artifacts/"$target"- -print_final_stats=1 "$@" 2>&1 | tail -n 12
   return "${PIPESTATUS[0]}"
 }
-half=$((total / 2)); quarter=$((total / 4))
-run orogen_fuzz_graph_file "$work/graph" "$half" -dict=tests/fuzz/graph_file.dict
-run orogen_fuzz_heightfield_image "$work/image" "$quarter"
-run orogen_fuzz_param_text "$work/param" "$((total - half - quarter))" -dict=tests/fuzz/graph_file.dict
+third=$((total / 3)); sixth=$((total / 6))
+run orogen_fuzz_graph_file "$work/graph" "$third" -dict=tests/fuzz/graph_file.dict
+run orogen_fuzz_heightfield_image "$work/image" "$sixth"
+run orogen_fuzz_param_text "$work/param" "$sixth" -dict=tests/fuzz/graph_file.dict
+run orogen_fuzz_lsystem "$work/lsystem" "$((total - third - 2 * sixth))"
