@@ -155,7 +155,9 @@ TEST(Sun, HorizonSweepMatchesRayMarch) {
       }
     EXPECT_GT(compared, 800) << az;
     EXPECT_LE(disagree, compared / 100) << "azimuth " << az << " max error " << max_err << " deg";
-    if (spacing == 5.0) EXPECT_LT(max_err, 1.5) << "azimuth " << az;
+    if (spacing == 5.0) {
+      EXPECT_LT(max_err, 1.5) << "azimuth " << az;
+    }
   }
   }
 }
