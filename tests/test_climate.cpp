@@ -11,6 +11,7 @@
 #include "evaluator/run_node.h"
 #include "graph/heightfield.h"
 #include "graph/image.h"
+#include "nodes/climate/biomes.h"
 #include "nodes/climate/resources.h"
 #include "nodes/climate/sun.h"
 #include "support/key_checks.h"
@@ -336,6 +337,51 @@ TEST(ResourceStack, ChannelsAndKeys) {
     expect_every_param_changes_key(type, d);
     expect_every_input_changes_key(type, d);
   }
+}
+
+TEST(Biomes, WhittakerAndIslandTables) {
+  const BiomeTable w = parse_biome_table(builtin_biome_table("whittaker"));
+  auto name = [&](const BiomeTable& t, double T, double M) {
+    const int id = t.classify(T, M);
+    return id < 0 ? std::string("none") : t.names[std::size_t(id)];
+  };
+  EXPECT_EQ(name(w, -10, 300), "tundra");
+  EXPECT_EQ(name(w, 0, 800), "boreal_forest");
+  EXPECT_EQ(name(w, 0, 100), "temperate_grassland_desert");
+  EXPECT_EQ(name(w, 12, 1500), "temperate_seasonal_forest");
+  EXPECT_EQ(name(w, 12, 3000), "temperate_rain_forest");
+  EXPECT_EQ(name(w, 25, 200), "subtropical_desert");
+  EXPECT_EQ(name(w, 25, 1500), "tropical_seasonal_forest_savanna");
+  EXPECT_EQ(name(w, 27, 4000), "tropical_rain_forest");
+  // The whittaker table covers the whole plane.
+  for (double T = -40; T <= 40; T += 0.5)
+    for (double M = 0; M <= 5000; M += 25) ASSERT_GE(w.classify(T, M), 0) << T << " " << M;
+  const BiomeTable is = parse_biome_table(builtin_biome_table("island"));
+  EXPECT_EQ(name(is, -5, 0.9), "snow");
+  EXPECT_EQ(name(is, -5, 0.05), "scorched");
+  EXPECT_EQ(name(is, 20, 0.9), "tropical_rain_forest");
+  EXPECT_EQ(name(is, 10, 0.05), "temperate_desert");
+  EXPECT_EQ(is.classify(10, 0.05), is.classify(4, 0.1)) << "one name, one id";
+}
+
+TEST(Biomes, CustomTableParsingAndErrors) {
+  const BiomeTable t = parse_biome_table("cold, -inf, 0, -inf, inf, #0000ff\n\n warm , 0, inf, 0, inf, #ff0000\n");
+  EXPECT_EQ(t.names.size(), 2u);
+  EXPECT_EQ(t.classify(-3, 5), 0);
+  EXPECT_EQ(t.classify(3, 5), 1);
+  EXPECT_EQ(t.classify(3, -5), -1);
+  EXPECT_NEAR(t.colors[1].r, 1.0f, 1e-6);
+  EXPECT_THROW(parse_biome_table("a, 1, 2, 3, #ffffff"), NodeError);
+  EXPECT_THROW(parse_biome_table("a, 1, x, 3, 4, #ffffff"), NodeError);
+  EXPECT_THROW(parse_biome_table("a, 1, 2, 3, 4, red"), NodeError);
+  EXPECT_THROW(parse_biome_table(""), NodeError);
+  const Domain d = Domain::from_extent({0, 0}, {640, 640}, {17, 17});
+  auto temp = std::make_shared<Heightfield>(make_field(17, 40.0, hills));
+  auto moist = std::make_shared<Heightfield>(d, 900.0f);
+  const auto r = run_node("Biomes", d, {{"moisture_scale", 1.0}}, {{"in", PortValue(HeightfieldPtr(temp))}, {"moisture", PortValue(HeightfieldPtr(moist))}});
+  EXPECT_EQ(r.get<Heightfield>(0)->data.size(), d.sample_count());
+  expect_every_param_changes_key("Biomes", d);
+  expect_every_input_changes_key("Biomes", d);
 }
 
 }  // namespace
