@@ -210,6 +210,26 @@ TEST(Sun, WallShadowsTheSideAwayFromTheSun) {
   EXPECT_LT(d.hours->data[z.index(64, 43)], d.hours->data[z.index(64, 38)]);
 }
 
+TEST(Sun, ConeSouthFaceLitAllDayNorthFaceDark) {
+  // A 45-degree cone, 300 m high: in December at 45 N the sun never climbs above 21.5 degrees, so the north
+  // face (45 degrees, facing away) never sees it and the south face sees it from sunrise to sunset.
+  Heightfield z(Domain::from_extent({0, 0}, {1990, 1990}, {200, 200}));
+  for (int j = 0; j < 200; ++j)
+    for (int i = 0; i < 200; ++i)
+      z.at(i, j) = static_cast<float>(std::max(0.0, 300.0 - std::hypot(z.domain.x(i) - 1000.0, z.domain.y(j) - 1000.0)));
+  SunParams p;
+  p.latitude = 45.0;
+  const int months[] = {12, 6};
+  const auto d = sun_daily(z, p, months);
+  const double dec = day_length_hours(45.0, -23.5), jun = day_length_hours(45.0, 23.5);
+  EXPECT_NEAR(d.hours->pixel(100, 85)[0], dec, 1e-4) << "south face, December";
+  EXPECT_NEAR(d.hours->pixel(100, 115)[0], 0.0, 1e-4) << "north face, December";
+  EXPECT_GT(d.hours->pixel(100, 115)[1], 0.5 * jun) << "north face, June (noon sun at 68.5 degrees)";
+  EXPECT_NEAR(d.hours->pixel(10, 10)[0], dec, 1e-4) << "open plain";
+  EXPECT_LT(d.hours->pixel(100, 140)[0], dec - 1.0) << "plain north of the cone: in its shadow part of the day";
+  EXPECT_NEAR(d.hours->pixel(100, 60)[0], dec, 1e-4) << "plain south of the cone";
+}
+
 TEST(Sun, BitIdenticalAcrossThreadCounts) {
   const Heightfield z = make_field(80, 10.0, hills);
   SunParams p;
