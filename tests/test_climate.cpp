@@ -230,6 +230,34 @@ TEST(Sun, ConeSouthFaceLitAllDayNorthFaceDark) {
   EXPECT_NEAR(d.hours->pixel(100, 60)[0], dec, 1e-4) << "plain south of the cone";
 }
 
+TEST(Sun, HighSunShortcutEqualsTheSweep) {
+  // A gentle terrain (slopes under about 25 degrees) at 30 N in June: around noon the sun is above any
+  // possible horizon and sun_daily skips the sweep; lit hours must equal the sweep's everywhere.
+  Heightfield z = make_field(64, 10.0, hills);
+  for (auto& v : z.data) v *= 0.25f;
+  SunParams p;
+  p.latitude = 30.0;
+  const int months[] = {6};
+  const auto d = sun_daily(z, p, months);
+  const double decl = declination_deg(6), h0 = sunset_hour_angle_deg(30.0, decl) / 15.0;
+  std::vector<float> hours(z.data.size(), 0.0f);
+  for (int k = 0; k < 24; ++k) {
+    const double a = std::max(12.0 - h0, double(k)), b = std::min(12.0 + h0, k + 1.0);
+    if (!(b > a)) continue;
+    const glm::dvec3 s = sun_direction(30.0, decl, 0.5 * (a + b));
+    const auto th = horizon_tangent(z, {s.x, s.y});
+    const float tan_e = static_cast<float>(s.z / std::hypot(s.x, s.y));
+    for (std::size_t c = 0; c < hours.size(); ++c)
+      if (tan_e > th[c]) hours[c] += static_cast<float>(b - a);
+  }
+  int shaded = 0;
+  for (std::size_t c = 0; c < hours.size(); ++c) {
+    ASSERT_EQ(d.hours->data[c], hours[c]) << c;
+    shaded += hours[c] < 13.5f;
+  }
+  EXPECT_GT(shaded, 0) << "the low sun must still cast some shadows on this terrain";
+}
+
 TEST(Sun, BitIdenticalAcrossThreadCounts) {
   const Heightfield z = make_field(80, 10.0, hills);
   SunParams p;

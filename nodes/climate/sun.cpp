@@ -72,53 +72,84 @@ void sweep_horizon(const Heightfield& z, glm::dvec2 toward, const ExecContext* c
   const double span = (A - 1) * m;
   const int l0 = static_cast<int>(std::floor(-std::max(0.0, span))) - 1;
   const int l1 = B + static_cast<int>(std::ceil(-std::min(0.0, span))) + 1;
-  const std::size_t stride = static_cast<std::size_t>(A);
-  constexpr float kOutside = std::numeric_limits<float>::quiet_NaN();  // line sample outside the grid
-  std::vector<float> T(static_cast<std::size_t>(l1 - l0 + 1) * stride, kOutside);
+  // T: the horizon tangent of line l at step s (NaN where the line is outside the grid), laid out so the
+  // gather, which walks the cells of a grid row, reads it almost sequentially: line-major when the lines run
+  // along x (a grid row crosses the lines slowly), step-major when they run along y.
+  const std::size_t L = static_cast<std::size_t>(l1 - l0 + 1);
+  const std::size_t line_stride = major_x ? static_cast<std::size_t>(A) : 1;
+  const std::size_t step_stride = major_x ? 1 : L;
+  constexpr float kOutside = std::numeric_limits<float>::quiet_NaN();
+  std::vector<float> T(L * static_cast<std::size_t>(A), kOutside);
   auto height = [&](int a, int b) { return major_x ? z.at(a, b) : z.at(b, a); };
+  constexpr int kLines = 16;  // lines swept together by one task
 
-  tbb::parallel_for(tbb::blocked_range<int>(l0, l1 + 1, 16), [&](const tbb::blocked_range<int>& range) {
+  tbb::parallel_for(tbb::blocked_range<int>(l0, l1 + 1, kLines), [&](const tbb::blocked_range<int>& range) {
     if (ctx) ctx->check_cancelled();
-    std::vector<double> hu(stride), hz(stride);
-    for (int l = range.begin(); l != range.end(); ++l) {
-      float* out = T.data() + static_cast<std::size_t>(l - l0) * stride;
-      std::size_t n = 0;
-      for (int s = 0; s < A; ++s) {
-        const double y = l + s * m;
-        if (!(y >= 0.0 && y <= B - 1)) continue;  // the samples inside are contiguous; outside ones are skipped
-        const int a = a_descending ? A - 1 - s : s;
-        const int b0 = std::clamp(static_cast<int>(std::floor(y)), 0, B - 1), b1 = std::min(b0 + 1, B - 1);
-        const double f = std::clamp(y - std::floor(y), 0.0, 1.0);
-        const double zp = f == 0.0 ? height(a, b0) : (1.0 - f) * height(a, b0) + f * height(a, b1);
-        const double u = -(a * ea + y * eb);  // distance away from the sun, increasing along the line
-        while (n >= 2 && (hz[n - 1] - hz[n - 2]) * (u - hu[n - 2]) <= (zp - hz[n - 2]) * (hu[n - 1] - hu[n - 2])) --n;
-        out[s] = n ? static_cast<float>((hz[n - 1] - zp) / (u - hu[n - 1])) : kNone;
-        hu[n] = u;
-        hz[n] = zp;
-        ++n;
+    const int nl = static_cast<int>(range.size());
+    std::vector<double> hu(static_cast<std::size_t>(nl) * static_cast<std::size_t>(A));
+    std::vector<double> hz(hu.size());
+    std::vector<std::size_t> count(static_cast<std::size_t>(nl), 0);
+    for (int s = 0; s < A; ++s) {
+      const int a = a_descending ? A - 1 - s : s;
+      float* out = T.data() + static_cast<std::size_t>(s) * step_stride;
+      // Every line crosses this column at the same fraction f of a cell: y = l + s m = (l + boff) + f.
+      const double sm = s * m, fsm = std::floor(sm), f = sm - fsm;
+      const int boff = static_cast<int>(fsm);
+      const double u_s = -(a * ea + sm * eb);
+      for (int q = 0; q < nl; ++q) {
+        const int l = range.begin() + q;
+        const int b0 = l + boff;
+        if (b0 < 0 || b0 > B - 1 || (b0 == B - 1 && f > 0.0)) continue;  // outside the grid: no sample
+        const double zp = f == 0.0 ? height(a, b0) : (1.0 - f) * height(a, b0) + f * height(a, b0 + 1);
+        const double u = u_s - l * eb;  // distance away from the sun, increasing along the line
+        double* U = hu.data() + static_cast<std::size_t>(q) * static_cast<std::size_t>(A);
+        double* Z = hz.data() + static_cast<std::size_t>(q) * static_cast<std::size_t>(A);
+        std::size_t n = count[static_cast<std::size_t>(q)];
+        while (n >= 2 && (Z[n - 1] - Z[n - 2]) * (u - U[n - 2]) <= (zp - Z[n - 2]) * (U[n - 1] - U[n - 2])) --n;
+        out[static_cast<std::size_t>(l - l0) * line_stride] = n ? static_cast<float>((Z[n - 1] - zp) / (u - U[n - 1])) : kNone;
+        U[n] = u;
+        Z[n] = zp;
+        count[static_cast<std::size_t>(q)] = n + 1;
       }
     }
   });
   if (ctx) ctx->check_cancelled();
-  // Gather: cell (a, b) at step s lies at line coordinate lambda = b - s m between lines floor and floor + 1.
-  tbb::parallel_for(tbb::blocked_range<int>(0, A, 16), [&](const tbb::blocked_range<int>& range) {
-    for (int a = range.begin(); a != range.end(); ++a) {
-      const int s = a_descending ? A - 1 - a : a;
-      for (int b = 0; b < B; ++b) {
-        const double lambda = b - s * m;
-        const int lo = static_cast<int>(std::floor(lambda));
-        const float f = static_cast<float>(lambda - lo);
-        const float t0 = T[static_cast<std::size_t>(lo - l0) * stride + static_cast<std::size_t>(s)];
-        float t = t0;
-        if (f > 0.0f) {
-          const float t1 = T[static_cast<std::size_t>(lo + 1 - l0) * stride + static_cast<std::size_t>(s)];
-          if (std::isnan(t0)) t = t1;  // the line below runs outside the grid here
-          else if (!std::isnan(t1)) t = (std::isinf(t0) || std::isinf(t1)) ? std::max(t0, t1) : (1.0f - f) * t0 + f * t1;
+  // Gather: cell (a, b) at step s lies at line coordinate lambda = b - s m, between lines b + base and
+  // b + base + 1 with base = floor(-s m), at the fraction f = -s m - base (the same for the whole column).
+  auto blend = [](float t0, float t1, float f) {
+    if (!(f > 0.0f)) return t0;
+    if (std::isnan(t0)) return t1;  // the line below runs outside the grid here
+    if (std::isnan(t1)) return t0;
+    return (std::isinf(t0) || std::isinf(t1)) ? std::max(t0, t1) : (1.0f - f) * t0 + f * t1;
+  };
+  std::vector<std::ptrdiff_t> base(static_cast<std::size_t>(A));  // per step: T offset of line b + base at b = 0
+  std::vector<float> frac(static_cast<std::size_t>(A));
+  for (int a = 0; a < A; ++a) {
+    const int s = a_descending ? A - 1 - a : a;
+    const double ms = -s * m, fl = std::floor(ms);
+    base[static_cast<std::size_t>(a)] = static_cast<std::ptrdiff_t>(s) * static_cast<std::ptrdiff_t>(step_stride) +
+                                        static_cast<std::ptrdiff_t>(static_cast<int>(fl) - l0) * static_cast<std::ptrdiff_t>(line_stride);
+    frac[static_cast<std::size_t>(a)] = static_cast<float>(ms - fl);
+  }
+  const std::ptrdiff_t ls = static_cast<std::ptrdiff_t>(line_stride);
+  if (major_x) {  // grid row b: cell (a, b) reads lines b + base(a) and the next at step s(a)
+    tbb::parallel_for(tbb::blocked_range<int>(0, B, 4), [&](const tbb::blocked_range<int>& range) {
+      for (int b = range.begin(); b != range.end(); ++b)
+        for (int a = 0; a < A; ++a) {
+          const float* t = T.data() + base[static_cast<std::size_t>(a)] + b * ls;
+          const float f = frac[static_cast<std::size_t>(a)];
+          fn(z.index(a, b), blend(t[0], f > 0.0f ? t[ls] : t[0], f));
         }
-        fn(major_x ? z.index(a, b) : z.index(b, a), t);
+    });
+  } else {  // grid row a: cells (b, a), b = 0.., read consecutive lines at step s(a)
+    tbb::parallel_for(tbb::blocked_range<int>(0, A, 4), [&](const tbb::blocked_range<int>& range) {
+      for (int a = range.begin(); a != range.end(); ++a) {
+        const float* t = T.data() + base[static_cast<std::size_t>(a)];
+        const float f = frac[static_cast<std::size_t>(a)];
+        for (int b = 0; b < B; ++b) fn(z.index(b, a), blend(t[b], f > 0.0f ? t[b + 1] : t[b], f));
       }
-    }
-  });
+    });
+  }
 }
 
 }  // namespace
@@ -145,8 +176,22 @@ std::vector<glm::vec3> surface_normals(const Heightfield& z, const ExecContext* 
 namespace {
 
 // Adds weight and weight * irradiance * cos(incidence) to every cell lit by the sun in direction s.
-void accumulate_sun(const Heightfield& z, const std::vector<glm::vec3>& normals, glm::dvec3 s, double weight,
-                    double irradiance, float* hours, float* irr, const ExecContext* ctx) {
+// Largest |dz/dx| and |dz/dy| between neighbouring samples. No horizon tangent toward a unit direction d can
+// exceed gx |d.x| + gy |d.y| (every chord of the interpolated lines is an average of steps bounded so), so a
+// sun higher than that lights every cell and needs no sweep.
+glm::dvec2 max_gradient(const Heightfield& z) {
+  double gx = 0.0, gy = 0.0;
+  for (int j = 0; j < z.height(); ++j)
+    for (int i = 0; i < z.width(); ++i) {
+      if (i + 1 < z.width()) gx = std::max(gx, std::abs(static_cast<double>(z.at(i + 1, j)) - z.at(i, j)));
+      if (j + 1 < z.height()) gy = std::max(gy, std::abs(static_cast<double>(z.at(i, j + 1)) - z.at(i, j)));
+      if (std::isnan(z.at(i, j))) return {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+    }
+  return {gx / std::abs(z.domain.spacing.x), gy / std::abs(z.domain.spacing.y)};
+}
+
+void accumulate_sun(const Heightfield& z, const std::vector<glm::vec3>& normals, glm::dvec2 max_grad, glm::dvec3 s,
+                    double weight, double irradiance, float* hours, float* irr, const ExecContext* ctx) {
   if (!(s.z > 0.0)) return;
   const double horiz = std::hypot(s.x, s.y);
   const float w = static_cast<float>(weight);
@@ -158,8 +203,12 @@ void accumulate_sun(const Heightfield& z, const std::vector<glm::vec3>& normals,
       if (cosi > 0.0f) irr[c] += static_cast<float>(weight * irradiance) * cosi;
     }
   };
-  if (horiz < 1e-12) {  // sun at the zenith: nothing casts a shadow
-    for (std::size_t c = 0; c < z.data.size(); ++c) add(c);
+  const double bound = (max_grad.x * std::abs(s.x) + max_grad.y * std::abs(s.y)) / std::max(horiz, 1e-300);
+  if (horiz < 1e-12 || s.z / std::max(horiz, 1e-300) > bound * (1.0 + 1e-6) + 1e-9) {
+    // Sun at the zenith or above every possible horizon: nothing casts a shadow.
+    for_each_row(ctx, z.height(), [&](int j) {
+      for (std::size_t c = z.index(0, j); c < z.index(0, j) + static_cast<std::size_t>(z.width()); ++c) add(c);
+    });
     return;
   }
   const float tan_e = static_cast<float>(s.z / horiz);
@@ -185,6 +234,7 @@ SunDaily sun_daily(const Heightfield& z, const SunParams& p, std::span<const int
   check_params(p);
   SunDaily out{month_image(z.domain, months), month_image(z.domain, months)};
   const auto normals = surface_normals(z, ctx);
+  const glm::dvec2 max_grad = max_gradient(z);
   const std::size_t n = z.data.size();
   const int nm = static_cast<int>(months.size());
   // Months sharing a declination share the computation.
@@ -201,7 +251,7 @@ SunDaily sun_daily(const Heightfield& z, const SunParams& p, std::span<const int
     const double rise = 12.0 - h0, set = 12.0 + h0;
     for (int k = 0; k < steps; ++k) {
       const double a = std::max(rise, k * p.time_step), b = std::min(set, std::min(24.0, (k + 1) * p.time_step));
-      if (b > a) accumulate_sun(z, normals, sun_direction(p.latitude, decl, 0.5 * (a + b)), b - a, p.irradiance,
+      if (b > a) accumulate_sun(z, normals, max_grad, sun_direction(p.latitude, decl, 0.5 * (a + b)), b - a, p.irradiance,
                                 hours.data(), irr.data(), ctx);
       if (ctx) {
         ctx->check_cancelled();
@@ -224,7 +274,7 @@ SunInstant sun_instant(const Heightfield& z, const SunParams& p, int month, doub
   check_params(p);
   SunInstant out{std::make_shared<Heightfield>(z.domain), std::make_shared<Heightfield>(z.domain)};
   const auto normals = surface_normals(z, ctx);
-  accumulate_sun(z, normals, sun_direction(p.latitude, declination_deg(month), hour), 1.0, p.irradiance,
+  accumulate_sun(z, normals, max_gradient(z), sun_direction(p.latitude, declination_deg(month), hour), 1.0, p.irradiance,
                  out.lit->data.data(), out.direct->data.data(), ctx);
   return out;
 }
