@@ -23,6 +23,97 @@ constexpr std::size_t kBlock = 4096;  // cells per partial sum (fixed: results d
 
 float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
+// Nearest centre of `count` cells (features x, uc per cell) among k centres transposed to ct[channel][kp]:
+// float squared distances summed channel by channel; ties go to the lower id. Every variant below performs
+// the same IEEE operations in the same order for each cell (no FMA), so the result does not depend on the
+// variant or the machine. KP > 0: the padded cluster count is known at compile time and four cells are
+// processed together (independent accumulators in registers).
+template <int KP>
+inline __attribute__((always_inline)) void nearest_impl(const float* x, std::size_t count, std::size_t uc, const float* ct,
+                                                        std::size_t kp_runtime, int k, std::int32_t* best_out,
+                                                        float* dist_out) {
+  const std::size_t kp = KP > 0 ? static_cast<std::size_t>(KP) : kp_runtime;
+  auto finish = [&](const float* d, std::size_t q) {
+    int best = 0;
+    float bd = d[0];
+    for (int c = 1; c < k; ++c)
+      if (d[c] < bd) {
+        bd = d[c];
+        best = c;
+      }
+    best_out[q] = best;
+    dist_out[q] = bd;
+  };
+  std::size_t q = 0;
+  if constexpr (KP > 0) {
+    // Four lanes of clusters per vector, P cells at once; every lane does the scalar operations.
+    typedef float V __attribute__((vector_size(16)));
+    constexpr int NV = KP / 4;
+    constexpr int P = KP <= 8 ? 4 : 2;
+    for (; q + P <= count; q += P) {
+      V acc[P][NV];
+      for (int p = 0; p < P; ++p)
+        for (int t = 0; t < NV; ++t) acc[p][t] = V{0.0f, 0.0f, 0.0f, 0.0f};
+      const float* x0 = x + q * uc;
+      for (std::size_t ch = 0; ch < uc; ++ch) {
+        V cv[NV];
+        for (int t = 0; t < NV; ++t) __builtin_memcpy(&cv[t], ct + ch * KP + 4 * t, sizeof(V));
+        for (int p = 0; p < P; ++p) {
+          const float xv = x0[static_cast<std::size_t>(p) * uc + ch];
+          const V xb = {xv, xv, xv, xv};
+          for (int t = 0; t < NV; ++t) {
+            const V e = xb - cv[t];
+            acc[p][t] += e * e;
+          }
+        }
+      }
+      for (int p = 0; p < P; ++p) {
+        float d[KP];
+        for (int t = 0; t < NV; ++t) __builtin_memcpy(d + 4 * t, &acc[p][t], sizeof(V));
+        finish(d, q + static_cast<std::size_t>(p));
+      }
+    }
+  }
+  float d[64 + 4];
+  for (; q < count; ++q) {
+    const float* xq = x + q * uc;
+    for (std::size_t c = 0; c < kp; ++c) d[c] = 0.0f;
+    for (std::size_t ch = 0; ch < uc; ++ch) {
+      const float xv = xq[ch];
+      const float* cc = ct + ch * kp;
+      for (std::size_t c = 0; c < kp; ++c) {
+        const float e = xv - cc[c];
+        d[c] += e * e;
+      }
+    }
+    finish(d, q);
+  }
+}
+
+#define OROGEN_NEAREST(NAME, KP)                                                                            \
+  __attribute__((target_clones("avx2", "default"))) void NAME(const float* x, std::size_t count, std::size_t uc, \
+                                                              const float* ct, std::size_t kp, int k,        \
+                                                              std::int32_t* best, float* dist) {             \
+    nearest_impl<KP>(x, count, uc, ct, kp, k, best, dist);                                                   \
+  }
+OROGEN_NEAREST(nearest_any, 0)
+OROGEN_NEAREST(nearest_4, 4)
+OROGEN_NEAREST(nearest_8, 8)
+OROGEN_NEAREST(nearest_12, 12)
+OROGEN_NEAREST(nearest_16, 16)
+#undef OROGEN_NEAREST
+
+void nearest_centres(const float* x, std::size_t count, std::size_t uc, const float* ct, std::size_t kp, int k,
+                     std::int32_t* best, float* dist) {
+  switch (kp) {
+    case 4: nearest_4(x, count, uc, ct, kp, k, best, dist); break;
+    case 8: nearest_8(x, count, uc, ct, kp, k, best, dist); break;
+    case 12: nearest_12(x, count, uc, ct, kp, k, best, dist); break;
+    case 16: nearest_16(x, count, uc, ct, kp, k, best, dist); break;
+    default: nearest_any(x, count, uc, ct, kp, k, best, dist);
+  }
+}
+
 }  // namespace
 
 glm::vec4 categorical_color(int id) {
@@ -138,10 +229,17 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
   std::vector<double> block_sums(blocks * uk * uc), block_obj(blocks);
   std::vector<std::int64_t> block_counts(blocks * uk), block_changed(blocks);
   std::vector<std::int64_t> counts(uk);
+  // Distances in float, vectorised across clusters: centres transposed to [channel][cluster], padded to 4.
+  const std::size_t kp = (uk + 3) & ~std::size_t{3};
+  std::vector<float> ct(uc * kp, 0.0f);
   for (int it = 0; it < p.max_iterations; ++it) {
+    for (std::size_t c = 0; c < uk; ++c)
+      for (std::size_t ch = 0; ch < uc; ++ch) ct[ch * kp + c] = static_cast<float>(centres[c * uc + ch]);
     // Assignment and per-block sums.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
       if (ctx) ctx->check_cancelled();
+      std::int32_t best_of[kBlock];
+      float dist_of[kBlock];
       for (std::size_t b = r.begin(); b != r.end(); ++b) {
         double* sums = block_sums.data() + b * uk * uc;
         std::int64_t* cnt = block_counts.data() + b * uk;
@@ -149,19 +247,13 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
         std::fill(cnt, cnt + uk, 0);
         double obj = 0.0;
         std::int64_t changed = 0;
-        for (std::size_t q = b * kBlock; q < std::min(n, (b + 1) * kBlock); ++q) {
-          int best = 0;
-          double bd = dist2(q, centres.data());
-          for (int c = 1; c < k; ++c) {
-            const double d = dist2(q, centres.data() + static_cast<std::size_t>(c) * uc);
-            if (d < bd) {
-              bd = d;
-              best = c;
-            }
-          }
+        const std::size_t q0 = b * kBlock, q1 = std::min(n, (b + 1) * kBlock);
+        nearest_centres(x.data() + q0 * uc, q1 - q0, uc, ct.data(), kp, k, best_of, dist_of);
+        for (std::size_t q = q0; q < q1; ++q) {
+          const int best = best_of[q - q0];
           changed += res.labels[q] != best;
           res.labels[q] = best;
-          obj += bd;
+          obj += dist_of[q - q0];
           ++cnt[best];
           double* s = sums + static_cast<std::size_t>(best) * uc;
           const float* xq = x.data() + q * uc;
@@ -185,7 +277,7 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
     }
     res.objective.push_back(obj);
     res.iterations = it + 1;
-    if (changed == 0) {
+    if (static_cast<double>(changed) <= p.tolerance * static_cast<double>(n)) {
       res.converged = true;
       break;
     }
@@ -224,14 +316,15 @@ OROGEN_NODE(KMeansClusters) {
       "the ecosystems of H. Long (2016), Using procedural methods to generate realistic virtual rural worlds "
       "(chapter 4; his weights: slope, temperature and illumination 1, soil humidity 0.1). Initial centres "
       "at equal steps along the terrain diagonal (Long) or by k-means++ from the seed (D. Arthur, S. "
-      "Vassilvitskii (2007), k-means++: the advantages of careful seeding). Iterates until no cell changes "
-      "cluster or max_iterations. Bit-identical for any thread count.");
+      "Vassilvitskii (2007), k-means++: the advantages of careful seeding). Iterates until at most tolerance x the "
+      "cells change cluster (0: none) or max_iterations. Bit-identical for any thread count.");
   b.input("in", PortType::Image).description("Features per cell (ResourceStack.out or any image)");
   b.output("out", PortType::Heightfield).description("Cluster id 0..k-1").kind(OutputKind::Scalar);
   b.output("report", PortType::Report).description("Centres (per channel, feature units), member counts, colors, objective per iteration");
   b.output("color", PortType::Image).description("Cluster colors from a categorical palette, linear RGBA");
   b.param_int("k", 6).range(1, 64).description("Number of clusters, 1..64");
   b.param_int("max_iterations", 100).range(1, 1000).description("Iteration cap, 1..1000");
+  b.param_float("tolerance", 1e-4).range(0.0, 0.5).description("Stop when at most this fraction of the cells changed cluster in an iteration, 0..0.5 (0: until none changes)");
   b.param_enum("init", {"diagonal", "kmeans++"}, "diagonal").description("Initial centres: diagonal (cells at equal steps along the domain diagonal) or kmeans++ (from the seed)");
   b.param_seed("seed", 0).description("Seed of the kmeans++ initialisation");
   b.param_float("weight_slope", 1.0).range(0.0, 1000.0).description("Weight of the 'slope' channel, unitless >= 0");
@@ -244,6 +337,7 @@ OROGEN_NODE(KMeansClusters) {
     KMeansParams p;
     p.k = static_cast<int>(ctx.param<std::int64_t>("k"));
     p.max_iterations = static_cast<int>(ctx.param<std::int64_t>("max_iterations"));
+    p.tolerance = ctx.param<double>("tolerance");
     p.init = ctx.param<std::string>("init") == "kmeans++" ? KMeansInit::PlusPlus : KMeansInit::Diagonal;
     p.seed = ctx.param<std::uint64_t>("seed");
     p.weights = group_weights(img->channel_names, img->channels, ctx.param<double>("weight_slope"),

@@ -5,7 +5,8 @@
 // D(a, b) = sum_c w_c (a_c - b_c)^2, deterministic initial centres along the terrain diagonal or k-means++
 // from a seed (D. Arthur, S. Vassilvitskii (2007), k-means++: the advantages of careful seeding).
 //
-// Deterministic for any thread count: assignment is per cell; the new means are sums over fixed blocks of
+// Iterates until at most `tolerance` x cells change cluster in an assignment (0: none) or max_iterations.
+// Deterministic for any thread count: assignment is per cell (float distances); the new means are sums over fixed blocks of
 // cells reduced in block order, in double precision. Empty clusters keep their centre. Ties go to the lower
 // cluster id. Non-finite features count as 0.
 #include <cstdint>
@@ -25,6 +26,7 @@ enum class KMeansInit { Diagonal, PlusPlus };
 struct KMeansParams {
   int k = 6;
   int max_iterations = 100;
+  double tolerance = 0.0;       // converged when at most this fraction of the cells changed cluster
   KMeansInit init = KMeansInit::Diagonal;
   std::uint64_t seed = 0;
   std::vector<double> weights;  // per channel; empty = all 1
