@@ -3,19 +3,20 @@
 # share of a fixed time budget (default 60 s in all), from the seed corpora: graphs/*.json for the graph
 # reader, small images of each format for ReadHeightfield, parameter texts for the text grammars.
 #   scripts/fuzz.sh [SECONDS]
-# Exits 0 if clang cannot build a fuzzer here (reported), 1 if a target found a crash (the reproducer is in
-# build/fuzz/artifacts/).
+# Exits 0 if clang cannot build a fuzzer here (reported; 1 instead when OROGEN_FUZZ_REQUIRED=1, as CI sets it),
+# 1 if a target found a crash (the reproducer is in build/fuzz/artifacts/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 total="${1:-60}"
 export CCACHE_BASEDIR="$(pwd)"
 CXX_FUZZ="${CXX_FUZZ:-$(command -v clang++-14 || command -v clang++ || true)}"
 CC_FUZZ="${CC_FUZZ:-$(command -v clang-14 || command -v clang || true)}"
-if [ -z "$CXX_FUZZ" ]; then echo "fuzz.sh: no clang; skipped"; exit 0; fi
+skip() { echo "fuzz.sh: $1"; [ "${OROGEN_FUZZ_REQUIRED:-0}" = 1 ] && exit 1; exit 0; }
+if [ -z "$CXX_FUZZ" ]; then skip "no clang; skipped"; fi
 probe="$(mktemp -d)"
 echo 'extern "C" int LLVMFuzzerTestOneInput(const unsigned char*, unsigned long) { return 0; }' > "$probe/p.cpp"
 if ! "$CXX_FUZZ" -fsanitize=fuzzer,address "$probe/p.cpp" -o "$probe/p" 2>/dev/null; then
-  echo "fuzz.sh: $CXX_FUZZ cannot build a libFuzzer target here; skipped"; rm -rf "$probe"; exit 0
+  rm -rf "$probe"; skip "$CXX_FUZZ cannot build a libFuzzer target here; skipped"
 fi
 rm -rf "$probe"
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite, as CI runs it: installs the dependencies, builds and tests a Release build (the
-# editor's Xvfb smoke test included), then builds and tests again under AddressSanitizer + UBSan. The fuzz targets
-# (scripts/fuzz.sh) are not part of it yet: they have not been linked and run on a clean checkout.
+# editor's Xvfb smoke test included), then builds and tests again under AddressSanitizer + UBSan, then builds the
+# libFuzzer targets with clang and runs them for 60 s in all from their seed corpora (scripts/fuzz.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="$(nproc)"
@@ -21,3 +21,6 @@ cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DOROGEN
 cmake --build build/sanitize -j"$jobs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build/sanitize --output-on-failure -j"$jobs"
+
+echo "== libFuzzer targets under ASan + UBSan, 60 s in all"
+OROGEN_FUZZ_REQUIRED=1 bash scripts/fuzz.sh 60

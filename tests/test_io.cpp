@@ -356,6 +356,23 @@ TEST_F(IoTest, ReadErrorsAreClear) {
   EXPECT_THROW(run_node("ReadHeightfield", d, {}), NodeError);  // no path
 }
 
+// Only the reader the extension names is tried: a PNG renamed .tif is refused (with the format named) rather
+// than handed to every plugin OpenImageIO has, which would widen what a damaged file can reach.
+TEST_F(IoTest, ReadUsesTheReaderTheExtensionNames) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {9, 9});
+  const fs::path png = write_height(varied_field(d), "real.png");
+  const fs::path renamed = dir_ / "renamed.tif";
+  fs::copy_file(png, renamed, fs::copy_options::overwrite_existing);
+  EXPECT_NO_THROW(read_height(png, d));
+  try {
+    read_height(renamed, d);
+    FAIL() << "a PNG named .tif was read";
+  } catch (const NodeError& e) {
+    EXPECT_NE(std::string(e.what()).find("renamed.tif"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("extension"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(IoTest, ReadPathIsRelativeToTheCurrentDirectory) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {5, 5});
   const auto h = ramp_field(d, 1, 1, 0);

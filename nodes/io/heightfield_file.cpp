@@ -310,12 +310,22 @@ HeightRaster read_height_raster(const fs::path& path, int channel) {
     throw FileError("file '" + path.string() + "' does not exist (relative paths are resolved against the current "
                     "directory " + fs::current_path(ec).string() + ")");
   if (fs::is_directory(path, ec)) throw FileError("'" + path.string() + "' is a directory, not an image file");
-  if (const std::string ext = lower_extension(path); ext == ".raw" || ext == ".r16") return read_raw16(path, channel);
+  const std::string ext = lower_extension(path);
+  if (ext == ".raw" || ext == ".r16") return read_raw16(path, channel);
 
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);  // never premultiply a height channel by alpha
-  auto in = OIIO::ImageInput::open(path.string(), &config);
-  if (!in) throw FileError("cannot read '" + path.string() + "': " + OIIO::geterror());
+  // Only the reader the extension names: OpenImageIO would otherwise try every format plugin it has (movie,
+  // camera raw, ...) on a damaged file, a much larger attack surface and slow for nothing.
+  // (Given the file name, create() would still sniff the content; given only the extension, it cannot.)
+  auto in = ext.size() > 1 ? OIIO::ImageInput::create(ext.substr(1), /*do_open=*/false) : nullptr;
+  if (!in)
+    throw FileError("cannot read '" + path.string() + "': no image reader for the extension '" + ext +
+                    "' (for example .png, .exr, .tif, .raw or .r16)");
+  OIIO::ImageSpec opened;
+  if (!in->open(path.string(), opened, config))
+    throw FileError("cannot read '" + path.string() + "' as " + std::string(in->format_name()) +
+                    " (is the extension right?): " + in->geterror());
   const OIIO::ImageSpec& spec = in->spec();
   if (channel < 0 || channel >= spec.nchannels)
     throw FileError("'" + path.string() + "' has " + std::to_string(spec.nchannels) + " channel(s); channel " +

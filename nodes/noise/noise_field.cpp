@@ -58,10 +58,12 @@ const float* copy_run(const Heightfield* f, int j, int c0, int n, int padded, fl
 }
 
 // Per-octave lattice coordinates of every column (unwarped evaluation).
+// Simplex splits two column terms (see kernels::SimplexRun): cell/frac hold u (1 + F2) and cell_j/frac_j u F2.
 struct ColumnCoords {
-  std::vector<double> u;            // simplex: u per column
   std::vector<std::uint32_t> cell;  // lattice bases: cell * kHashPrimeX
   std::vector<float> frac;
+  std::vector<std::uint32_t> cell_j;  // simplex only: cell * kHashPrimeY
+  std::vector<float> frac_j;
 };
 
 }  // namespace
@@ -98,16 +100,21 @@ void evaluate_noise_into(Heightfield& out, const NoisePlan& plan, const NoiseInp
   for (std::size_t k = 0; k < columns.size(); ++k) {
     const OctavePlan& o = plan.octaves[k];
     ColumnCoords& c = columns[k];
+    c.cell.resize(xs.size());
+    c.frac.resize(xs.size());
     if (simplex) {
-      c.u.resize(xs.size());
-      for (std::size_t i = 0; i < xs.size(); ++i) c.u[i] = xs[i] * o.frequency + o.shift_x;
-    } else {
-      c.cell.resize(xs.size());
-      c.frac.resize(xs.size());
-      for (std::size_t i = 0; i < xs.size(); ++i) {
-        const auto s = reference::split(xs[i] * o.frequency + o.shift_x);
-        c.cell[i] = s.cell * kHashPrimeX;
-        c.frac[i] = s.frac;
+      c.cell_j.resize(xs.size());
+      c.frac_j.resize(xs.size());
+    }
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      const double u = xs[i] * o.frequency + o.shift_x;
+      const auto s = reference::split(simplex ? u * (1.0 + reference::kSimplexF2) : u);
+      c.cell[i] = s.cell * kHashPrimeX;
+      c.frac[i] = s.frac;
+      if (simplex) {
+        const auto sj = reference::split(u * reference::kSimplexF2);
+        c.cell_j[i] = sj.cell * kHashPrimeY;
+        c.frac_j[i] = sj.frac;
       }
     }
   }
@@ -124,10 +131,9 @@ void evaluate_noise_into(Heightfield& out, const NoisePlan& plan, const NoiseInp
   const float q_constant = std::exp(ln_r * (plan.roughness - 1.0f));
   const bool fbm = plan.mode == FractalMode::Fbm;
 
-  // Rows go in blocks of kMaxRows. Unwarped Perlin, Value and White hand each group of rows lying in the
-  // same lattice row to one kernel call, which hashes every lattice corner once for the whole group.
-  const bool shared_rows = !warped && (plan.basis == Basis::Perlin || plan.basis == Basis::Value ||
-                                       plan.basis == Basis::White);
+  // Rows go in blocks of kMaxRows. Unwarped lattice bases (all but Simplex) hand each group of rows lying in
+  // the same lattice row to one kernel call, which hashes every lattice cell once for the whole group.
+  const bool shared_rows = !warped && plan.basis != Basis::Simplex;
   constexpr int kRows = kernels::kMaxRows;
   const int blocks = (height + kRows - 1) / kRows;
   for_each_row(ctx, blocks, [&](int block) {
@@ -198,23 +204,27 @@ void evaluate_noise_into(Heightfield& out, const NoisePlan& plan, const NoiseInp
                 kernels::displaced(xs.data() + c0, 0.0, wx[r], o.frequency, o.shift_x, np, s.u);
                 kernels::displaced(nullptr, y, wy[r], o.frequency, o.shift_y, np, s.v);
                 kernels::simplex_skew(s.u, s.v, 0.0, np, s.cx, s.cy, s.fx, s.fy);
+                kernels::simplex({s.cx, s.cy, s.fx, s.fy}, o.key, np, destination(r));
               } else {
-                kernels::simplex_skew(columns[k].u.data() + c0, nullptr, y * o.frequency + o.shift_y, np, s.cx,
-                                      s.cy, s.fx, s.fy);
+                const double v = y * o.frequency + o.shift_y;
+                const auto b = reference::split(v * reference::kSimplexF2);
+                const auto c = reference::split(v * (1.0 + reference::kSimplexF2));
+                const ColumnCoords& col = columns[k];
+                kernels::SimplexRun run{col.cell.data() + c0, col.cell_j.data() + c0, col.frac.data() + c0,
+                                        col.frac_j.data() + c0};
+                run.row_split = true;
+                run.row_hi = b.cell * kHashPrimeX;
+                run.row_hj = c.cell * kHashPrimeY;
+                run.row_fi = b.frac;
+                run.row_fj = c.frac;
+                kernels::simplex(run, o.key, np, destination(r));
               }
-              kernels::simplex({s.cx, s.cy, s.fx, s.fy}, o.key, np, destination(r));
-            } else if (warped) {
+            } else {  // warped lattice bases
               kernels::displaced(xs.data() + c0, 0.0, wx[r], o.frequency, o.shift_x, np, s.u);
               kernels::split_lattice(s.u, kHashPrimeX, np, s.cx, s.fx);
               kernels::displaced(nullptr, y, wy[r], o.frequency, o.shift_y, np, s.v);
               kernels::split_lattice(s.v, kHashPrimeY, np, s.cy, s.fy);
               lattice_basis({s.cx, s.fx, s.cy, s.fy, 0, nullptr, 1}, destination(r));
-            } else {  // Worley, one row at a time
-              const auto split = reference::split(y * o.frequency + o.shift_y);
-              const float fy = split.frac;
-              lattice_basis({columns[k].cell.data() + c0, columns[k].frac.data() + c0, nullptr, nullptr,
-                             split.cell * kHashPrimeY, &fy, 1},
-                            destination(r));
             }
           }
         }

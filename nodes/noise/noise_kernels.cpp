@@ -319,7 +319,7 @@ void WhiteImpl(const LatticeRun in, std::uint32_t key, int n, float* out, std::p
   }
 }
 
-template <bool kAccumulate>
+template <bool kRowSplit, bool kAccumulate>
 void SimplexImpl(const SimplexRun in, std::uint32_t key, int n, float* out, float scale) {
   const DF df;
   const DU du;
@@ -334,9 +334,23 @@ void SimplexImpl(const SimplexRun in, std::uint32_t key, int n, float* out, floa
     const VF w2 = hn::Mul(w, w);
     return hn::Mul(hn::Mul(w2, w2), g.Dot(h, x, y));
   };
+  const VF row_fi = hn::Set(df, in.row_fi), row_fj = hn::Set(df, in.row_fj);
+  const VU row_hi = hn::Set(du, in.row_hi), row_hj = hn::Set(du, in.row_hj);
   for (std::size_t k = 0; k < static_cast<std::size_t>(n); k += hn::Lanes(df)) {
-    const VF x0 = hn::LoadU(df, in.x0 + k), y0 = hn::LoadU(df, in.y0 + k);
-    const VU ib = hn::LoadU(du, in.hi + k), jb = hn::LoadU(du, in.hj + k);
+    VF x0 = hn::LoadU(df, in.x0 + k), y0 = hn::LoadU(df, in.y0 + k);
+    VU ib = hn::LoadU(du, in.hi + k), jb = hn::LoadU(du, in.hj + k);
+    if constexpr (kRowSplit) {
+      // Skewed fractions X, Y in [0, 1) with their carries into the cells, then unskewed.
+      VF sx = hn::Add(x0, row_fi), sy = hn::Add(y0, row_fj);
+      const auto carry_x = sx >= one, carry_y = sy >= one;
+      sx = hn::Sub(sx, hn::IfThenElseZero(carry_x, one));
+      sy = hn::Sub(sy, hn::IfThenElseZero(carry_y, one));
+      ib = hn::Add(hn::Add(ib, row_hi), hn::IfThenElseZero(hn::RebindMask(du, carry_x), px));
+      jb = hn::Add(hn::Add(jb, row_hj), hn::IfThenElseZero(hn::RebindMask(du, carry_y), py));
+      const VF t = hn::Mul(hn::Add(sx, sy), vg2);
+      x0 = hn::Sub(sx, t);
+      y0 = hn::Sub(sy, t);
+    }
     const auto lower = x0 > y0;  // lower triangle: the middle corner is (1, 0), else (0, 1)
     const auto lower_u = hn::RebindMask(du, lower);
     const VF i1 = hn::IfThenElseZero(lower, one), j1 = hn::Sub(one, i1);
@@ -366,8 +380,38 @@ HWY_INLINE void Insert(VF (&f)[4], VF d) {
   }
 }
 
+template <WorleyMetric kMetric>
+HWY_INLINE VF WorleyDistance(VF qx, VF qy) {
+  if constexpr (kMetric == WorleyMetric::Euclidean) {
+    return hn::MulAdd(qx, qx, hn::Mul(qy, qy));  // squared: same order, one sqrt at the end
+  } else if constexpr (kMetric == WorleyMetric::Manhattan) {
+    return hn::Add(hn::Abs(qx), hn::Abs(qy));
+  } else {
+    return hn::Max(hn::Abs(qx), hn::Abs(qy));
+  }
+}
+
+template <WorleyMetric kMetric, WorleyOutput kOutput>
+HWY_INLINE VF WorleyValue(VF (&f)[4]) {
+  constexpr int kRank = worley_rank(kOutput);
+  const DF df;
+  if constexpr (kMetric == WorleyMetric::Euclidean)
+    for (int r = 0; r < kRank; ++r) f[r] = hn::Sqrt(f[r]);
+  if constexpr (kOutput == WorleyOutput::F1) return f[0];
+  else if constexpr (kOutput == WorleyOutput::F2) return f[1];
+  else if constexpr (kOutput == WorleyOutput::F2MinusF1) return hn::Sub(f[1], f[0]);
+  else if constexpr (kOutput == WorleyOutput::F1TimesF2) return hn::Mul(f[0], f[1]);
+  else return hn::Mul(hn::Add(hn::Add(f[0], f[1]), hn::Add(f[2], f[3])), hn::Set(df, 0.25f));
+}
+
+// Worley: per sample, the nearest feature points among the neighbourhood's cells (mirrored per axis, see
+// worley_neighbourhood.h). With rows sharing a lattice row (kRowY), a cell's feature point depends only on
+// the column and on the rows' mirror state on y (two states), so for each vector of columns the hashes and
+// the x offsets are computed once per state and shared by every row of the run: per row and cell only the
+// y offset, the distance and the insertion remain. The arithmetic per sample is the same in both forms.
 template <WorleyMetric kMetric, WorleyOutput kOutput, bool kRowY, bool kAccumulate>
-void WorleyImpl(const LatticeRun in, std::uint32_t key, const WorleyRun& search, int n, float* out, float scale) {
+void WorleyImpl(const LatticeRun in, std::uint32_t key, const WorleyRun& search, int n, float* out,
+                std::ptrdiff_t stride, float scale) {
   constexpr int kRank = worley_rank(kOutput);
   const DF df;
   const DU du;
@@ -385,45 +429,77 @@ void WorleyImpl(const LatticeRun in, std::uint32_t key, const WorleyRun& search,
     oy[o] = static_cast<float>(search.offset_y[o]);
   }
   const VU vkey = hn::Set(du, key), second = hn::Set(du, kSecondDraw);
+  const float base_scalar = 0.5f - 0.5f * search.jitter;
   const VF jitter = hn::Set(df, search.jitter), half = hn::Set(df, 0.5f);
-  const VF base = hn::Set(df, 0.5f - 0.5f * search.jitter);
+  const VF base = hn::Set(df, base_scalar);
   const VF vscale = hn::Set(df, scale);
   const VF inf = hn::Set(df, std::numeric_limits<float>::infinity());
-  for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
-    const LatticeLanes c = LoadLattice<kRowY>(in, i);
-    const auto mirror_x = c.fx < half, mirror_y = c.fy < half;  // sample in the lower half: mirror offsets
-    const auto mirror_xu = hn::RebindMask(du, mirror_x), mirror_yu = hn::RebindMask(du, mirror_y);
-    const VU xb = c.hx, yb = c.hy;
-    const VF bx = hn::Sub(base, c.fx), by = hn::Sub(base, c.fy);
-    VF f[4] = {inf, inf, inf, inf};
-    for (int o = 0; o < count; ++o) {
-      const VU xo = hn::IfThenElse(mirror_xu, hn::Set(du, hx_m[o]), hn::Set(du, hx[o]));
-      const VU yo = hn::IfThenElse(mirror_yu, hn::Set(du, hy_m[o]), hn::Set(du, hy[o]));
-      const VU h = Mix(hn::Xor(hn::Xor(hn::Add(xb, xo), hn::Add(yb, yo)), vkey));
-      const VF rx = UnitFloat(h), ry = UnitFloat(hn::Mul(h, second));
-      const VF dxf = hn::IfThenElse(mirror_x, hn::Set(df, -ox[o]), hn::Set(df, ox[o]));
-      const VF dyf = hn::IfThenElse(mirror_y, hn::Set(df, -oy[o]), hn::Set(df, oy[o]));
-      const VF qx = hn::MulAdd(jitter, rx, hn::Add(dxf, bx));
-      const VF qy = hn::MulAdd(jitter, ry, hn::Add(dyf, by));
-      VF d;
-      if constexpr (kMetric == WorleyMetric::Euclidean) {
-        d = hn::MulAdd(qx, qx, hn::Mul(qy, qy));  // squared: same order, one sqrt at the end
-      } else if constexpr (kMetric == WorleyMetric::Manhattan) {
-        d = hn::Add(hn::Abs(qx), hn::Abs(qy));
-      } else {
-        d = hn::Max(hn::Abs(qx), hn::Abs(qy));
-      }
-      Insert<kRank>(f, d);
+
+  if constexpr (kRowY) {
+    const int rows = in.rows;
+    bool state_used[2] = {false, false};  // [1]: rows in the lower half of the cell (mirrored on y)
+    for (int r = 0; r < rows; ++r) state_used[in.row_fy[r] < 0.5f ? 1 : 0] = true;
+    // Per state and offset, for the current vector of columns: x offset qx and the draw r_y.
+    constexpr std::size_t kL = HWY_MAX_BYTES / sizeof(float);
+    HWY_ALIGN float qx_of[2][kMaxWorleyOffsets][kL];
+    HWY_ALIGN float ry_of[2][kMaxWorleyOffsets][kL];
+    // Per row and offset: dy + (base - fy), the y offset before the jittered draw.
+    float qy0[kMaxRows][kMaxWorleyOffsets];
+    int row_state[kMaxRows];
+    for (int r = 0; r < rows; ++r) {
+      row_state[r] = in.row_fy[r] < 0.5f ? 1 : 0;
+      const float by = base_scalar - in.row_fy[r];
+      for (int o = 0; o < count; ++o) qy0[r][o] = (row_state[r] ? -oy[o] : oy[o]) + by;
     }
-    if constexpr (kMetric == WorleyMetric::Euclidean)
-      for (int r = 0; r < kRank; ++r) f[r] = hn::Sqrt(f[r]);
-    VF v;
-    if constexpr (kOutput == WorleyOutput::F1) v = f[0];
-    else if constexpr (kOutput == WorleyOutput::F2) v = f[1];
-    else if constexpr (kOutput == WorleyOutput::F2MinusF1) v = hn::Sub(f[1], f[0]);
-    else if constexpr (kOutput == WorleyOutput::F1TimesF2) v = hn::Mul(f[0], f[1]);
-    else v = hn::Mul(hn::Add(hn::Add(f[0], f[1]), hn::Add(f[2], f[3])), hn::Set(df, 0.25f));
-    Put<kAccumulate>(hn::Mul(v, vscale), out, i);
+    for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
+      const VU xb = hn::LoadU(du, in.hx + i);
+      const VF fx = hn::LoadU(df, in.fx + i);
+      const auto mirror_x = fx < half;
+      const auto mirror_xu = hn::RebindMask(du, mirror_x);
+      const VF bx = hn::Sub(base, fx);
+      for (int state = 0; state < 2; ++state) {
+        if (!state_used[state]) continue;
+        for (int o = 0; o < count; ++o) {
+          const VU xo = hn::IfThenElse(mirror_xu, hn::Set(du, hx_m[o]), hn::Set(du, hx[o]));
+          const VU y = hn::Set(du, in.row_hy + (state ? hy_m[o] : hy[o]));
+          const VU h = Mix(hn::Xor(hn::Xor(hn::Add(xb, xo), y), vkey));
+          const VF dxf = hn::IfThenElse(mirror_x, hn::Set(df, -ox[o]), hn::Set(df, ox[o]));
+          hn::Store(hn::MulAdd(jitter, UnitFloat(h), hn::Add(dxf, bx)), df, qx_of[state][o]);
+          hn::Store(UnitFloat(hn::Mul(h, second)), df, ry_of[state][o]);
+        }
+      }
+      for (int r = 0; r < rows; ++r) {
+        const int state = row_state[r];
+        VF f[4] = {inf, inf, inf, inf};
+        for (int o = 0; o < count; ++o) {
+          const VF qx = hn::Load(df, qx_of[state][o]);
+          const VF qy = hn::MulAdd(jitter, hn::Load(df, ry_of[state][o]), hn::Set(df, qy0[r][o]));
+          Insert<kRank>(f, WorleyDistance<kMetric>(qx, qy));
+        }
+        Put<kAccumulate>(hn::Mul(WorleyValue<kMetric, kOutput>(f), vscale), out + r * stride, i);
+      }
+    }
+  } else {
+    for (std::size_t i = 0; i < static_cast<std::size_t>(n); i += hn::Lanes(df)) {
+      const LatticeLanes c = LoadLattice<false>(in, i);
+      const auto mirror_x = c.fx < half, mirror_y = c.fy < half;  // sample in the lower half: mirror offsets
+      const auto mirror_xu = hn::RebindMask(du, mirror_x), mirror_yu = hn::RebindMask(du, mirror_y);
+      const VU xb = c.hx, yb = c.hy;
+      const VF bx = hn::Sub(base, c.fx), by = hn::Sub(base, c.fy);
+      VF f[4] = {inf, inf, inf, inf};
+      for (int o = 0; o < count; ++o) {
+        const VU xo = hn::IfThenElse(mirror_xu, hn::Set(du, hx_m[o]), hn::Set(du, hx[o]));
+        const VU yo = hn::IfThenElse(mirror_yu, hn::Set(du, hy_m[o]), hn::Set(du, hy[o]));
+        const VU h = Mix(hn::Xor(hn::Xor(hn::Add(xb, xo), hn::Add(yb, yo)), vkey));
+        const VF rx = UnitFloat(h), ry = UnitFloat(hn::Mul(h, second));
+        const VF dxf = hn::IfThenElse(mirror_x, hn::Set(df, -ox[o]), hn::Set(df, ox[o]));
+        const VF dyf = hn::IfThenElse(mirror_y, hn::Set(df, -oy[o]), hn::Set(df, oy[o]));
+        const VF qx = hn::MulAdd(jitter, rx, hn::Add(dxf, bx));
+        const VF qy = hn::MulAdd(jitter, ry, hn::Add(dyf, by));
+        Insert<kRank>(f, WorleyDistance<kMetric>(qx, qy));
+      }
+      Put<kAccumulate>(hn::Mul(WorleyValue<kMetric, kOutput>(f), vscale), out, i);
+    }
   }
 }
 
@@ -466,8 +542,13 @@ void White(const LatticeRun& in, std::uint32_t key, int n, const Output& o) {
   DispatchLattice<WhiteOp>(in, o, key, n);
 }
 void Simplex(const SimplexRun& in, std::uint32_t key, int n, const Output& o) {
-  if (o.accumulate) SimplexImpl<true>(in, key, n, o.out, o.scale);
-  else SimplexImpl<false>(in, key, n, o.out, o.scale);
+  if (in.row_split) {
+    if (o.accumulate) SimplexImpl<true, true>(in, key, n, o.out, o.scale);
+    else SimplexImpl<true, false>(in, key, n, o.out, o.scale);
+  } else {
+    if (o.accumulate) SimplexImpl<false, true>(in, key, n, o.out, o.scale);
+    else SimplexImpl<false, false>(in, key, n, o.out, o.scale);
+  }
 }
 
 template <WorleyMetric M, WorleyOutput O>
@@ -475,8 +556,8 @@ struct WorleyOf {
   template <bool A, bool B>
   struct Op {
     static void run(const LatticeRun& in, std::uint32_t key, const WorleyRun& s, int n, float* out,
-                    std::ptrdiff_t /*single row*/, float scale) {
-      WorleyImpl<M, O, A, B>(in, key, s, n, out, scale);
+                    std::ptrdiff_t stride, float scale) {
+      WorleyImpl<M, O, A, B>(in, key, s, n, out, stride, scale);
     }
   };
 };
@@ -635,7 +716,7 @@ void simplex(const SimplexRun& in, std::uint32_t key, int n, const Output& out) 
 void worley(const LatticeRun& in, std::uint32_t key, const WorleyRun& search, int n, const Output& out) {
   assert(n % kBatchAlign == 0);
   assert(search.offset_count <= kMaxWorleyOffsets);
-  assert(in.rows == 1);
+  assert(in.rows >= 1 && in.rows <= kMaxRows && (in.hy == nullptr || in.rows == 1));
   HWY_DYNAMIC_DISPATCH(Worley)(in, key, search, n, out);
 }
 void billow_step(const float* noise, float amp, bool first, int n, float* sum) {

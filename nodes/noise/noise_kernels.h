@@ -33,8 +33,8 @@ constexpr int padded(int n) { return (n + kBatchAlign - 1) / kBatchAlign * kBatc
 //  - per-sample y (hy, fy set; rows == 1): warped evaluation.
 //  - shared lattice row (hy null): `rows` sample rows with the same x coordinates that all lie in lattice
 //    row row_hy, with fractions row_fy[0..rows). This is the unwarped case, where neighbouring sample rows
-//    usually fall in the same lattice row: the Perlin, Value and White kernels then hash each lattice
-//    corner and look up its gradient once for all those rows. Simplex and Worley take one row at a time.
+//    usually fall in the same lattice row: the Perlin, Value, White and Worley kernels then hash each
+//    lattice cell once for all those rows. Simplex (not a square lattice) has its own row form (SimplexRun).
 //    The result of a row does not depend on which other rows share its batch.
 inline constexpr int kMaxRows = 8;
 struct LatticeRun {
@@ -49,11 +49,22 @@ struct LatticeRun {
 
 // Simplex coordinates: skewed cell (i, j), pre-multiplied like LatticeRun (hi = i * kHashPrimeX,
 // hj = j * kHashPrimeY), and the unskewed offset (x0, y0) from its origin.
+//
+// Unwarped rows take a faster form (row_split): the skewed coordinates are sums of a column term and a row
+// term, (u + s, v + s) = (A + B, D + C) with A = u (1 + F2), D = u F2 per column and B = v F2, C = v (1 + F2)
+// per row. Each term is split once, in double, into a wrapped lattice cell and a fraction; a sample then only
+// adds the fractions (a carry when they pass 1) and the cells, in float and integer lanes. The columns'
+// split is shared by every row, so no per-sample double arithmetic is left, and the result depends only on
+// the world coordinates of the sample's column and row (tile-invariant). Then hi, hj hold the columns' cells
+// of A and D (pre-multiplied) and x0, y0 their fractions.
 struct SimplexRun {
   const std::uint32_t* hi = nullptr;
   const std::uint32_t* hj = nullptr;
   const float* x0 = nullptr;
   const float* y0 = nullptr;
+  bool row_split = false;
+  std::uint32_t row_hi = 0, row_hj = 0;  // cells of B and C, pre-multiplied
+  float row_fi = 0.0f, row_fj = 0.0f;    // fractions of B and C
 };
 
 // Where a basis kernel puts its result: out = scale * noise, or out += scale * noise when accumulating.
