@@ -157,7 +157,7 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
   const int C = features.channels;
   const std::size_t n = features.domain.sample_count();
   if (C < 1) throw NodeError("k-means: the image has no channels");
-  if (p.k < 1) throw NodeError("k-means: k must be at least 1");
+  if (p.k < 1 || p.k > 64) throw NodeError("k-means: k must be in 1..64");
   if (p.max_iterations < 1) throw NodeError("k-means: max_iterations must be at least 1");
   const int k = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(p.k), n));
   const std::size_t uc = static_cast<std::size_t>(C), uk = static_cast<std::size_t>(k);

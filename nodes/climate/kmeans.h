@@ -24,7 +24,7 @@ namespace orogen::climate {
 enum class KMeansInit { Diagonal, PlusPlus };
 
 struct KMeansParams {
-  int k = 6;
+  int k = 6;                    // 1..64
   int max_iterations = 100;
   double tolerance = 0.0;       // converged when at most this fraction of the cells changed cluster
   KMeansInit init = KMeansInit::Diagonal;
