@@ -108,6 +108,7 @@ App::App(AppOptions options)
   viewport_3d_ = std::make_unique<Viewport3D>();
   show_3d_ = options_.view == "3d";
   drape_node_ = options_.drape;
+  preview_2d_.set_start(options_.channel, options_.color_map);
 
   if (!options_.file.empty()) open_file(options_.file);
   if (!document_->graph().find(options_.drape)) drape_node_.clear();
