@@ -3,11 +3,15 @@
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <optional>
+
+#include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
 #include "cli/graph_overrides.h"
 #include "cli/progress_display.h"
 #include "cli/stats_report.h"
+#include "cli/tiling.h"
 #include "evaluator/evaluator.h"
 #include "evaluator/memory_estimate.h"
 #include "graph/atomic_file.h"
@@ -22,6 +26,33 @@ extern "C" void on_interrupt(int) { g_interrupt.cancel(); }
 
 }  // namespace
 
+namespace {
+
+// One build of the command: the whole domain, or one tile of a tiled build.
+struct Build {
+  std::optional<TileWindow> tile;  // empty: the whole domain, files as the graph names them
+  std::string suffix;              // file-name suffix of the tile ("_x1_y0"), empty for the whole domain
+};
+
+// The stats document of one build, with the tile it covers.
+std::string stats_with_tile(const EvalResult& result, const Graph& graph, const Build& build, glm::ivec2 counts,
+                            const Domain& full) {
+  std::string text = stats_json(result, &graph);
+  if (!build.tile) return text;
+  auto doc = nlohmann::json::parse(text);
+  const Domain d = full.subdomain(build.tile->first.x, build.tile->first.y, build.tile->size.x, build.tile->size.y);
+  doc["tile"] = {{"index", {build.tile->index.x, build.tile->index.y}},
+                 {"tiles", {counts.x, counts.y}},
+                 {"suffix", build.suffix},
+                 {"first_sample", {build.tile->first.x, build.tile->first.y}},
+                 {"resolution", {d.resolution.x, d.resolution.y}},
+                 {"min_corner", {d.min_corner().x, d.min_corner().y}},
+                 {"size", {d.size().x, d.size().y}}};
+  return doc.dump(2) + "\n";
+}
+
+}  // namespace
+
 int run_eval(const EvalCommand& cmd) {
   auto loaded = load_graph_file(cmd.graph_file);
   if (!loaded.ok()) {
@@ -31,13 +62,54 @@ int run_eval(const EvalCommand& cmd) {
   Graph graph = std::move(*loaded.graph);
 
   std::vector<std::string> errors = apply_param_overrides(graph, cmd.set);
+  std::string why;
+  if (!cmd.origin.empty()) {
+    if (auto o = parse_number_pair(cmd.origin, "--origin", false, why)) graph.domain.origin = *o;
+    else errors.push_back(why);
+  }
+  if (!cmd.size.empty()) {  // before --resolution, whose single-number form follows the size
+    if (auto sz = parse_number_pair(cmd.size, "--size", true, why)) graph.domain.size = *sz;
+    else errors.push_back(why);
+  }
   if (!cmd.resolution.empty()) {
-    std::string why;
     if (auto r = resolution_for(cmd.resolution, graph.domain.size, why)) graph.domain.resolution = *r;
     else errors.push_back(why);
   }
+  glm::ivec2 counts{1, 1};
+  std::optional<glm::ivec2> only_tile;
+  bool tiled = false;
+  if (!cmd.tiles.empty()) {
+    if (auto c = parse_tile_counts(cmd.tiles, why)) {
+      counts = *c;
+      tiled = true;
+      if (!cmd.tile.empty()) {
+        if (auto t = parse_tile_index(cmd.tile, counts, why)) only_tile = *t;
+        else errors.push_back(why);
+      }
+    } else {
+      errors.push_back(why);
+    }
+  } else if (!cmd.tile.empty()) {
+    errors.push_back("--tile " + cmd.tile + " needs --tiles NxM: it picks one tile of a tiled build");
+  }
+  GlobalNodes global = GlobalNodes::Whole;
+  if (!cmd.global_nodes.empty()) {
+    if (cmd.tiles.empty())
+      errors.push_back("--global-nodes " + cmd.global_nodes + " needs --tiles NxM: it says how a tiled build "
+                       "evaluates nodes that need the whole domain");
+    else if (auto g = parse_global_nodes(cmd.global_nodes)) global = *g;
+    else errors.push_back("--global-nodes '" + cmd.global_nodes + "': expected 'whole' or 'tile'");
+  }
+  const Domain domain = graph.domain.to_domain();
+  if (tiled)
+    if (auto e = check_tile_counts(domain.resolution, counts); !e.empty()) errors.push_back(e);
   OutputPolicy policy{cmd.output_dir, cmd.allow_any_path};
-  for (auto& e : check_output_paths(graph, policy)) errors.push_back(std::move(e));
+  {
+    // Tiles write suffixed names; two writers collide in one tile exactly when they collide in every tile.
+    Graph named = graph;
+    if (tiled) add_output_suffix(named, tile_suffix({0, 0}));
+    for (auto& e : check_output_paths(named, policy)) errors.push_back(std::move(e));
+  }
   const auto cache_mb = parse_number(cmd.cache_mb, 0.0, 1e9);
   if (!cache_mb) errors.push_back("--cache-mb '" + cmd.cache_mb + "': expected a number of MiB from 0 to 1e9");
   const auto cache_disk_mb = parse_number(cmd.cache_disk_mb, 0.0, 1e9);
@@ -48,18 +120,41 @@ int run_eval(const EvalCommand& cmd) {
     if (auto m = parse_memory_size(cmd.max_memory); m && *m > 0) max_memory = *m;
     else errors.push_back("--max-memory '" + cmd.max_memory + "': expected a positive size such as 4096, 512M or 8G");
   }
-  const Domain domain = graph.domain.to_domain();
-  if (auto why = check_domain(domain); !why.empty()) errors.push_back(why);
+  if (auto e = check_domain(domain); !e.empty()) errors.push_back(e);
+
+  // The builds: the whole domain, or the tiles asked for.
+  std::vector<Build> builds;
+  if (errors.empty()) {
+    if (!tiled) {
+      builds.push_back({});
+    } else {
+      for (int j = 0; j < counts.y; ++j)
+        for (int i = 0; i < counts.x; ++i)
+          if (!only_tile || *only_tile == glm::ivec2(i, j))
+            builds.push_back({tile_window(domain.resolution, counts, {i, j}), tile_suffix({i, j})});
+    }
+  }
   if (errors.empty() && max_memory > 0) {
+    // Every tile of a build needs about the same: check the middle one (the widest halos), or the one asked for.
+    std::map<std::string, Domain> node_domains;
+    if (tiled)
+      node_domains = tile_node_domains(graph, domain,
+                                       tile_window(domain.resolution, counts, only_tile.value_or(counts / 2)), global);
     for (const auto& node : graph.nodes()) {
-      const auto need = estimate_node_bytes(*node.type, domain);
-      if (need > max_memory) errors.push_back("node '" + node.id + "': " + memory_refusal(*node.type, domain, need, max_memory));
+      const auto it = node_domains.find(node.id);
+      const Domain& d = it != node_domains.end() ? it->second : domain;
+      const auto need = estimate_node_bytes(*node.type, d);
+      if (need > max_memory) errors.push_back("node '" + node.id + "': " + memory_refusal(*node.type, d, need, max_memory));
     }
   }
   if (!errors.empty()) {
     for (const auto& e : errors) std::cerr << "error: " << e << "\n";
     return kExitInvalid;
   }
+  // Nodes that need the whole domain cost the whole domain's memory or leave seams: say which (even with
+  // --quiet).
+  if (tiled)
+    for (const auto& w : seam_warnings(graph, global)) std::cerr << "warning: --tiles: " << w << "\n";
 
   EvaluatorOptions options;
   options.threads = cmd.threads;
@@ -72,51 +167,77 @@ int run_eval(const EvalCommand& cmd) {
   options.output = policy;
   Evaluator evaluator(options);
 
-  EvalRequest request;
-  request.domain = graph.domain.to_domain();
-  request.cancel = &g_interrupt;
   const bool live = !cmd.quiet && ::isatty(STDERR_FILENO);
-  ProgressDisplay display(stderr, graph.nodes().size());
-  if (live) request.on_event = [&](const EvalEvent& e) { display.on_event(e); };
-
+  std::size_t total_failed = 0, failed_tiles = 0;
+  double total_ms = 0.0;
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
-  const EvalResult result = evaluator.evaluate(graph, request);
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
-  if (live) display.finish();
+  for (std::size_t b = 0; b < builds.size(); ++b) {
+    const Build& build = builds[b];
+    Graph tile_graph = graph;
+    EvalRequest request;
+    request.domain = domain;
+    request.cancel = &g_interrupt;
+    std::string label;
+    if (build.tile) {
+      add_output_suffix(tile_graph, build.suffix);
+      request.node_domains = tile_node_domains(tile_graph, domain, *build.tile, global);
+      const Domain d = domain.subdomain(build.tile->first.x, build.tile->first.y, build.tile->size.x, build.tile->size.y);
+      label = "tile " + std::to_string(build.tile->index.x) + "," + std::to_string(build.tile->index.y) + " (" +
+              std::to_string(b + 1) + "/" + std::to_string(builds.size()) + ")";
+      if (!cmd.quiet) std::cerr << label << ": " << d.describe() << ", files *" << build.suffix << ".*\n";
+    }
+    ProgressDisplay display(stderr, tile_graph.nodes().size());
+    if (live) request.on_event = [&](const EvalEvent& e) { display.on_event(e); };
+    const EvalResult result = evaluator.evaluate(tile_graph, request);
+    if (live) display.finish();
+    total_ms += result.milliseconds;
 
-  if (!cmd.stats_file.empty()) {
-    try {
-      write_text_atomically(cmd.stats_file, stats_json(result, &graph));
-    } catch (const std::exception& e) {
-      std::cerr << "error: cannot write stats to " << cmd.stats_file.string() << ": " << e.what() << "\n";
+    if (!cmd.stats_file.empty()) {
+      const auto stats_path = build.tile ? std::filesystem::path(with_suffix(cmd.stats_file.string(), build.suffix))
+                                         : cmd.stats_file;
+      try {
+        write_text_atomically(stats_path, stats_with_tile(result, tile_graph, build, counts, domain));
+      } catch (const std::exception& e) {
+        std::cerr << "error: cannot write stats to " << stats_path.string() << ": " << e.what() << "\n";
+        std::signal(SIGINT, SIG_DFL);
+        std::signal(SIGTERM, SIG_DFL);
+        return kExitEvalFailed;
+      }
+    }
+
+    std::size_t computed = 0, cached = 0, failed = 0, skipped = 0;
+    for (const auto& [id, r] : result.nodes) {
+      switch (r.status) {
+        case NodeStatus::Computed: ++computed; break;
+        case NodeStatus::Cached: ++cached; break;
+        case NodeStatus::Failed:
+          ++failed;
+          std::cerr << "error: " << (label.empty() ? "" : label + ": ") << "node '" << id << "' failed: " << r.message
+                    << "\n";
+          break;
+        case NodeStatus::Skipped: ++skipped; break;
+        default: break;
+      }
+    }
+    total_failed += failed;
+    if (failed > 0) ++failed_tiles;
+    if (result.cancelled) {
+      std::signal(SIGINT, SIG_DFL);
+      std::signal(SIGTERM, SIG_DFL);
+      std::cerr << "interrupted" << (label.empty() ? "" : " in " + label) << ": nothing partial was written or cached\n";
       return kExitEvalFailed;
     }
-  }
-
-  std::size_t computed = 0, cached = 0, failed = 0, skipped = 0;
-  for (const auto& [id, r] : result.nodes) {
-    switch (r.status) {
-      case NodeStatus::Computed: ++computed; break;
-      case NodeStatus::Cached: ++cached; break;
-      case NodeStatus::Failed:
-        ++failed;
-        std::cerr << "error: node '" << id << "' failed: " << r.message << "\n";
-        break;
-      case NodeStatus::Skipped: ++skipped; break;
-      default: break;
+    if (!cmd.quiet) {
+      std::fprintf(stderr, "%s%zu computed, %zu cached, %zu failed, %zu skipped in %.1f ms\n",
+                   label.empty() ? "" : (label + ": ").c_str(), computed, cached, failed, skipped, result.milliseconds);
     }
   }
-  if (result.cancelled) {
-    std::cerr << "interrupted: nothing partial was written or cached\n";
-    return kExitEvalFailed;
-  }
-  if (!cmd.quiet) {
-    std::fprintf(stderr, "%zu computed, %zu cached, %zu failed, %zu skipped in %.1f ms\n", computed, cached, failed,
-                 skipped, result.milliseconds);
-  }
-  return failed == 0 ? kExitOk : kExitEvalFailed;
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  if (tiled && !cmd.quiet && builds.size() > 1)
+    std::fprintf(stderr, "%zu tiles built, %zu with failures, in %.1f ms\n", builds.size(), failed_tiles, total_ms);
+  return total_failed == 0 ? kExitOk : kExitEvalFailed;
 }
 
 int run_validate(const ValidateCommand& cmd) {

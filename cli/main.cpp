@@ -19,6 +19,26 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("--set", eval.set, "Override a parameter: NODE.PARAM=VALUE (JSON or bare text); repeatable");
   eval_cmd->add_option("--resolution", eval.resolution, "Override the sample counts: WxH (e.g. 2048x2048), or N along x with square cells; cells must "
                  "stay square");
+  eval_cmd->add_option("--origin", eval.origin,
+                       "Move the domain: X,Y in metres, the world position of its first sample (overrides the graph's origin)");
+  eval_cmd->add_option("--size", eval.size,
+                       "Resize the domain: W,H in metres (overrides the graph's size; the sample counts stay unless "
+                       "--resolution is given)");
+  eval_cmd->add_option("--tiles", eval.tiles,
+                       "Tiled build: cut the domain into NxM tiles (N along x, M along y) that share their border "
+                       "samples; each tile is written to its own files, named with the suffix _xI_yJ before the "
+                       "extension (--stats too). Each tile is computed with the halo its local nodes need, so the "
+                       "tiles join bit for bit and equal the untiled build; nodes that need the whole domain are "
+                       "named in a warning (see --global-nodes). Tiles are equal when N divides W - 1 (e.g. 1025 "
+                       "samples in 4 tiles of 257)");
+  eval_cmd->add_option("--tile", eval.tile,
+                       "With --tiles: build only tile I,J (column I along x, row J along y, from 0 at the domain's "
+                       "minimum corner), e.g. one job of a batch system");
+  eval_cmd->add_option("--global-nodes", eval.global_nodes,
+                       "With --tiles, how nodes that need the whole domain (reach global: erosion, flow, "
+                       "normalization) are built: 'whole' (default) evaluates them once on the whole domain and "
+                       "cuts their result into the tiles, so the tiles still join; 'tile' evaluates them on each "
+                       "tile alone (memory of a tile only, but seams). Either way a warning names them");
   eval_cmd->add_option("--threads", eval.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
   eval_cmd->add_option("--cache-dir", eval.cache_dir, "Persistent cache directory (results survive the process)");
   eval_cmd->add_option("--cache-mb", eval.cache_mb, "In-memory cache bound in MiB (0 to 1e9)")->capture_default_str();
@@ -29,7 +49,7 @@ int main(int argc, char** argv) {
                        "Refuse nodes whose estimated memory exceeds this (MiB, or with a unit: 512M, 8G); "
                        "default: the machine's available memory");
   eval_cmd->add_option("--stats", eval.stats_file, "Write per-node status, timings and memory as JSON");
-  eval_cmd->add_flag("-q,--quiet", eval.quiet, "Print nothing but errors");
+  eval_cmd->add_flag("-q,--quiet", eval.quiet, "Print nothing but errors (and the seam warnings of --tiles)");
   eval_cmd->add_flag("--allow-any-path", eval.allow_any_path,
                      "Let the graph write to absolute paths or outside the output directory");
 

@@ -13,6 +13,7 @@
 
 #include "evaluator/cached_result.h"
 #include "evaluator/disk_cache.h"
+#include "evaluator/domain_crop.h"
 #include "evaluator/memory_cache.h"
 #include "evaluator/memory_estimate.h"
 #include "evaluator/node_keys.h"
@@ -173,7 +174,7 @@ class Run {
         graph_(graph),
         request_(request),
         policy_(impl.options.output),
-        keys_(graph, request.domain, policy_) {}
+        keys_(graph, request.domain, policy_, &request.node_domains) {}
 
   EvalResult execute() {
     const auto t0 = Clock::now();
@@ -289,6 +290,12 @@ class Run {
     return j;
   }
 
+  // The domain node `id` is evaluated on: its own (tiled builds) or the request's.
+  const Domain& domain_of(const std::string& id) const {
+    const auto it = request_.node_domains.find(id);
+    return it != request_.node_domains.end() ? it->second : request_.domain;
+  }
+
   void emit(EvalEvent event) {
     if (!request_.on_event) return;
     std::lock_guard lock(event_mutex_);  // events are delivered one at a time
@@ -370,18 +377,21 @@ class Run {
     const auto t0 = Clock::now();
     std::shared_ptr<CachedResult> result;
     try {
+      const Domain& domain = domain_of(id);
       std::vector<PortValue> inputs(type.inputs.size());
       for (std::size_t i = 0; i < job.inputs.size(); ++i)
-        if (job.inputs[i].job >= 0)
+        if (job.inputs[i].job >= 0) {
           inputs[i] = jobs_[static_cast<std::size_t>(job.inputs[i].job)]
                           .result->outputs[static_cast<std::size_t>(job.inputs[i].port)];
-      if (auto why = check_domain(request_.domain); !why.empty()) throw NodeError(why);
+          if (!request_.node_domains.empty()) inputs[i] = crop_to_domain(inputs[i], domain);
+        }
+      if (auto why = check_domain(domain); !why.empty()) throw NodeError(why);
       if (impl_.options.max_memory > 0) {
-        const std::uint64_t need = estimate_node_bytes(type, request_.domain);
+        const std::uint64_t need = estimate_node_bytes(type, domain);
         if (need > impl_.options.max_memory)
-          throw NodeError(memory_refusal(type, request_.domain, need, impl_.options.max_memory));
+          throw NodeError(memory_refusal(type, domain, need, impl_.options.max_memory));
       }
-      ExecContext ctx(type, id, request_.domain, std::move(inputs), graph_.effective_params(node));
+      ExecContext ctx(type, id, domain, std::move(inputs), graph_.effective_params(node));
       ctx.set_cancel_token(request_.cancel);
       ctx.set_output_policy(policy_);
       ctx.set_input_dir(graph_.directory);

@@ -70,6 +70,10 @@ using EventCallback = std::function<void(const EvalEvent&)>;
 
 struct EvalRequest {
   Domain domain;
+  // Tiled builds: nodes evaluated on a domain of their own instead of `domain` (a tile expanded by the halo
+  // its consumers need; see cli/tiling.h). A node's Heightfield and Image inputs that lie on a larger domain
+  // of the same lattice are cropped to its domain before it runs. The domain enters the node's cache key.
+  std::map<std::string, Domain> node_domains;
   // Nodes whose outputs are wanted. Empty: every node that writes files, has no downstream or has a Report
   // output.
   std::vector<std::string> nodes;

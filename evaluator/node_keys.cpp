@@ -92,7 +92,10 @@ const NodeKeyInfo& NodeKeys::of(const Node& node) {
   if (type.domain_independent) {
     h.add(false);
   } else {
-    h.add(true).add(domain_);
+    const Domain* own = &domain_;
+    if (node_domains_)
+      if (const auto it = node_domains_->find(id); it != node_domains_->end()) own = &it->second;
+    h.add(true).add(*own);
   }
 
   // Files a node reads (path parameters that are not outputs) are data too: their size and modification time

@@ -8,6 +8,7 @@
 // node's key and output port name or a fixed "absent" marker, the domain (unless the type is
 // domain_independent), and for writers the resolved absolute output paths. Nothing else enters it: not
 // node ids, not editor positions, not the order of nodes in the file.
+#include <map>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -27,8 +28,11 @@ struct NodeKeyInfo {
 
 class NodeKeys {
  public:
-  NodeKeys(const Graph& graph, const Domain& domain, const OutputPolicy& output)
-      : graph_(graph), domain_(domain), output_(output) {}
+  // `node_domains` (optional): nodes evaluated on a domain of their own (tiled builds, see
+  // EvalRequest::node_domains); the others use `domain`.
+  NodeKeys(const Graph& graph, const Domain& domain, const OutputPolicy& output,
+           const std::map<std::string, Domain>* node_domains = nullptr)
+      : graph_(graph), domain_(domain), output_(output), node_domains_(node_domains) {}
 
   // The analysis of node `id` (which must exist), computing its upstream first.
   const NodeKeyInfo& of(const std::string& id) { return of(graph_.at(id)); }
@@ -38,6 +42,7 @@ class NodeKeys {
   const Graph& graph_;
   const Domain& domain_;
   const OutputPolicy& output_;
+  const std::map<std::string, Domain>* node_domains_;
   std::unordered_map<const Node*, NodeKeyInfo> done_;
   std::unordered_set<const Node*> visiting_;  // cycle detection
 };

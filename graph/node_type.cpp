@@ -195,6 +195,10 @@ NodeBuilder& NodeBuilder::domain_independent(bool value) {
   type_.domain_independent = value;
   return *this;
 }
+NodeBuilder& NodeBuilder::own_lattice(bool value) {
+  type_.own_lattice = value;
+  return *this;
+}
 NodeBuilder& NodeBuilder::writes_files(bool value) {
   type_.writes_files = value;
   return *this;

@@ -117,6 +117,9 @@ struct NodeType {
   // The result does not depend on the requested domain (meshes of rocks, L-system strings): the domain is
   // left out of the cache key so preview and build share the result.
   bool domain_independent = false;
+  // The node's raster outputs lie on a lattice of its own (Resample), not on the requested domain's: a tiled
+  // build cannot cut a whole-domain result of it into tiles, so it evaluates the node per tile.
+  bool own_lattice = false;
   // The node writes files (writers): it is evaluated for its side effect and its cached result is only
   // trusted while the files it wrote are still there unchanged.
   bool writes_files = false;
@@ -176,6 +179,7 @@ class NodeBuilder {
   NodeBuilder& description(std::string d);
   NodeBuilder& version(int v);
   NodeBuilder& domain_independent(bool value = true);
+  NodeBuilder& own_lattice(bool value = true);
   NodeBuilder& writes_files(bool value = true);
   // Reach declarations; exactly one per node type.
   NodeBuilder& reach_pointwise();

@@ -15,10 +15,12 @@
 #include <tbb/global_control.h>
 
 #include "evaluator/disk_cache.h"
+#include "evaluator/domain_crop.h"
 #include "evaluator/evaluator.h"
 #include "evaluator/run_node.h"
 #include "graph/atomic_file.h"
 #include "graph/exec_context.h"
+#include "graph/image.h"
 #include "graph/registry.h"
 #include "nodes/common/parallel_rows.h"
 #include "support/test_paths.h"
@@ -920,6 +922,77 @@ TEST_F(EvaluatorTest, ManyIndependentBranchesInParallel) {
   EXPECT_EQ(g_ripple_runs, 80);
   EXPECT_EQ(g_add_runs, 2 * n);
   EXPECT_EQ(field(r1, g, level[0])->data, field(rn, g, level[0])->data);
+}
+
+// Tiled builds: a node given a domain of its own runs on it, with its raster inputs cut from a larger domain
+// of the same lattice; the domain is part of its key.
+TEST_F(EvaluatorTest, NodeDomainsRunNodesOnTheirOwnDomainWithCroppedInputs) {
+  Graph g;
+  g.add_node("TestRipple", "ripple");
+  g.add_node("TestAdd", "sum").params["offset"] = 0.5;
+  g.connect({"ripple", "out"}, "sum", "a");
+  g.connect({"ripple", "out"}, "sum", "b");
+  Evaluator ev;
+  const auto whole = ev.evaluate(g, request({"sum"}));
+  ASSERT_TRUE(whole.ok());
+
+  const Domain tile = kDomain.subdomain(4, 5, 6, 7);
+  EvalRequest r = request({"sum", "ripple"});
+  r.node_domains = {{"ripple", kDomain.subdomain(2, 3, 10, 11)}, {"sum", tile}};
+  const auto tiled = ev.evaluate(g, r);
+  ASSERT_TRUE(tiled.ok());
+  EXPECT_EQ(status(tiled, "ripple"), NodeStatus::Computed);  // another domain, another key
+  EXPECT_NE(tiled.nodes.at("sum").key, whole.nodes.at("sum").key);
+  ASSERT_TRUE(field(tiled, g, "ripple"));
+  EXPECT_EQ(field(tiled, g, "ripple")->domain, kDomain.subdomain(2, 3, 10, 11));
+  const auto sum = field(tiled, g, "sum");
+  ASSERT_TRUE(sum);
+  EXPECT_EQ(sum->domain, tile);
+  const auto full = field(whole, g, "sum");
+  for (int j = 0; j < tile.height(); ++j)
+    for (int i = 0; i < tile.width(); ++i) ASSERT_EQ(sum->at(i, j), full->at(4 + i, 5 + j)) << i << "," << j;
+
+  // The same node domains again: everything is found in the cache.
+  const auto again = ev.evaluate(g, r);
+  EXPECT_EQ(status(again, "sum"), NodeStatus::Cached);
+  EXPECT_EQ(status(again, "ripple"), NodeStatus::Cached);
+  // A node domain equal to the request's is the untiled result.
+  EvalRequest same = request({"sum"});
+  same.node_domains = {{"sum", kDomain}, {"ripple", kDomain}};
+  EXPECT_EQ(ev.evaluate(g, same).nodes.at("sum").key, whole.nodes.at("sum").key);
+}
+
+TEST(DomainCrop, CutsRastersOnTheSameLatticeAndLeavesTheRestAlone) {
+  const Domain d = Domain::from_extent({10.0, -20.0}, {90.0, 60.0}, {10, 7});
+  auto h = std::make_shared<Heightfield>(d);
+  auto im = std::make_shared<Image>(d, 3);
+  im->channel_names = {"R", "G", "B"};
+  for (int j = 0; j < d.height(); ++j)
+    for (int i = 0; i < d.width(); ++i) {
+      h->at(i, j) = static_cast<float>(100 * j + i);
+      for (int c = 0; c < 3; ++c) im->pixel(i, j)[c] = static_cast<float>(1000 * c + 100 * j + i);
+    }
+  const Domain inner = d.subdomain(3, 2, 4, 5);
+  const auto hc = std::get<HeightfieldPtr>(crop_to_domain(HeightfieldPtr(h), inner));
+  EXPECT_EQ(hc->domain, inner);
+  const auto ic = std::get<ImagePtr>(crop_to_domain(ImagePtr(im), inner));
+  EXPECT_EQ(ic->domain, inner);
+  EXPECT_EQ(ic->channel_names, im->channel_names);
+  for (int j = 0; j < inner.height(); ++j)
+    for (int i = 0; i < inner.width(); ++i) {
+      EXPECT_EQ(hc->at(i, j), static_cast<float>(100 * (j + 2) + i + 3));
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(ic->pixel(i, j)[c], static_cast<float>(1000 * c + 100 * (j + 2) + i + 3));
+    }
+  // Nested sub-domains cut relative to their own first sample.
+  const auto nested = std::get<HeightfieldPtr>(crop_to_domain(hc, inner.subdomain(1, 1, 2, 2)));
+  EXPECT_EQ(nested->at(0, 0), static_cast<float>(100 * 3 + 4));
+  // Not contained, another lattice, or the same domain: passed through untouched.
+  const HeightfieldPtr hp = h;
+  EXPECT_EQ(std::get<HeightfieldPtr>(crop_to_domain(hp, d)), hp);
+  EXPECT_EQ(std::get<HeightfieldPtr>(crop_to_domain(hp, d.subdomain(5, 0, 6, 3))), hp);  // beyond the right edge
+  EXPECT_EQ(std::get<HeightfieldPtr>(crop_to_domain(hp, d.resampled({19, 13}))), hp);
+  EXPECT_FALSE(domain_contains(d, d.subdomain(-1, 0, 3, 3)));
+  EXPECT_TRUE(domain_contains(d, d.subdomain(9, 6, 1, 1)));
 }
 
 }  // namespace

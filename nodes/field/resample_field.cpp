@@ -36,6 +36,7 @@ std::shared_ptr<Heightfield> resample_field(const Heightfield& in, const Resampl
 OROGEN_NODE(Resample) {
   b.version(2);  // 2: the decimated blur aligned to the global lattice (tile-exact)
   b.reach_global();  // the output lattice spans the requested rectangle
+  b.own_lattice();
   b.category("field").description(
       "The same world rectangle at a chosen spacing in metres (about size / spacing + 1 samples per axis), "
       "whatever resolution was requested: a fixed level of detail for meshes, exports or coarse simulations. "
