@@ -23,6 +23,9 @@ int main(int argc, char** argv) {
   cli.add_option("--select", options.select, "Select this node at start (its parameters and preview are shown)");
   cli.add_flag("!--no-thumbnails", options.thumbnails, "Nodes without thumbnails of their outputs");
   cli.add_option("--port", options.port, "With --select: the output shown in the preview (default: the first)");
+  cli.add_option("--channel", options.channel, "With --select: the image channel (by name, e.g. jun) shown in the 2D preview");
+  cli.add_option("--color-map", options.color_map, "2D preview color map at start (gray, terrain, viridis, diverging, water, categorical)")
+      ->check(CLI::IsMember({"gray", "terrain", "viridis", "diverging", "water", "categorical"}));
   cli.add_option("--view", options.view, "Preview panel at start")->check(CLI::IsMember({"2d", "3d"}));
   cli.add_option("--drape", options.drape, "Image node draped over the 3D terrain at start");
   cli.add_option("--camera", options.camera,

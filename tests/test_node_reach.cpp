@@ -15,6 +15,7 @@
 #include "graph/heightfield.h"
 #include "graph/polygon_map.h"
 #include "graph/image.h"
+#include "graph/report.h"
 #include "graph/registry.h"
 #include "support/test_paths.h"
 
@@ -58,6 +59,15 @@ PortValue fixed_polygon_map() {
 PortValue input_for(const PortDecl& port, const Domain& d) {
   if (port.type == PortType::Curves) return fixed_curves();
   if (port.type == PortType::PolygonMap) return fixed_polygon_map();
+  if (port.type == PortType::Image) {  // 12 channels (monthly climate images, layer weights): smooth plus detail
+    auto img = std::make_shared<Image>(d, 12);
+    for (int j = 0; j < d.height(); ++j)
+      for (int i = 0; i < d.width(); ++i)
+        for (int c = 0; c < 12; ++c)
+          img->pixel(i, j)[c] = static_cast<float>(0.5 + 0.3 * std::sin(d.x(i) / (150.0 + 10 * c) + d.y(j) / 210.0) +
+                                                   0.1 * detail(d, i, j));
+    return PortValue(ImagePtr(img));
+  }
   auto h = std::make_shared<Heightfield>(d);
   for (int j = 0; j < d.height(); ++j)
     for (int i = 0; i < d.width(); ++i) {
@@ -134,6 +144,9 @@ std::vector<float> crop(const PortValue& v, int i0, int j0, int w, int h) {
     for (int j = j0; j < j0 + h; ++j)
       for (int i = i0; i < i0 + w; ++i)
         for (int c = 0; c < (*img)->channels; ++c) out.push_back((*img)->pixel(i, j)[c]);
+  } else if (const auto* rep = std::get_if<ReportPtr>(&v)) {
+    // A report describes the node's settings, not samples (Biomes' table): it must not change either.
+    for (char ch : (*rep)->json) out.push_back(static_cast<float>(ch));
   } else {
     ADD_FAILURE() << "a non-global node with an output that is neither a field nor an image";
   }

@@ -19,9 +19,14 @@
 
 namespace orogen::editor {
 
-enum class ColorMap { Gray, Terrain, Viridis, Diverging, Water };
-inline constexpr const char* kColorMapNames[] = {"gray", "terrain", "viridis", "diverging", "water"};
-inline constexpr int kColorMapCount = 5;
+// Categorical: ids (cluster, biome, layer numbers) each in its own colour, by the rounded value rather than
+// its position in the range (ids beyond the palette repeat it).
+enum class ColorMap { Gray, Terrain, Viridis, Diverging, Water, Categorical };
+inline constexpr const char* kColorMapNames[] = {"gray", "terrain", "viridis", "diverging", "water", "categorical"};
+inline constexpr int kColorMapCount = 6;
+
+// The categorical colour (sRGB) of id `id`: 12 distinct colours (Tableau 10 and two more), repeating.
+glm::vec3 categorical_color(long id);
 
 // Linear interpolation through the map's stops; t is clamped to [0, 1]. sRGB-encoded components in 0..1.
 glm::vec3 colormap(ColorMap map, double t);
@@ -68,6 +73,8 @@ PreviewPixels render_heightfield(const Heightfield& field, const HeightfieldStyl
 PreviewPixels render_water_over_terrain(const Heightfield& terrain, const Heightfield& depth);
 // 1 channel: grey; 2: grey + alpha; 3: RGB; 4+: RGBA of the first four. Linear values are sRGB-encoded.
 PreviewPixels render_image(const Image& image);
+// One channel of an image as a field (a month of a climate image, a splat layer), to draw with a colour map.
+Heightfield image_channel(const Image& image, int channel);
 
 // Small pictures of point sets and curves (node thumbnails): the world rectangle `domain` fitted into at
 // most max_side pixels along its longer side (aspect kept, world +y up), on a dark background. Points as

@@ -110,6 +110,7 @@ App::App(AppOptions options)
   drape_node_ = options_.drape;
   if (options_.camera.size() == 3) viewport_3d_->set_view(options_.camera[0], options_.camera[1], options_.camera[2]);
   right_width_ = options_.preview_width;
+  preview_2d_.set_start(options_.channel, options_.color_map);
 
   if (!options_.file.empty()) open_file(options_.file);
   if (!document_->graph().find(options_.drape)) drape_node_.clear();

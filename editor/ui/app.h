@@ -36,6 +36,8 @@ struct AppOptions {
   int width = 1600, height = 900;
   std::string select;                // node selected at start (documentation screenshots)
   std::string port;                  // its output shown in the preview
+  std::string channel;               // image channel shown as a field in the 2D preview (name), "" composite
+  std::string color_map;             // 2D preview colour map at start (kColorMapNames), "" automatic
   bool thumbnails = true;            // node thumbnails on the canvas
   std::string view = "2d";           // preview panel at start: 2d or 3d
   std::string drape;                 // Image node draped over the 3D terrain at start

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include <imgui.h>
 
@@ -74,10 +76,33 @@ void Preview2D::fit(const Domain& domain, glm::dvec2 size) {
   fitted_ = true;
 }
 
+void Preview2D::set_start(const std::string& channel, const std::string& color_map) {
+  start_channel_ = channel;
+  for (int k = 0; k < kColorMapCount; ++k)
+    if (color_map == kColorMapNames[k]) map_choice_ = k + 1;
+}
+
+HeightfieldPtr Preview2D::chosen_channel(const PreviewContent& content) {
+  const auto* i = std::get_if<ImagePtr>(&content.value);
+  if (!i || !*i || channel_choice_ <= 0) return nullptr;
+  if (channel_choice_ > (*i)->channels) {
+    channel_choice_ = 0;
+    return nullptr;
+  }
+  if (channel_source_ != *i || channel_source_index_ != channel_choice_ - 1) {
+    channel_field_ = std::make_shared<Heightfield>(image_channel(**i, channel_choice_ - 1));
+    channel_source_ = *i;
+    channel_source_index_ = channel_choice_ - 1;
+  }
+  return channel_field_;
+}
+
 HeightfieldStyle Preview2D::style_for_content(const PreviewContent& content) const {
-  // The backdrop under points and curves, and a value without a kind, are terrain.
+  // The backdrop under points and curves, and a value without a kind, are terrain; an image channel is a
+  // scalar.
   const bool value_field = std::holds_alternative<HeightfieldPtr>(content.value);
-  HeightfieldStyle s = style_for(value_field ? content.kind : OutputKind::Height);
+  const bool image_channel = std::holds_alternative<ImagePtr>(content.value) && channel_choice_ > 0;
+  HeightfieldStyle s = style_for(image_channel ? OutputKind::Scalar : value_field ? content.kind : OutputKind::Height);
   if (map_choice_ > 0) s.map = static_cast<ColorMap>(map_choice_ - 1);
   if (hillshade_choice_) s.hillshade = *hillshade_choice_;
   return s;
@@ -90,6 +115,10 @@ void Preview2D::upload(const PreviewContent& content) {
   if (auto* h = std::get_if<HeightfieldPtr>(&content.value)) field = *h;
   else if (auto* i = std::get_if<ImagePtr>(&content.value)) image = *i;
   else field = content.backdrop;
+  if (HeightfieldPtr channel = chosen_channel(content)) {
+    field = channel;
+    image = nullptr;
+  }
   style_ = style_for_content(content);
   // Redrawn when the data or the style change: results are immutable and shared, so the same pointer means
   // the same data (a cached result after an edit elsewhere is not redrawn). The pointers are held, so they
@@ -124,14 +153,42 @@ void Preview2D::upload(const PreviewContent& content) {
 void Preview2D::draw(const PreviewContent& content) {
   // The colour map applies when a heightfield is drawn: the value itself, or the backdrop of points,
   // curves and maps (an image is drawn as it is).
+  const auto* shown_image = std::get_if<ImagePtr>(&content.value);
+  if (!start_channel_.empty() && shown_image && *shown_image) {
+    const auto& names = (*shown_image)->channel_names;
+    if (const auto it = std::find(names.begin(), names.end(), start_channel_); it != names.end()) {
+      channel_choice_ = static_cast<int>(it - names.begin()) + 1;
+      start_channel_.clear();
+    }
+  }
   const bool is_field = std::holds_alternative<HeightfieldPtr>(content.value) ||
-                        (content.backdrop && !std::holds_alternative<ImagePtr>(content.value));
+                        (content.backdrop && !shown_image) || (shown_image && *shown_image && channel_choice_ > 0);
   // Toolbar.
+  if (shown_image && *shown_image && (*shown_image)->channels > 1) {
+    // Multi-channel images (monthly climate, splat weights): the colour composite or one channel.
+    const Image& img = **shown_image;
+    if (channel_choice_ > img.channels) channel_choice_ = 0;
+    std::vector<std::string> names{"color"};
+    for (int c = 0; c < img.channels; ++c)
+      names.push_back(static_cast<std::size_t>(c) < img.channel_names.size() && !img.channel_names[static_cast<std::size_t>(c)].empty()
+                          ? img.channel_names[static_cast<std::size_t>(c)]
+                          : "channel " + std::to_string(c));
+    ImGui::SetNextItemWidth(150);
+    if (ImGui::BeginCombo("##channel", names[static_cast<std::size_t>(channel_choice_)].c_str())) {
+      for (int k = 0; k < static_cast<int>(names.size()); ++k)
+        if (ImGui::Selectable(names[static_cast<std::size_t>(k)].c_str(), k == channel_choice_)) channel_choice_ = k;
+      ImGui::EndCombo();
+    }
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("Channel: the first channels as color, or one channel (a month, a layer) through a color map");
+    ImGui::SameLine();
+  }
   if (is_field) {
     const HeightfieldStyle current = style_for_content(content);
     const bool value_field = std::holds_alternative<HeightfieldPtr>(content.value);
+    const OutputKind shown_kind = shown_image ? OutputKind::Scalar : value_field ? content.kind : OutputKind::Height;
     char automatic[48];
-    std::snprintf(automatic, sizeof automatic, "auto: %s", kColorMapNames[static_cast<int>(style_for(value_field ? content.kind : OutputKind::Height).map)]);
+    std::snprintf(automatic, sizeof automatic, "auto: %s", kColorMapNames[static_cast<int>(style_for(shown_kind).map)]);
     const char* items[1 + kColorMapCount] = {automatic};
     for (int k = 0; k < kColorMapCount; ++k) items[k + 1] = kColorMapNames[k];
     ImGui::SetNextItemWidth(120);
@@ -139,7 +196,7 @@ void Preview2D::draw(const PreviewContent& content) {
     if (ImGui::IsItemHovered())
       ImGui::SetTooltip("Color map. Auto follows what the output holds (%s): heights in terrain tints, masks in "
                         "gray over 0..1, signed fields diverging around 0, water depth in blues.",
-                        std::string(to_string(value_field ? content.kind : OutputKind::Height)).c_str());
+                        std::string(to_string(shown_kind)).c_str());
     ImGui::SameLine();
     bool shade = current.hillshade;
     if (ImGui::Checkbox("hillshade", &shade)) hillshade_choice_ = shade;

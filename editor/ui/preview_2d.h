@@ -17,15 +17,25 @@ namespace orogen::editor {
 class Preview2D {
  public:
   void draw(const PreviewContent& content);
+  // Choices at start (command line): the image channel shown, by name, once an image with it is shown; the
+  // colour map by name ("" leaves either automatic).
+  void set_start(const std::string& channel, const std::string& color_map);
 
  private:
   void upload(const PreviewContent& content);
+  // The image channel chosen for display as a field, or null (composite, or the value is not an image).
+  HeightfieldPtr chosen_channel(const PreviewContent& content);
   void fit(const Domain& domain, glm::dvec2 size);
 
   HeightfieldStyle style_for_content(const PreviewContent& content) const;
 
   HeightfieldStyle style_;       // the style drawn
   int map_choice_ = 0;           // 0: from the output's kind, else 1 + ColorMap
+  int channel_choice_ = 0;       // images: 0 shows the colour composite, k > 0 channel k - 1 as a field
+  HeightfieldPtr channel_field_;  // that channel
+  ImagePtr channel_source_;       // the image and channel it was taken from
+  int channel_source_index_ = -1;
+  std::string start_channel_;     // set_start: applied when an image with this channel is shown
   std::optional<bool> hillshade_choice_;  // unset: from the output's kind
   GlTexture texture_;
   std::string texture_key_;   // what the texture holds

@@ -308,5 +308,23 @@ TEST(CurveRibbons, WidthAwareAndOnTheTerrain) {
   for (const auto& p : bare.positions) EXPECT_NEAR(p.z, 1.0f, 1e-4f);
 }
 
+TEST(Preview, CategoricalIdsAndImageChannels) {
+  // Ids by their rounded value, not their place in the range: id 2 looks the same in any field.
+  Heightfield ids(Domain::from_extent({0, 0}, {3, 0}, {4, 1}));
+  ids.data = {0.0f, 1.0f, 2.0f, 13.0f};
+  const auto px = render_heightfield(ids, {ColorMap::Categorical, false, {}});
+  auto rgb = [&](int i) { return glm::vec3(px.rgba[std::size_t(i) * 4], px.rgba[std::size_t(i) * 4 + 1], px.rgba[std::size_t(i) * 4 + 2]) / 255.0f; };
+  for (int i = 0; i < 3; ++i) EXPECT_LT(glm::length(rgb(i) - categorical_color(i)), 0.01f) << i;
+  EXPECT_LT(glm::length(rgb(3) - categorical_color(1)), 0.01f) << "13 repeats the palette of 12";
+  EXPECT_GT(glm::length(categorical_color(0) - categorical_color(1)), 0.2f);
+  EXPECT_EQ(categorical_color(-1), categorical_color(11));
+  // A 12-channel image: one channel as a field.
+  Image img(Domain::from_extent({0, 0}, {1, 1}, {2, 2}), 12);
+  for (std::size_t q = 0; q < img.data.size(); ++q) img.data[q] = static_cast<float>(q);
+  const Heightfield jun = image_channel(img, 5);
+  EXPECT_EQ(jun.data, (std::vector<float>{5.0f, 17.0f, 29.0f, 41.0f}));
+  EXPECT_EQ(image_channel(img, 12).data, std::vector<float>(4, 0.0f)) << "out of range: zeros";
+}
+
 }  // namespace
 }  // namespace orogen::editor
