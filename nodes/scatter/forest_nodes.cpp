@@ -3,6 +3,7 @@
 
 #include "graph/exec_context.h"
 #include "graph/registry.h"
+#include "nodes/scatter/run_placement.h"
 #include "nodes/scatter/forest.h"
 
 namespace orogen {
@@ -108,20 +109,7 @@ OROGEN_NODE(ForestLifeCycle) {
     p.hi = ctx.domain().max_corner();
     p.seed = ctx.param<std::uint64_t>("seed");
     if (in->size() > 5'000'000) throw NodeError("ForestLifeCycle: more than 5 million initial trees");
-    auto out = std::make_shared<Points>();
-    try {
-      *out = forest_life_cycle(*in, p, &ctx);
-    } catch (const std::invalid_argument& e) {
-      throw NodeError(e.what());
-    } catch (const std::runtime_error& e) {
-      throw NodeError(e.what());
-    }
-    if (height)
-      for (auto& q : out->position) {
-        const float z = height->sample_world(q.x, q.y);
-        q.z = std::isfinite(z) ? z : 0.0f;
-      }
-    ctx.set_output("out", out);
+    ctx.set_output("out", scatter::run_placement([&] { return forest_life_cycle(*in, p, &ctx); }, height.get()));
   });
 }
 

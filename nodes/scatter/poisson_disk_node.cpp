@@ -5,6 +5,7 @@
 
 #include "graph/exec_context.h"
 #include "graph/registry.h"
+#include "nodes/scatter/run_placement.h"
 #include "nodes/scatter/poisson_disk.h"
 
 namespace orogen {
@@ -75,20 +76,7 @@ OROGEN_NODE(PoissonDisk) {
     p.attempts = static_cast<int>(ctx.param<std::int64_t>("attempts"));
     p.fill_gaps = ctx.param<bool>("fill_gaps");
     p.seed = ctx.param<std::uint64_t>("seed");
-    auto out = std::make_shared<Points>();
-    try {
-      *out = poisson_disk(ctx.domain().min_corner(), ctx.domain().max_corner(), p, &ctx);
-    } catch (const std::invalid_argument& e) {
-      throw NodeError(e.what());
-    } catch (const std::runtime_error& e) {
-      throw NodeError(e.what());
-    }
-    if (height)
-      for (auto& q : out->position) {
-        const float z = height->sample_world(q.x, q.y);
-        q.z = std::isfinite(z) ? z : 0.0f;
-      }
-    ctx.set_output("out", out);
+    ctx.set_output("out", scatter::run_placement([&] { return poisson_disk(ctx.domain().min_corner(), ctx.domain().max_corner(), p, &ctx); }, height.get()));
   });
 }
 
