@@ -85,7 +85,9 @@ void BM_TreeMesh(benchmark::State& state) {
 }
 BENCHMARK(BM_TreeMesh)->Name("TreeMesh/green_tree/5")->Unit(benchmark::kMillisecond);
 
-void BM_Hull(benchmark::State& state) {
+// 64 seeded rock point sets of state.range(0) points, hulled in turn by `hull`.
+template <class Hull>
+void hull_benchmark(benchmark::State& state, Hull&& hull) {
   std::vector<std::vector<glm::dvec3>> sets;
   for (std::uint64_t k = 0; k < 64; ++k) {
     rocks::HullRockOptions o;
@@ -94,22 +96,17 @@ void BM_Hull(benchmark::State& state) {
     sets.push_back(rocks::rock_points(o));
   }
   std::size_t k = 0;
-  for (auto _ : state) benchmark::DoNotOptimize(rocks::convex_hull_cgal(sets[k++ % sets.size()]));
+  for (auto _ : state) benchmark::DoNotOptimize(hull(sets[k++ % sets.size()]));
   state.counters["hulls"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_Hull(benchmark::State& state) {
+  hull_benchmark(state, [](const auto& points) { return rocks::convex_hull_cgal(points); });
 }
 BENCHMARK(BM_Hull)->Name("Hull/cgal")->Arg(20)->Arg(100)->Unit(benchmark::kMicrosecond);
 
 void BM_SmallHull(benchmark::State& state) {
-  std::vector<std::vector<glm::dvec3>> sets;
-  for (std::uint64_t k = 0; k < 64; ++k) {
-    rocks::HullRockOptions o;
-    o.points = static_cast<int>(state.range(0));
-    o.seed = k;
-    sets.push_back(rocks::rock_points(o));
-  }
-  std::size_t k = 0;
-  for (auto _ : state) benchmark::DoNotOptimize(rocks::convex_hull_small(sets[k++ % sets.size()]));
-  state.counters["hulls"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate);
+  hull_benchmark(state, [](const auto& points) { return rocks::convex_hull_small(points); });
 }
 BENCHMARK(BM_SmallHull)->Name("Hull/small")->Arg(20)->Arg(100)->Unit(benchmark::kMicrosecond);
 

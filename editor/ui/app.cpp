@@ -901,6 +901,15 @@ void App::update_preview() {
   pending_request_ = false;
 }
 
+// The first image output of the chosen drape node in the preview result, if any.
+ImagePtr App::drape_image(const PreviewResult& result) const {
+  if (drape_node_.empty()) return nullptr;
+  if (auto it = result.outputs.find(drape_node_); it != result.outputs.end())
+    for (const auto& v : it->second)
+      if (auto* im = std::get_if<ImagePtr>(&v)) return *im;
+  return nullptr;
+}
+
 PreviewContent App::preview_content(const std::string& node) const {
   PreviewContent c;
   c.node = node;
@@ -935,13 +944,7 @@ PreviewContent App::preview_content(const std::string& node) const {
           break;
         }
   if (auto* image = std::get_if<ImagePtr>(&c.value); image && *image && drape_node_.empty()) c.drape = *image;
-  if (!drape_node_.empty())
-    if (auto it = result->outputs.find(drape_node_); it != result->outputs.end())
-      for (const auto& v : it->second)
-        if (auto* im = std::get_if<ImagePtr>(&v)) {
-          c.drape = *im;
-          break;
-        }
+  if (ImagePtr drape = drape_image(*result)) c.drape = drape;
   return c;
 }
 
@@ -973,13 +976,7 @@ PreviewContent App::scene_content(const std::string& node, const SceneSources& s
     c.backdrop = scene.ground;
     c.backdrop_node = sources.ground.node;
   }
-  if (!drape_node_.empty())
-    if (auto it = result->outputs.find(drape_node_); it != result->outputs.end())
-      for (const auto& v : it->second)
-        if (auto* im = std::get_if<ImagePtr>(&v)) {
-          c.drape = *im;
-          break;
-        }
+  if (ImagePtr drape = drape_image(*result)) c.drape = drape;
   if (scene.points) c.scene = std::move(scene);
   return c;
 }

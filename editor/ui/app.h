@@ -94,6 +94,7 @@ class App {
   void update_preview();
   PreviewContent preview_content(const std::string& node) const;
   PreviewContent scene_content(const std::string& node, const SceneSources& sources) const;
+  ImagePtr drape_image(const PreviewResult& result) const;
 
   // Build.
   void start_build();
