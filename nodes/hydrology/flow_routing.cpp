@@ -12,6 +12,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
 #include "graph/exec_context.h"
@@ -762,42 +763,105 @@ std::vector<double> accumulate(const FlowGrid& g, std::span<const float> z, cons
   std::vector<double> acc(n);
   const double area = g.cell_area();
   for (std::size_t c = 0; c < n; ++c) acc[c] = cell_weight(weight, c, area);
-  std::vector<std::int32_t> st;
+  // Parallel after Barnes 2017: the rows are cut into a FIXED number of bands (it depends on the grid only,
+  // never on the thread count), merged pairwise up a fixed binary tree. A leaf does dependency counting inside
+  // its band; a share for a cell outside the band is recorded instead of added. A tree node adds the shares
+  // its two halves recorded for cells inside its range (left half's list first, each in recording order) and
+  // continues downstream from the cells they complete, again recording what leaves its range; the halves run
+  // in parallel. Every cell therefore receives its shares in the same order for any thread count: results are
+  // bit-identical. Only the root's work is serial (about a tenth of the cells on 4096^2 fBm with MFD).
   constexpr std::uint8_t kDone = 0xFF;
-  std::size_t work = 0;
-  for (std::int32_t c0 = 0; c0 < static_cast<std::int32_t>(n); ++c0) {
-    if (remaining[c0] != 0) continue;
-    remaining[c0] = kDone;
-    st.push_back(c0);
+  struct Share {
+    std::int32_t cell;
+    double amount;
+  };
+  const int rows_per_band = std::max(64, (g.ny + 7) / 8);
+  const int bands = (g.ny + rows_per_band - 1) / rows_per_band;
+  const bool parallel = tbb::this_task_arena::max_concurrency() > 1 && bands > 1;
+  // Hands x's accumulation to its receivers; cells in [lo, hi) are counted down (and pushed on `st` when
+  // complete), others recorded in `out`.
+  auto route = [&](std::int32_t x, std::int32_t lo, std::int32_t hi, std::vector<std::int32_t>& st,
+                   std::vector<Share>& out) {
+    const double ax = acc[x];
+    auto give = [&](int k, double fr) {
+      const std::int32_t m = x + t.off[k];
+      if (m < lo || m >= hi) {
+        out.push_back({m, ax * fr});
+        return;
+      }
+      acc[m] += ax * fr;
+      if (--remaining[m] == 0) {
+        remaining[m] = kDone;
+        st.push_back(m);
+      }
+    };
+    if (dinf) {
+      if (dk1[x] != kNoDirection) give(dk1[x], dk2[x] != kNoDirection ? dfrac[x] : 1.0);
+      if (dk2[x] != kNoDirection) give(dk2[x], 1.0 - static_cast<double>(dfrac[x]));
+    } else {
+      const int i = g.column(x), j = g.row(x);
+      int nb[8];
+      double fr[8];
+      const int cnt = interior_cell(g, i, j) ? route_cell<true>(g, t, zz, i, j, opt, nb, fr)
+                                             : route_cell<false>(g, t, zz, i, j, opt, nb, fr);
+      for (int m = 0; m < cnt; ++m) give(nb[m], fr[m]);
+    }
+  };
+  auto drain = [&](std::int32_t lo, std::int32_t hi, std::vector<std::int32_t>& st, std::vector<Share>& out) {
     while (!st.empty()) {
       const std::int32_t x = st.back();
       st.pop_back();
-      const double ax = acc[x];
-      auto give = [&](int k, double fr) {
-        const std::int32_t m = x + t.off[k];
-        acc[m] += ax * fr;
-        if (--remaining[m] == 0) {
-          remaining[m] = kDone;
-          st.push_back(m);
+      route(x, lo, hi, st, out);
+    }
+  };
+  auto band_begin = [&](int b) { return g.index(0, std::min(g.ny, b * rows_per_band)); };
+  std::atomic<int> leaves_done{0};
+  std::function<std::vector<Share>(int, int)> solve = [&](int b0, int b1) -> std::vector<Share> {
+    const std::int32_t lo = band_begin(b0), hi = band_begin(b1);
+    std::vector<Share> out;
+    std::vector<std::int32_t> st;
+    std::size_t work = 0;
+    if (b1 - b0 == 1) {
+      for (std::int32_t c0 = lo; c0 < hi; ++c0) {
+        if (remaining[c0] != 0) continue;
+        remaining[c0] = kDone;
+        st.push_back(c0);
+        drain(lo, hi, st, out);
+        if (++work > (1u << 16)) {
+          work = 0;
+          check(ctx);
         }
-      };
-      if (dinf) {
-        if (dk1[x] != kNoDirection) give(dk1[x], dk2[x] != kNoDirection ? dfrac[x] : 1.0);
-        if (dk2[x] != kNoDirection) give(dk2[x], 1.0 - static_cast<double>(dfrac[x]));
-      } else {
-        const int i = g.column(x), j = g.row(x);
-        int nb[8];
-        double fr[8];
-        const int cnt = interior_cell(g, i, j) ? route_cell<true>(g, t, zz, i, j, opt, nb, fr)
-                                               : route_cell<false>(g, t, zz, i, j, opt, nb, fr);
-        for (int m = 0; m < cnt; ++m) give(nb[m], fr[m]);
       }
+      const int d = leaves_done.fetch_add(1) + 1;
+      if (ctx) ctx->progress(0.5 + 0.4 * d / bands);
+      return out;
     }
-    if (++work > (1u << 16)) {
-      work = 0;
-      check(ctx);
-    }
-  }
+    const int mid = (b0 + b1) / 2;
+    std::vector<Share> left, right;
+    if (parallel)
+      tbb::parallel_invoke([&] { left = solve(b0, mid); }, [&] { right = solve(mid, b1); });
+    else
+      left = solve(b0, mid), right = solve(mid, b1);
+    for (const std::vector<Share>* in : {&left, &right})
+      for (const Share& sh : *in) {
+        if (sh.cell < lo || sh.cell >= hi) {
+          out.push_back(sh);
+          continue;
+        }
+        acc[sh.cell] += sh.amount;
+        if (--remaining[sh.cell] != 0) continue;
+        remaining[sh.cell] = kDone;
+        st.push_back(sh.cell);
+        drain(lo, hi, st, out);
+        if (++work > (1u << 14)) {
+          work = 0;
+          check(ctx);
+        }
+      }
+    return out;
+  };
+  solve(0, bands);
+  check(ctx);
   return acc;
 }
 
