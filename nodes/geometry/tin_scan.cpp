@@ -91,10 +91,9 @@ ScanResult ScanTriangle(const ScanRequest& r) {
       else xl = std::max(xl, wk.px + wk.q + (wk.rem != 0 ? 1 : 0));
       wk.q += wk.step_q;
       wk.rem += wk.step_r;
-      if (wk.rem >= wk.den) {
-        ++wk.q;
-        wk.rem -= wk.den;
-      }
+      const bool carry = wk.rem >= wk.den;  // branch-free: the carry is as good as random from row to row
+      wk.q += carry;
+      wk.rem -= carry ? wk.den : 0;
     }
     if (xl > xr) continue;
     const std::size_t n = static_cast<std::size_t>(xr - xl + 1);
