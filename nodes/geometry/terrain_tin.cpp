@@ -62,14 +62,17 @@ class Scanner {
     return {static_cast<double>(s.error), s.sample};
   }
 
-  // The vertical distance of sample (px, py) to the plane of grid triangle (a, b, c), as scan() computes it.
-  double point_error(int ax, int ay, int bx, int by, int cx, int cy, int px, int py) const {
-    const double za = z_[ay * width_ + ax], zb = z_[by * width_ + bx], zc = z_[cy * width_ + cx];
+  float height(int x, int y) const { return z_[static_cast<std::size_t>(y) * width_ + x]; }
+
+  // The vertical distance of sample (px, py), height zp, to the plane of grid triangle (a, b, c) with heights
+  // za, zb, zc, as scan() computes it.
+  static double point_error(int ax, int ay, double za, int bx, int by, double zb, int cx, int cy, double zc, int px,
+                            int py, double zp) {
     const double det = static_cast<double>(orient(ax, ay, bx, by, cx, cy));
     const double ux = bx - ax, uy = by - ay, vx = cx - ax, vy = cy - ay, uz = zb - za, vz = zc - za;
     const double gx = (uz * vy - vz * uy) / det, gy = (ux * vz - vx * uz) / det;
     const double base = za - gx * ax + gy * (py - ay);
-    return std::abs(static_cast<double>(z_[py * width_ + px]) - (base + gx * static_cast<double>(px)));
+    return std::abs(zp - (base + gx * static_cast<double>(px)));
   }
 
   template <bool kStopAbove>
@@ -370,11 +373,13 @@ class Collapser {
     std::vector<std::int32_t> renumber(nv);
     vx_.resize(nv);
     vy_.resize(nv);
+    vz_.resize(nv);
     for (std::size_t k = 0; k < nv; ++k) {
       const std::size_t v = key[k] & 0xffffffffu;
       renumber[v] = static_cast<std::int32_t>(k);
       vx_[k] = vx[v];
       vy_[k] = vy[v];
+      vz_[k] = scanner.height(vx[v], vy[v]);
     }
     std::vector<std::array<std::int32_t, 3>> tris(nt);
     for (std::size_t t = 0; t < nt; ++t)
@@ -501,10 +506,12 @@ class Collapser {
         const auto& c = tris_[t];
         if (c[0] == u || c[1] == u || c[2] == u) continue;
         int x[3], y[3];
+        float z[3];
         for (int k = 0; k < 3; ++k) {
           const int w = c[k] == v ? u : c[k];
           x[k] = vx_[w];
           y[k] = vy_[w];
+          z[k] = vz_[w];
         }
         if (orient(x[0], y[0], x[1], y[1], x[2], y[2]) <= 0) {
           ok = false;
@@ -514,7 +521,7 @@ class Collapser {
         if (!v_checked && orient(x[0], y[0], x[1], y[1], vx_[v], vy_[v]) >= 0 &&
             orient(x[1], y[1], x[2], y[2], vx_[v], vy_[v]) >= 0 && orient(x[2], y[2], x[0], y[0], vx_[v], vy_[v]) >= 0) {
           v_checked = true;
-          if (scanner_.point_error(x[0], y[0], x[1], y[1], x[2], y[2], vx_[v], vy_[v]) > best) {
+          if (Scanner::point_error(x[0], y[0], z[0], x[1], y[1], z[1], x[2], y[2], z[2], vx_[v], vy_[v], vz_[v]) > best) {
             ok = false;
             break;
           }
@@ -587,6 +594,7 @@ class Collapser {
   int width_, height_;
   const Scanner& scanner_;
   std::vector<int> vx_, vy_;
+  std::vector<float> vz_;  // the vertices' heights (kept here: the field itself is far away in memory)
   std::vector<std::array<std::int32_t, 3>> tris_;
   std::vector<std::uint8_t> alive_tri_, alive_vertex_;
   std::vector<std::vector<int>> star_;
