@@ -4,6 +4,10 @@
 #include <cmath>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -14,6 +18,29 @@ struct TileStats {
   double eroded = 0.0, deposited = 0.0, carried_off = 0.0;  // m^3
   std::uint64_t steps = 0;
 };
+
+// Adds a x weight to the brush rows around zc (W > 0: rows of W weights known at compile time; widths are
+// multiples of 4, so SSE takes 4 at a time, the same product and sum per sample as scalar code).
+template <int W>
+inline void brush_rows(float* zc, float a, const std::ptrdiff_t* __restrict RO, const float* __restrict RW, int rows,
+                       int row_width) {
+  const int n = W > 0 ? W : row_width;
+#if defined(__SSE2__)
+  const __m128 va = _mm_set1_ps(a);
+  for (int r = 0; r < rows; ++r) {
+    float* zr = zc + RO[r];
+    const float* wr = RW + static_cast<std::size_t>(r) * n;
+    for (int q = 0; q < n; q += 4)
+      _mm_storeu_ps(zr + q, _mm_add_ps(_mm_loadu_ps(zr + q), _mm_mul_ps(va, _mm_loadu_ps(wr + q))));
+  }
+#else
+  for (int r = 0; r < rows; ++r) {
+    float* __restrict zr = zc + RO[r];
+    const float* __restrict wr = RW + static_cast<std::size_t>(r) * n;
+    for (int q = 0; q < n; ++q) zr[q] += a * wr[q];
+  }
+#endif
+}
 
 struct BrushTap {
   int di, dj;
@@ -27,9 +54,9 @@ struct Sim {
   std::uint32_t* V;
   const Heightfield* mask;
   const std::vector<BrushTap>* brush;
-  const std::ptrdiff_t* TO;
-  const float* BW;
-  std::size_t taps;
+  const std::ptrdiff_t* RO;  // brush rows: offset of each row's first column from the centre sample
+  const float* RW;           // brush rows: row_width weights each (0 outside the disc and in the padding)
+  int rows, row_width;
   int w, h, rx, ry, max_steps;
   std::uint64_t seed;
   float step_u, step_v, inv_dx, inv_dy, cell_area, inv_cell_area, inv_step, inertia, min_slope, capacity,
@@ -75,9 +102,9 @@ struct Sim {
   void run_tile(std::uint64_t first, const std::uint32_t* ids, std::uint32_t count, TileStats& ts) const {
     float* __restrict const Z = this->Z;
     std::uint32_t* __restrict const V = this->V;
-    const std::ptrdiff_t* __restrict const TO = this->TO;
-    const float* __restrict const BW = this->BW;
-    const std::size_t taps = this->taps;
+    const std::ptrdiff_t* __restrict const RO = this->RO;
+    const float* __restrict const RW = this->RW;
+    const int rows = this->rows, row_width = this->row_width;
     const int w = this->w, h = this->h, rx = this->rx, ry = this->ry, max_steps = this->max_steps;
     const float step_u = this->step_u, step_v = this->step_v, inv_dx = this->inv_dx, inv_dy = this->inv_dy;
     const float cell_area = this->cell_area, inv_cell_area = this->inv_cell_area, inv_step = this->inv_step;
@@ -150,9 +177,16 @@ struct Sim {
         const float amt = std::min((cap - sed) * erosion, -dh * brush_area) * m;
         if (amt > 0) {
           const float a = -amt * inv_cell_area;
-          if (ni >= rx && nj >= ry && ni + rx < w && nj + ry < h) [[likely]] {
+          if (ni >= rx && nj >= ry && ni - rx + row_width <= w && nj + ry < h) [[likely]] {
             float* __restrict zc = Z + node;
-            for (std::size_t q = 0; q < taps; ++q) zc[TO[q]] += a * BW[q];
+            // Row by row over padded rows of a multiple of 4 weights: the inner loop vectorises.
+            switch (row_width) {  // fixed widths unroll to whole vectors
+              case 4: brush_rows<4>(zc, a, RO, RW, rows, 4); break;
+              case 8: brush_rows<8>(zc, a, RO, RW, rows, 8); break;
+              case 12: brush_rows<12>(zc, a, RO, RW, rows, 12); break;
+              case 16: brush_rows<16>(zc, a, RO, RW, rows, 16); break;
+              default: brush_rows<0>(zc, a, RO, RW, rows, row_width);
+            }
           } else {
             erode_border(a, ni, nj);
           }
@@ -235,14 +269,24 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
     }
     for (auto& t : brush) t.w = static_cast<float>(t.w / total);
   }
-  std::vector<std::ptrdiff_t> tap_offset;
-  std::vector<float> brush_w;
+  // The brush as rows of columns -rx .. -rx + row_width - 1, row_width the multiple of 4 at or above
+  // 2 rx + 1 (the padding and the corners outside the disc weigh 0: adding a * 0 changes no height); rows
+  // without a tap are left out.
+  const int row_width = (2 * rx + 1 + 3) / 4 * 4, pad = row_width - (2 * rx + 1);
+  std::vector<std::ptrdiff_t> row_offset;
+  std::vector<float> row_weights;
   float w_centre = 0.0f;
-  for (const auto& t : brush) {
-    tap_offset.push_back(static_cast<std::ptrdiff_t>(t.dj) * w + t.di);
-    brush_w.push_back(t.w);
-    if (t.di == 0 && t.dj == 0) w_centre = t.w;
+  for (int dj = -ry; dj <= ry; ++dj) {
+    std::vector<float> row(row_width, 0.0f);
+    bool any = false;
+    for (const auto& t : brush)
+      if (t.dj == dj) row[t.di + rx] = t.w, any = true;
+    if (!any) continue;
+    row_offset.push_back(static_cast<std::ptrdiff_t>(dj) * w - rx);
+    row_weights.insert(row_weights.end(), row.begin(), row.end());
   }
+  for (const auto& t : brush)
+    if (t.di == 0 && t.dj == 0) w_centre = t.w;
   // The erosion of one step never lowers the brush centre by more than the drop: volume <= -dh x area / w0.
   const float brush_area = static_cast<float>(cell_area / std::max(w_centre, 1e-6f));
 
@@ -258,7 +302,9 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   // sample therefore receives the same changes in the same order for any thread count: bit-identical, with
   // no atomics and no change logs, and a tile's samples stay in cache while its droplets run.
   const float step_u = static_cast<float>(p.step_length / dx), step_v = static_cast<float>(p.step_length / dy);
-  const double reach_u = max_steps * static_cast<double>(step_u) + rx + 2.0;
+  // (+2: the bilinear neighbour and rounding to the nearest sample, which also cover one column of the brush
+  // rows' padding; more padding widens the reach.)
+  const double reach_u = max_steps * static_cast<double>(step_u) + rx + 2.0 + std::max(0, pad - 1);
   const double reach_v = max_steps * static_cast<double>(step_v) + ry + 2.0;
   const int tile_w = static_cast<int>(std::min<double>(w, std::max(32.0, 2.0 * std::ceil(reach_u))));
   const int tile_h = static_cast<int>(std::min<double>(h, std::max(32.0, 2.0 * std::ceil(reach_v))));
@@ -277,9 +323,10 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   sim.V = visits.data();
   sim.mask = mask;
   sim.brush = &brush_taps;
-  sim.TO = tap_offset.data();
-  sim.BW = brush_w.data();
-  sim.taps = brush_taps.size();
+  sim.RO = row_offset.data();
+  sim.RW = row_weights.data();
+  sim.rows = static_cast<int>(row_offset.size());
+  sim.row_width = row_width;
   sim.w = w, sim.h = h, sim.rx = rx, sim.ry = ry, sim.max_steps = max_steps;
   sim.seed = p.seed;
   sim.step_u = step_u, sim.step_v = step_v;
