@@ -100,6 +100,10 @@ TEST(SeedSeamscape, TiledBuildSharesItsBordersBitForBitAndEqualsTheWholeBuild) {
   // writes its own terrain mesh and scene). RiverNetwork grows over its own fixed rectangle (min_corner,
   // size), whatever the tile, so its curves are the same for every tile.
   EXPECT_NE(warning.find("'plants'"), std::string::npos) << warning;
+  // Each tile's terrain OBJ drapes its own tile of the color map.
+  const std::string mtl = test::read_text(dir / "tiles" / "seamscape" / "terrain_x1_y0.mtl");
+  EXPECT_NE(mtl.find("map_Kd color_x1_y0.png"), std::string::npos) << mtl;
+  EXPECT_TRUE(fs::exists(dir / "tiles" / "seamscape" / "color_x1_y0.png"));
 
   // Every tile is its window of the untiled build, bit for bit (the tiles are in global coordinates).
   auto whole = orogen_cli({"eval", kGraph.string(), "-o", (dir / "whole").string(), "--resolution", "129", "--quiet"});
