@@ -6,7 +6,6 @@
 // Reported: points per second (items_per_second) and CPU time. The machine may be shared: compare runs of the
 // same binary, and read the one-thread figure as the per-core speed.
 #include <benchmark/benchmark.h>
-#include <cstdlib>
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
 
@@ -21,7 +20,6 @@ void run(benchmark::State& state, double side, int threads, bool fill) {
   p.classes = {{5.0, 0, nullptr}};
   p.fill_gaps = fill;
   p.seed = 1;
-  if (const char* k = std::getenv("OROGEN_K")) p.attempts = std::atoi(k);
   tbb::task_arena arena(threads);
   std::size_t points = 0;
   for (auto _ : state) {

@@ -385,6 +385,13 @@ struct Sampler {
     std::vector<Rect> cells, next;
   };
 
+  // The float a position is stored as, as a double. Through a volatile: GCC 12 at -O3 was seen to drop the
+  // rounding of an inlined static_cast<float> in this path, placing points at unrounded positions.
+  static double to_float(double v) {
+    volatile float f = static_cast<float>(v);
+    return f;
+  }
+
   static int uniform_cells(double C, double r) { return static_cast<int>(std::floor(C * std::sqrt(2.0) / r)) + 1; }
 
   void process_uniform(std::int64_t gcx, std::int64_t gcy, int k) {
@@ -431,7 +438,7 @@ struct Sampler {
     };
     // Rounds a candidate to float; places it if inside the chunk and free.
     auto try_place = [&](double x, double y) {
-      const double fx = static_cast<float>(x), fy = static_cast<float>(y);
+      const double fx = to_float(x), fy = to_float(y);
       if (!(fx >= ax0 && fx < ax1 && fy >= ay0 && fy < ay1)) return false;
       const int c = cell_of(fx, fy);
       if (!free_at_cell(c, fx, fy)) return false;
@@ -566,8 +573,16 @@ struct Sampler {
         const int c0 = (j + kPad) * n + (i + kPad);
         if (gx[c0] != kEmpty) continue;  // a point covers its cell
         count = 0;
+        for (const int off : {-n - 1, -n, -n + 1, -1, 1, n - 1, n, n + 1}) {
+          const int c = c0 + off;
+          if (gx[c] != kEmpty) {
+            qx[count] = gx[c];
+            qy[count++] = gy[c];
+          }
+        }
         for (int dj = -2; dj <= 2; ++dj)
           for (int di = -2; di <= 2; ++di) {
+            if (std::abs(di) < 2 && std::abs(dj) < 2) continue;
             const int c = c0 + dj * n + di;
             if (gx[c] != kEmpty) {
               qx[count] = gx[c];
@@ -575,16 +590,39 @@ struct Sampler {
             }
           }
         const Rect cell{ax0 + i * h, ay0 + j * h, i + 1 == m ? ax1 : ax0 + (i + 1) * h, j + 1 == m ? ay1 : ay0 + (j + 1) * h};
+        // Keep the disks that reach the cell: its quarters are tested against those only.
+        int kept = 0;
+        for (int q = 0; q < count; ++q) {
+          const double nx = std::clamp(qx[q], cell.x0, cell.x1) - qx[q], ny = std::clamp(qy[q], cell.y0, cell.y1) - qy[q];
+          if (nx * nx + ny * ny >= r2) continue;
+          qx[kept] = qx[q];
+          qy[kept++] = qy[q];
+        }
+        count = kept;
         if (!has_room(cell)) continue;
+        // A dart: rejected cheaply by the disks that reach the cell (every point that can conflict with a point
+        // of the cell), then placed through the full check (its float rounding may leave the cell).
+        auto dart = [&](double x, double y) {
+          const double fx = to_float(x), fy = to_float(y);
+          for (int q = 0; q < count; ++q) {
+            const double dx = qx[q] - fx, dy = qy[q] - fy;
+            if (dx * dx + dy * dy < r2) return false;
+          }
+          return try_place(fx, fy);
+        };
         S.cells.assign(1, cell);
         bool done = false;
         constexpr int kLevels = 8;
+        constexpr int kDarts = 4;  // per open cell and level (a dart costs a few distances, a refinement more)
         for (int level = 0; level <= kLevels && !done && !S.cells.empty(); ++level) {
-          for (const Rect& c : S.cells)
-            if (try_place(c.x0 + draw.next() * (c.x1 - c.x0), c.y0 + draw.next() * (c.y1 - c.y0))) {
-              done = true;
-              break;
+          for (const Rect& c : S.cells) {
+            for (int t = 0; t < kDarts && !done; ++t) {
+              double u, v;
+              draw.next2(u, v);
+              done = dart(c.x0 + u * (c.x1 - c.x0), c.y0 + v * (c.y1 - c.y0));
             }
+            if (done) break;
+          }
           if (done) break;
           if (level == kLevels) {
             for (const Rect& c : S.cells)

@@ -49,7 +49,9 @@ struct PoissonParams {
   double min_density = 0.1;
   const Heightfield* density = nullptr;  // optional common density, [0, 1]
   const Heightfield* mask = nullptr;     // optional: points only where mask >= 0.5
-  int attempts = 30;                     // Bridson's k
+  // Bridson's k. With fill_gaps the result is maximal whatever k: Bridson is a fast first pass and k = 30
+  // spends most of its time retiring active points; 8 gives the same density at about half the cost.
+  int attempts = 8;
   bool fill_gaps = true;                 // Ebeida's gap filling (maximal sampling)
   std::uint64_t seed = 0;
   std::size_t max_points = 50'000'000;   // refuse requests that would place more
