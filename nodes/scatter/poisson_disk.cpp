@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -373,10 +374,12 @@ struct Sampler {
   //   its uncovered quarters until one lands (then the cell is covered) or none is left.
   // Distances are compared exactly as the general path does (double, on the stored float positions).
   static constexpr double kEmpty = 1e150;
+  static constexpr float kFar = 1e15f;  // float sentinel: squared distances stay finite
   static constexpr int kPad = 4;  // cells around the chunk: 2 for the reach r, 2 for the 5 x 5 window
 
   struct UniformScratch {
     std::vector<double> gx, gy;                   // grid cells: position or kEmpty
+    std::vector<float> lx, ly;                    // the same relative to the grid origin, in float (filter)
     std::vector<std::pair<double, double>> active;
     std::vector<std::pair<double, double>> own;
     struct Rect {
@@ -408,6 +411,12 @@ struct Sampler {
     const double D = reach[k];
     S.gx.assign(static_cast<std::size_t>(n) * n, kEmpty);
     S.gy.assign(static_cast<std::size_t>(n) * n, kEmpty);
+    // The float copies are read 8 cells per window row (a superset of the 5 needed: any point closer than r
+    // in any cell is a real conflict), hence the tail.
+    S.lx.assign(static_cast<std::size_t>(n) * n + 8, kFar);
+    S.ly.assign(static_cast<std::size_t>(n) * n + 8, kFar);
+    float* const lx = S.lx.data();
+    float* const ly = S.ly.data();
     S.active.clear();
     S.own.clear();
     double* const gx = S.gx.data();
@@ -422,6 +431,8 @@ struct Sampler {
       if (gx[c] != kEmpty) throw std::logic_error("PoissonDisk: two points in one grid cell");
       gx[c] = x;
       gy[c] = y;
+      lx[c] = static_cast<float>(x - ox);
+      ly[c] = static_cast<float>(y - oy);
     };
     // No point of the 5 x 5 window around cell c closer than r to (x, y) (nearest rows first).
     auto free_at_cell = [&](int c, double x, double y) {
@@ -436,14 +447,45 @@ struct Sampler {
       }
       return true;
     };
+    // The same test, filtered in float on positions relative to the grid origin (|l| < 16 r): the float
+    // squared distance is within 1e-5 r^2 (relative to max(d^2, r^2)) of the double one, so below
+    // r^2 (1 - 1e-4) it is a conflict, at or above r^2 (1 + 1e-4) no conflict, and in between the double
+    // test decides.
+    const float lo2 = static_cast<float>(r2 * (1.0 - 1e-4)), hi2 = static_cast<float>(r2 * (1.0 + 1e-4));
+    auto free_fast = [&](int c, double x, double y) {
+      typedef float v4f __attribute__((vector_size(16)));
+      typedef int v4i __attribute__((vector_size(16)));
+      const float cx = static_cast<float>(x - ox), cy = static_cast<float>(y - oy);
+      const v4f vx = {cx, cx, cx, cx}, vy = {cy, cy, cy, cy};
+      const v4f vlo = {lo2, lo2, lo2, lo2}, vhi = {hi2, hi2, hi2, hi2};
+      v4i sure = {0, 0, 0, 0}, maybe = {0, 0, 0, 0};
+      for (int dj = -2; dj <= 2; ++dj) {
+        const float* px = lx + (c + dj * n - 2);
+        const float* py = ly + (c + dj * n - 2);
+        for (int e = 0; e < 8; e += 4) {
+          v4f ax, ay;
+          std::memcpy(&ax, px + e, sizeof ax);
+          std::memcpy(&ay, py + e, sizeof ay);
+          const v4f dx = ax - vx, dy = ay - vy;
+          const v4f d2 = dx * dx + dy * dy;
+          sure |= d2 < vlo;
+          maybe |= d2 < vhi;
+        }
+      }
+      if (sure[0] | sure[1] | sure[2] | sure[3]) return false;
+      if (!(maybe[0] | maybe[1] | maybe[2] | maybe[3])) return true;
+      return free_at_cell(c, x, y);
+    };
     // Rounds a candidate to float; places it if inside the chunk and free.
     auto try_place = [&](double x, double y) {
       const double fx = to_float(x), fy = to_float(y);
       if (!(fx >= ax0 && fx < ax1 && fy >= ay0 && fy < ay1)) return false;
       const int c = cell_of(fx, fy);
-      if (!free_at_cell(c, fx, fy)) return false;
+      if (!free_fast(c, fx, fy)) return false;
       gx[c] = fx;
       gy[c] = fy;
+      lx[c] = static_cast<float>(fx - ox);
+      ly[c] = static_cast<float>(fy - oy);
       S.own.emplace_back(fx, fy);
       return true;
     };
