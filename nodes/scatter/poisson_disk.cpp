@@ -564,6 +564,25 @@ struct Sampler {
         near[nn++] = q;
       }
       if (nn == 0) return true;
+      // Cheap proof first: each quarter inside a single disk.
+      {
+        const double mx = 0.5 * (c.x0 + c.x1), my = 0.5 * (c.y0 + c.y1);
+        const Rect quarters[4] = {{c.x0, c.y0, mx, my}, {mx, c.y0, c.x1, my}, {c.x0, my, mx, c.y1}, {mx, my, c.x1, c.y1}};
+        bool all = true;
+        for (const Rect& u : quarters) {
+          bool one = false;
+          for (int d = 0; d < nn && !one; ++d) {
+            const double px = qx[near[d]], py = qy[near[d]];
+            const double fx = std::max(px - u.x0, u.x1 - px), fy = std::max(py - u.y0, u.y1 - py);
+            one = fx * fx + fy * fy < r2;
+          }
+          if (!one) {
+            all = false;
+            break;
+          }
+        }
+        if (all) return false;
+      }
       const double inside = r2 * (1.0 - 1e-9);
       auto free_vertex = [&](double x, double y, int s1, int s2) {
         for (int d = 0; d < nn; ++d) {
