@@ -898,26 +898,48 @@ Points poisson_disk(glm::dvec2 lo, glm::dvec2 hi, const PoissonParams& p, const 
     }
   }
 
-  // Output: the points inside [lo, hi], class by class (largest first), chunk rows first.
+  // Output: the points inside [lo, hi], class by class (largest first), chunk rows first. Counted per chunk,
+  // then written in parallel at the prefix offsets (the yaw costs a hash, a sine and a cosine per point).
   Points out;
   auto& radius = out.attribute("radius");
   for (int k : s.order) {
     const ClassChunks& g = s.grids[k];
     const auto i0 = static_cast<std::int64_t>(std::floor(lo.x / g.C)), i1 = static_cast<std::int64_t>(std::floor(hi.x / g.C));
     const auto j0 = static_cast<std::int64_t>(std::floor(lo.y / g.C)), j1 = static_cast<std::int64_t>(std::floor(hi.y / g.C));
-    for (auto cy = j0; cy <= j1; ++cy)
-      for (auto cx = i0; cx <= i1; ++cx)
-        for (const Pt& q : g.at(cx, cy)) {
-          const double x = q.x, y = q.y;
-          if (x < lo.x || x > hi.x || y < lo.y || y > hi.y) continue;
-          out.position.emplace_back(q.x, q.y, 0.0f);
+    const int w = static_cast<int>(i1 - i0 + 1), rows = static_cast<int>(j1 - j0 + 1);
+    auto keep = [&](const Pt& q) {
+      const double x = q.x, y = q.y;
+      return !(x < lo.x || x > hi.x || y < lo.y || y > hi.y);
+    };
+    std::vector<std::size_t> offset(static_cast<std::size_t>(rows) + 1, 0);
+    for_each_row(nullptr, rows, [&](int r) {
+      std::size_t c = 0;
+      for (int i = 0; i < w; ++i)
+        for (const Pt& q : g.at(i0 + i, j0 + r)) c += keep(q);
+      offset[r + 1] = c;
+    });
+    const std::size_t base = out.position.size();
+    for (int r = 0; r < rows; ++r) offset[r + 1] += offset[r];
+    const std::size_t total = base + offset[rows];
+    out.position.resize(total);
+    out.rotation.resize(total);
+    out.scale.resize(total, glm::vec3(1.0f));
+    out.class_id.resize(total);
+    radius.resize(total);
+    for_each_row(nullptr, rows, [&](int r) {
+      std::size_t o = base + offset[r];
+      for (int i = 0; i < w; ++i)
+        for (const Pt& q : g.at(i0 + i, j0 + r)) {
+          if (!keep(q)) continue;
+          out.position[o] = glm::vec3(q.x, q.y, 0.0f);
           const double yaw =
               2.0 * kPi * scatter::unit(scatter::hash(p.seed, 0x7A3ull, scatter::bits(q.x), scatter::bits(q.y)));
-          out.rotation.push_back(glm::angleAxis(static_cast<float>(yaw), glm::vec3(0.0f, 0.0f, 1.0f)));
-          out.scale.emplace_back(1.0f);
-          out.class_id.push_back(p.classes[q.cls].class_id);
-          radius.push_back(q.r);
+          out.rotation[o] = glm::angleAxis(static_cast<float>(yaw), glm::vec3(0.0f, 0.0f, 1.0f));
+          out.class_id[o] = p.classes[q.cls].class_id;
+          radius[o] = q.r;
+          ++o;
         }
+    });
   }
   return out;
 }
