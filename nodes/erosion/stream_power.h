@@ -28,6 +28,15 @@ struct StreamPowerParams {
   double duration = 1e6;      // years
   double sea_level = -1e9;    // metres: cells below are base level
   double channel_area = 0.0;  // m^2: fluvial incision only where the drainage area reaches this (0: everywhere)
+  // How closed depressions are crossed each step (library option; the node uses the default). Both fill a
+  // depression with sediment up to its spill level and route its water over the pass to the outlet.
+  enum class Depressions {
+    BasinGraph,     // local D8, then only the pits' basins rerouted through the basin graph's minimum spanning
+                    // tree (Cordonnier, Bovy & Braun 2019; nodes/hydrology/basin_graph.h): no priority queue,
+                    // nothing beyond one D8 pass and the stack when the surface has no pit; trees in parallel
+    PriorityFlood,  // Priority-Flood+epsilon fill of the whole grid every step, then D8 (Barnes et al. 2014)
+  };
+  Depressions depressions = Depressions::BasinGraph;
 };
 
 struct StreamPowerStats {
