@@ -69,10 +69,19 @@ ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, cons
   std::vector<std::size_t> row_count(static_cast<std::size_t>(h));
   StreamPowerStats st;
   // Implicit incision of cell k towards its receiver (already at t + dt).
+  // A^m by table for areas of up to kTable whole cells (exactly count x cell area, as the unweighted
+  // accumulation gives): the same pow() values, computed once; L^n per direction.
+  constexpr int kTable = 1 << 16;
+  const double cell_area = grid.cell_area();
+  std::vector<double> area_pow(kTable);
+  for (int q = 0; q < kTable; ++q) area_pow[static_cast<std::size_t>(q)] = std::pow(q * cell_area, p.m);
+  double len_pow[8];
+  for (int q = 0; q < 8; ++q) len_pow[q] = std::pow(grid.distance(q), p.n);
   auto incise = [&](std::int32_t k, std::int32_t rc, int direction) {
     if (rc == k || area[k] < p.channel_area) return;
-    const double len = grid.distance(direction);
-    const double f = p.k * kfac[k] * dt * std::pow(area[k], p.m) / std::pow(len, p.n);
+    const double a = area[k], cells = std::nearbyint(a / cell_area);
+    const double am = cells < kTable && cells * cell_area == a ? area_pow[static_cast<std::size_t>(cells)] : std::pow(a, p.m);
+    const double f = p.k * kfac[k] * dt * am / len_pow[direction];
     const double z0 = z[k], zr = z[rc];
     double zn = z0;
     if (z0 > zr && f > 0) {
@@ -116,20 +125,28 @@ ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, cons
     // whatever diffusion laid into the channels within the same step, so river profiles stay clean.
     for (int sd = 0; sd < diff_steps; ++sd) {
       const double c = p.diffusion * dt / diff_steps;
+      const double cx = 1.0 / (dx * dx), cy = 1.0 / (dy * dy);
       rows(h, [&](int j) {
-        for (int i = 0; i < w; ++i) {
-          const std::size_t k = static_cast<std::size_t>(j) * w + i;
-          if (outlet[k]) {
-            ztmp[k] = z[k];
-            continue;
-          }
+        auto cell = [&](int i, std::size_t k, double zw, double ze, double zs, double zn) {
           const double zc = z[k];
-          const double lx = (z[i > 0 ? k - 1 : k] + z[i < w - 1 ? k + 1 : k] - 2 * zc) / (dx * dx);
-          const double ly = (z[j > 0 ? k - w : k] + z[j < h - 1 ? k + w : k] - 2 * zc) / (dy * dy);
-          const double dz = c * kfac[k] * (lx + ly);
+          const double lx = (zw + ze - 2 * zc) * cx;
+          const double ly = (zs + zn - 2 * zc) * cy;
+          const double dz = outlet[k] ? 0.0 : c * kfac[k] * (lx + ly);
           ztmp[k] = zc + dz;
-          (dz < 0 ? ero[k] : dep[k]) += std::abs(dz);
+          // Branch-free: adding +0.0 leaves a sum unchanged.
+          ero[k] += std::max(-dz, 0.0);
+          dep[k] += std::max(dz, 0.0);
+          (void)i;
+        };
+        const std::size_t row = static_cast<std::size_t>(j) * w;
+        const std::size_t up = j > 0 ? row - w : row, down = j < h - 1 ? row + w : row;
+        if (w == 1) {
+          cell(0, row, z[row], z[row], z[up], z[down]);
+          return;
         }
+        cell(0, row, z[row], z[row + 1], z[up], z[down]);
+        for (int i = 1; i < w - 1; ++i) cell(i, row + i, z[row + i - 1], z[row + i + 1], z[up + i], z[down + i]);
+        cell(w - 1, row + w - 1, z[row + w - 2], z[row + w - 1], z[up + w - 1], z[down + w - 1]);
       });
       std::swap(z, ztmp);
     }

@@ -174,50 +174,66 @@ void reroute_pits(const FlowGrid& g, const T* z, const Outlets& outlets, BasinRo
   const std::int32_t P = static_cast<std::int32_t>(pits.size());
   r.label_.resize(n, 0);  // zero everywhere between calls
   std::int32_t* label = r.label_.data();
-  // Basins: the pit's upstream cells, by a walk over the donors.
-  std::vector<std::int32_t> cells, begin(static_cast<std::size_t>(P) + 1), st;
-  for (std::int32_t b = 1; b <= P; ++b) {
-    begin[static_cast<std::size_t>(b) - 1] = static_cast<std::int32_t>(cells.size());
-    st.push_back(pits[static_cast<std::size_t>(b) - 1]);
-    while (!st.empty()) {
-      const std::int32_t x = st.back();
-      st.pop_back();
-      label[x] = b;
-      cells.push_back(x);
-      for (unsigned m = f.donors[x]; m; m &= m - 1) st.push_back(x + off[std::countr_zero(m)]);
-    }
-  }
-  begin[static_cast<std::size_t>(P)] = static_cast<std::int32_t>(cells.size());
-  // Basin graph: the lowest pass between each pit basin and each neighbouring basin (the outlets count as one
-  // node, 0). Each pair of pit basins is seen from the lower-numbered one only.
-  std::vector<Edge> edges;
-  std::vector<std::int32_t> slot(static_cast<std::size_t>(P) + 1, -1), touched;
-  std::size_t candidates = 0;
-  for (std::int32_t b = 1; b <= P; ++b) {
-    for (std::int32_t q = begin[static_cast<std::size_t>(b) - 1]; q < begin[static_cast<std::size_t>(b)]; ++q) {
-      const std::int32_t x = cells[static_cast<std::size_t>(q)];
-      const int i = g.column(x), j = g.row(x);
-      const double zx = static_cast<double>(z[x]);
-      for (int k = 0; k < 8; ++k) {
-        if (!g.inside(i + kDi[k], j + kDj[k])) continue;
-        const std::int32_t y = x + off[k];
-        const std::int32_t lb = label[y];
-        if (lb == b || (lb != 0 && lb < b)) continue;
-        ++candidates;
-        const Edge e{std::max(zx, static_cast<double>(z[y])), lb, b, x, y};
-        std::int32_t& s = slot[static_cast<std::size_t>(lb)];
-        if (s < 0) {
-          s = static_cast<std::int32_t>(edges.size());
-          edges.push_back(e);
-          touched.push_back(lb);
-        } else if (e < edges[static_cast<std::size_t>(s)]) {
-          edges[static_cast<std::size_t>(s)] = e;
-        }
+  // Basins: the pit's upstream cells, by a walk over the donors; one pit per task (disjoint cells).
+  std::vector<std::vector<std::int32_t>> basin(static_cast<std::size_t>(P));
+  tbb::parallel_for(tbb::blocked_range<std::int32_t>(1, P + 1, 1), [&](const tbb::blocked_range<std::int32_t>& br) {
+    std::vector<std::int32_t> st;
+    for (std::int32_t b = br.begin(); b != br.end(); ++b) {
+      auto& out = basin[static_cast<std::size_t>(b) - 1];
+      st.push_back(pits[static_cast<std::size_t>(b) - 1]);
+      while (!st.empty()) {
+        const std::int32_t x = st.back();
+        st.pop_back();
+        label[x] = b;
+        out.push_back(x);
+        for (unsigned m = f.donors[x]; m; m &= m - 1) st.push_back(x + off[std::countr_zero(m)]);
       }
     }
-    for (std::int32_t t : touched) slot[static_cast<std::size_t>(t)] = -1;
-    touched.clear();
+  });
+  // Basin graph: the lowest pass between each pit basin and each neighbouring basin (the outlets count as one
+  // node, 0). Each pair of pit basins is seen from the lower-numbered one only. One basin per task, its edges
+  // in its own list; the lists are then joined in basin order.
+  std::vector<std::vector<Edge>> basin_edges(static_cast<std::size_t>(P));
+  std::vector<std::size_t> basin_candidates(static_cast<std::size_t>(P));
+  tbb::parallel_for(tbb::blocked_range<std::int32_t>(1, P + 1, 1), [&](const tbb::blocked_range<std::int32_t>& br) {
+    std::vector<std::int32_t> slot(static_cast<std::size_t>(P) + 1, -1), touched;
+    for (std::int32_t b = br.begin(); b != br.end(); ++b) {
+      auto& edges = basin_edges[static_cast<std::size_t>(b) - 1];
+      std::size_t candidates = 0;
+      for (const std::int32_t x : basin[static_cast<std::size_t>(b) - 1]) {
+        const int i = g.column(x), j = g.row(x);
+        const bool interior = i > 0 && j > 0 && i < g.nx - 1 && j < g.ny - 1;
+        const double zx = static_cast<double>(z[x]);
+        for (int k = 0; k < 8; ++k) {
+          if (!interior && !g.inside(i + kDi[k], j + kDj[k])) continue;
+          const std::int32_t y = x + off[k];
+          const std::int32_t lb = label[y];
+          if (lb == b || (lb != 0 && lb < b)) continue;
+          ++candidates;
+          const Edge e{std::max(zx, static_cast<double>(z[y])), lb, b, x, y};
+          std::int32_t& sl = slot[static_cast<std::size_t>(lb)];
+          if (sl < 0) {
+            sl = static_cast<std::int32_t>(edges.size());
+            edges.push_back(e);
+            touched.push_back(lb);
+          } else if (e < edges[static_cast<std::size_t>(sl)]) {
+            edges[static_cast<std::size_t>(sl)] = e;
+          }
+        }
+      }
+      for (std::int32_t t : touched) slot[static_cast<std::size_t>(t)] = -1;
+      touched.clear();
+      basin_candidates[static_cast<std::size_t>(b) - 1] = candidates;
+    }
+  });
+  std::vector<Edge> edges;
+  std::size_t candidates = 0, pit_cells = 0;
+  for (std::int32_t b = 0; b < P; ++b) {
+    edges.insert(edges.end(), basin_edges[static_cast<std::size_t>(b)].begin(), basin_edges[static_cast<std::size_t>(b)].end());
+    candidates += basin_candidates[static_cast<std::size_t>(b)];
+    pit_cells += basin[static_cast<std::size_t>(b)].size();
   }
+  std::vector<std::int32_t> st;
   // Kruskal over the basin graph.
   std::sort(edges.begin(), edges.end());
   std::vector<std::int32_t> parent(static_cast<std::size_t>(P) + 1);
@@ -247,6 +263,9 @@ void reroute_pits(const FlowGrid& g, const T* z, const Outlets& outlets, BasinRo
       adj[static_cast<std::size_t>(fillp[static_cast<std::size_t>(edges[e].b)]++)] = e;
     }
   }
+  r.carved_.resize(n, 0);  // zero everywhere between calls
+  std::uint8_t* carved = r.carved_.data();
+  std::vector<std::int32_t> carved_cells;
   auto set_receiver = [&](std::int32_t c, std::int32_t rn) {
     const std::int32_t old = f.receiver[c];
     if (old != c) f.donors[old] &= static_cast<std::uint8_t>(~(1u << opposite(f.direction[c])));
@@ -290,6 +309,8 @@ void reroute_pits(const FlowGrid& g, const T* z, const Outlets& outlets, BasinRo
       for (;;) {
         const std::int32_t next = f.receiver[cur];
         set_receiver(cur, prev);
+        carved[cur] = 1;
+        carved_cells.push_back(cur);
         if (next == cur) break;
         prev = cur;
         cur = next;
@@ -300,6 +321,9 @@ void reroute_pits(const FlowGrid& g, const T* z, const Outlets& outlets, BasinRo
   if (fill) {
     // Parents before children (breadth-first order of the tree): every lake cell ends just above its carved
     // receiver, whose height is already final (its own basin, walked from the pass, or the parent basin).
+    // The walk stops at cells left as they were: their donors drain into them by D8 and are higher, unless
+    // the carve reversed them (carved cells are always visited).
+    std::vector<std::int32_t> raised_cells;
     for (std::size_t h = 1; h < queue.size(); ++h) {
       const std::int32_t v = queue[h];
       st.push_back(pass_of[static_cast<std::size_t>(v)]);
@@ -307,27 +331,41 @@ void reroute_pits(const FlowGrid& g, const T* z, const Outlets& outlets, BasinRo
         const std::int32_t x = st.back();
         st.pop_back();
         const T zr = fill[f.receiver[x]];
+        bool up = false;
         if (fill[x] <= zr) {
           const T nz = raise_above(zr);
           if (!raised.empty()) raised[static_cast<std::size_t>(x)] += static_cast<double>(nz) - static_cast<double>(fill[x]);
           fill[x] = nz;
+          raised_cells.push_back(x);
+          up = true;
         }
         for (unsigned m = f.donors[x]; m; m &= m - 1) {
           const std::int32_t y = x + off[std::countr_zero(m)];
-          if (label[y] == v) st.push_back(y);
+          if (label[y] == v && (up || carved[y])) st.push_back(y);
         }
       }
     }
     // Every lake cell is now above a neighbour: steepest descent over the filled surface, as after a
-    // Priority-Flood fill (cells outside the pit basins keep theirs: only their neighbours rose).
-    for (std::int32_t c : cells) {
-      const int k = steepest_k(g, z, c, off, inv);
-      if (k != f.direction[c] && k != kNoDirection) set_receiver(c, c + off[k]);
+    // Priority-Flood fill, for the raised cells and their neighbours in pit basins (elsewhere nothing changes:
+    // only neighbours rose).
+    for (const std::int32_t c : raised_cells) {
+      const int i = g.column(c), j = g.row(c);
+      for (int k = -1; k < 8; ++k) {
+        if (k >= 0 && !g.inside(i + kDi[k], j + kDj[k])) continue;
+        const std::int32_t y = k < 0 ? c : c + off[k];
+        if (label[y] == 0) continue;
+        const int d = steepest_k(g, z, y, off, inv);
+        if (d != f.direction[y] && d != kNoDirection) set_receiver(y, y + off[d]);
+      }
     }
   }
-  for (std::int32_t c : cells) label[c] = 0;
+  for (std::int32_t c : carved_cells) carved[c] = 0;
+  tbb::parallel_for(tbb::blocked_range<std::int32_t>(0, P, 1), [&](const tbb::blocked_range<std::int32_t>& br) {
+    for (std::int32_t b = br.begin(); b != br.end(); ++b)
+      for (std::int32_t c : basin[static_cast<std::size_t>(b)]) label[c] = 0;
+  });
   r.pits = P;
-  r.pit_cells = static_cast<int>(cells.size());
+  r.pit_cells = static_cast<int>(pit_cells);
   r.graph_edges = static_cast<int>(candidates);
   r.tree_edges = static_cast<int>(tree.size());
 }
