@@ -366,15 +366,21 @@ void reroute_pits(const FlowGrid& g, const T* z, const Outlets& outlets, BasinRo
     // Every lake cell is now above a neighbour: steepest descent over the filled surface, as after a
     // Priority-Flood fill, for the raised cells and their neighbours in pit basins (elsewhere nothing changes:
     // only neighbours rose).
+    std::vector<std::int32_t> redo;  // each cell once (bit 2 of carved marks it)
     for (const std::int32_t c : raised_cells) {
       const int i = g.column(c), j = g.row(c);
       for (int k = -1; k < 8; ++k) {
         if (k >= 0 && !g.inside(i + kDi[k], j + kDj[k])) continue;
         const std::int32_t y = k < 0 ? c : c + off[k];
-        if (label[y] == 0) continue;
-        const int d = steepest_k(g, z, y, off, inv);
-        if (d != f.direction[y] && d != kNoDirection) set_receiver(y, y + off[d]);
+        if (label[y] == 0 || (carved[y] & 2)) continue;
+        carved[y] |= 2;
+        redo.push_back(y);
       }
+    }
+    for (const std::int32_t y : redo) {
+      const int d = steepest_k(g, z, y, off, inv);
+      if (d != f.direction[y] && d != kNoDirection) set_receiver(y, y + off[d]);
+      carved[y] &= static_cast<std::uint8_t>(~2u);
     }
   }
   for (std::int32_t c : carved_cells) carved[c] = 0;
