@@ -483,24 +483,6 @@ void route_basin_graph_fill(const FlowGrid& g, std::span<float> z, const Outlets
   route_impl(g, std::span<const float>(z), outlets, r, ctx, z.data(), raised);
 }
 
-bool fill_along_receivers(const BasinRouting& r, std::span<double> z, std::span<double> raised) {
-  std::atomic<bool> any{false};
-  const std::int32_t* rcv = r.flow.receiver.data();
-  for_each_tree(r, [&](std::int32_t first, std::int32_t last) {
-    bool here = false;
-    for (std::int32_t q = first + 1; q < last; ++q) {
-      const std::int32_t c = r.stack[static_cast<std::size_t>(q)], d = rcv[c];
-      if (z[c] > z[d]) continue;
-      const double nz = z[d] + std::max(1e-9, std::abs(z[d]) * 1e-12);
-      if (!raised.empty()) raised[c] += nz - z[c];
-      z[c] = nz;
-      here = true;
-    }
-    if (here) any.store(true, std::memory_order_relaxed);
-  });
-  return any.load();
-}
-
 void accumulate_stack(const FlowGrid& g, const BasinRouting& r, std::span<double> acc, std::span<const float> weight) {
   const std::int32_t* rcv = r.flow.receiver.data();
   const double area = g.cell_area();

@@ -21,8 +21,8 @@
 //      (the minimum spanning tree gives the minimax path to the outlets, the Priority-Flood spill level);
 //   6. the stack order (Braun & Willett 2013) per outlet tree, built in parallel and concatenated in outlet
 //      order, so identical for any thread count.
-// After routing, cells on the reversed paths and in the lakes may sit below their receivers: callers that
-// need a surface that drains (a lake filled with sediment) call fill_along_receivers.
+// After route_basin_graph, cells on the reversed paths and in the lakes may sit below their receivers:
+// callers that need a surface that drains (a lake filled with sediment) call route_basin_graph_fill.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -64,11 +64,6 @@ void route_basin_graph_fill(const FlowGrid& g, std::span<double> z, const Outlet
                             std::span<double> raised = {}, const ExecContext* ctx = nullptr);
 void route_basin_graph_fill(const FlowGrid& g, std::span<float> z, const Outlets& outlets, BasinRouting& r,
                             std::span<double> raised = {}, const ExecContext* ctx = nullptr);
-
-// Raises every cell to just above its receiver where it is not already higher (lakes fill to their spill
-// level plus a tiny gradient towards the pass: z + max(1e-9, |z| 1e-12) per cell), in stack order, one outlet
-// tree per task. Adds the raise of every cell to `raised` if given. Returns whether anything was raised.
-bool fill_along_receivers(const BasinRouting& r, std::span<double> z, std::span<double> raised = {});
 
 // Upslope area (m^2, the cell itself included) or weight, from the stack: acc[c] = w[c] + sum over donors,
 // one outlet tree per task (deterministic).
