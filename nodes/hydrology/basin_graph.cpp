@@ -398,7 +398,11 @@ void reroute_pits(const FlowGrid& g, const T* z, const Outlets& outlets, BasinRo
 void build_stack(const FlowGrid& g, BasinRouting& r) {
   const D8Flow& f = r.flow;
   const int chunks = (g.ny + kChunkRows - 1) / kChunkRows;
-  std::vector<std::vector<std::int32_t>> piece(static_cast<std::size_t>(chunks)), roots(static_cast<std::size_t>(chunks));
+  auto& piece = r.pieces_;  // kept between calls: no new pages for the next step
+  auto& roots = r.piece_roots_;
+  piece.resize(static_cast<std::size_t>(chunks));
+  roots.resize(static_cast<std::size_t>(chunks));
+  for (int ch = 0; ch < chunks; ++ch) piece[static_cast<std::size_t>(ch)].clear(), roots[static_cast<std::size_t>(ch)].clear();
   std::int32_t off[8];
   for (int k = 0; k < 8; ++k) off[k] = g.offset(k);
   tbb::parallel_for(tbb::blocked_range<int>(0, chunks, 1), [&](const tbb::blocked_range<int>& cr) {

@@ -45,6 +45,7 @@ struct BasinRouting {
   std::vector<std::int32_t> label_;  // pit basin of a cell, 0 elsewhere; reset after use
   std::vector<std::int32_t> row_pits_;
   std::vector<std::uint8_t> carved_;
+  std::vector<std::vector<std::int32_t>> pieces_, piece_roots_;
 };
 
 // Routes over z (size g.size(), finite) into r, reusing r's buffers. Outlets as in flow_routing.h; when no
