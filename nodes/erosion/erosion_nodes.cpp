@@ -188,8 +188,10 @@ OROGEN_NODE(StreamPower) {
       "Landscape evolution by the stream-power law dz/dt = U - K A^m S^n + D laplacian(z) (Howard 1994; "
       "Whipple and Tucker 1999), solved with the implicit O(n) scheme of Braun and Willett 2013, 'A very "
       "efficient O(n), implicit and parallel method to solve the stream power equation' (Newton iteration "
-      "for n != 1), over D8 routing of the depression-filled surface (priority flood, Barnes et al. 2014; "
-      "closed depressions fill with sediment). Border cells and cells below sea level are base level. "
+      "for n != 1), over D8 routing with closed depressions crossed through the basin graph of Cordonnier, "
+      "Bovy and Braun 2019, 'A versatile, linear complexity algorithm for flow routing in topographies with "
+      "depressions' (only the basins of pits are rerouted, over the minimum spanning tree of their passes; "
+      "depressions fill with sediment to their spill level). Border cells and cells below sea level are base level. "
       "Produces real drainage networks.");
   declare_common_ports(b, "Scales erodibility K and diffusivity D per cell, 0..1 (1 if unconnected)");
   b.input("uplift", PortType::Heightfield).optional().description("Uplift factor per cell (>= 0), times uplift_rate; 1 if unconnected");
