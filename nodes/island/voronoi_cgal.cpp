@@ -150,6 +150,23 @@ Point face_circumcentre(const Lattice& L, int a, int b, int c) {
   return CGAL::circumcenter(lattice_point(L, a), lattice_point(L, b), lattice_point(L, c));
 }
 
+// The same from a face of the triangulation (its vertices hold exactly the lattice points of their infos).
+Point face_circumcentre(Delaunay::Face_handle f) {
+  const Delaunay::Vertex_handle v0 = f->vertex(0), v1 = f->vertex(1), v2 = f->vertex(2);
+  const Point* p[3] = {&v0->point(), &v1->point(), &v2->point()};
+  int k[3] = {v0->info(), v1->info(), v2->info()};
+  const auto order = [&](int i, int j) {
+    if (k[i] > k[j]) {
+      std::swap(k[i], k[j]);
+      std::swap(p[i], p[j]);
+    }
+  };
+  order(0, 1);
+  order(1, 2);
+  order(0, 1);
+  return CGAL::circumcenter(*p[0], *p[1], *p[2]);
+}
+
 // Area centroids of the clipped cells straight from the triangulation (Lloyd passes need nothing else).
 // Returns false if a cell is not closed by the mirrors.
 bool centroids(const Lattice& L, std::span<const int> order, glm::dvec2 lo, glm::dvec2 hi, double margin,
@@ -165,7 +182,7 @@ bool centroids(const Lattice& L, std::span<const int> order, glm::dvec2 lo, glm:
     const int a = f->vertex(0)->info(), b = f->vertex(1)->info(), c = f->vertex(2)->info();
     if (a < 0 && b < 0 && c < 0) continue;  // mirrors only
     f->info() = static_cast<int>(centre.size());
-    centre.push_back(face_circumcentre(L, a, b, c));
+    centre.push_back(face_circumcentre(f));
   }
   out.assign(n, glm::dvec2(0.0));
   double e = 0.0;
