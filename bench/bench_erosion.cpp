@@ -8,6 +8,9 @@
 //     at 100 mm/h the first minute is the wetting-up of a film of about a millimetre, whose erosion is still a
 //     transient that depends on the grid: 513^2/1025^2 eroded volume 0.83 at 60 s, 0.97 at 240 s)
 //
+//   orogen_bench_erosion --benchmark_filter='StreamPower/threads:1/side:1024/routing:0' --sp_steps=5
+//     StreamPower's arguments: threads, side, routing (0 basin graph, 1 Priority-Flood) and start (0 raw fBm,
+//     1 after --sp_warm_steps=20 steps); --sp_steps time steps per run
 // Figures (counters): StreamPower us_per_cell_step (routing + depression filling + solve + diffusion);
 // HydraulicErosion droplet_steps_per_s; PipeErosion and ThermalErosion cell_updates_per_s. Each per wall-clock
 // time and (suffix _cpu) per process CPU time of all threads: on a shared machine the _cpu figure of the
@@ -21,7 +24,9 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <benchmark/benchmark.h>
@@ -89,15 +94,44 @@ void rates(benchmark::State& state, const char* name, double work_per_iteration,
   state.counters[std::string(name) + "_cpu"] = work_per_iteration * iterations / cpu;
 }
 
-void BM_StreamPower(benchmark::State& state) {
-  const int threads = static_cast<int>(state.range(0));
+// ---- StreamPower ----
+// Arguments: threads, side (10 m cells, fBm), routing (0 basin graph, the default; 1 Priority-Flood every step,
+// the previous scheme) and start (0 the raw fBm, whose first steps fill every depression; 1 "warm": the fBm
+// after --sp_warm_steps steps of StreamPower, the state of a run in progress where few pits remain).
+// --sp_steps=N time steps per run (default 5).
+int g_sp_steps = 5;
+int g_sp_warm_steps = 20;
+
+StreamPowerParams sp_params() {
   StreamPowerParams p;
   p.dt = 1e4;
-  p.duration = 5e4;  // 5 steps
-  const auto& in = terrain();
+  return p;
+}
+
+const Heightfield& sp_terrain(int side, bool warm) {
+  static std::vector<std::pair<std::pair<int, bool>, std::unique_ptr<Heightfield>>> cache;
+  for (const auto& [key, h] : cache)
+    if (key == std::make_pair(side, warm)) return *h;
+  Heightfield h = make_terrain(side, 10.0 * side);
+  if (warm) {
+    StreamPowerParams p = sp_params();
+    p.duration = p.dt * g_sp_warm_steps;
+    h = *stream_power(h, p).out;
+  }
+  cache.emplace_back(std::make_pair(side, warm), std::make_unique<Heightfield>(std::move(h)));
+  return *cache.back().second;
+}
+
+void BM_StreamPower(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0));
+  const int side = static_cast<int>(state.range(1));
+  StreamPowerParams p = sp_params();
+  p.duration = p.dt * g_sp_steps;
+  p.depressions = state.range(2) == 0 ? StreamPowerParams::Depressions::BasinGraph : StreamPowerParams::Depressions::PriorityFlood;
+  const auto& in = sp_terrain(side, state.range(3) != 0);
   double cpu = 0;
   for (auto _ : state) in_arena(threads, [&] { benchmark::DoNotOptimize(stream_power(in, p).out); }, &cpu);
-  const double cell_steps = static_cast<double>(in.data.size()) * 5.0;
+  const double cell_steps = static_cast<double>(in.data.size()) * g_sp_steps;
   state.counters["us_per_cell_step"] = benchmark::Counter(cell_steps * 1e-6, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.counters["us_per_cell_step_cpu"] = cpu * 1e6 / (cell_steps * static_cast<double>(state.iterations()));
 }
@@ -154,7 +188,14 @@ void BM_Thermal(benchmark::State& state) {
   rates(state, "cell_updates_per_s", static_cast<double>(its) * in.data.size(), cpu);
 }
 
-BENCHMARK(BM_StreamPower)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(2);
+BENCHMARK(BM_StreamPower)
+    ->ArgNames({"threads", "side", "routing", "start"})
+    ->ArgsProduct({{1, 2}, {1024}, {0, 1}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(2);
+BENCHMARK(BM_StreamPower)
+    ->ArgNames({"threads", "side", "routing", "start"})
+    ->ArgsProduct({{1, 2}, {4096}, {0, 1}, {0}})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(1);
 // threads 1 and 2 at --side (side4096:0) and at 4096^2.
 void sizes(benchmark::internal::Benchmark* b) {
   b->ArgNames({"threads", "side4096"})->Args({1, 0})->Args({2, 0})->Args({1, 4096})->Args({2, 4096});
@@ -279,6 +320,8 @@ int main(int argc, char** argv) {
     else if (std::strncmp(argv[i], "--channel_area=", 15) == 0) channel_area = std::atof(argv[i] + 15);
     else if (std::strncmp(argv[i], "--pipe_duration=", 16) == 0) pipe_duration = std::atof(argv[i] + 16);
     else if (std::strncmp(argv[i], "--side=", 7) == 0) g_side = std::atoi(argv[i] + 7);
+    else if (std::strncmp(argv[i], "--sp_steps=", 11) == 0) g_sp_steps = std::atoi(argv[i] + 11);
+    else if (std::strncmp(argv[i], "--sp_warm_steps=", 16) == 0) g_sp_warm_steps = std::atoi(argv[i] + 16);
     else args.push_back(argv[i]);
   }
   if (run_study) return study(only, channel_area, pipe_duration);
