@@ -16,8 +16,6 @@
 // time and (suffix _cpu) per process CPU time of all threads: on a shared machine the _cpu figure of the
 // single-thread run is the single-core speed, and the wall-clock ratio of 1 and 2 threads the speed-up
 // only when the cores are free. Whole-call figures: setup and the output maps are included.
-#include <malloc.h>
-
 #include <algorithm>
 #include <climits>
 #include <cmath>
@@ -32,6 +30,7 @@
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 
+#include "bench/heap_reuse.h"
 #include "nodes/erosion/particles.h"
 #include "nodes/erosion/pipe.h"
 #include "nodes/erosion/stream_power.h"
@@ -305,10 +304,8 @@ int study(const std::string& only, double channel_area, double pipe_duration) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Freed blocks stay in the heap (no mmap for large blocks, no trimming): the calls after a benchmark's
-  // untimed first call reuse pages already touched.
-  mallopt(M_MMAP_MAX, 0);
-  mallopt(M_TRIM_THRESHOLD, INT_MAX);
+  // The calls after a benchmark's untimed first call reuse pages already touched.
+  orogen::bench::keep_freed_memory_in_heap();
   std::vector<char*> args;
   bool run_study = false;
   std::string only;

@@ -14,10 +14,8 @@
 //  - FillEpsilon / FillFlat: Priority-Flood with Zhou et al. 2016 queues, branch-free neighbour masks (serial)
 //  - Breach: complete breaching (serial, every cell through the priority queue)
 //  - D8Accumulation: D8 receivers and donors (parallel rows) + dependency-counting accumulation (parallel)
-//  - MFDAccumulation / DinfAccumulation: receivers and in-degrees (parallel) + serial accumulation
+//  - MFDAccumulation / DinfAccumulation: receivers and in-degrees (parallel) + accumulation in row bands merged up a fixed tree (parallel)
 //  - RiverExtract: the whole RiverExtract node function (fill, D8, accumulation, reaches, curves, mask)
-#include <malloc.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <thread>
@@ -26,6 +24,7 @@
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 
+#include "bench/heap_reuse.h"
 #include "nodes/hydrology/flow_routing.h"
 #include "nodes/hydrology/rivers.h"
 #include "nodes/noise/fbm.h"
@@ -166,12 +165,7 @@ BENCHMARK(RiverExtract)->Name("RiverExtract/wall")->Apply(args2);
 }  // namespace
 
 int main(int argc, char** argv) {
-  // The routines return their results in new vectors. glibc gives blocks this large straight from mmap and
-  // returns them on free, so every iteration would page-fault hundreds of MB in again (about a tenth of D8's
-  // time): keep them in the heap instead, so the benchmark measures the algorithm, as buffers reused by
-  // a long-running evaluation are.
-  mallopt(M_MMAP_THRESHOLD, 1 << 30);
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  orogen::bench::keep_freed_memory_in_heap();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
