@@ -153,7 +153,9 @@ TEST(FullDisk, InjectedWriteFailureKeepsEveryPreviousFileAndExitsOne) {
       ASSERT_TRUE(after.count(name)) << name << " disappeared";
       kept += without_date(name, after.at(name)) == without_date(name, bytes);
     }
-    if (std::string(budget) == "0") EXPECT_EQ(kept, before.size()) << "with no byte writable, nothing may change";
+    if (std::string(budget) == "0") {
+      EXPECT_EQ(kept, before.size()) << "with no byte writable, nothing may change";
+    }
     EXPECT_TRUE(temporaries_under(out).empty());
   }
 }
@@ -599,7 +601,9 @@ TEST(SharedCache, TwoConcurrentEvaluationsTwentyTimes) {
     EXPECT_EQ(a.exit_code, 0) << a.err;
     EXPECT_EQ(b.exit_code, 0) << b.err;
     EXPECT_TRUE(same_files(files_under(out_a), files_under(out_b)));
-    if (round < 4) EXPECT_TRUE(same_files(files_under(out_a), reference));
+    if (round < 4) {
+      EXPECT_TRUE(same_files(files_under(out_a), reference));
+    }
     expect_cache_valid(cache);
     EXPECT_TRUE(temporaries_under(cache).empty());
   }

@@ -351,10 +351,18 @@ TEST(ScatterRules, TableSelectsTheEcosystemByElevationAndSlope) {
     const auto& q = pts.position[i];
     const int c = pts.class_id[i];
     ++counts[c];
-    if (c == 1) EXPECT_LT(q.x, 0.5f);
-    if (c == 2 || c == 3) EXPECT_GT(q.x, 99.5f);
-    if (c == 4) EXPECT_TRUE(q.x > -0.5f && q.x < 100.5f) << q.x;
-    if (c == 2) EXPECT_TRUE(pts.scale[i].x >= 2.0f && pts.scale[i].x <= 3.0f);
+    if (c == 1) {
+      EXPECT_LT(q.x, 0.5f);
+    }
+    if (c == 2 || c == 3) {
+      EXPECT_GT(q.x, 99.5f);
+    }
+    if (c == 4) {
+      EXPECT_TRUE(q.x > -0.5f && q.x < 100.5f) << q.x;
+    }
+    if (c == 2) {
+      EXPECT_TRUE(pts.scale[i].x >= 2.0f && pts.scale[i].x <= 3.0f);
+    }
     EXPECT_FLOAT_EQ(q.z, h->sample_world(q.x, q.y));
     // The ecosystem's ranges hold at every point.
     const auto& e = p.ecosystems[static_cast<std::size_t>(pts.attributes.at("ecosystem")[i])];
@@ -802,7 +810,9 @@ TEST(ForestLifeCycle, SameSeedSameForestAndSuitabilityRespected) {
   EXPECT_TRUE(same_points(a, b));
   EXPECT_EQ(a.attributes.at("age"), b.attributes.at("age"));
   for (std::size_t i = 0; i < a.size(); ++i)
-    if (a.attributes.at("age")[i] < 40) EXPECT_LT(a.position[i].x, 100.5f) << "a seedling on unsuitable ground";
+    if (a.attributes.at("age")[i] < 40) {
+      EXPECT_LT(a.position[i].x, 100.5f) << "a seedling on unsuitable ground";
+    }
   p.seed = 1;
   EXPECT_FALSE(same_points(a, forest_life_cycle(initial, p)));
   // Without seeds the population only shrinks.

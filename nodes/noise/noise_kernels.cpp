@@ -408,8 +408,9 @@ void SimplexRowsImpl(const SimplexRows& in, std::uint32_t key, int n, float* out
   if constexpr (kBlockW > 0) {
     alignas(64) std::uint32_t ox[kLanes], oy[kLanes];
     for (std::size_t l = 0; l < kLanes; ++l) {
-      ox[l] = static_cast<std::uint32_t>(l % kBlockW) * kHashPrimeX;
-      oy[l] = static_cast<std::uint32_t>((l / kBlockW) % kBlockH) * kHashPrimeY;
+      // (the max() keeps the scalar target, where this branch is compiled but never taken, free of / 0)
+      ox[l] = static_cast<std::uint32_t>(l % std::max(kBlockW, 1)) * kHashPrimeX;
+      oy[l] = static_cast<std::uint32_t>((l / std::max(kBlockW, 1)) % std::max(kBlockH, 1)) * kHashPrimeY;
     }
     block_x = hn::Load(du, ox);
     block_y = hn::Load(du, oy);
