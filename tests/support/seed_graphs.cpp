@@ -1,10 +1,12 @@
 #include "support/seed_graphs.h"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
+#include <OpenImageIO/imageio.h>
 
 #include "nodes/io/heightfield_file.h"
 #include "support/run_process.h"
@@ -42,6 +44,17 @@ Raster read_raster(const std::filesystem::path& path, int channel) {
   out.height = r.height;
   out.v = r.values;
   return out;
+}
+
+Raster read_raster(const std::filesystem::path& path, const std::string& name) {
+  auto in = OIIO::ImageInput::open(path.string());
+  if (!in) throw std::runtime_error("cannot open " + path.string());
+  const auto& names = in->spec().channelnames;
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end()) throw std::runtime_error(path.string() + " has no channel " + name);
+  const int channel = static_cast<int>(it - names.begin());
+  in->close();
+  return read_raster(path, channel);
 }
 
 std::map<std::string, std::vector<double>> read_csv(const std::filesystem::path& path) {

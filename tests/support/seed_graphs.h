@@ -30,6 +30,8 @@ struct Raster {
   double at(int i, int j) const { return v[static_cast<std::size_t>(j) * width + i]; }
 };
 Raster read_raster(const std::filesystem::path& path, int channel = 0);
+// The channel named `name` (EXR stores channels sorted by name, so monthly images need the name).
+Raster read_raster(const std::filesystem::path& path, const std::string& name);
 
 // A CSV file with a header line: column name -> values (numbers).
 std::map<std::string, std::vector<double>> read_csv(const std::filesystem::path& path);
