@@ -106,6 +106,38 @@ class IoTest : public ::testing::Test {
   OutputPolicy policy_;
 };
 
+// EXR heights: every codec reads back (the lossless ones exactly, pxr24 to a 24-bit float's precision), and
+// the default stores the floats uncompressed (payload plus a small header).
+TEST_F(IoTest, ExrCodecsRoundTripAndTheDefaultStores) {
+  const Domain d = Domain::from_extent({0, 0}, {640, 370}, {129, 37});
+  auto field = std::make_shared<Heightfield>(d);
+  for (int j = 0; j < d.height(); ++j)
+    for (int i = 0; i < d.width(); ++i)
+      field->at(i, j) = static_cast<float>(700.0 * std::sin(d.x(i) / 47.0) * std::cos(d.y(j) / 29.0) + 0.37 * i);
+  const HeightfieldPtr h = field;
+  std::map<std::string, std::uintmax_t> sizes;
+  for (const std::string codec : {"default", "none", "zip", "piz", "pxr24"}) {
+    std::map<std::string, ParamValue> params;
+    if (codec != "default") params["exr_compression"] = codec;
+    const fs::path file = write_height(h, codec + ".exr", params);
+    sizes[codec] = fs::file_size(file);
+    const auto back = read_height(file, d);
+    for (std::size_t k = 0; k < h->data.size(); ++k) {
+      if (codec == "pxr24")
+        ASSERT_NEAR(back->data[k], h->data[k], std::abs(h->data[k]) * 0x1p-15f) << k;  // 15 stored mantissa bits
+      else
+        ASSERT_EQ(back->data[k], h->data[k]) << codec << " " << k;
+    }
+  }
+  const std::uintmax_t payload = 4u * d.sample_count();
+  EXPECT_EQ(sizes["default"], sizes["none"]);
+  EXPECT_GT(sizes["none"], payload);
+  EXPECT_LT(sizes["none"], payload + 4096) << "header and offset table only";
+  EXPECT_LT(sizes["pxr24"], sizes["none"] * 4 / 5) << "pxr24 drops a byte of every float";
+  EXPECT_NE(sizes["zip"], sizes["none"]);
+  EXPECT_NE(sizes["piz"], sizes["none"]);
+}
+
 // Identical inputs give identical files: no time of writing in EXR and TIFF headers, or SOURCE_DATE_EPOCH.
 TEST_F(IoTest, HeadersCarryNoTimeOfWritingButSourceDateEpoch) {
   const Domain d = Domain::from_extent({0, 0}, {64, 48}, {17, 13});
@@ -180,7 +212,8 @@ TEST_F(IoTest, ChunkedWritesAndCompressionLevels) {
     std::map<int, std::uintmax_t> sizes;
     for (int level : {0, 1, 9}) {
       const std::string name = "level" + std::to_string(level) + ext;
-      const fs::path file = write_height(h, name, {{"compression_level", std::int64_t(level)}});
+      const fs::path file =
+          write_height(h, name, {{"compression_level", std::int64_t(level)}, {"exr_compression", std::string("zip")}});
       sizes[level] = fs::file_size(file);
       const auto back = read_height(file, d);
       for (std::size_t k = 0; k < h->data.size(); ++k) {

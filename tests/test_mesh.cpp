@@ -284,7 +284,9 @@ TEST(TerrainTin, BoundHoldsAtEverySampleAndTheTrianglesTileTheRectangle) {
       EXPECT_NEAR(tin.max_error, worst, 1e-9 * (1 + worst));
       if (simplify) {
         EXPECT_LT(tin.triangles.size(), previous) << "the collapses remove triangles of the greedy TIN";
-        if (bound >= 2.0) EXPECT_LT(tin.triangles.size(), 2u * 96u * 80u / 4u);
+        if (bound >= 2.0) {
+          EXPECT_LT(tin.triangles.size(), 2u * 96u * 80u / 4u);
+        }
       }
       previous = tin.triangles.size();
     }
@@ -304,9 +306,14 @@ TEST(TerrainTin, TinyStripsAndFlatGrids) {
         options.target_faces = target;
         const Tin tin = heightfield_tin(*h, options);
         expect_exact_cover(tin);
-        if (flat) EXPECT_EQ(tin.triangles.size(), 2u) << res.x << "x" << res.y;
-        if (target) EXPECT_LE(tin.triangles.size(), std::max<std::size_t>(target, 2));
-        else EXPECT_LE(tin.max_error, 0.1);
+        if (flat) {
+          EXPECT_EQ(tin.triangles.size(), 2u) << res.x << "x" << res.y;
+        }
+        if (target) {
+          EXPECT_LE(tin.triangles.size(), std::max<std::size_t>(target, 2));
+        } else {
+          EXPECT_LE(tin.max_error, 0.1);
+        }
       }
     }
   }

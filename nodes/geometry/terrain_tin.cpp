@@ -62,14 +62,17 @@ class Scanner {
     return {static_cast<double>(s.error), s.sample};
   }
 
-  // The vertical distance of sample (px, py) to the plane of grid triangle (a, b, c), as scan() computes it.
-  double point_error(int ax, int ay, int bx, int by, int cx, int cy, int px, int py) const {
-    const double za = z_[ay * width_ + ax], zb = z_[by * width_ + bx], zc = z_[cy * width_ + cx];
+  float height(int x, int y) const { return z_[static_cast<std::size_t>(y) * width_ + x]; }
+
+  // The vertical distance of sample (px, py), height zp, to the plane of grid triangle (a, b, c) with heights
+  // za, zb, zc, as scan() computes it.
+  static double point_error(int ax, int ay, double za, int bx, int by, double zb, int cx, int cy, double zc, int px,
+                            int py, double zp) {
     const double det = static_cast<double>(orient(ax, ay, bx, by, cx, cy));
     const double ux = bx - ax, uy = by - ay, vx = cx - ax, vy = cy - ay, uz = zb - za, vz = zc - za;
     const double gx = (uz * vy - vz * uy) / det, gy = (ux * vz - vx * uz) / det;
     const double base = za - gx * ax + gy * (py - ay);
-    return std::abs(static_cast<double>(z_[py * width_ + px]) - (base + gx * static_cast<double>(px)));
+    return std::abs(zp - (base + gx * static_cast<double>(px)));
   }
 
   template <bool kStopAbove>
@@ -357,17 +360,39 @@ class GreedyInsertion {
 // checked exactly against the bound over the samples of the changed triangles.
 class Collapser {
  public:
-  Collapser(int width, int height, const Scanner& scanner, std::vector<int> vx, std::vector<int> vy,
+  // Vertices and triangles are renumbered along a Z-order curve of the grid: greedy insertion numbers them
+  // in insertion order, scattered over the map, and an evaluation touches a vertex's whole neighbourhood,
+  // which then sits in a few cache lines instead of dozens.
+  Collapser(int width, int height, const Scanner& scanner, const std::vector<int>& vx, const std::vector<int>& vy,
             const std::vector<std::int32_t>& corners)
-      : width_(width), height_(height), scanner_(scanner), vx_(std::move(vx)), vy_(std::move(vy)) {
-    const std::size_t nt = corners.size() / 3;
-    tris_.resize(nt);
-    alive_tri_.assign(nt, 1);
-    star_.resize(vx_.size());
-    for (std::size_t t = 0; t < nt; ++t) {
-      tris_[t] = {corners[3 * t], corners[3 * t + 1], corners[3 * t + 2]};
-      for (int k = 0; k < 3; ++k) star_[static_cast<std::size_t>(corners[3 * t + k])].push_back(static_cast<int>(t));
+      : width_(width), height_(height), scanner_(scanner) {
+    const std::size_t nv = vx.size(), nt = corners.size() / 3;
+    std::vector<std::uint64_t> key(nv);
+    for (std::size_t v = 0; v < nv; ++v) key[v] = (z_order(vx[v], vy[v]) << 32) | v;
+    std::sort(key.begin(), key.end());
+    std::vector<std::int32_t> renumber(nv);
+    vx_.resize(nv);
+    vy_.resize(nv);
+    vz_.resize(nv);
+    for (std::size_t k = 0; k < nv; ++k) {
+      const std::size_t v = key[k] & 0xffffffffu;
+      renumber[v] = static_cast<std::int32_t>(k);
+      vx_[k] = vx[v];
+      vy_[k] = vy[v];
+      vz_[k] = scanner.height(vx[v], vy[v]);
     }
+    std::vector<std::array<std::int32_t, 3>> tris(nt);
+    for (std::size_t t = 0; t < nt; ++t)
+      tris[t] = {renumber[corners[3 * t]], renumber[corners[3 * t + 1]], renumber[corners[3 * t + 2]]};
+    std::sort(tris.begin(), tris.end(), [](const auto& a, const auto& b) {
+      return std::min({a[0], a[1], a[2]}) < std::min({b[0], b[1], b[2]}) ||
+             (std::min({a[0], a[1], a[2]}) == std::min({b[0], b[1], b[2]}) && a < b);
+    });
+    tris_ = std::move(tris);
+    alive_tri_.assign(nt, 1);
+    star_.resize(nv);
+    for (std::size_t t = 0; t < nt; ++t)
+      for (int k = 0; k < 3; ++k) star_[static_cast<std::size_t>(tris_[t][k])].push_back(static_cast<int>(t));
     alive_vertex_.assign(vx_.size(), 1);
     version_.assign(vx_.size(), 0);
   }
@@ -437,6 +462,19 @@ class Collapser {
     }
   };
 
+  // The grid position's index along a Z-order (Morton) curve: the bits of x and y interleaved (the low 16
+  // bits of each: wider grids only lose some locality).
+  static std::uint64_t z_order(int x, int y) {
+    auto spread = [](std::uint64_t a) {
+      a &= 0xffffu;
+      a = (a | (a << 8)) & 0x00ff00ffu;
+      a = (a | (a << 4)) & 0x0f0f0f0fu;
+      a = (a | (a << 2)) & 0x33333333u;
+      return (a | (a << 1)) & 0x55555555u;
+    };
+    return spread(static_cast<std::uint64_t>(x)) | (spread(static_cast<std::uint64_t>(y)) << 1);
+  }
+
   // Bit mask of the rectangle's sides the vertex lies on (1 left, 2 right, 4 bottom, 8 top).
   int sides(int v) const {
     return (vx_[v] == 0 ? 1 : 0) | (vx_[v] == width_ - 1 ? 2 : 0) | (vy_[v] == 0 ? 4 : 0) | (vy_[v] == height_ - 1 ? 8 : 0);
@@ -468,10 +506,12 @@ class Collapser {
         const auto& c = tris_[t];
         if (c[0] == u || c[1] == u || c[2] == u) continue;
         int x[3], y[3];
+        float z[3];
         for (int k = 0; k < 3; ++k) {
           const int w = c[k] == v ? u : c[k];
           x[k] = vx_[w];
           y[k] = vy_[w];
+          z[k] = vz_[w];
         }
         if (orient(x[0], y[0], x[1], y[1], x[2], y[2]) <= 0) {
           ok = false;
@@ -481,7 +521,7 @@ class Collapser {
         if (!v_checked && orient(x[0], y[0], x[1], y[1], vx_[v], vy_[v]) >= 0 &&
             orient(x[1], y[1], x[2], y[2], vx_[v], vy_[v]) >= 0 && orient(x[2], y[2], x[0], y[0], vx_[v], vy_[v]) >= 0) {
           v_checked = true;
-          if (scanner_.point_error(x[0], y[0], x[1], y[1], x[2], y[2], vx_[v], vy_[v]) > best) {
+          if (Scanner::point_error(x[0], y[0], z[0], x[1], y[1], z[1], x[2], y[2], z[2], vx_[v], vy_[v], vz_[v]) > best) {
             ok = false;
             break;
           }
@@ -554,6 +594,7 @@ class Collapser {
   int width_, height_;
   const Scanner& scanner_;
   std::vector<int> vx_, vy_;
+  std::vector<float> vz_;  // the vertices' heights (kept here: the field itself is far away in memory)
   std::vector<std::array<std::int32_t, 3>> tris_;
   std::vector<std::uint8_t> alive_tri_, alive_vertex_;
   std::vector<std::vector<int>> star_;
@@ -611,11 +652,26 @@ Tin heightfield_tin(const Heightfield& height, const TinOptions& options) {
     for (std::size_t t = 0; t < greedy.corner_.size(); t += 3)
       tin.triangles.push_back({greedy.corner_[t], greedy.corner_[t + 1], greedy.corner_[t + 2]});
   }
-  double worst = 0.0;
-  for (const auto& t : tin.triangles) {
-    const int a = tin.samples[t[0]], b = tin.samples[t[1]], c = tin.samples[t[2]];
-    worst = std::max(worst, scanner.scan_exact<false>(a % w, a / w, b % w, b / w, c % w, c / w).error);
+  // The exact largest error: the fast scan of every triangle, then the double-precision scan of only those
+  // whose fast error comes within two margins of the largest (no other can hold the exact maximum).
+  std::vector<double> fast(tin.triangles.size());
+  double fast_worst = 0.0;
+  auto corners = [&](const std::array<std::int32_t, 3>& t) {
+    std::array<int, 6> p{};
+    for (int k = 0; k < 3; ++k) p[2 * k] = tin.samples[t[k]] % w, p[2 * k + 1] = tin.samples[t[k]] / w;
+    return p;
+  };
+  for (std::size_t t = 0; single && t < tin.triangles.size(); ++t) {
+    const auto p = corners(tin.triangles[t]);
+    fast[t] = scanner.scan<false>(p[0], p[1], p[2], p[3], p[4], p[5]).error;
+    fast_worst = std::max(fast_worst, fast[t]);
   }
+  double worst = 0.0;
+  for (std::size_t t = 0; t < tin.triangles.size(); ++t)
+    if (!single || fast[t] >= fast_worst - 2.0 * margin) {
+      const auto p = corners(tin.triangles[t]);
+      worst = std::max(worst, scanner.scan_exact<false>(p[0], p[1], p[2], p[3], p[4], p[5]).error);
+    }
   tin.max_error = worst;
   if (options.progress) options.progress(1.0);
   return tin;

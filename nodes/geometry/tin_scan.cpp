@@ -12,6 +12,7 @@
 #include <hwy/highway.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 
 HWY_BEFORE_NAMESPACE();
@@ -63,6 +64,10 @@ ScanResult ScanTriangle(const ScanRequest& r) {
   }
   const V iota = hn::Iota(d, 0.0f);
   const V vg = hn::Set(d, static_cast<float>(gx));
+  const V none = hn::Set(d, -1.0f);  // the error of lanes past a row's end: below every real error
+  const hn::RebindToSigned<decltype(d)> di;
+  using VI = hn::Vec<decltype(di)>;
+  const VI iota_i = hn::Iota(di, 0);
   const float* const end = r.z + r.size;
   HWY_ALIGN float tail[HWY_MAX_BYTES / sizeof(float)] = {};
   // Loads of up to `lanes` samples from p (only `count` of them valid) that never read past the field.
@@ -72,6 +77,11 @@ ScanResult ScanTriangle(const ScanRequest& r) {
     std::memcpy(tail, p, count * sizeof(float));
     return hn::Load(d, tail);
   };
+  // Per lane, the largest error so far and the sample where it first occurred: rows need no reduction
+  // across lanes (most rows of a TIN triangle are shorter than a vector), only the end of the scan does.
+  V acc = none;
+  VI where = hn::Set(di, -1);
+  const V vlimit = hn::Set(d, r.limit);
   ScanResult best;
   for (int y = ymin; y <= ymax; ++y) {
     i64 xl = xmin, xr = xmax;
@@ -81,39 +91,42 @@ ScanResult ScanTriangle(const ScanRequest& r) {
       else xl = std::max(xl, wk.px + wk.q + (wk.rem != 0 ? 1 : 0));
       wk.q += wk.step_q;
       wk.rem += wk.step_r;
-      if (wk.rem >= wk.den) {
-        ++wk.q;
-        wk.rem -= wk.den;
-      }
+      const bool carry = wk.rem >= wk.den;  // branch-free: the carry is as good as random from row to row
+      wk.q += carry;
+      wk.rem -= carry ? wk.den : 0;
     }
     if (xl > xr) continue;
     const std::size_t n = static_cast<std::size_t>(xr - xl + 1);
     const float* row = r.z + static_cast<std::size_t>(y) * w + static_cast<std::size_t>(xl);
     // The plane along the row: its value at xl plus gx per sample.
     const V vb = hn::Set(d, static_cast<float>(za + gx * static_cast<double>(xl - r.ax) + gy * (y - r.ay)));
-    auto errors = [&](std::size_t k) {
+    const std::int32_t row_start = static_cast<std::int32_t>(static_cast<i64>(y) * w + xl);
+    for (std::size_t k = 0; k < n; k += lanes) {
       const V plane = hn::MulAdd(vg, hn::Add(iota, hn::Set(d, static_cast<float>(k))), vb);
       V e = hn::Abs(hn::Sub(load(row + k, n - k), plane));
-      if (n - k < lanes) e = hn::IfThenElseZero(hn::FirstN(d, n - k), e);
-      return e;
-    };
-    V m = hn::Zero(d);
-    for (std::size_t k = 0; k < n; k += lanes) m = hn::Max(m, errors(k));
-    const float row_max = hn::GetLane(hn::MaxOfLanes(d, m));
-    if (!(row_max > best.error)) continue;
-    best.error = row_max;
-    if (r.stop_above) {
-      if (row_max > r.limit) return best;
-      continue;
-    }
-    const V target = hn::Set(d, row_max);
-    for (std::size_t k = 0; k < n; k += lanes) {
-      const intptr_t at = hn::FindFirstTrue(d, hn::Eq(errors(k), target));
-      if (at >= 0) {
-        best.sample = static_cast<std::int32_t>(static_cast<i64>(y) * w + xl + static_cast<i64>(k) + at);
-        break;
+      if (n - k < lanes) e = hn::IfThenElse(hn::FirstN(d, n - k), e, none);
+      if (r.stop_above) {
+        acc = hn::Max(acc, e);
+      } else {
+        const auto larger = hn::Gt(e, acc);  // strictly: each lane keeps its first sample of its maximum
+        acc = hn::IfThenElse(larger, e, acc);
+        where = hn::IfThenElse(hn::RebindMask(di, larger),
+                               hn::Add(iota_i, hn::Set(di, row_start + static_cast<std::int32_t>(k))), where);
       }
     }
+    if (r.stop_above && !hn::AllFalse(d, hn::Gt(acc, vlimit))) {
+      best.error = hn::GetLane(hn::MaxOfLanes(d, acc));
+      return best;
+    }
+  }
+  const float largest = hn::GetLane(hn::MaxOfLanes(d, acc));
+  if (!(largest >= 0.0f)) return best;  // no sample inside
+  best.error = largest;
+  if (!r.stop_above) {
+    // The first sample (row-major) with the largest error: the smallest index among the lanes that reach it.
+    const VI candidates = hn::IfThenElse(hn::RebindMask(di, hn::Eq(acc, hn::Set(d, largest))), where,
+                                         hn::Set(di, INT32_MAX));
+    best.sample = hn::GetLane(hn::MinOfLanes(di, candidates));
   }
   return best;
 }

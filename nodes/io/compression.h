@@ -12,8 +12,10 @@ namespace orogen {
 // levels at about three times the time (WriteHeightfield defaults to 1); 8-bit color maps gain more
 // (WriteImage defaults to 6). Measured by bench/bench_writers.cpp.
 
-// `format`: "openexr" (zip, or none at level 0), "tiff" (zip/deflate) or "png".
-inline void set_compression(OIIO::ImageSpec& spec, std::string_view format, int level) {
+// `format`: "openexr", "tiff" (zip/deflate) or "png". For OpenEXR, `exr_codec` names the codec ("zip",
+// "none", "piz", "pxr24", ...); the level applies to zip, and level 0 stores whatever the codec.
+inline void set_compression(OIIO::ImageSpec& spec, std::string_view format, int level,
+                            std::string_view exr_codec = "zip") {
   if (format == "png") {
     if (level >= 0) spec.attribute("png:compressionLevel", level);
     // 16-bit heights at the fast levels: libpng's adaptive choice among the five row filters costs more than
@@ -24,8 +26,10 @@ inline void set_compression(OIIO::ImageSpec& spec, std::string_view format, int 
   } else if (format == "tiff") {
     spec.attribute("compression", level == 0 ? "none" : "zip");
     if (level > 0) spec.attribute("tiff:zipquality", level);
+  } else if (level == 0 || exr_codec != "zip") {
+    spec.attribute("compression", level == 0 ? std::string("none") : std::string(exr_codec));
   } else {
-    spec.attribute("compression", level == 0 ? std::string("none") : level > 0 ? "zip:" + std::to_string(level) : "zip");
+    spec.attribute("compression", level > 0 ? "zip:" + std::to_string(level) : std::string("zip"));
   }
 }
 

@@ -277,7 +277,7 @@ std::optional<HeightRange> write_heightfield_file(const Heightfield& h, const fs
   spec.attribute("DateTime", file_timestamp());  // never the time of writing: reproducible files
   std::string description = "Orogen heightfield; ";
   set_compression(spec, options.format == HeightFormat::Exr ? "openexr" : is_float ? "tiff" : "png",
-                  options.compression_level);
+                  options.compression_level, options.exr_compression);
   if (is_float) {
     description += "float32 heights in metres; ";
   } else {

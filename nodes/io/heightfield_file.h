@@ -52,6 +52,8 @@ struct HeightfieldWriteOptions {
   // zlib (deflate) level of EXR (zip), PNG and TIFF: 0 none, 1 fastest ... 9 smallest; -1 each library's
   // default (see nodes/io/compression.h). RAW16 ignores it.
   int compression_level = -1;
+  // OpenEXR codec of float heights: "zip", "none", "piz" (lossless) or "pxr24" (lossy: 24-bit floats).
+  std::string exr_compression = "zip";
   WriteProgress progress;  // optional
 };
 
