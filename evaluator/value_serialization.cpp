@@ -409,6 +409,40 @@ ModuleStringPtr read_module_string(ByteReader& r) {
   return m;
 }
 
+// --- Scene --------------------------------------------------------------------------------------------------
+
+void write(ByteWriter& w, const Scene& sc) {
+  if (!sc.instances) throw SerializationError("scene without instances");
+  write(w, *sc.instances);
+  w.u64(sc.classes.size());
+  for (const auto& [cls, c] : sc.classes) {
+    w.i32(cls);
+    w.str(c.name);
+    w.u8(c.proxy ? 1 : 0);
+    if (!c.mesh) throw SerializationError("scene class without a mesh");
+    write(w, *c.mesh);
+  }
+}
+ScenePtr read_scene(ByteReader& r) {
+  auto sc = std::make_shared<Scene>();
+  sc->instances = read_points(r);
+  const std::size_t n = r.count(4 + 8 + 1 + 8 + 8 + 1);  // the smallest class: id, empty name, flag, empty mesh
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::int32_t cls = r.i32();
+    SceneClass c;
+    c.name = r.str();
+    c.proxy = read_flag(r);
+    c.mesh = read_mesh(r);
+    if (!sc->classes.emplace(cls, std::move(c)).second) throw SerializationError("scene class listed twice");
+  }
+  try {
+    sc->check_consistent();
+  } catch (const std::logic_error& e) {
+    throw SerializationError(e.what());
+  }
+  return sc;
+}
+
 }  // namespace
 
 // --- values -------------------------------------------------------------------------------------------------
@@ -430,7 +464,7 @@ void write_value(ByteWriter& out, const PortValue& value) {
 PortValue read_value(ByteReader& in) {
   const auto tag = in.u8();
   if (tag == 0) return std::monostate{};
-  if (tag > static_cast<std::uint8_t>(PortType::ModuleString) + 1) throw SerializationError("unknown value type");
+  if (tag > static_cast<std::uint8_t>(PortType::Scene) + 1) throw SerializationError("unknown value type");
   switch (static_cast<PortType>(tag - 1)) {
     case PortType::Heightfield: return read_heightfield(in);
     case PortType::Image: return read_image(in);
@@ -440,6 +474,7 @@ PortValue read_value(ByteReader& in) {
     case PortType::PolygonMap: return read_polygon_map(in);
     case PortType::Report: return read_report(in);
     case PortType::ModuleString: return read_module_string(in);
+    case PortType::Scene: return read_scene(in);
   }
   throw SerializationError("unknown value type");
 }

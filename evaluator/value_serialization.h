@@ -16,7 +16,7 @@
 
 namespace orogen {
 
-inline constexpr std::uint32_t kValueFormatVersion = 2;  // 2: ModuleString; optional mesh texcoords
+inline constexpr std::uint32_t kValueFormatVersion = 3;  // 2: ModuleString; optional mesh texcoords. 3: Scene
 
 struct SerializationError : std::runtime_error {
   using std::runtime_error::runtime_error;

@@ -16,7 +16,7 @@
 
 namespace orogen {
 
-inline constexpr int kGraphFormatVersion = 3;
+inline constexpr int kGraphFormatVersion = 4;
 inline constexpr const char* kGraphFormatName = "orogen-graph";
 
 struct Diagnostic {

@@ -1,6 +1,8 @@
 #include "graph/graph_migrations.h"
 
 #include <map>
+#include <set>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -103,6 +105,63 @@ void migrate_graph_v2_to_v3(json& file) {
       json& params = node["params"];
       if (params.is_object() && !params.contains(c.param)) params[c.param] = json::parse(c.old_default);
     }
+  }
+}
+
+void migrate_graph_v3_to_v4(json& file) {
+  if (!file.is_object() || !file.contains("nodes") || !file["nodes"].is_array()) return;
+  json& nodes = file["nodes"];
+  std::set<std::string> ids;
+  for (const json& node : nodes)
+    if (node.is_object() && node.contains("id") && node["id"].is_string()) ids.insert(node["id"].get<std::string>());
+  json inserted = json::array();
+  std::vector<std::pair<std::string, std::string>> placed;  // (writer, instance) for the editor positions
+  for (json& node : nodes) {
+    if (!node.is_object() || !node.contains("type") || node["type"] != "WriteScene") continue;
+    if (!node.contains("id") || !node["id"].is_string()) continue;
+    const std::string writer = node["id"].get<std::string>();
+    // Whatever feeds the instances: the old `in` (points) and the class meshes.
+    json instance_inputs = json::object();
+    if (node.contains("inputs") && node["inputs"].is_object()) {
+      json& inputs = node["inputs"];
+      for (auto it = inputs.begin(); it != inputs.end();) {
+        if (it.key() == "in" || it.key().rfind("mesh_", 0) == 0) {
+          instance_inputs[it.key()] = it.value();
+          it = inputs.erase(it);
+        } else {
+          ++it;
+        }
+      }
+    }
+    bool proxies = true;
+    if (node.contains("params") && node["params"].is_object() && node["params"].contains("proxies")) {
+      const json& p = node["params"]["proxies"];
+      if (p.is_boolean()) proxies = p.get<bool>();
+      node["params"].erase("proxies");
+    }
+    if (instance_inputs.empty()) continue;  // nothing was connected: the loader reports the missing scene
+    std::string id = writer + "_instance";
+    for (int k = 2; ids.count(id); ++k) id = writer + "_instance_" + std::to_string(k);
+    ids.insert(id);
+    node["inputs"]["in"] = id + ".out";
+    inserted.push_back({{"id", id},
+                        {"type", "Instance"},
+                        {"inputs", instance_inputs},
+                        {"params", {{"missing_mesh", proxies ? "proxy" : "skip"}}}});
+    placed.emplace_back(writer, id);
+  }
+  for (json& node : inserted) nodes.push_back(std::move(node));
+  if (!file.contains("editor") || !file["editor"].is_object()) return;
+  json& editor = file["editor"];
+  if (!editor.contains("positions") || !editor["positions"].is_object()) return;
+  json& positions = editor["positions"];
+  for (const auto& [writer, id] : placed) {
+    if (!positions.contains(writer)) continue;
+    const json& at = positions[writer];
+    if (!at.is_array() || at.size() != 2 || !at[0].is_number() || !at[1].is_number()) continue;
+    // Between the writer and its inputs: the writer moves right to make room.
+    positions[id] = at;
+    positions[writer] = json::array({at[0].get<double>() + 230.0, at[1].get<double>()});
   }
 }
 

@@ -40,6 +40,13 @@ struct ChangedDefault {
 const std::vector<ChangedDefault>& format_v2_changed_defaults();
 void migrate_graph_v2_to_v3(nlohmann::json& file);
 
+// Version 4: WriteScene takes a Scene (`in`) made by the new Instance node from the points and the class
+// meshes it used to take itself (`in`: Points, `mesh_0`..`mesh_7`, `proxies`). Every WriteScene of an older
+// file gets an Instance node (id "<writer id>_instance", made unique) inserted before it with those links,
+// missing_mesh = proxy (proxies true, the old default) or skip (proxies false), and placed left of the
+// writer in the editor.
+void migrate_graph_v3_to_v4(nlohmann::json& file);
+
 // Rewrites a version-1 file in place: input port names in "inputs", output port names in every link that
 // reads a renamed output, parameter names and enum values in "params". Parts of the file that are not
 // well formed are left as they are, for the loader to report.

@@ -11,6 +11,7 @@
 #include "graph/points.h"
 #include "graph/polygon_map.h"
 #include "graph/report.h"
+#include "graph/scene.h"
 #include "graph/value_type.h"
 
 namespace orogen {
@@ -21,7 +22,7 @@ using MeshPtr = std::shared_ptr<const Mesh>;
 // Alternative order matches PortType; monostate = no value.
 using PortValue =
     std::variant<std::monostate, HeightfieldPtr, ImagePtr, PointsPtr, CurvesPtr, MeshPtr, PolygonMapPtr, ReportPtr,
-                 ModuleStringPtr>;
+                 ModuleStringPtr, ScenePtr>;
 
 // The PortType a value holds (undefined for monostate; check has_value first).
 PortType port_type_of(const PortValue& v);
@@ -38,5 +39,6 @@ template <> struct PortTypeOf<Mesh> { static constexpr PortType value = PortType
 template <> struct PortTypeOf<PolygonMap> { static constexpr PortType value = PortType::PolygonMap; };
 template <> struct PortTypeOf<Report> { static constexpr PortType value = PortType::Report; };
 template <> struct PortTypeOf<ModuleString> { static constexpr PortType value = PortType::ModuleString; };
+template <> struct PortTypeOf<Scene> { static constexpr PortType value = PortType::Scene; };
 
 }  // namespace orogen

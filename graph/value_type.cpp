@@ -6,7 +6,7 @@
 namespace orogen {
 namespace {
 
-constexpr std::array<std::pair<PortType, std::string_view>, 8> kPortNames{{
+constexpr std::array<std::pair<PortType, std::string_view>, 9> kPortNames{{
     {PortType::Heightfield, "Heightfield"},
     {PortType::Image, "Image"},
     {PortType::Points, "Points"},
@@ -15,6 +15,7 @@ constexpr std::array<std::pair<PortType, std::string_view>, 8> kPortNames{{
     {PortType::PolygonMap, "PolygonMap"},
     {PortType::Report, "Report"},
     {PortType::ModuleString, "ModuleString"},
+    {PortType::Scene, "Scene"},
 }};
 
 constexpr std::array<std::pair<ParamType, std::string_view>, 12> kParamNames{{

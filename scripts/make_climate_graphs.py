@@ -17,7 +17,7 @@ gray = gradient([(0.0,(0,0,0,1)),(1.0,(1,1,1,1))])
 blues = gradient([(0.0,(0.25,0.18,0.08,1)),(0.5,(0.35,0.6,0.3,1)),(1.0,(0.05,0.2,0.7,1))])
 
 rain = [[m, v] for m, v in zip(range(1,13), [120,100,90,80,70,60,50,60,80,100,120,130])]
-rural = {"format": "orogen-graph", "version": 3,
+rural = {"format": "orogen-graph", "version": 4,
   "domain": {"size": [5100, 5100], "resolution": [256, 256]},
   "nodes": [
     node("noise", "FBM", {"basis": "perlin", "mode": "fbm", "feature_size": 1800, "amplitude": 420, "octaves": 7, "seed": 12}),
@@ -62,7 +62,7 @@ layers = ("grass: slope < 28 ~ 6, height > 6 ~ 3, height < 850 ~ 100\n"
           "sand: height < 5 ~ 3, slope < 15 ~ 5\n"
           "wet: weight = 2, flow > 0.55 ~ 0.08, slope < 25 ~ 5\n")
 colors = "grass #5b7f32, dirt #7a6248, rock #80786f, snow #f4f6f8, sand #d9c48f, wet #3f5a3a"
-textured = {"format": "orogen-graph", "version": 3,
+textured = {"format": "orogen-graph", "version": 4,
   "domain": {"size": [6000, 6000], "resolution": [384, 384]},
   "nodes": [
     node("relief", "FBM", {"basis": "simplex", "mode": "fbm", "feature_size": 7000, "amplitude": 900, "octaves": 7, "gain": 0.42, "seed": 4}),

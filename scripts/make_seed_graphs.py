@@ -39,7 +39,7 @@ def add_meshes(N):
 
 
 # --- 002: the Voronoi island, eroded, with biomes and vegetation ---
-island = {"format": "orogen-graph", "version": 3, "domain": {"size": [4096, 4096], "resolution": [256, 256]},
+island = {"format": "orogen-graph", "version": 4, "domain": {"size": [4096, 4096], "resolution": [256, 256]},
           "nodes": [{"id": "island", "type": "VoronoiIsland", "params": {"cells": 4000, "distribution": "poisson", "relaxation": 2, "shape_scale": 1.1, "shape_offset": -0.3, "max_elevation": 900, "ocean_depth": 150, "rivers": 120, "seed": 7}}, {"id": "map", "type": "PolygonMapRaster", "inputs": {"in": "island.out"}, "params": {"perturb_distance": 40, "perturb_feature_size": 400, "river_width": 8, "seed": 7}}, {"id": "shaped", "type": "Power", "inputs": {"in": "map.out"}, "params": {"exponent": 1.5, "pivot": 0, "scale": 900}}, {"id": "detail", "type": "FBM", "inputs": {"roughness": "map.roughness", "amplitude": "map.amplitude"}, "params": {"basis": "perlin", "mode": "multifractal", "feature_size": 600, "amplitude": 80, "octaves": 5, "lacunarity": 2.0, "seed": 8}}, {"id": "coast_fade", "type": "SmoothStep", "inputs": {"in": "map.out"}, "params": {"edge0": 0, "edge1": 150}}, {"id": "dry", "type": "Invert", "inputs": {"in": "map.water"}, "params": {"pivot": 0.5}}, {"id": "detail_mask", "type": "Multiply", "inputs": {"a": "coast_fade.out", "b": "dry.out"}}, {"id": "detail_masked", "type": "Multiply", "inputs": {"a": "detail.out", "b": "detail_mask.out"}}, {"id": "sum", "type": "Add", "inputs": {"a": "shaped.out", "b": "detail_masked.out"}}, {"id": "terrain", "type": "SeaLevelNormalize", "inputs": {"in": "sum.out"}, "params": {"sea_level": 0, "height": 900, "depth": 150}}]}
 nodes = island["nodes"]
 N = make_adder(nodes)
@@ -81,8 +81,9 @@ add_meshes(N)
 N("color", "ColorRamp", {"in": "eroded.out"})
 N("mesh_lod", "Resample", {"in": "eroded.out"}, spacing=16, prefilter=True)
 N("terrain_mesh", "HeightfieldToMesh", {"in": "mesh_lod.out", "colors": "color.out"}, max_error=1.0)
-N("save_scene", "WriteScene", {"in": "vegetation.out", "terrain": "terrain_mesh.out", "mesh_0": "tree_mesh.out",
-   "mesh_1": "conifer_mesh.out", "mesh_2": "bush_mesh.out", "mesh_3": "rock.out"}, path="voronoi_island/scene.glb")
+N("instances", "Instance", {"in": "vegetation.out", "mesh_0": "tree_mesh.out", "mesh_1": "conifer_mesh.out",
+   "mesh_2": "bush_mesh.out", "mesh_3": "rock.out"}, names="broadleaf, conifer, bush, rock", missing_mesh="error")
+N("save_scene", "WriteScene", {"in": "instances.out", "terrain": "terrain_mesh.out"}, path="voronoi_island/scene.glb")
 # Maps.
 N("save_polygon_biomes", "WriteImage", {"in": "map.color"}, path="voronoi_island/polygon_biomes.png")
 N("save_biomes", "WriteImage", {"in": "biomes.color"}, path="voronoi_island/biomes.png")
@@ -142,13 +143,14 @@ N("plants", "BiomeScatter", {"in": "ecosystem_id.out", "height": "terrain.out"},
 add_meshes(N)
 N("mesh_lod", "Resample", {"in": "terrain.out"}, spacing=20, prefilter=True)
 N("terrain_mesh", "HeightfieldToMesh", {"in": "mesh_lod.out", "colors": "clusters.color"}, max_error=1.0)
-N("save_scene", "WriteScene", {"in": "plants.out", "terrain": "terrain_mesh.out", "mesh_0": "tree_mesh.out",
-   "mesh_1": "conifer_mesh.out", "mesh_2": "bush_mesh.out", "mesh_3": "rock.out"}, path="rural_resources/scene.glb")
+N("instances", "Instance", {"in": "plants.out", "mesh_0": "tree_mesh.out", "mesh_1": "conifer_mesh.out",
+   "mesh_2": "bush_mesh.out", "mesh_3": "rock.out"}, names="broadleaf, conifer, bush, rock", missing_mesh="error")
+N("save_scene", "WriteScene", {"in": "instances.out", "terrain": "terrain_mesh.out"}, path="rural_resources/scene.glb")
 json.dump(g, open(rural_path, "w"), indent=2)
 
 
 # --- 004: the forest ---
-g = {"format": "orogen-graph", "version": 3, "domain": {"size": [1024, 1024], "resolution": [257, 257]}, "nodes": []}
+g = {"format": "orogen-graph", "version": 4, "domain": {"size": [1024, 1024], "resolution": [257, 257]}, "nodes": []}
 nodes = g["nodes"]
 N = make_adder(nodes)
 # Layered Perlin height (Potter 2017: Perlin textures of halving size and weight, summed).
@@ -186,8 +188,10 @@ N("fern_turtle", "Turtle3D", {"in": "fern.out"}, angle=20, step=0.05, width=0.03
 N("fern_mesh", "TreeMesh", {"in": "fern_turtle.out", "leaves": "fern_turtle.leaves"}, sides=3, max_triangles=1000)
 N("mesh_lod", "Resample", {"in": "terrain.out"}, spacing=8, prefilter=False)
 N("mesh", "HeightfieldToMesh", {"in": "mesh_lod.out", "colors": "color.out"}, max_error=0.5)
-N("save_scene", "WriteScene", {"in": "placed.out", "terrain": "mesh.out", "mesh_0": "tree_mesh.out", "mesh_1": "conifer_mesh.out",
-   "mesh_2": "rock.out", "mesh_3": "fern_mesh.out", "mesh_4": "bush_mesh.out"}, path="forest/scene.glb")
+N("instances", "Instance", {"in": "placed.out", "mesh_0": "tree_mesh.out", "mesh_1": "conifer_mesh.out",
+   "mesh_2": "rock.out", "mesh_3": "fern_mesh.out", "mesh_4": "bush_mesh.out"},
+  names="broadleaf, conifer, rock, fern, flower", missing_mesh="error")
+N("save_scene", "WriteScene", {"in": "instances.out", "terrain": "mesh.out"}, path="forest/scene.glb")
 N("save_points", "WritePoints", {"in": "placed.out"}, path="forest/points.csv")
 N("save_color", "WriteImage", {"in": "color.out"}, path="forest/color.png")
 N("save_splat", "WriteImage", {"in": "splat.out"}, path="forest/splat.png")

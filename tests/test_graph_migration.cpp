@@ -19,6 +19,7 @@
 #include "graph/image.h"
 #include "graph/mesh.h"
 #include "graph/registry.h"
+#include "graph/scene.h"
 #include "support/run_process.h"
 #include "support/test_paths.h"
 
@@ -224,6 +225,91 @@ TEST(GraphMigration, EveryNodeFollowsThePortAndSpellingConvention) {
       check_word(t->name + " param", p.name);
       for (const auto& c : p.choices) check_word(t->name + "." + p.name + " choice", c);
     }
+  }
+}
+
+// Version 4: WriteScene takes a Scene from Instance. A version-3 writer with points, class meshes and
+// proxies off, an id that collides with the first choice of the inserted node, and editor positions.
+const char* kVersion3Scene = R"({
+  "format": "orogen-graph",
+  "version": 3,
+  "domain": {"size": [200, 200], "resolution": [33, 33]},
+  "nodes": [
+    {"id": "h", "type": "Cone", "params": {"center": [100, 100], "radius": 90, "height": 40}},
+    {"id": "pts", "type": "PoissonDisk", "inputs": {"height": "h.out"}, "params": {"class_count": 2, "radius_0": 20, "radius_1": 25}},
+    {"id": "rock", "type": "HullRock"},
+    {"id": "terrain", "type": "HeightfieldToMesh", "inputs": {"in": "h.out"}},
+    {"id": "write_instance", "type": "Constant"},
+    {"id": "write", "type": "WriteScene",
+     "inputs": {"in": "pts.out", "terrain": "terrain.out", "mesh_1": "rock.out"},
+     "params": {"path": "s.glb", "proxies": false}},
+    {"id": "loose", "type": "WriteScene", "inputs": {"in": "pts.out"}, "params": {"path": "t.gltf"}}
+  ],
+  "editor": {"positions": {"h": [0, 0], "write": [500, 40]}}
+})";
+
+// The same graph in version 4, written by hand.
+const char* kVersion4Scene = R"({
+  "format": "orogen-graph",
+  "version": 4,
+  "domain": {"size": [200, 200], "resolution": [33, 33]},
+  "nodes": [
+    {"id": "h", "type": "Cone", "params": {"center": [100, 100], "radius": 90, "height": 40}},
+    {"id": "pts", "type": "PoissonDisk", "inputs": {"height": "h.out"}, "params": {"class_count": 2, "radius_0": 20, "radius_1": 25}},
+    {"id": "rock", "type": "HullRock"},
+    {"id": "terrain", "type": "HeightfieldToMesh", "inputs": {"in": "h.out"}},
+    {"id": "write_instance", "type": "Constant"},
+    {"id": "write", "type": "WriteScene", "inputs": {"in": "write_instance_2.out", "terrain": "terrain.out"},
+     "params": {"path": "s.glb"}},
+    {"id": "loose", "type": "WriteScene", "inputs": {"in": "loose_instance.out"}, "params": {"path": "t.gltf"}},
+    {"id": "write_instance_2", "type": "Instance", "inputs": {"in": "pts.out", "mesh_1": "rock.out"},
+     "params": {"missing_mesh": "skip"}},
+    {"id": "loose_instance", "type": "Instance", "inputs": {"in": "pts.out"}, "params": {"missing_mesh": "proxy"}}
+  ],
+  "editor": {"positions": {"h": [0, 0], "write": [730, 40], "write_instance_2": [500, 40]}}
+})";
+
+TEST(GraphMigration, Version3SceneWriterGetsAnInstanceNode) {
+  const Graph old_graph = load(kVersion3Scene);
+  const Graph new_graph = load(kVersion4Scene);
+  ASSERT_EQ(old_graph.nodes().size(), 9u);
+  EXPECT_EQ(old_graph.at("write_instance_2").type->name, "Instance");
+  EXPECT_EQ(old_graph.at("write").inputs.at("in"), (PortRef{"write_instance_2", "out"}));
+  EXPECT_EQ(old_graph.at("write_instance_2").inputs.at("mesh_1"), (PortRef{"rock", "out"}));
+  EXPECT_EQ(std::get<std::string>(old_graph.param("loose_instance", "missing_mesh")), "proxy");
+  EXPECT_TRUE(old_graph == new_graph);
+  EXPECT_EQ(serialize_graph(old_graph), serialize_graph(new_graph));
+
+  // It evaluates: the writer writes the instances of class 1 (class 0 had no mesh and proxies were off).
+  const auto dir = test::scratch_dir("migration-v3-scene");
+  Evaluator evaluator{EvaluatorOptions{}};
+  evaluator.set_output_policy({dir, false});
+  EvalRequest request;
+  request.domain = old_graph.domain.to_domain();
+  request.nodes = {"write", "loose", "write_instance_2", "pts"};
+  const auto result = evaluator.evaluate(old_graph, request);
+  ASSERT_TRUE(result.ok());
+  const auto scene = std::get<ScenePtr>(result.output("write_instance_2", "out", old_graph));
+  const auto points = std::get<PointsPtr>(result.output("pts", "out", old_graph));
+  std::size_t class_1 = 0;
+  for (const auto c : points->class_id) class_1 += c == 1 ? 1 : 0;
+  ASSERT_GT(class_1, 0u);
+  ASSERT_LT(class_1, points->size());
+  EXPECT_EQ(scene->size(), class_1);
+  EXPECT_TRUE(std::filesystem::exists(dir / "s.glb"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "t.gltf"));
+}
+
+TEST(GraphMigration, Version3MigrationLeavesOtherFilesAlone) {
+  nlohmann::json file = nlohmann::json::parse(kVersion1);
+  const auto before = file;
+  migrate_graph_v3_to_v4(file);
+  EXPECT_EQ(file, before);
+  for (const char* text : {R"([])", R"({"nodes": 3})", R"({"nodes": [1, {"type": "WriteScene"}, {"id": "x", "type": "WriteScene", "inputs": 4}]})"}) {
+    auto j = nlohmann::json::parse(text);
+    const auto original = j;
+    EXPECT_NO_THROW(migrate_graph_v3_to_v4(j));
+    EXPECT_EQ(j, original);
   }
 }
 

@@ -10,14 +10,17 @@
 #include <tiny_gltf.h>
 
 #include "evaluator/run_node.h"
+#include "evaluator/value_serialization.h"
 #include "graph/exec_context.h"
 #include "graph/heightfield.h"
 #include "graph/points.h"
 #include "nodes/scatter/poisson_disk.h"
 #include "nodes/scatter/scatter_rules.h"
+#include "nodes/scatter/instance.h"
 #include "nodes/scatter/scene_gltf.h"
 #include "nodes/climate/sun.h"
 #include "nodes/scatter/forest.h"
+#include "support/key_checks.h"
 #include "support/test_paths.h"
 #include "graph/mesh.h"
 
@@ -444,18 +447,109 @@ const float* accessor_floats(const tinygltf::Model& m, int index) {
   return reinterpret_cast<const float*>(m.buffers.at(v.buffer).data.data() + v.byteOffset + a.byteOffset);
 }
 
+// A scene from points and class meshes, through the Instance node.
+ScenePtr instance(const std::shared_ptr<Points>& pts, const std::map<int, MeshPtr>& meshes,
+                  std::map<std::string, ParamValue> params = {}) {
+  const Domain d = Domain::from_extent({0, 0}, {100, 100}, {3, 3});
+  std::map<std::string, PortValue> inputs{{"in", PortValue(PointsPtr(pts))}};
+  for (const auto& [cls, mesh] : meshes) inputs["mesh_" + std::to_string(cls)] = PortValue(mesh);
+  return run_node("Instance", d, params, inputs).get<Scene>();
+}
+
+TEST(Instance, OneInstancePerPointWithItsTransformAndClassMesh) {
+  const auto pts = std::make_shared<Points>(scene_points());
+  pts->attribute("age", 0.0f)[4] = 7.0f;
+  const MeshPtr a = proxy_mesh(), b = std::make_shared<Mesh>();
+  const auto scene = instance(pts, {{0, a}, {1, b}, {2, a}, {5, b}}, {{"names", std::string(" tree , , rock")}});
+  ASSERT_NO_THROW(scene->check_consistent());
+  // Nothing filtered: the instances are the points themselves, shared, not copied.
+  EXPECT_EQ(scene->instances.get(), pts.get());
+  ASSERT_EQ(scene->size(), pts->size());
+  for (std::size_t i = 0; i < pts->size(); ++i) {
+    EXPECT_EQ(scene->instances->position[i], pts->position[i]);
+    EXPECT_EQ(scene->instances->rotation[i], pts->rotation[i]);
+    EXPECT_EQ(scene->instances->scale[i], pts->scale[i]);
+    EXPECT_EQ(scene->instances->class_id[i], pts->class_id[i]);
+  }
+  EXPECT_EQ(scene->instances->attributes.at("age")[4], 7.0f);
+  // Every connected mesh is a class, under its slot's class id, named as given or class_<id>.
+  ASSERT_EQ(scene->classes.size(), 4u);
+  EXPECT_EQ(scene->classes.at(0).mesh, a);
+  EXPECT_EQ(scene->classes.at(1).mesh, b);
+  EXPECT_EQ(scene->classes.at(2).mesh, a);
+  EXPECT_EQ(scene->classes.at(5).mesh, b);
+  EXPECT_EQ(scene->classes.at(0).name, "tree");
+  EXPECT_EQ(scene->classes.at(1).name, "class_1");
+  EXPECT_EQ(scene->classes.at(2).name, "rock");
+  EXPECT_EQ(scene->classes.at(5).name, "class_5");
+  for (const auto& [cls, c] : scene->classes) EXPECT_FALSE(c.proxy) << cls;
+  EXPECT_EQ(scene->count(0), 10u);
+  EXPECT_EQ(scene->count(5), 0u);
+}
+
+TEST(Instance, ClassWithoutAMeshIsAnErrorAProxyOrLeftOut) {
+  const auto pts = std::make_shared<Points>(scene_points());  // classes 0, 1, 2; ten points each
+  const MeshPtr rock = proxy_mesh();
+  try {
+    instance(pts, {{0, rock}, {2, rock}});
+    FAIL() << "class 1 has no mesh";
+  } catch (const NodeError& e) {
+    EXPECT_NE(std::string(e.what()).find("class 1 has 10 points but no mesh: connect mesh_1"), std::string::npos) << e.what();
+  }
+  const auto proxied = instance(pts, {{0, rock}}, {{"missing_mesh", std::string("proxy")}});
+  EXPECT_EQ(proxied->size(), 30u);
+  ASSERT_EQ(proxied->classes.size(), 3u);
+  EXPECT_FALSE(proxied->classes.at(0).proxy);
+  EXPECT_TRUE(proxied->classes.at(1).proxy);
+  EXPECT_TRUE(proxied->classes.at(2).proxy);
+  EXPECT_EQ(proxied->classes.at(1).mesh->vertex_count(), 6u);
+  const auto skipped = instance(pts, {{2, rock}}, {{"missing_mesh", std::string("skip")}});
+  ASSERT_EQ(skipped->size(), 10u);
+  EXPECT_EQ(skipped->classes.size(), 1u);
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < pts->size(); ++i) {
+    if (pts->class_id[i] != 2) continue;
+    EXPECT_EQ(skipped->instances->position[j], pts->position[i]);
+    EXPECT_EQ(skipped->instances->rotation[j], pts->rotation[i]);
+    EXPECT_EQ(skipped->instances->scale[j], pts->scale[i]);
+    ++j;
+  }
+  ASSERT_NO_THROW(skipped->check_consistent());
+  // No points at all: an empty scene, not an error.
+  EXPECT_EQ(instance(std::make_shared<Points>(), {})->size(), 0u);
+}
+
+TEST(Instance, SceneSurvivesTheCacheSerialization) {
+  const auto pts = std::make_shared<Points>(scene_points());
+  const auto scene = instance(pts, {{0, proxy_mesh()}}, {{"missing_mesh", std::string("proxy")}, {"names", std::string("a,b")}});
+  const PortValue back = deserialize_value(serialize_value(PortValue(scene)));
+  const auto& s = *std::get<ScenePtr>(back);
+  ASSERT_EQ(s.size(), pts->size());
+  EXPECT_EQ(s.instances->position, pts->position);
+  EXPECT_EQ(s.instances->class_id, pts->class_id);
+  ASSERT_EQ(s.classes.size(), 3u);
+  EXPECT_EQ(s.classes.at(1).name, "b");
+  EXPECT_EQ(s.classes.at(2).name, "class_2");
+  EXPECT_TRUE(s.classes.at(2).proxy);
+  EXPECT_FALSE(s.classes.at(0).proxy);
+  EXPECT_EQ(s.classes.at(0).mesh->face_count(), 8u);
+  // A scene whose instances name a class it has no mesh for is refused.
+  Scene broken;
+  broken.instances = pts;
+  broken.classes[0] = SceneClass{"a", proxy_mesh(), false};
+  EXPECT_THROW(deserialize_value(serialize_value(PortValue(ScenePtr(std::make_shared<Scene>(broken))))), SerializationError);
+}
+
 TEST(WriteScene, GpuInstancesLoadBackWithTheirTransforms) {
   const auto dir = test::scratch_dir("scatter-scene");
   OutputPolicy policy;
   policy.output_dir = dir;
   const auto pts = std::make_shared<Points>(scene_points());
-  const auto rock = proxy_mesh();
+  const MeshPtr rock = proxy_mesh();
   const Domain d = Domain::from_extent({0, 0}, {100, 100}, {3, 3});
+  const auto scene = instance(pts, {{0, rock}, {2, rock}}, {{"missing_mesh", std::string("skip")}});
   for (const std::string file : {"s.glb", "s.gltf"}) {
-    run_node("WriteScene", d, {{"path", file}, {"proxies", false}},
-             {{"in", PortValue(PointsPtr(pts))}, {"mesh_0", PortValue(MeshPtr(rock))}, {"mesh_2", PortValue(MeshPtr(rock))},
-              {"terrain", PortValue(MeshPtr(rock))}},
-             policy);
+    run_node("WriteScene", d, {{"path", file}}, {{"in", PortValue(scene)}, {"terrain", PortValue(rock)}}, policy);
     const auto m = load_gltf(dir / file);
     ASSERT_EQ(m.scenes.size(), 1u);
     EXPECT_EQ(std::count(m.extensionsUsed.begin(), m.extensionsUsed.end(), "EXT_mesh_gpu_instancing"), 1);
@@ -465,7 +559,8 @@ TEST(WriteScene, GpuInstancesLoadBackWithTheirTransforms) {
       const auto it = n.extensions.find("EXT_mesh_gpu_instancing");
       if (it == n.extensions.end()) continue;
       ++instanced_nodes;
-      const int cls = std::stoi(n.name.substr(6));
+      const int cls = n.extras.Get("class_id").GetNumberAsInt();
+      EXPECT_EQ(n.name, "class_" + std::to_string(cls));
       const auto& attrs = it->second.Get("attributes");
       const int t = attrs.Get("TRANSLATION").GetNumberAsInt();
       const int r = attrs.Get("ROTATION").GetNumberAsInt();
@@ -480,37 +575,55 @@ TEST(WriteScene, GpuInstancesLoadBackWithTheirTransforms) {
       for (std::size_t i = 0; i < pts->size(); ++i) {
         if (pts->class_id[i] != cls) continue;
         ASSERT_LT(j, count);
-        EXPECT_EQ(tp[3 * j + 2], pts->position[i].z);
-        EXPECT_EQ(tp[3 * j + 0], pts->position[i].x);
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_EQ(tp[3 * j + c], pts->position[i][c]);
+          EXPECT_EQ(sp[3 * j + c], pts->scale[i][c]);
+        }
+        EXPECT_EQ(rp[4 * j + 0], pts->rotation[i].x);
+        EXPECT_EQ(rp[4 * j + 1], pts->rotation[i].y);
+        EXPECT_EQ(rp[4 * j + 2], pts->rotation[i].z);
         EXPECT_EQ(rp[4 * j + 3], pts->rotation[i].w);
-        EXPECT_EQ(sp[3 * j + 0], pts->scale[i].x);
         ++j;
       }
       EXPECT_EQ(j, count);
       instances += count;
     }
-    EXPECT_EQ(instanced_nodes, 2);  // classes 0 and 2; class 1 has no mesh and no proxy
+    EXPECT_EQ(instanced_nodes, 2);  // classes 0 and 2; class 1 has no mesh and was skipped
     EXPECT_EQ(instances, 20u);
   }
 }
 
-TEST(WriteScene, NodeInstancesOnePerPoint) {
+TEST(WriteScene, NodeInstancesOnePerPointNamedByClass) {
   const auto dir = test::scratch_dir("scatter-scene-nodes");
   OutputPolicy policy;
   policy.output_dir = dir;
   const auto pts = std::make_shared<Points>(scene_points());
   const Domain d = Domain::from_extent({0, 0}, {100, 100}, {3, 3});
+  const auto scene = instance(pts, {{1, proxy_mesh()}}, {{"missing_mesh", std::string("proxy")}, {"names", std::string("tree,bush,rock")}});
   run_node("WriteScene", d, {{"path", std::string("n.gltf")}, {"instancing", std::string("nodes")}},
-           {{"in", PortValue(PointsPtr(pts))}}, policy);
+           {{"in", PortValue(scene)}}, policy);
   const auto m = load_gltf(dir / "n.gltf");
   std::size_t instance_nodes = 0;
   for (const auto& n : m.nodes)
     if (n.mesh >= 0 && n.translation.size() == 3) ++instance_nodes;
-  EXPECT_EQ(instance_nodes, pts->size());  // proxies for every class
+  EXPECT_EQ(instance_nodes, pts->size());  // proxies for classes 0 and 2
+  std::map<std::string, std::size_t> groups;
+  for (const auto& n : m.nodes)
+    if (n.extras.Has("class_id")) groups[n.name] = n.children.size();
+  EXPECT_EQ(groups, (std::map<std::string, std::size_t>{{"bush", 10}, {"rock", 10}, {"tree", 10}}));
+  ASSERT_EQ(m.meshes.size(), 3u);
   // The root turns z-up into y-up.
   const auto& root = m.nodes[m.scenes[0].nodes[0]];
   ASSERT_EQ(root.rotation.size(), 4u);
   EXPECT_NEAR(root.rotation[0], -std::sqrt(0.5), 1e-12);
+}
+
+TEST(SceneNodes, EveryParameterAndInputChangesTheKey) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
+  for (const char* type : {"Instance", "WriteScene"}) {
+    expect_every_param_changes_key(type, d);
+    expect_every_input_changes_key(type, d);
+  }
 }
 
 TEST(ProjectToTerrain, SetsHeightAndAlignsToTheNormal) {

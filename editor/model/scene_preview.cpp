@@ -39,9 +39,8 @@ std::vector<std::string> SceneSources::nodes() const {
   auto add = [&](const PortRef& r) {
     if (!r.node.empty() && std::find(out.begin(), out.end(), r.node) == out.end()) out.push_back(r.node);
   };
-  add(points);
+  add(scene);
   add(terrain);
-  for (const auto& m : meshes) add(m);
   add(ground);
   return out;
 }
@@ -49,28 +48,33 @@ std::vector<std::string> SceneSources::nodes() const {
 bool is_scene_writer(const Node& node) {
   if (!node.type) return false;
   const PortDecl* in = input_decl(node, "in");
-  const PortDecl* mesh0 = input_decl(node, "mesh_0");
-  return in && in->type == PortType::Points && mesh0 && mesh0->type == PortType::Mesh;
+  return in && in->type == PortType::Scene && node.type->outputs.empty();
+}
+
+int scene_output(const Node& node) {
+  if (!node.type) return -1;
+  for (std::size_t k = 0; k < node.type->outputs.size(); ++k)
+    if (node.type->outputs[k].type == PortType::Scene) return static_cast<int>(k);
+  return -1;
 }
 
 std::optional<SceneSources> scene_sources(const Graph& graph, const std::string& id) {
   const Node* node = graph.find(id);
-  if (!node || !is_scene_writer(*node)) return std::nullopt;
+  if (!node || !node->type) return std::nullopt;
   SceneSources s;
-  s.points = connected(*node, "in");
-  if (const PortDecl* t = input_decl(*node, "terrain"); t && t->type == PortType::Mesh) s.terrain = connected(*node, "terrain");
-  for (int k = 0; k < kSceneClassSlots; ++k) {
-    const std::string name = "mesh_" + std::to_string(k);
-    if (const PortDecl* m = input_decl(*node, name); m && m->type == PortType::Mesh)
-      s.meshes[static_cast<std::size_t>(k)] = connected(*node, name);
+  if (is_scene_writer(*node)) {
+    s.writer = true;
+    s.scene = connected(*node, "in");
+    if (const PortDecl* t = input_decl(*node, "terrain"); t && t->type == PortType::Mesh) s.terrain = connected(*node, "terrain");
+  } else if (const int k = scene_output(*node); k >= 0) {
+    s.scene = PortRef{id, node->type->outputs[static_cast<std::size_t>(k)].name};
+  } else {
+    return std::nullopt;
   }
-  for (const auto& p : node->type->params)
-    if (p.name == "proxies")
-      if (const auto* b = std::get_if<bool>(&graph.param(id, "proxies"))) s.proxies = *b;
-  // The ground: breadth-first upstream of the points, through Points inputs.
+  // The ground: breadth-first upstream of the scene, through Scene and Points inputs.
   std::deque<std::string> queue;
   std::set<std::string> seen;
-  if (!s.points.node.empty()) queue.push_back(s.points.node);
+  if (!s.scene.node.empty()) queue.push_back(s.scene.node);
   while (!queue.empty() && s.ground.node.empty()) {
     const std::string cur = queue.front();
     queue.pop_front();
@@ -88,7 +92,7 @@ std::optional<SceneSources> scene_sources(const Graph& graph, const std::string&
       }
     }
     for (const auto& in : n->type->inputs)
-      if (in.type == PortType::Points)
+      if (in.type == PortType::Points || in.type == PortType::Scene)
         if (const PortRef r = connected(*n, in.name); !r.node.empty()) queue.push_back(r.node);
   }
   return s;
@@ -114,11 +118,10 @@ std::shared_ptr<const T> value_of(const Graph& graph, const PortRef& ref,
 ScenePreview assemble_scene(const Graph& graph, const SceneSources& sources,
                             const std::map<std::string, std::vector<PortValue>>& outputs) {
   ScenePreview s;
-  s.points = value_of<Points>(graph, sources.points, outputs);
+  s.scene = value_of<Scene>(graph, sources.scene, outputs);
+  if (s.scene) s.points = s.scene->instances;
   s.terrain = value_of<Mesh>(graph, sources.terrain, outputs);
-  for (std::size_t k = 0; k < sources.meshes.size(); ++k) s.meshes[k] = value_of<Mesh>(graph, sources.meshes[k], outputs);
   s.ground = value_of<Heightfield>(graph, sources.ground, outputs);
-  s.proxies = sources.proxies;
   return s;
 }
 
@@ -197,6 +200,22 @@ glm::vec4 marker_color(int cls) {
   return kColors[static_cast<unsigned>(cls) % 6];
 }
 
+namespace {
+
+// translate(position) * rotate(rotation) * scale(scale) of point k; missing rotations / scales are identity / 1.
+glm::mat4 instance_matrix(const Points& points, std::size_t k) {
+  const glm::quat q = k < points.rotation.size() ? points.rotation[k] : glm::quat(1, 0, 0, 0);
+  const glm::vec3 s = k < points.scale.size() ? points.scale[k] : glm::vec3(1.0f);
+  glm::mat4 m = glm::mat4_cast(glm::normalize(q));
+  m[0] *= s.x;
+  m[1] *= s.y;
+  m[2] *= s.z;
+  m[3] = glm::vec4(points.position[k], 1.0f);
+  return m;
+}
+
+}  // namespace
+
 SceneInstances build_instances(const Points& points, const std::vector<bool>& has_mesh) {
   SceneInstances out;
   out.per_class.resize(has_mesh.size());
@@ -206,14 +225,30 @@ SceneInstances build_instances(const Points& points, const std::vector<bool>& ha
       ++out.skipped;
       continue;
     }
-    const glm::quat q = k < points.rotation.size() ? points.rotation[k] : glm::quat(1, 0, 0, 0);
-    const glm::vec3 s = k < points.scale.size() ? points.scale[k] : glm::vec3(1.0f);
-    glm::mat4 m = glm::mat4_cast(glm::normalize(q));
-    m[0] *= s.x;
-    m[1] *= s.y;
-    m[2] *= s.z;
-    m[3] = glm::vec4(points.position[k], 1.0f);
-    out.per_class[static_cast<std::size_t>(cls)].push_back(m);
+    out.per_class[static_cast<std::size_t>(cls)].push_back(instance_matrix(points, k));
+    ++out.count;
+  }
+  return out;
+}
+
+SceneClassInstances build_instances(const Scene& scene) {
+  SceneClassInstances out;
+  std::map<std::int32_t, std::size_t> slot;
+  for (const auto& [cls, c] : scene.classes) {
+    slot[cls] = out.class_ids.size();
+    out.class_ids.push_back(cls);
+  }
+  out.per_class.resize(out.class_ids.size());
+  if (!scene.instances) return out;
+  const Points& points = *scene.instances;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const std::int32_t cls = k < points.class_id.size() ? points.class_id[k] : 0;
+    const auto it = slot.find(cls);
+    if (it == slot.end()) {
+      ++out.skipped;
+      continue;
+    }
+    out.per_class[it->second].push_back(instance_matrix(points, k));
     ++out.count;
   }
   return out;

@@ -1,14 +1,17 @@
 #pragma once
-// CPU side of the populated-scene preview: what a scene writer (WriteScene: points `in`, optional terrain
-// mesh `terrain`, class meshes `mesh_0`..) will write, assembled from the preview's results, and the
-// per-class instance transforms the 3D viewport draws with GPU instancing.
+// CPU side of the populated-scene preview: a Scene (graph/scene.h: instances and one mesh per class, made
+// by Instance) with the terrain it stands on, assembled from the preview's results, and the per-class
+// instance transforms the 3D viewport draws with GPU instancing.
 //
-// A scene writer has no outputs, so the preview evaluates the nodes feeding it (scene_sources) and draws
-// them together: the terrain mesh, else the heightfield the points were placed on (found upstream of the
-// points, e.g. ProjectToTerrain's `height`), and every class mesh at its points. Points are drawn where they
-// are (the positions the file will hold): nothing is snapped to the ground.
+// Two kinds of node show a scene. A node with a Scene output (Instance) shows that scene, on the ground found
+// upstream of it. A scene writer (WriteScene: Scene `in`, optional terrain mesh `terrain`) has no outputs, so
+// the preview evaluates the nodes feeding it (scene_sources) and draws them together: the terrain mesh, else
+// the ground, and every class mesh at its instances. The ground is the height field the points were placed
+// on (found upstream, e.g. ProjectToTerrain's `height`). Instances are drawn where they are (the positions
+// the file will hold): nothing is snapped to the ground.
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
@@ -25,35 +28,33 @@
 
 namespace orogen::editor {
 
-// Class mesh inputs a scene writer can have (WriteScene's mesh_0 .. mesh_7).
-inline constexpr int kSceneClassSlots = 8;
-
 // Where the parts of a scene come from. An empty PortRef::node: not connected / not found.
 struct SceneSources {
-  PortRef points;                                  // the writer's `in`
-  PortRef terrain;                                 // the writer's `terrain` (a Mesh)
-  std::array<PortRef, kSceneClassSlots> meshes;    // mesh_<k>
-  PortRef ground;  // a height field upstream of the points (for when there is no terrain mesh)
-  bool proxies = true;  // the writer's `proxies`: classes without a mesh get a 1 m octahedron
-  // The distinct nodes to evaluate, in a stable order (points, terrain, meshes, ground).
+  PortRef scene;    // the Scene: the writer's `in`, or the node's own Scene output
+  PortRef terrain;  // the writer's `terrain` (a Mesh); none for a node with a Scene output
+  PortRef ground;   // a height field upstream of the instances (for when there is no terrain mesh)
+  bool writer = false;  // the node writes the scene (WriteScene), rather than making it
+  // The distinct nodes to evaluate, in a stable order (scene, terrain, ground).
   std::vector<std::string> nodes() const;
 };
 
-// Whether `node` writes a scene: a Points input `in` and Mesh inputs named mesh_<k>.
+// Whether `node` writes a scene: a Scene input `in` (WriteScene).
 bool is_scene_writer(const Node& node);
+// The index of `node`'s first Scene output (Instance's `out`), or -1.
+int scene_output(const Node& node);
 
-// The sources of scene writer `id`, or nullopt if it is not one. The ground is searched breadth-first
-// upstream of the points, through Points inputs: the first node with a height-field input named `height`,
-// `terrain`, `ground` or `in` (in that order) fed by a height (resolve_output_kind; never a mask or density).
+// The sources of the scene that node `id` writes or makes, or nullopt if it does neither. The ground is
+// searched breadth-first upstream of the scene, through Scene and Points inputs: the first node with a
+// height-field input named `height`, `terrain`, `ground` or `in` (in that order) fed by a height
+// (resolve_output_kind; never a mask or density).
 std::optional<SceneSources> scene_sources(const Graph& graph, const std::string& id);
 
 // The values of a scene, as the preview produced them.
 struct ScenePreview {
-  PointsPtr points;
+  ScenePtr scene;
+  PointsPtr points;  // scene->instances
   MeshPtr terrain;
-  std::array<MeshPtr, kSceneClassSlots> meshes;
   HeightfieldPtr ground;
-  bool proxies = true;
 };
 
 // Picks the sources' values out of a preview's outputs (node id -> outputs in declaration order).
@@ -69,7 +70,7 @@ struct MeshGeometryOptions {
 // Faces with more than three vertices are fanned.
 TerrainMesh mesh_geometry(const Mesh& mesh, const MeshGeometryOptions& options = {});
 
-// The stand-in WriteScene writes for classes without a mesh: an octahedron 1 m tall and 1 m across, its
+// The stand-in Instance places for classes without a mesh (missing_mesh = proxy): an octahedron 1 m tall and 1 m across, its
 // base at the origin, in `color` (sRGB).
 TerrainMesh proxy_geometry(glm::vec4 color);
 
@@ -87,6 +88,12 @@ struct SceneInstances {
   std::size_t skipped = 0;  // points without a mesh
 };
 SceneInstances build_instances(const Points& points, const std::vector<bool>& has_mesh);
+// The same for a scene: per_class[k] holds the instances of the k-th class of scene.classes (map order),
+// whose id is class_ids[k].
+struct SceneClassInstances : SceneInstances {
+  std::vector<std::int32_t> class_ids;
+};
+SceneClassInstances build_instances(const Scene& scene);
 
 // Bounds of every instance's transformed mesh (the corners of each class mesh's box, transformed). Returns
 // false if there is no instance.

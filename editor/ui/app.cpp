@@ -847,7 +847,8 @@ std::vector<std::string> App::preview_request(const std::string& node) const {
   const Node* n = document_->graph().find(node);
   if (!n) return nodes;
   if (const auto scene = scene_sources(document_->graph(), node)) {
-    // The writer itself is not evaluated (it would write files): the nodes feeding it are.
+    // A writer itself is not evaluated (it would write files): the nodes feeding it are. A node making a
+    // scene (Instance) is evaluated with the ground under it.
     nodes = scene->nodes();
     if (show_3d_ && !drape_node_.empty() && document_->graph().find(drape_node_) &&
         std::find(nodes.begin(), nodes.end(), drape_node_) == nodes.end())
@@ -951,11 +952,11 @@ PreviewContent App::preview_content(const std::string& node) const {
 PreviewContent App::scene_content(const std::string& node, const SceneSources& sources) const {
   PreviewContent c;
   c.node = node;
-  c.port = "in";  // what is shown: the points it places
+  c.port = sources.writer ? "in" : sources.scene.port;  // what is shown: the scene's instances
   const auto result = evaluation_.preview();
   c.stale = evaluation_.preview_busy() || pending_request_;
-  if (sources.points.node.empty()) {
-    c.error = node + ": connect the points to place (input in)";
+  if (sources.scene.node.empty()) {
+    c.error = node + ": connect the scene to write (input in, from Instance)";
     return c;
   }
   if (!result) return c;
@@ -977,7 +978,7 @@ PreviewContent App::scene_content(const std::string& node, const SceneSources& s
     c.backdrop_node = sources.ground.node;
   }
   if (ImagePtr drape = drape_image(*result)) c.drape = drape;
-  if (scene.points) c.scene = std::move(scene);
+  if (scene.scene) c.scene = std::move(scene);
   return c;
 }
 

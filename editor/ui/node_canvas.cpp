@@ -90,8 +90,8 @@ void NodeCanvasView::draw_thumbnail(ImDrawList* dl, const Node& node, const Rect
   if (!thumbs) return;
   const auto it = thumbs->outputs.find(node.id);
   if (it == thumbs->outputs.end()) return;
-  // The first output that can be pictured: a heightfield in the colours of its kind, an image, points or
-  // curves drawn in the world rectangle.
+  // The first output that can be pictured: a heightfield in the colours of its kind, an image, points (or a
+  // scene's instances) or curves drawn in the world rectangle.
   const PortValue* shown = nullptr;
   std::string port;
   for (std::size_t k = 0; k < it->second.size() && k < node.type->outputs.size(); ++k) {
@@ -117,6 +117,7 @@ void NodeCanvasView::draw_thumbnail(ImDrawList* dl, const Node& node, const Rect
       px = render_heightfield(**h, style_for(resolve_output_kind(controller_.document().graph(), node.id, port)));
     else if (auto* im = std::get_if<ImagePtr>(shown)) px = render_image(**im);
     else if (auto* p = std::get_if<PointsPtr>(shown)) px = render_points(**p, thumbs->domain);
+    else if (auto* sc = std::get_if<ScenePtr>(shown); sc && (*sc)->instances) px = render_points(*(*sc)->instances, thumbs->domain);
     else if (auto* c = std::get_if<CurvesPtr>(shown)) px = render_curves(**c, thumbs->domain);
     if (px.width <= 0) return;
     t.texture.upload(px.width, px.height, px.rgba.data());

@@ -267,6 +267,7 @@ void Preview2D::draw(const PreviewContent& content) {
                        : has_value(content.value) ? "Nothing to draw in 2D for this output"
                                                   : "Waiting for the evaluation...";
     if (has_value(content.value) && std::holds_alternative<MeshPtr>(content.value)) text = "A mesh: see the 3D view";
+    if (content.scene) text = "A scene without a ground under it: see the 3D view";
     const ImVec2 ts = ImGui::CalcTextSize(text);
     dl->AddText({origin.x + (size.x - ts.x) * 0.5f, origin.y + (size.y - ts.y) * 0.5f}, theme::kTextDim, text);
     dl->PopClipRect();

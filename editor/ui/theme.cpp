@@ -44,6 +44,7 @@ ImU32 port_color(PortType type) {
     case PortType::PolygonMap: return IM_COL32(190, 130, 240, 255);
     case PortType::Report: return IM_COL32(200, 200, 200, 255);
     case PortType::ModuleString: return IM_COL32(150, 210, 90, 255);
+    case PortType::Scene: return IM_COL32(240, 140, 90, 255);
   }
   return IM_COL32(200, 200, 200, 255);
 }

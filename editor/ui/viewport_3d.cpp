@@ -264,15 +264,11 @@ void Viewport3D::update_geometry(const PreviewContent& content) {
                 static_cast<const void*>(content.drape.get()));
   std::string full_key = key;
   if (content.scene) {
-    // Every part of the scene, and whether proxies stand in for missing class meshes.
-    full_key += content.scene->proxies ? "|scene+" : "|scene-";
-    char part[32];
-    std::snprintf(part, sizeof part, "|%p", static_cast<const void*>(content.scene->terrain.get()));
+    // Every part of the scene (a new scene value whenever its instances or class meshes change).
+    char part[64];
+    std::snprintf(part, sizeof part, "|scene %p|%p", static_cast<const void*>(content.scene->scene.get()),
+                  static_cast<const void*>(content.scene->terrain.get()));
     full_key += part;
-    for (const auto& m : content.scene->meshes) {
-      std::snprintf(part, sizeof part, "|%p", static_cast<const void*>(m.get()));
-      full_key += part;
-    }
   }
   if (geometry_key_ == full_key) return;
   geometry_key_ = full_key;
@@ -355,34 +351,26 @@ void Viewport3D::update_geometry(const PreviewContent& content) {
   for (auto& i : instanced_) release(i);
   instanced_.clear();
   scene_info_.clear();
-  if (scene && scene->points) {
-    // Every class with a mesh (or WriteScene's 1 m proxy), its points as instances.
-    std::vector<TerrainMesh> geometry(kSceneClassSlots);
-    std::vector<bool> has_mesh(kSceneClassSlots, false);
-    std::vector<bool> proxy(kSceneClassSlots, false);
-    for (int k = 0; k < kSceneClassSlots; ++k) {
-      const auto& m = scene->meshes[static_cast<std::size_t>(k)];
-      if (m) geometry[static_cast<std::size_t>(k)] = mesh_geometry(*m);
-      else if (scene->proxies) {
-        geometry[static_cast<std::size_t>(k)] = proxy_geometry(class_color(k));
-        proxy[static_cast<std::size_t>(k)] = true;
-      }
-      has_mesh[static_cast<std::size_t>(k)] = !geometry[static_cast<std::size_t>(k)].positions.empty();
-    }
-    const SceneInstances inst = build_instances(*scene->points, has_mesh);
+  if (scene && scene->scene) {
+    // Every class of the scene, its mesh at its instances; Instance's proxies in the class colours.
+    const SceneClassInstances inst = build_instances(*scene->scene);
+    std::vector<TerrainMesh> geometry;
     std::vector<const TerrainMesh*> meshes;
+    geometry.reserve(inst.class_ids.size());
     int classes = 0, proxies = 0;
-    for (int k = 0; k < kSceneClassSlots; ++k) {
-      const auto ks = static_cast<std::size_t>(k);
-      meshes.push_back(&geometry[ks]);
-      if (inst.per_class[ks].empty()) continue;
+    for (std::size_t k = 0; k < inst.class_ids.size(); ++k) {
+      const std::int32_t cls = inst.class_ids[k];
+      const SceneClass& c = scene->scene->classes.at(cls);
+      geometry.push_back(c.proxy ? proxy_geometry(class_color(cls)) : mesh_geometry(*c.mesh));
+      if (inst.per_class[k].empty() || geometry.back().positions.empty()) continue;
       ++classes;
-      proxies += proxy[ks] ? 1 : 0;
+      proxies += c.proxy ? 1 : 0;
       Instanced b;
-      upload_mesh(b.mesh, geometry[ks]);
-      upload_instances(b, inst.per_class[ks]);
+      upload_mesh(b.mesh, geometry.back());
+      upload_instances(b, inst.per_class[k]);
       instanced_.push_back(b);
     }
+    for (const auto& g : geometry) meshes.push_back(&g);
     // Framed on the terrain when there is one, so that editing the scatter does not move the camera.
     glm::vec3 ilo, ihi;
     if (terrain_.count == 0 && instance_bounds(inst, meshes, ilo, ihi)) {
@@ -392,7 +380,6 @@ void Viewport3D::update_geometry(const PreviewContent& content) {
     scene_info_ = std::to_string(inst.count) + " instances of " + std::to_string(classes) +
                   (classes == 1 ? " class" : " classes");
     if (proxies > 0) scene_info_ += ", " + std::to_string(proxies) + " without a mesh as 1 m proxies";
-    if (inst.skipped > 0) scene_info_ += "; " + std::to_string(inst.skipped) + " points without a mesh left out";
   }
 
   vertices.clear();

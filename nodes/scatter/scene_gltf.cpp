@@ -97,22 +97,6 @@ int add_node(tinygltf::Model& m, tinygltf::Node n) {
 
 }  // namespace
 
-std::shared_ptr<Mesh> proxy_mesh() {
-  auto out = std::make_shared<Mesh>();
-  TriMesh& t = out->mesh;
-  const TriMesh::VertexHandle v[6] = {t.add_vertex({0, 0, 0}),    t.add_vertex({0, 0, 1}),   t.add_vertex({0.5f, 0, 0.5f}),
-                                      t.add_vertex({0, 0.5f, 0.5f}), t.add_vertex({-0.5f, 0, 0.5f}), t.add_vertex({0, -0.5f, 0.5f})};
-  const int ring[4] = {2, 3, 4, 5};
-  for (int k = 0; k < 4; ++k) {
-    const auto a = v[ring[k]], b = v[ring[(k + 1) % 4]];
-    t.add_face(v[1], a, b);
-    t.add_face(v[0], b, a);
-  }
-  t.update_normals();
-  for (auto vh : t.vertices()) t.set_color(vh, OpenMesh::Vec4f(0.6f, 0.6f, 0.6f, 1.0f));
-  return out;
-}
-
 std::size_t write_scene_gltf(const SceneContent& scene, const std::filesystem::path& path, bool binary,
                              const WriteProgress& progress) {
   tinygltf::Model m;
@@ -138,19 +122,20 @@ std::size_t write_scene_gltf(const SceneContent& scene, const std::filesystem::p
     children.push_back(add_node(m, n));
   }
   std::size_t instances = 0;
-  if (scene.points) {
-    const Points& pts = *scene.points;
-    pts.check_consistent();
+  if (scene.scene && scene.scene->instances) {
+    scene.scene->check_consistent();
+    const Points& pts = *scene.scene->instances;
     bool gpu = false;
     std::size_t done = 0;
-    for (const auto& [cls, mesh] : scene.meshes) {
-      if (!mesh) continue;
+    for (const auto& [cls, entry] : scene.scene->classes) {
       std::vector<std::size_t> members;
       for (std::size_t i = 0; i < pts.size(); ++i)
         if (pts.class_id[i] == cls) members.push_back(i);
       if (members.empty()) continue;
-      const std::string name = "class_" + std::to_string(cls);
-      const int mesh_index = add_mesh(m, *mesh, name);
+      const std::string& name = entry.name;
+      const int mesh_index = add_mesh(m, *entry.mesh, name);
+      tinygltf::Value::Object extras;
+      extras["class_id"] = tinygltf::Value(static_cast<int>(cls));
       if (scene.instancing == SceneInstancing::GpuInstancing) {
         std::vector<float> tr, rot, sc;
         for (std::size_t i : members) {
@@ -171,11 +156,13 @@ std::size_t write_scene_gltf(const SceneContent& scene, const std::filesystem::p
         n.name = name;
         n.mesh = mesh_index;
         n.extensions["EXT_mesh_gpu_instancing"] = tinygltf::Value(ext);
+        n.extras = tinygltf::Value(extras);
         children.push_back(add_node(m, n));
         gpu = true;
       } else {
         tinygltf::Node group;
         group.name = name;
+        group.extras = tinygltf::Value(extras);
         for (std::size_t i : members) {
           const auto& p = pts.position[i];
           const auto& q = pts.rotation[i];

@@ -2,9 +2,10 @@
 // Instanced scenes (a terrain mesh plus meshes placed at points) to glTF 2.0 through tinygltf.
 //
 // Layout of the file: one root node "orogen" rotated -90 degrees about x, which turns Orogen's z-up world into
-// glTF's y-up one; below it a node "terrain" (if any) and, per class with a mesh, either one node carrying
-// the EXT_mesh_gpu_instancing extension (TRANSLATION, ROTATION, SCALE accessors with one entry per point) or
-// a group node "class_N" with one child node per point. Positions, rotations and scales inside are Orogen's
+// glTF's y-up one; below it a node "terrain" (if any) and, per scene class with instances, either one node
+// carrying the EXT_mesh_gpu_instancing extension (TRANSLATION, ROTATION, SCALE accessors with one entry per
+// instance) or a group node with one child node per instance, both named by the class (e.g. "class_3") and
+// holding the class id in extras.class_id. Positions, rotations and scales inside are Orogen's
 // (metres, z up), so they read back exactly.
 #include <cstdint>
 #include <filesystem>
@@ -12,7 +13,7 @@
 #include <memory>
 
 #include "graph/mesh.h"
-#include "graph/points.h"
+#include "graph/scene.h"
 #include "nodes/io/file_error.h"
 
 namespace orogen {
@@ -21,13 +22,9 @@ enum class SceneInstancing { GpuInstancing, Nodes };
 
 struct SceneContent {
   const Mesh* terrain = nullptr;
-  const Points* points = nullptr;
-  std::map<std::int32_t, const Mesh*> meshes;  // by class id; classes without a mesh are left out
+  const Scene* scene = nullptr;  // the instances and their class meshes (Instance)
   SceneInstancing instancing = SceneInstancing::GpuInstancing;
 };
-
-// A small proxy mesh (an octahedron of half-size 0.5 m, base at z = 0, height 1 m) for classes without one.
-std::shared_ptr<Mesh> proxy_mesh();
 
 // Writes .gltf (JSON with the buffer embedded as base64) or .glb (binary), chosen by `binary`. Not atomic by
 // itself. Throws FileError on failure. Returns the number of instances written.

@@ -1,6 +1,8 @@
-// WriteScene, ProjectToTerrain and MergePoints.
+// Instance, WriteScene, ProjectToTerrain and MergePoints.
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <stdexcept>
 #include <string>
 
 #include <glm/gtc/quaternion.hpp>
@@ -11,51 +13,77 @@
 #include "graph/mesh.h"
 #include "graph/registry.h"
 #include "nodes/io/write_output.h"
+#include "nodes/scatter/instance.h"
 #include "nodes/scatter/scene_gltf.h"
 
 namespace orogen {
 
 inline constexpr int kSceneMeshSlots = 8;
 
-OROGEN_NODE(WriteScene) {
-  b.reach_global();
-  b.category("scatter").writes_files().description(
-      "Writes an instanced scene to glTF 2.0 (Khronos glTF 2.0 specification; EXT_mesh_gpu_instancing): the "
-      "terrain mesh and, for each class with a mesh, its points as instances (translation, rotation, scale "
-      "per point). gpu_instancing writes one node per class with the EXT_mesh_gpu_instancing extension (game "
-      "engines draw it in one call); nodes writes one node per instance (every viewer). A root node rotates "
-      "Orogen's z-up world to glTF's y-up. .gltf embeds the buffer as base64, .glb is binary.");
-  b.input("in", PortType::Points).description("Instances: position (m), rotation, scale, class id");
-  b.input("terrain", PortType::Mesh).optional().description("Terrain mesh (m), e.g. from HeightfieldToMesh");
+OROGEN_NODE(Instance) {
+  b.reach_global();  // outputs a scene, not a field
+  b.category("scatter").description(
+      "Combines points with one mesh per class into an instanced scene (geometry instancing: Carucci 2005, "
+      "Inside Geometry Instancing, GPU Gems 2 ch. 3): every point becomes an instance of its class's mesh, "
+      "translated, rotated and scaled by the point. Meshes come from TreeMesh, PlantSprite, RockSet or any "
+      "mesh node, in metres with their base at the origin. Points of a class without a mesh are an error, a "
+      "1 m octahedron proxy or left out (missing_mesh). WriteScene writes the scene to glTF; the editor draws "
+      "it in 3D.");
+  b.input("in", PortType::Points).description("Where the instances go: position (m), rotation, scale, class id");
   for (int k = 0; k < kSceneMeshSlots; ++k)
     b.input("mesh_" + std::to_string(k), PortType::Mesh)
         .optional()
         .description("Mesh placed at the points of class " + std::to_string(k) + " (m, base at the origin)");
+  b.output("out", PortType::Scene).description("The instances and the mesh and name of every class");
+  b.param_string("names", "").description(
+      "Class names, comma-separated in class order (class 0 first), e.g. \"tree, bush, , rock\"; an empty or "
+      "missing entry is named class_<id>. The names of the glTF nodes and meshes");
+  b.param_enum("missing_mesh", {"error", "proxy", "skip"}, "error").description(
+      "Points of a class without a mesh: error stops with the class named; proxy places a 1 m octahedron "
+      "(base at the point); skip leaves them out");
+  b.execute([](ExecContext& ctx) {
+    const auto points = ctx.require<Points>("in");
+    std::map<std::int32_t, MeshPtr> meshes;
+    for (int k = 0; k < kSceneMeshSlots; ++k)
+      if (auto mesh = ctx.input<Mesh>("mesh_" + std::to_string(k))) meshes[k] = mesh;
+    InstanceOptions options;
+    options.names = parse_class_names(ctx.param<std::string>("names"));
+    const std::string& missing = ctx.param<std::string>("missing_mesh");
+    options.missing = missing == "proxy" ? MissingMesh::Proxy : missing == "skip" ? MissingMesh::Skip : MissingMesh::Error;
+    try {
+      ctx.set_output("out", std::make_shared<Scene>(make_scene(points, meshes, options)));
+    } catch (const std::invalid_argument& e) {
+      throw NodeError(e.what());
+    }
+  });
+}
+
+OROGEN_NODE(WriteScene) {
+  b.reach_global();
+  b.category("scatter").writes_files().description(
+      "Writes an instanced scene to glTF 2.0 (Khronos glTF 2.0 specification; EXT_mesh_gpu_instancing): the "
+      "terrain mesh and, for each class of the scene (from Instance), its instances (translation, rotation, "
+      "scale per instance). gpu_instancing writes one node per class with the EXT_mesh_gpu_instancing "
+      "extension (game engines draw it in one call); nodes writes one node per instance (every viewer). "
+      "Nodes and meshes are named by class. A root node rotates Orogen's z-up world to glTF's y-up. .gltf "
+      "embeds the buffer as base64, .glb is binary.");
+  b.input("in", PortType::Scene).description("The instanced scene, from Instance");
+  b.input("terrain", PortType::Mesh).optional().description("Terrain mesh (m), e.g. from HeightfieldToMesh");
   b.param_path("path", "scene.glb").output_file().extensions({".gltf", ".glb"}).description(
       "Output file, relative to the output directory; .glb binary or .gltf text");
   b.param_enum("instancing", {"gpu_instancing", "nodes"}, "gpu_instancing").description(
       "gpu_instancing: one node per class with EXT_mesh_gpu_instancing; nodes: one node per instance");
-  b.param_bool("proxies", true).description(
-      "Classes 0..7 without a mesh get a 1 m octahedron proxy (off: their points are left out)");
   b.execute([](ExecContext& ctx) {
-    const auto points = ctx.require<Points>("in");
+    const auto in = ctx.require<Scene>("in");
     const auto terrain = ctx.input<Mesh>("terrain");
-    std::vector<MeshPtr> keep;
     SceneContent scene;
-    scene.points = points.get();
+    scene.scene = in.get();
     scene.terrain = terrain.get();
     scene.instancing = ctx.param<std::string>("instancing") == "nodes" ? SceneInstancing::Nodes : SceneInstancing::GpuInstancing;
-    std::shared_ptr<Mesh> proxy;
-    for (int k = 0; k < kSceneMeshSlots; ++k) {
-      auto mesh = ctx.input<Mesh>("mesh_" + std::to_string(k));
-      if (!mesh && ctx.param<bool>("proxies")) {
-        if (!proxy) proxy = proxy_mesh();
-        mesh = proxy;
-      }
-      if (mesh) {
-        scene.meshes[k] = mesh.get();
-        keep.push_back(mesh);
-      }
+    try {
+      in->check_consistent();
+    } catch (const std::logic_error& e) {
+      throw NodeError(std::string("inconsistent scene: ") + e.what());
     }
     const std::string& path = ctx.param<std::string>("path");
     const bool binary = path.size() >= 4 && path.compare(path.size() - 4, 4, ".glb") == 0;

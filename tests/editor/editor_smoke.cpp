@@ -100,38 +100,43 @@ TEST(EditorSmoke, ViewportRendersTheTerrainIn3D) {
 }
 
 // WriteScene previewed in 3D draws its class meshes at the points: against the same view of the same graph
-// without class meshes and proxies (the terrain alone), many pixels of the viewport change.
+// without class meshes and with the classes without one skipped (the terrain alone), many pixels of the
+// viewport change.
 TEST(EditorSmoke, SceneWriterDrawsItsInstancesOnTheTerrain) {
   const std::string graph = std::string(OROGEN_SOURCE_DIR) + "/graphs/scene.json";
   std::ifstream in(graph);
   std::stringstream text;
   text << in.rdbuf();
   std::string bare = text.str();
-  // Drop the class-mesh links and turn the proxies off.
+  // Drop the class-mesh links and leave out the classes without a mesh.
   const std::string links = R"("mesh_0": "tree.out", "mesh_3": "tree.out", "mesh_4": "rock.out")";
   const auto at = bare.find(links);
   ASSERT_NE(at, std::string::npos) << "graphs/scene.json changed: update this test";
   bare.replace(at - 2, links.size() + 2, "");  // with the ", " before it
-  const std::string path_param = R"("path": "scene.glb")";
-  const auto p = bare.find(path_param);
+  const std::string missing = R"("missing_mesh": "proxy")";
+  const auto p = bare.find(missing);
   ASSERT_NE(p, std::string::npos);
-  bare.insert(p + path_param.size(), R"(, "proxies": false)");
+  bare.replace(p, missing.size(), R"("missing_mesh": "skip")");
   const auto bare_path = scratch() / "scene-bare.json";
   std::ofstream(bare_path) << bare;
 
-  const std::string view = "--select write --view 3d --camera=-30,16,8 --preview-width 860";
-  const Shot with = take("scene", view, graph);
-  const Shot without = take("scene-bare", view, bare_path.string());
-  ASSERT_EQ(with.width, 1600);
-  ASSERT_EQ(without.width, 1600);
-  std::size_t changed = 0, total = 0;
-  for (int y = 100; y < 480; ++y)
-    for (int x = 760; x < 1590; ++x, ++total) {
-      const unsigned char *a = with.at(x, y), *b = without.at(x, y);
-      changed += std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]) > 30;
-    }
-  EXPECT_GT(changed, total / 20) << "instances cover a good part of the view";
-  EXPECT_LT(changed, total * 3 / 4) << "the terrain is still seen between them";
+  // The writer (terrain mesh + instances), then the Instance node (instances on the ground upstream).
+  for (const char* node : {"write", "instances"}) {
+    SCOPED_TRACE(node);
+    const std::string view = std::string("--select ") + node + " --view 3d --camera=-30,16,8 --preview-width 860";
+    const Shot with = take(std::string("scene-") + node, view, graph);
+    const Shot without = take(std::string("scene-bare-") + node, view, bare_path.string());
+    ASSERT_EQ(with.width, 1600);
+    ASSERT_EQ(without.width, 1600);
+    std::size_t changed = 0, total = 0;
+    for (int y = 100; y < 480; ++y)
+      for (int x = 760; x < 1590; ++x, ++total) {
+        const unsigned char *a = with.at(x, y), *b = without.at(x, y);
+        changed += std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) + std::abs(a[2] - b[2]) > 30;
+      }
+    EXPECT_GT(changed, total / 20) << "instances cover a good part of the view";
+    EXPECT_LT(changed, total * 3 / 4) << "the terrain is still seen between them";
+  }
 }
 
 }  // namespace

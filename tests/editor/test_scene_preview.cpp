@@ -1,6 +1,6 @@
-// The populated-scene preview on the CPU: finding a scene writer's sources, assembling its values from a
-// preview, the per-class instance transforms, mesh geometry, and (end to end through the evaluation
-// controller) instances standing on the terrain they were projected onto.
+// The populated-scene preview on the CPU: finding the sources of a scene writer and of a scene maker
+// (Instance), assembling its values from a preview, the per-class instance transforms, mesh geometry, and (end
+// to end through the evaluation controller) instances standing on the terrain they were projected onto.
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -10,12 +10,13 @@
 #include "editor/model/evaluation_controller.h"
 #include "editor/model/scene_preview.h"
 #include "graph/points.h"
+#include "graph/scene.h"
 
 namespace orogen::editor {
 namespace {
 
 // fbm (FBM) -> terrain (HeightfieldToMesh) -> write.terrain
-// scatter (PoissonDisk) -> placed (ProjectToTerrain, height = fbm) -> write.in
+// scatter (PoissonDisk) -> placed (ProjectToTerrain, height = fbm) -> scene (Instance) -> write.in
 Graph scene_graph(bool with_terrain_mesh) {
   Graph g;
   g.domain.size = {256, 256};
@@ -30,39 +31,51 @@ Graph scene_graph(bool with_terrain_mesh) {
   g.add_node("ProjectToTerrain", "placed");
   g.connect({"scatter", "out"}, "placed", "in");
   g.connect({"fbm", "out"}, "placed", "height");
+  g.add_node("Instance", "scene");
+  g.set_param("scene", "missing_mesh", std::string("proxy"));
+  g.connect({"placed", "out"}, "scene", "in");
   g.add_node("WriteScene", "write");
-  g.connect({"placed", "out"}, "write", "in");
+  g.connect({"scene", "out"}, "write", "in");
   if (with_terrain_mesh) {
     g.add_node("HeightfieldToMesh", "terrain");
     g.connect({"fbm", "out"}, "terrain", "in");
     g.connect({"terrain", "out"}, "write", "terrain");
-    g.connect({"terrain", "out"}, "write", "mesh_1");  // any mesh will do
+    g.connect({"terrain", "out"}, "scene", "mesh_1");  // any mesh will do
   }
   return g;
 }
 
-TEST(ScenePreview, SourcesOfAWriter) {
+TEST(ScenePreview, SourcesOfAWriterAndOfAnInstance) {
   const Graph g = scene_graph(true);
   EXPECT_TRUE(is_scene_writer(g.at("write")));
+  EXPECT_FALSE(is_scene_writer(g.at("scene")));
   EXPECT_FALSE(is_scene_writer(g.at("placed")));
+  EXPECT_EQ(scene_output(g.at("scene")), 0);
+  EXPECT_EQ(scene_output(g.at("placed")), -1);
   EXPECT_FALSE(scene_sources(g, "placed").has_value());
   const auto s = scene_sources(g, "write");
   ASSERT_TRUE(s.has_value());
-  EXPECT_EQ(s->points, (PortRef{"placed", "out"}));
+  EXPECT_TRUE(s->writer);
+  EXPECT_EQ(s->scene, (PortRef{"scene", "out"}));
   EXPECT_EQ(s->terrain, (PortRef{"terrain", "out"}));
-  EXPECT_TRUE(s->meshes[0].node.empty());
-  EXPECT_EQ(s->meshes[1], (PortRef{"terrain", "out"}));
-  EXPECT_EQ(s->ground, (PortRef{"fbm", "out"})) << "ProjectToTerrain's height";
-  EXPECT_TRUE(s->proxies);
-  EXPECT_EQ(s->nodes(), (std::vector<std::string>{"placed", "terrain", "fbm"}));
+  EXPECT_EQ(s->ground, (PortRef{"fbm", "out"})) << "ProjectToTerrain's height, through the Instance";
+  EXPECT_EQ(s->nodes(), (std::vector<std::string>{"scene", "terrain", "fbm"}));
+  // The Instance node shows its own scene on the same ground, without a terrain mesh.
+  const auto i = scene_sources(g, "scene");
+  ASSERT_TRUE(i.has_value());
+  EXPECT_FALSE(i->writer);
+  EXPECT_EQ(i->scene, (PortRef{"scene", "out"}));
+  EXPECT_TRUE(i->terrain.node.empty());
+  EXPECT_EQ(i->ground, (PortRef{"fbm", "out"}));
+  EXPECT_EQ(i->nodes(), (std::vector<std::string>{"scene", "fbm"}));
 }
 
 TEST(ScenePreview, GroundIsNeverAMaskOrDensity) {
   Graph g = scene_graph(false);
-  // PoissonDisk straight into the writer, with a density but no height: no ground.
+  // PoissonDisk straight into the Instance, with a density but no height: no ground.
   // A height feeding the density input is still not the ground.
   g.connect({"fbm", "out"}, "scatter", "density");
-  g.connect({"scatter", "out"}, "write", "in");
+  g.connect({"scatter", "out"}, "scene", "in");
   auto s = scene_sources(g, "write");
   ASSERT_TRUE(s.has_value());
   EXPECT_TRUE(s->ground.node.empty()) << s->ground.str();
@@ -70,8 +83,6 @@ TEST(ScenePreview, GroundIsNeverAMaskOrDensity) {
   g.connect({"fbm", "out"}, "scatter", "height");
   s = scene_sources(g, "write");
   EXPECT_EQ(s->ground, (PortRef{"fbm", "out"}));
-  g.set_param("write", "proxies", false);
-  EXPECT_FALSE(scene_sources(g, "write")->proxies);
 }
 
 TEST(ScenePreview, InstanceTransformsTranslateRotateScale) {
@@ -153,14 +164,18 @@ TEST(ScenePreview, InstancesStandOnTheTerrainTheyWereProjectedOnto) {
   const auto result = ec.preview();
   ASSERT_TRUE(result);
   const ScenePreview scene = assemble_scene(g, *sources, result->outputs);
+  ASSERT_TRUE(scene.scene);
   ASSERT_TRUE(scene.points);
   ASSERT_TRUE(scene.terrain);
   ASSERT_TRUE(scene.ground);
-  EXPECT_FALSE(scene.meshes[0]);
-  EXPECT_EQ(scene.meshes[1], scene.terrain);
+  ASSERT_EQ(scene.scene->classes.size(), 2u);
+  EXPECT_TRUE(scene.scene->classes.at(0).proxy);
+  EXPECT_EQ(scene.scene->classes.at(1).mesh, scene.terrain);
   ASSERT_GT(scene.points->size(), 50u);
-  const SceneInstances inst = build_instances(*scene.points, {true, true});
+  const SceneClassInstances inst = build_instances(*scene.scene);
+  EXPECT_EQ(inst.class_ids, (std::vector<std::int32_t>{0, 1}));
   EXPECT_EQ(inst.count, scene.points->size());
+  EXPECT_EQ(inst.skipped, 0u);
   for (std::size_t c = 0; c < 2; ++c) EXPECT_FALSE(inst.per_class[c].empty()) << c;
   const TerrainMesh terrain = mesh_geometry(*scene.terrain, {true});
   for (const auto& cls : inst.per_class)

@@ -1,0 +1,92 @@
+#include "nodes/scatter/instance.h"
+
+#include <set>
+
+namespace orogen {
+
+std::shared_ptr<Mesh> proxy_mesh() {
+  auto out = std::make_shared<Mesh>();
+  TriMesh& t = out->mesh;
+  const TriMesh::VertexHandle v[6] = {t.add_vertex({0, 0, 0}),    t.add_vertex({0, 0, 1}),   t.add_vertex({0.5f, 0, 0.5f}),
+                                      t.add_vertex({0, 0.5f, 0.5f}), t.add_vertex({-0.5f, 0, 0.5f}), t.add_vertex({0, -0.5f, 0.5f})};
+  const int ring[4] = {2, 3, 4, 5};
+  for (int k = 0; k < 4; ++k) {
+    const auto a = v[ring[k]], b = v[ring[(k + 1) % 4]];
+    t.add_face(v[1], a, b);
+    t.add_face(v[0], b, a);
+  }
+  t.update_normals();
+  for (auto vh : t.vertices()) t.set_color(vh, OpenMesh::Vec4f(0.6f, 0.6f, 0.6f, 1.0f));
+  return out;
+}
+
+std::map<std::int32_t, std::string> parse_class_names(const std::string& text) {
+  std::map<std::int32_t, std::string> out;
+  std::int32_t cls = 0;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    std::size_t end = text.find(',', start);
+    if (end == std::string::npos) end = text.size();
+    std::string name = text.substr(start, end - start);
+    const auto first = name.find_first_not_of(" \t\r\n");
+    const auto last = name.find_last_not_of(" \t\r\n");
+    name = first == std::string::npos ? std::string() : name.substr(first, last - first + 1);
+    if (!name.empty()) out[cls] = name;
+    ++cls;
+    start = end + 1;
+  }
+  return out;
+}
+
+Scene make_scene(std::shared_ptr<const Points> points, const std::map<std::int32_t, MeshPtr>& meshes,
+                 const InstanceOptions& options) {
+  if (!points) throw std::invalid_argument("no points to instance");
+  try {
+    points->check_consistent();
+  } catch (const std::logic_error& e) {
+    throw std::invalid_argument(e.what());
+  }
+  auto name_of = [&](std::int32_t cls) {
+    const auto it = options.names.find(cls);
+    return it != options.names.end() ? it->second : "class_" + std::to_string(cls);
+  };
+  Scene scene;
+  for (const auto& [cls, mesh] : meshes)
+    if (mesh) scene.classes[cls] = SceneClass{name_of(cls), mesh, false};
+  // Classes with points but no mesh, with their point counts (in class order: the error names the first).
+  std::map<std::int32_t, std::size_t> missing;
+  for (const std::int32_t cls : points->class_id)
+    if (!scene.classes.count(cls)) ++missing[cls];
+  if (missing.empty() || options.missing != MissingMesh::Skip) scene.instances = points;
+  if (missing.empty()) return scene;
+  switch (options.missing) {
+    case MissingMesh::Error: {
+      const auto& [cls, count] = *missing.begin();
+      throw std::invalid_argument("class " + std::to_string(cls) + " has " + std::to_string(count) +
+                                  (count == 1 ? " point" : " points") + " but no mesh: connect mesh_" +
+                                  std::to_string(cls) + ", or set missing_mesh to proxy or skip");
+    }
+    case MissingMesh::Proxy: {
+      const MeshPtr proxy = proxy_mesh();
+      for (const auto& [cls, count] : missing) scene.classes[cls] = SceneClass{name_of(cls), proxy, true};
+      return scene;
+    }
+    case MissingMesh::Skip: {
+      auto kept = std::make_shared<Points>();
+      for (const auto& [attr, values] : points->attributes) kept->attributes[attr];
+      for (std::size_t i = 0; i < points->size(); ++i) {
+        if (missing.count(points->class_id[i])) continue;
+        kept->position.push_back(points->position[i]);
+        kept->rotation.push_back(points->rotation[i]);
+        kept->scale.push_back(points->scale[i]);
+        kept->class_id.push_back(points->class_id[i]);
+        for (const auto& [attr, values] : points->attributes) kept->attributes[attr].push_back(values[i]);
+      }
+      scene.instances = std::move(kept);
+      return scene;
+    }
+  }
+  return scene;
+}
+
+}  // namespace orogen
