@@ -1,29 +1,36 @@
 // Erosion speed on fBm terrain, single thread and two threads (a oneTBB arena of each size), and the
 // resolution study.
 //
-//   orogen_bench_erosion [--benchmark_filter=...] [--side=1024]
+//   orogen_bench_erosion [--benchmark_filter=...] [--side=1024]   (particle, pipe, thermal: also 4096^2)
 //   orogen_bench_erosion --study     resolution study: every model at 257^2, 513^2, 1025^2 of one 4096 m world
 //   orogen_bench_erosion --study=StreamPower --channel_area=1e4    one model; StreamPower's channel threshold
 //   orogen_bench_erosion --study=PipeErosion --pipe_duration=60     PipeErosion's storm length (s, default 240:
 //     at 100 mm/h the first minute is the wetting-up of a film of about a millimetre, whose erosion is still a
 //     transient that depends on the grid: 513^2/1025^2 eroded volume 0.83 at 60 s, 0.97 at 240 s)
 //
+//   orogen_bench_erosion --benchmark_filter='StreamPower/threads:1/side:1024/routing:0' --sp_steps=5
+//     StreamPower's arguments: threads, side, routing (0 basin graph, 1 Priority-Flood) and start (0 raw fBm,
+//     1 after --sp_warm_steps=20 steps); --sp_steps time steps per run
 // Figures (counters): StreamPower us_per_cell_step (routing + depression filling + solve + diffusion);
 // HydraulicErosion droplet_steps_per_s; PipeErosion and ThermalErosion cell_updates_per_s. Each per wall-clock
 // time and (suffix _cpu) per process CPU time of all threads: on a shared machine the _cpu figure of the
 // single-thread run is the single-core speed, and the wall-clock ratio of 1 and 2 threads the speed-up
 // only when the cores are free. Whole-call figures: setup and the output maps are included.
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 
+#include "bench/heap_reuse.h"
 #include "nodes/erosion/particles.h"
 #include "nodes/erosion/pipe.h"
 #include "nodes/erosion/stream_power.h"
@@ -55,6 +62,14 @@ const Heightfield& terrain() {
   return h;
 }
 
+// The terrain of a benchmark whose second argument is the side: 0 for --side (default 1024), else 4096
+// (10 m cells, built once).
+const Heightfield& terrain_of(benchmark::State& state) {
+  if (state.range(1) == 0) return terrain();
+  static const Heightfield big = make_terrain(4096, 40960.0);
+  return big;
+}
+
 double process_cpu_seconds() {
   timespec ts{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
@@ -78,39 +93,79 @@ void rates(benchmark::State& state, const char* name, double work_per_iteration,
   state.counters[std::string(name) + "_cpu"] = work_per_iteration * iterations / cpu;
 }
 
-void BM_StreamPower(benchmark::State& state) {
-  const int threads = static_cast<int>(state.range(0));
+// ---- StreamPower ----
+// Arguments: threads, side (10 m cells, fBm), routing (0 basin graph, the default; 1 Priority-Flood every step,
+// the previous scheme) and start (0 the raw fBm, whose first steps fill every depression; 1 "warm": the fBm
+// after --sp_warm_steps steps of StreamPower, the state of a run in progress where few pits remain).
+// --sp_steps=N time steps per run (default 5).
+int g_sp_steps = 5;
+int g_sp_warm_steps = 20;
+
+StreamPowerParams sp_params() {
   StreamPowerParams p;
   p.dt = 1e4;
-  p.duration = 5e4;  // 5 steps
-  const auto& in = terrain();
+  return p;
+}
+
+const Heightfield& sp_terrain(int side, bool warm) {
+  static std::vector<std::pair<std::pair<int, bool>, std::unique_ptr<Heightfield>>> cache;
+  for (const auto& [key, h] : cache)
+    if (key == std::make_pair(side, warm)) return *h;
+  Heightfield h = make_terrain(side, 10.0 * side);
+  if (warm) {
+    StreamPowerParams p = sp_params();
+    p.duration = p.dt * g_sp_warm_steps;
+    h = *stream_power(h, p).out;
+  }
+  cache.emplace_back(std::make_pair(side, warm), std::make_unique<Heightfield>(std::move(h)));
+  return *cache.back().second;
+}
+
+void BM_StreamPower(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0));
+  const int side = static_cast<int>(state.range(1));
+  StreamPowerParams p = sp_params();
+  p.duration = p.dt * g_sp_steps;
+  p.depressions = state.range(2) == 0 ? StreamPowerParams::Depressions::BasinGraph : StreamPowerParams::Depressions::PriorityFlood;
+  const auto& in = sp_terrain(side, state.range(3) != 0);
   double cpu = 0;
   for (auto _ : state) in_arena(threads, [&] { benchmark::DoNotOptimize(stream_power(in, p).out); }, &cpu);
-  const double cell_steps = static_cast<double>(in.data.size()) * 5.0;
+  const double cell_steps = static_cast<double>(in.data.size()) * g_sp_steps;
   state.counters["us_per_cell_step"] = benchmark::Counter(cell_steps * 1e-6, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.counters["us_per_cell_step_cpu"] = cpu * 1e6 / (cell_steps * static_cast<double>(state.iterations()));
 }
 
+// Particle, pipe and thermal cases: range(0) threads, range(1) side (0: --side, or 4096). One untimed call
+// first, so the timed calls reuse the heap's pages (main() keeps freed memory in the heap): no first-touch
+// page faults in the timed loop. The 4096^2 cases do less work per call (droplets, storm length)
+// to stay short; their rates are per droplet step or cell update, comparable with 1024^2.
 void BM_Particles(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(0));
   ParticleParams p;
-  p.droplets_per_km2 = 2000;
-  const auto& in = terrain();
+  const auto& in = terrain_of(state);
+  p.droplets_per_km2 = in.width() >= 4096 ? 250 : 2000;  // 6.3 M droplet steps at 1024^2, 12.6 M at 4096^2
   ParticleStats st;
   double cpu = 0;
-  for (auto _ : state) in_arena(threads, [&] { benchmark::DoNotOptimize(particle_erosion(in, p, nullptr, nullptr, &st).out); }, &cpu);
+  auto run = [&] { benchmark::DoNotOptimize(particle_erosion(in, p, nullptr, nullptr, &st).out); };
+  in_arena(threads, run, &cpu);
+  cpu = 0;
+  for (auto _ : state) in_arena(threads, run, &cpu);
   rates(state, "droplet_steps_per_s", static_cast<double>(st.steps), cpu);
 }
 
 void BM_Pipe(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(0));
   PipeParams p;
-  p.duration = 60;
-  const auto& in = terrain();
+  const auto& in = terrain_of(state);
+  p.duration = in.width() >= 4096 ? 15 : 60;  // 19 steps at 1024^2, 5 at 4096^2 (10 m cells either way)
   PipeStats st;
   double cpu = 0;
-  for (auto _ : state)
-    in_arena(threads, [&] { benchmark::DoNotOptimize(pipe_erosion(in, p, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, &st).out); }, &cpu);
+  auto run = [&] {
+    benchmark::DoNotOptimize(pipe_erosion(in, p, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, &st).out);
+  };
+  in_arena(threads, run, &cpu);
+  cpu = 0;
+  for (auto _ : state) in_arena(threads, run, &cpu);
   state.counters["steps"] = st.steps;
   rates(state, "cell_updates_per_s", static_cast<double>(st.steps) * in.data.size(), cpu);
 }
@@ -120,19 +175,33 @@ void BM_Thermal(benchmark::State& state) {
   ThermalParams p;
   p.talus_angle = 30;
   p.tolerance = 0;
-  const auto& in = terrain();
+  const auto& in = terrain_of(state);
   p.travel_distance = 10 * in.domain.spacing.x;  // 20 iterations
   int its = 0;
   double cpu = 0;
-  for (auto _ : state) in_arena(threads, [&] { benchmark::DoNotOptimize(thermal_erosion(in, p, nullptr, nullptr, nullptr, &its).out); }, &cpu);
+  auto run = [&] { benchmark::DoNotOptimize(thermal_erosion(in, p, nullptr, nullptr, nullptr, &its).out); };
+  in_arena(threads, run, &cpu);
+  cpu = 0;
+  for (auto _ : state) in_arena(threads, run, &cpu);
   state.counters["iterations"] = its;
   rates(state, "cell_updates_per_s", static_cast<double>(its) * in.data.size(), cpu);
 }
 
-BENCHMARK(BM_StreamPower)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(2);
-BENCHMARK(BM_Particles)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(2);
-BENCHMARK(BM_Pipe)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(2);
-BENCHMARK(BM_Thermal)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(2);
+BENCHMARK(BM_StreamPower)
+    ->ArgNames({"threads", "side", "routing", "start"})
+    ->ArgsProduct({{1, 2}, {1024}, {0, 1}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(2);
+BENCHMARK(BM_StreamPower)
+    ->ArgNames({"threads", "side", "routing", "start"})
+    ->ArgsProduct({{1, 2}, {4096}, {0, 1}, {0}})
+    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(1);
+// threads 1 and 2 at --side (side4096:0) and at 4096^2.
+void sizes(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"threads", "side4096"})->Args({1, 0})->Args({2, 0})->Args({1, 4096})->Args({2, 4096});
+}
+BENCHMARK(BM_Particles)->Apply(sizes)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(2);
+BENCHMARK(BM_Pipe)->Apply(sizes)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(2);
+BENCHMARK(BM_Thermal)->Apply(sizes)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(2);
 
 // ---- Resolution study ----
 
@@ -235,6 +304,8 @@ int study(const std::string& only, double channel_area, double pipe_duration) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The calls after a benchmark's untimed first call reuse pages already touched.
+  orogen::bench::keep_freed_memory_in_heap();
   std::vector<char*> args;
   bool run_study = false;
   std::string only;
@@ -246,6 +317,8 @@ int main(int argc, char** argv) {
     else if (std::strncmp(argv[i], "--channel_area=", 15) == 0) channel_area = std::atof(argv[i] + 15);
     else if (std::strncmp(argv[i], "--pipe_duration=", 16) == 0) pipe_duration = std::atof(argv[i] + 16);
     else if (std::strncmp(argv[i], "--side=", 7) == 0) g_side = std::atoi(argv[i] + 7);
+    else if (std::strncmp(argv[i], "--sp_steps=", 11) == 0) g_sp_steps = std::atoi(argv[i] + 11);
+    else if (std::strncmp(argv[i], "--sp_warm_steps=", 16) == 0) g_sp_warm_steps = std::atoi(argv[i] + 16);
     else args.push_back(argv[i]);
   }
   if (run_study) return study(only, channel_area, pipe_duration);

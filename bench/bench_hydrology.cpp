@@ -3,23 +3,28 @@
 //
 //   orogen_bench_hydrology [--benchmark_filter=...] [--benchmark_repetitions=5]
 //
-// Each benchmark runs in a oneTBB arena of 1 thread and of 2 threads (/threads:N in the name); the rate
-// counter `cells_per_s` is per second of CPU time for one thread (the process's CPU time) and of wall time
-// for two, so on a busy machine compare the single-thread figures. Measured:
-//  - FillEpsilon / FillFlat: Priority-Flood with Zhou et al. 2016 queues (serial)
+// Each benchmark runs in a oneTBB arena of 1 thread (/threads:1 in the name; rate per second of process CPU
+// time). The `.../wall` variants run with 1 thread and with every hardware thread (rate per second of wall
+// time): their ratio is the speed-up on all cores. On a busy machine compare the single-thread figures.
+// The figures (4096^2 fBm, one thread):
+//   orogen_bench_hydrology --benchmark_filter='^(FillEpsilon|D8Accumulation|MFDAccumulation|RiverExtract)/threads:1' --benchmark_min_time=1
+// and the speed-up:
+//   orogen_bench_hydrology --benchmark_filter='/wall/' --benchmark_min_time=1
+// Measured:
+//  - FillEpsilon / FillFlat: Priority-Flood with Zhou et al. 2016 queues, branch-free neighbour masks (serial)
 //  - Breach: complete breaching (serial, every cell through the priority queue)
 //  - D8Accumulation: D8 receivers and donors (parallel rows) + dependency-counting accumulation (parallel)
-//  - MFDAccumulation / DinfAccumulation: receivers and in-degrees (parallel) + serial accumulation
+//  - MFDAccumulation / DinfAccumulation: receivers and in-degrees (parallel) + accumulation in row bands merged up a fixed tree (parallel)
 //  - RiverExtract: the whole RiverExtract node function (fill, D8, accumulation, reaches, curves, mask)
-#include <malloc.h>
-
 #include <algorithm>
 #include <cstdio>
+#include <thread>
 #include <vector>
 
 #include <benchmark/benchmark.h>
 #include <tbb/task_arena.h>
 
+#include "bench/heap_reuse.h"
 #include "nodes/hydrology/flow_routing.h"
 #include "nodes/hydrology/rivers.h"
 #include "nodes/noise/fbm.h"
@@ -139,9 +144,10 @@ void args(benchmark::internal::Benchmark* b) {
   b->ArgName("threads")->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
   b->Arg(1);
 }
+// Speed-up on all cores: 1 thread and every hardware thread (at least 2), wall time.
 void args2(benchmark::internal::Benchmark* b) {
   b->ArgName("threads")->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
-  b->Arg(1)->Arg(2);
+  b->Arg(1)->Arg(std::max(2, static_cast<int>(std::thread::hardware_concurrency())));
 }
 
 BENCHMARK(FillEpsilon)->Apply(args);
@@ -151,6 +157,7 @@ BENCHMARK(D8Accumulation)->Apply(args);
 BENCHMARK(MFDAccumulation)->Apply(args);
 BENCHMARK(DinfAccumulation)->Apply(args);
 BENCHMARK(RiverExtract)->Apply(args);
+BENCHMARK(FillEpsilon)->Name("FillEpsilon/wall")->Apply(args2);
 BENCHMARK(D8Accumulation)->Name("D8Accumulation/wall")->Apply(args2);
 BENCHMARK(MFDAccumulation)->Name("MFDAccumulation/wall")->Apply(args2);
 BENCHMARK(RiverExtract)->Name("RiverExtract/wall")->Apply(args2);
@@ -158,12 +165,7 @@ BENCHMARK(RiverExtract)->Name("RiverExtract/wall")->Apply(args2);
 }  // namespace
 
 int main(int argc, char** argv) {
-  // The routines return their results in new vectors. glibc gives blocks this large straight from mmap and
-  // returns them on free, so every iteration would page-fault hundreds of MB in again (about a tenth of D8's
-  // time): keep them in the heap instead, so the benchmark measures the algorithm, as buffers reused by
-  // a long-running evaluation are.
-  mallopt(M_MMAP_THRESHOLD, 1 << 30);
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  orogen::bench::keep_freed_memory_in_heap();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

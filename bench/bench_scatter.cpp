@@ -1,10 +1,11 @@
 // PoissonDisk speed: points per second over a 10 km square at r = 5 m (about 2.8 M points), on one thread
 // and on all cores; and the same over a 2 km square (quick runs).
 //
-//   orogen_bench_scatter [--benchmark_filter=...]
+//   orogen_bench_scatter --benchmark_filter=10km
 //
-// Reported: points per second (items_per_second) and CPU time. The machine may be shared: compare runs of the
-// same binary, and read the one-thread figure as the per-core speed.
+// Reported: points per second of wall time (items_per_second; the one-thread figure is the per-core speed,
+// the all-cores one over it the speed-up) and the calling thread's CPU time. Default parameters (attempts 8,
+// gap filling on): the constant-radius fast path. On a shared machine compare interleaved runs only.
 #include <benchmark/benchmark.h>
 #include <tbb/info.h>
 #include <tbb/task_arena.h>

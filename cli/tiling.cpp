@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <set>
 #include <sstream>
 
 #include <glm/common.hpp>
@@ -171,8 +172,23 @@ void add_output_suffix(Graph& graph, const std::string& suffix) {
   for (const auto& node : graph.nodes())
     for (const auto& decl : node.type->params)
       if (decl.output_file) edits.emplace_back(node.id, decl.name);
+  // A mesh's draped texture (WriteMesh `texture`, relative to the mesh file) that names an image the graph
+  // writes refers to that image's tile: it gets the same suffix.
+  std::set<std::string> written;
+  for (const auto& [id, name] : edits)
+    written.insert(std::filesystem::path(std::get<std::string>(graph.param(id, name))).lexically_normal().generic_string());
+  std::vector<std::pair<std::string, std::string>> textures;  // (node, new texture)
+  for (const auto& node : graph.nodes()) {
+    if (!node.type->find_param("texture") || !node.type->find_param("path")) continue;
+    const auto* texture = std::get_if<std::string>(&graph.param(node.id, "texture"));
+    const auto* path = std::get_if<std::string>(&graph.param(node.id, "path"));
+    if (!texture || !path || texture->empty()) continue;
+    const auto image = (std::filesystem::path(*path).parent_path() / *texture).lexically_normal().generic_string();
+    if (written.count(image)) textures.emplace_back(node.id, with_suffix(*texture, suffix));
+  }
   for (const auto& [id, name] : edits)
     graph.set_param(id, name, with_suffix(std::get<std::string>(graph.param(id, name)), suffix));
+  for (const auto& [id, texture] : textures) graph.set_param(id, "texture", texture);
 }
 
 std::optional<GlobalNodes> parse_global_nodes(const std::string& text) {

@@ -119,6 +119,27 @@ TEST_F(EveryTarget, KernelsAgreeWithTheScalarReference) {
   }
 }
 
+TEST_F(EveryTarget, SimplexRowsAgreeWithTheReferenceAtEveryDensity) {
+  // The unwarped simplex kernel takes its corners from a block of vertices hashed once per vector of columns
+  // when a vector's rows stay inside it (dense sampling) and hashes them per sample otherwise: from 0.3 to
+  // 160 samples per lattice unit both paths and the switch between them agree with the reference. Nine
+  // rows: a block of eight and a row alone; far from the origin, on both sides of zero.
+  for (std::int64_t target : kernels::available_targets()) {
+    hwy::SetSupportedTargetsForTest(target);
+    for (double feature : {3.0, 17.0, 61.0, 240.0, 1600.0}) {
+      for (glm::dvec2 origin : {glm::dvec2(-805.0, -41.0), glm::dvec2(3.3e6, -7.1e5)}) {
+        LatticeNoiseParams lp;
+        lp.feature_size = feature;
+        lp.amplitude = 1.0;
+        lp.seed = 5;
+        const Domain d = Domain::from_extent(origin, {2990.0, 80.0}, {300, 9});
+        SCOPED_TRACE(std::string(kernels::target_name(target)) + " feature " + std::to_string(feature));
+        EXPECT_LT(worst_error(d, lattice_noise_plan(Basis::Simplex, lp), {}), 1e-5f);
+      }
+    }
+  }
+}
+
 TEST(NoiseKernels, ResultDoesNotDependOnTheThreadCount) {
   const Domain d = Domain::from_extent({0, 0}, {5000, 5000}, {333, 257});
   for (const NamedPlan& p : plans()) {

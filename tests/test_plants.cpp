@@ -1,7 +1,8 @@
 // Plants: L-system derivation (ABOP reference words, context across brackets, parametric and conditional
 // rules, stochastic determinism and weight distribution, grammar errors with positions), the 3D turtle
 // (orthonormal frame, known end points, bracket return, tropism) and tree meshes (closed per branch,
-// consistent winding, triangle budget).
+// consistent winding, triangle budget), and flat 2D plant sprites (counts per symbol, standing on z = 0,
+// analytic heights, determinism).
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -19,8 +20,10 @@
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
 #include "graph/module_string.h"
+#include "graph/scene.h"
 #include "nodes/io/mesh_file.h"
 #include "nodes/plants/lsystem.h"
+#include "nodes/plants/plant_sprite.h"
 #include "nodes/plants/tree_mesh.h"
 #include "nodes/plants/turtle.h"
 #include "support/key_checks.h"
@@ -513,9 +516,127 @@ TEST(TreeMesh, GltfRoundTrip) {
   }
 }
 
+// --- PlantSprite ---------------------------------------------------------------------------------------------
+
+std::size_t count_symbol(const ModuleString& w, char c) { return static_cast<std::size_t>(std::count(w.symbols.begin(), w.symbols.end(), c)); }
+
+void mesh_bounds(const Mesh& m, OpenMesh::Vec3f& lo, OpenMesh::Vec3f& hi) {
+  lo = OpenMesh::Vec3f(1e30f);
+  hi = OpenMesh::Vec3f(-1e30f);
+  for (auto v : m.mesh.vertices()) {
+    lo.minimize(m.mesh.point(v));
+    hi.maximize(m.mesh.point(v));
+  }
+}
+
+TEST(PlantSprite, OneQuadPerSegmentAndLeafPerPlane) {
+  // 3D Game Worlds' rule 4.19 (322 modules after 3 steps), with a leaf at every X.
+  const LSystem rule("X", "X -> [FF[+XF-F+FX]--F+F-FX]\nF -> FF");
+  DeriveOptions d;
+  d.iterations = 3;
+  const ModuleString w = rule.derive(d);
+  ASSERT_EQ(w.size(), 322u);
+  const std::size_t f = count_symbol(w, 'F'), x = count_symbol(w, 'X');
+  ASSERT_GT(f, 100u);
+  ASSERT_GT(x, 10u);
+  PlantSpriteOptions o;
+  o.angle = 30.0;
+  for (const bool crossed : {false, true}) {
+    o.crossed = crossed;
+    const std::size_t planes = crossed ? 2 : 1;
+    o.leaf_symbol = '\0';
+    PlantSpriteStats st;
+    const Mesh bare = plant_sprite(w, o, &st);
+    EXPECT_EQ(st.segments, f);
+    EXPECT_EQ(st.leaves, 0u);
+    EXPECT_EQ(bare.vertex_count(), 4 * f * planes);
+    EXPECT_EQ(bare.face_count(), 2 * f * planes);
+    o.leaf_symbol = 'X';
+    const Mesh leafy = plant_sprite(w, o, &st);
+    EXPECT_EQ(st.leaves, x);
+    EXPECT_EQ(leafy.vertex_count(), 4 * (f + x) * planes);
+    EXPECT_EQ(leafy.face_count(), 2 * (f + x) * planes);
+    // Every face is a proper triangle facing its plane's normal.
+    for (auto fh : leafy.mesh.faces()) {
+      std::vector<OpenMesh::Vec3f> p;
+      for (auto v : leafy.mesh.fv_range(fh)) p.push_back(leafy.mesh.point(v));
+      ASSERT_EQ(p.size(), 3u);
+      const auto n = (p[1] - p[0]) % (p[2] - p[0]);
+      const auto expected = leafy.mesh.normal(fh);
+      if (n.norm() > 1e-9f) {
+        EXPECT_GT(n.normalized() | expected, 0.999f);
+      }
+    }
+  }
+  // The budget: over it is an error, not a truncated plant.
+  o.max_triangles = 2 * f;  // one plane's worth of segments, but two planes and leaves are asked
+  EXPECT_THROW(plant_sprite(w, o), std::invalid_argument);
+}
+
+TEST(PlantSprite, StandsOnZeroAndStraightStemHeightIsAnalytic) {
+  PlantSpriteOptions o;
+  o.step = 0.35;
+  o.width = 0.2;
+  o.leaf_symbol = '\0';
+  PlantSpriteStats st;
+  // Five straight segments: 5 * 0.35 m tall, base at z = 0, width across x (and y in the crossed plane).
+  const Mesh stem = plant_sprite(word("FFFFF"), o, &st);
+  OpenMesh::Vec3f lo, hi;
+  mesh_bounds(stem, lo, hi);
+  EXPECT_FLOAT_EQ(lo[2], 0.0f);
+  EXPECT_NEAR(hi[2], 5 * 0.35, 1e-6);
+  EXPECT_NEAR(st.height, 5 * 0.35, 1e-12);
+  EXPECT_FLOAT_EQ(hi[0] - lo[0], 0.2f);
+  EXPECT_FLOAT_EQ(hi[1] - lo[1], 0.2f);
+  // A parameter overrides the step; a turn of 60 degrees halves the vertical progress (cos 60); f moves.
+  mesh_bounds(plant_sprite(word("F(2)+(60)F(2)f(1)"), o, &st), lo, hi);
+  EXPECT_NEAR(hi[2] - lo[2], 2.0 + 2.0 * 0.5 + 0.5 * 0.2 * std::sin(std::numbers::pi / 3), 1e-5);
+  // A plant drooping below its root is lifted so that its lowest point is at z = 0.
+  o.angle = 150.0;
+  mesh_bounds(plant_sprite(word("F[+FF][-FF]"), o, &st), lo, hi);
+  EXPECT_NEAR(lo[2], 0.0f, 1e-6);
+  EXPECT_GT(hi[2], 0.3f);
+  // Branch levels narrow by taper; ! sets the width.
+  o.angle = 90.0;
+  o.taper = 0.5;
+  o.crossed = false;
+  mesh_bounds(plant_sprite(word("[[+F]]"), o, &st), lo, hi);
+  EXPECT_NEAR(hi[2] - lo[2], 0.2 * 0.25, 1e-6) << "a horizontal segment two levels deep is width / 4 tall";
+  mesh_bounds(plant_sprite(word("!(0.6)+F"), o, &st), lo, hi);
+  EXPECT_NEAR(hi[2] - lo[2], 0.6, 1e-6);
+  // A leaf of size s on top of a stem: s taller, s / 2 wide.
+  o.leaf_symbol = 'L';
+  mesh_bounds(plant_sprite(word("FL(0.4)"), o, &st), lo, hi);
+  EXPECT_NEAR(hi[2], 0.35 + 0.4, 1e-6);
+  EXPECT_EQ(st.leaves, 1u);
+}
+
+TEST(PlantSprite, DeterministicAndNodeFeedsInstance) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
+  const std::map<std::string, ParamValue> p{{"axiom", std::string("X")},
+                                            {"rules", std::string("X -> F[+XL][-XL]FX : 1; X -> F[-XL]FX : 1\nF -> FF")},
+                                            {"iterations", std::int64_t(4)}, {"seed", std::uint64_t(3)}};
+  const auto w = run_node("LSystem", d, p).get<ModuleString>();
+  const auto a = run_node("PlantSprite", d, {}, {{"in", PortValue(w)}}).get<Mesh>();
+  const auto b = run_node("PlantSprite", d, {}, {{"in", PortValue(w)}}).get<Mesh>();
+  ASSERT_GT(a->face_count(), 0u);
+  ASSERT_EQ(a->vertex_count(), b->vertex_count());
+  for (auto v : a->mesh.vertices()) ASSERT_EQ(a->mesh.point(v), b->mesh.point(TriMesh::VertexHandle(v.idx())));
+  EXPECT_EQ(serialize_value(PortValue(MeshPtr(a))), serialize_value(PortValue(MeshPtr(b))));
+  // A leaf symbol longer than one character is a clear error.
+  EXPECT_THROW(run_node("PlantSprite", d, {{"leaf_symbol", std::string("LL")}}, {{"in", PortValue(w)}}), NodeError);
+  // Instanced like any class mesh: each instance stands on its point.
+  auto pts = std::make_shared<Points>();
+  pts->add({5, 5, 12}, 0);
+  pts->add({1, 2, 3}, 0);
+  const auto scene = run_node("Instance", d, {}, {{"in", PortValue(PointsPtr(pts))}, {"mesh_0", PortValue(MeshPtr(a))}}).get<Scene>();
+  ASSERT_EQ(scene->size(), 2u);
+  EXPECT_EQ(scene->classes.at(0).mesh, a);
+}
+
 TEST(PlantNodes, EveryParameterAndInputChangesTheKey) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
-  for (const char* type : {"LSystem", "Turtle3D", "TreeMesh"}) {
+  for (const char* type : {"LSystem", "Turtle3D", "TreeMesh", "PlantSprite"}) {
     expect_every_param_changes_key(type, d);
     expect_every_input_changes_key(type, d);
   }

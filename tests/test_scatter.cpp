@@ -177,6 +177,36 @@ TEST(PoissonDisk, TileInvariantBitForBit) {
   }
 }
 
+// One class of constant radius takes the sampler's fast path (chunk-aligned flat grid, cell-by-cell gap
+// filling): the same guarantees, checked on it separately.
+TEST(PoissonDisk, ConstantRadiusPathTileInvariantDeterministicAndMaximal) {
+  const auto p = one_class(2.0, 19);
+  const glm::dvec2 lo{-210, -130}, hi{190, 170};
+  Points full;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    full = poisson_disk(lo, hi, p);
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 4);
+    EXPECT_TRUE(same_points(full, poisson_disk(lo, hi, p)));
+  }
+  for (const auto& [a, b] : std::vector<std::pair<glm::dvec2, glm::dvec2>>{
+           {{-37.5, 12.25}, {61.0, 99.0}}, {{-210, -130}, {-150, -60}}, {{100, 100}, {190, 170}}, {{0, 0}, {16, 16}}}) {
+    const Points part = poisson_disk(a, b, p);
+    EXPECT_GT(part.size(), 10u);
+    EXPECT_TRUE(same_points(part, inside(full, a, b))) << "tile [" << a.x << "," << a.y << "]";
+  }
+  const glm::dvec2 plo{-60, -60}, phi{60, 60};
+  const Points part = poisson_disk(plo - 4.0, phi + 4.0, p);
+  expect_min_distance(part, p);
+  EXPECT_EQ(free_probes(part, p, 0, plo, phi, 20000, 9), 0);
+  // Maximal Poisson-disk sampling covers about 0.7 points per r^2.
+  const double per_r2 = static_cast<double>(inside(full, plo, phi).size()) / (120.0 * 120.0) * 4.0;
+  EXPECT_GT(per_r2, 0.64);
+  EXPECT_LT(per_r2, 0.76);
+}
+
 TEST(PoissonDisk, NodeIsResolutionIndependentAndTileInvariant) {
   const Domain coarse = Domain::from_extent({1000, -500}, {400, 300}, {65, 49});
   const Domain fine = Domain::from_extent({1000, -500}, {400, 300}, {257, 193});

@@ -2,7 +2,11 @@
 // Every node takes `in` (height, m) and an optional `mask` (0..1) scaling its effect, and outputs `out`
 // (eroded height), `erosion` (m removed), `deposition` (m laid down) and `flow` (0..1 where water ran).
 // All are global: a simulation's output at a point depends on the whole domain.
+#include <cstdio>
+#include <string>
+
 #include "graph/registry.h"
+#include "graph/report.h"
 #include "nodes/erosion/particles.h"
 #include "nodes/erosion/pipe.h"
 #include "nodes/erosion/stream_power.h"
@@ -68,14 +72,17 @@ OROGEN_NODE(ThermalErosion) {
 
 OROGEN_NODE(HydraulicErosion) {
   b.reach_global();  // a simulation: every output sample depends on the whole input
-  b.category("erosion").description(
+  // Version 2: the report output (the volume balance).
+  b.category("erosion").version(2).description(
       "Particle hydraulic erosion after Beyer 2015, 'Implementation of a method for hydraulic erosion' (TU "
       "Munich): droplets start at random places, run downhill with inertia, erode with a brush where they "
       "can carry more and deposit where they carry too much. Droplets per km^2, brush radius, step length "
       "and lifetime are in metres and sediment is a volume, so results agree across resolutions. Droplets "
       "run in parallel in fixed batches whose height changes are applied in droplet order: bit-identical "
-      "for any thread count.");
+      "for any thread count. The report balances the volumes: eroded = deposited + carried off the border.");
   declare_common_ports(b, "Scales erosion and deposition per cell, 0..1 (1 if unconnected)");
+  b.output("report", PortType::Report).description(
+      "Volume balance (m^3): eroded, deposited, carried_off (sediment that left the domain with its droplet); droplets, steps");
   b.param_float("droplets_per_km2", 20000.0).range(0.0, 1e8).soft_range(1000.0, 200000.0).unit("1/km^2").description("Droplets per square kilometre of the domain");
   b.param_float("step_length", 10.0).range(0.01, 1e4).soft_range(1.0, 50.0).unit("m").description("Distance a droplet moves per step (about one sample spacing)");
   b.param_float("lifetime", 300.0).range(0.01, 1e5).soft_range(10.0, 3000.0).unit("m").description("Distance a droplet travels before it evaporates");
@@ -104,8 +111,17 @@ OROGEN_NODE(HydraulicErosion) {
     p.evaporation = ctx.param<double>("evaporation");
     p.gravity = ctx.param<double>("gravity");
     p.seed = ctx.param<std::uint64_t>("seed");
-    auto m = erosion::particle_erosion(*in, p, mask.get(), &ctx);
+    erosion::ParticleStats stats;
+    auto m = erosion::particle_erosion(*in, p, mask.get(), &ctx, &stats);
     set_common_outputs(ctx, m);
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "{\"eroded\": %.17g, \"deposited\": %.17g, \"carried_off\": %.17g, \"droplets\": %llu, \"steps\": %llu}",
+                  stats.eroded, stats.deposited, stats.carried_off, static_cast<unsigned long long>(stats.droplets),
+                  static_cast<unsigned long long>(stats.steps));
+    auto report = std::make_shared<Report>();
+    report->json = text;
+    ctx.set_output("report", report);
   });
 }
 
@@ -172,8 +188,10 @@ OROGEN_NODE(StreamPower) {
       "Landscape evolution by the stream-power law dz/dt = U - K A^m S^n + D laplacian(z) (Howard 1994; "
       "Whipple and Tucker 1999), solved with the implicit O(n) scheme of Braun and Willett 2013, 'A very "
       "efficient O(n), implicit and parallel method to solve the stream power equation' (Newton iteration "
-      "for n != 1), over D8 routing of the depression-filled surface (priority flood, Barnes et al. 2014; "
-      "closed depressions fill with sediment). Border cells and cells below sea level are base level. "
+      "for n != 1), over D8 routing with closed depressions crossed through the basin graph of Cordonnier, "
+      "Bovy and Braun 2019, 'A versatile, linear complexity algorithm for flow routing in topographies with "
+      "depressions' (only the basins of pits are rerouted, over the minimum spanning tree of their passes; "
+      "depressions fill with sediment to their spill level). Border cells and cells below sea level are base level. "
       "Produces real drainage networks.");
   declare_common_ports(b, "Scales erodibility K and diffusivity D per cell, 0..1 (1 if unconnected)");
   b.input("uplift", PortType::Heightfield).optional().description("Uplift factor per cell (>= 0), times uplift_rate; 1 if unconnected");

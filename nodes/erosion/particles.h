@@ -7,11 +7,14 @@
 // metres; sediment is a volume (m^3) that the brush spreads over its cells and divides by their area, so the
 // same parameters remove the same volume per km^2 at any resolution.
 //
-// Determinism while parallel: droplets run in fixed batches of kBatch (independent of the thread count).
-// Every droplet of a batch reads the same frozen heights and records its own height changes; the batch's
-// changes are then applied droplet by droplet in index order. The result is bit-identical for any number
-// of threads, with no atomics; droplets of one batch do not see each other's changes (they start at random
-// places over the whole domain, so they rarely meet), the price of the determinism.
+// Determinism while parallel: a fixed tiled schedule. Droplets run in rounds of a fixed number (set by the
+// grid size); a round bins its droplets by the tile of their origin, tiles at least twice a droplet's reach
+// (lifetime + brush radius) across, and runs the four colours of a 2 x 2 checkerboard of tiles one after the
+// other. Tiles of one colour never touch the same sample, so they run in parallel, each tile's droplets in
+// index order changing the heights directly. Every sample gets the same changes in the same order for any
+// thread count: bit-identical, no atomics, no change logs. Chosen over frozen batches with per-droplet change
+// logs (the earlier scheme) because droplets see the changes of the droplets before them, as in Beyer's
+// serial loop, and a tile's samples stay in cache while its droplets run (about 3x faster on one core).
 #include <cstdint>
 
 #include "nodes/erosion/erosion_common.h"
@@ -40,8 +43,6 @@ struct ParticleStats {
   std::uint64_t droplets = 0;
   std::uint64_t steps = 0;   // droplet steps simulated
 };
-
-constexpr int kParticleBatch = 1024;
 
 ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, const Heightfield* mask = nullptr,
                              const ExecContext* ctx = nullptr, ParticleStats* stats = nullptr);

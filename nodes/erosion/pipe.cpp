@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 namespace orogen::erosion {
@@ -15,6 +16,85 @@ void rows(int h, Fn&& fn) {
   tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& r) {
     for (int j = r.begin(); j != r.end(); ++j) fn(j);
   });
+}
+
+// Rows per chunk of the fused sweep (the chunking changes no result, only the share of recomputed rows).
+constexpr int kChunkRows = 64;
+
+// Per-thread rows of the sweep: a ring of 4 rows of rained depth, water surface and concentration, and the
+// new fluxes of the two rows just outside a chunk.
+struct Scratch {
+  std::vector<float> dr, surf, conc, halo;
+  void resize(int w) {
+    const std::size_t need = static_cast<std::size_t>(4) * w;
+    if (dr.size() != need) dr.assign(need, 0.0f), surf.assign(need, 0.0f), conc.assign(need, 0.0f), halo.assign(2 * need, 0.0f);
+  }
+};
+
+// The interior cells (1 .. w-2) of a row's outflow fluxes: plain pointers and selects rather than branches,
+// so the loop vectorises (the same arithmetic as the generic cell).
+void flux_interior(int w, const float* __restrict DR, const float* __restrict SF, const float* __restrict SFd,
+                   const float* __restrict SFu, const float* __restrict FL, const float* __restrict FR,
+                   const float* __restrict FD, const float* __restrict FU, float* __restrict NL, float* __restrict NR,
+                   float* __restrict ND, float* __restrict NU, float cx, float cy, float t, float area) {
+  for (int i = 1; i < w - 1; ++i) {
+    const float dk = DR[i], hk = SF[i];
+    float l = FL[i] + cx * dk * (hk - SF[i - 1]), rr = FR[i] + cx * dk * (hk - SF[i + 1]);
+    float dn = FD[i] + cy * dk * (hk - SFd[i]), up = FU[i] + cy * dk * (hk - SFu[i]);
+    l = l > 0.0f ? l : 0.0f, rr = rr > 0.0f ? rr : 0.0f, dn = dn > 0.0f ? dn : 0.0f, up = up > 0.0f ? up : 0.0f;
+    const float total = (l + rr + dn + up) * t;
+    const float q = dk * area / total;
+    const float K = total > dk * area ? q : 1.0f;
+    NL[i] = l * K, NR[i] = rr * K, ND[i] = dn * K, NU[i] = up * K;
+  }
+}
+
+struct UpdateConst {
+  float t, area, dx, dy, two_dx, two_dy, kc, ks1, kd, evap;
+};
+
+// The interior cells (1 .. w-2) of a row without sinks or optional fields: water, transport, velocity,
+// dissolution/deposition, evaporation with the same arithmetic as the generic cell, selects for branches.
+void update_interior(int w, const float* __restrict FL, const float* __restrict FR, const float* __restrict FD,
+                     const float* __restrict FU, const float* __restrict FUd, const float* __restrict FDu,
+                     const float* __restrict DR, const float* __restrict C, const float* __restrict Cd,
+                     const float* __restrict Cu, const float* __restrict S, const float* __restrict B,
+                     const float* __restrict Bd, const float* __restrict Bu, float* __restrict B2, float* __restrict D2,
+                     float* __restrict S2, float* __restrict SPD, float* __restrict FACC, UpdateConst k) {
+  const float t = k.t, area = k.area, ddx = k.dx, ddy = k.dy, tdx = k.two_dx, tdy = k.two_dy, kcap = k.kc;
+  const float ks1 = k.ks1, kdep = k.kd, evap = k.evap;
+  for (int i = 1; i < w - 1; ++i) {
+    const float dk = DR[i], conc = C[i];
+    const float vl = FL[i] * t, vr = FR[i] * t, vd = FD[i] * t, vu = FU[i] * t;
+    const float out_v = (FL[i] + FR[i] + FD[i] + FU[i]) * t;
+    const float out_s = ((conc * vl + conc * vr) + conc * vd) + conc * vu;
+    const float fin_l = FR[i - 1], fin_r = FL[i + 1], fin_d = FUd[i], fin_u = FDu[i];
+    const float il = fin_l * t, ir = fin_r * t, id = fin_d * t, iu = fin_u * t;
+    const float in_v = ((il + ir) + id) + iu;
+    const float in_s = ((C[i - 1] * il + C[i + 1] * ir) + Cd[i] * id) + Cu[i] * iu;
+    float d1 = dk + (in_v - out_v) / area;
+    d1 = 0.0f < d1 ? d1 : 0.0f;
+    float s1 = S[i] + in_s - out_s;
+    const float wx = 0.5f * (fin_l - FL[i] + FR[i] - fin_r);
+    const float wy = 0.5f * (fin_d - FD[i] + FU[i] - fin_u);
+    const float dmean = 0.5f * (dk + d1);
+    const float uq = wx / (ddy * dmean), vq = wy / (ddx * dmean);
+    const float u = dmean > 1e-3f ? uq : 0.0f, v = dmean > 1e-3f ? vq : 0.0f;
+    const float speed = std::sqrt(u * u + v * v);
+    const float bx = (B[i + 1] - B[i - 1]) / tdx;
+    const float by = (Bu[i] - Bd[i]) / tdy;
+    const float g2 = bx * bx + by * by;
+    float sin_tilt = std::sqrt(g2 / (1.0f + g2));
+    sin_tilt = sin_tilt < 0.005f ? 0.005f : (0.5f < sin_tilt ? 0.5f : sin_tilt);
+    const float cap = kcap * sin_tilt * speed * d1;
+    const float e1 = ks1 * (cap - s1), e2 = kdep * (s1 - cap);
+    const bool dissolve = cap > s1;
+    const float bk = dissolve ? B[i] - e1 : B[i] + e2;
+    s1 = dissolve ? s1 + e1 : s1 - e2;
+    d1 *= evap;
+    B2[i] = bk, D2[i] = d1, S2[i] = s1, SPD[i] = speed;
+    FACC[i] += t * speed * d1;
+  }
 }
 
 }  // namespace
@@ -31,11 +111,16 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
   const float kx = static_cast<float>(dy / dx), ky = static_cast<float>(dx / dy);
   const double mm_per_h = 1.0 / 3.6e6;  // mm/h -> m/s
 
-  std::vector<float> b = in.data, b2(n), d(n, 0.0f), d2(n), s(n, 0.0f), s2(n), surf(n), conc_of(n);
-  std::vector<float> fl(n, 0.0f), fr(n, 0.0f), fd(n, 0.0f), fu(n, 0.0f), spd(n, 0.0f), flow_acc(n, 0.0f);
-  std::vector<double> row_sed_out(h), row_water_out(h), row_vmax(h), row_dmax(h), row_sum(h);
+  std::vector<float> b = in.data, b2(n), d(n, 0.0f), d2(n), s(n, 0.0f), s2(n);
+  std::vector<float> fl(n, 0.0f), fr(n, 0.0f), fd(n, 0.0f), fu(n, 0.0f), nfl(n), nfr(n), nfd(n), nfu(n);
+  std::vector<float> spd(n, 0.0f), flow_acc(n, 0.0f);
+  std::vector<double> row_sed_out(h), row_water_out(h), row_dmax(h), row_sum(h);
+  tbb::enumerable_thread_specific<Scratch> scratch;
   std::vector<unsigned char> sink(n);
-  for (std::size_t k = 0; k < n; ++k) sink[k] = in.data[k] < p.sea_level;
+  std::vector<unsigned char> row_sink(h, 0);
+  for (std::size_t k = 0; k < n; ++k) sink[k] = in.data[k] < p.sea_level, row_sink[k / w] |= sink[k];
+  // No optional field: the interior of rows without sinks takes the vectorised path.
+  const bool plain = !mask && !hardness && !temperature && !(p.layer_depth > 0);
 
   auto volume = [&]() {  // sum of (b + s) x A, rows summed in order
     rows(h, [&](int j) {
@@ -51,7 +136,7 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
   PipeStats st;
   st.total_volume = 0;
   for (float v : in.data) st.total_volume += std::abs(static_cast<double>(v)) * A;
-  double t = 0.0, vmax = 0.0, dmax = 0.0;
+  double t = 0.0, dmax = 0.0;
   const double spacing = std::min(dx, dy);
   std::uint64_t step = 0;
   while (t < p.duration - 1e-9) {
@@ -64,169 +149,240 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
     const float fdt = static_cast<float>(dt);
     const double before = check_conservation ? volume() : 0.0;
 
-    // 1. Rain.
-    rows(h, [&](int j) {
-      for (int i = 0; i < w; ++i) {
-        const std::size_t k = in.index(i, j);
-        const double rate = (rainfall ? std::max(0.0f, rainfall->data[k]) : p.rain_rate) * mm_per_h;
-        if (p.rain_mode == RainMode::Uniform) {
-          d[k] += static_cast<float>(dt * rate);
-        } else {
-          const double m = moisture ? std::clamp(static_cast<double>(moisture->data[k]), 0.0, 1.0) : 1.0;
-          const double chance = std::min(1.0, m * p.drop_chance * dt);
-          if (chance > 0 && hash01(p.seed, step * n + k) < chance)
-            d[k] += static_cast<float>(rate / std::max(p.drop_chance, 1e-9));
-        }
-      }
-    });
-    // 2. Outflow fluxes. The water surface first, then the fluxes: a generic cell for the border and an
-    // unchecked loop for the interior of each row.
-    rows(h, [&](int j) {
-      // And each cell's sediment concentration (per m^3 of water), computed once instead of by every pipe.
-      for (int i = 0; i < w; ++i) {
-        const std::size_t k = in.index(i, j);
-        const float dk = d[k];
-        surf[k] = b[k] + dk;
-        conc_of[k] = dk > 0.0f ? s[k] / (dk * A) : 0.0f;
-      }
-    });
-    rows(h, [&](int j) {
-      auto finish = [&](std::size_t k, float dk, float l, float r, float dn, float up) {
-        l = std::max(0.0f, l), r = std::max(0.0f, r), dn = std::max(0.0f, dn), up = std::max(0.0f, up);
-        const float total = (l + r + dn + up) * fdt;
-        const float K = total > dk * A ? dk * A / total : 1.0f;
-        fl[k] = l * K, fr[k] = r * K, fd[k] = dn * K, fu[k] = up * K;
-      };
-      auto generic = [&](int i) {
-        const std::size_t k = in.index(i, j);
-        const float dk = d[k], hk = surf[k], c = fdt * g * dk;
-        auto head = [&](int ii, int jj) { return (ii < 0 || ii >= w || jj < 0 || jj >= h) ? dk : hk - surf[in.index(ii, jj)]; };
-        finish(k, dk, fl[k] + c * kx * head(i - 1, j), fr[k] + c * kx * head(i + 1, j),
-               fd[k] + c * ky * head(i, j - 1), fu[k] + c * ky * head(i, j + 1));
-      };
-      if (j == 0 || j == h - 1 || w < 3) {
-        for (int i = 0; i < w; ++i) generic(i);
-        return;
-      }
-      generic(0);
-      const std::size_t row = in.index(0, j);
-      const float* sf = surf.data();
-      const float cgx = fdt * g * kx, cgy = fdt * g * ky;
-      for (std::size_t k = row + 1; k < row + static_cast<std::size_t>(w) - 1; ++k) {
-        const float dk = d[k], hk = sf[k];
-        finish(k, dk, fl[k] + cgx * dk * (hk - sf[k - 1]), fr[k] + cgx * dk * (hk - sf[k + 1]),
-               fd[k] + cgy * dk * (hk - sf[k - w]), fu[k] + cgy * dk * (hk - sf[k + w]));
-      }
-      generic(w - 1);
-    });
-    // 3. Water, sediment transport, velocity, dissolution/deposition, evaporation, sinks.
+    // One fused sweep per step (rain, water surface and concentration; outflow fluxes; water, transport,
+    // velocity, dissolution/deposition, evaporation, sinks), pipelined over rows: chunks of rows run in
+    // parallel, each recomputing the one or two rows it needs beyond its edges (from the previous step's
+    // fields, which no chunk writes), so every value is the same whatever the chunking and thread count.
     const float ks = static_cast<float>(p.dissolving * dt), kd = static_cast<float>(std::min(1.0, p.depositing * dt));
     const float kc = static_cast<float>(p.capacity);
-    rows(h, [&](int j) {
-      double sed_out = 0, water_out = 0, vm = 0, dm = 0;
-      // Local restrict pointers: the closure's references are not reloaded for every access.
-      const float* __restrict FL = fl.data();
-      const float* __restrict FR = fr.data();
-      const float* __restrict FD = fd.data();
-      const float* __restrict FU = fu.data();
-      const float* __restrict D = d.data();
-      const float* __restrict S = s.data();
-      const float* __restrict B = b.data();
-      const float* __restrict C = conc_of.data();
-      const unsigned char* __restrict SINK = sink.data();
-      float* __restrict B2 = b2.data();
-      float* __restrict D2 = d2.data();
-      float* __restrict S2 = s2.data();
-      float* __restrict SPD = spd.data();
-      float* __restrict FACC = flow_acc.data();
-      for (int i = 0; i < w; ++i) {
-        const std::size_t k = in.index(i, j);
-        const float dk = D[k];
-        // Volumes through each pipe this step and the sediment they carry (concentration of the source).
-        const float out_v = (FL[k] + FR[k] + FD[k] + FU[k]) * fdt;
-        const float conc = C[k];
-        float in_v = 0.0f, in_s = 0.0f, out_s = 0.0f;
-        float wx = 0.0f, wy = 0.0f;
-        auto pipe_out = [&](float f, bool border) {
-          const float vol = f * fdt;
-          const float sv = conc * vol;
-          out_s += sv;
-          if (border) {
-            water_out += vol;
-            sed_out += static_cast<double>(sv) * A;
+    const float rain_uniform = static_cast<float>(dt * (p.rain_rate * mm_per_h));
+    const float keep = static_cast<float>(p.evaporation * dt);
+    const bool last = t + dt >= p.duration - 1e-9;
+    const float cgx = fdt * g * kx, cgy = fdt * g * ky;
+    const float fdx = static_cast<float>(dx), fdy = static_cast<float>(dy);
+    const float two_dx = static_cast<float>(2 * dx), two_dy = static_cast<float>(2 * dy);
+    const int chunks = (h + kChunkRows - 1) / kChunkRows;
+    tbb::parallel_for(tbb::blocked_range<int>(0, chunks, 1), [&](const tbb::blocked_range<int>& cr) {
+      Scratch& sc = scratch.local();
+      sc.resize(w);
+      for (int chunk = cr.begin(); chunk != cr.end(); ++chunk) {
+        const int j0 = chunk * kChunkRows, j1 = std::min(h, j0 + kChunkRows);
+        // Rows of the ring (4 rows: r & 3) and of the new fluxes (the chunk's rows in the global arrays,
+        // the rows just outside it in the scratch).
+        auto DRrow = [&](int r) { return sc.dr.data() + static_cast<std::size_t>(r & 3) * w; };
+        auto SFrow = [&](int r) { return sc.surf.data() + static_cast<std::size_t>(r & 3) * w; };
+        auto CCrow = [&](int r) { return sc.conc.data() + static_cast<std::size_t>(r & 3) * w; };
+        auto Frow = [&](int r, int which) -> float* {
+          if (r >= j0 && r < j1) {
+            float* f = which == 0 ? nfl.data() : which == 1 ? nfr.data() : which == 2 ? nfd.data() : nfu.data();
+            return f + static_cast<std::size_t>(r) * w;
           }
+          return sc.halo.data() + (static_cast<std::size_t>(r < j0 ? 0 : 4) + which) * w;
         };
-        pipe_out(FL[k], i == 0);
-        pipe_out(FR[k], i == w - 1);
-        pipe_out(FD[k], j == 0);
-        pipe_out(FU[k], j == h - 1);
-        auto pipe_in = [&](std::size_t nb, float f) {
-          const float vol = f * fdt;
-          in_v += vol;
-          in_s += C[nb] * vol;
-        };
-        float fin_l = 0, fin_r = 0, fin_d = 0, fin_u = 0;
-        if (i > 0) fin_l = FR[k - 1], pipe_in(k - 1, fin_l);
-        if (i < w - 1) fin_r = FL[k + 1], pipe_in(k + 1, fin_r);
-        if (j > 0) fin_d = FU[k - w], pipe_in(k - w, fin_d);
-        if (j < h - 1) fin_u = FD[k + w], pipe_in(k + w, fin_u);
-        float d1 = std::max(0.0f, dk + (in_v - out_v) / A);
-        // Sediment heights moving in and out: the source's s / (d A) times the pipe's volume.
-        float s1 = S[k] + in_s - out_s;
-        wx = 0.5f * (fin_l - FL[k] + FR[k] - fin_r);
-        wy = 0.5f * (fin_d - FD[k] + FU[k] - fin_u);
-        const float dmean = 0.5f * (dk + d1);
-        float u = 0, v = 0;
-        if (dmean > 1e-3f) {
-          u = wx / (static_cast<float>(dy) * dmean);
-          v = wy / (static_cast<float>(dx) * dmean);
-        }
-        const float speed = std::sqrt(u * u + v * v);
-        // Tilt from the terrain's central differences.
-        const float bx = (B[i < w - 1 ? k + 1 : k] - B[i > 0 ? k - 1 : k]) / static_cast<float>((i > 0 && i < w - 1 ? 2 : 1) * dx);
-        const float by = (B[j < h - 1 ? k + w : k] - B[j > 0 ? k - w : k]) / static_cast<float>((j > 0 && j < h - 1 ? 2 : 1) * dy);
-        const float g2 = bx * bx + by * by;
-        const float sin_tilt = std::clamp(std::sqrt(g2 / (1.0f + g2)), 0.005f, 0.5f);
-        // Capacity in proportion to the water that carries it (a concentration times the depth): a film
-        // of water cannot hold metres of sediment however fast it runs.
-        const float cap = kc * sin_tilt * speed * d1;
-        float bk = B[k];
-        const float m = mask ? mask_at(mask, k) : 1.0f;
-        if (!SINK[k]) {
-          if (cap > s1) {
-            float rate = ks * m;
-            if (hardness) rate *= 1.0f - std::clamp(hardness->data[k], 0.0f, 1.0f);
-            if (p.layer_depth > 0) rate *= std::exp2(-std::max(0.0f, in.data[k] - bk) / static_cast<float>(p.layer_depth));
-            const float e = std::min(1.0f, rate) * (cap - s1);
-            bk -= e;
-            s1 += e;
+        // 1. Rain, then the water surface and each cell's sediment concentration (per m^3 of water).
+        auto prep = [&](int r) {
+          const std::size_t row = static_cast<std::size_t>(r) * w;
+          float* __restrict DR = DRrow(r);
+          float* __restrict SF = SFrow(r);
+          float* __restrict CC = CCrow(r);
+          const float* __restrict D = d.data() + row;
+          const float* __restrict S = s.data() + row;
+          const float* __restrict B = b.data() + row;
+          if (p.rain_mode == RainMode::Uniform && !rainfall) {
+            for (int i = 0; i < w; ++i) DR[i] = D[i] + rain_uniform;
           } else {
-            const float e = kd * m * (s1 - cap);
-            bk += e;
-            s1 -= e;
+            for (int i = 0; i < w; ++i) {
+              const std::size_t k = row + i;
+              const double rate = (rainfall ? std::max(0.0f, rainfall->data[k]) : p.rain_rate) * mm_per_h;
+              float dk = D[i];
+              if (p.rain_mode == RainMode::Uniform) {
+                dk += static_cast<float>(dt * rate);
+              } else {
+                const double m = moisture ? std::clamp(static_cast<double>(moisture->data[k]), 0.0, 1.0) : 1.0;
+                const double chance = std::min(1.0, m * p.drop_chance * dt);
+                if (chance > 0 && hash01(p.seed, step * n + k) < chance)
+                  dk += static_cast<float>(rate / std::max(p.drop_chance, 1e-9));
+              }
+              DR[i] = dk;
+            }
           }
+          for (int i = 0; i < w; ++i) {
+            const float dk = DR[i];
+            SF[i] = B[i] + dk;
+            const float q = S[i] / (dk * A);  // computed unconditionally (a select, not a branch: vectorises)
+            CC[i] = dk > 0.0f ? q : 0.0f;
+          }
+        };
+        // 2. Outflow fluxes of row r: a generic cell for the border, an unchecked loop for the interior.
+        auto flux = [&](int r) {
+          const std::size_t row = static_cast<std::size_t>(r) * w;
+          const float* __restrict DR = DRrow(r);
+          const float* __restrict SF = SFrow(r);
+          const float* __restrict SFd = r > 0 ? SFrow(r - 1) : nullptr;
+          const float* __restrict SFu = r < h - 1 ? SFrow(r + 1) : nullptr;
+          const float* __restrict FL = fl.data() + row;
+          const float* __restrict FR = fr.data() + row;
+          const float* __restrict FD = fd.data() + row;
+          const float* __restrict FU = fu.data() + row;
+          float* __restrict NL = Frow(r, 0);
+          float* __restrict NR = Frow(r, 1);
+          float* __restrict ND = Frow(r, 2);
+          float* __restrict NU = Frow(r, 3);
+          auto finish = [&](int i, float dk, float l, float rr, float dn, float up) {
+            l = std::max(0.0f, l), rr = std::max(0.0f, rr), dn = std::max(0.0f, dn), up = std::max(0.0f, up);
+            const float total = (l + rr + dn + up) * fdt;
+            const float K = total > dk * A ? dk * A / total : 1.0f;
+            NL[i] = l * K, NR[i] = rr * K, ND[i] = dn * K, NU[i] = up * K;
+          };
+          auto generic = [&](int i) {
+            const float dk = DR[i], hk = SF[i], c = fdt * g * dk;
+            const float hl = i > 0 ? hk - SF[i - 1] : dk, hr = i < w - 1 ? hk - SF[i + 1] : dk;
+            const float hd = SFd ? hk - SFd[i] : dk, hu = SFu ? hk - SFu[i] : dk;
+            finish(i, dk, FL[i] + c * kx * hl, FR[i] + c * kx * hr, FD[i] + c * ky * hd, FU[i] + c * ky * hu);
+          };
+          if (r == 0 || r == h - 1 || w < 3) {
+            for (int i = 0; i < w; ++i) generic(i);
+            return;
+          }
+          generic(0);
+          flux_interior(w, DR, SF, SFd, SFu, FL, FR, FD, FU, NL, NR, ND, NU, cgx, cgy, fdt, A);
+          generic(w - 1);
+        };
+        // 3. Water, sediment transport, velocity, dissolution/deposition, evaporation, sinks of row j.
+        auto update = [&](int j) {
+          double sed_out = 0, water_out = 0, dm = 0;
+          const std::size_t row = static_cast<std::size_t>(j) * w;
+          const float* __restrict FL = Frow(j, 0);
+          const float* __restrict FR = Frow(j, 1);
+          const float* __restrict FD = Frow(j, 2);
+          const float* __restrict FU = Frow(j, 3);
+          const float* __restrict FUd = j > 0 ? Frow(j - 1, 3) : nullptr;  // the up flux of the row below
+          const float* __restrict FDu = j < h - 1 ? Frow(j + 1, 2) : nullptr;
+          const float* __restrict DR = DRrow(j);
+          const float* __restrict C = CCrow(j);
+          const float* __restrict Cd = j > 0 ? CCrow(j - 1) : nullptr;
+          const float* __restrict Cu = j < h - 1 ? CCrow(j + 1) : nullptr;
+          const float* __restrict S = s.data() + row;
+          const float* __restrict B = b.data() + row;
+          const float* __restrict Bd = j > 0 ? B - w : B;
+          const float* __restrict Bu = j < h - 1 ? B + w : B;
+          const float by_len = j > 0 && j < h - 1 ? two_dy : fdy;
+          const unsigned char* __restrict SINK = sink.data() + row;
+          float* __restrict B2 = b2.data() + row;
+          float* __restrict D2 = d2.data() + row;
+          float* __restrict S2 = s2.data() + row;
+          float* __restrict SPD = spd.data() + row;
+          float* __restrict FACC = flow_acc.data() + row;
+          auto cell = [&](int i) {
+            const std::size_t k = row + i;
+            const float dk = DR[i];
+            // Volumes through each pipe this step and the sediment they carry (concentration of the source).
+            const float out_v = (FL[i] + FR[i] + FD[i] + FU[i]) * fdt;
+            const float conc = C[i];
+            float in_v = 0.0f, in_s = 0.0f, out_s = 0.0f;
+            auto pipe_out = [&](float f, bool border) {
+              const float vol = f * fdt;
+              const float sv = conc * vol;
+              out_s += sv;
+              if (border) {
+                water_out += vol;
+                sed_out += static_cast<double>(sv) * A;
+              }
+            };
+            pipe_out(FL[i], i == 0);
+            pipe_out(FR[i], i == w - 1);
+            pipe_out(FD[i], j == 0);
+            pipe_out(FU[i], j == h - 1);
+            auto pipe_in = [&](float cn, float f) {
+              const float vol = f * fdt;
+              in_v += vol;
+              in_s += cn * vol;
+            };
+            float fin_l = 0, fin_r = 0, fin_d = 0, fin_u = 0;
+            if (i > 0) fin_l = FR[i - 1], pipe_in(C[i - 1], fin_l);
+            if (i < w - 1) fin_r = FL[i + 1], pipe_in(C[i + 1], fin_r);
+            if (FUd) fin_d = FUd[i], pipe_in(Cd[i], fin_d);
+            if (FDu) fin_u = FDu[i], pipe_in(Cu[i], fin_u);
+            float d1 = std::max(0.0f, dk + (in_v - out_v) / A);
+            // Sediment heights moving in and out: the source's s / (d A) times the pipe's volume.
+            float s1 = S[i] + in_s - out_s;
+            const float wx = 0.5f * (fin_l - FL[i] + FR[i] - fin_r);
+            const float wy = 0.5f * (fin_d - FD[i] + FU[i] - fin_u);
+            const float dmean = 0.5f * (dk + d1);
+            float u = 0, v = 0;
+            if (dmean > 1e-3f) {
+              u = wx / (fdy * dmean);
+              v = wy / (fdx * dmean);
+            }
+            const float speed = std::sqrt(u * u + v * v);
+            // Tilt from the terrain's central differences.
+            const float bx = (B[i < w - 1 ? i + 1 : i] - B[i > 0 ? i - 1 : i]) / (i > 0 && i < w - 1 ? two_dx : fdx);
+            const float by = (Bu[i] - Bd[i]) / by_len;
+            const float g2 = bx * bx + by * by;
+            const float sin_tilt = std::clamp(std::sqrt(g2 / (1.0f + g2)), 0.005f, 0.5f);
+            // Capacity in proportion to the water that carries it (a concentration times the depth): a film
+            // of water cannot hold metres of sediment however fast it runs.
+            const float cap = kc * sin_tilt * speed * d1;
+            float bk = B[i];
+            const float m = mask ? mask_at(mask, k) : 1.0f;
+            if (!SINK[i]) {
+              if (cap > s1) {
+                float rate = ks * m;
+                if (hardness) rate *= 1.0f - std::clamp(hardness->data[k], 0.0f, 1.0f);
+                if (p.layer_depth > 0) rate *= std::exp2(-std::max(0.0f, in.data[k] - bk) / static_cast<float>(p.layer_depth));
+                const float e = std::min(1.0f, rate) * (cap - s1);
+                bk -= e;
+                s1 += e;
+              } else {
+                const float e = kd * m * (s1 - cap);
+                bk += e;
+                s1 -= e;
+              }
+            }
+            const float temp = temperature ? std::max(0.0f, temperature->data[k]) : 1.0f;
+            d1 *= std::max(0.0f, 1.0f - keep * temp);
+            if (SINK[i]) {
+              water_out += static_cast<double>(d1) * A;
+              sed_out += static_cast<double>(s1) * A;
+              d1 = 0, s1 = 0;
+            }
+            B2[i] = bk, D2[i] = d1, S2[i] = s1;
+            if (last) SPD[i] = speed;
+            FACC[i] += fdt * speed * d1;
+            dm = std::max<double>(dm, d1);
+          };
+          if (!plain || j == 0 || j == h - 1 || row_sink[j] || w < 3) {
+            for (int i = 0; i < w; ++i) cell(i);
+          } else {
+            cell(0);
+            update_interior(w, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, S2, SPD, FACC,
+                            {fdt, A, fdx, fdy, two_dx, two_dy, kc, std::min(1.0f, ks), kd, std::max(0.0f, 1.0f - keep * 1.0f)});
+            float dmf = 0.0f;
+            for (int i = 1; i < w - 1; ++i) dmf = D2[i] > dmf ? D2[i] : dmf;
+            dm = std::max<double>(dm, dmf);
+            cell(w - 1);
+          }
+          row_sed_out[j] = sed_out, row_water_out[j] = water_out, row_dmax[j] = dm;
+        };
+        // The pipeline: prep rows j0-2 .. j1+1, fluxes j0-1 .. j1, updates j0 .. j1-1 (within the grid),
+        // each as soon as the rows it reads are ready.
+        const int pr_lo = std::max(0, j0 - 2), pr_hi = std::min(h, j1 + 2);
+        const int fl_lo = std::max(0, j0 - 1), fl_hi = std::min(h, j1 + 1);
+        int nf = fl_lo, nm = j0;
+        for (int r = pr_lo; r < pr_hi; ++r) {
+          prep(r);
+          while (nf < fl_hi && r >= std::min(nf + 1, h - 1)) flux(nf++);
+          while (nm < j1 && nf >= std::min(nm + 2, h)) update(nm++);
         }
-        const float temp = temperature ? std::max(0.0f, temperature->data[k]) : 1.0f;
-        d1 *= std::max(0.0f, 1.0f - static_cast<float>(p.evaporation * dt) * temp);
-        if (SINK[k]) {
-          water_out += static_cast<double>(d1) * A;
-          sed_out += static_cast<double>(s1) * A;
-          d1 = 0, s1 = 0;
-        }
-        B2[k] = bk, D2[k] = d1, S2[k] = s1, SPD[k] = speed;
-        FACC[k] += static_cast<float>(dt) * speed * d1;
-        vm = std::max<double>(vm, speed);
-        dm = std::max<double>(dm, d1);
       }
-      row_sed_out[j] = sed_out, row_water_out[j] = water_out, row_vmax[j] = vm, row_dmax[j] = dm;
     });
+    std::swap(fl, nfl), std::swap(fr, nfr), std::swap(fd, nfd), std::swap(fu, nfu);
     std::swap(b, b2), std::swap(d, d2), std::swap(s, s2);
     double sed_out = 0;
-    vmax = 0, dmax = 0;
+    dmax = 0;
     for (int j = 0; j < h; ++j) {
       sed_out += row_sed_out[j];
       st.water_out += row_water_out[j];
-      vmax = std::max(vmax, row_vmax[j]);
       dmax = std::max(dmax, row_dmax[j]);
     }
     st.sediment_out += sed_out;

@@ -1,10 +1,12 @@
 #include "nodes/erosion/stream_power.h"
 
+#include "nodes/hydrology/basin_graph.h"
 #include "nodes/hydrology/flow_routing.h"
 
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <queue>
 #include <vector>
 
@@ -57,119 +59,174 @@ ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, cons
   const double dt_diff_max = 0.9 / (std::max(p.diffusion, 1e-30) * (2.0 / (dx * dx) + 2.0 / (dy * dy)));
   const int diff_steps = p.diffusion > 0 ? std::max(1, static_cast<int>(std::ceil(dt / dt_diff_max))) : 0;
   const hydrology::FlowGrid grid = hydrology::FlowGrid::of(in.domain);
-  std::vector<float> zf(n), zround(n);
+  const bool basin_graph = p.depressions == StreamPowerParams::Depressions::BasinGraph;
+  std::vector<float> zf, zround;
   hydrology::D8Flow flow;
+  hydrology::BasinRouting routing;
   std::vector<std::int32_t> order;
   std::vector<double> area;
+  std::vector<double> row_max(static_cast<std::size_t>(h)), row_sum(static_cast<std::size_t>(h));
+  std::vector<std::size_t> row_count(static_cast<std::size_t>(h));
   StreamPowerStats st;
+  // Implicit incision of cell k towards its receiver (already at t + dt).
+  // A^m by table for areas of up to kTable whole cells (exactly count x cell area, as the unweighted
+  // accumulation gives): the same pow() values, computed once; L^n per direction.
+  constexpr int kTable = 1 << 16;
+  const double cell_area = grid.cell_area();
+  std::vector<double> area_pow(kTable);
+  for (int q = 0; q < kTable; ++q) area_pow[static_cast<std::size_t>(q)] = std::pow(q * cell_area, p.m);
+  double len_pow[8];
+  for (int q = 0; q < 8; ++q) len_pow[q] = std::pow(grid.distance(q), p.n);
+  auto incise = [&](std::int32_t k, std::int32_t rc, int direction) {
+    if (rc == k || area[k] < p.channel_area) return;
+    const double a = area[k], cells = std::nearbyint(a / cell_area);
+    const double am = cells < kTable && cells * cell_area == a ? area_pow[static_cast<std::size_t>(cells)] : std::pow(a, p.m);
+    const double f = p.k * kfac[k] * dt * am / len_pow[direction];
+    const double z0 = z[k], zr = z[rc];
+    double zn = z0;
+    if (z0 > zr && f > 0) {
+      if (p.n == 1.0) {
+        zn = (z0 + f * zr) / (1.0 + f);
+      } else {
+        // Newton on g(z) = z - z0 + f (z - zr)^n over (zr, z0], safeguarded by bisection.
+        double lo = zr, hi = z0;
+        zn = z0;
+        for (int it = 0; it < 50; ++it) {
+          const double d = zn - zr;
+          const double g = zn - z0 + f * std::pow(d, p.n);
+          if (g > 0) hi = zn; else lo = zn;
+          const double gp = 1.0 + f * p.n * std::pow(d, p.n - 1.0);
+          double next = zn - g / gp;
+          if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+          if (std::abs(next - zn) <= 1e-12 * std::max(1.0, std::abs(zn))) {
+            zn = next;
+            break;
+          }
+          zn = next;
+        }
+      }
+    }
+    ero[k] += z0 - zn;
+    z[k] = zn;
+  };
+  hydrology::Outlets outs;
+  outs.border = false;
+  outs.mask = outlet;
   for (int s = 0; s < steps; ++s) {
     check_cancelled(ctx);
-    zprev = z;
-    for (std::size_t k = 0; k < n; ++k) {
-      z[k] += ufac[k] * dt;
-      outlet[k] = fixed[k] || z[k] < p.sea_level;
-    }
+    rows(h, [&](int j) {
+      for (std::size_t k = static_cast<std::size_t>(j) * w, e = k + w; k < e; ++k) {
+        zprev[k] = z[k];
+        z[k] += ufac[k] * dt;
+        outlet[k] = fixed[k] || z[k] < p.sea_level;
+      }
+    });
     // Hillslope diffusion, base level fixed, before the incision: the implicit sweep then cuts through
     // whatever diffusion laid into the channels within the same step, so river profiles stay clean.
     for (int sd = 0; sd < diff_steps; ++sd) {
       const double c = p.diffusion * dt / diff_steps;
+      const double cx = 1.0 / (dx * dx), cy = 1.0 / (dy * dy);
       rows(h, [&](int j) {
-        for (int i = 0; i < w; ++i) {
-          const std::size_t k = static_cast<std::size_t>(j) * w + i;
-          if (outlet[k]) {
-            ztmp[k] = z[k];
-            continue;
-          }
+        auto cell = [&](int i, std::size_t k, double zw, double ze, double zs, double zn) {
           const double zc = z[k];
-          const double lx = (z[i > 0 ? k - 1 : k] + z[i < w - 1 ? k + 1 : k] - 2 * zc) / (dx * dx);
-          const double ly = (z[j > 0 ? k - w : k] + z[j < h - 1 ? k + w : k] - 2 * zc) / (dy * dy);
-          const double dz = c * kfac[k] * (lx + ly);
+          const double lx = (zw + ze - 2 * zc) * cx;
+          const double ly = (zs + zn - 2 * zc) * cy;
+          const double dz = outlet[k] ? 0.0 : c * kfac[k] * (lx + ly);
           ztmp[k] = zc + dz;
-          (dz < 0 ? ero[k] : dep[k]) += std::abs(dz);
+          // Branch-free: adding +0.0 leaves a sum unchanged.
+          ero[k] += std::max(-dz, 0.0);
+          dep[k] += std::max(dz, 0.0);
+          (void)i;
+        };
+        const std::size_t row = static_cast<std::size_t>(j) * w;
+        const std::size_t up = j > 0 ? row - w : row, down = j < h - 1 ? row + w : row;
+        if (w == 1) {
+          cell(0, row, z[row], z[row], z[up], z[down]);
+          return;
         }
+        cell(0, row, z[row], z[row + 1], z[up], z[down]);
+        for (int i = 1; i < w - 1; ++i) cell(i, row + i, z[row + i - 1], z[row + i + 1], z[up + i], z[down + i]);
+        cell(w - 1, row + w - 1, z[row + w - 2], z[row + w - 1], z[up + w - 1], z[down + w - 1]);
       });
       std::swap(z, ztmp);
     }
-    // Routing over the depression-filled surface with the hydrology core: closed depressions fill with
-    // sediment (Priority-Flood+epsilon), then D8 receivers, the Braun-Willett stack and the drainage area.
-    for (std::size_t k = 0; k < n; ++k) zf[k] = static_cast<float>(z[k]);
-    zround = zf;
-    hydrology::Outlets outs;
-    outs.border = false;
-    outs.mask = outlet;
-    hydrology::fill_depressions(grid, zf, hydrology::FlatMode::Epsilon, outs, ctx);
-    for (std::size_t k = 0; k < n; ++k)
-      if (zf[k] != zround[k]) {
-        dep[k] += static_cast<double>(zf[k]) - z[k];
-        z[k] = zf[k];
-      }
-    flow = hydrology::d8_flow(grid, zf, outs, ctx);
-    order = hydrology::stack_order(grid, flow);
-    area = hydrology::accumulate_d8(grid, flow, {}, ctx);
-    // Implicit incision from the outlets upstream (receivers are already at t + dt).
-    for (const std::int32_t k : order) {
-      const std::int32_t rc = flow.receiver[k];
-      if (rc == k || area[k] < p.channel_area) continue;
-      const double len = grid.distance(flow.direction[k]);
-      const double f = p.k * kfac[k] * dt * std::pow(area[k], p.m) / std::pow(len, p.n);
-      const double z0 = z[k], zr = z[rc];
-      double zn = z0;
-      if (z0 > zr && f > 0) {
-        if (p.n == 1.0) {
-          zn = (z0 + f * zr) / (1.0 + f);
-        } else {
-          // Newton on g(z) = z - z0 + f (z - zr)^n over (zr, z0], safeguarded by bisection.
-          double lo = zr, hi = z0;
-          zn = z0;
-          for (int it = 0; it < 50; ++it) {
-            const double d = zn - zr;
-            const double g = zn - z0 + f * std::pow(d, p.n);
-            if (g > 0) hi = zn; else lo = zn;
-            const double gp = 1.0 + f * p.n * std::pow(d, p.n - 1.0);
-            double next = zn - g / gp;
-            if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-            if (std::abs(next - zn) <= 1e-12 * std::max(1.0, std::abs(zn))) {
-              zn = next;
-              break;
-            }
-            zn = next;
-          }
+    area.resize(n);
+    if (basin_graph) {
+      // Local D8 over the surface as it is; only the pits' basins are rerouted over their passes (basin
+      // graph), then the lakes fill with sediment to just above the pass, one outlet tree per task.
+      hydrology::route_basin_graph_fill(grid, z, outs, routing, dep, ctx);
+      hydrology::accumulate_stack(grid, routing, area);
+      const std::int32_t* rcv = routing.flow.receiver.data();
+      const std::uint8_t* dir = routing.flow.direction.data();
+      hydrology::for_each_tree(routing, [&](std::int32_t first, std::int32_t last) {
+        for (std::int32_t q = first; q < last; ++q) {
+          const std::int32_t k = routing.stack[static_cast<std::size_t>(q)];
+          incise(k, rcv[k], dir[k]);
         }
-      }
-      ero[k] += z0 - zn;
-      z[k] = zn;
+      });
+    } else {
+      // Routing over the depression-filled surface with the hydrology core: closed depressions fill with
+      // sediment (Priority-Flood+epsilon), then D8 receivers, the Braun-Willett stack and the drainage area.
+      zf.resize(n);
+      for (std::size_t k = 0; k < n; ++k) zf[k] = static_cast<float>(z[k]);
+      zround = zf;
+      hydrology::fill_depressions(grid, zf, hydrology::FlatMode::Epsilon, outs, ctx);
+      for (std::size_t k = 0; k < n; ++k)
+        if (zf[k] != zround[k]) {
+          dep[k] += static_cast<double>(zf[k]) - z[k];
+          z[k] = zf[k];
+        }
+      flow = hydrology::d8_flow(grid, zf, outs, ctx);
+      order = hydrology::stack_order(grid, flow);
+      area = hydrology::accumulate_d8(grid, flow, {}, ctx);
+      // Implicit incision from the outlets upstream (receivers are already at t + dt).
+      for (const std::int32_t k : order) incise(k, flow.receiver[k], flow.direction[k]);
     }
+    rows(h, [&](int j) {
+      double mx = 0, sum = 0;
+      std::size_t count = 0;
+      for (std::size_t k = static_cast<std::size_t>(j) * w, e = k + w; k < e; ++k)
+        if (!outlet[k]) {
+          const double c = std::abs(z[k] - zprev[k]) / dt;
+          mx = std::max(mx, c);
+          sum += c;
+          ++count;
+        }
+      row_max[static_cast<std::size_t>(j)] = mx;
+      row_sum[static_cast<std::size_t>(j)] = sum;
+      row_count[static_cast<std::size_t>(j)] = count;
+    });
     double mx = 0, sum = 0;
     std::size_t count = 0;
-    for (std::size_t k = 0; k < n; ++k)
-      if (!outlet[k]) {
-        const double c = std::abs(z[k] - zprev[k]) / dt;
-        mx = std::max(mx, c);
-        sum += c;
-        ++count;
-      }
+    for (int j = 0; j < h; ++j) {
+      mx = std::max(mx, row_max[static_cast<std::size_t>(j)]);
+      sum += row_sum[static_cast<std::size_t>(j)];
+      count += row_count[static_cast<std::size_t>(j)];
+    }
     st.max_change_last_step = mx;
     st.mean_change_last_step = count ? sum / count : 0.0;
     report(ctx, static_cast<double>(s + 1) / steps);
   }
   st.steps = steps;
   if (stats) *stats = st;
-  // The last diffusion sub-steps may leave shallow closed depressions on filled flats: fill them like every
-  // step does, so the result drains (sediment settles in them; recorded as deposition).
-  {
-    for (std::size_t k = 0; k < n; ++k) {
-      outlet[k] = fixed[k] || z[k] < p.sea_level;
-      zf[k] = static_cast<float>(z[k]);
-    }
-    zround = zf;
-    hydrology::Outlets outs;
-    outs.border = false;
-    outs.mask = outlet;
+  // The last diffusion sub-steps may leave shallow closed depressions on filled flats, and the result is
+  // rounded to float: fill them in float like every step does, so the result drains (sediment settles in
+  // them; recorded as deposition).
+  zf.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    outlet[k] = fixed[k] || z[k] < p.sea_level;
+    zf[k] = static_cast<float>(z[k]);
+  }
+  zround = zf;
+  if (basin_graph) {
+    // Route the float surface over its passes and fill its lakes one float step above the pass.
+    hydrology::route_basin_graph_fill(grid, std::span<float>(zf), outs, routing, {}, ctx);
+  } else {
     hydrology::fill_depressions(grid, zf, hydrology::FlatMode::Epsilon, outs, ctx);
-    for (std::size_t k = 0; k < n; ++k) {
-      if (zf[k] != zround[k]) dep[k] += static_cast<double>(zf[k]) - z[k];
-      z[k] = zf[k];
-    }
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    if (zf[k] != zround[k]) dep[k] += static_cast<double>(zf[k]) - z[k];
+    z[k] = zf[k];
   }
 
   ErosionMaps maps;

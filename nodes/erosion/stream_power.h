@@ -3,10 +3,13 @@
 // fluvial incision (Howard 1994; Whipple and Tucker 1999), solved with the implicit O(N) scheme of Braun and
 // Willett 2013 ("A very efficient O(n), implicit and parallel method to solve the stream power equation
 // governing fluvial incision and landscape evolution") for n = 1 and a per-node Newton iteration for n != 1.
-// Each step: uplift, explicit hillslope diffusion in stable sub-steps, routing with the hydrology routing core (nodes/hydrology/flow_routing.h) over the
-// depression-filled surface (closed depressions fill with sediment, which the deposition map records), D8
-// steepest-descent receivers, the stack order and the drainage area, then the implicit incision sweep from
-// the outlets upstream.
+// Each step: uplift, explicit hillslope diffusion in stable sub-steps, routing: D8 steepest-descent
+// receivers, closed depressions crossed through the basin graph of Cordonnier, Bovy & Braun 2019
+// (nodes/hydrology/basin_graph.h; only the pits' basins are rerouted, nothing beyond D8 and the stack when
+// there is no pit) and filled with sediment to their spill level (the deposition map records it), the stack
+// order and the drainage area, then the implicit incision sweep from the outlets upstream, one outlet tree
+// per task (results identical for any thread count). Depressions::PriorityFlood instead fills the whole grid
+// by Priority-Flood every step (nodes/hydrology/flow_routing.h).
 //
 // Units: K in m^(1-2m)/yr, U in m/yr, D in m^2/yr, time in years, lengths in metres. Border cells are base
 // level (held fixed); cells below sea level after the step's uplift are outlets too (they take no fluvial
@@ -28,6 +31,15 @@ struct StreamPowerParams {
   double duration = 1e6;      // years
   double sea_level = -1e9;    // metres: cells below are base level
   double channel_area = 0.0;  // m^2: fluvial incision only where the drainage area reaches this (0: everywhere)
+  // How closed depressions are crossed each step (library option; the node uses the default). Both fill a
+  // depression with sediment up to its spill level and route its water over the pass to the outlet.
+  enum class Depressions {
+    BasinGraph,     // local D8, then only the pits' basins rerouted through the basin graph's minimum spanning
+                    // tree (Cordonnier, Bovy & Braun 2019; nodes/hydrology/basin_graph.h): no priority queue,
+                    // nothing beyond one D8 pass and the stack when the surface has no pit; trees in parallel
+    PriorityFlood,  // Priority-Flood+epsilon fill of the whole grid every step, then D8 (Barnes et al. 2014)
+  };
+  Depressions depressions = Depressions::BasinGraph;
 };
 
 struct StreamPowerStats {

@@ -149,8 +149,9 @@ struct RoutingOptions {
 int flow_proportions(const FlowGrid& g, std::span<const float> z, int i, int j, const RoutingOptions& opt,
                      int nbr[8], double frac[8]);
 
-// Accumulation with any method (D8 delegates to accumulate_d8). Dependency counting in a fixed order, so
-// the result is deterministic. Pits keep what reaches them.
+// Accumulation with any method (D8 delegates to accumulate_d8). Dependency counting, in parallel over a
+// fixed set of row bands merged up a fixed tree (Barnes 2017), so every cell sums its shares in the same
+// order: bit-identical for any thread count. Pits keep what reaches them.
 std::vector<double> accumulate(const FlowGrid& g, std::span<const float> z, const RoutingOptions& opt,
                                std::span<const float> weight = {}, const ExecContext* ctx = nullptr);
 

@@ -138,13 +138,19 @@ Biome whittaker_biome(double e, double m) {
 std::vector<glm::dvec2> island_sites(const IslandParams& p) {
   if (!(p.size.x > 0.0 && p.size.y > 0.0)) throw std::runtime_error("island: the map size must be positive");
   if (p.cells < 1) throw std::runtime_error("island: at least one cell is needed");
-  if (p.distribution == SiteDistribution::Poisson) return poisson_sites(p.min_corner, p.size, p.cells, p.seed);
-  std::vector<glm::dvec2> pts(static_cast<std::size_t>(p.cells));
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    const double u = unit_hash(p.seed, 0x554e4946ull, 2 * i), v = unit_hash(p.seed, 0x554e4946ull, 2 * i + 1);
-    // Open interval: never on the border.
-    pts[i] = p.min_corner + p.size * glm::dvec2(0.0005 + 0.999 * u, 0.0005 + 0.999 * v);
+  std::vector<glm::dvec2> pts;
+  if (p.distribution == SiteDistribution::Poisson) {
+    pts = poisson_sites(p.min_corner, p.size, p.cells, p.seed);
+  } else {
+    pts.resize(static_cast<std::size_t>(p.cells));
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const double u = unit_hash(p.seed, 0x554e4946ull, 2 * i), v = unit_hash(p.seed, 0x554e4946ull, 2 * i + 1);
+      // Open interval: never on the border.
+      pts[i] = p.min_corner + p.size * glm::dvec2(0.0005 + 0.999 * u, 0.0005 + 0.999 * v);
+    }
   }
+  // Numbered along a Hilbert curve: cells and corners near in the map are near in memory.
+  hilbert_sort(pts);
   return pts;
 }
 
@@ -475,9 +481,7 @@ PolygonMap generate_island(const IslandParams& p, const Heightfield* mask, const
   const glm::dvec2 lo = p.min_corner, hi = p.min_corner + p.size;
   std::vector<glm::dvec2> sites = island_sites(p);
   if (ctx) ctx->progress(0.1);
-  sites = lloyd_relax(std::move(sites), lo, hi, p.relaxation, lloyd_energy, ctx);
-  if (ctx) ctx->progress(0.6);
-  PolygonMap map = voronoi_diagram(sites, lo, hi, ctx);
+  PolygonMap map = relaxed_voronoi_diagram(std::move(sites), lo, hi, p.relaxation, lloyd_energy, ctx);
   if (ctx) ctx->progress(0.8);
   classify_island(map, p, mask, ctx);
   return map;

@@ -4,7 +4,8 @@
 // rivers, moisture and a Whittaker biome.
 //
 // Pipeline (generate_island):
-//  1. sites: `cells` points, uniform or Poisson-disk (Bridson 2007), from counter-based hashes of the seed;
+//  1. sites: `cells` points, uniform or Poisson-disk (Bridson 2007), from counter-based hashes of the seed,
+//     numbered along a Hilbert curve (so the map's cells and corners near in space are near in memory);
 //  2. `relaxation` passes of Lloyd's algorithm (true area centroids, Lloyd 1982), then the clipped Voronoi
 //     diagram (voronoi.h, CGAL Delaunay dual);
 //  3. water per corner: in normalised coordinates (x, y) in [-1, 1]^2 over the map, water iff

@@ -125,7 +125,7 @@ Curves river_network(const RiverNetworkParams& p, const Heightfield* mask, const
         const glm::dvec2 q = d.position(i, j);
         if (q.x < lo.x || q.y < lo.y || q.x > hi.x || q.y > hi.y) continue;
         bool wet = false;
-        for (const auto [di, dj] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+        for (const auto& [di, dj] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
           const int a = i + di, b = j + dj;
           if (a >= 0 && b >= 0 && a < d.width() && b < d.height() && !(mask->at(a, b) >= 0.5f)) wet = true;
         }

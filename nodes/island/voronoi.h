@@ -3,9 +3,9 @@
 // of the CGAL core (voronoi_cgal.cpp is the only file that includes CGAL headers).
 //
 // The diagram is the dual of CGAL's Delaunay triangulation (exact predicates, inexact constructions) of the
-// sites plus their mirror images across the rectangle's sides near the border: the bisector of a site and
-// its mirror is the side itself, so the cells of the sites are exactly their Voronoi cells clipped to the
-// rectangle. Sites are snapped to a lattice of 2^-30 of the rectangle's longer side so the mirrors are exact
+// sites (inserted along a Hilbert curve) plus their mirror images across the rectangle's sides near the
+// border: the bisector of a site and its mirror is the side itself, so the cells of the sites are exactly
+// their Voronoi cells clipped to the rectangle. Sites are snapped to a lattice of 2^-30 of the rectangle's longer side so the mirrors are exact
 // and the four-point circles they form are recognised by the exact in-circle predicate; faces sharing a
 // circumcircle become one corner (no zero-length edges).
 #include <cstdint>
@@ -29,6 +29,10 @@ namespace orogen::island {
 PolygonMap voronoi_diagram(std::span<const glm::dvec2> sites, glm::dvec2 lo, glm::dvec2 hi,
                            const ExecContext* ctx = nullptr);
 
+// Reorders points along a Hilbert curve (deterministic), so that points near in the list are near in the
+// plane: cells numbered in this order make the polygon map's loops cache friendly.
+void hilbert_sort(std::vector<glm::dvec2>& points);
+
 // Area and area centroid of a simple polygon (shoelace formula; counter-clockwise gives a positive area).
 double polygon_area(std::span<const glm::dvec2> polygon);
 glm::dvec2 polygon_centroid(std::span<const glm::dvec2> polygon);
@@ -45,5 +49,10 @@ double centroidal_energy(const PolygonMap& map);
 // diagram before each pass and after the last (passes + 1 values).
 std::vector<glm::dvec2> lloyd_relax(std::vector<glm::dvec2> sites, glm::dvec2 lo, glm::dvec2 hi, int passes,
                                     std::vector<double>* energy = nullptr, const ExecContext* ctx = nullptr);
+
+// voronoi_diagram(lloyd_relax(sites, ...)) in one go: every diagram inserts the sites in the Hilbert order of
+// the first one (the sites move by less than a cell per pass), so the order is computed once.
+PolygonMap relaxed_voronoi_diagram(std::vector<glm::dvec2> sites, glm::dvec2 lo, glm::dvec2 hi, int passes,
+                                   std::vector<double>* energy = nullptr, const ExecContext* ctx = nullptr);
 
 }  // namespace orogen::island

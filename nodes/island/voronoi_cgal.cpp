@@ -3,6 +3,7 @@
 #include "nodes/island/voronoi.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
@@ -10,7 +11,10 @@
 
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Spatial_sort_traits_adapter_2.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/hilbert_sort.h>
+#include <CGAL/property_map.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include "graph/exec_context.h"
@@ -71,24 +75,59 @@ int find_root(std::vector<int>& parent, int k) {
   return k;
 }
 
-// Builds the diagram with mirrors of the sites within `margin` lattice steps of a side. Returns false if
-// some cell is not closed by them (then the caller mirrors every site).
-void triangulate(const Lattice& L, double margin, Delaunay& dt) {
-  const int n = static_cast<int>(L.kx.size());
-  std::vector<std::pair<Point, int>> points;
-  points.reserve(static_cast<std::size_t>(n) + 64);
-  for (int i = 0; i < n; ++i) points.emplace_back(Point(L.kx[static_cast<std::size_t>(i)], L.ky[static_cast<std::size_t>(i)]), i);
-  for (int i = 0; i < n; ++i) {
-    const double x = L.kx[static_cast<std::size_t>(i)], y = L.ky[static_cast<std::size_t>(i)];
-    if (x < margin) points.emplace_back(Point(-x, y), mirror_info(i, 0));
-    if (x > L.w - margin) points.emplace_back(Point(2.0 * L.w - x, y), mirror_info(i, 1));
-    if (y < margin) points.emplace_back(Point(x, -y), mirror_info(i, 2));
-    if (y > L.h - margin) points.emplace_back(Point(x, 2.0 * L.h - y), mirror_info(i, 3));
-  }
-  dt.insert(points.begin(), points.end());
-  if (dt.number_of_vertices() != points.size())
+// The order in which sites are inserted: along a Hilbert curve (CGAL::hilbert_sort, middle policy, which
+// draws no random numbers), so each point is located by a short walk from the previous one. Lloyd passes
+// keep the order of their first diagram: the sites move by less than a cell per pass.
+std::vector<int> hilbert_order(std::span<const Point> points) {
+  using Entry = std::pair<Point, int>;
+  std::vector<Entry> pts;
+  pts.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) pts.emplace_back(points[i], static_cast<int>(i));
+  using Traits = CGAL::Spatial_sort_traits_adapter_2<K, CGAL::First_of_pair_property_map<Entry>>;
+  CGAL::hilbert_sort(pts.begin(), pts.end(), Traits(), CGAL::Hilbert_sort_middle_policy());
+  std::vector<int> order(pts.size());
+  for (std::size_t k = 0; k < pts.size(); ++k) order[k] = pts[k].second;
+  return order;
+}
+
+std::vector<int> insertion_order(const Lattice& L) {
+  std::vector<Point> pts;
+  pts.reserve(L.kx.size());
+  for (std::size_t i = 0; i < L.kx.size(); ++i) pts.emplace_back(L.kx[i], L.ky[i]);
+  return hilbert_order(pts);
+}
+
+// Triangulates the sites (in `order`) and the mirrors of those within `margin` lattice steps of a side,
+// each point located from the previous one.
+void triangulate(const Lattice& L, std::span<const int> order, double margin, Delaunay& dt) {
+  std::size_t count = 0;
+  Delaunay::Face_handle hint;
+  const auto add = [&](double x, double y, int info) {
+    const auto v = dt.insert(Point(x, y), hint);
+    v->info() = info;
+    hint = v->face();
+    ++count;
+  };
+  for (int i : order) add(L.kx[static_cast<std::size_t>(i)], L.ky[static_cast<std::size_t>(i)], i);
+  // Mirrors side by side, so consecutive ones are near each other.
+  for (int side = 0; side < 4; ++side)
+    for (int i : order) {
+      const double x = L.kx[static_cast<std::size_t>(i)], y = L.ky[static_cast<std::size_t>(i)];
+      switch (side) {
+        case 0: if (x < margin) add(-x, y, mirror_info(i, 0)); break;
+        case 1: if (x > L.w - margin) add(2.0 * L.w - x, y, mirror_info(i, 1)); break;
+        case 2: if (y < margin) add(x, -y, mirror_info(i, 2)); break;
+        default: if (y > L.h - margin) add(x, 2.0 * L.h - y, mirror_info(i, 3)); break;
+      }
+    }
+  if (dt.number_of_vertices() != count)
     throw std::runtime_error("Voronoi diagram: two sites coincide (closer than 2^-30 of the map size)");
 }
+
+// Mirror margins tried in turn, in mean site spacings (a cell left open by the mirrors of one margin is
+// retried with the next; the last mirrors every site). Mirrors of sites whose cells do not reach a side
+// change nothing, so the result does not depend on which margin closed every cell.
+constexpr double kMargins[] = {2.0, 4.0};
 
 Point lattice_point(const Lattice& L, int info) {
   if (info >= 0) return Point(L.kx[static_cast<std::size_t>(info)], L.ky[static_cast<std::size_t>(info)]);
@@ -111,46 +150,75 @@ Point face_circumcentre(const Lattice& L, int a, int b, int c) {
   return CGAL::circumcenter(lattice_point(L, a), lattice_point(L, b), lattice_point(L, c));
 }
 
+// The same from a face of the triangulation (its vertices hold exactly the lattice points of their infos).
+Point face_circumcentre(Delaunay::Face_handle f) {
+  const Delaunay::Vertex_handle v0 = f->vertex(0), v1 = f->vertex(1), v2 = f->vertex(2);
+  const Point* p[3] = {&v0->point(), &v1->point(), &v2->point()};
+  int k[3] = {v0->info(), v1->info(), v2->info()};
+  const auto order = [&](int i, int j) {
+    if (k[i] > k[j]) {
+      std::swap(k[i], k[j]);
+      std::swap(p[i], p[j]);
+    }
+  };
+  order(0, 1);
+  order(1, 2);
+  order(0, 1);
+  return CGAL::circumcenter(*p[0], *p[1], *p[2]);
+}
+
 // Area centroids of the clipped cells straight from the triangulation (Lloyd passes need nothing else).
 // Returns false if a cell is not closed by the mirrors.
-bool centroids(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, std::vector<glm::dvec2>& out,
-               double* energy) {
+bool centroids(const Lattice& L, std::span<const int> order, glm::dvec2 lo, glm::dvec2 hi, double margin,
+               std::vector<glm::dvec2>& out, double* energy) {
   Delaunay dt;
-  triangulate(L, margin, dt);
+  triangulate(L, order, margin, dt);
   if (dt.dimension() < 2) return false;  // too few mirrors to surround the sites
   const std::size_t n = L.kx.size();
   std::vector<Point> centre;
+  centre.reserve(dt.number_of_faces());
   for (auto f : dt.all_face_handles()) f->info() = -1;
   for (auto f : dt.finite_face_handles()) {
+    const int a = f->vertex(0)->info(), b = f->vertex(1)->info(), c = f->vertex(2)->info();
+    if (a < 0 && b < 0 && c < 0) continue;  // mirrors only
     f->info() = static_cast<int>(centre.size());
-    centre.push_back(face_circumcentre(L, f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()));
+    centre.push_back(face_circumcentre(f));
   }
   out.assign(n, glm::dvec2(0.0));
   double e = 0.0;
   const double tol = 1.0;
   std::vector<glm::dvec2> poly;
+  std::vector<int> next_info;
   for (auto v : dt.finite_vertex_handles()) {
     const int i = v->info();
     if (i < 0) continue;
     const glm::dvec2 s(v->point().x(), v->point().y());
-    double area2 = 0.0;
-    glm::dvec2 acc(0.0);
     auto fc = dt.incident_faces(v);
     const auto done = fc;
     poly.clear();
+    next_info.clear();
     do {
       if (dt.is_infinite(fc)) return false;
       const Point& c = centre[static_cast<std::size_t>(fc->info())];
       if (c.x() < -tol || c.x() > L.w + tol || c.y() < -tol || c.y() > L.h + tol) return false;
       poly.emplace_back(std::clamp(c.x(), 0.0, L.w), std::clamp(c.y(), 0.0, L.h));
+      next_info.push_back(fc->vertex(fc->ccw(fc->index(v)))->info());
     } while (++fc != done);
-    for (std::size_t k = 0; k < poly.size(); ++k) {
-      const glm::dvec2 a = poly[k] - s, b = poly[(k + 1) % poly.size()] - s;
+    // Sum from a canonical face (the one after the neighbour with the least index), so the rounding does not
+    // depend on the triangulation's history.
+    const std::size_t m = poly.size();
+    const std::size_t k0 = static_cast<std::size_t>(std::min_element(next_info.begin(), next_info.end()) - next_info.begin());
+    double area2 = 0.0, ei = 0.0;
+    glm::dvec2 acc(0.0);
+    for (std::size_t t = 0; t < m; ++t) {
+      const std::size_t k = (k0 + t) % m;
+      const glm::dvec2 a = poly[k] - s, b = poly[(k + 1) % m] - s;
       const double cr = a.x * b.y - b.x * a.y;
       area2 += cr;
       acc += cr * (a + b);
-      e += cr / 12.0 * (glm::dot(a, a) + glm::dot(a, b) + glm::dot(b, b));
+      ei += cr / 12.0 * (glm::dot(a, a) + glm::dot(a, b) + glm::dot(b, b));
     }
+    e += ei;
     const glm::dvec2 centroid = area2 != 0.0 ? s + acc / (3.0 * area2) : s;
     out[static_cast<std::size_t>(i)] = glm::clamp(lo + centroid * L.scale, lo, hi);
   }
@@ -158,10 +226,11 @@ bool centroids(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, st
   return true;
 }
 
-bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, PolygonMap& out, const ExecContext* ctx) {
+bool build(const Lattice& L, std::span<const int> order_in, glm::dvec2 lo, glm::dvec2 hi, double margin,
+           PolygonMap& out, const ExecContext* ctx) {
   const int n = static_cast<int>(L.kx.size());
   Delaunay dt;
-  triangulate(L, margin, dt);
+  triangulate(L, order_in, margin, dt);
   if (dt.dimension() < 2) return false;  // too few mirrors to surround the sites
   if (ctx) ctx->check_cancelled();
 
@@ -172,6 +241,7 @@ bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, Polygo
   // Faces touching a site become (parts of) corners.
   for (auto f : dt.all_face_handles()) f->info() = -1;
   std::vector<Delaunay::Face_handle> faces;
+  faces.reserve(dt.number_of_faces());
   for (auto f : dt.finite_face_handles())
     if (f->vertex(0)->info() >= 0 || f->vertex(1)->info() >= 0 || f->vertex(2)->info() >= 0) {
       f->info() = static_cast<int>(faces.size());
@@ -180,6 +250,7 @@ bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, Polygo
   // Neighbouring faces on one circle (exact predicate) share their circumcentre: one corner.
   std::vector<int> parent(faces.size());
   std::iota(parent.begin(), parent.end(), 0);
+  bool merged = false;
   for (std::size_t k = 0; k < faces.size(); ++k) {
     const auto f = faces[k];
     for (int i = 0; i < 3; ++i) {
@@ -189,76 +260,111 @@ bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, Polygo
       if (dt.side_of_oriented_circle(f, opposite) == CGAL::ON_ORIENTED_BOUNDARY) {
         const int a = find_root(parent, static_cast<int>(k)), b = find_root(parent, g->info());
         parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+        merged = merged || a != b;
       }
     }
   }
   // Corners: one per circle. A corner's key is the sorted set of the (mirrored) sites on its circle; corners
   // are numbered in key order and placed at the circumcentre of the key's first three points, so the result
-  // does not depend on how CGAL happened to triangulate a circle of four or more sites (its point location
-  // draws from a global random generator).
-  std::vector<int> class_of(faces.size(), -1);
-  // Keys as one sorted list of (class, info) pairs: class c owns the range [key_start[c], key_start[c + 1]).
-  std::vector<std::pair<int, int>> members;
-  members.reserve(3 * faces.size());
+  // does not depend on how CGAL happened to triangulate a circle of four or more sites. Three points fix a
+  // circle, so the first three of a key tell it apart from every other key: they alone order the corners.
+  // (A class's root is its least face, so roots come first.)
+  const std::size_t nf = faces.size();
+  std::vector<int> class_of(nf, -1);
+  std::vector<int> class_size;
   int classes = 0;
-  for (std::size_t k = 0; k < faces.size(); ++k) {
-    const int root = find_root(parent, static_cast<int>(k));
-    if (class_of[static_cast<std::size_t>(root)] < 0) class_of[static_cast<std::size_t>(root)] = classes++;
-    const int c = class_of[static_cast<std::size_t>(root)];
-    class_of[k] = c;
-    for (int i = 0; i < 3; ++i) members.emplace_back(c, faces[k]->vertex(i)->info());
+  for (std::size_t k = 0; k < nf; ++k) {
+    const int root = merged ? find_root(parent, static_cast<int>(k)) : static_cast<int>(k);
+    if (root == static_cast<int>(k)) {
+      class_of[k] = classes++;
+      class_size.push_back(0);
+    } else {
+      class_of[k] = class_of[static_cast<std::size_t>(root)];
+    }
+    ++class_size[static_cast<std::size_t>(class_of[k])];
+  }
+  struct Key {
+    std::array<int, 3> info;  // the first three sites of the key
+    int cls = 0;
+    int begin = 0, size = 3;  // the whole key in `members` (circles of four or more sites)
+    unsigned __int128 packed = 0;  // info as one number in the same order
+  };
+  std::vector<Key> keys(static_cast<std::size_t>(classes));
+  std::vector<int> flags_of(static_cast<std::size_t>(classes), 0);  // 1 left, 2 right, 4 bottom, 8 top
+  std::vector<std::pair<int, int>> members;                          // (class, info) of circles of 4+ sites
+  for (std::size_t k = 0; k < nf; ++k) {
+    const int c = class_of[k];
+    const int a = faces[k]->vertex(0)->info(), b = faces[k]->vertex(1)->info(), d = faces[k]->vertex(2)->info();
+    if (class_size[static_cast<std::size_t>(c)] > 1) {
+      members.emplace_back(c, a);
+      members.emplace_back(c, b);
+      members.emplace_back(c, d);
+      continue;
+    }
+    std::array<int, 3> t{a, b, d};
+    if (t[0] > t[1]) std::swap(t[0], t[1]);
+    if (t[1] > t[2]) std::swap(t[1], t[2]);
+    if (t[0] > t[1]) std::swap(t[0], t[1]);
+    keys[static_cast<std::size_t>(c)] = {t, c};
+    for (int x : t)
+      if (x < 0) flags_of[static_cast<std::size_t>(c)] |= 1 << mirror_side(x);
   }
   std::sort(members.begin(), members.end());
   members.erase(std::unique(members.begin(), members.end()), members.end());
-  std::vector<int> key_start(static_cast<std::size_t>(classes) + 1, 0);
-  for (const auto& m : members) ++key_start[static_cast<std::size_t>(m.first) + 1];
-  for (std::size_t c = 1; c < key_start.size(); ++c) key_start[c] += key_start[c - 1];
-  const auto key_info = [&](int c, int k) { return members[static_cast<std::size_t>(key_start[static_cast<std::size_t>(c)] + k)].second; };
-  const auto key_size = [&](int c) { return key_start[static_cast<std::size_t>(c) + 1] - key_start[static_cast<std::size_t>(c)]; };
-  std::vector<int> order(static_cast<std::size_t>(classes));
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    const int na = key_size(a), nb = key_size(b);
-    for (int k = 0; k < std::min(na, nb); ++k)
-      if (key_info(a, k) != key_info(b, k)) return key_info(a, k) < key_info(b, k);
-    return na < nb;
+  for (std::size_t m = 0; m < members.size();) {
+    const int c = members[m].first;
+    auto& key = keys[static_cast<std::size_t>(c)];
+    key.cls = c;
+    key.begin = static_cast<int>(m);
+    int j = 0;
+    for (; m < members.size() && members[m].first == c; ++m, ++j) {
+      if (j < 3) key.info[static_cast<std::size_t>(j)] = members[m].second;
+      if (members[m].second < 0) flags_of[static_cast<std::size_t>(c)] |= 1 << mirror_side(members[m].second);
+    }
+    key.size = j;
+  }
+  for (auto& k : keys) {
+    const auto u = [&](int j) { return static_cast<unsigned __int128>(static_cast<std::uint32_t>(k.info[static_cast<std::size_t>(j)]) ^ 0x80000000u); };
+    k.packed = (u(0) << 64) | (u(1) << 32) | u(2);
+  }
+  // Whole keys compared only if the first three agree (two corners on one circle, split by faces of mirrors).
+  const auto key_at = [&](const Key& k, int j) {
+    return j < 3 ? k.info[static_cast<std::size_t>(j)] : members[static_cast<std::size_t>(k.begin + j)].second;
+  };
+  std::sort(keys.begin(), keys.end(), [&](const Key& a, const Key& b) {
+    if (a.packed != b.packed) return a.packed < b.packed;
+    for (int j = 3; j < std::min(a.size, b.size); ++j)
+      if (key_at(a, j) != key_at(b, j)) return key_at(a, j) < key_at(b, j);
+    return a.size < b.size;
   });
   std::vector<int> rank(static_cast<std::size_t>(classes));
-  for (std::size_t r = 0; r < order.size(); ++r) rank[static_cast<std::size_t>(order[r])] = static_cast<int>(r);
-  std::vector<int> corner_of(faces.size(), -1);
-  for (std::size_t k = 0; k < faces.size(); ++k) corner_of[k] = rank[static_cast<std::size_t>(class_of[k])];
+  for (std::size_t r = 0; r < keys.size(); ++r) rank[static_cast<std::size_t>(keys[r].cls)] = static_cast<int>(r);
+  std::vector<int> corner_of(nf, -1);
+  for (std::size_t k = 0; k < nf; ++k) corner_of[k] = rank[static_cast<std::size_t>(class_of[k])];
   out = PolygonMap{};
   out.min_corner = lo;
   out.max_corner = hi;
   out.corners.resize(static_cast<std::size_t>(classes));
-  std::vector<int> flags(static_cast<std::size_t>(classes), 0);  // per corner: 1 left, 2 right, 4 bottom, 8 top
-  for (std::size_t r = 0; r < order.size(); ++r) {
-    const int c = order[r];
-    const Point centre = face_circumcentre(L, key_info(c, 0), key_info(c, 1), key_info(c, 2));
-    auto& q = out.corners[r];
-    q.position = {centre.x(), centre.y()};  // lattice units for now
-    q.cells.reserve(3);
-    q.adjacent.reserve(3);
-    q.edges.reserve(3);
-    for (int k = 0; k < key_size(c); ++k)
-      if (key_info(c, k) < 0) flags[r] |= 1 << mirror_side(key_info(c, k));
-  }
   // Corners to world coordinates; corners on a side are placed exactly on it. A corner outside the
   // rectangle means a cell was not closed by the mirrors.
   const double tol = 1.0;  // lattice steps
-  for (std::size_t c = 0; c < out.corners.size(); ++c) {
-    auto& q = out.corners[c];
-    const int fl = flags[c];
-    if (fl == 0 && (q.position.x < -tol || q.position.x > L.w + tol || q.position.y < -tol || q.position.y > L.h + tol))
-      return false;
-    glm::dvec2 w = lo + q.position * L.scale;
-    w = glm::clamp(w, lo, hi);
+  for (std::size_t r = 0; r < keys.size(); ++r) {
+    const auto& key = keys[r];
+    const Point centre = face_circumcentre(L, key.info[0], key.info[1], key.info[2]);
+    const int fl = flags_of[static_cast<std::size_t>(key.cls)];
+    const glm::dvec2 pos(centre.x(), centre.y());  // lattice units
+    if (fl == 0 && (pos.x < -tol || pos.x > L.w + tol || pos.y < -tol || pos.y > L.h + tol)) return false;
+    glm::dvec2 w = glm::clamp(lo + pos * L.scale, lo, hi);
     if (fl & 1) w.x = lo.x;
     if (fl & 2) w.x = hi.x;
     if (fl & 4) w.y = lo.y;
     if (fl & 8) w.y = hi.y;
+    auto& q = out.corners[r];
     q.position = w;
     q.border = fl != 0;
+    q.cells.reserve(3);
+    q.adjacent.reserve(3);
+    q.edges.reserve(3);
   }
 
   out.cells.resize(static_cast<std::size_t>(n));
@@ -284,6 +390,9 @@ bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, Polygo
     }
   }
 
+  // Edges, ordered by (corners, cells): a counting sort on the first corner, then each (short) run sorted.
+  std::vector<PolygonMap::Edge> raw;
+  raw.reserve(3 * static_cast<std::size_t>(n) + 16);
   for (auto e : dt.finite_edges()) {
     const auto f = e.first;
     const int i = e.second;
@@ -296,11 +405,22 @@ bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, Polygo
     PolygonMap::Edge edge;
     edge.cells = {std::max(ia, ib), std::min(ia, ib) >= 0 ? std::min(ia, ib) : -1};
     edge.corners = {std::min(cf, cg), std::max(cf, cg)};
-    out.edges.push_back(edge);
+    raw.push_back(edge);
   }
-  std::sort(out.edges.begin(), out.edges.end(), [](const PolygonMap::Edge& a, const PolygonMap::Edge& b) {
-    return a.corners < b.corners || (a.corners == b.corners && a.cells < b.cells);
-  });
+  {
+    std::vector<int> start(out.corners.size() + 1, 0);
+    for (const auto& e : raw) ++start[static_cast<std::size_t>(e.corners[0]) + 1];
+    for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+    out.edges.resize(raw.size());
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (const auto& e : raw) out.edges[static_cast<std::size_t>(fill[static_cast<std::size_t>(e.corners[0])]++)] = e;
+    const auto less = [](const PolygonMap::Edge& a, const PolygonMap::Edge& b) {
+      return a.corners < b.corners || (a.corners == b.corners && a.cells < b.cells);
+    };
+    for (std::size_t c = 0; c + 1 < start.size(); ++c)
+      if (start[c + 1] - start[c] > 1)
+        std::sort(out.edges.begin() + start[c], out.edges.begin() + start[c + 1], less);
+  }
   for (std::size_t k = 0; k < out.edges.size(); ++k) {
     const auto& edge = out.edges[k];
     for (int c : edge.cells)
@@ -324,6 +444,42 @@ bool build(const Lattice& L, glm::dvec2 lo, glm::dvec2 hi, double margin, Polygo
   return true;
 }
 
+// The diagram of the snapped sites, trying the mirror margins in turn.
+void build_diagram(const Lattice& L, std::span<const int> order, glm::dvec2 lo, glm::dvec2 hi, PolygonMap& map,
+                   const ExecContext* ctx) {
+  const double spacing = std::sqrt(L.w * L.h / static_cast<double>(L.kx.size()));
+  for (double m : kMargins)
+    if (build(L, order, lo, hi, m * spacing, map, ctx)) return;
+  if (!build(L, order, lo, hi, 2.0 * std::max(L.w, L.h) + 1.0, map, ctx))
+    throw std::logic_error("Voronoi diagram: a cell stayed open with every site mirrored");
+}
+
+// One Lloyd pass: the centroids of the snapped sites' cells.
+void lloyd_pass(const Lattice& L, std::span<const int> order, glm::dvec2 lo, glm::dvec2 hi, std::vector<glm::dvec2>& out,
+                double* energy) {
+  const double spacing = std::sqrt(L.w * L.h / static_cast<double>(L.kx.size()));
+  for (double m : kMargins)
+    if (centroids(L, order, lo, hi, m * spacing, out, energy)) return;
+  if (!centroids(L, order, lo, hi, 2.0 * std::max(L.w, L.h) + 1.0, out, energy))
+    throw std::logic_error("Voronoi diagram: a cell stayed open with every site mirrored");
+}
+
+std::vector<glm::dvec2> relax(std::vector<glm::dvec2> sites, glm::dvec2 lo, glm::dvec2 hi, int passes,
+                              std::vector<double>* energy, const ExecContext* ctx, std::vector<int>& order) {
+  std::vector<glm::dvec2> next;
+  for (int pass = 0; pass <= passes; ++pass) {
+    if (pass == passes && !energy) break;
+    if (ctx) ctx->check_cancelled();
+    const Lattice L = snap(sites, lo, hi);
+    if (order.empty()) order = insertion_order(L);
+    double e = 0.0;
+    lloyd_pass(L, order, lo, hi, next, &e);
+    if (energy) energy->push_back(e);
+    if (pass < passes) sites.swap(next);
+  }
+  return sites;
+}
+
 }  // namespace
 
 PolygonMap voronoi_diagram(std::span<const glm::dvec2> sites, glm::dvec2 lo, glm::dvec2 hi, const ExecContext* ctx) {
@@ -333,13 +489,34 @@ PolygonMap voronoi_diagram(std::span<const glm::dvec2> sites, glm::dvec2 lo, glm
   map.min_corner = lo;
   map.max_corner = hi;
   if (sites.empty()) return map;
-  // Mirror the sites within a few mean spacings of a side; if that leaves a cell open, mirror all.
-  const double spacing = std::sqrt(L.w * L.h / static_cast<double>(sites.size()));
-  if (!build(L, lo, hi, 4.0 * spacing, map, ctx)) {
-    if (!build(L, lo, hi, 2.0 * std::max(L.w, L.h) + 1.0, map, ctx))
-      throw std::logic_error("Voronoi diagram: a cell stayed open with every site mirrored");
-  }
+  build_diagram(L, insertion_order(L), lo, hi, map, ctx);
   return map;
+}
+
+PolygonMap relaxed_voronoi_diagram(std::vector<glm::dvec2> sites, glm::dvec2 lo, glm::dvec2 hi, int passes,
+                                   std::vector<double>* energy, const ExecContext* ctx) {
+  if (energy) energy->clear();
+  if (sites.size() > static_cast<std::size_t>(kMaxSites)) throw std::runtime_error("Voronoi diagram: too many sites");
+  PolygonMap map;
+  map.min_corner = lo;
+  map.max_corner = hi;
+  if (sites.empty()) return map;
+  std::vector<int> order;
+  sites = relax(std::move(sites), lo, hi, passes, energy, ctx, order);
+  const Lattice L = snap(sites, lo, hi);
+  if (order.empty()) order = insertion_order(L);
+  build_diagram(L, order, lo, hi, map, ctx);
+  return map;
+}
+
+void hilbert_sort(std::vector<glm::dvec2>& points) {
+  std::vector<Point> pts;
+  pts.reserve(points.size());
+  for (const auto& p : points) pts.emplace_back(p.x, p.y);
+  const std::vector<int> order = hilbert_order(pts);
+  std::vector<glm::dvec2> sorted(points.size());
+  for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = points[static_cast<std::size_t>(order[k])];
+  points.swap(sorted);
 }
 
 double polygon_area(std::span<const glm::dvec2> poly) {
@@ -392,19 +569,8 @@ std::vector<glm::dvec2> lloyd_relax(std::vector<glm::dvec2> sites, glm::dvec2 lo
   if (energy) energy->clear();
   if (sites.empty()) return sites;
   if (sites.size() > static_cast<std::size_t>(kMaxSites)) throw std::runtime_error("Voronoi diagram: too many sites");
-  std::vector<glm::dvec2> next;
-  for (int pass = 0; pass <= passes; ++pass) {
-    if (pass == passes && !energy) break;
-    if (ctx) ctx->check_cancelled();
-    const Lattice L = snap(sites, lo, hi);
-    const double spacing = std::sqrt(L.w * L.h / static_cast<double>(sites.size()));
-    double e = 0.0;
-    if (!centroids(L, lo, hi, 4.0 * spacing, next, &e) && !centroids(L, lo, hi, 2.0 * std::max(L.w, L.h) + 1.0, next, &e))
-      throw std::logic_error("Voronoi diagram: a cell stayed open with every site mirrored");
-    if (energy) energy->push_back(e);
-    if (pass < passes) sites.swap(next);
-  }
-  return sites;
+  std::vector<int> order;
+  return relax(std::move(sites), lo, hi, passes, energy, ctx, order);
 }
 
 }  // namespace orogen::island

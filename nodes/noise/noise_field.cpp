@@ -58,11 +58,12 @@ const float* copy_run(const Heightfield* f, int j, int c0, int n, int padded, fl
 }
 
 // Per-octave lattice coordinates of every column (unwarped evaluation).
-// Simplex splits two column terms (see kernels::SimplexRun): cell/frac hold u (1 + F2) and cell_j/frac_j u F2.
+// Simplex splits two column terms (see kernels::SimplexRows): cell/frac hold u (1 + F2) and cell_j/frac_j u F2,
+// cells not pre-multiplied.
 struct ColumnCoords {
-  std::vector<std::uint32_t> cell;  // lattice bases: cell * kHashPrimeX
+  std::vector<std::uint32_t> cell;  // lattice bases: cell * kHashPrimeX; simplex: the cell
   std::vector<float> frac;
-  std::vector<std::uint32_t> cell_j;  // simplex only: cell * kHashPrimeY
+  std::vector<std::uint32_t> cell_j;  // simplex only: the cell
   std::vector<float> frac_j;
 };
 
@@ -109,11 +110,11 @@ void evaluate_noise_into(Heightfield& out, const NoisePlan& plan, const NoiseInp
     for (std::size_t i = 0; i < xs.size(); ++i) {
       const double u = xs[i] * o.frequency + o.shift_x;
       const auto s = reference::split(simplex ? u * (1.0 + reference::kSimplexF2) : u);
-      c.cell[i] = s.cell * kHashPrimeX;
+      c.cell[i] = simplex ? s.cell : s.cell * kHashPrimeX;
       c.frac[i] = s.frac;
       if (simplex) {
         const auto sj = reference::split(u * reference::kSimplexF2);
-        c.cell_j[i] = sj.cell * kHashPrimeY;
+        c.cell_j[i] = sj.cell;
         c.frac_j[i] = sj.frac;
       }
     }
@@ -196,29 +197,33 @@ void evaluate_noise_into(Heightfield& out, const NoisePlan& plan, const NoiseInp
                                           hy[r0], fy + r0, r1 - r0};
             lattice_basis(run, destination(r0));
           }
+        } else if (simplex && !warped) {
+          // All rows of the block in one call: they share the columns' split.
+          const ColumnCoords& col = columns[k];
+          kernels::SimplexRows run;
+          run.ci = col.cell.data() + c0;
+          run.cj = col.cell_j.data() + c0;
+          run.fi = col.frac.data() + c0;
+          run.fj = col.frac_j.data() + c0;
+          run.rows = rows;
+          for (int r = 0; r < rows; ++r) {
+            const double v = ys[r] * o.frequency + o.shift_y;
+            const auto b = reference::split(v * reference::kSimplexF2);
+            const auto c = reference::split(v * (1.0 + reference::kSimplexF2));
+            run.row_ci[r] = b.cell;
+            run.row_cj[r] = c.cell;
+            run.row_fi[r] = b.frac;
+            run.row_fj[r] = c.frac;
+          }
+          kernels::simplex_rows(run, o.key, np, destination(0));
         } else {
           for (int r = 0; r < rows; ++r) {
             const double y = ys[r];
-            if (simplex) {
-              if (warped) {
-                kernels::displaced(xs.data() + c0, 0.0, wx[r], o.frequency, o.shift_x, np, s.u);
-                kernels::displaced(nullptr, y, wy[r], o.frequency, o.shift_y, np, s.v);
-                kernels::simplex_skew(s.u, s.v, 0.0, np, s.cx, s.cy, s.fx, s.fy);
-                kernels::simplex({s.cx, s.cy, s.fx, s.fy}, o.key, np, destination(r));
-              } else {
-                const double v = y * o.frequency + o.shift_y;
-                const auto b = reference::split(v * reference::kSimplexF2);
-                const auto c = reference::split(v * (1.0 + reference::kSimplexF2));
-                const ColumnCoords& col = columns[k];
-                kernels::SimplexRun run{col.cell.data() + c0, col.cell_j.data() + c0, col.frac.data() + c0,
-                                        col.frac_j.data() + c0};
-                run.row_split = true;
-                run.row_hi = b.cell * kHashPrimeX;
-                run.row_hj = c.cell * kHashPrimeY;
-                run.row_fi = b.frac;
-                run.row_fj = c.frac;
-                kernels::simplex(run, o.key, np, destination(r));
-              }
+            if (simplex) {  // warped
+              kernels::displaced(xs.data() + c0, 0.0, wx[r], o.frequency, o.shift_x, np, s.u);
+              kernels::displaced(nullptr, y, wy[r], o.frequency, o.shift_y, np, s.v);
+              kernels::simplex_skew(s.u, s.v, 0.0, np, s.cx, s.cy, s.fx, s.fy);
+              kernels::simplex({s.cx, s.cy, s.fx, s.fy}, o.key, np, destination(r));
             } else {  // warped lattice bases
               kernels::displaced(xs.data() + c0, 0.0, wx[r], o.frequency, o.shift_x, np, s.u);
               kernels::split_lattice(s.u, kHashPrimeX, np, s.cx, s.fx);

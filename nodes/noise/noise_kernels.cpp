@@ -52,6 +52,16 @@ HWY_INLINE VU Mix(VU h) {
   return hn::Xor(h, hn::ShiftRight<15>(h));
 }
 
+// lowbias32 without its last step (h ^= h >> 15), which changes only the low 15 bits: enough where only the
+// top bits are used (the gradient number h >> 28 and the sign bit), with the same result as Mix.
+HWY_INLINE VU MixTop(VU h) {
+  const DU du;
+  h = hn::Xor(h, hn::ShiftRight<16>(h));
+  h = hn::Mul(h, hn::Set(du, kMixA));
+  h = hn::Xor(h, hn::ShiftRight<15>(h));
+  return hn::Mul(h, hn::Set(du, kMixB));
+}
+
 // Top 24 bits as a float in [0, 1).
 HWY_INLINE VF UnitFloat(VU h) {
   const DF df;
@@ -319,49 +329,147 @@ void WhiteImpl(const LatticeRun in, std::uint32_t key, int n, float* out, std::p
   }
 }
 
-template <bool kRowSplit, bool kAccumulate>
+// One simplex corner: (max(0, 1/2 - x^2 - y^2))^4 (g . (x, y)).
+HWY_INLINE VF SimplexCorner(VF x, VF y, const Gradients::Vector& g) {
+  const DF df;
+  const VF w = hn::Max(hn::Zero(df), hn::NegMulAdd(y, y, hn::NegMulAdd(x, x, hn::Set(df, 0.5f))));  // 0 beyond the radius
+  const VF w2 = hn::Mul(w, w);
+  return hn::Mul(hn::Mul(w2, w2), Gradients::Dot(g, x, y));
+}
+
+// The three corners of the simplex (x0, y0) lies in, relative to its origin: the middle corner is (1, 0) in
+// the lower triangle (x0 > y0), else (0, 1).
+struct SimplexCorners {
+  hn::Mask<DF> lower;
+  VF x1, y1, x2, y2;
+  HWY_INLINE SimplexCorners(VF x0, VF y0) {
+    const DF df;
+    constexpr float g2 = static_cast<float>(reference::kSimplexG2);
+    const VF one = hn::Set(df, 1.0f), vg2 = hn::Set(df, g2);
+    lower = x0 > y0;
+    const VF x0m1 = hn::Sub(x0, one), y0m1 = hn::Sub(y0, one);
+    x1 = hn::Add(hn::IfThenElse(lower, x0m1, x0), vg2);
+    y1 = hn::Add(hn::IfThenElse(lower, y0, y0m1), vg2);
+    x2 = hn::Add(x0m1, hn::Set(df, 2.0f * g2));
+    y2 = hn::Add(y0m1, hn::Set(df, 2.0f * g2));
+  }
+};
+
+// The three corner hashes from the pre-multiplied cell (ib, jb) and the sum of the corners.
+HWY_INLINE VF SimplexHashed(VF x0, VF y0, const SimplexCorners& c, VU ib, VU jb, VU vkey, const Gradients& g) {
+  const DU du;
+  const VU px = hn::Set(du, kHashPrimeX), py = hn::Set(du, kHashPrimeY);
+  const auto lower_u = hn::RebindMask(du, c.lower);
+  const VU ib1 = hn::Add(ib, px), jb1 = hn::Add(jb, py);
+  const VU jk = hn::Xor(jb, vkey), jk1 = hn::Xor(jb1, vkey);
+  const VU h0 = MixTop(hn::Xor(ib, jk));
+  const VU h1 = MixTop(hn::IfThenElse(lower_u, hn::Xor(ib1, jk), hn::Xor(ib, jk1)));
+  const VU h2 = MixTop(hn::Xor(ib1, jk1));
+  return hn::Add(hn::Add(SimplexCorner(x0, y0, g.Lookup(h0)), SimplexCorner(c.x1, c.y1, g.Lookup(h1))),
+                 SimplexCorner(c.x2, c.y2, g.Lookup(h2)));
+}
+
+// Warped samples: per-sample cells and offsets.
+template <bool kAccumulate>
 void SimplexImpl(const SimplexRun in, std::uint32_t key, int n, float* out, float scale) {
   const DF df;
   const DU du;
-  const VU px = hn::Set(du, kHashPrimeX), py = hn::Set(du, kHashPrimeY), vkey = hn::Set(du, key);
-  constexpr float g2 = static_cast<float>(reference::kSimplexG2);
-  const VF one = hn::Set(df, 1.0f), vg2 = hn::Set(df, g2), vg2x2 = hn::Set(df, 2.0f * g2);
-  const VF half = hn::Set(df, 0.5f), zero = hn::Zero(df);
+  const VU vkey = hn::Set(du, key);
   const VF vscale = hn::Set(df, scale * reference::kSimplexScale);
   const Gradients g;
-  auto corner = [&](VF x, VF y, VU h) {
-    const VF w = hn::Max(zero, hn::NegMulAdd(y, y, hn::NegMulAdd(x, x, half)));  // 0 beyond the radius
-    const VF w2 = hn::Mul(w, w);
-    return hn::Mul(hn::Mul(w2, w2), g.Dot(h, x, y));
-  };
-  const VF row_fi = hn::Set(df, in.row_fi), row_fj = hn::Set(df, in.row_fj);
-  const VU row_hi = hn::Set(du, in.row_hi), row_hj = hn::Set(du, in.row_hj);
   for (std::size_t k = 0; k < static_cast<std::size_t>(n); k += hn::Lanes(df)) {
-    VF x0 = hn::LoadU(df, in.x0 + k), y0 = hn::LoadU(df, in.y0 + k);
-    VU ib = hn::LoadU(du, in.hi + k), jb = hn::LoadU(du, in.hj + k);
-    if constexpr (kRowSplit) {
+    const VF x0 = hn::LoadU(df, in.x0 + k), y0 = hn::LoadU(df, in.y0 + k);
+    const VU ib = hn::LoadU(du, in.hi + k), jb = hn::LoadU(du, in.hj + k);
+    const SimplexCorners c(x0, y0);
+    Put<kAccumulate>(hn::Mul(SimplexHashed(x0, y0, c, ib, jb, vkey, g), vscale), out, k);
+  }
+}
+
+// Unwarped rows sharing their columns (SimplexRows). Per vector of columns, a block of kBlockW x kBlockH
+// lattice vertices from the first row's first sample: vertex (ib + a, jb + b) in lane b * kBlockW + a, its
+// gradient looked up once. A sample with cell (ib + di, jb + dj) takes its corners from lanes
+// dj * kBlockW + di, that + (1 or kBlockW), that + kBlockW + 1, if every lane of its vector has
+// di <= kBlockW - 2 and dj <= kBlockH - 2; otherwise its vector hashes the corners itself.
+template <bool kAccumulate>
+void SimplexRowsImpl(const SimplexRows& in, std::uint32_t key, int n, float* out, std::ptrdiff_t stride, float scale) {
+  const DF df;
+  const DU du;
+  const DI di;
+  constexpr std::size_t kLanes = HWY_LANES(float);
+  constexpr int kBlockW = kLanes >= 8 ? 4 : kLanes >= 4 ? 2 : 0;
+  constexpr int kBlockH = kLanes >= 16 ? 4 : kLanes >= 4 ? 2 : 0;
+  constexpr int kShiftW = kBlockW == 4 ? 2 : 1;
+  const VU px = hn::Set(du, kHashPrimeX), py = hn::Set(du, kHashPrimeY), vkey = hn::Set(du, key);
+  const VU one_u = hn::Set(du, 1u);
+  const VF one = hn::Set(df, 1.0f), vg2 = hn::Set(df, static_cast<float>(reference::kSimplexG2));
+  const VF vscale = hn::Set(df, scale * reference::kSimplexScale);
+  const Gradients g;
+  VU block_x = hn::Zero(du), block_y = hn::Zero(du);
+  if constexpr (kBlockW > 0) {
+    alignas(64) std::uint32_t ox[kLanes], oy[kLanes];
+    for (std::size_t l = 0; l < kLanes; ++l) {
+      ox[l] = static_cast<std::uint32_t>(l % kBlockW) * kHashPrimeX;
+      oy[l] = static_cast<std::uint32_t>((l / kBlockW) % kBlockH) * kHashPrimeY;
+    }
+    block_x = hn::Load(du, ox);
+    block_y = hn::Load(du, oy);
+  }
+  VF row_fi[kMaxRows], row_fj[kMaxRows];
+  VU row_ci[kMaxRows], row_cj[kMaxRows];
+  for (int r = 0; r < in.rows; ++r) {
+    row_fi[r] = hn::Set(df, in.row_fi[r]);
+    row_fj[r] = hn::Set(df, in.row_fj[r]);
+    row_ci[r] = hn::Set(du, in.row_ci[r]);
+    row_cj[r] = hn::Set(du, in.row_cj[r]);
+  }
+  for (std::size_t k = 0; k < static_cast<std::size_t>(n); k += hn::Lanes(df)) {
+    const VU ca = hn::LoadU(du, in.ci + k), cd = hn::LoadU(du, in.cj + k);
+    const VF fa = hn::LoadU(df, in.fi + k), fd = hn::LoadU(df, in.fj + k);
+    // The block's origin: the cell of the first row's first sample (any cell would do; this one makes the
+    // block cover the run).
+    const float sx0 = in.fi[k] + in.row_fi[0], sy0 = in.fj[k] + in.row_fj[0];
+    const std::uint32_t ib = in.ci[k] + in.row_ci[0] + (sx0 >= 1.0f ? 1u : 0u);
+    const std::uint32_t jb = in.cj[k] + in.row_cj[0] + (sy0 >= 1.0f ? 1u : 0u);
+    Gradients::Vector block{};
+    if constexpr (kBlockW > 0) {
+      const VU vertex = hn::Xor(hn::Add(hn::Set(du, ib * kHashPrimeX), block_x),
+                                hn::Xor(hn::Add(hn::Set(du, jb * kHashPrimeY), block_y), vkey));
+      block = g.Lookup(MixTop(vertex));
+    }
+    for (int r = 0; r < in.rows; ++r) {
       // Skewed fractions X, Y in [0, 1) with their carries into the cells, then unskewed.
-      VF sx = hn::Add(x0, row_fi), sy = hn::Add(y0, row_fj);
+      VF sx = hn::Add(fa, row_fi[r]), sy = hn::Add(fd, row_fj[r]);
       const auto carry_x = sx >= one, carry_y = sy >= one;
       sx = hn::Sub(sx, hn::IfThenElseZero(carry_x, one));
       sy = hn::Sub(sy, hn::IfThenElseZero(carry_y, one));
-      ib = hn::Add(hn::Add(ib, row_hi), hn::IfThenElseZero(hn::RebindMask(du, carry_x), px));
-      jb = hn::Add(hn::Add(jb, row_hj), hn::IfThenElseZero(hn::RebindMask(du, carry_y), py));
+      const VU ci = hn::Add(hn::Add(ca, row_ci[r]), hn::IfThenElseZero(hn::RebindMask(du, carry_x), one_u));
+      const VU cj = hn::Add(hn::Add(cd, row_cj[r]), hn::IfThenElseZero(hn::RebindMask(du, carry_y), one_u));
       const VF t = hn::Mul(hn::Add(sx, sy), vg2);
-      x0 = hn::Sub(sx, t);
-      y0 = hn::Sub(sy, t);
+      const VF x0 = hn::Sub(sx, t), y0 = hn::Sub(sy, t);
+      const SimplexCorners c(x0, y0);
+      VF sum;
+      bool in_block = false;
+      VU i0;
+      if constexpr (kBlockW > 0) {
+        const VU dx = hn::Sub(ci, hn::Set(du, ib)), dy = hn::Sub(cj, hn::Set(du, jb));
+        // Unsigned: a cell before the block's origin wraps to a large number.
+        in_block = hn::AllTrue(du, hn::And(hn::Lt(dx, hn::Set(du, kBlockW - 1)), hn::Lt(dy, hn::Set(du, kBlockH - 1))));
+        i0 = hn::Add(hn::ShiftLeft<kShiftW>(dy), dx);
+      }
+      if (in_block) {
+        const VU i1 = hn::Add(i0, hn::IfThenElse(hn::RebindMask(du, c.lower), one_u, hn::Set(du, kBlockW)));
+        const VU i2 = hn::Add(i0, hn::Set(du, kBlockW + 1));
+        const auto pick = [&](VU lane) {
+          const auto idx = hn::IndicesFromVec(df, hn::BitCast(di, lane));
+          return Gradients::Vector{hn::TableLookupLanes(block.x, idx), hn::TableLookupLanes(block.y, idx)};
+        };
+        sum = hn::Add(hn::Add(SimplexCorner(x0, y0, pick(i0)), SimplexCorner(c.x1, c.y1, pick(i1))),
+                      SimplexCorner(c.x2, c.y2, pick(i2)));
+      } else {
+        sum = SimplexHashed(x0, y0, c, hn::Mul(ci, px), hn::Mul(cj, py), vkey, g);
+      }
+      Put<kAccumulate>(hn::Mul(sum, vscale), out + r * stride, k);
     }
-    const auto lower = x0 > y0;  // lower triangle: the middle corner is (1, 0), else (0, 1)
-    const auto lower_u = hn::RebindMask(du, lower);
-    const VF i1 = hn::IfThenElseZero(lower, one), j1 = hn::Sub(one, i1);
-    const VF x1 = hn::Add(hn::Sub(x0, i1), vg2), y1 = hn::Add(hn::Sub(y0, j1), vg2);
-    const VF x2 = hn::Add(hn::Sub(x0, one), vg2x2), y2 = hn::Add(hn::Sub(y0, one), vg2x2);
-    const VU i_mid = hn::Add(ib, hn::IfThenElseZero(lower_u, px));
-    const VU j_mid = hn::Add(jb, hn::IfThenZeroElse(lower_u, py));
-    const VF sum = hn::Add(hn::Add(corner(x0, y0, Mix(hn::Xor(hn::Xor(ib, jb), vkey))),
-                                   corner(x1, y1, Mix(hn::Xor(hn::Xor(i_mid, j_mid), vkey)))),
-                           corner(x2, y2, Mix(hn::Xor(hn::Xor(hn::Add(ib, px), hn::Add(jb, py)), vkey))));
-    Put<kAccumulate>(hn::Mul(sum, vscale), out, k);
   }
 }
 
@@ -542,13 +650,12 @@ void White(const LatticeRun& in, std::uint32_t key, int n, const Output& o) {
   DispatchLattice<WhiteOp>(in, o, key, n);
 }
 void Simplex(const SimplexRun& in, std::uint32_t key, int n, const Output& o) {
-  if (in.row_split) {
-    if (o.accumulate) SimplexImpl<true, true>(in, key, n, o.out, o.scale);
-    else SimplexImpl<true, false>(in, key, n, o.out, o.scale);
-  } else {
-    if (o.accumulate) SimplexImpl<false, true>(in, key, n, o.out, o.scale);
-    else SimplexImpl<false, false>(in, key, n, o.out, o.scale);
-  }
+  if (o.accumulate) SimplexImpl<true>(in, key, n, o.out, o.scale);
+  else SimplexImpl<false>(in, key, n, o.out, o.scale);
+}
+void SimplexRowsKernel(const SimplexRows& in, std::uint32_t key, int n, const Output& o) {
+  if (o.accumulate) SimplexRowsImpl<true>(in, key, n, o.out, o.stride, o.scale);
+  else SimplexRowsImpl<false>(in, key, n, o.out, o.stride, o.scale);
 }
 
 template <WorleyMetric M, WorleyOutput O>
@@ -673,6 +780,7 @@ HWY_EXPORT(Perlin);
 HWY_EXPORT(Value);
 HWY_EXPORT(White);
 HWY_EXPORT(Simplex);
+HWY_EXPORT(SimplexRowsKernel);
 HWY_EXPORT(Worley);
 HWY_EXPORT(BillowStep);
 HWY_EXPORT(RidgedStep);
@@ -712,6 +820,11 @@ void white(const LatticeRun& in, std::uint32_t key, int n, const Output& out) {
 void simplex(const SimplexRun& in, std::uint32_t key, int n, const Output& out) {
   assert(n % kBatchAlign == 0);
   HWY_DYNAMIC_DISPATCH(Simplex)(in, key, n, out);
+}
+void simplex_rows(const SimplexRows& in, std::uint32_t key, int n, const Output& out) {
+  assert(n % kBatchAlign == 0);
+  assert(in.rows >= 1 && in.rows <= kMaxRows);
+  HWY_DYNAMIC_DISPATCH(SimplexRowsKernel)(in, key, n, out);
 }
 void worley(const LatticeRun& in, std::uint32_t key, const WorleyRun& search, int n, const Output& out) {
   assert(n % kBatchAlign == 0);

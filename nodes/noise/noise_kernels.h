@@ -47,24 +47,35 @@ struct LatticeRun {
   int rows = 1;
 };
 
-// Simplex coordinates: skewed cell (i, j), pre-multiplied like LatticeRun (hi = i * kHashPrimeX,
-// hj = j * kHashPrimeY), and the unskewed offset (x0, y0) from its origin.
-//
-// Unwarped rows take a faster form (row_split): the skewed coordinates are sums of a column term and a row
-// term, (u + s, v + s) = (A + B, D + C) with A = u (1 + F2), D = u F2 per column and B = v F2, C = v (1 + F2)
-// per row. Each term is split once, in double, into a wrapped lattice cell and a fraction; a sample then only
-// adds the fractions (a carry when they pass 1) and the cells, in float and integer lanes. The columns'
-// split is shared by every row, so no per-sample double arithmetic is left, and the result depends only on
-// the world coordinates of the sample's column and row (tile-invariant). Then hi, hj hold the columns' cells
-// of A and D (pre-multiplied) and x0, y0 their fractions.
+// Simplex coordinates of warped samples: skewed cell (i, j), pre-multiplied like LatticeRun
+// (hi = i * kHashPrimeX, hj = j * kHashPrimeY), and the unskewed offset (x0, y0) from its origin.
 struct SimplexRun {
   const std::uint32_t* hi = nullptr;
   const std::uint32_t* hj = nullptr;
   const float* x0 = nullptr;
   const float* y0 = nullptr;
-  bool row_split = false;
-  std::uint32_t row_hi = 0, row_hj = 0;  // cells of B and C, pre-multiplied
-  float row_fi = 0.0f, row_fj = 0.0f;    // fractions of B and C
+};
+
+// Unwarped simplex rows sharing their columns. The skewed coordinates are sums of a column term and a row
+// term, (u + s, v + s) = (A + B, D + C) with A = u (1 + F2), D = u F2 per column and B = v F2, C = v (1 + F2)
+// per row. Each term is split once, in double, into a wrapped lattice cell (not pre-multiplied here) and a
+// fraction; a sample then only adds the fractions (a carry when they pass 1) and the cells, in float and
+// integer lanes. The columns' split is shared by every row, so no per-sample double arithmetic is left, and
+// the result depends only on the world coordinates of the sample's column and row (tile-invariant).
+//
+// Rows of a run lie close together, so a vector of columns over all of them touches few lattice vertices:
+// the kernel hashes a small block of vertices once per vector of columns (one hash per lane) and each
+// sample picks its three corners' gradients from it by lane permutation; a row whose vertices fall outside
+// the block (sparse sampling) hashes its corners itself. Both give the same bits. Row r goes to
+// out + r * stride.
+struct SimplexRows {
+  const std::uint32_t* ci = nullptr;  // cells of A
+  const std::uint32_t* cj = nullptr;  // cells of D
+  const float* fi = nullptr;          // fractions of A
+  const float* fj = nullptr;          // fractions of D
+  int rows = 1;
+  std::uint32_t row_ci[kMaxRows] = {}, row_cj[kMaxRows] = {};  // cells of B and C
+  float row_fi[kMaxRows] = {}, row_fj[kMaxRows] = {};          // fractions of B and C
 };
 
 // Where a basis kernel puts its result: out = scale * noise, or out += scale * noise when accumulating.
@@ -107,6 +118,7 @@ void perlin(const LatticeRun& in, std::uint32_t key, int n, const Output& out);
 void value(const LatticeRun& in, std::uint32_t key, int n, const Output& out);
 void white(const LatticeRun& in, std::uint32_t key, int n, const Output& out);
 void simplex(const SimplexRun& in, std::uint32_t key, int n, const Output& out);
+void simplex_rows(const SimplexRows& in, std::uint32_t key, int n, const Output& out);
 void worley(const LatticeRun& in, std::uint32_t key, const WorleyRun& search, int n, const Output& out);
 
 // ---- fractal combination (one octave at a time; `first` marks octave 0) ----

@@ -1,9 +1,11 @@
 // Plant nodes: LSystem (grammar -> module string), Turtle3D (module string -> skeleton curves and leaf
-// points), TreeMesh (skeleton and leaves -> mesh). Thin adapters over lsystem.h, turtle.h, tree_mesh.h.
+// points), TreeMesh (skeleton and leaves -> mesh), PlantSprite (module string -> flat 2D plant mesh). Thin
+// adapters over lsystem.h, turtle.h, tree_mesh.h, plant_sprite.h.
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
 #include "graph/registry.h"
 #include "nodes/plants/lsystem.h"
+#include "nodes/plants/plant_sprite.h"
 #include "nodes/plants/tree_mesh.h"
 #include "nodes/plants/turtle.h"
 
@@ -137,6 +139,64 @@ OROGEN_NODE(TreeMesh) {
     auto mesh = std::make_shared<Mesh>();
     try {
       *mesh = plants::tree_mesh(*skeleton, leaves.get(), o);
+    } catch (const std::invalid_argument& e) {
+      throw NodeError(e.what());
+    }
+    ctx.check_cancelled();
+    ctx.set_output("out", std::move(mesh));
+  });
+}
+
+OROGEN_NODE(PlantSprite) {
+  b.reach_global();
+  b.domain_independent();
+  b.category("plants").description(
+      "A flat plant from an L-system word, drawn by a 2D turtle (Prusinkiewicz & Lindenmayer 1990, The "
+      "Algorithmic Beauty of Plants, ch. 1: F draws, f moves, + and - turn, | turns around, [ ] branch, ! sets "
+      "the width) in the vertical x-z plane: every segment a ribbon quad of the branch's width, narrowed by "
+      "taper per branch level, every leaf symbol a small diamond quad along the heading. crossed repeats the "
+      "drawing in the y-z plane (two crossed billboards, readable from every side). The mesh stands on its "
+      "root: its lowest point is at z = 0, so Instance places it on the ground. 3D turtle symbols are ignored.");
+  b.input("in", PortType::ModuleString).description("Word from LSystem");
+  b.output("out", PortType::Mesh).description("The flat plant mesh, metres, z up, base at z = 0");
+  b.param_float("step", 0.1).range(0.0, 1000.0).soft_range(0.01, 2.0).unit("m").description(
+      "Segment length of F and f without a parameter, metres");
+  b.param_float("angle", 25.0).range(-360.0, 360.0).soft_range(0.0, 90.0).unit("deg").description(
+      "Turn of + and - without a parameter, degrees");
+  b.param_float("width", 0.05).range(0.0, 100.0).soft_range(0.0, 1.0).unit("m").description(
+      "Ribbon width of the trunk (branch level 0), metres");
+  b.param_float("taper", 0.7).range(0.0, 1.0).unit("x").description(
+      "Width factor per branch level: a branch opened by [ is taper times as wide as its parent");
+  b.param_enum("planes", {"single", "crossed"}, "crossed").description(
+      "single: the drawing in the x-z plane only; crossed: also in the y-z plane (a billboard cross)");
+  b.param_string("leaf_symbol", "L").description(
+      "The symbol drawn as a leaf (one character; empty: none), e.g. L placed at the branch tips by the rules; "
+      "its first parameter is the leaf length in metres");
+  b.param_float("leaf_size", 0.15).range(0.0, 100.0).soft_range(0.0, 1.0).unit("m").description(
+      "Leaf length without a parameter, metres; the leaf is half as wide");
+  b.param_color("color", {0.30f, 0.20f, 0.10f, 1.0f}).description("Stem color (linear RGB)");
+  b.param_color("leaf_color", {0.10f, 0.35f, 0.05f, 1.0f}).description("Leaf color (linear RGB)");
+  b.param_int("max_triangles", 2000000).range(16, 50000000).description(
+      "Triangle budget (2 per segment or leaf per plane); a larger plant is an error");
+  b.execute([](ExecContext& ctx) {
+    const auto word = ctx.require<ModuleString>("in");
+    plants::PlantSpriteOptions o;
+    o.step = ctx.param<double>("step");
+    o.angle = ctx.param<double>("angle");
+    o.width = ctx.param<double>("width");
+    o.taper = ctx.param<double>("taper");
+    o.crossed = ctx.param<std::string>("planes") == "crossed";
+    const std::string& leaf = ctx.param<std::string>("leaf_symbol");
+    if (leaf.size() > 1) throw NodeError("leaf_symbol must be one character or empty, found '" + leaf + "'");
+    o.leaf_symbol = leaf.empty() ? '\0' : leaf[0];
+    o.leaf_size = ctx.param<double>("leaf_size");
+    o.color = ctx.param<glm::vec4>("color");
+    o.leaf_color = ctx.param<glm::vec4>("leaf_color");
+    o.max_triangles = static_cast<std::size_t>(ctx.param<std::int64_t>("max_triangles"));
+    o.should_stop = [&ctx] { return ctx.cancelled(); };
+    auto mesh = std::make_shared<Mesh>();
+    try {
+      *mesh = plants::plant_sprite(*word, o);
     } catch (const std::invalid_argument& e) {
       throw NodeError(e.what());
     }

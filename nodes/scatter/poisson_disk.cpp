@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -102,6 +103,7 @@ struct Sampler {
   // point anywhere in a cell: the cells whose distance to the cell is below the largest conflict distance.
   std::vector<std::vector<std::vector<std::pair<int, int>>>> offsets;  // [k][j]
   bool varies = false;
+  bool uniform = false;  // one class, constant radius: process_uniform
 
   void make_offsets() {
     const std::size_t K = p.classes.size();
@@ -359,6 +361,347 @@ struct Sampler {
     for (int idx : L.own) dst.push_back({static_cast<float>(L.x[idx]), static_cast<float>(L.y[idx]), L.r[idx], k});
   }
 
+  // ---------------------------------------------------------------------------------------------------------
+  // Fast path: one class of constant radius (no density, no mask), the common case and the benchmark's.
+  // Same chunks, phases, gathering and randomness scheme as `process`, with:
+  // - a background grid aligned with the chunk (cell C / m with m = floor(C sqrt 2 / r) + 1, so a cell's
+  //   diagonal is below r: at most one point per cell and a point covers its whole cell), padded so that the
+  //   5 x 5 neighbourhood of any cell a candidate or a gathered point can fall in needs no bounds checks;
+  //   cells hold the point's position (double copies of the stored floats) or a far sentinel, so a lookup is
+  //   a load and a distance, no indirection; the per-thread grid is reused across chunks (no allocation);
+  // - gap filling cell by cell: a grid cell with a point is covered; an empty one gathers the (at most 25)
+  //   points of its 5 x 5 neighbourhood once, is tested for coverage (one disk, or two), and gets darts into
+  //   its uncovered quarters until one lands (then the cell is covered) or none is left.
+  // Distances are compared exactly as the general path does (double, on the stored float positions).
+  static constexpr double kEmpty = 1e150;
+  static constexpr float kFar = 1e15f;  // float sentinel: squared distances stay finite
+  static constexpr int kPad = 4;  // cells around the chunk: 2 for the reach r, 2 for the 5 x 5 window
+
+  struct UniformScratch {
+    std::vector<double> gx, gy;                   // grid cells: position or kEmpty
+    std::vector<float> lx, ly;                    // the same relative to the grid origin, in float (filter)
+    std::vector<std::pair<double, double>> active;
+    std::vector<std::pair<double, double>> own;
+    struct Rect {
+      double x0, y0, x1, y1;
+    };
+    std::vector<Rect> cells, next;
+  };
+
+  // The float a position is stored as, as a double. Through a volatile: GCC 12 at -O3 was seen to drop the
+  // rounding of an inlined static_cast<float> in this path, placing points at unrounded positions.
+  static double to_float(double v) {
+    volatile float f = static_cast<float>(v);
+    return f;
+  }
+
+  static int uniform_cells(double C, double r) { return static_cast<int>(std::floor(C * std::sqrt(2.0) / r)) + 1; }
+
+  void process_uniform(std::int64_t gcx, std::int64_t gcy, int k) {
+    thread_local UniformScratch S;
+    const double C = chunk[k];
+    const float rf = static_cast<float>(p.classes[k].radius);
+    const double r = rf, r2 = r * r;
+    const int m = uniform_cells(C, p.classes[k].radius);
+    const double h = C / m, inv_h = m / C;
+    const int n = m + 2 * kPad;
+    const double ax0 = static_cast<double>(gcx) * C, ax1 = static_cast<double>(gcx + 1) * C;
+    const double ay0 = static_cast<double>(gcy) * C, ay1 = static_cast<double>(gcy + 1) * C;
+    const double ox = ax0 - kPad * h, oy = ay0 - kPad * h;
+    const double D = reach[k];
+    S.gx.assign(static_cast<std::size_t>(n) * n, kEmpty);
+    S.gy.assign(static_cast<std::size_t>(n) * n, kEmpty);
+    // The float copies are read 8 cells per window row (a superset of the 5 needed: any point closer than r
+    // in any cell is a real conflict), hence the tail.
+    S.lx.assign(static_cast<std::size_t>(n) * n + 8, kFar);
+    S.ly.assign(static_cast<std::size_t>(n) * n + 8, kFar);
+    float* const lx = S.lx.data();
+    float* const ly = S.ly.data();
+    S.active.clear();
+    S.own.clear();
+    double* const gx = S.gx.data();
+    double* const gy = S.gy.data();
+    auto cell_of = [&](double x, double y) {
+      const int i = static_cast<int>(std::floor((x - ox) * inv_h));
+      const int j = static_cast<int>(std::floor((y - oy) * inv_h));
+      return j * n + i;
+    };
+    auto insert = [&](double x, double y) {
+      const int c = cell_of(x, y);
+      if (gx[c] != kEmpty) throw std::logic_error("PoissonDisk: two points in one grid cell");
+      gx[c] = x;
+      gy[c] = y;
+      lx[c] = static_cast<float>(x - ox);
+      ly[c] = static_cast<float>(y - oy);
+    };
+    // No point of the 5 x 5 window around cell c closer than r to (x, y) (nearest rows first).
+    auto free_at_cell = [&](int c, double x, double y) {
+      for (int dj : {0, -1, 1, -2, 2}) {
+        const int b = c + dj * n;
+        bool hit = false;
+        for (int di = -2; di <= 2; ++di) {
+          const double dx = gx[b + di] - x, dy = gy[b + di] - y;
+          hit |= dx * dx + dy * dy < r2;
+        }
+        if (hit) return false;
+      }
+      return true;
+    };
+    // The same test, filtered in float on positions relative to the grid origin (|l| < 16 r): the float
+    // squared distance is within 1e-5 r^2 (relative to max(d^2, r^2)) of the double one, so below
+    // r^2 (1 - 1e-4) it is a conflict, at or above r^2 (1 + 1e-4) no conflict, and in between the double
+    // test decides.
+    const float lo2 = static_cast<float>(r2 * (1.0 - 1e-4)), hi2 = static_cast<float>(r2 * (1.0 + 1e-4));
+    auto free_fast = [&](int c, double x, double y) {
+      typedef float v4f __attribute__((vector_size(16)));
+      typedef int v4i __attribute__((vector_size(16)));
+      const float cx = static_cast<float>(x - ox), cy = static_cast<float>(y - oy);
+      const v4f vx = {cx, cx, cx, cx}, vy = {cy, cy, cy, cy};
+      const v4f vlo = {lo2, lo2, lo2, lo2}, vhi = {hi2, hi2, hi2, hi2};
+      v4i sure = {0, 0, 0, 0}, maybe = {0, 0, 0, 0};
+      for (int dj = -2; dj <= 2; ++dj) {
+        const float* px = lx + (c + dj * n - 2);
+        const float* py = ly + (c + dj * n - 2);
+        for (int e = 0; e < 8; e += 4) {
+          v4f ax, ay;
+          std::memcpy(&ax, px + e, sizeof ax);
+          std::memcpy(&ay, py + e, sizeof ay);
+          const v4f dx = ax - vx, dy = ay - vy;
+          const v4f d2 = dx * dx + dy * dy;
+          sure |= d2 < vlo;
+          maybe |= d2 < vhi;
+        }
+      }
+      if (sure[0] | sure[1] | sure[2] | sure[3]) return false;
+      if (!(maybe[0] | maybe[1] | maybe[2] | maybe[3])) return true;
+      return free_at_cell(c, x, y);
+    };
+    // Rounds a candidate to float; places it if inside the chunk and free.
+    auto try_place = [&](double x, double y) {
+      const double fx = to_float(x), fy = to_float(y);
+      if (!(fx >= ax0 && fx < ax1 && fy >= ay0 && fy < ay1)) return false;
+      const int c = cell_of(fx, fy);
+      if (!free_fast(c, fx, fy)) return false;
+      gx[c] = fx;
+      gy[c] = fy;
+      lx[c] = static_cast<float>(fx - ox);
+      ly[c] = static_cast<float>(fy - oy);
+      S.own.emplace_back(fx, fy);
+      return true;
+    };
+
+    // Gather this class's points of the neighbouring chunks within the interaction distance.
+    ClassChunks& own = grids[k];
+    for (std::int64_t dy = -1; dy <= 1; ++dy)
+      for (std::int64_t dx = -1; dx <= 1; ++dx)
+        for (const Pt& q : own.at(gcx + dx, gcy + dy)) {
+          const double qx = q.x, qy = q.y;
+          if (qx < ax0 - D || qx >= ax1 + D || qy < ay0 - D || qy >= ay1 + D) continue;
+          insert(qx, qy);
+          S.active.emplace_back(qx, qy);
+        }
+    scatter::Draws draw{scatter::hash(p.seed, 0x5CA77E5ull, static_cast<std::uint64_t>(k), scatter::bits(gcx),
+                                      scatter::bits(gcy))};
+    for (int t = 0; t < 4; ++t)
+      if (try_place(ax0 + draw.next() * C, ay0 + draw.next() * C)) {
+        S.active.push_back(S.own.back());
+        break;
+      }
+    while (!S.active.empty()) {
+      const std::size_t pick =
+          std::min(static_cast<std::size_t>(draw.next() * static_cast<double>(S.active.size())), S.active.size() - 1);
+      const auto [ax, ay] = S.active[pick];
+      bool placed = false;
+      for (int t = 0; t < p.attempts; ++t) {
+        double cx, cy, d2;
+        do {
+          double u, v;
+          draw.next2(u, v);
+          cx = (4.0 * u - 2.0) * r;
+          cy = (4.0 * v - 2.0) * r;
+          d2 = cx * cx + cy * cy;
+        } while (d2 < r2 || d2 >= 4.0 * r2);
+        if (try_place(ax + cx, ay + cy)) {
+          S.active.push_back(S.own.back());
+          placed = true;
+          break;
+        }
+      }
+      if (!placed) {
+        S.active[pick] = S.active.back();
+        S.active.pop_back();
+      }
+    }
+    if (p.fill_gaps) fill_uniform(S, draw, m, n, h, ax0, ay0, ax1, ay1, r2, try_place);
+    auto& dst = own.at(gcx, gcy);
+    dst.reserve(S.own.size());
+    for (const auto& [x, y] : S.own) dst.push_back({static_cast<float>(x), static_cast<float>(y), rf, k});
+  }
+
+  template <class TryPlace>
+  void fill_uniform(UniformScratch& S, scatter::Draws& draw, int m, int n, double h, double ax0, double ay0,
+                    double ax1, double ay1, double r2, TryPlace& try_place) const {
+    using Rect = UniformScratch::Rect;
+    const double* const gx = S.gx.data();
+    const double* const gy = S.gy.data();
+    double qx[25], qy[25];
+    int count = 0;
+    // Whether some point of the closed rectangle is at distance >= r from every gathered point (room for a
+    // point). Exact: the free part F of the rectangle, if not empty, is compact and its lowest-leftmost point
+    // is a vertex of its boundary (a point in the interior of a single arc of a disk's circle is never
+    // extreme: the tangent there runs outside the disk), i.e. a corner of the rectangle, a crossing of a circle
+    // with an edge or a crossing of two circles inside it; so F is empty iff each such vertex lies strictly
+    // inside another disk. Rounding only errs towards "room" (a vertex counts as covered only when it is
+    // inside a disk by a relative margin of 1e-9), which costs a dart, never maximality.
+    auto has_room = [&](const Rect& c) {
+      int near[25];
+      int nn = 0;
+      for (int q = 0; q < count; ++q) {
+        const double nx = std::clamp(qx[q], c.x0, c.x1) - qx[q], ny = std::clamp(qy[q], c.y0, c.y1) - qy[q];
+        if (nx * nx + ny * ny >= r2) continue;
+        const double fx = std::max(qx[q] - c.x0, c.x1 - qx[q]), fy = std::max(qy[q] - c.y0, c.y1 - qy[q]);
+        if (fx * fx + fy * fy < r2) return false;  // one disk holds the four corners, hence the rectangle
+        near[nn++] = q;
+      }
+      if (nn == 0) return true;
+      // Cheap proof first: each quarter inside a single disk.
+      {
+        const double mx = 0.5 * (c.x0 + c.x1), my = 0.5 * (c.y0 + c.y1);
+        const Rect quarters[4] = {{c.x0, c.y0, mx, my}, {mx, c.y0, c.x1, my}, {c.x0, my, mx, c.y1}, {mx, my, c.x1, c.y1}};
+        bool all = true;
+        for (const Rect& u : quarters) {
+          bool one = false;
+          for (int d = 0; d < nn && !one; ++d) {
+            const double px = qx[near[d]], py = qy[near[d]];
+            const double fx = std::max(px - u.x0, u.x1 - px), fy = std::max(py - u.y0, u.y1 - py);
+            one = fx * fx + fy * fy < r2;
+          }
+          if (!one) {
+            all = false;
+            break;
+          }
+        }
+        if (all) return false;
+      }
+      const double inside = r2 * (1.0 - 1e-9);
+      auto free_vertex = [&](double x, double y, int s1, int s2) {
+        for (int d = 0; d < nn; ++d) {
+          if (d == s1 || d == s2) continue;
+          const double dx = qx[near[d]] - x, dy = qy[near[d]] - y;
+          if (dx * dx + dy * dy < inside) return false;
+        }
+        return true;
+      };
+      if (free_vertex(c.x0, c.y0, -1, -1) || free_vertex(c.x1, c.y0, -1, -1) || free_vertex(c.x0, c.y1, -1, -1) ||
+          free_vertex(c.x1, c.y1, -1, -1))
+        return true;
+      const double tol = 1e-9 * std::sqrt(r2);
+      for (int d = 0; d < nn; ++d) {
+        const double px = qx[near[d]], py = qy[near[d]];
+        for (const double y : {c.y0, c.y1}) {  // horizontal edges
+          const double e = r2 - (y - py) * (y - py);
+          if (e <= 0.0) continue;
+          const double s = std::sqrt(e);
+          for (const double x : {px - s, px + s})
+            if (x >= c.x0 - tol && x <= c.x1 + tol && free_vertex(x, y, d, -1)) return true;
+        }
+        for (const double x : {c.x0, c.x1}) {  // vertical edges
+          const double e = r2 - (x - px) * (x - px);
+          if (e <= 0.0) continue;
+          const double s = std::sqrt(e);
+          for (const double y : {py - s, py + s})
+            if (y >= c.y0 - tol && y <= c.y1 + tol && free_vertex(x, y, d, -1)) return true;
+        }
+      }
+      for (int a = 0; a < nn; ++a)
+        for (int b = a + 1; b < nn; ++b) {
+          const double ax = qx[near[a]], ay = qy[near[a]];
+          const double ux = qx[near[b]] - ax, uy = qy[near[b]] - ay;
+          const double d2 = ux * ux + uy * uy;
+          if (!(d2 > 0.0) || d2 >= 4.0 * r2) continue;
+          const double t = std::sqrt((r2 - 0.25 * d2) / d2);
+          const double mx = ax + 0.5 * ux, my = ay + 0.5 * uy;
+          for (const double sgn : {-1.0, 1.0}) {
+            const double x = mx - sgn * t * uy, y = my + sgn * t * ux;
+            if (x >= c.x0 - tol && x <= c.x1 + tol && y >= c.y0 - tol && y <= c.y1 + tol && free_vertex(x, y, a, b))
+              return true;
+          }
+        }
+      return false;
+    };
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i) {
+        const int c0 = (j + kPad) * n + (i + kPad);
+        if (gx[c0] != kEmpty) continue;  // a point covers its cell
+        count = 0;
+        for (const int off : {-n - 1, -n, -n + 1, -1, 1, n - 1, n, n + 1}) {
+          const int c = c0 + off;
+          if (gx[c] != kEmpty) {
+            qx[count] = gx[c];
+            qy[count++] = gy[c];
+          }
+        }
+        for (int dj = -2; dj <= 2; ++dj)
+          for (int di = -2; di <= 2; ++di) {
+            if (std::abs(di) < 2 && std::abs(dj) < 2) continue;
+            const int c = c0 + dj * n + di;
+            if (gx[c] != kEmpty) {
+              qx[count] = gx[c];
+              qy[count++] = gy[c];
+            }
+          }
+        const Rect cell{ax0 + i * h, ay0 + j * h, i + 1 == m ? ax1 : ax0 + (i + 1) * h, j + 1 == m ? ay1 : ay0 + (j + 1) * h};
+        // Keep the disks that reach the cell: its quarters are tested against those only.
+        int kept = 0;
+        for (int q = 0; q < count; ++q) {
+          const double nx = std::clamp(qx[q], cell.x0, cell.x1) - qx[q], ny = std::clamp(qy[q], cell.y0, cell.y1) - qy[q];
+          if (nx * nx + ny * ny >= r2) continue;
+          qx[kept] = qx[q];
+          qy[kept++] = qy[q];
+        }
+        count = kept;
+        if (!has_room(cell)) continue;
+        // A dart: rejected cheaply by the disks that reach the cell (every point that can conflict with a point
+        // of the cell), then placed through the full check (its float rounding may leave the cell).
+        auto dart = [&](double x, double y) {
+          const double fx = to_float(x), fy = to_float(y);
+          for (int q = 0; q < count; ++q) {
+            const double dx = qx[q] - fx, dy = qy[q] - fy;
+            if (dx * dx + dy * dy < r2) return false;
+          }
+          return try_place(fx, fy);
+        };
+        S.cells.assign(1, cell);
+        bool done = false;
+        constexpr int kLevels = 8;
+        constexpr int kDarts = 4;  // per open cell and level (a dart costs a few distances, a refinement more)
+        for (int level = 0; level <= kLevels && !done && !S.cells.empty(); ++level) {
+          for (const Rect& c : S.cells) {
+            for (int t = 0; t < kDarts && !done; ++t) {
+              double u, v;
+              draw.next2(u, v);
+              done = dart(c.x0 + u * (c.x1 - c.x0), c.y0 + v * (c.y1 - c.y0));
+            }
+            if (done) break;
+          }
+          if (done) break;
+          if (level == kLevels) {
+            for (const Rect& c : S.cells)
+              if (try_place(0.5 * (c.x0 + c.x1), 0.5 * (c.y0 + c.y1))) break;
+            break;
+          }
+          S.next.clear();
+          for (const Rect& c : S.cells) {
+            const double mx = 0.5 * (c.x0 + c.x1), my = 0.5 * (c.y0 + c.y1);
+            const Rect q[4] = {{c.x0, c.y0, mx, my}, {mx, c.y0, c.x1, my}, {c.x0, my, mx, c.y1}, {mx, my, c.x1, c.y1}};
+            for (const Rect& sub : q)
+              if (has_room(sub)) S.next.push_back(sub);
+          }
+          std::swap(S.cells, S.next);
+        }
+      }
+  }
+
   // Ebeida et al. (2011): darts into the cells not yet covered by an exclusion disk, then into their quarters.
   void fill(Local& L, int k, scatter::Draws& draw) const {
     struct Rect {
@@ -450,6 +793,7 @@ void setup(Sampler& s, const PoissonParams& p) {
     s.cell.push_back(r / std::sqrt(2.0) * (1.0 - 1e-6));
   }
   s.varies = varies;
+  s.uniform = !varies && K == 1;
   s.make_offsets();
   s.chunk.assign(K, 0.0);
   s.reach.assign(K, 0.0);
@@ -544,31 +888,58 @@ Points poisson_disk(glm::dvec2 lo, glm::dvec2 hi, const PoissonParams& p, const 
         for (auto cx = g.core_x0 - ring; cx <= g.core_x1 + ring; ++cx)
           if (static_cast<int>((cx & 1) + 2 * (cy & 1)) == phase) todo.emplace_back(cx, cy);
       const double step = static_cast<double>(o * 4 + phase);
-      for_each_row(ctx, static_cast<int>(todo.size()), [&](int t) { s.process(todo[t].first, todo[t].second, k); },
+      for_each_row(ctx, static_cast<int>(todo.size()), [&](int t) {
+                     if (s.uniform)
+                       s.process_uniform(todo[t].first, todo[t].second, k);
+                     else
+                       s.process(todo[t].first, todo[t].second, k);
+                   },
                    step / (4.0 * K), (step + 1.0) / (4.0 * K));
     }
   }
 
-  // Output: the points inside [lo, hi], class by class (largest first), chunk rows first.
+  // Output: the points inside [lo, hi], class by class (largest first), chunk rows first. Counted per chunk,
+  // then written in parallel at the prefix offsets (the yaw costs a hash, a sine and a cosine per point).
   Points out;
   auto& radius = out.attribute("radius");
   for (int k : s.order) {
     const ClassChunks& g = s.grids[k];
     const auto i0 = static_cast<std::int64_t>(std::floor(lo.x / g.C)), i1 = static_cast<std::int64_t>(std::floor(hi.x / g.C));
     const auto j0 = static_cast<std::int64_t>(std::floor(lo.y / g.C)), j1 = static_cast<std::int64_t>(std::floor(hi.y / g.C));
-    for (auto cy = j0; cy <= j1; ++cy)
-      for (auto cx = i0; cx <= i1; ++cx)
-        for (const Pt& q : g.at(cx, cy)) {
-          const double x = q.x, y = q.y;
-          if (x < lo.x || x > hi.x || y < lo.y || y > hi.y) continue;
-          out.position.emplace_back(q.x, q.y, 0.0f);
+    const int w = static_cast<int>(i1 - i0 + 1), rows = static_cast<int>(j1 - j0 + 1);
+    auto keep = [&](const Pt& q) {
+      const double x = q.x, y = q.y;
+      return !(x < lo.x || x > hi.x || y < lo.y || y > hi.y);
+    };
+    std::vector<std::size_t> offset(static_cast<std::size_t>(rows) + 1, 0);
+    for_each_row(nullptr, rows, [&](int r) {
+      std::size_t c = 0;
+      for (int i = 0; i < w; ++i)
+        for (const Pt& q : g.at(i0 + i, j0 + r)) c += keep(q);
+      offset[r + 1] = c;
+    });
+    const std::size_t base = out.position.size();
+    for (int r = 0; r < rows; ++r) offset[r + 1] += offset[r];
+    const std::size_t total = base + offset[rows];
+    out.position.resize(total);
+    out.rotation.resize(total);
+    out.scale.resize(total, glm::vec3(1.0f));
+    out.class_id.resize(total);
+    radius.resize(total);
+    for_each_row(nullptr, rows, [&](int r) {
+      std::size_t o = base + offset[r];
+      for (int i = 0; i < w; ++i)
+        for (const Pt& q : g.at(i0 + i, j0 + r)) {
+          if (!keep(q)) continue;
+          out.position[o] = glm::vec3(q.x, q.y, 0.0f);
           const double yaw =
               2.0 * kPi * scatter::unit(scatter::hash(p.seed, 0x7A3ull, scatter::bits(q.x), scatter::bits(q.y)));
-          out.rotation.push_back(glm::angleAxis(static_cast<float>(yaw), glm::vec3(0.0f, 0.0f, 1.0f)));
-          out.scale.emplace_back(1.0f);
-          out.class_id.push_back(p.classes[q.cls].class_id);
-          radius.push_back(q.r);
+          out.rotation[o] = glm::angleAxis(static_cast<float>(yaw), glm::vec3(0.0f, 0.0f, 1.0f));
+          out.class_id[o] = p.classes[q.cls].class_id;
+          radius[o] = q.r;
+          ++o;
         }
+    });
   }
   return out;
 }

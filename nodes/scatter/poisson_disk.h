@@ -21,6 +21,13 @@
 // Precision: candidates are computed in double, rounded to the float positions Points store, and tested in
 // double against the stored (float) positions of their neighbours, so the minimum distance holds exactly for
 // the positions that are output, at any coordinate magnitude the request accepts.
+//
+// Speed: one class of constant radius (no density, no mask) takes a fast path with the same chunks, phases
+// and guarantees: a background grid aligned with the chunk and padded so a 5 x 5 window needs no bounds
+// checks, Bridson's neighbour test filtered in float on grid-relative positions (the double test decides
+// within a 1e-4 margin of r^2), per-thread scratch memory, and gap filling cell by cell with an exact
+// coverage test (a rectangle has room iff a vertex of its free part, a corner or a crossing of circles and
+// edges, lies outside every other disk).
 #include <cstdint>
 #include <vector>
 
@@ -49,7 +56,9 @@ struct PoissonParams {
   double min_density = 0.1;
   const Heightfield* density = nullptr;  // optional common density, [0, 1]
   const Heightfield* mask = nullptr;     // optional: points only where mask >= 0.5
-  int attempts = 30;                     // Bridson's k
+  // Bridson's k. With fill_gaps the result is maximal whatever k: Bridson is a fast first pass and k = 30
+  // spends most of its time retiring active points; 8 gives the same density at about half the cost.
+  int attempts = 8;
   bool fill_gaps = true;                 // Ebeida's gap filling (maximal sampling)
   std::uint64_t seed = 0;
   std::size_t max_points = 50'000'000;   // refuse requests that would place more

@@ -46,8 +46,9 @@ OROGEN_NODE(PoissonDisk) {
       "(0: classes ignore each other, like rocks placed beside trees)");
   b.param_float("min_density", 0.1).range(0.01, 1.0).unit("").description(
       "Density below which no point is placed, 0.01..1; bounds the largest radius at r / sqrt(min_density)");
-  b.param_int("attempts", 30).range(1, 100).unit("").description(
-      "Bridson's k: candidates tried around an active point before it retires, 1..100");
+  b.param_int("attempts", 8).range(1, 100).unit("").description(
+      "Bridson's k: candidates tried around an active point before it retires, 1..100 (with fill_gaps the "
+      "gap filling makes the sampling maximal whatever k; a larger k only moves work from it to Bridson)");
   b.param_bool("fill_gaps", true).description(
       "Fill the gaps Bridson's sampling leaves (Ebeida et al. 2011) so no further point fits");
   b.param_int("first_class", 0).range(0, 1000000).unit("").description(
