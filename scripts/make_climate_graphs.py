@@ -1,4 +1,5 @@
-"""Writes graphs/rural_resources.json and graphs/textured_terrain.json (run from anywhere)."""
+"""Writes graphs/rural_resources.json and graphs/textured_terrain.json (run from anywhere). The seed graph of
+rural_resources.json is completed by scripts/make_seed_graphs.py, which runs this script first."""
 import json
 import os
 

@@ -18,6 +18,7 @@
 #include "nodes/scatter/scatter_rules.h"
 #include "nodes/scatter/instance.h"
 #include "nodes/scatter/scene_gltf.h"
+#include "nodes/climate/sun.h"
 #include "nodes/scatter/forest.h"
 #include "support/key_checks.h"
 #include "support/test_paths.h"
@@ -821,5 +822,38 @@ TEST(ForestLifeCycle, SameSeedSameForestAndSuitabilityRespected) {
   EXPECT_LE(forest_life_cycle(initial, p).size(), initial.size());
 }
 
+
+TEST(ShadePlacement, SunFromPlaceAndTimeMatchesItsAnglesAndNightShadesEverything) {
+  // Cooper's declination: about +23.45 deg at the June solstice, -23.45 at the December one, 0 near the equinoxes.
+  EXPECT_NEAR(climate::declination_for_day(172), 23.45, 0.05);
+  EXPECT_NEAR(climate::declination_for_day(355), -23.45, 0.05);
+  EXPECT_NEAR(climate::declination_for_day(81), 0.0, 0.5);
+  auto trees = std::make_shared<Points>();
+  trees->add({0, 0, 0});
+  auto cand = std::make_shared<Points>();
+  for (int j = 0; j <= 40; ++j)
+    for (int i = 0; i <= 40; ++i) cand->add({-20.0f + i, -20.0f + j, 0.0f}, 3);
+  const Domain d = Domain::from_extent({-20, -20}, {40, 40}, {41, 41});
+  const std::map<std::string, PortValue> in{{"in", PortValue(PointsPtr(cand))}, {"casters", PortValue(PointsPtr(trees))}};
+  // At solar noon at 45 N on day 100 the sun is due south at 90 - 45 + declination degrees.
+  const double decl = climate::declination_for_day(100);
+  const std::map<std::string, ParamValue> by_time{{"crown_radius", 3.0}, {"crown_height", 10.0}, {"sun", std::string("time")},
+                                                  {"latitude", 45.0}, {"day_of_year", std::int64_t{100}}, {"hour", 12.0}};
+  const std::map<std::string, ParamValue> by_angles{{"crown_radius", 3.0}, {"crown_height", 10.0}, {"sun_azimuth", 180.0},
+                                                    {"sun_elevation", 45.0 + decl}};
+  const auto a = run_node("ShadePlacement", d, by_time, in).get<Points>(0);
+  const auto b = run_node("ShadePlacement", d, by_angles, in).get<Points>(0);
+  ASSERT_GT(a->size(), 10u);
+  ASSERT_EQ(a->size(), b->size());
+  for (std::size_t k = 0; k < a->size(); ++k) EXPECT_EQ(a->position[k], b->position[k]);
+  // The shadow falls north of the tree (the sun in the south).
+  for (const auto& q : a->position) EXPECT_GT(q.y, 0.0f);
+  // At midnight there is no direct sun: every candidate is in the shade, and so is the whole map.
+  auto night = by_time;
+  night["hour"] = 0.0;
+  const auto n = run_node("ShadePlacement", d, night, in);
+  EXPECT_EQ(n.get<Points>(0)->size(), cand->size());
+  for (float v : n.get<Heightfield>(1)->data) EXPECT_EQ(v, 1.0f);
+}
 }  // namespace
 }  // namespace orogen

@@ -25,6 +25,10 @@ double declination_deg(int month) {
   return kMaxTilt - std::abs(6 - month) * (kMaxTilt / 3.0);
 }
 
+double declination_for_day(double day_of_year) {
+  return 23.45 * std::sin(360.0 * (284.0 + day_of_year) / 365.0 * kDeg);
+}
+
 double sunset_hour_angle_deg(double latitude_deg, double declination_deg) {
   const double c = -std::tan(latitude_deg * kDeg) * std::tan(declination_deg * kDeg);
   if (!(c > -1.0)) return c <= -1.0 ? 180.0 : 0.0;  // polar day (NaN: treat as night)

@@ -43,6 +43,10 @@ extern const std::array<const char*, 12> kMonthNames;  // "jan" .. "dec"
 
 // Declination in degrees for month 1..12.
 double declination_deg(int month);
+// Declination in degrees on day `day_of_year` (1 = January 1st; fractions allowed) by P. I. Cooper (1969),
+// The absorption of radiation in solar stills, Solar Energy 12(3), as J. A. Duffie, W. A. Beckman (2013), eq.
+// 1.6.1a, give it: delta = 23.45 sin(360 (284 + n) / 365) (about +23.45 on June 21st, -23.45 on December 21st).
+double declination_for_day(double day_of_year);
 // Sunset hour angle in degrees in [0, 180] (0: polar night, 180: polar day).
 double sunset_hour_angle_deg(double latitude_deg, double declination_deg);
 // Hours between sunrise and sunset on a flat horizon, in [0, 24].

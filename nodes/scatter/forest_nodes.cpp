@@ -1,10 +1,14 @@
 // ShadePlacement and ForestLifeCycle: the nodes over forest.h.
+#include <algorithm>
+#include <cstdint>
 #include <stdexcept>
+#include <string>
 
 #include "graph/exec_context.h"
 #include "graph/registry.h"
 #include "nodes/scatter/run_placement.h"
 #include "nodes/scatter/forest.h"
+#include "nodes/climate/sun.h"
 
 namespace orogen {
 
@@ -16,7 +20,11 @@ OROGEN_NODE(ShadePlacement) {
       "shadows along the sun direction; a candidate point is shaded if the ray from it toward the sun meets a "
       "crown (exact ray-sphere tests, no raster). preference shade keeps the shaded candidates (undergrowth "
       "under trees), sun keeps the lit ones, any keeps all. Attribute shade (1 shaded, 0 lit); output shade is "
-      "the shadow map on the domain.");
+      "the shadow map on the domain. The sun is given by its azimuth and elevation, or (sun = time) placed for a "
+      "latitude, day of the year and solar hour: declination by P. I. Cooper (1969), The absorption of radiation "
+      "in solar stills, hour angle 15 deg/h from solar noon, elevation and azimuth by the spherical astronomy of "
+      "J. A. Duffie, W. A. Beckman (2013), Solar Engineering of Thermal Processes, ch. 1; with the sun under the "
+      "horizon (night) there is no direct light and every candidate is shaded.");
   b.input("in", PortType::Points).description("Candidate points (e.g. undergrowth from PoissonDisk)");
   b.input("casters", PortType::Points).description("Points whose crowns cast shade (e.g. trees)");
   b.input("height", PortType::Heightfield).optional().description("Terrain heights (m) for the shadow map; else z = 0");
@@ -24,10 +32,18 @@ OROGEN_NODE(ShadePlacement) {
   b.output("shade", PortType::Heightfield).description("Shadow map, 1 shaded / 0 lit (unitless)").kind(OutputKind::Mask);
   b.param_enum("preference", {"shade", "sun", "any"}, "shade").description(
       "shade: keep shaded candidates; sun: keep lit ones; any: keep all (annotate only)");
+  b.param_enum("sun", {"angles", "time"}, "angles").description(
+      "angles: the sun at sun_azimuth and sun_elevation; time: the sun's position at latitude, day_of_year and hour");
   b.param_float("sun_azimuth", 180.0).range(0.0, 360.0).unit("deg").description(
       "Direction of the sun, degrees clockwise from north (180: the sun in the south), 0..360");
   b.param_float("sun_elevation", 45.0).range(1.0, 90.0).unit("deg").description(
       "Height of the sun above the horizon, degrees in [1, 90]");
+  b.param_float("latitude", 45.0).range(-90.0, 90.0).unit("deg").description(
+      "sun = time: latitude, degrees in [-90, 90], north positive");
+  b.param_int("day_of_year", 172).range(1, 366).description(
+      "sun = time: day of the year, 1 (January 1st) .. 366; 172 is June 21st");
+  b.param_float("hour", 15.0).range(0.0, 24.0).unit("h").description(
+      "sun = time: local solar time, decimal hours in [0, 24] (h + min/60 + s/3600; 12 = solar noon)");
   b.param_float("crown_radius", 3.0).range(0.01, 1000.0).unit("m").description(
       "Radius of a caster's crown at scale 1, metres in [0.01, 1000] (times the point's x scale)");
   b.param_float("crown_height", 8.0).range(0.0, 1000.0).unit("m").description(
@@ -39,7 +55,16 @@ OROGEN_NODE(ShadePlacement) {
     CanopyParams cp;
     cp.crown_radius = ctx.param<double>("crown_radius");
     cp.crown_height = ctx.param<double>("crown_height");
-    cp.sun = sun_direction(ctx.param<double>("sun_azimuth"), ctx.param<double>("sun_elevation"));
+    bool night = false;
+    if (ctx.param<std::string>("sun") == "time") {
+      const glm::dvec3 s = climate::sun_direction(
+          ctx.param<double>("latitude"), climate::declination_for_day(static_cast<double>(ctx.param<std::int64_t>("day_of_year"))),
+          ctx.param<double>("hour"));
+      night = !(s.z > 1e-6);
+      cp.sun = night ? glm::dvec3(0.0, 0.0, 1.0) : s;
+    } else {
+      cp.sun = sun_direction(ctx.param<double>("sun_azimuth"), ctx.param<double>("sun_elevation"));
+    }
     const Canopy canopy(*casters, cp);
     const int pref = ctx.enum_index("preference");
     auto out = std::make_shared<Points>();
@@ -48,7 +73,7 @@ OROGEN_NODE(ShadePlacement) {
     for (std::size_t i = 0; i < in->size(); ++i) {
       if (i % 4096 == 0) ctx.check_cancelled();
       const auto& q = in->position[i];
-      const bool s = canopy.shaded(q.x, q.y, q.z);
+      const bool s = night || canopy.shaded(q.x, q.y, q.z);
       if ((pref == 0 && !s) || (pref == 1 && s)) continue;
       const std::size_t k = out->add(q, in->class_id[i]);
       out->rotation[k] = in->rotation[i];
@@ -58,7 +83,13 @@ OROGEN_NODE(ShadePlacement) {
       shade_attr[k] = s ? 1.0f : 0.0f;
     }
     ctx.set_output("out", out);
-    ctx.set_output("shade", std::make_shared<Heightfield>(shade_map(ctx.domain(), canopy, height.get(), &ctx)));
+    if (night) {
+      auto all = std::make_shared<Heightfield>(ctx.domain());
+      std::fill(all->data.begin(), all->data.end(), 1.0f);
+      ctx.set_output("shade", all);
+    } else {
+      ctx.set_output("shade", std::make_shared<Heightfield>(shade_map(ctx.domain(), canopy, height.get(), &ctx)));
+    }
   });
 }
 
