@@ -74,7 +74,13 @@ N("biomes", "Biomes", {"in": "biome_temperature.out", "moisture": "map.moisture"
 # ids of the island table: 0 scorched 1 bare 2 tundra 3 snow 4 temperate_desert 5 shrubland 6 taiga 7 grassland
 # 8 temperate_deciduous_forest 9 temperate_rain_forest 10 subtropical_desert 11 tropical_seasonal_forest 12 tropical_rain_forest
 # classes: 0 broadleaf tree, 1 conifer, 2 bush, 3 rock
-N("vegetation", "BiomeScatter", {"in": "biomes.out", "height": "eroded.out"},
+# Plants keep off the shore: a point's biome is the nearest sample's, its height the bilinear one, so next to
+# the sea a land sample can put a plant under water. Samples within about 75 m of the sea count as water
+# (id 0) for the vegetation only.
+N("sea_blur", "Blur", {"in": "sea.out"}, sigma=25)
+N("plantable", "Threshold", {"in": "sea_blur.out"}, level=0.001, invert=True)
+N("vegetation_biomes", "Multiply", {"a": "biomes.out", "b": "plantable.out"})
+N("vegetation", "BiomeScatter", {"in": "vegetation_biomes.out", "height": "eroded.out"},
   table="0 0\n1 0.01 | 3 1\n2 0.02 | 3 1\n3 0.05 | 2 1 | 3 1\n4 0\n5 0.02 | 2 1\n6 0.15 | 2 3 | 0 1\n7 0.35 | 1 1\n8 0.06 | 2 2 | 0 1\n9 0.45 | 0 3 | 1 1 | 2 1\n10 0.6 | 0 2 | 1 2\n11 0.01 | 2 1\n12 0.35 | 0 2 | 2 1\n13 0.6 | 0 1",
   factor=1.0, cell_size=12, scale_range=[0.7, 1.3], seed=5)
 add_meshes(N)
