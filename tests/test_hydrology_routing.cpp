@@ -9,29 +9,16 @@
 #include <tbb/task_arena.h>
 
 #include "nodes/hydrology/flow_routing.h"
+#include "support/depression_terrain.h"
 
 namespace orogen::hydrology {
 namespace {
 
-float hash01(std::uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return static_cast<float>(x >> 8) / 16777216.0f;
-}
+using test::hash01;
 
 // Hilly terrain with many closed depressions.
 std::vector<float> bumpy(const FlowGrid& g, std::uint32_t seed, double noise = 3.0) {
-  std::vector<float> z(g.size());
-  for (int j = 0; j < g.ny; ++j)
-    for (int i = 0; i < g.nx; ++i) {
-      const double x = i * g.dx, y = j * g.dy;
-      z[g.index(i, j)] = static_cast<float>(40.0 * std::sin(x / 37.0) * std::cos(y / 29.0) + 25.0 * std::sin((x + 2 * y) / 71.0) +
-                                            noise * hash01(seed * 7919u + static_cast<std::uint32_t>(g.index(i, j))));
-    }
-  return z;
+  return test::depression_terrain(g, seed, noise);
 }
 
 // Reference fill: W = max(z, min over neighbours of W) iterated to the fixed point (Planchon & Darboux 2001

@@ -1,6 +1,10 @@
 // Plant nodes: LSystem (grammar -> module string), Turtle3D (module string -> skeleton curves and leaf
 // points), TreeMesh (skeleton and leaves -> mesh), PlantSprite (module string -> flat 2D plant mesh). Thin
 // adapters over lsystem.h, turtle.h, tree_mesh.h, plant_sprite.h.
+#include <memory>
+#include <stdexcept>
+#include <utility>
+
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
 #include "graph/registry.h"
@@ -10,6 +14,23 @@
 #include "nodes/plants/turtle.h"
 
 namespace orogen {
+namespace {
+
+// Sets the node's mesh output from `build` (a plant mesh builder): its argument errors become node errors,
+// and a builder stopped by cancellation leaves no result.
+template <class Build>
+void set_plant_mesh(ExecContext& ctx, Build&& build) {
+  auto mesh = std::make_shared<Mesh>();
+  try {
+    *mesh = std::forward<Build>(build)();
+  } catch (const std::invalid_argument& e) {
+    throw NodeError(e.what());
+  }
+  ctx.check_cancelled();
+  ctx.set_output("out", std::move(mesh));
+}
+
+}  // namespace
 
 OROGEN_NODE(LSystem) {
   b.reach_global();
@@ -136,14 +157,7 @@ OROGEN_NODE(TreeMesh) {
     o.leaf_shape = static_cast<plants::LeafShape>(ctx.enum_index("leaf_shape"));
     o.seed = ctx.param<std::uint64_t>("seed");
     o.should_stop = [&ctx] { return ctx.cancelled(); };
-    auto mesh = std::make_shared<Mesh>();
-    try {
-      *mesh = plants::tree_mesh(*skeleton, leaves.get(), o);
-    } catch (const std::invalid_argument& e) {
-      throw NodeError(e.what());
-    }
-    ctx.check_cancelled();
-    ctx.set_output("out", std::move(mesh));
+    set_plant_mesh(ctx, [&] { return plants::tree_mesh(*skeleton, leaves.get(), o); });
   });
 }
 
@@ -194,14 +208,7 @@ OROGEN_NODE(PlantSprite) {
     o.leaf_color = ctx.param<glm::vec4>("leaf_color");
     o.max_triangles = static_cast<std::size_t>(ctx.param<std::int64_t>("max_triangles"));
     o.should_stop = [&ctx] { return ctx.cancelled(); };
-    auto mesh = std::make_shared<Mesh>();
-    try {
-      *mesh = plants::plant_sprite(*word, o);
-    } catch (const std::invalid_argument& e) {
-      throw NodeError(e.what());
-    }
-    ctx.check_cancelled();
-    ctx.set_output("out", std::move(mesh));
+    set_plant_mesh(ctx, [&] { return plants::plant_sprite(*word, o); });
   });
 }
 
