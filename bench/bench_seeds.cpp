@@ -5,11 +5,11 @@
 //
 //   orogen_bench_seeds [--graphs NAME,NAME...] [--resolution NAME=N ...] [--repeat K] [--keep DIR]
 //
-// Full resolutions: the graph's own where the seed gives none, else the seed's largest figure:
-//   seamscape.json (000)        the file's resolution (its tiles)
+// Full resolutions: the seed's largest figure, or 1 to 2 m per sample where it gives none:
+//   seamscape.json (000)        2049 x 2049 (2 m over its 4096 m square; the seed gives no figure)
 //   rural_resources.json (001)  1024 x 1024 (H. Long 2016 times water flow and k-means up to 1024^2)
 //   voronoi_island.json (002)   1024 x 1024
-//   game_world.json (003)       the file's resolution
+//   game_world.json (003)       1025 x 1025 (2 m over its 2048 m square; the seed gives no figure)
 //   forest.json (004)           1025 x 1025 (Unity's 1025^2 heightmap: 1 m over the 1024 m forest)
 // A missing graph file is skipped with a message. With --repeat K each graph runs K times and the run with
 // the least CPU time is reported (the machine may be shared: compare runs made together).
@@ -78,8 +78,8 @@ std::vector<std::string> split(const std::string& s, char sep) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<Seed> seeds = {{"seamscape.json", ""},
-                             {"game_world.json", ""},
+  std::vector<Seed> seeds = {{"seamscape.json", "2049"},
+                             {"game_world.json", "1025"},
                              {"voronoi_island.json", "1024"},
                              {"rural_resources.json", "1024"},
                              {"forest.json", "1025"}};
