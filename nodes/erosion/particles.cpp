@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #if defined(__SSE2__)
@@ -19,27 +20,50 @@ struct TileStats {
   std::uint64_t steps = 0;
 };
 
-// Adds a x weight to the brush rows around zc (W > 0: rows of W weights known at compile time; widths are
-// multiples of 4, so SSE takes 4 at a time, the same product and sum per sample as scalar code).
-template <int W>
-inline void brush_rows(float* zc, float a, const std::ptrdiff_t* __restrict RO, const float* __restrict RW, int rows,
-                       int row_width) {
-  const int n = W > 0 ? W : row_width;
+// Four floats (ints), one per droplet lane: GCC/Clang vector extensions, SSE2 on x86-64. Comparisons give
+// lane masks (-1 or 0).
+using f4 = float __attribute__((vector_size(16)));
+using i4 = std::int32_t __attribute__((vector_size(16)));
+using d2 = double __attribute__((vector_size(16)));
+
+inline f4 sel(i4 m, f4 a, f4 b) {  // m ? a : b per lane
+  return (f4)((m & (i4)a) | (~m & (i4)b));  // vector casts keep the bits
+}
+inline f4 vmin(f4 a, f4 b) { return sel(b < a, b, a); }   // std::min per lane
+inline f4 vmax4(f4 a, f4 b) { return sel(a < b, b, a); }  // std::max per lane
+inline f4 vsqrt(f4 a) {
 #if defined(__SSE2__)
-  const __m128 va = _mm_set1_ps(a);
-  for (int r = 0; r < rows; ++r) {
-    float* zr = zc + RO[r];
-    const float* wr = RW + static_cast<std::size_t>(r) * n;
-    for (int q = 0; q < n; q += 4)
-      _mm_storeu_ps(zr + q, _mm_add_ps(_mm_loadu_ps(zr + q), _mm_mul_ps(va, _mm_loadu_ps(wr + q))));
-  }
+  return _mm_sqrt_ps(a);
 #else
-  for (int r = 0; r < rows; ++r) {
-    float* __restrict zr = zc + RO[r];
-    const float* __restrict wr = RW + static_cast<std::size_t>(r) * n;
-    for (int q = 0; q < n; ++q) zr[q] += a * wr[q];
-  }
+  for (int k = 0; k < 4; ++k) a[k] = std::sqrt(a[k]);
+  return a;
 #endif
+}
+inline int movemask(i4 m) {  // bit k: lane k set
+#if defined(__SSE2__)
+  return _mm_movemask_ps((__m128)m);
+#else
+  return (m[0] & 1) | (m[1] & 2) | (m[2] & 4) | (m[3] & 8);
+#endif
+}
+inline bool any(i4 m) { return movemask(m) != 0; }
+inline i4 lane_mask(int bits) { return i4{-(bits & 1), -(bits >> 1 & 1), -(bits >> 2 & 1), -(bits >> 3 & 1)}; }
+
+inline f4 load4(const float* p) {
+  f4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+inline void store4(float* p, f4 v) { std::memcpy(p, &v, sizeof v); }
+
+// Adds a x weight to the brush rows, the first at zr, rows `stride` apart: W weights a row (a multiple of 4),
+// R rows (R = 0: `rows`, W = 0: `row_width`, known at run time only).
+template <int W, int R>
+inline void brush_rows(float* zr, float a, std::ptrdiff_t stride, const float* __restrict RW, int rows, int row_width) {
+  const int n = W > 0 ? W : row_width, nr = R > 0 ? R : rows;
+  const f4 av = f4{} + a;
+  for (int r = 0; r < nr; ++r, zr += stride, RW += n)
+    for (int q = 0; q < n; q += 4) store4(zr + q, load4(zr + q) + av * load4(RW + q));
 }
 
 struct BrushTap {
@@ -54,8 +78,8 @@ struct Sim {
   std::uint32_t* V;
   const Heightfield* mask;
   const std::vector<BrushTap>* brush;
-  const std::ptrdiff_t* RO;  // brush rows: offset of each row's first column from the centre sample
-  const float* RW;           // brush rows: row_width weights each (0 outside the disc and in the padding)
+  std::ptrdiff_t row0;  // brush rows: offset of the first row's first column from the centre sample
+  const float* RW;      // brush rows: row_width weights each (0 outside the disc and in the padding)
   int rows, row_width;
   int w, h, rx, ry, max_steps;
   std::uint64_t seed;
@@ -87,23 +111,23 @@ struct Sim {
     }
   }
 
-  struct Drop {
-    std::uint64_t key;
-    float u, v, dirx, diry, speed, water, sed, hgt, gx, gy;
-    int s;
-  };
-  // Droplets in flight per tile, stepped in turn (a fixed order: part of the schedule, not of the thread
-  // count). Measured: 2 or 4 lanes were 8% slower than 1 (the erode/deposit branch mispredicts flush the
-  // overlap they would buy), so one.
-  static constexpr int kLanes = 1;
+  // Droplets in flight per tile, one per lane of a 4-float vector, stepped together (which droplet takes a
+  // lane is fixed by the tile's list: part of the schedule, not of the thread count). A droplet step is a
+  // chain of dependent latencies (position -> heights -> gradient -> direction -> square root and division
+  // -> position) with little work beside it: four independent droplets share the arithmetic of one. Reads
+  // (the 2 x 2 heights) happen for the four lanes first, then each lane's changes in lane order, so a
+  // droplet sees the changes of the others one step late.
+  static constexpr int kLanes = 4;
 
-  // The droplets first + ids[0..count) of one tile: kLanes at a time, each ended droplet's lane taking the
-  // next droplet of the list.
+  // The droplets first + ids[0..count) of one tile, each ended droplet's lane taking the next of the list.
+  // W, R: the brush rows' width and count when known at compile time (0: at run time).
+  template <int W, int R>
   void run_tile(std::uint64_t first, const std::uint32_t* ids, std::uint32_t count, TileStats& ts) const {
     float* __restrict const Z = this->Z;
     std::uint32_t* __restrict const V = this->V;
-    const std::ptrdiff_t* __restrict const RO = this->RO;
+    const float* __restrict const M = mask ? mask->data.data() : nullptr;
     const float* __restrict const RW = this->RW;
+    const std::ptrdiff_t row0 = this->row0;
     const int rows = this->rows, row_width = this->row_width;
     const int w = this->w, h = this->h, rx = this->rx, ry = this->ry, max_steps = this->max_steps;
     const float step_u = this->step_u, step_v = this->step_v, inv_dx = this->inv_dx, inv_dy = this->inv_dy;
@@ -112,120 +136,150 @@ struct Sim {
     const float deposition = this->deposition, erosion = this->erosion, gravity = this->gravity;
     const float keep_water = this->keep_water, brush_area = this->brush_area;
     const float umax = static_cast<float>(w - 1), vmax = static_cast<float>(h - 1);
-    const Heightfield* mask = this->mask;
+    const float imax = static_cast<float>(w - 2), jmax = static_cast<float>(h - 2);
+    // Brush centres whose rows lie inside the grid: unsigned (ni - rx) <= bu and (nj - ry) <= bv.
+    const bool brush_fits = row_width <= w && 2 * ry + 1 <= h;
+    const unsigned bu = static_cast<unsigned>(w - row_width), bv = static_cast<unsigned>(h - 1 - 2 * ry);
     double eroded = 0, deposited = 0, carried_off = 0;
+    d2 eroded2{}, deposited2{};
     std::uint64_t steps = 0;
 
-    auto height_grad = [&](float u, float v, float& hgt, float& gx, float& gy) {
-      const int i = std::min(static_cast<int>(u), w - 2), j = std::min(static_cast<int>(v), h - 2);
-      const float fu = u - static_cast<float>(i), fv = v - static_cast<float>(j);
-      const float* zk = Z + static_cast<std::size_t>(j) * w + i;
-      const float a = zk[0], b = zk[1], c = zk[w], d = zk[w + 1];
+    // Lane state: position (samples), its 2 x 2 cell (first sample ci, cj; offsets fu, fv), direction,
+    // speed, water, sediment, and the bilinear height and gradient read when the droplet got there.
+    f4 U{}, Vp{}, FU{}, FV{}, DX{}, DY{}, SP{}, WA{}, SE{}, HG{}, GX{}, GY{};
+    i4 CI{}, CJ{}, S{};
+    std::uint64_t key[kLanes] = {};
+    int live = 0;  // bit k: lane k holds a droplet
+    std::uint32_t next = 0;
+
+    // Bilinear height and gradient at (u, v), 0 <= u <= w - 1, 0 <= v <= h - 1, from the 2 x 2 cell
+    // (i, j) = (min(floor u, w - 2), min(floor v, h - 2)) with offsets (fu, fv).
+    auto bilinear = [&](f4 a, f4 b, f4 c, f4 d, f4 fu, f4 fv, f4& hgt, f4& gx, f4& gy) {
       gx = ((b - a) * (1 - fv) + (d - c) * fv) * inv_dx;
       gy = ((c - a) * (1 - fu) + (d - b) * fu) * inv_dy;
       hgt = (a * (1 - fu) + b * fu) * (1 - fv) + (c * (1 - fu) + d * fu) * fv;
     };
-    auto start = [&](Drop& d, std::uint64_t id) {
-      d.key = hash64(seed, id);
-      d.u = static_cast<float>(hash01(d.key, 1) * (w - 1));
-      d.v = static_cast<float>(hash01(d.key, 2) * (h - 1));
-      d.dirx = d.diry = d.sed = 0;
-      d.speed = d.water = 1;
-      d.s = 0;
-      height_grad(d.u, d.v, d.hgt, d.gx, d.gy);
+    auto start = [&](int k, std::uint64_t id) {
+      key[k] = hash64(seed, id);
+      const float u = static_cast<float>(hash01(key[k], 1) * (w - 1));
+      const float v = static_cast<float>(hash01(key[k], 2) * (h - 1));
+      const int i = static_cast<int>(std::min(u, imax)), j = static_cast<int>(std::min(v, jmax));
+      const float* zk = Z + static_cast<std::ptrdiff_t>(j) * w + i;
+      f4 hgt, gx, gy;
+      const float fu = u - static_cast<float>(i), fv = v - static_cast<float>(j);
+      bilinear(f4{} + zk[0], f4{} + zk[1], f4{} + zk[w], f4{} + zk[w + 1], f4{} + fu, f4{} + fv, hgt, gx, gy);
+      U[k] = u, Vp[k] = v, CI[k] = i, CJ[k] = j, FU[k] = fu, FV[k] = fv;
+      HG[k] = hgt[0], GX[k] = gx[0], GY[k] = gy[0];
+      DX[k] = DY[k] = SE[k] = 0;
+      SP[k] = WA[k] = 1;
+      S[k] = 0;
+      live |= 1 << k;
     };
-    // One step; false when the droplet has ended (and settled what it carried).
-    auto step = [&](Drop& d) -> bool {
-      const float u = d.u, v = d.v;
-      const int ni = static_cast<int>(u + 0.5f), nj = static_cast<int>(v + 0.5f);
-      const std::size_t node = static_cast<std::size_t>(nj) * w + ni;
-      ++V[node];
-      ++steps;
-      float dirx = d.dirx * inertia - d.gx * (1 - inertia);
-      float diry = d.diry * inertia - d.gy * (1 - inertia);
-      const float len2 = dirx * dirx + diry * diry;
-      if (len2 > 1e-24f) [[likely]] {
-        const float inv_len = 1.0f / std::sqrt(len2);
-        dirx *= inv_len;
-        diry *= inv_len;
-      } else {
-        const double a = 2.0 * M_PI * hash01(d.key, 16 + static_cast<std::uint64_t>(d.s));
-        dirx = static_cast<float>(std::cos(a));
-        diry = static_cast<float>(std::sin(a));
-      }
-      const float nu = u + dirx * step_u, nv = v + diry * step_v;
-      if (!(nu >= 0 && nu <= umax && nv >= 0 && nv <= vmax)) [[unlikely]] {
-        carried_off += d.sed;
-        return false;
-      }
-      float nh, ngx, ngy;
-      height_grad(nu, nv, nh, ngx, ngy);
-      const float dh = nh - d.hgt;
-      const float m = mask ? mask_at(mask, node) : 1.0f;
-      float sed = d.sed;
-      const float cap = std::max(-dh * inv_step, min_slope) * d.speed * d.water * capacity;
-      // Uphill: fill the pit up to what it carries; over capacity: deposit a share of the surplus; else erode
-      // a share of the free capacity, at most the drop, with the brush.
-      if (dh > 0 || sed > cap) {
-        const float amt = dh > 0 ? std::min(dh * cell_area, sed) : (sed - cap) * deposition * m;
-        if (amt > 0) {
-          sed -= amt;
-          deposit(Z, w, h, amt * inv_cell_area, u, v);
-          deposited += amt;
-        }
-      } else {
-        const float amt = std::min((cap - sed) * erosion, -dh * brush_area) * m;
-        if (amt > 0) {
-          const float a = -amt * inv_cell_area;
-          if (ni >= rx && nj >= ry && ni - rx + row_width <= w && nj + ry < h) [[likely]] {
-            float* __restrict zc = Z + node;
-            // Row by row over padded rows of a multiple of 4 weights: the inner loop vectorises.
-            switch (row_width) {  // fixed widths unroll to whole vectors
-              case 4: brush_rows<4>(zc, a, RO, RW, rows, 4); break;
-              case 8: brush_rows<8>(zc, a, RO, RW, rows, 8); break;
-              case 12: brush_rows<12>(zc, a, RO, RW, rows, 12); break;
-              case 16: brush_rows<16>(zc, a, RO, RW, rows, 16); break;
-              default: brush_rows<0>(zc, a, RO, RW, rows, row_width);
-            }
-          } else {
-            erode_border(a, ni, nj);
-          }
-          eroded += amt;
-          sed += amt;
-        }
-      }
-      d.speed = std::sqrt(std::max(0.0f, d.speed * d.speed - dh * gravity));
-      d.water *= keep_water;
-      d.dirx = dirx, d.diry = diry;
-      d.u = nu, d.v = nv, d.hgt = nh, d.gx = ngx, d.gy = ngy;
-      d.sed = sed;
-      if (++d.s < max_steps) return true;
-      // End of life: what the droplet still carries settles where it stopped.
-      if (sed > 0) {
-        deposit(Z, w, h, sed * inv_cell_area, nu, nv);
-        deposited += sed;
-      }
-      return false;
+    // amt m of height spread bilinearly over the 2 x 2 cell (i, j) with offsets (fu, fv).
+    auto deposit = [&](float a, int i, int j, float fu, float fv) {
+      float* zk = Z + static_cast<std::ptrdiff_t>(j) * w + i;
+      const float a0 = a * (1 - fv), a1 = a * fv;
+      zk[0] += a0 * (1 - fu);
+      zk[1] += a0 * fu;
+      zk[w] += a1 * (1 - fu);
+      zk[w + 1] += a1 * fu;
     };
 
-    Drop lane[kLanes];
-    int live = 0;
-    std::uint32_t next = 0;
-    while (live < kLanes && next < count) start(lane[live++], first + ids[next++]);
-    while (live > 0) {
-      for (int g = 0; g < live;) {
-        if (step(lane[g])) {
-          ++g;
-        } else if (next < count) {
-          start(lane[g], first + ids[next++]);
-          ++g;
-        } else {
-          lane[g] = lane[--live];
+    for (int k = 0; k < kLanes && next < count; ++k) start(k, first + ids[next++]);
+    while (live) {
+      const i4 on = lane_mask(live);
+      steps += static_cast<unsigned>(__builtin_popcount(live));
+      // Nearest sample of each position: the brush centre and the visit count.
+      const i4 NI = CI - (FU >= 0.5f), NJ = CJ - (FV >= 0.5f);
+      f4 dirx = DX * inertia - GX * (1 - inertia);
+      f4 diry = DY * inertia - GY * (1 - inertia);
+      const f4 len2 = dirx * dirx + diry * diry;
+      const i4 flat = len2 <= 1e-24f;
+      const f4 inv_len = 1.0f / vsqrt(sel(flat, f4{} + 1, len2));
+      dirx *= inv_len;
+      diry *= inv_len;
+      if (any(flat & on)) [[unlikely]] {
+        // No slope and no momentum: a random direction.
+        for (int k = 0; k < kLanes; ++k)
+          if (flat[k]) {
+            const double a = 2.0 * M_PI * hash01(key[k], 16 + static_cast<std::uint64_t>(S[k]));
+            dirx[k] = static_cast<float>(std::cos(a));
+            diry[k] = static_cast<float>(std::sin(a));
+          }
+      }
+      f4 nu = U + dirx * step_u, nv = Vp + diry * step_v;
+      // Lanes that leave the grid (or hold no droplet) read at their old position and change nothing.
+      const i4 in = on & (nu >= 0) & (nu <= umax) & (nv >= 0) & (nv <= vmax);
+      nu = sel(in, nu, U), nv = sel(in, nv, Vp);
+      const i4 nci = __builtin_convertvector(vmin(nu, f4{} + imax), i4);
+      const i4 ncj = __builtin_convertvector(vmin(nv, f4{} + jmax), i4);
+      const f4 nfu = nu - __builtin_convertvector(nci, f4), nfv = nv - __builtin_convertvector(ncj, f4);
+      f4 za, zb, zc, zd;
+      for (int k = 0; k < kLanes; ++k) {
+        const float* zk = Z + static_cast<std::ptrdiff_t>(ncj[k]) * w + nci[k];
+        za[k] = zk[0], zb[k] = zk[1], zc[k] = zk[w], zd[k] = zk[w + 1];
+      }
+      f4 nh, ngx, ngy;
+      bilinear(za, zb, zc, zd, nfu, nfv, nh, ngx, ngy);
+      const f4 dh = nh - HG;
+      f4 m = f4{} + 1;
+      if (M) {
+        for (int k = 0; k < kLanes; ++k)
+          m[k] = std::clamp(M[static_cast<std::ptrdiff_t>(NJ[k]) * w + NI[k]], 0.0f, 1.0f);
+      }
+      const f4 cap = vmax4(-dh * inv_step, f4{} + min_slope) * SP * WA * capacity;
+      // Uphill: fill the pit up to what it carries; over capacity: deposit a share of the surplus; else erode
+      // a share of the free capacity, at most the drop, with the brush. One of the two amounts is 0.
+      const i4 up = dh > 0;
+      f4 dep = sel(up, vmin(dh * cell_area, SE), vmax4(SE - cap, f4{}) * deposition * m);
+      f4 ero = sel(up, f4{}, vmin(vmax4(cap - SE, f4{}) * erosion, -dh * brush_area) * m);
+      dep = sel(in, dep, f4{}), ero = sel(in, ero, f4{});
+      const f4 da = dep * inv_cell_area, ea = -ero * inv_cell_area;
+      for (int k = 0; k < kLanes; ++k) {
+        if (!(live >> k & 1)) continue;
+        const int ni = NI[k], nj = NJ[k];
+        const std::ptrdiff_t node = static_cast<std::ptrdiff_t>(nj) * w + ni;
+        ++V[node];
+        deposit(da[k], CI[k], CJ[k], FU[k], FV[k]);
+        const float a = ea[k];
+        if (brush_fits && static_cast<unsigned>(ni - rx) <= bu && static_cast<unsigned>(nj - ry) <= bv) [[likely]] {
+          // Row by row over padded rows of a multiple of 4 weights (0 outside the disc; adding a x 0 changes
+          // nothing, so no branch on whether the step eroded).
+          brush_rows<W, R>(Z + node + row0, a, w, RW, rows, row_width);
+        } else if (a < 0) {
+          erode_border(a, ni, nj);
+        }
+      }
+      // Totals in double, two lanes at a time (0 for lanes that changed nothing).
+      eroded2 += __builtin_convertvector(__builtin_shufflevector(ero, ero, 0, 1), d2) +
+                 __builtin_convertvector(__builtin_shufflevector(ero, ero, 2, 3), d2);
+      deposited2 += __builtin_convertvector(__builtin_shufflevector(dep, dep, 0, 1), d2) +
+                    __builtin_convertvector(__builtin_shufflevector(dep, dep, 2, 3), d2);
+      SE = SE + ero - dep;
+      SP = vsqrt(vmax4(SP * SP - dh * gravity, f4{}));
+      WA *= keep_water;
+      DX = dirx, DY = diry;
+      U = nu, Vp = nv, HG = nh, GX = ngx, GY = ngy;
+      CI = nci, CJ = ncj, FU = nfu, FV = nfv;
+      S += 1;
+      const int ended = live & ~(movemask(in) & ~movemask(S >= max_steps));
+      if (ended) [[unlikely]] {
+        for (int k = 0; k < kLanes; ++k) {
+          if (!(ended >> k & 1)) continue;
+          if (!in[k]) {
+            carried_off += SE[k];  // left the grid with its droplet
+          } else if (SE[k] > 0) {
+            // End of life: what the droplet still carries settles where it stopped.
+            deposit(SE[k] * inv_cell_area, CI[k], CJ[k], FU[k], FV[k]);
+            deposited += SE[k];
+          }
+          live &= ~(1 << k);
+          if (next < count) start(k, first + ids[next++]);
         }
       }
     }
-    ts.eroded += eroded;
-    ts.deposited += deposited;
+    ts.eroded += eroded + eroded2[0] + eroded2[1];
+    ts.deposited += deposited + deposited2[0] + deposited2[1];
     ts.carried_off += carried_off;
     ts.steps += steps;
   }
@@ -270,21 +324,14 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
     for (auto& t : brush) t.w = static_cast<float>(t.w / total);
   }
   // The brush as rows of columns -rx .. -rx + row_width - 1, row_width the multiple of 4 at or above
-  // 2 rx + 1 (the padding and the corners outside the disc weigh 0: adding a * 0 changes no height); rows
-  // without a tap are left out.
+  // 2 rx + 1 (the padding and the corners outside the disc weigh 0: adding a * 0 changes no height), from the
+  // first to the last row with a tap (a disc's rows are contiguous).
   const int row_width = (2 * rx + 1 + 3) / 4 * 4, pad = row_width - (2 * rx + 1);
-  std::vector<std::ptrdiff_t> row_offset;
-  std::vector<float> row_weights;
+  int dj_lo = ry, dj_hi = -ry;
+  for (const auto& t : brush) dj_lo = std::min(dj_lo, t.dj), dj_hi = std::max(dj_hi, t.dj);
+  std::vector<float> row_weights(static_cast<std::size_t>(dj_hi - dj_lo + 1) * row_width, 0.0f);
+  for (const auto& t : brush) row_weights[static_cast<std::size_t>(t.dj - dj_lo) * row_width + t.di + rx] = t.w;
   float w_centre = 0.0f;
-  for (int dj = -ry; dj <= ry; ++dj) {
-    std::vector<float> row(row_width, 0.0f);
-    bool any = false;
-    for (const auto& t : brush)
-      if (t.dj == dj) row[t.di + rx] = t.w, any = true;
-    if (!any) continue;
-    row_offset.push_back(static_cast<std::ptrdiff_t>(dj) * w - rx);
-    row_weights.insert(row_weights.end(), row.begin(), row.end());
-  }
   for (const auto& t : brush)
     if (t.di == 0 && t.dj == 0) w_centre = t.w;
   // The erosion of one step never lowers the brush centre by more than the drop: volume <= -dh x area / w0.
@@ -323,9 +370,9 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   sim.V = visits.data();
   sim.mask = mask;
   sim.brush = &brush_taps;
-  sim.RO = row_offset.data();
+  sim.row0 = static_cast<std::ptrdiff_t>(dj_lo) * w - rx;
   sim.RW = row_weights.data();
-  sim.rows = static_cast<int>(row_offset.size());
+  sim.rows = dj_hi - dj_lo + 1;
   sim.row_width = row_width;
   sim.w = w, sim.h = h, sim.rx = rx, sim.ry = ry, sim.max_steps = max_steps;
   sim.seed = p.seed;
@@ -338,6 +385,16 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   sim.deposition = static_cast<float>(p.deposition), sim.erosion = static_cast<float>(p.erosion);
   sim.gravity = static_cast<float>(p.gravity), sim.keep_water = static_cast<float>(1.0 - p.evaporation);
   sim.brush_area = brush_area;
+  // The brush loop unrolled for the common shapes (radius 3 cells: 5 rows of 8; 1.5 cells: 3 rows of 4), else
+  // unrolled over a row's width only.
+  using RunTile = void (Sim::*)(std::uint64_t, const std::uint32_t*, std::uint32_t, TileStats&) const;
+  RunTile run = &Sim::run_tile<0, 0>;
+  if (row_width == 8 && sim.rows == 5) run = &Sim::run_tile<8, 5>;
+  else if (row_width == 8 && sim.rows == 3) run = &Sim::run_tile<8, 3>;
+  else if (row_width == 4) run = &Sim::run_tile<4, 0>;
+  else if (row_width == 8) run = &Sim::run_tile<8, 0>;
+  else if (row_width == 12) run = &Sim::run_tile<12, 0>;
+  else if (row_width == 16) run = &Sim::run_tile<16, 0>;
 
   const std::uint64_t rounds = (droplets + round_size - 1) / round_size;
   for (std::uint64_t r = 0; r < rounds; ++r) {
@@ -364,7 +421,7 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, list.size(), 1), [&](const tbb::blocked_range<std::size_t>& br) {
         for (std::size_t q = br.begin(); q != br.end(); ++q) {
           const int t = list[q];
-          sim.run_tile(first, order.data() + tile_start[t], tile_start[t + 1] - tile_start[t], tile_stats[t]);
+          (sim.*run)(first, order.data() + tile_start[t], tile_start[t + 1] - tile_start[t], tile_stats[t]);
         }
       });
       check_cancelled(ctx);
