@@ -12,6 +12,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "nodes/field/row_loop.h"
+
 namespace orogen::erosion {
 namespace {
 
@@ -47,7 +49,29 @@ inline int movemask(i4 m) {  // bit k: lane k set
 #endif
 }
 inline bool any(i4 m) { return movemask(m) != 0; }
-inline i4 lane_mask(int bits) { return i4{-(bits & 1), -(bits >> 1 & 1), -(bits >> 2 & 1), -(bits >> 3 & 1)}; }
+
+// The 2 x 2 samples (a b / c d) of the cells (i[k], j[k]) of the four lanes, read one float at a time (an
+// 8-byte read across two of the brush's vector stores could not be forwarded from them), then transposed
+// into one vector per corner.
+inline void gather_cells(const float* Z, int w, i4 i, i4 j, f4& a, f4& b, f4& c, f4& d) {
+#if defined(__SSE2__)
+  __m128 ab[4], cd[4];
+  for (int k = 0; k < 4; ++k) {
+    const float* zk = Z + static_cast<std::ptrdiff_t>(j[k]) * w + i[k];
+    ab[k] = _mm_unpacklo_ps(_mm_load_ss(zk), _mm_load_ss(zk + 1));
+    cd[k] = _mm_unpacklo_ps(_mm_load_ss(zk + w), _mm_load_ss(zk + w + 1));
+  }
+  const __m128 t01 = _mm_unpacklo_ps(ab[0], ab[1]), t23 = _mm_unpacklo_ps(ab[2], ab[3]);
+  const __m128 b01 = _mm_unpacklo_ps(cd[0], cd[1]), b23 = _mm_unpacklo_ps(cd[2], cd[3]);
+  a = _mm_movelh_ps(t01, t23), b = _mm_movehl_ps(t23, t01);
+  c = _mm_movelh_ps(b01, b23), d = _mm_movehl_ps(b23, b01);
+#else
+  for (int k = 0; k < 4; ++k) {
+    const float* zk = Z + static_cast<std::ptrdiff_t>(j[k]) * w + i[k];
+    a[k] = zk[0], b[k] = zk[1], c[k] = zk[w], d[k] = zk[w + 1];
+  }
+#endif
+}
 
 inline f4 load4(const float* p) {
   f4 v;
@@ -150,6 +174,8 @@ struct Sim {
     i4 CI{}, CJ{}, S{};
     std::uint64_t key[kLanes] = {};
     int live = 0;  // bit k: lane k holds a droplet
+    int live_count = 0;
+    i4 on{};       // the same as lane masks
     std::uint32_t next = 0;
 
     // Bilinear height and gradient at (u, v), 0 <= u <= w - 1, 0 <= v <= h - 1, from the 2 x 2 cell
@@ -174,6 +200,8 @@ struct Sim {
       SP[k] = WA[k] = 1;
       S[k] = 0;
       live |= 1 << k;
+      on[k] = -1;
+      ++live_count;
     };
     // amt m of height spread bilinearly over the 2 x 2 cell (i, j) with offsets (fu, fv).
     auto deposit = [&](float a, int i, int j, float fu, float fv) {
@@ -187,8 +215,7 @@ struct Sim {
 
     for (int k = 0; k < kLanes && next < count; ++k) start(k, first + ids[next++]);
     while (live) {
-      const i4 on = lane_mask(live);
-      steps += static_cast<unsigned>((live & 1) + (live >> 1 & 1) + (live >> 2 & 1) + (live >> 3 & 1));
+      steps += static_cast<unsigned>(live_count);
       // Nearest sample of each position: the brush centre and the visit count.
       const i4 NI = CI - (FU >= 0.5f), NJ = CJ - (FV >= 0.5f);
       f4 dirx = DX * inertia - GX * (1 - inertia);
@@ -215,10 +242,7 @@ struct Sim {
       const i4 ncj = __builtin_convertvector(vmin(nv, f4{} + jmax), i4);
       const f4 nfu = nu - __builtin_convertvector(nci, f4), nfv = nv - __builtin_convertvector(ncj, f4);
       f4 za, zb, zc, zd;
-      for (int k = 0; k < kLanes; ++k) {
-        const float* zk = Z + static_cast<std::ptrdiff_t>(ncj[k]) * w + nci[k];
-        za[k] = zk[0], zb[k] = zk[1], zc[k] = zk[w], zd[k] = zk[w + 1];
-      }
+      gather_cells(Z, w, nci, ncj, za, zb, zc, zd);
       f4 nh, ngx, ngy;
       bilinear(za, zb, zc, zd, nfu, nfv, nh, ngx, ngy);
       const f4 dh = nh - HG;
@@ -276,6 +300,8 @@ struct Sim {
             deposited += SE[k];
           }
           live &= ~(1 << k);
+          on[k] = 0;
+          --live_count;
           if (next < count) start(k, first + ids[next++]);
         }
       }
@@ -441,7 +467,8 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   if (stats) *stats = st;
 
   ErosionMaps maps;
-  maps.out = std::make_shared<Heightfield>(in.domain);
+  maps.out = std::make_shared<Heightfield>();  // (not Heightfield(domain): its zeros would be thrown away)
+  maps.out->domain = in.domain;
   maps.out->data = std::move(z);
   maps.flow = std::make_shared<Heightfield>(in.domain);
   // Flow: visits per unit length of path crossing a cell, log-scaled to 0..1 (a table per visit count).
@@ -451,9 +478,12 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   if (lmax > 0) {
     std::vector<float> table(std::min<std::size_t>(vmax_visits, 1u << 20) + 1);
     for (std::size_t k = 0; k < table.size(); ++k) table[k] = static_cast<float>(std::log1p(static_cast<double>(k)) / lmax);
-    for (std::size_t k = 0; k < visits.size(); ++k)
-      maps.flow->data[k] = visits[k] < table.size() ? table[visits[k]]
-                                                   : static_cast<float>(std::log1p(static_cast<double>(visits[k])) / lmax);
+    float* flow = maps.flow->data.data();
+    for_each_row(nullptr, h, [&](int j) {
+      for (std::size_t k = static_cast<std::size_t>(j) * w, end = k + w; k < end; ++k)
+        flow[k] = visits[k] < table.size() ? table[visits[k]]
+                                           : static_cast<float>(std::log1p(static_cast<double>(visits[k])) / lmax);
+    });
   }
   fill_change_maps(in, maps, ctx);
   return maps;

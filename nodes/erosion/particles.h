@@ -11,10 +11,11 @@
 // grid size); a round bins its droplets by the tile of their origin, tiles at least twice a droplet's reach
 // (lifetime + brush radius) across, and runs the four colours of a 2 x 2 checkerboard of tiles one after the
 // other. Tiles of one colour never touch the same sample, so they run in parallel, each tile's droplets in
-// index order changing the heights directly. Every sample gets the same changes in the same order for any
-// thread count: bit-identical, no atomics, no change logs. Chosen over frozen batches with per-droplet change
-// logs (the earlier scheme) because droplets see the changes of the droplets before them, as in Beyer's
-// serial loop, and a tile's samples stay in cache while its droplets run (about 3x faster on one core).
+// index order, four at a time in the lanes of a vector (a lane freed by an ended droplet takes the next),
+// changing the heights directly. Every sample gets the same changes in the same order for any thread count:
+// bit-identical, no atomics, no change logs. Chosen over frozen batches with per-droplet change logs (the
+// earlier scheme) because droplets see the changes of the droplets before them, as in Beyer's serial loop
+// (those in flight together one step late), and a tile's samples stay in cache while its droplets run.
 #include <cstdint>
 
 #include "nodes/erosion/erosion_common.h"
