@@ -65,10 +65,18 @@ ErosionMaps thermal_erosion(const Heightfield& in, const ThermalParams& p, const
         for (int n = 0; n < 8; ++n) {
           const float* zn = zr + off[n];
           const float tn = tal[n];
-          for (int i = 0; i < w; ++i) {
-            const float e = std::max(0.0f, zr[i] - zn[i] - tn * sc[i]);
-            sum[i] += e;
-            mx[i] = std::max(mx[i], e);
+          if (hardness) {
+            for (int i = 0; i < w; ++i) {
+              const float e = std::max(0.0f, zr[i] - zn[i] - tn * sc[i]);
+              sum[i] += e;
+              mx[i] = std::max(mx[i], e);
+            }
+          } else {  // sc = 1: the same values without the products
+            for (int i = 0; i < w; ++i) {
+              const float e = std::max(0.0f, zr[i] - zn[i] - tn);
+              sum[i] += e;
+              mx[i] = std::max(mx[i], e);
+            }
           }
         }
         float* ra = ratio.data() + q0;
@@ -96,11 +104,18 @@ ErosionMaps thermal_erosion(const Heightfield& in, const ThermalParams& p, const
               const float* rn = rc + off[n];
               const float tn = tal[n];
               // Neighbour nb sends along the opposite direction (same distance, same talus index n).
-              if (hardness)
+              if (hardness) {
                 for (int i = 0; i < w; ++i) sn[i] = tan_cell[q0 + i + off[n]] / static_cast<float>(tan_t);
-              for (int i = 0; i < w; ++i) {
-                out[i] += rc[i] * std::max(0.0f, zr[i] - zn[i] - tn * sc[i]);
-                gain[i] += rn[i] * std::max(0.0f, zn[i] - zr[i] - tn * sn[i]);
+                for (int i = 0; i < w; ++i) {
+                  out[i] += rc[i] * std::max(0.0f, zr[i] - zn[i] - tn * sc[i]);
+                  gain[i] += rn[i] * std::max(0.0f, zn[i] - zr[i] - tn * sn[i]);
+                }
+              } else {  // sc = sn = 1: the same values without the products, and zn - zr as -(zr - zn)
+                for (int i = 0; i < w; ++i) {
+                  const float d = zr[i] - zn[i];
+                  out[i] += rc[i] * std::max(0.0f, d - tn);
+                  gain[i] += rn[i] * std::max(0.0f, -d - tn);
+                }
               }
             }
             float* z2r = z2.data() + q0;
