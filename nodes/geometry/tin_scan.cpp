@@ -37,31 +37,44 @@ ScanResult ScanTriangle(const ScanRequest& r) {
   const double ux = r.bx - r.ax, uy = r.by - r.ay, vx = r.cx - r.ax, vy = r.cy - r.ay;
   const double det = ux * vy - vx * uy;
   const double gx = ((zb - za) * vy - (zc - za) * uy) / det, gy = (ux * (zc - za) - vx * (zb - za)) / det;
-  const int ymin = std::min({r.ay, r.by, r.cy}), ymax = std::max({r.ay, r.by, r.cy});
-  const int xmin = std::min({r.ax, r.bx, r.cx}), xmax = std::max({r.ax, r.bx, r.cx});
-  // Row spans from the edges, stepped exactly (see terrain_tin.cpp's scalar scan).
+  // Rasterised as two trapezoids: with the corners sorted by row (p0 lowest, p2 highest), the long edge p0 -> p2
+  // bounds every row on one side and the short edges p0 -> p1 (rows below p1) and p1 -> p2 (rows from p1 on)
+  // on the other. Each edge is walked exactly: x = px + floor(dx (y - py) / dy) as a quotient and remainder
+  // stepped row by row (the right side takes the floor, the left side the ceiling), without a division per row.
+  struct Corner {
+    int x, y;
+  } p[3] = {{r.ax, r.ay}, {r.bx, r.by}, {r.cx, r.cy}};
+  if (p[1].y < p[0].y) std::swap(p[0], p[1]);
+  if (p[2].y < p[1].y) std::swap(p[1], p[2]);
+  if (p[1].y < p[0].y) std::swap(p[0], p[1]);
   struct Walk {
     i64 q, rem, den, step_q, step_r;
     int px;
-    bool right;
-  } walks[3];
-  int n_walks = 0;
-  const int ex[3] = {r.ax, r.bx, r.cx}, ey[3] = {r.ay, r.by, r.cy};
-  for (int k = 0; k < 3; ++k) {
-    const int px = ex[k], py = ey[k];
-    const i64 dy = ey[(k + 1) % 3] - py, dx = ex[(k + 1) % 3] - px;
-    if (dy == 0) continue;
-    Walk& wk = walks[n_walks++];
-    wk.right = dy > 0;
-    wk.den = dy > 0 ? dy : -dy;
-    const i64 s = dy > 0 ? dx : -dx;
-    const i64 n = s * (ymin - py);
-    wk.q = FloorDiv(n, wk.den);
-    wk.rem = n - wk.q * wk.den;
-    wk.step_q = FloorDiv(s, wk.den);
-    wk.step_r = s - wk.step_q * wk.den;
-    wk.px = px;
-  }
+    void start(Corner a, Corner b, int y) {  // the edge a -> b (a.y < b.y), at row y
+      den = b.y - a.y;
+      const i64 s = b.x - a.x;
+      q = FloorDiv(s * (y - a.y), den);
+      rem = s * (y - a.y) - q * den;
+      step_q = FloorDiv(s, den);
+      step_r = s - step_q * den;
+      px = a.x;
+    }
+    i64 floor_x() const { return px + q; }
+    i64 ceil_x() const { return px + q + (rem != 0); }
+    void step() {
+      q += step_q;
+      rem += step_r;
+      const bool carry = rem >= den;  // branch-free: the carry is as good as random from row to row
+      q += carry;
+      rem -= carry ? den : 0;
+    }
+  };
+  const int ymin = p[0].y, ymid = p[1].y, ymax = p[2].y;
+  // The middle corner left of the long edge (seen from p0 towards p2): the short edges bound the rows on the left.
+  const bool short_left = static_cast<i64>(p[2].x - p[0].x) * (p[1].y - p[0].y) -
+                              static_cast<i64>(p[2].y - p[0].y) * (p[1].x - p[0].x) > 0;
+  Walk long_edge{}, short_edge{};
+  long_edge.start(p[0], p[2], ymin);
   const V iota = hn::Iota(d, 0.0f);
   const V vg = hn::Set(d, static_cast<float>(gx));
   const V none = hn::Set(d, -1.0f);  // the error of lanes past a row's end: below every real error
@@ -84,17 +97,18 @@ ScanResult ScanTriangle(const ScanRequest& r) {
   const V vlimit = hn::Set(d, r.limit);
   ScanResult best;
   for (int y = ymin; y <= ymax; ++y) {
-    i64 xl = xmin, xr = xmax;
-    for (int k = 0; k < n_walks; ++k) {
-      Walk& wk = walks[k];
-      if (wk.right) xr = std::min(xr, wk.px + wk.q);
-      else xl = std::max(xl, wk.px + wk.q + (wk.rem != 0 ? 1 : 0));
-      wk.q += wk.step_q;
-      wk.rem += wk.step_r;
-      const bool carry = wk.rem >= wk.den;  // branch-free: the carry is as good as random from row to row
-      wk.q += carry;
-      wk.rem -= carry ? wk.den : 0;
+    if (y == ymin && ymin < ymid) short_edge.start(p[0], p[1], y);
+    if (y == ymid && ymid < ymax) short_edge.start(p[1], p[2], y);
+    i64 xl, xr;
+    if (y == ymid && ymid == ymax) {  // a flat top: the row from p1 to the long edge's end
+      xl = short_left ? p[1].x : long_edge.ceil_x();
+      xr = short_left ? long_edge.floor_x() : p[1].x;
+    } else {
+      xl = short_left ? short_edge.ceil_x() : long_edge.ceil_x();
+      xr = short_left ? long_edge.floor_x() : short_edge.floor_x();
     }
+    long_edge.step();
+    short_edge.step();
     if (xl > xr) continue;
     const std::size_t n = static_cast<std::size_t>(xr - xl + 1);
     const float* row = r.z + static_cast<std::size_t>(y) * w + static_cast<std::size_t>(xl);
