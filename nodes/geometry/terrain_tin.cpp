@@ -384,17 +384,21 @@ class Collapser {
     std::vector<std::array<std::int32_t, 3>> tris(nt);
     for (std::size_t t = 0; t < nt; ++t)
       tris[t] = {renumber[corners[3 * t]], renumber[corners[3 * t + 1]], renumber[corners[3 * t + 2]]};
-    std::sort(tris.begin(), tris.end(), [](const auto& a, const auto& b) {
-      return std::min({a[0], a[1], a[2]}) < std::min({b[0], b[1], b[2]}) ||
-             (std::min({a[0], a[1], a[2]}) == std::min({b[0], b[1], b[2]}) && a < b);
-    });
-    tris_ = std::move(tris);
+    // Triangles in the order of their lowest vertex (then their old index), so a star is a few cache lines.
+    std::vector<std::uint64_t> order(nt);
+    for (std::size_t t = 0; t < nt; ++t)
+      order[t] = (static_cast<std::uint64_t>(std::min({tris[t][0], tris[t][1], tris[t][2]})) << 32) | t;
+    std::sort(order.begin(), order.end());
+    tris_.resize(nt);
+    for (std::size_t k = 0; k < nt; ++k) tris_[k] = tris[order[k] & 0xffffffffu];
     alive_tri_.assign(nt, 1);
     star_.resize(nv);
     for (std::size_t t = 0; t < nt; ++t)
       for (int k = 0; k < 3; ++k) star_[static_cast<std::size_t>(tris_[t][k])].push_back(static_cast<int>(t));
     alive_vertex_.assign(vx_.size(), 1);
     version_.assign(vx_.size(), 0);
+    mark_.assign(vx_.size(), 0);
+    seen_.assign(vx_.size(), 0);
   }
 
   void run(double bound, std::size_t target, const TinOptions& options) {
@@ -481,47 +485,51 @@ class Collapser {
   }
   bool boundary(int v) const { return sides(v) != 0; }
 
-  void neighbours(int v, std::vector<int>& out) const {
-    out.clear();
-    for (int t : star_[v])
-      for (int c : tris_[t])
-        if (c != v && std::find(out.begin(), out.end(), c) == out.end()) out.push_back(c);
+  // v's star as wedges: triangle (v, a, b), counter-clockwise; and its neighbours: every a, plus the b that
+  // follows no a (the last of an open fan on the border).
+  void gather_star(int v) {
+    wedges_.clear();
+    for (int t : star_[v]) {
+      const auto& c = tris_[t];
+      const int k = c[0] == v ? 0 : c[1] == v ? 1 : 2;
+      wedges_.push_back({c[k == 2 ? 0 : k + 1], c[k == 0 ? 2 : k - 1]});
+    }
+    nv_.clear();
+    for (const Wedge& w : wedges_) nv_.push_back(w.a);
+    for (const Wedge& w : wedges_)
+      if (std::none_of(wedges_.begin(), wedges_.end(), [&](const Wedge& o) { return o.a == w.b; })) nv_.push_back(w.b);
   }
 
   // The best collapse of v (the neighbour leaving the smallest error within the bound), queued; none if no
-  // collapse is legal.
+  // collapse is legal. Collapsing v into u turns each wedge (v, a, b) without u into the triangle (u, a, b).
   void evaluate(int v) {
     ++version_[v];
     dirty_[v] = 0;
     const int sv = sides(v);
     if (sv != 0 && (sv & (sv - 1)) != 0) return;  // a corner stays
-    neighbours(v, nv_);
+    gather_star(v);
+    ++generation_;
+    for (int w : nv_) mark_[w] = generation_;
+    const int px = vx_[v], py = vy_[v];
     double best = bound_;
     int best_u = -1;
     for (int u : nv_) {
       if (sv != 0 && (sides(u) & sv) == 0) continue;  // a border vertex moves only along its side
-      // Every triangle of v that survives must stay counter-clockwise with u in v's place.
+      const int ux = vx_[u], uy = vy_[u];
+      // Every new triangle must be counter-clockwise. The removed vertex's own sample is the likeliest to break
+      // the bound: test it first, in O(1), in the new triangle that holds it ((a, b, v) is counter-clockwise by
+      // construction, so two orientations decide).
       bool ok = true, v_checked = false;
-      for (int t : star_[v]) {
-        const auto& c = tris_[t];
-        if (c[0] == u || c[1] == u || c[2] == u) continue;
-        int x[3], y[3];
-        float z[3];
-        for (int k = 0; k < 3; ++k) {
-          const int w = c[k] == v ? u : c[k];
-          x[k] = vx_[w];
-          y[k] = vy_[w];
-          z[k] = vz_[w];
-        }
-        if (orient(x[0], y[0], x[1], y[1], x[2], y[2]) <= 0) {
+      for (const Wedge& w : wedges_) {
+        if (w.a == u || w.b == u) continue;
+        const int ax = vx_[w.a], ay = vy_[w.a], bx = vx_[w.b], by = vy_[w.b];
+        if (orient(ux, uy, ax, ay, bx, by) <= 0) {
           ok = false;
           break;
         }
-        // The removed vertex's own sample is the likeliest to break the bound: test it first, in O(1).
-        if (!v_checked && orient(x[0], y[0], x[1], y[1], vx_[v], vy_[v]) >= 0 &&
-            orient(x[1], y[1], x[2], y[2], vx_[v], vy_[v]) >= 0 && orient(x[2], y[2], x[0], y[0], vx_[v], vy_[v]) >= 0) {
+        if (!v_checked && orient(ux, uy, ax, ay, px, py) >= 0 && orient(bx, by, ux, uy, px, py) >= 0) {
           v_checked = true;
-          if (Scanner::point_error(x[0], y[0], z[0], x[1], y[1], z[1], x[2], y[2], z[2], vx_[v], vy_[v], vz_[v]) > best) {
+          if (Scanner::point_error(ux, uy, vz_[u], ax, ay, vz_[w.a], bx, by, vz_[w.b], px, py, vz_[v]) > best) {
             ok = false;
             break;
           }
@@ -529,21 +537,14 @@ class Collapser {
       }
       if (!ok) continue;
       double worst = 0.0;
-      for (int t : star_[v]) {
-        const auto& c = tris_[t];
-        if (c[0] == u || c[1] == u || c[2] == u) continue;
-        int x[3], y[3];
-        for (int k = 0; k < 3; ++k) {
-          const int w = c[k] == v ? u : c[k];
-          x[k] = vx_[w];
-          y[k] = vy_[w];
-        }
-        const Scan s = scanner_.scan<true>(x[0], y[0], x[1], y[1], x[2], y[2], best);
+      for (const Wedge& w : wedges_) {
+        if (w.a == u || w.b == u) continue;
+        const Scan s = scanner_.scan<true>(ux, uy, vx_[w.a], vy_[w.a], vx_[w.b], vy_[w.b], best);
         worst = std::max(worst, s.error);
         if (worst > best) break;
       }
       // The topological check last: it is the dearest per candidate and most candidates fail before it.
-      if (worst <= best && link_condition(v, u)) {
+      if (worst <= best && link_condition(u)) {
         best = worst;
         best_u = u;
       }
@@ -551,18 +552,19 @@ class Collapser {
     if (best_u >= 0) queue_.push({best, v, best_u, version_[v]});
   }
 
-  // The vertices adjacent to both v and u are exactly the third vertices of the triangles on edge vu (else
-  // the collapse would pinch the surface).
-  bool link_condition(int v, int u) {
-    neighbours(u, nu_);
+  // The vertices adjacent to both v and u are exactly the third vertices of the wedges on edge vu (else the
+  // collapse would pinch the surface). v's neighbours carry the current mark (evaluate).
+  bool link_condition(int u) {
+    ++link_generation_;
     int common = 0;
-    for (int w : nv_)
-      if (std::find(nu_.begin(), nu_.end(), w) != nu_.end()) ++common;
+    for (int t : star_[u])
+      for (int c : tris_[t])
+        if (c != u && mark_[c] == generation_ && seen_[c] != link_generation_) {
+          seen_[c] = link_generation_;
+          ++common;
+        }
     int shared = 0;
-    for (int t : star_[v]) {
-      const auto& c = tris_[t];
-      if (c[0] == u || c[1] == u || c[2] == u) ++shared;
-    }
+    for (const Wedge& w : wedges_) shared += (w.a == u || w.b == u) ? 1 : 0;
     return common == shared;
   }
 
@@ -585,10 +587,9 @@ class Collapser {
     star_[v].clear();
     alive_vertex_[v] = 0;
     ++version_[v];
-    std::vector<int> ring;
-    neighbours(u, ring);
     dirty_[u] = 1;
-    for (int w : ring) dirty_[w] = 1;
+    for (int t : star_[u])
+      for (int w : tris_[t]) dirty_[w] = 1;
   }
 
   int width_, height_;
@@ -602,7 +603,13 @@ class Collapser {
   std::priority_queue<Entry> queue_;
   double bound_ = 0.0;
   std::vector<std::uint8_t> dirty_;
-  std::vector<int> nv_, nu_;
+  struct Wedge {
+    int a, b;
+  };
+  std::vector<Wedge> wedges_;  // of the vertex being evaluated
+  std::vector<int> nv_;        // its neighbours
+  std::vector<std::uint32_t> mark_, seen_;  // per vertex: neighbour of it (generation_), counted (link_generation_)
+  std::uint32_t generation_ = 0, link_generation_ = 0;
 };
 
 }  // namespace
