@@ -26,7 +26,8 @@ inline i64 FloorDiv(i64 n, i64 d) {
   return (n % d != 0 && ((n < 0) != (d < 0))) ? q - 1 : q;
 }
 
-ScanResult ScanTriangle(const ScanRequest& r) {
+template <bool kStopAbove>
+ScanResult ScanRows(const ScanRequest& r) {
   const hn::ScalableTag<float> d;
   using V = hn::Vec<decltype(d)>;
   const std::size_t lanes = hn::Lanes(d);
@@ -73,8 +74,6 @@ ScanResult ScanTriangle(const ScanRequest& r) {
   // The middle corner left of the long edge (seen from p0 towards p2): the short edges bound the rows on the left.
   const bool short_left = static_cast<i64>(p[2].x - p[0].x) * (p[1].y - p[0].y) -
                               static_cast<i64>(p[2].y - p[0].y) * (p[1].x - p[0].x) > 0;
-  Walk long_edge{}, short_edge{};
-  long_edge.start(p[0], p[2], ymin);
   const V iota = hn::Iota(d, 0.0f);
   const V vg = hn::Set(d, static_cast<float>(gx));
   const V none = hn::Set(d, -1.0f);  // the error of lanes past a row's end: below every real error
@@ -95,48 +94,59 @@ ScanResult ScanTriangle(const ScanRequest& r) {
   V acc = none;
   VI where = hn::Set(di, -1);
   const V vlimit = hn::Set(d, r.limit);
-  ScanResult best;
-  for (int y = ymin; y <= ymax; ++y) {
-    if (y == ymin && ymin < ymid) short_edge.start(p[0], p[1], y);
-    if (y == ymid && ymid < ymax) short_edge.start(p[1], p[2], y);
-    i64 xl, xr;
-    if (y == ymid && ymid == ymax) {  // a flat top: the row from p1 to the long edge's end
-      xl = short_left ? p[1].x : long_edge.ceil_x();
-      xr = short_left ? long_edge.floor_x() : p[1].x;
+  auto chunk = [&](const float* row, std::size_t k, std::size_t n, V plane, std::int32_t index) {
+    V e = hn::Abs(hn::Sub(load(row + k, n - k), plane));
+    if (n - k < lanes) e = hn::IfThenElse(hn::FirstN(d, n - k), e, none);
+    if constexpr (kStopAbove) {
+      acc = hn::Max(acc, e);
     } else {
-      xl = short_left ? short_edge.ceil_x() : long_edge.ceil_x();
-      xr = short_left ? long_edge.floor_x() : short_edge.floor_x();
+      const auto larger = hn::Gt(e, acc);  // strictly: each lane keeps its first sample of its maximum
+      acc = hn::IfThenElse(larger, e, acc);
+      where = hn::IfThenElse(hn::RebindMask(di, larger), hn::Add(iota_i, hn::Set(di, index)), where);
     }
-    long_edge.step();
-    short_edge.step();
-    if (xl > xr) continue;
-    const std::size_t n = static_cast<std::size_t>(xr - xl + 1);
-    const float* row = r.z + static_cast<std::size_t>(y) * w + static_cast<std::size_t>(xl);
-    // The plane along the row: its value at xl plus gx per sample.
-    const V vb = hn::Set(d, static_cast<float>(za + gx * static_cast<double>(xl - r.ax) + gy * (y - r.ay)));
-    const std::int32_t row_start = static_cast<std::int32_t>(static_cast<i64>(y) * w + xl);
-    for (std::size_t k = 0; k < n; k += lanes) {
-      const V plane = hn::MulAdd(vg, hn::Add(iota, hn::Set(d, static_cast<float>(k))), vb);
-      V e = hn::Abs(hn::Sub(load(row + k, n - k), plane));
-      if (n - k < lanes) e = hn::IfThenElse(hn::FirstN(d, n - k), e, none);
-      if (r.stop_above) {
-        acc = hn::Max(acc, e);
-      } else {
-        const auto larger = hn::Gt(e, acc);  // strictly: each lane keeps its first sample of its maximum
-        acc = hn::IfThenElse(larger, e, acc);
-        where = hn::IfThenElse(hn::RebindMask(di, larger),
-                               hn::Add(iota_i, hn::Set(di, row_start + static_cast<std::int32_t>(k))), where);
+  };
+  // Rows y0..y1 between the left walk's ceiling and the right walk's floor; true when the scan stops early.
+  auto rows = [&](int y0, int y1, Walk& left, Walk& right) {
+    for (int y = y0; y <= y1; ++y) {
+      const i64 xl = left.ceil_x(), xr = right.floor_x();
+      left.step();
+      right.step();
+      if (xl > xr) continue;
+      const std::size_t n = static_cast<std::size_t>(xr - xl + 1);
+      const float* row = r.z + static_cast<std::size_t>(y) * w + static_cast<std::size_t>(xl);
+      // The plane along the row: its value at xl plus gx per sample.
+      const V vb = hn::Set(d, static_cast<float>(za + gx * static_cast<double>(xl - r.ax) + gy * (y - r.ay)));
+      const std::int32_t row_start = kStopAbove ? 0 : static_cast<std::int32_t>(static_cast<i64>(y) * w + xl);
+      chunk(row, 0, n, hn::MulAdd(vg, iota, vb), row_start);
+      for (std::size_t k = lanes; k < n; k += lanes)
+        chunk(row, k, n, hn::MulAdd(vg, hn::Add(iota, hn::Set(d, static_cast<float>(k))), vb),
+              row_start + static_cast<std::int32_t>(k));
+      if constexpr (kStopAbove) {
+        if (!hn::AllFalse(d, hn::Gt(acc, vlimit))) return true;
       }
     }
-    if (r.stop_above && !hn::AllFalse(d, hn::Gt(acc, vlimit))) {
-      best.error = hn::GetLane(hn::MaxOfLanes(d, acc));
-      return best;
-    }
+    return false;
+  };
+  Walk long_edge{}, short_edge{};
+  long_edge.start(p[0], p[2], ymin);
+  bool stopped = false;
+  if (ymin < ymid) {
+    short_edge.start(p[0], p[1], ymin);
+    stopped = short_left ? rows(ymin, ymid - 1, short_edge, long_edge) : rows(ymin, ymid - 1, long_edge, short_edge);
   }
+  if (!stopped) {
+    if (ymid < ymax) {
+      short_edge.start(p[1], p[2], ymid);
+    } else {
+      short_edge = Walk{0, 0, 1, 0, 0, p[1].x};  // a flat top: the short side is p1 itself
+    }
+    stopped = short_left ? rows(ymid, ymax, short_edge, long_edge) : rows(ymid, ymax, long_edge, short_edge);
+  }
+  ScanResult best;
   const float largest = hn::GetLane(hn::MaxOfLanes(d, acc));
   if (!(largest >= 0.0f)) return best;  // no sample inside
   best.error = largest;
-  if (!r.stop_above) {
+  if constexpr (!kStopAbove) {
     // The first sample (row-major) with the largest error: the smallest index among the lanes that reach it.
     const VI candidates = hn::IfThenElse(hn::RebindMask(di, hn::Eq(acc, hn::Set(d, largest))), where,
                                          hn::Set(di, INT32_MAX));
@@ -144,6 +154,8 @@ ScanResult ScanTriangle(const ScanRequest& r) {
   }
   return best;
 }
+
+ScanResult ScanTriangle(const ScanRequest& r) { return r.stop_above ? ScanRows<true>(r) : ScanRows<false>(r); }
 
 }  // namespace orogen::tin::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
