@@ -21,11 +21,6 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 using i64 = std::int64_t;
 
-inline i64 FloorDiv(i64 n, i64 d) {
-  const i64 q = n / d;
-  return (n % d != 0 && ((n < 0) != (d < 0))) ? q - 1 : q;
-}
-
 template <bool kStopAbove>
 ScanResult ScanRows(const ScanRequest& r) {
   const hn::ScalableTag<float> d;
@@ -36,8 +31,8 @@ ScanResult ScanRows(const ScanRequest& r) {
   const double zb = r.z[static_cast<std::size_t>(r.by) * w + r.bx];
   const double zc = r.z[static_cast<std::size_t>(r.cy) * w + r.cx];
   const double ux = r.bx - r.ax, uy = r.by - r.ay, vx = r.cx - r.ax, vy = r.cy - r.ay;
-  const double det = ux * vy - vx * uy;
-  const double gx = ((zb - za) * vy - (zc - za) * uy) / det, gy = (ux * (zc - za) - vx * (zb - za)) / det;
+  const double inv_det = 1.0 / (ux * vy - vx * uy);
+  const double gx = ((zb - za) * vy - (zc - za) * uy) * inv_det, gy = (ux * (zc - za) - vx * (zb - za)) * inv_det;
   // Rasterised as two trapezoids: with the corners sorted by row (p0 lowest, p2 highest), the long edge p0 -> p2
   // bounds every row on one side and the short edges p0 -> p1 (rows below p1) and p1 -> p2 (rows from p1 on)
   // on the other. Each edge is walked exactly: x = px + floor(dx (y - py) / dy) as a quotient and remainder
@@ -48,16 +43,18 @@ ScanResult ScanRows(const ScanRequest& r) {
   if (p[1].y < p[0].y) std::swap(p[0], p[1]);
   if (p[2].y < p[1].y) std::swap(p[1], p[2]);
   if (p[1].y < p[0].y) std::swap(p[0], p[1]);
+  // Every edge starts at its lower corner (x = px, remainder 0); int is wide enough: |q| stays below the
+  // grid width and the remainder below the edge's height.
   struct Walk {
-    i64 q, rem, den, step_q, step_r;
+    int q, rem, den, step_q, step_r;
     int px;
-    void start(Corner a, Corner b, int y) {  // the edge a -> b (a.y < b.y), at row y
+    void start(Corner a, Corner b) {  // the edge a -> b (a.y < b.y), at row a.y
       den = b.y - a.y;
-      const i64 s = b.x - a.x;
-      q = FloorDiv(s * (y - a.y), den);
-      rem = s * (y - a.y) - q * den;
-      step_q = FloorDiv(s, den);
+      const int s = b.x - a.x;
+      step_q = s / den - (s % den < 0 ? 1 : 0);  // floor(s / den), den > 0
       step_r = s - step_q * den;
+      q = 0;
+      rem = 0;
       px = a.x;
     }
     i64 floor_x() const { return px + q; }
@@ -128,15 +125,15 @@ ScanResult ScanRows(const ScanRequest& r) {
     return false;
   };
   Walk long_edge{}, short_edge{};
-  long_edge.start(p[0], p[2], ymin);
+  long_edge.start(p[0], p[2]);
   bool stopped = false;
   if (ymin < ymid) {
-    short_edge.start(p[0], p[1], ymin);
+    short_edge.start(p[0], p[1]);
     stopped = short_left ? rows(ymin, ymid - 1, short_edge, long_edge) : rows(ymin, ymid - 1, long_edge, short_edge);
   }
   if (!stopped) {
     if (ymid < ymax) {
-      short_edge.start(p[1], p[2], ymid);
+      short_edge.start(p[1], p[2]);
     } else {
       short_edge = Walk{0, 0, 1, 0, 0, p[1].x};  // a flat top: the short side is p1 itself
     }
