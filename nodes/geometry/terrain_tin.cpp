@@ -399,6 +399,7 @@ class Collapser {
     version_.assign(vx_.size(), 0);
     mark_.assign(vx_.size(), 0);
     seen_.assign(vx_.size(), 0);
+    into_.assign(vx_.size(), -1);
   }
 
   void run(double bound, std::size_t target, const TinOptions& options) {
@@ -505,6 +506,7 @@ class Collapser {
   void evaluate(int v) {
     ++version_[v];
     dirty_[v] = 0;
+    into_[v] = -1;
     const int sv = sides(v);
     if (sv != 0 && (sv & (sv - 1)) != 0) return;  // a corner stays
     gather_star(v);
@@ -549,6 +551,7 @@ class Collapser {
         best_u = u;
       }
     }
+    into_[v] = best_u;
     if (best_u >= 0) queue_.push({best, v, best_u, version_[v]});
   }
 
@@ -568,7 +571,18 @@ class Collapser {
     return common == shared;
   }
 
+  // Collapses v into u and marks for re-evaluation the vertices whose star changes (v's neighbours, u among
+  // them) and those whose chosen collapse goes into one of them (its link condition may change). For any other
+  // vertex nothing its evaluation read has changed, and its other candidates can only have become illegal, so
+  // its queued collapse is still its best.
   void collapse(int v, int u) {
+    ++generation_;
+    for (int t : star_[v])
+      for (int w : tris_[t])
+        if (w != v) {
+          mark_[w] = generation_;
+          dirty_[w] = 1;
+        }
     for (int t : star_[v]) {
       auto& c = tris_[t];
       if (c[0] == u || c[1] == u || c[2] == u) {
@@ -587,9 +601,9 @@ class Collapser {
     star_[v].clear();
     alive_vertex_[v] = 0;
     ++version_[v];
-    dirty_[u] = 1;
     for (int t : star_[u])
-      for (int w : tris_[t]) dirty_[w] = 1;
+      for (int w : tris_[t])
+        if (into_[w] >= 0 && mark_[into_[w]] == generation_) dirty_[w] = 1;
   }
 
   int width_, height_;
@@ -610,6 +624,7 @@ class Collapser {
   std::vector<int> nv_;        // its neighbours
   std::vector<std::uint32_t> mark_, seen_;  // per vertex: neighbour of it (generation_), counted (link_generation_)
   std::uint32_t generation_ = 0, link_generation_ = 0;
+  std::vector<int> into_;  // per vertex: the neighbour of its queued collapse, or -1
 };
 
 }  // namespace
