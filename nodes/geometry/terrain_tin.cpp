@@ -202,6 +202,7 @@ class GreedyInsertion {
 
   std::vector<int> vx_, vy_;          // vertex grid coordinates
   std::vector<std::int32_t> corner_;  // 3 vertices per triangle
+  std::vector<float> error_;          // per triangle: its largest error, as the scan found it
   std::vector<std::int32_t> twin_;    // 3 half-edges per triangle
   std::size_t faces_ = 0;
 
@@ -225,6 +226,7 @@ class GreedyInsertion {
     corner_.insert(corner_.end(), 3, -1);
     twin_.insert(twin_.end(), 3, -1);
     candidate_.push_back(-1);
+    error_.push_back(0.0f);
     version_.push_back(0);
     stamp_.push_back(0);
     return t;
@@ -252,6 +254,7 @@ class GreedyInsertion {
       const int a = corner_[3 * t], b = corner_[3 * t + 1], c = corner_[3 * t + 2];
       const Scan s = scanner_.scan<false>(vx_[a], vy_[a], vx_[b], vy_[b], vx_[c], vy_[c]);
       candidate_[t] = s.sample;
+      error_[t] = static_cast<float>(s.error);
       ++version_[t];
       queue_.push({s.error, t, version_[t]});
     }
@@ -364,7 +367,7 @@ class Collapser {
   // in insertion order, scattered over the map, and an evaluation touches a vertex's whole neighbourhood,
   // which then sits in a few cache lines instead of dozens.
   Collapser(int width, int height, const Scanner& scanner, const std::vector<int>& vx, const std::vector<int>& vy,
-            const std::vector<std::int32_t>& corners)
+            const std::vector<std::int32_t>& corners, const std::vector<float>& errors)
       : width_(width), height_(height), scanner_(scanner) {
     const std::size_t nv = vx.size(), nt = corners.size() / 3;
     std::vector<std::uint64_t> key(nv);
@@ -390,7 +393,11 @@ class Collapser {
       order[t] = (static_cast<std::uint64_t>(std::min({tris[t][0], tris[t][1], tris[t][2]})) << 32) | t;
     std::sort(order.begin(), order.end());
     tris_.resize(nt);
-    for (std::size_t k = 0; k < nt; ++k) tris_[k] = tris[order[k] & 0xffffffffu];
+    error_.resize(nt);
+    for (std::size_t k = 0; k < nt; ++k) {
+      tris_[k] = tris[order[k] & 0xffffffffu];
+      error_[k] = errors[order[k] & 0xffffffffu];
+    }
     alive_tri_.assign(nt, 1);
     star_.resize(nv);
     for (std::size_t t = 0; t < nt; ++t)
@@ -400,6 +407,7 @@ class Collapser {
     mark_.assign(vx_.size(), 0);
     seen_.assign(vx_.size(), 0);
     into_.assign(vx_.size(), -1);
+    errors_at_.assign(vx_.size(), 0);
   }
 
   void run(double bound, std::size_t target, const TinOptions& options) {
@@ -443,7 +451,8 @@ class Collapser {
     }
   }
 
-  Tin result(Tin tin) const {
+  // The TIN, and each triangle's largest error as the scans found it.
+  Tin result(Tin tin, std::vector<float>& errors) const {
     std::vector<std::int32_t> remap(vx_.size(), -1);
     tin.samples.clear();
     for (std::size_t v = 0; v < vx_.size(); ++v)
@@ -452,8 +461,12 @@ class Collapser {
         tin.samples.push_back(vy_[v] * width_ + vx_[v]);
       }
     tin.triangles.clear();
+    errors.clear();
     for (std::size_t t = 0; t < tris_.size(); ++t)
-      if (alive_tri_[t]) tin.triangles.push_back({remap[tris_[t][0]], remap[tris_[t][1]], remap[tris_[t][2]]});
+      if (alive_tri_[t]) {
+        tin.triangles.push_back({remap[tris_[t][0]], remap[tris_[t][1]], remap[tris_[t][2]]});
+        errors.push_back(error_[t]);
+      }
     return tin;
   }
 
@@ -539,9 +552,12 @@ class Collapser {
       }
       if (!ok) continue;
       double worst = 0.0;
-      for (const Wedge& w : wedges_) {
+      wedge_error_.assign(wedges_.size(), 0.0f);
+      for (std::size_t k = 0; k < wedges_.size(); ++k) {
+        const Wedge& w = wedges_[k];
         if (w.a == u || w.b == u) continue;
         const Scan s = scanner_.scan<true>(ux, uy, vx_[w.a], vy_[w.a], vx_[w.b], vy_[w.b], best);
+        wedge_error_[k] = static_cast<float>(s.error);
         worst = std::max(worst, s.error);
         if (worst > best) break;
       }
@@ -549,10 +565,15 @@ class Collapser {
       if (worst <= best && link_condition(u)) {
         best = worst;
         best_u = u;
+        best_error_.swap(wedge_error_);  // complete scans (none stopped early): the new triangles' errors
       }
     }
     into_[v] = best_u;
-    if (best_u >= 0) queue_.push({best, v, best_u, version_[v]});
+    if (best_u >= 0) {
+      queue_.push({best, v, best_u, version_[v]});
+      errors_at_[v] = static_cast<std::uint32_t>(error_pool_.size());
+      error_pool_.insert(error_pool_.end(), best_error_.begin(), best_error_.end());
+    }
   }
 
   // The vertices adjacent to both v and u are exactly the third vertices of the wedges on edge vu (else the
@@ -583,8 +604,11 @@ class Collapser {
           mark_[w] = generation_;
           dirty_[w] = 1;
         }
+    // The star is as v's evaluation saw it (else v would be dirty), so its wedges' errors apply in order.
+    const float* errors = error_pool_.data() + errors_at_[v];
     for (int t : star_[v]) {
       auto& c = tris_[t];
+      const float error = *errors++;
       if (c[0] == u || c[1] == u || c[2] == u) {
         alive_tri_[t] = 0;
         for (int w : c)
@@ -595,6 +619,7 @@ class Collapser {
       } else {
         for (auto& w : c)
           if (w == v) w = u;
+        error_[t] = error;
         star_[u].push_back(t);
       }
     }
@@ -625,6 +650,10 @@ class Collapser {
   std::vector<std::uint32_t> mark_, seen_;  // per vertex: neighbour of it (generation_), counted (link_generation_)
   std::uint32_t generation_ = 0, link_generation_ = 0;
   std::vector<int> into_;  // per vertex: the neighbour of its queued collapse, or -1
+  std::vector<float> error_;  // per triangle: its largest error, as the scans found it
+  // The errors of the triangles each vertex's queued collapse makes, per wedge of its star, from errors_at_[v].
+  std::vector<float> error_pool_, wedge_error_, best_error_;
+  std::vector<std::uint32_t> errors_at_;
 };
 
 }  // namespace
@@ -663,34 +692,30 @@ Tin heightfield_tin(const Heightfield& height, const TinOptions& options) {
   Tin tin;
   tin.width = w;
   tin.height = h;
+  std::vector<float> errors;  // per triangle of tin, as the scans found it
   if (simplify && !(options.should_stop && options.should_stop())) {
-    Collapser collapser(w, h, scanner, greedy.vx_, greedy.vy_, greedy.corner_);
+    Collapser collapser(w, h, scanner, greedy.vx_, greedy.vy_, greedy.corner_, greedy.error_);
     collapser.run(working_bound, options.target_faces, options);
-    tin = collapser.result(std::move(tin));
+    tin = collapser.result(std::move(tin), errors);
   } else {
     tin.samples.reserve(greedy.vx_.size());
     for (std::size_t v = 0; v < greedy.vx_.size(); ++v) tin.samples.push_back(greedy.vy_[v] * w + greedy.vx_[v]);
     tin.triangles.reserve(greedy.corner_.size() / 3);
     for (std::size_t t = 0; t < greedy.corner_.size(); t += 3)
       tin.triangles.push_back({greedy.corner_[t], greedy.corner_[t + 1], greedy.corner_[t + 2]});
+    errors = greedy.error_;
   }
-  // The exact largest error: the fast scan of every triangle, then the double-precision scan of only those
-  // whose fast error comes within two margins of the largest (no other can hold the exact maximum).
-  std::vector<double> fast(tin.triangles.size());
-  double fast_worst = 0.0;
+  // The exact largest error: the double-precision scan of only the triangles whose fast error (known from the
+  // stages) comes within two margins of the largest (no other can hold the exact maximum).
+  const double fast_worst = errors.empty() ? 0.0 : *std::max_element(errors.begin(), errors.end());
   auto corners = [&](const std::array<std::int32_t, 3>& t) {
     std::array<int, 6> p{};
     for (int k = 0; k < 3; ++k) p[2 * k] = tin.samples[t[k]] % w, p[2 * k + 1] = tin.samples[t[k]] / w;
     return p;
   };
-  for (std::size_t t = 0; single && t < tin.triangles.size(); ++t) {
-    const auto p = corners(tin.triangles[t]);
-    fast[t] = scanner.scan<false>(p[0], p[1], p[2], p[3], p[4], p[5]).error;
-    fast_worst = std::max(fast_worst, fast[t]);
-  }
   double worst = 0.0;
   for (std::size_t t = 0; t < tin.triangles.size(); ++t)
-    if (!single || fast[t] >= fast_worst - 2.0 * margin) {
+    if (!single || errors[t] >= fast_worst - 2.0 * margin) {
       const auto p = corners(tin.triangles[t]);
       worst = std::max(worst, scanner.scan_exact<false>(p[0], p[1], p[2], p[3], p[4], p[5]).error);
     }
