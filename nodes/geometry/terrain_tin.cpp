@@ -165,6 +165,8 @@ class GreedyInsertion {
   GreedyInsertion(const Heightfield& h, const Scanner& scanner) : width_(h.width()), height_(h.height()), scanner_(scanner) {}
 
   void run(double bound, std::size_t target, double tiny, const TinOptions& options, double progress_share) {
+    // A triangle within this error is never refined: it need not enter the queue.
+    keep_above_ = target > 0 ? std::min(bound, tiny) : bound;
     const int w = width_ - 1, hh = height_ - 1;
     add_vertex(0, 0);
     add_vertex(w, 0);
@@ -256,7 +258,7 @@ class GreedyInsertion {
       candidate_[t] = s.sample;
       error_[t] = static_cast<float>(s.error);
       ++version_[t];
-      queue_.push({s.error, t, version_[t]});
+      if (s.error > keep_above_) queue_.push({s.error, t, version_[t]});
     }
     touched_.clear();
     ++round_;
@@ -353,6 +355,7 @@ class GreedyInsertion {
   int width_, height_;
   const Scanner& scanner_;
   std::vector<std::int32_t> candidate_;
+  double keep_above_ = 0.0;
   std::vector<std::uint32_t> version_, stamp_;
   std::uint32_t round_ = 1;
   std::vector<int> touched_, stack_;
