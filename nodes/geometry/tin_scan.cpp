@@ -86,8 +86,9 @@ ScanResult ScanRows(const ScanRequest& r) {
     std::memcpy(tail, p, count * sizeof(float));
     return hn::Load(d, tail);
   };
-  // Per lane, the largest error so far and the sample where it first occurred: rows need no reduction
-  // across lanes (most rows of a TIN triangle are shorter than a vector), only the end of the scan does.
+  // Per lane, the largest error so far and the index of the chunk where it first occurred (the lane's sample
+  // is that plus the lane): rows need no reduction across lanes (most rows of a TIN triangle are shorter than
+  // a vector), only the end of the scan does.
   V acc = none;
   VI where = hn::Set(di, -1);
   const V vlimit = hn::Set(d, r.limit);
@@ -99,7 +100,7 @@ ScanResult ScanRows(const ScanRequest& r) {
     } else {
       const auto larger = hn::Gt(e, acc);  // strictly: each lane keeps its first sample of its maximum
       acc = hn::IfThenElse(larger, e, acc);
-      where = hn::IfThenElse(hn::RebindMask(di, larger), hn::Add(iota_i, hn::Set(di, index)), where);
+      where = hn::IfThenElse(hn::RebindMask(di, larger), hn::Set(di, index), where);
     }
   };
   // Rows y0..y1 between the left walk's ceiling and the right walk's floor; true when the scan stops early.
@@ -145,7 +146,7 @@ ScanResult ScanRows(const ScanRequest& r) {
   best.error = largest;
   if constexpr (!kStopAbove) {
     // The first sample (row-major) with the largest error: the smallest index among the lanes that reach it.
-    const VI candidates = hn::IfThenElse(hn::RebindMask(di, hn::Eq(acc, hn::Set(d, largest))), where,
+    const VI candidates = hn::IfThenElse(hn::RebindMask(di, hn::Eq(acc, hn::Set(d, largest))), hn::Add(where, iota_i),
                                          hn::Set(di, INT32_MAX));
     best.sample = hn::GetLane(hn::MinOfLanes(di, candidates));
   }
