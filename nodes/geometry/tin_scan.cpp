@@ -43,18 +43,19 @@ ScanResult ScanRows(const ScanRequest& r) {
   if (p[1].y < p[0].y) std::swap(p[0], p[1]);
   if (p[2].y < p[1].y) std::swap(p[1], p[2]);
   if (p[1].y < p[0].y) std::swap(p[0], p[1]);
-  // Every edge starts at its lower corner (x = px, remainder 0); int is wide enough: |q| stays below the
-  // grid width and the remainder below the edge's height.
+  // int is wide enough: |q| stays below the grid width, the remainder below the edge's height, and their
+  // product below the grid's sample count.
   struct Walk {
     int q, rem, den, step_q, step_r;
     int px;
-    void start(Corner a, Corner b) {  // the edge a -> b (a.y < b.y), at row a.y
+    void start(Corner a, Corner b, int y) {  // the edge a -> b (a.y < b.y), at row y
       den = b.y - a.y;
       const int s = b.x - a.x;
       step_q = s / den - (s % den < 0 ? 1 : 0);  // floor(s / den), den > 0
       step_r = s - step_q * den;
-      q = 0;
-      rem = 0;
+      const int n = s * (y - a.y);
+      q = n / den - (n % den < 0 ? 1 : 0);
+      rem = n - q * den;
       px = a.x;
     }
     i64 floor_x() const { return px + q; }
@@ -81,9 +82,8 @@ ScanResult ScanRows(const ScanRequest& r) {
   HWY_ALIGN float tail[HWY_MAX_BYTES / sizeof(float)] = {};
   // Loads of up to `lanes` samples from p (only `count` of them valid) that never read past the field.
   auto load = [&](const float* p, std::size_t count) -> V {
-    if (count >= lanes) return hn::LoadU(d, p);
     if (p + lanes <= end) return hn::LoadU(d, p);
-    std::memcpy(tail, p, count * sizeof(float));
+    std::memcpy(tail, p, std::min(count, lanes) * sizeof(float));
     return hn::Load(d, tail);
   };
   // Per lane, the largest error so far and the index of the chunk where it first occurred (the lane's sample
@@ -104,17 +104,22 @@ ScanResult ScanRows(const ScanRequest& r) {
     }
   };
   // Rows y0..y1 between the left walk's ceiling and the right walk's floor; true when the scan stops early.
-  auto rows = [&](int y0, int y1, Walk& left, Walk& right) {
-    for (int y = y0; y <= y1; ++y) {
+  // (The walks are copies, so they stay in registers.)
+  auto rows = [&](int y0, int y1, Walk left, Walk right) {
+    // The plane at x = 0 of the row, stepped by gy (in double: its rounding stays far below the float scan's).
+    double base = za - gx * r.ax + gy * (y0 - r.ay);
+    const float* row_z = r.z + static_cast<std::size_t>(y0) * w;
+    std::int32_t row_index = static_cast<std::int32_t>(static_cast<i64>(y0) * w);
+    for (int y = y0; y <= y1; ++y, base += gy, row_z += w, row_index += w) {
       const i64 xl = left.ceil_x(), xr = right.floor_x();
       left.step();
       right.step();
       if (xl > xr) continue;
       const std::size_t n = static_cast<std::size_t>(xr - xl + 1);
-      const float* row = r.z + static_cast<std::size_t>(y) * w + static_cast<std::size_t>(xl);
+      const float* row = row_z + xl;
       // The plane along the row: its value at xl plus gx per sample.
-      const V vb = hn::Set(d, static_cast<float>(za + gx * static_cast<double>(xl - r.ax) + gy * (y - r.ay)));
-      const std::int32_t row_start = kStopAbove ? 0 : static_cast<std::int32_t>(static_cast<i64>(y) * w + xl);
+      const V vb = hn::Set(d, static_cast<float>(base + gx * static_cast<double>(xl)));
+      const std::int32_t row_start = row_index + static_cast<std::int32_t>(xl);
       chunk(row, 0, n, hn::MulAdd(vg, iota, vb), row_start);
       for (std::size_t k = lanes; k < n; k += lanes)
         chunk(row, k, n, hn::MulAdd(vg, hn::Add(iota, hn::Set(d, static_cast<float>(k))), vb),
@@ -126,15 +131,16 @@ ScanResult ScanRows(const ScanRequest& r) {
     return false;
   };
   Walk long_edge{}, short_edge{};
-  long_edge.start(p[0], p[2]);
   bool stopped = false;
   if (ymin < ymid) {
-    short_edge.start(p[0], p[1]);
+    long_edge.start(p[0], p[2], ymin);
+    short_edge.start(p[0], p[1], ymin);
     stopped = short_left ? rows(ymin, ymid - 1, short_edge, long_edge) : rows(ymin, ymid - 1, long_edge, short_edge);
   }
   if (!stopped) {
+    long_edge.start(p[0], p[2], ymid);
     if (ymid < ymax) {
-      short_edge.start(p[1], p[2]);
+      short_edge.start(p[1], p[2], ymid);
     } else {
       short_edge = Walk{0, 0, 1, 0, 0, p[1].x};  // a flat top: the short side is p1 itself
     }
