@@ -31,7 +31,7 @@ using d2 = double __attribute__((vector_size(16)));
 inline f4 sel(i4 m, f4 a, f4 b) {  // m ? a : b per lane
   return (f4)((m & (i4)a) | (~m & (i4)b));  // vector casts keep the bits
 }
-inline f4 vmin(f4 a, f4 b) { return sel(b < a, b, a); }   // std::min per lane
+inline f4 vmin4(f4 a, f4 b) { return sel(b < a, b, a); }  // std::min per lane
 inline f4 vmax4(f4 a, f4 b) { return sel(a < b, b, a); }  // std::max per lane
 inline f4 vsqrt(f4 a) {
 #if defined(__SSE2__)
@@ -81,13 +81,18 @@ inline f4 load4(const float* p) {
 inline void store4(float* p, f4 v) { std::memcpy(p, &v, sizeof v); }
 
 // Adds a x weight to the brush rows, the first at zr, rows `stride` apart: W weights a row (a multiple of 4),
-// R rows (R = 0: `rows`, W = 0: `row_width`, known at run time only).
+// R rows (R = 0: `rows`, W = 0: `row_width`, known at run time only). The weights' rows start 16-byte
+// aligned (a vector's storage, rows of a multiple of 4 floats).
 template <int W, int R>
-inline void brush_rows(float* zr, float a, std::ptrdiff_t stride, const float* __restrict RW, int rows, int row_width) {
+inline void brush_rows(float* zr, float a, std::ptrdiff_t stride, const float* __restrict RW, int rows,
+                       int row_width) {
   const int n = W > 0 ? W : row_width, nr = R > 0 ? R : rows;
   const f4 av = f4{} + a;
   for (int r = 0; r < nr; ++r, zr += stride, RW += n)
-    for (int q = 0; q < n; q += 4) store4(zr + q, load4(zr + q) + av * load4(static_cast<const float*>(__builtin_assume_aligned(RW + q, 16))));
+    for (int q = 0; q < n; q += 4) {
+      const f4 wq = load4(static_cast<const float*>(__builtin_assume_aligned(RW + q, 16)));
+      store4(zr + q, load4(zr + q) + av * wq);
+    }
 }
 
 struct BrushTap {
@@ -238,8 +243,8 @@ struct Sim {
       // Lanes that leave the grid (or hold no droplet) read at their old position and change nothing.
       const i4 in = on & (nu >= 0) & (nu <= umax) & (nv >= 0) & (nv <= vmax);
       nu = sel(in, nu, U), nv = sel(in, nv, Vp);
-      const i4 nci = __builtin_convertvector(vmin(nu, f4{} + imax), i4);
-      const i4 ncj = __builtin_convertvector(vmin(nv, f4{} + jmax), i4);
+      const i4 nci = __builtin_convertvector(vmin4(nu, f4{} + imax), i4);
+      const i4 ncj = __builtin_convertvector(vmin4(nv, f4{} + jmax), i4);
       const f4 nfu = nu - __builtin_convertvector(nci, f4), nfv = nv - __builtin_convertvector(ncj, f4);
       f4 za, zb, zc, zd;
       gather_cells(Z, w, nci, ncj, za, zb, zc, zd);
@@ -255,8 +260,8 @@ struct Sim {
       // Uphill: fill the pit up to what it carries; over capacity: deposit a share of the surplus; else erode
       // a share of the free capacity, at most the drop, with the brush. One of the two amounts is 0.
       const i4 up = dh > 0;
-      f4 dep = sel(up, vmin(dh * cell_area, SE), vmax4(SE - cap, f4{}) * deposition * m);
-      f4 ero = sel(up, f4{}, vmin(vmax4(cap - SE, f4{}) * erosion, -dh * brush_area) * m);
+      f4 dep = sel(up, vmin4(dh * cell_area, SE), vmax4(SE - cap, f4{}) * deposition * m);
+      f4 ero = sel(up, f4{}, vmin4(vmax4(cap - SE, f4{}) * erosion, -dh * brush_area) * m);
       dep = sel(in, dep, f4{}), ero = sel(in, ero, f4{});
       const f4 da = dep * inv_cell_area, ea = -ero * inv_cell_area;
       for (int k = 0; k < kLanes; ++k) {
