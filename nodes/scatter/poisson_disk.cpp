@@ -394,12 +394,12 @@ struct Sampler {
     std::vector<Rect> cells, next;
   };
 
-  // The float a position is stored as, as a double. Through a volatile: GCC 12 at -O3 was seen to drop the
-  // rounding of an inlined static_cast<float> in this path, placing points at unrounded positions
-  // (PoissonDisk.GuaranteeHoldsAtLargeCoordinates finds 9 pairs too close; an out-of-line call fixes it too,
-  // so it is the inlined form; the root cause is not found).
+  // The float a position is stored as, as a double. GCC 12's SLP vectoriser at -O3 drops this rounding once
+  // inlined here (-fno-tree-slp-vectorize or -fno-ipa-cp-clone fix it; PoissonDisk.GuaranteeHoldsAtLargeCoordinates
+  // then finds pairs too close): the empty asm pins f as a float in a register, which costs nothing.
   static double to_float(double v) {
-    volatile float f = static_cast<float>(v);
+    float f = static_cast<float>(v);
+    asm("" : "+x"(f));
     return f;
   }
 
