@@ -1,6 +1,7 @@
 #include "nodes/scatter/poisson_disk.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <numeric>
@@ -388,6 +389,8 @@ struct Sampler {
     std::vector<float> lx, ly;                    // the same relative to the grid origin, in float (filter)
     std::vector<std::pair<double, double>> active;
     std::vector<std::pair<double, double>> own;
+    std::vector<std::pair<double, double>> near;  // the gathered points of the neighbouring chunks
+    std::vector<std::uint64_t> cover;             // gap filling: sub-squares inside one disk, a row per word
     struct Rect {
       double x0, y0, x1, y1;
     };
@@ -427,6 +430,7 @@ struct Sampler {
     float* const ly = S.ly.data();
     S.active.clear();
     S.own.clear();
+    S.near.clear();
     double* const gx = S.gx.data();
     double* const gy = S.gy.data();
     auto cell_of = [&](double x, double y) {
@@ -507,6 +511,7 @@ struct Sampler {
           if (qx < ax0 - D || qx >= ax1 + D || qy < ay0 - D || qy >= ay1 + D) continue;
           insert(qx, qy);
           S.active.emplace_back(qx, qy);
+          S.near.emplace_back(qx, qy);
         }
     scatter::Draws draw{scatter::hash(p.seed, 0x5CA77E5ull, static_cast<std::uint64_t>(k), scatter::bits(gcx),
                                       scatter::bits(gcy))};
@@ -631,52 +636,80 @@ struct Sampler {
         }
       return false;
     };
+    // Cheap coverage first: each cell split into sub x sub squares (a row of the chunk's squares fits a 64-bit
+    // word), a bit set where the square lies inside one disk shrunk by 1e-6 r (so the rounding of the square
+    // edges cannot matter). A cell whose squares are all set is covered; only the squares left get the exact
+    // test above, and the darts go into those with room.
+    const int sub = std::min(5, 64 / m), M = m * sub;  // m = 12 (chunk 8 r): 5
+    if (sub < 1) throw std::logic_error("PoissonDisk: too many grid cells per chunk");
+    const double s = h / sub, inv_s = sub / h;
+    const double rho = std::sqrt(r2) * (1.0 - 1e-6), rho2 = rho * rho;
+    S.cover.assign(static_cast<std::size_t>(M), 0);
+    std::uint64_t* const cover = S.cover.data();
+    auto cover_disk = [&](double px, double py) {
+      const double u = px - ax0, v = py - ay0;
+      const int b0 = std::max(0, static_cast<int>(std::floor((v - rho) * inv_s)));
+      const int b1 = std::min(M - 1, static_cast<int>(std::floor((v + rho) * inv_s)));
+      for (int b = b0; b <= b1; ++b) {
+        const double fy = std::max(std::abs(b * s - v), std::abs((b + 1) * s - v));
+        const double e = rho2 - fy * fy;
+        if (e <= 0.0) continue;
+        const double w = std::sqrt(e);
+        const int a0 = std::max(0, static_cast<int>(std::ceil((u - w) * inv_s)));
+        const int a1 = std::min(M, static_cast<int>(std::floor((u + w) * inv_s)));  // one past the last
+        if (a1 > a0) cover[b] |= (~0ull >> (64 - (a1 - a0))) << a0;
+      }
+    };
+    for (const auto& [x, y] : S.near) cover_disk(x, y);
+    for (const auto& [x, y] : S.own) cover_disk(x, y);
+    const std::uint64_t cell_bits = (1ull << sub) - 1;
+    constexpr int kLevels = 6;  // from the squares (h / 5) down to h / 320
+    constexpr int kDarts = 4;   // per open rectangle and level (a dart costs a few distances, a refinement more)
     for (int j = 0; j < m; ++j)
       for (int i = 0; i < m; ++i) {
         const int c0 = (j + kPad) * n + (i + kPad);
         if (gx[c0] != kEmpty) continue;  // a point covers its cell
-        count = 0;
-        for (const int off : {-n - 1, -n, -n + 1, -1, 1, n - 1, n, n + 1}) {
-          const int c = c0 + off;
-          if (gx[c] != kEmpty) {
-            qx[count] = gx[c];
-            qy[count++] = gy[c];
-          }
+        std::uint64_t open[8];
+        std::uint64_t any = 0;
+        for (int t = 0; t < sub; ++t) {
+          open[t] = ~cover[j * sub + t] & (cell_bits << (i * sub));
+          any |= open[t];
         }
+        if (!any) continue;
+        // The disks that reach the cell (every point that can conflict with a point of the cell), gathered
+        // without branches from its 5 x 5 neighbourhood (its own cell is empty).
+        count = 0;
+        const Rect cell{ax0 + i * h, ay0 + j * h, i + 1 == m ? ax1 : ax0 + (i + 1) * h, j + 1 == m ? ay1 : ay0 + (j + 1) * h};
         for (int dj = -2; dj <= 2; ++dj)
           for (int di = -2; di <= 2; ++di) {
-            if (std::abs(di) < 2 && std::abs(dj) < 2) continue;
             const int c = c0 + dj * n + di;
-            if (gx[c] != kEmpty) {
-              qx[count] = gx[c];
-              qy[count++] = gy[c];
-            }
+            const double x = gx[c], y = gy[c];
+            const double nx = std::clamp(x, cell.x0, cell.x1) - x, ny = std::clamp(y, cell.y0, cell.y1) - y;
+            qx[count] = x;
+            qy[count] = y;
+            count += nx * nx + ny * ny < r2;  // kEmpty is far
           }
-        const Rect cell{ax0 + i * h, ay0 + j * h, i + 1 == m ? ax1 : ax0 + (i + 1) * h, j + 1 == m ? ay1 : ay0 + (j + 1) * h};
-        // Keep the disks that reach the cell: its quarters are tested against those only.
-        int kept = 0;
-        for (int q = 0; q < count; ++q) {
-          const double nx = std::clamp(qx[q], cell.x0, cell.x1) - qx[q], ny = std::clamp(qy[q], cell.y0, cell.y1) - qy[q];
-          if (nx * nx + ny * ny >= r2) continue;
-          qx[kept] = qx[q];
-          qy[kept++] = qy[q];
-        }
-        count = kept;
-        if (!has_room(cell)) continue;
-        // A dart: rejected cheaply by the disks that reach the cell (every point that can conflict with a point
-        // of the cell), then placed through the full check (its float rounding may leave the cell).
+        S.cells.clear();
+        for (int t = 0; t < sub; ++t)
+          for (std::uint64_t bits = open[t]; bits; bits &= bits - 1) {
+            const int a = std::countr_zero(bits), b = j * sub + t;
+            const Rect q{ax0 + a * s, ay0 + b * s, a + 1 == M ? ax1 : ax0 + (a + 1) * s, b + 1 == M ? ay1 : ay0 + (b + 1) * s};
+            if (has_room(q)) S.cells.push_back(q);
+          }
+        if (S.cells.empty()) continue;
+        // A dart: rejected cheaply by the disks that reach the cell, then placed through the full check (its
+        // float rounding may leave the cell; it still covers it, the cell's diagonal being below r).
         auto dart = [&](double x, double y) {
           const double fx = to_float(x), fy = to_float(y);
           for (int q = 0; q < count; ++q) {
             const double dx = qx[q] - fx, dy = qy[q] - fy;
             if (dx * dx + dy * dy < r2) return false;
           }
-          return try_place(fx, fy);
+          if (!try_place(fx, fy)) return false;
+          cover_disk(S.own.back().first, S.own.back().second);
+          return true;
         };
-        S.cells.assign(1, cell);
         bool done = false;
-        constexpr int kLevels = 8;
-        constexpr int kDarts = 4;  // per open cell and level (a dart costs a few distances, a refinement more)
         for (int level = 0; level <= kLevels && !done && !S.cells.empty(); ++level) {
           for (const Rect& c : S.cells) {
             for (int t = 0; t < kDarts && !done; ++t) {
@@ -689,15 +722,15 @@ struct Sampler {
           if (done) break;
           if (level == kLevels) {
             for (const Rect& c : S.cells)
-              if (try_place(0.5 * (c.x0 + c.x1), 0.5 * (c.y0 + c.y1))) break;
+              if (dart(0.5 * (c.x0 + c.x1), 0.5 * (c.y0 + c.y1))) break;
             break;
           }
           S.next.clear();
           for (const Rect& c : S.cells) {
             const double mx = 0.5 * (c.x0 + c.x1), my = 0.5 * (c.y0 + c.y1);
             const Rect q[4] = {{c.x0, c.y0, mx, my}, {mx, c.y0, c.x1, my}, {c.x0, my, mx, c.y1}, {mx, my, c.x1, c.y1}};
-            for (const Rect& sub : q)
-              if (has_room(sub)) S.next.push_back(sub);
+            for (const Rect& part : q)
+              if (has_room(part)) S.next.push_back(part);
           }
           std::swap(S.cells, S.next);
         }
