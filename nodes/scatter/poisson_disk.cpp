@@ -43,7 +43,7 @@ struct FastDraws {
 // (no rejection, whose unpredictable branch and extra hashes cost most of Bridson's time): the distance
 // r sqrt(1 + 3 u) (uniform area) and an angle of 32 bits, whose sine and cosine come from its nearest quarter
 // turn and Taylor series on [-pi/4, pi/4] (within 2e-11 of libm).
-void annulus_offset(std::uint64_t h, double r, double& ox, double& oy) {
+inline __attribute__((always_inline)) void annulus_offset(std::uint64_t h, double r, double& ox, double& oy) {
   const double d = r * std::sqrt(1.0 + 3.0 * (static_cast<double>(h >> 32) * 0x1.0p-32));
   const auto w = static_cast<std::uint32_t>(h);
   const std::uint32_t q = ((w + (1u << 29)) >> 30) & 3u;                           // nearest quarter turn
@@ -403,6 +403,7 @@ struct Sampler {
   static constexpr double kEmpty = 1e150;
   static constexpr float kFar = 1e15f;  // float sentinel: squared distances stay finite
   static constexpr int kPad = 4;  // cells around the chunk: 2 for the reach r, 2 for the 5 x 5 window
+  static constexpr int kBlock = 8;  // Bridson's candidates drawn at once
 
   struct UniformScratch {
     std::vector<double> gx, gy;                   // grid cells: position or kEmpty
@@ -544,15 +545,19 @@ struct Sampler {
       const std::size_t pick =
           std::min(static_cast<std::size_t>(draw.next() * static_cast<double>(S.active.size())), S.active.size() - 1);
       const auto [ax, ay] = S.active[pick];
+      // The candidates in blocks of up to 8, computed before any is tested: independent of one another, their
+      // draws and trigonometry overlap instead of each waiting for the previous test.
       bool placed = false;
-      for (int t = 0; t < p.attempts; ++t) {
-        double cx, cy;
-        annulus_offset(draw.bits(), r, cx, cy);
-        if (try_place(ax + cx, ay + cy)) {
-          S.active.push_back(S.own.back());
-          placed = true;
-          break;
-        }
+      for (int t0 = 0; t0 < p.attempts && !placed; t0 += kBlock) {
+        const int nb = std::min(kBlock, p.attempts - t0);
+        double cx[kBlock], cy[kBlock];
+        for (int t = 0; t < nb; ++t) annulus_offset(draw.bits(), r, cx[t], cy[t]);
+        for (int t = 0; t < nb; ++t)
+          if (try_place(ax + cx[t], ay + cy[t])) {
+            S.active.push_back(S.own.back());
+            placed = true;
+            break;
+          }
       }
       if (!placed) {
         S.active[pick] = S.active.back();
