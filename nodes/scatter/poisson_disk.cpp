@@ -454,9 +454,11 @@ struct Sampler {
     S.near.clear();
     double* const gx = S.gx.data();
     double* const gy = S.gy.data();
+    // Truncation is the floor here: every position looked up (gathered within D < kPad h of the chunk, or
+    // inside it) lies right of and above the grid origin.
     auto cell_of = [&](double x, double y) {
-      const int i = static_cast<int>(std::floor((x - ox) * inv_h));
-      const int j = static_cast<int>(std::floor((y - oy) * inv_h));
+      const int i = static_cast<int>((x - ox) * inv_h);
+      const int j = static_cast<int>((y - oy) * inv_h);
       return j * n + i;
     };
     auto insert = [&](double x, double y) {
