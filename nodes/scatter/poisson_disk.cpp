@@ -668,7 +668,7 @@ struct Sampler {
     // edges cannot matter). A cell whose squares are all set is covered; only the squares left get the exact
     // test above, and the darts go into those with room.
     const int sub = std::min(5, 64 / m), M = m * sub;  // m = 12 (chunk 8 r): 5
-    if (sub < 1) throw std::logic_error("PoissonDisk: too many grid cells per chunk");
+    if (sub < 1 || sub > 8) throw std::logic_error("PoissonDisk: too many grid cells per chunk");
     const double s = h / sub, inv_s = sub / h;
     const double rho = std::sqrt(r2) * (1.0 - 1e-6), rho2 = rho * rho;
     S.cover.assign(static_cast<std::size_t>(M), 0);
@@ -692,6 +692,7 @@ struct Sampler {
     const std::uint64_t cell_bits = (1ull << sub) - 1;
     constexpr int kLevels = 6;  // from the squares (h / 5) down to h / 320
     constexpr int kDarts = 4;   // per open rectangle and level (a dart costs a few distances, a refinement more)
+    constexpr int kFirstDarts = 2;  // per square left by the bitmask, before any exact test
     for (int j = 0; j < m; ++j)
       for (int i = 0; i < m; ++i) {
         const int c0 = (j + kPad) * n + (i + kPad);
@@ -716,14 +717,6 @@ struct Sampler {
             qy[count] = y;
             count += nx * nx + ny * ny < r2;  // kEmpty is far
           }
-        S.cells.clear();
-        for (int t = 0; t < sub; ++t)
-          for (std::uint64_t bits = open[t]; bits; bits &= bits - 1) {
-            const int a = std::countr_zero(bits), b = j * sub + t;
-            const Rect q{ax0 + a * s, ay0 + b * s, a + 1 == M ? ax1 : ax0 + (a + 1) * s, b + 1 == M ? ay1 : ay0 + (b + 1) * s};
-            if (has_room(q)) S.cells.push_back(q);
-          }
-        if (S.cells.empty()) continue;
         // A dart: rejected cheaply by the disks that reach the cell, then placed through the full check (its
         // float rounding may leave the cell; it still covers it, the cell's diagonal being below r).
         auto dart = [&](double x, double y) {
@@ -736,7 +729,27 @@ struct Sampler {
           cover_disk(S.own.back().first, S.own.back().second);
           return true;
         };
+        Rect squares[64];
+        int ns = 0;
+        for (int t = 0; t < sub; ++t)
+          for (std::uint64_t bits = open[t]; bits; bits &= bits - 1) {
+            const int a = std::countr_zero(bits), b = j * sub + t;
+            squares[ns++] = {ax0 + a * s, ay0 + b * s, a + 1 == M ? ax1 : ax0 + (a + 1) * s, b + 1 == M ? ay1 : ay0 + (b + 1) * s};
+          }
+        // Darts first, uniform over the squares left (a gap is most often wide enough to be hit), and only then
+        // the exact test, which proves the other cells covered or finds the squares the finer darts go to.
         bool done = false;
+        for (int t = 0; t < kFirstDarts * ns && !done; ++t) {
+          double u, v;
+          draw.next2(u, v);
+          const Rect& c = squares[std::min(ns - 1, static_cast<int>(draw.next() * ns))];
+          done = dart(c.x0 + u * (c.x1 - c.x0), c.y0 + v * (c.y1 - c.y0));
+        }
+        if (done) continue;
+        S.cells.clear();
+        for (int q = 0; q < ns; ++q)
+          if (has_room(squares[q])) S.cells.push_back(squares[q]);
+        if (S.cells.empty()) continue;
         for (int level = 0; level <= kLevels && !done && !S.cells.empty(); ++level) {
           for (const Rect& c : S.cells) {
             for (int t = 0; t < kDarts && !done; ++t) {
