@@ -673,17 +673,22 @@ struct Sampler {
     const double rho = std::sqrt(r2) * (1.0 - 1e-6), rho2 = rho * rho;
     S.cover.assign(static_cast<std::size_t>(M), 0);
     std::uint64_t* const cover = S.cover.data();
+    // Square indices of the disks' extents lie in (-M, 2M): floor and ceiling by truncation of a shifted value
+    // (its rounding moves an edge by ~1e-14 s, well within the 1e-6 r margin).
+    const double shift = 2.0 * M;
+    auto floor_of = [&](double x) { return static_cast<int>(x + shift) - 2 * M; };
+    auto ceil_of = [&](double x) { return 2 * M - static_cast<int>(shift - x); };
     auto cover_disk = [&](double px, double py) {
       const double u = px - ax0, v = py - ay0;
-      const int b0 = std::max(0, static_cast<int>(std::floor((v - rho) * inv_s)));
-      const int b1 = std::min(M - 1, static_cast<int>(std::floor((v + rho) * inv_s)));
+      const int b0 = std::max(0, floor_of((v - rho) * inv_s));
+      const int b1 = std::min(M - 1, floor_of((v + rho) * inv_s));
       for (int b = b0; b <= b1; ++b) {
         const double fy = std::max(std::abs(b * s - v), std::abs((b + 1) * s - v));
         const double e = rho2 - fy * fy;
         if (e <= 0.0) continue;
         const double w = std::sqrt(e);
-        const int a0 = std::max(0, static_cast<int>(std::ceil((u - w) * inv_s)));
-        const int a1 = std::min(M, static_cast<int>(std::floor((u + w) * inv_s)));  // one past the last
+        const int a0 = std::max(0, ceil_of((u - w) * inv_s));
+        const int a1 = std::min(M, floor_of((u + w) * inv_s));  // one past the last
         if (a1 > a0) cover[b] |= (~0ull >> (64 - (a1 - a0))) << a0;
       }
     };
