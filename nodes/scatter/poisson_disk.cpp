@@ -525,7 +525,10 @@ struct Sampler {
       return true;
     };
 
-    // Gather this class's points of the neighbouring chunks within the interaction distance.
+    // Gather this class's points of the neighbouring chunks within the interaction distance. They are not made
+    // active (unlike the general path): most of their candidates fall outside the chunk or near its points, so
+    // each cost its k failures; the strips they would have grown into are left to the gap filling (2 km: 7%
+    // faster, 0.3% more points).
     ClassChunks& own = grids[k];
     for (std::int64_t dy = -1; dy <= 1; ++dy)
       for (std::int64_t dx = -1; dx <= 1; ++dx)
@@ -533,7 +536,6 @@ struct Sampler {
           const double qx = q.x, qy = q.y;
           if (qx < ax0 - D || qx >= ax1 + D || qy < ay0 - D || qy >= ay1 + D) continue;
           insert(qx, qy);
-          S.active.emplace_back(qx, qy);
           S.near.emplace_back(qx, qy);
         }
     FastDraws draw{scatter::hash(p.seed, 0x5CA77E5ull, static_cast<std::uint64_t>(k), scatter::bits(gcx),
