@@ -390,15 +390,18 @@ struct Sampler {
 
   // ---------------------------------------------------------------------------------------------------------
   // Fast path: one class of constant radius (no density, no mask), the common case and the benchmark's.
-  // Same chunks, phases, gathering and randomness scheme as `process`, with:
+  // Same chunks and phases as `process`, with:
   // - a background grid aligned with the chunk (cell C / m with m = floor(C sqrt 2 / r) + 1, so a cell's
   //   diagonal is below r: at most one point per cell and a point covers its whole cell), padded so that the
   //   5 x 5 neighbourhood of any cell a candidate or a gathered point can fall in needs no bounds checks;
   //   cells hold the point's position (double copies of the stored floats) or a far sentinel, so a lookup is
   //   a load and a distance, no indirection; the per-thread grid is reused across chunks (no allocation);
-  // - gap filling cell by cell: a grid cell with a point is covered; an empty one gathers the (at most 25)
-  //   points of its 5 x 5 neighbourhood once, is tested for coverage (one disk, or two), and gets darts into
-  //   its uncovered quarters until one lands (then the cell is covered) or none is left.
+  // - Bridson from the chunk's own points only (the neighbours' points constrain, they do not grow), with
+  //   SplitMix64 draws and the candidates of an active point drawn in blocks before they are tested;
+  // - gap filling cell by cell: a grid cell with a point is covered; a bitmask of sub-squares each inside one
+  //   disk proves most empty ones covered; the others gather the (at most 24) points of their 5 x 5
+  //   neighbourhood, get a few darts into their open sub-squares, then the exact coverage test and darts into
+  //   what has room until one lands (then the cell is covered) or none is left.
   // Distances are compared exactly as the general path does (double, on the stored float positions).
   static constexpr double kEmpty = 1e150;
   static constexpr float kFar = 1e15f;  // float sentinel: squared distances stay finite
