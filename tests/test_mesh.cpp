@@ -22,6 +22,7 @@
 #include "nodes/geometry/heightfield_mesh.h"
 #include "nodes/geometry/mesh_base.h"
 #include "nodes/geometry/terrain_tin.h"
+#include "nodes/geometry/tin_scan.h"
 #include "nodes/io/image_file.h"
 #include "support/test_paths.h"
 
@@ -291,6 +292,71 @@ TEST(TerrainTin, BoundHoldsAtEverySampleAndTheTrianglesTileTheRectangle) {
       previous = tin.triangles.size();
     }
   }
+  }
+}
+
+// The SIMD scan against brute force on random grid triangles (flat tops and bottoms, slivers, long rows):
+// the same samples (edges included), the largest error within the float margin, its first sample, and the
+// early stop above a limit.
+TEST(TerrainTin, SimdScanMatchesBruteForceOnRandomTriangles) {
+  const int w = 53, h = 47;
+  std::vector<float> z(static_cast<std::size_t>(w) * h);
+  std::uint64_t state = 12345;
+  auto next = [&]() {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<std::uint32_t>(state >> 33);
+  };
+  for (float& v : z) v = static_cast<float>(next() % 100000) * 0.01f - 300.0f;
+  const double margin = 1e-6 * 700.0;
+  int tested = 0;
+  while (tested < 4000) {
+    int x[3], y[3];
+    const int span = tested % 4 == 0 ? 52 : 6;  // mostly small triangles, as in the TIN, and some large ones
+    x[0] = static_cast<int>(next() % w), y[0] = static_cast<int>(next() % h);
+    for (int k = 1; k < 3; ++k) {
+      x[k] = std::clamp(x[0] + static_cast<int>(next() % (2 * span + 1)) - span, 0, w - 1);
+      y[k] = std::clamp(y[0] + static_cast<int>(next() % (2 * span + 1)) - span, 0, h - 1);
+    }
+    long long area2 = static_cast<long long>(x[1] - x[0]) * (y[2] - y[0]) - static_cast<long long>(y[1] - y[0]) * (x[2] - x[0]);
+    if (area2 == 0) continue;
+    if (area2 < 0) std::swap(x[1], x[2]), std::swap(y[1], y[2]), area2 = -area2;
+    ++tested;
+    const double za = z[y[0] * w + x[0]], zb = z[y[1] * w + x[1]], zc = z[y[2] * w + x[2]];
+    double worst = -1.0;
+    std::vector<double> error(z.size(), -1.0);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) {
+        long long e[3];
+        for (int k = 0; k < 3; ++k) {
+          const int a = k, b = (k + 1) % 3;
+          e[k] = static_cast<long long>(x[b] - x[a]) * (j - y[a]) - static_cast<long long>(y[b] - y[a]) * (i - x[a]);
+        }
+        if (e[0] < 0 || e[1] < 0 || e[2] < 0) continue;
+        // Barycentric weights of c and a from the exact edge functions.
+        const double plane = (static_cast<double>(e[1]) * za + static_cast<double>(e[2]) * zb + static_cast<double>(e[0]) * zc) / area2;
+        error[j * w + i] = std::abs(z[j * w + i] - plane);
+        worst = std::max(worst, error[j * w + i]);
+      }
+    tin::ScanRequest r;
+    r.z = z.data();
+    r.size = z.size();
+    r.width = w;
+    r.ax = x[0], r.ay = y[0], r.bx = x[1], r.by = y[1], r.cx = x[2], r.cy = y[2];
+    const tin::ScanResult s = tin::scan_triangle(r);
+    ASSERT_NEAR(s.error, worst, margin) << x[0] << "," << y[0] << " " << x[1] << "," << y[1] << " " << x[2] << "," << y[2];
+    ASSERT_GE(s.sample, 0);
+    ASSERT_GE(error[s.sample], 0.0) << "the sample lies in the triangle";
+    EXPECT_NEAR(error[s.sample], worst, 2 * margin);
+    for (int k = 0; k < s.sample; ++k)
+      ASSERT_LT(error[k], worst - 2 * margin > 0.0 ? worst - 2 * margin : error[s.sample] + 2 * margin)
+          << "an earlier sample (row-major) has the largest error";
+    r.stop_above = true;
+    r.limit = static_cast<float>(worst + 4 * margin);
+    EXPECT_LE(tin::scan_triangle(r).error, r.limit) << "nothing exceeds a limit above the largest error";
+    r.limit = static_cast<float>(worst - 4 * margin);
+    if (r.limit > 0.0f) {
+      EXPECT_GT(tin::scan_triangle(r).error, r.limit) << "the early stop reports an error above it";
+    }
   }
 }
 

@@ -165,6 +165,8 @@ class GreedyInsertion {
   GreedyInsertion(const Heightfield& h, const Scanner& scanner) : width_(h.width()), height_(h.height()), scanner_(scanner) {}
 
   void run(double bound, std::size_t target, double tiny, const TinOptions& options, double progress_share) {
+    // A triangle within this error is never refined: it need not enter the queue.
+    keep_above_ = target > 0 ? std::min(bound, tiny) : bound;
     const int w = width_ - 1, hh = height_ - 1;
     add_vertex(0, 0);
     add_vertex(w, 0);
@@ -202,6 +204,7 @@ class GreedyInsertion {
 
   std::vector<int> vx_, vy_;          // vertex grid coordinates
   std::vector<std::int32_t> corner_;  // 3 vertices per triangle
+  std::vector<float> error_;          // per triangle: its largest error, as the scan found it
   std::vector<std::int32_t> twin_;    // 3 half-edges per triangle
   std::size_t faces_ = 0;
 
@@ -225,6 +228,7 @@ class GreedyInsertion {
     corner_.insert(corner_.end(), 3, -1);
     twin_.insert(twin_.end(), 3, -1);
     candidate_.push_back(-1);
+    error_.push_back(0.0f);
     version_.push_back(0);
     stamp_.push_back(0);
     return t;
@@ -252,8 +256,9 @@ class GreedyInsertion {
       const int a = corner_[3 * t], b = corner_[3 * t + 1], c = corner_[3 * t + 2];
       const Scan s = scanner_.scan<false>(vx_[a], vy_[a], vx_[b], vy_[b], vx_[c], vy_[c]);
       candidate_[t] = s.sample;
+      error_[t] = static_cast<float>(s.error);
       ++version_[t];
-      queue_.push({s.error, t, version_[t]});
+      if (s.error > keep_above_) queue_.push({s.error, t, version_[t]});
     }
     touched_.clear();
     ++round_;
@@ -350,6 +355,7 @@ class GreedyInsertion {
   int width_, height_;
   const Scanner& scanner_;
   std::vector<std::int32_t> candidate_;
+  double keep_above_ = 0.0;
   std::vector<std::uint32_t> version_, stamp_;
   std::uint32_t round_ = 1;
   std::vector<int> touched_, stack_;
@@ -364,7 +370,7 @@ class Collapser {
   // in insertion order, scattered over the map, and an evaluation touches a vertex's whole neighbourhood,
   // which then sits in a few cache lines instead of dozens.
   Collapser(int width, int height, const Scanner& scanner, const std::vector<int>& vx, const std::vector<int>& vy,
-            const std::vector<std::int32_t>& corners)
+            const std::vector<std::int32_t>& corners, const std::vector<float>& errors)
       : width_(width), height_(height), scanner_(scanner) {
     const std::size_t nv = vx.size(), nt = corners.size() / 3;
     std::vector<std::uint64_t> key(nv);
@@ -384,17 +390,27 @@ class Collapser {
     std::vector<std::array<std::int32_t, 3>> tris(nt);
     for (std::size_t t = 0; t < nt; ++t)
       tris[t] = {renumber[corners[3 * t]], renumber[corners[3 * t + 1]], renumber[corners[3 * t + 2]]};
-    std::sort(tris.begin(), tris.end(), [](const auto& a, const auto& b) {
-      return std::min({a[0], a[1], a[2]}) < std::min({b[0], b[1], b[2]}) ||
-             (std::min({a[0], a[1], a[2]}) == std::min({b[0], b[1], b[2]}) && a < b);
-    });
-    tris_ = std::move(tris);
+    // Triangles in the order of their lowest vertex (then their old index), so a star is a few cache lines.
+    std::vector<std::uint64_t> order(nt);
+    for (std::size_t t = 0; t < nt; ++t)
+      order[t] = (static_cast<std::uint64_t>(std::min({tris[t][0], tris[t][1], tris[t][2]})) << 32) | t;
+    std::sort(order.begin(), order.end());
+    tris_.resize(nt);
+    error_.resize(nt);
+    for (std::size_t k = 0; k < nt; ++k) {
+      tris_[k] = tris[order[k] & 0xffffffffu];
+      error_[k] = errors[order[k] & 0xffffffffu];
+    }
     alive_tri_.assign(nt, 1);
     star_.resize(nv);
     for (std::size_t t = 0; t < nt; ++t)
       for (int k = 0; k < 3; ++k) star_[static_cast<std::size_t>(tris_[t][k])].push_back(static_cast<int>(t));
     alive_vertex_.assign(vx_.size(), 1);
     version_.assign(vx_.size(), 0);
+    mark_.assign(vx_.size(), 0);
+    seen_.assign(vx_.size(), 0);
+    into_.assign(vx_.size(), -1);
+    errors_at_.assign(vx_.size(), 0);
   }
 
   void run(double bound, std::size_t target, const TinOptions& options) {
@@ -438,7 +454,8 @@ class Collapser {
     }
   }
 
-  Tin result(Tin tin) const {
+  // The TIN, and each triangle's largest error as the scans found it.
+  Tin result(Tin tin, std::vector<float>& errors) const {
     std::vector<std::int32_t> remap(vx_.size(), -1);
     tin.samples.clear();
     for (std::size_t v = 0; v < vx_.size(); ++v)
@@ -447,8 +464,12 @@ class Collapser {
         tin.samples.push_back(vy_[v] * width_ + vx_[v]);
       }
     tin.triangles.clear();
+    errors.clear();
     for (std::size_t t = 0; t < tris_.size(); ++t)
-      if (alive_tri_[t]) tin.triangles.push_back({remap[tris_[t][0]], remap[tris_[t][1]], remap[tris_[t][2]]});
+      if (alive_tri_[t]) {
+        tin.triangles.push_back({remap[tris_[t][0]], remap[tris_[t][1]], remap[tris_[t][2]]});
+        errors.push_back(error_[t]);
+      }
     return tin;
   }
 
@@ -481,47 +502,52 @@ class Collapser {
   }
   bool boundary(int v) const { return sides(v) != 0; }
 
-  void neighbours(int v, std::vector<int>& out) const {
-    out.clear();
-    for (int t : star_[v])
-      for (int c : tris_[t])
-        if (c != v && std::find(out.begin(), out.end(), c) == out.end()) out.push_back(c);
+  // v's star as wedges: triangle (v, a, b), counter-clockwise; and its neighbours: every a, plus the b that
+  // follows no a (the last of an open fan on the border).
+  void gather_star(int v) {
+    wedges_.clear();
+    for (int t : star_[v]) {
+      const auto& c = tris_[t];
+      const int k = c[0] == v ? 0 : c[1] == v ? 1 : 2;
+      wedges_.push_back({c[k == 2 ? 0 : k + 1], c[k == 0 ? 2 : k - 1]});
+    }
+    nv_.clear();
+    for (const Wedge& w : wedges_) nv_.push_back(w.a);
+    for (const Wedge& w : wedges_)
+      if (std::none_of(wedges_.begin(), wedges_.end(), [&](const Wedge& o) { return o.a == w.b; })) nv_.push_back(w.b);
   }
 
   // The best collapse of v (the neighbour leaving the smallest error within the bound), queued; none if no
-  // collapse is legal.
+  // collapse is legal. Collapsing v into u turns each wedge (v, a, b) without u into the triangle (u, a, b).
   void evaluate(int v) {
     ++version_[v];
     dirty_[v] = 0;
+    into_[v] = -1;
     const int sv = sides(v);
     if (sv != 0 && (sv & (sv - 1)) != 0) return;  // a corner stays
-    neighbours(v, nv_);
+    gather_star(v);
+    ++generation_;
+    for (int w : nv_) mark_[w] = generation_;
+    const int px = vx_[v], py = vy_[v];
     double best = bound_;
     int best_u = -1;
     for (int u : nv_) {
       if (sv != 0 && (sides(u) & sv) == 0) continue;  // a border vertex moves only along its side
-      // Every triangle of v that survives must stay counter-clockwise with u in v's place.
+      const int ux = vx_[u], uy = vy_[u];
+      // Every new triangle must be counter-clockwise. The removed vertex's own sample is the likeliest to break
+      // the bound: test it first, in O(1), in the new triangle that holds it ((a, b, v) is counter-clockwise by
+      // construction, so two orientations decide).
       bool ok = true, v_checked = false;
-      for (int t : star_[v]) {
-        const auto& c = tris_[t];
-        if (c[0] == u || c[1] == u || c[2] == u) continue;
-        int x[3], y[3];
-        float z[3];
-        for (int k = 0; k < 3; ++k) {
-          const int w = c[k] == v ? u : c[k];
-          x[k] = vx_[w];
-          y[k] = vy_[w];
-          z[k] = vz_[w];
-        }
-        if (orient(x[0], y[0], x[1], y[1], x[2], y[2]) <= 0) {
+      for (const Wedge& w : wedges_) {
+        if (w.a == u || w.b == u) continue;
+        const int ax = vx_[w.a], ay = vy_[w.a], bx = vx_[w.b], by = vy_[w.b];
+        if (orient(ux, uy, ax, ay, bx, by) <= 0) {
           ok = false;
           break;
         }
-        // The removed vertex's own sample is the likeliest to break the bound: test it first, in O(1).
-        if (!v_checked && orient(x[0], y[0], x[1], y[1], vx_[v], vy_[v]) >= 0 &&
-            orient(x[1], y[1], x[2], y[2], vx_[v], vy_[v]) >= 0 && orient(x[2], y[2], x[0], y[0], vx_[v], vy_[v]) >= 0) {
+        if (!v_checked && orient(ux, uy, ax, ay, px, py) >= 0 && orient(bx, by, ux, uy, px, py) >= 0) {
           v_checked = true;
-          if (Scanner::point_error(x[0], y[0], z[0], x[1], y[1], z[1], x[2], y[2], z[2], vx_[v], vy_[v], vz_[v]) > best) {
+          if (Scanner::point_error(ux, uy, vz_[u], ax, ay, vz_[w.a], bx, by, vz_[w.b], px, py, vz_[v]) > best) {
             ok = false;
             break;
           }
@@ -529,46 +555,63 @@ class Collapser {
       }
       if (!ok) continue;
       double worst = 0.0;
-      for (int t : star_[v]) {
-        const auto& c = tris_[t];
-        if (c[0] == u || c[1] == u || c[2] == u) continue;
-        int x[3], y[3];
-        for (int k = 0; k < 3; ++k) {
-          const int w = c[k] == v ? u : c[k];
-          x[k] = vx_[w];
-          y[k] = vy_[w];
-        }
-        const Scan s = scanner_.scan<true>(x[0], y[0], x[1], y[1], x[2], y[2], best);
+      wedge_error_.assign(wedges_.size(), 0.0f);
+      for (std::size_t k = 0; k < wedges_.size(); ++k) {
+        const Wedge& w = wedges_[k];
+        if (w.a == u || w.b == u) continue;
+        const Scan s = scanner_.scan<true>(ux, uy, vx_[w.a], vy_[w.a], vx_[w.b], vy_[w.b], best);
+        wedge_error_[k] = static_cast<float>(s.error);
         worst = std::max(worst, s.error);
         if (worst > best) break;
       }
       // The topological check last: it is the dearest per candidate and most candidates fail before it.
-      if (worst <= best && link_condition(v, u)) {
+      if (worst <= best && link_condition(u)) {
         best = worst;
         best_u = u;
+        best_error_.swap(wedge_error_);  // complete scans (none stopped early): the new triangles' errors
       }
     }
-    if (best_u >= 0) queue_.push({best, v, best_u, version_[v]});
+    into_[v] = best_u;
+    if (best_u >= 0) {
+      queue_.push({best, v, best_u, version_[v]});
+      errors_at_[v] = static_cast<std::uint32_t>(error_pool_.size());
+      error_pool_.insert(error_pool_.end(), best_error_.begin(), best_error_.end());
+    }
   }
 
-  // The vertices adjacent to both v and u are exactly the third vertices of the triangles on edge vu (else
-  // the collapse would pinch the surface).
-  bool link_condition(int v, int u) {
-    neighbours(u, nu_);
+  // The vertices adjacent to both v and u are exactly the third vertices of the wedges on edge vu (else the
+  // collapse would pinch the surface). v's neighbours carry the current mark (evaluate).
+  bool link_condition(int u) {
+    ++link_generation_;
     int common = 0;
-    for (int w : nv_)
-      if (std::find(nu_.begin(), nu_.end(), w) != nu_.end()) ++common;
+    for (int t : star_[u])
+      for (int c : tris_[t])
+        if (c != u && mark_[c] == generation_ && seen_[c] != link_generation_) {
+          seen_[c] = link_generation_;
+          ++common;
+        }
     int shared = 0;
-    for (int t : star_[v]) {
-      const auto& c = tris_[t];
-      if (c[0] == u || c[1] == u || c[2] == u) ++shared;
-    }
+    for (const Wedge& w : wedges_) shared += (w.a == u || w.b == u) ? 1 : 0;
     return common == shared;
   }
 
+  // Collapses v into u and marks for re-evaluation the vertices whose star changes (v's neighbours, u among
+  // them) and those whose chosen collapse goes into one of them (its link condition may change). For any other
+  // vertex nothing its evaluation read has changed, and its other candidates can only have become illegal, so
+  // its queued collapse is still its best.
   void collapse(int v, int u) {
+    ++generation_;
+    for (int t : star_[v])
+      for (int w : tris_[t])
+        if (w != v) {
+          mark_[w] = generation_;
+          dirty_[w] = 1;
+        }
+    // The star is as v's evaluation saw it (else v would be dirty), so its wedges' errors apply in order.
+    const float* errors = error_pool_.data() + errors_at_[v];
     for (int t : star_[v]) {
       auto& c = tris_[t];
+      const float error = *errors++;
       if (c[0] == u || c[1] == u || c[2] == u) {
         alive_tri_[t] = 0;
         for (int w : c)
@@ -579,16 +622,16 @@ class Collapser {
       } else {
         for (auto& w : c)
           if (w == v) w = u;
+        error_[t] = error;
         star_[u].push_back(t);
       }
     }
     star_[v].clear();
     alive_vertex_[v] = 0;
     ++version_[v];
-    std::vector<int> ring;
-    neighbours(u, ring);
-    dirty_[u] = 1;
-    for (int w : ring) dirty_[w] = 1;
+    for (int t : star_[u])
+      for (int w : tris_[t])
+        if (into_[w] >= 0 && mark_[into_[w]] == generation_) dirty_[w] = 1;
   }
 
   int width_, height_;
@@ -602,7 +645,18 @@ class Collapser {
   std::priority_queue<Entry> queue_;
   double bound_ = 0.0;
   std::vector<std::uint8_t> dirty_;
-  std::vector<int> nv_, nu_;
+  struct Wedge {
+    int a, b;
+  };
+  std::vector<Wedge> wedges_;  // of the vertex being evaluated
+  std::vector<int> nv_;        // its neighbours
+  std::vector<std::uint32_t> mark_, seen_;  // per vertex: neighbour of it (generation_), counted (link_generation_)
+  std::uint32_t generation_ = 0, link_generation_ = 0;
+  std::vector<int> into_;  // per vertex: the neighbour of its queued collapse, or -1
+  std::vector<float> error_;  // per triangle: its largest error, as the scans found it
+  // The errors of the triangles each vertex's queued collapse makes, per wedge of its star, from errors_at_[v].
+  std::vector<float> error_pool_, wedge_error_, best_error_;
+  std::vector<std::uint32_t> errors_at_;
 };
 
 }  // namespace
@@ -641,34 +695,30 @@ Tin heightfield_tin(const Heightfield& height, const TinOptions& options) {
   Tin tin;
   tin.width = w;
   tin.height = h;
+  std::vector<float> errors;  // per triangle of tin, as the scans found it
   if (simplify && !(options.should_stop && options.should_stop())) {
-    Collapser collapser(w, h, scanner, greedy.vx_, greedy.vy_, greedy.corner_);
+    Collapser collapser(w, h, scanner, greedy.vx_, greedy.vy_, greedy.corner_, greedy.error_);
     collapser.run(working_bound, options.target_faces, options);
-    tin = collapser.result(std::move(tin));
+    tin = collapser.result(std::move(tin), errors);
   } else {
     tin.samples.reserve(greedy.vx_.size());
     for (std::size_t v = 0; v < greedy.vx_.size(); ++v) tin.samples.push_back(greedy.vy_[v] * w + greedy.vx_[v]);
     tin.triangles.reserve(greedy.corner_.size() / 3);
     for (std::size_t t = 0; t < greedy.corner_.size(); t += 3)
       tin.triangles.push_back({greedy.corner_[t], greedy.corner_[t + 1], greedy.corner_[t + 2]});
+    errors = greedy.error_;
   }
-  // The exact largest error: the fast scan of every triangle, then the double-precision scan of only those
-  // whose fast error comes within two margins of the largest (no other can hold the exact maximum).
-  std::vector<double> fast(tin.triangles.size());
-  double fast_worst = 0.0;
+  // The exact largest error: the double-precision scan of only the triangles whose fast error (known from the
+  // stages) comes within two margins of the largest (no other can hold the exact maximum).
+  const double fast_worst = errors.empty() ? 0.0 : *std::max_element(errors.begin(), errors.end());
   auto corners = [&](const std::array<std::int32_t, 3>& t) {
     std::array<int, 6> p{};
     for (int k = 0; k < 3; ++k) p[2 * k] = tin.samples[t[k]] % w, p[2 * k + 1] = tin.samples[t[k]] / w;
     return p;
   };
-  for (std::size_t t = 0; single && t < tin.triangles.size(); ++t) {
-    const auto p = corners(tin.triangles[t]);
-    fast[t] = scanner.scan<false>(p[0], p[1], p[2], p[3], p[4], p[5]).error;
-    fast_worst = std::max(fast_worst, fast[t]);
-  }
   double worst = 0.0;
   for (std::size_t t = 0; t < tin.triangles.size(); ++t)
-    if (!single || fast[t] >= fast_worst - 2.0 * margin) {
+    if (!single || errors[t] >= fast_worst - 2.0 * margin) {
       const auto p = corners(tin.triangles[t]);
       worst = std::max(worst, scanner.scan_exact<false>(p[0], p[1], p[2], p[3], p[4], p[5]).error);
     }
