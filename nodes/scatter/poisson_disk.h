@@ -25,9 +25,10 @@
 // Speed: one class of constant radius (no density, no mask) takes a fast path with the same chunks, phases
 // and guarantees: a background grid aligned with the chunk and padded so a 5 x 5 window needs no bounds
 // checks, Bridson's neighbour test filtered in float on grid-relative positions (the double test decides
-// within a 1e-4 margin of r^2), per-thread scratch memory, and gap filling cell by cell with an exact
-// coverage test (a rectangle has room iff a vertex of its free part, a corner or a crossing of circles and
-// edges, lies outside every other disk).
+// within a 1e-4 margin of r^2), candidates drawn directly in the annulus (no rejection) in blocks, per-thread
+// scratch memory, and gap filling cell by cell: a bitmask of sub-squares inside one disk proves most cells
+// covered, the rest get darts and an exact coverage test (a rectangle has room iff a vertex of its free part,
+// a corner or a crossing of circles and edges, lies outside every other disk).
 #include <cstdint>
 #include <vector>
 
