@@ -95,13 +95,20 @@ inline void brush_rows(float* zr, float a, std::ptrdiff_t stride, const float* _
     }
 }
 
+// A droplet's origin in samples, 0 <= u <= w - 1, 0 <= v <= h - 1, from its key hash64(seed, index): where it
+// starts and which tile it is binned to.
+inline void droplet_origin(std::uint64_t key, int w, int h, float& u, float& v) {
+  u = static_cast<float>(hash01(key, 1) * (w - 1));
+  v = static_cast<float>(hash01(key, 2) * (h - 1));
+}
+
 struct BrushTap {
   int di, dj;
   float w;
 };
 
-// One droplet's simulation over the shared heights (the parameters copied into locals first: stores to the
-// heights cannot then alias them, and they stay in registers).
+// The droplets' simulation over the shared heights (run_tile copies the parameters into locals first: stores
+// to the heights cannot then alias them, and they stay in registers).
 struct Sim {
   float* Z;
   std::uint32_t* V;
@@ -115,16 +122,6 @@ struct Sim {
   float step_u, step_v, inv_dx, inv_dy, cell_area, inv_cell_area, inv_step, inertia, min_slope, capacity,
       deposition, erosion, gravity, keep_water, brush_area;
 
-  // amt m^3 spread bilinearly over the 4 samples around (u, v).
-  static void deposit(float* Z, int w, int h, float a, float u, float v) {
-    const int i = std::min(static_cast<int>(u), w - 2), j = std::min(static_cast<int>(v), h - 2);
-    const float fu = u - static_cast<float>(i), fv = v - static_cast<float>(j);
-    float* zk = Z + static_cast<std::size_t>(j) * w + i;
-    zk[0] += a * (1 - fu) * (1 - fv);
-    zk[1] += a * fu * (1 - fv);
-    zk[w] += a * (1 - fu) * fv;
-    zk[w + 1] += a * fu * fv;
-  }
   // a m of height (per unit weight) removed with the brush around a sample near the border: taps outside
   // the grid are dropped and the rest renormalised.
   void erode_border(float a, int ni, int nj) const {
@@ -192,8 +189,8 @@ struct Sim {
     };
     auto start = [&](int k, std::uint64_t id) {
       key[k] = hash64(seed, id);
-      const float u = static_cast<float>(hash01(key[k], 1) * (w - 1));
-      const float v = static_cast<float>(hash01(key[k], 2) * (h - 1));
+      float u, v;
+      droplet_origin(key[k], w, h, u, v);
       const int i = static_cast<int>(std::min(u, imax)), j = static_cast<int>(std::min(v, jmax));
       const float* zk = Z + static_cast<std::ptrdiff_t>(j) * w + i;
       f4 hgt, gx, gy;
@@ -333,8 +330,7 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
 
   // Brush around the nearest sample: weights 1 - distance / radius, normalised; a table of offsets and
   // weights computed once.
-  std::vector<BrushTap> brush_taps;
-  auto& brush = brush_taps;
+  std::vector<BrushTap> brush;
   // Taps farther than the grid's extent never land on a sample; clamping them keeps the brush finite on
   // fine grids and huge radii without changing any result (deposits are normalised by the taps inside).
   const int rx = static_cast<int>(std::min<double>(std::ceil(p.radius / dx), w));
@@ -402,7 +398,7 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   sim.Z = z.data();
   sim.V = visits.data();
   sim.mask = mask;
-  sim.brush = &brush_taps;
+  sim.brush = &brush;
   sim.row0 = static_cast<std::ptrdiff_t>(dj_lo) * w - rx;
   sim.RW = row_weights.data();
   sim.rows = dj_hi - dj_lo + 1;
@@ -437,9 +433,9 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
     // Bin the round's droplets by the tile of their origin (a counting sort keeps index order per tile).
     std::fill(tile_start.begin(), tile_start.end(), 0u);
     for (std::uint32_t k = 0; k < count; ++k) {
-      const std::uint64_t key = hash64(p.seed, first + k);
-      const int i = static_cast<int>(static_cast<float>(hash01(key, 1) * (w - 1)));
-      const int j = static_cast<int>(static_cast<float>(hash01(key, 2) * (h - 1)));
+      float u, v;
+      droplet_origin(hash64(p.seed, first + k), w, h, u, v);
+      const int i = static_cast<int>(u), j = static_cast<int>(v);
       const std::uint32_t t = static_cast<std::uint32_t>(std::min(j / tile_h, tiles_y - 1) * tiles_x + std::min(i / tile_w, tiles_x - 1));
       tile_of[k] = t;
       ++tile_start[t + 1];

@@ -14,6 +14,31 @@ namespace {
 
 constexpr float kWall = 1e30f;  // padding height: never lower than a cell, so nothing flows out of the grid
 
+// One row's excess over the talus towards neighbour row zn (talus tn, times the hardness scale sc when
+// kScaled: without a hardness field the products by 1 are left out), summed and maximised per cell.
+template <bool kScaled>
+void excess_row(int w, const float* zr, const float* zn, float tn, const float* sc, float* __restrict sum,
+                float* __restrict mx) {
+  for (int i = 0; i < w; ++i) {
+    const float e = std::max(0.0f, zr[i] - zn[i] - (kScaled ? tn * sc[i] : tn));
+    sum[i] += e;
+    mx[i] = std::max(mx[i], e);
+  }
+}
+
+// One row's exchange with neighbour row zn: what each cell sends it (ratio rc, scale sc) and what it sends
+// back along the opposite direction (ratio rn, scale sn), with the sender's own expression (zn - zr is
+// exactly -(zr - zn)).
+template <bool kScaled>
+void transfer_row(int w, const float* zr, const float* zn, const float* rc, const float* rn, float tn,
+                  const float* sc, const float* sn, float* __restrict out, float* __restrict gain) {
+  for (int i = 0; i < w; ++i) {
+    const float d = zr[i] - zn[i];
+    out[i] += rc[i] * std::max(0.0f, d - (kScaled ? tn * sc[i] : tn));
+    gain[i] += rn[i] * std::max(0.0f, -d - (kScaled ? tn * sn[i] : tn));
+  }
+}
+
 }  // namespace
 
 ErosionMaps thermal_erosion(const Heightfield& in, const ThermalParams& p, const Heightfield* mask,
@@ -65,19 +90,10 @@ ErosionMaps thermal_erosion(const Heightfield& in, const ThermalParams& p, const
         for (int n = 0; n < 8; ++n) {
           const float* zn = zr + off[n];
           const float tn = tal[n];
-          if (hardness) {
-            for (int i = 0; i < w; ++i) {
-              const float e = std::max(0.0f, zr[i] - zn[i] - tn * sc[i]);
-              sum[i] += e;
-              mx[i] = std::max(mx[i], e);
-            }
-          } else {  // sc = 1: the same values without the products
-            for (int i = 0; i < w; ++i) {
-              const float e = std::max(0.0f, zr[i] - zn[i] - tn);
-              sum[i] += e;
-              mx[i] = std::max(mx[i], e);
-            }
-          }
+          if (hardness)
+            excess_row<true>(w, zr, zn, tn, sc.data(), sum.data(), mx.data());
+          else
+            excess_row<false>(w, zr, zn, tn, sc.data(), sum.data(), mx.data());
         }
         float* ra = ratio.data() + q0;
         const float* rt = rate.data() + q0;
@@ -106,16 +122,9 @@ ErosionMaps thermal_erosion(const Heightfield& in, const ThermalParams& p, const
               // Neighbour nb sends along the opposite direction (same distance, same talus index n).
               if (hardness) {
                 for (int i = 0; i < w; ++i) sn[i] = tan_cell[q0 + i + off[n]] / static_cast<float>(tan_t);
-                for (int i = 0; i < w; ++i) {
-                  out[i] += rc[i] * std::max(0.0f, zr[i] - zn[i] - tn * sc[i]);
-                  gain[i] += rn[i] * std::max(0.0f, zn[i] - zr[i] - tn * sn[i]);
-                }
-              } else {  // sc = sn = 1: the same values without the products, and zn - zr as -(zr - zn)
-                for (int i = 0; i < w; ++i) {
-                  const float d = zr[i] - zn[i];
-                  out[i] += rc[i] * std::max(0.0f, d - tn);
-                  gain[i] += rn[i] * std::max(0.0f, -d - tn);
-                }
+                transfer_row<true>(w, zr, zn, rc, rn, tn, sc.data(), sn.data(), out.data(), gain.data());
+              } else {
+                transfer_row<false>(w, zr, zn, rc, rn, tn, sc.data(), sn.data(), out.data(), gain.data());
               }
             }
             float* z2r = z2.data() + q0;

@@ -25,19 +25,7 @@ struct Pt {
   int cls;     // class index into PoissonParams::classes
 };
 
-// The fast path's draws: SplitMix64 (Steele, Lea & Flood 2014) keyed by the chunk's hash, one mixing per draw
-// (scatter::Draws hashes the counter first: twice the latency on Bridson's critical path).
-struct FastDraws {
-  std::uint64_t key;
-  std::uint64_t counter = 0;
-  std::uint64_t bits() { return scatter::mix64(key + 0x9E3779B97F4A7C15ull * counter++); }
-  double next() { return scatter::unit(bits()); }
-  void next2(double& a, double& b) {
-    const std::uint64_t h = bits();
-    a = static_cast<double>(h >> 32) * 0x1.0p-32;
-    b = static_cast<double>(h & 0xFFFFFFFFull) * 0x1.0p-32;
-  }
-};
+using scatter::FastDraws;  // the fast path's draws
 
 // Bridson's candidate around a point of radius r from a 64-bit draw h: uniform in the annulus [r, 2r], drawn directly
 // (no rejection, whose unpredictable branch and extra hashes cost most of Bridson's time): the distance
@@ -368,7 +356,7 @@ struct Sampler {
       bool placed = false;
       for (int t = 0; t < p.attempts; ++t) {
         double ox, oy;
-        annulus_offset(scatter::hash(draw.key, draw.counter++), ra, ox, oy);
+        annulus_offset(draw.bits(), ra, ox, oy);
         const int idx = try_place(L, k, L.x[a] + ox, L.y[a] + oy);
         if (idx >= 0) {
           active.push_back(idx);
@@ -672,8 +660,9 @@ struct Sampler {
     // word), a bit set where the square lies inside one disk shrunk by 1e-6 r (so the rounding of the square
     // edges cannot matter). A cell whose squares are all set is covered; only the squares left get the exact
     // test above, and the darts go into those with room.
-    const int sub = std::min(5, 64 / m), M = m * sub;  // m = 12 (chunk 8 r): 5
-    if (sub < 1 || sub > 8) throw std::logic_error("PoissonDisk: too many grid cells per chunk");
+    constexpr int kMaxSub = 5;
+    const int sub = std::min(kMaxSub, 64 / m), M = m * sub;  // m = 12 (chunk 8 r): 5
+    if (sub < 1) throw std::logic_error("PoissonDisk: too many grid cells per chunk");
     const double s = h / sub, inv_s = sub / h;
     const double rho = std::sqrt(r2) * (1.0 - 1e-6), rho2 = rho * rho;
     S.cover.assign(static_cast<std::size_t>(M), 0);
@@ -707,7 +696,7 @@ struct Sampler {
       for (int i = 0; i < m; ++i) {
         const int c0 = (j + kPad) * n + (i + kPad);
         if (gx[c0] != kEmpty) continue;  // a point covers its cell
-        std::uint64_t open[8];
+        std::uint64_t open[kMaxSub];
         std::uint64_t any = 0;
         for (int t = 0; t < sub; ++t) {
           open[t] = ~cover[j * sub + t] & (cell_bits << (i * sub));
