@@ -166,7 +166,7 @@ class GreedyInsertion {
 
   void run(double bound, std::size_t target, double tiny, const TinOptions& options, double progress_share) {
     // A triangle within this error is never refined: it need not enter the queue.
-    keep_above_ = target > 0 ? std::min(bound, tiny) : bound;
+    keep_above_ = target > 0 ? tiny : bound;  // (bound >= tiny)
     const int w = width_ - 1, hh = height_ - 1;
     add_vertex(0, 0);
     add_vertex(w, 0);
