@@ -9,6 +9,7 @@
 #include <emmintrin.h>
 #endif
 
+#include <hwy/targets.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -81,18 +82,31 @@ inline f4 load4(const float* p) {
 inline void store4(float* p, f4 v) { std::memcpy(p, &v, sizeof v); }
 
 // Adds a x weight to the brush rows, the first at zr, rows `stride` apart: W weights a row (a multiple of 4),
-// R rows (R = 0: `rows`, W = 0: `row_width`, known at run time only). The weights' rows start 16-byte
-// aligned (a vector's storage, rows of a multiple of 4 floats).
-template <int W, int R>
-inline void brush_rows(float* zr, float a, std::ptrdiff_t stride, const float* __restrict RW, int rows,
-                       int row_width) {
+// R rows (R = 0: `rows`, W = 0: `row_width`, known at run time only), Wide floats at a time while they fit
+// (8: only inlined into code compiled for AVX2), then 4. The weights' rows start 16-byte aligned (a vector's
+// storage, rows of a multiple of 4 floats). Each sample gets one product and one sum whatever the width.
+template <int W, int R, int Wide>
+[[gnu::always_inline]] inline void brush_rows(float* zr, float a, std::ptrdiff_t stride, const float* __restrict RW,
+                                              int rows, int row_width) {
+  using f8 = float __attribute__((vector_size(32)));
   const int n = W > 0 ? W : row_width, nr = R > 0 ? R : rows;
   const f4 av = f4{} + a;
-  for (int r = 0; r < nr; ++r, zr += stride, RW += n)
-    for (int q = 0; q < n; q += 4) {
+  for (int r = 0; r < nr; ++r, zr += stride, RW += n) {
+    int q = 0;
+    if constexpr (Wide == 8) {
+      for (; q + 8 <= n; q += 8) {
+        f8 z8, w8;
+        std::memcpy(&z8, zr + q, sizeof z8);
+        std::memcpy(&w8, RW + q, sizeof w8);
+        z8 += (f8{} + a) * w8;
+        std::memcpy(zr + q, &z8, sizeof z8);
+      }
+    }
+    for (; q < n; q += 4) {
       const f4 wq = load4(static_cast<const float*>(__builtin_assume_aligned(RW + q, 16)));
       store4(zr + q, load4(zr + q) + av * wq);
     }
+  }
 }
 
 // A droplet's origin in samples, 0 <= u <= w - 1, 0 <= v <= h - 1, from its key hash64(seed, index): where it
@@ -166,8 +180,10 @@ struct Sim {
 
   // The droplets first + ids[0..count) of one tile, each ended droplet's lane taking the next of the list.
   // W, R: the brush rows' width and count when known at compile time (0: at run time).
-  template <int W, int R>
-  void run_tile(std::uint64_t first, const std::uint32_t* ids, std::uint32_t count, TileStats& ts) const {
+  // Wide: the brush's vector width (see brush_rows).
+  template <int W, int R, int Wide>
+  [[gnu::always_inline]] void run_tile(std::uint64_t first, const std::uint32_t* ids, std::uint32_t count,
+                                       TileStats& ts) const {
     float* __restrict const Z = this->Z;
     std::uint32_t* __restrict const V = this->V;
     const float* __restrict const M = mask ? mask->data.data() : nullptr;
@@ -291,12 +307,13 @@ struct Sim {
         if (brush_fits && static_cast<unsigned>(ni - rx) <= bu && static_cast<unsigned>(nj - ry) <= bv) [[likely]] {
           // Row by row over padded rows of a multiple of 4 weights (0 outside the disc; adding a x 0 changes
           // nothing, so no branch on whether the step eroded).
-          brush_rows<W, R>(Z + node + row0, a, pitch, RW, rows, row_width);
+          brush_rows<W, R, Wide>(Z + node + row0, a, pitch, RW, rows, row_width);
         } else if (a < 0) {
           erode_border(a, ni, nj);
         }
         // After the brush: its scalar reads then come from whole vector stores (forwarded), where the brush's
-        // vector reads of the deposit's scalar stores would wait for them to reach the cache.
+        // vector reads of the deposit's scalar stores would wait for them to reach the cache. (Scalar reads:
+        // the file is compiled with -fno-tree-slp-vectorize, see nodes/CMakeLists.txt.)
         deposit(da[k], CI[k], CJ[k], FU[k], FV[k]);
       }
       // Totals in double, two lanes at a time (0 for lanes that changed nothing).
@@ -335,6 +352,33 @@ struct Sim {
     ts.steps += steps;
   }
 };
+
+// run_tile compiled twice: for the baseline x86-64 (SSE2), and for AVX2, chosen at run time when the CPU has it
+// (hwy::SupportedTargets(), which tests restrict with hwy::SetSupportedTargetsForTest to run the baseline).
+// AVX2 code adds the brush's rows of 8 weights in one vector and, with 3-operand instructions, needs fewer
+// register copies. Same operations in the same order on every lane: AVX2 alone enables no FMA (the file is
+// compiled with -ffp-contract=off too), so both give the same bits.
+using RunTile = void (*)(const Sim&, std::uint64_t, const std::uint32_t*, std::uint32_t, TileStats&);
+template <int W, int R>
+void run_tile_sse2(const Sim& s, std::uint64_t first, const std::uint32_t* ids, std::uint32_t count, TileStats& ts) {
+  s.run_tile<W, R, 4>(first, ids, count, ts);
+}
+#if defined(__x86_64__) || defined(__i386__)
+template <int W, int R>
+[[gnu::target("avx2")]] void run_tile_avx2(const Sim& s, std::uint64_t first, const std::uint32_t* ids,
+                                           std::uint32_t count, TileStats& ts) {
+  s.run_tile<W, R, 8>(first, ids, count, ts);
+}
+template <int W, int R>
+RunTile run_tile_for(bool avx2) {
+  return avx2 ? &run_tile_avx2<W, R> : &run_tile_sse2<W, R>;
+}
+#else
+template <int W, int R>
+RunTile run_tile_for(bool) {
+  return &run_tile_sse2<W, R>;
+}
+#endif
 
 }  // namespace
 
@@ -446,14 +490,14 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   sim.brush_area = brush_area;
   // The brush loop unrolled for the common shapes (radius 3 cells: 5 rows of 8; 1.5 cells: 3 rows of 4), else
   // unrolled over a row's width only.
-  using RunTile = void (Sim::*)(std::uint64_t, const std::uint32_t*, std::uint32_t, TileStats&) const;
-  RunTile run = &Sim::run_tile<0, 0>;
-  if (row_width == 8 && sim.rows == 5) run = &Sim::run_tile<8, 5>;
-  else if (row_width == 8 && sim.rows == 3) run = &Sim::run_tile<8, 3>;
-  else if (row_width == 4) run = &Sim::run_tile<4, 0>;
-  else if (row_width == 8) run = &Sim::run_tile<8, 0>;
-  else if (row_width == 12) run = &Sim::run_tile<12, 0>;
-  else if (row_width == 16) run = &Sim::run_tile<16, 0>;
+  const bool avx2 = (hwy::SupportedTargets() & HWY_AVX2) != 0;
+  RunTile run = run_tile_for<0, 0>(avx2);
+  if (row_width == 8 && sim.rows == 5) run = run_tile_for<8, 5>(avx2);
+  else if (row_width == 8 && sim.rows == 3) run = run_tile_for<8, 3>(avx2);
+  else if (row_width == 4) run = run_tile_for<4, 0>(avx2);
+  else if (row_width == 8) run = run_tile_for<8, 0>(avx2);
+  else if (row_width == 12) run = run_tile_for<12, 0>(avx2);
+  else if (row_width == 16) run = run_tile_for<16, 0>(avx2);
 
   const std::uint64_t rounds = (droplets + round_size - 1) / round_size;
   for (std::uint64_t r = 0; r < rounds; ++r) {
@@ -480,7 +524,7 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, list.size(), 1), [&](const tbb::blocked_range<std::size_t>& br) {
         for (std::size_t q = br.begin(); q != br.end(); ++q) {
           const int t = list[q];
-          (sim.*run)(first, order.data() + tile_start[t], tile_start[t + 1] - tile_start[t], tile_stats[t]);
+          run(sim, first, order.data() + tile_start[t], tile_start[t + 1] - tile_start[t], tile_stats[t]);
         }
       });
       check_cancelled(ctx);
