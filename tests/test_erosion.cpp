@@ -145,10 +145,11 @@ TEST(HydraulicErosion, DeterministicAcrossThreadsAndSeedSensitive) {
   EXPECT_FALSE(test::bit_identical(one, other));
 }
 
-// The droplet kernel runs as AVX2 code where the CPU has it and as baseline SSE2 code elsewhere: both give the
-// same bits, for every brush shape the kernel unrolls (4 weights a row; 3 or 5 rows of 8; 8, 12 and 16 of any
-// count; the general loop), square and non-square cells, a row pitch padded off 4 KiB (256 samples) or not,
-// and a mask. (Without AVX2 both runs take the baseline.)
+// The droplet kernel runs as AVX2 code (two tiles at a time) where the CPU has it and as baseline SSE2 code
+// (a tile at a time) elsewhere: both give the same bits, for every brush shape the kernel unrolls (4 weights a
+// row; 3 or 5 rows of 8; 8, 12 and 16 of any count; the general loop), square and non-square cells, a row
+// pitch padded off 4 KiB (256 samples) or not, colours of an even and an odd number of tiles, and a mask.
+// (Without AVX2 both runs take the baseline.)
 TEST(HydraulicErosion, BaselineAndAvx2KernelsGiveTheSameBits) {
   struct Grid {
     int w, h;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 #include <vector>
 
 #if defined(__SSE2__)
@@ -23,17 +24,50 @@ struct TileStats {
   std::uint64_t steps = 0;
 };
 
-// Four floats (ints), one per droplet lane: GCC/Clang vector extensions, SSE2 on x86-64. Comparisons give
-// lane masks (-1 or 0).
+// One tile's droplets for run_tiles: indices (from the round's first) in their order, and its totals.
+struct TileRun {
+  const std::uint32_t* ids;
+  std::uint32_t count;
+  TileStats* stats;
+};
+
+// (The 8-lane helpers are only inlined: GCC's note that passing 32-byte vectors by value without AVX changes
+// the calling convention concerns no call here.)
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+// Four or eight floats (ints), one per droplet lane: GCC/Clang vector extensions, SSE2 on x86-64 (eight: two
+// SSE2 registers, or one AVX register in code compiled for AVX2). Comparisons give lane masks (-1 or 0).
 using f4 = float __attribute__((vector_size(16)));
 using i4 = std::int32_t __attribute__((vector_size(16)));
+using f8 = float __attribute__((vector_size(32)));
+using i8 = std::int32_t __attribute__((vector_size(32)));
 using d2 = double __attribute__((vector_size(16)));
 
-inline f4 sel(i4 m, f4 a, f4 b) {  // m ? a : b per lane
-  return (f4)((m & (i4)a) | (~m & (i4)b));  // vector casts keep the bits
+template <class F, class I>
+inline F sel(I m, F a, F b) {  // m ? a : b per lane
+  return (F)((m & (I)a) | (~m & (I)b));  // vector casts keep the bits
 }
-inline f4 vmin4(f4 a, f4 b) { return sel(b < a, b, a); }  // std::min per lane
-inline f4 vmax4(f4 a, f4 b) { return sel(a < b, b, a); }  // std::max per lane
+template <class F>
+inline F min_v(F a, F b) {  // std::min per lane
+  return sel(b < a, b, a);
+}
+template <class F>
+inline F max_v(F a, F b) {  // std::max per lane
+  return sel(a < b, b, a);
+}
+// Lanes 4q .. 4q + 3 of v (q = 0 of a 4-lane vector: itself); two 4-lane vectors as one of 8.
+template <class Q, class V>
+inline Q quarter(const V& v, int q) {
+  Q r;
+  std::memcpy(&r, reinterpret_cast<const char*>(&v) + sizeof r * q, sizeof r);
+  return r;
+}
+inline f4 quarter(const f4& v, int q) { return quarter<f4>(v, q); }
+inline f4 quarter(const f8& v, int q) { return quarter<f4>(v, q); }
+inline i4 quarter(const i4& v, int q) { return quarter<i4>(v, q); }
+inline i4 quarter(const i8& v, int q) { return quarter<i4>(v, q); }
+inline f8 join(f4 lo, f4 hi) { return __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7); }
+inline i8 join(i4 lo, i4 hi) { return __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7); }
 inline f4 vsqrt(f4 a) {
 #if defined(__SSE2__)
   return _mm_sqrt_ps(a);
@@ -42,6 +76,7 @@ inline f4 vsqrt(f4 a) {
   return a;
 #endif
 }
+inline f8 vsqrt(f8 a) { return join(vsqrt(quarter(a, 0)), vsqrt(quarter(a, 1))); }
 inline int movemask(i4 m) {  // bit k: lane k set
 #if defined(__SSE2__)
   return _mm_movemask_ps((__m128)m);
@@ -49,7 +84,11 @@ inline int movemask(i4 m) {  // bit k: lane k set
   return (m[0] & 1) | (m[1] & 2) | (m[2] & 4) | (m[3] & 8);
 #endif
 }
-inline bool any(i4 m) { return movemask(m) != 0; }
+inline int movemask(i8 m) { return movemask(quarter(m, 0)) | movemask(quarter(m, 1)) << 4; }
+template <class I>
+inline bool any(I m) {
+  return movemask(m) != 0;
+}
 
 // The 2 x 2 samples (a b / c d) of the cells (i[k], j[k]) of the four lanes, read one float at a time (an
 // 8-byte read across two of the brush's vector stores could not be forwarded from them), then transposed
@@ -73,6 +112,12 @@ inline void gather_cells(const float* Z, int pitch, i4 i, i4 j, f4& a, f4& b, f4
   }
 #endif
 }
+inline void gather_cells(const float* Z, int pitch, i8 i, i8 j, f8& a, f8& b, f8& c, f8& d) {
+  f4 a0, b0, c0, d0, a1, b1, c1, d1;
+  gather_cells(Z, pitch, quarter(i, 0), quarter(j, 0), a0, b0, c0, d0);
+  gather_cells(Z, pitch, quarter(i, 1), quarter(j, 1), a1, b1, c1, d1);
+  a = join(a0, a1), b = join(b0, b1), c = join(c0, c1), d = join(d0, d1);
+}
 
 inline f4 load4(const float* p) {
   f4 v;
@@ -88,7 +133,6 @@ inline void store4(float* p, f4 v) { std::memcpy(p, &v, sizeof v); }
 template <int W, int R, int Wide>
 [[gnu::always_inline]] inline void brush_rows(float* zr, float a, std::ptrdiff_t stride, const float* __restrict RW,
                                               int rows, int row_width) {
-  using f8 = float __attribute__((vector_size(32)));
   const int n = W > 0 ? W : row_width, nr = R > 0 ? R : rows;
   const f4 av = f4{} + a;
   for (int r = 0; r < nr; ++r, zr += stride, RW += n) {
@@ -178,12 +222,17 @@ struct Sim {
   // droplet sees the changes of the others one step late.
   static constexpr int kLanes = 4;
 
-  // The droplets first + ids[0..count) of one tile, each ended droplet's lane taking the next of the list.
+  // T tiles (1 or 2) of one colour stepped together, kLanes lanes each, in vectors of T x kLanes floats: tiles
+  // of one colour touch disjoint samples, so a tile's droplets do exactly what they do alone (AVX2 code steps
+  // two tiles in 8-float vectors: the step's arithmetic once for eight droplets).
+  // Each tile runs the droplets first + ids[0..count) of its list, an ended droplet's lane taking the next.
   // W, R: the brush rows' width and count when known at compile time (0: at run time).
   // Wide: the brush's vector width (see brush_rows).
-  template <int W, int R, int Wide>
-  [[gnu::always_inline]] void run_tile(std::uint64_t first, const std::uint32_t* ids, std::uint32_t count,
-                                       TileStats& ts) const {
+  template <int W, int R, int Wide, int T>
+  [[gnu::always_inline]] void run_tiles(std::uint64_t first, const TileRun* tiles) const {
+    constexpr int N = T * kLanes;
+    using F = std::conditional_t<T == 1, f4, f8>;
+    using I = std::conditional_t<T == 1, i4, i8>;
     float* __restrict const Z = this->Z;
     std::uint32_t* __restrict const V = this->V;
     const float* __restrict const M = mask ? mask->data.data() : nullptr;
@@ -202,23 +251,24 @@ struct Sim {
     // Brush centres whose rows lie inside the grid: unsigned (ni - rx) <= bu and (nj - ry) <= bv.
     const bool brush_fits = row_width <= w && 2 * ry + 1 <= h;
     const unsigned bu = static_cast<unsigned>(w - row_width), bv = static_cast<unsigned>(h - 1 - 2 * ry);
-    double eroded = 0, deposited = 0, carried_off = 0;
-    d2 eroded2{}, deposited2{};
-    std::uint64_t steps = 0;
+    // Per tile: totals (m^3; d2: two lanes at a time) and steps, the lanes in use, the next droplet.
+    double eroded[T] = {}, deposited[T] = {}, carried_off[T] = {};
+    d2 eroded2[T] = {}, deposited2[T] = {};
+    std::uint64_t steps[T] = {};
+    int live_count[T] = {};
+    std::uint32_t next[T] = {};
 
     // Lane state: position (samples), its 2 x 2 cell (first sample ci, cj; offsets fu, fv), direction,
     // speed, water, sediment, and the bilinear height and gradient read when the droplet got there.
-    f4 U{}, Vp{}, FU{}, FV{}, DX{}, DY{}, SP{}, WA{}, SE{}, HG{}, GX{}, GY{};
-    i4 CI{}, CJ{}, S{};
-    std::uint64_t key[kLanes] = {};
+    F U{}, Vp{}, FU{}, FV{}, DX{}, DY{}, SP{}, WA{}, SE{}, HG{}, GX{}, GY{};
+    I CI{}, CJ{}, S{};
+    std::uint64_t key[N] = {};
     int live = 0;  // bit k: lane k holds a droplet
-    int live_count = 0;
-    i4 on{};       // the same as lane masks
-    std::uint32_t next = 0;
+    I on{};        // the same as lane masks
 
     // Bilinear height and gradient at (u, v), 0 <= u <= w - 1, 0 <= v <= h - 1, from the 2 x 2 cell
     // (i, j) = (min(floor u, w - 2), min(floor v, h - 2)) with offsets (fu, fv).
-    auto bilinear = [&](f4 a, f4 b, f4 c, f4 d, f4 fu, f4 fv, f4& hgt, f4& gx, f4& gy) {
+    auto bilinear = [&](auto a, auto b, auto c, auto d, auto fu, auto fv, auto& hgt, auto& gx, auto& gy) {
       gx = ((b - a) * (1 - fv) + (d - c) * fv) * inv_dx;
       gy = ((c - a) * (1 - fu) + (d - b) * fu) * inv_dy;
       hgt = (a * (1 - fu) + b * fu) * (1 - fv) + (c * (1 - fu) + d * fu) * fv;
@@ -240,7 +290,7 @@ struct Sim {
       S[k] = 0;
       live |= 1 << k;
       on[k] = -1;
-      ++live_count;
+      ++live_count[k / kLanes];
     };
     // amt m of height spread bilinearly over the 2 x 2 cell (i, j) with offsets (fu, fv).
     auto deposit = [&](float a, int i, int j, float fu, float fv) {
@@ -252,53 +302,55 @@ struct Sim {
       zk[pitch + 1] += a1 * fu;
     };
 
-    for (int k = 0; k < kLanes && next < count; ++k) start(k, first + ids[next++]);
+    for (int t = 0; t < T; ++t)
+      for (int k = t * kLanes; k < (t + 1) * kLanes && next[t] < tiles[t].count; ++k)
+        start(k, first + tiles[t].ids[next[t]++]);
     while (live) {
-      steps += static_cast<unsigned>(live_count);
+      for (int t = 0; t < T; ++t) steps[t] += static_cast<unsigned>(live_count[t]);
       // Nearest sample of each position: the brush centre and the visit count.
-      const i4 NI = CI - (FU >= 0.5f), NJ = CJ - (FV >= 0.5f);
-      f4 dirx = DX * inertia - GX * (1 - inertia);
-      f4 diry = DY * inertia - GY * (1 - inertia);
-      const f4 len2 = dirx * dirx + diry * diry;
-      const i4 flat = len2 <= 1e-24f;
-      const f4 inv_len = 1.0f / vsqrt(sel(flat, f4{} + 1, len2));
+      const I NI = CI - (FU >= 0.5f), NJ = CJ - (FV >= 0.5f);
+      F dirx = DX * inertia - GX * (1 - inertia);
+      F diry = DY * inertia - GY * (1 - inertia);
+      const F len2 = dirx * dirx + diry * diry;
+      const I flat = len2 <= 1e-24f;
+      const F inv_len = 1.0f / vsqrt(sel(flat, F{} + 1, len2));
       dirx *= inv_len;
       diry *= inv_len;
       if (any(flat & on)) [[unlikely]] {
         // No slope and no momentum: a random direction.
-        for (int k = 0; k < kLanes; ++k)
+        for (int k = 0; k < N; ++k)
           if (flat[k]) {
             const double a = 2.0 * M_PI * hash01(key[k], 16 + static_cast<std::uint64_t>(S[k]));
             dirx[k] = static_cast<float>(std::cos(a));
             diry[k] = static_cast<float>(std::sin(a));
           }
       }
-      f4 nu = U + dirx * step_u, nv = Vp + diry * step_v;
+      F nu = U + dirx * step_u, nv = Vp + diry * step_v;
       // Lanes that leave the grid (or hold no droplet) read at their old position and change nothing.
-      const i4 in = on & (nu >= 0) & (nu <= umax) & (nv >= 0) & (nv <= vmax);
+      const I in = on & (nu >= 0) & (nu <= umax) & (nv >= 0) & (nv <= vmax);
       nu = sel(in, nu, U), nv = sel(in, nv, Vp);
-      const i4 nci = __builtin_convertvector(vmin4(nu, f4{} + imax), i4);
-      const i4 ncj = __builtin_convertvector(vmin4(nv, f4{} + jmax), i4);
-      const f4 nfu = nu - __builtin_convertvector(nci, f4), nfv = nv - __builtin_convertvector(ncj, f4);
-      f4 za, zb, zc, zd;
+      const I nci = __builtin_convertvector(min_v(nu, F{} + imax), I);
+      const I ncj = __builtin_convertvector(min_v(nv, F{} + jmax), I);
+      const F nfu = nu - __builtin_convertvector(nci, F), nfv = nv - __builtin_convertvector(ncj, F);
+      F za, zb, zc, zd;
       gather_cells(Z, pitch, nci, ncj, za, zb, zc, zd);
-      f4 nh, ngx, ngy;
+      F nh, ngx, ngy;
       bilinear(za, zb, zc, zd, nfu, nfv, nh, ngx, ngy);
-      const f4 dh = nh - HG;
-      f4 m = f4{} + 1;
+      const F dh = nh - HG;
+      F m = F{} + 1;
       if (M) {
-        for (int k = 0; k < kLanes; ++k)
+        for (int k = 0; k < N; ++k)
           m[k] = std::clamp(M[static_cast<std::ptrdiff_t>(NJ[k]) * w + NI[k]], 0.0f, 1.0f);
       }
-      const f4 cap = vmax4(-dh * inv_step, f4{} + min_slope) * SP * WA * capacity;
+      const F cap = max_v(-dh * inv_step, F{} + min_slope) * SP * WA * capacity;
       // Uphill: fill the pit up to what it carries; over capacity: deposit a share of the surplus; else erode
       // a share of the free capacity, at most the drop, with the brush. One of the two amounts is 0.
-      const i4 up = dh > 0;
-      f4 dep = sel(up, vmin4(dh * cell_area, SE), vmax4(SE - cap, f4{}) * deposition * m);
-      f4 ero = sel(up, f4{}, vmin4(vmax4(cap - SE, f4{}) * erosion, -dh * brush_area) * m);
-      dep = sel(in, dep, f4{}), ero = sel(in, ero, f4{});
-      const f4 da = dep * inv_cell_area, ea = -ero * inv_cell_area;
-      for (int k = 0; k < kLanes; ++k) {
+      const I up = dh > 0;
+      F dep = sel(up, min_v(dh * cell_area, SE), max_v(SE - cap, F{}) * deposition * m);
+      F ero = sel(up, F{}, min_v(max_v(cap - SE, F{}) * erosion, -dh * brush_area) * m);
+      dep = sel(in, dep, F{}), ero = sel(in, ero, F{});
+      const F da = dep * inv_cell_area, ea = -ero * inv_cell_area;
+      for (int k = 0; k < N; ++k) {
         if (!(live >> k & 1)) continue;
         const int ni = NI[k], nj = NJ[k];
         const std::ptrdiff_t node = static_cast<std::ptrdiff_t>(nj) * pitch + ni;
@@ -316,13 +368,16 @@ struct Sim {
         // the file is compiled with -fno-tree-slp-vectorize, see nodes/CMakeLists.txt.)
         deposit(da[k], CI[k], CJ[k], FU[k], FV[k]);
       }
-      // Totals in double, two lanes at a time (0 for lanes that changed nothing).
-      eroded2 += __builtin_convertvector(__builtin_shufflevector(ero, ero, 0, 1), d2) +
-                 __builtin_convertvector(__builtin_shufflevector(ero, ero, 2, 3), d2);
-      deposited2 += __builtin_convertvector(__builtin_shufflevector(dep, dep, 0, 1), d2) +
-                    __builtin_convertvector(__builtin_shufflevector(dep, dep, 2, 3), d2);
+      // Totals in double, per tile two lanes at a time (0 for lanes that changed nothing).
+      for (int t = 0; t < T; ++t) {
+        const f4 e = quarter(ero, t), d = quarter(dep, t);
+        eroded2[t] += __builtin_convertvector(__builtin_shufflevector(e, e, 0, 1), d2) +
+                      __builtin_convertvector(__builtin_shufflevector(e, e, 2, 3), d2);
+        deposited2[t] += __builtin_convertvector(__builtin_shufflevector(d, d, 0, 1), d2) +
+                         __builtin_convertvector(__builtin_shufflevector(d, d, 2, 3), d2);
+      }
       SE = SE + ero - dep;
-      SP = vsqrt(vmax4(SP * SP - dh * gravity, f4{}));
+      SP = vsqrt(max_v(SP * SP - dh * gravity, F{}));
       WA *= keep_water;
       DX = dirx, DY = diry;
       U = nu, Vp = nv, HG = nh, GX = ngx, GY = ngy;
@@ -330,53 +385,57 @@ struct Sim {
       S += 1;
       const int ended = live & ~(movemask(in) & ~movemask(S >= max_steps));
       if (ended) [[unlikely]] {
-        for (int k = 0; k < kLanes; ++k) {
+        for (int k = 0; k < N; ++k) {
           if (!(ended >> k & 1)) continue;
+          const int t = k / kLanes;
           if (!in[k]) {
-            carried_off += SE[k];  // left the grid with its droplet
+            carried_off[t] += SE[k];  // left the grid with its droplet
           } else if (SE[k] > 0) {
             // End of life: what the droplet still carries settles where it stopped.
             deposit(SE[k] * inv_cell_area, CI[k], CJ[k], FU[k], FV[k]);
-            deposited += SE[k];
+            deposited[t] += SE[k];
           }
           live &= ~(1 << k);
           on[k] = 0;
-          --live_count;
-          if (next < count) start(k, first + ids[next++]);
+          --live_count[t];
+          if (next[t] < tiles[t].count) start(k, first + tiles[t].ids[next[t]++]);
         }
       }
     }
-    ts.eroded += eroded + eroded2[0] + eroded2[1];
-    ts.deposited += deposited + deposited2[0] + deposited2[1];
-    ts.carried_off += carried_off;
-    ts.steps += steps;
+    for (int t = 0; t < T; ++t) {
+      TileStats& ts = *tiles[t].stats;
+      ts.eroded += eroded[t] + eroded2[t][0] + eroded2[t][1];
+      ts.deposited += deposited[t] + deposited2[t][0] + deposited2[t][1];
+      ts.carried_off += carried_off[t];
+      ts.steps += steps[t];
+    }
   }
 };
 
-// run_tile compiled twice: for the baseline x86-64 (SSE2), and for AVX2, chosen at run time when the CPU has it
-// (hwy::SupportedTargets(), which tests restrict with hwy::SetSupportedTargetsForTest to run the baseline).
-// AVX2 code adds the brush's rows of 8 weights in one vector and, with 3-operand instructions, needs fewer
-// register copies. Same operations in the same order on every lane: AVX2 alone enables no FMA (the file is
-// compiled with -ffp-contract=off too), so both give the same bits.
-using RunTile = void (*)(const Sim&, std::uint64_t, const std::uint32_t*, std::uint32_t, TileStats&);
+// run_tiles compiled twice: for the baseline x86-64 (SSE2), a tile at a time, and for AVX2, two tiles at a
+// time, chosen at run time when the CPU has AVX2 (hwy::SupportedTargets(), which tests restrict with
+// hwy::SetSupportedTargetsForTest to run the baseline). AVX2 code also adds the brush's rows of 8 weights in
+// one vector and, with 3-operand instructions, needs fewer register copies. Every tile's droplets take the
+// same steps in the same order either way, and every lane the same operations: AVX2 alone enables no FMA (the
+// file is compiled with -ffp-contract=off too), so both give the same bits.
+using RunTiles = void (*)(const Sim&, std::uint64_t, const TileRun*);
 template <int W, int R>
-void run_tile_sse2(const Sim& s, std::uint64_t first, const std::uint32_t* ids, std::uint32_t count, TileStats& ts) {
-  s.run_tile<W, R, 4>(first, ids, count, ts);
+void run_tiles_sse2(const Sim& s, std::uint64_t first, const TileRun* tiles) {
+  s.run_tiles<W, R, 4, 1>(first, tiles);
 }
 #if defined(__x86_64__) || defined(__i386__)
 template <int W, int R>
-[[gnu::target("avx2")]] void run_tile_avx2(const Sim& s, std::uint64_t first, const std::uint32_t* ids,
-                                           std::uint32_t count, TileStats& ts) {
-  s.run_tile<W, R, 8>(first, ids, count, ts);
+[[gnu::target("avx2")]] void run_tiles_avx2(const Sim& s, std::uint64_t first, const TileRun* tiles) {
+  s.run_tiles<W, R, 8, 2>(first, tiles);
 }
 template <int W, int R>
-RunTile run_tile_for(bool avx2) {
-  return avx2 ? &run_tile_avx2<W, R> : &run_tile_sse2<W, R>;
+RunTiles run_tiles_for(bool avx2) {
+  return avx2 ? &run_tiles_avx2<W, R> : &run_tiles_sse2<W, R>;
 }
 #else
 template <int W, int R>
-RunTile run_tile_for(bool) {
-  return &run_tile_sse2<W, R>;
+RunTiles run_tiles_for(bool) {
+  return &run_tiles_sse2<W, R>;
 }
 #endif
 
@@ -491,13 +550,14 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   // The brush loop unrolled for the common shapes (radius 3 cells: 5 rows of 8; 1.5 cells: 3 rows of 4), else
   // unrolled over a row's width only.
   const bool avx2 = (hwy::SupportedTargets() & HWY_AVX2) != 0;
-  RunTile run = run_tile_for<0, 0>(avx2);
-  if (row_width == 8 && sim.rows == 5) run = run_tile_for<8, 5>(avx2);
-  else if (row_width == 8 && sim.rows == 3) run = run_tile_for<8, 3>(avx2);
-  else if (row_width == 4) run = run_tile_for<4, 0>(avx2);
-  else if (row_width == 8) run = run_tile_for<8, 0>(avx2);
-  else if (row_width == 12) run = run_tile_for<12, 0>(avx2);
-  else if (row_width == 16) run = run_tile_for<16, 0>(avx2);
+  const std::size_t together = avx2 ? 2 : 1;  // tiles a run_tiles call steps together
+  RunTiles run = run_tiles_for<0, 0>(avx2);
+  if (row_width == 8 && sim.rows == 5) run = run_tiles_for<8, 5>(avx2);
+  else if (row_width == 8 && sim.rows == 3) run = run_tiles_for<8, 3>(avx2);
+  else if (row_width == 4) run = run_tiles_for<4, 0>(avx2);
+  else if (row_width == 8) run = run_tiles_for<8, 0>(avx2);
+  else if (row_width == 12) run = run_tiles_for<12, 0>(avx2);
+  else if (row_width == 16) run = run_tiles_for<16, 0>(avx2);
 
   const std::uint64_t rounds = (droplets + round_size - 1) / round_size;
   for (std::uint64_t r = 0; r < rounds; ++r) {
@@ -521,10 +581,21 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
     }
     for (int c = 0; c < 4; ++c) {
       const auto& list = colour_tiles[c];
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, list.size(), 1), [&](const tbb::blocked_range<std::size_t>& br) {
+      const std::size_t groups = (list.size() + together - 1) / together;
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, groups, 1), [&](const tbb::blocked_range<std::size_t>& br) {
         for (std::size_t q = br.begin(); q != br.end(); ++q) {
-          const int t = list[q];
-          run(sim, first, order.data() + tile_start[t], tile_start[t + 1] - tile_start[t], tile_stats[t]);
+          TileRun runs[2];
+          TileStats none;  // (a missing second tile: no droplets)
+          for (std::size_t g = 0; g < together; ++g) {
+            const std::size_t k = q * together + g;
+            if (k < list.size()) {
+              const int t = list[k];
+              runs[g] = {order.data() + tile_start[t], tile_start[t + 1] - tile_start[t], &tile_stats[t]};
+            } else {
+              runs[g] = {nullptr, 0, &none};
+            }
+          }
+          run(sim, first, runs);
         }
       });
       check_cancelled(ctx);
