@@ -64,10 +64,8 @@ inline Q quarter(const V& v, int q) {
 }
 inline f4 quarter(const f4& v, int q) { return quarter<f4>(v, q); }
 inline f4 quarter(const f8& v, int q) { return quarter<f4>(v, q); }
-inline i4 quarter(const i4& v, int q) { return quarter<i4>(v, q); }
 inline i4 quarter(const i8& v, int q) { return quarter<i4>(v, q); }
 inline f8 join(f4 lo, f4 hi) { return __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7); }
-inline i8 join(i4 lo, i4 hi) { return __builtin_shufflevector(lo, hi, 0, 1, 2, 3, 4, 5, 6, 7); }
 inline f4 vsqrt(f4 a) {
 #if defined(__SSE2__)
   return _mm_sqrt_ps(a);
