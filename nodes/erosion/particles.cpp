@@ -161,8 +161,8 @@ inline void droplet_origin(std::uint64_t key, int w, int h, float& u, float& v) 
 // Row pitch (floats) of the droplets' working copy of the heights and of the visit counts: the width, widened
 // by 16 floats at a time while one of the next 8 rows starts within 128 bytes of the same offset modulo 4 KiB
 // (widths of 1024, 2048, ... samples). The brush stores a row and then reads the rows below it; a read whose
-// address matches a pending store's in the low 12 bits (4K aliasing) waits for it, which cost a sixth of the
-// run time at 1024^2. The layout changes no value.
+// address matches a pending store's in the low 12 bits (4K aliasing) waits for it, which cost ~10% of the run
+// time at 1024^2. The layout changes no value.
 inline int row_pitch(int w) {
   auto aliases = [](int pitch) {
     for (long long r = 1; r <= 8; ++r) {
@@ -307,10 +307,10 @@ struct Sim {
     // the cache more often than the heights do, and in the step it held up the droplets' chain (~12%); in a
     // loop of its own the misses overlap. Counts are sums: their order changes nothing.
     constexpr int kVisitBatch = 512;
-    std::ptrdiff_t visits[kVisitBatch];
+    std::ptrdiff_t visited[kVisitBatch];
     int visit_count = 0;
     auto count_visits = [&] {
-      for (int q = 0; q < visit_count; ++q) ++V[visits[q]];
+      for (int q = 0; q < visit_count; ++q) ++V[visited[q]];
       visit_count = 0;
     };
     while (live) {
@@ -363,7 +363,7 @@ struct Sim {
         if (!(live >> k & 1)) continue;
         const int ni = NI[k], nj = NJ[k];
         const std::ptrdiff_t node = static_cast<std::ptrdiff_t>(nj) * pitch + ni;
-        visits[visit_count++] = node;
+        visited[visit_count++] = node;
         const float a = ea[k];
         if (brush_fits && static_cast<unsigned>(ni - rx) <= bu && static_cast<unsigned>(nj - ry) <= bv) [[likely]] {
           // Row by row over padded rows of a multiple of 4 weights (0 outside the disc; adding a x 0 changes

@@ -11,7 +11,8 @@
 // grid size); a round bins its droplets by the tile of their origin, tiles at least twice a droplet's reach
 // (lifetime + brush radius) across, and runs the four colours of a 2 x 2 checkerboard of tiles one after the
 // other. Tiles of one colour never touch the same sample, so they run in parallel, each tile's droplets in
-// index order, four at a time in the lanes of a vector (a lane freed by an ended droplet takes the next),
+// index order, four at a time in the lanes of a vector (a lane freed by an ended droplet takes the next; on
+// CPUs with AVX2, two tiles share the lanes of an 8-float vector, which changes nothing for either),
 // changing the heights directly. Every sample gets the same changes in the same order for any thread count:
 // bit-identical, no atomics, no change logs. Chosen over frozen batches with per-droplet change logs (the
 // earlier scheme) because droplets see the changes of the droplets before them, as in Beyer's serial loop
