@@ -4,6 +4,7 @@
 #include <array>
 #include <atomic>
 #include <bit>
+#include <cstring>
 #include <functional>
 #include <limits>
 
@@ -16,6 +17,7 @@
 #include <tbb/task_arena.h>
 
 #include "graph/exec_context.h"
+#include "nodes/common/huge_page_buffer.h"
 #include "nodes/field/row_loop.h"
 
 namespace orogen::hydrology {
@@ -159,43 +161,68 @@ struct QueuedCell {
   float z;         // its final height
 };
 
+// One bit per cell of a padded grid: the closed flags of Priority-Flood. 4096^2 cells take 2 MB, which stays in
+// the L2 cache, where a flag in the height array would bring its cache line in for every closed test.
+inline void set_bit(std::uint8_t* bits, std::int32_t i) { bits[i >> 3] |= static_cast<std::uint8_t>(1u << (i & 7)); }
+// Bits i, i + 1, i + 2 (one unaligned 4-byte read; the array has 4 spare bytes).
+inline unsigned three_bits(const std::uint8_t* bits, std::int32_t i) {
+  std::uint32_t v;
+  std::memcpy(&v, bits + (i >> 3), sizeof v);
+  return v >> (i & 7) & 7u;
+}
+// Clears bits [from, to).
+void clear_bits(std::uint8_t* bits, std::int32_t from, std::int32_t to) {
+  while (from < to && (from & 7)) bits[from >> 3] &= static_cast<std::uint8_t>(~(1u << (from & 7))), ++from;
+  while (from < to && (to & 7)) --to, bits[to >> 3] &= static_cast<std::uint8_t>(~(1u << (to & 7)));
+  if (from < to) std::fill(bits + (from >> 3), bits + (to >> 3), std::uint8_t{0});
+}
+
 // Priority-Flood (Barnes et al. 2014) with the depression and slope queues of Zhou et al. 2016. Profiled on
-// 4096^2 fBm: the time went into the neighbour tests (two unpredictable branches per neighbour: closed?
-// lower?) and the priority queue, not into cache misses. So:
-// - one working array `zw` (padded) in which every closed cell is +inf: a neighbour is open iff zw < inf and
-//   a spill candidate iff zw <= level, and both masks of the 8 neighbours come from three 4-float SSE loads
-//   and compares (no branch per neighbour; neighbours are then visited by iterating the set bits);
-// - the heights travel in the queues, the result (raised cells only) is written to a second padded array;
-// - 32-bit radix heap keys; outlets enumerated along the border only.
+// 4096^2 fBm: the time goes into the neighbour tests (two unpredictable branches per neighbour: closed?
+// lower?), the priority queue and the memory behind them, as the queues jump between distant rows. So:
+// - one working array `zw` (padded, in huge pages) holds the heights and is raised in place, and the closed
+//   flags are bits in a second array small enough for the L2 cache; the 8 neighbours' masks (open; open and
+//   at or below the level) come from three 4-float SSE compares and three bit reads, with no branch per
+//   neighbour; neighbours are then visited by iterating the set bits;
+// - a slope cell goes to the priority queue when it has a lower open neighbour, but by the time it is popped
+//   that neighbour has nearly always been closed from elsewhere: the closed bits show it without touching
+//   the heights, both before the push (after the climb) and at the pop;
+// - the heights travel in the queues; 32-bit radix heap keys; outlets enumerated along the border only.
 template <bool kEpsilon>
 void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, const ExecContext* ctx,
                std::span<float> spill_level) {
   const std::int32_t W = g.nx + 2;
   const std::size_t cells = static_cast<std::size_t>(W) * static_cast<std::size_t>(g.ny + 2);
   auto p = [W](int i, int j) { return (j + 1) * W + (i + 1); };
-  // out: the result with a frame; zw: the working copy, +inf where closed (the frame always is). Four spare
-  // floats at the end for the last row's 4-wide loads.
-  std::vector<float> out_store(cells, kInf), zw_store(cells + 4, kInf);
-  float* __restrict out = out_store.data();
+  // Four spare floats (bytes) at the end for the last row's 4-wide loads (bit reads).
+  HugePageBuffer<float> zw_store(cells + 4);
+  HugePageBuffer<std::uint8_t> closed_store(cells / 8 + 5);
   float* __restrict zw = zw_store.data();
+  std::uint8_t* __restrict closed = closed_store.data();
+  std::fill_n(closed, closed_store.size(), std::uint8_t{0xFF});
+  std::fill_n(zw, p(0, 0), kInf);
   for (int j = 0; j < g.ny; ++j) {
-    const float* src = z.data() + static_cast<std::size_t>(j) * static_cast<std::size_t>(g.nx);
-    std::copy_n(src, g.nx, out + p(0, j));
-    std::copy_n(src, g.nx, zw + p(0, j));
+    std::copy_n(z.data() + static_cast<std::size_t>(j) * static_cast<std::size_t>(g.nx), g.nx, zw + p(0, j));
+    zw[p(g.nx, j)] = kInf;      // right frame
+    zw[p(g.nx + 1, j)] = kInf;  // left frame of the next row
+    clear_bits(closed, p(0, j), p(g.nx, j));
   }
+  std::fill(zw + p(g.nx, g.ny - 1), zw + cells + 4, kInf);
   // Level of the flat water surface of every raised cell: the height of the queue cell its depression
   // search started from (an unraised height).
   std::vector<float> level_store;
-  if (!spill_level.empty()) level_store = out_store;
+  if (!spill_level.empty()) level_store.assign(zw, zw + cells);
   float* level = level_store.empty() ? nullptr : level_store.data();
   auto step = [](float v) { return kEpsilon ? next_up(v) : v; };
   MinHeap heap;
   for_each_outlet(g, outlets, [&](int i, int j) {
     const std::int32_t c = p(i, j);
     heap.push(zw[c], c);
-    zw[c] = kInf;
+    set_bit(closed, c);
   });
-  std::vector<QueuedCell> pit, trace;
+  // pit: depression cells to expand; trace: slope cells to climb from; spill: slope cells with a lower open
+  // neighbour, for the priority queue.
+  std::vector<QueuedCell> pit, trace, spill;
   pit.reserve(1024);
   trace.reserve(1024);
   // Bit b of a neighbour mask is the neighbour (b % 3 - 1, b / 3 - 1), in memory order; bit 4 (the cell
@@ -204,16 +231,17 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
   struct Masks {
     unsigned open, low;  // open: not closed yet; low: open and at or below the level
   };
-  auto masks = [zw, W](std::int32_t c, float r) -> Masks {
-    const __m128 rv = _mm_set1_ps(r), inf = _mm_set1_ps(kInf);
+  auto open_around = [closed, W](std::int32_t c) -> unsigned {
+    return ~(three_bits(closed, c - W - 1) | three_bits(closed, c - 1) << 3 | three_bits(closed, c + W - 1) << 6) & 0x1EFu;
+  };
+  auto masks = [zw, W, open_around](std::int32_t c, float r) -> Masks {
+    const __m128 rv = _mm_set1_ps(r);
     const __m128 a = _mm_loadu_ps(zw + c - W - 1), b = _mm_loadu_ps(zw + c - 1), d = _mm_loadu_ps(zw + c + W - 1);
-    const unsigned low = (static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(a, rv))) & 7u) |
-                         (static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(b, rv))) & 5u) << 3 |
-                         (static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(d, rv))) & 7u) << 6;
-    const unsigned open = (static_cast<unsigned>(_mm_movemask_ps(_mm_cmplt_ps(a, inf))) & 7u) |
-                          (static_cast<unsigned>(_mm_movemask_ps(_mm_cmplt_ps(b, inf))) & 5u) << 3 |
-                          (static_cast<unsigned>(_mm_movemask_ps(_mm_cmplt_ps(d, inf))) & 7u) << 6;
-    return {open, low};
+    const unsigned le = (static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(a, rv))) & 7u) |
+                        (static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(b, rv))) & 5u) << 3 |
+                        (static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(d, rv))) & 7u) << 6;
+    const unsigned open = open_around(c);
+    return {open, le & open};
   };
   // Closes the open neighbours of c: those at or below r join the depression at level r, the others are slope
   // cells (final height).
@@ -223,10 +251,10 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
       const int b = std::countr_zero(x);
       const std::int32_t n = c + noff[b];
       const float zn = zw[n];
-      zw[n] = kInf;
+      set_bit(closed, n);
       if (m.low >> b & 1) {
         if (level) level[n] = std::max(zn, spill);
-        out[n] = r;
+        zw[n] = r;
         pit.push_back({n, r});
       } else {
         trace.push_back({n, zn});
@@ -236,10 +264,13 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
   std::size_t work = 0, done = 0;
   while (!heap.empty()) {
     const Entry e = heap.pop();
-    // Popped cells are scattered over the grid: fetch the next one's neighbourhood while this one works.
+    // Popped cells are scattered over the grid: fetch the next one's closed bits while this one works.
     if (const std::int32_t nx = heap.peek_cell(); nx >= 0) {
-      for (std::int32_t r : {nx - W, nx, nx + W}) __builtin_prefetch(zw + r - 1);
+      for (std::int32_t r : {nx - W, nx, nx + W}) __builtin_prefetch(closed + ((r - 1) >> 3));
     }
+    // Nearly all popped cells (96% on fBm) are stale: the lower neighbour that sent them to the queue has
+    // been closed since. The bits tell without reading their heights, which are far from cache.
+    if (!open_around(e.c)) continue;
     expand_pit(e.c, step(e.z), e.z);
     // Depression cells: breadth first at the spill level (FIFO keeps the epsilon gradient short).
     for (std::size_t head = 0; head < pit.size(); ++head) {
@@ -255,17 +286,22 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
       const QueuedCell q = trace[th];
       const Masks m = masks(q.c, step(q.z));
       if (m.low) {
-        heap.push(q.z, q.c);
+        spill.push_back(q);
         continue;
       }
       for (unsigned x = m.open; x; x &= x - 1) {
         const std::int32_t n = q.c + noff[std::countr_zero(x)];
         trace.push_back({n, zw[n]});
-        zw[n] = kInf;
+        set_bit(closed, n);
       }
     }
     work += trace.size();
     trace.clear();
+    // A fifth of them have had all their lower neighbours closed by the rest of the climb: they need not wait
+    // in the queue (they would be stale when popped). Same order of the others, so the same result.
+    for (const QueuedCell& q : spill)
+      if (open_around(q.c)) heap.push(q.z, q.c);
+    spill.clear();
     if (work > (1u << 18)) {
       done += work;
       work = 0;
@@ -274,7 +310,7 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
     }
   }
   for (int j = 0; j < g.ny; ++j)
-    std::copy_n(out + p(0, j), g.nx, z.data() + static_cast<std::size_t>(j) * static_cast<std::size_t>(g.nx));
+    std::copy_n(zw + p(0, j), g.nx, z.data() + static_cast<std::size_t>(j) * static_cast<std::size_t>(g.nx));
   if (level)
     for (int j = 0; j < g.ny; ++j)
       std::copy_n(level + p(0, j), g.nx, spill_level.data() + static_cast<std::size_t>(j) * static_cast<std::size_t>(g.nx));
