@@ -11,7 +11,8 @@
 // and the speed-up:
 //   orogen_bench_hydrology --benchmark_filter='/wall/' --benchmark_min_time=1
 // Measured:
-//  - FillEpsilon / FillFlat: Priority-Flood with Zhou et al. 2016 queues, branch-free neighbour masks (serial)
+//  - FillEpsilon / FillFlat: Priority-Flood with Zhou et al. 2016 queues, branch-free neighbour masks, closed
+//    flags as bits, stale queue cells skipped on their bits, working array in huge pages (serial)
 //  - Breach: complete breaching (serial, every cell through the priority queue)
 //  - D8Accumulation: D8 receivers and donors (parallel rows) + dependency-counting accumulation (parallel)
 //  - MFDAccumulation / DinfAccumulation: receivers and in-degrees (parallel) + accumulation in row bands merged up a fixed tree (parallel)

@@ -66,7 +66,7 @@ class MinHeap {
       std::push_heap(early_.begin(), early_.end(), std::greater<>{});
       return;
     }
-    buckets_[bucket(key)].push_back(item);
+    add(item);
     ++size_;
   }
   Entry pop() {
@@ -95,19 +95,30 @@ class MinHeap {
   bool empty() const { return size_ == 0 && early_.empty(); }
 
  private:
+  // Each bucket keeps its smallest item, so a refill moves a bucket down in one pass.
+  void add(std::uint64_t item) {
+    const int k = bucket(static_cast<std::uint32_t>(item >> 32));
+    buckets_[k].push_back(item);
+    min_[k] = std::min(min_[k], item);
+    nonempty_ |= 1ull << k;
+  }
   void refill() {
     if (!buckets_[0].empty()) return;
-    int i = 1;
-    while (buckets_[i].empty()) ++i;
+    const int i = std::countr_zero(nonempty_ & ~1ull);
     auto& b = buckets_[i];
-    std::uint64_t m = b[0];
-    for (std::uint64_t k : b) m = std::min(m, k);
-    last_ = static_cast<std::uint32_t>(m >> 32);
-    for (std::uint64_t k : b) buckets_[bucket(static_cast<std::uint32_t>(k >> 32))].push_back(k);
+    last_ = static_cast<std::uint32_t>(min_[i] >> 32);
+    min_[i] = kNone;
+    nonempty_ &= ~(1ull << i);
+    for (std::uint64_t k : b) add(k);
     b.clear();
   }
   int bucket(std::uint32_t key) const { return key == last_ ? 0 : 32 - std::countl_zero(key ^ last_); }
+  static constexpr std::uint64_t kNone = ~std::uint64_t{0};
   std::vector<std::uint64_t> buckets_[33];
+  std::uint64_t min_[33] = {kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone,
+                            kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone,
+                            kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone};
+  std::uint64_t nonempty_ = 0;  // bit k: bucket k has items (bit 0 is not kept up to date)
   std::vector<std::uint64_t> early_;  // min-heap of items below last_
   std::uint32_t last_ = 0;
   std::size_t size_ = 0;
