@@ -112,7 +112,7 @@ class MinHeap {
     for (std::uint64_t k : b) add(k);
     b.clear();
   }
-  int bucket(std::uint32_t key) const { return key == last_ ? 0 : 32 - std::countl_zero(key ^ last_); }
+  int bucket(std::uint32_t key) const { return 32 - std::countl_zero(key ^ last_); }  // 0 when key == last_
   static constexpr std::uint64_t kNone = ~std::uint64_t{0};
   std::vector<std::uint64_t> buckets_[33];
   std::uint64_t min_[33] = {kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone,
