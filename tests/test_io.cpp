@@ -535,6 +535,7 @@ ImagePtr test_image(const Domain& d, int channels) {
         img->pixel(i, j)[c] = static_cast<float>(std::fmod(0.013 * i + 0.071 * j + 0.29 * c, 1.0));
   img->pixel(0, 0)[0] = -0.5f;  // clamped to 0
   img->pixel(1, 0)[0] = 1.5f;   // clamped to 1
+  if (channels == 4) img->pixel(2, 0)[3] = 0.0f;  // transparent: its colour is still stored (straight alpha)
   return img;
 }
 
