@@ -6,36 +6,24 @@
 // Small arrays, other systems and kernels without transparent huge pages get ordinary memory.
 // The elements are not initialised: the owner writes every element before it reads it.
 #include <cstddef>
-#include <cstdlib>
-#include <new>
 #include <type_traits>
 
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
 namespace orogen {
+
+namespace huge_pages {
+// Memory for `bytes` bytes (0 allowed): from 8 MB up 2 MB aligned and advised for huge pages. Throws
+// std::bad_alloc when there is none.
+void* allocate(std::size_t bytes);
+void release(void* p);
+}  // namespace huge_pages
 
 template <class T>
 class HugePageBuffer {
   static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
 
  public:
-  explicit HugePageBuffer(std::size_t n) : size_(n) {
-    const std::size_t bytes = n * sizeof(T);
-    if (bytes >= kMinBytes) {
-      const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
-      data_ = static_cast<T*>(std::aligned_alloc(kHugePage, rounded));
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-      // Only a hint: where it is refused the memory is simply in small pages.
-      if (data_) madvise(data_, rounded, MADV_HUGEPAGE);
-#endif
-    } else {
-      data_ = static_cast<T*>(std::malloc(bytes > 0 ? bytes : 1));
-    }
-    if (!data_) throw std::bad_alloc();
-  }
-  ~HugePageBuffer() { std::free(data_); }
+  explicit HugePageBuffer(std::size_t n) : data_(static_cast<T*>(huge_pages::allocate(n * sizeof(T)))), size_(n) {}
+  ~HugePageBuffer() { huge_pages::release(data_); }
   HugePageBuffer(const HugePageBuffer&) = delete;
   HugePageBuffer& operator=(const HugePageBuffer&) = delete;
 
@@ -46,10 +34,8 @@ class HugePageBuffer {
   const T& operator[](std::size_t i) const { return data_[i]; }
 
  private:
-  static constexpr std::size_t kHugePage = std::size_t{2} << 20;
-  static constexpr std::size_t kMinBytes = std::size_t{8} << 20;  // below this, alignment waste outweighs TLB reach
-  T* data_ = nullptr;
-  std::size_t size_ = 0;
+  T* data_;
+  std::size_t size_;
 };
 
 }  // namespace orogen
