@@ -409,7 +409,10 @@ void expect_outward_unit_normals(const TriMesh& m) {
     ++components;
   }
   std::vector<std::vector<TriMesh::FaceHandle>> faces_of(static_cast<std::size_t>(components));
-  for (auto f : m.faces()) faces_of[static_cast<std::size_t>(comp[static_cast<std::size_t>(m.fv_begin(f)->idx())])].push_back(f);
+  for (auto f : m.faces()) {
+    const int first = m.cfv_iter(f)->idx();
+    faces_of[static_cast<std::size_t>(comp[static_cast<std::size_t>(first)])].push_back(f);
+  }
   std::size_t checked = 0;
   for (auto f : m.faces()) {
     auto it = m.cfv_iter(f);

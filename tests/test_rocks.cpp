@@ -237,15 +237,18 @@ TEST(RockSet, VariantsInARowWithoutOverlapCentersAndRadiiInThePlacements) {
     // Each variant's extent [x - half, x + half] starts `spacing` after the previous one ends (0 first).
     const double half = std::max({radii.x, radii.y, radii.z}) + 3.0 * p.rock.sigma + p.rock.displacement;
     const double x = places.position[uk].x;
-    if (k == 0) EXPECT_EQ(x, 0.0);
-    else EXPECT_NEAR(x - half, previous_right + p.spacing, 1e-5);
+    if (k == 0) {
+      EXPECT_EQ(x, 0.0);
+    } else {
+      EXPECT_NEAR(x - half, previous_right + p.spacing, 1e-5);
+    }
     previous_right = x + half;
   }
   // Every vertex lies near its variant (within the largest radius plus 6 sigma of noise) and has the color.
   for (auto v : mesh.vertices()) {
     const auto q = mesh.point(v);
     double best = 1e9;
-    for (std::size_t k = 0; k < 6; ++k) best = std::min(best, std::abs(q[0] - places.position[k].x));
+    for (std::size_t k = 0; k < 6; ++k) best = std::min<double>(best, std::abs(q[0] - places.position[k].x));
     EXPECT_LT(best, 1.0 * (1.0 + p.variation) + 6.0 * p.rock.sigma);
     EXPECT_EQ(mesh.color(v), TriMesh::Color(0.1f, 0.2f, 0.3f, 1.0f));
   }

@@ -180,7 +180,9 @@ TEST(Hillshade, ImageIsLambertsCosineOnPlanesOfKnownSlopeAndAspect) {
           const float* px = img->pixel(5, 5);
           for (int c = 0; c < 3; ++c)
             EXPECT_NEAR(px[c], expect, 2e-5) << slope << " " << aspect << " " << azimuth << " " << elevation;
-          if (expect == 0.0) EXPECT_EQ(px[0], 0.0f) << "a slope facing away from the sun is black";
+          if (expect == 0.0) {
+            EXPECT_EQ(px[0], 0.0f) << "a slope facing away from the sun is black";
+          }
           EXPECT_EQ(px[3], 1.0f);
         }
   EXPECT_GT(shadowed, 10) << "slopes facing away from the sun are among the cases";
