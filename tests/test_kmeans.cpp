@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
 #include <map>
 #include <set>
 
@@ -167,6 +170,53 @@ TEST(KMeans, BitIdenticalAcrossThreadCounts) {
 TEST(KMeans, GroupWeightsByChannelName) {
   const auto w = group_weights({"slope", "temperature_jan", "illumination_feb", "humidity_mar", "other"}, 6, 1, 2, 3, 0.1, 5);
   EXPECT_EQ(w, (std::vector<double>{1, 2, 3, 0.1, 5, 5}));
+}
+
+KMeansResult three_cells() {
+  KMeansResult r;
+  r.k = 2;
+  r.channels = 3;
+  r.labels = {1, 0, 1};
+  r.centres = {1.5, -2.0, 0.25, 7.0, std::nan(""), 3.0};
+  r.counts = {1, 2};
+  r.objective = {10.5, std::numeric_limits<double>::infinity(), 4.0};
+  r.iterations = 3;
+  r.converged = true;
+  return r;
+}
+
+TEST(KMeans, MapsHoldTheLabelsAndTheirCategoricalColors) {
+  const Domain d = Domain::from_extent({5, 6}, {2, 0}, {3, 1});
+  const KMeansMaps m = kmeans_maps(three_cells(), d);
+  EXPECT_EQ(m.ids->domain.resolution, d.resolution);
+  EXPECT_EQ(m.ids->data, (std::vector<float>{1, 0, 1}));
+  ASSERT_EQ(m.color->channels, 4);
+  EXPECT_EQ(m.color->channel_names, (std::vector<std::string>{"R", "G", "B", "A"}));
+  for (int i = 0; i < 3; ++i) {
+    const glm::vec4 c = categorical_color(i == 1 ? 0 : 1);
+    for (int ch = 0; ch < 4; ++ch) EXPECT_EQ(m.color->pixel(i, 0)[ch], c[ch]) << i << " " << ch;
+  }
+  EXPECT_NE(categorical_color(0), categorical_color(1));
+}
+
+TEST(KMeans, ReportNamesCentresByChannelAndZeroesNonFiniteNumbers) {
+  const auto j = nlohmann::json::parse(kmeans_report(three_cells(), {"slope", "temperature_jan"}));
+  EXPECT_EQ(j["k"], 2);
+  EXPECT_EQ(j["iterations"], 3);
+  EXPECT_EQ(j["converged"], true);
+  EXPECT_EQ(j["objective"], nlohmann::json::parse("[10.5, 0.0, 4.0]"));
+  ASSERT_EQ(j["clusters"].size(), 2u);
+  for (int c = 0; c < 2; ++c) {
+    const auto& cl = j["clusters"][static_cast<std::size_t>(c)];
+    EXPECT_EQ(cl["id"], c);
+    const glm::vec4 col = categorical_color(c);
+    EXPECT_EQ(cl["color"], nlohmann::json({col.r, col.g, col.b}));
+  }
+  EXPECT_EQ(j["clusters"][0]["count"], 1);
+  EXPECT_EQ(j["clusters"][1]["count"], 2);
+  // The third channel has no name: channel_2.
+  EXPECT_EQ(j["clusters"][0]["centre"], nlohmann::json::parse(R"({"slope": 1.5, "temperature_jan": -2.0, "channel_2": 0.25})"));
+  EXPECT_EQ(j["clusters"][1]["centre"], nlohmann::json::parse(R"({"slope": 7.0, "temperature_jan": 0.0, "channel_2": 3.0})"));
 }
 
 TEST(KMeans, NodeOutputsAndKeys) {

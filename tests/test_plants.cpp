@@ -371,6 +371,81 @@ double signed_volume(const TriMesh& m) {
   return v;
 }
 
+// Winding number of the closed surface made of `faces` around p (sum of the faces' solid angles over 4 pi,
+// by A. Van Oosterom, J. Strackee (1983), The solid angle of a plane triangle): 1 inside, 0 outside.
+double winding_number(const TriMesh& m, const std::vector<TriMesh::FaceHandle>& faces, const glm::dvec3& p) {
+  double sum = 0.0;
+  for (auto f : faces) {
+    auto it = m.cfv_iter(f);
+    const auto pa = m.point(*it), pb = m.point(*++it), pc = m.point(*++it);
+    const glm::dvec3 a = glm::dvec3(pa[0], pa[1], pa[2]) - p, b = glm::dvec3(pb[0], pb[1], pb[2]) - p,
+                     c = glm::dvec3(pc[0], pc[1], pc[2]) - p;
+    const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
+    sum += 2.0 * std::atan2(glm::dot(a, glm::cross(b, c)),
+                            la * lb * lc + glm::dot(a, b) * lc + glm::dot(a, c) * lb + glm::dot(b, c) * la);
+  }
+  return sum / (4.0 * std::numbers::pi);
+}
+
+// Every face normal is unit length, agrees with the face's vertex winding (the right-hand normal of a, b, c)
+// and with the vertex normals set by the mesher, and points out of its closed component: a point just in
+// front of the face is outside the component (winding number 0), a point just behind it inside (1).
+void expect_outward_unit_normals(const TriMesh& m) {
+  std::vector<int> comp(m.n_vertices(), -1);
+  int components = 0;
+  for (auto v : m.vertices()) {
+    if (comp[static_cast<std::size_t>(v.idx())] >= 0) continue;
+    std::vector<TriMesh::VertexHandle> stack{v};
+    comp[static_cast<std::size_t>(v.idx())] = components;
+    while (!stack.empty()) {
+      const auto u = stack.back();
+      stack.pop_back();
+      for (auto w : m.vv_range(u))
+        if (comp[static_cast<std::size_t>(w.idx())] < 0) {
+          comp[static_cast<std::size_t>(w.idx())] = components;
+          stack.push_back(w);
+        }
+    }
+    ++components;
+  }
+  std::vector<std::vector<TriMesh::FaceHandle>> faces_of(static_cast<std::size_t>(components));
+  for (auto f : m.faces()) {
+    const int first = m.cfv_iter(f)->idx();
+    faces_of[static_cast<std::size_t>(comp[static_cast<std::size_t>(first)])].push_back(f);
+  }
+  std::size_t checked = 0;
+  for (auto f : m.faces()) {
+    auto it = m.cfv_iter(f);
+    const auto va = *it, vb = *++it, vc = *++it;
+    const auto to_d = [&](TriMesh::VertexHandle v) {
+      const auto q = m.point(v);
+      return glm::dvec3(q[0], q[1], q[2]);
+    };
+    const glm::dvec3 a = to_d(va), b = to_d(vb), c = to_d(vc);
+    const glm::dvec3 cr = glm::cross(b - a, c - a);
+    const double shortest = std::min({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+    if (glm::length(cr) < 1e-6 * shortest * shortest || shortest < 1e-5) continue;  // a sliver: no direction
+    ++checked;
+    const auto fn = m.normal(f);
+    const glm::dvec3 n(fn[0], fn[1], fn[2]);
+    ASSERT_NEAR(glm::length(n), 1.0, 1e-5) << "face " << f.idx();
+    ASSERT_GT(glm::dot(n, glm::normalize(cr)), 0.999) << "face " << f.idx() << " disagrees with its winding";
+    glm::dvec3 vertex_normals(0.0);
+    for (auto v : {va, vb, vc}) {
+      const auto vn = m.normal(v);
+      ASSERT_NEAR(glm::length(glm::dvec3(vn[0], vn[1], vn[2])), 1.0, 1e-5) << "vertex " << v.idx();
+      vertex_normals += glm::dvec3(vn[0], vn[1], vn[2]);
+    }
+    ASSERT_GT(glm::dot(n, vertex_normals), 0.0) << "face " << f.idx() << " faces against its vertex normals";
+    const glm::dvec3 centre = (a + b + c) / 3.0;
+    const double eps = 1e-3 * shortest;
+    const auto& own = faces_of[static_cast<std::size_t>(comp[static_cast<std::size_t>(va.idx())])];
+    ASSERT_NEAR(winding_number(m, own, centre + eps * n), 0.0, 0.25) << "face " << f.idx() << " points inward";
+    ASSERT_NEAR(winding_number(m, own, centre - eps * n), 1.0, 0.25) << "face " << f.idx() << " points inward";
+  }
+  EXPECT_GT(checked, m.n_faces() * 9 / 10) << "most faces are checked";
+}
+
 TEST(TreeMesh, StraightBranchIsAClosedOutwardPrism) {
   TurtleOptions o;
   const auto r = interpret(word("!(0.2)FF"), o);
@@ -385,6 +460,7 @@ TEST(TreeMesh, StraightBranchIsAClosedOutwardPrism) {
   // Volume of an 8-gon prism of circumradius 0.1 and length 2: (k/2) r^2 sin(2 pi / k) L.
   EXPECT_NEAR(signed_volume(mesh.mesh), 4.0 * 0.01 * std::sin(std::numbers::pi / 4.0) * 2.0, 1e-5);
   EXPECT_EQ(mesh.face_count(), 2u * 8u * 3u);
+  expect_outward_unit_normals(mesh.mesh);
   // It stands on the ground: nothing below z = 0.
   float zmin = 1e9f;
   for (auto v : mesh.mesh.vertices()) zmin = std::min(zmin, mesh.mesh.point(v)[2]);
@@ -411,13 +487,9 @@ TEST(TreeMesh, EveryBranchIsAClosedManifoldWithOutwardFaces) {
   EXPECT_TRUE(t.closed);
   EXPECT_EQ(t.components, sk.size());              // one closed tube per branch
   EXPECT_EQ(t.euler, 2 * static_cast<long>(sk.size()));  // each a topological sphere
-  // Consistent outward winding: every branch encloses a positive volume (checked per component).
+  // Consistent outward winding: every branch encloses a positive volume.
   EXPECT_GT(signed_volume(mesh.mesh), 0.0);
-  for (auto f : mesh.mesh.faces()) {
-    // Every face agrees with its neighbours (OpenMesh would have refused an inconsistent one); the face
-    // normal points away from the branch axis or along it at the caps.
-    EXPECT_TRUE(mesh.mesh.is_valid_handle(f));
-  }
+  expect_outward_unit_normals(mesh.mesh);
 }
 
 TEST(TreeMesh, TriangleBudgetRespected) {

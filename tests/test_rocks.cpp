@@ -12,6 +12,7 @@
 #include "graph/mesh.h"
 #include "graph/points.h"
 #include "nodes/rocks/hull_rock.h"
+#include "nodes/rocks/rock_set.h"
 #include "support/key_checks.h"
 
 namespace orogen::rocks {
@@ -199,6 +200,78 @@ TEST(SmallHull, MatchesCgalOn100kSets) {
   EXPECT_EQ(general, 80000);
   EXPECT_GT(degenerate, 15000);
   EXPECT_GT(rejected, 1000);
+}
+
+TEST(RockSet, VariantsInARowWithoutOverlapCentersAndRadiiInThePlacements) {
+  RockSetParams p;
+  p.count = 6;
+  p.variation = 0.4;
+  p.spacing = 0.25;
+  p.rock.points = 24;
+  p.rock.seed = 17;
+  p.color = {0.1f, 0.2f, 0.3f, 1.0f};
+  TriMesh mesh;
+  Points places;
+  append_rock_set(mesh, places, p);
+  places.check_consistent();
+  ASSERT_EQ(places.size(), 6u);
+  const long euler = static_cast<long>(mesh.n_vertices()) - static_cast<long>(mesh.n_edges()) +
+                     static_cast<long>(mesh.n_faces());
+  EXPECT_EQ(euler, 12) << "six closed rocks";
+  double previous_right = -1e9;
+  for (int k = 0; k < 6; ++k) {
+    const auto uk = static_cast<std::size_t>(k);
+    EXPECT_EQ(places.class_id[uk], k);
+    EXPECT_EQ(places.position[uk].y, 0.0f);
+    EXPECT_EQ(places.position[uk].z, 0.0f);
+    // The radii are the base radii scaled by the variant's factors, within 1 +- variation.
+    glm::dvec3 radii = p.rock.radii;
+    for (int a = 0; a < 3; ++a) {
+      const double f = 1.0 + p.variation * (2.0 * variant_uniform(p.rock.seed, uk, a) - 1.0);
+      EXPECT_GE(f, 1.0 - p.variation);
+      EXPECT_LE(f, 1.0 + p.variation);
+      radii[a] *= f;
+    }
+    EXPECT_FLOAT_EQ(places.scale[uk].x, static_cast<float>(radii.x));
+    EXPECT_FLOAT_EQ(places.scale[uk].z, static_cast<float>(radii.z));
+    // Each variant's extent [x - half, x + half] starts `spacing` after the previous one ends (0 first).
+    const double half = std::max({radii.x, radii.y, radii.z}) + 3.0 * p.rock.sigma + p.rock.displacement;
+    const double x = places.position[uk].x;
+    if (k == 0) {
+      EXPECT_EQ(x, 0.0);
+    } else {
+      EXPECT_NEAR(x - half, previous_right + p.spacing, 1e-5);
+    }
+    previous_right = x + half;
+  }
+  // Every vertex lies near its variant (within the largest radius plus 6 sigma of noise) and has the color.
+  for (auto v : mesh.vertices()) {
+    const auto q = mesh.point(v);
+    double best = 1e9;
+    for (std::size_t k = 0; k < 6; ++k) best = std::min<double>(best, std::abs(q[0] - places.position[k].x));
+    EXPECT_LT(best, 1.0 * (1.0 + p.variation) + 6.0 * p.rock.sigma);
+    EXPECT_EQ(mesh.color(v), TriMesh::Color(0.1f, 0.2f, 0.3f, 1.0f));
+  }
+  // Variant k is the hull rock keyed by k with its scaled radii: the vertex counts add up.
+  std::size_t vertices = 0;
+  for (int k = 0; k < 6; ++k) {
+    HullRockOptions o = p.rock;
+    o.variant = static_cast<std::uint64_t>(k);
+    for (int a = 0; a < 3; ++a) o.radii[a] *= 1.0 + p.variation * (2.0 * variant_uniform(p.rock.seed, o.variant, a) - 1.0);
+    vertices += hull_rock(o).vertices.size();
+  }
+  EXPECT_EQ(mesh.n_vertices(), vertices);
+  // A variant without a hull is named.
+  p.rock.sigma = 0.0;
+  p.rock.radii = {1.0, 1.0, 0.0};
+  TriMesh flat;
+  Points flat_places;
+  try {
+    append_rock_set(flat, flat_places, p);
+    ADD_FAILURE() << "a flat rock set was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("rock 0: ", 0), 0u) << e.what();
+  }
 }
 
 TEST(RockNodes, EveryParameterChangesTheKey) {

@@ -6,6 +6,7 @@
 #include <map>
 #include <random>
 
+#include <glm/geometric.hpp>
 #include <tbb/global_control.h>
 #include <tiny_gltf.h>
 
@@ -20,6 +21,8 @@
 #include "nodes/scatter/scene_gltf.h"
 #include "nodes/climate/sun.h"
 #include "nodes/scatter/forest.h"
+#include "nodes/scatter/merge_points.h"
+#include "nodes/scatter/project_to_terrain.h"
 #include "support/key_checks.h"
 #include "support/test_paths.h"
 #include "graph/mesh.h"
@@ -697,6 +700,118 @@ TEST(MergePoints, ConcatenatesWithAttributes) {
   EXPECT_EQ(out->attributes.at("age")[1], 0.0f);
   EXPECT_EQ(out->attributes.at("radius")[0], 0.0f);
   EXPECT_EQ(out->attributes.at("radius")[2], 2.0f);
+}
+
+TEST(ProjectToTerrain, FunctionOnAPlaneKeepsOffTerrainPointsAndBlendsTheTilt) {
+  // z = 0.25 x - 0.5 y + 2 on [0, 40]^2: normal (-0.25, 0.5, 1) normalized.
+  Heightfield h(Domain::from_extent({0, 0}, {40, 40}, {41, 41}));
+  for (int j = 0; j < 41; ++j)
+    for (int i = 0; i < 41; ++i) h.at(i, j) = static_cast<float>(0.25 * h.domain.x(i) - 0.5 * h.domain.y(j) + 2.0);
+  Points in;
+  in.add({10, 20, 5}, 1);
+  in.add({33.5f, 7.25f, 0}, 2);
+  in.add({500, 500, 9}, 3);  // beyond the terrain: the height at the nearest border, a flat gradient
+  in.attribute("age")[1] = 4.0f;
+  ProjectParams p;
+  p.offset = -1.5;
+  const Points flat = project_to_terrain(in, h, p);
+  flat.check_consistent();
+  EXPECT_NEAR(flat.position[0].z, 0.25 * 10 - 0.5 * 20 + 2 - 1.5, 1e-5);
+  EXPECT_NEAR(flat.position[1].z, 0.25 * 33.5 - 0.5 * 7.25 + 2 - 1.5, 1e-5);
+  EXPECT_NEAR(flat.position[2].z, 0.25 * 40 - 0.5 * 40 + 2 - 1.5, 1e-5);
+  EXPECT_EQ(flat.position[1].x, 33.5f);
+  EXPECT_EQ(flat.class_id, in.class_id);
+  EXPECT_EQ(flat.attributes.at("age")[1], 4.0f);
+  for (const auto& r : flat.rotation) EXPECT_EQ(r, glm::quat(1, 0, 0, 0)) << "align 0 keeps the rotation";
+  const glm::dvec3 n = glm::normalize(glm::dvec3(-0.25, 0.5, 1.0));
+  const double full = std::acos(n.z);  // angle between up and the normal
+  for (double align : {0.5, 1.0}) {
+    p.align = align;
+    const Points tilted = project_to_terrain(in, h, p);
+    const glm::vec3 up = tilted.rotation[0] * glm::vec3(0, 0, 1);
+    // The up axis turns by align x the full angle, in the plane of +z and the normal.
+    EXPECT_NEAR(std::acos(std::clamp(static_cast<double>(up.z), -1.0, 1.0)), align * full, 1e-5) << align;
+    EXPECT_NEAR(glm::dot(glm::dvec3(up), glm::cross(glm::dvec3(0, 0, 1), n)), 0.0, 1e-6) << align;
+    const glm::vec3 beyond = tilted.rotation[2] * glm::vec3(0, 0, 1);
+    EXPECT_NEAR(beyond.z, 1.0f, 1e-6f) << "no slope beyond the border: upright";
+  }
+  // A point's own rotation is kept under the tilt (applied after it).
+  in.rotation[0] = glm::angleAxis(0.7f, glm::vec3(0, 0, 1));
+  p.align = 1.0;
+  const Points yawed = project_to_terrain(in, h, p);
+  const glm::vec3 up = yawed.rotation[0] * glm::vec3(0, 0, 1);
+  EXPECT_NEAR(glm::dot(glm::dvec3(up), n), 1.0, 1e-6);
+  const glm::vec3 fwd = yawed.rotation[0] * glm::vec3(1, 0, 0);
+  EXPECT_GT(fwd.y, 0.5f) << "the yaw of 0.7 rad survives";
+}
+
+TEST(MergePoints, FunctionKeepsOrderSkipsNullAndFillsMissingAttributesWithZero) {
+  Points a, b, c;
+  a.add({1, 2, 3}, 4);
+  a.attribute("age")[0] = 7;
+  b.add({5, 6, 7}, 1);
+  b.add({8, 9, 10}, 2);
+  b.rotation[1] = glm::quat(0, 1, 0, 0);
+  b.scale[0] = {2, 3, 4};
+  b.attribute("radius", 2.0f);
+  c.add({-1, -2, -3}, 9);
+  c.attribute("age")[0] = 11;
+  const Points out = merge_points({&a, nullptr, &b, &c});
+  out.check_consistent();
+  ASSERT_EQ(out.size(), 4u);
+  EXPECT_EQ(out.position[0], glm::vec3(1, 2, 3));
+  EXPECT_EQ(out.position[2], glm::vec3(8, 9, 10));
+  EXPECT_EQ(out.position[3], glm::vec3(-1, -2, -3));
+  EXPECT_EQ(out.class_id, (std::vector<std::int32_t>{4, 1, 2, 9}));
+  EXPECT_EQ(out.rotation[2], glm::quat(0, 1, 0, 0));
+  EXPECT_EQ(out.scale[1], glm::vec3(2, 3, 4));
+  EXPECT_EQ(out.attributes.at("age"), (std::vector<float>{7, 0, 0, 11}));
+  EXPECT_EQ(out.attributes.at("radius"), (std::vector<float>{0, 2, 2, 0}));
+  EXPECT_EQ(merge_points({}).size(), 0u);
+}
+
+TEST(ShadePlacement, FunctionKeepsByPreferenceCarriesPointDataAndShadesAllAtNight) {
+  Points tree;
+  tree.add({0, 0, 0});
+  Points cand;
+  cand.add({0, 10, 0}, 5);   // in the shadow (sun in the south at 45 degrees, crown 10 m up)
+  cand.add({0, -10, 0}, 6);  // lit
+  cand.add({2, 10, 0}, 7);   // in the shadow
+  cand.scale[2] = {3, 3, 3};
+  cand.rotation[2] = glm::quat(0, 0, 0, 1);
+  cand.attribute("age")[2] = 12.0f;
+  cand.attribute("shade")[0] = 0.5f;  // an input shade attribute is replaced
+  const Domain d = Domain::from_extent({-20, -20}, {40, 40}, {41, 41});
+  ShadePlacementParams p;
+  p.canopy.crown_radius = 3.0;
+  p.canopy.crown_height = 10.0;
+  p.canopy.sun = sun_direction(180.0, 45.0);
+  const ShadePlacementResult shade = shade_placement(cand, tree, d, nullptr, p);
+  shade.points.check_consistent();
+  ASSERT_EQ(shade.points.size(), 2u);
+  EXPECT_EQ(shade.points.class_id, (std::vector<std::int32_t>{5, 7}));
+  EXPECT_EQ(shade.points.scale[1], glm::vec3(3, 3, 3));
+  EXPECT_EQ(shade.points.rotation[1], glm::quat(0, 0, 0, 1));
+  EXPECT_EQ(shade.points.attributes.at("age")[1], 12.0f);
+  EXPECT_EQ(shade.points.attributes.at("shade"), (std::vector<float>{1, 1}));
+  // The map: 1 exactly where a candidate at that sample would be shaded.
+  const Canopy canopy(tree, p.canopy);
+  ASSERT_EQ(shade.shade.domain.resolution, d.resolution);
+  for (int j = 0; j < 41; ++j)
+    for (int i = 0; i < 41; ++i)
+      EXPECT_EQ(shade.shade.at(i, j), canopy.shaded(d.x(i), d.y(j), 0.0) ? 1.0f : 0.0f) << i << "," << j;
+  p.preference = ShadePreference::Sun;
+  const ShadePlacementResult sun = shade_placement(cand, tree, d, nullptr, p);
+  ASSERT_EQ(sun.points.size(), 1u);
+  EXPECT_EQ(sun.points.class_id[0], 6);
+  EXPECT_EQ(sun.points.attributes.at("shade")[0], 0.0f);
+  p.preference = ShadePreference::Any;
+  EXPECT_EQ(shade_placement(cand, tree, d, nullptr, p).points.attributes.at("shade"), (std::vector<float>{1, 0, 1}));
+  // A sun under the horizon: night, every candidate and every sample shaded.
+  p.canopy.sun = glm::dvec3(0.0, -1.0, -0.2);
+  const ShadePlacementResult night = shade_placement(cand, tree, d, nullptr, p);
+  EXPECT_EQ(night.points.attributes.at("shade"), (std::vector<float>{1, 1, 1}));
+  for (float v : night.shade.data) EXPECT_EQ(v, 1.0f);
 }
 
 TEST(ShadePlacement, ShadowOfOneCrownIsTheExpectedEllipse) {

@@ -1,13 +1,22 @@
 // Texture family: splat weights (sum to 1, rock on cliffs, snow above the line), ambient occlusion and
-// cavity against analytic planes, hillshade, the colour map.
+// cavity against analytic planes, hillshade (shade and image) against Lambert's law on planes, the color map
+// (exact colors per layer, blending, precedence, shade), image channels and reductions.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <string>
+#include <vector>
 
 #include "evaluator/run_node.h"
 #include "graph/heightfield.h"
 #include "graph/image.h"
+#include "graph/exec_context.h"
+#include "nodes/climate/kmeans.h"
+#include "nodes/texture/color_layers.h"
+#include "nodes/texture/image_channel.h"
 #include "nodes/texture/shading.h"
 #include "nodes/texture/splat.h"
 #include "support/key_checks.h"
@@ -138,6 +147,247 @@ TEST(Shading, HillshadeFacingTheLightIsOne) {
     for (int i = 0; i < 11; ++i) p.at(i, j) = static_cast<float>(g * p.domain.x(i) - g * p.domain.y(j));
   EXPECT_NEAR(hillshade(p, 315, 45, 1)->at(5, 5), 1.0, 1e-6);
   EXPECT_NEAR(hillshade(p, 135, 45, 1)->at(5, 5), 0.0, 1e-6);
+}
+
+// A plane of slope `slope_deg` whose downhill side faces `aspect_deg` (clockwise from north), z = 0 at the
+// center sample.
+Heightfield plane(double slope_deg, double aspect_deg) {
+  Heightfield z(Domain::from_extent({0, 0}, {100, 100}, {11, 11}));
+  const double t = std::tan(slope_deg * kDeg), dx = std::sin(aspect_deg * kDeg), dy = std::cos(aspect_deg * kDeg);
+  for (int j = 0; j < 11; ++j)
+    for (int i = 0; i < 11; ++i)
+      z.at(i, j) = static_cast<float>(-t * (dx * (z.domain.x(i) - 50.0) + dy * (z.domain.y(j) - 50.0)));
+  return z;
+}
+
+// Lambert's cosine law for the plane above under a sun at (azimuth, elevation): cos(incidence) =
+// cos(slope) sin(elevation) + sin(slope) cos(elevation) cos(azimuth - aspect), 0 when the sun is behind.
+double lambert(double slope, double aspect, double azimuth, double elevation) {
+  const double c = std::cos(slope * kDeg) * std::sin(elevation * kDeg) +
+                   std::sin(slope * kDeg) * std::cos(elevation * kDeg) * std::cos((azimuth - aspect) * kDeg);
+  return std::max(0.0, c);
+}
+
+TEST(Hillshade, ImageIsLambertsCosineOnPlanesOfKnownSlopeAndAspect) {
+  int shadowed = 0;
+  for (double slope : {0.0, 10.0, 35.0, 70.0})
+    for (double aspect : {0.0, 90.0, 200.0, 315.0})
+      for (double azimuth : {0.0, 135.0, 315.0})
+        for (double elevation : {5.0, 45.0, 80.0}) {
+          const auto img = gray_image(*hillshade(plane(slope, aspect), azimuth, elevation, 1.0));
+          const double expect = lambert(slope, aspect, azimuth, elevation);
+          shadowed += expect == 0.0;
+          const float* px = img->pixel(5, 5);
+          for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(px[c], expect, 2e-5) << slope << " " << aspect << " " << azimuth << " " << elevation;
+          if (expect == 0.0) {
+            EXPECT_EQ(px[0], 0.0f) << "a slope facing away from the sun is black";
+          }
+          EXPECT_EQ(px[3], 1.0f);
+        }
+  EXPECT_GT(shadowed, 10) << "slopes facing away from the sun are among the cases";
+  // Flat ground under any sun: sin(elevation).
+  for (double elevation : {1.0, 30.0, 90.0})
+    EXPECT_NEAR(gray_image(*hillshade(plane(0, 0), 77.0, elevation, 1.0))->pixel(3, 7)[0],
+                std::sin(elevation * kDeg), 1e-6);
+  // z_factor steepens the plane: 20 degrees at z_factor 2 is atan(2 tan 20) degrees.
+  const double steeper = std::atan(2.0 * std::tan(20 * kDeg)) / kDeg;
+  EXPECT_NEAR(gray_image(*hillshade(plane(20, 90), 90, 30, 2.0))->pixel(5, 5)[0], lambert(steeper, 90, 90, 30), 2e-5);
+}
+
+TEST(Hillshade, GrayImageCopiesTheShadeIntoRgbWithOpaqueAlpha) {
+  Heightfield v(Domain::from_extent({10, 20}, {30, 20}, {4, 3}));
+  for (std::size_t q = 0; q < v.data.size(); ++q) v.data[q] = static_cast<float>(q) / 11.0f;
+  const auto img = gray_image(v);
+  ASSERT_EQ(img->channels, 4);
+  EXPECT_EQ(img->domain.resolution, v.domain.resolution);
+  EXPECT_EQ(img->domain.origin, v.domain.origin);
+  EXPECT_EQ(img->channel_names, (std::vector<std::string>{"R", "G", "B", "A"}));
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 4; ++i) {
+      const float* px = img->pixel(i, j);
+      EXPECT_EQ(px[0], v.at(i, j));
+      EXPECT_EQ(px[1], v.at(i, j));
+      EXPECT_EQ(px[2], v.at(i, j));
+      EXPECT_EQ(px[3], 1.0f);
+    }
+  // The node's image output is the gray image of its shade output.
+  auto z = std::make_shared<Heightfield>(plane(30, 200));
+  const auto run = run_node("Hillshade", z->domain, {{"azimuth", 180.0}, {"altitude", 40.0}},
+                            {{"in", PortValue(HeightfieldPtr(z))}});
+  const auto shade = run.get<Heightfield>(0);
+  const auto image = run.get<Image>(1);
+  for (int j = 0; j < 11; ++j)
+    for (int i = 0; i < 11; ++i) EXPECT_EQ(image->pixel(i, j)[1], shade->at(i, j));
+  EXPECT_NEAR(shade->at(5, 5), lambert(30, 200, 180, 40), 2e-5);
+}
+
+// Layer colors: distinct linear values, exactly representable.
+const glm::vec4 kGrass(0.125f, 0.5f, 0.25f, 1.0f), kRock(0.5f, 0.375f, 0.25f, 1.0f),
+    kRockLater(0.75f, 0.0625f, 1.0f, 1.0f);
+
+Image weights(int w, int h, std::vector<std::string> names) {
+  Image img(Domain::from_extent({0, 0}, {w - 1.0, h - 1.0}, {w, h}), static_cast<int>(names.size()));
+  img.channel_names = std::move(names);
+  return img;
+}
+
+void set_pixel(Image& img, int i, int j, std::initializer_list<float> v) {
+  int c = 0;
+  for (float x : v) img.pixel(i, j)[c++] = x;
+}
+
+void expect_rgb(const Image& img, int i, int j, const glm::vec4& c, float tol = 0.0f) {
+  const float* px = img.pixel(i, j);
+  EXPECT_NEAR(px[0], c.r, tol) << i << "," << j;
+  EXPECT_NEAR(px[1], c.g, tol) << i << "," << j;
+  EXPECT_NEAR(px[2], c.b, tol) << i << "," << j;
+  EXPECT_EQ(px[3], 1.0f) << i << "," << j;
+}
+
+TEST(ColorByLayers, ExactColorPerLayerBlendingByWeightAndPrecedence) {
+  // Channels grass, rock, mystery (no color given), and a fourth without a name.
+  Image w(Domain::from_extent({0, 0}, {3, 1}, {4, 2}), 4);
+  w.channel_names = {"grass", "rock", "mystery"};
+  set_pixel(w, 0, 0, {1, 0, 0, 0});
+  set_pixel(w, 1, 0, {0, 1, 0, 0});
+  set_pixel(w, 2, 0, {0, 0, 1, 0});
+  set_pixel(w, 3, 0, {0, 0, 0, 1});
+  set_pixel(w, 0, 1, {0.25f, 0.75f, 0, 0});
+  set_pixel(w, 1, 1, {2, 0, 0, 0});  // weights are not normalized
+  set_pixel(w, 2, 1, {std::nanf(""), 0.5f, 0, 0});  // a non-finite weight counts as 0
+  set_pixel(w, 3, 1, {0, 0, 0, 0});
+  ColorByLayersParams p;
+  // Two entries name rock: the later one wins. An entry naming no channel changes nothing.
+  p.colors = {{"rock", kRock}, {"grass", kGrass}, {"sand", {1, 1, 0, 1}}, {"rock", kRockLater}};
+  const auto out = color_by_layers(w, nullptr, p);
+  ASSERT_EQ(out->channels, 4);
+  EXPECT_EQ(out->channel_names, (std::vector<std::string>{"R", "G", "B", "A"}));
+  expect_rgb(*out, 0, 0, kGrass);
+  expect_rgb(*out, 1, 0, kRockLater);
+  expect_rgb(*out, 2, 0, climate::categorical_color(2));  // no color given: the categorical one of its index
+  expect_rgb(*out, 3, 0, climate::categorical_color(3));  // no name at all
+  expect_rgb(*out, 0, 1, 0.25f * kGrass + 0.75f * kRockLater, 1e-7f);
+  expect_rgb(*out, 1, 1, 2.0f * kGrass);
+  expect_rgb(*out, 2, 1, 0.5f * kRockLater);
+  expect_rgb(*out, 3, 1, glm::vec4(0, 0, 0, 1));
+  // The layer colors alone.
+  const auto cols = layer_colors(w.channel_names, w.channels, p.colors);
+  ASSERT_EQ(cols.size(), 4u);
+  EXPECT_EQ(cols[0], kGrass);
+  EXPECT_EQ(cols[1], kRockLater);
+  EXPECT_EQ(cols[2], climate::categorical_color(2));
+}
+
+TEST(ColorByLayers, ShadeScalesByStrengthClampedAndNonFiniteIsUnshaded) {
+  Image w = weights(4, 1, {"grass"});
+  for (int i = 0; i < 4; ++i) set_pixel(w, i, 0, {1});
+  Heightfield shade(w.domain);
+  shade.at(0, 0) = 0.4f;
+  shade.at(1, 0) = 1.7f;   // clamped to 1
+  shade.at(2, 0) = -3.0f;  // clamped to 0
+  shade.at(3, 0) = std::numeric_limits<float>::infinity();  // not finite: unshaded
+  ColorByLayersParams p;
+  p.colors = {{"grass", kGrass}};
+  for (double strength : {0.0, 0.5, 1.0}) {
+    p.shade_strength = strength;
+    const auto out = color_by_layers(w, &shade, p);
+    const auto factor = [&](double s) { return static_cast<float>(1.0 - strength + strength * s); };
+    expect_rgb(*out, 0, 0, factor(0.4) * kGrass, 1e-7f);
+    expect_rgb(*out, 1, 0, kGrass);
+    expect_rgb(*out, 2, 0, factor(0.0) * kGrass, 1e-7f);
+    expect_rgb(*out, 3, 0, kGrass);
+  }
+  Heightfield other(Domain::from_extent({0, 0}, {3, 1}, {5, 2}));
+  EXPECT_THROW(color_by_layers(w, &other, p), NodeError);
+}
+
+TEST(ColorByLayers, NodeReadsSrgbHexColorsByLayerName) {
+  auto w = std::make_shared<Image>(weights(2, 2, {"dirt", "snow"}));
+  set_pixel(*w, 0, 0, {1, 0});
+  set_pixel(*w, 1, 0, {0, 1});
+  const auto out = run_node("ColorByLayers", w->domain, {{"colors", std::string("snow #ffffff, dirt #000000")}},
+                            {{"in", PortValue(ImagePtr(w))}})
+                       .get<Image>();
+  expect_rgb(*out, 0, 0, glm::vec4(0, 0, 0, 1));
+  expect_rgb(*out, 1, 0, glm::vec4(1, 1, 1, 1));
+  // sRGB 0x80 is 0.2158605 linear.
+  const auto gray = run_node("ColorByLayers", w->domain, {{"colors", std::string("dirt #808080")}},
+                             {{"in", PortValue(ImagePtr(w))}})
+                        .get<Image>();
+  expect_rgb(*gray, 0, 0, glm::vec4(0.2158605f, 0.2158605f, 0.2158605f, 1), 1e-6f);
+}
+
+// Channel c of sample (i, j) holds 100 c + 10 j + i + 0.25, so every value is distinct and exact.
+Image channels_image() {
+  Image img = weights(4, 3, {"red", "green", "blue"});
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 4; ++i)
+      for (int c = 0; c < 3; ++c) img.pixel(i, j)[c] = static_cast<float>(100 * c + 10 * j + i) + 0.25f;
+  return img;
+}
+
+TEST(ImageChannel, EachChannelExtractedExactlyByIndexAndByName) {
+  const Image img = channels_image();
+  const char* names[] = {"red", "green", "blue"};
+  for (int c = 0; c < 3; ++c) {
+    ImageChannelParams by_index;
+    by_index.index = c;
+    ImageChannelParams by_name;
+    by_name.name = names[c];
+    by_name.index = 2 - c;  // ignored when a name is given
+    for (const auto& p : {by_index, by_name}) {
+      const auto f = image_channel(img, p);
+      EXPECT_EQ(f->domain.resolution, img.domain.resolution);
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 4; ++i) EXPECT_EQ(f->at(i, j), static_cast<float>(100 * c + 10 * j + i) + 0.25f);
+    }
+  }
+}
+
+TEST(ImageChannel, ReductionsOverTheChannels) {
+  Image img = channels_image();
+  img.pixel(2, 1)[1] = -7.5f;  // a minimum in the middle channel
+  for (ChannelMode mode : {ChannelMode::Mean, ChannelMode::Sum, ChannelMode::Min, ChannelMode::Max}) {
+    ImageChannelParams p;
+    p.mode = mode;
+    const auto f = image_channel(img, p);
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 4; ++i) {
+        const float* px = img.pixel(i, j);
+        const double sum = static_cast<double>(px[0]) + px[1] + px[2];
+        const double expect = mode == ChannelMode::Mean  ? sum / 3.0
+                              : mode == ChannelMode::Sum ? sum
+                              : mode == ChannelMode::Min ? std::min({px[0], px[1], px[2]})
+                                                         : std::max({px[0], px[1], px[2]});
+        EXPECT_EQ(f->at(i, j), static_cast<float>(expect)) << static_cast<int>(mode) << " " << i << "," << j;
+      }
+  }
+}
+
+TEST(ImageChannel, UnknownNameOrIndexBeyondTheChannelsIsRefused) {
+  const Image img = channels_image();
+  ImageChannelParams p;
+  p.name = "alpha";
+  try {
+    image_channel(img, p);
+    ADD_FAILURE() << "an unknown channel name was accepted";
+  } catch (const NodeError& e) {
+    EXPECT_NE(std::string(e.what()).find("red, green, blue"), std::string::npos) << e.what();
+  }
+  p.name.clear();
+  p.index = 3;
+  EXPECT_THROW(image_channel(img, p), NodeError);
+  p.index = -1;
+  EXPECT_THROW(image_channel(img, p), NodeError);
+  // Through the node: a bad name stops the node too.
+  auto shared = std::make_shared<Image>(img);
+  EXPECT_THROW(run_node("ImageChannel", img.domain, {{"name", std::string("alpha")}}, {{"in", PortValue(ImagePtr(shared))}}),
+               NodeError);
+  EXPECT_EQ(run_node("ImageChannel", img.domain, {{"name", std::string("blue")}}, {{"in", PortValue(ImagePtr(shared))}})
+                .get<Heightfield>()
+                ->at(3, 2),
+            223.25f);
 }
 
 TEST(Texture, NodesRunAndKeys) {

@@ -308,6 +308,44 @@ namespace {
 double json_number(double v) { return std::isfinite(v) ? v : 0.0; }
 }  // namespace
 
+KMeansMaps kmeans_maps(const KMeansResult& r, const Domain& domain) {
+  KMeansMaps m{std::make_shared<Heightfield>(domain), std::make_shared<Image>(domain, 4)};
+  m.color->channel_names = {"R", "G", "B", "A"};
+  for (std::size_t q = 0; q < r.labels.size(); ++q) {
+    m.ids->data[q] = static_cast<float>(r.labels[q]);
+    const glm::vec4 c = categorical_color(r.labels[q]);
+    for (int ch = 0; ch < 4; ++ch) m.color->data[q * 4 + static_cast<std::size_t>(ch)] = c[ch];
+  }
+  return m;
+}
+
+std::string kmeans_report(const KMeansResult& r, const std::vector<std::string>& channel_names) {
+  nlohmann::json j;
+  j["k"] = r.k;
+  j["iterations"] = r.iterations;
+  j["converged"] = r.converged;
+  j["objective"] = nlohmann::json::array();
+  for (double o : r.objective) j["objective"].push_back(json_number(o));
+  j["clusters"] = nlohmann::json::array();
+  for (int c = 0; c < r.k; ++c) {
+    nlohmann::json cl;
+    cl["id"] = c;
+    cl["count"] = r.counts[static_cast<std::size_t>(c)];
+    const glm::vec4 col = categorical_color(c);
+    cl["color"] = {col.r, col.g, col.b};
+    nlohmann::json centre = nlohmann::json::object();
+    for (int ch = 0; ch < r.channels; ++ch) {
+      const std::string name = static_cast<std::size_t>(ch) < channel_names.size()
+                                   ? channel_names[static_cast<std::size_t>(ch)]
+                                   : "channel_" + std::to_string(ch);
+      centre[name] = json_number(r.centres[static_cast<std::size_t>(c * r.channels + ch)]);
+    }
+    cl["centre"] = centre;
+    j["clusters"].push_back(cl);
+  }
+  return j.dump();
+}
+
 OROGEN_NODE(KMeansClusters) {
   b.reach_global();
   b.category("climate").description(
@@ -344,42 +382,12 @@ OROGEN_NODE(KMeansClusters) {
                               ctx.param<double>("weight_temperature"), ctx.param<double>("weight_illumination"),
                               ctx.param<double>("weight_humidity"), ctx.param<double>("weight_other"));
     const KMeansResult r = kmeans(*img, p, &ctx);
-    auto ids = std::make_shared<Heightfield>(img->domain);
-    auto color = std::make_shared<Image>(img->domain, 4);
-    color->channel_names = {"R", "G", "B", "A"};
-    for (std::size_t q = 0; q < r.labels.size(); ++q) {
-      ids->data[q] = static_cast<float>(r.labels[q]);
-      const glm::vec4 c = categorical_color(r.labels[q]);
-      for (int ch = 0; ch < 4; ++ch) color->data[q * 4 + static_cast<std::size_t>(ch)] = c[ch];
-    }
-    nlohmann::json j;
-    j["k"] = r.k;
-    j["iterations"] = r.iterations;
-    j["converged"] = r.converged;
-    j["objective"] = nlohmann::json::array();
-    for (double o : r.objective) j["objective"].push_back(json_number(o));
-    j["clusters"] = nlohmann::json::array();
-    for (int c = 0; c < r.k; ++c) {
-      nlohmann::json cl;
-      cl["id"] = c;
-      cl["count"] = r.counts[static_cast<std::size_t>(c)];
-      const glm::vec4 col = categorical_color(c);
-      cl["color"] = {col.r, col.g, col.b};
-      nlohmann::json centre = nlohmann::json::object();
-      for (int ch = 0; ch < r.channels; ++ch) {
-        const std::string name = static_cast<std::size_t>(ch) < img->channel_names.size()
-                                     ? img->channel_names[static_cast<std::size_t>(ch)]
-                                     : "channel_" + std::to_string(ch);
-        centre[name] = json_number(r.centres[static_cast<std::size_t>(c * r.channels + ch)]);
-      }
-      cl["centre"] = centre;
-      j["clusters"].push_back(cl);
-    }
+    const KMeansMaps maps = kmeans_maps(r, img->domain);
     auto report = std::make_shared<Report>();
-    report->json = j.dump();
-    ctx.set_output("out", ids);
+    report->json = kmeans_report(r, img->channel_names);
+    ctx.set_output("out", maps.ids);
     ctx.set_output("report", report);
-    ctx.set_output("color", color);
+    ctx.set_output("color", maps.color);
   });
 }
 

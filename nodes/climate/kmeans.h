@@ -17,6 +17,7 @@
 #include <glm/vec4.hpp>
 
 #include "graph/exec_context.h"
+#include "graph/heightfield.h"
 #include "graph/image.h"
 
 namespace orogen::climate {
@@ -51,5 +52,17 @@ std::vector<double> group_weights(const std::vector<std::string>& names, int cha
 
 // A categorical colour (linear RGBA) for id 0, 1, 2, ...: 12 distinct colours, then golden-ratio hues.
 glm::vec4 categorical_color(int id);
+
+// The clustering on the features' domain: the cluster id of each cell as a float field, and its categorical
+// color as a linear RGBA image.
+struct KMeansMaps {
+  std::shared_ptr<Heightfield> ids;
+  std::shared_ptr<Image> color;
+};
+KMeansMaps kmeans_maps(const KMeansResult& r, const Domain& domain);
+
+// The report JSON: k, iterations, converged, objective per iteration, and per cluster its id, member count,
+// color (linear RGB) and centre by channel name (channel_<c> beyond the names). Non-finite numbers are 0.
+std::string kmeans_report(const KMeansResult& r, const std::vector<std::string>& channel_names);
 
 }  // namespace orogen::climate

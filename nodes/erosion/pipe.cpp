@@ -97,32 +97,59 @@ void update_interior(int w, const float* __restrict FL, const float* __restrict 
   }
 }
 
-}  // namespace
+// The constants of one time step.
+struct StepConstants {
+  double dt;                 // s
+  std::uint64_t step;        // step number (Drops: part of the rain hash)
+  bool last;                 // the last step (the velocity map is written)
+  float fdt;                 // dt in float
+  float ks, kd, kc;          // dissolution and deposition per step, capacity constant
+  float rain_uniform;        // m of rain per step (uniform mode, no rainfall field)
+  float keep;                // evaporation factor per step at temperature factor 1
+  float cgx, cgy;            // dt g kx, dt g ky: flux gain per metre of head
+  float fdx, fdy, two_dx, two_dy;
+};
 
-PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfield* mask, const Heightfield* rainfall,
-                      const Heightfield* moisture, const Heightfield* temperature, const Heightfield* hardness,
-                      const ExecContext* ctx, PipeStats* stats, bool check_conservation) {
-  const int w = in.width(), h = in.height();
-  const std::size_t n = in.data.size();
-  const double dx = in.domain.spacing.x, dy = in.domain.spacing.y;
-  const float A = static_cast<float>(dx * dy);
-  const float g = static_cast<float>(p.gravity);
+// One run of the pipe model: the fields, and the stages of a step. A step is one fused sweep over rows
+// (rain, water surface and concentration; outflow fluxes; water, transport, velocity, dissolution and
+// deposition, evaporation, sinks), pipelined over chunks of rows: chunks run in parallel, each recomputing
+// the one or two rows it needs beyond its edges from the previous step's fields (which no chunk writes), so
+// every value is the same whatever the chunking and thread count.
+struct PipeRun {
+  const Heightfield& in;
+  const PipeParams& p;
+  const Heightfield *mask, *rainfall, *moisture, *temperature, *hardness;
+  const int w, h;
+  const std::size_t n;
+  const double dx, dy;
+  const float A;  // cell area, m^2
+  const float g;
   // Pipe geometry: flux (m^3/s) += dt x g x (width x depth) x dh / length.
-  const float kx = static_cast<float>(dy / dx), ky = static_cast<float>(dx / dy);
-  const double mm_per_h = 1.0 / 3.6e6;  // mm/h -> m/s
-
-  std::vector<float> b = in.data, b2(n), d(n, 0.0f), d2(n), s(n, 0.0f), s2(n);
-  std::vector<float> fl(n, 0.0f), fr(n, 0.0f), fd(n, 0.0f), fu(n, 0.0f), nfl(n), nfr(n), nfd(n), nfu(n);
-  std::vector<float> spd(n, 0.0f), flow_acc(n, 0.0f);
-  std::vector<double> row_sed_out(h), row_water_out(h), row_dmax(h), row_sum(h);
+  const float kx, ky;
+  static constexpr double mm_per_h = 1.0 / 3.6e6;  // mm/h -> m/s
+  std::vector<float> b, b2, d, d2, s, s2;
+  std::vector<float> fl, fr, fd, fu, nfl, nfr, nfd, nfu;
+  std::vector<float> spd, flow_acc;
+  std::vector<double> row_sed_out, row_water_out, row_dmax, row_sum;
   tbb::enumerable_thread_specific<Scratch> scratch;
-  std::vector<unsigned char> sink(n);
-  std::vector<unsigned char> row_sink(h, 0);
-  for (std::size_t k = 0; k < n; ++k) sink[k] = in.data[k] < p.sea_level, row_sink[k / w] |= sink[k];
-  // No optional field: the interior of rows without sinks takes the vectorised path.
-  const bool plain = !mask && !hardness && !temperature && !(p.layer_depth > 0);
+  std::vector<unsigned char> sink, row_sink;
+  bool plain = false;  // no optional field: the interior of rows without sinks takes the vectorised path
 
-  auto volume = [&]() {  // sum of (b + s) x A, rows summed in order
+  PipeRun(const Heightfield& in_, const PipeParams& p_, const Heightfield* mask_, const Heightfield* rainfall_,
+          const Heightfield* moisture_, const Heightfield* temperature_, const Heightfield* hardness_)
+      : in(in_), p(p_), mask(mask_), rainfall(rainfall_), moisture(moisture_), temperature(temperature_),
+        hardness(hardness_), w(in_.width()), h(in_.height()), n(in_.data.size()), dx(in_.domain.spacing.x),
+        dy(in_.domain.spacing.y), A(static_cast<float>(dx * dy)), g(static_cast<float>(p_.gravity)),
+        kx(static_cast<float>(dy / dx)), ky(static_cast<float>(dx / dy)), b(in_.data), b2(n), d(n, 0.0f), d2(n),
+        s(n, 0.0f), s2(n), fl(n, 0.0f), fr(n, 0.0f), fd(n, 0.0f), fu(n, 0.0f), nfl(n), nfr(n), nfd(n), nfu(n),
+        spd(n, 0.0f), flow_acc(n, 0.0f), row_sed_out(h), row_water_out(h), row_dmax(h), row_sum(h), sink(n),
+        row_sink(h, 0) {
+    for (std::size_t k = 0; k < n; ++k) sink[k] = in.data[k] < p.sea_level, row_sink[k / w] |= sink[k];
+    plain = !mask && !hardness && !temperature && !(p.layer_depth > 0);
+  }
+
+  // Sum of (b + s) x A, rows summed in order.
+  double volume() {
     rows(h, [&](int j) {
       double acc = 0;
       for (int i = 0; i < w; ++i) acc += static_cast<double>(b[in.index(i, j)]) + s[in.index(i, j)];
@@ -131,13 +158,297 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
     double t = 0;
     for (double r : row_sum) t += r;
     return t * A;
+  }
+
+  StepConstants constants(double dt, std::uint64_t step, bool last) const {
+    StepConstants c;
+    c.dt = dt;
+    c.step = step;
+    c.last = last;
+    c.fdt = static_cast<float>(dt);
+    c.ks = static_cast<float>(p.dissolving * dt);
+    c.kd = static_cast<float>(std::min(1.0, p.depositing * dt));
+    c.kc = static_cast<float>(p.capacity);
+    c.rain_uniform = static_cast<float>(dt * (p.rain_rate * mm_per_h));
+    c.keep = static_cast<float>(p.evaporation * dt);
+    c.cgx = c.fdt * g * kx;
+    c.cgy = c.fdt * g * ky;
+    c.fdx = static_cast<float>(dx);
+    c.fdy = static_cast<float>(dy);
+    c.two_dx = static_cast<float>(2 * dx);
+    c.two_dy = static_cast<float>(2 * dy);
+    return c;
+  }
+
+  // The rows of one chunk [j0, j1) of the sweep: the thread's ring of 4 rows (r & 3) of rained depth,
+  // surface and concentration, and the new fluxes (the chunk's rows in the global arrays, the rows just
+  // outside it in the scratch).
+  struct Chunk {
+    Scratch& sc;
+    int w, j0, j1;
+    float* nf[4];  // new fluxes L, R, D, U
+    float* DRrow(int r) const { return sc.dr.data() + static_cast<std::size_t>(r & 3) * w; }
+    float* SFrow(int r) const { return sc.surf.data() + static_cast<std::size_t>(r & 3) * w; }
+    float* CCrow(int r) const { return sc.conc.data() + static_cast<std::size_t>(r & 3) * w; }
+    float* Frow(int r, int which) const {
+      if (r >= j0 && r < j1) return nf[which] + static_cast<std::size_t>(r) * w;
+      return sc.halo.data() + (static_cast<std::size_t>(r < j0 ? 0 : 4) + which) * w;
+    }
   };
 
+  // 1. Rain, then the water surface and each cell's sediment concentration (per m^3 of water) of row r.
+  void prep(const Chunk& ch, const StepConstants& cs, int r) const {
+    const float rain_uniform = cs.rain_uniform;
+    const double dt = cs.dt;
+    const std::uint64_t step = cs.step;
+    const std::size_t row = static_cast<std::size_t>(r) * w;
+    float* __restrict DR = ch.DRrow(r);
+    float* __restrict SF = ch.SFrow(r);
+    float* __restrict CC = ch.CCrow(r);
+    const float* __restrict D = d.data() + row;
+    const float* __restrict S = s.data() + row;
+    const float* __restrict B = b.data() + row;
+    if (p.rain_mode == RainMode::Uniform && !rainfall) {
+      for (int i = 0; i < w; ++i) DR[i] = D[i] + rain_uniform;
+    } else {
+      for (int i = 0; i < w; ++i) {
+        const std::size_t k = row + i;
+        const double rate = (rainfall ? std::max(0.0f, rainfall->data[k]) : p.rain_rate) * mm_per_h;
+        float dk = D[i];
+        if (p.rain_mode == RainMode::Uniform) {
+          dk += static_cast<float>(dt * rate);
+        } else {
+          const double m = moisture ? std::clamp(static_cast<double>(moisture->data[k]), 0.0, 1.0) : 1.0;
+          const double chance = std::min(1.0, m * p.drop_chance * dt);
+          if (chance > 0 && hash01(p.seed, step * n + k) < chance)
+            dk += static_cast<float>(rate / std::max(p.drop_chance, 1e-9));
+        }
+        DR[i] = dk;
+      }
+    }
+    for (int i = 0; i < w; ++i) {
+      const float dk = DR[i];
+      SF[i] = B[i] + dk;
+      const float q = S[i] / (dk * A);  // computed unconditionally (a select, not a branch: vectorises)
+      CC[i] = dk > 0.0f ? q : 0.0f;
+    }
+  }
+
+  // 2. Outflow fluxes of row r: a generic cell for the border, an unchecked loop for the interior.
+  void flux(const Chunk& ch, const StepConstants& cs, int r) const {
+    const float fdt = cs.fdt, cgx = cs.cgx, cgy = cs.cgy;
+    const std::size_t row = static_cast<std::size_t>(r) * w;
+    const float* __restrict DR = ch.DRrow(r);
+    const float* __restrict SF = ch.SFrow(r);
+    const float* __restrict SFd = r > 0 ? ch.SFrow(r - 1) : nullptr;
+    const float* __restrict SFu = r < h - 1 ? ch.SFrow(r + 1) : nullptr;
+    const float* __restrict FL = fl.data() + row;
+    const float* __restrict FR = fr.data() + row;
+    const float* __restrict FD = fd.data() + row;
+    const float* __restrict FU = fu.data() + row;
+    float* __restrict NL = ch.Frow(r, 0);
+    float* __restrict NR = ch.Frow(r, 1);
+    float* __restrict ND = ch.Frow(r, 2);
+    float* __restrict NU = ch.Frow(r, 3);
+    auto finish = [&](int i, float dk, float l, float rr, float dn, float up) {
+      l = std::max(0.0f, l), rr = std::max(0.0f, rr), dn = std::max(0.0f, dn), up = std::max(0.0f, up);
+      const float total = (l + rr + dn + up) * fdt;
+      const float K = total > dk * A ? dk * A / total : 1.0f;
+      NL[i] = l * K, NR[i] = rr * K, ND[i] = dn * K, NU[i] = up * K;
+    };
+    auto generic = [&](int i) {
+      const float dk = DR[i], hk = SF[i], c = fdt * g * dk;
+      const float hl = i > 0 ? hk - SF[i - 1] : dk, hr = i < w - 1 ? hk - SF[i + 1] : dk;
+      const float hd = SFd ? hk - SFd[i] : dk, hu = SFu ? hk - SFu[i] : dk;
+      finish(i, dk, FL[i] + c * kx * hl, FR[i] + c * kx * hr, FD[i] + c * ky * hd, FU[i] + c * ky * hu);
+    };
+    if (r == 0 || r == h - 1 || w < 3) {
+      for (int i = 0; i < w; ++i) generic(i);
+      return;
+    }
+    generic(0);
+    flux_interior(w, DR, SF, SFd, SFu, FL, FR, FD, FU, NL, NR, ND, NU, cgx, cgy, fdt, A);
+    generic(w - 1);
+  }
+
+  // 3. Water, sediment transport, velocity, dissolution/deposition, evaporation, sinks of row j; the row's
+  // outflow through the border and sinks and its deepest water into the row totals.
+  void update(const Chunk& ch, const StepConstants& cs, int j) {
+    const float fdt = cs.fdt, ks = cs.ks, kd = cs.kd, kc = cs.kc, keep = cs.keep;
+    const float fdx = cs.fdx, fdy = cs.fdy, two_dx = cs.two_dx, two_dy = cs.two_dy;
+    const bool last = cs.last;
+    double sed_out = 0, water_out = 0, dm = 0;
+    const std::size_t row = static_cast<std::size_t>(j) * w;
+    const float* __restrict FL = ch.Frow(j, 0);
+    const float* __restrict FR = ch.Frow(j, 1);
+    const float* __restrict FD = ch.Frow(j, 2);
+    const float* __restrict FU = ch.Frow(j, 3);
+    const float* __restrict FUd = j > 0 ? ch.Frow(j - 1, 3) : nullptr;  // the up flux of the row below
+    const float* __restrict FDu = j < h - 1 ? ch.Frow(j + 1, 2) : nullptr;
+    const float* __restrict DR = ch.DRrow(j);
+    const float* __restrict C = ch.CCrow(j);
+    const float* __restrict Cd = j > 0 ? ch.CCrow(j - 1) : nullptr;
+    const float* __restrict Cu = j < h - 1 ? ch.CCrow(j + 1) : nullptr;
+    const float* __restrict S = s.data() + row;
+    const float* __restrict B = b.data() + row;
+    const float* __restrict Bd = j > 0 ? B - w : B;
+    const float* __restrict Bu = j < h - 1 ? B + w : B;
+    const float by_len = j > 0 && j < h - 1 ? two_dy : fdy;
+    const unsigned char* __restrict SINK = sink.data() + row;
+    float* __restrict B2 = b2.data() + row;
+    float* __restrict D2 = d2.data() + row;
+    float* __restrict S2 = s2.data() + row;
+    float* __restrict SPD = spd.data() + row;
+    float* __restrict FACC = flow_acc.data() + row;
+    auto cell = [&](int i) {
+      const std::size_t k = row + i;
+      const float dk = DR[i];
+      // Volumes through each pipe this step and the sediment they carry (concentration of the source).
+      const float out_v = (FL[i] + FR[i] + FD[i] + FU[i]) * fdt;
+      const float conc = C[i];
+      float in_v = 0.0f, in_s = 0.0f, out_s = 0.0f;
+      auto pipe_out = [&](float f, bool border) {
+        const float vol = f * fdt;
+        const float sv = conc * vol;
+        out_s += sv;
+        if (border) {
+          water_out += vol;
+          sed_out += static_cast<double>(sv) * A;
+        }
+      };
+      pipe_out(FL[i], i == 0);
+      pipe_out(FR[i], i == w - 1);
+      pipe_out(FD[i], j == 0);
+      pipe_out(FU[i], j == h - 1);
+      auto pipe_in = [&](float cn, float f) {
+        const float vol = f * fdt;
+        in_v += vol;
+        in_s += cn * vol;
+      };
+      float fin_l = 0, fin_r = 0, fin_d = 0, fin_u = 0;
+      if (i > 0) fin_l = FR[i - 1], pipe_in(C[i - 1], fin_l);
+      if (i < w - 1) fin_r = FL[i + 1], pipe_in(C[i + 1], fin_r);
+      if (FUd) fin_d = FUd[i], pipe_in(Cd[i], fin_d);
+      if (FDu) fin_u = FDu[i], pipe_in(Cu[i], fin_u);
+      float d1 = std::max(0.0f, dk + (in_v - out_v) / A);
+      // Sediment heights moving in and out: the source's s / (d A) times the pipe's volume.
+      float s1 = S[i] + in_s - out_s;
+      const float wx = 0.5f * (fin_l - FL[i] + FR[i] - fin_r);
+      const float wy = 0.5f * (fin_d - FD[i] + FU[i] - fin_u);
+      const float dmean = 0.5f * (dk + d1);
+      float u = 0, v = 0;
+      if (dmean > 1e-3f) {
+        u = wx / (fdy * dmean);
+        v = wy / (fdx * dmean);
+      }
+      const float speed = std::sqrt(u * u + v * v);
+      // Tilt from the terrain's central differences.
+      const float bx = (B[i < w - 1 ? i + 1 : i] - B[i > 0 ? i - 1 : i]) / (i > 0 && i < w - 1 ? two_dx : fdx);
+      const float by = (Bu[i] - Bd[i]) / by_len;
+      const float g2 = bx * bx + by * by;
+      const float sin_tilt = std::clamp(std::sqrt(g2 / (1.0f + g2)), 0.005f, 0.5f);
+      // Capacity in proportion to the water that carries it (a concentration times the depth): a film
+      // of water cannot hold metres of sediment however fast it runs.
+      const float cap = kc * sin_tilt * speed * d1;
+      float bk = B[i];
+      const float m = mask ? mask_at(mask, k) : 1.0f;
+      if (!SINK[i]) {
+        if (cap > s1) {
+          float rate = ks * m;
+          if (hardness) rate *= 1.0f - std::clamp(hardness->data[k], 0.0f, 1.0f);
+          if (p.layer_depth > 0) rate *= std::exp2(-std::max(0.0f, in.data[k] - bk) / static_cast<float>(p.layer_depth));
+          const float e = std::min(1.0f, rate) * (cap - s1);
+          bk -= e;
+          s1 += e;
+        } else {
+          const float e = kd * m * (s1 - cap);
+          bk += e;
+          s1 -= e;
+        }
+      }
+      const float temp = temperature ? std::max(0.0f, temperature->data[k]) : 1.0f;
+      d1 *= std::max(0.0f, 1.0f - keep * temp);
+      if (SINK[i]) {
+        water_out += static_cast<double>(d1) * A;
+        sed_out += static_cast<double>(s1) * A;
+        d1 = 0, s1 = 0;
+      }
+      B2[i] = bk, D2[i] = d1, S2[i] = s1;
+      if (last) SPD[i] = speed;
+      FACC[i] += fdt * speed * d1;
+      dm = std::max<double>(dm, d1);
+    };
+    if (!plain || j == 0 || j == h - 1 || row_sink[j] || w < 3) {
+      for (int i = 0; i < w; ++i) cell(i);
+    } else {
+      cell(0);
+      update_interior(w, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, S2, SPD, FACC,
+                      {fdt, A, fdx, fdy, two_dx, two_dy, kc, std::min(1.0f, ks), kd, std::max(0.0f, 1.0f - keep * 1.0f)});
+      float dmf = 0.0f;
+      for (int i = 1; i < w - 1; ++i) dmf = D2[i] > dmf ? D2[i] : dmf;
+      dm = std::max<double>(dm, dmf);
+      cell(w - 1);
+    }
+    row_sed_out[j] = sed_out, row_water_out[j] = water_out, row_dmax[j] = dm;
+  }
+
+  // The fused sweep of one step over all rows: the pipeline preps rows j0-2 .. j1+1, fluxes j0-1 .. j1 and
+  // updates j0 .. j1-1 of each chunk (within the grid), each as soon as the rows it reads are ready.
+  void sweep(const StepConstants& c) {
+    const int chunks = (h + kChunkRows - 1) / kChunkRows;
+    tbb::parallel_for(tbb::blocked_range<int>(0, chunks, 1), [&](const tbb::blocked_range<int>& cr) {
+      Scratch& sc = scratch.local();
+      sc.resize(w);
+      for (int chunk = cr.begin(); chunk != cr.end(); ++chunk) {
+        const int j0 = chunk * kChunkRows, j1 = std::min(h, j0 + kChunkRows);
+        const Chunk ch{sc, w, j0, j1, {nfl.data(), nfr.data(), nfd.data(), nfu.data()}};
+        const int pr_lo = std::max(0, j0 - 2), pr_hi = std::min(h, j1 + 2);
+        const int fl_lo = std::max(0, j0 - 1), fl_hi = std::min(h, j1 + 1);
+        int nf = fl_lo, nm = j0;
+        for (int r = pr_lo; r < pr_hi; ++r) {
+          prep(ch, c, r);
+          while (nf < fl_hi && r >= std::min(nf + 1, h - 1)) flux(ch, c, nf++);
+          while (nm < j1 && nf >= std::min(nm + 2, h)) update(ch, c, nm++);
+        }
+      }
+    });
+    std::swap(fl, nfl), std::swap(fr, nfr), std::swap(fd, nfd), std::swap(fu, nfu);
+    std::swap(b, b2), std::swap(d, d2), std::swap(s, s2);
+  }
+
+  // The maps at the end: heights with the suspended sediment settled, water, speed, normalized flow.
+  PipeMaps maps(const ExecContext* ctx) const {
+    PipeMaps maps;
+    maps.out = std::make_shared<Heightfield>(in.domain);
+    maps.water = std::make_shared<Heightfield>(in.domain);
+    maps.velocity = std::make_shared<Heightfield>(in.domain);
+    maps.flow = std::make_shared<Heightfield>(in.domain);
+    float fmax = 0;
+    for (std::size_t k = 0; k < n; ++k) fmax = std::max(fmax, flow_acc[k]);
+    const double lmax = std::log1p(static_cast<double>(fmax) / A * 1e3);
+    for (std::size_t k = 0; k < n; ++k) {
+      maps.out->data[k] = b[k] + s[k];  // what is still suspended settles
+      maps.water->data[k] = d[k];
+      maps.velocity->data[k] = spd[k];
+      maps.flow->data[k] =
+          lmax > 0 ? static_cast<float>(std::log1p(static_cast<double>(flow_acc[k]) / A * 1e3) / lmax) : 0.0f;
+    }
+    fill_change_maps(in, maps, ctx);
+    return maps;
+  }
+};
+
+}  // namespace
+
+PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfield* mask, const Heightfield* rainfall,
+                      const Heightfield* moisture, const Heightfield* temperature, const Heightfield* hardness,
+                      const ExecContext* ctx, PipeStats* stats, bool check_conservation) {
+  PipeRun run(in, p, mask, rainfall, moisture, temperature, hardness);
   PipeStats st;
   st.total_volume = 0;
-  for (float v : in.data) st.total_volume += std::abs(static_cast<double>(v)) * A;
+  for (float v : in.data) st.total_volume += std::abs(static_cast<double>(v)) * run.A;
   double t = 0.0, dmax = 0.0;
-  const double spacing = std::min(dx, dy);
+  const double spacing = std::min(run.dx, run.dy);
   std::uint64_t step = 0;
   while (t < p.duration - 1e-9) {
     check_cancelled(ctx);
@@ -146,248 +457,18 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
     // shrink the step without end.)
     double dt = p.courant * spacing / std::sqrt(p.gravity * std::max(dmax, p.depth_scale));
     dt = std::min(dt, p.duration - t);
-    const float fdt = static_cast<float>(dt);
-    const double before = check_conservation ? volume() : 0.0;
-
-    // One fused sweep per step (rain, water surface and concentration; outflow fluxes; water, transport,
-    // velocity, dissolution/deposition, evaporation, sinks), pipelined over rows: chunks of rows run in
-    // parallel, each recomputing the one or two rows it needs beyond its edges (from the previous step's
-    // fields, which no chunk writes), so every value is the same whatever the chunking and thread count.
-    const float ks = static_cast<float>(p.dissolving * dt), kd = static_cast<float>(std::min(1.0, p.depositing * dt));
-    const float kc = static_cast<float>(p.capacity);
-    const float rain_uniform = static_cast<float>(dt * (p.rain_rate * mm_per_h));
-    const float keep = static_cast<float>(p.evaporation * dt);
-    const bool last = t + dt >= p.duration - 1e-9;
-    const float cgx = fdt * g * kx, cgy = fdt * g * ky;
-    const float fdx = static_cast<float>(dx), fdy = static_cast<float>(dy);
-    const float two_dx = static_cast<float>(2 * dx), two_dy = static_cast<float>(2 * dy);
-    const int chunks = (h + kChunkRows - 1) / kChunkRows;
-    tbb::parallel_for(tbb::blocked_range<int>(0, chunks, 1), [&](const tbb::blocked_range<int>& cr) {
-      Scratch& sc = scratch.local();
-      sc.resize(w);
-      for (int chunk = cr.begin(); chunk != cr.end(); ++chunk) {
-        const int j0 = chunk * kChunkRows, j1 = std::min(h, j0 + kChunkRows);
-        // Rows of the ring (4 rows: r & 3) and of the new fluxes (the chunk's rows in the global arrays,
-        // the rows just outside it in the scratch).
-        auto DRrow = [&](int r) { return sc.dr.data() + static_cast<std::size_t>(r & 3) * w; };
-        auto SFrow = [&](int r) { return sc.surf.data() + static_cast<std::size_t>(r & 3) * w; };
-        auto CCrow = [&](int r) { return sc.conc.data() + static_cast<std::size_t>(r & 3) * w; };
-        auto Frow = [&](int r, int which) -> float* {
-          if (r >= j0 && r < j1) {
-            float* f = which == 0 ? nfl.data() : which == 1 ? nfr.data() : which == 2 ? nfd.data() : nfu.data();
-            return f + static_cast<std::size_t>(r) * w;
-          }
-          return sc.halo.data() + (static_cast<std::size_t>(r < j0 ? 0 : 4) + which) * w;
-        };
-        // 1. Rain, then the water surface and each cell's sediment concentration (per m^3 of water).
-        auto prep = [&](int r) {
-          const std::size_t row = static_cast<std::size_t>(r) * w;
-          float* __restrict DR = DRrow(r);
-          float* __restrict SF = SFrow(r);
-          float* __restrict CC = CCrow(r);
-          const float* __restrict D = d.data() + row;
-          const float* __restrict S = s.data() + row;
-          const float* __restrict B = b.data() + row;
-          if (p.rain_mode == RainMode::Uniform && !rainfall) {
-            for (int i = 0; i < w; ++i) DR[i] = D[i] + rain_uniform;
-          } else {
-            for (int i = 0; i < w; ++i) {
-              const std::size_t k = row + i;
-              const double rate = (rainfall ? std::max(0.0f, rainfall->data[k]) : p.rain_rate) * mm_per_h;
-              float dk = D[i];
-              if (p.rain_mode == RainMode::Uniform) {
-                dk += static_cast<float>(dt * rate);
-              } else {
-                const double m = moisture ? std::clamp(static_cast<double>(moisture->data[k]), 0.0, 1.0) : 1.0;
-                const double chance = std::min(1.0, m * p.drop_chance * dt);
-                if (chance > 0 && hash01(p.seed, step * n + k) < chance)
-                  dk += static_cast<float>(rate / std::max(p.drop_chance, 1e-9));
-              }
-              DR[i] = dk;
-            }
-          }
-          for (int i = 0; i < w; ++i) {
-            const float dk = DR[i];
-            SF[i] = B[i] + dk;
-            const float q = S[i] / (dk * A);  // computed unconditionally (a select, not a branch: vectorises)
-            CC[i] = dk > 0.0f ? q : 0.0f;
-          }
-        };
-        // 2. Outflow fluxes of row r: a generic cell for the border, an unchecked loop for the interior.
-        auto flux = [&](int r) {
-          const std::size_t row = static_cast<std::size_t>(r) * w;
-          const float* __restrict DR = DRrow(r);
-          const float* __restrict SF = SFrow(r);
-          const float* __restrict SFd = r > 0 ? SFrow(r - 1) : nullptr;
-          const float* __restrict SFu = r < h - 1 ? SFrow(r + 1) : nullptr;
-          const float* __restrict FL = fl.data() + row;
-          const float* __restrict FR = fr.data() + row;
-          const float* __restrict FD = fd.data() + row;
-          const float* __restrict FU = fu.data() + row;
-          float* __restrict NL = Frow(r, 0);
-          float* __restrict NR = Frow(r, 1);
-          float* __restrict ND = Frow(r, 2);
-          float* __restrict NU = Frow(r, 3);
-          auto finish = [&](int i, float dk, float l, float rr, float dn, float up) {
-            l = std::max(0.0f, l), rr = std::max(0.0f, rr), dn = std::max(0.0f, dn), up = std::max(0.0f, up);
-            const float total = (l + rr + dn + up) * fdt;
-            const float K = total > dk * A ? dk * A / total : 1.0f;
-            NL[i] = l * K, NR[i] = rr * K, ND[i] = dn * K, NU[i] = up * K;
-          };
-          auto generic = [&](int i) {
-            const float dk = DR[i], hk = SF[i], c = fdt * g * dk;
-            const float hl = i > 0 ? hk - SF[i - 1] : dk, hr = i < w - 1 ? hk - SF[i + 1] : dk;
-            const float hd = SFd ? hk - SFd[i] : dk, hu = SFu ? hk - SFu[i] : dk;
-            finish(i, dk, FL[i] + c * kx * hl, FR[i] + c * kx * hr, FD[i] + c * ky * hd, FU[i] + c * ky * hu);
-          };
-          if (r == 0 || r == h - 1 || w < 3) {
-            for (int i = 0; i < w; ++i) generic(i);
-            return;
-          }
-          generic(0);
-          flux_interior(w, DR, SF, SFd, SFu, FL, FR, FD, FU, NL, NR, ND, NU, cgx, cgy, fdt, A);
-          generic(w - 1);
-        };
-        // 3. Water, sediment transport, velocity, dissolution/deposition, evaporation, sinks of row j.
-        auto update = [&](int j) {
-          double sed_out = 0, water_out = 0, dm = 0;
-          const std::size_t row = static_cast<std::size_t>(j) * w;
-          const float* __restrict FL = Frow(j, 0);
-          const float* __restrict FR = Frow(j, 1);
-          const float* __restrict FD = Frow(j, 2);
-          const float* __restrict FU = Frow(j, 3);
-          const float* __restrict FUd = j > 0 ? Frow(j - 1, 3) : nullptr;  // the up flux of the row below
-          const float* __restrict FDu = j < h - 1 ? Frow(j + 1, 2) : nullptr;
-          const float* __restrict DR = DRrow(j);
-          const float* __restrict C = CCrow(j);
-          const float* __restrict Cd = j > 0 ? CCrow(j - 1) : nullptr;
-          const float* __restrict Cu = j < h - 1 ? CCrow(j + 1) : nullptr;
-          const float* __restrict S = s.data() + row;
-          const float* __restrict B = b.data() + row;
-          const float* __restrict Bd = j > 0 ? B - w : B;
-          const float* __restrict Bu = j < h - 1 ? B + w : B;
-          const float by_len = j > 0 && j < h - 1 ? two_dy : fdy;
-          const unsigned char* __restrict SINK = sink.data() + row;
-          float* __restrict B2 = b2.data() + row;
-          float* __restrict D2 = d2.data() + row;
-          float* __restrict S2 = s2.data() + row;
-          float* __restrict SPD = spd.data() + row;
-          float* __restrict FACC = flow_acc.data() + row;
-          auto cell = [&](int i) {
-            const std::size_t k = row + i;
-            const float dk = DR[i];
-            // Volumes through each pipe this step and the sediment they carry (concentration of the source).
-            const float out_v = (FL[i] + FR[i] + FD[i] + FU[i]) * fdt;
-            const float conc = C[i];
-            float in_v = 0.0f, in_s = 0.0f, out_s = 0.0f;
-            auto pipe_out = [&](float f, bool border) {
-              const float vol = f * fdt;
-              const float sv = conc * vol;
-              out_s += sv;
-              if (border) {
-                water_out += vol;
-                sed_out += static_cast<double>(sv) * A;
-              }
-            };
-            pipe_out(FL[i], i == 0);
-            pipe_out(FR[i], i == w - 1);
-            pipe_out(FD[i], j == 0);
-            pipe_out(FU[i], j == h - 1);
-            auto pipe_in = [&](float cn, float f) {
-              const float vol = f * fdt;
-              in_v += vol;
-              in_s += cn * vol;
-            };
-            float fin_l = 0, fin_r = 0, fin_d = 0, fin_u = 0;
-            if (i > 0) fin_l = FR[i - 1], pipe_in(C[i - 1], fin_l);
-            if (i < w - 1) fin_r = FL[i + 1], pipe_in(C[i + 1], fin_r);
-            if (FUd) fin_d = FUd[i], pipe_in(Cd[i], fin_d);
-            if (FDu) fin_u = FDu[i], pipe_in(Cu[i], fin_u);
-            float d1 = std::max(0.0f, dk + (in_v - out_v) / A);
-            // Sediment heights moving in and out: the source's s / (d A) times the pipe's volume.
-            float s1 = S[i] + in_s - out_s;
-            const float wx = 0.5f * (fin_l - FL[i] + FR[i] - fin_r);
-            const float wy = 0.5f * (fin_d - FD[i] + FU[i] - fin_u);
-            const float dmean = 0.5f * (dk + d1);
-            float u = 0, v = 0;
-            if (dmean > 1e-3f) {
-              u = wx / (fdy * dmean);
-              v = wy / (fdx * dmean);
-            }
-            const float speed = std::sqrt(u * u + v * v);
-            // Tilt from the terrain's central differences.
-            const float bx = (B[i < w - 1 ? i + 1 : i] - B[i > 0 ? i - 1 : i]) / (i > 0 && i < w - 1 ? two_dx : fdx);
-            const float by = (Bu[i] - Bd[i]) / by_len;
-            const float g2 = bx * bx + by * by;
-            const float sin_tilt = std::clamp(std::sqrt(g2 / (1.0f + g2)), 0.005f, 0.5f);
-            // Capacity in proportion to the water that carries it (a concentration times the depth): a film
-            // of water cannot hold metres of sediment however fast it runs.
-            const float cap = kc * sin_tilt * speed * d1;
-            float bk = B[i];
-            const float m = mask ? mask_at(mask, k) : 1.0f;
-            if (!SINK[i]) {
-              if (cap > s1) {
-                float rate = ks * m;
-                if (hardness) rate *= 1.0f - std::clamp(hardness->data[k], 0.0f, 1.0f);
-                if (p.layer_depth > 0) rate *= std::exp2(-std::max(0.0f, in.data[k] - bk) / static_cast<float>(p.layer_depth));
-                const float e = std::min(1.0f, rate) * (cap - s1);
-                bk -= e;
-                s1 += e;
-              } else {
-                const float e = kd * m * (s1 - cap);
-                bk += e;
-                s1 -= e;
-              }
-            }
-            const float temp = temperature ? std::max(0.0f, temperature->data[k]) : 1.0f;
-            d1 *= std::max(0.0f, 1.0f - keep * temp);
-            if (SINK[i]) {
-              water_out += static_cast<double>(d1) * A;
-              sed_out += static_cast<double>(s1) * A;
-              d1 = 0, s1 = 0;
-            }
-            B2[i] = bk, D2[i] = d1, S2[i] = s1;
-            if (last) SPD[i] = speed;
-            FACC[i] += fdt * speed * d1;
-            dm = std::max<double>(dm, d1);
-          };
-          if (!plain || j == 0 || j == h - 1 || row_sink[j] || w < 3) {
-            for (int i = 0; i < w; ++i) cell(i);
-          } else {
-            cell(0);
-            update_interior(w, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, S2, SPD, FACC,
-                            {fdt, A, fdx, fdy, two_dx, two_dy, kc, std::min(1.0f, ks), kd, std::max(0.0f, 1.0f - keep * 1.0f)});
-            float dmf = 0.0f;
-            for (int i = 1; i < w - 1; ++i) dmf = D2[i] > dmf ? D2[i] : dmf;
-            dm = std::max<double>(dm, dmf);
-            cell(w - 1);
-          }
-          row_sed_out[j] = sed_out, row_water_out[j] = water_out, row_dmax[j] = dm;
-        };
-        // The pipeline: prep rows j0-2 .. j1+1, fluxes j0-1 .. j1, updates j0 .. j1-1 (within the grid),
-        // each as soon as the rows it reads are ready.
-        const int pr_lo = std::max(0, j0 - 2), pr_hi = std::min(h, j1 + 2);
-        const int fl_lo = std::max(0, j0 - 1), fl_hi = std::min(h, j1 + 1);
-        int nf = fl_lo, nm = j0;
-        for (int r = pr_lo; r < pr_hi; ++r) {
-          prep(r);
-          while (nf < fl_hi && r >= std::min(nf + 1, h - 1)) flux(nf++);
-          while (nm < j1 && nf >= std::min(nm + 2, h)) update(nm++);
-        }
-      }
-    });
-    std::swap(fl, nfl), std::swap(fr, nfr), std::swap(fd, nfd), std::swap(fu, nfu);
-    std::swap(b, b2), std::swap(d, d2), std::swap(s, s2);
+    const double before = check_conservation ? run.volume() : 0.0;
+    run.sweep(run.constants(dt, step, t + dt >= p.duration - 1e-9));
     double sed_out = 0;
     dmax = 0;
-    for (int j = 0; j < h; ++j) {
-      sed_out += row_sed_out[j];
-      st.water_out += row_water_out[j];
-      dmax = std::max(dmax, row_dmax[j]);
+    for (int j = 0; j < run.h; ++j) {
+      sed_out += run.row_sed_out[j];
+      st.water_out += run.row_water_out[j];
+      dmax = std::max(dmax, run.row_dmax[j]);
     }
     st.sediment_out += sed_out;
     if (check_conservation)
-      st.max_conservation_error = std::max(st.max_conservation_error, std::abs(volume() + sed_out - before));
+      st.max_conservation_error = std::max(st.max_conservation_error, std::abs(run.volume() + sed_out - before));
     t += dt;
     ++step;
     st.dt = dt;
@@ -395,23 +476,7 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
   }
   st.steps = static_cast<int>(step);
   if (stats) *stats = st;
-
-  PipeMaps maps;
-  maps.out = std::make_shared<Heightfield>(in.domain);
-  maps.water = std::make_shared<Heightfield>(in.domain);
-  maps.velocity = std::make_shared<Heightfield>(in.domain);
-  maps.flow = std::make_shared<Heightfield>(in.domain);
-  float fmax = 0;
-  for (std::size_t k = 0; k < n; ++k) fmax = std::max(fmax, flow_acc[k]);
-  const double lmax = std::log1p(static_cast<double>(fmax) / A * 1e3);
-  for (std::size_t k = 0; k < n; ++k) {
-    maps.out->data[k] = b[k] + s[k];  // what is still suspended settles
-    maps.water->data[k] = d[k];
-    maps.velocity->data[k] = spd[k];
-    maps.flow->data[k] = lmax > 0 ? static_cast<float>(std::log1p(static_cast<double>(flow_acc[k]) / A * 1e3) / lmax) : 0.0f;
-  }
-  fill_change_maps(in, maps, ctx);
-  return maps;
+  return run.maps(ctx);
 }
 
 }  // namespace orogen::erosion

@@ -30,102 +30,81 @@ void rows(int h, Fn&& fn) {
   });
 }
 
-}  // namespace
-
-ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, const Heightfield* uplift,
-                         const Heightfield* mask, const ExecContext* ctx, StreamPowerStats* stats,
-                         const std::vector<unsigned char>* outlets, std::shared_ptr<Heightfield>* accumulation) {
-  const int w = in.width(), h = in.height();
-  const std::size_t n = in.data.size();
-  const double dx = in.domain.spacing.x, dy = in.domain.spacing.y;
-  // Fixed base level: the given outlets, else the border. Cells under sea level join them step by step
-  // (uplift can lift the sea floor into land).
-  std::vector<unsigned char> fixed(n, 0), outlet(n, 0);
-  if (outlets) {
-    fixed = *outlets;
-  } else {
-    for (int j = 0; j < h; ++j)
-      for (int i = 0; i < w; ++i) fixed[in.index(i, j)] = i == 0 || j == 0 || i == w - 1 || j == h - 1;
-  }
-  std::vector<double> z(in.data.begin(), in.data.end()), ero(n, 0.0), dep(n, 0.0), zprev(n), ztmp(n);
-  std::vector<double> kfac(n), ufac(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    kfac[k] = mask_at(mask, k);
-    ufac[k] = fixed[k] ? 0.0 : p.uplift * (uplift ? std::max(0.0f, uplift->data[k]) : 1.0f);
-  }
-  const int steps = std::max(1, static_cast<int>(std::ceil(p.duration / p.dt - 1e-9)));
-  const double dt = p.duration / steps;
-  // Diffusion sub-steps: explicit FTCS is stable for D dt_sub (2/dx^2 + 2/dy^2) <= 1.
-  const double dt_diff_max = 0.9 / (std::max(p.diffusion, 1e-30) * (2.0 / (dx * dx) + 2.0 / (dy * dy)));
-  const int diff_steps = p.diffusion > 0 ? std::max(1, static_cast<int>(std::ceil(dt / dt_diff_max))) : 0;
-  const hydrology::FlowGrid grid = hydrology::FlowGrid::of(in.domain);
-  const bool basin_graph = p.depressions == StreamPowerParams::Depressions::BasinGraph;
-  std::vector<float> zf, zround;
-  hydrology::D8Flow flow;
-  hydrology::BasinRouting routing;
-  std::vector<std::int32_t> order;
-  std::vector<double> area;
-  std::vector<double> row_max(static_cast<std::size_t>(h)), row_sum(static_cast<std::size_t>(h));
-  std::vector<std::size_t> row_count(static_cast<std::size_t>(h));
-  StreamPowerStats st;
-  // Implicit incision of cell k towards its receiver (already at t + dt).
-  // A^m by table for areas of up to kTable whole cells (exactly count x cell area, as the unweighted
-  // accumulation gives): the same pow() values, computed once; L^n per direction.
-  constexpr int kTable = 1 << 16;
-  const double cell_area = grid.cell_area();
-  std::vector<double> area_pow(kTable);
-  for (int q = 0; q < kTable; ++q) area_pow[static_cast<std::size_t>(q)] = std::pow(q * cell_area, p.m);
-  double len_pow[8];
-  for (int q = 0; q < 8; ++q) len_pow[q] = std::pow(grid.distance(q), p.n);
-  auto incise = [&](std::int32_t k, std::int32_t rc, int direction) {
-    if (rc == k || area[k] < p.channel_area) return;
-    const double a = area[k], cells = std::nearbyint(a / cell_area);
-    const double am = cells < kTable && cells * cell_area == a ? area_pow[static_cast<std::size_t>(cells)] : std::pow(a, p.m);
-    const double f = p.k * kfac[k] * dt * am / len_pow[direction];
-    const double z0 = z[k], zr = z[rc];
-    double zn = z0;
-    if (z0 > zr && f > 0) {
-      if (p.n == 1.0) {
-        zn = (z0 + f * zr) / (1.0 + f);
-      } else {
-        // Newton on g(z) = z - z0 + f (z - zr)^n over (zr, z0], safeguarded by bisection.
-        double lo = zr, hi = z0;
-        zn = z0;
-        for (int it = 0; it < 50; ++it) {
-          const double d = zn - zr;
-          const double g = zn - z0 + f * std::pow(d, p.n);
-          if (g > 0) hi = zn; else lo = zn;
-          const double gp = 1.0 + f * p.n * std::pow(d, p.n - 1.0);
-          double next = zn - g / gp;
-          if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-          if (std::abs(next - zn) <= 1e-12 * std::max(1.0, std::abs(zn))) {
-            zn = next;
-            break;
-          }
-          zn = next;
-        }
-      }
+// The state of one run and its stages, in the order a step runs them: uplift, hillslope diffusion, routing
+// with the implicit incision (over the basin graph or a Priority-Flood fill), the change of the step; then the
+// final fill in float and the output maps.
+class StreamPowerRun {
+ public:
+  StreamPowerRun(const Heightfield& in, const StreamPowerParams& p, const Heightfield* uplift, const Heightfield* mask,
+                 const std::vector<unsigned char>* outlets)
+      : in_(in), p_(p), w_(in.width()), h_(in.height()), n_(in.data.size()), dx_(in.domain.spacing.x),
+        dy_(in.domain.spacing.y), grid_(hydrology::FlowGrid::of(in.domain)),
+        basin_graph_(p.depressions == StreamPowerParams::Depressions::BasinGraph) {
+    // Fixed base level: the given outlets, else the border. Cells under sea level join them step by step
+    // (uplift can lift the sea floor into land).
+    fixed_.assign(n_, 0);
+    outlet_.assign(n_, 0);
+    if (outlets) {
+      fixed_ = *outlets;
+    } else {
+      for (int j = 0; j < h_; ++j)
+        for (int i = 0; i < w_; ++i) fixed_[in.index(i, j)] = i == 0 || j == 0 || i == w_ - 1 || j == h_ - 1;
     }
-    ero[k] += z0 - zn;
-    z[k] = zn;
-  };
-  hydrology::Outlets outs;
-  outs.border = false;
-  outs.mask = outlet;
-  for (int s = 0; s < steps; ++s) {
-    check_cancelled(ctx);
-    rows(h, [&](int j) {
-      for (std::size_t k = static_cast<std::size_t>(j) * w, e = k + w; k < e; ++k) {
-        zprev[k] = z[k];
-        z[k] += ufac[k] * dt;
-        outlet[k] = fixed[k] || z[k] < p.sea_level;
+    z_.assign(in.data.begin(), in.data.end());
+    ero_.assign(n_, 0.0);
+    dep_.assign(n_, 0.0);
+    zprev_.resize(n_);
+    ztmp_.resize(n_);
+    kfac_.resize(n_);
+    ufac_.resize(n_);
+    for (std::size_t k = 0; k < n_; ++k) {
+      kfac_[k] = mask_at(mask, k);
+      ufac_[k] = fixed_[k] ? 0.0 : p.uplift * (uplift ? std::max(0.0f, uplift->data[k]) : 1.0f);
+    }
+    steps_ = std::max(1, static_cast<int>(std::ceil(p.duration / p.dt - 1e-9)));
+    dt_ = p.duration / steps_;
+    // Diffusion sub-steps: explicit FTCS is stable for D dt_sub (2/dx^2 + 2/dy^2) <= 1.
+    const double dt_diff_max = 0.9 / (std::max(p.diffusion, 1e-30) * (2.0 / (dx_ * dx_) + 2.0 / (dy_ * dy_)));
+    diff_steps_ = p.diffusion > 0 ? std::max(1, static_cast<int>(std::ceil(dt_ / dt_diff_max))) : 0;
+    row_max_.resize(static_cast<std::size_t>(h_));
+    row_sum_.resize(static_cast<std::size_t>(h_));
+    row_count_.resize(static_cast<std::size_t>(h_));
+    // A^m by table for areas of up to kTable whole cells (exactly count x cell area, as the unweighted
+    // accumulation gives): the same pow() values, computed once; L^n per direction.
+    cell_area_ = grid_.cell_area();
+    area_pow_.resize(kTable);
+    for (int q = 0; q < kTable; ++q) area_pow_[static_cast<std::size_t>(q)] = std::pow(q * cell_area_, p.m);
+    for (int q = 0; q < 8; ++q) len_pow_[q] = std::pow(grid_.distance(q), p.n);
+    outs_.border = false;
+    outs_.mask = outlet_;
+  }
+
+  int steps() const { return steps_; }
+
+  // Uplift of the step, and the base level after it (fixed cells and cells under sea level).
+  void uplift() {
+    rows(h_, [&](int j) {
+      for (std::size_t k = static_cast<std::size_t>(j) * w_, e = k + w_; k < e; ++k) {
+        zprev_[k] = z_[k];
+        z_[k] += ufac_[k] * dt_;
+        outlet_[k] = fixed_[k] || z_[k] < p_.sea_level;
       }
     });
-    // Hillslope diffusion, base level fixed, before the incision: the implicit sweep then cuts through
-    // whatever diffusion laid into the channels within the same step, so river profiles stay clean.
-    for (int sd = 0; sd < diff_steps; ++sd) {
-      const double c = p.diffusion * dt / diff_steps;
-      const double cx = 1.0 / (dx * dx), cy = 1.0 / (dy * dy);
+  }
+
+  // Hillslope diffusion, base level fixed, before the incision: the implicit sweep then cuts through whatever
+  // diffusion laid into the channels within the same step, so river profiles stay clean.
+  void diffuse() {
+    for (int sd = 0; sd < diff_steps_; ++sd) {
+      const double c = p_.diffusion * dt_ / diff_steps_;
+      const double cx = 1.0 / (dx_ * dx_), cy = 1.0 / (dy_ * dy_);
+      const int w = w_, h = h_;
+      std::vector<double>& z = z_;
+      std::vector<double>& ztmp = ztmp_;
+      std::vector<double>& ero = ero_;
+      std::vector<double>& dep = dep_;
+      const std::vector<double>& kfac = kfac_;
+      const std::vector<unsigned char>& outlet = outlet_;
       rows(h, [&](int j) {
         auto cell = [&](int i, std::size_t k, double zw, double ze, double zs, double zn) {
           const double zc = z[k];
@@ -148,106 +127,197 @@ ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, cons
         for (int i = 1; i < w - 1; ++i) cell(i, row + i, z[row + i - 1], z[row + i + 1], z[up + i], z[down + i]);
         cell(w - 1, row + w - 1, z[row + w - 2], z[row + w - 1], z[up + w - 1], z[down + w - 1]);
       });
-      std::swap(z, ztmp);
+      std::swap(z_, ztmp_);
     }
-    area.resize(n);
-    if (basin_graph) {
+  }
+
+  // Routing and the implicit incision from the outlets upstream (receivers are already at t + dt).
+  void route_and_incise(const ExecContext* ctx) {
+    area_.resize(n_);
+    if (basin_graph_) {
       // Local D8 over the surface as it is; only the pits' basins are rerouted over their passes (basin
       // graph), then the lakes fill with sediment to just above the pass, one outlet tree per task.
-      hydrology::route_basin_graph_fill(grid, z, outs, routing, dep, ctx);
-      hydrology::accumulate_stack(grid, routing, area);
-      const std::int32_t* rcv = routing.flow.receiver.data();
-      const std::uint8_t* dir = routing.flow.direction.data();
-      hydrology::for_each_tree(routing, [&](std::int32_t first, std::int32_t last) {
+      hydrology::route_basin_graph_fill(grid_, z_, outs_, routing_, dep_, ctx);
+      hydrology::accumulate_stack(grid_, routing_, area_);
+      const std::int32_t* rcv = routing_.flow.receiver.data();
+      const std::uint8_t* dir = routing_.flow.direction.data();
+      hydrology::for_each_tree(routing_, [&](std::int32_t first, std::int32_t last) {
         for (std::int32_t q = first; q < last; ++q) {
-          const std::int32_t k = routing.stack[static_cast<std::size_t>(q)];
+          const std::int32_t k = routing_.stack[static_cast<std::size_t>(q)];
           incise(k, rcv[k], dir[k]);
         }
       });
     } else {
       // Routing over the depression-filled surface with the hydrology core: closed depressions fill with
       // sediment (Priority-Flood+epsilon), then D8 receivers, the Braun-Willett stack and the drainage area.
-      zf.resize(n);
-      for (std::size_t k = 0; k < n; ++k) zf[k] = static_cast<float>(z[k]);
-      zround = zf;
-      hydrology::fill_depressions(grid, zf, hydrology::FlatMode::Epsilon, outs, ctx);
-      for (std::size_t k = 0; k < n; ++k)
-        if (zf[k] != zround[k]) {
-          dep[k] += static_cast<double>(zf[k]) - z[k];
-          z[k] = zf[k];
+      zf_.resize(n_);
+      for (std::size_t k = 0; k < n_; ++k) zf_[k] = static_cast<float>(z_[k]);
+      zround_ = zf_;
+      hydrology::fill_depressions(grid_, zf_, hydrology::FlatMode::Epsilon, outs_, ctx);
+      for (std::size_t k = 0; k < n_; ++k)
+        if (zf_[k] != zround_[k]) {
+          dep_[k] += static_cast<double>(zf_[k]) - z_[k];
+          z_[k] = zf_[k];
         }
-      flow = hydrology::d8_flow(grid, zf, outs, ctx);
-      order = hydrology::stack_order(grid, flow);
-      area = hydrology::accumulate_d8(grid, flow, {}, ctx);
-      // Implicit incision from the outlets upstream (receivers are already at t + dt).
-      for (const std::int32_t k : order) incise(k, flow.receiver[k], flow.direction[k]);
+      flow_ = hydrology::d8_flow(grid_, zf_, outs_, ctx);
+      order_ = hydrology::stack_order(grid_, flow_);
+      area_ = hydrology::accumulate_d8(grid_, flow_, {}, ctx);
+      for (const std::int32_t k : order_) incise(k, flow_.receiver[k], flow_.direction[k]);
     }
-    rows(h, [&](int j) {
+  }
+
+  // The step's largest and mean |dz/dt| over the cells that are not base level.
+  void measure_change(StreamPowerStats& st) {
+    rows(h_, [&](int j) {
       double mx = 0, sum = 0;
       std::size_t count = 0;
-      for (std::size_t k = static_cast<std::size_t>(j) * w, e = k + w; k < e; ++k)
-        if (!outlet[k]) {
-          const double c = std::abs(z[k] - zprev[k]) / dt;
+      for (std::size_t k = static_cast<std::size_t>(j) * w_, e = k + w_; k < e; ++k)
+        if (!outlet_[k]) {
+          const double c = std::abs(z_[k] - zprev_[k]) / dt_;
           mx = std::max(mx, c);
           sum += c;
           ++count;
         }
-      row_max[static_cast<std::size_t>(j)] = mx;
-      row_sum[static_cast<std::size_t>(j)] = sum;
-      row_count[static_cast<std::size_t>(j)] = count;
+      row_max_[static_cast<std::size_t>(j)] = mx;
+      row_sum_[static_cast<std::size_t>(j)] = sum;
+      row_count_[static_cast<std::size_t>(j)] = count;
     });
     double mx = 0, sum = 0;
     std::size_t count = 0;
-    for (int j = 0; j < h; ++j) {
-      mx = std::max(mx, row_max[static_cast<std::size_t>(j)]);
-      sum += row_sum[static_cast<std::size_t>(j)];
-      count += row_count[static_cast<std::size_t>(j)];
+    for (int j = 0; j < h_; ++j) {
+      mx = std::max(mx, row_max_[static_cast<std::size_t>(j)]);
+      sum += row_sum_[static_cast<std::size_t>(j)];
+      count += row_count_[static_cast<std::size_t>(j)];
     }
     st.max_change_last_step = mx;
     st.mean_change_last_step = count ? sum / count : 0.0;
-    report(ctx, static_cast<double>(s + 1) / steps);
   }
-  st.steps = steps;
-  if (stats) *stats = st;
+
   // The last diffusion sub-steps may leave shallow closed depressions on filled flats, and the result is
   // rounded to float: fill them in float like every step does, so the result drains (sediment settles in
   // them; recorded as deposition).
-  zf.resize(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    outlet[k] = fixed[k] || z[k] < p.sea_level;
-    zf[k] = static_cast<float>(z[k]);
-  }
-  zround = zf;
-  if (basin_graph) {
-    // Route the float surface over its passes and fill its lakes one float step above the pass.
-    hydrology::route_basin_graph_fill(grid, std::span<float>(zf), outs, routing, {}, ctx);
-  } else {
-    hydrology::fill_depressions(grid, zf, hydrology::FlatMode::Epsilon, outs, ctx);
-  }
-  for (std::size_t k = 0; k < n; ++k) {
-    if (zf[k] != zround[k]) dep[k] += static_cast<double>(zf[k]) - z[k];
-    z[k] = zf[k];
+  void settle_in_float(const ExecContext* ctx) {
+    zf_.resize(n_);
+    for (std::size_t k = 0; k < n_; ++k) {
+      outlet_[k] = fixed_[k] || z_[k] < p_.sea_level;
+      zf_[k] = static_cast<float>(z_[k]);
+    }
+    zround_ = zf_;
+    if (basin_graph_) {
+      // Route the float surface over its passes and fill its lakes one float step above the pass.
+      hydrology::route_basin_graph_fill(grid_, std::span<float>(zf_), outs_, routing_, {}, ctx);
+    } else {
+      hydrology::fill_depressions(grid_, zf_, hydrology::FlatMode::Epsilon, outs_, ctx);
+    }
+    for (std::size_t k = 0; k < n_; ++k) {
+      if (zf_[k] != zround_[k]) dep_[k] += static_cast<double>(zf_[k]) - z_[k];
+      z_[k] = zf_[k];
+    }
   }
 
-  ErosionMaps maps;
-  maps.out = std::make_shared<Heightfield>(in.domain);
-  maps.erosion = std::make_shared<Heightfield>(in.domain);
-  maps.deposition = std::make_shared<Heightfield>(in.domain);
-  maps.flow = std::make_shared<Heightfield>(in.domain);
-  double amax = dx * dy;
-  for (double a : area) amax = std::max(amax, a);
-  const double lmax = std::log(amax / (dx * dy));
-  for (std::size_t k = 0; k < n; ++k) {
-    maps.out->data[k] = static_cast<float>(z[k]);
-    maps.erosion->data[k] = static_cast<float>(ero[k]);
-    maps.deposition->data[k] = static_cast<float>(dep[k]);
-    maps.flow->data[k] = lmax > 0 && !area.empty() ? static_cast<float>(std::log(area[k] / (dx * dy)) / lmax) : 0.0f;
+  ErosionMaps maps(std::shared_ptr<Heightfield>* accumulation) const {
+    ErosionMaps maps;
+    maps.out = std::make_shared<Heightfield>(in_.domain);
+    maps.erosion = std::make_shared<Heightfield>(in_.domain);
+    maps.deposition = std::make_shared<Heightfield>(in_.domain);
+    maps.flow = std::make_shared<Heightfield>(in_.domain);
+    double amax = dx_ * dy_;
+    for (double a : area_) amax = std::max(amax, a);
+    const double lmax = std::log(amax / (dx_ * dy_));
+    for (std::size_t k = 0; k < n_; ++k) {
+      maps.out->data[k] = static_cast<float>(z_[k]);
+      maps.erosion->data[k] = static_cast<float>(ero_[k]);
+      maps.deposition->data[k] = static_cast<float>(dep_[k]);
+      maps.flow->data[k] =
+          lmax > 0 && !area_.empty() ? static_cast<float>(std::log(area_[k] / (dx_ * dy_)) / lmax) : 0.0f;
+    }
+    if (accumulation) {
+      *accumulation = std::make_shared<Heightfield>(in_.domain);
+      for (std::size_t k = 0; k < n_; ++k)
+        (*accumulation)->data[k] = static_cast<float>(area_.empty() ? dx_ * dy_ : area_[k]);
+    }
+    return maps;
   }
-  if (accumulation) {
-    *accumulation = std::make_shared<Heightfield>(in.domain);
-    for (std::size_t k = 0; k < n; ++k) (*accumulation)->data[k] = static_cast<float>(area.empty() ? dx * dy : area[k]);
+
+ private:
+  static constexpr int kTable = 1 << 16;
+
+  // Implicit incision of cell k towards its receiver rc (already at t + dt) along D8 direction `direction`.
+  void incise(std::int32_t k, std::int32_t rc, int direction) {
+    if (rc == k || area_[k] < p_.channel_area) return;
+    const double a = area_[k], cells = std::nearbyint(a / cell_area_);
+    const double am =
+        cells < kTable && cells * cell_area_ == a ? area_pow_[static_cast<std::size_t>(cells)] : std::pow(a, p_.m);
+    const double f = p_.k * kfac_[k] * dt_ * am / len_pow_[direction];
+    const double z0 = z_[k], zr = z_[rc];
+    double zn = z0;
+    if (z0 > zr && f > 0) {
+      if (p_.n == 1.0) {
+        zn = (z0 + f * zr) / (1.0 + f);
+      } else {
+        // Newton on g(z) = z - z0 + f (z - zr)^n over (zr, z0], safeguarded by bisection.
+        double lo = zr, hi = z0;
+        zn = z0;
+        for (int it = 0; it < 50; ++it) {
+          const double d = zn - zr;
+          const double g = zn - z0 + f * std::pow(d, p_.n);
+          if (g > 0) hi = zn; else lo = zn;
+          const double gp = 1.0 + f * p_.n * std::pow(d, p_.n - 1.0);
+          double next = zn - g / gp;
+          if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+          if (std::abs(next - zn) <= 1e-12 * std::max(1.0, std::abs(zn))) {
+            zn = next;
+            break;
+          }
+          zn = next;
+        }
+      }
+    }
+    ero_[k] += z0 - zn;
+    z_[k] = zn;
   }
-  return maps;
+
+  const Heightfield& in_;
+  const StreamPowerParams& p_;
+  const int w_, h_;
+  const std::size_t n_;
+  const double dx_, dy_;
+  const hydrology::FlowGrid grid_;
+  const bool basin_graph_;
+  int steps_ = 1, diff_steps_ = 0;
+  double dt_ = 0.0, cell_area_ = 0.0;
+  std::vector<unsigned char> fixed_, outlet_;
+  std::vector<double> z_, ero_, dep_, zprev_, ztmp_, kfac_, ufac_, area_;
+  std::vector<double> area_pow_;
+  double len_pow_[8];
+  std::vector<float> zf_, zround_;
+  hydrology::D8Flow flow_;
+  hydrology::BasinRouting routing_;
+  hydrology::Outlets outs_;
+  std::vector<std::int32_t> order_;
+  std::vector<double> row_max_, row_sum_;
+  std::vector<std::size_t> row_count_;
+};
+
+}  // namespace
+
+ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, const Heightfield* uplift,
+                         const Heightfield* mask, const ExecContext* ctx, StreamPowerStats* stats,
+                         const std::vector<unsigned char>* outlets, std::shared_ptr<Heightfield>* accumulation) {
+  StreamPowerRun run(in, p, uplift, mask, outlets);
+  StreamPowerStats st;
+  for (int s = 0; s < run.steps(); ++s) {
+    check_cancelled(ctx);
+    run.uplift();
+    run.diffuse();
+    run.route_and_incise(ctx);
+    run.measure_change(st);
+    report(ctx, static_cast<double>(s + 1) / run.steps());
+  }
+  st.steps = run.steps();
+  if (stats) *stats = st;
+  run.settle_in_float(ctx);
+  return run.maps(accumulation);
 }
 
 }  // namespace orogen::erosion

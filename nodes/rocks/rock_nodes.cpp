@@ -7,6 +7,7 @@
 #include "graph/mesh.h"
 #include "graph/registry.h"
 #include "nodes/rocks/hull_rock.h"
+#include "nodes/rocks/rock_set.h"
 
 namespace orogen {
 namespace {
@@ -91,31 +92,19 @@ OROGEN_NODE(RockSet) {
       "Gap between neighbouring variants in the row");
   declare_rock_params(b);
   b.execute([](ExecContext& ctx) {
-    const int count = static_cast<int>(ctx.param<std::int64_t>("count"));
-    const double variation = ctx.param<double>("variation"), spacing = ctx.param<double>("spacing");
-    const rocks::HullRockOptions base = rock_options(ctx);
+    rocks::RockSetParams p;
+    p.rock = rock_options(ctx);
+    p.count = static_cast<int>(ctx.param<std::int64_t>("count"));
+    p.variation = ctx.param<double>("variation");
+    p.spacing = ctx.param<double>("spacing");
+    p.color = color_of(ctx);
     auto mesh = std::make_shared<Mesh>();
     mesh->mesh.request_vertex_texcoords2D();
     auto placements = std::make_shared<Points>();
-    double x = 0.0;
-    for (int k = 0; k < count; ++k) {
-      ctx.check_cancelled();
-      ctx.progress(static_cast<double>(k) / count);
-      rocks::HullRockOptions o = base;
-      o.variant = static_cast<std::uint64_t>(k);
-      for (int a = 0; a < 3; ++a)
-        o.radii[a] *= 1.0 + variation * (2.0 * rocks::variant_uniform(base.seed, o.variant, a) - 1.0);
-      const double half = std::max({o.radii.x, o.radii.y, o.radii.z}) + 3.0 * o.sigma + o.displacement;
-      if (k > 0) x += half;
-      const glm::dvec3 centre(x, 0.0, 0.0);
-      try {
-        rocks::append_hull_rock(mesh->mesh, o, centre, glm::dquat(1, 0, 0, 0), color_of(ctx));
-      } catch (const std::invalid_argument& e) {
-        throw NodeError("no rock " + std::to_string(k) + ": " + e.what() + " (raise sigma or the radii)");
-      }
-      const auto i = placements->add(glm::vec3(centre), k);
-      placements->scale[i] = glm::vec3(o.radii);
-      x += half + spacing;
+    try {
+      rocks::append_rock_set(mesh->mesh, *placements, p, &ctx);
+    } catch (const std::invalid_argument& e) {
+      throw NodeError(std::string("no ") + e.what() + " (raise sigma or the radii)");
     }
     mesh->mesh.update_face_normals();
     ctx.set_output("out", std::move(mesh));

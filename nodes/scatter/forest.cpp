@@ -109,6 +109,38 @@ Heightfield shade_map(const Domain& d, const Canopy& canopy, const Heightfield* 
   return out;
 }
 
+ShadePlacementResult shade_placement(const Points& candidates, const Points& casters, const Domain& d,
+                                     const Heightfield* height, const ShadePlacementParams& p,
+                                     const ExecContext* ctx) {
+  const bool night = !(p.canopy.sun.z > 1e-6);
+  CanopyParams cp = p.canopy;
+  if (night) cp.sun = glm::dvec3(0.0, 0.0, 1.0);
+  const Canopy canopy(casters, cp);
+  ShadePlacementResult r;
+  Points& out = r.points;
+  for (const auto& [name, values] : candidates.attributes) out.attribute(name);
+  auto& shade_attr = out.attribute("shade");
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (ctx && i % 4096 == 0) ctx->check_cancelled();
+    const auto& q = candidates.position[i];
+    const bool s = night || canopy.shaded(q.x, q.y, q.z);
+    if ((p.preference == ShadePreference::Shade && !s) || (p.preference == ShadePreference::Sun && s)) continue;
+    const std::size_t k = out.add(q, candidates.class_id[i]);
+    out.rotation[k] = candidates.rotation[i];
+    out.scale[k] = candidates.scale[i];
+    for (const auto& [name, values] : candidates.attributes)
+      if (name != "shade") out.attributes[name][k] = values[i];
+    shade_attr[k] = s ? 1.0f : 0.0f;
+  }
+  if (night) {
+    r.shade = Heightfield(d);
+    std::fill(r.shade.data.begin(), r.shade.data.end(), 1.0f);
+  } else {
+    r.shade = shade_map(d, canopy, height, ctx);
+  }
+  return r;
+}
+
 namespace {
 
 struct Tree {

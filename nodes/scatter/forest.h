@@ -43,6 +43,25 @@ class Canopy {
 // Shadow map of a canopy over a domain (1 shaded, 0 lit), on the terrain `height` (or z = 0).
 Heightfield shade_map(const Domain& d, const Canopy& canopy, const Heightfield* height, const ExecContext* ctx = nullptr);
 
+enum class ShadePreference { Shade, Sun, Any };
+
+struct ShadePlacementParams {
+  CanopyParams canopy;  // canopy.sun: toward the sun; a sun at or below the horizon (z <= 1e-6) is night
+  ShadePreference preference = ShadePreference::Shade;  // which candidates are kept
+};
+
+struct ShadePlacementResult {
+  Points points;      // the kept candidates in input order, attribute "shade" (1 shaded, 0 lit)
+  Heightfield shade;  // shadow map on the domain, 1 shaded / 0 lit
+};
+
+// Shade-driven placement (Potter 2017): each candidate is shaded when the ray toward the sun meets a
+// caster's crown (every candidate at night); the kept ones carry their rotation, scale, class and attributes.
+// The shadow map lies on `d`, on the terrain `height` (or z = 0); all 1 at night.
+ShadePlacementResult shade_placement(const Points& candidates, const Points& casters, const Domain& d,
+                                     const Heightfield* height, const ShadePlacementParams& p,
+                                     const ExecContext* ctx = nullptr);
+
 struct LifeCycleParams {
   int years = 50;
   double max_age = 80.0;         // years: trees older die

@@ -52,44 +52,22 @@ OROGEN_NODE(ShadePlacement) {
     const auto in = ctx.require<Points>("in");
     const auto casters = ctx.require<Points>("casters");
     const auto height = ctx.input<Heightfield>("height");
-    CanopyParams cp;
-    cp.crown_radius = ctx.param<double>("crown_radius");
-    cp.crown_height = ctx.param<double>("crown_height");
-    bool night = false;
-    if (ctx.param<std::string>("sun") == "time") {
-      const glm::dvec3 s = climate::sun_direction(
-          ctx.param<double>("latitude"), climate::declination_for_day(static_cast<double>(ctx.param<std::int64_t>("day_of_year"))),
+    ShadePlacementParams p;
+    p.canopy.crown_radius = ctx.param<double>("crown_radius");
+    p.canopy.crown_height = ctx.param<double>("crown_height");
+    if (ctx.param<std::string>("sun") == "time")
+      p.canopy.sun = climate::sun_direction(
+          ctx.param<double>("latitude"),
+          climate::declination_for_day(static_cast<double>(ctx.param<std::int64_t>("day_of_year"))),
           ctx.param<double>("hour"));
-      night = !(s.z > 1e-6);
-      cp.sun = night ? glm::dvec3(0.0, 0.0, 1.0) : s;
-    } else {
-      cp.sun = sun_direction(ctx.param<double>("sun_azimuth"), ctx.param<double>("sun_elevation"));
-    }
-    const Canopy canopy(*casters, cp);
-    const int pref = ctx.enum_index("preference");
-    auto out = std::make_shared<Points>();
-    for (const auto& [name, values] : in->attributes) out->attribute(name);
-    auto& shade_attr = out->attribute("shade");
-    for (std::size_t i = 0; i < in->size(); ++i) {
-      if (i % 4096 == 0) ctx.check_cancelled();
-      const auto& q = in->position[i];
-      const bool s = night || canopy.shaded(q.x, q.y, q.z);
-      if ((pref == 0 && !s) || (pref == 1 && s)) continue;
-      const std::size_t k = out->add(q, in->class_id[i]);
-      out->rotation[k] = in->rotation[i];
-      out->scale[k] = in->scale[i];
-      for (const auto& [name, values] : in->attributes)
-        if (name != "shade") out->attributes[name][k] = values[i];
-      shade_attr[k] = s ? 1.0f : 0.0f;
-    }
-    ctx.set_output("out", out);
-    if (night) {
-      auto all = std::make_shared<Heightfield>(ctx.domain());
-      std::fill(all->data.begin(), all->data.end(), 1.0f);
-      ctx.set_output("shade", all);
-    } else {
-      ctx.set_output("shade", std::make_shared<Heightfield>(shade_map(ctx.domain(), canopy, height.get(), &ctx)));
-    }
+    else
+      p.canopy.sun = sun_direction(ctx.param<double>("sun_azimuth"), ctx.param<double>("sun_elevation"));
+    static constexpr ShadePreference kPreferences[] = {ShadePreference::Shade, ShadePreference::Sun,
+                                                       ShadePreference::Any};
+    p.preference = kPreferences[ctx.enum_index("preference")];
+    ShadePlacementResult r = shade_placement(*in, *casters, ctx.domain(), height.get(), p, &ctx);
+    ctx.set_output("out", std::make_shared<Points>(std::move(r.points)));
+    ctx.set_output("shade", std::make_shared<Heightfield>(std::move(r.shade)));
   });
 }
 

@@ -14,6 +14,8 @@
 #include "graph/registry.h"
 #include "nodes/io/write_output.h"
 #include "nodes/scatter/instance.h"
+#include "nodes/scatter/merge_points.h"
+#include "nodes/scatter/project_to_terrain.h"
 #include "nodes/scatter/scene_gltf.h"
 
 namespace orogen {
@@ -105,29 +107,11 @@ OROGEN_NODE(ProjectToTerrain) {
   b.param_float("align", 0.0).range(0.0, 1.0).unit("").description(
       "0: keep the rotation (upright); 1: the point's up axis follows the terrain normal; between: blended");
   b.execute([](ExecContext& ctx) {
-    const auto in = ctx.require<Points>("in");
-    const auto h = ctx.require<Heightfield>("height");
-    const double offset = ctx.param<double>("offset");
-    const double align = ctx.param<double>("align");
-    auto out = std::make_shared<Points>(*in);
-    const auto sp = h->domain.spacing;
-    for (std::size_t i = 0; i < out->size(); ++i) {
-      if (i % 65536 == 0) ctx.check_cancelled();
-      auto& p = out->position[i];
-      const double z = h->sample_world(p.x, p.y);
-      p.z = std::isfinite(z) ? static_cast<float>(z + offset) : p.z;
-      if (align > 0.0) {
-        const double gx = (h->sample_world(p.x + sp.x, p.y) - h->sample_world(p.x - sp.x, p.y)) / (2.0 * sp.x);
-        const double gy = (h->sample_world(p.x, p.y + sp.y) - h->sample_world(p.x, p.y - sp.y)) / (2.0 * sp.y);
-        glm::dvec3 n(-gx, -gy, 1.0);
-        if (!std::isfinite(n.x) || !std::isfinite(n.y)) continue;
-        n = glm::normalize(n);
-        const glm::dquat tilt = glm::rotation(glm::dvec3(0, 0, 1), n);
-        const glm::dquat blended = glm::slerp(glm::dquat(1, 0, 0, 0), tilt, align);
-        out->rotation[i] = glm::quat(glm::normalize(blended * glm::dquat(out->rotation[i])));
-      }
-    }
-    ctx.set_output("out", out);
+    ProjectParams p;
+    p.offset = ctx.param<double>("offset");
+    p.align = ctx.param<double>("align");
+    ctx.set_output("out", std::make_shared<Points>(project_to_terrain(*ctx.require<Points>("in"),
+                                                                      *ctx.require<Heightfield>("height"), p, &ctx)));
   });
 }
 
@@ -141,24 +125,13 @@ OROGEN_NODE(MergePoints) {
   b.input("d", PortType::Points).optional().description("Fourth points");
   b.output("out", PortType::Points).description("All the points, in input order");
   b.execute([](ExecContext& ctx) {
-    auto out = std::make_shared<Points>();
+    std::vector<PointsPtr> inputs;  // keeps the sets alive while merging
+    std::vector<const Points*> sets;
     for (const char* name : {"a", "b", "c", "d"}) {
-      const auto in = ctx.input<Points>(name);
-      if (!in) continue;
-      const std::size_t base = out->size();
-      out->position.insert(out->position.end(), in->position.begin(), in->position.end());
-      out->rotation.insert(out->rotation.end(), in->rotation.begin(), in->rotation.end());
-      out->scale.insert(out->scale.end(), in->scale.begin(), in->scale.end());
-      out->class_id.insert(out->class_id.end(), in->class_id.begin(), in->class_id.end());
-      for (auto& [attr, values] : out->attributes) values.resize(out->size(), 0.0f);
-      for (const auto& [attr, values] : in->attributes) {
-        auto& dst = out->attributes[attr];
-        dst.resize(base, 0.0f);
-        dst.insert(dst.end(), values.begin(), values.end());
-      }
+      inputs.push_back(ctx.input<Points>(name));
+      sets.push_back(inputs.back().get());
     }
-    for (auto& [attr, values] : out->attributes) values.resize(out->size(), 0.0f);
-    ctx.set_output("out", out);
+    ctx.set_output("out", std::make_shared<Points>(merge_points(sets)));
   });
 }
 

@@ -1,4 +1,6 @@
-// ColorByLayers: a colour map from splat weights and per-layer colours.
+// ColorByLayers: a color map from splat weights and per-layer colors.
+#include "nodes/texture/color_layers.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -16,11 +18,6 @@ namespace orogen::texture {
 namespace {
 
 float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
-
-struct NamedColor {
-  std::string name;
-  glm::vec4 color;
-};
 
 // "name #rrggbb" entries separated by newlines or commas.
 std::vector<NamedColor> parse_colors(const std::string& text) {
@@ -46,6 +43,48 @@ std::vector<NamedColor> parse_colors(const std::string& text) {
 
 }  // namespace
 
+std::vector<glm::vec4> layer_colors(const std::vector<std::string>& channel_names, int channels,
+                                    const std::vector<NamedColor>& named) {
+  std::vector<glm::vec4> colors;
+  for (int c = 0; c < channels; ++c) {
+    glm::vec4 col = climate::categorical_color(c);
+    if (static_cast<std::size_t>(c) < channel_names.size())
+      for (const auto& nc : named)
+        if (nc.name == channel_names[static_cast<std::size_t>(c)]) col = nc.color;
+    colors.push_back(col);
+  }
+  return colors;
+}
+
+std::shared_ptr<Image> color_by_layers(const Image& w, const Heightfield* shade, const ColorByLayersParams& p,
+                                       const ExecContext* ctx) {
+  if (shade && shade->domain.resolution != w.domain.resolution)
+    throw NodeError("shade: resolution differs from the weights'");
+  const std::vector<glm::vec4> colors = layer_colors(w.channel_names, w.channels, p.colors);
+  const double strength = p.shade_strength;
+  auto out = std::make_shared<Image>(w.domain, 4);
+  out->channel_names = {"R", "G", "B", "A"};
+  for_each_row(ctx, w.height(), [&](int j) {
+    for (int i = 0; i < w.width(); ++i) {
+      const float* px = w.pixel(i, j);
+      glm::vec4 sum(0.0f);
+      for (int c = 0; c < w.channels; ++c)
+        sum += (std::isfinite(px[c]) ? px[c] : 0.0f) * colors[static_cast<std::size_t>(c)];
+      float s = 1.0f;
+      if (shade) {
+        const float v = shade->at(i, j);
+        s = static_cast<float>(1.0 - strength + strength * (std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 1.0f));
+      }
+      float* o = out->pixel(i, j);
+      o[0] = sum.r * s;
+      o[1] = sum.g * s;
+      o[2] = sum.b * s;
+      o[3] = 1.0f;
+    }
+  });
+  return out;
+}
+
 OROGEN_NODE(ColorByLayers) {
   b.reach_pointwise();
   b.category("texture").description(
@@ -60,39 +99,11 @@ OROGEN_NODE(ColorByLayers) {
       .description("Layer colors, 'name #rrggbb' (sRGB) separated by newlines or commas");
   b.param_float("shade_strength", 1.0).range(0.0, 1.0).description("How much of the shade applies, 0..1 (0: none)");
   b.execute([](ExecContext& ctx) {
-    const auto w = ctx.require<Image>("in");
     const auto shade = ctx.input<Heightfield>("shade");
-    if (shade && shade->domain.resolution != w->domain.resolution) throw NodeError("shade: resolution differs from the weights'");
-    const auto named = parse_colors(ctx.param<std::string>("colors"));
-    std::vector<glm::vec4> colors;
-    for (int c = 0; c < w->channels; ++c) {
-      glm::vec4 col = climate::categorical_color(c);
-      if (static_cast<std::size_t>(c) < w->channel_names.size())
-        for (const auto& nc : named)
-          if (nc.name == w->channel_names[static_cast<std::size_t>(c)]) col = nc.color;
-      colors.push_back(col);
-    }
-    const double strength = ctx.param<double>("shade_strength");
-    auto out = std::make_shared<Image>(w->domain, 4);
-    out->channel_names = {"R", "G", "B", "A"};
-    for_each_row(&ctx, w->height(), [&](int j) {
-      for (int i = 0; i < w->width(); ++i) {
-        const float* px = w->pixel(i, j);
-        glm::vec4 sum(0.0f);
-        for (int c = 0; c < w->channels; ++c) sum += (std::isfinite(px[c]) ? px[c] : 0.0f) * colors[static_cast<std::size_t>(c)];
-        float s = 1.0f;
-        if (shade) {
-          const float v = shade->at(i, j);
-          s = static_cast<float>(1.0 - strength + strength * (std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 1.0f));
-        }
-        float* o = out->pixel(i, j);
-        o[0] = sum.r * s;
-        o[1] = sum.g * s;
-        o[2] = sum.b * s;
-        o[3] = 1.0f;
-      }
-    });
-    ctx.set_output("out", out);
+    ColorByLayersParams p;
+    p.colors = parse_colors(ctx.param<std::string>("colors"));
+    p.shade_strength = ctx.param<double>("shade_strength");
+    ctx.set_output("out", color_by_layers(*ctx.require<Image>("in"), shade.get(), p, &ctx));
   });
 }
 

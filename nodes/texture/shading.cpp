@@ -94,6 +94,19 @@ std::shared_ptr<Heightfield> hillshade(const Heightfield& z, double azimuth_deg,
   return out;
 }
 
+std::shared_ptr<Image> gray_image(const Heightfield& value, const ExecContext* ctx) {
+  auto img = std::make_shared<Image>(value.domain, 4, 1.0f);
+  img->channel_names = {"R", "G", "B", "A"};
+  const int W = value.width();
+  for_each_row(ctx, value.height(), [&](int j) {
+    for (int i = 0; i < W; ++i) {
+      float* px = img->pixel(i, j);
+      px[0] = px[1] = px[2] = value.at(i, j);
+    }
+  });
+  return img;
+}
+
 OROGEN_NODE(AmbientOcclusion) {
   b.reach([](const ParamView& p) { return Reach::local(p.get<double>("radius"), 2); }, "local: radius + 2 samples");
   b.category("texture").description(
@@ -145,12 +158,8 @@ OROGEN_NODE(Hillshade) {
   b.execute([](ExecContext& ctx) {
     auto h = hillshade(*ctx.require<Heightfield>("in"), ctx.param<double>("azimuth"), ctx.param<double>("altitude"),
                        ctx.param<double>("z_factor"), &ctx);
-    auto img = std::make_shared<Image>(h->domain, 4, 1.0f);
-    img->channel_names = {"R", "G", "B", "A"};
-    for (std::size_t q = 0; q < h->data.size(); ++q)
-      for (int c = 0; c < 3; ++c) img->data[q * 4 + static_cast<std::size_t>(c)] = h->data[q];
+    ctx.set_output("image", gray_image(*h, &ctx));
     ctx.set_output("out", h);
-    ctx.set_output("image", img);
   });
 }
 

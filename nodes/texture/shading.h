@@ -25,4 +25,7 @@ HorizonMaps horizon_maps(const Heightfield& z, double radius, int directions, co
 std::shared_ptr<Heightfield> hillshade(const Heightfield& z, double azimuth_deg, double altitude_deg, double z_factor,
                                        const ExecContext* ctx = nullptr);
 
+// A field in [0, 1] as a gray linear RGBA image on its domain: R = G = B = the value, A = 1.
+std::shared_ptr<Image> gray_image(const Heightfield& value, const ExecContext* ctx = nullptr);
+
 }  // namespace orogen::texture
