@@ -343,15 +343,15 @@ std::size_t count_ours(const fs::path& dir) {
 
 TEST(TemporaryLocks, LiveOwnersTemporaryIsKeptAndDeadOnesRemoved) {
   const auto dir = scratch_dir("temporary-locks");
+  std::string why;
+  const pid_t holder = hold_temporary(dir, false, why);
+  ASSERT_GT(holder, 0) << why;
+  ASSERT_TRUE(wait_for(dir / "ready"));
   // Names of earlier versions, and temporaries whose lock is gone: nobody holds them.
   write_text(dir / ".orogen-tmp-999999999-0.exr", "stale");
   write_text(dir / ".orogen-tmp-0123456789abcdef-7.png", "stale");
   write_text(dir / ".orogen-lck-0123456789abcdef-8", "");
   write_text(dir / ".tmp-1-0.exr", "not ours");
-  std::string why;
-  const pid_t holder = hold_temporary(dir, false, why);
-  ASSERT_GT(holder, 0) << why;
-  ASSERT_TRUE(wait_for(dir / "ready"));
   EXPECT_EQ(count_ours(dir), 5u);  // three stale ones, the holder's temporary and its lock
   EXPECT_EQ(remove_stale_temporaries(dir), 2u);
   EXPECT_EQ(count_ours(dir), 2u) << "the live process's temporary or lock was removed";
