@@ -31,10 +31,11 @@ void write_node_files(ExecContext& ctx, const std::vector<NodeOutputFile>& files
   std::vector<std::string> temporaries(files.size());
   std::string failing = files.empty() ? std::string() : files.back().target.string();
   try {
-    // Every file is checked before any is written: a side file never goes where its main file may not.
-    for (const auto& f : files) {
-      failing = f.target.string();
-      prepare_output_directory(ctx.output_policy(), f.target);
+    // Every file is checked before any is written: a side file never goes where its main file may not. The
+    // main file comes last (files are renamed after what they name), and is checked first to be the one named.
+    for (auto f = files.rbegin(); f != files.rend(); ++f) {
+      failing = f->target.string();
+      prepare_output_directory(ctx.output_policy(), f->target);
     }
     std::vector<AtomicWrite> writes;
     for (std::size_t k = 0; k < files.size(); ++k)
