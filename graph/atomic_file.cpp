@@ -106,7 +106,8 @@ void write_files_atomically(const std::vector<AtomicWrite>& files) {
       Pending p;
       p.target = f.path;
       p.lock = std::make_unique<TemporaryLock>(f.path.parent_path());
-      p.temporary = f.path.parent_path() / (std::string(kTemporaryPrefix) + p.lock->tag() + temporary_extension(f.path));
+      const std::string name = std::string(kTemporaryPrefix) + p.lock->tag() + temporary_extension(f.path);
+      p.temporary = f.path.parent_path() / name;
       pending.push_back(std::move(p));
       f.write(pending.back().temporary);
       sync_temporary(pending.back());

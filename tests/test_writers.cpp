@@ -135,7 +135,8 @@ std::map<fs::path, std::string> files_under(const fs::path& dir) {
   std::map<fs::path, std::string> files;
   if (!fs::exists(dir)) return files;
   for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file() || e.is_symlink()) files[fs::relative(e.path(), dir)] = e.is_regular_file() ? read_text(e.path()) : "";
+    if (e.is_regular_file() || e.is_symlink())
+      files[fs::relative(e.path(), dir)] = e.is_regular_file() ? read_text(e.path()) : "";
   return files;
 }
 
@@ -395,7 +396,8 @@ TEST(TemporaryLocks, SweepFromAnotherPidNamespaceKeepsAnInFlightTemporary) {
   write_text(dir / "g.json", R"({ "format": "orogen-graph", "version": 1,
     "domain": { "size": [100, 100], "resolution": [16, 16] },
     "nodes": [ { "id": "flat", "type": "Constant" },
-               { "id": "save", "type": "WriteHeightfield", "inputs": { "in": "flat.out" }, "params": { "path": "h.exr" } } ] })");
+               { "id": "save", "type": "WriteHeightfield", "inputs": { "in": "flat.out" },
+                 "params": { "path": "h.exr" } } ] })");
   const auto r = run_process("/usr/bin/unshare", {"-p", "-f", "--mount-proc", cli_binary().string(), "eval",
                                                   (dir / "g.json").string(), "-o", out.string(), "-q"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
