@@ -15,8 +15,11 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <functional>
 #include <map>
+#include <new>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -29,6 +32,7 @@
 #include "graph/heightfield.h"
 #include "graph/node_type.h"
 #include "graph/registry.h"
+#include "nodes/io/write_output.h"
 #include "support/run_process.h"
 #include "support/test_paths.h"
 
@@ -270,6 +274,38 @@ TEST(WriterNodes, FullDiskKeepsThePreviousFiles) {
       EXPECT_EQ(files_under(out), before) << "a previous file changed";
       EXPECT_TRUE(our_temporaries(mnt).empty());
     }
+  }
+}
+
+// Whatever a writer throws (std::bad_alloc inside tinygltf on a huge scene, a library's own exception type,
+// anything), the node fails with a NodeError naming the file and the previous file stays: never terminate.
+TEST(WriterNodes, AnyExceptionInsideAWriterBecomesTheNodesError) {
+  const NodeType* type = NodeRegistry::instance().find("WriteMesh");
+  ASSERT_NE(type, nullptr);
+  const auto out = scratch_dir("writer-exceptions");
+  write_text(out / "x.obj", "previous");
+  std::vector<ParamValue> params;
+  for (const auto& p : type->params)
+    params.push_back(p.name == "path" ? ParamValue(std::string("x.obj")) : p.default_value);
+  ExecContext ctx(*type, "save", small_domain(), std::vector<PortValue>(type->inputs.size()), params);
+  ctx.set_output_policy(OutputPolicy{out, false});
+  const std::vector<std::function<void()>> failures = {
+      [] { throw std::bad_alloc(); },
+      [] { throw std::length_error("vector::reserve"); },
+      [] { throw 42; },
+  };
+  for (const auto& fail : failures) {
+    try {
+      write_node_output(ctx, "path", [&](const fs::path& temporary, const WriteProgress&) {
+        write_text(temporary, "partial");
+        fail();
+      });
+      ADD_FAILURE() << "no error";
+    } catch (const NodeError& e) {
+      EXPECT_NE(std::string(e.what()).find("x.obj"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(read_text(out / "x.obj"), "previous");
+    EXPECT_TRUE(our_temporaries(out).empty());
   }
 }
 
