@@ -123,11 +123,16 @@ std::optional<glm::ivec2> resolution_for(const std::string& text, glm::dvec2 siz
 
 namespace {
 
-// The normalized absolute form of a path, to tell whether two paths name one file.
+// What a path designates on the real file system, to tell whether two paths name one file: its directory with
+// every symbolic link resolved (as far as it exists; "out/same -> ." makes "out/same/a" and "out/a" one file)
+// plus its name. The name itself is not resolved: writers rename over it, replacing a link, not its target.
 std::string file_identity(const std::filesystem::path& p) {
+  namespace fs = std::filesystem;
   std::error_code ec;
-  const auto absolute = std::filesystem::absolute(p, ec);
-  return (ec ? p : absolute).lexically_normal().generic_string();
+  const fs::path absolute = fs::absolute(p, ec).lexically_normal();
+  if (ec) return p.lexically_normal().generic_string();
+  const fs::path dir = fs::weakly_canonical(absolute.parent_path(), ec);
+  return ((ec ? absolute.parent_path() : dir) / absolute.filename()).generic_string();
 }
 
 // Every output file of the graph's writers: identity -> "node.param", with the refused ones in `errors`.

@@ -10,6 +10,7 @@
 #include <glm/common.hpp>
 
 #include "cli/graph_overrides.h"
+#include "nodes/io/file_extension.h"
 
 namespace orogen::cli {
 
@@ -283,8 +284,7 @@ std::vector<std::string> seam_warnings(const Graph& graph, GlobalNodes global) {
     const auto* range = std::get_if<std::string>(&graph.param(node.id, "range"));
     const auto* path = std::get_if<std::string>(&graph.param(node.id, "path"));
     if (!range || !path || *range != "auto") continue;
-    std::string ext = std::filesystem::path(*path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    const std::string ext = lower_extension(*path);
     if (ext == ".png" || ext == ".raw" || ext == ".r16") ranged.push_back("'" + node.id + "'");
   }
   if (!ranged.empty())

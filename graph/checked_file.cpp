@@ -174,4 +174,10 @@ void CheckedOStream::finish() {
   buffer_->file.finish();
 }
 
+void write_text_file(const std::filesystem::path& path, std::string_view text) {
+  CheckedFile out(path);
+  out.write(text.data(), text.size());
+  out.finish();
+}
+
 }  // namespace orogen

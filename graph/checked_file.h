@@ -15,6 +15,7 @@
 #include <ostream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace orogen {
 
@@ -68,6 +69,9 @@ class CheckedOStream : public std::ostream {
   struct Buffer;
   std::unique_ptr<Buffer> buffer_;
 };
+
+// Creates `path` (which must not exist) holding `text`, every write checked and synced; throws WriteError.
+void write_text_file(const std::filesystem::path& path, std::string_view text);
 
 // Test hook: the next `bytes` bytes written through CheckedFile succeed, later writes fail with ENOSPC.
 // A negative value turns the fault off.

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "graph/file_text.h"
 #include "graph/output_path.h"
 
 namespace orogen {
@@ -95,8 +96,9 @@ std::string ParamDecl::check(const ParamValue& v) const {
       }
       return {};
     }
-    case ParamType::Bool:
     case ParamType::String:
+      return file_text ? check_file_text(std::get<std::string>(v)) : std::string();
+    case ParamType::Bool:
     case ParamType::Seed: return {};
   }
   return {};
@@ -176,6 +178,10 @@ NodeBuilder::Param& NodeBuilder::Param::extensions(std::vector<std::string> exts
 }
 NodeBuilder::Param& NodeBuilder::Param::output_file(bool value) {
   decl().output_file = value;
+  return *this;
+}
+NodeBuilder::Param& NodeBuilder::Param::file_text(bool value) {
+  decl().file_text = value;
   return *this;
 }
 

@@ -52,6 +52,7 @@ struct ParamDecl {
   std::vector<std::string> choices;  // Enum: allowed values
   bool output_file = false;          // Path: a file this node writes (resolved inside the output directory)
   std::vector<std::string> extensions;  // Path: accepted file extensions, e.g. {".exr", ".png"}
+  bool file_text = false;            // String: written into an output file, so one printable line
 
   // Empty if `v` is a valid value for this parameter, else why not.
   std::string check(const ParamValue& v) const;
@@ -167,6 +168,7 @@ class NodeBuilder {
     Param& description(std::string text);
     Param& extensions(std::vector<std::string> exts);
     Param& output_file(bool value = true);
+    Param& file_text(bool value = true);
    private:
     ParamDecl& decl();
     NodeType& type_;

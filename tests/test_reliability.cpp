@@ -33,6 +33,7 @@
 #include "graph/heightfield.h"
 #include "graph/output_path.h"
 #include "graph/param_value.h"
+#include "graph/temporary_lock.h"
 #include "nodes/field/bicubic.h"
 #include "support/run_process.h"
 #include "support/test_paths.h"
@@ -509,7 +510,10 @@ TEST(StaleTemporaries, NextRunRemovesOnlyDeadProcessesTemporaries) {
   const auto dir = scratch_dir("stale-temps");
   const auto out = dir / "out", cache = dir / "cache";
   const std::string dead = ".orogen-tmp-" + std::to_string(dead_pid()) + "-0";
-  const std::string live = ".orogen-tmp-" + std::to_string(::getpid()) + "-0.exr";
+  // A temporary in use is one whose lock a live process (here: this one) holds.
+  fs::create_directories(out);
+  const TemporaryLock lock(out);
+  const std::string live = ".orogen-tmp-" + lock.tag() + ".exr";
   write_text(out / (dead + ".exr"), "stale");
   write_text(out / "deep" / "er" / (dead + ".png"), "stale");
   write_text(out / live, "in use");

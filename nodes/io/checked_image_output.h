@@ -56,7 +56,8 @@ inline std::unique_ptr<OIIO::ImageOutput> create_checked_output(const std::files
   }
   out->set_ioproxy(&proxy);
   if (!out->open(proxy.filename(), spec)) {
-    error = out->geterror();
+    // A plugin that writes its header on open reports "could not open" for a full disk: give the reason.
+    error = proxy.file().ok() ? out->geterror() : proxy.file().error();
     return nullptr;
   }
   return out;

@@ -1,4 +1,5 @@
 #include "nodes/io/curves_file.h"
+#include "nodes/io/file_extension.h"
 
 #include <algorithm>
 #include <cctype>
@@ -12,12 +13,6 @@
 
 namespace orogen {
 namespace {
-
-std::string lower_extension(const std::filesystem::path& p) {
-  std::string e = p.extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return e;
-}
 
 void put(std::string& s, float v) {
   char buf[32];

@@ -1,12 +1,11 @@
 // glTF 2.0 (Khronos 2017) through tinygltf (Debian libtinygltf-dev): one mesh, one node, vertex colors,
 // normals and texture coordinates, 32-bit indices; .gltf with the buffer embedded as a data URI or binary .glb.
 #include <cstring>
-#include <sstream>
 
 #include <tiny_gltf.h>
 
-#include "graph/checked_file.h"
 #include "graph/mesh.h"
+#include "nodes/io/gltf_bytes.h"
 #include "nodes/io/mesh_file.h"
 
 namespace orogen {
@@ -40,7 +39,7 @@ int add_accessor(tinygltf::Model& m, int view, int component, int type, std::siz
 }  // namespace
 
 void write_gltf_file(const Mesh& mesh, const std::filesystem::path& path, bool binary, bool normals, bool colors,
-                     bool uvs) {
+                     bool uvs, const std::string& name) {
   const TriMesh& src = mesh.mesh;
   const std::size_t nv = src.n_vertices();
   std::vector<float> position, normal, color, texcoord;
@@ -104,7 +103,7 @@ void write_gltf_file(const Mesh& mesh, const std::filesystem::path& path, bool b
   m.materials.push_back(mat);
   prim.material = 0;
   tinygltf::Mesh gm;
-  gm.name = path.stem().string();
+  gm.name = name;  // from the graph: the file's own name is a temporary one
   gm.primitives.push_back(prim);
   m.meshes.push_back(gm);
   tinygltf::Node node;
@@ -115,20 +114,7 @@ void write_gltf_file(const Mesh& mesh, const std::filesystem::path& path, bool b
   m.scenes.push_back(scene);
   m.defaultScene = 0;
 
-  std::ostringstream bytes;
-  tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToStream(&m, bytes, !binary, binary))
-    throw FileError("cannot write '" + path.string() + "' (glTF serialisation failed)");
-  try {
-    CheckedOStream out(path);
-    const std::string s = bytes.str();
-    out.write(s.data(), static_cast<std::streamsize>(s.size()));
-    out.flush();
-    if (!out.file().ok()) throw FileError(out.file().error());
-    out.finish();
-  } catch (const WriteError& e) {
-    throw FileError(e.what());
-  }
+  write_gltf_model(m, path, binary);
 }
 
 }  // namespace orogen

@@ -1,4 +1,5 @@
 #include "nodes/io/heightfield_file.h"
+#include "nodes/io/file_extension.h"
 #include "nodes/io/file_timestamp.h"
 
 #include <algorithm>
@@ -21,12 +22,6 @@ namespace orogen {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string lower_extension(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
 
 // Shortest text that reads back as the same double.
 std::string exact_number(double v) {

@@ -1,4 +1,5 @@
 #include "nodes/io/image_file.h"
+#include "nodes/io/file_extension.h"
 #include "nodes/io/file_timestamp.h"
 
 #include <algorithm>
@@ -113,8 +114,7 @@ double srgb_to_linear(double v) {
 }
 
 std::optional<ImageFormat> image_format_from_path(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string ext = lower_extension(path);
   if (ext == ".png") return ImageFormat::Png8;
   if (ext == ".exr") return ImageFormat::Exr;
   if (ext == ".tif" || ext == ".tiff") return ImageFormat::Tiff;

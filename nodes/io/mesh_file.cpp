@@ -3,6 +3,7 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include "nodes/io/mesh_file.h"
+#include "nodes/io/file_extension.h"
 
 #include <algorithm>
 #include <charconv>
@@ -11,6 +12,7 @@
 #include <string>
 
 #include "graph/checked_file.h"
+#include "graph/file_text.h"
 #include "graph/mesh.h"
 #include "nodes/io/image_file.h"
 
@@ -20,8 +22,7 @@
 namespace orogen {
 
 std::optional<MeshFormat> mesh_format_from_path(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string ext = lower_extension(path);
   if (ext == ".obj") return MeshFormat::Obj;
   if (ext == ".ply") return MeshFormat::Ply;
   if (ext == ".stl") return MeshFormat::Stl;
@@ -126,6 +127,7 @@ void write_obj(const TriMesh& m, const std::filesystem::path& path, const MeshWr
 }  // namespace
 
 std::string material_library_text(const std::string& texture) {
+  if (auto why = check_file_text(texture); !why.empty()) throw FileError("texture '" + texture + "' " + why);
   std::string s =
       "# Orogen terrain material\n"
       "newmtl terrain\n"
@@ -149,7 +151,8 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
   (void)quiet;
   if (mesh.face_count() == 0) throw FileError("cannot write '" + path.string() + "': the mesh has no faces");
   if (format == MeshFormat::Gltf || format == MeshFormat::Glb)
-    return write_gltf_file(mesh, path, format == MeshFormat::Glb, options.normals, options.colors, options.uvs);
+    return write_gltf_file(mesh, path, format == MeshFormat::Glb, options.normals, options.colors, options.uvs,
+                           options.name);
   // A copy in file conventions: axes, and colors as 8-bit viewers expect them (sRGB, clamped to 0..1,
   // which also keeps OpenMesh's float-to-byte conversion in range).
   // Texture coordinates from the footprint, before any change of axes.
@@ -208,8 +211,8 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
   } catch (const WriteError& e) {
     throw FileError(e.what());
   }
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  // OpenMesh picks its writer by this name: from the format decided once, never from the file's spelling.
+  const char* ext = format == MeshFormat::Ply ? ".ply" : ".stl";
   const bool written = OpenMesh::IO::write_mesh(out, *stream, ext, opt, 9);
   if (!stream->file().ok()) throw FileError(stream->file().error());
   if (!written) throw FileError("cannot write '" + path.string() + "' (OpenMesh could not write the mesh)");

@@ -30,10 +30,14 @@ struct MeshWriteOptions {
   // OBJ: the material library named by "mtllib" and the material used by every face ("usemtl terrain");
   // empty: none. write_material_file writes the library.
   std::string material_library;
+  // glTF: the name of the mesh in the file (WriteMesh gives its node id), so identical runs write identical
+  // bytes whatever the temporary file is called.
+  std::string name = "mesh";
 };
 
 // The material library of an OBJ: material "terrain", white diffuse, no specular, with `texture` (a path
-// relative to the library, as OBJ readers resolve it) as its diffuse map (map_Kd). Text.
+// relative to the library, as OBJ readers resolve it) as its diffuse map (map_Kd). Text. Throws FileError if
+// `texture` is not one printable line (a newline would add directives to the library).
 std::string material_library_text(const std::string& texture);
 
 // Writes `mesh` to `path` in `format` (OpenMesh picks the writer by extension, so it must match). Not atomic
@@ -45,6 +49,6 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
 // normals, linear vertex colors (COLOR_0) and the mesh's own texture coordinates (TEXCOORD_0), 32-bit
 // indices, one rough non-metallic material. Throws FileError.
 void write_gltf_file(const Mesh& mesh, const std::filesystem::path& path, bool binary, bool normals, bool colors,
-                     bool uvs);
+                     bool uvs, const std::string& name);
 
 }  // namespace orogen

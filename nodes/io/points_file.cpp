@@ -1,4 +1,5 @@
 #include "nodes/io/points_file.h"
+#include "nodes/io/file_extension.h"
 
 #include <algorithm>
 #include <array>
@@ -51,8 +52,7 @@ void check_names(const Points& points, PointsFormat format, const fs::path& path
 }  // namespace
 
 std::optional<PointsFormat> points_format_from_path(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string ext = lower_extension(path);
   if (ext == ".csv") return PointsFormat::Csv;
   if (ext == ".ply") return PointsFormat::Ply;
   return std::nullopt;

@@ -1,5 +1,5 @@
 // WriteMesh: a mesh to OBJ, PLY or STL, atomically.
-#include "graph/atomic_file.h"
+#include "graph/checked_file.h"
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
 #include "graph/registry.h"
@@ -32,10 +32,10 @@ OROGEN_NODE(WriteMesh) {
       "OBJ: per-vertex texture coordinates: the mesh's own when it has them (TreeMesh, HullRock), else the xy "
       "footprint mapped onto 0..1 (u east, v north), so an image of "
       "the same domain drapes over the terrain");
-  b.param_string("texture", "").description(
+  b.param_string("texture", "").file_text().description(
       "OBJ: the color image to drape, as a path relative to the OBJ file (e.g. color.png when WriteImage "
       "writes it beside the mesh); written as map_Kd into <name>.mtl beside the OBJ, which the OBJ names with "
-      "mtllib. Empty: no material file");
+      "mtllib. One printable line (no control characters). Empty: no material file");
   b.param_float("base_depth", 0.0).range(0.0, 1e6).soft_range(0.0, 500.0).unit("m").description(
       "Closes the mesh into a solid (every edge shared by two faces) for 3D printing: walls down from the open "
       "border to this many metres below the lowest vertex and a flat bottom. 0: the open surface");
@@ -54,22 +54,30 @@ OROGEN_NODE(WriteMesh) {
     const double base_depth = ctx.param<double>("base_depth");
     MeshPtr solid = mesh;
     if (base_depth > 0.0) solid = std::make_shared<const Mesh>(mesh_with_base(*mesh, base_depth));
+    options.name = ctx.node_id();
+    const std::filesystem::path target = ctx.output_path("path");  // NodeError if the path rule refuses it
+    std::vector<NodeOutputFile> files;
     if (*format == MeshFormat::Obj && !texture.empty()) {
-      // The material library beside the OBJ, written first so the OBJ never names a missing file.
-      std::filesystem::path library = ctx.output_path("path");
+      // The material library beside the OBJ: checked like the OBJ and renamed before it, so the OBJ never
+      // names a missing file.
+      std::filesystem::path library = target;
       library.replace_extension(".mtl");
       options.material_library = library.filename().string();
+      std::string text;
       try {
-        write_text_atomically(library, material_library_text(texture));
-      } catch (const std::exception& e) {
-        throw NodeError("cannot write '" + library.string() + "': " + e.what());
+        text = material_library_text(texture);
+      } catch (const FileError& e) {
+        throw NodeError(std::string("parameter 'texture': ") + e.what());
       }
-      ctx.record_written_file(library);
+      files.push_back({library, [text](const std::filesystem::path& temporary, const WriteProgress&) {
+                         write_text_file(temporary, text);
+                       }});
     }
-    write_node_output(ctx, "path", [&](const std::filesystem::path& temporary, const WriteProgress& progress) {
-      write_mesh_file(*solid, temporary, *format, options);
-      if (progress) progress(1.0);
-    });
+    files.push_back({target, [&](const std::filesystem::path& temporary, const WriteProgress& progress) {
+                       write_mesh_file(*solid, temporary, *format, options);
+                       if (progress) progress(1.0);
+                     }});
+    write_node_files(ctx, files);
   });
 }
 

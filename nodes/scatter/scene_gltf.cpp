@@ -6,6 +6,8 @@
 
 #include <tiny_gltf.h>
 
+#include "nodes/io/gltf_bytes.h"
+
 namespace orogen {
 namespace {
 
@@ -188,10 +190,9 @@ std::size_t write_scene_gltf(const SceneContent& scene, const std::filesystem::p
   s.nodes = {root_index};
   m.scenes.push_back(s);
   m.defaultScene = 0;
-  // Buffers are embedded (base64 in .gltf, the BIN chunk in .glb): the file stands alone.
-  tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToFile(&m, path.string(), true, true, !binary, binary))
-    throw FileError("cannot write glTF scene '" + path.string() + "'");
+  // Buffers are embedded (base64 in .gltf, the BIN chunk in .glb): the file stands alone. Serialized in memory,
+  // then every byte written through a checked file (tinygltf's own file writer ignores a full disk).
+  write_gltf_model(m, path, binary);
   if (progress) progress(1.0);
   return instances;
 }

@@ -12,6 +12,7 @@
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
 #include "graph/registry.h"
+#include "nodes/io/mesh_file.h"
 #include "nodes/io/write_output.h"
 #include "nodes/scatter/instance.h"
 #include "nodes/scatter/merge_points.h"
@@ -88,7 +89,7 @@ OROGEN_NODE(WriteScene) {
       throw NodeError(std::string("inconsistent scene: ") + e.what());
     }
     const std::string& path = ctx.param<std::string>("path");
-    const bool binary = path.size() >= 4 && path.compare(path.size() - 4, 4, ".glb") == 0;
+    const bool binary = mesh_format_from_path(path) == MeshFormat::Glb;  // case-insensitive, like the check
     write_node_output(ctx, "path", [&](const std::filesystem::path& temporary, const WriteProgress& progress) {
       write_scene_gltf(scene, temporary, binary, progress);
     });
