@@ -145,6 +145,43 @@ std::vector<std::pair<std::string, ParamValue>> perturbations(const ParamDecl& d
       out.push_back({"added stop", more});
       break;
     }
+    case ParamType::Table: {
+      const auto& t = std::get<TableValue>(v);
+      if (!t.rows.empty()) {
+        auto fewer = t;
+        fewer.rows.pop_back();
+        out.push_back({"last row removed", fewer});
+        // Every cell of the first row, changed within its column's bounds.
+        for (std::size_t c = 0; c < t.columns.size(); ++c) {
+          const TableColumn& col = decl.table.columns[c];
+          auto changed = t;
+          TableCell& cell = changed.rows.front()[c];
+          if (auto* s = std::get_if<std::string>(&cell)) {
+            if (col.type == ColumnType::Enum) {
+              for (const auto& choice : col.choices)
+                if (choice != *s) { *s = choice; break; }
+            } else {
+              *s += "_changed";
+            }
+          } else if (auto* x = std::get_if<double>(&cell)) {
+            TableColumn bounds = col;
+            ParamDecl as_float;
+            as_float.min = bounds.min;
+            as_float.max = bounds.max;
+            for (double y : other_numbers(*x, as_float, false)) *x = y;
+          } else if (auto* i = std::get_if<std::int64_t>(&cell)) {
+            *i = (col.max && static_cast<double>(*i + 1) > *col.max) ? *i - 1 : *i + 1;
+          } else if (auto* r = std::get_if<glm::dvec2>(&cell)) {
+            if (std::isfinite(r->y)) r->y += 0.5 * (std::isfinite(r->x) ? std::max(r->y - r->x, 0.5) : 1.0);
+            else r->x -= 1.0;
+          } else if (auto* color = std::get_if<Srgb8>(&cell)) {
+            color->r = static_cast<std::uint8_t>(color->r ^ 0x40);
+          }
+          out.push_back({"row 0 column " + col.name, changed});
+        }
+      }
+      break;
+    }
   }
   std::erase_if(out, [&](const auto& entry) { return entry.second == v || !decl.check(entry.second).empty(); });
   return out;
