@@ -97,9 +97,9 @@ TEST(TableMigration, ScatterRulesSlopesBecomeDegrees) {
   // A second ecosystem of the same name is renamed so its plants stay its own.
   EXPECT_EQ(p["ecosystems"][1]["name"], "low (2)");
   EXPECT_EQ(p["ecosystems"][1]["skew"], json::parse("[-1.0, 1.0]"));
-  EXPECT_EQ(p["plants"], json::parse(R"([
+  EXPECT_EQ(p["plants"], json::parse(R"j([
     {"ecosystem": "low", "class": 1, "density": 0.02, "scale": [1.0, 2.0]},
-    {"ecosystem": "low (2)", "class": 2, "density": 0.5, "scale": [1.0, 1.0]}])"));
+    {"ecosystem": "low (2)", "class": 2, "density": 0.5, "scale": [1.0, 1.0]}])j"));
   // A node that relied on version 4's default gets it converted (the default changed with the unit).
   const json d = migrated_params("ScatterRules", nullptr);
   ASSERT_EQ(d["ecosystems"].size(), 5u);
