@@ -26,9 +26,12 @@ std::string default_text(const ParamDecl& p) {
 
 std::string column_range_text(const TableColumn& c) {
   std::ostringstream s;
-  if (c.min && c.max) s << "[" << *c.min << ", " << *c.max << "]";
-  else if (c.min) s << ">= " << *c.min;
-  else if (c.max) s << "<= " << *c.max;
+  if (c.min && c.max)
+    s << "[" << *c.min << ", " << *c.max << "]";
+  else if (c.min)
+    s << ">= " << *c.min;
+  else if (c.max)
+    s << "<= " << *c.max;
   return s.str();
 }
 
@@ -48,8 +51,8 @@ std::string column_summary(const TableColumn& c) {
 }
 
 nlohmann::json column_json(const TableColumn& c) {
-  nlohmann::json j = {{"name", c.name}, {"type", to_string(c.type)}, {"description", c.description},
-                      {"required", c.required}};
+  nlohmann::json j = {
+      {"name", c.name}, {"type", to_string(c.type)}, {"description", c.description}, {"required", c.required}};
   if (!c.unit.empty()) j["unit"] = c.unit;
   if (c.min) j["min"] = *c.min;
   if (c.max) j["max"] = *c.max;
@@ -157,7 +160,8 @@ std::string node_reference_text(const NodeType& t) {
       }
       if (p.type == ParamType::Table) {
         s << "      columns (rows " << p.table.min_rows << ".." << p.table.max_rows << "):\n";
-        for (const auto& c : p.table.columns) s << "        " << column_summary(c) << "\n          " << c.description << "\n";
+        for (const auto& c : p.table.columns)
+          s << "        " << column_summary(c) << "\n          " << c.description << "\n";
       }
     }
   }
@@ -207,7 +211,8 @@ std::string node_reference_markdown() {
       }
       for (const auto& p : t->params) {
         if (p.type != ParamType::Table) continue;
-        s << "\nColumns of `" << p.name << "` (one JSON object per row):\n\n| column | type | unit | range | required | "
+        s << "\nColumns of `" << p.name
+          << "` (one JSON object per row):\n\n| column | type | unit | range | required | "
              "description |\n|---|---|---|---|---|---|\n";
         for (const auto& c : p.table.columns) {
           std::string desc = c.description;
@@ -216,8 +221,8 @@ std::string node_reference_markdown() {
             for (const auto& choice : c.choices) desc += " `" + choice + "`";
           }
           if (c.open_ends) desc += " `null` for an open end.";
-          s << "| `" << c.name << "` | " << to_string(c.type) << " | " << c.unit << " | " << column_range_text(c) << " | "
-            << (c.required ? "yes" : "no") << " | " << desc << " |\n";
+          s << "| `" << c.name << "` | " << to_string(c.type) << " | " << c.unit << " | " << column_range_text(c)
+            << " | " << (c.required ? "yes" : "no") << " | " << desc << " |\n";
         }
       }
     }

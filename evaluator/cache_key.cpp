@@ -201,10 +201,14 @@ KeyHasher& KeyHasher::add(const ParamValue& v) {
               std::visit(
                   [this](const auto& c) {
                     using C = std::decay_t<decltype(c)>;
-                    if constexpr (std::is_same_v<C, std::string>) add(std::string_view(c));
-                    else if constexpr (std::is_same_v<C, double> || std::is_same_v<C, std::int64_t>) add(c);
-                    else if constexpr (std::is_same_v<C, glm::dvec2>) add(c.x).add(c.y);
-                    else if constexpr (std::is_same_v<C, Srgb8>) add(std::int64_t{c.r}).add(std::int64_t{c.g}).add(std::int64_t{c.b});
+                    if constexpr (std::is_same_v<C, std::string>)
+                      add(std::string_view(c));
+                    else if constexpr (std::is_same_v<C, double> || std::is_same_v<C, std::int64_t>)
+                      add(c);
+                    else if constexpr (std::is_same_v<C, glm::dvec2>)
+                      add(c.x).add(c.y);
+                    else if constexpr (std::is_same_v<C, Srgb8>)
+                      add(std::int64_t{c.r}).add(std::int64_t{c.g}).add(std::int64_t{c.b});
                   },
                   cell);
             }

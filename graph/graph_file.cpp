@@ -46,7 +46,10 @@ using json_util::suggestion;
 struct MigrationTable {
   std::mutex mutex;
   // The format's own history (graph_migrations.h); tests may register more.
-  std::map<int, GraphMigration> by_version{{1, migrate_graph_v1_to_v2}, {2, migrate_graph_v2_to_v3}, {3, migrate_graph_v3_to_v4}, {4, migrate_graph_v4_to_v5}};
+  std::map<int, GraphMigration> by_version{{1, migrate_graph_v1_to_v2},
+                                           {2, migrate_graph_v2_to_v3},
+                                           {3, migrate_graph_v3_to_v4},
+                                           {4, migrate_graph_v4_to_v5}};
 };
 
 MigrationTable& migrations() {

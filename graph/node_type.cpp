@@ -371,7 +371,8 @@ void check_declaration(const NodeType& type) {
     if (p.table.columns.empty()) fail("table '" + p.name + "' has no columns");
     std::set<std::string> columns;
     for (const auto& c : p.table.columns) {
-      if (c.name.empty() || !columns.insert(c.name).second) fail("table '" + p.name + "': empty or duplicate column name");
+      if (c.name.empty() || !columns.insert(c.name).second)
+        fail("table '" + p.name + "': empty or duplicate column name");
       if (c.description.empty()) fail("table '" + p.name + "': column '" + c.name + "' has no description");
       if (c.type == ColumnType::Enum && c.choices.empty()) fail("table '" + p.name + "': enum column without choices");
     }

@@ -11,8 +11,8 @@
 namespace orogen {
 namespace {
 
-using nlohmann::json;
 using json_util::describe;
+using nlohmann::json;
 
 // The cell of column `c` read from `j`; sets `error` and returns monostate on failure.
 TableCell read_cell(const json& j, const TableColumn& c, std::string& error) {
@@ -58,8 +58,8 @@ TableCell read_cell(const json& j, const TableColumn& c, std::string& error) {
       return *color;
     }
   }
-  static const char* const expected[] = {"text", "a string (one of the choices)", "a number", "an integer",
-                                         "a range [min, max]", "a color \"#rrggbb\""};
+  static const char* const expected[] = {
+      "text", "a string (one of the choices)", "a number", "an integer", "a range [min, max]", "a color \"#rrggbb\""};
   error = std::string("expected ") + expected[static_cast<int>(c.type)] + ", found " + describe(j);
   return {};
 }

@@ -23,11 +23,15 @@ constexpr double kPi = 3.14159265358979323846;
 
 // Version 4's ScatterRules default (Ekman et al. 2016, Table 1, slopes as rise over run).
 const char* const kV4DefaultEcosystemTable =
-    "highland  | elevation 70 260 2  | relative -1 5 1   | slope 0 1.4 2    | plant 0 0.008 0.8 2.0 | plant 4 0.001 0.8 1.3\n"
-    "marshland | elevation -10 50 2  | relative -5 0 1   | slope -0.4 0.6 2 | plant 1 0.008 1.2 2.0 | plant 5 0.005 1.5 2.5\n"
-    "plains    | elevation -50 350 2 | relative 0.7 3 1  | slope -0.4 1.6 2 | plant 2 0.008 0.6 1.1 | plant 6 0.004 0.3 0.8\n"
+    "highland  | elevation 70 260 2  | relative -1 5 1   | slope 0 1.4 2    | plant 0 0.008 0.8 2.0 | plant 4 0.001 "
+    "0.8 1.3\n"
+    "marshland | elevation -10 50 2  | relative -5 0 1   | slope -0.4 0.6 2 | plant 1 0.008 1.2 2.0 | plant 5 0.005 "
+    "1.5 2.5\n"
+    "plains    | elevation -50 350 2 | relative 0.7 3 1  | slope -0.4 1.6 2 | plant 2 0.008 0.6 1.1 | plant 6 0.004 "
+    "0.3 0.8\n"
     "slope     | elevation -50 350 2 | relative 0 10 1   | slope 1.4 2.4 2  | plant 4 0.001 0.6 1.8\n"
-    "scarp     | elevation -50 350 2 | relative -10 10 1 | slope 2.8 8.4 8  | plant 4 0.001 0.6 1.8 | plant 7 0.001 0.9 1.0\n";
+    "scarp     | elevation -50 350 2 | relative -10 10 1 | slope 2.8 8.4 8  | plant 4 0.001 0.6 1.8 | plant 7 0.001 "
+    "0.9 1.0\n";
 
 std::string trim(const std::string& s, const char* space = " \t\r\n") {
   const auto a = s.find_first_not_of(space);
@@ -88,7 +92,8 @@ std::vector<double> numbers(std::istringstream& in, int count, const std::string
   std::vector<double> v;
   for (int i = 0; i < count; ++i) {
     double x;
-    if (!(in >> x) || !std::isfinite(x)) throw std::runtime_error(where + ": expected " + std::to_string(count) + " numbers");
+    if (!(in >> x) || !std::isfinite(x))
+      throw std::runtime_error(where + ": expected " + std::to_string(count) + " numbers");
     v.push_back(x);
   }
   std::string extra;
@@ -117,7 +122,8 @@ json biome_rectangles(const std::string& text) {
       const std::string& t = f[static_cast<std::size_t>(k + 1)];
       char* end = nullptr;
       v[k] = std::strtod(t.c_str(), &end);
-      if (t.empty() || *end != '\0' || std::isnan(v[k])) throw std::runtime_error(where + "'" + t + "' is not a number");
+      if (t.empty() || *end != '\0' || std::isnan(v[k]))
+        throw std::runtime_error(where + "'" + t + "' is not a number");
     }
     rows.push_back({{"name", f[0]},
                     {"temperature", json::array({bound(v[0], true, where), bound(v[1], false, where)})},
@@ -143,7 +149,8 @@ void biome_densities(const std::string& text, json& biomes, json& species) {
     const std::string where = "biome line " + std::to_string(line_no);
     std::istringstream head(fields[0]);
     const auto v = numbers(head, 2, where);
-    if (v[0] != std::floor(v[0]) || std::abs(v[0]) > 1e6) throw std::runtime_error(where + ": biome id must be an integer");
+    if (v[0] != std::floor(v[0]) || std::abs(v[0]) > 1e6)
+      throw std::runtime_error(where + ": biome id must be an integer");
     Line l{static_cast<std::int64_t>(v[0]), v[1], {}};
     for (std::size_t f = 1; f < fields.size(); ++f) {
       std::istringstream in(fields[f]);
@@ -160,7 +167,8 @@ void biome_densities(const std::string& text, json& biomes, json& species) {
   species = json::array();
   for (const auto& l : lines) {
     biomes.push_back({{"biome", l.biome}, {"density", l.density}});
-    for (const auto& [cls, weight] : l.species) species.push_back({{"biome", l.biome}, {"class", cls}, {"weight", weight}});
+    for (const auto& [cls, weight] : l.species)
+      species.push_back({{"biome", l.biome}, {"class", cls}, {"weight", weight}});
   }
 }
 
@@ -191,7 +199,8 @@ void ecosystem_tables(const std::string& text, json& ecosystems, json& plants) {
         if (v[1] < v[0]) throw std::runtime_error(w + ": max below min");
         if (v[2] <= 0.0) throw std::runtime_error(w + ": sharpness must be > 0");
         if (key == "slope")
-          for (int k = 0; k < 2; ++k) v[static_cast<std::size_t>(k)] = std::atan(v[static_cast<std::size_t>(k)]) * (180.0 / kPi);
+          for (int k = 0; k < 2; ++k)
+            v[static_cast<std::size_t>(k)] = std::atan(v[static_cast<std::size_t>(k)]) * (180.0 / kPi);
         row[key] = json::array({v[0], v[1]});
         row[key + "_sharpness"] = v[2];
       } else if (key == "plant") {
@@ -216,7 +225,8 @@ double splat_number(const std::string& s, const std::string& where) {
   const std::string t = trim(s, " \t\r");
   char* end = nullptr;
   const double v = std::strtod(t.c_str(), &end);
-  if (t.empty() || *end != '\0' || !std::isfinite(v)) throw std::runtime_error(where + "'" + t + "' is not a finite number");
+  if (t.empty() || *end != '\0' || !std::isfinite(v))
+    throw std::runtime_error(where + "'" + t + "' is not a finite number");
   return v;
 }
 
@@ -249,7 +259,8 @@ void splat_tables(const std::string& text, json& layers, json& rules) {
         continue;
       }
       const auto op = term.find_first_of("<>");
-      if (op == std::string::npos) throw std::runtime_error(where + "'" + term + "': expected 'input < t' or 'input > t'");
+      if (op == std::string::npos)
+        throw std::runtime_error(where + "'" + term + "': expected 'input < t' or 'input > t'");
       const std::string input = trim(term.substr(0, op), " \t\r");
       static const std::set<std::string> inputs = {"height", "slope", "curvature", "flow", "wetness", "field"};
       if (!inputs.count(input)) throw std::runtime_error(where + "unknown input '" + input + "'");
@@ -325,8 +336,8 @@ void convert_string_tables_v4(json& file) {
   for (auto& n : file["nodes"]) {
     if (!n.is_object() || !n.contains("type") || !n["type"].is_string()) continue;
     const std::string type = n["type"].get<std::string>();
-    const std::string node = "node '" + (n.contains("id") && n["id"].is_string() ? n["id"].get<std::string>() : "") +
-                             "' (" + type + ")";
+    const std::string node =
+        "node '" + (n.contains("id") && n["id"].is_string() ? n["id"].get<std::string>() : "") + "' (" + type + ")";
     if (type == "ScatterRules") {
       // The default changed with the unit of slope: a node that relied on it gets the old one converted.
       if (!n.contains("params")) n["params"] = json::object();
@@ -335,7 +346,8 @@ void convert_string_tables_v4(json& file) {
     if (!n.contains("params") || !n["params"].is_object()) continue;
     json& params = n["params"];
     if (type == "Biomes") {
-      convert_param(params, "custom_table", node, [&](const std::string& text) { params["custom_table"] = biome_rectangles(text); });
+      convert_param(params, "custom_table", node,
+                    [&](const std::string& text) { params["custom_table"] = biome_rectangles(text); });
     } else if (type == "BiomeScatter") {
       convert_param(params, "table", node, [&](const std::string& text) {
         json biomes, species;

@@ -71,12 +71,18 @@ std::string check_cell(const TableColumn& c, const TableCell& cell) {
 
 std::string_view to_string(ColumnType t) {
   switch (t) {
-    case ColumnType::Text: return "text";
-    case ColumnType::Enum: return "enum";
-    case ColumnType::Number: return "number";
-    case ColumnType::Integer: return "integer";
-    case ColumnType::Range: return "range";
-    case ColumnType::Color: return "color";
+    case ColumnType::Text:
+      return "text";
+    case ColumnType::Enum:
+      return "enum";
+    case ColumnType::Number:
+      return "number";
+    case ColumnType::Integer:
+      return "integer";
+    case ColumnType::Range:
+      return "range";
+    case ColumnType::Color:
+      return "color";
   }
   return "?";
 }
@@ -169,9 +175,12 @@ std::string TableProblem::pointer() const {
     // JSON-pointer escaping of the column name ("~" -> "~0", "/" -> "~1").
     out += '/';
     for (char ch : column) {
-      if (ch == '~') out += "~0";
-      else if (ch == '/') out += "~1";
-      else out += ch;
+      if (ch == '~')
+        out += "~0";
+      else if (ch == '/')
+        out += "~1";
+      else
+        out += ch;
     }
   }
   return out;
@@ -180,16 +189,19 @@ std::string TableProblem::pointer() const {
 std::optional<TableProblem> check_table(const TableSchema& schema, const TableValue& value) {
   if (value.columns != schema.names()) return TableProblem{-1, "", "the columns differ from the declared ones"};
   if (value.rows.size() < schema.min_rows)
-    return TableProblem{-1, "", "at least " + std::to_string(schema.min_rows) + " row(s) needed, found " +
-                                    std::to_string(value.rows.size())};
+    return TableProblem{
+        -1, "",
+        "at least " + std::to_string(schema.min_rows) + " row(s) needed, found " + std::to_string(value.rows.size())};
   if (value.rows.size() > schema.max_rows)
-    return TableProblem{-1, "", "at most " + std::to_string(schema.max_rows) + " rows allowed, found " +
-                                    std::to_string(value.rows.size())};
+    return TableProblem{
+        -1, "",
+        "at most " + std::to_string(schema.max_rows) + " rows allowed, found " + std::to_string(value.rows.size())};
   for (std::size_t r = 0; r < value.rows.size(); ++r) {
     const auto& row = value.rows[r];
     if (row.size() != schema.columns.size())
-      return TableProblem{static_cast<int>(r), "", "the row has " + std::to_string(row.size()) + " cells, expected " +
-                                                       std::to_string(schema.columns.size())};
+      return TableProblem{
+          static_cast<int>(r), "",
+          "the row has " + std::to_string(row.size()) + " cells, expected " + std::to_string(schema.columns.size())};
     for (std::size_t c = 0; c < row.size(); ++c)
       if (auto why = check_cell(schema.columns[c], row[c]); !why.empty())
         return TableProblem{static_cast<int>(r), schema.columns[c].name, why};

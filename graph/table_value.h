@@ -43,7 +43,7 @@ using TableCell = std::variant<std::monostate, std::string, double, std::int64_t
 struct TableColumn {
   std::string name;
   ColumnType type = ColumnType::Number;
-  std::string unit;                  // "m", "deg", "" (unitless or text)
+  std::string unit;  // "m", "deg", "" (unitless or text)
   std::string description;
   std::optional<double> min, max;    // Number / Integer / Range: hard bounds of each value
   std::vector<std::string> choices;  // Enum: allowed values

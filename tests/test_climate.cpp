@@ -12,6 +12,8 @@
 #include "graph/heightfield.h"
 #include "graph/image.h"
 #include "graph/table_json.h"
+
+#include <nlohmann/json.hpp>
 #include "nodes/climate/biomes.h"
 #include "nodes/climate/resources.h"
 #include "nodes/climate/sun.h"

@@ -13,17 +13,17 @@
 #include "evaluator/value_serialization.h"
 #include "graph/exec_context.h"
 #include "graph/heightfield.h"
+#include "graph/mesh.h"
 #include "graph/points.h"
 #include "graph/table_json.h"
-#include "nodes/scatter/poisson_disk.h"
-#include "nodes/scatter/scatter_rules.h"
-#include "nodes/scatter/instance.h"
-#include "nodes/scatter/scene_gltf.h"
 #include "nodes/climate/sun.h"
 #include "nodes/scatter/forest.h"
+#include "nodes/scatter/instance.h"
+#include "nodes/scatter/poisson_disk.h"
+#include "nodes/scatter/scatter_rules.h"
+#include "nodes/scatter/scene_gltf.h"
 #include "support/key_checks.h"
 #include "support/test_paths.h"
-#include "graph/mesh.h"
 
 namespace orogen {
 namespace {
@@ -349,7 +349,8 @@ TEST(ScatterRules, TableSelectsTheEcosystemByElevationAndSlope) {
   EcosystemParams p;
   // Slopes in degrees: the flats are 0 deg, the ramp (rise 2 over run 1) atan(2) = 63.4 deg.
   p.ecosystems = ecosystems(
-      R"([{"name": "low", "elevation": [-10, 10], "elevation_sharpness": 1e9, "slope": [0, 26.6], "slope_sharpness": 1e9},
+      R"([{"name": "low", "elevation": [-10, 10], "elevation_sharpness": 1e9, "slope": [0, 26.6],
+           "slope_sharpness": 1e9},
           {"name": "high", "elevation": [150, 250], "elevation_sharpness": 1e9, "slope": [0, 26.6],
            "slope_sharpness": 1e9},
           {"name": "ramp", "slope": [56.3, 68.2], "slope_sharpness": 1e9}])",
@@ -459,10 +460,11 @@ TEST(ScatterRules, BadTablesAreClearErrors) {
   EXPECT_EQ(invalid_argument_of([] { ecosystems(R"([{"name": "a"}, {"name": "b", "skew_sharpness": 2}])", "[]"); }),
             "ecosystems[1].skew_sharpness: given without the range skew");
   EXPECT_EQ(invalid_argument_of([] {
-              biome_entries_from_tables(table_from_json_text(R"([{"biome": 1, "density": 0.5}])", biome_density_schema()),
-                                        table_from_json_text(R"([{"biome": 1, "class": 0, "weight": 1},
+              biome_entries_from_tables(
+                  table_from_json_text(R"([{"biome": 1, "density": 0.5}])", biome_density_schema()),
+                  table_from_json_text(R"([{"biome": 1, "class": 0, "weight": 1},
                                                                  {"biome": 2, "class": 1, "weight": 1}])",
-                                                             biome_species_schema()));
+                                       biome_species_schema()));
             }),
             "species[1].biome: 2 is not a biome of the biomes table");
   // Through the node: the same message, as a NodeError.
@@ -544,8 +546,10 @@ TEST(Instance, OneInstancePerPointWithItsTransformAndClassMesh) {
   const auto pts = std::make_shared<Points>(scene_points());
   pts->attribute("age", 0.0f)[4] = 7.0f;
   const MeshPtr a = proxy_mesh(), b = std::make_shared<Mesh>();
-  const auto scene = instance(pts, {{0, a}, {1, b}, {2, a}, {5, b}}, {{"names", table_from_json_text(R"([{"class": 0, "name": "tree"}, {"class": 2, "name": "rock"}])",
-                                                                        class_name_schema())}});
+  const auto scene = instance(
+      pts, {{0, a}, {1, b}, {2, a}, {5, b}},
+      {{"names",
+        table_from_json_text(R"([{"class": 0, "name": "tree"}, {"class": 2, "name": "rock"}])", class_name_schema())}});
   ASSERT_NO_THROW(scene->check_consistent());
   // Nothing filtered: the instances are the points themselves, shared, not copied.
   EXPECT_EQ(scene->instances.get(), pts.get());
@@ -606,8 +610,11 @@ TEST(Instance, ClassWithoutAMeshIsAnErrorAProxyOrLeftOut) {
 
 TEST(Instance, SceneSurvivesTheCacheSerialization) {
   const auto pts = std::make_shared<Points>(scene_points());
-  const auto scene = instance(pts, {{0, proxy_mesh()}}, {{"missing_mesh", std::string("proxy")}, {"names", table_from_json_text(R"([{"class": 0, "name": "a"}, {"class": 1, "name": "b"}])",
-                                                                  class_name_schema())}});
+  const auto scene = instance(
+      pts, {{0, proxy_mesh()}},
+      {{"missing_mesh", std::string("proxy")},
+       {"names",
+        table_from_json_text(R"([{"class": 0, "name": "a"}, {"class": 1, "name": "b"}])", class_name_schema())}});
   const PortValue back = deserialize_value(serialize_value(PortValue(scene)));
   const auto& s = *std::get<ScenePtr>(back);
   ASSERT_EQ(s.size(), pts->size());
@@ -685,9 +692,12 @@ TEST(WriteScene, NodeInstancesOnePerPointNamedByClass) {
   policy.output_dir = dir;
   const auto pts = std::make_shared<Points>(scene_points());
   const Domain d = Domain::from_extent({0, 0}, {100, 100}, {3, 3});
-  const auto scene = instance(pts, {{1, proxy_mesh()}}, {{"missing_mesh", std::string("proxy")}, {"names", table_from_json_text(R"([{"class": 0, "name": "tree"}, {"class": 1, "name": "bush"},
+  const auto scene =
+      instance(pts, {{1, proxy_mesh()}},
+               {{"missing_mesh", std::string("proxy")},
+                {"names", table_from_json_text(R"([{"class": 0, "name": "tree"}, {"class": 1, "name": "bush"},
                                                                    {"class": 2, "name": "rock"}])",
-                                                                  class_name_schema())}});
+                                               class_name_schema())}});
   run_node("WriteScene", d, {{"path", std::string("n.gltf")}, {"instancing", std::string("nodes")}},
            {{"in", PortValue(scene)}}, policy);
   const auto m = load_gltf(dir / "n.gltf");

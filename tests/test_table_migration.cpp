@@ -52,8 +52,9 @@ TEST(TableMigration, FixturesMigrateToTheRewrittenGraphs) {
 }
 
 TEST(TableMigration, Biomes) {
-  const json p = migrated_params("Biomes", {{"table", "custom"},
-                                            {"custom_table", "cold, -inf, 0, -inf, inf, #0000FF\n\n warm , 0, inf, 2.5, 7, #ff0000\n"}});
+  const json p = migrated_params(
+      "Biomes", {{"table", "custom"},
+                 {"custom_table", "cold, -inf, 0, -inf, inf, #0000FF\n\n warm , 0, inf, 2.5, 7, #ff0000\n"}});
   EXPECT_EQ(p["table"], "custom");
   EXPECT_EQ(p["custom_table"], json::parse(R"([
     {"name": "cold", "temperature": [null, 0.0], "moisture": [null, null], "color": "#0000ff"},
@@ -63,13 +64,14 @@ TEST(TableMigration, Biomes) {
             "node 'n' (Biomes): params.custom_table: line 1: 'x' is not a number");
   EXPECT_EQ(migration_error("Biomes", {{"custom_table", "a, 1, 2, 3, 4, #fff"}}),
             "node 'n' (Biomes): params.custom_table: line 1: '#fff' is not a #rrggbb color");
-  EXPECT_EQ(migration_error("Biomes", {{"custom_table", "ok, 1, 2, 3, 4, #ffffff\na, inf, 2, 3, 4, #ffffff"}}),
-            "node 'n' (Biomes): params.custom_table: line 2: an open end must be -inf for a minimum, inf for a maximum");
+  EXPECT_EQ(
+      migration_error("Biomes", {{"custom_table", "ok, 1, 2, 3, 4, #ffffff\na, inf, 2, 3, 4, #ffffff"}}),
+      "node 'n' (Biomes): params.custom_table: line 2: an open end must be -inf for a minimum, inf for a maximum");
 }
 
 TEST(TableMigration, BiomeScatterKeepsTheLastLineOfABiome) {
-  const json p = migrated_params("BiomeScatter", {{"table", "0 0.0\n1 0.2 | 0 1 | 1 3; 2 0.5 | 2 1\n1 0.4 | 3 2"},
-                                                  {"factor", 2.0}});
+  const json p = migrated_params("BiomeScatter",
+                                 {{"table", "0 0.0\n1 0.2 | 0 1 | 1 3; 2 0.5 | 2 1\n1 0.4 | 3 2"}, {"factor", 2.0}});
   EXPECT_FALSE(p.contains("table"));
   EXPECT_EQ(p["factor"], 2.0);
   EXPECT_EQ(p["biomes"], json::parse(R"([{"biome": 0, "density": 0.0}, {"biome": 2, "density": 0.5},
@@ -83,9 +85,10 @@ TEST(TableMigration, BiomeScatterKeepsTheLastLineOfABiome) {
 }
 
 TEST(TableMigration, ScatterRulesSlopesBecomeDegrees) {
-  const json p = migrated_params(
-      "ScatterRules", {{"table", "low | elevation -10 10 2 | slope 0 1 4 | plant 1 0.02 1 2 # a comment\n"
-                                 "low | skew -1 1 3 | relative 0 5 1 | plant 2 0.5 1 1"}});
+  const json p =
+      migrated_params("ScatterRules", {{"table",
+                                        "low | elevation -10 10 2 | slope 0 1 4 | plant 1 0.02 1 2 # a comment\n"
+                                        "low | skew -1 1 3 | relative 0 5 1 | plant 2 0.5 1 1"}});
   ASSERT_EQ(p["ecosystems"].size(), 2u);
   const json& low = p["ecosystems"][0];
   EXPECT_EQ(low["elevation"], json::parse("[-10.0, 10.0]"));
@@ -113,7 +116,8 @@ TEST(TableMigration, ScatterRulesSlopesBecomeDegrees) {
 }
 
 TEST(TableMigration, SplatWeights) {
-  const json p = migrated_params("SplatWeights", {{"layers", "grass: slope < 30 ~ 8, height > 6\n\ndirt: weight = 0.15\n"}});
+  const json p =
+      migrated_params("SplatWeights", {{"layers", "grass: slope < 30 ~ 8, height > 6\n\ndirt: weight = 0.15\n"}});
   EXPECT_EQ(p["layers"], json::parse(R"([{"name": "grass", "weight": 1.0}, {"name": "dirt", "weight": 0.15}])"));
   EXPECT_EQ(p["rules"], json::parse(R"([
     {"layer": "grass", "input": "slope", "compare": "<", "threshold": 30.0, "softness": 8.0},

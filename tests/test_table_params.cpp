@@ -88,12 +88,15 @@ TEST(TableParam, EveryMalformedCaseNamesItsRowAndColumn) {
             "t[0].class: -1 is below the minimum 0 @/0/class");
   EXPECT_EQ(problem_of(R"([{"name": "a", "kind": "tree", "height": 1, "class": 1, "band": [5], "color": "#000000"}])"),
             "t[0].band: expected a range [min, max], found an array of 1 element @/0/band");
-  EXPECT_EQ(problem_of(R"([{"name": "a", "kind": "tree", "height": 1, "class": 1, "band": [50, 5], "color": "#000000"}])"),
-            "t[0].band: the range [50, 5] has min > max @/0/band");
-  EXPECT_EQ(problem_of(R"([{"name": "a", "kind": "tree", "height": 1, "class": 1, "band": [0, 95], "color": "#000000"}])"),
-            "t[0].band: maximum 95 is above the maximum 90 @/0/band");
-  EXPECT_EQ(problem_of(R"([{"name": "a", "kind": "tree", "height": 1, "class": 1, "band": [null, 5], "color": "#000000"}])"),
-            "t[0].band: minimum: expected a number, found null @/0/band");
+  EXPECT_EQ(
+      problem_of(R"([{"name": "a", "kind": "tree", "height": 1, "class": 1, "band": [50, 5], "color": "#000000"}])"),
+      "t[0].band: the range [50, 5] has min > max @/0/band");
+  EXPECT_EQ(
+      problem_of(R"([{"name": "a", "kind": "tree", "height": 1, "class": 1, "band": [0, 95], "color": "#000000"}])"),
+      "t[0].band: maximum 95 is above the maximum 90 @/0/band");
+  EXPECT_EQ(
+      problem_of(R"([{"name": "a", "kind": "tree", "height": 1, "class": 1, "band": [null, 5], "color": "#000000"}])"),
+      "t[0].band: minimum: expected a number, found null @/0/band");
   EXPECT_EQ(problem_of(R"([{"name": "a", "kind": "tree", "height": 1, "class": 1, "color": "#12"}])"),
             "t[0].color: '#12' is not a #rrggbb color @/0/color");
   EXPECT_EQ(problem_of(R"([{"name": "a", "kind": "tree", "height": 1, "class": 1, "color": "#12345g"}])"),
@@ -185,8 +188,7 @@ TEST(TableParam, LoaderReportsTheRowAndColumnPath) {
   EXPECT_EQ(r.diagnostics[0].node, "biomes");
   EXPECT_EQ(r.diagnostics[0].message, "params.custom_table[1].color: '#12' is not a #rrggbb color");
   EXPECT_EQ(r.diagnostics[1].path, "/nodes/3/params/plants/0/clas");
-  EXPECT_EQ(r.diagnostics[1].message,
-            "params.plants[0].clas: unknown column 'clas' (did you mean 'class'?)");
+  EXPECT_EQ(r.diagnostics[1].message, "params.plants[0].clas: unknown column 'clas' (did you mean 'class'?)");
   // --set uses the same reader.
   const ParamDecl* decl = NodeRegistry::instance().find("ColorByLayers")->find_param("colors");
   std::string error;
@@ -215,11 +217,16 @@ TEST(TableParam, CacheKeyIsTheCanonicalValue) {
   for (std::size_t c = 0; c < t.columns.size(); ++c) {
     auto v = t;
     auto& cell = v.rows[0][c];
-    if (auto* s = std::get_if<std::string>(&cell)) *s = *s == "tree" ? "rock" : *s + "x";
-    else if (auto* x = std::get_if<double>(&cell)) *x += 0.5;
-    else if (auto* i = std::get_if<std::int64_t>(&cell)) *i += 1;
-    else if (auto* r = std::get_if<glm::dvec2>(&cell)) r->y += 1;
-    else if (auto* k = std::get_if<Srgb8>(&cell)) k->b ^= 1;
+    if (auto* s = std::get_if<std::string>(&cell))
+      *s = *s == "tree" ? "rock" : *s + "x";
+    else if (auto* x = std::get_if<double>(&cell))
+      *x += 0.5;
+    else if (auto* i = std::get_if<std::int64_t>(&cell))
+      *i += 1;
+    else if (auto* r = std::get_if<glm::dvec2>(&cell))
+      r->y += 1;
+    else if (auto* k = std::get_if<Srgb8>(&cell))
+      k->b ^= 1;
     changed.push_back(v);
   }
   auto without_band = t;

@@ -9,6 +9,8 @@
 #include "graph/heightfield.h"
 #include "graph/image.h"
 #include "graph/table_json.h"
+
+#include <nlohmann/json.hpp>
 #include "nodes/texture/shading.h"
 #include "nodes/texture/splat.h"
 #include "support/key_checks.h"
@@ -85,7 +87,8 @@ TEST(Splat, TermsAndTables) {
   const auto l = splat_layers(R"([{"name": "a", "weight": 0.5}, {"name": "b", "weight": 1}])",
                               R"([{"layer": "b", "input": "slope", "compare": "<", "threshold": 7, "softness": 0},
                                   {"layer": "a", "input": "height", "compare": ">", "threshold": 10, "softness": 2},
-                                  {"layer": "b", "input": "flow", "compare": ">", "threshold": 0.5, "softness": 0.1}])");
+                                  {"layer": "b", "input": "flow", "compare": ">", "threshold": 0.5,
+                                   "softness": 0.1}])");
   ASSERT_EQ(l.size(), 2u);
   EXPECT_EQ(l[0].name, "a");
   EXPECT_EQ(l[0].weight, 0.5);
@@ -112,25 +115,30 @@ TEST(Splat, TermsAndTables) {
   EXPECT_EQ(problem.str("layers"), "layers: at least 1 row(s) needed, found 0");
   EXPECT_FALSE(table_from_json(nlohmann::json::parse(R"([{"name": "a", "weight": 1}, {"name": "b", "weight": 1},
       {"name": "c", "weight": 1}, {"name": "d", "weight": 1}, {"name": "e", "weight": 1}, {"name": "f", "weight": 1},
-      {"name": "g", "weight": 1}, {"name": "h", "weight": 1}, {"name": "i", "weight": 1}])"), splat_layer_schema(), problem));
+      {"name": "g", "weight": 1}, {"name": "h", "weight": 1}, {"name": "i", "weight": 1}])"),
+                               splat_layer_schema(), problem));
   EXPECT_EQ(problem.str("layers"), "layers: at most 8 rows allowed, found 9");
-  EXPECT_FALSE(table_from_json(nlohmann::json::parse(
-      R"([{"layer": "a", "input": "slope", "compare": ">", "threshold": 3, "softness": -1}])"), splat_rule_schema(), problem));
+  EXPECT_FALSE(table_from_json(
+      nlohmann::json::parse(R"([{"layer": "a", "input": "slope", "compare": ">", "threshold": 3, "softness": -1}])"),
+      splat_rule_schema(), problem));
   EXPECT_EQ(problem.str("rules"), "rules[0].softness: -1 is below the minimum 0");
-  EXPECT_FALSE(table_from_json(nlohmann::json::parse(
-      R"([{"layer": "a", "input": "heigth", "compare": ">", "threshold": 3, "softness": 1}])"), splat_rule_schema(), problem));
-  EXPECT_EQ(problem.str("rules"), "rules[0].input: 'heigth' is not one of: height, slope, curvature, flow, wetness, field");
+  EXPECT_FALSE(table_from_json(
+      nlohmann::json::parse(R"([{"layer": "a", "input": "heigth", "compare": ">", "threshold": 3, "softness": 1}])"),
+      splat_rule_schema(), problem));
+  EXPECT_EQ(problem.str("rules"),
+            "rules[0].input: 'heigth' is not one of: height, slope, curvature, flow, wetness, field");
   // A rule on an unconnected input is an error; all-zero weights go to the first layer.
   const Heightfield z = mountain();
   EXPECT_THROW(splat_weights({&z}, splat_layers(R"([{"name": "a", "weight": 1}])",
                                                 R"([{"layer": "a", "input": "flow", "compare": ">", "threshold": 0.5,
                                                      "softness": 0}])")),
                NodeError);
-  const auto r = splat_weights({&z}, splat_layers(R"([{"name": "a", "weight": 1}, {"name": "b", "weight": 1}])",
-                                                  R"([{"layer": "a", "input": "height", "compare": ">", "threshold": 1e9,
-                                                       "softness": 0},
-                                                      {"layer": "b", "input": "height", "compare": ">", "threshold": 1e9,
-                                                       "softness": 0}])"));
+  const auto r =
+      splat_weights({&z}, splat_layers(R"([{"name": "a", "weight": 1}, {"name": "b", "weight": 1}])",
+                                       R"([{"layer": "a", "input": "height", "compare": ">", "threshold": 1e9,
+                                            "softness": 0},
+                                           {"layer": "b", "input": "height", "compare": ">", "threshold": 1e9,
+                                            "softness": 0}])"));
   EXPECT_EQ(r.weights->pixel(5, 5)[0], 1.0f);
   EXPECT_EQ(r.weights->pixel(5, 5)[1], 0.0f);
 }

@@ -9,15 +9,20 @@ TableCell new_cell(const TableColumn& c) {
   if (!c.required) return {};
   auto clamp = [&](double v) { return std::clamp(v, c.min.value_or(-INFINITY), c.max.value_or(INFINITY)); };
   switch (c.type) {
-    case ColumnType::Text: return std::string();
-    case ColumnType::Enum: return c.choices.empty() ? std::string() : c.choices.front();
-    case ColumnType::Number: return clamp(0.0);
-    case ColumnType::Integer: return static_cast<std::int64_t>(std::ceil(clamp(0.0)));
+    case ColumnType::Text:
+      return std::string();
+    case ColumnType::Enum:
+      return c.choices.empty() ? std::string() : c.choices.front();
+    case ColumnType::Number:
+      return clamp(0.0);
+    case ColumnType::Integer:
+      return static_cast<std::int64_t>(std::ceil(clamp(0.0)));
     case ColumnType::Range: {
       const double lo = clamp(0.0);
       return glm::dvec2(lo, std::max(lo, clamp(1.0)));
     }
-    case ColumnType::Color: return Srgb8{128, 128, 128};
+    case ColumnType::Color:
+      return Srgb8{128, 128, 128};
   }
   return {};
 }

@@ -37,11 +37,10 @@ void column_tooltip(const TableColumn& c) {
   ImGui::PushTextWrapPos(ImGui::GetFontSize() * 24.0f);
   ImGui::Text("%s", c.name.c_str());
   ImGui::SameLine();
-  ImGui::TextDisabled("(%s%s%s%s)", std::string(to_string(c.type)).c_str(), c.unit.empty() ? "" : ", ",
-                      c.unit.c_str(), c.required ? "" : ", optional");
+  ImGui::TextDisabled("(%s%s%s%s)", std::string(to_string(c.type)).c_str(), c.unit.empty() ? "" : ", ", c.unit.c_str(),
+                      c.required ? "" : ", optional");
   ImGui::TextUnformatted(c.description.c_str());
-  if (c.min || c.max)
-    ImGui::TextDisabled("range %g .. %g", c.min.value_or(-INFINITY), c.max.value_or(INFINITY));
+  if (c.min || c.max) ImGui::TextDisabled("range %g .. %g", c.min.value_or(-INFINITY), c.max.value_or(INFINITY));
   if (!c.required) ImGui::TextDisabled("right-click a cell to clear it");
   ImGui::PopTextWrapPos();
   ImGui::EndTooltip();
@@ -99,8 +98,8 @@ bool cell_widget(const TableColumn& c, TableCell& cell, bool& finished) {
     case ColumnType::Range: {
       auto& r = std::get<glm::dvec2>(cell);
       double v[2] = {r.x, r.y};
-      const float speed = cell_speed(c, std::max(std::isfinite(v[0]) ? std::abs(v[0]) : 0.0,
-                                                 std::isfinite(v[1]) ? std::abs(v[1]) : 0.0));
+      const float speed = cell_speed(
+          c, std::max(std::isfinite(v[0]) ? std::abs(v[0]) : 0.0, std::isfinite(v[1]) ? std::abs(v[1]) : 0.0));
       // Open ends (infinite) show as -inf / inf and stay put while dragged.
       changed = ImGui::DragScalarN("##c", ImGuiDataType_Double, v, 2, speed, c.min ? &lo : nullptr,
                                    c.max ? &hi : nullptr, cell_format(c, false).c_str());
@@ -110,8 +109,10 @@ bool cell_widget(const TableColumn& c, TableCell& cell, bool& finished) {
         if (std::isfinite(r.y)) r.y = std::clamp(v[1], lo, hi);
         // Keep min <= max: the end being dragged pushes the other.
         if (r.x > r.y) {
-          if (r.x != before.x) r.y = r.x;
-          else r.x = r.y;
+          if (r.x != before.x)
+            r.y = r.x;
+          else
+            r.x = r.y;
         }
       }
       break;

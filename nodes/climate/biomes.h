@@ -32,9 +32,9 @@ struct BiomeTable {
   int classify(double t, double m) const;
 };
 
-// The rectangles' table: its columns, and built-in tables: "whittaker" (annual precipitation in mm; a rectangular reading of R. H. Whittaker
-// (1975), Communities and Ecosystems, as redrawn by R. E. Ricklefs (2008), The Economy of Nature) and
-// "island" (moisture 0..1; the elevation-zone x moisture-zone table of A. Patel (2010), Polygonal Map
+// The rectangles' table: its columns, and built-in tables: "whittaker" (annual precipitation in mm; a rectangular
+// reading of R. H. Whittaker (1975), Communities and Ecosystems, as redrawn by R. E. Ricklefs (2008), The Economy of
+// Nature) and "island" (moisture 0..1; the elevation-zone x moisture-zone table of A. Patel (2010), Polygonal Map
 // Generation for Games, used by S. Weiss (2015), Procedural Terrain, with temperature bands for the zones).
 TableSchema biome_rectangle_schema();
 TableValue builtin_biome_rectangles(const std::string& name);  // empty rows for an unknown name

@@ -29,11 +29,17 @@ TableSchema ecosystem_schema() {
   TableSchema s;
   s.min_rows = 1;
   s.add("name", ColumnType::Text).describe("Ecosystem name (plants refer to it)");
-  auto preference = [&](const std::string& name, const std::string& unit, double lo, double hi, const std::string& what) {
-    s.add(name, ColumnType::Range).range(lo, hi).unit_of(unit).optional().describe(
-        "Preferred " + what + " [min, max]: membership 1 inside; left out: no preference");
-    s.add(name + "_sharpness", ColumnType::Number).range(1e-9, 1e9).optional().describe(
-        "The " + name + " membership falls to 0 over (max - min) / sharpness outside the range; default 1");
+  auto preference = [&](const std::string& name, const std::string& unit, double lo, double hi,
+                        const std::string& what) {
+    s.add(name, ColumnType::Range)
+        .range(lo, hi)
+        .unit_of(unit)
+        .optional()
+        .describe("Preferred " + what + " [min, max]: membership 1 inside; left out: no preference");
+    s.add(name + "_sharpness", ColumnType::Number)
+        .range(1e-9, 1e9)
+        .optional()
+        .describe("The " + name + " membership falls to 0 over (max - min) / sharpness outside the range; default 1");
   };
   preference("elevation", "m", -1e6, 1e6, "height");
   preference("relative", "m", -1e6, 1e6, "height above the local mean");
@@ -46,8 +52,10 @@ TableSchema ecosystem_plant_schema() {
   TableSchema s;
   s.add("ecosystem", ColumnType::Text).describe("The ecosystem (a name in `ecosystems`) the plant grows in");
   s.add("class", ColumnType::Integer).range(0, 1e6).describe("Class id of the plant's points");
-  s.add("density", ColumnType::Number).range(0.0, 100.0).unit_of("1/m^2").describe(
-      "Plants per m^2 where the ecosystem holds, 0..100");
+  s.add("density", ColumnType::Number)
+      .range(0.0, 100.0)
+      .unit_of("1/m^2")
+      .describe("Plants per m^2 where the ecosystem holds, 0..100");
   s.add("scale", ColumnType::Range).range(1e-9, 1e4).describe("Scale factors [min, max], uniform between them");
   return s;
 }
@@ -111,8 +119,8 @@ std::vector<Ecosystem> ecosystems_from_tables(const TableValue& ecosystems, cons
       throw std::invalid_argument("plants[" + std::to_string(r) + "].ecosystem: '" + name +
                                   "' is not an ecosystem of the ecosystems table");
     const auto scale = std::get<glm::dvec2>(row[3]);
-    it->plants.push_back({static_cast<std::int32_t>(std::get<std::int64_t>(row[1])), std::get<double>(row[2]), scale.x,
-                          scale.y});
+    it->plants.push_back(
+        {static_cast<std::int32_t>(std::get<std::int64_t>(row[1])), std::get<double>(row[2]), scale.x, scale.y});
   }
   return out;
 }

@@ -7,9 +7,9 @@
 // Two tables: `layers` (name, weight) and `rules`, one term per row (layer, input, compare, threshold,
 // softness) with input height (m) | slope (deg) | curvature (mean curvature, 1/m, convex > 0) | flow |
 // wetness | field. A term `x > t ~ s` is smoothstep over [t - s, t + s] (a hard step at t when s = 0);
-// `x < t ~ s` is one minus that. A layer's raw weight is w (default 1) times the product of its terms; a layer without terms
-// is a constant background. Weights are divided by their sum; where every raw weight is 0 the first layer
-// takes it all. Non-finite inputs make a term 0.
+// `x < t ~ s` is one minus that. A layer's raw weight is w (default 1) times the product of its terms; a layer without
+// terms is a constant background. Weights are divided by their sum; where every raw weight is 0 the first layer takes
+// it all. Non-finite inputs make a term 0.
 #include <memory>
 #include <string>
 #include <vector>

@@ -86,8 +86,9 @@ TEST(TableEdit, AddRemoveMoveAndSetAreEachOneUndoStep) {
 
 TEST(TableEdit, DraggingACellMergesIntoOneStep) {
   TableSchema s = NodeRegistry::instance().find("SplatWeights")->find_param("rules")->table;
-  const auto r = parse_graph(R"({"format": "orogen-graph", "version": 5, "nodes": [{"id": "s", "type": "SplatWeights"}]})",
-                             LoadOptions{.allow_unconnected_inputs = true});
+  const auto r =
+      parse_graph(R"({"format": "orogen-graph", "version": 5, "nodes": [{"id": "s", "type": "SplatWeights"}]})",
+                  LoadOptions{.allow_unconnected_inputs = true});
   ASSERT_TRUE(r.ok()) << r.error_text();
   Document doc(*r.graph);
   const int threshold = s.index("threshold");

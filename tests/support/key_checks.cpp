@@ -1,5 +1,6 @@
 #include "support/key_checks.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -147,6 +148,24 @@ std::vector<std::pair<std::string, ParamValue>> perturbations(const ParamDecl& d
     }
     case ParamType::Table: {
       const auto& t = std::get<TableValue>(v);
+      if (t.rows.empty()) {
+        // An empty default: one row of valid cells must change the key.
+        auto one = t;
+        std::vector<TableCell> row;
+        for (const auto& c : decl.table.columns) {
+          const double x = std::clamp(1.0, c.min.value_or(-1e300), c.max.value_or(1e300));
+          switch (c.type) {
+            case ColumnType::Text: row.push_back(std::string("key_check")); break;
+            case ColumnType::Enum: row.push_back(c.choices.front()); break;
+            case ColumnType::Number: row.push_back(x); break;
+            case ColumnType::Integer: row.push_back(static_cast<std::int64_t>(std::ceil(x))); break;
+            case ColumnType::Range: row.push_back(glm::dvec2(x, x)); break;
+            case ColumnType::Color: row.push_back(Srgb8{1, 2, 3}); break;
+          }
+        }
+        one.rows.push_back(std::move(row));
+        out.push_back({"one row added", one});
+      }
       if (!t.rows.empty()) {
         auto fewer = t;
         fewer.rows.pop_back();
