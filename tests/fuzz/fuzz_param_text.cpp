@@ -1,7 +1,7 @@
 // libFuzzer target: every parameter text grammar a user types or a graph file carries, through
 // param_from_text (the --set and editor syntax) and param_from_json, for every parameter of every node
 // type (curves, gradients, vectors, colours, enums, paths, seeds, tables ...). The first byte picks the
-// parameter. Values that are accepted are then evaluated where they are functions (curves, gradients), and
+// parameter (the first two bytes, little-endian). Values that are accepted are then evaluated where they are functions (curves, gradients), and
 // tables must read back from their own JSON unchanged. The text also goes, as the version-4 string of the
 // chosen node type's mini-language, through the version-5 migration (graph/table_migration.h), whose tables
 // must then pass or fail the loader's checks without crashing.
@@ -63,10 +63,11 @@ void migrate_as_v4(const orogen::NodeType& type, const std::string& text) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const auto params = all_params();
-  if (size < 1 || params.empty()) return 0;
-  const Param& chosen = params[data[0] % params.size()];
+  // Two bytes pick the parameter: there are more than 256.
+  if (size < 2 || params.empty()) return 0;
+  const Param& chosen = params[(data[0] | (std::size_t{data[1]} << 8)) % params.size()];
   const orogen::ParamDecl& decl = *chosen.decl;
-  const std::string text(reinterpret_cast<const char*>(data + 1), size - 1);
+  const std::string text(reinterpret_cast<const char*>(data + 2), size - 2);
   migrate_as_v4(*chosen.type, text);
   std::string error;
   std::vector<orogen::ParamValue> values;
