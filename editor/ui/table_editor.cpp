@@ -148,8 +148,9 @@ WidgetEdit table_editor(const char* id, const TableSchema& schema, TableValue& t
   WidgetEdit edit;
   ImGui::PushID(id);
   const int columns = static_cast<int>(schema.columns.size());
-  const ImGuiTableFlags flags = ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp |
-                                ImGuiTableFlags_ScrollX | ImGuiTableFlags_Resizable;
+  // No scrolling: the table is as tall as its rows, so the next table and the "+ row" button stay visible.
+  const ImGuiTableFlags flags =
+      ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp | ImGuiTableFlags_Resizable;
   const float controls = 3.0f * ImGui::GetFrameHeight() + 2.0f * ImGui::GetStyle().ItemSpacing.x;
   if (ImGui::BeginTable("##table", columns + 1, flags, {width, 0.0f})) {
     for (const auto& c : schema.columns) {
