@@ -27,7 +27,7 @@ TableSchema layer_color_schema() {
 }
 
 // The table's rows as linear colors; a name given twice takes its last color.
-std::vector<NamedColor> layer_colors(const TableValue& table) {
+std::vector<NamedColor> named_colors_from_table(const TableValue& table) {
   std::vector<NamedColor> out;
   for (const auto& row : table.rows)
     out.push_back({std::get<std::string>(row[0]), std::get<Srgb8>(row[1]).linear()});
@@ -57,7 +57,7 @@ OROGEN_NODE(ColorByLayers) {
     const auto w = ctx.require<Image>("in");
     const auto shade = ctx.input<Heightfield>("shade");
     if (shade && shade->domain.resolution != w->domain.resolution) throw NodeError("shade: resolution differs from the weights'");
-    const auto named = layer_colors(ctx.param<TableValue>("colors"));
+    const auto named = named_colors_from_table(ctx.param<TableValue>("colors"));
     std::vector<glm::vec4> colors;
     for (int c = 0; c < w->channels; ++c) {
       glm::vec4 col = climate::categorical_color(c);
