@@ -18,7 +18,48 @@ std::string range_text(const ParamDecl& p) {
   return s.str();
 }
 
-std::string default_text(const ParamDecl& p) { return param_to_json(p.default_value).dump(); }
+// A table's default is summarized by its row count; `--json` gives the rows.
+std::string default_text(const ParamDecl& p) {
+  if (p.type == ParamType::Table) return std::to_string(std::get<TableValue>(p.default_value).rows.size()) + " rows";
+  return param_to_json(p.default_value).dump();
+}
+
+std::string column_range_text(const TableColumn& c) {
+  std::ostringstream s;
+  if (c.min && c.max)
+    s << "[" << *c.min << ", " << *c.max << "]";
+  else if (c.min)
+    s << ">= " << *c.min;
+  else if (c.max)
+    s << "<= " << *c.max;
+  return s.str();
+}
+
+// "slope : range deg [0, 90], optional"
+std::string column_summary(const TableColumn& c) {
+  std::string s = c.name + " : " + std::string(to_string(c.type));
+  if (!c.unit.empty()) s += " " + c.unit;
+  if (auto r = column_range_text(c); !r.empty()) s += " " + r;
+  if (!c.choices.empty()) {
+    s += " (";
+    for (std::size_t k = 0; k < c.choices.size(); ++k) s += (k ? ", " : "") + c.choices[k];
+    s += ")";
+  }
+  if (c.open_ends) s += ", open ends (null)";
+  if (!c.required) s += ", optional";
+  return s;
+}
+
+nlohmann::json column_json(const TableColumn& c) {
+  nlohmann::json j = {
+      {"name", c.name}, {"type", to_string(c.type)}, {"description", c.description}, {"required", c.required}};
+  if (!c.unit.empty()) j["unit"] = c.unit;
+  if (c.min) j["min"] = *c.min;
+  if (c.max) j["max"] = *c.max;
+  if (!c.choices.empty()) j["choices"] = c.choices;
+  if (c.open_ends) j["open_ends"] = true;
+  return j;
+}
 
 nlohmann::json port_json(const PortDecl& p) {
   nlohmann::json j = {{"name", p.name}, {"type", to_string(p.type)}, {"description", p.description}};
@@ -60,6 +101,13 @@ nlohmann::json type_json(const NodeType& t) {
     if (!p.choices.empty()) j["choices"] = p.choices;
     if (p.output_file) j["output_file"] = true;
     if (!p.extensions.empty()) j["extensions"] = p.extensions;
+    if (p.type == ParamType::Table) {
+      nlohmann::json columns = nlohmann::json::array();
+      for (const auto& c : p.table.columns) columns.push_back(column_json(c));
+      j["columns"] = std::move(columns);
+      j["min_rows"] = p.table.min_rows;
+      j["max_rows"] = p.table.max_rows;
+    }
     params.push_back(std::move(j));
   }
   return {{"name", t.name},       {"category", t.category}, {"version", t.version},
@@ -110,6 +158,11 @@ std::string node_reference_text(const NodeType& t) {
         for (const auto& c : p.choices) s << " " << c;
         s << "\n";
       }
+      if (p.type == ParamType::Table) {
+        s << "      columns (rows " << p.table.min_rows << ".." << p.table.max_rows << "):\n";
+        for (const auto& c : p.table.columns)
+          s << "        " << column_summary(c) << "\n          " << c.description << "\n";
+      }
     }
   }
   if (t.writes_files) s << "\nWrites files (paths resolve inside the output directory).\n";
@@ -155,6 +208,22 @@ std::string node_reference_markdown() {
         }
         s << "| `" << p.name << "` | " << to_string(p.type) << " | `" << default_text(p) << "` | " << p.unit << " | "
           << range_text(p) << " | " << desc << " |\n";
+      }
+      for (const auto& p : t->params) {
+        if (p.type != ParamType::Table) continue;
+        s << "\nColumns of `" << p.name
+          << "` (one JSON object per row):\n\n| column | type | unit | range | required | "
+             "description |\n|---|---|---|---|---|---|\n";
+        for (const auto& c : p.table.columns) {
+          std::string desc = c.description;
+          if (!c.choices.empty()) {
+            desc += " Choices:";
+            for (const auto& choice : c.choices) desc += " `" + choice + "`";
+          }
+          if (c.open_ends) desc += " `null` for an open end.";
+          s << "| `" << c.name << "` | " << to_string(c.type) << " | " << c.unit << " | " << column_range_text(c)
+            << " | " << (c.required ? "yes" : "no") << " | " << desc << " |\n";
+        }
       }
     }
   }

@@ -189,6 +189,30 @@ KeyHasher& KeyHasher::add(const ParamValue& v) {
             add(s.position);
             for (int c = 0; c < 4; ++c) add(static_cast<double>(s.color[c]));
           }
+        } else if constexpr (std::is_same_v<T, TableValue>) {
+          // Column names, then every cell as its alternative index and value, row by row.
+          add(static_cast<std::uint64_t>(x.columns.size()));
+          for (const auto& c : x.columns) add(std::string_view(c));
+          add(static_cast<std::uint64_t>(x.rows.size()));
+          for (const auto& row : x.rows) {
+            add(static_cast<std::uint64_t>(row.size()));
+            for (const auto& cell : row) {
+              add(static_cast<std::uint64_t>(cell.index()));
+              std::visit(
+                  [this](const auto& c) {
+                    using C = std::decay_t<decltype(c)>;
+                    if constexpr (std::is_same_v<C, std::string>)
+                      add(std::string_view(c));
+                    else if constexpr (std::is_same_v<C, double> || std::is_same_v<C, std::int64_t>)
+                      add(c);
+                    else if constexpr (std::is_same_v<C, glm::dvec2>)
+                      add(c.x).add(c.y);
+                    else if constexpr (std::is_same_v<C, Srgb8>)
+                      add(std::int64_t{c.r}).add(std::int64_t{c.g}).add(std::int64_t{c.b});
+                  },
+                  cell);
+            }
+          }
         } else {
           static_assert(sizeof(T) == 0, "every ParamValue alternative needs a canonical encoding");
         }

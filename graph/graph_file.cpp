@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "graph/graph_migrations.h"
+#include "graph/table_json.h"
 #include "graph/json_util.h"
 #include "graph/registry.h"
 
@@ -45,7 +46,10 @@ using json_util::suggestion;
 struct MigrationTable {
   std::mutex mutex;
   // The format's own history (graph_migrations.h); tests may register more.
-  std::map<int, GraphMigration> by_version{{1, migrate_graph_v1_to_v2}, {2, migrate_graph_v2_to_v3}, {3, migrate_graph_v3_to_v4}};
+  std::map<int, GraphMigration> by_version{{1, migrate_graph_v1_to_v2},
+                                           {2, migrate_graph_v2_to_v3},
+                                           {3, migrate_graph_v3_to_v4},
+                                           {4, migrate_graph_v4_to_v5}};
 };
 
 MigrationTable& migrations() {
@@ -340,6 +344,14 @@ class GraphReader {
       if (!decl) {
         report(p, id, "unknown parameter '" + name + "' for node type " + type->name +
                           hint_or(name, names_of(type->params), " (it has no parameters)"));
+        continue;
+      }
+      if (decl->type == ParamType::Table) {
+        // A table's problem points at its row and column: /nodes/3/params/layers/2/color.
+        TableProblem problem;
+        auto table = table_from_json(value, decl->table, problem);
+        if (!table) report(p + problem.pointer(), id, "params." + problem.str(name));
+        else if (node) node->params[name] = std::move(*table);
         continue;
       }
       std::string error;

@@ -16,7 +16,7 @@
 
 namespace orogen {
 
-inline constexpr int kGraphFormatVersion = 4;
+inline constexpr int kGraphFormatVersion = 5;
 inline constexpr const char* kGraphFormatName = "orogen-graph";
 
 struct Diagnostic {

@@ -2,12 +2,14 @@
 //
 // Layout: objects one member per line with a 2-space indent; an array that holds a number or string is
 // written on one line ([x, y], colours, gradient stops), an array made only of arrays has one element per
-// line (curve points, gradient stops), so a change to one point is a one-line diff.
+// line (curve points, gradient stops), so a change to one point is a one-line diff. A table has one row per
+// line, each row an object on one line with its cells in column order.
 #include <nlohmann/json.hpp>
 
 #include "graph/atomic_file.h"
 #include "graph/graph_file.h"
 #include "graph/json_util.h"
+#include "graph/table_json.h"
 
 namespace orogen {
 namespace {
@@ -72,6 +74,31 @@ class JsonWriter {
       }
       default: out_ += j.dump(); return;  // null, bool, integers
     }
+  }
+
+  void table(const TableValue& t, int level) {
+    if (t.rows.empty()) {
+      out_ += "[]";
+      return;
+    }
+    out_ += '[';
+    for (std::size_t r = 0; r < t.rows.size(); ++r) {
+      if (r > 0) out_ += ',';
+      newline(level + 1);
+      out_ += '{';
+      bool first = true;
+      for (std::size_t c = 0; c < t.rows[r].size() && c < t.columns.size(); ++c) {
+        if (std::holds_alternative<std::monostate>(t.rows[r][c])) continue;
+        if (!first) out_ += ", ";
+        first = false;
+        string(t.columns[c]);
+        out_ += ": ";
+        value(table_cell_to_json(t.rows[r][c]), level + 1);
+      }
+      out_ += '}';
+    }
+    newline(level);
+    out_ += ']';
   }
 
  private:
@@ -147,7 +174,8 @@ std::string serialize_graph(const Graph& graph) {
         const auto it = node.params.find(decl.name);
         if (it == node.params.end()) continue;
         w.key(decl.name, 4, first);
-        w.value(param_to_json(it->second), 4);
+        if (const auto* t = std::get_if<TableValue>(&it->second)) w.table(*t, 4);
+        else w.value(param_to_json(it->second), 4);
         first = false;
       }
       w.newline(3);

@@ -1,4 +1,5 @@
 #include "graph/graph_migrations.h"
+#include "graph/table_migration.h"
 
 #include <map>
 #include <set>
@@ -164,5 +165,7 @@ void migrate_graph_v3_to_v4(json& file) {
     positions[writer] = json::array({at[0].get<double>() + 230.0, at[1].get<double>()});
   }
 }
+
+void migrate_graph_v4_to_v5(json& file) { convert_string_tables_v4(file); }
 
 }  // namespace orogen

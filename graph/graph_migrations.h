@@ -47,6 +47,10 @@ void migrate_graph_v2_to_v3(nlohmann::json& file);
 // writer in the editor.
 void migrate_graph_v3_to_v4(nlohmann::json& file);
 
+// Version 5: the six string mini-languages became table parameters (graph/table_value.h); the strings of
+// older files are converted by convert_string_tables_v4 (graph/table_migration.h).
+void migrate_graph_v4_to_v5(nlohmann::json& file);
+
 // Rewrites a version-1 file in place: input port names in "inputs", output port names in every link that
 // reads a renamed output, parameter names and enum values in "params". Parts of the file that are not
 // well formed are left as they are, for the loader to report.

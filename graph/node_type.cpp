@@ -96,6 +96,10 @@ std::string ParamDecl::check(const ParamValue& v) const {
       }
       return {};
     }
+    case ParamType::Table: {
+      if (auto problem = check_table(table, std::get<TableValue>(v))) return problem->str(name);
+      return {};
+    }
     case ParamType::String:
       return file_text ? check_file_text(std::get<std::string>(v)) : std::string();
     case ParamType::Bool:
@@ -339,6 +343,11 @@ NodeBuilder::Param NodeBuilder::param_curve(std::string name, CurveValue def) {
 NodeBuilder::Param NodeBuilder::param_gradient(std::string name, GradientValue def) {
   return add_param(std::move(name), ParamType::Gradient, std::move(def));
 }
+NodeBuilder::Param NodeBuilder::param_table(std::string name, TableSchema schema, TableValue def) {
+  Param p = add_param(std::move(name), ParamType::Table, std::move(def));
+  type_.params.back().table = std::move(schema);
+  return p;
+}
 
 void check_declaration(const NodeType& type) {
   auto fail = [&](const std::string& why) { throw std::logic_error("node type '" + type.name + "': " + why); };
@@ -364,6 +373,15 @@ void check_declaration(const NodeType& type) {
     if (!names.insert("param:" + p.name).second) fail("duplicate parameter '" + p.name + "'");
     if (p.description.empty()) fail("parameter '" + p.name + "' has no description");
     if (auto why = p.check(p.default_value); !why.empty()) fail("default of '" + p.name + "': " + why);
+    if (p.type != ParamType::Table) continue;
+    if (p.table.columns.empty()) fail("table '" + p.name + "' has no columns");
+    std::set<std::string> columns;
+    for (const auto& c : p.table.columns) {
+      if (c.name.empty() || !columns.insert(c.name).second)
+        fail("table '" + p.name + "': empty or duplicate column name");
+      if (c.description.empty()) fail("table '" + p.name + "': column '" + c.name + "' has no description");
+      if (c.type == ColumnType::Enum && c.choices.empty()) fail("table '" + p.name + "': enum column without choices");
+    }
   }
   if (type.outputs.empty() && !type.writes_files) fail("no outputs and writes no files");
 }

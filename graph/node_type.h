@@ -53,8 +53,9 @@ struct ParamDecl {
   bool output_file = false;          // Path: a file this node writes (resolved inside the output directory)
   std::vector<std::string> extensions;  // Path: accepted file extensions, e.g. {".exr", ".png"}
   bool file_text = false;            // String: written into an output file, so one printable line
+  TableSchema table;                    // Table: the columns and row bounds
 
-  // Empty if `v` is a valid value for this parameter, else why not.
+  // Empty if `v` is a valid value for this parameter, else why not (tables: "name[row].column: why").
   std::string check(const ParamValue& v) const;
 };
 
@@ -205,6 +206,8 @@ class NodeBuilder {
   Param param_seed(std::string name = "seed", std::uint64_t def = 0);
   Param param_curve(std::string name, CurveValue def);
   Param param_gradient(std::string name, GradientValue def);
+  // A table of rows under `schema` (graph/table_value.h); the default must satisfy it.
+  Param param_table(std::string name, TableSchema schema, TableValue def);
 
  private:
   Param add_param(std::string name, ParamType type, ParamValue def);

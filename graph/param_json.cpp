@@ -6,6 +6,7 @@
 
 #include "graph/graph_file.h"
 #include "graph/json_util.h"
+#include "graph/table_json.h"
 
 namespace orogen {
 namespace {
@@ -144,6 +145,15 @@ std::optional<ParamValue> convert(const json& j, const ParamDecl& decl, std::str
       }
       return ParamValue(std::move(gradient));
     }
+    case ParamType::Table: {
+      TableProblem problem;
+      auto table = table_from_json(j, decl.table, problem);
+      if (!table) {
+        error = problem.str(decl.name);
+        return std::nullopt;
+      }
+      return ParamValue(std::move(*table));
+    }
   }
   error = "unsupported parameter type";
   return std::nullopt;
@@ -166,6 +176,8 @@ nlohmann::json param_to_json(const ParamValue& value) {
           json out = json::array();
           for (const auto& s : x.stops) out.push_back(json::array({json(s.position), color_to_json(s.color)}));
           return out;
+        } else if constexpr (std::is_same_v<T, TableValue>) {
+          return table_to_json(x);
         } else {
           return json(x);  // bool, int64, double, string, uint64
         }

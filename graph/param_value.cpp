@@ -71,6 +71,7 @@ bool holds_param_type(const ParamValue& v, ParamType t) {
     case ParamType::Seed: return std::holds_alternative<std::uint64_t>(v);
     case ParamType::Curve: return std::holds_alternative<CurveValue>(v);
     case ParamType::Gradient: return std::holds_alternative<GradientValue>(v);
+    case ParamType::Table: return std::holds_alternative<TableValue>(v);
   }
   return false;
 }
@@ -89,6 +90,7 @@ std::string describe(const ParamValue& v) {
         else if constexpr (std::is_same_v<T, std::string>) s << '"' << x << '"';
         else if constexpr (std::is_same_v<T, CurveValue>) s << "curve(" << x.points.size() << " points)";
         else if constexpr (std::is_same_v<T, GradientValue>) s << "gradient(" << x.stops.size() << " stops)";
+        else if constexpr (std::is_same_v<T, TableValue>) s << "table(" << x.rows.size() << " rows)";
       },
       v);
   return s.str();

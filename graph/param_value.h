@@ -1,7 +1,8 @@
 #pragma once
 // Parameter values. The variant alternative follows the declared ParamType:
 //   Float -> double, Int -> int64_t, Bool -> bool, Vec2 -> dvec2, Vec3 -> dvec3, Color -> vec4 (linear RGBA),
-//   Enum / String / Path -> std::string, Seed -> uint64_t, Curve -> CurveValue, Gradient -> GradientValue.
+//   Enum / String / Path -> std::string, Seed -> uint64_t, Curve -> CurveValue, Gradient -> GradientValue,
+//   Table -> TableValue (graph/table_value.h).
 #include <cstdint>
 #include <string>
 #include <variant>
@@ -11,6 +12,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "graph/table_value.h"
 #include "graph/value_type.h"
 
 namespace orogen {
@@ -40,7 +42,7 @@ struct GradientValue {
 };
 
 using ParamValue = std::variant<bool, std::int64_t, double, glm::dvec2, glm::dvec3, glm::vec4, std::string,
-                                std::uint64_t, CurveValue, GradientValue>;
+                                std::uint64_t, CurveValue, GradientValue, TableValue>;
 
 // Whether `v` holds the alternative that parameters of type `t` use.
 bool holds_param_type(const ParamValue& v, ParamType t);

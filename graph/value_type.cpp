@@ -18,7 +18,7 @@ constexpr std::array<std::pair<PortType, std::string_view>, 9> kPortNames{{
     {PortType::Scene, "Scene"},
 }};
 
-constexpr std::array<std::pair<ParamType, std::string_view>, 12> kParamNames{{
+constexpr std::array<std::pair<ParamType, std::string_view>, 13> kParamNames{{
     {ParamType::Float, "float"},
     {ParamType::Int, "int"},
     {ParamType::Bool, "bool"},
@@ -31,6 +31,7 @@ constexpr std::array<std::pair<ParamType, std::string_view>, 12> kParamNames{{
     {ParamType::Seed, "seed"},
     {ParamType::Curve, "curve"},
     {ParamType::Gradient, "gradient"},
+    {ParamType::Table, "table"},
 }};
 
 }  // namespace

@@ -9,7 +9,7 @@ namespace orogen {
 enum class PortType { Heightfield, Image, Points, Curves, Mesh, PolygonMap, Report, ModuleString, Scene };
 
 // What a parameter holds.
-enum class ParamType { Float, Int, Bool, Vec2, Vec3, Color, Enum, String, Path, Seed, Curve, Gradient };
+enum class ParamType { Float, Int, Bool, Vec2, Vec3, Color, Enum, String, Path, Seed, Curve, Gradient, Table };
 
 std::string_view to_string(PortType t);
 std::string_view to_string(ParamType t);

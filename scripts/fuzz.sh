@@ -32,6 +32,7 @@ cmake --build build/fuzz -j"$(nproc)" --target orogen_fuzz_graph_file orogen_fuz
 work=build/fuzz/run
 mkdir -p "$work/graph" "$work/image" "$work/param" "$work/lsystem" build/fuzz/artifacts
 cp graphs/*.json "$work/graph/"
+cp tests/fixtures/v4/*.json "$work/graph/"  # version 4: the string tables the migration converts
 bash tests/fuzz/make_image_seeds.sh "$work/image"
 cp tests/fuzz/param_seeds/* "$work/param/" 2>/dev/null || true
 cp tests/fuzz/lsystem_seeds/* "$work/lsystem/"

@@ -11,6 +11,9 @@
 #include "evaluator/run_node.h"
 #include "graph/heightfield.h"
 #include "graph/image.h"
+#include "graph/table_json.h"
+
+#include <nlohmann/json.hpp>
 #include "nodes/climate/biomes.h"
 #include "nodes/climate/resources.h"
 #include "nodes/climate/sun.h"
@@ -388,7 +391,7 @@ TEST(ResourceStack, ChannelsAndKeys) {
 }
 
 TEST(Biomes, WhittakerAndIslandTables) {
-  const BiomeTable w = parse_biome_table(builtin_biome_table("whittaker"));
+  const BiomeTable w = biome_table_from_rows(builtin_biome_rectangles("whittaker"));
   auto name = [&](const BiomeTable& t, double T, double M) {
     const int id = t.classify(T, M);
     return id < 0 ? std::string("none") : t.names[std::size_t(id)];
@@ -404,7 +407,7 @@ TEST(Biomes, WhittakerAndIslandTables) {
   // The whittaker table covers the whole plane.
   for (double T = -40; T <= 40; T += 0.5)
     for (double M = 0; M <= 5000; M += 25) ASSERT_GE(w.classify(T, M), 0) << T << " " << M;
-  const BiomeTable is = parse_biome_table(builtin_biome_table("island"));
+  const BiomeTable is = biome_table_from_rows(builtin_biome_rectangles("island"));
   EXPECT_EQ(name(is, -5, 0.9), "snow");
   EXPECT_EQ(name(is, -5, 0.05), "scorched");
   EXPECT_EQ(name(is, 20, 0.9), "tropical_rain_forest");
@@ -412,17 +415,35 @@ TEST(Biomes, WhittakerAndIslandTables) {
   EXPECT_EQ(is.classify(10, 0.05), is.classify(4, 0.1)) << "one name, one id";
 }
 
-TEST(Biomes, CustomTableParsingAndErrors) {
-  const BiomeTable t = parse_biome_table("cold, -inf, 0, -inf, inf, #0000ff\n\n warm , 0, inf, 0, inf, #ff0000\n");
+TEST(Biomes, CustomTableAndErrors) {
+  const TableSchema schema = biome_rectangle_schema();
+  const BiomeTable t = biome_table_from_rows(table_from_json_text(
+      R"([{"name": "cold", "temperature": [null, 0], "moisture": [null, null], "color": "#0000ff"},
+          {"name": "warm", "temperature": [0, null], "moisture": [0, null], "color": "#ff0000"},
+          {"name": "cold", "temperature": [0, null], "moisture": [-10, -5], "color": "#00ff00"}])",
+      schema));
   EXPECT_EQ(t.names.size(), 2u);
   EXPECT_EQ(t.classify(-3, 5), 0);
   EXPECT_EQ(t.classify(3, 5), 1);
-  EXPECT_EQ(t.classify(3, -5), -1);
+  EXPECT_EQ(t.classify(3, -7), 0) << "a name's second rectangle is the same biome";
+  EXPECT_EQ(t.classify(3, -1), -1);
   EXPECT_NEAR(t.colors[1].r, 1.0f, 1e-6);
-  EXPECT_THROW(parse_biome_table("a, 1, 2, 3, #ffffff"), NodeError);
-  EXPECT_THROW(parse_biome_table("a, 1, x, 3, 4, #ffffff"), NodeError);
-  EXPECT_THROW(parse_biome_table("a, 1, 2, 3, 4, red"), NodeError);
-  EXPECT_THROW(parse_biome_table(""), NodeError);
+  EXPECT_EQ(t.colors[0], glm::vec4(0, 0, 1, 1)) << "a biome's color is its first row's";
+  // Malformed tables name the row and column.
+  auto error = [&](const char* text) {
+    TableProblem problem;
+    EXPECT_FALSE(table_from_json(nlohmann::json::parse(text), schema, problem).has_value()) << text;
+    return problem.str("custom_table");
+  };
+  EXPECT_EQ(error(R"([{"name": "a", "temperature": [1, 2], "moisture": [3, 4]}])"),
+            "custom_table[0].color: the column 'color' is required");
+  EXPECT_EQ(error(R"([{"name": "a", "temperature": [1, "x"], "moisture": [3, 4], "color": "#ffffff"}])"),
+            "custom_table[0].temperature: maximum: expected a number or null (open end), found the string \"x\"");
+  EXPECT_EQ(error(R"([{"name": "a", "temperature": [1, 2], "moisture": [3, 4], "color": "red"}])"),
+            "custom_table[0].color: 'red' is not a #rrggbb color");
+  EXPECT_EQ(error(R"([{"name": "a", "temperature": [null, 2], "moisture": [4, 3], "color": "#ffffff"}])"),
+            "custom_table[0].moisture: the range [4, 3] has min > max");
+  EXPECT_EQ(error("[]"), "custom_table: at least 1 row(s) needed, found 0");
   const Domain d = Domain::from_extent({0, 0}, {640, 640}, {17, 17});
   auto temp = std::make_shared<Heightfield>(make_field(17, 40.0, hills));
   auto moist = std::make_shared<Heightfield>(d, 900.0f);

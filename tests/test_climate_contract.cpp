@@ -10,6 +10,8 @@
 #include "evaluator/run_node.h"
 #include "graph/heightfield.h"
 #include "graph/image.h"
+#include "graph/table_json.h"
+#include "nodes/texture/splat.h"
 
 namespace orogen {
 namespace {
@@ -48,7 +50,16 @@ TEST(ClimateContract, SameTerrainAtTwoResolutions) {
       {"SoilHumidity", {{"max_slope", 12.0}}, 0, 1e-3, 0.02},
       {"SunIllumination", {{"time_step", 0.5}}, 0, 0.51, 0.03},  // lit hours: one interval near shadow edges
       {"SunIllumination", {{"time_step", 0.5}}, 1, 25.0, 0.03},  // mean irradiance, W/m^2
-      {"SplatWeights", {{"layers", std::string("low: height < 300 ~ 60\nhigh: height > 300 ~ 60\nsteep: slope > 10 ~ 4\n")}}, 0, 0.05, 0.01},
+      {"SplatWeights",
+       {{"layers", table_from_json_text(R"([{"name": "low", "weight": 1}, {"name": "high", "weight": 1},
+                                            {"name": "steep", "weight": 1}])",
+                                        texture::splat_layer_schema())},
+        {"rules", table_from_json_text(
+                      R"([{"layer": "low", "input": "height", "compare": "<", "threshold": 300, "softness": 60},
+                          {"layer": "high", "input": "height", "compare": ">", "threshold": 300, "softness": 60},
+                          {"layer": "steep", "input": "slope", "compare": ">", "threshold": 10, "softness": 4}])",
+                      texture::splat_rule_schema())}},
+       0, 0.05, 0.01},
       {"Hillshade", {}, 0, 0.02, 0.0},
       {"AmbientOcclusion", {{"radius", 800.0}}, 0, 0.03, 0.01},
       {"Cavity", {{"radius", 400.0}}, 0, 0.03, 0.01},

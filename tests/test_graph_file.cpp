@@ -121,7 +121,7 @@ TEST(GraphFile, CanonicalTextIsReproducedExactly) {
   // What serialize_graph writes: this is the documented look of a file.
   const std::string text = R"({
   "format": "orogen-graph",
-  "version": 4,
+  "version": 5,
   "domain": {
     "size": [4096, 2048.5],
     "resolution": [1025, 513],
@@ -209,7 +209,7 @@ TEST(GraphFile, WritesOnlyExplicitParametersInDeclarationOrderAndOmitsEmptySecti
 TEST(GraphFile, EmptyGraphRoundTrips) {
   const Graph g;
   const std::string text = serialize_graph(g);
-  EXPECT_EQ(text, "{\n  \"format\": \"orogen-graph\",\n  \"version\": 4,\n  \"domain\": {\n    \"size\": [1024, 1024],\n"
+  EXPECT_EQ(text, "{\n  \"format\": \"orogen-graph\",\n  \"version\": 5,\n  \"domain\": {\n    \"size\": [1024, 1024],\n"
                   "    \"resolution\": [256, 256]\n  },\n  \"nodes\": []\n}\n");
   const auto loaded = parse_ok(text);
   ASSERT_TRUE(loaded.ok());
@@ -362,7 +362,7 @@ TEST(GraphFile, OlderVersionsAreMigrated) {
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(std::get<std::int64_t>(r.graph->param("s", "octaves")), 9);
   // Saving writes the current version.
-  EXPECT_THAT(serialize_graph(*r.graph), HasSubstr("\"version\": 4,"));
+  EXPECT_THAT(serialize_graph(*r.graph), HasSubstr("\"version\": 5,"));
 
   // Problems in a migrated file are still reported, with paths in the migrated document.
   const auto bad = parse_graph(R"({"format": "orogen-graph", "version": 0,
@@ -572,12 +572,12 @@ std::vector<Malformed> malformed_cases() {
       {"WrongFormat", R"({"format": "gaea-graph", "version": 1, "nodes": []})", "/format", "",
        "\"format\" must be \"orogen-graph\", found the string \"gaea-graph\""},
       {"MissingVersion", R"({"format": "orogen-graph", "nodes": []})", "/version", "",
-       "missing \"version\": the format version (this build writes 4)"},
+       "missing \"version\": the format version (this build writes 5)"},
       {"VersionNotInteger", R"({"format": "orogen-graph", "version": 1.0, "nodes": []})", "/version", "",
        "\"version\" must be an integer, found the number 1.0"},
-      {"NewerVersion", R"({"format": "orogen-graph", "version": 5, "nodes": [{"bad": 1}], "future": true})",
+      {"NewerVersion", R"({"format": "orogen-graph", "version": 6, "nodes": [{"bad": 1}], "future": true})",
        "/version", "",
-       "this file was written by a newer Orogen (version 5, this build reads up to 4); update Orogen to open it"},
+       "this file was written by a newer Orogen (version 6, this build reads up to 5); update Orogen to open it"},
       {"UnknownTopLevelField", with_nodes("", R"(, "editr": {})"), "/editr", "",
        "unknown field 'editr' in the file (did you mean 'editor'?)"},
       {"MissingNodes", R"({"format": "orogen-graph", "version": 1})", "/nodes", "",

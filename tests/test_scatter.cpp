@@ -14,18 +14,19 @@
 #include "evaluator/value_serialization.h"
 #include "graph/exec_context.h"
 #include "graph/heightfield.h"
+#include "graph/mesh.h"
 #include "graph/points.h"
-#include "nodes/scatter/poisson_disk.h"
-#include "nodes/scatter/scatter_rules.h"
-#include "nodes/scatter/instance.h"
-#include "nodes/scatter/scene_gltf.h"
+#include "graph/table_json.h"
 #include "nodes/climate/sun.h"
 #include "nodes/scatter/forest.h"
 #include "nodes/scatter/merge_points.h"
 #include "nodes/scatter/project_to_terrain.h"
+#include "nodes/scatter/instance.h"
+#include "nodes/scatter/poisson_disk.h"
+#include "nodes/scatter/scatter_rules.h"
+#include "nodes/scatter/scene_gltf.h"
 #include "support/key_checks.h"
 #include "support/test_paths.h"
-#include "graph/mesh.h"
 
 namespace orogen {
 namespace {
@@ -340,13 +341,26 @@ std::shared_ptr<Heightfield> step_terrain() {
   return h;
 }
 
+// ScatterRules' ecosystems from its two tables, written as in a graph file.
+std::vector<Ecosystem> ecosystems(const char* rows, const char* plants) {
+  return ecosystems_from_tables(table_from_json_text(rows, ecosystem_schema()),
+                                table_from_json_text(plants, ecosystem_plant_schema()));
+}
+
 TEST(ScatterRules, TableSelectsTheEcosystemByElevationAndSlope) {
   const auto h = step_terrain();
   EcosystemParams p;
-  p.ecosystems = parse_ecosystem_table(
-      "low  | elevation -10 10 1e9 | slope 0 0.5 1e9 | plant 1 0.02 1 1\n"
-      "high | elevation 150 250 1e9 | slope 0 0.5 1e9 | plant 2 0.01 2 3 | plant 3 0.005 0.5 0.5\n"
-      "ramp | slope 1.5 2.5 1e9 | plant 4 0.02 1 1  # the ramp\n");
+  // Slopes in degrees: the flats are 0 deg, the ramp (rise 2 over run 1) atan(2) = 63.4 deg.
+  p.ecosystems = ecosystems(
+      R"([{"name": "low", "elevation": [-10, 10], "elevation_sharpness": 1e9, "slope": [0, 26.6],
+           "slope_sharpness": 1e9},
+          {"name": "high", "elevation": [150, 250], "elevation_sharpness": 1e9, "slope": [0, 26.6],
+           "slope_sharpness": 1e9},
+          {"name": "ramp", "slope": [56.3, 68.2], "slope_sharpness": 1e9}])",
+      R"([{"ecosystem": "low", "class": 1, "density": 0.02, "scale": [1, 1]},
+          {"ecosystem": "high", "class": 2, "density": 0.01, "scale": [2, 3]},
+          {"ecosystem": "high", "class": 3, "density": 0.005, "scale": [0.5, 0.5]},
+          {"ecosystem": "ramp", "class": 4, "density": 0.02, "scale": [1, 1]}])");
   p.seed = 1;
   TerrainVariables vars{h.get(), nullptr, nullptr};
   const Points pts = scatter_ecosystems({-200, -200}, {300, 200}, vars, p);
@@ -384,7 +398,9 @@ TEST(ScatterRules, OverlapSharesCandidatesByMembership) {
   // Two ecosystems that both hold everywhere: each keeps half of its candidates.
   auto h = step_terrain();
   EcosystemParams p;
-  p.ecosystems = parse_ecosystem_table("a | plant 0 0.02 1 1\nb | plant 1 0.02 1 1");
+  p.ecosystems = ecosystems(R"([{"name": "a"}, {"name": "b"}])",
+                            R"([{"ecosystem": "a", "class": 0, "density": 0.02, "scale": [1, 1]},
+                                {"ecosystem": "b", "class": 1, "density": 0.02, "scale": [1, 1]}])");
   TerrainVariables vars{h.get(), nullptr, nullptr};
   const Points pts = scatter_ecosystems({-200, -200}, {-100, 200}, vars, p);
   int a = 0;
@@ -397,7 +413,8 @@ TEST(ScatterRules, OverlapSharesCandidatesByMembership) {
 TEST(ScatterRules, SoftEdgesReachOnlyTheMargin) {
   const auto h = step_terrain();
   EcosystemParams p;
-  p.ecosystems = parse_ecosystem_table("mid | elevation 80 120 2 | plant 0 0.05 1 1");  // margin 20 m
+  p.ecosystems = ecosystems(R"([{"name": "mid", "elevation": [80, 120], "elevation_sharpness": 2}])",  // margin 20 m
+                            R"([{"ecosystem": "mid", "class": 0, "density": 0.05, "scale": [1, 1]}])");
   TerrainVariables vars{h.get(), nullptr, nullptr};
   const Points pts = scatter_ecosystems({-200, -200}, {300, 200}, vars, p);
   for (const auto& q : pts.position) EXPECT_TRUE(q.z > 60.0f && q.z < 140.0f) << q.z;
@@ -410,7 +427,7 @@ TEST(ScatterRules, SoftEdgesReachOnlyTheMargin) {
 TEST(ScatterRules, TileInvariantAndDeterministic) {
   const auto h = step_terrain();
   EcosystemParams p;
-  p.ecosystems = parse_ecosystem_table(kDefaultEcosystemTable);
+  p.ecosystems = ecosystems_from_tables(default_ecosystems(), default_ecosystem_plants());
   p.seed = 5;
   TerrainVariables vars{h.get(), nullptr, nullptr};
   const Points full = scatter_ecosystems({-200, -200}, {300, 200}, vars, p);
@@ -427,15 +444,42 @@ TEST(ScatterRules, TileInvariantAndDeterministic) {
   EXPECT_FALSE(same_points(full, scatter_ecosystems({-200, -200}, {300, 200}, vars, p)));
 }
 
+// The message of the std::invalid_argument `fn` throws ("" if none).
+template <class Fn>
+std::string invalid_argument_of(Fn&& fn) {
+  try {
+    fn();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
 TEST(ScatterRules, BadTablesAreClearErrors) {
-  EXPECT_THROW(parse_ecosystem_table(""), std::invalid_argument);
-  EXPECT_THROW(parse_ecosystem_table("a | elevation 10 0 1"), std::invalid_argument);
-  EXPECT_THROW(parse_ecosystem_table("a | height 0 1 1"), std::invalid_argument);
-  EXPECT_THROW(parse_ecosystem_table("a | plant 1 0.1 1"), std::invalid_argument);
-  EXPECT_THROW(parse_biome_table("1 2.0 | 0 1"), std::invalid_argument);
+  EXPECT_EQ(invalid_argument_of([] {
+              ecosystems(R"([{"name": "a"}])", R"([{"ecosystem": "b", "class": 0, "density": 0.1, "scale": [1, 1]}])");
+            }),
+            "plants[0].ecosystem: 'b' is not an ecosystem of the ecosystems table");
+  EXPECT_EQ(invalid_argument_of([] { ecosystems(R"([{"name": "a"}, {"name": "b", "skew_sharpness": 2}])", "[]"); }),
+            "ecosystems[1].skew_sharpness: given without the range skew");
+  EXPECT_EQ(invalid_argument_of([] {
+              biome_entries_from_tables(
+                  table_from_json_text(R"([{"biome": 1, "density": 0.5}])", biome_density_schema()),
+                  table_from_json_text(R"([{"biome": 1, "class": 0, "weight": 1},
+                                                                 {"biome": 2, "class": 1, "weight": 1}])",
+                                       biome_species_schema()));
+            }),
+            "species[1].biome: 2 is not a biome of the biomes table");
+  // Through the node: the same message, as a NodeError.
   const auto h = step_terrain();
-  EXPECT_THROW(run_node("ScatterRules", h->domain, {{"table", std::string("x | slope 1")}}, {{"in", PortValue(HeightfieldPtr(h))}}),
-               NodeError);
+  const TableValue stray = table_from_json_text(R"([{"ecosystem": "x", "class": 0, "density": 0.1, "scale": [1, 1]}])",
+                                                ecosystem_plant_schema());
+  try {
+    run_node("ScatterRules", h->domain, {{"plants", stray}}, {{"in", PortValue(HeightfieldPtr(h))}});
+    ADD_FAILURE() << "no error";
+  } catch (const NodeError& e) {
+    EXPECT_NE(std::string(e.what()).find("plants[0].ecosystem: 'x'"), std::string::npos) << e.what();
+  }
 }
 
 TEST(BiomeScatter, CountsAndSpeciesFollowTheBiomeTable) {
@@ -444,7 +488,11 @@ TEST(BiomeScatter, CountsAndSpeciesFollowTheBiomeTable) {
   for (int j = 0; j < biome->height(); ++j)
     for (int i = 0; i < biome->width(); ++i) biome->at(i, j) = biome->domain.x(i) < 0 ? 1.0f : 2.0f;
   BiomeScatterParams p;
-  p.table = parse_biome_table("1 0.2 | 0 1 | 1 3\n2 0.5 | 2 1");
+  p.table = biome_entries_from_tables(
+      table_from_json_text(R"([{"biome": 1, "density": 0.2}, {"biome": 2, "density": 0.5}])", biome_density_schema()),
+      table_from_json_text(R"([{"biome": 1, "class": 0, "weight": 1}, {"biome": 1, "class": 1, "weight": 3},
+                               {"biome": 2, "class": 2, "weight": 1}])",
+                           biome_species_schema()));
   p.factor = 0.8;
   p.cell_size = 2.0;
   const Points pts = scatter_biomes({-150, -150}, {150, 150}, *biome, nullptr, p);
@@ -501,7 +549,10 @@ TEST(Instance, OneInstancePerPointWithItsTransformAndClassMesh) {
   const auto pts = std::make_shared<Points>(scene_points());
   pts->attribute("age", 0.0f)[4] = 7.0f;
   const MeshPtr a = proxy_mesh(), b = std::make_shared<Mesh>();
-  const auto scene = instance(pts, {{0, a}, {1, b}, {2, a}, {5, b}}, {{"names", std::string(" tree , , rock")}});
+  const auto scene = instance(
+      pts, {{0, a}, {1, b}, {2, a}, {5, b}},
+      {{"names",
+        table_from_json_text(R"([{"class": 0, "name": "tree"}, {"class": 2, "name": "rock"}])", class_name_schema())}});
   ASSERT_NO_THROW(scene->check_consistent());
   // Nothing filtered: the instances are the points themselves, shared, not copied.
   EXPECT_EQ(scene->instances.get(), pts.get());
@@ -562,7 +613,11 @@ TEST(Instance, ClassWithoutAMeshIsAnErrorAProxyOrLeftOut) {
 
 TEST(Instance, SceneSurvivesTheCacheSerialization) {
   const auto pts = std::make_shared<Points>(scene_points());
-  const auto scene = instance(pts, {{0, proxy_mesh()}}, {{"missing_mesh", std::string("proxy")}, {"names", std::string("a,b")}});
+  const auto scene = instance(
+      pts, {{0, proxy_mesh()}},
+      {{"missing_mesh", std::string("proxy")},
+       {"names",
+        table_from_json_text(R"([{"class": 0, "name": "a"}, {"class": 1, "name": "b"}])", class_name_schema())}});
   const PortValue back = deserialize_value(serialize_value(PortValue(scene)));
   const auto& s = *std::get<ScenePtr>(back);
   ASSERT_EQ(s.size(), pts->size());
@@ -640,7 +695,12 @@ TEST(WriteScene, NodeInstancesOnePerPointNamedByClass) {
   policy.output_dir = dir;
   const auto pts = std::make_shared<Points>(scene_points());
   const Domain d = Domain::from_extent({0, 0}, {100, 100}, {3, 3});
-  const auto scene = instance(pts, {{1, proxy_mesh()}}, {{"missing_mesh", std::string("proxy")}, {"names", std::string("tree,bush,rock")}});
+  const auto scene =
+      instance(pts, {{1, proxy_mesh()}},
+               {{"missing_mesh", std::string("proxy")},
+                {"names", table_from_json_text(R"([{"class": 0, "name": "tree"}, {"class": 1, "name": "bush"},
+                                                                   {"class": 2, "name": "rock"}])",
+                                               class_name_schema())}});
   run_node("WriteScene", d, {{"path", std::string("n.gltf")}, {"instancing", std::string("nodes")}},
            {{"in", PortValue(scene)}}, policy);
   const auto m = load_gltf(dir / "n.gltf");

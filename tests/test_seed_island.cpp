@@ -155,20 +155,8 @@ TEST_F(IslandSeed, PipeErosionChangedTheLandAndVegetationGrowsOnlyOnLand) {
   // biome up at its cell), never water, and of a species its biome allows (the graph's BiomeScatter table).
   const auto biome = read_raster(file("biome_id.exr"));
   std::map<int, std::set<int>> allowed;
-  {
-    std::stringstream table(node_params(run_->graph, "vegetation")["table"].get<std::string>());
-    std::string line;
-    while (std::getline(table, line)) {
-      std::stringstream ls(line);
-      int id;
-      double density;
-      ls >> id >> density;
-      std::string bar;
-      int cls;
-      double w;
-      while (ls >> bar >> cls >> w) allowed[id].insert(cls);
-    }
-  }
+  for (const auto& row : node_params(run_->graph, "vegetation")["species"])
+    allowed[row["biome"].get<int>()].insert(row["class"].get<int>());
   const auto plants = read_csv(file("vegetation.csv"));
   const auto& x = plants.at("x");
   ASSERT_GT(x.size(), 100u);

@@ -17,6 +17,9 @@
 #include "nodes/climate/kmeans.h"
 #include "nodes/texture/color_layers.h"
 #include "nodes/texture/image_channel.h"
+#include "graph/table_json.h"
+
+#include <nlohmann/json.hpp>
 #include "nodes/texture/shading.h"
 #include "nodes/texture/splat.h"
 #include "support/key_checks.h"
@@ -45,9 +48,15 @@ Heightfield mountain() {
   return z;
 }
 
+// SplatWeights' layers from its two tables, written as in a graph file.
+std::vector<SplatLayer> splat_layers(const char* layers, const char* rules) {
+  return splat_layers_from_tables(table_from_json_text(layers, splat_layer_schema()),
+                                  table_from_json_text(rules, splat_rule_schema()));
+}
+
 TEST(Splat, WeightsSumToOneRockOnCliffsSnowAboveTheLine) {
   const Heightfield z = mountain();
-  const auto layers = parse_splat_layers(default_splat_layers());
+  const auto layers = splat_layers_from_tables(default_splat_layers(), default_splat_rules());
   ASSERT_EQ(layers.size(), 5u);
   const auto r = splat_weights({&z}, layers);
   ASSERT_EQ(r.weights->channels, 5);
@@ -72,7 +81,7 @@ TEST(Splat, WeightsSumToOneRockOnCliffsSnowAboveTheLine) {
   EXPECT_EQ(dominant(3000), 3.0f) << "snow on the plateau above 2000 m";
 }
 
-TEST(Splat, TermsAndParsing) {
+TEST(Splat, TermsAndTables) {
   SplatTerm t{SplatInput::Slope, true, 30.0, 5.0};
   EXPECT_EQ(splat_term(t, 20.0), 0.0);
   EXPECT_EQ(splat_term(t, 40.0), 1.0);
@@ -83,22 +92,62 @@ TEST(Splat, TermsAndParsing) {
   EXPECT_EQ(splat_term(t, 29.999), 1.0);
   EXPECT_EQ(splat_term(t, 30.0), 0.0);
   EXPECT_EQ(splat_term(t, std::nan("")), 0.0);
-  const auto l = parse_splat_layers("a: weight = 0.5, height > 10 ~ 2\nb:\n");
+  // Rules attach to their layer in table order, whatever the order of the layers.
+  const auto l = splat_layers(R"([{"name": "a", "weight": 0.5}, {"name": "b", "weight": 1}])",
+                              R"([{"layer": "b", "input": "slope", "compare": "<", "threshold": 7, "softness": 0},
+                                  {"layer": "a", "input": "height", "compare": ">", "threshold": 10, "softness": 2},
+                                  {"layer": "b", "input": "flow", "compare": ">", "threshold": 0.5,
+                                   "softness": 0.1}])");
   ASSERT_EQ(l.size(), 2u);
+  EXPECT_EQ(l[0].name, "a");
   EXPECT_EQ(l[0].weight, 0.5);
   ASSERT_EQ(l[0].terms.size(), 1u);
+  EXPECT_EQ(l[0].terms[0].input, SplatInput::Height);
+  EXPECT_TRUE(l[0].terms[0].greater);
   EXPECT_EQ(l[0].terms[0].threshold, 10.0);
   EXPECT_EQ(l[0].terms[0].softness, 2.0);
-  EXPECT_TRUE(l[1].terms.empty());
-  EXPECT_THROW(parse_splat_layers("a: heigth > 3"), NodeError);
-  EXPECT_THROW(parse_splat_layers("a height > 3"), NodeError);
-  EXPECT_THROW(parse_splat_layers("a: height > x"), NodeError);
-  EXPECT_THROW(parse_splat_layers("a: slope > 3 ~ -1"), NodeError);
-  EXPECT_THROW(parse_splat_layers("a:\nb:\nc:\nd:\ne:\nf:\ng:\nh:\ni:\n"), NodeError);
+  ASSERT_EQ(l[1].terms.size(), 2u);
+  EXPECT_EQ(l[1].terms[0].input, SplatInput::Slope);
+  EXPECT_FALSE(l[1].terms[0].greater);
+  EXPECT_EQ(l[1].terms[1].input, SplatInput::Flow);
+  try {
+    splat_layers(R"([{"name": "a", "weight": 1}])",
+                 R"([{"layer": "a", "input": "height", "compare": ">", "threshold": 1, "softness": 0},
+                     {"layer": "rock", "input": "height", "compare": ">", "threshold": 1, "softness": 0}])");
+    ADD_FAILURE() << "a rule of no layer was accepted";
+  } catch (const NodeError& e) {
+    EXPECT_STREQ(e.what(), "rules[1].layer: 'rock' is not a layer of the layers table");
+  }
+  // The schema bounds the layers to 1..8 and refuses a negative softness or an unknown input, naming the cell.
+  TableProblem problem;
+  EXPECT_FALSE(table_from_json(nlohmann::json::parse("[]"), splat_layer_schema(), problem));
+  EXPECT_EQ(problem.str("layers"), "layers: at least 1 row(s) needed, found 0");
+  EXPECT_FALSE(table_from_json(nlohmann::json::parse(R"([{"name": "a", "weight": 1}, {"name": "b", "weight": 1},
+      {"name": "c", "weight": 1}, {"name": "d", "weight": 1}, {"name": "e", "weight": 1}, {"name": "f", "weight": 1},
+      {"name": "g", "weight": 1}, {"name": "h", "weight": 1}, {"name": "i", "weight": 1}])"),
+                               splat_layer_schema(), problem));
+  EXPECT_EQ(problem.str("layers"), "layers: at most 8 rows allowed, found 9");
+  EXPECT_FALSE(table_from_json(
+      nlohmann::json::parse(R"([{"layer": "a", "input": "slope", "compare": ">", "threshold": 3, "softness": -1}])"),
+      splat_rule_schema(), problem));
+  EXPECT_EQ(problem.str("rules"), "rules[0].softness: -1 is below the minimum 0");
+  EXPECT_FALSE(table_from_json(
+      nlohmann::json::parse(R"([{"layer": "a", "input": "heigth", "compare": ">", "threshold": 3, "softness": 1}])"),
+      splat_rule_schema(), problem));
+  EXPECT_EQ(problem.str("rules"),
+            "rules[0].input: 'heigth' is not one of: height, slope, curvature, flow, wetness, field");
   // A rule on an unconnected input is an error; all-zero weights go to the first layer.
   const Heightfield z = mountain();
-  EXPECT_THROW(splat_weights({&z}, parse_splat_layers("a: flow > 0.5")), NodeError);
-  const auto r = splat_weights({&z}, parse_splat_layers("a: height > 1e9\nb: height > 1e9"));
+  EXPECT_THROW(splat_weights({&z}, splat_layers(R"([{"name": "a", "weight": 1}])",
+                                                R"([{"layer": "a", "input": "flow", "compare": ">", "threshold": 0.5,
+                                                     "softness": 0}])")),
+               NodeError);
+  const auto r =
+      splat_weights({&z}, splat_layers(R"([{"name": "a", "weight": 1}, {"name": "b", "weight": 1}])",
+                                       R"([{"layer": "a", "input": "height", "compare": ">", "threshold": 1e9,
+                                            "softness": 0},
+                                           {"layer": "b", "input": "height", "compare": ">", "threshold": 1e9,
+                                            "softness": 0}])"));
   EXPECT_EQ(r.weights->pixel(5, 5)[0], 1.0f);
   EXPECT_EQ(r.weights->pixel(5, 5)[1], 0.0f);
 }

@@ -10,6 +10,7 @@
 #include <imgui_stdlib.h>
 
 #include "editor/ui/curve_editor.h"
+#include "editor/ui/table_editor.h"
 #include "editor/ui/theme.h"
 
 namespace orogen::editor {
@@ -151,11 +152,46 @@ void Inspector::draw_node(Document& document, Selection& selection, const Node& 
     ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch, 0.62f);
     ImGui::TableSetupColumn("reset", ImGuiTableColumnFlags_WidthFixed, ImGui::GetFrameHeight());
     for (const auto& decl : node.type->params) {
+      if (decl.type == ParamType::Table) continue;  // below, at full width
       ImGui::PushID(decl.name.c_str());
       draw_param(document, node, decl);
       ImGui::PopID();
     }
     ImGui::EndTable();
+  }
+  for (const auto& decl : node.type->params) {
+    if (decl.type != ParamType::Table) continue;
+    ImGui::PushID(decl.name.c_str());
+    draw_table_param(document, node, decl);
+    ImGui::PopID();
+  }
+}
+
+void Inspector::draw_table_param(Document& document, const Node& node, const ParamDecl& decl) {
+  const std::string key = node.id + "." + decl.name;
+  const bool is_set = node.params.count(decl.name) != 0 && !(node.params.at(decl.name) == decl.default_value);
+  ImGui::Spacing();
+  ImGui::AlignTextToFramePadding();
+  if (is_set) ImGui::TextUnformatted(decl.name.c_str());
+  else ImGui::TextColored(ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled), "%s", decl.name.c_str());
+  describe_tooltip(decl);
+  if (is_set) {
+    ImGui::SameLine(ImGui::GetContentRegionAvail().x - ImGui::GetFrameHeight());
+    if (reset_button("##reset")) {
+      document.reset_param(node.id, decl.name);
+      if (error_key_ == key) error_.clear();
+      return;
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Reset to the default table");
+  }
+  TableValue v = std::get<TableValue>(document.graph().param(node.id, decl.name));
+  const WidgetEdit e = table_editor("##table", decl.table, v, ImGui::GetContentRegionAvail().x);
+  if (e.changed) apply(document, node, decl, v, !e.finished);
+  if (e.finished) document.end_gesture();
+  if (error_key_ == key && !error_.empty()) {
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + ImGui::GetContentRegionAvail().x - 6.0f);
+    ImGui::TextColored(ImColor(theme::kError), "%s", error_.c_str());
+    ImGui::PopTextWrapPos();
   }
 }
 
@@ -318,6 +354,7 @@ void Inspector::draw_param(Document& document, const Node& node, const ParamDecl
       if (e.finished) document.end_gesture();
       break;
     }
+    case ParamType::Table: break;  // draw_table_param, at full width
   }
   if (error_key_ == key && !error_.empty()) {
     ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + ImGui::GetContentRegionAvail().x - 6.0f);

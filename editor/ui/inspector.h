@@ -1,6 +1,6 @@
 #pragma once
 // The inspector: the active node's parameters, generated from its type's declarations (sliders and drags
-// with units and ranges, seeds with re-roll, enum combos, curve and gradient editors, file paths), each
+// with units and ranges, seeds with re-roll, enum combos, curve, gradient and table editors, file paths), each
 // with its description on hover and a reset to the default. With no node selected it shows the graph's
 // domain and the preview resolution.
 #include <map>
@@ -21,6 +21,8 @@ class Inspector {
  private:
   void draw_node(Document& document, Selection& selection, const Node& node);
   void draw_param(Document& document, const Node& node, const ParamDecl& decl);
+  // A table parameter below the others, at the panel's full width (editor/ui/table_editor.h).
+  void draw_table_param(Document& document, const Node& node, const ParamDecl& decl);
   void draw_graph(Document& document);
   // Applies a value, reporting a refused one under the parameter.
   void apply(Document& document, const Node& node, const ParamDecl& decl, const ParamValue& value, bool gesture);

@@ -1,105 +1,86 @@
 #include "nodes/climate/biomes.h"
 
 #include <cmath>
-#include <cstdlib>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "graph/registry.h"
 #include "graph/report.h"
+#include "graph/table_json.h"
 #include "nodes/field/row_loop.h"
 
 namespace orogen::climate {
-namespace {
-
-float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
-
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return "";
-  return s.substr(a, s.find_last_not_of(" \t\r") - a + 1);
-}
-
-}  // namespace
-
 int BiomeTable::classify(double t, double m) const {
   for (const auto& r : rows)
     if (t >= r.t_min && t < r.t_max && m >= r.m_min && m < r.m_max) return r.id;
   return -1;
 }
 
-std::string builtin_biome_table(const std::string& name) {
-  if (name == "whittaker")
-    return "tundra, -inf, -5, -inf, inf, #b7c5c8\n"
-           "boreal_forest, -5, 5, 250, inf, #2f5d3a\n"
-           "temperate_grassland_desert, -5, 20, -inf, 500, #d8c48a\n"
-           "woodland_shrubland, 5, 20, 500, 1000, #a2a452\n"
-           "temperate_seasonal_forest, 5, 20, 1000, 2000, #5f9b3e\n"
-           "temperate_rain_forest, 5, 20, 2000, inf, #2c7a5a\n"
-           "subtropical_desert, 20, inf, -inf, 600, #e6c37a\n"
-           "tropical_seasonal_forest_savanna, 20, inf, 600, 2500, #9dbb3c\n"
-           "tropical_rain_forest, 20, inf, 2500, inf, #1e6b2a\n";
-  if (name == "island")
-    return "scorched, -inf, 0, -inf, 0.16667, #555555\n"
-           "bare, -inf, 0, 0.16667, 0.33333, #888888\n"
-           "tundra, -inf, 0, 0.33333, 0.5, #bbbbaa\n"
-           "snow, -inf, 0, 0.5, inf, #ffffff\n"
-           "temperate_desert, 0, 8, -inf, 0.33333, #c9d29b\n"
-           "shrubland, 0, 8, 0.33333, 0.66667, #889977\n"
-           "taiga, 0, 8, 0.66667, inf, #99aa77\n"
-           "temperate_desert, 8, 16, -inf, 0.16667, #c9d29b\n"
-           "grassland, 8, 16, 0.16667, 0.5, #88aa55\n"
-           "temperate_deciduous_forest, 8, 16, 0.5, 0.83333, #679459\n"
-           "temperate_rain_forest, 8, 16, 0.83333, inf, #448855\n"
-           "subtropical_desert, 16, inf, -inf, 0.16667, #d2b98b\n"
-           "grassland, 16, inf, 0.16667, 0.33333, #88aa55\n"
-           "tropical_seasonal_forest, 16, inf, 0.33333, 0.66667, #559944\n"
-           "tropical_rain_forest, 16, inf, 0.66667, inf, #337755\n";
-  return "";
+TableSchema biome_rectangle_schema() {
+  TableSchema s;
+  s.min_rows = 1;
+  s.add("name", ColumnType::Text).describe("Biome name; rows sharing a name are one biome");
+  s.add("temperature", ColumnType::Range).unit_of("deg C").allow_open_ends().describe(
+      "Temperatures of the rectangle, [min, max): min inclusive, max exclusive");
+  s.add("moisture", ColumnType::Range).allow_open_ends().describe(
+      "Moisture of the rectangle in the table's unit (whittaker: mm per year; island: 0..1), [min, max)");
+  s.add("color", ColumnType::Color).describe("The biome's color, sRGB #rrggbb (its first row's counts)");
+  return s;
 }
 
-BiomeTable parse_biome_table(const std::string& text) {
+TableValue builtin_biome_rectangles(const std::string& name) {
+  if (name == "whittaker")
+    return table_from_json_text(R"([
+      {"name": "tundra", "temperature": [null, -5], "moisture": [null, null], "color": "#b7c5c8"},
+      {"name": "boreal_forest", "temperature": [-5, 5], "moisture": [250, null], "color": "#2f5d3a"},
+      {"name": "temperate_grassland_desert", "temperature": [-5, 20], "moisture": [null, 500], "color": "#d8c48a"},
+      {"name": "woodland_shrubland", "temperature": [5, 20], "moisture": [500, 1000], "color": "#a2a452"},
+      {"name": "temperate_seasonal_forest", "temperature": [5, 20], "moisture": [1000, 2000], "color": "#5f9b3e"},
+      {"name": "temperate_rain_forest", "temperature": [5, 20], "moisture": [2000, null], "color": "#2c7a5a"},
+      {"name": "subtropical_desert", "temperature": [20, null], "moisture": [null, 600], "color": "#e6c37a"},
+      {"name": "tropical_seasonal_forest_savanna", "temperature": [20, null], "moisture": [600, 2500],
+       "color": "#9dbb3c"},
+      {"name": "tropical_rain_forest", "temperature": [20, null], "moisture": [2500, null], "color": "#1e6b2a"}])",
+                                biome_rectangle_schema());
+  if (name == "island")
+    return table_from_json_text(R"([
+      {"name": "scorched", "temperature": [null, 0], "moisture": [null, 0.16667], "color": "#555555"},
+      {"name": "bare", "temperature": [null, 0], "moisture": [0.16667, 0.33333], "color": "#888888"},
+      {"name": "tundra", "temperature": [null, 0], "moisture": [0.33333, 0.5], "color": "#bbbbaa"},
+      {"name": "snow", "temperature": [null, 0], "moisture": [0.5, null], "color": "#ffffff"},
+      {"name": "temperate_desert", "temperature": [0, 8], "moisture": [null, 0.33333], "color": "#c9d29b"},
+      {"name": "shrubland", "temperature": [0, 8], "moisture": [0.33333, 0.66667], "color": "#889977"},
+      {"name": "taiga", "temperature": [0, 8], "moisture": [0.66667, null], "color": "#99aa77"},
+      {"name": "temperate_desert", "temperature": [8, 16], "moisture": [null, 0.16667], "color": "#c9d29b"},
+      {"name": "grassland", "temperature": [8, 16], "moisture": [0.16667, 0.5], "color": "#88aa55"},
+      {"name": "temperate_deciduous_forest", "temperature": [8, 16], "moisture": [0.5, 0.83333], "color": "#679459"},
+      {"name": "temperate_rain_forest", "temperature": [8, 16], "moisture": [0.83333, null], "color": "#448855"},
+      {"name": "subtropical_desert", "temperature": [16, null], "moisture": [null, 0.16667], "color": "#d2b98b"},
+      {"name": "grassland", "temperature": [16, null], "moisture": [0.16667, 0.33333], "color": "#88aa55"},
+      {"name": "tropical_seasonal_forest", "temperature": [16, null], "moisture": [0.33333, 0.66667],
+       "color": "#559944"},
+      {"name": "tropical_rain_forest", "temperature": [16, null], "moisture": [0.66667, null], "color": "#337755"}])",
+                                biome_rectangle_schema());
+  return empty_table(biome_rectangle_schema());
+}
+
+BiomeTable biome_table_from_rows(const TableValue& rows) {
   BiomeTable t;
-  std::istringstream in(text);
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (trim(line).empty()) continue;
-    std::vector<std::string> f;
-    std::stringstream ls(line);
-    std::string cell;
-    while (std::getline(ls, cell, ',')) f.push_back(trim(cell));
-    const std::string where = "biome table line " + std::to_string(number) + ": ";
-    if (f.size() != 6) throw NodeError(where + "expected 'name, t_min, t_max, m_min, m_max, #rrggbb', got " + std::to_string(f.size()) + " fields");
+  for (const auto& row : rows.rows) {
     BiomeRow r;
-    r.name = f[0];
-    if (r.name.empty()) throw NodeError(where + "empty name");
-    double v[4];
-    for (int k = 0; k < 4; ++k) {
-      char* end = nullptr;
-      v[k] = std::strtod(f[static_cast<std::size_t>(k + 1)].c_str(), &end);
-      if (f[static_cast<std::size_t>(k + 1)].empty() || *end != '\0' || std::isnan(v[k]))
-        throw NodeError(where + "'" + f[static_cast<std::size_t>(k + 1)] + "' is not a number");
-    }
-    r.t_min = v[0];
-    r.t_max = v[1];
-    r.m_min = v[2];
-    r.m_max = v[3];
-    const std::string& c = f[5];
-    if (c.size() != 7 || c[0] != '#' || c.find_first_not_of("0123456789abcdefABCDEF", 1) != std::string::npos)
-      throw NodeError(where + "color '" + c + "' is not #rrggbb");
-    const unsigned long hex = std::strtoul(c.c_str() + 1, nullptr, 16);
-    const glm::vec4 color(srgb_to_linear(((hex >> 16) & 255) / 255.0f), srgb_to_linear(((hex >> 8) & 255) / 255.0f),
-                          srgb_to_linear((hex & 255) / 255.0f), 1.0f);
+    r.name = std::get<std::string>(row[0]);
+    const auto temperature = std::get<glm::dvec2>(row[1]), moisture = std::get<glm::dvec2>(row[2]);
+    r.t_min = temperature.x;
+    r.t_max = temperature.y;
+    r.m_min = moisture.x;
+    r.m_max = moisture.y;
     r.id = -1;
     for (std::size_t k = 0; k < t.names.size(); ++k)
       if (t.names[k] == r.name) r.id = static_cast<int>(k);
     if (r.id < 0) {
       r.id = static_cast<int>(t.names.size());
       t.names.push_back(r.name);
-      t.colors.push_back(color);
+      t.colors.push_back(std::get<Srgb8>(row[3]).linear());
     }
     t.rows.push_back(r);
   }
@@ -136,8 +117,8 @@ OROGEN_NODE(Biomes) {
       "subtropical desert, tropical seasonal forest/savanna, tropical rain forest; 'island', the elevation x "
       "moisture table of A. Patel (2010), Polygonal Map Generation for Games, as S. Weiss (2015), Procedural "
       "Terrain, uses it, with moisture in 0..1 and temperature bands < 0, 0..8, 8..16, >= 16 C for the "
-      "elevation zones. 'custom': the custom_table text, one row per line 'name, t_min, t_max, m_min, "
-      "m_max, #rrggbb' (min inclusive, max exclusive, inf allowed; the first matching row wins; ids number "
+      "elevation zones. 'custom': the custom_table, one row per rectangle (name, temperature and moisture "
+      "ranges, min inclusive, max exclusive, open ends allowed; color); the first matching row wins; ids number "
       "the distinct names in order; -1 where no row matches). The report lists ids, names and colors.");
   b.input("in", PortType::Heightfield).description("Temperature, deg C (e.g. Temperature.mean)");
   b.input("moisture", PortType::Heightfield).description("Moisture in the table's unit (whittaker: mm per year; island: 0..1)");
@@ -145,11 +126,13 @@ OROGEN_NODE(Biomes) {
   b.output("color", PortType::Image).description("Biome colors, linear RGBA");
   b.output("report", PortType::Report).description("The table: id, name, color per biome");
   b.param_enum("table", {"whittaker", "island", "custom"}, "whittaker").description("Which table classifies");
-  b.param_string("custom_table", builtin_biome_table("whittaker")).description("Rows 'name, t_min, t_max, m_min, m_max, #rrggbb' used when table = custom");
+  b.param_table("custom_table", biome_rectangle_schema(), builtin_biome_rectangles("whittaker"))
+      .description("The rectangles used when table = custom: name, temperature and moisture ranges, color");
   b.param_float("moisture_scale", 1.0).range(0.0, 1e6).description("Multiplier of the moisture input before the lookup (unit conversion), >= 0");
   b.execute([](ExecContext& ctx) {
     const std::string which = ctx.param<std::string>("table");
-    const BiomeTable table = parse_biome_table(which == "custom" ? ctx.param<std::string>("custom_table") : builtin_biome_table(which));
+    const BiomeTable table = biome_table_from_rows(which == "custom" ? ctx.param<TableValue>("custom_table")
+                                                                      : builtin_biome_rectangles(which));
     auto r = classify_biomes(*ctx.require<Heightfield>("in"), *ctx.require<Heightfield>("moisture"), table,
                              ctx.param<double>("moisture_scale"), &ctx);
     nlohmann::json j = nlohmann::json::array();

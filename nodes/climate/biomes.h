@@ -1,8 +1,8 @@
 #pragma once
 // Biome classification by temperature and moisture through an editable table of rectangles.
 //
-// Table text, one row per line: `name, t_min, t_max, m_min, m_max, #rrggbb` (temperature in deg C, moisture
-// in the table's unit; min inclusive, max exclusive; `-inf` / `inf` for open ends). The first row containing
+// A table parameter, one row per rectangle: name, temperature [min, max] (deg C), moisture [min, max] (the
+// table's unit), color #rrggbb; min inclusive, max exclusive; null bounds for open ends. The first row containing
 // (T, M) wins. Biome ids number the distinct names in order of first appearance (a name may own several
 // rows); cells no row contains get id -1.
 #include <memory>
@@ -14,6 +14,7 @@
 #include "graph/exec_context.h"
 #include "graph/heightfield.h"
 #include "graph/image.h"
+#include "graph/table_value.h"
 
 namespace orogen::climate {
 
@@ -31,13 +32,14 @@ struct BiomeTable {
   int classify(double t, double m) const;
 };
 
-// Built-in tables as text: "whittaker" (annual precipitation in mm; a rectangular reading of R. H. Whittaker
-// (1975), Communities and Ecosystems, as redrawn by R. E. Ricklefs (2008), The Economy of Nature) and
-// "island" (moisture 0..1; the elevation-zone x moisture-zone table of A. Patel (2010), Polygonal Map
+// The rectangles' table: its columns, and built-in tables: "whittaker" (annual precipitation in mm; a rectangular
+// reading of R. H. Whittaker (1975), Communities and Ecosystems, as redrawn by R. E. Ricklefs (2008), The Economy of
+// Nature) and "island" (moisture 0..1; the elevation-zone x moisture-zone table of A. Patel (2010), Polygonal Map
 // Generation for Games, used by S. Weiss (2015), Procedural Terrain, with temperature bands for the zones).
-std::string builtin_biome_table(const std::string& name);
-// Throws NodeError naming the line for malformed text.
-BiomeTable parse_biome_table(const std::string& text);
+TableSchema biome_rectangle_schema();
+TableValue builtin_biome_rectangles(const std::string& name);  // empty rows for an unknown name
+// The classification of the table's rows (ids number the distinct names). Throws NodeError for no rows.
+BiomeTable biome_table_from_rows(const TableValue& rows);
 
 struct BiomeResult {
   std::shared_ptr<Heightfield> ids;

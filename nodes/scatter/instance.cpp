@@ -20,20 +20,18 @@ std::shared_ptr<Mesh> proxy_mesh() {
   return out;
 }
 
-std::map<std::int32_t, std::string> parse_class_names(const std::string& text) {
+TableSchema class_name_schema() {
+  TableSchema s;
+  s.add("class", ColumnType::Integer).range(0, 2147483647).describe("Class id of the points (0, 1, ...)");
+  s.add("name", ColumnType::Text).describe("The class's name: its glTF nodes and meshes; empty: class_<id>");
+  return s;
+}
+
+std::map<std::int32_t, std::string> class_names_from_table(const TableValue& table) {
   std::map<std::int32_t, std::string> out;
-  std::int32_t cls = 0;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    std::size_t end = text.find(',', start);
-    if (end == std::string::npos) end = text.size();
-    std::string name = text.substr(start, end - start);
-    const auto first = name.find_first_not_of(" \t\r\n");
-    const auto last = name.find_last_not_of(" \t\r\n");
-    name = first == std::string::npos ? std::string() : name.substr(first, last - first + 1);
-    if (!name.empty()) out[cls] = name;
-    ++cls;
-    start = end + 1;
+  for (const auto& row : table.rows) {
+    const auto& name = std::get<std::string>(row[1]);
+    if (!name.empty()) out[static_cast<std::int32_t>(std::get<std::int64_t>(row[0]))] = name;
   }
   return out;
 }

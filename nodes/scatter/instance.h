@@ -12,6 +12,7 @@
 #include "graph/mesh.h"
 #include "graph/points.h"
 #include "graph/scene.h"
+#include "graph/table_value.h"
 
 namespace orogen {
 
@@ -34,8 +35,10 @@ struct InstanceOptions {
 Scene make_scene(std::shared_ptr<const Points> points, const std::map<std::int32_t, MeshPtr>& meshes,
                  const InstanceOptions& options = {});
 
-// Parses "tree, bush, , rock" into names by class id (0, 1, 3; empty entries are skipped). Names are trimmed.
-std::map<std::int32_t, std::string> parse_class_names(const std::string& text);
+// Instance's `names` table: one row per class, its id and name.
+TableSchema class_name_schema();
+// Names by class id from that table; empty names are skipped (class_<id>), a class named twice takes its last.
+std::map<std::int32_t, std::string> class_names_from_table(const TableValue& table);
 
 // A small proxy mesh (an octahedron of half-size 0.5 m, base at z = 0, height 1 m) for classes without one.
 std::shared_ptr<Mesh> proxy_mesh();

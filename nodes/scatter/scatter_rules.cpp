@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 
 #include <glm/gtc/quaternion.hpp>
 
 #include "graph/exec_context.h"
+#include "graph/table_json.h"
 #include "nodes/field/row_loop.h"
 #include "nodes/scatter/scatter_hash.h"
 
@@ -15,60 +15,6 @@ namespace orogen {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t\r\n");
-  if (a == std::string::npos) return {};
-  const auto b = s.find_last_not_of(" \t\r\n");
-  return s.substr(a, b - a + 1);
-}
-
-// Lines split at '\n' and ';', comments ('#' to the end of the line) removed, blank lines dropped.
-std::vector<std::string> table_lines(const std::string& text) {
-  std::vector<std::string> out;
-  std::string cur;
-  bool comment = false;
-  for (char c : text) {
-    if (c == '\n' || c == ';') {
-      if (!trim(cur).empty()) out.push_back(trim(cur));
-      cur.clear();
-      comment = false;
-    } else if (c == '#') {
-      comment = true;
-    } else if (!comment) {
-      cur += c;
-    }
-  }
-  if (!trim(cur).empty()) out.push_back(trim(cur));
-  return out;
-}
-
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char c : s) {
-    if (c == sep) {
-      out.push_back(trim(cur));
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  out.push_back(trim(cur));
-  return out;
-}
-
-std::vector<double> numbers(std::istringstream& in, int count, const std::string& where) {
-  std::vector<double> v;
-  for (int i = 0; i < count; ++i) {
-    double x;
-    if (!(in >> x) || !std::isfinite(x)) throw std::invalid_argument(where + ": expected " + std::to_string(count) + " numbers");
-    v.push_back(x);
-  }
-  std::string extra;
-  if (in >> extra) throw std::invalid_argument(where + ": unexpected '" + extra + "'");
-  return v;
-}
 
 double smoothstep01(double t) {
   t = std::clamp(t, 0.0, 1.0);
@@ -79,12 +25,105 @@ glm::quat yaw(double angle) { return glm::angleAxis(static_cast<float>(angle), g
 
 }  // namespace
 
-const char* const kDefaultEcosystemTable =
-    "highland  | elevation 70 260 2  | relative -1 5 1   | slope 0 1.4 2    | plant 0 0.008 0.8 2.0 | plant 4 0.001 0.8 1.3\n"
-    "marshland | elevation -10 50 2  | relative -5 0 1   | slope -0.4 0.6 2 | plant 1 0.008 1.2 2.0 | plant 5 0.005 1.5 2.5\n"
-    "plains    | elevation -50 350 2 | relative 0.7 3 1  | slope -0.4 1.6 2 | plant 2 0.008 0.6 1.1 | plant 6 0.004 0.3 0.8\n"
-    "slope     | elevation -50 350 2 | relative 0 10 1   | slope 1.4 2.4 2  | plant 4 0.001 0.6 1.8\n"
-    "scarp     | elevation -50 350 2 | relative -10 10 1 | slope 2.8 8.4 8  | plant 4 0.001 0.6 1.8 | plant 7 0.001 0.9 1.0\n";
+TableSchema ecosystem_schema() {
+  TableSchema s;
+  s.min_rows = 1;
+  s.add("name", ColumnType::Text).describe("Ecosystem name (plants refer to it)");
+  auto preference = [&](const std::string& name, const std::string& unit, double lo, double hi,
+                        const std::string& what) {
+    s.add(name, ColumnType::Range)
+        .range(lo, hi)
+        .unit_of(unit)
+        .optional()
+        .describe("Preferred " + what + " [min, max]: membership 1 inside; left out: no preference");
+    s.add(name + "_sharpness", ColumnType::Number)
+        .range(1e-9, 1e9)
+        .optional()
+        .describe("The " + name + " membership falls to 0 over (max - min) / sharpness outside the range; default 1");
+  };
+  preference("elevation", "m", -1e6, 1e6, "height");
+  preference("relative", "m", -1e6, 1e6, "height above the local mean");
+  preference("slope", "deg", -90.0, 90.0, "slope angle (0 flat, 90 vertical)");
+  preference("skew", "", -1e6, 1e6, "slope direction dz/dy (rise over run toward north, > 0 on south-facing slopes)");
+  return s;
+}
+
+TableSchema ecosystem_plant_schema() {
+  TableSchema s;
+  s.add("ecosystem", ColumnType::Text).describe("The ecosystem (a name in `ecosystems`) the plant grows in");
+  s.add("class", ColumnType::Integer).range(0, 1e6).describe("Class id of the plant's points");
+  s.add("density", ColumnType::Number)
+      .range(0.0, 100.0)
+      .unit_of("1/m^2")
+      .describe("Plants per m^2 where the ecosystem holds, 0..100");
+  s.add("scale", ColumnType::Range).range(1e-9, 1e4).describe("Scale factors [min, max], uniform between them");
+  return s;
+}
+
+TableValue default_ecosystems() {
+  return table_from_json_text(R"([
+      {"name": "highland", "elevation": [70, 260], "elevation_sharpness": 2, "relative": [-1, 5],
+       "relative_sharpness": 1, "slope": [0, 54.5], "slope_sharpness": 2},
+      {"name": "marshland", "elevation": [-10, 50], "elevation_sharpness": 2, "relative": [-5, 0],
+       "relative_sharpness": 1, "slope": [-21.8, 31], "slope_sharpness": 2},
+      {"name": "plains", "elevation": [-50, 350], "elevation_sharpness": 2, "relative": [0.7, 3],
+       "relative_sharpness": 1, "slope": [-21.8, 58], "slope_sharpness": 2},
+      {"name": "slope", "elevation": [-50, 350], "elevation_sharpness": 2, "relative": [0, 10],
+       "relative_sharpness": 1, "slope": [54.5, 67.4], "slope_sharpness": 2},
+      {"name": "scarp", "elevation": [-50, 350], "elevation_sharpness": 2, "relative": [-10, 10],
+       "relative_sharpness": 1, "slope": [70.3, 83.2], "slope_sharpness": 8}])",
+                              ecosystem_schema());
+}
+
+TableValue default_ecosystem_plants() {
+  return table_from_json_text(R"([
+      {"ecosystem": "highland", "class": 0, "density": 0.008, "scale": [0.8, 2.0]},
+      {"ecosystem": "highland", "class": 4, "density": 0.001, "scale": [0.8, 1.3]},
+      {"ecosystem": "marshland", "class": 1, "density": 0.008, "scale": [1.2, 2.0]},
+      {"ecosystem": "marshland", "class": 5, "density": 0.005, "scale": [1.5, 2.5]},
+      {"ecosystem": "plains", "class": 2, "density": 0.008, "scale": [0.6, 1.1]},
+      {"ecosystem": "plains", "class": 6, "density": 0.004, "scale": [0.3, 0.8]},
+      {"ecosystem": "slope", "class": 4, "density": 0.001, "scale": [0.6, 1.8]},
+      {"ecosystem": "scarp", "class": 4, "density": 0.001, "scale": [0.6, 1.8]},
+      {"ecosystem": "scarp", "class": 7, "density": 0.001, "scale": [0.9, 1.0]}])",
+                              ecosystem_plant_schema());
+}
+
+std::vector<Ecosystem> ecosystems_from_tables(const TableValue& ecosystems, const TableValue& plants) {
+  std::vector<Ecosystem> out;
+  for (std::size_t r = 0; r < ecosystems.rows.size(); ++r) {
+    const auto& row = ecosystems.rows[r];
+    Ecosystem e;
+    e.name = std::get<std::string>(row[0]);
+    RuleRange* ranges[] = {&e.elevation, &e.relative, &e.slope, &e.skew};
+    for (std::size_t k = 0; k < 4; ++k) {
+      const TableCell& range = row[1 + 2 * k];
+      const TableCell& sharpness = row[2 + 2 * k];
+      if (const auto* v = std::get_if<glm::dvec2>(&range)) {
+        const auto* sh = std::get_if<double>(&sharpness);
+        *ranges[k] = {true, v->x, v->y, sh ? *sh : 1.0};
+      } else if (!std::holds_alternative<std::monostate>(sharpness)) {
+        const auto& column = ecosystems.columns[2 + 2 * k];
+        throw std::invalid_argument("ecosystems[" + std::to_string(r) + "]." + column + ": given without the range " +
+                                    ecosystems.columns[1 + 2 * k]);
+      }
+    }
+    out.push_back(std::move(e));
+  }
+  for (std::size_t r = 0; r < plants.rows.size(); ++r) {
+    const auto& row = plants.rows[r];
+    const auto& name = std::get<std::string>(row[0]);
+    // A name given to two ecosystems: the plant grows in the first.
+    auto it = std::find_if(out.begin(), out.end(), [&](const Ecosystem& e) { return e.name == name; });
+    if (it == out.end())
+      throw std::invalid_argument("plants[" + std::to_string(r) + "].ecosystem: '" + name +
+                                  "' is not an ecosystem of the ecosystems table");
+    const auto scale = std::get<glm::dvec2>(row[3]);
+    it->plants.push_back(
+        {static_cast<std::int32_t>(std::get<std::int64_t>(row[1])), std::get<double>(row[2]), scale.x, scale.y});
+  }
+  return out;
+}
 
 double RuleRange::membership(double v) const {
   if (!used) return 1.0;
@@ -100,43 +139,6 @@ double Ecosystem::membership(double e, double r, double s, double k) const {
   return elevation.membership(e) * relative.membership(r) * slope.membership(s) * skew.membership(k);
 }
 
-std::vector<Ecosystem> parse_ecosystem_table(const std::string& text) {
-  std::vector<Ecosystem> out;
-  int line_no = 0;
-  for (const auto& line : table_lines(text)) {
-    ++line_no;
-    const auto fields = split(line, '|');
-    Ecosystem e;
-    e.name = fields[0];
-    const std::string where = "ecosystem " + std::to_string(line_no) + " ('" + e.name + "')";
-    if (e.name.empty()) throw std::invalid_argument(where + ": no name");
-    for (std::size_t f = 1; f < fields.size(); ++f) {
-      std::istringstream in(fields[f]);
-      std::string key;
-      in >> key;
-      const std::string w = where + ", '" + key + "'";
-      if (key == "elevation" || key == "relative" || key == "slope" || key == "skew") {
-        const auto v = numbers(in, 3, w);
-        if (v[1] < v[0]) throw std::invalid_argument(w + ": max below min");
-        if (v[2] <= 0.0) throw std::invalid_argument(w + ": sharpness must be > 0");
-        RuleRange& r = key == "elevation" ? e.elevation : key == "relative" ? e.relative : key == "slope" ? e.slope : e.skew;
-        r = {true, v[0], v[1], v[2]};
-      } else if (key == "plant") {
-        const auto v = numbers(in, 4, w);
-        if (v[0] != std::floor(v[0]) || v[0] < 0 || v[0] > 1e6) throw std::invalid_argument(w + ": class must be an integer in [0, 1e6]");
-        if (v[1] < 0.0 || v[1] > 100.0) throw std::invalid_argument(w + ": density must be in [0, 100] per m^2");
-        if (v[2] <= 0.0 || v[3] < v[2] || v[3] > 1e4) throw std::invalid_argument(w + ": scales must satisfy 0 < min <= max <= 1e4");
-        e.plants.push_back({static_cast<std::int32_t>(v[0]), v[1], v[2], v[3]});
-      } else {
-        throw std::invalid_argument(w + ": unknown field (elevation, relative, slope, skew or plant)");
-      }
-    }
-    out.push_back(std::move(e));
-  }
-  if (out.empty()) throw std::invalid_argument("the ecosystem table is empty");
-  return out;
-}
-
 double TerrainVariables::elevation(double x, double y) const { return height->sample_world(x, y); }
 
 double TerrainVariables::relative_at(double x, double y) const { return relative ? relative->sample_world(x, y) : 0.0; }
@@ -146,7 +148,7 @@ double TerrainVariables::slope_at(double x, double y) const {
   const auto sp = height->domain.spacing;
   const double gx = (height->sample_world(x + sp.x, y) - height->sample_world(x - sp.x, y)) / (2.0 * sp.x);
   const double gy = (height->sample_world(x, y + sp.y) - height->sample_world(x, y - sp.y)) / (2.0 * sp.y);
-  return std::hypot(gx, gy);
+  return std::atan(std::hypot(gx, gy)) * (180.0 / kPi);
 }
 
 double TerrainVariables::skew_at(double x, double y) const {
@@ -254,32 +256,39 @@ Points scatter_ecosystems(glm::dvec2 lo, glm::dvec2 hi, const TerrainVariables& 
   return out;
 }
 
-std::vector<BiomeEntry> parse_biome_table(const std::string& text) {
+TableSchema biome_density_schema() {
+  TableSchema s;
+  s.min_rows = 1;
+  s.add("biome", ColumnType::Integer).range(-1e6, 1e6).describe("Biome id (the input's integer values)");
+  s.add("density", ColumnType::Number).range(0.0, 1.0).describe("Probability of a plant per cell, 0..1");
+  return s;
+}
+
+TableSchema biome_species_schema() {
+  TableSchema s;
+  s.add("biome", ColumnType::Integer).range(-1e6, 1e6).describe("The biome (an id in `biomes`) the species grows in");
+  s.add("class", ColumnType::Integer).range(0, 1e6).describe("Class id of the species' points");
+  s.add("weight", ColumnType::Number).range(0.0, 1e12).describe("Relative weight among the biome's species, >= 0");
+  return s;
+}
+
+std::vector<BiomeEntry> biome_entries_from_tables(const TableValue& biomes, const TableValue& species) {
   std::vector<BiomeEntry> out;
-  int line_no = 0;
-  for (const auto& line : table_lines(text)) {
-    ++line_no;
-    const auto fields = split(line, '|');
-    const std::string where = "biome line " + std::to_string(line_no);
-    BiomeEntry b;
-    {
-      std::istringstream in(fields[0]);
-      const auto v = numbers(in, 2, where);
-      if (v[0] != std::floor(v[0]) || std::abs(v[0]) > 1e6) throw std::invalid_argument(where + ": biome id must be an integer");
-      if (v[1] < 0.0 || v[1] > 1.0) throw std::invalid_argument(where + ": density must be in [0, 1]");
-      b.biome = static_cast<int>(v[0]);
-      b.density = v[1];
+  for (const auto& row : biomes.rows)
+    out.push_back({static_cast<int>(std::get<std::int64_t>(row[0])), std::get<double>(row[1]), {}});
+  for (std::size_t r = 0; r < species.rows.size(); ++r) {
+    const auto& row = species.rows[r];
+    const auto biome = static_cast<int>(std::get<std::int64_t>(row[0]));
+    bool found = false;
+    for (auto& b : out) {
+      if (b.biome != biome) continue;
+      b.species.emplace_back(static_cast<std::int32_t>(std::get<std::int64_t>(row[1])), std::get<double>(row[2]));
+      found = true;
     }
-    for (std::size_t f = 1; f < fields.size(); ++f) {
-      std::istringstream in(fields[f]);
-      const auto v = numbers(in, 2, where);
-      if (v[0] != std::floor(v[0]) || v[0] < 0 || v[0] > 1e6) throw std::invalid_argument(where + ": class must be an integer in [0, 1e6]");
-      if (v[1] < 0.0) throw std::invalid_argument(where + ": weights must be >= 0");
-      b.species.emplace_back(static_cast<std::int32_t>(v[0]), v[1]);
-    }
-    out.push_back(std::move(b));
+    if (!found)
+      throw std::invalid_argument("species[" + std::to_string(r) + "].biome: " + std::to_string(biome) +
+                                  " is not a biome of the biomes table");
   }
-  if (out.empty()) throw std::invalid_argument("the biome table is empty");
   return out;
 }
 

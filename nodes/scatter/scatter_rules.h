@@ -8,6 +8,7 @@
 
 #include "graph/heightfield.h"
 #include "graph/points.h"
+#include "graph/table_value.h"
 
 namespace orogen {
 
@@ -31,23 +32,25 @@ struct Ecosystem {
   std::string name;
   RuleRange elevation;  // m
   RuleRange relative;   // m above the local mean height
-  RuleRange slope;      // rise over run (tan of the slope angle)
+  RuleRange slope;      // degrees (0 flat, 90 vertical)
   RuleRange skew;       // slope direction: dz/dy, rise over run toward north (> 0 on south-facing slopes)
   std::vector<RulePlant> plants;
   // Product of the used variables' memberships (1 if none is used).
   double membership(double elevation, double relative, double slope, double skew) const;
 };
 
-// Parses an ecosystem table: one ecosystem per line (or ';'-separated), fields separated by '|':
-//   name | elevation MIN MAX SHARPNESS | relative MIN MAX SHARPNESS | slope MIN MAX SHARPNESS
-//        | skew MIN MAX SHARPNESS | plant CLASS DENSITY SCALE_MIN SCALE_MAX | plant ...
-// Variables may be omitted (no preference); '#' starts a comment. Throws std::invalid_argument with the
-// line and reason.
-std::vector<Ecosystem> parse_ecosystem_table(const std::string& text);
-
-// The ecosystem table of Ekman et al. (2016), "SeamScape", Table 1 (after Hammes), in this format:
-// densities as plants per m^2 (their per-area counts per 1000 m^2), scales in tenths.
-extern const char* const kDefaultEcosystemTable;
+// ScatterRules' two tables. `ecosystems`: one row per ecosystem, its name and optional preferences, each a
+// range and its sharpness (default 1): elevation (m), relative (m), slope (deg), skew (dz/dy). `plants`:
+// one row per plant, its ecosystem (a name in `ecosystems`), class, density (per m^2) and scale range.
+TableSchema ecosystem_schema();
+TableSchema ecosystem_plant_schema();
+// The ecosystem table of Ekman et al. (2016), "SeamScape", Table 1 (after Hammes): densities as plants per
+// m^2 (their per-area counts per 1000 m^2), scales in tenths, slopes in degrees.
+TableValue default_ecosystems();
+TableValue default_ecosystem_plants();
+// The ecosystems in table order, each with its plants in table order. Throws std::invalid_argument naming
+// the row and column of a plant whose ecosystem is unknown or a sharpness without its range.
+std::vector<Ecosystem> ecosystems_from_tables(const TableValue& ecosystems, const TableValue& plants);
 
 struct EcosystemParams {
   std::vector<Ecosystem> ecosystems;
@@ -59,10 +62,10 @@ struct EcosystemParams {
 struct TerrainVariables {
   const Heightfield* height = nullptr;    // required
   const Heightfield* relative = nullptr;  // optional: else 0
-  const Heightfield* slope = nullptr;     // optional (rise over run): else from the height's gradient
+  const Heightfield* slope = nullptr;     // optional (degrees): else from the height's gradient
   double elevation(double x, double y) const;
   double relative_at(double x, double y) const;
-  double slope_at(double x, double y) const;
+  double slope_at(double x, double y) const;  // degrees
   double skew_at(double x, double y) const;
 };
 
@@ -81,8 +84,12 @@ struct BiomeEntry {
   std::vector<std::pair<std::int32_t, double>> species;  // (class id, weight)
 };
 
-// "BIOME DENSITY | CLASS WEIGHT | CLASS WEIGHT ..." one biome per line or ';'.
-std::vector<BiomeEntry> parse_biome_table(const std::string& text);
+// BiomeScatter's two tables: `biomes` (biome id, density) and `species` (biome id, class, weight).
+TableSchema biome_density_schema();
+TableSchema biome_species_schema();
+// The biomes in table order, each with the species rows of its id in table order. Throws
+// std::invalid_argument naming the row of a species whose biome is not in `biomes`.
+std::vector<BiomeEntry> biome_entries_from_tables(const TableValue& biomes, const TableValue& species);
 
 struct BiomeScatterParams {
   std::vector<BiomeEntry> table;

@@ -3,6 +3,7 @@
 
 #include "graph/exec_context.h"
 #include "graph/registry.h"
+#include "graph/table_json.h"
 #include "nodes/scatter/scatter_rules.h"
 
 namespace orogen {
@@ -12,7 +13,7 @@ OROGEN_NODE(ScatterRules) {
   b.category("scatter").description(
       "Ecosystem placement after Hammes (2001), \"Modeling of ecosystems as a data source for real-time terrain "
       "rendering\", as used by Ekman et al. (2016), \"SeamScape: a procedural generation system for accelerated creation of 3D landscapes\": each ecosystem prefers ranges of "
-      "elevation, relative elevation, slope and skew (1 inside [min, max], a smoothstep to 0 over "
+      "elevation, relative elevation, slope (degrees) and skew (1 inside [min, max], a smoothstep to 0 over "
       "(max - min) / sharpness outside); each plant has a density and a scale range. In every world cell, "
       "density * area candidates per plant at hashed positions; a candidate stays if the ecosystem drawn by "
       "roulette over the memberships at its position is its own. Every draw hashes (seed, cell, ecosystem, "
@@ -21,12 +22,14 @@ OROGEN_NODE(ScatterRules) {
   b.input("relative_height", PortType::Heightfield).optional().description(
       "Height above the local mean (m), e.g. height minus a blurred height; 0 if unconnected");
   b.input("slope", PortType::Heightfield).optional().description(
-      "Slope as rise over run (unitless); from the height's gradient if unconnected");
+      "Slope angle in degrees (e.g. Slope.out); from the height's gradient if unconnected");
   b.output("out", PortType::Points).description("The plants: class ids from the table, scale, yaw, z on the terrain");
-  b.param_string("table", kDefaultEcosystemTable).description(
-      "One ecosystem per line: NAME | elevation MIN MAX SHARPNESS (m) | relative MIN MAX SHARPNESS (m) | slope "
-      "MIN MAX SHARPNESS (rise/run) | skew MIN MAX SHARPNESS (dz/dy) | plant CLASS DENSITY (per m^2, 0..100) "
-      "SCALE_MIN SCALE_MAX | plant ... Variables may be left out. Default: SeamScape's Table 1");
+  b.param_table("ecosystems", ecosystem_schema(), default_ecosystems()).description(
+      "One ecosystem per row: its name and preferred ranges of elevation (m), relative height (m), slope "
+      "(deg) and skew (dz/dy), each with a sharpness; a range left out is no preference. Default: SeamScape's "
+      "Table 1");
+  b.param_table("plants", ecosystem_plant_schema(), default_ecosystem_plants()).description(
+      "One plant per row: its ecosystem (a name in ecosystems), class, density (per m^2) and scale range");
   b.param_float("cell_size", 10.0).range(0.1, 1e4).unit("m").description(
       "Side of the world cells candidates are drawn in, metres in [0.1, 10000]");
   b.param_seed("seed", 0).description("Every draw hashes (seed, cell, ecosystem, plant, counter)");
@@ -39,7 +42,7 @@ OROGEN_NODE(ScatterRules) {
     p.cell_size = ctx.param<double>("cell_size");
     p.seed = ctx.param<std::uint64_t>("seed");
     try {
-      p.ecosystems = parse_ecosystem_table(ctx.param<std::string>("table"));
+      p.ecosystems = ecosystems_from_tables(ctx.param<TableValue>("ecosystems"), ctx.param<TableValue>("plants"));
       ctx.set_output("out", std::make_shared<Points>(scatter_ecosystems(ctx.domain().min_corner(),
                                                                         ctx.domain().max_corner(), vars, p, &ctx)));
     } catch (const std::invalid_argument& e) {
@@ -60,8 +63,17 @@ OROGEN_NODE(BiomeScatter) {
   b.input("in", PortType::Heightfield).description("Biome id per sample (integer values, nearest sample is used)");
   b.input("height", PortType::Heightfield).optional().description("Terrain heights (m): sets z");
   b.output("out", PortType::Points).description("The plants: class ids from the table, scale, yaw");
-  b.param_string("table", "0 0.0\n1 0.2 | 0 1 | 1 1\n2 0.6 | 0 3 | 2 1\n3 0.05 | 3 1").description(
-      "One biome per line: BIOME_ID DENSITY (probability per cell, 0..1) | CLASS WEIGHT | CLASS WEIGHT ...");
+  b.param_table("biomes", biome_density_schema(),
+                table_from_json_text(R"([{"biome": 0, "density": 0}, {"biome": 1, "density": 0.2},
+                                         {"biome": 2, "density": 0.6}, {"biome": 3, "density": 0.05}])",
+                                     biome_density_schema()))
+      .description("One biome per row: its id and the probability of a plant per cell (0..1)");
+  b.param_table("species", biome_species_schema(),
+                table_from_json_text(R"([{"biome": 1, "class": 0, "weight": 1}, {"biome": 1, "class": 1, "weight": 1},
+                                         {"biome": 2, "class": 0, "weight": 3}, {"biome": 2, "class": 2, "weight": 1},
+                                         {"biome": 3, "class": 3, "weight": 1}])",
+                                     biome_species_schema()))
+      .description("The species of the biomes, one per row: biome id, class and weight");
   b.param_float("factor", 1.0).range(0.0, 100.0).unit("").description(
       "Global density factor multiplying every biome's density, 0..100");
   b.param_float("cell_size", 4.0).range(0.1, 1e4).unit("m").description(
@@ -80,7 +92,7 @@ OROGEN_NODE(BiomeScatter) {
     p.scale_max = std::max(sr.x, sr.y);
     p.seed = ctx.param<std::uint64_t>("seed");
     try {
-      p.table = parse_biome_table(ctx.param<std::string>("table"));
+      p.table = biome_entries_from_tables(ctx.param<TableValue>("biomes"), ctx.param<TableValue>("species"));
       ctx.set_output("out", std::make_shared<Points>(scatter_biomes(ctx.domain().min_corner(), ctx.domain().max_corner(),
                                                                     *biome, height.get(), p, &ctx)));
     } catch (const std::invalid_argument& e) {

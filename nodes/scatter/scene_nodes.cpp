@@ -38,9 +38,9 @@ OROGEN_NODE(Instance) {
         .optional()
         .description("Mesh placed at the points of class " + std::to_string(k) + " (m, base at the origin)");
   b.output("out", PortType::Scene).description("The instances and the mesh and name of every class");
-  b.param_string("names", "").description(
-      "Class names, comma-separated in class order (class 0 first), e.g. \"tree, bush, , rock\"; an empty or "
-      "missing entry is named class_<id>. The names of the glTF nodes and meshes");
+  b.param_table("names", class_name_schema(), empty_table(class_name_schema())).description(
+      "Class names, one row per class (id and name); a class without a row is named class_<id>. The names of "
+      "the glTF nodes and meshes");
   b.param_enum("missing_mesh", {"error", "proxy", "skip"}, "error").description(
       "Points of a class without a mesh: error stops with the class named; proxy places a 1 m octahedron "
       "(base at the point); skip leaves them out");
@@ -50,7 +50,7 @@ OROGEN_NODE(Instance) {
     for (int k = 0; k < kSceneMeshSlots; ++k)
       if (auto mesh = ctx.input<Mesh>("mesh_" + std::to_string(k))) meshes[k] = mesh;
     InstanceOptions options;
-    options.names = parse_class_names(ctx.param<std::string>("names"));
+    options.names = class_names_from_table(ctx.param<TableValue>("names"));
     const std::string& missing = ctx.param<std::string>("missing_mesh");
     options.missing = missing == "proxy" ? MissingMesh::Proxy : missing == "skip" ? MissingMesh::Skip : MissingMesh::Error;
     try {

@@ -3,41 +3,31 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include <glm/vec4.hpp>
 
 #include "graph/registry.h"
+#include "graph/table_json.h"
 #include "nodes/climate/kmeans.h"
 #include "nodes/field/row_loop.h"
 
 namespace orogen::texture {
 namespace {
 
-float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+TableSchema layer_color_schema() {
+  TableSchema s;
+  s.add("name", ColumnType::Text).describe("Layer name, matched against the weight image's channel names");
+  s.add("color", ColumnType::Color).describe("The layer's color, sRGB #rrggbb");
+  return s;
+}
 
-// "name #rrggbb" entries separated by newlines or commas.
-std::vector<NamedColor> parse_colors(const std::string& text) {
+// The table's rows as linear colors; a name given twice takes its last color.
+std::vector<NamedColor> named_colors_from_table(const TableValue& table) {
   std::vector<NamedColor> out;
-  std::string norm = text;
-  for (char& c : norm)
-    if (c == ',') c = '\n';
-  std::istringstream in(norm);
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream ls(line);
-    std::string name, hex, extra;
-    if (!(ls >> name)) continue;
-    if (!(ls >> hex) || (ls >> extra)) throw NodeError("colors: expected 'name #rrggbb', got '" + line + "'");
-    if (hex.size() != 7 || hex[0] != '#' || hex.find_first_not_of("0123456789abcdefABCDEF", 1) != std::string::npos)
-      throw NodeError("colors: '" + hex + "' is not #rrggbb");
-    const unsigned long v = std::strtoul(hex.c_str() + 1, nullptr, 16);
-    out.push_back({name, {srgb_to_linear(((v >> 16) & 255) / 255.0f), srgb_to_linear(((v >> 8) & 255) / 255.0f),
-                          srgb_to_linear((v & 255) / 255.0f), 1.0f}});
-  }
+  for (const auto& row : table.rows)
+    out.push_back({std::get<std::string>(row[0]), std::get<Srgb8>(row[1]).linear()});
   return out;
 }
 
@@ -95,13 +85,17 @@ OROGEN_NODE(ColorByLayers) {
   b.input("in", PortType::Image).description("Layer weights, one channel per layer");
   b.input("shade", PortType::Heightfield).optional().description("Multiplier in 0..1 (AmbientOcclusion.out, Hillshade.out)");
   b.output("out", PortType::Image).description("Linear RGBA colors");
-  b.param_string("colors", "grass #5b7f32\ndirt #7a6248\nrock #80786f\nsnow #f4f6f8\nsand #d9c48f\nwater #2f5f8a")
-      .description("Layer colors, 'name #rrggbb' (sRGB) separated by newlines or commas");
+  b.param_table("colors", layer_color_schema(),
+                table_from_json_text(R"([{"name": "grass", "color": "#5b7f32"}, {"name": "dirt", "color": "#7a6248"},
+                                         {"name": "rock", "color": "#80786f"}, {"name": "snow", "color": "#f4f6f8"},
+                                         {"name": "sand", "color": "#d9c48f"}, {"name": "water", "color": "#2f5f8a"}])",
+                                     layer_color_schema()))
+      .description("Layer colors: one row per layer, its name and sRGB color");
   b.param_float("shade_strength", 1.0).range(0.0, 1.0).description("How much of the shade applies, 0..1 (0: none)");
   b.execute([](ExecContext& ctx) {
     const auto shade = ctx.input<Heightfield>("shade");
     ColorByLayersParams p;
-    p.colors = parse_colors(ctx.param<std::string>("colors"));
+    p.colors = named_colors_from_table(ctx.param<TableValue>("colors"));
     p.shade_strength = ctx.param<double>("shade_strength");
     ctx.set_output("out", color_by_layers(*ctx.require<Image>("in"), shade.get(), p, &ctx));
   });

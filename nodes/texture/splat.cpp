@@ -2,94 +2,78 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <sstream>
 
 #include "graph/registry.h"
+#include "graph/table_json.h"
 #include "nodes/field/curvature.h"
 #include "nodes/field/row_loop.h"
 #include "nodes/field/slope.h"
 #include "nodes/field/surface_derivatives.h"
 
 namespace orogen::texture {
-namespace {
-
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return "";
-  return s.substr(a, s.find_last_not_of(" \t\r") - a + 1);
+TableSchema splat_layer_schema() {
+  TableSchema s;
+  s.min_rows = 1;
+  s.max_rows = kMaxSplatLayers;
+  s.add("name", ColumnType::Text).describe("Layer name: the weight channel's name");
+  s.add("weight", ColumnType::Number).range(0.0, 1e9).describe("Raw weight before the rules multiply it, >= 0");
+  return s;
 }
 
-double number(const std::string& s, const std::string& where) {
-  const std::string t = trim(s);
-  char* end = nullptr;
-  const double v = std::strtod(t.c_str(), &end);
-  if (t.empty() || *end != '\0' || !std::isfinite(v)) throw NodeError(where + "'" + t + "' is not a finite number");
-  return v;
+TableSchema splat_rule_schema() {
+  TableSchema s;
+  s.add("layer", ColumnType::Text).describe("The layer (a name in `layers`) this rule multiplies");
+  s.add_enum("input", {"height", "slope", "curvature", "flow", "wetness", "field"})
+      .describe("What is compared: height (m), slope (deg), mean curvature (1/m), or the flow, wetness or field input");
+  s.add_enum("compare", {"<", ">"}).describe("'>': 1 above the threshold; '<': 1 below it");
+  s.add("threshold", ColumnType::Number).range(-1e12, 1e12).describe("The edge, in the input's unit");
+  s.add("softness", ColumnType::Number).range(0.0, 1e12).describe(
+      "Half-width of the smoothstep around the threshold, in the input's unit; 0: a hard step");
+  return s;
 }
 
-}  // namespace
-
-std::string default_splat_layers() {
-  return "grass: slope < 30 ~ 8, height > 6 ~ 3, height < 1800 ~ 150\n"
-         "dirt: weight = 0.15, slope < 42 ~ 8\n"
-         "rock: slope > 36 ~ 8\n"
-         "snow: height > 2000 ~ 150, slope < 50 ~ 8\n"
-         "sand: height < 5 ~ 3, slope < 15 ~ 5\n";
+TableValue default_splat_layers() {
+  return table_from_json_text(R"([{"name": "grass", "weight": 1}, {"name": "dirt", "weight": 0.15},
+                                  {"name": "rock", "weight": 1}, {"name": "snow", "weight": 1},
+                                  {"name": "sand", "weight": 1}])",
+                              splat_layer_schema());
 }
 
-std::vector<SplatLayer> parse_splat_layers(const std::string& text) {
-  std::vector<SplatLayer> layers;
-  std::istringstream in(text);
-  std::string line;
-  int number_of_line = 0;
-  while (std::getline(in, line)) {
-    ++number_of_line;
-    if (trim(line).empty()) continue;
-    const std::string where = "layer line " + std::to_string(number_of_line) + ": ";
-    const auto colon = line.find(':');
-    if (colon == std::string::npos) throw NodeError(where + "expected 'name: term, term, ...'");
-    SplatLayer layer;
-    layer.name = trim(line.substr(0, colon));
-    if (layer.name.empty()) throw NodeError(where + "empty layer name");
-    std::stringstream rest(line.substr(colon + 1));
-    std::string term;
-    while (std::getline(rest, term, ',')) {
-      term = trim(term);
-      if (term.empty()) continue;
-      if (const auto eq = term.find('='); eq != std::string::npos) {
-        if (trim(term.substr(0, eq)) != "weight") throw NodeError(where + "'" + term + "': only 'weight = w' takes '='");
-        layer.weight = number(term.substr(eq + 1), where);
-        if (layer.weight < 0.0) throw NodeError(where + "weight must be >= 0");
-        continue;
-      }
-      const auto op = term.find_first_of("<>");
-      if (op == std::string::npos) throw NodeError(where + "'" + term + "': expected 'input < t' or 'input > t'");
-      SplatTerm t;
-      const std::string input = trim(term.substr(0, op));
-      if (input == "height") t.input = SplatInput::Height;
-      else if (input == "slope") t.input = SplatInput::Slope;
-      else if (input == "curvature") t.input = SplatInput::Curvature;
-      else if (input == "flow") t.input = SplatInput::Flow;
-      else if (input == "wetness") t.input = SplatInput::Wetness;
-      else if (input == "field") t.input = SplatInput::Field;
-      else throw NodeError(where + "unknown input '" + input + "' (height, slope, curvature, flow, wetness, field)");
-      t.greater = term[op] == '>';
-      std::string value = term.substr(op + 1);
-      if (const auto tilde = value.find('~'); tilde != std::string::npos) {
-        t.softness = number(value.substr(tilde + 1), where);
-        if (t.softness < 0.0) throw NodeError(where + "softness must be >= 0");
-        value = value.substr(0, tilde);
-      }
-      t.threshold = number(value, where);
-      layer.terms.push_back(t);
-    }
-    layers.push_back(layer);
+TableValue default_splat_rules() {
+  return table_from_json_text(
+      R"([{"layer": "grass", "input": "slope", "compare": "<", "threshold": 30, "softness": 8},
+          {"layer": "grass", "input": "height", "compare": ">", "threshold": 6, "softness": 3},
+          {"layer": "grass", "input": "height", "compare": "<", "threshold": 1800, "softness": 150},
+          {"layer": "dirt", "input": "slope", "compare": "<", "threshold": 42, "softness": 8},
+          {"layer": "rock", "input": "slope", "compare": ">", "threshold": 36, "softness": 8},
+          {"layer": "snow", "input": "height", "compare": ">", "threshold": 2000, "softness": 150},
+          {"layer": "snow", "input": "slope", "compare": "<", "threshold": 50, "softness": 8},
+          {"layer": "sand", "input": "height", "compare": "<", "threshold": 5, "softness": 3},
+          {"layer": "sand", "input": "slope", "compare": "<", "threshold": 15, "softness": 5}])",
+      splat_rule_schema());
+}
+
+std::vector<SplatLayer> splat_layers_from_tables(const TableValue& layers, const TableValue& rules) {
+  std::vector<SplatLayer> out;
+  for (const auto& row : layers.rows) out.push_back({std::get<std::string>(row[0]), std::get<double>(row[1]), {}});
+  for (std::size_t r = 0; r < rules.rows.size(); ++r) {
+    const auto& row = rules.rows[r];
+    const auto& layer = std::get<std::string>(row[0]);
+    // A name given to two layers: the rule applies to the first, as a lookup by name would.
+    auto it = std::find_if(out.begin(), out.end(), [&](const SplatLayer& l) { return l.name == layer; });
+    if (it == out.end())
+      throw NodeError("rules[" + std::to_string(r) + "].layer: '" + layer + "' is not a layer of the layers table");
+    static const char* const inputs[] = {"height", "slope", "curvature", "flow", "wetness", "field"};
+    const auto& input = std::get<std::string>(row[1]);
+    SplatTerm t;
+    for (int k = 0; k < 6; ++k)
+      if (input == inputs[k]) t.input = static_cast<SplatInput>(k);
+    t.greater = std::get<std::string>(row[2]) == ">";
+    t.threshold = std::get<double>(row[3]);
+    t.softness = std::get<double>(row[4]);
+    it->terms.push_back(t);
   }
-  if (layers.empty()) throw NodeError("no layers");
-  if (layers.size() > static_cast<std::size_t>(kMaxSplatLayers))
-    throw NodeError("at most " + std::to_string(kMaxSplatLayers) + " layers, got " + std::to_string(layers.size()));
-  return layers;
+  return out;
 }
 
 double splat_term(const SplatTerm& t, double x) {
@@ -170,9 +154,9 @@ OROGEN_NODE(SplatWeights) {
       "curvature (1/m), flow, wetness or any field, with smoothstep edges; weights >= 0 summing to 1, the "
       "dominant layer, and RGBA splat maps (4 layers per image) for game engines. After the height and "
       "steepness rules of L. Potter (2017), Generating a Virtual Forest Environment using Procedural Content "
-      "Generation. Layers, one per line: 'name: term, term, ...' with terms 'input < t ~ s', 'input > t ~ s' "
-      "(soft over [t - s, t + s]; s = 0 is a hard step) and 'weight = w'; inputs height, slope, curvature, "
-      "flow, wetness, field. Raw weight = w x product of the terms, then normalized; where all are 0 the "
+      "Generation. A table of layers (name, weight w) and a table of rules, each a term 'input < t ~ s' or "
+      "'input > t ~ s' on one layer (soft over [t - s, t + s]; s = 0 is a hard step); inputs height, slope, "
+      "curvature, flow, wetness, field. Raw weight = w x product of the terms, then normalized; where all are 0 the "
       "first layer takes the cell. Height bands (H. Zaiz (2022), Procedural Generation of 3D Game Worlds) "
       "are layers with height terms and softness 0.");
   b.input("in", PortType::Heightfield).description("Height, metres");
@@ -183,9 +167,12 @@ OROGEN_NODE(SplatWeights) {
   b.output("dominant", PortType::Heightfield).description("Id of the heaviest layer (0-based, in layer order)").kind(OutputKind::Scalar);
   b.output("splat0", PortType::Image).description("Layers 0..3 as RGBA");
   b.output("splat1", PortType::Image).description("Layers 4..7 as RGBA (0 where absent)");
-  b.param_string("layers", default_splat_layers()).description("One layer per line: 'name: input < t ~ s, input > t ~ s, weight = w' (heights in m, slopes in degrees)");
+  b.param_table("layers", splat_layer_schema(), default_splat_layers())
+      .description("The layers in channel order (1 to 8): name and raw weight");
+  b.param_table("rules", splat_rule_schema(), default_splat_rules())
+      .description("The terms multiplying the layers' weights, one per row: layer, input, < or >, threshold, softness");
   b.execute([](ExecContext& ctx) {
-    const auto layers = parse_splat_layers(ctx.param<std::string>("layers"));
+    const auto layers = splat_layers_from_tables(ctx.param<TableValue>("layers"), ctx.param<TableValue>("rules"));
     const auto z = ctx.require<Heightfield>("in");
     const auto flow = ctx.input<Heightfield>("flow");
     const auto wet = ctx.input<Heightfield>("wetness");

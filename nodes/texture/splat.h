@@ -4,13 +4,12 @@
 // height-and-steepness rules of L. Potter (2017), Generating a Virtual Forest Environment using Procedural
 // Content Generation (section 3.4), written as smoothstep bands.
 //
-// Layer text, one layer per line:   name: term, term, ...
-//   term := input < threshold [~ softness] | input > threshold [~ softness] | weight = w
-//   input := height (m) | slope (deg) | curvature (mean curvature, 1/m, convex > 0) | flow | wetness | field
-// A term `x > t ~ s` is smoothstep over [t - s, t + s] (a hard step at t when s = 0); `x < t ~ s` is one
-// minus that. A layer's raw weight is w (default 1) times the product of its terms; a layer without terms
-// is a constant background. Weights are divided by their sum; where every raw weight is 0 the first layer
-// takes it all. Non-finite inputs make a term 0.
+// Two tables: `layers` (name, weight) and `rules`, one term per row (layer, input, compare, threshold,
+// softness) with input height (m) | slope (deg) | curvature (mean curvature, 1/m, convex > 0) | flow |
+// wetness | field. A term `x > t ~ s` is smoothstep over [t - s, t + s] (a hard step at t when s = 0);
+// `x < t ~ s` is one minus that. A layer's raw weight is w (default 1) times the product of its terms; a layer without
+// terms is a constant background. Weights are divided by their sum; where every raw weight is 0 the first layer takes
+// it all. Non-finite inputs make a term 0.
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,6 +17,7 @@
 #include "graph/exec_context.h"
 #include "graph/heightfield.h"
 #include "graph/image.h"
+#include "graph/table_value.h"
 
 namespace orogen::texture {
 
@@ -37,8 +37,14 @@ struct SplatLayer {
 
 inline constexpr int kMaxSplatLayers = 8;
 
-std::vector<SplatLayer> parse_splat_layers(const std::string& text);  // throws NodeError naming the line
-std::string default_splat_layers();
+// The node's tables and their defaults (grass, dirt, rock, snow, sand).
+TableSchema splat_layer_schema();
+TableSchema splat_rule_schema();
+TableValue default_splat_layers();
+TableValue default_splat_rules();
+// The layers in table order, each with its rules in table order. Throws NodeError naming the row of a rule
+// whose layer is not in `layers`.
+std::vector<SplatLayer> splat_layers_from_tables(const TableValue& layers, const TableValue& rules);
 
 // 0..1 factor of one term for value x.
 double splat_term(const SplatTerm& t, double x);

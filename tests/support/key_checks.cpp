@@ -1,5 +1,6 @@
 #include "support/key_checks.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -143,6 +144,61 @@ std::vector<std::pair<std::string, ParamValue>> perturbations(const ParamDecl& d
       auto more = std::get<GradientValue>(v);
       more.stops.push_back({more.stops.empty() ? 0.0 : more.stops.back().position + 0.0, {0.3f, 0.6f, 0.9f, 1.0f}});
       out.push_back({"added stop", more});
+      break;
+    }
+    case ParamType::Table: {
+      const auto& t = std::get<TableValue>(v);
+      if (t.rows.empty()) {
+        // An empty default: one row of valid cells must change the key.
+        auto one = t;
+        std::vector<TableCell> row;
+        for (const auto& c : decl.table.columns) {
+          const double x = std::clamp(1.0, c.min.value_or(-1e300), c.max.value_or(1e300));
+          switch (c.type) {
+            case ColumnType::Text: row.push_back(std::string("key_check")); break;
+            case ColumnType::Enum: row.push_back(c.choices.front()); break;
+            case ColumnType::Number: row.push_back(x); break;
+            case ColumnType::Integer: row.push_back(static_cast<std::int64_t>(std::ceil(x))); break;
+            case ColumnType::Range: row.push_back(glm::dvec2(x, x)); break;
+            case ColumnType::Color: row.push_back(Srgb8{1, 2, 3}); break;
+          }
+        }
+        one.rows.push_back(std::move(row));
+        out.push_back({"one row added", one});
+      }
+      if (!t.rows.empty()) {
+        auto fewer = t;
+        fewer.rows.pop_back();
+        out.push_back({"last row removed", fewer});
+        // Every cell of the first row, changed within its column's bounds.
+        for (std::size_t c = 0; c < t.columns.size(); ++c) {
+          const TableColumn& col = decl.table.columns[c];
+          auto changed = t;
+          TableCell& cell = changed.rows.front()[c];
+          if (auto* s = std::get_if<std::string>(&cell)) {
+            if (col.type == ColumnType::Enum) {
+              for (const auto& choice : col.choices)
+                if (choice != *s) { *s = choice; break; }
+            } else {
+              *s += "_changed";
+            }
+          } else if (auto* x = std::get_if<double>(&cell)) {
+            TableColumn bounds = col;
+            ParamDecl as_float;
+            as_float.min = bounds.min;
+            as_float.max = bounds.max;
+            for (double y : other_numbers(*x, as_float, false)) *x = y;
+          } else if (auto* i = std::get_if<std::int64_t>(&cell)) {
+            *i = (col.max && static_cast<double>(*i + 1) > *col.max) ? *i - 1 : *i + 1;
+          } else if (auto* r = std::get_if<glm::dvec2>(&cell)) {
+            if (std::isfinite(r->y)) r->y += 0.5 * (std::isfinite(r->x) ? std::max(r->y - r->x, 0.5) : 1.0);
+            else r->x -= 1.0;
+          } else if (auto* color = std::get_if<Srgb8>(&cell)) {
+            color->r = static_cast<std::uint8_t>(color->r ^ 0x40);
+          }
+          out.push_back({"row 0 column " + col.name, changed});
+        }
+      }
       break;
     }
   }
