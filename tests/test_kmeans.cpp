@@ -13,10 +13,10 @@
 #include "evaluator/run_node.h"
 #include "graph/report.h"
 #include "nodes/climate/kmeans.h"
-#include "nodes/erosion/erosion_common.h"
+#include "nodes/common/hash.h"
 
-using orogen::erosion::hash01;
-using orogen::erosion::hash64;
+using orogen::hash01;
+using orogen::hash64;
 #include "support/key_checks.h"
 
 namespace orogen::climate {

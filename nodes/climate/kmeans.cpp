@@ -11,10 +11,7 @@
 #include "graph/heightfield.h"
 #include "graph/registry.h"
 #include "graph/report.h"
-#include "nodes/erosion/erosion_common.h"
-
-using orogen::erosion::hash01;
-using orogen::erosion::hash64;
+#include "nodes/common/hash.h"
 
 namespace orogen::climate {
 namespace {

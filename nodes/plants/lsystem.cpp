@@ -12,6 +12,8 @@
 #include <string_view>
 #include <vector>
 
+#include "nodes/common/hash.h"
+
 namespace orogen::plants {
 
 LSystemError::LSystemError(const std::string& where_, int line_, int column_, const std::string& what)
@@ -26,24 +28,18 @@ constexpr int kMaxSlots = 64;   // formal parameters per rule
 
 // --- counter-based random numbers ----------------------------------------------------------------------------
 
-inline std::uint64_t mix64(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
 inline std::uint64_t draw_key(std::uint64_t seed, int iteration, std::size_t module, std::uint32_t draw) {
-  std::uint64_t h = mix64(seed + 0x9E3779B97F4A7C15ull);
+  std::uint64_t h = mix64(seed + kGoldenGamma);
   h = mix64(h ^ (static_cast<std::uint64_t>(static_cast<std::uint32_t>(iteration)) << 32 | draw));
   return mix64(h ^ (static_cast<std::uint64_t>(module) * 0xD6E8FEB86659FD93ull));
 }
-inline double unit(std::uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-53; }  // [0, 1)
 
 struct Draws {
   std::uint64_t seed = 0;
   int iteration = 0;
   std::size_t module = 0;
   std::uint32_t counter = 1;  // 0 is the roulette's draw
-  double uniform() { return unit(draw_key(seed, iteration, module, counter++)); }
+  double uniform() { return unit_double(draw_key(seed, iteration, module, counter++)); }
 };
 
 // --- source text with positions -------------------------------------------------------------------------------
@@ -734,7 +730,7 @@ ModuleString LSystem::Impl::step(const ModuleString& w, int iteration, std::uint
       } else if (candidates.size() > 1) {
         double total = 0.0;
         for (const auto& c : candidates) total += c.weight;
-        double u = unit(draw_key(seed, iteration, i, 0)) * total;
+        double u = unit_double(draw_key(seed, iteration, i, 0)) * total;
         chosen = &rules[static_cast<std::size_t>(candidates.back().rule)];
         for (const auto& c : candidates) {
           if (u < c.weight) {
