@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "editor/model/scene_preview.h"
+#include "nodes/common/color_space.h"
 
 namespace orogen::editor {
 
@@ -65,10 +66,6 @@ glm::vec3 lookup(const std::array<Stop, N>& stops, double t) {
 
 std::uint8_t to_byte(float v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); }
 
-float linear_to_srgb(float v) {
-  v = std::clamp(v, 0.0f, 1.0f);
-  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-}
 
 constexpr std::array<unsigned, 12> kCategorical{0x4e79a7, 0xf28e2b, 0xe15759, 0x76b7b2, 0x59a14f, 0xedc948,
                                                 0xb07aa1, 0xff9da7, 0x9c755f, 0xbab0ac, 0x1b3a6b, 0x8cd17d};

@@ -9,11 +9,11 @@
 #include "graph/registry.h"
 #include "graph/report.h"
 #include "nodes/field/row_loop.h"
+#include "nodes/common/color_space.h"
 
 namespace orogen::climate {
 namespace {
 
-float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
 std::string trim(const std::string& s) {
   const auto a = s.find_first_not_of(" \t\r");

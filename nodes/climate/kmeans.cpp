@@ -12,13 +12,13 @@
 #include "graph/registry.h"
 #include "graph/report.h"
 #include "nodes/common/hash.h"
+#include "nodes/common/color_space.h"
 
 namespace orogen::climate {
 namespace {
 
 constexpr std::size_t kBlock = 4096;  // cells per partial sum (fixed: results do not depend on threads)
 
-float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
 // Nearest centre of `count` cells (features x, uc per cell) among k centres transposed to ct[channel][kp]:
 // float squared distances summed channel by channel; ties go to the lower id. Every variant below performs

@@ -9,6 +9,7 @@
 #include "nodes/island/island.h"
 #include "nodes/island/island_random.h"
 #include "nodes/noise/fbm.h"
+#include "nodes/common/color_space.h"
 
 namespace orogen::island {
 namespace {
@@ -17,10 +18,6 @@ using Index = std::size_t;
 inline Index ix(int k) { return static_cast<Index>(k); }
 
 double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
-
-float srgb_to_linear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
 
 const std::vector<float>* find_attr(const PolygonMap::Attributes& attrs, const char* name, std::size_t n) {
   const auto it = attrs.find(name);

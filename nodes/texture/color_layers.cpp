@@ -11,11 +11,11 @@
 #include "graph/registry.h"
 #include "nodes/climate/kmeans.h"
 #include "nodes/field/row_loop.h"
+#include "nodes/common/color_space.h"
 
 namespace orogen::texture {
 namespace {
 
-float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
 struct NamedColor {
   std::string name;
