@@ -9,19 +9,10 @@
 #include "graph/registry.h"
 #include "graph/report.h"
 #include "nodes/field/row_loop.h"
-#include "nodes/common/color_space.h"
+#include "nodes/common/hex_color.h"
+#include "nodes/common/text.h"
 
 namespace orogen::climate {
-namespace {
-
-
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return "";
-  return s.substr(a, s.find_last_not_of(" \t\r") - a + 1);
-}
-
-}  // namespace
 
 int BiomeTable::classify(double t, double m) const {
   for (const auto& r : rows)
@@ -88,11 +79,9 @@ BiomeTable parse_biome_table(const std::string& text) {
     r.m_min = v[2];
     r.m_max = v[3];
     const std::string& c = f[5];
-    if (c.size() != 7 || c[0] != '#' || c.find_first_not_of("0123456789abcdefABCDEF", 1) != std::string::npos)
-      throw NodeError(where + "color '" + c + "' is not #rrggbb");
-    const unsigned long hex = std::strtoul(c.c_str() + 1, nullptr, 16);
-    const glm::vec4 color(srgb_to_linear(((hex >> 16) & 255) / 255.0f), srgb_to_linear(((hex >> 8) & 255) / 255.0f),
-                          srgb_to_linear((hex & 255) / 255.0f), 1.0f);
+    const auto hex = parse_hex_color(c);
+    if (!hex) throw NodeError(where + "color '" + c + "' is not #rrggbb");
+    const glm::vec4 color = hex_to_linear(*hex);
     r.id = -1;
     for (std::size_t k = 0; k < t.names.size(); ++k)
       if (t.names[k] == r.name) r.id = static_cast<int>(k);

@@ -49,7 +49,4 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
 std::vector<double> group_weights(const std::vector<std::string>& names, int channels, double slope,
                                   double temperature, double illumination, double humidity, double other);
 
-// A categorical colour (linear RGBA) for id 0, 1, 2, ...: 12 distinct colours, then golden-ratio hues.
-glm::vec4 categorical_color(int id);
-
 }  // namespace orogen::climate

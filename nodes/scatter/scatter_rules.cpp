@@ -8,6 +8,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "graph/exec_context.h"
+#include "nodes/common/text.h"
 #include "nodes/field/row_loop.h"
 #include "nodes/scatter/scatter_hash.h"
 
@@ -15,13 +16,6 @@ namespace orogen {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t\r\n");
-  if (a == std::string::npos) return {};
-  const auto b = s.find_last_not_of(" \t\r\n");
-  return s.substr(a, b - a + 1);
-}
 
 // Lines split at '\n' and ';', comments ('#' to the end of the line) removed, blank lines dropped.
 std::vector<std::string> table_lines(const std::string& text) {

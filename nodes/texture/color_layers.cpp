@@ -9,9 +9,9 @@
 #include <glm/vec4.hpp>
 
 #include "graph/registry.h"
-#include "nodes/climate/kmeans.h"
 #include "nodes/field/row_loop.h"
-#include "nodes/common/color_space.h"
+#include "nodes/common/categorical_palette.h"
+#include "nodes/common/hex_color.h"
 
 namespace orogen::texture {
 namespace {
@@ -35,11 +35,9 @@ std::vector<NamedColor> parse_colors(const std::string& text) {
     std::string name, hex, extra;
     if (!(ls >> name)) continue;
     if (!(ls >> hex) || (ls >> extra)) throw NodeError("colors: expected 'name #rrggbb', got '" + line + "'");
-    if (hex.size() != 7 || hex[0] != '#' || hex.find_first_not_of("0123456789abcdefABCDEF", 1) != std::string::npos)
-      throw NodeError("colors: '" + hex + "' is not #rrggbb");
-    const unsigned long v = std::strtoul(hex.c_str() + 1, nullptr, 16);
-    out.push_back({name, {srgb_to_linear(((v >> 16) & 255) / 255.0f), srgb_to_linear(((v >> 8) & 255) / 255.0f),
-                          srgb_to_linear((v & 255) / 255.0f), 1.0f}});
+    const auto rgb = parse_hex_color(hex);
+    if (!rgb) throw NodeError("colors: '" + hex + "' is not #rrggbb");
+    out.push_back({name, hex_to_linear(*rgb)});
   }
   return out;
 }
@@ -66,7 +64,7 @@ OROGEN_NODE(ColorByLayers) {
     const auto named = parse_colors(ctx.param<std::string>("colors"));
     std::vector<glm::vec4> colors;
     for (int c = 0; c < w->channels; ++c) {
-      glm::vec4 col = climate::categorical_color(c);
+      glm::vec4 col = categorical_linear(c);
       if (static_cast<std::size_t>(c) < w->channel_names.size())
         for (const auto& nc : named)
           if (nc.name == w->channel_names[static_cast<std::size_t>(c)]) col = nc.color;

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "graph/registry.h"
+#include "nodes/common/text.h"
 #include "nodes/field/curvature.h"
 #include "nodes/field/row_loop.h"
 #include "nodes/field/slope.h"
@@ -13,12 +14,6 @@
 
 namespace orogen::texture {
 namespace {
-
-std::string trim(const std::string& s) {
-  const auto a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return "";
-  return s.substr(a, s.find_last_not_of(" \t\r") - a + 1);
-}
 
 double number(const std::string& s, const std::string& where) {
   const std::string t = trim(s);
