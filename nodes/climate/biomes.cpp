@@ -8,7 +8,7 @@
 
 #include "graph/registry.h"
 #include "graph/report.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/common/hex_color.h"
 #include "nodes/common/text.h"
 

@@ -8,15 +8,10 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "nodes/common/cancellable_rows.h"
+
 namespace orogen::erosion {
 namespace {
-
-template <class Fn>
-void rows(int h, Fn&& fn) {
-  tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& r) {
-    for (int j = r.begin(); j != r.end(); ++j) fn(j);
-  });
-}
 
 // Rows per chunk of the fused sweep (the chunking changes no result, only the share of recomputed rows).
 constexpr int kChunkRows = 64;
@@ -123,7 +118,7 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
   const bool plain = !mask && !hardness && !temperature && !(p.layer_depth > 0);
 
   auto volume = [&]() {  // sum of (b + s) x A, rows summed in order
-    rows(h, [&](int j) {
+    for_each_row_unreported(ctx, h, [&](int j) {
       double acc = 0;
       for (int i = 0; i < w; ++i) acc += static_cast<double>(b[in.index(i, j)]) + s[in.index(i, j)];
       row_sum[j] = acc;

@@ -1,8 +1,5 @@
 #include "nodes/erosion/stream_power.h"
 
-#include "nodes/hydrology/basin_graph.h"
-#include "nodes/hydrology/flow_routing.h"
-
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -10,8 +7,9 @@
 #include <queue>
 #include <vector>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include "nodes/common/cancellable_rows.h"
+#include "nodes/hydrology/basin_graph.h"
+#include "nodes/hydrology/flow_routing.h"
 
 namespace orogen::erosion {
 namespace {
@@ -22,13 +20,6 @@ constexpr int kDj[8] = {0, 0, -1, 1, -1, -1, 1, 1};
 // The smallest increment that still orders the filled surface: relative to the height so that it survives
 // double rounding, and far below any real relief.
 inline double raise(double z) { return z + std::max(1e-9, std::abs(z) * 1e-12); }
-
-template <class Fn>
-void rows(int h, Fn&& fn) {
-  tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& r) {
-    for (int j = r.begin(); j != r.end(); ++j) fn(j);
-  });
-}
 
 }  // namespace
 
@@ -114,7 +105,7 @@ ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, cons
   outs.mask = outlet;
   for (int s = 0; s < steps; ++s) {
     check_cancelled(ctx);
-    rows(h, [&](int j) {
+    for_each_row_unreported(ctx, h, [&](int j) {
       for (std::size_t k = static_cast<std::size_t>(j) * w, e = k + w; k < e; ++k) {
         zprev[k] = z[k];
         z[k] += ufac[k] * dt;
@@ -126,7 +117,7 @@ ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, cons
     for (int sd = 0; sd < diff_steps; ++sd) {
       const double c = p.diffusion * dt / diff_steps;
       const double cx = 1.0 / (dx * dx), cy = 1.0 / (dy * dy);
-      rows(h, [&](int j) {
+      for_each_row_unreported(ctx, h, [&](int j) {
         auto cell = [&](int i, std::size_t k, double zw, double ze, double zs, double zn) {
           const double zc = z[k];
           const double lx = (zw + ze - 2 * zc) * cx;
@@ -182,7 +173,7 @@ ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, cons
       // Implicit incision from the outlets upstream (receivers are already at t + dt).
       for (const std::int32_t k : order) incise(k, flow.receiver[k], flow.direction[k]);
     }
-    rows(h, [&](int j) {
+    for_each_row_unreported(ctx, h, [&](int j) {
       double mx = 0, sum = 0;
       std::size_t count = 0;
       for (std::size_t k = static_cast<std::size_t>(j) * w, e = k + w; k < e; ++k)

@@ -4,7 +4,7 @@
 
 #include "graph/registry.h"
 #include "nodes/field/field_range.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/common/color_space.h"
 
 namespace orogen {

@@ -1,7 +1,7 @@
 #include "nodes/field/match_domain.h"
 
 #include "nodes/common/resample.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 
 namespace orogen {
 

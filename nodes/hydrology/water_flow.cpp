@@ -7,7 +7,7 @@
 
 #include "graph/registry.h"
 #include "graph/report.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/hydrology/flow_routing.h"
 
 namespace orogen::hydrology {

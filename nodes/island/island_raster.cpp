@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "graph/exec_context.h"
-#include "nodes/common/parallel_rows.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/island/island.h"
 #include "nodes/island/island_random.h"
 #include "nodes/noise/fbm.h"
@@ -248,11 +248,7 @@ RasterResult rasterize_polygon_map(const PolygonMap& map, const Domain& domain, 
       px[3] = 1.0f;
     }
   };
-  if (ctx) {
-    parallel_rows(*ctx, domain.height(), run);
-  } else {
-    tbb::parallel_for(0, domain.height(), run);
-  }
+  for_each_row(ctx, domain.height(), run);
   return r;
 }
 

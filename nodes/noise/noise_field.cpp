@@ -9,7 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "graph/exec_context.h"
-#include "nodes/common/parallel_rows.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/noise/lattice_hash.h"
 #include "nodes/noise/noise_kernels.h"
 #include "nodes/noise/noise_reference.h"
@@ -30,17 +30,6 @@ struct alignas(64) Scratch {
   float noise[kernels::kMaxRows][kRun], sum[kernels::kMaxRows][kRun], aux[kernels::kMaxRows][kRun];
   float q[kernels::kMaxRows][kRun], amplitude[kernels::kMaxRows][kRun], tail[kernels::kMaxRows][kRun];
 };
-
-template <class Fn>
-void for_each_row(const ExecContext* ctx, int count, Fn&& fn) {
-  if (ctx) {
-    parallel_rows(*ctx, count, fn);
-    return;
-  }
-  tbb::parallel_for(tbb::blocked_range<int>(0, count, 8), [&](const tbb::blocked_range<int>& r) {
-    for (int j = r.begin(); j != r.end(); ++j) fn(j);
-  });
-}
 
 void check_input(const Heightfield* f, const char* name, const Domain& domain) {
   if (f && f->domain.resolution != domain.resolution)

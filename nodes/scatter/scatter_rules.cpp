@@ -9,7 +9,7 @@
 
 #include "graph/exec_context.h"
 #include "nodes/common/text.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/scatter/scatter_hash.h"
 
 namespace orogen {

@@ -9,7 +9,7 @@
 #include <glm/vec4.hpp>
 
 #include "graph/registry.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/common/categorical_palette.h"
 #include "nodes/common/hex_color.h"
 

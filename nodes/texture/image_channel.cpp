@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "graph/registry.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 
 namespace orogen::texture {
 

@@ -8,7 +8,7 @@
 #include "graph/registry.h"
 #include "nodes/common/text.h"
 #include "nodes/field/curvature.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/field/slope.h"
 #include "nodes/field/surface_derivatives.h"
 
