@@ -10,6 +10,7 @@
 #include "graph/report.h"
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/common/hex_color.h"
+#include "nodes/common/report_builder.h"
 #include "nodes/common/text.h"
 
 namespace orogen::climate {
@@ -141,11 +142,10 @@ OROGEN_NODE(Biomes) {
     const BiomeTable table = parse_biome_table(which == "custom" ? ctx.param<std::string>("custom_table") : builtin_biome_table(which));
     auto r = classify_biomes(*ctx.require<Heightfield>("in"), *ctx.require<Heightfield>("moisture"), table,
                              ctx.param<double>("moisture_scale"), &ctx);
-    nlohmann::json j = nlohmann::json::array();
+    ReportJson j = ReportJson::array();
     for (std::size_t k = 0; k < table.names.size(); ++k)
       j.push_back({{"id", k}, {"name", table.names[k]}, {"color", {table.colors[k].r, table.colors[k].g, table.colors[k].b}}});
-    auto report = std::make_shared<Report>();
-    report->json = nlohmann::json{{"biomes", j}}.dump();
+    const auto report = make_report(ReportJson{{"biomes", j}});
     ctx.set_output("out", r.ids);
     ctx.set_output("color", r.color);
     ctx.set_output("report", report);

@@ -13,6 +13,7 @@
 #include "graph/report.h"
 #include "nodes/common/categorical_palette.h"
 #include "nodes/common/hash.h"
+#include "nodes/common/report_builder.h"
 
 namespace orogen::climate {
 namespace {
@@ -278,10 +279,6 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
   return res;
 }
 
-namespace {
-double json_number(double v) { return std::isfinite(v) ? v : 0.0; }
-}  // namespace
-
 OROGEN_NODE(KMeansClusters) {
   b.reach_global();
   b.category("climate").description(
@@ -326,31 +323,30 @@ OROGEN_NODE(KMeansClusters) {
       const glm::vec4 c = categorical_linear(r.labels[q]);
       for (int ch = 0; ch < 4; ++ch) color->data[q * 4 + static_cast<std::size_t>(ch)] = c[ch];
     }
-    nlohmann::json j;
+    ReportJson j;
     j["k"] = r.k;
     j["iterations"] = r.iterations;
     j["converged"] = r.converged;
-    j["objective"] = nlohmann::json::array();
-    for (double o : r.objective) j["objective"].push_back(json_number(o));
-    j["clusters"] = nlohmann::json::array();
+    j["objective"] = ReportJson::array();
+    for (double o : r.objective) j["objective"].push_back(report_number(o));
+    j["clusters"] = ReportJson::array();
     for (int c = 0; c < r.k; ++c) {
-      nlohmann::json cl;
+      ReportJson cl;
       cl["id"] = c;
       cl["count"] = r.counts[static_cast<std::size_t>(c)];
       const glm::vec4 col = categorical_linear(c);
       cl["color"] = {col.r, col.g, col.b};
-      nlohmann::json centre = nlohmann::json::object();
+      ReportJson centre = ReportJson::object();
       for (int ch = 0; ch < r.channels; ++ch) {
         const std::string name = static_cast<std::size_t>(ch) < img->channel_names.size()
                                      ? img->channel_names[static_cast<std::size_t>(ch)]
                                      : "channel_" + std::to_string(ch);
-        centre[name] = json_number(r.centres[static_cast<std::size_t>(c * r.channels + ch)]);
+        centre[name] = report_number(r.centres[static_cast<std::size_t>(c * r.channels + ch)]);
       }
       cl["centre"] = centre;
       j["clusters"].push_back(cl);
     }
-    auto report = std::make_shared<Report>();
-    report->json = j.dump();
+    const auto report = make_report(j);
     ctx.set_output("out", ids);
     ctx.set_output("report", report);
     ctx.set_output("color", color);

@@ -2,11 +2,11 @@
 // Every node takes `in` (height, m) and an optional `mask` (0..1) scaling its effect, and outputs `out`
 // (eroded height), `erosion` (m removed), `deposition` (m laid down) and `flow` (0..1 where water ran).
 // All are global: a simulation's output at a point depends on the whole domain.
-#include <cstdio>
 #include <string>
 
 #include "graph/registry.h"
 #include "graph/report.h"
+#include "nodes/common/report_builder.h"
 #include "nodes/erosion/particles.h"
 #include "nodes/erosion/pipe.h"
 #include "nodes/erosion/stream_power.h"
@@ -114,14 +114,13 @@ OROGEN_NODE(HydraulicErosion) {
     erosion::ParticleStats stats;
     auto m = erosion::particle_erosion(*in, p, mask.get(), &ctx, &stats);
     set_common_outputs(ctx, m);
-    char text[256];
-    std::snprintf(text, sizeof text,
-                  "{\"eroded\": %.17g, \"deposited\": %.17g, \"carried_off\": %.17g, \"droplets\": %llu, \"steps\": %llu}",
-                  stats.eroded, stats.deposited, stats.carried_off, static_cast<unsigned long long>(stats.droplets),
-                  static_cast<unsigned long long>(stats.steps));
-    auto report = std::make_shared<Report>();
-    report->json = text;
-    ctx.set_output("report", report);
+    ReportJson j;
+    j["eroded"] = report_number(stats.eroded);
+    j["deposited"] = report_number(stats.deposited);
+    j["carried_off"] = report_number(stats.carried_off);
+    j["droplets"] = stats.droplets;
+    j["steps"] = stats.steps;
+    ctx.set_output("report", make_report(j));
   });
 }
 

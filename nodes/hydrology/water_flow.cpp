@@ -8,19 +8,20 @@
 #include "graph/registry.h"
 #include "graph/report.h"
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/common/report_builder.h"
 #include "nodes/hydrology/flow_routing.h"
 
 namespace orogen::hydrology {
 
 std::string WaterFlowResult::json() const {
-  nlohmann::ordered_json j;
+  ReportJson j;
   j["rain_m3"] = rain;
   j["stored_m3"] = stored;
   j["border_outflow_m3"] = border;
   j["sink_inflow_m3"] = sinks;
   j["balance_error_m3"] = rain - stored - border - sinks;
   j["iterations"] = iterations;
-  return j.dump(2);
+  return report_text(j);
 }
 
 WaterFlowResult water_flow(const Heightfield& in, const Heightfield* rainfall, const Heightfield* sinks,
