@@ -10,6 +10,7 @@
 #include "graph/report.h"
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/common/hex_color.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/common/report_builder.h"
 #include "nodes/common/text.h"
 
@@ -99,8 +100,7 @@ BiomeTable parse_biome_table(const std::string& text) {
 
 BiomeResult classify_biomes(const Heightfield& temperature, const Heightfield& moisture, const BiomeTable& table,
                             double moisture_scale, const ExecContext* ctx) {
-  if (moisture.domain.resolution != temperature.domain.resolution)
-    throw NodeError("Biomes: moisture resolution differs from the temperature's");
+  require_same_grid(moisture.domain, temperature.domain, "moisture");
   BiomeResult out{std::make_shared<Heightfield>(temperature.domain), std::make_shared<Image>(temperature.domain, 4)};
   out.color->channel_names = {"R", "G", "B", "A"};
   const glm::vec4 none(0.2f, 0.2f, 0.2f, 1.0f);
@@ -140,8 +140,9 @@ OROGEN_NODE(Biomes) {
   b.execute([](ExecContext& ctx) {
     const std::string which = ctx.param<std::string>("table");
     const BiomeTable table = parse_biome_table(which == "custom" ? ctx.param<std::string>("custom_table") : builtin_biome_table(which));
-    auto r = classify_biomes(*ctx.require<Heightfield>("in"), *ctx.require<Heightfield>("moisture"), table,
-                             ctx.param<double>("moisture_scale"), &ctx);
+    const auto in = ctx.require<Heightfield>("in");
+    const auto moisture = require_secondary_input<Heightfield>(ctx, "moisture", in->domain);
+    auto r = classify_biomes(*in, *moisture, table, ctx.param<double>("moisture_scale"), &ctx);
     ReportJson j = ReportJson::array();
     for (std::size_t k = 0; k < table.names.size(); ++k)
       j.push_back({{"id", k}, {"name", table.names[k]}, {"color", {table.colors[k].r, table.colors[k].g, table.colors[k].b}}});

@@ -10,6 +10,7 @@
 
 #include "graph/exec_context.h"
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/noise/lattice_hash.h"
 #include "nodes/noise/noise_kernels.h"
 #include "nodes/noise/noise_reference.h"
@@ -32,10 +33,7 @@ struct alignas(64) Scratch {
 };
 
 void check_input(const Heightfield* f, const char* name, const Domain& domain) {
-  if (f && f->domain.resolution != domain.resolution)
-    throw NodeError(std::string("input '") + name + "' has " + std::to_string(f->width()) + "x" +
-                    std::to_string(f->height()) + " samples but the requested domain has " +
-                    std::to_string(domain.width()) + "x" + std::to_string(domain.height()));
+  if (f) require_same_grid(f->domain, domain, name);
 }
 
 // Copies samples [c0, c0 + n) of row j into dst and pads it to `padded` with `fill`.

@@ -12,6 +12,7 @@
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/common/categorical_palette.h"
 #include "nodes/common/hex_color.h"
+#include "nodes/common/match_domain.h"
 
 namespace orogen::texture {
 namespace {
@@ -59,8 +60,7 @@ OROGEN_NODE(ColorByLayers) {
   b.param_float("shade_strength", 1.0).range(0.0, 1.0).description("How much of the shade applies, 0..1 (0: none)");
   b.execute([](ExecContext& ctx) {
     const auto w = ctx.require<Image>("in");
-    const auto shade = ctx.input<Heightfield>("shade");
-    if (shade && shade->domain.resolution != w->domain.resolution) throw NodeError("shade: resolution differs from the weights'");
+    const auto shade = secondary_input<Heightfield>(ctx, "shade", w->domain);
     const auto named = parse_colors(ctx.param<std::string>("colors"));
     std::vector<glm::vec4> colors;
     for (int c = 0; c < w->channels; ++c) {
