@@ -20,7 +20,8 @@ ImagePtr match_domain(ImagePtr image, const Domain& target, const ExecContext* c
   out->channel_names = image->channel_names;
   const std::size_t row = static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(image->channels);
   for_each_row(ctx, target.height(), [&](int j) {
-    resample_bilinear_row(*image, target, j, std::span<float>(out->data.data() + row * static_cast<std::size_t>(j), row));
+    float* first = out->data.data() + row * static_cast<std::size_t>(j);
+    resample_bilinear_row(*image, target, j, std::span<float>(first, row));
   });
   return out;
 }

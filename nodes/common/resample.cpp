@@ -59,8 +59,10 @@ Image resample_bilinear(const Image& source, const Domain& target) {
   Image out(target, source.channels);
   out.channel_names = source.channel_names;
   const std::size_t row = static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(source.channels);
-  for (int j = 0; j < target.height(); ++j)
-    resample_bilinear_row(source, target, j, std::span<float>(out.data.data() + row * static_cast<std::size_t>(j), row));
+  for (int j = 0; j < target.height(); ++j) {
+    float* first = out.data.data() + row * static_cast<std::size_t>(j);
+    resample_bilinear_row(source, target, j, std::span<float>(first, row));
+  }
   return out;
 }
 
