@@ -144,7 +144,7 @@ TEST(Text, TrimEdgeCases) {
   EXPECT_EQ(trim("\t grass: slope < 30 \r\n"), "grass: slope < 30");
   EXPECT_EQ(trim(" a \t b "), "a \t b") << "inner blanks stay";
   EXPECT_EQ(trim("x\n"), "x");
-  EXPECT_EQ(trim(std::string_view("  ab  ").substr(1, 3)), "a");
+  EXPECT_EQ(trim(std::string_view("  ab  ").substr(1, 3)), "ab") << "views trim like strings";
 }
 
 // --- hex_color.h ------------------------------------------------------------------------------------------
@@ -194,7 +194,9 @@ TEST(CategoricalPalette, TableauFirstThenDistinctHues) {
 
 ExecContext context_of(const CancelToken* cancel) {
   const NodeType* t = NodeRegistry::instance().find("Add");
-  ExecContext ctx(*t, "rows", Domain{}, std::vector<PortValue>(t->inputs.size()), {});
+  std::vector<ParamValue> params;
+  for (const auto& p : t->params) params.push_back(p.default_value);
+  ExecContext ctx(*t, "rows", Domain{}, std::vector<PortValue>(t->inputs.size()), std::move(params));
   ctx.set_cancel_token(cancel);
   return ctx;
 }
@@ -237,9 +239,13 @@ TEST(CancellableRows, StopsWhenCancelled) {
     auto row = [&](int) {
       if (++done == 20) token.cancel();
     };
-    if (variant == 0) EXPECT_THROW(parallel_rows(ctx, 100000, row), Cancelled);
-    if (variant == 1) EXPECT_THROW(for_each_row(&ctx, 100000, row), Cancelled);
-    if (variant == 2) EXPECT_THROW(for_each_row_unreported(&ctx, 100000, row), Cancelled);
+    if (variant == 0) {
+      EXPECT_THROW(parallel_rows(ctx, 100000, row), Cancelled);
+    } else if (variant == 1) {
+      EXPECT_THROW(for_each_row(&ctx, 100000, row), Cancelled);
+    } else {
+      EXPECT_THROW(for_each_row_unreported(&ctx, 100000, row), Cancelled);
+    }
     EXPECT_LT(done.load(), 100000) << "rows kept running after the cancel (variant " << variant << ")";
   }
 }
