@@ -1,6 +1,9 @@
 #include "nodes/scatter/instance.h"
 
 #include <set>
+#include <string_view>
+
+#include "nodes/common/text.h"
 
 namespace orogen {
 
@@ -27,10 +30,7 @@ std::map<std::int32_t, std::string> parse_class_names(const std::string& text) {
   while (start <= text.size()) {
     std::size_t end = text.find(',', start);
     if (end == std::string::npos) end = text.size();
-    std::string name = text.substr(start, end - start);
-    const auto first = name.find_first_not_of(" \t\r\n");
-    const auto last = name.find_last_not_of(" \t\r\n");
-    name = first == std::string::npos ? std::string() : name.substr(first, last - first + 1);
+    const std::string name = trim(std::string_view(text).substr(start, end - start));
     if (!name.empty()) out[cls] = name;
     ++cls;
     start = end + 1;
