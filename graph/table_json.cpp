@@ -50,7 +50,7 @@ TableCell read_cell(const json& j, const TableColumn& c, std::string& error) {
     }
     case ColumnType::Color: {
       if (!j.is_string()) break;
-      const auto color = parse_hex_color(j.get_ref<const std::string&>());
+      const auto color = parse_srgb8(j.get_ref<const std::string&>());
       if (!color) {
         error = "'" + j.get<std::string>() + "' is not a #rrggbb color";
         return {};

@@ -41,7 +41,7 @@ std::string trim(const std::string& s, const char* space = " \t\r\n") {
 
 // "#rrggbb" in lowercase, as the table writes it; throws for anything else.
 std::string hex_color(const std::string& text, const std::string& where) {
-  const auto c = parse_hex_color(text);
+  const auto c = parse_srgb8(text);
   if (!c) throw std::runtime_error(where + "'" + text + "' is not a #rrggbb color");
   return c->hex();
 }

@@ -4,10 +4,10 @@
 #include <cstdio>
 #include <sstream>
 
+#include "nodes/common/hex_color.h"
+
 namespace orogen {
 namespace {
-
-float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
 std::string format_number(double v) {
   std::ostringstream s;
@@ -88,7 +88,7 @@ std::string_view to_string(ColumnType t) {
 }
 
 glm::vec4 Srgb8::linear() const {
-  return {srgb_to_linear(r / 255.0f), srgb_to_linear(g / 255.0f), srgb_to_linear(b / 255.0f), 1.0f};
+  return hex_to_linear(static_cast<std::uint32_t>(r) << 16 | static_cast<std::uint32_t>(g) << 8 | b);
 }
 
 std::string Srgb8::hex() const {
@@ -97,21 +97,11 @@ std::string Srgb8::hex() const {
   return text;
 }
 
-std::optional<Srgb8> parse_hex_color(std::string_view text) {
-  if (text.size() != 7 || text[0] != '#') return std::nullopt;
-  auto digit = [](char ch) -> int {
-    if (ch >= '0' && ch <= '9') return ch - '0';
-    if (ch >= 'a' && ch <= 'f') return ch - 'a' + 10;
-    if (ch >= 'A' && ch <= 'F') return ch - 'A' + 10;
-    return -1;
-  };
-  std::uint8_t c[3];
-  for (int k = 0; k < 3; ++k) {
-    const int hi = digit(text[1 + 2 * k]), lo = digit(text[2 + 2 * k]);
-    if (hi < 0 || lo < 0) return std::nullopt;
-    c[k] = static_cast<std::uint8_t>(hi * 16 + lo);
-  }
-  return Srgb8{c[0], c[1], c[2]};
+std::optional<Srgb8> parse_srgb8(std::string_view text) {
+  const auto rgb = parse_hex_color(text);
+  if (!rgb) return std::nullopt;
+  return Srgb8{static_cast<std::uint8_t>(*rgb >> 16), static_cast<std::uint8_t>(*rgb >> 8),
+               static_cast<std::uint8_t>(*rgb)};
 }
 
 TableColumn& TableColumn::range(double lo, double hi) {

@@ -33,8 +33,8 @@ struct Srgb8 {
   glm::vec4 linear() const;
   std::string hex() const;  // "#rrggbb", lowercase
 };
-// Parses "#rrggbb" (either case); nullopt for anything else.
-std::optional<Srgb8> parse_hex_color(std::string_view text);
+// Parses "#rrggbb" (either case; nodes/common/hex_color.h); nullopt for anything else.
+std::optional<Srgb8> parse_srgb8(std::string_view text);
 
 // One cell: empty (an optional column left out), or the alternative its column type uses.
 //   Text / Enum -> std::string, Number -> double, Integer -> int64_t, Range -> dvec2, Color -> Srgb8.

@@ -18,6 +18,7 @@
 #include "evaluator/run_node.h"
 #include "graph/heightfield.h"
 #include "graph/image.h"
+#include "nodes/common/hash.h"
 
 namespace orogen::test {
 
@@ -37,11 +38,8 @@ inline double rolling_hills(double x, double y) {
 
 // Deterministic pseudo-random value in [0, 1) per integer pair (splitmix64 of the pair).
 inline double hash01(std::int64_t a, std::int64_t b) {
-  std::uint64_t z = static_cast<std::uint64_t>(a) * 0x9E3779B97F4A7C15ull + static_cast<std::uint64_t>(b) + 0x632BE59BD9B4E019ull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  z ^= z >> 31;
-  return static_cast<double>(z >> 11) * (1.0 / 9007199254740992.0);
+  return unit_double(mix64(static_cast<std::uint64_t>(a) * kGoldenGamma + static_cast<std::uint64_t>(b) +
+                           0x632BE59BD9B4E019ull));
 }
 
 // Runs `fn` inside an arena of `threads` worker slots, so the node sees exactly that parallelism.

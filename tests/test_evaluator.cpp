@@ -22,7 +22,7 @@
 #include "graph/exec_context.h"
 #include "graph/image.h"
 #include "graph/registry.h"
-#include "nodes/common/parallel_rows.h"
+#include "nodes/common/cancellable_rows.h"
 #include "support/test_paths.h"
 
 namespace orogen {

@@ -18,6 +18,7 @@
 #include "graph/exec_context.h"
 #include "graph/graph_file.h"
 #include "graph/registry.h"
+#include "nodes/common/hash.h"
 #include "support/test_paths.h"
 
 namespace orogen {
@@ -218,13 +219,10 @@ TEST(GraphFile, EmptyGraphRoundTrips) {
 
 TEST(GraphFile, FloatsRoundTripBitExactly) {
   // Doubles and float32 colours from raw bit patterns over the whole exponent range.
-  std::uint64_t state = 0x9E3779B97F4A7C15ull;
+  std::uint64_t state = kGoldenGamma;
   auto next = [&] {
-    state += 0x9E3779B97F4A7C15ull;
-    std::uint64_t z = state;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
+    state += kGoldenGamma;
+    return mix64(state);
   };
   auto random_double = [&] {
     for (;;) {

@@ -16,10 +16,10 @@
 #include "evaluator/run_node.h"
 #include "graph/report.h"
 #include "nodes/climate/kmeans.h"
-#include "nodes/erosion/erosion_common.h"
+#include "nodes/common/hash.h"
 
-using orogen::erosion::hash01;
-using orogen::erosion::hash64;
+using orogen::hash01;
+using orogen::hash64;
 #include "support/key_checks.h"
 
 namespace orogen::climate {
@@ -193,10 +193,10 @@ TEST(KMeans, MapsHoldTheLabelsAndTheirCategoricalColors) {
   ASSERT_EQ(m.color->channels, 4);
   EXPECT_EQ(m.color->channel_names, (std::vector<std::string>{"R", "G", "B", "A"}));
   for (int i = 0; i < 3; ++i) {
-    const glm::vec4 c = categorical_color(i == 1 ? 0 : 1);
+    const glm::vec4 c = categorical_linear(i == 1 ? 0 : 1);
     for (int ch = 0; ch < 4; ++ch) EXPECT_EQ(m.color->pixel(i, 0)[ch], c[ch]) << i << " " << ch;
   }
-  EXPECT_NE(categorical_color(0), categorical_color(1));
+  EXPECT_NE(categorical_linear(0), categorical_linear(1));
 }
 
 TEST(KMeans, ReportNamesCentresByChannelAndZeroesNonFiniteNumbers) {
@@ -209,7 +209,7 @@ TEST(KMeans, ReportNamesCentresByChannelAndZeroesNonFiniteNumbers) {
   for (int c = 0; c < 2; ++c) {
     const auto& cl = j["clusters"][static_cast<std::size_t>(c)];
     EXPECT_EQ(cl["id"], c);
-    const glm::vec4 col = categorical_color(c);
+    const glm::vec4 col = categorical_linear(c);
     EXPECT_EQ(cl["color"], nlohmann::json({col.r, col.g, col.b}));
   }
   EXPECT_EQ(j["clusters"][0]["count"], 1);

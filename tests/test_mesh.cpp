@@ -552,7 +552,7 @@ TEST_F(MeshFileTest, ObjPlyStlRoundTripThroughOpenMesh) {
       ASSERT_TRUE(opt.check(OpenMesh::IO::Options::VertexColor)) << name << " has colours";
       for (auto v : back.vertices()) {
         const auto c = back.color(v), c0 = mesh_->mesh.color(v);
-        for (int k = 0; k < 3; ++k) ASSERT_NEAR(c[k], linear_to_srgb(c0[k]), 0.5 / 255 + 1e-6) << name;  // 8-bit sRGB
+        for (int k = 0; k < 3; ++k) ASSERT_NEAR(c[k], linear_to_srgb(static_cast<double>(c0[k])), 0.5 / 255 + 1e-6) << name;  // 8-bit sRGB
       }
     }
   }

@@ -395,10 +395,15 @@ TEST(NoiseGenerators, ConstantWarpEqualsAShiftedEvaluation) {
   }
 }
 
-TEST(NoiseGenerators, RejectsWarpFieldsOfAnotherResolution) {
+// The grid rule (nodes/common/match_domain.h): a warp field on another grid is resampled onto the requested
+// domain (a constant stays that constant), and one that does not overlap it is refused.
+TEST(NoiseGenerators, ResamplesWarpFieldsOfAnotherResolution) {
   const Domain d = Domain::from_extent({0, 0}, {1000, 1000}, {64, 64});
-  const auto small = constant_field(d.resampled({32, 32}), 1.0f);
-  EXPECT_THROW(eval("Perlin", d, {}, {{"warp_x", small}}), NodeError);
+  const auto small = constant_field(d.resampled({32, 32}), 7.5f);
+  EXPECT_EQ(eval("Perlin", d, {}, {{"warp_x", small}})->data,
+            eval("Perlin", d, {}, {{"warp_x", constant_field(d, 7.5f)}})->data);
+  const auto far = constant_field(Domain::from_extent({5000, 5000}, {1000, 1000}, {32, 32}), 7.5f);
+  EXPECT_THROW(eval("Perlin", d, {}, {{"warp_x", far}}), NodeError);
 }
 
 TEST(NoiseGenerators, EveryParameterAndInputChangesTheCacheKey) {

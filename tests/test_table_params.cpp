@@ -130,10 +130,10 @@ TEST(TableParam, CheckRefusesValuesThatBreakTheSchema) {
 }
 
 TEST(TableParam, HexColors) {
-  EXPECT_EQ(parse_hex_color("#00ff80"), (Srgb8{0, 255, 128}));
-  EXPECT_EQ(parse_hex_color("#00FF80"), (Srgb8{0, 255, 128}));
+  EXPECT_EQ(parse_srgb8("#00ff80"), (Srgb8{0, 255, 128}));
+  EXPECT_EQ(parse_srgb8("#00FF80"), (Srgb8{0, 255, 128}));
   for (const char* bad : {"", "00ff80", "#00ff8", "#00ff800", "#0gff80", "# 0ff80"})
-    EXPECT_FALSE(parse_hex_color(bad).has_value()) << bad;
+    EXPECT_FALSE(parse_srgb8(bad).has_value()) << bad;
   EXPECT_EQ((Srgb8{0, 255, 128}).hex(), "#00ff80");
   const glm::vec4 linear = Srgb8{255, 0, 188}.linear();
   EXPECT_EQ(linear.r, 1.0f);

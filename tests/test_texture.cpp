@@ -314,8 +314,8 @@ TEST(ColorByLayers, ExactColorPerLayerBlendingByWeightAndPrecedence) {
   EXPECT_EQ(out->channel_names, (std::vector<std::string>{"R", "G", "B", "A"}));
   expect_rgb(*out, 0, 0, kGrass);
   expect_rgb(*out, 1, 0, kRockLater);
-  expect_rgb(*out, 2, 0, climate::categorical_color(2));  // no color given: the categorical one of its index
-  expect_rgb(*out, 3, 0, climate::categorical_color(3));  // no name at all
+  expect_rgb(*out, 2, 0, categorical_linear(2));  // no color given: the categorical one of its index
+  expect_rgb(*out, 3, 0, categorical_linear(3));  // no name at all
   expect_rgb(*out, 0, 1, 0.25f * kGrass + 0.75f * kRockLater, 1e-7f);
   expect_rgb(*out, 1, 1, 2.0f * kGrass);
   expect_rgb(*out, 2, 1, 0.5f * kRockLater);
@@ -325,7 +325,7 @@ TEST(ColorByLayers, ExactColorPerLayerBlendingByWeightAndPrecedence) {
   ASSERT_EQ(cols.size(), 4u);
   EXPECT_EQ(cols[0], kGrass);
   EXPECT_EQ(cols[1], kRockLater);
-  EXPECT_EQ(cols[2], climate::categorical_color(2));
+  EXPECT_EQ(cols[2], categorical_linear(2));
 }
 
 TEST(ColorByLayers, ShadeScalesByStrengthClampedAndNonFiniteIsUnshaded) {

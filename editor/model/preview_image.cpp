@@ -9,6 +9,8 @@
 #include <tbb/parallel_for.h>
 
 #include "editor/model/scene_preview.h"
+#include "nodes/common/categorical_palette.h"
+#include "nodes/common/color_space.h"
 
 namespace orogen::editor {
 
@@ -65,21 +67,7 @@ glm::vec3 lookup(const std::array<Stop, N>& stops, double t) {
 
 std::uint8_t to_byte(float v) { return static_cast<std::uint8_t>(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); }
 
-float linear_to_srgb(float v) {
-  v = std::clamp(v, 0.0f, 1.0f);
-  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-}
-
-constexpr std::array<unsigned, 12> kCategorical{0x4e79a7, 0xf28e2b, 0xe15759, 0x76b7b2, 0x59a14f, 0xedc948,
-                                                0xb07aa1, 0xff9da7, 0x9c755f, 0xbab0ac, 0x1b3a6b, 0x8cd17d};
-
 }  // namespace
-
-glm::vec3 categorical_color(long id) {
-  const long n = static_cast<long>(kCategorical.size());
-  const unsigned c = kCategorical[static_cast<std::size_t>(((id % n) + n) % n)];
-  return {((c >> 16) & 255) / 255.0f, ((c >> 8) & 255) / 255.0f, (c & 255) / 255.0f};
-}
 
 Heightfield image_channel(const Image& image, int channel) {
   Heightfield h(image.domain);
@@ -97,7 +85,7 @@ glm::vec3 colormap(ColorMap map, double t) {
     case ColorMap::Viridis: return lookup(kViridis, t);
     case ColorMap::Diverging: return lookup(kDiverging, t);
     case ColorMap::Water: return lookup(kWater, t);
-    case ColorMap::Categorical: return categorical_color(std::lround(t * 11.0));  // ids 0..11 over the range
+    case ColorMap::Categorical: return categorical_srgb(std::lround(t * 11.0));  // ids 0..11 over the range
   }
   return glm::vec3(0.0f);
 }
@@ -228,7 +216,7 @@ PreviewPixels render_heightfield(const Heightfield& field, const HeightfieldStyl
       glm::vec3 c{1.0f, 0.0f, 1.0f};  // magenta marks NaN and infinity
       if (std::isfinite(v))
         c = style.map == ColorMap::Categorical && std::abs(v) < 1e9f
-                ? categorical_color(std::lround(v))
+                ? categorical_srgb(std::lround(v))
                 : table[static_cast<std::size_t>(std::clamp(static_cast<int>((v - range.lo) * to_index), 0, kTable - 1))];
       // Hillshade as a soft multiply: ambient 0.35 keeps valleys readable.
       if (style.hillshade) c *= 0.35f + 0.75f * shade[field.index(i, j)];

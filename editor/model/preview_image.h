@@ -20,13 +20,10 @@
 namespace orogen::editor {
 
 // Categorical: ids (cluster, biome, layer numbers) each in its own colour, by the rounded value rather than
-// its position in the range (ids beyond the palette repeat it).
+// its position in the range, from the palette the nodes color ids with (nodes/common/categorical_palette.h).
 enum class ColorMap { Gray, Terrain, Viridis, Diverging, Water, Categorical };
 inline constexpr const char* kColorMapNames[] = {"gray", "terrain", "viridis", "diverging", "water", "categorical"};
 inline constexpr int kColorMapCount = 6;
-
-// The categorical colour (sRGB) of id `id`: 12 distinct colours (Tableau 10 and two more), repeating.
-glm::vec3 categorical_color(long id);
 
 // Linear interpolation through the map's stops; t is clamped to [0, 1]. sRGB-encoded components in 0..1.
 glm::vec3 colormap(ColorMap map, double t);

@@ -11,15 +11,12 @@
 
 #include "editor/model/preview_image.h"
 #include "graph/points.h"
+#include "nodes/common/color_space.h"
 
 namespace orogen::editor {
 
 namespace {
 
-float linear_to_srgb(float v) {
-  v = std::clamp(v, 0.0f, 1.0f);
-  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-}
 
 const PortDecl* input_decl(const Node& node, const std::string& name) {
   for (const auto& in : node.type->inputs)

@@ -5,14 +5,9 @@
 
 #include <glm/geometric.hpp>
 
-namespace orogen::editor {
+#include "nodes/common/color_space.h"
 
-namespace {
-float linear_to_srgb(float v) {
-  v = std::clamp(v, 0.0f, 1.0f);
-  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-}
-}  // namespace
+namespace orogen::editor {
 
 TerrainMesh build_terrain_mesh(const Heightfield& field, const TerrainMeshOptions& options) {
   TerrainMesh mesh;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "editor/ui/theme.h"
+#include "nodes/common/color_space.h"
 
 namespace orogen::editor {
 
@@ -13,11 +14,8 @@ constexpr float kHandle = 5.0f;
 constexpr double kMinGap = 1e-3;  // minimum x distance between curve points
 
 ImU32 to_u32(const glm::vec4& c) {
-  auto enc = [](float v) {
-    v = std::clamp(v, 0.0f, 1.0f);
-    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-  };
-  return ImGui::ColorConvertFloat4ToU32({enc(c.r), enc(c.g), enc(c.b), std::clamp(c.a, 0.0f, 1.0f)});
+  return ImGui::ColorConvertFloat4ToU32(
+      {linear_to_srgb(c.r), linear_to_srgb(c.g), linear_to_srgb(c.b), std::clamp(c.a, 0.0f, 1.0f)});
 }
 
 }  // namespace

@@ -7,9 +7,12 @@
 #include "graph/registry.h"
 #include "graph/report.h"
 #include "graph/table_json.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
+#include "nodes/common/match_domain.h"
+#include "nodes/common/report_builder.h"
 
 namespace orogen::climate {
+
 int BiomeTable::classify(double t, double m) const {
   for (const auto& r : rows)
     if (t >= r.t_min && t < r.t_max && m >= r.m_min && m < r.m_max) return r.id;
@@ -90,8 +93,7 @@ BiomeTable biome_table_from_rows(const TableValue& rows) {
 
 BiomeResult classify_biomes(const Heightfield& temperature, const Heightfield& moisture, const BiomeTable& table,
                             double moisture_scale, const ExecContext* ctx) {
-  if (moisture.domain.resolution != temperature.domain.resolution)
-    throw NodeError("Biomes: moisture resolution differs from the temperature's");
+  require_same_grid(moisture.domain, temperature.domain, "moisture");
   BiomeResult out{std::make_shared<Heightfield>(temperature.domain), std::make_shared<Image>(temperature.domain, 4)};
   out.color->channel_names = {"R", "G", "B", "A"};
   const glm::vec4 none(0.2f, 0.2f, 0.2f, 1.0f);
@@ -133,13 +135,13 @@ OROGEN_NODE(Biomes) {
     const std::string which = ctx.param<std::string>("table");
     const BiomeTable table = biome_table_from_rows(which == "custom" ? ctx.param<TableValue>("custom_table")
                                                                       : builtin_biome_rectangles(which));
-    auto r = classify_biomes(*ctx.require<Heightfield>("in"), *ctx.require<Heightfield>("moisture"), table,
-                             ctx.param<double>("moisture_scale"), &ctx);
-    nlohmann::json j = nlohmann::json::array();
+    const auto in = ctx.require<Heightfield>("in");
+    const auto moisture = require_secondary_input<Heightfield>(ctx, "moisture", in->domain);
+    auto r = classify_biomes(*in, *moisture, table, ctx.param<double>("moisture_scale"), &ctx);
+    ReportJson j = ReportJson::array();
     for (std::size_t k = 0; k < table.names.size(); ++k)
       j.push_back({{"id", k}, {"name", table.names[k]}, {"color", {table.colors[k].r, table.colors[k].g, table.colors[k].b}}});
-    auto report = std::make_shared<Report>();
-    report->json = nlohmann::json{{"biomes", j}}.dump();
+    const auto report = make_report(ReportJson{{"biomes", j}});
     ctx.set_output("out", r.ids);
     ctx.set_output("color", r.color);
     ctx.set_output("report", report);

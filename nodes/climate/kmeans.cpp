@@ -11,17 +11,15 @@
 #include "graph/heightfield.h"
 #include "graph/registry.h"
 #include "graph/report.h"
-#include "nodes/erosion/erosion_common.h"
-
-using orogen::erosion::hash01;
-using orogen::erosion::hash64;
+#include "nodes/common/categorical_palette.h"
+#include "nodes/common/hash.h"
+#include "nodes/common/report_builder.h"
 
 namespace orogen::climate {
 namespace {
 
 constexpr std::size_t kBlock = 4096;  // cells per partial sum (fixed: results do not depend on threads)
 
-float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
 // Nearest centre of `count` cells (features x, uc per cell) among k centres transposed to ct[channel][kp]:
 // float squared distances summed channel by channel; ties go to the lower id. Every variant below performs
@@ -115,29 +113,6 @@ void nearest_centres(const float* x, std::size_t count, std::size_t uc, const fl
 }
 
 }  // namespace
-
-glm::vec4 categorical_color(int id) {
-  // Tableau 10 followed by two more distinct colours (sRGB).
-  static const unsigned kPalette[12] = {0x4e79a7, 0xf28e2b, 0xe15759, 0x76b7b2, 0x59a14f, 0xedc948,
-                                        0xb07aa1, 0xff9da7, 0x9c755f, 0xbab0ac, 0x1b3a6b, 0x8cd17d};
-  float r, g, b;
-  if (id >= 0 && id < 12) {
-    const unsigned c = kPalette[id];
-    r = ((c >> 16) & 255) / 255.0f;
-    g = ((c >> 8) & 255) / 255.0f;
-    b = (c & 255) / 255.0f;
-  } else {
-    const double h = std::fmod(0.618033988749895 * std::max(id, 0), 1.0) * 6.0;
-    const int sector = static_cast<int>(h) % 6;
-    const float f = static_cast<float>(h - std::floor(h)), v = 0.85f, s = 0.6f;
-    const float p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
-    const float rgb[6][3] = {{v, t, p}, {q, v, p}, {p, v, t}, {p, q, v}, {t, p, v}, {v, p, q}};
-    r = rgb[sector][0];
-    g = rgb[sector][1];
-    b = rgb[sector][2];
-  }
-  return {srgb_to_linear(r), srgb_to_linear(g), srgb_to_linear(b), 1.0f};
-}
 
 std::vector<double> group_weights(const std::vector<std::string>& names, int channels, double slope,
                                   double temperature, double illumination, double humidity, double other) {
@@ -304,46 +279,42 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
   return res;
 }
 
-namespace {
-double json_number(double v) { return std::isfinite(v) ? v : 0.0; }
-}  // namespace
-
 KMeansMaps kmeans_maps(const KMeansResult& r, const Domain& domain) {
   KMeansMaps m{std::make_shared<Heightfield>(domain), std::make_shared<Image>(domain, 4)};
   m.color->channel_names = {"R", "G", "B", "A"};
   for (std::size_t q = 0; q < r.labels.size(); ++q) {
     m.ids->data[q] = static_cast<float>(r.labels[q]);
-    const glm::vec4 c = categorical_color(r.labels[q]);
+    const glm::vec4 c = categorical_linear(r.labels[q]);
     for (int ch = 0; ch < 4; ++ch) m.color->data[q * 4 + static_cast<std::size_t>(ch)] = c[ch];
   }
   return m;
 }
 
 std::string kmeans_report(const KMeansResult& r, const std::vector<std::string>& channel_names) {
-  nlohmann::json j;
+  ReportJson j;
   j["k"] = r.k;
   j["iterations"] = r.iterations;
   j["converged"] = r.converged;
-  j["objective"] = nlohmann::json::array();
-  for (double o : r.objective) j["objective"].push_back(json_number(o));
-  j["clusters"] = nlohmann::json::array();
+  j["objective"] = ReportJson::array();
+  for (double o : r.objective) j["objective"].push_back(report_number(o));
+  j["clusters"] = ReportJson::array();
   for (int c = 0; c < r.k; ++c) {
-    nlohmann::json cl;
+    ReportJson cl;
     cl["id"] = c;
     cl["count"] = r.counts[static_cast<std::size_t>(c)];
-    const glm::vec4 col = categorical_color(c);
+    const glm::vec4 col = categorical_linear(c);
     cl["color"] = {col.r, col.g, col.b};
-    nlohmann::json centre = nlohmann::json::object();
+    ReportJson centre = ReportJson::object();
     for (int ch = 0; ch < r.channels; ++ch) {
       const std::string name = static_cast<std::size_t>(ch) < channel_names.size()
                                    ? channel_names[static_cast<std::size_t>(ch)]
                                    : "channel_" + std::to_string(ch);
-      centre[name] = json_number(r.centres[static_cast<std::size_t>(c * r.channels + ch)]);
+      centre[name] = report_number(r.centres[static_cast<std::size_t>(c * r.channels + ch)]);
     }
     cl["centre"] = centre;
     j["clusters"].push_back(cl);
   }
-  return j.dump();
+  return report_text(j);
 }
 
 OROGEN_NODE(KMeansClusters) {

@@ -50,11 +50,8 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
 std::vector<double> group_weights(const std::vector<std::string>& names, int channels, double slope,
                                   double temperature, double illumination, double humidity, double other);
 
-// A categorical colour (linear RGBA) for id 0, 1, 2, ...: 12 distinct colours, then golden-ratio hues.
-glm::vec4 categorical_color(int id);
-
 // The clustering on the features' domain: the cluster id of each cell as a float field, and its categorical
-// color as a linear RGBA image.
+// color (nodes/common/categorical_palette.h) as a linear RGBA image.
 struct KMeansMaps {
   std::shared_ptr<Heightfield> ids;
   std::shared_ptr<Image> color;
@@ -62,7 +59,7 @@ struct KMeansMaps {
 KMeansMaps kmeans_maps(const KMeansResult& r, const Domain& domain);
 
 // The report JSON: k, iterations, converged, objective per iteration, and per cluster its id, member count,
-// color (linear RGB) and centre by channel name (channel_<c> beyond the names). Non-finite numbers are 0.
+// color (linear RGB) and centre by channel name (channel_<c> beyond the names). Non-finite numbers are null.
 std::string kmeans_report(const KMeansResult& r, const std::vector<std::string>& channel_names);
 
 }  // namespace orogen::climate

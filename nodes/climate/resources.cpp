@@ -7,7 +7,8 @@
 
 #include "graph/registry.h"
 #include "nodes/climate/sun.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/field/slope.h"
 #include "nodes/field/surface_derivatives.h"
 
@@ -30,15 +31,13 @@ int month_channel(const Image& img, int m) { return img.channels == 12 ? m - 1 :
 
 void check_monthly(const Image* img, const Domain& d, const char* what) {
   if (!img) return;
-  if (img->domain.resolution != d.resolution)
-    throw NodeError(std::string(what) + ": image resolution differs from the height field's");
+  require_same_grid(img->domain, d, what);
   if (img->channels != 12 && img->channels != 1)
     throw NodeError(std::string(what) + ": expected 12 monthly channels or 1, got " + std::to_string(img->channels));
 }
 
 void check_field(const Heightfield* f, const Domain& d, const char* what) {
-  if (f && f->domain.resolution != d.resolution)
-    throw NodeError(std::string(what) + ": field resolution differs from the height field's");
+  if (f) require_same_grid(f->domain, d, what);
 }
 
 double finite_or(double v, double fallback) { return std::isfinite(v) ? v : fallback; }
@@ -129,8 +128,7 @@ std::shared_ptr<Image> resource_stack(const Heightfield& z, const Image* tempera
   std::vector<Group> groups;
   for (const Group& g : {Group{temperature, "temperature"}, Group{illumination, "illumination"}, Group{humidity, "humidity"}}) {
     if (!g.img) continue;
-    if (g.img->domain.resolution != z.domain.resolution)
-      throw NodeError(g.name + ": image resolution differs from the height field's");
+    require_same_grid(g.img->domain, z.domain, g.name);
     groups.push_back(g);
   }
   int channels = 1;
@@ -192,8 +190,9 @@ OROGEN_NODE(Temperature) {
     p.reference_altitude = ctx.param<double>("reference_altitude");
     p.illumination_gain = ctx.param<double>("illumination_gain");
     p.reference_hours = ctx.param<double>("reference_hours");
-    const auto lit = ctx.input<Image>("illumination");
-    auto r = temperature(*ctx.require<Heightfield>("in"), p, lit.get(), &ctx);
+    const auto in = ctx.require<Heightfield>("in");
+    const auto lit = secondary_input<Image>(ctx, "illumination", in->domain);
+    auto r = temperature(*in, p, lit.get(), &ctx);
     ctx.set_output("out", r.monthly);
     ctx.set_output("mean", r.mean);
   });
@@ -227,10 +226,11 @@ OROGEN_NODE(SoilHumidity) {
     p.infiltration = ctx.param<double>("infiltration");
     p.max_slope = ctx.param<double>("max_slope");
     p.water_threshold = ctx.param<double>("water_threshold");
-    const auto inf = ctx.input<Heightfield>("infiltration");
-    const auto wet = ctx.input<Heightfield>("wetness");
-    const auto water = ctx.input<Heightfield>("water");
-    auto r = soil_humidity(*ctx.require<Heightfield>("in"), p, inf.get(), wet.get(), water.get(), &ctx);
+    const auto in = ctx.require<Heightfield>("in");
+    const auto inf = secondary_input<Heightfield>(ctx, "infiltration", in->domain);
+    const auto wet = secondary_input<Heightfield>(ctx, "wetness", in->domain);
+    const auto water = secondary_input<Heightfield>(ctx, "water", in->domain);
+    auto r = soil_humidity(*in, p, inf.get(), wet.get(), water.get(), &ctx);
     ctx.set_output("out", r.weighted);
     ctx.set_output("monthly", r.monthly);
     ctx.set_output("annual", r.annual);
@@ -250,10 +250,11 @@ OROGEN_NODE(ResourceStack) {
   b.input("humidity", PortType::Image).optional().description("Monthly soil humidity, mm (SoilHumidity.out)");
   b.output("out", PortType::Image).description("slope, temperature_*, illumination_*, humidity_* channels");
   b.execute([](ExecContext& ctx) {
-    const auto t = ctx.input<Image>("temperature");
-    const auto l = ctx.input<Image>("illumination");
-    const auto h = ctx.input<Image>("humidity");
-    ctx.set_output("out", resource_stack(*ctx.require<Heightfield>("in"), t.get(), l.get(), h.get(), &ctx));
+    const auto in = ctx.require<Heightfield>("in");
+    const auto t = secondary_input<Image>(ctx, "temperature", in->domain);
+    const auto l = secondary_input<Image>(ctx, "illumination", in->domain);
+    const auto h = secondary_input<Image>(ctx, "humidity", in->domain);
+    ctx.set_output("out", resource_stack(*in, t.get(), l.get(), h.get(), &ctx));
   });
 }
 

@@ -9,7 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "graph/registry.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/field/surface_derivatives.h"
 
 namespace orogen::climate {

@@ -1,6 +1,8 @@
 #include "nodes/common/resample.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace orogen {
 namespace {
@@ -26,6 +28,41 @@ void resample_bilinear_row(const Heightfield& source, const Domain& target, int 
 Heightfield resample_bilinear(const Heightfield& source, const Domain& target) {
   Heightfield out(target);
   for (int j = 0; j < target.height(); ++j) resample_bilinear_row(source, target, j, out.row(j));
+  return out;
+}
+
+float image_bilinear(const Image& image, int channel, double u, double v) {
+  const int w = image.width(), h = image.height();
+  if (std::isnan(u) || std::isnan(v)) return std::numeric_limits<float>::quiet_NaN();  // no position, no index
+  u = std::clamp(u, 0.0, static_cast<double>(w - 1));
+  v = std::clamp(v, 0.0, static_cast<double>(h - 1));
+  const int i = std::min(static_cast<int>(u), std::max(w - 2, 0));
+  const int j = std::min(static_cast<int>(v), std::max(h - 2, 0));
+  const int i1 = std::min(i + 1, w - 1), j1 = std::min(j + 1, h - 1);
+  const double fu = u - i, fv = v - j;
+  const double a = image.pixel(i, j)[channel], b = image.pixel(i1, j)[channel];
+  const double c = image.pixel(i, j1)[channel], d = image.pixel(i1, j1)[channel];
+  return static_cast<float>((a * (1 - fu) + b * fu) * (1 - fv) + (c * (1 - fu) + d * fu) * fv);
+}
+
+void resample_bilinear_row(const Image& source, const Domain& target, int j, std::span<float> out) {
+  const double v = snap(source.domain.to_sample({0.0, target.y(j)}).y);
+  const auto channels = static_cast<std::size_t>(source.channels);
+  for (int i = 0; i < target.width(); ++i) {
+    const double u = snap(source.domain.to_sample({target.x(i), 0.0}).x);
+    for (int c = 0; c < source.channels; ++c)
+      out[static_cast<std::size_t>(i) * channels + static_cast<std::size_t>(c)] = image_bilinear(source, c, u, v);
+  }
+}
+
+Image resample_bilinear(const Image& source, const Domain& target) {
+  Image out(target, source.channels);
+  out.channel_names = source.channel_names;
+  const std::size_t row = static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(source.channels);
+  for (int j = 0; j < target.height(); ++j) {
+    float* first = out.data.data() + row * static_cast<std::size_t>(j);
+    resample_bilinear_row(source, target, j, std::span<float>(first, row));
+  }
   return out;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-// Bilinear resampling of a field onto another domain. Used wherever two fields on different lattices meet
-// (binary field operators, reading images of another resolution).
+// Bilinear resampling of a field or an image onto another domain. Used wherever two rasters on different
+// lattices meet (secondary inputs, see match_domain.h; reading images of another resolution).
 //
 // Each target sample takes the bilinear interpolation of the source at the same world position; positions
 // outside the source's rectangle take the value at the nearest border (clamp). Where a target sample falls
@@ -11,6 +11,7 @@
 
 #include "graph/domain.h"
 #include "graph/heightfield.h"
+#include "graph/image.h"
 
 namespace orogen {
 
@@ -19,5 +20,16 @@ void resample_bilinear_row(const Heightfield& source, const Domain& target, int 
 
 // The whole field on `target` (serial; nodes parallelise over rows with resample_bilinear_row).
 Heightfield resample_bilinear(const Heightfield& source, const Domain& target);
+
+// One channel of an image at continuous sample coordinates (column u, row v), bilinear, clamped at the
+// borders like Heightfield::bilinear (NaN coordinates give NaN).
+float image_bilinear(const Image& image, int channel, double u, double v);
+
+// Row j of `target` resampled from every channel of `source` into `out` (target.width() * channels values,
+// interleaved), by the same rule as fields.
+void resample_bilinear_row(const Image& source, const Domain& target, int j, std::span<float> out);
+
+// The whole image on `target`, channel names kept (serial).
+Image resample_bilinear(const Image& source, const Domain& target);
 
 }  // namespace orogen

@@ -1,6 +1,6 @@
 #include "nodes/erosion/erosion_common.h"
 
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 
 namespace orogen::erosion {
 

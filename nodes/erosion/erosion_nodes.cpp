@@ -2,16 +2,16 @@
 // Every node takes `in` (height, m) and an optional `mask` (0..1) scaling its effect, and outputs `out`
 // (eroded height), `erosion` (m removed), `deposition` (m laid down) and `flow` (0..1 where water ran).
 // All are global: a simulation's output at a point depends on the whole domain.
-#include <cstdio>
 #include <string>
 
 #include "graph/registry.h"
 #include "graph/report.h"
+#include "nodes/common/report_builder.h"
 #include "nodes/erosion/particles.h"
 #include "nodes/erosion/pipe.h"
 #include "nodes/erosion/stream_power.h"
 #include "nodes/erosion/thermal.h"
-#include "nodes/field/match_domain.h"
+#include "nodes/common/match_domain.h"
 
 namespace orogen {
 namespace {
@@ -34,10 +34,6 @@ void set_common_outputs(ExecContext& ctx, ErosionMaps& m) {
   ctx.set_output("flow", m.flow);
 }
 
-HeightfieldPtr optional_on(ExecContext& ctx, const char* name, const Domain& d) {
-  return match_domain(ctx.input<Heightfield>(name), d, &ctx);
-}
-
 }  // namespace
 
 OROGEN_NODE(ThermalErosion) {
@@ -58,8 +54,8 @@ OROGEN_NODE(ThermalErosion) {
   b.param_float("tolerance", 1e-4).range(0.0, 10.0).unit("m").description("Stop when no cell moves more than this in an iteration");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    const auto mask = optional_on(ctx, "mask", in->domain);
-    const auto hard = optional_on(ctx, "hardness", in->domain);
+    const auto mask = secondary_input<Heightfield>(ctx, "mask", in->domain);
+    const auto hard = secondary_input<Heightfield>(ctx, "hardness", in->domain);
     erosion::ThermalParams p;
     p.talus_angle = ctx.param<double>("talus_angle");
     p.strength = ctx.param<double>("strength");
@@ -97,7 +93,7 @@ OROGEN_NODE(HydraulicErosion) {
   b.param_seed("seed", 0).description("Droplet origins and directions hash (seed, droplet index)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    const auto mask = optional_on(ctx, "mask", in->domain);
+    const auto mask = secondary_input<Heightfield>(ctx, "mask", in->domain);
     erosion::ParticleParams p;
     p.droplets_per_km2 = ctx.param<double>("droplets_per_km2");
     p.step_length = ctx.param<double>("step_length");
@@ -114,14 +110,13 @@ OROGEN_NODE(HydraulicErosion) {
     erosion::ParticleStats stats;
     auto m = erosion::particle_erosion(*in, p, mask.get(), &ctx, &stats);
     set_common_outputs(ctx, m);
-    char text[256];
-    std::snprintf(text, sizeof text,
-                  "{\"eroded\": %.17g, \"deposited\": %.17g, \"carried_off\": %.17g, \"droplets\": %llu, \"steps\": %llu}",
-                  stats.eroded, stats.deposited, stats.carried_off, static_cast<unsigned long long>(stats.droplets),
-                  static_cast<unsigned long long>(stats.steps));
-    auto report = std::make_shared<Report>();
-    report->json = text;
-    ctx.set_output("report", report);
+    ReportJson j;
+    j["eroded"] = report_number(stats.eroded);
+    j["deposited"] = report_number(stats.deposited);
+    j["carried_off"] = report_number(stats.carried_off);
+    j["droplets"] = stats.droplets;
+    j["steps"] = stats.steps;
+    ctx.set_output("report", make_report(j));
   });
 }
 
@@ -156,11 +151,11 @@ OROGEN_NODE(PipeErosion) {
   b.param_seed("seed", 0).description("Drops mode: where drops fall hashes (seed, step, cell)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    const auto mask = optional_on(ctx, "mask", in->domain);
-    const auto rain = optional_on(ctx, "rainfall", in->domain);
-    const auto moist = optional_on(ctx, "moisture", in->domain);
-    const auto temp = optional_on(ctx, "temperature", in->domain);
-    const auto hard = optional_on(ctx, "hardness", in->domain);
+    const auto mask = secondary_input<Heightfield>(ctx, "mask", in->domain);
+    const auto rain = secondary_input<Heightfield>(ctx, "rainfall", in->domain);
+    const auto moist = secondary_input<Heightfield>(ctx, "moisture", in->domain);
+    const auto temp = secondary_input<Heightfield>(ctx, "temperature", in->domain);
+    const auto hard = secondary_input<Heightfield>(ctx, "hardness", in->domain);
     erosion::PipeParams p;
     p.duration = ctx.param<double>("duration");
     p.rain_rate = ctx.param<double>("rain_rate");
@@ -210,8 +205,8 @@ OROGEN_NODE(StreamPower) {
       "resolution (0: every cell incises, as in Braun and Willett 2013)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    const auto mask = optional_on(ctx, "mask", in->domain);
-    const auto up = optional_on(ctx, "uplift", in->domain);
+    const auto mask = secondary_input<Heightfield>(ctx, "mask", in->domain);
+    const auto up = secondary_input<Heightfield>(ctx, "uplift", in->domain);
     erosion::StreamPowerParams p;
     p.k = ctx.param<double>("k");
     p.m = ctx.param<double>("m");

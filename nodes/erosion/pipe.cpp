@@ -8,15 +8,10 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "nodes/common/cancellable_rows.h"
+
 namespace orogen::erosion {
 namespace {
-
-template <class Fn>
-void rows(int h, Fn&& fn) {
-  tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& r) {
-    for (int j = r.begin(); j != r.end(); ++j) fn(j);
-  });
-}
 
 // Rows per chunk of the fused sweep (the chunking changes no result, only the share of recomputed rows).
 constexpr int kChunkRows = 64;
@@ -149,8 +144,8 @@ struct PipeRun {
   }
 
   // Sum of (b + s) x A, rows summed in order.
-  double volume() {
-    rows(h, [&](int j) {
+  double volume(const ExecContext* ctx) {
+    for_each_row_unreported(ctx, h, [&](int j) {
       double acc = 0;
       for (int i = 0; i < w; ++i) acc += static_cast<double>(b[in.index(i, j)]) + s[in.index(i, j)];
       row_sum[j] = acc;
@@ -457,7 +452,7 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
     // shrink the step without end.)
     double dt = p.courant * spacing / std::sqrt(p.gravity * std::max(dmax, p.depth_scale));
     dt = std::min(dt, p.duration - t);
-    const double before = check_conservation ? run.volume() : 0.0;
+    const double before = check_conservation ? run.volume(ctx) : 0.0;
     run.sweep(run.constants(dt, step, t + dt >= p.duration - 1e-9));
     double sed_out = 0;
     dmax = 0;
@@ -468,7 +463,7 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
     }
     st.sediment_out += sed_out;
     if (check_conservation)
-      st.max_conservation_error = std::max(st.max_conservation_error, std::abs(run.volume() + sed_out - before));
+      st.max_conservation_error = std::max(st.max_conservation_error, std::abs(run.volume(ctx) + sed_out - before));
     t += dt;
     ++step;
     st.dt = dt;

@@ -1,8 +1,5 @@
 #include "nodes/erosion/stream_power.h"
 
-#include "nodes/hydrology/basin_graph.h"
-#include "nodes/hydrology/flow_routing.h"
-
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -10,8 +7,9 @@
 #include <queue>
 #include <vector>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include "nodes/common/cancellable_rows.h"
+#include "nodes/hydrology/basin_graph.h"
+#include "nodes/hydrology/flow_routing.h"
 
 namespace orogen::erosion {
 namespace {
@@ -23,12 +21,6 @@ constexpr int kDj[8] = {0, 0, -1, 1, -1, -1, 1, 1};
 // double rounding, and far below any real relief.
 inline double raise(double z) { return z + std::max(1e-9, std::abs(z) * 1e-12); }
 
-template <class Fn>
-void rows(int h, Fn&& fn) {
-  tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& r) {
-    for (int j = r.begin(); j != r.end(); ++j) fn(j);
-  });
-}
 
 // The state of one run and its stages, in the order a step runs them: uplift, hillslope diffusion, routing
 // with the implicit incision (over the basin graph or a Priority-Flood fill), the change of the step; then the
@@ -82,8 +74,8 @@ class StreamPowerRun {
   int steps() const { return steps_; }
 
   // Uplift of the step, and the base level after it (fixed cells and cells under sea level).
-  void uplift() {
-    rows(h_, [&](int j) {
+  void uplift(const ExecContext* ctx) {
+    for_each_row_unreported(ctx, h_, [&](int j) {
       for (std::size_t k = static_cast<std::size_t>(j) * w_, e = k + w_; k < e; ++k) {
         zprev_[k] = z_[k];
         z_[k] += ufac_[k] * dt_;
@@ -94,7 +86,7 @@ class StreamPowerRun {
 
   // Hillslope diffusion, base level fixed, before the incision: the implicit sweep then cuts through whatever
   // diffusion laid into the channels within the same step, so river profiles stay clean.
-  void diffuse() {
+  void diffuse(const ExecContext* ctx) {
     for (int sd = 0; sd < diff_steps_; ++sd) {
       const double c = p_.diffusion * dt_ / diff_steps_;
       const double cx = 1.0 / (dx_ * dx_), cy = 1.0 / (dy_ * dy_);
@@ -105,7 +97,7 @@ class StreamPowerRun {
       std::vector<double>& dep = dep_;
       const std::vector<double>& kfac = kfac_;
       const std::vector<unsigned char>& outlet = outlet_;
-      rows(h, [&](int j) {
+      for_each_row_unreported(ctx, h, [&](int j) {
         auto cell = [&](int i, std::size_t k, double zw, double ze, double zs, double zn) {
           const double zc = z[k];
           const double lx = (zw + ze - 2 * zc) * cx;
@@ -167,8 +159,8 @@ class StreamPowerRun {
   }
 
   // The step's largest and mean |dz/dt| over the cells that are not base level.
-  void measure_change(StreamPowerStats& st) {
-    rows(h_, [&](int j) {
+  void measure_change(StreamPowerStats& st, const ExecContext* ctx) {
+    for_each_row_unreported(ctx, h_, [&](int j) {
       double mx = 0, sum = 0;
       std::size_t count = 0;
       for (std::size_t k = static_cast<std::size_t>(j) * w_, e = k + w_; k < e; ++k)
@@ -308,10 +300,10 @@ ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, cons
   StreamPowerStats st;
   for (int s = 0; s < run.steps(); ++s) {
     check_cancelled(ctx);
-    run.uplift();
-    run.diffuse();
+    run.uplift(ctx);
+    run.diffuse(ctx);
     run.route_and_incise(ctx);
-    run.measure_change(st);
+    run.measure_change(st, ctx);
     report(ctx, static_cast<double>(s + 1) / run.steps());
   }
   st.steps = run.steps();

@@ -4,7 +4,7 @@
 
 #include "graph/registry.h"
 #include "nodes/field/field_map.h"
-#include "nodes/field/match_domain.h"
+#include "nodes/common/match_domain.h"
 
 namespace orogen {
 namespace {
@@ -12,7 +12,7 @@ namespace {
 template <class F>
 void run_binary(ExecContext& ctx, F&& f) {
   const auto a = ctx.require<Heightfield>("a");
-  const auto b = match_domain(ctx.require<Heightfield>("b"), a->domain, &ctx);
+  const auto b = require_secondary_input<Heightfield>(ctx, "b", a->domain);
   ctx.set_output("out", map_fields(*a, *b, f, &ctx));
 }
 

@@ -3,7 +3,7 @@
 
 #include "graph/registry.h"
 #include "nodes/field/field_map.h"
-#include "nodes/field/match_domain.h"
+#include "nodes/common/match_domain.h"
 
 namespace orogen {
 
@@ -20,8 +20,8 @@ OROGEN_NODE(Blend) {
   b.param_float("factor", 1.0).range(0.0, 1.0).description("Global weight of b, multiplied by the mask");
   b.execute([](ExecContext& ctx) {
     const auto a = ctx.require<Heightfield>("a");
-    const auto bf = match_domain(ctx.require<Heightfield>("b"), a->domain, &ctx);
-    const auto mask = match_domain(ctx.input<Heightfield>("mask"), a->domain, &ctx);
+    const auto bf = require_secondary_input<Heightfield>(ctx, "b", a->domain);
+    const auto mask = secondary_input<Heightfield>(ctx, "mask", a->domain);
     const auto mode = static_cast<BlendMode>(ctx.enum_index("mode"));
     const double factor = ctx.param<double>("factor");
     if (mask) {

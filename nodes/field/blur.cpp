@@ -6,7 +6,7 @@
 
 #include "graph/registry.h"
 #include "nodes/field/bicubic.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 
 namespace orogen {
 namespace {

@@ -4,18 +4,16 @@
 
 #include "graph/registry.h"
 #include "nodes/field/field_range.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
+#include "nodes/common/color_space.h"
 
 namespace orogen {
 namespace {
 
-float srgb_to_linear(double c) {
-  return static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
-}
-
 GradientValue::Stop stop_at_height(double h, double r, double g, double b) {
   return {(h - kTerrainGradientMin) / (kTerrainGradientMax - kTerrainGradientMin),
-          glm::vec4(srgb_to_linear(r), srgb_to_linear(g), srgb_to_linear(b), 1.0f)};
+          glm::vec4(static_cast<float>(srgb_to_linear(r)), static_cast<float>(srgb_to_linear(g)),
+                    static_cast<float>(srgb_to_linear(b)), 1.0f)};
 }
 
 }  // namespace

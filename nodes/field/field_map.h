@@ -5,7 +5,7 @@
 #include <memory>
 
 #include "graph/heightfield.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 
 namespace orogen {
 

@@ -4,7 +4,7 @@
 #include <limits>
 #include <vector>
 
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 
 namespace orogen {
 

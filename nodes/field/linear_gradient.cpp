@@ -8,7 +8,7 @@
 
 #include "graph/exec_context.h"
 #include "graph/registry.h"
-#include "nodes/common/parallel_rows.h"
+#include "nodes/common/cancellable_rows.h"
 
 namespace orogen {
 

@@ -4,7 +4,8 @@
 
 #include "graph/exec_context.h"
 #include "graph/registry.h"
-#include "nodes/common/parallel_rows.h"
+#include "nodes/common/cancellable_rows.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/common/resample.h"
 
 namespace orogen {
@@ -44,6 +45,7 @@ OROGEN_NODE(Multiply) {
     const MultiplyParams p{ctx.param<double>("scale")};
     auto out = std::make_shared<Heightfield>(a->domain);
     const bool same = bf->domain == a->domain;
+    if (!same) check_overlap(ctx, "b", bf->domain, a->domain);  // b is resampled row by row below
     parallel_rows(ctx, a->height(), [&](int j) {
       if (same) return multiply_row(p, a->row(j), bf->row(j), out->row(j));
       std::vector<float> b_row(static_cast<std::size_t>(a->width()));

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "graph/registry.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/field/surface_derivatives.h"
 
 namespace orogen {

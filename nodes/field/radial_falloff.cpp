@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "graph/registry.h"
-#include "nodes/field/match_domain.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/match_domain.h"
+#include "nodes/common/cancellable_rows.h"
 
 namespace orogen {
 
@@ -44,7 +44,7 @@ OROGEN_NODE(RadialFalloff) {
   b.param_curve("profile", default_falloff_profile())
       .description("Mask as a function of normalized distance t = d / radius in 0..1");
   b.execute([](ExecContext& ctx) {
-    const auto offset = match_domain(ctx.input<Heightfield>("distance_offset"), ctx.domain(), &ctx);
+    const auto offset = secondary_input<Heightfield>(ctx, "distance_offset", ctx.domain());
     const RadialFalloffParams p{ctx.param<glm::dvec2>("center"), ctx.param<double>("radius"),
                                 ctx.param<CurveValue>("profile")};
     ctx.set_output("out", radial_falloff(ctx.domain(), p, offset.get(), &ctx));

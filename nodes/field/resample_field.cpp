@@ -6,7 +6,7 @@
 #include "graph/registry.h"
 #include "nodes/common/resample.h"
 #include "nodes/field/blur.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 
 namespace orogen {
 

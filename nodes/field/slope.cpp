@@ -1,7 +1,7 @@
 #include "nodes/field/slope.h"
 
 #include "graph/registry.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/field/surface_derivatives.h"
 
 namespace orogen {

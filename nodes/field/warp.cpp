@@ -2,8 +2,8 @@
 
 #include "graph/registry.h"
 #include "nodes/field/bicubic.h"
-#include "nodes/field/match_domain.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/match_domain.h"
+#include "nodes/common/cancellable_rows.h"
 
 namespace orogen {
 
@@ -38,8 +38,8 @@ OROGEN_NODE(Warp) {
   b.param_float("strength", 1.0).range(-1e3, 1e3).soft_range(0.0, 4.0).description("Multiplier of both displacements");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    const auto dx = match_domain(ctx.input<Heightfield>("dx"), in->domain, &ctx);
-    const auto dy = match_domain(ctx.input<Heightfield>("dy"), in->domain, &ctx);
+    const auto dx = secondary_input<Heightfield>(ctx, "dx", in->domain);
+    const auto dy = secondary_input<Heightfield>(ctx, "dy", in->domain);
     ctx.set_output("out", warp_field(*in, dx.get(), dy.get(), ctx.param<double>("strength"), &ctx));
   });
 }

@@ -6,25 +6,10 @@
 #include <stdexcept>
 #include <vector>
 
-
+#include "nodes/common/resample.h"
 
 namespace orogen {
 namespace {
-
-// One channel of an image at continuous sample coordinates (u, v), bilinear, clamped at the borders.
-float image_bilinear(const Image& img, int channel, double u, double v) {
-  const int w = img.width(), h = img.height();
-  if (std::isnan(u) || std::isnan(v)) return std::numeric_limits<float>::quiet_NaN();  // no position, no index
-  u = std::clamp(u, 0.0, static_cast<double>(w - 1));
-  v = std::clamp(v, 0.0, static_cast<double>(h - 1));
-  const int i = std::min(static_cast<int>(u), std::max(w - 2, 0));
-  const int j = std::min(static_cast<int>(v), std::max(h - 2, 0));
-  const int i1 = std::min(i + 1, w - 1), j1 = std::min(j + 1, h - 1);
-  const double fu = u - i, fv = v - j;
-  const double a = img.pixel(i, j)[channel], b = img.pixel(i1, j)[channel];
-  const double c = img.pixel(i, j1)[channel], d = img.pixel(i1, j1)[channel];
-  return static_cast<float>((a * (1 - fu) + b * fu) * (1 - fv) + (c * (1 - fu) + d * fu) * fv);
-}
 
 OpenMesh::Vec4f color_at(const Image& img, double x, double y) {
   const auto s = img.domain.to_sample({x, y});

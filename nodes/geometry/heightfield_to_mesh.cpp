@@ -5,6 +5,7 @@
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
 #include "graph/registry.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/geometry/heightfield_mesh.h"
 
 namespace orogen {
@@ -31,7 +32,7 @@ OROGEN_NODE(HeightfieldToMesh) {
       "0: no target. With max_error 0 this alone decides the size");
   b.execute([](ExecContext& ctx) {
     const auto height = ctx.require<Heightfield>("in");
-    const auto colors = ctx.input<Image>("colors");
+    const auto colors = secondary_input<Image>(ctx, "colors", height->domain);
     TinOptions options;
     options.max_error = ctx.param<double>("max_error");
     options.target_faces = static_cast<std::size_t>(ctx.param<std::int64_t>("target_faces"));

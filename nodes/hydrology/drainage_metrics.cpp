@@ -9,6 +9,7 @@
 
 #include "graph/registry.h"
 #include "graph/report.h"
+#include "nodes/common/report_builder.h"
 #include "nodes/hydrology/channels.h"
 
 namespace orogen::hydrology {
@@ -35,8 +36,6 @@ LogFit line_fit(const std::vector<double>& x, const std::vector<double>& y) {
   f.r2 = syy > 0 ? (sxy * sxy) / (sxx * syy) : 1.0;
   return f;
 }
-
-nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 }  // namespace
 
@@ -129,7 +128,7 @@ NetworkMetrics network_metrics(const FlowGrid& g, const D8Flow& f, std::span<con
 
 std::string DrainageReport::json() const {
   const NetworkMetrics& n = network;
-  nlohmann::ordered_json j;
+  ReportJson j;
   j["cells"] = n.cells;
   j["pits_per_million_cells"] = pits_per_million;
   j["pits_outside_lakes_per_million_cells"] = pits_outside_lakes_per_million;
@@ -142,18 +141,18 @@ std::string DrainageReport::json() const {
   j["channel_cells"] = n.channel_cells;
   j["max_strahler_order"] = n.max_order;
   j["stream_counts"] = n.stream_counts;
-  nlohmann::json lengths = nlohmann::json::array();
-  for (double l : n.mean_stream_length) lengths.push_back(number(l));
+  ReportJson lengths = ReportJson::array();
+  for (double l : n.mean_stream_length) lengths.push_back(report_number(l));
   j["mean_stream_length_m"] = lengths;
-  j["bifurcation_ratio"] = number(n.bifurcation_ratio);
-  j["length_ratio"] = number(n.length_ratio);
-  j["hack_exponent"] = number(n.hack.slope);
-  j["hack_r2"] = number(n.hack.r2);
-  j["concavity_theta"] = number(-n.flint.slope);
-  j["concavity_r2"] = number(n.flint.r2);
-  j["steepness_ks"] = number(std::isfinite(n.flint.intercept) ? std::pow(10.0, n.flint.intercept) : NAN);
+  j["bifurcation_ratio"] = report_number(n.bifurcation_ratio);
+  j["length_ratio"] = report_number(n.length_ratio);
+  j["hack_exponent"] = report_number(n.hack.slope);
+  j["hack_r2"] = report_number(n.hack.r2);
+  j["concavity_theta"] = report_number(-n.flint.slope);
+  j["concavity_r2"] = report_number(n.flint.r2);
+  j["steepness_ks"] = report_number(std::isfinite(n.flint.intercept) ? std::pow(10.0, n.flint.intercept) : NAN);
   j["slope_area_bins"] = n.flint.points;
-  return j.dump(2);
+  return report_text(j);
 }
 
 DrainageReport drainage_metrics(const Heightfield& in, double threshold, const ExecContext* ctx,

@@ -6,7 +6,8 @@
 #include <numeric>
 
 #include "graph/registry.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
+#include "nodes/common/match_domain.h"
 
 namespace orogen::hydrology {
 namespace {
@@ -38,7 +39,7 @@ AccumulationResult flow_accumulation(const Heightfield& in, const Heightfield* r
   const std::vector<float> z = routed_height(in, p.fill, ctx);
   std::vector<float> weight;
   if (rainfall) {
-    if (rainfall->domain.resolution != in.domain.resolution) throw NodeError("rainfall must have the resolution of in");
+    require_same_grid(rainfall->domain, in.domain, "rainfall");
     weight.resize(g.size());
     for (std::size_t c = 0; c < g.size(); ++c) weight[c] = static_cast<float>(std::max(0.0f, rainfall->data[c]) * g.cell_area());
   }
@@ -154,7 +155,7 @@ OROGEN_NODE(FlowAccumulation) {
   b.param_float("min_slope", 1e-3).range(1e-9, 1.0).unit("m/m").description("Floor of tan(beta) in the wetness index (flats)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    const auto rain = ctx.input<Heightfield>("rainfall");
+    const auto rain = secondary_input<Heightfield>(ctx, "rainfall", in->domain);
     const AccumulationParams p{method_of(ctx),
                                ctx.param<double>("exponent"),
                                ctx.param<bool>("fill"),

@@ -18,7 +18,7 @@
 
 #include "graph/exec_context.h"
 #include "nodes/common/huge_page_buffer.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 
 namespace orogen::hydrology {
 namespace {

@@ -7,6 +7,7 @@
 #include <glm/vec2.hpp>
 
 #include "graph/registry.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/hydrology/channels.h"
 #include "nodes/hydrology/flow_routing.h"
 
@@ -76,7 +77,7 @@ RiverResult extract_rivers(const Heightfield& in, const Heightfield* rainfall, c
   const D8Flow f = d8_flow(g, z, {}, ctx);
   std::vector<float> weight;
   if (rainfall) {
-    if (rainfall->domain.resolution != in.domain.resolution) throw NodeError("rainfall must have the resolution of in");
+    require_same_grid(rainfall->domain, in.domain, "rainfall");
     weight.resize(g.size());
     for (std::size_t c = 0; c < g.size(); ++c) weight[c] = static_cast<float>(std::max(0.0f, rainfall->data[c]) * g.cell_area());
   }
@@ -189,7 +190,7 @@ OROGEN_NODE(RiverExtract) {
       "leaving the lake; off, reaches cross lakes along the filled surface's flow paths");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    const auto rain = ctx.input<Heightfield>("rainfall");
+    const auto rain = secondary_input<Heightfield>(ctx, "rainfall", in->domain);
     const RiverParams p{ctx.param<double>("threshold"), ctx.param<double>("runoff"), ctx.param<double>("width_coefficient"),
                         ctx.param<double>("width_exponent"), static_cast<int>(ctx.param<std::int64_t>("smoothing")), ctx.param<bool>("split_at_lakes")};
     RiverResult r = extract_rivers(*in, rain.get(), p, &ctx);

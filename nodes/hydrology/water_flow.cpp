@@ -7,27 +7,29 @@
 
 #include "graph/registry.h"
 #include "graph/report.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
+#include "nodes/common/match_domain.h"
+#include "nodes/common/report_builder.h"
 #include "nodes/hydrology/flow_routing.h"
 
 namespace orogen::hydrology {
 
 std::string WaterFlowResult::json() const {
-  nlohmann::ordered_json j;
+  ReportJson j;
   j["rain_m3"] = rain;
   j["stored_m3"] = stored;
   j["border_outflow_m3"] = border;
   j["sink_inflow_m3"] = sinks;
   j["balance_error_m3"] = rain - stored - border - sinks;
   j["iterations"] = iterations;
-  return j.dump(2);
+  return report_text(j);
 }
 
 WaterFlowResult water_flow(const Heightfield& in, const Heightfield* rainfall, const Heightfield* sinks,
                            const WaterFlowParams& p, const ExecContext* ctx) {
   const FlowGrid g = FlowGrid::of(in.domain);
-  for (const Heightfield* h : {rainfall, sinks})
-    if (h && h->domain.resolution != in.domain.resolution) throw NodeError("rainfall and sinks must have the resolution of in");
+  if (rainfall) require_same_grid(rainfall->domain, in.domain, "rainfall");
+  if (sinks) require_same_grid(sinks->domain, in.domain, "sinks");
   const std::size_t n = g.size();
   const double area = g.cell_area();
   std::vector<double> w(n), next(n), out(n, 0.0), scale(n, 0.0), flux(n, 0.0);
@@ -142,8 +144,8 @@ OROGEN_NODE(WaterFlow) {
   b.param_int("max_iterations", 1000).range(1, 1000000).soft_range(1, 10000).description("Upper bound on the iterations");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    const auto rain = ctx.input<Heightfield>("rainfall");
-    const auto sinks = ctx.input<Heightfield>("sinks");
+    const auto rain = secondary_input<Heightfield>(ctx, "rainfall", in->domain);
+    const auto sinks = secondary_input<Heightfield>(ctx, "sinks", in->domain);
     const WaterFlowParams p{ctx.param<double>("rainfall"), ctx.param<double>("infiltration"), ctx.param<double>("threshold"),
                             static_cast<int>(ctx.param<std::int64_t>("max_iterations"))};
     WaterFlowResult r = water_flow(*in, rain.get(), sinks.get(), p, &ctx);

@@ -25,7 +25,8 @@ struct WaterFlowResult {
   std::string json() const;
 };
 
-// `rainfall` (mm per cell) and `sinks` (cells > 0.5 drain) are optional and must match `in`'s resolution.
+// `rainfall` (mm per cell) and `sinks` (cells > 0.5 drain) are optional and must lie on `in`'s grid (the node resamples
+// them onto it, nodes/common/match_domain.h).
 WaterFlowResult water_flow(const Heightfield& in, const Heightfield* rainfall, const Heightfield* sinks,
                            const WaterFlowParams& p, const ExecContext* ctx = nullptr);
 

@@ -78,7 +78,7 @@ void write_scanlines(const Image& image, const fs::path& path, const OIIO::Image
         T* line = block.data() + static_cast<std::size_t>(r - r0) * row_samples;
         for (std::size_t k = 0; k < row_samples; ++k) {
           const int c = static_cast<int>(k % static_cast<std::size_t>(n));
-          const double v = encode_srgb && c != alpha ? linear_to_srgb(src[k]) : static_cast<double>(src[k]);
+          const double v = encode_srgb && c != alpha ? linear_to_srgb(static_cast<double>(src[k])) : static_cast<double>(src[k]);
           line[k] = quantize<T>(v);
         }
       }
@@ -100,18 +100,6 @@ void write_scanlines(const Image& image, const fs::path& path, const OIIO::Image
 }
 
 }  // namespace
-
-double linear_to_srgb(double v) {
-  if (!(v > 0.0)) return 0.0;
-  if (v >= 1.0) return 1.0;
-  return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
-}
-
-double srgb_to_linear(double v) {
-  if (!(v > 0.0)) return 0.0;
-  if (v >= 1.0) return 1.0;
-  return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
-}
 
 std::optional<ImageFormat> image_format_from_path(const fs::path& path) {
   const std::string ext = lower_extension(path);

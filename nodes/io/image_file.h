@@ -5,15 +5,12 @@
 #include <optional>
 
 #include "graph/image.h"
+#include "nodes/common/color_space.h"  // linear_to_srgb for PNG encoding
 #include "nodes/io/file_error.h"
 
 namespace orogen {
 
 enum class ImageFormat { Png8, Png16, Exr, Tiff };
-
-// Linear to sRGB-encoded (IEC 61966-2-1), for values in 0..1.
-double linear_to_srgb(double v);
-double srgb_to_linear(double v);
 
 struct ImageWriteOptions {
   ImageFormat format = ImageFormat::Png8;

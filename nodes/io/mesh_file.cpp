@@ -184,7 +184,7 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
       out.set_normal(v, {n[0], n[2], -n[1]});
     }
     auto c = out.color(v);
-    for (int k = 0; k < 3; ++k) c[k] = static_cast<float>(linear_to_srgb(c[k]));
+    for (int k = 0; k < 3; ++k) c[k] = static_cast<float>(linear_to_srgb(static_cast<double>(c[k])));
     c[3] = std::clamp(std::isnan(c[3]) ? 1.0f : c[3], 0.0f, 1.0f);
     translucent = translucent || c[3] < 1.0f;
     out.set_color(v, c);

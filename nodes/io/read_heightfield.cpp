@@ -4,7 +4,7 @@
 
 #include "graph/exec_context.h"
 #include "graph/registry.h"
-#include "nodes/common/parallel_rows.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/common/resample.h"
 #include "nodes/io/heightfield_file.h"
 

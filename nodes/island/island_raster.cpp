@@ -5,10 +5,11 @@
 #include <limits>
 
 #include "graph/exec_context.h"
-#include "nodes/common/parallel_rows.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/island/island.h"
 #include "nodes/island/island_random.h"
 #include "nodes/noise/fbm.h"
+#include "nodes/common/color_space.h"
 
 namespace orogen::island {
 namespace {
@@ -17,10 +18,6 @@ using Index = std::size_t;
 inline Index ix(int k) { return static_cast<Index>(k); }
 
 double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
-
-float srgb_to_linear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
 
 const std::vector<float>* find_attr(const PolygonMap::Attributes& attrs, const char* name, std::size_t n) {
   const auto it = attrs.find(name);
@@ -251,11 +248,7 @@ RasterResult rasterize_polygon_map(const PolygonMap& map, const Domain& domain, 
       px[3] = 1.0f;
     }
   };
-  if (ctx) {
-    parallel_rows(*ctx, domain.height(), run);
-  } else {
-    tbb::parallel_for(0, domain.height(), run);
-  }
+  for_each_row(ctx, domain.height(), run);
   return r;
 }
 

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "graph/exec_context.h"
-#include "nodes/common/parallel_rows.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/island/island.h"
 #include "nodes/island/island_random.h"
 
@@ -380,8 +380,7 @@ CarveResult carve_rivers(const Heightfield& in, const Curves& rivers, const Carv
       r.mask->at(i, j) = static_cast<float>(cover);
     }
   };
-  if (ctx) parallel_rows(*ctx, d.height(), row);
-  else tbb::parallel_for(0, d.height(), row);
+  for_each_row(ctx, d.height(), row);
   return r;
 }
 

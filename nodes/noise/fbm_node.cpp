@@ -1,6 +1,7 @@
 // FBM: the node wrapping fbm() (fbm.h).
 #include "graph/registry.h"
 #include "nodes/noise/fbm.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/noise/generator_node.h"
 
 namespace orogen::noise {
@@ -58,10 +59,10 @@ OROGEN_NODE(FBM) {
     p.offset = ctx.param<double>("offset");
     p.roughness = ctx.param<double>("roughness");
     p.seed = ctx.param<std::uint64_t>("seed");
-    NoiseInputs in = warp_inputs(ctx);
-    in.roughness = ctx.input<Heightfield>("roughness").get();
-    in.amplitude = ctx.input<Heightfield>("amplitude").get();
-    set_field_output(ctx, fbm(ctx.domain(), p, in, &ctx));
+    GeneratorInputs in = warp_inputs(ctx);
+    in.roughness = secondary_input<Heightfield>(ctx, "roughness", ctx.domain());
+    in.amplitude = secondary_input<Heightfield>(ctx, "amplitude", ctx.domain());
+    set_field_output(ctx, fbm(ctx.domain(), p, in.view(), &ctx));
   });
 }
 

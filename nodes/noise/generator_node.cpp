@@ -1,5 +1,7 @@
 #include "nodes/noise/generator_node.h"
 
+#include "nodes/common/match_domain.h"
+
 namespace orogen::noise {
 
 void declare_warp_inputs(NodeBuilder& b) {
@@ -36,14 +38,14 @@ void declare_lattice_generator(NodeBuilder& b, const char* description, const ch
   b.execute([generate](ExecContext& ctx) {
     const LatticeNoiseParams p{ctx.param<double>("feature_size"), ctx.param<double>("amplitude"),
                                ctx.param<std::uint64_t>("seed")};
-    set_field_output(ctx, generate(ctx.domain(), p, warp_inputs(ctx), &ctx));
+    set_field_output(ctx, generate(ctx.domain(), p, warp_inputs(ctx).view(), &ctx));
   });
 }
 
-NoiseInputs warp_inputs(const ExecContext& ctx) {
-  NoiseInputs in;
-  in.warp_x = ctx.input<Heightfield>("warp_x").get();
-  in.warp_y = ctx.input<Heightfield>("warp_y").get();
+GeneratorInputs warp_inputs(const ExecContext& ctx) {
+  GeneratorInputs in;
+  in.warp_x = secondary_input<Heightfield>(ctx, "warp_x", ctx.domain());
+  in.warp_y = secondary_input<Heightfield>(ctx, "warp_y", ctx.domain());
   return in;
 }
 

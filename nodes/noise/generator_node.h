@@ -18,8 +18,15 @@ void declare_amplitude(NodeBuilder& b, double default_metres, const char* descri
 // seed
 void declare_seed(NodeBuilder& b);
 
-// The warp fields connected to the node (null where unconnected); they stay alive as long as ctx.
-NoiseInputs warp_inputs(const ExecContext& ctx);
+// The raster inputs of a generator brought onto its requested domain (the rule of
+// nodes/common/match_domain.h), owned here and lent to the noise functions by view().
+struct GeneratorInputs {
+  HeightfieldPtr warp_x, warp_y, roughness, amplitude;  // null where unconnected
+  NoiseInputs view() const { return {warp_x.get(), warp_y.get(), roughness.get(), amplitude.get()}; }
+};
+
+// The warp fields connected to the node, on its domain.
+GeneratorInputs warp_inputs(const ExecContext& ctx);
 
 // The whole declaration of a lattice generator (Perlin, Simplex, Value, White): warp inputs, the "out"
 // field, feature_size, amplitude and seed, executed by `generate`.

@@ -2,6 +2,8 @@
 
 #include <xxhash.h>
 
+#include "nodes/common/hash.h"
+
 namespace orogen::noise {
 
 namespace {
@@ -19,7 +21,7 @@ std::uint32_t stream_key(std::uint64_t seed, Stream stream, std::uint32_t octave
 }
 
 double stream_unit(std::uint64_t seed, Stream stream, std::uint32_t octave, std::uint32_t index) {
-  return static_cast<double>(stream_hash(seed, stream, octave, index + 1) >> 11) * 0x1.0p-53;
+  return unit_double(stream_hash(seed, stream, octave, index + 1));
 }
 
 }  // namespace orogen::noise

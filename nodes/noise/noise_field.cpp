@@ -9,7 +9,8 @@
 #include <tbb/parallel_for.h>
 
 #include "graph/exec_context.h"
-#include "nodes/common/parallel_rows.h"
+#include "nodes/common/cancellable_rows.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/noise/lattice_hash.h"
 #include "nodes/noise/noise_kernels.h"
 #include "nodes/noise/noise_reference.h"
@@ -31,22 +32,8 @@ struct alignas(64) Scratch {
   float q[kernels::kMaxRows][kRun], amplitude[kernels::kMaxRows][kRun], tail[kernels::kMaxRows][kRun];
 };
 
-template <class Fn>
-void for_each_row(const ExecContext* ctx, int count, Fn&& fn) {
-  if (ctx) {
-    parallel_rows(*ctx, count, fn);
-    return;
-  }
-  tbb::parallel_for(tbb::blocked_range<int>(0, count, 8), [&](const tbb::blocked_range<int>& r) {
-    for (int j = r.begin(); j != r.end(); ++j) fn(j);
-  });
-}
-
 void check_input(const Heightfield* f, const char* name, const Domain& domain) {
-  if (f && f->domain.resolution != domain.resolution)
-    throw NodeError(std::string("input '") + name + "' has " + std::to_string(f->width()) + "x" +
-                    std::to_string(f->height()) + " samples but the requested domain has " +
-                    std::to_string(domain.width()) + "x" + std::to_string(domain.height()));
+  if (f) require_same_grid(f->domain, domain, name);
 }
 
 // Copies samples [c0, c0 + n) of row j into dst and pads it to `padded` with `fill`.

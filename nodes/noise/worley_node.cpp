@@ -31,7 +31,7 @@ OROGEN_NODE(Worley) {
     p.output = static_cast<WorleyOutput>(ctx.enum_index("output"));
     p.jitter = ctx.param<double>("jitter");
     p.seed = ctx.param<std::uint64_t>("seed");
-    set_field_output(ctx, worley(ctx.domain(), p, warp_inputs(ctx), &ctx));
+    set_field_output(ctx, worley(ctx.domain(), p, warp_inputs(ctx).view(), &ctx));
   });
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "nodes/plants/lsystem_grammar.h"
+#include "nodes/common/hash.h"
 
 namespace orogen::plants {
 
@@ -19,7 +20,6 @@ using lsys::kMaxSlots;
 using lsys::Pattern;
 using lsys::Rule;
 using lsys::Template;
-using lsys::unit;
 
 LSystemError::LSystemError(const std::string& where_, int line_, int column_, const std::string& what)
     : std::invalid_argument(where_ + (line_ > 0 ? " line " + std::to_string(line_) : std::string()) +
@@ -196,7 +196,7 @@ ModuleString LSystem::Impl::step(const ModuleString& w, int iteration, std::uint
       } else if (candidates.size() > 1) {
         double total = 0.0;
         for (const auto& c : candidates) total += c.weight;
-        double u = unit(draw_key(seed, iteration, i, 0)) * total;
+        double u = unit_double(draw_key(seed, iteration, i, 0)) * total;
         chosen = &rules[static_cast<std::size_t>(candidates.back().rule)];
         for (const auto& c : candidates) {
           if (u < c.weight) {

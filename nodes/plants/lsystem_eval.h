@@ -9,6 +9,8 @@
 #include <numbers>
 #include <vector>
 
+#include "nodes/common/hash.h"
+
 namespace orogen::plants::lsys {
 
 inline constexpr int kMaxParams = 16;  // per module
@@ -16,24 +18,18 @@ inline constexpr int kMaxSlots = 64;   // formal parameters per rule
 
 // --- counter-based random numbers ----------------------------------------------------------------------------
 
-inline std::uint64_t mix64(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
 inline std::uint64_t draw_key(std::uint64_t seed, int iteration, std::size_t module, std::uint32_t draw) {
-  std::uint64_t h = mix64(seed + 0x9E3779B97F4A7C15ull);
+  std::uint64_t h = mix64(seed + kGoldenGamma);
   h = mix64(h ^ (static_cast<std::uint64_t>(static_cast<std::uint32_t>(iteration)) << 32 | draw));
   return mix64(h ^ (static_cast<std::uint64_t>(module) * 0xD6E8FEB86659FD93ull));
 }
-inline double unit(std::uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-53; }  // [0, 1)
 
 struct Draws {
   std::uint64_t seed = 0;
   int iteration = 0;
   std::size_t module = 0;
   std::uint32_t counter = 1;  // 0 is the roulette's draw
-  double uniform() { return unit(draw_key(seed, iteration, module, counter++)); }
+  double uniform() { return unit_double(draw_key(seed, iteration, module, counter++)); }
 };
 
 // --- expressions ------------------------------------------------------------------------------------------------

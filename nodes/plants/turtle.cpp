@@ -9,6 +9,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/mat3x3.hpp>
 
+#include "nodes/common/color_space.h"
+
 namespace orogen::plants {
 namespace {
 
@@ -28,10 +30,8 @@ struct Branch {  // a curve under construction
 
 }  // namespace
 
-double srgb_to_linear(double v255) {
-  const double v = std::clamp(v255 / 255.0, 0.0, 1.0);
-  return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
-}
+// An sRGB channel 0..255 (clamped) to linear 0..1.
+double byte_to_linear(double v255) { return srgb_to_linear(v255 / 255.0); }
 
 void rotate(TurtleFrame& f, int axis, double degrees) {
   const double a = degrees * std::numbers::pi / 180.0;
@@ -147,15 +147,15 @@ TurtleResult interpret(const ModuleString& word, const TurtleOptions& o) {
         }
         break;
       case '#':
-        if (np >= 3) st.color = {srgb_to_linear(p(0, 0)), srgb_to_linear(p(1, 0)), srgb_to_linear(p(2, 0))};
-        else if (np >= 1) st.color = glm::dvec3(srgb_to_linear(p(0, 0)));
+        if (np >= 3) st.color = {byte_to_linear(p(0, 0)), byte_to_linear(p(1, 0)), byte_to_linear(p(2, 0))};
+        else if (np >= 1) st.color = glm::dvec3(byte_to_linear(p(0, 0)));
         break;
       case '<': st.width *= p(0, inv_factor); break;
       case '>': st.width *= p(0, o.width_factor); break;
       case '!': st.width = np >= 1 ? p(0, st.width) : st.width * o.width_factor; break;
       case 'L': {
         const double size = p(0, o.leaf_size);
-        const glm::dvec3 color = np >= 4 ? glm::dvec3(srgb_to_linear(p(1, 0)), srgb_to_linear(p(2, 0)), srgb_to_linear(p(3, 0)))
+        const glm::dvec3 color = np >= 4 ? glm::dvec3(byte_to_linear(p(1, 0)), byte_to_linear(p(2, 0)), byte_to_linear(p(3, 0)))
                                          : o.leaf_color;
         auto& L = result.leaves;
         L.add(glm::vec3(st.frame.position));

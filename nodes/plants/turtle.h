@@ -58,7 +58,4 @@ TurtleResult interpret(const ModuleString& word, const TurtleOptions& options);
 // Rotates the frame by `degrees` about its up (0), left (1) or heading (2) axis and re-orthonormalises.
 void rotate(TurtleFrame& f, int axis, double degrees);
 
-// sRGB 0..255 to linear 0..1.
-double srgb_to_linear(double v255);
-
 }  // namespace orogen::plants

@@ -8,22 +8,18 @@
 
 #include <glm/geometric.hpp>
 
+#include "nodes/common/hash.h"
+
 namespace orogen::rocks {
 namespace {
-
-inline std::uint64_t mix64(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
 
 // Counter-based uniform numbers in [0, 1) keyed by (seed, variant, stream).
 struct Stream {
   std::uint64_t key;
   std::uint64_t counter = 0;
   Stream(std::uint64_t seed, std::uint64_t variant, std::uint64_t stream)
-      : key(mix64(mix64(seed ^ 0x6A09E667F3BCC909ull) ^ (variant * 0x9E3779B97F4A7C15ull)) ^ (stream << 56)) {}
-  double next() { return static_cast<double>(mix64(key + 0xD1B54A32D192ED03ull * ++counter) >> 11) * 0x1.0p-53; }
+      : key(mix64(mix64(seed ^ 0x6A09E667F3BCC909ull) ^ (variant * kGoldenGamma)) ^ (stream << 56)) {}
+  double next() { return unit_double(mix64(key + 0xD1B54A32D192ED03ull * ++counter)); }
   double gauss() {
     const double u = 1.0 - next(), v = next();
     return std::sqrt(-2.0 * std::log(u)) * std::cos(2.0 * std::numbers::pi * v);
@@ -32,7 +28,7 @@ struct Stream {
 
 // 3D value noise in [-1, 1] with smooth (quintic) interpolation, hashed lattice.
 double lattice(std::int64_t x, std::int64_t y, std::int64_t z, std::uint64_t seed) {
-  const std::uint64_t h = mix64(seed ^ mix64(static_cast<std::uint64_t>(x) * 0x9E3779B97F4A7C15ull ^
+  const std::uint64_t h = mix64(seed ^ mix64(static_cast<std::uint64_t>(x) * kGoldenGamma ^
                                              mix64(static_cast<std::uint64_t>(y) * 0xC2B2AE3D27D4EB4Full ^
                                                    static_cast<std::uint64_t>(z) * 0x165667B19E3779F9ull)));
   return static_cast<double>(h >> 11) * 0x1.0p-52 - 1.0;

@@ -6,6 +6,7 @@
 
 #include "graph/exec_context.h"
 #include "graph/registry.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/scatter/run_placement.h"
 #include "nodes/scatter/forest.h"
 #include "nodes/climate/sun.h"
@@ -51,7 +52,7 @@ OROGEN_NODE(ShadePlacement) {
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Points>("in");
     const auto casters = ctx.require<Points>("casters");
-    const auto height = ctx.input<Heightfield>("height");
+    const auto height = world_sampled_input(ctx, "height", ctx.domain());
     ShadePlacementParams p;
     p.canopy.crown_radius = ctx.param<double>("crown_radius");
     p.canopy.crown_height = ctx.param<double>("crown_height");
@@ -101,8 +102,8 @@ OROGEN_NODE(ForestLifeCycle) {
   b.param_seed("seed", 0).description("Draws hash (seed, tree id, year)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Points>("in");
-    const auto suit = ctx.input<Heightfield>("suitability");
-    const auto height = ctx.input<Heightfield>("height");
+    const auto suit = world_sampled_input(ctx, "suitability", ctx.domain());
+    const auto height = world_sampled_input(ctx, "height", ctx.domain());
     LifeCycleParams p;
     p.years = static_cast<int>(ctx.param<std::int64_t>("years"));
     p.max_age = ctx.param<double>("max_age");

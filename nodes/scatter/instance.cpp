@@ -1,6 +1,9 @@
 #include "nodes/scatter/instance.h"
 
 #include <set>
+#include <string_view>
+
+#include "nodes/common/text.h"
 
 namespace orogen {
 

@@ -9,7 +9,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "graph/exec_context.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/scatter/poisson_plan.h"
 #include "nodes/scatter/scatter_hash.h"
 

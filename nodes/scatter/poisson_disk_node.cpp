@@ -5,6 +5,7 @@
 
 #include "graph/exec_context.h"
 #include "graph/registry.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/scatter/run_placement.h"
 #include "nodes/scatter/poisson_disk.h"
 
@@ -62,14 +63,14 @@ OROGEN_NODE(PoissonDisk) {
       PoissonClass c;
       c.radius = ctx.param<double>("radius_" + std::to_string(k));
       c.class_id = static_cast<std::int32_t>(ctx.param<std::int64_t>("first_class") + k);
-      auto d = ctx.input<Heightfield>("density_" + std::to_string(k));
+      auto d = world_sampled_input(ctx, "density_" + std::to_string(k), ctx.domain());
       c.density = d.get();
       keep.push_back(d);
       p.classes.push_back(c);
     }
-    const auto density = ctx.input<Heightfield>("density");
-    const auto mask = ctx.input<Heightfield>("mask");
-    const auto height = ctx.input<Heightfield>("height");
+    const auto density = world_sampled_input(ctx, "density", ctx.domain());
+    const auto mask = world_sampled_input(ctx, "mask", ctx.domain());
+    const auto height = world_sampled_input(ctx, "height", ctx.domain());
     p.density = density.get();
     p.mask = mask.get();
     p.cross_separation = ctx.param<double>("cross_separation");

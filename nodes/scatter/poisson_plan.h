@@ -14,7 +14,7 @@
 
 #include "graph/exec_context.h"
 #include "graph/heightfield.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/scatter/poisson_disk.h"
 #include "nodes/scatter/scatter_hash.h"
 

@@ -4,18 +4,12 @@
 #include <bit>
 #include <cstdint>
 
+#include "nodes/common/hash.h"
+
 namespace orogen::scatter {
 
-// SplitMix64 finaliser (Steele, Lea & Flood 2014): a bijective 64-bit mixer with full avalanche.
-constexpr std::uint64_t mix64(std::uint64_t z) {
-  z += 0x9E3779B97F4A7C15ull;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-// Hash of a tuple of integers under `key` (order matters).
-constexpr std::uint64_t hash(std::uint64_t key, std::uint64_t a) { return mix64(key ^ mix64(a)); }
+// Hash of a tuple of integers under `key` (order matters), chained SplitMix64 outputs.
+constexpr std::uint64_t hash(std::uint64_t key, std::uint64_t a) { return splitmix64(key ^ splitmix64(a)); }
 constexpr std::uint64_t hash(std::uint64_t key, std::uint64_t a, std::uint64_t b) { return hash(hash(key, a), b); }
 constexpr std::uint64_t hash(std::uint64_t key, std::uint64_t a, std::uint64_t b, std::uint64_t c) {
   return hash(hash(hash(key, a), b), c);
@@ -25,7 +19,7 @@ constexpr std::uint64_t hash(std::uint64_t key, std::uint64_t a, std::uint64_t b
 }
 
 // The top 53 bits of a hash as a double in [0, 1).
-constexpr double unit(std::uint64_t h) { return static_cast<double>(h >> 11) * 0x1.0p-53; }
+constexpr double unit(std::uint64_t h) { return unit_double(h); }
 
 // Signed integers as hash inputs (two's complement bits).
 constexpr std::uint64_t bits(std::int64_t v) { return static_cast<std::uint64_t>(v); }
@@ -52,7 +46,7 @@ struct Draws {
 struct FastDraws {
   std::uint64_t key;
   std::uint64_t counter = 0;
-  std::uint64_t bits() { return mix64(key + 0x9E3779B97F4A7C15ull * counter++); }
+  std::uint64_t bits() { return splitmix64(key + kGoldenGamma * counter++); }
   double next() { return unit(bits()); }
   void next2(double& a, double& b) { unit2(bits(), a, b); }
 };

@@ -8,7 +8,7 @@
 
 #include "graph/exec_context.h"
 #include "graph/table_json.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/scatter/scatter_hash.h"
 
 namespace orogen {

@@ -4,6 +4,7 @@
 #include "graph/exec_context.h"
 #include "graph/registry.h"
 #include "graph/table_json.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/scatter/scatter_rules.h"
 
 namespace orogen {
@@ -35,8 +36,8 @@ OROGEN_NODE(ScatterRules) {
   b.param_seed("seed", 0).description("Every draw hashes (seed, cell, ecosystem, plant, counter)");
   b.execute([](ExecContext& ctx) {
     const auto height = ctx.require<Heightfield>("in");
-    const auto relative = ctx.input<Heightfield>("relative_height");
-    const auto slope = ctx.input<Heightfield>("slope");
+    const auto relative = secondary_input<Heightfield>(ctx, "relative_height", height->domain);
+    const auto slope = secondary_input<Heightfield>(ctx, "slope", height->domain);
     EcosystemParams p;
     TerrainVariables vars{height.get(), relative.get(), slope.get()};
     p.cell_size = ctx.param<double>("cell_size");
@@ -83,7 +84,7 @@ OROGEN_NODE(BiomeScatter) {
   b.param_seed("seed", 0).description("Every draw hashes (seed, cell)");
   b.execute([](ExecContext& ctx) {
     const auto biome = ctx.require<Heightfield>("in");
-    const auto height = ctx.input<Heightfield>("height");
+    const auto height = secondary_input<Heightfield>(ctx, "height", biome->domain);
     BiomeScatterParams p;
     p.factor = ctx.param<double>("factor");
     p.cell_size = ctx.param<double>("cell_size");

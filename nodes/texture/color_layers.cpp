@@ -10,8 +10,9 @@
 
 #include "graph/registry.h"
 #include "graph/table_json.h"
-#include "nodes/climate/kmeans.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
+#include "nodes/common/categorical_palette.h"
+#include "nodes/common/match_domain.h"
 
 namespace orogen::texture {
 namespace {
@@ -37,7 +38,7 @@ std::vector<glm::vec4> layer_colors(const std::vector<std::string>& channel_name
                                     const std::vector<NamedColor>& named) {
   std::vector<glm::vec4> colors;
   for (int c = 0; c < channels; ++c) {
-    glm::vec4 col = climate::categorical_color(c);
+    glm::vec4 col = categorical_linear(c);
     if (static_cast<std::size_t>(c) < channel_names.size())
       for (const auto& nc : named)
         if (nc.name == channel_names[static_cast<std::size_t>(c)]) col = nc.color;
@@ -93,11 +94,12 @@ OROGEN_NODE(ColorByLayers) {
       .description("Layer colors: one row per layer, its name and sRGB color");
   b.param_float("shade_strength", 1.0).range(0.0, 1.0).description("How much of the shade applies, 0..1 (0: none)");
   b.execute([](ExecContext& ctx) {
-    const auto shade = ctx.input<Heightfield>("shade");
+    const auto w = ctx.require<Image>("in");
+    const auto shade = secondary_input<Heightfield>(ctx, "shade", w->domain);
     ColorByLayersParams p;
     p.colors = named_colors_from_table(ctx.param<TableValue>("colors"));
     p.shade_strength = ctx.param<double>("shade_strength");
-    ctx.set_output("out", color_by_layers(*ctx.require<Image>("in"), shade.get(), p, &ctx));
+    ctx.set_output("out", color_by_layers(*w, shade.get(), p, &ctx));
   });
 }
 

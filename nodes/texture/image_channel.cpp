@@ -6,7 +6,7 @@
 #include <string>
 
 #include "graph/registry.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 
 namespace orogen::texture {
 

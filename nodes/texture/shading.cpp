@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "graph/registry.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/field/surface_derivatives.h"
 
 namespace orogen::texture {

@@ -5,8 +5,9 @@
 
 #include "graph/registry.h"
 #include "graph/table_json.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/field/curvature.h"
-#include "nodes/field/row_loop.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/field/slope.h"
 #include "nodes/field/surface_derivatives.h"
 
@@ -96,7 +97,7 @@ SplatResult splat_weights(const SplatInputs& in, const std::vector<SplatLayer>& 
   auto check = [&](SplatInput which, const Heightfield* f, const char* port) {
     if (!need[static_cast<int>(which)]) return;
     if (!f) throw NodeError(std::string("a rule uses '") + port + "' but that input is not connected");
-    if (f->domain.resolution != z.domain.resolution) throw NodeError(std::string(port) + ": resolution differs from the height's");
+    require_same_grid(f->domain, z.domain, port);
   };
   check(SplatInput::Flow, in.flow, "flow");
   check(SplatInput::Wetness, in.wetness, "wetness");
@@ -174,9 +175,9 @@ OROGEN_NODE(SplatWeights) {
   b.execute([](ExecContext& ctx) {
     const auto layers = splat_layers_from_tables(ctx.param<TableValue>("layers"), ctx.param<TableValue>("rules"));
     const auto z = ctx.require<Heightfield>("in");
-    const auto flow = ctx.input<Heightfield>("flow");
-    const auto wet = ctx.input<Heightfield>("wetness");
-    const auto field = ctx.input<Heightfield>("field");
+    const auto flow = secondary_input<Heightfield>(ctx, "flow", z->domain);
+    const auto wet = secondary_input<Heightfield>(ctx, "wetness", z->domain);
+    const auto field = secondary_input<Heightfield>(ctx, "field", z->domain);
     auto r = splat_weights({z.get(), flow.get(), wet.get(), field.get()}, layers, &ctx);
     ctx.set_output("out", r.weights);
     ctx.set_output("dominant", r.dominant);

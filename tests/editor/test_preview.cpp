@@ -10,6 +10,7 @@
 #include "editor/model/scene_preview.h"
 #include "editor/model/terrain_mesh.h"
 #include "graph/graph.h"
+#include "nodes/common/categorical_palette.h"
 
 #include <algorithm>
 #include <cmath>
@@ -314,10 +315,10 @@ TEST(Preview, CategoricalIdsAndImageChannels) {
   ids.data = {0.0f, 1.0f, 2.0f, 13.0f};
   const auto px = render_heightfield(ids, {ColorMap::Categorical, false, {}});
   auto rgb = [&](int i) { return glm::vec3(px.rgba[std::size_t(i) * 4], px.rgba[std::size_t(i) * 4 + 1], px.rgba[std::size_t(i) * 4 + 2]) / 255.0f; };
-  for (int i = 0; i < 3; ++i) EXPECT_LT(glm::length(rgb(i) - categorical_color(i)), 0.01f) << i;
-  EXPECT_LT(glm::length(rgb(3) - categorical_color(1)), 0.01f) << "13 repeats the palette of 12";
-  EXPECT_GT(glm::length(categorical_color(0) - categorical_color(1)), 0.2f);
-  EXPECT_EQ(categorical_color(-1), categorical_color(11));
+  for (int i = 0; i < 3; ++i) EXPECT_LT(glm::length(rgb(i) - categorical_srgb(i)), 0.01f) << i;
+  EXPECT_LT(glm::length(rgb(3) - categorical_srgb(13)), 0.01f) << "ids past the palette keep their own color";
+  EXPECT_GT(glm::length(categorical_srgb(13) - categorical_srgb(1)), 0.1f) << "13 does not repeat 1";
+  EXPECT_GT(glm::length(categorical_srgb(0) - categorical_srgb(1)), 0.2f);
   // A 12-channel image: one channel as a field.
   Image img(Domain::from_extent({0, 0}, {1, 1}, {2, 2}), 12);
   for (std::size_t q = 0; q < img.data.size(); ++q) img.data[q] = static_cast<float>(q);
