@@ -16,6 +16,7 @@
 #include "evaluator/run_node.h"
 #include "graph/report.h"
 #include "nodes/climate/kmeans.h"
+#include "nodes/common/categorical_palette.h"
 #include "nodes/common/hash.h"
 
 using orogen::hash01;

@@ -15,6 +15,7 @@
 #include "graph/image.h"
 #include "graph/exec_context.h"
 #include "nodes/climate/kmeans.h"
+#include "nodes/common/categorical_palette.h"
 #include "nodes/texture/color_layers.h"
 #include "nodes/texture/image_channel.h"
 #include "graph/table_json.h"
