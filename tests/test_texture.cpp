@@ -8,6 +8,7 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "evaluator/run_node.h"
@@ -352,17 +353,24 @@ TEST(ColorByLayers, ShadeScalesByStrengthClampedAndNonFiniteIsUnshaded) {
   EXPECT_THROW(color_by_layers(w, &other, p), NodeError);
 }
 
+// A ColorByLayers.colors table: (layer name, sRGB color) rows.
+TableValue layer_color_rows(std::vector<std::pair<std::string, Srgb8>> rows) {
+  TableValue t{{"name", "color"}, {}};
+  for (auto& [name, color] : rows) t.rows.push_back({name, color});
+  return t;
+}
+
 TEST(ColorByLayers, NodeReadsSrgbHexColorsByLayerName) {
   auto w = std::make_shared<Image>(weights(2, 2, {"dirt", "snow"}));
   set_pixel(*w, 0, 0, {1, 0});
   set_pixel(*w, 1, 0, {0, 1});
-  const auto out = run_node("ColorByLayers", w->domain, {{"colors", std::string("snow #ffffff, dirt #000000")}},
+  const auto out = run_node("ColorByLayers", w->domain, {{"colors", layer_color_rows({{"snow", {255, 255, 255}}, {"dirt", {0, 0, 0}}})}},
                             {{"in", PortValue(ImagePtr(w))}})
                        .get<Image>();
   expect_rgb(*out, 0, 0, glm::vec4(0, 0, 0, 1));
   expect_rgb(*out, 1, 0, glm::vec4(1, 1, 1, 1));
   // sRGB 0x80 is 0.2158605 linear.
-  const auto gray = run_node("ColorByLayers", w->domain, {{"colors", std::string("dirt #808080")}},
+  const auto gray = run_node("ColorByLayers", w->domain, {{"colors", layer_color_rows({{"dirt", {0x80, 0x80, 0x80}}})}},
                              {{"in", PortValue(ImagePtr(w))}})
                         .get<Image>();
   expect_rgb(*gray, 0, 0, glm::vec4(0.2158605f, 0.2158605f, 0.2158605f, 1), 1e-6f);
