@@ -143,7 +143,10 @@ int run_eval(const EvalCommand& cmd) {
     for (const auto& node : graph.nodes()) {
       const auto it = node_domains.find(node.id);
       const Domain& d = it != node_domains.end() ? it->second : domain;
-      const auto need = estimate_node_bytes(*node.type, d);
+      const std::vector<ParamValue> params = graph.effective_params(node);
+      CostQuery query{*node.type, d, ParamView(*node.type, params), nullptr, graph.directory, {}};
+      for (const auto& port : node.type->inputs) query.linked.push_back(node.inputs.contains(port.name));
+      const auto need = estimate_node_bytes(query);
       if (need > max_memory) errors.push_back("node '" + node.id + "': " + memory_refusal(*node.type, d, need, max_memory));
     }
   }

@@ -386,12 +386,14 @@ class Run {
           if (!request_.node_domains.empty()) inputs[i] = crop_to_domain(inputs[i], domain);
         }
       if (auto why = check_domain(domain); !why.empty()) throw NodeError(why);
+      std::vector<ParamValue> params = graph_.effective_params(node);
       if (impl_.options.max_memory > 0) {
-        const std::uint64_t need = estimate_node_bytes(type, domain);
+        const std::uint64_t need =
+            estimate_node_bytes(CostQuery{type, domain, ParamView(type, params), &inputs, graph_.directory, {}});
         if (need > impl_.options.max_memory)
           throw NodeError(memory_refusal(type, domain, need, impl_.options.max_memory));
       }
-      ExecContext ctx(type, id, domain, std::move(inputs), graph_.effective_params(node));
+      ExecContext ctx(type, id, domain, std::move(inputs), std::move(params));
       ctx.set_cancel_token(request_.cancel);
       ctx.set_output_policy(policy_);
       ctx.set_input_dir(graph_.directory);

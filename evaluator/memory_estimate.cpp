@@ -1,6 +1,7 @@
 #include "evaluator/memory_estimate.h"
 
 #include <cstdio>
+#include <exception>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -8,7 +9,7 @@
 
 namespace orogen {
 
-std::uint64_t estimate_node_bytes(const NodeType& type, const Domain& domain) {
+std::uint64_t estimate_output_bytes(const NodeType& type, const Domain& domain) {
   const long double samples = static_cast<long double>(domain.resolution.x) * domain.resolution.y;
   long double per_sample = 4.0L;  // one working field
   for (const auto& out : type.outputs) {
@@ -23,6 +24,19 @@ std::uint64_t estimate_node_bytes(const NodeType& type, const Domain& domain) {
   if (!(bytes < static_cast<long double>(std::numeric_limits<std::uint64_t>::max())))
     return std::numeric_limits<std::uint64_t>::max();
   return static_cast<std::uint64_t>(bytes);
+}
+
+std::uint64_t estimate_node_bytes(const CostQuery& query) {
+  const std::uint64_t outputs = estimate_output_bytes(query.type, query.domain);
+  if (!query.type.extra_bytes) return outputs;
+  std::uint64_t extra = 0;
+  try {
+    extra = query.type.extra_bytes(query);
+  } catch (const std::exception&) {
+    extra = 0;
+  }
+  return extra > std::numeric_limits<std::uint64_t>::max() - outputs ? std::numeric_limits<std::uint64_t>::max()
+                                                                      : outputs + extra;
 }
 
 std::string format_bytes(std::uint64_t bytes) {

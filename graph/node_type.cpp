@@ -230,6 +230,10 @@ NodeBuilder& NodeBuilder::reach(ReachFn fn, std::string summary) {
   type_.reach_summary = std::move(summary);
   return *this;
 }
+NodeBuilder& NodeBuilder::extra_bytes(CostFn fn) {
+  type_.extra_bytes = std::move(fn);
+  return *this;
+}
 void NodeBuilder::execute(ExecuteFn fn) { type_.execute = std::move(fn); }
 
 const char* to_string(ReachKind kind) {

@@ -107,6 +107,10 @@ class ParamView {
 // A reach that depends on parameter values (Blur's sigma, Normalize's range mode, ...).
 using ReachFn = std::function<Reach(const ParamView&)>;
 
+// Bytes a node needs beyond the default estimate (graph/cost_query.h).
+struct CostQuery;
+using CostFn = std::function<std::uint64_t(const CostQuery&)>;
+
 struct NodeType {
   std::string name;
   std::string category;
@@ -130,6 +134,9 @@ struct NodeType {
   Reach reach;
   ReachFn reach_fn;
   std::string reach_summary;
+  // Memory beyond the default estimate (outputs by type at the domain's sample count), when the node knows it
+  // needs more: see graph/cost_query.h and evaluator/memory_estimate.h.
+  CostFn extra_bytes;
 
   // The reach for these effective parameter values (declaration order, as Graph::effective_params).
   Reach reach_for(const std::vector<ParamValue>& params) const;
@@ -189,6 +196,8 @@ class NodeBuilder {
   NodeBuilder& reach_local(double metres, int samples = 0);
   NodeBuilder& reach_global();
   NodeBuilder& reach(ReachFn fn, std::string summary);
+  // Memory the node needs beyond the default estimate (see NodeType::extra_bytes).
+  NodeBuilder& extra_bytes(CostFn fn);
   void execute(ExecuteFn fn);
 
   Port input(std::string name, PortType type);

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "nodes/climate/sun.h"
 #include "nodes/common/cancellable_rows.h"
@@ -249,6 +250,17 @@ OROGEN_NODE(ResourceStack) {
   b.input("illumination", PortType::Image).optional().description("Monthly lit hours (SunIllumination.out)");
   b.input("humidity", PortType::Image).optional().description("Monthly soil humidity, mm (SoilHumidity.out)");
   b.output("out", PortType::Image).description("slope, temperature_*, illumination_*, humidity_* channels");
+  // One channel of slope and every channel of each connected image (twelve months each before they are known),
+  // against the four channels the default estimate counts for an image.
+  b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
+    std::uint64_t channels = 1;
+    for (const char* group : {"temperature", "illumination", "humidity"}) {
+      if (const PortValue* v = q.input(group)) channels += static_cast<std::uint64_t>(std::get<ImagePtr>(*v)->channels);
+      else if (!q.inputs && q.is_linked(group)) channels += 12;
+    }
+    const std::uint64_t samples = static_cast<std::uint64_t>(q.domain.resolution.x) * q.domain.resolution.y;
+    return channels > 4 ? samples * (channels - 4) * sizeof(float) : 0;
+  });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto t = secondary_input<Image>(ctx, "temperature", in->domain);

@@ -299,15 +299,19 @@ std::optional<HeightRange> write_heightfield_file(const Heightfield& h, const fs
   return range;
 }
 
-HeightRaster read_height_raster(const fs::path& path, int channel) {
+namespace {
+
+void check_readable_file(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec))
     throw FileError("file '" + path.string() + "' does not exist (relative paths are resolved against the current "
                     "directory " + fs::current_path(ec).string() + ")");
   if (fs::is_directory(path, ec)) throw FileError("'" + path.string() + "' is a directory, not an image file");
-  const std::string ext = lower_extension(path);
-  if (ext == ".raw" || ext == ".r16") return read_raw16(path, channel);
+}
 
+// The image in `path` opened by the reader its extension names, its header checked (the channel exists, 2D,
+// at most 65536 per side, a supported pixel type). Throws FileError.
+std::unique_ptr<OIIO::ImageInput> open_height_image(const fs::path& path, const std::string& ext, int channel) {
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);  // never premultiply a height channel by alpha
   // Only the reader the extension names: OpenImageIO would otherwise try every format plugin it has (movie,
@@ -334,6 +338,40 @@ HeightRaster read_height_raster(const fs::path& path, int channel) {
   const OIIO::TypeDesc type = spec.channelformat(channel);
   if (!is_supported(type))
     throw FileError("'" + path.string() + "' stores pixels as " + std::string(type.c_str()) + ", which is not supported");
+  return in;
+}
+
+}  // namespace
+
+HeightRasterShape probe_height_raster(const fs::path& path, int channel) {
+  check_readable_file(path);
+  const std::string ext = lower_extension(path);
+  if (ext == ".raw" || ext == ".r16") {
+    std::error_code ec;
+    const auto bytes = fs::file_size(path, ec);
+    if (ec) throw FileError("cannot read '" + path.string() + "': " + ec.message());
+    const auto side = static_cast<int>(std::llround(std::sqrt(static_cast<double>(bytes / 2))));
+    return {side, side, 1, 2};
+  }
+  const auto in = open_height_image(path, ext, channel);
+  const OIIO::ImageSpec& spec = in->spec();
+  return {spec.width, spec.height, spec.nchannels, spec.channelformat(channel).size()};
+}
+
+std::uint64_t height_raster_read_bytes(const HeightRasterShape& shape) {
+  const std::uint64_t pixels = static_cast<std::uint64_t>(shape.width) * static_cast<std::uint64_t>(shape.height);
+  // The file's channel as stored, its values as doubles (HeightRaster), then as the float heightfield on the
+  // image's own lattice (raster_to_heightfield).
+  return pixels * (shape.bytes_per_value + sizeof(double) + sizeof(float));
+}
+
+HeightRaster read_height_raster(const fs::path& path, int channel) {
+  check_readable_file(path);
+  const std::string ext = lower_extension(path);
+  if (ext == ".raw" || ext == ".r16") return read_raw16(path, channel);
+  const auto in = open_height_image(path, ext, channel);
+  const OIIO::ImageSpec& spec = in->spec();
+  const OIIO::TypeDesc type = spec.channelformat(channel);
 
   HeightRaster r;
   r.width = spec.width;

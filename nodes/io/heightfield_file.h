@@ -82,6 +82,17 @@ struct HeightRaster {
 // missing, unreadable, or has no such channel.
 HeightRaster read_height_raster(const std::filesystem::path& path, int channel = 0);
 
+// An image file's size from its header, before any pixel is read.
+struct HeightRasterShape {
+  int width = 0, height = 0;
+  int channels = 0;
+  std::size_t bytes_per_value = 0;  // of the channel read, as stored
+};
+// Opens `path` as read_height_raster does (same checks and FileErrors) and reads only its header.
+HeightRasterShape probe_height_raster(const std::filesystem::path& path, int channel = 0);
+// The bytes read_height_raster and raster_to_heightfield hold for such a file at their peak.
+std::uint64_t height_raster_read_bytes(const HeightRasterShape& shape);
+
 struct HeightfieldReadOptions {
   glm::dvec2 origin{0.0, 0.0};     // world position of the south-west pixel centre, metres
   glm::dvec2 size{1024.0, 1024.0};  // world extent from the first to the last pixel centre, metres

@@ -2,7 +2,9 @@
 // requested domain.
 #include <memory>
 
+#include "graph/cost_query.h"
 #include "graph/exec_context.h"
+#include "graph/output_path.h"
 #include "graph/registry.h"
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/common/resample.h"
@@ -44,6 +46,13 @@ OROGEN_NODE(ReadHeightfield) {
   b.param_bool("use_file_mapping", true).description(
       "When the file carries the height mapping WriteHeightfield records (PNG, EXR, TIFF metadata), use it "
       "instead of height_min/height_max");
+  // The whole file is decoded before it is resampled: its pixels count, not the domain's (the header tells).
+  b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
+    const auto& path = q.params.get<std::string>("path");
+    if (path.empty()) return 0;
+    const auto channel = static_cast<int>(q.params.get<std::int64_t>("channel"));
+    return height_raster_read_bytes(probe_height_raster(resolve_input_path(q.input_dir, path), channel));
+  });
   b.execute([](ExecContext& ctx) {
     if (ctx.param<std::string>("path").empty()) throw NodeError("no file given: set 'path' to the image to read");
     const std::filesystem::path path = ctx.input_path("path");

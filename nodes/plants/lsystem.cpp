@@ -2,6 +2,7 @@
 // condition and weighted roulette. Parsing is in lsystem_parser.cpp, expressions in lsystem_eval.h.
 #include "nodes/plants/lsystem.h"
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <span>
@@ -59,6 +60,20 @@ LSystem::~LSystem() = default;
 LSystem::LSystem(LSystem&&) noexcept = default;
 LSystem& LSystem::operator=(LSystem&&) noexcept = default;
 std::size_t LSystem::rule_count() const { return impl_->rules.size(); }
+
+std::size_t LSystem::max_module_parameters() const {
+  std::size_t most = 0;
+  for (const auto& t : impl_->axiom) most = std::max(most, t.args.size());
+  for (const auto& r : impl_->rules)
+    for (const auto& t : r.successor) most = std::max(most, t.args.size());
+  return most;
+}
+
+std::uint64_t derive_peak_bytes(std::size_t max_modules, std::size_t parameters) {
+  const std::uint64_t module = sizeof(char) + sizeof(std::uint32_t) + parameters * sizeof(float);
+  const std::uint64_t word = 2 * module * max_modules;  // a vector may hold up to twice what it uses
+  return 2 * word + sizeof(std::int32_t) * static_cast<std::uint64_t>(max_modules);
+}
 
 ModuleString LSystem::axiom(std::uint64_t seed) const {
   ModuleString w;

@@ -71,12 +71,19 @@ class LSystem {
   // The evaluated axiom (random draws in it use iteration -1).
   ModuleString axiom(std::uint64_t seed) const;
   std::size_t rule_count() const;
+  // The most parameters a module of the axiom or of a successor carries: a bound for every derived module.
+  std::size_t max_module_parameters() const;
 
   struct Impl;
 
  private:
   std::unique_ptr<Impl> impl_;
 };
+
+// The bytes a derivation holds at its peak when its word may grow to `max_modules` modules of at most
+// `parameters` each: the word being read and the word being written (a symbol, an offset and the parameters per
+// module, twice for the vectors' growth) and the bracket-matching index of context rules.
+std::uint64_t derive_peak_bytes(std::size_t max_modules, std::size_t parameters);
 
 // Convenience: parse and derive; the text of the result.
 std::string derive_text(const std::string& axiom, const std::string& rules, int iterations,

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "graph/cost_query.h"
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
 #include "graph/registry.h"
@@ -55,6 +56,13 @@ OROGEN_NODE(LSystem) {
   b.param_seed("seed", 0).description("Key of the stochastic choices and random draws; the same seed gives the same word");
   b.param_int("max_modules", 1000000).range(1, 100000000).description(
       "A word longer than this fails with an error instead of exhausting memory (modules)");
+  // The word may grow to max_modules modules, each with as many parameters as the grammar's widest module.
+  b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
+    const plants::LSystem l(q.params.get<std::string>("axiom"), q.params.get<std::string>("rules"),
+                            q.params.get<std::string>("ignore"));
+    return plants::derive_peak_bytes(static_cast<std::size_t>(q.params.get<std::int64_t>("max_modules")),
+                                     l.max_module_parameters());
+  });
   b.execute([](ExecContext& ctx) {
     plants::DeriveOptions o;
     o.iterations = static_cast<int>(ctx.param<std::int64_t>("iterations"));

@@ -9,6 +9,7 @@
 #define GLM_ENABLE_EXPERIMENTAL
 #include <glm/gtx/quaternion.hpp>
 
+#include "graph/cost_query.h"
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
 #include "graph/registry.h"
@@ -76,6 +77,19 @@ OROGEN_NODE(WriteScene) {
       "Output file, relative to the output directory; .glb binary or .gltf text");
   b.param_enum("instancing", {"gpu_instancing", "nodes"}, "gpu_instancing").description(
       "gpu_instancing: one node per class with EXT_mesh_gpu_instancing; nodes: one node per instance");
+  // The glTF document is built and serialized in memory before it is written: per instance a tinygltf node,
+  // its JSON object and its text (nodes), or its translation, rotation and scale in the buffer and its base64
+  // and file copies (gpu_instancing); per terrain vertex and face the same three copies. Known once the
+  // scene exists, so the check is made just before the node runs.
+  b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
+    std::uint64_t bytes = 0;
+    if (const PortValue* v = q.input("in")) {
+      const bool nodes = q.params.get<std::string>("instancing") == "nodes";
+      bytes += static_cast<std::uint64_t>(std::get<ScenePtr>(*v)->size()) * (nodes ? 2048 : 160);
+    }
+    if (const PortValue* t = q.input("terrain")) bytes += 3 * byte_size(*t);
+    return bytes;
+  });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Scene>("in");
     const auto terrain = ctx.input<Mesh>("terrain");
