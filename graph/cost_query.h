@@ -33,7 +33,9 @@ struct CostQuery {
   bool is_linked(std::string_view name) const {
     if (inputs) return input(name) != nullptr;
     const int k = type.input_index(name);
-    return k >= 0 && (linked.empty() || (static_cast<std::size_t>(k) < linked.size() && linked[static_cast<std::size_t>(k)]));
+    if (k < 0) return false;
+    const auto index = static_cast<std::size_t>(k);
+    return linked.empty() || (index < linked.size() && linked[index]);
   }
 };
 
