@@ -55,10 +55,12 @@ struct SegmentGrid {
   void build(glm::dvec2 map_lo, glm::dvec2 map_hi) {
     lo = map_lo;
     const glm::dvec2 size = glm::max(map_hi - map_lo, glm::dvec2(1e-9));
+    // About sqrt(n) x sqrt(n) buckets on a square map (exactly as before: coverage reaches half a spacing past
+    // a segment's box, so the grid shapes the result at bucket borders), stretched with the aspect ratio.
     const double target = static_cast<double>(std::max<std::size_t>(segments.size(), 1));
-    const glm::ivec2 g = bucket_grid(size, target, 512);
-    gw = g.x;
-    gh = g.y;
+    const double aspect = size.x / size.y;
+    gw = static_cast<int>(std::clamp(std::sqrt(target * aspect), 1.0, 512.0));
+    gh = static_cast<int>(std::clamp(std::sqrt(target / aspect), 1.0, 512.0));
     cell = size / glm::dvec2(gw, gh);
     buckets.assign(static_cast<std::size_t>(gw) * static_cast<std::size_t>(gh), {});
     for (std::size_t s = 0; s < segments.size(); ++s) {
