@@ -68,7 +68,7 @@ TEST(CheckedCount, CountsFitOrAreRefusedWithTheParametersToChange) {
   EXPECT_THROW(check_work(std::numeric_limits<double>::quiet_NaN(), "updates", "less"), NodeError);
 }
 
-TEST(WorkPoll, ChecksTheCancelFlagEveryFewUnits) {
+TEST(WorkPoll, WithoutAContextNothingIsChecked) {
   // Without a context nothing is checked.
   WorkPoll none(nullptr, 2);
   for (int k = 0; k < 10; ++k) none();
