@@ -4,7 +4,8 @@
 //
 // "A clear error" is a NodeError / FileError / GraphError (std::runtime_error) with a message, or Cancelled
 // when a run at an extreme takes longer than the watchdog allows (a cancelled run is a clean outcome; the
-// node must notice the cancellation). std::logic_error, std::bad_alloc or any other exception fails.
+// node must notice the cancellation, and return within kCancelBound of it: the bound of
+// tests/test_cancellation.cpp). std::logic_error, std::bad_alloc or any other exception fails.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -30,6 +31,19 @@ namespace orogen {
 namespace {
 
 constexpr auto kWatchdog = std::chrono::seconds(1);
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define OROGEN_TEST_ASAN 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define OROGEN_TEST_ASAN 1
+#endif
+#ifdef OROGEN_TEST_ASAN
+constexpr double kCancelBound = 5.0;  // seconds from the cancel to the return, under AddressSanitizer
+#else
+constexpr double kCancelBound = 1.0;  // seconds from the cancel to the return
+#endif
 // Parameter sweeps of one type stop after this much time (simulations at their largest settings are each cut
 // by the watchdog; the sweep still covers every domain and input kind first).
 constexpr auto kTypeBudget = std::chrono::seconds(20);
@@ -80,9 +94,13 @@ Outcome run_checked(const std::string& label, const std::string& type, const Dom
   std::mutex m;
   std::condition_variable cv;
   bool done = false;
+  std::chrono::steady_clock::time_point cancelled_at{};
   std::thread watchdog([&] {
     std::unique_lock lock(m);
-    if (!cv.wait_for(lock, kWatchdog, [&] { return done; })) cancel.cancel();
+    if (!cv.wait_for(lock, kWatchdog, [&] { return done; })) {
+      cancelled_at = std::chrono::steady_clock::now();
+      cancel.cancel();
+    }
   });
   Outcome outcome = Outcome::Result;
   try {
@@ -99,12 +117,17 @@ Outcome run_checked(const std::string& label, const std::string& type, const Dom
     ADD_FAILURE() << label << ": " << typeid(e).name() << ": " << e.what();
     outcome = Outcome::Error;
   }
+  const auto returned = std::chrono::steady_clock::now();
   {
     std::lock_guard lock(m);
     done = true;
   }
   cv.notify_one();
   watchdog.join();
+  if (cancelled_at != std::chrono::steady_clock::time_point{}) {
+    const double latency = std::chrono::duration<double>(returned - cancelled_at).count();
+    EXPECT_LE(latency, kCancelBound) << label << ": returned " << latency << " s after the cancel";
+  }
   return outcome;
 }
 

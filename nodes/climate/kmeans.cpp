@@ -140,11 +140,15 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
   std::vector<double> sw(uc, 1.0);
   for (std::size_t c = 0; c < uc && c < p.weights.size(); ++c) sw[c] = std::sqrt(std::max(0.0, p.weights[c]));
   std::vector<float> x(n * uc);
+  // A cell with a NaN or infinite feature belongs to no cluster (label -1, NaN in the output): it is left out
+  // of every assignment, sum and count (NaN propagates; it never becomes a cluster id).
+  std::vector<char> valid(n, 1);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kBlock), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t q = r.begin(); q != r.end(); ++q)
       for (std::size_t c = 0; c < uc; ++c) {
         const float v = features.data[q * uc + c];
         x[q * uc + c] = std::isfinite(v) ? static_cast<float>(v * sw[c]) : 0.0f;
+        if (!std::isfinite(v)) valid[q] = 0;
       }
   });
   auto dist2 = [&](std::size_t q, const double* centre) {
@@ -175,7 +179,7 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
     for (int c = 1; c < k; ++c) {
       const double* prev = centres.data() + static_cast<std::size_t>(c - 1) * uc;
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kBlock), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t q = r.begin(); q != r.end(); ++q) d2[q] = std::min(d2[q], dist2(q, prev));
+        for (std::size_t q = r.begin(); q != r.end(); ++q) d2[q] = valid[q] ? std::min(d2[q], dist2(q, prev)) : 0.0;
       });
       double total = 0.0;
       for (double v : d2) total += v;
@@ -225,6 +229,7 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
         const std::size_t q0 = b * kBlock, q1 = std::min(n, (b + 1) * kBlock);
         nearest_centres(x.data() + q0 * uc, q1 - q0, uc, ct.data(), kp, k, best_of, dist_of);
         for (std::size_t q = q0; q < q1; ++q) {
+          if (!valid[q]) continue;  // label stays -1
           const int best = best_of[q - q0];
           changed += res.labels[q] != best;
           res.labels[q] = best;
@@ -271,6 +276,7 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
     if (sw[ch] > 0.0) continue;
     std::vector<double> s(uk, 0.0);
     for (std::size_t q = 0; q < n; ++q) {
+      if (res.labels[q] < 0) continue;
       const float v = features.data[q * uc + ch];
       s[static_cast<std::size_t>(res.labels[q])] += std::isfinite(v) ? v : 0.0;
     }
@@ -283,6 +289,11 @@ KMeansMaps kmeans_maps(const KMeansResult& r, const Domain& domain) {
   KMeansMaps m{std::make_shared<Heightfield>(domain), std::make_shared<Image>(domain, 4)};
   m.color->channel_names = {"R", "G", "B", "A"};
   for (std::size_t q = 0; q < r.labels.size(); ++q) {
+    if (r.labels[q] < 0) {  // a cell with a non-finite feature: NaN id, transparent colour
+      m.ids->data[q] = std::numeric_limits<float>::quiet_NaN();
+      for (int ch = 0; ch < 4; ++ch) m.color->data[q * 4 + static_cast<std::size_t>(ch)] = 0.0f;
+      continue;
+    }
     m.ids->data[q] = static_cast<float>(r.labels[q]);
     const glm::vec4 c = categorical_linear(r.labels[q]);
     for (int ch = 0; ch < 4; ++ch) m.color->data[q * 4 + static_cast<std::size_t>(ch)] = c[ch];
@@ -328,9 +339,12 @@ OROGEN_NODE(KMeansClusters) {
       "Vassilvitskii (2007), k-means++: the advantages of careful seeding). Iterates until at most tolerance x the "
       "cells change cluster (0: none) or max_iterations. Bit-identical for any thread count.");
   b.input("in", PortType::Image).description("Features per cell (ResourceStack.out or any image)");
-  b.output("out", PortType::Heightfield).description("Cluster id 0..k-1").kind(OutputKind::Scalar);
+  b.output("out", PortType::Heightfield)
+      .description("Cluster id 0..k-1 (NaN where a feature is NaN or infinite)")
+      .kind(OutputKind::Scalar);
   b.output("report", PortType::Report).description("Centres (per channel, feature units), member counts, colors, objective per iteration");
-  b.output("color", PortType::Image).description("Cluster colors from a categorical palette, linear RGBA");
+  b.output("color", PortType::Image)
+      .description("Cluster colors from a categorical palette, linear RGBA (transparent where the id is NaN)");
   b.param_int("k", 6).range(1, 64).description("Number of clusters, 1..64");
   b.param_int("max_iterations", 100).range(1, 1000).description("Iteration cap, 1..1000");
   b.param_float("tolerance", 1e-4).range(0.0, 0.5).description("Stop when at most this fraction of the cells changed cluster in an iteration, 0..0.5 (0: until none changes)");

@@ -35,7 +35,7 @@ struct KMeansParams {
 
 struct KMeansResult {
   int k = 0, channels = 0;
-  std::vector<std::int32_t> labels;  // per cell, 0..k-1
+  std::vector<std::int32_t> labels;  // per cell, 0..k-1; -1 for a cell with a NaN or infinite feature
   std::vector<double> centres;       // k x channels, feature units
   std::vector<std::int64_t> counts;  // per cluster
   std::vector<double> objective;     // sum of weighted squared distances after each assignment

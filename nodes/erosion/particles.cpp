@@ -15,6 +15,7 @@
 #include <tbb/parallel_for.h>
 
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/common/work_poll.h"
 
 namespace orogen::erosion {
 namespace {
@@ -188,6 +189,7 @@ struct Sim {
   std::uint32_t* V;
   const Heightfield* mask;
   const std::vector<BrushTap>* brush;
+  const ExecContext* ctx;  // cancellation, polled by droplet steps (one droplet can take 1e7 steps)
   std::ptrdiff_t row0;  // brush rows: offset of the first row's first column from the centre sample
   const float* RW;      // brush rows: row_width weights each (0 outside the disc and in the padding)
   int rows, row_width;
@@ -313,7 +315,9 @@ struct Sim {
       for (int q = 0; q < visit_count; ++q) ++V[visited[q]];
       visit_count = 0;
     };
+    WorkPoll poll(ctx);
     while (live) {
+      poll();  // one unit: a step of every lane
       if (visit_count > kVisitBatch - N) count_visits();
       for (int t = 0; t < T; ++t) steps[t] += static_cast<unsigned>(live_count[t]);
       // Nearest sample of each position: the brush centre and the visit count.
@@ -541,6 +545,7 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   sim.V = visits.data();
   sim.mask = mask;
   sim.brush = &brush;
+  sim.ctx = ctx;
   sim.row0 = static_cast<std::ptrdiff_t>(dj_lo) * pitch - rx;
   sim.RW = row_weights.data();
   sim.rows = dj_hi - dj_lo + 1;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -9,6 +10,8 @@
 #include <tbb/parallel_for.h>
 
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/common/finite_inputs.h"
+#include "nodes/common/work_bounds.h"
 
 namespace orogen::erosion {
 namespace {
@@ -438,6 +441,21 @@ struct PipeRun {
 PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfield* mask, const Heightfield* rainfall,
                       const Heightfield* moisture, const Heightfield* temperature, const Heightfield* hardness,
                       const ExecContext* ctx, PipeStats* stats, bool check_conservation) {
+  // Non-finite driving fields are refused (an infinite rain rate makes the CFL step 0: time would stand
+  // still); so is a plan above the work ceiling, counted with the largest step the CFL condition allows.
+  require_finite(rainfall, "PipeErosion", "rainfall");
+  require_finite(moisture, "PipeErosion", "moisture");
+  require_finite(temperature, "PipeErosion", "temperature");
+  require_finite(hardness, "PipeErosion", "hardness");
+  require_finite(mask, "PipeErosion", "mask");
+  {
+    const double spacing = std::min(in.domain.spacing.x, in.domain.spacing.y);
+    const double dt_max = p.courant * spacing / std::sqrt(p.gravity * p.depth_scale);
+    const double steps = p.duration / dt_max;
+    check_work(steps * static_cast<double>(in.data.size()),
+               "PipeErosion: sample updates (at least duration / CFL time step x samples)",
+               "lower duration, or use a coarser grid");
+  }
   PipeRun run(in, p, mask, rainfall, moisture, temperature, hardness);
   PipeStats st;
   st.total_volume = 0;
@@ -452,6 +470,10 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
     // shrink the step without end.)
     double dt = p.courant * spacing / std::sqrt(p.gravity * std::max(dmax, p.depth_scale));
     dt = std::min(dt, p.duration - t);
+    if (!(dt > 0.0) || !(t + dt > t))
+      throw NodeError("PipeErosion: the CFL time step became " + std::to_string(dt) + " s at t = " + std::to_string(t) +
+                      " s (a water depth of " + std::to_string(dmax) +
+                      " m): simulated time cannot advance; lower rain_rate or the rainfall input, or duration");
     const double before = check_conservation ? run.volume(ctx) : 0.0;
     run.sweep(run.constants(dt, step, t + dt >= p.duration - 1e-9));
     double sed_out = 0;

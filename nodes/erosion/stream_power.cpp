@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/common/work_bounds.h"
 #include "nodes/hydrology/basin_graph.h"
 #include "nodes/hydrology/flow_routing.h"
 
@@ -53,11 +54,21 @@ class StreamPowerRun {
       kfac_[k] = mask_at(mask, k);
       ufac_[k] = fixed_[k] ? 0.0 : p.uplift * (uplift ? std::max(0.0f, uplift->data[k]) : 1.0f);
     }
-    steps_ = std::max(1, static_cast<int>(std::ceil(p.duration / p.dt - 1e-9)));
+    // Counts checked before anything runs (a bare cast of 1e10 steps to int is undefined and ran one step).
+    steps_ = static_cast<int>(checked_count(p.duration / p.dt - 1e-9, "StreamPower: time steps (duration / time_step)",
+                                            "raise time_step or lower duration"));
     dt_ = p.duration / steps_;
     // Diffusion sub-steps: explicit FTCS is stable for D dt_sub (2/dx^2 + 2/dy^2) <= 1.
     const double dt_diff_max = 0.9 / (std::max(p.diffusion, 1e-30) * (2.0 / (dx_ * dx_) + 2.0 / (dy_ * dy_)));
-    diff_steps_ = p.diffusion > 0 ? std::max(1, static_cast<int>(std::ceil(dt_ / dt_diff_max))) : 0;
+    diff_steps_ = p.diffusion > 0
+                      ? static_cast<int>(checked_count(dt_ / dt_diff_max,
+                                                       "StreamPower: diffusion sub-steps per time step "
+                                                       "(diffusion x time_step / spacing^2)",
+                                                       "lower diffusion or time_step, or use a coarser grid"))
+                      : 0;
+    check_work(static_cast<double>(steps_) * (1.0 + diff_steps_) * static_cast<double>(n_),
+               "StreamPower: sample updates (time steps x (1 + diffusion sub-steps) x samples)",
+               "raise time_step, lower duration or diffusion, or use a coarser grid");
     row_max_.resize(static_cast<std::size_t>(h_));
     row_sum_.resize(static_cast<std::size_t>(h_));
     row_count_.resize(static_cast<std::size_t>(h_));

@@ -150,6 +150,16 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
   }();
   (void)quiet;
   if (mesh.face_count() == 0) throw FileError("cannot write '" + path.string() + "': the mesh has no faces");
+  // No format stores a NaN or infinite position meaningfully (OBJ would get "nan" text, GLB and STL NaN
+  // floats that viewers reject): refused, naming the vertex, in every format.
+  for (auto v : mesh.mesh.vertices()) {
+    const auto& q = mesh.mesh.point(v);
+    if (!std::isfinite(q[0]) || !std::isfinite(q[1]) || !std::isfinite(q[2]))
+      throw FileError("cannot write '" + path.string() + "': vertex " + std::to_string(v.idx()) + " has a non-finite "
+                      "position (" + std::to_string(q[0]) + ", " + std::to_string(q[1]) + ", " + std::to_string(q[2]) +
+                      "); a mesh of a heightfield with NaN or infinite samples cannot be written (fill or clamp them "
+                      "upstream)");
+  }
   if (format == MeshFormat::Gltf || format == MeshFormat::Glb)
     return write_gltf_file(mesh, path, format == MeshFormat::Glb, options.normals, options.colors, options.uvs,
                            options.name);

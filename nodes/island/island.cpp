@@ -116,12 +116,12 @@ Biome whittaker_biome(double e, double m) {
   return Biome::SubtropicalDesert;
 }
 
-std::vector<glm::dvec2> island_sites(const IslandParams& p) {
+std::vector<glm::dvec2> island_sites(const IslandParams& p, const ExecContext* ctx) {
   if (!(p.size.x > 0.0 && p.size.y > 0.0)) throw std::runtime_error("island: the map size must be positive");
   if (p.cells < 1) throw std::runtime_error("island: at least one cell is needed");
   std::vector<glm::dvec2> pts;
   if (p.distribution == SiteDistribution::Poisson) {
-    pts = poisson_sites(p.min_corner, p.size, p.cells, p.seed);
+    pts = poisson_sites(p.min_corner, p.size, p.cells, p.seed, ctx);
   } else {
     pts.resize(static_cast<std::size_t>(p.cells));
     for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -138,7 +138,7 @@ std::vector<glm::dvec2> island_sites(const IslandParams& p) {
 PolygonMap generate_island(const IslandParams& p, const Heightfield* mask, const ExecContext* ctx,
                            std::vector<double>* lloyd_energy) {
   const glm::dvec2 lo = p.min_corner, hi = p.min_corner + p.size;
-  std::vector<glm::dvec2> sites = island_sites(p);
+  std::vector<glm::dvec2> sites = island_sites(p, ctx);
   if (ctx) ctx->progress(0.1);
   PolygonMap map = relaxed_voronoi_diagram(std::move(sites), lo, hi, p.relaxation, lloyd_energy, ctx);
   if (ctx) ctx->progress(0.8);

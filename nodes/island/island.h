@@ -105,7 +105,7 @@ std::vector<glm::dvec2> poisson_sites(glm::dvec2 lo, glm::dvec2 size, int n, std
                                       const ExecContext* ctx = nullptr);
 
 // The sites of step 1 (before relaxation), inside the map rectangle.
-std::vector<glm::dvec2> island_sites(const IslandParams& p);
+std::vector<glm::dvec2> island_sites(const IslandParams& p, const ExecContext* ctx = nullptr);
 
 // Steps 1-8. `mask` (optional): land where >= 0.5, sampled at the corners (NaN is water). `lloyd_energy`
 // (optional) receives the centroidal energy before each relaxation pass and after the last.

@@ -382,15 +382,26 @@ void classify_island(PolygonMap& map, const IslandParams& p, const Heightfield* 
   const std::size_t nq = map.corners.size();
   const WaterClasses w = classify_water(map, corner_water(map, p, mask), p.water_fraction);
   if (ctx) ctx->check_cancelled();
+  // Cancellation between the stages (each is a pass or a sort over the corners: tens of milliseconds at the
+  // largest maps).
+  const auto poll = [&] {
+    if (ctx) ctx->check_cancelled();
+  };
   const std::vector<double> dist = coast_distance(map, w);
+  poll();
   int max_odist = 0;
   const std::vector<int> odist = ocean_steps(map, w, max_odist);
+  poll();
   std::vector<float> elevation = corner_elevation(w, dist, odist, max_odist, p);
+  poll();
   const std::vector<int> downstream = downstream_corners(map, w, dist, elevation);
-  if (ctx) ctx->check_cancelled();
+  poll();
   RiverVolumes rivers = trace_rivers(map, w, elevation, downstream, p);
+  poll();
   const std::vector<double> raw = raw_moisture(map, w, rivers.corner, p.moisture_decay);
+  poll();
   const std::vector<float> moisture = moisture_ranks(w, raw);
+  poll();
   write_cell_attributes(map, w, elevation, moisture, p);
 
   const auto as_float = [](const std::vector<char>& v) { return std::vector<float>(v.begin(), v.end()); };

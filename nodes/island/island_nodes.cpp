@@ -73,6 +73,7 @@ OROGEN_NODE(VoronoiIsland) {
     p.seed = ctx.param<std::uint64_t>("seed");
     const auto mask = ctx.input<Heightfield>("mask");
     auto map = std::make_shared<PolygonMap>(generate_island(p, mask.get(), &ctx));
+    ctx.check_cancelled();
     ctx.set_output("rivers", std::make_shared<Curves>(river_curves(*map, ctx.param<double>("river_width"))));
     ctx.set_output("out", std::shared_ptr<const PolygonMap>(std::move(map)));
   });

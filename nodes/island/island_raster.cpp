@@ -19,6 +19,23 @@ inline Index ix(int k) { return static_cast<Index>(k); }
 
 double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
 
+// The bucket of coordinate u (in buckets) among n, clamped; NaN and huge values never reach an int cast.
+int bucket_index(double u, int n) {
+  const double f = std::floor(u);
+  if (!(f >= 0.0)) return 0;
+  if (f >= n - 1) return n - 1;
+  return static_cast<int>(f);
+}
+
+// Grid of about `target` buckets over a rectangle of `size`, its cells as square as the aspect ratio allows
+// (a map of 10 m x 10 km gets 1 x n buckets, not n x n of which all but one column are empty).
+glm::ivec2 bucket_grid(glm::dvec2 size, double target, int max_side) {
+  target = std::clamp(target, 1.0, static_cast<double>(max_side) * max_side);
+  const double gx = std::clamp(std::round(std::sqrt(target * size.x / size.y)), 1.0, static_cast<double>(max_side));
+  const double gy = std::clamp(std::round(target / gx), 1.0, static_cast<double>(max_side));
+  return {static_cast<int>(gx), static_cast<int>(gy)};
+}
+
 const std::vector<float>* find_attr(const PolygonMap::Attributes& attrs, const char* name, std::size_t n) {
   const auto it = attrs.find(name);
   return it != attrs.end() && it->second.size() == n ? &it->second : nullptr;
@@ -38,9 +55,12 @@ struct SegmentGrid {
   void build(glm::dvec2 map_lo, glm::dvec2 map_hi) {
     lo = map_lo;
     const glm::dvec2 size = glm::max(map_hi - map_lo, glm::dvec2(1e-9));
-    const double target = std::sqrt(static_cast<double>(std::max<std::size_t>(segments.size(), 1)));
-    gw = std::clamp(static_cast<int>(target), 1, 512);
-    gh = gw;
+    // About sqrt(n) x sqrt(n) buckets on a square map (exactly as before: coverage reaches half a spacing past
+    // a segment's box, so the grid shapes the result at bucket borders), stretched with the aspect ratio.
+    const double target = static_cast<double>(std::max<std::size_t>(segments.size(), 1));
+    const double aspect = size.x / size.y;
+    gw = static_cast<int>(std::clamp(std::sqrt(target * aspect), 1.0, 512.0));
+    gh = static_cast<int>(std::clamp(std::sqrt(target / aspect), 1.0, 512.0));
     cell = size / glm::dvec2(gw, gh);
     buckets.assign(static_cast<std::size_t>(gw) * static_cast<std::size_t>(gh), {});
     for (std::size_t s = 0; s < segments.size(); ++s) {
@@ -53,7 +73,7 @@ struct SegmentGrid {
   }
   glm::ivec2 bucket(glm::dvec2 p) const {
     const glm::dvec2 u = (p - lo) / cell;
-    return {std::clamp(static_cast<int>(std::floor(u.x)), 0, gw - 1), std::clamp(static_cast<int>(std::floor(u.y)), 0, gh - 1)};
+    return {bucket_index(u.x, gw), bucket_index(u.y, gh)};
   }
   // Coverage in [0, 1] at p: the largest over segments of (half width - distance) / spacing + 0.5, clamped.
   float coverage(glm::dvec2 p, double spacing) const {
@@ -78,15 +98,14 @@ CellLocator::CellLocator(const PolygonMap& map) : map_(map) {
   lo_ = map.min_corner;
   const glm::dvec2 size = glm::max(map.max_corner - map.min_corner, glm::dvec2(1e-9));
   const double n = static_cast<double>(std::max<std::size_t>(map.cells.size(), 1));
-  const double side = std::sqrt(size.x * size.y / n) * 1.5;  // about 2 sites per bucket
-  gw_ = std::clamp(static_cast<int>(std::ceil(size.x / side)), 1, 4096);
-  gh_ = std::clamp(static_cast<int>(std::ceil(size.y / side)), 1, 4096);
+  const glm::ivec2 g = bucket_grid(size, n / 2.25, 4096);  // about 2 sites per bucket
+  gw_ = g.x;
+  gh_ = g.y;
   cell_ = size / glm::dvec2(gw_, gh_);
   std::vector<int> count(static_cast<std::size_t>(gw_) * static_cast<std::size_t>(gh_) + 1, 0);
   auto bucket_of = [&](glm::dvec2 p) {
     const glm::dvec2 u = (p - lo_) / cell_;
-    const int x = std::clamp(static_cast<int>(std::floor(u.x)), 0, gw_ - 1), y = std::clamp(static_cast<int>(std::floor(u.y)), 0, gh_ - 1);
-    return y * gw_ + x;
+    return bucket_index(u.y, gh_) * gw_ + bucket_index(u.x, gw_);
   };
   for (const auto& c : map.cells) ++count[ix(bucket_of(c.centre)) + 1];
   for (std::size_t k = 1; k < count.size(); ++k) count[k] += count[k - 1];
@@ -96,36 +115,48 @@ CellLocator::CellLocator(const PolygonMap& map) : map_(map) {
   for (std::size_t c = 0; c < map.cells.size(); ++c) items_[ix(fill[ix(bucket_of(map.cells[c].centre))]++)] = static_cast<int>(c);
 }
 
+// The nearest site (ties: the lower index), by rings of buckets around p's bucket, visiting only each ring's
+// perimeter; stops once no bucket of the ring can hold a nearer site. Each axis bounds the distance by its
+// own bucket size, so elongated buckets do not make the search scan the whole grid.
 int CellLocator::find(glm::dvec2 p) const {
   if (map_.cells.empty()) return -1;
   const glm::dvec2 u = (p - lo_) / cell_;
-  const int bx = std::clamp(static_cast<int>(std::floor(u.x)), 0, gw_ - 1), by = std::clamp(static_cast<int>(std::floor(u.y)), 0, gh_ - 1);
+  const int bx = bucket_index(u.x, gw_), by = bucket_index(u.y, gh_);
   int best = -1;
   double best_d2 = std::numeric_limits<double>::infinity();
-  const int max_ring = std::max(gw_, gh_);
-  for (int ring = 0; ring <= max_ring; ++ring) {
-    // Every site in rings > `ring` is at least (ring) bucket widths away from p's bucket border.
-    if (best >= 0) {
-      const double reach = (ring - 1) * std::min(cell_.x, cell_.y);
-      if (reach > 0.0 && reach * reach > best_d2) break;
-    }
-    for (int y = by - ring; y <= by + ring; ++y) {
-      if (y < 0 || y >= gh_) continue;
-      for (int x = bx - ring; x <= bx + ring; ++x) {
-        if (x < 0 || x >= gw_) continue;
-        if (std::max(std::abs(x - bx), std::abs(y - by)) != ring) continue;
-        const int b = y * gw_ + x;
-        for (int k = start_[ix(b)]; k < start_[ix(b) + 1]; ++k) {
-          const int c = items_[ix(k)];
-          const glm::dvec2 d = map_.cells[ix(c)].centre - p;
-          const double d2 = glm::dot(d, d);
-          if (d2 < best_d2 || (d2 == best_d2 && c < best)) {
-            best_d2 = d2;
-            best = c;
-          }
-        }
+  const auto scan = [&](int x, int y) {
+    const int b = y * gw_ + x;
+    for (int k = start_[ix(b)]; k < start_[ix(b) + 1]; ++k) {
+      const int c = items_[ix(k)];
+      const glm::dvec2 d = map_.cells[ix(c)].centre - p;
+      const double d2 = glm::dot(d, d);
+      if (d2 < best_d2 || (d2 == best_d2 && c < best)) {
+        best_d2 = d2;
+        best = c;
       }
     }
+  };
+  const int max_ring = std::max({bx, gw_ - 1 - bx, by, gh_ - 1 - by});
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  for (int ring = 0; ring <= max_ring; ++ring) {
+    if (best >= 0 && ring >= 2) {
+      // A bucket of this ring (or a later one) lies `ring` columns or `ring` rows away: at least ring - 1
+      // bucket widths or heights from p, counting only the directions in which the grid goes on.
+      const bool columns = bx - ring >= 0 || bx + ring < gw_, rows = by - ring >= 0 || by + ring < gh_;
+      const double reach = std::min(columns ? (ring - 1) * cell_.x : kInf, rows ? (ring - 1) * cell_.y : kInf);
+      if (reach * reach > best_d2) break;
+    }
+    const int x0 = std::max(bx - ring, 0), x1 = std::min(bx + ring, gw_ - 1);
+    if (by - ring >= 0)
+      for (int x = x0; x <= x1; ++x) scan(x, by - ring);
+    if (ring == 0) continue;
+    if (by + ring < gh_)
+      for (int x = x0; x <= x1; ++x) scan(x, by + ring);
+    const int y0 = std::max(by - ring + 1, 0), y1 = std::min(by + ring - 1, gh_ - 1);
+    if (bx - ring >= 0)
+      for (int y = y0; y <= y1; ++y) scan(bx - ring, y);
+    if (bx + ring < gw_)
+      for (int y = y0; y <= y1; ++y) scan(bx + ring, y);
   }
   return best;
 }

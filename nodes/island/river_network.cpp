@@ -1,12 +1,15 @@
 #include "nodes/island/river_network.h"
 
 #include <algorithm>
+#include <limits>
+#include <queue>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
 
 #include "graph/exec_context.h"
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/common/work_poll.h"
 #include "nodes/island/island.h"
 #include "nodes/island/island_random.h"
 
@@ -79,9 +82,10 @@ struct SegmentIndex {
   void insert(glm::dvec2 a, glm::dvec2 b) {
     for_buckets(a, b, [&](auto& list) { list.emplace_back(a, b); });
   }
-  bool crosses(glm::dvec2 a, glm::dvec2 b) {
+  bool crosses(glm::dvec2 a, glm::dvec2 b, WorkPoll& poll) {
     bool hit = false;
     for_buckets(a, b, [&](auto& list) {
+      poll(1 + static_cast<std::int64_t>(list.size()));
       for (const auto& [c, d] : list)
         if (!hit && segments_meet(a, b, c, d)) hit = true;
     });
@@ -143,23 +147,30 @@ Curves river_network(const RiverNetworkParams& p, const Heightfield* mask, const
       if (land(q)) pts.push_back(q);
   const int n = static_cast<int>(pts.size());
 
-  // Point buckets for nearest-candidate queries.
-  const double cell = std::max(p.max_length, 1e-6);
-  const int gw = std::clamp(static_cast<int>(std::ceil(p.size.x / cell)), 1, 2048);
-  const int gh = std::clamp(static_cast<int>(std::ceil(p.size.y / cell)), 1, 2048);
+  // Point buckets for nearest-candidate queries: about 4 inner points per bucket, as square as the aspect
+  // ratio allows (at most 2048 a side), whatever max_length is; candidates come ring by ring (below).
+  const double inner = std::max(1.0, static_cast<double>(n - roots));
+  const double target = std::clamp(inner / 4.0, 1.0, 2048.0 * 2048.0);
+  const int gw = static_cast<int>(std::clamp(std::round(std::sqrt(target * p.size.x / p.size.y)), 1.0, 2048.0));
+  const int gh = static_cast<int>(std::clamp(std::round(target / gw), 1.0, 2048.0));
   const glm::dvec2 bsize = p.size / glm::dvec2(gw, gh);
   std::vector<std::vector<int>> point_buckets(static_cast<std::size_t>(gw) * static_cast<std::size_t>(gh));
+  auto cell_of = [](double u, int count) {
+    const double f = std::floor(u);
+    return !(f >= 0.0) ? 0 : f >= count - 1 ? count - 1 : static_cast<int>(f);
+  };
   auto bucket_of = [&](glm::dvec2 q) {
-    return glm::ivec2(std::clamp(static_cast<int>(std::floor((q.x - lo.x) / bsize.x)), 0, gw - 1),
-                      std::clamp(static_cast<int>(std::floor((q.y - lo.y) / bsize.y)), 0, gh - 1));
+    return glm::ivec2(cell_of((q.x - lo.x) / bsize.x, gw), cell_of((q.y - lo.y) / bsize.y, gh));
   };
   for (int k = roots; k < n; ++k) {
     const glm::ivec2 b = bucket_of(pts[ix(k)]);
     point_buckets[static_cast<std::size_t>(b.y * gw + b.x)].push_back(k);
   }
-  const int reach_x = static_cast<int>(std::ceil(p.max_length / bsize.x)), reach_y = static_cast<int>(std::ceil(p.max_length / bsize.y));
+  // Segment buckets a few point spacings wide (crossing tests then look at nearby segments only).
+  const double spacing = std::sqrt(p.size.x * p.size.y / inner);
+  const double segment_cell = std::max(std::min(p.max_length, 4.0 * spacing), 1e-6);
 
-  SegmentIndex segments(lo - glm::dvec2(1.0), p.size + glm::dvec2(2.0), std::max(p.max_length, 1e-6));
+  SegmentIndex segments(lo - glm::dvec2(1.0), p.size + glm::dvec2(2.0), segment_cell);
   std::vector<int> parent(ix(n), -1);
   std::vector<char> used(ix(n), 0);
   std::vector<glm::dvec2> control(ix(n));     // P1 of the curve ending at point k
@@ -174,29 +185,71 @@ Curves river_network(const RiverNetworkParams& p, const Heightfield* mask, const
     pool.push_back(k);
   }
 
-  std::vector<std::pair<double, int>> candidates;
+  // Candidates in increasing (distance, index), as a sort of every unused point within max_length would give
+  // them, but lazily: rings of buckets around the pool point are scanned only while a nearer point could
+  // still lie in them, so a point joined from nearby costs a few buckets, not a scan and sort of all points.
+  using Candidate = std::pair<double, int>;
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<Candidate>> candidates;
   std::vector<glm::dvec2> poly(static_cast<std::size_t>(samples) + 1);
   std::uint64_t draw = 0;
+  WorkPoll poll(ctx);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   for (std::size_t iter = 1; !pool.empty(); ++iter) {
-    if (ctx && (iter & 255) == 0) {
-      ctx->check_cancelled();
-      ctx->progress(0.1 + 0.8 * static_cast<double>(order.size()) / std::max(1, n - roots));
-    }
+    poll();
+    if (ctx && (iter & 255) == 0) ctx->progress(0.1 + 0.8 * static_cast<double>(order.size()) / std::max(1, n - roots));
     const std::size_t slot = std::min(pool.size() - 1, static_cast<std::size_t>(unit_hash(p.seed, 0x504f4f4cull, draw++) * static_cast<double>(pool.size())));
     const int k = pool[slot];
     const glm::dvec2 a = pts[ix(k)];
-    candidates.clear();
+    candidates = {};
     const glm::ivec2 b = bucket_of(a);
-    for (int y = std::max(0, b.y - reach_y); y <= std::min(gh - 1, b.y + reach_y); ++y)
-      for (int x = std::max(0, b.x - reach_x); x <= std::min(gw - 1, b.x + reach_x); ++x)
-        for (int c : point_buckets[static_cast<std::size_t>(y * gw + x)]) {
-          if (used[ix(c)]) continue;
-          const double d = glm::length(pts[ix(c)] - a);
-          if (d <= p.max_length && d > 0.0) candidates.emplace_back(d, c);
-        }
-    std::sort(candidates.begin(), candidates.end());
+    const int max_ring = std::max({b.x, gw - 1 - b.x, b.y, gh - 1 - b.y});
+    int next_ring = 0;
+    // Lower bound of the distance from a to the points of ring r (r columns or r rows away), counting only
+    // the directions in which the grid goes on; +inf past the grid.
+    const auto ring_bound = [&](int r) {
+      if (r > max_ring) return kInf;
+      if (r == 0) return 0.0;
+      const bool columns = b.x - r >= 0 || b.x + r < gw, rows = b.y - r >= 0 || b.y + r < gh;
+      return std::min(columns ? (r - 1) * bsize.x : kInf, rows ? (r - 1) * bsize.y : kInf);
+    };
+    const auto scan = [&](int x, int y) {
+      const auto& list = point_buckets[static_cast<std::size_t>(y * gw + x)];
+      poll(1 + static_cast<std::int64_t>(list.size()));
+      for (int c : list) {
+        if (used[ix(c)]) continue;
+        const double d = glm::length(pts[ix(c)] - a);
+        if (d <= p.max_length && d > 0.0) candidates.emplace(d, c);
+      }
+    };
+    const auto scan_ring = [&](int r) {
+      const int x0 = std::max(b.x - r, 0), x1 = std::min(b.x + r, gw - 1);
+      if (b.y - r >= 0)
+        for (int x = x0; x <= x1; ++x) scan(x, b.y - r);
+      if (r == 0) return;
+      if (b.y + r < gh)
+        for (int x = x0; x <= x1; ++x) scan(x, b.y + r);
+      const int y0 = std::max(b.y - r + 1, 0), y1 = std::min(b.y + r - 1, gh - 1);
+      if (b.x - r >= 0)
+        for (int y = y0; y <= y1; ++y) scan(b.x - r, y);
+      if (b.x + r < gw)
+        for (int y = y0; y <= y1; ++y) scan(b.x + r, y);
+    };
+    // The next candidate: final once it is nearer than anything an unscanned ring can hold.
+    const auto next_candidate = [&](Candidate& out) {
+      for (;;) {
+        const double bound = ring_bound(next_ring);
+        if (bound > p.max_length) break;  // no unscanned ring holds a point within max_length
+        if (!candidates.empty() && candidates.top().first < bound) break;
+        scan_ring(next_ring++);
+      }
+      if (candidates.empty()) return false;
+      out = candidates.top();
+      candidates.pop();
+      return true;
+    };
     bool accepted = false;
-    for (const auto& [dist, c] : candidates) {
+    for (Candidate cand; next_candidate(cand);) {
+      const auto [dist, c] = cand;
       const glm::dvec2 e = pts[ix(c)];
       // Control point: continue the incoming tangent, or bend the chord by a hashed offset.
       glm::dvec2 p1;
@@ -215,7 +268,7 @@ Curves river_network(const RiverNetworkParams& p, const Heightfield* mask, const
       }
       for (int s = 0; s <= samples; ++s) poly[ix(s)] = s == samples ? e : (s == 0 ? a : bezier(a, p1, e, static_cast<double>(s) / samples));
       bool ok = true;
-      for (int s = 0; s < samples && ok; ++s) ok = !segments.crosses(poly[ix(s)], poly[ix(s + 1)]);
+      for (int s = 0; s < samples && ok; ++s) ok = !segments.crosses(poly[ix(s)], poly[ix(s + 1)], poll);
       for (int s = 1; s <= samples && ok; ++s)
         ok = poly[ix(s)].x >= lo.x && poly[ix(s)].y >= lo.y && poly[ix(s)].x <= hi.x && poly[ix(s)].y <= hi.y;
       if (ok && mask)

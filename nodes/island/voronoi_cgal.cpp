@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -18,6 +19,7 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include "graph/exec_context.h"
+#include "nodes/common/work_poll.h"
 
 namespace orogen::island {
 namespace {
@@ -99,10 +101,12 @@ std::vector<int> insertion_order(const Lattice& L) {
 
 // Triangulates the sites (in `order`) and the mirrors of those within `margin` lattice steps of a side,
 // each point located from the previous one.
-void triangulate(const Lattice& L, std::span<const int> order, double margin, Delaunay& dt) {
+void triangulate(const Lattice& L, std::span<const int> order, double margin, Delaunay& dt, const ExecContext* ctx) {
   std::size_t count = 0;
   Delaunay::Face_handle hint;
+  WorkPoll poll(ctx, 256);  // one unit: an insertion (a walk and a few flips, about a microsecond)
   const auto add = [&](double x, double y, int info) {
+    poll();
     const auto v = dt.insert(Point(x, y), hint);
     v->info() = info;
     hint = v->face();
@@ -170,9 +174,9 @@ Point face_circumcentre(Delaunay::Face_handle f) {
 // Area centroids of the clipped cells straight from the triangulation (Lloyd passes need nothing else).
 // Returns false if a cell is not closed by the mirrors.
 bool centroids(const Lattice& L, std::span<const int> order, glm::dvec2 lo, glm::dvec2 hi, double margin,
-               std::vector<glm::dvec2>& out, double* energy) {
+               std::vector<glm::dvec2>& out, double* energy, double tol, const ExecContext* ctx) {
   Delaunay dt;
-  triangulate(L, order, margin, dt);
+  triangulate(L, order, margin, dt, ctx);
   if (dt.dimension() < 2) return false;  // too few mirrors to surround the sites
   const std::size_t n = L.kx.size();
   std::vector<Point> centre;
@@ -186,7 +190,6 @@ bool centroids(const Lattice& L, std::span<const int> order, glm::dvec2 lo, glm:
   }
   out.assign(n, glm::dvec2(0.0));
   double e = 0.0;
-  const double tol = 1.0;
   std::vector<glm::dvec2> poly;
   std::vector<int> next_info;
   for (auto v : dt.finite_vertex_handles()) {
@@ -227,10 +230,10 @@ bool centroids(const Lattice& L, std::span<const int> order, glm::dvec2 lo, glm:
 }
 
 bool build(const Lattice& L, std::span<const int> order_in, glm::dvec2 lo, glm::dvec2 hi, double margin,
-           PolygonMap& out, const ExecContext* ctx) {
+           PolygonMap& out, const ExecContext* ctx, double tol) {
   const int n = static_cast<int>(L.kx.size());
   Delaunay dt;
-  triangulate(L, order_in, margin, dt);
+  triangulate(L, order_in, margin, dt, ctx);
   if (dt.dimension() < 2) return false;  // too few mirrors to surround the sites
   if (ctx) ctx->check_cancelled();
 
@@ -247,6 +250,7 @@ bool build(const Lattice& L, std::span<const int> order_in, glm::dvec2 lo, glm::
       f->info() = static_cast<int>(faces.size());
       faces.push_back(f);
     }
+  if (ctx) ctx->check_cancelled();
   // Neighbouring faces on one circle (exact predicate) share their circumcentre: one corner.
   std::vector<int> parent(faces.size());
   std::iota(parent.begin(), parent.end(), 0);
@@ -346,8 +350,7 @@ bool build(const Lattice& L, std::span<const int> order_in, glm::dvec2 lo, glm::
   out.max_corner = hi;
   out.corners.resize(static_cast<std::size_t>(classes));
   // Corners to world coordinates; corners on a side are placed exactly on it. A corner outside the
-  // rectangle means a cell was not closed by the mirrors.
-  const double tol = 1.0;  // lattice steps
+  // rectangle means a cell was not closed by the mirrors (tol: lattice steps).
   for (std::size_t r = 0; r < keys.size(); ++r) {
     const auto& key = keys[r];
     const Point centre = face_circumcentre(L, key.info[0], key.info[1], key.info[2]);
@@ -367,6 +370,7 @@ bool build(const Lattice& L, std::span<const int> order_in, glm::dvec2 lo, glm::
     q.edges.reserve(3);
   }
 
+  if (ctx) ctx->check_cancelled();
   out.cells.resize(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
     auto& cell = out.cells[static_cast<std::size_t>(i)];
@@ -444,24 +448,38 @@ bool build(const Lattice& L, std::span<const int> order_in, glm::dvec2 lo, glm::
   return true;
 }
 
+// A corner (circumcentre) more than this many lattice steps outside the rectangle means a cell is not closed
+// by the mirrors of the margin tried. With every site mirrored every cell is closed, and a corner outside can
+// only be the rounding of a circumcentre of a nearly flat triangle (sites almost in a line, as on a map
+// thousands of times longer than wide): the last attempt allows that rounding, up to 2^-20 of the long side.
+constexpr double kTolerance = 1.0;
+double full_mirror_tolerance(const Lattice& L) { return std::max(kTolerance, std::max(L.w, L.h) * 0x1p-20); }
+
+[[noreturn]] void open_cell_error(const Lattice& L) {
+  char ratio[32];
+  std::snprintf(ratio, sizeof ratio, "%.3g", std::max(L.w, L.h) / std::min(L.w, L.h));
+  throw NodeError(std::string("Voronoi diagram: a cell stayed open with every site mirrored (the map is ") + ratio +
+                  " times longer than wide, beyond what the diagram resolves for this many cells); change `size` "
+                  "to a less elongated rectangle or lower `cells`");
+}
+
 // The diagram of the snapped sites, trying the mirror margins in turn.
 void build_diagram(const Lattice& L, std::span<const int> order, glm::dvec2 lo, glm::dvec2 hi, PolygonMap& map,
                    const ExecContext* ctx) {
   const double spacing = std::sqrt(L.w * L.h / static_cast<double>(L.kx.size()));
   for (double m : kMargins)
-    if (build(L, order, lo, hi, m * spacing, map, ctx)) return;
-  if (!build(L, order, lo, hi, 2.0 * std::max(L.w, L.h) + 1.0, map, ctx))
-    throw std::logic_error("Voronoi diagram: a cell stayed open with every site mirrored");
+    if (build(L, order, lo, hi, m * spacing, map, ctx, kTolerance)) return;
+  if (!build(L, order, lo, hi, 2.0 * std::max(L.w, L.h) + 1.0, map, ctx, full_mirror_tolerance(L))) open_cell_error(L);
 }
 
 // One Lloyd pass: the centroids of the snapped sites' cells.
 void lloyd_pass(const Lattice& L, std::span<const int> order, glm::dvec2 lo, glm::dvec2 hi, std::vector<glm::dvec2>& out,
-                double* energy) {
+                double* energy, const ExecContext* ctx) {
   const double spacing = std::sqrt(L.w * L.h / static_cast<double>(L.kx.size()));
   for (double m : kMargins)
-    if (centroids(L, order, lo, hi, m * spacing, out, energy)) return;
-  if (!centroids(L, order, lo, hi, 2.0 * std::max(L.w, L.h) + 1.0, out, energy))
-    throw std::logic_error("Voronoi diagram: a cell stayed open with every site mirrored");
+    if (centroids(L, order, lo, hi, m * spacing, out, energy, kTolerance, ctx)) return;
+  if (!centroids(L, order, lo, hi, 2.0 * std::max(L.w, L.h) + 1.0, out, energy, full_mirror_tolerance(L), ctx))
+    open_cell_error(L);
 }
 
 std::vector<glm::dvec2> relax(std::vector<glm::dvec2> sites, glm::dvec2 lo, glm::dvec2 hi, int passes,
@@ -473,7 +491,7 @@ std::vector<glm::dvec2> relax(std::vector<glm::dvec2> sites, glm::dvec2 lo, glm:
     const Lattice L = snap(sites, lo, hi);
     if (order.empty()) order = insertion_order(L);
     double e = 0.0;
-    lloyd_pass(L, order, lo, hi, next, &e);
+    lloyd_pass(L, order, lo, hi, next, &e, ctx);
     if (energy) energy->push_back(e);
     if (pass < passes) sites.swap(next);
   }

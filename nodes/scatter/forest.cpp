@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <stdexcept>
@@ -13,6 +14,8 @@
 
 #include "graph/exec_context.h"
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/common/work_bounds.h"
+#include "nodes/common/work_poll.h"
 #include "nodes/scatter/scatter_hash.h"
 
 namespace orogen {
@@ -60,7 +63,7 @@ Canopy::Canopy(const Points& casters, const CanopyParams& p) : sun_(glm::normali
   }
 }
 
-bool Canopy::shaded(double x, double y, double z) const {
+bool Canopy::shaded(double x, double y, double z, WorkPoll* poll) const {
   if (spheres_.empty() || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) return false;
   const glm::dvec2 h(sun_.x, sun_.y);
   const double hl = glm::length(h);
@@ -69,20 +72,47 @@ bool Canopy::shaded(double x, double y, double z) const {
   const double L = sun_.z > 1e-9 ? rise * hl / sun_.z : 1e9;
   const glm::dvec2 dir = hl > 0 ? h / hl : glm::dvec2(0.0);
   const double step = 0.5 * cell_;
-  const int steps = static_cast<int>(std::min(L, 1e7) / step) + 1;
+  // Steps k = 0 .. steps at l = min(k step, L), in 64 bits (a small crown and a low sun take more than 2^31).
+  const std::int64_t steps = static_cast<std::int64_t>(std::min(L, 1e7) / step) + 1;
+  // Only steps whose cell lies within one cell of the index can meet a crown: the march is clipped to the
+  // index's rectangle grown by two cells (the margin covers rounding), which skips exactly the steps that
+  // did nothing, so the result is the same as marching all of them.
+  std::int64_t k0 = 0, k1 = steps;
+  {
+    double la = 0.0, lb = std::numeric_limits<double>::infinity();
+    const auto clip = [&](double o, double d, double lo, double hi) {
+      if (d == 0.0) {
+        if (!(o >= lo && o <= hi)) lb = -1.0;
+        return;
+      }
+      double a = (lo - o) / d, b = (hi - o) / d;
+      if (a > b) std::swap(a, b);
+      la = std::max(la, a);
+      lb = std::min(lb, b);
+    };
+    clip(x, dir.x, x0_ - 2.0 * cell_, x0_ + (nx_ + 2.0) * cell_);
+    clip(y, dir.y, y0_ - 2.0 * cell_, y0_ + (ny_ + 2.0) * cell_);
+    if (!(la <= lb)) return false;
+    const double ka = std::floor(la / step) - 1.0, kb = std::ceil(lb / step) + 1.0;
+    if (ka > static_cast<double>(steps)) return false;
+    if (ka > 0.0) k0 = static_cast<std::int64_t>(ka);
+    if (kb < static_cast<double>(steps)) k1 = std::max<std::int64_t>(k0, static_cast<std::int64_t>(kb));
+  }
   int last_cx = INT32_MIN, last_cy = INT32_MIN;
-  for (int k = 0; k <= steps; ++k) {
-    const double l = std::min(k * step, L);
+  for (std::int64_t k = k0; k <= k1; ++k) {
+    if (poll) (*poll)();
+    const double l = std::min(static_cast<double>(k) * step, L);
     const double qx = x + dir.x * l, qy = y + dir.y * l;
-    const int cx = static_cast<int>(std::floor((qx - x0_) / cell_));
-    const int cy = static_cast<int>(std::floor((qy - y0_) / cell_));
+    const double fx = std::floor((qx - x0_) / cell_), fy = std::floor((qy - y0_) / cell_);
+    if (fx < -1.0 || fy < -1.0 || fx > nx_ || fy > ny_) {
+      // Outside the canopy's extent and moving away is not certain: keep marching.
+      last_cx = last_cy = INT32_MIN;
+      continue;
+    }
+    const int cx = static_cast<int>(fx), cy = static_cast<int>(fy);
     if (cx == last_cx && cy == last_cy) continue;
     last_cx = cx;
     last_cy = cy;
-    if (cx < -1 || cy < -1 || cx > nx_ || cy > ny_) {
-      // Outside the canopy's extent and moving away is not certain: keep marching.
-      continue;
-    }
     for (int j = std::max(cy - 1, 0); j <= std::min(cy + 1, ny_ - 1); ++j)
       for (int i = std::max(cx - 1, 0); i <= std::min(cx + 1, nx_ - 1); ++i)
         for (int idx : cells_[static_cast<std::size_t>(j) * nx_ + i]) {
@@ -96,14 +126,22 @@ bool Canopy::shaded(double x, double y, double z) const {
   return false;
 }
 
+double Canopy::max_march() const {
+  if (spheres_.empty()) return 0.0;
+  // The clipped march crosses the index's rectangle grown by two cells: its diagonal in half cells, plus the
+  // margin steps.
+  return 2.0 * std::hypot(nx_ + 4.0, ny_ + 4.0) + 6.0;
+}
+
 Heightfield shade_map(const Domain& d, const Canopy& canopy, const Heightfield* height, const ExecContext* ctx) {
   Heightfield out(d);
   for_each_row(ctx, d.height(), [&](int j) {
+    WorkPoll poll(ctx);
     for (int i = 0; i < d.width(); ++i) {
       const double x = d.x(i), y = d.y(j);
       double z = height ? height->sample_world(x, y) : 0.0;
       if (!std::isfinite(z)) z = 0.0;
-      out.at(i, j) = canopy.shaded(x, y, z) ? 1.0f : 0.0f;
+      out.at(i, j) = canopy.shaded(x, y, z, &poll) ? 1.0f : 0.0f;
     }
   });
   return out;
@@ -116,14 +154,20 @@ ShadePlacementResult shade_placement(const Points& candidates, const Points& cas
   CanopyParams cp = p.canopy;
   if (night) cp.sun = glm::dvec3(0.0, 0.0, 1.0);
   const Canopy canopy(casters, cp);
+  // The ceiling on marching: every candidate and every sample of the shadow map marches at most max_march
+  // steps (the count is in double: it cannot overflow).
+  check_work((static_cast<double>(candidates.size()) + static_cast<double>(d.sample_count())) * canopy.max_march(),
+             "ShadePlacement: shadow march steps (candidates and shadow-map samples x steps per ray)",
+             "raise crown_radius or the sun's elevation, or use fewer candidates or a coarser domain");
   ShadePlacementResult r;
+  WorkPoll poll(ctx);
   Points& out = r.points;
   for (const auto& [name, values] : candidates.attributes) out.attribute(name);
   auto& shade_attr = out.attribute("shade");
   for (std::size_t i = 0; i < candidates.size(); ++i) {
-    if (ctx && i % 4096 == 0) ctx->check_cancelled();
+    poll();
     const auto& q = candidates.position[i];
-    const bool s = night || canopy.shaded(q.x, q.y, q.z);
+    const bool s = night || canopy.shaded(q.x, q.y, q.z, &poll);
     if ((p.preference == ShadePreference::Shade && !s) || (p.preference == ShadePreference::Sun && s)) continue;
     const std::size_t k = out.add(q, candidates.class_id[i]);
     out.rotation[k] = candidates.rotation[i];

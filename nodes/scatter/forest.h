@@ -10,6 +10,8 @@
 
 namespace orogen {
 
+class WorkPoll;
+
 class ExecContext;
 
 // Direction toward the sun (x east, y north, z up) from its azimuth (degrees clockwise from north) and
@@ -27,7 +29,10 @@ class Canopy {
  public:
   Canopy(const Points& casters, const CanopyParams& p);
   // True if the ray from (x, y, z) toward the sun meets a crown (a point inside a crown is shaded).
-  bool shaded(double x, double y, double z) const;
+  // A poll, if given, counts one unit per march step (the march of one ray can be millions of steps).
+  bool shaded(double x, double y, double z, WorkPoll* poll = nullptr) const;
+  // The most march steps one ray takes (the index's rectangle crossed diagonally).
+  double max_march() const;
 
  private:
   struct Sphere {

@@ -1,0 +1,254 @@
+// Cancellation within a bound, for every node type: each is run at costly legal parameters on a small domain
+// (so setting up stays cheap), cancelled after kCancelAfter, and must return (with a result, a clear error
+// or Cancelled) within kBound of the cancel. Generated from the registry: a new node type is covered without
+// touching this file. The repros of issue #30 (a droplet of 1e7 steps, a river network of two million points
+// with a search radius over the whole map, shadow marches of 1e9 steps, a cell locator on a 1 x 1e7 map) are
+// run as named cases.
+//
+// The bound (docs/reliability.md, "Cancellation"): 1 s in an optimised build; kSanitizerFactor times that
+// under AddressSanitizer, whose every memory access is several times slower.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "evaluator/run_node.h"
+#include "graph/cancel.h"
+#include "graph/exec_context.h"
+#include "graph/heightfield.h"
+#include "graph/node_type.h"
+#include "graph/points.h"
+#include "graph/registry.h"
+#include "support/test_paths.h"
+
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define OROGEN_TEST_ASAN 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__)
+#define OROGEN_TEST_ASAN 1
+#endif
+
+namespace orogen {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Seconds = std::chrono::duration<double>;
+
+#ifdef OROGEN_TEST_ASAN
+constexpr double kSanitizerFactor = 5.0;
+#else
+constexpr double kSanitizerFactor = 1.0;
+#endif
+constexpr auto kCancelAfter = std::chrono::milliseconds(500);
+const double kBound = 1.0 * kSanitizerFactor;  // seconds from the cancel to the node's return
+
+struct Timed {
+  bool cancelled_in_flight = false;  // the node was still running when the cancel came
+  double latency = 0.0;              // seconds from the cancel to the return
+  std::string outcome;               // "result", "cancelled" or the error
+};
+
+// Runs the node on this thread; another cancels it after kCancelAfter unless it has returned.
+Timed run_timed(const std::string& type, const Domain& d, const std::map<std::string, ParamValue>& params,
+                const std::map<std::string, PortValue>& inputs, const OutputPolicy& policy) {
+  CancelToken cancel;
+  std::mutex m;
+  std::condition_variable cv;
+  bool done = false;
+  Clock::time_point cancelled_at{};
+  std::thread watchdog([&] {
+    std::unique_lock lock(m);
+    if (!cv.wait_for(lock, kCancelAfter, [&] { return done; })) {
+      cancelled_at = Clock::now();
+      cancel.cancel();
+    }
+  });
+  Timed t;
+  try {
+    (void)run_node(type, d, params, inputs, policy, &cancel);
+    t.outcome = "result";
+  } catch (const Cancelled&) {
+    t.outcome = "cancelled";
+  } catch (const std::logic_error& e) {
+    ADD_FAILURE() << type << ": logic_error (a bug, not a clear error): " << e.what();
+    t.outcome = e.what();
+  } catch (const std::exception& e) {
+    t.outcome = e.what();
+  }
+  const auto returned = Clock::now();
+  {
+    std::lock_guard lock(m);
+    done = true;
+  }
+  cv.notify_one();
+  watchdog.join();
+  if (cancelled_at != Clock::time_point{}) {
+    t.cancelled_in_flight = true;
+    t.latency = Seconds(returned - cancelled_at).count();
+  }
+  return t;
+}
+
+void expect_within_bound(const std::string& label, const Timed& t) {
+  if (t.cancelled_in_flight)
+    std::cout << label << ": cancelled in flight, returned after " << t.latency * 1e3 << " ms ("
+              << t.outcome.substr(0, 200) << ")\n";
+  else
+    std::cout << label << ": " << t.outcome.substr(0, 200) << "\n";
+  EXPECT_LE(t.latency, kBound) << label << ": returned " << t.latency << " s after the cancel (" << t.outcome << ")";
+}
+
+HeightfieldPtr bowl(const Domain& d) {
+  auto h = std::make_shared<Heightfield>(d);
+  const glm::dvec2 c = d.min_corner() + 0.5 * d.size();
+  for (int j = 0; j < d.height(); ++j)
+    for (int i = 0; i < d.width(); ++i) {
+      const glm::dvec2 q = d.position(i, j) - c;
+      h->at(i, j) = static_cast<float>(100.0 + 1e-3 * glm::dot(q, q) + 5.0 * std::sin(0.7 * i + 0.3 * j));
+    }
+  return h;
+}
+
+// A value of every port type a registered node can make from a field (as in test_node_extremes.cpp).
+std::map<PortType, PortValue> sample_values(const Domain& d, const OutputPolicy& policy) {
+  std::map<PortType, PortValue> values{{PortType::Heightfield, PortValue(bowl(d))}};
+  for (int pass = 0; pass < 3; ++pass)
+    for (const NodeType* type : NodeRegistry::instance().all()) {
+      if (type->writes_files) continue;
+      std::map<std::string, PortValue> inputs;
+      bool feasible = true;
+      for (const auto& in : type->inputs) {
+        if (auto it = values.find(in.type); it != values.end()) inputs[in.name] = it->second;
+        else if (!in.optional) feasible = false;
+      }
+      if (!feasible) continue;
+      bool wanted = false;
+      for (const auto& out : type->outputs) wanted = wanted || !values.count(out.type);
+      if (!wanted) continue;
+      try {
+        const auto run = run_node(type->name, d, {}, inputs, policy);
+        for (std::size_t k = 0; k < type->outputs.size(); ++k)
+          if (!values.count(type->outputs[k].type) && has_value(run.outputs[k]))
+            values[type->outputs[k].type] = run.outputs[k];
+      } catch (const std::exception&) {
+      }
+    }
+  return values;
+}
+
+// Every numeric parameter at one end of its declared range ("max": counts, durations, radii at their
+// largest; "min": step lengths, time steps, spacings at their smallest). Between them the two cover the
+// costly end of every parameter whichever direction costs.
+std::map<std::string, ParamValue> at_end(const NodeType& type, bool high) {
+  std::map<std::string, ParamValue> out;
+  for (const auto& p : type.params) {
+    if (p.output_file || p.type == ParamType::Path) continue;
+    if (!p.min || !p.max) continue;
+    const double v = high ? *p.max : *p.min;
+    ParamValue value;
+    switch (p.type) {
+      case ParamType::Float: value = v; break;
+      case ParamType::Int: value = static_cast<std::int64_t>(v); break;
+      default: continue;  // vectors (positions, sizes): their defaults keep the domain in view
+    }
+    if (p.check(value).empty()) out[p.name] = value;
+  }
+  return out;
+}
+
+const Domain kSmall = Domain::from_extent({0, 0}, {320, 320}, {33, 33});
+
+class EveryNode : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(EveryNode, StopsWithinTheBoundAtCostlyParameters) {
+  const NodeType* type = NodeRegistry::instance().find(GetParam());
+  ASSERT_NE(type, nullptr);
+  OutputPolicy policy;
+  policy.output_dir = test::scratch_dir("cancel-" + type->name);
+  const auto values = sample_values(kSmall, policy);
+  std::map<std::string, PortValue> inputs;
+  for (const auto& in : type->inputs) {
+    if (auto it = values.find(in.type); it != values.end()) inputs[in.name] = it->second;
+    else if (!in.optional) GTEST_SKIP() << "no producer of a " << in.name << " input yet";
+  }
+  for (const bool high : {true, false}) {
+    const std::string label = type->name + (high ? ", parameters at their maxima" : ", parameters at their minima");
+    expect_within_bound(label, run_timed(type->name, kSmall, at_end(*type, high), inputs, policy));
+  }
+}
+
+std::vector<std::string> all_types() {
+  std::vector<std::string> names;
+  for (const NodeType* t : NodeRegistry::instance().all()) names.push_back(t->name);
+  return names;
+}
+
+INSTANTIATE_TEST_SUITE_P(Registry, EveryNode, ::testing::ValuesIn(all_types()),
+                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+
+// Issue #30, 1: droplets of 1e7 steps in a bowl (polled between droplet rounds, SIGINT took 94 s).
+TEST(CancellationRepro, HydraulicErosionDropletsOfTenMillionSteps) {
+  const Domain d = Domain::from_extent({0, 0}, {640, 640}, {65, 65});
+  const Timed t = run_timed("HydraulicErosion", d, {{"lifetime", 1e5}, {"step_length", 0.01}},
+                            {{"in", PortValue(bowl(d))}}, {});
+  EXPECT_TRUE(t.cancelled_in_flight) << t.outcome;
+  expect_within_bound("HydraulicErosion", t);
+}
+
+// 2: two million inner points, a search radius over the whole map, 1000 outlets (every growth iteration
+// sorted all unused points; SIGINT took 109 s).
+TEST(CancellationRepro, RiverNetworkOfTwoMillionPoints) {
+  const Timed t = run_timed("RiverNetwork", kSmall,
+                            {{"size", glm::dvec2(14000.0)}, {"density", 10000.0}, {"max_length", 1e6},
+                             {"outlets", std::int64_t{1000}}},
+                            {}, {});
+  expect_within_bound("RiverNetwork", t);
+}
+
+// 3: a low sun, tiny crowns on a plateau 1e6 m up: each query marched 1e9 steps (polled every 4096 points).
+TEST(CancellationRepro, ShadePlacementMarchesFromUnderAHighPlateau) {
+  auto casters = std::make_shared<Points>();
+  auto candidates = std::make_shared<Points>();
+  for (int k = 0; k < 2000; ++k) {
+    casters->add({static_cast<float>(k % 50) * 6.0f, static_cast<float>(k / 50) * 8.0f, 1e6f});
+    candidates->add({static_cast<float>(k % 40) * 8.0f, static_cast<float>(k / 40) * 6.0f, 0.0f});
+  }
+  const Timed t = run_timed("ShadePlacement", kSmall, {{"crown_radius", 0.01}, {"sun_elevation", 1.0}},
+                            {{"in", PortValue(std::shared_ptr<const Points>(candidates))},
+                             {"casters", PortValue(std::shared_ptr<const Points>(casters))}},
+                            {});
+  expect_within_bound("ShadePlacement", t);
+}
+
+// 4: a 1 x 1e7 m island rasterised on 65^2 (the locator's grid was 1 x 4096 buckets: O(4096^3) per lookup).
+TEST(CancellationRepro, PolygonMapRasterOfAThinIsland) {
+  const auto island = run_node("VoronoiIsland", kSmall, {{"size", glm::dvec2(1.0, 1e7)}});
+  const Domain d = Domain::from_extent({0, 0}, {1.0, 1e7}, {65, 65});
+  const auto start = Clock::now();
+  const Timed t = run_timed("PolygonMapRaster", d, {}, {{"in", island.outputs.at(0)}}, {});
+  expect_within_bound("PolygonMapRaster", t);
+  EXPECT_EQ(t.outcome, "result");
+  EXPECT_LT(Seconds(Clock::now() - start).count(), 0.5 * kSanitizerFactor) << "the lookups are no longer O(buckets)";
+}
+
+// Simulations at legal but long settings: PipeErosion for 1e7 s, StreamPower for 1e10 yr in 1e5-yr steps.
+TEST(CancellationRepro, LongSimulations) {
+  const auto in = PortValue(bowl(kSmall));
+  expect_within_bound("PipeErosion", run_timed("PipeErosion", kSmall, {{"duration", 1e7}}, {{"in", in}}, {}));
+  expect_within_bound("StreamPower", run_timed("StreamPower", kSmall, {{"duration", 1e10}, {"time_step", 1e5}},
+                                               {{"in", in}}, {}));
+}
+
+}  // namespace
+}  // namespace orogen
