@@ -68,14 +68,17 @@ OROGEN_NODE(ThermalErosion) {
 
 OROGEN_NODE(HydraulicErosion) {
   b.reach_global();  // a simulation: every output sample depends on the whole input
-  // Version 2: the report output (the volume balance).
-  b.category("erosion").version(2).description(
+  // Version 2: the report output (the volume balance). Version 3: deposits with the erosion's brush, and a
+  // droplet in a hollow fills it up to its spill height (issue 29: fewer closed pits on fine grids).
+  b.category("erosion").version(3).description(
       "Particle hydraulic erosion after Beyer 2015, 'Implementation of a method for hydraulic erosion' (TU "
       "Munich): droplets start at random places, run downhill with inertia, erode with a brush where they "
-      "can carry more and deposit where they carry too much. Droplets per km^2, brush radius, step length "
-      "and lifetime are in metres and sediment is a volume, so results agree across resolutions. Droplets "
-      "run in parallel in fixed batches whose height changes are applied in droplet order: bit-identical "
-      "for any thread count. The report balances the volumes: eroded = deposited + carried off the border.");
+      "can carry more and deposit with the same brush where they carry too much; a droplet that runs into a "
+      "hollow fills it up to where it spills rather than leaving a closed pit. Droplets per km^2, brush "
+      "radius, step length and lifetime are in metres and sediment is a volume, so results agree across "
+      "resolutions. Droplets run in parallel in fixed batches whose height changes are applied in droplet "
+      "order: bit-identical for any thread count. The report balances the volumes: eroded = deposited + "
+      "carried off the border.");
   declare_common_ports(b, "Scales erosion and deposition per cell, 0..1 (1 if unconnected)");
   b.output("report", PortType::Report).description(
       "Volume balance (m^3): eroded, deposited, carried_off (sediment that left the domain with its droplet); droplets, steps");

@@ -196,12 +196,12 @@ struct Sim {
   int w, h, rx, ry, max_steps;
   int pitch;  // floats from one row of Z (and V) to the next, >= w: see row_pitch
   std::uint64_t seed;
-  float step_u, step_v, inv_dx, inv_dy, cell_area, inv_cell_area, inv_step, inertia, min_slope, capacity,
+  float step_u, step_v, inv_dx, inv_dy, inv_cell_area, inv_step, inertia, min_slope, capacity,
       deposition, erosion, gravity, keep_water, brush_area;
 
-  // a m of height (per unit weight) removed with the brush around a sample near the border: taps outside
-  // the grid are dropped and the rest renormalised.
-  void erode_border(float a, int ni, int nj) const {
+  // a m of height (per unit weight) added (a > 0) or removed (a < 0) with the brush around a sample near the
+  // border: taps outside the grid are dropped and the rest renormalised, so the volume stays a x cell area.
+  void brush_border(float a, int ni, int nj) const {
     float inside = 0.0f;
     for (const auto& t : *brush) {
       const int i = ni + t.di, j = nj + t.dj;
@@ -242,7 +242,7 @@ struct Sim {
     const int w = this->w, h = this->h, rx = this->rx, ry = this->ry, max_steps = this->max_steps;
     const int pitch = this->pitch;
     const float step_u = this->step_u, step_v = this->step_v, inv_dx = this->inv_dx, inv_dy = this->inv_dy;
-    const float cell_area = this->cell_area, inv_cell_area = this->inv_cell_area, inv_step = this->inv_step;
+    const float inv_cell_area = this->inv_cell_area, inv_step = this->inv_step;
     const float inertia = this->inertia, min_slope = this->min_slope, capacity = this->capacity;
     const float deposition = this->deposition, erosion = this->erosion, gravity = this->gravity;
     const float keep_water = this->keep_water, brush_area = this->brush_area;
@@ -292,14 +292,19 @@ struct Sim {
       on[k] = -1;
       ++live_count[k / kLanes];
     };
-    // amt m of height spread bilinearly over the 2 x 2 cell (i, j) with offsets (fu, fv).
-    auto deposit = [&](float a, int i, int j, float fu, float fv) {
-      float* zk = Z + static_cast<std::ptrdiff_t>(j) * pitch + i;
-      const float a0 = a * (1 - fv), a1 = a * fv;
-      zk[0] += a0 * (1 - fu);
-      zk[1] += a0 * fu;
-      zk[pitch] += a1 * (1 - fu);
-      zk[pitch + 1] += a1 * fu;
+    // a m of height (per unit weight; a x cell area m^3) added, or removed when negative, with the brush around
+    // the sample (ni, nj). Erosion and deposition share the brush: a deposit spread bilinearly over the 2 x 2
+    // cell of the droplet left a bump a cell or two across, which on fine grids dams the channel above it into
+    // a closed hollow (the pits of issue 29); the brush lays it down as a cone as wide as the erosion's.
+    auto apply_brush = [&](float a, int ni, int nj) {
+      if (brush_fits && static_cast<unsigned>(ni - rx) <= bu && static_cast<unsigned>(nj - ry) <= bv) [[likely]] {
+        // Row by row over padded rows of a multiple of 4 weights (0 outside the disc; adding a x 0 changes
+        // nothing, so no branch on whether the step changed anything).
+        brush_rows<W, R, Wide>(Z + static_cast<std::ptrdiff_t>(nj) * pitch + ni + row0, a, pitch, RW, rows,
+                               row_width);
+      } else if (a != 0) {
+        brush_border(a, ni, nj);
+      }
     };
 
     for (int t = 0; t < T; ++t)
@@ -356,30 +361,20 @@ struct Sim {
           m[k] = std::clamp(M[static_cast<std::ptrdiff_t>(NJ[k]) * w + NI[k]], 0.0f, 1.0f);
       }
       const F cap = max_v(-dh * inv_step, F{} + min_slope) * SP * WA * capacity;
-      // Uphill: fill the pit up to what it carries; over capacity: deposit a share of the surplus; else erode
-      // a share of the free capacity, at most the drop, with the brush. One of the two amounts is 0.
+      // Uphill: the droplet sits in a hollow; fill it up to its spill height along the path (the next height)
+      // or with all it carries, whichever is less: the brush raises its centre by dh for dh x brush_area.
+      // Over capacity: deposit a share of the surplus; else erode a share of the free capacity, at most the
+      // drop. Both with the brush around the nearest sample; one of the two amounts is 0.
       const I up = dh > 0;
-      F dep = sel(up, min_v(dh * cell_area, SE), max_v(SE - cap, F{}) * deposition * m);
+      F dep = sel(up, min_v(dh * brush_area, SE), max_v(SE - cap, F{}) * deposition * m);
       F ero = sel(up, F{}, min_v(max_v(cap - SE, F{}) * erosion, -dh * brush_area) * m);
       dep = sel(in, dep, F{}), ero = sel(in, ero, F{});
-      const F da = dep * inv_cell_area, ea = -ero * inv_cell_area;
+      const F da = (dep - ero) * inv_cell_area;
       for (int k = 0; k < N; ++k) {
         if (!(live >> k & 1)) continue;
         const int ni = NI[k], nj = NJ[k];
-        const std::ptrdiff_t node = static_cast<std::ptrdiff_t>(nj) * pitch + ni;
-        visited[visit_count++] = node;
-        const float a = ea[k];
-        if (brush_fits && static_cast<unsigned>(ni - rx) <= bu && static_cast<unsigned>(nj - ry) <= bv) [[likely]] {
-          // Row by row over padded rows of a multiple of 4 weights (0 outside the disc; adding a x 0 changes
-          // nothing, so no branch on whether the step eroded).
-          brush_rows<W, R, Wide>(Z + node + row0, a, pitch, RW, rows, row_width);
-        } else if (a < 0) {
-          erode_border(a, ni, nj);
-        }
-        // After the brush: its scalar reads then come from whole vector stores (forwarded), where the brush's
-        // vector reads of the deposit's scalar stores would wait for them to reach the cache. (Scalar reads:
-        // the file is compiled with -fno-tree-slp-vectorize, see nodes/CMakeLists.txt.)
-        deposit(da[k], CI[k], CJ[k], FU[k], FV[k]);
+        visited[visit_count++] = static_cast<std::ptrdiff_t>(nj) * pitch + ni;
+        apply_brush(da[k], ni, nj);
       }
       // Totals in double, per tile two lanes at a time (0 for lanes that changed nothing).
       for (int t = 0; t < T; ++t) {
@@ -404,8 +399,8 @@ struct Sim {
           if (!in[k]) {
             carried_off[t] += SE[k];  // left the grid with its droplet
           } else if (SE[k] > 0) {
-            // End of life: what the droplet still carries settles where it stopped.
-            deposit(SE[k] * inv_cell_area, CI[k], CJ[k], FU[k], FV[k]);
+            // End of life: what the droplet still carries settles where it stopped (with the brush).
+            apply_brush(SE[k] * inv_cell_area, CI[k] + (FU[k] >= 0.5f), CJ[k] + (FV[k] >= 0.5f));
             deposited[t] += SE[k];
           }
           live &= ~(1 << k);
@@ -555,7 +550,7 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   sim.seed = p.seed;
   sim.step_u = step_u, sim.step_v = step_v;
   sim.inv_dx = static_cast<float>(1.0 / dx), sim.inv_dy = static_cast<float>(1.0 / dy);
-  sim.cell_area = static_cast<float>(cell_area), sim.inv_cell_area = static_cast<float>(1.0 / cell_area);
+  sim.inv_cell_area = static_cast<float>(1.0 / cell_area);
   sim.inv_step = static_cast<float>(1.0 / p.step_length);
   sim.inertia = static_cast<float>(std::clamp(p.inertia, 0.0, 1.0));
   sim.min_slope = static_cast<float>(p.min_slope), sim.capacity = static_cast<float>(p.capacity);
