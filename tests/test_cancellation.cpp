@@ -28,6 +28,7 @@
 #include "graph/node_type.h"
 #include "graph/points.h"
 #include "graph/registry.h"
+#include "support/sample_values.h"
 #include "support/test_paths.h"
 
 #if defined(__has_feature)
@@ -120,33 +121,6 @@ HeightfieldPtr bowl(const Domain& d) {
   return h;
 }
 
-// A value of every port type a registered node can make from a field (as in test_node_extremes.cpp).
-std::map<PortType, PortValue> sample_values(const Domain& d, const OutputPolicy& policy) {
-  std::map<PortType, PortValue> values{{PortType::Heightfield, PortValue(bowl(d))}};
-  for (int pass = 0; pass < 3; ++pass)
-    for (const NodeType* type : NodeRegistry::instance().all()) {
-      if (type->writes_files) continue;
-      std::map<std::string, PortValue> inputs;
-      bool feasible = true;
-      for (const auto& in : type->inputs) {
-        if (auto it = values.find(in.type); it != values.end()) inputs[in.name] = it->second;
-        else if (!in.optional) feasible = false;
-      }
-      if (!feasible) continue;
-      bool wanted = false;
-      for (const auto& out : type->outputs) wanted = wanted || !values.count(out.type);
-      if (!wanted) continue;
-      try {
-        const auto run = run_node(type->name, d, {}, inputs, policy);
-        for (std::size_t k = 0; k < type->outputs.size(); ++k)
-          if (!values.count(type->outputs[k].type) && has_value(run.outputs[k]))
-            values[type->outputs[k].type] = run.outputs[k];
-      } catch (const std::exception&) {
-      }
-    }
-  return values;
-}
-
 // Every numeric parameter at one end of its declared range ("max": counts, durations, radii at their
 // largest; "min": step lengths, time steps, spacings at their smallest). Between them the two cover the
 // costly end of every parameter whichever direction costs.
@@ -176,7 +150,7 @@ TEST_P(EveryNode, StopsWithinTheBoundAtCostlyParameters) {
   ASSERT_NE(type, nullptr);
   OutputPolicy policy;
   policy.output_dir = test::scratch_dir("cancel-" + type->name);
-  const auto values = sample_values(kSmall, policy);
+  const auto values = test::sample_values(bowl(kSmall), policy);
   std::map<std::string, PortValue> inputs;
   for (const auto& in : type->inputs) {
     if (auto it = values.find(in.type); it != values.end()) inputs[in.name] = it->second;

@@ -25,6 +25,7 @@
 #include "graph/heightfield.h"
 #include "graph/node_type.h"
 #include "graph/registry.h"
+#include "support/sample_values.h"
 #include "support/test_paths.h"
 
 namespace orogen {
@@ -131,35 +132,6 @@ Outcome run_checked(const std::string& label, const std::string& type, const Dom
   return outcome;
 }
 
-// A value of every port type, made by a registered producer node from a smooth field (generic: whatever
-// node types produce images, meshes, points ... today or later).
-std::map<PortType, PortValue> sample_values(const Domain& d, const OutputPolicy& policy) {
-  std::map<PortType, PortValue> values{{PortType::Heightfield, PortValue(smooth_field(d))}};
-  for (int pass = 0; pass < 3; ++pass) {
-    for (const NodeType* type : NodeRegistry::instance().all()) {
-      if (type->writes_files) continue;
-      std::map<std::string, PortValue> inputs;
-      bool feasible = true;
-      for (const auto& in : type->inputs) {
-        if (auto it = values.find(in.type); it != values.end()) inputs[in.name] = it->second;
-        else if (!in.optional) feasible = false;
-      }
-      if (!feasible) continue;
-      bool wanted = false;
-      for (const auto& out : type->outputs) wanted = wanted || !values.count(out.type);
-      if (!wanted) continue;
-      try {
-        const auto run = run_node(type->name, d, {}, inputs, policy);
-        for (std::size_t k = 0; k < type->outputs.size(); ++k)
-          if (!values.count(type->outputs[k].type) && has_value(run.outputs[k]))
-            values[type->outputs[k].type] = run.outputs[k];
-      } catch (const std::exception&) {
-      }
-    }
-  }
-  return values;
-}
-
 // Parameter values at the ends of each declared range (one parameter changed at a time).
 std::vector<std::pair<std::string, ParamValue>> extremes(const ParamDecl& p) {
   std::vector<std::pair<std::string, ParamValue>> out;
@@ -223,7 +195,7 @@ TEST_P(NodeExtremes, ResultOrClearErrorEverywhere) {
 
   const auto start = std::chrono::steady_clock::now();
   for (const auto& [dname, d] : domains()) {
-    const auto values = sample_values(d, policy);
+    const auto values = test::sample_values(smooth_field(d), policy);
     auto inputs_with = [&](const std::function<HeightfieldPtr(const Domain&)>& field) {
       std::map<std::string, PortValue> inputs;
       for (const auto& in : type->inputs) {

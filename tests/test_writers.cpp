@@ -34,6 +34,7 @@
 #include "graph/registry.h"
 #include "nodes/io/write_output.h"
 #include "support/run_process.h"
+#include "support/sample_values.h"
 #include "support/test_paths.h"
 
 namespace orogen::test {
@@ -65,39 +66,12 @@ HeightfieldPtr hills(const Domain& d) {
   return h;
 }
 
-// A value of every port type, made by registered producer nodes from a smooth field (whatever node types
-// produce images, meshes, points, scenes ... today or later).
-std::map<PortType, PortValue> sample_values(const Domain& d) {
-  std::map<PortType, PortValue> values{{PortType::Heightfield, PortValue(hills(d))}};
-  OutputPolicy policy;
-  policy.output_dir = scratch_dir("writers-producers");
-  for (int pass = 0; pass < 3; ++pass) {
-    for (const NodeType* type : NodeRegistry::instance().all()) {
-      if (type->writes_files) continue;
-      std::map<std::string, PortValue> inputs;
-      bool feasible = true;
-      for (const auto& in : type->inputs) {
-        if (auto it = values.find(in.type); it != values.end()) inputs[in.name] = it->second;
-        else if (!in.optional) feasible = false;
-      }
-      if (!feasible) continue;
-      bool wanted = false;
-      for (const auto& out : type->outputs) wanted = wanted || !values.count(out.type);
-      if (!wanted) continue;
-      try {
-        const auto run = run_node(type->name, d, {}, inputs, policy);
-        for (std::size_t k = 0; k < type->outputs.size(); ++k)
-          if (!values.count(type->outputs[k].type) && has_value(run.outputs[k]))
-            values[type->outputs[k].type] = run.outputs[k];
-      } catch (const std::exception&) {
-      }
-    }
-  }
-  return values;
-}
-
 const std::map<PortType, PortValue>& samples() {
-  static const auto values = sample_values(small_domain());
+  static const auto values = [] {
+    OutputPolicy policy;
+    policy.output_dir = scratch_dir("writers-producers");
+    return test::sample_values(hills(small_domain()), policy);
+  }();
   return values;
 }
 
