@@ -29,16 +29,9 @@
 #include "graph/points.h"
 #include "graph/registry.h"
 #include "support/sample_values.h"
+#include "support/sanitizers.h"
 #include "support/test_paths.h"
 
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define OROGEN_TEST_ASAN 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__)
-#define OROGEN_TEST_ASAN 1
-#endif
 
 namespace orogen {
 namespace {

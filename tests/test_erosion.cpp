@@ -25,6 +25,7 @@
 #include "nodes/hydrology/drainage_metrics.h"
 #include "support/key_checks.h"
 #include "support/run_process.h"
+#include "support/sanitizers.h"
 #include "support/test_paths.h"
 
 namespace orogen {
@@ -521,13 +522,6 @@ TEST(ErosionRealism, ErodedMountainsGraphMeetsTheDrainageTargets) {
 // within 0.05 of one value across the resolutions with R^2 >= 0.9, Hack's exponent in [0.5, 0.6] and the
 // bifurcation ratio in [3, 5]. 2049^2 is measured by `orogen_bench_erosion --drainage`, not here; under
 // AddressSanitizer 1025^2 is left out (too slow there).
-#if defined(__SANITIZE_ADDRESS__)
-#define OROGEN_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define OROGEN_TEST_ASAN 1
-#endif
-#endif
 namespace orogen {
 TEST(ErosionRealism, ErodedMountainsDrainAtEveryResolution) {
   const auto loaded = load_graph_file(test::source_dir() / "graphs" / "eroded_mountains.json");

@@ -26,20 +26,13 @@
 #include "graph/node_type.h"
 #include "graph/registry.h"
 #include "support/sample_values.h"
+#include "support/sanitizers.h"
 #include "support/test_paths.h"
 
 namespace orogen {
 namespace {
 
 constexpr auto kWatchdog = std::chrono::seconds(1);
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define OROGEN_TEST_ASAN 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__)
-#define OROGEN_TEST_ASAN 1
-#endif
 #ifdef OROGEN_TEST_ASAN
 constexpr double kCancelBound = 5.0;  // seconds from the cancel to the return, under AddressSanitizer
 #else
