@@ -15,6 +15,7 @@
 #include "graph/heightfield.h"
 #include "graph/image.h"
 #include "graph/points.h"
+#include "nodes/hydrology/rivers.h"
 #include "support/test_paths.h"
 #include "nodes/common/work_bounds.h"
 #include "nodes/common/work_poll.h"
@@ -82,6 +83,40 @@ TEST(WorkBounds, StreamPowerStepCountOverflowIsRefused) {
                                    {{"in", PortValue(fbm_like(d, 300.0))}});
   EXPECT_NE(e.find("time_step"), std::string::npos) << e;
   EXPECT_NE(e.find("duration"), std::string::npos) << e;
+}
+
+// ThermalErosion's iteration count (2 x travel_distance / spacing) did not fit an int at a long travel on a
+// fine grid (UBSan's float-cast-overflow): refused up front with the parameters to change.
+TEST(WorkBounds, ThermalErosionIterationCountIsCheckedNotCast) {
+  const Domain d = Domain::from_extent({0, 0}, {1e-4, 1e-4}, {17, 17});
+  const std::string e = node_error("ThermalErosion", d, {{"travel_distance", 1e5}},
+                                   {{"in", PortValue(fbm_like(d, 1e-3))}});
+  EXPECT_NE(e.find("travel_distance"), std::string::npos) << e;
+  const Domain coarse = Domain::from_extent({0, 0}, {160, 160}, {17, 17});
+  EXPECT_EQ(node_error("ThermalErosion", coarse, {{"travel_distance", 50.0}},
+                       {{"in", PortValue(fbm_like(coarse, 30.0))}}),
+            "");
+}
+
+// A river segment of infinite width (a width law's overflow) or with a non-finite end is drawn without
+// casting an infinite bound to int: infinitely wide covers the grid, non-finite ends cover nothing.
+TEST(WorkBounds, RiverMaskOfInfiniteAndNonFiniteSegments) {
+  const Domain d = Domain::from_extent({0, 0}, {100, 100}, {11, 11});
+  Curves wide;
+  Curve c;
+  c.points = {{50, 50, 0}, {60, 50, 0}};
+  c.width = {std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity()};
+  wide.curves.push_back(c);
+  Heightfield mask(d);
+  hydrology::draw_curves(wide, mask);
+  for (float v : mask.data) EXPECT_EQ(v, 1.0f);
+  Curves broken;
+  c.points = {{50, 50, 0}, {std::numeric_limits<float>::quiet_NaN(), 50, 0}};
+  c.width = {5.0f, 5.0f};
+  broken.curves.push_back(c);
+  Heightfield none(d);
+  hydrology::draw_curves(broken, none);
+  for (float v : none.data) EXPECT_EQ(v, 0.0f);
 }
 
 // 9: diffusion 100 on a 0.25 m grid took one explicit sub-step instead of ~7e11 (a 300 m relief came out

@@ -9,6 +9,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include "nodes/common/work_bounds.h"
+
 namespace orogen::erosion {
 namespace {
 
@@ -47,6 +49,14 @@ ErosionMaps thermal_erosion(const Heightfield& in, const ThermalParams& p, const
   const int pw = w + 2;
   const std::size_t pn = static_cast<std::size_t>(pw) * static_cast<std::size_t>(h + 2);
   const double dx = in.domain.spacing.x, dy = in.domain.spacing.y;
+  const double min_spacing = std::min(dx, dy);
+  // Each iteration moves material about half a cell: the travel distance sets the count (checked: a long
+  // travel on a fine grid does not fit an int, and a plan beyond the per-node ceiling is refused up front).
+  const auto iterations = static_cast<int>(checked_count(2.0 * p.travel_distance / min_spacing,
+                                                         "iterations (2 x travel_distance / grid spacing)",
+                                                         "lower travel_distance or use a coarser grid"));
+  check_work(static_cast<double>(iterations) * w * h, "ThermalErosion (iterations x samples)",
+             "lower travel_distance or use a coarser grid");
   const double tan_t = std::tan(std::clamp(p.talus_angle, 0.01, 89.0) * M_PI / 180.0);
   // Per-cell tangent of the talus angle (hardness steepens it) times the neighbour distances.
   std::vector<float> tan_cell(hardness ? pn : 0, 0.0f);
@@ -71,8 +81,6 @@ ErosionMaps thermal_erosion(const Heightfield& in, const ThermalParams& p, const
   float tal[8];
   for (int n = 0; n < 8; ++n) tal[n] = static_cast<float>(tan_t * dist[n]);
 
-  const double min_spacing = std::min(dx, dy);
-  const int iterations = std::max(1, static_cast<int>(std::ceil(2.0 * p.travel_distance / min_spacing)));
   int it = 0;
   for (; it < iterations; ++it) {
     check_cancelled(ctx);

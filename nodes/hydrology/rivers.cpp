@@ -43,16 +43,24 @@ Line chaikin(const Line& in) {
 void draw_curves(const Curves& curves, Heightfield& mask) {
   const Domain& d = mask.domain;
   const double pixel = std::sqrt(std::abs(d.spacing.x * d.spacing.y));
+  const double span = glm::length(d.size()) + pixel;
   for (const Curve& c : curves.curves) {
     for (std::size_t k = 0; k + 1 < c.points.size(); ++k) {
       const glm::dvec2 a(c.points[k].x, c.points[k].y), b(c.points[k + 1].x, c.points[k + 1].y);
-      const double ra = 0.5 * c.width[k], rb = 0.5 * c.width[k + 1];
+      // A half-width beyond the grid's diagonal covers the grid as it is (and an infinite one, from a width
+      // law's overflow, does not turn the bounds below into -inf); a non-finite end or a NaN width covers
+      // nothing.
+      const double ra = std::min(0.5 * c.width[k], span), rb = std::min(0.5 * c.width[k + 1], span);
+      if (!std::isfinite(a.x + a.y + b.x + b.y) || std::isnan(ra + rb)) continue;
       const double reach = std::max(ra, rb) + pixel;
       const glm::dvec2 lo = d.to_sample(glm::min(a, b) - reach), hi = d.to_sample(glm::max(a, b) + reach);
-      const int i0 = std::max(0, static_cast<int>(std::floor(std::min(lo.x, hi.x))));
-      const int i1 = std::min(d.width() - 1, static_cast<int>(std::ceil(std::max(lo.x, hi.x))));
-      const int j0 = std::max(0, static_cast<int>(std::floor(std::min(lo.y, hi.y))));
-      const int j1 = std::min(d.height() - 1, static_cast<int>(std::ceil(std::max(lo.y, hi.y))));
+      // Clamped to the grid before the cast: a curve point far outside (or non-finite) does not fit an int.
+      const double last_i = d.width() - 1, last_j = d.height() - 1;
+      const int i0 = static_cast<int>(std::clamp(std::floor(std::min(lo.x, hi.x)), 0.0, last_i + 1));
+      const int i1 = static_cast<int>(std::clamp(std::ceil(std::max(lo.x, hi.x)), -1.0, last_i));
+      const int j0 = static_cast<int>(std::clamp(std::floor(std::min(lo.y, hi.y)), 0.0, last_j + 1));
+      const int j1 = static_cast<int>(std::clamp(std::ceil(std::max(lo.y, hi.y)), -1.0, last_j));
+      if (!(i0 <= i1 && j0 <= j1)) continue;
       const glm::dvec2 ab = b - a;
       const double len2 = glm::dot(ab, ab);
       for (int j = j0; j <= j1; ++j)
