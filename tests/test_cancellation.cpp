@@ -28,6 +28,7 @@
 #include "graph/node_type.h"
 #include "graph/points.h"
 #include "graph/registry.h"
+#include "support/registered_types.h"
 #include "support/sample_values.h"
 #include "support/sanitizers.h"
 #include "support/test_paths.h"
@@ -155,14 +156,8 @@ TEST_P(EveryNode, StopsWithinTheBoundAtCostlyParameters) {
   }
 }
 
-std::vector<std::string> all_types() {
-  std::vector<std::string> names;
-  for (const NodeType* t : NodeRegistry::instance().all()) names.push_back(t->name);
-  return names;
-}
-
-INSTANTIATE_TEST_SUITE_P(Registry, EveryNode, ::testing::ValuesIn(all_types()),
-                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Registry, EveryNode, testing::ValuesIn(test::registered_type_names()),
+                         test::type_test_name);
 
 // Issue #30, 1: droplets of 1e7 steps in a bowl (polled between droplet rounds, SIGINT took 94 s).
 TEST(CancellationRepro, HydraulicErosionDropletsOfTenMillionSteps) {

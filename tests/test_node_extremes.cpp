@@ -25,6 +25,7 @@
 #include "graph/heightfield.h"
 #include "graph/node_type.h"
 #include "graph/registry.h"
+#include "support/registered_types.h"
 #include "support/sample_values.h"
 #include "support/sanitizers.h"
 #include "support/test_paths.h"
@@ -224,14 +225,8 @@ TEST_P(NodeExtremes, ResultOrClearErrorEverywhere) {
   }
 }
 
-std::vector<std::string> all_types() {
-  std::vector<std::string> names;
-  for (const NodeType* t : NodeRegistry::instance().all()) names.push_back(t->name);
-  return names;
-}
-
-INSTANTIATE_TEST_SUITE_P(Registry, NodeExtremes, ::testing::ValuesIn(all_types()),
-                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Registry, NodeExtremes, testing::ValuesIn(test::registered_type_names()),
+                         test::type_test_name);
 
 }  // namespace
 }  // namespace orogen

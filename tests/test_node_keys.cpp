@@ -10,15 +10,10 @@
 #include "graph/node_type.h"
 #include "graph/registry.h"
 #include "support/key_checks.h"
+#include "support/registered_types.h"
 
 namespace orogen {
 namespace {
-
-std::vector<std::string> registered_type_names() {
-  std::vector<std::string> names;
-  for (const NodeType* type : NodeRegistry::instance().all()) names.push_back(type->name);
-  return names;
-}
 
 class EveryNodeKey : public testing::TestWithParam<std::string> {};
 
@@ -30,14 +25,14 @@ TEST_P(EveryNodeKey, EveryInputChangesTheKey) {
   expect_every_input_changes_key(GetParam(), Domain::from_extent({-300.0, 200.0}, {480.0, 384.0}, {16, 13}));
 }
 
-INSTANTIATE_TEST_SUITE_P(Registry, EveryNodeKey, testing::ValuesIn(registered_type_names()),
-                         [](const testing::TestParamInfo<std::string>& info) { return info.param; });
+INSTANTIATE_TEST_SUITE_P(Registry, EveryNodeKey, testing::ValuesIn(test::registered_type_names()),
+                         test::type_test_name);
 
 TEST(EveryNodeKey, CoversTheWholeRegistry) {
   // The seven node families of the second round and the foundation: far more than a handful of types. A
   // registry that came up empty (a link order that dropped the self-registrations) would make every
   // parameterised test above vanish silently.
-  EXPECT_GE(registered_type_names().size(), 80u);
+  EXPECT_GE(test::registered_type_names().size(), 80u);
 }
 
 }  // namespace
