@@ -136,12 +136,16 @@ void BM_StreamPower(benchmark::State& state) {
   const int side = static_cast<int>(state.range(1));
   StreamPowerParams p = sp_params();
   p.duration = p.dt * g_sp_steps;
-  p.depressions = state.range(2) == 0 ? StreamPowerParams::Depressions::BasinGraph : StreamPowerParams::Depressions::PriorityFlood;
+  p.depressions =
+      state.range(2) == 0 ? StreamPowerParams::Depressions::BasinGraph : StreamPowerParams::Depressions::PriorityFlood;
   const auto& in = sp_terrain(side, state.range(3) != 0);
   double cpu = 0;
-  for (auto _ : state) in_arena(threads, [&] { benchmark::DoNotOptimize(stream_power(in, p).out); }, &cpu);
+  for (auto _ : state)
+    in_arena(
+        threads, [&] { benchmark::DoNotOptimize(stream_power(in, p).out); }, &cpu);
   const double cell_steps = static_cast<double>(in.data.size()) * g_sp_steps;
-  state.counters["us_per_cell_step"] = benchmark::Counter(cell_steps * 1e-6, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["us_per_cell_step"] = benchmark::Counter(
+      cell_steps * 1e-6, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.counters["us_per_cell_step_cpu"] = cpu * 1e6 / (cell_steps * static_cast<double>(state.iterations()));
 }
 
@@ -200,11 +204,17 @@ void BM_Thermal(benchmark::State& state) {
 BENCHMARK(BM_StreamPower)
     ->ArgNames({"threads", "side", "routing", "start"})
     ->ArgsProduct({{1, 2}, {1024}, {0, 1}, {0, 1}})
-    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(2);
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1)
+    ->Repetitions(2);
 BENCHMARK(BM_StreamPower)
     ->ArgNames({"threads", "side", "routing", "start"})
     ->ArgsProduct({{1, 2}, {4096}, {0, 1}, {0}})
-    ->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1)->Repetitions(1);
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(1)
+    ->Repetitions(1);
 // threads 1 and 2 at --side (side4096:0) and at 4096^2.
 void sizes(benchmark::internal::Benchmark* b) {
   b->ArgNames({"threads", "side4096"})->Args({1, 0})->Args({2, 0})->Args({1, 4096})->Args({2, 4096});
@@ -261,8 +271,8 @@ int study(const std::string& only, double channel_area, double pipe_duration) {
   std::printf("resolution study: %g m world, change maps box-averaged to 257^2; PipeErosion %g s of 100 mm/h\n", world,
               pipe_duration);
   std::printf("eroded volume per km^2 (StreamPower: net volume exported), correlation of the change maps\n");
-  std::printf("%-17s %14s %14s %14s %10s %10s %10s\n", "model", "m3/km2 257", "m3/km2 513", "m3/km2 1025",
-              "corr257-1k", "corr513-1k", "vol 513/1k");
+  std::printf("%-17s %14s %14s %14s %10s %10s %10s\n", "model", "m3/km2 257", "m3/km2 513", "m3/km2 1025", "corr257-1k",
+              "corr513-1k", "vol 513/1k");
   for (int model = 0; model < 4; ++model) {
     if (!only.empty() && only != names[model]) continue;
     std::vector<double> change[3];
@@ -320,10 +330,10 @@ int study(const std::string& only, double channel_area, double pipe_duration) {
 // pits); "land" counts the pits above 0 m only (the eroded terrain's pits per million of all cells).
 struct DrainageCase {
   const char* name;
-  const char* node;       // the eroded terrain
-  const char* input;      // the terrain before the particle or pipe erosion
-  double threshold;       // m^2
-  const char* metrics;    // the graph's own DrainageMetrics node, or nullptr
+  const char* node;     // the eroded terrain
+  const char* input;    // the terrain before the particle or pipe erosion
+  double threshold;     // m^2
+  const char* metrics;  // the graph's own DrainageMetrics node, or nullptr
 };
 constexpr DrainageCase kDrainageCases[] = {
     {"eroded_mountains", "detail", "rework", 2e5, "metrics"},
@@ -357,9 +367,10 @@ int drainage(const std::string& only, const std::string& sides_text) {
     }
   }
   std::printf("drainage realism of the eroding graphs (DrainageMetrics: lakes >= 2 m deep and >= 4 ha)\n");
-  std::printf("pits per million cells: 'out' outside lakes, 'all', 'land' above 0 m, 'input' outside lakes before\n"
-              "the particle or pipe erosion; theta and R2: Flint's concavity and its fit, hack: Hack's exponent,\n"
-              "R_b: bifurcation ratio; time: evaluation (the erosion and both measures)\n");
+  std::printf(
+      "pits per million cells: 'out' outside lakes, 'all', 'land' above 0 m, 'input' outside lakes before\n"
+      "the particle or pipe erosion; theta and R2: Flint's concavity and its fit, hack: Hack's exponent,\n"
+      "R_b: bifurcation ratio; time: evaluation (the erosion and both measures)\n");
   std::printf("%-17s %6s %7s %9s %9s %9s %9s %7s %6s %6s %6s %6s %8s\n", "graph", "side", "cell m", "out", "all",
               "land", "input", "theta", "R2", "hack", "R_b", "lakes", "time s");
   for (const auto& c : kDrainageCases) {
@@ -432,17 +443,28 @@ int main(int argc, char** argv) {
   double channel_area = 0.0;
   double pipe_duration = 240.0;
   for (int i = 0; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--study") == 0) run_study = true;
-    else if (std::strncmp(argv[i], "--study=", 8) == 0) run_study = true, only = argv[i] + 8;
-    else if (std::strcmp(argv[i], "--drainage") == 0) run_drainage = true;
-    else if (std::strncmp(argv[i], "--drainage=", 11) == 0) run_drainage = true, drainage_graphs = argv[i] + 11;
-    else if (std::strncmp(argv[i], "--drainage_sides=", 17) == 0) drainage_sides = argv[i] + 17;
-    else if (std::strncmp(argv[i], "--channel_area=", 15) == 0) channel_area = std::atof(argv[i] + 15);
-    else if (std::strncmp(argv[i], "--pipe_duration=", 16) == 0) pipe_duration = std::atof(argv[i] + 16);
-    else if (std::strncmp(argv[i], "--side=", 7) == 0) g_side = std::atoi(argv[i] + 7);
-    else if (std::strncmp(argv[i], "--sp_steps=", 11) == 0) g_sp_steps = std::atoi(argv[i] + 11);
-    else if (std::strncmp(argv[i], "--sp_warm_steps=", 16) == 0) g_sp_warm_steps = std::atoi(argv[i] + 16);
-    else args.push_back(argv[i]);
+    if (std::strcmp(argv[i], "--study") == 0)
+      run_study = true;
+    else if (std::strncmp(argv[i], "--study=", 8) == 0)
+      run_study = true, only = argv[i] + 8;
+    else if (std::strcmp(argv[i], "--drainage") == 0)
+      run_drainage = true;
+    else if (std::strncmp(argv[i], "--drainage=", 11) == 0)
+      run_drainage = true, drainage_graphs = argv[i] + 11;
+    else if (std::strncmp(argv[i], "--drainage_sides=", 17) == 0)
+      drainage_sides = argv[i] + 17;
+    else if (std::strncmp(argv[i], "--channel_area=", 15) == 0)
+      channel_area = std::atof(argv[i] + 15);
+    else if (std::strncmp(argv[i], "--pipe_duration=", 16) == 0)
+      pipe_duration = std::atof(argv[i] + 16);
+    else if (std::strncmp(argv[i], "--side=", 7) == 0)
+      g_side = std::atoi(argv[i] + 7);
+    else if (std::strncmp(argv[i], "--sp_steps=", 11) == 0)
+      g_sp_steps = std::atoi(argv[i] + 11);
+    else if (std::strncmp(argv[i], "--sp_warm_steps=", 16) == 0)
+      g_sp_warm_steps = std::atoi(argv[i] + 16);
+    else
+      args.push_back(argv[i]);
   }
   if (run_study) return study(only, channel_area, pipe_duration);
   if (run_drainage) return drainage(drainage_graphs, drainage_sides);

@@ -6,7 +6,8 @@
 //   DirectExecution     the same 200 node executions through run_node, without evaluator: the baseline
 //
 // Counters: us_per_node divides the wall-clock time by the 200 nodes of the graph (cpu_us_per_node the CPU
-// time of all threads); us_per_run_node divides it by the nodes that actually ran. The evaluator's per-node overhead is FullEvaluation's us_per_node minus DirectExecution's.
+// time of all threads); us_per_run_node divides it by the nodes that actually ran. The evaluator's per-node overhead is
+// FullEvaluation's us_per_node minus DirectExecution's.
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -109,7 +110,8 @@ void EditNearEnd(benchmark::State& state) {
     w += 1e-3;  // a value never seen before, so the edited node and its downstream really recompute
     g.set_param(id("add", kEdited), "weight_b", w);
     auto r = ev.evaluate(g, request);
-    if (!r.ok() || r.nodes.at(id("add", kEdited)).status != NodeStatus::Computed) state.SkipWithError("unexpected plan");
+    if (!r.ok() || r.nodes.at(id("add", kEdited)).status != NodeStatus::Computed)
+      state.SkipWithError("unexpected plan");
     benchmark::DoNotOptimize(r);
   }
   timer.report(state, kAdds - kEdited);

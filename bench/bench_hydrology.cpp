@@ -7,7 +7,8 @@
 // time). The `.../wall` variants run with 1 thread and with every hardware thread (rate per second of wall
 // time): their ratio is the speed-up on all cores. On a busy machine compare the single-thread figures.
 // The figures (4096^2 fBm, one thread):
-//   orogen_bench_hydrology --benchmark_filter='^(FillEpsilon|D8Accumulation|MFDAccumulation|RiverExtract)/threads:1' --benchmark_min_time=1
+//   orogen_bench_hydrology --benchmark_filter='^(FillEpsilon|D8Accumulation|MFDAccumulation|RiverExtract)/threads:1'
+//   --benchmark_min_time=1
 // and the speed-up:
 //   orogen_bench_hydrology --benchmark_filter='/wall/' --benchmark_min_time=1
 // Measured:
@@ -15,7 +16,8 @@
 //    flags as bits, stale queue cells skipped on their bits, working array in huge pages (serial)
 //  - Breach: complete breaching (serial, every cell through the priority queue)
 //  - D8Accumulation: D8 receivers and donors (parallel rows) + dependency-counting accumulation (parallel)
-//  - MFDAccumulation / DinfAccumulation: receivers and in-degrees (parallel) + accumulation in row bands merged up a fixed tree (parallel)
+//  - MFDAccumulation / DinfAccumulation: receivers and in-degrees (parallel) + accumulation in row bands merged up a
+//  fixed tree (parallel)
 //  - RiverExtract: the whole RiverExtract node function (fill, D8, accumulation, reaches, curves, mask)
 #include <algorithm>
 #include <cstdio>
@@ -82,8 +84,8 @@ void run(benchmark::State& state, Fn&& fn) {
   // cost this VM up to a second on the first 4096^2 call).
   arena.execute([&] { fn(g); });
   for (auto _ : state) arena.execute([&] { fn(g); });
-  state.counters["cells_per_s"] =
-      benchmark::Counter(static_cast<double>(g.size()) * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["cells_per_s"] = benchmark::Counter(
+      static_cast<double>(g.size()) * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["closed_fraction"] = closed_fraction();
 }
 

@@ -61,7 +61,8 @@ void Raster(benchmark::State& state) {
   const Domain d = Domain::from_extent({0, 0}, {4096, 4096}, {r, r});
   tbb::task_arena arena(1);
   for (auto _ : state) arena.execute([&] { benchmark::DoNotOptimize(rasterize_polygon_map(map, d, RasterParams{})); });
-  state.counters["samples_per_s"] = benchmark::Counter(static_cast<double>(r) * r, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["samples_per_s"] =
+      benchmark::Counter(static_cast<double>(r) * r, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(Raster)->Arg(1024)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
 
@@ -88,7 +89,8 @@ void Carve(benchmark::State& state) {
   c.radius = 250.0;
   tbb::task_arena arena(1);
   for (auto _ : state) arena.execute([&] { benchmark::DoNotOptimize(carve_rivers(flat, net, c)); });
-  state.counters["samples_per_s"] = benchmark::Counter(static_cast<double>(r) * r, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["samples_per_s"] =
+      benchmark::Counter(static_cast<double>(r) * r, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(Carve)->Arg(512)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
 

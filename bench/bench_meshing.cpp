@@ -31,8 +31,7 @@ std::atomic<long long> g_in_use{0}, g_peak{0};
 void count(long long delta) {
   const long long now = g_in_use.fetch_add(delta, std::memory_order_relaxed) + delta;
   long long peak = g_peak.load(std::memory_order_relaxed);
-  while (now > peak && !g_peak.compare_exchange_weak(peak, now, std::memory_order_relaxed)) {
-  }
+  while (now > peak && !g_peak.compare_exchange_weak(peak, now, std::memory_order_relaxed)) {}
 }
 void* allocate(std::size_t n) {
   void* p = std::malloc(n + 16);
@@ -82,7 +81,8 @@ const Terrain& terrain(int n) {
   Terrain t{*h, 0.0};
   const auto [lo, hi] = std::minmax_element(t.height.data.begin(), t.height.data.end());
   const double zmin = *lo, range = *hi - *lo;
-  for (float& z : t.height.data) z = static_cast<float>(zmin + std::round((z - zmin) / range * 65535.0) / 65535.0 * range);
+  for (float& z : t.height.data)
+    z = static_cast<float>(zmin + std::round((z - zmin) / range * 65535.0) / 65535.0 * range);
   t.bound = 0.005 * range;
   return cache.emplace(n, std::move(t)).first->second;
 }
@@ -137,7 +137,14 @@ void MeshNode(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(TinBench)->Name("Tin")->Arg(257)->Arg(513)->Arg(1025)->Arg(2049)->Arg(4097)->Unit(benchmark::kMillisecond);
-BENCHMARK(GreedyBench)->Name("Greedy")->Arg(257)->Arg(513)->Arg(1025)->Arg(2049)->Arg(4097)->Unit(benchmark::kMillisecond);
+BENCHMARK(GreedyBench)
+    ->Name("Greedy")
+    ->Arg(257)
+    ->Arg(513)
+    ->Arg(1025)
+    ->Arg(2049)
+    ->Arg(4097)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(MeshNode)->Name("Mesh")->Arg(1025)->Arg(4097)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -37,8 +37,8 @@ using namespace orogen;
 using namespace orogen::noise;
 
 constexpr int kSide = 4096;
-constexpr double kWorld = 4096.0;       // metres
-constexpr double kFeature = 64.0;       // metres: 64 cells across
+constexpr double kWorld = 4096.0;  // metres
+constexpr double kFeature = 64.0;  // metres: 64 cells across
 constexpr double kSamples = double(kSide) * kSide;
 
 const Domain& grid() {
@@ -191,15 +191,19 @@ int main(int argc, char** argv) {
     return std::string(b);
   };
   const auto lib1 = get("libnoise/Perlin/1octave"), lib5 = get("libnoise/Perlin/5octaves");
-  std::printf("\nns per sample (best of the repetitions); vs libnoise = libnoise time / Orogen time in this run, from\n"
-              "the CPU time of the single working thread; speed-up = CPU time on 1 thread / wall time on all threads\n"
-              "(the single thread's wall time counts the time other processes held its core, which made the ratio\n"
-              "exceed the core count on a busy machine; its CPU time is the work itself)\n");
-  std::printf("| generator | ns/sample, 1 thread (CPU) | (wall) | vs libnoise | ns/sample, %d threads (wall) | speed-up |\n",
-              tbb::info::default_concurrency());
+  std::printf(
+      "\nns per sample (best of the repetitions); vs libnoise = libnoise time / Orogen time in this run, from\n"
+      "the CPU time of the single working thread; speed-up = CPU time on 1 thread / wall time on all threads\n"
+      "(the single thread's wall time counts the time other processes held its core, which made the ratio\n"
+      "exceed the core count on a busy machine; its CPU time is the work itself)\n");
+  std::printf(
+      "| generator | ns/sample, 1 thread (CPU) | (wall) | vs libnoise | ns/sample, %d threads (wall) | speed-up |\n",
+      tbb::info::default_concurrency());
   std::printf("|---|---|---|---|---|---|\n");
-  std::printf("| libnoise Perlin, 1 octave | %s | %s | 1x | | |\n", fmt(lib1.cpu_ns).c_str(), fmt(lib1.wall_ns).c_str());
-  std::printf("| libnoise Perlin, 5 octaves | %s | %s | 1x | | |\n", fmt(lib5.cpu_ns).c_str(), fmt(lib5.wall_ns).c_str());
+  std::printf("| libnoise Perlin, 1 octave | %s | %s | 1x | | |\n", fmt(lib1.cpu_ns).c_str(),
+              fmt(lib1.wall_ns).c_str());
+  std::printf("| libnoise Perlin, 5 octaves | %s | %s | 1x | | |\n", fmt(lib5.cpu_ns).c_str(),
+              fmt(lib5.wall_ns).c_str());
   for (const std::string& name : ours) {
     const auto one = get("orogen/" + name + "/1thread"), all = get("orogen/" + name + "/allthreads");
     if (one.cpu_ns <= 0) continue;

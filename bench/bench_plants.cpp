@@ -42,7 +42,8 @@ void derive(benchmark::State& state, const char* axiom, const char* rules) {
     benchmark::DoNotOptimize(w.symbols.data());
   }
   state.counters["modules"] = static_cast<double>(n);
-  state.counters["modules_per_s"] = benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["modules_per_s"] =
+      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_Derive_rule_4_20(benchmark::State& s) { derive(s, "X", "X -> F-[[X]+X]+F[+FX]-X\nF -> FF"); }

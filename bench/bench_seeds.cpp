@@ -109,13 +109,14 @@ int main(int argc, char** argv) {
     } else if (a == "--keep" && has_value) {
       keep = argv[++i];
     } else {
-      std::fprintf(stderr,
-                   "usage: %s [--graphs NAME,NAME...] [--resolution NAME=N ...] [--repeat K] [--keep DIR]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--graphs NAME,NAME...] [--resolution NAME=N ...] [--repeat K] [--keep DIR]\n",
+                   argv[0]);
       return a == "--help" || a == "-h" ? 0 : 2;
     }
   }
   const fs::path source = OROGEN_SOURCE_DIR, cli = OROGEN_CLI;
-  const fs::path scratch = keep.empty() ? fs::temp_directory_path() / ("orogen-bench-seeds-" + std::to_string(getpid())) : keep;
+  const fs::path scratch =
+      keep.empty() ? fs::temp_directory_path() / ("orogen-bench-seeds-" + std::to_string(getpid())) : keep;
   std::printf("%-22s %11s %9s %9s %12s  %s\n", "graph", "resolution", "wall s", "cpu s", "peak RSS MB", "command");
   int failures = 0;
   for (const auto& s : seeds) {
@@ -152,8 +153,9 @@ int main(int argc, char** argv) {
       ++failures;
       continue;
     }
-    std::printf("%-22s %11s %9.2f %9.2f %12.1f  %s\n", s.file.c_str(), s.resolution.empty() ? "file" : s.resolution.c_str(),
-                best.wall_s, best.cpu_s, static_cast<double>(best.max_rss_kb) / 1024.0, command.c_str());
+    std::printf("%-22s %11s %9.2f %9.2f %12.1f  %s\n", s.file.c_str(),
+                s.resolution.empty() ? "file" : s.resolution.c_str(), best.wall_s, best.cpu_s,
+                static_cast<double>(best.max_rss_kb) / 1024.0, command.c_str());
     std::fflush(stdout);
   }
   if (keep.empty()) fs::remove_all(scratch);

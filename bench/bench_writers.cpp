@@ -35,8 +35,9 @@ const Domain& domain() {
 
 // fBm terrain: realistic entropy for the compressors (a constant field would compress to nothing).
 const Heightfield& terrain() {
-  static const Heightfield h = *run_node("FBM", domain(), {{"feature_size", 3000.0}, {"amplitude", 800.0}, {"octaves", std::int64_t(10)}})
-                                    .get<Heightfield>();
+  static const Heightfield h =
+      *run_node("FBM", domain(), {{"feature_size", 3000.0}, {"amplitude", 800.0}, {"octaves", std::int64_t(10)}})
+           .get<Heightfield>();
   return h;
 }
 
@@ -80,14 +81,13 @@ void finish(benchmark::State& state, const fs::path& path, double payload_bytes,
   state.counters["process_cpu_ms"] = 1e3 * per_write;
   state.counters["MB_per_cpu_s"] = payload_bytes / 1e6 / per_write;
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * payload_bytes));
-  state.counters["MB_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()) * payload_bytes / 1e6,
-                                                  benchmark::Counter::kIsRate);
+  state.counters["MB_per_s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * payload_bytes / 1e6, benchmark::Counter::kIsRate);
   state.counters["file_MB"] = static_cast<double>(fs::file_size(path)) / 1e6;
   fs::remove(path);
 }
 
-void Height(benchmark::State& state, HeightFormat format, const char* name, int level,
-            const char* exr_codec = "zip") {
+void Height(benchmark::State& state, HeightFormat format, const char* name, int level, const char* exr_codec = "zip") {
   const Heightfield& h = terrain();
   const fs::path path = scratch(name);
   HeightfieldWriteOptions options;
@@ -125,14 +125,22 @@ void Color(benchmark::State& state, ImageFormat format, const char* name, int le
 // -1: each library's default level (what Orogen wrote before the compression_level parameter); 1: the
 // fastest zlib level (WriteHeightfield's default now; WriteImage keeps 6). EXR heights: WriteHeightfield's
 // default codec is none (exr_float32_none); zip and piz for comparison.
-BENCHMARK_CAPTURE(Height, exr_float32_none, HeightFormat::Exr, "h.exr", 1, "none")->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(Height, exr_float32_piz, HeightFormat::Exr, "h.exr", 1, "piz")->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(Height, exr_float32_none, HeightFormat::Exr, "h.exr", 1, "none")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(Height, exr_float32_piz, HeightFormat::Exr, "h.exr", 1, "piz")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(Height, exr_float32, HeightFormat::Exr, "h.exr", -1)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(Height, exr_float32_level1, HeightFormat::Exr, "h.exr", 1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(Height, exr_float32_level1, HeightFormat::Exr, "h.exr", 1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(Height, png16, HeightFormat::Png16, "h.png", -1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(Height, png16_level1, HeightFormat::Png16, "h.png", 1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(Height, tiff_float32, HeightFormat::Tiff, "h.tif", -1)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(Height, tiff_float32_level1, HeightFormat::Tiff, "h.tif", 1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(Height, tiff_float32_level1, HeightFormat::Tiff, "h.tif", 1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK_CAPTURE(Height, raw16, HeightFormat::Raw16, "h.raw", -1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(Color, png8_rgb, ImageFormat::Png8, "c.png", -1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(Color, png8_rgb_level1, ImageFormat::Png8, "c.png", 1)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -11,8 +11,8 @@
 namespace orogen::bench {
 
 inline void keep_freed_memory_in_heap() {
-  mallopt(M_MMAP_MAX, 0);               // no block from mmap: all from the heap
-  mallopt(M_TRIM_THRESHOLD, INT_MAX);   // and never give the heap's top back
+  mallopt(M_MMAP_MAX, 0);              // no block from mmap: all from the heap
+  mallopt(M_TRIM_THRESHOLD, INT_MAX);  // and never give the heap's top back
 }
 
 }  // namespace orogen::bench

@@ -64,16 +64,22 @@ int run_eval(const EvalCommand& cmd) {
   std::vector<std::string> errors = apply_param_overrides(graph, cmd.set);
   std::string why;
   if (!cmd.origin.empty()) {
-    if (auto o = parse_number_pair(cmd.origin, "--origin", false, why)) graph.domain.origin = *o;
-    else errors.push_back(why);
+    if (auto o = parse_number_pair(cmd.origin, "--origin", false, why))
+      graph.domain.origin = *o;
+    else
+      errors.push_back(why);
   }
   if (!cmd.size.empty()) {  // before --resolution, whose single-number form follows the size
-    if (auto sz = parse_number_pair(cmd.size, "--size", true, why)) graph.domain.size = *sz;
-    else errors.push_back(why);
+    if (auto sz = parse_number_pair(cmd.size, "--size", true, why))
+      graph.domain.size = *sz;
+    else
+      errors.push_back(why);
   }
   if (!cmd.resolution.empty()) {
-    if (auto r = resolution_for(cmd.resolution, graph.domain.size, why)) graph.domain.resolution = *r;
-    else errors.push_back(why);
+    if (auto r = resolution_for(cmd.resolution, graph.domain.size, why))
+      graph.domain.resolution = *r;
+    else
+      errors.push_back(why);
   }
   glm::ivec2 counts{1, 1};
   std::optional<glm::ivec2> only_tile;
@@ -83,8 +89,10 @@ int run_eval(const EvalCommand& cmd) {
       counts = *c;
       tiled = true;
       if (!cmd.tile.empty()) {
-        if (auto t = parse_tile_index(cmd.tile, counts, why)) only_tile = *t;
-        else errors.push_back(why);
+        if (auto t = parse_tile_index(cmd.tile, counts, why))
+          only_tile = *t;
+        else
+          errors.push_back(why);
       }
     } else {
       errors.push_back(why);
@@ -95,10 +103,13 @@ int run_eval(const EvalCommand& cmd) {
   GlobalNodes global = GlobalNodes::Whole;
   if (!cmd.global_nodes.empty()) {
     if (cmd.tiles.empty())
-      errors.push_back("--global-nodes " + cmd.global_nodes + " needs --tiles NxM: it says how a tiled build "
+      errors.push_back("--global-nodes " + cmd.global_nodes +
+                       " needs --tiles NxM: it says how a tiled build "
                        "evaluates nodes that need the whole domain");
-    else if (auto g = parse_global_nodes(cmd.global_nodes)) global = *g;
-    else errors.push_back("--global-nodes '" + cmd.global_nodes + "': expected 'whole' or 'tile'");
+    else if (auto g = parse_global_nodes(cmd.global_nodes))
+      global = *g;
+    else
+      errors.push_back("--global-nodes '" + cmd.global_nodes + "': expected 'whole' or 'tile'");
   }
   const Domain domain = graph.domain.to_domain();
   if (tiled)
@@ -117,8 +128,10 @@ int run_eval(const EvalCommand& cmd) {
     errors.push_back("--cache-disk-mb '" + cmd.cache_disk_mb + "': expected a number of MiB from 0 to 1e9");
   std::uint64_t max_memory = available_memory_bytes();
   if (!cmd.max_memory.empty()) {
-    if (auto m = parse_memory_size(cmd.max_memory); m && *m > 0) max_memory = *m;
-    else errors.push_back("--max-memory '" + cmd.max_memory + "': expected a positive size such as 4096, 512M or 8G");
+    if (auto m = parse_memory_size(cmd.max_memory); m && *m > 0)
+      max_memory = *m;
+    else
+      errors.push_back("--max-memory '" + cmd.max_memory + "': expected a positive size such as 4096, 512M or 8G");
   }
   if (auto e = check_domain(domain); !e.empty()) errors.push_back(e);
 
@@ -147,7 +160,8 @@ int run_eval(const EvalCommand& cmd) {
       CostQuery query{*node.type, d, ParamView(*node.type, params), nullptr, graph.directory, {}};
       for (const auto& port : node.type->inputs) query.linked.push_back(node.inputs.contains(port.name));
       const auto need = estimate_node_bytes(query);
-      if (need > max_memory) errors.push_back("node '" + node.id + "': " + memory_refusal(*node.type, d, need, max_memory));
+      if (need > max_memory)
+        errors.push_back("node '" + node.id + "': " + memory_refusal(*node.type, d, need, max_memory));
     }
   }
   if (!errors.empty()) {
@@ -185,7 +199,8 @@ int run_eval(const EvalCommand& cmd) {
     if (build.tile) {
       add_output_suffix(tile_graph, build.suffix);
       request.node_domains = tile_node_domains(tile_graph, domain, *build.tile, global);
-      const Domain d = domain.subdomain(build.tile->first.x, build.tile->first.y, build.tile->size.x, build.tile->size.y);
+      const Domain d =
+          domain.subdomain(build.tile->first.x, build.tile->first.y, build.tile->size.x, build.tile->size.y);
       label = "tile " + std::to_string(build.tile->index.x) + "," + std::to_string(build.tile->index.y) + " (" +
               std::to_string(b + 1) + "/" + std::to_string(builds.size()) + ")";
       if (!cmd.quiet) std::cerr << label << ": " << d.describe() << ", files *" << build.suffix << ".*\n";
@@ -197,8 +212,8 @@ int run_eval(const EvalCommand& cmd) {
     total_ms += result.milliseconds;
 
     if (!cmd.stats_file.empty()) {
-      const auto stats_path = build.tile ? std::filesystem::path(with_suffix(cmd.stats_file.string(), build.suffix))
-                                         : cmd.stats_file;
+      const auto stats_path =
+          build.tile ? std::filesystem::path(with_suffix(cmd.stats_file.string(), build.suffix)) : cmd.stats_file;
       try {
         write_text_atomically(stats_path, stats_with_tile(result, tile_graph, build, counts, domain));
       } catch (const std::exception& e) {
@@ -212,15 +227,22 @@ int run_eval(const EvalCommand& cmd) {
     std::size_t computed = 0, cached = 0, failed = 0, skipped = 0;
     for (const auto& [id, r] : result.nodes) {
       switch (r.status) {
-        case NodeStatus::Computed: ++computed; break;
-        case NodeStatus::Cached: ++cached; break;
+        case NodeStatus::Computed:
+          ++computed;
+          break;
+        case NodeStatus::Cached:
+          ++cached;
+          break;
         case NodeStatus::Failed:
           ++failed;
           std::cerr << "error: " << (label.empty() ? "" : label + ": ") << "node '" << id << "' failed: " << r.message
                     << "\n";
           break;
-        case NodeStatus::Skipped: ++skipped; break;
-        default: break;
+        case NodeStatus::Skipped:
+          ++skipped;
+          break;
+        default:
+          break;
       }
     }
     total_failed += failed;
@@ -228,7 +250,8 @@ int run_eval(const EvalCommand& cmd) {
     if (result.cancelled) {
       std::signal(SIGINT, SIG_DFL);
       std::signal(SIGTERM, SIG_DFL);
-      std::cerr << "interrupted" << (label.empty() ? "" : " in " + label) << ": nothing partial was written or cached\n";
+      std::cerr << "interrupted" << (label.empty() ? "" : " in " + label)
+                << ": nothing partial was written or cached\n";
       return kExitEvalFailed;
     }
     if (!cmd.quiet) {

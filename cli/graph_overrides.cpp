@@ -32,7 +32,8 @@ std::vector<std::string> apply_param_overrides(Graph& graph, const std::vector<s
     }
     const ParamDecl* decl = node->type->find_param(name);
     if (!decl) {
-      errors.push_back("--set '" + a + "': node '" + node_id + "' (" + node->type->name + ") has no parameter '" + name + "'");
+      errors.push_back("--set '" + a + "': node '" + node_id + "' (" + node->type->name + ") has no parameter '" +
+                       name + "'");
       continue;
     }
     std::string why;
@@ -70,7 +71,8 @@ std::optional<double> parse_number(const std::string& text, double lo, double hi
   char* end = nullptr;
   errno = 0;
   const double v = std::strtod(text.c_str(), &end);
-  if (end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(v) || v < lo || v > hi) return std::nullopt;
+  if (end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(v) || v < lo || v > hi)
+    return std::nullopt;
   return v;
 }
 
@@ -83,11 +85,16 @@ std::optional<std::uint64_t> parse_memory_size(const std::string& text) {
       suffix.insert(suffix.begin(), static_cast<char>(std::toupper(static_cast<unsigned char>(number.back()))));
       number.pop_back();
     }
-    if (suffix == "K" || suffix == "KB" || suffix == "KIB") unit = 1024.0;
-    else if (suffix == "M" || suffix == "MB" || suffix == "MIB") unit = 1024.0 * 1024.0;
-    else if (suffix == "G" || suffix == "GB" || suffix == "GIB") unit = 1024.0 * 1024.0 * 1024.0;
-    else if (suffix == "T" || suffix == "TB" || suffix == "TIB") unit = 1024.0 * 1024.0 * 1024.0 * 1024.0;
-    else if (!suffix.empty()) return std::nullopt;
+    if (suffix == "K" || suffix == "KB" || suffix == "KIB")
+      unit = 1024.0;
+    else if (suffix == "M" || suffix == "MB" || suffix == "MIB")
+      unit = 1024.0 * 1024.0;
+    else if (suffix == "G" || suffix == "GB" || suffix == "GIB")
+      unit = 1024.0 * 1024.0 * 1024.0;
+    else if (suffix == "T" || suffix == "TB" || suffix == "TIB")
+      unit = 1024.0 * 1024.0 * 1024.0 * 1024.0;
+    else if (!suffix.empty())
+      return std::nullopt;
   }
   const auto v = parse_number(number, 0.0, std::ldexp(1.0, 60) / unit);
   if (!v) return std::nullopt;
@@ -109,8 +116,8 @@ std::optional<glm::ivec2> resolution_for(const std::string& text, glm::dvec2 siz
   const double sx = size.x / (r->x - 1), sy = size.y / (r->y - 1);
   if (std::abs(sx - sy) <= 1e-9 * std::max(sx, sy)) return r;
   std::ostringstream s;
-  s << "--resolution " << text << " on the graph's " << size.x << " x " << size.y << " m domain gives cells of "
-    << sx << " m x " << sy << " m; cells must be square (the same spacing in x and y)";
+  s << "--resolution " << text << " on the graph's " << size.x << " x " << size.y << " m domain gives cells of " << sx
+    << " m x " << sy << " m; cells must be square (the same spacing in x and y)";
   const double rows = size.y / sx + 1.0;
   if (std::abs(rows - std::round(rows)) < 1e-6 && rows >= 2.0 && rows <= 65536.0)
     s << ": use " << r->x << "x" << std::llround(rows) << " (or just " << r->x << ")";

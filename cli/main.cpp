@@ -17,10 +17,12 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("-o,--output", eval.output_dir, "Output directory; graph output paths resolve inside it")
       ->capture_default_str();
   eval_cmd->add_option("--set", eval.set, "Override a parameter: NODE.PARAM=VALUE (JSON or bare text); repeatable");
-  eval_cmd->add_option("--resolution", eval.resolution, "Override the sample counts: WxH (e.g. 2048x2048), or N along x with square cells; cells must "
-                 "stay square");
-  eval_cmd->add_option("--origin", eval.origin,
-                       "Move the domain: X,Y in metres, the world position of its first sample (overrides the graph's origin)");
+  eval_cmd->add_option("--resolution", eval.resolution,
+                       "Override the sample counts: WxH (e.g. 2048x2048), or N along x with square cells; cells must "
+                       "stay square");
+  eval_cmd->add_option(
+      "--origin", eval.origin,
+      "Move the domain: X,Y in metres, the world position of its first sample (overrides the graph's origin)");
   eval_cmd->add_option("--size", eval.size,
                        "Resize the domain: W,H in metres (overrides the graph's size; the sample counts stay unless "
                        "--resolution is given)");
@@ -42,8 +44,9 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("--threads", eval.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096));
   eval_cmd->add_option("--cache-dir", eval.cache_dir, "Persistent cache directory (results survive the process)");
   eval_cmd->add_option("--cache-mb", eval.cache_mb, "In-memory cache bound in MiB (0 to 1e9)")->capture_default_str();
-  eval_cmd->add_option("--cache-disk-mb", eval.cache_disk_mb,
-                       "Bound of the --cache-dir directory in MiB (0 to 1e9); least recently used entries are evicted")
+  eval_cmd
+      ->add_option("--cache-disk-mb", eval.cache_disk_mb,
+                   "Bound of the --cache-dir directory in MiB (0 to 1e9); least recently used entries are evicted")
       ->capture_default_str();
   eval_cmd->add_option("--max-memory", eval.max_memory,
                        "Refuse nodes whose estimated memory exceeds this (MiB, or with a unit: 512M, 8G); "

@@ -12,9 +12,12 @@ namespace {
 
 std::string range_text(const ParamDecl& p) {
   std::ostringstream s;
-  if (p.min && p.max) s << "[" << *p.min << ", " << *p.max << "]";
-  else if (p.min) s << ">= " << *p.min;
-  else if (p.max) s << "<= " << *p.max;
+  if (p.min && p.max)
+    s << "[" << *p.min << ", " << *p.max << "]";
+  else if (p.min)
+    s << ">= " << *p.min;
+  else if (p.max)
+    s << "<= " << *p.max;
   return s.str();
 }
 
@@ -78,7 +81,8 @@ const char* default_reach_kind(const NodeType& t) { return to_string(t.reach_for
 
 nlohmann::json reach_json(const NodeType& t) {
   const Reach r = t.reach_for(defaults(t));
-  nlohmann::json j = {{"kind", to_string(r.kind)}, {"summary", t.reach_text()}, {"depends_on_params", bool(t.reach_fn)}};
+  nlohmann::json j = {
+      {"kind", to_string(r.kind)}, {"summary", t.reach_text()}, {"depends_on_params", bool(t.reach_fn)}};
   if (r.kind == ReachKind::Local) {
     j["metres"] = r.metres;
     j["samples"] = r.samples;
@@ -110,10 +114,16 @@ nlohmann::json type_json(const NodeType& t) {
     }
     params.push_back(std::move(j));
   }
-  return {{"name", t.name},       {"category", t.category}, {"version", t.version},
-          {"description", t.description}, {"inputs", inputs}, {"outputs", outputs},
-          {"params", params},     {"reach", reach_json(t)},
-          {"writes_files", t.writes_files}, {"domain_independent", t.domain_independent}};
+  return {{"name", t.name},
+          {"category", t.category},
+          {"version", t.version},
+          {"description", t.description},
+          {"inputs", inputs},
+          {"outputs", outputs},
+          {"params", params},
+          {"reach", reach_json(t)},
+          {"writes_files", t.writes_files},
+          {"domain_independent", t.domain_independent}};
 }
 
 }  // namespace

@@ -36,8 +36,12 @@ void ProgressDisplay::on_event(const EvalEvent& e) {
   std::lock_guard lock(mutex_);
   char buf[64];
   switch (e.kind) {
-    case EvalEvent::Kind::Started: running_[e.node] = 0.0; break;
-    case EvalEvent::Kind::Progress: running_[e.node] = e.fraction; break;
+    case EvalEvent::Kind::Started:
+      running_[e.node] = 0.0;
+      break;
+    case EvalEvent::Kind::Progress:
+      running_[e.node] = e.fraction;
+      break;
     case EvalEvent::Kind::Finished:
       running_.erase(e.node);
       ++done_;

@@ -41,7 +41,8 @@ std::string stats_json(const EvalResult& result, const Graph* graph) {
       if (const auto* r = std::get_if<ReportPtr>(&values[k]); r && *r) {
         nlohmann::json parsed = nlohmann::json::parse((*r)->json, nullptr, false);
         const Node* node = graph ? graph->find(id) : nullptr;
-        const std::string port = node && k < node->type->outputs.size() ? node->type->outputs[k].name : std::to_string(k);
+        const std::string port =
+            node && k < node->type->outputs.size() ? node->type->outputs[k].name : std::to_string(k);
         reports[id][port] = parsed.is_discarded() ? nlohmann::json((*r)->json) : parsed;
       }
   nlohmann::json doc = {{"nodes", nodes},

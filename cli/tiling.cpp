@@ -118,7 +118,9 @@ std::optional<glm::dvec2> parse_number_pair(const std::string& text, const std::
                                             std::string& error) {
   const auto parts = split_pair(text, ",");
   std::optional<double> x, y;
-  if (parts) x = parse_number(parts->first, -kMaxCoordinate, kMaxCoordinate), y = parse_number(parts->second, -kMaxCoordinate, kMaxCoordinate);
+  if (parts)
+    x = parse_number(parts->first, -kMaxCoordinate, kMaxCoordinate),
+    y = parse_number(parts->second, -kMaxCoordinate, kMaxCoordinate);
   if (!x || !y) {
     error = option + " '" + text + "': expected two numbers X,Y in metres (e.g. " +
             (positive ? "4096,2048" : "-1024,512") + "), each within +/-1e12";
@@ -158,9 +160,7 @@ TileWindow tile_window(glm::ivec2 resolution, glm::ivec2 counts, glm::ivec2 inde
   return w;
 }
 
-std::string tile_suffix(glm::ivec2 index) {
-  return "_x" + std::to_string(index.x) + "_y" + std::to_string(index.y);
-}
+std::string tile_suffix(glm::ivec2 index) { return "_x" + std::to_string(index.x) + "_y" + std::to_string(index.y); }
 
 std::string with_suffix(const std::string& path, const std::string& suffix) {
   const std::filesystem::path p(path);
@@ -177,7 +177,8 @@ void add_output_suffix(Graph& graph, const std::string& suffix) {
   // writes refers to that image's tile: it gets the same suffix.
   std::set<std::string> written;
   for (const auto& [id, name] : edits)
-    written.insert(std::filesystem::path(std::get<std::string>(graph.param(id, name))).lexically_normal().generic_string());
+    written.insert(
+        std::filesystem::path(std::get<std::string>(graph.param(id, name))).lexically_normal().generic_string());
   std::vector<std::pair<std::string, std::string>> textures;  // (node, new texture)
   for (const auto& node : graph.nodes()) {
     if (!node.type->find_param("texture") || !node.type->find_param("path")) continue;
@@ -219,10 +220,10 @@ std::map<std::string, Domain> tile_node_domains(const Graph& graph, const Domain
     glm::ivec2 n{0, 0};
     for (const Node* c : consumers[node.id]) n = glm::max(n, need.at(c->id) + halo.at(c->id));
     // A whole-domain node evaluated whole: a halo that covers the domain from any tile.
-    const glm::ivec2 own = evaluated_whole(graph, node, global)
-                               ? full.resolution
-                               : capped_halo(node.type->reach_for(graph.effective_params(node)), full.spacing,
-                                             full.resolution);
+    const glm::ivec2 own =
+        evaluated_whole(graph, node, global)
+            ? full.resolution
+            : capped_halo(node.type->reach_for(graph.effective_params(node)), full.spacing, full.resolution);
     // Margins beyond the domain's size change nothing: clamped, so long chains of wide halos cannot overflow.
     need[node.id] = glm::min(n, full.resolution);
     halo[node.id] = glm::min(own, full.resolution);
@@ -267,12 +268,13 @@ std::vector<std::string> seam_warnings(const Graph& graph, GlobalNodes global) {
     std::vector<std::string> writers;
     for (const auto& down : graph.downstream(id))
       if (graph.at(down).type->writes_files) writers.push_back("'" + down + "'");
-    const std::string why = global == GlobalNodes::PerTile
-                                ? "with --global-nodes tile, each tile computes it"
-                                : "its " + other_outputs(type) + " cannot be cut from a whole-domain result: each tile computes it";
+    const std::string why =
+        global == GlobalNodes::PerTile
+            ? "with --global-nodes tile, each tile computes it"
+            : "its " + other_outputs(type) + " cannot be cut from a whole-domain result: each tile computes it";
     warnings.push_back("node '" + id + "' (" + type.name + ", reach " +
-                       type.reach_for(graph.effective_params(node)).describe() + ") depends on the whole domain: " +
-                       why + " from its own part only, so its result" +
+                       type.reach_for(graph.effective_params(node)).describe() +
+                       ") depends on the whole domain: " + why + " from its own part only, so its result" +
                        (writers.empty() ? std::string() : " and the outputs of " + quoted_list(writers)) +
                        " will not join seamlessly across tile borders nor match the untiled build");
   }

@@ -23,8 +23,10 @@ int main(int argc, char** argv) {
   cli.add_option("--select", options.select, "Select this node at start (its parameters and preview are shown)");
   cli.add_flag("!--no-thumbnails", options.thumbnails, "Nodes without thumbnails of their outputs");
   cli.add_option("--port", options.port, "With --select: the output shown in the preview (default: the first)");
-  cli.add_option("--channel", options.channel, "With --select: the image channel (by name, e.g. jun) shown in the 2D preview");
-  cli.add_option("--color-map", options.color_map, "2D preview color map at start (gray, terrain, viridis, diverging, water, categorical)")
+  cli.add_option("--channel", options.channel,
+                 "With --select: the image channel (by name, e.g. jun) shown in the 2D preview");
+  cli.add_option("--color-map", options.color_map,
+                 "2D preview color map at start (gray, terrain, viridis, diverging, water, categorical)")
       ->check(CLI::IsMember({"gray", "terrain", "viridis", "diverging", "water", "categorical"}));
   cli.add_option("--view", options.view, "Preview panel at start")->check(CLI::IsMember({"2d", "3d"}));
   cli.add_option("--drape", options.drape, "Image node draped over the 3D terrain at start");
@@ -33,7 +35,8 @@ int main(int argc, char** argv) {
                  "wheel notches after framing, > 0 closer)")
       ->expected(3)
       ->delimiter(',');
-  cli.add_option("--preview-width", options.preview_width, "Width of the preview and inspector column at start (pixels)")
+  cli.add_option("--preview-width", options.preview_width,
+                 "Width of the preview and inspector column at start (pixels)")
       ->check(CLI::Range(260.0f, 8192.0f));
   cli.add_option("--preview-resolution", options.preview_resolution,
                  "Preview samples along the longer side (default 512)")

@@ -14,12 +14,14 @@ struct CacheKey {
   std::uint64_t high = 0, low = 0;
   bool operator==(const CacheKey&) const = default;
   bool operator<(const CacheKey& o) const { return high != o.high ? high < o.high : low < o.low; }
-  std::string hex() const;  // 32 lowercase hex digits
+  std::string hex() const;                       // 32 lowercase hex digits
   static CacheKey from_hex(std::string_view s);  // throws std::invalid_argument
 };
 
 struct CacheKeyHash {
-  std::size_t operator()(const CacheKey& k) const { return static_cast<std::size_t>(k.low ^ (k.high * 0x9E3779B97F4A7C15ull)); }
+  std::size_t operator()(const CacheKey& k) const {
+    return static_cast<std::size_t>(k.low ^ (k.high * 0x9E3779B97F4A7C15ull));
+  }
 };
 
 // Streaming canonical hasher: every value is written with a type tag (and strings with their length) so

@@ -9,9 +9,9 @@ WrittenFile WrittenFile::stat(const std::filesystem::path& path) {
   WrittenFile f;
   f.path = path;
   f.size = std::filesystem::file_size(path);
-  f.mtime_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                   std::filesystem::last_write_time(path).time_since_epoch())
-                   .count();
+  f.mtime_ns =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::filesystem::last_write_time(path).time_since_epoch())
+          .count();
   return f;
 }
 

@@ -22,7 +22,7 @@ namespace {
 
 constexpr char kMagic[8] = {'O', 'R', 'O', 'G', 'E', 'N', 'C', '1'};
 constexpr std::uint32_t kContainerVersion = 2;  // 2: zstd-compressed payload, uncompressed length in the header
-constexpr int kZstdLevel = 1;                     // fast: the cache is about time, not space
+constexpr int kZstdLevel = 1;                   // fast: the cache is about time, not space
 constexpr std::uint64_t kMaxPayloadBytes = std::uint64_t(1) << 40;
 
 namespace fs = std::filesystem;
@@ -32,8 +32,10 @@ void remove_entry(const fs::path& path) {
   std::error_code ec;
   const auto status = fs::symlink_status(path, ec);
   if (ec) return;
-  if (fs::is_directory(status)) fs::remove_all(path, ec);
-  else ::unlink(path.c_str());
+  if (fs::is_directory(status))
+    fs::remove_all(path, ec);
+  else
+    ::unlink(path.c_str());
 }
 
 // Reads the whole of an open file; false on a read error.
@@ -103,8 +105,7 @@ std::shared_ptr<CachedResult> decode_payload(std::string_view payload) {
 
 }  // namespace
 
-DiskCache::DiskCache(std::filesystem::path dir, std::uint64_t max_bytes)
-    : dir_(std::move(dir)), max_bytes_(max_bytes) {
+DiskCache::DiskCache(std::filesystem::path dir, std::uint64_t max_bytes) : dir_(std::move(dir)), max_bytes_(max_bytes) {
   remove_stale_temporaries(dir_, 1);  // left by killed processes
 }
 
@@ -211,12 +212,18 @@ DiskCache::Loaded DiskCache::load(const CacheKey& key) const {
   }
   std::string bytes;
   std::string why;
-  if (::fstat(fd, &st) != 0) why = std::string("cannot stat: ") + std::strerror(errno);
-  else if (!S_ISREG(st.st_mode)) why = S_ISDIR(st.st_mode) ? "a directory, not a cache entry" : "not a regular file";
-  else if (static_cast<std::uint64_t>(st.st_size) < kHeaderBytes) why = "truncated header";
-  else if (static_cast<std::uint64_t>(st.st_size) > kMaxPayloadBytes) why = "implausibly large";
-  else if (!read_all(fd, bytes, static_cast<std::size_t>(st.st_size))) why = "read error or changed while read";
-  else ::futimens(fd, nullptr);  // a use: least recently used entries are evicted first
+  if (::fstat(fd, &st) != 0)
+    why = std::string("cannot stat: ") + std::strerror(errno);
+  else if (!S_ISREG(st.st_mode))
+    why = S_ISDIR(st.st_mode) ? "a directory, not a cache entry" : "not a regular file";
+  else if (static_cast<std::uint64_t>(st.st_size) < kHeaderBytes)
+    why = "truncated header";
+  else if (static_cast<std::uint64_t>(st.st_size) > kMaxPayloadBytes)
+    why = "implausibly large";
+  else if (!read_all(fd, bytes, static_cast<std::size_t>(st.st_size)))
+    why = "read error or changed while read";
+  else
+    ::futimens(fd, nullptr);  // a use: least recently used entries are evicted first
   ::close(fd);
   if (!why.empty()) return reject(why);
 

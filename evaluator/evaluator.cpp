@@ -29,12 +29,18 @@ static double milliseconds_since(Clock::time_point t0) {
 
 std::string_view to_string(NodeStatus s) {
   switch (s) {
-    case NodeStatus::Pending: return "pending";
-    case NodeStatus::Computed: return "computed";
-    case NodeStatus::Cached: return "cached";
-    case NodeStatus::Failed: return "failed";
-    case NodeStatus::Skipped: return "skipped";
-    case NodeStatus::Cancelled: return "cancelled";
+    case NodeStatus::Pending:
+      return "pending";
+    case NodeStatus::Computed:
+      return "computed";
+    case NodeStatus::Cached:
+      return "cached";
+    case NodeStatus::Failed:
+      return "failed";
+    case NodeStatus::Skipped:
+      return "skipped";
+    case NodeStatus::Cancelled:
+      return "cancelled";
   }
   return "unknown";
 }
@@ -90,16 +96,15 @@ struct EvaluatorState {
   std::unique_ptr<tbb::task_arena> make_arena() const {
     if (options.threads <= 0) return std::make_unique<tbb::task_arena>();
     const auto limit = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
-    return std::make_unique<tbb::task_arena>(static_cast<int>(std::min<std::size_t>(
-        static_cast<std::size_t>(options.threads), std::max<std::size_t>(limit, 1))));
+    return std::make_unique<tbb::task_arena>(static_cast<int>(
+        std::min<std::size_t>(static_cast<std::size_t>(options.threads), std::max<std::size_t>(limit, 1))));
   }
 
   EvaluatorOptions options;
   MemoryCache memory;
   std::unique_ptr<DiskCache> disk;
   std::mutex evaluate_mutex;  // one evaluation at a time
-  std::atomic<std::size_t> hits{0}, misses{0}, disk_hits{0}, disk_rejected{0}, disk_writes{0},
-      disk_write_errors{0};
+  std::atomic<std::size_t> hits{0}, misses{0}, disk_hits{0}, disk_rejected{0}, disk_writes{0}, disk_write_errors{0};
 
   // The valid cached result of `key` for a node of `type`, from memory or disk, or nullptr.
   std::shared_ptr<const CachedResult> lookup(const CacheKey& key, const NodeType& type) {
@@ -139,18 +144,18 @@ struct Job {
   enum class Kind { Run, Hit, Fail, Skip };
   Kind kind = Kind::Run;
   std::optional<CacheKey> key;
-  const Node* node = nullptr;     // the representative node: the first one planned with this key
-  std::vector<std::string> ids;   // every node of the request with this key; ids[0] is the representative
-  std::string planned_message;    // Fail: the node's error; Skip: the upstream node that has the error
+  const Node* node = nullptr;    // the representative node: the first one planned with this key
+  std::vector<std::string> ids;  // every node of the request with this key; ids[0] is the representative
+  std::string planned_message;   // Fail: the node's error; Skip: the upstream node that has the error
   bool requested = false;
 
   struct Input {
     int job = -1;   // producer job, -1 for an unconnected optional input
     int port = -1;  // its output index
   };
-  std::vector<Input> inputs;   // by input port
-  std::vector<int> producers;  // distinct
-  std::vector<int> consumers;  // distinct
+  std::vector<Input> inputs;           // by input port
+  std::vector<int> producers;          // distinct
+  std::vector<int> consumers;          // distinct
   std::atomic<int> waiting{0};         // producers not finished yet
   std::atomic<int> consumers_left{0};  // consumers not finished yet
 
@@ -211,8 +216,7 @@ class Run {
         report.message = "same result as node '" + job.ids.front() + "'";
       }
       if (report.status == NodeStatus::Cancelled) result.cancelled = true;
-      if (job.requested && job.result && requested_set.count(id))
-        result.outputs[id] = job.result->outputs;
+      if (job.requested && job.result && requested_set.count(id)) result.outputs[id] = job.result->outputs;
       result.nodes[id] = std::move(report);
     }
     result.milliseconds = milliseconds_since(t0);
@@ -233,7 +237,8 @@ class Run {
       for (const auto& [port, link] : n.inputs) feeding.insert(link.node);
     // Nodes with a Report output are requested too: their figures are results in their own right.
     auto reports = [](const NodeType& t) {
-      return std::any_of(t.outputs.begin(), t.outputs.end(), [](const PortDecl& p) { return p.type == PortType::Report; });
+      return std::any_of(t.outputs.begin(), t.outputs.end(),
+                         [](const PortDecl& p) { return p.type == PortType::Report; });
     };
     for (const auto& n : graph_.nodes())
       if (n.type->writes_files || !feeding.count(n.id) || reports(*n.type)) requested_.push_back(n.id);
@@ -350,9 +355,12 @@ class Run {
     bool upstream_cancelled = false;
     for (int p : job.producers) {
       const Job& producer = jobs_[static_cast<std::size_t>(p)];
-      if (producer.status == NodeStatus::Cancelled) upstream_cancelled = true;
-      else if (producer.status == NodeStatus::Failed && failed_upstream.empty()) failed_upstream = producer.ids.front();
-      else if (producer.status == NodeStatus::Skipped && failed_upstream.empty()) failed_upstream = producer.message;
+      if (producer.status == NodeStatus::Cancelled)
+        upstream_cancelled = true;
+      else if (producer.status == NodeStatus::Failed && failed_upstream.empty())
+        failed_upstream = producer.ids.front();
+      else if (producer.status == NodeStatus::Skipped && failed_upstream.empty())
+        failed_upstream = producer.message;
     }
     if (upstream_cancelled || cancel_requested()) {
       job.status = NodeStatus::Cancelled;

@@ -36,12 +36,12 @@
 namespace orogen {
 
 struct EvaluatorOptions {
-  int threads = 0;  // 0: all cores; capped at the process's oneTBB parallelism limit
+  int threads = 0;                                 // 0: all cores; capped at the process's oneTBB parallelism limit
   std::size_t cache_bytes = std::size_t(2) << 30;  // in-memory LRU bound (2 GiB)
   std::filesystem::path cache_dir;                 // empty: no persistent cache
-  std::uint64_t max_memory = 0;  // bytes a node's outputs may need (estimate_node_bytes); 0: no limit
+  std::uint64_t max_memory = 0;                    // bytes a node's outputs may need (estimate_node_bytes); 0: no limit
   std::uint64_t cache_disk_bytes = std::uint64_t(4) << 30;  // bound of cache_dir; LRU eviction beyond it
-  OutputPolicy output;                             // where writer nodes may write
+  OutputPolicy output;                                      // where writer nodes may write
 };
 
 enum class NodeStatus { Pending, Computed, Cached, Failed, Skipped, Cancelled };
@@ -49,9 +49,9 @@ std::string_view to_string(NodeStatus s);
 
 struct NodeReport {
   NodeStatus status = NodeStatus::Pending;
-  double milliseconds = 0.0;   // compute time (0 for cached)
+  double milliseconds = 0.0;  // compute time (0 for cached)
   std::size_t output_bytes = 0;
-  std::string message;         // failure reason, or the upstream node that failed for Skipped
+  std::string message;  // failure reason, or the upstream node that failed for Skipped
   CacheKey key;
 };
 
@@ -59,10 +59,10 @@ struct EvalEvent {
   enum class Kind { Started, Progress, Finished, Cached, Failed, Skipped, Cancelled };
   Kind kind = Kind::Started;
   std::string node;
-  double fraction = 0.0;       // Progress
-  double milliseconds = 0.0;   // Finished
+  double fraction = 0.0;         // Progress
+  double milliseconds = 0.0;     // Finished
   std::size_t output_bytes = 0;  // Finished, Cached
-  std::string message;         // Failed, Skipped
+  std::string message;           // Failed, Skipped
 };
 // Called from worker threads, one event at a time (never concurrently). Per node the order is Started,
 // Progress..., then Finished, Failed or Cancelled; or a single Cached, Skipped or Cancelled (not started).
@@ -82,7 +82,7 @@ struct EvalRequest {
 };
 
 struct EvalResult {
-  std::map<std::string, NodeReport> nodes;               // every node the request touched
+  std::map<std::string, NodeReport> nodes;                // every node the request touched
   std::map<std::string, std::vector<PortValue>> outputs;  // outputs of the requested nodes that succeeded
   bool cancelled = false;
   double milliseconds = 0.0;

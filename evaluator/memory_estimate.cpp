@@ -14,10 +14,18 @@ std::uint64_t estimate_output_bytes(const NodeType& type, const Domain& domain) 
   long double per_sample = 4.0L;  // one working field
   for (const auto& out : type.outputs) {
     switch (out.type) {
-      case PortType::Heightfield: per_sample += 4.0L; break;
-      case PortType::Image: per_sample += 16.0L; break;
-      case PortType::Mesh: per_sample += 160.0L; break;
-      default: per_sample += 4.0L; break;
+      case PortType::Heightfield:
+        per_sample += 4.0L;
+        break;
+      case PortType::Image:
+        per_sample += 16.0L;
+        break;
+      case PortType::Mesh:
+        per_sample += 160.0L;
+        break;
+      default:
+        per_sample += 4.0L;
+        break;
     }
   }
   const long double bytes = samples * per_sample;
@@ -36,7 +44,7 @@ std::uint64_t estimate_node_bytes(const CostQuery& query) {
     extra = 0;
   }
   return extra > std::numeric_limits<std::uint64_t>::max() - outputs ? std::numeric_limits<std::uint64_t>::max()
-                                                                      : outputs + extra;
+                                                                     : outputs + extra;
 }
 
 std::string format_bytes(std::uint64_t bytes) {

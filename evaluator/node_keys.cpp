@@ -86,7 +86,8 @@ const NodeKeyInfo& NodeKeys::of(const Node& node) {
       }
       return finish();
     }
-    h.add(true).add(*up.key).add(std::string_view(link.source->type->outputs[static_cast<std::size_t>(link.output)].name));
+    h.add(true).add(*up.key).add(
+        std::string_view(link.source->type->outputs[static_cast<std::size_t>(link.output)].name));
   }
 
   if (type.domain_independent) {

@@ -24,7 +24,8 @@ NodeRun run_node(const std::string& type_name, const Domain& domain, const std::
     values.push_back(it->second);
   }
   for (const auto& [name, v] : params)
-    if (!type->find_param(name)) throw std::logic_error("run_node: '" + type_name + "' has no parameter '" + name + "'");
+    if (!type->find_param(name))
+      throw std::logic_error("run_node: '" + type_name + "' has no parameter '" + name + "'");
   std::vector<PortValue> in(type->inputs.size());
   for (const auto& [name, v] : inputs) {
     const int i = type->input_index(name);

@@ -466,15 +466,24 @@ PortValue read_value(ByteReader& in) {
   if (tag == 0) return std::monostate{};
   if (tag > static_cast<std::uint8_t>(PortType::Scene) + 1) throw SerializationError("unknown value type");
   switch (static_cast<PortType>(tag - 1)) {
-    case PortType::Heightfield: return read_heightfield(in);
-    case PortType::Image: return read_image(in);
-    case PortType::Points: return read_points(in);
-    case PortType::Curves: return read_curves(in);
-    case PortType::Mesh: return read_mesh(in);
-    case PortType::PolygonMap: return read_polygon_map(in);
-    case PortType::Report: return read_report(in);
-    case PortType::ModuleString: return read_module_string(in);
-    case PortType::Scene: return read_scene(in);
+    case PortType::Heightfield:
+      return read_heightfield(in);
+    case PortType::Image:
+      return read_image(in);
+    case PortType::Points:
+      return read_points(in);
+    case PortType::Curves:
+      return read_curves(in);
+    case PortType::Mesh:
+      return read_mesh(in);
+    case PortType::PolygonMap:
+      return read_polygon_map(in);
+    case PortType::Report:
+      return read_report(in);
+    case PortType::ModuleString:
+      return read_module_string(in);
+    case PortType::Scene:
+      return read_scene(in);
   }
   throw SerializationError("unknown value type");
 }

@@ -70,8 +70,7 @@ void CheckedFile::record_errno(const char* what, int err) noexcept {
   try {
     error_ = std::string(what) + " '" + path_.string() + "' failed: " + std::strerror(err);
     if (err == ENOSPC || err == EDQUOT) error_ += " (the disk or quota is full)";
-  } catch (...) {
-  }
+  } catch (...) {}
 }
 
 void CheckedFile::fail(const std::string& why) {

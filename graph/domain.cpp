@@ -50,16 +50,14 @@ Domain Domain::subdomain(int i0, int j0, int w, int h) const {
   return d;
 }
 
-Domain Domain::resampled(glm::ivec2 new_resolution) const {
-  return from_extent(min_corner(), size(), new_resolution);
-}
+Domain Domain::resampled(glm::ivec2 new_resolution) const { return from_extent(min_corner(), size(), new_resolution); }
 
 std::string Domain::describe() const {
   std::ostringstream s;
   const auto lo = min_corner();
   const auto sz = size();
-  s << resolution.x << "x" << resolution.y << " samples over " << sz.x << " x " << sz.y << " m at (" << lo.x
-    << ", " << lo.y << ")";
+  s << resolution.x << "x" << resolution.y << " samples over " << sz.x << " x " << sz.y << " m at (" << lo.x << ", "
+    << lo.y << ")";
   return s.str();
 }
 

@@ -26,10 +26,10 @@ struct Domain;
 std::string check_domain(const Domain& d);
 
 struct Domain {
-  glm::dvec2 origin{0.0, 0.0};     // world position of lattice index (0, 0), metres
-  glm::dvec2 spacing{1.0, 1.0};    // metres between neighbouring samples
-  glm::ivec2 first{0, 0};          // lattice index of this domain's sample (0, 0)
-  glm::ivec2 resolution{1, 1};     // sample counts (width, height)
+  glm::dvec2 origin{0.0, 0.0};   // world position of lattice index (0, 0), metres
+  glm::dvec2 spacing{1.0, 1.0};  // metres between neighbouring samples
+  glm::ivec2 first{0, 0};        // lattice index of this domain's sample (0, 0)
+  glm::ivec2 resolution{1, 1};   // sample counts (width, height)
 
   // A domain covering [origin, origin + size] with `resolution` samples, borders included.
   static Domain from_extent(glm::dvec2 origin, glm::dvec2 size, glm::ivec2 resolution);

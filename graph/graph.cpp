@@ -77,8 +77,7 @@ Node& Graph::add_node(const NodeType& type, std::string id) {
 void Graph::remove_node(const std::string& id) {
   if (!find(id)) throw GraphError("no node '" + id + "'");
   nodes_.erase(nodes_.begin() + static_cast<std::ptrdiff_t>(index_.at(id)));
-  for (auto& n : nodes_)
-    std::erase_if(n.inputs, [&](const auto& link) { return link.second.node == id; });
+  for (auto& n : nodes_) std::erase_if(n.inputs, [&](const auto& link) { return link.second.node == id; });
   editor.positions.erase(id);
   reindex();
 }

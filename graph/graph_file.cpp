@@ -38,10 +38,10 @@ std::string LoadResult::error_text() const {
 
 namespace {
 
-using nlohmann::json;
 using json_util::describe;
 using json_util::pointer_token;
 using json_util::suggestion;
+using nlohmann::json;
 
 struct MigrationTable {
   std::mutex mutex;
@@ -97,12 +97,12 @@ const NodeType& placeholder_type(NodeType t) {
 
 // One "inputs" entry of a node, kept until every node is known.
 struct PendingLink {
-  std::string path;             // /nodes/i/inputs/port
-  std::string node;             // id of the node the link feeds
-  std::size_t node_index;       // its index in "nodes"
-  std::string port;             // input port name
-  const PortDecl* input;        // its declaration, or null if the port or the node type is unknown
-  const NodeType* node_type;    // null if unknown
+  std::string path;           // /nodes/i/inputs/port
+  std::string node;           // id of the node the link feeds
+  std::size_t node_index;     // its index in "nodes"
+  std::string port;           // input port name
+  const PortDecl* input;      // its declaration, or null if the port or the node type is unknown
+  const NodeType* node_type;  // null if unknown
   PortRef from;
 };
 
@@ -121,8 +121,10 @@ class GraphReader {
     check_fields(doc, "", "", {"format", "version", "domain", "nodes", "editor"}, "in the file");
 
     if (doc.contains("domain")) read_domain(doc["domain"]);
-    if (!doc.contains("nodes")) report("/nodes", "", "missing \"nodes\": the list of nodes (may be empty: [])");
-    else read_nodes(doc["nodes"]);
+    if (!doc.contains("nodes"))
+      report("/nodes", "", "missing \"nodes\": the list of nodes (may be empty: [])");
+    else
+      read_nodes(doc["nodes"]);
     if (doc.contains("editor")) read_editor(doc["editor"]);
 
     if (!diagnostics_.empty() && !options_.keep_partial) return std::nullopt;
@@ -160,8 +162,8 @@ class GraphReader {
   // False when the rest of the file cannot be read (newer version, impossible migration).
   bool check_version_and_migrate(json& doc) {
     if (!doc.contains("version")) {
-      report("/version", "", "missing \"version\": the format version (this build writes " +
-                                 std::to_string(kGraphFormatVersion) + ")");
+      report("/version", "",
+             "missing \"version\": the format version (this build writes " + std::to_string(kGraphFormatVersion) + ")");
       return true;  // read the rest as the current version, to report its problems too
     }
     const json& v = doc["version"];
@@ -194,8 +196,9 @@ class GraphReader {
         return false;
       }
       if (!doc.is_object()) {
-        report("", "", "migrating the file from format version " + std::to_string(k) + " to " +
-                           std::to_string(k + 1) + " did not leave a JSON object");
+        report("", "",
+               "migrating the file from format version " + std::to_string(k) + " to " + std::to_string(k + 1) +
+                   " did not leave a JSON object");
         return false;
       }
       doc["version"] = k + 1;
@@ -225,8 +228,8 @@ class GraphReader {
 
   void read_domain(const json& d) {
     if (!d.is_object()) {
-      report("/domain", "", "\"domain\" must be an object {\"size\": [w, h], \"resolution\": [nx, ny]}, found " +
-                                describe(d));
+      report("/domain", "",
+             "\"domain\" must be an object {\"size\": [w, h], \"resolution\": [nx, ny]}, found " + describe(d));
       return;
     }
     check_fields(d, "/domain", "", {"size", "resolution", "origin"}, "in \"domain\"");
@@ -260,7 +263,8 @@ class GraphReader {
       }
     }
     if (d.contains("origin"))
-      if (auto origin = read_pair(d["origin"], "/domain/origin", "", "[x, y] in metres")) graph_.domain.origin = *origin;
+      if (auto origin = read_pair(d["origin"], "/domain/origin", "", "[x, y] in metres"))
+        graph_.domain.origin = *origin;
     if (graph_.domain.size.x > 0.0 && graph_.domain.size.y > 0.0)
       if (auto why = check_domain(graph_.domain.to_domain()); !why.empty()) report("/domain", "", why);
   }
@@ -342,16 +346,19 @@ class GraphReader {
       const std::string p = path + "/" + pointer_token(name);
       const ParamDecl* decl = type->find_param(name);
       if (!decl) {
-        report(p, id, "unknown parameter '" + name + "' for node type " + type->name +
-                          hint_or(name, names_of(type->params), " (it has no parameters)"));
+        report(p, id,
+               "unknown parameter '" + name + "' for node type " + type->name +
+                   hint_or(name, names_of(type->params), " (it has no parameters)"));
         continue;
       }
       if (decl->type == ParamType::Table) {
         // A table's problem points at its row and column: /nodes/3/params/layers/2/color.
         TableProblem problem;
         auto table = table_from_json(value, decl->table, problem);
-        if (!table) report(p + problem.pointer(), id, "params." + problem.str(name));
-        else if (node) node->params[name] = std::move(*table);
+        if (!table)
+          report(p + problem.pointer(), id, "params." + problem.str(name));
+        else if (node)
+          node->params[name] = std::move(*table);
         continue;
       }
       std::string error;
@@ -374,8 +381,9 @@ class GraphReader {
       const std::string p = path + "/" + pointer_token(port);
       const PortDecl* input = type ? type->find_input(port) : nullptr;
       if (type && !input)
-        report(p, id, "unknown input '" + port + "' for node type " + type->name +
-                          hint_or(port, names_of(type->inputs), " (it has no inputs)"));
+        report(p, id,
+               "unknown input '" + port + "' for node type " + type->name +
+                   hint_or(port, names_of(type->inputs), " (it has no inputs)"));
       links_attempted_.insert({index, port});
       if (!value.is_string()) {
         report(p, id, "a link must be a string \"node.port\", found " + describe(value));
@@ -383,8 +391,10 @@ class GraphReader {
       }
       const auto text = value.get<std::string>();
       const auto dot = text.find('.');
-      if (dot == std::string::npos || dot == 0 || dot + 1 == text.size() || text.find('.', dot + 1) != std::string::npos) {
-        report(p, id, "malformed link \"" + text + "\": expected \"node.port\", the id of a node and one of its outputs");
+      if (dot == std::string::npos || dot == 0 || dot + 1 == text.size() ||
+          text.find('.', dot + 1) != std::string::npos) {
+        report(p, id,
+               "malformed link \"" + text + "\": expected \"node.port\", the id of a node and one of its outputs");
         continue;
       }
       pending_.push_back({p, id, index, port, input, type, PortRef{text.substr(0, dot), text.substr(dot + 1)}});
@@ -427,8 +437,8 @@ class GraphReader {
         drop(link, diagnostics_.back().message);
         continue;
       }
-      if (Node* dst = graph_.find(link.node); dst && index_of_id_.count(link.node) &&
-                                              index_of_id_.at(link.node) == link.node_index)
+      if (Node* dst = graph_.find(link.node);
+          dst && index_of_id_.count(link.node) && index_of_id_.at(link.node) == link.node_index)
         dst->inputs[link.port] = link.from;
     }
   }
@@ -450,7 +460,8 @@ class GraphReader {
           t.inputs.push_back(in);
         }
         if (link.from.node == id && !t.find_output(link.from.port)) {
-          PortDecl out{link.from.port, link.input ? link.input->type : PortType::Heightfield, "", false, OutputKind::Auto};
+          PortDecl out{link.from.port, link.input ? link.input->type : PortType::Heightfield, "", false,
+                       OutputKind::Auto};
           t.outputs.push_back(out);
         }
       }
@@ -543,8 +554,8 @@ class GraphReader {
     if (!e.contains("positions")) return;
     const json& positions = e["positions"];
     if (!positions.is_object()) {
-      report("/editor/positions", "", "\"positions\" must be an object {\"node id\": [x, y], ...}, found " +
-                                          describe(positions));
+      report("/editor/positions", "",
+             "\"positions\" must be an object {\"node id\": [x, y], ...}, found " + describe(positions));
       return;
     }
     for (const auto& [id, value] : positions.items()) {
@@ -561,13 +572,13 @@ class GraphReader {
   const LoadOptions& options_;
   std::vector<Diagnostic>& diagnostics_;
   Graph graph_;
-  std::set<std::string> mentioned_ids_;          // every string id in the file, valid or not
+  std::set<std::string> mentioned_ids_;             // every string id in the file, valid or not
   std::map<std::string, std::size_t> index_of_id_;  // node id -> index in "nodes", for nodes in the graph
   std::vector<PendingLink> pending_;
   std::map<std::string, std::pair<std::size_t, std::string>> unknown_;  // id -> (index, type name)
   std::vector<DroppedLink> dropped_;
   std::set<std::pair<std::size_t, std::string>> links_attempted_;  // (node index, input) written in the file
-  bool nodes_read_ = false;  // "nodes" was an array, so the set of ids is known
+  bool nodes_read_ = false;                                        // "nodes" was an array, so the set of ids is known
 };
 
 // The index of the node a path such as /nodes/3/params/x points into.
@@ -648,9 +659,9 @@ LoadResult load_graph_file(const std::filesystem::path& path, const LoadOptions&
   }
   if (text.size() > kMaxGraphFileBytes) {
     LoadResult result;
-    result.diagnostics.push_back({"", "", path.string() + " is larger than " +
-                                              std::to_string(kMaxGraphFileBytes >> 20) +
-                                              " MiB, the limit of a graph file"});
+    result.diagnostics.push_back({"", "",
+                                  path.string() + " is larger than " + std::to_string(kMaxGraphFileBytes >> 20) +
+                                      " MiB, the limit of a graph file"});
     return result;
   }
   auto result = parse_graph(text, options);

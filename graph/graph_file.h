@@ -20,9 +20,9 @@ inline constexpr int kGraphFormatVersion = 5;
 inline constexpr const char* kGraphFormatName = "orogen-graph";
 
 struct Diagnostic {
-  std::string path;     // JSON pointer of the offending value, e.g. "/nodes/2/params/octaves"
-  std::string node;     // id of the node concerned, or "" for file-level problems
-  std::string message;  // what is wrong, and what would be right
+  std::string path;         // JSON pointer of the offending value, e.g. "/nodes/2/params/octaves"
+  std::string node;         // id of the node concerned, or "" for file-level problems
+  std::string message;      // what is wrong, and what would be right
   std::string str() const;  // "path [node id]: message"
 };
 

@@ -25,9 +25,7 @@ class JsonWriter {
     out_.append(static_cast<std::size_t>(2 * level), ' ');
   }
 
-  void string(const std::string& s) {
-    out_ += json(s).dump(-1, ' ', false, json::error_handler_t::replace);
-  }
+  void string(const std::string& s) { out_ += json(s).dump(-1, ' ', false, json::error_handler_t::replace); }
 
   void key(const std::string& k, int level, bool first) {
     if (!first) out_ += ',';
@@ -38,8 +36,12 @@ class JsonWriter {
 
   void value(const json& j, int level) {
     switch (j.type()) {
-      case json::value_t::number_float: out_ += json_util::format_double(j.get<double>()); return;
-      case json::value_t::string: string(j.get_ref<const std::string&>()); return;
+      case json::value_t::number_float:
+        out_ += json_util::format_double(j.get<double>());
+        return;
+      case json::value_t::string:
+        string(j.get_ref<const std::string&>());
+        return;
       case json::value_t::object: {
         if (j.empty()) {
           out_ += "{}";
@@ -72,7 +74,9 @@ class JsonWriter {
         out_ += ']';
         return;
       }
-      default: out_ += j.dump(); return;  // null, bool, integers
+      default:
+        out_ += j.dump();
+        return;  // null, bool, integers
     }
   }
 
@@ -174,8 +178,10 @@ std::string serialize_graph(const Graph& graph) {
         const auto it = node.params.find(decl.name);
         if (it == node.params.end()) continue;
         w.key(decl.name, 4, first);
-        if (const auto* t = std::get_if<TableValue>(&it->second)) w.table(*t, 4);
-        else w.value(param_to_json(it->second), 4);
+        if (const auto* t = std::get_if<TableValue>(&it->second))
+          w.table(*t, 4);
+        else
+          w.value(param_to_json(it->second), 4);
         first = false;
       }
       w.newline(3);

@@ -25,9 +25,7 @@ struct Heightfield {
     return static_cast<std::size_t>(j) * static_cast<std::size_t>(domain.width()) + static_cast<std::size_t>(i);
   }
   std::span<float> row(int j) { return {data.data() + index(0, j), static_cast<std::size_t>(width())}; }
-  std::span<const float> row(int j) const {
-    return {data.data() + index(0, j), static_cast<std::size_t>(width())};
-  }
+  std::span<const float> row(int j) const { return {data.data() + index(0, j), static_cast<std::size_t>(width())}; }
 
   // Sample value at the nearest edge sample for indices outside the grid.
   float clamped(int i, int j) const;

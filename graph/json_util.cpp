@@ -35,9 +35,12 @@ double float_as_short_double(float f) {
 std::string pointer_token(std::string_view key) {
   std::string out;
   for (char c : key) {
-    if (c == '~') out += "~0";
-    else if (c == '/') out += "~1";
-    else out += c;
+    if (c == '~')
+      out += "~0";
+    else if (c == '/')
+      out += "~1";
+    else
+      out += c;
   }
   return out;
 }
@@ -93,8 +96,9 @@ class StrictBuilder {
     // A number too large is located by its path; a syntax error only by line and column, since the path
     // of the last value read is often not where the mistake is (a missing comma after it, say).
     const bool number_overflow = ex.id == 406;
-    problems_.push_back({number_overflow ? path() : std::string(), "malformed JSON at line " + std::to_string(line) + ", column " +
-                                     std::to_string(column) + ": " + detail});
+    problems_.push_back(
+        {number_overflow ? path() : std::string(),
+         "malformed JSON at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " + detail});
     return false;
   }
 
@@ -170,15 +174,18 @@ std::optional<nlohmann::json> parse_strict(std::string_view text, std::vector<Pa
 
 std::string describe(const nlohmann::json& j) {
   switch (j.type()) {
-    case nlohmann::json::value_t::null: return "null";
-    case nlohmann::json::value_t::boolean: return j.get<bool>() ? "true" : "false";
+    case nlohmann::json::value_t::null:
+      return "null";
+    case nlohmann::json::value_t::boolean:
+      return j.get<bool>() ? "true" : "false";
     case nlohmann::json::value_t::string: {
       std::string s = j.get<std::string>();
       if (s.size() > 40) s = s.substr(0, 37) + "...";
       return "the string \"" + s + "\"";
     }
     case nlohmann::json::value_t::number_integer:
-    case nlohmann::json::value_t::number_unsigned: return "the number " + j.dump();
+    case nlohmann::json::value_t::number_unsigned:
+      return "the number " + j.dump();
     case nlohmann::json::value_t::number_float: {
       // Say "1.0", not "1", so that a message about a non-integer does not show an integer.
       std::string text = format_double(j.get<double>());
@@ -187,8 +194,10 @@ std::string describe(const nlohmann::json& j) {
     }
     case nlohmann::json::value_t::array:
       return j.size() == 1 ? "an array of 1 element" : "an array of " + std::to_string(j.size()) + " elements";
-    case nlohmann::json::value_t::object: return "an object";
-    default: return "a " + std::string(j.type_name()) + " value";
+    case nlohmann::json::value_t::object:
+      return "an object";
+    default:
+      return "a " + std::string(j.type_name()) + " value";
   }
 }
 

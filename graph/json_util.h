@@ -19,7 +19,7 @@ double float_as_short_double(float f);
 
 // One problem found while parsing JSON text.
 struct ParseProblem {
-  std::string path;     // JSON pointer ("" for the document itself)
+  std::string path;  // JSON pointer ("" for the document itself)
   std::string message;
 };
 

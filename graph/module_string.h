@@ -12,9 +12,9 @@
 namespace orogen {
 
 struct ModuleString {
-  std::vector<char> symbols;            // one per module (printable ASCII)
+  std::vector<char> symbols;              // one per module (printable ASCII)
   std::vector<std::uint32_t> offsets{0};  // size() + 1 entries: module k's parameters are params[offsets[k] ..
-                                        // offsets[k + 1])
+                                          // offsets[k + 1])
   std::vector<float> params;
 
   std::size_t size() const { return symbols.size(); }

@@ -36,8 +36,10 @@ std::string ParamDecl::check(const ParamValue& v) const {
     return {};
   };
   switch (type) {
-    case ParamType::Float: return check_number(std::get<double>(v), "value");
-    case ParamType::Int: return check_number(static_cast<double>(std::get<std::int64_t>(v)), "value");
+    case ParamType::Float:
+      return check_number(std::get<double>(v), "value");
+    case ParamType::Int:
+      return check_number(static_cast<double>(std::get<std::int64_t>(v)), "value");
     case ParamType::Vec2: {
       const auto& p = std::get<glm::dvec2>(v);
       for (int k = 0; k < 2; ++k)
@@ -103,7 +105,8 @@ std::string ParamDecl::check(const ParamValue& v) const {
     case ParamType::String:
       return file_text ? check_file_text(std::get<std::string>(v)) : std::string();
     case ParamType::Bool:
-    case ParamType::Seed: return {};
+    case ParamType::Seed:
+      return {};
   }
   return {};
 }
@@ -139,12 +142,18 @@ NodeBuilder::Port& NodeBuilder::Port::kind(OutputKind k) {
 
 std::string_view to_string(OutputKind kind) {
   switch (kind) {
-    case OutputKind::Auto: return "auto";
-    case OutputKind::Height: return "height";
-    case OutputKind::Mask: return "mask";
-    case OutputKind::Signed: return "signed";
-    case OutputKind::Scalar: return "scalar";
-    case OutputKind::WaterDepth: return "water_depth";
+    case OutputKind::Auto:
+      return "auto";
+    case OutputKind::Height:
+      return "height";
+    case OutputKind::Mask:
+      return "mask";
+    case OutputKind::Signed:
+      return "signed";
+    case OutputKind::Scalar:
+      return "scalar";
+    case OutputKind::WaterDepth:
+      return "water_depth";
   }
   return "auto";
 }
@@ -238,17 +247,22 @@ void NodeBuilder::execute(ExecuteFn fn) { type_.execute = std::move(fn); }
 
 const char* to_string(ReachKind kind) {
   switch (kind) {
-    case ReachKind::Pointwise: return "pointwise";
-    case ReachKind::Local: return "local";
-    case ReachKind::Global: return "global";
-    case ReachKind::Undeclared: break;
+    case ReachKind::Pointwise:
+      return "pointwise";
+    case ReachKind::Local:
+      return "local";
+    case ReachKind::Global:
+      return "global";
+    case ReachKind::Undeclared:
+      break;
   }
   return "undeclared";
 }
 
 glm::ivec2 Reach::halo(glm::dvec2 spacing) const {
   switch (kind) {
-    case ReachKind::Pointwise: return {0, 0};
+    case ReachKind::Pointwise:
+      return {0, 0};
     case ReachKind::Local: {
       const auto axis = [&](double s) {
         // The small tolerance keeps 40 m on a 10 m lattice at 4 samples, not 5 from rounding in the division.
@@ -257,23 +271,28 @@ glm::ivec2 Reach::halo(glm::dvec2 spacing) const {
       return {axis(spacing.x), axis(spacing.y)};
     }
     case ReachKind::Global:
-    case ReachKind::Undeclared: break;
+    case ReachKind::Undeclared:
+      break;
   }
   return {-1, -1};
 }
 
 std::string Reach::describe() const {
   switch (kind) {
-    case ReachKind::Pointwise: return "point-wise";
+    case ReachKind::Pointwise:
+      return "point-wise";
     case ReachKind::Local: {
       std::string s = "local: ";
       if (metres > 0.0) s += format_number(metres) + " m";
-      if (samples > 0) s += std::string(metres > 0.0 ? " + " : "") + std::to_string(samples) + (samples == 1 ? " sample" : " samples");
+      if (samples > 0)
+        s += std::string(metres > 0.0 ? " + " : "") + std::to_string(samples) + (samples == 1 ? " sample" : " samples");
       if (metres <= 0.0 && samples <= 0) s += "0";
       return s;
     }
-    case ReachKind::Global: return "global";
-    case ReachKind::Undeclared: break;
+    case ReachKind::Global:
+      return "global";
+    case ReachKind::Undeclared:
+      break;
   }
   return "undeclared";
 }

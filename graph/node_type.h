@@ -35,7 +35,7 @@ struct PortDecl {
   std::string name;
   PortType type = PortType::Heightfield;
   std::string description;
-  bool optional = false;  // inputs only: may stay unconnected
+  bool optional = false;               // inputs only: may stay unconnected
   OutputKind kind = OutputKind::Auto;  // heightfield outputs only: what the values mean (for viewers)
 };
 
@@ -47,12 +47,12 @@ struct ParamDecl {
   std::optional<double> min, max;
   // Suggested slider range for the editor; defaults to the hard bounds.
   std::optional<double> soft_min, soft_max;
-  std::string unit;                  // "m", "deg", "1/m", "" for unitless
+  std::string unit;  // "m", "deg", "1/m", "" for unitless
   std::string description;
-  std::vector<std::string> choices;  // Enum: allowed values
-  bool output_file = false;          // Path: a file this node writes (resolved inside the output directory)
+  std::vector<std::string> choices;     // Enum: allowed values
+  bool output_file = false;             // Path: a file this node writes (resolved inside the output directory)
   std::vector<std::string> extensions;  // Path: accepted file extensions, e.g. {".exr", ".png"}
-  bool file_text = false;            // String: written into an output file, so one printable line
+  bool file_text = false;               // String: written into an output file, so one printable line
   TableSchema table;                    // Table: the columns and row bounds
 
   // Empty if `v` is a valid value for this parameter, else why not (tables: "name[row].column: why").
@@ -97,7 +97,9 @@ class ParamView {
  public:
   ParamView(const NodeType& type, const std::vector<ParamValue>& values) : type_(type), values_(values) {}
   template <class T>
-  const T& get(std::string_view name) const { return std::get<T>(value(name)); }
+  const T& get(std::string_view name) const {
+    return std::get<T>(value(name));
+  }
   const ParamValue& value(std::string_view name) const;  // throws std::out_of_range for an unknown name
  private:
   const NodeType& type_;
@@ -161,6 +163,7 @@ class NodeBuilder {
     Port& description(std::string text);
     Port& optional(bool value = true);
     Port& kind(OutputKind k);
+
    private:
     std::vector<PortDecl>& list_;
     std::size_t index_;
@@ -177,6 +180,7 @@ class NodeBuilder {
     Param& extensions(std::vector<std::string> exts);
     Param& output_file(bool value = true);
     Param& file_text(bool value = true);
+
    private:
     ParamDecl& decl();
     NodeType& type_;

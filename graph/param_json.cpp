@@ -11,8 +11,8 @@
 namespace orogen {
 namespace {
 
-using nlohmann::json;
 using json_util::describe;
+using nlohmann::json;
 
 json color_to_json(const glm::vec4& c) {
   // Colours are float32; write each component as its shortest text so 0.1f is saved as 0.1.
@@ -31,8 +31,7 @@ std::optional<double> read_number(const json& j, const std::string& what, std::s
 
 // An array of exactly `n` numbers (or, when `n_alt` is set, of n_alt numbers), for vectors and colours.
 std::optional<std::vector<double>> read_numbers(const json& j, std::size_t n, std::size_t n_alt,
-                                                const std::string& shape, const std::string& what,
-                                                std::string& error) {
+                                                const std::string& shape, const std::string& what, std::string& error) {
   if (!j.is_array() || (j.size() != n && j.size() != n_alt)) {
     error = what + "expected " + shape + ", found " + describe(j);
     return std::nullopt;
@@ -165,9 +164,12 @@ nlohmann::json param_to_json(const ParamValue& value) {
   return std::visit(
       [](const auto& x) -> json {
         using T = std::decay_t<decltype(x)>;
-        if constexpr (std::is_same_v<T, glm::dvec2>) return json::array({x.x, x.y});
-        else if constexpr (std::is_same_v<T, glm::dvec3>) return json::array({x.x, x.y, x.z});
-        else if constexpr (std::is_same_v<T, glm::vec4>) return color_to_json(x);
+        if constexpr (std::is_same_v<T, glm::dvec2>)
+          return json::array({x.x, x.y});
+        else if constexpr (std::is_same_v<T, glm::dvec3>)
+          return json::array({x.x, x.y, x.z});
+        else if constexpr (std::is_same_v<T, glm::vec4>)
+          return color_to_json(x);
         else if constexpr (std::is_same_v<T, CurveValue>) {
           json out = json::array();
           for (const auto& p : x.points) out.push_back(json::array({p.x, p.y}));

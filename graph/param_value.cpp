@@ -59,19 +59,30 @@ glm::vec4 GradientValue::evaluate(double t) const {
 
 bool holds_param_type(const ParamValue& v, ParamType t) {
   switch (t) {
-    case ParamType::Float: return std::holds_alternative<double>(v);
-    case ParamType::Int: return std::holds_alternative<std::int64_t>(v);
-    case ParamType::Bool: return std::holds_alternative<bool>(v);
-    case ParamType::Vec2: return std::holds_alternative<glm::dvec2>(v);
-    case ParamType::Vec3: return std::holds_alternative<glm::dvec3>(v);
-    case ParamType::Color: return std::holds_alternative<glm::vec4>(v);
+    case ParamType::Float:
+      return std::holds_alternative<double>(v);
+    case ParamType::Int:
+      return std::holds_alternative<std::int64_t>(v);
+    case ParamType::Bool:
+      return std::holds_alternative<bool>(v);
+    case ParamType::Vec2:
+      return std::holds_alternative<glm::dvec2>(v);
+    case ParamType::Vec3:
+      return std::holds_alternative<glm::dvec3>(v);
+    case ParamType::Color:
+      return std::holds_alternative<glm::vec4>(v);
     case ParamType::Enum:
     case ParamType::String:
-    case ParamType::Path: return std::holds_alternative<std::string>(v);
-    case ParamType::Seed: return std::holds_alternative<std::uint64_t>(v);
-    case ParamType::Curve: return std::holds_alternative<CurveValue>(v);
-    case ParamType::Gradient: return std::holds_alternative<GradientValue>(v);
-    case ParamType::Table: return std::holds_alternative<TableValue>(v);
+    case ParamType::Path:
+      return std::holds_alternative<std::string>(v);
+    case ParamType::Seed:
+      return std::holds_alternative<std::uint64_t>(v);
+    case ParamType::Curve:
+      return std::holds_alternative<CurveValue>(v);
+    case ParamType::Gradient:
+      return std::holds_alternative<GradientValue>(v);
+    case ParamType::Table:
+      return std::holds_alternative<TableValue>(v);
   }
   return false;
 }
@@ -81,16 +92,25 @@ std::string describe(const ParamValue& v) {
   std::visit(
       [&](const auto& x) {
         using T = std::decay_t<decltype(x)>;
-        if constexpr (std::is_same_v<T, bool>) s << (x ? "true" : "false");
+        if constexpr (std::is_same_v<T, bool>)
+          s << (x ? "true" : "false");
         else if constexpr (std::is_same_v<T, std::int64_t> || std::is_same_v<T, std::uint64_t> ||
-                           std::is_same_v<T, double>) s << x;
-        else if constexpr (std::is_same_v<T, glm::dvec2>) s << "[" << x.x << ", " << x.y << "]";
-        else if constexpr (std::is_same_v<T, glm::dvec3>) s << "[" << x.x << ", " << x.y << ", " << x.z << "]";
-        else if constexpr (std::is_same_v<T, glm::vec4>) s << "[" << x.r << ", " << x.g << ", " << x.b << ", " << x.a << "]";
-        else if constexpr (std::is_same_v<T, std::string>) s << '"' << x << '"';
-        else if constexpr (std::is_same_v<T, CurveValue>) s << "curve(" << x.points.size() << " points)";
-        else if constexpr (std::is_same_v<T, GradientValue>) s << "gradient(" << x.stops.size() << " stops)";
-        else if constexpr (std::is_same_v<T, TableValue>) s << "table(" << x.rows.size() << " rows)";
+                           std::is_same_v<T, double>)
+          s << x;
+        else if constexpr (std::is_same_v<T, glm::dvec2>)
+          s << "[" << x.x << ", " << x.y << "]";
+        else if constexpr (std::is_same_v<T, glm::dvec3>)
+          s << "[" << x.x << ", " << x.y << ", " << x.z << "]";
+        else if constexpr (std::is_same_v<T, glm::vec4>)
+          s << "[" << x.r << ", " << x.g << ", " << x.b << ", " << x.a << "]";
+        else if constexpr (std::is_same_v<T, std::string>)
+          s << '"' << x << '"';
+        else if constexpr (std::is_same_v<T, CurveValue>)
+          s << "curve(" << x.points.size() << " points)";
+        else if constexpr (std::is_same_v<T, GradientValue>)
+          s << "gradient(" << x.stops.size() << " stops)";
+        else if constexpr (std::is_same_v<T, TableValue>)
+          s << "table(" << x.rows.size() << " rows)";
       },
       v);
   return s.str();

@@ -41,8 +41,10 @@ void PolygonMap::check_consistent() const {
 
 std::size_t PolygonMap::byte_size() const {
   std::size_t bytes = sizeof(*this) + edges.size() * sizeof(Edge);
-  for (const auto& c : cells) bytes += sizeof(Cell) + (c.corners.size() + c.neighbours.size() + c.edges.size()) * sizeof(int);
-  for (const auto& q : corners) bytes += sizeof(Corner) + (q.cells.size() + q.adjacent.size() + q.edges.size()) * sizeof(int);
+  for (const auto& c : cells)
+    bytes += sizeof(Cell) + (c.corners.size() + c.neighbours.size() + c.edges.size()) * sizeof(int);
+  for (const auto& q : corners)
+    bytes += sizeof(Corner) + (q.cells.size() + q.adjacent.size() + q.edges.size()) * sizeof(int);
   for (const auto* attrs : {&cell_attributes, &corner_attributes, &edge_attributes})
     for (const auto& [name, values] : *attrs) bytes += name.size() + values.size() * sizeof(float);
   return bytes;

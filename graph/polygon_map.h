@@ -19,12 +19,12 @@ struct PolygonMap {
     std::vector<int> corners;     // counter-clockwise
     std::vector<int> neighbours;  // adjacent cells
     std::vector<int> edges;
-    bool border = false;          // touches the map boundary
+    bool border = false;  // touches the map boundary
   };
   struct Corner {
     glm::dvec2 position;
-    std::vector<int> cells;      // cells meeting here
-    std::vector<int> adjacent;   // corners joined to this one by an edge
+    std::vector<int> cells;     // cells meeting here
+    std::vector<int> adjacent;  // corners joined to this one by an edge
     std::vector<int> edges;
     bool border = false;
   };

@@ -9,8 +9,10 @@ PortType port_type_of(const PortValue& v) { return static_cast<PortType>(v.index
 bool has_value(const PortValue& v) {
   return std::visit(
       [](const auto& p) {
-        if constexpr (std::is_same_v<std::decay_t<decltype(p)>, std::monostate>) return false;
-        else return p != nullptr;
+        if constexpr (std::is_same_v<std::decay_t<decltype(p)>, std::monostate>)
+          return false;
+        else
+          return p != nullptr;
       },
       v);
 }
@@ -18,8 +20,10 @@ bool has_value(const PortValue& v) {
 std::size_t byte_size(const PortValue& v) {
   return std::visit(
       [](const auto& p) -> std::size_t {
-        if constexpr (std::is_same_v<std::decay_t<decltype(p)>, std::monostate>) return 0;
-        else return p ? p->byte_size() : 0;
+        if constexpr (std::is_same_v<std::decay_t<decltype(p)>, std::monostate>)
+          return 0;
+        else
+          return p ? p->byte_size() : 0;
       },
       v);
 }

@@ -38,8 +38,7 @@ std::size_t edit_distance(std::string_view a, std::string_view b);
 
 // Declares and registers a node type in one line: OROGEN_NODE(Name) { b.category(...); ... }
 // Node sources are linked as an object library so no registration is dropped by the linker.
-#define OROGEN_NODE(TypeName)                                                                        \
-  static void orogen_declare_##TypeName(::orogen::NodeBuilder& b);                                   \
-  static const ::orogen::NodeRegistration orogen_registration_##TypeName{#TypeName,                  \
-                                                                         &orogen_declare_##TypeName}; \
+#define OROGEN_NODE(TypeName)                                                                                    \
+  static void orogen_declare_##TypeName(::orogen::NodeBuilder& b);                                               \
+  static const ::orogen::NodeRegistration orogen_registration_##TypeName{#TypeName, &orogen_declare_##TypeName}; \
   static void orogen_declare_##TypeName([[maybe_unused]] ::orogen::NodeBuilder& b)

@@ -20,7 +20,8 @@ void Scene::check_consistent() const {
   for (const auto& [cls, c] : classes)
     if (!c.mesh) throw std::logic_error("Scene: class " + std::to_string(cls) + " has no mesh");
   for (const std::int32_t cls : instances->class_id)
-    if (!classes.count(cls)) throw std::logic_error("Scene: instances of class " + std::to_string(cls) + " have no mesh");
+    if (!classes.count(cls))
+      throw std::logic_error("Scene: instances of class " + std::to_string(cls) + " have no mesh");
 }
 
 std::size_t Scene::byte_size() const {

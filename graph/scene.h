@@ -15,9 +15,9 @@ namespace orogen {
 struct Mesh;  // graph/mesh.h; kept out of this header (OpenMesh is only compiled where meshes are used)
 
 struct SceneClass {
-  std::string name;                   // e.g. "tree", or "class_3" by default
-  std::shared_ptr<const Mesh> mesh;   // metres, z up, base at the origin; never null in a consistent scene
-  bool proxy = false;                 // a stand-in (1 m octahedron) for a class that had no mesh
+  std::string name;                  // e.g. "tree", or "class_3" by default
+  std::shared_ptr<const Mesh> mesh;  // metres, z up, base at the origin; never null in a consistent scene
+  bool proxy = false;                // a stand-in (1 m octahedron) for a class that had no mesh
 };
 
 struct Scene {

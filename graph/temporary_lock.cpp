@@ -35,7 +35,8 @@ std::string owner_id() {
 }
 
 bool same_file(int fd, const std::filesystem::path& path) {
-  struct stat by_fd {}, by_name {};
+  struct stat by_fd {
+  }, by_name{};
   return ::fstat(fd, &by_fd) == 0 && ::lstat(path.c_str(), &by_name) == 0 && by_fd.st_dev == by_name.st_dev &&
          by_fd.st_ino == by_name.st_ino;
 }
@@ -90,9 +91,12 @@ TemporaryLock::~TemporaryLock() {
 
 TemporaryKind temporary_kind(std::string_view filename, std::string* tag) {
   TemporaryKind kind = TemporaryKind::None;
-  if (filename.substr(0, kTemporaryPrefix.size()) == kTemporaryPrefix) kind = TemporaryKind::Temporary;
-  else if (filename.substr(0, kTemporaryLockPrefix.size()) == kTemporaryLockPrefix) kind = TemporaryKind::Lock;
-  else return TemporaryKind::None;
+  if (filename.substr(0, kTemporaryPrefix.size()) == kTemporaryPrefix)
+    kind = TemporaryKind::Temporary;
+  else if (filename.substr(0, kTemporaryLockPrefix.size()) == kTemporaryLockPrefix)
+    kind = TemporaryKind::Lock;
+  else
+    return TemporaryKind::None;
   const std::string_view rest = filename.substr(kTemporaryPrefix.size());  // both prefixes have one length
   const std::size_t n = tag_length(rest);
   if (n == 0) return TemporaryKind::None;
@@ -103,8 +107,8 @@ TemporaryKind temporary_kind(std::string_view filename, std::string* tag) {
 }
 
 bool claim_stale_tag(const std::filesystem::path& dir, const std::string& tag) {
-  const std::filesystem::path lock = (dir.empty() ? std::filesystem::path(".") : dir) /
-                                     (std::string(kTemporaryLockPrefix) + tag);
+  const std::filesystem::path lock =
+      (dir.empty() ? std::filesystem::path(".") : dir) / (std::string(kTemporaryLockPrefix) + tag);
   int fd;
   do {
     fd = ::open(lock.c_str(), O_RDWR | O_NOFOLLOW | O_CLOEXEC);

@@ -16,8 +16,8 @@ std::string_view to_string(ParamType t);
 std::optional<PortType> port_type_from_string(std::string_view s);
 std::optional<ParamType> param_type_from_string(std::string_view s);
 
-inline constexpr PortType kAllPortTypes[] = {PortType::Heightfield, PortType::Image, PortType::Points,
-                                             PortType::Curves,      PortType::Mesh,  PortType::PolygonMap,
+inline constexpr PortType kAllPortTypes[] = {PortType::Heightfield, PortType::Image,        PortType::Points,
+                                             PortType::Curves,      PortType::Mesh,         PortType::PolygonMap,
                                              PortType::Report,      PortType::ModuleString, PortType::Scene};
 
 }  // namespace orogen

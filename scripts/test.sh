@@ -7,8 +7,13 @@ cd "$(dirname "$0")/.."
 jobs="$(nproc)"
 # Paths relative to the checkout in ccache keys, so a fresh clone reuses earlier compilations.
 export CCACHE_BASEDIR="$(pwd)"
+# Debug builds (-g) would otherwise hash the build directory too and miss in every new clone.
+export CCACHE_NOHASHDIR=1
 
 bash scripts/install-deps.sh
+
+echo "== Layout: every C++ file as .clang-format says"
+git ls-files '*.cpp' '*.h' | xargs clang-format-14 --dry-run --Werror
 
 echo "== Release build and tests"
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release

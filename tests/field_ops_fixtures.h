@@ -38,8 +38,8 @@ inline double rolling_hills(double x, double y) {
 
 // Deterministic pseudo-random value in [0, 1) per integer pair (splitmix64 of the pair).
 inline double hash01(std::int64_t a, std::int64_t b) {
-  return unit_double(mix64(static_cast<std::uint64_t>(a) * kGoldenGamma + static_cast<std::uint64_t>(b) +
-                           0x632BE59BD9B4E019ull));
+  return unit_double(
+      mix64(static_cast<std::uint64_t>(a) * kGoldenGamma + static_cast<std::uint64_t>(b) + 0x632BE59BD9B4E019ull));
 }
 
 // Runs `fn` inside an arena of `threads` worker slots, so the node sees exactly that parallelism.
@@ -50,20 +50,18 @@ auto with_threads(int threads, Fn&& fn) {
 }
 
 // A thread count above one that the machine can honour (2..4).
-inline int several_threads() {
-  return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 2u, 4u));
-}
+inline int several_threads() { return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 2u, 4u)); }
 
-inline HeightfieldPtr run_field(const std::string& type, const Domain& d, const std::map<std::string, ParamValue>& params = {},
+inline HeightfieldPtr run_field(const std::string& type, const Domain& d,
+                                const std::map<std::string, ParamValue>& params = {},
                                 const std::map<std::string, PortValue>& inputs = {}, std::size_t output = 0) {
   return run_node(type, d, params, inputs).get<Heightfield>(output);
 }
 
 // Bitwise equality of two fields (NaNs compare by bits too).
 inline bool bit_identical(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](float x, float y) {
-           return std::memcmp(&x, &y, sizeof(float)) == 0;
-         });
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(),
+                                            [](float x, float y) { return std::memcmp(&x, &y, sizeof(float)) == 0; });
 }
 
 // Pearson correlation of two equally long sample sets.

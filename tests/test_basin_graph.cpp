@@ -50,7 +50,8 @@ void expect_valid_routing(const FlowGrid& g, const BasinRouting& r, const Outlet
     EXPECT_TRUE(f.donors[rc] & (1u << opposite(f.direction[c])));
   }
   int donor_bits = 0, flows = 0;
-  for (std::size_t c = 0; c < n; ++c) donor_bits += std::popcount(f.donors[c]), flows += f.receiver[c] != static_cast<std::int32_t>(c);
+  for (std::size_t c = 0; c < n; ++c)
+    donor_bits += std::popcount(f.donors[c]), flows += f.receiver[c] != static_cast<std::int32_t>(c);
   EXPECT_EQ(donor_bits, flows);
   std::vector<std::int32_t> pos(n, -1);
   for (std::size_t q = 0; q < n; ++q) {

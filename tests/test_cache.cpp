@@ -92,7 +92,8 @@ TEST(KeyHasher, LongStreamsGiveTheDigestOfTheWholeStream) {
   for (std::int64_t v = 0; v < 300; ++v) {
     h.add(v);
     expected.push_back('i');
-    for (int b = 0; b < 8; ++b) expected.push_back(static_cast<unsigned char>(static_cast<std::uint64_t>(v) >> (8 * b)));
+    for (int b = 0; b < 8; ++b)
+      expected.push_back(static_cast<unsigned char>(static_cast<std::uint64_t>(v) >> (8 * b)));
   }
   const std::string big(3000, 'x');
   h.add(std::string_view(big));
@@ -145,11 +146,16 @@ TEST(KeyHasher, EveryParamValueAlternativeIsHashedByContent) {
   };
   for (const auto& [x, y] : pairs) {
     EXPECT_EQ(hash([&](auto& h) { h.add(x); }), hash([&](auto& h) { h.add(ParamValue(x)); })) << describe(x);
-    EXPECT_NE(hash([&](auto& h) { h.add(x); }), hash([&](auto& h) { h.add(y); })) << describe(x) << " vs " << describe(y);
+    EXPECT_NE(hash([&](auto& h) { h.add(x); }), hash([&](auto& h) { h.add(y); }))
+        << describe(x) << " vs " << describe(y);
   }
   // Curves with the same points split differently must differ.
-  EXPECT_NE(hash([](auto& h) { h.add(ParamValue{CurveValue{{{0, 0}}}}).add(ParamValue{CurveValue{{{1, 1}}}}); }),
-            hash([](auto& h) { h.add(ParamValue{CurveValue{{{0, 0}, {1, 1}}}}); }));
+  EXPECT_NE(hash([](auto& h) {
+              h.add(ParamValue{CurveValue{{{0, 0}}}}).add(ParamValue{CurveValue{{{1, 1}}}});
+            }),
+            hash([](auto& h) {
+              h.add(ParamValue{CurveValue{{{0, 0}, {1, 1}}}});
+            }));
 }
 
 TEST(KeyChecks, EveryParamAndInputOfADeclarationChangesTheKey) {
@@ -277,7 +283,8 @@ std::shared_ptr<Mesh> grid_mesh(int n) {
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const auto a = v[static_cast<std::size_t>(j * (n + 1) + i)], b = v[static_cast<std::size_t>(j * (n + 1) + i + 1)];
-      const auto c = v[static_cast<std::size_t>((j + 1) * (n + 1) + i)], d = v[static_cast<std::size_t>((j + 1) * (n + 1) + i + 1)];
+      const auto c = v[static_cast<std::size_t>((j + 1) * (n + 1) + i)],
+                 d = v[static_cast<std::size_t>((j + 1) * (n + 1) + i + 1)];
       m->mesh.add_face(a, b, d);
       m->mesh.add_face(a, d, c);
     }
@@ -325,7 +332,8 @@ TEST(ValueSerialization, PolygonMap) {
   pm->min_corner = {-5.0, -5.0};
   pm->max_corner = {95.0, 45.0};
   // Two cells sharing one edge between corners 0 and 1.
-  pm->corners = {{{10.0, 0.0}, {0, 1}, {1, 2}, {0, 1}, true}, {{10.0, 20.0}, {0, 1}, {0}, {0}, false},
+  pm->corners = {{{10.0, 0.0}, {0, 1}, {1, 2}, {0, 1}, true},
+                 {{10.0, 20.0}, {0, 1}, {0}, {0}, false},
                  {{0.0, 0.0}, {0}, {0}, {1}, true}};
   pm->cells = {{{5.0, 10.0}, {0, 1, 2}, {1}, {0, 1}, true}, {{15.0, 10.0}, {1, 0}, {0}, {0}, false}};
   pm->edges = {{{0, 1}, {0, 1}}, {{0, -1}, {0, 2}}};
@@ -494,11 +502,8 @@ TEST(DiskCache, RejectsDamagedEntries) {
                         "last byte cut");
   expect_rejected_after([](const auto& p) { std::filesystem::resize_file(p, 20); }, "header cut");
   expect_rejected_after([](const auto& p) { std::filesystem::resize_file(p, 0); }, "empty file");
-  expect_rejected_after(
-      [](const auto& p) {
-        std::ofstream(p, std::ios::app | std::ios::binary) << "extra";
-      },
-      "bytes appended");
+  expect_rejected_after([](const auto& p) { std::ofstream(p, std::ios::app | std::ios::binary) << "extra"; },
+                        "bytes appended");
 }
 
 TEST(DiskCache, ValidChecksumButUndecodablePayloadIsRejected) {

@@ -33,7 +33,6 @@
 #include "support/sanitizers.h"
 #include "support/test_paths.h"
 
-
 namespace orogen {
 namespace {
 
@@ -126,9 +125,14 @@ std::map<std::string, ParamValue> at_end(const NodeType& type, bool high) {
     const double v = high ? *p.max : *p.min;
     ParamValue value;
     switch (p.type) {
-      case ParamType::Float: value = v; break;
-      case ParamType::Int: value = static_cast<std::int64_t>(v); break;
-      default: continue;  // vectors (positions, sizes): their defaults keep the domain in view
+      case ParamType::Float:
+        value = v;
+        break;
+      case ParamType::Int:
+        value = static_cast<std::int64_t>(v);
+        break;
+      default:
+        continue;  // vectors (positions, sizes): their defaults keep the domain in view
     }
     if (p.check(value).empty()) out[p.name] = value;
   }
@@ -147,8 +151,10 @@ TEST_P(EveryNode, StopsWithinTheBoundAtCostlyParameters) {
   const auto values = test::sample_values(bowl(kSmall), policy);
   std::map<std::string, PortValue> inputs;
   for (const auto& in : type->inputs) {
-    if (auto it = values.find(in.type); it != values.end()) inputs[in.name] = it->second;
-    else if (!in.optional) GTEST_SKIP() << "no producer of a " << in.name << " input yet";
+    if (auto it = values.find(in.type); it != values.end())
+      inputs[in.name] = it->second;
+    else if (!in.optional)
+      GTEST_SKIP() << "no producer of a " << in.name << " input yet";
   }
   for (const bool high : {true, false}) {
     const std::string label = type->name + (high ? ", parameters at their maxima" : ", parameters at their minima");
@@ -156,14 +162,13 @@ TEST_P(EveryNode, StopsWithinTheBoundAtCostlyParameters) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Registry, EveryNode, testing::ValuesIn(test::registered_type_names()),
-                         test::type_test_name);
+INSTANTIATE_TEST_SUITE_P(Registry, EveryNode, testing::ValuesIn(test::registered_type_names()), test::type_test_name);
 
 // Issue #30, 1: droplets of 1e7 steps in a bowl (polled between droplet rounds, SIGINT took 94 s).
 TEST(CancellationRepro, HydraulicErosionDropletsOfTenMillionSteps) {
   const Domain d = Domain::from_extent({0, 0}, {640, 640}, {65, 65});
-  const Timed t = run_timed("HydraulicErosion", d, {{"lifetime", 1e5}, {"step_length", 0.01}},
-                            {{"in", PortValue(bowl(d))}}, {});
+  const Timed t =
+      run_timed("HydraulicErosion", d, {{"lifetime", 1e5}, {"step_length", 0.01}}, {{"in", PortValue(bowl(d))}}, {});
   EXPECT_TRUE(t.cancelled_in_flight) << t.outcome;
   expect_within_bound("HydraulicErosion", t);
 }
@@ -171,10 +176,10 @@ TEST(CancellationRepro, HydraulicErosionDropletsOfTenMillionSteps) {
 // 2: two million inner points, a search radius over the whole map, 1000 outlets (every growth iteration
 // sorted all unused points; SIGINT took 109 s).
 TEST(CancellationRepro, RiverNetworkOfTwoMillionPoints) {
-  const Timed t = run_timed("RiverNetwork", kSmall,
-                            {{"size", glm::dvec2(14000.0)}, {"density", 10000.0}, {"max_length", 1e6},
-                             {"outlets", std::int64_t{1000}}},
-                            {}, {});
+  const Timed t = run_timed(
+      "RiverNetwork", kSmall,
+      {{"size", glm::dvec2(14000.0)}, {"density", 10000.0}, {"max_length", 1e6}, {"outlets", std::int64_t{1000}}}, {},
+      {});
   expect_within_bound("RiverNetwork", t);
 }
 
@@ -208,8 +213,8 @@ TEST(CancellationRepro, PolygonMapRasterOfAThinIsland) {
 TEST(CancellationRepro, LongSimulations) {
   const auto in = PortValue(bowl(kSmall));
   expect_within_bound("PipeErosion", run_timed("PipeErosion", kSmall, {{"duration", 1e7}}, {{"in", in}}, {}));
-  expect_within_bound("StreamPower", run_timed("StreamPower", kSmall, {{"duration", 1e10}, {"time_step", 1e5}},
-                                               {{"in", in}}, {}));
+  expect_within_bound("StreamPower",
+                      run_timed("StreamPower", kSmall, {{"duration", 1e10}, {"time_step", 1e5}}, {{"in", in}}, {}));
 }
 
 }  // namespace

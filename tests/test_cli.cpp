@@ -25,7 +25,8 @@ std::string constant_graph(const std::string& path, double value = 5.0) {
   "nodes": [
     { "id": "flat", "type": "Constant", "params": { "value": )" +
          std::to_string(value) + R"( } },
-    { "id": "save", "type": "WriteHeightfield", "inputs": { "in": "flat.out" }, "params": { "path": ")" + path +
+    { "id": "save", "type": "WriteHeightfield", "inputs": { "in": "flat.out" }, "params": { "path": ")" +
+         path +
          R"(" } }
   ]
 })";
@@ -105,9 +106,10 @@ TEST(Cli, WithoutCacheDirASecondProcessRecomputes) {
 TEST(Cli, DeletedOutputIsRewrittenFromTheCache) {
   const auto dir = scratch_dir("cli-deleted");
   write_text(dir / "g.json", constant_graph("flat.exr"));
-  const std::vector<std::string> args = {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(),
-                                         "--cache-dir", (dir / "cache").string(), "--stats",
-                                         (dir / "stats.json").string(), "--quiet"};
+  const std::vector<std::string> args = {
+      "eval",        (dir / "g.json").string(), "-o",      (dir / "out").string(),
+      "--cache-dir", (dir / "cache").string(),  "--stats", (dir / "stats.json").string(),
+      "--quiet"};
   ASSERT_EQ(orogen(args).exit_code, 0);
   fs::remove(dir / "out" / "flat.exr");
   ASSERT_EQ(orogen(args).exit_code, 0);
@@ -156,7 +158,8 @@ TEST(Cli, FailingNodeExitsOneAndReportsIt) {
   "domain": { "size": [100, 100], "resolution": [16, 16] },
   "nodes": [
     { "id": "missing", "type": "ReadHeightfield", "params": { "path": "/nonexistent/height.exr" } },
-    { "id": "save_missing", "type": "WriteHeightfield", "inputs": { "in": "missing.height" }, "params": { "path": "a.exr" } },
+    { "id": "save_missing", "type": "WriteHeightfield", "inputs": { "in": "missing.height" },
+      "params": { "path": "a.exr" } },
     { "id": "flat", "type": "Constant" },
     { "id": "save_flat", "type": "WriteHeightfield", "inputs": { "in": "flat.out" }, "params": { "path": "b.exr" } }
   ]
@@ -189,7 +192,8 @@ TEST(Cli, OutputPathRule) {
   EXPECT_NE(climb.err.find(".."), std::string::npos) << climb.err;
   EXPECT_FALSE(fs::exists(dir / "escaped.exr"));
 
-  auto allowed = orogen({"eval", (dir / "abs.json").string(), "-o", (dir / "out").string(), "--quiet", "--allow-any-path"});
+  auto allowed =
+      orogen({"eval", (dir / "abs.json").string(), "-o", (dir / "out").string(), "--quiet", "--allow-any-path"});
   EXPECT_EQ(allowed.exit_code, 0) << allowed.err;
   EXPECT_TRUE(fs::exists(outside));
 }
@@ -205,7 +209,8 @@ TEST(Cli, SetAndResolutionOverrides) {
   auto bad_node = orogen({"eval", (dir / "g.json").string(), "--set", "nobody.value=1", "-o", (dir / "o2").string()});
   EXPECT_EQ(bad_node.exit_code, 2);
   EXPECT_NE(bad_node.err.find("nobody"), std::string::npos);
-  auto bad_value = orogen({"eval", (dir / "g.json").string(), "--set", "flat.value=\"text\"", "-o", (dir / "o3").string()});
+  auto bad_value =
+      orogen({"eval", (dir / "g.json").string(), "--set", "flat.value=\"text\"", "-o", (dir / "o3").string()});
   EXPECT_EQ(bad_value.exit_code, 2);
   auto bad_syntax = orogen({"eval", (dir / "g.json").string(), "--set", "flatvalue", "-o", (dir / "o4").string()});
   EXPECT_EQ(bad_syntax.exit_code, 2);
@@ -262,7 +267,8 @@ TEST(Cli, NodeReferenceComesFromTheRegistry) {
       EXPECT_EQ(t["reach"]["kind"], "local");
       EXPECT_EQ(t["reach"]["samples"], 1);
     }
-    for (const auto& p : t["params"]) EXPECT_FALSE(p["description"].get<std::string>().empty()) << t["name"] << "." << p["name"];
+    for (const auto& p : t["params"])
+      EXPECT_FALSE(p["description"].get<std::string>().empty()) << t["name"] << "." << p["name"];
   }
 
   auto unknown = orogen({"nodes", "Constnt"});
@@ -276,8 +282,9 @@ TEST(Cli, InputPathsResolveAgainstTheGraphFile) {
   const auto project = dir / "project";
   fs::create_directories(project / "data");
   // First write the input file with a graph of its own.
-  auto made = orogen({"eval", (write_text(project / "make.json", constant_graph("made.exr", 42.0)), project / "make.json").string(),
-                      "-o", (project / "data").string(), "--quiet"});
+  auto made = orogen(
+      {"eval", (write_text(project / "make.json", constant_graph("made.exr", 42.0)), project / "make.json").string(),
+       "-o", (project / "data").string(), "--quiet"});
   ASSERT_EQ(made.exit_code, 0) << made.err;
   write_text(project / "read.json", R"({
   "format": "orogen-graph", "version": 3,
@@ -289,7 +296,8 @@ TEST(Cli, InputPathsResolveAgainstTheGraphFile) {
 })");
   // Run from another directory: the relative input path still finds data/made.exr beside the graph.
   fs::create_directories(dir / "elsewhere");
-  auto r = run_process(cli_binary(), {"eval", (project / "read.json").string(), "-o", "out", "--quiet"}, dir / "elsewhere");
+  auto r =
+      run_process(cli_binary(), {"eval", (project / "read.json").string(), "-o", "out", "--quiet"}, dir / "elsewhere");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::exists(dir / "elsewhere" / "out" / "copy.exr"));
   auto v = run_process(cli_binary(), {"validate", (project / "read.json").string()}, dir / "elsewhere");
@@ -301,7 +309,8 @@ TEST(Cli, ValidateChecksOutputPathsDuplicateWritersAndInputFiles) {
   const auto check = [&](const std::string& name, const std::string& nodes) {
     write_text(dir / name, R"({"format": "orogen-graph", "version": 3,
       "domain": { "size": [100, 100], "resolution": [16, 16] }, "nodes": [
-      { "id": "flat", "type": "Constant" }, )" + nodes + "]}");
+      { "id": "flat", "type": "Constant" }, )" +
+                               nodes + "]}");
     return orogen({"validate", (dir / name).string(), "-o", (dir / "out").string()});
   };
   auto climbing = check("climbing.json", R"({ "id": "w", "type": "WriteHeightfield", "inputs": { "in": "flat.out" },
@@ -320,16 +329,20 @@ TEST(Cli, ValidateChecksOutputPathsDuplicateWritersAndInputFiles) {
   EXPECT_EQ(eval_twice.exit_code, 2);
   EXPECT_FALSE(fs::exists(dir / "out" / "h.exr"));
 
-  auto missing = check("missing.json", R"({ "id": "r", "type": "ReadHeightfield", "params": { "path": "nothere.exr" } })");
+  auto missing =
+      check("missing.json", R"({ "id": "r", "type": "ReadHeightfield", "params": { "path": "nothere.exr" } })");
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_NE(missing.err.find("r.path: input file"), std::string::npos) << missing.err;
   EXPECT_NE(missing.err.find("does not exist"), std::string::npos) << missing.err;
 
   // A file the graph itself writes may appear later: a warning, not an error.
-  auto later = orogen({"validate", (write_text(dir / "later.json", R"({"format": "orogen-graph", "version": 3, "nodes": [
+  auto later = orogen({"validate",
+                       (write_text(dir / "later.json", R"({"format": "orogen-graph", "version": 3, "nodes": [
       { "id": "flat", "type": "Constant" },
       { "id": "w", "type": "WriteHeightfield", "inputs": { "in": "flat.out" }, "params": { "path": "h.exr" } },
-      { "id": "r", "type": "ReadHeightfield", "params": { "path": "out/h.exr" } }]})"), dir / "later.json").string(),
+      { "id": "r", "type": "ReadHeightfield", "params": { "path": "out/h.exr" } }]})"),
+                        dir / "later.json")
+                           .string(),
                        "-o", (dir / "out").string()});
   EXPECT_EQ(later.exit_code, 0) << later.err;
   EXPECT_NE(later.err.find("warning: r.path"), std::string::npos) << later.err;
@@ -349,14 +362,17 @@ TEST(Cli, ResolutionKeepsCellsSquare) {
   write_text(dir / "wide.json", R"({"format": "orogen-graph", "version": 3,
     "domain": { "size": [200, 100], "resolution": [21, 11] },
     "nodes": [{ "id": "flat", "type": "Constant" },
-              { "id": "save", "type": "WriteHeightfield", "inputs": { "in": "flat.out" }, "params": { "path": "h.tif" } }]})");
+              { "id": "save", "type": "WriteHeightfield", "inputs": { "in": "flat.out" },
+                "params": { "path": "h.tif" } }]})");
   auto single = orogen({"eval", (dir / "wide.json").string(), "-o", (dir / "out").string(), "--resolution", "41",
                         "--stats", (dir / "s.json").string(), "--quiet"});
   ASSERT_EQ(single.exit_code, 0) << single.err;
-  auto explicit_ok = orogen({"eval", (dir / "wide.json").string(), "-o", (dir / "out2").string(), "--resolution", "41x21", "--quiet"});
+  auto explicit_ok =
+      orogen({"eval", (dir / "wide.json").string(), "-o", (dir / "out2").string(), "--resolution", "41x21", "--quiet"});
   EXPECT_EQ(explicit_ok.exit_code, 0) << explicit_ok.err;
   EXPECT_EQ(read_text(dir / "out" / "h.tif"), read_text(dir / "out2" / "h.tif"));  // 41 means 41x21 here
-  auto wide_refused = orogen({"eval", (dir / "wide.json").string(), "-o", (dir / "out3").string(), "--resolution", "41x41"});
+  auto wide_refused =
+      orogen({"eval", (dir / "wide.json").string(), "-o", (dir / "out3").string(), "--resolution", "41x41"});
   EXPECT_EQ(wide_refused.exit_code, 2);
   EXPECT_NE(wide_refused.err.find("use 41x21"), std::string::npos) << wide_refused.err;
 }

@@ -38,10 +38,13 @@ const char* kLocalGraph = R"({
     { "id": "bumps", "type": "Add", "inputs": { "a": "smooth.out", "b": "wide.out" } },
     { "id": "mix", "type": "Add", "inputs": { "a": "bumps.out", "b": "slope.out" } },
     { "id": "curv", "type": "Curvature", "inputs": { "in": "mix.out" } },
-    { "id": "save_height", "type": "WriteHeightfield", "inputs": { "in": "mix.out" }, "params": { "path": "height.exr" } },
-    { "id": "save_curv", "type": "WriteHeightfield", "inputs": { "in": "curv.out" }, "params": { "path": "curvature.tif" } },
+    { "id": "save_height", "type": "WriteHeightfield", "inputs": { "in": "mix.out" },
+      "params": { "path": "height.exr" } },
+    { "id": "save_curv", "type": "WriteHeightfield", "inputs": { "in": "curv.out" },
+      "params": { "path": "curvature.tif" } },
     { "id": "normals", "type": "Normals", "inputs": { "in": "bumps.out" } },
-    { "id": "save_normals", "type": "WriteImage", "inputs": { "in": "normals.out" }, "params": { "path": "maps/normals.exr" } }
+    { "id": "save_normals", "type": "WriteImage", "inputs": { "in": "normals.out" },
+      "params": { "path": "maps/normals.exr" } }
   ]
 })";
 
@@ -54,17 +57,23 @@ const char* kGlobalGraph = R"({
     { "id": "stretch", "type": "Normalize", "inputs": { "in": "noise.out" } },
     { "id": "filled", "type": "FillDepressions", "inputs": { "in": "noise.out" } },
     { "id": "smooth", "type": "Blur", "inputs": { "in": "noise.out" }, "params": { "sigma": 20 } },
-    { "id": "save_stretch", "type": "WriteHeightfield", "inputs": { "in": "stretch.out" }, "params": { "path": "stretch.exr" } },
-    { "id": "save_filled", "type": "WriteHeightfield", "inputs": { "in": "filled.out" }, "params": { "path": "filled.exr" } },
-    { "id": "save_smooth", "type": "WriteHeightfield", "inputs": { "in": "smooth.out" }, "params": { "path": "smooth.png" } },
-    { "id": "save_smooth_exr", "type": "WriteHeightfield", "inputs": { "in": "smooth.out" }, "params": { "path": "smooth.exr" } }
+    { "id": "save_stretch", "type": "WriteHeightfield", "inputs": { "in": "stretch.out" },
+      "params": { "path": "stretch.exr" } },
+    { "id": "save_filled", "type": "WriteHeightfield", "inputs": { "in": "filled.out" },
+      "params": { "path": "filled.exr" } },
+    { "id": "save_smooth", "type": "WriteHeightfield", "inputs": { "in": "smooth.out" },
+      "params": { "path": "smooth.png" } },
+    { "id": "save_smooth_exr", "type": "WriteHeightfield", "inputs": { "in": "smooth.out" },
+      "params": { "path": "smooth.exr" } }
   ]
 })";
 
 struct Raster {
   int width = 0, height = 0;
   std::vector<std::vector<float>> channels;  // row 0 = the southern row (domain row 0)
-  float at(int c, int i, int j) const { return channels[static_cast<std::size_t>(c)][static_cast<std::size_t>(j * width + i)]; }
+  float at(int c, int i, int j) const {
+    return channels[static_cast<std::size_t>(c)][static_cast<std::size_t>(j * width + i)];
+  }
 };
 
 Raster read_raster(const fs::path& file, int channel_count = 1) {
@@ -105,7 +114,8 @@ const LocalBuild& local_build() {
     auto tiled = orogen({"eval", (b.dir / "g.json").string(), "-o", b.tiled.string(), "--tiles", "3x2", "--stats",
                          (b.dir / "stats.json").string()});
     EXPECT_EQ(tiled.exit_code, 0) << tiled.err;
-    EXPECT_EQ(tiled.err.find("warning"), std::string::npos) << "a local graph must tile without warnings:\n" << tiled.err;
+    EXPECT_EQ(tiled.err.find("warning"), std::string::npos) << "a local graph must tile without warnings:\n"
+                                                            << tiled.err;
     return b;
   }();
   return build;
@@ -272,7 +282,8 @@ TEST(CliTiles, GlobalNodesAreNamedInAWarning) {
   for (const std::string mode : {"", "whole", "tile"})
     for (const bool quiet : {false, true}) {
       SCOPED_TRACE(mode + (quiet ? " quiet" : ""));
-      std::vector<std::string> args = {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "--tiles", "2x2"};
+      std::vector<std::string> args = {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "--tiles",
+                                       "2x2"};
       if (!mode.empty()) args.insert(args.end(), {"--global-nodes", mode});
       if (quiet) args.push_back("--quiet");
       const auto r = orogen(args);
@@ -375,14 +386,17 @@ TEST(CliTiles, WholeDomainNodesWithoutRastersAreBuiltPerTileAndSaySo) {
     { "id": "rivers", "type": "RiverExtract", "inputs": { "in": "noise.out" } },
     { "id": "mesh", "type": "HeightfieldToMesh", "inputs": { "in": "noise.out" } },
     { "id": "save_mesh", "type": "WriteMesh", "inputs": { "in": "mesh.out" }, "params": { "path": "terrain.obj" } },
-    { "id": "save_rivers", "type": "WriteCurves", "inputs": { "in": "rivers.out" }, "params": { "path": "rivers.json" } },
-    { "id": "save_mask", "type": "WriteHeightfield", "inputs": { "in": "rivers.mask" }, "params": { "path": "mask.exr" } },
+    { "id": "save_rivers", "type": "WriteCurves", "inputs": { "in": "rivers.out" },
+      "params": { "path": "rivers.json" } },
+    { "id": "save_mask", "type": "WriteHeightfield", "inputs": { "in": "rivers.mask" },
+      "params": { "path": "mask.exr" } },
     { "id": "lod", "type": "Resample", "inputs": { "in": "noise.out" }, "params": { "spacing": 20 } },
     { "id": "lod_mesh", "type": "HeightfieldToMesh", "inputs": { "in": "lod.out" } },
     { "id": "save_lod", "type": "WriteMesh", "inputs": { "in": "lod_mesh.out" }, "params": { "path": "lod.obj" } }
   ]
 })");
-  const auto r = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "tiled").string(), "--tiles", "2x2", "--quiet"});
+  const auto r =
+      orogen({"eval", (dir / "g.json").string(), "-o", (dir / "tiled").string(), "--tiles", "2x2", "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("node 'mesh' (HeightfieldToMesh, reach global) depends on the whole domain: its mesh 'out' "
                        "cannot be cut from a whole-domain result: each tile computes it from its own part only"),
@@ -415,7 +429,8 @@ TEST(CliTiles, WholeDomainNodesWithoutRastersAreBuiltPerTileAndSaySo) {
       EXPECT_EQ(vertices(dir / "tiled" / tile_name("lod", i, j, ".obj")), 17u * 17u)
           << "tile " << i << "," << j << " resamples its own 320 m at 20 m";
       EXPECT_EQ(window_differences(dir / "whole", dir / "tiled", "mask", {65, 65}, {2, 2}, i, j), 0u);
-      EXPECT_EQ(read_text(dir / "tiled" / tile_name("rivers", i, j, ".json")), read_text(dir / "whole" / "rivers.json"));
+      EXPECT_EQ(read_text(dir / "tiled" / tile_name("rivers", i, j, ".json")),
+                read_text(dir / "whole" / "rivers.json"));
     }
 }
 
@@ -455,7 +470,8 @@ TEST(CliTiles, EveryExampleGraphTilesIntoItsUntiledBuild) {
       ++compared;
     }
     total += compared;
-    std::cerr << entry.path().filename().string() << ": " << compared << " float raster outputs compared in 2x3 tiles\n";
+    std::cerr << entry.path().filename().string() << ": " << compared
+              << " float raster outputs compared in 2x3 tiles\n";
   }
   EXPECT_GT(total, 3u);
 }
@@ -503,9 +519,9 @@ TEST(CliTiles, OriginMovesTheTerrainByWholeSamples) {
 })";
   write_text(dir / "g.json", graph);
   ASSERT_EQ(orogen({"eval", (dir / "g.json").string(), "-o", (dir / "a").string(), "--quiet"}).exit_code, 0);
-  ASSERT_EQ(orogen({"eval", (dir / "g.json").string(), "-o", (dir / "b").string(), "--origin", "30,20", "--quiet"})
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      orogen({"eval", (dir / "g.json").string(), "-o", (dir / "b").string(), "--origin", "30,20", "--quiet"}).exit_code,
+      0);
   const Raster a = read_raster(dir / "a" / "h.exr"), b = read_raster(dir / "b" / "h.exr");
   for (int j = 0; j + 2 < a.height; ++j)
     for (int i = 0; i + 3 < a.width; ++i) ASSERT_EQ(b.at(0, i, j), a.at(0, i + 3, j + 2)) << i << "," << j;
@@ -531,7 +547,8 @@ TEST(CliTiles, TilesOfAMovedDomainEqualItsWindows) {
   ASSERT_EQ(t.width, edge(2, 121, 2) - i0 + 1);
   ASSERT_EQ(t.height, edge(3, 97, 4) - j0 + 1);
   for (int y = 0; y < t.height; ++y)
-    for (int x = 0; x < t.width; ++x) ASSERT_TRUE(same_bits(t.at(0, x, y), whole.at(0, i0 + x, j0 + y))) << x << "," << y;
+    for (int x = 0; x < t.width; ++x)
+      ASSERT_TRUE(same_bits(t.at(0, x, y), whole.at(0, i0 + x, j0 + y))) << x << "," << y;
 }
 
 // ---- cache and statistics per tile ------------------------------------------------------------------------
@@ -540,8 +557,9 @@ TEST(CliTiles, CacheAndStatsArePerTile) {
   const auto dir = scratch_dir("tiles-cache");
   write_text(dir / "g.json", kLocalGraph);
   auto run = [&](const std::string& stats, std::vector<std::string> extra) {
-    std::vector<std::string> a = {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "--cache-dir",
-                                  (dir / "cache").string(), "--stats", (dir / stats).string(), "--quiet"};
+    std::vector<std::string> a = {"eval",        (dir / "g.json").string(), "-o",      (dir / "out").string(),
+                                  "--cache-dir", (dir / "cache").string(),  "--stats", (dir / stats).string(),
+                                  "--quiet"};
     a.insert(a.end(), extra.begin(), extra.end());
     const auto r = orogen(a);
     EXPECT_EQ(r.exit_code, 0) << r.err;

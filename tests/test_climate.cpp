@@ -69,8 +69,8 @@ TEST(Sun, DayLengthEquatorPolarAndSixtyNorth) {
   EXPECT_NEAR(day_length_hours(60.0, -23.5), 2.0 / 15.0 * std::acos(tan60 * tan235) / kDeg, 1e-9);
   EXPECT_NEAR(day_length_hours(60.0, 23.5), 18.51, 0.02);
   EXPECT_NEAR(day_length_hours(60.0, -23.5), 5.49, 0.02);
-  EXPECT_EQ(day_length_hours(80.0, 23.5), 24.0);   // polar day
-  EXPECT_EQ(day_length_hours(80.0, -23.5), 0.0);   // polar night
+  EXPECT_EQ(day_length_hours(80.0, 23.5), 24.0);  // polar day
+  EXPECT_EQ(day_length_hours(80.0, -23.5), 0.0);  // polar night
   EXPECT_EQ(day_length_hours(-80.0, -23.5), 24.0);
   EXPECT_EQ(day_length_hours(90.0, 0.0), day_length_hours(90.0, 0.0));  // finite at the pole
 }
@@ -89,12 +89,14 @@ TEST(Sun, FlatTerrainLitAllDaylightAndIrradianceIsCosZenith) {
       double expect = 0.0;
       for (int k = 0; k < 24; ++k) {
         const double a = std::max(12.0 - len / 2, double(k)), b = std::min(12.0 + len / 2, k + 1.0);
-        if (b > a) expect += (b - a) * p.irradiance * std::max(0.0, sun_direction(lat, declination_deg(m), 0.5 * (a + b)).z);
+        if (b > a)
+          expect += (b - a) * p.irradiance * std::max(0.0, sun_direction(lat, declination_deg(m), 0.5 * (a + b)).z);
       }
       expect /= 24.0;
       for (int c : {0, 1000, 4095}) {
         EXPECT_NEAR(d.hours->data[std::size_t(c) * 12 + std::size_t(m - 1)], len, 1e-4) << lat << " " << m;
-        EXPECT_NEAR(d.irradiance->data[std::size_t(c) * 12 + std::size_t(m - 1)], expect, 1e-2 * (1 + expect / 100)) << lat << " " << m;
+        EXPECT_NEAR(d.irradiance->data[std::size_t(c) * 12 + std::size_t(m - 1)], expect, 1e-2 * (1 + expect / 100))
+            << lat << " " << m;
       }
     }
     for (double hour : {7.0, 10.5, 12.0, 16.0}) {
@@ -136,33 +138,33 @@ float marched_tangent(const Heightfield& z, int i, int j, glm::dvec2 dir) {
 TEST(Sun, HorizonSweepMatchesRayMarch) {
   // 10 m: a rough terrain for its grid (a few cells per hill flank); 5 m: the error must shrink.
   for (double spacing : {10.0, 5.0}) {
-  const Heightfield z = make_field(96, spacing, hills);
-  for (double az : {0.0, 17.0, 45.0, 90.0, 133.0, 200.0, 271.0, 333.0}) {
-    const glm::dvec2 dir(std::sin(az * kDeg), std::cos(az * kDeg));  // azimuth clockwise from north
-    const auto sweep = horizon_tangent(z, dir);
-    int compared = 0, disagree = 0;
-    double max_err = 0.0;
-    for (int j = 0; j < 96; j += 3)
-      for (int i = 0; i < 96; i += 3) {
-        const float ref = marched_tangent(z, i, j, dir);
-        const float got = sweep[z.index(i, j)];
-        if (std::isinf(ref) || std::isinf(got)) {
-          // Both see nothing ahead only at the border facing the sun; allow one cell of rounding there.
-          continue;
+    const Heightfield z = make_field(96, spacing, hills);
+    for (double az : {0.0, 17.0, 45.0, 90.0, 133.0, 200.0, 271.0, 333.0}) {
+      const glm::dvec2 dir(std::sin(az * kDeg), std::cos(az * kDeg));  // azimuth clockwise from north
+      const auto sweep = horizon_tangent(z, dir);
+      int compared = 0, disagree = 0;
+      double max_err = 0.0;
+      for (int j = 0; j < 96; j += 3)
+        for (int i = 0; i < 96; i += 3) {
+          const float ref = marched_tangent(z, i, j, dir);
+          const float got = sweep[z.index(i, j)];
+          if (std::isinf(ref) || std::isinf(got)) {
+            // Both see nothing ahead only at the border facing the sun; allow one cell of rounding there.
+            continue;
+          }
+          ++compared;
+          // Only horizons above the horizontal can shadow: compare max(0, angle).
+          const double err = std::abs(std::atan(std::max(0.0f, got)) - std::atan(std::max(0.0f, ref))) / kDeg;
+          max_err = std::max(max_err, err);
+          // Cells take the horizon interpolated between the two lines beside them: allow 2 degrees.
+          if (err > 2.0) ++disagree;
         }
-        ++compared;
-        // Only horizons above the horizontal can shadow: compare max(0, angle).
-        const double err = std::abs(std::atan(std::max(0.0f, got)) - std::atan(std::max(0.0f, ref))) / kDeg;
-        max_err = std::max(max_err, err);
-        // Cells take the horizon interpolated between the two lines beside them: allow 2 degrees.
-        if (err > 2.0) ++disagree;
+      EXPECT_GT(compared, 800) << az;
+      EXPECT_LE(disagree, compared / 100) << "azimuth " << az << " max error " << max_err << " deg";
+      if (spacing == 5.0) {
+        EXPECT_LT(max_err, 1.5) << "azimuth " << az;
       }
-    EXPECT_GT(compared, 800) << az;
-    EXPECT_LE(disagree, compared / 100) << "azimuth " << az << " max error " << max_err << " deg";
-    if (spacing == 5.0) {
-      EXPECT_LT(max_err, 1.5) << "azimuth " << az;
     }
-  }
   }
 }
 
@@ -219,7 +221,8 @@ TEST(Sun, ConeSouthFaceLitAllDayNorthFaceDark) {
   Heightfield z(Domain::from_extent({0, 0}, {1990, 1990}, {200, 200}));
   for (int j = 0; j < 200; ++j)
     for (int i = 0; i < 200; ++i)
-      z.at(i, j) = static_cast<float>(std::max(0.0, 300.0 - std::hypot(z.domain.x(i) - 1000.0, z.domain.y(j) - 1000.0)));
+      z.at(i, j) =
+          static_cast<float>(std::max(0.0, 300.0 - std::hypot(z.domain.x(i) - 1000.0, z.domain.y(j) - 1000.0)));
   SunParams p;
   p.latitude = 45.0;
   const int months[] = {12, 6};
@@ -334,7 +337,8 @@ TEST(Temperature, CurveEndpointsSymmetryAndLapseRate) {
 TEST(SoilHumidity, NeverExceedsRainfallAndHistoryMatchesHand) {
   Heightfield z(Domain::from_extent({0, 0}, {300, 300}, {31, 31}));
   for (int j = 0; j < 31; ++j)
-    for (int i = 0; i < 31; ++i) z.at(i, j) = static_cast<float>(i < 15 ? 0.0 : 2.0 * (i - 15) * 10.0);  // flat, then 63 deg
+    for (int i = 0; i < 31; ++i)
+      z.at(i, j) = static_cast<float>(i < 15 ? 0.0 : 2.0 * (i - 15) * 10.0);  // flat, then 63 deg
   auto p = SoilHumidityParams::defaults();
   p.intensity.points = {{1.0, 10.0}, {12.0, 10.0}};
   p.infiltration = 4.0;  // 40 % of the rain infiltrates
@@ -375,7 +379,9 @@ TEST(ResourceStack, ChannelsAndKeys) {
   const auto s = run_node("SoilHumidity", d, {}, {{"in", PortValue(HeightfieldPtr(z))}});
   const auto l = run_node("SunIllumination", d, {}, {{"in", PortValue(HeightfieldPtr(z))}});
   const auto r = run_node("ResourceStack", d, {},
-                          {{"in", PortValue(HeightfieldPtr(z))}, {"temperature", t.outputs[0]}, {"illumination", l.outputs[0]},
+                          {{"in", PortValue(HeightfieldPtr(z))},
+                           {"temperature", t.outputs[0]},
+                           {"illumination", l.outputs[0]},
                            {"humidity", s.outputs[0]}});
   const auto img = r.get<Image>(0);
   ASSERT_EQ(img->channels, 37);
@@ -447,7 +453,8 @@ TEST(Biomes, CustomTableAndErrors) {
   const Domain d = Domain::from_extent({0, 0}, {640, 640}, {17, 17});
   auto temp = std::make_shared<Heightfield>(make_field(17, 40.0, hills));
   auto moist = std::make_shared<Heightfield>(d, 900.0f);
-  const auto r = run_node("Biomes", d, {{"moisture_scale", 1.0}}, {{"in", PortValue(HeightfieldPtr(temp))}, {"moisture", PortValue(HeightfieldPtr(moist))}});
+  const auto r = run_node("Biomes", d, {{"moisture_scale", 1.0}},
+                          {{"in", PortValue(HeightfieldPtr(temp))}, {"moisture", PortValue(HeightfieldPtr(moist))}});
   EXPECT_EQ(r.get<Heightfield>(0)->data.size(), d.sample_count());
   expect_every_param_changes_key("Biomes", d);
   expect_every_input_changes_key("Biomes", d);

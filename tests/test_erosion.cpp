@@ -167,7 +167,8 @@ TEST(HydraulicErosion, BaselineAndAvx2KernelsGiveTheSameBits) {
   for (const Grid& g : grids) {
     const Domain d = Domain::from_extent({0, 0}, {g.sx, g.sy}, {g.w, g.h});
     const auto in = test::field_from(d, mountains);
-    const auto mask = test::field_from(d, [](double x, double y) { return 0.5 + 0.6 * std::sin(x * 0.002 + y * 0.003); });
+    const auto mask =
+        test::field_from(d, [](double x, double y) { return 0.5 + 0.6 * std::sin(x * 0.002 + y * 0.003); });
     for (double radius : {20.0, 30.0, 60.0, 80.0, 140.0, 200.0}) {
       ParticleParams p;
       p.droplets_per_km2 = 1000;
@@ -282,7 +283,8 @@ TEST(StreamPower, OneDimensionalSteadyStateMatchesAnalyticN2) { check_1d_steady_
 // hydrology family's slope-area fit, Flint 1974) recovers theta = m/n.
 void check_concavity(double diffusion) {
   const Domain d = Domain::from_extent({0, 0}, {6000, 6000}, {121, 121});
-  const auto in = test::field_from(d, [](double x, double y) { return 20.0 * test::hash01(static_cast<int>(x), static_cast<int>(y)); });
+  const auto in = test::field_from(
+      d, [](double x, double y) { return 20.0 * test::hash01(static_cast<int>(x), static_cast<int>(y)); });
   StreamPowerParams p;
   p.k = 4e-5;
   p.m = 0.45;
@@ -293,7 +295,8 @@ void check_concavity(double diffusion) {
   p.duration = 4e6;
   StreamPowerStats st;
   const auto m = stream_power(*in, p, nullptr, nullptr, nullptr, &st);
-  EXPECT_LT(st.mean_change_last_step, 1e-2 * p.uplift) << "steady state: erosion balances uplift (to 1%; divides still migrate)";
+  EXPECT_LT(st.mean_change_last_step, 1e-2 * p.uplift)
+      << "steady state: erosion balances uplift (to 1%; divides still migrate)";
   const auto r = hydrology::drainage_metrics(*m.out, 2e5);
   EXPECT_NEAR(-r.network.flint.slope, p.m / p.n, 0.05);
   EXPECT_GE(r.network.flint.r2, 0.9);
@@ -321,7 +324,8 @@ TEST(StreamPower, DeterministicAcrossThreads) {
 TEST(StreamPower, BasinGraphRoutingMatchesPriorityFlood) {
   const Domain d = Domain::from_extent({0, 0}, {3000, 3000}, {96, 96});
   const auto in = test::field_from(d, [](double x, double y) {
-    return 60.0 + 30.0 * std::sin(x / 400.0) * std::cos(y / 300.0) + 8.0 * test::hash01(static_cast<int>(x), static_cast<int>(y));
+    return 60.0 + 30.0 * std::sin(x / 400.0) * std::cos(y / 300.0) +
+           8.0 * test::hash01(static_cast<int>(x), static_cast<int>(y));
   });
   for (const double diffusion : {0.0, 0.05})
     for (const int steps : {1, 20}) {
@@ -458,7 +462,8 @@ TEST(DrainageMetrics, PitsInsideLakesAreCountedApart) {
   for (int j = 0; j < 64; ++j)
     for (int i = 0; i < 64; ++i) {
       const double r = std::hypot(i - 40.0, j - 32.0);
-      h->at(i, j) = static_cast<float>(0.1 * i - (r < 8.0 ? 5.0 * (1.0 - r / 8.0) : 0.0) - (i == 15 && j == 20 ? 0.5 : 0.0));
+      h->at(i, j) =
+          static_cast<float>(0.1 * i - (r < 8.0 ? 5.0 * (1.0 - r / 8.0) : 0.0) - (i == 15 && j == 20 ? 0.5 : 0.0));
     }
   hydrology::LakeThreshold lake;
   lake.depth = 2.0;
@@ -492,7 +497,7 @@ TEST(ErosionRealism, ErodedMountainsGraphMeetsTheDrainageTargets) {
   std::filesystem::create_directories(dir);
   const auto graph = orogen::test::source_dir() / "graphs" / "eroded_mountains.json";
   const auto r = orogen::test::run_process(OROGEN_CLI, {"eval", graph.string(), "-o", (dir / "out").string(), "--stats",
-                                                (dir / "stats.json").string(), "--quiet"});
+                                                        (dir / "stats.json").string(), "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto stats = nlohmann::json::parse(orogen::test::read_text(dir / "stats.json"));
   for (const char* id : {"metrics", "metrics_stream_power"}) {

@@ -47,8 +47,8 @@ int g_rendezvous_arrived = 0;
 std::atomic<int> g_rendezvous_met{0};
 
 void reset_counters() {
-  for (auto* c : {&g_source_runs, &g_add_runs, &g_slow_runs, &g_fail_runs, &g_writer_runs, &g_ripple_runs,
-                  &g_rendezvous_met})
+  for (auto* c :
+       {&g_source_runs, &g_add_runs, &g_slow_runs, &g_fail_runs, &g_writer_runs, &g_ripple_runs, &g_rendezvous_met})
     c->store(0);
   {
     std::lock_guard lock(g_slow_mutex);
@@ -160,9 +160,12 @@ OROGEN_NODE(TestFail) {
   b.execute([](ExecContext& ctx) {
     ++g_fail_runs;
     switch (ctx.enum_index("how")) {
-      case 0: throw NodeError("deliberate failure");
-      case 1: throw std::runtime_error("a std::runtime_error");
-      default: return;  // forgets to set its output
+      case 0:
+        throw NodeError("deliberate failure");
+      case 1:
+        throw std::runtime_error("a std::runtime_error");
+      default:
+        return;  // forgets to set its output
     }
   });
 }

@@ -43,14 +43,16 @@ TEST(Slope, TiltedPlaneInAnyDirectionAndAnisotropicSpacing) {
 
 TEST(Aspect, KnownPlanesFaceTheirDownhillCompassDirection) {
   const Domain d = Domain::from_extent({0, 0}, {100, 100}, {11, 11});
-  struct Case { double a, b, expected; };  // z = a x + b y
+  struct Case {
+    double a, b, expected;
+  };  // z = a x + b y
   const Case cases[] = {
-      {0, -1, 0},     // falls towards +y: faces north
-      {-1, 0, 90},    // falls towards +x: east
-      {0, 1, 180},    // falls towards -y: south
-      {1, 0, 270},    // falls towards -x: west
-      {-1, -1, 45},   // north-east
-      {1, 1, 225},    // south-west
+      {0, -1, 0},    // falls towards +y: faces north
+      {-1, 0, 90},   // falls towards +x: east
+      {0, 1, 180},   // falls towards -y: south
+      {1, 0, 270},   // falls towards -x: west
+      {-1, -1, 45},  // north-east
+      {1, 1, 225},   // south-west
       {-std::sqrt(3.0), -1, 60},
   };
   for (const auto& c : cases) {

@@ -37,8 +37,9 @@ TEST(Constant, EverySampleHasTheValue) {
 TEST(LinearGradient, KnownValuesAlongX) {
   // 0 m at x = 100, 50 m at x = 600, clamped outside.
   const Domain d = Domain::from_extent({0, 0}, {1000, 1000}, {11, 11});  // samples every 100 m
-  const auto run = run_node("LinearGradient", d,
-                            {{"from", 0.0}, {"to", 50.0}, {"angle", 0.0}, {"start", glm::dvec2(100, 0)}, {"length", 500.0}});
+  const auto run =
+      run_node("LinearGradient", d,
+               {{"from", 0.0}, {"to", 50.0}, {"angle", 0.0}, {"start", glm::dvec2(100, 0)}, {"length", 500.0}});
   const auto h = run.get<Heightfield>();
   for (int j = 0; j < 11; ++j) {
     EXPECT_FLOAT_EQ(h->at(0, j), 0.0f);    // x = 0, before the span
@@ -196,7 +197,8 @@ TEST(Multiply, ResamplesMismatchedDomainBilinearly) {
   const auto out = run_node("Multiply", da, {}, {{"a", a}, {"b", HeightfieldPtr(b)}}).get<Heightfield>();
   for (int j = 0; j < 33; ++j)
     for (int i = 0; i < 33; ++i) {
-      const double tx = std::max(0.0, 1 - std::abs(da.x(i) - 32) / 16), ty = std::max(0.0, 1 - std::abs(da.y(j) - 32) / 16);
+      const double tx = std::max(0.0, 1 - std::abs(da.x(i) - 32) / 16),
+                   ty = std::max(0.0, 1 - std::abs(da.y(j) - 32) / 16);
       EXPECT_NEAR(out->at(i, j), 2 * tx * ty, 1e-6) << i << "," << j;
     }
   EXPECT_EQ(out->at(16, 16), 2.0f);
@@ -220,9 +222,11 @@ TEST(Resample, SameLatticeCopiesExactly) {
 TEST(FieldFunctions, MatchTheNodes) {
   const Domain d = Domain::from_extent({0, 0}, {50, 50}, {9, 9});
   const auto a = make_field(d, [](double x, double y) { return x - y; });
-  const auto b = make_field(Domain::from_extent({0, 0}, {50, 50}, {4, 4}), [](double x, double y) { return x * 0.1 + y; });
+  const auto b =
+      make_field(Domain::from_extent({0, 0}, {50, 50}, {4, 4}), [](double x, double y) { return x * 0.1 + y; });
   const Heightfield sum = add_fields(*a, *b, {1.5, 2.0});
-  const auto node_sum = run_node("Add", d, {{"weight_a", 1.5}, {"weight_b", 2.0}}, {{"a", a}, {"b", b}}).get<Heightfield>();
+  const auto node_sum =
+      run_node("Add", d, {{"weight_a", 1.5}, {"weight_b", 2.0}}, {{"a", a}, {"b", b}}).get<Heightfield>();
   EXPECT_EQ(sum.data, node_sum->data);
   const Heightfield prod = multiply_fields(*a, *b, {0.5});
   const auto node_prod = run_node("Multiply", d, {{"scale", 0.5}}, {{"a", a}, {"b", b}}).get<Heightfield>();

@@ -44,9 +44,8 @@ TEST(Blur, PreservesAConstantWithBothKernelsAndEdges) {
 
 TEST(Blur, MirrorEdgesPreserveTheIntegralExactly) {
   const Domain d = Domain::from_extent({0, 0}, {800, 500}, {161, 101});  // 5 m spacing
-  const auto noise = field_from(d, [&](double x, double y) {
-    return 100.0 * test::hash01(std::llround(x), std::llround(y)) + 0.2 * x;
-  });
+  const auto noise = field_from(
+      d, [&](double x, double y) { return 100.0 * test::hash01(std::llround(x), std::llround(y)) + 0.2 * x; });
   for (double sigma : {12.0, 45.0}) {  // 2.4 and 9 samples: direct kernel, exact
     const auto out = run_field("Blur", d, {{"sigma", sigma}, {"edges", std::string("mirror")}}, {{"in", noise}});
     EXPECT_NEAR(trapezoid_mean(*out) / trapezoid_mean(*noise), 1.0, 1e-6) << sigma;
@@ -62,7 +61,9 @@ TEST(Blur, ClampEdgesPreserveTheSumOfAnInteriorBump) {
   const Domain d = Domain::from_extent({0, 0}, {2000, 2000}, {201, 201});
   const auto bump = field_from(d, [](double x, double y) {
     const double r = std::hypot(x - 1000, y - 1000);
-    return r < 200 ? 50.0 * (1 + std::cos(r / 200 * std::numbers::pi)) + 7 * test::hash01(std::llround(x), std::llround(y)) : 0.0;
+    return r < 200
+               ? 50.0 * (1 + std::cos(r / 200 * std::numbers::pi)) + 7 * test::hash01(std::llround(x), std::llround(y))
+               : 0.0;
   });
   for (double sigma : {30.0, 160.0}) {  // 3 samples: direct; 16 samples: decimated. 4 sigma + 200 m < 1000 m
     const auto out = run_field("Blur", d, {{"sigma", sigma}}, {{"in", bump}});
@@ -153,7 +154,8 @@ TEST(Resample, FixedSpacingWhateverTheRequestedResolution) {
     for (int j = 0; j < 65; j += 8)
       for (int i = 0; i < 129; i += 8) {
         const auto s = d.to_sample(out->domain.position(i, j));
-        ASSERT_EQ(out->at(i, j), field_from(d, test::rolling_hills)->at(static_cast<int>(std::lround(s.x)), static_cast<int>(std::lround(s.y))));
+        ASSERT_EQ(out->at(i, j), field_from(d, test::rolling_hills)
+                                     ->at(static_cast<int>(std::lround(s.x)), static_cast<int>(std::lround(s.y))));
       }
   }
   // Spacing that does not divide the extent: rounded sample count, borders kept.
@@ -201,7 +203,8 @@ TEST(Warp, ConstantDisplacementIsAShift) {
   // A fractional shift of a linear ramp is exact (Catmull-Rom reproduces linear functions), and strength
   // scales the displacement.
   const auto ramp = field_from(d, [](double x, double y) { return 0.5 * x - 0.25 * y; });
-  const auto frac = run_field("Warp", d, {{"strength", 0.5}}, {{"in", ramp}, {"dx", field_from(d, [](double, double) { return 7.0; })}});
+  const auto frac = run_field("Warp", d, {{"strength", 0.5}},
+                              {{"in", ramp}, {"dx", field_from(d, [](double, double) { return 7.0; })}});
   for (int j = 0; j < 49; ++j)
     for (int i = 1; i < 60; ++i) ASSERT_NEAR(frac->at(i, j), 0.5 * (d.x(i) + 3.5) - 0.25 * d.y(j), 1e-4);
 }
@@ -213,7 +216,8 @@ TEST(Warp, CatmullRomInterpolatesAndIsSmooth) {
     for (int i = 0; i < 11; ++i) EXPECT_EQ(static_cast<float>(catmull_rom(*in, i, j)), in->at(i, j));
   // A quadratic in x is reproduced exactly in the interior (the cubic's tangents are exact there).
   const auto quad = field_from(d, [](double x, double) { return 0.01 * x * x; });
-  for (double u = 1.0; u <= 8.0; u += 0.125) EXPECT_NEAR(catmull_rom(*quad, u, 5.0), 0.01 * (10 * u) * (10 * u), 1e-3) << u;
+  for (double u = 1.0; u <= 8.0; u += 0.125)
+    EXPECT_NEAR(catmull_rom(*quad, u, 5.0), 0.01 * (10 * u) * (10 * u), 1e-3) << u;
 }
 
 }  // namespace

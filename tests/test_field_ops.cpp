@@ -47,8 +47,8 @@ TEST(BinaryOps, KnownValues) {
 }
 
 TEST(BinaryOps, SecondInputIsResampledOntoTheFirstDomain) {
-  const Domain fine = Domain::from_extent({0, 0}, {100, 100}, {21, 21});   // 5 m
-  const Domain coarse = Domain::from_extent({0, 0}, {100, 100}, {5, 5});   // 25 m
+  const Domain fine = Domain::from_extent({0, 0}, {100, 100}, {21, 21});  // 5 m
+  const Domain coarse = Domain::from_extent({0, 0}, {100, 100}, {5, 5});  // 25 m
   const auto a = field_from(fine, [](double x, double y) { return x + y; });
   const auto b = field_from(coarse, [](double x, double y) { return 2 * x - y; });  // linear: bilinear is exact
   const auto out = run_field("Subtract", coarse, {}, {{"a", a}, {"b", b}});
@@ -74,8 +74,8 @@ TEST(Blend, NodeUsesMaskAndFactor) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {11, 11});
   const auto a = constant(d, 100.0), b = constant(d, 300.0);
   const auto mask = field_from(d, [](double x, double) { return x / 10.0; });  // 0..1 along x
-  const auto out = run_field("Blend", d, {{"mode", std::string("lerp")}, {"factor", 0.5}},
-                             {{"a", a}, {"b", b}, {"mask", mask}});
+  const auto out =
+      run_field("Blend", d, {{"mode", std::string("lerp")}, {"factor", 0.5}}, {{"a", a}, {"b", b}, {"mask", mask}});
   for (int i = 0; i <= 10; ++i) EXPECT_NEAR(out->at(i, 4), 100.0 + 200.0 * 0.5 * i / 10.0, 1e-4);
   const auto add = run_field("Blend", d, {{"mode", std::string("add")}}, {{"a", a}, {"b", b}});
   EXPECT_EQ(add->at(3, 3), 400.0f);
@@ -86,8 +86,8 @@ TEST(Blend, NodeUsesMaskAndFactor) {
 TEST(Remap, HitsExactBoundsAndIsLinear) {
   const auto in = field_from(kLine, [](double x, double) { return x * 0.37 - 50.0; });  // -50 .. 320
   const double lo = -50.0, hi = 0.37 * 1000 - 50.0;
-  const auto out = run_field("Remap", kLine, {{"in_min", lo}, {"in_max", hi}, {"out_min", 3.5}, {"out_max", 1234.25}},
-                             {{"in", in}});
+  const auto out =
+      run_field("Remap", kLine, {{"in_min", lo}, {"in_max", hi}, {"out_min", 3.5}, {"out_max", 1234.25}}, {{"in", in}});
   EXPECT_EQ(out->at(0, 0), 3.5f);
   EXPECT_EQ(out->at(1000, 0), 1234.25f);
   EXPECT_NEAR(out->at(500, 0), (3.5 + 1234.25) / 2, 1e-3);
@@ -132,17 +132,19 @@ TEST(Normalize, HitsExactBounds) {
 TEST(Curve, IdentityPointsGiveTheIdentity) {
   const auto in = field_from(kLine, [](double x, double) { return 0.25 * x; });  // 0..250 m
   const CurveValue identity{{{0.0, 0.0}, {0.3, 0.3}, {0.8, 0.8}, {1.0, 1.0}}};
-  const auto out = run_field("Curve", kLine, {{"curve", identity}, {"input_min", 0.0}, {"input_max", 250.0}}, {{"in", in}});
+  const auto out =
+      run_field("Curve", kLine, {{"curve", identity}, {"input_min", 0.0}, {"input_max", 250.0}}, {{"in", in}});
   for (int i = 0; i <= 1000; ++i) EXPECT_NEAR(out->at(i, 0), in->at(i, 0), 1e-4) << i;
-  const auto field_range = run_field("Curve", kLine, {{"curve", CurveValue::identity()}, {"range", std::string("field")}},
-                                     {{"in", in}});
+  const auto field_range =
+      run_field("Curve", kLine, {{"curve", CurveValue::identity()}, {"range", std::string("field")}}, {{"in", in}});
   for (int i = 0; i <= 1000; ++i) EXPECT_NEAR(field_range->at(i, 0), in->at(i, 0), 1e-4) << i;
 }
 
 TEST(Curve, MonotonePointsGiveMonotoneOutput) {
   const auto in = field_from(kLine, [](double x, double) { return x - 100.0; });  // -100..900 m
   const CurveValue steps{{{0.0, 0.0}, {0.2, 0.6}, {0.25, 0.62}, {0.5, 0.65}, {0.55, 0.9}, {1.0, 1.0}}};
-  const auto out = run_field("Curve", kLine, {{"curve", steps}, {"input_min", 0.0}, {"input_max", 800.0}}, {{"in", in}});
+  const auto out =
+      run_field("Curve", kLine, {{"curve", steps}, {"input_min", 0.0}, {"input_max", 800.0}}, {{"in", in}});
   for (int i = 1; i <= 1000; ++i) EXPECT_GE(out->at(i, 0), out->at(i - 1, 0)) << i;
   // The range maps onto itself, values outside clamp, and control points are hit.
   EXPECT_EQ(out->at(0, 0), 0.0f);       // -100 m clamps to curve(0) = 0
@@ -171,14 +173,19 @@ TEST(Power, OddSymmetricAboutThePivotWithFixedPoints) {
 TEST(Terrace, HardStepsHaveTheLevelCount) {
   const auto in = field_from(kLine, [](double x, double) { return 0.12 * x - 10.0; });  // -10..110 m
   const auto out = run_field("Terrace", kLine,
-                             {{"mode", std::string("count")}, {"levels", std::int64_t{7}}, {"range_min", 0.0},
-                              {"range_max", 100.0}, {"sharpness", 1.0}},
+                             {{"mode", std::string("count")},
+                              {"levels", std::int64_t{7}},
+                              {"range_min", 0.0},
+                              {"range_max", 100.0},
+                              {"sharpness", 1.0}},
                              {{"in", in}});
   std::set<float> levels;
   for (int i = 0; i <= 1000; ++i) {
     const float h = in->at(i, 0);
-    if (h > 0.0f && h < 100.0f) levels.insert(out->at(i, 0));
-    else EXPECT_EQ(out->at(i, 0), h);  // identity outside the range
+    if (h > 0.0f && h < 100.0f)
+      levels.insert(out->at(i, 0));
+    else
+      EXPECT_EQ(out->at(i, 0), h);  // identity outside the range
   }
   EXPECT_EQ(levels.size(), 7u);
   for (float v : levels) EXPECT_NEAR(std::remainder(v, 100.0 / 7.0), 0.0, 1e-4);  // on a level
@@ -194,12 +201,13 @@ TEST(Terrace, MonotoneAndLevelsAreFixedPoints) {
       EXPECT_GE(v, prev) << "sharpness " << s << " at " << h;
       prev = v;
     }
-    for (int level = -3; level <= 3; ++level) EXPECT_NEAR(terrace_value(5.0 + 12.5 * level, p), 5.0 + 12.5 * level, 1e-9);
+    for (int level = -3; level <= 3; ++level)
+      EXPECT_NEAR(terrace_value(5.0 + 12.5 * level, p), 5.0 + 12.5 * level, 1e-9);
   }
   EXPECT_NEAR(terrace_value(7.0, {0.0, 10.0, 0.0}), 7.0, 1e-12);  // sharpness 0 is the identity
   const auto in = field_from(kLine, [](double x, double) { return x * 0.3; });
-  const auto out = run_field("Terrace", kLine, {{"mode", std::string("spacing")}, {"spacing", 20.0}, {"offset", 3.0}},
-                             {{"in", in}});
+  const auto out =
+      run_field("Terrace", kLine, {{"mode", std::string("spacing")}, {"spacing", 20.0}, {"offset", 3.0}}, {{"in", in}});
   for (int i = 1; i <= 1000; ++i) EXPECT_GE(out->at(i, 0), out->at(i - 1, 0));
 }
 
@@ -254,8 +262,9 @@ TEST(BandMask, OneInsideZeroFarOutsideSmoothBetween) {
 TEST(ColorRamp, EndpointsEqualTheGradientEnds) {
   const auto in = field_from(kLine, [](double x, double) { return x; });
   GradientValue g{{{0.0, {1.0f, 0.0f, 0.0f, 1.0f}}, {0.4, {0.0f, 1.0f, 0.0f, 1.0f}}, {1.0, {0.1f, 0.2f, 0.9f, 0.5f}}}};
-  const auto img = run_node("ColorRamp", kLine, {{"gradient", g}, {"input_min", 100.0}, {"input_max", 900.0}}, {{"in", in}})
-                       .get<Image>();
+  const auto img =
+      run_node("ColorRamp", kLine, {{"gradient", g}, {"input_min", 100.0}, {"input_max", 900.0}}, {{"in", in}})
+          .get<Image>();
   ASSERT_EQ(img->channels, 4);
   for (int k = 0; k < 4; ++k) {
     EXPECT_EQ(img->pixel(100, 0)[k], g.stops.front().color[k]);
@@ -266,12 +275,14 @@ TEST(ColorRamp, EndpointsEqualTheGradientEnds) {
   }
   // The default ramp has water below 0 m and land colours above, with a hard shoreline.
   const GradientValue def = terrain_height_gradient();
-  const auto at = [&](double h) { return def.evaluate((h - kTerrainGradientMin) / (kTerrainGradientMax - kTerrainGradientMin)); };
-  EXPECT_GT(at(-50.0).b, at(-50.0).r);   // water is blue
+  const auto at = [&](double h) {
+    return def.evaluate((h - kTerrainGradientMin) / (kTerrainGradientMax - kTerrainGradientMin));
+  };
+  EXPECT_GT(at(-50.0).b, at(-50.0).r);  // water is blue
   EXPECT_GT(at(-0.01).b, at(-0.01).r);
-  EXPECT_GT(at(0.5).r, at(0.5).b);        // sand
-  EXPECT_GT(at(100.0).g, at(100.0).r);    // grass
-  EXPECT_GT(at(880.0).r, 0.8f);           // snow
+  EXPECT_GT(at(0.5).r, at(0.5).b);      // sand
+  EXPECT_GT(at(100.0).g, at(100.0).r);  // grass
+  EXPECT_GT(at(880.0).r, 0.8f);         // snow
   EXPECT_GT(at(880.0).b, 0.8f);
 }
 

@@ -22,13 +22,16 @@ using InputFn = std::function<PortValue(const Domain&)>;
 
 PortValue hills(const Domain& d) { return PortValue(HeightfieldPtr(field_from(d, test::rolling_hills))); }
 PortValue hills2(const Domain& d) {
-  return PortValue(HeightfieldPtr(field_from(d, [](double x, double y) { return 150.0 * std::cos((x - y) / 410.0) + 0.03 * y; })));
+  return PortValue(
+      HeightfieldPtr(field_from(d, [](double x, double y) { return 150.0 * std::cos((x - y) / 410.0) + 0.03 * y; })));
 }
 PortValue mask(const Domain& d) {
-  return PortValue(HeightfieldPtr(field_from(d, [](double x, double y) { return 0.5 + 0.5 * std::sin(x / 380.0 + y / 520.0); })));
+  return PortValue(
+      HeightfieldPtr(field_from(d, [](double x, double y) { return 0.5 + 0.5 * std::sin(x / 380.0 + y / 520.0); })));
 }
 PortValue displacement(const Domain& d) {
-  return PortValue(HeightfieldPtr(field_from(d, [](double x, double y) { return 40.0 * std::sin(y / 290.0) + 10.0 * std::cos(x / 350.0); })));
+  return PortValue(HeightfieldPtr(
+      field_from(d, [](double x, double y) { return 40.0 * std::sin(y / 290.0) + 10.0 * std::cos(x / 350.0); })));
 }
 
 struct Case {
@@ -36,7 +39,7 @@ struct Case {
   std::string type;
   std::map<std::string, ParamValue> params;
   std::map<std::string, InputFn> inputs;
-  double tolerance = 1e-6;  // resolution independence: max |coarse - fine| over the coarse output's range
+  double tolerance = 1e-6;     // resolution independence: max |coarse - fine| over the coarse output's range
   bool fixed_lattice = false;  // the output lattice does not follow the request (Resample): compare 1:1
 };
 
@@ -48,9 +51,15 @@ std::vector<Case> cases() {
       {"Subtract", "Subtract", {}, two},
       {"Min", "Min", {}, two},
       {"Max", "Max", {}, two},
-      {"BlendLerp", "Blend", {{"mode", std::string("lerp")}, {"factor", 0.7}}, {{"a", hills}, {"b", hills2}, {"mask", mask}}},
+      {"BlendLerp",
+       "Blend",
+       {{"mode", std::string("lerp")}, {"factor", 0.7}},
+       {{"a", hills}, {"b", hills2}, {"mask", mask}}},
       {"BlendScreen", "Blend", {{"mode", std::string("screen")}}, {{"a", mask}, {"b", mask}}},
-      {"Remap", "Remap", {{"in_min", -100.0}, {"in_max", 400.0}, {"out_min", 0.0}, {"out_max", 1.0}, {"clamp", true}}, one},
+      {"Remap",
+       "Remap",
+       {{"in_min", -100.0}, {"in_max", 400.0}, {"out_min", 0.0}, {"out_max", 1.0}, {"clamp", true}},
+       one},
       {"Clamp", "Clamp", {{"min", 0.0}, {"max", 150.0}}, one},
       {"Normalize", "Normalize", {{"min", 0.0}, {"max", 1000.0}}, one, 2e-3},
       {"Curve", "Curve", {{"input_min", -200.0}, {"input_max", 400.0}}, one},
@@ -72,7 +81,10 @@ std::vector<Case> cases() {
       {"CurvatureMean", "Curvature", {{"type", std::string("mean")}}, height, 2e-2},
       {"Normals", "Normals", {}, height, 1e-3},
       {"ColorRamp", "ColorRamp", {{"input_min", -200.0}, {"input_max", 500.0}}, one},
-      {"RadialFalloff", "RadialFalloff", {{"center", glm::dvec2(1000, 900)}, {"radius", 800.0}}, {{"distance_offset", displacement}}},
+      {"RadialFalloff",
+       "RadialFalloff",
+       {{"center", glm::dvec2(1000, 900)}, {"radius", 800.0}},
+       {{"distance_offset", displacement}}},
       {"Cone", "Cone", {{"center", glm::dvec2(1000, 900)}, {"radius", 700.0}, {"height", 300.0}}, {}},
       {"Resample", "Resample", {{"spacing", 32.0}}, one, 1e-6, true},
       {"ResamplePrefilter", "Resample", {{"spacing", 20.0}, {"prefilter", true}}, one, 2e-3, true},
@@ -108,7 +120,7 @@ TEST_P(FieldOpContract, BitIdenticalForOneAndSeveralThreads) {
 TEST_P(FieldOpContract, CoarseAndFineEvaluationsAgree) {
   const Case& c = GetParam();
   const Domain coarse = Domain::from_extent({0, 0}, {2048, 2048}, {257, 257});  // 8 m
-  const Domain fine = coarse.resampled({1025, 1025});                            // 2 m: every 4th sample coincides
+  const Domain fine = coarse.resampled({1025, 1025});                           // 2 m: every 4th sample coincides
   const auto a = samples(run_case(c, coarse));
   const auto b = samples(run_case(c, fine));
   std::vector<double> va, vb;
@@ -137,10 +149,10 @@ TEST_P(FieldOpContract, CoarseAndFineEvaluationsAgree) {
 INSTANTIATE_TEST_SUITE_P(FieldOps, FieldOpContract, ::testing::ValuesIn(cases()),
                          [](const ::testing::TestParamInfo<Case>& info) { return info.param.name; });
 
-const char* const kOwnedTypes[] = {"Subtract", "Min", "Max", "Blend", "Remap", "Clamp", "Normalize", "Curve",
-                                   "Power", "Terrace", "Invert", "Abs", "SmoothStep", "Threshold", "Blur", "Warp",
-                                   "Slope", "Aspect", "Curvature", "Normals", "BandMask", "ColorRamp",
-                                   "RadialFalloff", "Cone", "Resample"};
+const char* const kOwnedTypes[] = {
+    "Subtract",  "Min",     "Max",      "Blend",      "Remap",         "Clamp", "Normalize", "Curve", "Power",
+    "Terrace",   "Invert",  "Abs",      "SmoothStep", "Threshold",     "Blur",  "Warp",      "Slope", "Aspect",
+    "Curvature", "Normals", "BandMask", "ColorRamp",  "RadialFalloff", "Cone",  "Resample"};
 
 TEST(FieldOpContract, EveryOwnedNodeIsCovered) {
   std::vector<std::string> covered;

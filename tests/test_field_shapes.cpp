@@ -42,8 +42,9 @@ TEST(RadialFalloff, ProfileCurveAndDistanceOffset) {
   EXPECT_NEAR(m->at(100, 160), 1.0 - 600.0 / 800.0, 1e-6);  // y = 600 m
   // A constant offset of +200 m moves every contour 200 m inwards.
   const auto offset = field_from(d, [](double, double) { return 200.0; });
-  const auto shifted = run_field("RadialFalloff", d, {{"center", glm::dvec2(0, 0)}, {"radius", 800.0}, {"profile", linear}},
-                                 {{"distance_offset", offset}});
+  const auto shifted =
+      run_field("RadialFalloff", d, {{"center", glm::dvec2(0, 0)}, {"radius", 800.0}, {"profile", linear}},
+                {{"distance_offset", offset}});
   EXPECT_NEAR(shifted->at(120, 100), m->at(140, 100), 1e-6);  // 200 m + 200 m == 400 m
 }
 

@@ -116,7 +116,9 @@ TEST(Graph, LinksAreTypeChecked) {
   EXPECT_EQ(g.check_link({"gen", "out"}, "op", "c"), "node 'op' (TestOp) has no input 'c'");
   EXPECT_EQ(g.check_link({"ghost", "out"}, "op", "a"), "no node 'ghost'");
   EXPECT_EQ(g.check_link({"gen", "out"}, "ghost", "a"), "no node 'ghost'");
-  EXPECT_EQ(graph_error([&] { g.connect({"gen", "img"}, "op", "a"); }),
+  EXPECT_EQ(graph_error([&] {
+              g.connect({"gen", "img"}, "op", "a");
+            }),
             "type mismatch: gen.img is Image but op.a takes Heightfield");
   EXPECT_TRUE(g.at("op").inputs.empty());  // a refused link changes nothing
 
@@ -242,8 +244,7 @@ TEST(Graph, SetParamChecksTypeAndRange) {
   g.add_node("TestGen", "gen");
   g.set_param("gen", "height", 7.5);
   EXPECT_EQ(std::get<double>(g.param("gen", "height")), 7.5);
-  EXPECT_EQ(graph_error([&] { g.set_param("gen", "height", 10.5); }),
-            "gen.height: value 10.5 is above the maximum 10");
+  EXPECT_EQ(graph_error([&] { g.set_param("gen", "height", 10.5); }), "gen.height: value 10.5 is above the maximum 10");
   EXPECT_EQ(graph_error([&] { g.set_param("gen", "height", -1.0); }), "gen.height: value -1 is below the minimum 0");
   EXPECT_EQ(graph_error([&] { g.set_param("gen", "height", std::int64_t{3}); }),
             "gen.height: expected a value of type float");
@@ -254,8 +255,7 @@ TEST(Graph, SetParamChecksTypeAndRange) {
   EXPECT_EQ(graph_error([&] { g.set_param("gen", "mode", std::string("min")); }),
             "gen.mode: 'min' is not one of: add, max");
   EXPECT_THAT(graph_error([&] { g.set_param("gen", "offset", glm::dvec2(0.5, 2.0)); }), HasSubstr("maximum 1"));
-  EXPECT_EQ(graph_error([&] { g.set_param("gen", "heigth", 1.0); }),
-            "node 'gen' (TestGen) has no parameter 'heigth'");
+  EXPECT_EQ(graph_error([&] { g.set_param("gen", "heigth", 1.0); }), "node 'gen' (TestGen) has no parameter 'heigth'");
   EXPECT_EQ(graph_error([&] { g.set_param("ghost", "height", 1.0); }), "no node 'ghost'");
   // Refused values leave the last good one.
   EXPECT_EQ(std::get<double>(g.param("gen", "height")), 7.5);

@@ -210,8 +210,9 @@ TEST(GraphFile, WritesOnlyExplicitParametersInDeclarationOrderAndOmitsEmptySecti
 TEST(GraphFile, EmptyGraphRoundTrips) {
   const Graph g;
   const std::string text = serialize_graph(g);
-  EXPECT_EQ(text, "{\n  \"format\": \"orogen-graph\",\n  \"version\": 5,\n  \"domain\": {\n    \"size\": [1024, 1024],\n"
-                  "    \"resolution\": [256, 256]\n  },\n  \"nodes\": []\n}\n");
+  EXPECT_EQ(text,
+            "{\n  \"format\": \"orogen-graph\",\n  \"version\": 5,\n  \"domain\": {\n    \"size\": [1024, 1024],\n"
+            "    \"resolution\": [256, 256]\n  },\n  \"nodes\": []\n}\n");
   const auto loaded = parse_ok(text);
   ASSERT_TRUE(loaded.ok());
   EXPECT_TRUE(*loaded.graph == g);
@@ -306,9 +307,7 @@ TEST(GraphFile, FailedSaveLeavesThePreviousFileIntact) {
   const auto dir = test::scratch_dir("graph-file-atomic");
   const auto path = dir / "graph.json";
   const std::string old_text = "previous contents\n";
-  {
-    std::ofstream(path, std::ios::binary) << old_text;
-  }
+  { std::ofstream(path, std::ios::binary) << old_text; }
   // Make the write fail part-way: a file-size limit below the new file's size (EFBIG instead of SIGXFSZ).
   const auto previous_handler = std::signal(SIGXFSZ, SIG_IGN);
   rlimit saved{};
@@ -373,7 +372,8 @@ TEST(GraphFile, MissingOrFailingMigrationIsAnError) {
   const auto missing = parse_graph(R"({"format": "orogen-graph", "version": -5, "nodes": []})");
   ASSERT_EQ(missing.diagnostics.size(), 1u);
   EXPECT_EQ(missing.diagnostics[0].path, "/version");
-  EXPECT_EQ(missing.diagnostics[0].message, "cannot read format version -5: no migration from version -5 to -4 is known");
+  EXPECT_EQ(missing.diagnostics[0].message,
+            "cannot read format version -5: no migration from version -5 to -4 is known");
 
   register_graph_migration(-1, [](nlohmann::json&) { throw std::runtime_error("no such field"); });
   const auto failing = parse_graph(R"({"format": "orogen-graph", "version": -1, "nodes": []})");
@@ -431,9 +431,15 @@ TEST(GraphFile, RandomlyDamagedFilesAreEitherValidOrDiagnosed) {
     for (int e = 0; e < edits; ++e) {
       const std::size_t at = rnd(text.size());
       switch (rnd(3)) {
-        case 0: text.erase(at, 1); break;
-        case 1: text.insert(at, 1, alphabet[rnd(alphabet.size())]); break;
-        default: text[at] = alphabet[rnd(alphabet.size())]; break;
+        case 0:
+          text.erase(at, 1);
+          break;
+        case 1:
+          text.insert(at, 1, alphabet[rnd(alphabet.size())]);
+          break;
+        default:
+          text[at] = alphabet[rnd(alphabet.size())];
+          break;
       }
     }
     const auto r = parse_graph(text);
@@ -558,7 +564,8 @@ std::string filter(const std::string& inputs) {
 std::vector<Malformed> malformed_cases() {
   return {
       {"SyntaxError", "{\n  \"format\": \"orogen-graph\",\n  \"version\": 1\n  \"nodes\": []\n}", "", "",
-       "malformed JSON at line 4, column 9: syntax error while parsing object - unexpected string literal; expected '}'"},
+       "malformed JSON at line 4, column 9: syntax error while parsing object - unexpected string literal; expected "
+       "'}'"},
       {"NumberOverflow", with_nodes(R"({"id": "src", "type": "TestSource", "params": {"scale": 1e400}})"),
        "/nodes/0/params/scale", "", "malformed JSON at line 1, column 112: number overflow parsing '1e400'"},
       {"DuplicateKey", with_nodes(R"({"id": "src", "type": "TestSource", "params": {"scale": 1, "scale": 2}})"),
@@ -573,9 +580,8 @@ std::vector<Malformed> malformed_cases() {
        "missing \"version\": the format version (this build writes 5)"},
       {"VersionNotInteger", R"({"format": "orogen-graph", "version": 1.0, "nodes": []})", "/version", "",
        "\"version\" must be an integer, found the number 1.0"},
-      {"NewerVersion", R"({"format": "orogen-graph", "version": 6, "nodes": [{"bad": 1}], "future": true})",
-       "/version", "",
-       "this file was written by a newer Orogen (version 6, this build reads up to 5); update Orogen to open it"},
+      {"NewerVersion", R"({"format": "orogen-graph", "version": 6, "nodes": [{"bad": 1}], "future": true})", "/version",
+       "", "this file was written by a newer Orogen (version 6, this build reads up to 5); update Orogen to open it"},
       {"UnknownTopLevelField", with_nodes("", R"(, "editr": {})"), "/editr", "",
        "unknown field 'editr' in the file (did you mean 'editor'?)"},
       {"MissingNodes", R"({"format": "orogen-graph", "version": 1})", "/nodes", "",
@@ -602,18 +608,19 @@ std::vector<Malformed> malformed_cases() {
        "duplicate node id 'src' (already used by /nodes/0)"},
       {"MissingType", with_nodes(R"({"id": "src"})"), "/nodes/0/type", "src",
        "missing \"type\": the name of the node type"},
-      {"UnknownType", with_nodes(R"({"id": "src", "type": "TestSourse", "params": {"whatever": 1}})"),
-       "/nodes/0/type", "src", "unknown node type 'TestSourse' (did you mean 'TestSource'?)"},
+      {"UnknownType", with_nodes(R"({"id": "src", "type": "TestSourse", "params": {"whatever": 1}})"), "/nodes/0/type",
+       "src", "unknown node type 'TestSourse' (did you mean 'TestSource'?)"},
       {"UnknownTypeLinkedBothWays",  // links to and from it are not checked, and not reported again
        with_nodes(R"({"id": "src", "type": "NoSuchThingAtAll", "inputs": {"x": "f.out"}},)" +
                   filter(R"("height": "src.height")")),
        "/nodes/0/type", "src", "unknown node type 'NoSuchThingAtAll'"},
-      {"UnknownNodeField", with_nodes(R"({"id": "src", "type": "TestSource", "param": {}})"), "/nodes/0/param",
-       "src", "unknown field 'param' in a node (did you mean 'params'?)"},
-      {"ParamsNotObject", with_nodes(R"({"id": "src", "type": "TestSource", "params": [1]})"), "/nodes/0/params",
-       "src", "\"params\" must be an object {\"name\": value, ...}, found an array of 1 element"},
+      {"UnknownNodeField", with_nodes(R"({"id": "src", "type": "TestSource", "param": {}})"), "/nodes/0/param", "src",
+       "unknown field 'param' in a node (did you mean 'params'?)"},
+      {"ParamsNotObject", with_nodes(R"({"id": "src", "type": "TestSource", "params": [1]})"), "/nodes/0/params", "src",
+       "\"params\" must be an object {\"name\": value, ...}, found an array of 1 element"},
       {"UnknownParam", with_nodes(R"({"id": "src", "type": "TestSource", "params": {"octave": 3}})"),
-       "/nodes/0/params/octave", "src", "unknown parameter 'octave' for node type TestSource (did you mean 'octaves'?)"},
+       "/nodes/0/params/octave", "src",
+       "unknown parameter 'octave' for node type TestSource (did you mean 'octaves'?)"},
       {"ParamOfTypeWithoutParams",
        with_nodes(kSrc + R"(,{"id": "p", "type": "TestPaint", "inputs": {"image": "src.color"}, "params": {"x": 1}})"),
        "/nodes/1/params/x", "p", "unknown parameter 'x' for node type TestPaint (it has no parameters)"},
@@ -649,19 +656,17 @@ std::vector<Malformed> malformed_cases() {
        "malformed link \"src\": expected \"node.port\", the id of a node and one of its outputs"},
       {"LinkNotString", with_nodes(kSrc + "," + filter(R"("height": ["src", "height"])")), "/nodes/1/inputs/height",
        "f", "a link must be a string \"node.port\", found an array of 2 elements"},
-      {"LinkToMissingNode", with_nodes(kSrc + "," + filter(R"("height": "srx.height")")), "/nodes/1/inputs/height",
-       "f", "link to missing node 'srx' (did you mean 'src'?)"},
-      {"LinkToMissingOutput", with_nodes(kSrc + "," + filter(R"("height": "src.heigth")")),
-       "/nodes/1/inputs/height", "f",
-       "link to missing output 'heigth' of node 'src' (TestSource) (did you mean 'height'?)"},
+      {"LinkToMissingNode", with_nodes(kSrc + "," + filter(R"("height": "srx.height")")), "/nodes/1/inputs/height", "f",
+       "link to missing node 'srx' (did you mean 'src'?)"},
+      {"LinkToMissingOutput", with_nodes(kSrc + "," + filter(R"("height": "src.heigth")")), "/nodes/1/inputs/height",
+       "f", "link to missing output 'heigth' of node 'src' (TestSource) (did you mean 'height'?)"},
       {"UnknownInputPort", with_nodes(kSrc + "," + filter(R"("height": "src.height", "masks": "src.height")")),
        "/nodes/1/inputs/masks", "f", "unknown input 'masks' for node type TestFilter (did you mean 'mask'?)"},
       {"TypeMismatch", with_nodes(kSrc + "," + filter(R"("height": "src.color")")), "/nodes/1/inputs/height", "f",
        "type mismatch: src.color is Image but input 'height' of TestFilter takes Heightfield"},
       {"MissingRequiredInput", with_nodes(kSrc + "," + filter(R"("mask": "src.height")")), "/nodes/1/inputs/height",
        "f", "missing required input 'height' (Heightfield) of node type TestFilter"},
-      {"Cycle",
-       with_nodes(R"({"id": "a", "type": "TestFilter", "inputs": {"height": "b.out"}},
+      {"Cycle", with_nodes(R"({"id": "a", "type": "TestFilter", "inputs": {"height": "b.out"}},
                      {"id": "b", "type": "TestFilter", "inputs": {"height": "a.out"}})"),
        "/nodes/1/inputs/height", "b", "the links form a cycle: a -> b -> a"},
       {"SelfLink", with_nodes(R"({"id": "a", "type": "TestFilter", "inputs": {"height": "a.out"}})"),
@@ -685,8 +690,10 @@ TEST_P(MalformedFile, GivesItsOwnDiagnostic) {
   const auto& d = r.diagnostics[0];
   EXPECT_EQ(d.path, c.path);
   EXPECT_EQ(d.node, c.node);
-  if (c.prefix_only) EXPECT_THAT(d.message, StartsWith(c.message));
-  else EXPECT_EQ(d.message, c.message);
+  if (c.prefix_only)
+    EXPECT_THAT(d.message, StartsWith(c.message));
+  else
+    EXPECT_EQ(d.message, c.message);
 }
 
 INSTANTIATE_TEST_SUITE_P(GraphFile, MalformedFile, ::testing::ValuesIn(malformed_cases()),
@@ -786,8 +793,9 @@ TEST(GraphFilePartial, KeepsWhatCanBeReadWithEveryProblemListed) {
   EXPECT_FALSE(g.at("g").inputs.count("mask"));
   EXPECT_NO_THROW(g.topological_order());
   auto dropped = [&](const std::string& node, const std::string& port) {
-    return std::any_of(r.dropped_links.begin(), r.dropped_links.end(),
-                       [&](const DroppedLink& d) { return d.to_node == node && d.to_port == port && !d.reason.empty(); });
+    return std::any_of(r.dropped_links.begin(), r.dropped_links.end(), [&](const DroppedLink& d) {
+      return d.to_node == node && d.to_port == port && !d.reason.empty();
+    });
   };
   EXPECT_TRUE(dropped("f", "height"));
   EXPECT_TRUE(dropped("g", "mask"));

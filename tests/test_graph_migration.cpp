@@ -171,7 +171,8 @@ TEST(GraphMigration, OutputRenamesFollowTheSourceNodesTypeOnly) {
   // Both names given: nothing is dropped, the loader reports the old one as unknown.
   EXPECT_EQ(file["nodes"][4]["inputs"], nlohmann::json::parse(R"({"height": "k.out", "in": "k.out"})"));
   // Malformed files are left for the loader to report.
-  for (const char* text : {R"([])", R"({"nodes": 3})", R"({"nodes": [1, {"type": 2}, {"id": "x", "type": "Slope", "inputs": 4}]})"}) {
+  for (const char* text :
+       {R"([])", R"({"nodes": 3})", R"({"nodes": [1, {"type": 2}, {"id": "x", "type": "Slope", "inputs": 4}]})"}) {
     auto j = nlohmann::json::parse(text);
     const auto before = j;
     EXPECT_NO_THROW(migrate_graph_v1_to_v2(j));
@@ -236,7 +237,8 @@ const char* kVersion3Scene = R"({
   "domain": {"size": [200, 200], "resolution": [33, 33]},
   "nodes": [
     {"id": "h", "type": "Cone", "params": {"center": [100, 100], "radius": 90, "height": 40}},
-    {"id": "pts", "type": "PoissonDisk", "inputs": {"height": "h.out"}, "params": {"class_count": 2, "radius_0": 20, "radius_1": 25}},
+    {"id": "pts", "type": "PoissonDisk", "inputs": {"height": "h.out"},
+      "params": {"class_count": 2, "radius_0": 20, "radius_1": 25}},
     {"id": "rock", "type": "HullRock"},
     {"id": "terrain", "type": "HeightfieldToMesh", "inputs": {"in": "h.out"}},
     {"id": "write_instance", "type": "Constant"},
@@ -255,7 +257,8 @@ const char* kVersion4Scene = R"({
   "domain": {"size": [200, 200], "resolution": [33, 33]},
   "nodes": [
     {"id": "h", "type": "Cone", "params": {"center": [100, 100], "radius": 90, "height": 40}},
-    {"id": "pts", "type": "PoissonDisk", "inputs": {"height": "h.out"}, "params": {"class_count": 2, "radius_0": 20, "radius_1": 25}},
+    {"id": "pts", "type": "PoissonDisk", "inputs": {"height": "h.out"},
+      "params": {"class_count": 2, "radius_0": 20, "radius_1": 25}},
     {"id": "rock", "type": "HullRock"},
     {"id": "terrain", "type": "HeightfieldToMesh", "inputs": {"in": "h.out"}},
     {"id": "write_instance", "type": "Constant"},
@@ -305,7 +308,9 @@ TEST(GraphMigration, Version3MigrationLeavesOtherFilesAlone) {
   const auto before = file;
   migrate_graph_v3_to_v4(file);
   EXPECT_EQ(file, before);
-  for (const char* text : {R"([])", R"({"nodes": 3})", R"({"nodes": [1, {"type": "WriteScene"}, {"id": "x", "type": "WriteScene", "inputs": 4}]})"}) {
+  for (const char* text :
+       {R"([])", R"({"nodes": 3})",
+        R"({"nodes": [1, {"type": "WriteScene"}, {"id": "x", "type": "WriteScene", "inputs": 4}]})"}) {
     auto j = nlohmann::json::parse(text);
     const auto original = j;
     EXPECT_NO_THROW(migrate_graph_v3_to_v4(j));

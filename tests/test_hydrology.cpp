@@ -35,7 +35,8 @@ using test::field_from;
 // Hilly terrain with closed depressions, tilted toward +x.
 double bumpy(double x, double y) {
   return 60.0 * std::sin(x / 210.0) * std::cos(y / 170.0) + 35.0 * std::sin((x + 2 * y) / 390.0) - 0.04 * x +
-         8.0 * test::hash01(static_cast<std::int64_t>(std::floor(x / 40.0)), static_cast<std::int64_t>(std::floor(y / 40.0)));
+         8.0 * test::hash01(static_cast<std::int64_t>(std::floor(x / 40.0)),
+                            static_cast<std::int64_t>(std::floor(y / 40.0)));
 }
 
 HeightfieldPtr bumpy_field(const Domain& d) { return field_from(d, bumpy); }
@@ -62,9 +63,12 @@ TEST(FillDepressionsNode, FillsWithLakesAndCarvesDeepPitsKeepingShallowOnes) {
   for (std::size_t c = 0; c < in->data.size(); ++c) {
     ASSERT_GE(out->data[c], in->data[c]);
     ASSERT_GE(depth->data[c], 0.0f);
-    if (id->data[c] > 0) { ASSERT_NEAR(out->data[c], in->data[c] + depth->data[c], 1e-3); }
+    if (id->data[c] > 0) {
+      ASSERT_NEAR(out->data[c], in->data[c] + depth->data[c], 1e-3);
+    }
   }
-  const NodeRun carve = run_node("FillDepressions", d, {{"mode", std::string("carve")}, {"max_depth", 5.0}}, {{"in", pv(in)}});
+  const NodeRun carve =
+      run_node("FillDepressions", d, {{"mode", std::string("carve")}, {"max_depth", 5.0}}, {{"in", pv(in)}});
   const auto cout = carve.get<Heightfield>(0), cid = carve.get<Heightfield>(2);
   std::set<float> cids(cid->data.begin(), cid->data.end());
   EXPECT_EQ(cids, (std::set<float>{0.0f, 1.0f})) << "the shallow bowl is kept as a lake, the deep one carved";
@@ -99,8 +103,10 @@ TEST(FlowAccumulationNode, RainfallWeightsAndMapsInRange) {
   for (const char* m : {"d8", "dinf", "mfd"}) {
     SCOPED_TRACE(m);
     const NodeRun a = run_node("FlowAccumulation", d, {{"method", std::string(m)}}, {{"in", pv(in)}});
-    const NodeRun b = run_node("FlowAccumulation", d, {{"method", std::string(m)}}, {{"in", pv(in)}, {"rainfall", pv(two)}});
-    const auto acc = a.get<Heightfield>(0), acc2 = b.get<Heightfield>(0), flow = a.get<Heightfield>(1), wet = a.get<Heightfield>(2);
+    const NodeRun b =
+        run_node("FlowAccumulation", d, {{"method", std::string(m)}}, {{"in", pv(in)}, {"rainfall", pv(two)}});
+    const auto acc = a.get<Heightfield>(0), acc2 = b.get<Heightfield>(0), flow = a.get<Heightfield>(1),
+               wet = a.get<Heightfield>(2);
     for (std::size_t c = 0; c < acc->data.size(); ++c) {
       ASSERT_NEAR(acc2->data[c], 2.0f * acc->data[c], 1e-5f * acc2->data[c]);
       ASSERT_GE(acc->data[c], 100.0f * (1 - 1e-6f));  // at least the cell's own 10 m x 10 m
@@ -114,7 +120,8 @@ TEST(FlowAccumulationNode, RainfallWeightsAndMapsInRange) {
 
 TEST(FlowDirectionNode, UnitVectorsPointDownhill) {
   const Domain d = small_domain();
-  const auto in = field_from(d, [](double x, double y) { return 60.0 * std::sin(x / 210.0) * std::cos(y / 170.0) + 0.05 * x; });
+  const auto in =
+      field_from(d, [](double x, double y) { return 60.0 * std::sin(x / 210.0) * std::cos(y / 170.0) + 0.05 * x; });
   for (const char* m : {"d8", "dinf", "mfd"}) {
     const NodeRun r = run_node("FlowDirection", d, {{"method", std::string(m)}, {"fill", false}}, {{"in", pv(in)}});
     const auto angle = r.get<Heightfield>(0), dx = r.get<Heightfield>(1), dy = r.get<Heightfield>(2);
@@ -123,7 +130,8 @@ TEST(FlowDirectionNode, UnitVectorsPointDownhill) {
       for (int i = 1; i < d.width() - 1; ++i) {
         if (angle->at(i, j) < 0) continue;
         ASSERT_NEAR(std::hypot(dx->at(i, j), dy->at(i, j)), 1.0, 1e-5);
-        ASSERT_NEAR(std::atan2(dy->at(i, j), dx->at(i, j)) * 180 / M_PI + (dy->at(i, j) < 0 ? 360 : 0), angle->at(i, j), 1e-2);
+        ASSERT_NEAR(std::atan2(dy->at(i, j), dx->at(i, j)) * 180 / M_PI + (dy->at(i, j) < 0 ? 360 : 0), angle->at(i, j),
+                    1e-2);
         // The ground a cell further along the flow is lower (bilinear, smooth terrain).
         const double ahead = in->sample_world(d.x(i) + 10 * dx->at(i, j), d.y(j) + 10 * dy->at(i, j));
         EXPECT_LT(ahead, in->at(i, j) + 0.5) << m << " " << i << "," << j;
@@ -146,13 +154,16 @@ TEST(WatershedsNode, BasinsPartitionTheAreaAndSmallOnesAreDropped) {
     EXPECT_LE(a, previous) << "numbered by decreasing area";
     previous = a;
   }
-  for (std::size_t c = 0; c < id->data.size(); ++c) ASSERT_NEAR(area->data[c], cells[id->data[c]], 1e-3 * area->data[c]);
+  for (std::size_t c = 0; c < id->data.size(); ++c)
+    ASSERT_NEAR(area->data[c], cells[id->data[c]], 1e-3 * area->data[c]);
   const double min_area = 50000.0;
   const NodeRun big = run_node("Watersheds", d, {{"min_area", min_area}}, {{"in", pv(in)}});
   const auto id2 = big.get<Heightfield>(0);
   for (std::size_t c = 0; c < id2->data.size(); ++c) {
-    if (area->data[c] < min_area) ASSERT_EQ(id2->data[c], 0.0f);
-    else ASSERT_GT(id2->data[c], 0.0f);
+    if (area->data[c] < min_area)
+      ASSERT_EQ(id2->data[c], 0.0f);
+    else
+      ASSERT_GT(id2->data[c], 0.0f);
   }
 }
 
@@ -164,8 +175,9 @@ struct Rivers {
 };
 
 Rivers rivers(const Domain& d, const HeightfieldPtr& in, bool split, double threshold = 4e4) {
-  const NodeRun r = run_node("RiverExtract", d, {{"threshold", threshold}, {"split_at_lakes", split}, {"smoothing", std::int64_t{2}}},
-                             {{"in", pv(in)}});
+  const NodeRun r =
+      run_node("RiverExtract", d, {{"threshold", threshold}, {"split_at_lakes", split}, {"smoothing", std::int64_t{2}}},
+               {{"in", pv(in)}});
   return {r.get<Curves>(0), r.get<Heightfield>(1)};
 }
 
@@ -211,8 +223,10 @@ TEST(RiverExtractNode, ReachesRunDownhillJoinLargerReachesAndWidenDownstream) {
     int best = 0, ties = 0;
     for (int ch : it->second) {
       const int o = static_cast<int>(cs.curves[static_cast<std::size_t>(ch)].attributes.at("order").front());
-      if (o > best) best = o, ties = 1;
-      else if (o == best) ++ties;
+      if (o > best)
+        best = o, ties = 1;
+      else if (o == best)
+        ++ties;
     }
     EXPECT_EQ(order, ties >= 2 ? best + 1 : best) << "reach " << k;
   }
@@ -227,7 +241,8 @@ TEST(RiverExtractNode, LakesAreLeftWithoutLinesAndTheMaskFollowsTheWidth) {
   ASSERT_GT(*std::max_element(depth->data.begin(), depth->data.end()), 0.5f);
   ASSERT_GT(r.curves->size(), 10u);
   // Unsmoothed: no interior vertex in a lake.
-  const NodeRun raw = run_node("RiverExtract", d, {{"threshold", 4e4}, {"smoothing", std::int64_t{0}}}, {{"in", pv(in)}});
+  const NodeRun raw =
+      run_node("RiverExtract", d, {{"threshold", 4e4}, {"smoothing", std::int64_t{0}}}, {{"in", pv(in)}});
   int inner = 0;
   for (const Curve& c : raw.get<Curves>(0)->curves)
     for (std::size_t v = 1; v + 1 < c.points.size(); ++v) {
@@ -238,8 +253,9 @@ TEST(RiverExtractNode, LakesAreLeftWithoutLinesAndTheMaskFollowsTheWidth) {
   EXPECT_GT(inner, 100);
   // Mask: 1 on wide reaches' vertices, 0 far from every reach.
   const Rivers wide = [&] {
-    const NodeRun w = run_node("RiverExtract", d, {{"threshold", 4e4}, {"width_coefficient", 30.0}, {"smoothing", std::int64_t{0}}},
-                               {{"in", pv(in)}});
+    const NodeRun w =
+        run_node("RiverExtract", d, {{"threshold", 4e4}, {"width_coefficient", 30.0}, {"smoothing", std::int64_t{0}}},
+                 {{"in", pv(in)}});
     return Rivers{w.get<Curves>(0), w.get<Heightfield>(1)};
   }();
   for (const Curve& c : wide.curves->curves)
@@ -252,7 +268,8 @@ TEST(RiverExtractNode, LakesAreLeftWithoutLinesAndTheMaskFollowsTheWidth) {
   for (float m : wide.mask->data) mask_area += m * 100.0;
   for (const Curve& c : wide.curves->curves)
     for (std::size_t v = 0; v + 1 < c.points.size(); ++v)
-      line_area += 0.5 * (c.width[v] + c.width[v + 1]) * glm::length(glm::vec2(c.points[v + 1]) - glm::vec2(c.points[v]));
+      line_area +=
+          0.5 * (c.width[v] + c.width[v + 1]) * glm::length(glm::vec2(c.points[v + 1]) - glm::vec2(c.points[v]));
   EXPECT_GT(mask_area, 0.5 * line_area);
   EXPECT_LT(mask_area, 1.5 * line_area);
 }
@@ -265,7 +282,8 @@ TEST(FloodFillNode, LakeIsFlatAndBoundedByHigherGroundOrTheSpill) {
   // Seed at the deepest point of the largest depression.
   const NodeRun lk = run_node("Lakes", d, {}, {{"in", pv(in)}});
   const auto depth = lk.get<Heightfield>(1), surface = lk.get<Heightfield>(0);
-  const std::size_t deepest = static_cast<std::size_t>(std::max_element(depth->data.begin(), depth->data.end()) - depth->data.begin());
+  const std::size_t deepest =
+      static_cast<std::size_t>(std::max_element(depth->data.begin(), depth->data.end()) - depth->data.begin());
   const int si = static_cast<int>(deepest % 256), sj = static_cast<int>(deepest / 256);
   for (bool spill : {true, false}) {
     const double level = spill ? surface->data[deepest] : in->data[deepest] + 0.5 * depth->data[deepest];
@@ -288,14 +306,18 @@ TEST(FloodFillNode, LakeIsFlatAndBoundedByHigherGroundOrTheSpill) {
         for (int k = 0; k < 8; ++k) {
           const int ii = i + hydrology::kDi[k], jj = j + hydrology::kDj[k];
           if (ii < 0 || jj < 0 || ii >= 256 || jj >= 256) continue;
-          if (mask->at(ii, jj) == 0.0f) { ASSERT_GE(in->at(ii, jj), static_cast<float>(level)) << "bounded by higher ground"; }
+          if (mask->at(ii, jj) == 0.0f) {
+            ASSERT_GE(in->at(ii, jj), static_cast<float>(level)) << "bounded by higher ground";
+          }
         }
       }
     EXPECT_GT(wet, 10);
     if (spill) {
       // The spill level lets the lake match the filled depression exactly.
       for (std::size_t c = 0; c < mask->data.size(); ++c)
-        if (mask->data[c] > 0) { ASSERT_EQ(surface->data[c], out->data[c]); }
+        if (mask->data[c] > 0) {
+          ASSERT_EQ(surface->data[c], out->data[c]);
+        }
     }
   }
 }
@@ -308,11 +330,13 @@ TEST(WaterFlowNode, ConservesWaterExceptAtTheBorderAndSinks) {
   auto sinks = std::make_shared<Heightfield>(d, 0.0f);
   for (int j = 60; j < 70; ++j)
     for (int i = 60; i < 70; ++i) sinks->at(i, j) = 1.0f;
-  const NodeRun r = run_node("WaterFlow", d, {{"rainfall", 80.0}, {"infiltration", 20.0}, {"max_iterations", std::int64_t{300}}},
-                             {{"in", pv(in)}, {"sinks", pv(sinks)}});
+  const NodeRun r =
+      run_node("WaterFlow", d, {{"rainfall", 80.0}, {"infiltration", 20.0}, {"max_iterations", std::int64_t{300}}},
+               {{"in", pv(in)}, {"sinks", pv(sinks)}});
   const auto depth = r.get<Heightfield>(0);
   const auto rep = nlohmann::json::parse(r.get<Report>(2)->json);
-  const double rain = rep["rain_m3"], stored = rep["stored_m3"], border = rep["border_outflow_m3"], sink = rep["sink_inflow_m3"];
+  const double rain = rep["rain_m3"], stored = rep["stored_m3"], border = rep["border_outflow_m3"],
+               sink = rep["sink_inflow_m3"];
   EXPECT_NEAR(rain, 0.06 * 1270.0 * 1270.0 / (127.0 * 127.0) * 128 * 128, 1e-6 * rain);
   EXPECT_NEAR(rain, stored + border + sink, 1e-9 * rain);
   EXPECT_GT(border, 0.0);
@@ -335,22 +359,29 @@ TEST(WaterFlowNode, NeverMovesWaterUphillAndPoolsFlat) {
   };
   const auto in = field_from(d, bowl);
   // One iteration: a plateau cell receives nothing from lower surfaces.
-  const NodeRun one = run_node("WaterFlow", d, {{"rainfall", 30.0}, {"infiltration", 0.0}, {"max_iterations", std::int64_t{1}}},
-                               {{"in", pv(in)}});
+  const NodeRun one =
+      run_node("WaterFlow", d, {{"rainfall", 30.0}, {"infiltration", 0.0}, {"max_iterations", std::int64_t{1}}},
+               {{"in", pv(in)}});
   const auto w1 = one.get<Heightfield>(0);
   for (int j = 1; j < 63; ++j)
     for (int i = 1; i < 63; ++i) {
       double higher_neighbour_surface = -1e9;
       for (int k = 0; k < 8; ++k)
-        higher_neighbour_surface = std::max<double>(higher_neighbour_surface, in->at(i + hydrology::kDi[k], j + hydrology::kDj[k]) + 0.03);
-      if (higher_neighbour_surface < in->at(i, j)) { ASSERT_LE(w1->at(i, j), 0.03f + 1e-7f) << "a peak gained water"; }
+        higher_neighbour_surface =
+            std::max<double>(higher_neighbour_surface, in->at(i + hydrology::kDi[k], j + hydrology::kDj[k]) + 0.03);
+      if (higher_neighbour_surface < in->at(i, j)) {
+        ASSERT_LE(w1->at(i, j), 0.03f + 1e-7f) << "a peak gained water";
+      }
     }
   // To convergence: the pooled water has a flat surface and nothing is lost (no border water: rim is dry).
-  const NodeRun all = run_node("WaterFlow", d, {{"rainfall", 300.0}, {"infiltration", 0.0}, {"threshold", 1e-6}, {"max_iterations", std::int64_t{20000}}},
-                               {{"in", pv(in)}});
+  const NodeRun all = run_node(
+      "WaterFlow", d,
+      {{"rainfall", 300.0}, {"infiltration", 0.0}, {"threshold", 1e-6}, {"max_iterations", std::int64_t{20000}}},
+      {{"in", pv(in)}});
   const auto w = all.get<Heightfield>(0);
   const auto rep = nlohmann::json::parse(all.get<Report>(2)->json);
-  EXPECT_NEAR(static_cast<double>(rep["rain_m3"]), static_cast<double>(rep["stored_m3"]) + static_cast<double>(rep["border_outflow_m3"]),
+  EXPECT_NEAR(static_cast<double>(rep["rain_m3"]),
+              static_cast<double>(rep["stored_m3"]) + static_cast<double>(rep["border_outflow_m3"]),
               1e-9 * static_cast<double>(rep["rain_m3"]));
   double lo = 1e9, hi = -1e9;
   for (int j = 0; j < 64; ++j)
@@ -525,8 +556,8 @@ TEST(DrainageMetrics, ReportAppearsInCliStats) {
       {"id": "m", "type": "DrainageMetrics", "inputs": {"in": "h.out"}, "params": {"threshold": 20000}},
       {"id": "w", "type": "WriteHeightfield", "inputs": {"in": "m.out"}, "params": {"path": "order.exr"}}
     ]})");
-  const auto r = test::run_process(OROGEN_CLI, {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "--stats",
-                                                (dir / "stats.json").string(), "--quiet"});
+  const auto r = test::run_process(OROGEN_CLI, {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(),
+                                                "--stats", (dir / "stats.json").string(), "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto stats = nlohmann::json::parse(test::read_text(dir / "stats.json"));
   ASSERT_TRUE(stats["reports"].contains("m")) << stats.dump(2);
@@ -547,8 +578,8 @@ TEST(DrainageMetrics, ReportValuesRoundTripThroughTheCacheFormat) {
 
 // ---- Node contract -------------------------------------------------------------------------------------------
 
-const char* const kOwnedTypes[] = {"FillDepressions", "Lakes", "FloodFill", "FlowAccumulation", "FlowDirection",
-                                   "Watersheds", "RiverExtract", "WaterFlow", "DrainageMetrics"};
+const char* const kOwnedTypes[] = {"FillDepressions", "Lakes",        "FloodFill", "FlowAccumulation", "FlowDirection",
+                                   "Watersheds",      "RiverExtract", "WaterFlow", "DrainageMetrics"};
 
 std::vector<float> first_output(const NodeRun& run) {
   const auto& v = run.outputs.at(0);
@@ -570,8 +601,10 @@ TEST(HydrologyContract, BitIdenticalForOneAndSeveralThreads) {
   const Domain d = Domain::from_extent({0, 0}, {2550, 2550}, {256, 256});
   const auto in = bumpy_field(d);
   const std::map<std::string, std::map<std::string, ParamValue>> params{
-      {"FloodFill", {{"seed", glm::dvec2(1200, 1300)}}}, {"RiverExtract", {{"threshold", 4e4}}},
-      {"WaterFlow", {{"max_iterations", std::int64_t{50}}}}, {"DrainageMetrics", {{"threshold", 4e4}}}};
+      {"FloodFill", {{"seed", glm::dvec2(1200, 1300)}}},
+      {"RiverExtract", {{"threshold", 4e4}}},
+      {"WaterFlow", {{"max_iterations", std::int64_t{50}}}},
+      {"DrainageMetrics", {{"threshold", 4e4}}}};
   for (const char* type : kOwnedTypes) {
     SCOPED_TRACE(type);
     const auto it = params.find(type);
@@ -585,7 +618,9 @@ TEST(HydrologyContract, BitIdenticalForOneAndSeveralThreads) {
         auto pm = p;
         pm["method"] = std::string(m);
         const auto a = test::with_threads(1, [&] { return first_output(run_node(type, d, pm, {{"in", pv(in)}})); });
-        const auto b = test::with_threads(test::several_threads(), [&] { return first_output(run_node(type, d, pm, {{"in", pv(in)}})); });
+        const auto b = test::with_threads(test::several_threads(), [&] {
+          return first_output(run_node(type, d, pm, {{"in", pv(in)}}));
+        });
         EXPECT_TRUE(test::bit_identical(a, b)) << m;
       }
   }
@@ -595,12 +630,18 @@ TEST(HydrologyContract, AccumulationConvergesWithResolution) {
   // A smooth tilted terrain at 10 m and 5 m: along channels (where the coarse grid resolves them) the
   // contributing area agrees after sampling the fine result at the coarse points (largest value within one
   // coarse cell, as a channel may shift by a fine cell).
-  auto smooth = [](double x, double y) { return 80.0 * std::sin(x / 300.0) * std::cos(y / 260.0) + 0.08 * x + 0.03 * y; };
+  auto smooth = [](double x, double y) {
+    return 80.0 * std::sin(x / 300.0) * std::cos(y / 260.0) + 0.08 * x + 0.03 * y;
+  };
   const Domain coarse = Domain::from_extent({0, 0}, {2560, 2560}, {257, 257});
   const Domain fine = coarse.resampled({513, 513});
   for (const char* m : {"d8", "mfd"}) {
-    const auto a = run_node("FlowAccumulation", coarse, {{"method", std::string(m)}}, {{"in", pv(field_from(coarse, smooth))}}).get<Heightfield>(0);
-    const auto b = run_node("FlowAccumulation", fine, {{"method", std::string(m)}}, {{"in", pv(field_from(fine, smooth))}}).get<Heightfield>(0);
+    const auto a =
+        run_node("FlowAccumulation", coarse, {{"method", std::string(m)}}, {{"in", pv(field_from(coarse, smooth))}})
+            .get<Heightfield>(0);
+    const auto b =
+        run_node("FlowAccumulation", fine, {{"method", std::string(m)}}, {{"in", pv(field_from(fine, smooth))}})
+            .get<Heightfield>(0);
     std::vector<double> ratio;
     for (int j = 2; j < 255; ++j)
       for (int i = 2; i < 255; ++i) {

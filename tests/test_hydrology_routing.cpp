@@ -58,7 +58,8 @@ TEST(HydrologyFill, FlatMatchesBruteForceOnRandomGrids) {
   for (std::uint32_t seed = 1; seed <= 12; ++seed) {
     const FlowGrid g(17 + static_cast<int>(seed % 5) * 7, 23 + static_cast<int>(seed % 3) * 5, 2.0, 3.0);
     std::vector<float> z(g.size());
-    for (std::size_t c = 0; c < z.size(); ++c) z[c] = std::floor(hash01(seed * 1000003u + static_cast<std::uint32_t>(c)) * 20.0f);
+    for (std::size_t c = 0; c < z.size(); ++c)
+      z[c] = std::floor(hash01(seed * 1000003u + static_cast<std::uint32_t>(c)) * 20.0f);
     std::vector<float> out = z;
     fill_depressions(g, out, FlatMode::Flat);
     EXPECT_EQ(out, brute_fill(g, z)) << "seed " << seed;
@@ -195,7 +196,9 @@ TEST(HydrologyD8, ReceiversAreSteepestDescentInWorldUnits) {
         }
       }
       ASSERT_EQ(f.receiver[c], want) << i << "," << j;
-      if (want != c) { ASSERT_TRUE(f.donors[want] & (1u << opposite(f.direction[c]))); }
+      if (want != c) {
+        ASSERT_TRUE(f.donors[want] & (1u << opposite(f.direction[c])));
+      }
     }
 }
 
@@ -266,7 +269,9 @@ TEST(HydrologyD8, StackOrderAndBasins) {
     pos[order[p]] = static_cast<int>(p);
   }
   for (std::int32_t c = 0; c < static_cast<std::int32_t>(g.size()); ++c)
-    if (f.receiver[c] != c) { ASSERT_LT(pos[f.receiver[c]], pos[c]); }
+    if (f.receiver[c] != c) {
+      ASSERT_LT(pos[f.receiver[c]], pos[c]);
+    }
   int count = 0;
   const auto label = basin_labels(f, order, &count);
   int outlets = 0;
@@ -356,7 +361,9 @@ TEST(HydrologyAccumulation, ProportionsAreNonNegativeAndSumToOne) {
             s += fr[q];
           }
           ASSERT_NEAR(s, 1.0, 1e-12);
-          if (m != FlowMethod::MFD) { ASSERT_LE(n, m == FlowMethod::D8 ? 1 : 2); }
+          if (m != FlowMethod::MFD) {
+            ASSERT_LE(n, m == FlowMethod::D8 ? 1 : 2);
+          }
         }
 }
 

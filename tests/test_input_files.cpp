@@ -18,8 +18,7 @@ namespace {
 void write_constant_exr(const std::filesystem::path& dir, const std::string& name, float value, int resolution) {
   const Domain d = Domain::from_extent({0, 0}, {100, 100}, {resolution, resolution});
   auto flat = run_node("Constant", d, {{"value", double{value}}});
-  run_node("WriteHeightfield", d, {{"path", std::string(name)}}, {{"in", flat.outputs[0]}},
-           OutputPolicy{dir, false});
+  run_node("WriteHeightfield", d, {{"path", std::string(name)}}, {{"in", flat.outputs[0]}}, OutputPolicy{dir, false});
 }
 
 TEST(InputFiles, ChangedFileIsReadAgain) {
@@ -85,8 +84,9 @@ TEST(InputFiles, ReadHeightfieldCoversTheRequestedDomainByDefault) {
   for (int j = 0; j < 16; ++j)
     for (int i = 0; i < 16; ++i) ASSERT_NEAR(h->at(i, j), 1000 * j + i, 1e-2) << i << ", " << j;
   // size and origin place it explicitly: here on the western half only, the east repeating its edge.
-  const auto placed = run_node("ReadHeightfield", d, {{"path", path}, {"origin", glm::dvec2(5000, -3000)},
-                                                      {"size", glm::dvec2(1500, 3000)}}).get<Heightfield>();
+  const auto placed = run_node("ReadHeightfield", d,
+                               {{"path", path}, {"origin", glm::dvec2(5000, -3000)}, {"size", glm::dvec2(1500, 3000)}})
+                          .get<Heightfield>();
   EXPECT_NEAR(placed->at(0, 5), 5000.0f, 1e-2);
   EXPECT_NEAR(placed->at(15, 5), 5015.0f, 1e-2);  // beyond the rectangle: its eastern column
   EXPECT_NEAR(placed->at(14, 5), 5015.0f, 1e-2);
@@ -115,7 +115,8 @@ TEST(InputFiles, RelativePathsResolveAgainstTheGraphFile) {
   std::filesystem::create_directories(dir / "b" / "maps");
   write_constant_exr(dir / "a" / "maps", "h.exr", 1.0f, 8);
   write_constant_exr(dir / "b" / "maps", "h.exr", 2.0f, 8);
-  const std::string text = R"({"format": "orogen-graph", "version": 3, "domain": {"size": [100, 100], "resolution": [8, 8]},
+  const std::string text =
+      R"({"format": "orogen-graph", "version": 3, "domain": {"size": [100, 100], "resolution": [8, 8]},
     "nodes": [{"id": "read", "type": "ReadHeightfield", "params": {"path": "maps/h.exr"}}]})";
   write_text(dir / "a" / "g.json", text);
   write_text(dir / "b" / "g.json", text);

@@ -90,7 +90,8 @@ class IoTest : public ::testing::Test {
     policy_.output_dir = dir_ / "out";
   }
   // Writes `h` with WriteHeightfield to out/<name>; returns the file.
-  fs::path write_height(const HeightfieldPtr& h, const std::string& name, std::map<std::string, ParamValue> params = {}) {
+  fs::path write_height(const HeightfieldPtr& h, const std::string& name,
+                        std::map<std::string, ParamValue> params = {}) {
     params["path"] = name;
     const auto files = run_writer("WriteHeightfield", params, {{"in", h}}, policy_);
     EXPECT_EQ(files.size(), 1u);
@@ -206,7 +207,8 @@ TEST_F(IoTest, ChunkedWritesAndCompressionLevels) {
   auto smooth = std::make_shared<Heightfield>(d);
   for (int j = 0; j < d.height(); ++j)
     for (int i = 0; i < d.width(); ++i)
-      smooth->at(i, j) = static_cast<float>(std::round(64.0 * 100.0 * std::sin(d.x(i) / 50.0) * std::cos(d.y(j) / 30.0)) / 64.0);
+      smooth->at(i, j) =
+          static_cast<float>(std::round(64.0 * 100.0 * std::sin(d.x(i) / 50.0) * std::cos(d.y(j) / 30.0)) / 64.0);
   const HeightfieldPtr h = smooth;
   for (const std::string ext : {".exr", ".tif", ".png"}) {
     std::map<int, std::uintmax_t> sizes;
@@ -240,13 +242,15 @@ TEST_F(IoTest, ChunkedWritesAndCompressionLevels) {
       const auto px = read_pixels_float(files.at(0), w, hh, n);
       for (int r = 0; r < hh; ++r)
         for (int i = 0; i < w; ++i)
-          for (int c = 0; c < n; ++c) ASSERT_EQ(px[static_cast<std::size_t>((r * w + i) * n + c)], img->pixel(i, hh - 1 - r)[c]);
+          for (int c = 0; c < n; ++c)
+            ASSERT_EQ(px[static_cast<std::size_t>((r * w + i) * n + c)], img->pixel(i, hh - 1 - r)[c]);
     } else {
       const auto px = read_pixels_u8(files.at(0), w, hh, n);
       for (int r = 0; r < hh; ++r)
         for (int i = 0; i < w; ++i)
           for (int c = 0; c < n; ++c)
-            ASSERT_EQ(px[static_cast<std::size_t>((r * w + i) * n + c)], std::lround(img->pixel(i, hh - 1 - r)[c] * 255.0));
+            ASSERT_EQ(px[static_cast<std::size_t>((r * w + i) * n + c)],
+                      std::lround(img->pixel(i, hh - 1 - r)[c] * 255.0));
     }
   }
 }
@@ -264,7 +268,8 @@ TEST_F(IoTest, Png16RoundTripWithinOneQuantisationStep) {
   // Decoy params: the file's mapping takes precedence.
   const auto back = read_height(file, d, {{"height_min", -1.0}, {"height_max", 1.0}});
   double worst = 0;
-  for (std::size_t k = 0; k < h->data.size(); ++k) worst = std::max(worst, std::abs(double(back->data[k]) - h->data[k]));
+  for (std::size_t k = 0; k < h->data.size(); ++k)
+    worst = std::max(worst, std::abs(double(back->data[k]) - h->data[k]));
   EXPECT_LE(worst, step);
   EXPECT_GT(worst, 0.0);  // it really was quantised
   // The extremes map to 0 and 65535 exactly.
@@ -279,7 +284,8 @@ TEST_F(IoTest, Png16RoundTripWithinOneQuantisationStep) {
 TEST_F(IoTest, Png16FixedRangeClampsAndRecordsTheRange) {
   const Domain d = Domain::from_extent({0, 0}, {100, 100}, {21, 21});
   const auto h = ramp_field(d, 1.0, 0.0, -25.0);  // -25 .. 75
-  const fs::path file = write_height(h, "fixed.png", {{"range", std::string("fixed")}, {"height_min", 0.0}, {"height_max", 50.0}});
+  const fs::path file =
+      write_height(h, "fixed.png", {{"range", std::string("fixed")}, {"height_min", 0.0}, {"height_max", 50.0}});
   const auto raster = read_height_raster(file);
   ASSERT_TRUE(raster.file_mapping.has_value());
   EXPECT_EQ(*raster.file_mapping, (HeightRange{0.0, 50.0}));
@@ -314,9 +320,10 @@ TEST_F(IoTest, Raw16ByteLayoutIsLittleEndianNorthRowFirst) {
   const fs::path file =
       write_height(h, "layout.raw", {{"range", std::string("fixed")}, {"height_min", 0.0}, {"height_max", 65535.0}});
   const std::string bytes = read_bytes(file);
-  const std::string expected("\x0b\x0a\x00\x00\xff\xff"   // north row first, west to east, low byte first
-                             "\x02\x01\x04\x03\xfe\xff",
-                             12);
+  const std::string expected(
+      "\x0b\x0a\x00\x00\xff\xff"  // north row first, west to east, low byte first
+      "\x02\x01\x04\x03\xfe\xff",
+      12);
   EXPECT_EQ(bytes, expected);
 }
 
@@ -339,7 +346,7 @@ TEST_F(IoTest, Reads8BitPngAndChosenChannel) {
     ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px.data()));
     out->close();
   }
-  const Domain d = Domain::from_extent({0, 0}, {110, 80}, {w, hgt});  // pixel centres every 10 m
+  const Domain d = Domain::from_extent({0, 0}, {110, 80}, {w, hgt});                      // pixel centres every 10 m
   const auto red = read_height(file, d, {{"height_min", 100.0}, {"height_max", 355.0}});  // 1 m per code
   const auto green = read_height(file, d, {{"channel", std::int64_t(1)}, {"height_min", 0.0}, {"height_max", 255.0}});
   for (int j = 0; j < hgt; ++j)
@@ -378,9 +385,7 @@ TEST_F(IoTest, ReadErrorsAreClear) {
     EXPECT_NE(std::string(e.what()).find("no_such.exr"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("does not exist"), std::string::npos) << e.what();
   }
-  {
-    std::ofstream(dir_ / "garbage.png") << "this is not a PNG";
-  }
+  { std::ofstream(dir_ / "garbage.png") << "this is not a PNG"; }
   EXPECT_THROW(read_height(dir_ / "garbage.png", d), NodeError);
   {
     std::ofstream(dir_ / "odd.raw", std::ios::binary) << std::string(6, '\0');  // 3 samples: not square
@@ -433,8 +438,8 @@ TEST_F(IoTest, FailureMidWriteLeavesThePreviousFileIntact) {
       cancel.cancel();
     }
   };
-  EXPECT_THROW(run_writer("WriteHeightfield", {{"path", std::string("keep.png")}},
-                          {{"in", varied_field(d)}}, policy_, on_progress, &cancel),
+  EXPECT_THROW(run_writer("WriteHeightfield", {{"path", std::string("keep.png")}}, {{"in", varied_field(d)}}, policy_,
+                          on_progress, &cancel),
                Cancelled);
   EXPECT_TRUE(temporary_seen);
   EXPECT_EQ(read_bytes(file), before);
@@ -489,7 +494,8 @@ TEST_F(IoTest, UncreatableDirectoryIsANodeError) {
   fs::create_directories(policy_.output_dir);
   std::ofstream(policy_.output_dir / "blocked") << "a file where a directory is needed";
   try {
-    run_node("WriteHeightfield", d, {{"path", std::string("blocked/h.exr")}}, {{"in", ramp_field(d, 1, 0, 0)}}, policy_);
+    run_node("WriteHeightfield", d, {{"path", std::string("blocked/h.exr")}}, {{"in", ramp_field(d, 1, 0, 0)}},
+             policy_);
     FAIL() << "no error";
   } catch (const NodeError& e) {
     EXPECT_NE(std::string(e.what()).find("blocked"), std::string::npos) << e.what();
@@ -499,13 +505,17 @@ TEST_F(IoTest, UncreatableDirectoryIsANodeError) {
 TEST_F(IoTest, WriterParameterErrors) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
   const std::map<std::string, PortValue> in{{"in", ramp_field(d, 1, 0, 0)}};
-  EXPECT_THROW(run_node("WriteHeightfield", d, {{"path", std::string("h.exr")}, {"format", std::string("png16")}}, in, policy_),
-               NodeError);
-  EXPECT_THROW(run_node("WriteHeightfield", d,
-                        {{"path", std::string("h.png")}, {"range", std::string("fixed")}, {"height_min", 5.0}, {"height_max", 5.0}},
-                        in, policy_),
-               NodeError);
-  EXPECT_NO_THROW(run_node("WriteHeightfield", d, {{"path", std::string("h.png")}, {"format", std::string("png16")}}, in, policy_));
+  EXPECT_THROW(
+      run_node("WriteHeightfield", d, {{"path", std::string("h.exr")}, {"format", std::string("png16")}}, in, policy_),
+      NodeError);
+  EXPECT_THROW(
+      run_node(
+          "WriteHeightfield", d,
+          {{"path", std::string("h.png")}, {"range", std::string("fixed")}, {"height_min", 5.0}, {"height_max", 5.0}},
+          in, policy_),
+      NodeError);
+  EXPECT_NO_THROW(
+      run_node("WriteHeightfield", d, {{"path", std::string("h.png")}, {"format", std::string("png16")}}, in, policy_));
   // A flat field in auto range writes code 0 and reads back exactly.
   const auto flat = std::make_shared<Heightfield>(d, 12.5f);
   const fs::path file = write_height(flat, "flat.png");
@@ -520,10 +530,8 @@ TEST_F(IoTest, QuantisationIsRoundToNearest) {
   EXPECT_EQ(quantize16(-11.0, r), 0);
   EXPECT_EQ(quantize16(1e9, r), 65535);
   EXPECT_EQ(quantize16(0.0, r), 32768);  // 32767.5 rounds up
-  for (int q : {0, 1, 12345, 65534, 65535})
-    EXPECT_EQ(quantize16(dequantize16(static_cast<std::uint16_t>(q), r), r), q);
+  for (int q : {0, 1, 12345, 65534, 65535}) EXPECT_EQ(quantize16(dequantize16(static_cast<std::uint16_t>(q), r), r), q);
 }
-
 
 // --- WriteImage ---
 
@@ -533,8 +541,8 @@ ImagePtr test_image(const Domain& d, int channels) {
     for (int i = 0; i < d.width(); ++i)
       for (int c = 0; c < channels; ++c)
         img->pixel(i, j)[c] = static_cast<float>(std::fmod(0.013 * i + 0.071 * j + 0.29 * c, 1.0));
-  img->pixel(0, 0)[0] = -0.5f;  // clamped to 0
-  img->pixel(1, 0)[0] = 1.5f;   // clamped to 1
+  img->pixel(0, 0)[0] = -0.5f;                    // clamped to 0
+  img->pixel(1, 0)[0] = 1.5f;                     // clamped to 1
   if (channels == 4) img->pixel(2, 0)[3] = 0.0f;  // transparent: its colour is still stored (straight alpha)
   return img;
 }
@@ -587,16 +595,17 @@ TEST_F(IoTest, WriteImagePng8EncodesSrgbAndKeepsAlphaLinear) {
       for (int c = 0; c < 4; ++c) {
         const double v = std::clamp(img->pixel(i, h - 1 - r)[c], 0.0f, 1.0f);  // north row first
         const double stored = c == 3 ? v : linear_to_srgb(v);
-        ASSERT_EQ(px[static_cast<std::size_t>((r * w + i) * 4 + c)], std::lround(stored * 255)) << i << "," << r << "," << c;
+        ASSERT_EQ(px[static_cast<std::size_t>((r * w + i) * 4 + c)], std::lround(stored * 255))
+            << i << "," << r << "," << c;
       }
 }
 
 TEST_F(IoTest, WriteImagePng16Linear) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {9, 7});
   const auto img = test_image(d, 1);
-  const auto files = run_writer("WriteImage",
-                                {{"path", std::string("grey.png")}, {"bit_depth", std::string("16")}, {"srgb", false}},
-                                {{"in", img}}, policy_);
+  const auto files =
+      run_writer("WriteImage", {{"path", std::string("grey.png")}, {"bit_depth", std::string("16")}, {"srgb", false}},
+                 {{"in", img}}, policy_);
   int w = 0, h = 0, n = 0;
   const auto px = read_pixels<std::uint16_t>(files.at(0), OIIO::TypeDesc::UINT16, w, h, n);
   ASSERT_EQ(n, 1);
@@ -663,7 +672,7 @@ void expect_row(const std::vector<std::string>& fields, const Points& p, std::si
   ASSERT_EQ(fields.size(), 13u);
   const auto& q = p.rotation[k];
   const float expected[] = {p.position[k].x, p.position[k].y, p.position[k].z, q.w, q.x, q.y, q.z,
-                            p.scale[k].x, p.scale[k].y, p.scale[k].z};
+                            p.scale[k].x,    p.scale[k].y,    p.scale[k].z};
   for (int c = 0; c < 10; ++c) EXPECT_EQ(std::stof(fields[static_cast<std::size_t>(c)]), expected[c]) << k << "," << c;
   EXPECT_EQ(std::stoi(fields[10]), p.class_id[k]);
   EXPECT_EQ(std::stof(fields[11]), p.attributes.at("density")[k]);  // attributes sorted by name
@@ -698,7 +707,8 @@ TEST_F(IoTest, WritePointsPly) {
   EXPECT_EQ(props[11], "property float density");
   EXPECT_EQ(props[12], "property float zeta_age");
   ASSERT_EQ(static_cast<std::size_t>(lines.end() - end - 1), p->size());
-  for (std::size_t k = 0; k < p->size(); ++k) expect_row(split(*(end + 1 + static_cast<std::ptrdiff_t>(k)), ' '), *p, k);
+  for (std::size_t k = 0; k < p->size(); ++k)
+    expect_row(split(*(end + 1 + static_cast<std::ptrdiff_t>(k)), ' '), *p, k);
 }
 
 TEST_F(IoTest, WritePointsAttributeNames) {
@@ -709,13 +719,15 @@ TEST_F(IoTest, WritePointsAttributeNames) {
   EXPECT_THROW(run_writer("WritePoints", {{"path", std::string("q.ply")}}, {{"in", PointsPtr(p)}}, policy_), NodeError);
   auto clash = std::make_shared<Points>(*test_points());
   clash->attribute("x");
-  EXPECT_THROW(run_writer("WritePoints", {{"path", std::string("c.csv")}}, {{"in", PointsPtr(clash)}}, policy_), NodeError);
+  EXPECT_THROW(run_writer("WritePoints", {{"path", std::string("c.csv")}}, {{"in", PointsPtr(clash)}}, policy_),
+               NodeError);
   EXPECT_TRUE(temporaries_in(dir_).empty());
   EXPECT_FALSE(fs::exists(policy_.output_dir / "q.ply"));
 }
 
 TEST_F(IoTest, WritePointsEmpty) {
-  const auto files = run_writer("WritePoints", {{"path", std::string("none.csv")}}, {{"in", std::make_shared<const Points>()}}, policy_);
+  const auto files = run_writer("WritePoints", {{"path", std::string("none.csv")}},
+                                {{"in", std::make_shared<const Points>()}}, policy_);
   EXPECT_EQ(read_bytes(files.at(0)), "x,y,z,qw,qx,qy,qz,sx,sy,sz,class\n");
 }
 

@@ -82,7 +82,8 @@ TEST(IslandVoronoi, CellsTileTheRectangleAndAreConvex) {
       EXPECT_GT(a, 0.0) << "cell " << c << " is not counter-clockwise";
       total += a;
       for (std::size_t k = 0; k < poly.size(); ++k) {  // convex: every turn is to the left
-        const glm::dvec2 u = poly[(k + 1) % poly.size()] - poly[k], v = poly[(k + 2) % poly.size()] - poly[(k + 1) % poly.size()];
+        const glm::dvec2 u = poly[(k + 1) % poly.size()] - poly[k],
+                         v = poly[(k + 2) % poly.size()] - poly[(k + 1) % poly.size()];
         EXPECT_GE(u.x * v.y - u.y * v.x, -1e-9 * glm::dot(size, size)) << "cell " << c;
       }
       EXPECT_TRUE(inside_convex(poly, map.cells[c].centre, 1e-9 * size.x)) << "site outside its cell " << c;
@@ -121,7 +122,8 @@ TEST(IslandVoronoi, EveryPointLiesInTheCellOfItsNearestSite) {
       const int c = brute_nearest(snapped, p);
       EXPECT_TRUE(inside_convex(cell_polygon(map, c), p, 1e-6)) << "point " << p.x << "," << p.y;
       const int found = locator.find(p);
-      const double df = glm::length(snapped[static_cast<std::size_t>(found)] - p), dc = glm::length(snapped[static_cast<std::size_t>(c)] - p);
+      const double df = glm::length(snapped[static_cast<std::size_t>(found)] - p),
+                   dc = glm::length(snapped[static_cast<std::size_t>(c)] - p);
       EXPECT_LE(df, dc + 1e-9);
     }
 }
@@ -140,10 +142,13 @@ TEST(IslandVoronoi, FewSitesAndCoincidentSites) {
   const PolygonMap mg = voronoi_diagram(grid, lo, hi);
   for (std::size_t c = 0; c < mg.cells.size(); ++c) {
     EXPECT_EQ(mg.cells[c].corners.size(), 4u) << c;
-    EXPECT_NEAR(polygon_area(cell_polygon(mg, static_cast<int>(c))), 100.0 / 36.0, 1e-7);  // sites snap to 2^-30 of the map
+    EXPECT_NEAR(polygon_area(cell_polygon(mg, static_cast<int>(c))), 100.0 / 36.0,
+                1e-7);  // sites snap to 2^-30 of the map
   }
   for (const auto& e : mg.edges)
-    EXPECT_GT(glm::length(mg.corners[static_cast<std::size_t>(e.corners[0])].position - mg.corners[static_cast<std::size_t>(e.corners[1])].position), 1e-6);
+    EXPECT_GT(glm::length(mg.corners[static_cast<std::size_t>(e.corners[0])].position -
+                          mg.corners[static_cast<std::size_t>(e.corners[1])].position),
+              1e-6);
   // A thin strip: the sites' near-border mirrors alone are collinear (regression: all sites are mirrored then).
   const std::vector<glm::dvec2> strip{{0.98, 4.2e6}};
   const PolygonMap ms = voronoi_diagram(strip, {0, 0}, {1, 1e7});
@@ -290,7 +295,8 @@ TEST(Island, OceanTouchesTheBorderIsConnectedAndLakesAreEnclosed) {
     }
     if (lake[c] > 0.5f) {
       EXPECT_FALSE(m.cells[c].border);
-      for (int d : m.cells[c].neighbours) EXPECT_LT(ocean[static_cast<std::size_t>(d)], 0.5f) << "lake " << c << " touches the ocean";
+      for (int d : m.cells[c].neighbours)
+        EXPECT_LT(ocean[static_cast<std::size_t>(d)], 0.5f) << "lake " << c << " touches the ocean";
     }
   }
   EXPECT_GT(n_land, 200);
@@ -305,9 +311,12 @@ TEST(Island, ElevationSignsCoastAndFlatLakes) {
   const auto& coast = qattr(m, "coast");
   const auto& lake = qattr(m, "lake");
   for (std::size_t q = 0; q < m.corners.size(); ++q) {
-    if (coast[q] > 0.5f) EXPECT_EQ(e[q], 0.0f);
-    else if (ocean[q] > 0.5f) EXPECT_LT(e[q], 0.0f);
-    else EXPECT_GT(e[q], 0.0f);
+    if (coast[q] > 0.5f)
+      EXPECT_EQ(e[q], 0.0f);
+    else if (ocean[q] > 0.5f)
+      EXPECT_LT(e[q], 0.0f);
+    else
+      EXPECT_GT(e[q], 0.0f);
     EXPECT_LE(e[q], 1000.0f);
     EXPECT_GE(e[q], -200.0f);
   }
@@ -492,10 +501,14 @@ TEST(Island, BiomeTable) {
     bool touches_ocean = false;
     for (int d : m.cells[c].neighbours) touches_ocean = touches_ocean || ocean[static_cast<std::size_t>(d)] > 0.5f;
     Biome want;
-    if (ocean[c] > 0.5f) want = Biome::Ocean;
-    else if (lake[c] > 0.5f) want = Biome::Lake;
-    else if (touches_ocean) want = Biome::Beach;
-    else want = whittaker_biome(std::clamp(elev[c] / 1000.0, 0.0, 1.0), moist[c]);
+    if (ocean[c] > 0.5f)
+      want = Biome::Ocean;
+    else if (lake[c] > 0.5f)
+      want = Biome::Lake;
+    else if (touches_ocean)
+      want = Biome::Beach;
+    else
+      want = whittaker_biome(std::clamp(elev[c] / 1000.0, 0.0, 1.0), moist[c]);
     EXPECT_EQ(static_cast<int>(b), static_cast<int>(want)) << "cell " << c;
   }
   EXPECT_GE(seen.size(), 7u);
@@ -541,7 +554,8 @@ TEST(Island, MaskShapesTheIsland) {
   const Domain d = Domain::from_extent({0, 0}, {4096, 4096}, {129, 129});
   Heightfield mask(d);
   for (int j = 0; j < d.height(); ++j)
-    for (int i = 0; i < d.width(); ++i) mask.at(i, j) = glm::length(d.position(i, j) - glm::dvec2(2048, 2048)) < 1200.0 ? 1.0f : 0.0f;
+    for (int i = 0; i < d.width(); ++i)
+      mask.at(i, j) = glm::length(d.position(i, j) - glm::dvec2(2048, 2048)) < 1200.0 ? 1.0f : 0.0f;
   IslandParams p;
   p.cells = 1500;
   const PolygonMap m = generate_island(p, &mask);
@@ -594,7 +608,8 @@ TEST(IslandRaster, BoundsMasksAndExactLookup) {
     for (std::size_t k = 0; k < d.sample_count(); ++k) {
       EXPECT_GE(r.elevation->data[k], lo - 1e-3f);
       EXPECT_LE(r.elevation->data[k], hi + 1e-3f);
-      for (const auto* f : {r.water.get(), r.ocean.get(), r.lake.get()}) EXPECT_TRUE(f->data[k] == 0.0f || f->data[k] == 1.0f);
+      for (const auto* f : {r.water.get(), r.ocean.get(), r.lake.get()})
+        EXPECT_TRUE(f->data[k] == 0.0f || f->data[k] == 1.0f);
       EXPECT_GE(r.river->data[k], 0.0f);
       EXPECT_LE(r.river->data[k], 1.0f);
       river += r.river->data[k] > 0.5f;
@@ -658,7 +673,8 @@ TEST(IslandRaster, ResolutionIndependentAndThreadCountIndependent) {
       double s = 0.0, sw = 0.0;
       for (int y = std::max(0, cj - 2); y <= std::min(fine.height() - 1, cj + 2); ++y)
         for (int x = std::max(0, ci - 2); x <= std::min(fine.width() - 1, ci + 2); ++x) {
-          const double k = std::max(0.0, 1.0 - std::abs(fine.x(x) - w.x) / sc) * std::max(0.0, 1.0 - std::abs(fine.y(y) - w.y) / sc);
+          const double k =
+              std::max(0.0, 1.0 - std::abs(fine.x(x) - w.x) / sc) * std::max(0.0, 1.0 - std::abs(fine.y(y) - w.y) / sc);
           s += k * b.elevation->at(x, y);
           sw += k;
         }
@@ -734,7 +750,6 @@ TEST(IslandNodes, RunThroughTheRegistry) {
   EXPECT_EQ(h->domain, d);
 }
 
-
 // ---------------------------------------------------------------------------------------------------------
 // River network (000)
 
@@ -775,7 +790,8 @@ TEST(RiverNetwork, NoTwoCurvesCross) {
   std::vector<S> segs;
   for (std::size_t k = 0; k < net.size(); ++k) {
     const auto& pts = net.curves[k].points;
-    for (std::size_t i = 0; i + 1 < pts.size(); ++i) segs.push_back({{pts[i].x, pts[i].y}, {pts[i + 1].x, pts[i + 1].y}, k});
+    for (std::size_t i = 0; i + 1 < pts.size(); ++i)
+      segs.push_back({{pts[i].x, pts[i].y}, {pts[i + 1].x, pts[i + 1].y}, k});
   }
   int crossings = 0;
   for (std::size_t i = 0; i < segs.size(); ++i)
@@ -823,11 +839,14 @@ TEST(RiverNetwork, TreesSizesAndHeights) {
   for (std::size_t k = 0; k < net.size(); ++k) {
     const Curve& c = net.curves[k];
     const double size = c.attributes.at("size").front();
-    EXPECT_EQ(size, child_sum[k] > 0.0 ? child_sum[k] : 1.0) << "size of curve " << k << " is not the sum of its children";
+    EXPECT_EQ(size, child_sum[k] > 0.0 ? child_sum[k] : 1.0)
+        << "size of curve " << k << " is not the sum of its children";
     // Slope formula of 000 and h_c = h_p + |c - p| d_c.
-    const double parent_size = c.parent >= 0 ? net.curves[static_cast<std::size_t>(c.parent)].attributes.at("size").front()
-                                             : outlet_size.at({c.points.back().x, c.points.back().y});
-    const double parent_slope = c.parent >= 0 ? net.curves[static_cast<std::size_t>(c.parent)].attributes.at("slope").front() : p.base_slope;
+    const double parent_size = c.parent >= 0
+                                   ? net.curves[static_cast<std::size_t>(c.parent)].attributes.at("size").front()
+                                   : outlet_size.at({c.points.back().x, c.points.back().y});
+    const double parent_slope =
+        c.parent >= 0 ? net.curves[static_cast<std::size_t>(c.parent)].attributes.at("slope").front() : p.base_slope;
     const double r = size / parent_size;
     const double slope = parent_slope - 4.0 * r * (r - 1.0) * p.slope_weight;
     EXPECT_NEAR(c.attributes.at("slope").front(), slope, 1e-6);
@@ -847,7 +866,8 @@ TEST(RiverNetwork, TangentsAreContinuousAtJoins) {
     ++smooth;
     const Curve& q = net.curves[static_cast<std::size_t>(c.parent)];
     const std::size_t n = c.points.size();
-    const glm::dvec2 in = glm::normalize(glm::dvec2(c.points[n - 1].x - c.points[n - 2].x, c.points[n - 1].y - c.points[n - 2].y));
+    const glm::dvec2 in =
+        glm::normalize(glm::dvec2(c.points[n - 1].x - c.points[n - 2].x, c.points[n - 1].y - c.points[n - 2].y));
     const glm::dvec2 out = glm::normalize(glm::dvec2(q.points[1].x - q.points[0].x, q.points[1].y - q.points[0].y));
     EXPECT_GT(glm::dot(in, out), 0.995) << "kink at a smooth join";
   }
@@ -870,7 +890,8 @@ TEST(RiverNetwork, MaskKeepsRiversOnLand) {
   const Domain d = Domain::from_extent({0, 0}, {3000, 3000}, {151, 151});
   Heightfield mask(d);
   for (int j = 0; j < d.height(); ++j)
-    for (int i = 0; i < d.width(); ++i) mask.at(i, j) = glm::length(d.position(i, j) - glm::dvec2(1500, 1500)) < 1100.0 ? 1.0f : 0.0f;
+    for (int i = 0; i < d.width(); ++i)
+      mask.at(i, j) = glm::length(d.position(i, j) - glm::dvec2(1500, 1500)) < 1100.0 ? 1.0f : 0.0f;
   RiverNetworkParams p;
   p.size = {3000, 3000};
   p.outlets = 6;
@@ -973,8 +994,10 @@ TEST(CarveRivers, TakesTheRiversOfRiverExtract) {
   auto terrain = std::make_shared<Heightfield>(d);
   for (int j = 0; j < d.height(); ++j)
     for (int i = 0; i < d.width(); ++i)
-      terrain->at(i, j) = static_cast<float>(0.05 * d.x(i) + 30.0 * std::sin(d.y(j) / 180.0) * std::cos(d.x(i) / 240.0) + 40.0);
-  const auto extracted = run_node("RiverExtract", d, {{"threshold", 4e4}}, {{"in", PortValue(HeightfieldPtr(terrain))}});
+      terrain->at(i, j) =
+          static_cast<float>(0.05 * d.x(i) + 30.0 * std::sin(d.y(j) / 180.0) * std::cos(d.x(i) / 240.0) + 40.0);
+  const auto extracted =
+      run_node("RiverExtract", d, {{"threshold", 4e4}}, {{"in", PortValue(HeightfieldPtr(terrain))}});
   const auto rivers = extracted.get<Curves>(0);
   ASSERT_TRUE(rivers);
   ASSERT_GT(rivers->size(), 3u);

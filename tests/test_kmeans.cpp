@@ -38,13 +38,16 @@ Image blobs(int w, int h, int k, int (*planted)(int i, int j, int w, int h, int 
       truth[q] = c;
       float* px = img.pixel(i, j);
       for (int ch = 0; ch < 3; ++ch)
-        px[ch] = static_cast<float>(100.0 * ((c * (ch + 1) * 7) % 11) + 10.0 * (hash01(3, q * 3 + std::size_t(ch)) - 0.5));
+        px[ch] =
+            static_cast<float>(100.0 * ((c * (ch + 1) * 7) % 11) + 10.0 * (hash01(3, q * 3 + std::size_t(ch)) - 0.5));
     }
   return img;
 }
 
 int bands(int i, int j, int w, int h, int k) { return std::min(k - 1, (i + j) * k / (w + h - 1)); }
-int scattered(int i, int j, int w, int, int k) { return int(hash64(11, std::uint64_t(j) * std::uint64_t(w) + std::uint64_t(i)) % std::uint64_t(k)); }
+int scattered(int i, int j, int w, int, int k) {
+  return int(hash64(11, std::uint64_t(j) * std::uint64_t(w) + std::uint64_t(i)) % std::uint64_t(k));
+}
 
 // Same partition up to a renumbering of the clusters.
 void expect_same_partition(const std::vector<std::int32_t>& got, const std::vector<int>& truth) {
@@ -86,14 +89,16 @@ TEST(KMeans, RecoversPlantedBlobsKMeansPlusPlus) {
 // Straightforward serial Lloyd with the same initial centres: the reference for labels and centres.
 TEST(KMeans, MatchesBruteForceLloydAndObjectiveNeverIncreases) {
   Image img(Domain::from_extent({0, 0}, {50, 40}, {51, 41}), 4);
-  for (std::size_t q = 0; q < img.data.size(); ++q) img.data[q] = static_cast<float>(std::sin(0.37 * q) * 10.0 + (q % 7));
+  for (std::size_t q = 0; q < img.data.size(); ++q)
+    img.data[q] = static_cast<float>(std::sin(0.37 * q) * 10.0 + (q % 7));
   KMeansParams p;
   p.k = 7;
   p.max_iterations = 500;
   p.tolerance = 0.0;
   p.weights = {1.0, 0.5, 2.0, 0.1};
   const auto r = kmeans(img, p);
-  for (std::size_t t = 1; t < r.objective.size(); ++t) EXPECT_LE(r.objective[t], r.objective[t - 1] * (1 + 1e-6)) << t;  // float distances
+  for (std::size_t t = 1; t < r.objective.size(); ++t)
+    EXPECT_LE(r.objective[t], r.objective[t - 1] * (1 + 1e-6)) << t;  // float distances
   std::int64_t total = 0;
   for (auto c : r.counts) total += c;
   EXPECT_EQ(total, 51 * 41);
@@ -104,7 +109,8 @@ TEST(KMeans, MatchesBruteForceLloydAndObjectiveNeverIncreases) {
   for (int c = 0; c < k; ++c) {
     const double t = (c + 0.5) / k;
     const std::size_t q = std::size_t(std::lround(t * (H - 1))) * W + std::size_t(std::lround(t * (W - 1)));
-    for (int ch = 0; ch < C; ++ch) cen[std::size_t(c * C + ch)] = float(img.data[q * C + std::size_t(ch)] * std::sqrt(p.weights[std::size_t(ch)]));
+    for (int ch = 0; ch < C; ++ch)
+      cen[std::size_t(c * C + ch)] = float(img.data[q * C + std::size_t(ch)] * std::sqrt(p.weights[std::size_t(ch)]));
   }
   std::vector<int> lab(n, -1);
   for (int it = 0; it < 500; ++it) {
@@ -115,7 +121,8 @@ TEST(KMeans, MatchesBruteForceLloydAndObjectiveNeverIncreases) {
       for (int c = 0; c < k; ++c) {
         float d = 0;  // float, channel by channel, as the implementation
         for (int ch = 0; ch < C; ++ch) {
-          const float e = float(img.data[q * C + std::size_t(ch)] * std::sqrt(p.weights[std::size_t(ch)])) - float(cen[std::size_t(c * C + ch)]);
+          const float e = float(img.data[q * C + std::size_t(ch)] * std::sqrt(p.weights[std::size_t(ch)])) -
+                          float(cen[std::size_t(c * C + ch)]);
           d += e * e;
         }
         if (d < bd) {
@@ -132,7 +139,8 @@ TEST(KMeans, MatchesBruteForceLloydAndObjectiveNeverIncreases) {
     for (std::size_t q = 0; q < n; ++q) {
       ++cnt[std::size_t(lab[q])];
       for (int ch = 0; ch < C; ++ch)
-        s[std::size_t(lab[q] * C + ch)] += float(img.data[q * C + std::size_t(ch)] * std::sqrt(p.weights[std::size_t(ch)]));
+        s[std::size_t(lab[q] * C + ch)] +=
+            float(img.data[q * C + std::size_t(ch)] * std::sqrt(p.weights[std::size_t(ch)]));
     }
     for (int c = 0; c < k; ++c)
       if (cnt[std::size_t(c)])
@@ -142,12 +150,14 @@ TEST(KMeans, MatchesBruteForceLloydAndObjectiveNeverIncreases) {
   for (std::size_t q = 0; q < n; ++q) ASSERT_EQ(r.labels[q], lab[q]) << q;
   for (int c = 0; c < k; ++c)
     for (int ch = 0; ch < C; ++ch)
-      EXPECT_NEAR(r.centres[std::size_t(c * C + ch)], cen[std::size_t(c * C + ch)] / std::sqrt(p.weights[std::size_t(ch)]), 1e-6);
+      EXPECT_NEAR(r.centres[std::size_t(c * C + ch)],
+                  cen[std::size_t(c * C + ch)] / std::sqrt(p.weights[std::size_t(ch)]), 1e-6);
 }
 
 TEST(KMeans, BitIdenticalAcrossThreadCounts) {
   Image img(Domain::from_extent({0, 0}, {200, 150}, {201, 151}), 5);
-  for (std::size_t q = 0; q < img.data.size(); ++q) img.data[q] = static_cast<float>(std::sin(0.013 * q) * 50.0 + std::cos(0.7 * q));
+  for (std::size_t q = 0; q < img.data.size(); ++q)
+    img.data[q] = static_cast<float>(std::sin(0.013 * q) * 50.0 + std::cos(0.7 * q));
   for (auto init : {KMeansInit::Diagonal, KMeansInit::PlusPlus}) {
     KMeansParams p;
     p.k = 9;
@@ -169,7 +179,8 @@ TEST(KMeans, BitIdenticalAcrossThreadCounts) {
 }
 
 TEST(KMeans, GroupWeightsByChannelName) {
-  const auto w = group_weights({"slope", "temperature_jan", "illumination_feb", "humidity_mar", "other"}, 6, 1, 2, 3, 0.1, 5);
+  const auto w =
+      group_weights({"slope", "temperature_jan", "illumination_feb", "humidity_mar", "other"}, 6, 1, 2, 3, 0.1, 5);
   EXPECT_EQ(w, (std::vector<double>{1, 2, 3, 0.1, 5, 5}));
 }
 
@@ -217,8 +228,10 @@ TEST(KMeans, ReportNamesCentresByChannelAndNullsNonFiniteNumbers) {
   EXPECT_EQ(j["clusters"][0]["count"], 1);
   EXPECT_EQ(j["clusters"][1]["count"], 2);
   // The third channel has no name: channel_2.
-  EXPECT_EQ(j["clusters"][0]["centre"], nlohmann::json::parse(R"({"slope": 1.5, "temperature_jan": -2.0, "channel_2": 0.25})"));
-  EXPECT_EQ(j["clusters"][1]["centre"], nlohmann::json::parse(R"({"slope": 7.0, "temperature_jan": null, "channel_2": 3.0})"));
+  EXPECT_EQ(j["clusters"][0]["centre"],
+            nlohmann::json::parse(R"({"slope": 1.5, "temperature_jan": -2.0, "channel_2": 0.25})"));
+  EXPECT_EQ(j["clusters"][1]["centre"],
+            nlohmann::json::parse(R"({"slope": 7.0, "temperature_jan": null, "channel_2": 3.0})"));
 }
 
 TEST(KMeans, NodeOutputsAndKeys) {

@@ -29,10 +29,10 @@ namespace orogen {
 namespace {
 
 namespace fs = std::filesystem;
-using test::run_process;
-using test::write_text;
-using test::scratch_dir;
 using test::cli_binary;
+using test::run_process;
+using test::scratch_dir;
+using test::write_text;
 
 const NodeType& type_of(const char* name) {
   const NodeType* t = NodeRegistry::instance().find(name);
@@ -95,13 +95,13 @@ TEST(MemoryEstimate, ReadHeightfieldCountsTheFilesPixelsFromItsHeader) {
     "nodes": [ { "id": "read", "type": "ReadHeightfield", "params": { "path": "flat2048.png" } },
                { "id": "save", "type": "WriteHeightfield", "inputs": { "in": "read.out" },
                  "params": { "path": "h.exr" } } ] })");
-  const auto refused = run_process(cli_binary(), {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(),
-                                                  "-q", "--max-memory", "32M"});
+  const auto refused = run_process(
+      cli_binary(), {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "-q", "--max-memory", "32M"});
   EXPECT_EQ(refused.exit_code, 2) << refused.err;
   EXPECT_NE(refused.err.find("node 'read'"), std::string::npos) << refused.err;
   EXPECT_FALSE(fs::exists(dir / "out" / "h.exr"));
-  const auto accepted = run_process(cli_binary(), {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(),
-                                                   "-q", "--max-memory", "256M"});
+  const auto accepted = run_process(
+      cli_binary(), {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "-q", "--max-memory", "256M"});
   EXPECT_EQ(accepted.exit_code, 0) << accepted.err;
 }
 
@@ -156,15 +156,18 @@ TEST(MemoryEstimate, LSystemBoundsTheWordByMaxModulesAndTheWidestModule) {
 
   // End to end: 24 doublings of a 16-parameter module are refused before the first step.
   const fs::path dir = scratch_dir("estimate-lsystem");
-  nlohmann::json g = {{"format", "orogen-graph"}, {"version", 5},
-                      {"domain", {{"size", {10, 10}}, {"resolution", {4, 4}}}},
-                      {"nodes", {{{"id", "grow"}, {"type", "LSystem"},
-                                  {"params", {{"axiom", axiom}, {"rules", rules}, {"iterations", 24},
-                                              {"max_modules", 100000000}}}},
-                                 {{"id", "turtle"}, {"type", "Turtle3D"}, {"inputs", {{"in", "grow.out"}}}}}}};
+  nlohmann::json g = {
+      {"format", "orogen-graph"},
+      {"version", 5},
+      {"domain", {{"size", {10, 10}}, {"resolution", {4, 4}}}},
+      {"nodes",
+       {{{"id", "grow"},
+         {"type", "LSystem"},
+         {"params", {{"axiom", axiom}, {"rules", rules}, {"iterations", 24}, {"max_modules", 100000000}}}},
+        {{"id", "turtle"}, {"type", "Turtle3D"}, {"inputs", {{"in", "grow.out"}}}}}}};
   write_text(dir / "g.json", g.dump(2));
-  const auto r = run_process(cli_binary(), {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "-q",
-                                            "--max-memory", "256M"});
+  const auto r = run_process(
+      cli_binary(), {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "-q", "--max-memory", "256M"});
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("node 'grow'"), std::string::npos) << r.err;
 }

@@ -50,7 +50,8 @@ class VerticalDistance {
     for (auto f : m.faces()) {
       auto [lo, hi] = bbox(f);
       for (int cy = cell(lo[1], 1); cy <= cell(hi[1], 1); ++cy)
-        for (int cx = cell(lo[0], 0); cx <= cell(hi[0], 0); ++cx) cells_[static_cast<std::size_t>(cy * kCells + cx)].push_back(f);
+        for (int cx = cell(lo[0], 0); cx <= cell(hi[0], 0); ++cx)
+          cells_[static_cast<std::size_t>(cy * kCells + cx)].push_back(f);
     }
   }
   double operator()(double x, double y, double z) const {
@@ -130,7 +131,8 @@ TEST(HeightfieldMesh, NormalsMatchTheAnalyticNormalOfATiltedPlane) {
   const Domain d = Domain::from_extent({0, 0}, {90, 50}, {10, 6});
   const Mesh mesh = heightfield_grid_mesh(*field(d, plane));
   const double len = std::sqrt(0.3 * 0.3 + 0.2 * 0.2 + 1.0);
-  const OpenMesh::Vec3f expected(static_cast<float>(-0.3 / len), static_cast<float>(0.2 / len), static_cast<float>(1.0 / len));
+  const OpenMesh::Vec3f expected(static_cast<float>(-0.3 / len), static_cast<float>(0.2 / len),
+                                 static_cast<float>(1.0 / len));
   for (auto v : mesh.mesh.vertices())
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(mesh.mesh.normal(v)[k], expected[k], 1e-5);
   for (auto f : mesh.mesh.faces())
@@ -227,7 +229,8 @@ void expect_exact_cover(const Tin& tin) {
     if (edges.count({e.second, e.first})) continue;
     const int ax = tin.samples[e.first] % tin.width, ay = tin.samples[e.first] / tin.width;
     const int bx = tin.samples[e.second] % tin.width, by = tin.samples[e.second] / tin.width;
-    const bool on_border = (ax == bx && (ax == 0 || ax == tin.width - 1)) || (ay == by && (ay == 0 || ay == tin.height - 1));
+    const bool on_border =
+        (ax == bx && (ax == 0 || ax == tin.width - 1)) || (ay == by && (ay == 0 || ay == tin.height - 1));
     EXPECT_TRUE(on_border) << "open edge inside the rectangle";
   }
   // No vertex twice.
@@ -250,48 +253,48 @@ TEST(TerrainTin, BoundHoldsAtEverySampleAndTheTrianglesTileTheRectangle) {
   // High up, the single-precision scan's rounding margin (1e-6 |z|) is too wide for the tightest bound,
   // which then runs in double precision: both paths are checked.
   for (const float altitude : {0.0f, 60000.0f}) {
-  auto h = std::make_shared<Heightfield>(*rough(d));
-  for (float& z : h->data) z += altitude;
-  std::size_t previous = 0;
-  for (double bound : {0.05, 0.5, 2.0}) {
-    for (bool simplify : {false, true}) {
-      TinOptions options;
-      options.max_error = bound;
-      options.simplify = simplify;
-      const Tin tin = heightfield_tin(*h, options);
-      expect_exact_cover(tin);
-      // Brute force on the grid, in double precision: every sample against the one triangle that covers it.
-      double worst = 0.0;
-      std::vector<int> covered(static_cast<std::size_t>(tin.width) * tin.height, 0);
-      for (const auto& t : tin.triangles) {
-        const int ax = tin.samples[t[0]] % tin.width, ay = tin.samples[t[0]] / tin.width;
-        const int bx = tin.samples[t[1]] % tin.width, by = tin.samples[t[1]] / tin.width;
-        const int cx = tin.samples[t[2]] % tin.width, cy = tin.samples[t[2]] / tin.width;
-        const double det = static_cast<double>(tin_area2(tin, t));
-        for (int j = std::min({ay, by, cy}); j <= std::max({ay, by, cy}); ++j)
-          for (int i = std::min({ax, bx, cx}); i <= std::max({ax, bx, cx}); ++i) {
-            const double l1 = ((i - ax) * double(cy - ay) - (cx - ax) * double(j - ay)) / det;
-            const double l2 = ((bx - ax) * double(j - ay) - (i - ax) * double(by - ay)) / det;
-            const double l0 = 1.0 - l1 - l2;
-            if (l0 < -1e-12 || l1 < -1e-12 || l2 < -1e-12) continue;
-            const double z = l0 * h->at(ax, ay) + l1 * h->at(bx, by) + l2 * h->at(cx, cy);
-            worst = std::max(worst, std::abs(h->at(i, j) - z));
-            covered[h->index(i, j)] = 1;
-          }
-      }
-      EXPECT_EQ(std::count(covered.begin(), covered.end(), 0), 0);
-      EXPECT_LE(worst, bound * (1 + 1e-9)) << bound << " simplify " << simplify << " altitude " << altitude;
-      EXPECT_GT(worst, bound * 0.5) << "the bound is used, not just respected";
-      EXPECT_NEAR(tin.max_error, worst, 1e-9 * (1 + worst));
-      if (simplify) {
-        EXPECT_LT(tin.triangles.size(), previous) << "the collapses remove triangles of the greedy TIN";
-        if (bound >= 2.0) {
-          EXPECT_LT(tin.triangles.size(), 2u * 96u * 80u / 4u);
+    auto h = std::make_shared<Heightfield>(*rough(d));
+    for (float& z : h->data) z += altitude;
+    std::size_t previous = 0;
+    for (double bound : {0.05, 0.5, 2.0}) {
+      for (bool simplify : {false, true}) {
+        TinOptions options;
+        options.max_error = bound;
+        options.simplify = simplify;
+        const Tin tin = heightfield_tin(*h, options);
+        expect_exact_cover(tin);
+        // Brute force on the grid, in double precision: every sample against the one triangle that covers it.
+        double worst = 0.0;
+        std::vector<int> covered(static_cast<std::size_t>(tin.width) * tin.height, 0);
+        for (const auto& t : tin.triangles) {
+          const int ax = tin.samples[t[0]] % tin.width, ay = tin.samples[t[0]] / tin.width;
+          const int bx = tin.samples[t[1]] % tin.width, by = tin.samples[t[1]] / tin.width;
+          const int cx = tin.samples[t[2]] % tin.width, cy = tin.samples[t[2]] / tin.width;
+          const double det = static_cast<double>(tin_area2(tin, t));
+          for (int j = std::min({ay, by, cy}); j <= std::max({ay, by, cy}); ++j)
+            for (int i = std::min({ax, bx, cx}); i <= std::max({ax, bx, cx}); ++i) {
+              const double l1 = ((i - ax) * double(cy - ay) - (cx - ax) * double(j - ay)) / det;
+              const double l2 = ((bx - ax) * double(j - ay) - (i - ax) * double(by - ay)) / det;
+              const double l0 = 1.0 - l1 - l2;
+              if (l0 < -1e-12 || l1 < -1e-12 || l2 < -1e-12) continue;
+              const double z = l0 * h->at(ax, ay) + l1 * h->at(bx, by) + l2 * h->at(cx, cy);
+              worst = std::max(worst, std::abs(h->at(i, j) - z));
+              covered[h->index(i, j)] = 1;
+            }
         }
+        EXPECT_EQ(std::count(covered.begin(), covered.end(), 0), 0);
+        EXPECT_LE(worst, bound * (1 + 1e-9)) << bound << " simplify " << simplify << " altitude " << altitude;
+        EXPECT_GT(worst, bound * 0.5) << "the bound is used, not just respected";
+        EXPECT_NEAR(tin.max_error, worst, 1e-9 * (1 + worst));
+        if (simplify) {
+          EXPECT_LT(tin.triangles.size(), previous) << "the collapses remove triangles of the greedy TIN";
+          if (bound >= 2.0) {
+            EXPECT_LT(tin.triangles.size(), 2u * 96u * 80u / 4u);
+          }
+        }
+        previous = tin.triangles.size();
       }
-      previous = tin.triangles.size();
     }
-  }
   }
 }
 
@@ -317,7 +320,8 @@ TEST(TerrainTin, SimdScanMatchesBruteForceOnRandomTriangles) {
       x[k] = std::clamp(x[0] + static_cast<int>(next() % (2 * span + 1)) - span, 0, w - 1);
       y[k] = std::clamp(y[0] + static_cast<int>(next() % (2 * span + 1)) - span, 0, h - 1);
     }
-    long long area2 = static_cast<long long>(x[1] - x[0]) * (y[2] - y[0]) - static_cast<long long>(y[1] - y[0]) * (x[2] - x[0]);
+    long long area2 =
+        static_cast<long long>(x[1] - x[0]) * (y[2] - y[0]) - static_cast<long long>(y[1] - y[0]) * (x[2] - x[0]);
     if (area2 == 0) continue;
     if (area2 < 0) std::swap(x[1], x[2]), std::swap(y[1], y[2]), area2 = -area2;
     ++tested;
@@ -333,7 +337,8 @@ TEST(TerrainTin, SimdScanMatchesBruteForceOnRandomTriangles) {
         }
         if (e[0] < 0 || e[1] < 0 || e[2] < 0) continue;
         // Barycentric weights of c and a from the exact edge functions.
-        const double plane = (static_cast<double>(e[1]) * za + static_cast<double>(e[2]) * zb + static_cast<double>(e[0]) * zc) / area2;
+        const double plane =
+            (static_cast<double>(e[1]) * za + static_cast<double>(e[2]) * zb + static_cast<double>(e[0]) * zc) / area2;
         error[j * w + i] = std::abs(z[j * w + i] - plane);
         worst = std::max(worst, error[j * w + i]);
       }
@@ -343,7 +348,8 @@ TEST(TerrainTin, SimdScanMatchesBruteForceOnRandomTriangles) {
     r.width = w;
     r.ax = x[0], r.ay = y[0], r.bx = x[1], r.by = y[1], r.cx = x[2], r.cy = y[2];
     const tin::ScanResult s = tin::scan_triangle(r);
-    ASSERT_NEAR(s.error, worst, margin) << x[0] << "," << y[0] << " " << x[1] << "," << y[1] << " " << x[2] << "," << y[2];
+    ASSERT_NEAR(s.error, worst, margin) << x[0] << "," << y[0] << " " << x[1] << "," << y[1] << " " << x[2] << ","
+                                        << y[2];
     ASSERT_GE(s.sample, 0);
     ASSERT_GE(error[s.sample], 0.0) << "the sample lies in the triangle";
     EXPECT_NEAR(error[s.sample], worst, 2 * margin);
@@ -361,7 +367,8 @@ TEST(TerrainTin, SimdScanMatchesBruteForceOnRandomTriangles) {
 }
 
 TEST(TerrainTin, TinyStripsAndFlatGrids) {
-  for (const glm::ivec2 res : {glm::ivec2(2, 2), glm::ivec2(2, 57), glm::ivec2(61, 2), glm::ivec2(3, 3), glm::ivec2(40, 33)}) {
+  for (const glm::ivec2 res :
+       {glm::ivec2(2, 2), glm::ivec2(2, 57), glm::ivec2(61, 2), glm::ivec2(3, 3), glm::ivec2(40, 33)}) {
     const Domain d = Domain::from_extent({0, 0}, {100, 80}, res);
     for (bool flat : {true, false}) {
       auto h = std::make_shared<Heightfield>(d, 7.0f);
@@ -393,7 +400,9 @@ TEST(TerrainTin, GreedyInsertionIsDelaunay) {
   options.simplify = false;
   const Tin tin = heightfield_tin(*h, options);
   ASSERT_GT(tin.triangles.size(), 100u);
-  auto xy = [&](int v) { return std::pair<long long, long long>(tin.samples[v] % tin.width, tin.samples[v] / tin.width); };
+  auto xy = [&](int v) {
+    return std::pair<long long, long long>(tin.samples[v] % tin.width, tin.samples[v] / tin.width);
+  };
   for (const auto& t : tin.triangles) {
     const auto [ax, ay] = xy(t[0]);
     const auto [bx, by] = xy(t[1]);
@@ -401,7 +410,8 @@ TEST(TerrainTin, GreedyInsertionIsDelaunay) {
     for (std::size_t v = 0; v < tin.samples.size(); ++v) {
       const auto [dx, dy] = xy(static_cast<int>(v));
       const long long adx = ax - dx, ady = ay - dy, bdx = bx - dx, bdy = by - dy, cdx = cx - dx, cdy = cy - dy;
-      const long long det = (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy) + (bdx * bdx + bdy * bdy) * (cdx * ady - adx * cdy) +
+      const long long det = (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy) +
+                            (bdx * bdx + bdy * bdy) * (cdx * ady - adx * cdy) +
                             (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady);
       ASSERT_LE(det, 0) << "vertex " << v << " inside a circumcircle";
     }
@@ -445,17 +455,20 @@ TEST(TerrainTin, MeshBoundNormalsAndVertices) {
 TEST(TerrainTin, TargetFaceCount) {
   const Domain d = Domain::from_extent({0, 0}, {300, 300}, {49, 49});
   const auto h = field(d, hills);
-  const auto only_target = run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(300)}}, {{"in", h}}).get<Mesh>();
+  const auto only_target =
+      run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(300)}}, {{"in", h}}).get<Mesh>();
   EXPECT_LE(only_target->face_count(), 300u);
   EXPECT_GE(only_target->face_count(), 290u);
   EXPECT_TRUE(all_faces_face_up(only_target->mesh));
   // With an error bound too, the tighter of the two wins.
-  const auto both = run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(300)}, {"max_error", 0.01}},
-                             {{"in", h}}).get<Mesh>();
+  const auto both =
+      run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(300)}, {"max_error", 0.01}}, {{"in", h}})
+          .get<Mesh>();
   EXPECT_GT(both->face_count(), 300u);
   EXPECT_LE(max_vertical_error(both->mesh, *h), 0.01 + 1e-5);
-  const auto loose = run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(3000)}, {"max_error", 2.0}},
-                              {{"in", h}}).get<Mesh>();
+  const auto loose =
+      run_node("HeightfieldToMesh", d, {{"target_faces", std::int64_t(3000)}, {"max_error", 2.0}}, {{"in", h}})
+          .get<Mesh>();
   EXPECT_GE(loose->face_count(), 2900u);
   EXPECT_LE(loose->face_count(), 3000u);
 }
@@ -485,7 +498,8 @@ TEST(TerrainTin, CancelledRunThrows) {
   const Domain d = Domain::from_extent({0, 0}, {300, 300}, {33, 33});
   CancelToken cancel;
   cancel.cancel();
-  EXPECT_THROW(run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"in", field(d, hills)}}, {}, &cancel), Cancelled);
+  EXPECT_THROW(run_node("HeightfieldToMesh", d, {{"max_error", 0.3}}, {{"in", field(d, hills)}}, {}, &cancel),
+               Cancelled);
 }
 
 TEST(TerrainTin, NonFiniteHeightsAreAnError) {
@@ -552,7 +566,8 @@ TEST_F(MeshFileTest, ObjPlyStlRoundTripThroughOpenMesh) {
       ASSERT_TRUE(opt.check(OpenMesh::IO::Options::VertexColor)) << name << " has colours";
       for (auto v : back.vertices()) {
         const auto c = back.color(v), c0 = mesh_->mesh.color(v);
-        for (int k = 0; k < 3; ++k) ASSERT_NEAR(c[k], linear_to_srgb(static_cast<double>(c0[k])), 0.5 / 255 + 1e-6) << name;  // 8-bit sRGB
+        for (int k = 0; k < 3; ++k)
+          ASSERT_NEAR(c[k], linear_to_srgb(static_cast<double>(c0[k])), 0.5 / 255 + 1e-6) << name;  // 8-bit sRGB
       }
     }
   }
@@ -657,7 +672,8 @@ TEST(MeshBase, ClosesATerrainIntoASolid) {
   for (auto f : top.mesh.faces()) {
     auto fv = top.mesh.cfv_iter(f);
     const auto a = top.mesh.point(*fv), b = top.mesh.point(*++fv), c = top.mesh.point(*++fv);
-    const double area = 0.5 * ((double(b[0]) - a[0]) * (double(c[1]) - a[1]) - (double(c[0]) - a[0]) * (double(b[1]) - a[1]));
+    const double area =
+        0.5 * ((double(b[0]) - a[0]) * (double(c[1]) - a[1]) - (double(c[0]) - a[0]) * (double(b[1]) - a[1]));
     expected += area * ((double(a[2]) + b[2] + c[2]) / 3.0 - zb);
   }
   expect_closed_solid(solid.mesh, expected);
@@ -668,8 +684,10 @@ TEST(MeshBase, ClosesATerrainIntoASolid) {
     const auto n = solid.mesh.calc_face_normal(f);
     bool bottom = true;
     for (auto v : solid.mesh.fv_range(f)) bottom = bottom && solid.mesh.point(v)[2] == static_cast<float>(zb);
-    if (bottom) ASSERT_LT(n[2], -0.999f);
-    else ASSERT_NEAR(n[2], 0.0f, 1e-5);  // walls are vertical
+    if (bottom)
+      ASSERT_LT(n[2], -0.999f);
+    else
+      ASSERT_NEAR(n[2], 0.0f, 1e-5);  // walls are vertical
   }
 }
 
@@ -685,7 +703,8 @@ TEST_F(MeshFileTest, BaseDepthWritesAClosedStl) {
 TEST_F(MeshFileTest, Errors) {
   EXPECT_THROW(write("../escape.obj"), NodeError);
   EXPECT_FALSE(fs::exists(policy_.output_dir.parent_path() / "escape.obj"));
-  EXPECT_THROW(run_node("WriteMesh", Domain{}, {{"path", std::string("empty.ply")}}, {{"in", std::make_shared<const Mesh>()}}, policy_),
+  EXPECT_THROW(run_node("WriteMesh", Domain{}, {{"path", std::string("empty.ply")}},
+                        {{"in", std::make_shared<const Mesh>()}}, policy_),
                NodeError);
   EXPECT_FALSE(fs::exists(policy_.output_dir / "empty.ply"));
 }

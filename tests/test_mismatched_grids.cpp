@@ -48,8 +48,7 @@ bool samples_in_world_space(const NodeType& t) {
 double value_at(const std::string& port, double x, double y) {
   if (port == "dx" || port == "dy" || port.rfind("warp_", 0) == 0 || port == "distance_offset")
     return 30.0 * std::sin((port.back() == 'y' ? x : y) / 140.0);  // metres of displacement
-  if (port == "in" || port == "a" || port == "b" || port == "height")
-    return test::rolling_hills(x, y);  // metres
+  if (port == "in" || port == "a" || port == "b" || port == "height") return test::rolling_hills(x, y);  // metres
   return 0.5 + 0.4 * std::sin(x / 170.0 + y / 230.0);  // masks, weights, rates in 0..1
 }
 
@@ -82,9 +81,12 @@ PortValue some_points() {
 std::map<std::string, PortValue> inputs_on(const NodeType& t, const Domain& primary) {
   std::map<std::string, PortValue> in;
   for (const auto& p : t.inputs) {
-    if (is_raster(p.type)) in[p.name] = raster_on(p, primary);
-    else if (p.type == PortType::Points) in[p.name] = some_points();
-    else if (!p.optional) ADD_FAILURE() << t.name << ": no fixture for required input '" << p.name << "'";
+    if (is_raster(p.type))
+      in[p.name] = raster_on(p, primary);
+    else if (p.type == PortType::Points)
+      in[p.name] = some_points();
+    else if (!p.optional)
+      ADD_FAILURE() << t.name << ": no fixture for required input '" << p.name << "'";
   }
   return in;
 }
@@ -108,7 +110,10 @@ std::vector<const NodeType*> multi_raster_types() {
 // Parameters under which every raster input is read (defaults otherwise).
 std::map<std::string, ParamValue> params_for(const NodeType& t) {
   if (t.name == "PoissonDisk")  // density_1..3 serve classes 1..3; radii of metres keep the point count small
-    return {{"class_count", std::int64_t{4}}, {"radius_0", 20.0}, {"radius_1", 16.0}, {"radius_2", 12.0},
+    return {{"class_count", std::int64_t{4}},
+            {"radius_0", 20.0},
+            {"radius_1", 16.0},
+            {"radius_2", 12.0},
             {"radius_3", 10.0}};
   return {};
 }
@@ -122,9 +127,9 @@ std::vector<std::string> serialized(const NodeRun& r) {
 TEST(MismatchedGrids, TheTestSeesEveryFamily) {
   std::set<std::string> names;
   for (const NodeType* t : multi_raster_types()) names.insert(t->name);
-  for (const char* expected : {"Add", "Blend", "Warp", "FBM", "Perlin", "ThermalErosion", "PipeErosion",
-                               "FlowAccumulation", "WaterFlow", "Biomes", "ResourceStack", "SplatWeights",
-                               "ColorByLayers", "HeightfieldToMesh", "ScatterRules", "PoissonDisk"})
+  for (const char* expected :
+       {"Add", "Blend", "Warp", "FBM", "Perlin", "ThermalErosion", "PipeErosion", "FlowAccumulation", "WaterFlow",
+        "Biomes", "ResourceStack", "SplatWeights", "ColorByLayers", "HeightfieldToMesh", "ScatterRules", "PoissonDisk"})
     EXPECT_TRUE(names.count(expected)) << expected << " should have two or more raster inputs";
 }
 

@@ -66,8 +66,13 @@ HeightfieldPtr smooth_field(const Domain& d) {
 
 HeightfieldPtr non_finite_field(const Domain& d) {
   auto h = std::make_shared<Heightfield>(d);
-  const float special[] = {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
-                           -std::numeric_limits<float>::infinity(), 3e38f, -3e38f, 0.0f, 1e-38f};
+  const float special[] = {std::numeric_limits<float>::quiet_NaN(),
+                           std::numeric_limits<float>::infinity(),
+                           -std::numeric_limits<float>::infinity(),
+                           3e38f,
+                           -3e38f,
+                           0.0f,
+                           1e-38f};
   for (int j = 0; j < d.height(); ++j)
     for (int i = 0; i < d.width(); ++i) h->at(i, j) = special[static_cast<std::size_t>(i * 3 + j) % 7];
   return h;
@@ -174,7 +179,8 @@ std::vector<std::pair<std::string, ParamValue>> extremes(const ParamDecl& p) {
       out.push_back({"steep", steep});
       break;
     }
-    default: break;  // colours, strings, paths, gradients: the defaults
+    default:
+      break;  // colours, strings, paths, gradients: the defaults
   }
   return out;
 }
@@ -193,8 +199,10 @@ TEST_P(NodeExtremes, ResultOrClearErrorEverywhere) {
     auto inputs_with = [&](const std::function<HeightfieldPtr(const Domain&)>& field) {
       std::map<std::string, PortValue> inputs;
       for (const auto& in : type->inputs) {
-        if (in.type == PortType::Heightfield) inputs[in.name] = PortValue(field(d));
-        else if (auto it = values.find(in.type); it != values.end()) inputs[in.name] = it->second;
+        if (in.type == PortType::Heightfield)
+          inputs[in.name] = PortValue(field(d));
+        else if (auto it = values.find(in.type); it != values.end())
+          inputs[in.name] = it->second;
       }
       return inputs;
     };

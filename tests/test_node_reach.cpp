@@ -24,9 +24,7 @@ namespace {
 
 // Smooth terrain plus per-sample detail hashed from the global lattice index, so every sample differs
 // from its neighbours and a halo that is too small shows.
-double detail(const Domain& d, int i, int j) {
-  return test::hash01(d.first.x + i, d.first.y + j) - 0.5;
-}
+double detail(const Domain& d, int i, int j) { return test::hash01(d.first.x + i, d.first.y + j) - 0.5; }
 
 // Curves and polygon maps in fixed world coordinates (the same for every domain) over the region the test's
 // domains cover: x in about [-1300, 0], y in about [500, 1600].
@@ -37,7 +35,8 @@ PortValue fixed_curves() {
       Curve curve;
       for (int i = 0; i <= 40; ++i) {
         const double t = i / 40.0;
-        curve.points.emplace_back(static_cast<float>(-1400.0 + 1500.0 * t), static_cast<float>(450.0 + 300.0 * k + 120.0 * std::sin(7.0 * t + k)),
+        curve.points.emplace_back(static_cast<float>(-1400.0 + 1500.0 * t),
+                                  static_cast<float>(450.0 + 300.0 * k + 120.0 * std::sin(7.0 * t + k)),
                                   static_cast<float>(50.0 * (1.0 - t) + 3.0 * k));
         curve.width.push_back(static_cast<float>(6.0 + 4.0 * k));
       }
@@ -50,8 +49,10 @@ PortValue fixed_curves() {
 
 PortValue fixed_polygon_map() {
   static const PolygonMapPtr map = run_node("VoronoiIsland", Domain::from_extent({0, 0}, {1, 1}, {2, 2}),
-                                            {{"min_corner", glm::dvec2(-1500, 300)}, {"size", glm::dvec2(1700, 1500)},
-                                             {"cells", std::int64_t{300}}, {"shape_scale", 1.0}})
+                                            {{"min_corner", glm::dvec2(-1500, 300)},
+                                             {"size", glm::dvec2(1700, 1500)},
+                                             {"cells", std::int64_t{300}},
+                                             {"shape_scale", 1.0}})
                                        .get<PolygonMap>(0);
   return PortValue(map);
 }
@@ -112,7 +113,8 @@ std::vector<Case> cases_for(const NodeType& t) {
   std::vector<Case> out{{&t, {}, "defaults"}};
   if (t.name == "ReadHeightfield") {
     out[0].params = {{"path", height_file()}};
-    out.push_back({&t, {{"path", height_file()}, {"origin", glm::dvec2(-1000, 600)}, {"size", glm::dvec2(900, 700)}},
+    out.push_back({&t,
+                   {{"path", height_file()}, {"origin", glm::dvec2(-1000, 600)}, {"size", glm::dvec2(900, 700)}},
                    "explicit rectangle"});
   }
   for (const auto& p : t.params)
@@ -163,7 +165,7 @@ NodeRun run_on(const Case& c, const Domain& d) {
 // margin beyond the expansion so the full domain's own edges are out of reach.
 struct Domains {
   Domain full, sub, expanded;
-  glm::ivec2 sub_at;       // the sub-domain's first sample in the full domain
+  glm::ivec2 sub_at;  // the sub-domain's first sample in the full domain
   glm::ivec2 sub_in_expanded;
 };
 
@@ -228,8 +230,8 @@ TEST_P(ReachContract, ExpandedSubDomainReproducesTheFullDomainBitForBit) {
     const auto a = crop(full.outputs[k], d.sub_at.x, d.sub_at.y, d.sub.width(), d.sub.height());
     const auto b = crop(part.outputs[k], d.sub_in_expanded.x, d.sub_in_expanded.y, d.sub.width(), d.sub.height());
     ASSERT_FALSE(a.empty());
-    EXPECT_TRUE(test::bit_identical(a, b)) << c.type->name << " (" << c.label << "), reach " << reach.describe()
-                                           << ", output " << c.type->outputs[k].name;
+    EXPECT_TRUE(test::bit_identical(a, b))
+        << c.type->name << " (" << c.label << "), reach " << reach.describe() << ", output " << c.type->outputs[k].name;
   }
 }
 

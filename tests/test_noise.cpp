@@ -73,13 +73,34 @@ std::vector<Generator> generators() {
       {"Value", {{"feature_size", fs}}},
       {"White", {{"feature_size", fs}}},
       {"Worley", {{"feature_size", fs}, {"output", std::string("f2_minus_f1")}}},
-      {"Worley", {{"feature_size", fs}, {"metric", std::string("manhattan")}, {"output", std::string("mean_f1_f4")}, {"jitter", 0.7}}},
+      {"Worley",
+       {{"feature_size", fs},
+        {"metric", std::string("manhattan")},
+        {"output", std::string("mean_f1_f4")},
+        {"jitter", 0.7}}},
       {"Worley", {{"feature_size", fs}, {"metric", std::string("chebyshev")}, {"output", std::string("f1_times_f2")}}},
       {"FBM", {{"feature_size", 4 * fs}, {"octaves", std::int64_t{4}}}},
-      {"FBM", {{"feature_size", 4 * fs}, {"basis", std::string("simplex")}, {"mode", std::string("ridged")}, {"octaves", std::int64_t{4}}}},
-      {"FBM", {{"feature_size", 4 * fs}, {"basis", std::string("value")}, {"mode", std::string("billow")}, {"octaves", std::int64_t{4}}}},
-      {"FBM", {{"feature_size", 4 * fs}, {"basis", std::string("worley")}, {"mode", std::string("hybrid")}, {"octaves", std::int64_t{3}}, {"offset", 0.7}}},
-      {"FBM", {{"feature_size", 4 * fs}, {"mode", std::string("multifractal")}, {"octaves", std::int64_t{5}}, {"roughness", 0.6}}},
+      {"FBM",
+       {{"feature_size", 4 * fs},
+        {"basis", std::string("simplex")},
+        {"mode", std::string("ridged")},
+        {"octaves", std::int64_t{4}}}},
+      {"FBM",
+       {{"feature_size", 4 * fs},
+        {"basis", std::string("value")},
+        {"mode", std::string("billow")},
+        {"octaves", std::int64_t{4}}}},
+      {"FBM",
+       {{"feature_size", 4 * fs},
+        {"basis", std::string("worley")},
+        {"mode", std::string("hybrid")},
+        {"octaves", std::int64_t{3}},
+        {"offset", 0.7}}},
+      {"FBM",
+       {{"feature_size", 4 * fs},
+        {"mode", std::string("multifractal")},
+        {"octaves", std::int64_t{5}},
+        {"roughness", 0.6}}},
   };
 }
 
@@ -94,8 +115,10 @@ TEST(Perlin, ZeroAtEveryLatticePoint) {
   float largest_elsewhere = 0.0f;
   for (int j = 0; j < d.height(); ++j)
     for (int i = 0; i < d.width(); ++i) {
-      if (i % 4 == 0 && j % 4 == 0) EXPECT_EQ(h->at(i, j), 0.0f) << i << "," << j;
-      else largest_elsewhere = std::max(largest_elsewhere, std::fabs(h->at(i, j)));
+      if (i % 4 == 0 && j % 4 == 0)
+        EXPECT_EQ(h->at(i, j), 0.0f) << i << "," << j;
+      else
+        largest_elsewhere = std::max(largest_elsewhere, std::fabs(h->at(i, j)));
     }
   EXPECT_GT(largest_elsewhere, 0.3f);  // and it is not zero everywhere
 }
@@ -130,8 +153,8 @@ TEST(Perlin, ContinuousWithContinuousGradientAcrossCellBorders) {
     }
   }
   EXPECT_LT(worst_jump, 1e-4f);
-  EXPECT_LT(worst_slope, 0.05f);    // one-sided slopes agree (the fade's derivative vanishes at borders)
-  EXPECT_GT(typical_slope, 0.5f);   // while the slopes themselves are of order 1
+  EXPECT_LT(worst_slope, 0.05f);   // one-sided slopes agree (the fade's derivative vanishes at borders)
+  EXPECT_GT(typical_slope, 0.5f);  // while the slopes themselves are of order 1
 }
 
 TEST(Perlin, NodeAgreesAcrossACellBorderAtFineSpacing) {
@@ -180,7 +203,8 @@ TEST(Simplex, ContinuousAcrossSimplexBorders) {
   float worst = 0;
   for (int n = 0; n < 20000; ++n) {
     const double u = pos(rng), v = pos(rng), e = 1e-6;
-    worst = std::max(worst, std::fabs(noise::reference::simplex(u + e, v, key) - noise::reference::simplex(u - e, v, key)));
+    worst =
+        std::max(worst, std::fabs(noise::reference::simplex(u + e, v, key) - noise::reference::simplex(u - e, v, key)));
   }
   EXPECT_LT(worst, 1e-3f);
 }
@@ -220,7 +244,10 @@ TEST(Value, TakesItsLatticeValuesAtLatticePoints) {
   const std::uint32_t key = noise::stream_key(0, noise::Stream::Value);
   for (int i = -3; i <= 3; ++i)
     for (int j = -3; j <= 3; ++j) {
-      const float expected = noise::unit_float(noise::lattice_hash(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j), key)) * 2.0f - 1.0f;
+      const float expected =
+          noise::unit_float(noise::lattice_hash(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j), key)) *
+              2.0f -
+          1.0f;
       EXPECT_FLOAT_EQ(noise::reference::value(i, j, key), expected);
     }
 }
@@ -234,8 +261,13 @@ TEST(FBM, OneOctaveEqualsItsBasis) {
       {"perlin", "Perlin"}, {"simplex", "Simplex"}, {"value", "Value"}, {"worley", "Worley"}};
   for (const auto& [basis, node] : basis_node) {
     const auto single = eval(node, d, {{"feature_size", 230.0}, {"amplitude", 55.0}, {"seed", std::uint64_t{4}}});
-    const auto fractal = eval("FBM", d, {{"basis", basis}, {"octaves", std::int64_t{1}}, {"feature_size", 230.0},
-                                         {"amplitude", 55.0}, {"seed", std::uint64_t{4}}, {"gain", 0.3}});
+    const auto fractal = eval("FBM", d,
+                              {{"basis", basis},
+                               {"octaves", std::int64_t{1}},
+                               {"feature_size", 230.0},
+                               {"amplitude", 55.0},
+                               {"seed", std::uint64_t{4}},
+                               {"gain", 0.3}});
     EXPECT_EQ(single->data, fractal->data) << basis;
   }
 }
@@ -248,8 +280,12 @@ TEST(FBM, ModesStayInTheirDocumentedRanges) {
   };
   for (const Case& c : {Case{"fbm", -1, 1}, Case{"billow", -1, 1}, Case{"ridged", 0, 1}}) {
     for (const char* basis : {"perlin", "simplex", "value"}) {
-      const auto h = eval("FBM", d, {{"mode", c.mode}, {"basis", std::string(basis)}, {"amplitude", 1.0},
-                                     {"feature_size", 800.0}, {"octaves", std::int64_t{6}}});
+      const auto h = eval("FBM", d,
+                          {{"mode", c.mode},
+                           {"basis", std::string(basis)},
+                           {"amplitude", 1.0},
+                           {"feature_size", 800.0},
+                           {"octaves", std::int64_t{6}}});
       const auto [mn, mx] = std::minmax_element(h->data.begin(), h->data.end());
       EXPECT_GE(*mn, c.lo - 1e-5f) << c.mode << " " << basis;
       EXPECT_LE(*mx, c.hi + 1e-5f) << c.mode << " " << basis;
@@ -262,7 +298,10 @@ TEST(FBM, MultifractalFollows002Equation4) {
   // With R = 0 everywhere, Eq 4 weighs octave k by r^-k: the un-normalised fBm with gain 1/r.
   const Domain d = Domain::from_extent({0, 0}, {5000, 5000}, {120, 120});
   const double r = 2.0;
-  const Params common{{"feature_size", 900.0}, {"octaves", std::int64_t{5}}, {"lacunarity", r}, {"amplitude", 1.0},
+  const Params common{{"feature_size", 900.0},
+                      {"octaves", std::int64_t{5}},
+                      {"lacunarity", r},
+                      {"amplitude", 1.0},
                       {"seed", std::uint64_t{21}}};
   Params mf = common, fb = common;
   mf["mode"] = std::string("multifractal");
@@ -270,8 +309,7 @@ TEST(FBM, MultifractalFollows002Equation4) {
   const auto multi = eval("FBM", d, mf, {{"roughness", constant_field(d, 0.0f)}});
   const auto plain = eval("FBM", d, fb);
   const double norm = 1 + 1 / r + 1 / (r * r) + 1 / (r * r * r) + 1 / (r * r * r * r);
-  for (std::size_t k = 0; k < multi->data.size(); ++k)
-    ASSERT_NEAR(multi->data[k], plain->data[k] * norm, 1e-4) << k;
+  for (std::size_t k = 0; k < multi->data.size(); ++k) ASSERT_NEAR(multi->data[k], plain->data[k] * norm, 1e-4) << k;
 
   // R = 1: every octave at full weight; the roughness map overrides the parameter where connected.
   Params mf1 = mf;
@@ -288,8 +326,11 @@ TEST(FBM, MultifractalFollows002Equation4) {
 TEST(FBM, RougherMapsGiveRougherTerrain) {
   const Domain d = Domain::from_extent({0, 0}, {4000, 4000}, {256, 256});
   auto roughness_of = [&](float r) {
-    const auto h = eval("FBM", d, {{"mode", std::string("multifractal")}, {"feature_size", 1000.0}, {"amplitude", 1.0},
-                                   {"octaves", std::int64_t{6}}},
+    const auto h = eval("FBM", d,
+                        {{"mode", std::string("multifractal")},
+                         {"feature_size", 1000.0},
+                         {"amplitude", 1.0},
+                         {"octaves", std::int64_t{6}}},
                         {{"roughness", constant_field(d, r)}});
     double s = 0;  // mean squared second difference: the energy of the fine octaves
     for (int j = 0; j < d.height(); ++j)
@@ -354,7 +395,8 @@ TEST(NoiseGenerators, TileOfALargeEvaluationEqualsTheTileEvaluated) {
   const auto wy = eval("Perlin", big, {{"feature_size", 700.0}, {"amplitude", 150.0}, {"seed", std::uint64_t{2}}});
   for (const Generator& g : generators()) {
     const auto whole = eval(g.type, big, g.params, {{"warp_x", wx}, {"warp_y", wy}});
-    const auto part = eval(g.type, tile, g.params, {{"warp_x", cut(*wx, i0, j0, n, n)}, {"warp_y", cut(*wy, i0, j0, n, n)}});
+    const auto part =
+        eval(g.type, tile, g.params, {{"warp_x", cut(*wx, i0, j0, n, n)}, {"warp_y", cut(*wy, i0, j0, n, n)}});
     EXPECT_EQ(cut(*whole, i0, j0, n, n)->data, part->data) << g.name() << " warped";
   }
 }
@@ -384,10 +426,12 @@ TEST(NoiseGenerators, ConstantWarpEqualsAShiftedEvaluation) {
   for (const Generator& g : generators()) {
     Params p = g.params;
     p["amplitude"] = 1.0;
-    const auto warped = eval(g.type, d, p, {{"warp_x", constant_field(d, float(shift.x))}, {"warp_y", constant_field(d, float(shift.y))}});
+    const auto warped = eval(
+        g.type, d, p, {{"warp_x", constant_field(d, float(shift.x))}, {"warp_y", constant_field(d, float(shift.y))}});
     const auto moved = eval(g.type, shifted, p);
     float worst = 0;
-    for (std::size_t k = 0; k < warped->data.size(); ++k) worst = std::max(worst, std::fabs(warped->data[k] - moved->data[k]));
+    for (std::size_t k = 0; k < warped->data.size(); ++k)
+      worst = std::max(worst, std::fabs(warped->data[k] - moved->data[k]));
     EXPECT_LT(worst, 1e-4f) << g.name();
     // Warping by a constant really moves the noise (the inputs are not ignored).
     const auto plain = eval(g.type, d, p);

@@ -51,8 +51,8 @@ std::vector<NamedPlan> plans() {
                          std::string(kWorleyOutputNames[static_cast<int>(o)]),
                      worley_plan(wp)});
     }
-  for (FractalMode mode : {FractalMode::Fbm, FractalMode::Ridged, FractalMode::Billow, FractalMode::Hybrid,
-                           FractalMode::Multifractal})
+  for (FractalMode mode :
+       {FractalMode::Fbm, FractalMode::Ridged, FractalMode::Billow, FractalMode::Hybrid, FractalMode::Multifractal})
     for (Basis b : {Basis::Perlin, Basis::Simplex, Basis::Worley}) {
       FbmParams fp;
       fp.basis = b;
@@ -152,9 +152,24 @@ TEST(NoiseKernels, ResultDoesNotDependOnTheThreadCount) {
 }
 
 TEST(NoiseKernels, LatticeSplitMatchesTheReferenceAtExtremeCoordinates) {
-  std::vector<double> u = {0.0, -0.0, 1e-300, -1e-300, 0.5, -0.5, -1.0, 1.0 - 1e-17, 4294967295.5, 4294967296.0,
-                           -4294967296.25, 0x1.0p40 + 0.25, -0x1.0p45 - 0.75, 1e15 + 0.5, -3.75e9, 2147483647.5,
-                           2147483648.5, -2147483648.5};
+  std::vector<double> u = {0.0,
+                           -0.0,
+                           1e-300,
+                           -1e-300,
+                           0.5,
+                           -0.5,
+                           -1.0,
+                           1.0 - 1e-17,
+                           4294967295.5,
+                           4294967296.0,
+                           -4294967296.25,
+                           0x1.0p40 + 0.25,
+                           -0x1.0p45 - 0.75,
+                           1e15 + 0.5,
+                           -3.75e9,
+                           2147483647.5,
+                           2147483648.5,
+                           -2147483648.5};
   std::mt19937 rng(8);
   std::uniform_real_distribution<double> wide(-1e12, 1e12);
   while (u.size() % kernels::kBatchAlign != 0 || u.size() < 64) u.push_back(wide(rng));

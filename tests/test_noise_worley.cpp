@@ -57,8 +57,8 @@ TEST(Worley, EqualsBruteForceForEveryMetricOutputAndJitter) {
             const auto brute = ref::worley_brute_force(d.x(i) / fs, d.y(j) / fs, key, m, jitter);
             const float expected = ref::worley_select(brute, o);
             if (std::fabs(h->at(i, j) - expected) > 1e-5f && ++bad < 5)
-              ADD_FAILURE() << "metric " << int(m) << " output " << int(o) << " jitter " << jitter << " at " << i
-                            << "," << j << ": " << h->at(i, j) << " vs brute force " << expected;
+              ADD_FAILURE() << "metric " << int(m) << " output " << int(o) << " jitter " << jitter << " at " << i << ","
+                            << j << ": " << h->at(i, j) << " vs brute force " << expected;
           }
       }
 }
@@ -73,7 +73,8 @@ TEST(Worley, NeighbourhoodContainsTheCellsOfTheNearestPoints) {
       for (int rank : {1, 2, 4}) {
         const auto n = noise::worley_neighbourhood(m, jitter, rank);
         std::set<std::pair<int, int>> cells;
-        for (int k = 0; k < n.size(); ++k) cells.insert({n.dx[static_cast<std::size_t>(k)], n.dy[static_cast<std::size_t>(k)]});
+        for (int k = 0; k < n.size(); ++k)
+          cells.insert({n.dx[static_cast<std::size_t>(k)], n.dy[static_cast<std::size_t>(k)]});
         const std::uint32_t key = noise::stream_key(rank, noise::Stream::Worley);
         int missing = 0;
         for (int s = 0; s < 20000; ++s) {
@@ -146,7 +147,8 @@ TEST(Worley, F1IsZeroAtTheFeaturePoints) {
     for (int cx = -4; cx <= 4; ++cx)
       for (int cy = -4; cy <= 4; ++cy) {
         // The feature point of cell (cx, cy) in world metres, and a 1-sample domain sitting on it.
-        const auto off = ref::worley_offset(static_cast<std::uint32_t>(cx), static_cast<std::uint32_t>(cy), 0.0f, 0.0f, 0, 0, key, 1.0f);
+        const auto off = ref::worley_offset(static_cast<std::uint32_t>(cx), static_cast<std::uint32_t>(cy), 0.0f, 0.0f,
+                                            0, 0, key, 1.0f);
         const glm::dvec2 p{(cx + off[0]) * fs, (cy + off[1]) * fs};
         const Domain d = Domain::from_extent(p, {1.0, 1.0}, {1, 1});
         const auto h = worley_node(d, m, WorleyOutput::F1, 1.0, fs, seed);

@@ -85,18 +85,18 @@ TEST(LSystem, LeftContextSkipsBracketedBranches) {
   // The left context of a module is its ancestor on the path to the root: a ']' before it skips the sibling
   // branch, a '[' steps out to the parent. (Tools that compare with the previous symbol of the text get
   // both cases wrong.)
-  EXPECT_EQ(derive_text("A[C]B", "A < B -> X", 1), "A[C]X");   // sibling branch skipped
-  EXPECT_EQ(derive_text("A[B]", "A < B -> X", 1), "A[X]");     // branch start: parent is A
-  EXPECT_EQ(derive_text("C[A]B", "A < B -> X", 1), "C[A]B");   // A is in a sibling branch, not an ancestor
+  EXPECT_EQ(derive_text("A[C]B", "A < B -> X", 1), "A[C]X");  // sibling branch skipped
+  EXPECT_EQ(derive_text("A[B]", "A < B -> X", 1), "A[X]");    // branch start: parent is A
+  EXPECT_EQ(derive_text("C[A]B", "A < B -> X", 1), "C[A]B");  // A is in a sibling branch, not an ancestor
   EXPECT_EQ(derive_text("A[C][D]B", "A < B -> X", 1), "A[C][D]X");
-  EXPECT_EQ(derive_text("AF+B", "A < B -> X", 1), "AF+B");     // F and + are modules unless ignored
+  EXPECT_EQ(derive_text("AF+B", "A < B -> X", 1), "AF+B");  // F and + are modules unless ignored
   EXPECT_EQ(derive_text("AF+B", "A < B -> X", 1, 0, "F+"), "AF+X");
 }
 
 TEST(LSystem, RightContextSkipsBranchesAndMatchesBracketPatterns) {
-  EXPECT_EQ(derive_text("A[C]B", "A > B -> X", 1), "X[C]B");     // branch between skipped
-  EXPECT_EQ(derive_text("[A]B", "A > B -> X", 1), "[A]B");        // end of branch: no successor
-  EXPECT_EQ(derive_text("A[C]B", "A > [C]B -> X", 1), "X[C]B");   // bracketed pattern
+  EXPECT_EQ(derive_text("A[C]B", "A > B -> X", 1), "X[C]B");           // branch between skipped
+  EXPECT_EQ(derive_text("[A]B", "A > B -> X", 1), "[A]B");             // end of branch: no successor
+  EXPECT_EQ(derive_text("A[C]B", "A > [C]B -> X", 1), "X[C]B");        // bracketed pattern
   EXPECT_EQ(derive_text("A[D][C]B", "A > [C]B -> X", 1), "X[D][C]B");  // any of the branches
   EXPECT_EQ(derive_text("A[D]B", "A > [C]B -> X", 1), "A[D]B");
   // ABOP p. 32: S < ... the example string and context S > G[H]M.
@@ -121,7 +121,8 @@ TEST(LSystem, ContextRulesTakePrecedence) {
 
 TEST(LSystem, StochasticSameSeedSameWordOtherSeedOther) {
   const std::string rules = "F -> F[+F]F : 1\nF -> F[-F]F : 1\nF -> FF : 1";
-  const std::string a = derive_text("F", rules, 4, 7), b = derive_text("F", rules, 4, 7), c = derive_text("F", rules, 4, 8);
+  const std::string a = derive_text("F", rules, 4, 7), b = derive_text("F", rules, 4, 7),
+                    c = derive_text("F", rules, 4, 8);
   EXPECT_EQ(a, b);
   EXPECT_NE(a, c);
   // Random draws in parameters too.
@@ -210,15 +211,14 @@ TEST(LSystem, GrammarErrorsGivePosition) {
   }
 }
 
-TEST(LSystem, CommentsAndBlankLines) {
-  EXPECT_EQ(derive_text("A", "// algae\n\n  A -> AB ; B -> A\n", 2), "ABA");
-}
+TEST(LSystem, CommentsAndBlankLines) { EXPECT_EQ(derive_text("A", "// algae\n\n  A -> AB ; B -> A\n", 2), "ABA"); }
 
 TEST(LSystem, ModuleStringRoundTripsThroughSerialization) {
   const LSystem l("A(1)", "A(x) -> A(x+0.5)[+B(x, 2)]");
   DeriveOptions o;
   const ModuleString w = l.derive(o);
-  const PortValue back = deserialize_value(serialize_value(PortValue(ModuleStringPtr(std::make_shared<ModuleString>(w)))));
+  const PortValue back =
+      deserialize_value(serialize_value(PortValue(ModuleStringPtr(std::make_shared<ModuleString>(w)))));
   ASSERT_EQ(port_type_of(back), PortType::ModuleString);
   EXPECT_EQ(std::get<ModuleStringPtr>(back)->text(), w.text());
   EXPECT_EQ(w.text(), "A(2.5)[+B(2,2)][+B(1.5,2)][+B(1,2)]");
@@ -240,7 +240,7 @@ TEST(Turtle, KnownEndPositions) {
   // Start at the origin heading +z with left = -x and up = -y.
   expect_near(interpret(word("F+F"), o).final_frame.position, {-1, 0, 1});
   expect_near(interpret(word("F-F"), o).final_frame.position, {1, 0, 1});
-  expect_near(interpret(word("FF&F"), o).final_frame.position, {0, 1, 2});   // pitch down: towards -up
+  expect_near(interpret(word("FF&F"), o).final_frame.position, {0, 1, 2});  // pitch down: towards -up
   expect_near(interpret(word("FF^F"), o).final_frame.position, {0, -1, 2});
   expect_near(interpret(word("\\(90)+F"), o).final_frame.position, {0, -1, 0});  // roll left: left -> up
   expect_near(interpret(word("F(2.5)|F"), o).final_frame.position, {0, 0, 1.5});
@@ -366,7 +366,9 @@ double signed_volume(const TriMesh& m) {
   for (auto f : m.faces()) {
     auto it = m.cfv_iter(f);
     const auto a = m.point(*it), b = m.point(*++it), c = m.point(*++it);
-    v += glm::dot(glm::dvec3(a[0], a[1], a[2]), glm::cross(glm::dvec3(b[0], b[1], b[2]), glm::dvec3(c[0], c[1], c[2]))) / 6.0;
+    v +=
+        glm::dot(glm::dvec3(a[0], a[1], a[2]), glm::cross(glm::dvec3(b[0], b[1], b[2]), glm::dvec3(c[0], c[1], c[2]))) /
+        6.0;
   }
   return v;
 }
@@ -485,7 +487,7 @@ TEST(TreeMesh, EveryBranchIsAClosedManifoldWithOutwardFaces) {
   const Mesh mesh = tree_mesh(sk, nullptr, mo);
   const auto t = topology(mesh.mesh);
   EXPECT_TRUE(t.closed);
-  EXPECT_EQ(t.components, sk.size());              // one closed tube per branch
+  EXPECT_EQ(t.components, sk.size());                    // one closed tube per branch
   EXPECT_EQ(t.euler, 2 * static_cast<long>(sk.size()));  // each a topological sphere
   // Consistent outward winding: every branch encloses a positive volume.
   EXPECT_GT(signed_volume(mesh.mesh), 0.0);
@@ -572,7 +574,7 @@ TEST(TreeMesh, GltfRoundTrip) {
     tinygltf::TinyGLTF loader;
     std::string err, warn;
     const bool ok = std::string(name).ends_with(".glb") ? loader.LoadBinaryFromFile(&model, &err, &warn, path.string())
-                                                         : loader.LoadASCIIFromFile(&model, &err, &warn, path.string());
+                                                        : loader.LoadASCIIFromFile(&model, &err, &warn, path.string());
     ASSERT_TRUE(ok) << err;
     ASSERT_EQ(model.meshes.size(), 1u);
     const auto& prim = model.meshes[0].primitives.at(0);
@@ -590,7 +592,9 @@ TEST(TreeMesh, GltfRoundTrip) {
 
 // --- PlantSprite ---------------------------------------------------------------------------------------------
 
-std::size_t count_symbol(const ModuleString& w, char c) { return static_cast<std::size_t>(std::count(w.symbols.begin(), w.symbols.end(), c)); }
+std::size_t count_symbol(const ModuleString& w, char c) {
+  return static_cast<std::size_t>(std::count(w.symbols.begin(), w.symbols.end(), c));
+}
 
 void mesh_bounds(const Mesh& m, OpenMesh::Vec3f& lo, OpenMesh::Vec3f& hi) {
   lo = OpenMesh::Vec3f(1e30f);
@@ -685,9 +689,11 @@ TEST(PlantSprite, StandsOnZeroAndStraightStemHeightIsAnalytic) {
 
 TEST(PlantSprite, DeterministicAndNodeFeedsInstance) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {4, 4});
-  const std::map<std::string, ParamValue> p{{"axiom", std::string("X")},
-                                            {"rules", std::string("X -> F[+XL][-XL]FX : 1; X -> F[-XL]FX : 1\nF -> FF")},
-                                            {"iterations", std::int64_t(4)}, {"seed", std::uint64_t(3)}};
+  const std::map<std::string, ParamValue> p{
+      {"axiom", std::string("X")},
+      {"rules", std::string("X -> F[+XL][-XL]FX : 1; X -> F[-XL]FX : 1\nF -> FF")},
+      {"iterations", std::int64_t(4)},
+      {"seed", std::uint64_t(3)}};
   const auto w = run_node("LSystem", d, p).get<ModuleString>();
   const auto a = run_node("PlantSprite", d, {}, {{"in", PortValue(w)}}).get<Mesh>();
   const auto b = run_node("PlantSprite", d, {}, {{"in", PortValue(w)}}).get<Mesh>();
@@ -701,7 +707,8 @@ TEST(PlantSprite, DeterministicAndNodeFeedsInstance) {
   auto pts = std::make_shared<Points>();
   pts->add({5, 5, 12}, 0);
   pts->add({1, 2, 3}, 0);
-  const auto scene = run_node("Instance", d, {}, {{"in", PortValue(PointsPtr(pts))}, {"mesh_0", PortValue(MeshPtr(a))}}).get<Scene>();
+  const auto scene =
+      run_node("Instance", d, {}, {{"in", PortValue(PointsPtr(pts))}, {"mesh_0", PortValue(MeshPtr(a))}}).get<Scene>();
   ASSERT_EQ(scene->size(), 2u);
   EXPECT_EQ(scene->classes.at(0).mesh, a);
 }

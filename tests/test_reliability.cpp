@@ -82,11 +82,14 @@ std::string without_date(const fs::path& name, std::string bytes) {
 }
 
 // Same file names and contents (up to EXR dates); reports names only.
-::testing::AssertionResult same_files(const std::map<fs::path, std::string>& a, const std::map<fs::path, std::string>& b) {
+::testing::AssertionResult same_files(const std::map<fs::path, std::string>& a,
+                                      const std::map<fs::path, std::string>& b) {
   std::string diff;
   for (const auto& [name, bytes] : a) {
-    if (!b.count(name)) diff += " missing:" + name.string();
-    else if (without_date(name, bytes) != without_date(name, b.at(name))) diff += " differs:" + name.string();
+    if (!b.count(name))
+      diff += " missing:" + name.string();
+    else if (without_date(name, bytes) != without_date(name, b.at(name)))
+      diff += " differs:" + name.string();
   }
   for (const auto& [name, bytes] : b)
     if (!a.count(name)) diff += " extra:" + name.string();
@@ -102,7 +105,8 @@ std::vector<fs::path> temporaries_under(const fs::path& dir) {
   return found;
 }
 
-std::string constant_graph(const std::string& path, const std::string& domain = R"({ "size": [100, 100], "resolution": [16, 16] })") {
+std::string constant_graph(const std::string& path,
+                           const std::string& domain = R"({ "size": [100, 100], "resolution": [16, 16] })") {
   return R"({ "format": "orogen-graph", "version": 1, "domain": )" + domain + R"(,
   "nodes": [
     { "id": "flat", "type": "Constant", "params": { "value": 5 } },
@@ -178,21 +182,23 @@ TEST(FullDisk, RealSmallTmpfsKeepsThePreviousFile) {
   const auto dir = scratch_dir("full-disk-tmpfs");
   const auto mnt = dir / "mnt";
   fs::create_directories(mnt);
-  const auto probe = run_process("/usr/bin/unshare", {"-rm", "sh", "-c", "mount -t tmpfs -o size=64k tmpfs " + mnt.string()});
+  const auto probe =
+      run_process("/usr/bin/unshare", {"-rm", "sh", "-c", "mount -t tmpfs -o size=64k tmpfs " + mnt.string()});
   if (probe.exit_code != 0) GTEST_SKIP() << "cannot mount a tmpfs here: " << probe.err;
   // Small first (fits), then 257x257 (about 260 KB EXR, 130 KB PNG) on a disk with only the rest free.
   write_text(dir / "small.json", constant_graph("h.exr"));
   write_text(dir / "big.json", R"({ "format": "orogen-graph", "version": 1,
     "domain": { "size": [100, 100], "resolution": [257, 257] },
     "nodes": [ { "id": "n", "type": "Perlin", "params": { "feature_size": 3 } },
-               { "id": "save", "type": "WriteHeightfield", "inputs": { "height": "n.out" }, "params": { "path": "h.exr" } } ] })");
+               { "id": "save", "type": "WriteHeightfield", "inputs": { "height": "n.out" },
+                 "params": { "path": "h.exr" } } ] })");
   const std::string cli = cli_binary().string(), m = mnt.string();
-  const std::string script =
-      "set -u; mount -t tmpfs -o size=256k tmpfs " + m + " || exit 90; " + cli + " eval " + (dir / "small.json").string() +
-      " -o " + m + "/out -q || exit 91; cp " + m + "/out/h.exr " + (dir / "before.exr").string() + "; " +
-      "dd if=/dev/zero of=" + m + "/fill bs=1k count=200 2>/dev/null; " + cli + " eval " + (dir / "big.json").string() +
-      " -o " + m + "/out -q; rc=$?; cmp -s " + m + "/out/h.exr " + (dir / "before.exr").string() +
-      " && echo SAME; ls -a " + m + "/out; exit $rc";
+  const std::string script = "set -u; mount -t tmpfs -o size=256k tmpfs " + m + " || exit 90; " + cli + " eval " +
+                             (dir / "small.json").string() + " -o " + m + "/out -q || exit 91; cp " + m +
+                             "/out/h.exr " + (dir / "before.exr").string() + "; " + "dd if=/dev/zero of=" + m +
+                             "/fill bs=1k count=200 2>/dev/null; " + cli + " eval " + (dir / "big.json").string() +
+                             " -o " + m + "/out -q; rc=$?; cmp -s " + m + "/out/h.exr " +
+                             (dir / "before.exr").string() + " && echo SAME; ls -a " + m + "/out; exit $rc";
   const auto r = run_process("/usr/bin/unshare", {"-rm", "sh", "-c", script});
   ASSERT_NE(r.exit_code, 90) << r.err;
   ASSERT_NE(r.exit_code, 91) << r.err;
@@ -256,7 +262,8 @@ TEST(SymlinkEscape, CacheSubdirectoryLinksAreNotFollowed) {
     fs::create_directory_symlink(elsewhere, cache / name);
   }
   write_text(dir / "g.json", constant_graph("h.exr"));
-  const auto r = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "--cache-dir", cache.string(), "-q"});
+  const auto r =
+      orogen({"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "--cache-dir", cache.string(), "-q"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::is_empty(elsewhere)) << "a cache entry was written through a link";
   expect_cache_valid(cache);
@@ -274,7 +281,8 @@ TEST(ControlCharacters, NulAndControlCharactersInPathsRefusedAtLoad) {
       "domain": { "size": [100, 100], "resolution": [16, 16] },
       "nodes": [ { "id": "flat", "type": "Constant" },
                  { "id": "save", "type": "WriteHeightfield", "inputs": { "height": "flat.out" },
-                   "params": { "path": ")" + std::string(path) + R"(" } } ] })";
+                   "params": { "path": ")" +
+                             std::string(path) + R"(" } } ] })";
     write_text(dir / "g.json", text);
     const auto v = orogen({"validate", (dir / "g.json").string()});
     EXPECT_EQ(v.exit_code, 2) << v.out;
@@ -328,30 +336,53 @@ TEST(DamagedCache, EveryKindOfDamageIsRecomputed) {
   const auto reference = files_under(dir / "ref");
   using Damage = std::function<void(const fs::path&)>;
   const std::vector<std::pair<std::string, Damage>> damages = {
-      {"directory", [](const fs::path& p) { fs::remove(p); fs::create_directories(p / "inner"); }},
+      {"directory",
+       [](const fs::path& p) {
+         fs::remove(p);
+         fs::create_directories(p / "inner");
+       }},
       {"empty", [](const fs::path& p) { write_text(p, ""); }},
       {"truncated", [](const fs::path& p) { fs::resize_file(p, fs::file_size(p) / 2); }},
       {"too long", [](const fs::path& p) { std::ofstream(p, std::ios::app) << "trailing"; }},
-      {"checksum", [](const fs::path& p) {
+      {"checksum",
+       [](const fs::path& p) {
          std::fstream f(p, std::ios::in | std::ios::out | std::ios::binary);
          f.seekp(static_cast<std::streamoff>(DiskCache::kHeaderBytes + 3));
          f.put('\x5a');
        }},
-      {"version", [](const fs::path& p) {
+      {"version",
+       [](const fs::path& p) {
          std::fstream f(p, std::ios::in | std::ios::out | std::ios::binary);
          f.seekp(8);
          f.put('\x7f');
        }},
-      {"fifo", [](const fs::path& p) { fs::remove(p); ::mkfifo(p.c_str(), 0644); }},
-      {"dangling link", [](const fs::path& p) { fs::remove(p); fs::create_symlink("/nonexistent/x", p); }},
-      {"link to a file", [&](const fs::path& p) { fs::remove(p); fs::create_symlink(graph, p); }},
-      {"subdirectory is a file", [](const fs::path& p) { fs::remove_all(p.parent_path()); write_text(p.parent_path(), "x"); }},
+      {"fifo",
+       [](const fs::path& p) {
+         fs::remove(p);
+         ::mkfifo(p.c_str(), 0644);
+       }},
+      {"dangling link",
+       [](const fs::path& p) {
+         fs::remove(p);
+         fs::create_symlink("/nonexistent/x", p);
+       }},
+      {"link to a file",
+       [&](const fs::path& p) {
+         fs::remove(p);
+         fs::create_symlink(graph, p);
+       }},
+      {"subdirectory is a file",
+       [](const fs::path& p) {
+         fs::remove_all(p.parent_path());
+         write_text(p.parent_path(), "x");
+       }},
   };
   for (const auto& [what, damage] : damages) {
     SCOPED_TRACE(what);
     std::vector<fs::path> entries;
     for (const auto& e : fs::recursive_directory_iterator(cache))
-      if (e.path().extension() == ".orc" && fs::is_regular_file(fs::symlink_status(e.path()))) entries.push_back(e.path());
+      if (e.path().extension() == ".orc" && fs::is_regular_file(fs::symlink_status(e.path())))
+        entries.push_back(e.path());
     ASSERT_FALSE(entries.empty());
     for (const auto& entry : entries) damage(entry);
     const auto out = scratch_dir("damaged-cache-out");
@@ -371,10 +402,10 @@ TEST(NumericOptions, NonFiniteAndOutOfRangeAreUsageErrors) {
   const auto dir = scratch_dir("numeric-options");
   write_text(dir / "g.json", constant_graph("h.exr"));
   const std::vector<std::vector<std::string>> bad = {
-      {"--cache-mb", "nan"},        {"--cache-mb", "inf"},       {"--cache-mb", "1e20"},  {"--cache-mb", "-1"},
-      {"--cache-mb", "12abc"},      {"--cache-mb", "-nan"},      {"--cache-disk-mb", "nan"}, {"--cache-disk-mb", "1e300"},
-      {"--max-memory", "inf"},      {"--max-memory", "-5G"},     {"--max-memory", "0"},   {"--max-memory", "12Q"},
-      {"--threads", "1e20"},        {"--threads", "-1"},         {"--resolution", "nanxnan"}};
+      {"--cache-mb", "nan"},   {"--cache-mb", "inf"},   {"--cache-mb", "1e20"},     {"--cache-mb", "-1"},
+      {"--cache-mb", "12abc"}, {"--cache-mb", "-nan"},  {"--cache-disk-mb", "nan"}, {"--cache-disk-mb", "1e300"},
+      {"--max-memory", "inf"}, {"--max-memory", "-5G"}, {"--max-memory", "0"},      {"--max-memory", "12Q"},
+      {"--threads", "1e20"},   {"--threads", "-1"},     {"--resolution", "nanxnan"}};
   for (const auto& option : bad) {
     std::vector<std::string> args = {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "-q"};
     args.insert(args.end(), option.begin(), option.end());
@@ -485,7 +516,8 @@ TEST(HugeRequest, ResolutionBeyondMemoryIsRefusedUpFront) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("node 'flat'"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("bytes"), std::string::npos) << r.err;
-  const auto small = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "-q", "--max-memory", "1K"});
+  const auto small =
+      orogen({"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "-q", "--max-memory", "1K"});
   EXPECT_EQ(small.exit_code, 2) << small.err;
 }
 
@@ -536,7 +568,10 @@ TEST(CacheBound, EntriesAreCompressedAndTheDirectoryStaysWithinItsBound) {
   const auto dir = scratch_dir("cache-bound");
   const auto cache = dir / "cache";
   write_text(dir / "g.json", constant_graph("h.exr", R"({ "size": [100, 100], "resolution": [512, 512] })"));
-  ASSERT_EQ(orogen({"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "--cache-dir", cache.string(), "-q"}).exit_code, 0);
+  ASSERT_EQ(
+      orogen({"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "--cache-dir", cache.string(), "-q"})
+          .exit_code,
+      0);
   std::uint64_t bytes = 0;
   for (const auto& e : fs::recursive_directory_iterator(cache))
     if (e.is_regular_file()) bytes += e.file_size();
@@ -547,7 +582,8 @@ TEST(CacheBound, EntriesAreCompressedAndTheDirectoryStaysWithinItsBound) {
   for (int seed = 0; seed < 8; ++seed) {
     write_text(dir / "n.json", R"({ "format": "orogen-graph", "version": 1,
       "domain": { "size": [100, 100], "resolution": [160, 160] },
-      "nodes": [ { "id": "n", "type": "Perlin", "params": { "seed": )" + std::to_string(seed) + R"(, "feature_size": 3 } } ] })");
+      "nodes": [ { "id": "n", "type": "Perlin", "params": { "seed": )" +
+                                   std::to_string(seed) + R"(, "feature_size": 3 } } ] })");
     ASSERT_EQ(orogen({"eval", (dir / "n.json").string(), "-o", (dir / "out").string(), "--cache-dir", cache.string(),
                       "--cache-disk-mb", "0.29296875", "-q"})
                   .exit_code,
@@ -598,8 +634,12 @@ TEST(SharedCache, TwoConcurrentEvaluationsTwentyTimes) {
     write_text(dir / "round.json", doc.dump());
     ProcessResult a, b;
     const auto out_a = scratch_dir("shared-a"), out_b = scratch_dir("shared-b");
-    std::thread ta([&] { a = orogen({"eval", (dir / "round.json").string(), "-o", out_a.string(), "--cache-dir", cache.string(), "-q"}); });
-    std::thread tb([&] { b = orogen({"eval", (dir / "round.json").string(), "-o", out_b.string(), "--cache-dir", cache.string(), "-q"}); });
+    std::thread ta([&] {
+      a = orogen({"eval", (dir / "round.json").string(), "-o", out_a.string(), "--cache-dir", cache.string(), "-q"});
+    });
+    std::thread tb([&] {
+      b = orogen({"eval", (dir / "round.json").string(), "-o", out_b.string(), "--cache-dir", cache.string(), "-q"});
+    });
     ta.join();
     tb.join();
     EXPECT_EQ(a.exit_code, 0) << a.err;
@@ -648,7 +688,8 @@ TEST(KillNine, RandomMomentsLeaveOutputsAndCacheConsistent) {
       const int null = ::open("/dev/null", O_WRONLY);
       ::dup2(null, 1);
       ::dup2(null, 2);
-      const std::string cli = cli_binary().string(), g = (dir / "k.json").string(), o = out.string(), c = cache.string();
+      const std::string cli = cli_binary().string(), g = (dir / "k.json").string(), o = out.string(),
+                        c = cache.string();
       ::execl(cli.c_str(), cli.c_str(), "eval", g.c_str(), "-o", o.c_str(), "--cache-dir", c.c_str(), "-q", nullptr);
       ::_exit(127);
     }

@@ -33,7 +33,8 @@ Check check(const Hull& h) {
       if (!directed.insert({f[k], f[(k + 1) % 3]}).second) c.closed = false;  // an edge used twice the same way
   for (const auto& [a, b] : directed)
     if (!directed.count({b, a})) c.closed = false;  // every edge has its twin
-  c.euler = static_cast<long>(h.vertices.size()) - static_cast<long>(directed.size() / 2) + static_cast<long>(h.faces.size());
+  c.euler =
+      static_cast<long>(h.vertices.size()) - static_cast<long>(directed.size() / 2) + static_cast<long>(h.faces.size());
   glm::dvec3 centroid(0.0);
   for (const auto& v : h.vertices) centroid += v;
   centroid /= static_cast<double>(h.vertices.size());
@@ -171,7 +172,9 @@ TEST(SmallHull, MatchesCgalOn100kSets) {
     } catch (const std::invalid_argument&) {
       small_ok = false;
     }
-    ASSERT_EQ(cgal_ok, small_ok) << "set " << k << " n " << pts.size() << " cgal volume " << (cgal_ok ? volume(a) : -1.0) << " faces " << a.faces.size() << " vertices " << a.vertices.size();
+    ASSERT_EQ(cgal_ok, small_ok) << "set " << k << " n " << pts.size() << " cgal volume "
+                                 << (cgal_ok ? volume(a) : -1.0) << " faces " << a.faces.size() << " vertices "
+                                 << a.vertices.size();
     if (!cgal_ok) {
       ++rejected;
       continue;
@@ -190,11 +193,12 @@ TEST(SmallHull, MatchesCgalOn100kSets) {
     } else {
       ++degenerate;
       if (k % 16 < 4)
-      for (const auto& q : pts)  // every input inside the small hull
-        for (const auto& f : b.faces) {
-          const glm::dvec3 nrm = glm::normalize(glm::cross(b.vertices[f[1]] - b.vertices[f[0]], b.vertices[f[2]] - b.vertices[f[0]]));
-          ASSERT_LE(glm::dot(nrm, q - b.vertices[f[0]]), 1e-9) << "set " << k;
-        }
+        for (const auto& q : pts)  // every input inside the small hull
+          for (const auto& f : b.faces) {
+            const glm::dvec3 nrm =
+                glm::normalize(glm::cross(b.vertices[f[1]] - b.vertices[f[0]], b.vertices[f[2]] - b.vertices[f[0]]));
+            ASSERT_LE(glm::dot(nrm, q - b.vertices[f[0]]), 1e-9) << "set " << k;
+          }
     }
   }
   EXPECT_EQ(general, 80000);
@@ -215,8 +219,8 @@ TEST(RockSet, VariantsInARowWithoutOverlapCentersAndRadiiInThePlacements) {
   append_rock_set(mesh, places, p);
   places.check_consistent();
   ASSERT_EQ(places.size(), 6u);
-  const long euler = static_cast<long>(mesh.n_vertices()) - static_cast<long>(mesh.n_edges()) +
-                     static_cast<long>(mesh.n_faces());
+  const long euler =
+      static_cast<long>(mesh.n_vertices()) - static_cast<long>(mesh.n_edges()) + static_cast<long>(mesh.n_faces());
   EXPECT_EQ(euler, 12) << "six closed rocks";
   double previous_right = -1e9;
   for (int k = 0; k < 6; ++k) {
@@ -257,7 +261,8 @@ TEST(RockSet, VariantsInARowWithoutOverlapCentersAndRadiiInThePlacements) {
   for (int k = 0; k < 6; ++k) {
     HullRockOptions o = p.rock;
     o.variant = static_cast<std::uint64_t>(k);
-    for (int a = 0; a < 3; ++a) o.radii[a] *= 1.0 + p.variation * (2.0 * variant_uniform(p.rock.seed, o.variant, a) - 1.0);
+    for (int a = 0; a < 3; ++a)
+      o.radii[a] *= 1.0 + p.variation * (2.0 * variant_uniform(p.rock.seed, o.variant, a) - 1.0);
     vertices += hull_rock(o).vertices.size();
   }
   EXPECT_EQ(mesh.n_vertices(), vertices);

@@ -67,7 +67,8 @@ int free_probes(const Points& pts, const PoissonParams& p, int k, glm::dvec2 lo,
     bool ok = true;
     for (std::size_t q = 0; q < pts.size() && ok; ++q) {
       const double dx = pts.position[q].x - x, dy = pts.position[q].y - y;
-      const double c = poisson_conflict_distance(p, k, static_cast<float>(rk), class_index(p, pts.class_id[q]), radius[q]);
+      const double c =
+          poisson_conflict_distance(p, k, static_cast<float>(rk), class_index(p, pts.class_id[q]), radius[q]);
       if (dx * dx + dy * dy < c * c) ok = false;
     }
     free += ok;
@@ -123,7 +124,8 @@ TEST(PoissonDisk, MinimumDistanceHoldsWithVariableRadiusAndClasses) {
   auto dens = std::make_shared<Heightfield>(Domain::from_extent({-1000, -1000}, {2000, 2000}, {201, 201}));
   for (int j = 0; j < dens->height(); ++j)
     for (int i = 0; i < dens->width(); ++i)
-      dens->at(i, j) = static_cast<float>(0.55 + 0.45 * std::sin(dens->domain.x(i) / 37.0) * std::cos(dens->domain.y(j) / 23.0));
+      dens->at(i, j) =
+          static_cast<float>(0.55 + 0.45 * std::sin(dens->domain.x(i) / 37.0) * std::cos(dens->domain.y(j) / 23.0));
   PoissonParams p;
   p.classes = {{3.0, 0, nullptr}, {8.0, 1, nullptr}, {1.5, 2, nullptr}};
   p.density = dens.get();
@@ -171,13 +173,15 @@ TEST(PoissonDisk, TileInvariantBitForBit) {
   p.seed = 42;
   const glm::dvec2 lo{-300, -200}, hi{300, 250};
   const Points full = poisson_disk(lo, hi, p);
-  for (const auto& [a, b] : std::vector<std::pair<glm::dvec2, glm::dvec2>>{
-           {{-37.5, 12.25}, {61.0, 99.0}}, {{-300, -200}, {-250, -120}}, {{200, 100}, {300, 250}}, {{0, 0}, {40, 40}}}) {
+  for (const auto& [a, b] : std::vector<std::pair<glm::dvec2, glm::dvec2>>{{{-37.5, 12.25}, {61.0, 99.0}},
+                                                                           {{-300, -200}, {-250, -120}},
+                                                                           {{200, 100}, {300, 250}},
+                                                                           {{0, 0}, {40, 40}}}) {
     const Points part = poisson_disk(a, b, p);
     const Points expected = inside(full, a, b);
     EXPECT_GT(part.size(), 10u);
-    EXPECT_TRUE(same_points(part, expected)) << "tile [" << a.x << "," << a.y << "]-[" << b.x << "," << b.y << "]: "
-                                             << part.size() << " vs " << expected.size();
+    EXPECT_TRUE(same_points(part, expected)) << "tile [" << a.x << "," << a.y << "]-[" << b.x << "," << b.y
+                                             << "]: " << part.size() << " vs " << expected.size();
   }
 }
 
@@ -214,8 +218,8 @@ TEST(PoissonDisk, ConstantRadiusPathTileInvariantDeterministicAndMaximal) {
 TEST(PoissonDisk, NodeIsResolutionIndependentAndTileInvariant) {
   const Domain coarse = Domain::from_extent({1000, -500}, {400, 300}, {65, 49});
   const Domain fine = Domain::from_extent({1000, -500}, {400, 300}, {257, 193});
-  const std::map<std::string, ParamValue> params{{"class_count", std::int64_t{2}}, {"radius_0", 6.0},
-                                                  {"radius_1", 2.0}, {"seed", std::uint64_t{9}}};
+  const std::map<std::string, ParamValue> params{
+      {"class_count", std::int64_t{2}}, {"radius_0", 6.0}, {"radius_1", 2.0}, {"seed", std::uint64_t{9}}};
   const auto a = run_node("PoissonDisk", coarse, params).get<Points>();
   const auto b = run_node("PoissonDisk", fine, params).get<Points>();
   EXPECT_GT(a->size(), 1000u);
@@ -235,7 +239,8 @@ TEST(PoissonDisk, CrossClassSeparation) {
     for (std::size_t a = 0; a < pts.size(); ++a)
       for (std::size_t b = a + 1; b < pts.size(); ++b)
         if (pts.class_id[a] != pts.class_id[b])
-          best = std::min(best, static_cast<double>(glm::length(glm::vec2(pts.position[a]) - glm::vec2(pts.position[b]))));
+          best =
+              std::min(best, static_cast<double>(glm::length(glm::vec2(pts.position[a]) - glm::vec2(pts.position[b]))));
     return best;
   };
   for (double cross : {1.0, 0.5}) {
@@ -331,7 +336,6 @@ TEST(PoissonDisk, RefusesWhatItCannotHonour) {
   EXPECT_THROW(poisson_disk({9e11, 0}, {9e11 + 100, 100}, one_class(1.0)), std::runtime_error);
   EXPECT_THROW(poisson_disk({0, 0}, {10, 10}, one_class(0.0)), std::invalid_argument);
 }
-
 
 // A terrain: flat at 0 m for x < 0, flat at 200 m for x > 100, a ramp in between (slope 2).
 std::shared_ptr<Heightfield> step_terrain() {
@@ -499,8 +503,10 @@ TEST(BiomeScatter, CountsAndSpeciesFollowTheBiomeTable) {
   std::map<int, int> counts;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     ++counts[pts.class_id[i]];
-    if (pts.class_id[i] == 2) EXPECT_GE(pts.position[i].x, -4.0f);
-    else EXPECT_LE(pts.position[i].x, 4.0f);
+    if (pts.class_id[i] == 2)
+      EXPECT_GE(pts.position[i].x, -4.0f);
+    else
+      EXPECT_LE(pts.position[i].x, 4.0f);
   }
   const double cells_left = 75.0 * 150.0;  // 150 m x 300 m in 2 m cells
   auto near = [](int n, double expected) { EXPECT_NEAR(n, expected, 5.0 * std::sqrt(expected)) << expected; };
@@ -586,7 +592,8 @@ TEST(Instance, ClassWithoutAMeshIsAnErrorAProxyOrLeftOut) {
     instance(pts, {{0, rock}, {2, rock}});
     FAIL() << "class 1 has no mesh";
   } catch (const NodeError& e) {
-    EXPECT_NE(std::string(e.what()).find("class 1 has 10 points but no mesh: connect mesh_1"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("class 1 has 10 points but no mesh: connect mesh_1"), std::string::npos)
+        << e.what();
   }
   const auto proxied = instance(pts, {{0, rock}}, {{"missing_mesh", std::string("proxy")}});
   EXPECT_EQ(proxied->size(), 30u);
@@ -633,7 +640,8 @@ TEST(Instance, SceneSurvivesTheCacheSerialization) {
   Scene broken;
   broken.instances = pts;
   broken.classes[0] = SceneClass{"a", proxy_mesh(), false};
-  EXPECT_THROW(deserialize_value(serialize_value(PortValue(ScenePtr(std::make_shared<Scene>(broken))))), SerializationError);
+  EXPECT_THROW(deserialize_value(serialize_value(PortValue(ScenePtr(std::make_shared<Scene>(broken))))),
+               SerializationError);
 }
 
 TEST(WriteScene, GpuInstancesLoadBackWithTheirTransforms) {
@@ -730,7 +738,8 @@ TEST(SceneNodes, EveryParameterAndInputChangesTheKey) {
 TEST(ProjectToTerrain, SetsHeightAndAlignsToTheNormal) {
   auto h = std::make_shared<Heightfield>(Domain::from_extent({0, 0}, {100, 100}, {51, 51}));
   for (int j = 0; j < h->height(); ++j)
-    for (int i = 0; i < h->width(); ++i) h->at(i, j) = static_cast<float>(0.5 * h->domain.x(i) + 3.0);  // slope 0.5 in x
+    for (int i = 0; i < h->width(); ++i)
+      h->at(i, j) = static_cast<float>(0.5 * h->domain.x(i) + 3.0);  // slope 0.5 in x
   auto pts = std::make_shared<Points>();
   pts->add({20, 30, 0});
   pts->add({70, 10, 0});
@@ -752,7 +761,9 @@ TEST(MergePoints, ConcatenatesWithAttributes) {
   b->add({5, 6, 7}, 1);
   b->add({8, 9, 10}, 2);
   b->attribute("radius", 2.0f);
-  const auto out = run_node("MergePoints", Domain{}, {}, {{"a", PortValue(PointsPtr(a))}, {"b", PortValue(PointsPtr(b))}}).get<Points>();
+  const auto out =
+      run_node("MergePoints", Domain{}, {}, {{"a", PortValue(PointsPtr(a))}, {"b", PortValue(PointsPtr(b))}})
+          .get<Points>();
   out->check_consistent();
   ASSERT_EQ(out->size(), 3u);
   EXPECT_EQ(out->class_id[2], 2);
@@ -905,7 +916,8 @@ TEST(ShadePlacement, NodeKeepsShadeLoversInShadeAndOthersInSun) {
   for (int j = 0; j <= 70; ++j)
     for (int i = 0; i <= 70; ++i) cand->add({-10.0f + i, -10.0f + j, 0.0f}, 3);
   const Domain d = Domain::from_extent({-10, -10}, {70, 70}, {71, 71});
-  const std::map<std::string, PortValue> in{{"in", PortValue(PointsPtr(cand))}, {"casters", PortValue(PointsPtr(trees))}};
+  const std::map<std::string, PortValue> in{{"in", PortValue(PointsPtr(cand))},
+                                            {"casters", PortValue(PointsPtr(trees))}};
   const std::map<std::string, ParamValue> params{{"crown_radius", 3.0}, {"crown_height", 10.0}};
   const auto shade = run_node("ShadePlacement", d, params, in);
   auto sun_params = params;
@@ -954,7 +966,8 @@ TEST(ForestLifeCycle, AgesScalesAndCompetitionHold) {
     EXPECT_LE(age[i], p.max_age);
     EXPECT_GE(forest.scale[i].x, p.min_scale - 1e-6);
     EXPECT_LE(forest.scale[i].x, p.max_scale + 1e-6);
-    EXPECT_NEAR(forest.scale[i].x, p.min_scale + std::min(1.0, age[i] / p.maturity_age) * (p.max_scale - p.min_scale), 1e-5);
+    EXPECT_NEAR(forest.scale[i].x, p.min_scale + std::min(1.0, age[i] / p.maturity_age) * (p.max_scale - p.min_scale),
+                1e-5);
     young = young || age[i] < 60;
     const auto& q = forest.position[i];
     EXPECT_TRUE(q.x >= 0 && q.x <= 200 && q.y >= 0 && q.y <= 200);
@@ -997,7 +1010,6 @@ TEST(ForestLifeCycle, SameSeedSameForestAndSuitabilityRespected) {
   EXPECT_LE(forest_life_cycle(initial, p).size(), initial.size());
 }
 
-
 TEST(ShadePlacement, SunFromPlaceAndTimeMatchesItsAnglesAndNightShadesEverything) {
   // Cooper's declination: about +23.45 deg at the June solstice, -23.45 at the December one, 0 near the equinoxes.
   EXPECT_NEAR(climate::declination_for_day(172), 23.45, 0.05);
@@ -1009,13 +1021,18 @@ TEST(ShadePlacement, SunFromPlaceAndTimeMatchesItsAnglesAndNightShadesEverything
   for (int j = 0; j <= 40; ++j)
     for (int i = 0; i <= 40; ++i) cand->add({-20.0f + i, -20.0f + j, 0.0f}, 3);
   const Domain d = Domain::from_extent({-20, -20}, {40, 40}, {41, 41});
-  const std::map<std::string, PortValue> in{{"in", PortValue(PointsPtr(cand))}, {"casters", PortValue(PointsPtr(trees))}};
+  const std::map<std::string, PortValue> in{{"in", PortValue(PointsPtr(cand))},
+                                            {"casters", PortValue(PointsPtr(trees))}};
   // At solar noon at 45 N on day 100 the sun is due south at 90 - 45 + declination degrees.
   const double decl = climate::declination_for_day(100);
-  const std::map<std::string, ParamValue> by_time{{"crown_radius", 3.0}, {"crown_height", 10.0}, {"sun", std::string("time")},
-                                                  {"latitude", 45.0}, {"day_of_year", std::int64_t{100}}, {"hour", 12.0}};
-  const std::map<std::string, ParamValue> by_angles{{"crown_radius", 3.0}, {"crown_height", 10.0}, {"sun_azimuth", 180.0},
-                                                    {"sun_elevation", 45.0 + decl}};
+  const std::map<std::string, ParamValue> by_time{{"crown_radius", 3.0},
+                                                  {"crown_height", 10.0},
+                                                  {"sun", std::string("time")},
+                                                  {"latitude", 45.0},
+                                                  {"day_of_year", std::int64_t{100}},
+                                                  {"hour", 12.0}};
+  const std::map<std::string, ParamValue> by_angles{
+      {"crown_radius", 3.0}, {"crown_height", 10.0}, {"sun_azimuth", 180.0}, {"sun_elevation", 45.0 + decl}};
   const auto a = run_node("ShadePlacement", d, by_time, in).get<Points>(0);
   const auto b = run_node("ShadePlacement", d, by_angles, in).get<Points>(0);
   ASSERT_GT(a->size(), 10u);

@@ -30,7 +30,8 @@ class ForestSeed : public ::testing::Test {
     const auto csv = read_csv(run_->out / "forest" / "points.csv");
     points_ = new std::vector<P>;
     for (std::size_t k = 0; k < csv.at("x").size(); ++k)
-      points_->push_back({csv.at("x")[k], csv.at("y")[k], csv.at("z")[k], csv.at("sx")[k], static_cast<int>(csv.at("class")[k])});
+      points_->push_back(
+          {csv.at("x")[k], csv.at("y")[k], csv.at("z")[k], csv.at("sx")[k], static_cast<int>(csv.at("class")[k])});
     ages_ = new std::vector<double>(csv.at("age"));
   }
   static void TearDownTestSuite() {
@@ -66,7 +67,8 @@ double min_ratio(const std::vector<P>& pts, double reach, Need need) {
         const auto it = grid.find({gx, gy});
         if (it == grid.end()) continue;
         for (int j : it->second)
-          if (j > i) worst = std::min(worst, std::hypot(pts[i].x - pts[j].x, pts[i].y - pts[j].y) / need(pts[i], pts[j]));
+          if (j > i)
+            worst = std::min(worst, std::hypot(pts[i].x - pts[j].x, pts[i].y - pts[j].y) / need(pts[i], pts[j]));
       }
   }
   return worst;
@@ -123,13 +125,15 @@ TEST_F(ForestSeed, ShadeLovingPlantsStandInShadowAndOthersInTheSun) {
     ASSERT_EQ(sp[key], fp[key]) << key;
   // The sun for the latitude, day and solar hour: Cooper's declination, hour angle 15 deg/h from noon.
   const double phi = sp["latitude"].get<double>() * kDeg;
-  const double delta = 23.45 * std::sin(2 * std::numbers::pi * (284.0 + sp["day_of_year"].get<double>()) / 365.0) * kDeg;
+  const double delta =
+      23.45 * std::sin(2 * std::numbers::pi * (284.0 + sp["day_of_year"].get<double>()) / 365.0) * kDeg;
   const double h = 15.0 * (sp["hour"].get<double>() - 12.0) * kDeg;
   const double sin_alt = std::sin(phi) * std::sin(delta) + std::cos(phi) * std::cos(delta) * std::cos(h);
   ASSERT_GT(sin_alt, 0.05) << "the graph's sun is under the horizon";
   const double alt = std::asin(sin_alt);
   // Azimuth clockwise from north, afternoon in the west.
-  double az = std::acos(std::clamp((std::sin(delta) - std::sin(alt) * std::sin(phi)) / (std::cos(alt) * std::cos(phi)), -1.0, 1.0));
+  double az = std::acos(
+      std::clamp((std::sin(delta) - std::sin(alt) * std::sin(phi)) / (std::cos(alt) * std::cos(phi)), -1.0, 1.0));
   if (h > 0) az = 2 * std::numbers::pi - az;
   const double ux = std::sin(az) * std::cos(alt), uy = std::cos(az) * std::cos(alt), uz = sin_alt;
 

@@ -70,9 +70,12 @@ struct Counts {
 Counts count(const ModuleString& w) {
   Counts c;
   for (char s : w.symbols) {
-    if (s == 'X') ++c.x;
-    else if (s == 'F') ++c.f;
-    else ++c.other;
+    if (s == 'X')
+      ++c.x;
+    else if (s == 'F')
+      ++c.f;
+    else
+      ++c.other;
   }
   return c;
 }

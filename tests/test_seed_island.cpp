@@ -20,9 +20,20 @@ namespace {
 // The table of the graph's Biomes node, retyped from A. Patel (2010) as the graph uses it: water first, then
 // the elevation zones by temperature band (< 0, 0..8, 8..16, >= 16 deg C) and moisture sixths. Names in the
 // order the Biomes node numbers them (first appearance).
-const char* kNames[] = {"water", "scorched", "bare", "tundra", "snow", "temperate_desert", "shrubland", "taiga",
-                        "grassland", "temperate_deciduous_forest", "temperate_rain_forest", "subtropical_desert",
-                        "tropical_seasonal_forest", "tropical_rain_forest"};
+const char* kNames[] = {"water",
+                        "scorched",
+                        "bare",
+                        "tundra",
+                        "snow",
+                        "temperate_desert",
+                        "shrubland",
+                        "taiga",
+                        "grassland",
+                        "temperate_deciduous_forest",
+                        "temperate_rain_forest",
+                        "subtropical_desert",
+                        "tropical_seasonal_forest",
+                        "tropical_rain_forest"};
 
 int expected_biome(bool wet, double t, double m) {
   if (wet) return 0;
@@ -105,7 +116,8 @@ TEST_F(IslandSeed, RiversRunDownToTheSea) {
   const double spacing = size / (height.width - 1);
   auto sea_near = [&](double x, double y) {
     // Any sample within two spacings of (x, y) in the sea of the graph (below 0.5 m; row 0 is the northern row).
-    const int ci = static_cast<int>(std::lround(x / spacing)), cj = height.height - 1 - static_cast<int>(std::lround(y / spacing));
+    const int ci = static_cast<int>(std::lround(x / spacing)),
+              cj = height.height - 1 - static_cast<int>(std::lround(y / spacing));
     for (int j = std::max(0, cj - 2); j <= std::min(height.height - 1, cj + 2); ++j)
       for (int i = std::max(0, ci - 2); i <= std::min(height.width - 1, ci + 2); ++i)
         if (height.at(i, j) < 0.5) return true;
@@ -130,8 +142,9 @@ TEST_F(IslandSeed, RiversRunDownToTheSea) {
       // Otherwise it ends where its parent begins (a confluence) and the chain of parents reaches the coast.
       ASSERT_LT(parent[c], static_cast<int>(features.size()));
       const auto& first = features[static_cast<std::size_t>(parent[c])]["geometry"]["coordinates"][0];
-      EXPECT_NEAR(std::hypot(last[0].get<double>() - first[0].get<double>(), last[1].get<double>() - first[1].get<double>()),
-                  0.0, 1e-2)
+      EXPECT_NEAR(
+          std::hypot(last[0].get<double>() - first[0].get<double>(), last[1].get<double>() - first[1].get<double>()),
+          0.0, 1e-2)
           << "river " << c;
     }
   }

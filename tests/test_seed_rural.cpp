@@ -16,7 +16,8 @@ namespace orogen::test {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr const char* kMonths[12] = {"jan", "feb", "mar", "apr", "may", "jun", "jul", "aug", "sep", "oct", "nov", "dec"};
+constexpr const char* kMonths[12] = {"jan", "feb", "mar", "apr", "may", "jun",
+                                     "jul", "aug", "sep", "oct", "nov", "dec"};
 constexpr int kDays[12] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
 
 // Long (2016) eq. 3.3 with June as the northern summer: 23.5 deg in June, -23.5 in December.
@@ -127,7 +128,8 @@ TEST_F(RuralSeed, KClustersCoverTheMap) {
   ASSERT_EQ(report["clusters"].size(), static_cast<std::size_t>(k));
   std::int64_t total = 0;
   for (int c = 0; c < k; ++c) {
-    EXPECT_EQ(report["clusters"][static_cast<std::size_t>(c)]["count"].get<std::int64_t>(), counts[static_cast<std::size_t>(c)]);
+    EXPECT_EQ(report["clusters"][static_cast<std::size_t>(c)]["count"].get<std::int64_t>(),
+              counts[static_cast<std::size_t>(c)]);
     total += counts[static_cast<std::size_t>(c)];
   }
   EXPECT_EQ(total, static_cast<std::int64_t>(ids.width) * ids.height);

@@ -28,13 +28,17 @@ namespace fs = std::filesystem;
 
 const fs::path kGraph = test::source_dir() / "graphs" / "seamscape.json";
 
-test::ProcessResult orogen_cli(const std::vector<std::string>& args) { return test::run_process(test::cli_binary(), args); }
+test::ProcessResult orogen_cli(const std::vector<std::string>& args) {
+  return test::run_process(test::cli_binary(), args);
+}
 
 // One channel of an EXR as rows south first (files store the northern row first).
 struct Grid {
   int width = 0, height = 0;
   std::vector<double> v;
-  double at(int i, int j) const { return v[static_cast<std::size_t>(j) * static_cast<std::size_t>(width) + static_cast<std::size_t>(i)]; }
+  double at(int i, int j) const {
+    return v[static_cast<std::size_t>(j) * static_cast<std::size_t>(width) + static_cast<std::size_t>(i)];
+  }
 };
 
 Grid read_grid(const fs::path& file) {
@@ -45,18 +49,21 @@ Grid read_grid(const fs::path& file) {
   g.v.resize(raw.values.size());
   for (int j = 0; j < raw.height; ++j)
     for (int i = 0; i < raw.width; ++i)
-      g.v[static_cast<std::size_t>(j * raw.width + i)] = raw.values[static_cast<std::size_t>((raw.height - 1 - j) * raw.width + i)];
+      g.v[static_cast<std::size_t>(j * raw.width + i)] =
+          raw.values[static_cast<std::size_t>((raw.height - 1 - j) * raw.width + i)];
   return g;
 }
 
-std::string tile_file(int i, int j) { return "seamscape/height_x" + std::to_string(i) + "_y" + std::to_string(j) + ".exr"; }
+std::string tile_file(int i, int j) {
+  return "seamscape/height_x" + std::to_string(i) + "_y" + std::to_string(j) + ".exr";
+}
 
 // Builds the graph as 2 x 2 tiles at 129 x 129 samples (tiles of 65 x 65) and returns the four tiles'
 // heights, [j][i]. `extra` is appended to the command of tile (1, 0) only (then built alone with --tile).
 std::vector<std::vector<Grid>> tiled_heights(const fs::path& out, std::string* err,
                                              const std::vector<std::string>& extra = {}) {
-  const std::vector<std::string> base = {"eval", kGraph.string(), "-o", out.string(), "--resolution", "129",
-                                         "--tiles", "2x2", "--quiet"};
+  const std::vector<std::string> base = {"eval", kGraph.string(), "-o",  out.string(), "--resolution",
+                                         "129",  "--tiles",       "2x2", "--quiet"};
   auto r = orogen_cli(base);
   EXPECT_EQ(r.exit_code, 0) << r.err;
   if (err) *err = r.err;
@@ -69,7 +76,8 @@ std::vector<std::vector<Grid>> tiled_heights(const fs::path& out, std::string* e
   }
   std::vector<std::vector<Grid>> tiles(2, std::vector<Grid>(2));
   for (int j = 0; j < 2; ++j)
-    for (int i = 0; i < 2; ++i) tiles[static_cast<std::size_t>(j)][static_cast<std::size_t>(i)] = read_grid(out / tile_file(i, j));
+    for (int i = 0; i < 2; ++i)
+      tiles[static_cast<std::size_t>(j)][static_cast<std::size_t>(i)] = read_grid(out / tile_file(i, j));
   return tiles;
 }
 

@@ -211,7 +211,8 @@ TEST(CancellableRows, EveryRowOnceAndProgressInItsSpan) {
     reported.push_back(f);
   });
   std::vector<std::atomic<int>> hits(1000);
-  parallel_rows(ctx, 1000, [&](int j) { hits[static_cast<std::size_t>(j)]++; }, 0.25, 0.75);
+  parallel_rows(
+      ctx, 1000, [&](int j) { hits[static_cast<std::size_t>(j)]++; }, 0.25, 0.75);
   for (const auto& h : hits) EXPECT_EQ(h.load(), 1);
   ASSERT_FALSE(reported.empty());
   for (double f : reported) {

@@ -239,8 +239,8 @@ TEST(Hillshade, ImageIsLambertsCosineOnPlanesOfKnownSlopeAndAspect) {
   EXPECT_GT(shadowed, 10) << "slopes facing away from the sun are among the cases";
   // Flat ground under any sun: sin(elevation).
   for (double elevation : {1.0, 30.0, 90.0})
-    EXPECT_NEAR(gray_image(*hillshade(plane(0, 0), 77.0, elevation, 1.0))->pixel(3, 7)[0],
-                std::sin(elevation * kDeg), 1e-6);
+    EXPECT_NEAR(gray_image(*hillshade(plane(0, 0), 77.0, elevation, 1.0))->pixel(3, 7)[0], std::sin(elevation * kDeg),
+                1e-6);
   // z_factor steepens the plane: 20 degrees at z_factor 2 is atan(2 tan 20) degrees.
   const double steeper = std::atan(2.0 * std::tan(20 * kDeg)) / kDeg;
   EXPECT_NEAR(gray_image(*hillshade(plane(20, 90), 90, 30, 2.0))->pixel(5, 5)[0], lambert(steeper, 90, 90, 30), 2e-5);
@@ -305,7 +305,7 @@ TEST(ColorByLayers, ExactColorPerLayerBlendingByWeightAndPrecedence) {
   set_pixel(w, 2, 0, {0, 0, 1, 0});
   set_pixel(w, 3, 0, {0, 0, 0, 1});
   set_pixel(w, 0, 1, {0.25f, 0.75f, 0, 0});
-  set_pixel(w, 1, 1, {2, 0, 0, 0});  // weights are not normalized
+  set_pixel(w, 1, 1, {2, 0, 0, 0});                 // weights are not normalized
   set_pixel(w, 2, 1, {std::nanf(""), 0.5f, 0, 0});  // a non-finite weight counts as 0
   set_pixel(w, 3, 1, {0, 0, 0, 0});
   ColorByLayersParams p;
@@ -335,8 +335,8 @@ TEST(ColorByLayers, ShadeScalesByStrengthClampedAndNonFiniteIsUnshaded) {
   for (int i = 0; i < 4; ++i) set_pixel(w, i, 0, {1});
   Heightfield shade(w.domain);
   shade.at(0, 0) = 0.4f;
-  shade.at(1, 0) = 1.7f;   // clamped to 1
-  shade.at(2, 0) = -3.0f;  // clamped to 0
+  shade.at(1, 0) = 1.7f;                                    // clamped to 1
+  shade.at(2, 0) = -3.0f;                                   // clamped to 0
   shade.at(3, 0) = std::numeric_limits<float>::infinity();  // not finite: unshaded
   ColorByLayersParams p;
   p.colors = {{"grass", kGrass}};
@@ -364,7 +364,8 @@ TEST(ColorByLayers, NodeReadsSrgbHexColorsByLayerName) {
   auto w = std::make_shared<Image>(weights(2, 2, {"dirt", "snow"}));
   set_pixel(*w, 0, 0, {1, 0});
   set_pixel(*w, 1, 0, {0, 1});
-  const auto out = run_node("ColorByLayers", w->domain, {{"colors", layer_color_rows({{"snow", {255, 255, 255}}, {"dirt", {0, 0, 0}}})}},
+  const auto out = run_node("ColorByLayers", w->domain,
+                            {{"colors", layer_color_rows({{"snow", {255, 255, 255}}, {"dirt", {0, 0, 0}}})}},
                             {{"in", PortValue(ImagePtr(w))}})
                        .get<Image>();
   expect_rgb(*out, 0, 0, glm::vec4(0, 0, 0, 1));
@@ -440,8 +441,9 @@ TEST(ImageChannel, UnknownNameOrIndexBeyondTheChannelsIsRefused) {
   EXPECT_THROW(image_channel(img, p), NodeError);
   // Through the node: a bad name stops the node too.
   auto shared = std::make_shared<Image>(img);
-  EXPECT_THROW(run_node("ImageChannel", img.domain, {{"name", std::string("alpha")}}, {{"in", PortValue(ImagePtr(shared))}}),
-               NodeError);
+  EXPECT_THROW(
+      run_node("ImageChannel", img.domain, {{"name", std::string("alpha")}}, {{"in", PortValue(ImagePtr(shared))}}),
+      NodeError);
   EXPECT_EQ(run_node("ImageChannel", img.domain, {{"name", std::string("blue")}}, {{"in", PortValue(ImagePtr(shared))}})
                 .get<Heightfield>()
                 ->at(3, 2),

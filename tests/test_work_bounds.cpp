@@ -55,8 +55,8 @@ TEST(CheckedCount, CountsFitOrAreRefusedWithTheParametersToChange) {
   EXPECT_EQ(checked_count(-4.0, "steps", "raise x"), 1);
   EXPECT_EQ(checked_count(0.0, "steps", "raise x", 10, true), 0);
   EXPECT_EQ(checked_count(2147483647.0, "steps", "raise x"), 2147483647);
-  for (const double bad : {2147483648.0, 1e10, std::numeric_limits<double>::infinity(),
-                           std::numeric_limits<double>::quiet_NaN()}) {
+  for (const double bad :
+       {2147483648.0, 1e10, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()}) {
     try {
       (void)checked_count(bad, "time steps (duration / time_step)", "raise time_step or lower duration");
       ADD_FAILURE() << bad << " was accepted";
@@ -79,8 +79,8 @@ TEST(WorkPoll, WithoutAContextNothingIsChecked) {
 // 9: duration 1e10 yr in 1-yr steps ran as one 1e10-yr step (int overflow) and exited 0.
 TEST(WorkBounds, StreamPowerStepCountOverflowIsRefused) {
   const Domain d = Domain::from_extent({0, 0}, {640, 640}, {33, 33});
-  const std::string e = node_error("StreamPower", d, {{"duration", 1e10}, {"time_step", 1.0}},
-                                   {{"in", PortValue(fbm_like(d, 300.0))}});
+  const std::string e =
+      node_error("StreamPower", d, {{"duration", 1e10}, {"time_step", 1.0}}, {{"in", PortValue(fbm_like(d, 300.0))}});
   EXPECT_NE(e.find("time_step"), std::string::npos) << e;
   EXPECT_NE(e.find("duration"), std::string::npos) << e;
 }
@@ -89,13 +89,13 @@ TEST(WorkBounds, StreamPowerStepCountOverflowIsRefused) {
 // fine grid (UBSan's float-cast-overflow): refused up front with the parameters to change.
 TEST(WorkBounds, ThermalErosionIterationCountIsCheckedNotCast) {
   const Domain d = Domain::from_extent({0, 0}, {1e-4, 1e-4}, {17, 17});
-  const std::string e = node_error("ThermalErosion", d, {{"travel_distance", 1e5}},
-                                   {{"in", PortValue(fbm_like(d, 1e-3))}});
+  const std::string e =
+      node_error("ThermalErosion", d, {{"travel_distance", 1e5}}, {{"in", PortValue(fbm_like(d, 1e-3))}});
   EXPECT_NE(e.find("travel_distance"), std::string::npos) << e;
   const Domain coarse = Domain::from_extent({0, 0}, {160, 160}, {17, 17});
-  EXPECT_EQ(node_error("ThermalErosion", coarse, {{"travel_distance", 50.0}},
-                       {{"in", PortValue(fbm_like(coarse, 30.0))}}),
-            "");
+  EXPECT_EQ(
+      node_error("ThermalErosion", coarse, {{"travel_distance", 50.0}}, {{"in", PortValue(fbm_like(coarse, 30.0))}}),
+      "");
 }
 
 // A river segment of infinite width (a width law's overflow) or with a non-finite end is drawn without
@@ -124,15 +124,15 @@ TEST(WorkBounds, RiverMaskOfInfiniteAndNonFiniteSegments) {
 TEST(WorkBounds, StreamPowerDiffusionSubStepsAreCountedOrRefused) {
   const Domain d = Domain::from_extent({0, 0}, {16, 16}, {65, 65});
   for (const double time_step : {1e4, 1e8}) {
-    const std::string e = node_error("StreamPower", d, {{"diffusion", 100.0}, {"time_step", time_step},
-                                                        {"duration", 1e10}},
-                                     {{"in", PortValue(fbm_like(d, 300.0))}});
+    const std::string e =
+        node_error("StreamPower", d, {{"diffusion", 100.0}, {"time_step", time_step}, {"duration", 1e10}},
+                   {{"in", PortValue(fbm_like(d, 300.0))}});
     EXPECT_NE(e.find("diffusion"), std::string::npos) << e;
   }
   // A plan within the ceiling still runs, and diffusion never raises the relief.
-  const auto run = run_node("StreamPower", d, {{"diffusion", 100.0}, {"time_step", 1.0}, {"duration", 2.0},
-                                               {"uplift_rate", 0.0}, {"k", 0.0}},
-                            {{"in", PortValue(fbm_like(d, 300.0))}});
+  const auto run = run_node(
+      "StreamPower", d, {{"diffusion", 100.0}, {"time_step", 1.0}, {"duration", 2.0}, {"uplift_rate", 0.0}, {"k", 0.0}},
+      {{"in", PortValue(fbm_like(d, 300.0))}});
   const auto out = run.get<Heightfield>(0);
   for (float v : out->data) {
     EXPECT_TRUE(std::isfinite(v));
@@ -147,8 +147,8 @@ TEST(WorkBounds, PipeErosionRefusesNonFiniteRainfallNamingThePort) {
   auto rain = std::make_shared<Heightfield>(d);
   for (auto& v : rain->data) v = 50.0f;
   rain->at(3, 4) = std::numeric_limits<float>::infinity();
-  const std::string e = node_error("PipeErosion", d, {}, {{"in", PortValue(fbm_like(d, 50.0))},
-                                                          {"rainfall", PortValue(HeightfieldPtr(rain))}});
+  const std::string e = node_error(
+      "PipeErosion", d, {}, {{"in", PortValue(fbm_like(d, 50.0))}, {"rainfall", PortValue(HeightfieldPtr(rain))}});
   EXPECT_NE(e.find("PipeErosion"), std::string::npos) << e;
   EXPECT_NE(e.find("'rainfall'"), std::string::npos) << e;
   EXPECT_NE(e.find("(3, 4)"), std::string::npos) << e;
@@ -159,9 +159,9 @@ TEST(WorkBounds, PipeErosionOverflowingWaterIsAnErrorNotAZeroTimeStep) {
   const Domain d = Domain::from_extent({0, 0}, {320, 320}, {33, 33});
   auto rain = std::make_shared<Heightfield>(d);
   for (auto& v : rain->data) v = 3e38f;
-  const std::string e = node_error("PipeErosion", d, {{"duration", 1e4}},
-                                   {{"in", PortValue(fbm_like(d, 50.0))},
-                                    {"rainfall", PortValue(HeightfieldPtr(rain))}});
+  const std::string e =
+      node_error("PipeErosion", d, {{"duration", 1e4}},
+                 {{"in", PortValue(fbm_like(d, 50.0))}, {"rainfall", PortValue(HeightfieldPtr(rain))}});
   EXPECT_NE(e.find("PipeErosion"), std::string::npos) << e;
 }
 
@@ -176,8 +176,8 @@ TEST(WorkBounds, VoronoiIslandAtExtremeAspectRatiosIsAResultOrAClearError) {
     for (const std::string distribution : {"poisson", "uniform"})
       for (const std::int64_t relaxation : {std::int64_t{2}, std::int64_t{3}}) {
         try {
-          const auto run = run_node("VoronoiIsland", d, {{"size", size}, {"distribution", distribution},
-                                                         {"relaxation", relaxation}});
+          const auto run = run_node("VoronoiIsland", d,
+                                    {{"size", size}, {"distribution", distribution}, {"relaxation", relaxation}});
           EXPECT_FALSE(run.get<PolygonMap>(0)->cells.empty());
           ++islands;
         } catch (const NodeError& e) {

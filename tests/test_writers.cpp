@@ -150,8 +150,10 @@ TEST(WriterNodes, UpperCaseExtensionsAndLongNames) {
 
       const std::string long_name = std::string(255 - ext.size(), 'n') + ext;
       const std::string error = run_writer(*type, dir / "long", long_name);
-      if (error.empty()) EXPECT_TRUE(fs::is_regular_file(dir / "long" / long_name));
-      else EXPECT_NE(error.find("name"), std::string::npos) << "not a clear error: " << error;
+      if (error.empty())
+        EXPECT_TRUE(fs::is_regular_file(dir / "long" / long_name));
+      else
+        EXPECT_NE(error.find("name"), std::string::npos) << "not a clear error: " << error;
       EXPECT_TRUE(our_temporaries(dir).empty());
     }
   }
@@ -198,8 +200,10 @@ class SmallTmpfs {
   SmallTmpfs(const fs::path& where, const char* size) : dir_(where) {
     fs::create_directories(dir_);
     const std::string options = std::string("size=") + size;
-    if (::mount("tmpfs", dir_.c_str(), "tmpfs", 0, options.c_str()) == 0) mounted_ = true;
-    else why_ = std::strerror(errno);
+    if (::mount("tmpfs", dir_.c_str(), "tmpfs", 0, options.c_str()) == 0)
+      mounted_ = true;
+    else
+      why_ = std::strerror(errno);
   }
   ~SmallTmpfs() {
     if (mounted_) ::umount2(dir_.c_str(), MNT_DETACH);
@@ -218,10 +222,8 @@ void fill_disk(const fs::path& dir) {
   const int fd = ::open((dir / "fill").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   ASSERT_GE(fd, 0);
   const std::string block(512, 'f');
-  while (::write(fd, block.data(), block.size()) > 0) {
-  }
-  for (char c = 0; ::write(fd, &c, 1) > 0;) {
-  }
+  while (::write(fd, block.data(), block.size()) > 0) {}
+  for (char c = 0; ::write(fd, &c, 1) > 0;) {}
   ::close(fd);
 }
 
@@ -461,7 +463,8 @@ TEST(FileText, NewlineInATextThatLandsInAFileIsRefusedAtLoad) {
       "nodes": [ { "id": "flat", "type": "Constant" },
                  { "id": "mesh", "type": "HeightfieldToMesh", "inputs": { "in": "flat.out" } },
                  { "id": "save", "type": "WriteMesh", "inputs": { "in": "mesh.out" },
-                   "params": { "path": "t.obj", "texture": ")" + std::string(texture) + R"(" } } ] })");
+                   "params": { "path": "t.obj", "texture": ")" +
+                                   std::string(texture) + R"(" } } ] })");
     const auto v = orogen({"validate", (dir / "g.json").string()});
     EXPECT_EQ(v.exit_code, 2) << v.out;
     EXPECT_NE((v.out + v.err).find("texture"), std::string::npos) << v.out << v.err;

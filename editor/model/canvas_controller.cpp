@@ -13,7 +13,7 @@ namespace orogen::editor {
 namespace {
 constexpr double kDragThreshold = 3.0;  // pixels before a press becomes a drag
 constexpr double kPinGrabPixels = 9.0;
-constexpr double kZoomStep = 1.15;      // per wheel notch
+constexpr double kZoomStep = 1.15;  // per wheel notch
 constexpr double kDuplicateOffset = 40.0;
 }  // namespace
 
@@ -24,7 +24,9 @@ ClipboardAccess ClipboardAccess::local() {
 
 CanvasController::CanvasController(Document& document, Selection& selection, ClipboardAccess clipboard,
                                    std::vector<const NodeType*> palette_types)
-    : document_(&document), selection_(selection), clipboard_(std::move(clipboard)),
+    : document_(&document),
+      selection_(selection),
+      clipboard_(std::move(clipboard)),
       palette_types_(palette_types.empty() ? NodeRegistry::instance().all() : std::move(palette_types)) {
   palette_.set_types(palette_types_);
 }
@@ -78,8 +80,10 @@ void CanvasController::handle(const InputEvent& event) {
         } else if constexpr (std::is_same_v<E, Wheel>) {
           if (mode_ != Mode::Palette) view_.zoom_at(e.pos, std::pow(kZoomStep, e.notches));
         } else if constexpr (std::is_same_v<E, KeyDown>) {
-          if (mode_ == Mode::Palette) on_palette_key(e);
-          else on_key_down(e);
+          if (mode_ == Mode::Palette)
+            on_palette_key(e);
+          else
+            on_key_down(e);
         } else if constexpr (std::is_same_v<E, KeyUp>) {
           if (e.key == Key::Space) space_held_ = false;
         } else if constexpr (std::is_same_v<E, TextInput>) {
@@ -231,7 +235,8 @@ void CanvasController::on_key_down(const KeyDown& e) {
       break;
     case Key::Delete:
     case Key::X:
-      if (!ctrl && mode_ == Mode::Idle) delete_selection();
+      if (!ctrl && mode_ == Mode::Idle)
+        delete_selection();
       else if (ctrl && e.key == Key::X && mode_ == Mode::Idle) {
         copy_selection();
         delete_selection();
@@ -333,8 +338,10 @@ std::string CanvasController::confirm_palette(const NodeType* type) {
         const PinId& anchor = palette_link_->anchor();
         for (const auto& port : anchor.output ? type->inputs : type->outputs) {
           if (port.type != palette_link_->type()) continue;
-          if (anchor.output) g.connect(PortRef{anchor.node, anchor.port}, id, port.name);
-          else g.connect(PortRef{id, port.name}, anchor.node, anchor.port);
+          if (anchor.output)
+            g.connect(PortRef{anchor.node, anchor.port}, id, port.name);
+          else
+            g.connect(PortRef{id, port.name}, anchor.node, anchor.port);
           break;
         }
       }
@@ -360,9 +367,8 @@ void CanvasController::duplicate_selection() {
   const auto box = layout().bounds(ids);
   const auto text = copy_fragment(document_->graph(), ids);
   std::vector<std::string> pasted;
-  document_->edit("Duplicate", [&](Graph& g) {
-    pasted = paste_fragment(g, text, box->min + glm::dvec2(kDuplicateOffset));
-  });
+  document_->edit("Duplicate",
+                  [&](Graph& g) { pasted = paste_fragment(g, text, box->min + glm::dvec2(kDuplicateOffset)); });
   after_edit();
   selection_.set(pasted);
 }

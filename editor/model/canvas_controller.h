@@ -112,8 +112,8 @@ class CanvasController {
   Mode mode_ = Mode::Idle;
   glm::dvec2 mouse_{0.0}, press_{0.0};
   bool space_held_ = false;
-  bool moved_ = false;             // a press turned into a drag
-  bool move_started_ = false;      // nodes have been moved in this drag
+  bool moved_ = false;         // a press turned into a drag
+  bool move_started_ = false;  // nodes have been moved in this drag
   std::string pressed_node_;
   bool box_additive_ = false;
   std::vector<std::string> box_base_;  // selection before an additive box

@@ -93,7 +93,8 @@ void Document::remove_nodes(const std::vector<std::string>& ids) {
 }
 
 void Document::connect(const PortRef& from, const std::string& to_node, const std::string& to_port) {
-  edit("Connect " + from.str() + " to " + to_node + "." + to_port, [&](Graph& g) { g.connect(from, to_node, to_port); });
+  edit("Connect " + from.str() + " to " + to_node + "." + to_port,
+       [&](Graph& g) { g.connect(from, to_node, to_port); });
 }
 
 void Document::disconnect(const std::string& to_node, const std::string& to_port) {
@@ -101,8 +102,9 @@ void Document::disconnect(const std::string& to_node, const std::string& to_port
 }
 
 void Document::set_param(const std::string& node, const std::string& name, const ParamValue& value, bool gesture) {
-  edit("Set " + node + "." + name, [&](Graph& g) { g.set_param(node, name, value); },
-       gesture ? "param:" + node + "." + name : std::string());
+  edit(
+      "Set " + node + "." + name, [&](Graph& g) { g.set_param(node, name, value); },
+      gesture ? "param:" + node + "." + name : std::string());
 }
 
 void Document::reset_param(const std::string& node, const std::string& name) {
@@ -111,12 +113,13 @@ void Document::reset_param(const std::string& node, const std::string& name) {
 
 void Document::move_nodes(const std::vector<std::string>& ids, glm::dvec2 delta, bool gesture) {
   if (ids.empty()) return;
-  edit(ids.size() == 1 ? "Move " + ids.front() : "Move " + std::to_string(ids.size()) + " nodes",
-       [&](Graph& g) {
-         for (const auto& id : ids)
-           if (g.find(id)) g.editor.positions[id] += delta;
-       },
-       gesture ? std::string("move") : std::string());
+  edit(
+      ids.size() == 1 ? "Move " + ids.front() : "Move " + std::to_string(ids.size()) + " nodes",
+      [&](Graph& g) {
+        for (const auto& id : ids)
+          if (g.find(id)) g.editor.positions[id] += delta;
+      },
+      gesture ? std::string("move") : std::string());
 }
 
 void Document::rename_node(const std::string& id, const std::string& new_id) {

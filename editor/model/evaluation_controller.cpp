@@ -8,13 +8,20 @@ namespace orogen::editor {
 
 std::string_view to_string(NodeRunState::Phase phase) {
   switch (phase) {
-    case NodeRunState::Phase::Unknown: return "not evaluated";
-    case NodeRunState::Phase::Stale: return "out of date";
-    case NodeRunState::Phase::Computing: return "computing";
-    case NodeRunState::Phase::Computed: return "up to date";
-    case NodeRunState::Phase::Cached: return "cached";
-    case NodeRunState::Phase::Failed: return "failed";
-    case NodeRunState::Phase::Skipped: return "skipped";
+    case NodeRunState::Phase::Unknown:
+      return "not evaluated";
+    case NodeRunState::Phase::Stale:
+      return "out of date";
+    case NodeRunState::Phase::Computing:
+      return "computing";
+    case NodeRunState::Phase::Computed:
+      return "up to date";
+    case NodeRunState::Phase::Cached:
+      return "cached";
+    case NodeRunState::Phase::Failed:
+      return "failed";
+    case NodeRunState::Phase::Skipped:
+      return "skipped";
   }
   return "?";
 }
@@ -193,8 +200,7 @@ void EvaluationController::preview_loop() {
     std::map<std::string, CacheKey> keys;
     try {
       keys = compute_cache_keys(job.graph, job.domain);
-    } catch (const std::exception&) {
-    }
+    } catch (const std::exception&) {}
     {
       std::lock_guard lock(mutex_);
       running_keys_ = std::move(keys);
@@ -242,8 +248,11 @@ void EvaluationController::request_thumbnails(const Graph& graph, std::uint64_t 
   Domain domain = preview_domain(graph.domain);
   {
     const double longer = std::max(graph.domain.size.x, graph.domain.size.y);
-    const auto along = [&](double size) { return std::max(2, static_cast<int>(std::lround(kThumbnailResolution * size / longer))); };
-    domain = Domain::from_extent(graph.domain.origin, graph.domain.size, {along(graph.domain.size.x), along(graph.domain.size.y)});
+    const auto along = [&](double size) {
+      return std::max(2, static_cast<int>(std::lround(kThumbnailResolution * size / longer)));
+    };
+    domain = Domain::from_extent(graph.domain.origin, graph.domain.size,
+                                 {along(graph.domain.size.x), along(graph.domain.size.y)});
   }
   Job job{graph, {}, revision, domain};
   for (const auto& node : graph.nodes())
@@ -387,7 +396,8 @@ void EvaluationController::run_build(Graph graph, Domain domain) {
 void EvaluationController::wait_idle() {
   std::unique_lock lock(mutex_);
   idle_.wait(lock, [&] {
-    return !running_ && !pending_.has_value() && !thumbnails_running_ && !pending_thumbnails_.has_value() && !build_.running;
+    return !running_ && !pending_.has_value() && !thumbnails_running_ && !pending_thumbnails_.has_value() &&
+           !build_.running;
   });
 }
 

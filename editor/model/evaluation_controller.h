@@ -39,9 +39,9 @@ struct NodeRunState {
     Skipped,    // an upstream node failed (message names it)
   };
   Phase phase = Phase::Unknown;
-  double progress = 0.0;      // Computing: fraction done
-  double milliseconds = 0.0;  // the last time it was computed (kept while cached or stale)
-  std::string message;        // Failed, Skipped
+  double progress = 0.0;        // Computing: fraction done
+  double milliseconds = 0.0;    // the last time it was computed (kept while cached or stale)
+  std::string message;          // Failed, Skipped
   std::optional<CacheKey> key;  // the key of the result it is up to date with
   bool by_build = false;        // the state comes from the last build (a full-resolution result)
 };
@@ -49,19 +49,19 @@ struct NodeRunState {
 std::string_view to_string(NodeRunState::Phase phase);
 
 struct PreviewResult {
-  std::uint64_t revision = 0;                             // the request's tag (document content revision)
-  std::uint64_t serial = 0;                               // increases with every published result
+  std::uint64_t revision = 0;  // the request's tag (document content revision)
+  std::uint64_t serial = 0;    // increases with every published result
   Domain domain;
   std::vector<std::string> requested;                     // the nodes asked for
   std::map<std::string, std::vector<PortValue>> outputs;  // outputs of the requested nodes that succeeded
   std::map<std::string, NodeReport> reports;              // every node the run touched
   double milliseconds = 0.0;
-  std::string error;                                      // an evaluation that threw (e.g. a cycle)
+  std::string error;  // an evaluation that threw (e.g. a cycle)
 };
 
 // Small pictures of every node's outputs for the canvas, evaluated after the preview at a low resolution.
 struct Thumbnails {
-  std::uint64_t revision = 0;                             // the request's tag
+  std::uint64_t revision = 0;  // the request's tag
   std::uint64_t serial = 0;
   std::map<std::string, std::vector<PortValue>> outputs;  // nodes that succeeded
   Domain domain;                                          // the world rectangle (points and curves are drawn in it)
@@ -69,11 +69,11 @@ struct Thumbnails {
 
 struct BuildStatus {
   bool running = false;
-  bool finished = false;     // a build ran to its end (successfully or not) since start_build
+  bool finished = false;  // a build ran to its end (successfully or not) since start_build
   bool ok = false;
   bool cancelled = false;
-  double fraction = 0.0;     // overall progress
-  std::string current;       // a node being computed
+  double fraction = 0.0;  // overall progress
+  std::string current;    // a node being computed
   double milliseconds = 0.0;
   std::vector<std::string> failures;  // "node: message"
   Domain domain;
@@ -159,7 +159,7 @@ class EvaluationController {
   CancelToken preview_cancel_;
   int preview_resolution_ = kDefaultPreviewResolution;
   std::map<std::string, NodeRunState> states_;
-  std::map<std::string, CacheKey> running_keys_;  // keys of the graph being evaluated
+  std::map<std::string, CacheKey> running_keys_;    // keys of the graph being evaluated
   std::map<std::string, CacheKey> requested_keys_;  // keys of the last preview request
   std::shared_ptr<const PreviewResult> preview_;
   std::uint64_t serial_ = 0;

@@ -8,11 +8,11 @@ namespace orogen::editor {
 namespace {
 
 constexpr double kMatch = 1.0;
-constexpr double kStartBonus = 3.0;      // first character of the text
-constexpr double kBoundaryBonus = 2.0;   // start of a word or camel-case hump
+constexpr double kStartBonus = 3.0;     // first character of the text
+constexpr double kBoundaryBonus = 2.0;  // start of a word or camel-case hump
 constexpr double kConsecutiveBonus = 2.0;
-constexpr double kGapPenalty = 0.1;      // per skipped character between matches
-constexpr double kLeadPenalty = 0.05;    // per character skipped before the first match
+constexpr double kGapPenalty = 0.1;    // per skipped character between matches
+constexpr double kLeadPenalty = 0.05;  // per character skipped before the first match
 constexpr double kNone = -std::numeric_limits<double>::infinity();
 
 char lower(char c) { return static_cast<char>(std::tolower(static_cast<unsigned char>(c))); }

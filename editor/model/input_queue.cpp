@@ -3,7 +3,8 @@
 namespace orogen::editor {
 
 void InputQueue::push(const RawInput& e) {
-  if (e.kind == RawInput::Kind::Key && e.code >= 0 && e.code < InputFrame::kKeys) after_.keys[static_cast<std::size_t>(e.code)] = e.down;
+  if (e.kind == RawInput::Kind::Key && e.code >= 0 && e.code < InputFrame::kKeys)
+    after_.keys[static_cast<std::size_t>(e.code)] = e.down;
   if (e.kind == RawInput::Kind::Button && e.code >= 0 && e.code < InputFrame::kButtons)
     after_.buttons[static_cast<std::size_t>(e.code)] = e.down;
   // Consecutive moves collapse into the last one (a fast mouse makes hundreds between frames).
@@ -58,8 +59,12 @@ std::size_t InputQueue::next_frame(InputFrame& state) {
         state.pointer = e.xy;
         state.has_pointer = true;
         break;
-      case RawInput::Kind::Scroll: state.wheel += e.xy; break;
-      case RawInput::Kind::Char: state.chars.push_back(static_cast<unsigned>(e.code)); break;
+      case RawInput::Kind::Scroll:
+        state.wheel += e.xy;
+        break;
+      case RawInput::Kind::Char:
+        state.chars.push_back(static_cast<unsigned>(e.code));
+        break;
     }
     if (press) break;  // a press ends its frame
   }

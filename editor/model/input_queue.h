@@ -8,7 +8,8 @@
 // what the press meant. The GLFW callbacks push raw events here instead; each frame takes events in order up
 // to and including the first press (of a key or a mouse button), and never two changes of one key or button:
 // a press is always seen down for a whole frame, with the modifiers and pointer position it happened with,
-// and releases, moves, wheel and text before it arrive in the same frame. Held keys (repeats) are left to ImGui's own repeat.
+// and releases, moves, wheel and text before it arrive in the same frame. Held keys (repeats) are left to ImGui's own
+// repeat.
 #include <array>
 #include <cstddef>
 #include <deque>
@@ -33,7 +34,7 @@ struct InputFrame {
   std::array<bool, kButtons> buttons{};
   bool has_pointer = false;  // a Move has been seen (else the window system's position stands)
   glm::dvec2 pointer{0.0};
-  glm::dvec2 wheel{0.0};     // this frame's scrolling
+  glm::dvec2 wheel{0.0};        // this frame's scrolling
   std::vector<unsigned> chars;  // this frame's text input
 };
 

@@ -43,7 +43,8 @@ std::string LinkDrag::drop(Document& document, const std::optional<PinId>& targe
   const PinId& out = anchor_.output ? anchor_ : *target;
   const PinId& in = anchor_.output ? *target : anchor_;
   const PortRef from{out.node, out.port};
-  document.edit(detached_ ? "Move link to " + in.node + "." + in.port : "Connect " + from.str() + " to " + in.node + "." + in.port,
+  document.edit(detached_ ? "Move link to " + in.node + "." + in.port
+                          : "Connect " + from.str() + " to " + in.node + "." + in.port,
                 [&](Graph& g) {
                   if (detached_) g.disconnect(detached_->node, detached_->port);
                   g.connect(from, in.node, in.port);

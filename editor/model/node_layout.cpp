@@ -38,9 +38,9 @@ NodeLayout layout_node(const Node& node, glm::dvec2 position, const TextMeasure&
   }
   width = std::clamp(width, M::kMinWidth, M::kMaxWidth);
   const bool picture = thumbnails && std::any_of(type.outputs.begin(), type.outputs.end(), [](const PortDecl& p) {
-    return p.type == PortType::Heightfield || p.type == PortType::Image || p.type == PortType::Points ||
-           p.type == PortType::Curves;
-  });
+                         return p.type == PortType::Heightfield || p.type == PortType::Image ||
+                                p.type == PortType::Points || p.type == PortType::Curves;
+                       });
   const double pins_bottom = M::kTitleHeight + 2.0 + static_cast<double>(rows) * M::kRowHeight;
   const double picture_height = picture ? M::kThumbnailHeight + 6.0 : 0.0;
   const double height = pins_bottom + picture_height + M::kStatusHeight + 2.0;

@@ -46,10 +46,11 @@ struct PinLayout {
 
 struct NodeLayout {
   std::string id;
-  Rect rect;          // the whole node
-  Rect title;         // the title bar
-  Rect status;        // the status line at the bottom (time, progress bar)
-  std::optional<Rect> thumbnail;  // between the pins and the status line, for nodes with a field, image, points or curves output
+  Rect rect;    // the whole node
+  Rect title;   // the title bar
+  Rect status;  // the status line at the bottom (time, progress bar)
+  std::optional<Rect>
+      thumbnail;  // between the pins and the status line, for nodes with a field, image, points or curves output
   std::vector<PinLayout> inputs, outputs;
   const PinLayout* find_pin(const std::string& port, bool output) const;
 };

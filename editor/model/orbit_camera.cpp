@@ -18,9 +18,7 @@ glm::dvec3 OrbitCamera::forward() const {
 
 glm::dvec3 OrbitCamera::eye() const { return target - forward() * distance; }
 
-glm::mat4 OrbitCamera::view() const {
-  return glm::mat4(glm::lookAt(eye(), target, glm::dvec3(0.0, 0.0, 1.0)));
-}
+glm::mat4 OrbitCamera::view() const { return glm::mat4(glm::lookAt(eye(), target, glm::dvec3(0.0, 0.0, 1.0))); }
 
 glm::mat4 OrbitCamera::projection(double aspect) const {
   const double near_plane = std::max(0.01, distance * 0.01);

@@ -11,9 +11,9 @@ class OrbitCamera {
  public:
   glm::dvec3 target{0.0};
   double distance = 1000.0;
-  double yaw = -0.6;     // radians around +z, 0 looks along +y
-  double pitch = 0.6;    // radians above the horizon
-  double fov_y = 0.7;    // radians
+  double yaw = -0.6;   // radians around +z, 0 looks along +y
+  double pitch = 0.6;  // radians above the horizon
+  double fov_y = 0.7;  // radians
 
   glm::dvec3 eye() const;
   glm::dvec3 forward() const;  // unit, from eye to target

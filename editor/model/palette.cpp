@@ -11,7 +11,7 @@ namespace orogen::editor {
 namespace {
 
 constexpr double kCategoryWeight = 0.6;
-constexpr double kDescriptionPrefix = 1.2;    // per character of a word-prefix match in the description
+constexpr double kDescriptionPrefix = 1.2;  // per character of a word-prefix match in the description
 constexpr double kExactNameBonus = 20.0;
 constexpr double kNamePrefixBonus = 6.0;
 
@@ -57,8 +57,10 @@ std::optional<PaletteMatch> score_type(const std::vector<std::string>& tokens, c
     match.score += best;
   }
   const auto name = lowered(type.name);
-  if (name == joined) match.score += kExactNameBonus;
-  else if (name.starts_with(joined)) match.score += kNamePrefixBonus;
+  if (name == joined)
+    match.score += kExactNameBonus;
+  else if (name.starts_with(joined))
+    match.score += kNamePrefixBonus;
   std::sort(match.name_positions.begin(), match.name_positions.end());
   match.name_positions.erase(std::unique(match.name_positions.begin(), match.name_positions.end()),
                              match.name_positions.end());

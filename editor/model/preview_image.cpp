@@ -80,12 +80,18 @@ Heightfield image_channel(const Image& image, int channel) {
 glm::vec3 colormap(ColorMap map, double t) {
   t = std::clamp(std::isfinite(t) ? t : 0.0, 0.0, 1.0);
   switch (map) {
-    case ColorMap::Gray: return glm::vec3(static_cast<float>(t));
-    case ColorMap::Terrain: return lookup(kTerrain, t);
-    case ColorMap::Viridis: return lookup(kViridis, t);
-    case ColorMap::Diverging: return lookup(kDiverging, t);
-    case ColorMap::Water: return lookup(kWater, t);
-    case ColorMap::Categorical: return categorical_srgb(std::lround(t * 11.0));  // ids 0..11 over the range
+    case ColorMap::Gray:
+      return glm::vec3(static_cast<float>(t));
+    case ColorMap::Terrain:
+      return lookup(kTerrain, t);
+    case ColorMap::Viridis:
+      return lookup(kViridis, t);
+    case ColorMap::Diverging:
+      return lookup(kDiverging, t);
+    case ColorMap::Water:
+      return lookup(kWater, t);
+    case ColorMap::Categorical:
+      return categorical_srgb(std::lround(t * 11.0));  // ids 0..11 over the range
   }
   return glm::vec3(0.0f);
 }
@@ -105,9 +111,11 @@ ValueRange value_range(const Heightfield& field) {
 std::vector<float> hillshade(const Heightfield& field, double azimuth_deg, double altitude_deg, double z_factor) {
   const int w = field.width(), h = field.height();
   const double az = azimuth_deg * M_PI / 180.0, alt = altitude_deg * M_PI / 180.0;
-  const float lx = static_cast<float>(std::sin(az) * std::cos(alt)), ly = static_cast<float>(std::cos(az) * std::cos(alt));
+  const float lx = static_cast<float>(std::sin(az) * std::cos(alt)),
+              ly = static_cast<float>(std::cos(az) * std::cos(alt));
   const float lz = static_cast<float>(std::sin(alt));
-  const float kx = static_cast<float>(z_factor / field.domain.spacing.x), ky = static_cast<float>(z_factor / field.domain.spacing.y);
+  const float kx = static_cast<float>(z_factor / field.domain.spacing.x),
+              ky = static_cast<float>(z_factor / field.domain.spacing.y);
   std::vector<float> out(field.data.size(), 1.0f);
   tbb::parallel_for(0, h, [&](int j) {
     // Central differences inside, one-sided at the borders.
@@ -141,7 +149,8 @@ HeightfieldStyle style_for(OutputKind kind) {
   HeightfieldStyle s;
   switch (kind) {
     case OutputKind::Auto:
-    case OutputKind::Height: break;
+    case OutputKind::Height:
+      break;
     case OutputKind::Mask:
       s.map = ColorMap::Gray;
       s.hillshade = false;
@@ -217,7 +226,8 @@ PreviewPixels render_heightfield(const Heightfield& field, const HeightfieldStyl
       if (std::isfinite(v))
         c = style.map == ColorMap::Categorical && std::abs(v) < 1e9f
                 ? categorical_srgb(std::lround(v))
-                : table[static_cast<std::size_t>(std::clamp(static_cast<int>((v - range.lo) * to_index), 0, kTable - 1))];
+                : table[static_cast<std::size_t>(
+                      std::clamp(static_cast<int>((v - range.lo) * to_index), 0, kTable - 1))];
       // Hillshade as a soft multiply: ambient 0.35 keeps valleys readable.
       if (style.hillshade) c *= 0.35f + 0.75f * shade[field.index(i, j)];
       p[0] = to_byte(c.r);
@@ -330,7 +340,6 @@ void put(PreviewPixels& px, int i, int j, glm::vec3 c) {
   p[3] = 255;
 }
 
-
 }  // namespace
 
 PreviewPixels render_points(const Points& points, const Domain& domain, int max_side) {
@@ -342,7 +351,8 @@ PreviewPixels render_points(const Points& points, const Domain& domain, int max_
     const glm::vec3 p = points.position[k];
     if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
     const glm::dvec2 q = frame.to_pixel(p.x, p.y);
-    const int i = static_cast<int>(std::floor(q.x - (dot - 1) * 0.5)), j = static_cast<int>(std::floor(q.y - (dot - 1) * 0.5));
+    const int i = static_cast<int>(std::floor(q.x - (dot - 1) * 0.5)),
+              j = static_cast<int>(std::floor(q.y - (dot - 1) * 0.5));
     const glm::vec3 c(marker_color(k < points.class_id.size() ? points.class_id[k] : 0));
     for (int dj = 0; dj < dot; ++dj)
       for (int di = 0; di < dot; ++di) put(px, i + di, j + dj, c);

@@ -17,7 +17,6 @@ namespace orogen::editor {
 
 namespace {
 
-
 const PortDecl* input_decl(const Node& node, const std::string& name) {
   for (const auto& in : node.type->inputs)
     if (in.name == name) return &in;
@@ -62,7 +61,8 @@ std::optional<SceneSources> scene_sources(const Graph& graph, const std::string&
   if (is_scene_writer(*node)) {
     s.writer = true;
     s.scene = connected(*node, "in");
-    if (const PortDecl* t = input_decl(*node, "terrain"); t && t->type == PortType::Mesh) s.terrain = connected(*node, "terrain");
+    if (const PortDecl* t = input_decl(*node, "terrain"); t && t->type == PortType::Mesh)
+      s.terrain = connected(*node, "terrain");
   } else if (const int k = scene_output(*node); k >= 0) {
     s.scene = PortRef{id, node->type->outputs[static_cast<std::size_t>(k)].name};
   } else {
@@ -139,7 +139,8 @@ TerrainMesh mesh_geometry(const Mesh& m, const MeshGeometryOptions& options) {
     glm::vec3 normal(n[0], n[1], n[2]);
     if (!(glm::length(normal) > 0.0f) || !std::isfinite(normal.x + normal.y + normal.z)) normal = {0, 0, 1};
     const auto c = mesh.has_vertex_colors() ? mesh.color(v) : OpenMesh::Vec4f(0.7f, 0.7f, 0.7f, 1.0f);
-    const glm::vec4 color(linear_to_srgb(c[0]), linear_to_srgb(c[1]), linear_to_srgb(c[2]), std::clamp(c[3], 0.0f, 1.0f));
+    const glm::vec4 color(linear_to_srgb(c[0]), linear_to_srgb(c[1]), linear_to_srgb(c[2]),
+                          std::clamp(c[3], 0.0f, 1.0f));
     if (!out.colors.empty() && color != out.colors.front()) uniform = false;
     out.positions.push_back(pos);
     out.normals.push_back(glm::normalize(normal));
@@ -156,7 +157,8 @@ TerrainMesh mesh_geometry(const Mesh& m, const MeshGeometryOptions& options) {
   for (auto f : mesh.faces()) {
     std::vector<std::uint32_t> ring;
     for (auto v : mesh.fv_range(f)) ring.push_back(static_cast<std::uint32_t>(v.idx()));
-    for (std::size_t k = 1; k + 1 < ring.size(); ++k) out.indices.insert(out.indices.end(), {ring[0], ring[k], ring[k + 1]});
+    for (std::size_t k = 1; k + 1 < ring.size(); ++k)
+      out.indices.insert(out.indices.end(), {ring[0], ring[k], ring[k + 1]});
   }
   return out;
 }
@@ -193,7 +195,7 @@ glm::vec4 class_color(int cls) {
 
 glm::vec4 marker_color(int cls) {
   static constexpr glm::vec4 kColors[] = {{1.0f, 0.31f, 0.31f, 1}, {1.0f, 0.86f, 0.24f, 1}, {0.31f, 0.86f, 1.0f, 1},
-                                          {0.78f, 0.47f, 1.0f, 1}, {0.47f, 1.0f, 0.47f, 1},  {1.0f, 0.59f, 0.24f, 1}};
+                                          {0.78f, 0.47f, 1.0f, 1}, {0.47f, 1.0f, 0.47f, 1}, {1.0f, 0.59f, 0.24f, 1}};
   return kColors[static_cast<unsigned>(cls) % 6];
 }
 
@@ -251,8 +253,8 @@ SceneClassInstances build_instances(const Scene& scene) {
   return out;
 }
 
-bool instance_bounds(const SceneInstances& instances, const std::vector<const TerrainMesh*>& class_meshes, glm::vec3& lo,
-                     glm::vec3& hi) {
+bool instance_bounds(const SceneInstances& instances, const std::vector<const TerrainMesh*>& class_meshes,
+                     glm::vec3& lo, glm::vec3& hi) {
   bool any = false;
   for (std::size_t c = 0; c < instances.per_class.size() && c < class_meshes.size(); ++c) {
     const TerrainMesh* tm = class_meshes[c];

@@ -30,9 +30,9 @@ namespace orogen::editor {
 
 // Where the parts of a scene come from. An empty PortRef::node: not connected / not found.
 struct SceneSources {
-  PortRef scene;    // the Scene: the writer's `in`, or the node's own Scene output
-  PortRef terrain;  // the writer's `terrain` (a Mesh); none for a node with a Scene output
-  PortRef ground;   // a height field upstream of the instances (for when there is no terrain mesh)
+  PortRef scene;        // the Scene: the writer's `in`, or the node's own Scene output
+  PortRef terrain;      // the writer's `terrain` (a Mesh); none for a node with a Scene output
+  PortRef ground;       // a height field upstream of the instances (for when there is no terrain mesh)
   bool writer = false;  // the node writes the scene (WriteScene), rather than making it
   // The distinct nodes to evaluate, in a stable order (scene, terrain, ground).
   std::vector<std::string> nodes() const;
@@ -70,8 +70,8 @@ struct MeshGeometryOptions {
 // Faces with more than three vertices are fanned.
 TerrainMesh mesh_geometry(const Mesh& mesh, const MeshGeometryOptions& options = {});
 
-// The stand-in Instance places for classes without a mesh (missing_mesh = proxy): an octahedron 1 m tall and 1 m across, its
-// base at the origin, in `color` (sRGB).
+// The stand-in Instance places for classes without a mesh (missing_mesh = proxy): an octahedron 1 m tall and 1 m
+// across, its base at the origin, in `color` (sRGB).
 TerrainMesh proxy_geometry(glm::vec4 color);
 
 // The colour of class `cls`'s proxies (muted, natural: greens, browns, greys), sRGB.

@@ -57,8 +57,10 @@ TerrainMesh build_terrain_mesh(const Heightfield& field, const TerrainMeshOption
         const int u = std::clamp(static_cast<int>(std::lround(s.x)), 0, img->width() - 1);
         const int v = std::clamp(static_cast<int>(std::lround(s.y)), 0, img->height() - 1);
         const float* px = img->pixel(u, v);
-        if (img->channels >= 3) c = {linear_to_srgb(px[0]), linear_to_srgb(px[1]), linear_to_srgb(px[2]), 1.0f};
-        else c = glm::vec4(glm::vec3(linear_to_srgb(px[0])), 1.0f);
+        if (img->channels >= 3)
+          c = {linear_to_srgb(px[0]), linear_to_srgb(px[1]), linear_to_srgb(px[2]), 1.0f};
+        else
+          c = glm::vec4(glm::vec3(linear_to_srgb(px[0])), 1.0f);
       }
       mesh.colors.push_back(c);
     }
@@ -101,8 +103,8 @@ TerrainMesh build_water_mesh(const Heightfield& terrain, const Heightfield& dept
   for (int r = 0; r < nr; ++r)
     for (int c = 0; c < nc; ++c) {
       const int i = cols[static_cast<std::size_t>(c)], j = rows[static_cast<std::size_t>(r)];
-      float v = same ? depth.at(i, j)
-                     : static_cast<float>(depth.sample_world(terrain.domain.x(i), terrain.domain.y(j)));
+      float v =
+          same ? depth.at(i, j) : static_cast<float>(depth.sample_world(terrain.domain.x(i), terrain.domain.y(j)));
       if (!std::isfinite(v) || v < 0.0f) v = 0.0f;
       const std::size_t k = static_cast<std::size_t>(r) * nc + c;
       d[k] = v;

@@ -21,8 +21,7 @@ class UndoHistory {
 
   // Records that the graph changes from `before` (state id `before_state`) to a new state. Returns the id
   // of the new state. With a merge key equal to that of the open step, the step is extended instead.
-  std::uint64_t record(const Graph& before, std::uint64_t before_state, std::string label,
-                       std::string merge_key = {});
+  std::uint64_t record(const Graph& before, std::uint64_t before_state, std::string label, std::string merge_key = {});
   // Ends the open gesture: the next record() starts a new step even with the same merge key.
   void close_merge() { merge_open_ = false; }
 
@@ -45,9 +44,9 @@ class UndoHistory {
 
  private:
   struct Step {
-    Graph graph;           // the state on the other side of this step
+    Graph graph;  // the state on the other side of this step
     std::uint64_t state = 0;
-    std::string label;     // what the step does, for "Undo <label>"
+    std::string label;  // what the step does, for "Undo <label>"
   };
   std::deque<Step> undo_, redo_;
   std::size_t limit_;

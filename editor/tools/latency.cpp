@@ -89,9 +89,12 @@ ParamValue nudged(const ParamDecl& decl, const ParamValue& v, int k) {
       if (y > hi) y = x - step;
       return std::clamp(y, decl.min.value_or(-1e300), decl.max.value_or(1e300));
     }
-    case ParamType::Int: return std::get<std::int64_t>(v) + ((k % 2) ? -1 : 1);
-    case ParamType::Seed: return std::get<std::uint64_t>(v) + static_cast<std::uint64_t>(k) + 1;
-    default: throw std::runtime_error("--param must name a float, int or seed parameter");
+    case ParamType::Int:
+      return std::get<std::int64_t>(v) + ((k % 2) ? -1 : 1);
+    case ParamType::Seed:
+      return std::get<std::uint64_t>(v) + static_cast<std::uint64_t>(k) + 1;
+    default:
+      throw std::runtime_error("--param must name a float, int or seed parameter");
   }
 }
 
@@ -125,7 +128,8 @@ int main(int argc, char** argv) {
   cli.add_option("--node", node, "Previewed node (default: the heightfield the graph writes)");
   cli.add_option("--param", param, "NODE.PARAM edited (default: a float parameter of the most upstream source)");
   cli.add_option("--iterations", iterations, "Edits measured")->check(CLI::Range(1, 10000));
-  cli.add_option("--resolution", resolution, "Preview resolution (samples on the longer side)")->check(CLI::Range(16, 8192));
+  cli.add_option("--resolution", resolution, "Preview resolution (samples on the longer side)")
+      ->check(CLI::Range(16, 8192));
   cli.add_option("--build-resolution", build_resolution, "Resolution of the background build (0: skip)")
       ->check(CLI::Range(0, 32768));
   CLI11_PARSE(cli, argc, argv);

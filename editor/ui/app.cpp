@@ -48,8 +48,10 @@ float splitter(const char* id, bool vertical, float thickness, float length) {
 
 std::string format_duration(double ms) {
   char buf[32];
-  if (ms < 1000.0) std::snprintf(buf, sizeof buf, "%.0f ms", ms);
-  else std::snprintf(buf, sizeof buf, "%.1f s", ms / 1000.0);
+  if (ms < 1000.0)
+    std::snprintf(buf, sizeof buf, "%.0f ms", ms);
+  else
+    std::snprintf(buf, sizeof buf, "%.1f s", ms / 1000.0);
   return buf;
 }
 
@@ -100,9 +102,13 @@ App::App(AppOptions options)
   evaluation_.set_on_change([] { glfwPostEmptyEvent(); });
   evaluation_.set_preview_resolution(options_.preview_resolution);
   output_dir_ = options_.output_dir;
-  canvas_ = std::make_unique<CanvasController>(*document_, selection_, ClipboardAccess{
-      [] { const char* t = ImGui::GetClipboardText(); return std::string(t ? t : ""); },
-      [](const std::string& s) { ImGui::SetClipboardText(s.c_str()); }});
+  canvas_ = std::make_unique<CanvasController>(
+      *document_, selection_,
+      ClipboardAccess{[] {
+                        const char* t = ImGui::GetClipboardText();
+                        return std::string(t ? t : "");
+                      },
+                      [](const std::string& s) { ImGui::SetClipboardText(s.c_str()); }});
   canvas_view_ = std::make_unique<NodeCanvasView>(*canvas_, evaluation_);
   canvas_->set_thumbnails(options_.thumbnails);
   viewport_3d_ = std::make_unique<Viewport3D>();
@@ -113,8 +119,10 @@ App::App(AppOptions options)
   preview_2d_.set_start(options_.channel, options_.color_map);
 
   if (!options_.file.empty()) open_file(options_.file);
-  if (!document_->graph().find(options_.drape)) drape_node_.clear();
-  else drape_node_ = options_.drape;
+  if (!document_->graph().find(options_.drape))
+    drape_node_.clear();
+  else
+    drape_node_ = options_.drape;
   if (!options_.select.empty() && document_->graph().find(options_.select)) {
     selection_.select_only(options_.select);
     if (const int k = document_->graph().at(options_.select).type->output_index(options_.port); k >= 0)
@@ -142,7 +150,7 @@ int App::run() {
   const auto deadline = clock::now() + std::chrono::seconds(180);
   // Screenshots show the UI, not whatever tooltip the pointer's resting place would open.
   if (screenshot) glfwSetCursorPos(window_, 1.0, options_.height - 2.0);
-  int settle = -1;  // frames left before the screenshot once everything is evaluated
+  int settle = -1;     // frames left before the screenshot once everything is evaluated
   FrameTiming timing;  // --benchmark-build
   double work_ms = 0.0, cpu_ms = 0.0, raster_ms = 0.0;
   bool build_started = false;
@@ -258,12 +266,14 @@ void App::feed_queued_input() {
   ImGuiIO& io = ImGui::GetIO();
   if (input_queue_.next_frame(input_state_) > 0) last_input_ = std::chrono::steady_clock::now();
   const InputFrame& in = input_state_;
-  for (int k = 0; k < InputFrame::kKeys && k < IM_ARRAYSIZE(io.KeysDown); ++k) io.KeysDown[k] = in.keys[static_cast<std::size_t>(k)];
+  for (int k = 0; k < InputFrame::kKeys && k < IM_ARRAYSIZE(io.KeysDown); ++k)
+    io.KeysDown[k] = in.keys[static_cast<std::size_t>(k)];
   io.KeyCtrl = in.keys[GLFW_KEY_LEFT_CONTROL] || in.keys[GLFW_KEY_RIGHT_CONTROL];
   io.KeyShift = in.keys[GLFW_KEY_LEFT_SHIFT] || in.keys[GLFW_KEY_RIGHT_SHIFT];
   io.KeyAlt = in.keys[GLFW_KEY_LEFT_ALT] || in.keys[GLFW_KEY_RIGHT_ALT];
   io.KeySuper = in.keys[GLFW_KEY_LEFT_SUPER] || in.keys[GLFW_KEY_RIGHT_SUPER];
-  for (int b = 0; b < InputFrame::kButtons && b < IM_ARRAYSIZE(io.MouseDown); ++b) io.MouseDown[b] = in.buttons[static_cast<std::size_t>(b)];
+  for (int b = 0; b < InputFrame::kButtons && b < IM_ARRAYSIZE(io.MouseDown); ++b)
+    io.MouseDown[b] = in.buttons[static_cast<std::size_t>(b)];
   // The backend polled the pointer; the queued position is where the released events happened (unless the
   // pointer is outside an unfocused window, where the backend reports none).
   if (in.has_pointer && io.MousePos.x > -FLT_MAX)
@@ -356,8 +366,10 @@ void App::draw_menu_bar() {
       });
     if (ImGui::BeginMenu("Open Recent", !recent_.paths().empty())) {
       for (const auto& p : recent_.paths())
-        if (ImGui::MenuItem(p.filename().string().c_str())) guard_unsaved([this, p] { open_file(p); });
-        else if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", p.string().c_str());
+        if (ImGui::MenuItem(p.filename().string().c_str()))
+          guard_unsaved([this, p] { open_file(p); });
+        else if (ImGui::IsItemHovered())
+          ImGui::SetTooltip("%s", p.string().c_str());
       ImGui::Separator();
       if (ImGui::MenuItem("Clear list")) recent_.clear();
       ImGui::EndMenu();
@@ -387,7 +399,8 @@ void App::draw_menu_bar() {
     const auto& h = document_->history();
     if (ImGui::MenuItem(h.can_undo() ? ("Undo " + h.undo_label()).c_str() : "Undo", "Ctrl+Z", false, h.can_undo()))
       canvas_->undo();
-    if (ImGui::MenuItem(h.can_redo() ? ("Redo " + h.redo_label()).c_str() : "Redo", "Ctrl+Shift+Z", false, h.can_redo()))
+    if (ImGui::MenuItem(h.can_redo() ? ("Redo " + h.redo_label()).c_str() : "Redo", "Ctrl+Shift+Z", false,
+                        h.can_redo()))
       canvas_->redo();
     ImGui::Separator();
     const bool any = !selection_.empty();
@@ -411,7 +424,8 @@ void App::draw_menu_bar() {
     if (ImGui::MenuItem("Node Thumbnails", nullptr, canvas_->thumbnails())) {
       canvas_->set_thumbnails(!canvas_->thumbnails());
       // Nodes grow: move apart those that would overlap (one undoable step).
-      if (canvas_->thumbnails()) document_->edit("Make Room for Thumbnails", [](Graph& g) { make_room_for_thumbnails(g); });
+      if (canvas_->thumbnails())
+        document_->edit("Make Room for Thumbnails", [](Graph& g) { make_room_for_thumbnails(g); });
     }
     if (ImGui::BeginMenu("Preview Resolution")) {
       for (int r : {128, 256, 512, 1024, 2048})
@@ -472,7 +486,8 @@ void App::draw_panels() {
   // Right column: preview on top, inspector below.
   ImGui::BeginChild("##right", {right_width_, body_h}, false, ImGuiWindowFlags_NoScrollbar);
   const float preview_h = std::clamp(preview_fraction_ * body_h, 120.0f, body_h - 120.0f);
-  ImGui::BeginChild("##preview", {0, preview_h}, false, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+  ImGui::BeginChild("##preview", {0, preview_h}, false,
+                    ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
   {
     const PreviewContent content = preview_content(previewed);
     // Header: what is previewed, which output, pinning, 2D/3D.
@@ -488,7 +503,10 @@ void App::draw_panels() {
         ImGui::SameLine();
         int& port = shown_port_[previewed];
         ImGui::SetNextItemWidth(110);
-        if (ImGui::BeginCombo("##port", node->type->outputs[static_cast<std::size_t>(std::clamp(port, 0, static_cast<int>(node->type->outputs.size()) - 1))].name.c_str())) {
+        if (ImGui::BeginCombo("##port", node->type
+                                            ->outputs[static_cast<std::size_t>(
+                                                std::clamp(port, 0, static_cast<int>(node->type->outputs.size()) - 1))]
+                                            .name.c_str())) {
           for (int k = 0; k < static_cast<int>(node->type->outputs.size()); ++k)
             if (ImGui::Selectable(node->type->outputs[static_cast<std::size_t>(k)].name.c_str(), k == port)) port = k;
           ImGui::EndCombo();
@@ -497,7 +515,8 @@ void App::draw_panels() {
       ImGui::SameLine();
       bool pin = pinned_ == previewed;
       if (ImGui::Checkbox("pin", &pin)) pinned_ = pin ? previewed : std::string();
-      if (ImGui::IsItemHovered()) ImGui::SetTooltip("Keep previewing this node whatever is selected (double-click a node)");
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Keep previewing this node whatever is selected (double-click a node)");
     } else {
       ImGui::TextDisabled("no node");
     }
@@ -521,8 +540,10 @@ void App::draw_panels() {
     }
     ImGui::SetCursorPosX(6);
     ImGui::BeginGroup();
-    if (show_3d_) viewport_3d_->draw(content);
-    else preview_2d_.draw(content);
+    if (show_3d_)
+      viewport_3d_->draw(content);
+    else
+      preview_2d_.draw(content);
     ImGui::EndGroup();
   }
   ImGui::EndChild();
@@ -552,8 +573,10 @@ void App::draw_status_bar(float height) {
   } else if (auto p = evaluation_.preview()) {
     std::size_t computed = 0, cached = 0;
     for (const auto& [id, r] : p->reports) {
-      if (r.status == NodeStatus::Cached) ++cached;
-      else if (r.status == NodeStatus::Computed) ++computed;
+      if (r.status == NodeStatus::Cached)
+        ++cached;
+      else if (r.status == NodeStatus::Computed)
+        ++computed;
     }
     ImGui::TextDisabled("preview %d x %d: %zu computed, %zu cached in %s%s", p->domain.width(), p->domain.height(),
                         computed, cached, format_duration(p->milliseconds).c_str(),
@@ -579,8 +602,9 @@ void App::draw_status_bar(float height) {
     if (ImGui::SmallButton("Cancel")) evaluation_.cancel_build();
   } else if (build.finished) {
     std::string text = build.cancelled ? "build cancelled"
-                       : build.ok      ? "build done in " + format_duration(build.milliseconds) + " -> " + output_dir_.string()
-                                       : "build failed: " + (build.failures.empty() ? std::string("?") : build.failures.front());
+                       : build.ok
+                           ? "build done in " + format_duration(build.milliseconds) + " -> " + output_dir_.string()
+                           : "build failed: " + (build.failures.empty() ? std::string("?") : build.failures.front());
     const float w = ImGui::CalcTextSize(text.c_str()).x;
     ImGui::SameLine(std::max(200.0f, right - w));
     ImGui::TextColored(build.ok ? ImVec4(0.5f, 0.85f, 0.5f, 1) : ImVec4(0.95f, 0.45f, 0.4f, 1), "%s", text.c_str());
@@ -592,7 +616,8 @@ void App::draw_status_bar(float height) {
 void App::draw_modals() {
   if (const auto chosen = file_dialog_.draw()) {
     const auto action = std::exchange(file_action_, FileAction::None);
-    if (action == FileAction::Open) open_file(*chosen);
+    if (action == FileAction::Open)
+      open_file(*chosen);
     else if (action == FileAction::SaveAs || action == FileAction::SaveAsThen) {
       save_as(*chosen);
       if (action == FileAction::SaveAsThen && !document_->dirty() && after_save_) std::exchange(after_save_, nullptr)();
@@ -640,7 +665,8 @@ void App::draw_modals() {
     const RecoveryFile& rf = recovery_offer_.front();
     ImGui::TextUnformatted("Orogen was not closed properly last time.");
     ImGui::Text("Unsaved work of %s was autosaved at %s.",
-                rf.original.empty() ? "an untitled graph" : rf.original.filename().string().c_str(), rf.saved_at.c_str());
+                rf.original.empty() ? "an untitled graph" : rf.original.filename().string().c_str(),
+                rf.saved_at.c_str());
     if (!rf.original.empty()) ImGui::TextDisabled("%s", rf.original.string().c_str());
     ImGui::Spacing();
     if (ImGui::Button("Recover", {110, 0})) {
@@ -716,7 +742,8 @@ void App::draw_modals() {
     ImGui::End();
   }
   if (show_about_) {
-    if (ImGui::Begin("About Orogen", &show_about_, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings)) {
+    if (ImGui::Begin("About Orogen", &show_about_,
+                     ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings)) {
       ImGui::Text("Orogen %s", OROGEN_VERSION);
       ImGui::TextDisabled("A node-graph procedural terrain compositor.");
       ImGui::Text("%zu node types registered.", NodeRegistry::instance().all().size());
@@ -858,11 +885,13 @@ std::vector<std::string> App::preview_request(const std::string& node) const {
   nodes.push_back(node);
   const int port = std::clamp(shown_port_.count(node) ? shown_port_.at(node) : 0, 0,
                               std::max(0, static_cast<int>(n->type->outputs.size()) - 1));
-  const bool field = n->type->outputs.empty() || n->type->outputs[static_cast<std::size_t>(port)].type == PortType::Heightfield;
+  const bool field =
+      n->type->outputs.empty() || n->type->outputs[static_cast<std::size_t>(port)].type == PortType::Heightfield;
   // Water depth is shown on the terrain it lies in.
-  const bool water = field && !n->type->outputs.empty() &&
-                     resolve_output_kind(document_->graph(), node, n->type->outputs[static_cast<std::size_t>(port)].name) ==
-                         OutputKind::WaterDepth;
+  const bool water =
+      field && !n->type->outputs.empty() &&
+      resolve_output_kind(document_->graph(), node, n->type->outputs[static_cast<std::size_t>(port)].name) ==
+          OutputKind::WaterDepth;
   if (!field || water) {
     // Points, curves, maps and meshes are drawn over the heightfield they came from; images are draped
     // over it in 3D.
@@ -918,8 +947,8 @@ PreviewContent App::preview_content(const std::string& node) const {
   if (n)
     if (const auto sources = scene_sources(document_->graph(), node)) return scene_content(node, *sources);
   if (!n || n->type->outputs.empty()) return c;
-  const int port = std::clamp(shown_port_.count(node) ? shown_port_.at(node) : 0, 0,
-                              static_cast<int>(n->type->outputs.size()) - 1);
+  const int port =
+      std::clamp(shown_port_.count(node) ? shown_port_.at(node) : 0, 0, static_cast<int>(n->type->outputs.size()) - 1);
   c.port = n->type->outputs[static_cast<std::size_t>(port)].name;
   if (n->type->outputs[static_cast<std::size_t>(port)].type == PortType::Heightfield)
     c.kind = resolve_output_kind(document_->graph(), node, c.port);
@@ -927,10 +956,11 @@ PreviewContent App::preview_content(const std::string& node) const {
   c.stale = evaluation_.preview_busy() || pending_request_;
   if (!result) return c;
   c.serial = result->serial;
-  if (auto it = result->outputs.find(node); it != result->outputs.end() && static_cast<std::size_t>(port) < it->second.size())
+  if (auto it = result->outputs.find(node);
+      it != result->outputs.end() && static_cast<std::size_t>(port) < it->second.size())
     c.value = it->second[static_cast<std::size_t>(port)];
-  if (auto it = result->reports.find(node); it != result->reports.end() &&
-                                            (it->second.status == NodeStatus::Failed || it->second.status == NodeStatus::Skipped))
+  if (auto it = result->reports.find(node); it != result->reports.end() && (it->second.status == NodeStatus::Failed ||
+                                                                            it->second.status == NodeStatus::Skipped))
     c.error = it->second.status == NodeStatus::Failed
                   ? node + " failed: " + it->second.message
                   : node + " is not evaluated: upstream node '" + it->second.message + "' failed";
@@ -963,8 +993,8 @@ PreviewContent App::scene_content(const std::string& node, const SceneSources& s
   c.serial = result->serial;
   // The first source that failed explains the missing scene.
   for (const std::string& id : sources.nodes())
-    if (auto it = result->reports.find(id); it != result->reports.end() &&
-                                            (it->second.status == NodeStatus::Failed || it->second.status == NodeStatus::Skipped)) {
+    if (auto it = result->reports.find(id); it != result->reports.end() && (it->second.status == NodeStatus::Failed ||
+                                                                            it->second.status == NodeStatus::Skipped)) {
       c.error = it->second.status == NodeStatus::Failed
                     ? id + " failed: " + it->second.message
                     : id + " is not evaluated: upstream node '" + it->second.message + "' failed";

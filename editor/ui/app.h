@@ -34,16 +34,16 @@ struct AppOptions {
   std::filesystem::path screenshot;  // save the window as PNG after `frames` frames and exit
   int frames = 60;
   int width = 1600, height = 900;
-  std::string select;                // node selected at start (documentation screenshots)
-  std::string port;                  // its output shown in the preview
-  std::string channel;               // image channel shown as a field in the 2D preview (name), "" composite
-  std::string color_map;             // 2D preview colour map at start (kColorMapNames), "" automatic
-  bool thumbnails = true;            // node thumbnails on the canvas
-  std::string view = "2d";           // preview panel at start: 2d or 3d
-  std::string drape;                 // Image node draped over the 3D terrain at start
-  std::vector<double> camera;        // 3D view at start: yaw, pitch (degrees), zoom (wheel notches after framing)
-  float preview_width = 0.0f;        // width of the preview / inspector column at start (pixels); 0: default
-  std::filesystem::path state_dir;   // recent files and recovery; default_state_dir() if empty
+  std::string select;                  // node selected at start (documentation screenshots)
+  std::string port;                    // its output shown in the preview
+  std::string channel;                 // image channel shown as a field in the 2D preview (name), "" composite
+  std::string color_map;               // 2D preview colour map at start (kColorMapNames), "" automatic
+  bool thumbnails = true;              // node thumbnails on the canvas
+  std::string view = "2d";             // preview panel at start: 2d or 3d
+  std::string drape;                   // Image node draped over the 3D terrain at start
+  std::vector<double> camera;          // 3D view at start: yaw, pitch (degrees), zoom (wheel notches after framing)
+  float preview_width = 0.0f;          // width of the preview / inspector column at start (pixels); 0: default
+  std::filesystem::path state_dir;     // recent files and recovery; default_state_dir() if empty
   std::filesystem::path examples_dir;  // graphs/ of the installation; searched if empty
   int preview_resolution = EvaluationController::kDefaultPreviewResolution;
   std::filesystem::path output_dir = "out";  // where builds write
@@ -51,7 +51,8 @@ struct AppOptions {
   // and exit when it is done.
   bool benchmark_build = false;
   std::string palette_query;
-  bool offer_recovery_in_screenshot = false;  // screenshots normally skip the crash-recovery prompt  // documentation screenshots: open the node palette with this query typed
+  bool offer_recovery_in_screenshot = false;  // screenshots normally skip the crash-recovery prompt  // documentation
+                                              // screenshots: open the node palette with this query typed
   int build_resolution = 0;
 };
 
@@ -69,8 +70,8 @@ class App {
   // Frame.
   void frame();
   void install_input_callbacks();
-  void feed_queued_input();  // after the backend's NewFrame: this frame's share of the queued events
-  bool animating() const;    // something changes on screen without input
+  void feed_queued_input();       // after the backend's NewFrame: this frame's share of the queued events
+  bool animating() const;         // something changes on screen without input
   bool thumbnails_shown() const;  // the canvas shows thumbnails of the current content (or none are wanted)
   void draw_menu_bar();
   void draw_panels();
@@ -122,16 +123,16 @@ class App {
 
   FileDialog file_dialog_;
   enum class FileAction { None, Open, SaveAs, SaveAsThen } file_action_ = FileAction::None;
-  std::function<void()> after_save_;     // continuation of Save As from the unsaved-changes prompt
+  std::function<void()> after_save_;      // continuation of Save As from the unsaved-changes prompt
   std::function<void()> pending_action_;  // waiting for the unsaved-changes prompt
   bool prompt_unsaved_ = false;
   bool show_shortcuts_ = false, show_about_ = false;
   std::string error_text_;
 
   // Preview state.
-  std::string pinned_;                   // preview pinned to this node (double-click on a node)
+  std::string pinned_;                     // preview pinned to this node (double-click on a node)
   std::map<std::string, int> shown_port_;  // output shown per node
-  std::string drape_node_;               // an Image node draped over the 3D terrain
+  std::string drape_node_;                 // an Image node draped over the 3D terrain
   std::uint64_t requested_revision_ = ~std::uint64_t(0);
   std::vector<std::string> requested_nodes_;
   int requested_resolution_ = 0;

@@ -48,7 +48,8 @@ WidgetEdit curve_editor(const char* id, CurveValue& curve, float width) {
                       y0 + (b.y - pad - s.y) / (height - 2 * pad) * (y1 - y0)};
   };
 
-  ImGui::InvisibleButton("##area", {width, height}, ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight);
+  ImGui::InvisibleButton("##area", {width, height},
+                         ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight);
   const bool hovered = ImGui::IsItemHovered();
   const ImVec2 mouse = ImGui::GetIO().MousePos;
   int near = -1;
@@ -139,7 +140,8 @@ WidgetEdit gradient_editor(const char* id, GradientValue& gradient, float width)
 
   const float bar_h = 22.0f, marker_h = 12.0f;
   const ImVec2 a = ImGui::GetCursorScreenPos();
-  ImGui::InvisibleButton("##bar", {width, bar_h + marker_h}, ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight);
+  ImGui::InvisibleButton("##bar", {width, bar_h + marker_h},
+                         ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight);
   const bool hovered = ImGui::IsItemHovered();
   const ImVec2 mouse = ImGui::GetIO().MousePos;
   auto x_of = [&](double t) { return a.x + static_cast<float>(std::clamp(t, 0.0, 1.0)) * width; };
@@ -152,7 +154,8 @@ WidgetEdit gradient_editor(const char* id, GradientValue& gradient, float width)
       near = k;
 
   if (hovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left) && near >= 0) dragging = selected = near;
-  if (dragging >= 0 && dragging < static_cast<int>(gradient.stops.size()) && ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
+  if (dragging >= 0 && dragging < static_cast<int>(gradient.stops.size()) &&
+      ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
     const double t = t_of(mouse.x);
     auto& stop = gradient.stops[static_cast<std::size_t>(dragging)];
     if (t != stop.position) {
@@ -190,7 +193,8 @@ WidgetEdit gradient_editor(const char* id, GradientValue& gradient, float width)
   for (float x = a.x; x < a.x + width; x += 8.0f)
     for (int r = 0; r < 3; ++r)
       if ((static_cast<int>((x - a.x) / 8.0f) + r) % 2)
-        dl->AddRectFilled({x, a.y + r * 8.0f}, {std::min(x + 8.0f, a.x + width), std::min(a.y + (r + 1) * 8.0f, a.y + bar_h)},
+        dl->AddRectFilled({x, a.y + r * 8.0f},
+                          {std::min(x + 8.0f, a.x + width), std::min(a.y + (r + 1) * 8.0f, a.y + bar_h)},
                           IM_COL32(90, 90, 90, 255));
   const int steps = std::max(8, static_cast<int>(width / 3.0f));
   for (int k = 0; k < steps; ++k) {
@@ -217,7 +221,9 @@ WidgetEdit gradient_editor(const char* id, GradientValue& gradient, float width)
     auto& s = gradient.stops[static_cast<std::size_t>(selected)];
     float c[4] = {s.color.r, s.color.g, s.color.b, s.color.a};
     // The stop's colour as a swatch (click for the picker) and its position.
-    if (ImGui::ColorEdit4("##stop", c, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_AlphaPreviewHalf | ImGuiColorEditFlags_NoInputs)) {
+    if (ImGui::ColorEdit4(
+            "##stop", c,
+            ImGuiColorEditFlags_Float | ImGuiColorEditFlags_AlphaPreviewHalf | ImGuiColorEditFlags_NoInputs)) {
       s.color = {c[0], c[1], c[2], c[3]};
       edit.changed = true;
     }

@@ -46,12 +46,15 @@ void FileDialog::list_directory() {
   dirs_.clear();
   files_.clear();
   std::error_code ec;
-  for (const auto& e : std::filesystem::directory_iterator(dir_, std::filesystem::directory_options::skip_permission_denied, ec)) {
+  for (const auto& e :
+       std::filesystem::directory_iterator(dir_, std::filesystem::directory_options::skip_permission_denied, ec)) {
     const auto name = e.path().filename().string();
     if (name.empty() || name[0] == '.') continue;
     std::error_code ec2;
-    if (e.is_directory(ec2)) dirs_.push_back(e.path());
-    else if (matches(e.path())) files_.push_back(e.path());
+    if (e.is_directory(ec2))
+      dirs_.push_back(e.path());
+    else if (matches(e.path()))
+      files_.push_back(e.path());
   }
   if (ec) error_ = "cannot list " + dir_.string() + ": " + ec.message();
   std::sort(dirs_.begin(), dirs_.end());
@@ -116,7 +119,8 @@ std::optional<std::filesystem::path> FileDialog::draw() {
   }
 
   ImGui::SetNextItemWidth(-200);
-  const bool typed_enter = ImGui::InputTextWithHint("##name", "file name", &name_, ImGuiInputTextFlags_EnterReturnsTrue);
+  const bool typed_enter =
+      ImGui::InputTextWithHint("##name", "file name", &name_, ImGuiInputTextFlags_EnterReturnsTrue);
   ImGui::SameLine();
   const bool ok = ImGui::Button(mode_ == Mode::Open ? "Open" : "Save", {90, 0});
   ImGui::SameLine();
@@ -125,10 +129,13 @@ std::optional<std::filesystem::path> FileDialog::draw() {
     std::filesystem::path p = std::filesystem::path(name_).is_absolute() ? std::filesystem::path(name_) : dir_ / name_;
     if (mode_ == Mode::Save && !extensions_.empty() && !matches(p)) p += extensions_.front();
     std::error_code ec;
-    if (mode_ == Mode::Open && !std::filesystem::is_regular_file(p, ec)) error_ = "no such file: " + p.string();
-    else chosen = p;
+    if (mode_ == Mode::Open && !std::filesystem::is_regular_file(p, ec))
+      error_ = "no such file: " + p.string();
+    else
+      chosen = p;
   }
-  if (!error_.empty()) ImGui::TextColored({1.0f, 0.4f, 0.35f, 1.0f}, "%s", error_.c_str());
+  if (!error_.empty())
+    ImGui::TextColored({1.0f, 0.4f, 0.35f, 1.0f}, "%s", error_.c_str());
   else if (mode_ == Mode::Save && !name_.empty() && std::filesystem::exists(dir_ / name_))
     ImGui::TextDisabled("%s exists and will be replaced", name_.c_str());
   if (chosen || cancel) {

@@ -35,8 +35,8 @@ void FrameTiming::record(bool building, double interval_ms, double work_ms, doub
 
 void FrameTiming::print(const BuildStatus& build, const char* renderer) const {
   std::printf("OpenGL renderer: %s\n", renderer);
-  std::printf("build %s at %d x %d in %.1f s\n", build.ok ? "ok" : "FAILED", build.domain.width(), build.domain.height(),
-              build.milliseconds / 1000.0);
+  std::printf("build %s at %d x %d in %.1f s\n", build.ok ? "ok" : "FAILED", build.domain.width(),
+              build.domain.height(), build.milliseconds / 1000.0);
   report("frame interval, idle", idle_.interval);
   report("frame interval, during the build", building_.interval);
   report("UI thread work per frame, idle", idle_.work);

@@ -10,8 +10,7 @@ GlTexture::~GlTexture() {
   if (id_) glDeleteTextures(1, &id_);
 }
 
-GlTexture::GlTexture(GlTexture&& o) noexcept
-    : id_(std::exchange(o.id_, 0)), width_(o.width_), height_(o.height_) {}
+GlTexture::GlTexture(GlTexture&& o) noexcept : id_(std::exchange(o.id_, 0)), width_(o.width_), height_(o.height_) {}
 
 GlTexture& GlTexture::operator=(GlTexture&& o) noexcept {
   if (this != &o) {

@@ -172,8 +172,10 @@ void Inspector::draw_table_param(Document& document, const Node& node, const Par
   const bool is_set = node.params.count(decl.name) != 0 && !(node.params.at(decl.name) == decl.default_value);
   ImGui::Spacing();
   ImGui::AlignTextToFramePadding();
-  if (is_set) ImGui::TextUnformatted(decl.name.c_str());
-  else ImGui::TextColored(ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled), "%s", decl.name.c_str());
+  if (is_set)
+    ImGui::TextUnformatted(decl.name.c_str());
+  else
+    ImGui::TextColored(ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled), "%s", decl.name.c_str());
   describe_tooltip(decl);
   if (is_set) {
     ImGui::SameLine(ImGui::GetContentRegionAvail().x - ImGui::GetFrameHeight());
@@ -203,8 +205,10 @@ void Inspector::draw_param(Document& document, const Node& node, const ParamDecl
   ImGui::TableNextRow();
   ImGui::TableSetColumnIndex(0);
   ImGui::AlignTextToFramePadding();
-  if (is_set) ImGui::TextUnformatted(decl.name.c_str());
-  else ImGui::TextColored(ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled), "%s", decl.name.c_str());
+  if (is_set)
+    ImGui::TextUnformatted(decl.name.c_str());
+  else
+    ImGui::TextColored(ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled), "%s", decl.name.c_str());
   describe_tooltip(decl);
   ImGui::TableSetColumnIndex(1);
   const float width = ImGui::GetContentRegionAvail().x;
@@ -225,8 +229,8 @@ void Inspector::draw_param(Document& document, const Node& node, const ParamDecl
         if (lo > 0.0 && hi / lo >= 100.0) flags |= ImGuiSliderFlags_Logarithmic;
         changed = ImGui::SliderScalar("##v", ImGuiDataType_Double, &v, &lo, &hi, fmt.c_str(), flags);
       } else {
-        changed = ImGui::DragScalar("##v", ImGuiDataType_Double, &v, drag_speed(v, lo, hi), decl.min ? &hard_lo : nullptr,
-                                    decl.max ? &hard_hi : nullptr, fmt.c_str());
+        changed = ImGui::DragScalar("##v", ImGuiDataType_Double, &v, drag_speed(v, lo, hi),
+                                    decl.min ? &hard_lo : nullptr, decl.max ? &hard_hi : nullptr, fmt.c_str());
       }
       describe_tooltip(decl);
       if (changed) apply(document, node, decl, std::clamp(v, hard_lo, hard_hi), true);
@@ -239,8 +243,10 @@ void Inspector::draw_param(Document& document, const Node& node, const ParamDecl
       const std::int64_t ihi = ranged ? static_cast<std::int64_t>(hi) : std::numeric_limits<std::int64_t>::max() / 2;
       const std::string fmt = number_format(decl, true);
       bool changed;
-      if (ranged && hi - lo <= 1e6) changed = ImGui::SliderScalar("##v", ImGuiDataType_S64, &v, &ilo, &ihi, fmt.c_str());
-      else changed = ImGui::DragScalar("##v", ImGuiDataType_S64, &v, 1.0f, &ilo, &ihi, fmt.c_str());
+      if (ranged && hi - lo <= 1e6)
+        changed = ImGui::SliderScalar("##v", ImGuiDataType_S64, &v, &ilo, &ihi, fmt.c_str());
+      else
+        changed = ImGui::DragScalar("##v", ImGuiDataType_S64, &v, 1.0f, &ilo, &ihi, fmt.c_str());
       describe_tooltip(decl);
       if (changed) {
         v = std::clamp<std::int64_t>(v, static_cast<std::int64_t>(std::max(hard_lo, -9e18)),
@@ -275,8 +281,10 @@ void Inspector::draw_param(Document& document, const Node& node, const ParamDecl
       if (ImGui::DragScalarN("##v", ImGuiDataType_Double, v, n, speed, decl.min ? &hard_lo : nullptr,
                              decl.max ? &hard_hi : nullptr, fmt.c_str())) {
         for (double& c : v) c = std::clamp(c, hard_lo, hard_hi);
-        if (n == 2) apply(document, node, decl, glm::dvec2(v[0], v[1]), true);
-        else apply(document, node, decl, glm::dvec3(v[0], v[1], v[2]), true);
+        if (n == 2)
+          apply(document, node, decl, glm::dvec2(v[0], v[1]), true);
+        else
+          apply(document, node, decl, glm::dvec3(v[0], v[1], v[2]), true);
       }
       describe_tooltip(decl);
       if (ImGui::IsItemDeactivated()) document.end_gesture();
@@ -310,8 +318,10 @@ void Inspector::draw_param(Document& document, const Node& node, const ParamDecl
       ImGui::InputText("##v", &it->second);
       describe_tooltip(decl);
       // Text applies when the field is left (one undo step per edit, not per keystroke).
-      if (ImGui::IsItemDeactivatedAfterEdit()) apply(document, node, decl, it->second, false);
-      else if (!ImGui::IsItemActive()) it->second = std::get<std::string>(value);
+      if (ImGui::IsItemDeactivatedAfterEdit())
+        apply(document, node, decl, it->second, false);
+      else if (!ImGui::IsItemActive())
+        it->second = std::get<std::string>(value);
       if (path) {
         ImGui::SameLine();
         if (ImGui::Button("...", {ImGui::GetFrameHeight(), 0})) {
@@ -354,7 +364,8 @@ void Inspector::draw_param(Document& document, const Node& node, const ParamDecl
       if (e.finished) document.end_gesture();
       break;
     }
-    case ParamType::Table: break;  // draw_table_param, at full width
+    case ParamType::Table:
+      break;  // draw_table_param, at full width
   }
   if (error_key_ == key && !error_.empty()) {
     ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + ImGui::GetContentRegionAvail().x - 6.0f);
@@ -397,7 +408,9 @@ void Inspector::draw_graph(Document& document) {
   component("##rx", rx, 4.0f, 2.0, 32768.0, "%.0f samples", false);
   component("##ry", ry, 4.0f, 2.0, 32768.0, "x %.0f samples", true);
   d.resolution = {static_cast<int>(std::lround(rx)), static_cast<int>(std::lround(ry))};
-  if (changed) document.edit("Change domain", [&](Graph& g) { g.domain = d; }, "domain");
+  if (changed)
+    document.edit(
+        "Change domain", [&](Graph& g) { g.domain = d; }, "domain");
   if (done) document.end_gesture();
   ImGui::TextDisabled("spacing %.3g x %.3g m", d.size.x / std::max(1, d.resolution.x - 1),
                       d.size.y / std::max(1, d.resolution.y - 1));

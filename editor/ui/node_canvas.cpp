@@ -22,9 +22,12 @@ glm::dvec2 gv(ImVec2 v) { return {v.x, v.y}; }
 
 std::string format_ms(double ms) {
   char buf[32];
-  if (ms < 1.0) std::snprintf(buf, sizeof buf, "%.2f ms", ms);
-  else if (ms < 1000.0) std::snprintf(buf, sizeof buf, "%.0f ms", ms);
-  else std::snprintf(buf, sizeof buf, "%.1f s", ms / 1000.0);
+  if (ms < 1.0)
+    std::snprintf(buf, sizeof buf, "%.2f ms", ms);
+  else if (ms < 1000.0)
+    std::snprintf(buf, sizeof buf, "%.0f ms", ms);
+  else
+    std::snprintf(buf, sizeof buf, "%.1f s", ms / 1000.0);
   return buf;
 }
 
@@ -57,9 +60,9 @@ void NodeCanvasView::draw(const std::string& previewed) {
   size.y = std::max(size.y, 50.0f);
   controller_.view().set_viewport(gv(origin), gv(size));
 
-  ImGui::InvisibleButton("##canvas", size,
-                         ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight |
-                             ImGuiButtonFlags_MouseButtonMiddle);
+  ImGui::InvisibleButton(
+      "##canvas", size,
+      ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight | ImGuiButtonFlags_MouseButtonMiddle);
   const bool hovered = ImGui::IsItemHovered();
   feed_input(hovered);
 
@@ -106,8 +109,10 @@ void NodeCanvasView::draw_thumbnail(ImDrawList* dl, const Node& node, const Rect
   if (!shown) return;
   const void* data = std::visit(
       [](const auto& v) -> const void* {
-        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) return nullptr;
-        else return v.get();
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
+          return nullptr;
+        else
+          return v.get();
       },
       *shown);
   Thumbnail& t = thumbnails_[node.id];
@@ -115,10 +120,14 @@ void NodeCanvasView::draw_thumbnail(ImDrawList* dl, const Node& node, const Rect
     PreviewPixels px;
     if (auto* h = std::get_if<HeightfieldPtr>(shown))
       px = render_heightfield(**h, style_for(resolve_output_kind(controller_.document().graph(), node.id, port)));
-    else if (auto* im = std::get_if<ImagePtr>(shown)) px = render_image(**im);
-    else if (auto* p = std::get_if<PointsPtr>(shown)) px = render_points(**p, thumbs->domain);
-    else if (auto* sc = std::get_if<ScenePtr>(shown); sc && (*sc)->instances) px = render_points(*(*sc)->instances, thumbs->domain);
-    else if (auto* c = std::get_if<CurvesPtr>(shown)) px = render_curves(**c, thumbs->domain);
+    else if (auto* im = std::get_if<ImagePtr>(shown))
+      px = render_image(**im);
+    else if (auto* p = std::get_if<PointsPtr>(shown))
+      px = render_points(**p, thumbs->domain);
+    else if (auto* sc = std::get_if<ScenePtr>(shown); sc && (*sc)->instances)
+      px = render_points(*(*sc)->instances, thumbs->domain);
+    else if (auto* c = std::get_if<CurvesPtr>(shown))
+      px = render_curves(**c, thumbs->domain);
     if (px.width <= 0) return;
     t.texture.upload(px.width, px.height, px.rgba.data());
     t.data = data;
@@ -127,8 +136,10 @@ void NodeCanvasView::draw_thumbnail(ImDrawList* dl, const Node& node, const Rect
   // Fitted, keeping the world's aspect ratio.
   const double aspect = static_cast<double>(t.texture.width()) / std::max(1, t.texture.height());
   glm::dvec2 size = box.size();
-  if (size.x / size.y > aspect) size.x = size.y * aspect;
-  else size.y = size.x / aspect;
+  if (size.x / size.y > aspect)
+    size.x = size.y * aspect;
+  else
+    size.y = size.x / aspect;
   const glm::dvec2 a = box.center() - size * 0.5;
   dl->AddImage(t.texture.imgui_id(), iv(a), iv(a + size));
 }
@@ -140,9 +151,12 @@ void NodeCanvasView::draw_problems_banner(ImVec2 origin, ImVec2 size) {
   ImGui::PushStyleColor(ImGuiCol_ChildBg, IM_COL32(90, 30, 30, 235));
   const float line = ImGui::GetTextLineHeightWithSpacing();
   const std::size_t lines = 1 + (show_problem_list_ ? problems.diagnostics.size() : 0);
-  const float height = std::min(size.y * 0.4f, static_cast<float>(lines) * line + 2.0f * ImGui::GetStyle().WindowPadding.y + 4.0f);
-  ImGui::BeginChild("##problems", {std::min(size.x - 20.0f, 760.0f), height}, true, ImGuiWindowFlags_AlwaysUseWindowPadding);
-  ImGui::TextColored(ImVec4(1, 0.85f, 0.8f, 1), "%zu problem%s in %s: what could be read is shown; the nodes concerned are framed in red",
+  const float height =
+      std::min(size.y * 0.4f, static_cast<float>(lines) * line + 2.0f * ImGui::GetStyle().WindowPadding.y + 4.0f);
+  ImGui::BeginChild("##problems", {std::min(size.x - 20.0f, 760.0f), height}, true,
+                    ImGuiWindowFlags_AlwaysUseWindowPadding);
+  ImGui::TextColored(ImVec4(1, 0.85f, 0.8f, 1),
+                     "%zu problem%s in %s: what could be read is shown; the nodes concerned are framed in red",
                      problems.diagnostics.size(), problems.diagnostics.size() == 1 ? "" : "s",
                      controller_.document().display_name().c_str());
   ImGui::SameLine();
@@ -161,8 +175,8 @@ void NodeCanvasView::draw_problems_banner(ImVec2 origin, ImVec2 size) {
 void NodeCanvasView::feed_input(bool hovered) {
   ImGuiIO& io = ImGui::GetIO();
   const Modifiers mods{io.KeyCtrl, io.KeyShift, io.KeyAlt};
-  const bool dragging = controller_.mode() != CanvasController::Mode::Idle &&
-                        controller_.mode() != CanvasController::Mode::Palette;
+  const bool dragging =
+      controller_.mode() != CanvasController::Mode::Idle && controller_.mode() != CanvasController::Mode::Palette;
   if ((hovered || dragging) && (io.MousePos.x != last_mouse_.x || io.MousePos.y != last_mouse_.y) &&
       ImGui::IsMousePosValid()) {
     controller_.handle(MouseMove{gv(io.MousePos)});
@@ -190,14 +204,22 @@ void NodeCanvasView::feed_input(bool hovered) {
   const bool space = ImGui::IsKeyDown(GLFW_KEY_SPACE);
   if (space != space_down_) {
     space_down_ = space;
-    if (space) controller_.handle(KeyDown{Key::Space, mods});
-    else controller_.handle(KeyUp{Key::Space});
+    if (space)
+      controller_.handle(KeyDown{Key::Space, mods});
+    else
+      controller_.handle(KeyUp{Key::Space});
   }
-  static constexpr std::pair<int, Key> kKeys[] = {
-      {GLFW_KEY_TAB, Key::Tab},       {GLFW_KEY_DELETE, Key::Delete}, {GLFW_KEY_X, Key::X},
-      {GLFW_KEY_D, Key::D},           {GLFW_KEY_C, Key::C},           {GLFW_KEY_V, Key::V},
-      {GLFW_KEY_A, Key::A},           {GLFW_KEY_F, Key::F},           {GLFW_KEY_HOME, Key::Home},
-      {GLFW_KEY_ESCAPE, Key::Escape}, {GLFW_KEY_BACKSPACE, Key::Delete}};
+  static constexpr std::pair<int, Key> kKeys[] = {{GLFW_KEY_TAB, Key::Tab},
+                                                  {GLFW_KEY_DELETE, Key::Delete},
+                                                  {GLFW_KEY_X, Key::X},
+                                                  {GLFW_KEY_D, Key::D},
+                                                  {GLFW_KEY_C, Key::C},
+                                                  {GLFW_KEY_V, Key::V},
+                                                  {GLFW_KEY_A, Key::A},
+                                                  {GLFW_KEY_F, Key::F},
+                                                  {GLFW_KEY_HOME, Key::Home},
+                                                  {GLFW_KEY_ESCAPE, Key::Escape},
+                                                  {GLFW_KEY_BACKSPACE, Key::Delete}};
   for (const auto& [glfw_key, key] : kKeys)
     if (ImGui::IsKeyPressed(glfw_key, false)) controller_.handle(KeyDown{key, mods});
 }
@@ -244,8 +266,7 @@ void NodeCanvasView::draw_links(ImDrawList* dl) {
       // Links of the selected nodes stand out.
       const bool lit = controller_.is_selected(node.id) || controller_.is_selected(src.node);
       const ImU32 color = theme::with_alpha(theme::port_color(out->type), lit ? 1.0f : 0.7f);
-      bezier(v.to_screen(out->position), v.to_screen(in->position), color,
-             std::max(1.5f, (lit ? 3.5f : 2.5f) * zoom));
+      bezier(v.to_screen(out->position), v.to_screen(in->position), color, std::max(1.5f, (lit ? 3.5f : 2.5f) * zoom));
     }
   }
   // Links of the file left out when it was opened (broken, or closing a cycle): dashed red from where they
@@ -271,15 +292,18 @@ void NodeCanvasView::draw_links(ImDrawList* dl) {
   const auto& pending = palette ? controller_.palette_link() : drag;
   if (pending) {
     const auto* anchor_node = layout.find(pending->anchor().node);
-    const auto* anchor = anchor_node ? anchor_node->find_pin(pending->anchor().port, pending->anchor().output) : nullptr;
+    const auto* anchor =
+        anchor_node ? anchor_node->find_pin(pending->anchor().port, pending->anchor().output) : nullptr;
     if (anchor) {
       glm::dvec2 end = palette ? controller_.palette_position() : controller_.mouse();
       if (const auto& hp = controller_.hovered_pin(); !palette && hp && pending->compatible(graph, hp->pin))
         end = v.to_screen(hp->position);
       const glm::dvec2 a = v.to_screen(anchor->position);
       const ImU32 color = theme::port_color(pending->type());
-      if (pending->anchor().output) bezier(a, end, color, std::max(2.0f, 3.0f * zoom));
-      else bezier(end, a, color, std::max(2.0f, 3.0f * zoom));
+      if (pending->anchor().output)
+        bezier(a, end, color, std::max(2.0f, 3.0f * zoom));
+      else
+        bezier(end, a, color, std::max(2.0f, 3.0f * zoom));
     }
   }
 }
@@ -323,8 +347,8 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
     // A problem of the file it was loaded from: a red frame and a "!" (the tooltip explains).
     const bool problem = !controller_.document().load_problems().for_node(nl.id).empty();
     if (problem) {
-      dl->AddRect(iv(r.min - glm::dvec2(3.0 * zoom)), iv(r.max + glm::dvec2(3.0 * zoom)), theme::kError, rounding + 3.0f * zoom,
-                  0, std::max(1.5f, 2.5f * zoom));
+      dl->AddRect(iv(r.min - glm::dvec2(3.0 * zoom)), iv(r.max + glm::dvec2(3.0 * zoom)), theme::kError,
+                  rounding + 3.0f * zoom, 0, std::max(1.5f, 2.5f * zoom));
       const ImVec2 c{static_cast<float>(r.min.x), static_cast<float>(r.min.y)};
       dl->AddCircleFilled(c, 8.0f * std::max(zoom, 0.6f), theme::kError);
       const float fs = 13.0f * std::max(zoom, 0.6f);
@@ -355,8 +379,8 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
     for (const auto* pins : {&nl.inputs, &nl.outputs})
       for (const auto& p : *pins) {
         const ImVec2 c = iv(v.to_screen(p.position));
-        const bool connected = p.pin.output ? used_outputs.count({nl.id, p.pin.port}) != 0
-                                            : node.inputs.count(p.pin.port) != 0;
+        const bool connected =
+            p.pin.output ? used_outputs.count({nl.id, p.pin.port}) != 0 : node.inputs.count(p.pin.port) != 0;
         float alpha = 1.0f;
         bool highlight = false;
         if (drag) {
@@ -402,13 +426,13 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
         std::string text(to_string(state.phase));
         // Previews never write files: writers run in builds only.
         if (node.type->writes_files && state.phase == NodeRunState::Phase::Unknown) text = "runs on build";
-        if (state.milliseconds > 0.0 && (state.phase == NodeRunState::Phase::Computed ||
-                                         state.phase == NodeRunState::Phase::Cached ||
-                                         state.phase == NodeRunState::Phase::Stale))
+        if (state.milliseconds > 0.0 &&
+            (state.phase == NodeRunState::Phase::Computed || state.phase == NodeRunState::Phase::Cached ||
+             state.phase == NodeRunState::Phase::Stale))
           text = format_ms(state.milliseconds) + (state.phase == NodeRunState::Phase::Cached ? "  cached" : "");
         dl->PushClipRect(iv(status.min), iv(status.max), true);
-        dl->AddText(font, small, {text_x, text_y}, state.phase == NodeRunState::Phase::Failed ? theme::kError : theme::kTextDim,
-                    text.c_str());
+        dl->AddText(font, small, {text_x, text_y},
+                    state.phase == NodeRunState::Phase::Failed ? theme::kError : theme::kTextDim, text.c_str());
         dl->PopClipRect();
       }
     }
@@ -422,8 +446,10 @@ void NodeCanvasView::draw_tooltips() {
     hover_key_.clear();
     return;
   }
-  if (const auto& p = controller_.hovered_pin()) key = "pin:" + p->pin.node + "." + p->pin.port;
-  else if (const auto& n = controller_.hovered_node()) key = "node:" + *n;
+  if (const auto& p = controller_.hovered_pin())
+    key = "pin:" + p->pin.node + "." + p->pin.port;
+  else if (const auto& n = controller_.hovered_node())
+    key = "node:" + *n;
   if (key != hover_key_) {
     hover_key_ = key;
     hover_since_ = ImGui::GetTime();
@@ -434,7 +460,8 @@ void NodeCanvasView::draw_tooltips() {
   ImGui::PushTextWrapPos(ImGui::GetFontSize() * 28.0f);
   if (const auto& p = controller_.hovered_pin()) {
     const Node* node = graph.find(p->pin.node);
-    const PortDecl* decl = node ? (p->pin.output ? node->type->find_output(p->pin.port) : node->type->find_input(p->pin.port)) : nullptr;
+    const PortDecl* decl =
+        node ? (p->pin.output ? node->type->find_output(p->pin.port) : node->type->find_input(p->pin.port)) : nullptr;
     if (decl) {
       ImGui::TextColored(ImColor(theme::port_color(decl->type)), "%s  (%s%s)", decl->name.c_str(),
                          std::string(to_string(decl->type)).c_str(), decl->optional ? ", optional" : "");
@@ -482,8 +509,8 @@ void NodeCanvasView::draw_palette() {
   if (opening) palette_buffer_ = palette.query();
   // Kept on screen near the window's edges, using the size it had last frame.
   const ImVec2 display = ImGui::GetIO().DisplaySize;
-  const glm::dvec2 at = place_popup(controller_.palette_position(), palette_size_,
-                                    Rect{{0.0, 0.0}, {display.x, display.y}});
+  const glm::dvec2 at =
+      place_popup(controller_.palette_position(), palette_size_, Rect{{0.0, 0.0}, {display.x, display.y}});
   ImGui::SetNextWindowPos(iv(at), ImGuiCond_Always);
   ImGui::SetNextWindowSize({320, 0}, ImGuiCond_Always);
   ImGui::Begin("##palette", nullptr,
@@ -551,8 +578,10 @@ void NodeCanvasView::draw_palette() {
   palette_size_ = {ImGui::GetWindowSize().x, ImGui::GetWindowSize().y};
   ImGui::End();
 
-  if (cancel) controller_.close_palette();
-  else if (confirm) controller_.confirm_palette(chosen);
+  if (cancel)
+    controller_.close_palette();
+  else if (confirm)
+    controller_.confirm_palette(chosen);
 }
 
 }  // namespace orogen::editor

@@ -53,7 +53,7 @@ class NodeCanvasView {
   struct Thumbnail {
     GlTexture texture;
     const void* data = nullptr;  // the result shown (held below, so the address stays its own)
-    PortValue value;  // holds the data shown
+    PortValue value;             // holds the data shown
   };
   std::map<std::string, Thumbnail> thumbnails_;
 

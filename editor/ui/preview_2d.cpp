@@ -57,7 +57,8 @@ constexpr ImU32 kBiomeColors[16] = {
 // A perceptual ramp (dark blue - teal - yellow) for any other attribute over its range.
 ImU32 ramp_color(float t) {
   t = std::clamp(t, 0.0f, 1.0f);
-  const float r = 0.27f + t * (0.99f - 0.27f) * t, g = 0.00f + 0.9f * t, b = 0.33f + 0.25f * std::sin(3.14159f * t) - 0.2f * t;
+  const float r = 0.27f + t * (0.99f - 0.27f) * t, g = 0.00f + 0.9f * t,
+              b = 0.33f + 0.25f * std::sin(3.14159f * t) - 0.2f * t;
   return ImColor(r, g, std::clamp(b, 0.0f, 1.0f), 1.0f);
 }
 
@@ -112,9 +113,12 @@ void Preview2D::upload(const PreviewContent& content) {
   // The texture shows the value itself (heightfield or image) or the backdrop heightfield.
   HeightfieldPtr field;
   ImagePtr image;
-  if (auto* h = std::get_if<HeightfieldPtr>(&content.value)) field = *h;
-  else if (auto* i = std::get_if<ImagePtr>(&content.value)) image = *i;
-  else field = content.backdrop;
+  if (auto* h = std::get_if<HeightfieldPtr>(&content.value))
+    field = *h;
+  else if (auto* i = std::get_if<ImagePtr>(&content.value))
+    image = *i;
+  else
+    field = content.backdrop;
   if (HeightfieldPtr channel = chosen_channel(content)) {
     field = channel;
     image = nullptr;
@@ -124,11 +128,12 @@ void Preview2D::upload(const PreviewContent& content) {
   // the same data (a cached result after an edit elsewhere is not redrawn). The pointers are held, so they
   // cannot be reused for other data meanwhile.
   // Water depth lies on its terrain (unless another colour map is chosen).
-  const HeightfieldPtr under = field && content.kind == OutputKind::WaterDepth && map_choice_ == 0 ? content.backdrop : nullptr;
+  const HeightfieldPtr under =
+      field && content.kind == OutputKind::WaterDepth && map_choice_ == 0 ? content.backdrop : nullptr;
   char key[256];
   std::snprintf(key, sizeof key, "%p|%p|%p|%d|%d|%d|%d", static_cast<const void*>(field.get()),
-                static_cast<const void*>(image.get()), static_cast<const void*>(under.get()), static_cast<int>(style_.map),
-                style_.hillshade ? 1 : 0, style_.range ? 1 : 0, style_.symmetric ? 1 : 0);
+                static_cast<const void*>(image.get()), static_cast<const void*>(under.get()),
+                static_cast<int>(style_.map), style_.hillshade ? 1 : 0, style_.range ? 1 : 0, style_.symmetric ? 1 : 0);
   if (texture_key_ == key) return;
   texture_key_ = key;
   shown_field_ = field;
@@ -161,8 +166,8 @@ void Preview2D::draw(const PreviewContent& content) {
       start_channel_.clear();
     }
   }
-  const bool is_field = std::holds_alternative<HeightfieldPtr>(content.value) ||
-                        (content.backdrop && !shown_image) || (shown_image && *shown_image && channel_choice_ > 0);
+  const bool is_field = std::holds_alternative<HeightfieldPtr>(content.value) || (content.backdrop && !shown_image) ||
+                        (shown_image && *shown_image && channel_choice_ > 0);
   // Toolbar.
   if (shown_image && *shown_image && (*shown_image)->channels > 1) {
     // Multi-channel images (monthly climate, splat weights): the colour composite or one channel.
@@ -170,7 +175,8 @@ void Preview2D::draw(const PreviewContent& content) {
     if (channel_choice_ > img.channels) channel_choice_ = 0;
     std::vector<std::string> names{"color"};
     for (int c = 0; c < img.channels; ++c)
-      names.push_back(static_cast<std::size_t>(c) < img.channel_names.size() && !img.channel_names[static_cast<std::size_t>(c)].empty()
+      names.push_back(static_cast<std::size_t>(c) < img.channel_names.size() &&
+                              !img.channel_names[static_cast<std::size_t>(c)].empty()
                           ? img.channel_names[static_cast<std::size_t>(c)]
                           : "channel " + std::to_string(c));
     ImGui::SetNextItemWidth(150);
@@ -194,9 +200,10 @@ void Preview2D::draw(const PreviewContent& content) {
     ImGui::SetNextItemWidth(120);
     if (ImGui::Combo("##map", &map_choice_, items, 1 + kColorMapCount) && map_choice_ == 0) hillshade_choice_.reset();
     if (ImGui::IsItemHovered())
-      ImGui::SetTooltip("Color map. Auto follows what the output holds (%s): heights in terrain tints, masks in "
-                        "gray over 0..1, signed fields diverging around 0, water depth in blues.",
-                        std::string(to_string(shown_kind)).c_str());
+      ImGui::SetTooltip(
+          "Color map. Auto follows what the output holds (%s): heights in terrain tints, masks in "
+          "gray over 0..1, signed fields diverging around 0, water depth in blues.",
+          std::string(to_string(shown_kind)).c_str());
     ImGui::SameLine();
     bool shade = current.hillshade;
     if (ImGui::Checkbox("hillshade", &shade)) hillshade_choice_ = shade;
@@ -263,7 +270,7 @@ void Preview2D::draw(const PreviewContent& content) {
     return;
   }
   if (!domain) {
-    const char* text = content.node.empty() ? "Select a node to preview it"
+    const char* text = content.node.empty()       ? "Select a node to preview it"
                        : has_value(content.value) ? "Nothing to draw in 2D for this output"
                                                   : "Waiting for the evaluation...";
     if (has_value(content.value) && std::holds_alternative<MeshPtr>(content.value)) text = "A mesh: see the 3D view";
@@ -275,7 +282,8 @@ void Preview2D::draw(const PreviewContent& content) {
     return;
   }
   upload(content);
-  if (!fitted_ || !(fitted_domain_.min_corner() == domain->min_corner() && fitted_domain_.max_corner() == domain->max_corner()))
+  if (!fitted_ ||
+      !(fitted_domain_.min_corner() == domain->min_corner() && fitted_domain_.max_corner() == domain->max_corner()))
     fit(*domain, panel_size_);
 
   const glm::dvec2 pc{origin.x + size.x * 0.5, origin.y + size.y * 0.5};
@@ -341,7 +349,8 @@ void Preview2D::draw(const PreviewContent& content) {
     const auto corner_at = [&](int q) { return to_screen(map.corners[static_cast<std::size_t>(q)].position); };
     // Cells filled by the chosen attribute (biome ids in the biome colors, anything else on a ramp).
     const auto attr = map.cell_attributes.find(polygon_attribute_);
-    const std::vector<float>* values = attr != map.cell_attributes.end() && attr->second.size() == map.cells.size() ? &attr->second : nullptr;
+    const std::vector<float>* values =
+        attr != map.cell_attributes.end() && attr->second.size() == map.cells.size() ? &attr->second : nullptr;
     float lo = 0.0f, hi = 1.0f;
     if (values && !values->empty()) {
       lo = *std::min_element(values->begin(), values->end());
@@ -363,8 +372,10 @@ void Preview2D::draw(const PreviewContent& content) {
       dl->AddConvexPolyFilled(poly.data(), static_cast<int>(poly.size()), col);
     }
     // Cell outlines when the cells are large enough on screen.
-    const double cell_px = scale_ * std::sqrt(std::max(1e-12, (map.max_corner.x - map.min_corner.x) * (map.max_corner.y - map.min_corner.y) /
-                                                         static_cast<double>(std::max<std::size_t>(1, map.cells.size()))));
+    const double cell_px =
+        scale_ *
+        std::sqrt(std::max(1e-12, (map.max_corner.x - map.min_corner.x) * (map.max_corner.y - map.min_corner.y) /
+                                      static_cast<double>(std::max<std::size_t>(1, map.cells.size()))));
     const auto* ocean = map.cell_attributes.count("ocean") ? &map.cell_attributes.at("ocean") : nullptr;
     const auto* river = map.edge_attributes.count("river") ? &map.edge_attributes.at("river") : nullptr;
     for (std::size_t k = 0; k < map.edges.size(); ++k) {
@@ -372,7 +383,8 @@ void Preview2D::draw(const PreviewContent& content) {
       if (e.corners[0] < 0 || e.corners[1] < 0) continue;
       const ImVec2 a = corner_at(e.corners[0]), b = corner_at(e.corners[1]);
       const bool coast = ocean && ocean->size() == map.cells.size() && e.cells[0] >= 0 && e.cells[1] >= 0 &&
-                         ((*ocean)[static_cast<std::size_t>(e.cells[0])] > 0.5f) != ((*ocean)[static_cast<std::size_t>(e.cells[1])] > 0.5f);
+                         ((*ocean)[static_cast<std::size_t>(e.cells[0])] > 0.5f) !=
+                             ((*ocean)[static_cast<std::size_t>(e.cells[1])] > 0.5f);
       if (river && river->size() == map.edges.size() && (*river)[k] > 0.0f)
         dl->AddLine(a, b, IM_COL32(0x22, 0x55, 0x88, 255), std::clamp(1.0f + std::sqrt((*river)[k]), 1.0f, 6.0f));
       else if (coast)
@@ -382,8 +394,8 @@ void Preview2D::draw(const PreviewContent& content) {
     }
   }
   // Outline of the domain.
-  dl->AddRect(to_screen({domain->min_corner().x, domain->max_corner().y}), to_screen({domain->max_corner().x, domain->min_corner().y}),
-              IM_COL32(255, 255, 255, 40));
+  dl->AddRect(to_screen({domain->min_corner().x, domain->max_corner().y}),
+              to_screen({domain->max_corner().x, domain->min_corner().y}), IM_COL32(255, 255, 255, 40));
   dl->PopClipRect();
 
   // Readout under the cursor.
@@ -399,7 +411,8 @@ void Preview2D::draw(const PreviewContent& content) {
       if (i >= 0 && j >= 0 && i < img.width() && j < img.height()) {
         const float* px = img.pixel(i, j);
         int n = std::snprintf(value, sizeof value, "  value");
-        for (int k = 0; k < std::min(img.channels, 4) && n < 150; ++k) n += std::snprintf(value + n, sizeof value - n, " %.3g", px[k]);
+        for (int k = 0; k < std::min(img.channels, 4) && n < 150; ++k)
+          n += std::snprintf(value + n, sizeof value - n, " %.3g", px[k]);
       }
     } else if (field) {
       const glm::dvec2 s = field->domain.to_sample(w);

@@ -29,16 +29,16 @@ class Preview2D {
 
   HeightfieldStyle style_for_content(const PreviewContent& content) const;
 
-  HeightfieldStyle style_;       // the style drawn
-  int map_choice_ = 0;           // 0: from the output's kind, else 1 + ColorMap
-  int channel_choice_ = 0;       // images: 0 shows the colour composite, k > 0 channel k - 1 as a field
+  HeightfieldStyle style_;        // the style drawn
+  int map_choice_ = 0;            // 0: from the output's kind, else 1 + ColorMap
+  int channel_choice_ = 0;        // images: 0 shows the colour composite, k > 0 channel k - 1 as a field
   HeightfieldPtr channel_field_;  // that channel
   ImagePtr channel_source_;       // the image and channel it was taken from
   int channel_source_index_ = -1;
-  std::string start_channel_;     // set_start: applied when an image with this channel is shown
+  std::string start_channel_;             // set_start: applied when an image with this channel is shown
   std::optional<bool> hillshade_choice_;  // unset: from the output's kind
   GlTexture texture_;
-  std::string texture_key_;   // what the texture holds
+  std::string texture_key_;     // what the texture holds
   HeightfieldPtr shown_field_;  // held so their addresses in the key stay theirs
   ImagePtr shown_image_;
   HeightfieldPtr shown_under_;  // the terrain under water depth

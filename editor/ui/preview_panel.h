@@ -12,16 +12,16 @@
 namespace orogen::editor {
 
 struct PreviewContent {
-  std::string node;            // the previewed node ("" if none)
-  std::string port;            // its shown output
-  PortValue value;             // monostate while not (yet) evaluated
+  std::string node;                    // the previewed node ("" if none)
+  std::string port;                    // its shown output
+  PortValue value;                     // monostate while not (yet) evaluated
   OutputKind kind = OutputKind::Auto;  // of a heightfield value: chooses the colour map (and water in 3D)
-  std::string backdrop_node;   // the heightfield under points / curves / meshes
+  std::string backdrop_node;           // the heightfield under points / curves / meshes
   HeightfieldPtr backdrop;
-  ImagePtr drape;              // 3D: colour image draped over the terrain
-  std::uint64_t serial = 0;    // the evaluation result it comes from; changes when the data do
-  bool stale = false;          // a newer evaluation is running
-  std::string error;           // why there is no value (the node failed, or an upstream node did)
+  ImagePtr drape;            // 3D: colour image draped over the terrain
+  std::uint64_t serial = 0;  // the evaluation result it comes from; changes when the data do
+  bool stale = false;        // a newer evaluation is running
+  std::string error;         // why there is no value (the node failed, or an upstream node did)
   // A scene writer (WriteScene) is previewed as the scene it writes: `value` holds its points, `backdrop`
   // the ground they were placed on, and 3D draws the terrain mesh and the class meshes instanced.
   std::optional<ScenePreview> scene;

@@ -22,7 +22,8 @@ void save_framebuffer_png(const std::filesystem::path& path, int width, int heig
     auto out = OIIO::ImageOutput::create(tmp.string());
     if (!out) throw std::runtime_error("cannot write " + path.string() + ": " + OIIO::geterror());
     OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
-    if (!out->open(tmp.string(), spec)) throw std::runtime_error("cannot write " + path.string() + ": " + out->geterror());
+    if (!out->open(tmp.string(), spec))
+      throw std::runtime_error("cannot write " + path.string() + ": " + out->geterror());
     const bool ok = out->write_image(OIIO::TypeDesc::UINT8, pixels.data() + (height - 1) * row, OIIO::AutoStride, -row);
     out->close();
     if (!ok) throw std::runtime_error("cannot write " + path.string() + ": " + out->geterror());

@@ -36,15 +36,24 @@ ImU32 category_color(std::string_view category) {
 
 ImU32 port_color(PortType type) {
   switch (type) {
-    case PortType::Heightfield: return IM_COL32(120, 200, 120, 255);
-    case PortType::Image: return IM_COL32(230, 190, 70, 255);
-    case PortType::Points: return IM_COL32(90, 170, 240, 255);
-    case PortType::Curves: return IM_COL32(90, 220, 220, 255);
-    case PortType::Mesh: return IM_COL32(230, 110, 160, 255);
-    case PortType::PolygonMap: return IM_COL32(190, 130, 240, 255);
-    case PortType::Report: return IM_COL32(200, 200, 200, 255);
-    case PortType::ModuleString: return IM_COL32(150, 210, 90, 255);
-    case PortType::Scene: return IM_COL32(240, 140, 90, 255);
+    case PortType::Heightfield:
+      return IM_COL32(120, 200, 120, 255);
+    case PortType::Image:
+      return IM_COL32(230, 190, 70, 255);
+    case PortType::Points:
+      return IM_COL32(90, 170, 240, 255);
+    case PortType::Curves:
+      return IM_COL32(90, 220, 220, 255);
+    case PortType::Mesh:
+      return IM_COL32(230, 110, 160, 255);
+    case PortType::PolygonMap:
+      return IM_COL32(190, 130, 240, 255);
+    case PortType::Report:
+      return IM_COL32(200, 200, 200, 255);
+    case PortType::ModuleString:
+      return IM_COL32(150, 210, 90, 255);
+    case PortType::Scene:
+      return IM_COL32(240, 140, 90, 255);
   }
   return IM_COL32(200, 200, 200, 255);
 }
@@ -52,13 +61,20 @@ ImU32 port_color(PortType type) {
 ImU32 status_color(NodeRunState::Phase phase) {
   using P = NodeRunState::Phase;
   switch (phase) {
-    case P::Computed: return IM_COL32(110, 200, 110, 255);
-    case P::Cached: return IM_COL32(110, 170, 220, 255);
-    case P::Computing: return IM_COL32(240, 190, 70, 255);
-    case P::Failed: return kError;
-    case P::Skipped: return IM_COL32(200, 130, 90, 255);
-    case P::Stale: return IM_COL32(150, 150, 150, 255);
-    case P::Unknown: return IM_COL32(110, 110, 110, 255);
+    case P::Computed:
+      return IM_COL32(110, 200, 110, 255);
+    case P::Cached:
+      return IM_COL32(110, 170, 220, 255);
+    case P::Computing:
+      return IM_COL32(240, 190, 70, 255);
+    case P::Failed:
+      return kError;
+    case P::Skipped:
+      return IM_COL32(200, 130, 90, 255);
+    case P::Stale:
+      return IM_COL32(150, 150, 150, 255);
+    case P::Unknown:
+      return IM_COL32(110, 110, 110, 255);
   }
   return kTextDim;
 }

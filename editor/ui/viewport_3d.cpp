@@ -180,7 +180,8 @@ void Viewport3D::upload(Buffers& b, const std::vector<float>& vertices, const st
   }
   glBindVertexArray(b.vao);
   glBindBuffer(GL_ARRAY_BUFFER, b.vbo);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)), vertices.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)), vertices.data(),
+               GL_STATIC_DRAW);
   const GLsizei stride = 10 * sizeof(float);
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(0));
@@ -255,8 +256,10 @@ void Viewport3D::update_geometry(const PreviewContent& content) {
   // cannot be reused meanwhile).
   const void* value_ptr = std::visit(
       [](const auto& v) -> const void* {
-        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>) return nullptr;
-        else return v.get();
+        if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::monostate>)
+          return nullptr;
+        else
+          return v.get();
       },
       content.value);
   char key[256];
@@ -288,7 +291,8 @@ void Viewport3D::update_geometry(const PreviewContent& content) {
   auto upload_mesh = [&](Buffers& b, const TerrainMesh& tm) {
     vertices.clear();
     vertices.reserve(tm.positions.size() * 10);
-    for (std::size_t k = 0; k < tm.positions.size(); ++k) push_vertex(vertices, tm.positions[k], tm.normals[k], tm.colors[k]);
+    for (std::size_t k = 0; k < tm.positions.size(); ++k)
+      push_vertex(vertices, tm.positions[k], tm.normals[k], tm.colors[k]);
     upload(b, vertices, tm.indices);
   };
   // Water depth stands on its terrain (the backdrop): the terrain is drawn, the water on it.
@@ -321,7 +325,8 @@ void Viewport3D::update_geometry(const PreviewContent& content) {
     extend(tm.min);
     extend(tm.max);
     cell = std::max(field->domain.spacing.x, field->domain.spacing.y) *
-           std::max(1.0, static_cast<double>(std::max(field->width(), field->height()) - 1) / std::max(1, std::max(tm.columns, tm.rows) - 1));
+           std::max(1.0, static_cast<double>(std::max(field->width(), field->height()) - 1) /
+                             std::max(1, std::max(tm.columns, tm.rows) - 1));
   } else {
     terrain_.count = 0;
   }
@@ -406,8 +411,8 @@ void Viewport3D::update_geometry(const PreviewContent& content) {
     mesh_.count = 0;
   }
   if (have_bounds) {
-    const bool changed = !framed_ || glm::length(lo - bounds_min_) + glm::length(hi - bounds_max_) >
-                                         1e-3 * glm::length(hi - lo);
+    const bool changed =
+        !framed_ || glm::length(lo - bounds_min_) + glm::length(hi - bounds_max_) > 1e-3 * glm::length(hi - lo);
     bounds_min_ = lo;
     bounds_max_ = hi;
     if (changed) framed_ = false;
@@ -543,13 +548,14 @@ void Viewport3D::draw(const PreviewContent& content) {
   if (terrain_.count == 0 && markers_.count == 0 && mesh_.count == 0 && ribbons_.count == 0 && instanced_.empty()) {
     ImGui::InvisibleButton("##empty3d", size);
     const ImVec2 o = ImGui::GetItemRectMin();
-    const char* text = content.node.empty()     ? "Select a node to view it in 3D"
-                       : !content.error.empty() ? content.error.c_str()
+    const char* text = content.node.empty()       ? "Select a node to view it in 3D"
+                       : !content.error.empty()   ? content.error.c_str()
                        : has_value(content.value) ? "Nothing to show in 3D for this output"
                                                   : "Waiting for the evaluation...";
     const ImVec2 ts = ImGui::CalcTextSize(text);
     ImGui::GetWindowDrawList()->AddRectFilled(o, ImGui::GetItemRectMax(), IM_COL32(22, 23, 26, 255));
-    ImGui::GetWindowDrawList()->AddText({o.x + (size.x - ts.x) * 0.5f, o.y + (size.y - ts.y) * 0.5f}, theme::kTextDim, text);
+    ImGui::GetWindowDrawList()->AddText({o.x + (size.x - ts.x) * 0.5f, o.y + (size.y - ts.y) * 0.5f}, theme::kTextDim,
+                                        text);
     return;
   }
   if (!framed_) {
@@ -565,13 +571,16 @@ void Viewport3D::draw(const PreviewContent& content) {
   }
 
   const ImVec2 origin = ImGui::GetCursorScreenPos();
-  ImGui::InvisibleButton("##viewport3d", size,
-                         ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight | ImGuiButtonFlags_MouseButtonMiddle);
+  ImGui::InvisibleButton(
+      "##viewport3d", size,
+      ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight | ImGuiButtonFlags_MouseButtonMiddle);
   const ImGuiIO& io = ImGui::GetIO();
   if (ImGui::IsItemActive()) {
     const glm::dvec2 d{io.MouseDelta.x, io.MouseDelta.y};
-    if (ImGui::IsMouseDown(ImGuiMouseButton_Left)) camera_.orbit({d.x, d.y});
-    else camera_.pan(d, size.y);
+    if (ImGui::IsMouseDown(ImGuiMouseButton_Left))
+      camera_.orbit({d.x, d.y});
+    else
+      camera_.pan(d, size.y);
   }
   if (ImGui::IsItemHovered()) {
     if (io.MouseWheel != 0.0f) camera_.zoom(io.MouseWheel);

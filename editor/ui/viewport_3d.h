@@ -3,8 +3,8 @@
 // map of its kind), points as markers, curves as ribbons of their width on the terrain, water depth as a
 // flat translucent water surface on its terrain, mesh outputs in place, and a scene writer's scene (its
 // terrain mesh, or the ground its points were placed on, with every class mesh drawn at its points by GPU
-// instancing: one glDrawElementsInstanced per class); rendered into an offscreen framebuffer shown as an ImGui image. Orbit
-// with the left mouse button, pan with the right or middle one, zoom with the wheel, F to frame.
+// instancing: one glDrawElementsInstanced per class); rendered into an offscreen framebuffer shown as an ImGui image.
+// Orbit with the left mouse button, pan with the right or middle one, zoom with the wheel, F to frame.
 #include <cstdint>
 #include <optional>
 #include <string>

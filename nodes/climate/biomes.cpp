@@ -23,10 +23,13 @@ TableSchema biome_rectangle_schema() {
   TableSchema s;
   s.min_rows = 1;
   s.add("name", ColumnType::Text).describe("Biome name; rows sharing a name are one biome");
-  s.add("temperature", ColumnType::Range).unit_of("deg C").allow_open_ends().describe(
-      "Temperatures of the rectangle, [min, max): min inclusive, max exclusive");
-  s.add("moisture", ColumnType::Range).allow_open_ends().describe(
-      "Moisture of the rectangle in the table's unit (whittaker: mm per year; island: 0..1), [min, max)");
+  s.add("temperature", ColumnType::Range)
+      .unit_of("deg C")
+      .allow_open_ends()
+      .describe("Temperatures of the rectangle, [min, max): min inclusive, max exclusive");
+  s.add("moisture", ColumnType::Range)
+      .allow_open_ends()
+      .describe("Moisture of the rectangle in the table's unit (whittaker: mm per year; island: 0..1), [min, max)");
   s.add("color", ColumnType::Color).describe("The biome's color, sRGB #rrggbb (its first row's counts)");
   return s;
 }
@@ -123,24 +126,30 @@ OROGEN_NODE(Biomes) {
       "ranges, min inclusive, max exclusive, open ends allowed; color); the first matching row wins; ids number "
       "the distinct names in order; -1 where no row matches). The report lists ids, names and colors.");
   b.input("in", PortType::Heightfield).description("Temperature, deg C (e.g. Temperature.mean)");
-  b.input("moisture", PortType::Heightfield).description("Moisture in the table's unit (whittaker: mm per year; island: 0..1)");
-  b.output("out", PortType::Heightfield).description("Biome id 0, 1, ... (-1: no row matches)").kind(OutputKind::Scalar);
+  b.input("moisture", PortType::Heightfield)
+      .description("Moisture in the table's unit (whittaker: mm per year; island: 0..1)");
+  b.output("out", PortType::Heightfield)
+      .description("Biome id 0, 1, ... (-1: no row matches)")
+      .kind(OutputKind::Scalar);
   b.output("color", PortType::Image).description("Biome colors, linear RGBA");
   b.output("report", PortType::Report).description("The table: id, name, color per biome");
   b.param_enum("table", {"whittaker", "island", "custom"}, "whittaker").description("Which table classifies");
   b.param_table("custom_table", biome_rectangle_schema(), builtin_biome_rectangles("whittaker"))
       .description("The rectangles used when table = custom: name, temperature and moisture ranges, color");
-  b.param_float("moisture_scale", 1.0).range(0.0, 1e6).description("Multiplier of the moisture input before the lookup (unit conversion), >= 0");
+  b.param_float("moisture_scale", 1.0)
+      .range(0.0, 1e6)
+      .description("Multiplier of the moisture input before the lookup (unit conversion), >= 0");
   b.execute([](ExecContext& ctx) {
     const std::string which = ctx.param<std::string>("table");
     const BiomeTable table = biome_table_from_rows(which == "custom" ? ctx.param<TableValue>("custom_table")
-                                                                      : builtin_biome_rectangles(which));
+                                                                     : builtin_biome_rectangles(which));
     const auto in = ctx.require<Heightfield>("in");
     const auto moisture = require_secondary_input<Heightfield>(ctx, "moisture", in->domain);
     auto r = classify_biomes(*in, *moisture, table, ctx.param<double>("moisture_scale"), &ctx);
     ReportJson j = ReportJson::array();
     for (std::size_t k = 0; k < table.names.size(); ++k)
-      j.push_back({{"id", k}, {"name", table.names[k]}, {"color", {table.colors[k].r, table.colors[k].g, table.colors[k].b}}});
+      j.push_back(
+          {{"id", k}, {"name", table.names[k]}, {"color", {table.colors[k].r, table.colors[k].g, table.colors[k].b}}});
     const auto report = make_report(ReportJson{{"biomes", j}});
     ctx.set_output("out", r.ids);
     ctx.set_output("color", r.color);

@@ -26,8 +26,8 @@ struct BiomeRow {
 
 struct BiomeTable {
   std::vector<BiomeRow> rows;
-  std::vector<std::string> names;   // by id
-  std::vector<glm::vec4> colors;    // by id, linear RGBA
+  std::vector<std::string> names;  // by id
+  std::vector<glm::vec4> colors;   // by id, linear RGBA
 
   int classify(double t, double m) const;
 };

@@ -20,16 +20,15 @@ namespace {
 
 constexpr std::size_t kBlock = 4096;  // cells per partial sum (fixed: results do not depend on threads)
 
-
 // Nearest centre of `count` cells (features x, uc per cell) among k centres transposed to ct[channel][kp]:
 // float squared distances summed channel by channel; ties go to the lower id. Every variant below performs
 // the same IEEE operations in the same order for each cell (no FMA), so the result does not depend on the
 // variant or the machine. KP > 0: the padded cluster count is known at compile time and four cells are
 // processed together (independent accumulators in registers).
 template <int KP>
-inline __attribute__((always_inline)) void nearest_impl(const float* x, std::size_t count, std::size_t uc, const float* ct,
-                                                        std::size_t kp_runtime, int k, std::int32_t* best_out,
-                                                        float* dist_out) {
+inline __attribute__((always_inline)) void nearest_impl(const float* x, std::size_t count, std::size_t uc,
+                                                        const float* ct, std::size_t kp_runtime, int k,
+                                                        std::int32_t* best_out, float* dist_out) {
   const std::size_t kp = KP > 0 ? static_cast<std::size_t>(KP) : kp_runtime;
   auto finish = [&](const float* d, std::size_t q) {
     int best = 0;
@@ -88,11 +87,11 @@ inline __attribute__((always_inline)) void nearest_impl(const float* x, std::siz
   }
 }
 
-#define OROGEN_NEAREST(NAME, KP)                                                                            \
+#define OROGEN_NEAREST(NAME, KP)                                                                                 \
   __attribute__((target_clones("avx2", "default"))) void NAME(const float* x, std::size_t count, std::size_t uc, \
-                                                              const float* ct, std::size_t kp, int k,        \
-                                                              std::int32_t* best, float* dist) {             \
-    nearest_impl<KP>(x, count, uc, ct, kp, k, best, dist);                                                   \
+                                                              const float* ct, std::size_t kp, int k,            \
+                                                              std::int32_t* best, float* dist) {                 \
+    nearest_impl<KP>(x, count, uc, ct, kp, k, best, dist);                                                       \
   }
 OROGEN_NEAREST(nearest_any, 0)
 OROGEN_NEAREST(nearest_4, 4)
@@ -104,26 +103,39 @@ OROGEN_NEAREST(nearest_16, 16)
 void nearest_centres(const float* x, std::size_t count, std::size_t uc, const float* ct, std::size_t kp, int k,
                      std::int32_t* best, float* dist) {
   switch (kp) {
-    case 4: nearest_4(x, count, uc, ct, kp, k, best, dist); break;
-    case 8: nearest_8(x, count, uc, ct, kp, k, best, dist); break;
-    case 12: nearest_12(x, count, uc, ct, kp, k, best, dist); break;
-    case 16: nearest_16(x, count, uc, ct, kp, k, best, dist); break;
-    default: nearest_any(x, count, uc, ct, kp, k, best, dist);
+    case 4:
+      nearest_4(x, count, uc, ct, kp, k, best, dist);
+      break;
+    case 8:
+      nearest_8(x, count, uc, ct, kp, k, best, dist);
+      break;
+    case 12:
+      nearest_12(x, count, uc, ct, kp, k, best, dist);
+      break;
+    case 16:
+      nearest_16(x, count, uc, ct, kp, k, best, dist);
+      break;
+    default:
+      nearest_any(x, count, uc, ct, kp, k, best, dist);
   }
 }
 
 }  // namespace
 
-std::vector<double> group_weights(const std::vector<std::string>& names, int channels, double slope,
-                                  double temperature, double illumination, double humidity, double other) {
+std::vector<double> group_weights(const std::vector<std::string>& names, int channels, double slope, double temperature,
+                                  double illumination, double humidity, double other) {
   std::vector<double> w(static_cast<std::size_t>(channels), other);
   for (std::size_t c = 0; c < w.size() && c < names.size(); ++c) {
     const std::string& n = names[c];
     auto starts = [&](const char* p) { return n.rfind(p, 0) == 0; };
-    if (n == "slope") w[c] = slope;
-    else if (starts("temperature")) w[c] = temperature;
-    else if (starts("illumination")) w[c] = illumination;
-    else if (starts("humidity")) w[c] = humidity;
+    if (n == "slope")
+      w[c] = slope;
+    else if (starts("temperature"))
+      w[c] = temperature;
+    else if (starts("illumination"))
+      w[c] = illumination;
+    else if (starts("humidity"))
+      w[c] = humidity;
   }
   return w;
 }
@@ -171,7 +183,9 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
     for (int c = 0; c < k; ++c) {
       const double t = (c + 0.5) / k;
       const int i = static_cast<int>(std::lround(t * (W - 1))), j = static_cast<int>(std::lround(t * (H - 1)));
-      set_centre(c, features.domain.sample_count() ? static_cast<std::size_t>(j) * static_cast<std::size_t>(W) + static_cast<std::size_t>(i) : 0);
+      set_centre(c, features.domain.sample_count()
+                        ? static_cast<std::size_t>(j) * static_cast<std::size_t>(W) + static_cast<std::size_t>(i)
+                        : 0);
     }
   } else {
     set_centre(0, static_cast<std::size_t>(hash64(p.seed, 0) % n));
@@ -263,7 +277,8 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
     }
     for (std::size_t c = 0; c < uk; ++c)
       if (counts[c] > 0)
-        for (std::size_t ch = 0; ch < uc; ++ch) centres[c * uc + ch] = sums[c * uc + ch] / static_cast<double>(counts[c]);
+        for (std::size_t ch = 0; ch < uc; ++ch)
+          centres[c * uc + ch] = sums[c * uc + ch] / static_cast<double>(counts[c]);
     if (ctx) ctx->progress(static_cast<double>(it + 1) / p.max_iterations);
   }
   res.counts = counts;
@@ -280,7 +295,8 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
       const float v = features.data[q * uc + ch];
       s[static_cast<std::size_t>(res.labels[q])] += std::isfinite(v) ? v : 0.0;
     }
-    for (std::size_t c = 0; c < uk; ++c) res.centres[c * uc + ch] = counts[c] ? s[c] / static_cast<double>(counts[c]) : 0.0;
+    for (std::size_t c = 0; c < uk; ++c)
+      res.centres[c * uc + ch] = counts[c] ? s[c] / static_cast<double>(counts[c]) : 0.0;
   }
   return res;
 }
@@ -342,18 +358,31 @@ OROGEN_NODE(KMeansClusters) {
   b.output("out", PortType::Heightfield)
       .description("Cluster id 0..k-1 (NaN where a feature is NaN or infinite)")
       .kind(OutputKind::Scalar);
-  b.output("report", PortType::Report).description("Centres (per channel, feature units), member counts, colors, objective per iteration");
+  b.output("report", PortType::Report)
+      .description("Centres (per channel, feature units), member counts, colors, objective per iteration");
   b.output("color", PortType::Image)
       .description("Cluster colors from a categorical palette, linear RGBA (transparent where the id is NaN)");
   b.param_int("k", 6).range(1, 64).description("Number of clusters, 1..64");
   b.param_int("max_iterations", 100).range(1, 1000).description("Iteration cap, 1..1000");
-  b.param_float("tolerance", 1e-4).range(0.0, 0.5).description("Stop when at most this fraction of the cells changed cluster in an iteration, 0..0.5 (0: until none changes)");
-  b.param_enum("init", {"diagonal", "kmeans++"}, "diagonal").description("Initial centres: diagonal (cells at equal steps along the domain diagonal) or kmeans++ (from the seed)");
+  b.param_float("tolerance", 1e-4)
+      .range(0.0, 0.5)
+      .description(
+          "Stop when at most this fraction of the cells changed cluster in an iteration, 0..0.5 (0: until none "
+          "changes)");
+  b.param_enum("init", {"diagonal", "kmeans++"}, "diagonal")
+      .description(
+          "Initial centres: diagonal (cells at equal steps along the domain diagonal) or kmeans++ (from the seed)");
   b.param_seed("seed", 0).description("Seed of the kmeans++ initialisation");
   b.param_float("weight_slope", 1.0).range(0.0, 1000.0).description("Weight of the 'slope' channel, unitless >= 0");
-  b.param_float("weight_temperature", 1.0).range(0.0, 1000.0).description("Weight of 'temperature_*' channels, unitless >= 0");
-  b.param_float("weight_illumination", 1.0).range(0.0, 1000.0).description("Weight of 'illumination_*' channels, unitless >= 0");
-  b.param_float("weight_humidity", 0.1).range(0.0, 1000.0).description("Weight of 'humidity_*' channels, unitless >= 0");
+  b.param_float("weight_temperature", 1.0)
+      .range(0.0, 1000.0)
+      .description("Weight of 'temperature_*' channels, unitless >= 0");
+  b.param_float("weight_illumination", 1.0)
+      .range(0.0, 1000.0)
+      .description("Weight of 'illumination_*' channels, unitless >= 0");
+  b.param_float("weight_humidity", 0.1)
+      .range(0.0, 1000.0)
+      .description("Weight of 'humidity_*' channels, unitless >= 0");
   b.param_float("weight_other", 1.0).range(0.0, 1000.0).description("Weight of any other channel, unitless >= 0");
   b.execute([](ExecContext& ctx) {
     const auto img = ctx.require<Image>("in");

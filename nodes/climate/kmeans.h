@@ -6,8 +6,8 @@
 // from a seed (D. Arthur, S. Vassilvitskii (2007), k-means++: the advantages of careful seeding).
 //
 // Iterates until at most `tolerance` x cells change cluster in an assignment (0: none) or max_iterations.
-// Deterministic for any thread count: assignment is per cell (float distances); the new means are sums over fixed blocks of
-// cells reduced in block order, in double precision. Empty clusters keep their centre. Ties go to the lower
+// Deterministic for any thread count: assignment is per cell (float distances); the new means are sums over fixed
+// blocks of cells reduced in block order, in double precision. Empty clusters keep their centre. Ties go to the lower
 // cluster id. Non-finite features count as 0.
 #include <cstdint>
 #include <memory>
@@ -25,9 +25,9 @@ namespace orogen::climate {
 enum class KMeansInit { Diagonal, PlusPlus };
 
 struct KMeansParams {
-  int k = 6;                    // 1..64
+  int k = 6;  // 1..64
   int max_iterations = 100;
-  double tolerance = 0.0;       // converged when at most this fraction of the cells changed cluster
+  double tolerance = 0.0;  // converged when at most this fraction of the cells changed cluster
   KMeansInit init = KMeansInit::Diagonal;
   std::uint64_t seed = 0;
   std::vector<double> weights;  // per channel; empty = all 1
@@ -47,8 +47,8 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
 
 // Per-channel weights from the resource groups of channel names ("slope", "temperature_*",
 // "illumination_*", "humidity_*", anything else).
-std::vector<double> group_weights(const std::vector<std::string>& names, int channels, double slope,
-                                  double temperature, double illumination, double humidity, double other);
+std::vector<double> group_weights(const std::vector<std::string>& names, int channels, double slope, double temperature,
+                                  double illumination, double humidity, double other);
 
 // The clustering on the features' domain: the cluster id of each cell as a float field, and its categorical
 // color (nodes/common/categorical_palette.h) as a linear RGBA image.

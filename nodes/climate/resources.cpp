@@ -59,7 +59,8 @@ TemperatureResult temperature(const Heightfield& z, const TemperatureParams& p, 
       double sum = 0.0;
       for (int m = 1; m <= 12; ++m) {
         double t = base[m - 1] + alt;
-        if (lit_hours) t += p.illumination_gain * (lit_hours->pixel(i, j)[month_channel(*lit_hours, m)] - p.reference_hours);
+        if (lit_hours)
+          t += p.illumination_gain * (lit_hours->pixel(i, j)[month_channel(*lit_hours, m)] - p.reference_hours);
         px[m - 1] = static_cast<float>(t);
         sum += t;
       }
@@ -127,7 +128,8 @@ std::shared_ptr<Image> resource_stack(const Heightfield& z, const Image* tempera
     std::string name;
   };
   std::vector<Group> groups;
-  for (const Group& g : {Group{temperature, "temperature"}, Group{illumination, "illumination"}, Group{humidity, "humidity"}}) {
+  for (const Group& g :
+       {Group{temperature, "temperature"}, Group{illumination, "illumination"}, Group{humidity, "humidity"}}) {
     if (!g.img) continue;
     require_same_grid(g.img->domain, z.domain, g.name);
     groups.push_back(g);
@@ -138,9 +140,10 @@ std::shared_ptr<Image> resource_stack(const Heightfield& z, const Image* tempera
   out->channel_names.push_back("slope");
   for (const auto& g : groups)
     for (int c = 0; c < g.img->channels; ++c)
-      out->channel_names.push_back(g.name + "_" + (static_cast<std::size_t>(c) < g.img->channel_names.size()
-                                                       ? g.img->channel_names[static_cast<std::size_t>(c)]
-                                                       : std::to_string(c)));
+      out->channel_names.push_back(g.name + "_" +
+                                   (static_cast<std::size_t>(c) < g.img->channel_names.size()
+                                        ? g.img->channel_names[static_cast<std::size_t>(c)]
+                                        : std::to_string(c)));
   for_each_row(ctx, z.height(), [&](int j) {
     for (int i = 0; i < z.width(); ++i) {
       float* px = out->pixel(i, j);
@@ -174,15 +177,36 @@ OROGEN_NODE(Temperature) {
       "of SunIllumination. Months 1..12 are January..December; for the southern hemisphere swap the two "
       "temperatures.");
   b.input("in", PortType::Heightfield).description("Height, metres");
-  b.input("illumination", PortType::Image).optional().description("Lit hours per day (SunIllumination.out): 12 monthly channels or 1");
+  b.input("illumination", PortType::Image)
+      .optional()
+      .description("Lit hours per day (SunIllumination.out): 12 monthly channels or 1");
   b.output("out", PortType::Image).description("Temperature, deg C, 12 channels jan..dec");
   b.output("mean", PortType::Heightfield).description("Annual mean temperature, deg C").kind(OutputKind::Signed);
-  b.param_float("t_december", 5.0).range(-80.0, 60.0).unit("C").description("December temperature at the reference altitude, deg C, -80..60");
-  b.param_float("t_june", 22.0).range(-80.0, 60.0).unit("C").description("June temperature at the reference altitude, deg C, -80..60");
-  b.param_float("lapse_rate", 6.4).range(0.0, 15.0).unit("C/km").description("Temperature drop per km of altitude, deg C/km, 0..15");
-  b.param_float("reference_altitude", 0.0).range(-1e4, 1e4).soft_range(-500, 3000).unit("m").description("Altitude of t_december and t_june, metres");
-  b.param_float("illumination_gain", 0.0).range(-5.0, 5.0).unit("C/h").description("Warming per lit hour above reference_hours, deg C/h, -5..5 (used when illumination is connected)");
-  b.param_float("reference_hours", 12.0).range(0.0, 24.0).unit("h").description("Lit hours per day that add no warming, hours 0..24");
+  b.param_float("t_december", 5.0)
+      .range(-80.0, 60.0)
+      .unit("C")
+      .description("December temperature at the reference altitude, deg C, -80..60");
+  b.param_float("t_june", 22.0)
+      .range(-80.0, 60.0)
+      .unit("C")
+      .description("June temperature at the reference altitude, deg C, -80..60");
+  b.param_float("lapse_rate", 6.4)
+      .range(0.0, 15.0)
+      .unit("C/km")
+      .description("Temperature drop per km of altitude, deg C/km, 0..15");
+  b.param_float("reference_altitude", 0.0)
+      .range(-1e4, 1e4)
+      .soft_range(-500, 3000)
+      .unit("m")
+      .description("Altitude of t_december and t_june, metres");
+  b.param_float("illumination_gain", 0.0)
+      .range(-5.0, 5.0)
+      .unit("C/h")
+      .description("Warming per lit hour above reference_hours, deg C/h, -5..5 (used when illumination is connected)");
+  b.param_float("reference_hours", 12.0)
+      .range(0.0, 24.0)
+      .unit("h")
+      .description("Lit hours per day that add no warming, hours 0..24");
   b.execute([](ExecContext& ctx) {
     TemperatureParams p;
     p.t_december = ctx.param<double>("t_december");
@@ -209,17 +233,34 @@ OROGEN_NODE(SoilHumidity) {
       "then Long's weighted history S_wh(m) = S(m)/2 + S(m-1)/3 + S(m-2)/6 (eq. 3.6, wrapping around the "
       "year). Soil infiltration rates: sand > 30, loam 10-20, clay 1-5 mm/h (FAO).");
   b.input("in", PortType::Heightfield).description("Height, metres");
-  b.input("infiltration", PortType::Heightfield).optional().description("Soil infiltration rate, mm/h (replaces the infiltration parameter)");
-  b.input("wetness", PortType::Heightfield).optional().description("Wetness mask in 0..1: the share of the rain that cannot run off is raised toward 1");
-  b.input("water", PortType::Heightfield).optional().description("Standing water depth, metres; deeper than water_threshold saturates the soil");
+  b.input("infiltration", PortType::Heightfield)
+      .optional()
+      .description("Soil infiltration rate, mm/h (replaces the infiltration parameter)");
+  b.input("wetness", PortType::Heightfield)
+      .optional()
+      .description("Wetness mask in 0..1: the share of the rain that cannot run off is raised toward 1");
+  b.input("water", PortType::Heightfield)
+      .optional()
+      .description("Standing water depth, metres; deeper than water_threshold saturates the soil");
   b.output("out", PortType::Image).description("Weighted soil humidity S_wh, mm, 12 channels jan..dec");
   b.output("monthly", PortType::Image).description("Soil humidity S of each month alone, mm, 12 channels");
   b.output("annual", PortType::Heightfield).description("Sum of S_wh over the year, mm").kind(OutputKind::Scalar);
-  b.param_curve("rainfall", monthly_curve_default(true)).description("Rainfall per month, mm (x: month 1..12, y: mm >= 0)");
-  b.param_curve("intensity", monthly_curve_default(false)).description("Average rainfall intensity per month, mm/h (x: month 1..12, y: mm/h > 0)");
-  b.param_float("infiltration", 5.0).range(0.0, 200.0).unit("mm/h").description("Soil infiltration rate, mm/h, 0..200, when no field is connected");
-  b.param_float("max_slope", 30.0).range(0.0, 90.0).unit("deg").description("Slope above which nothing infiltrates, degrees 0..90 (90: none)");
-  b.param_float("water_threshold", 0.01).range(0.0, 100.0).unit("m").description("Water depth above which the soil is saturated, metres");
+  b.param_curve("rainfall", monthly_curve_default(true))
+      .description("Rainfall per month, mm (x: month 1..12, y: mm >= 0)");
+  b.param_curve("intensity", monthly_curve_default(false))
+      .description("Average rainfall intensity per month, mm/h (x: month 1..12, y: mm/h > 0)");
+  b.param_float("infiltration", 5.0)
+      .range(0.0, 200.0)
+      .unit("mm/h")
+      .description("Soil infiltration rate, mm/h, 0..200, when no field is connected");
+  b.param_float("max_slope", 30.0)
+      .range(0.0, 90.0)
+      .unit("deg")
+      .description("Slope above which nothing infiltrates, degrees 0..90 (90: none)");
+  b.param_float("water_threshold", 0.01)
+      .range(0.0, 100.0)
+      .unit("m")
+      .description("Water depth above which the soil is saturated, metres");
   b.execute([](ExecContext& ctx) {
     SoilHumidityParams p;
     p.rainfall = ctx.param<CurveValue>("rainfall");
@@ -255,8 +296,10 @@ OROGEN_NODE(ResourceStack) {
   b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
     std::uint64_t channels = 1;
     for (const char* group : {"temperature", "illumination", "humidity"}) {
-      if (const PortValue* v = q.input(group)) channels += static_cast<std::uint64_t>(std::get<ImagePtr>(*v)->channels);
-      else if (!q.inputs && q.is_linked(group)) channels += 12;
+      if (const PortValue* v = q.input(group))
+        channels += static_cast<std::uint64_t>(std::get<ImagePtr>(*v)->channels);
+      else if (!q.inputs && q.is_linked(group))
+        channels += 12;
     }
     const std::uint64_t samples = static_cast<std::uint64_t>(q.domain.resolution.x) * q.domain.resolution.y;
     return channels > 4 ? samples * (channels - 4) * sizeof(float) : 0;

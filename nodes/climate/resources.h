@@ -55,7 +55,8 @@ struct SoilHumidityResult {
 // rainfall), w = wetness in [0, 1] (1 where standing water is deeper than water_threshold). Never exceeds
 // the month's rainfall.
 SoilHumidityResult soil_humidity(const Heightfield& z, const SoilHumidityParams& p, const Heightfield* infiltration,
-                                 const Heightfield* wetness, const Heightfield* water, const ExecContext* ctx = nullptr);
+                                 const Heightfield* wetness, const Heightfield* water,
+                                 const ExecContext* ctx = nullptr);
 
 // One image: "slope" (degrees) then "temperature_jan".., "illumination_jan".., "humidity_jan".. for the
 // given images (each channel name is prefixed with the group name; null images are left out).

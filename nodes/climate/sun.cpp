@@ -21,9 +21,7 @@ namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 }
 
-double declination_deg(int month) {
-  return kMaxTilt - std::abs(6 - month) * (kMaxTilt / 3.0);
-}
+double declination_deg(int month) { return kMaxTilt - std::abs(6 - month) * (kMaxTilt / 3.0); }
 
 double declination_for_day(double day_of_year) {
   return 23.45 * std::sin(360.0 * (284.0 + day_of_year) / 365.0 * kDeg);
@@ -32,7 +30,7 @@ double declination_for_day(double day_of_year) {
 double sunset_hour_angle_deg(double latitude_deg, double declination_deg) {
   const double c = -std::tan(latitude_deg * kDeg) * std::tan(declination_deg * kDeg);
   if (!(c > -1.0)) return c <= -1.0 ? 180.0 : 0.0;  // polar day (NaN: treat as night)
-  if (c >= 1.0) return 0.0;                          // polar night
+  if (c >= 1.0) return 0.0;                         // polar night
   return std::acos(c) / kDeg;
 }
 
@@ -71,7 +69,8 @@ void sweep_horizon(const Heightfield& z, glm::dvec2 toward, const ExecContext* c
   const double ga = major_x ? gx : gy, gb = major_x ? gy : gx;
   const double m = -gb / std::abs(ga);  // minor-index change per step away from the sun, |m| <= 1
   const bool a_descending = ga > 0.0;   // the sun lies toward larger index: start from the far end
-  const double ea = major_x ? sx * d.x : sy * d.y, eb = major_x ? sy * d.y : sx * d.x;  // metres toward the sun per index
+  const double ea = major_x ? sx * d.x : sy * d.y,
+               eb = major_x ? sy * d.y : sx * d.x;  // metres toward the sun per index
   // Line l holds the points b = l + s m at steps s = 0..A-1; lines l0..l1 bracket every cell.
   const double span = (A - 1) * m;
   const int l0 = static_cast<int>(std::floor(-std::max(0.0, span))) - 1;
@@ -110,7 +109,8 @@ void sweep_horizon(const Heightfield& z, glm::dvec2 toward, const ExecContext* c
         double* Z = hz.data() + static_cast<std::size_t>(q) * static_cast<std::size_t>(A);
         std::size_t n = count[static_cast<std::size_t>(q)];
         while (n >= 2 && (Z[n - 1] - Z[n - 2]) * (u - U[n - 2]) <= (zp - Z[n - 2]) * (U[n - 1] - U[n - 2])) --n;
-        out[static_cast<std::size_t>(l - l0) * line_stride] = n ? static_cast<float>((Z[n - 1] - zp) / (u - U[n - 1])) : kNone;
+        out[static_cast<std::size_t>(l - l0) * line_stride] =
+            n ? static_cast<float>((Z[n - 1] - zp) / (u - U[n - 1])) : kNone;
         U[n] = u;
         Z[n] = zp;
         count[static_cast<std::size_t>(q)] = n + 1;
@@ -131,8 +131,9 @@ void sweep_horizon(const Heightfield& z, glm::dvec2 toward, const ExecContext* c
   for (int a = 0; a < A; ++a) {
     const int s = a_descending ? A - 1 - a : a;
     const double ms = -s * m, fl = std::floor(ms);
-    base[static_cast<std::size_t>(a)] = static_cast<std::ptrdiff_t>(s) * static_cast<std::ptrdiff_t>(step_stride) +
-                                        static_cast<std::ptrdiff_t>(static_cast<int>(fl) - l0) * static_cast<std::ptrdiff_t>(line_stride);
+    base[static_cast<std::size_t>(a)] =
+        static_cast<std::ptrdiff_t>(s) * static_cast<std::ptrdiff_t>(step_stride) +
+        static_cast<std::ptrdiff_t>(static_cast<int>(fl) - l0) * static_cast<std::ptrdiff_t>(line_stride);
     frac[static_cast<std::size_t>(a)] = static_cast<float>(ms - fl);
   }
   const std::ptrdiff_t ls = static_cast<std::ptrdiff_t>(line_stride);
@@ -189,7 +190,8 @@ glm::dvec2 max_gradient(const Heightfield& z) {
     for (int i = 0; i < z.width(); ++i) {
       if (i + 1 < z.width()) gx = std::max(gx, std::abs(static_cast<double>(z.at(i + 1, j)) - z.at(i, j)));
       if (j + 1 < z.height()) gy = std::max(gy, std::abs(static_cast<double>(z.at(i, j + 1)) - z.at(i, j)));
-      if (std::isnan(z.at(i, j))) return {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+      if (std::isnan(z.at(i, j)))
+        return {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
     }
   return {gx / std::abs(z.domain.spacing.x), gy / std::abs(z.domain.spacing.y)};
 }
@@ -255,8 +257,9 @@ SunDaily sun_daily(const Heightfield& z, const SunParams& p, std::span<const int
     const double rise = 12.0 - h0, set = 12.0 + h0;
     for (int k = 0; k < steps; ++k) {
       const double a = std::max(rise, k * p.time_step), b = std::min(set, std::min(24.0, (k + 1) * p.time_step));
-      if (b > a) accumulate_sun(z, normals, max_grad, sun_direction(p.latitude, decl, 0.5 * (a + b)), b - a, p.irradiance,
-                                hours.data(), irr.data(), ctx);
+      if (b > a)
+        accumulate_sun(z, normals, max_grad, sun_direction(p.latitude, decl, 0.5 * (a + b)), b - a, p.irradiance,
+                       hours.data(), irr.data(), ctx);
       if (ctx) {
         ctx->check_cancelled();
         ctx->progress((done * steps + k + 1.0) / (static_cast<double>(decls.size()) * steps));
@@ -278,8 +281,8 @@ SunInstant sun_instant(const Heightfield& z, const SunParams& p, int month, doub
   check_params(p);
   SunInstant out{std::make_shared<Heightfield>(z.domain), std::make_shared<Heightfield>(z.domain)};
   const auto normals = surface_normals(z, ctx);
-  accumulate_sun(z, normals, max_gradient(z), sun_direction(p.latitude, declination_deg(month), hour), 1.0, p.irradiance,
-                 out.lit->data.data(), out.direct->data.data(), ctx);
+  accumulate_sun(z, normals, max_gradient(z), sun_direction(p.latitude, declination_deg(month), hour), 1.0,
+                 p.irradiance, out.lit->data.data(), out.direct->data.data(), ctx);
   return out;
 }
 
@@ -297,15 +300,37 @@ OROGEN_NODE(SunIllumination) {
       "east; terrain outside the domain casts no shadow; no atmosphere or diffuse light.");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Image).description("Lit hours per day, hours, one channel per month (jan..dec)");
-  b.output("irradiance", PortType::Image).description("24-hour mean direct irradiance on the slope, W/m^2, one channel per month");
-  b.output("lit", PortType::Heightfield).description("1 where the sun is visible at (month, hour), else 0").kind(OutputKind::Mask);
-  b.output("direct", PortType::Heightfield).description("Direct irradiance on the slope at (month, hour), W/m^2").kind(OutputKind::Scalar);
-  b.param_float("latitude", 45.0).range(-90.0, 90.0).unit("deg").description("Latitude, degrees, -90..90, north positive");
+  b.output("irradiance", PortType::Image)
+      .description("24-hour mean direct irradiance on the slope, W/m^2, one channel per month");
+  b.output("lit", PortType::Heightfield)
+      .description("1 where the sun is visible at (month, hour), else 0")
+      .kind(OutputKind::Mask);
+  b.output("direct", PortType::Heightfield)
+      .description("Direct irradiance on the slope at (month, hour), W/m^2")
+      .kind(OutputKind::Scalar);
+  b.param_float("latitude", 45.0)
+      .range(-90.0, 90.0)
+      .unit("deg")
+      .description("Latitude, degrees, -90..90, north positive");
   b.param_bool("all_months", true).description("Daily outputs for all twelve months (else only for `month`)");
-  b.param_int("month", 6).range(1, 12).description("Month 1..12 (January..December) of the instant outputs, and of the daily outputs when all_months is off");
-  b.param_float("hour", 15.0).range(0.0, 24.0).unit("h").description("Solar time of the instant outputs, hours 0..24 (12 = solar noon)");
-  b.param_float("time_step", 1.0).range(0.1, 6.0).unit("h").description("Hours between sun positions over the day, 0.1..6 (each interval is clipped to sunrise and sunset)");
-  b.param_float("irradiance", 1000.0).range(0.0, 2000.0).unit("W/m^2").description("Direct normal irradiance of the sun, W/m^2, 0..2000 (1361 above the atmosphere, about 1000 at the ground on a clear day)");
+  b.param_int("month", 6)
+      .range(1, 12)
+      .description(
+          "Month 1..12 (January..December) of the instant outputs, and of the daily outputs when all_months is off");
+  b.param_float("hour", 15.0)
+      .range(0.0, 24.0)
+      .unit("h")
+      .description("Solar time of the instant outputs, hours 0..24 (12 = solar noon)");
+  b.param_float("time_step", 1.0)
+      .range(0.1, 6.0)
+      .unit("h")
+      .description("Hours between sun positions over the day, 0.1..6 (each interval is clipped to sunrise and sunset)");
+  b.param_float("irradiance", 1000.0)
+      .range(0.0, 2000.0)
+      .unit("W/m^2")
+      .description(
+          "Direct normal irradiance of the sun, W/m^2, 0..2000 (1361 above the atmosphere, about 1000 at the ground on "
+          "a clear day)");
   b.execute([](ExecContext& ctx) {
     const auto z = ctx.require<Heightfield>("in");
     SunParams p;

@@ -63,9 +63,9 @@ std::vector<float> horizon_tangent(const Heightfield& z, glm::dvec2 toward, cons
 std::vector<glm::vec3> surface_normals(const Heightfield& z, const ExecContext* ctx = nullptr);
 
 struct SunParams {
-  double latitude = 45.0;           // degrees, -90..90 (north positive)
-  double time_step = 1.0;           // hours between sun positions over the day, 0.1..6
-  double irradiance = 1000.0;       // W/m^2, direct normal irradiance of the sun (1361 above the atmosphere)
+  double latitude = 45.0;      // degrees, -90..90 (north positive)
+  double time_step = 1.0;      // hours between sun positions over the day, 0.1..6
+  double irradiance = 1000.0;  // W/m^2, direct normal irradiance of the sun (1361 above the atmosphere)
 };
 
 // Daily figures per month: lit hours (h/day) and the 24-hour mean direct irradiance on the slope (W/m^2).
@@ -76,7 +76,8 @@ struct SunDaily {
   std::shared_ptr<Image> hours;
   std::shared_ptr<Image> irradiance;
 };
-SunDaily sun_daily(const Heightfield& z, const SunParams& p, std::span<const int> months, const ExecContext* ctx = nullptr);
+SunDaily sun_daily(const Heightfield& z, const SunParams& p, std::span<const int> months,
+                   const ExecContext* ctx = nullptr);
 
 // The instant at (month, hour): lit mask (1 lit, 0 in shadow or at night) and direct irradiance on the
 // slope (W/m^2).
@@ -84,6 +85,7 @@ struct SunInstant {
   std::shared_ptr<Heightfield> lit;
   std::shared_ptr<Heightfield> direct;
 };
-SunInstant sun_instant(const Heightfield& z, const SunParams& p, int month, double hour, const ExecContext* ctx = nullptr);
+SunInstant sun_instant(const Heightfield& z, const SunParams& p, int month, double hour,
+                       const ExecContext* ctx = nullptr);
 
 }  // namespace orogen::climate

@@ -28,8 +28,7 @@ void run_rows(const ExecContext* ctx, int count, Fn& fn, bool report, double pro
     if (!ctx || !report) return;
     const int before = done.fetch_add(static_cast<int>(r.size()));
     if ((before + static_cast<int>(r.size())) / report_every != before / report_every)
-      ctx->progress(progress_from +
-                    (progress_to - progress_from) * (before + static_cast<double>(r.size())) / count);
+      ctx->progress(progress_from + (progress_to - progress_from) * (before + static_cast<double>(r.size())) / count);
   });
   if (ctx) ctx->check_cancelled();
 }

@@ -18,9 +18,9 @@
 
 namespace orogen {
 
-inline constexpr std::array<std::uint32_t, 12> kCategoricalPalette{
-    0x4e79a7, 0xf28e2b, 0xe15759, 0x76b7b2, 0x59a14f, 0xedc948,
-    0xb07aa1, 0xff9da7, 0x9c755f, 0xbab0ac, 0x1b3a6b, 0x8cd17d};
+inline constexpr std::array<std::uint32_t, 12> kCategoricalPalette{0x4e79a7, 0xf28e2b, 0xe15759, 0x76b7b2,
+                                                                   0x59a14f, 0xedc948, 0xb07aa1, 0xff9da7,
+                                                                   0x9c755f, 0xbab0ac, 0x1b3a6b, 0x8cd17d};
 
 // The color of a negative id, sRGB.
 inline constexpr float kNoClassGray = 0.5f;

@@ -19,10 +19,14 @@ inline std::optional<std::uint32_t> parse_hex_color(std::string_view text) {
   std::uint32_t v = 0;
   for (const char c : text.substr(1)) {
     int d;
-    if (c >= '0' && c <= '9') d = c - '0';
-    else if (c >= 'a' && c <= 'f') d = c - 'a' + 10;
-    else if (c >= 'A' && c <= 'F') d = c - 'A' + 10;
-    else return std::nullopt;
+    if (c >= '0' && c <= '9')
+      d = c - '0';
+    else if (c >= 'a' && c <= 'f')
+      d = c - 'a' + 10;
+    else if (c >= 'A' && c <= 'F')
+      d = c - 'A' + 10;
+    else
+      return std::nullopt;
     v = v << 4 | static_cast<std::uint32_t>(d);
   }
   return v;

@@ -27,7 +27,8 @@ class WorkPoll {
   // Counts `units` of work; throws Cancelled once the run is cancelled (checked every units_per_check units).
   void operator()(std::int64_t units = 1) {
     left_ -= units;
-    if (left_ <= 0) [[unlikely]] check();
+    if (left_ <= 0) [[unlikely]]
+      check();
   }
   // Checks now and starts a new count.
   void check() {

@@ -45,7 +45,7 @@ using i8 = std::int32_t __attribute__((vector_size(32)));
 using d2 = double __attribute__((vector_size(16)));
 
 template <class F, class I>
-inline F sel(I m, F a, F b) {  // m ? a : b per lane
+inline F sel(I m, F a, F b) {            // m ? a : b per lane
   return (F)((m & (I)a) | (~m & (I)b));  // vector casts keep the bits
 }
 template <class F>
@@ -190,14 +190,14 @@ struct Sim {
   const Heightfield* mask;
   const std::vector<BrushTap>* brush;
   const ExecContext* ctx;  // cancellation, polled by droplet steps (one droplet can take 1e7 steps)
-  std::ptrdiff_t row0;  // brush rows: offset of the first row's first column from the centre sample
-  const float* RW;      // brush rows: row_width weights each (0 outside the disc and in the padding)
+  std::ptrdiff_t row0;     // brush rows: offset of the first row's first column from the centre sample
+  const float* RW;         // brush rows: row_width weights each (0 outside the disc and in the padding)
   int rows, row_width;
   int w, h, rx, ry, max_steps;
   int pitch;  // floats from one row of Z (and V) to the next, >= w: see row_pitch
   std::uint64_t seed;
-  float step_u, step_v, inv_dx, inv_dy, inv_cell_area, inv_step, inertia, min_slope, capacity,
-      deposition, erosion, gravity, keep_water, brush_area;
+  float step_u, step_v, inv_dx, inv_dy, inv_cell_area, inv_step, inertia, min_slope, capacity, deposition, erosion,
+      gravity, keep_water, brush_area;
 
   // a m of height (per unit weight) added (a > 0) or removed (a < 0) with the brush around a sample near the
   // border: taps outside the grid are dropped and the rest renormalised, so the volume stays a x cell area.
@@ -281,8 +281,7 @@ struct Sim {
       const float* zk = Z + static_cast<std::ptrdiff_t>(j) * pitch + i;
       f4 hgt, gx, gy;
       const float fu = u - static_cast<float>(i), fv = v - static_cast<float>(j);
-      bilinear(f4{} + zk[0], f4{} + zk[1], f4{} + zk[pitch], f4{} + zk[pitch + 1], f4{} + fu, f4{} + fv, hgt, gx,
-               gy);
+      bilinear(f4{} + zk[0], f4{} + zk[1], f4{} + zk[pitch], f4{} + zk[pitch + 1], f4{} + fu, f4{} + fv, hgt, gx, gy);
       U[k] = u, Vp[k] = v, CI[k] = i, CJ[k] = j, FU[k] = fu, FV[k] = fv;
       HG[k] = hgt[0], GX[k] = gx[0], GY[k] = gy[0];
       DX[k] = DY[k] = SE[k] = 0;
@@ -300,8 +299,7 @@ struct Sim {
       if (brush_fits && static_cast<unsigned>(ni - rx) <= bu && static_cast<unsigned>(nj - ry) <= bv) [[likely]] {
         // Row by row over padded rows of a multiple of 4 weights (0 outside the disc; adding a x 0 changes
         // nothing, so no branch on whether the step changed anything).
-        brush_rows<W, R, Wide>(Z + static_cast<std::ptrdiff_t>(nj) * pitch + ni + row0, a, pitch, RW, rows,
-                               row_width);
+        brush_rows<W, R, Wide>(Z + static_cast<std::ptrdiff_t>(nj) * pitch + ni + row0, a, pitch, RW, rows, row_width);
       } else if (a != 0) {
         brush_border(a, ni, nj);
       }
@@ -357,8 +355,7 @@ struct Sim {
       const F dh = nh - HG;
       F m = F{} + 1;
       if (M) {
-        for (int k = 0; k < N; ++k)
-          m[k] = std::clamp(M[static_cast<std::ptrdiff_t>(NJ[k]) * w + NI[k]], 0.0f, 1.0f);
+        for (int k = 0; k < N; ++k) m[k] = std::clamp(M[static_cast<std::ptrdiff_t>(NJ[k]) * w + NI[k]], 0.0f, 1.0f);
       }
       const F cap = max_v(-dh * inv_step, F{} + min_slope) * SP * WA * capacity;
       // Uphill: the droplet sits in a hollow; fill it up to its spill height along the path (the next height)
@@ -457,8 +454,7 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   const double cell_area = dx * dy;
   const glm::dvec2 size = in.domain.size();
   const double area_km2 = size.x * size.y * 1e-6;
-  const std::uint64_t droplets =
-      static_cast<std::uint64_t>(std::llround(std::max(0.0, p.droplets_per_km2) * area_km2));
+  const std::uint64_t droplets = static_cast<std::uint64_t>(std::llround(std::max(0.0, p.droplets_per_km2) * area_km2));
   const int max_steps = std::max(1, static_cast<int>(std::ceil(p.lifetime / p.step_length)));
 
   // Brush around the nearest sample: weights 1 - distance / radius, normalised; a table of offsets and
@@ -562,12 +558,18 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   const bool avx2 = (hwy::SupportedTargets() & HWY_AVX2) != 0;
   const std::size_t together = avx2 ? 2 : 1;  // tiles a run_tiles call steps together
   RunTiles run = run_tiles_for<0, 0>(avx2);
-  if (row_width == 8 && sim.rows == 5) run = run_tiles_for<8, 5>(avx2);
-  else if (row_width == 8 && sim.rows == 3) run = run_tiles_for<8, 3>(avx2);
-  else if (row_width == 4) run = run_tiles_for<4, 0>(avx2);
-  else if (row_width == 8) run = run_tiles_for<8, 0>(avx2);
-  else if (row_width == 12) run = run_tiles_for<12, 0>(avx2);
-  else if (row_width == 16) run = run_tiles_for<16, 0>(avx2);
+  if (row_width == 8 && sim.rows == 5)
+    run = run_tiles_for<8, 5>(avx2);
+  else if (row_width == 8 && sim.rows == 3)
+    run = run_tiles_for<8, 3>(avx2);
+  else if (row_width == 4)
+    run = run_tiles_for<4, 0>(avx2);
+  else if (row_width == 8)
+    run = run_tiles_for<8, 0>(avx2);
+  else if (row_width == 12)
+    run = run_tiles_for<12, 0>(avx2);
+  else if (row_width == 16)
+    run = run_tiles_for<16, 0>(avx2);
 
   const std::uint64_t rounds = (droplets + round_size - 1) / round_size;
   for (std::uint64_t r = 0; r < rounds; ++r) {
@@ -580,7 +582,8 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
       float u, v;
       droplet_origin(hash64(p.seed, first + k), w, h, u, v);
       const int i = static_cast<int>(u), j = static_cast<int>(v);
-      const std::uint32_t t = static_cast<std::uint32_t>(std::min(j / tile_h, tiles_y - 1) * tiles_x + std::min(i / tile_w, tiles_x - 1));
+      const std::uint32_t t =
+          static_cast<std::uint32_t>(std::min(j / tile_h, tiles_y - 1) * tiles_x + std::min(i / tile_w, tiles_x - 1));
       tile_of[k] = t;
       ++tile_start[t + 1];
     }
@@ -630,7 +633,8 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   } else {
     maps.out->data.resize(static_cast<std::size_t>(w) * h);
     for (int j = 0; j < h; ++j)
-      std::copy_n(z.data() + static_cast<std::size_t>(j) * pitch, w, maps.out->data.data() + static_cast<std::size_t>(j) * w);
+      std::copy_n(z.data() + static_cast<std::size_t>(j) * pitch, w,
+                  maps.out->data.data() + static_cast<std::size_t>(j) * w);
   }
   maps.flow = std::make_shared<Heightfield>(in.domain);
   // Flow: visits per unit length of path crossing a cell, log-scaled to 0..1 (a table per visit count).
@@ -639,7 +643,8 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   const double lmax = std::log1p(static_cast<double>(vmax_visits));
   if (lmax > 0) {
     std::vector<float> table(std::min<std::size_t>(vmax_visits, 1u << 20) + 1);
-    for (std::size_t k = 0; k < table.size(); ++k) table[k] = static_cast<float>(std::log1p(static_cast<double>(k)) / lmax);
+    for (std::size_t k = 0; k < table.size(); ++k)
+      table[k] = static_cast<float>(std::log1p(static_cast<double>(k)) / lmax);
     float* flow = maps.flow->data.data();
     for_each_row(nullptr, h, [&](int j) {
       const std::uint32_t* vj = visits.data() + static_cast<std::size_t>(j) * pitch;

@@ -46,7 +46,7 @@ struct ParticleStats {
   double deposited = 0.0;    // m^3 laid down
   double carried_off = 0.0;  // m^3 of sediment that left the domain with its droplet
   std::uint64_t droplets = 0;
-  std::uint64_t steps = 0;   // droplet steps simulated
+  std::uint64_t steps = 0;  // droplet steps simulated
 };
 
 ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, const Heightfield* mask = nullptr,

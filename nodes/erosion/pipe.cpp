@@ -25,7 +25,8 @@ struct Scratch {
   std::vector<float> dr, surf, conc, halo;
   void resize(int w) {
     const std::size_t need = static_cast<std::size_t>(4) * w;
-    if (dr.size() != need) dr.assign(need, 0.0f), surf.assign(need, 0.0f), conc.assign(need, 0.0f), halo.assign(2 * need, 0.0f);
+    if (dr.size() != need)
+      dr.assign(need, 0.0f), surf.assign(need, 0.0f), conc.assign(need, 0.0f), halo.assign(2 * need, 0.0f);
   }
 };
 
@@ -97,14 +98,14 @@ void update_interior(int w, const float* __restrict FL, const float* __restrict 
 
 // The constants of one time step.
 struct StepConstants {
-  double dt;                 // s
-  std::uint64_t step;        // step number (Drops: part of the rain hash)
-  bool last;                 // the last step (the velocity map is written)
-  float fdt;                 // dt in float
-  float ks, kd, kc;          // dissolution and deposition per step, capacity constant
-  float rain_uniform;        // m of rain per step (uniform mode, no rainfall field)
-  float keep;                // evaporation factor per step at temperature factor 1
-  float cgx, cgy;            // dt g kx, dt g ky: flux gain per metre of head
+  double dt;           // s
+  std::uint64_t step;  // step number (Drops: part of the rain hash)
+  bool last;           // the last step (the velocity map is written)
+  float fdt;           // dt in float
+  float ks, kd, kc;    // dissolution and deposition per step, capacity constant
+  float rain_uniform;  // m of rain per step (uniform mode, no rainfall field)
+  float keep;          // evaporation factor per step at temperature factor 1
+  float cgx, cgy;      // dt g kx, dt g ky: flux gain per metre of head
   float fdx, fdy, two_dx, two_dy;
 };
 
@@ -135,12 +136,43 @@ struct PipeRun {
 
   PipeRun(const Heightfield& in_, const PipeParams& p_, const Heightfield* mask_, const Heightfield* rainfall_,
           const Heightfield* moisture_, const Heightfield* temperature_, const Heightfield* hardness_)
-      : in(in_), p(p_), mask(mask_), rainfall(rainfall_), moisture(moisture_), temperature(temperature_),
-        hardness(hardness_), w(in_.width()), h(in_.height()), n(in_.data.size()), dx(in_.domain.spacing.x),
-        dy(in_.domain.spacing.y), A(static_cast<float>(dx * dy)), g(static_cast<float>(p_.gravity)),
-        kx(static_cast<float>(dy / dx)), ky(static_cast<float>(dx / dy)), b(in_.data), b2(n), d(n, 0.0f), d2(n),
-        s(n, 0.0f), s2(n), fl(n, 0.0f), fr(n, 0.0f), fd(n, 0.0f), fu(n, 0.0f), nfl(n), nfr(n), nfd(n), nfu(n),
-        spd(n, 0.0f), flow_acc(n, 0.0f), row_sed_out(h), row_water_out(h), row_dmax(h), row_sum(h), sink(n),
+      : in(in_),
+        p(p_),
+        mask(mask_),
+        rainfall(rainfall_),
+        moisture(moisture_),
+        temperature(temperature_),
+        hardness(hardness_),
+        w(in_.width()),
+        h(in_.height()),
+        n(in_.data.size()),
+        dx(in_.domain.spacing.x),
+        dy(in_.domain.spacing.y),
+        A(static_cast<float>(dx * dy)),
+        g(static_cast<float>(p_.gravity)),
+        kx(static_cast<float>(dy / dx)),
+        ky(static_cast<float>(dx / dy)),
+        b(in_.data),
+        b2(n),
+        d(n, 0.0f),
+        d2(n),
+        s(n, 0.0f),
+        s2(n),
+        fl(n, 0.0f),
+        fr(n, 0.0f),
+        fd(n, 0.0f),
+        fu(n, 0.0f),
+        nfl(n),
+        nfr(n),
+        nfd(n),
+        nfu(n),
+        spd(n, 0.0f),
+        flow_acc(n, 0.0f),
+        row_sed_out(h),
+        row_water_out(h),
+        row_dmax(h),
+        row_sum(h),
+        sink(n),
         row_sink(h, 0) {
     for (std::size_t k = 0; k < n; ++k) sink[k] = in.data[k] < p.sea_level, row_sink[k / w] |= sink[k];
     plain = !mask && !hardness && !temperature && !(p.layer_depth > 0);
@@ -354,7 +386,8 @@ struct PipeRun {
         if (cap > s1) {
           float rate = ks * m;
           if (hardness) rate *= 1.0f - std::clamp(hardness->data[k], 0.0f, 1.0f);
-          if (p.layer_depth > 0) rate *= std::exp2(-std::max(0.0f, in.data[k] - bk) / static_cast<float>(p.layer_depth));
+          if (p.layer_depth > 0)
+            rate *= std::exp2(-std::max(0.0f, in.data[k] - bk) / static_cast<float>(p.layer_depth));
           const float e = std::min(1.0f, rate) * (cap - s1);
           bk -= e;
           s1 += e;
@@ -380,8 +413,9 @@ struct PipeRun {
       for (int i = 0; i < w; ++i) cell(i);
     } else {
       cell(0);
-      update_interior(w, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, S2, SPD, FACC,
-                      {fdt, A, fdx, fdy, two_dx, two_dy, kc, std::min(1.0f, ks), kd, std::max(0.0f, 1.0f - keep * 1.0f)});
+      update_interior(
+          w, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, S2, SPD, FACC,
+          {fdt, A, fdx, fdy, two_dx, two_dy, kc, std::min(1.0f, ks), kd, std::max(0.0f, 1.0f - keep * 1.0f)});
       float dmf = 0.0f;
       for (int i = 1; i < w - 1; ++i) dmf = D2[i] > dmf ? D2[i] : dmf;
       dm = std::max<double>(dm, dmf);

@@ -16,8 +16,9 @@
 // to float rounding, except what leaves through the domain border or into sinks (cells under sea level),
 // which is counted.
 //
-// Time: the step follows a CFL condition on the cell size, dt = courant x spacing / sqrt(g x max depth), so a finer grid takes more, smaller steps of the same physical duration (seconds). Every pass
-// is a gather over rows, bit-identical for any thread count.
+// Time: the step follows a CFL condition on the cell size, dt = courant x spacing / sqrt(g x max depth), so a finer
+// grid takes more, smaller steps of the same physical duration (seconds). Every pass is a gather over rows,
+// bit-identical for any thread count.
 #include <cstdint>
 
 #include "nodes/erosion/erosion_common.h"
@@ -27,20 +28,20 @@ namespace orogen::erosion {
 enum class RainMode { Uniform, Drops };
 
 struct PipeParams {
-  double duration = 1800.0;      // seconds of simulated time
-  double rain_rate = 50.0;       // mm/h (scaled by the rainfall field if given)
+  double duration = 1800.0;  // seconds of simulated time
+  double rain_rate = 50.0;   // mm/h (scaled by the rainfall field if given)
   RainMode rain_mode = RainMode::Uniform;
-  double drop_chance = 0.1;      // Drops: per cell and second, scaled by the moisture field (0..1)
-  double capacity = 1.0;         // Kc, s/m: capacity (m of sediment) per (sin tilt x speed m/s x depth m)
-  double dissolving = 0.1;       // Ks, 1/s
-  double depositing = 0.1;       // Kd, 1/s
-  double evaporation = 0.001;    // Ke, 1/s at temperature factor 1
-  double gravity = 9.81;         // m/s^2
-  double courant = 0.25;         // CFL number, (0, 0.5]
-  double depth_scale = 0.05;     // metres: depth used for the CFL step before water gathers
-  double layer_depth = 0.0;      // metres: soil gets twice as hard every layer_depth eroded (0: off)
-  double sea_level = -1e9;       // metres: cells below are sinks
-  std::uint64_t seed = 0;        // Drops mode
+  double drop_chance = 0.1;    // Drops: per cell and second, scaled by the moisture field (0..1)
+  double capacity = 1.0;       // Kc, s/m: capacity (m of sediment) per (sin tilt x speed m/s x depth m)
+  double dissolving = 0.1;     // Ks, 1/s
+  double depositing = 0.1;     // Kd, 1/s
+  double evaporation = 0.001;  // Ke, 1/s at temperature factor 1
+  double gravity = 9.81;       // m/s^2
+  double courant = 0.25;       // CFL number, (0, 0.5]
+  double depth_scale = 0.05;   // metres: depth used for the CFL step before water gathers
+  double layer_depth = 0.0;    // metres: soil gets twice as hard every layer_depth eroded (0: off)
+  double sea_level = -1e9;     // metres: cells below are sinks
+  std::uint64_t seed = 0;      // Drops mode
 };
 
 struct PipeStats {

@@ -22,7 +22,6 @@ constexpr int kDj[8] = {0, 0, -1, 1, -1, -1, 1, 1};
 // double rounding, and far below any real relief.
 inline double raise(double z) { return z + std::max(1e-9, std::abs(z) * 1e-12); }
 
-
 // The state of one run and its stages, in the order a step runs them: uplift, hillslope diffusion, routing
 // with the implicit incision (over the basin graph or a Priority-Flood fill), the change of the step; then the
 // final fill in float and the output maps.
@@ -30,8 +29,14 @@ class StreamPowerRun {
  public:
   StreamPowerRun(const Heightfield& in, const StreamPowerParams& p, const Heightfield* uplift, const Heightfield* mask,
                  const std::vector<unsigned char>* outlets)
-      : in_(in), p_(p), w_(in.width()), h_(in.height()), n_(in.data.size()), dx_(in.domain.spacing.x),
-        dy_(in.domain.spacing.y), grid_(hydrology::FlowGrid::of(in.domain)),
+      : in_(in),
+        p_(p),
+        w_(in.width()),
+        h_(in.height()),
+        n_(in.data.size()),
+        dx_(in.domain.spacing.x),
+        dy_(in.domain.spacing.y),
+        grid_(hydrology::FlowGrid::of(in.domain)),
         basin_graph_(p.depressions == StreamPowerParams::Depressions::BasinGraph) {
     // Fixed base level: the given outlets, else the border. Cells under sea level join them step by step
     // (uplift can lift the sea floor into land).
@@ -264,7 +269,10 @@ class StreamPowerRun {
         for (int it = 0; it < 50; ++it) {
           const double d = zn - zr;
           const double g = zn - z0 + f * std::pow(d, p_.n);
-          if (g > 0) hi = zn; else lo = zn;
+          if (g > 0)
+            hi = zn;
+          else
+            lo = zn;
           const double gp = 1.0 + f * p_.n * std::pow(d, p_.n - 1.0);
           double next = zn - g / gp;
           if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);

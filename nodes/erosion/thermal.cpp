@@ -32,8 +32,8 @@ void excess_row(int w, const float* zr, const float* zn, float tn, const float* 
 // back along the opposite direction (ratio rn, scale sn), with the sender's own expression (zn - zr is
 // exactly -(zr - zn)).
 template <bool kScaled>
-void transfer_row(int w, const float* zr, const float* zn, const float* rc, const float* rn, float tn,
-                  const float* sc, const float* sn, float* __restrict out, float* __restrict gain) {
+void transfer_row(int w, const float* zr, const float* zn, const float* rc, const float* rn, float tn, const float* sc,
+                  const float* sn, float* __restrict out, float* __restrict gain) {
   for (int i = 0; i < w; ++i) {
     const float d = zr[i] - zn[i];
     out[i] += rc[i] * std::max(0.0f, d - (kScaled ? tn * sc[i] : tn));
@@ -87,7 +87,8 @@ ErosionMaps thermal_erosion(const Heightfield& in, const ThermalParams& p, const
     // Pass 1: each cell's outflow ratio: it moves strength x half its largest excess, split over the lower
     // neighbours in proportion to their excess. Loops run neighbour by neighbour along a row (vectorisable).
     tbb::parallel_for(tbb::blocked_range<int>(1, h + 1, 16), [&](const tbb::blocked_range<int>& r) {
-      std::vector<float> sum(static_cast<std::size_t>(w)), mx(static_cast<std::size_t>(w)), sc(static_cast<std::size_t>(w), 1.0f);
+      std::vector<float> sum(static_cast<std::size_t>(w)), mx(static_cast<std::size_t>(w)),
+          sc(static_cast<std::size_t>(w), 1.0f);
       for (int j = r.begin(); j != r.end(); ++j) {
         const std::size_t q0 = static_cast<std::size_t>(j) * pw + 1;
         const float* zr = z.data() + q0;

@@ -13,10 +13,10 @@
 namespace orogen::erosion {
 
 struct ThermalParams {
-  double talus_angle = 35.0;      // degrees, (0, 89]: angle of repose
-  double strength = 0.5;          // fraction of the excess over the talus moved per iteration, (0, 1]
-  double travel_distance = 500.0; // metres: how far material may travel; iterations = ceil(2 x distance / spacing)
-  double tolerance = 1e-4;        // metres: stop early when no cell moves more than this in an iteration
+  double talus_angle = 35.0;       // degrees, (0, 89]: angle of repose
+  double strength = 0.5;           // fraction of the excess over the talus moved per iteration, (0, 1]
+  double travel_distance = 500.0;  // metres: how far material may travel; iterations = ceil(2 x distance / spacing)
+  double tolerance = 1e-4;         // metres: stop early when no cell moves more than this in an iteration
 };
 
 // `mask` (0..1) scales the movement per cell; `hardness` (0..1) raises the talus angle of a cell toward 90

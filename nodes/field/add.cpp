@@ -10,7 +10,8 @@
 
 namespace orogen {
 
-void add_row(const AddParams& params, std::span<const float> a_row, std::span<const float> b_row, std::span<float> out) {
+void add_row(const AddParams& params, std::span<const float> a_row, std::span<const float> b_row,
+             std::span<float> out) {
   for (std::size_t i = 0; i < out.size(); ++i)
     out[i] = static_cast<float>(params.weight_a * a_row[i] + params.weight_b * b_row[i]);
 }

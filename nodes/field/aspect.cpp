@@ -14,9 +14,12 @@ double aspect_value(double p, double q, AspectOutput output, double flat) {
   if (g == 0.0) return output == AspectOutput::Degrees ? flat : 0.0;
   // Downhill direction (-p, -q): east component -p, north component -q.
   switch (output) {
-    case AspectOutput::Northness: return -q / g;
-    case AspectOutput::Eastness: return -p / g;
-    case AspectOutput::Degrees: break;
+    case AspectOutput::Northness:
+      return -q / g;
+    case AspectOutput::Eastness:
+      return -p / g;
+    case AspectOutput::Degrees:
+      break;
   }
   double deg = std::atan2(-p, -q) * (180.0 / std::numbers::pi);
   if (deg < 0.0) deg += 360.0;
@@ -44,13 +47,18 @@ OROGEN_NODE(Aspect) {
       "useful for sun-facing vegetation rules (the 'skew' of J. Hammes (2001), \"Modeling of ecosystems as a "
       "data source for real-time terrain rendering\", Digital Earth Moving, LNCS 2181).");
   b.input("in", PortType::Heightfield).description("Heights, metres");
-  b.output("out", PortType::Heightfield).description("Degrees in [0, 360), or northness / eastness in [-1, 1]").kind(OutputKind::Scalar);
+  b.output("out", PortType::Heightfield)
+      .description("Degrees in [0, 360), or northness / eastness in [-1, 1]")
+      .kind(OutputKind::Scalar);
   b.param_enum("output", {"degrees", "northness", "eastness"}, "degrees").description("What to output");
-  b.param_float("flat_value", 0.0).range(-360.0, 360.0).unit("deg").description("degrees output on exactly flat samples");
+  b.param_float("flat_value", 0.0)
+      .range(-360.0, 360.0)
+      .unit("deg")
+      .description("degrees output on exactly flat samples");
   b.execute([](ExecContext& ctx) {
     const auto z = ctx.require<Heightfield>("in");
     ctx.set_output("out", aspect_field(*z, static_cast<AspectOutput>(ctx.enum_index("output")),
-                                          ctx.param<double>("flat_value"), &ctx));
+                                       ctx.param<double>("flat_value"), &ctx));
   });
 }
 

@@ -17,18 +17,29 @@ OROGEN_NODE(BandMask) {
       "side).");
   b.input("in", PortType::Heightfield).description("Any field: heights (m), slope (deg), moisture, ...");
   b.output("out", PortType::Heightfield).description("Mask in 0..1").kind(OutputKind::Mask);
-  b.param_float("min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Lower edge of the band, in the field's units");
-  b.param_float("max", 100.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Upper edge of the band (>= min), in the field's units");
-  b.param_float("sharpness", 2.0).range(0.0, 1e6).soft_range(0.5, 50.0)
+  b.param_float("min", 0.0)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 1000)
+      .description("Lower edge of the band, in the field's units");
+  b.param_float("max", 100.0)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 1000)
+      .description("Upper edge of the band (>= min), in the field's units");
+  b.param_float("sharpness", 2.0)
+      .range(0.0, 1e6)
+      .soft_range(0.5, 50.0)
       .description("Crispness when falloff is 0: transition width = (max - min) / sharpness; 0 = hard edges");
-  b.param_float("falloff", 0.0).range(0.0, 1e6).soft_range(0.0, 500.0)
+  b.param_float("falloff", 0.0)
+      .range(0.0, 1e6)
+      .soft_range(0.0, 500.0)
       .description("Transition width on each side, in the field's units (overrides sharpness when > 0)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     BandParams p{ctx.param<double>("min"), ctx.param<double>("max"), ctx.param<double>("falloff")};
     if (p.min > p.max) throw NodeError("BandMask: min is above max");
     if (p.falloff == 0.0) p.falloff = falloff_from_sharpness(p.min, p.max, ctx.param<double>("sharpness"));
-    ctx.set_output("out", map_field(*in, [&](double v) { return band_mask_value(v, p); }, &ctx));
+    ctx.set_output("out", map_field(
+                              *in, [&](double v) { return band_mask_value(v, p); }, &ctx));
   });
 }
 

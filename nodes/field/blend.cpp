@@ -25,11 +25,13 @@ OROGEN_NODE(Blend) {
     const auto mode = static_cast<BlendMode>(ctx.enum_index("mode"));
     const double factor = ctx.param<double>("factor");
     if (mask) {
-      ctx.set_output("out", map_fields(*a, *bf, *mask, [=](double x, double y, double m) {
-        return blend_value(mode, x, y, factor * m);
-      }, &ctx));
+      ctx.set_output(
+          "out",
+          map_fields(
+              *a, *bf, *mask, [=](double x, double y, double m) { return blend_value(mode, x, y, factor * m); }, &ctx));
     } else {
-      ctx.set_output("out", map_fields(*a, *bf, [=](double x, double y) { return blend_value(mode, x, y, factor); }, &ctx));
+      ctx.set_output("out", map_fields(
+                                *a, *bf, [=](double x, double y) { return blend_value(mode, x, y, factor); }, &ctx));
     }
   });
 }

@@ -14,10 +14,18 @@ enum class BlendMode { Lerp, Add, Screen, Max };
 inline double blend_value(BlendMode mode, double a, double b, double w) {
   double m = b;
   switch (mode) {
-    case BlendMode::Lerp: m = b; break;
-    case BlendMode::Add: m = a + b; break;
-    case BlendMode::Screen: m = 1.0 - (1.0 - a) * (1.0 - b); break;
-    case BlendMode::Max: m = std::max(a, b); break;
+    case BlendMode::Lerp:
+      m = b;
+      break;
+    case BlendMode::Add:
+      m = a + b;
+      break;
+    case BlendMode::Screen:
+      m = 1.0 - (1.0 - a) * (1.0 - b);
+      break;
+    case BlendMode::Max:
+      m = std::max(a, b);
+      break;
   }
   return w == 1.0 ? m : a + (m - a) * w;
 }

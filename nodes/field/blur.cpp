@@ -101,9 +101,10 @@ void blur_line_decimated(const float* in, float* out, int n, double sigma, BlurE
   blur_line_direct(coarse.data(), blurred.data(), count, coarse_sigma, BlurEdges::Clamp);
   // Interpolation weights repeat with period f.
   std::vector<double> weights(static_cast<std::size_t>(f) * 4);
-  for (int r = 0; r < f; ++r) catmull_rom_weights(static_cast<double>(r) / f, &weights[static_cast<std::size_t>(r) * 4]);
+  for (int r = 0; r < f; ++r)
+    catmull_rom_weights(static_cast<double>(r) / f, &weights[static_cast<std::size_t>(r) * 4]);
   for (int i = 0; i < n; ++i) {
-    const int q = i - shift + f;                  // >= 1
+    const int q = i - shift + f;                      // >= 1
     const int k = q / f - 1 + pad_coarse, r = q % f;  // line index i lies at coarse k + r / f
     const double* w = &weights[static_cast<std::size_t>(r) * 4];
     const float* c = &blurred[static_cast<std::size_t>(k - 1)];
@@ -136,20 +137,25 @@ Heightfield gaussian_blur(const Heightfield& in, const BlurParams& p, const Exec
   };
   const double sx = in_samples(in.domain.spacing.x), sy = in_samples(in.domain.spacing.y);
   Heightfield tmp(in.domain), out(in.domain);
-  for_each_row(ctx, h, [&](int j) { gaussian_blur_line(&in.row(j)[0], &tmp.row(j)[0], w, sx, p.edges, in.domain.first.x); }, 0.0, 0.5);
+  for_each_row(
+      ctx, h, [&](int j) { gaussian_blur_line(&in.row(j)[0], &tmp.row(j)[0], w, sx, p.edges, in.domain.first.x); }, 0.0,
+      0.5);
   // Columns in blocks of adjacent ones, so each gathered row segment is one cache line.
   constexpr int kBlock = 16;
   const int blocks = (w + kBlock - 1) / kBlock;
-  for_each_row(ctx, blocks, [&](int blk) {
-    const int i0 = blk * kBlock, i1 = std::min(w, i0 + kBlock);
-    std::vector<float> col(static_cast<std::size_t>(h) * kBlock), res(static_cast<std::size_t>(h));
-    for (int j = 0; j < h; ++j)
-      for (int i = i0; i < i1; ++i) col[static_cast<std::size_t>(i - i0) * h + j] = tmp.at(i, j);
-    for (int i = i0; i < i1; ++i) {
-      gaussian_blur_line(&col[static_cast<std::size_t>(i - i0) * h], res.data(), h, sy, p.edges, in.domain.first.y);
-      for (int j = 0; j < h; ++j) out.at(i, j) = res[static_cast<std::size_t>(j)];
-    }
-  }, 0.5, 1.0);
+  for_each_row(
+      ctx, blocks,
+      [&](int blk) {
+        const int i0 = blk * kBlock, i1 = std::min(w, i0 + kBlock);
+        std::vector<float> col(static_cast<std::size_t>(h) * kBlock), res(static_cast<std::size_t>(h));
+        for (int j = 0; j < h; ++j)
+          for (int i = i0; i < i1; ++i) col[static_cast<std::size_t>(i - i0) * h + j] = tmp.at(i, j);
+        for (int i = i0; i < i1; ++i) {
+          gaussian_blur_line(&col[static_cast<std::size_t>(i - i0) * h], res.data(), h, sy, p.edges, in.domain.first.y);
+          for (int j = 0; j < h; ++j) out.at(i, j) = res[static_cast<std::size_t>(j)];
+        }
+      },
+      0.5, 1.0);
   return out;
 }
 
@@ -164,7 +170,10 @@ OROGEN_NODE(Blur) {
       "the field about the domain edges and preserves its integral.");
   b.input("in", PortType::Heightfield).description("Field to blur");
   b.output("out", PortType::Heightfield).description("Blurred field");
-  b.param_float("sigma", 10.0).range(0.0, 1e5).soft_range(0.0, 500.0).unit("m")
+  b.param_float("sigma", 10.0)
+      .range(0.0, 1e5)
+      .soft_range(0.0, 500.0)
+      .unit("m")
       .description("Standard deviation of the Gaussian (the visible blur radius is about 2-3 sigma)");
   b.param_enum("edges", {"clamp", "mirror"}, "clamp").description("What lies beyond the domain's edges");
   b.execute([](ExecContext& ctx) {

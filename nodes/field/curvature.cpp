@@ -23,7 +23,8 @@ double curvature_value(const SurfaceDerivatives& d, CurvatureKind kind) {
 std::shared_ptr<Heightfield> curvature_field(const Heightfield& z, CurvatureKind kind, const ExecContext* ctx) {
   auto out = std::make_shared<Heightfield>(z.domain);
   for_each_row(ctx, z.height(), [&](int j) {
-    for (int i = 0; i < z.width(); ++i) out->at(i, j) = static_cast<float>(curvature_value(derivatives_at(z, i, j), kind));
+    for (int i = 0; i < z.width(); ++i)
+      out->at(i, j) = static_cast<float>(curvature_value(derivatives_at(z, i, j), kind));
   });
   return out;
 }

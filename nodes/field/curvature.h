@@ -21,6 +21,7 @@ enum class CurvatureKind { Profile, Plan, Tangential, Mean };
 
 double curvature_value(const SurfaceDerivatives& d, CurvatureKind kind);
 
-std::shared_ptr<Heightfield> curvature_field(const Heightfield& z, CurvatureKind kind, const ExecContext* ctx = nullptr);
+std::shared_ptr<Heightfield> curvature_field(const Heightfield& z, CurvatureKind kind,
+                                             const ExecContext* ctx = nullptr);
 
 }  // namespace orogen

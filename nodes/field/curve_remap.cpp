@@ -15,12 +15,14 @@ double curve_remap_value(double h, const CurveValue& curve, double lo, double hi
 
 std::shared_ptr<Heightfield> curve_remap(const Heightfield& in, const CurveValue& curve, double lo, double hi,
                                          const ExecContext* ctx) {
-  return map_field(in, [&](double h) { return curve_remap_value(h, curve, lo, hi); }, ctx);
+  return map_field(
+      in, [&](double h) { return curve_remap_value(h, curve, lo, hi); }, ctx);
 }
 
 OROGEN_NODE(Curve) {
-  b.reach([](const ParamView& p) { return p.get<std::string>("range") == "field" ? Reach::global() : Reach::pointwise(); },
-          "point-wise; global with range = field");
+  b.reach(
+      [](const ParamView& p) { return p.get<std::string>("range") == "field" ? Reach::global() : Reach::pointwise(); },
+      "point-wise; global with range = field");
   b.category("field").description(
       "Reshapes values through a monotone cubic curve (Fritsch-Carlson: no overshoot, monotone points give a "
       "monotone result). Values are normalized to t = (h - lo) / (hi - lo) in [0, 1], mapped through the curve "
@@ -32,8 +34,14 @@ OROGEN_NODE(Curve) {
       .description("Transfer curve on normalized values: x = input t, y = output t, both 0..1");
   b.param_enum("range", {"fixed", "field"}, "fixed")
       .description("fixed: normalize with input_min/input_max (tile-independent); field: with the field's min/max");
-  b.param_float("input_min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("lo of the fixed range, in the input's units");
-  b.param_float("input_max", 1000.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("hi of the fixed range (> input_min), in the input's units");
+  b.param_float("input_min", 0.0)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 1000)
+      .description("lo of the fixed range, in the input's units");
+  b.param_float("input_max", 1000.0)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 1000)
+      .description("hi of the fixed range (> input_min), in the input's units");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     double lo = ctx.param<double>("input_min"), hi = ctx.param<double>("input_max");

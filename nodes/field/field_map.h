@@ -47,8 +47,7 @@ std::shared_ptr<Heightfield> map_fields(const Heightfield& a, const Heightfield&
     const auto rc = c.row(j);
     auto o = out->row(j);
     for (std::size_t i = 0; i < ra.size(); ++i)
-      o[i] = static_cast<float>(
-          f(static_cast<double>(ra[i]), static_cast<double>(rb[i]), static_cast<double>(rc[i])));
+      o[i] = static_cast<float>(f(static_cast<double>(ra[i]), static_cast<double>(rb[i]), static_cast<double>(rc[i])));
   });
   return out;
 }

@@ -39,17 +39,31 @@ OROGEN_NODE(LinearGradient) {
       "the span that begins at 'start' and is 'length' metres long. Before the span the value is 'from', after "
       "it 'to' (clamped). Resolution independent.");
   b.output("out", PortType::Heightfield).description("The ramp, metres").kind(OutputKind::Height);
-  b.param_float("from", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description(
-      "Value at the start of the span and before it");
-  b.param_float("to", 100.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description(
-      "Value at the end of the span and beyond it");
-  b.param_float("angle", 0.0).range(-360, 360).unit("deg").description(
-      "Direction in which the value goes from 'from' to 'to': 0 = +x (east), 90 = +y (north), "
-      "counter-clockwise");
-  b.param_vec2("start", {0.0, 0.0}).range(-1e7, 1e7).unit("m").description(
-      "World point where the span begins; the ramp's iso-lines are perpendicular to the direction");
-  b.param_float("length", 1024.0).range(1e-3, 1e7).soft_range(1, 10000).unit("m").description(
-      "Length of the span along the direction, metres");
+  b.param_float("from", 0.0)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 1000)
+      .unit("m")
+      .description("Value at the start of the span and before it");
+  b.param_float("to", 100.0)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 1000)
+      .unit("m")
+      .description("Value at the end of the span and beyond it");
+  b.param_float("angle", 0.0)
+      .range(-360, 360)
+      .unit("deg")
+      .description(
+          "Direction in which the value goes from 'from' to 'to': 0 = +x (east), 90 = +y (north), "
+          "counter-clockwise");
+  b.param_vec2("start", {0.0, 0.0})
+      .range(-1e7, 1e7)
+      .unit("m")
+      .description("World point where the span begins; the ramp's iso-lines are perpendicular to the direction");
+  b.param_float("length", 1024.0)
+      .range(1e-3, 1e7)
+      .soft_range(1, 10000)
+      .unit("m")
+      .description("Length of the span along the direction, metres");
   b.execute([](ExecContext& ctx) {
     LinearGradientParams p;
     p.from = ctx.param<double>("from");

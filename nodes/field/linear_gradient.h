@@ -10,11 +10,11 @@
 namespace orogen {
 
 struct LinearGradientParams {
-  double from = 0.0;            // value at the start of the span, metres
-  double to = 100.0;            // value at the end of the span, metres
-  double angle_deg = 0.0;       // direction of increase: 0 = +x (east), 90 = +y (north), counter-clockwise
-  glm::dvec2 start{0.0, 0.0};   // world point where the ramp begins, metres
-  double length = 1024.0;       // span length along the direction, metres (> 0)
+  double from = 0.0;           // value at the start of the span, metres
+  double to = 100.0;           // value at the end of the span, metres
+  double angle_deg = 0.0;      // direction of increase: 0 = +x (east), 90 = +y (north), counter-clockwise
+  glm::dvec2 start{0.0, 0.0};  // world point where the ramp begins, metres
+  double length = 1024.0;      // span length along the direction, metres (> 0)
 };
 
 // The ramp's value at world position p.

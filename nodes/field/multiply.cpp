@@ -12,8 +12,7 @@ namespace orogen {
 
 void multiply_row(const MultiplyParams& params, std::span<const float> a_row, std::span<const float> b_row,
                   std::span<float> out) {
-  for (std::size_t i = 0; i < out.size(); ++i)
-    out[i] = static_cast<float>(params.scale * a_row[i] * b_row[i]);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<float>(params.scale * a_row[i] * b_row[i]);
 }
 
 Heightfield multiply_fields(const Heightfield& a, const Heightfield& b, const MultiplyParams& params) {
@@ -37,8 +36,11 @@ OROGEN_NODE(Multiply) {
   b.input("a", PortType::Heightfield).description("First field; defines the output's domain");
   b.input("b", PortType::Heightfield).description("Second field (often a 0..1 mask)");
   b.output("out", PortType::Heightfield).description("scale * a * b");
-  b.param_float("scale", 1.0).range(-1e6, 1e6).soft_range(-10, 10).unit("x").description(
-      "Factor applied to the product");
+  b.param_float("scale", 1.0)
+      .range(-1e6, 1e6)
+      .soft_range(-10, 10)
+      .unit("x")
+      .description("Factor applied to the product");
   b.execute([](ExecContext& ctx) {
     const auto a = ctx.require<Heightfield>("a");
     const auto bf = ctx.require<Heightfield>("b");

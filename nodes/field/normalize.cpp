@@ -11,9 +11,12 @@ namespace orogen {
 
 std::shared_ptr<Heightfield> normalize_field(const Heightfield& in, double lo, double hi, const ExecContext* ctx) {
   const ValueRange range = field_range(in, ctx);
-  if (range.empty || range.min == range.max) return map_field(in, [=](double h) { return std::isnan(h) ? h : lo; }, ctx);
+  if (range.empty || range.min == range.max)
+    return map_field(
+        in, [=](double h) { return std::isnan(h) ? h : lo; }, ctx);
   const RemapRange r{range.min, range.max, lo, hi, true};
-  return map_field(in, [&](double h) { return std::isnan(h) ? h : remap_value(h, r); }, ctx);
+  return map_field(
+      in, [&](double h) { return std::isnan(h) ? h : remap_value(h, r); }, ctx);
 }
 
 OROGEN_NODE(Normalize) {
@@ -24,8 +27,14 @@ OROGEN_NODE(Normalize) {
       "map normalize differently; use Remap with fixed ranges when tiles must match.");
   b.input("in", PortType::Heightfield).description("Field to normalize");
   b.output("out", PortType::Heightfield).description("Field spanning exactly [min, max]");
-  b.param_float("min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Value of the lowest sample, in the input's units");
-  b.param_float("max", 1.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Value of the highest sample, in the input's units");
+  b.param_float("min", 0.0)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 1000)
+      .description("Value of the lowest sample, in the input's units");
+  b.param_float("max", 1.0)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 1000)
+      .description("Value of the highest sample, in the input's units");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     ctx.set_output("out", normalize_field(*in, ctx.param<double>("min"), ctx.param<double>("max"), &ctx));

@@ -16,13 +16,20 @@ OROGEN_NODE(Power) {
   b.input("in", PortType::Heightfield).description("Field");
   b.output("out", PortType::Heightfield).description("Reshaped field");
   b.param_float("exponent", 1.5).range(0.01, 20.0).soft_range(0.25, 4.0).description("Exponent p (1 = identity)");
-  b.param_float("pivot", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Value the power is taken about, in the input's units");
-  b.param_float("scale", 1.0).range(1e-6, 1e6).soft_range(0.01, 1000)
-      .description("Distance from the pivot that stays fixed, in the input's units: values are divided by it before the power");
+  b.param_float("pivot", 0.0)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 1000)
+      .description("Value the power is taken about, in the input's units");
+  b.param_float("scale", 1.0)
+      .range(1e-6, 1e6)
+      .soft_range(0.01, 1000)
+      .description(
+          "Distance from the pivot that stays fixed, in the input's units: values are divided by it before the power");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const PowerParams p{ctx.param<double>("exponent"), ctx.param<double>("pivot"), ctx.param<double>("scale")};
-    ctx.set_output("out", map_field(*in, [&](double h) { return power_value(h, p); }, &ctx));
+    ctx.set_output("out", map_field(
+                              *in, [&](double h) { return power_value(h, p); }, &ctx));
   });
 }
 

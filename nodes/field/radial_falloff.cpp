@@ -35,11 +35,15 @@ OROGEN_NODE(RadialFalloff) {
       "optional distance_offset field (connect noise in metres for a ragged coastline). The default profile "
       "is 1 at the center, a plateau, a smooth shore and 0 from the radius on. Multiply heights by it, or "
       "subtract an offset scaled by its inverse, to sink the map's edges into the sea.");
-  b.input("distance_offset", PortType::Heightfield).optional()
+  b.input("distance_offset", PortType::Heightfield)
+      .optional()
       .description("Metres added to the distance from the center (resampled onto the requested domain)");
   b.output("out", PortType::Heightfield).description("Falloff mask, normally 0..1").kind(OutputKind::Mask);
   b.param_vec2("center", {512.0, 512.0}).range(-1e7, 1e7).unit("m").description("World position of the center");
-  b.param_float("radius", 480.0).range(1e-3, 1e7).soft_range(10.0, 10000.0).unit("m")
+  b.param_float("radius", 480.0)
+      .range(1e-3, 1e7)
+      .soft_range(10.0, 10000.0)
+      .unit("m")
       .description("Distance at which the profile reaches its end (t = 1)");
   b.param_curve("profile", default_falloff_profile())
       .description("Mask as a function of normalized distance t = d / radius in 0..1");

@@ -34,7 +34,7 @@ std::shared_ptr<Heightfield> resample_field(const Heightfield& in, const Resampl
 }
 
 OROGEN_NODE(Resample) {
-  b.version(2);  // 2: the decimated blur aligned to the global lattice (tile-exact)
+  b.version(2);      // 2: the decimated blur aligned to the global lattice (tile-exact)
   b.reach_global();  // the output lattice spans the requested rectangle
   b.own_lattice();
   b.category("field").description(
@@ -44,7 +44,11 @@ OROGEN_NODE(Resample) {
       "spacing, mirrored edges) anti-aliases when the output is coarser than the input.");
   b.input("in", PortType::Heightfield).description("Field to resample");
   b.output("out", PortType::Heightfield).description("The field on the new lattice");
-  b.param_float("spacing", 16.0).range(1e-3, 1e6).soft_range(0.5, 256.0).unit("m").description("Distance between output samples");
+  b.param_float("spacing", 16.0)
+      .range(1e-3, 1e6)
+      .soft_range(0.5, 256.0)
+      .unit("m")
+      .description("Distance between output samples");
   b.param_bool("prefilter", false).description("Blur away detail finer than the output spacing before sampling");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");

@@ -11,9 +11,9 @@
 namespace orogen {
 
 struct TerraceParams {
-  double base = 0.0;      // m, height of level 0
-  double spacing = 10.0;  // m, height between levels, > 0
-  double sharpness = 0.7; // 0..1
+  double base = 0.0;       // m, height of level 0
+  double spacing = 10.0;   // m, height between levels, > 0
+  double sharpness = 0.7;  // 0..1
 };
 
 inline double terrace_value(double h, const TerraceParams& p) {
@@ -21,8 +21,10 @@ inline double terrace_value(double h, const TerraceParams& p) {
   const double k = std::floor(x);
   const double u = x - k;
   double shaped = u;
-  if (p.sharpness >= 1.0) shaped = 0.0;
-  else if (p.sharpness > 0.0) shaped = std::pow(u, 1.0 / (1.0 - p.sharpness));
+  if (p.sharpness >= 1.0)
+    shaped = 0.0;
+  else if (p.sharpness > 0.0)
+    shaped = std::pow(u, 1.0 / (1.0 - p.sharpness));
   return p.base + (k + shaped) * p.spacing;
 }
 

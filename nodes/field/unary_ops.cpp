@@ -9,16 +9,20 @@ namespace orogen {
 
 OROGEN_NODE(Invert) {
   b.reach_pointwise();
-  b.category("field").description("Mirrors heights about a pivot: out = 2 * pivot - h (pivot 0 gives -h). "
-                                   "Turns ridges into valleys and a 0..1 mask m into 1 - m with pivot 0.5.");
+  b.category("field").description(
+      "Mirrors heights about a pivot: out = 2 * pivot - h (pivot 0 gives -h). "
+      "Turns ridges into valleys and a 0..1 mask m into 1 - m with pivot 0.5.");
   b.input("in", PortType::Heightfield).description("Field to invert");
   b.output("out", PortType::Heightfield).description("2 * pivot - in");
-  b.param_float("pivot", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000)
+  b.param_float("pivot", 0.0)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 1000)
       .description("Value that stays fixed, in the input's units; 0.5 inverts a 0..1 mask");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const double two_pivot = 2.0 * ctx.param<double>("pivot");
-    ctx.set_output("out", map_field(*in, [=](double h) { return two_pivot - h; }, &ctx));
+    ctx.set_output("out", map_field(
+                              *in, [=](double h) { return two_pivot - h; }, &ctx));
   });
 }
 
@@ -29,7 +33,8 @@ OROGEN_NODE(Abs) {
   b.output("out", PortType::Heightfield).description("|in|");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    ctx.set_output("out", map_field(*in, [](double h) { return std::abs(h); }, &ctx));
+    ctx.set_output("out", map_field(
+                              *in, [](double h) { return std::abs(h); }, &ctx));
   });
 }
 
@@ -39,12 +44,16 @@ OROGEN_NODE(Clamp) {
   b.input("in", PortType::Heightfield).description("Field to clamp");
   b.output("out", PortType::Heightfield).description("min(max(in, min), max)");
   b.param_float("min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Lower bound, in the input's units");
-  b.param_float("max", 1.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Upper bound (>= min), in the input's units");
+  b.param_float("max", 1.0)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 1000)
+      .description("Upper bound (>= min), in the input's units");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const double lo = ctx.param<double>("min"), hi = ctx.param<double>("max");
     if (lo > hi) throw NodeError("Clamp: min (" + std::to_string(lo) + ") is above max (" + std::to_string(hi) + ")");
-    ctx.set_output("out", map_field(*in, [=](double h) { return std::clamp(h, lo, hi); }, &ctx));
+    ctx.set_output("out", map_field(
+                              *in, [=](double h) { return std::clamp(h, lo, hi); }, &ctx));
   });
 }
 

@@ -18,8 +18,7 @@ std::shared_ptr<Heightfield> warp_field(const Heightfield& in, const Heightfield
       const double oy = dy ? strength * dy->at(i, j) : 0.0;
       // Offsets are converted to samples directly (not via world positions) so a zero offset hits the
       // sample exactly.
-      o[static_cast<std::size_t>(i)] =
-          static_cast<float>(catmull_rom(in, i + ox / d.spacing.x, j + oy / d.spacing.y));
+      o[static_cast<std::size_t>(i)] = static_cast<float>(catmull_rom(in, i + ox / d.spacing.x, j + oy / d.spacing.y));
     }
   });
   return out;

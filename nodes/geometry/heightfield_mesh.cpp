@@ -17,10 +17,14 @@ OpenMesh::Vec4f color_at(const Image& img, double x, double y) {
   const int n = std::min(img.channels, 4);
   for (int k = 0; k < n; ++k) c[k] = image_bilinear(img, k, s.x, s.y);
   switch (n) {
-    case 1: return {c[0], c[0], c[0], 1.0f};
-    case 2: return {c[0], c[0], c[0], c[1]};
-    case 3: return {c[0], c[1], c[2], 1.0f};
-    default: return {c[0], c[1], c[2], c[3]};
+    case 1:
+      return {c[0], c[0], c[0], 1.0f};
+    case 2:
+      return {c[0], c[0], c[0], c[1]};
+    case 3:
+      return {c[0], c[1], c[2], 1.0f};
+    default:
+      return {c[0], c[1], c[2], c[3]};
   }
 }
 
@@ -46,7 +50,8 @@ Mesh heightfield_grid_mesh(const Heightfield& height, const Image* colors) {
 
   Mesh result;
   TriMesh& m = result.mesh;
-  m.reserve(static_cast<std::size_t>(w) * h, static_cast<std::size_t>(w) * h * 3, static_cast<std::size_t>(w - 1) * (h - 1) * 2);
+  m.reserve(static_cast<std::size_t>(w) * h, static_cast<std::size_t>(w) * h * 3,
+            static_cast<std::size_t>(w - 1) * (h - 1) * 2);
   std::vector<TriMesh::VertexHandle> v(static_cast<std::size_t>(w) * h);
   for (int j = 0; j < h; ++j)
     for (int i = 0; i < w; ++i) {

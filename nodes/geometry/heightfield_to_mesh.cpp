@@ -12,24 +12,34 @@ namespace orogen {
 
 OROGEN_NODE(HeightfieldToMesh) {
   b.reach_global();
-  b.category("geometry").version(2).description(
-      "Turns a heightfield into a triangle mesh in world coordinates (x, y, z = height, metres, z up): one "
-      "vertex per sample, two triangles per cell, vertex normals of the surface, and vertex colors from the "
-      "optional image. With max_error or target_faces, a triangulated irregular network instead: greedy insertion "
-      "of the worst sample into a Delaunay triangulation (Garland & Heckbert 1995, Fast polygonal approximation "
-      "of terrains and height fields), then half-edge collapses (Hoppe 1996, Progressive meshes) that keep every "
-      "sample within max_error metres vertically of the surface.");
+  b.category("geometry")
+      .version(2)
+      .description(
+          "Turns a heightfield into a triangle mesh in world coordinates (x, y, z = height, metres, z up): one "
+          "vertex per sample, two triangles per cell, vertex normals of the surface, and vertex colors from the "
+          "optional image. With max_error or target_faces, a triangulated irregular network instead: greedy insertion "
+          "of the worst sample into a Delaunay triangulation (Garland & Heckbert 1995, Fast polygonal approximation "
+          "of terrains and height fields), then half-edge collapses (Hoppe 1996, Progressive meshes) that keep every "
+          "sample within max_error metres vertically of the surface.");
   b.input("in", PortType::Heightfield).description("Heights in metres; at least 2 x 2 samples");
-  b.input("colors", PortType::Image).optional().description(
-      "Vertex colors, linear (gray, gray+alpha, RGB or RGBA), sampled at each vertex's world position; white "
-      "when unconnected");
+  b.input("colors", PortType::Image)
+      .optional()
+      .description(
+          "Vertex colors, linear (gray, gray+alpha, RGB or RGBA), sampled at each vertex's world position; white "
+          "when unconnected");
   b.output("out", PortType::Mesh).description("The terrain mesh");
-  b.param_float("max_error", 0.0).range(0.0, 1e5).soft_range(0.0, 10.0).unit("m").description(
-      "Every sample stays within this vertical distance of the surface (exact, checked at every sample); 0 "
-      "disables the error bound");
-  b.param_int("target_faces", 0).range(0, 1000000000).description(
-      "Refine to about this many faces, never more unless max_error needs them (the tighter of the two wins); "
-      "0: no target. With max_error 0 this alone decides the size");
+  b.param_float("max_error", 0.0)
+      .range(0.0, 1e5)
+      .soft_range(0.0, 10.0)
+      .unit("m")
+      .description(
+          "Every sample stays within this vertical distance of the surface (exact, checked at every sample); 0 "
+          "disables the error bound");
+  b.param_int("target_faces", 0)
+      .range(0, 1000000000)
+      .description(
+          "Refine to about this many faces, never more unless max_error needs them (the tighter of the two wins); "
+          "0: no target. With max_error 0 this alone decides the size");
   b.execute([](ExecContext& ctx) {
     const auto height = ctx.require<Heightfield>("in");
     const auto colors = secondary_input<Image>(ctx, "colors", height->domain);

@@ -55,7 +55,7 @@ Mesh mesh_with_base(const Mesh& mesh, double depth) {
     m.set_color(centre, m.color(m.from_vertex_handle(loop.front())));
     for (auto h : loop) {
       const auto a = m.from_vertex_handle(h), b = m.to_vertex_handle(h);
-      m.add_face(a, b, below[b.idx()]);            // uses the free half-edge a -> b
+      m.add_face(a, b, below[b.idx()]);  // uses the free half-edge a -> b
       m.add_face(a, below[b.idx()], below[a.idx()]);
     }
     for (auto h : loop) {

@@ -35,7 +35,7 @@ inline i64 floor_div(i64 n, i64 d) {
 inline i64 ceil_div(i64 n, i64 d) { return -floor_div(-n, d); }
 
 struct Scan {
-  double error = 0.0;      // largest vertical distance of a sample under the triangle
+  double error = 0.0;        // largest vertical distance of a sample under the triangle
   std::int32_t sample = -1;  // where (-1 if the triangle holds no sample, which cannot happen)
 };
 
@@ -46,7 +46,8 @@ class Scanner {
  public:
   // With `single`, scan() runs the SIMD single-precision scan (tin_scan.h), whose errors are within
   // float_margin() of the exact ones; otherwise the double-precision scalar scan below.
-  Scanner(int width, const float* z, std::size_t size, bool single) : width_(width), z_(z), size_(size), single_(single) {}
+  Scanner(int width, const float* z, std::size_t size, bool single)
+      : width_(width), z_(z), size_(size), single_(single) {}
 
   template <bool kStopAbove>
   Scan scan(int ax, int ay, int bx, int by, int cx, int cy, double limit = 0.0) const {
@@ -114,8 +115,10 @@ class Scanner {
       i64 xl = xmin, xr = xmax;
       for (int k = 0; k < n_walks; ++k) {
         Walk& w = walks[k];
-        if (w.right) xr = std::min(xr, w.px + w.q);
-        else xl = std::max(xl, w.px + w.q + (w.r != 0 ? 1 : 0));
+        if (w.right)
+          xr = std::min(xr, w.px + w.q);
+        else
+          xl = std::max(xl, w.px + w.q + (w.r != 0 ? 1 : 0));
         w.q += w.step_q;
         w.r += w.step_r;
         if (w.r >= w.d) {
@@ -162,7 +165,8 @@ inline int prev_edge(int e) { return e % 3 == 0 ? e + 2 : e - 1; }
 // opposite half-edge in the neighbouring triangle (-1 on the border of the rectangle).
 class GreedyInsertion {
  public:
-  GreedyInsertion(const Heightfield& h, const Scanner& scanner) : width_(h.width()), height_(h.height()), scanner_(scanner) {}
+  GreedyInsertion(const Heightfield& h, const Scanner& scanner)
+      : width_(h.width()), height_(h.height()), scanner_(scanner) {}
 
   void run(double bound, std::size_t target, double tiny, const TinOptions& options, double progress_share) {
     // A triangle within this error is never refined: it need not enter the queue.
@@ -441,7 +445,8 @@ class Collapser {
           if (options.should_stop && options.should_stop()) return;
           // Greedy insertion leaves about a third of its vertices removable: an estimate, capped below 1.
           if (options.progress)
-            options.progress(0.6 + 0.35 * std::min(1.0, static_cast<double>(steps) / (0.35 * static_cast<double>(vx_.size()))));
+            options.progress(
+                0.6 + 0.35 * std::min(1.0, static_cast<double>(steps) / (0.35 * static_cast<double>(vx_.size()))));
         }
       }
       bool any = false;
@@ -498,7 +503,8 @@ class Collapser {
 
   // Bit mask of the rectangle's sides the vertex lies on (1 left, 2 right, 4 bottom, 8 top).
   int sides(int v) const {
-    return (vx_[v] == 0 ? 1 : 0) | (vx_[v] == width_ - 1 ? 2 : 0) | (vy_[v] == 0 ? 4 : 0) | (vy_[v] == height_ - 1 ? 8 : 0);
+    return (vx_[v] == 0 ? 1 : 0) | (vx_[v] == width_ - 1 ? 2 : 0) | (vy_[v] == 0 ? 4 : 0) |
+           (vy_[v] == height_ - 1 ? 8 : 0);
   }
   bool boundary(int v) const { return sides(v) != 0; }
 
@@ -648,11 +654,11 @@ class Collapser {
   struct Wedge {
     int a, b;
   };
-  std::vector<Wedge> wedges_;  // of the vertex being evaluated
-  std::vector<int> nv_;        // its neighbours
+  std::vector<Wedge> wedges_;               // of the vertex being evaluated
+  std::vector<int> nv_;                     // its neighbours
   std::vector<std::uint32_t> mark_, seen_;  // per vertex: neighbour of it (generation_), counted (link_generation_)
   std::uint32_t generation_ = 0, link_generation_ = 0;
-  std::vector<int> into_;  // per vertex: the neighbour of its queued collapse, or -1
+  std::vector<int> into_;     // per vertex: the neighbour of its queued collapse, or -1
   std::vector<float> error_;  // per triangle: its largest error, as the scans found it
   // The errors of the triangles each vertex's queued collapse makes, per wedge of its star, from errors_at_[v].
   std::vector<float> error_pool_, wedge_error_, best_error_;

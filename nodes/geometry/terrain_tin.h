@@ -42,10 +42,10 @@ struct TinOptions {
 };
 
 struct Tin {
-  int width = 0, height = 0;                 // the sample grid
-  std::vector<std::int32_t> samples;         // vertex k is sample samples[k] = j * width + i
+  int width = 0, height = 0;                           // the sample grid
+  std::vector<std::int32_t> samples;                   // vertex k is sample samples[k] = j * width + i
   std::vector<std::array<std::int32_t, 3>> triangles;  // vertex indices, counter-clockwise seen from +z
-  double max_error = 0.0;                    // the largest vertical distance of any sample, metres
+  double max_error = 0.0;                              // the largest vertical distance of any sample, metres
 };
 
 // The TIN of a heightfield of at least 2 x 2 samples (std::invalid_argument otherwise). Deterministic.

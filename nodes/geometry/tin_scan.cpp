@@ -70,8 +70,8 @@ ScanResult ScanRows(const ScanRequest& r) {
   };
   const int ymin = p[0].y, ymid = p[1].y, ymax = p[2].y;
   // The middle corner left of the long edge (seen from p0 towards p2): the short edges bound the rows on the left.
-  const bool short_left = static_cast<i64>(p[2].x - p[0].x) * (p[1].y - p[0].y) -
-                              static_cast<i64>(p[2].y - p[0].y) * (p[1].x - p[0].x) > 0;
+  const bool short_left =
+      static_cast<i64>(p[2].x - p[0].x) * (p[1].y - p[0].y) - static_cast<i64>(p[2].y - p[0].y) * (p[1].x - p[0].x) > 0;
   const V iota = hn::Iota(d, 0.0f);
   const V vg = hn::Set(d, static_cast<float>(gx));
   const V none = hn::Set(d, -1.0f);  // the error of lanes past a row's end: below every real error

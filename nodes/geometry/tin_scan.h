@@ -19,8 +19,8 @@ struct ScanRequest {
 };
 
 struct ScanResult {
-  float error = -1.0f;        // the largest |z - plane| of the samples inside, edges included
-  std::int32_t sample = -1;   // j * width + i of the first sample with that error (not with stop_above)
+  float error = -1.0f;       // the largest |z - plane| of the samples inside, edges included
+  std::int32_t sample = -1;  // j * width + i of the first sample with that error (not with stop_above)
 };
 
 // Float rounding: |result.error - exact error| <= 1e-6 * max(|z| of the field) (see terrain_tin.cpp).

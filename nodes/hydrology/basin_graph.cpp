@@ -24,7 +24,7 @@ void check(const ExecContext* ctx) {
 constexpr int kChunkRows = 16;
 
 struct Edge {
-  double w;          // pass height max(z_x, z_y)
+  double w;           // pass height max(z_x, z_y)
   std::int32_t a, b;  // basin nodes (0: the outlets), a < b
   std::int32_t x, y;  // the cells on either side: x in basin b... (see orient)
   bool operator<(const Edge& o) const {
@@ -172,7 +172,8 @@ void reroute_pits(const FlowGrid& g, const T* z, const Outlets& outlets, BasinRo
     for (int i = 0; i < g.nx; ++i) {
       const std::int32_t c = g.index(i, j);
       if (f.receiver[c] != c) continue;
-      const bool outlet = (outlets.border && g.on_border(i, j)) || (any_mask && outlets.mask[static_cast<std::size_t>(c)] != 0);
+      const bool outlet =
+          (outlets.border && g.on_border(i, j)) || (any_mask && outlets.mask[static_cast<std::size_t>(c)] != 0);
       if (!outlet) pits.push_back(c);
     }
   }
@@ -247,7 +248,8 @@ void reroute_pits(const FlowGrid& g, const T* z, const Outlets& outlets, BasinRo
   std::vector<Edge> edges;
   std::size_t candidates = 0, pit_cells = 0;
   for (std::int32_t b = 0; b < P; ++b) {
-    edges.insert(edges.end(), basin_edges[static_cast<std::size_t>(b)].begin(), basin_edges[static_cast<std::size_t>(b)].end());
+    edges.insert(edges.end(), basin_edges[static_cast<std::size_t>(b)].begin(),
+                 basin_edges[static_cast<std::size_t>(b)].end());
     candidates += basin_candidates[static_cast<std::size_t>(b)];
     pit_cells += basin[static_cast<std::size_t>(b)].size();
   }
@@ -272,7 +274,8 @@ void reroute_pits(const FlowGrid& g, const T* z, const Outlets& outlets, BasinRo
   }
   // Orient the tree from node 0 (breadth first) and reroute every child basin's pit to its pass.
   std::vector<std::int32_t> deg(static_cast<std::size_t>(P) + 2, 0), adj(tree.size() * 2);
-  for (std::int32_t e : tree) ++deg[static_cast<std::size_t>(edges[e].a) + 1], ++deg[static_cast<std::size_t>(edges[e].b) + 1];
+  for (std::int32_t e : tree)
+    ++deg[static_cast<std::size_t>(edges[e].a) + 1], ++deg[static_cast<std::size_t>(edges[e].b) + 1];
   std::partial_sum(deg.begin(), deg.end(), deg.begin());
   {
     std::vector<std::int32_t> fillp(deg.begin(), deg.end() - 1);
@@ -352,7 +355,8 @@ void reroute_pits(const FlowGrid& g, const T* z, const Outlets& outlets, BasinRo
         bool up = false;
         if (fill[x] <= zr) {
           const T nz = raise_above(zr);
-          if (!raised.empty()) raised[static_cast<std::size_t>(x)] += static_cast<double>(nz) - static_cast<double>(fill[x]);
+          if (!raised.empty())
+            raised[static_cast<std::size_t>(x)] += static_cast<double>(nz) - static_cast<double>(fill[x]);
           fill[x] = nz;
           raised_cells.push_back(x);
           up = true;
@@ -402,7 +406,8 @@ void build_stack(const FlowGrid& g, BasinRouting& r) {
   auto& roots = r.piece_roots_;
   piece.resize(static_cast<std::size_t>(chunks));
   roots.resize(static_cast<std::size_t>(chunks));
-  for (int ch = 0; ch < chunks; ++ch) piece[static_cast<std::size_t>(ch)].clear(), roots[static_cast<std::size_t>(ch)].clear();
+  for (int ch = 0; ch < chunks; ++ch)
+    piece[static_cast<std::size_t>(ch)].clear(), roots[static_cast<std::size_t>(ch)].clear();
   std::int32_t off[8];
   for (int k = 0; k < 8; ++k) off[k] = g.offset(k);
   tbb::parallel_for(tbb::blocked_range<int>(0, chunks, 1), [&](const tbb::blocked_range<int>& cr) {
@@ -427,8 +432,10 @@ void build_stack(const FlowGrid& g, BasinRouting& r) {
   });
   std::vector<std::size_t> at(static_cast<std::size_t>(chunks) + 1, 0), tat(static_cast<std::size_t>(chunks) + 1, 0);
   for (int ch = 0; ch < chunks; ++ch) {
-    at[static_cast<std::size_t>(ch) + 1] = at[static_cast<std::size_t>(ch)] + piece[static_cast<std::size_t>(ch)].size();
-    tat[static_cast<std::size_t>(ch) + 1] = tat[static_cast<std::size_t>(ch)] + roots[static_cast<std::size_t>(ch)].size();
+    at[static_cast<std::size_t>(ch) + 1] =
+        at[static_cast<std::size_t>(ch)] + piece[static_cast<std::size_t>(ch)].size();
+    tat[static_cast<std::size_t>(ch) + 1] =
+        tat[static_cast<std::size_t>(ch)] + roots[static_cast<std::size_t>(ch)].size();
   }
   r.stack.resize(at.back());
   r.tree_begin.resize(tat.back() + 1);
@@ -439,14 +446,15 @@ void build_stack(const FlowGrid& g, BasinRouting& r) {
       std::copy(p.begin(), p.end(), r.stack.begin() + static_cast<std::ptrdiff_t>(at[static_cast<std::size_t>(ch)]));
       const auto& rt = roots[static_cast<std::size_t>(ch)];
       for (std::size_t q = 0; q < rt.size(); ++q)
-        r.tree_begin[tat[static_cast<std::size_t>(ch)] + q] = static_cast<std::int32_t>(at[static_cast<std::size_t>(ch)]) + rt[q];
+        r.tree_begin[tat[static_cast<std::size_t>(ch)] + q] =
+            static_cast<std::int32_t>(at[static_cast<std::size_t>(ch)]) + rt[q];
     }
   });
 }
 
 template <class T>
-void route_impl(const FlowGrid& g, std::span<const T> z, const Outlets& outlets, BasinRouting& r, const ExecContext* ctx,
-                T* fill = nullptr, std::span<double> raised = {}) {
+void route_impl(const FlowGrid& g, std::span<const T> z, const Outlets& outlets, BasinRouting& r,
+                const ExecContext* ctx, T* fill = nullptr, std::span<double> raised = {}) {
   r.pits = r.pit_cells = r.graph_edges = r.tree_edges = 0;
   if (g.size() == 0) {
     r.flow = {};

@@ -32,14 +32,15 @@
 namespace orogen::hydrology {
 
 struct BasinRouting {
-  D8Flow flow;                           // receivers after rerouting (neighbours; == self only at outlets)
-  std::vector<std::int32_t> stack;       // every cell after its receiver
-  std::vector<std::int32_t> tree_begin;  // outlet tree t is stack[tree_begin[t], tree_begin[t + 1]); its first cell is its outlet
+  D8Flow flow;                      // receivers after rerouting (neighbours; == self only at outlets)
+  std::vector<std::int32_t> stack;  // every cell after its receiver
+  std::vector<std::int32_t>
+      tree_begin;  // outlet tree t is stack[tree_begin[t], tree_begin[t + 1]); its first cell is its outlet
   // Figures of the last call.
-  int pits = 0;           // local minima rerouted
-  int pit_cells = 0;      // cells in their basins
-  int graph_edges = 0;    // candidate basin-graph edges (cell pairs across pit-basin boundaries)
-  int tree_edges = 0;     // edges of the minimum spanning tree (== pits when an outlet exists)
+  int pits = 0;         // local minima rerouted
+  int pit_cells = 0;    // cells in their basins
+  int graph_edges = 0;  // candidate basin-graph edges (cell pairs across pit-basin boundaries)
+  int tree_edges = 0;   // edges of the minimum spanning tree (== pits when an outlet exists)
 
   // Scratch kept between calls (routing the same grid again allocates nothing).
   std::vector<std::int32_t> label_;  // pit basin of a cell, 0 elsewhere; reset after use
@@ -68,7 +69,8 @@ void route_basin_graph_fill(const FlowGrid& g, std::span<float> z, const Outlets
 
 // Upslope area (m^2, the cell itself included) or weight, from the stack: acc[c] = w[c] + sum over donors,
 // one outlet tree per task (deterministic).
-void accumulate_stack(const FlowGrid& g, const BasinRouting& r, std::span<double> acc, std::span<const float> weight = {});
+void accumulate_stack(const FlowGrid& g, const BasinRouting& r, std::span<double> acc,
+                      std::span<const float> weight = {});
 
 // Calls fn(first, last) for the stack range of every outlet tree, trees in parallel.
 template <class Fn>

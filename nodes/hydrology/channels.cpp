@@ -4,7 +4,8 @@
 
 namespace orogen::hydrology {
 
-std::vector<std::uint8_t> channel_donor_counts(const FlowGrid& g, const D8Flow& f, std::span<const std::uint8_t> channel) {
+std::vector<std::uint8_t> channel_donor_counts(const FlowGrid& g, const D8Flow& f,
+                                               std::span<const std::uint8_t> channel) {
   std::vector<std::uint8_t> count(f.receiver.size(), 0);
   for (std::int32_t c = 0; c < static_cast<std::int32_t>(count.size()); ++c) {
     if (!channel[c]) continue;

@@ -10,7 +10,8 @@
 namespace orogen::hydrology {
 
 // Number of channel donors of every channel cell (0 elsewhere).
-std::vector<std::uint8_t> channel_donor_counts(const FlowGrid& g, const D8Flow& f, std::span<const std::uint8_t> channel);
+std::vector<std::uint8_t> channel_donor_counts(const FlowGrid& g, const D8Flow& f,
+                                               std::span<const std::uint8_t> channel);
 
 // Strahler order of every channel cell (0 elsewhere): 1 at sources; where two or more donors share the
 // highest order o the cell has o + 1, otherwise o (Strahler 1957). `order` is stack_order(). The receiver of a

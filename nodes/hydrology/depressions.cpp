@@ -172,22 +172,31 @@ static void set_fill_outputs(ExecContext& ctx, const FillResult& r) {
 
 OROGEN_NODE(FillDepressions) {
   b.reach_global();  // flow routing over the whole domain
-  b.category("hydrology").description(
-      "Removes closed depressions so every cell drains to the border: Priority-Flood (Barnes, Lehman & Mulla "
-      "2014, 'Priority-Flood: an optimal depression-filling and watershed-labeling algorithm') with the slope "
-      "and depression queues of Zhou, Sun & Fu 2016. 'fill' raises each depression to its spill level; 'carve' "
-      "cuts a channel from each pit through the rim instead (complete breaching, Lindsay 2016), keeping "
-      "depressions no deeper than max_depth as filled lakes. 'epsilon' flats rise by one float ulp per cell so "
-      "every cell has a strictly descending path (flow routing needs it); 'flat' leaves them level. The lakes "
-      "(filled water) come out as a depth and an id per lake.");
+  b.category("hydrology")
+      .description(
+          "Removes closed depressions so every cell drains to the border: Priority-Flood (Barnes, Lehman & Mulla "
+          "2014, 'Priority-Flood: an optimal depression-filling and watershed-labeling algorithm') with the slope "
+          "and depression queues of Zhou, Sun & Fu 2016. 'fill' raises each depression to its spill level; 'carve' "
+          "cuts a channel from each pit through the rim instead (complete breaching, Lindsay 2016), keeping "
+          "depressions no deeper than max_depth as filled lakes. 'epsilon' flats rise by one float ulp per cell so "
+          "every cell has a strictly descending path (flow routing needs it); 'flat' leaves them level. The lakes "
+          "(filled water) come out as a depth and an id per lake.");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Filled or carved height, metres");
-  b.output("depth", PortType::Heightfield).description("Water depth of the kept lakes (flat surface minus ground), metres").kind(OutputKind::WaterDepth);
-  b.output("lake_id", PortType::Heightfield).description("Lake number 1, 2, ... (row-major order of first cell), 0 on dry ground").kind(OutputKind::Scalar);
-  b.param_enum("mode", {"fill", "carve"}, "fill").description("fill: raise depressions to their spill level; carve: breach a channel out of them");
+  b.output("depth", PortType::Heightfield)
+      .description("Water depth of the kept lakes (flat surface minus ground), metres")
+      .kind(OutputKind::WaterDepth);
+  b.output("lake_id", PortType::Heightfield)
+      .description("Lake number 1, 2, ... (row-major order of first cell), 0 on dry ground")
+      .kind(OutputKind::Scalar);
+  b.param_enum("mode", {"fill", "carve"}, "fill")
+      .description("fill: raise depressions to their spill level; carve: breach a channel out of them");
   b.param_enum("flats", {"epsilon", "flat"}, "epsilon")
       .description("epsilon: filled areas drain with a minimal gradient; flat: filled areas are exactly level");
-  b.param_float("max_depth", 0.0).range(0.0, 1e5).soft_range(0.0, 100.0).unit("m")
+  b.param_float("max_depth", 0.0)
+      .range(0.0, 1e5)
+      .soft_range(0.0, 100.0)
+      .unit("m")
       .description("carve mode: depressions at most this deep are filled and kept as lakes, deeper ones are carved");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
@@ -198,17 +207,26 @@ OROGEN_NODE(FillDepressions) {
 
 OROGEN_NODE(Lakes) {
   b.reach_global();  // flow routing over the whole domain
-  b.category("hydrology").description(
-      "Every closed depression as a lake filled to its spill level (Priority-Flood, Barnes, Lehman & Mulla 2014): "
-      "a flat water surface, its depth and a lake id; depressions shallower than min_depth or smaller than "
-      "min_area stay dry.");
+  b.category("hydrology")
+      .description(
+          "Every closed depression as a lake filled to its spill level (Priority-Flood, Barnes, Lehman & Mulla 2014): "
+          "a flat water surface, its depth and a lake id; depressions shallower than min_depth or smaller than "
+          "min_area stay dry.");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Water surface on lakes, ground elsewhere, metres");
   b.output("depth", PortType::Heightfield).description("Water depth, metres").kind(OutputKind::WaterDepth);
-  b.output("lake_id", PortType::Heightfield).description("Lake number 1, 2, ..., 0 on dry ground").kind(OutputKind::Scalar);
-  b.param_float("min_depth", 0.0).range(0.0, 1e5).soft_range(0.0, 50.0).unit("m")
+  b.output("lake_id", PortType::Heightfield)
+      .description("Lake number 1, 2, ..., 0 on dry ground")
+      .kind(OutputKind::Scalar);
+  b.param_float("min_depth", 0.0)
+      .range(0.0, 1e5)
+      .soft_range(0.0, 50.0)
+      .unit("m")
       .description("Depressions whose deepest point is shallower than this are not lakes");
-  b.param_float("min_area", 0.0).range(0.0, 1e12).soft_range(0.0, 1e6).unit("m^2")
+  b.param_float("min_area", 0.0)
+      .range(0.0, 1e12)
+      .soft_range(0.0, 1e6)
+      .unit("m^2")
       .description("Depressions covering less than this area are not lakes");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
@@ -218,21 +236,33 @@ OROGEN_NODE(Lakes) {
 
 OROGEN_NODE(FloodFill) {
   b.reach_global();  // flow routing over the whole domain
-  b.category("hydrology").description(
-      "A lake from a seed point (Long 2016, 'Using procedural methods to generate realistic virtual rural worlds', section 3.4): every cell 8-connected to the seed "
-      "whose ground lies below the water level is flooded, with a flat surface. The level is given, or is the "
-      "spill level of the seed's depression (the lowest rim point, from Priority-Flood, Barnes et al. 2014).");
+  b.category("hydrology")
+      .description(
+          "A lake from a seed point (Long 2016, 'Using procedural methods to generate realistic virtual rural worlds', "
+          "section 3.4): every cell 8-connected to the seed "
+          "whose ground lies below the water level is flooded, with a flat surface. The level is given, or is the "
+          "spill level of the seed's depression (the lowest rim point, from Priority-Flood, Barnes et al. 2014).");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Water surface in the lake, ground elsewhere, metres");
-  b.output("depth", PortType::Heightfield).description("Water depth, metres (0 outside the lake)").kind(OutputKind::WaterDepth);
+  b.output("depth", PortType::Heightfield)
+      .description("Water depth, metres (0 outside the lake)")
+      .kind(OutputKind::WaterDepth);
   b.output("mask", PortType::Heightfield).description("1 in the lake, 0 elsewhere").kind(OutputKind::Mask);
-  b.param_vec2("seed", glm::dvec2(0.0, 0.0)).range(-1e7, 1e7).unit("m").description("World position the lake grows from");
+  b.param_vec2("seed", glm::dvec2(0.0, 0.0))
+      .range(-1e7, 1e7)
+      .unit("m")
+      .description("World position the lake grows from");
   b.param_enum("level_mode", {"spill", "level"}, "spill")
       .description("spill: fill to the depression's spill level; level: fill to the given level");
-  b.param_float("level", 0.0).range(-1e5, 1e5).soft_range(-100.0, 1000.0).unit("m").description("Water level in level mode");
+  b.param_float("level", 0.0)
+      .range(-1e5, 1e5)
+      .soft_range(-100.0, 1000.0)
+      .unit("m")
+      .description("Water level in level mode");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    const FloodFillParams p{ctx.param<glm::dvec2>("seed"), ctx.enum_index("level_mode") == 0, ctx.param<double>("level")};
+    const FloodFillParams p{ctx.param<glm::dvec2>("seed"), ctx.enum_index("level_mode") == 0,
+                            ctx.param<double>("level")};
     FloodFillResult r = flood_fill(*in, p, &ctx);
     ctx.set_output("out", r.out);
     ctx.set_output("depth", r.depth);

@@ -17,9 +17,9 @@ namespace orogen::hydrology {
 int label_components(int nx, int ny, const std::vector<std::uint8_t>& mask, std::vector<std::int32_t>& label);
 
 struct FillParams {
-  bool carve = false;     // breach (carve) depressions instead of filling them
-  bool epsilon = true;    // give filled areas a drainage gradient (one float ulp per cell) instead of flats
-  double max_depth = 0.0; // carve: depressions at most this deep (m) are filled and kept as lakes
+  bool carve = false;      // breach (carve) depressions instead of filling them
+  bool epsilon = true;     // give filled areas a drainage gradient (one float ulp per cell) instead of flats
+  double max_depth = 0.0;  // carve: depressions at most this deep (m) are filled and kept as lakes
 };
 
 struct FillResult {

@@ -192,8 +192,8 @@ DrainageReport drainage_metrics(const Heightfield& in, double threshold, const E
         }
       }
       ++r.depressions;
-      const bool is_lake = depth >= lake_threshold.depth &&
-                           static_cast<double>(members.size()) * cell_area >= lake_threshold.area;
+      const bool is_lake =
+          depth >= lake_threshold.depth && static_cast<double>(members.size()) * cell_area >= lake_threshold.area;
       if (is_lake) {
         ++r.lakes;
         for (std::int32_t c : members) lake[c] = 2;
@@ -225,23 +225,35 @@ DrainageReport drainage_metrics(const Heightfield& in, double threshold, const E
 
 OROGEN_NODE(DrainageMetrics) {
   b.reach_global();  // flow routing over the whole domain
-  b.category("hydrology").description(
-      "Realism figures of a terrain's drainage, to compare with real basins: undrained pits per million cells, "
-      "in all and outside lakes (a lake is a depression of the Priority-Flood fill at least lake_depth deep and "
-      "lake_area large; smaller ones are artefacts and their pits count); "
-      "the Strahler order map (Strahler 1957) of the channels (D8 contributing area >= threshold on the "
-      "Priority-Flood+epsilon filled terrain); Horton's bifurcation and length ratios (Horton 1945; real networks "
-      "3-5 and 1.5-3.5); Hack's exponent h of main-stream length L ~ A^h (Hack 1957; 0.5-0.6); and the concavity "
-      "theta of Flint's slope-area law S = ks A^-theta (Flint 1974; 0.35-0.6) with the R^2 of its fit on "
-      "log-binned means (0.1 decade bins). The figures are a JSON report (orogen eval --stats lists it).");
+  b.category("hydrology")
+      .description(
+          "Realism figures of a terrain's drainage, to compare with real basins: undrained pits per million cells, "
+          "in all and outside lakes (a lake is a depression of the Priority-Flood fill at least lake_depth deep and "
+          "lake_area large; smaller ones are artefacts and their pits count); "
+          "the Strahler order map (Strahler 1957) of the channels (D8 contributing area >= threshold on the "
+          "Priority-Flood+epsilon filled terrain); Horton's bifurcation and length ratios (Horton 1945; real networks "
+          "3-5 and 1.5-3.5); Hack's exponent h of main-stream length L ~ A^h (Hack 1957; 0.5-0.6); and the concavity "
+          "theta of Flint's slope-area law S = ks A^-theta (Flint 1974; 0.35-0.6) with the R^2 of its fit on "
+          "log-binned means (0.1 decade bins). The figures are a JSON report (orogen eval --stats lists it).");
   b.input("in", PortType::Heightfield).description("Height, metres");
-  b.output("out", PortType::Heightfield).description("Strahler order of channel cells, 0 elsewhere").kind(OutputKind::Scalar);
+  b.output("out", PortType::Heightfield)
+      .description("Strahler order of channel cells, 0 elsewhere")
+      .kind(OutputKind::Scalar);
   b.output("report", PortType::Report).description("The figures as a JSON object");
-  b.param_float("threshold", 1e5).range(1.0, 1e14).soft_range(1e3, 1e8).unit("m^2")
+  b.param_float("threshold", 1e5)
+      .range(1.0, 1e14)
+      .soft_range(1e3, 1e8)
+      .unit("m^2")
       .description("Contributing area at which a channel starts");
-  b.param_float("lake_depth", 2.0).range(0.0, 1e4).soft_range(0.0, 50.0).unit("m")
+  b.param_float("lake_depth", 2.0)
+      .range(0.0, 1e4)
+      .soft_range(0.0, 50.0)
+      .unit("m")
       .description("Depth (spill level minus lowest cell) from which a depression counts as a lake");
-  b.param_float("lake_area", 40000.0).range(0.0, 1e12).soft_range(0.0, 1e7).unit("m^2")
+  b.param_float("lake_area", 40000.0)
+      .range(0.0, 1e12)
+      .soft_range(0.0, 1e7)
+      .unit("m^2")
       .description("Area from which a depression counts as a lake");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");

@@ -27,13 +27,13 @@ struct NetworkMetrics {
   std::size_t cells = 0;
   std::size_t channel_cells = 0;
   int max_order = 0;
-  std::vector<int> stream_counts;           // Horton N_w, w = 1..max_order
-  std::vector<double> mean_stream_length;   // m, w = 1..max_order
-  double bifurcation_ratio = NAN;           // R_b from log N_w against w
-  double length_ratio = NAN;                // R_L from log mean length against w
-  LogFit hack;                              // main-stream length L = c A^h over channel cells: slope = h
-  LogFit flint;                             // S = k A^-theta over channel cells: slope = -theta
-  std::vector<std::int32_t> order;          // Strahler order per cell (0 off the network)
+  std::vector<int> stream_counts;          // Horton N_w, w = 1..max_order
+  std::vector<double> mean_stream_length;  // m, w = 1..max_order
+  double bifurcation_ratio = NAN;          // R_b from log N_w against w
+  double length_ratio = NAN;               // R_L from log mean length against w
+  LogFit hack;                             // main-stream length L = c A^h over channel cells: slope = h
+  LogFit flint;                            // S = k A^-theta over channel cells: slope = -theta
+  std::vector<std::int32_t> order;         // Strahler order per cell (0 off the network)
 };
 
 // Metrics of the network of channel cells (channel[c] != 0; receivers of channel cells must be channel cells).
@@ -51,10 +51,10 @@ struct LakeThreshold {
 };
 
 struct DrainageReport {
-  double pits_per_million = 0.0;  // interior cells without a lower neighbour in the input, per 10^6 cells
+  double pits_per_million = 0.0;                // interior cells without a lower neighbour in the input, per 10^6 cells
   double pits_outside_lakes_per_million = 0.0;  // the same, leaving out pits inside lakes
-  std::size_t lakes = 0;          // depressions that pass the lake threshold
-  std::size_t depressions = 0;    // all depressions
+  std::size_t lakes = 0;                        // depressions that pass the lake threshold
+  std::size_t depressions = 0;                  // all depressions
   double lake_cells_fraction = 0.0;
   LakeThreshold lake;
   double threshold = 0.0;

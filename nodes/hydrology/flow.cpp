@@ -41,7 +41,8 @@ AccumulationResult flow_accumulation(const Heightfield& in, const Heightfield* r
   if (rainfall) {
     require_same_grid(rainfall->domain, in.domain, "rainfall");
     weight.resize(g.size());
-    for (std::size_t c = 0; c < g.size(); ++c) weight[c] = static_cast<float>(std::max(0.0f, rainfall->data[c]) * g.cell_area());
+    for (std::size_t c = 0; c < g.size(); ++c)
+      weight[c] = static_cast<float>(std::max(0.0f, rainfall->data[c]) * g.cell_area());
   }
   const std::vector<double> acc = accumulate(g, z, RoutingOptions{p.method, p.exponent, {}}, weight, ctx);
   const std::vector<float> slope = steepest_slope(g, z, ctx);
@@ -57,7 +58,8 @@ AccumulationResult flow_accumulation(const Heightfield& in, const Heightfield* r
       const std::size_t c = static_cast<std::size_t>(g.index(i, j));
       r.accumulation->data[c] = static_cast<float>(acc[c]);
       r.flow->data[c] = flow_map_value(acc[c], lo, hi);
-      r.wetness->data[c] = static_cast<float>(std::log(std::max(acc[c], 1e-12) / width / std::max<double>(slope[c], p.min_slope)));
+      r.wetness->data[c] =
+          static_cast<float>(std::log(std::max(acc[c], 1e-12) / width / std::max<double>(slope[c], p.min_slope)));
     }
   });
   return r;
@@ -132,27 +134,45 @@ WatershedResult watersheds(const Heightfield& in, bool fill, double min_area, co
 
 OROGEN_NODE(FlowAccumulation) {
   b.reach_global();  // flow routing over the whole domain
-  b.category("hydrology").description(
-      "Upslope contributing area of every cell in m^2, optionally weighted by a rainfall field, routed with D8, "
-      "D-infinity or multiple flow directions; depressions are filled first (Priority-Flood+epsilon, Barnes et al. "
-      "2014) so flow crosses lakes. Also the normalised log flow map used for texturing (0 at flow_min_area, 1 at "
-      "flow_max_area) and the topographic wetness index ln(a / tan beta) (Beven & Kirkby 1979) with a the "
-      "specific catchment area (area per metre of contour). Accumulation by dependency counting (Barnes 2017, "
-      "'Parallel non-divergent flow accumulation for trillion cell digital elevation models').");
+  b.category("hydrology")
+      .description(
+          "Upslope contributing area of every cell in m^2, optionally weighted by a rainfall field, routed with D8, "
+          "D-infinity or multiple flow directions; depressions are filled first (Priority-Flood+epsilon, Barnes et al. "
+          "2014) so flow crosses lakes. Also the normalised log flow map used for texturing (0 at flow_min_area, 1 at "
+          "flow_max_area) and the topographic wetness index ln(a / tan beta) (Beven & Kirkby 1979) with a the "
+          "specific catchment area (area per metre of contour). Accumulation by dependency counting (Barnes 2017, "
+          "'Parallel non-divergent flow accumulation for trillion cell digital elevation models').");
   b.input("in", PortType::Heightfield).description("Height, metres");
-  b.input("rainfall", PortType::Heightfield).optional().description("Relative rainfall per cell (unitless weight, 1 = nominal)");
-  b.output("out", PortType::Heightfield).description("Accumulated (rainfall-weighted) upslope area, m^2, the cell included").kind(OutputKind::Scalar);
+  b.input("rainfall", PortType::Heightfield)
+      .optional()
+      .description("Relative rainfall per cell (unitless weight, 1 = nominal)");
+  b.output("out", PortType::Heightfield)
+      .description("Accumulated (rainfall-weighted) upslope area, m^2, the cell included")
+      .kind(OutputKind::Scalar);
   b.output("flow", PortType::Heightfield).description("Normalised log flow map in [0, 1]").kind(OutputKind::Mask);
-  b.output("wetness", PortType::Heightfield).description("Topographic wetness index ln(a / tan beta), a in metres").kind(OutputKind::Scalar);
+  b.output("wetness", PortType::Heightfield)
+      .description("Topographic wetness index ln(a / tan beta), a in metres")
+      .kind(OutputKind::Scalar);
   b.param_enum("method", {"d8", "dinf", "mfd"}, "mfd").description(kMethodDoc);
-  b.param_float("exponent", 1.1).range(0.1, 100.0).soft_range(1.0, 10.0)
+  b.param_float("exponent", 1.1)
+      .range(0.1, 100.0)
+      .soft_range(1.0, 10.0)
       .description("MFD only: proportions follow tan(beta)^exponent (1.1 Freeman 1991; larger converges to D8)");
   b.param_bool("fill", true).description("Fill depressions (epsilon) before routing, so that flow crosses lakes");
-  b.param_float("flow_min_area", 0.0).range(0.0, 1e12).soft_range(0.0, 1e5).unit("m^2")
+  b.param_float("flow_min_area", 0.0)
+      .range(0.0, 1e12)
+      .soft_range(0.0, 1e5)
+      .unit("m^2")
       .description("Area mapped to 0 in the flow map (0: one cell)");
-  b.param_float("flow_max_area", 0.0).range(0.0, 1e14).soft_range(0.0, 1e8).unit("m^2")
+  b.param_float("flow_max_area", 0.0)
+      .range(0.0, 1e14)
+      .soft_range(0.0, 1e8)
+      .unit("m^2")
       .description("Area mapped to 1 in the flow map (0: the largest accumulation)");
-  b.param_float("min_slope", 1e-3).range(1e-9, 1.0).unit("m/m").description("Floor of tan(beta) in the wetness index (flats)");
+  b.param_float("min_slope", 1e-3)
+      .range(1e-9, 1.0)
+      .unit("m/m")
+      .description("Floor of tan(beta) in the wetness index (flats)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto rain = secondary_input<Heightfield>(ctx, "rainfall", in->domain);
@@ -171,21 +191,34 @@ OROGEN_NODE(FlowAccumulation) {
 
 OROGEN_NODE(FlowDirection) {
   b.reach_global();  // flow routing over the whole domain
-  b.category("hydrology").description(
-      "Direction water leaves each cell: the proportion-weighted mean of the receiver directions for D8 "
-      "(O'Callaghan & Mark 1984), D-infinity (Tarboton 1997) or MFD (Freeman 1991, Holmgren 1994), as an angle "
-      "and a unit vector, plus the steepest-descent slope tan(beta) in world units.");
+  b.category("hydrology")
+      .description(
+          "Direction water leaves each cell: the proportion-weighted mean of the receiver directions for D8 "
+          "(O'Callaghan & Mark 1984), D-infinity (Tarboton 1997) or MFD (Freeman 1991, Holmgren 1994), as an angle "
+          "and a unit vector, plus the steepest-descent slope tan(beta) in world units.");
   b.input("in", PortType::Heightfield).description("Height, metres");
-  b.output("out", PortType::Heightfield).description("Flow angle, degrees counter-clockwise from +x in [0, 360); -1 where nothing drains (border, pits)").kind(OutputKind::Scalar);
-  b.output("dx", PortType::Heightfield).description("x component of the unit flow vector (0 where nothing drains)").kind(OutputKind::Signed);
-  b.output("dy", PortType::Heightfield).description("y component of the unit flow vector (0 where nothing drains)").kind(OutputKind::Signed);
-  b.output("slope", PortType::Heightfield).description("tan(beta) of the steepest descent, m/m").kind(OutputKind::Scalar);
+  b.output("out", PortType::Heightfield)
+      .description("Flow angle, degrees counter-clockwise from +x in [0, 360); -1 where nothing drains (border, pits)")
+      .kind(OutputKind::Scalar);
+  b.output("dx", PortType::Heightfield)
+      .description("x component of the unit flow vector (0 where nothing drains)")
+      .kind(OutputKind::Signed);
+  b.output("dy", PortType::Heightfield)
+      .description("y component of the unit flow vector (0 where nothing drains)")
+      .kind(OutputKind::Signed);
+  b.output("slope", PortType::Heightfield)
+      .description("tan(beta) of the steepest descent, m/m")
+      .kind(OutputKind::Scalar);
   b.param_enum("method", {"d8", "dinf", "mfd"}, "d8").description(kMethodDoc);
-  b.param_float("exponent", 1.1).range(0.1, 100.0).soft_range(1.0, 10.0).description("MFD only: proportions follow tan(beta)^exponent");
+  b.param_float("exponent", 1.1)
+      .range(0.1, 100.0)
+      .soft_range(1.0, 10.0)
+      .description("MFD only: proportions follow tan(beta)^exponent");
   b.param_bool("fill", true).description("Fill depressions (epsilon) first, so every cell but the border drains");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    DirectionResult r = flow_direction(*in, method_of(ctx), ctx.param<double>("exponent"), ctx.param<bool>("fill"), &ctx);
+    DirectionResult r =
+        flow_direction(*in, method_of(ctx), ctx.param<double>("exponent"), ctx.param<bool>("fill"), &ctx);
     ctx.set_output("out", r.angle);
     ctx.set_output("dx", r.dx);
     ctx.set_output("dy", r.dy);
@@ -195,15 +228,22 @@ OROGEN_NODE(FlowDirection) {
 
 OROGEN_NODE(Watersheds) {
   b.reach_global();  // flow routing over the whole domain
-  b.category("hydrology").description(
-      "Drainage basins: every cell labelled with the outlet its D8 flow reaches (border cells and, without "
-      "filling, pits), by Priority-Flood filling (Barnes, Lehman & Mulla 2014) and the receiver tree (Braun & "
-      "Willett 2013). Basins are numbered by decreasing area; those under min_area get 0.");
+  b.category("hydrology")
+      .description(
+          "Drainage basins: every cell labelled with the outlet its D8 flow reaches (border cells and, without "
+          "filling, pits), by Priority-Flood filling (Barnes, Lehman & Mulla 2014) and the receiver tree (Braun & "
+          "Willett 2013). Basins are numbered by decreasing area; those under min_area get 0.");
   b.input("in", PortType::Heightfield).description("Height, metres");
-  b.output("out", PortType::Heightfield).description("Basin number 1, 2, ... by decreasing area; 0 for basins under min_area").kind(OutputKind::Scalar);
+  b.output("out", PortType::Heightfield)
+      .description("Basin number 1, 2, ... by decreasing area; 0 for basins under min_area")
+      .kind(OutputKind::Scalar);
   b.output("area", PortType::Heightfield).description("Area of the cell's basin, m^2").kind(OutputKind::Scalar);
   b.param_bool("fill", true).description("Fill depressions first, so basins end at the border, not at pits");
-  b.param_float("min_area", 0.0).range(0.0, 1e14).soft_range(0.0, 1e7).unit("m^2").description("Smaller basins are labelled 0");
+  b.param_float("min_area", 0.0)
+      .range(0.0, 1e14)
+      .soft_range(0.0, 1e7)
+      .unit("m^2")
+      .description("Smaller basins are labelled 0");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     WatershedResult r = watersheds(*in, ctx.param<bool>("fill"), ctx.param<double>("min_area"), &ctx);

@@ -32,9 +32,9 @@ AccumulationResult flow_accumulation(const Heightfield& in, const Heightfield* r
 float flow_map_value(double acc, double lo, double hi);
 
 struct DirectionResult {
-  std::shared_ptr<Heightfield> angle;  // degrees counter-clockwise from +x in [0, 360), -1 where nothing drains
-  std::shared_ptr<Heightfield> dx, dy; // unit flow vector (0 where nothing drains)
-  std::shared_ptr<Heightfield> slope;  // tan beta of the steepest descent
+  std::shared_ptr<Heightfield> angle;   // degrees counter-clockwise from +x in [0, 360), -1 where nothing drains
+  std::shared_ptr<Heightfield> dx, dy;  // unit flow vector (0 where nothing drains)
+  std::shared_ptr<Heightfield> slope;   // tan beta of the steepest descent
 };
 
 DirectionResult flow_direction(const Heightfield& in, FlowMethod method, double exponent, bool fill,

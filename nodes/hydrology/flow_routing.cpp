@@ -138,11 +138,11 @@ class MinHeap {
     }
   }
   std::vector<std::uint64_t> buckets_[4][256];
-  std::uint64_t min_[4][256];           // smallest item of each bucket (level 0: unused)
-  std::uint64_t nonempty_[4][4] = {};   // bit b of level l: bucket b has items
-  std::vector<std::uint64_t> early_;    // min-heap of items below last_
+  std::uint64_t min_[4][256];          // smallest item of each bucket (level 0: unused)
+  std::uint64_t nonempty_[4][4] = {};  // bit b of level l: bucket b has items
+  std::vector<std::uint64_t> early_;   // min-heap of items below last_
   std::uint32_t last_ = 0;
-  int current_ = 0;                     // level-0 bucket of the minimum, after settle()
+  int current_ = 0;  // level-0 bucket of the minimum, after settle()
   std::size_t size_ = 0;
 };
 
@@ -165,7 +165,8 @@ struct Padded {
   }
   std::int32_t p(int i, int j) const { return (j + 1) * W + (i + 1); }
   void copy_back(const FlowGrid& g, std::span<float> dst) const {
-    for (int j = 0; j < g.ny; ++j) std::copy_n(z.data() + p(0, j), g.nx, dst.data() + static_cast<std::size_t>(j) * g.nx);
+    for (int j = 0; j < g.ny; ++j)
+      std::copy_n(z.data() + p(0, j), g.nx, dst.data() + static_cast<std::size_t>(j) * g.nx);
   }
 };
 
@@ -265,7 +266,8 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
     unsigned open, low;  // open: not closed yet; low: open and at or below the level
   };
   auto open_around = [closed, W](std::int32_t c) -> unsigned {
-    return ~(three_bits(closed, c - W - 1) | three_bits(closed, c - 1) << 3 | three_bits(closed, c + W - 1) << 6) & 0x1EFu;
+    return ~(three_bits(closed, c - W - 1) | three_bits(closed, c - 1) << 3 | three_bits(closed, c + W - 1) << 6) &
+           0x1EFu;
   };
   auto masks = [zw, W, open_around](std::int32_t c, float r) -> Masks {
     const __m128 rv = _mm_set1_ps(r);
@@ -346,7 +348,8 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
     std::copy_n(zw + p(0, j), g.nx, z.data() + static_cast<std::size_t>(j) * static_cast<std::size_t>(g.nx));
   if (level)
     for (int j = 0; j < g.ny; ++j)
-      std::copy_n(level + p(0, j), g.nx, spill_level.data() + static_cast<std::size_t>(j) * static_cast<std::size_t>(g.nx));
+      std::copy_n(level + p(0, j), g.nx,
+                  spill_level.data() + static_cast<std::size_t>(j) * static_cast<std::size_t>(g.nx));
 }
 
 template <bool kEpsilon>
@@ -563,50 +566,53 @@ D8Flow d8_flow(const FlowGrid& g, std::span<const float> z, const Outlets& outle
     f.direction[c] = static_cast<std::uint8_t>(k);
     f.receiver[c] = k == kNoDirection ? c : c + t.off[k];
   };
-  for_each_row(ctx, g.ny, [&](int j) {
-    if (j == 0 || j == g.ny - 1 || g.nx < 3) {
-      for (int i = 0; i < g.nx; ++i) border_cell(i, j);
-      return;
-    }
-    const int m = g.nx - 2;
-    const std::int32_t c1 = g.index(1, j);
-    const float* zr = zz + c1;
-    std::uint8_t* dir = f.direction.data() + c1;
-    std::int32_t* rec = f.receiver.data() + c1;
-    // SSE2, two cells per step, all 8 neighbours in registers: the same double arithmetic as steepest()
-    // (exact float -> double, subtract, multiply) and strict > in increasing k, so the same receivers.
-    __m128d wv[8];
-    for (int k = 0; k < 8; ++k) wv[k] = _mm_set1_pd(t.inv_dist[k]);
-    const int m2 = m & ~1;
-    for (int i = 0; i < m2; i += 2) {
-      const __m128d a = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(zr + i))));
-      __m128d bv = _mm_setzero_pd();
-      __m128i dv = _mm_set1_epi64x(kNoDirection);
-      for (int k = 0; k < 8; ++k) {
-        const __m128d n =
-            _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(zr + i + t.off[k]))));
-        const __m128d sv = _mm_mul_pd(_mm_sub_pd(a, n), wv[k]);
-        const __m128d gt = _mm_cmpgt_pd(sv, bv);
-        bv = _mm_or_pd(_mm_and_pd(gt, sv), _mm_andnot_pd(gt, bv));
-        const __m128i gi = _mm_castpd_si128(gt);
-        dv = _mm_or_si128(_mm_and_si128(gi, _mm_set1_epi64x(k)), _mm_andnot_si128(gi, dv));
-      }
-      const int k0 = _mm_cvtsi128_si32(dv), k1 = _mm_cvtsi128_si32(_mm_unpackhi_epi64(dv, dv));
-      dir[i] = static_cast<std::uint8_t>(k0);
-      dir[i + 1] = static_cast<std::uint8_t>(k1);
-      rec[i] = c1 + i + (k0 == kNoDirection ? 0 : t.off[k0 & 7]);
-      rec[i + 1] = c1 + i + 1 + (k1 == kNoDirection ? 0 : t.off[k1 & 7]);
-    }
-    for (int i = m2; i < m; ++i) border_cell(i + 1, j);  // odd width: the last interior cell (scalar steepest)
-    border_cell(0, j);
-    border_cell(g.nx - 1, j);
-    if (any_mask)
-      for (int i = 1; i < g.nx - 1; ++i)
-        if (outlets.mask[static_cast<std::size_t>(g.index(i, j))] != 0) {
-          f.direction[static_cast<std::size_t>(g.index(i, j))] = kNoDirection;
-          f.receiver[static_cast<std::size_t>(g.index(i, j))] = g.index(i, j);
+  for_each_row(
+      ctx, g.ny,
+      [&](int j) {
+        if (j == 0 || j == g.ny - 1 || g.nx < 3) {
+          for (int i = 0; i < g.nx; ++i) border_cell(i, j);
+          return;
         }
-  }, 0.0, 0.5);
+        const int m = g.nx - 2;
+        const std::int32_t c1 = g.index(1, j);
+        const float* zr = zz + c1;
+        std::uint8_t* dir = f.direction.data() + c1;
+        std::int32_t* rec = f.receiver.data() + c1;
+        // SSE2, two cells per step, all 8 neighbours in registers: the same double arithmetic as steepest()
+        // (exact float -> double, subtract, multiply) and strict > in increasing k, so the same receivers.
+        __m128d wv[8];
+        for (int k = 0; k < 8; ++k) wv[k] = _mm_set1_pd(t.inv_dist[k]);
+        const int m2 = m & ~1;
+        for (int i = 0; i < m2; i += 2) {
+          const __m128d a = _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(zr + i))));
+          __m128d bv = _mm_setzero_pd();
+          __m128i dv = _mm_set1_epi64x(kNoDirection);
+          for (int k = 0; k < 8; ++k) {
+            const __m128d n =
+                _mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(zr + i + t.off[k]))));
+            const __m128d sv = _mm_mul_pd(_mm_sub_pd(a, n), wv[k]);
+            const __m128d gt = _mm_cmpgt_pd(sv, bv);
+            bv = _mm_or_pd(_mm_and_pd(gt, sv), _mm_andnot_pd(gt, bv));
+            const __m128i gi = _mm_castpd_si128(gt);
+            dv = _mm_or_si128(_mm_and_si128(gi, _mm_set1_epi64x(k)), _mm_andnot_si128(gi, dv));
+          }
+          const int k0 = _mm_cvtsi128_si32(dv), k1 = _mm_cvtsi128_si32(_mm_unpackhi_epi64(dv, dv));
+          dir[i] = static_cast<std::uint8_t>(k0);
+          dir[i + 1] = static_cast<std::uint8_t>(k1);
+          rec[i] = c1 + i + (k0 == kNoDirection ? 0 : t.off[k0 & 7]);
+          rec[i + 1] = c1 + i + 1 + (k1 == kNoDirection ? 0 : t.off[k1 & 7]);
+        }
+        for (int i = m2; i < m; ++i) border_cell(i + 1, j);  // odd width: the last interior cell (scalar steepest)
+        border_cell(0, j);
+        border_cell(g.nx - 1, j);
+        if (any_mask)
+          for (int i = 1; i < g.nx - 1; ++i)
+            if (outlets.mask[static_cast<std::size_t>(g.index(i, j))] != 0) {
+              f.direction[static_cast<std::size_t>(g.index(i, j))] = kNoDirection;
+              f.receiver[static_cast<std::size_t>(g.index(i, j))] = g.index(i, j);
+            }
+      },
+      0.0, 0.5);
   // Donor masks, again one row at a time: neighbour k is a donor when its direction points back (opposite(k)).
   auto border_donors = [&](int i, int j) {
     const std::int32_t c = g.index(i, j);
@@ -616,25 +622,28 @@ D8Flow d8_flow(const FlowGrid& g, std::span<const float> z, const Outlets& outle
         m |= static_cast<std::uint8_t>(1u << k);
     f.donors[c] = m;
   };
-  for_each_row(ctx, g.ny, [&](int j) {
-    if (j == 0 || j == g.ny - 1 || g.nx < 3) {
-      for (int i = 0; i < g.nx; ++i) border_donors(i, j);
-      return;
-    }
-    const int m = g.nx - 2;
-    const std::int32_t c1 = g.index(1, j);
-    std::uint8_t* dm = f.donors.data() + c1;
-    const std::uint8_t* dir = f.direction.data() + c1;
-    std::fill_n(dm, m, std::uint8_t{0});
-    for (int k = 0; k < 8; ++k) {
-      const std::uint8_t* dn = dir + t.off[k];
-      const std::uint8_t want = static_cast<std::uint8_t>(opposite(k));
-      const std::uint8_t bit = static_cast<std::uint8_t>(1u << k);
-      for (int i = 0; i < m; ++i) dm[i] |= dn[i] == want ? bit : std::uint8_t{0};
-    }
-    border_donors(0, j);
-    border_donors(g.nx - 1, j);
-  }, 0.5, 1.0);
+  for_each_row(
+      ctx, g.ny,
+      [&](int j) {
+        if (j == 0 || j == g.ny - 1 || g.nx < 3) {
+          for (int i = 0; i < g.nx; ++i) border_donors(i, j);
+          return;
+        }
+        const int m = g.nx - 2;
+        const std::int32_t c1 = g.index(1, j);
+        std::uint8_t* dm = f.donors.data() + c1;
+        const std::uint8_t* dir = f.direction.data() + c1;
+        std::fill_n(dm, m, std::uint8_t{0});
+        for (int k = 0; k < 8; ++k) {
+          const std::uint8_t* dn = dir + t.off[k];
+          const std::uint8_t want = static_cast<std::uint8_t>(opposite(k));
+          const std::uint8_t bit = static_cast<std::uint8_t>(1u << k);
+          for (int i = 0; i < m; ++i) dm[i] |= dn[i] == want ? bit : std::uint8_t{0};
+        }
+        border_donors(0, j);
+        border_donors(g.nx - 1, j);
+      },
+      0.5, 1.0);
   return f;
 }
 
@@ -747,7 +756,8 @@ std::vector<double> accumulate_d8(const FlowGrid& g, const D8Flow& f, std::span<
       std::int32_t c = c0;
       for (; c + 16 <= c1; c += 16) {
         const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(dn + c));
-        for (unsigned m = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(v, _mm_setzero_si128()))); m; m &= m - 1)
+        for (unsigned m = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(v, _mm_setzero_si128()))); m;
+             m &= m - 1)
           source(c + std::countr_zero(m));
       }
       for (; c < c1; ++c)
@@ -771,8 +781,8 @@ std::vector<double> accumulate_d8(const FlowGrid& g, const D8Flow& f, std::span<
   return acc;
 }
 
-int flow_proportions(const FlowGrid& g, std::span<const float> z, int i, int j, const RoutingOptions& opt,
-                     int nbr[8], double frac[8]) {
+int flow_proportions(const FlowGrid& g, std::span<const float> z, int i, int j, const RoutingOptions& opt, int nbr[8],
+                     double frac[8]) {
   const NeighbourTable t(g);
   return route_cell<false>(g, t, z.data(), i, j, opt, nbr, frac);
 }
@@ -791,47 +801,53 @@ std::vector<double> accumulate(const FlowGrid& g, std::span<const float> z, cons
     dk1.assign(n, kNoDirection);
     dk2.assign(n, kNoDirection);
     dfrac.assign(n, 0.0f);
-    for_each_row(ctx, g.ny, [&](int j) {
-      for (int i = 0; i < g.nx; ++i) {
-        int nb[8];
-        double fr[8];
-        const int cnt = interior_cell(g, i, j) ? route_cell<true>(g, t, zz, i, j, opt, nb, fr)
-                                               : route_cell<false>(g, t, zz, i, j, opt, nb, fr);
-        const std::int32_t c = g.index(i, j);
-        if (cnt >= 1) {
-          dk1[c] = static_cast<std::uint8_t>(nb[0]);
-          dfrac[c] = static_cast<float>(fr[0]);
-        }
-        if (cnt == 2) dk2[c] = static_cast<std::uint8_t>(nb[1]);
-        if (cnt == 1) dfrac[c] = 1.0f;
-      }
-    }, 0.0, 0.3);
+    for_each_row(
+        ctx, g.ny,
+        [&](int j) {
+          for (int i = 0; i < g.nx; ++i) {
+            int nb[8];
+            double fr[8];
+            const int cnt = interior_cell(g, i, j) ? route_cell<true>(g, t, zz, i, j, opt, nb, fr)
+                                                   : route_cell<false>(g, t, zz, i, j, opt, nb, fr);
+            const std::int32_t c = g.index(i, j);
+            if (cnt >= 1) {
+              dk1[c] = static_cast<std::uint8_t>(nb[0]);
+              dfrac[c] = static_cast<float>(fr[0]);
+            }
+            if (cnt == 2) dk2[c] = static_cast<std::uint8_t>(nb[1]);
+            if (cnt == 1) dfrac[c] = 1.0f;
+          }
+        },
+        0.0, 0.3);
   }
   // Number of neighbours that send flow to each cell.
   std::vector<std::uint8_t> remaining(n);
-  for_each_row(ctx, g.ny, [&](int j) {
-    for (int i = 0; i < g.nx; ++i) {
-      const std::int32_t c = g.index(i, j);
-      int cnt = 0;
-      if (!dinf && interior_cell(g, i, j) && opt.outlets.mask.empty() && !opt.outlets.border) {
-        for (int k = 0; k < 8; ++k) cnt += zz[c + t.off[k]] > zz[c];
-      } else if (!dinf && i > 1 && j > 1 && i < g.nx - 2 && j < g.ny - 2 && opt.outlets.mask.empty()) {
-        for (int k = 0; k < 8; ++k) cnt += zz[c + t.off[k]] > zz[c];  // no neighbour is on the border
-      } else {
-        for (int k = 0; k < 8; ++k) {
-          const int ii = i + kDi[k], jj = j + kDj[k];
-          if (!g.inside(ii, jj)) continue;
-          const std::int32_t m = c + t.off[k];
-          if (dinf) {
-            cnt += (dk1[m] == opposite(k)) + (dk2[m] == opposite(k));
+  for_each_row(
+      ctx, g.ny,
+      [&](int j) {
+        for (int i = 0; i < g.nx; ++i) {
+          const std::int32_t c = g.index(i, j);
+          int cnt = 0;
+          if (!dinf && interior_cell(g, i, j) && opt.outlets.mask.empty() && !opt.outlets.border) {
+            for (int k = 0; k < 8; ++k) cnt += zz[c + t.off[k]] > zz[c];
+          } else if (!dinf && i > 1 && j > 1 && i < g.nx - 2 && j < g.ny - 2 && opt.outlets.mask.empty()) {
+            for (int k = 0; k < 8; ++k) cnt += zz[c + t.off[k]] > zz[c];  // no neighbour is on the border
           } else {
-            cnt += zz[m] > zz[c] && !opt.outlets.is_outlet(g, ii, jj);
+            for (int k = 0; k < 8; ++k) {
+              const int ii = i + kDi[k], jj = j + kDj[k];
+              if (!g.inside(ii, jj)) continue;
+              const std::int32_t m = c + t.off[k];
+              if (dinf) {
+                cnt += (dk1[m] == opposite(k)) + (dk2[m] == opposite(k));
+              } else {
+                cnt += zz[m] > zz[c] && !opt.outlets.is_outlet(g, ii, jj);
+              }
+            }
           }
+          remaining[c] = static_cast<std::uint8_t>(cnt);
         }
-      }
-      remaining[c] = static_cast<std::uint8_t>(cnt);
-    }
-  }, 0.3, 0.5);
+      },
+      0.3, 0.5);
   std::vector<double> acc(n);
   const double area = g.cell_area();
   for (std::size_t c = 0; c < n; ++c) acc[c] = cell_weight(weight, c, area);
@@ -853,8 +869,8 @@ std::vector<double> accumulate(const FlowGrid& g, std::span<const float> z, cons
   // Hands x's accumulation to its receivers; cells in [lo, hi) are counted down (and pushed on `st` when
   // complete), others recorded in `out`.
   // (always_inline: called once per cell; out of line it costs a tenth of the single-thread time.)
-  auto route = [&](std::int32_t x, std::int32_t lo, std::int32_t hi, std::vector<std::int32_t>& st,
-                   std::vector<Share>& out) __attribute__((always_inline)) {
+  auto route = [&](std::int32_t x, std::int32_t lo, std::int32_t hi, std::vector<std::int32_t> & st,
+                   std::vector<Share> & out) __attribute__((always_inline)) {
     const double ax = acc[x];
     const std::uint32_t span = static_cast<std::uint32_t>(hi - lo);
     auto give = [&](int k, double fr) __attribute__((always_inline)) {

@@ -125,7 +125,8 @@ std::vector<std::int32_t> stack_order(const FlowGrid& g, const D8Flow& f);
 
 // Basin label of every cell: outlets (receiver == self) numbered 0, 1, ... in increasing cell index; each cell
 // gets its outlet's number. `order` is stack_order(g, f).
-std::vector<std::int32_t> basin_labels(const D8Flow& f, std::span<const std::int32_t> order, int* basin_count = nullptr);
+std::vector<std::int32_t> basin_labels(const D8Flow& f, std::span<const std::int32_t> order,
+                                       int* basin_count = nullptr);
 
 // Upslope amount: acc[c] = w[c] + sum of acc over its donors. `weight` per cell (e.g. runoff depth x cell
 // area, m^3/s); empty means the cell area, so the result is the contributing area in m^2. Parallel
@@ -146,8 +147,8 @@ struct RoutingOptions {
 // The receivers of cell (i, j) and the fraction of its flow each gets (>= 0, sum 1), written to nbr (neighbour
 // k) and frac; returns their count (0 for outlets and pits). D8: the steepest neighbour; D-infinity: one or two
 // neighbours of the steepest triangular facet, split by angle (Tarboton 1997); MFD: every lower neighbour.
-int flow_proportions(const FlowGrid& g, std::span<const float> z, int i, int j, const RoutingOptions& opt,
-                     int nbr[8], double frac[8]);
+int flow_proportions(const FlowGrid& g, std::span<const float> z, int i, int j, const RoutingOptions& opt, int nbr[8],
+                     double frac[8]);
 
 // Accumulation with any method (D8 delegates to accumulate_d8). Dependency counting, in parallel over a
 // fixed set of row bands merged up a fixed tree (Barnes 2017), so every cell sums its shares in the same

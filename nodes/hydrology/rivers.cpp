@@ -87,7 +87,8 @@ RiverResult extract_rivers(const Heightfield& in, const Heightfield* rainfall, c
   if (rainfall) {
     require_same_grid(rainfall->domain, in.domain, "rainfall");
     weight.resize(g.size());
-    for (std::size_t c = 0; c < g.size(); ++c) weight[c] = static_cast<float>(std::max(0.0f, rainfall->data[c]) * g.cell_area());
+    for (std::size_t c = 0; c < g.size(); ++c)
+      weight[c] = static_cast<float>(std::max(0.0f, rainfall->data[c]) * g.cell_area());
   }
   const std::vector<double> acc = accumulate_d8(g, f, weight, ctx);
   const auto order = stack_order(g, f);
@@ -159,7 +160,8 @@ RiverResult extract_rivers(const Heightfield& in, const Heightfield* rainfall, c
     auto& area = curve.attributes["area"];
     auto& so = curve.attributes["order"];
     for (std::size_t k = 0; k < line.p.size(); ++k) {
-      curve.points.emplace_back(static_cast<float>(line.p[k].x), static_cast<float>(line.p[k].y), static_cast<float>(line.p[k].z));
+      curve.points.emplace_back(static_cast<float>(line.p[k].x), static_cast<float>(line.p[k].y),
+                                static_cast<float>(line.p[k].z));
       curve.width.push_back(static_cast<float>(line.width[k]));
       discharge.push_back(static_cast<float>(line.area[k] * runoff));
       area.push_back(static_cast<float>(line.area[k]));
@@ -174,33 +176,53 @@ RiverResult extract_rivers(const Heightfield& in, const Heightfield* rainfall, c
 
 OROGEN_NODE(RiverExtract) {
   b.reach_global();  // flow routing over the whole domain
-  b.category("hydrology").description(
-      "Rivers: cells whose contributing area (D8 on the Priority-Flood+epsilon filled terrain, Barnes et al. 2014) "
-      "exceeds a threshold, vectorised into one polyline per reach (source or confluence to the next confluence or "
-      "outlet; parent = the reach it flows into) with per-vertex height (z, from the filled terrain, so it never "
-      "rises downstream), discharge Q = area x runoff, Strahler order (Strahler 1957) and width from the "
-      "hydraulic-geometry law w = k Q^b (Leopold & Maddock 1953, b about 0.5); plus a raster river mask drawn with "
-      "that width in world units. Optional Chaikin smoothing (Chaikin 1974) keeps the ends; lakes are left without lines.");
+  b.category("hydrology")
+      .description(
+          "Rivers: cells whose contributing area (D8 on the Priority-Flood+epsilon filled terrain, Barnes et al. 2014) "
+          "exceeds a threshold, vectorised into one polyline per reach (source or confluence to the next confluence or "
+          "outlet; parent = the reach it flows into) with per-vertex height (z, from the filled terrain, so it never "
+          "rises downstream), discharge Q = area x runoff, Strahler order (Strahler 1957) and width from the "
+          "hydraulic-geometry law w = k Q^b (Leopold & Maddock 1953, b about 0.5); plus a raster river mask drawn with "
+          "that width in world units. Optional Chaikin smoothing (Chaikin 1974) keeps the ends; lakes are left without "
+          "lines.");
   b.input("in", PortType::Heightfield).description("Height, metres");
-  b.input("rainfall", PortType::Heightfield).optional().description("Relative rainfall per cell (unitless weight, 1 = nominal)");
+  b.input("rainfall", PortType::Heightfield)
+      .optional()
+      .description("Relative rainfall per cell (unitless weight, 1 = nominal)");
   b.output("out", PortType::Curves).description("River reaches; attributes discharge (m^3/s), area (m^2), order");
-  b.output("mask", PortType::Heightfield).description("River coverage in [0, 1], drawn with the river width").kind(OutputKind::Mask);
-  b.param_float("threshold", 1e5).range(1.0, 1e14).soft_range(1e3, 1e8).unit("m^2")
+  b.output("mask", PortType::Heightfield)
+      .description("River coverage in [0, 1], drawn with the river width")
+      .kind(OutputKind::Mask);
+  b.param_float("threshold", 1e5)
+      .range(1.0, 1e14)
+      .soft_range(1e3, 1e8)
+      .unit("m^2")
       .description("Contributing area at which a channel starts");
-  b.param_float("runoff", 10.0).range(0.0, 1000.0).soft_range(0.0, 100.0).unit("mm/h")
+  b.param_float("runoff", 10.0)
+      .range(0.0, 1000.0)
+      .soft_range(0.0, 100.0)
+      .unit("mm/h")
       .description("Effective runoff rate turning area into discharge");
-  b.param_float("width_coefficient", 4.0).range(0.0, 1000.0).soft_range(0.0, 20.0).unit("m/(m^3/s)^b")
+  b.param_float("width_coefficient", 4.0)
+      .range(0.0, 1000.0)
+      .soft_range(0.0, 20.0)
+      .unit("m/(m^3/s)^b")
       .description("k of w = k Q^b");
   b.param_float("width_exponent", 0.5).range(0.0, 1.0).description("b of w = k Q^b (about 0.5 in nature)");
   b.param_int("smoothing", 2).range(0, 5).description("Chaikin corner-cutting passes on each reach (0: cell centres)");
-  b.param_bool("split_at_lakes", true).description(
-      "Leave lakes (filled depressions) without polylines: a river ends at the shore and its parent is the reach "
-      "leaving the lake; off, reaches cross lakes along the filled surface's flow paths");
+  b.param_bool("split_at_lakes", true)
+      .description(
+          "Leave lakes (filled depressions) without polylines: a river ends at the shore and its parent is the reach "
+          "leaving the lake; off, reaches cross lakes along the filled surface's flow paths");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto rain = secondary_input<Heightfield>(ctx, "rainfall", in->domain);
-    const RiverParams p{ctx.param<double>("threshold"), ctx.param<double>("runoff"), ctx.param<double>("width_coefficient"),
-                        ctx.param<double>("width_exponent"), static_cast<int>(ctx.param<std::int64_t>("smoothing")), ctx.param<bool>("split_at_lakes")};
+    const RiverParams p{ctx.param<double>("threshold"),
+                        ctx.param<double>("runoff"),
+                        ctx.param<double>("width_coefficient"),
+                        ctx.param<double>("width_exponent"),
+                        static_cast<int>(ctx.param<std::int64_t>("smoothing")),
+                        ctx.param<bool>("split_at_lakes")};
     RiverResult r = extract_rivers(*in, rain.get(), p, &ctx);
     ctx.set_output("out", r.curves);
     ctx.set_output("mask", r.mask);

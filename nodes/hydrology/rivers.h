@@ -10,14 +10,14 @@
 namespace orogen::hydrology {
 
 struct RiverParams {
-  double threshold = 1e5;         // m^2 of (rainfall-weighted) contributing area that starts a channel
-  double runoff = 10.0;           // mm/h: discharge Q = area * runoff
-  double width_coefficient = 4.0; // k of w = k * Q^b (w in m, Q in m^3/s)
-  double width_exponent = 0.5;    // b
-  int smoothing = 2;              // Chaikin corner-cutting passes (ends kept)
-  bool split_at_lakes = true;     // no polyline across filled depressions: a reach entering a lake ends at
-                                  // its shore (parent: the reach leaving the lake), the outflow starts at the
-                                  // lake's last cell
+  double threshold = 1e5;          // m^2 of (rainfall-weighted) contributing area that starts a channel
+  double runoff = 10.0;            // mm/h: discharge Q = area * runoff
+  double width_coefficient = 4.0;  // k of w = k * Q^b (w in m, Q in m^3/s)
+  double width_exponent = 0.5;     // b
+  int smoothing = 2;               // Chaikin corner-cutting passes (ends kept)
+  bool split_at_lakes = true;      // no polyline across filled depressions: a reach entering a lake ends at
+                                   // its shore (parent: the reach leaving the lake), the outflow starts at the
+                                   // lake's last cell
 };
 
 struct RiverResult {

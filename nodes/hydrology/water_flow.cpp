@@ -125,28 +125,48 @@ WaterFlowResult water_flow(const Heightfield& in, const Heightfield* rainfall, c
 
 OROGEN_NODE(WaterFlow) {
   b.reach_global();  // flow routing over the whole domain
-  b.category("hydrology").description(
-      "Where rain water settles: rainfall minus infiltration as the initial water, then repeated 8-neighbour "
-      "redistribution on the water surface (after Long 2016, 'Using procedural methods to generate realistic "
-      "virtual rural worlds', section 3.3, corrected so that water follows the water surface and never moves "
-      "uphill): each wet cell sends min(depth, half its largest surface drop) to its lower neighbours in "
-      "proportion to the drops, until an iteration moves less than `threshold` times all water moved so far. "
-      "Water is conserved exactly except what drains at the border or into sink cells, which the report counts.");
+  b.category("hydrology")
+      .description(
+          "Where rain water settles: rainfall minus infiltration as the initial water, then repeated 8-neighbour "
+          "redistribution on the water surface (after Long 2016, 'Using procedural methods to generate realistic "
+          "virtual rural worlds', section 3.3, corrected so that water follows the water surface and never moves "
+          "uphill): each wet cell sends min(depth, half its largest surface drop) to its lower neighbours in "
+          "proportion to the drops, until an iteration moves less than `threshold` times all water moved so far. "
+          "Water is conserved exactly except what drains at the border or into sink cells, which the report counts.");
   b.input("in", PortType::Heightfield).description("Terrain height, metres");
-  b.input("rainfall", PortType::Heightfield).optional().description("Rainfall per cell, mm (replaces the rainfall parameter)");
+  b.input("rainfall", PortType::Heightfield)
+      .optional()
+      .description("Rainfall per cell, mm (replaces the rainfall parameter)");
   b.input("sinks", PortType::Heightfield).optional().description("Cells above 0.5 drain (sea, swallow holes)");
   b.output("out", PortType::Heightfield).description("Water depth, metres").kind(OutputKind::WaterDepth);
-  b.output("flux", PortType::Heightfield).description("Water volume that flowed out of each cell over the run, m^3").kind(OutputKind::Scalar);
-  b.output("report", PortType::Report).description("Water balance: rain, stored, border outflow, sink inflow (m^3), iterations");
-  b.param_float("rainfall", 50.0).range(0.0, 1e5).soft_range(0.0, 500.0).unit("mm").description("Uniform rainfall when no field is connected");
-  b.param_float("infiltration", 10.0).range(0.0, 1e5).soft_range(0.0, 200.0).unit("mm").description("Soaked into the soil before any flow");
-  b.param_float("threshold", 1e-3).range(0.0, 1.0).description("Stop when an iteration moves less than this fraction of all water moved so far");
-  b.param_int("max_iterations", 1000).range(1, 1000000).soft_range(1, 10000).description("Upper bound on the iterations");
+  b.output("flux", PortType::Heightfield)
+      .description("Water volume that flowed out of each cell over the run, m^3")
+      .kind(OutputKind::Scalar);
+  b.output("report", PortType::Report)
+      .description("Water balance: rain, stored, border outflow, sink inflow (m^3), iterations");
+  b.param_float("rainfall", 50.0)
+      .range(0.0, 1e5)
+      .soft_range(0.0, 500.0)
+      .unit("mm")
+      .description("Uniform rainfall when no field is connected");
+  b.param_float("infiltration", 10.0)
+      .range(0.0, 1e5)
+      .soft_range(0.0, 200.0)
+      .unit("mm")
+      .description("Soaked into the soil before any flow");
+  b.param_float("threshold", 1e-3)
+      .range(0.0, 1.0)
+      .description("Stop when an iteration moves less than this fraction of all water moved so far");
+  b.param_int("max_iterations", 1000)
+      .range(1, 1000000)
+      .soft_range(1, 10000)
+      .description("Upper bound on the iterations");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto rain = secondary_input<Heightfield>(ctx, "rainfall", in->domain);
     const auto sinks = secondary_input<Heightfield>(ctx, "sinks", in->domain);
-    const WaterFlowParams p{ctx.param<double>("rainfall"), ctx.param<double>("infiltration"), ctx.param<double>("threshold"),
+    const WaterFlowParams p{ctx.param<double>("rainfall"), ctx.param<double>("infiltration"),
+                            ctx.param<double>("threshold"),
                             static_cast<int>(ctx.param<std::int64_t>("max_iterations"))};
     WaterFlowResult r = water_flow(*in, rain.get(), sinks.get(), p, &ctx);
     auto report = std::make_shared<Report>();

@@ -17,8 +17,8 @@ struct WaterFlowParams {
 };
 
 struct WaterFlowResult {
-  std::shared_ptr<Heightfield> depth;  // m
-  std::shared_ptr<Heightfield> flux;   // m^3 that left each cell over the run
+  std::shared_ptr<Heightfield> depth;                          // m
+  std::shared_ptr<Heightfield> flux;                           // m^3 that left each cell over the run
   double rain = 0.0, stored = 0.0, border = 0.0, sinks = 0.0;  // m^3: initial water, left on the terrain,
                                                                // drained at the border, drained in sinks
   int iterations = 0;

@@ -14,8 +14,7 @@ namespace orogen {
 
 class CheckedIOProxy final : public OIIO::Filesystem::IOProxy {
  public:
-  explicit CheckedIOProxy(const std::filesystem::path& path)
-      : IOProxy(path.string(), Write), file_(path) {}
+  explicit CheckedIOProxy(const std::filesystem::path& path) : IOProxy(path.string(), Write), file_(path) {}
   const char* proxytype() const override { return "orogen-checked"; }
   void close() override {}
   bool seek(int64_t offset) override {

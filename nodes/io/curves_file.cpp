@@ -50,7 +50,8 @@ void write_curves_file(const Curves& curves, const std::filesystem::path& path, 
         put(text, c.points[v].x), text += ",", put(text, c.points[v].y), text += ",", put(text, c.points[v].z);
         text += "]";
       }
-      text += "]},\"properties\":{\"index\":" + std::to_string(k) + ",\"parent\":" + std::to_string(c.parent) + ",\"width\":[";
+      text += "]},\"properties\":{\"index\":" + std::to_string(k) + ",\"parent\":" + std::to_string(c.parent) +
+              ",\"width\":[";
       for (std::size_t v = 0; v < c.width.size(); ++v) {
         if (v) text += ",";
         put(text, c.width[v]);
@@ -77,7 +78,8 @@ void write_curves_file(const Curves& curves, const std::filesystem::path& path, 
     std::size_t base = 1;
     for (std::size_t k = 0; k < n; ++k) {
       const Curve& c = curves.curves[k];
-      text += "g curve_" + std::to_string(k) + "\n# parent " + std::to_string(k) + " " + std::to_string(c.parent) + "\n";
+      text +=
+          "g curve_" + std::to_string(k) + "\n# parent " + std::to_string(k) + " " + std::to_string(c.parent) + "\n";
       for (const auto& v : c.points) {
         text += "v ";
         put(text, v.x), text += " ", put(text, v.y), text += " ", put(text, v.z);
@@ -85,7 +87,8 @@ void write_curves_file(const Curves& curves, const std::filesystem::path& path, 
       }
       auto attr = [&](const std::string& name, const std::vector<float>& values) {
         for (char ch : name)
-          if (std::isspace(static_cast<unsigned char>(ch))) throw FileError(path.string() + ": attribute name '" + name + "' contains white space");
+          if (std::isspace(static_cast<unsigned char>(ch)))
+            throw FileError(path.string() + ": attribute name '" + name + "' contains white space");
         text += "# attr " + name;
         for (float x : values) text += " ", put(text, x);
         text += "\n";

@@ -134,8 +134,9 @@ void write_raw16(const Heightfield& h, const fs::path& path, const HeightRange& 
 }
 
 HeightRaster read_raw16(const fs::path& path, int channel) {
-  if (channel != 0) throw FileError("'" + path.string() + "' is a RAW file with one channel; channel " +
-                                    std::to_string(channel) + " does not exist");
+  if (channel != 0)
+    throw FileError("'" + path.string() + "' is a RAW file with one channel; channel " + std::to_string(channel) +
+                    " does not exist");
   std::error_code ec;
   const auto bytes = fs::file_size(path, ec);
   if (ec) throw FileError("cannot read '" + path.string() + "': " + ec.message());
@@ -154,8 +155,7 @@ HeightRaster read_raw16(const fs::path& path, int channel) {
   r.unsigned_integer = true;
   r.format = "uint16 (raw, little endian)";
   r.values.resize(side * side);
-  for (std::size_t k = 0; k < r.values.size(); ++k)
-    r.values[k] = (data[2 * k] | (data[2 * k + 1] << 8)) / 65535.0;
+  for (std::size_t k = 0; k < r.values.size(); ++k) r.values[k] = (data[2 * k] | (data[2 * k + 1] << 8)) / 65535.0;
   return r;
 }
 
@@ -164,16 +164,47 @@ HeightRaster read_raw16(const fs::path& path, int channel) {
 double native_value(const unsigned char* p, OIIO::TypeDesc t) {
   using B = OIIO::TypeDesc::BASETYPE;
   switch (t.basetype) {
-    case B::UINT8: return *p / 255.0;
-    case B::UINT16: { std::uint16_t v; std::memcpy(&v, p, 2); return v / 65535.0; }
-    case B::UINT32: { std::uint32_t v; std::memcpy(&v, p, 4); return v / 4294967295.0; }
-    case B::INT8: return static_cast<double>(*reinterpret_cast<const std::int8_t*>(p));
-    case B::INT16: { std::int16_t v; std::memcpy(&v, p, 2); return v; }
-    case B::INT32: { std::int32_t v; std::memcpy(&v, p, 4); return v; }
-    case B::HALF: { Imath::half v; std::memcpy(&v, p, 2); return static_cast<float>(v); }
-    case B::FLOAT: { float v; std::memcpy(&v, p, 4); return v; }
-    case B::DOUBLE: { double v; std::memcpy(&v, p, 8); return v; }
-    default: return std::numeric_limits<double>::quiet_NaN();
+    case B::UINT8:
+      return *p / 255.0;
+    case B::UINT16: {
+      std::uint16_t v;
+      std::memcpy(&v, p, 2);
+      return v / 65535.0;
+    }
+    case B::UINT32: {
+      std::uint32_t v;
+      std::memcpy(&v, p, 4);
+      return v / 4294967295.0;
+    }
+    case B::INT8:
+      return static_cast<double>(*reinterpret_cast<const std::int8_t*>(p));
+    case B::INT16: {
+      std::int16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    case B::INT32: {
+      std::int32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case B::HALF: {
+      Imath::half v;
+      std::memcpy(&v, p, 2);
+      return static_cast<float>(v);
+    }
+    case B::FLOAT: {
+      float v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case B::DOUBLE: {
+      double v;
+      std::memcpy(&v, p, 8);
+      return v;
+    }
+    default:
+      return std::numeric_limits<double>::quiet_NaN();
   }
 }
 
@@ -185,9 +216,18 @@ bool is_unsigned_integer(OIIO::TypeDesc t) {
 bool is_supported(OIIO::TypeDesc t) {
   using B = OIIO::TypeDesc::BASETYPE;
   switch (t.basetype) {
-    case B::UINT8: case B::UINT16: case B::UINT32: case B::INT8: case B::INT16: case B::INT32:
-    case B::HALF: case B::FLOAT: case B::DOUBLE: return true;
-    default: return false;
+    case B::UINT8:
+    case B::UINT16:
+    case B::UINT32:
+    case B::INT8:
+    case B::INT16:
+    case B::INT32:
+    case B::HALF:
+    case B::FLOAT:
+    case B::DOUBLE:
+      return true;
+    default:
+      return false;
   }
 }
 
@@ -216,10 +256,14 @@ std::optional<HeightFormat> height_format_from_path(const fs::path& path) {
 
 const char* to_string(HeightFormat f) {
   switch (f) {
-    case HeightFormat::Exr: return "exr";
-    case HeightFormat::Png16: return "png16";
-    case HeightFormat::Raw16: return "raw16";
-    case HeightFormat::Tiff: return "tiff";
+    case HeightFormat::Exr:
+      return "exr";
+    case HeightFormat::Png16:
+      return "png16";
+    case HeightFormat::Raw16:
+      return "raw16";
+    case HeightFormat::Tiff:
+      return "tiff";
   }
   return "?";
 }
@@ -271,7 +315,10 @@ std::optional<HeightRange> write_heightfield_file(const Heightfield& h, const fs
   spec.attribute("Software", "Orogen");
   spec.attribute("DateTime", file_timestamp());  // never the time of writing: reproducible files
   std::string description = "Orogen heightfield; ";
-  set_compression(spec, options.format == HeightFormat::Exr ? "openexr" : is_float ? "tiff" : "png",
+  set_compression(spec,
+                  options.format == HeightFormat::Exr ? "openexr"
+                  : is_float                          ? "tiff"
+                                                      : "png",
                   options.compression_level, options.exr_compression);
   if (is_float) {
     description += "float32 heights in metres; ";
@@ -304,8 +351,10 @@ namespace {
 void check_readable_file(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec))
-    throw FileError("file '" + path.string() + "' does not exist (relative paths are resolved against the current "
-                    "directory " + fs::current_path(ec).string() + ")");
+    throw FileError("file '" + path.string() +
+                    "' does not exist (relative paths are resolved against the current "
+                    "directory " +
+                    fs::current_path(ec).string() + ")");
   if (fs::is_directory(path, ec)) throw FileError("'" + path.string() + "' is a directory, not an image file");
 }
 
@@ -329,15 +378,15 @@ std::unique_ptr<OIIO::ImageInput> open_height_image(const fs::path& path, const 
   if (channel < 0 || channel >= spec.nchannels)
     throw FileError("'" + path.string() + "' has " + std::to_string(spec.nchannels) + " channel(s); channel " +
                     std::to_string(channel) + " does not exist");
-  if (spec.width < 1 || spec.height < 1 || spec.depth > 1)
-    throw FileError("'" + path.string() + "' is not a 2D image");
+  if (spec.width < 1 || spec.height < 1 || spec.depth > 1) throw FileError("'" + path.string() + "' is not a 2D image");
   // A header is not a promise: a few bytes can claim a gigapixel image. Refuse what no domain can hold.
   if (spec.width > 65536 || spec.height > 65536)
     throw FileError("'" + path.string() + "' is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                     " pixels; at most 65536 per side can be read");
   const OIIO::TypeDesc type = spec.channelformat(channel);
   if (!is_supported(type))
-    throw FileError("'" + path.string() + "' stores pixels as " + std::string(type.c_str()) + ", which is not supported");
+    throw FileError("'" + path.string() + "' stores pixels as " + std::string(type.c_str()) +
+                    ", which is not supported");
   return in;
 }
 

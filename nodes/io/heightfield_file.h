@@ -69,11 +69,11 @@ std::optional<HeightRange> write_heightfield_file(const Heightfield& h, const st
 // One channel of an image file as read, before any mapping, top (north) row first.
 struct HeightRaster {
   int width = 0, height = 0;
-  int channels = 0;               // channels in the file
-  std::vector<double> values;     // the chosen channel: fraction of full scale for unsigned integers,
-                                  // the stored value for signed integers and floats
-  bool unsigned_integer = false;  // values are fractions 0..1 of full scale
-  std::string format;             // e.g. "uint16", "float"
+  int channels = 0;                         // channels in the file
+  std::vector<double> values;               // the chosen channel: fraction of full scale for unsigned integers,
+                                            // the stored value for signed integers and floats
+  bool unsigned_integer = false;            // values are fractions 0..1 of full scale
+  std::string format;                       // e.g. "uint16", "float"
   std::optional<HeightRange> file_mapping;  // Orogen's mapping metadata, if the file carries it
 };
 
@@ -94,11 +94,11 @@ HeightRasterShape probe_height_raster(const std::filesystem::path& path, int cha
 std::uint64_t height_raster_read_bytes(const HeightRasterShape& shape);
 
 struct HeightfieldReadOptions {
-  glm::dvec2 origin{0.0, 0.0};     // world position of the south-west pixel centre, metres
+  glm::dvec2 origin{0.0, 0.0};      // world position of the south-west pixel centre, metres
   glm::dvec2 size{1024.0, 1024.0};  // world extent from the first to the last pixel centre, metres
-  HeightRange range{0.0, 1000.0};  // heights for 0 and full scale of unsigned integer formats
-  bool remap_float = false;        // also map float and signed values v to min + v * (max - min)
-  bool use_file_mapping = true;    // prefer the file's Orogen mapping metadata over `range`
+  HeightRange range{0.0, 1000.0};   // heights for 0 and full scale of unsigned integer formats
+  bool remap_float = false;         // also map float and signed values v to min + v * (max - min)
+  bool use_file_mapping = true;     // prefer the file's Orogen mapping metadata over `range`
 };
 
 // The raster as a heightfield on its own lattice: pixel centres span [origin, origin + size] edge to edge

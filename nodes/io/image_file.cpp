@@ -31,10 +31,14 @@ T quantize(double v) {
 
 std::vector<std::string> default_channel_names(int n) {
   switch (n) {
-    case 1: return {"Y"};
-    case 2: return {"Y", "A"};
-    case 3: return {"R", "G", "B"};
-    case 4: return {"R", "G", "B", "A"};
+    case 1:
+      return {"Y"};
+    case 2:
+      return {"Y", "A"};
+    case 3:
+      return {"R", "G", "B"};
+    case 4:
+      return {"R", "G", "B", "A"};
     default: {
       std::vector<std::string> names;
       for (int c = 0; c < n; ++c) names.push_back("channel" + std::to_string(c));
@@ -78,7 +82,8 @@ void write_scanlines(const Image& image, const fs::path& path, const OIIO::Image
         T* line = block.data() + static_cast<std::size_t>(r - r0) * row_samples;
         for (std::size_t k = 0; k < row_samples; ++k) {
           const int c = static_cast<int>(k % static_cast<std::size_t>(n));
-          const double v = encode_srgb && c != alpha ? linear_to_srgb(static_cast<double>(src[k])) : static_cast<double>(src[k]);
+          const double v =
+              encode_srgb && c != alpha ? linear_to_srgb(static_cast<double>(src[k])) : static_cast<double>(src[k]);
           line[k] = quantize<T>(v);
         }
       }
@@ -122,19 +127,27 @@ void write_image_file(const Image& image, const fs::path& path, const ImageWrite
                               : options.format == ImageFormat::Png16 ? OIIO::TypeDesc::UINT16
                                                                      : OIIO::TypeDesc::FLOAT;
   OIIO::ImageSpec spec(image.width(), image.height(), n, type);
-  spec.channelnames = static_cast<int>(image.channel_names.size()) == n ? image.channel_names : default_channel_names(n);
+  spec.channelnames =
+      static_cast<int>(image.channel_names.size()) == n ? image.channel_names : default_channel_names(n);
   spec.alpha_channel = png ? alpha_channel(n) : -1;
   spec.attribute("Software", "Orogen");
   spec.attribute("DateTime", file_timestamp());  // never the time of writing: reproducible files
-  spec.attribute("oiio:UnassociatedAlpha", 1);  // our alpha is straight: store it as is
-  set_compression(spec, png ? "png" : options.format == ImageFormat::Exr ? "openexr" : "tiff", options.compression_level);
+  spec.attribute("oiio:UnassociatedAlpha", 1);   // our alpha is straight: store it as is
+  set_compression(spec,
+                  png                                  ? "png"
+                  : options.format == ImageFormat::Exr ? "openexr"
+                                                       : "tiff",
+                  options.compression_level);
   spec.attribute("oiio:ColorSpace", png && options.srgb ? "sRGB" : "Linear");
   const bool srgb = png && options.srgb;
   switch (options.format) {
-    case ImageFormat::Png8: return write_scanlines<std::uint8_t>(image, path, spec, options.progress, srgb);
-    case ImageFormat::Png16: return write_scanlines<std::uint16_t>(image, path, spec, options.progress, srgb);
+    case ImageFormat::Png8:
+      return write_scanlines<std::uint8_t>(image, path, spec, options.progress, srgb);
+    case ImageFormat::Png16:
+      return write_scanlines<std::uint16_t>(image, path, spec, options.progress, srgb);
     case ImageFormat::Exr:
-    case ImageFormat::Tiff: return write_scanlines<float>(image, path, spec, options.progress, false);
+    case ImageFormat::Tiff:
+      return write_scanlines<float>(image, path, spec, options.progress, false);
   }
 }
 

@@ -18,7 +18,7 @@ struct ImageWriteOptions {
   // the linear floats as they are.
   bool srgb = true;
   int compression_level = -1;  // see HeightfieldWriteOptions::compression_level
-  WriteProgress progress;  // optional
+  WriteProgress progress;      // optional
 };
 
 // Writes `image` to `path`. PNG takes 1 (grey), 2 (grey + alpha), 3 (RGB) or 4 (RGBA) channels; values are

@@ -155,8 +155,10 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
   for (auto v : mesh.mesh.vertices()) {
     const auto& q = mesh.mesh.point(v);
     if (!std::isfinite(q[0]) || !std::isfinite(q[1]) || !std::isfinite(q[2]))
-      throw FileError("cannot write '" + path.string() + "': vertex " + std::to_string(v.idx()) + " has a non-finite "
-                      "position (" + std::to_string(q[0]) + ", " + std::to_string(q[1]) + ", " + std::to_string(q[2]) +
+      throw FileError("cannot write '" + path.string() + "': vertex " + std::to_string(v.idx()) +
+                      " has a non-finite "
+                      "position (" +
+                      std::to_string(q[0]) + ", " + std::to_string(q[1]) + ", " + std::to_string(q[2]) +
                       "); a mesh of a heightfield with NaN or infinite samples cannot be written (fill or clamp them "
                       "upstream)");
   }

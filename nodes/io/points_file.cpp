@@ -31,9 +31,8 @@ std::string csv_field(const std::string& s) {
 }
 
 bool is_ply_word(const std::string& s) {
-  return !s.empty() && std::all_of(s.begin(), s.end(), [](unsigned char c) {
-    return std::isalnum(c) || c == '_' || c == '-' || c == '.';
-  });
+  return !s.empty() && std::all_of(s.begin(), s.end(),
+                                   [](unsigned char c) { return std::isalnum(c) || c == '_' || c == '-' || c == '.'; });
 }
 
 void check_names(const Points& points, PointsFormat format, const fs::path& path) {
@@ -84,8 +83,10 @@ void write_points_file(const Points& points, const fs::path& path, PointsFormat 
       line += csv_field(name);
     }
   } else {
-    line = "ply\nformat ascii 1.0\ncomment Orogen points: position in metres (z up), rotation quaternion, scale, "
-           "class id, attributes\nelement vertex " + std::to_string(points.size()) + "\n";
+    line =
+        "ply\nformat ascii 1.0\ncomment Orogen points: position in metres (z up), rotation quaternion, scale, "
+        "class id, attributes\nelement vertex " +
+        std::to_string(points.size()) + "\n";
     for (const char* c : kColumns) {
       line += std::string_view(c) == "class" ? "property int " : "property float ";
       line += c;

@@ -13,10 +13,12 @@
 namespace orogen {
 
 OROGEN_NODE(ReadHeightfield) {
-  b.reach([](const ParamView& p) {
-    // Spread over the request by default: what a sample reads then depends on the whole requested domain.
-    return p.get<glm::dvec2>("size") == glm::dvec2(0.0) ? Reach::global() : Reach::pointwise();
-  }, "global (the image spans the requested domain); point-wise when size is set");
+  b.reach(
+      [](const ParamView& p) {
+        // Spread over the request by default: what a sample reads then depends on the whole requested domain.
+        return p.get<glm::dvec2>("size") == glm::dvec2(0.0) ? Reach::global() : Reach::pointwise();
+      },
+      "global (the image spans the requested domain); point-wise when size is set");
   b.category("io").description(
       "Reads a heightfield from an EXR, PNG (8 or 16-bit), TIFF or RAW 16-bit file and resamples it "
       "(bilinear) to the requested domain. By default the image covers the requested domain exactly (its "
@@ -25,27 +27,45 @@ OROGEN_NODE(ReadHeightfield) {
       "image's rectangle repeat its edge. Unsigned integer pixels are mapped to heights through "
       "height_min/height_max (or the mapping WriteHeightfield stored in the file); float and signed integer "
       "pixels are heights in metres. RAW files must be square.");
-  b.output("out", PortType::Heightfield).description("The heightfield on the requested domain, metres").kind(OutputKind::Height);
-  b.param_path("path", "").extensions({".exr", ".png", ".tif", ".tiff", ".raw", ".r16"}).description(
-      "Image file to read. A relative path is resolved against the directory of the graph file (not the "
-      "current directory, not the output directory)");
+  b.output("out", PortType::Heightfield)
+      .description("The heightfield on the requested domain, metres")
+      .kind(OutputKind::Height);
+  b.param_path("path", "")
+      .extensions({".exr", ".png", ".tif", ".tiff", ".raw", ".r16"})
+      .description(
+          "Image file to read. A relative path is resolved against the directory of the graph file (not the "
+          "current directory, not the output directory)");
   b.param_int("channel", 0).range(0, 63).description("Channel of the image to read (0 = first)");
-  b.param_vec2("origin", {0.0, 0.0}).range(-1e7, 1e7).unit("m").description(
-      "With size set: world position of the south-west pixel center (first column, last file row)");
-  b.param_vec2("size", {0.0, 0.0}).range(0.0, 1e7).unit("m").description(
-      "World extent from the first to the last pixel center in x and y; [0, 0] (the default): the requested "
-      "domain's, at its origin");
-  b.param_float("height_min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description(
-      "Height of pixel value 0 in integer formats (and of 0.0 in float formats when remap_float is on)");
-  b.param_float("height_max", 1000.0).range(-1e6, 1e6).soft_range(-1000, 9000).unit("m").description(
-      "Height of full scale (255 or 65535) in integer formats (and of 1.0 in float formats when remap_float "
-      "is on)");
-  b.param_bool("remap_float", false).description(
-      "Treat float (and signed integer) pixels as fractions 0..1 and map them through height_min/height_max; "
-      "off: they are heights in metres");
-  b.param_bool("use_file_mapping", true).description(
-      "When the file carries the height mapping WriteHeightfield records (PNG, EXR, TIFF metadata), use it "
-      "instead of height_min/height_max");
+  b.param_vec2("origin", {0.0, 0.0})
+      .range(-1e7, 1e7)
+      .unit("m")
+      .description("With size set: world position of the south-west pixel center (first column, last file row)");
+  b.param_vec2("size", {0.0, 0.0})
+      .range(0.0, 1e7)
+      .unit("m")
+      .description(
+          "World extent from the first to the last pixel center in x and y; [0, 0] (the default): the requested "
+          "domain's, at its origin");
+  b.param_float("height_min", 0.0)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 1000)
+      .unit("m")
+      .description("Height of pixel value 0 in integer formats (and of 0.0 in float formats when remap_float is on)");
+  b.param_float("height_max", 1000.0)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 9000)
+      .unit("m")
+      .description(
+          "Height of full scale (255 or 65535) in integer formats (and of 1.0 in float formats when remap_float "
+          "is on)");
+  b.param_bool("remap_float", false)
+      .description(
+          "Treat float (and signed integer) pixels as fractions 0..1 and map them through height_min/height_max; "
+          "off: they are heights in metres");
+  b.param_bool("use_file_mapping", true)
+      .description(
+          "When the file carries the height mapping WriteHeightfield records (PNG, EXR, TIFF metadata), use it "
+          "instead of height_min/height_max");
   // The whole file is decoded before it is resampled: its pixels count, not the domain's (the header tells).
   b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
     const auto& path = q.params.get<std::string>("path");
@@ -70,14 +90,16 @@ OROGEN_NODE(ReadHeightfield) {
     options.use_file_mapping = ctx.param<bool>("use_file_mapping");
     Heightfield image;
     try {
-      image = raster_to_heightfield(read_height_raster(path, static_cast<int>(ctx.param<std::int64_t>("channel"))), options);
+      image = raster_to_heightfield(read_height_raster(path, static_cast<int>(ctx.param<std::int64_t>("channel"))),
+                                    options);
     } catch (const FileError& e) {
       throw NodeError(e.what());
     }
     ctx.progress(0.5);
     auto out = std::make_shared<Heightfield>(ctx.domain());
     parallel_rows(
-        ctx, ctx.domain().height(), [&](int j) { resample_bilinear_row(image, ctx.domain(), j, out->row(j)); }, 0.5, 1.0);
+        ctx, ctx.domain().height(), [&](int j) { resample_bilinear_row(image, ctx.domain(), j, out->row(j)); }, 0.5,
+        1.0);
     ctx.set_output("out", std::move(out));
   });
 }

@@ -13,8 +13,10 @@ OROGEN_NODE(WriteCurves) {
       "FeatureCollection of LineStrings in world metres with z, properties index, parent, per-vertex width and "
       "every attribute) or Wavefront OBJ lines (v and l elements, one group per curve, attributes as comments).");
   b.input("in", PortType::Curves).description("Curves to write");
-  b.param_path("path", "curves.json").output_file().extensions({".json", ".geojson", ".obj"}).description(
-      "Output file, relative to the output directory; the extension selects JSON or OBJ");
+  b.param_path("path", "curves.json")
+      .output_file()
+      .extensions({".json", ".geojson", ".obj"})
+      .description("Output file, relative to the output directory; the extension selects JSON or OBJ");
   b.execute([](ExecContext& ctx) {
     const auto curves = ctx.require<Curves>("in");
     const std::string& path = ctx.param<std::string>("path");

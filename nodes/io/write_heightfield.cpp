@@ -16,26 +16,38 @@ OROGEN_NODE(WriteHeightfield) {
       "data's own range ('auto') or a fixed range; the mapping is recorded in PNG metadata (and in the "
       "description of every image format) so ReadHeightfield restores metres.");
   b.input("in", PortType::Heightfield).description("Heightfield to write, metres");
-  b.param_path("path", "height.exr").output_file().extensions({".exr", ".png", ".raw", ".r16", ".tif", ".tiff"}).description(
-      "Output file, relative to the output directory; the extension selects the format");
-  b.param_enum("format", {"auto", "exr", "png16", "raw16", "tiff"}, "auto").description(
-      "File format; 'auto' follows the extension. An explicit format must agree with the extension");
-  b.param_enum("range", {"auto", "fixed"}, "auto").description(
-      "Height mapping of the 16-bit formats: 'auto' maps the data's minimum to 0 and maximum to 65535; "
-      "'fixed' maps height_min and height_max (heights outside are clamped). Float formats store metres");
-  b.param_float("height_min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description(
-      "Height stored as 0 when range is 'fixed'");
-  b.param_float("height_max", 1000.0).range(-1e6, 1e6).soft_range(-1000, 9000).unit("m").description(
-      "Height stored as 65535 when range is 'fixed'; must exceed height_min");
-  b.param_int("compression_level", 1).range(0, 9).description(
-      "zlib (deflate) level of 16-bit PNG, TIFF and EXR with exr_compression 'zip': 1 is the fastest (on "
-      "terrain about 1% larger than zlib's default 6 and a third of its time for PNG, 2% and 60% for TIFF), "
-      "9 the smallest and slowest, 0 no compression. RAW16 ignores it");
-  b.param_enum("exr_compression", {"none", "zip", "piz", "pxr24"}, "none").description(
-      "OpenEXR codec of the float32 heights. 'none' (default): computed terrain's low mantissa bytes are "
-      "noise, so 'zip' saves only about 5% at 4x the writing time (67 vs 63 MB at 4096^2); 'piz' (lossless "
-      "wavelet) saves about 18% at 5x the time; 'pxr24' halves the file but rounds heights to 24-bit floats "
-      "(about 1 cm at 1 km), so it is lossy. Other formats ignore it");
+  b.param_path("path", "height.exr")
+      .output_file()
+      .extensions({".exr", ".png", ".raw", ".r16", ".tif", ".tiff"})
+      .description("Output file, relative to the output directory; the extension selects the format");
+  b.param_enum("format", {"auto", "exr", "png16", "raw16", "tiff"}, "auto")
+      .description("File format; 'auto' follows the extension. An explicit format must agree with the extension");
+  b.param_enum("range", {"auto", "fixed"}, "auto")
+      .description(
+          "Height mapping of the 16-bit formats: 'auto' maps the data's minimum to 0 and maximum to 65535; "
+          "'fixed' maps height_min and height_max (heights outside are clamped). Float formats store metres");
+  b.param_float("height_min", 0.0)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 1000)
+      .unit("m")
+      .description("Height stored as 0 when range is 'fixed'");
+  b.param_float("height_max", 1000.0)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 9000)
+      .unit("m")
+      .description("Height stored as 65535 when range is 'fixed'; must exceed height_min");
+  b.param_int("compression_level", 1)
+      .range(0, 9)
+      .description(
+          "zlib (deflate) level of 16-bit PNG, TIFF and EXR with exr_compression 'zip': 1 is the fastest (on "
+          "terrain about 1% larger than zlib's default 6 and a third of its time for PNG, 2% and 60% for TIFF), "
+          "9 the smallest and slowest, 0 no compression. RAW16 ignores it");
+  b.param_enum("exr_compression", {"none", "zip", "piz", "pxr24"}, "none")
+      .description(
+          "OpenEXR codec of the float32 heights. 'none' (default): computed terrain's low mantissa bytes are "
+          "noise, so 'zip' saves only about 5% at 4x the writing time (67 vs 63 MB at 4096^2); 'piz' (lossless "
+          "wavelet) saves about 18% at 5x the time; 'pxr24' halves the file but rounds heights to 24-bit floats "
+          "(about 1 cm at 1 km), so it is lossy. Other formats ignore it");
   b.execute([](ExecContext& ctx) {
     const auto h = ctx.require<Heightfield>("in");
     const std::string& path = ctx.param<std::string>("path");
@@ -46,8 +58,8 @@ OROGEN_NODE(WriteHeightfield) {
     options.compression_level = static_cast<int>(ctx.param<std::int64_t>("compression_level"));
     options.exr_compression = ctx.param<std::string>("exr_compression");
     if (const auto& f = ctx.param<std::string>("format"); f != "auto" && f != to_string(*by_extension))
-      throw NodeError("format '" + f + "' does not match the extension of '" + path + "' (" +
-                      to_string(*by_extension) + ")");
+      throw NodeError("format '" + f + "' does not match the extension of '" + path + "' (" + to_string(*by_extension) +
+                      ")");
     if (ctx.param<std::string>("range") == "fixed") {
       const HeightRange r{ctx.param<double>("height_min"), ctx.param<double>("height_max")};
       if (!(r.max > r.min)) throw NodeError("height_max must be greater than height_min for a fixed range");

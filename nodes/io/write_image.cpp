@@ -14,16 +14,21 @@ OROGEN_NODE(WriteImage) {
       "EXR and TIFF (float32, linear, any channel count). Rows are stored north (largest y) first; alpha is "
       "straight, not premultiplied.");
   b.input("in", PortType::Image).description("Image to write; linear values");
-  b.param_path("path", "image.png").output_file().extensions({".png", ".exr", ".tif", ".tiff"}).description(
-      "Output file, relative to the output directory; the extension selects the format");
+  b.param_path("path", "image.png")
+      .output_file()
+      .extensions({".png", ".exr", ".tif", ".tiff"})
+      .description("Output file, relative to the output directory; the extension selects the format");
   b.param_enum("bit_depth", {"8", "16"}, "8").description("Bits per channel of PNG files (EXR and TIFF are float32)");
-  b.param_bool("srgb", true).description(
-      "Encode PNG color channels with the sRGB transfer curve (what image viewers expect); off stores the "
-      "linear values. Alpha and the float formats are never encoded");
-  b.param_int("compression_level", 6).range(0, 9).description(
-      "zlib (deflate) level of PNG, EXR (zip) and TIFF: 6 is zlib's balance, 1 the fastest (about twice as "
-      "fast for 8-bit PNG, but the file can be half again as large), 9 the smallest and slowest, 0 no "
-      "compression");
+  b.param_bool("srgb", true)
+      .description(
+          "Encode PNG color channels with the sRGB transfer curve (what image viewers expect); off stores the "
+          "linear values. Alpha and the float formats are never encoded");
+  b.param_int("compression_level", 6)
+      .range(0, 9)
+      .description(
+          "zlib (deflate) level of PNG, EXR (zip) and TIFF: 6 is zlib's balance, 1 the fastest (about twice as "
+          "fast for 8-bit PNG, but the file can be half again as large), 9 the smallest and slowest, 0 no "
+          "compression");
   b.execute([](ExecContext& ctx) {
     const auto image = ctx.require<Image>("in");
     const std::string& path = ctx.param<std::string>("path");
@@ -31,7 +36,8 @@ OROGEN_NODE(WriteImage) {
     if (!format) throw NodeError("cannot tell the format of '" + path + "' from its extension");
     ImageWriteOptions options;
     options.format = *format;
-    if (*format == ImageFormat::Png8 && ctx.param<std::string>("bit_depth") == "16") options.format = ImageFormat::Png16;
+    if (*format == ImageFormat::Png8 && ctx.param<std::string>("bit_depth") == "16")
+      options.format = ImageFormat::Png16;
     options.srgb = ctx.param<bool>("srgb");
     options.compression_level = static_cast<int>(ctx.param<std::int64_t>("compression_level"));
     write_node_output(ctx, "path", [&](const std::filesystem::path& temporary, const WriteProgress& progress) {

@@ -16,29 +16,39 @@ OROGEN_NODE(WriteMesh) {
       "always y-up, linear vertex colors, the mesh's own texture coordinates) inside the output directory, "
       "atomically. Vertex "
       "normals go to OBJ and PLY, vertex colors to PLY (sRGB 8-bit); STL has face normals only. OBJ also gets "
-      "texture coordinates (the mesh's own, e.g. around and along tree branches, else over its footprint) and, with a texture, a material library (.mtl beside the "
+      "texture coordinates (the mesh's own, e.g. around and along tree branches, else over its footprint) and, with a "
+      "texture, a material library (.mtl beside the "
       "OBJ) that drapes the image over the terrain. base_depth closes a terrain into a solid (skirt walls and a "
       "flat bottom) for 3D printing. up_axis Y converts Orogen's z-up coordinates to y-up, (x, y, z) -> "
       "(x, z, -y), for Unity and Blender.");
   b.input("in", PortType::Mesh).description("Mesh to write, metres");
-  b.param_path("path", "terrain.obj").output_file().extensions({".obj", ".ply", ".stl", ".gltf", ".glb"}).description(
-      "Output file, relative to the output directory; the extension selects the format");
-  b.param_enum("up_axis", {"Z", "Y"}, "Z").description(
-      "Up axis of the file: Z keeps Orogen's coordinates; Y rotates to y-up (x, z, -y), right-handed");
+  b.param_path("path", "terrain.obj")
+      .output_file()
+      .extensions({".obj", ".ply", ".stl", ".gltf", ".glb"})
+      .description("Output file, relative to the output directory; the extension selects the format");
+  b.param_enum("up_axis", {"Z", "Y"}, "Z")
+      .description("Up axis of the file: Z keeps Orogen's coordinates; Y rotates to y-up (x, z, -y), right-handed");
   b.param_bool("binary", true).description("Binary PLY and STL (smaller, faster); off writes text. OBJ is always text");
   b.param_bool("normals", true).description("Write per-vertex normals (OBJ, PLY)");
   b.param_bool("colors", true).description("Write per-vertex colors (PLY only)");
-  b.param_bool("uvs", true).description(
-      "OBJ: per-vertex texture coordinates: the mesh's own when it has them (TreeMesh, HullRock), else the xy "
-      "footprint mapped onto 0..1 (u east, v north), so an image of "
-      "the same domain drapes over the terrain");
-  b.param_string("texture", "").file_text().description(
-      "OBJ: the color image to drape, as a path relative to the OBJ file (e.g. color.png when WriteImage "
-      "writes it beside the mesh); written as map_Kd into <name>.mtl beside the OBJ, which the OBJ names with "
-      "mtllib. One printable line (no control characters). Empty: no material file");
-  b.param_float("base_depth", 0.0).range(0.0, 1e6).soft_range(0.0, 500.0).unit("m").description(
-      "Closes the mesh into a solid (every edge shared by two faces) for 3D printing: walls down from the open "
-      "border to this many metres below the lowest vertex and a flat bottom. 0: the open surface");
+  b.param_bool("uvs", true)
+      .description(
+          "OBJ: per-vertex texture coordinates: the mesh's own when it has them (TreeMesh, HullRock), else the xy "
+          "footprint mapped onto 0..1 (u east, v north), so an image of "
+          "the same domain drapes over the terrain");
+  b.param_string("texture", "")
+      .file_text()
+      .description(
+          "OBJ: the color image to drape, as a path relative to the OBJ file (e.g. color.png when WriteImage "
+          "writes it beside the mesh); written as map_Kd into <name>.mtl beside the OBJ, which the OBJ names with "
+          "mtllib. One printable line (no control characters). Empty: no material file");
+  b.param_float("base_depth", 0.0)
+      .range(0.0, 1e6)
+      .soft_range(0.0, 500.0)
+      .unit("m")
+      .description(
+          "Closes the mesh into a solid (every edge shared by two faces) for 3D printing: walls down from the open "
+          "border to this many metres below the lowest vertex and a flat bottom. 0: the open surface");
   b.execute([](ExecContext& ctx) {
     const auto mesh = ctx.require<Mesh>("in");
     const std::string& path = ctx.param<std::string>("path");

@@ -13,8 +13,10 @@ OROGEN_NODE(WritePoints) {
       "atomically. Columns: x, y, z (metres, z up), qw, qx, qy, qz (rotation quaternion), sx, sy, sz (scale), "
       "class, then the named attributes sorted by name.");
   b.input("in", PortType::Points).description("Points to write");
-  b.param_path("path", "points.csv").output_file().extensions({".csv", ".ply"}).description(
-      "Output file, relative to the output directory; the extension selects CSV or PLY");
+  b.param_path("path", "points.csv")
+      .output_file()
+      .extensions({".csv", ".ply"})
+      .description("Output file, relative to the output directory; the extension selects CSV or PLY");
   b.execute([](ExecContext& ctx) {
     const auto points = ctx.require<Points>("in");
     const std::string& path = ctx.param<std::string>("path");

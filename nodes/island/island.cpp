@@ -35,7 +35,8 @@ constexpr std::array<BiomeInfo, kBiomeCount> kBiomes{{
 // Bridson's Poisson-disk sampling (Bridson 2007) with k = 30 candidates in the annulus [r, 2r]; every draw is
 // a counter-based hash of (seed, draw number). The radius is chosen so about `n` points fill the rectangle
 // (maximal Poisson-disk sets reach a density of about 0.7 / r^2).
-std::vector<glm::dvec2> poisson_sites(glm::dvec2 lo, glm::dvec2 size, int n, std::uint64_t seed, const ExecContext* ctx) {
+std::vector<glm::dvec2> poisson_sites(glm::dvec2 lo, glm::dvec2 size, int n, std::uint64_t seed,
+                                      const ExecContext* ctx) {
   const double r = std::sqrt(0.7 * size.x * size.y / std::max(1, n));
   const double cell = r / std::sqrt(2.0);
   const int gw = std::max(1, static_cast<int>(std::ceil(size.x / cell)));
@@ -52,14 +53,16 @@ std::vector<glm::dvec2> poisson_sites(glm::dvec2 lo, glm::dvec2 size, int n, std
   };
   auto add = [&](glm::dvec2 p) {
     const glm::ivec2 g = grid_of(p);
-    grid[static_cast<std::size_t>(g.y) * static_cast<std::size_t>(gw) + static_cast<std::size_t>(g.x)] = static_cast<int>(pts.size());
+    grid[static_cast<std::size_t>(g.y) * static_cast<std::size_t>(gw) + static_cast<std::size_t>(g.x)] =
+        static_cast<int>(pts.size());
     active.push_back(static_cast<int>(pts.size()));
     pts.push_back(p);
   };
   add(lo + size * glm::dvec2(next(), next()));
   for (std::size_t iter = 1; !active.empty(); ++iter) {
     if (ctx && (iter & 1023) == 0) ctx->check_cancelled();
-    const std::size_t a = std::min(active.size() - 1, static_cast<std::size_t>(next() * static_cast<double>(active.size())));
+    const std::size_t a =
+        std::min(active.size() - 1, static_cast<std::size_t>(next() * static_cast<double>(active.size())));
     const glm::dvec2 base = pts[static_cast<std::size_t>(active[a])];
     bool placed = false;
     for (int k = 0; k < 30 && !placed; ++k) {

@@ -16,11 +16,10 @@
 //     water cells flood-filled from the border; lakes = the other water cells; corners: ocean if all their
 //     cells are, coast if they touch ocean and land, lake if they touch a lake and no ocean;
 //  5. elevation: shortest-path distance from the coast over the corner graph on land (a step costs 1.01
-//     between two dry corners, 0.01 when either touches a lake, Patel's 1 + 0.01; lakes are then flattened), breadth-first steps over the
-//     ocean; land redistributed so the fraction of land corners below normalised height y is
-//     F(y) = 1 - (1 - y)^lowland_bias (Patel's 1 - (1 - y)^2 by default), times max_elevation; the ocean
-//     falls linearly to -ocean_depth at the farthest ocean corner; every lake is flattened to its lowest
-//     corner;
+//     between two dry corners, 0.01 when either touches a lake, Patel's 1 + 0.01; lakes are then flattened),
+//     breadth-first steps over the ocean; land redistributed so the fraction of land corners below normalised height y
+//     is F(y) = 1 - (1 - y)^lowland_bias (Patel's 1 - (1 - y)^2 by default), times max_elevation; the ocean falls
+//     linearly to -ocean_depth at the farthest ocean corner; every lake is flattened to its lowest corner;
 //  6. rivers: `rivers` sources at hashed inland corners with normalised height in [0.3, 0.9] follow the
 //     downstream corner (the neighbour closest to the coast; across a lake, to its outlet) to a coast corner;
 //     every corner and edge on the way gains one unit of volume, so volume never decreases downstream;
@@ -50,15 +49,29 @@ namespace orogen::island {
 
 // Biomes, in the order of table I of the Georgia Tech report (Whittaker-style names from Patel 2010).
 enum class Biome : int {
-  Snow, Tundra, Bare, Scorched, Taiga, Shrubland, TemperateDesert, TemperateRainForest, DeciduousForest,
-  Grassland, TropicalRainForest, TropicalSeasonalForest, SubtropicalDesert, Beach, Lake, Ocean
+  Snow,
+  Tundra,
+  Bare,
+  Scorched,
+  Taiga,
+  Shrubland,
+  TemperateDesert,
+  TemperateRainForest,
+  DeciduousForest,
+  Grassland,
+  TropicalRainForest,
+  TropicalSeasonalForest,
+  SubtropicalDesert,
+  Beach,
+  Lake,
+  Ocean
 };
 inline constexpr int kBiomeCount = 16;
 
 struct BiomeInfo {
-  std::string_view name;  // snake_case, as written in graph files and reports
-  float amplitude;        // A of the multifractal by biome (table I)
-  float roughness;        // R of the multifractal by biome (table I)
+  std::string_view name;      // snake_case, as written in graph files and reports
+  float amplitude;            // A of the multifractal by biome (table I)
+  float roughness;            // R of the multifractal by biome (table I)
   std::array<float, 3> srgb;  // display colour (Patel's palette), sRGB in [0, 1]
 };
 const BiomeInfo& biome_info(Biome b);
@@ -66,11 +79,13 @@ const BiomeInfo& biome_info(Biome b);
 // The Whittaker-style table (Patel 2010), on land away from the beach. e = normalised elevation in [0, 1]
 // (temperature = 1 - e), m = moisture in [0, 1]:
 //
-//   elevation band        | m < 1/6            | < 1/3              | < 1/2              | < 2/3             | < 5/6               | >= 5/6
-//   e > 0.8 (cold)        | scorched           | bare               | tundra             | snow              | snow                | snow
-//   0.6 < e <= 0.8        | temperate desert   | temperate desert   | shrubland          | shrubland         | taiga               | taiga
-//   0.3 < e <= 0.6        | temperate desert   | grassland          | grassland          | deciduous forest  | deciduous forest    | temperate rain forest
-//   e <= 0.3 (warm)       | subtropical desert | grassland          | tropical seasonal  | tropical seasonal | tropical rain forest| tropical rain forest
+//   elevation band        | m < 1/6            | < 1/3              | < 1/2              | < 2/3             | < 5/6 |
+//   >= 5/6 e > 0.8 (cold)        | scorched           | bare               | tundra             | snow              |
+//   snow                | snow 0.6 < e <= 0.8        | temperate desert   | temperate desert   | shrubland          |
+//   shrubland         | taiga               | taiga 0.3 < e <= 0.6        | temperate desert   | grassland          |
+//   grassland          | deciduous forest  | deciduous forest    | temperate rain forest e <= 0.3 (warm)       |
+//   subtropical desert | grassland          | tropical seasonal  | tropical seasonal | tropical rain forest| tropical
+//   rain forest
 Biome whittaker_biome(double elevation, double moisture);
 
 enum class SiteDistribution { Uniform, Poisson };
@@ -80,18 +95,18 @@ struct IslandParams {
   glm::dvec2 size{4096.0, 4096.0};  // m
   int cells = 2000;                 // number of sites (Poisson: about that many)
   SiteDistribution distribution = SiteDistribution::Poisson;
-  int relaxation = 2;               // Lloyd passes
+  int relaxation = 2;  // Lloyd passes
   // Island shape (002 Eq 1-2), in normalised map coordinates.
   double shape_scale = 2.2;
   double shape_offset = -0.2;
-  double shape_frequency = 6.0;     // lattice cells per unit of normalised coordinate (002's o_b)
+  double shape_frequency = 6.0;  // lattice cells per unit of normalised coordinate (002's o_b)
   int shape_octaves = 4;
-  double shape_gain = 0.4;          // amplitude ratio per octave (1 / 2.5)
-  double water_fraction = 0.3;      // share of water corners making a cell water
+  double shape_gain = 0.4;      // amplitude ratio per octave (1 / 2.5)
+  double water_fraction = 0.3;  // share of water corners making a cell water
   // Elevation.
-  double max_elevation = 1000.0;    // m
-  double ocean_depth = 200.0;       // m
-  double lowland_bias = 2.0;        // exponent of the target distribution (1 = uniform)
+  double max_elevation = 1000.0;  // m
+  double ocean_depth = 200.0;     // m
+  double lowland_bias = 2.0;      // exponent of the target distribution (1 = uniform)
   // Rivers and moisture.
   int rivers = 60;
   double moisture_decay = 0.8;

@@ -193,7 +193,8 @@ std::vector<float> corner_elevation(const WaterClasses& w, const std::vector<dou
   for (std::size_t q = 0; q < nq; ++q)
     if (w.qland[q]) land.push_back(static_cast<int>(q));
   std::sort(land.begin(), land.end(), [&](int a, int b) {
-    const double da = std::isfinite(dist[ix(a)]) ? dist[ix(a)] : 0.0, db = std::isfinite(dist[ix(b)]) ? dist[ix(b)] : 0.0;
+    const double da = std::isfinite(dist[ix(a)]) ? dist[ix(a)] : 0.0,
+                 db = std::isfinite(dist[ix(b)]) ? dist[ix(b)] : 0.0;
     return da < db || (da == db && a < b);
   });
   const double n = static_cast<double>(land.size());
@@ -204,8 +205,8 @@ std::vector<float> corner_elevation(const WaterClasses& w, const std::vector<dou
   }
   for (std::size_t q = 0; q < nq; ++q)
     if (w.qocean[q])
-      elevation[q] = static_cast<float>(
-          -p.ocean_depth * (odist[q] < 0 ? 1.0 : static_cast<double>(odist[q]) / std::max(1, max_odist)));
+      elevation[q] = static_cast<float>(-p.ocean_depth *
+                                        (odist[q] < 0 ? 1.0 : static_cast<double>(odist[q]) / std::max(1, max_odist)));
   return elevation;
 }
 
@@ -357,10 +358,14 @@ void write_cell_attributes(PolygonMap& map, const WaterClasses& w, const std::ve
     const double en = std::clamp(celev[c] / p.max_elevation, 0.0, 1.0);
     ctemp[c] = static_cast<float>(1.0 - en);
     Biome b;
-    if (w.ocean[c]) b = Biome::Ocean;
-    else if (w.lake[c]) b = Biome::Lake;
-    else if (w.coast[c]) b = Biome::Beach;
-    else b = whittaker_biome(en, cmoist[c]);
+    if (w.ocean[c])
+      b = Biome::Ocean;
+    else if (w.lake[c])
+      b = Biome::Lake;
+    else if (w.coast[c])
+      b = Biome::Beach;
+    else
+      b = whittaker_biome(en, cmoist[c]);
     cbiome[c] = static_cast<float>(static_cast<int>(b));
   }
   const auto as_float = [](const std::vector<char>& v) { return std::vector<float>(v.begin(), v.end()); };

@@ -17,41 +17,85 @@ OROGEN_NODE(VoronoiIsland) {
       "A polygon-map island (A. Patel 2010, \"Polygonal Map Generation for Games\"; S. Weiss 2015, \"Procedural "
       "Terrain\", Georgia Tech CS6491): seeded sites (uniform or Poisson-disk, Bridson 2007), Lloyd relaxation to "
       "true area centroids (Lloyd 1982), the Voronoi diagram as the dual of a CGAL Delaunay triangulation clipped to "
-      "the map rectangle; water per corner from Perlin noise against a radial threshold (or a mask), ocean flood-filled "
+      "the map rectangle; water per corner from Perlin noise against a radial threshold (or a mask), ocean "
+      "flood-filled "
       "from the border, lakes, coast; elevation from the graph distance to the coast redistributed to the target "
       "distribution F(y) = 1 - (1 - y)^lowland_bias and flat across lakes; rivers from inland corners down the "
       "steepest descent to the ocean with volume growing downstream; moisture spreading from fresh water, x decay per "
       "step; Whittaker biomes (Whittaker 1975, as tabulated by Patel) from elevation (temperature) and moisture. "
       "Attributes: cells water, ocean, lake, coast, elevation (m), moisture, temperature, biome; corners water, "
       "ocean, lake, coast, elevation (m), moisture, moisture_raw, river, downstream, distance; edges river.");
-  b.input("mask", PortType::Heightfield).optional().description(
-      "Island shape instead of the noise: land where >= 0.5 (unitless, sampled at the corners; NaN is water)");
+  b.input("mask", PortType::Heightfield)
+      .optional()
+      .description(
+          "Island shape instead of the noise: land where >= 0.5 (unitless, sampled at the corners; NaN is water)");
   b.output("out", PortType::PolygonMap).description("The island: cells, corners and edges with attributes");
-  b.output("rivers", PortType::Curves).description(
-      "Rivers as polylines from source or confluence to the next confluence or the coast; z = elevation (m), width "
-      "(m), attribute volume (number of upstream sources)");
-  b.param_vec2("min_corner", {0.0, 0.0}).range(-1e7, 1e7).unit("m").description("World position of the map's lower-left corner");
-  b.param_vec2("size", {4096.0, 4096.0}).range(1.0, 1e7).soft_range(100.0, 1e5).unit("m").description("Width and height of the map");
-  b.param_int("cells", 2000).range(1, 200000).soft_range(100, 20000).description("Number of Voronoi cells (Poisson: about that many)");
-  b.param_enum("distribution", {"uniform", "poisson"}, "poisson").description(
-      "Sites: uniform random, or Poisson-disk (Bridson 2007) with the radius that gives about `cells` sites");
-  b.param_int("relaxation", 2).range(0, 10).description("Lloyd relaxation passes (each moves every site to its cell's area centroid)");
-  b.param_float("shape_scale", 2.2).range(0.0, 20.0).description(
-      "Weight of the squared normalized distance from the map center in the water test (unitless; larger: smaller island)");
-  b.param_float("shape_offset", -0.2).range(-2.0, 2.0).description(
-      "Offset of the water threshold (unitless; larger: smaller island)");
-  b.param_float("shape_frequency", 6.0).range(0.1, 64.0).unit("1/half-width").description(
-      "Frequency of the shape noise's first octave, lattice cells per half map width");
-  b.param_int("shape_octaves", 4).range(1, 8).description("Octaves of the shape noise (frequency x2, amplitude / 2.5 each)");
-  b.param_float("water_fraction", 0.3).range(0.0, 1.0).description("Share of a cell's corners that must be water for the cell to be water (unitless)");
-  b.param_float("max_elevation", 1000.0).range(1.0, 1e5).soft_range(10.0, 5000.0).unit("m").description("Elevation of the highest corner");
-  b.param_float("ocean_depth", 200.0).range(0.0, 1e5).soft_range(0.0, 2000.0).unit("m").description("Depth of the ocean corner farthest from the coast");
-  b.param_float("lowland_bias", 2.0).range(0.1, 10.0).description(
-      "Exponent k of the elevation distribution F(y) = 1 - (1 - y)^k (unitless; 1 uniform, larger: more lowland)");
-  b.param_int("rivers", 60).range(0, 100000).description("River sources drawn at inland corners with normalized elevation in [0.3, 0.9]");
-  b.param_float("moisture_decay", 0.8).range(0.0, 1.0).description("Factor applied to moisture per corner step away from fresh water (unitless)");
-  b.param_float("river_width", 6.0).range(0.0, 1e4).soft_range(0.0, 100.0).unit("m").description(
-      "Width of a river of volume 1 in the rivers output; width = river_width * sqrt(volume)");
+  b.output("rivers", PortType::Curves)
+      .description(
+          "Rivers as polylines from source or confluence to the next confluence or the coast; z = elevation (m), width "
+          "(m), attribute volume (number of upstream sources)");
+  b.param_vec2("min_corner", {0.0, 0.0})
+      .range(-1e7, 1e7)
+      .unit("m")
+      .description("World position of the map's lower-left corner");
+  b.param_vec2("size", {4096.0, 4096.0})
+      .range(1.0, 1e7)
+      .soft_range(100.0, 1e5)
+      .unit("m")
+      .description("Width and height of the map");
+  b.param_int("cells", 2000)
+      .range(1, 200000)
+      .soft_range(100, 20000)
+      .description("Number of Voronoi cells (Poisson: about that many)");
+  b.param_enum("distribution", {"uniform", "poisson"}, "poisson")
+      .description(
+          "Sites: uniform random, or Poisson-disk (Bridson 2007) with the radius that gives about `cells` sites");
+  b.param_int("relaxation", 2)
+      .range(0, 10)
+      .description("Lloyd relaxation passes (each moves every site to its cell's area centroid)");
+  b.param_float("shape_scale", 2.2)
+      .range(0.0, 20.0)
+      .description(
+          "Weight of the squared normalized distance from the map center in the water test (unitless; larger: smaller "
+          "island)");
+  b.param_float("shape_offset", -0.2)
+      .range(-2.0, 2.0)
+      .description("Offset of the water threshold (unitless; larger: smaller island)");
+  b.param_float("shape_frequency", 6.0)
+      .range(0.1, 64.0)
+      .unit("1/half-width")
+      .description("Frequency of the shape noise's first octave, lattice cells per half map width");
+  b.param_int("shape_octaves", 4)
+      .range(1, 8)
+      .description("Octaves of the shape noise (frequency x2, amplitude / 2.5 each)");
+  b.param_float("water_fraction", 0.3)
+      .range(0.0, 1.0)
+      .description("Share of a cell's corners that must be water for the cell to be water (unitless)");
+  b.param_float("max_elevation", 1000.0)
+      .range(1.0, 1e5)
+      .soft_range(10.0, 5000.0)
+      .unit("m")
+      .description("Elevation of the highest corner");
+  b.param_float("ocean_depth", 200.0)
+      .range(0.0, 1e5)
+      .soft_range(0.0, 2000.0)
+      .unit("m")
+      .description("Depth of the ocean corner farthest from the coast");
+  b.param_float("lowland_bias", 2.0)
+      .range(0.1, 10.0)
+      .description(
+          "Exponent k of the elevation distribution F(y) = 1 - (1 - y)^k (unitless; 1 uniform, larger: more lowland)");
+  b.param_int("rivers", 60)
+      .range(0, 100000)
+      .description("River sources drawn at inland corners with normalized elevation in [0.3, 0.9]");
+  b.param_float("moisture_decay", 0.8)
+      .range(0.0, 1.0)
+      .description("Factor applied to moisture per corner step away from fresh water (unitless)");
+  b.param_float("river_width", 6.0)
+      .range(0.0, 1e4)
+      .soft_range(0.0, 100.0)
+      .unit("m")
+      .description("Width of a river of volume 1 in the rivers output; width = river_width * sqrt(volume)");
   b.param_seed("seed", 0).description("Seed of the sites, the shape noise and the river sources");
   b.execute([](ExecContext& ctx) {
     IslandParams p;
@@ -89,22 +133,39 @@ OROGEN_NODE(PolygonMapRaster) {
       "per cell; a river mask of width river_width * sqrt(volume); the biome's multifractal amplitude and roughness "
       "(table I of the report, for the FBM node's multifractal mode, Musgrave 1994); and the biome colors.");
   b.input("in", PortType::PolygonMap).description("Polygon map with the island's attributes (VoronoiIsland)");
-  b.output("out", PortType::Heightfield).description("Elevation, metres (0 at the coast, negative at sea)").kind(OutputKind::Height);
+  b.output("out", PortType::Heightfield)
+      .description("Elevation, metres (0 at the coast, negative at sea)")
+      .kind(OutputKind::Height);
   b.output("moisture", PortType::Heightfield).description("Moisture in [0, 1] (unitless)").kind(OutputKind::Mask);
-  b.output("biome", PortType::Heightfield).description("Biome id 0..15 (table I order: snow ... ocean)").kind(OutputKind::Scalar);
+  b.output("biome", PortType::Heightfield)
+      .description("Biome id 0..15 (table I order: snow ... ocean)")
+      .kind(OutputKind::Scalar);
   b.output("water", PortType::Heightfield).description("1 in ocean and lake cells, else 0").kind(OutputKind::Mask);
   b.output("ocean", PortType::Heightfield).description("1 in ocean cells, else 0").kind(OutputKind::Mask);
   b.output("lake", PortType::Heightfield).description("1 in lake cells, else 0").kind(OutputKind::Mask);
   b.output("river", PortType::Heightfield).description("River coverage in [0, 1]").kind(OutputKind::Mask);
-  b.output("roughness", PortType::Heightfield).description("Multifractal roughness R of the biome (table I), unitless").kind(OutputKind::Mask);
-  b.output("amplitude", PortType::Heightfield).description("Multifractal amplitude A of the biome (table I), unitless").kind(OutputKind::Mask);
+  b.output("roughness", PortType::Heightfield)
+      .description("Multifractal roughness R of the biome (table I), unitless")
+      .kind(OutputKind::Mask);
+  b.output("amplitude", PortType::Heightfield)
+      .description("Multifractal amplitude A of the biome (table I), unitless")
+      .kind(OutputKind::Mask);
   b.output("color", PortType::Image).description("Biome colors with rivers, linear RGBA");
-  b.param_float("perturb_distance", 40.0).range(0.0, 1e5).soft_range(0.0, 500.0).unit("m").description(
-      "Amplitude of the lookup displacement (0: exact polygon lookup)");
-  b.param_float("perturb_feature_size", 400.0).range(1e-3, 1e7).soft_range(10.0, 5000.0).unit("m").description(
-      "Feature size of the displacement noise's first octave");
-  b.param_float("river_width", 6.0).range(0.0, 1e4).soft_range(0.0, 100.0).unit("m").description(
-      "Width of a river of volume 1; width = river_width * sqrt(volume)");
+  b.param_float("perturb_distance", 40.0)
+      .range(0.0, 1e5)
+      .soft_range(0.0, 500.0)
+      .unit("m")
+      .description("Amplitude of the lookup displacement (0: exact polygon lookup)");
+  b.param_float("perturb_feature_size", 400.0)
+      .range(1e-3, 1e7)
+      .soft_range(10.0, 5000.0)
+      .unit("m")
+      .description("Feature size of the displacement noise's first octave");
+  b.param_float("river_width", 6.0)
+      .range(0.0, 1e4)
+      .soft_range(0.0, 100.0)
+      .unit("m")
+      .description("Width of a river of volume 1; width = river_width * sqrt(volume)");
   b.param_seed("seed", 0).description("Seed of the displacement noise");
   b.execute([](ExecContext& ctx) {
     const auto map = ctx.require<PolygonMap>("in");
@@ -135,7 +196,8 @@ OROGEN_NODE(RiverNetwork) {
   b.reach_global();
   b.domain_independent();
   b.category("island").description(
-      "A river network grown as a tree before the terrain (S. Ekman et al. 2016, \"SeamScape\", Chalmers bachelor thesis, "
+      "A river network grown as a tree before the terrain (S. Ekman et al. 2016, \"SeamScape\", Chalmers bachelor "
+      "thesis, "
       "§2.2 and §3.6, after J.-D. Génevaux et al. 2013, \"Terrain generation using procedural models based on "
       "hydrology\"): outlets on the map border or on the coastline of a mask, inner points scattered by Poisson-disk "
       "sampling (Bridson 2007) at a density; from a random pool point, the nearest unused inner point whose curve "
@@ -143,22 +205,58 @@ OROGEN_NODE(RiverNetwork) {
       "(s_c/s_p - 1) w and heights h_c = h_p + |c - p| d_c rise upstream from 0 at the outlets. Each edge is a "
       "quadratic Bézier curve B(t) = (1-t)^2 P0 + 2(1-t)t P1 + t^2 P2; a point's first branch continues the tangent "
       "of the curve arriving there. One curve per edge, upstream to downstream, parent = the curve it flows into.");
-  b.input("mask", PortType::Heightfield).optional().description(
-      "Land mask (unitless, land >= 0.5): outlets on its coastline, inner points and curves on land");
-  b.output("out", PortType::Curves).description(
-      "River curves: z = height (m), width (m); attributes size (leaves below), slope (m/m), smooth_join (1 where the "
-      "curve continues its parent's tangent)");
-  b.param_vec2("min_corner", {0.0, 0.0}).range(-1e7, 1e7).unit("m").description("World position of the network's lower-left corner");
-  b.param_vec2("size", {4096.0, 4096.0}).range(1.0, 1e7).soft_range(100.0, 1e5).unit("m").description("Width and height of the network's rectangle");
-  b.param_int("outlets", 5).range(0, 1000).soft_range(1, 50).description("Number of outlets (roots) on the border or the coastline");
-  b.param_float("density", 40.0).range(0.0, 10000.0).soft_range(1.0, 500.0).unit("1/km^2").description("Inner points per square kilometre");
-  b.param_float("max_length", 400.0).range(1.0, 1e6).soft_range(20.0, 5000.0).unit("m").description("Longest river segment (candidate search radius)");
-  b.param_float("base_slope", 0.02).range(0.0, 10.0).soft_range(0.0, 0.5).unit("m/m").description("Slope d at the outlets");
-  b.param_float("slope_weight", 0.02).range(0.0, 10.0).soft_range(0.0, 0.5).unit("m/m").description(
-      "w: slope added upstream, most for branches of half their parent's size");
-  b.param_float("river_width", 3.0).range(0.0, 1e4).soft_range(0.0, 100.0).unit("m").description("Width of a river of size 1");
-  b.param_float("width_exponent", 0.5).range(0.0, 1.0).description("Width = river_width * size^exponent (1: 000's width proportional to size)");
-  b.param_float("meander", 0.25).range(0.0, 1.0).description("Largest sideways offset of a free control point, as a fraction of the chord");
+  b.input("mask", PortType::Heightfield)
+      .optional()
+      .description("Land mask (unitless, land >= 0.5): outlets on its coastline, inner points and curves on land");
+  b.output("out", PortType::Curves)
+      .description(
+          "River curves: z = height (m), width (m); attributes size (leaves below), slope (m/m), smooth_join (1 where "
+          "the "
+          "curve continues its parent's tangent)");
+  b.param_vec2("min_corner", {0.0, 0.0})
+      .range(-1e7, 1e7)
+      .unit("m")
+      .description("World position of the network's lower-left corner");
+  b.param_vec2("size", {4096.0, 4096.0})
+      .range(1.0, 1e7)
+      .soft_range(100.0, 1e5)
+      .unit("m")
+      .description("Width and height of the network's rectangle");
+  b.param_int("outlets", 5)
+      .range(0, 1000)
+      .soft_range(1, 50)
+      .description("Number of outlets (roots) on the border or the coastline");
+  b.param_float("density", 40.0)
+      .range(0.0, 10000.0)
+      .soft_range(1.0, 500.0)
+      .unit("1/km^2")
+      .description("Inner points per square kilometre");
+  b.param_float("max_length", 400.0)
+      .range(1.0, 1e6)
+      .soft_range(20.0, 5000.0)
+      .unit("m")
+      .description("Longest river segment (candidate search radius)");
+  b.param_float("base_slope", 0.02)
+      .range(0.0, 10.0)
+      .soft_range(0.0, 0.5)
+      .unit("m/m")
+      .description("Slope d at the outlets");
+  b.param_float("slope_weight", 0.02)
+      .range(0.0, 10.0)
+      .soft_range(0.0, 0.5)
+      .unit("m/m")
+      .description("w: slope added upstream, most for branches of half their parent's size");
+  b.param_float("river_width", 3.0)
+      .range(0.0, 1e4)
+      .soft_range(0.0, 100.0)
+      .unit("m")
+      .description("Width of a river of size 1");
+  b.param_float("width_exponent", 0.5)
+      .range(0.0, 1.0)
+      .description("Width = river_width * size^exponent (1: 000's width proportional to size)");
+  b.param_float("meander", 0.25)
+      .range(0.0, 1.0)
+      .description("Largest sideways offset of a free control point, as a fraction of the chord");
   b.param_int("samples", 8).range(1, 64).description("Polyline segments per Bézier curve");
   b.param_seed("seed", 0).description("Seed of the outlets, the inner points and the growth order");
   b.execute([](ExecContext& ctx) {
@@ -183,8 +281,9 @@ OROGEN_NODE(RiverNetwork) {
 OROGEN_NODE(CarveRivers) {
   b.reach_pointwise();  // each sample reads the terrain at itself and the curves
   b.category("island").description(
-      "Carves river curves into a terrain (S. Ekman et al. 2016, \"SeamScape\", Chalmers bachelor thesis, §2.2.4, with its "
-      "weight corrected): within `radius` the terrain blends toward the river height with the smoothstep weight "
+      "Carves river curves into a terrain (S. Ekman et al. 2016, \"SeamScape\", Chalmers bachelor thesis, §2.2.4, "
+      "with its weight corrected): within `radius` the terrain blends toward the river height with the smoothstep "
+      "weight "
       "s(1 - d/r), s(t) = t^2 (3 - 2t); the river height is the nearest curve's height on it and the mean of the "
       "nearby curves midway between two; inside the channel (d < width/2) a parabolic bed depth_ratio * width deep. "
       "Takes any curves with per-vertex z and width: RiverNetwork, RiverExtract, VoronoiIsland rivers.");
@@ -192,8 +291,16 @@ OROGEN_NODE(CarveRivers) {
   b.input("rivers", PortType::Curves).description("River curves: z = river height (m), per-vertex width (m)");
   b.output("out", PortType::Heightfield).description("Carved terrain, metres").kind(OutputKind::Height);
   b.output("mask", PortType::Heightfield).description("Channel coverage in [0, 1]").kind(OutputKind::Mask);
-  b.param_float("radius", 150.0).range(0.0, 1e6).soft_range(0.0, 2000.0).unit("m").description("Distance over which the terrain blends into the river height");
-  b.param_float("depth_ratio", 0.1).range(0.0, 10.0).soft_range(0.0, 1.0).unit("m/m").description("Channel depth per metre of river width");
+  b.param_float("radius", 150.0)
+      .range(0.0, 1e6)
+      .soft_range(0.0, 2000.0)
+      .unit("m")
+      .description("Distance over which the terrain blends into the river height");
+  b.param_float("depth_ratio", 0.1)
+      .range(0.0, 10.0)
+      .soft_range(0.0, 1.0)
+      .unit("m/m")
+      .description("Channel depth per metre of river width");
   b.param_float("strength", 1.0).range(0.0, 1.0).description("Scales the blend weight (0: only the channel is cut)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");

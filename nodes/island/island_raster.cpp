@@ -112,7 +112,8 @@ CellLocator::CellLocator(const PolygonMap& map) : map_(map) {
   start_ = count;
   items_.resize(map.cells.size());
   std::vector<int> fill(count.begin(), count.end() - 1);
-  for (std::size_t c = 0; c < map.cells.size(); ++c) items_[ix(fill[ix(bucket_of(map.cells[c].centre))]++)] = static_cast<int>(c);
+  for (std::size_t c = 0; c < map.cells.size(); ++c)
+    items_[ix(fill[ix(bucket_of(map.cells[c].centre))]++)] = static_cast<int>(c);
 }
 
 // The nearest site (ties: the lower index), by rings of buckets around p's bucket, visiting only each ring's
@@ -191,7 +192,8 @@ RasterResult rasterize_polygon_map(const PolygonMap& map, const Domain& domain, 
       const int d = static_cast<int>((*q_down)[q]);
       const float v = (*q_river)[q];
       if (d < 0 || d >= static_cast<int>(nq) || !(v > 0.0f)) continue;
-      rivers.segments.push_back({map.corners[q].position, map.corners[ix(d)].position, 0.5 * p.river_width * std::sqrt(static_cast<double>(v))});
+      rivers.segments.push_back({map.corners[q].position, map.corners[ix(d)].position,
+                                 0.5 * p.river_width * std::sqrt(static_cast<double>(v))});
     }
   rivers.build(map.min_corner, map.max_corner);
   const CellLocator locator(map);
@@ -228,7 +230,8 @@ RasterResult rasterize_polygon_map(const PolygonMap& map, const Domain& domain, 
   std::array<std::array<float, 3>, kBiomeCount> linear{};
   for (int b = 0; b < kBiomeCount; ++b)
     for (int k = 0; k < 3; ++k) linear[ix(b)][ix(k)] = srgb_to_linear(biome_info(static_cast<Biome>(b)).srgb[ix(k)]);
-  const std::array<float, 3> river_color{srgb_to_linear(0x22 / 255.0f), srgb_to_linear(0x55 / 255.0f), srgb_to_linear(0x88 / 255.0f)};
+  const std::array<float, 3> river_color{srgb_to_linear(0x22 / 255.0f), srgb_to_linear(0x55 / 255.0f),
+                                         srgb_to_linear(0x88 / 255.0f)};
   const double spacing = std::max(1e-12, std::min(domain.spacing.x, domain.spacing.y));
 
   const auto run = [&](int j) {
@@ -258,11 +261,14 @@ RasterResult rasterize_polygon_map(const PolygonMap& map, const Domain& domain, 
           beta /= s;
         }
         const double g = 1.0 - alpha - beta;
-        if (q_elev) e = static_cast<float>(g * centre_elev[ix(c)] + alpha * (*q_elev)[ix(qa)] + beta * (*q_elev)[ix(qb)]);
-        if (q_moist) m = static_cast<float>(g * centre_moist[ix(c)] + alpha * (*q_moist)[ix(qa)] + beta * (*q_moist)[ix(qb)]);
+        if (q_elev)
+          e = static_cast<float>(g * centre_elev[ix(c)] + alpha * (*q_elev)[ix(qa)] + beta * (*q_elev)[ix(qb)]);
+        if (q_moist)
+          m = static_cast<float>(g * centre_moist[ix(c)] + alpha * (*q_moist)[ix(qa)] + beta * (*q_moist)[ix(qb)]);
         break;
       }
-      const int biome = c_biome ? std::clamp(static_cast<int>((*c_biome)[ix(c)]), 0, kBiomeCount - 1) : static_cast<int>(Biome::Ocean);
+      const int biome = c_biome ? std::clamp(static_cast<int>((*c_biome)[ix(c)]), 0, kBiomeCount - 1)
+                                : static_cast<int>(Biome::Ocean);
       const float river = rivers.coverage(pos, spacing);
       r.elevation->data[o] = e;
       r.moisture->data[o] = m;
@@ -275,7 +281,8 @@ RasterResult rasterize_polygon_map(const PolygonMap& map, const Domain& domain, 
       r.roughness->data[o] = info.roughness;
       r.amplitude->data[o] = info.amplitude;
       float* px = r.color->pixel(i, j);
-      for (int k = 0; k < 3; ++k) px[k] = linear[ix(biome)][ix(k)] + river * (river_color[ix(k)] - linear[ix(biome)][ix(k)]);
+      for (int k = 0; k < 3; ++k)
+        px[k] = linear[ix(biome)][ix(k)] + river * (river_color[ix(k)] - linear[ix(biome)][ix(k)]);
       px[3] = 1.0f;
     }
   };

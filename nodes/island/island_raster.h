@@ -23,9 +23,9 @@ class ExecContext;
 namespace orogen::island {
 
 struct RasterParams {
-  double perturb_distance = 40.0;      // m, amplitude of the lookup displacement
-  double perturb_feature_size = 400.0; // m, feature size of the displacement noise
-  double river_width = 6.0;            // m, width of a river of volume 1 (grows with sqrt(volume))
+  double perturb_distance = 40.0;       // m, amplitude of the lookup displacement
+  double perturb_feature_size = 400.0;  // m, feature size of the displacement noise
+  double river_width = 6.0;             // m, width of a river of volume 1 (grows with sqrt(volume))
   std::uint64_t seed = 0;
 };
 

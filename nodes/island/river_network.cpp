@@ -27,7 +27,8 @@ int orient(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) {
 }
 
 bool on_segment(glm::dvec2 a, glm::dvec2 b, glm::dvec2 p) {
-  return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y && p.y <= std::max(a.y, b.y);
+  return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y &&
+         p.y <= std::max(a.y, b.y);
 }
 
 // Segments ab and cd meet (touching included), unless they only share an endpoint.
@@ -113,10 +114,14 @@ Curves river_network(const RiverNetworkParams& p, const Heightfield* mask, const
     for (int k = 0; k < p.outlets; ++k) {
       double s = unit_hash(p.seed, 0x4f55544cull, static_cast<std::uint64_t>(k)) * perimeter;
       glm::dvec2 q;
-      if (s < p.size.x) q = {lo.x + s, lo.y};
-      else if ((s -= p.size.x) < p.size.y) q = {hi.x, lo.y + s};
-      else if ((s -= p.size.y) < p.size.x) q = {hi.x - s, hi.y};
-      else q = {lo.x, hi.y - (s - p.size.x)};
+      if (s < p.size.x)
+        q = {lo.x + s, lo.y};
+      else if ((s -= p.size.x) < p.size.y)
+        q = {hi.x, lo.y + s};
+      else if ((s -= p.size.y) < p.size.x)
+        q = {hi.x - s, hi.y};
+      else
+        q = {lo.x, hi.y - (s - p.size.x)};
       pts.push_back(q);
     }
   } else {
@@ -136,14 +141,17 @@ Curves river_network(const RiverNetworkParams& p, const Heightfield* mask, const
         if (wet) coast.push_back(q);
       }
     for (int k = 0; k < p.outlets && !coast.empty(); ++k) {
-      const auto at = std::min(coast.size() - 1, static_cast<std::size_t>(unit_hash(p.seed, 0x4f55544cull, static_cast<std::uint64_t>(k)) * static_cast<double>(coast.size())));
+      const auto at = std::min(
+          coast.size() - 1, static_cast<std::size_t>(unit_hash(p.seed, 0x4f55544cull, static_cast<std::uint64_t>(k)) *
+                                                     static_cast<double>(coast.size())));
       pts.push_back(coast[at]);
       coast.erase(coast.begin() + static_cast<std::ptrdiff_t>(at));
     }
   }
   const int roots = static_cast<int>(pts.size());
   if (wanted >= 1.0)
-    for (const glm::dvec2& q : poisson_sites(lo, p.size, static_cast<int>(std::ceil(wanted)), hash64(p.seed, 0x494e4e52ull, 0), ctx))
+    for (const glm::dvec2& q :
+         poisson_sites(lo, p.size, static_cast<int>(std::ceil(wanted)), hash64(p.seed, 0x494e4e52ull, 0), ctx))
       if (land(q)) pts.push_back(q);
   const int n = static_cast<int>(pts.size());
 
@@ -173,11 +181,11 @@ Curves river_network(const RiverNetworkParams& p, const Heightfield* mask, const
   SegmentIndex segments(lo - glm::dvec2(1.0), p.size + glm::dvec2(2.0), segment_cell);
   std::vector<int> parent(ix(n), -1);
   std::vector<char> used(ix(n), 0);
-  std::vector<glm::dvec2> control(ix(n));     // P1 of the curve ending at point k
-  std::vector<glm::dvec2> end_tangent(ix(n)); // unit tangent at P2 of that curve (growth direction)
-  std::vector<char> continued(ix(n), 0);      // a child already continues the tangent at this point
-  std::vector<char> smooth(ix(n), 0);         // the curve to this point continues its parent's tangent
-  std::vector<int> order;                     // points in the order they joined
+  std::vector<glm::dvec2> control(ix(n));      // P1 of the curve ending at point k
+  std::vector<glm::dvec2> end_tangent(ix(n));  // unit tangent at P2 of that curve (growth direction)
+  std::vector<char> continued(ix(n), 0);       // a child already continues the tangent at this point
+  std::vector<char> smooth(ix(n), 0);          // the curve to this point continues its parent's tangent
+  std::vector<int> order;                      // points in the order they joined
   const int samples = std::max(1, p.samples);
   std::vector<int> pool;
   for (int k = 0; k < roots; ++k) {
@@ -197,7 +205,9 @@ Curves river_network(const RiverNetworkParams& p, const Heightfield* mask, const
   for (std::size_t iter = 1; !pool.empty(); ++iter) {
     poll();
     if (ctx && (iter & 255) == 0) ctx->progress(0.1 + 0.8 * static_cast<double>(order.size()) / std::max(1, n - roots));
-    const std::size_t slot = std::min(pool.size() - 1, static_cast<std::size_t>(unit_hash(p.seed, 0x504f4f4cull, draw++) * static_cast<double>(pool.size())));
+    const std::size_t slot =
+        std::min(pool.size() - 1,
+                 static_cast<std::size_t>(unit_hash(p.seed, 0x504f4f4cull, draw++) * static_cast<double>(pool.size())));
     const int k = pool[slot];
     const glm::dvec2 a = pts[ix(k)];
     candidates = {};
@@ -266,7 +276,8 @@ Curves river_network(const RiverNetworkParams& p, const Heightfield* mask, const
         const double off = (2.0 * unit_hash(p.seed, 0x42454e44ull, static_cast<std::uint64_t>(c)) - 1.0) * p.meander;
         p1 = 0.5 * (a + e) + off * normal;
       }
-      for (int s = 0; s <= samples; ++s) poly[ix(s)] = s == samples ? e : (s == 0 ? a : bezier(a, p1, e, static_cast<double>(s) / samples));
+      for (int s = 0; s <= samples; ++s)
+        poly[ix(s)] = s == samples ? e : (s == 0 ? a : bezier(a, p1, e, static_cast<double>(s) / samples));
       bool ok = true;
       for (int s = 0; s < samples && ok; ++s) ok = !segments.crosses(poly[ix(s)], poly[ix(s + 1)], poll);
       for (int s = 1; s <= samples && ok; ++s)
@@ -323,7 +334,8 @@ Curves river_network(const RiverNetworkParams& p, const Heightfield* mask, const
     for (int s = samples; s >= 0; --s) {  // upstream to downstream
       const double t = static_cast<double>(s) / samples;
       const glm::dvec2 xy = s == samples ? e : (s == 0 ? a : bezier(a, control[ix(c)], e, t));
-      curve.points.emplace_back(static_cast<float>(xy.x), static_cast<float>(xy.y), static_cast<float>(h[ix(q)] + t * (h[ix(c)] - h[ix(q)])));
+      curve.points.emplace_back(static_cast<float>(xy.x), static_cast<float>(xy.y),
+                                static_cast<float>(h[ix(q)] + t * (h[ix(c)] - h[ix(q)])));
       curve.width.push_back(width);
       sz.push_back(static_cast<float>(size[ix(c)]));
       sl.push_back(static_cast<float>(slope[ix(c)]));
@@ -347,9 +359,16 @@ CarveResult carve_rivers(const Heightfield& in, const Curves& rivers, const Carv
     const Curve& c = rivers.curves[k];
     for (std::size_t s = 0; s + 1 < c.points.size(); ++s) {
       const float wa = s < c.width.size() ? c.width[s] : 0.0f, wb = s + 1 < c.width.size() ? c.width[s + 1] : wa;
-      if (!std::isfinite(c.points[s].x + c.points[s].y + c.points[s].z + c.points[s + 1].x + c.points[s + 1].y + c.points[s + 1].z + wa + wb)) continue;
-      segs.push_back({{c.points[s].x, c.points[s].y}, {c.points[s + 1].x, c.points[s + 1].y}, c.points[s].z, c.points[s + 1].z,
-                      std::max(0.0f, wa), std::max(0.0f, wb), static_cast<int>(k)});
+      if (!std::isfinite(c.points[s].x + c.points[s].y + c.points[s].z + c.points[s + 1].x + c.points[s + 1].y +
+                         c.points[s + 1].z + wa + wb))
+        continue;
+      segs.push_back({{c.points[s].x, c.points[s].y},
+                      {c.points[s + 1].x, c.points[s + 1].y},
+                      c.points[s].z,
+                      c.points[s + 1].z,
+                      std::max(0.0f, wa),
+                      std::max(0.0f, wb),
+                      static_cast<int>(k)});
       max_half_width = std::max(max_half_width, 0.5 * std::max(wa, wb));
     }
   }
@@ -365,7 +384,8 @@ CarveResult carve_rivers(const Heightfield& in, const Curves& rivers, const Carv
   };
   std::vector<std::vector<int>> buckets(static_cast<std::size_t>(gw) * static_cast<std::size_t>(gh));
   for (std::size_t s = 0; s < segs.size(); ++s) {
-    const glm::ivec2 i0 = bucket(glm::min(segs[s].a, segs[s].b) - reach), i1 = bucket(glm::max(segs[s].a, segs[s].b) + reach);
+    const glm::ivec2 i0 = bucket(glm::min(segs[s].a, segs[s].b) - reach),
+                     i1 = bucket(glm::max(segs[s].a, segs[s].b) + reach);
     if (static_cast<double>(i1.x - i0.x + 1) * (i1.y - i0.y + 1) > 1e6) continue;  // absurd geometry
     for (int y = i0.y; y <= i1.y; ++y)
       for (int x = i0.x; x <= i1.x; ++x) buckets[static_cast<std::size_t>(y * gw + x)].push_back(static_cast<int>(s));
@@ -396,10 +416,13 @@ CarveResult carve_rivers(const Heightfield& in, const Curves& rivers, const Carv
           const double t = len2 > 0.0 ? std::clamp(glm::dot(x - g.a, ab) / len2, 0.0, 1.0) : 0.0;
           const double dist = glm::length(x - (g.a + t * ab));
           if (dist > reach) continue;
-          const float z = static_cast<float>(g.za + t * (g.zb - g.za)), w = static_cast<float>(g.wa + t * (g.wb - g.wa));
+          const float z = static_cast<float>(g.za + t * (g.zb - g.za)),
+                      w = static_cast<float>(g.wa + t * (g.wb - g.wa));
           auto it = std::find_if(nears.begin(), nears.end(), [&](const Near& n) { return n.curve == g.curve; });
-          if (it == nears.end()) nears.push_back({g.curve, dist, z, w});
-          else if (dist < it->dist) *it = {g.curve, dist, z, w};
+          if (it == nears.end())
+            nears.push_back({g.curve, dist, z, w});
+          else if (dist < it->dist)
+            *it = {g.curve, dist, z, w};
         }
       }
       double wsum = 0.0, zsum = 0.0, wmax = 0.0, carve = 0.0, cover = 0.0;
@@ -418,7 +441,8 @@ CarveResult carve_rivers(const Heightfield& in, const Curves& rivers, const Carv
         zsum += w * n.z;
         wmax = std::max(wmax, w);
         const double half = 0.5 * n.w;
-        if (half > 0.0 && n.dist < half) carve = std::max(carve, p.depth_ratio * n.w * (1.0 - (n.dist / half) * (n.dist / half)));
+        if (half > 0.0 && n.dist < half)
+          carve = std::max(carve, p.depth_ratio * n.w * (1.0 - (n.dist / half) * (n.dist / half)));
         cover = std::max(cover, std::clamp((half - n.dist) / spacing + 0.5, 0.0, 1.0));
       }
       double h = h0;

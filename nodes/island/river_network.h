@@ -45,8 +45,8 @@ struct RiverNetworkParams {
   double slope_weight = 0.02;  // w, m/m
   double river_width = 3.0;    // m, width of a size-1 river
   double width_exponent = 0.5;
-  double meander = 0.25;       // offset of a free control point, fraction of the chord
-  int samples = 8;             // polyline segments per Bézier curve
+  double meander = 0.25;  // offset of a free control point, fraction of the chord
+  int samples = 8;        // polyline segments per Bézier curve
   std::uint64_t seed = 0;
 };
 
@@ -62,9 +62,9 @@ Curves river_network(const RiverNetworkParams& p, const Heightfield* mask = null
 // depth_ratio * width * (1 - (2d/width)^2). Works with any curves with per-vertex width and z (RiverNetwork,
 // RiverExtract, VoronoiIsland rivers).
 struct CarveParams {
-  double radius = 150.0;      // m
-  double depth_ratio = 0.1;   // channel depth per metre of width
-  double strength = 1.0;      // 0..1, scales the blend weight
+  double radius = 150.0;     // m
+  double depth_ratio = 0.1;  // channel depth per metre of width
+  double strength = 1.0;     // 0..1, scales the blend weight
 };
 
 struct CarveResult {

@@ -9,7 +9,8 @@
 
 namespace orogen::island {
 
-std::shared_ptr<Heightfield> sea_level_normalize(const Heightfield& in, const SeaLevelParams& p, const ExecContext* ctx) {
+std::shared_ptr<Heightfield> sea_level_normalize(const Heightfield& in, const SeaLevelParams& p,
+                                                 const ExecContext* ctx) {
   double hi = p.sea_level, lo = p.sea_level;
   for (float v : in.data)
     if (std::isfinite(v)) {
@@ -25,8 +26,10 @@ std::shared_ptr<Heightfield> sea_level_normalize(const Heightfield& in, const Se
       out->at(i, j) = static_cast<float>(t > 0.0 ? t * up : t * down);
     }
   };
-  if (ctx) parallel_rows(*ctx, in.height(), row);
-  else for (int j = 0; j < in.height(); ++j) row(j);
+  if (ctx)
+    parallel_rows(*ctx, in.height(), row);
+  else
+    for (int j = 0; j < in.height(); ++j) row(j);
   return out;
 }
 
@@ -38,9 +41,21 @@ OROGEN_NODE(SeaLevelNormalize) {
       "heights below so the deepest reaches -`depth`; sea level becomes 0 and the coastline stays where it is.");
   b.input("in", PortType::Heightfield).description("Heights, metres");
   b.output("out", PortType::Heightfield).description("Heights, metres, sea level at 0").kind(OutputKind::Height);
-  b.param_float("sea_level", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).unit("m").description("Sea level in the input");
-  b.param_float("height", 1000.0).range(0.0, 1e5).soft_range(0.0, 9000.0).unit("m").description("Height of the highest sample");
-  b.param_float("depth", 200.0).range(0.0, 1e5).soft_range(0.0, 9000.0).unit("m").description("Depth of the deepest sample below sea level");
+  b.param_float("sea_level", 0.0)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 1000)
+      .unit("m")
+      .description("Sea level in the input");
+  b.param_float("height", 1000.0)
+      .range(0.0, 1e5)
+      .soft_range(0.0, 9000.0)
+      .unit("m")
+      .description("Height of the highest sample");
+  b.param_float("depth", 200.0)
+      .range(0.0, 1e5)
+      .soft_range(0.0, 9000.0)
+      .unit("m")
+      .description("Depth of the deepest sample below sea level");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const SeaLevelParams p{ctx.param<double>("sea_level"), ctx.param<double>("height"), ctx.param<double>("depth")};

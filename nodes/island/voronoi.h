@@ -5,9 +5,9 @@
 // The diagram is the dual of CGAL's Delaunay triangulation (exact predicates, inexact constructions) of the
 // sites (inserted along a Hilbert curve) plus their mirror images across the rectangle's sides near the
 // border: the bisector of a site and its mirror is the side itself, so the cells of the sites are exactly
-// their Voronoi cells clipped to the rectangle. Sites are snapped to a lattice of 2^-30 of the rectangle's longer side so the mirrors are exact
-// and the four-point circles they form are recognised by the exact in-circle predicate; faces sharing a
-// circumcircle become one corner (no zero-length edges).
+// their Voronoi cells clipped to the rectangle. Sites are snapped to a lattice of 2^-30 of the rectangle's longer side
+// so the mirrors are exact and the four-point circles they form are recognised by the exact in-circle predicate; faces
+// sharing a circumcircle become one corner (no zero-length edges).
 #include <cstdint>
 #include <span>
 #include <vector>

@@ -118,10 +118,18 @@ void triangulate(const Lattice& L, std::span<const int> order, double margin, De
     for (int i : order) {
       const double x = L.kx[static_cast<std::size_t>(i)], y = L.ky[static_cast<std::size_t>(i)];
       switch (side) {
-        case 0: if (x < margin) add(-x, y, mirror_info(i, 0)); break;
-        case 1: if (x > L.w - margin) add(2.0 * L.w - x, y, mirror_info(i, 1)); break;
-        case 2: if (y < margin) add(x, -y, mirror_info(i, 2)); break;
-        default: if (y > L.h - margin) add(x, 2.0 * L.h - y, mirror_info(i, 3)); break;
+        case 0:
+          if (x < margin) add(-x, y, mirror_info(i, 0));
+          break;
+        case 1:
+          if (x > L.w - margin) add(2.0 * L.w - x, y, mirror_info(i, 1));
+          break;
+        case 2:
+          if (y < margin) add(x, -y, mirror_info(i, 2));
+          break;
+        default:
+          if (y > L.h - margin) add(x, 2.0 * L.h - y, mirror_info(i, 3));
+          break;
       }
     }
   if (dt.number_of_vertices() != count)
@@ -138,10 +146,14 @@ Point lattice_point(const Lattice& L, int info) {
   const int code = -1 - info, site = code >> 2, side = code & 3;
   const double x = L.kx[static_cast<std::size_t>(site)], y = L.ky[static_cast<std::size_t>(site)];
   switch (side) {
-    case 0: return Point(-x, y);
-    case 1: return Point(2.0 * L.w - x, y);
-    case 2: return Point(x, -y);
-    default: return Point(x, 2.0 * L.h - y);
+    case 0:
+      return Point(-x, y);
+    case 1:
+      return Point(2.0 * L.w - x, y);
+    case 2:
+      return Point(x, -y);
+    default:
+      return Point(x, 2.0 * L.h - y);
   }
 }
 
@@ -210,7 +222,8 @@ bool centroids(const Lattice& L, std::span<const int> order, glm::dvec2 lo, glm:
     // Sum from a canonical face (the one after the neighbour with the least index), so the rounding does not
     // depend on the triangulation's history.
     const std::size_t m = poly.size();
-    const std::size_t k0 = static_cast<std::size_t>(std::min_element(next_info.begin(), next_info.end()) - next_info.begin());
+    const std::size_t k0 =
+        static_cast<std::size_t>(std::min_element(next_info.begin(), next_info.end()) - next_info.begin());
     double area2 = 0.0, ei = 0.0;
     glm::dvec2 acc(0.0);
     for (std::size_t t = 0; t < m; ++t) {
@@ -290,12 +303,12 @@ bool build(const Lattice& L, std::span<const int> order_in, glm::dvec2 lo, glm::
   struct Key {
     std::array<int, 3> info;  // the first three sites of the key
     int cls = 0;
-    int begin = 0, size = 3;  // the whole key in `members` (circles of four or more sites)
+    int begin = 0, size = 3;       // the whole key in `members` (circles of four or more sites)
     unsigned __int128 packed = 0;  // info as one number in the same order
   };
   std::vector<Key> keys(static_cast<std::size_t>(classes));
   std::vector<int> flags_of(static_cast<std::size_t>(classes), 0);  // 1 left, 2 right, 4 bottom, 8 top
-  std::vector<std::pair<int, int>> members;                          // (class, info) of circles of 4+ sites
+  std::vector<std::pair<int, int>> members;                         // (class, info) of circles of 4+ sites
   for (std::size_t k = 0; k < nf; ++k) {
     const int c = class_of[k];
     const int a = faces[k]->vertex(0)->info(), b = faces[k]->vertex(1)->info(), d = faces[k]->vertex(2)->info();
@@ -328,7 +341,10 @@ bool build(const Lattice& L, std::span<const int> order_in, glm::dvec2 lo, glm::
     key.size = j;
   }
   for (auto& k : keys) {
-    const auto u = [&](int j) { return static_cast<unsigned __int128>(static_cast<std::uint32_t>(k.info[static_cast<std::size_t>(j)]) ^ 0x80000000u); };
+    const auto u = [&](int j) {
+      return static_cast<unsigned __int128>(static_cast<std::uint32_t>(k.info[static_cast<std::size_t>(j)]) ^
+                                            0x80000000u);
+    };
     k.packed = (u(0) << 64) | (u(1) << 32) | u(2);
   }
   // Whole keys compared only if the first three agree (two corners on one circle, split by faces of mirrors).
@@ -422,8 +438,7 @@ bool build(const Lattice& L, std::span<const int> order_in, glm::dvec2 lo, glm::
       return a.corners < b.corners || (a.corners == b.corners && a.cells < b.cells);
     };
     for (std::size_t c = 0; c + 1 < start.size(); ++c)
-      if (start[c + 1] - start[c] > 1)
-        std::sort(out.edges.begin() + start[c], out.edges.begin() + start[c + 1], less);
+      if (start[c + 1] - start[c] > 1) std::sort(out.edges.begin() + start[c], out.edges.begin() + start[c + 1], less);
   }
   for (std::size_t k = 0; k < out.edges.size(); ++k) {
     const auto& edge = out.edges[k];
@@ -473,8 +488,8 @@ void build_diagram(const Lattice& L, std::span<const int> order, glm::dvec2 lo, 
 }
 
 // One Lloyd pass: the centroids of the snapped sites' cells.
-void lloyd_pass(const Lattice& L, std::span<const int> order, glm::dvec2 lo, glm::dvec2 hi, std::vector<glm::dvec2>& out,
-                double* energy, const ExecContext* ctx) {
+void lloyd_pass(const Lattice& L, std::span<const int> order, glm::dvec2 lo, glm::dvec2 hi,
+                std::vector<glm::dvec2>& out, double* energy, const ExecContext* ctx) {
   const double spacing = std::sqrt(L.w * L.h / static_cast<double>(L.kx.size()));
   for (double m : kMargins)
     if (centroids(L, order, lo, hi, m * spacing, out, energy, kTolerance, ctx)) return;
@@ -564,7 +579,8 @@ glm::dvec2 polygon_centroid(std::span<const glm::dvec2> poly) {
 
 std::vector<glm::dvec2> cell_polygon(const PolygonMap& map, int c) {
   std::vector<glm::dvec2> poly;
-  for (int q : map.cells[static_cast<std::size_t>(c)].corners) poly.push_back(map.corners[static_cast<std::size_t>(q)].position);
+  for (int q : map.cells[static_cast<std::size_t>(c)].corners)
+    poly.push_back(map.corners[static_cast<std::size_t>(q)].position);
   return poly;
 }
 

@@ -39,14 +39,20 @@ NoisePlan fbm_plan(const FbmParams& p) {
   double norm = 1.0;
   switch (p.mode) {
     case FractalMode::Fbm:
-    case FractalMode::Billow: norm = amplitude_sum; break;
+    case FractalMode::Billow:
+      norm = amplitude_sum;
+      break;
     case FractalMode::Ridged: {
       const double peak = std::max(p.offset, 1.0 - p.offset);
       norm = amplitude_sum * std::max(peak * peak, 1e-6);
       break;
     }
-    case FractalMode::Hybrid: norm = amplitude_sum * std::max(1.0 + p.offset, 1e-6); break;
-    case FractalMode::Multifractal: norm = 1.0; break;
+    case FractalMode::Hybrid:
+      norm = amplitude_sum * std::max(1.0 + p.offset, 1e-6);
+      break;
+    case FractalMode::Multifractal:
+      norm = 1.0;
+      break;
   }
   plan.scale = static_cast<float>(p.amplitude / norm);
   return plan;

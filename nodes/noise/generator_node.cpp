@@ -7,19 +7,28 @@ namespace orogen::noise {
 void declare_warp_inputs(NodeBuilder& b) {
   b.input("warp_x", PortType::Heightfield)
       .optional()
-      .description("Displacement added to the x of every sample before the noise is evaluated (metres); the "
-                   "noise is computed exactly at the displaced position, not resampled");
+      .description(
+          "Displacement added to the x of every sample before the noise is evaluated (metres); the "
+          "noise is computed exactly at the displaced position, not resampled");
   b.input("warp_y", PortType::Heightfield)
       .optional()
       .description("Displacement added to the y of every sample before the noise is evaluated (metres)");
 }
 
 void declare_feature_size(NodeBuilder& b, double default_metres, const char* description) {
-  b.param_float("feature_size", default_metres).range(0.001, 1e7).soft_range(1.0, 20000.0).unit("m").description(description);
+  b.param_float("feature_size", default_metres)
+      .range(0.001, 1e7)
+      .soft_range(1.0, 20000.0)
+      .unit("m")
+      .description(description);
 }
 
 void declare_amplitude(NodeBuilder& b, double default_metres, const char* description) {
-  b.param_float("amplitude", default_metres).range(-1e6, 1e6).soft_range(0.0, 2000.0).unit("m").description(description);
+  b.param_float("amplitude", default_metres)
+      .range(-1e6, 1e6)
+      .soft_range(0.0, 2000.0)
+      .unit("m")
+      .description(description);
 }
 
 void declare_seed(NodeBuilder& b) {

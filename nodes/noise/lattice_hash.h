@@ -18,7 +18,7 @@ namespace orogen::noise {
 
 inline constexpr std::uint32_t kHashPrimeX = 0x9E3779B1u;  // odd: multiplication is a bijection mod 2^32
 inline constexpr std::uint32_t kHashPrimeY = 0x85EBCA77u;
-inline constexpr std::uint32_t kMixA = 0x21F0AAADu;        // lowbias32 constants (hash-prospector)
+inline constexpr std::uint32_t kMixA = 0x21F0AAADu;  // lowbias32 constants (hash-prospector)
 inline constexpr std::uint32_t kMixB = 0x735A2D97u;
 inline constexpr std::uint32_t kSecondDraw = 0x93D765DDu;  // spectrally good LCG multiplier (Steele & Vigna 2021)
 

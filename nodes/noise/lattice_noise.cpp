@@ -9,11 +9,16 @@ namespace orogen::noise {
 
 Stream basis_stream(Basis basis) {
   switch (basis) {
-    case Basis::Perlin: return Stream::Perlin;
-    case Basis::Simplex: return Stream::Simplex;
-    case Basis::Value: return Stream::Value;
-    case Basis::White: return Stream::White;
-    case Basis::Worley: return Stream::Worley;
+    case Basis::Perlin:
+      return Stream::Perlin;
+    case Basis::Simplex:
+      return Stream::Simplex;
+    case Basis::Value:
+      return Stream::Value;
+    case Basis::White:
+      return Stream::White;
+    case Basis::Worley:
+      return Stream::Worley;
   }
   return Stream::Perlin;
 }

@@ -111,8 +111,8 @@ void evaluate_noise_into(Heightfield& out, const NoisePlan& plan, const NoiseInp
   kernels::WorleyRun worley;
   if (plan.basis == Basis::Worley) {
     neighbourhood = worley_neighbourhood(plan.worley_metric, plan.worley_jitter, worley_rank(plan.worley_output));
-    worley = {plan.worley_metric, plan.worley_output, plan.worley_jitter, neighbourhood.dx.data(),
-              neighbourhood.dy.data(), neighbourhood.size()};
+    worley = {plan.worley_metric,      plan.worley_output,      plan.worley_jitter,
+              neighbourhood.dx.data(), neighbourhood.dy.data(), neighbourhood.size()};
   }
 
   const float ln_r = std::log(plan.lacunarity);
@@ -162,11 +162,20 @@ void evaluate_noise_into(Heightfield& out, const NoisePlan& plan, const NoiseInp
         };
         auto lattice_basis = [&](const kernels::LatticeRun& run, const kernels::Output& dst) {
           switch (plan.basis) {
-            case Basis::Perlin: kernels::perlin(run, o.key, np, dst); break;
-            case Basis::Value: kernels::value(run, o.key, np, dst); break;
-            case Basis::White: kernels::white(run, o.key, np, dst); break;
-            case Basis::Worley: kernels::worley(run, o.key, worley, np, dst); break;
-            case Basis::Simplex: break;  // not a lattice basis
+            case Basis::Perlin:
+              kernels::perlin(run, o.key, np, dst);
+              break;
+            case Basis::Value:
+              kernels::value(run, o.key, np, dst);
+              break;
+            case Basis::White:
+              kernels::white(run, o.key, np, dst);
+              break;
+            case Basis::Worley:
+              kernels::worley(run, o.key, worley, np, dst);
+              break;
+            case Basis::Simplex:
+              break;  // not a lattice basis
           }
         };
         if (shared_rows) {
@@ -178,10 +187,9 @@ void evaluate_noise_into(Heightfield& out, const NoisePlan& plan, const NoiseInp
             fy[r] = split.frac;
           }
           for (int r0 = 0, r1 = 0; r0 < rows; r0 = r1) {
-            for (r1 = r0 + 1; r1 < rows && hy[r1] == hy[r0]; ++r1) {
-            }
-            const kernels::LatticeRun run{columns[k].cell.data() + c0, columns[k].frac.data() + c0, nullptr, nullptr,
-                                          hy[r0], fy + r0, r1 - r0};
+            for (r1 = r0 + 1; r1 < rows && hy[r1] == hy[r0]; ++r1) {}
+            const kernels::LatticeRun run{
+                columns[k].cell.data() + c0, columns[k].frac.data() + c0, nullptr, nullptr, hy[r0], fy + r0, r1 - r0};
             lattice_basis(run, destination(r0));
           }
         } else if (simplex && !warped) {
@@ -222,8 +230,11 @@ void evaluate_noise_into(Heightfield& out, const NoisePlan& plan, const NoiseInp
         }
         for (int r = 0; r < rows; ++r) {
           switch (plan.mode) {
-            case FractalMode::Fbm: break;
-            case FractalMode::Billow: kernels::billow_step(s.noise[r], o.amplitude, first, np, s.sum[r]); break;
+            case FractalMode::Fbm:
+              break;
+            case FractalMode::Billow:
+              kernels::billow_step(s.noise[r], o.amplitude, first, np, s.sum[r]);
+              break;
             case FractalMode::Ridged:
               kernels::ridged_step(s.noise[r], o.amplitude, plan.offset, first, np, s.sum[r], s.aux[r]);
               break;
@@ -255,14 +266,18 @@ float evaluate_noise_reference(const NoisePlan& plan, double x, double y, const 
     const double u = (x + static_cast<double>(in.warp_x)) * o.frequency + o.shift_x;
     const double v = (y + static_cast<double>(in.warp_y)) * o.frequency + o.shift_y;
     const float n = plan.basis == Basis::Worley
-                        ? reference::worley_select(reference::worley_brute_force(u, v, o.key, plan.worley_metric,
-                                                                                 plan.worley_jitter),
-                                                   plan.worley_output)
+                        ? reference::worley_select(
+                              reference::worley_brute_force(u, v, o.key, plan.worley_metric, plan.worley_jitter),
+                              plan.worley_output)
                         : reference::basis(plan.basis, u, v, o.key);
     const bool first = k == 0;
     switch (plan.mode) {
-      case FractalMode::Fbm: sum += o.amplitude * n; break;
-      case FractalMode::Billow: sum += o.amplitude * (2.0f * std::fabs(n) - 1.0f); break;
+      case FractalMode::Fbm:
+        sum += o.amplitude * n;
+        break;
+      case FractalMode::Billow:
+        sum += o.amplitude * (2.0f * std::fabs(n) - 1.0f);
+        break;
       case FractalMode::Ridged: {
         float s = (plan.offset - std::fabs(n)) * (plan.offset - std::fabs(n));
         if (!first) s *= std::clamp(2.0f * aux, 0.0f, 1.0f);

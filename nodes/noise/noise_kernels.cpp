@@ -35,7 +35,7 @@ using VF = hn::Vec<DF>;
 using VU = hn::Vec<DU>;
 using DD = hn::ScalableTag<double>;
 using VD = hn::Vec<DD>;
-using DFH = hn::Rebind<float, DD>;         // floats, as many lanes as a double vector
+using DFH = hn::Rebind<float, DD>;  // floats, as many lanes as a double vector
 using DIH = hn::Rebind<std::int32_t, DD>;
 using DUH = hn::Rebind<std::uint32_t, DD>;
 
@@ -168,8 +168,7 @@ HWY_INLINE LatticeLanes LoadLattice(const LatticeRun& in, std::size_t i) {
 // ---------------------------------------------------------------------------------------------------
 // Coordinate stages
 
-void Displaced(const double* x, double x_const, const float* warp, double frequency, double shift, int n,
-               double* u) {
+void Displaced(const double* x, double x_const, const float* warp, double frequency, double shift, int n, double* u) {
   const DD dd;
   const DFH dfh;
   const VD f = hn::Set(dd, frequency), s = hn::Set(dd, shift);
@@ -332,7 +331,8 @@ void WhiteImpl(const LatticeRun in, std::uint32_t key, int n, float* out, std::p
 // One simplex corner: (max(0, 1/2 - x^2 - y^2))^4 (g . (x, y)).
 HWY_INLINE VF SimplexCorner(VF x, VF y, const Gradients::Vector& g) {
   const DF df;
-  const VF w = hn::Max(hn::Zero(df), hn::NegMulAdd(y, y, hn::NegMulAdd(x, x, hn::Set(df, 0.5f))));  // 0 beyond the radius
+  const VF w =
+      hn::Max(hn::Zero(df), hn::NegMulAdd(y, y, hn::NegMulAdd(x, x, hn::Set(df, 0.5f))));  // 0 beyond the radius
   const VF w2 = hn::Mul(w, w);
   return hn::Mul(hn::Mul(w2, w2), Gradients::Dot(g, x, y));
 }
@@ -506,11 +506,16 @@ HWY_INLINE VF WorleyValue(VF (&f)[4]) {
   const DF df;
   if constexpr (kMetric == WorleyMetric::Euclidean)
     for (int r = 0; r < kRank; ++r) f[r] = hn::Sqrt(f[r]);
-  if constexpr (kOutput == WorleyOutput::F1) return f[0];
-  else if constexpr (kOutput == WorleyOutput::F2) return f[1];
-  else if constexpr (kOutput == WorleyOutput::F2MinusF1) return hn::Sub(f[1], f[0]);
-  else if constexpr (kOutput == WorleyOutput::F1TimesF2) return hn::Mul(f[0], f[1]);
-  else return hn::Mul(hn::Add(hn::Add(f[0], f[1]), hn::Add(f[2], f[3])), hn::Set(df, 0.25f));
+  if constexpr (kOutput == WorleyOutput::F1)
+    return f[0];
+  else if constexpr (kOutput == WorleyOutput::F2)
+    return f[1];
+  else if constexpr (kOutput == WorleyOutput::F2MinusF1)
+    return hn::Sub(f[1], f[0]);
+  else if constexpr (kOutput == WorleyOutput::F1TimesF2)
+    return hn::Mul(f[0], f[1]);
+  else
+    return hn::Mul(hn::Add(hn::Add(f[0], f[1]), hn::Add(f[2], f[3])), hn::Set(df, 0.25f));
 }
 
 // Worley: per sample, the nearest feature points among the neighbourhood's cells (mirrored per axis, see
@@ -616,10 +621,14 @@ void WorleyImpl(const LatticeRun in, std::uint32_t key, const WorleyRun& search,
 template <template <bool, bool> class Impl, class... Args>
 void DispatchLattice(const LatticeRun& in, const Output& o, Args&&... args) {
   const bool row_y = in.hy == nullptr;
-  if (row_y && o.accumulate) Impl<true, true>::run(in, args..., o.out, o.stride, o.scale);
-  else if (row_y) Impl<true, false>::run(in, args..., o.out, o.stride, o.scale);
-  else if (o.accumulate) Impl<false, true>::run(in, args..., o.out, o.stride, o.scale);
-  else Impl<false, false>::run(in, args..., o.out, o.stride, o.scale);
+  if (row_y && o.accumulate)
+    Impl<true, true>::run(in, args..., o.out, o.stride, o.scale);
+  else if (row_y)
+    Impl<true, false>::run(in, args..., o.out, o.stride, o.scale);
+  else if (o.accumulate)
+    Impl<false, true>::run(in, args..., o.out, o.stride, o.scale);
+  else
+    Impl<false, false>::run(in, args..., o.out, o.stride, o.scale);
 }
 
 template <bool A, bool B>
@@ -644,19 +653,19 @@ struct WhiteOp {
 void Perlin(const LatticeRun& in, std::uint32_t key, int n, const Output& o) {
   DispatchLattice<PerlinOp>(in, o, key, n);
 }
-void Value(const LatticeRun& in, std::uint32_t key, int n, const Output& o) {
-  DispatchLattice<ValueOp>(in, o, key, n);
-}
-void White(const LatticeRun& in, std::uint32_t key, int n, const Output& o) {
-  DispatchLattice<WhiteOp>(in, o, key, n);
-}
+void Value(const LatticeRun& in, std::uint32_t key, int n, const Output& o) { DispatchLattice<ValueOp>(in, o, key, n); }
+void White(const LatticeRun& in, std::uint32_t key, int n, const Output& o) { DispatchLattice<WhiteOp>(in, o, key, n); }
 void Simplex(const SimplexRun& in, std::uint32_t key, int n, const Output& o) {
-  if (o.accumulate) SimplexImpl<true>(in, key, n, o.out, o.scale);
-  else SimplexImpl<false>(in, key, n, o.out, o.scale);
+  if (o.accumulate)
+    SimplexImpl<true>(in, key, n, o.out, o.scale);
+  else
+    SimplexImpl<false>(in, key, n, o.out, o.scale);
 }
 void SimplexRowsKernel(const SimplexRows& in, std::uint32_t key, int n, const Output& o) {
-  if (o.accumulate) SimplexRowsImpl<true>(in, key, n, o.out, o.stride, o.scale);
-  else SimplexRowsImpl<false>(in, key, n, o.out, o.stride, o.scale);
+  if (o.accumulate)
+    SimplexRowsImpl<true>(in, key, n, o.out, o.stride, o.scale);
+  else
+    SimplexRowsImpl<false>(in, key, n, o.out, o.stride, o.scale);
 }
 
 template <WorleyMetric M, WorleyOutput O>
@@ -673,8 +682,12 @@ struct WorleyOf {
 template <WorleyMetric M>
 void WorleyMetricDispatch(const LatticeRun& in, std::uint32_t key, const WorleyRun& s, int n, const Output& o) {
   switch (s.output) {
-    case WorleyOutput::F1: DispatchLattice<WorleyOf<M, WorleyOutput::F1>::template Op>(in, o, key, s, n); break;
-    case WorleyOutput::F2: DispatchLattice<WorleyOf<M, WorleyOutput::F2>::template Op>(in, o, key, s, n); break;
+    case WorleyOutput::F1:
+      DispatchLattice<WorleyOf<M, WorleyOutput::F1>::template Op>(in, o, key, s, n);
+      break;
+    case WorleyOutput::F2:
+      DispatchLattice<WorleyOf<M, WorleyOutput::F2>::template Op>(in, o, key, s, n);
+      break;
     case WorleyOutput::F2MinusF1:
       DispatchLattice<WorleyOf<M, WorleyOutput::F2MinusF1>::template Op>(in, o, key, s, n);
       break;
@@ -689,9 +702,15 @@ void WorleyMetricDispatch(const LatticeRun& in, std::uint32_t key, const WorleyR
 
 void Worley(const LatticeRun& in, std::uint32_t key, const WorleyRun& s, int n, const Output& o) {
   switch (s.metric) {
-    case WorleyMetric::Euclidean: WorleyMetricDispatch<WorleyMetric::Euclidean>(in, key, s, n, o); break;
-    case WorleyMetric::Manhattan: WorleyMetricDispatch<WorleyMetric::Manhattan>(in, key, s, n, o); break;
-    case WorleyMetric::Chebyshev: WorleyMetricDispatch<WorleyMetric::Chebyshev>(in, key, s, n, o); break;
+    case WorleyMetric::Euclidean:
+      WorleyMetricDispatch<WorleyMetric::Euclidean>(in, key, s, n, o);
+      break;
+    case WorleyMetric::Manhattan:
+      WorleyMetricDispatch<WorleyMetric::Manhattan>(in, key, s, n, o);
+      break;
+    case WorleyMetric::Chebyshev:
+      WorleyMetricDispatch<WorleyMetric::Chebyshev>(in, key, s, n, o);
+      break;
   }
 }
 

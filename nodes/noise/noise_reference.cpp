@@ -78,7 +78,8 @@ float simplex(double u, double v, std::uint32_t key) {
 
 std::array<float, 2> worley_offset(std::uint32_t cell_x, std::uint32_t cell_y, float frac_x, float frac_y, int dx,
                                    int dy, std::uint32_t key, float jitter) {
-  const std::uint32_t h = lattice_hash(cell_x + static_cast<std::uint32_t>(dx), cell_y + static_cast<std::uint32_t>(dy), key);
+  const std::uint32_t h =
+      lattice_hash(cell_x + static_cast<std::uint32_t>(dx), cell_y + static_cast<std::uint32_t>(dy), key);
   const float rx = unit_float(h), ry = unit_float(second_draw(h));
   // point = d + 1/2 + jitter * (r - 1/2); offset = point - frac, grouped as the kernels group it.
   const float base = 0.5f - 0.5f * jitter;
@@ -88,9 +89,12 @@ std::array<float, 2> worley_offset(std::uint32_t cell_x, std::uint32_t cell_y, f
 
 float worley_distance(WorleyMetric metric, float px, float py) {
   switch (metric) {
-    case WorleyMetric::Euclidean: return std::sqrt(std::fma(px, px, py * py));
-    case WorleyMetric::Manhattan: return std::fabs(px) + std::fabs(py);
-    case WorleyMetric::Chebyshev: return std::max(std::fabs(px), std::fabs(py));
+    case WorleyMetric::Euclidean:
+      return std::sqrt(std::fma(px, px, py * py));
+    case WorleyMetric::Manhattan:
+      return std::fabs(px) + std::fabs(py);
+    case WorleyMetric::Chebyshev:
+      return std::max(std::fabs(px), std::fabs(py));
   }
   return 0.0f;
 }
@@ -111,21 +115,30 @@ WorleyDistances worley_brute_force(double u, double v, std::uint32_t key, Worley
 
 float worley_select(const WorleyDistances& d, WorleyOutput output) {
   switch (output) {
-    case WorleyOutput::F1: return d.f[0];
-    case WorleyOutput::F2: return d.f[1];
-    case WorleyOutput::F2MinusF1: return d.f[1] - d.f[0];
-    case WorleyOutput::F1TimesF2: return d.f[0] * d.f[1];
-    case WorleyOutput::MeanF1ToF4: return (d.f[0] + d.f[1] + d.f[2] + d.f[3]) * 0.25f;
+    case WorleyOutput::F1:
+      return d.f[0];
+    case WorleyOutput::F2:
+      return d.f[1];
+    case WorleyOutput::F2MinusF1:
+      return d.f[1] - d.f[0];
+    case WorleyOutput::F1TimesF2:
+      return d.f[0] * d.f[1];
+    case WorleyOutput::MeanF1ToF4:
+      return (d.f[0] + d.f[1] + d.f[2] + d.f[3]) * 0.25f;
   }
   return 0.0f;
 }
 
 float basis(Basis b, double u, double v, std::uint32_t key) {
   switch (b) {
-    case Basis::Perlin: return perlin(u, v, key);
-    case Basis::Simplex: return simplex(u, v, key);
-    case Basis::Value: return value(u, v, key);
-    case Basis::White: return white(u, v, key);
+    case Basis::Perlin:
+      return perlin(u, v, key);
+    case Basis::Simplex:
+      return simplex(u, v, key);
+    case Basis::Value:
+      return value(u, v, key);
+    case Basis::White:
+      return white(u, v, key);
     case Basis::Worley:
       return worley_select(worley_brute_force(u, v, key, WorleyMetric::Euclidean, 1.0f), WorleyOutput::F1);
   }

@@ -35,10 +35,10 @@ constexpr float fade(float t) { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.
 // onto the axes); and more than the 8 axis-and-diagonal directions, whose lattice bias shows as a maze of
 // horizontal and vertical streaks. Vector k + 8 is the negation of vector k, so the kernels look up the
 // first half (kGradientX/Y) and flip the sign of the dot product with bit 31.
-inline constexpr float kGradientX[8] = {1.0f,  0.923879532511f,  0.707106781187f,  0.382683432365f,
+inline constexpr float kGradientX[8] = {1.0f, 0.923879532511f,  0.707106781187f,  0.382683432365f,
                                         0.0f, -0.382683432365f, -0.707106781187f, -0.923879532511f};
-inline constexpr float kGradientY[8] = {0.0f,           0.382683432365f, 0.707106781187f, 0.923879532511f,
-                                        1.0f,           0.923879532511f, 0.707106781187f, 0.382683432365f};
+inline constexpr float kGradientY[8] = {0.0f, 0.382683432365f, 0.707106781187f, 0.923879532511f,
+                                        1.0f, 0.923879532511f, 0.707106781187f, 0.382683432365f};
 // g_k . (dx, dy) for k = hash >> 28, computed as fma(gx, dx, gy * dy) then negated for k >= 8.
 float gradient_dot(std::uint32_t hash, float dx, float dy);
 

@@ -21,16 +21,18 @@ enum class FractalMode { Fbm, Ridged, Billow, Hybrid, Multifractal };
 inline constexpr std::array<std::string_view, 5> kBasisNames{"perlin", "simplex", "value", "white", "worley"};
 inline constexpr std::array<std::string_view, 3> kWorleyMetricNames{"euclidean", "manhattan", "chebyshev"};
 inline constexpr std::array<std::string_view, 5> kWorleyOutputNames{"f1", "f2", "f2_minus_f1", "f1_times_f2",
-                                                                     "mean_f1_f4"};
-inline constexpr std::array<std::string_view, 5> kFractalModeNames{"fbm", "ridged", "billow", "hybrid",
-                                                                    "multifractal"};
+                                                                    "mean_f1_f4"};
+inline constexpr std::array<std::string_view, 5> kFractalModeNames{"fbm", "ridged", "billow", "hybrid", "multifractal"};
 
 // How many nearest distances an output needs (1, 2 or 4).
 constexpr int worley_rank(WorleyOutput o) {
   switch (o) {
-    case WorleyOutput::F1: return 1;
-    case WorleyOutput::MeanF1ToF4: return 4;
-    default: return 2;
+    case WorleyOutput::F1:
+      return 1;
+    case WorleyOutput::MeanF1ToF4:
+      return 4;
+    default:
+      return 2;
   }
 }
 

@@ -20,7 +20,7 @@ struct WorleyParams {
   double amplitude = 100.0;     // m per lattice cell of distance
   WorleyMetric metric = WorleyMetric::Euclidean;
   WorleyOutput output = WorleyOutput::F1;
-  double jitter = 1.0;          // 0 (regular grid of points) .. 1 (anywhere in the cell)
+  double jitter = 1.0;  // 0 (regular grid of points) .. 1 (anywhere in the cell)
   std::uint64_t seed = 0;
 };
 

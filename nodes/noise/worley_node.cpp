@@ -12,16 +12,21 @@ OROGEN_NODE(Worley) {
       "feature_size. Exact for every metric, output and jitter (the search covers every cell that can hold "
       "one of the four nearest points). S. Worley (1996), \"A cellular texture basis function\", SIGGRAPH.");
   declare_warp_inputs(b);
-  b.output("out", PortType::Heightfield).description("The chosen distance function times amplitude, in metres").kind(OutputKind::Height);
+  b.output("out", PortType::Heightfield)
+      .description("The chosen distance function times amplitude, in metres")
+      .kind(OutputKind::Height);
   declare_feature_size(b, 256.0, "Spacing of the feature points (lattice cell size)");
   declare_amplitude(b, 100.0, "Metres per lattice cell of distance (F1 * F2: per square cell)");
   b.param_enum("metric", {"euclidean", "manhattan", "chebyshev"}, "euclidean")
       .description("Distance metric: euclidean (round cells), manhattan (diamonds), chebyshev (squares)");
   b.param_enum("output", {"f1", "f2", "f2_minus_f1", "f1_times_f2", "mean_f1_f4"}, "f1")
-      .description("Function of the distances F1 <= F2 <= F3 <= F4 to the nearest points: f1 (cells, 0 at "
-                   "the points), f2, f2_minus_f1 (ridges along the cell borders), f1_times_f2, mean_f1_f4");
-  b.param_float("jitter", 1.0).range(0.0, 1.0).unit("").description(
-      "How far the feature points stray from the cell centers: 0 gives a regular grid, 1 the full cell");
+      .description(
+          "Function of the distances F1 <= F2 <= F3 <= F4 to the nearest points: f1 (cells, 0 at "
+          "the points), f2, f2_minus_f1 (ridges along the cell borders), f1_times_f2, mean_f1_f4");
+  b.param_float("jitter", 1.0)
+      .range(0.0, 1.0)
+      .unit("")
+      .description("How far the feature points stray from the cell centers: 0 gives a regular grid, 1 the full cell");
   declare_seed(b);
   b.execute([](ExecContext& ctx) {
     WorleyParams p;

@@ -13,8 +13,8 @@
 
 namespace orogen::plants {
 
-using lsys::Draws;
 using lsys::draw_key;
+using lsys::Draws;
 using lsys::eval;
 using lsys::kMaxParams;
 using lsys::kMaxSlots;
@@ -25,7 +25,9 @@ using lsys::Template;
 LSystemError::LSystemError(const std::string& where_, int line_, int column_, const std::string& what)
     : std::invalid_argument(where_ + (line_ > 0 ? " line " + std::to_string(line_) : std::string()) +
                             (column_ > 0 ? ", column " + std::to_string(column_) : std::string()) + ": " + what),
-      where(where_), line(line_), column(column_) {}
+      where(where_),
+      line(line_),
+      column(column_) {}
 
 struct LSystem::Impl {
   std::vector<lsys::Template> axiom;
@@ -96,9 +98,12 @@ bool LSystem::Impl::match_left(const Rule& r, const ModuleString& w, const std::
     for (;;) {
       if (j < 0) return false;
       const char c = w.symbols[static_cast<std::size_t>(j)];
-      if (c == ']') j = match[static_cast<std::size_t>(j)] - 1;  // a sibling branch: skip it whole
-      else if (c == '[' || ignored[static_cast<unsigned char>(c)]) --j;  // '[': step out to the parent
-      else break;
+      if (c == ']')
+        j = match[static_cast<std::size_t>(j)] - 1;  // a sibling branch: skip it whole
+      else if (c == '[' || ignored[static_cast<unsigned char>(c)])
+        --j;  // '[': step out to the parent
+      else
+        break;
     }
     const Pattern& pat = r.left[static_cast<std::size_t>(p)];
     const auto k = static_cast<std::size_t>(j);
@@ -119,11 +124,13 @@ bool LSystem::Impl::match_right(const Rule& r, std::size_t p, const ModuleString
       for (;;) {
         if (j >= n) return false;
         const char c = w.symbols[j];
-        if (c == '[') j = static_cast<std::size_t>(match[j]) + 1;
+        if (c == '[')
+          j = static_cast<std::size_t>(match[j]) + 1;
         else if (c == ']') {
           ++j;
           break;
-        } else ++j;
+        } else
+          ++j;
       }
       continue;
     }
@@ -139,8 +146,10 @@ bool LSystem::Impl::match_right(const Rule& r, std::size_t p, const ModuleString
     }
     for (;;) {  // branches between modules of the pattern are skipped
       while (j < n && ignored[static_cast<unsigned char>(w.symbols[j])]) ++j;
-      if (j < n && w.symbols[j] == '[') j = static_cast<std::size_t>(match[j]) + 1;
-      else break;
+      if (j < n && w.symbols[j] == '[')
+        j = static_cast<std::size_t>(match[j]) + 1;
+      else
+        break;
     }
     if (j >= n || w.symbols[j] != pat.symbol || w.param_count(j) != pat.slots.size()) return false;
     for (std::size_t a = 0; a < pat.slots.size(); ++a) vars[pat.slots[a]] = w.params[w.offsets[j] + a];
@@ -158,9 +167,11 @@ ModuleString LSystem::Impl::step(const ModuleString& w, int iteration, std::uint
     match.assign(n, static_cast<std::int32_t>(n));
     std::vector<std::int32_t> stack;
     for (std::size_t k = 0; k < n; ++k) {
-      if (w.symbols[k] == '[') stack.push_back(static_cast<std::int32_t>(k));
+      if (w.symbols[k] == '[')
+        stack.push_back(static_cast<std::int32_t>(k));
       else if (w.symbols[k] == ']') {
-        if (stack.empty()) match[k] = -1;
+        if (stack.empty())
+          match[k] = -1;
         else {
           match[k] = stack.back();
           match[static_cast<std::size_t>(stack.back())] = static_cast<std::int32_t>(k);

@@ -86,7 +86,7 @@ class LSystem {
 std::uint64_t derive_peak_bytes(std::size_t max_modules, std::size_t parameters);
 
 // Convenience: parse and derive; the text of the result.
-std::string derive_text(const std::string& axiom, const std::string& rules, int iterations,
-                        std::uint64_t seed = 0, const std::string& ignore = "");
+std::string derive_text(const std::string& axiom, const std::string& rules, int iterations, std::uint64_t seed = 0,
+                        const std::string& ignore = "");
 
 }  // namespace orogen::plants

@@ -35,8 +35,41 @@ struct Draws {
 // --- expressions ------------------------------------------------------------------------------------------------
 
 enum class Op : std::uint8_t {
-  Const, Var, Add, Sub, Mul, Div, Pow, Neg, Not, Lt, Le, Gt, Ge, Eq, Ne, And, Or,
-  Sin, Cos, Tan, Asin, Acos, Atan, Atan2, Sqrt, Abs, Min, Max, Floor, Ceil, Exp, Log, Clamp, Uniform, Gauss
+  Const,
+  Var,
+  Add,
+  Sub,
+  Mul,
+  Div,
+  Pow,
+  Neg,
+  Not,
+  Lt,
+  Le,
+  Gt,
+  Ge,
+  Eq,
+  Ne,
+  And,
+  Or,
+  Sin,
+  Cos,
+  Tan,
+  Asin,
+  Acos,
+  Atan,
+  Atan2,
+  Sqrt,
+  Abs,
+  Min,
+  Max,
+  Floor,
+  Ceil,
+  Exp,
+  Log,
+  Clamp,
+  Uniform,
+  Gauss
 };
 
 struct Instr {
@@ -58,55 +91,59 @@ inline double eval(const Expr& e, const double* vars, Draws& draws) {
   int sp = 0;
   for (const Instr& in : e.code) {
     switch (in.op) {
-      case Op::Const: stack[sp++] = in.value; break;
-      case Op::Var: stack[sp++] = vars[in.slot]; break;
-#define BIN(OP, EXPR)            \
-  case Op::OP: {                 \
-    const double b = stack[--sp]; \
+      case Op::Const:
+        stack[sp++] = in.value;
+        break;
+      case Op::Var:
+        stack[sp++] = vars[in.slot];
+        break;
+#define BIN(OP, EXPR)               \
+  case Op::OP: {                    \
+    const double b = stack[--sp];   \
     const double a = stack[sp - 1]; \
-    stack[sp - 1] = (EXPR);      \
-    break;                       \
+    stack[sp - 1] = (EXPR);         \
+    break;                          \
   }
-      BIN(Add, a + b)
-      BIN(Sub, a - b)
-      BIN(Mul, a * b)
-      BIN(Div, a / b)
-      BIN(Pow, std::pow(a, b))
-      BIN(Lt, a < b ? 1.0 : 0.0)
-      BIN(Le, a <= b ? 1.0 : 0.0)
-      BIN(Gt, a > b ? 1.0 : 0.0)
-      BIN(Ge, a >= b ? 1.0 : 0.0)
-      BIN(Eq, a == b ? 1.0 : 0.0)
-      BIN(Ne, a != b ? 1.0 : 0.0)
-      BIN(And, (a != 0.0 && b != 0.0) ? 1.0 : 0.0)
-      BIN(Or, (a != 0.0 || b != 0.0) ? 1.0 : 0.0)
-      BIN(Atan2, std::atan2(a, b) / kDeg)
-      BIN(Min, std::min(a, b))
-      BIN(Max, std::max(a, b))
-      BIN(Uniform, a + (b - a) * draws.uniform())
-      BIN(Gauss, a + b * std::sqrt(-2.0 * std::log(1.0 - draws.uniform())) *
-                         std::cos(2.0 * std::numbers::pi * draws.uniform()))
+        BIN(Add, a + b)
+        BIN(Sub, a - b)
+        BIN(Mul, a * b)
+        BIN(Div, a / b)
+        BIN(Pow, std::pow(a, b))
+        BIN(Lt, a < b ? 1.0 : 0.0)
+        BIN(Le, a <= b ? 1.0 : 0.0)
+        BIN(Gt, a > b ? 1.0 : 0.0)
+        BIN(Ge, a >= b ? 1.0 : 0.0)
+        BIN(Eq, a == b ? 1.0 : 0.0)
+        BIN(Ne, a != b ? 1.0 : 0.0)
+        BIN(And, (a != 0.0 && b != 0.0) ? 1.0 : 0.0)
+        BIN(Or, (a != 0.0 || b != 0.0) ? 1.0 : 0.0)
+        BIN(Atan2, std::atan2(a, b) / kDeg)
+        BIN(Min, std::min(a, b))
+        BIN(Max, std::max(a, b))
+        BIN(Uniform, a + (b - a) * draws.uniform())
+        BIN(Gauss, a + b * std::sqrt(-2.0 * std::log(1.0 - draws.uniform())) *
+                           std::cos(2.0 * std::numbers::pi * draws.uniform()))
 #undef BIN
-#define UN(OP, EXPR)           \
-  case Op::OP: {               \
+#define UN(OP, EXPR)                \
+  case Op::OP: {                    \
     const double a = stack[sp - 1]; \
-    stack[sp - 1] = (EXPR);    \
-    break;                     \
+    stack[sp - 1] = (EXPR);         \
+    break;                          \
   }
-      UN(Neg, -a)
-      UN(Not, a == 0.0 ? 1.0 : 0.0)
-      UN(Sin, std::sin(a * kDeg))
-      UN(Cos, std::cos(a * kDeg))
-      UN(Tan, std::tan(a * kDeg))
-      UN(Asin, std::asin(a) / kDeg)
-      UN(Acos, std::acos(a) / kDeg)
-      UN(Atan, std::atan(a) / kDeg)
-      UN(Sqrt, std::sqrt(a))
-      UN(Abs, std::abs(a))
-      UN(Floor, std::floor(a))
-      UN(Ceil, std::ceil(a))
-      UN(Exp, std::exp(a))
-      UN(Log, std::log(a))
+        UN(Neg, -a)
+        UN(Not, a == 0.0 ? 1.0 : 0.0)
+        UN(Sin, std::sin(a * kDeg))
+        UN(Cos, std::cos(a * kDeg))
+        UN(Tan, std::tan(a * kDeg))
+        UN(Asin, std::asin(a) / kDeg)
+        UN(Acos, std::acos(a) / kDeg)
+        UN(Atan, std::atan(a) / kDeg)
+        UN(Sqrt, std::sqrt(a))
+        UN(Abs, std::abs(a))
+        UN(Floor, std::floor(a))
+        UN(Ceil, std::ceil(a))
+        UN(Exp, std::exp(a))
+        UN(Log, std::log(a))
 #undef UN
       case Op::Clamp: {
         const double hi = stack[--sp], lo = stack[--sp];

@@ -38,7 +38,7 @@ struct Source {
       struct Sub {
         std::string_view from, to;
       };
-      static constexpr Sub subs[] = {{"\u2192", "->"}, {"\u2212", "-"}, {"\u00d7", "*"},
+      static constexpr Sub subs[] = {{"\u2192", "->"}, {"\u2212", "-"},  {"\u00d7", "*"},
                                      {"\u2264", "<="}, {"\u2265", ">="}, {"\u2260", "!="}};
       bool done = false;
       for (const auto& s : subs)
@@ -77,11 +77,11 @@ struct Function {
   int arity;
 };
 constexpr Function kFunctions[] = {
-    {"sin", Op::Sin, 1},     {"cos", Op::Cos, 1},       {"tan", Op::Tan, 1},   {"asin", Op::Asin, 1},
-    {"acos", Op::Acos, 1},   {"atan", Op::Atan, 1},     {"atan2", Op::Atan2, 2}, {"sqrt", Op::Sqrt, 1},
-    {"abs", Op::Abs, 1},     {"min", Op::Min, 2},       {"max", Op::Max, 2},   {"floor", Op::Floor, 1},
-    {"ceil", Op::Ceil, 1},   {"exp", Op::Exp, 1},       {"log", Op::Log, 1},   {"pow", Op::Pow, 2},
-    {"clamp", Op::Clamp, 3}, {"uniform", Op::Uniform, 2}, {"U", Op::Uniform, 2}, {"gauss", Op::Gauss, 2},
+    {"sin", Op::Sin, 1},     {"cos", Op::Cos, 1},         {"tan", Op::Tan, 1},     {"asin", Op::Asin, 1},
+    {"acos", Op::Acos, 1},   {"atan", Op::Atan, 1},       {"atan2", Op::Atan2, 2}, {"sqrt", Op::Sqrt, 1},
+    {"abs", Op::Abs, 1},     {"min", Op::Min, 2},         {"max", Op::Max, 2},     {"floor", Op::Floor, 1},
+    {"ceil", Op::Ceil, 1},   {"exp", Op::Exp, 1},         {"log", Op::Log, 1},     {"pow", Op::Pow, 2},
+    {"clamp", Op::Clamp, 3}, {"uniform", Op::Uniform, 2}, {"U", Op::Uniform, 2},   {"gauss", Op::Gauss, 2},
     {"N", Op::Gauss, 2},
 };
 
@@ -137,13 +137,20 @@ class ExprParser {
     parse_add();
     for (;;) {
       Op op;
-      if (accept("<=")) op = Op::Le;
-      else if (accept(">=")) op = Op::Ge;
-      else if (accept("==")) op = Op::Eq;
-      else if (accept("!=")) op = Op::Ne;
-      else if (accept("<")) op = Op::Lt;
-      else if (accept(">")) op = Op::Gt;
-      else return;
+      if (accept("<="))
+        op = Op::Le;
+      else if (accept(">="))
+        op = Op::Ge;
+      else if (accept("=="))
+        op = Op::Eq;
+      else if (accept("!="))
+        op = Op::Ne;
+      else if (accept("<"))
+        op = Op::Lt;
+      else if (accept(">"))
+        op = Op::Gt;
+      else
+        return;
       parse_add();
       emit(op), pop(1);
     }
@@ -151,17 +158,23 @@ class ExprParser {
   void parse_add() {
     parse_mul();
     for (;;) {
-      if (accept("+")) parse_mul(), emit(Op::Add), pop(1);
-      else if (accept("-")) parse_mul(), emit(Op::Sub), pop(1);
-      else return;
+      if (accept("+"))
+        parse_mul(), emit(Op::Add), pop(1);
+      else if (accept("-"))
+        parse_mul(), emit(Op::Sub), pop(1);
+      else
+        return;
     }
   }
   void parse_mul() {
     parse_unary();
     for (;;) {
-      if (accept("*")) parse_unary(), emit(Op::Mul), pop(1);
-      else if (accept("/")) parse_unary(), emit(Op::Div), pop(1);
-      else return;
+      if (accept("*"))
+        parse_unary(), emit(Op::Mul), pop(1);
+      else if (accept("/"))
+        parse_unary(), emit(Op::Div), pop(1);
+      else
+        return;
     }
   }
   void parse_unary() {
@@ -205,7 +218,8 @@ class ExprParser {
         if (!f) s_.fail(at, "unknown function '" + name + "'");
         ++p_;
         for (int k = 0; k < f->arity; ++k) {
-          if (k > 0 && !accept(",")) s_.fail(p_, "',' expected: " + name + " takes " + std::to_string(f->arity) + " arguments");
+          if (k > 0 && !accept(","))
+            s_.fail(p_, "',' expected: " + name + " takes " + std::to_string(f->arity) + " arguments");
           parse_or();
         }
         if (!accept(")")) s_.fail(p_, "')' expected: " + name + " takes " + std::to_string(f->arity) + " arguments");
@@ -248,9 +262,12 @@ bool valid_symbol(char c) {
 std::size_t find_top_level(const std::string& t, std::size_t b, std::size_t e, char c) {
   int depth = 0;
   for (std::size_t i = b; i < e; ++i) {
-    if (t[i] == '(') ++depth;
-    else if (t[i] == ')') --depth;
-    else if (depth == 0 && t[i] == c) return i;
+    if (t[i] == '(')
+      ++depth;
+    else if (t[i] == ')')
+      --depth;
+    else if (depth == 0 && t[i] == c)
+      return i;
   }
   return std::string::npos;
 }
@@ -264,8 +281,10 @@ std::size_t skip_space(const std::string& t, std::size_t p, std::size_t e) {
 std::size_t close_paren(const Source& s, std::size_t open, std::size_t e) {
   int depth = 0;
   for (std::size_t i = open; i < e; ++i) {
-    if (s.text[i] == '(') ++depth;
-    else if (s.text[i] == ')' && --depth == 0) return i;
+    if (s.text[i] == '(')
+      ++depth;
+    else if (s.text[i] == ')' && --depth == 0)
+      return i;
   }
   s.fail(open, "unbalanced '(': no matching ')'");
 }
@@ -313,7 +332,8 @@ std::vector<Pattern> parse_patterns(const Source& s, std::size_t b, std::size_t 
 }
 
 // Successor or axiom modules with expression arguments.
-std::vector<Template> parse_templates(const Source& s, std::size_t b, std::size_t e, const std::map<std::string, int>& vars,
+std::vector<Template> parse_templates(const Source& s, std::size_t b, std::size_t e,
+                                      const std::map<std::string, int>& vars,
                                       const std::map<std::string, double>& constants) {
   std::vector<Template> out;
   for (std::size_t p = skip_space(s.text, b, e); p < e; p = skip_space(s.text, p, e)) {
@@ -370,7 +390,8 @@ Grammar parse_grammar(const std::string& axiom, const std::string& rules) {
         if (!v.constant()) src.fail(p + 1, "a constant cannot use random draws");
         constants[name] = v.code[0].value;
       } else {
-        if (arrow == std::string::npos || arrow >= e) src.fail(first, "'->' expected: a rule reads 'predecessor -> successor'");
+        if (arrow == std::string::npos || arrow >= e)
+          src.fail(first, "'->' expected: a rule reads 'predecessor -> successor'");
         Rule r;
         std::map<std::string, int> vars;
         // Left side: [left <] pred [> right] [: condition]
@@ -388,7 +409,9 @@ Grammar parse_grammar(const std::string& axiom, const std::string& rules) {
         if (gt != std::string::npos) pred_e = gt;
         auto pred = parse_patterns(src, pred_b, pred_e, vars, false);
         if (pred.size() != 1)
-          src.fail(skip_space(t, pred_b, pred_e), pred.empty() ? "predecessor expected" : "the predecessor is a single module (use '<' and '>' for contexts)");
+          src.fail(skip_space(t, pred_b, pred_e),
+                   pred.empty() ? "predecessor expected"
+                                : "the predecessor is a single module (use '<' and '>' for contexts)");
         r.pred = std::move(pred[0]);
         if (gt != std::string::npos) {
           r.right = parse_patterns(src, gt + 1, ctx_end, vars, true);

@@ -48,14 +48,15 @@ OROGEN_NODE(LSystem) {
       "SeamScape's green tree.");
   b.output("out", PortType::ModuleString).description("The derived word (symbols with parameters)");
   b.param_string("axiom", "X").description("The initial word, e.g. X or T(140,90,40,100)");
-  b.param_string("rules", "X -> F[+X][-X]FX\nF -> FF").description(
-      "Productions, one per line: [left <] predecessor [> right] [: condition] -> successor [: weight]");
+  b.param_string("rules", "X -> F[+X][-X]FX\nF -> FF")
+      .description("Productions, one per line: [left <] predecessor [> right] [: condition] -> successor [: weight]");
   b.param_int("iterations", 4).range(0, 40).soft_range(0, 8).description("Parallel rewriting steps");
-  b.param_string("ignore", "").description(
-      "Symbols that context matching skips (typically the turtle's +-&^\\/F)");
-  b.param_seed("seed", 0).description("Key of the stochastic choices and random draws; the same seed gives the same word");
-  b.param_int("max_modules", 1000000).range(1, 100000000).description(
-      "A word longer than this fails with an error instead of exhausting memory (modules)");
+  b.param_string("ignore", "").description("Symbols that context matching skips (typically the turtle's +-&^\\/F)");
+  b.param_seed("seed", 0).description(
+      "Key of the stochastic choices and random draws; the same seed gives the same word");
+  b.param_int("max_modules", 1000000)
+      .range(1, 100000000)
+      .description("A word longer than this fails with an error instead of exhausting memory (modules)");
   // The word may grow to max_modules modules, each with as many parameters as the grammar's widest module.
   b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
     const plants::LSystem l(q.params.get<std::string>("axiom"), q.params.get<std::string>("rules"),
@@ -93,28 +94,49 @@ OROGEN_NODE(Turtle3D) {
       "after every rotation; tropism bends the heading towards a direction after each F (ABOP eq. 2.5). The "
       "plant grows from the origin along +z, in metres.");
   b.input("in", PortType::ModuleString).description("Word from LSystem");
-  b.output("out", PortType::Curves).description(
-      "Skeleton: one curve per branch, parent = the branch it grows from; width (m) and attributes r, g, b "
-      "(linear color) and depth (branching depth) per point");
-  b.output("leaves", PortType::Points).description(
-      "Leaves: position, rotation (x = heading, y = left, z = up), scale = size (m), attributes r, g, b, branch");
-  b.param_float("step", 1.0).range(0.0, 1000.0).soft_range(0.01, 10.0).unit("m").description(
-      "Length of F and f without a parameter");
-  b.param_float("angle", 25.0).range(-360.0, 360.0).soft_range(0.0, 90.0).unit("deg").description(
-      "Rotation of + - & ^ \\ / without a parameter");
-  b.param_float("width", 0.1).range(0.0, 100.0).soft_range(0.0, 2.0).unit("m").description(
-      "Initial branch width (diameter)");
-  b.param_float("width_factor", 0.7).range(0.01, 1.0).unit("x").description(
-      "> multiplies and < divides the width by this when they have no parameter");
-  b.param_vec3("tropism", {0.0, 0.0, -1.0}).range(-1.0, 1.0).unit("direction").description(
-      "Direction the branches bend towards (gravity: 0, 0, -1)");
-  b.param_float("tropism_strength", 0.0).range(-1.0, 1.0).soft_range(0.0, 0.5).unit("rad").description(
-      "Susceptibility e: each F turns the heading by e |H x T| radians towards the tropism direction");
+  b.output("out", PortType::Curves)
+      .description(
+          "Skeleton: one curve per branch, parent = the branch it grows from; width (m) and attributes r, g, b "
+          "(linear color) and depth (branching depth) per point");
+  b.output("leaves", PortType::Points)
+      .description(
+          "Leaves: position, rotation (x = heading, y = left, z = up), scale = size (m), attributes r, g, b, branch");
+  b.param_float("step", 1.0)
+      .range(0.0, 1000.0)
+      .soft_range(0.01, 10.0)
+      .unit("m")
+      .description("Length of F and f without a parameter");
+  b.param_float("angle", 25.0)
+      .range(-360.0, 360.0)
+      .soft_range(0.0, 90.0)
+      .unit("deg")
+      .description("Rotation of + - & ^ \\ / without a parameter");
+  b.param_float("width", 0.1)
+      .range(0.0, 100.0)
+      .soft_range(0.0, 2.0)
+      .unit("m")
+      .description("Initial branch width (diameter)");
+  b.param_float("width_factor", 0.7)
+      .range(0.01, 1.0)
+      .unit("x")
+      .description("> multiplies and < divides the width by this when they have no parameter");
+  b.param_vec3("tropism", {0.0, 0.0, -1.0})
+      .range(-1.0, 1.0)
+      .unit("direction")
+      .description("Direction the branches bend towards (gravity: 0, 0, -1)");
+  b.param_float("tropism_strength", 0.0)
+      .range(-1.0, 1.0)
+      .soft_range(0.0, 0.5)
+      .unit("rad")
+      .description("Susceptibility e: each F turns the heading by e |H x T| radians towards the tropism direction");
   b.param_color("color", {0.35f, 0.22f, 0.12f, 1.0f}).description("Initial branch color (linear RGB)");
-  b.param_float("leaf_size", 0.2).range(0.0, 100.0).soft_range(0.0, 2.0).unit("m").description(
-      "Size of L without a parameter");
-  b.param_color("leaf_color", {0.1f, 0.35f, 0.05f, 1.0f}).description(
-      "Color of L without color parameters (linear RGB)");
+  b.param_float("leaf_size", 0.2)
+      .range(0.0, 100.0)
+      .soft_range(0.0, 2.0)
+      .unit("m")
+      .description("Size of L without a parameter");
+  b.param_color("leaf_color", {0.1f, 0.35f, 0.05f, 1.0f})
+      .description("Color of L without color parameters (linear RGB)");
   b.execute([](ExecContext& ctx) {
     const auto word = ctx.require<ModuleString>("in");
     plants::TurtleOptions o;
@@ -151,10 +173,11 @@ OROGEN_NODE(TreeMesh) {
   b.input("leaves", PortType::Points).optional().description("Leaves from Turtle3D");
   b.output("out", PortType::Mesh).description("The plant mesh, metres, z up");
   b.param_int("sides", 8).range(3, 64).description("Vertices around each branch (k)");
-  b.param_int("max_triangles", 200000).range(16, 50000000).description(
-      "Triangle budget for branches and leaves together");
-  b.param_enum("leaf_shape", {"none", "quad", "rock"}, "quad").description(
-      "Leaves as nothing, one-sided diamond quads (2 triangles) or closed convex hulls of 8 points");
+  b.param_int("max_triangles", 200000)
+      .range(16, 50000000)
+      .description("Triangle budget for branches and leaves together");
+  b.param_enum("leaf_shape", {"none", "quad", "rock"}, "quad")
+      .description("Leaves as nothing, one-sided diamond quads (2 triangles) or closed convex hulls of 8 points");
   b.param_seed("seed", 0).description("Key of the rock leaves' shapes");
   b.execute([](ExecContext& ctx) {
     const auto skeleton = ctx.require<Curves>("in");
@@ -181,25 +204,41 @@ OROGEN_NODE(PlantSprite) {
       "root: its lowest point is at z = 0, so Instance places it on the ground. 3D turtle symbols are ignored.");
   b.input("in", PortType::ModuleString).description("Word from LSystem");
   b.output("out", PortType::Mesh).description("The flat plant mesh, metres, z up, base at z = 0");
-  b.param_float("step", 0.1).range(0.0, 1000.0).soft_range(0.01, 2.0).unit("m").description(
-      "Segment length of F and f without a parameter, metres");
-  b.param_float("angle", 25.0).range(-360.0, 360.0).soft_range(0.0, 90.0).unit("deg").description(
-      "Turn of + and - without a parameter, degrees");
-  b.param_float("width", 0.05).range(0.0, 100.0).soft_range(0.0, 1.0).unit("m").description(
-      "Ribbon width of the trunk (branch level 0), metres");
-  b.param_float("taper", 0.7).range(0.0, 1.0).unit("x").description(
-      "Width factor per branch level: a branch opened by [ is taper times as wide as its parent");
-  b.param_enum("planes", {"single", "crossed"}, "crossed").description(
-      "single: the drawing in the x-z plane only; crossed: also in the y-z plane (a billboard cross)");
-  b.param_string("leaf_symbol", "L").description(
-      "The symbol drawn as a leaf (one character; empty: none), e.g. L placed at the branch tips by the rules; "
-      "its first parameter is the leaf length in metres");
-  b.param_float("leaf_size", 0.15).range(0.0, 100.0).soft_range(0.0, 1.0).unit("m").description(
-      "Leaf length without a parameter, metres; the leaf is half as wide");
+  b.param_float("step", 0.1)
+      .range(0.0, 1000.0)
+      .soft_range(0.01, 2.0)
+      .unit("m")
+      .description("Segment length of F and f without a parameter, metres");
+  b.param_float("angle", 25.0)
+      .range(-360.0, 360.0)
+      .soft_range(0.0, 90.0)
+      .unit("deg")
+      .description("Turn of + and - without a parameter, degrees");
+  b.param_float("width", 0.05)
+      .range(0.0, 100.0)
+      .soft_range(0.0, 1.0)
+      .unit("m")
+      .description("Ribbon width of the trunk (branch level 0), metres");
+  b.param_float("taper", 0.7)
+      .range(0.0, 1.0)
+      .unit("x")
+      .description("Width factor per branch level: a branch opened by [ is taper times as wide as its parent");
+  b.param_enum("planes", {"single", "crossed"}, "crossed")
+      .description("single: the drawing in the x-z plane only; crossed: also in the y-z plane (a billboard cross)");
+  b.param_string("leaf_symbol", "L")
+      .description(
+          "The symbol drawn as a leaf (one character; empty: none), e.g. L placed at the branch tips by the rules; "
+          "its first parameter is the leaf length in metres");
+  b.param_float("leaf_size", 0.15)
+      .range(0.0, 100.0)
+      .soft_range(0.0, 1.0)
+      .unit("m")
+      .description("Leaf length without a parameter, metres; the leaf is half as wide");
   b.param_color("color", {0.30f, 0.20f, 0.10f, 1.0f}).description("Stem color (linear RGB)");
   b.param_color("leaf_color", {0.10f, 0.35f, 0.05f, 1.0f}).description("Leaf color (linear RGB)");
-  b.param_int("max_triangles", 2000000).range(16, 50000000).description(
-      "Triangle budget (2 per segment or leaf per plane); a larger plant is an error");
+  b.param_int("max_triangles", 2000000)
+      .range(16, 50000000)
+      .description("Triangle budget (2 per segment or leaf per plane); a larger plant is an error");
   b.execute([](ExecContext& ctx) {
     const auto word = ctx.require<ModuleString>("in");
     plants::PlantSpriteOptions o;

@@ -47,7 +47,9 @@ Mesh plant_sprite(const ModuleString& word, const PlantSpriteOptions& o, PlantSp
   for (std::size_t k = 0; k < n; ++k) {
     if ((k & 8191) == 8191 && o.should_stop && o.should_stop()) break;
     const char sym = word.symbols[k];
-    auto p = [&](double fallback) { return word.param_count(k) > 0 ? static_cast<double>(word.params[word.offsets[k]]) : fallback; };
+    auto p = [&](double fallback) {
+      return word.param_count(k) > 0 ? static_cast<double>(word.params[word.offsets[k]]) : fallback;
+    };
     if (sym == 'F') {
       const glm::dvec2 h = direction(st.heading);
       const glm::dvec2 side(h.y, -h.x);  // to the right of the heading

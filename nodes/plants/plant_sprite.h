@@ -24,23 +24,23 @@
 namespace orogen::plants {
 
 struct PlantSpriteOptions {
-  double step = 0.1;          // metres, F and f without a parameter
-  double angle = 25.0;        // degrees, + and - without a parameter
-  double width = 0.05;        // metres, ribbon width of the trunk (branch level 0)
-  double taper = 0.7;         // width factor per branch level ([), 0..1
-  bool crossed = true;        // a second copy of the drawing in the y-z plane
-  char leaf_symbol = 'L';     // '\0': no leaves
-  double leaf_size = 0.15;    // metres, leaf length without a parameter (its width is half of it)
+  double step = 0.1;                                // metres, F and f without a parameter
+  double angle = 25.0;                              // degrees, + and - without a parameter
+  double width = 0.05;                              // metres, ribbon width of the trunk (branch level 0)
+  double taper = 0.7;                               // width factor per branch level ([), 0..1
+  bool crossed = true;                              // a second copy of the drawing in the y-z plane
+  char leaf_symbol = 'L';                           // '\0': no leaves
+  double leaf_size = 0.15;                          // metres, leaf length without a parameter (its width is half of it)
   glm::vec4 color{0.30f, 0.20f, 0.10f, 1.0f};       // linear RGBA of the stems
   glm::vec4 leaf_color{0.10f, 0.35f, 0.05f, 1.0f};  // linear RGBA of the leaves
-  std::size_t max_triangles = 2000000;             // budget; over it: std::invalid_argument
+  std::size_t max_triangles = 2000000;              // budget; over it: std::invalid_argument
   std::function<bool()> should_stop;
 };
 
 struct PlantSpriteStats {
   std::size_t segments = 0;  // drawn F
   std::size_t leaves = 0;
-  double height = 0.0;       // metres, top of the mesh above its lowest point
+  double height = 0.0;  // metres, top of the mesh above its lowest point
 };
 
 // Each segment and each leaf is one quad (4 vertices, 2 triangles) per plane, with the plane's normal

@@ -53,7 +53,9 @@ Branch prepare(const Curve& c) {
   return b;
 }
 
-std::size_t tube_triangles(std::size_t points, int k) { return points >= 2 ? 2 * static_cast<std::size_t>(k) * points : 0; }
+std::size_t tube_triangles(std::size_t points, int k) {
+  return points >= 2 ? 2 * static_cast<std::size_t>(k) * points : 0;
+}
 
 // Returns the ring normal at the last point (children continue from it, so their rings line up).
 V3 add_tube(TriMesh& m, const Branch& b, int k, const V3* start_normal) {
@@ -93,7 +95,9 @@ V3 add_tube(TriMesh& m, const Branch& b, int k, const V3* start_normal) {
       ring[i * static_cast<std::size_t>(k) + static_cast<std::size_t>(j)] = vh;
     }
   }
-  auto at = [&](std::size_t i, int j) { return ring[i * static_cast<std::size_t>(k) + static_cast<std::size_t>((j + k) % k)]; };
+  auto at = [&](std::size_t i, int j) {
+    return ring[i * static_cast<std::size_t>(k) + static_cast<std::size_t>((j + k) % k)];
+  };
   for (std::size_t i = 0; i + 1 < n; ++i)
     for (int j = 0; j < k; ++j) {
       m.add_face(at(i, j), at(i, j + 1), at(i + 1, j + 1));
@@ -126,7 +130,8 @@ void add_leaf_quad(TriMesh& m, const V3& p, const glm::dquat& q, double s, const
     m.set_normal(v[i], to_om(u));
     m.set_color(v[i], col);
     if (m.has_vertex_texcoords2D())
-      m.set_texcoord2D(v[i], {static_cast<float>(glm::dot(c[i] - p, l) / s + 0.5), static_cast<float>(glm::dot(c[i] - p, h) / s)});
+      m.set_texcoord2D(
+          v[i], {static_cast<float>(glm::dot(c[i] - p, l) / s + 0.5), static_cast<float>(glm::dot(c[i] - p, h) / s)});
   }
   // Counter-clockwise seen from the leaf's up axis: the winding whose normal agrees with u.
   const V3 nrm = glm::cross(c[1] - c[0], c[2] - c[0]);
@@ -157,7 +162,8 @@ Mesh tree_mesh(const Curves& skeleton, const Points* leaves, const TreeMeshOptio
       const double tol = 1e-6 * std::max(1.0, glm::length(pb.p.back()));
       if (glm::length(branches[c].p.front() - pb.p.back()) > tol) continue;
       int& w = widest[static_cast<std::size_t>(parent)];
-      if (w < 0 || branches[c].radius.front() > branches[static_cast<std::size_t>(w)].radius.front()) w = static_cast<int>(c);
+      if (w < 0 || branches[c].radius.front() > branches[static_cast<std::size_t>(w)].radius.front())
+        w = static_cast<int>(c);
     }
     for (std::size_t p = 0; p < nc; ++p)
       if (widest[p] >= 0) {
@@ -194,8 +200,10 @@ Mesh tree_mesh(const Curves& skeleton, const Points* leaves, const TreeMeshOptio
     }
     for (std::size_t l = 0; l < nl; ++l) {
       const int b = branch_of ? static_cast<int>((*branch_of)[l]) : -1;
-      if (b >= 0 && static_cast<std::size_t>(b) < nc) leaves_on[static_cast<std::size_t>(b)].push_back(l);
-      else free_leaves.push_back(l);
+      if (b >= 0 && static_cast<std::size_t>(b) < nc)
+        leaves_on[static_cast<std::size_t>(b)].push_back(l);
+      else
+        free_leaves.push_back(l);
     }
     auto width_of = [&](std::size_t c) {
       double w = 0.0;
@@ -241,7 +249,8 @@ Mesh tree_mesh(const Curves& skeleton, const Points* leaves, const TreeMeshOptio
     if (!keep_curve[c] || branches[c].p.size() < 2) continue;
     const int parent = skeleton.curves[c].parent;
     // Parents come before their children (the turtle numbers branches as it starts them).
-    const bool from_parent = parent >= 0 && static_cast<std::size_t>(parent) < c && end_normal[static_cast<std::size_t>(parent)] != V3(0.0);
+    const bool from_parent =
+        parent >= 0 && static_cast<std::size_t>(parent) < c && end_normal[static_cast<std::size_t>(parent)] != V3(0.0);
     end_normal[c] = add_tube(m, branches[c], k, from_parent ? &end_normal[static_cast<std::size_t>(parent)] : nullptr);
   }
   st.branch_triangles = m.n_faces();

@@ -59,8 +59,8 @@ TurtleResult interpret(const ModuleString& word, const TurtleOptions& o) {
     TurtleFrame frame;
     double width;
     glm::dvec3 color;
-    int curve;    // the branch being drawn (-1: none yet)
-    bool fresh;   // the next F starts a new branch (child of `curve`)
+    int curve;   // the branch being drawn (-1: none yet)
+    bool fresh;  // the next F starts a new branch (child of `curve`)
     int depth;
   };
   TurtleResult result;
@@ -86,7 +86,9 @@ TurtleResult interpret(const ModuleString& word, const TurtleOptions& o) {
     if ((k & 8191) == 8191 && o.should_stop && o.should_stop()) break;
     const char sym = word.symbols[k];
     const std::size_t np = word.param_count(k);
-    auto p = [&](std::size_t i, double fallback) { return i < np ? static_cast<double>(word.params[word.offsets[k] + i]) : fallback; };
+    auto p = [&](std::size_t i, double fallback) {
+      return i < np ? static_cast<double>(word.params[word.offsets[k] + i]) : fallback;
+    };
     switch (sym) {
       case 'F': {
         if (st.fresh) {
@@ -119,13 +121,27 @@ TurtleResult interpret(const ModuleString& word, const TurtleOptions& o) {
         st.fresh = true;
         st.curve = -1;  // a jump: the next branch is a new root
         break;
-      case '+': rotate(st.frame, 0, p(0, o.angle)); break;
-      case '-': rotate(st.frame, 0, -p(0, o.angle)); break;
-      case '|': rotate(st.frame, 0, 180.0); break;
-      case '&': rotate(st.frame, 1, p(0, o.angle)); break;
-      case '^': rotate(st.frame, 1, -p(0, o.angle)); break;
-      case '\\': rotate(st.frame, 2, p(0, o.angle)); break;
-      case '/': rotate(st.frame, 2, -p(0, o.angle)); break;
+      case '+':
+        rotate(st.frame, 0, p(0, o.angle));
+        break;
+      case '-':
+        rotate(st.frame, 0, -p(0, o.angle));
+        break;
+      case '|':
+        rotate(st.frame, 0, 180.0);
+        break;
+      case '&':
+        rotate(st.frame, 1, p(0, o.angle));
+        break;
+      case '^':
+        rotate(st.frame, 1, -p(0, o.angle));
+        break;
+      case '\\':
+        rotate(st.frame, 2, p(0, o.angle));
+        break;
+      case '/':
+        rotate(st.frame, 2, -p(0, o.angle));
+        break;
       case '$': {
         const glm::dvec3 v(0.0, 0.0, 1.0);
         const glm::dvec3 l = glm::cross(v, st.frame.heading);
@@ -147,19 +163,29 @@ TurtleResult interpret(const ModuleString& word, const TurtleOptions& o) {
         }
         break;
       case '#':
-        if (np >= 3) st.color = {byte_to_linear(p(0, 0)), byte_to_linear(p(1, 0)), byte_to_linear(p(2, 0))};
-        else if (np >= 1) st.color = glm::dvec3(byte_to_linear(p(0, 0)));
+        if (np >= 3)
+          st.color = {byte_to_linear(p(0, 0)), byte_to_linear(p(1, 0)), byte_to_linear(p(2, 0))};
+        else if (np >= 1)
+          st.color = glm::dvec3(byte_to_linear(p(0, 0)));
         break;
-      case '<': st.width *= p(0, inv_factor); break;
-      case '>': st.width *= p(0, o.width_factor); break;
-      case '!': st.width = np >= 1 ? p(0, st.width) : st.width * o.width_factor; break;
+      case '<':
+        st.width *= p(0, inv_factor);
+        break;
+      case '>':
+        st.width *= p(0, o.width_factor);
+        break;
+      case '!':
+        st.width = np >= 1 ? p(0, st.width) : st.width * o.width_factor;
+        break;
       case 'L': {
         const double size = p(0, o.leaf_size);
-        const glm::dvec3 color = np >= 4 ? glm::dvec3(byte_to_linear(p(1, 0)), byte_to_linear(p(2, 0)), byte_to_linear(p(3, 0)))
-                                         : o.leaf_color;
+        const glm::dvec3 color =
+            np >= 4 ? glm::dvec3(byte_to_linear(p(1, 0)), byte_to_linear(p(2, 0)), byte_to_linear(p(3, 0)))
+                    : o.leaf_color;
         auto& L = result.leaves;
         L.add(glm::vec3(st.frame.position));
-        L.rotation.back() = glm::quat_cast(glm::mat3(glm::vec3(st.frame.heading), glm::vec3(st.frame.left), glm::vec3(st.frame.up)));
+        L.rotation.back() =
+            glm::quat_cast(glm::mat3(glm::vec3(st.frame.heading), glm::vec3(st.frame.left), glm::vec3(st.frame.up)));
         L.scale.back() = glm::vec3(static_cast<float>(size));
         L.attribute("r").back() = static_cast<float>(color.r);
         L.attribute("g").back() = static_cast<float>(color.g);
@@ -167,7 +193,8 @@ TurtleResult interpret(const ModuleString& word, const TurtleOptions& o) {
         L.attribute("branch", -1.0f).back() = static_cast<float>(st.curve);
         break;
       }
-      default: break;
+      default:
+        break;
     }
   }
   for (std::size_t c = 0; c < extra.size(); ++c) {

@@ -9,7 +9,8 @@
 //   \(a)  roll left about the heading       /(a)  roll right          $     roll until left is horizontal
 //   [ ]   push / pop the turtle state       #(r,g,b) set the color (0..255 sRGB)
 //   <(k)  thicken: width * k (default 1/width_factor)   >(k)  narrow: width * k (default width_factor)
-//   !(w)  set the width to w metres (no parameter: like >)        L(s,r,g,b) a leaf of size s metres (color optional, 0..255)
+//   !(w)  set the width to w metres (no parameter: like >)        L(s,r,g,b) a leaf of size s metres (color optional,
+//   0..255)
 // Other symbols are ignored. The frame (heading H, left L, up U = H x L) starts with H = +z, L = -x,
 // U = -y, so a word drawn in the turtle's plane faces a viewer looking along +y. It is re-orthonormalised
 // after every rotation (Gram-Schmidt), so it stays orthonormal over any number of turns. Tropism (ABOP
@@ -26,14 +27,14 @@
 namespace orogen::plants {
 
 struct TurtleOptions {
-  double step = 1.0;               // metres, F and f without a parameter
-  double angle = 25.0;             // degrees, rotations without a parameter
-  double width = 0.1;              // metres, initial branch width (diameter)
-  double width_factor = 0.7;       // > multiplies, < divides the width by this without a parameter
-  glm::dvec3 tropism{0.0, 0.0, -1.0};  // direction T (gravity: down)
-  double tropism_strength = 0.0;   // e, radians of bending per unit |H x T| per F
-  glm::dvec3 color{0.35, 0.22, 0.12};  // linear RGB initial color
-  double leaf_size = 0.2;          // metres, L without a parameter
+  double step = 1.0;                       // metres, F and f without a parameter
+  double angle = 25.0;                     // degrees, rotations without a parameter
+  double width = 0.1;                      // metres, initial branch width (diameter)
+  double width_factor = 0.7;               // > multiplies, < divides the width by this without a parameter
+  glm::dvec3 tropism{0.0, 0.0, -1.0};      // direction T (gravity: down)
+  double tropism_strength = 0.0;           // e, radians of bending per unit |H x T| per F
+  glm::dvec3 color{0.35, 0.22, 0.12};      // linear RGB initial color
+  double leaf_size = 0.2;                  // metres, L without a parameter
   glm::dvec3 leaf_color{0.1, 0.35, 0.05};  // linear RGB, L without color parameters
   std::function<bool()> should_stop;
 };

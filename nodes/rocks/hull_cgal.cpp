@@ -23,7 +23,8 @@ Hull convex_hull_cgal(const std::vector<glm::dvec3>& points) {
   SM sm;
   CGAL::convex_hull_3(pts.begin(), pts.end(), sm);
   Hull h;
-  if (sm.number_of_faces() < 4 || !CGAL::is_closed(sm)) throw std::invalid_argument("the points span less than three dimensions");
+  if (sm.number_of_faces() < 4 || !CGAL::is_closed(sm))
+    throw std::invalid_argument("the points span less than three dimensions");
   std::vector<int> index(sm.number_of_vertices(), -1);
   for (auto v : sm.vertices()) {
     const P& p = sm.point(v);
@@ -47,7 +48,8 @@ Hull convex_hull_cgal(const std::vector<glm::dvec3>& points) {
   double volume = 0.0;
   for (const auto& t : h.faces)
     volume += glm::dot(h.vertices[t[0]] - lo, glm::cross(h.vertices[t[1]] - lo, h.vertices[t[2]] - lo));
-  if (!(volume > 1e-12 * extent * extent * extent)) throw std::invalid_argument("the points span less than three dimensions");
+  if (!(volume > 1e-12 * extent * extent * extent))
+    throw std::invalid_argument("the points span less than three dimensions");
   return h;
 }
 

@@ -37,7 +37,8 @@ double value_noise(const glm::dvec3& p, std::uint64_t seed) {
   const glm::dvec3 f = glm::floor(p);
   const glm::dvec3 t = p - f;
   const glm::dvec3 s = t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
-  const auto ix = static_cast<std::int64_t>(f.x), iy = static_cast<std::int64_t>(f.y), iz = static_cast<std::int64_t>(f.z);
+  const auto ix = static_cast<std::int64_t>(f.x), iy = static_cast<std::int64_t>(f.y),
+             iz = static_cast<std::int64_t>(f.z);
   double c[2][2][2];
   for (int dz = 0; dz < 2; ++dz)
     for (int dy = 0; dy < 2; ++dy)
@@ -75,7 +76,8 @@ std::vector<glm::dvec3> vertex_normals(const Hull& h) {
   std::vector<glm::dvec3> n(h.vertices.size(), glm::dvec3(0.0));
   for (const auto& f : h.faces) {
     const auto& a = h.vertices[static_cast<std::size_t>(f[0])];
-    const glm::dvec3 fn = glm::cross(h.vertices[static_cast<std::size_t>(f[1])] - a, h.vertices[static_cast<std::size_t>(f[2])] - a);
+    const glm::dvec3 fn =
+        glm::cross(h.vertices[static_cast<std::size_t>(f[1])] - a, h.vertices[static_cast<std::size_t>(f[2])] - a);
     for (int v : f) n[static_cast<std::size_t>(v)] += fn;  // area-weighted
   }
   for (auto& v : n) {
@@ -146,7 +148,8 @@ void append_hull(TriMesh& m, const Hull& h, const glm::dvec3& offset, const glm:
     }
   }
   for (const auto& f : h.faces)
-    m.add_face(vh[static_cast<std::size_t>(f[0])], vh[static_cast<std::size_t>(f[1])], vh[static_cast<std::size_t>(f[2])]);
+    m.add_face(vh[static_cast<std::size_t>(f[0])], vh[static_cast<std::size_t>(f[1])],
+               vh[static_cast<std::size_t>(f[2])]);
 }
 
 void append_hull_rock(TriMesh& m, const HullRockOptions& o, const glm::dvec3& offset, const glm::dquat& rotation,

@@ -15,14 +15,14 @@
 namespace orogen::rocks {
 
 struct HullRockOptions {
-  int points = 20;                     // N, 4..10000
-  glm::dvec3 radii{1.0, 0.7, 0.5};     // ellipsoid semi-axes a, b, c (m)
-  double sigma = 0.05;                 // Gaussian noise per coordinate (m)
+  int points = 20;                  // N, 4..10000
+  glm::dvec3 radii{1.0, 0.7, 0.5};  // ellipsoid semi-axes a, b, c (m)
+  double sigma = 0.05;              // Gaussian noise per coordinate (m)
   std::uint64_t seed = 0;
-  std::uint64_t variant = 0;           // a second key (rock index in a set)
-  int subdivisions = 0;                // refinement: each level splits every triangle in four
-  double displacement = 0.0;           // amplitude of the noise displacement along the normal (m)
-  double wavelength = 0.5;             // of the displacement noise (m)
+  std::uint64_t variant = 0;  // a second key (rock index in a set)
+  int subdivisions = 0;       // refinement: each level splits every triangle in four
+  double displacement = 0.0;  // amplitude of the noise displacement along the normal (m)
+  double wavelength = 0.5;    // of the displacement noise (m)
 };
 
 // A closed triangle mesh as indexed faces, counter-clockwise seen from outside.

@@ -20,16 +20,28 @@ const char* kRockSource =
 
 void declare_rock_params(NodeBuilder& b) {
   b.param_int("points", 20).range(4, 10000).soft_range(8, 200).description("Points sampled on the ellipsoid (N)");
-  b.param_vec3("radii", {1.0, 0.7, 0.5}).range(0.001, 1000.0).unit("m").description(
-      "Ellipsoid semi-axes a, b, c along x, y, z");
-  b.param_float("sigma", 0.05).range(0.0, 1000.0).soft_range(0.0, 0.5).unit("m").description(
-      "Standard deviation of the Gaussian noise added to each point per axis");
-  b.param_int("subdivisions", 0).range(0, 5).description(
-      "Refinement levels: each splits every triangle in four (x4 faces) before the displacement");
-  b.param_float("displacement", 0.0).range(0.0, 1000.0).soft_range(0.0, 0.3).unit("m").description(
-      "Amplitude of the 3D value-noise displacement along the normals (0: the faceted hull)");
-  b.param_float("wavelength", 0.5).range(0.001, 1000.0).soft_range(0.05, 5.0).unit("m").description(
-      "Feature size of the displacement noise");
+  b.param_vec3("radii", {1.0, 0.7, 0.5})
+      .range(0.001, 1000.0)
+      .unit("m")
+      .description("Ellipsoid semi-axes a, b, c along x, y, z");
+  b.param_float("sigma", 0.05)
+      .range(0.0, 1000.0)
+      .soft_range(0.0, 0.5)
+      .unit("m")
+      .description("Standard deviation of the Gaussian noise added to each point per axis");
+  b.param_int("subdivisions", 0)
+      .range(0, 5)
+      .description("Refinement levels: each splits every triangle in four (x4 faces) before the displacement");
+  b.param_float("displacement", 0.0)
+      .range(0.0, 1000.0)
+      .soft_range(0.0, 0.3)
+      .unit("m")
+      .description("Amplitude of the 3D value-noise displacement along the normals (0: the faceted hull)");
+  b.param_float("wavelength", 0.5)
+      .range(0.001, 1000.0)
+      .soft_range(0.05, 5.0)
+      .unit("m")
+      .description("Feature size of the displacement noise");
   b.param_color("color", {0.35f, 0.33f, 0.3f, 1.0f}).description("Vertex color (linear RGB)");
   b.param_seed("seed", 0).description("Key of the random points (and of each variant's radii)");
 }
@@ -83,13 +95,18 @@ OROGEN_NODE(RockSet) {
                                   "in a row along x; the placements output marks each variant's centre with "
                                   "class_id = its index.");
   b.output("out", PortType::Mesh).description("All variants in one mesh, side by side along x (m)");
-  b.output("placements", PortType::Points).description(
-      "Centre of each variant, class_id = variant index, scale = its radii (m)");
+  b.output("placements", PortType::Points)
+      .description("Centre of each variant, class_id = variant index, scale = its radii (m)");
   b.param_int("count", 8).range(1, 1000).soft_range(1, 32).description("Number of variants (K)");
-  b.param_float("variation", 0.3).range(0.0, 0.95).unit("x").description(
-      "Each variant's radii are multiplied by independent factors in 1 +- variation");
-  b.param_float("spacing", 0.5).range(0.0, 1e4).soft_range(0.0, 5.0).unit("m").description(
-      "Gap between neighbouring variants in the row");
+  b.param_float("variation", 0.3)
+      .range(0.0, 0.95)
+      .unit("x")
+      .description("Each variant's radii are multiplied by independent factors in 1 +- variation");
+  b.param_float("spacing", 0.5)
+      .range(0.0, 1e4)
+      .soft_range(0.0, 5.0)
+      .unit("m")
+      .description("Gap between neighbouring variants in the row");
   declare_rock_params(b);
   b.execute([](ExecContext& ctx) {
     rocks::RockSetParams p;

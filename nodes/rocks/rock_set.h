@@ -9,10 +9,10 @@
 namespace orogen::rocks {
 
 struct RockSetParams {
-  HullRockOptions rock;          // the shared options; each variant gets variant = its index
-  int count = 8;                 // number of variants, 1..1000
-  double variation = 0.3;        // unitless 0..0.95: each radius is multiplied by a factor in 1 +- variation
-  double spacing = 0.5;          // m: gap between neighboring variants' bounding half-widths
+  HullRockOptions rock;    // the shared options; each variant gets variant = its index
+  int count = 8;           // number of variants, 1..1000
+  double variation = 0.3;  // unitless 0..0.95: each radius is multiplied by a factor in 1 +- variation
+  double spacing = 0.5;    // m: gap between neighboring variants' bounding half-widths
   TriMesh::Color color{0.35f, 0.33f, 0.3f, 1.0f};  // vertex color, linear RGBA
 };
 

@@ -91,7 +91,8 @@ Hull incremental(const std::vector<glm::dvec3>& p) {
     const glm::dvec3& q = p[static_cast<std::size_t>(i)];
     visible.clear();
     for (int f = 0; f < static_cast<int>(faces.size()); ++f)
-      if (glm::dot(faces[static_cast<std::size_t>(f)].n, q) - faces[static_cast<std::size_t>(f)].d > eps) visible.push_back(f);
+      if (glm::dot(faces[static_cast<std::size_t>(f)].n, q) - faces[static_cast<std::size_t>(f)].d > eps)
+        visible.push_back(f);
     if (visible.empty()) continue;
     edges.clear();
     for (int f : visible)
@@ -136,10 +137,12 @@ Hull incremental(const std::vector<glm::dvec3>& p) {
     u = 1;
   }
   for (const auto& [a, b] : edges)
-    if (!used[static_cast<std::size_t>(b) * static_cast<std::size_t>(n) + static_cast<std::size_t>(a)]) throw Inconsistent{};
+    if (!used[static_cast<std::size_t>(b) * static_cast<std::size_t>(n) + static_cast<std::size_t>(a)])
+      throw Inconsistent{};
   h.faces.reserve(faces.size());
   for (const Face& f : faces)
-    h.faces.push_back({index[static_cast<std::size_t>(f.v[0])], index[static_cast<std::size_t>(f.v[1])], index[static_cast<std::size_t>(f.v[2])]});
+    h.faces.push_back({index[static_cast<std::size_t>(f.v[0])], index[static_cast<std::size_t>(f.v[1])],
+                       index[static_cast<std::size_t>(f.v[2])]});
   return h;
 }
 

@@ -148,8 +148,7 @@ Heightfield shade_map(const Domain& d, const Canopy& canopy, const Heightfield* 
 }
 
 ShadePlacementResult shade_placement(const Points& candidates, const Points& casters, const Domain& d,
-                                     const Heightfield* height, const ShadePlacementParams& p,
-                                     const ExecContext* ctx) {
+                                     const Heightfield* height, const ShadePlacementParams& p, const ExecContext* ctx) {
   const bool night = !(p.canopy.sun.z > 1e-6);
   CanopyParams cp = p.canopy;
   if (night) cp.sun = glm::dvec3(0.0, 0.0, 1.0);
@@ -226,7 +225,8 @@ struct TreeGrid {
 
 Points forest_life_cycle(const Points& initial, const LifeCycleParams& p, const ExecContext* ctx) {
   if (p.years < 0) throw std::invalid_argument("ForestLifeCycle: years must be >= 0");
-  if (!(p.min_scale > 0.0 && p.max_scale >= p.min_scale)) throw std::invalid_argument("ForestLifeCycle: need 0 < min_scale <= max_scale");
+  if (!(p.min_scale > 0.0 && p.max_scale >= p.min_scale))
+    throw std::invalid_argument("ForestLifeCycle: need 0 < min_scale <= max_scale");
   if (!(p.max_age > 0.0)) throw std::invalid_argument("ForestLifeCycle: max_age must be > 0");
   const auto age_attr = initial.attributes.find("age");
   std::vector<Tree> trees;

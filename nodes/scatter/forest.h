@@ -19,8 +19,8 @@ class ExecContext;
 glm::dvec3 sun_direction(double azimuth_deg, double elevation_deg);
 
 struct CanopyParams {
-  double crown_radius = 3.0;   // m, at scale 1 (times the point's scale x)
-  double crown_height = 8.0;   // m, height of the crown's centre above the point, at scale 1 (times scale z)
+  double crown_radius = 3.0;  // m, at scale 1 (times the point's scale x)
+  double crown_height = 8.0;  // m, height of the crown's centre above the point, at scale 1 (times scale z)
   glm::dvec3 sun{0.0, -0.7071067811865476, 0.7071067811865476};  // toward the sun, unit
 };
 
@@ -46,7 +46,8 @@ class Canopy {
 };
 
 // Shadow map of a canopy over a domain (1 shaded, 0 lit), on the terrain `height` (or z = 0).
-Heightfield shade_map(const Domain& d, const Canopy& canopy, const Heightfield* height, const ExecContext* ctx = nullptr);
+Heightfield shade_map(const Domain& d, const Canopy& canopy, const Heightfield* height,
+                      const ExecContext* ctx = nullptr);
 
 enum class ShadePreference { Shade, Sun, Any };
 
@@ -69,14 +70,14 @@ ShadePlacementResult shade_placement(const Points& candidates, const Points& cas
 
 struct LifeCycleParams {
   int years = 50;
-  double max_age = 80.0;         // years: trees older die
-  double maturity_age = 20.0;    // years to grow from min_scale to max_scale (linear)
+  double max_age = 80.0;       // years: trees older die
+  double maturity_age = 20.0;  // years to grow from min_scale to max_scale (linear)
   double min_scale = 0.2, max_scale = 1.0;
-  double seed_distance = 12.0;   // m: seeds land uniformly within this distance of the parent
-  double seed_probability = 0.1; // per mature tree and year (a dying tree always drops 1 or 2)
-  double competition = 6.0;      // m at scale 1: trees keep competition * (s_i + s_j) / 2 apart; the smaller dies
+  double seed_distance = 12.0;    // m: seeds land uniformly within this distance of the parent
+  double seed_probability = 0.1;  // per mature tree and year (a dying tree always drops 1 or 2)
+  double competition = 6.0;       // m at scale 1: trees keep competition * (s_i + s_j) / 2 apart; the smaller dies
   const Heightfield* suitability = nullptr;  // germination only where >= 0.5 (optional)
-  glm::dvec2 lo{0, 0}, hi{0, 0};  // seeds outside the rectangle are lost
+  glm::dvec2 lo{0, 0}, hi{0, 0};             // seeds outside the rectangle are lost
   std::uint64_t seed = 0;
 };
 

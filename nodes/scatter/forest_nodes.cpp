@@ -16,7 +16,8 @@ namespace orogen {
 OROGEN_NODE(ShadePlacement) {
   b.reach_global();  // a shadow cast from points anywhere in the domain
   b.category("scatter").description(
-      "Context-sensitive placement by light, after Potter (2017), \"Generating a virtual forest environment using procedural content generation\" (shadow-map placement): "
+      "Context-sensitive placement by light, after Potter (2017), \"Generating a virtual forest environment using "
+      "procedural content generation\" (shadow-map placement): "
       "the crowns of the caster points (spheres of crown_radius * scale at crown_height * scale above them) cast "
       "shadows along the sun direction; a candidate point is shaded if the ray from it toward the sun meets a "
       "crown (exact ray-sphere tests, no raster). preference shade keeps the shaded candidates (undergrowth "
@@ -30,25 +31,43 @@ OROGEN_NODE(ShadePlacement) {
   b.input("casters", PortType::Points).description("Points whose crowns cast shade (e.g. trees)");
   b.input("height", PortType::Heightfield).optional().description("Terrain heights (m) for the shadow map; else z = 0");
   b.output("out", PortType::Points).description("The kept candidates, attribute shade");
-  b.output("shade", PortType::Heightfield).description("Shadow map, 1 shaded / 0 lit (unitless)").kind(OutputKind::Mask);
-  b.param_enum("preference", {"shade", "sun", "any"}, "shade").description(
-      "shade: keep shaded candidates; sun: keep lit ones; any: keep all (annotate only)");
-  b.param_enum("sun", {"angles", "time"}, "angles").description(
-      "angles: the sun at sun_azimuth and sun_elevation; time: the sun's position at latitude, day_of_year and hour");
-  b.param_float("sun_azimuth", 180.0).range(0.0, 360.0).unit("deg").description(
-      "Direction of the sun, degrees clockwise from north (180: the sun in the south), 0..360");
-  b.param_float("sun_elevation", 45.0).range(1.0, 90.0).unit("deg").description(
-      "Height of the sun above the horizon, degrees in [1, 90]");
-  b.param_float("latitude", 45.0).range(-90.0, 90.0).unit("deg").description(
-      "sun = time: latitude, degrees in [-90, 90], north positive");
-  b.param_int("day_of_year", 172).range(1, 366).description(
-      "sun = time: day of the year, 1 (January 1st) .. 366; 172 is June 21st");
-  b.param_float("hour", 15.0).range(0.0, 24.0).unit("h").description(
-      "sun = time: local solar time, decimal hours in [0, 24] (h + min/60 + s/3600; 12 = solar noon)");
-  b.param_float("crown_radius", 3.0).range(0.01, 1000.0).unit("m").description(
-      "Radius of a caster's crown at scale 1, metres in [0.01, 1000] (times the point's x scale)");
-  b.param_float("crown_height", 8.0).range(0.0, 1000.0).unit("m").description(
-      "Height of the crown's centre above the caster point at scale 1, metres in [0, 1000] (times its z scale)");
+  b.output("shade", PortType::Heightfield)
+      .description("Shadow map, 1 shaded / 0 lit (unitless)")
+      .kind(OutputKind::Mask);
+  b.param_enum("preference", {"shade", "sun", "any"}, "shade")
+      .description("shade: keep shaded candidates; sun: keep lit ones; any: keep all (annotate only)");
+  b.param_enum("sun", {"angles", "time"}, "angles")
+      .description(
+          "angles: the sun at sun_azimuth and sun_elevation; time: the sun's position at latitude, day_of_year and "
+          "hour");
+  b.param_float("sun_azimuth", 180.0)
+      .range(0.0, 360.0)
+      .unit("deg")
+      .description("Direction of the sun, degrees clockwise from north (180: the sun in the south), 0..360");
+  b.param_float("sun_elevation", 45.0)
+      .range(1.0, 90.0)
+      .unit("deg")
+      .description("Height of the sun above the horizon, degrees in [1, 90]");
+  b.param_float("latitude", 45.0)
+      .range(-90.0, 90.0)
+      .unit("deg")
+      .description("sun = time: latitude, degrees in [-90, 90], north positive");
+  b.param_int("day_of_year", 172)
+      .range(1, 366)
+      .description("sun = time: day of the year, 1 (January 1st) .. 366; 172 is June 21st");
+  b.param_float("hour", 15.0)
+      .range(0.0, 24.0)
+      .unit("h")
+      .description("sun = time: local solar time, decimal hours in [0, 24] (h + min/60 + s/3600; 12 = solar noon)");
+  b.param_float("crown_radius", 3.0)
+      .range(0.01, 1000.0)
+      .unit("m")
+      .description("Radius of a caster's crown at scale 1, metres in [0.01, 1000] (times the point's x scale)");
+  b.param_float("crown_height", 8.0)
+      .range(0.0, 1000.0)
+      .unit("m")
+      .description(
+          "Height of the crown's centre above the caster point at scale 1, metres in [0, 1000] (times its z scale)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Points>("in");
     const auto casters = ctx.require<Points>("casters");
@@ -75,30 +94,43 @@ OROGEN_NODE(ShadePlacement) {
 OROGEN_NODE(ForestLifeCycle) {
   b.reach_global();  // a simulation
   b.category("scatter").description(
-      "Forest life cycle after Potter (2017), \"Generating a virtual forest environment using procedural content generation\" (stepped ageing): each year every tree ages, "
+      "Forest life cycle after Potter (2017), \"Generating a virtual forest environment using procedural content "
+      "generation\" (stepped ageing): each year every tree ages, "
       "its scale grows linearly from min_scale to max_scale over maturity_age, trees older than max_age die and "
       "drop one or two seeds within seed_distance, mature trees drop a seed with seed_probability; trees closer "
       "than competition * (s_i + s_j) / 2 compete and the smaller dies (self-thinning); seeds germinate inside "
       "the domain where suitability >= 0.5 and there is room. Deterministic per seed (fixed order, hashed "
       "draws). Output: the survivors with attribute age (years) and their scale.");
   b.input("in", PortType::Points).description("Initial trees (attribute age in years if present, else hashed)");
-  b.input("suitability", PortType::Heightfield).optional().description(
-      "Where seeds may germinate: >= 0.5 (unitless), e.g. a ScatterRules-like mask; everywhere if unconnected");
+  b.input("suitability", PortType::Heightfield)
+      .optional()
+      .description(
+          "Where seeds may germinate: >= 0.5 (unitless), e.g. a ScatterRules-like mask; everywhere if unconnected");
   b.input("height", PortType::Heightfield).optional().description("Terrain heights (m): sets z of the survivors");
   b.output("out", PortType::Points).description("Surviving trees: class id of their lineage, scale, attribute age");
   b.param_int("years", 50).range(0, 1000).unit("years").description("Years simulated, 0..1000");
   b.param_float("max_age", 80.0).range(1.0, 5000.0).unit("years").description("Age at which a tree dies, years");
-  b.param_float("maturity_age", 20.0).range(0.0, 5000.0).unit("years").description(
-      "Years to grow from min_scale to max_scale; from then on a tree drops seeds");
+  b.param_float("maturity_age", 20.0)
+      .range(0.0, 5000.0)
+      .unit("years")
+      .description("Years to grow from min_scale to max_scale; from then on a tree drops seeds");
   b.param_float("min_scale", 0.2).range(0.01, 100.0).unit("").description("Scale of a seedling, 0.01..100");
-  b.param_float("max_scale", 1.0).range(0.01, 100.0).unit("").description(
-      "Scale of a mature tree, 0.01..100 (at least min_scale)");
-  b.param_float("seed_distance", 12.0).range(0.0, 1e4).unit("m").description(
-      "Seeds land uniformly within this distance of their parent, metres");
-  b.param_float("seed_probability", 0.1).range(0.0, 1.0).unit("1/year").description(
-      "Probability per year that a mature tree drops a seed, 0..1");
-  b.param_float("competition", 6.0).range(0.0, 1e4).unit("m").description(
-      "Spacing two trees of scale 1 need, metres; two trees keep competition * (s_i + s_j) / 2 apart");
+  b.param_float("max_scale", 1.0)
+      .range(0.01, 100.0)
+      .unit("")
+      .description("Scale of a mature tree, 0.01..100 (at least min_scale)");
+  b.param_float("seed_distance", 12.0)
+      .range(0.0, 1e4)
+      .unit("m")
+      .description("Seeds land uniformly within this distance of their parent, metres");
+  b.param_float("seed_probability", 0.1)
+      .range(0.0, 1.0)
+      .unit("1/year")
+      .description("Probability per year that a mature tree drops a seed, 0..1");
+  b.param_float("competition", 6.0)
+      .range(0.0, 1e4)
+      .unit("m")
+      .description("Spacing two trees of scale 1 need, metres; two trees keep competition * (s_i + s_j) / 2 apart");
   b.param_seed("seed", 0).description("Draws hash (seed, tree id, year)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Points>("in");

@@ -10,8 +10,9 @@ namespace orogen {
 std::shared_ptr<Mesh> proxy_mesh() {
   auto out = std::make_shared<Mesh>();
   TriMesh& t = out->mesh;
-  const TriMesh::VertexHandle v[6] = {t.add_vertex({0, 0, 0}),    t.add_vertex({0, 0, 1}),   t.add_vertex({0.5f, 0, 0.5f}),
-                                      t.add_vertex({0, 0.5f, 0.5f}), t.add_vertex({-0.5f, 0, 0.5f}), t.add_vertex({0, -0.5f, 0.5f})};
+  const TriMesh::VertexHandle v[6] = {t.add_vertex({0, 0, 0}),        t.add_vertex({0, 0, 1}),
+                                      t.add_vertex({0.5f, 0, 0.5f}),  t.add_vertex({0, 0.5f, 0.5f}),
+                                      t.add_vertex({-0.5f, 0, 0.5f}), t.add_vertex({0, -0.5f, 0.5f})};
   const int ring[4] = {2, 3, 4, 5};
   for (int k = 0; k < 4; ++k) {
     const auto a = v[ring[k]], b = v[ring[(k + 1) % 4]];

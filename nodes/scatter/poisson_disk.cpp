@@ -35,8 +35,8 @@ PoissonPlan make_plan(const PoissonParams& p) {
                    [&](int a, int b) { return p.classes[a].radius > p.classes[b].radius; });
   s.rank.assign(K, 0);
   for (std::size_t o = 0; o < K; ++o) s.rank[s.order[o]] = static_cast<int>(o);
-  const bool varies = p.density || p.mask ||
-                      std::any_of(p.classes.begin(), p.classes.end(), [](const auto& c) { return c.density; });
+  const bool varies =
+      p.density || p.mask || std::any_of(p.classes.begin(), p.classes.end(), [](const auto& c) { return c.density; });
   s.rmax.clear();
   s.cell.clear();
   for (std::size_t k = 0; k < K; ++k) {
@@ -113,8 +113,8 @@ Points poisson_disk(glm::dvec2 lo, glm::dvec2 hi, const PoissonParams& p, const 
     throw std::runtime_error("PoissonDisk: the request would place about " + std::to_string(estimate) +
                              " points (limit " + std::to_string(p.max_points) + "); raise the radius");
 
-  s.grids = s.uniform ? poisson::sample_uniform(s, lo, hi, margin, ctx)
-                      : poisson::sample_general(s, lo, hi, margin, ctx);
+  s.grids =
+      s.uniform ? poisson::sample_uniform(s, lo, hi, margin, ctx) : poisson::sample_general(s, lo, hi, margin, ctx);
 
   // Output: the points inside [lo, hi], class by class (largest first), chunk rows first. Counted per chunk,
   // then written in parallel at the prefix offsets (the yaw costs a hash, a sine and a cosine per point).
@@ -122,8 +122,10 @@ Points poisson_disk(glm::dvec2 lo, glm::dvec2 hi, const PoissonParams& p, const 
   auto& radius = out.attribute("radius");
   for (int k : s.order) {
     const poisson::ClassChunks& g = s.grids[k];
-    const auto i0 = static_cast<std::int64_t>(std::floor(lo.x / g.C)), i1 = static_cast<std::int64_t>(std::floor(hi.x / g.C));
-    const auto j0 = static_cast<std::int64_t>(std::floor(lo.y / g.C)), j1 = static_cast<std::int64_t>(std::floor(hi.y / g.C));
+    const auto i0 = static_cast<std::int64_t>(std::floor(lo.x / g.C)),
+               i1 = static_cast<std::int64_t>(std::floor(hi.x / g.C));
+    const auto j0 = static_cast<std::int64_t>(std::floor(lo.y / g.C)),
+               j1 = static_cast<std::int64_t>(std::floor(hi.y / g.C));
     const int w = static_cast<int>(i1 - i0 + 1), rows = static_cast<int>(j1 - j0 + 1);
     auto keep = [&](const poisson::Pt& q) {
       const double x = q.x, y = q.y;
@@ -150,8 +152,8 @@ Points poisson_disk(glm::dvec2 lo, glm::dvec2 hi, const PoissonParams& p, const 
         for (const poisson::Pt& q : g.at(i0 + i, j0 + r)) {
           if (!keep(q)) continue;
           out.position[o] = glm::vec3(q.x, q.y, 0.0f);
-          const double yaw =
-              2.0 * poisson::kPi * scatter::unit(scatter::hash(p.seed, 0x7A3ull, scatter::bits(q.x), scatter::bits(q.y)));
+          const double yaw = 2.0 * poisson::kPi *
+                             scatter::unit(scatter::hash(p.seed, 0x7A3ull, scatter::bits(q.x), scatter::bits(q.y)));
           out.rotation[o] = glm::angleAxis(static_cast<float>(yaw), glm::vec3(0.0f, 0.0f, 1.0f));
           out.class_id[o] = p.classes[q.cls].class_id;
           radius[o] = q.r;

@@ -42,8 +42,8 @@ namespace orogen {
 class ExecContext;
 
 struct PoissonClass {
-  double radius = 5.0;               // m: minimum distance between two points of this class at density 1
-  std::int32_t class_id = 0;         // written to Points::class_id
+  double radius = 5.0;                   // m: minimum distance between two points of this class at density 1
+  std::int32_t class_id = 0;             // written to Points::class_id
   const Heightfield* density = nullptr;  // optional per-class density in [0, 1], multiplies the common one
 };
 
@@ -60,9 +60,9 @@ struct PoissonParams {
   // Bridson's k. With fill_gaps the result is maximal whatever k: Bridson is a fast first pass and k = 30
   // spends most of its time retiring active points; 8 gives the same density at about half the cost.
   int attempts = 8;
-  bool fill_gaps = true;                 // Ebeida's gap filling (maximal sampling)
+  bool fill_gaps = true;  // Ebeida's gap filling (maximal sampling)
   std::uint64_t seed = 0;
-  std::size_t max_points = 50'000'000;   // refuse requests that would place more
+  std::size_t max_points = 50'000'000;  // refuse requests that would place more
 };
 
 // Interaction distance, chunk side and halo (metres) of a parameter set.

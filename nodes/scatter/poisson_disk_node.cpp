@@ -20,7 +20,8 @@ OROGEN_NODE(PoissonDisk) {
       "candidates in the annulus [r, 2r], background grid of cell r/sqrt 2), run over world-space chunks in the "
       "phase order of Wei (2008), \"Parallel Poisson disk sampling\", and completed by the gap filling of Ebeida "
       "et al. (2011), \"Efficient maximal Poisson-disk sampling\", so the sampling is maximal. Up to four "
-      "classes (class ids first_class + 0..3), largest radius first; two classes keep cross_separation * (r_i + r_j) / 2 apart. "
+      "classes (class ids first_class + 0..3), largest radius first; two classes keep cross_separation * (r_i + r_j) / "
+      "2 apart. "
       "A density field makes the radius variable (r / sqrt(density)), so counts follow the density. Tile "
       "invariant and resolution independent: the points inside any rectangle are the same whichever domain "
       "asks, at any raster resolution and thread count (density fields must then cover the requested domain "
@@ -42,18 +43,29 @@ OROGEN_NODE(PoissonDisk) {
         .unit("m")
         .description("Minimum distance between two points of class " + std::to_string(k) +
                      " at density 1, metres in [0.01, 10000]");
-  b.param_float("cross_separation", 1.0).range(0.0, 1.0).unit("").description(
-      "Distance between points of different classes as a fraction of the mean of their radii, 0..1 "
-      "(0: classes ignore each other, like rocks placed beside trees)");
-  b.param_float("min_density", 0.1).range(0.01, 1.0).unit("").description(
-      "Density below which no point is placed, 0.01..1; bounds the largest radius at r / sqrt(min_density)");
-  b.param_int("attempts", 8).range(1, 100).unit("").description(
-      "Bridson's k: candidates tried around an active point before it retires, 1..100 (with fill_gaps the "
-      "gap filling makes the sampling maximal whatever k; a larger k only moves work from it to Bridson)");
-  b.param_bool("fill_gaps", true).description(
-      "Fill the gaps Bridson's sampling leaves (Ebeida et al. 2011) so no further point fits");
-  b.param_int("first_class", 0).range(0, 1000000).unit("").description(
-      "Class id of the first class; class k gets first_class + k, 0..1e6");
+  b.param_float("cross_separation", 1.0)
+      .range(0.0, 1.0)
+      .unit("")
+      .description(
+          "Distance between points of different classes as a fraction of the mean of their radii, 0..1 "
+          "(0: classes ignore each other, like rocks placed beside trees)");
+  b.param_float("min_density", 0.1)
+      .range(0.01, 1.0)
+      .unit("")
+      .description(
+          "Density below which no point is placed, 0.01..1; bounds the largest radius at r / sqrt(min_density)");
+  b.param_int("attempts", 8)
+      .range(1, 100)
+      .unit("")
+      .description(
+          "Bridson's k: candidates tried around an active point before it retires, 1..100 (with fill_gaps the "
+          "gap filling makes the sampling maximal whatever k; a larger k only moves work from it to Bridson)");
+  b.param_bool("fill_gaps", true)
+      .description("Fill the gaps Bridson's sampling leaves (Ebeida et al. 2011) so no further point fits");
+  b.param_int("first_class", 0)
+      .range(0, 1000000)
+      .unit("")
+      .description("Class id of the first class; class k gets first_class + k, 0..1e6");
   b.param_seed("seed", 0).description("Every draw hashes (seed, class, world chunk, counter)");
   b.execute([](ExecContext& ctx) {
     PoissonParams p;
@@ -78,7 +90,10 @@ OROGEN_NODE(PoissonDisk) {
     p.attempts = static_cast<int>(ctx.param<std::int64_t>("attempts"));
     p.fill_gaps = ctx.param<bool>("fill_gaps");
     p.seed = ctx.param<std::uint64_t>("seed");
-    ctx.set_output("out", scatter::run_placement([&] { return poisson_disk(ctx.domain().min_corner(), ctx.domain().max_corner(), p, &ctx); }, height.get()));
+    ctx.set_output(
+        "out",
+        scatter::run_placement(
+            [&] { return poisson_disk(ctx.domain().min_corner(), ctx.domain().max_corner(), p, &ctx); }, height.get()));
   });
 }
 

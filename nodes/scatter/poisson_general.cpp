@@ -22,13 +22,13 @@ struct GeneralChunkSampler : PoissonPlan {
     std::vector<double> x, y;   // gathered and new points (double copies of the float positions)
     std::vector<float> r;
     std::vector<int> cls;
-    std::vector<int> own;       // indices of the points placed in this chunk
+    std::vector<int> own;  // indices of the points placed in this chunk
     struct Grid {
       double h = 0;
       int n = 0;
       std::vector<int> cells;  // point index or -1
     };
-    std::vector<Grid> grids;    // per class
+    std::vector<Grid> grids;  // per class
   };
 
   void grid_insert(Local& L, int idx) const {
@@ -101,8 +101,10 @@ struct GeneralChunkSampler : PoissonPlan {
       const auto& g = L.grids[j];
       if (g.n == 0) continue;
       // The rectangle may straddle class j's cells (other sizes): look around each of its corners' cells.
-      const int ci0 = static_cast<int>(std::floor((x0 - L.gx0) / g.h)), ci1 = static_cast<int>(std::floor((x1 - L.gx0) / g.h));
-      const int cj0 = static_cast<int>(std::floor((y0 - L.gy0) / g.h)), cj1 = static_cast<int>(std::floor((y1 - L.gy0) / g.h));
+      const int ci0 = static_cast<int>(std::floor((x0 - L.gx0) / g.h)),
+                ci1 = static_cast<int>(std::floor((x1 - L.gx0) / g.h));
+      const int cj0 = static_cast<int>(std::floor((y0 - L.gy0) / g.h)),
+                cj1 = static_cast<int>(std::floor((y1 - L.gy0) / g.h));
       if (ci0 == ci1 && cj0 == cj1) {
         for (const auto& [di, dj] : offsets[k][j]) {
           const int ii = ci0 + di, jj = cj0 + dj;
@@ -231,8 +233,8 @@ struct GeneralChunkSampler : PoissonPlan {
     for (std::int64_t dy = -1; dy <= 1; ++dy)
       for (std::int64_t dx = -1; dx <= 1; ++dx)
         for (const Pt& q : own.at(gcx + dx, gcy + dy)) gather(q);
-    scatter::Draws draw{scatter::hash(p.seed, 0x5CA77E5ull, static_cast<std::uint64_t>(k), scatter::bits(gcx),
-                                      scatter::bits(gcy))};
+    scatter::Draws draw{
+        scatter::hash(p.seed, 0x5CA77E5ull, static_cast<std::uint64_t>(k), scatter::bits(gcx), scatter::bits(gcy))};
     // Bridson: one initial dart into the chunk, then grow from the active points (neighbours' included).
     for (int t = 0; t < 4; ++t) {
       const int idx = try_place(L, k, L.ax0 + draw.next() * C, L.ay0 + draw.next() * C);
@@ -307,7 +309,8 @@ struct GeneralChunkSampler : PoissonPlan {
       }
     constexpr int kLevels = 8;
     for (int level = 0; level <= kLevels && !cells.empty(); ++level) {
-      for (const Rect& c : cells) try_place(L, k, c.x0 + draw.next() * (c.x1 - c.x0), c.y0 + draw.next() * (c.y1 - c.y0));
+      for (const Rect& c : cells)
+        try_place(L, k, c.x0 + draw.next() * (c.x1 - c.x0), c.y0 + draw.next() * (c.y1 - c.y0));
       if (level == kLevels) {
         for (const Rect& c : cells) try_place(L, k, 0.5 * (c.x0 + c.x1), 0.5 * (c.y0 + c.y1));
         break;

@@ -37,11 +37,14 @@ using scatter::FastDraws;  // the fast path's draws
 inline __attribute__((always_inline)) void annulus_offset(std::uint64_t h, double r, double& ox, double& oy) {
   const double d = r * std::sqrt(1.0 + 3.0 * (static_cast<double>(h >> 32) * 0x1.0p-32));
   const auto w = static_cast<std::uint32_t>(h);
-  const std::uint32_t q = ((w + (1u << 29)) >> 30) & 3u;                           // nearest quarter turn
+  const std::uint32_t q = ((w + (1u << 29)) >> 30) & 3u;  // nearest quarter turn
   const double a = static_cast<double>(static_cast<std::int32_t>(w - (q << 30))) * (2.0 * kPi * 0x1.0p-32);
   const double a2 = a * a;
-  const double s = a * (1.0 + a2 * (-1.0 / 6 + a2 * (1.0 / 120 + a2 * (-1.0 / 5040 + a2 * (1.0 / 362880 - a2 / 39916800)))));
-  const double c = 1.0 + a2 * (-0.5 + a2 * (1.0 / 24 + a2 * (-1.0 / 720 + a2 * (1.0 / 40320 + a2 * (-1.0 / 3628800 + a2 / 479001600)))));
+  const double s =
+      a * (1.0 + a2 * (-1.0 / 6 + a2 * (1.0 / 120 + a2 * (-1.0 / 5040 + a2 * (1.0 / 362880 - a2 / 39916800)))));
+  const double c =
+      1.0 +
+      a2 * (-0.5 + a2 * (1.0 / 24 + a2 * (-1.0 / 720 + a2 * (1.0 / 40320 + a2 * (-1.0 / 3628800 + a2 / 479001600)))));
   // Rotated by q quarter turns: (c, s), (-s, c), (-c, -s), (s, -c).
   static constexpr double kSx[4] = {1.0, -1.0, -1.0, 1.0}, kSy[4] = {1.0, 1.0, -1.0, -1.0};
   const bool odd = q & 1u;
@@ -73,12 +76,12 @@ struct ClassChunks {
 
 struct PoissonPlan {
   const PoissonParams& p;
-  std::vector<int> order;       // class indices, largest radius first
-  std::vector<int> rank;        // position of each class in `order`
-  std::vector<double> rmax;     // per class: largest local radius
-  std::vector<double> cell;     // per class: background grid cell (r / sqrt 2, slightly less)
-  std::vector<double> chunk;    // per class: chunk side
-  std::vector<double> reach;    // per class: largest conflict distance with itself and the classes before it
+  std::vector<int> order;          // class indices, largest radius first
+  std::vector<int> rank;           // position of each class in `order`
+  std::vector<double> rmax;        // per class: largest local radius
+  std::vector<double> cell;        // per class: background grid cell (r / sqrt 2, slightly less)
+  std::vector<double> chunk;       // per class: chunk side
+  std::vector<double> reach;       // per class: largest conflict distance with itself and the classes before it
   std::vector<ClassChunks> grids;  // per class
 
   explicit PoissonPlan(const PoissonParams& params) : p(params) {}
@@ -166,8 +169,9 @@ void run_chunk_phases(PoissonPlan& s, glm::dvec2 lo, glm::dvec2 hi, const std::v
         for (auto cx = g.core_x0 - ring; cx <= g.core_x1 + ring; ++cx)
           if (static_cast<int>((cx & 1) + 2 * (cy & 1)) == phase) todo.emplace_back(cx, cy);
       const double step = static_cast<double>(o * 4 + phase);
-      for_each_row(ctx, static_cast<int>(todo.size()), [&](int t) { process(todo[t].first, todo[t].second, k); },
-                   step / (4.0 * K), (step + 1.0) / (4.0 * K));
+      for_each_row(
+          ctx, static_cast<int>(todo.size()), [&](int t) { process(todo[t].first, todo[t].second, k); },
+          step / (4.0 * K), (step + 1.0) / (4.0 * K));
     }
   }
 }

@@ -34,12 +34,12 @@ struct UniformChunkSampler : PoissonPlan {
   // Distances are compared exactly as the general path does (double, on the stored float positions).
   static constexpr double kEmpty = 1e150;
   static constexpr float kFar = 1e15f;  // float sentinel: squared distances stay finite
-  static constexpr int kPad = 4;  // cells around the chunk: 2 for the reach r, 2 for the 5 x 5 window
-  static constexpr int kBlock = 8;  // Bridson's candidates drawn at once
+  static constexpr int kPad = 4;        // cells around the chunk: 2 for the reach r, 2 for the 5 x 5 window
+  static constexpr int kBlock = 8;      // Bridson's candidates drawn at once
 
   struct UniformScratch {
-    std::vector<double> gx, gy;                   // grid cells: position or kEmpty
-    std::vector<float> lx, ly;                    // the same relative to the grid origin, in float (filter)
+    std::vector<double> gx, gy;  // grid cells: position or kEmpty
+    std::vector<float> lx, ly;   // the same relative to the grid origin, in float (filter)
     std::vector<std::pair<double, double>> active;
     std::vector<std::pair<double, double>> own;
     std::vector<std::pair<double, double>> near;  // the gathered points of the neighbouring chunks
@@ -170,8 +170,8 @@ struct UniformChunkSampler : PoissonPlan {
           insert(qx, qy);
           S.near.emplace_back(qx, qy);
         }
-    FastDraws draw{scatter::hash(p.seed, 0x5CA77E5ull, static_cast<std::uint64_t>(k), scatter::bits(gcx),
-                                      scatter::bits(gcy))};
+    FastDraws draw{
+        scatter::hash(p.seed, 0x5CA77E5ull, static_cast<std::uint64_t>(k), scatter::bits(gcx), scatter::bits(gcy))};
     for (int t = 0; t < 4; ++t)
       if (try_place(ax0 + draw.next() * C, ay0 + draw.next() * C)) {
         S.active.push_back(S.own.back());
@@ -207,8 +207,8 @@ struct UniformChunkSampler : PoissonPlan {
   }
 
   template <class TryPlace>
-  void fill_uniform(UniformScratch& S, FastDraws& draw, int m, int n, double h, double ax0, double ay0,
-                    double ax1, double ay1, double r2, TryPlace& try_place) const {
+  void fill_uniform(UniformScratch& S, FastDraws& draw, int m, int n, double h, double ax0, double ay0, double ax1,
+                    double ay1, double r2, TryPlace& try_place) const {
     using Rect = UniformScratch::Rect;
     const double* const gx = S.gx.data();
     const double* const gy = S.gy.data();
@@ -235,7 +235,8 @@ struct UniformChunkSampler : PoissonPlan {
       // Cheap proof first: each quarter inside a single disk.
       {
         const double mx = 0.5 * (c.x0 + c.x1), my = 0.5 * (c.y0 + c.y1);
-        const Rect quarters[4] = {{c.x0, c.y0, mx, my}, {mx, c.y0, c.x1, my}, {c.x0, my, mx, c.y1}, {mx, my, c.x1, c.y1}};
+        const Rect quarters[4] = {
+            {c.x0, c.y0, mx, my}, {mx, c.y0, c.x1, my}, {c.x0, my, mx, c.y1}, {mx, my, c.x1, c.y1}};
         bool all = true;
         for (const Rect& u : quarters) {
           bool one = false;
@@ -330,8 +331,8 @@ struct UniformChunkSampler : PoissonPlan {
     for (const auto& [x, y] : S.near) cover_disk(x, y);
     for (const auto& [x, y] : S.own) cover_disk(x, y);
     const std::uint64_t cell_bits = (1ull << sub) - 1;
-    constexpr int kLevels = 6;  // from the squares (h / 5) down to h / 320
-    constexpr int kDarts = 4;   // per open rectangle and level (a dart costs a few distances, a refinement more)
+    constexpr int kLevels = 6;      // from the squares (h / 5) down to h / 320
+    constexpr int kDarts = 4;       // per open rectangle and level (a dart costs a few distances, a refinement more)
     constexpr int kFirstDarts = 2;  // per square left by the bitmask, before any exact test
     for (int j = 0; j < m; ++j)
       for (int i = 0; i < m; ++i) {
@@ -347,7 +348,8 @@ struct UniformChunkSampler : PoissonPlan {
         // The disks that reach the cell (every point that can conflict with a point of the cell), gathered
         // without branches from its 5 x 5 neighbourhood (its own cell is empty).
         count = 0;
-        const Rect cell{ax0 + i * h, ay0 + j * h, i + 1 == m ? ax1 : ax0 + (i + 1) * h, j + 1 == m ? ay1 : ay0 + (j + 1) * h};
+        const Rect cell{ax0 + i * h, ay0 + j * h, i + 1 == m ? ax1 : ax0 + (i + 1) * h,
+                        j + 1 == m ? ay1 : ay0 + (j + 1) * h};
         for (int dj = -2; dj <= 2; ++dj)
           for (int di = -2; di <= 2; ++di) {
             const int c = c0 + dj * n + di;
@@ -374,7 +376,8 @@ struct UniformChunkSampler : PoissonPlan {
         for (int t = 0; t < sub; ++t)
           for (std::uint64_t bits = open[t]; bits; bits &= bits - 1) {
             const int a = std::countr_zero(bits), b = j * sub + t;
-            squares[ns++] = {ax0 + a * s, ay0 + b * s, a + 1 == M ? ax1 : ax0 + (a + 1) * s, b + 1 == M ? ay1 : ay0 + (b + 1) * s};
+            squares[ns++] = {ax0 + a * s, ay0 + b * s, a + 1 == M ? ax1 : ax0 + (a + 1) * s,
+                             b + 1 == M ? ay1 : ay0 + (b + 1) * s};
           }
         // Darts first, uniform over the squares left (a gap is most often wide enough to be hit), and only then
         // the exact test, which proves the other cells covered or finds the squares the finer darts go to.

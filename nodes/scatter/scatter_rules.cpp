@@ -200,7 +200,9 @@ Points per_cell_rows(const CellRange& c, const ExecContext* ctx, Fn&& fn) {
   return out;
 }
 
-bool inside(double x, double y, glm::dvec2 lo, glm::dvec2 hi) { return x >= lo.x && x <= hi.x && y >= lo.y && y <= hi.y; }
+bool inside(double x, double y, glm::dvec2 lo, glm::dvec2 hi) {
+  return x >= lo.x && x <= hi.x && y >= lo.y && y <= hi.y;
+}
 
 }  // namespace
 
@@ -305,7 +307,8 @@ Points scatter_biomes(glm::dvec2 lo, glm::dvec2 hi, const Heightfield& biome, co
     const double angle = 2.0 * kPi * draw.next(), s = draw.next();
     if (!inside(x, y, lo, hi)) return;
     // The biome of the cell: nearest sample to its centre.
-    const auto st = biome.domain.to_sample({(static_cast<double>(ci) + 0.5) * p.cell_size, (static_cast<double>(cj) + 0.5) * p.cell_size});
+    const auto st = biome.domain.to_sample(
+        {(static_cast<double>(ci) + 0.5) * p.cell_size, (static_cast<double>(cj) + 0.5) * p.cell_size});
     const int bi = std::clamp(static_cast<int>(std::lround(st.x)), 0, biome.width() - 1);
     const int bj = std::clamp(static_cast<int>(std::lround(st.y)), 0, biome.height() - 1);
     const float id = biome.at(bi, bj);

@@ -80,7 +80,7 @@ Points scatter_ecosystems(glm::dvec2 lo, glm::dvec2 hi, const TerrainVariables& 
 // Per-biome densities: for each biome id, a probability per cell and species weights.
 struct BiomeEntry {
   int biome = 0;
-  double density = 0.0;  // probability of a plant per cell before the global factor
+  double density = 0.0;                                  // probability of a plant per cell before the global factor
   std::vector<std::pair<std::int32_t, double>> species;  // (class id, weight)
 };
 

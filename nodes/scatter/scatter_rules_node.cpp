@@ -13,26 +13,32 @@ OROGEN_NODE(ScatterRules) {
   b.reach_global();  // outputs points, not a field
   b.category("scatter").description(
       "Ecosystem placement after Hammes (2001), \"Modeling of ecosystems as a data source for real-time terrain "
-      "rendering\", as used by Ekman et al. (2016), \"SeamScape: a procedural generation system for accelerated creation of 3D landscapes\": each ecosystem prefers ranges of "
+      "rendering\", as used by Ekman et al. (2016), \"SeamScape: a procedural generation system for accelerated "
+      "creation of 3D landscapes\": each ecosystem prefers ranges of "
       "elevation, relative elevation, slope (degrees) and skew (1 inside [min, max], a smoothstep to 0 over "
       "(max - min) / sharpness outside); each plant has a density and a scale range. In every world cell, "
       "density * area candidates per plant at hashed positions; a candidate stays if the ecosystem drawn by "
       "roulette over the memberships at its position is its own. Every draw hashes (seed, cell, ecosystem, "
       "plant, counter): tile invariant. Attribute: ecosystem (row of the table).");
   b.input("in", PortType::Heightfield).description("Terrain heights, metres");
-  b.input("relative_height", PortType::Heightfield).optional().description(
-      "Height above the local mean (m), e.g. height minus a blurred height; 0 if unconnected");
-  b.input("slope", PortType::Heightfield).optional().description(
-      "Slope angle in degrees (e.g. Slope.out); from the height's gradient if unconnected");
+  b.input("relative_height", PortType::Heightfield)
+      .optional()
+      .description("Height above the local mean (m), e.g. height minus a blurred height; 0 if unconnected");
+  b.input("slope", PortType::Heightfield)
+      .optional()
+      .description("Slope angle in degrees (e.g. Slope.out); from the height's gradient if unconnected");
   b.output("out", PortType::Points).description("The plants: class ids from the table, scale, yaw, z on the terrain");
-  b.param_table("ecosystems", ecosystem_schema(), default_ecosystems()).description(
-      "One ecosystem per row: its name and preferred ranges of elevation (m), relative height (m), slope "
-      "(deg) and skew (dz/dy), each with a sharpness; a range left out is no preference. Default: SeamScape's "
-      "Table 1");
-  b.param_table("plants", ecosystem_plant_schema(), default_ecosystem_plants()).description(
-      "One plant per row: its ecosystem (a name in ecosystems), class, density (per m^2) and scale range");
-  b.param_float("cell_size", 10.0).range(0.1, 1e4).unit("m").description(
-      "Side of the world cells candidates are drawn in, metres in [0.1, 10000]");
+  b.param_table("ecosystems", ecosystem_schema(), default_ecosystems())
+      .description(
+          "One ecosystem per row: its name and preferred ranges of elevation (m), relative height (m), slope "
+          "(deg) and skew (dz/dy), each with a sharpness; a range left out is no preference. Default: SeamScape's "
+          "Table 1");
+  b.param_table("plants", ecosystem_plant_schema(), default_ecosystem_plants())
+      .description("One plant per row: its ecosystem (a name in ecosystems), class, density (per m^2) and scale range");
+  b.param_float("cell_size", 10.0)
+      .range(0.1, 1e4)
+      .unit("m")
+      .description("Side of the world cells candidates are drawn in, metres in [0.1, 10000]");
   b.param_seed("seed", 0).description("Every draw hashes (seed, cell, ecosystem, plant, counter)");
   b.execute([](ExecContext& ctx) {
     const auto height = ctx.require<Heightfield>("in");
@@ -75,12 +81,18 @@ OROGEN_NODE(BiomeScatter) {
                                          {"biome": 3, "class": 3, "weight": 1}])",
                                      biome_species_schema()))
       .description("The species of the biomes, one per row: biome id, class and weight");
-  b.param_float("factor", 1.0).range(0.0, 100.0).unit("").description(
-      "Global density factor multiplying every biome's density, 0..100");
-  b.param_float("cell_size", 4.0).range(0.1, 1e4).unit("m").description(
-      "Side of the world cells (at most one plant each), metres in [0.1, 10000]");
-  b.param_vec2("scale_range", glm::dvec2(0.8, 1.2)).range(0.01, 100.0).unit("").description(
-      "Smallest and largest scale factor, 0.01..100 (uniform between them)");
+  b.param_float("factor", 1.0)
+      .range(0.0, 100.0)
+      .unit("")
+      .description("Global density factor multiplying every biome's density, 0..100");
+  b.param_float("cell_size", 4.0)
+      .range(0.1, 1e4)
+      .unit("m")
+      .description("Side of the world cells (at most one plant each), metres in [0.1, 10000]");
+  b.param_vec2("scale_range", glm::dvec2(0.8, 1.2))
+      .range(0.01, 100.0)
+      .unit("")
+      .description("Smallest and largest scale factor, 0.01..100 (uniform between them)");
   b.param_seed("seed", 0).description("Every draw hashes (seed, cell)");
   b.execute([](ExecContext& ctx) {
     const auto biome = ctx.require<Heightfield>("in");
@@ -94,8 +106,8 @@ OROGEN_NODE(BiomeScatter) {
     p.seed = ctx.param<std::uint64_t>("seed");
     try {
       p.table = biome_entries_from_tables(ctx.param<TableValue>("biomes"), ctx.param<TableValue>("species"));
-      ctx.set_output("out", std::make_shared<Points>(scatter_biomes(ctx.domain().min_corner(), ctx.domain().max_corner(),
-                                                                    *biome, height.get(), p, &ctx)));
+      ctx.set_output("out", std::make_shared<Points>(scatter_biomes(
+                                ctx.domain().min_corner(), ctx.domain().max_corner(), *biome, height.get(), p, &ctx)));
     } catch (const std::invalid_argument& e) {
       throw NodeError(std::string("BiomeScatter: ") + e.what());
     } catch (const std::runtime_error& e) {

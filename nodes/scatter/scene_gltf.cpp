@@ -59,8 +59,10 @@ int add_mesh(tinygltf::Model& m, const Mesh& mesh, const std::string& name) {
     if (t.has_vertex_normals()) {
       auto n = t.normal(v);
       const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-      if (len > 0 && std::isfinite(len)) n /= len;
-      else n = OpenMesh::Vec3f(0, 0, 1);
+      if (len > 0 && std::isfinite(len))
+        n /= len;
+      else
+        n = OpenMesh::Vec3f(0, 0, 1);
       nrm.insert(nrm.end(), {n[0], n[1], n[2]});
     }
     if (t.has_vertex_colors()) {
@@ -75,8 +77,10 @@ int add_mesh(tinygltf::Model& m, const Mesh& mesh, const std::string& name) {
   tinygltf::Primitive prim;
   prim.mode = TINYGLTF_MODE_TRIANGLES;
   prim.attributes["POSITION"] = add_accessor(m, pos, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
-  if (!nrm.empty()) prim.attributes["NORMAL"] = add_accessor(m, nrm, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER);
-  if (!col.empty()) prim.attributes["COLOR_0"] = add_accessor(m, col, 4, TINYGLTF_TYPE_VEC4, TINYGLTF_TARGET_ARRAY_BUFFER);
+  if (!nrm.empty())
+    prim.attributes["NORMAL"] = add_accessor(m, nrm, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER);
+  if (!col.empty())
+    prim.attributes["COLOR_0"] = add_accessor(m, col, 4, TINYGLTF_TYPE_VEC4, TINYGLTF_TARGET_ARRAY_BUFFER);
   tinygltf::Accessor ia;
   ia.bufferView = add_view(m, idx.data(), idx.size() * sizeof(std::uint32_t), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
   ia.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;

@@ -39,12 +39,14 @@ OROGEN_NODE(Instance) {
         .optional()
         .description("Mesh placed at the points of class " + std::to_string(k) + " (m, base at the origin)");
   b.output("out", PortType::Scene).description("The instances and the mesh and name of every class");
-  b.param_table("names", class_name_schema(), empty_table(class_name_schema())).description(
-      "Class names, one row per class (id and name); a class without a row is named class_<id>. The names of "
-      "the glTF nodes and meshes");
-  b.param_enum("missing_mesh", {"error", "proxy", "skip"}, "error").description(
-      "Points of a class without a mesh: error stops with the class named; proxy places a 1 m octahedron "
-      "(base at the point); skip leaves them out");
+  b.param_table("names", class_name_schema(), empty_table(class_name_schema()))
+      .description(
+          "Class names, one row per class (id and name); a class without a row is named class_<id>. The names of "
+          "the glTF nodes and meshes");
+  b.param_enum("missing_mesh", {"error", "proxy", "skip"}, "error")
+      .description(
+          "Points of a class without a mesh: error stops with the class named; proxy places a 1 m octahedron "
+          "(base at the point); skip leaves them out");
   b.execute([](ExecContext& ctx) {
     const auto points = ctx.require<Points>("in");
     std::map<std::int32_t, MeshPtr> meshes;
@@ -53,7 +55,9 @@ OROGEN_NODE(Instance) {
     InstanceOptions options;
     options.names = class_names_from_table(ctx.param<TableValue>("names"));
     const std::string& missing = ctx.param<std::string>("missing_mesh");
-    options.missing = missing == "proxy" ? MissingMesh::Proxy : missing == "skip" ? MissingMesh::Skip : MissingMesh::Error;
+    options.missing = missing == "proxy"  ? MissingMesh::Proxy
+                      : missing == "skip" ? MissingMesh::Skip
+                                          : MissingMesh::Error;
     try {
       ctx.set_output("out", std::make_shared<Scene>(make_scene(points, meshes, options)));
     } catch (const std::invalid_argument& e) {
@@ -73,10 +77,12 @@ OROGEN_NODE(WriteScene) {
       "embeds the buffer as base64, .glb is binary.");
   b.input("in", PortType::Scene).description("The instanced scene, from Instance");
   b.input("terrain", PortType::Mesh).optional().description("Terrain mesh (m), e.g. from HeightfieldToMesh");
-  b.param_path("path", "scene.glb").output_file().extensions({".gltf", ".glb"}).description(
-      "Output file, relative to the output directory; .glb binary or .gltf text");
-  b.param_enum("instancing", {"gpu_instancing", "nodes"}, "gpu_instancing").description(
-      "gpu_instancing: one node per class with EXT_mesh_gpu_instancing; nodes: one node per instance");
+  b.param_path("path", "scene.glb")
+      .output_file()
+      .extensions({".gltf", ".glb"})
+      .description("Output file, relative to the output directory; .glb binary or .gltf text");
+  b.param_enum("instancing", {"gpu_instancing", "nodes"}, "gpu_instancing")
+      .description("gpu_instancing: one node per class with EXT_mesh_gpu_instancing; nodes: one node per instance");
   // The glTF document is built and serialized in memory before it is written: per instance a tinygltf node,
   // its JSON object and its text (nodes), or its translation, rotation and scale in the buffer and its base64
   // and file copies (gpu_instancing); per terrain vertex and face the same three copies. Known once the
@@ -96,7 +102,8 @@ OROGEN_NODE(WriteScene) {
     SceneContent scene;
     scene.scene = in.get();
     scene.terrain = terrain.get();
-    scene.instancing = ctx.param<std::string>("instancing") == "nodes" ? SceneInstancing::Nodes : SceneInstancing::GpuInstancing;
+    scene.instancing =
+        ctx.param<std::string>("instancing") == "nodes" ? SceneInstancing::Nodes : SceneInstancing::GpuInstancing;
     try {
       in->check_consistent();
     } catch (const std::logic_error& e) {
@@ -119,8 +126,11 @@ OROGEN_NODE(ProjectToTerrain) {
   b.input("height", PortType::Heightfield).description("Terrain heights, metres");
   b.output("out", PortType::Points).description("The points on the terrain");
   b.param_float("offset", 0.0).range(-1e4, 1e4).unit("m").description("Added to the terrain height, metres");
-  b.param_float("align", 0.0).range(0.0, 1.0).unit("").description(
-      "0: keep the rotation (upright); 1: the point's up axis follows the terrain normal; between: blended");
+  b.param_float("align", 0.0)
+      .range(0.0, 1.0)
+      .unit("")
+      .description(
+          "0: keep the rotation (upright); 1: the point's up axis follows the terrain normal; between: blended");
   b.execute([](ExecContext& ctx) {
     ProjectParams p;
     p.offset = ctx.param<double>("offset");

@@ -27,8 +27,7 @@ TableSchema layer_color_schema() {
 // The table's rows as linear colors; a name given twice takes its last color.
 std::vector<NamedColor> named_colors_from_table(const TableValue& table) {
   std::vector<NamedColor> out;
-  for (const auto& row : table.rows)
-    out.push_back({std::get<std::string>(row[0]), std::get<Srgb8>(row[1]).linear()});
+  for (const auto& row : table.rows) out.push_back({std::get<std::string>(row[0]), std::get<Srgb8>(row[1]).linear()});
   return out;
 }
 
@@ -84,7 +83,9 @@ OROGEN_NODE(ColorByLayers) {
       "optional shade (ambient occlusion, hillshade). Linear RGBA. Height bands as in H. Zaiz (2022), "
       "Procedural Generation of 3D Game Worlds, are SplatWeights layers with hard height rules.");
   b.input("in", PortType::Image).description("Layer weights, one channel per layer");
-  b.input("shade", PortType::Heightfield).optional().description("Multiplier in 0..1 (AmbientOcclusion.out, Hillshade.out)");
+  b.input("shade", PortType::Heightfield)
+      .optional()
+      .description("Multiplier in 0..1 (AmbientOcclusion.out, Hillshade.out)");
   b.output("out", PortType::Image).description("Linear RGBA colors");
   b.param_table("colors", layer_color_schema(),
                 table_from_json_text(R"([{"name": "grass", "color": "#5b7f32"}, {"name": "dirt", "color": "#7a6248"},

@@ -22,8 +22,8 @@ std::shared_ptr<Heightfield> image_channel(const Image& img, const ImageChannelP
     channel = static_cast<int>(it - img.channel_names.begin());
   }
   if (p.mode == ChannelMode::Channel && (channel < 0 || channel >= img.channels))
-    throw NodeError("channel index " + std::to_string(channel) + " beyond the image's " +
-                    std::to_string(img.channels) + " channels");
+    throw NodeError("channel index " + std::to_string(channel) + " beyond the image's " + std::to_string(img.channels) +
+                    " channels");
   if (img.channels < 1) throw NodeError("the image has no channels");
   auto out = std::make_shared<Heightfield>(img.domain);
   const int C = img.channels;
@@ -32,7 +32,9 @@ std::shared_ptr<Heightfield> image_channel(const Image& img, const ImageChannelP
       const float* px = img.pixel(i, j);
       double v = 0.0;
       switch (p.mode) {
-        case ChannelMode::Channel: v = px[channel]; break;
+        case ChannelMode::Channel:
+          v = px[channel];
+          break;
         case ChannelMode::Min:
           v = px[0];
           for (int c = 1; c < C; ++c) v = std::min<double>(v, px[c]);
@@ -60,8 +62,11 @@ OROGEN_NODE(ImageChannel) {
       "'rock') or by index, or the mean, sum, minimum or maximum over all channels (e.g. the annual mean "
       "temperature or the yearly lit hours from the monthly images of the climate nodes).");
   b.input("in", PortType::Image).description("Image");
-  b.output("out", PortType::Heightfield).description("The channel or the reduction, in the image's units").kind(OutputKind::Scalar);
-  b.param_enum("mode", {"channel", "mean", "sum", "min", "max"}, "channel").description("One channel, or a reduction over all channels");
+  b.output("out", PortType::Heightfield)
+      .description("The channel or the reduction, in the image's units")
+      .kind(OutputKind::Scalar);
+  b.param_enum("mode", {"channel", "mean", "sum", "min", "max"}, "channel")
+      .description("One channel, or a reduction over all channels");
   b.param_string("name", "").description("Channel name (mode = channel); empty: use index");
   b.param_int("index", 0).range(0, 4096).description("Channel index 0.. (mode = channel, when name is empty)");
   b.execute([](ExecContext& ctx) {

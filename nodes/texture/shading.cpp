@@ -14,9 +14,9 @@ namespace orogen::texture {
 namespace {
 
 struct Tap {
-  int di, dj;       // integer sample offset
-  float fx, fy;     // bilinear fractions
-  float inv_r;      // 1 / distance, 1/m
+  int di, dj;    // integer sample offset
+  float fx, fy;  // bilinear fractions
+  float inv_r;   // 1 / distance, 1/m
 };
 
 }  // namespace
@@ -44,8 +44,9 @@ HorizonMaps horizon_maps(const Heightfield& z, double radius, int directions, co
       const double u = r * std::cos(a) / sx, v = r * std::sin(a) / sy;
       const double fu = std::floor(u), fv = std::floor(v);
       if (std::abs(fu) > 1e7 || std::abs(fv) > 1e7) break;
-      taps[static_cast<std::size_t>(k)].push_back({static_cast<int>(fu), static_cast<int>(fv), static_cast<float>(u - fu),
-                                                   static_cast<float>(v - fv), static_cast<float>(1.0 / r)});
+      taps[static_cast<std::size_t>(k)].push_back({static_cast<int>(fu), static_cast<int>(fv),
+                                                   static_cast<float>(u - fu), static_cast<float>(v - fv),
+                                                   static_cast<float>(1.0 / r)});
     }
   }
   HorizonMaps out{std::make_shared<Heightfield>(z.domain), std::make_shared<Heightfield>(z.domain)};
@@ -115,8 +116,14 @@ OROGEN_NODE(AmbientOcclusion) {
       "Sainz, R. Dimitrov (2008), Image-space horizon-based ambient occlusion). 1 on flat ground and peaks, "
       "lower in valleys and at the foot of cliffs. Multiply it into a color map.");
   b.input("in", PortType::Heightfield).description("Height, metres");
-  b.output("out", PortType::Heightfield).description("Occlusion factor in [0, 1] (1 = open sky)").kind(OutputKind::Mask);
-  b.param_float("radius", 100.0).range(0.01, 1e4).soft_range(1.0, 1000.0).unit("m").description("Search radius, metres");
+  b.output("out", PortType::Heightfield)
+      .description("Occlusion factor in [0, 1] (1 = open sky)")
+      .kind(OutputKind::Mask);
+  b.param_float("radius", 100.0)
+      .range(0.01, 1e4)
+      .soft_range(1.0, 1000.0)
+      .unit("m")
+      .description("Search radius, metres");
   b.param_int("directions", 16).range(1, 64).description("Number of azimuths scanned, 1..64");
   b.execute([](ExecContext& ctx) {
     const auto r = horizon_maps(*ctx.require<Heightfield>("in"), ctx.param<double>("radius"),
@@ -152,8 +159,14 @@ OROGEN_NODE(Hillshade) {
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Shade in [0, 1]").kind(OutputKind::Mask);
   b.output("image", PortType::Image).description("The shade as a gray linear RGBA image");
-  b.param_float("azimuth", 315.0).range(0.0, 360.0).unit("deg").description("Light azimuth, degrees clockwise from north, 0..360");
-  b.param_float("altitude", 45.0).range(0.0, 90.0).unit("deg").description("Light altitude above the horizon, degrees 0..90");
+  b.param_float("azimuth", 315.0)
+      .range(0.0, 360.0)
+      .unit("deg")
+      .description("Light azimuth, degrees clockwise from north, 0..360");
+  b.param_float("altitude", 45.0)
+      .range(0.0, 90.0)
+      .unit("deg")
+      .description("Light altitude above the horizon, degrees 0..90");
   b.param_float("z_factor", 1.0).range(0.0, 100.0).description("Vertical exaggeration, unitless 0..100");
   b.execute([](ExecContext& ctx) {
     auto h = hillshade(*ctx.require<Heightfield>("in"), ctx.param<double>("azimuth"), ctx.param<double>("altitude"),

@@ -28,8 +28,9 @@ TableSchema splat_rule_schema() {
       .describe("What is compared: height (m), slope (deg), mean curvature (1/m), or the flow, wetness or field input");
   s.add_enum("compare", {"<", ">"}).describe("'>': 1 above the threshold; '<': 1 below it");
   s.add("threshold", ColumnType::Number).range(-1e12, 1e12).describe("The edge, in the input's unit");
-  s.add("softness", ColumnType::Number).range(0.0, 1e12).describe(
-      "Half-width of the smoothstep around the threshold, in the input's unit; 0: a hard step");
+  s.add("softness", ColumnType::Number)
+      .range(0.0, 1e12)
+      .describe("Half-width of the smoothstep around the threshold, in the input's unit; 0: a hard step");
   return s;
 }
 
@@ -127,7 +128,8 @@ SplatResult splat_weights(const SplatInputs& in, const std::vector<SplatLayer>& 
       double sum = 0.0;
       for (int l = 0; l < n; ++l) {
         double x = layers[static_cast<std::size_t>(l)].weight;
-        for (const auto& t : layers[static_cast<std::size_t>(l)].terms) x *= splat_term(t, v[static_cast<int>(t.input)]);
+        for (const auto& t : layers[static_cast<std::size_t>(l)].terms)
+          x *= splat_term(t, v[static_cast<int>(t.input)]);
         w[l] = x;
         sum += x;
       }
@@ -161,11 +163,17 @@ OROGEN_NODE(SplatWeights) {
       "first layer takes the cell. Height bands (H. Zaiz (2022), Procedural Generation of 3D Game Worlds) "
       "are layers with height terms and softness 0.");
   b.input("in", PortType::Heightfield).description("Height, metres");
-  b.input("flow", PortType::Heightfield).optional().description("Flow for 'flow' rules (e.g. FlowAccumulation.flow, 0..1)");
-  b.input("wetness", PortType::Heightfield).optional().description("Wetness for 'wetness' rules (e.g. FlowAccumulation.wetness)");
+  b.input("flow", PortType::Heightfield)
+      .optional()
+      .description("Flow for 'flow' rules (e.g. FlowAccumulation.flow, 0..1)");
+  b.input("wetness", PortType::Heightfield)
+      .optional()
+      .description("Wetness for 'wetness' rules (e.g. FlowAccumulation.wetness)");
   b.input("field", PortType::Heightfield).optional().description("Any field for 'field' rules");
   b.output("out", PortType::Image).description("Weights, one channel per layer (named by the layer), summing to 1");
-  b.output("dominant", PortType::Heightfield).description("Id of the heaviest layer (0-based, in layer order)").kind(OutputKind::Scalar);
+  b.output("dominant", PortType::Heightfield)
+      .description("Id of the heaviest layer (0-based, in layer order)")
+      .kind(OutputKind::Scalar);
   b.output("splat0", PortType::Image).description("Layers 0..3 as RGBA");
   b.output("splat1", PortType::Image).description("Layers 4..7 as RGBA (0 where absent)");
   b.param_table("layers", splat_layer_schema(), default_splat_layers())

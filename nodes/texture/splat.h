@@ -61,6 +61,7 @@ struct SplatResult {
   std::shared_ptr<Heightfield> dominant;  // argmax layer id (lowest id on ties)
   std::shared_ptr<Image> splat[2];        // RGBA packs of layers 0..3 and 4..7 (missing layers 0)
 };
-SplatResult splat_weights(const SplatInputs& in, const std::vector<SplatLayer>& layers, const ExecContext* ctx = nullptr);
+SplatResult splat_weights(const SplatInputs& in, const std::vector<SplatLayer>& layers,
+                          const ExecContext* ctx = nullptr);
 
 }  // namespace orogen::texture

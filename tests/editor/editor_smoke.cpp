@@ -34,9 +34,9 @@ Shot take(const std::string& name, const std::string& extra,
   const auto png = dir / (name + ".png");
   std::filesystem::remove(png);
   const std::string cmd = "LIBGL_ALWAYS_SOFTWARE=1 xvfb-run -a -s \"-screen 0 1600x900x24\" \"" +
-                          std::string(OROGEN_EDITOR_BINARY) + "\" \"" + graph + "\" --screenshot \"" +
-                          png.string() + "\" --frames 60 --state-dir \"" + (dir / "state").string() + "\" " + extra +
-                          " > \"" + (dir / (name + ".log")).string() + "\" 2>&1";
+                          std::string(OROGEN_EDITOR_BINARY) + "\" \"" + graph + "\" --screenshot \"" + png.string() +
+                          "\" --frames 60 --state-dir \"" + (dir / "state").string() + "\" " + extra + " > \"" +
+                          (dir / (name + ".log")).string() + "\" 2>&1";
   const int rc = std::system(cmd.c_str());
   EXPECT_EQ(rc, 0) << cmd << "\nsee " << (dir / (name + ".log"));
   Shot shot;
@@ -56,8 +56,7 @@ Shot take(const std::string& name, const std::string& extra,
 // Pixels of exactly this colour (node title bars are flat fills).
 std::size_t count_colour(const Shot& s, int r, int g, int b) {
   std::size_t n = 0;
-  for (std::size_t k = 0; k + 2 < s.rgb.size(); k += 3)
-    n += s.rgb[k] == r && s.rgb[k + 1] == g && s.rgb[k + 2] == b;
+  for (std::size_t k = 0; k + 2 < s.rgb.size(); k += 3) n += s.rgb[k] == r && s.rgb[k + 1] == g && s.rgb[k + 2] == b;
   return n;
 }
 

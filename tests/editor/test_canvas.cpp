@@ -97,7 +97,8 @@ TEST(NodeLayout, RoomForThumbnailsWithoutOverlaps) {
   const Graph before = g;
   EXPECT_EQ(make_room_for_thumbnails(g), 2u);  // mid and out move; scatter is in another column
   std::vector<Rect> rects;
-  for (const auto& n : g.nodes()) rects.push_back(layout_node(n, g.editor.positions.at(n.id), monospace_width, true).rect);
+  for (const auto& n : g.nodes())
+    rects.push_back(layout_node(n, g.editor.positions.at(n.id), monospace_width, true).rect);
   for (std::size_t a = 0; a < rects.size(); ++a)
     for (std::size_t b = a + 1; b < rects.size(); ++b) EXPECT_FALSE(rects[a].overlaps(rects[b])) << a << " " << b;
   for (const auto& [id, p] : g.editor.positions) {

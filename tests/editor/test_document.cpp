@@ -29,7 +29,7 @@ TEST(Document, FailingEditLeavesDocumentUnchanged) {
   Document doc(test::chain_graph());
   const Graph before = doc.graph();
   const auto revision = doc.revision();
-  EXPECT_THROW(doc.set_param("src", "height", 1e9), GraphError);          // out of range
+  EXPECT_THROW(doc.set_param("src", "height", 1e9), GraphError);             // out of range
   EXPECT_THROW(doc.connect({"scatter", "points"}, "out", "b"), GraphError);  // Points into a Heightfield input
   EXPECT_THROW(doc.connect({"out", "out"}, "mid", "b"), GraphError);         // a cycle
   EXPECT_TRUE(doc.graph() == before);
@@ -119,9 +119,7 @@ TEST(Document, SaveReopenCompare) {
 
 TEST(Document, OpenReportsWhatCannotBeReadAtAll) {
   const auto dir = test::scratch_dir("bad");
-  {
-    std::ofstream(dir / "bad.json") << R"({"format": "orogen-graph", "version": 99, "nodes": []})";
-  }
+  { std::ofstream(dir / "bad.json") << R"({"format": "orogen-graph", "version": 99, "nodes": []})"; }
   try {
     Document::open(dir / "bad.json");
     FAIL() << "expected an error";
@@ -207,8 +205,10 @@ TEST(Document, LongRandomUndoRedoSequencesRestoreExactGraphFiles) {
             break;
           }
           case 6:
-            if (doc.graph().at(n).type->find_param("weight")) doc.set_param(n, "weight", pick(101) / 100.0);
-            else doc.set_param(n, "height", pick(200) * 1.0);
+            if (doc.graph().at(n).type->find_param("weight"))
+              doc.set_param(n, "weight", pick(101) / 100.0);
+            else
+              doc.set_param(n, "height", pick(200) * 1.0);
             break;
           case 7:
             doc.move_nodes({n}, {pick(50) - 25.0, pick(50) - 25.0});
@@ -216,8 +216,7 @@ TEST(Document, LongRandomUndoRedoSequencesRestoreExactGraphFiles) {
           case 8: {
             // A drag: many merged changes, one step.
             const bool blend = doc.graph().at(n).type->find_param("weight") != nullptr;
-            for (int k = 0; k < 5; ++k)
-              doc.set_param(n, blend ? "weight" : "tilt", (pick(100) / 100.0), true);
+            for (int k = 0; k < 5; ++k) doc.set_param(n, blend ? "weight" : "tilt", (pick(100) / 100.0), true);
             doc.end_gesture();
             break;
           }

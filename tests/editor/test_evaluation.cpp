@@ -45,8 +45,9 @@ TEST(EvaluationController, EditRecomputesOnlyDownstreamAndUndoHitsTheCache) {
   ec.wait_idle();
   auto first = ec.preview();
   ASSERT_TRUE(first);
-  EXPECT_EQ(statuses(*first), (std::map<std::string, NodeStatus>{
-                                  {"src", NodeStatus::Computed}, {"mid", NodeStatus::Computed}, {"out", NodeStatus::Computed}}));
+  EXPECT_EQ(statuses(*first),
+            (std::map<std::string, NodeStatus>{
+                {"src", NodeStatus::Computed}, {"mid", NodeStatus::Computed}, {"out", NodeStatus::Computed}}));
   ASSERT_TRUE(first->outputs.count("out"));
   const auto out_before = std::get<HeightfieldPtr>(first->outputs.at("out").at(0));
   EXPECT_EQ(out_before->domain, ec.preview_domain(doc.graph().domain));
@@ -57,8 +58,9 @@ TEST(EvaluationController, EditRecomputesOnlyDownstreamAndUndoHitsTheCache) {
   ec.request_preview(doc.graph(), {"out"}, doc.content_revision());
   ec.wait_idle();
   auto second = ec.preview();
-  EXPECT_EQ(statuses(*second), (std::map<std::string, NodeStatus>{
-                                   {"src", NodeStatus::Cached}, {"mid", NodeStatus::Computed}, {"out", NodeStatus::Computed}}));
+  EXPECT_EQ(statuses(*second),
+            (std::map<std::string, NodeStatus>{
+                {"src", NodeStatus::Cached}, {"mid", NodeStatus::Computed}, {"out", NodeStatus::Computed}}));
   EXPECT_EQ(ec.node_state("src").phase, Phase::Cached);
   EXPECT_EQ(ec.node_state("mid").phase, Phase::Computed);
   EXPECT_GT(second->serial, first->serial);
@@ -199,7 +201,8 @@ TEST(EvaluationController, ThumbnailsOfEveryNodeAtLowResolutionLeaveStatesAlone)
   EXPECT_EQ(t->revision, 7u);
   for (const char* id : {"src", "mid", "out", "scatter"}) EXPECT_TRUE(t->outputs.count(id)) << id;
   const auto& h = std::get<HeightfieldPtr>(t->outputs.at("out").front());
-  EXPECT_EQ(h->domain.resolution, glm::ivec2(EvaluationController::kThumbnailResolution, EvaluationController::kThumbnailResolution / 2));
+  EXPECT_EQ(h->domain.resolution,
+            glm::ivec2(EvaluationController::kThumbnailResolution, EvaluationController::kThumbnailResolution / 2));
   // The world rectangle points and curves are drawn in.
   EXPECT_EQ(t->domain.resolution, h->domain.resolution);
   EXPECT_EQ(t->domain.max_corner(), h->domain.max_corner());

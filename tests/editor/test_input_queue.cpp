@@ -102,7 +102,7 @@ TEST(InputQueue, AClickIsSeenWhereItHappenedAndReleasesDoNotWait) {
   InputFrame state;
   PollingUi ui;
   for (auto e : {move(10, 10), move(20, 30), button(0, true), move(50, 50), button(0, false), move(60, 70)}) q.push(e);
-  EXPECT_EQ(q.size(), 5u);  // the first two moves collapse
+  EXPECT_EQ(q.size(), 5u);             // the first two moves collapse
   EXPECT_EQ(q.next_frame(state), 2u);  // up to and including the press
   ui.frame(state);
   EXPECT_EQ(ui.clicks, 1);

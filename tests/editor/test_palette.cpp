@@ -71,7 +71,7 @@ TEST_F(PaletteTest, CategoriesAndDescriptionsMatchToo) {
   ASSERT_GE(erosion.size(), 2u);
   EXPECT_EQ(erosion[0].type->category, "erosion");
   EXPECT_EQ(erosion[1].type->category, "erosion");
-  EXPECT_EQ(first("flat"), "Constant");      // only its description says "flat"
+  EXPECT_EQ(first("flat"), "Constant");  // only its description says "flat"
   EXPECT_EQ(first("cellular"), "Worley");
   EXPECT_TRUE(search_palette("zzzz", types()).empty());
 }
@@ -79,8 +79,7 @@ TEST_F(PaletteTest, CategoriesAndDescriptionsMatchToo) {
 TEST_F(PaletteTest, EmptyQueryListsEverythingByCategory) {
   const auto all = search_palette("", types());
   ASSERT_EQ(all.size(), storage.size());
-  for (std::size_t k = 1; k < all.size(); ++k)
-    EXPECT_LE(all[k - 1].type->category, all[k].type->category);
+  for (std::size_t k = 1; k < all.size(); ++k) EXPECT_LE(all[k - 1].type->category, all[k].type->category);
 }
 
 TEST_F(PaletteTest, StateTypesBackspacesAndHighlights) {
@@ -102,10 +101,10 @@ TEST_F(PaletteTest, StateTypesBackspacesAndHighlights) {
 TEST(PlacePopup, StaysInsideTheWindowNearEveryEdge) {
   const Rect window{{0, 0}, {1600, 900}};
   const glm::dvec2 size{320, 420};
-  EXPECT_EQ(place_popup({100, 100}, size, window), glm::dvec2(100, 100));   // fits: at the anchor
-  EXPECT_EQ(place_popup({1500, 100}, size, window), glm::dvec2(1180, 100));  // right edge: flipped left
-  EXPECT_EQ(place_popup({100, 850}, size, window), glm::dvec2(100, 430));    // bottom: flipped up
-  EXPECT_EQ(place_popup({1590, 890}, size, window), glm::dvec2(1270, 470));  // corner
+  EXPECT_EQ(place_popup({100, 100}, size, window), glm::dvec2(100, 100));                // fits: at the anchor
+  EXPECT_EQ(place_popup({1500, 100}, size, window), glm::dvec2(1180, 100));              // right edge: flipped left
+  EXPECT_EQ(place_popup({100, 850}, size, window), glm::dvec2(100, 430));                // bottom: flipped up
+  EXPECT_EQ(place_popup({1590, 890}, size, window), glm::dvec2(1270, 470));              // corner
   EXPECT_EQ(place_popup({100, 300}, size, {{0, 0}, {1600, 500}}), glm::dvec2(100, 80));  // neither side fits
   EXPECT_EQ(place_popup({-20, -5}, size, window), glm::dvec2(0, 0));
   EXPECT_EQ(place_popup({50, 50}, {2000, 1000}, window), glm::dvec2(0, 0));  // too large: top-left inside

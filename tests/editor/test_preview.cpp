@@ -191,7 +191,8 @@ TEST(OutputKind, DeclaredInferredFromNameAndPassedThroughOperators) {
   const NodeType gen = kind_type("Gen", {}, {hf_out});
   PortDecl signed_out = hf_out;
   signed_out.kind = OutputKind::Signed;
-  const NodeType curv = kind_type("Curv", {hf_in}, {signed_out, PortDecl{"band_mask", PortType::Heightfield, "", false, OutputKind::Auto}});
+  const NodeType curv = kind_type(
+      "Curv", {hf_in}, {signed_out, PortDecl{"band_mask", PortType::Heightfield, "", false, OutputKind::Auto}});
   const NodeType op = kind_type("Op", {hf_in}, {hf_out});
   PortDecl a = hf_in, b = hf_in;
   a.name = "a";
@@ -261,7 +262,7 @@ TEST(WaterMesh, FlatSurfaceAtTerrainPlusDepthOnlyOverWater) {
   const TerrainMesh water = build_water_mesh(terrain, depth);
   ASSERT_FALSE(water.indices.empty());
   for (const auto& p : water.positions) {
-    EXPECT_NEAR(p.z, 5.0f, 1e-4f);  // flat, at the water level (shore vertices too)
+    EXPECT_NEAR(p.z, 5.0f, 1e-4f);                                     // flat, at the water level (shore vertices too)
     EXPECT_LT(std::hypot(p.x / 10.0 - 15.5, p.y / 10.0 - 15.5), 7.5);  // only around the lake
   }
   for (const auto& c : water.colors) EXPECT_LT(c.a, 1.0f);  // translucent
@@ -314,7 +315,10 @@ TEST(Preview, CategoricalIdsAndImageChannels) {
   Heightfield ids(Domain::from_extent({0, 0}, {3, 0}, {4, 1}));
   ids.data = {0.0f, 1.0f, 2.0f, 13.0f};
   const auto px = render_heightfield(ids, {ColorMap::Categorical, false, {}});
-  auto rgb = [&](int i) { return glm::vec3(px.rgba[std::size_t(i) * 4], px.rgba[std::size_t(i) * 4 + 1], px.rgba[std::size_t(i) * 4 + 2]) / 255.0f; };
+  auto rgb = [&](int i) {
+    return glm::vec3(px.rgba[std::size_t(i) * 4], px.rgba[std::size_t(i) * 4 + 1], px.rgba[std::size_t(i) * 4 + 2]) /
+           255.0f;
+  };
   for (int i = 0; i < 3; ++i) EXPECT_LT(glm::length(rgb(i) - categorical_srgb(i)), 0.01f) << i;
   EXPECT_LT(glm::length(rgb(3) - categorical_srgb(13)), 0.01f) << "ids past the palette keep their own color";
   EXPECT_GT(glm::length(categorical_srgb(13) - categorical_srgb(1)), 0.1f) << "13 does not repeat 1";

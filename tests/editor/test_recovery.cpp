@@ -129,8 +129,10 @@ TEST(StateDir, FollowsXdgStateHome) {
   ::setenv("XDG_STATE_HOME", "relative/ignored", 1);
   ::setenv("HOME", "/home/someone", 1);
   EXPECT_EQ(default_state_dir(), std::filesystem::path("/home/someone/.local/state/orogen"));
-  if (old) ::setenv("XDG_STATE_HOME", saved.c_str(), 1);
-  else ::unsetenv("XDG_STATE_HOME");
+  if (old)
+    ::setenv("XDG_STATE_HOME", saved.c_str(), 1);
+  else
+    ::unsetenv("XDG_STATE_HOME");
 }
 
 }  // namespace

@@ -125,7 +125,8 @@ TEST(ScenePreview, ProxyIsClosedAndFacesOutward) {
   const TerrainMesh t = proxy_geometry({1, 0, 0, 1});
   ASSERT_EQ(t.indices.size(), 24u);
   for (std::size_t f = 0; f < 8; ++f) {
-    const glm::vec3 a = t.positions[t.indices[3 * f]], b = t.positions[t.indices[3 * f + 1]], c = t.positions[t.indices[3 * f + 2]];
+    const glm::vec3 a = t.positions[t.indices[3 * f]], b = t.positions[t.indices[3 * f + 1]],
+                    c = t.positions[t.indices[3 * f + 2]];
     const glm::vec3 centre = (a + b + c) / 3.0f - glm::vec3(0, 0, 0.5f);
     EXPECT_GT(glm::dot(glm::cross(b - a, c - a), centre), 0.0f) << f;
   }
@@ -136,7 +137,8 @@ TEST(ScenePreview, ProxyIsClosedAndFacesOutward) {
 TEST(ScenePreview, MeshGeometryConvertsColorsAndTintsUniformMeshes) {
   Mesh m;
   auto& t = m.mesh;
-  const auto a = t.add_vertex({0, 0, 0}), b = t.add_vertex({1, 0, 0}), c = t.add_vertex({1, 1, 10}), d = t.add_vertex({0, 1, 10});
+  const auto a = t.add_vertex({0, 0, 0}), b = t.add_vertex({1, 0, 0}), c = t.add_vertex({1, 1, 10}),
+             d = t.add_vertex({0, 1, 10});
   t.add_face(std::vector<TriMesh::VertexHandle>{a, b, c, d});  // a quad: split in two triangles
   t.update_normals();
   for (auto v : t.vertices()) t.set_color(v, OpenMesh::Vec4f(0.5f, 1.0f, 0.0f, 1.0f));

@@ -44,8 +44,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // The extension's reader only, as ReadHeightfield does.
     if (auto in = OIIO::ImageInput::create(std::string(ext + 1), /*do_open=*/false)) {
       OIIO::ImageSpec spec;
-      if (in->open(path.string(), spec) &&
-          static_cast<double>(spec.width) * spec.height * spec.nchannels > 4e6)
+      if (in->open(path.string(), spec) && static_cast<double>(spec.width) * spec.height * spec.nchannels > 4e6)
         return 0;
     }
   }

@@ -1,10 +1,10 @@
 // libFuzzer target: every parameter text grammar a user types or a graph file carries, through
 // param_from_text (the --set and editor syntax) and param_from_json, for every parameter of every node
 // type (curves, gradients, vectors, colours, enums, paths, seeds, tables ...). The first byte picks the
-// parameter (the first two bytes, little-endian). Values that are accepted are then evaluated where they are functions (curves, gradients), and
-// tables must read back from their own JSON unchanged. The text also goes, as the version-4 string of the
-// chosen node type's mini-language, through the version-5 migration (graph/table_migration.h), whose tables
-// must then pass or fail the loader's checks without crashing.
+// parameter (the first two bytes, little-endian). Values that are accepted are then evaluated where they are functions
+// (curves, gradients), and tables must read back from their own JSON unchanged. The text also goes, as the version-4
+// string of the chosen node type's mini-language, through the version-5 migration (graph/table_migration.h), whose
+// tables must then pass or fail the loader's checks without crashing.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -75,7 +75,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const auto json = nlohmann::json::parse(text, nullptr, false);
   if (!json.is_discarded())
     if (auto v = orogen::param_from_json(json, decl, error)) values.push_back(*v);
-  const double probes[] = {-1e300, -1.0, 0.0, 0.25, 0.5, 1.0, 1e300, std::numeric_limits<double>::quiet_NaN(),
+  const double probes[] = {-1e300,
+                           -1.0,
+                           0.0,
+                           0.25,
+                           0.5,
+                           1.0,
+                           1e300,
+                           std::numeric_limits<double>::quiet_NaN(),
                            std::numeric_limits<double>::infinity()};
   for (const auto& v : values) {
     if (!decl.check(v).empty()) continue;

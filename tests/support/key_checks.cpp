@@ -93,7 +93,9 @@ std::vector<std::pair<std::string, ParamValue>> perturbations(const ParamDecl& d
       for (double x : other_numbers(static_cast<double>(std::get<std::int64_t>(v)), decl, true))
         out.push_back({"", static_cast<std::int64_t>(x)});
       break;
-    case ParamType::Bool: out.push_back({"", !std::get<bool>(v)}); break;
+    case ParamType::Bool:
+      out.push_back({"", !std::get<bool>(v)});
+      break;
     case ParamType::Vec2:
       for (int c = 0; c < 2; ++c) {
         for (double x : other_numbers(std::get<glm::dvec2>(v)[c], decl, false)) {
@@ -123,13 +125,21 @@ std::vector<std::pair<std::string, ParamValue>> perturbations(const ParamDecl& d
       for (const auto& choice : decl.choices)
         if (choice != std::get<std::string>(v)) out.push_back({"choice " + choice, choice});
       break;
-    case ParamType::String: out.push_back({"", std::get<std::string>(v) + "_changed"}); break;
-    case ParamType::Path: out.push_back({"", changed_path(std::get<std::string>(v), decl)}); break;
-    case ParamType::Seed: out.push_back({"", std::get<std::uint64_t>(v) + 1}); break;
+    case ParamType::String:
+      out.push_back({"", std::get<std::string>(v) + "_changed"});
+      break;
+    case ParamType::Path:
+      out.push_back({"", changed_path(std::get<std::string>(v), decl)});
+      break;
+    case ParamType::Seed:
+      out.push_back({"", std::get<std::uint64_t>(v) + 1});
+      break;
     case ParamType::Curve: {
       auto c = std::get<CurveValue>(v);
-      if (c.points.empty()) c.points.push_back({0.0, 0.0});
-      else c.points.front().y += 0.25;
+      if (c.points.empty())
+        c.points.push_back({0.0, 0.0});
+      else
+        c.points.front().y += 0.25;
       out.push_back({"first point", c});
       auto more = std::get<CurveValue>(v);
       more.points.push_back({more.points.empty() ? 0.0 : more.points.back().x + 1.0, 0.5});
@@ -138,8 +148,10 @@ std::vector<std::pair<std::string, ParamValue>> perturbations(const ParamDecl& d
     }
     case ParamType::Gradient: {
       auto g = std::get<GradientValue>(v);
-      if (g.stops.empty()) g.stops.push_back({});
-      else g.stops.front().color.r = other_colour(g.stops.front().color.r);
+      if (g.stops.empty())
+        g.stops.push_back({});
+      else
+        g.stops.front().color.r = other_colour(g.stops.front().color.r);
       out.push_back({"first stop colour", g});
       auto more = std::get<GradientValue>(v);
       more.stops.push_back({more.stops.empty() ? 0.0 : more.stops.back().position + 0.0, {0.3f, 0.6f, 0.9f, 1.0f}});
@@ -155,12 +167,24 @@ std::vector<std::pair<std::string, ParamValue>> perturbations(const ParamDecl& d
         for (const auto& c : decl.table.columns) {
           const double x = std::clamp(1.0, c.min.value_or(-1e300), c.max.value_or(1e300));
           switch (c.type) {
-            case ColumnType::Text: row.push_back(std::string("key_check")); break;
-            case ColumnType::Enum: row.push_back(c.choices.front()); break;
-            case ColumnType::Number: row.push_back(x); break;
-            case ColumnType::Integer: row.push_back(static_cast<std::int64_t>(std::ceil(x))); break;
-            case ColumnType::Range: row.push_back(glm::dvec2(x, x)); break;
-            case ColumnType::Color: row.push_back(Srgb8{1, 2, 3}); break;
+            case ColumnType::Text:
+              row.push_back(std::string("key_check"));
+              break;
+            case ColumnType::Enum:
+              row.push_back(c.choices.front());
+              break;
+            case ColumnType::Number:
+              row.push_back(x);
+              break;
+            case ColumnType::Integer:
+              row.push_back(static_cast<std::int64_t>(std::ceil(x)));
+              break;
+            case ColumnType::Range:
+              row.push_back(glm::dvec2(x, x));
+              break;
+            case ColumnType::Color:
+              row.push_back(Srgb8{1, 2, 3});
+              break;
           }
         }
         one.rows.push_back(std::move(row));
@@ -178,7 +202,10 @@ std::vector<std::pair<std::string, ParamValue>> perturbations(const ParamDecl& d
           if (auto* s = std::get_if<std::string>(&cell)) {
             if (col.type == ColumnType::Enum) {
               for (const auto& choice : col.choices)
-                if (choice != *s) { *s = choice; break; }
+                if (choice != *s) {
+                  *s = choice;
+                  break;
+                }
             } else {
               *s += "_changed";
             }
@@ -191,8 +218,10 @@ std::vector<std::pair<std::string, ParamValue>> perturbations(const ParamDecl& d
           } else if (auto* i = std::get_if<std::int64_t>(&cell)) {
             *i = (col.max && static_cast<double>(*i + 1) > *col.max) ? *i - 1 : *i + 1;
           } else if (auto* r = std::get_if<glm::dvec2>(&cell)) {
-            if (std::isfinite(r->y)) r->y += 0.5 * (std::isfinite(r->x) ? std::max(r->y - r->x, 0.5) : 1.0);
-            else r->x -= 1.0;
+            if (std::isfinite(r->y))
+              r->y += 0.5 * (std::isfinite(r->x) ? std::max(r->y - r->x, 0.5) : 1.0);
+            else
+              r->x -= 1.0;
           } else if (auto* color = std::get_if<Srgb8>(&cell)) {
             color->r = static_cast<std::uint8_t>(color->r ^ 0x40);
           }
@@ -225,9 +254,9 @@ void expect_every_param_changes_key(const std::string& type_name, const Domain& 
   for (const ParamDecl& decl : type->params) {
     const ParamValue original = g.param(kNode, decl.name);
     const auto changes = perturbations(decl, original);
-    const bool no_alternative =
-        (decl.type == ParamType::Enum && decl.choices.size() < 2) ||
-        ((decl.type == ParamType::Float || decl.type == ParamType::Int) && decl.min && decl.max && *decl.min == *decl.max);
+    const bool no_alternative = (decl.type == ParamType::Enum && decl.choices.size() < 2) ||
+                                ((decl.type == ParamType::Float || decl.type == ParamType::Int) && decl.min &&
+                                 decl.max && *decl.min == *decl.max);
     if (changes.empty() && !no_alternative)
       ADD_FAILURE() << type_name << "." << decl.name << ": found no valid value other than " << describe(original)
                     << " to check the key with";
@@ -238,9 +267,8 @@ void expect_every_param_changes_key(const std::string& type_name, const Domain& 
                                     << ": changing it from " << describe(original) << " to " << describe(value)
                                     << " did not change the cache key " << hex(k0);
       g.set_param(kNode, decl.name, original);
-      EXPECT_EQ(hex(key_of(g, d)), hex(k0)) << type_name << "." << decl.name
-                                            << ": setting it back to " << describe(original)
-                                            << " did not restore the cache key";
+      EXPECT_EQ(hex(key_of(g, d)), hex(k0)) << type_name << "." << decl.name << ": setting it back to "
+                                            << describe(original) << " did not restore the cache key";
     }
   }
 
@@ -299,15 +327,15 @@ void expect_every_input_changes_key(const std::string& type_name, const Domain& 
                                           << port.name << "' did not restore the cache key";
     if (port.optional) {
       g.disconnect(kNode, port.name);
-      EXPECT_NE(hex(key_of(g, d)), hex(k0)) << type_name << ": disconnecting the optional input '" << port.name
-                                            << "' did not change the cache key";
+      EXPECT_NE(hex(key_of(g, d)), hex(k0))
+          << type_name << ": disconnecting the optional input '" << port.name << "' did not change the cache key";
       g.connect({sources[i], "out"}, kNode, port.name);
     }
     g.remove_node(alt);
     // Changing the upstream node's parameters must reach this node's key too.
     g.set_param(sources[i], "variant", static_cast<std::int64_t>(2000 + i));
-    EXPECT_NE(hex(key_of(g, d)), hex(k0)) << type_name << ": a parameter change upstream of input '" << port.name
-                                          << "' did not change the cache key";
+    EXPECT_NE(hex(key_of(g, d)), hex(k0))
+        << type_name << ": a parameter change upstream of input '" << port.name << "' did not change the cache key";
     g.set_param(sources[i], "variant", static_cast<std::int64_t>(i));
   }
   EXPECT_EQ(hex(key_of(g, d)), hex(k0)) << type_name << ": the key did not come back after the input checks";

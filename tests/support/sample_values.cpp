@@ -17,8 +17,10 @@ std::map<PortType, PortValue> sample_values(const HeightfieldPtr& field, const O
       std::map<std::string, PortValue> inputs;
       bool feasible = true;
       for (const auto& in : type->inputs) {
-        if (auto it = values.find(in.type); it != values.end()) inputs[in.name] = it->second;
-        else if (!in.optional) feasible = false;
+        if (auto it = values.find(in.type); it != values.end())
+          inputs[in.name] = it->second;
+        else if (!in.optional)
+          feasible = false;
       }
       if (!feasible) continue;
       bool wanted = false;
@@ -29,8 +31,7 @@ std::map<PortType, PortValue> sample_values(const HeightfieldPtr& field, const O
         for (std::size_t k = 0; k < type->outputs.size(); ++k)
           if (!values.count(type->outputs[k].type) && has_value(run.outputs[k]))
             values[type->outputs[k].type] = run.outputs[k];
-      } catch (const std::exception&) {
-      }
+      } catch (const std::exception&) {}
     }
   }
   return values;
