@@ -40,5 +40,8 @@ struct ValidateCommand {
 
 int run_validate(const ValidateCommand& cmd);
 int run_nodes(const std::string& type, bool json, bool markdown);
+// Rewrites each file at the current format version (exit 2 if one cannot be read or migrated); check_only:
+// only say which files are older (exit 1 if any is).
+int run_migrate(const std::vector<std::filesystem::path>& files, bool check_only);
 
 }  // namespace orogen::cli

@@ -72,6 +72,13 @@ int main(int argc, char** argv) {
   nodes_cmd->add_flag("--json", json, "Machine-readable output");
   nodes_cmd->add_flag("--markdown", markdown, "The whole reference as Markdown");
 
+  std::vector<std::filesystem::path> migrate_files;
+  bool migrate_check = false;
+  auto* migrate_cmd = app.add_subcommand(
+      "migrate", "Rewrite graph files at the current format version in place (what loading them does in memory)");
+  migrate_cmd->add_option("FILES", migrate_files, "Graph files (.json)")->required();
+  migrate_cmd->add_flag("--check", migrate_check, "Write nothing; exit 1 if a file is at an older version");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -83,6 +90,7 @@ int main(int argc, char** argv) {
     if (*eval_cmd) return run_eval(eval);
     if (*validate_cmd) return run_validate(validate);
     if (*nodes_cmd) return run_nodes(node_type, json, markdown);
+    if (*migrate_cmd) return run_migrate(migrate_files, migrate_check);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitEvalFailed;

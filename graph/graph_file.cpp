@@ -49,7 +49,8 @@ struct MigrationTable {
   std::map<int, GraphMigration> by_version{{1, migrate_graph_v1_to_v2},
                                            {2, migrate_graph_v2_to_v3},
                                            {3, migrate_graph_v3_to_v4},
-                                           {4, migrate_graph_v4_to_v5}};
+                                           {4, migrate_graph_v4_to_v5},
+                                           {5, migrate_graph_v5_to_v6}};
 };
 
 MigrationTable& migrations() {
@@ -612,6 +613,23 @@ void register_graph_migration(int from_version, GraphMigration migration) {
   auto& table = migrations();
   std::lock_guard lock(table.mutex);
   table.by_version[from_version] = std::move(migration);
+}
+
+int migrate_graph_document(nlohmann::json& doc) {
+  if (!doc.is_object() || !doc.contains("version") || !doc["version"].is_number_integer())
+    throw std::runtime_error("not a graph file: no integer \"version\"");
+  const std::int64_t from = doc["version"].get<std::int64_t>();
+  if (from > kGraphFormatVersion)
+    throw std::runtime_error("written by a newer Orogen (version " + std::to_string(from) +
+                             ", this build reads up to " + std::to_string(kGraphFormatVersion) + ")");
+  for (std::int64_t k = from; k < kGraphFormatVersion; ++k) {
+    const auto migration = k < 1 ? std::nullopt : find_migration(static_cast<int>(k));
+    if (!migration) throw std::runtime_error("no migration from format version " + std::to_string(k) + " is known");
+    (*migration)(doc);
+    if (!doc.is_object()) throw std::runtime_error("the migration from version " + std::to_string(k) + " failed");
+    doc["version"] = k + 1;
+  }
+  return static_cast<int>(from);
 }
 
 LoadResult parse_graph(std::string_view json_text, const LoadOptions& options) {

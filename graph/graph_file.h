@@ -16,7 +16,7 @@
 
 namespace orogen {
 
-inline constexpr int kGraphFormatVersion = 5;
+inline constexpr int kGraphFormatVersion = 6;
 inline constexpr const char* kGraphFormatName = "orogen-graph";
 
 struct Diagnostic {
@@ -69,6 +69,10 @@ void save_graph_file(const Graph& graph, const std::filesystem::path& path);
 // A migration turns a file of format version `from_version` into version from_version + 1, in place.
 using GraphMigration = std::function<void(nlohmann::json& file)>;
 void register_graph_migration(int from_version, GraphMigration migration);
+// Runs the migrations of a parsed graph file up to kGraphFormatVersion in place, keeping everything else of
+// the file (what `orogen migrate` writes back); returns the version it had. Throws std::runtime_error for a
+// file without an integer version, a newer version or a version no migration starts from.
+int migrate_graph_document(nlohmann::json& doc);
 
 // Parameter values <-> JSON, as used in the "params" object of a node.
 nlohmann::json param_to_json(const ParamValue& value);

@@ -1,4 +1,7 @@
 #include "graph/graph_migrations.h"
+
+#include "graph/angles.h"
+#include "graph/calendar.h"
 #include "graph/table_migration.h"
 
 #include <map>
@@ -33,10 +36,10 @@ namespace {
 
 using nlohmann::json;
 
-const NodeRenamesV1* renames_for(const json& node) {
+const NodeRenamesV1* renames_for(const json& node, const std::vector<NodeRenamesV1>& table) {
   if (!node.is_object() || !node.contains("type") || !node["type"].is_string()) return nullptr;
   const auto type = node["type"].get<std::string>();
-  for (const auto& r : format_v1_renames())
+  for (const auto& r : table)
     if (r.type == type) return &r;
   return nullptr;
 }
@@ -49,21 +52,21 @@ void rename_key(json& object, const std::string& from, const std::string& to) {
   object.erase(from);
 }
 
-}  // namespace
-
-void migrate_graph_v1_to_v2(json& file) {
+// Applies one version's renames: input port names in "inputs", output port names in every link that reads a
+// renamed output, parameter names and enum values in "params".
+void apply_renames(json& file, const std::vector<NodeRenamesV1>& table) {
   if (!file.is_object() || !file.contains("nodes") || !file["nodes"].is_array()) return;
   json& nodes = file["nodes"];
 
   // Output renames by node id, for the links that read them.
   std::map<std::string, const NodeRenamesV1*> by_id;
   for (const json& node : nodes)
-    if (const auto* r = renames_for(node); r && node.contains("id") && node["id"].is_string())
+    if (const auto* r = renames_for(node, table); r && node.contains("id") && node["id"].is_string())
       by_id[node["id"].get<std::string>()] = r;
 
   for (json& node : nodes) {
     if (!node.is_object()) continue;
-    if (const auto* r = renames_for(node)) {
+    if (const auto* r = renames_for(node, table)) {
       if (node.contains("inputs"))
         for (const auto& [from, to] : r->inputs) rename_key(node["inputs"], from, to);
       if (node.contains("params")) {
@@ -87,6 +90,10 @@ void migrate_graph_v1_to_v2(json& file) {
     }
   }
 }
+
+}  // namespace
+
+void migrate_graph_v1_to_v2(json& file) { apply_renames(file, format_v1_renames()); }
 
 const std::vector<ChangedDefault>& format_v2_changed_defaults() {
   static const std::vector<ChangedDefault> table = {
@@ -167,5 +174,66 @@ void migrate_graph_v3_to_v4(json& file) {
 }
 
 void migrate_graph_v4_to_v5(json& file) { convert_string_tables_v4(file); }
+
+const std::vector<NodeRenamesV1>& format_v5_renames() {
+  static const std::vector<NodeRenamesV1> table = {
+      {"FlowAccumulation", {{"rainfall", "rainfall_weight"}}, {}, {{"min_slope", "min_gradient"}}, {}},
+      {"RiverExtract", {{"rainfall", "rainfall_weight"}}, {{"mask", "river_mask"}}, {}, {}},
+      {"PipeErosion",
+       {{"rainfall", "rainfall_rate"}, {"temperature", "evaporation_factor"}},
+       {{"water", "water_depth"}},
+       {{"rain_rate", "rainfall_rate"}},
+       {}},
+      {"SoilHumidity", {{"water", "water_depth"}}, {}, {{"water_threshold", "saturation_depth"}}, {}},
+      {"FillDepressions", {}, {{"depth", "water_depth"}}, {}, {}},
+      {"Lakes", {}, {{"depth", "water_depth"}}, {}, {}},
+      {"FloodFill", {}, {{"depth", "water_depth"}, {"mask", "lake_mask"}}, {{"seed", "position"}}, {}},
+      {"CarveRivers", {}, {{"mask", "river_mask"}}, {}, {}},
+      {"PolygonMapRaster",
+       {},
+       {{"water", "water_mask"}, {"ocean", "ocean_mask"}, {"lake", "lake_mask"}, {"river", "river_mask"}},
+       {},
+       {}},
+      {"Hillshade", {}, {{"image", "color"}}, {{"azimuth", "sun_azimuth"}, {"altitude", "sun_elevation"}}, {}},
+      {"FlowDirection", {}, {{"slope", "gradient"}}, {}, {}},
+      {"Normals", {}, {}, {{"height_scale", "z_factor"}}, {}},
+      {"SunIllumination", {}, {}, {{"month", "day_of_year"}}, {}},
+      {"HydraulicErosion", {}, {}, {{"min_slope", "min_gradient"}}, {}},
+      {"RiverNetwork", {}, {}, {{"base_slope", "base_gradient"}, {"slope_weight", "gradient_weight"}}, {}},
+      {"ForestLifeCycle",
+       {},
+       {},
+       {{"seed_distance", "dispersal_distance"}, {"seed_probability", "dispersal_probability"}},
+       {}},
+  };
+  return table;
+}
+
+const std::vector<ConvertedParam>& format_v5_converted_params() {
+  static const std::vector<ConvertedParam> table = {
+      {"SunIllumination", "day_of_year", "month 1..12 -> the 15th of that month (calendar::mid_month_day)"},
+      {"Turtle3D", "tropism_strength", "radians -> degrees (degrees_for_radians: converts back exactly)"},
+  };
+  return table;
+}
+
+void migrate_graph_v5_to_v6(json& file) {
+  apply_renames(file, format_v5_renames());
+  if (!file.is_object() || !file.contains("nodes") || !file["nodes"].is_array()) return;
+  for (json& node : file["nodes"]) {
+    if (!node.is_object() || !node.contains("type") || !node.contains("params") || !node["params"].is_object())
+      continue;
+    json& params = node["params"];
+    if (node["type"] == "SunIllumination" && params.contains("day_of_year") &&
+        params["day_of_year"].is_number_integer()) {
+      const auto month = params["day_of_year"].get<std::int64_t>();
+      // A month out of 1..12 was refused and still is: it becomes day 0, out of the new range 1..366.
+      params["day_of_year"] = month >= 1 && month <= 12 ? calendar::mid_month_day(static_cast<int>(month)) : 0;
+    }
+    if (node["type"] == "Turtle3D" && params.contains("tropism_strength") && params["tropism_strength"].is_number() &&
+        params["tropism_strength"] != 0)
+      params["tropism_strength"] = degrees_for_radians(params["tropism_strength"].get<double>());
+  }
+}
 
 }  // namespace orogen

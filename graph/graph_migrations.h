@@ -20,7 +20,7 @@ struct EnumValueRename {
   std::string from, to;
 };
 
-// What changed for one node type between format versions 1 and 2.
+// What changed for one node type between two format versions (1 -> 2, 5 -> 6).
 struct NodeRenamesV1 {
   std::string type;
   std::vector<Rename> inputs;
@@ -50,6 +50,19 @@ void migrate_graph_v3_to_v4(nlohmann::json& file);
 // Version 5: the six string mini-languages became table parameters (graph/table_value.h); the strings of
 // older files are converted by convert_string_tables_v4 (graph/table_migration.h).
 void migrate_graph_v4_to_v5(nlohmann::json& file);
+
+// Version 6: one name per quantity (the glossary of docs/conventions.md). Ports and parameters renamed by
+// format_v5_renames(); two parameters also change their unit, and the migration converts their values so the
+// outputs stay the same (format_v5_converted_params): SunIllumination.month 1..12 becomes day_of_year (the
+// 15th of that month; the node uses the month holding the day), Turtle3D.tropism_strength radians become
+// degrees (a degree value that converts back to the same radians).
+const std::vector<NodeRenamesV1>& format_v5_renames();
+struct ConvertedParam {
+  std::string type, param;  // the parameter's name in version 6
+  std::string conversion;
+};
+const std::vector<ConvertedParam>& format_v5_converted_params();
+void migrate_graph_v5_to_v6(nlohmann::json& file);
 
 // Rewrites a version-1 file in place: input port names in "inputs", output port names in every link that
 // reads a renamed output, parameter names and enum values in "params". Parts of the file that are not

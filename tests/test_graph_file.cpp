@@ -122,7 +122,7 @@ TEST(GraphFile, CanonicalTextIsReproducedExactly) {
   // What serialize_graph writes: this is the documented look of a file.
   const std::string text = R"({
   "format": "orogen-graph",
-  "version": 5,
+  "version": 6,
   "domain": {
     "size": [4096, 2048.5],
     "resolution": [1025, 513],
@@ -580,8 +580,8 @@ std::vector<Malformed> malformed_cases() {
        "missing \"version\": the format version (this build writes 5)"},
       {"VersionNotInteger", R"({"format": "orogen-graph", "version": 1.0, "nodes": []})", "/version", "",
        "\"version\" must be an integer, found the number 1.0"},
-      {"NewerVersion", R"({"format": "orogen-graph", "version": 6, "nodes": [{"bad": 1}], "future": true})", "/version",
-       "", "this file was written by a newer Orogen (version 6, this build reads up to 5); update Orogen to open it"},
+      {"NewerVersion", R"({"format": "orogen-graph", "version": 7, "nodes": [{"bad": 1}], "future": true})", "/version",
+       "", "this file was written by a newer Orogen (version 7, this build reads up to 6); update Orogen to open it"},
       {"UnknownTopLevelField", with_nodes("", R"(, "editr": {})"), "/editr", "",
        "unknown field 'editr' in the file (did you mean 'editor'?)"},
       {"MissingNodes", R"({"format": "orogen-graph", "version": 1})", "/nodes", "",

@@ -104,7 +104,7 @@ TEST(FlowAccumulationNode, RainfallWeightsAndMapsInRange) {
     SCOPED_TRACE(m);
     const NodeRun a = run_node("FlowAccumulation", d, {{"method", std::string(m)}}, {{"in", pv(in)}});
     const NodeRun b =
-        run_node("FlowAccumulation", d, {{"method", std::string(m)}}, {{"in", pv(in)}, {"rainfall", pv(two)}});
+        run_node("FlowAccumulation", d, {{"method", std::string(m)}}, {{"in", pv(in)}, {"rainfall_weight", pv(two)}});
     const auto acc = a.get<Heightfield>(0), acc2 = b.get<Heightfield>(0), flow = a.get<Heightfield>(1),
                wet = a.get<Heightfield>(2);
     for (std::size_t c = 0; c < acc->data.size(); ++c) {

@@ -90,7 +90,7 @@ TEST(MemoryEstimate, ReadHeightfieldCountsTheFilesPixelsFromItsHeader) {
   EXPECT_EQ(estimate(read, small, missing, nullptr), estimate_output_bytes(read, small));
 
   // End to end: refused up front by --max-memory although the domain is 16 x 16 samples.
-  write_text(dir / "g.json", R"({ "format": "orogen-graph", "version": 5,
+  write_text(dir / "g.json", R"({ "format": "orogen-graph", "version": 6,
     "domain": { "size": [100, 100], "resolution": [16, 16] },
     "nodes": [ { "id": "read", "type": "ReadHeightfield", "params": { "path": "flat2048.png" } },
                { "id": "save", "type": "WriteHeightfield", "inputs": { "in": "read.out" },
@@ -158,7 +158,7 @@ TEST(MemoryEstimate, LSystemBoundsTheWordByMaxModulesAndTheWidestModule) {
   const fs::path dir = scratch_dir("estimate-lsystem");
   nlohmann::json g = {
       {"format", "orogen-graph"},
-      {"version", 5},
+      {"version", 6},
       {"domain", {{"size", {10, 10}}, {"resolution", {4, 4}}}},
       {"nodes",
        {{{"id", "grow"},

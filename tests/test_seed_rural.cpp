@@ -169,7 +169,7 @@ TEST_F(RuralSeed, WaterFlowConservesWaterAndTheFloodFilledLakeIsFlat) {
   EXPECT_GT(flooded, 50) << "the seed point of the flood fill lies in no depression";
   EXPECT_GT(level - lo, 1.0);
   // The seed point lies in the lake.
-  const auto& seed = node_params(run_->graph, "lake")["seed"];
+  const auto& seed = node_params(run_->graph, "lake")["position"];
   const double size = run_->graph["domain"]["size"][0].get<double>();
   const double spacing = size / (depth.width - 1);
   const int i = static_cast<int>(std::lround(seed[0].get<double>() / spacing));

@@ -144,7 +144,7 @@ TEST(TableParam, HexColors) {
 
 // Biomes' custom_table (open ends), ColorByLayers' colors and ScatterRules' ecosystems (optional cells).
 const char* kGraph = R"({
-  "format": "orogen-graph", "version": 5,
+  "format": "orogen-graph", "version": 6,
   "domain": {"size": [100, 100], "resolution": [9, 9]},
   "nodes": [
     {"id": "t", "type": "Constant", "params": {"value": 10}},

@@ -264,7 +264,7 @@ TEST(Hillshade, GrayImageCopiesTheShadeIntoRgbWithOpaqueAlpha) {
     }
   // The node's image output is the gray image of its shade output.
   auto z = std::make_shared<Heightfield>(plane(30, 200));
-  const auto run = run_node("Hillshade", z->domain, {{"azimuth", 180.0}, {"altitude", 40.0}},
+  const auto run = run_node("Hillshade", z->domain, {{"sun_azimuth", 180.0}, {"sun_elevation", 40.0}},
                             {{"in", PortValue(HeightfieldPtr(z))}});
   const auto shade = run.get<Heightfield>(0);
   const auto image = run.get<Image>(1);

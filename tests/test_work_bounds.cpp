@@ -148,7 +148,7 @@ TEST(WorkBounds, PipeErosionRefusesNonFiniteRainfallNamingThePort) {
   for (auto& v : rain->data) v = 50.0f;
   rain->at(3, 4) = std::numeric_limits<float>::infinity();
   const std::string e = node_error(
-      "PipeErosion", d, {}, {{"in", PortValue(fbm_like(d, 50.0))}, {"rainfall", PortValue(HeightfieldPtr(rain))}});
+      "PipeErosion", d, {}, {{"in", PortValue(fbm_like(d, 50.0))}, {"rainfall_rate", PortValue(HeightfieldPtr(rain))}});
   EXPECT_NE(e.find("PipeErosion"), std::string::npos) << e;
   EXPECT_NE(e.find("'rainfall'"), std::string::npos) << e;
   EXPECT_NE(e.find("(3, 4)"), std::string::npos) << e;
@@ -161,7 +161,7 @@ TEST(WorkBounds, PipeErosionOverflowingWaterIsAnErrorNotAZeroTimeStep) {
   for (auto& v : rain->data) v = 3e38f;
   const std::string e =
       node_error("PipeErosion", d, {{"duration", 1e4}},
-                 {{"in", PortValue(fbm_like(d, 50.0))}, {"rainfall", PortValue(HeightfieldPtr(rain))}});
+                 {{"in", PortValue(fbm_like(d, 50.0))}, {"rainfall_rate", PortValue(HeightfieldPtr(rain))}});
   EXPECT_NE(e.find("PipeErosion"), std::string::npos) << e;
 }
 

@@ -239,9 +239,9 @@ OROGEN_NODE(SoilHumidity) {
   b.input("wetness", PortType::Heightfield)
       .optional()
       .description("Wetness mask in 0..1: the share of the rain that cannot run off is raised toward 1");
-  b.input("water", PortType::Heightfield)
+  b.input("water_depth", PortType::Heightfield)
       .optional()
-      .description("Standing water depth, metres; deeper than water_threshold saturates the soil");
+      .description("Standing water depth, metres; deeper than saturation_depth saturates the soil");
   b.output("out", PortType::Image).description("Weighted soil humidity S_wh, mm, 12 channels jan..dec");
   b.output("monthly", PortType::Image).description("Soil humidity S of each month alone, mm, 12 channels");
   b.output("annual", PortType::Heightfield).description("Sum of S_wh over the year, mm").kind(OutputKind::Scalar);
@@ -257,7 +257,7 @@ OROGEN_NODE(SoilHumidity) {
       .range(0.0, 90.0)
       .unit("deg")
       .description("Slope above which nothing infiltrates, degrees 0..90 (90: none)");
-  b.param_float("water_threshold", 0.01)
+  b.param_float("saturation_depth", 0.01)
       .range(0.0, 100.0)
       .unit("m")
       .description("Water depth above which the soil is saturated, metres");
@@ -267,11 +267,11 @@ OROGEN_NODE(SoilHumidity) {
     p.intensity = ctx.param<CurveValue>("intensity");
     p.infiltration = ctx.param<double>("infiltration");
     p.max_slope = ctx.param<double>("max_slope");
-    p.water_threshold = ctx.param<double>("water_threshold");
+    p.water_threshold = ctx.param<double>("saturation_depth");
     const auto in = ctx.require<Heightfield>("in");
     const auto inf = secondary_input<Heightfield>(ctx, "infiltration", in->domain);
     const auto wet = secondary_input<Heightfield>(ctx, "wetness", in->domain);
-    const auto water = secondary_input<Heightfield>(ctx, "water", in->domain);
+    const auto water = secondary_input<Heightfield>(ctx, "water_depth", in->domain);
     auto r = soil_humidity(*in, p, inf.get(), wet.get(), water.get(), &ctx);
     ctx.set_output("out", r.weighted);
     ctx.set_output("monthly", r.monthly);

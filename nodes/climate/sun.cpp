@@ -8,6 +8,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "graph/calendar.h"
 #include "graph/registry.h"
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/field/surface_derivatives.h"
@@ -312,11 +313,13 @@ OROGEN_NODE(SunIllumination) {
       .range(-90.0, 90.0)
       .unit("deg")
       .description("Latitude, degrees, -90..90, north positive");
-  b.param_bool("all_months", true).description("Daily outputs for all twelve months (else only for `month`)");
-  b.param_int("month", 6)
-      .range(1, 12)
+  b.param_bool("all_months", true)
+      .description("Daily outputs for all twelve months (else only for the month of day_of_year)");
+  b.param_int("day_of_year", 166)
+      .range(1, 366)
       .description(
-          "Month 1..12 (January..December) of the instant outputs, and of the daily outputs when all_months is off");
+          "Date of the instant outputs (and of the daily outputs when all_months is off), 1 (January 1st) .. 366; "
+          "the declination is the monthly one of the month holding the day (166 is June 15th)");
   b.param_float("hour", 15.0)
       .range(0.0, 24.0)
       .unit("h")
@@ -337,7 +340,7 @@ OROGEN_NODE(SunIllumination) {
     p.latitude = ctx.param<double>("latitude");
     p.time_step = ctx.param<double>("time_step");
     p.irradiance = ctx.param<double>("irradiance");
-    const int month = static_cast<int>(ctx.param<std::int64_t>("month"));
+    const int month = calendar::month_of_day(static_cast<int>(ctx.param<std::int64_t>("day_of_year")));
     std::vector<int> months;
     if (ctx.param<bool>("all_months"))
       for (int m = 1; m <= 12; ++m) months.push_back(m);

@@ -122,7 +122,7 @@ OROGEN_NODE(HydraulicErosion) {
       .soft_range(0.0, 50.0)
       .unit("m^3")
       .description("Sediment a droplet carries per unit slope x speed x water");
-  b.param_float("min_slope", 0.01)
+  b.param_float("min_gradient", 0.01)
       .range(0.0, 10.0)
       .unit("m/m")
       .description("Slope floor of the capacity, so droplets on flats still carry");
@@ -146,7 +146,7 @@ OROGEN_NODE(HydraulicErosion) {
     p.radius = ctx.param<double>("radius");
     p.inertia = ctx.param<double>("inertia");
     p.capacity = ctx.param<double>("capacity");
-    p.min_slope = ctx.param<double>("min_slope");
+    p.min_slope = ctx.param<double>("min_gradient");
     p.deposition = ctx.param<double>("deposition");
     p.erosion = ctx.param<double>("erosion");
     p.evaporation = ctx.param<double>("evaporation");
@@ -175,16 +175,22 @@ OROGEN_NODE(PipeErosion) {
       "same physical duration. Cells under sea level are sinks; water and sediment leave at the border. "
       "Bit-identical for any thread count.");
   declare_common_ports(b, "Scales dissolution and deposition per cell, 0..1 (1 if unconnected)");
-  b.input("rainfall", PortType::Heightfield).optional().description("Rain rate per cell, mm/h (replaces rain_rate)");
+  b.input("rainfall_rate", PortType::Heightfield)
+      .optional()
+      .description("Rain rate per cell, mm/h (replaces the rainfall_rate parameter)");
   b.input("moisture", PortType::Heightfield).optional().description("Drops mode: chance factor of rain per cell, 0..1");
-  b.input("temperature", PortType::Heightfield).optional().description("Evaporation factor per cell (1 nominal, >= 0)");
+  b.input("evaporation_factor", PortType::Heightfield)
+      .optional()
+      .description("Evaporation factor per cell (1 nominal, >= 0)");
   b.input("hardness", PortType::Heightfield)
       .optional()
       .description("Soil hardness 0..1: slows dissolution by (1 - hardness)");
-  b.output("water", PortType::Heightfield).description("Water depth at the end, metres").kind(OutputKind::WaterDepth);
+  b.output("water_depth", PortType::Heightfield)
+      .description("Water depth at the end, metres")
+      .kind(OutputKind::WaterDepth);
   b.output("velocity", PortType::Heightfield).description("Water speed at the end, m/s").kind(OutputKind::Scalar);
   b.param_float("duration", 1800.0).range(0.0, 1e7).soft_range(60.0, 20000.0).unit("s").description("Simulated time");
-  b.param_float("rain_rate", 50.0)
+  b.param_float("rainfall_rate", 50.0)
       .range(0.0, 1e5)
       .soft_range(0.0, 500.0)
       .unit("mm/h")
@@ -218,13 +224,13 @@ OROGEN_NODE(PipeErosion) {
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto mask = secondary_input<Heightfield>(ctx, "mask", in->domain);
-    const auto rain = secondary_input<Heightfield>(ctx, "rainfall", in->domain);
+    const auto rain = secondary_input<Heightfield>(ctx, "rainfall_rate", in->domain);
     const auto moist = secondary_input<Heightfield>(ctx, "moisture", in->domain);
-    const auto temp = secondary_input<Heightfield>(ctx, "temperature", in->domain);
+    const auto temp = secondary_input<Heightfield>(ctx, "evaporation_factor", in->domain);
     const auto hard = secondary_input<Heightfield>(ctx, "hardness", in->domain);
     erosion::PipeParams p;
     p.duration = ctx.param<double>("duration");
-    p.rain_rate = ctx.param<double>("rain_rate");
+    p.rain_rate = ctx.param<double>("rainfall_rate");
     p.rain_mode = ctx.enum_index("rain_mode") == 0 ? erosion::RainMode::Uniform : erosion::RainMode::Drops;
     p.drop_chance = ctx.param<double>("drop_chance");
     p.capacity = ctx.param<double>("capacity");
@@ -238,7 +244,7 @@ OROGEN_NODE(PipeErosion) {
     p.seed = ctx.param<std::uint64_t>("seed");
     auto m = erosion::pipe_erosion(*in, p, mask.get(), rain.get(), moist.get(), temp.get(), hard.get(), &ctx);
     set_common_outputs(ctx, m);
-    ctx.set_output("water", m.water);
+    ctx.set_output("water_depth", m.water);
     ctx.set_output("velocity", m.velocity);
   });
 }

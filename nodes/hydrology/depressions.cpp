@@ -183,7 +183,7 @@ OROGEN_NODE(FillDepressions) {
           "(filled water) come out as a depth and an id per lake.");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Filled or carved height, metres");
-  b.output("depth", PortType::Heightfield)
+  b.output("water_depth", PortType::Heightfield)
       .description("Water depth of the kept lakes (flat surface minus ground), metres")
       .kind(OutputKind::WaterDepth);
   b.output("lake_id", PortType::Heightfield)
@@ -214,7 +214,7 @@ OROGEN_NODE(Lakes) {
           "min_area stay dry.");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Water surface on lakes, ground elsewhere, metres");
-  b.output("depth", PortType::Heightfield).description("Water depth, metres").kind(OutputKind::WaterDepth);
+  b.output("water_depth", PortType::Heightfield).description("Water depth, metres").kind(OutputKind::WaterDepth);
   b.output("lake_id", PortType::Heightfield)
       .description("Lake number 1, 2, ..., 0 on dry ground")
       .kind(OutputKind::Scalar);
@@ -244,11 +244,11 @@ OROGEN_NODE(FloodFill) {
           "spill level of the seed's depression (the lowest rim point, from Priority-Flood, Barnes et al. 2014).");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Water surface in the lake, ground elsewhere, metres");
-  b.output("depth", PortType::Heightfield)
+  b.output("water_depth", PortType::Heightfield)
       .description("Water depth, metres (0 outside the lake)")
       .kind(OutputKind::WaterDepth);
-  b.output("mask", PortType::Heightfield).description("1 in the lake, 0 elsewhere").kind(OutputKind::Mask);
-  b.param_vec2("seed", glm::dvec2(0.0, 0.0))
+  b.output("lake_mask", PortType::Heightfield).description("1 in the lake, 0 elsewhere").kind(OutputKind::Mask);
+  b.param_vec2("position", glm::dvec2(0.0, 0.0))
       .range(-1e7, 1e7)
       .unit("m")
       .description("World position the lake grows from");
@@ -261,12 +261,12 @@ OROGEN_NODE(FloodFill) {
       .description("Water level in level mode");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    const FloodFillParams p{ctx.param<glm::dvec2>("seed"), ctx.enum_index("level_mode") == 0,
+    const FloodFillParams p{ctx.param<glm::dvec2>("position"), ctx.enum_index("level_mode") == 0,
                             ctx.param<double>("level")};
     FloodFillResult r = flood_fill(*in, p, &ctx);
     ctx.set_output("out", r.out);
-    ctx.set_output("depth", r.depth);
-    ctx.set_output("mask", r.mask);
+    ctx.set_output("water_depth", r.depth);
+    ctx.set_output("lake_mask", r.mask);
   });
 }
 

@@ -143,7 +143,7 @@ OROGEN_NODE(FlowAccumulation) {
           "specific catchment area (area per metre of contour). Accumulation by dependency counting (Barnes 2017, "
           "'Parallel non-divergent flow accumulation for trillion cell digital elevation models').");
   b.input("in", PortType::Heightfield).description("Height, metres");
-  b.input("rainfall", PortType::Heightfield)
+  b.input("rainfall_weight", PortType::Heightfield)
       .optional()
       .description("Relative rainfall per cell (unitless weight, 1 = nominal)");
   b.output("out", PortType::Heightfield)
@@ -169,19 +169,19 @@ OROGEN_NODE(FlowAccumulation) {
       .soft_range(0.0, 1e8)
       .unit("m^2")
       .description("Area mapped to 1 in the flow map (0: the largest accumulation)");
-  b.param_float("min_slope", 1e-3)
+  b.param_float("min_gradient", 1e-3)
       .range(1e-9, 1.0)
       .unit("m/m")
       .description("Floor of tan(beta) in the wetness index (flats)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    const auto rain = secondary_input<Heightfield>(ctx, "rainfall", in->domain);
+    const auto rain = secondary_input<Heightfield>(ctx, "rainfall_weight", in->domain);
     const AccumulationParams p{method_of(ctx),
                                ctx.param<double>("exponent"),
                                ctx.param<bool>("fill"),
                                ctx.param<double>("flow_min_area"),
                                ctx.param<double>("flow_max_area"),
-                               ctx.param<double>("min_slope")};
+                               ctx.param<double>("min_gradient")};
     AccumulationResult r = flow_accumulation(*in, rain.get(), p, &ctx);
     ctx.set_output("out", r.accumulation);
     ctx.set_output("flow", r.flow);
@@ -206,7 +206,7 @@ OROGEN_NODE(FlowDirection) {
   b.output("dy", PortType::Heightfield)
       .description("y component of the unit flow vector (0 where nothing drains)")
       .kind(OutputKind::Signed);
-  b.output("slope", PortType::Heightfield)
+  b.output("gradient", PortType::Heightfield)
       .description("tan(beta) of the steepest descent, m/m")
       .kind(OutputKind::Scalar);
   b.param_enum("method", {"d8", "dinf", "mfd"}, "d8").description(kMethodDoc);
@@ -222,7 +222,7 @@ OROGEN_NODE(FlowDirection) {
     ctx.set_output("out", r.angle);
     ctx.set_output("dx", r.dx);
     ctx.set_output("dy", r.dy);
-    ctx.set_output("slope", r.slope);
+    ctx.set_output("gradient", r.slope);
   });
 }
 

@@ -186,11 +186,11 @@ OROGEN_NODE(RiverExtract) {
           "that width in world units. Optional Chaikin smoothing (Chaikin 1974) keeps the ends; lakes are left without "
           "lines.");
   b.input("in", PortType::Heightfield).description("Height, metres");
-  b.input("rainfall", PortType::Heightfield)
+  b.input("rainfall_weight", PortType::Heightfield)
       .optional()
       .description("Relative rainfall per cell (unitless weight, 1 = nominal)");
   b.output("out", PortType::Curves).description("River reaches; attributes discharge (m^3/s), area (m^2), order");
-  b.output("mask", PortType::Heightfield)
+  b.output("river_mask", PortType::Heightfield)
       .description("River coverage in [0, 1], drawn with the river width")
       .kind(OutputKind::Mask);
   b.param_float("threshold", 1e5)
@@ -216,7 +216,7 @@ OROGEN_NODE(RiverExtract) {
           "leaving the lake; off, reaches cross lakes along the filled surface's flow paths");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    const auto rain = secondary_input<Heightfield>(ctx, "rainfall", in->domain);
+    const auto rain = secondary_input<Heightfield>(ctx, "rainfall_weight", in->domain);
     const RiverParams p{ctx.param<double>("threshold"),
                         ctx.param<double>("runoff"),
                         ctx.param<double>("width_coefficient"),
@@ -225,7 +225,7 @@ OROGEN_NODE(RiverExtract) {
                         ctx.param<bool>("split_at_lakes")};
     RiverResult r = extract_rivers(*in, rain.get(), p, &ctx);
     ctx.set_output("out", r.curves);
-    ctx.set_output("mask", r.mask);
+    ctx.set_output("river_mask", r.mask);
   });
 }
 

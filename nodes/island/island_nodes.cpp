@@ -140,10 +140,10 @@ OROGEN_NODE(PolygonMapRaster) {
   b.output("biome", PortType::Heightfield)
       .description("Biome id 0..15 (table I order: snow ... ocean)")
       .kind(OutputKind::Scalar);
-  b.output("water", PortType::Heightfield).description("1 in ocean and lake cells, else 0").kind(OutputKind::Mask);
-  b.output("ocean", PortType::Heightfield).description("1 in ocean cells, else 0").kind(OutputKind::Mask);
-  b.output("lake", PortType::Heightfield).description("1 in lake cells, else 0").kind(OutputKind::Mask);
-  b.output("river", PortType::Heightfield).description("River coverage in [0, 1]").kind(OutputKind::Mask);
+  b.output("water_mask", PortType::Heightfield).description("1 in ocean and lake cells, else 0").kind(OutputKind::Mask);
+  b.output("ocean_mask", PortType::Heightfield).description("1 in ocean cells, else 0").kind(OutputKind::Mask);
+  b.output("lake_mask", PortType::Heightfield).description("1 in lake cells, else 0").kind(OutputKind::Mask);
+  b.output("river_mask", PortType::Heightfield).description("River coverage in [0, 1]").kind(OutputKind::Mask);
   b.output("roughness", PortType::Heightfield)
       .description("Multifractal roughness R of the biome (table I), unitless")
       .kind(OutputKind::Mask);
@@ -178,10 +178,10 @@ OROGEN_NODE(PolygonMapRaster) {
     ctx.set_output("out", r.elevation);
     ctx.set_output("moisture", r.moisture);
     ctx.set_output("biome", r.biome);
-    ctx.set_output("water", r.water);
-    ctx.set_output("ocean", r.ocean);
-    ctx.set_output("lake", r.lake);
-    ctx.set_output("river", r.river);
+    ctx.set_output("water_mask", r.water);
+    ctx.set_output("ocean_mask", r.ocean);
+    ctx.set_output("lake_mask", r.lake);
+    ctx.set_output("river_mask", r.river);
     ctx.set_output("roughness", r.roughness);
     ctx.set_output("amplitude", r.amplitude);
     ctx.set_output("color", r.color);
@@ -236,12 +236,12 @@ OROGEN_NODE(RiverNetwork) {
       .soft_range(20.0, 5000.0)
       .unit("m")
       .description("Longest river segment (candidate search radius)");
-  b.param_float("base_slope", 0.02)
+  b.param_float("base_gradient", 0.02)
       .range(0.0, 10.0)
       .soft_range(0.0, 0.5)
       .unit("m/m")
       .description("Slope d at the outlets");
-  b.param_float("slope_weight", 0.02)
+  b.param_float("gradient_weight", 0.02)
       .range(0.0, 10.0)
       .soft_range(0.0, 0.5)
       .unit("m/m")
@@ -266,8 +266,8 @@ OROGEN_NODE(RiverNetwork) {
     p.outlets = static_cast<int>(ctx.param<std::int64_t>("outlets"));
     p.density = ctx.param<double>("density");
     p.max_length = ctx.param<double>("max_length");
-    p.base_slope = ctx.param<double>("base_slope");
-    p.slope_weight = ctx.param<double>("slope_weight");
+    p.base_slope = ctx.param<double>("base_gradient");
+    p.slope_weight = ctx.param<double>("gradient_weight");
     p.river_width = ctx.param<double>("river_width");
     p.width_exponent = ctx.param<double>("width_exponent");
     p.meander = ctx.param<double>("meander");
@@ -290,7 +290,7 @@ OROGEN_NODE(CarveRivers) {
   b.input("in", PortType::Heightfield).description("Terrain heights, metres");
   b.input("rivers", PortType::Curves).description("River curves: z = river height (m), per-vertex width (m)");
   b.output("out", PortType::Heightfield).description("Carved terrain, metres").kind(OutputKind::Height);
-  b.output("mask", PortType::Heightfield).description("Channel coverage in [0, 1]").kind(OutputKind::Mask);
+  b.output("river_mask", PortType::Heightfield).description("Channel coverage in [0, 1]").kind(OutputKind::Mask);
   b.param_float("radius", 150.0)
       .range(0.0, 1e6)
       .soft_range(0.0, 2000.0)
@@ -308,7 +308,7 @@ OROGEN_NODE(CarveRivers) {
     const CarveParams p{ctx.param<double>("radius"), ctx.param<double>("depth_ratio"), ctx.param<double>("strength")};
     CarveResult r = carve_rivers(*in, *rivers, p, &ctx);
     ctx.set_output("out", r.terrain);
-    ctx.set_output("mask", r.mask);
+    ctx.set_output("river_mask", r.mask);
   });
 }
 

@@ -8,6 +8,7 @@
 #include "graph/cost_query.h"
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
+#include "graph/angles.h"
 #include "graph/registry.h"
 #include "nodes/plants/lsystem.h"
 #include "nodes/plants/plant_sprite.h"
@@ -125,10 +126,12 @@ OROGEN_NODE(Turtle3D) {
       .unit("direction")
       .description("Direction the branches bend towards (gravity: 0, 0, -1)");
   b.param_float("tropism_strength", 0.0)
-      .range(-1.0, 1.0)
-      .soft_range(0.0, 0.5)
-      .unit("rad")
-      .description("Susceptibility e: each F turns the heading by e |H x T| radians towards the tropism direction");
+      .range(-60.0, 60.0)
+      .soft_range(0.0, 30.0)
+      .unit("deg")
+      .description(
+          "Susceptibility e: each F turns the heading by e |H x T| degrees towards the tropism direction (ABOP's e "
+          "is in radians: e = 0.1 there is 5.73 here)");
   b.param_color("color", {0.35f, 0.22f, 0.12f, 1.0f}).description("Initial branch color (linear RGB)");
   b.param_float("leaf_size", 0.2)
       .range(0.0, 100.0)
@@ -145,7 +148,7 @@ OROGEN_NODE(Turtle3D) {
     o.width = ctx.param<double>("width");
     o.width_factor = ctx.param<double>("width_factor");
     o.tropism = ctx.param<glm::dvec3>("tropism");
-    o.tropism_strength = ctx.param<double>("tropism_strength");
+    o.tropism_strength = radians_from_degrees(ctx.param<double>("tropism_strength"));
     const glm::vec4 c = ctx.param<glm::vec4>("color"), lc = ctx.param<glm::vec4>("leaf_color");
     o.color = glm::dvec3(c.r, c.g, c.b);
     o.leaf_size = ctx.param<double>("leaf_size");

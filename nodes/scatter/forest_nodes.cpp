@@ -97,7 +97,8 @@ OROGEN_NODE(ForestLifeCycle) {
       "Forest life cycle after Potter (2017), \"Generating a virtual forest environment using procedural content "
       "generation\" (stepped ageing): each year every tree ages, "
       "its scale grows linearly from min_scale to max_scale over maturity_age, trees older than max_age die and "
-      "drop one or two seeds within seed_distance, mature trees drop a seed with seed_probability; trees closer "
+      "drop one or two seeds within dispersal_distance, mature trees drop a seed with dispersal_probability; trees "
+      "closer "
       "than competition * (s_i + s_j) / 2 compete and the smaller dies (self-thinning); seeds germinate inside "
       "the domain where suitability >= 0.5 and there is room. Deterministic per seed (fixed order, hashed "
       "draws). Output: the survivors with attribute age (years) and their scale.");
@@ -119,11 +120,11 @@ OROGEN_NODE(ForestLifeCycle) {
       .range(0.01, 100.0)
       .unit("")
       .description("Scale of a mature tree, 0.01..100 (at least min_scale)");
-  b.param_float("seed_distance", 12.0)
+  b.param_float("dispersal_distance", 12.0)
       .range(0.0, 1e4)
       .unit("m")
       .description("Seeds land uniformly within this distance of their parent, metres");
-  b.param_float("seed_probability", 0.1)
+  b.param_float("dispersal_probability", 0.1)
       .range(0.0, 1.0)
       .unit("1/year")
       .description("Probability per year that a mature tree drops a seed, 0..1");
@@ -143,8 +144,8 @@ OROGEN_NODE(ForestLifeCycle) {
     p.min_scale = ctx.param<double>("min_scale");
     p.max_scale = ctx.param<double>("max_scale");
     if (p.max_scale < p.min_scale) throw NodeError("ForestLifeCycle: max_scale is below min_scale");
-    p.seed_distance = ctx.param<double>("seed_distance");
-    p.seed_probability = ctx.param<double>("seed_probability");
+    p.seed_distance = ctx.param<double>("dispersal_distance");
+    p.seed_probability = ctx.param<double>("dispersal_probability");
     p.competition = ctx.param<double>("competition");
     p.suitability = suit.get();
     p.lo = ctx.domain().min_corner();

@@ -158,20 +158,20 @@ OROGEN_NODE(Hillshade) {
       "shading and the reflectance map. No cast shadows (see SunIllumination).");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Shade in [0, 1]").kind(OutputKind::Mask);
-  b.output("image", PortType::Image).description("The shade as a gray linear RGBA image");
-  b.param_float("azimuth", 315.0)
+  b.output("color", PortType::Image).description("The shade as a gray linear RGBA image");
+  b.param_float("sun_azimuth", 315.0)
       .range(0.0, 360.0)
       .unit("deg")
       .description("Light azimuth, degrees clockwise from north, 0..360");
-  b.param_float("altitude", 45.0)
+  b.param_float("sun_elevation", 45.0)
       .range(0.0, 90.0)
       .unit("deg")
       .description("Light altitude above the horizon, degrees 0..90");
   b.param_float("z_factor", 1.0).range(0.0, 100.0).description("Vertical exaggeration, unitless 0..100");
   b.execute([](ExecContext& ctx) {
-    auto h = hillshade(*ctx.require<Heightfield>("in"), ctx.param<double>("azimuth"), ctx.param<double>("altitude"),
-                       ctx.param<double>("z_factor"), &ctx);
-    ctx.set_output("image", gray_image(*h, &ctx));
+    auto h = hillshade(*ctx.require<Heightfield>("in"), ctx.param<double>("sun_azimuth"),
+                       ctx.param<double>("sun_elevation"), ctx.param<double>("z_factor"), &ctx);
+    ctx.set_output("color", gray_image(*h, &ctx));
     ctx.set_output("out", h);
   });
 }

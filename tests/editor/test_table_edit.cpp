@@ -13,7 +13,7 @@ namespace {
 
 // A ColorByLayers node: its `colors` table is (name: text, color: color).
 Graph color_graph() {
-  const auto r = parse_graph(R"({"format": "orogen-graph", "version": 5,
+  const auto r = parse_graph(R"({"format": "orogen-graph", "version": 6,
     "domain": {"size": [100, 100], "resolution": [9, 9]},
     "nodes": [{"id": "color", "type": "ColorByLayers", "params": {"colors": [
       {"name": "grass", "color": "#5b7f32"}, {"name": "rock", "color": "#80786f"}]}}]})",
@@ -87,7 +87,7 @@ TEST(TableEdit, AddRemoveMoveAndSetAreEachOneUndoStep) {
 TEST(TableEdit, DraggingACellMergesIntoOneStep) {
   TableSchema s = NodeRegistry::instance().find("SplatWeights")->find_param("rules")->table;
   const auto r =
-      parse_graph(R"({"format": "orogen-graph", "version": 5, "nodes": [{"id": "s", "type": "SplatWeights"}]})",
+      parse_graph(R"({"format": "orogen-graph", "version": 6, "nodes": [{"id": "s", "type": "SplatWeights"}]})",
                   LoadOptions{.allow_unconnected_inputs = true});
   ASSERT_TRUE(r.ok()) << r.error_text();
   Document doc(*r.graph);
@@ -114,7 +114,7 @@ TEST(TableEdit, InvalidEditsAreRefusedWithRowAndColumn) {
   EXPECT_TRUE(doc.graph() == before);
   EXPECT_FALSE(doc.history().can_undo());
   // Removing below the minimum row count (SplatWeights needs a layer) is refused too.
-  const auto r = parse_graph(R"({"format": "orogen-graph", "version": 5, "nodes": [{"id": "s", "type": "SplatWeights",
+  const auto r = parse_graph(R"({"format": "orogen-graph", "version": 6, "nodes": [{"id": "s", "type": "SplatWeights",
     "params": {"layers": [{"name": "only", "weight": 1}], "rules": []}}]})",
                              LoadOptions{.allow_unconnected_inputs = true});
   ASSERT_TRUE(r.ok()) << r.error_text();
