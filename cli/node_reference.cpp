@@ -10,6 +10,19 @@
 namespace orogen::cli {
 namespace {
 
+// How a unit reads after a value: its symbol ("m", "°C"), or its name when it has none ("unitless").
+std::string unit_text(Unit u) {
+  if (u == Unit::None) return "";
+  return std::string(unit_symbol(u).empty() ? unit_name(u) : unit_symbol(u));
+}
+
+void add_unit(nlohmann::json& j, Unit u) {
+  if (u == Unit::None) return;
+  j["unit"] = unit_id(u);
+  j["unit_symbol"] = unit_symbol(u);
+  j["unit_name"] = unit_name(u);
+}
+
 std::string range_text(const ParamDecl& p) {
   std::ostringstream s;
   if (p.min && p.max)
@@ -41,7 +54,7 @@ std::string column_range_text(const TableColumn& c) {
 // "slope : range deg [0, 90], optional"
 std::string column_summary(const TableColumn& c) {
   std::string s = c.name + " : " + std::string(to_string(c.type));
-  if (!c.unit.empty()) s += " " + c.unit;
+  if (c.unit != Unit::None) s += " " + unit_text(c.unit);
   if (auto r = column_range_text(c); !r.empty()) s += " " + r;
   if (!c.choices.empty()) {
     s += " (";
@@ -56,7 +69,7 @@ std::string column_summary(const TableColumn& c) {
 nlohmann::json column_json(const TableColumn& c) {
   nlohmann::json j = {
       {"name", c.name}, {"type", to_string(c.type)}, {"description", c.description}, {"required", c.required}};
-  if (!c.unit.empty()) j["unit"] = c.unit;
+  add_unit(j, c.unit);
   if (c.min) j["min"] = *c.min;
   if (c.max) j["max"] = *c.max;
   if (!c.choices.empty()) j["choices"] = c.choices;
@@ -65,7 +78,9 @@ nlohmann::json column_json(const TableColumn& c) {
 }
 
 nlohmann::json port_json(const PortDecl& p) {
-  nlohmann::json j = {{"name", p.name}, {"type", to_string(p.type)}, {"description", p.description}};
+  nlohmann::json j = {
+      {"name", p.name}, {"label", p.display_label()}, {"type", to_string(p.type)}, {"description", p.description}};
+  add_unit(j, p.unit);
   if (p.optional) j["optional"] = true;
   return j;
 }
@@ -96,10 +111,11 @@ nlohmann::json type_json(const NodeType& t) {
   for (const auto& p : t.outputs) outputs.push_back(port_json(p));
   for (const auto& p : t.params) {
     nlohmann::json j = {{"name", p.name},
+                        {"label", p.display_label()},
                         {"type", to_string(p.type)},
                         {"default", param_to_json(p.default_value)},
                         {"description", p.description}};
-    if (!p.unit.empty()) j["unit"] = p.unit;
+    add_unit(j, p.unit);
     if (p.min) j["min"] = *p.min;
     if (p.max) j["max"] = *p.max;
     if (!p.choices.empty()) j["choices"] = p.choices;
@@ -151,8 +167,8 @@ std::string node_reference_text(const NodeType& t) {
     if (list.empty()) return;
     s << "\n" << title << ":\n";
     for (const auto& p : list)
-      s << "  " << p.name << " : " << to_string(p.type) << (p.optional ? " (optional)" : "") << "\n      "
-        << p.description << "\n";
+      s << "  " << p.name << " : " << to_string(p.type) << (p.unit != Unit::None ? ", " + unit_text(p.unit) : "")
+        << (p.optional ? " (optional)" : "") << "\n      " << p.display_label() << ": " << p.description << "\n";
   };
   ports("Inputs", t.inputs);
   ports("Outputs", t.outputs);
@@ -160,9 +176,9 @@ std::string node_reference_text(const NodeType& t) {
     s << "\nParameters:\n";
     for (const auto& p : t.params) {
       s << "  " << p.name << " : " << to_string(p.type) << " = " << default_text(p);
-      if (!p.unit.empty()) s << " " << p.unit;
+      if (p.unit != Unit::None) s << " " << unit_text(p.unit);
       if (auto r = range_text(p); !r.empty()) s << "  range " << r;
-      s << "\n      " << p.description << "\n";
+      s << "\n      " << p.display_label() << ": " << p.description << "\n";
       if (!p.choices.empty()) {
         s << "      choices:";
         for (const auto& c : p.choices) s << " " << c;
@@ -203,21 +219,22 @@ std::string node_reference_markdown() {
       if (list.empty()) return;
       s << "\n" << title << ":\n\n";
       for (const auto& p : list)
-        s << "- `" << p.name << "` (" << to_string(p.type) << (p.optional ? ", optional" : "") << "): " << p.description
-          << "\n";
+        s << "- `" << p.name << "` " << p.display_label() << " (" << to_string(p.type)
+          << (p.unit != Unit::None ? ", " + unit_text(p.unit) : "") << (p.optional ? ", optional" : "")
+          << "): " << p.description << "\n";
     };
     ports("Inputs", t->inputs);
     ports("Outputs", t->outputs);
     if (!t->params.empty()) {
-      s << "\n| parameter | type | default | unit | range | description |\n|---|---|---|---|---|---|\n";
+      s << "\n| parameter | label | type | default | unit | range | description |\n|---|---|---|---|---|---|---|\n";
       for (const auto& p : t->params) {
         std::string desc = p.description;
         if (!p.choices.empty()) {
           desc += " Choices:";
           for (const auto& c : p.choices) desc += " `" + c + "`";
         }
-        s << "| `" << p.name << "` | " << to_string(p.type) << " | `" << default_text(p) << "` | " << p.unit << " | "
-          << range_text(p) << " | " << desc << " |\n";
+        s << "| `" << p.name << "` | " << p.display_label() << " | " << to_string(p.type) << " | `" << default_text(p)
+          << "` | " << unit_text(p.unit) << " | " << range_text(p) << " | " << desc << " |\n";
       }
       for (const auto& p : t->params) {
         if (p.type != ParamType::Table) continue;
@@ -231,8 +248,8 @@ std::string node_reference_markdown() {
             for (const auto& choice : c.choices) desc += " `" + choice + "`";
           }
           if (c.open_ends) desc += " `null` for an open end.";
-          s << "| `" << c.name << "` | " << to_string(c.type) << " | " << c.unit << " | " << column_range_text(c)
-            << " | " << (c.required ? "yes" : "no") << " | " << desc << " |\n";
+          s << "| `" << c.name << "` | " << to_string(c.type) << " | " << unit_text(c.unit) << " | "
+            << column_range_text(c) << " | " << (c.required ? "yes" : "no") << " | " << desc << " |\n";
         }
       }
     }

@@ -139,6 +139,21 @@ NodeBuilder::Port& NodeBuilder::Port::kind(OutputKind k) {
   list_[index_].kind = k;
   return *this;
 }
+NodeBuilder::Port& NodeBuilder::Port::unit(Unit u) {
+  list_[index_].unit = u;
+  return *this;
+}
+NodeBuilder::Port& NodeBuilder::Port::label(std::string text) {
+  list_[index_].label = std::move(text);
+  return *this;
+}
+
+std::string prettify_identifier(std::string_view identifier) {
+  std::string label;
+  for (const char c : identifier) label += c == '_' ? ' ' : c;
+  if (!label.empty() && label[0] >= 'a' && label[0] <= 'z') label[0] = static_cast<char>(label[0] - 'a' + 'A');
+  return label;
+}
 
 std::string_view to_string(OutputKind kind) {
   switch (kind) {
@@ -177,8 +192,12 @@ NodeBuilder::Param& NodeBuilder::Param::soft_range(double lo, double hi) {
   decl().soft_max = hi;
   return *this;
 }
-NodeBuilder::Param& NodeBuilder::Param::unit(std::string u) {
-  decl().unit = std::move(u);
+NodeBuilder::Param& NodeBuilder::Param::unit(Unit u) {
+  decl().unit = u;
+  return *this;
+}
+NodeBuilder::Param& NodeBuilder::Param::label(std::string text) {
+  decl().label = std::move(text);
   return *this;
 }
 NodeBuilder::Param& NodeBuilder::Param::description(std::string text) {

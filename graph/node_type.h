@@ -7,7 +7,7 @@
 //     b.category("field").description("Sum of two fields.");
 //     b.input("a", PortType::Heightfield).description("First field");
 //     b.output("out", PortType::Heightfield);
-//     b.param_float("scale", 1.0).range(-1e3, 1e3).unit("x").description("Multiplier of b");
+//     b.param_float("scale", 1.0).range(-1e3, 1e3).unit(Unit::Factor).description("Multiplier of b");
 //     b.execute([](ExecContext& ctx) { ... });
 //   }
 #include <functional>
@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "graph/param_value.h"
+#include "graph/units.h"
 #include "graph/value_type.h"
 
 namespace orogen {
@@ -31,12 +32,21 @@ class ExecContext;
 enum class OutputKind { Auto, Height, Mask, Signed, Scalar, WaterDepth };
 std::string_view to_string(OutputKind kind);
 
+// An identifier (`sun_azimuth`) as a display label (`Sun azimuth`): words split at underscores, the first
+// capitalized.
+std::string prettify_identifier(std::string_view identifier);
+
+// Ports and parameters have a stable identifier (`name`: graph files, links, --set) and a display label the
+// editor and `orogen nodes` show (Blender's split): a label can change without a graph-format migration.
 struct PortDecl {
   std::string name;
   PortType type = PortType::Heightfield;
   std::string description;
   bool optional = false;               // inputs only: may stay unconnected
   OutputKind kind = OutputKind::Auto;  // heightfield outputs only: what the values mean (for viewers)
+  Unit unit = Unit::None;              // what the values are in, where one unit holds (heights m, masks unitless)
+  std::string label;                   // empty: prettify_identifier(name)
+  std::string display_label() const { return label.empty() ? prettify_identifier(name) : label; }
 };
 
 struct ParamDecl {
@@ -47,14 +57,16 @@ struct ParamDecl {
   std::optional<double> min, max;
   // Suggested slider range for the editor; defaults to the hard bounds.
   std::optional<double> soft_min, soft_max;
-  std::string unit;  // "m", "deg", "1/m", "" for unitless
+  Unit unit = Unit::None;  // every number has one (tests/test_registry_conventions.cpp)
   std::string description;
   std::vector<std::string> choices;     // Enum: allowed values
   bool output_file = false;             // Path: a file this node writes (resolved inside the output directory)
   std::vector<std::string> extensions;  // Path: accepted file extensions, e.g. {".exr", ".png"}
   bool file_text = false;               // String: written into an output file, so one printable line
   TableSchema table;                    // Table: the columns and row bounds
+  std::string label;                    // empty: prettify_identifier(name)
 
+  std::string display_label() const { return label.empty() ? prettify_identifier(name) : label; }
   // Empty if `v` is a valid value for this parameter, else why not (tables: "name[row].column: why").
   std::string check(const ParamValue& v) const;
 };
@@ -163,6 +175,8 @@ class NodeBuilder {
     Port& description(std::string text);
     Port& optional(bool value = true);
     Port& kind(OutputKind k);
+    Port& unit(Unit u);
+    Port& label(std::string text);
 
    private:
     std::vector<PortDecl>& list_;
@@ -175,7 +189,8 @@ class NodeBuilder {
     Param& min(double lo);
     Param& max(double hi);
     Param& soft_range(double lo, double hi);
-    Param& unit(std::string u);
+    Param& unit(Unit u);
+    Param& label(std::string text);
     Param& description(std::string text);
     Param& extensions(std::vector<std::string> exts);
     Param& output_file(bool value = true);

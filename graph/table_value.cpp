@@ -109,8 +109,8 @@ TableColumn& TableColumn::range(double lo, double hi) {
   max = hi;
   return *this;
 }
-TableColumn& TableColumn::unit_of(std::string u) {
-  unit = std::move(u);
+TableColumn& TableColumn::unit_of(Unit u) {
+  unit = u;
   return *this;
 }
 TableColumn& TableColumn::describe(std::string text) {

@@ -15,6 +15,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 
+#include "graph/units.h"
+
 namespace orogen {
 
 // What a column holds:
@@ -43,7 +45,7 @@ using TableCell = std::variant<std::monostate, std::string, double, std::int64_t
 struct TableColumn {
   std::string name;
   ColumnType type = ColumnType::Number;
-  std::string unit;  // "m", "deg", "" (unitless or text)
+  Unit unit = Unit::None;  // numbers, integers and ranges: every one has a unit
   std::string description;
   std::optional<double> min, max;    // Number / Integer / Range: hard bounds of each value
   std::vector<std::string> choices;  // Enum: allowed values
@@ -51,7 +53,7 @@ struct TableColumn {
   bool open_ends = false;            // Range: null bounds allowed (read as -inf / +inf)
 
   TableColumn& range(double lo, double hi);
-  TableColumn& unit_of(std::string u);
+  TableColumn& unit_of(Unit u);
   TableColumn& describe(std::string text);
   TableColumn& optional();
   TableColumn& allow_open_ends();

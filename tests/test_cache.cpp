@@ -26,14 +26,14 @@ OROGEN_NODE(TestEveryParam) {
   for (PortType t : kAllPortTypes) b.input("in_" + std::string(to_string(t)), t).description("An input");
   b.input("optional_field", PortType::Heightfield).optional().description("An optional input");
   b.output("out", PortType::Heightfield).description("Nothing");
-  b.param_float("float", 0.5).range(0.0, 1.0).unit("m").description("A float");
-  b.param_float("unbounded", 0.0).description("A float without bounds");
-  b.param_float("at_max", 10.0).range(0.0, 10.0).description("A float at its maximum");
-  b.param_int("int", 3).range(1, 16).description("An int");
-  b.param_int("int_at_min", 1).range(1, 16).description("An int at its minimum");
+  b.param_float("float", 0.5).range(0.0, 1.0).unit(Unit::Metre).description("A float");
+  b.param_float("unbounded", 0.0).unit(Unit::Unitless).description("A float without bounds");
+  b.param_float("at_max", 10.0).unit(Unit::Unitless).range(0.0, 10.0).description("A float at its maximum");
+  b.param_int("int", 3).unit(Unit::Count).range(1, 16).description("An int");
+  b.param_int("int_at_min", 1).unit(Unit::Count).range(1, 16).description("An int at its minimum");
   b.param_bool("bool", false).description("A bool");
-  b.param_vec2("vec2", {1.0, 2.0}).range(-10, 10).unit("m").description("A vec2");
-  b.param_vec3("vec3", {0.0, 0.0, 1.0}).description("A vec3");
+  b.param_vec2("vec2", {1.0, 2.0}).range(-10, 10).unit(Unit::Metre).description("A vec2");
+  b.param_vec3("vec3", {0.0, 0.0, 1.0}).unit(Unit::Unitless).description("A vec3");
   b.param_color("color", {0.2f, 0.4f, 0.6f, 1.0f}).description("A colour");
   b.param_enum("enum", {"one", "two", "three"}, "two").description("An enum");
   b.param_string("string", "").description("A string");
@@ -48,7 +48,7 @@ OROGEN_NODE(TestDomainFree) {
   b.category("test").description("A domain-independent node; never evaluated.");
   b.domain_independent();
   b.output("out", PortType::Mesh).description("Nothing");
-  b.param_float("size", 1.0).range(0.1, 10.0).unit("m").description("A size");
+  b.param_float("size", 1.0).range(0.1, 10.0).unit(Unit::Metre).description("A size");
   b.execute([](ExecContext&) { throw NodeError("not evaluable"); });
 }
 

@@ -271,6 +271,31 @@ TEST(Cli, NodeReferenceComesFromTheRegistry) {
       EXPECT_FALSE(p["description"].get<std::string>().empty()) << t["name"] << "." << p["name"];
   }
 
+  // Units and labels (docs/conventions.md): every number has a unit from graph/units.h, every port and
+  // parameter a label.
+  for (const auto& t : all) {
+    for (const auto& p : t["params"]) {
+      EXPECT_FALSE(p["label"].get<std::string>().empty()) << t["name"] << "." << p["name"];
+      const auto type = p["type"].get<std::string>();
+      if (type == "float" || type == "int" || type == "vec2" || type == "vec3")
+        EXPECT_TRUE(p.contains("unit") && p.contains("unit_name")) << t["name"] << "." << p["name"];
+    }
+    for (const char* side : {"inputs", "outputs"})
+      for (const auto& p : t[side])
+        EXPECT_FALSE(p["label"].get<std::string>().empty()) << t["name"] << "." << p["name"];
+    if (t["name"] == "Hillshade") {
+      const auto& azimuth = t["params"][0];
+      EXPECT_EQ(azimuth["name"], "sun_azimuth");
+      EXPECT_EQ(azimuth["label"], "Sun azimuth");
+      EXPECT_EQ(azimuth["unit"], "deg");
+      EXPECT_EQ(azimuth["unit_symbol"], "°");
+      EXPECT_EQ(azimuth["unit_name"], "degrees");
+    }
+  }
+  const auto hillshade = orogen({"nodes", "Hillshade"}).out;
+  EXPECT_NE(hillshade.find("sun_azimuth : float = 315.0 °  range [0, 360]"), std::string::npos) << hillshade;
+  EXPECT_NE(hillshade.find("Sun azimuth: "), std::string::npos) << hillshade;
+
   auto unknown = orogen({"nodes", "Constnt"});
   EXPECT_EQ(unknown.exit_code, 2);
   EXPECT_NE(unknown.err.find("Constant"), std::string::npos);

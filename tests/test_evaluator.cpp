@@ -64,7 +64,7 @@ void reset_counters() {
 OROGEN_NODE(TestSource) {
   b.category("test").description("A flat field that counts its executions.");
   b.output("out", PortType::Heightfield).description("The field");
-  b.param_float("value", 1.0).range(-1e6, 1e6).unit("m").description("Value of every sample");
+  b.param_float("value", 1.0).range(-1e6, 1e6).unit(Unit::Metre).description("Value of every sample");
   b.execute([](ExecContext& ctx) {
     ++g_source_runs;
     auto out = std::make_shared<const Heightfield>(ctx.domain(), static_cast<float>(ctx.param<double>("value")));
@@ -81,7 +81,7 @@ OROGEN_NODE(TestAdd) {
   b.input("a", PortType::Heightfield).description("First field");
   b.input("b", PortType::Heightfield).optional().description("Second field (0 when unconnected)");
   b.output("out", PortType::Heightfield).description("The sum");
-  b.param_float("offset", 0.0).range(-1e6, 1e6).unit("m").description("Added to every sample");
+  b.param_float("offset", 0.0).range(-1e6, 1e6).unit(Unit::Metre).description("Added to every sample");
   b.execute([](ExecContext& ctx) {
     ++g_add_runs;
     const auto a = ctx.require<Heightfield>("a");
@@ -98,7 +98,7 @@ OROGEN_NODE(TestRipple) {
   b.category("test").description("sin/cos ripples over the input, row-parallel.");
   b.input("in", PortType::Heightfield).optional().description("Field to ripple (0 when unconnected)");
   b.output("out", PortType::Heightfield).description("The rippled field");
-  b.param_float("wavelength", 50.0).range(1e-3, 1e6).unit("m").description("Ripple wavelength");
+  b.param_float("wavelength", 50.0).range(1e-3, 1e6).unit(Unit::Metre).description("Ripple wavelength");
   b.execute([](ExecContext& ctx) {
     ++g_ripple_runs;
     const auto in = ctx.input<Heightfield>("in");
@@ -205,8 +205,8 @@ OROGEN_NODE(TestPair) {
 OROGEN_NODE(TestRendezvous) {
   b.category("test").description("Waits for the other rendezvous nodes to be running too.");
   b.output("out", PortType::Heightfield).description("A zero field");
-  b.param_int("parties", 2).range(1, 64).description("How many nodes must meet");
-  b.param_int("tag", 0).description("Makes otherwise equal nodes distinct");
+  b.param_int("parties", 2).unit(Unit::Count).range(1, 64).description("How many nodes must meet");
+  b.param_int("tag", 0).unit(Unit::Count).description("Makes otherwise equal nodes distinct");
   b.execute([](ExecContext& ctx) {
     std::unique_lock lock(g_rendezvous_mutex);
     ++g_rendezvous_arrived;

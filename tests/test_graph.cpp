@@ -16,10 +16,10 @@ OROGEN_NODE(TestGen) {
   b.category("test").description("A generator with a field and an image output.");
   b.output("out", PortType::Heightfield).description("Field");
   b.output("img", PortType::Image).description("Image");
-  b.param_float("height", 2.0).range(0.0, 10.0).unit("m").description("Height");
-  b.param_int("count", 3).range(1, 5).description("Count");
+  b.param_float("height", 2.0).range(0.0, 10.0).unit(Unit::Metre).description("Height");
+  b.param_int("count", 3).unit(Unit::Count).range(1, 5).description("Count");
   b.param_enum("mode", {"add", "max"}, "add").description("Mode");
-  b.param_vec2("offset", {0.0, 0.0}).range(-1.0, 1.0).unit("m").description("Offset");
+  b.param_vec2("offset", {0.0, 0.0}).range(-1.0, 1.0).unit(Unit::Metre).description("Offset");
   b.param_seed("seed", 1).description("Seed");
   b.execute([](ExecContext&) {});
 }

@@ -29,11 +29,11 @@ OROGEN_NODE(TestSource) {
   b.output("height", PortType::Heightfield).description("A field");
   b.output("color", PortType::Image).description("An image");
   b.output("points", PortType::Points).description("Points");
-  b.param_float("scale", 1.0).range(0.0, 100.0).unit("m").description("A length");
-  b.param_int("octaves", 4).range(1, 16).description("A count");
+  b.param_float("scale", 1.0).range(0.0, 100.0).unit(Unit::Metre).description("A length");
+  b.param_int("octaves", 4).unit(Unit::Count).range(1, 16).description("A count");
   b.param_bool("enabled", true).description("A switch");
-  b.param_vec2("offset", {0.0, 0.0}).range(-1e4, 1e4).unit("m").description("A shift");
-  b.param_vec3("direction", {0.0, 0.0, 1.0}).description("A direction");
+  b.param_vec2("offset", {0.0, 0.0}).range(-1e4, 1e4).unit(Unit::Metre).description("A shift");
+  b.param_vec3("direction", {0.0, 0.0, 1.0}).unit(Unit::Unitless).description("A direction");
   b.param_color("tint", {1.0f, 1.0f, 1.0f, 1.0f}).description("A colour");
   b.param_enum("basis", {"perlin", "value", "simplex"}, "perlin").description("A choice");
   b.param_string("label", "").description("A name");
@@ -50,7 +50,7 @@ OROGEN_NODE(TestFilter) {
   b.input("mask", PortType::Heightfield).optional().description("Where to filter");
   b.input("points", PortType::Points).optional().description("Points");
   b.output("out", PortType::Heightfield).description("Filtered field");
-  b.param_float("strength", 0.5).range(0.0, 1.0).description("How much");
+  b.param_float("strength", 0.5).unit(Unit::Unitless).range(0.0, 1.0).description("How much");
   b.execute([](ExecContext&) {});
 }
 

@@ -24,9 +24,9 @@ TableSchema every_type() {
   s.max_rows = 3;
   s.add("name", ColumnType::Text).describe("a name");
   s.add_enum("kind", {"tree", "rock"}).describe("a choice");
-  s.add("height", ColumnType::Number).range(0, 100).unit_of("m").describe("a number");
+  s.add("height", ColumnType::Number).range(0, 100).unit_of(Unit::Metre).describe("a number");
   s.add("class", ColumnType::Integer).range(0, 9).describe("an integer");
-  s.add("band", ColumnType::Range).range(-90, 90).unit_of("deg").optional().describe("a range");
+  s.add("band", ColumnType::Range).range(-90, 90).unit_of(Unit::Degree).optional().describe("a range");
   s.add("open", ColumnType::Range).allow_open_ends().optional().describe("a range with open ends");
   s.add("color", ColumnType::Color).describe("a color");
   return s;

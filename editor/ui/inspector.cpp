@@ -20,7 +20,7 @@ namespace {
 // printf format for a value with its unit ('%' in units escaped).
 std::string number_format(const ParamDecl& decl, bool integer) {
   std::string unit;
-  for (char c : decl.unit) {
+  for (char c : unit_suffix(decl.unit)) {
     unit += c;
     if (c == '%') unit += '%';
   }
@@ -47,10 +47,11 @@ void describe_tooltip(const ParamDecl& decl) {
   if (!ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled) || ImGui::IsMouseDown(0)) return;
   ImGui::BeginTooltip();
   ImGui::PushTextWrapPos(ImGui::GetFontSize() * 26.0f);
-  ImGui::Text("%s", decl.name.c_str());
+  ImGui::Text("%s", decl.display_label().c_str());
   ImGui::SameLine();
-  ImGui::TextDisabled("(%s%s%s)", std::string(to_string(decl.type)).c_str(), decl.unit.empty() ? "" : ", ",
-                      decl.unit.c_str());
+  const std::string unit = decl.unit == Unit::None ? "" : std::string(unit_name(decl.unit));
+  ImGui::TextDisabled("(%s, %s%s%s)", decl.name.c_str(), std::string(to_string(decl.type)).c_str(),
+                      unit.empty() ? "" : ", ", unit.c_str());
   if (!decl.description.empty()) ImGui::TextUnformatted(decl.description.c_str());
   if (decl.min || decl.max)
     ImGui::TextDisabled("range %s .. %s", decl.min ? describe(ParamValue(*decl.min)).c_str() : "-inf",
@@ -173,9 +174,9 @@ void Inspector::draw_table_param(Document& document, const Node& node, const Par
   ImGui::Spacing();
   ImGui::AlignTextToFramePadding();
   if (is_set)
-    ImGui::TextUnformatted(decl.name.c_str());
+    ImGui::TextUnformatted(decl.display_label().c_str());
   else
-    ImGui::TextColored(ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled), "%s", decl.name.c_str());
+    ImGui::TextColored(ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled), "%s", decl.display_label().c_str());
   describe_tooltip(decl);
   if (is_set) {
     ImGui::SameLine(ImGui::GetContentRegionAvail().x - ImGui::GetFrameHeight());
@@ -206,9 +207,9 @@ void Inspector::draw_param(Document& document, const Node& node, const ParamDecl
   ImGui::TableSetColumnIndex(0);
   ImGui::AlignTextToFramePadding();
   if (is_set)
-    ImGui::TextUnformatted(decl.name.c_str());
+    ImGui::TextUnformatted(decl.display_label().c_str());
   else
-    ImGui::TextColored(ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled), "%s", decl.name.c_str());
+    ImGui::TextColored(ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled), "%s", decl.display_label().c_str());
   describe_tooltip(decl);
   ImGui::TableSetColumnIndex(1);
   const float width = ImGui::GetContentRegionAvail().x;

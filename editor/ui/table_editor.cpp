@@ -18,7 +18,7 @@ namespace {
 // printf format with the column's unit ('%' escaped).
 std::string cell_format(const TableColumn& c, bool integer) {
   std::string unit;
-  for (char ch : c.unit) {
+  for (char ch : unit_suffix(c.unit)) {
     unit += ch;
     if (ch == '%') unit += '%';
   }
@@ -37,7 +37,8 @@ void column_tooltip(const TableColumn& c) {
   ImGui::PushTextWrapPos(ImGui::GetFontSize() * 24.0f);
   ImGui::Text("%s", c.name.c_str());
   ImGui::SameLine();
-  ImGui::TextDisabled("(%s%s%s%s)", std::string(to_string(c.type)).c_str(), c.unit.empty() ? "" : ", ", c.unit.c_str(),
+  const std::string unit = c.unit == Unit::None ? "" : std::string(unit_name(c.unit));
+  ImGui::TextDisabled("(%s%s%s%s)", std::string(to_string(c.type)).c_str(), unit.empty() ? "" : ", ", unit.c_str(),
                       c.required ? "" : ", optional");
   ImGui::TextUnformatted(c.description.c_str());
   if (c.min || c.max) ImGui::TextDisabled("range %g .. %g", c.min.value_or(-INFINITY), c.max.value_or(INFINITY));

@@ -24,10 +24,11 @@ TableSchema biome_rectangle_schema() {
   s.min_rows = 1;
   s.add("name", ColumnType::Text).describe("Biome name; rows sharing a name are one biome");
   s.add("temperature", ColumnType::Range)
-      .unit_of("deg C")
+      .unit_of(Unit::DegreeCelsius)
       .allow_open_ends()
       .describe("Temperatures of the rectangle, [min, max): min inclusive, max exclusive");
   s.add("moisture", ColumnType::Range)
+      .unit_of(Unit::InputUnits)
       .allow_open_ends()
       .describe("Moisture of the rectangle in the table's unit (whittaker: mm per year; island: 0..1), [min, max)");
   s.add("color", ColumnType::Color).describe("The biome's color, sRGB #rrggbb (its first row's counts)");
@@ -137,6 +138,7 @@ OROGEN_NODE(Biomes) {
   b.param_table("custom_table", biome_rectangle_schema(), builtin_biome_rectangles("whittaker"))
       .description("The rectangles used when table = custom: name, temperature and moisture ranges, color");
   b.param_float("moisture_scale", 1.0)
+      .unit(Unit::Factor)
       .range(0.0, 1e6)
       .description("Multiplier of the moisture input before the lookup (unit conversion), >= 0");
   b.execute([](ExecContext& ctx) {

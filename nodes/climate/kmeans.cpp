@@ -350,7 +350,7 @@ OROGEN_NODE(KMeansClusters) {
       "Clusters the cells of a multi-channel image (a ResourceStack) into k groups by k-means (S. P. Lloyd "
       "(1982), Least squares quantization in PCM) on a weighted squared distance sum_c w_c (a_c - b_c)^2, "
       "the ecosystems of H. Long (2016), Using procedural methods to generate realistic virtual rural worlds "
-      "(chapter 4; his weights: slope, temperature and illumination 1, soil humidity 0.1). Initial centres "
+      "(chapter 4; his weights: slope, temperature and illumination 1, soil humidity 0.1). Initial centers "
       "at equal steps along the terrain diagonal (Long) or by k-means++ from the seed (D. Arthur, S. "
       "Vassilvitskii (2007), k-means++: the advantages of careful seeding). Iterates until at most tolerance x the "
       "cells change cluster (0: none) or max_iterations. Bit-identical for any thread count.");
@@ -359,31 +359,41 @@ OROGEN_NODE(KMeansClusters) {
       .description("Cluster id 0..k-1 (NaN where a feature is NaN or infinite)")
       .kind(OutputKind::Scalar);
   b.output("report", PortType::Report)
-      .description("Centres (per channel, feature units), member counts, colors, objective per iteration");
+      .description("Centers (per channel, feature units), member counts, colors, objective per iteration");
   b.output("color", PortType::Image)
       .description("Cluster colors from a categorical palette, linear RGBA (transparent where the id is NaN)");
-  b.param_int("k", 6).range(1, 64).description("Number of clusters, 1..64");
-  b.param_int("max_iterations", 100).range(1, 1000).description("Iteration cap, 1..1000");
+  b.param_int("k", 6).unit(Unit::Count).range(1, 64).description("Number of clusters, 1..64");
+  b.param_int("max_iterations", 100).unit(Unit::Count).range(1, 1000).description("Iteration cap, 1..1000");
   b.param_float("tolerance", 1e-4)
+      .unit(Unit::Unitless)
       .range(0.0, 0.5)
       .description(
           "Stop when at most this fraction of the cells changed cluster in an iteration, 0..0.5 (0: until none "
           "changes)");
   b.param_enum("init", {"diagonal", "kmeans++"}, "diagonal")
       .description(
-          "Initial centres: diagonal (cells at equal steps along the domain diagonal) or kmeans++ (from the seed)");
-  b.param_seed("seed", 0).description("Seed of the kmeans++ initialisation");
-  b.param_float("weight_slope", 1.0).range(0.0, 1000.0).description("Weight of the 'slope' channel, unitless >= 0");
+          "Initial centers: diagonal (cells at equal steps along the domain diagonal) or kmeans++ (from the seed)");
+  b.param_seed("seed", 0).description("Seed of the kmeans++ initialization");
+  b.param_float("weight_slope", 1.0)
+      .unit(Unit::Unitless)
+      .range(0.0, 1000.0)
+      .description("Weight of the 'slope' channel, unitless >= 0");
   b.param_float("weight_temperature", 1.0)
+      .unit(Unit::Unitless)
       .range(0.0, 1000.0)
       .description("Weight of 'temperature_*' channels, unitless >= 0");
   b.param_float("weight_illumination", 1.0)
+      .unit(Unit::Unitless)
       .range(0.0, 1000.0)
       .description("Weight of 'illumination_*' channels, unitless >= 0");
   b.param_float("weight_humidity", 0.1)
+      .unit(Unit::Unitless)
       .range(0.0, 1000.0)
       .description("Weight of 'humidity_*' channels, unitless >= 0");
-  b.param_float("weight_other", 1.0).range(0.0, 1000.0).description("Weight of any other channel, unitless >= 0");
+  b.param_float("weight_other", 1.0)
+      .unit(Unit::Unitless)
+      .range(0.0, 1000.0)
+      .description("Weight of any other channel, unitless >= 0");
   b.execute([](ExecContext& ctx) {
     const auto img = ctx.require<Image>("in");
     KMeansParams p;

@@ -184,28 +184,28 @@ OROGEN_NODE(Temperature) {
   b.output("mean", PortType::Heightfield).description("Annual mean temperature, deg C").kind(OutputKind::Signed);
   b.param_float("t_december", 5.0)
       .range(-80.0, 60.0)
-      .unit("C")
+      .unit(Unit::DegreeCelsius)
       .description("December temperature at the reference altitude, deg C, -80..60");
   b.param_float("t_june", 22.0)
       .range(-80.0, 60.0)
-      .unit("C")
+      .unit(Unit::DegreeCelsius)
       .description("June temperature at the reference altitude, deg C, -80..60");
   b.param_float("lapse_rate", 6.4)
       .range(0.0, 15.0)
-      .unit("C/km")
+      .unit(Unit::DegreeCelsiusPerKilometre)
       .description("Temperature drop per km of altitude, deg C/km, 0..15");
   b.param_float("reference_altitude", 0.0)
       .range(-1e4, 1e4)
       .soft_range(-500, 3000)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Altitude of t_december and t_june, metres");
   b.param_float("illumination_gain", 0.0)
       .range(-5.0, 5.0)
-      .unit("C/h")
+      .unit(Unit::DegreeCelsiusPerHour)
       .description("Warming per lit hour above reference_hours, deg C/h, -5..5 (used when illumination is connected)");
   b.param_float("reference_hours", 12.0)
       .range(0.0, 24.0)
-      .unit("h")
+      .unit(Unit::Hour)
       .description("Lit hours per day that add no warming, hours 0..24");
   b.execute([](ExecContext& ctx) {
     TemperatureParams p;
@@ -240,6 +240,7 @@ OROGEN_NODE(SoilHumidity) {
       .optional()
       .description("Wetness mask in 0..1: the share of the rain that cannot run off is raised toward 1");
   b.input("water_depth", PortType::Heightfield)
+      .unit(Unit::Metre)
       .optional()
       .description("Standing water depth, metres; deeper than saturation_depth saturates the soil");
   b.output("out", PortType::Image).description("Weighted soil humidity S_wh, mm, 12 channels jan..dec");
@@ -251,15 +252,15 @@ OROGEN_NODE(SoilHumidity) {
       .description("Average rainfall intensity per month, mm/h (x: month 1..12, y: mm/h > 0)");
   b.param_float("infiltration", 5.0)
       .range(0.0, 200.0)
-      .unit("mm/h")
+      .unit(Unit::MillimetrePerHour)
       .description("Soil infiltration rate, mm/h, 0..200, when no field is connected");
   b.param_float("max_slope", 30.0)
       .range(0.0, 90.0)
-      .unit("deg")
+      .unit(Unit::Degree)
       .description("Slope above which nothing infiltrates, degrees 0..90 (90: none)");
   b.param_float("saturation_depth", 0.01)
       .range(0.0, 100.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Water depth above which the soil is saturated, metres");
   b.execute([](ExecContext& ctx) {
     SoilHumidityParams p;
@@ -287,7 +288,10 @@ OROGEN_NODE(ResourceStack) {
       "the channels of each connected image prefixed with its group: temperature_jan.., illumination_jan.., "
       "humidity_jan...");
   b.input("in", PortType::Heightfield).description("Height, metres (for the slope)");
-  b.input("temperature", PortType::Image).optional().description("Monthly temperature, deg C (Temperature.out)");
+  b.input("temperature", PortType::Image)
+      .unit(Unit::DegreeCelsius)
+      .optional()
+      .description("Monthly temperature, deg C (Temperature.out)");
   b.input("illumination", PortType::Image).optional().description("Monthly lit hours (SunIllumination.out)");
   b.input("humidity", PortType::Image).optional().description("Monthly soil humidity, mm (SoilHumidity.out)");
   b.output("out", PortType::Image).description("slope, temperature_*, illumination_*, humidity_* channels");

@@ -311,26 +311,27 @@ OROGEN_NODE(SunIllumination) {
       .kind(OutputKind::Scalar);
   b.param_float("latitude", 45.0)
       .range(-90.0, 90.0)
-      .unit("deg")
+      .unit(Unit::Degree)
       .description("Latitude, degrees, -90..90, north positive");
   b.param_bool("all_months", true)
       .description("Daily outputs for all twelve months (else only for the month of day_of_year)");
   b.param_int("day_of_year", 166)
+      .unit(Unit::DayOfYear)
       .range(1, 366)
       .description(
           "Date of the instant outputs (and of the daily outputs when all_months is off), 1 (January 1st) .. 366; "
           "the declination is the monthly one of the month holding the day (166 is June 15th)");
   b.param_float("hour", 15.0)
       .range(0.0, 24.0)
-      .unit("h")
+      .unit(Unit::Hour)
       .description("Solar time of the instant outputs, hours 0..24 (12 = solar noon)");
   b.param_float("time_step", 1.0)
       .range(0.1, 6.0)
-      .unit("h")
+      .unit(Unit::Hour)
       .description("Hours between sun positions over the day, 0.1..6 (each interval is clipped to sunrise and sunset)");
   b.param_float("irradiance", 1000.0)
       .range(0.0, 2000.0)
-      .unit("W/m^2")
+      .unit(Unit::WattPerSquareMetre)
       .description(
           "Direct normal irradiance of the sun, W/m^2, 0..2000 (1361 above the atmosphere, about 1000 at the ground on "
           "a clear day)");

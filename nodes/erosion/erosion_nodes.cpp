@@ -44,27 +44,31 @@ OROGEN_NODE(ThermalErosion) {
   b.reach_global();  // a simulation: every output sample depends on the whole input
   b.category("erosion").description(
       "Thermal erosion (talus slumping): material steeper than the talus angle slides to its lower "
-      "neighbours until no slope exceeds the angle (Musgrave, Kolb and Mace 1989, 'The synthesis and "
+      "neighbors until no slope exceeds the angle (Musgrave, Kolb and Mace 1989, 'The synthesis and "
       "rendering of eroded fractal terrains'; Olsen 2004, 'Realtime procedural terrain generation'). Slopes "
-      "are measured over the true distance to all 8 neighbours, so an angle gives the same slopes at any "
+      "are measured over the true distance to all 8 neighbors, so an angle gives the same slopes at any "
       "resolution. Volume is conserved; bit-identical for any thread count.");
   declare_common_ports(b, "Scales how fast material leaves each cell, 0..1 (1 if unconnected)");
   b.input("hardness", PortType::Heightfield)
       .optional()
       .description("Rock hardness 0..1: raises a cell's talus angle toward 89 degrees (1: cliffs that never slump)");
-  b.param_float("talus_angle", 35.0).range(1.0, 89.0).unit("deg").description("Angle of repose: steeper slopes slump");
+  b.param_float("talus_angle", 35.0)
+      .range(1.0, 89.0)
+      .unit(Unit::Degree)
+      .description("Angle of repose: steeper slopes slump");
   b.param_float("strength", 0.5)
+      .unit(Unit::Unitless)
       .range(0.01, 1.0)
       .description("Share of the excess over the talus moved per iteration (unitless); lower is smoother but slower");
   b.param_float("travel_distance", 500.0)
       .range(1.0, 1e5)
       .soft_range(10.0, 5000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description(
           "How far material may travel: the iteration count is 2 x distance / spacing (stops early once settled)");
   b.param_float("tolerance", 1e-4)
       .range(0.0, 10.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Stop when no cell moves more than this in an iteration");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
@@ -101,39 +105,51 @@ OROGEN_NODE(HydraulicErosion) {
   b.param_float("droplets_per_km2", 20000.0)
       .range(0.0, 1e8)
       .soft_range(1000.0, 200000.0)
-      .unit("1/km^2")
+      .unit(Unit::PerSquareKilometre)
       .description("Droplets per square kilometre of the domain");
   b.param_float("step_length", 10.0)
       .range(0.01, 1e4)
       .soft_range(1.0, 50.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Distance a droplet moves per step (about one sample spacing)");
   b.param_float("lifetime", 300.0)
       .range(0.01, 1e5)
       .soft_range(10.0, 3000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Distance a droplet travels before it evaporates");
-  b.param_float("radius", 30.0).range(0.0, 1e4).soft_range(0.0, 200.0).unit("m").description("Erosion brush radius");
+  b.param_float("radius", 30.0)
+      .range(0.0, 1e4)
+      .soft_range(0.0, 200.0)
+      .unit(Unit::Metre)
+      .description("Erosion brush radius");
   b.param_float("inertia", 0.05)
+      .unit(Unit::Unitless)
       .range(0.0, 1.0)
       .description("Share of the previous direction a droplet keeps (unitless)");
   b.param_float("capacity", 4.0)
       .range(0.0, 1e6)
       .soft_range(0.0, 50.0)
-      .unit("m^3")
+      .unit(Unit::CubicMetre)
       .description("Sediment a droplet carries per unit slope x speed x water");
   b.param_float("min_gradient", 0.01)
       .range(0.0, 10.0)
-      .unit("m/m")
+      .unit(Unit::MetrePerMetre)
       .description("Slope floor of the capacity, so droplets on flats still carry");
   b.param_float("deposition", 0.3)
+      .unit(Unit::Unitless)
       .range(0.0, 1.0)
       .description("Share of the surplus sediment deposited per step (unitless)");
-  b.param_float("erosion", 0.3).range(0.0, 1.0).description("Share of the free capacity eroded per step (unitless)");
-  b.param_float("evaporation", 0.01).range(0.0, 1.0).description("Share of the water evaporated per step (unitless)");
+  b.param_float("erosion", 0.3)
+      .unit(Unit::Unitless)
+      .range(0.0, 1.0)
+      .description("Share of the free capacity eroded per step (unitless)");
+  b.param_float("evaporation", 0.01)
+      .unit(Unit::Unitless)
+      .range(0.0, 1.0)
+      .description("Share of the water evaporated per step (unitless)");
   b.param_float("gravity", 4.0)
       .range(0.0, 100.0)
-      .unit("m/s^2")
+      .unit(Unit::MetrePerSecondSquared)
       .description("Speed gain: speed^2 grows by gravity x drop in metres");
   b.param_seed("seed", 0).description("Droplet origins and directions hash (seed, droplet index)");
   b.execute([](ExecContext& ctx) {
@@ -176,6 +192,7 @@ OROGEN_NODE(PipeErosion) {
       "Bit-identical for any thread count.");
   declare_common_ports(b, "Scales dissolution and deposition per cell, 0..1 (1 if unconnected)");
   b.input("rainfall_rate", PortType::Heightfield)
+      .unit(Unit::MillimetrePerHour)
       .optional()
       .description("Rain rate per cell, mm/h (replaces the rainfall_rate parameter)");
   b.input("moisture", PortType::Heightfield).optional().description("Drops mode: chance factor of rain per cell, 0..1");
@@ -186,14 +203,19 @@ OROGEN_NODE(PipeErosion) {
       .optional()
       .description("Soil hardness 0..1: slows dissolution by (1 - hardness)");
   b.output("water_depth", PortType::Heightfield)
+      .unit(Unit::Metre)
       .description("Water depth at the end, metres")
       .kind(OutputKind::WaterDepth);
   b.output("velocity", PortType::Heightfield).description("Water speed at the end, m/s").kind(OutputKind::Scalar);
-  b.param_float("duration", 1800.0).range(0.0, 1e7).soft_range(60.0, 20000.0).unit("s").description("Simulated time");
+  b.param_float("duration", 1800.0)
+      .range(0.0, 1e7)
+      .soft_range(60.0, 20000.0)
+      .unit(Unit::Second)
+      .description("Simulated time");
   b.param_float("rainfall_rate", 50.0)
       .range(0.0, 1e5)
       .soft_range(0.0, 500.0)
-      .unit("mm/h")
+      .unit(Unit::MillimetrePerHour)
       .description("Rain rate (uniform mode, or where no rainfall field)");
   b.param_enum("rain_mode", {"uniform", "drops"}, "uniform")
       .description(
@@ -201,25 +223,37 @@ OROGEN_NODE(PipeErosion) {
           "Georgia Tech model)");
   b.param_float("drop_chance", 0.1)
       .range(1e-6, 100.0)
-      .unit("1/s")
+      .unit(Unit::PerSecond)
       .description("Drops mode: chance of a drop per cell and second at moisture 1");
   b.param_float("capacity", 1.0)
       .range(0.0, 1e4)
-      .unit("s/m")
+      .unit(Unit::SecondPerMetre)
       .description("Kc: sediment capacity (m) per unit sin(tilt) x speed (m/s) x water depth (m)");
-  b.param_float("dissolving", 0.1).range(0.0, 1e3).unit("1/s").description("Ks: rate of dissolution toward capacity");
-  b.param_float("depositing", 0.1).range(0.0, 1e3).unit("1/s").description("Kd: rate of deposition of the surplus");
+  b.param_float("dissolving", 0.1)
+      .range(0.0, 1e3)
+      .unit(Unit::PerSecond)
+      .description("Ks: rate of dissolution toward capacity");
+  b.param_float("depositing", 0.1)
+      .range(0.0, 1e3)
+      .unit(Unit::PerSecond)
+      .description("Kd: rate of deposition of the surplus");
   b.param_float("evaporation", 0.001)
       .range(0.0, 10.0)
-      .unit("1/s")
+      .unit(Unit::PerSecond)
       .description("Ke: share of the water evaporated per second");
-  b.param_float("gravity", 9.81).range(0.1, 100.0).unit("m/s^2").description("Gravitational acceleration of the flow");
-  b.param_float("courant", 0.25).range(0.01, 0.5).description("CFL number of the time step (unitless)");
+  b.param_float("gravity", 9.81)
+      .range(0.1, 100.0)
+      .unit(Unit::MetrePerSecondSquared)
+      .description("Gravitational acceleration of the flow");
+  b.param_float("courant", 0.25)
+      .unit(Unit::Unitless)
+      .range(0.01, 0.5)
+      .description("CFL number of the time step (unitless)");
   b.param_float("layer_depth", 0.0)
       .range(0.0, 1e4)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Soil doubles in hardness every layer_depth eroded (0: uniform soil)");
-  b.param_float("sea_level", -1e4).range(-1e9, 1e9).unit("m").description("Cells below are sinks");
+  b.param_float("sea_level", -1e4).range(-1e9, 1e9).unit(Unit::Metre).description("Cells below are sinks");
   b.param_seed("seed", 0).description("Drops mode: where drops fall hashes (seed, step, cell)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
@@ -267,29 +301,36 @@ OROGEN_NODE(StreamPower) {
   b.output("accumulation", PortType::Heightfield)
       .description("Drainage area of the final routing, m^2")
       .kind(OutputKind::Scalar);
-  b.param_float("k", 2e-5).range(0.0, 1.0).soft_range(1e-7, 1e-3).unit("m^(1-2m)/yr").description("Erodibility K");
-  b.param_float("m", 0.45).range(0.0, 2.0).description("Drainage-area exponent m (unitless)");
-  b.param_float("n", 1.0).range(0.2, 4.0).description("Slope exponent n (unitless); 1 solves directly, else by Newton");
+  b.param_float("k", 2e-5).range(0.0, 1.0).soft_range(1e-7, 1e-3).unit(Unit::Erodibility).description("Erodibility K");
+  b.param_float("m", 0.45).unit(Unit::Unitless).range(0.0, 2.0).description("Drainage-area exponent m (unitless)");
+  b.param_float("n", 1.0)
+      .unit(Unit::Unitless)
+      .range(0.2, 4.0)
+      .description("Slope exponent n (unitless); 1 solves directly, else by Newton");
   b.param_float("uplift_rate", 1e-3)
       .range(0.0, 1.0)
       .soft_range(0.0, 0.01)
-      .unit("m/yr")
+      .unit(Unit::MetrePerYear)
       .description("Rock uplift rate U");
   b.param_float("diffusion", 0.01)
       .range(0.0, 100.0)
       .soft_range(0.0, 1.0)
-      .unit("m^2/yr")
+      .unit(Unit::SquareMetrePerYear)
       .description("Hillslope diffusivity D");
   b.param_float("time_step", 10000.0)
       .range(1.0, 1e8)
-      .unit("yr")
+      .unit(Unit::Year)
       .description("Years per step (the implicit scheme is stable at any step)");
-  b.param_float("duration", 500000.0).range(0.0, 1e10).soft_range(1e4, 1e7).unit("yr").description("Simulated time");
-  b.param_float("sea_level", -1e4).range(-1e9, 1e9).unit("m").description("Cells below are base level (sinks)");
+  b.param_float("duration", 500000.0)
+      .range(0.0, 1e10)
+      .soft_range(1e4, 1e7)
+      .unit(Unit::Year)
+      .description("Simulated time");
+  b.param_float("sea_level", -1e4).range(-1e9, 1e9).unit(Unit::Metre).description("Cells below are base level (sinks)");
   b.param_float("channel_area", 0.0)
       .range(0.0, 1e12)
       .soft_range(0.0, 1e6)
-      .unit("m^2")
+      .unit(Unit::SquareMetre)
       .description(
           "Channel initiation: fluvial incision only where the drainage area reaches this; smaller areas are "
           "hillslopes shaped by diffusion alone. A threshold above a few cells makes the result converge with "

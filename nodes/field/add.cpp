@@ -37,8 +37,16 @@ OROGEN_NODE(Add) {
   b.input("a", PortType::Heightfield).description("First field; defines the output's domain");
   b.input("b", PortType::Heightfield).description("Second field");
   b.output("out", PortType::Heightfield).description("weight_a * a + weight_b * b");
-  b.param_float("weight_a", 1.0).range(-1e6, 1e6).soft_range(-10, 10).unit("x").description("Factor applied to a");
-  b.param_float("weight_b", 1.0).range(-1e6, 1e6).soft_range(-10, 10).unit("x").description("Factor applied to b");
+  b.param_float("weight_a", 1.0)
+      .range(-1e6, 1e6)
+      .soft_range(-10, 10)
+      .unit(Unit::Factor)
+      .description("Factor applied to a");
+  b.param_float("weight_b", 1.0)
+      .range(-1e6, 1e6)
+      .soft_range(-10, 10)
+      .unit(Unit::Factor)
+      .description("Factor applied to b");
   b.execute([](ExecContext& ctx) {
     const auto a = ctx.require<Heightfield>("a");
     const auto bf = ctx.require<Heightfield>("b");

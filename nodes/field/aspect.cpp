@@ -53,7 +53,7 @@ OROGEN_NODE(Aspect) {
   b.param_enum("output", {"degrees", "northness", "eastness"}, "degrees").description("What to output");
   b.param_float("flat_value", 0.0)
       .range(-360.0, 360.0)
-      .unit("deg")
+      .unit(Unit::Degree)
       .description("degrees output on exactly flat samples");
   b.execute([](ExecContext& ctx) {
     const auto z = ctx.require<Heightfield>("in");

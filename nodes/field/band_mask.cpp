@@ -18,18 +18,22 @@ OROGEN_NODE(BandMask) {
   b.input("in", PortType::Heightfield).description("Any field: heights (m), slope (deg), moisture, ...");
   b.output("out", PortType::Heightfield).description("Mask in 0..1").kind(OutputKind::Mask);
   b.param_float("min", 0.0)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("Lower edge of the band, in the field's units");
   b.param_float("max", 100.0)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("Upper edge of the band (>= min), in the field's units");
   b.param_float("sharpness", 2.0)
+      .unit(Unit::Unitless)
       .range(0.0, 1e6)
       .soft_range(0.5, 50.0)
       .description("Crispness when falloff is 0: transition width = (max - min) / sharpness; 0 = hard edges");
   b.param_float("falloff", 0.0)
+      .unit(Unit::InputUnits)
       .range(0.0, 1e6)
       .soft_range(0.0, 500.0)
       .description("Transition width on each side, in the field's units (overrides sharpness when > 0)");

@@ -17,7 +17,10 @@ OROGEN_NODE(Blend) {
   b.input("mask", PortType::Heightfield).optional().description("Per-sample weight, 0..1 (resampled onto a's domain)");
   b.output("out", PortType::Heightfield).description("Blended field");
   b.param_enum("mode", {"lerp", "add", "screen", "max"}, "lerp").description("How a and b combine");
-  b.param_float("factor", 1.0).range(0.0, 1.0).description("Global weight of b, multiplied by the mask");
+  b.param_float("factor", 1.0)
+      .unit(Unit::Unitless)
+      .range(0.0, 1.0)
+      .description("Global weight of b, multiplied by the mask");
   b.execute([](ExecContext& ctx) {
     const auto a = ctx.require<Heightfield>("a");
     const auto bf = require_secondary_input<Heightfield>(ctx, "b", a->domain);

@@ -173,7 +173,7 @@ OROGEN_NODE(Blur) {
   b.param_float("sigma", 10.0)
       .range(0.0, 1e5)
       .soft_range(0.0, 500.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Standard deviation of the Gaussian (the visible blur radius is about 2-3 sigma)");
   b.param_enum("edges", {"clamp", "mirror"}, "clamp").description("What lies beyond the domain's edges");
   b.execute([](ExecContext& ctx) {

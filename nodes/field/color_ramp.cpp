@@ -65,10 +65,12 @@ OROGEN_NODE(ColorRamp) {
   b.param_enum("range", {"fixed", "field"}, "fixed")
       .description("fixed: input_min..input_max maps to 0..1; field: the field's own min..max does");
   b.param_float("input_min", kTerrainGradientMin)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("Value at gradient position 0, in the input's units");
   b.param_float("input_max", kTerrainGradientMax)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("Value at gradient position 1 (!= input_min), in the input's units");

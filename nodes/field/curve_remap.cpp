@@ -35,10 +35,12 @@ OROGEN_NODE(Curve) {
   b.param_enum("range", {"fixed", "field"}, "fixed")
       .description("fixed: normalize with input_min/input_max (tile-independent); field: with the field's min/max");
   b.param_float("input_min", 0.0)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("lo of the fixed range, in the input's units");
   b.param_float("input_max", 1000.0)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("hi of the fixed range (> input_min), in the input's units");

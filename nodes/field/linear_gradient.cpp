@@ -42,27 +42,27 @@ OROGEN_NODE(LinearGradient) {
   b.param_float("from", 0.0)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Value at the start of the span and before it");
   b.param_float("to", 100.0)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Value at the end of the span and beyond it");
   b.param_float("angle", 0.0)
       .range(-360, 360)
-      .unit("deg")
+      .unit(Unit::Degree)
       .description(
           "Direction in which the value goes from 'from' to 'to': 0 = +x (east), 90 = +y (north), "
           "counter-clockwise");
   b.param_vec2("start", {0.0, 0.0})
       .range(-1e7, 1e7)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("World point where the span begins; the ramp's iso-lines are perpendicular to the direction");
   b.param_float("length", 1024.0)
       .range(1e-3, 1e7)
       .soft_range(1, 10000)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Length of the span along the direction, metres");
   b.execute([](ExecContext& ctx) {
     LinearGradientParams p;

@@ -39,7 +39,7 @@ OROGEN_NODE(Multiply) {
   b.param_float("scale", 1.0)
       .range(-1e6, 1e6)
       .soft_range(-10, 10)
-      .unit("x")
+      .unit(Unit::Factor)
       .description("Factor applied to the product");
   b.execute([](ExecContext& ctx) {
     const auto a = ctx.require<Heightfield>("a");

@@ -28,10 +28,12 @@ OROGEN_NODE(Normalize) {
   b.input("in", PortType::Heightfield).description("Field to normalize");
   b.output("out", PortType::Heightfield).description("Field spanning exactly [min, max]");
   b.param_float("min", 0.0)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("Value of the lowest sample, in the input's units");
   b.param_float("max", 1.0)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("Value of the highest sample, in the input's units");

@@ -36,7 +36,11 @@ OROGEN_NODE(Normals) {
       "The unsigned encoding (n * 0.5 + 0.5) is the usual normal-map texture for 8/16-bit image files.");
   b.input("in", PortType::Heightfield).description("Heights, metres");
   b.output("out", PortType::Image).description("Normals, channels X, Y, Z in [-1, 1] (or 0..1 unsigned)");
-  b.param_float("z_factor", 1.0).range(0.0, 1e3).soft_range(0.0, 10.0).description("Relief exaggeration");
+  b.param_float("z_factor", 1.0)
+      .unit(Unit::Factor)
+      .range(0.0, 1e3)
+      .soft_range(0.0, 10.0)
+      .description("Relief exaggeration");
   b.param_enum("encoding", {"signed", "unsigned"}, "signed")
       .description("signed: components in -1..1; unsigned: n * 0.5 + 0.5");
   b.execute([](ExecContext& ctx) {

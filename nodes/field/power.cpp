@@ -15,12 +15,18 @@ OROGEN_NODE(Power) {
       "and exaggerates those beyond scale; < 1 the opposite. Values at pivot and pivot +- scale are fixed.");
   b.input("in", PortType::Heightfield).description("Field");
   b.output("out", PortType::Heightfield).description("Reshaped field");
-  b.param_float("exponent", 1.5).range(0.01, 20.0).soft_range(0.25, 4.0).description("Exponent p (1 = identity)");
+  b.param_float("exponent", 1.5)
+      .unit(Unit::Unitless)
+      .range(0.01, 20.0)
+      .soft_range(0.25, 4.0)
+      .description("Exponent p (1 = identity)");
   b.param_float("pivot", 0.0)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("Value the power is taken about, in the input's units");
   b.param_float("scale", 1.0)
+      .unit(Unit::InputUnits)
       .range(1e-6, 1e6)
       .soft_range(0.01, 1000)
       .description(

@@ -39,11 +39,11 @@ OROGEN_NODE(RadialFalloff) {
       .optional()
       .description("Metres added to the distance from the center (resampled onto the requested domain)");
   b.output("out", PortType::Heightfield).description("Falloff mask, normally 0..1").kind(OutputKind::Mask);
-  b.param_vec2("center", {512.0, 512.0}).range(-1e7, 1e7).unit("m").description("World position of the center");
+  b.param_vec2("center", {512.0, 512.0}).range(-1e7, 1e7).unit(Unit::Metre).description("World position of the center");
   b.param_float("radius", 480.0)
       .range(1e-3, 1e7)
       .soft_range(10.0, 10000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Distance at which the profile reaches its end (t = 1)");
   b.param_curve("profile", default_falloff_profile())
       .description("Mask as a function of normalized distance t = d / radius in 0..1");

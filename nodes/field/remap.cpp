@@ -14,18 +14,25 @@ OROGEN_NODE(Remap) {
   b.input("in", PortType::Heightfield).description("Field to remap");
   b.output("out", PortType::Heightfield).description("Remapped field");
   b.param_float("in_min", 0.0)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("Input value mapped to out_min, in the input's units");
   b.param_float("in_max", 1.0)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("Input value mapped to out_max (!= in_min), in the input's units");
   b.param_float("out_min", 0.0)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("Output for in_min (unit of your choosing: metres for heights, unitless for masks)");
-  b.param_float("out_max", 1.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Output for in_max");
+  b.param_float("out_max", 1.0)
+      .unit(Unit::InputUnits)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 1000)
+      .description("Output for in_max");
   b.param_bool("clamp", false).description("Clamp the result to the output range");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");

@@ -47,7 +47,7 @@ OROGEN_NODE(Resample) {
   b.param_float("spacing", 16.0)
       .range(1e-3, 1e6)
       .soft_range(0.5, 256.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Distance between output samples");
   b.param_bool("prefilter", false).description("Blur away detail finer than the output spacing before sampling");
   b.execute([](ExecContext& ctx) {

@@ -14,10 +14,12 @@ OROGEN_NODE(SmoothStep) {
   b.input("in", PortType::Heightfield).description("Field (e.g. heights in metres)");
   b.output("out", PortType::Heightfield).description("Mask in 0..1").kind(OutputKind::Mask);
   b.param_float("edge0", 0.0)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("Value where the mask is 0, in the input's units");
   b.param_float("edge1", 100.0)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("Value where the mask is 1, in the input's units");
@@ -37,6 +39,7 @@ OROGEN_NODE(Threshold) {
   b.input("in", PortType::Heightfield).description("Field (e.g. heights in metres)");
   b.output("out", PortType::Heightfield).description("Mask of 0 and 1").kind(OutputKind::Mask);
   b.param_float("level", 0.0)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("Threshold value, in the input's units");

@@ -16,28 +16,32 @@ OROGEN_NODE(Terrace) {
   b.input("in", PortType::Heightfield).description("Heights");
   b.output("out", PortType::Heightfield).description("Terraced heights");
   b.param_enum("mode", {"count", "spacing"}, "count").description("How levels are placed");
-  b.param_int("levels", 10).range(1, 10000).soft_range(1, 64).description("count mode: number of steps in the range");
+  b.param_int("levels", 10)
+      .unit(Unit::Count)
+      .range(1, 10000)
+      .soft_range(1, 64)
+      .description("count mode: number of steps in the range");
   b.param_float("range_min", 0.0)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("count mode: lowest level");
   b.param_float("range_max", 1000.0)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("count mode: highest level (> range_min)");
   b.param_float("spacing", 10.0)
       .range(1e-6, 1e6)
       .soft_range(0.5, 500)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("spacing mode: height between levels");
   b.param_float("offset", 0.0)
       .range(-1e6, 1e6)
       .soft_range(-500, 500)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("spacing mode: height of one level");
-  b.param_float("sharpness", 0.7).range(0.0, 1.0).description("0 = no terracing, 1 = hard steps");
+  b.param_float("sharpness", 0.7).unit(Unit::Unitless).range(0.0, 1.0).description("0 = no terracing, 1 = hard steps");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const double s = ctx.param<double>("sharpness");

@@ -15,6 +15,7 @@ OROGEN_NODE(Invert) {
   b.input("in", PortType::Heightfield).description("Field to invert");
   b.output("out", PortType::Heightfield).description("2 * pivot - in");
   b.param_float("pivot", 0.0)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("Value that stays fixed, in the input's units; 0.5 inverts a 0..1 mask");
@@ -43,8 +44,13 @@ OROGEN_NODE(Clamp) {
   b.category("field").description("Limits every sample to [min, max].");
   b.input("in", PortType::Heightfield).description("Field to clamp");
   b.output("out", PortType::Heightfield).description("min(max(in, min), max)");
-  b.param_float("min", 0.0).range(-1e6, 1e6).soft_range(-1000, 1000).description("Lower bound, in the input's units");
+  b.param_float("min", 0.0)
+      .unit(Unit::InputUnits)
+      .range(-1e6, 1e6)
+      .soft_range(-1000, 1000)
+      .description("Lower bound, in the input's units");
   b.param_float("max", 1.0)
+      .unit(Unit::InputUnits)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
       .description("Upper bound (>= min), in the input's units");

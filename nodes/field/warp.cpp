@@ -34,7 +34,11 @@ OROGEN_NODE(Warp) {
   b.input("dx", PortType::Heightfield).optional().description("Displacement along world x, metres (0 if unconnected)");
   b.input("dy", PortType::Heightfield).optional().description("Displacement along world y, metres (0 if unconnected)");
   b.output("out", PortType::Heightfield).description("Warped field");
-  b.param_float("strength", 1.0).range(-1e3, 1e3).soft_range(0.0, 4.0).description("Multiplier of both displacements");
+  b.param_float("strength", 1.0)
+      .unit(Unit::Factor)
+      .range(-1e3, 1e3)
+      .soft_range(0.0, 4.0)
+      .description("Multiplier of both displacements");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto dx = secondary_input<Heightfield>(ctx, "dx", in->domain);

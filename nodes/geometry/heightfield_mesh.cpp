@@ -82,7 +82,7 @@ Mesh heightfield_grid_mesh(const Heightfield& height, const Image* colors) {
 Mesh heightfield_mesh(const Heightfield& height, const Image* colors, const TinOptions& options) {
   if (!(options.max_error > 0.0) && options.target_faces == 0) return heightfield_grid_mesh(height, colors);
   if (colors && (colors->channels < 1 || colors->width() < 1 || colors->height() < 1))
-    throw std::invalid_argument("the colour image is empty");
+    throw std::invalid_argument("the color image is empty");
   const Tin tin = heightfield_tin(height, options);
   Mesh result;
   TriMesh& m = result.mesh;

@@ -31,11 +31,12 @@ OROGEN_NODE(HeightfieldToMesh) {
   b.param_float("max_error", 0.0)
       .range(0.0, 1e5)
       .soft_range(0.0, 10.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description(
           "Every sample stays within this vertical distance of the surface (exact, checked at every sample); 0 "
           "disables the error bound");
   b.param_int("target_faces", 0)
+      .unit(Unit::Count)
       .range(0, 1000000000)
       .description(
           "Refine to about this many faces, never more unless max_error needs them (the tighter of the two wins); "

@@ -184,6 +184,7 @@ OROGEN_NODE(FillDepressions) {
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Filled or carved height, metres");
   b.output("water_depth", PortType::Heightfield)
+      .unit(Unit::Metre)
       .description("Water depth of the kept lakes (flat surface minus ground), metres")
       .kind(OutputKind::WaterDepth);
   b.output("lake_id", PortType::Heightfield)
@@ -196,7 +197,7 @@ OROGEN_NODE(FillDepressions) {
   b.param_float("max_depth", 0.0)
       .range(0.0, 1e5)
       .soft_range(0.0, 100.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("carve mode: depressions at most this deep are filled and kept as lakes, deeper ones are carved");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
@@ -214,19 +215,22 @@ OROGEN_NODE(Lakes) {
           "min_area stay dry.");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Water surface on lakes, ground elsewhere, metres");
-  b.output("water_depth", PortType::Heightfield).description("Water depth, metres").kind(OutputKind::WaterDepth);
+  b.output("water_depth", PortType::Heightfield)
+      .unit(Unit::Metre)
+      .description("Water depth, metres")
+      .kind(OutputKind::WaterDepth);
   b.output("lake_id", PortType::Heightfield)
       .description("Lake number 1, 2, ..., 0 on dry ground")
       .kind(OutputKind::Scalar);
   b.param_float("min_depth", 0.0)
       .range(0.0, 1e5)
       .soft_range(0.0, 50.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Depressions whose deepest point is shallower than this are not lakes");
   b.param_float("min_area", 0.0)
       .range(0.0, 1e12)
       .soft_range(0.0, 1e6)
-      .unit("m^2")
+      .unit(Unit::SquareMetre)
       .description("Depressions covering less than this area are not lakes");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
@@ -245,19 +249,23 @@ OROGEN_NODE(FloodFill) {
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Water surface in the lake, ground elsewhere, metres");
   b.output("water_depth", PortType::Heightfield)
+      .unit(Unit::Metre)
       .description("Water depth, metres (0 outside the lake)")
       .kind(OutputKind::WaterDepth);
-  b.output("lake_mask", PortType::Heightfield).description("1 in the lake, 0 elsewhere").kind(OutputKind::Mask);
+  b.output("lake_mask", PortType::Heightfield)
+      .unit(Unit::Unitless)
+      .description("1 in the lake, 0 elsewhere")
+      .kind(OutputKind::Mask);
   b.param_vec2("position", glm::dvec2(0.0, 0.0))
       .range(-1e7, 1e7)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("World position the lake grows from");
   b.param_enum("level_mode", {"spill", "level"}, "spill")
       .description("spill: fill to the depression's spill level; level: fill to the given level");
   b.param_float("level", 0.0)
       .range(-1e5, 1e5)
       .soft_range(-100.0, 1000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Water level in level mode");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");

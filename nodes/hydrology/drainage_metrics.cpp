@@ -243,17 +243,17 @@ OROGEN_NODE(DrainageMetrics) {
   b.param_float("threshold", 1e5)
       .range(1.0, 1e14)
       .soft_range(1e3, 1e8)
-      .unit("m^2")
+      .unit(Unit::SquareMetre)
       .description("Contributing area at which a channel starts");
   b.param_float("lake_depth", 2.0)
       .range(0.0, 1e4)
       .soft_range(0.0, 50.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Depth (spill level minus lowest cell) from which a depression counts as a lake");
   b.param_float("lake_area", 40000.0)
       .range(0.0, 1e12)
       .soft_range(0.0, 1e7)
-      .unit("m^2")
+      .unit(Unit::SquareMetre)
       .description("Area from which a depression counts as a lake");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");

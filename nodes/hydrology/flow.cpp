@@ -19,8 +19,8 @@ std::vector<float> routed_height(const Heightfield& in, bool fill, const ExecCon
 }
 
 const char* kMethodDoc =
-    "d8: all flow to the steepest neighbour (O'Callaghan & Mark 1984); dinf: split between the two neighbours "
-    "of the steepest facet (Tarboton 1997); mfd: to every lower neighbour in proportion to tan(beta)^exponent "
+    "d8: all flow to the steepest neighbor (O'Callaghan & Mark 1984); dinf: split between the two neighbors "
+    "of the steepest facet (Tarboton 1997); mfd: to every lower neighbor in proportion to tan(beta)^exponent "
     "(Freeman 1991, Holmgren 1994)";
 
 FlowMethod method_of(const ExecContext& ctx) { return static_cast<FlowMethod>(ctx.enum_index("method")); }
@@ -138,23 +138,25 @@ OROGEN_NODE(FlowAccumulation) {
       .description(
           "Upslope contributing area of every cell in m^2, optionally weighted by a rainfall field, routed with D8, "
           "D-infinity or multiple flow directions; depressions are filled first (Priority-Flood+epsilon, Barnes et al. "
-          "2014) so flow crosses lakes. Also the normalised log flow map used for texturing (0 at flow_min_area, 1 at "
+          "2014) so flow crosses lakes. Also the normalized log flow map used for texturing (0 at flow_min_area, 1 at "
           "flow_max_area) and the topographic wetness index ln(a / tan beta) (Beven & Kirkby 1979) with a the "
           "specific catchment area (area per metre of contour). Accumulation by dependency counting (Barnes 2017, "
           "'Parallel non-divergent flow accumulation for trillion cell digital elevation models').");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.input("rainfall_weight", PortType::Heightfield)
+      .unit(Unit::Unitless)
       .optional()
       .description("Relative rainfall per cell (unitless weight, 1 = nominal)");
   b.output("out", PortType::Heightfield)
       .description("Accumulated (rainfall-weighted) upslope area, m^2, the cell included")
       .kind(OutputKind::Scalar);
-  b.output("flow", PortType::Heightfield).description("Normalised log flow map in [0, 1]").kind(OutputKind::Mask);
+  b.output("flow", PortType::Heightfield).description("Normalized log flow map in [0, 1]").kind(OutputKind::Mask);
   b.output("wetness", PortType::Heightfield)
       .description("Topographic wetness index ln(a / tan beta), a in metres")
       .kind(OutputKind::Scalar);
   b.param_enum("method", {"d8", "dinf", "mfd"}, "mfd").description(kMethodDoc);
   b.param_float("exponent", 1.1)
+      .unit(Unit::Unitless)
       .range(0.1, 100.0)
       .soft_range(1.0, 10.0)
       .description("MFD only: proportions follow tan(beta)^exponent (1.1 Freeman 1991; larger converges to D8)");
@@ -162,16 +164,16 @@ OROGEN_NODE(FlowAccumulation) {
   b.param_float("flow_min_area", 0.0)
       .range(0.0, 1e12)
       .soft_range(0.0, 1e5)
-      .unit("m^2")
+      .unit(Unit::SquareMetre)
       .description("Area mapped to 0 in the flow map (0: one cell)");
   b.param_float("flow_max_area", 0.0)
       .range(0.0, 1e14)
       .soft_range(0.0, 1e8)
-      .unit("m^2")
+      .unit(Unit::SquareMetre)
       .description("Area mapped to 1 in the flow map (0: the largest accumulation)");
   b.param_float("min_gradient", 1e-3)
       .range(1e-9, 1.0)
-      .unit("m/m")
+      .unit(Unit::MetrePerMetre)
       .description("Floor of tan(beta) in the wetness index (flats)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
@@ -207,10 +209,12 @@ OROGEN_NODE(FlowDirection) {
       .description("y component of the unit flow vector (0 where nothing drains)")
       .kind(OutputKind::Signed);
   b.output("gradient", PortType::Heightfield)
+      .unit(Unit::MetrePerMetre)
       .description("tan(beta) of the steepest descent, m/m")
       .kind(OutputKind::Scalar);
   b.param_enum("method", {"d8", "dinf", "mfd"}, "d8").description(kMethodDoc);
   b.param_float("exponent", 1.1)
+      .unit(Unit::Unitless)
       .range(0.1, 100.0)
       .soft_range(1.0, 10.0)
       .description("MFD only: proportions follow tan(beta)^exponent");
@@ -230,7 +234,7 @@ OROGEN_NODE(Watersheds) {
   b.reach_global();  // flow routing over the whole domain
   b.category("hydrology")
       .description(
-          "Drainage basins: every cell labelled with the outlet its D8 flow reaches (border cells and, without "
+          "Drainage basins: every cell labeled with the outlet its D8 flow reaches (border cells and, without "
           "filling, pits), by Priority-Flood filling (Barnes, Lehman & Mulla 2014) and the receiver tree (Braun & "
           "Willett 2013). Basins are numbered by decreasing area; those under min_area get 0.");
   b.input("in", PortType::Heightfield).description("Height, metres");
@@ -242,8 +246,8 @@ OROGEN_NODE(Watersheds) {
   b.param_float("min_area", 0.0)
       .range(0.0, 1e14)
       .soft_range(0.0, 1e7)
-      .unit("m^2")
-      .description("Smaller basins are labelled 0");
+      .unit(Unit::SquareMetre)
+      .description("Smaller basins are labeled 0");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     WatershedResult r = watersheds(*in, ctx.param<bool>("fill"), ctx.param<double>("min_area"), &ctx);

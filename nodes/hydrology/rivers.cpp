@@ -187,29 +187,37 @@ OROGEN_NODE(RiverExtract) {
           "lines.");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.input("rainfall_weight", PortType::Heightfield)
+      .unit(Unit::Unitless)
       .optional()
       .description("Relative rainfall per cell (unitless weight, 1 = nominal)");
   b.output("out", PortType::Curves).description("River reaches; attributes discharge (m^3/s), area (m^2), order");
   b.output("river_mask", PortType::Heightfield)
+      .unit(Unit::Unitless)
       .description("River coverage in [0, 1], drawn with the river width")
       .kind(OutputKind::Mask);
   b.param_float("threshold", 1e5)
       .range(1.0, 1e14)
       .soft_range(1e3, 1e8)
-      .unit("m^2")
+      .unit(Unit::SquareMetre)
       .description("Contributing area at which a channel starts");
   b.param_float("runoff", 10.0)
       .range(0.0, 1000.0)
       .soft_range(0.0, 100.0)
-      .unit("mm/h")
+      .unit(Unit::MillimetrePerHour)
       .description("Effective runoff rate turning area into discharge");
   b.param_float("width_coefficient", 4.0)
       .range(0.0, 1000.0)
       .soft_range(0.0, 20.0)
-      .unit("m/(m^3/s)^b")
+      .unit(Unit::WidthCoefficient)
       .description("k of w = k Q^b");
-  b.param_float("width_exponent", 0.5).range(0.0, 1.0).description("b of w = k Q^b (about 0.5 in nature)");
-  b.param_int("smoothing", 2).range(0, 5).description("Chaikin corner-cutting passes on each reach (0: cell centres)");
+  b.param_float("width_exponent", 0.5)
+      .unit(Unit::Unitless)
+      .range(0.0, 1.0)
+      .description("b of w = k Q^b (about 0.5 in nature)");
+  b.param_int("smoothing", 2)
+      .unit(Unit::Count)
+      .range(0, 5)
+      .description("Chaikin corner-cutting passes on each reach (0: cell centers)");
   b.param_bool("split_at_lakes", true)
       .description(
           "Leave lakes (filled depressions) without polylines: a river ends at the shore and its parent is the reach "

@@ -127,14 +127,15 @@ OROGEN_NODE(WaterFlow) {
   b.reach_global();  // flow routing over the whole domain
   b.category("hydrology")
       .description(
-          "Where rain water settles: rainfall minus infiltration as the initial water, then repeated 8-neighbour "
+          "Where rain water settles: rainfall minus infiltration as the initial water, then repeated 8-neighbor "
           "redistribution on the water surface (after Long 2016, 'Using procedural methods to generate realistic "
           "virtual rural worlds', section 3.3, corrected so that water follows the water surface and never moves "
-          "uphill): each wet cell sends min(depth, half its largest surface drop) to its lower neighbours in "
+          "uphill): each wet cell sends min(depth, half its largest surface drop) to its lower neighbors in "
           "proportion to the drops, until an iteration moves less than `threshold` times all water moved so far. "
           "Water is conserved exactly except what drains at the border or into sink cells, which the report counts.");
   b.input("in", PortType::Heightfield).description("Terrain height, metres");
   b.input("rainfall", PortType::Heightfield)
+      .unit(Unit::Millimetre)
       .optional()
       .description("Rainfall per cell, mm (replaces the rainfall parameter)");
   b.input("sinks", PortType::Heightfield).optional().description("Cells above 0.5 drain (sea, swallow holes)");
@@ -147,17 +148,19 @@ OROGEN_NODE(WaterFlow) {
   b.param_float("rainfall", 50.0)
       .range(0.0, 1e5)
       .soft_range(0.0, 500.0)
-      .unit("mm")
+      .unit(Unit::Millimetre)
       .description("Uniform rainfall when no field is connected");
   b.param_float("infiltration", 10.0)
       .range(0.0, 1e5)
       .soft_range(0.0, 200.0)
-      .unit("mm")
+      .unit(Unit::Millimetre)
       .description("Soaked into the soil before any flow");
   b.param_float("threshold", 1e-3)
+      .unit(Unit::Unitless)
       .range(0.0, 1.0)
       .description("Stop when an iteration moves less than this fraction of all water moved so far");
   b.param_int("max_iterations", 1000)
+      .unit(Unit::Count)
       .range(1, 1000000)
       .soft_range(1, 10000)
       .description("Upper bound on the iterations");

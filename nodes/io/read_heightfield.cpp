@@ -22,7 +22,7 @@ OROGEN_NODE(ReadHeightfield) {
   b.category("io").description(
       "Reads a heightfield from an EXR, PNG (8 or 16-bit), TIFF or RAW 16-bit file and resamples it "
       "(bilinear) to the requested domain. By default the image covers the requested domain exactly (its "
-      "pixel centres span the domain's rectangle edge to edge); set `size` (and `origin`) to place it on a "
+      "pixel centers span the domain's rectangle edge to edge); set `size` (and `origin`) to place it on a "
       "fixed world rectangle instead. The first file row is the northern one (largest y); samples outside the "
       "image's rectangle repeat its edge. Unsigned integer pixels are mapped to heights through "
       "height_min/height_max (or the mapping WriteHeightfield stored in the file); float and signed integer "
@@ -35,26 +35,26 @@ OROGEN_NODE(ReadHeightfield) {
       .description(
           "Image file to read. A relative path is resolved against the directory of the graph file (not the "
           "current directory, not the output directory)");
-  b.param_int("channel", 0).range(0, 63).description("Channel of the image to read (0 = first)");
+  b.param_int("channel", 0).unit(Unit::Count).range(0, 63).description("Channel of the image to read (0 = first)");
   b.param_vec2("origin", {0.0, 0.0})
       .range(-1e7, 1e7)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("With size set: world position of the south-west pixel center (first column, last file row)");
   b.param_vec2("size", {0.0, 0.0})
       .range(0.0, 1e7)
-      .unit("m")
+      .unit(Unit::Metre)
       .description(
           "World extent from the first to the last pixel center in x and y; [0, 0] (the default): the requested "
           "domain's, at its origin");
   b.param_float("height_min", 0.0)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Height of pixel value 0 in integer formats (and of 0.0 in float formats when remap_float is on)");
   b.param_float("height_max", 1000.0)
       .range(-1e6, 1e6)
       .soft_range(-1000, 9000)
-      .unit("m")
+      .unit(Unit::Metre)
       .description(
           "Height of full scale (255 or 65535) in integer formats (and of 1.0 in float formats when remap_float "
           "is on)");

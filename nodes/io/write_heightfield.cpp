@@ -29,14 +29,15 @@ OROGEN_NODE(WriteHeightfield) {
   b.param_float("height_min", 0.0)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Height stored as 0 when range is 'fixed'");
   b.param_float("height_max", 1000.0)
       .range(-1e6, 1e6)
       .soft_range(-1000, 9000)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Height stored as 65535 when range is 'fixed'; must exceed height_min");
   b.param_int("compression_level", 1)
+      .unit(Unit::Unitless)
       .range(0, 9)
       .description(
           "zlib (deflate) level of 16-bit PNG, TIFF and EXR with exr_compression 'zip': 1 is the fastest (on "

@@ -24,6 +24,7 @@ OROGEN_NODE(WriteImage) {
           "Encode PNG color channels with the sRGB transfer curve (what image viewers expect); off stores the "
           "linear values. Alpha and the float formats are never encoded");
   b.param_int("compression_level", 6)
+      .unit(Unit::Unitless)
       .range(0, 9)
       .description(
           "zlib (deflate) level of PNG, EXR (zip) and TIFF: 6 is zlib's balance, 1 the fastest (about twice as "

@@ -45,7 +45,7 @@ OROGEN_NODE(WriteMesh) {
   b.param_float("base_depth", 0.0)
       .range(0.0, 1e6)
       .soft_range(0.0, 500.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description(
           "Closes the mesh into a solid (every edge shared by two faces) for 3D printing: walls down from the open "
           "border to this many metres below the lowest vertex and a flat bottom. 0: the open surface");

@@ -36,14 +36,15 @@ OROGEN_NODE(VoronoiIsland) {
           "(m), attribute volume (number of upstream sources)");
   b.param_vec2("min_corner", {0.0, 0.0})
       .range(-1e7, 1e7)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("World position of the map's lower-left corner");
   b.param_vec2("size", {4096.0, 4096.0})
       .range(1.0, 1e7)
       .soft_range(100.0, 1e5)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Width and height of the map");
   b.param_int("cells", 2000)
+      .unit(Unit::Count)
       .range(1, 200000)
       .soft_range(100, 20000)
       .description("Number of Voronoi cells (Poisson: about that many)");
@@ -51,50 +52,58 @@ OROGEN_NODE(VoronoiIsland) {
       .description(
           "Sites: uniform random, or Poisson-disk (Bridson 2007) with the radius that gives about `cells` sites");
   b.param_int("relaxation", 2)
+      .unit(Unit::Count)
       .range(0, 10)
       .description("Lloyd relaxation passes (each moves every site to its cell's area centroid)");
   b.param_float("shape_scale", 2.2)
+      .unit(Unit::Unitless)
       .range(0.0, 20.0)
       .description(
           "Weight of the squared normalized distance from the map center in the water test (unitless; larger: smaller "
           "island)");
   b.param_float("shape_offset", -0.2)
+      .unit(Unit::Unitless)
       .range(-2.0, 2.0)
       .description("Offset of the water threshold (unitless; larger: smaller island)");
   b.param_float("shape_frequency", 6.0)
       .range(0.1, 64.0)
-      .unit("1/half-width")
+      .unit(Unit::Unitless)
       .description("Frequency of the shape noise's first octave, lattice cells per half map width");
   b.param_int("shape_octaves", 4)
+      .unit(Unit::Count)
       .range(1, 8)
       .description("Octaves of the shape noise (frequency x2, amplitude / 2.5 each)");
   b.param_float("water_fraction", 0.3)
+      .unit(Unit::Unitless)
       .range(0.0, 1.0)
       .description("Share of a cell's corners that must be water for the cell to be water (unitless)");
   b.param_float("max_elevation", 1000.0)
       .range(1.0, 1e5)
       .soft_range(10.0, 5000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Elevation of the highest corner");
   b.param_float("ocean_depth", 200.0)
       .range(0.0, 1e5)
       .soft_range(0.0, 2000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Depth of the ocean corner farthest from the coast");
   b.param_float("lowland_bias", 2.0)
+      .unit(Unit::Unitless)
       .range(0.1, 10.0)
       .description(
           "Exponent k of the elevation distribution F(y) = 1 - (1 - y)^k (unitless; 1 uniform, larger: more lowland)");
   b.param_int("rivers", 60)
+      .unit(Unit::Count)
       .range(0, 100000)
       .description("River sources drawn at inland corners with normalized elevation in [0.3, 0.9]");
   b.param_float("moisture_decay", 0.8)
+      .unit(Unit::Unitless)
       .range(0.0, 1.0)
       .description("Factor applied to moisture per corner step away from fresh water (unitless)");
   b.param_float("river_width", 6.0)
       .range(0.0, 1e4)
       .soft_range(0.0, 100.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Width of a river of volume 1 in the rivers output; width = river_width * sqrt(volume)");
   b.param_seed("seed", 0).description("Seed of the sites, the shape noise and the river sources");
   b.execute([](ExecContext& ctx) {
@@ -140,10 +149,22 @@ OROGEN_NODE(PolygonMapRaster) {
   b.output("biome", PortType::Heightfield)
       .description("Biome id 0..15 (table I order: snow ... ocean)")
       .kind(OutputKind::Scalar);
-  b.output("water_mask", PortType::Heightfield).description("1 in ocean and lake cells, else 0").kind(OutputKind::Mask);
-  b.output("ocean_mask", PortType::Heightfield).description("1 in ocean cells, else 0").kind(OutputKind::Mask);
-  b.output("lake_mask", PortType::Heightfield).description("1 in lake cells, else 0").kind(OutputKind::Mask);
-  b.output("river_mask", PortType::Heightfield).description("River coverage in [0, 1]").kind(OutputKind::Mask);
+  b.output("water_mask", PortType::Heightfield)
+      .unit(Unit::Unitless)
+      .description("1 in ocean and lake cells, else 0")
+      .kind(OutputKind::Mask);
+  b.output("ocean_mask", PortType::Heightfield)
+      .unit(Unit::Unitless)
+      .description("1 in ocean cells, else 0")
+      .kind(OutputKind::Mask);
+  b.output("lake_mask", PortType::Heightfield)
+      .unit(Unit::Unitless)
+      .description("1 in lake cells, else 0")
+      .kind(OutputKind::Mask);
+  b.output("river_mask", PortType::Heightfield)
+      .unit(Unit::Unitless)
+      .description("River coverage in [0, 1]")
+      .kind(OutputKind::Mask);
   b.output("roughness", PortType::Heightfield)
       .description("Multifractal roughness R of the biome (table I), unitless")
       .kind(OutputKind::Mask);
@@ -154,17 +175,17 @@ OROGEN_NODE(PolygonMapRaster) {
   b.param_float("perturb_distance", 40.0)
       .range(0.0, 1e5)
       .soft_range(0.0, 500.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Amplitude of the lookup displacement (0: exact polygon lookup)");
   b.param_float("perturb_feature_size", 400.0)
       .range(1e-3, 1e7)
       .soft_range(10.0, 5000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Feature size of the displacement noise's first octave");
   b.param_float("river_width", 6.0)
       .range(0.0, 1e4)
       .soft_range(0.0, 100.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Width of a river of volume 1; width = river_width * sqrt(volume)");
   b.param_seed("seed", 0).description("Seed of the displacement noise");
   b.execute([](ExecContext& ctx) {
@@ -215,49 +236,52 @@ OROGEN_NODE(RiverNetwork) {
           "curve continues its parent's tangent)");
   b.param_vec2("min_corner", {0.0, 0.0})
       .range(-1e7, 1e7)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("World position of the network's lower-left corner");
   b.param_vec2("size", {4096.0, 4096.0})
       .range(1.0, 1e7)
       .soft_range(100.0, 1e5)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Width and height of the network's rectangle");
   b.param_int("outlets", 5)
+      .unit(Unit::Count)
       .range(0, 1000)
       .soft_range(1, 50)
       .description("Number of outlets (roots) on the border or the coastline");
   b.param_float("density", 40.0)
       .range(0.0, 10000.0)
       .soft_range(1.0, 500.0)
-      .unit("1/km^2")
+      .unit(Unit::PerSquareKilometre)
       .description("Inner points per square kilometre");
   b.param_float("max_length", 400.0)
       .range(1.0, 1e6)
       .soft_range(20.0, 5000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Longest river segment (candidate search radius)");
   b.param_float("base_gradient", 0.02)
       .range(0.0, 10.0)
       .soft_range(0.0, 0.5)
-      .unit("m/m")
+      .unit(Unit::MetrePerMetre)
       .description("Slope d at the outlets");
   b.param_float("gradient_weight", 0.02)
       .range(0.0, 10.0)
       .soft_range(0.0, 0.5)
-      .unit("m/m")
+      .unit(Unit::MetrePerMetre)
       .description("w: slope added upstream, most for branches of half their parent's size");
   b.param_float("river_width", 3.0)
       .range(0.0, 1e4)
       .soft_range(0.0, 100.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Width of a river of size 1");
   b.param_float("width_exponent", 0.5)
+      .unit(Unit::Unitless)
       .range(0.0, 1.0)
-      .description("Width = river_width * size^exponent (1: 000's width proportional to size)");
+      .description("Width = river_width * size^exponent (1: width proportional to size, as in SeamScape)");
   b.param_float("meander", 0.25)
+      .unit(Unit::Unitless)
       .range(0.0, 1.0)
       .description("Largest sideways offset of a free control point, as a fraction of the chord");
-  b.param_int("samples", 8).range(1, 64).description("Polyline segments per Bézier curve");
+  b.param_int("samples", 8).unit(Unit::Count).range(1, 64).description("Polyline segments per Bézier curve");
   b.param_seed("seed", 0).description("Seed of the outlets, the inner points and the growth order");
   b.execute([](ExecContext& ctx) {
     RiverNetworkParams p;
@@ -290,18 +314,24 @@ OROGEN_NODE(CarveRivers) {
   b.input("in", PortType::Heightfield).description("Terrain heights, metres");
   b.input("rivers", PortType::Curves).description("River curves: z = river height (m), per-vertex width (m)");
   b.output("out", PortType::Heightfield).description("Carved terrain, metres").kind(OutputKind::Height);
-  b.output("river_mask", PortType::Heightfield).description("Channel coverage in [0, 1]").kind(OutputKind::Mask);
+  b.output("river_mask", PortType::Heightfield)
+      .unit(Unit::Unitless)
+      .description("Channel coverage in [0, 1]")
+      .kind(OutputKind::Mask);
   b.param_float("radius", 150.0)
       .range(0.0, 1e6)
       .soft_range(0.0, 2000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Distance over which the terrain blends into the river height");
   b.param_float("depth_ratio", 0.1)
       .range(0.0, 10.0)
       .soft_range(0.0, 1.0)
-      .unit("m/m")
+      .unit(Unit::Factor)
       .description("Channel depth per metre of river width");
-  b.param_float("strength", 1.0).range(0.0, 1.0).description("Scales the blend weight (0: only the channel is cut)");
+  b.param_float("strength", 1.0)
+      .unit(Unit::Unitless)
+      .range(0.0, 1.0)
+      .description("Scales the blend weight (0: only the channel is cut)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto rivers = ctx.require<Curves>("rivers");

@@ -44,17 +44,17 @@ OROGEN_NODE(SeaLevelNormalize) {
   b.param_float("sea_level", 0.0)
       .range(-1e6, 1e6)
       .soft_range(-1000, 1000)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Sea level in the input");
   b.param_float("height", 1000.0)
       .range(0.0, 1e5)
       .soft_range(0.0, 9000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Height of the highest sample");
   b.param_float("depth", 200.0)
       .range(0.0, 1e5)
       .soft_range(0.0, 9000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Depth of the deepest sample below sea level");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");

@@ -28,7 +28,7 @@ OROGEN_NODE(FBM) {
           "weight); replaces the roughness parameter where connected");
   b.input("amplitude", PortType::Heightfield)
       .optional()
-      .description("Multiplies the output per sample (002's amplitude map A), in every mode");
+      .description("Multiplies the output per sample (an amplitude map), in every mode");
   b.output("out", PortType::Heightfield).description("The fractal noise, in metres").kind(OutputKind::Height);
   b.param_enum("basis", {"perlin", "simplex", "value", "worley"}, "perlin")
       .description("Noise of each octave; worley uses F1 (Euclidean, jitter 1)");
@@ -36,26 +36,26 @@ OROGEN_NODE(FBM) {
       .description(
           "How octaves combine: fbm (sum, [-1, 1]), ridged (sharp crests, [0, 1]), billow (|noise|, "
           "rounded hills), hybrid (Musgrave hybrid multifractal: smooth valleys, rough peaks), "
-          "multifractal (002 Eq 4, octave weights from the roughness)");
+          "multifractal (octave weights r^(-k(1-R)) from the roughness R)");
   declare_feature_size(b, 1024.0, "Cell size of the first (largest) octave");
   declare_amplitude(b, 200.0, "Output scale in metres (fbm spans [-amplitude, amplitude])");
-  b.param_int("octaves", 6).range(1, 16).description("Number of octaves");
+  b.param_int("octaves", 6).unit(Unit::Count).range(1, 16).description("Number of octaves");
   b.param_float("lacunarity", 2.0)
       .range(1.01, 4.0)
-      .unit("")
-      .description("Frequency ratio between successive octaves (r in 002 Eq 4)");
+      .unit(Unit::Unitless)
+      .description("Frequency ratio r between successive octaves");
   b.param_float("gain", 0.5)
       .range(0.0, 1.0)
-      .unit("")
+      .unit(Unit::Unitless)
       .description("Amplitude ratio between successive octaves (persistence); not used by multifractal");
   b.param_float("offset", 1.0)
       .range(0.0, 2.0)
-      .unit("")
+      .unit(Unit::Unitless)
       .description("Ridged: the ridge height offset - |noise|; hybrid: added to the noise before weighting");
   b.param_float("roughness", 0.5)
       .range(0.0, 1.0)
-      .unit("")
-      .description("Multifractal: roughness R where no roughness field is connected (002 Table I uses 0.1 to 0.7)");
+      .unit(Unit::Unitless)
+      .description("Multifractal: roughness R where no roughness field is connected (typically 0.1 to 0.7)");
   declare_seed(b);
   b.execute([](ExecContext& ctx) {
     FbmParams p;

@@ -19,7 +19,7 @@ void declare_feature_size(NodeBuilder& b, double default_metres, const char* des
   b.param_float("feature_size", default_metres)
       .range(0.001, 1e7)
       .soft_range(1.0, 20000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description(description);
 }
 
@@ -27,7 +27,7 @@ void declare_amplitude(NodeBuilder& b, double default_metres, const char* descri
   b.param_float("amplitude", default_metres)
       .range(-1e6, 1e6)
       .soft_range(0.0, 2000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description(description);
 }
 

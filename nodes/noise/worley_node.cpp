@@ -25,7 +25,7 @@ OROGEN_NODE(Worley) {
           "the points), f2, f2_minus_f1 (ridges along the cell borders), f1_times_f2, mean_f1_f4");
   b.param_float("jitter", 1.0)
       .range(0.0, 1.0)
-      .unit("")
+      .unit(Unit::Unitless)
       .description("How far the feature points stray from the cell centers: 0 gives a regular grid, 1 the full cell");
   declare_seed(b);
   b.execute([](ExecContext& ctx) {

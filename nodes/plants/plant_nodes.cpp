@@ -42,7 +42,7 @@ OROGEN_NODE(LSystem) {
       "The Algorithmic Beauty of Plants: parametric modules F(l,w) with arithmetic expressions, conditions "
       "(A(x) : x < 3 -> ...), left and right context (A < B > C) matched across bracketed branches with an "
       "ignore list, stochastic alternatives chosen by the roulette of their weights (A -> B : 2) as in "
-      "Chalmers et al. (2016), SeamScape, and random draws uniform(a,b) / gauss(m,s) keyed by the seed. One "
+      "S. Ekman et al. (2016), SeamScape (Chalmers bachelor thesis), and random draws uniform(a,b) / gauss(m,s) keyed by the seed. One "
       "rule per line or separated by ';'; 'let name = value' defines constants; '//' starts a comment line. "
       "Errors name the line and column. Presets (docs/lsystems.md): algae (A -> AB; B -> A), the bush "
       "of ABOP Fig. 1.25, the fern-like plant of ABOP Fig. 1.24d, 3D Game Worlds rules 4.19 and 4.20, and "
@@ -51,11 +51,12 @@ OROGEN_NODE(LSystem) {
   b.param_string("axiom", "X").description("The initial word, e.g. X or T(140,90,40,100)");
   b.param_string("rules", "X -> F[+X][-X]FX\nF -> FF")
       .description("Productions, one per line: [left <] predecessor [> right] [: condition] -> successor [: weight]");
-  b.param_int("iterations", 4).range(0, 40).soft_range(0, 8).description("Parallel rewriting steps");
+  b.param_int("iterations", 4).unit(Unit::Count).range(0, 40).soft_range(0, 8).description("Parallel rewriting steps");
   b.param_string("ignore", "").description("Symbols that context matching skips (typically the turtle's +-&^\\/F)");
   b.param_seed("seed", 0).description(
       "Key of the stochastic choices and random draws; the same seed gives the same word");
   b.param_int("max_modules", 1000000)
+      .unit(Unit::Count)
       .range(1, 100000000)
       .description("A word longer than this fails with an error instead of exhausting memory (modules)");
   // The word may grow to max_modules modules, each with as many parameters as the grammar's widest module.
@@ -91,7 +92,7 @@ OROGEN_NODE(Turtle3D) {
   b.category("plants").description(
       "Interprets a module string with a 3D turtle (Prusinkiewicz & Lindenmayer 1990, The Algorithmic Beauty of "
       "Plants, ch. 1.5, 2.2): F f move, + - turn, & ^ pitch, \\ / roll, | turn around, $ level, [ ] branch, "
-      "#(r,g,b) color, < > ! width, L(size,r,g,b) leaf. The frame (heading, left, up) is re-orthonormalised "
+      "#(r,g,b) color, < > ! width, L(size,r,g,b) leaf. The frame (heading, left, up) is re-orthonormalized "
       "after every rotation; tropism bends the heading towards a direction after each F (ABOP eq. 2.5). The "
       "plant grows from the origin along +z, in metres.");
   b.input("in", PortType::ModuleString).description("Word from LSystem");
@@ -105,30 +106,30 @@ OROGEN_NODE(Turtle3D) {
   b.param_float("step", 1.0)
       .range(0.0, 1000.0)
       .soft_range(0.01, 10.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Length of F and f without a parameter");
   b.param_float("angle", 25.0)
       .range(-360.0, 360.0)
       .soft_range(0.0, 90.0)
-      .unit("deg")
+      .unit(Unit::Degree)
       .description("Rotation of + - & ^ \\ / without a parameter");
   b.param_float("width", 0.1)
       .range(0.0, 100.0)
       .soft_range(0.0, 2.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Initial branch width (diameter)");
   b.param_float("width_factor", 0.7)
       .range(0.01, 1.0)
-      .unit("x")
+      .unit(Unit::Factor)
       .description("> multiplies and < divides the width by this when they have no parameter");
   b.param_vec3("tropism", {0.0, 0.0, -1.0})
       .range(-1.0, 1.0)
-      .unit("direction")
+      .unit(Unit::Unitless)
       .description("Direction the branches bend towards (gravity: 0, 0, -1)");
   b.param_float("tropism_strength", 0.0)
       .range(-60.0, 60.0)
       .soft_range(0.0, 30.0)
-      .unit("deg")
+      .unit(Unit::Degree)
       .description(
           "Susceptibility e: each F turns the heading by e |H x T| degrees towards the tropism direction (ABOP's e "
           "is in radians: e = 0.1 there is 5.73 here)");
@@ -136,7 +137,7 @@ OROGEN_NODE(Turtle3D) {
   b.param_float("leaf_size", 0.2)
       .range(0.0, 100.0)
       .soft_range(0.0, 2.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Size of L without a parameter");
   b.param_color("leaf_color", {0.1f, 0.35f, 0.05f, 1.0f})
       .description("Color of L without color parameters (linear RGB)");
@@ -169,14 +170,15 @@ OROGEN_NODE(TreeMesh) {
       "Prusinkiewicz, Lindenmayer & Hanan 1988): a ring of k vertices at each point of each branch in a "
       "rotation-minimising frame, radius and color interpolated along the branch, both ends capped, so every "
       "branch is a closed surface; children start on their parent's axis, hiding the joint. Leaves become "
-      "small diamond quads or closed hull rocks (Chalmers et al. 2016). Texture coordinates run around (u) and "
+      "small diamond quads or closed hull rocks (S. Ekman et al. 2016, SeamScape). Texture coordinates run around (u) and "
       "along (v, metres) each branch. Over the triangle budget the sides shrink first (down to 3), then the "
       "thinnest twigs and their leaves are dropped.");
   b.input("in", PortType::Curves).description("Skeleton from Turtle3D (width = diameter, m; colors r, g, b)");
   b.input("leaves", PortType::Points).optional().description("Leaves from Turtle3D");
   b.output("out", PortType::Mesh).description("The plant mesh, metres, z up");
-  b.param_int("sides", 8).range(3, 64).description("Vertices around each branch (k)");
+  b.param_int("sides", 8).unit(Unit::Count).range(3, 64).description("Vertices around each branch (k)");
   b.param_int("max_triangles", 200000)
+      .unit(Unit::Count)
       .range(16, 50000000)
       .description("Triangle budget for branches and leaves together");
   b.param_enum("leaf_shape", {"none", "quad", "rock"}, "quad")
@@ -210,21 +212,21 @@ OROGEN_NODE(PlantSprite) {
   b.param_float("step", 0.1)
       .range(0.0, 1000.0)
       .soft_range(0.01, 2.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Segment length of F and f without a parameter, metres");
   b.param_float("angle", 25.0)
       .range(-360.0, 360.0)
       .soft_range(0.0, 90.0)
-      .unit("deg")
+      .unit(Unit::Degree)
       .description("Turn of + and - without a parameter, degrees");
   b.param_float("width", 0.05)
       .range(0.0, 100.0)
       .soft_range(0.0, 1.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Ribbon width of the trunk (branch level 0), metres");
   b.param_float("taper", 0.7)
       .range(0.0, 1.0)
-      .unit("x")
+      .unit(Unit::Factor)
       .description("Width factor per branch level: a branch opened by [ is taper times as wide as its parent");
   b.param_enum("planes", {"single", "crossed"}, "crossed")
       .description("single: the drawing in the x-z plane only; crossed: also in the y-z plane (a billboard cross)");
@@ -235,11 +237,12 @@ OROGEN_NODE(PlantSprite) {
   b.param_float("leaf_size", 0.15)
       .range(0.0, 100.0)
       .soft_range(0.0, 1.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Leaf length without a parameter, metres; the leaf is half as wide");
   b.param_color("color", {0.30f, 0.20f, 0.10f, 1.0f}).description("Stem color (linear RGB)");
   b.param_color("leaf_color", {0.10f, 0.35f, 0.05f, 1.0f}).description("Leaf color (linear RGB)");
   b.param_int("max_triangles", 2000000)
+      .unit(Unit::Count)
       .range(16, 50000000)
       .description("Triangle budget (2 per segment or leaf per plane); a larger plant is an error");
   b.execute([](ExecContext& ctx) {

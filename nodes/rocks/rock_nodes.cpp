@@ -13,34 +13,39 @@ namespace orogen {
 namespace {
 
 const char* kRockSource =
-    "Chalmers et al. (2016), SeamScape §3.8: N points uniformly on an ellipsoid (semi-axes a, b, c), each "
+    "S. Ekman et al. (2016), SeamScape (Chalmers bachelor thesis) §3.8: N points uniformly on an ellipsoid (semi-axes a, b, c), each "
     "moved by spherical Gaussian noise of standard deviation sigma, and their 3D convex hull (incremental "
     "insertion, Clarkson & Shor 1989, checked, with CGAL's exact convex_hull_3 for near-degenerate sets and "
     "above 512 points; hull vertices are input points) with outward faces and smooth normals";
 
 void declare_rock_params(NodeBuilder& b) {
-  b.param_int("points", 20).range(4, 10000).soft_range(8, 200).description("Points sampled on the ellipsoid (N)");
+  b.param_int("points", 20)
+      .unit(Unit::Count)
+      .range(4, 10000)
+      .soft_range(8, 200)
+      .description("Points sampled on the ellipsoid (N)");
   b.param_vec3("radii", {1.0, 0.7, 0.5})
       .range(0.001, 1000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Ellipsoid semi-axes a, b, c along x, y, z");
   b.param_float("sigma", 0.05)
       .range(0.0, 1000.0)
       .soft_range(0.0, 0.5)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Standard deviation of the Gaussian noise added to each point per axis");
   b.param_int("subdivisions", 0)
+      .unit(Unit::Count)
       .range(0, 5)
       .description("Refinement levels: each splits every triangle in four (x4 faces) before the displacement");
   b.param_float("displacement", 0.0)
       .range(0.0, 1000.0)
       .soft_range(0.0, 0.3)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Amplitude of the 3D value-noise displacement along the normals (0: the faceted hull)");
   b.param_float("wavelength", 0.5)
       .range(0.001, 1000.0)
       .soft_range(0.05, 5.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Feature size of the displacement noise");
   b.param_color("color", {0.35f, 0.33f, 0.3f, 1.0f}).description("Vertex color (linear RGB)");
   b.param_seed("seed", 0).description("Key of the random points (and of each variant's radii)");
@@ -68,7 +73,7 @@ TriMesh::Color color_of(const ExecContext& ctx) {
 OROGEN_NODE(HullRock) {
   b.reach_global();
   b.domain_independent();
-  b.category("rocks").description(std::string("A low-polygon rock centred on the origin. ") + kRockSource +
+  b.category("rocks").description(std::string("A low-polygon rock centered on the origin. ") + kRockSource +
                                   ". Optionally subdivided and displaced by 3D noise in world units for a less "
                                   "faceted look; the surface stays closed.");
   b.output("out", PortType::Mesh).description("The rock, metres, z up");
@@ -92,21 +97,21 @@ OROGEN_NODE(RockSet) {
   b.category("rocks").description(std::string("K rock variants at once, for scattering: each a hull rock (") +
                                   kRockSource +
                                   ") with its own random points and radii scaled by up to +-variation, laid out "
-                                  "in a row along x; the placements output marks each variant's centre with "
+                                  "in a row along x; the placements output marks each variant's center with "
                                   "class_id = its index.");
   b.output("out", PortType::Mesh).description("All variants in one mesh, side by side along x (m)");
   b.output("placements", PortType::Points)
-      .description("Centre of each variant, class_id = variant index, scale = its radii (m)");
-  b.param_int("count", 8).range(1, 1000).soft_range(1, 32).description("Number of variants (K)");
+      .description("Center of each variant, class_id = variant index, scale = its radii (m)");
+  b.param_int("count", 8).unit(Unit::Count).range(1, 1000).soft_range(1, 32).description("Number of variants (K)");
   b.param_float("variation", 0.3)
       .range(0.0, 0.95)
-      .unit("x")
+      .unit(Unit::Factor)
       .description("Each variant's radii are multiplied by independent factors in 1 +- variation");
   b.param_float("spacing", 0.5)
       .range(0.0, 1e4)
       .soft_range(0.0, 5.0)
-      .unit("m")
-      .description("Gap between neighbouring variants in the row");
+      .unit(Unit::Metre)
+      .description("Gap between neighboring variants in the row");
   declare_rock_params(b);
   b.execute([](ExecContext& ctx) {
     rocks::RockSetParams p;

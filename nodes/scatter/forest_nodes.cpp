@@ -42,32 +42,33 @@ OROGEN_NODE(ShadePlacement) {
           "hour");
   b.param_float("sun_azimuth", 180.0)
       .range(0.0, 360.0)
-      .unit("deg")
+      .unit(Unit::Degree)
       .description("Direction of the sun, degrees clockwise from north (180: the sun in the south), 0..360");
   b.param_float("sun_elevation", 45.0)
       .range(1.0, 90.0)
-      .unit("deg")
+      .unit(Unit::Degree)
       .description("Height of the sun above the horizon, degrees in [1, 90]");
   b.param_float("latitude", 45.0)
       .range(-90.0, 90.0)
-      .unit("deg")
+      .unit(Unit::Degree)
       .description("sun = time: latitude, degrees in [-90, 90], north positive");
   b.param_int("day_of_year", 172)
+      .unit(Unit::DayOfYear)
       .range(1, 366)
       .description("sun = time: day of the year, 1 (January 1st) .. 366; 172 is June 21st");
   b.param_float("hour", 15.0)
       .range(0.0, 24.0)
-      .unit("h")
+      .unit(Unit::Hour)
       .description("sun = time: local solar time, decimal hours in [0, 24] (h + min/60 + s/3600; 12 = solar noon)");
   b.param_float("crown_radius", 3.0)
       .range(0.01, 1000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Radius of a caster's crown at scale 1, metres in [0.01, 1000] (times the point's x scale)");
   b.param_float("crown_height", 8.0)
       .range(0.0, 1000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description(
-          "Height of the crown's centre above the caster point at scale 1, metres in [0, 1000] (times its z scale)");
+          "Height of the crown's center above the caster point at scale 1, metres in [0, 1000] (times its z scale)");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Points>("in");
     const auto casters = ctx.require<Points>("casters");
@@ -109,28 +110,28 @@ OROGEN_NODE(ForestLifeCycle) {
           "Where seeds may germinate: >= 0.5 (unitless), e.g. a ScatterRules-like mask; everywhere if unconnected");
   b.input("height", PortType::Heightfield).optional().description("Terrain heights (m): sets z of the survivors");
   b.output("out", PortType::Points).description("Surviving trees: class id of their lineage, scale, attribute age");
-  b.param_int("years", 50).range(0, 1000).unit("years").description("Years simulated, 0..1000");
-  b.param_float("max_age", 80.0).range(1.0, 5000.0).unit("years").description("Age at which a tree dies, years");
+  b.param_int("years", 50).range(0, 1000).unit(Unit::Year).description("Years simulated, 0..1000");
+  b.param_float("max_age", 80.0).range(1.0, 5000.0).unit(Unit::Year).description("Age at which a tree dies, years");
   b.param_float("maturity_age", 20.0)
       .range(0.0, 5000.0)
-      .unit("years")
+      .unit(Unit::Year)
       .description("Years to grow from min_scale to max_scale; from then on a tree drops seeds");
-  b.param_float("min_scale", 0.2).range(0.01, 100.0).unit("").description("Scale of a seedling, 0.01..100");
+  b.param_float("min_scale", 0.2).range(0.01, 100.0).unit(Unit::Factor).description("Scale of a seedling, 0.01..100");
   b.param_float("max_scale", 1.0)
       .range(0.01, 100.0)
-      .unit("")
+      .unit(Unit::Factor)
       .description("Scale of a mature tree, 0.01..100 (at least min_scale)");
   b.param_float("dispersal_distance", 12.0)
       .range(0.0, 1e4)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Seeds land uniformly within this distance of their parent, metres");
   b.param_float("dispersal_probability", 0.1)
       .range(0.0, 1.0)
-      .unit("1/year")
+      .unit(Unit::PerYear)
       .description("Probability per year that a mature tree drops a seed, 0..1");
   b.param_float("competition", 6.0)
       .range(0.0, 1e4)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Spacing two trees of scale 1 need, metres; two trees keep competition * (s_i + s_j) / 2 apart");
   b.param_seed("seed", 0).description("Draws hash (seed, tree id, year)");
   b.execute([](ExecContext& ctx) {

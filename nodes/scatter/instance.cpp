@@ -26,7 +26,10 @@ std::shared_ptr<Mesh> proxy_mesh() {
 
 TableSchema class_name_schema() {
   TableSchema s;
-  s.add("class", ColumnType::Integer).range(0, 2147483647).describe("Class id of the points (0, 1, ...)");
+  s.add("class", ColumnType::Integer)
+      .range(0, 2147483647)
+      .unit_of(Unit::Id)
+      .describe("Class id of the points (0, 1, ...)");
   s.add("name", ColumnType::Text).describe("The class's name: its glTF nodes and meshes; empty: class_<id>");
   return s;
 }

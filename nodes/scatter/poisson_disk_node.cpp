@@ -34,29 +34,29 @@ OROGEN_NODE(PoissonDisk) {
         .description("Density of class " + std::to_string(k) + ", 0..1 (unitless), times the common density");
   b.input("height", PortType::Heightfield).optional().description("Terrain height (m): sets z of the points");
   b.output("out", PortType::Points).description("The points, class id 0..class_count-1, attribute radius (m)");
-  b.param_int("class_count", 1).range(1, kPoissonSlots).unit("").description("Number of classes, 1..4");
+  b.param_int("class_count", 1).range(1, kPoissonSlots).unit(Unit::Count).description("Number of classes, 1..4");
   const double defaults[kPoissonSlots] = {5.0, 2.0, 1.0, 0.5};
   for (int k = 0; k < kPoissonSlots; ++k)
     b.param_float("radius_" + std::to_string(k), defaults[k])
         .range(0.01, 1e4)
         .soft_range(0.1, 100)
-        .unit("m")
+        .unit(Unit::Metre)
         .description("Minimum distance between two points of class " + std::to_string(k) +
                      " at density 1, metres in [0.01, 10000]");
   b.param_float("cross_separation", 1.0)
       .range(0.0, 1.0)
-      .unit("")
+      .unit(Unit::Unitless)
       .description(
           "Distance between points of different classes as a fraction of the mean of their radii, 0..1 "
           "(0: classes ignore each other, like rocks placed beside trees)");
   b.param_float("min_density", 0.1)
       .range(0.01, 1.0)
-      .unit("")
+      .unit(Unit::Unitless)
       .description(
           "Density below which no point is placed, 0.01..1; bounds the largest radius at r / sqrt(min_density)");
   b.param_int("attempts", 8)
       .range(1, 100)
-      .unit("")
+      .unit(Unit::Count)
       .description(
           "Bridson's k: candidates tried around an active point before it retires, 1..100 (with fill_gaps the "
           "gap filling makes the sampling maximal whatever k; a larger k only moves work from it to Bridson)");
@@ -64,7 +64,7 @@ OROGEN_NODE(PoissonDisk) {
       .description("Fill the gaps Bridson's sampling leaves (Ebeida et al. 2011) so no further point fits");
   b.param_int("first_class", 0)
       .range(0, 1000000)
-      .unit("")
+      .unit(Unit::Id)
       .description("Class id of the first class; class k gets first_class + k, 0..1e6");
   b.param_seed("seed", 0).description("Every draw hashes (seed, class, world chunk, counter)");
   b.execute([](ExecContext& ctx) {

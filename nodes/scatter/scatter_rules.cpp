@@ -29,8 +29,7 @@ TableSchema ecosystem_schema() {
   TableSchema s;
   s.min_rows = 1;
   s.add("name", ColumnType::Text).describe("Ecosystem name (plants refer to it)");
-  auto preference = [&](const std::string& name, const std::string& unit, double lo, double hi,
-                        const std::string& what) {
+  auto preference = [&](const std::string& name, Unit unit, double lo, double hi, const std::string& what) {
     s.add(name, ColumnType::Range)
         .range(lo, hi)
         .unit_of(unit)
@@ -38,25 +37,30 @@ TableSchema ecosystem_schema() {
         .describe("Preferred " + what + " [min, max]: membership 1 inside; left out: no preference");
     s.add(name + "_sharpness", ColumnType::Number)
         .range(1e-9, 1e9)
+        .unit_of(Unit::Unitless)
         .optional()
         .describe("The " + name + " membership falls to 0 over (max - min) / sharpness outside the range; default 1");
   };
-  preference("elevation", "m", -1e6, 1e6, "height");
-  preference("relative", "m", -1e6, 1e6, "height above the local mean");
-  preference("slope", "deg", -90.0, 90.0, "slope angle (0 flat, 90 vertical)");
-  preference("skew", "", -1e6, 1e6, "slope direction dz/dy (rise over run toward north, > 0 on south-facing slopes)");
+  preference("elevation", Unit::Metre, -1e6, 1e6, "height");
+  preference("relative", Unit::Metre, -1e6, 1e6, "height above the local mean");
+  preference("slope", Unit::Degree, -90.0, 90.0, "slope angle (0 flat, 90 vertical)");
+  preference("skew", Unit::MetrePerMetre, -1e6, 1e6,
+             "slope direction dz/dy (rise over run toward north, > 0 on south-facing slopes)");
   return s;
 }
 
 TableSchema ecosystem_plant_schema() {
   TableSchema s;
   s.add("ecosystem", ColumnType::Text).describe("The ecosystem (a name in `ecosystems`) the plant grows in");
-  s.add("class", ColumnType::Integer).range(0, 1e6).describe("Class id of the plant's points");
+  s.add("class", ColumnType::Integer).range(0, 1e6).unit_of(Unit::Id).describe("Class id of the plant's points");
   s.add("density", ColumnType::Number)
       .range(0.0, 100.0)
-      .unit_of("1/m^2")
+      .unit_of(Unit::PerSquareMetre)
       .describe("Plants per m^2 where the ecosystem holds, 0..100");
-  s.add("scale", ColumnType::Range).range(1e-9, 1e4).describe("Scale factors [min, max], uniform between them");
+  s.add("scale", ColumnType::Range)
+      .range(1e-9, 1e4)
+      .unit_of(Unit::Factor)
+      .describe("Scale factors [min, max], uniform between them");
   return s;
 }
 
@@ -261,16 +265,28 @@ Points scatter_ecosystems(glm::dvec2 lo, glm::dvec2 hi, const TerrainVariables& 
 TableSchema biome_density_schema() {
   TableSchema s;
   s.min_rows = 1;
-  s.add("biome", ColumnType::Integer).range(-1e6, 1e6).describe("Biome id (the input's integer values)");
-  s.add("density", ColumnType::Number).range(0.0, 1.0).describe("Probability of a plant per cell, 0..1");
+  s.add("biome", ColumnType::Integer)
+      .range(-1e6, 1e6)
+      .unit_of(Unit::Id)
+      .describe("Biome id (the input's integer values)");
+  s.add("density", ColumnType::Number)
+      .range(0.0, 1.0)
+      .unit_of(Unit::Unitless)
+      .describe("Probability of a plant per cell, 0..1");
   return s;
 }
 
 TableSchema biome_species_schema() {
   TableSchema s;
-  s.add("biome", ColumnType::Integer).range(-1e6, 1e6).describe("The biome (an id in `biomes`) the species grows in");
-  s.add("class", ColumnType::Integer).range(0, 1e6).describe("Class id of the species' points");
-  s.add("weight", ColumnType::Number).range(0.0, 1e12).describe("Relative weight among the biome's species, >= 0");
+  s.add("biome", ColumnType::Integer)
+      .range(-1e6, 1e6)
+      .unit_of(Unit::Id)
+      .describe("The biome (an id in `biomes`) the species grows in");
+  s.add("class", ColumnType::Integer).range(0, 1e6).unit_of(Unit::Id).describe("Class id of the species' points");
+  s.add("weight", ColumnType::Number)
+      .range(0.0, 1e12)
+      .unit_of(Unit::Unitless)
+      .describe("Relative weight among the biome's species, >= 0");
   return s;
 }
 

@@ -25,6 +25,7 @@ OROGEN_NODE(ScatterRules) {
       .optional()
       .description("Height above the local mean (m), e.g. height minus a blurred height; 0 if unconnected");
   b.input("slope", PortType::Heightfield)
+      .unit(Unit::Degree)
       .optional()
       .description("Slope angle in degrees (e.g. Slope.out); from the height's gradient if unconnected");
   b.output("out", PortType::Points).description("The plants: class ids from the table, scale, yaw, z on the terrain");
@@ -37,7 +38,7 @@ OROGEN_NODE(ScatterRules) {
       .description("One plant per row: its ecosystem (a name in ecosystems), class, density (per m^2) and scale range");
   b.param_float("cell_size", 10.0)
       .range(0.1, 1e4)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Side of the world cells candidates are drawn in, metres in [0.1, 10000]");
   b.param_seed("seed", 0).description("Every draw hashes (seed, cell, ecosystem, plant, counter)");
   b.execute([](ExecContext& ctx) {
@@ -83,15 +84,15 @@ OROGEN_NODE(BiomeScatter) {
       .description("The species of the biomes, one per row: biome id, class and weight");
   b.param_float("factor", 1.0)
       .range(0.0, 100.0)
-      .unit("")
+      .unit(Unit::Unitless)
       .description("Global density factor multiplying every biome's density, 0..100");
   b.param_float("cell_size", 4.0)
       .range(0.1, 1e4)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Side of the world cells (at most one plant each), metres in [0.1, 10000]");
   b.param_vec2("scale_range", glm::dvec2(0.8, 1.2))
       .range(0.01, 100.0)
-      .unit("")
+      .unit(Unit::Factor)
       .description("Smallest and largest scale factor, 0.01..100 (uniform between them)");
   b.param_seed("seed", 0).description("Every draw hashes (seed, cell)");
   b.execute([](ExecContext& ctx) {

@@ -125,10 +125,10 @@ OROGEN_NODE(ProjectToTerrain) {
   b.input("in", PortType::Points).description("Points to place");
   b.input("height", PortType::Heightfield).description("Terrain heights, metres");
   b.output("out", PortType::Points).description("The points on the terrain");
-  b.param_float("offset", 0.0).range(-1e4, 1e4).unit("m").description("Added to the terrain height, metres");
+  b.param_float("offset", 0.0).range(-1e4, 1e4).unit(Unit::Metre).description("Added to the terrain height, metres");
   b.param_float("align", 0.0)
       .range(0.0, 1.0)
-      .unit("")
+      .unit(Unit::Unitless)
       .description(
           "0: keep the rotation (upright); 1: the point's up axis follows the terrain normal; between: blended");
   b.execute([](ExecContext& ctx) {

@@ -93,7 +93,10 @@ OROGEN_NODE(ColorByLayers) {
                                          {"name": "sand", "color": "#d9c48f"}, {"name": "water", "color": "#2f5f8a"}])",
                                      layer_color_schema()))
       .description("Layer colors: one row per layer, its name and sRGB color");
-  b.param_float("shade_strength", 1.0).range(0.0, 1.0).description("How much of the shade applies, 0..1 (0: none)");
+  b.param_float("shade_strength", 1.0)
+      .unit(Unit::Unitless)
+      .range(0.0, 1.0)
+      .description("How much of the shade applies, 0..1 (0: none)");
   b.execute([](ExecContext& ctx) {
     const auto w = ctx.require<Image>("in");
     const auto shade = secondary_input<Heightfield>(ctx, "shade", w->domain);

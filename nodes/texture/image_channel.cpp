@@ -68,7 +68,10 @@ OROGEN_NODE(ImageChannel) {
   b.param_enum("mode", {"channel", "mean", "sum", "min", "max"}, "channel")
       .description("One channel, or a reduction over all channels");
   b.param_string("name", "").description("Channel name (mode = channel); empty: use index");
-  b.param_int("index", 0).range(0, 4096).description("Channel index 0.. (mode = channel, when name is empty)");
+  b.param_int("index", 0)
+      .unit(Unit::Count)
+      .range(0, 4096)
+      .description("Channel index 0.. (mode = channel, when name is empty)");
   b.execute([](ExecContext& ctx) {
     static constexpr ChannelMode kModes[] = {ChannelMode::Channel, ChannelMode::Mean, ChannelMode::Sum,
                                              ChannelMode::Min, ChannelMode::Max};

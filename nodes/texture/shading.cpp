@@ -122,9 +122,9 @@ OROGEN_NODE(AmbientOcclusion) {
   b.param_float("radius", 100.0)
       .range(0.01, 1e4)
       .soft_range(1.0, 1000.0)
-      .unit("m")
+      .unit(Unit::Metre)
       .description("Search radius, metres");
-  b.param_int("directions", 16).range(1, 64).description("Number of azimuths scanned, 1..64");
+  b.param_int("directions", 16).unit(Unit::Count).range(1, 64).description("Number of azimuths scanned, 1..64");
   b.execute([](ExecContext& ctx) {
     const auto r = horizon_maps(*ctx.require<Heightfield>("in"), ctx.param<double>("radius"),
                                 static_cast<int>(ctx.param<std::int64_t>("directions")), &ctx);
@@ -141,8 +141,12 @@ OROGEN_NODE(Cavity) {
       "detail.");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Cavity in [0, 1] (0.5 = plane)").kind(OutputKind::Mask);
-  b.param_float("radius", 20.0).range(0.01, 1e4).soft_range(1.0, 200.0).unit("m").description("Search radius, metres");
-  b.param_int("directions", 8).range(1, 64).description("Number of azimuths scanned, 1..64");
+  b.param_float("radius", 20.0)
+      .range(0.01, 1e4)
+      .soft_range(1.0, 200.0)
+      .unit(Unit::Metre)
+      .description("Search radius, metres");
+  b.param_int("directions", 8).unit(Unit::Count).range(1, 64).description("Number of azimuths scanned, 1..64");
   b.execute([](ExecContext& ctx) {
     const auto r = horizon_maps(*ctx.require<Heightfield>("in"), ctx.param<double>("radius"),
                                 static_cast<int>(ctx.param<std::int64_t>("directions")), &ctx);
@@ -161,13 +165,16 @@ OROGEN_NODE(Hillshade) {
   b.output("color", PortType::Image).description("The shade as a gray linear RGBA image");
   b.param_float("sun_azimuth", 315.0)
       .range(0.0, 360.0)
-      .unit("deg")
+      .unit(Unit::Degree)
       .description("Light azimuth, degrees clockwise from north, 0..360");
   b.param_float("sun_elevation", 45.0)
       .range(0.0, 90.0)
-      .unit("deg")
+      .unit(Unit::Degree)
       .description("Light altitude above the horizon, degrees 0..90");
-  b.param_float("z_factor", 1.0).range(0.0, 100.0).description("Vertical exaggeration, unitless 0..100");
+  b.param_float("z_factor", 1.0)
+      .unit(Unit::Factor)
+      .range(0.0, 100.0)
+      .description("Vertical exaggeration, unitless 0..100");
   b.execute([](ExecContext& ctx) {
     auto h = hillshade(*ctx.require<Heightfield>("in"), ctx.param<double>("sun_azimuth"),
                        ctx.param<double>("sun_elevation"), ctx.param<double>("z_factor"), &ctx);

@@ -17,7 +17,10 @@ TableSchema splat_layer_schema() {
   s.min_rows = 1;
   s.max_rows = kMaxSplatLayers;
   s.add("name", ColumnType::Text).describe("Layer name: the weight channel's name");
-  s.add("weight", ColumnType::Number).range(0.0, 1e9).describe("Raw weight before the rules multiply it, >= 0");
+  s.add("weight", ColumnType::Number)
+      .range(0.0, 1e9)
+      .unit_of(Unit::Unitless)
+      .describe("Raw weight before the rules multiply it, >= 0");
   return s;
 }
 
@@ -27,9 +30,13 @@ TableSchema splat_rule_schema() {
   s.add_enum("input", {"height", "slope", "curvature", "flow", "wetness", "field"})
       .describe("What is compared: height (m), slope (deg), mean curvature (1/m), or the flow, wetness or field input");
   s.add_enum("compare", {"<", ">"}).describe("'>': 1 above the threshold; '<': 1 below it");
-  s.add("threshold", ColumnType::Number).range(-1e12, 1e12).describe("The edge, in the input's unit");
+  s.add("threshold", ColumnType::Number)
+      .range(-1e12, 1e12)
+      .unit_of(Unit::InputUnits)
+      .describe("The edge, in the input's unit");
   s.add("softness", ColumnType::Number)
       .range(0.0, 1e12)
+      .unit_of(Unit::InputUnits)
       .describe("Half-width of the smoothstep around the threshold, in the input's unit; 0: a hard step");
   return s;
 }

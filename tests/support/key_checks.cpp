@@ -30,7 +30,7 @@ const NodeType& source_type(PortType t) {
       type.description = "Stand-in upstream node for cache-key checks";
       NodeBuilder b(type);
       b.output("out", pt).description("A value of the port type");
-      b.param_int("variant", 0).description("Distinguishes stand-ins");
+      b.param_int("variant", 0).unit(Unit::Count).description("Distinguishes stand-ins");
       b.execute([](ExecContext&) { throw NodeError("key-check stand-ins are not evaluable"); });
       v.push_back(std::move(type));
     }

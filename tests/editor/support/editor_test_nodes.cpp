@@ -13,8 +13,8 @@ namespace orogen {
 OROGEN_NODE(EdSource) {
   b.category("test").description("Editor test source: a tilted plane plus a seeded offset.");
   b.output("out", PortType::Heightfield).description("The plane");
-  b.param_float("height", 10.0).range(-1e4, 1e4).soft_range(0, 100).unit("m").description("Base height");
-  b.param_float("tilt", 0.01).range(-1, 1).unit("m/m").description("Slope along x");
+  b.param_float("height", 10.0).range(-1e4, 1e4).soft_range(0, 100).unit(Unit::Metre).description("Base height");
+  b.param_float("tilt", 0.01).range(-1, 1).unit(Unit::MetrePerMetre).description("Slope along x");
   b.param_seed("seed", 1).description("Seed of the offset");
   b.execute([](ExecContext& ctx) {
     auto h = std::make_shared<Heightfield>(ctx.domain());
@@ -31,7 +31,7 @@ OROGEN_NODE(EdBlend) {
   b.input("a", PortType::Heightfield).description("First field");
   b.input("b", PortType::Heightfield).optional().description("Second field");
   b.output("out", PortType::Heightfield).description("The blend");
-  b.param_float("weight", 0.5).range(0, 1).description("Weight of b");
+  b.param_float("weight", 0.5).unit(Unit::Unitless).range(0, 1).description("Weight of b");
   b.param_enum("mode", {"add", "max"}, "add").description("How b is combined");
   b.execute([](ExecContext& ctx) {
     auto a = ctx.require<Heightfield>("a");
@@ -50,7 +50,7 @@ OROGEN_NODE(EdScatter) {
   b.category("test").description("Editor test scatter: points on a regular grid over the field.");
   b.input("height", PortType::Heightfield).description("Terrain");
   b.output("points", PortType::Points).description("The points");
-  b.param_int("count", 4).range(1, 64).description("Points per side");
+  b.param_int("count", 4).unit(Unit::Count).range(1, 64).description("Points per side");
   b.execute([](ExecContext& ctx) {
     auto h = ctx.require<Heightfield>("height");
     auto pts = std::make_shared<Points>();
@@ -69,7 +69,7 @@ OROGEN_NODE(EdSlow) {
   b.category("test").description("Editor test node that takes a while and honours cancellation.");
   b.input("in", PortType::Heightfield).description("Input");
   b.output("out", PortType::Heightfield).description("The input, unchanged");
-  b.param_int("milliseconds", 2000).range(0, 60000).unit("ms").description("How long it works");
+  b.param_int("milliseconds", 2000).range(0, 60000).unit(Unit::Millisecond).description("How long it works");
   b.execute([](ExecContext& ctx) {
     const auto ms = ctx.param<std::int64_t>("milliseconds");
     for (std::int64_t t = 0; t < ms; t += 5) {

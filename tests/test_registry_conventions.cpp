@@ -1,0 +1,153 @@
+// The glossary and the units of docs/conventions.md, checked on every registered node type, so a new node that
+// breaks them fails here: every number has a unit from the closed list (graph/units.h), no angle is in
+// radians, one name per quantity, American spelling in names and descriptions, and display labels that are
+// not empty.
+#include <algorithm>
+#include <cctype>
+#include <regex>
+#include <set>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "graph/node_type.h"
+#include "graph/registry.h"
+#include "graph/units.h"
+#include "support/registered_types.h"
+
+namespace orogen {
+namespace {
+
+class RegistryConventions : public testing::TestWithParam<std::string> {
+ protected:
+  const NodeType& type() const { return *NodeRegistry::instance().find(GetParam()); }
+};
+
+bool is_number(ParamType t) {
+  return t == ParamType::Float || t == ParamType::Int || t == ParamType::Vec2 || t == ParamType::Vec3;
+}
+
+bool is_number_column(ColumnType t) {
+  return t == ColumnType::Number || t == ColumnType::Integer || t == ColumnType::Range;
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+// British spellings a user would read; metre is the SI name of the unit and stays.
+const char* const kBritish[] = {"centre",    "centred", "normalis", "colour",    "neighbour", "labelled",
+                                "initialis", "analys",  "grey",     "behaviour", "organis",   "optimis",
+                                "favour",    "minimis", "maximis",  "modell",    "travelled", "parametris"};
+
+void expect_american(const std::string& where, const std::string& text) {
+  const std::string l = lower(text);
+  for (const char* word : kBritish)
+    EXPECT_EQ(l.find(word), std::string::npos) << where << ": '" << word << "' in: " << text;
+}
+
+TEST_P(RegistryConventions, EveryNumberHasAUnitAndNoAngleIsInRadians) {
+  for (const auto& p : type().params) {
+    const std::string where = type().name + "." + p.name;
+    if (is_number(p.type)) EXPECT_NE(p.unit, Unit::None) << where << " is a number without a unit";
+    if (p.type == ParamType::Table)
+      for (const auto& c : p.table.columns)
+        if (is_number_column(c.type))
+          EXPECT_NE(c.unit, Unit::None) << where << "." << c.name << " is a number column without a unit";
+    // Angles are degrees: a description that speaks of radians marks a radian angle.
+    EXPECT_EQ(lower(p.description).find("radian"), std::string::npos) << where << ": " << p.description;
+    if (p.unit == Unit::Degree && p.min && p.max) {
+      EXPECT_GE(*p.max - *p.min, 6.3) << where << ": a range this narrow reads like radians";
+    }
+  }
+}
+
+TEST_P(RegistryConventions, GlossaryNames) {
+  const NodeType& t = type();
+  for (const auto& p : t.params) {
+    const std::string where = t.name + "." + p.name;
+    // `seed` is a random seed and nothing else; a seed is never called anything but `seed` or `*_seed`.
+    if (p.name == "seed" || p.name.ends_with("_seed")) EXPECT_EQ(p.type, ParamType::Seed) << where;
+    if (p.type == ParamType::Seed) EXPECT_TRUE(p.name == "seed" || p.name.ends_with("_seed")) << where;
+    EXPECT_FALSE(p.name.starts_with("seed_")) << where << ": `seed` is only a random seed";
+    // Temperatures in degrees Celsius.
+    const bool temperature_name = p.name.ends_with("temperature") || p.name.starts_with("t_");
+    EXPECT_EQ(temperature_name, p.unit == Unit::DegreeCelsius) << where << ": temperatures are in °C";
+    // One name for the sun, the date and vertical exaggeration.
+    for (const char* banned : {"azimuth", "altitude", "month", "height_scale", "rain_rate", "water"})
+      EXPECT_NE(p.name, banned) << where << ": see the glossary";
+    if (p.name == "sun_azimuth" || p.name == "sun_elevation") EXPECT_EQ(p.unit, Unit::Degree) << where;
+    if (p.name == "day_of_year") EXPECT_EQ(p.unit, Unit::DayOfYear) << where;
+    if (p.name == "z_factor") EXPECT_EQ(p.unit, Unit::Factor) << where;
+    // Slope is an angle in degrees; rise over run is a gradient.
+    if (p.name.find("slope") != std::string::npos) EXPECT_EQ(p.unit, Unit::Degree) << where;
+    if (p.unit == Unit::MetrePerMetre) EXPECT_NE(p.name.find("gradient"), std::string::npos) << where;
+    // Rainfall: a depth in mm, a rate in mm/h.
+    if (p.name == "rainfall") EXPECT_EQ(p.unit, Unit::Millimetre) << where;
+    if (p.name == "rainfall_rate") EXPECT_EQ(p.unit, Unit::MillimetrePerHour) << where;
+    expect_american(where, p.name + " " + p.description);
+    for (const auto& c : p.table.columns) expect_american(where + "." + c.name, c.name + " " + c.description);
+    EXPECT_FALSE(p.display_label().empty()) << where;
+  }
+  auto check_port = [&](const PortDecl& p, bool output) {
+    const std::string where = t.name + "." + p.name;
+    EXPECT_NE(p.name, "water") << where << ": water_depth (m) or water_mask (0..1)";
+    EXPECT_NE(p.name, "depth") << where << ": water_depth";
+    EXPECT_NE(p.name, "temperature_factor") << where;
+    // A color image is `color`, never `image` (writers read any image on `in`).
+    if (output) EXPECT_NE(p.name, "image") << where << ": a color output is `color`";
+    if (p.name.ends_with("temperature")) EXPECT_EQ(p.unit, Unit::DegreeCelsius) << where;
+    if (p.name == "rainfall") EXPECT_EQ(p.unit, Unit::Millimetre) << where;
+    if (p.name == "rainfall_rate") EXPECT_EQ(p.unit, Unit::MillimetrePerHour) << where;
+    if (p.name == "rainfall_weight") EXPECT_EQ(p.unit, Unit::Unitless) << where;
+    if (p.name == "water_depth") EXPECT_EQ(p.unit, Unit::Metre) << where;
+    if (p.name == "slope") EXPECT_EQ(p.unit, Unit::Degree) << where;
+    if (p.name == "gradient") EXPECT_EQ(p.unit, Unit::MetrePerMetre) << where;
+    if (p.name.ends_with("_mask")) {
+      EXPECT_EQ(p.unit, Unit::Unitless) << where;
+      if (output) EXPECT_EQ(p.kind, OutputKind::Mask) << where;
+    }
+    expect_american(where, p.name + " " + p.description);
+    EXPECT_FALSE(p.display_label().empty()) << where;
+  };
+  for (const auto& p : t.inputs) check_port(p, false);
+  for (const auto& p : t.outputs) check_port(p, true);
+  expect_american(t.name, t.name + " " + t.description);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllTypes, RegistryConventions, testing::ValuesIn(test::registered_type_names()),
+                         test::type_test_name);
+
+TEST(Units, EveryUnitHasAnIdANameAndOneEntry) {
+  std::set<std::string_view> ids;
+  std::set<Unit> units;
+  for (const auto& u : all_units()) {
+    EXPECT_FALSE(u.id.empty());
+    EXPECT_FALSE(u.name.empty());
+    EXPECT_TRUE(ids.insert(u.id).second) << u.id;
+    EXPECT_TRUE(units.insert(u.unit).second) << u.id;
+    EXPECT_EQ(unit_from_id(u.id), u.unit) << u.id;
+    EXPECT_EQ(unit_info(u.unit).id, u.id);
+    for (const char c : u.id) EXPECT_TRUE(std::isalnum(static_cast<unsigned char>(c)) || c == '_') << u.id;
+  }
+  EXPECT_FALSE(unit_from_id("metres"));
+  EXPECT_EQ(unit_symbol(Unit::DegreeCelsius), "°C");
+  EXPECT_EQ(unit_suffix(Unit::Count), "");
+  EXPECT_EQ(unit_suffix(Unit::SquareMetre), "m²");
+}
+
+TEST(Labels, DefaultToThePrettifiedIdentifier) {
+  EXPECT_EQ(prettify_identifier("sun_azimuth"), "Sun azimuth");
+  EXPECT_EQ(prettify_identifier("in"), "In");
+  EXPECT_EQ(prettify_identifier("z_factor"), "Z factor");
+  EXPECT_EQ(prettify_identifier(""), "");
+  PortDecl port;
+  port.name = "water_depth";
+  EXPECT_EQ(port.display_label(), "Water depth");
+  port.label = "Standing water";
+  EXPECT_EQ(port.display_label(), "Standing water");
+}
+
+}  // namespace
+}  // namespace orogen
