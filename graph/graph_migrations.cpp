@@ -4,6 +4,7 @@
 #include "graph/calendar.h"
 #include "graph/table_migration.h"
 
+#include <cmath>
 #include <map>
 #include <set>
 #include <utility>
@@ -184,7 +185,11 @@ const std::vector<NodeRenamesV1>& format_v5_renames() {
        {{"water", "water_depth"}},
        {{"rain_rate", "rainfall_rate"}},
        {}},
-      {"SoilHumidity", {{"water", "water_depth"}}, {}, {{"water_threshold", "saturation_depth"}}, {}},
+      {"SoilHumidity",
+       {{"water", "water_depth"}},
+       {},
+       {{"water_threshold", "saturation_depth"}, {"intensity", "rainfall_rate"}},
+       {}},
       {"FillDepressions", {}, {{"depth", "water_depth"}}, {}, {}},
       {"Lakes", {}, {{"depth", "water_depth"}}, {}, {}},
       {"FloodFill", {}, {{"depth", "water_depth"}, {"mask", "lake_mask"}}, {{"seed", "position"}}, {}},
@@ -224,11 +229,12 @@ void migrate_graph_v5_to_v6(json& file) {
     if (!node.is_object() || !node.contains("type") || !node.contains("params") || !node["params"].is_object())
       continue;
     json& params = node["params"];
-    if (node["type"] == "SunIllumination" && params.contains("day_of_year") &&
-        params["day_of_year"].is_number_integer()) {
-      const auto month = params["day_of_year"].get<std::int64_t>();
-      // A month out of 1..12 was refused and still is: it becomes day 0, out of the new range 1..366.
-      params["day_of_year"] = month >= 1 && month <= 12 ? calendar::mid_month_day(static_cast<int>(month)) : 0;
+    if (node["type"] == "SunIllumination" && params.contains("day_of_year") && params["day_of_year"].is_number()) {
+      // Any number the loader read as a month (6 or 6.0); one out of 1..12 was refused and still is: it becomes
+      // day 0, out of the new range 1..366.
+      const double month = params["day_of_year"].get<double>();
+      const bool valid = month >= 1.0 && month <= 12.0 && month == std::floor(month);
+      params["day_of_year"] = valid ? calendar::mid_month_day(static_cast<int>(month)) : 0;
     }
     if (node["type"] == "Turtle3D" && params.contains("tropism_strength") && params["tropism_strength"].is_number() &&
         params["tropism_strength"] != 0)

@@ -288,7 +288,7 @@ TEST(FloodFillNode, LakeIsFlatAndBoundedByHigherGroundOrTheSpill) {
   for (bool spill : {true, false}) {
     const double level = spill ? surface->data[deepest] : in->data[deepest] + 0.5 * depth->data[deepest];
     const NodeRun r = run_node("FloodFill", d,
-                               {{"seed", glm::dvec2(d.x(si), d.y(sj))},
+                               {{"position", glm::dvec2(d.x(si), d.y(sj))},
                                 {"level_mode", std::string(spill ? "spill" : "level")},
                                 {"level", level}},
                                {{"in", pv(in)}});

@@ -247,8 +247,10 @@ OROGEN_NODE(SoilHumidity) {
   b.output("monthly", PortType::Image).description("Soil humidity S of each month alone, mm, 12 channels");
   b.output("annual", PortType::Heightfield).description("Sum of S_wh over the year, mm").kind(OutputKind::Scalar);
   b.param_curve("rainfall", monthly_curve_default(true))
+      .unit(Unit::Millimetre)
       .description("Rainfall per month, mm (x: month 1..12, y: mm >= 0)");
-  b.param_curve("intensity", monthly_curve_default(false))
+  b.param_curve("rainfall_rate", monthly_curve_default(false))
+      .unit(Unit::MillimetrePerHour)
       .description("Average rainfall intensity per month, mm/h (x: month 1..12, y: mm/h > 0)");
   b.param_float("infiltration", 5.0)
       .range(0.0, 200.0)
@@ -265,7 +267,7 @@ OROGEN_NODE(SoilHumidity) {
   b.execute([](ExecContext& ctx) {
     SoilHumidityParams p;
     p.rainfall = ctx.param<CurveValue>("rainfall");
-    p.intensity = ctx.param<CurveValue>("intensity");
+    p.intensity = ctx.param<CurveValue>("rainfall_rate");
     p.infiltration = ctx.param<double>("infiltration");
     p.max_slope = ctx.param<double>("max_slope");
     p.water_threshold = ctx.param<double>("saturation_depth");

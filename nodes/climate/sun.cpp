@@ -304,10 +304,10 @@ OROGEN_NODE(SunIllumination) {
   b.output("irradiance", PortType::Image)
       .description("24-hour mean direct irradiance on the slope, W/m^2, one channel per month");
   b.output("lit", PortType::Heightfield)
-      .description("1 where the sun is visible at (month, hour), else 0")
+      .description("1 where the sun is visible at (day_of_year, hour), else 0")
       .kind(OutputKind::Mask);
   b.output("direct", PortType::Heightfield)
-      .description("Direct irradiance on the slope at (month, hour), W/m^2")
+      .description("Direct irradiance on the slope at (day_of_year, hour), W/m^2")
       .kind(OutputKind::Scalar);
   b.param_float("latitude", 45.0)
       .range(-90.0, 90.0)

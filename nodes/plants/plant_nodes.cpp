@@ -42,7 +42,8 @@ OROGEN_NODE(LSystem) {
       "The Algorithmic Beauty of Plants: parametric modules F(l,w) with arithmetic expressions, conditions "
       "(A(x) : x < 3 -> ...), left and right context (A < B > C) matched across bracketed branches with an "
       "ignore list, stochastic alternatives chosen by the roulette of their weights (A -> B : 2) as in "
-      "S. Ekman et al. (2016), SeamScape (Chalmers bachelor thesis), and random draws uniform(a,b) / gauss(m,s) keyed by the seed. One "
+      "S. Ekman et al. (2016), SeamScape (Chalmers bachelor thesis), and random draws uniform(a,b) / gauss(m,s) keyed "
+      "by the seed. One "
       "rule per line or separated by ';'; 'let name = value' defines constants; '//' starts a comment line. "
       "Errors name the line and column. Presets (docs/lsystems.md): algae (A -> AB; B -> A), the bush "
       "of ABOP Fig. 1.25, the fern-like plant of ABOP Fig. 1.24d, 3D Game Worlds rules 4.19 and 4.20, and "
@@ -132,7 +133,7 @@ OROGEN_NODE(Turtle3D) {
       .unit(Unit::Degree)
       .description(
           "Susceptibility e: each F turns the heading by e |H x T| degrees towards the tropism direction (ABOP's e "
-          "is in radians: e = 0.1 there is 5.73 here)");
+          "= 0.1 is 5.73 here)");
   b.param_color("color", {0.35f, 0.22f, 0.12f, 1.0f}).description("Initial branch color (linear RGB)");
   b.param_float("leaf_size", 0.2)
       .range(0.0, 100.0)
@@ -168,9 +169,10 @@ OROGEN_NODE(TreeMesh) {
   b.category("plants").description(
       "Meshes a plant skeleton as generalized cylinders (Bloomenthal 1985, Modeling the mighty maple; "
       "Prusinkiewicz, Lindenmayer & Hanan 1988): a ring of k vertices at each point of each branch in a "
-      "rotation-minimising frame, radius and color interpolated along the branch, both ends capped, so every "
+      "rotation-minimizing frame, radius and color interpolated along the branch, both ends capped, so every "
       "branch is a closed surface; children start on their parent's axis, hiding the joint. Leaves become "
-      "small diamond quads or closed hull rocks (S. Ekman et al. 2016, SeamScape). Texture coordinates run around (u) and "
+      "small diamond quads or closed hull rocks (S. Ekman et al. 2016, SeamScape). Texture coordinates run around (u) "
+      "and "
       "along (v, metres) each branch. Over the triangle budget the sides shrink first (down to 3), then the "
       "thinnest twigs and their leaves are dropped.");
   b.input("in", PortType::Curves).description("Skeleton from Turtle3D (width = diameter, m; colors r, g, b)");
