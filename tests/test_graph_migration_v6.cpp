@@ -1,5 +1,6 @@
 // Graph format version 6: one name per quantity (the glossary of docs/conventions.md). Every older copy of an
-// example graph (tests/fixtures/v4, v5) loads as the current graph in graphs/; the two parameters whose unit
+// example graph (tests/fixtures/v1 .. v5, taken from the repository's history) loads as the current graph in
+// graphs/; the two parameters whose unit
 // changed are converted so the outputs stay the same; `orogen migrate` rewrites a file as the loader reads it.
 #include <filesystem>
 #include <map>
@@ -51,7 +52,7 @@ TEST(GraphMigrationV6, RenamesMatchTheRegistry) {
 // Every fixture of an older version loads (migrated) as exactly the example graph of the same name.
 TEST(GraphMigrationV6, OlderFixturesLoadAsTheExampleGraphs) {
   std::map<int, int> compared;
-  for (const int version : {4, 5}) {
+  for (const int version : {1, 2, 3, 4, 5}) {
     const fs::path dir = test::source_dir() / "tests/fixtures" / ("v" + std::to_string(version));
     for (const auto& entry : fs::directory_iterator(dir)) {
       const auto name = entry.path().filename();
@@ -65,10 +66,14 @@ TEST(GraphMigrationV6, OlderFixturesLoadAsTheExampleGraphs) {
       ++compared[version];
     }
   }
-  EXPECT_EQ(compared[4], 8);
+  // The copies whose content matches today's graph at each version (others changed beyond migrations).
+  EXPECT_EQ(compared[1], 3);
+  EXPECT_EQ(compared[2], 5);
+  EXPECT_EQ(compared[3], 8);
   int examples = 0;
   for (const auto& entry : fs::directory_iterator(test::source_dir() / "graphs"))
     examples += entry.path().extension() == ".json" ? 1 : 0;
+  EXPECT_EQ(compared[4], examples) << "every example graph has its version-4 copy";
   EXPECT_EQ(compared[5], examples) << "every example graph has its version-5 copy";
 }
 

@@ -24,7 +24,8 @@ class RegistryConventions : public testing::TestWithParam<std::string> {
 };
 
 bool is_number(ParamType t) {
-  return t == ParamType::Float || t == ParamType::Int || t == ParamType::Vec2 || t == ParamType::Vec3;
+  return t == orogen::ParamType::Float || t == orogen::ParamType::Int || t == orogen::ParamType::Vec2 ||
+         t == orogen::ParamType::Vec3;
 }
 
 bool is_number_column(ColumnType t) {
@@ -51,7 +52,7 @@ TEST_P(RegistryConventions, EveryNumberHasAUnitAndNoAngleIsInRadians) {
   for (const auto& p : type().params) {
     const std::string where = type().name + "." + p.name;
     if (is_number(p.type)) EXPECT_NE(p.unit, Unit::None) << where << " is a number without a unit";
-    if (p.type == ParamType::Table)
+    if (p.type == orogen::ParamType::Table)
       for (const auto& c : p.table.columns)
         if (is_number_column(c.type))
           EXPECT_NE(c.unit, Unit::None) << where << "." << c.name << " is a number column without a unit";
@@ -72,8 +73,8 @@ TEST_P(RegistryConventions, GlossaryNames) {
     for (const auto& c : p.table.columns) expect_american(where + "." + c.name, c.name + " " + c.description);
     EXPECT_FALSE(p.display_label().empty()) << where;
     // `seed` is a random seed and nothing else; a seed is never called anything but `seed` or `*_seed`.
-    if (p.name == "seed" || p.name.ends_with("_seed")) EXPECT_EQ(p.type, ParamType::Seed) << where;
-    if (p.type == ParamType::Seed) EXPECT_TRUE(p.name == "seed" || p.name.ends_with("_seed")) << where;
+    if (p.name == "seed" || p.name.ends_with("_seed")) EXPECT_EQ(p.type, orogen::ParamType::Seed) << where;
+    if (p.type == orogen::ParamType::Seed) EXPECT_TRUE(p.name == "seed" || p.name.ends_with("_seed")) << where;
     EXPECT_FALSE(p.name.starts_with("seed_")) << where << ": `seed` is only a random seed";
     // Temperatures in degrees Celsius.
     // A weight of a channel named after a quantity (KMeansClusters' weight_slope) is not that quantity.

@@ -76,10 +76,10 @@ HorizonMaps horizon_maps(const Heightfield& z, double radius, int directions, co
   return out;
 }
 
-std::shared_ptr<Heightfield> hillshade(const Heightfield& z, double azimuth_deg, double altitude_deg, double z_factor,
+std::shared_ptr<Heightfield> hillshade(const Heightfield& z, double azimuth_deg, double elevation_deg, double z_factor,
                                        const ExecContext* ctx) {
   constexpr double kDeg = std::numbers::pi / 180.0;
-  const double az = azimuth_deg * kDeg, alt = altitude_deg * kDeg;
+  const double az = azimuth_deg * kDeg, alt = elevation_deg * kDeg;
   const double lx = std::sin(az) * std::cos(alt), ly = std::cos(az) * std::cos(alt), lz = std::sin(alt);
   auto out = std::make_shared<Heightfield>(z.domain);
   for_each_row(ctx, z.height(), [&](int j) {
@@ -158,7 +158,7 @@ OROGEN_NODE(Hillshade) {
   b.reach_local(0.0, 1);  // central differences
   b.category("texture").description(
       "Hillshade: Lambert shading max(0, n . l) of the surface under a distant light from an azimuth "
-      "(clockwise from north) and altitude, the cartographic relief shading of B. K. P. Horn (1981), Hill "
+      "(clockwise from north) and elevation, the cartographic relief shading of B. K. P. Horn (1981), Hill "
       "shading and the reflectance map. No cast shadows (see SunIllumination).");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Shade in [0, 1]").kind(OutputKind::Mask);
@@ -170,7 +170,7 @@ OROGEN_NODE(Hillshade) {
   b.param_float("sun_elevation", 45.0)
       .range(0.0, 90.0)
       .unit(Unit::Degree)
-      .description("Light altitude above the horizon, degrees 0..90");
+      .description("Sun elevation above the horizon, degrees 0..90");
   b.param_float("z_factor", 1.0)
       .unit(Unit::Factor)
       .range(0.0, 100.0)

@@ -21,8 +21,8 @@ struct HorizonMaps {
 HorizonMaps horizon_maps(const Heightfield& z, double radius, int directions, const ExecContext* ctx = nullptr);
 
 // Lambert shading of the surface (heights x z_factor) under a light from azimuth (degrees clockwise from
-// north) and altitude (degrees above the horizon): max(0, n . l) in [0, 1].
-std::shared_ptr<Heightfield> hillshade(const Heightfield& z, double azimuth_deg, double altitude_deg, double z_factor,
+// north) and elevation (degrees above the horizon): max(0, n . l) in [0, 1].
+std::shared_ptr<Heightfield> hillshade(const Heightfield& z, double azimuth_deg, double elevation_deg, double z_factor,
                                        const ExecContext* ctx = nullptr);
 
 // A field in [0, 1] as a gray linear RGBA image on its domain: R = G = B = the value, A = 1.
