@@ -166,7 +166,7 @@ FloodFillResult flood_fill(const Heightfield& in, const FloodFillParams& p, cons
 // The three outputs FillDepressions and Lakes share: water surface (or filled ground), depth and lake id.
 static void set_fill_outputs(ExecContext& ctx, const FillResult& r) {
   ctx.set_output("out", r.out);
-  ctx.set_output("depth", r.depth);
+  ctx.set_output("water_depth", r.depth);
   ctx.set_output("lake_id", r.lake_id);
 }
 
