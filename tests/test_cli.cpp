@@ -122,7 +122,7 @@ TEST(Cli, DeletedOutputIsRewrittenFromTheCache) {
 TEST(Cli, InvalidGraphExitsTwoWithEveryProblem) {
   const auto dir = scratch_dir("cli-invalid");
   write_text(dir / "bad.json", R"({
-  "format": "orogen-graph", "version": 1,
+  "format": "orogen-graph", "version": 6,
   "nodes": [
     { "id": "a", "type": "Constnt" },
     { "id": "b", "type": "Constant", "params": { "valu": 1 } }
@@ -312,7 +312,7 @@ TEST(Cli, InputPathsResolveAgainstTheGraphFile) {
        "-o", (project / "data").string(), "--quiet"});
   ASSERT_EQ(made.exit_code, 0) << made.err;
   write_text(project / "read.json", R"({
-  "format": "orogen-graph", "version": 3,
+  "format": "orogen-graph", "version": 6,
   "domain": { "size": [100, 100], "resolution": [16, 16] },
   "nodes": [
     { "id": "read", "type": "ReadHeightfield", "params": { "path": "data/made.exr" } },
@@ -362,7 +362,7 @@ TEST(Cli, ValidateChecksOutputPathsDuplicateWritersAndInputFiles) {
 
   // A file the graph itself writes may appear later: a warning, not an error.
   auto later = orogen({"validate",
-                       (write_text(dir / "later.json", R"({"format": "orogen-graph", "version": 3, "nodes": [
+                       (write_text(dir / "later.json", R"({"format": "orogen-graph", "version": 6, "nodes": [
       { "id": "flat", "type": "Constant" },
       { "id": "w", "type": "WriteHeightfield", "inputs": { "in": "flat.out" }, "params": { "path": "h.exr" } },
       { "id": "r", "type": "ReadHeightfield", "params": { "path": "out/h.exr" } }]})"),
@@ -384,7 +384,7 @@ TEST(Cli, ResolutionKeepsCellsSquare) {
   EXPECT_FALSE(fs::exists(dir / "out"));
 
   // A wide world: a single number gives the matching height.
-  write_text(dir / "wide.json", R"({"format": "orogen-graph", "version": 3,
+  write_text(dir / "wide.json", R"({"format": "orogen-graph", "version": 6,
     "domain": { "size": [200, 100], "resolution": [21, 11] },
     "nodes": [{ "id": "flat", "type": "Constant" },
               { "id": "save", "type": "WriteHeightfield", "inputs": { "in": "flat.out" },
@@ -404,7 +404,7 @@ TEST(Cli, ResolutionKeepsCellsSquare) {
 
 TEST(Cli, OutputsAreByteReproducible) {
   const auto dir = scratch_dir("cli-reproducible");
-  write_text(dir / "g.json", R"({"format": "orogen-graph", "version": 3,
+  write_text(dir / "g.json", R"({"format": "orogen-graph", "version": 6,
     "domain": { "size": [100, 100], "resolution": [16, 16] },
     "nodes": [{ "id": "n", "type": "Perlin", "params": { "feature_size": 30 } },
               { "id": "c", "type": "ColorRamp", "inputs": { "in": "n.out" } },

@@ -27,7 +27,7 @@ ProcessResult orogen(const std::vector<std::string>& args) { return run_process(
 // Noise and local filters only: FBM, a direct blur, a wide (decimated) blur, slope, curvature and normals,
 // on a domain whose 101 x 81 samples do not divide evenly into 3 x 2 tiles.
 const char* kLocalGraph = R"({
-  "format": "orogen-graph", "version": 3,
+  "format": "orogen-graph", "version": 6,
   "domain": { "size": [1000, 800], "resolution": [101, 81] },
   "nodes": [
     { "id": "noise", "type": "FBM", "params": { "feature_size": 300, "octaves": 6, "seed": 3, "amplitude": 120 } },
@@ -50,7 +50,7 @@ const char* kLocalGraph = R"({
 
 // A local chain plus nodes that need the whole domain (a normalization and a depression fill).
 const char* kGlobalGraph = R"({
-  "format": "orogen-graph", "version": 3,
+  "format": "orogen-graph", "version": 6,
   "domain": { "size": [640, 640], "resolution": [65, 65] },
   "nodes": [
     { "id": "noise", "type": "FBM", "params": { "feature_size": 200, "seed": 5, "amplitude": 50 } },
@@ -379,7 +379,7 @@ TEST(CliTiles, WholeDomainNodesWithoutRastersAreBuiltPerTileAndSaySo) {
   // the rivers' raster mask is cut from one whole-domain result and their curves cover the whole domain.
   const auto dir = scratch_dir("tiles-mesh");
   write_text(dir / "g.json", R"({
-  "format": "orogen-graph", "version": 3,
+  "format": "orogen-graph", "version": 6,
   "domain": { "size": [640, 640], "resolution": [65, 65] },
   "nodes": [
     { "id": "noise", "type": "FBM", "params": { "feature_size": 200, "seed": 5, "amplitude": 50 } },
@@ -388,7 +388,7 @@ TEST(CliTiles, WholeDomainNodesWithoutRastersAreBuiltPerTileAndSaySo) {
     { "id": "save_mesh", "type": "WriteMesh", "inputs": { "in": "mesh.out" }, "params": { "path": "terrain.obj" } },
     { "id": "save_rivers", "type": "WriteCurves", "inputs": { "in": "rivers.out" },
       "params": { "path": "rivers.json" } },
-    { "id": "save_mask", "type": "WriteHeightfield", "inputs": { "in": "rivers.mask" },
+    { "id": "save_mask", "type": "WriteHeightfield", "inputs": { "in": "rivers.river_mask" },
       "params": { "path": "mask.exr" } },
     { "id": "lod", "type": "Resample", "inputs": { "in": "noise.out" }, "params": { "spacing": 20 } },
     { "id": "lod_mesh", "type": "HeightfieldToMesh", "inputs": { "in": "lod.out" } },
@@ -510,7 +510,7 @@ TEST(CliTiles, OriginMovesTheTerrainByWholeSamples) {
   // coordinates): the moved build's sample (i, j) is the original's (i + 3, j + 2) for a point-wise graph.
   const auto dir = scratch_dir("tiles-shift");
   const std::string graph = R"({
-  "format": "orogen-graph", "version": 3,
+  "format": "orogen-graph", "version": 6,
   "domain": { "size": [640, 480], "resolution": [65, 49] },
   "nodes": [
     { "id": "noise", "type": "FBM", "params": { "feature_size": 200, "seed": 2 } },

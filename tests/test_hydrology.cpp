@@ -549,7 +549,7 @@ TEST(DrainageMetrics, ReportAppearsInCliStats) {
   const auto dir = std::filesystem::temp_directory_path() / "orogen_drainage_stats_test";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
-  test::write_text(dir / "g.json", R"({"format": "orogen-graph", "version": 2,
+  test::write_text(dir / "g.json", R"({"format": "orogen-graph", "version": 6,
     "domain": {"size": [2000, 2000], "resolution": [96, 96]},
     "nodes": [
       {"id": "h", "type": "FBM", "params": {"feature_size": 700, "amplitude": 100, "seed": 3}},
@@ -601,7 +601,7 @@ TEST(HydrologyContract, BitIdenticalForOneAndSeveralThreads) {
   const Domain d = Domain::from_extent({0, 0}, {2550, 2550}, {256, 256});
   const auto in = bumpy_field(d);
   const std::map<std::string, std::map<std::string, ParamValue>> params{
-      {"FloodFill", {{"seed", glm::dvec2(1200, 1300)}}},
+      {"FloodFill", {{"position", glm::dvec2(1200, 1300)}}},
       {"RiverExtract", {{"threshold", 4e4}}},
       {"WaterFlow", {{"max_iterations", std::int64_t{50}}}},
       {"DrainageMetrics", {{"threshold", 4e4}}}};

@@ -103,7 +103,7 @@ TEST(InputFiles, OlderFilesKeepTheirImageRectangle) {
     EXPECT_EQ(std::get<glm::dvec2>(r.graph->param("read", "size")), glm::dvec2(1024, 1024)) << version;
     EXPECT_EQ(std::get<glm::dvec2>(r.graph->param("placed", "size")), glm::dvec2(10, 20)) << version;
   }
-  const auto now = parse_graph(R"({"format": "orogen-graph", "version": 3, "nodes": [
+  const auto now = parse_graph(R"({"format": "orogen-graph", "version": 6, "nodes": [
     {"id": "read", "type": "ReadHeightfield", "params": {"path": "h.exr"}}]})");
   ASSERT_TRUE(now.ok());
   EXPECT_EQ(std::get<glm::dvec2>(now.graph->param("read", "size")), glm::dvec2(0, 0));
@@ -116,7 +116,7 @@ TEST(InputFiles, RelativePathsResolveAgainstTheGraphFile) {
   write_constant_exr(dir / "a" / "maps", "h.exr", 1.0f, 8);
   write_constant_exr(dir / "b" / "maps", "h.exr", 2.0f, 8);
   const std::string text =
-      R"({"format": "orogen-graph", "version": 3, "domain": {"size": [100, 100], "resolution": [8, 8]},
+      R"({"format": "orogen-graph", "version": 6, "domain": {"size": [100, 100], "resolution": [8, 8]},
     "nodes": [{"id": "read", "type": "ReadHeightfield", "params": {"path": "maps/h.exr"}}]})";
   write_text(dir / "a" / "g.json", text);
   write_text(dir / "b" / "g.json", text);

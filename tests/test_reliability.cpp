@@ -187,10 +187,10 @@ TEST(FullDisk, RealSmallTmpfsKeepsThePreviousFile) {
   if (probe.exit_code != 0) GTEST_SKIP() << "cannot mount a tmpfs here: " << probe.err;
   // Small first (fits), then 257x257 (about 260 KB EXR, 130 KB PNG) on a disk with only the rest free.
   write_text(dir / "small.json", constant_graph("h.exr"));
-  write_text(dir / "big.json", R"({ "format": "orogen-graph", "version": 1,
+  write_text(dir / "big.json", R"({ "format": "orogen-graph", "version": 6,
     "domain": { "size": [100, 100], "resolution": [257, 257] },
     "nodes": [ { "id": "n", "type": "Perlin", "params": { "feature_size": 3 } },
-               { "id": "save", "type": "WriteHeightfield", "inputs": { "height": "n.out" },
+               { "id": "save", "type": "WriteHeightfield", "inputs": { "in": "n.out" },
                  "params": { "path": "h.exr" } } ] })");
   const std::string cli = cli_binary().string(), m = mnt.string();
   const std::string script = "set -u; mount -t tmpfs -o size=256k tmpfs " + m + " || exit 90; " + cli + " eval " +
@@ -449,7 +449,7 @@ TEST(NonFinite, BicubicAndBilinearLookupsOfNaNAreNaN) {
 TEST(NonFinite, NaNDisplacementIntoWarpAndNaNIntoCurveGiveNaNSamples) {
   // End to end through the CLI: inf - inf = NaN made by ordinary nodes, fed to Warp and Curve, then written.
   const auto dir = scratch_dir("nan-warp");
-  write_text(dir / "g.json", R"({ "format": "orogen-graph", "version": 1,
+  write_text(dir / "g.json", R"({ "format": "orogen-graph", "version": 6,
     "domain": { "size": [100, 100], "resolution": [16, 16] },
     "nodes": [
       { "id": "big", "type": "Constant", "params": { "value": 1e6 } },
@@ -460,8 +460,8 @@ TEST(NonFinite, NaNDisplacementIntoWarpAndNaNIntoCurveGiveNaNSamples) {
       { "id": "ramp", "type": "LinearGradient" },
       { "id": "warp", "type": "Warp", "inputs": { "in": "ramp.out", "dx": "nan.out", "dy": "nan.out" } },
       { "id": "curve", "type": "Curve", "inputs": { "in": "nan.out" } },
-      { "id": "w1", "type": "WriteHeightfield", "inputs": { "height": "warp.out" }, "params": { "path": "warp.exr" } },
-      { "id": "w2", "type": "WriteHeightfield", "inputs": { "height": "curve.out" }, "params": { "path": "curve.exr" } }
+      { "id": "w1", "type": "WriteHeightfield", "inputs": { "in": "warp.out" }, "params": { "path": "warp.exr" } },
+      { "id": "w2", "type": "WriteHeightfield", "inputs": { "in": "curve.out" }, "params": { "path": "curve.exr" } }
     ] })");
   const auto r = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "-q"});
   // The rule: NaN propagates through nodes; EXR stores it (PNG/RAW writers refuse non-finite heights).
@@ -491,15 +491,15 @@ TEST(DegenerateDomain, TinyHugeAndNonFiniteDomainsAreRefused) {
 TEST(DegenerateDomain, MeshWithColorsOnSmallestDomainAndBlurOnTinyDomainFinish) {
   const auto dir = scratch_dir("tiny-domain-blur");
   // The smallest accepted spacing (1e-6 m) with a 1 km blur: the kernel is bounded by the field.
-  write_text(dir / "g.json", R"({ "format": "orogen-graph", "version": 1,
+  write_text(dir / "g.json", R"({ "format": "orogen-graph", "version": 6,
     "domain": { "size": [1.5e-5, 1.5e-5], "resolution": [16, 16] },
     "nodes": [
       { "id": "n", "type": "LinearGradient", "params": { "from": 0, "to": 1e-5 } },
       { "id": "b", "type": "Blur", "inputs": { "in": "n.out" }, "params": { "sigma": 1000 } },
       { "id": "c", "type": "ColorRamp", "inputs": { "in": "n.out" } },
-      { "id": "m", "type": "HeightfieldToMesh", "inputs": { "height": "n.out", "colors": "c.image" } },
-      { "id": "wm", "type": "WriteMesh", "inputs": { "mesh": "m.mesh" }, "params": { "path": "m.ply" } },
-      { "id": "w", "type": "WriteHeightfield", "inputs": { "height": "b.out" }, "params": { "path": "b.exr" } }
+      { "id": "m", "type": "HeightfieldToMesh", "inputs": { "in": "n.out", "colors": "c.out" } },
+      { "id": "wm", "type": "WriteMesh", "inputs": { "in": "m.out" }, "params": { "path": "m.ply" } },
+      { "id": "w", "type": "WriteHeightfield", "inputs": { "in": "b.out" }, "params": { "path": "b.exr" } }
     ] })");
   const auto r = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "-q"});
   EXPECT_EQ(r.exit_code, 0) << r.err;

@@ -405,7 +405,7 @@ TEST(TemporaryLocks, SweepFromAnotherPidNamespaceKeepsAnInFlightTemporary) {
     GTEST_SKIP() << "the holder could not start in a PID namespace: "
                  << (fs::exists(out / "no-namespace") ? read_text(out / "no-namespace") : std::string("?"));
   }
-  write_text(dir / "g.json", R"({ "format": "orogen-graph", "version": 1,
+  write_text(dir / "g.json", R"({ "format": "orogen-graph", "version": 6,
     "domain": { "size": [100, 100], "resolution": [16, 16] },
     "nodes": [ { "id": "flat", "type": "Constant" },
                { "id": "save", "type": "WriteHeightfield", "inputs": { "in": "flat.out" },
