@@ -13,7 +13,8 @@ namespace orogen {
 namespace {
 
 const char* kRockSource =
-    "S. Ekman et al. (2016), SeamScape (Chalmers bachelor thesis) §3.8: N points uniformly on an ellipsoid (semi-axes a, b, c), each "
+    "S. Ekman et al. (2016), SeamScape (Chalmers bachelor thesis) §3.8: N points uniformly on an ellipsoid (semi-axes "
+    "a, b, c), each "
     "moved by spherical Gaussian noise of standard deviation sigma, and their 3D convex hull (incremental "
     "insertion, Clarkson & Shor 1989, checked, with CGAL's exact convex_hull_3 for near-degenerate sets and "
     "above 512 points; hull vertices are input points) with outward faces and smooth normals";
