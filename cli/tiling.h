@@ -1,3 +1,47 @@
+// LEAD'S NOTE TO THE HELPER IN /work/mpi: delete this whole comment block (up to END NOTE) in your first edit of
+// this file; it is not code documentation. Rules that bind you:
+// ## Common rules for every helper (read carefully)
+// 
+// You are a senior C++20 engineer on Orogen, a node-graph procedural terrain compositor (repo: /work/main, branch
+// `main`). Read `/work/main/docs/architecture.md`, `/work/main/docs/conventions.md` and `../shared/DESIGN.md`
+// (relative to /work/main, i.e. /work/shared/DESIGN.md) first, and the issue text with `issues show N` (READ-ONLY:
+// never run `issues` subcommands that write, such as `resolved`, `note`, `comment`; only `issues show N` and
+// plain `issues`). The project guide (rules that bind you):
+// - No toy versions, no stubs called done. Algorithms are the real ones from the literature. Tests check
+//   properties that would fail if the algorithm were wrong (conservation, bounds, determinism, analytic values,
+//   brute-force references). A test that cannot fail is a defect. Never assert a wall-clock time in a test.
+// - Clear errors for every bad input, nothing lost on failure, progress on long work.
+// - Dependencies only from Debian packages, added to `scripts/install-deps.sh` (you are root; apt-get works).
+//   Nothing downloaded at build time, no code vendored or copied from other projects.
+// - Speed is a feature: benchmarks in `bench/` (Google Benchmark); outputs of existing graphs stay byte-identical
+//   unless your change means to alter them.
+// - One concept per file, names that say what things are, short comments that say why. The code is formatted by
+//   `.clang-format` (clang-format-14, 120 columns): run `clang-format-14 -i` on every C++ file you touch;
+//   `scripts/test.sh` refuses unformatted files. No line over 120 characters anywhere.
+// - Test simulations at small sizes (64²–256²), keep your new tests fast (the whole CI, Release + ASan/UBSan
+//   builds and suites, must stay under 30 min warm on 2 cores).
+// - Look at what you make: render new terrains/maps to PNG and view them with your file viewer tool.
+// 
+// Machine: 2 cores, shared with 3 other helpers and the lead. Therefore:
+// - Work ONLY in your own git worktree (given in your prompt); never touch /work/main or other worktrees.
+// - Configure your own build dir inside your worktree: `cd W && export CCACHE_BASEDIR=$PWD CCACHE_NOHASHDIR=1 &&
+//   cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release && cmake --build build/release -j2 -- -k 0`
+//   (ccache is warm for the current main, so the first build is mostly cache hits). Build only the targets you
+//   need where you can (`cmake --build build/release --target X`).
+// - Do NOT run the full ctest suite repeatedly; run the tests you touch (`ctest --test-dir build/release -R
+//   'Pattern' -j2`), and the full Release suite once at the end. Do not build the sanitizer configuration unless
+//   your work is risky in memory terms; if you do, use `build/sanitize` in your worktree with
+//   `-DCMAKE_BUILD_TYPE=RelWithDebInfo -DOROGEN_SANITIZE=ON -DOROGEN_EDITOR=OFF -DOROGEN_BENCH=OFF` and build
+//   only your test targets.
+// - Commit in small, honest steps with clear messages on your branch (git user is configured). Commit early: any
+//   uncommitted work is lost if you run out of time. Keep your branch mergeable into main (the lead merges).
+// - Time limit: you must stop by the deadline given in your prompt, with everything committed and a final report.
+// - Your final message (the report) must say: what you built (files), what is tested and how, measured figures
+//   with the commands that reproduce them, what remains undone from the issue (honestly, item by item), and
+//   anything you noticed and left alone. Keep it under 80 lines.
+// 
+// END NOTE
+
 #pragma once
 // Tiled builds (`orogen eval --tiles NxM [--tile I,J]`): the graph's domain cut into N x M tiles that share
 // their border samples with their neighbours (tile (I, J) of a W-sample axis cut in N covers samples
