@@ -12,6 +12,7 @@
 
 #include "cli/commands.h"
 #include "cli/graph_overrides.h"
+#include "cli/mosaic.h"
 #include "cli/mpi_rank_group.h"
 #include "cli/progress_display.h"
 #include "cli/stats_report.h"
@@ -96,6 +97,24 @@ std::vector<std::string> distribution_errors(int ranks, bool tiled, bool one_til
 }
 
 int run_eval_on(const EvalCommand& cmd, RankGroup& group);
+
+// After every tile of a tiled build succeeded: the GDAL mosaics of its rasters (cli/mosaic.h). Returns false
+// (error printed) if one cannot be written.
+bool write_tile_mosaics(const Graph& graph, const Domain& domain, glm::ivec2 counts, const OutputPolicy& policy,
+                        bool quiet) {
+  std::vector<std::string> warnings;
+  try {
+    const auto written = write_mosaics(graph, domain, counts, policy, warnings);
+    for (const auto& w : warnings) std::cerr << "warning: --tiles: " << w << "\n";
+    if (!quiet && !written.empty())
+      std::cerr << written.size() << (written.size() == 1 ? " mosaic" : " mosaics") << " of the tiles (GDAL VRT), e.g. "
+                << written.front() << "\n";
+    return true;
+  } catch (const std::exception& e) {
+    std::cerr << "error: cannot write the mosaics of the tiles: " << e.what() << "\n";
+    return false;
+  }
+}
 
 }  // namespace
 
@@ -374,12 +393,15 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
                    "%zu skipped in %.1f ms (the slowest rank)\n",
                    job.tiles, group.size(), job.failed_tiles, job.computed, job.cached, job.failed, job.skipped,
                    job.milliseconds);
-    return job.failed == 0 ? kExitOk : kExitEvalFailed;
+    if (job.failed != 0) return kExitEvalFailed;
+    return !root || write_tile_mosaics(graph, domain, counts, policy, cmd.quiet) ? kExitOk : kExitEvalFailed;
   }
   if (tiled && !cmd.quiet && builds.size() > 1)
     std::fprintf(stderr, "%zu tiles built, %zu with failures, in %.1f ms\n", builds.size(), counted.failed_tiles,
                  counted.milliseconds);
-  return counted.failed == 0 ? kExitOk : kExitEvalFailed;
+  if (counted.failed != 0) return kExitEvalFailed;
+  if (tiled && !only_tile && !write_tile_mosaics(graph, domain, counts, policy, cmd.quiet)) return kExitEvalFailed;
+  return kExitOk;
 }
 
 }  // namespace

@@ -199,7 +199,7 @@ TEST(Distributed, HydrologyAcrossTilesDrainsEveryCellAndConservesArea) {
   const int n = 129;
   const glm::ivec2 tiles{3, 2};
   const fs::path dir = run_distributed({"distributed_hydrology.json", n, tiles, 4}) / "distributed_hydrology";
-  const auto joined = [&](const std::string& name) { return stitch(dir, name, ".exr", tiles, {n, n}); };
+  const auto joined = [&](const std::string& name) { return stitch(dir, name, ".tif", tiles, {n, n}); };
   const Raster height = joined("height"), depth = joined("depth"), direction = joined("direction");
   const Raster flow = joined("flow_d8");
 
@@ -287,6 +287,24 @@ TEST(Distributed, HydrologyAcrossTilesDrainsEveryCellAndConservesArea) {
   EXPECT_GT(outlets, 4);
 }
 
+TEST(Distributed, TheMosaicOpensInGdalAsTheUntiledRaster) {
+  SKIP_WITHOUT_MPI();
+  const fs::path gdal_translate = "/usr/bin/gdal_translate";
+  if (!fs::exists(gdal_translate)) GTEST_SKIP() << "gdal-bin is not installed";
+  const fs::path dir = run_distributed({"distributed_hydrology.json", 129, {4, 3}, 3});
+  const fs::path& untiled = single_process_build({"distributed_hydrology.json", 129, {0, 0}, 1});
+  for (const char* name : {"height", "flow_mfd", "watersheds"}) {
+    SCOPED_TRACE(name);
+    const fs::path vrt = dir / "distributed_hydrology" / (std::string(name) + ".vrt");
+    ASSERT_TRUE(fs::exists(vrt));
+    const fs::path whole = dir / (std::string(name) + "_from_vrt.tif");
+    const auto r = run_process(gdal_translate, {"-q", vrt.string(), whole.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(
+        same_bits(read_raster(whole), read_raster(untiled / "distributed_hydrology" / (std::string(name) + ".tif"))));
+  }
+}
+
 TEST(Distributed, BadRankCountsAreRefusedBeforeAnythingRuns) {
   SKIP_WITHOUT_MPI();
   const std::string graph = (source_dir() / "graphs" / "distributed_hydrology.json").string();
@@ -307,7 +325,7 @@ TEST(Distributed, AFailingRankStopsTheJobNamingRankTileAndNode) {
   SKIP_WITHOUT_MPI();
   const fs::path dir = scratch_dir("distributed-fail");
   // A directory where tile 2,1's height file goes: its writer fails on rank 2 of 3 (tiles 4 and 5).
-  fs::create_directories(dir / "distributed_hydrology" / "height_x2_y1.exr");
+  fs::create_directories(dir / "distributed_hydrology" / "height_x2_y1.tif");
   const auto r = mpirun(3, {"eval", (source_dir() / "graphs" / "distributed_hydrology.json").string(), "-o",
                             dir.string(), "--resolution", "129", "--tiles", "3x2", "-q"});
   EXPECT_EQ(r.exit_code, 1) << r.err;

@@ -34,6 +34,7 @@ void set_plant_mesh(ExecContext& ctx, Build&& build) {
 }  // namespace
 
 OROGEN_NODE(LSystem) {
+  b.distribution(Distribution::Replicated);
   b.reach_global();
   b.domain_independent();
   b.category("plants").description(
@@ -85,6 +86,7 @@ OROGEN_NODE(LSystem) {
 }
 
 OROGEN_NODE(Turtle3D) {
+  b.distribution(Distribution::Replicated);
   b.reach_global();
   b.domain_independent();
   b.category("plants").description(
@@ -159,6 +161,7 @@ OROGEN_NODE(Turtle3D) {
 }
 
 OROGEN_NODE(TreeMesh) {
+  b.distribution(Distribution::Replicated);
   b.reach_global();
   b.domain_independent();
   b.category("plants").description(
@@ -193,6 +196,7 @@ OROGEN_NODE(TreeMesh) {
 }
 
 OROGEN_NODE(PlantSprite) {
+  b.distribution(Distribution::Replicated);
   b.reach_global();
   b.domain_independent();
   b.category("plants").description(
