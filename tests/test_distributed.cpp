@@ -16,6 +16,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <glm/vec2.hpp>
 
 #include "nodes/io/heightfield_file.h"
@@ -34,11 +36,15 @@ const std::string kMpiexec = OROGEN_MPIEXEC;  // empty: built without MPI
 
 ProcessResult orogen(const std::vector<std::string>& args) { return run_process(cli_binary(), args); }
 
-ProcessResult mpirun(int ranks, const std::vector<std::string>& args) {
-  // Open MPI refuses root without these; MPICH ignores them.
+// Open MPI refuses root without these, and more ranks than cores; MPICH ignores them.
+void allow_launcher() {
   ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
   ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
   ::setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 1);
+}
+
+ProcessResult mpirun(int ranks, const std::vector<std::string>& args) {
+  allow_launcher();
   std::vector<std::string> all = {"-n", std::to_string(ranks), cli_binary().string()};
   all.insert(all.end(), args.begin(), args.end());
   return run_process(kMpiexec, all);
@@ -146,6 +152,15 @@ fs::path run_distributed(const Job& job) {
   }
   EXPECT_EQ(differing, 0u);
   return dir;
+}
+
+TEST(Distributed, RankGroupCollectivesOnTwoThreeAndFourRanks) {
+  SKIP_WITHOUT_MPI();
+  for (int ranks : {2, 3, 4}) {
+    allow_launcher();
+    const auto r = run_process(kMpiexec, {"-n", std::to_string(ranks), OROGEN_RANK_GROUP_CHECK});
+    EXPECT_EQ(r.exit_code, 0) << ranks << " ranks: " << r.err;
+  }
 }
 
 TEST(Distributed, AnyRankCountWritesTheSingleProcessTilesAndTheyJoinIntoTheUntiledBuild) {
@@ -331,6 +346,45 @@ TEST(Distributed, AFailingRankStopsTheJobNamingRankTileAndNode) {
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("rank 2: tile 2,1"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("node 'save_height' failed"), std::string::npos) << r.err;
+}
+
+TEST(Distributed, ARerunWithTheSameCacheRecomputesOnlyTheUnfinishedTiles) {
+  SKIP_WITHOUT_MPI();
+  const fs::path dir = scratch_dir("distributed-rerun");
+  const fs::path blocker = dir / "out" / "distributed_hydrology" / "height_x2_y1.tif";
+  fs::create_directories(blocker);
+  const std::vector<std::string> args = {"eval",
+                                         (source_dir() / "graphs" / "distributed_hydrology.json").string(),
+                                         "-o",
+                                         (dir / "out").string(),
+                                         "--resolution",
+                                         "129",
+                                         "--tiles",
+                                         "3x2",
+                                         "--cache-dir",
+                                         (dir / "cache").string(),
+                                         "--stats",
+                                         (dir / "stats.json").string(),
+                                         "-q"};
+  ASSERT_EQ(mpirun(3, args).exit_code, 1);
+  // The tiles that finished before the job stopped wrote their stats.
+  std::vector<std::string> finished;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 3; ++i)
+      if (const auto name = "stats_x" + std::to_string(i) + "_y" + std::to_string(j) + ".json"; fs::exists(dir / name))
+        finished.push_back(name);
+  EXPECT_FALSE(std::find(finished.begin(), finished.end(), "stats_x2_y1.json") != finished.end());
+  fs::remove(blocker);
+  const auto r = mpirun(3, args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto computed = [&](const std::string& name) {
+    const auto doc = nlohmann::json::parse(file_bytes(dir / name));
+    int n = 0;
+    for (const auto& [id, node] : doc["nodes"].items()) n += node["status"] == "computed";
+    return n;
+  };
+  for (const auto& name : finished) EXPECT_EQ(computed(name), 0) << name << " was finished, and cached";
+  EXPECT_GE(computed("stats_x2_y1.json"), 1) << "the failed tile writes its height now";
 }
 
 }  // namespace
