@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <deque>
 #include <map>
 #include <queue>
 #include <stdexcept>
@@ -62,10 +63,19 @@ TileFlood flood_tile(std::span<const float> z, const TileRect& rect) {
   }
   // The lowest spill level between each pair of labels met.
   std::map<std::pair<std::int32_t, std::int32_t>, float> edges;
+  // Cells raised to their flooder's level go through a plain queue, ahead of the priority queue (the pit queue of
+  // Barnes, Lehman and Mulla 2014, Priority-Flood): the same levels, far fewer heap operations.
+  std::deque<std::size_t> pit;
   std::vector<std::uint8_t> done(z.size(), 0);
-  while (!queue.empty()) {
-    const auto c = static_cast<std::size_t>(queue.top().index);
-    queue.pop();
+  while (!queue.empty() || !pit.empty()) {
+    std::size_t c;
+    if (!pit.empty()) {
+      c = pit.front();
+      pit.pop_front();
+    } else {
+      c = static_cast<std::size_t>(queue.top().index);
+      queue.pop();
+    }
     if (done[c]) continue;
     done[c] = 1;
     const int i = static_cast<int>(c % static_cast<std::size_t>(w)),
@@ -78,7 +88,10 @@ TileFlood flood_tile(std::span<const float> z, const TileRect& rect) {
         if (f.label[n] < 0) {
           f.label[n] = f.label[c];
           f.level[n] = std::max(z[n], f.level[c]);
-          queue.push({f.level[n], static_cast<std::int64_t>(n)});
+          if (f.level[n] == f.level[c])
+            pit.push_back(n);
+          else
+            queue.push({f.level[n], static_cast<std::int64_t>(n)});
         } else if (f.label[n] != f.label[c]) {
           const auto key = std::minmax(f.label[c], f.label[n]);
           const float level = std::max(f.level[c], f.level[n]);
