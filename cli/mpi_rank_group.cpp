@@ -119,7 +119,7 @@ class MpiGroup final : public RankGroup {
 
 #endif
 
-bool launched_by_mpi() {
+[[maybe_unused]] bool launched_by_mpi() {
   return std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE") || std::getenv("PMIX_RANK") ||
          env_int("SLURM_STEP_NUM_TASKS") > 1;
 }
