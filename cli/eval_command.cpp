@@ -1,16 +1,22 @@
 #include <unistd.h>
 
 #include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <iostream>
 #include <optional>
+#include <sstream>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
 #include "cli/graph_overrides.h"
+#include "cli/mosaic.h"
+#include "cli/mpi_rank_group.h"
 #include "cli/progress_display.h"
 #include "cli/stats_report.h"
+#include "cli/tile_assignment.h"
 #include "cli/tiling.h"
 #include "evaluator/evaluator.h"
 #include "evaluator/memory_estimate.h"
@@ -36,7 +42,7 @@ struct Build {
 
 // The stats document of one build, with the tile it covers.
 std::string stats_with_tile(const EvalResult& result, const Graph& graph, const Build& build, glm::ivec2 counts,
-                            const Domain& full) {
+                            const Domain& full, const RankGroup& group) {
   std::string text = stats_json(result, &graph);
   if (!build.tile) return text;
   auto doc = nlohmann::json::parse(text);
@@ -48,15 +54,97 @@ std::string stats_with_tile(const EvalResult& result, const Graph& graph, const 
                  {"resolution", {d.resolution.x, d.resolution.y}},
                  {"min_corner", {d.min_corner().x, d.min_corner().y}},
                  {"size", {d.size().x, d.size().y}}};
+  if (group.size() > 1) doc["tile"]["rank"] = {{"rank", group.rank()}, {"ranks", group.size()}};
   return doc.dump(2) + "\n";
+}
+
+// Node counts of the builds of one rank, summed over the ranks for the job's summary.
+struct BuildCounts {
+  std::size_t computed = 0, cached = 0, failed = 0, skipped = 0, tiles = 0, failed_tiles = 0;
+  double milliseconds = 0.0;
+};
+
+BuildCounts job_counts(RankGroup& group, const BuildCounts& mine) {
+  std::ostringstream out;
+  out << mine.computed << ' ' << mine.cached << ' ' << mine.failed << ' ' << mine.skipped << ' ' << mine.tiles << ' '
+      << mine.failed_tiles << ' ' << mine.milliseconds;
+  BuildCounts sum;
+  for (const auto& text : group.all_gather(out.str())) {
+    std::istringstream in(text);
+    BuildCounts c;
+    in >> c.computed >> c.cached >> c.failed >> c.skipped >> c.tiles >> c.failed_tiles >> c.milliseconds;
+    sum.computed += c.computed, sum.cached += c.cached, sum.failed += c.failed, sum.skipped += c.skipped;
+    sum.tiles += c.tiles, sum.failed_tiles += c.failed_tiles;
+    sum.milliseconds = std::max(sum.milliseconds, c.milliseconds);  // the ranks run side by side
+  }
+  return sum;
+}
+
+// Refuses what a distributed build (several ranks) cannot do; empty if `ranks` is 1.
+std::vector<std::string> distribution_errors(int ranks, bool tiled, bool one_tile, glm::ivec2 counts) {
+  if (ranks == 1) return {};
+  const std::string on = "launched on " + std::to_string(ranks) + " ranks: ";
+  if (!tiled)
+    return {on + "a distributed build spreads tiles over the ranks; add --tiles NxM with at least " +
+            std::to_string(ranks) + " tiles (e.g. --tiles " + std::to_string(ranks) + "x1)"};
+  if (one_tile) return {on + "--tile builds one tile in one process; drop --tile, or run without mpirun"};
+  const long long tiles = static_cast<long long>(counts.x) * counts.y;
+  if (tiles < ranks)
+    return {on + "--tiles " + std::to_string(counts.x) + "x" + std::to_string(counts.y) + " has only " +
+            std::to_string(tiles) + " tiles, so " + std::to_string(ranks - tiles) +
+            " ranks would have none; use at most " + std::to_string(tiles) + " ranks, or more tiles"};
+  return {};
+}
+
+int run_eval_on(const EvalCommand& cmd, RankGroup& group);
+
+// After every tile of a tiled build succeeded: the GDAL mosaics of its rasters (cli/mosaic.h). Returns false
+// (error printed) if one cannot be written.
+bool write_tile_mosaics(const Graph& graph, const Domain& domain, glm::ivec2 counts, const OutputPolicy& policy,
+                        bool quiet) {
+  std::vector<std::string> warnings;
+  try {
+    const auto written = write_mosaics(graph, domain, counts, policy, warnings);
+    for (const auto& w : warnings) std::cerr << "warning: --tiles: " << w << "\n";
+    if (!quiet && !written.empty())
+      std::cerr << written.size() << (written.size() == 1 ? " mosaic" : " mosaics") << " of the tiles (GDAL VRT), e.g. "
+                << written.front() << "\n";
+    return true;
+  } catch (const std::exception& e) {
+    std::cerr << "error: cannot write the mosaics of the tiles: " << e.what() << "\n";
+    return false;
+  }
 }
 
 }  // namespace
 
 int run_eval(const EvalCommand& cmd) {
+  std::string why;
+  const auto group = start_rank_group(why);
+  if (!group) {
+    std::cerr << "error: " << why << "\n";
+    return kExitInvalid;
+  }
+  if (group->size() == 1) return run_eval_on(cmd, *group);
+  // On several ranks an exception must stop the whole job: the other ranks would wait for this one forever.
+  try {
+    return run_eval_on(cmd, *group);
+  } catch (const std::exception& e) {
+    std::cerr << "error: rank " << group->rank() << ": " << e.what() << "\n";
+  } catch (...) {
+    std::cerr << "error: rank " << group->rank() << ": unknown exception\n";
+  }
+  group->abort(kExitEvalFailed);
+  return kExitEvalFailed;  // not reached
+}
+
+namespace {
+
+int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
+  const bool root = group.rank() == 0, distributed = group.size() > 1;
   auto loaded = load_graph_file(cmd.graph_file);
   if (!loaded.ok()) {
-    std::cerr << cmd.graph_file.string() << ": invalid graph\n" << loaded.error_text();
+    if (root) std::cerr << cmd.graph_file.string() << ": invalid graph\n" << loaded.error_text();
     return kExitInvalid;
   }
   Graph graph = std::move(*loaded.graph);
@@ -134,12 +222,17 @@ int run_eval(const EvalCommand& cmd) {
       errors.push_back("--max-memory '" + cmd.max_memory + "': expected a positive size such as 4096, 512M or 8G");
   }
   if (auto e = check_domain(domain); !e.empty()) errors.push_back(e);
+  for (auto& e : distribution_errors(group.size(), tiled, only_tile.has_value(), counts)) errors.push_back(e);
 
-  // The builds: the whole domain, or the tiles asked for.
+  // The builds: the whole domain, or the tiles asked for; on several ranks, this rank's tiles
+  // (cli/tile_assignment.h).
   std::vector<Build> builds;
   if (errors.empty()) {
     if (!tiled) {
       builds.push_back({});
+    } else if (distributed) {
+      for (const glm::ivec2 t : tiles_of_rank(counts, group.rank(), group.size()))
+        builds.push_back({tile_window(domain.resolution, counts, t), tile_suffix(t)});
     } else {
       for (int j = 0; j < counts.y; ++j)
         for (int i = 0; i < counts.x; ++i)
@@ -164,17 +257,38 @@ int run_eval(const EvalCommand& cmd) {
         errors.push_back("node '" + node.id + "': " + memory_refusal(*node.type, d, need, max_memory));
     }
   }
+  if (distributed) {
+    // Ranks on different machines may judge differently (--max-memory defaults to each machine's available
+    // memory): agree, so that no rank builds while another has given up. Rank 0 reports the first rank's errors.
+    std::string mine;
+    for (const auto& e : errors)
+      mine += "error: " + (root ? "" : "rank " + std::to_string(group.rank()) + ": ") + e + "\n";
+    const auto all = group.all_gather(mine);
+    const auto first = std::find_if(all.begin(), all.end(), [](const std::string& s) { return !s.empty(); });
+    if (first != all.end()) {
+      if (root) std::cerr << *first;
+      return kExitInvalid;
+    }
+  }
   if (!errors.empty()) {
     for (const auto& e : errors) std::cerr << "error: " << e << "\n";
     return kExitInvalid;
   }
   // Nodes that need the whole domain cost the whole domain's memory or leave seams: say which (even with
   // --quiet).
-  if (tiled)
+  if (tiled && root)
     for (const auto& w : seam_warnings(graph, global)) std::cerr << "warning: --tiles: " << w << "\n";
+  if (distributed && root && !cmd.quiet)
+    std::cerr << counts.x * counts.y << " tiles over " << group.size() << " ranks (" << builds.size()
+              << " on rank 0; cli/tile_assignment.h), rank 0 reporting its own\n";
+  // Only rank 0 speaks, errors aside.
+  const bool quiet = cmd.quiet || !root;
 
   EvaluatorOptions options;
   options.threads = cmd.threads;
+  // Ranks on one machine share its cores: by default each takes its share.
+  if (options.threads == 0 && group.local_size() > 1)
+    options.threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) / group.local_size());
   options.cache_bytes = static_cast<std::size_t>(*cache_mb * 1024.0 * 1024.0);
   options.cache_dir = cmd.cache_dir;
   options.cache_disk_bytes = static_cast<std::uint64_t>(*cache_disk_mb * 1024.0 * 1024.0);
@@ -184,9 +298,8 @@ int run_eval(const EvalCommand& cmd) {
   options.output = policy;
   Evaluator evaluator(options);
 
-  const bool live = !cmd.quiet && ::isatty(STDERR_FILENO);
-  std::size_t total_failed = 0, failed_tiles = 0;
-  double total_ms = 0.0;
+  const bool live = !quiet && ::isatty(STDERR_FILENO);
+  BuildCounts counted;
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
   for (std::size_t b = 0; b < builds.size(); ++b) {
@@ -201,23 +314,25 @@ int run_eval(const EvalCommand& cmd) {
       request.node_domains = tile_node_domains(tile_graph, domain, *build.tile, global);
       const Domain d =
           domain.subdomain(build.tile->first.x, build.tile->first.y, build.tile->size.x, build.tile->size.y);
-      label = "tile " + std::to_string(build.tile->index.x) + "," + std::to_string(build.tile->index.y) + " (" +
+      label = (distributed ? "rank " + std::to_string(group.rank()) + ": " : std::string()) + "tile " +
+              std::to_string(build.tile->index.x) + "," + std::to_string(build.tile->index.y) + " (" +
               std::to_string(b + 1) + "/" + std::to_string(builds.size()) + ")";
-      if (!cmd.quiet) std::cerr << label << ": " << d.describe() << ", files *" << build.suffix << ".*\n";
+      if (!quiet) std::cerr << label << ": " << d.describe() << ", files *" << build.suffix << ".*\n";
     }
     ProgressDisplay display(stderr, tile_graph.nodes().size());
     if (live) request.on_event = [&](const EvalEvent& e) { display.on_event(e); };
     const EvalResult result = evaluator.evaluate(tile_graph, request);
     if (live) display.finish();
-    total_ms += result.milliseconds;
+    counted.milliseconds += result.milliseconds;
 
     if (!cmd.stats_file.empty()) {
       const auto stats_path =
           build.tile ? std::filesystem::path(with_suffix(cmd.stats_file.string(), build.suffix)) : cmd.stats_file;
       try {
-        write_text_atomically(stats_path, stats_with_tile(result, tile_graph, build, counts, domain));
+        write_text_atomically(stats_path, stats_with_tile(result, tile_graph, build, counts, domain, group));
       } catch (const std::exception& e) {
         std::cerr << "error: cannot write stats to " << stats_path.string() << ": " << e.what() << "\n";
+        if (distributed) group.abort(kExitEvalFailed);
         std::signal(SIGINT, SIG_DFL);
         std::signal(SIGTERM, SIG_DFL);
         return kExitEvalFailed;
@@ -245,26 +360,51 @@ int run_eval(const EvalCommand& cmd) {
           break;
       }
     }
-    total_failed += failed;
-    if (failed > 0) ++failed_tiles;
+    counted.computed += computed, counted.cached += cached, counted.failed += failed, counted.skipped += skipped;
+    ++counted.tiles;
+    if (failed > 0) ++counted.failed_tiles;
     if (result.cancelled) {
       std::signal(SIGINT, SIG_DFL);
       std::signal(SIGTERM, SIG_DFL);
       std::cerr << "interrupted" << (label.empty() ? "" : " in " + label)
                 << ": nothing partial was written or cached\n";
+      // The launcher stops the other ranks when one exits with an error (a second MPI_Abort would only add noise).
+      if (distributed) std::_Exit(kExitEvalFailed);
       return kExitEvalFailed;
     }
-    if (!cmd.quiet) {
+    // A failed tile fails the job: on several ranks, at once (its node's error is printed above, with the rank
+    // and the tile), so that no rank builds on for nothing.
+    if (failed > 0 && distributed) {
+      std::cerr << "error: " << label << ": stopping every rank\n";
+      group.abort(kExitEvalFailed);
+    }
+    if (!quiet) {
       std::fprintf(stderr, "%s%zu computed, %zu cached, %zu failed, %zu skipped in %.1f ms\n",
                    label.empty() ? "" : (label + ": ").c_str(), computed, cached, failed, skipped, result.milliseconds);
     }
   }
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
+  if (distributed) {
+    const BuildCounts job = job_counts(group, counted);
+    if (root && !cmd.quiet)
+      std::fprintf(stderr,
+                   "%zu tiles built on %d ranks, %zu with failures: %zu computed, %zu cached, %zu failed, "
+                   "%zu skipped in %.1f ms (the slowest rank)\n",
+                   job.tiles, group.size(), job.failed_tiles, job.computed, job.cached, job.failed, job.skipped,
+                   job.milliseconds);
+    if (job.failed != 0) return kExitEvalFailed;
+    return !root || write_tile_mosaics(graph, domain, counts, policy, cmd.quiet) ? kExitOk : kExitEvalFailed;
+  }
   if (tiled && !cmd.quiet && builds.size() > 1)
-    std::fprintf(stderr, "%zu tiles built, %zu with failures, in %.1f ms\n", builds.size(), failed_tiles, total_ms);
-  return total_failed == 0 ? kExitOk : kExitEvalFailed;
+    std::fprintf(stderr, "%zu tiles built, %zu with failures, in %.1f ms\n", builds.size(), counted.failed_tiles,
+                 counted.milliseconds);
+  if (counted.failed != 0) return kExitEvalFailed;
+  if (tiled && !only_tile && !write_tile_mosaics(graph, domain, counts, policy, cmd.quiet)) return kExitEvalFailed;
+  return kExitOk;
 }
+
+}  // namespace
 
 int run_validate(const ValidateCommand& cmd) {
   auto loaded = load_graph_file(cmd.graph_file);

@@ -94,6 +94,16 @@ std::vector<ParamValue> defaults(const NodeType& t) {
 // The reach with default parameters: "pointwise", "local" or "global" (see graph/node_type.h).
 const char* default_reach_kind(const NodeType& t) { return to_string(t.reach_for(defaults(t)).kind); }
 
+// How the node runs across ranks with default parameters, and what that costs (graph/distribution.h).
+std::string distribution_text(const NodeType& t) {
+  const Distribution d = t.distribution_for(defaults(t));
+  std::string s = std::string(to_string(d)) + ": " + describe(d);
+  if (t.reach_fn && t.distribution != Distribution::Undeclared && t.distribution != d)
+    s += std::string("; ") + to_string(t.distribution) + " when the parameters make the reach global";
+  if (!runs_across_ranks(d)) s += " (for now: computed on the whole domain by every rank that needs it)";
+  return s;
+}
+
 nlohmann::json reach_json(const NodeType& t) {
   const Reach r = t.reach_for(defaults(t));
   nlohmann::json j = {
@@ -138,6 +148,11 @@ nlohmann::json type_json(const NodeType& t) {
           {"outputs", outputs},
           {"params", params},
           {"reach", reach_json(t)},
+          {"distribution",
+           {{"kind", to_string(t.distribution_for(defaults(t)))},
+            {"declared", to_string(t.distribution)},
+            {"across_ranks", runs_across_ranks(t.distribution_for(defaults(t)))},
+            {"summary", distribution_text(t)}}},
           {"writes_files", t.writes_files},
           {"domain_independent", t.domain_independent}};
 }
@@ -152,9 +167,10 @@ std::string node_list_text() {
       category = t->category;
       s << category << ":\n";
     }
-    const std::string reach = default_reach_kind(*t);
+    const std::string reach = default_reach_kind(*t), ranks = to_string(t->distribution_for(defaults(*t)));
     s << "  " << t->name << std::string(t->name.size() < 22 ? 22 - t->name.size() : 1, ' ') << reach
-      << std::string(reach.size() < 11 ? 11 - reach.size() : 1, ' ') << t->description << "\n";
+      << std::string(reach.size() < 11 ? 11 - reach.size() : 1, ' ') << ranks
+      << std::string(ranks.size() < 14 ? 14 - ranks.size() : 1, ' ') << t->description << "\n";
   }
   return s.str();
 }
@@ -163,6 +179,7 @@ std::string node_reference_text(const NodeType& t) {
   std::ostringstream s;
   s << t.name << " (" << t.category << ", version " << t.version << ")\n  " << t.description << "\n";
   s << "\nReach: " << t.reach_text() << "\n";
+  s << "Distribution: " << distribution_text(t) << "\n";
   auto ports = [&](const char* title, const std::vector<PortDecl>& list) {
     if (list.empty()) return;
     s << "\n" << title << ":\n";
@@ -214,7 +231,8 @@ std::string node_reference_markdown() {
       category = t->category;
       s << "\n## " << category << "\n";
     }
-    s << "\n### " << t->name << "\n\n" << t->description << "\n\nReach: " << t->reach_text() << ".\n";
+    s << "\n### " << t->name << "\n\n"
+      << t->description << "\n\nReach: " << t->reach_text() << ".\n\nDistribution: " << distribution_text(*t) << ".\n";
     auto ports = [&](const char* title, const std::vector<PortDecl>& list) {
       if (list.empty()) return;
       s << "\n" << title << ":\n\n";

@@ -258,6 +258,10 @@ NodeBuilder& NodeBuilder::reach(ReachFn fn, std::string summary) {
   type_.reach_summary = std::move(summary);
   return *this;
 }
+NodeBuilder& NodeBuilder::distribution(Distribution kind) {
+  type_.distribution = kind;
+  return *this;
+}
 NodeBuilder& NodeBuilder::extra_bytes(CostFn fn) {
   type_.extra_bytes = std::move(fn);
   return *this;
@@ -330,6 +334,14 @@ Reach NodeType::reach_for(const std::vector<ParamValue>& params) const {
 
 std::string NodeType::reach_text() const { return reach_fn ? reach_summary : reach.describe(); }
 
+Distribution NodeType::distribution_for(const std::vector<ParamValue>& params) const {
+  if (!reach_for(params).is_global()) return Distribution::PerTile;
+  if (distribution != Distribution::Undeclared) return distribution;
+  if (writes_files) return Distribution::PerTile;
+  if (domain_independent) return Distribution::Replicated;
+  return Distribution::Undeclared;
+}
+
 NodeBuilder::Port NodeBuilder::input(std::string name, PortType type) {
   type_.inputs.push_back({std::move(name), type, {}, false});
   return Port(type_.inputs, type_.inputs.size() - 1);
@@ -398,6 +410,11 @@ void check_declaration(const NodeType& type) {
   if (type.description.empty()) fail("no description");
   if (!type.execute) fail("no execute function");
   if (type.reach_fn && type.reach_summary.empty()) fail("a reach function needs a summary for the node reference");
+  if (type.can_be_global() && type.distribution == Distribution::Undeclared && !type.writes_files &&
+      !type.domain_independent)
+    fail(
+        "its reach can be global, so it must declare how it runs across ranks: b.distribution(Distribution::...) "
+        "(graph/distribution.h)");
   if (type.reach.kind == ReachKind::Local &&
       (!(type.reach.metres >= 0.0) || !std::isfinite(type.reach.metres) || type.reach.samples < 0))
     fail("a local reach needs a finite radius >= 0");

@@ -17,6 +17,7 @@
 #include <string_view>
 #include <vector>
 
+#include "graph/distribution.h"
 #include "graph/param_value.h"
 #include "graph/units.h"
 #include "graph/value_type.h"
@@ -148,6 +149,8 @@ struct NodeType {
   Reach reach;
   ReachFn reach_fn;
   std::string reach_summary;
+  // How the node runs across ranks when its reach is global (graph/distribution.h); derived otherwise.
+  Distribution distribution = Distribution::Undeclared;
   // Memory beyond the default estimate (outputs by type at the domain's sample count), when the node knows it
   // needs more: see graph/cost_query.h and evaluator/memory_estimate.h.
   CostFn extra_bytes;
@@ -156,6 +159,12 @@ struct NodeType {
   Reach reach_for(const std::vector<ParamValue>& params) const;
   // How the reach reads in the node reference: the fixed reach, or the summary of the function.
   std::string reach_text() const;
+  // How the node runs in a distributed build with these parameter values: per tile when the reach is point-wise
+  // or local, else the declared kind; undeclared ones default to per tile for writers and to replicated for
+  // domain-independent nodes.
+  Distribution distribution_for(const std::vector<ParamValue>& params) const;
+  // Whether some parameter values can make the reach global (a global reach, or a reach function).
+  bool can_be_global() const { return reach_fn || reach.kind == ReachKind::Global; }
 
   const PortDecl* find_input(std::string_view n) const;
   const PortDecl* find_output(std::string_view n) const;
@@ -215,6 +224,8 @@ class NodeBuilder {
   NodeBuilder& reach_local(double metres, int samples = 0);
   NodeBuilder& reach_global();
   NodeBuilder& reach(ReachFn fn, std::string summary);
+  // How the node runs across ranks (graph/distribution.h); required when the reach can be global.
+  NodeBuilder& distribution(Distribution kind);
   // Memory the node needs beyond the default estimate (see NodeType::extra_bytes).
   NodeBuilder& extra_bytes(CostFn fn);
   void execute(ExecuteFn fn);

@@ -21,6 +21,8 @@ packages=(
   libimgui-dev libglfw3-dev libgl-dev libgl1-mesa-dri libegl1 fonts-dejavu-core
   xvfb xauth
   clang-14 libclang-rt-14-dev clang-format-14
+  libopenmpi-dev openmpi-bin
+  gdal-bin
 )
 
 SUDO=""

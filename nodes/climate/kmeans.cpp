@@ -345,6 +345,7 @@ std::string kmeans_report(const KMeansResult& r, const std::vector<std::string>&
 }
 
 OROGEN_NODE(KMeansClusters) {
+  b.distribution(Distribution::Reduction);
   b.reach_global();
   b.category("climate").description(
       "Clusters the cells of a multi-channel image (a ResourceStack) into k groups by k-means (S. P. Lloyd "

@@ -288,6 +288,7 @@ SunInstant sun_instant(const Heightfield& z, const SunParams& p, int month, doub
 }
 
 OROGEN_NODE(SunIllumination) {
+  b.distribution(Distribution::Gathered);
   b.reach_global();  // a shadow can fall from anywhere in the domain
   b.category("climate").description(
       "Direct sunlight with terrain shadows over the day, per month: lit hours per day and the 24-hour mean "

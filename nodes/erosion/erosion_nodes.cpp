@@ -41,6 +41,7 @@ void set_common_outputs(ExecContext& ctx, ErosionMaps& m) {
 }  // namespace
 
 OROGEN_NODE(ThermalErosion) {
+  b.distribution(Distribution::HaloExchange);
   b.reach_global();  // a simulation: every output sample depends on the whole input
   b.category("erosion").description(
       "Thermal erosion (talus slumping): material steeper than the talus angle slides to its lower "
@@ -85,6 +86,7 @@ OROGEN_NODE(ThermalErosion) {
 }
 
 OROGEN_NODE(HydraulicErosion) {
+  b.distribution(Distribution::Gathered);
   b.reach_global();  // a simulation: every output sample depends on the whole input
   // Version 2: the report output (the volume balance). Version 3: deposits with the erosion's brush, and a
   // droplet in a hollow fills it up to its spill height (issue 29: fewer closed pits on fine grids).
@@ -182,6 +184,7 @@ OROGEN_NODE(HydraulicErosion) {
 }
 
 OROGEN_NODE(PipeErosion) {
+  b.distribution(Distribution::HaloExchange);
   b.reach_global();  // a simulation: every output sample depends on the whole input
   b.category("erosion").description(
       "Shallow-water hydraulic erosion on virtual pipes (Mei, Decaudin and Hu 2007, 'Fast hydraulic erosion "
@@ -284,6 +287,7 @@ OROGEN_NODE(PipeErosion) {
 }
 
 OROGEN_NODE(StreamPower) {
+  b.distribution(Distribution::Gathered);
   b.reach_global();  // a simulation: every output sample depends on the whole input
   b.category("erosion").description(
       "Landscape evolution by the stream-power law dz/dt = U - K A^m S^n + D laplacian(z) (Howard 1994; "

@@ -160,7 +160,8 @@ Heightfield gaussian_blur(const Heightfield& in, const BlurParams& p, const Exec
 }
 
 OROGEN_NODE(Blur) {
-  b.version(2);  // 2: the decimated blur aligned to the global lattice (tile-exact)
+  b.version(2);                           // 2: the decimated blur aligned to the global lattice (tile-exact)
+  b.distribution(Distribution::PerTile);  // the reach function is always local
   b.reach([](const ParamView& p) { return Reach::local(blur_reach_metres(p.get<double>("sigma")), 2); },
           "local: 5 sigma + 2 samples");
   b.category("field").description(

@@ -51,6 +51,7 @@ std::shared_ptr<Image> color_ramp(const Heightfield& in, const GradientValue& gr
 }
 
 OROGEN_NODE(ColorRamp) {
+  b.distribution(Distribution::Reduction);
   b.reach(
       [](const ParamView& p) { return p.get<std::string>("range") == "field" ? Reach::global() : Reach::pointwise(); },
       "point-wise; global with range = field");

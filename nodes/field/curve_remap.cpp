@@ -20,6 +20,7 @@ std::shared_ptr<Heightfield> curve_remap(const Heightfield& in, const CurveValue
 }
 
 OROGEN_NODE(Curve) {
+  b.distribution(Distribution::Reduction);
   b.reach(
       [](const ParamView& p) { return p.get<std::string>("range") == "field" ? Reach::global() : Reach::pointwise(); },
       "point-wise; global with range = field");

@@ -20,6 +20,7 @@ std::shared_ptr<Heightfield> normalize_field(const Heightfield& in, double lo, d
 }
 
 OROGEN_NODE(Normalize) {
+  b.distribution(Distribution::Reduction);
   b.reach_global();  // the range of the whole domain
   b.category("field").description(
       "Stretches a field linearly so that its lowest sample becomes `min` and its highest `max` (a height "

@@ -34,7 +34,8 @@ std::shared_ptr<Heightfield> resample_field(const Heightfield& in, const Resampl
 }
 
 OROGEN_NODE(Resample) {
-  b.version(2);      // 2: the decimated blur aligned to the global lattice (tile-exact)
+  b.version(2);  // 2: the decimated blur aligned to the global lattice (tile-exact)
+  b.distribution(Distribution::Gathered);
   b.reach_global();  // the output lattice spans the requested rectangle
   b.own_lattice();
   b.category("field").description(

@@ -25,6 +25,7 @@ std::shared_ptr<Heightfield> warp_field(const Heightfield& in, const Heightfield
 }
 
 OROGEN_NODE(Warp) {
+  b.distribution(Distribution::Gathered);
   b.reach_global();  // the displacement, read from the dx/dy fields, is unbounded
   b.category("field").description(
       "Domain warp by fields: out(x, y) = in(x + strength * dx, y + strength * dy), with the displacements in "

@@ -11,6 +11,7 @@
 namespace orogen {
 
 OROGEN_NODE(HeightfieldToMesh) {
+  b.distribution(Distribution::Gathered);
   b.reach_global();
   b.category("geometry")
       .version(2)

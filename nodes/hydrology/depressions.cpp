@@ -171,6 +171,7 @@ static void set_fill_outputs(ExecContext& ctx, const FillResult& r) {
 }
 
 OROGEN_NODE(FillDepressions) {
+  b.distribution(Distribution::TileGraph);
   b.reach_global();  // flow routing over the whole domain
   b.category("hydrology")
       .description(
@@ -207,6 +208,7 @@ OROGEN_NODE(FillDepressions) {
 }
 
 OROGEN_NODE(Lakes) {
+  b.distribution(Distribution::TileGraph);
   b.reach_global();  // flow routing over the whole domain
   b.category("hydrology")
       .description(
@@ -239,6 +241,7 @@ OROGEN_NODE(Lakes) {
 }
 
 OROGEN_NODE(FloodFill) {
+  b.distribution(Distribution::TileGraph);
   b.reach_global();  // flow routing over the whole domain
   b.category("hydrology")
       .description(

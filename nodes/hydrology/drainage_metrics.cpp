@@ -224,6 +224,7 @@ DrainageReport drainage_metrics(const Heightfield& in, double threshold, const E
 }
 
 OROGEN_NODE(DrainageMetrics) {
+  b.distribution(Distribution::TileGraph);
   b.reach_global();  // flow routing over the whole domain
   b.category("hydrology")
       .description(

@@ -133,6 +133,7 @@ WatershedResult watersheds(const Heightfield& in, bool fill, double min_area, co
 }
 
 OROGEN_NODE(FlowAccumulation) {
+  b.distribution(Distribution::TileGraph);
   b.reach_global();  // flow routing over the whole domain
   b.category("hydrology")
       .description(
@@ -192,6 +193,7 @@ OROGEN_NODE(FlowAccumulation) {
 }
 
 OROGEN_NODE(FlowDirection) {
+  b.distribution(Distribution::TileGraph);
   b.reach_global();  // flow routing over the whole domain
   b.category("hydrology")
       .description(
@@ -231,6 +233,7 @@ OROGEN_NODE(FlowDirection) {
 }
 
 OROGEN_NODE(Watersheds) {
+  b.distribution(Distribution::TileGraph);
   b.reach_global();  // flow routing over the whole domain
   b.category("hydrology")
       .description(

@@ -175,6 +175,7 @@ RiverResult extract_rivers(const Heightfield& in, const Heightfield* rainfall, c
 }
 
 OROGEN_NODE(RiverExtract) {
+  b.distribution(Distribution::TileGraph);
   b.reach_global();  // flow routing over the whole domain
   b.category("hydrology")
       .description(

@@ -124,6 +124,7 @@ WaterFlowResult water_flow(const Heightfield& in, const Heightfield* rainfall, c
 }
 
 OROGEN_NODE(WaterFlow) {
+  b.distribution(Distribution::Gathered);
   b.reach_global();  // flow routing over the whole domain
   b.category("hydrology")
       .description(

@@ -13,6 +13,7 @@
 namespace orogen {
 
 OROGEN_NODE(ReadHeightfield) {
+  b.distribution(Distribution::Gathered);
   b.reach(
       [](const ParamView& p) {
         // Spread over the request by default: what a sample reads then depends on the whole requested domain.

@@ -11,6 +11,7 @@
 namespace orogen::island {
 
 OROGEN_NODE(VoronoiIsland) {
+  b.distribution(Distribution::Replicated);
   b.reach_global();
   b.domain_independent();
   b.category("island").description(
@@ -214,6 +215,7 @@ OROGEN_NODE(PolygonMapRaster) {
 namespace orogen::island {
 
 OROGEN_NODE(RiverNetwork) {
+  b.distribution(Distribution::Replicated);
   b.reach_global();
   b.domain_independent();
   b.category("island").description(

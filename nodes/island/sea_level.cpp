@@ -34,6 +34,7 @@ std::shared_ptr<Heightfield> sea_level_normalize(const Heightfield& in, const Se
 }
 
 OROGEN_NODE(SeaLevelNormalize) {
+  b.distribution(Distribution::Reduction);
   b.reach_global();  // the extremes of the whole field
   b.category("island").description(
       "Normalizes a terrain about sea level, as the last step of S. Weiss (2015), \"Procedural Terrain\" "

@@ -35,6 +35,7 @@ void set_plant_mesh(ExecContext& ctx, Build&& build) {
 }  // namespace
 
 OROGEN_NODE(LSystem) {
+  b.distribution(Distribution::Replicated);
   b.reach_global();
   b.domain_independent();
   b.category("plants").description(
@@ -88,6 +89,7 @@ OROGEN_NODE(LSystem) {
 }
 
 OROGEN_NODE(Turtle3D) {
+  b.distribution(Distribution::Replicated);
   b.reach_global();
   b.domain_independent();
   b.category("plants").description(
@@ -164,6 +166,7 @@ OROGEN_NODE(Turtle3D) {
 }
 
 OROGEN_NODE(TreeMesh) {
+  b.distribution(Distribution::Replicated);
   b.reach_global();
   b.domain_independent();
   b.category("plants").description(
@@ -200,6 +203,7 @@ OROGEN_NODE(TreeMesh) {
 }
 
 OROGEN_NODE(PlantSprite) {
+  b.distribution(Distribution::Replicated);
   b.reach_global();
   b.domain_independent();
   b.category("plants").description(

@@ -72,6 +72,7 @@ TriMesh::Color color_of(const ExecContext& ctx) {
 }  // namespace
 
 OROGEN_NODE(HullRock) {
+  b.distribution(Distribution::Replicated);
   b.reach_global();
   b.domain_independent();
   b.category("rocks").description(std::string("A low-polygon rock centered on the origin. ") + kRockSource +
@@ -93,6 +94,7 @@ OROGEN_NODE(HullRock) {
 }
 
 OROGEN_NODE(RockSet) {
+  b.distribution(Distribution::Replicated);
   b.reach_global();
   b.domain_independent();
   b.category("rocks").description(std::string("K rock variants at once, for scattering: each a hull rock (") +

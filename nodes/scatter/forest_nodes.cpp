@@ -14,6 +14,7 @@
 namespace orogen {
 
 OROGEN_NODE(ShadePlacement) {
+  b.distribution(Distribution::Gathered);
   b.reach_global();  // a shadow cast from points anywhere in the domain
   b.category("scatter").description(
       "Context-sensitive placement by light, after Potter (2017), \"Generating a virtual forest environment using "
@@ -93,6 +94,7 @@ OROGEN_NODE(ShadePlacement) {
 }
 
 OROGEN_NODE(ForestLifeCycle) {
+  b.distribution(Distribution::Gathered);
   b.reach_global();  // a simulation
   b.category("scatter").description(
       "Forest life cycle after Potter (2017), \"Generating a virtual forest environment using procedural content "

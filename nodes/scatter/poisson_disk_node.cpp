@@ -14,6 +14,7 @@ namespace orogen {
 inline constexpr int kPoissonSlots = 4;
 
 OROGEN_NODE(PoissonDisk) {
+  b.distribution(Distribution::PerTile);
   b.reach_global();  // outputs points, not a field
   b.category("scatter").description(
       "Blue-noise placement: Bridson (2007), \"Fast Poisson disk sampling in arbitrary dimensions\" (k "

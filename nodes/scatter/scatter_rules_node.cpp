@@ -10,6 +10,7 @@
 namespace orogen {
 
 OROGEN_NODE(ScatterRules) {
+  b.distribution(Distribution::PerTile);
   b.reach_global();  // outputs points, not a field
   b.category("scatter").description(
       "Ecosystem placement after Hammes (2001), \"Modeling of ecosystems as a data source for real-time terrain "
@@ -62,6 +63,7 @@ OROGEN_NODE(ScatterRules) {
 }
 
 OROGEN_NODE(BiomeScatter) {
+  b.distribution(Distribution::PerTile);
   b.reach_global();  // outputs points, not a field
   b.category("scatter").description(
       "Per-biome tree placement after Weiss (2015), \"Procedural terrain\" (vegetation "

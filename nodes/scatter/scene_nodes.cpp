@@ -25,6 +25,7 @@ namespace orogen {
 inline constexpr int kSceneMeshSlots = 8;
 
 OROGEN_NODE(Instance) {
+  b.distribution(Distribution::PerTile);
   b.reach_global();  // outputs a scene, not a field
   b.category("scatter").description(
       "Combines points with one mesh per class into an instanced scene (geometry instancing: Carucci 2005, "
@@ -118,6 +119,7 @@ OROGEN_NODE(WriteScene) {
 }
 
 OROGEN_NODE(ProjectToTerrain) {
+  b.distribution(Distribution::PerTile);
   b.reach_global();  // outputs points, not a field
   b.category("scatter").description(
       "Sets each point's z to the terrain height under it (bilinear), plus an offset; optionally tilts its "
@@ -141,6 +143,7 @@ OROGEN_NODE(ProjectToTerrain) {
 }
 
 OROGEN_NODE(MergePoints) {
+  b.distribution(Distribution::PerTile);
   b.reach_global();  // outputs points, not a field
   b.category("scatter").description(
       "Concatenates point sets (a first, then b, ...); named attributes missing from one set are 0 there.");

@@ -109,6 +109,7 @@ std::shared_ptr<Image> gray_image(const Heightfield& value, const ExecContext* c
 }
 
 OROGEN_NODE(AmbientOcclusion) {
+  b.distribution(Distribution::PerTile);  // the reach function is always local
   b.reach([](const ParamView& p) { return Reach::local(p.get<double>("radius"), 2); }, "local: radius + 2 samples");
   b.category("texture").description(
       "Ambient occlusion of the terrain: the open sky seen from each cell, 1 - mean over azimuths of the "
@@ -133,6 +134,7 @@ OROGEN_NODE(AmbientOcclusion) {
 }
 
 OROGEN_NODE(Cavity) {
+  b.distribution(Distribution::PerTile);  // the reach function is always local
   b.reach([](const ParamView& p) { return Reach::local(p.get<double>("radius"), 2); }, "local: radius + 2 samples");
   b.category("texture").description(
       "Cavity map: 0.5 - 0.5 x the mean sine of the signed horizon angle over azimuths within the radius "

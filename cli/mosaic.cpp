@@ -1,0 +1,128 @@
+#include "cli/mosaic.h"
+
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+#include <OpenImageIO/imageio.h>
+
+#include "cli/tiling.h"
+#include "graph/atomic_file.h"
+#include "nodes/io/file_extension.h"
+
+namespace orogen::cli {
+
+namespace {
+
+// GDAL's name for the sample type of an image file's header; empty if a VRT cannot describe it.
+std::string gdal_type(const OIIO::TypeDesc& t) {
+  if (t == OIIO::TypeDesc::FLOAT) return "Float32";
+  if (t == OIIO::TypeDesc::UINT16) return "UInt16";
+  if (t == OIIO::TypeDesc::UINT8) return "Byte";
+  if (t == OIIO::TypeDesc::INT16) return "Int16";
+  return {};
+}
+
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  for (const char c : text) switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  return out;
+}
+
+}  // namespace
+
+std::string mosaic_vrt(const Domain& full, glm::ivec2 counts, const std::vector<std::string>& tile_files, int channels,
+                       const std::string& data_type) {
+  std::ostringstream s;
+  s.precision(17);
+  const glm::dvec2 lo = full.min_corner(), sp = full.spacing;
+  const int height = full.resolution.y;
+  s << "<VRTDataset rasterXSize=\"" << full.resolution.x << "\" rasterYSize=\"" << height << "\">\n";
+  // Pixel centres at the samples; the first image row is the northern one.
+  s << "  <GeoTransform>" << lo.x - sp.x / 2 << ", " << sp.x << ", 0, " << lo.y + (height - 1) * sp.y + sp.y / 2
+    << ", 0, " << -sp.y << "</GeoTransform>\n";
+  for (int band = 1; band <= channels; ++band) {
+    s << "  <VRTRasterBand dataType=\"" << data_type << "\" band=\"" << band << "\">\n";
+    for (int j = 0; j < counts.y; ++j)
+      for (int i = 0; i < counts.x; ++i) {
+        const TileWindow w = tile_window(full.resolution, counts, {i, j});
+        const int row = height - (w.first.y + w.size.y);  // the tile's northern row in the image
+        s << "    <SimpleSource>\n"
+          << "      <SourceFilename relativeToVRT=\"1\">"
+          << xml_escape(tile_files[static_cast<std::size_t>(j * counts.x + i)]) << "</SourceFilename>\n"
+          << "      <SourceBand>" << band << "</SourceBand>\n"
+          << "      <SrcRect xOff=\"0\" yOff=\"0\" xSize=\"" << w.size.x << "\" ySize=\"" << w.size.y << "\"/>\n"
+          << "      <DstRect xOff=\"" << w.first.x << "\" yOff=\"" << row << "\" xSize=\"" << w.size.x << "\" ySize=\""
+          << w.size.y << "\"/>\n"
+          << "    </SimpleSource>\n";
+      }
+    s << "  </VRTRasterBand>\n";
+  }
+  s << "</VRTDataset>\n";
+  return s.str();
+}
+
+std::vector<std::string> write_mosaics(const Graph& graph, const Domain& full, glm::ivec2 counts,
+                                       const OutputPolicy& policy, std::vector<std::string>& warnings) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> written;
+  std::set<fs::path> taken;
+  for (const auto& node : graph.nodes()) {
+    const NodeType& type = *node.type;
+    if (!type.writes_files) continue;
+    const bool raster = std::any_of(type.inputs.begin(), type.inputs.end(), [](const PortDecl& p) {
+      return p.type == PortType::Heightfield || p.type == PortType::Image;
+    });
+    if (!raster || type.own_lattice) continue;
+    for (const auto& decl : type.params) {
+      if (!decl.output_file) continue;
+      const auto* path = std::get_if<std::string>(&graph.param(node.id, decl.name));
+      if (!path || path->empty()) continue;
+      const std::string ext = lower_extension(*path);
+      if (ext != ".tif" && ext != ".tiff" && ext != ".png") continue;
+      const fs::path vrt = resolve_output_path(policy, fs::path(*path).replace_extension(".vrt").generic_string());
+      if (!taken.insert(vrt).second) {
+        warnings.push_back("no mosaic for '" + node.id + "': " + vrt.filename().string() + " is another writer's");
+        continue;
+      }
+      std::vector<std::string> tiles;
+      for (int j = 0; j < counts.y; ++j)
+        for (int i = 0; i < counts.x; ++i)
+          tiles.push_back(fs::path(with_suffix(*path, tile_suffix({i, j}))).filename().string());
+      const fs::path first = vrt.parent_path() / tiles.front();
+      auto in = OIIO::ImageInput::open(first.string());
+      if (!in) {
+        warnings.push_back("no mosaic for '" + node.id + "': cannot read " + first.string());
+        continue;
+      }
+      const OIIO::ImageSpec spec = in->spec();
+      in->close();
+      const std::string data_type = gdal_type(spec.format);
+      if (data_type.empty()) {
+        warnings.push_back("no mosaic for '" + node.id + "': GDAL's VRT has no type for " +
+                           std::string(spec.format.c_str()) + " samples");
+        continue;
+      }
+      write_text_atomically(vrt, mosaic_vrt(full, counts, tiles, spec.nchannels, data_type));
+      written.push_back(vrt.string());
+    }
+  }
+  return written;
+}
+
+}  // namespace orogen::cli

@@ -1,0 +1,215 @@
+#include "nodes/hydrology/tile_fill.h"
+
+#include <algorithm>
+#include <cstring>
+#include <deque>
+#include <map>
+#include <queue>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace orogen::hydrology {
+
+namespace {
+
+// Priority queue entry: the lowest level first, ties by cell (or node) index, so the run is deterministic.
+struct Entry {
+  float level;
+  std::int64_t index;
+  bool operator>(const Entry& o) const { return level > o.level || (level == o.level && index > o.index); }
+};
+using MinQueue = std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>>;
+
+template <class T>
+void put(std::string& out, const T& v) {
+  out.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+
+template <class T>
+T take(std::string_view& in) {
+  if (in.size() < sizeof(T)) throw std::invalid_argument("spill graph: truncated bytes");
+  T v;
+  std::memcpy(&v, in.data(), sizeof v);
+  in.remove_prefix(sizeof v);
+  return v;
+}
+
+}  // namespace
+
+std::vector<std::int32_t> perimeter_cells(glm::ivec2 size) {
+  std::vector<std::int32_t> cells;
+  for (int j = 0; j < size.y; ++j)
+    for (int i = 0; i < size.x; ++i)
+      if (i == 0 || j == 0 || i == size.x - 1 || j == size.y - 1) cells.push_back(j * size.x + i);
+  return cells;
+}
+
+TileFlood flood_tile(std::span<const float> z, const TileRect& rect) {
+  const int w = rect.size.x, h = rect.size.y;
+  if (w < 1 || h < 1 || z.size() != static_cast<std::size_t>(w) * h)
+    throw std::invalid_argument("flood_tile: heights do not match the tile's size");
+  TileFlood f;
+  f.graph.rect = rect;
+  f.level.assign(z.size(), 0.0f);
+  f.label.assign(z.size(), -1);
+  MinQueue queue;
+  const auto perimeter = perimeter_cells(rect.size);
+  for (std::size_t k = 0; k < perimeter.size(); ++k) {
+    const auto c = static_cast<std::size_t>(perimeter[k]);
+    f.level[c] = z[c];
+    f.label[c] = static_cast<std::int32_t>(k);
+    f.graph.perimeter.push_back(z[c]);
+    queue.push({z[c], static_cast<std::int64_t>(c)});
+  }
+  // The lowest spill level between each pair of labels met.
+  std::map<std::pair<std::int32_t, std::int32_t>, float> edges;
+  // Cells raised to their flooder's level go through a plain queue, ahead of the priority queue (the pit queue of
+  // Barnes, Lehman and Mulla 2014, Priority-Flood): the same levels, far fewer heap operations.
+  std::deque<std::size_t> pit;
+  std::vector<std::uint8_t> done(z.size(), 0);
+  while (!queue.empty() || !pit.empty()) {
+    std::size_t c;
+    if (!pit.empty()) {
+      c = pit.front();
+      pit.pop_front();
+    } else {
+      c = static_cast<std::size_t>(queue.top().index);
+      queue.pop();
+    }
+    if (done[c]) continue;
+    done[c] = 1;
+    const int i = static_cast<int>(c % static_cast<std::size_t>(w)),
+              j = static_cast<int>(c / static_cast<std::size_t>(w));
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di) {
+        const int x = i + di, y = j + dj;
+        if ((di == 0 && dj == 0) || x < 0 || y < 0 || x >= w || y >= h) continue;
+        const auto n = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
+        if (f.label[n] < 0) {
+          f.label[n] = f.label[c];
+          f.level[n] = std::max(z[n], f.level[c]);
+          if (f.level[n] == f.level[c])
+            pit.push_back(n);
+          else
+            queue.push({f.level[n], static_cast<std::int64_t>(n)});
+        } else if (f.label[n] != f.label[c]) {
+          const auto key = std::minmax(f.label[c], f.label[n]);
+          const float level = std::max(f.level[c], f.level[n]);
+          auto [it, fresh] = edges.emplace(key, level);
+          if (!fresh) it->second = std::min(it->second, level);
+        }
+      }
+  }
+  for (const auto& [pair, level] : edges) f.graph.edges.push_back({pair.first, pair.second, level});
+  return f;
+}
+
+std::vector<std::vector<float>> solve_spill_graphs(const std::vector<TileSpillGraph>& tiles, glm::ivec2 domain_size) {
+  // Nodes: every perimeter cell of every tile, numbered tile by tile.
+  std::vector<std::int64_t> offset(tiles.size() + 1, 0);
+  for (std::size_t t = 0; t < tiles.size(); ++t) {
+    const TileRect& r = tiles[t].rect;
+    if (r.first.x < 0 || r.first.y < 0 || r.first.x + r.size.x > domain_size.x || r.first.y + r.size.y > domain_size.y)
+      throw std::invalid_argument("solve_spill_graphs: a tile lies outside the domain");
+    if (tiles[t].perimeter.size() != perimeter_cells(r.size).size())
+      throw std::invalid_argument("solve_spill_graphs: a tile's perimeter does not match its size");
+    offset[t + 1] = offset[t] + static_cast<std::int64_t>(tiles[t].perimeter.size());
+  }
+  struct Link {
+    std::int64_t to;
+    float level;
+  };
+  std::vector<std::vector<Link>> links(static_cast<std::size_t>(offset.back()));
+  const auto link = [&](std::int64_t a, std::int64_t b, float level) {
+    links[static_cast<std::size_t>(a)].push_back({b, level});
+    links[static_cast<std::size_t>(b)].push_back({a, level});
+  };
+  std::vector<float> level(links.size(), std::numeric_limits<float>::infinity());
+  MinQueue queue;
+  // A sample on several tiles' perimeters: the first node seen at it, then its height.
+  std::unordered_map<std::int64_t, std::pair<std::int64_t, float>> shared;
+  for (std::size_t t = 0; t < tiles.size(); ++t) {
+    const TileSpillGraph& g = tiles[t];
+    const auto cells = perimeter_cells(g.rect.size);
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+      const std::int64_t node = offset[t] + static_cast<std::int64_t>(k);
+      const int gx = g.rect.first.x + cells[k] % g.rect.size.x, gy = g.rect.first.y + cells[k] / g.rect.size.x;
+      const float z = g.perimeter[k];
+      if (gx == 0 || gy == 0 || gx == domain_size.x - 1 || gy == domain_size.y - 1) {
+        // The domain's border drains at its own height.
+        level[static_cast<std::size_t>(node)] = z;
+        queue.push({z, node});
+      }
+      const std::int64_t sample = static_cast<std::int64_t>(gy) * domain_size.x + gx;
+      auto [it, fresh] = shared.emplace(sample, std::make_pair(node, z));
+      if (fresh) continue;
+      if (it->second.second != z)
+        throw std::invalid_argument("solve_spill_graphs: tiles disagree on the height of a shared sample");
+      link(it->second.first, node, z);
+    }
+    for (const SpillEdge& e : g.edges) {
+      if (e.a < 0 || e.b < 0 || e.a >= static_cast<std::int32_t>(cells.size()) ||
+          e.b >= static_cast<std::int32_t>(cells.size()))
+        throw std::invalid_argument("solve_spill_graphs: a spill edge names no perimeter cell");
+      link(offset[t] + e.a, offset[t] + e.b, e.level);
+    }
+  }
+  // Minimax Dijkstra: the lowest level at which water from each node reaches the border.
+  std::vector<std::uint8_t> done(links.size(), 0);
+  while (!queue.empty()) {
+    const Entry top = queue.top();
+    queue.pop();
+    const auto u = static_cast<std::size_t>(top.index);
+    if (done[u]) continue;
+    done[u] = 1;
+    for (const Link& l : links[u]) {
+      const float through = std::max(level[u], l.level);
+      if (through < level[static_cast<std::size_t>(l.to)]) {
+        level[static_cast<std::size_t>(l.to)] = through;
+        queue.push({through, l.to});
+      }
+    }
+  }
+  std::vector<std::vector<float>> out(tiles.size());
+  for (std::size_t t = 0; t < tiles.size(); ++t)
+    out[t].assign(level.begin() + offset[t], level.begin() + offset[t + 1]);
+  return out;
+}
+
+std::vector<float> apply_spill_levels(const TileFlood& flood, std::span<const float> spill_levels) {
+  if (spill_levels.size() != flood.graph.perimeter.size())
+    throw std::invalid_argument("apply_spill_levels: one level per perimeter cell expected");
+  std::vector<float> out(flood.level.size());
+  for (std::size_t c = 0; c < out.size(); ++c)
+    out[c] = std::max(flood.level[c], spill_levels[static_cast<std::size_t>(flood.label[c])]);
+  return out;
+}
+
+std::string encode(const TileSpillGraph& g) {
+  std::string out;
+  put(out, g.rect.first.x), put(out, g.rect.first.y), put(out, g.rect.size.x), put(out, g.rect.size.y);
+  put(out, static_cast<std::uint64_t>(g.perimeter.size()));
+  for (const float z : g.perimeter) put(out, z);
+  put(out, static_cast<std::uint64_t>(g.edges.size()));
+  for (const SpillEdge& e : g.edges) put(out, e.a), put(out, e.b), put(out, e.level);
+  return out;
+}
+
+TileSpillGraph decode_spill_graph(std::string_view in) {
+  TileSpillGraph g;
+  g.rect.first.x = take<int>(in), g.rect.first.y = take<int>(in);
+  g.rect.size.x = take<int>(in), g.rect.size.y = take<int>(in);
+  const auto n = take<std::uint64_t>(in);
+  if (n > in.size() / sizeof(float)) throw std::invalid_argument("spill graph: truncated bytes");
+  g.perimeter.resize(static_cast<std::size_t>(n));
+  for (float& z : g.perimeter) z = take<float>(in);
+  const auto m = take<std::uint64_t>(in);
+  if (m > in.size() / (2 * sizeof(std::int32_t) + sizeof(float)))
+    throw std::invalid_argument("spill graph: truncated bytes");
+  g.edges.resize(static_cast<std::size_t>(m));
+  for (SpillEdge& e : g.edges) e.a = take<std::int32_t>(in), e.b = take<std::int32_t>(in), e.level = take<float>(in);
+  if (!in.empty()) throw std::invalid_argument("spill graph: trailing bytes");
+  return g;
+}
+
+}  // namespace orogen::hydrology

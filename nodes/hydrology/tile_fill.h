@@ -1,0 +1,75 @@
+#pragma once
+// Depression filling across tiles, exact (R. Barnes 2016, "Parallel priority-flood depression filling for
+// trillion cell digital elevation models", Computers & Geosciences 96): the building block of FillDepressions'
+// tile-graph distribution (graph/distribution.h, docs/distributed.md).
+//
+//  1. Each tile floods itself from its own perimeter (flood_tile): every perimeter cell seeds a watershed label,
+//     every cell gets the level it fills to if the tile's perimeter were the outlet, and where two watersheds
+//     meet the spill edge between their labels records the level water crosses at (the lower of the two cells'
+//     levels raised to the higher). What leaves the tile is its TileSpillGraph: the perimeter heights and the
+//     spill edges, O(perimeter) in size, never the tile.
+//  2. The spill graphs of all tiles are solved once (solve_spill_graphs): a tile's perimeter cells that are the
+//     domain's border drain at their own height; a sample shared by neighbouring tiles (tiles share their border
+//     samples, cli/tiling.h) joins their labels at its height; the spill level of every label is the lowest level
+//     over all paths to the border of the highest edge on the path (a minimax Dijkstra from the border).
+//  3. Each tile raises every cell to max(its own level, its label's spill level) (apply_spill_levels).
+//
+// In Flat mode the result is the whole-domain Priority-Flood's bit for bit (both are the minimax level over
+// paths to the border; no arithmetic happens on the heights), for any tiling. Every 8-neighbour pair of cells
+// lies inside one tile because tiles share their borders, so no link crosses between tiles but shared samples.
+// Heights must be finite.
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+namespace orogen::hydrology {
+
+// A tile of a domain: its first sample and sample counts in the domain.
+struct TileRect {
+  glm::ivec2 first{0, 0};
+  glm::ivec2 size{1, 1};
+};
+
+struct SpillEdge {
+  std::int32_t a = 0, b = 0;  // labels: indices of perimeter cells of the tile (perimeter order)
+  float level = 0.0f;
+};
+
+// What a tile sends to the solve.
+struct TileSpillGraph {
+  TileRect rect;
+  std::vector<float> perimeter;  // heights of the tile's perimeter cells, in perimeter order
+  std::vector<SpillEdge> edges;  // between labels, at most one per pair (the lowest)
+};
+
+// The tile's perimeter cells (i == 0, j == 0, i == w-1 or j == h-1), as tile cell indices in row-major order:
+// the perimeter order that labels refer to.
+std::vector<std::int32_t> perimeter_cells(glm::ivec2 size);
+
+struct TileFlood {
+  std::vector<float> level;         // per tile cell: filled with the tile's perimeter as the outlet
+  std::vector<std::int32_t> label;  // per tile cell: the perimeter cell it floods from
+  TileSpillGraph graph;
+};
+
+// Phase 1: `z` holds the tile's heights (rect.size, row-major).
+TileFlood flood_tile(std::span<const float> z, const TileRect& rect);
+
+// Phase 2: the spill level of every perimeter cell of every tile (indexed like `tiles`, then perimeter order), for
+// a domain of `domain_size` samples that the tiles cover. Throws std::invalid_argument if a tile lies outside the
+// domain or the tiles' shared samples disagree in height.
+std::vector<std::vector<float>> solve_spill_graphs(const std::vector<TileSpillGraph>& tiles, glm::ivec2 domain_size);
+
+// Phase 3: the filled heights of the tile, row-major.
+std::vector<float> apply_spill_levels(const TileFlood& flood, std::span<const float> spill_levels);
+
+// A spill graph as bytes and back (what ranks exchange; graph/rank_group.h). decode throws std::invalid_argument
+// on malformed bytes.
+std::string encode(const TileSpillGraph& graph);
+TileSpillGraph decode_spill_graph(std::string_view bytes);
+
+}  // namespace orogen::hydrology

@@ -1,0 +1,404 @@
+// End-to-end tests of distributed builds (docs/distributed.md): `mpirun -n R orogen eval G --tiles NxM` spreads
+// the tiles over R ranks and must write, for any R, exactly the files of the single-process tiled build, whose
+// rasters are in turn the windows of the untiled build. Skipped, with a message, when orogen was built without
+// MPI (OROGEN_MPI off). The launcher is run with the environment that lets Open MPI run as root (CI) and place
+// more ranks than cores.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <glm/vec2.hpp>
+
+#include "nodes/io/heightfield_file.h"
+#include "support/run_process.h"
+#include "support/test_paths.h"
+
+namespace orogen::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kMpiexec = OROGEN_MPIEXEC;  // empty: built without MPI
+
+#define SKIP_WITHOUT_MPI() \
+  if (kMpiexec.empty()) GTEST_SKIP() << "orogen was built without MPI (OROGEN_MPI off): distributed builds untested"
+
+ProcessResult orogen(const std::vector<std::string>& args) { return run_process(cli_binary(), args); }
+
+// Open MPI refuses root without these, and more ranks than cores; MPICH ignores them.
+void allow_launcher() {
+  ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+  ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+  ::setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 1);
+}
+
+ProcessResult mpirun(int ranks, const std::vector<std::string>& args) {
+  allow_launcher();
+  std::vector<std::string> all = {"-n", std::to_string(ranks), cli_binary().string()};
+  all.insert(all.end(), args.begin(), args.end());
+  return run_process(kMpiexec, all);
+}
+
+std::string file_bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// Every file under `dir`, by relative path.
+std::map<std::string, std::string> files_under(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& f : fs::recursive_directory_iterator(dir))
+    if (f.is_regular_file()) files[fs::relative(f.path(), dir).generic_string()] = file_bytes(f.path());
+  return files;
+}
+
+// Tile I of N over W samples starts at floor(I (W-1) / N) (cli/tiling.h).
+int edge(int t, int samples, int tiles) { return t * (samples - 1) / tiles; }
+
+// A whole raster, south row first: at(i, j) with j growing northwards (+y).
+struct Raster {
+  int width = 0, height = 0;
+  std::vector<float> values;
+  float at(int i, int j) const { return values[static_cast<std::size_t>(j) * width + i]; }
+  float& at(int i, int j) { return values[static_cast<std::size_t>(j) * width + i]; }
+};
+
+Raster read_raster(const fs::path& file) {
+  const auto raw = read_height_raster(file);
+  Raster r{raw.width, raw.height, std::vector<float>(raw.values.size())};
+  for (int j = 0; j < r.height; ++j)  // files store the northern row first
+    for (int i = 0; i < r.width; ++i)
+      r.at(i, j) = static_cast<float>(raw.values[static_cast<std::size_t>(r.height - 1 - j) * r.width + i]);
+  return r;
+}
+
+// The tiles "<stem>_xI_yJ<ext>" of `dir` put together into one raster of `size` samples.
+Raster stitch(const fs::path& dir, const std::string& stem, const std::string& ext, glm::ivec2 counts,
+              glm::ivec2 size) {
+  Raster whole{size.x, size.y, std::vector<float>(static_cast<std::size_t>(size.x) * size.y, NAN)};
+  for (int tj = 0; tj < counts.y; ++tj)
+    for (int ti = 0; ti < counts.x; ++ti) {
+      const Raster t = read_raster(dir / (stem + "_x" + std::to_string(ti) + "_y" + std::to_string(tj) + ext));
+      const int i0 = edge(ti, size.x, counts.x), j0 = edge(tj, size.y, counts.y);
+      EXPECT_EQ(t.width, edge(ti + 1, size.x, counts.x) - i0 + 1);
+      EXPECT_EQ(t.height, edge(tj + 1, size.y, counts.y) - j0 + 1);
+      for (int j = 0; j < t.height; ++j)
+        for (int i = 0; i < t.width; ++i) whole.at(i0 + i, j0 + j) = t.at(i, j);
+    }
+  return whole;
+}
+
+bool same_bits(const Raster& a, const Raster& b) {
+  return a.width == b.width && a.height == b.height &&
+         std::memcmp(a.values.data(), b.values.data(), a.values.size() * sizeof(float)) == 0;
+}
+
+struct Job {
+  const char* graph;  // under graphs/
+  int resolution;
+  glm::ivec2 tiles;
+  int ranks;
+};
+
+std::string tiles_text(glm::ivec2 t) { return std::to_string(t.x) + "x" + std::to_string(t.y); }
+
+// The outputs of `graph` at `resolution`: untiled in one process, and per tiling in one process (cached).
+struct SingleProcess {
+  fs::path untiled;
+  std::map<std::string, fs::path> tiled;  // by "NxM"
+};
+
+const fs::path& single_process_build(const Job& job) {
+  static std::map<std::string, fs::path> built;
+  const std::string key = std::string(job.graph) + "@" + std::to_string(job.resolution) + "/" + tiles_text(job.tiles);
+  if (auto it = built.find(key); it != built.end()) return it->second;
+  const fs::path dir = scratch_dir("distributed-single");
+  std::vector<std::string> args = {"eval",         (source_dir() / "graphs" / job.graph).string(),
+                                   "-o",           dir.string(),
+                                   "--resolution", std::to_string(job.resolution),
+                                   "--quiet"};
+  if (job.tiles != glm::ivec2(0)) args.insert(args.end(), {"--tiles", tiles_text(job.tiles)});
+  const auto r = orogen(args);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return built[key] = dir;
+}
+
+// Runs `job` on its ranks and checks its files equal the single-process tiled build's, byte for byte.
+fs::path run_distributed(const Job& job) {
+  const fs::path dir = scratch_dir("distributed-mpi");
+  const auto r = mpirun(job.ranks, {"eval", (source_dir() / "graphs" / job.graph).string(), "-o", dir.string(),
+                                    "--resolution", std::to_string(job.resolution), "--tiles", tiles_text(job.tiles)});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  const auto mine = files_under(dir), single = files_under(single_process_build(job));
+  EXPECT_EQ(mine.size(), single.size());
+  std::size_t differing = 0;
+  for (const auto& [name, bytes] : single) {
+    const auto it = mine.find(name);
+    if (it == mine.end() || it->second != bytes) {
+      ++differing;
+      ADD_FAILURE() << name << (it == mine.end() ? " missing" : " differs");
+    }
+  }
+  EXPECT_EQ(differing, 0u);
+  return dir;
+}
+
+TEST(Distributed, RankGroupCollectivesOnTwoThreeAndFourRanks) {
+  SKIP_WITHOUT_MPI();
+  for (int ranks : {2, 3, 4}) {
+    allow_launcher();
+    const auto r = run_process(kMpiexec, {"-n", std::to_string(ranks), OROGEN_RANK_GROUP_CHECK});
+    EXPECT_EQ(r.exit_code, 0) << ranks << " ranks: " << r.err;
+  }
+}
+
+TEST(Distributed, AnyRankCountWritesTheSingleProcessTilesAndTheyJoinIntoTheUntiledBuild) {
+  SKIP_WITHOUT_MPI();
+  const std::vector<Job> jobs = {
+      {"distributed_hydrology.json", 129, {1, 1}, 1},
+      {"distributed_hydrology.json", 129, {2, 2}, 1},
+      {"distributed_hydrology.json", 129, {2, 2}, 2},
+      {"distributed_hydrology.json", 129, {2, 2}, 3},
+      {"distributed_hydrology.json", 129, {2, 2}, 4},
+      {"distributed_hydrology.json", 129, {3, 2}, 4},
+      {"distributed_hydrology.json", 129, {4, 3}, 3},
+      {"hydrology.json", 129, {3, 2}, 2},
+      {"hydrology.json", 129, {2, 2}, 4},
+      {"terrain.json", 129, {3, 2}, 3},
+  };
+  for (const Job& job : jobs) {
+    SCOPED_TRACE(std::string(job.graph) + " " + tiles_text(job.tiles) + " on " + std::to_string(job.ranks) + " ranks");
+    const fs::path dir = run_distributed(job);
+    // Every float raster of the untiled build, put together from the tiles, bit for bit.
+    const fs::path& untiled = single_process_build({job.graph, job.resolution, {0, 0}, 1});
+    std::size_t compared = 0;
+    for (const auto& f : fs::recursive_directory_iterator(untiled)) {
+      if (f.path().extension() != ".exr" && f.path().extension() != ".tif") continue;
+      if (read_height_raster(f.path()).channels != 1) continue;
+      const auto rel = fs::relative(f.path(), untiled);
+      const Raster whole = read_raster(f.path());
+      const Raster joined = stitch(dir, (rel.parent_path() / rel.stem()).generic_string(), rel.extension().string(),
+                                   job.tiles, {whole.width, whole.height});
+      EXPECT_TRUE(same_bits(whole, joined)) << rel.generic_string();
+      ++compared;
+    }
+    EXPECT_GT(compared, 0u);
+  }
+}
+
+TEST(Distributed, OneRankWithoutTilesIsThePlainBuild) {
+  SKIP_WITHOUT_MPI();
+  const fs::path dir = scratch_dir("distributed-one");
+  const auto r = mpirun(1, {"eval", (source_dir() / "graphs" / "distributed_hydrology.json").string(), "-o",
+                            dir.string(), "--resolution", "129"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(files_under(dir), files_under(single_process_build({"distributed_hydrology.json", 129, {0, 0}, 1})));
+}
+
+// The test graph's shapes, checked on the joined tiles of a 3x2 build on 4 ranks: one lake across three tiles,
+// an exactly flat plateau on the corner of four tiles of 2x2; no undrained cell after filling (either mode); D8
+// accumulation at every outlet equal to the area whose D8 paths end there.
+TEST(Distributed, HydrologyAcrossTilesDrainsEveryCellAndConservesArea) {
+  SKIP_WITHOUT_MPI();
+  const int n = 129;
+  const glm::ivec2 tiles{3, 2};
+  const fs::path dir = run_distributed({"distributed_hydrology.json", n, tiles, 4}) / "distributed_hydrology";
+  const auto joined = [&](const std::string& name) { return stitch(dir, name, ".tif", tiles, {n, n}); };
+  const Raster height = joined("height"), depth = joined("depth"), direction = joined("direction");
+  const Raster flow = joined("flow_d8");
+
+  // The lake: depth > 0 in each of the three lower tiles of 3x2, connected through lake cells.
+  {
+    std::vector<char> seen(depth.values.size(), 0);
+    int start = -1;
+    for (int i = 0; i < n && start < 0; ++i)
+      if (depth.at(i, n / 4) > 0.0f) start = n / 4 * n + i;
+    ASSERT_GE(start, 0) << "no lake along y = 1/4";
+    std::deque<int> queue{start};
+    seen[static_cast<std::size_t>(start)] = 1;
+    std::array<bool, 3> tiles_reached{};
+    while (!queue.empty()) {
+      const int c = queue.front();
+      queue.pop_front();
+      const int i = c % n, j = c / n;
+      if (j < edge(1, n, 2)) tiles_reached[static_cast<std::size_t>(std::min(2, i * 3 / (n - 1)))] = true;
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+          const int x = i + di, y = j + dj;
+          if (x < 0 || y < 0 || x >= n || y >= n || seen[static_cast<std::size_t>(y * n + x)] || !(depth.at(x, y) > 0))
+            continue;
+          seen[static_cast<std::size_t>(y * n + x)] = 1;
+          queue.push_back(y * n + x);
+        }
+    }
+    EXPECT_TRUE(tiles_reached[0] && tiles_reached[1] && tiles_reached[2]) << "the lake must span three tiles";
+  }
+  // The plateau: exactly 110 m on both sides of the 2x2 tile borders at the centre.
+  const int c = edge(1, n, 2);
+  for (const auto& [di, dj] : {std::pair{-2, -2}, {2, -2}, {-2, 2}, {2, 2}})
+    EXPECT_EQ(height.at(c + di, c + dj), 110.0f);
+
+  // Drained: from the border, climbing (never descending) reaches every cell of the filled terrain.
+  for (const char* name : {"filled", "filled_flat"}) {
+    const Raster filled = joined(name);
+    std::vector<char> reached(filled.values.size(), 0);
+    std::deque<int> queue;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        if (i == 0 || j == 0 || i == n - 1 || j == n - 1)
+          reached[static_cast<std::size_t>(j * n + i)] = 1, queue.push_back(j * n + i);
+    while (!queue.empty()) {
+      const int k = queue.front();
+      queue.pop_front();
+      const int i = k % n, j = k / n;
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+          const int x = i + di, y = j + dj;
+          if (x < 0 || y < 0 || x >= n || y >= n || reached[static_cast<std::size_t>(y * n + x)] ||
+              filled.at(x, y) < filled.at(i, j))
+            continue;
+          reached[static_cast<std::size_t>(y * n + x)] = 1;
+          queue.push_back(y * n + x);
+        }
+    }
+    EXPECT_EQ(std::count(reached.begin(), reached.end(), 0), 0) << name << ": undrained cells";
+  }
+
+  // Area: follow each cell's D8 direction to its outlet (-1: nothing drains on, the border); the accumulation
+  // there is the number of cells that end there times one cell's area (the smallest accumulation).
+  const float cell_area = *std::min_element(flow.values.begin(), flow.values.end());
+  std::vector<long long> draining(flow.values.size(), 0);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      int x = i, y = j;
+      for (int steps = 0; direction.at(x, y) >= 0.0f; ++steps) {
+        ASSERT_LT(steps, n * n) << "a D8 path loops";
+        const double a = direction.at(x, y) * std::numbers::pi / 180.0;
+        x += static_cast<int>(std::lround(std::cos(a))), y += static_cast<int>(std::lround(std::sin(a)));
+        ASSERT_TRUE(x >= 0 && y >= 0 && x < n && y < n);
+      }
+      ++draining[static_cast<std::size_t>(y * n + x)];
+    }
+  long long outlets = 0, total = 0;
+  for (std::size_t k = 0; k < draining.size(); ++k) {
+    if (draining[k] == 0) continue;
+    ++outlets;
+    total += draining[k];
+    EXPECT_NEAR(flow.values[k] / cell_area, static_cast<double>(draining[k]), 1e-4 * draining[k])
+        << "outlet " << k % n << "," << k / n;
+  }
+  EXPECT_EQ(total, static_cast<long long>(n) * n);
+  EXPECT_GT(outlets, 4);
+}
+
+TEST(Distributed, TheMosaicOpensInGdalAsTheUntiledRaster) {
+  SKIP_WITHOUT_MPI();
+  const fs::path gdal_translate = "/usr/bin/gdal_translate";
+  if (!fs::exists(gdal_translate)) GTEST_SKIP() << "gdal-bin is not installed";
+  const fs::path dir = run_distributed({"distributed_hydrology.json", 129, {4, 3}, 3});
+  const fs::path& untiled = single_process_build({"distributed_hydrology.json", 129, {0, 0}, 1});
+  for (const char* name : {"height", "flow_mfd", "watersheds"}) {
+    SCOPED_TRACE(name);
+    const fs::path vrt = dir / "distributed_hydrology" / (std::string(name) + ".vrt");
+    ASSERT_TRUE(fs::exists(vrt));
+    const fs::path whole = dir / (std::string(name) + "_from_vrt.tif");
+    const auto r = run_process(gdal_translate, {"-q", vrt.string(), whole.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(
+        same_bits(read_raster(whole), read_raster(untiled / "distributed_hydrology" / (std::string(name) + ".tif"))));
+  }
+}
+
+TEST(Distributed, BadRankCountsAreRefusedBeforeAnythingRuns) {
+  SKIP_WITHOUT_MPI();
+  const std::string graph = (source_dir() / "graphs" / "distributed_hydrology.json").string();
+  const fs::path dir = scratch_dir("distributed-bad");
+  auto r = mpirun(4, {"eval", graph, "-o", dir.string(), "--resolution", "129", "--tiles", "1x2"});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("has only 2 tiles, so 2 ranks would have none"), std::string::npos) << r.err;
+  r = mpirun(2, {"eval", graph, "-o", dir.string(), "--resolution", "129"});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("add --tiles NxM"), std::string::npos) << r.err;
+  r = mpirun(2, {"eval", graph, "-o", dir.string(), "--resolution", "129", "--tiles", "2x2", "--tile", "0,0"});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--tile builds one tile in one process"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "distributed_hydrology"));
+}
+
+TEST(Distributed, AFailingRankStopsTheJobNamingRankTileAndNode) {
+  SKIP_WITHOUT_MPI();
+  const fs::path dir = scratch_dir("distributed-fail");
+  // A directory where tile 2,1's height file goes: its writer fails on rank 2 of 3 (tiles 4 and 5).
+  fs::create_directories(dir / "distributed_hydrology" / "height_x2_y1.tif");
+  const auto r = mpirun(3, {"eval", (source_dir() / "graphs" / "distributed_hydrology.json").string(), "-o",
+                            dir.string(), "--resolution", "129", "--tiles", "3x2", "-q"});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("rank 2: tile 2,1"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("node 'save_height' failed"), std::string::npos) << r.err;
+}
+
+TEST(Distributed, ARerunWithTheSameCacheRecomputesOnlyTheUnfinishedTiles) {
+  SKIP_WITHOUT_MPI();
+  const fs::path dir = scratch_dir("distributed-rerun");
+  const fs::path blocker = dir / "out" / "distributed_hydrology" / "height_x2_y1.tif";
+  fs::create_directories(blocker);
+  const std::vector<std::string> args = {"eval",
+                                         (source_dir() / "graphs" / "distributed_hydrology.json").string(),
+                                         "-o",
+                                         (dir / "out").string(),
+                                         "--resolution",
+                                         "129",
+                                         "--tiles",
+                                         "3x2",
+                                         "--cache-dir",
+                                         (dir / "cache").string(),
+                                         "--stats",
+                                         (dir / "stats.json").string(),
+                                         "-q"};
+  ASSERT_EQ(mpirun(3, args).exit_code, 1);
+  // The tiles that finished before the job stopped wrote their stats (the failed one's and the stopped ones' too).
+  const auto statuses = [&](const std::string& name) {
+    std::map<std::string, std::string> s;
+    const auto doc = nlohmann::json::parse(file_bytes(dir / name));
+    for (const auto& [id, node] : doc["nodes"].items()) s[id] = node["status"].get<std::string>();
+    return s;
+  };
+  std::vector<std::string> finished;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const auto name = "stats_x" + std::to_string(i) + "_y" + std::to_string(j) + ".json";
+      if (!fs::exists(dir / name)) continue;
+      const auto s = statuses(name);
+      const bool failed = std::any_of(s.begin(), s.end(), [](const auto& e) { return e.second == "failed"; });
+      EXPECT_EQ(failed, name == "stats_x2_y1.json") << name;
+      // Tiles stopped by the job's end show their unfinished nodes as cancelled.
+      if (std::all_of(s.begin(), s.end(), [](const auto& e) { return e.second == "computed" || e.second == "cached"; }))
+        finished.push_back(name);
+    }
+  EXPECT_FALSE(finished.empty());
+  fs::remove(blocker);
+  const auto r = mpirun(3, args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto computed = [&](const std::string& name) {
+    std::string ids;
+    for (const auto& [id, status] : statuses(name))
+      if (status == "computed") ids += (ids.empty() ? "" : ", ") + id;
+    return ids;
+  };
+  for (const auto& name : finished) EXPECT_EQ(computed(name), "") << name << " was finished, and cached";
+  EXPECT_NE(computed("stats_x2_y1.json").find("save_height"), std::string::npos) << "the failed tile writes now";
+}
+
+}  // namespace
+}  // namespace orogen::test
