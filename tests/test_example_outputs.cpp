@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <OpenImageIO/imageio.h>
+#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
 #include "support/run_process.h"
@@ -53,6 +55,7 @@ class ExampleOutputs : public ::testing::Test {
     return files;
   }
   static const std::map<std::string, ProcessResult>& results() { return *results_; }
+  static fs::path output_dir(const std::string& graph) { return *root_ / graph; }
 
  private:
   static inline fs::path* root_ = nullptr;
@@ -191,6 +194,67 @@ TEST_F(ExampleOutputs, EveryInstanceStandsOnTheTerrainMeshOfItsScene) {
     EXPECT_EQ(outside, 0u) << name << ": instances outside the terrain mesh";
   }
   EXPECT_GE(scenes, 5);  // forest, game_world, rural_resources, seamscape, voronoi_island, ...
+}
+
+// --- splat weights ---------------------------------------------------------------------------------------------
+
+// The files each SplatWeights node's weights were written to, grouped so that one group holds every layer once:
+// its `out` (one channel per layer), or its `splat0` and `splat1` (four layers each).
+std::vector<std::vector<fs::path>> splat_groups(const fs::path& graph_file, const fs::path& output_dir) {
+  const auto graph = nlohmann::json::parse(read_text(graph_file));
+  std::map<std::string, std::string> splat_nodes;  // id -> type
+  for (const auto& n : graph["nodes"])
+    if (n.value("type", "") == "SplatWeights") splat_nodes[n["id"]] = "";
+  std::map<std::string, std::vector<fs::path>> groups;
+  for (const auto& n : graph["nodes"]) {
+    const std::string type = n.value("type", "");
+    if (type != "WriteImage" || !n.contains("inputs") || !n["inputs"].contains("in")) continue;
+    const std::string link = n["inputs"]["in"];
+    const auto dot = link.find('.');
+    const std::string node = link.substr(0, dot), port = link.substr(dot + 1);
+    if (!splat_nodes.count(node)) continue;
+    const std::string path = n["params"].value("path", "image.png");
+    groups[node + (port == "out" ? ".out" : ".splat")].push_back(output_dir / path);
+  }
+  std::vector<std::vector<fs::path>> out;
+  for (auto& [key, files] : groups) out.push_back(files);
+  return out;
+}
+
+TEST_F(ExampleOutputs, EverySplatImagesWeightsSumToOnePerPixel) {
+  int checked = 0;
+  for (const auto& entry : fs::directory_iterator(source_dir() / "graphs")) {
+    if (entry.path().extension() != ".json") continue;
+    const std::string name = entry.path().stem().string();
+    if (results().at(name).exit_code != 0) continue;
+    for (const auto& files : splat_groups(entry.path(), output_dir(name))) {
+      SCOPED_TRACE(name + ": " + files.front().filename().string());
+      std::vector<double> sum;
+      double one = 1.0, rounding = 1e-5;
+      int channels = 0;
+      for (const auto& file : files) {
+        OIIO::ImageSpec config;
+        config.attribute("oiio:UnassociatedAlpha", 1);  // the weights as stored: no premultiplication by alpha
+        auto in = OIIO::ImageInput::open(file.string(), &config);
+        ASSERT_TRUE(in) << file << ": " << OIIO::geterror();
+        const OIIO::ImageSpec& spec = in->spec();
+        std::vector<float> px(static_cast<std::size_t>(spec.width) * spec.height * spec.nchannels);
+        // Normalized: 8-bit 255 and 16-bit 65535 read as 1.0 with no transfer curve applied.
+        ASSERT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()));
+        if (spec.format == OIIO::TypeDesc::UINT8) one = 255.0, rounding = 0.5;
+        if (spec.format == OIIO::TypeDesc::UINT16) one = 65535.0, rounding = 0.5;
+        sum.resize(static_cast<std::size_t>(spec.width) * spec.height, 0.0);
+        for (std::size_t k = 0; k < sum.size(); ++k)
+          for (int c = 0; c < spec.nchannels; ++c) sum[k] += std::round(px[k * spec.nchannels + c] * one * 1e6) / 1e6;
+        channels += spec.nchannels;
+      }
+      double worst = 0.0;
+      for (double v : sum) worst = std::max(worst, std::abs(v - one));
+      EXPECT_LE(worst, rounding * channels) << "weights sum to " << one << " +- " << worst;
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 3);  // forest's splat.png, textured_terrain's splat0+splat1 and weights.exr
 }
 
 }  // namespace

@@ -580,9 +580,29 @@ TEST(ImageFile, SrgbTransferCurve) {
   for (double v = 0; v <= 1.0; v += 0.01) EXPECT_NEAR(srgb_to_linear(linear_to_srgb(v)), v, 1e-12);
 }
 
-TEST_F(IoTest, WriteImagePng8EncodesSrgbAndKeepsAlphaLinear) {
+// Weights, masks and ids are data: stored as their values whatever `srgb` says (splat weights sum to 255).
+TEST_F(IoTest, WriteImagePng8StoresDataImagesLinear) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {23, 11});
   const auto img = test_image(d, 4);
+  ASSERT_FALSE(img->color);
+  const auto files = run_writer("WriteImage", {{"path", std::string("img/weights.png")}}, {{"in", img}}, policy_);
+  ASSERT_EQ(files.size(), 1u);
+  int w = 0, h = 0, n = 0;
+  const auto px = read_pixels<std::uint8_t>(files[0], OIIO::TypeDesc::UINT8, w, h, n);
+  ASSERT_EQ(n, 4);
+  for (int r = 0; r < h; ++r)
+    for (int i = 0; i < w; ++i)
+      for (int c = 0; c < 4; ++c) {
+        const double v = std::clamp(img->pixel(i, h - 1 - r)[c], 0.0f, 1.0f);
+        ASSERT_EQ(px[static_cast<std::size_t>((r * w + i) * 4 + c)], std::lround(v * 255)) << i << "," << r;
+      }
+}
+
+TEST_F(IoTest, WriteImagePng8EncodesSrgbAndKeepsAlphaLinear) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {23, 11});
+  auto color = std::make_shared<Image>(*test_image(d, 4));
+  color->color = true;
+  const ImagePtr img = color;
   const auto files = run_writer("WriteImage", {{"path", std::string("img/colour.png")}}, {{"in", img}}, policy_);
   ASSERT_EQ(files.size(), 1u);
   int w = 0, h = 0, n = 0;
