@@ -59,6 +59,8 @@ int run_eval(const EvalCommand& cmd) {
     std::cerr << cmd.graph_file.string() << ": invalid graph\n" << loaded.error_text();
     return kExitInvalid;
   }
+  if (!cmd.quiet)
+    for (const auto& w : loaded.warnings) std::cerr << "warning: " << w.str() << "\n";
   Graph graph = std::move(*loaded.graph);
 
   std::vector<std::string> errors = apply_param_overrides(graph, cmd.set);
@@ -273,14 +275,16 @@ int run_validate(const ValidateCommand& cmd) {
     return kExitInvalid;
   }
   const FileCheck files = check_files(*loaded.graph, OutputPolicy{cmd.output_dir, cmd.allow_any_path});
+  for (const auto& w : loaded.warnings) std::cerr << "warning: " << w.str() << "\n";
   for (const auto& w : files.warnings) std::cerr << "warning: " << w << "\n";
   if (!files.errors.empty()) {
     std::cerr << cmd.graph_file.string() << ": invalid graph\n";
     for (const auto& e : files.errors) std::cerr << "error: " << e << "\n";
     return kExitInvalid;
   }
+  const std::size_t warnings = loaded.warnings.size() + files.warnings.size();
   std::cout << cmd.graph_file.string() << ": valid (" << loaded.graph->nodes().size() << " nodes"
-            << (files.warnings.empty() ? "" : ", " + std::to_string(files.warnings.size()) + " warning(s)") << ")\n";
+            << (warnings == 0 ? "" : ", " + std::to_string(warnings) + " warning(s)") << ")\n";
   return kExitOk;
 }
 
