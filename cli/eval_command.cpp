@@ -11,6 +11,7 @@
 #include "cli/graph_overrides.h"
 #include "cli/progress_display.h"
 #include "cli/stats_report.h"
+#include "cli/tile_naming.h"
 #include "cli/tiling.h"
 #include "evaluator/evaluator.h"
 #include "evaluator/memory_estimate.h"
@@ -86,13 +87,18 @@ int run_eval(const EvalCommand& cmd) {
   glm::ivec2 counts{1, 1};
   std::optional<glm::ivec2> only_tile;
   bool tiled = false;
+  const auto naming = parse_tile_naming(cmd.tile_naming);
+  if (!naming) errors.push_back("--tile-naming '" + cmd.tile_naming + "': expected 'orogen' or 'unreal'");
+  const TileNaming tile_naming = naming.value_or(TileNaming::Orogen);
+  if (cmd.tiles.empty() && naming && *naming != TileNaming::Orogen)
+    errors.push_back("--tile-naming " + cmd.tile_naming + " needs --tiles NxM: it names the files of a tiled build");
   if (!cmd.tiles.empty()) {
     if (auto c = parse_tile_counts(cmd.tiles, why)) {
       counts = *c;
       tiled = true;
       if (!cmd.tile.empty()) {
         if (auto t = parse_tile_index(cmd.tile, counts, why))
-          only_tile = *t;
+          only_tile = named_tile_index(tile_naming, *t, counts);  // --tile names a tile as its files do
         else
           errors.push_back(why);
       }
@@ -146,7 +152,8 @@ int run_eval(const EvalCommand& cmd) {
       for (int j = 0; j < counts.y; ++j)
         for (int i = 0; i < counts.x; ++i)
           if (!only_tile || *only_tile == glm::ivec2(i, j))
-            builds.push_back({tile_window(domain.resolution, counts, {i, j}), tile_suffix({i, j})});
+            builds.push_back({tile_window(domain.resolution, counts, {i, j}),
+                              tile_suffix(named_tile_index(tile_naming, {i, j}, counts))});
     }
   }
   if (errors.empty() && max_memory > 0) {
@@ -203,8 +210,9 @@ int run_eval(const EvalCommand& cmd) {
       request.node_domains = tile_node_domains(tile_graph, domain, *build.tile, global);
       const Domain d =
           domain.subdomain(build.tile->first.x, build.tile->first.y, build.tile->size.x, build.tile->size.y);
-      label = "tile " + std::to_string(build.tile->index.x) + "," + std::to_string(build.tile->index.y) + " (" +
-              std::to_string(b + 1) + "/" + std::to_string(builds.size()) + ")";
+      const glm::ivec2 named = named_tile_index(tile_naming, build.tile->index, counts);
+      label = "tile " + std::to_string(named.x) + "," + std::to_string(named.y) + " (" + std::to_string(b + 1) + "/" +
+              std::to_string(builds.size()) + ")";
       if (!cmd.quiet) std::cerr << label << ": " << d.describe() << ", files *" << build.suffix << ".*\n";
     }
     ProgressDisplay display(stderr, tile_graph.nodes().size());

@@ -35,7 +35,11 @@ int main(int argc, char** argv) {
                        "samples in 4 tiles of 257)");
   eval_cmd->add_option("--tile", eval.tile,
                        "With --tiles: build only tile I,J (column I along x, row J along y, from 0 at the domain's "
-                       "minimum corner), e.g. one job of a batch system");
+                       "minimum corner, or as --tile-naming names them), e.g. one job of a batch system");
+  eval_cmd->add_option("--tile-naming", eval.tile_naming,
+                       "With --tiles, which tile is _x0_y0: 'orogen' (default) counts rows from the south (the "
+                       "world's y); 'unreal' makes _x0_y0 the top-left (north-west) tile and counts rows down, as "
+                       "Unreal Engine's tiled landscape import and World Machine name tiles");
   eval_cmd->add_option("--global-nodes", eval.global_nodes,
                        "With --tiles, how nodes that need the whole domain (reach global: erosion, flow, "
                        "normalization) are built: 'whole' (default) evaluates them once on the whole domain and "
