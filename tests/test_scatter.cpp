@@ -659,6 +659,8 @@ TEST(WriteScene, GpuInstancesLoadBackWithTheirTransforms) {
     const auto m = load_gltf(dir / file);
     ASSERT_EQ(m.scenes.size(), 1u);
     EXPECT_EQ(std::count(m.extensionsUsed.begin(), m.extensionsUsed.end(), "EXT_mesh_gpu_instancing"), 1);
+    // Required: a viewer without it must not show each class's mesh once at the origin (glTF's fallback).
+    EXPECT_EQ(std::count(m.extensionsRequired.begin(), m.extensionsRequired.end(), "EXT_mesh_gpu_instancing"), 1);
     int instanced_nodes = 0;
     std::size_t instances = 0;
     for (const auto& n : m.nodes) {

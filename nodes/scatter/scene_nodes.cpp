@@ -90,7 +90,10 @@ OROGEN_NODE(WriteScene) {
       .extensions({".gltf", ".glb"})
       .description("Output file, relative to the output directory; .glb binary or .gltf text");
   b.param_enum("instancing", {"gpu_instancing", "nodes"}, "gpu_instancing")
-      .description("gpu_instancing: one node per class with EXT_mesh_gpu_instancing; nodes: one node per instance");
+      .description(
+          "gpu_instancing: one node per class with EXT_mesh_gpu_instancing, marked required (game engines, "
+          "three.js, Babylon.js; a viewer without it refuses the file instead of drawing one mesh per class at "
+          "the origin); nodes: one node per instance (every viewer, Blender's importer too)");
   b.param_enum("ground", {"terrain_mesh", "keep"}, "terrain_mesh")
       .description(
           "terrain_mesh: each instance moves vertically with the written terrain mesh under it (by the mesh's "
