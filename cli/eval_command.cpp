@@ -127,7 +127,11 @@ int run_eval(const EvalCommand& cmd) {
     // Tiles write suffixed names; two writers collide in one tile exactly when they collide in every tile.
     Graph named = graph;
     if (tiled) add_output_suffix(named, tile_suffix({0, 0}));
-    for (auto& e : check_output_paths(named, policy)) errors.push_back(std::move(e));
+    // Output paths, and input files before anything is computed (as validate checks them).
+    const FileCheck files = check_files(named, policy);
+    for (auto& e : files.errors) errors.push_back(std::move(e));
+    if (!cmd.quiet)
+      for (const auto& w : files.warnings) std::cerr << "warning: " << w << "\n";
   }
   const auto cache_mb = parse_number(cmd.cache_mb, 0.0, 1e9);
   if (!cache_mb) errors.push_back("--cache-mb '" + cmd.cache_mb + "': expected a number of MiB from 0 to 1e9");

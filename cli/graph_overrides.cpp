@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "graph/graph_file.h"
+#include "graph/json_util.h"
 #include "graph/output_path.h"
 
 namespace orogen::cli {
@@ -27,13 +28,18 @@ std::vector<std::string> apply_param_overrides(Graph& graph, const std::vector<s
     const std::string node_id = a.substr(0, dot), name = a.substr(dot + 1, eq - dot - 1), text = a.substr(eq + 1);
     const Node* node = graph.find(node_id);
     if (!node) {
-      errors.push_back("--set '" + a + "': no node '" + node_id + "' in the graph");
+      std::vector<std::string> ids;
+      for (const auto& n : graph.nodes()) ids.push_back(n.id);
+      errors.push_back("--set '" + a + "': no node '" + node_id + "' in the graph" +
+                       json_util::suggestion(node_id, ids));
       continue;
     }
     const ParamDecl* decl = node->type->find_param(name);
     if (!decl) {
+      std::vector<std::string> names;
+      for (const auto& p : node->type->params) names.push_back(p.name);
       errors.push_back("--set '" + a + "': node '" + node_id + "' (" + node->type->name + ") has no parameter '" +
-                       name + "'");
+                       name + "'" + json_util::suggestion(name, names));
       continue;
     }
     std::string why;
