@@ -1,6 +1,8 @@
 // WriteHeightfield: a heightfield to EXR, PNG 16-bit, RAW 16-bit or TIFF, atomically.
 #include "graph/exec_context.h"
 #include "graph/registry.h"
+#include "graph/checked_file.h"
+#include "nodes/io/height_sidecar.h"
 #include "nodes/io/heightfield_file.h"
 #include "nodes/io/write_output.h"
 
@@ -14,7 +16,9 @@ OROGEN_NODE(WriteHeightfield) {
       "unsigned little-endian, headerless, as Unity and Unreal import; .raw or .r16), TIFF (float32 metres). "
       "Rows are stored north (largest y) first. The 16-bit formats map heights linearly to 0..65535 over the "
       "data's own range ('auto') or a fixed range; the mapping is recorded in PNG metadata (and in the "
-      "description of every image format) so ReadHeightfield restores metres.");
+      "description of every image format) so ReadHeightfield restores metres. PNG16 and RAW16 files get a "
+      "sidecar <file>.json with the mapping, the cell size and Unreal's landscape X/Y/Z scale, since engines "
+      "and RAW keep no metadata.");
   b.input("in", PortType::Heightfield).description("Heightfield to write, metres");
   b.param_path("path", "height.exr")
       .output_file()
@@ -65,10 +69,23 @@ OROGEN_NODE(WriteHeightfield) {
       if (!(r.max > r.min)) throw NodeError("height_max must be greater than height_min for a fixed range");
       options.range = r;
     }
-    write_node_output(ctx, "path", [&](const std::filesystem::path& temporary, const WriteProgress& progress) {
-      options.progress = progress;
-      write_heightfield_file(*h, temporary, options);
-    });
+    const std::filesystem::path target = ctx.output_path("path");  // NodeError if the path rule refuses it
+    std::optional<HeightRange> used;
+    std::vector<NodeOutputFile> files;
+    files.push_back({target, [&](const std::filesystem::path& temporary, const WriteProgress& progress) {
+                       options.progress = progress;
+                       used = write_heightfield_file(*h, temporary, options);
+                     }});
+    if (options.format == HeightFormat::Png16 || options.format == HeightFormat::Raw16) {
+      // The mapping beside the 16-bit file, written after it (it needs the range) and renamed after it.
+      std::filesystem::path sidecar = target;
+      sidecar += ".json";
+      files.push_back({sidecar, [&](const std::filesystem::path& temporary, const WriteProgress&) {
+                         write_text_file(temporary, height_sidecar_json(*h, options.format, used.value(),
+                                                                        target.filename().string()));
+                       }});
+    }
+    write_node_files(ctx, files);
   });
 }
 
