@@ -1,5 +1,7 @@
 #include "cli/graph_overrides.h"
 
+#include "cli/resolution_presets.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -108,12 +110,14 @@ std::optional<std::uint64_t> parse_memory_size(const std::string& text) {
 }
 
 std::optional<glm::ivec2> resolution_for(const std::string& text, glm::dvec2 size, std::string& error) {
-  auto r = parse_resolution(text);
+  const auto preset = resolution_preset(text);  // an engine's size by name: samples along x
+  auto r = preset ? std::optional<glm::ivec2>(glm::ivec2(*preset, *preset)) : parse_resolution(text);
   if (!r) {
-    error = "--resolution '" + text + "': expected WxH with sides in [2, 65536], or a single number";
+    error = "--resolution '" + text + "': expected WxH with sides in [2, 65536], a single number, or an engine's " +
+            "size by name (" + resolution_preset_names() + ")";
     return std::nullopt;
   }
-  const bool single = text.find_first_of("xX") == std::string::npos;
+  const bool single = preset || text.find_first_of("xX") == std::string::npos;
   if (single && size.x > 0.0) {
     // N along x, and along y whatever keeps the cells square.
     const double rows = size.y / (size.x / (r->x - 1)) + 1.0;

@@ -19,7 +19,9 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("--set", eval.set, "Override a parameter: NODE.PARAM=VALUE (JSON or bare text); repeatable");
   eval_cmd->add_option("--resolution", eval.resolution,
                        "Override the sample counts: WxH (e.g. 2048x2048), or N along x with square cells; cells must "
-                       "stay square");
+                       "stay square. Engines' heightmap sizes by name: unreal-505, unreal-1009, unreal-2017, "
+                       "unreal-4033, unreal-8129 (Unreal's recommended landscape sizes), unity-513 ... unity-4097 "
+                       "(2^n + 1)");
   eval_cmd->add_option(
       "--origin", eval.origin,
       "Move the domain: X,Y in metres, the world position of its first sample (overrides the graph's origin)");

@@ -56,5 +56,21 @@ TEST(CliMessages, AMissingInputFileStopsEvalBeforeAnythingIsComputed) {
   EXPECT_FALSE(fs::exists(dir / "out" / "a.exr")) << "computed before the check";
 }
 
+TEST(CliMessages, ResolutionAcceptsEngineSizesByName) {
+  const auto dir = scratch_dir("resolution-presets");
+  write_text(dir / "g.json", R"({"format": "orogen-graph", "version": 5,
+    "domain": {"size": [1000, 1000], "resolution": [17, 17]},
+    "nodes": [{"id": "noise", "type": "FBM"},
+              {"id": "save", "type": "WriteHeightfield", "inputs": {"in": "noise.out"}, "params": {"path": "h.raw"}}]})");
+  const auto r = run_process(
+      cli_binary(), {"eval", (dir / "g.json").string(), "--resolution", "unity-513", "-q", "-o", dir.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(fs::file_size(dir / "h.raw"), 513u * 513u * 2u);
+  const auto bad =
+      run_process(cli_binary(), {"eval", (dir / "g.json").string(), "--resolution", "unreal-1000", "-o", dir.string()});
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("unreal-1009"), std::string::npos) << bad.err;
+}
+
 }  // namespace
 }  // namespace orogen::test
