@@ -2,6 +2,7 @@
 #include "graph/exec_context.h"
 #include "graph/registry.h"
 #include "graph/checked_file.h"
+#include "nodes/io/georeference.h"
 #include "nodes/io/height_sidecar.h"
 #include "nodes/io/heightfield_file.h"
 #include "nodes/io/write_output.h"
@@ -52,6 +53,10 @@ OROGEN_NODE(WriteHeightfield) {
           "noise, so 'zip' saves only about 5% at 4x the writing time (67 vs 63 MB at 4096^2); 'piz' (lossless "
           "wavelet) saves about 18% at 5x the time; 'pxr24' halves the file but rounds heights to 24-bit floats "
           "(about 1 cm at 1 km), so it is lossy. Other formats ignore it");
+  b.param_string("crs", "").description(
+      "Coordinate reference system for GIS, e.g. EPSG:32633 (any text GDAL's SetFromUserInput takes): when set, "
+      "<file>.aux.xml beside the file gives GDAL and QGIS its CRS and geotransform (the domain's metres are "
+      "the CRS's units). Empty: no georeference");
   b.execute([](ExecContext& ctx) {
     const auto h = ctx.require<Heightfield>("in");
     const std::string& path = ctx.param<std::string>("path");
@@ -83,6 +88,14 @@ OROGEN_NODE(WriteHeightfield) {
       files.push_back({sidecar, [&](const std::filesystem::path& temporary, const WriteProgress&) {
                          write_text_file(temporary, height_sidecar_json(*h, options.format, used.value(),
                                                                         target.filename().string()));
+                       }});
+    }
+    if (const std::string& crs = ctx.param<std::string>("crs"); !crs.empty()) {
+      if (crs.find_first_of("\n\r") != std::string::npos) throw NodeError("parameter 'crs': one line of text");
+      std::filesystem::path pam = target;
+      pam += ".aux.xml";
+      files.push_back({pam, [&](const std::filesystem::path& temporary, const WriteProgress&) {
+                         write_text_file(temporary, gdal_pam_xml(h->domain, crs));
                        }});
     }
     write_node_files(ctx, files);
