@@ -12,11 +12,14 @@
 #include "cli/progress_display.h"
 #include "cli/stats_report.h"
 #include "cli/tile_naming.h"
+#include "cli/tiled_vrt.h"
 #include "cli/tiling.h"
 #include "evaluator/evaluator.h"
 #include "evaluator/memory_estimate.h"
 #include "graph/atomic_file.h"
 #include "graph/graph_file.h"
+#include "graph/output_path.h"
+#include "nodes/io/heightfield_file.h"
 
 namespace orogen::cli {
 namespace {
@@ -271,6 +274,32 @@ int run_eval(const EvalCommand& cmd) {
     if (!cmd.quiet) {
       std::fprintf(stderr, "%s%zu computed, %zu cached, %zu failed, %zu skipped in %.1f ms\n",
                    label.empty() ? "" : (label + ": ").c_str(), computed, cached, failed, skipped, result.milliseconds);
+    }
+  }
+  // Every tile built: one GDAL VRT per height raster, so GIS opens the tiled world as one layer.
+  if (tiled && !only_tile && total_failed == 0) {
+    for (const auto& node : graph.nodes()) {
+      if (node.type->name != "WriteHeightfield") continue;
+      const auto& path = std::get<std::string>(graph.param(node.id, "path"));
+      const auto format = height_format_from_path(path);
+      if (!format || *format == HeightFormat::Raw16) continue;  // GDAL cannot read a headerless RAW alone
+      std::vector<VrtTile> tiles;
+      for (int j = 0; j < counts.y; ++j)
+        for (int i = 0; i < counts.x; ++i) {
+          const TileWindow w = tile_window(domain.resolution, counts, {i, j});
+          const auto name = with_suffix(path, tile_suffix(named_tile_index(tile_naming, {i, j}, counts)));
+          tiles.push_back({std::filesystem::path(name).filename(), w.first, w.size});
+        }
+      std::filesystem::path vrt = std::filesystem::path(path).replace_extension(".vrt");
+      try {
+        const auto target = resolve_output_path(policy, vrt.string());
+        write_text_atomically(target,
+                              tiled_vrt_xml(domain, tiles, *format == HeightFormat::Png16 ? "UInt16" : "Float32",
+                                            std::get<std::string>(graph.param(node.id, "crs"))));
+      } catch (const std::exception& e) {
+        std::cerr << "error: " << node.id << ": the tiles' VRT " << vrt.string() << ": " << e.what() << "\n";
+        return kExitEvalFailed;
+      }
     }
   }
   std::signal(SIGINT, SIG_DFL);

@@ -51,5 +51,37 @@ TEST(Georeference, GdalPlacesTheHeightsWhereTheDomainSays) {
   EXPECT_NEAR(std::stod(at.out), px[20 * 101 + 10], 1e-3) << at.out;
 }
 
+// A tiled build's VRT, flattened by GDAL, is the untiled build: QGIS opens the tiled world as one layer.
+TEST(Georeference, TheTilesVrtIsTheWholeRaster) {
+  if (std::system("command -v gdal_translate > /dev/null 2>&1") != 0) GTEST_SKIP() << "gdal-bin is not installed";
+  const auto dir = scratch_dir("tiled-vrt");
+  write_text(dir / "g.json", R"({"format": "orogen-graph", "version": 5,
+    "domain": {"origin": [500000, 4649000], "size": [800, 1000], "resolution": [81, 101]},
+    "nodes": [{"id": "noise", "type": "FBM", "params": {"amplitude": 200}},
+              {"id": "save", "type": "WriteHeightfield", "inputs": {"in": "noise.out"},
+               "params": {"path": "maps/h.tif", "crs": "EPSG:32633"}}]})");
+  auto read = [](const std::filesystem::path& p) {
+    auto in = OIIO::ImageInput::open(p.string());
+    EXPECT_TRUE(in) << p;
+    std::vector<float> px(in ? static_cast<std::size_t>(in->spec().width) * in->spec().height : 0);
+    if (in) EXPECT_TRUE(in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, px.data()));
+    return px;
+  };
+  const auto whole = run_process(cli_binary(), {"eval", (dir / "g.json").string(), "-q", "-o", (dir / "w").string()});
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  for (const std::string naming : {"orogen", "unreal"}) {
+    SCOPED_TRACE(naming);
+    const auto out = dir / naming;
+    const auto e = run_process(cli_binary(), {"eval", (dir / "g.json").string(), "-q", "-o", out.string(), "--tiles",
+                                              "3x2", "--tile-naming", naming});
+    ASSERT_EQ(e.exit_code, 0) << e.err;
+    ASSERT_TRUE(std::filesystem::exists(out / "maps" / "h.vrt"));
+    const auto t = run_process("/usr/bin/env", {"gdal_translate", "-q", "-of", "GTiff",
+                                                (out / "maps" / "h.vrt").string(), (out / "flat.tif").string()});
+    ASSERT_EQ(t.exit_code, 0) << t.err;
+    EXPECT_EQ(read(out / "flat.tif"), read(dir / "w" / "maps" / "h.tif"));
+  }
+}
+
 }  // namespace
 }  // namespace orogen::test
