@@ -44,7 +44,8 @@ TEST(CliMessages, AMissingInputFileStopsEvalBeforeAnythingIsComputed) {
     "nodes": [{"id": "noise", "type": "FBM"},
               {"id": "save", "type": "WriteHeightfield", "inputs": {"in": "noise.out"}, "params": {"path": "a.exr"}},
               {"id": "read", "type": "ReadHeightfield", "params": {"path": "maps/nothere.exr"}},
-              {"id": "copy", "type": "WriteHeightfield", "inputs": {"in": "read.out"}, "params": {"path": "b.exr"}}]})");
+              {"id": "copy", "type": "WriteHeightfield", "inputs": {"in": "read.out"},
+               "params": {"path": "b.exr"}}]})");
   // Run from another directory: the file is looked for next to the graph, and the message says so.
   const auto r = run_process(cli_binary(), {"eval", (dir / "g.json").string(), "-o", (dir / "out").string()}, "/");
   EXPECT_EQ(r.exit_code, 2);
@@ -61,7 +62,8 @@ TEST(CliMessages, ResolutionAcceptsEngineSizesByName) {
   write_text(dir / "g.json", R"({"format": "orogen-graph", "version": 5,
     "domain": {"size": [1000, 1000], "resolution": [17, 17]},
     "nodes": [{"id": "noise", "type": "FBM"},
-              {"id": "save", "type": "WriteHeightfield", "inputs": {"in": "noise.out"}, "params": {"path": "h.raw"}}]})");
+              {"id": "save", "type": "WriteHeightfield", "inputs": {"in": "noise.out"},
+               "params": {"path": "h.raw"}}]})");
   const auto r = run_process(
       cli_binary(), {"eval", (dir / "g.json").string(), "--resolution", "unity-513", "-q", "-o", dir.string()});
   ASSERT_EQ(r.exit_code, 0) << r.err;
