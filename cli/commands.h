@@ -24,11 +24,12 @@ struct EvalCommand {
   std::filesystem::path stats_file;
   bool quiet = false;
   bool allow_any_path = false;
-  std::string origin;        // "X,Y": the domain's origin, metres; empty: the graph's
-  std::string size;          // "W,H": the domain's size, metres; empty: the graph's
-  std::string tiles;         // "NxM": a tiled build (cli/tiling.h); empty: one build of the whole domain
-  std::string tile;          // "I,J": only this tile of --tiles; empty: every tile
-  std::string global_nodes;  // "whole" or "tile": how --tiles evaluates whole-domain nodes; empty: whole
+  std::string origin;                  // "X,Y": the domain's origin, metres; empty: the graph's
+  std::string size;                    // "W,H": the domain's size, metres; empty: the graph's
+  std::string tiles;                   // "NxM": a tiled build (cli/tiling.h); empty: one build of the whole domain
+  std::string tile;                    // "I,J": only this tile of --tiles; empty: every tile
+  std::string global_nodes;            // "whole" or "tile": how --tiles evaluates whole-domain nodes; empty: whole
+  std::string tile_naming = "orogen";  // "orogen" (_y0 south) or "unreal" (_x0_y0 top-left): cli/tile_naming.h
 };
 
 int run_eval(const EvalCommand& cmd);

@@ -17,11 +17,14 @@
 #include "cli/progress_display.h"
 #include "cli/stats_report.h"
 #include "cli/tile_assignment.h"
+#include "cli/tile_naming.h"
 #include "cli/tiling.h"
 #include "evaluator/evaluator.h"
 #include "evaluator/memory_estimate.h"
 #include "graph/atomic_file.h"
 #include "graph/graph_file.h"
+#include "graph/output_path.h"
+#include "nodes/io/heightfield_file.h"
 
 namespace orogen::cli {
 namespace {
@@ -100,11 +103,11 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group);
 
 // After every tile of a tiled build succeeded: the GDAL mosaics of its rasters (cli/mosaic.h). Returns false
 // (error printed) if one cannot be written.
-bool write_tile_mosaics(const Graph& graph, const Domain& domain, glm::ivec2 counts, const OutputPolicy& policy,
-                        bool quiet) {
+bool write_tile_mosaics(const Graph& graph, const Domain& domain, glm::ivec2 counts, TileNaming naming,
+                        const OutputPolicy& policy, bool quiet) {
   std::vector<std::string> warnings;
   try {
-    const auto written = write_mosaics(graph, domain, counts, policy, warnings);
+    const auto written = write_mosaics(graph, domain, counts, naming, policy, warnings);
     for (const auto& w : warnings) std::cerr << "warning: --tiles: " << w << "\n";
     if (!quiet && !written.empty())
       std::cerr << written.size() << (written.size() == 1 ? " mosaic" : " mosaics") << " of the tiles (GDAL VRT), e.g. "
@@ -147,6 +150,8 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
     if (root) std::cerr << cmd.graph_file.string() << ": invalid graph\n" << loaded.error_text();
     return kExitInvalid;
   }
+  if (root && !cmd.quiet)
+    for (const auto& w : loaded.warnings) std::cerr << "warning: " << w.str() << "\n";
   Graph graph = std::move(*loaded.graph);
 
   std::vector<std::string> errors = apply_param_overrides(graph, cmd.set);
@@ -172,13 +177,18 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
   glm::ivec2 counts{1, 1};
   std::optional<glm::ivec2> only_tile;
   bool tiled = false;
+  const auto naming = parse_tile_naming(cmd.tile_naming);
+  if (!naming) errors.push_back("--tile-naming '" + cmd.tile_naming + "': expected 'orogen' or 'unreal'");
+  const TileNaming tile_naming = naming.value_or(TileNaming::Orogen);
+  if (cmd.tiles.empty() && naming && *naming != TileNaming::Orogen)
+    errors.push_back("--tile-naming " + cmd.tile_naming + " needs --tiles NxM: it names the files of a tiled build");
   if (!cmd.tiles.empty()) {
     if (auto c = parse_tile_counts(cmd.tiles, why)) {
       counts = *c;
       tiled = true;
       if (!cmd.tile.empty()) {
         if (auto t = parse_tile_index(cmd.tile, counts, why))
-          only_tile = *t;
+          only_tile = named_tile_index(tile_naming, *t, counts);  // --tile names a tile as its files do
         else
           errors.push_back(why);
       }
@@ -207,7 +217,11 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
     // Tiles write suffixed names; two writers collide in one tile exactly when they collide in every tile.
     Graph named = graph;
     if (tiled) add_output_suffix(named, tile_suffix({0, 0}));
-    for (auto& e : check_output_paths(named, policy)) errors.push_back(std::move(e));
+    // Output paths, and input files before anything is computed (as validate checks them).
+    const FileCheck files = check_files(named, policy);
+    for (auto& e : files.errors) errors.push_back(std::move(e));
+    if (!cmd.quiet)
+      for (const auto& w : files.warnings) std::cerr << "warning: " << w << "\n";
   }
   const auto cache_mb = parse_number(cmd.cache_mb, 0.0, 1e9);
   if (!cache_mb) errors.push_back("--cache-mb '" + cmd.cache_mb + "': expected a number of MiB from 0 to 1e9");
@@ -237,7 +251,8 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
       for (int j = 0; j < counts.y; ++j)
         for (int i = 0; i < counts.x; ++i)
           if (!only_tile || *only_tile == glm::ivec2(i, j))
-            builds.push_back({tile_window(domain.resolution, counts, {i, j}), tile_suffix({i, j})});
+            builds.push_back({tile_window(domain.resolution, counts, {i, j}),
+                              tile_suffix(named_tile_index(tile_naming, {i, j}, counts))});
     }
   }
   if (errors.empty() && max_memory > 0) {
@@ -314,9 +329,10 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
       request.node_domains = tile_node_domains(tile_graph, domain, *build.tile, global);
       const Domain d =
           domain.subdomain(build.tile->first.x, build.tile->first.y, build.tile->size.x, build.tile->size.y);
+      const glm::ivec2 named = named_tile_index(tile_naming, build.tile->index, counts);
       label = (distributed ? "rank " + std::to_string(group.rank()) + ": " : std::string()) + "tile " +
-              std::to_string(build.tile->index.x) + "," + std::to_string(build.tile->index.y) + " (" +
-              std::to_string(b + 1) + "/" + std::to_string(builds.size()) + ")";
+              std::to_string(named.x) + "," + std::to_string(named.y) + " (" + std::to_string(b + 1) + "/" +
+              std::to_string(builds.size()) + ")";
       if (!quiet) std::cerr << label << ": " << d.describe() << ", files *" << build.suffix << ".*\n";
     }
     ProgressDisplay display(stderr, tile_graph.nodes().size());
@@ -394,13 +410,13 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
                    job.tiles, group.size(), job.failed_tiles, job.computed, job.cached, job.failed, job.skipped,
                    job.milliseconds);
     if (job.failed != 0) return kExitEvalFailed;
-    return !root || write_tile_mosaics(graph, domain, counts, policy, cmd.quiet) ? kExitOk : kExitEvalFailed;
+    return !root || write_tile_mosaics(graph, domain, counts, tile_naming, policy, cmd.quiet) ? kExitOk : kExitEvalFailed;
   }
   if (tiled && !cmd.quiet && builds.size() > 1)
     std::fprintf(stderr, "%zu tiles built, %zu with failures, in %.1f ms\n", builds.size(), counted.failed_tiles,
                  counted.milliseconds);
   if (counted.failed != 0) return kExitEvalFailed;
-  if (tiled && !only_tile && !write_tile_mosaics(graph, domain, counts, policy, cmd.quiet)) return kExitEvalFailed;
+  if (tiled && !only_tile && !write_tile_mosaics(graph, domain, counts, tile_naming, policy, cmd.quiet)) return kExitEvalFailed;
   return kExitOk;
 }
 
@@ -413,14 +429,16 @@ int run_validate(const ValidateCommand& cmd) {
     return kExitInvalid;
   }
   const FileCheck files = check_files(*loaded.graph, OutputPolicy{cmd.output_dir, cmd.allow_any_path});
+  for (const auto& w : loaded.warnings) std::cerr << "warning: " << w.str() << "\n";
   for (const auto& w : files.warnings) std::cerr << "warning: " << w << "\n";
   if (!files.errors.empty()) {
     std::cerr << cmd.graph_file.string() << ": invalid graph\n";
     for (const auto& e : files.errors) std::cerr << "error: " << e << "\n";
     return kExitInvalid;
   }
+  const std::size_t warnings = loaded.warnings.size() + files.warnings.size();
   std::cout << cmd.graph_file.string() << ": valid (" << loaded.graph->nodes().size() << " nodes"
-            << (files.warnings.empty() ? "" : ", " + std::to_string(files.warnings.size()) + " warning(s)") << ")\n";
+            << (warnings == 0 ? "" : ", " + std::to_string(warnings) + " warning(s)") << ")\n";
   return kExitOk;
 }
 

@@ -1,5 +1,7 @@
 #include "cli/graph_overrides.h"
 
+#include "cli/resolution_presets.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -11,6 +13,7 @@
 #include <sstream>
 
 #include "graph/graph_file.h"
+#include "graph/json_util.h"
 #include "graph/output_path.h"
 
 namespace orogen::cli {
@@ -27,13 +30,18 @@ std::vector<std::string> apply_param_overrides(Graph& graph, const std::vector<s
     const std::string node_id = a.substr(0, dot), name = a.substr(dot + 1, eq - dot - 1), text = a.substr(eq + 1);
     const Node* node = graph.find(node_id);
     if (!node) {
-      errors.push_back("--set '" + a + "': no node '" + node_id + "' in the graph");
+      std::vector<std::string> ids;
+      for (const auto& n : graph.nodes()) ids.push_back(n.id);
+      errors.push_back("--set '" + a + "': no node '" + node_id + "' in the graph" +
+                       json_util::suggestion(node_id, ids));
       continue;
     }
     const ParamDecl* decl = node->type->find_param(name);
     if (!decl) {
+      std::vector<std::string> names;
+      for (const auto& p : node->type->params) names.push_back(p.name);
       errors.push_back("--set '" + a + "': node '" + node_id + "' (" + node->type->name + ") has no parameter '" +
-                       name + "'");
+                       name + "'" + json_util::suggestion(name, names));
       continue;
     }
     std::string why;
@@ -102,12 +110,14 @@ std::optional<std::uint64_t> parse_memory_size(const std::string& text) {
 }
 
 std::optional<glm::ivec2> resolution_for(const std::string& text, glm::dvec2 size, std::string& error) {
-  auto r = parse_resolution(text);
+  const auto preset = resolution_preset(text);  // an engine's size by name: samples along x
+  auto r = preset ? std::optional<glm::ivec2>(glm::ivec2(*preset, *preset)) : parse_resolution(text);
   if (!r) {
-    error = "--resolution '" + text + "': expected WxH with sides in [2, 65536], or a single number";
+    error = "--resolution '" + text + "': expected WxH with sides in [2, 65536], a single number, or an engine's " +
+            "size by name (" + resolution_preset_names() + ")";
     return std::nullopt;
   }
-  const bool single = text.find_first_of("xX") == std::string::npos;
+  const bool single = preset || text.find_first_of("xX") == std::string::npos;
   if (single && size.x > 0.0) {
     // N along x, and along y whatever keeps the cells square.
     const double rows = size.y / (size.x / (r->x - 1)) + 1.0;

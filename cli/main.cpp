@@ -19,7 +19,9 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("--set", eval.set, "Override a parameter: NODE.PARAM=VALUE (JSON or bare text); repeatable");
   eval_cmd->add_option("--resolution", eval.resolution,
                        "Override the sample counts: WxH (e.g. 2048x2048), or N along x with square cells; cells must "
-                       "stay square");
+                       "stay square. Engines' heightmap sizes by name: unreal-505, unreal-1009, unreal-2017, "
+                       "unreal-4033, unreal-8129 (Unreal's recommended landscape sizes), unity-513 ... unity-4097 "
+                       "(2^n + 1)");
   eval_cmd->add_option(
       "--origin", eval.origin,
       "Move the domain: X,Y in metres, the world position of its first sample (overrides the graph's origin)");
@@ -35,7 +37,11 @@ int main(int argc, char** argv) {
                        "samples in 4 tiles of 257)");
   eval_cmd->add_option("--tile", eval.tile,
                        "With --tiles: build only tile I,J (column I along x, row J along y, from 0 at the domain's "
-                       "minimum corner), e.g. one job of a batch system");
+                       "minimum corner, or as --tile-naming names them), e.g. one job of a batch system");
+  eval_cmd->add_option("--tile-naming", eval.tile_naming,
+                       "With --tiles, which tile is _x0_y0: 'orogen' (default) counts rows from the south (the "
+                       "world's y); 'unreal' makes _x0_y0 the top-left (north-west) tile and counts rows down, as "
+                       "Unreal Engine's tiled landscape import and World Machine name tiles");
   eval_cmd->add_option("--global-nodes", eval.global_nodes,
                        "With --tiles, how nodes that need the whole domain (reach global: erosion, flow, "
                        "normalization) are built: 'whole' (default) evaluates them once on the whole domain and "

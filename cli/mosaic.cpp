@@ -8,6 +8,7 @@
 
 #include "cli/tiling.h"
 #include "graph/atomic_file.h"
+#include "nodes/io/georeference.h"
 #include "nodes/io/file_extension.h"
 
 namespace orogen::cli {
@@ -47,15 +48,16 @@ std::string xml_escape(const std::string& text) {
 }  // namespace
 
 std::string mosaic_vrt(const Domain& full, glm::ivec2 counts, const std::vector<std::string>& tile_files, int channels,
-                       const std::string& data_type) {
+                       const std::string& data_type, const std::string& crs) {
   std::ostringstream s;
   s.precision(17);
-  const glm::dvec2 lo = full.min_corner(), sp = full.spacing;
   const int height = full.resolution.y;
   s << "<VRTDataset rasterXSize=\"" << full.resolution.x << "\" rasterYSize=\"" << height << "\">\n";
-  // Pixel centres at the samples; the first image row is the northern one.
-  s << "  <GeoTransform>" << lo.x - sp.x / 2 << ", " << sp.x << ", 0, " << lo.y + (height - 1) * sp.y + sp.y / 2
-    << ", 0, " << -sp.y << "</GeoTransform>\n";
+  if (!crs.empty()) s << "  <SRS>" << xml_escape(crs) << "</SRS>\n";
+  // Pixel centres at the samples; the first image row is the northern one (as the PAM side files say).
+  const GeoTransform g = geotransform_of(full);
+  s << "  <GeoTransform>" << g.values[0] << ", " << g.values[1] << ", " << g.values[2] << ", " << g.values[3] << ", "
+    << g.values[4] << ", " << g.values[5] << "</GeoTransform>\n";
   for (int band = 1; band <= channels; ++band) {
     s << "  <VRTRasterBand dataType=\"" << data_type << "\" band=\"" << band << "\">\n";
     for (int j = 0; j < counts.y; ++j)
@@ -77,7 +79,7 @@ std::string mosaic_vrt(const Domain& full, glm::ivec2 counts, const std::vector<
   return s.str();
 }
 
-std::vector<std::string> write_mosaics(const Graph& graph, const Domain& full, glm::ivec2 counts,
+std::vector<std::string> write_mosaics(const Graph& graph, const Domain& full, glm::ivec2 counts, TileNaming naming,
                                        const OutputPolicy& policy, std::vector<std::string>& warnings) {
   namespace fs = std::filesystem;
   std::vector<std::string> written;
@@ -103,7 +105,8 @@ std::vector<std::string> write_mosaics(const Graph& graph, const Domain& full, g
       std::vector<std::string> tiles;
       for (int j = 0; j < counts.y; ++j)
         for (int i = 0; i < counts.x; ++i)
-          tiles.push_back(fs::path(with_suffix(*path, tile_suffix({i, j}))).filename().string());
+          tiles.push_back(
+              fs::path(with_suffix(*path, tile_suffix(named_tile_index(naming, {i, j}, counts)))).filename().string());
       const fs::path first = vrt.parent_path() / tiles.front();
       auto in = OIIO::ImageInput::open(first.string());
       if (!in) {
@@ -118,7 +121,8 @@ std::vector<std::string> write_mosaics(const Graph& graph, const Domain& full, g
                            std::string(spec.format.c_str()) + " samples");
         continue;
       }
-      write_text_atomically(vrt, mosaic_vrt(full, counts, tiles, spec.nchannels, data_type));
+      const auto* crs = type.find_param("crs") ? std::get_if<std::string>(&graph.param(node.id, "crs")) : nullptr;
+      write_text_atomically(vrt, mosaic_vrt(full, counts, tiles, spec.nchannels, data_type, crs ? *crs : ""));
       written.push_back(vrt.string());
     }
   }

@@ -32,6 +32,7 @@ PortValue crop_to_domain(const PortValue& value, const Domain& target) {
     const glm::ivec2 lo = target.first - src.domain.first;
     auto out = std::make_shared<Image>(target, src.channels);
     out->channel_names = src.channel_names;
+    out->color = src.color;
     const auto row_floats = static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(src.channels);
     for (int j = 0; j < target.height(); ++j) std::copy_n(src.pixel(lo.x, lo.y + j), row_floats, out->pixel(0, j));
     return ImagePtr(std::move(out));

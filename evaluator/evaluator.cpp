@@ -17,6 +17,7 @@
 #include "evaluator/memory_cache.h"
 #include "evaluator/memory_estimate.h"
 #include "evaluator/node_keys.h"
+#include "graph/idle_nodes.h"
 #include "graph/exec_context.h"
 
 namespace orogen {
@@ -224,7 +225,8 @@ class Run {
   }
 
  private:
-  // The request's nodes, or by default every writer and every node whose outputs nothing reads.
+  // The request's nodes, or by default every writer and every node whose outputs nothing reads, but for nodes
+  // that cannot run and that no output needs.
   const std::vector<std::string>& requested_ids() {
     if (!request_.nodes.empty()) {
       for (const auto& id : request_.nodes)
@@ -240,8 +242,12 @@ class Run {
       return std::any_of(t.outputs.begin(), t.outputs.end(),
                          [](const PortDecl& p) { return p.type == PortType::Report; });
     };
+    // A node added but not wired yet, that no output needs, is left out (graph/idle_nodes.h).
+    const std::vector<std::string> idle_ids = idle_unwired_nodes(graph_);
+    const std::set<std::string> idle(idle_ids.begin(), idle_ids.end());
     for (const auto& n : graph_.nodes())
-      if (n.type->writes_files || !feeding.count(n.id) || reports(*n.type)) requested_.push_back(n.id);
+      if ((n.type->writes_files || !feeding.count(n.id) || reports(*n.type)) && !idle.count(n.id))
+        requested_.push_back(n.id);
     return requested_;
   }
 

@@ -174,6 +174,7 @@ void write(ByteWriter& w, const Image& im) {
   w.i32(im.channels);
   w.u64(im.channel_names.size());
   for (const auto& n : im.channel_names) w.str(n);
+  w.u8(im.color ? 1 : 0);
   w.floats(im.data);
 }
 ImagePtr read_image(ByteReader& r) {
@@ -183,6 +184,7 @@ ImagePtr read_image(ByteReader& r) {
   if (im->channels < 0) throw SerializationError("negative image channel count");
   im->channel_names.resize(r.count(8));
   for (auto& n : im->channel_names) n = r.str();
+  im->color = r.u8() != 0;
   im->data = r.floats();
   if (im->data.size() != im->domain.sample_count() * static_cast<std::size_t>(im->channels))
     throw SerializationError("image size differs from its domain and channels");

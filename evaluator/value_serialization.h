@@ -16,7 +16,8 @@
 
 namespace orogen {
 
-inline constexpr std::uint32_t kValueFormatVersion = 3;  // 2: ModuleString; optional mesh texcoords. 3: Scene
+inline constexpr std::uint32_t kValueFormatVersion =
+    4;  // 2: ModuleString; optional mesh texcoords. 3: Scene. 4: Image.color
 
 struct SerializationError : std::runtime_error {
   using std::runtime_error::runtime_error;

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "graph/graph_migrations.h"
+#include "graph/idle_nodes.h"
 #include "graph/table_json.h"
 #include "graph/json_util.h"
 #include "graph/registry.h"
@@ -133,6 +134,7 @@ class GraphReader {
   }
 
   std::vector<DroppedLink> take_dropped_links() { return std::move(dropped_); }
+  std::vector<Diagnostic> take_warnings() { return std::move(warnings_); }
 
  private:
   void report(std::string path, std::string node, std::string message) {
@@ -482,15 +484,21 @@ class GraphReader {
 
   void check_required_inputs() {
     if (options_.allow_unconnected_inputs) return;
+    const std::vector<std::string> idle_ids = idle_unwired_nodes(graph_);
+    const std::set<std::string> idle(idle_ids.begin(), idle_ids.end());
     for (const auto& node : graph_.nodes()) {
       const std::size_t index = index_of_id_.at(node.id);
       for (const auto& input : node.type->inputs) {
         if (input.optional || node.inputs.count(input.name)) continue;
         // A link that was written but is broken is reported as such; a dropped dangling link is expected.
         if (links_attempted_.count({index, input.name})) continue;
-        report("/nodes/" + std::to_string(index) + "/inputs/" + pointer_token(input.name), node.id,
-               "missing required input '" + input.name + "' (" + std::string(to_string(input.type)) +
-                   ") of node type " + node.type->name);
+        const std::string path = "/nodes/" + std::to_string(index) + "/inputs/" + pointer_token(input.name);
+        const std::string message = "missing required input '" + input.name + "' (" +
+                                    std::string(to_string(input.type)) + ") of node type " + node.type->name;
+        if (idle.count(node.id))  // work in progress: no output needs the node, so it is not evaluated
+          warnings_.push_back({path, node.id, message + "; no output needs this node, so it is left out"});
+        else
+          report(path, node.id, message);
       }
     }
   }
@@ -572,6 +580,7 @@ class GraphReader {
 
   const LoadOptions& options_;
   std::vector<Diagnostic>& diagnostics_;
+  std::vector<Diagnostic> warnings_;
   Graph graph_;
   std::set<std::string> mentioned_ids_;             // every string id in the file, valid or not
   std::map<std::string, std::size_t> index_of_id_;  // node id -> index in "nodes", for nodes in the graph
@@ -643,6 +652,7 @@ LoadResult parse_graph(std::string_view json_text, const LoadOptions& options) {
   auto graph = reader.read(std::move(*doc));
   if (graph && (result.diagnostics.empty() || options.keep_partial)) result.graph = std::move(graph);
   result.dropped_links = reader.take_dropped_links();
+  result.warnings = reader.take_warnings();
   // Checks run in passes (links need every node); list the problems in file order instead: file-level and
   // domain first, then node by node, then the editor section.
   auto rank = [](const Diagnostic& d) {

@@ -38,6 +38,9 @@ struct LoadResult {
   std::optional<Graph> graph;  // set only when there are no diagnostics (unless keep_partial)
   std::vector<Diagnostic> diagnostics;
   std::vector<DroppedLink> dropped_links;  // keep_partial: the links left out, and why
+  // Problems that do not stop a build: a node no output needs with a required input unconnected (see
+  // graph/idle_nodes.h), which the evaluator leaves out.
+  std::vector<Diagnostic> warnings;
   bool ok() const { return graph.has_value() && diagnostics.empty(); }
   std::string error_text() const;  // every diagnostic, one per line
 };

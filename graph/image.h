@@ -1,6 +1,6 @@
 #pragma once
 // N float channels sampled on a Domain, interleaved per sample: colour maps (RGB/RGBA in 0..1, linear),
-// splat weights, normal maps.
+// splat weights, normal maps; `color` tells the first from data.
 #include <cstddef>
 #include <memory>
 #include <string>
@@ -15,6 +15,10 @@ struct Image {
   int channels = 0;
   std::vector<std::string> channel_names;  // e.g. {"R","G","B"}; empty means unnamed
   std::vector<float> data;                 // (row * width + column) * channels + channel
+  // Linear color (RGB or RGBA, set by the nodes that make colors): encoded with the sRGB curve when written to
+  // an 8- or 16-bit file. Every other image (splat weights, masks, ids, normals, monthly figures) is data,
+  // written as its values.
+  bool color = false;
 
   Image() = default;
   Image(const Domain& d, int channel_count, float fill = 0.0f)

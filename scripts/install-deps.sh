@@ -20,6 +20,8 @@ packages=(
   libhwy-dev
   libimgui-dev libglfw3-dev libgl-dev libgl1-mesa-dri libegl1 fonts-dejavu-core
   xvfb xauth
+  gdal-bin  # tests/test_georeference.cpp checks the georeference with gdalinfo (skipped without it)
+  blender  # tests/test_blender_import.cpp imports scenes headless (skipped without it)
   clang-14 libclang-rt-14-dev clang-format-14
   libopenmpi-dev openmpi-bin
   gdal-bin

@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
-# Installs the dependencies, builds Orogen (Release) and evaluates the example terrain graph into out/.
+# Installs the dependencies, builds what the main job needs (the orogen command and the editor, Release) and
+# evaluates the example terrain graph into out/. scripts/test.sh builds the rest (tests, benchmarks).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release
-cmake --build build/release -j"$(nproc)"
+cmake --build build/release -j"$(nproc)" --target orogen orogen-editor
 ./build/release/cli/orogen eval graphs/terrain.json -o out --stats out/terrain-stats.json
 echo "Outputs written to $(pwd)/out:"
 ls -l out
+echo "The programs are build/release/cli/orogen and build/release/editor/orogen-editor;"
+echo "'cmake --install build/release' copies both to /usr/local/bin (on the PATH)."

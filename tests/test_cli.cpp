@@ -153,11 +153,13 @@ TEST(Cli, ValidateAcceptsEveryExample) {
 
 TEST(Cli, FailingNodeExitsOneAndReportsIt) {
   const auto dir = scratch_dir("cli-fail");
+  // A file that exists but is no image fails when read (a missing one is refused before evaluating).
+  write_text(dir / "height.exr", "not an image");
   write_text(dir / "g.json", R"({
   "format": "orogen-graph", "version": 1,
   "domain": { "size": [100, 100], "resolution": [16, 16] },
   "nodes": [
-    { "id": "missing", "type": "ReadHeightfield", "params": { "path": "/nonexistent/height.exr" } },
+    { "id": "missing", "type": "ReadHeightfield", "params": { "path": "height.exr" } },
     { "id": "save_missing", "type": "WriteHeightfield", "inputs": { "in": "missing.height" },
       "params": { "path": "a.exr" } },
     { "id": "flat", "type": "Constant" },

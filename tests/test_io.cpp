@@ -17,6 +17,7 @@
 
 #include <gtest/gtest.h>
 #include <OpenImageIO/imageio.h>
+#include <nlohmann/json.hpp>
 
 #include "evaluator/run_node.h"
 #include "graph/atomic_file.h"
@@ -25,6 +26,7 @@
 #include "nodes/io/heightfield_file.h"
 #include "nodes/io/image_file.h"
 #include "nodes/io/points_file.h"
+#include "support/run_process.h"
 #include "support/test_paths.h"
 
 namespace orogen {
@@ -94,8 +96,11 @@ class IoTest : public ::testing::Test {
                         std::map<std::string, ParamValue> params = {}) {
     params["path"] = name;
     const auto files = run_writer("WriteHeightfield", params, {{"in", h}}, policy_);
-    EXPECT_EQ(files.size(), 1u);
-    return files.empty() ? fs::path() : files.front();
+    // 16-bit formats also write their mapping beside the image (<file>.json).
+    for (const auto& f : files)
+      if (f.extension() != ".json") return f;
+    ADD_FAILURE() << "no file written";
+    return {};
   }
   HeightfieldPtr read_height(const fs::path& file, const Domain& d, std::map<std::string, ParamValue> params = {}) {
     params["path"] = file.string();
@@ -580,9 +585,63 @@ TEST(ImageFile, SrgbTransferCurve) {
   for (double v = 0; v <= 1.0; v += 0.01) EXPECT_NEAR(srgb_to_linear(linear_to_srgb(v)), v, 1e-12);
 }
 
-TEST_F(IoTest, WriteImagePng8EncodesSrgbAndKeepsAlphaLinear) {
+// A 16-bit file written with range 'auto' keeps its metres beside it: the sidecar's mapping turns the stored
+// integers back into heights within half a step, and gives Unreal's landscape scale.
+TEST_F(IoTest, SixteenBitHeightsCarryTheirMappingInASidecar) {
+  const Domain d = Domain::from_extent({1000, 2000}, {640, 640}, {65, 65});  // 10 m cells, square for RAW
+  auto h = std::make_shared<Heightfield>(d);
+  for (int j = 0; j < d.height(); ++j)
+    for (int i = 0; i < d.width(); ++i) h->at(i, j) = static_cast<float>(-120.0 + 3.5 * i + 7.25 * j);
+  for (const std::string name : {"h.png", "h.raw"}) {
+    SCOPED_TRACE(name);
+    const fs::path image = write_height(h, name);
+    const auto side = nlohmann::json::parse(test::read_text(fs::path(image.string() + ".json")));
+    EXPECT_EQ(side["image"], name);
+    EXPECT_EQ(side["samples"], nlohmann::json({65, 65}));
+    EXPECT_DOUBLE_EQ(side["cell_size"][0].get<double>(), 10.0);
+    EXPECT_DOUBLE_EQ(side["south_west_sample"][1].get<double>(), 2000.0);
+    const double lo = side["height_at_0"], hi = side["height_at_65535"];
+    EXPECT_NEAR(lo, -120.0, 1e-4);
+    EXPECT_NEAR(hi, -120.0 + 3.5 * 64 + 7.25 * 64, 1e-3);
+    EXPECT_DOUBLE_EQ(side["unreal"]["scale_x"].get<double>(), 1000.0);
+    EXPECT_NEAR(side["unreal"]["scale_z"].get<double>(), (hi - lo) / 512.0 * 100.0, 1e-9);
+    // The stored integers, read raw (north row first), through the sidecar's mapping.
+    const std::string bytes = test::read_text(image);
+    if (name == "h.raw") {
+      ASSERT_EQ(bytes.size(), 65u * 65u * 2u);
+      for (int r = 0; r < 65; ++r)
+        for (int i = 0; i < 65; ++i) {
+          const auto k = static_cast<std::size_t>((r * 65 + i) * 2);
+          const int v = static_cast<unsigned char>(bytes[k]) | static_cast<unsigned char>(bytes[k + 1]) << 8;
+          EXPECT_NEAR(lo + v / 65535.0 * (hi - lo), h->at(i, 64 - r), (hi - lo) / 65535.0);
+        }
+    }
+  }
+}
+
+// Weights, masks and ids are data: stored as their values whatever `srgb` says (splat weights sum to 255).
+TEST_F(IoTest, WriteImagePng8StoresDataImagesLinear) {
   const Domain d = Domain::from_extent({0, 0}, {10, 10}, {23, 11});
   const auto img = test_image(d, 4);
+  ASSERT_FALSE(img->color);
+  const auto files = run_writer("WriteImage", {{"path", std::string("img/weights.png")}}, {{"in", img}}, policy_);
+  ASSERT_EQ(files.size(), 1u);
+  int w = 0, h = 0, n = 0;
+  const auto px = read_pixels<std::uint8_t>(files[0], OIIO::TypeDesc::UINT8, w, h, n);
+  ASSERT_EQ(n, 4);
+  for (int r = 0; r < h; ++r)
+    for (int i = 0; i < w; ++i)
+      for (int c = 0; c < 4; ++c) {
+        const double v = std::clamp(img->pixel(i, h - 1 - r)[c], 0.0f, 1.0f);
+        ASSERT_EQ(px[static_cast<std::size_t>((r * w + i) * 4 + c)], std::lround(v * 255)) << i << "," << r;
+      }
+}
+
+TEST_F(IoTest, WriteImagePng8EncodesSrgbAndKeepsAlphaLinear) {
+  const Domain d = Domain::from_extent({0, 0}, {10, 10}, {23, 11});
+  auto color = std::make_shared<Image>(*test_image(d, 4));
+  color->color = true;
+  const ImagePtr img = color;
   const auto files = run_writer("WriteImage", {{"path", std::string("img/colour.png")}}, {{"in", img}}, policy_);
   ASSERT_EQ(files.size(), 1u);
   int w = 0, h = 0, n = 0;

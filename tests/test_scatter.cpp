@@ -20,6 +20,7 @@
 #include "nodes/climate/sun.h"
 #include "nodes/scatter/forest.h"
 #include "nodes/scatter/merge_points.h"
+#include "nodes/scatter/mesh_surface.h"
 #include "nodes/scatter/project_to_terrain.h"
 #include "nodes/scatter/instance.h"
 #include "nodes/scatter/poisson_disk.h"
@@ -653,10 +654,13 @@ TEST(WriteScene, GpuInstancesLoadBackWithTheirTransforms) {
   const Domain d = Domain::from_extent({0, 0}, {100, 100}, {3, 3});
   const auto scene = instance(pts, {{0, rock}, {2, rock}}, {{"missing_mesh", std::string("skip")}});
   for (const std::string file : {"s.glb", "s.gltf"}) {
-    run_node("WriteScene", d, {{"path", file}}, {{"in", PortValue(scene)}, {"terrain", PortValue(rock)}}, policy);
+    run_node("WriteScene", d, {{"path", file}, {"ground", std::string("keep")}},
+             {{"in", PortValue(scene)}, {"terrain", PortValue(rock)}}, policy);
     const auto m = load_gltf(dir / file);
     ASSERT_EQ(m.scenes.size(), 1u);
     EXPECT_EQ(std::count(m.extensionsUsed.begin(), m.extensionsUsed.end(), "EXT_mesh_gpu_instancing"), 1);
+    // Required: a viewer without it must not show each class's mesh once at the origin (glTF's fallback).
+    EXPECT_EQ(std::count(m.extensionsRequired.begin(), m.extensionsRequired.end(), "EXT_mesh_gpu_instancing"), 1);
     int instanced_nodes = 0;
     std::size_t instances = 0;
     for (const auto& n : m.nodes) {
@@ -1046,6 +1050,35 @@ TEST(ShadePlacement, SunFromPlaceAndTimeMatchesItsAnglesAndNightShadesEverything
   const auto n = run_node("ShadePlacement", d, night, in);
   EXPECT_EQ(n.get<Points>(0)->size(), cand->size());
   for (float v : n.get<Heightfield>(1)->data) EXPECT_EQ(v, 1.0f);
+}
+// A 100 m square mesh tilted as z = 0.2 x + 10 with a skirt 50 m down its west edge, and instances placed on a
+// flat heightfield at 0 (one sunk by 0.3 m): grounded, each follows the plane, keeping its offset when the
+// heightfield is given; one outside the mesh keeps its z.
+TEST(MeshSurface, GroundsInstancesOnTheTopSurfaceKeepingTheirOffsets) {
+  TriMesh m;
+  const auto a = m.add_vertex({0, 0, 10}), b = m.add_vertex({100, 0, 30}), c = m.add_vertex({100, 100, 30}),
+             d = m.add_vertex({0, 100, 10}), e = m.add_vertex({0, 0, -40}), f = m.add_vertex({0, 100, -40});
+  m.add_face(a, b, c);
+  m.add_face(a, c, d);
+  m.add_face(a, d, f);  // the skirt: vertical, covers no area
+  m.add_face(a, f, e);
+  const MeshSurface surface(m);
+  EXPECT_NEAR(*surface.height_at(50, 50), 20.0, 1e-9);
+  EXPECT_NEAR(*surface.height_at(0, 37), 10.0, 1e-9);  // on the edge above the skirt: the top
+  EXPECT_NEAR(*surface.height_at(100, 100), 30.0, 1e-9);
+  EXPECT_FALSE(surface.height_at(101, 50));
+  Points pts;
+  pts.add({25, 60, 0});
+  pts.add({75, 10, -0.3f});
+  pts.add({150, 10, 5});
+  Heightfield flat(Domain::from_extent({0, 0}, {100, 100}, {11, 11}));
+  const Points kept = ground_on_surface(pts, surface, &flat);
+  EXPECT_NEAR(kept.position[0].z, 15.0, 1e-4);
+  EXPECT_NEAR(kept.position[1].z, 25.0 - 0.3, 1e-4);
+  EXPECT_EQ(kept.position[2].z, 5.0f);
+  const Points onto = ground_on_surface(pts, surface, nullptr);
+  EXPECT_NEAR(onto.position[1].z, 25.0, 1e-4);
+  EXPECT_EQ(onto.position[1].x, 75.0f);
 }
 }  // namespace
 }  // namespace orogen

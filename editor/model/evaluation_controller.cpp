@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "graph/idle_nodes.h"
+
 namespace orogen::editor {
 
 std::string_view to_string(NodeRunState::Phase phase) {
@@ -349,6 +351,7 @@ void EvaluationController::run_build(Graph graph, Domain domain) {
   };
   BuildStatus status;
   status.domain = domain;
+  status.left_out = idle_unwired_nodes(graph);
   std::map<std::string, NodeReport> reports;
   try {
     EvalResult r = build_evaluator_.evaluate(graph, request);

@@ -76,6 +76,7 @@ struct BuildStatus {
   std::string current;    // a node being computed
   double milliseconds = 0.0;
   std::vector<std::string> failures;  // "node: message"
+  std::vector<std::string> left_out;  // nodes not wired yet that no output needs (graph/idle_nodes.h)
   Domain domain;
 };
 

@@ -55,6 +55,14 @@ std::string format_duration(double ms) {
   return buf;
 }
 
+// A build leaves out nodes not wired yet that no output needs: said, not failed.
+std::string left_out_note(const std::vector<std::string>& ids) {
+  if (ids.empty()) return "";
+  std::string note = " (left out, not wired: ";
+  for (std::size_t k = 0; k < ids.size() && k < 3; ++k) note += (k ? ", " : "") + ids[k];
+  return note + (ids.size() > 3 ? ", ...)" : ")");
+}
+
 }  // namespace
 
 App::App(AppOptions options)
@@ -603,7 +611,8 @@ void App::draw_status_bar(float height) {
   } else if (build.finished) {
     std::string text = build.cancelled ? "build cancelled"
                        : build.ok
-                           ? "build done in " + format_duration(build.milliseconds) + " -> " + output_dir_.string()
+                           ? "build done in " + format_duration(build.milliseconds) + " -> " + output_dir_.string() +
+                                 left_out_note(build.left_out)
                            : "build failed: " + (build.failures.empty() ? std::string("?") : build.failures.front());
     const float w = ImGui::CalcTextSize(text.c_str()).x;
     ImGui::SameLine(std::max(200.0f, right - w));

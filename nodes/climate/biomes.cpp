@@ -100,6 +100,7 @@ BiomeResult classify_biomes(const Heightfield& temperature, const Heightfield& m
   require_same_grid(moisture.domain, temperature.domain, "moisture");
   BiomeResult out{std::make_shared<Heightfield>(temperature.domain), std::make_shared<Image>(temperature.domain, 4)};
   out.color->channel_names = {"R", "G", "B", "A"};
+  out.color->color = true;
   const glm::vec4 none(0.2f, 0.2f, 0.2f, 1.0f);
   for_each_row(ctx, temperature.height(), [&](int j) {
     for (int i = 0; i < temperature.width(); ++i) {

@@ -304,6 +304,7 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
 KMeansMaps kmeans_maps(const KMeansResult& r, const Domain& domain) {
   KMeansMaps m{std::make_shared<Heightfield>(domain), std::make_shared<Image>(domain, 4)};
   m.color->channel_names = {"R", "G", "B", "A"};
+  m.color->color = true;
   for (std::size_t q = 0; q < r.labels.size(); ++q) {
     if (r.labels[q] < 0) {  // a cell with a non-finite feature: NaN id, transparent colour
       m.ids->data[q] = std::numeric_limits<float>::quiet_NaN();

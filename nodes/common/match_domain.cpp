@@ -18,6 +18,7 @@ ImagePtr match_domain(ImagePtr image, const Domain& target, const ExecContext* c
   if (!image || image->domain == target) return image;
   auto out = std::make_shared<Image>(target, image->channels);
   out->channel_names = image->channel_names;
+  out->color = image->color;
   const std::size_t row = static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(image->channels);
   for_each_row(ctx, target.height(), [&](int j) {
     float* first = out->data.data() + row * static_cast<std::size_t>(j);

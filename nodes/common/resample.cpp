@@ -58,6 +58,7 @@ void resample_bilinear_row(const Image& source, const Domain& target, int j, std
 Image resample_bilinear(const Image& source, const Domain& target) {
   Image out(target, source.channels);
   out.channel_names = source.channel_names;
+  out.color = source.color;
   const std::size_t row = static_cast<std::size_t>(target.width()) * static_cast<std::size_t>(source.channels);
   for (int j = 0; j < target.height(); ++j) {
     float* first = out.data.data() + row * static_cast<std::size_t>(j);

@@ -39,6 +39,7 @@ std::shared_ptr<Image> color_ramp(const Heightfield& in, const GradientValue& gr
                                   const ExecContext* ctx) {
   auto out = std::make_shared<Image>(in.domain, 4);
   out->channel_names = {"R", "G", "B", "A"};
+  out->color = true;
   const double inv = 1.0 / (hi - lo);
   for_each_row(ctx, in.height(), [&](int j) {
     for (int i = 0; i < in.width(); ++i) {

@@ -351,10 +351,10 @@ namespace {
 void check_readable_file(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec))
-    throw FileError("file '" + path.string() +
-                    "' does not exist (relative paths are resolved against the current "
-                    "directory " +
-                    fs::current_path(ec).string() + ")");
+    // ReadHeightfield passes the path already resolved against the graph file's directory.
+    throw FileError("file '" + path.string() + "' does not exist" +
+                    (path.is_relative() ? " (relative to the current directory " + fs::current_path(ec).string() + ")"
+                                        : std::string()));
   if (fs::is_directory(path, ec)) throw FileError("'" + path.string() + "' is a directory, not an image file");
 }
 

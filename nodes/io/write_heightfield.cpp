@@ -1,6 +1,9 @@
 // WriteHeightfield: a heightfield to EXR, PNG 16-bit, RAW 16-bit or TIFF, atomically.
 #include "graph/exec_context.h"
 #include "graph/registry.h"
+#include "graph/checked_file.h"
+#include "nodes/io/georeference.h"
+#include "nodes/io/height_sidecar.h"
 #include "nodes/io/heightfield_file.h"
 #include "nodes/io/write_output.h"
 
@@ -14,7 +17,9 @@ OROGEN_NODE(WriteHeightfield) {
       "unsigned little-endian, headerless, as Unity and Unreal import; .raw or .r16), TIFF (float32 metres). "
       "Rows are stored north (largest y) first. The 16-bit formats map heights linearly to 0..65535 over the "
       "data's own range ('auto') or a fixed range; the mapping is recorded in PNG metadata (and in the "
-      "description of every image format) so ReadHeightfield restores metres.");
+      "description of every image format) so ReadHeightfield restores metres. PNG16 and RAW16 files get a "
+      "sidecar <file>.json with the mapping, the cell size and Unreal's landscape X/Y/Z scale, since engines "
+      "and RAW keep no metadata.");
   b.input("in", PortType::Heightfield).description("Heightfield to write, metres");
   b.param_path("path", "height.exr")
       .output_file()
@@ -49,6 +54,10 @@ OROGEN_NODE(WriteHeightfield) {
           "noise, so 'zip' saves only about 5% at 4x the writing time (67 vs 63 MB at 4096^2); 'piz' (lossless "
           "wavelet) saves about 18% at 5x the time; 'pxr24' halves the file but rounds heights to 24-bit floats "
           "(about 1 cm at 1 km), so it is lossy. Other formats ignore it");
+  b.param_string("crs", "").description(
+      "Coordinate reference system for GIS, e.g. EPSG:32633 (any text GDAL's SetFromUserInput takes): when set, "
+      "<file>.aux.xml beside the file gives GDAL and QGIS its CRS and geotransform (the domain's metres are "
+      "the CRS's units). Empty: no georeference");
   b.execute([](ExecContext& ctx) {
     const auto h = ctx.require<Heightfield>("in");
     const std::string& path = ctx.param<std::string>("path");
@@ -66,10 +75,31 @@ OROGEN_NODE(WriteHeightfield) {
       if (!(r.max > r.min)) throw NodeError("height_max must be greater than height_min for a fixed range");
       options.range = r;
     }
-    write_node_output(ctx, "path", [&](const std::filesystem::path& temporary, const WriteProgress& progress) {
-      options.progress = progress;
-      write_heightfield_file(*h, temporary, options);
-    });
+    const std::filesystem::path target = ctx.output_path("path");  // NodeError if the path rule refuses it
+    std::optional<HeightRange> used;
+    std::vector<NodeOutputFile> files;
+    files.push_back({target, [&](const std::filesystem::path& temporary, const WriteProgress& progress) {
+                       options.progress = progress;
+                       used = write_heightfield_file(*h, temporary, options);
+                     }});
+    if (options.format == HeightFormat::Png16 || options.format == HeightFormat::Raw16) {
+      // The mapping beside the 16-bit file, written after it (it needs the range) and renamed after it.
+      std::filesystem::path sidecar = target;
+      sidecar += ".json";
+      files.push_back({sidecar, [&](const std::filesystem::path& temporary, const WriteProgress&) {
+                         write_text_file(temporary, height_sidecar_json(*h, options.format, used.value(),
+                                                                        target.filename().string()));
+                       }});
+    }
+    if (const std::string& crs = ctx.param<std::string>("crs"); !crs.empty()) {
+      if (crs.find_first_of("\n\r") != std::string::npos) throw NodeError("parameter 'crs': one line of text");
+      std::filesystem::path pam = target;
+      pam += ".aux.xml";
+      files.push_back({pam, [&](const std::filesystem::path& temporary, const WriteProgress&) {
+                         write_text_file(temporary, gdal_pam_xml(h->domain, crs));
+                       }});
+    }
+    write_node_files(ctx, files);
   });
 }
 

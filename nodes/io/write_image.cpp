@@ -10,7 +10,8 @@ OROGEN_NODE(WriteImage) {
   b.reach_global();
   b.category("io").writes_files().description(
       "Writes an image (color map, splat weights, ...) to a file inside the output directory, atomically. "
-      "PNG (8 or 16-bit, 1 to 4 channels, values clamped to 0..1, color channels sRGB-encoded by default), "
+      "PNG (8 or 16-bit, 1 to 4 channels, values clamped to 0..1; a color image's color channels sRGB-encoded by "
+      "default, weights, masks, ids and normals stored linear as the data they are), "
       "EXR and TIFF (float32, linear, any channel count). Rows are stored north (largest y) first; alpha is "
       "straight, not premultiplied.");
   b.input("in", PortType::Image).description("Image to write; linear values");
@@ -21,8 +22,9 @@ OROGEN_NODE(WriteImage) {
   b.param_enum("bit_depth", {"8", "16"}, "8").description("Bits per channel of PNG files (EXR and TIFF are float32)");
   b.param_bool("srgb", true)
       .description(
-          "Encode PNG color channels with the sRGB transfer curve (what image viewers expect); off stores the "
-          "linear values. Alpha and the float formats are never encoded");
+          "Encode the color channels of a color image (ColorRamp, ColorByLayers, Biomes, ...) in PNG with the "
+          "sRGB transfer curve (what image viewers expect); off stores the linear values. Data images (splat "
+          "weights, masks, ids, normals), alpha and the float formats are never encoded");
   b.param_int("compression_level", 6)
       .unit(Unit::Unitless)
       .range(0, 9)
@@ -39,7 +41,7 @@ OROGEN_NODE(WriteImage) {
     options.format = *format;
     if (*format == ImageFormat::Png8 && ctx.param<std::string>("bit_depth") == "16")
       options.format = ImageFormat::Png16;
-    options.srgb = ctx.param<bool>("srgb");
+    options.srgb = ctx.param<bool>("srgb") && image->color;  // weights must still sum to 255 when written
     options.compression_level = static_cast<int>(ctx.param<std::int64_t>("compression_level"));
     write_node_output(ctx, "path", [&](const std::filesystem::path& temporary, const WriteProgress& progress) {
       options.progress = progress;

@@ -227,6 +227,7 @@ RasterResult rasterize_polygon_map(const PolygonMap& map, const Domain& domain, 
   r.amplitude = field();
   r.color = std::make_shared<Image>(domain, 4);
   r.color->channel_names = {"R", "G", "B", "A"};
+  r.color->color = true;
   std::array<std::array<float, 3>, kBiomeCount> linear{};
   for (int b = 0; b < kBiomeCount; ++b)
     for (int k = 0; k < 3; ++k) linear[ix(b)][ix(k)] = srgb_to_linear(biome_info(static_cast<Biome>(b)).srgb[ix(k)]);

@@ -185,7 +185,12 @@ std::size_t write_scene_gltf(const SceneContent& scene, const std::filesystem::p
       }
       instances += members.size();
     }
-    if (gpu) m.extensionsUsed.push_back("EXT_mesh_gpu_instancing");
+    // Required, not only used: a viewer without the extension would draw each class's mesh once at the class
+    // node (the origin, under the terrain) as glTF's fallback; required, it says why it cannot show the file.
+    if (gpu) {
+      m.extensionsUsed.push_back("EXT_mesh_gpu_instancing");
+      m.extensionsRequired.push_back("EXT_mesh_gpu_instancing");
+    }
   }
   root.children = children;
   const int root_index = add_node(m, root);

@@ -17,6 +17,7 @@
 #include "nodes/io/write_output.h"
 #include "nodes/scatter/instance.h"
 #include "nodes/scatter/merge_points.h"
+#include "nodes/scatter/mesh_surface.h"
 #include "nodes/scatter/project_to_terrain.h"
 #include "nodes/scatter/scene_gltf.h"
 
@@ -75,41 +76,66 @@ OROGEN_NODE(WriteScene) {
       "scale per instance). gpu_instancing writes one node per class with the EXT_mesh_gpu_instancing "
       "extension (game engines draw it in one call); nodes writes one node per instance (every viewer). "
       "Nodes and meshes are named by class. A root node rotates Orogen's z-up world to glTF's y-up. .gltf "
-      "embeds the buffer as base64, .glb is binary.");
+      "embeds the buffer as base64, .glb is binary. With a terrain mesh, instances are grounded on it (ground): "
+      "a simplified or coarser mesh lies metres off the heightfield the points were placed on, and a plant "
+      "must stand on the terrain the same file shows.");
   b.input("in", PortType::Scene).description("The instanced scene, from Instance");
   b.input("terrain", PortType::Mesh).optional().description("Terrain mesh (m), e.g. from HeightfieldToMesh");
+  b.input("height", PortType::Heightfield)
+      .optional()
+      .description(
+          "The heightfield the instances were placed on (m): with it, grounding keeps each instance's height "
+          "above it (an offset such as a stem sunk by 0.1 m); without it, each base is set onto the mesh");
   b.param_path("path", "scene.glb")
       .output_file()
       .extensions({".gltf", ".glb"})
       .description("Output file, relative to the output directory; .glb binary or .gltf text");
   b.param_enum("instancing", {"gpu_instancing", "nodes"}, "gpu_instancing")
-      .description("gpu_instancing: one node per class with EXT_mesh_gpu_instancing; nodes: one node per instance");
+      .description(
+          "gpu_instancing: one node per class with EXT_mesh_gpu_instancing, marked required (game engines, "
+          "three.js, Babylon.js; a viewer without it refuses the file instead of drawing one mesh per class at "
+          "the origin); nodes: one node per instance (every viewer, Blender's importer too)");
+  b.param_enum("ground", {"terrain_mesh", "keep"}, "terrain_mesh")
+      .description(
+          "terrain_mesh: each instance moves vertically with the written terrain mesh under it (by the mesh's "
+          "difference from height, or onto the mesh); keep: positions as they come (instances outside the mesh "
+          "always keep theirs)");
   // The glTF document is built and serialized in memory before it is written: per instance a tinygltf node,
   // its JSON object and its text (nodes), or its translation, rotation and scale in the buffer and its base64
   // and file copies (gpu_instancing); per terrain vertex and face the same three copies. Known once the
-  // scene exists, so the check is made just before the node runs.
+  // scene exists, so the check is made just before the node runs. Grounding adds a copy of the points and the
+  // mesh surface's triangles and buckets (about twice the mesh).
   b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
     std::uint64_t bytes = 0;
     if (const PortValue* v = q.input("in")) {
       const bool nodes = q.params.get<std::string>("instancing") == "nodes";
-      bytes += static_cast<std::uint64_t>(std::get<ScenePtr>(*v)->size()) * (nodes ? 2048 : 160);
+      bytes += static_cast<std::uint64_t>(std::get<ScenePtr>(*v)->size()) *
+               ((nodes ? 2048 : 160) + sizeof(glm::vec3) + sizeof(glm::quat) + sizeof(glm::vec3) + 8);
     }
-    if (const PortValue* t = q.input("terrain")) bytes += 3 * byte_size(*t);
+    if (const PortValue* t = q.input("terrain")) bytes += 5 * byte_size(*t);
     return bytes;
   });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Scene>("in");
     const auto terrain = ctx.input<Mesh>("terrain");
-    SceneContent scene;
-    scene.scene = in.get();
-    scene.terrain = terrain.get();
-    scene.instancing =
-        ctx.param<std::string>("instancing") == "nodes" ? SceneInstancing::Nodes : SceneInstancing::GpuInstancing;
     try {
       in->check_consistent();
     } catch (const std::logic_error& e) {
       throw NodeError(std::string("inconsistent scene: ") + e.what());
     }
+    SceneContent scene;
+    scene.scene = in.get();
+    Scene grounded;
+    if (terrain && in->instances && ctx.param<std::string>("ground") == "terrain_mesh") {
+      const auto placed_on = ctx.input<Heightfield>("height");
+      grounded = *in;
+      grounded.instances =
+          std::make_shared<Points>(ground_on_surface(*in->instances, MeshSurface(terrain->mesh), placed_on.get()));
+      scene.scene = &grounded;
+    }
+    scene.terrain = terrain.get();
+    scene.instancing =
+        ctx.param<std::string>("instancing") == "nodes" ? SceneInstancing::Nodes : SceneInstancing::GpuInstancing;
     const std::string& path = ctx.param<std::string>("path");
     const bool binary = mesh_format_from_path(path) == MeshFormat::Glb;  // case-insensitive, like the check
     write_node_output(ctx, "path", [&](const std::filesystem::path& temporary, const WriteProgress& progress) {

@@ -54,6 +54,7 @@ std::shared_ptr<Image> color_by_layers(const Image& w, const Heightfield* shade,
   const double strength = p.shade_strength;
   auto out = std::make_shared<Image>(w.domain, 4);
   out->channel_names = {"R", "G", "B", "A"};
+  out->color = true;
   for_each_row(ctx, w.height(), [&](int j) {
     for (int i = 0; i < w.width(); ++i) {
       const float* px = w.pixel(i, j);

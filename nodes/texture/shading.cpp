@@ -98,6 +98,7 @@ std::shared_ptr<Heightfield> hillshade(const Heightfield& z, double azimuth_deg,
 std::shared_ptr<Image> gray_image(const Heightfield& value, const ExecContext* ctx) {
   auto img = std::make_shared<Image>(value.domain, 4, 1.0f);
   img->channel_names = {"R", "G", "B", "A"};
+  img->color = true;
   const int W = value.width();
   for_each_row(ctx, value.height(), [&](int j) {
     for (int i = 0; i < W; ++i) {

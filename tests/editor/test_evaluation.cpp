@@ -151,6 +151,23 @@ TEST(EvaluationController, BuildEvaluatesAtFullResolution) {
   EXPECT_EQ(status.domain.resolution, glm::ivec2(200, 100));
 }
 
+TEST(EvaluationController, BuildLeavesOutANodeNotWiredYet) {
+  EvaluationController ec;
+  Graph g;
+  g.domain.resolution = {33, 33};
+  g.add_node("FBM", "noise");
+  g.add_node("WriteHeightfield", "save");
+  g.connect({"noise", "out"}, "save", "in");
+  g.add_node("Slope", "loose");  // just added from the palette: no output needs it
+  OutputPolicy policy;
+  policy.output_dir = test::scratch_dir("build-left-out");
+  ec.start_build(g, policy);
+  ec.wait_idle();
+  const auto status = ec.build_status();
+  EXPECT_TRUE(status.ok) << (status.failures.empty() ? "" : status.failures.front());
+  EXPECT_EQ(status.left_out, std::vector<std::string>{"loose"});
+}
+
 TEST(EvaluationController, NodeStatesShowWhatTheBuildDid) {
   EvaluationController ec;
   std::atomic<int> notified{0};
