@@ -145,8 +145,22 @@ TEST(MemoryEstimate, LSystemBoundsTheWordByMaxModulesAndTheWidestModule) {
     p["axiom"] = axiom;
     p["rules"] = rules;
     p["max_modules"] = std::int64_t{100000000};
+    p["iterations"] = std::int64_t{40};
   };
   EXPECT_GE(estimate(lsystem, d, wide, nullptr), 100000000ull * (1 + 4 + 16 * 4));
+  // Ten doublings: 1024 modules, whatever max_modules allows.
+  const auto ten = [&](std::map<std::string, ParamValue>& p) {
+    wide(p);
+    p["iterations"] = std::int64_t{10};
+  };
+  EXPECT_EQ(estimate(lsystem, d, ten, nullptr), plants::derive_peak_bytes(1024, 16));
+  EXPECT_EQ(l.max_word_length(10, 1u << 30), 1024u);
+  // Algae (A -> AB; B -> A) grows by Fibonacci numbers: 13 modules after 5 steps, exactly.
+  EXPECT_EQ(plants::LSystem("A", "A -> AB; B -> A").max_word_length(5, 1000), 13u);
+  EXPECT_EQ(plants::derive_text("A", "A -> AB; B -> A", 5).size(), 13u);
+  // A condition may fail and keep the module: the bound counts it kept as well as rewritten.
+  EXPECT_EQ(plants::LSystem("A(1)", "A(x) : x < 3 -> A(x+1)A(x+1)").max_word_length(3, 1000), 8u);
+  EXPECT_EQ(plants::LSystem("B", "A -> AA").max_word_length(30, 1000), 1u) << "no rule for B";
   const auto narrow = [&](std::map<std::string, ParamValue>& p) {
     p["axiom"] = std::string("A");
     p["rules"] = std::string("A -> AB; B -> A");

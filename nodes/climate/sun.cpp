@@ -1,3 +1,4 @@
+#include "graph/cost_query.h"
 #include "nodes/climate/sun.h"
 
 #include <algorithm>
@@ -331,6 +332,9 @@ OROGEN_NODE(SunIllumination) {
       .description(
           "Direct normal irradiance of the sun, W/m^2, 0..2000 (1361 above the atmosphere, about 1000 at the ground on "
           "a clear day)");
+  // Working memory beyond the outputs, 80 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 80); });
   b.execute([](ExecContext& ctx) {
     const auto z = ctx.require<Heightfield>("in");
     SunParams p;

@@ -1,3 +1,4 @@
+#include "graph/cost_query.h"
 #include "nodes/hydrology/drainage_metrics.h"
 
 #include <algorithm>
@@ -255,6 +256,9 @@ OROGEN_NODE(DrainageMetrics) {
       .soft_range(0.0, 1e7)
       .unit("m^2")
       .description("Area from which a depression counts as a lake");
+  // Working memory beyond the outputs, 32 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 32); });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     LakeThreshold lake;

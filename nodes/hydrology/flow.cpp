@@ -1,3 +1,4 @@
+#include "graph/cost_query.h"
 #include "nodes/hydrology/flow.h"
 
 #include <algorithm>
@@ -173,6 +174,9 @@ OROGEN_NODE(FlowAccumulation) {
       .range(1e-9, 1.0)
       .unit("m/m")
       .description("Floor of tan(beta) in the wetness index (flats)");
+  // Working memory beyond the outputs, 16 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 16); });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto rain = secondary_input<Heightfield>(ctx, "rainfall", in->domain);
@@ -244,6 +248,9 @@ OROGEN_NODE(Watersheds) {
       .soft_range(0.0, 1e7)
       .unit("m^2")
       .description("Smaller basins are labelled 0");
+  // Working memory beyond the outputs, 16 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 16); });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     WatershedResult r = watersheds(*in, ctx.param<bool>("fill"), ctx.param<double>("min_area"), &ctx);

@@ -1,3 +1,4 @@
+#include "graph/cost_query.h"
 #include "nodes/hydrology/water_flow.h"
 
 #include <algorithm>
@@ -161,6 +162,9 @@ OROGEN_NODE(WaterFlow) {
       .range(1, 1000000)
       .soft_range(1, 10000)
       .description("Upper bound on the iterations");
+  // Working memory beyond the outputs, 32 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 32); });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto rain = secondary_input<Heightfield>(ctx, "rainfall", in->domain);

@@ -12,6 +12,7 @@
 #include "graph/cost_query.h"
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
+#include "nodes/io/file_extension.h"
 #include "graph/registry.h"
 #include "nodes/io/mesh_file.h"
 #include "nodes/io/write_output.h"
@@ -85,7 +86,7 @@ OROGEN_NODE(WriteScene) {
       .description("gpu_instancing: one node per class with EXT_mesh_gpu_instancing; nodes: one node per instance");
   // The glTF document is built and serialized in memory before it is written: per instance a tinygltf node,
   // its JSON object and its text (nodes), or its translation, rotation and scale in the buffer and its base64
-  // and file copies (gpu_instancing); per terrain vertex and face the same three copies. Known once the
+  // and file copies (gpu_instancing); the terrain's buffer and file copies (and base64 text in .gltf). Known once the
   // scene exists, so the check is made just before the node runs.
   b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
     std::uint64_t bytes = 0;
@@ -93,7 +94,9 @@ OROGEN_NODE(WriteScene) {
       const bool nodes = q.params.get<std::string>("instancing") == "nodes";
       bytes += static_cast<std::uint64_t>(std::get<ScenePtr>(*v)->size()) * (nodes ? 2048 : 160);
     }
-    if (const PortValue* t = q.input("terrain")) bytes += 3 * byte_size(*t);
+    // The terrain: its buffer and the file's bytes (.glb), and the base64 text of the buffer (.gltf).
+    const bool text = lower_extension(q.params.get<std::string>("path")) == ".gltf";
+    if (const PortValue* t = q.input("terrain")) bytes += text ? 3 * byte_size(*t) : 3 * byte_size(*t) / 2;
     return bytes;
   });
   b.execute([](ExecContext& ctx) {
