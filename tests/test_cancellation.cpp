@@ -224,6 +224,15 @@ TEST_P(EveryNode, StopsWithinTheBoundAtCostlyParameters) {
     const Timed t = run_timed(type->name, kSmall, at_end(*type, high), inputs, policy);
     expect_within_bound(label, t);
     exercised = exercised || t.cancelled_in_flight;
+    // Refused up front for its work (nodes/common/work_bounds.h): the message names what to change.
+    if (t.outcome.find("per-node ceiling") != std::string::npos ||
+        t.outcome.find("exceeds the limit") != std::string::npos) {
+      bool names_a_parameter = false;
+      for (const auto& p : type->params)
+        names_a_parameter = names_a_parameter || t.outcome.find(p.name) != std::string::npos;
+      EXPECT_TRUE(names_a_parameter) << label << ": a work refusal must name the parameters to change: " << t.outcome;
+      std::cout << label << ": refused up front for its work\n";
+    }
   }
   // A node that finishes before the timed cancel (point-wise nodes on 33 x 33 take microseconds) is cancelled
   // at its first progress report instead, on a larger domain where its inputs allow (fields only), which must

@@ -1,4 +1,3 @@
-#include "graph/cost_query.h"
 #include "nodes/climate/sun.h"
 
 #include <algorithm>
@@ -9,6 +8,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/field/surface_derivatives.h"

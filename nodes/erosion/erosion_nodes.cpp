@@ -7,12 +7,12 @@
 #include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "graph/report.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/common/report_builder.h"
 #include "nodes/erosion/particles.h"
 #include "nodes/erosion/pipe.h"
 #include "nodes/erosion/stream_power.h"
 #include "nodes/erosion/thermal.h"
-#include "nodes/common/match_domain.h"
 
 namespace orogen {
 namespace {

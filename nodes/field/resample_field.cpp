@@ -5,9 +5,9 @@
 
 #include "graph/cost_query.h"
 #include "graph/registry.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/common/resample.h"
 #include "nodes/field/blur.h"
-#include "nodes/common/cancellable_rows.h"
 
 namespace orogen {
 

@@ -1,9 +1,9 @@
-#include "graph/cost_query.h"
 #include "nodes/hydrology/depressions.h"
 
 #include <algorithm>
 #include <cmath>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "nodes/hydrology/flow_routing.h"
 

@@ -1,4 +1,3 @@
-#include "graph/cost_query.h"
 #include "nodes/hydrology/drainage_metrics.h"
 
 #include <algorithm>
@@ -8,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "graph/report.h"
 #include "nodes/common/report_builder.h"

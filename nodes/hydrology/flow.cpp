@@ -1,4 +1,3 @@
-#include "graph/cost_query.h"
 #include "nodes/hydrology/flow.h"
 
 #include <algorithm>
@@ -6,6 +5,7 @@
 #include <numbers>
 #include <numeric>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/common/match_domain.h"

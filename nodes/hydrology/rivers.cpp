@@ -1,4 +1,3 @@
-#include "graph/cost_query.h"
 #include "nodes/hydrology/rivers.h"
 
 #include <algorithm>
@@ -7,6 +6,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "nodes/common/match_domain.h"
 #include "nodes/hydrology/channels.h"

@@ -16,8 +16,8 @@
 #include <OpenImageIO/imageio.h>
 
 #include "nodes/common/resample.h"
-#include "nodes/io/compression.h"
 #include "nodes/io/checked_image_output.h"
+#include "nodes/io/compression.h"
 
 namespace orogen {
 namespace {

@@ -1,6 +1,6 @@
 // WriteMesh: a mesh to OBJ, PLY or STL, atomically.
-#include "graph/cost_query.h"
 #include "graph/checked_file.h"
+#include "graph/cost_query.h"
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
 #include "graph/registry.h"

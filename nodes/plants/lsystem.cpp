@@ -8,8 +8,8 @@
 #include <span>
 #include <vector>
 
-#include "nodes/plants/lsystem_grammar.h"
 #include "nodes/common/hash.h"
+#include "nodes/plants/lsystem_grammar.h"
 
 namespace orogen::plants {
 

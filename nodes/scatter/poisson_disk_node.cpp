@@ -7,8 +7,8 @@
 #include "graph/exec_context.h"
 #include "graph/registry.h"
 #include "nodes/common/match_domain.h"
-#include "nodes/scatter/run_placement.h"
 #include "nodes/scatter/poisson_disk.h"
+#include "nodes/scatter/run_placement.h"
 
 namespace orogen {
 
