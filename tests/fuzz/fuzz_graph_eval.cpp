@@ -26,6 +26,7 @@
 
 #include "evaluator/evaluator.h"
 #include "graph/graph.h"
+#include "graph/graph_file.h"
 #include "graph/registry.h"
 
 namespace {
@@ -119,6 +120,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const double extent = in.ConsumeFloatingPointInRange(1.0, 1e5);
   const Domain domain = Domain::from_extent({0, 0}, {extent, extent}, {side, side});
   const Graph graph = build(in);
+  // Reproducing a finding: OROGEN_FUZZ_PRINT=1 prints the graph and the domain before they are evaluated.
+  if (std::getenv("OROGEN_FUZZ_PRINT"))
+    std::fprintf(stderr, "domain %d x %d samples over %g m\n%s\n", side, side, extent, serialize_graph(graph).c_str());
 
   EvaluatorOptions options;
   options.threads = 1;
