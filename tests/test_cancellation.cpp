@@ -320,6 +320,14 @@ TEST(CancellationRepro, PolygonMapRasterOfAThinIsland) {
   EXPECT_LT(Seconds(Clock::now() - start).count(), 0.5 * kSanitizerFactor) << "the lookups are no longer O(buckets)";
 }
 
+// Found by fuzz_graph_eval: cells of 10 km hold millions of candidates each, and the cell rows were polled per
+// chunk of rows only.
+TEST(CancellationRepro, ScatterRulesWithCellsOfTenKilometres) {
+  const Domain d = Domain::from_extent({0, 0}, {12000, 12000}, {51, 51});
+  expect_within_bound("ScatterRules",
+                      run_timed("ScatterRules", d, {{"cell_size", 9999.99}}, {{"in", PortValue(bowl(d))}}, {}));
+}
+
 // Simulations at legal but long settings: PipeErosion for 1e7 s, StreamPower for 1e10 yr in 1e5-yr steps.
 TEST(CancellationRepro, LongSimulations) {
   const auto in = PortValue(bowl(kSmall));
