@@ -131,7 +131,7 @@ TEST_P(EveryNodesEstimate, IsWithinAFactorOfTwoOfItsMeasuredPeak) {
         GTEST_SKIP() << "no producer of a " << in.name << " input yet";
     }
     // Inputs of a particular kind, not just of the port's type: monthly channels for Temperature.
-    const std::map<std::string, std::map<std::string, std::string>> producers = {
+    const std::map<std::string, std::map<std::string, std::string> > producers = {
         {"Temperature", {{"illumination", "SunIllumination"}}}};
     if (auto it = producers.find(type->name); it != producers.end())
       for (const auto& [port, producer] : it->second)
