@@ -1,6 +1,7 @@
 #include "evaluator/memory_estimate.h"
 
 #include <cstdio>
+#include <algorithm>
 #include <exception>
 #include <fstream>
 #include <limits>
@@ -9,10 +10,28 @@
 
 namespace orogen {
 
+namespace {
+
+bool is_raster(PortType t) { return t == PortType::Heightfield || t == PortType::Image; }
+
+std::uint64_t saturate(long double bytes) {
+  if (!(bytes < static_cast<long double>(std::numeric_limits<std::uint64_t>::max())))
+    return std::numeric_limits<std::uint64_t>::max();
+  return static_cast<std::uint64_t>(bytes);
+}
+
+std::uint64_t add_saturating(std::uint64_t a, std::uint64_t b) {
+  return b > std::numeric_limits<std::uint64_t>::max() - a ? std::numeric_limits<std::uint64_t>::max() : a + b;
+}
+
+}  // namespace
+
 std::uint64_t estimate_output_bytes(const NodeType& type, const Domain& domain) {
   const long double samples = static_cast<long double>(domain.resolution.x) * domain.resolution.y;
-  long double per_sample = 4.0L;  // one working field
+  bool raster_output = false;
+  long double per_sample = 0.0L;
   for (const auto& out : type.outputs) {
+    raster_output = raster_output || is_raster(out.type);
     switch (out.type) {
       case PortType::Heightfield:
         per_sample += 4.0L;
@@ -28,23 +47,47 @@ std::uint64_t estimate_output_bytes(const NodeType& type, const Domain& domain) 
         break;
     }
   }
-  const long double bytes = samples * per_sample;
-  if (!(bytes < static_cast<long double>(std::numeric_limits<std::uint64_t>::max())))
-    return std::numeric_limits<std::uint64_t>::max();
-  return static_cast<std::uint64_t>(bytes);
+  // Values on a lattice of their own or of no lattice (a mesh of rocks, a word): sized by the node's
+  // declaration (extra_bytes) and its inputs, not by the domain.
+  if (type.domain_independent || type.own_lattice) return 0;
+  // One working field, for nodes that make rasters; a writer holds a block of rows at least.
+  if (raster_output || type.writes_files || type.outputs.empty()) per_sample += 4.0L;
+  return saturate(samples * per_sample);
 }
 
 std::uint64_t estimate_node_bytes(const CostQuery& query) {
-  const std::uint64_t outputs = estimate_output_bytes(query.type, query.domain);
-  if (!query.type.extra_bytes) return outputs;
+  std::uint64_t base = estimate_output_bytes(query.type, query.domain);
+  if (query.inputs && !query.type.writes_files) {
+    // With the inputs known, values that are not rasters (points, curves, meshes, scenes ...) are sized by the
+    // inputs they derive from, not by the domain: each such output about as large as the inputs of its type
+    // together (a scene: its instances, the points), or as the node's declaration says when it makes one type
+    // from another (a tree mesh from its skeleton's curves).
+    bool value_inputs = false;
+    for (std::size_t k = 0; k < query.inputs->size() && k < query.type.inputs.size(); ++k)
+      value_inputs = value_inputs || (has_value((*query.inputs)[k]) && !is_raster(query.type.inputs[k].type));
+    if (value_inputs) {
+      const long double samples = static_cast<long double>(query.domain.resolution.x) * query.domain.resolution.y;
+      for (const auto& out : query.type.outputs) {
+        if (is_raster(out.type)) continue;
+        if (!query.type.domain_independent && !query.type.own_lattice) {
+          const long double by_domain = samples * (out.type == PortType::Mesh ? 160.0L : 4.0L);
+          base = base - std::min<std::uint64_t>(base, saturate(by_domain));
+        }
+        const PortType source = out.type == PortType::Scene ? PortType::Points : out.type;
+        for (std::size_t k = 0; k < query.inputs->size() && k < query.type.inputs.size(); ++k)
+          if (query.type.inputs[k].type == source && has_value((*query.inputs)[k]))
+            base = add_saturating(base, byte_size((*query.inputs)[k]));
+      }
+    }
+  }
+  if (!query.type.extra_bytes) return base;
   std::uint64_t extra = 0;
   try {
     extra = query.type.extra_bytes(query);
   } catch (const std::exception&) {
     extra = 0;
   }
-  return extra > std::numeric_limits<std::uint64_t>::max() - outputs ? std::numeric_limits<std::uint64_t>::max()
-                                                                     : outputs + extra;
+  return add_saturating(base, extra);
 }
 
 std::string format_bytes(std::uint64_t bytes) {

@@ -9,8 +9,8 @@
 namespace orogen {
 
 NodeRun run_node(const std::string& type_name, const Domain& domain, const std::map<std::string, ParamValue>& params,
-                 const std::map<std::string, PortValue>& inputs, const OutputPolicy& output,
-                 const CancelToken* cancel) {
+                 const std::map<std::string, PortValue>& inputs, const OutputPolicy& output, const CancelToken* cancel,
+                 std::function<void(double)> on_progress) {
   const NodeType* type = NodeRegistry::instance().find(type_name);
   if (!type) throw std::logic_error("run_node: unknown node type '" + type_name + "'");
   std::vector<ParamValue> values;
@@ -41,6 +41,7 @@ NodeRun run_node(const std::string& type_name, const Domain& domain, const std::
   ExecContext ctx(*type, type_name, domain, std::move(in), std::move(values));
   ctx.set_output_policy(output);
   ctx.set_cancel_token(cancel);
+  if (on_progress) ctx.set_progress_callback(std::move(on_progress));
   type->execute(ctx);
   // The same contract as in a graph: every declared output is set.
   for (std::size_t i = 0; i < type->outputs.size(); ++i)

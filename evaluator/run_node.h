@@ -1,6 +1,7 @@
 #pragma once
 // Runs one node type directly, without a graph or cache: the third front door, for unit tests of single
 // nodes and for library use.
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -23,10 +24,10 @@ struct NodeRun {
 
 // Params not given take their defaults; params are checked like in a graph (GraphError on a bad value).
 // Throws NodeError if the node fails (or leaves an output unset), Cancelled if it was cancelled,
-// std::logic_error for unknown names.
+// std::logic_error for unknown names. `on_progress` receives the node's progress reports (fractions in [0, 1]).
 NodeRun run_node(const std::string& type_name, const Domain& domain,
                  const std::map<std::string, ParamValue>& params = {},
                  const std::map<std::string, PortValue>& inputs = {}, const OutputPolicy& output = {},
-                 const CancelToken* cancel = nullptr);
+                 const CancelToken* cancel = nullptr, std::function<void(double)> on_progress = {});
 
 }  // namespace orogen

@@ -39,4 +39,22 @@ struct CostQuery {
   }
 };
 
+// `bytes` per sample of the query's domain (working fields a node holds beyond its outputs), saturating.
+inline std::uint64_t per_sample_bytes(const CostQuery& q, double bytes) {
+  const double total = static_cast<double>(q.domain.resolution.x) * q.domain.resolution.y * bytes;
+  return total < 1.8e19 ? static_cast<std::uint64_t>(total) : ~std::uint64_t{0};
+}
+
+// `bytes` for each of `count` items (cells, points, triangles) counted from parameters, saturating.
+inline std::uint64_t per_item_bytes(double count, double bytes) {
+  const double total = count * bytes;
+  return total >= 0.0 && total < 1.8e19 ? static_cast<std::uint64_t>(total) : (total >= 0.0 ? ~std::uint64_t{0} : 0);
+}
+
+// The bytes held by the value on input `name` (0 when it is not known).
+inline std::uint64_t input_bytes(const CostQuery& q, std::string_view name) {
+  const PortValue* v = q.input(name);
+  return v ? byte_size(*v) : 0;
+}
+
 }  // namespace orogen

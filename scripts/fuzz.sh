@@ -2,7 +2,8 @@
 # Builds the libFuzzer targets with clang (ASan + UBSan + fuzzer coverage) in build/fuzz and runs each for a
 # share of a fixed time budget (default 60 s in all), from the seed corpora: graphs/*.json for the graph
 # reader, small images of each format for ReadHeightfield, parameter texts for the text grammars, and the
-# L-system grammars of graphs/plants.json for LSystem.
+# L-system grammars of graphs/plants.json for LSystem, byte strings that decode to whole graphs of the newer
+# families for the evaluation under a time and memory budget.
 #   scripts/fuzz.sh [SECONDS]
 # Exits 0 if clang cannot build a fuzzer here (reported; 1 instead when OROGEN_FUZZ_REQUIRED=1, as CI sets it),
 # 1 if a target found a crash (the reproducer is in build/fuzz/artifacts/).
@@ -26,16 +27,17 @@ rm -rf "$probe"
 cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -gline-tables-only" \
   -DCMAKE_C_FLAGS_DEBUG="-O1 -gline-tables-only" -DCMAKE_C_COMPILER="$CC_FUZZ" \
   -DCMAKE_CXX_COMPILER="$CXX_FUZZ" -DOROGEN_FUZZ=ON -DOROGEN_EDITOR=OFF -DOROGEN_BENCH=OFF -DOROGEN_TESTS=OFF
-cmake --build build/fuzz -j"$(nproc)" --target orogen_fuzz_graph_file orogen_fuzz_heightfield_image orogen_fuzz_param_text \
-  orogen_fuzz_lsystem
+cmake --build build/fuzz -j"$(nproc)" --target orogen_fuzz_graph_file orogen_fuzz_heightfield_image \
+  orogen_fuzz_param_text orogen_fuzz_lsystem orogen_fuzz_graph_eval
 
 work=build/fuzz/run
-mkdir -p "$work/graph" "$work/image" "$work/param" "$work/lsystem" build/fuzz/artifacts
+mkdir -p "$work/graph" "$work/image" "$work/param" "$work/lsystem" "$work/eval" build/fuzz/artifacts
 cp graphs/*.json "$work/graph/"
 cp tests/fixtures/v4/*.json "$work/graph/"  # version 4: the string tables the migration converts
 bash tests/fuzz/make_image_seeds.sh "$work/image"
 cp tests/fuzz/param_seeds/* "$work/param/" 2>/dev/null || true
 cp tests/fuzz/lsystem_seeds/* "$work/lsystem/"
+cp tests/fuzz/graph_eval_seeds/* "$work/eval/"
 
 export ASAN_OPTIONS=detect_leaks=0:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
@@ -46,8 +48,11 @@ run() {  # target corpus seconds [extra args]
     -timeout=20 -artifact_prefix=build/fuzz/artifacts/"$target"- -print_final_stats=1 "$@" 2>&1 | tail -n 12
   return "${PIPESTATUS[0]}"
 }
-third=$((total / 3)); sixth=$((total / 6))
-run orogen_fuzz_graph_file "$work/graph" "$third" -dict=tests/fuzz/graph_file.dict
-run orogen_fuzz_heightfield_image "$work/image" "$sixth"
-run orogen_fuzz_param_text "$work/param" "$sixth" -dict=tests/fuzz/graph_file.dict
-run orogen_fuzz_lsystem "$work/lsystem" "$((total - third - 2 * sixth))"
+quarter=$((total / 4)); eighth=$((total / 8))
+run orogen_fuzz_graph_file "$work/graph" "$quarter" -dict=tests/fuzz/graph_file.dict
+run orogen_fuzz_heightfield_image "$work/image" "$eighth"
+run orogen_fuzz_param_text "$work/param" "$eighth" -dict=tests/fuzz/graph_file.dict
+run orogen_fuzz_lsystem "$work/lsystem" "$eighth"
+# Whole graphs: a graph's evaluation is cancelled after 0.3 s and must stop within 5 s (else it aborts); the
+# cost model refuses nodes above 256 MB, so an allocation beyond 1 GB is an estimate that was wrong.
+run orogen_fuzz_graph_eval "$work/eval" "$((total - quarter - 3 * eighth))" -malloc_limit_mb=1024

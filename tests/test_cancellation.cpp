@@ -5,6 +5,11 @@
 // with a search radius over the whole map, shadow marches of 1e9 steps, a cell locator on a 1 x 1e7 map) are
 // run as named cases.
 //
+// Each node's case says whether it exercised the cancellation: point-wise nodes finish 33 x 33 before the timed
+// cancel (and fail at some parameter extremes before doing anything), so every node is also cancelled at its
+// first progress report, on 129 x 129 where its inputs are fields, and must stop there; a node exercised by
+// neither case must be listed in kNotExercised with the reason, or the case fails.
+//
 // The bound (docs/reliability.md, "Cancellation"): 1 s in an optimised build; kSanitizerFactor times that
 // under AddressSanitizer, whose every memory access is several times slower.
 #include <gtest/gtest.h>
@@ -28,6 +33,7 @@
 #include "graph/node_type.h"
 #include "graph/points.h"
 #include "graph/registry.h"
+#include "nodes/io/heightfield_file.h"
 #include "support/registered_types.h"
 #include "support/sample_values.h"
 #include "support/sanitizers.h"
@@ -140,6 +146,62 @@ std::map<std::string, ParamValue> at_end(const NodeType& type, bool high) {
 }
 
 const Domain kSmall = Domain::from_extent({0, 0}, {320, 320}, {33, 33});
+// Where nodes of field inputs are cancelled at their first progress report: rows enough for several reports.
+const Domain kMidRun = Domain::from_extent({0, 0}, {1280, 1280}, {129, 129});
+
+struct MidRun {
+  bool reported = false;  // the node reported progress strictly between 0 and 1 (and was cancelled there)
+  double fraction = 0.0;  // the first such report
+  int reports_after = 0;  // progress reports after the cancel
+  std::string outcome;    // "result", "cancelled" or the error
+};
+
+// Runs the node with its default parameters and cancels it at its first progress report strictly inside (0, 1).
+MidRun cancel_at_first_progress(const std::string& type, const Domain& d,
+                                const std::map<std::string, ParamValue>& params,
+                                const std::map<std::string, PortValue>& inputs, const OutputPolicy& policy) {
+  CancelToken cancel;
+  MidRun m;
+  std::mutex mutex;  // reports may come from several of TBB's threads
+  const auto on_progress = [&](double fraction) {
+    std::lock_guard lock(mutex);
+    if (m.reported) ++m.reports_after;
+    if (m.reported || !(fraction > 0.0 && fraction < 1.0)) return;
+    m.reported = true;
+    m.fraction = fraction;
+    cancel.cancel();
+  };
+  try {
+    (void)run_node(type, d, params, inputs, policy, &cancel, on_progress);
+    m.outcome = "result";
+  } catch (const Cancelled&) {
+    m.outcome = "cancelled";
+  } catch (const std::exception& e) {
+    m.outcome = e.what();
+  }
+  return m;
+}
+
+// Node types that neither outlast the timed cancel nor report progress before their end, with the reason. Every
+// other type must be seen to stop.
+const std::map<std::string, std::string> kNotExercised = {
+    {"Constant", "one fill of the output by the vector's constructor: no loop of its own"},
+    {"FillDepressions", "Priority-Flood reports no progress and polls every 65536 cells: 129^2 ends before one check"},
+    {"FloodFill", "Priority-Flood reports no progress and polls every 65536 cells: 129^2 ends before one check"},
+    {"Lakes", "Priority-Flood reports no progress and polls every 65536 cells: 129^2 ends before one check"},
+    {"WaterFlow", "polls and reports before each iteration; the sample terrains settle in the first (progress 0)"},
+    {"WriteCurves", "one serialization of a small input, no progress reports"},
+    {"WriteMesh", "one serialization of a small input (OpenMesh, tinygltf), no progress reports"},
+    {"WritePoints", "one serialization of a small input, no progress reports"},
+    {"WriteScene", "one serialization of a small input (tinygltf), no progress reports"},
+    {"PlantSprite", "polls per plant, reports progress at its end; the sample input is one plant"},
+    {"TreeMesh", "polls per plant, reports progress at its end; the sample input is one plant"},
+    {"Turtle3D", "polls per module block, reports progress at its end; the sample word is short"},
+    {"HullRock", "domain-independent: one convex hull of a bounded point count, no loop to poll"},
+    {"Instance", "one linear pass over its input points"},
+    {"MergePoints", "one linear pass over its input points"},
+    {"ProjectToTerrain", "one linear pass over its input points"},
+};
 
 class EveryNode : public ::testing::TestWithParam<std::string> {};
 
@@ -156,10 +218,59 @@ TEST_P(EveryNode, StopsWithinTheBoundAtCostlyParameters) {
     else if (!in.optional)
       GTEST_SKIP() << "no producer of a " << in.name << " input yet";
   }
+  bool exercised = false;
   for (const bool high : {true, false}) {
     const std::string label = type->name + (high ? ", parameters at their maxima" : ", parameters at their minima");
-    expect_within_bound(label, run_timed(type->name, kSmall, at_end(*type, high), inputs, policy));
+    const Timed t = run_timed(type->name, kSmall, at_end(*type, high), inputs, policy);
+    expect_within_bound(label, t);
+    exercised = exercised || t.cancelled_in_flight;
+    // Refused up front for its work (nodes/common/work_bounds.h): the message names what to change.
+    if (t.outcome.find("per-node ceiling") != std::string::npos ||
+        t.outcome.find("exceeds the limit") != std::string::npos) {
+      bool names_a_parameter = false;
+      for (const auto& p : type->params)
+        names_a_parameter = names_a_parameter || t.outcome.find(p.name) != std::string::npos;
+      EXPECT_TRUE(names_a_parameter) << label << ": a work refusal must name the parameters to change: " << t.outcome;
+      std::cout << label << ": refused up front for its work\n";
+    }
   }
+  // A node that finishes before the timed cancel (point-wise nodes on 33 x 33 take microseconds) is cancelled
+  // at its first progress report instead, on a larger domain where its inputs allow (fields only), which must
+  // stop it: it throws Cancelled, or returns at once (a simulation that converged on that step). A loop that
+  // stopped polling would go on reporting progress and return a result.
+  bool fields_only = true;
+  for (const auto& in : type->inputs) fields_only = fields_only && (in.type == PortType::Heightfield || in.optional);
+  std::map<std::string, PortValue> mid_inputs = inputs;
+  if (fields_only)
+    for (const auto& in : type->inputs)
+      if (in.type == PortType::Heightfield) mid_inputs[in.name] = PortValue(bowl(kMidRun));
+  std::map<std::string, ParamValue> mid_params;
+  if (type->name == "ReadHeightfield") {  // a file to read
+    const auto png = policy.output_dir / "read.png";
+    HeightfieldWriteOptions o;
+    o.format = HeightFormat::Png16;
+    write_heightfield_file(*bowl(kMidRun), png, o);
+    mid_params["path"] = png.string();
+  }
+  const MidRun mid =
+      cancel_at_first_progress(type->name, fields_only ? kMidRun : kSmall, mid_params, mid_inputs, policy);
+  std::cout << type->name << ", cancelled at its first progress report ("
+            << (mid.reported ? std::to_string(mid.fraction) : std::string("none")) << "): " << mid.outcome << ", "
+            << mid.reports_after << " reports after the cancel\n";
+  if (mid.reported) {
+    EXPECT_TRUE(mid.outcome == "cancelled" || (mid.outcome == "result" && mid.reports_after == 0))
+        << type->name << " reported progress " << mid.fraction << ", was cancelled there, and went on ("
+        << mid.reports_after << " more reports, then " << mid.outcome << ")";
+    exercised = true;
+  }
+  const auto exempt = kNotExercised.find(type->name);
+  std::cout << type->name << (exercised ? ": cancellation exercised" : ": cancellation not exercised") << "\n";
+  if (exempt != kNotExercised.end())
+    std::cout << "  listed as not exercisable: " << exempt->second << "\n";
+  else
+    EXPECT_TRUE(exercised) << type->name << " finished before the cancel and reported no progress before its end, so "
+                           << "nothing here checks that it polls; make it report progress from its loops (or list it "
+                           << "in kNotExercised with the reason)";
 }
 
 INSTANTIATE_TEST_SUITE_P(Registry, EveryNode, testing::ValuesIn(test::registered_type_names()), test::type_test_name);
@@ -207,6 +318,14 @@ TEST(CancellationRepro, PolygonMapRasterOfAThinIsland) {
   expect_within_bound("PolygonMapRaster", t);
   EXPECT_EQ(t.outcome, "result");
   EXPECT_LT(Seconds(Clock::now() - start).count(), 0.5 * kSanitizerFactor) << "the lookups are no longer O(buckets)";
+}
+
+// Found by fuzz_graph_eval: cells of 10 km hold millions of candidates each, and the cell rows were polled per
+// chunk of rows only.
+TEST(CancellationRepro, ScatterRulesWithCellsOfTenKilometres) {
+  const Domain d = Domain::from_extent({0, 0}, {12000, 12000}, {51, 51});
+  expect_within_bound("ScatterRules",
+                      run_timed("ScatterRules", d, {{"cell_size", 9999.99}}, {{"in", PortValue(bowl(d))}}, {}));
 }
 
 // Simulations at legal but long settings: PipeErosion for 1e7 s, StreamPower for 1e10 yr in 1e5-yr steps.

@@ -121,6 +121,35 @@ TEST(WorkBounds, RiverMaskOfInfiniteAndNonFiniteSegments) {
 
 // 9: diffusion 100 on a 0.25 m grid took one explicit sub-step instead of ~7e11 (a 300 m relief came out
 // 138,912 m high).
+// Droplets x steps x brush taps beyond the ceiling (1e8 droplets per km^2 of a 10 km map, 1e7 steps each) is
+// refused before the first droplet, naming the parameters; a huge domain's droplet count is checked, not cast.
+TEST(WorkBounds, HydraulicErosionPlansAreCheckedAgainstTheCeiling) {
+  const Domain d = Domain::from_extent({0, 0}, {10000, 10000}, {33, 33});
+  const std::string e =
+      node_error("HydraulicErosion", d, {{"droplets_per_km2", 1e8}, {"lifetime", 1e5}, {"step_length", 0.01}},
+                 {{"in", PortValue(fbm_like(d, 300.0))}});
+  EXPECT_NE(e.find("per-node ceiling"), std::string::npos) << e;
+  EXPECT_NE(e.find("droplets_per_km2"), std::string::npos) << e;
+  EXPECT_NE(e.find("step_length"), std::string::npos) << e;
+  const Domain huge = Domain::from_extent({0, 0}, {1e11, 1e11}, {9, 9});
+  const std::string h =
+      node_error("HydraulicErosion", huge, {{"droplets_per_km2", 1e8}}, {{"in", PortValue(fbm_like(huge, 300.0))}});
+  EXPECT_NE(h.find("droplets_per_km2"), std::string::npos) << h;
+}
+
+// WaterFlow's max_iterations x samples beyond the ceiling is refused up front.
+TEST(WorkBounds, WaterFlowIterationsAreCheckedAgainstTheCeiling) {
+  const Domain d = Domain::from_extent({0, 0}, {100000, 100000}, {3300, 3300});
+  const Domain small = Domain::from_extent({0, 0}, {100, 100}, {9, 9});
+  // The check comes before anything of the grid's size is allocated, so a flat field is enough.
+  const auto flat = std::make_shared<Heightfield>(d, 1.0f);
+  const std::string e =
+      node_error("WaterFlow", d, {{"max_iterations", std::int64_t{1000000}}}, {{"in", PortValue(flat)}});
+  EXPECT_NE(e.find("max_iterations"), std::string::npos) << e;
+  EXPECT_NO_THROW(run_node("WaterFlow", small, {{"max_iterations", std::int64_t{1000000}}},
+                           {{"in", PortValue(fbm_like(small, 10.0))}}));
+}
+
 TEST(WorkBounds, StreamPowerDiffusionSubStepsAreCountedOrRefused) {
   const Domain d = Domain::from_extent({0, 0}, {16, 16}, {65, 65});
   for (const double time_step : {1e4, 1e8}) {

@@ -207,6 +207,9 @@ OROGEN_NODE(Temperature) {
       .range(0.0, 24.0)
       .unit(Unit::Hour)
       .description("Lit hours per day that add no warming, hours 0..24");
+  // Working memory beyond the outputs, 32 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 32); });
   b.execute([](ExecContext& ctx) {
     TemperatureParams p;
     p.t_december = ctx.param<double>("t_december");
@@ -264,6 +267,9 @@ OROGEN_NODE(SoilHumidity) {
       .range(0.0, 100.0)
       .unit(Unit::Metre)
       .description("Water depth above which the soil is saturated, metres");
+  // Working memory beyond the outputs, 64 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 64); });
   b.execute([](ExecContext& ctx) {
     SoilHumidityParams p;
     p.rainfall = ctx.param<CurveValue>("rainfall");

@@ -31,6 +31,42 @@ Heightfield resample_bilinear(const Heightfield& source, const Domain& target) {
   return out;
 }
 
+BilinearRows bilinear_rows(const Domain& source, const Domain& target, int j) {
+  const int h = source.height();
+  double v = snap(source.to_sample({0.0, target.y(j)}).y);
+  if (std::isnan(v)) return {};
+  v = std::clamp(v, 0.0, static_cast<double>(h - 1));
+  const int lower = std::min(static_cast<int>(v), std::max(h - 2, 0));
+  return {lower, std::min(lower + 1, h - 1), v};
+}
+
+// The arithmetic of Heightfield::bilinear, on two rows.
+void resample_bilinear_row(const Domain& source, std::span<const float> lower, std::span<const float> upper,
+                           const BilinearRows& rows, const Domain& target, std::span<float> out) {
+  const int w = source.width();
+  if (rows.lower < 0) {
+    std::fill(out.begin(), out.end(), std::numeric_limits<float>::quiet_NaN());
+    return;
+  }
+  const double fv = rows.v - rows.lower;
+  const auto at = [w](std::span<const float> row, int i) {
+    return row[static_cast<std::size_t>(std::clamp(i, 0, w - 1))];
+  };
+  for (int k = 0; k < target.width(); ++k) {
+    double u = snap(source.to_sample({target.x(k), 0.0}).x);
+    if (std::isnan(u)) {
+      out[static_cast<std::size_t>(k)] = std::numeric_limits<float>::quiet_NaN();
+      continue;
+    }
+    u = std::clamp(u, 0.0, static_cast<double>(w - 1));
+    const int i = std::min(static_cast<int>(u), std::max(w - 2, 0));
+    const double fu = u - i;
+    const double a = at(lower, i), b = at(lower, i + 1), c = at(upper, i), d = at(upper, i + 1);
+    out[static_cast<std::size_t>(k)] =
+        static_cast<float>((a * (1 - fu) + b * fu) * (1 - fv) + (c * (1 - fu) + d * fu) * fv);
+  }
+}
+
 float image_bilinear(const Image& image, int channel, double u, double v) {
   const int w = image.width(), h = image.height();
   if (std::isnan(u) || std::isnan(v)) return std::numeric_limits<float>::quiet_NaN();  // no position, no index

@@ -21,6 +21,18 @@ void resample_bilinear_row(const Heightfield& source, const Domain& target, int 
 // The whole field on `target` (serial; nodes parallelise over rows with resample_bilinear_row).
 Heightfield resample_bilinear(const Heightfield& source, const Domain& target);
 
+// The two rows of a source lattice that row j of `target` reads (`upper` is `lower` + 1, clamped; both -1
+// when the row's position is not a number), for sources streamed a band at a time (a file read row by row).
+struct BilinearRows {
+  int lower = -1, upper = -1;
+  double v = 0.0;  // the row coordinate, snapped and clamped
+};
+BilinearRows bilinear_rows(const Domain& source, const Domain& target, int j);
+// Row j of `target` from the two rows `rows` names of a field on `source` (source.width() values each): the
+// values resample_bilinear_row gives from the whole field, bit for bit.
+void resample_bilinear_row(const Domain& source, std::span<const float> lower, std::span<const float> upper,
+                           const BilinearRows& rows, const Domain& target, std::span<float> out);
+
 // One channel of an image at continuous sample coordinates (column u, row v), bilinear, clamped at the
 // borders like Heightfield::bilinear (NaN coordinates give NaN).
 float image_bilinear(const Image& image, int channel, double u, double v);

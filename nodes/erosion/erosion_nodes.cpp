@@ -4,14 +4,15 @@
 // All are global: a simulation's output at a point depends on the whole domain.
 #include <string>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "graph/report.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/common/report_builder.h"
 #include "nodes/erosion/particles.h"
 #include "nodes/erosion/pipe.h"
 #include "nodes/erosion/stream_power.h"
 #include "nodes/erosion/thermal.h"
-#include "nodes/common/match_domain.h"
 
 namespace orogen {
 namespace {
@@ -71,6 +72,9 @@ OROGEN_NODE(ThermalErosion) {
       .range(0.0, 10.0)
       .unit(Unit::Metre)
       .description("Stop when no cell moves more than this in an iteration");
+  // Working memory beyond the outputs, 20 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 20); });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto mask = secondary_input<Heightfield>(ctx, "mask", in->domain);
@@ -258,6 +262,9 @@ OROGEN_NODE(PipeErosion) {
       .description("Soil doubles in hardness every layer_depth eroded (0: uniform soil)");
   b.param_float("sea_level", -1e4).range(-1e9, 1e9).unit(Unit::Metre).description("Cells below are sinks");
   b.param_seed("seed", 0).description("Drops mode: where drops fall hashes (seed, step, cell)");
+  // Working memory beyond the outputs, 64 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 64); });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto mask = secondary_input<Heightfield>(ctx, "mask", in->domain);
@@ -339,6 +346,9 @@ OROGEN_NODE(StreamPower) {
           "Channel initiation: fluvial incision only where the drainage area reaches this; smaller areas are "
           "hillslopes shaped by diffusion alone. A threshold above a few cells makes the result converge with "
           "resolution (0: every cell incises, as in Braun and Willett 2013)");
+  // Working memory beyond the outputs, 144 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 144); });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto mask = secondary_input<Heightfield>(ctx, "mask", in->domain);

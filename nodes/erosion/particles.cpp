@@ -15,6 +15,7 @@
 #include <tbb/parallel_for.h>
 
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/common/work_bounds.h"
 #include "nodes/common/work_poll.h"
 
 namespace orogen::erosion {
@@ -454,8 +455,14 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   const double cell_area = dx * dy;
   const glm::dvec2 size = in.domain.size();
   const double area_km2 = size.x * size.y * 1e-6;
-  const std::uint64_t droplets = static_cast<std::uint64_t>(std::llround(std::max(0.0, p.droplets_per_km2) * area_km2));
-  const int max_steps = std::max(1, static_cast<int>(std::ceil(p.lifetime / p.step_length)));
+  // Counts checked, never cast: a huge domain times a high density does not fit a 64-bit count.
+  const double wanted = std::max(0.0, p.droplets_per_km2) * area_km2;
+  (void)checked_count(wanted, "HydraulicErosion: droplets (droplets_per_km2 x the domain's area)",
+                      "lower droplets_per_km2 or use a smaller domain", std::int64_t{1} << 53, true);
+  const auto droplets = static_cast<std::uint64_t>(std::llround(wanted));
+  const auto max_steps = static_cast<int>(checked_count(p.lifetime / p.step_length,
+                                                        "HydraulicErosion: steps per droplet (lifetime / step_length)",
+                                                        "lower lifetime or raise step_length"));
 
   // Brush around the nearest sample: weights 1 - distance / radius, normalised; a table of offsets and
   // weights computed once.
@@ -514,6 +521,10 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   // directly (every droplet sees the changes of the droplets before it, as in Beyer's serial loop). Every
   // sample therefore receives the same changes in the same order for any thread count: bit-identical, with
   // no atomics and no change logs, and a tile's samples stay in cache while its droplets run.
+  // Each step of each droplet erodes or deposits over the brush's taps.
+  check_work(static_cast<double>(droplets) * max_steps * static_cast<double>(brush.size() + 1),
+             "HydraulicErosion (droplets x steps per droplet x brush taps)",
+             "lower droplets_per_km2, lifetime or radius, or raise step_length");
   const float step_u = static_cast<float>(p.step_length / dx), step_v = static_cast<float>(p.step_length / dy);
   // (+2: the bilinear neighbour and rounding to the nearest sample, which also cover one column of the brush
   // rows' padding; more padding widens the reach.)

@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
+#include "nodes/common/cancellable_rows.h"
 #include "nodes/common/resample.h"
 #include "nodes/field/blur.h"
-#include "nodes/common/cancellable_rows.h"
 
 namespace orogen {
 
@@ -51,6 +52,17 @@ OROGEN_NODE(Resample) {
       .unit(Unit::Metre)
       .description("Distance between output samples");
   b.param_bool("prefilter", false).description("Blur away detail finer than the output spacing before sampling");
+  // Its output lies on its own lattice: sized by spacing, not by the request (own_lattice).
+  b.extra_bytes([](const CostQuery& q) {
+    // The input's rectangle (the request's, before the input exists) at the chosen spacing.
+    const PortValue* in = q.input("in");
+    const Domain& from = in ? std::get<HeightfieldPtr>(*in)->domain : q.domain;
+    const Domain lattice = resampled_domain(from, q.params.get<double>("spacing"));
+    const double samples = static_cast<double>(lattice.resolution.x) * lattice.resolution.y;
+    // The output and a prefiltered copy of the input when asked.
+    return per_item_bytes(samples, 4.0) +
+           (q.params.get<bool>("prefilter") ? per_item_bytes(static_cast<double>(from.sample_count()), 8.0) : 0);
+  });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const ResampleParams p{ctx.param<double>("spacing"), ctx.param<bool>("prefilter")};

@@ -2,6 +2,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "graph/cost_query.h"
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
 #include "graph/registry.h"
@@ -42,6 +43,9 @@ OROGEN_NODE(HeightfieldToMesh) {
       .description(
           "Refine to about this many faces, never more unless max_error needs them (the tighter of the two wins); "
           "0: no target. With max_error 0 this alone decides the size");
+  // Working memory beyond the outputs, 256 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 256); });
   b.execute([](ExecContext& ctx) {
     const auto height = ctx.require<Heightfield>("in");
     const auto colors = secondary_input<Image>(ctx, "colors", height->domain);

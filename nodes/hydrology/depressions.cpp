@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "nodes/hydrology/flow_routing.h"
 
@@ -200,6 +201,9 @@ OROGEN_NODE(FillDepressions) {
       .soft_range(0.0, 100.0)
       .unit(Unit::Metre)
       .description("carve mode: depressions at most this deep are filled and kept as lakes, deeper ones are carved");
+  // Working memory beyond the outputs, 8 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 8); });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const FillParams p{ctx.enum_index("mode") == 1, ctx.enum_index("flats") == 0, ctx.param<double>("max_depth")};

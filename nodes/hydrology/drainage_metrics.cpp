@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "graph/report.h"
 #include "nodes/common/report_builder.h"
@@ -256,6 +257,9 @@ OROGEN_NODE(DrainageMetrics) {
       .soft_range(0.0, 1e7)
       .unit(Unit::SquareMetre)
       .description("Area from which a depression counts as a lake");
+  // Working memory beyond the outputs, 32 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 32); });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     LakeThreshold lake;

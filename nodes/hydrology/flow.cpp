@@ -5,6 +5,7 @@
 #include <numbers>
 #include <numeric>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/common/match_domain.h"
@@ -176,6 +177,9 @@ OROGEN_NODE(FlowAccumulation) {
       .range(1e-9, 1.0)
       .unit(Unit::MetrePerMetre)
       .description("Floor of tan(beta) in the wetness index (flats)");
+  // Working memory beyond the outputs, 16 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 16); });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto rain = secondary_input<Heightfield>(ctx, "rainfall_weight", in->domain);
@@ -251,6 +255,9 @@ OROGEN_NODE(Watersheds) {
       .soft_range(0.0, 1e7)
       .unit(Unit::SquareMetre)
       .description("Smaller basins are labeled 0");
+  // Working memory beyond the outputs, 16 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 16); });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     WatershedResult r = watersheds(*in, ctx.param<bool>("fill"), ctx.param<double>("min_area"), &ctx);

@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "nodes/common/match_domain.h"
 #include "nodes/hydrology/channels.h"
@@ -223,6 +224,9 @@ OROGEN_NODE(RiverExtract) {
       .description(
           "Leave lakes (filled depressions) without polylines: a river ends at the shore and its parent is the reach "
           "leaving the lake; off, reaches cross lakes along the filled surface's flow paths");
+  // Working memory beyond the outputs, 44 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 44); });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto rain = secondary_input<Heightfield>(ctx, "rainfall_weight", in->domain);

@@ -5,11 +5,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "graph/report.h"
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/common/match_domain.h"
 #include "nodes/common/report_builder.h"
+#include "nodes/common/work_bounds.h"
 #include "nodes/hydrology/flow_routing.h"
 
 namespace orogen::hydrology {
@@ -31,6 +33,8 @@ WaterFlowResult water_flow(const Heightfield& in, const Heightfield* rainfall, c
   if (rainfall) require_same_grid(rainfall->domain, in.domain, "rainfall");
   if (sinks) require_same_grid(sinks->domain, in.domain, "sinks");
   const std::size_t n = g.size();
+  check_work(static_cast<double>(p.max_iterations) * static_cast<double>(n), "WaterFlow (max_iterations x samples)",
+             "lower max_iterations or use a coarser grid");
   const double area = g.cell_area();
   std::vector<double> w(n), next(n), out(n, 0.0), scale(n, 0.0), flux(n, 0.0);
   std::vector<std::uint8_t> drain(n, 0);
@@ -165,6 +169,9 @@ OROGEN_NODE(WaterFlow) {
       .range(1, 1000000)
       .soft_range(1, 10000)
       .description("Upper bound on the iterations");
+  // Working memory beyond the outputs, 32 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 32); });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto rain = secondary_input<Heightfield>(ctx, "rainfall", in->domain);

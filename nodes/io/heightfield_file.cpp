@@ -15,8 +15,9 @@
 #include <OpenImageIO/half.h>
 #include <OpenImageIO/imageio.h>
 
-#include "nodes/io/compression.h"
+#include "nodes/common/resample.h"
 #include "nodes/io/checked_image_output.h"
+#include "nodes/io/compression.h"
 
 namespace orogen {
 namespace {
@@ -390,6 +391,114 @@ std::unique_ptr<OIIO::ImageInput> open_height_image(const fs::path& path, const 
   return in;
 }
 
+// Rows decoded in one call when streaming: a tile's height (a tile is decoded whole), else a small band.
+int band_rows_of(const OIIO::ImageSpec& spec) { return spec.tile_height > 0 ? spec.tile_height : 16; }
+
+// The rows of a height file in file order (the northern first), a band at a time: values as read_height_raster
+// gives them (fractions of full scale for unsigned integers, stored values otherwise).
+class HeightRowReader {
+ public:
+  HeightRowReader(const fs::path& path, int channel) : path_(path) {
+    check_readable_file(path);
+    const std::string ext = lower_extension(path);
+    if (ext == ".raw" || ext == ".r16") {
+      if (channel != 0)
+        throw FileError("'" + path.string() + "' is a RAW file with one channel; channel " + std::to_string(channel) +
+                        " does not exist");
+      const HeightRasterShape shape = probe_height_raster(path, channel);
+      std::error_code ec;
+      const auto bytes = fs::file_size(path, ec);
+      const auto side = static_cast<std::uint64_t>(shape.width);
+      if (ec || bytes == 0 || bytes % 2 != 0 || side * side * 2 != bytes)
+        throw FileError("'" + path.string() + "' is not a square RAW 16-bit heightmap (" + std::to_string(bytes) +
+                        " bytes is not 2 * side * side)");
+      raw_.open(path, std::ios::binary);
+      if (!raw_) throw FileError("cannot open '" + path.string() + "'");
+      width_ = height_ = shape.width;
+      unsigned_integer_ = true;
+      type_ = OIIO::TypeDesc::UINT16;
+      band_rows_ = 1;
+    } else {
+      in_ = open_height_image(path, ext, channel);
+      const OIIO::ImageSpec& spec = in_->spec();
+      width_ = spec.width;
+      height_ = spec.height;
+      channel_ = channel;
+      type_ = spec.channelformat(channel);
+      unsigned_integer_ = is_unsigned_integer(type_);
+      file_mapping_ = mapping_from_spec(spec);
+      band_rows_ = band_rows_of(spec);
+    }
+    band_.resize(static_cast<std::size_t>(band_rows_) * static_cast<std::size_t>(width_) * type_.size());
+  }
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  bool unsigned_integer() const { return unsigned_integer_; }
+  const std::optional<HeightRange>& file_mapping() const { return file_mapping_; }
+
+  // File row r (0 = the northern one) into `out` (width() values).
+  void read(int r, std::span<double> out) {
+    const std::size_t row_bytes = static_cast<std::size_t>(width_) * type_.size();
+    if (raw_.is_open()) {
+      raw_.seekg(static_cast<std::streamoff>(r) * static_cast<std::streamoff>(row_bytes));
+      raw_.read(reinterpret_cast<char*>(band_.data()), static_cast<std::streamsize>(row_bytes));
+      if (!raw_) throw FileError("cannot read '" + path_.string() + "'");
+      for (std::size_t k = 0; k < out.size(); ++k) out[k] = (band_[2 * k] | (band_[2 * k + 1] << 8)) / 65535.0;
+      return;
+    }
+    if (band_start_ < 0 || r < band_start_ || r >= band_start_ + band_rows_) {
+      band_start_ = r - r % band_rows_;
+      const int y0 = in_->spec().y + band_start_;
+      const int y1 = in_->spec().y + std::min(band_start_ + band_rows_, height_);
+      // Native reads: read_scanlines converting the format would allocate a 64 MB chunk whatever the band.
+      const bool read = in_->spec().tile_width > 0 ? read_tile_row(y0, y1)
+                                                   : in_->read_native_scanlines(0, 0, y0, y1, in_->spec().z, channel_,
+                                                                                channel_ + 1, band_.data());
+      if (!read) throw FileError("cannot read the pixels of '" + path_.string() + "': " + in_->geterror());
+    }
+    const unsigned char* row = band_.data() + static_cast<std::size_t>(r - band_start_) * row_bytes;
+    for (std::size_t k = 0; k < out.size(); ++k) out[k] = native_value(row + k * type_.size(), type_);
+  }
+
+ private:
+  // The channel's rows [y0, y1) of a tiled image into band_, a tile at a time (a tile holds every channel,
+  // padded to the tile's size at the image's edges).
+  bool read_tile_row(int y0, int y1) {
+    const OIIO::ImageSpec& spec = in_->spec();
+    std::size_t offset = 0;  // of the channel within a native pixel
+    for (int c = 0; c < channel_; ++c) offset += spec.channelformat(c).size();
+    const std::size_t pixel = spec.pixel_bytes(true), value = type_.size();
+    tile_.resize(spec.tile_bytes(true));
+    for (int x0 = spec.x; x0 < spec.x + width_; x0 += spec.tile_width) {
+      if (!in_->read_native_tile(0, 0, x0, y0, spec.z, tile_.data())) return false;
+      const int columns = std::min(spec.tile_width, spec.x + width_ - x0);
+      for (int y = y0; y < y1; ++y)
+        for (int i = 0; i < columns; ++i) {
+          const std::size_t from = (static_cast<std::size_t>(y - y0) * static_cast<std::size_t>(spec.tile_width) +
+                                    static_cast<std::size_t>(i)) *
+                                       pixel +
+                                   offset;
+          const std::size_t to = (static_cast<std::size_t>(y - y0) * static_cast<std::size_t>(width_) +
+                                  static_cast<std::size_t>(x0 - spec.x + i)) *
+                                 value;
+          std::memcpy(band_.data() + to, tile_.data() + from, value);
+        }
+    }
+    return true;
+  }
+
+  fs::path path_;
+  std::vector<unsigned char> tile_;
+  std::unique_ptr<OIIO::ImageInput> in_;
+  std::ifstream raw_;
+  int width_ = 0, height_ = 0, channel_ = 0, band_rows_ = 1, band_start_ = -1;
+  OIIO::TypeDesc type_;
+  bool unsigned_integer_ = false;
+  std::optional<HeightRange> file_mapping_;
+  std::vector<unsigned char> band_;
+};
+
 }  // namespace
 
 HeightRasterShape probe_height_raster(const fs::path& path, int channel) {
@@ -400,11 +509,11 @@ HeightRasterShape probe_height_raster(const fs::path& path, int channel) {
     const auto bytes = fs::file_size(path, ec);
     if (ec) throw FileError("cannot read '" + path.string() + "': " + ec.message());
     const auto side = static_cast<int>(std::llround(std::sqrt(static_cast<double>(bytes / 2))));
-    return {side, side, 1, 2};
+    return {side, side, 1, 2, 1};
   }
   const auto in = open_height_image(path, ext, channel);
   const OIIO::ImageSpec& spec = in->spec();
-  return {spec.width, spec.height, spec.nchannels, spec.channelformat(channel).size()};
+  return {spec.width, spec.height, spec.nchannels, spec.channelformat(channel).size(), band_rows_of(spec)};
 }
 
 std::uint64_t height_raster_read_bytes(const HeightRasterShape& shape) {
@@ -412,6 +521,14 @@ std::uint64_t height_raster_read_bytes(const HeightRasterShape& shape) {
   // The file's channel as stored, its values as doubles (HeightRaster), then as the float heightfield on the
   // image's own lattice (raster_to_heightfield).
   return pixels * (shape.bytes_per_value + sizeof(double) + sizeof(float));
+}
+
+std::uint64_t height_stream_read_bytes(const HeightRasterShape& shape) {
+  const auto width = static_cast<std::uint64_t>(shape.width);
+  // A band of every channel as decoded and of the channel read, a row of values, two rows of heights.
+  const std::uint64_t band = static_cast<std::uint64_t>(shape.band_rows) * width * shape.bytes_per_value *
+                             (static_cast<std::uint64_t>(shape.channels) + 1);
+  return band + width * (sizeof(double) + 2 * sizeof(float));
 }
 
 HeightRaster read_height_raster(const fs::path& path, int channel) {
@@ -452,6 +569,48 @@ Heightfield raster_to_heightfield(const HeightRaster& raster, const HeightfieldR
     }
   }
   return h;
+}
+
+}  // namespace orogen
+
+namespace orogen {
+
+Heightfield read_heightfield_onto(const fs::path& path, int channel, const HeightfieldReadOptions& options,
+                                  const Domain& target, const std::function<void(int)>& row_done) {
+  if (!(options.size.x > 0) || !(options.size.y > 0)) throw FileError("the image rectangle must have a positive size");
+  HeightRowReader reader(path, channel);
+  const int w = reader.width(), h = reader.height();
+  const Domain source = Domain::from_extent(options.origin, options.size, {w, h});
+  // The mapping and rounding of raster_to_heightfield, row by row.
+  const HeightRange range = options.use_file_mapping && reader.file_mapping() ? *reader.file_mapping() : options.range;
+  const bool map = reader.unsigned_integer() || options.remap_float;
+  std::vector<double> values(static_cast<std::size_t>(w));
+  std::vector<float> rows[2] = {std::vector<float>(values.size()), std::vector<float>(values.size())};
+  int held[2] = {-1, -1};  // the source row (0 = the southern one) in each slot: row k lives in slot k % 2
+  const auto source_row = [&](int j) -> std::span<const float> {
+    std::vector<float>& row = rows[j % 2];
+    if (held[j % 2] != j) {
+      reader.read(h - 1 - j, values);  // the file's first row is the northern one
+      for (std::size_t i = 0; i < values.size(); ++i)
+        row[i] = static_cast<float>(map ? range.min + values[i] * (range.max - range.min) : values[i]);
+      held[j % 2] = j;
+    }
+    return row;
+  };
+  Heightfield out(target);
+  // From the north down, so the file is read in its own order.
+  for (int j = target.height() - 1, done = 1; j >= 0; --j, ++done) {
+    const BilinearRows br = bilinear_rows(source, target, j);
+    if (br.lower < 0) {
+      resample_bilinear_row(source, {}, {}, br, target, out.row(j));
+    } else {
+      const std::span<const float> upper = source_row(br.upper);  // the northern of the two: read first
+      const std::span<const float> lower = source_row(br.lower);
+      resample_bilinear_row(source, lower, upper, br, target, out.row(j));
+    }
+    if (row_done) row_done(done);
+  }
+  return out;
 }
 
 }  // namespace orogen

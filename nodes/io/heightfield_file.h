@@ -9,6 +9,7 @@
 // 0 and full scale stand for. Float formats (EXR, TIFF float32) store metres directly.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -87,11 +88,14 @@ struct HeightRasterShape {
   int width = 0, height = 0;
   int channels = 0;
   std::size_t bytes_per_value = 0;  // of the channel read, as stored
+  int band_rows = 1;                // rows decoded together when streamed (a tile's height, or a band)
 };
 // Opens `path` as read_height_raster does (same checks and FileErrors) and reads only its header.
 HeightRasterShape probe_height_raster(const std::filesystem::path& path, int channel = 0);
 // The bytes read_height_raster and raster_to_heightfield hold for such a file at their peak.
 std::uint64_t height_raster_read_bytes(const HeightRasterShape& shape);
+// The bytes read_heightfield_onto holds beyond its result: one band of the file and two rows.
+std::uint64_t height_stream_read_bytes(const HeightRasterShape& shape);
 
 struct HeightfieldReadOptions {
   glm::dvec2 origin{0.0, 0.0};      // world position of the south-west pixel centre, metres
@@ -104,5 +108,15 @@ struct HeightfieldReadOptions {
 // The raster as a heightfield on its own lattice: pixel centres span [origin, origin + size] edge to edge
 // (Domain::from_extent with the image's pixel counts), rows flipped so row 0 is the southern row.
 Heightfield raster_to_heightfield(const HeightRaster& raster, const HeightfieldReadOptions& options);
+
+// Channel `channel` of the file placed by `options` and resampled (bilinear) onto `target`: the values
+// resample_bilinear(raster_to_heightfield(read_height_raster(...)), target) gives, bit for bit, but streamed:
+// the file is decoded in file order a band at a time and only the two rows each target row interpolates are
+// kept, so the memory is the result plus a band, however large the file (a 16384^2 image onto 257^2 holds
+// 257^2 floats and a few rows, not 16384^2 doubles). Rows no target row reads are decoded (the formats are
+// sequential) but not kept. `row_done(k)` is called after each of the target's rows, k rows done; it may
+// throw to abort (cancellation). Throws FileError like read_height_raster.
+Heightfield read_heightfield_onto(const std::filesystem::path& path, int channel, const HeightfieldReadOptions& options,
+                                  const Domain& target, const std::function<void(int)>& row_done = {});
 
 }  // namespace orogen

@@ -6,8 +6,6 @@
 #include "graph/exec_context.h"
 #include "graph/output_path.h"
 #include "graph/registry.h"
-#include "nodes/common/cancellable_rows.h"
-#include "nodes/common/resample.h"
 #include "nodes/io/heightfield_file.h"
 
 namespace orogen {
@@ -67,12 +65,13 @@ OROGEN_NODE(ReadHeightfield) {
       .description(
           "When the file carries the height mapping WriteHeightfield records (PNG, EXR, TIFF metadata), use it "
           "instead of height_min/height_max");
-  // The whole file is decoded before it is resampled: its pixels count, not the domain's (the header tells).
+  // The file is streamed onto the domain (read_heightfield_onto): beyond the output, a band of the file and
+  // two rows (the header tells their width), whatever its height.
   b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
     const auto& path = q.params.get<std::string>("path");
     if (path.empty()) return 0;
     const auto channel = static_cast<int>(q.params.get<std::int64_t>("channel"));
-    return height_raster_read_bytes(probe_height_raster(resolve_input_path(q.input_dir, path), channel));
+    return height_stream_read_bytes(probe_height_raster(resolve_input_path(q.input_dir, path), channel));
   });
   b.execute([](ExecContext& ctx) {
     if (ctx.param<std::string>("path").empty()) throw NodeError("no file given: set 'path' to the image to read");
@@ -89,18 +88,17 @@ OROGEN_NODE(ReadHeightfield) {
     options.range = {ctx.param<double>("height_min"), ctx.param<double>("height_max")};
     options.remap_float = ctx.param<bool>("remap_float");
     options.use_file_mapping = ctx.param<bool>("use_file_mapping");
-    Heightfield image;
+    const double rows = ctx.domain().height();
+    HeightfieldPtr out;
     try {
-      image = raster_to_heightfield(read_height_raster(path, static_cast<int>(ctx.param<std::int64_t>("channel"))),
-                                    options);
+      out = std::make_shared<Heightfield>(read_heightfield_onto(
+          path, static_cast<int>(ctx.param<std::int64_t>("channel")), options, ctx.domain(), [&](int done) {
+            ctx.check_cancelled();
+            ctx.progress(done / rows);
+          }));
     } catch (const FileError& e) {
       throw NodeError(e.what());
     }
-    ctx.progress(0.5);
-    auto out = std::make_shared<Heightfield>(ctx.domain());
-    parallel_rows(
-        ctx, ctx.domain().height(), [&](int j) { resample_bilinear_row(image, ctx.domain(), j, out->row(j)); }, 0.5,
-        1.0);
     ctx.set_output("out", std::move(out));
   });
 }

@@ -1,4 +1,5 @@
 // WriteCurves: polylines to GeoJSON-like JSON or OBJ lines, atomically.
+#include "graph/cost_query.h"
 #include "graph/exec_context.h"
 #include "graph/registry.h"
 #include "nodes/io/curves_file.h"
@@ -17,6 +18,8 @@ OROGEN_NODE(WriteCurves) {
       .output_file()
       .extensions({".json", ".geojson", ".obj"})
       .description("Output file, relative to the output directory; the extension selects JSON or OBJ");
+  // The encoder holds about four times the curves (measured: tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return 4 * input_bytes(q, "in"); });
   b.execute([](ExecContext& ctx) {
     const auto curves = ctx.require<Curves>("in");
     const std::string& path = ctx.param<std::string>("path");

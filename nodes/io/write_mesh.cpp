@@ -1,5 +1,6 @@
 // WriteMesh: a mesh to OBJ, PLY or STL, atomically.
 #include "graph/checked_file.h"
+#include "graph/cost_query.h"
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
 #include "graph/registry.h"
@@ -49,6 +50,8 @@ OROGEN_NODE(WriteMesh) {
       .description(
           "Closes the mesh into a solid (every edge shared by two faces) for 3D printing: walls down from the open "
           "border to this many metres below the lowest vertex and a flat bottom. 0: the open surface");
+  // The exporter holds about twice the mesh (measured: tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return 2 * input_bytes(q, "in"); });
   b.execute([](ExecContext& ctx) {
     const auto mesh = ctx.require<Mesh>("in");
     const std::string& path = ctx.param<std::string>("path");

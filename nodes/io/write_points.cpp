@@ -1,4 +1,5 @@
 // WritePoints: points to CSV or ASCII PLY, atomically.
+#include "graph/cost_query.h"
 #include "graph/exec_context.h"
 #include "graph/registry.h"
 #include "nodes/io/points_file.h"
@@ -17,6 +18,8 @@ OROGEN_NODE(WritePoints) {
       .output_file()
       .extensions({".csv", ".ply"})
       .description("Output file, relative to the output directory; the extension selects CSV or PLY");
+  // The encoder's buffers, about 64 KiB whatever the size (measured: tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery&) -> std::uint64_t { return 64 * 1024; });
   b.execute([](ExecContext& ctx) {
     const auto points = ctx.require<Points>("in");
     const std::string& path = ctx.param<std::string>("path");

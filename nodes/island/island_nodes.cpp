@@ -1,6 +1,7 @@
 // Node declarations of the island family: VoronoiIsland and PolygonMapRaster.
 #include <cmath>
 
+#include "graph/cost_query.h"
 #include "graph/exec_context.h"
 #include "graph/registry.h"
 #include "nodes/island/island.h"
@@ -107,6 +108,11 @@ OROGEN_NODE(VoronoiIsland) {
       .unit(Unit::Metre)
       .description("Width of a river of volume 1 in the rivers output; width = river_width * sqrt(volume)");
   b.param_seed("seed", 0).description("Seed of the sites, the shape noise and the river sources");
+  // About 1 KB per cell: sites, the Delaunay triangulation and the polygons (measured:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) {
+    return per_item_bytes(static_cast<double>(q.params.get<std::int64_t>("cells")), 1024.0);
+  });
   b.execute([](ExecContext& ctx) {
     IslandParams p;
     p.min_corner = ctx.param<glm::dvec2>("min_corner");
@@ -285,6 +291,12 @@ OROGEN_NODE(RiverNetwork) {
       .description("Largest sideways offset of a free control point, as a fraction of the chord");
   b.param_int("samples", 8).unit(Unit::Count).range(1, 64).description("Polyline segments per Bézier curve");
   b.param_seed("seed", 0).description("Seed of the outlets, the inner points and the growth order");
+  // About 1.5 KB per point of the network (density x area), with its triangulation (measured:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) {
+    const glm::dvec2 size = q.params.get<glm::dvec2>("size");
+    return per_item_bytes(q.params.get<double>("density") * size.x * size.y * 1e-6, 1536.0);
+  });
   b.execute([](ExecContext& ctx) {
     RiverNetworkParams p;
     p.min_corner = ctx.param<glm::dvec2>("min_corner");
@@ -334,6 +346,9 @@ OROGEN_NODE(CarveRivers) {
       .unit(Unit::Unitless)
       .range(0.0, 1.0)
       .description("Scales the blend weight (0: only the channel is cut)");
+  // Working memory beyond the outputs, 24 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 24); });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const auto rivers = ctx.require<Curves>("rivers");

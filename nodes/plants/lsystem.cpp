@@ -8,8 +8,8 @@
 #include <span>
 #include <vector>
 
-#include "nodes/plants/lsystem_grammar.h"
 #include "nodes/common/hash.h"
+#include "nodes/plants/lsystem_grammar.h"
 
 namespace orogen::plants {
 
@@ -69,6 +69,67 @@ std::size_t LSystem::max_module_parameters() const {
   for (const auto& r : impl_->rules)
     for (const auto& t : r.successor) most = std::max(most, t.args.size());
   return most;
+}
+
+std::uint64_t LSystem::max_word_length(int iterations, std::uint64_t cap) const {
+  // Only the symbols that occur: the axiom's and every successor's.
+  std::vector<unsigned char> symbols;
+  std::array<int, 256> slot;
+  slot.fill(-1);
+  const auto note = [&](char c) {
+    const auto u = static_cast<unsigned char>(c);
+    if (slot[u] < 0) {
+      slot[u] = static_cast<int>(symbols.size());
+      symbols.push_back(u);
+    }
+  };
+  for (const auto& t : impl_->axiom) note(t.symbol);
+  for (const auto& r : impl_->rules) {
+    note(r.pred.symbol);
+    for (const auto& t : r.successor) note(t.symbol);
+  }
+  const std::size_t n = symbols.size();
+  // The parameter counts each symbol's modules are made with: a rule matches only modules of its predecessor's.
+  std::vector<std::vector<std::size_t>> arities(n);
+  const auto made = [&](const lsys::Template& t) {
+    auto& a = arities[static_cast<std::size_t>(slot[static_cast<unsigned char>(t.symbol)])];
+    if (std::find(a.begin(), a.end(), t.args.size()) == a.end()) a.push_back(t.args.size());
+  };
+  for (const auto& t : impl_->axiom) made(t);
+  for (const auto& r : impl_->rules)
+    for (const auto& t : r.successor) made(t);
+  // grow[s][t]: the most modules of t one module of s becomes.
+  std::vector<double> grow(n * n, 0.0);
+  for (std::size_t s = 0; s < n; ++s) {
+    const auto& list = impl_->by_symbol[symbols[s]];
+    bool always = false;  // some rule always applies (no condition, no context, the only alternative)
+    for (const int k : list) {
+      const lsys::Rule& r = impl_->rules[static_cast<std::size_t>(k)];
+      std::vector<double> count(n, 0.0);
+      for (const auto& t : r.successor)
+        count[static_cast<std::size_t>(slot[static_cast<unsigned char>(t.symbol)])] += 1;
+      for (std::size_t t = 0; t < n; ++t) grow[s * n + t] = std::max(grow[s * n + t], count[t]);
+      bool every_arity = true;
+      for (const std::size_t a : arities[s]) every_arity = every_arity && a == r.pred.slots.size();
+      always = always || (list.size() == 1 && !r.has_context() && !r.condition && every_arity);
+    }
+    if (!always) grow[s * n + s] = std::max(grow[s * n + s], 1.0);
+  }
+  std::vector<double> counts(n, 0.0), next(n);
+  for (const auto& t : impl_->axiom) counts[static_cast<std::size_t>(slot[static_cast<unsigned char>(t.symbol)])] += 1;
+  const auto total = [&] {
+    double sum = 0.0;
+    for (const double c : counts) sum += c;
+    return sum;
+  };
+  for (int it = 0; it < iterations && total() < static_cast<double>(cap); ++it) {
+    std::fill(next.begin(), next.end(), 0.0);
+    for (std::size_t s = 0; s < n; ++s)
+      if (counts[s] > 0.0)
+        for (std::size_t t = 0; t < n; ++t) next[t] += counts[s] * grow[s * n + t];
+    counts.swap(next);
+  }
+  return static_cast<std::uint64_t>(std::min(total(), static_cast<double>(cap)));
 }
 
 std::uint64_t derive_peak_bytes(std::size_t max_modules, std::size_t parameters) {

@@ -73,6 +73,11 @@ class LSystem {
   std::size_t rule_count() const;
   // The most parameters a module of the axiom or of a successor carries: a bound for every derived module.
   std::size_t max_module_parameters() const;
+  // An upper bound on the word's length after `iterations` steps, at most `cap`: symbol counts grown step by
+  // step, each symbol replaced by the most of every symbol any of its rules' successors holds (or kept, when no
+  // rule applies: conditions, contexts and stochastic choices may all fail). Exact for context-free
+  // deterministic grammars (algae: Fibonacci numbers); O(iterations x symbols^2).
+  std::uint64_t max_word_length(int iterations, std::uint64_t cap) const;
 
   struct Impl;
 

@@ -61,12 +61,15 @@ OROGEN_NODE(LSystem) {
       .unit(Unit::Count)
       .range(1, 100000000)
       .description("A word longer than this fails with an error instead of exhausting memory (modules)");
-  // The word may grow to max_modules modules, each with as many parameters as the grammar's widest module.
+  // The word may grow to the grammar's bound on its length after the iterations (at most max_modules modules),
+  // each with as many parameters as the grammar's widest module.
   b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
     const plants::LSystem l(q.params.get<std::string>("axiom"), q.params.get<std::string>("rules"),
                             q.params.get<std::string>("ignore"));
-    return plants::derive_peak_bytes(static_cast<std::size_t>(q.params.get<std::int64_t>("max_modules")),
-                                     l.max_module_parameters());
+    const auto max_modules = static_cast<std::uint64_t>(q.params.get<std::int64_t>("max_modules"));
+    const std::uint64_t length =
+        l.max_word_length(static_cast<int>(q.params.get<std::int64_t>("iterations")), max_modules);
+    return plants::derive_peak_bytes(static_cast<std::size_t>(length), l.max_module_parameters());
   });
   b.execute([](ExecContext& ctx) {
     plants::DeriveOptions o;
@@ -144,6 +147,12 @@ OROGEN_NODE(Turtle3D) {
       .description("Size of L without a parameter");
   b.param_color("leaf_color", {0.1f, 0.35f, 0.05f, 1.0f})
       .description("Color of L without color parameters (linear RGB)");
+  // A skeleton point or a leaf per module at most, with the turtle stack: about 64 bytes a module
+  // (measured: tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
+    const PortValue* in = q.input("in");
+    return in ? per_item_bytes(static_cast<double>(std::get<ModuleStringPtr>(*in)->size()), 64.0) : 0;
+  });
   b.execute([](ExecContext& ctx) {
     const auto word = ctx.require<ModuleString>("in");
     plants::TurtleOptions o;
@@ -189,6 +198,20 @@ OROGEN_NODE(TreeMesh) {
   b.param_enum("leaf_shape", {"none", "quad", "rock"}, "quad")
       .description("Leaves as nothing, one-sided diamond quads (2 triangles) or closed convex hulls of 8 points");
   b.param_seed("seed", 0).description("Key of the rock leaves' shapes");
+  b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
+    // A tube of `sides` quads per skeleton segment and two triangles a leaf, at most max_triangles, about
+    // 224 bytes a triangle with its vertices, half-edges and attributes in OpenMesh (measured:
+    // tests/test_peak_memory.cpp).
+    const PortValue* in = q.input("in");
+    if (!in) return per_item_bytes(static_cast<double>(q.params.get<std::int64_t>("max_triangles")), 224.0);
+    const PortValue* leaves = q.input("leaves");
+    const double segments = static_cast<double>(std::get<CurvesPtr>(*in)->vertex_count());
+    const double leaf_count = leaves ? static_cast<double>(std::get<PointsPtr>(*leaves)->size()) : 0.0;
+    const double triangles =
+        std::min(2.0 * segments * static_cast<double>(q.params.get<std::int64_t>("sides")) + 2.0 * leaf_count,
+                 static_cast<double>(q.params.get<std::int64_t>("max_triangles")));
+    return per_item_bytes(triangles, 224.0);
+  });
   b.execute([](ExecContext& ctx) {
     const auto skeleton = ctx.require<Curves>("in");
     const auto leaves = ctx.input<Points>("leaves");
@@ -251,6 +274,12 @@ OROGEN_NODE(PlantSprite) {
       .unit(Unit::Count)
       .range(16, 50000000)
       .description("Triangle budget (2 per segment or leaf per plane); a larger plant is an error");
+  // Up to two planes of one quad per module of the word, with OpenMesh's tables: about 512 bytes a module
+  // (measured: tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
+    const PortValue* in = q.input("in");
+    return in ? per_item_bytes(static_cast<double>(std::get<ModuleStringPtr>(*in)->size()), 512.0) : 0;
+  });
   b.execute([](ExecContext& ctx) {
     const auto word = ctx.require<ModuleString>("in");
     plants::PlantSpriteOptions o;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "graph/cost_query.h"
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
 #include "graph/registry.h"
@@ -116,6 +117,10 @@ OROGEN_NODE(RockSet) {
       .unit(Unit::Metre)
       .description("Gap between neighboring variants in the row");
   declare_rock_params(b);
+  // About 8 KB per rock variant (measured: tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) {
+    return per_item_bytes(static_cast<double>(q.params.get<std::int64_t>("count")), 8192.0);
+  });
   b.execute([](ExecContext& ctx) {
     rocks::RockSetParams p;
     p.rock = rock_options(ctx);

@@ -3,11 +3,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "graph/cost_query.h"
 #include "graph/exec_context.h"
 #include "graph/registry.h"
 #include "nodes/common/match_domain.h"
-#include "nodes/scatter/run_placement.h"
 #include "nodes/scatter/poisson_disk.h"
+#include "nodes/scatter/run_placement.h"
 
 namespace orogen {
 
@@ -68,6 +69,17 @@ OROGEN_NODE(PoissonDisk) {
       .unit(Unit::Id)
       .description("Class id of the first class; class k gets first_class + k, 0..1e6");
   b.param_seed("seed", 0).description("Every draw hashes (seed, class, world chunk, counter)");
+  b.extra_bytes([](const CostQuery& q) {
+    // About one point per r^2 of the domain for each class at density 1, 52 bytes a point (position,
+    // rotation, scale, class, radius).
+    const glm::dvec2 size = q.domain.size();
+    double points = 0.0;
+    for (std::int64_t k = 0; k < q.params.get<std::int64_t>("class_count"); ++k) {
+      const double r = q.params.get<double>("radius_" + std::to_string(k));
+      points += size.x * size.y / (r * r);
+    }
+    return per_item_bytes(points, 52.0);
+  });
   b.execute([](ExecContext& ctx) {
     PoissonParams p;
     const int count = static_cast<int>(ctx.param<std::int64_t>("class_count"));

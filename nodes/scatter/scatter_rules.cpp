@@ -9,6 +9,7 @@
 #include "graph/exec_context.h"
 #include "graph/table_json.h"
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/common/work_poll.h"
 #include "nodes/scatter/scatter_hash.h"
 
 namespace orogen {
@@ -183,7 +184,11 @@ Points per_cell_rows(const CellRange& c, const ExecContext* ctx, Fn&& fn) {
   const int rows = static_cast<int>(c.j1 - c.j0 + 1);
   std::vector<Points> parts(static_cast<std::size_t>(rows));
   for_each_row(ctx, rows, [&](int r) {
-    for (std::int64_t i = c.i0; i <= c.i1; ++i) fn(i, c.j0 + r, parts[static_cast<std::size_t>(r)]);
+    WorkPoll poll(ctx);  // a row may hold millions of cells (a thin, wide request)
+    for (std::int64_t i = c.i0; i <= c.i1; ++i) {
+      fn(i, c.j0 + r, parts[static_cast<std::size_t>(r)]);
+      poll();
+    }
   });
   Points out;
   for (auto& part : parts) {
@@ -221,6 +226,7 @@ Points scatter_ecosystems(glm::dvec2 lo, glm::dvec2 hi, const TerrainVariables& 
   check_cells(cells, per_cell);
   const std::size_t E = p.ecosystems.size();
   Points out = per_cell_rows(cells, ctx, [&](std::int64_t ci, std::int64_t cj, Points& dst) {
+    WorkPoll poll(ctx);  // a large cell holds millions of candidates
     dst.attribute("ecosystem");
     std::vector<double> m(E);
     for (std::size_t e = 0; e < E; ++e)
@@ -230,6 +236,7 @@ Points scatter_ecosystems(glm::dvec2 lo, glm::dvec2 hi, const TerrainVariables& 
         const double expected = plant.density * p.cell_size * p.cell_size;
         const auto n = static_cast<std::int64_t>(std::floor(expected + draw.next()));
         for (std::int64_t t = 0; t < n; ++t) {
+          poll();
           const double x = (static_cast<double>(ci) + draw.next()) * p.cell_size;
           const double y = (static_cast<double>(cj) + draw.next()) * p.cell_size;
           const double u = draw.next(), angle = 2.0 * kPi * draw.next(), s = draw.next();

@@ -1,6 +1,7 @@
 // ScatterRules and BiomeScatter: the nodes over scatter_ecosystems() and scatter_biomes().
 #include <stdexcept>
 
+#include "graph/cost_query.h"
 #include "graph/exec_context.h"
 #include "graph/registry.h"
 #include "graph/table_json.h"
@@ -42,6 +43,9 @@ OROGEN_NODE(ScatterRules) {
       .unit(Unit::Metre)
       .description("Side of the world cells candidates are drawn in, metres in [0.1, 10000]");
   b.param_seed("seed", 0).description("Every draw hashes (seed, cell, ecosystem, plant, counter)");
+  // Working memory beyond the outputs, 12 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 12); });
   b.execute([](ExecContext& ctx) {
     const auto height = ctx.require<Heightfield>("in");
     const auto relative = secondary_input<Heightfield>(ctx, "relative_height", height->domain);
@@ -97,6 +101,9 @@ OROGEN_NODE(BiomeScatter) {
       .unit(Unit::Factor)
       .description("Smallest and largest scale factor, 0.01..100 (uniform between them)");
   b.param_seed("seed", 0).description("Every draw hashes (seed, cell)");
+  // Working memory beyond the outputs, 8 bytes a sample (calibrated on its measured peak:
+  // tests/test_peak_memory.cpp).
+  b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 8); });
   b.execute([](ExecContext& ctx) {
     const auto biome = ctx.require<Heightfield>("in");
     const auto height = secondary_input<Heightfield>(ctx, "height", biome->domain);

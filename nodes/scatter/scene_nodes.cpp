@@ -13,6 +13,7 @@
 #include "graph/exec_context.h"
 #include "graph/mesh.h"
 #include "graph/registry.h"
+#include "nodes/io/file_extension.h"
 #include "nodes/io/mesh_file.h"
 #include "nodes/io/write_output.h"
 #include "nodes/scatter/instance.h"
@@ -102,9 +103,9 @@ OROGEN_NODE(WriteScene) {
           "always keep theirs)");
   // The glTF document is built and serialized in memory before it is written: per instance a tinygltf node,
   // its JSON object and its text (nodes), or its translation, rotation and scale in the buffer and its base64
-  // and file copies (gpu_instancing); per terrain vertex and face the same three copies. Known once the
-  // scene exists, so the check is made just before the node runs. Grounding adds a copy of the points and the
-  // mesh surface's triangles and buckets (about twice the mesh).
+  // and file copies (gpu_instancing); the terrain's buffer and file copies (and base64 text in .gltf). Known once
+  // the scene exists, so the check is made just before the node runs. Grounding adds a copy of the points and
+  // the mesh surface's triangles and buckets (about twice the mesh).
   b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
     std::uint64_t bytes = 0;
     if (const PortValue* v = q.input("in")) {
@@ -112,7 +113,12 @@ OROGEN_NODE(WriteScene) {
       bytes += static_cast<std::uint64_t>(std::get<ScenePtr>(*v)->size()) *
                ((nodes ? 2048 : 160) + sizeof(glm::vec3) + sizeof(glm::quat) + sizeof(glm::vec3) + 8);
     }
-    if (const PortValue* t = q.input("terrain")) bytes += 5 * byte_size(*t);
+    // The terrain: its buffer and the file's bytes (.glb), and the base64 text of the buffer (.gltf); grounding's
+    // surface (triangles and buckets) about twice the mesh.
+    const bool text = lower_extension(q.params.get<std::string>("path")) == ".gltf";
+    const bool ground = q.params.get<std::string>("ground") == "terrain_mesh";
+    if (const PortValue* t = q.input("terrain"))
+      bytes += (text ? 3 * byte_size(*t) : 3 * byte_size(*t) / 2) + (ground ? 2 * byte_size(*t) : 0);
     return bytes;
   });
   b.execute([](ExecContext& ctx) {
