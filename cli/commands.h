@@ -40,5 +40,7 @@ struct ValidateCommand {
 
 int run_validate(const ValidateCommand& cmd);
 int run_nodes(const std::string& type, bool json, bool markdown);
+// Runs the node contracts on each type and prints a table; 1 if any contract fails.
+int run_test_node(const std::vector<std::string>& types);
 
 }  // namespace orogen::cli
