@@ -44,5 +44,7 @@ int run_nodes(const std::string& type, bool json, bool markdown);
 // Rewrites each file at the current format version (exit 2 if one cannot be read or migrated); check_only:
 // only say which files are older (exit 1 if any is).
 int run_migrate(const std::vector<std::filesystem::path>& files, bool check_only);
+// Runs the node contracts on each type and prints a table; 1 if any contract fails.
+int run_test_node(const std::vector<std::string>& types);
 
 }  // namespace orogen::cli

@@ -4,12 +4,20 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/commands.h"
+#include "cli/plugins.h"
+#include "graph/registry.h"
 
 int main(int argc, char** argv) {
   using namespace orogen::cli;
   CLI::App app{"Orogen: node-graph procedural terrain compositor"};
   app.set_version_flag("--version", std::string("orogen ") + OROGEN_VERSION);
   app.require_subcommand(1);
+  std::vector<std::string> plugins;
+  app.add_option("--plugin", plugins,
+                 "Load a node library (.so built with orogen_add_node_library); repeatable, before or after the "
+                 "command. The folders of OROGEN_PLUGIN_PATH (separated by ':') are loaded too");
+  // Subcommands hand --plugin up to the app, so `orogen nodes --plugin x.so` works as well.
+  app.fallthrough();
 
   EvalCommand eval;
   auto* eval_cmd = app.add_subcommand("eval", "Evaluate a graph file and write its outputs");
@@ -85,6 +93,15 @@ int main(int argc, char** argv) {
   migrate_cmd->add_option("FILES", migrate_files, "Graph files (.json)")->required();
   migrate_cmd->add_flag("--check", migrate_check, "Write nothing; exit 1 if a file is at an older version");
 
+  std::vector<std::string> test_types;
+  bool test_all = false;
+  auto* test_cmd =
+      app.add_subcommand("test-node",
+                         "Check node types against the contracts every node passes (declaration, cache key, reach, "
+                         "threads) and print a pass/fail table; exit 1 on a failure");
+  test_cmd->add_option("TYPE", test_types, "Node types to check (with --plugin, a library's types)");
+  test_cmd->add_flag("--all", test_all, "Check every registered type");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -92,11 +109,21 @@ int main(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitInvalid;
   }
 
+  if (!load_plugins(plugins)) return kExitInvalid;
   try {
     if (*eval_cmd) return run_eval(eval);
     if (*validate_cmd) return run_validate(validate);
     if (*nodes_cmd) return run_nodes(node_type, json, markdown);
     if (*migrate_cmd) return run_migrate(migrate_files, migrate_check);
+    if (*test_cmd) {
+      if (test_all)
+        for (const orogen::NodeType* t : orogen::NodeRegistry::instance().all()) test_types.push_back(t->name);
+      if (test_types.empty()) {
+        std::cerr << "error: name a node type to check, or --all\n";
+        return kExitInvalid;
+      }
+      return run_test_node(test_types);
+    }
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kExitEvalFailed;

@@ -140,21 +140,23 @@ nlohmann::json type_json(const NodeType& t) {
     }
     params.push_back(std::move(j));
   }
-  return {{"name", t.name},
-          {"category", t.category},
-          {"version", t.version},
-          {"description", t.description},
-          {"inputs", inputs},
-          {"outputs", outputs},
-          {"params", params},
-          {"reach", reach_json(t)},
-          {"distribution",
-           {{"kind", to_string(t.distribution_for(defaults(t)))},
-            {"declared", to_string(t.distribution)},
-            {"across_ranks", runs_across_ranks(t.distribution_for(defaults(t)))},
-            {"summary", distribution_text(t)}}},
-          {"writes_files", t.writes_files},
-          {"domain_independent", t.domain_independent}};
+  nlohmann::json j = {{"name", t.name},
+                      {"category", t.category},
+                      {"version", t.version},
+                      {"description", t.description},
+                      {"inputs", inputs},
+                      {"outputs", outputs},
+                      {"params", params},
+                      {"reach", reach_json(t)},
+                      {"distribution",
+                       {{"kind", to_string(t.distribution_for(defaults(t)))},
+                        {"declared", to_string(t.distribution)},
+                        {"across_ranks", runs_across_ranks(t.distribution_for(defaults(t)))},
+                        {"summary", distribution_text(t)}}},
+                      {"writes_files", t.writes_files},
+                      {"domain_independent", t.domain_independent}};
+  if (!t.library.empty()) j["library"] = t.library;  // a type from a node library (graph/node_library.h)
+  return j;
 }
 
 }  // namespace
@@ -170,14 +172,16 @@ std::string node_list_text() {
     const std::string reach = default_reach_kind(*t), ranks = to_string(t->distribution_for(defaults(*t)));
     s << "  " << t->name << std::string(t->name.size() < 22 ? 22 - t->name.size() : 1, ' ') << reach
       << std::string(reach.size() < 11 ? 11 - reach.size() : 1, ' ') << ranks
-      << std::string(ranks.size() < 14 ? 14 - ranks.size() : 1, ' ') << t->description << "\n";
+      << std::string(ranks.size() < 14 ? 14 - ranks.size() : 1, ' ')
+      << (t->library.empty() ? "" : "[" + t->library + "] ") << t->description << "\n";
   }
   return s.str();
 }
 
 std::string node_reference_text(const NodeType& t) {
   std::ostringstream s;
-  s << t.name << " (" << t.category << ", version " << t.version << ")\n  " << t.description << "\n";
+  s << t.name << " (" << t.category << ", version " << t.version
+    << (t.library.empty() ? "" : ", from node library '" + t.library + "'") << ")\n  " << t.description << "\n";
   s << "\nReach: " << t.reach_text() << "\n";
   s << "Distribution: " << distribution_text(t) << "\n";
   auto ports = [&](const char* title, const std::vector<PortDecl>& list) {
@@ -233,6 +237,7 @@ std::string node_reference_markdown() {
     }
     s << "\n### " << t->name << "\n\n"
       << t->description << "\n\nReach: " << t->reach_text() << ".\n\nDistribution: " << distribution_text(*t) << ".\n";
+    if (!t->library.empty()) s << "\nFrom node library `" << t->library << "`.\n";
     auto ports = [&](const char* title, const std::vector<PortDecl>& list) {
       if (list.empty()) return;
       s << "\n" << title << ":\n\n";

@@ -48,6 +48,9 @@ int main(int argc, char** argv) {
                "Start a build at once, print the frame times while it runs, exit when it is done");
   cli.add_option("--build-resolution", options.build_resolution, "With --benchmark-build: build at N x N samples")
       ->check(CLI::Range(2, 32768));
+  cli.add_option("--plugin", options.plugins,
+                 "Load a node library (.so built with orogen_add_node_library); repeatable. Libraries of "
+                 "OROGEN_PLUGIN_PATH and of Help > Node Libraries load too");
   cli.add_option("--palette", options.palette_query, "Open the node palette with this search typed (screenshots)");
   cli.add_flag("--offer-recovery", options.offer_recovery_in_screenshot,
                "With --screenshot: still offer crash-recovery files (screenshots of the prompt)");

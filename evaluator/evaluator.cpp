@@ -437,7 +437,11 @@ class Run {
       fail(job, e.what(), t0);
       return;
     } catch (...) {
-      fail(job, "unknown error", t0);
+      // Something that is not a std::exception (a node library's bug, say): still only this node's error.
+      fail(job,
+           "the node threw an exception that is not a std::exception" +
+               (type.library.empty() ? std::string() : " (node type from node library '" + type.library + "')"),
+           t0);
       return;
     }
     job.milliseconds = milliseconds_since(t0);

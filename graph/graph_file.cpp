@@ -120,8 +120,9 @@ class GraphReader {
     }
     check_format(doc);
     if (!check_version_and_migrate(doc)) return std::nullopt;
-    check_fields(doc, "", "", {"format", "version", "domain", "nodes", "editor"}, "in the file");
+    check_fields(doc, "", "", {"format", "version", "domain", "nodes", "node_libraries", "editor"}, "in the file");
 
+    if (doc.contains("node_libraries")) read_node_libraries(doc["node_libraries"]);
     if (doc.contains("domain")) read_domain(doc["domain"]);
     if (!doc.contains("nodes"))
       report("/nodes", "", "missing \"nodes\": the list of nodes (may be empty: [])");
@@ -325,8 +326,14 @@ class GraphReader {
       type = NodeRegistry::instance().find(name);
       if (!type) {
         const auto hint = NodeRegistry::instance().closest(name);
-        report(path + "/type", id,
-               "unknown node type '" + name + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)"));
+        if (const auto lib = library_of_.find(name); lib != library_of_.end())
+          report(path + "/type", id,
+                 "unknown node type '" + name + "': it comes from node library '" + lib->second +
+                     "', which is not loaded (load it with --plugin, OROGEN_PLUGIN_PATH or the editor's "
+                     "preferences)");
+        else
+          report(path + "/type", id,
+                 "unknown node type '" + name + "'" + (hint.empty() ? "" : " (did you mean '" + hint + "'?)"));
       }
     }
 
@@ -453,6 +460,8 @@ class GraphReader {
       NodeType t;
       t.name = info.second;
       t.category = "missing";
+      // Kept, so that saving the graph still records the library its node comes from.
+      if (const auto lib = library_of_.find(t.name); lib != library_of_.end()) t.library = lib->second;
       t.description = "Placeholder for a node of unknown type '" + info.second +
                       "' (not registered in this build): it cannot be evaluated; its parameters were not kept.";
       for (const auto& link : pending_) {
@@ -554,6 +563,29 @@ class GraphReader {
     }
   }
 
+  // "node_libraries": {"<library>": ["<type>", ...]}, the node libraries the graph's nodes come from (written
+  // by serialize_graph), so that a missing type can name the library to load.
+  void read_node_libraries(const json& libs) {
+    if (!libs.is_object()) {
+      report("/node_libraries", "",
+             "\"node_libraries\" must be an object {\"library\": [\"Type\", ...]}, found " + describe(libs));
+      return;
+    }
+    for (const auto& [name, types] : libs.items()) {
+      const std::string path = "/node_libraries/" + pointer_token(name);
+      if (!types.is_array()) {
+        report(path, "", "the types of node library '" + name + "' must be a list of names, found " + describe(types));
+        continue;
+      }
+      for (std::size_t i = 0; i < types.size(); ++i) {
+        if (!types[i].is_string())
+          report(path + "/" + std::to_string(i), "", "a node type name must be a string, found " + describe(types[i]));
+        else
+          library_of_[types[i].get<std::string>()] = name;
+      }
+    }
+  }
+
   void read_editor(const json& e) {
     if (!e.is_object()) {
       report("/editor", "", "\"editor\" must be an object {\"positions\": {...}}, found " + describe(e));
@@ -586,6 +618,7 @@ class GraphReader {
   std::map<std::string, std::size_t> index_of_id_;  // node id -> index in "nodes", for nodes in the graph
   std::vector<PendingLink> pending_;
   std::map<std::string, std::pair<std::size_t, std::string>> unknown_;  // id -> (index, type name)
+  std::map<std::string, std::string> library_of_;                       // node type -> the node library it comes from
   std::vector<DroppedLink> dropped_;
   std::set<std::pair<std::size_t, std::string>> links_attempted_;  // (node index, input) written in the file
   bool nodes_read_ = false;                                        // "nodes" was an array, so the set of ids is known

@@ -4,6 +4,11 @@
 // written on one line ([x, y], colours, gradient stops), an array made only of arrays has one element per
 // line (curve points, gradient stops), so a change to one point is a one-line diff. A table has one row per
 // line, each row an object on one line with its cells in column order.
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
 #include <nlohmann/json.hpp>
 
 #include "graph/atomic_file.h"
@@ -206,6 +211,23 @@ std::string serialize_graph(const Graph& graph) {
   }
   if (!graph.nodes().empty()) w.newline(1);
   out += ']';
+
+  // The node libraries the nodes come from, each with the types used (optional: absent without plugin nodes).
+  std::map<std::string, std::set<std::string>> libraries;
+  for (const auto& node : graph.nodes())
+    if (!node.type->library.empty()) libraries[node.type->library].insert(node.type->name);
+  if (!libraries.empty()) {
+    w.key("node_libraries", 1, false);
+    out += '{';
+    bool first = true;
+    for (const auto& [library, types] : libraries) {
+      w.key(library, 2, first);
+      w.value(json(std::vector<std::string>(types.begin(), types.end())), 2);
+      first = false;
+    }
+    w.newline(1);
+    out += '}';
+  }
 
   // Positions in node order; positions of nodes no longer in the graph are not worth keeping.
   bool any_position = false;

@@ -131,6 +131,8 @@ struct NodeType {
   std::string category;
   std::string description;
   int version = 1;
+  // The node library (graph/node_library.h) the type comes from; empty for the types built into Orogen.
+  std::string library;
   std::vector<PortDecl> inputs;
   std::vector<PortDecl> outputs;
   std::vector<ParamDecl> params;

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
+#include <mutex>
 #include <stdexcept>
 
 namespace orogen {
@@ -15,12 +16,15 @@ NodeRegistry& NodeRegistry::instance() {
 
 const NodeType& NodeRegistry::add(NodeType type) {
   check_declaration(type);
-  if (find(type.name)) throw std::logic_error("node type '" + type.name + "' registered twice");
+  std::unique_lock lock(mutex_);
+  for (const auto& t : types_)
+    if (t->name == type.name) throw std::logic_error("node type '" + type.name + "' registered twice");
   types_.push_back(std::make_unique<NodeType>(std::move(type)));
   return *types_.back();
 }
 
 const NodeType* NodeRegistry::find(std::string_view name) const {
+  std::shared_lock lock(mutex_);
   for (const auto& t : types_)
     if (t->name == name) return t.get();
   return nullptr;
@@ -28,7 +32,10 @@ const NodeType* NodeRegistry::find(std::string_view name) const {
 
 std::vector<const NodeType*> NodeRegistry::all() const {
   std::vector<const NodeType*> out;
-  for (const auto& t : types_) out.push_back(t.get());
+  {
+    std::shared_lock lock(mutex_);
+    for (const auto& t : types_) out.push_back(t.get());
+  }
   std::sort(out.begin(), out.end(), [](const NodeType* a, const NodeType* b) {
     return a->category != b->category ? a->category < b->category : a->name < b->name;
   });
@@ -53,6 +60,7 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
 std::string NodeRegistry::closest(std::string_view name) const {
   std::string best;
   std::size_t best_distance = std::max<std::size_t>(3, name.size() / 2) + 1;
+  std::shared_lock lock(mutex_);
   for (const auto& t : types_) {
     const auto d = edit_distance(name, t->name);
     if (d < best_distance) {
@@ -67,6 +75,19 @@ NodeRegistration::NodeRegistration(const char* name, void (*declare)(NodeBuilder
   NodeType type;
   type.name = name;
   NodeBuilder builder(type);
+  if (auto* staging = NodeRegistry::instance().staging()) {
+    // A node library is loading: an exception must not leave the library's initialisers (that would end the
+    // process); the loader reports it with the library's name.
+    try {
+      declare(builder);
+      staging->types.push_back(std::move(type));
+    } catch (const std::exception& e) {
+      staging->errors.push_back("node type '" + std::string(name) + "': " + e.what());
+    } catch (...) {
+      staging->errors.push_back("node type '" + std::string(name) + "': its declaration threw");
+    }
+    return;
+  }
   declare(builder);
   try {
     NodeRegistry::instance().add(std::move(type));

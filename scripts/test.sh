@@ -20,6 +20,9 @@ cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build build/release -j"$jobs"
 ctest --test-dir build/release --output-on-failure -j"$jobs"
 
+echo "== Node SDK: install, build examples/plugin against it, test and load it"
+bash scripts/test-plugin-sdk.sh build/release
+
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests"
 cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DOROGEN_SANITIZE=ON \
   -DOROGEN_EDITOR=OFF -DOROGEN_BENCH=OFF

@@ -15,6 +15,7 @@
 #include "editor/model/node_layout.h"
 #include "editor/model/preview_image.h"
 #include "editor/model/state_dir.h"
+#include "graph/node_library.h"
 #include "editor/ui/frame_timing.h"
 #include "editor/ui/gl.h"
 #include "editor/ui/screenshot.h"
@@ -72,7 +73,11 @@ App::App(AppOptions options)
       state_dir_(resolve_state_dir(options_)),
       recovery_(state_dir_ / "recovery"),
       autosaver_(recovery_),
-      recent_(state_dir_ / "recent.json") {
+      recent_(state_dir_ / "recent.json"),
+      node_libraries_(state_dir_ / "node_libraries.json") {
+  // Before any graph is opened, so that its nodes of library types are found.
+  node_library_errors_ = load_editor_node_libraries(node_libraries_, options_.plugins);
+  show_node_libraries_ = !node_library_errors_.empty();
   glfwSetErrorCallback(glfw_error);
   if (!glfwInit()) throw std::runtime_error("cannot initialise GLFW (is there a display?)");
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
@@ -456,6 +461,7 @@ void App::draw_menu_bar() {
     ImGui::EndMenu();
   }
   if (ImGui::BeginMenu("Help")) {
+    if (ImGui::MenuItem("Node Libraries...")) show_node_libraries_ = true;
     if (ImGui::MenuItem("Keyboard and Mouse")) show_shortcuts_ = true;
     if (ImGui::MenuItem("About Orogen")) show_about_ = true;
     ImGui::EndMenu();
@@ -750,6 +756,7 @@ void App::draw_modals() {
     }
     ImGui::End();
   }
+  if (show_node_libraries_) draw_node_libraries_window();
   if (show_about_) {
     if (ImGui::Begin("About Orogen", &show_about_,
                      ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings)) {
@@ -761,6 +768,49 @@ void App::draw_modals() {
     }
     ImGui::End();
   }
+}
+
+// The loaded node libraries with their types, the ones that failed and why, and the preferences' list: a
+// library added here loads at once and at every start; one removed stays loaded until the editor restarts.
+void App::draw_node_libraries_window() {
+  ImGui::SetNextWindowSize({620, 360}, ImGuiCond_FirstUseEver);
+  if (ImGui::Begin("Node Libraries", &show_node_libraries_, ImGuiWindowFlags_NoSavedSettings)) {
+    const auto loaded = loaded_node_libraries();
+    if (loaded.empty()) ImGui::TextDisabled("No node library is loaded.");
+    for (const auto& lib : loaded) {
+      ImGui::Text("%s", lib.name.c_str());
+      ImGui::SameLine();
+      ImGui::TextDisabled("%s", lib.path.string().c_str());
+      std::string types;
+      for (const auto& t : lib.types) types += (types.empty() ? "" : ", ") + t;
+      ImGui::TextWrapped("  %s", types.c_str());
+    }
+    for (const auto& e : node_library_errors_) ImGui::TextColored({1.0f, 0.45f, 0.4f, 1.0f}, "%s", e.c_str());
+    ImGui::Separator();
+    ImGui::TextUnformatted("Loaded at every start (besides OROGEN_PLUGIN_PATH):");
+    std::filesystem::path remove;
+    for (const auto& f : node_libraries_.files()) {
+      ImGui::PushID(f.string().c_str());
+      if (ImGui::SmallButton("Remove")) remove = f;
+      ImGui::PopID();
+      ImGui::SameLine();
+      ImGui::TextUnformatted(f.string().c_str());
+    }
+    if (!remove.empty()) node_libraries_.remove(remove);
+    ImGui::SetNextItemWidth(-80);
+    const bool enter = ImGui::InputText("##library", &node_library_entry_, ImGuiInputTextFlags_EnterReturnsTrue);
+    ImGui::SameLine();
+    if ((ImGui::Button("Add") || enter) && !node_library_entry_.empty()) {
+      try {
+        load_node_library(node_library_entry_);
+        node_libraries_.add(node_library_entry_);
+        node_library_entry_.clear();
+      } catch (const std::exception& e) {
+        node_library_errors_.push_back(e.what());
+      }
+    }
+  }
+  ImGui::End();
 }
 
 void App::set_document(std::unique_ptr<Document> document) {

@@ -14,6 +14,7 @@
 #include "editor/model/document.h"
 #include "editor/model/evaluation_controller.h"
 #include "editor/model/input_queue.h"
+#include "editor/model/node_library_preferences.h"
 #include "editor/model/recent_files.h"
 #include "editor/model/recovery.h"
 #include "editor/model/selection.h"
@@ -51,6 +52,8 @@ struct AppOptions {
   // and exit when it is done.
   bool benchmark_build = false;
   std::string palette_query;
+  std::vector<std::string>
+      plugins;  // node libraries to load at start, besides the preferences' and OROGEN_PLUGIN_PATH's
   bool offer_recovery_in_screenshot = false;  // screenshots normally skip the crash-recovery prompt  // documentation
                                               // screenshots: open the node palette with this query typed
   int build_resolution = 0;
@@ -119,6 +122,10 @@ class App {
   RecoveryStore recovery_;
   Autosaver autosaver_;
   RecentFiles recent_;
+  NodeLibraryPreferences node_libraries_;
+  std::vector<std::string> node_library_errors_;  // libraries that failed to load, shown in their window
+  std::string node_library_entry_;                // the path typed in the Node Libraries window
+  bool show_node_libraries_ = false;
   std::vector<RecoveryFile> recovery_offer_;
 
   FileDialog file_dialog_;
@@ -127,6 +134,7 @@ class App {
   std::function<void()> pending_action_;  // waiting for the unsaved-changes prompt
   bool prompt_unsaved_ = false;
   bool show_shortcuts_ = false, show_about_ = false;
+  void draw_node_libraries_window();
   std::string error_text_;
 
   // Preview state.

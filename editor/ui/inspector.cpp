@@ -125,6 +125,7 @@ void Inspector::draw_node(Document& document, Selection& selection, const Node& 
     }
   }
   ImGui::TextDisabled("%s  /  %s  v%d", node.type->category.c_str(), node.type->name.c_str(), node.type->version);
+  if (!node.type->library.empty()) ImGui::TextDisabled("from node library %s", node.type->library.c_str());
   if (!node.type->description.empty()) {
     ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + ImGui::GetContentRegionAvail().x - 6.0f);
     ImGui::TextUnformatted(node.type->description.c_str());

@@ -562,8 +562,10 @@ void NodeCanvasView::draw_palette() {
       dl->AddText({x, p.y}, hit ? IM_COL32(255, 190, 90, 255) : theme::kText, ch);
       x += ImGui::CalcTextSize(ch).x;
     }
-    const ImVec2 cs = ImGui::CalcTextSize(t->category.c_str());
-    dl->AddText({p.x + ImGui::GetContentRegionAvail().x - cs.x - 4, p.y}, theme::kTextDim, t->category.c_str());
+    // The category, and the node library a type comes from.
+    const std::string where = t->library.empty() ? t->category : t->category + " \xc2\xb7 " + t->library;
+    const ImVec2 cs = ImGui::CalcTextSize(where.c_str());
+    dl->AddText({p.x + ImGui::GetContentRegionAvail().x - cs.x - 4, p.y}, theme::kTextDim, where.c_str());
     ImGui::PopID();
   }
   ImGui::EndChild();

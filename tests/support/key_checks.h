@@ -4,7 +4,8 @@
 //   expect_every_param_changes_key("Perlin", domain);
 //   expect_every_input_changes_key("Add", domain);
 //
-// Failures are reported through GoogleTest EXPECT_* with the type, parameter or input and the values tried.
+// Failures are reported through GoogleTest with the type, parameter or input and the values tried. The checks
+// are the node contracts of testing/contracts.h (shared with `orogen test-node` and node libraries' kit).
 #include <string>
 
 #include "graph/domain.h"
