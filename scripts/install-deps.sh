@@ -20,11 +20,10 @@ packages=(
   libhwy-dev
   libimgui-dev libglfw3-dev libgl-dev libgl1-mesa-dri libegl1 fonts-dejavu-core
   xvfb xauth
-  gdal-bin  # tests/test_georeference.cpp checks the georeference with gdalinfo (skipped without it)
+  gdal-bin  # gdalinfo, gdal_translate: the georeference and the tiles' VRT mosaics are checked (skipped without)
   blender  # tests/test_blender_import.cpp imports scenes headless (skipped without it)
   clang-14 libclang-rt-14-dev clang-format-14
   libopenmpi-dev openmpi-bin
-  gdal-bin
 )
 
 SUDO=""
