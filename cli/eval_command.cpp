@@ -410,13 +410,15 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
                    job.tiles, group.size(), job.failed_tiles, job.computed, job.cached, job.failed, job.skipped,
                    job.milliseconds);
     if (job.failed != 0) return kExitEvalFailed;
-    return !root || write_tile_mosaics(graph, domain, counts, tile_naming, policy, cmd.quiet) ? kExitOk : kExitEvalFailed;
+    return !root || write_tile_mosaics(graph, domain, counts, tile_naming, policy, cmd.quiet) ? kExitOk
+                                                                                              : kExitEvalFailed;
   }
   if (tiled && !cmd.quiet && builds.size() > 1)
     std::fprintf(stderr, "%zu tiles built, %zu with failures, in %.1f ms\n", builds.size(), counted.failed_tiles,
                  counted.milliseconds);
   if (counted.failed != 0) return kExitEvalFailed;
-  if (tiled && !only_tile && !write_tile_mosaics(graph, domain, counts, tile_naming, policy, cmd.quiet)) return kExitEvalFailed;
+  if (tiled && !only_tile && !write_tile_mosaics(graph, domain, counts, tile_naming, policy, cmd.quiet))
+    return kExitEvalFailed;
   return kExitOk;
 }
 

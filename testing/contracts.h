@@ -23,9 +23,9 @@ struct ContractResult {
   std::string note;                   // what was checked, or why it was skipped
 };
 
-// Descriptions of the node, its ports and parameters; a unit on every number parameter (may be "" only when
-// the description says why: unitless, "in the input's units"); a hard range on every number; a soft range
-// inside it; a declared reach.
+// Descriptions of the node, its ports and parameters; a unit (graph/units.h) on every number parameter
+// (Unit::Unitless, Unit::InputUnits ... where no physical one holds); a hard range on every number; a soft
+// range inside it; a declared reach.
 ContractResult check_declaration_contract(const NodeType& type);
 
 // For each parameter, a changed valid value (every component of vectors and colors, every other enum choice)

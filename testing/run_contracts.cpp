@@ -204,6 +204,10 @@ ContractResult check_reach(const NodeType& type, const ParamCase& c) {
     r.status = Status::Failed;
     r.failures.push_back(label(type, c) + " failed on the reach check's domain: " + e.what());
     return r;
+  } catch (...) {  // a node library may throw anything; the table must still be printed
+    r.status = Status::Failed;
+    r.failures.push_back(label(type, c) + " threw something that is not a std::exception");
+    return r;
   }
   r.note = "reach " + reach.describe();
   for (std::size_t k = 0; k < a.outputs.size() && k < b.outputs.size(); ++k) {
@@ -254,6 +258,10 @@ ContractResult check_threads(const NodeType& type, const ParamCase& c, const Dom
     r.status = Status::Skipped;
     r.note = std::string("the node fails on the generated inputs: ") + e.what();
     return r;
+  } catch (...) {
+    r.status = Status::Failed;
+    r.failures.push_back(label(type, c) + " threw something that is not a std::exception");
+    return r;
   }
   for (std::size_t k = 0; k < one.outputs.size() && k < many.outputs.size(); ++k)
     if (serialize_value(one.outputs[k]) != serialize_value(many.outputs[k]))
@@ -279,6 +287,8 @@ ContractResult check_declaration_contract(const NodeType& type) {
     const bool number = p.type == ParamType::Float || p.type == ParamType::Int || p.type == ParamType::Vec2 ||
                         p.type == ParamType::Vec3;
     if (!number) continue;
+    if (p.unit == Unit::None)
+      fail("parameter '" + p.name + "' has no unit (.unit(Unit::...); Unit::Unitless for a pure number)");
     if (!p.min || !p.max)
       fail("parameter '" + p.name + "' has no hard range (.range(lo, hi)): extreme values reach the algorithm");
     if (p.soft_min && p.min && *p.soft_min < *p.min)

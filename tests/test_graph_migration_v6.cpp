@@ -73,7 +73,8 @@ TEST(GraphMigrationV6, OlderFixturesLoadAsTheExampleGraphs) {
   int examples = 0;
   for (const auto& entry : fs::directory_iterator(test::source_dir() / "graphs"))
     examples += entry.path().extension() == ".json" ? 1 : 0;
-  EXPECT_EQ(compared[4], examples) << "every example graph has its version-4 copy";
+  // distributed_hydrology.json was written at version 5.
+  EXPECT_EQ(compared[4], examples - 1) << "every example graph of format 4's time has its version-4 copy";
   EXPECT_EQ(compared[5], examples) << "every example graph has its version-5 copy";
 }
 

@@ -181,6 +181,15 @@ TEST(TestNodeCli, CatchesTheThreeBrokenNodes) {
   }
 }
 
+// A node that throws something other than a std::exception fails its runs; the table is still printed.
+TEST(TestNodeCli, ANodeThrowingANonExceptionFailsAndTheTableIsPrinted) {
+  const auto r = run_process(cli_binary(), {"test-node", "SampleThrows", "--plugin", OROGEN_TEST_SAMPLE_NODES});
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_TRUE(contains(r.out, "FAIL  reach")) << r.out;
+  EXPECT_TRUE(contains(r.out, "not a std::exception")) << r.out;
+  EXPECT_TRUE(contains(r.out, "pass  declaration")) << r.out;
+}
+
 TEST(TestNodeCli, PassesOnCorrectNodes) {
   const auto r = run_process(cli_binary(), {"test-node", "SampleQuantize", "Slope", "Blur", "FBM", "Add", "--plugin",
                                             OROGEN_TEST_SAMPLE_NODES});

@@ -59,7 +59,11 @@ OROGEN_NODE(TerracedCanyon) {
       .soft_range(10, 2000)
       .unit(Unit::Metre)
       .description("Canyon width from rim to rim");
-  b.param_float("depth", 60.0).range(0.0, 1e4).soft_range(0, 500).unit(Unit::Metre).description("Cut at the center line");
+  b.param_float("depth", 60.0)
+      .range(0.0, 1e4)
+      .soft_range(0, 500)
+      .unit(Unit::Metre)
+      .description("Cut at the center line");
   b.param_float("terrace", 10.0)
       .range(0.0, 1e4)
       .soft_range(0, 100)

@@ -17,7 +17,10 @@ OROGEN_NODE(BrokenDomainBlind) {
   b.reach_pointwise();
   b.domain_independent();
   b.output("out", PortType::Heightfield).description("x of each sample, metres");
-  b.param_float("slope", 1.0).range(-10.0, 10.0).unit(Unit::MetrePerMetre).description("Metres of height per metre along x");
+  b.param_float("slope", 1.0)
+      .range(-10.0, 10.0)
+      .unit(Unit::MetrePerMetre)
+      .description("Metres of height per metre along x");
   b.execute([](ExecContext& ctx) {
     auto h = std::make_shared<Heightfield>(ctx.domain());
     const double k = ctx.param<double>("slope");
@@ -54,6 +57,7 @@ OROGEN_NODE(BrokenNarrowReach) {
 OROGEN_NODE(BrokenThreadSplit) {
   b.category("test").description("Broken on purpose: subtracts the mean, summed in one chunk per thread.");
   b.reach_global();
+  b.distribution(Distribution::Reduction);  // a global reach must say how it spreads over MPI ranks
   b.input("in", PortType::Heightfield).description("Heights, metres");
   b.output("out", PortType::Heightfield).description("Heights minus their mean, metres");
   b.execute([](ExecContext& ctx) {
