@@ -3,12 +3,14 @@
 // the testing kit for node libraries (<orogen/testing.h>) all run these, so there is one implementation.
 // Each check returns what is wrong, one message per problem, naming the node, the parameter or port and the
 // cause; no GoogleTest here (the CLI runs them too).
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "graph/domain.h"
 #include "graph/node_type.h"
+#include "graph/output_path.h"
 #include "graph/param_value.h"
 #include "graph/port_value.h"
 
@@ -17,7 +19,7 @@ namespace orogen::contracts {
 enum class Status { Passed, Failed, Skipped };
 
 struct ContractResult {
-  std::string contract;  // "declaration", "cache key", "reach", "threads"
+  std::string contract;  // "declaration", "cache key", "reach", "threads", "extremes"
   Status status = Status::Passed;
   std::vector<std::string> failures;  // each names the cause
   std::string note;                   // what was checked, or why it was skipped
@@ -59,7 +61,40 @@ ContractResult check_reach(const NodeType& type, const ParamCase& c);
 // The same outputs, bit for bit, with one worker thread and with `threads`.
 ContractResult check_threads(const NodeType& type, const ParamCase& c, const Domain& d, int threads);
 
-// Every contract above on every case, on small domains (a second or so per node type).
+// The extremes contract: the node at each end of every parameter's hard range (one at a time, the others at
+// their defaults; every enum choice, both booleans, the largest seed) and with fields of NaN, infinities and
+// +-3e38 as inputs, on small odd domains. Each run must end in one of:
+//   - a result, all finite (fields and images) wherever every input was finite;
+//   - a NodeError with a message (refusing a value: name the parameter);
+//   - Cancelled: a run still going after run_seconds is cancelled and must return within cancel_bound.
+// A std::exception that is not a NodeError (std::runtime_error, std::bad_alloc, std::out_of_range ...), a
+// non-std exception, NaN or infinity from finite inputs, or ignoring the cancel fails. A node that keeps
+// running long after the cancel is left running and the sweep stops, so the table is still printed; a crash
+// ends the process (the caller's exit status shows it).
+struct ExtremesDomain {
+  std::string name;
+  Domain domain;
+  bool parameter_extremes = true;  // run the parameter sweep here too, not only defaults and non-finite inputs
+};
+// A 23 x 7 non-square domain, a 17 x 17 one of 2 micrometre spacing (parameter sweeps on both), 17 x 17 at
+// coordinates of 9e11 m and a 2 x 2 one.
+std::vector<ExtremesDomain> extremes_domains();
+struct ExtremesOptions {
+  std::vector<ExtremesDomain> domains;  // empty: extremes_domains()
+  double run_seconds = 0.25;            // a run is cancelled after this long
+  double cancel_bound = 1.0;            // seconds from the cancel to the return
+  double budget_seconds = 3.0;          // the sweep stops (and says so) after this long
+  // Values for input port types the kit cannot generate (points, meshes, scenes ...), on a domain.
+  std::function<std::map<PortType, PortValue>(const Domain&)> inputs;
+  OutputPolicy output;  // writers: the default "out" means a scratch folder, removed afterwards
+};
+// The values of a parameter the sweep tries, each with a label ("min", "max", an enum choice ...); only
+// values the parameter accepts.
+std::vector<std::pair<std::string, ParamValue>> extreme_values(const ParamDecl& p);
+ContractResult check_extremes(const NodeType& type, const ExtremesOptions& options = {});
+
+// Every contract above on every case, on small domains (a second or so per node type; the extremes sweep at
+// most ExtremesOptions::budget_seconds more).
 std::vector<ContractResult> check_node_contracts(const NodeType& type);
 
 }  // namespace orogen::contracts

@@ -318,6 +318,7 @@ std::vector<ContractResult> check_node_contracts(const NodeType& type) {
     }
     out.push_back(std::move(row));
   }
+  out.push_back(check_extremes(type));
   return out;
 }
 

@@ -1,5 +1,5 @@
 // Node libraries (graph/node_library.h): loading, refusals, the library's name on its types and in graph files,
-// and `orogen test-node` on the three deliberately broken nodes of tests/node_libraries/broken_nodes.cpp.
+// and `orogen test-node` on the four deliberately broken nodes of tests/node_libraries/broken_nodes.cpp.
 // This program is a host like orogen (it exports its symbols), so it loads the libraries in process too.
 #include <gtest/gtest.h>
 
@@ -164,13 +164,16 @@ TEST(NodeLibraryCli, EvaluatesAGraphOfPluginNodesAndAThrowingNodeIsThatNodesErro
 }
 
 // The contracts catch each deliberately broken node with a message that names the cause, and only its own.
-TEST(TestNodeCli, CatchesTheThreeBrokenNodes) {
+TEST(TestNodeCli, CatchesEachBrokenNodeByItsOwnContractOnly) {
   struct Broken {
     std::string type, contract, cause;
   };
   for (const Broken& b : {Broken{"BrokenDomainBlind", "cache key", "changed with the domain"},
                           Broken{"BrokenNarrowReach", "reach", "the declared reach is too small"},
-                          Broken{"BrokenThreadSplit", "threads", "with 1 thread differs from"}}) {
+                          Broken{"BrokenThreadSplit", "threads", "with 1 thread differs from"},
+                          Broken{"BrokenExtremeDivide", "extremes",
+                                 "divisor = min (0): output 'out' has an infinity at sample (0, 0) although every "
+                                 "input was finite"}}) {
     const auto r = run_process(cli_binary(), {"test-node", b.type, "--plugin", OROGEN_TEST_BROKEN_NODES});
     EXPECT_EQ(r.exit_code, 1) << b.type << "\n" << r.out << r.err;
     EXPECT_TRUE(contains(r.out, "FAIL  " + b.contract)) << b.type << "\n" << r.out;

@@ -1,4 +1,4 @@
-// Three deliberately broken node types, one per contract `orogen test-node` must catch
+// Four deliberately broken node types, one per contract `orogen test-node` must catch
 // (tests/test_node_library.cpp). Each is otherwise a well-declared node, so only its own contract fails.
 #include <algorithm>
 #include <cmath>
@@ -72,6 +72,23 @@ OROGEN_NODE(BrokenThreadSplit) {
     }
     auto out = std::make_shared<Heightfield>(in->domain);
     for (std::size_t k = 0; k < n; ++k) out->data[k] = in->data[k] - total / static_cast<float>(n);
+    ctx.set_output("out", out);
+  });
+}
+
+// Divides by a parameter whose range includes 0: at that end every finite height becomes an infinity (and 0
+// becomes NaN). It should refuse 0 with a NodeError naming the parameter, or start its range above 0.
+OROGEN_NODE(BrokenExtremeDivide) {
+  b.category("test").description("Broken on purpose: heights divided by a factor whose range includes 0.");
+  b.reach_pointwise();
+  b.input("in", PortType::Heightfield).description("Heights, metres");
+  b.output("out", PortType::Heightfield).description("Heights divided by the factor, metres");
+  b.param_float("divisor", 1.0).range(0.0, 100.0).unit(Unit::Factor).description("What the heights are divided by");
+  b.execute([](ExecContext& ctx) {
+    const auto in = ctx.require<Heightfield>("in");
+    const double divisor = ctx.param<double>("divisor");
+    auto out = std::make_shared<Heightfield>(in->domain);
+    for (std::size_t k = 0; k < in->data.size(); ++k) out->data[k] = static_cast<float>(in->data[k] / divisor);
     ctx.set_output("out", out);
   });
 }
