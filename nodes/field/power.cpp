@@ -1,6 +1,10 @@
 // Power node (002 Eq 3).
 #include "nodes/field/power.h"
 
+#include <cmath>
+#include <limits>
+#include <string>
+
 #include "graph/registry.h"
 #include "nodes/field/field_map.h"
 
@@ -34,8 +38,16 @@ OROGEN_NODE(Power) {
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const PowerParams p{ctx.param<double>("exponent"), ctx.param<double>("pivot"), ctx.param<double>("scale")};
-    ctx.set_output("out", map_field(
-                              *in, [&](double h) { return power_value(h, p); }, &ctx));
+    // A finite height whose power leaves the float range is refused, naming what to change, rather than stored
+    // as an infinity (heights of a few hundred metres at scale 1 overflow from an exponent of about 15).
+    auto power = [&](double h) {
+      const double v = power_value(h, p);
+      if (std::isfinite(h) && !(std::abs(v) <= std::numeric_limits<float>::max()))
+        throw NodeError("Power: " + std::to_string(h) + " gives " + std::to_string(v) +
+                        ", beyond the range of a float (3.4e38): lower 'exponent' or raise 'scale'");
+      return v;
+    };
+    ctx.set_output("out", map_field(*in, power, &ctx));
   });
 }
 

@@ -97,11 +97,12 @@ struct SegmentIndex {
 }  // namespace
 
 Curves river_network(const RiverNetworkParams& p, const Heightfield* mask, const ExecContext* ctx) {
-  if (!(p.size.x > 0.0 && p.size.y > 0.0)) throw std::runtime_error("RiverNetwork: the map size must be positive");
+  if (!(p.size.x > 0.0 && p.size.y > 0.0))
+    throw NodeError("RiverNetwork: the map size must be positive (parameter 'size')");
   const glm::dvec2 lo = p.min_corner, hi = p.min_corner + p.size;
   const double area_km2 = p.size.x * p.size.y * 1e-6;
   const double wanted = p.density * area_km2;
-  if (wanted > 2e6) throw std::runtime_error("RiverNetwork: more than 2 million inner points (lower the density)");
+  if (wanted > 2e6) throw NodeError("RiverNetwork: more than 2 million inner points: lower 'density' or 'size'");
   auto land = [&](glm::dvec2 q) {
     if (!mask) return true;
     return mask->sample_world(q.x, q.y) >= 0.5f;
