@@ -66,7 +66,8 @@ ContractResult check_threads(const NodeType& type, const ParamCase& c, const Dom
 // +-3e38 as inputs, on small odd domains. Each run must end in one of:
 //   - a result, all finite (fields and images) wherever every input was finite;
 //   - a NodeError with a message (refusing a value: name the parameter);
-//   - Cancelled: a run still going after run_seconds is cancelled and must return within cancel_bound.
+//   - Cancelled: a run still going after run_seconds is cancelled and must return within cancel_bound (a late
+//     run is repeated once before it counts: a busy machine can delay one return).
 // A std::exception that is not a NodeError (std::runtime_error, std::bad_alloc, std::out_of_range ...), a
 // non-std exception, NaN or infinity from finite inputs, or ignoring the cancel fails. A node that keeps
 // running long after the cancel is left running and the sweep stops, so the table is still printed; a crash

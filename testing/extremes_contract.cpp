@@ -121,45 +121,55 @@ struct Sweep {
   }
 
   Outcome run(const std::string& label, const Domain& d, const std::map<std::string, ParamValue>& params,
-              std::map<std::string, PortValue> inputs, bool finite_inputs) {
+              const std::map<std::string, PortValue>& inputs, bool finite_inputs) {
     ++runs;
-    auto st = std::make_shared<Run>();
-    st->type = type.name;
-    st->domain = d;
-    st->params = params;
-    st->inputs = std::move(inputs);
-    st->output = o.output;
-    std::thread worker([st] {
-      try {
-        st->result = run_node(st->type, st->domain, st->params, st->inputs, st->output, &st->cancel);
-      } catch (...) {
-        st->error = std::current_exception();
+    std::shared_ptr<Run> st;
+    double first_latency = 0.0;
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      st = std::make_shared<Run>();
+      st->type = type.name;
+      st->domain = d;
+      st->params = params;
+      st->inputs = inputs;
+      st->output = o.output;
+      std::thread worker([st] {
+        try {
+          st->result = run_node(st->type, st->domain, st->params, st->inputs, st->output, &st->cancel);
+        } catch (...) {
+          st->error = std::current_exception();
+        }
+        std::lock_guard lock(st->m);
+        st->done = true;
+        st->cv.notify_all();
+      });
+      std::unique_lock lock(st->m);
+      double latency = 0.0;
+      if (!st->cv.wait_for(lock, Seconds(o.run_seconds), [&] { return st->done; })) {
+        const auto cancelled_at = Clock::now();
+        st->cancel.cancel();
+        // Past the bound is late; past a few times the bound the node is left running and the sweep stops.
+        if (!st->cv.wait_for(lock, Seconds(4.0 * o.cancel_bound), [&] { return st->done; })) {
+          lock.unlock();
+          worker.detach();
+          fail(label + ": still running " + seconds_text(4.0 * o.cancel_bound) +
+               " after it was cancelled (left running; the remaining runs are skipped): poll "
+               "ctx.check_cancelled() in every long loop");
+          return Outcome::Abandoned;
+        }
+        latency = Seconds(Clock::now() - cancelled_at).count();
       }
-      std::lock_guard lock(st->m);
-      st->done = true;
-      st->cv.notify_all();
-    });
-    std::unique_lock lock(st->m);
-    const bool finished = st->cv.wait_for(lock, Seconds(o.run_seconds), [&] { return st->done; });
-    if (!finished) {
-      const auto cancelled_at = Clock::now();
-      st->cancel.cancel();
-      // Past the bound is a failure; past a few times the bound the node is left running and the sweep stops.
-      if (!st->cv.wait_for(lock, Seconds(4.0 * o.cancel_bound), [&] { return st->done; })) {
-        lock.unlock();
-        worker.detach();
-        fail(label + ": still running " + seconds_text(4.0 * o.cancel_bound) +
-             " after it was cancelled (left running; the remaining runs are skipped): poll "
-             "ctx.check_cancelled() in every long loop");
-        return Outcome::Abandoned;
+      lock.unlock();
+      worker.join();
+      if (latency <= o.cancel_bound) break;
+      // A loaded machine can delay one return; late twice in a row is the node's doing.
+      if (attempt == 0) {
+        first_latency = latency;
+        continue;
       }
-      const double latency = Seconds(Clock::now() - cancelled_at).count();
-      if (latency > o.cancel_bound)
-        fail(label + ": returned " + seconds_text(latency) + " after it was cancelled, more than the bound of " +
-             seconds_text(o.cancel_bound) + ": poll ctx.check_cancelled() more often");
+      fail(label + ": returned " + seconds_text(first_latency) + ", then " + seconds_text(latency) +
+           " after it was cancelled, more than the bound of " + seconds_text(o.cancel_bound) +
+           ": poll ctx.check_cancelled() more often");
     }
-    lock.unlock();
-    worker.join();
     if (!st->error) {
       ++results;
       if (!finite_inputs) return Outcome::Result;
