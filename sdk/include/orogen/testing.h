@@ -60,11 +60,22 @@ inline void expect_passes(const contracts::ContractResult& r) {
   for (const auto& f : r.failures) ADD_FAILURE() << "contract '" << r.contract << "': " << f;
 }
 
-// Every contract (declaration, cache key, reach, threads) on a registered type.
+// Every contract (declaration, cache key, reach, threads, extremes) on a registered type.
 inline void expect_node_contracts(const std::string& type_name) {
   const NodeType* t = NodeRegistry::instance().find(type_name);
   ASSERT_NE(t, nullptr) << "no registered node type '" << type_name << "': are its sources compiled into the test?";
   for (const auto& r : contracts::check_node_contracts(*t)) expect_passes(r);
+}
+
+// The extremes contract alone (every parameter at the ends of its range, non-finite inputs: a finite result, a
+// NodeError or a prompt stop after a cancel), with your own limits, e.g. a longer budget for a slow simulation:
+//   orogen::contracts::ExtremesOptions o;
+//   o.budget_seconds = 30.0;
+//   orogen::kit::expect_extremes("Canyon", o);
+inline void expect_extremes(const std::string& type_name, const contracts::ExtremesOptions& options = {}) {
+  const NodeType* t = NodeRegistry::instance().find(type_name);
+  ASSERT_NE(t, nullptr) << "no registered node type '" << type_name << "': are its sources compiled into the test?";
+  expect_passes(contracts::check_extremes(*t, options));
 }
 
 }  // namespace orogen::kit
