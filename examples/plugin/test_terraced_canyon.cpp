@@ -14,6 +14,13 @@ using canyon::CanyonParams;
 
 TEST(TerracedCanyon, PassesTheNodeContracts) { orogen::kit::expect_node_contracts("TerracedCanyon"); }
 
+// The extremes contract alone, with a budget of its own (a slow simulation would want a longer one).
+TEST(TerracedCanyon, ExtremeParametersGiveAFiniteResultOrAClearError) {
+  orogen::contracts::ExtremesOptions o;
+  o.budget_seconds = 10.0;
+  orogen::kit::expect_extremes("TerracedCanyon", o);
+}
+
 TEST(TerracedCanyon, CutsDepthOnTheCentreLineAndNothingBeyondTheRim) {
   CanyonParams p;
   for (double x : {-1234.0, 0.0, 77.0, 400.0}) {
