@@ -93,6 +93,9 @@ struct ExtremesOptions {
 // values the parameter accepts.
 std::vector<std::pair<std::string, ParamValue>> extreme_values(const ParamDecl& p);
 ContractResult check_extremes(const NodeType& type, const ExtremesOptions& options = {});
+// Runs the extremes contract left running (ignoring their cancel) that have not returned yet. A program must
+// not run its static destructors under them: `orogen test-node` ends with std::_Exit when this is not 0.
+int runs_left_running();
 
 // Every contract above on every case, on small domains (a second or so per node type; the extremes sweep at
 // most ExtremesOptions::budget_seconds more).

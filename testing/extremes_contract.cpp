@@ -4,6 +4,7 @@
 #include <cxxabi.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
@@ -100,9 +101,12 @@ struct Run {
   std::mutex m;
   std::condition_variable cv;
   bool done = false;
+  bool abandoned = false;  // the sweep stopped waiting: the worker counts itself out of g_left_running
   std::optional<NodeRun> result;
   std::exception_ptr error;
 };
+
+std::atomic<int> g_left_running{0};
 
 enum class Outcome { Result, Error, Cancelled, Failed, Abandoned };
 
@@ -140,6 +144,7 @@ struct Sweep {
         }
         std::lock_guard lock(st->m);
         st->done = true;
+        if (st->abandoned) --g_left_running;
         st->cv.notify_all();
       });
       std::unique_lock lock(st->m);
@@ -149,6 +154,8 @@ struct Sweep {
         st->cancel.cancel();
         // Past the bound is late; past a few times the bound the node is left running and the sweep stops.
         if (!st->cv.wait_for(lock, Seconds(4.0 * o.cancel_bound), [&] { return st->done; })) {
+          st->abandoned = true;
+          ++g_left_running;
           lock.unlock();
           worker.detach();
           fail(label + ": still running " + seconds_text(4.0 * o.cancel_bound) +
@@ -231,6 +238,8 @@ std::map<std::string, PortValue> with_fields(const NodeType& type, std::map<std:
 }
 
 }  // namespace
+
+int runs_left_running() { return g_left_running.load(); }
 
 std::vector<std::pair<std::string, ParamValue>> extreme_values(const ParamDecl& p) {
   std::vector<std::pair<std::string, ParamValue>> out;

@@ -125,5 +125,30 @@ TEST(ExtremesContract, CatchesNonFiniteResultsForeignExceptionsAndIgnoredCancels
   EXPECT_TRUE(any_contains(s.failures, "after it was cancelled")) << testing::PrintToString(s.failures);
 }
 
+// A node that ignores the cancel altogether is left running, the sweep stops (so the table is still printed),
+// and the run is counted until it returns.
+TEST(ExtremesContract, ANodeIgnoringTheCancelIsLeftRunningAndTheSweepStops) {
+  auto hangs = fake("ExtremesHangs", [](ExecContext& ctx) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    ctx.set_output("out", ctx.require<Heightfield>("in"));
+  });
+  NodeRegistry::instance().add(hangs);
+  contracts::ExtremesOptions o;
+  o.run_seconds = 0.05;
+  o.cancel_bound = 0.1;
+  const auto start = std::chrono::steady_clock::now();
+  const auto r = contracts::check_extremes(hangs, o);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.2)
+      << "the sweep did not wait for the node";
+  EXPECT_EQ(r.status, contracts::Status::Failed);
+  ASSERT_EQ(r.failures.size(), 1u) << testing::PrintToString(r.failures);
+  EXPECT_NE(r.failures[0].find("defaults: still running 0.4 s after it was cancelled"), std::string::npos)
+      << r.failures[0];
+  EXPECT_EQ(contracts::runs_left_running(), 1);
+  for (int k = 0; k < 100 && contracts::runs_left_running() > 0; ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_EQ(contracts::runs_left_running(), 0) << "the abandoned run counted itself out when it returned";
+}
+
 }  // namespace
 }  // namespace orogen

@@ -1,8 +1,9 @@
 // Node libraries (graph/node_library.h): loading, refusals, the library's name on its types and in graph files,
-// and `orogen test-node` on the four deliberately broken nodes of tests/node_libraries/broken_nodes.cpp.
+// and `orogen test-node` on the deliberately broken nodes of tests/node_libraries/broken_nodes.cpp.
 // This program is a host like orogen (it exports its symbols), so it loads the libraries in process too.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdlib>
 
 #include "evaluator/run_node.h"
@@ -182,6 +183,20 @@ TEST(TestNodeCli, CatchesEachBrokenNodeByItsOwnContractOnly) {
     for (std::size_t at = r.out.find("FAIL"); at != std::string::npos; at = r.out.find("FAIL", at + 1)) ++fails;
     EXPECT_EQ(fails, 1u) << b.type << " should fail only its own contract\n" << r.out;
   }
+}
+
+// A node that never polls the cancel, at an extreme that runs for minutes: left running, its table printed,
+// and the program exits at once instead of waiting for it.
+TEST(TestNodeCli, ANodeIgnoringTheCancelIsLeftBehindAndTheTableIsPrinted) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto r = run_process(cli_binary(), {"test-node", "BrokenIgnoresCancel", "--plugin", OROGEN_TEST_BROKEN_NODES});
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_TRUE(contains(r.out, "FAIL  extremes")) << r.out;
+  EXPECT_TRUE(contains(r.out, "steps = max (1000000)")) << r.out;
+  EXPECT_TRUE(contains(r.out, "still running 4 s after it was cancelled")) << r.out;
+  EXPECT_TRUE(contains(r.out, "pass  threads")) << r.out;
+  EXPECT_LT(seconds, 60.0) << "test-node waited for the abandoned run";
 }
 
 // A node that throws something other than a std::exception fails its runs; the table is still printed.

@@ -1,7 +1,9 @@
-// Four deliberately broken node types, one per contract `orogen test-node` must catch
+// Deliberately broken node types, each failing one contract `orogen test-node` must catch
 // (tests/test_node_library.cpp). Each is otherwise a well-declared node, so only its own contract fails.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <thread>
 #include <vector>
 
 #include <tbb/task_arena.h>
@@ -90,5 +92,20 @@ OROGEN_NODE(BrokenExtremeDivide) {
     auto out = std::make_shared<Heightfield>(in->domain);
     for (std::size_t k = 0; k < in->data.size(); ++k) out->data[k] = static_cast<float>(in->data[k] / divisor);
     ctx.set_output("out", out);
+  });
+}
+
+// Works in steps that never poll the cancel: at its largest step count it runs for minutes, and `orogen
+// test-node` must still print its table (the run is left behind) and exit.
+OROGEN_NODE(BrokenIgnoresCancel) {
+  b.category("test").description("Broken on purpose: a slow loop that never calls ctx.check_cancelled().");
+  b.reach_pointwise();
+  b.input("in", PortType::Heightfield).description("Heights, metres");
+  b.output("out", PortType::Heightfield).description("The same heights, metres");
+  b.param_int("steps", 1).range(1, 1000000).unit(Unit::Count).description("Steps of 1 ms of (pretended) work");
+  b.execute([](ExecContext& ctx) {
+    const auto steps = ctx.param<std::int64_t>("steps");
+    for (std::int64_t k = 0; k < steps; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    ctx.set_output("out", ctx.require<Heightfield>("in"));
   });
 }
