@@ -213,16 +213,21 @@ struct Sweep {
   bool out_of_time() const { return Clock::now() - start > Seconds(o.budget_seconds); }
 };
 
-// The inputs of `type` on `d`: the kit's generated values, else o.inputs; nullopt if a required one is missing.
+// The inputs of `type` on `d`: the kit's generated values, else o.inputs; nullopt if a required one is missing
+// (named in `missing`).
 std::optional<std::map<std::string, PortValue>> inputs_for(const NodeType& type, const Domain& d,
-                                                           const std::map<PortType, PortValue>& extra) {
+                                                           const std::map<PortType, PortValue>& extra,
+                                                           std::string& missing) {
   std::map<std::string, PortValue> in;
   for (const auto& port : type.inputs) {
     auto v = contract_input(port, d);
     if (std::holds_alternative<std::monostate>(v))
       if (const auto it = extra.find(port.type); it != extra.end()) v = it->second;
     if (std::holds_alternative<std::monostate>(v)) {
-      if (!port.optional) return std::nullopt;
+      if (!port.optional) {
+        missing = port.name + " (" + std::string(to_string(port.type)) + ")";
+        return std::nullopt;
+      }
       continue;
     }
     in[port.name] = std::move(v);
@@ -306,10 +311,11 @@ ContractResult check_extremes(const NodeType& type, const ExtremesOptions& optio
   }
   Sweep s{type, o, r};
   bool stopped = false, abandoned = false, any_domain = false;
+  std::string missing;
   for (const auto& dom : o.domains.empty() ? extremes_domains() : o.domains) {
     if (stopped || abandoned) break;
     const auto extra = o.inputs ? o.inputs(dom.domain) : std::map<PortType, PortValue>{};
-    const auto inputs = inputs_for(type, dom.domain, extra);
+    const auto inputs = inputs_for(type, dom.domain, extra, missing);
     if (!inputs) continue;
     any_domain = true;
     const std::string where = type.name + " on the " + dom.name + " domain";
@@ -352,7 +358,7 @@ ContractResult check_extremes(const NodeType& type, const ExtremesOptions& optio
   }
   if (!any_domain) {
     r.status = Status::Skipped;
-    r.note = "the kit cannot generate the node's inputs";
+    r.note = "the kit cannot generate input " + missing;
     return r;
   }
   r.note = std::to_string(s.runs) + " runs: " + std::to_string(s.results) + " results, " + std::to_string(s.errors) +
