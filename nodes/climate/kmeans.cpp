@@ -409,10 +409,8 @@ OROGEN_NODE(KMeansClusters) {
                               ctx.param<double>("weight_humidity"), ctx.param<double>("weight_other"));
     const KMeansResult r = kmeans(*img, p, &ctx);
     const KMeansMaps maps = kmeans_maps(r, img->domain);
-    auto report = std::make_shared<Report>();
-    report->json = kmeans_report(r, img->channel_names);
     ctx.set_output("out", maps.ids);
-    ctx.set_output("report", report);
+    ctx.set_output("report", make_report(kmeans_report(r, img->channel_names)));
     ctx.set_output("color", maps.color);
   });
 }

@@ -3,7 +3,7 @@
 // (Table 1: min, max and sharpness on elevation, relative elevation and slope) and the height / slope splat
 // rules of seed 004. 1 inside the band, falling smoothly (Hermite smoothstep, C1) to 0 at `falloff` beyond
 // either edge, 0 further out.
-#include <algorithm>
+#include "nodes/common/smoothstep.h"
 
 namespace orogen {
 
@@ -23,8 +23,7 @@ inline double band_mask_value(double v, const BandParams& b) {
   if (v >= b.min && v <= b.max) return 1.0;
   if (!(b.falloff > 0.0)) return 0.0;
   const double d = v < b.min ? b.min - v : v - b.max;
-  const double t = std::clamp(1.0 - d / b.falloff, 0.0, 1.0);
-  return t * t * (3.0 - 2.0 * t);
+  return smoothstep01(1.0 - d / b.falloff);
 }
 
 }  // namespace orogen

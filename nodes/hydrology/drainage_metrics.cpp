@@ -268,10 +268,8 @@ OROGEN_NODE(DrainageMetrics) {
     DrainageReport r = drainage_metrics(*in, ctx.param<double>("threshold"), &ctx, lake);
     auto order = std::make_shared<Heightfield>(in->domain);
     for (std::size_t c = 0; c < order->data.size(); ++c) order->data[c] = static_cast<float>(r.network.order[c]);
-    auto report = std::make_shared<Report>();
-    report->json = r.json();
     ctx.set_output("out", order);
-    ctx.set_output("report", report);
+    ctx.set_output("report", make_report(r.json()));
   });
 }
 

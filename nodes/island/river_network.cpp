@@ -9,6 +9,7 @@
 
 #include "graph/exec_context.h"
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/common/smoothstep.h"
 #include "nodes/common/work_poll.h"
 #include "nodes/island/island.h"
 #include "nodes/island/island_random.h"
@@ -435,8 +436,7 @@ CarveResult carve_rivers(const Heightfield& in, const Curves& rivers, const Carv
         } else if (n.dist < d1) {
           d1 = n.dist;
         }
-        const double t = std::clamp(1.0 - n.dist / radius, 0.0, 1.0);
-        const double w = t * t * (3.0 - 2.0 * t);
+        const double w = smoothstep01(1.0 - n.dist / radius);
         wsum += w;
         zsum += w * n.z;
         wmax = std::max(wmax, w);
