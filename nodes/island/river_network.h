@@ -1,6 +1,6 @@
 #pragma once
-// A river network grown as a tree of quadratic Bézier curves before any terrain exists (SeamScape, Chalmers
-// 2016, §2.2 and §3.6, after Génevaux et al. 2013), and its carving into a terrain.
+// A river network grown as a tree of quadratic Bézier curves before any terrain exists (S. Ekman et al.
+// 2016, SeamScape, §2.2 and §3.6, after Génevaux et al. 2013), and its carving into a terrain.
 //
 // Growth (river_network):
 //  - outlets (roots): `outlets` points on the rectangle's border, or on the coastline of a land mask (land
