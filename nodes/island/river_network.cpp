@@ -447,7 +447,7 @@ CarveResult carve_rivers(const Heightfield& in, const Curves& rivers, const Carv
       }
       double h = h0;
       if (wsum > 0.0 && std::isfinite(h0)) {
-        // 000 §2.2.4 with the ratio on the right side: the nearest curve's height on it, the weighted mean of
+        // SeamScape §2.2.4 with the ratio on the right side: the nearest curve's height on it, the weighted mean of
         // the curves within the radius where two curves are equally near.
         const double rho = d1 < 1e299 && d1 > 0.0 ? std::clamp(d0 / d1, 0.0, 1.0) : 0.0;
         const double river = (1.0 - rho) * z0 + rho * (zsum / wsum);
