@@ -332,14 +332,14 @@ std::string kmeans_report(const KMeansResult& r, const std::vector<std::string>&
     cl["count"] = r.counts[static_cast<std::size_t>(c)];
     const glm::vec4 col = categorical_linear(c);
     cl["color"] = {col.r, col.g, col.b};
-    ReportJson centre = ReportJson::object();
+    ReportJson center = ReportJson::object();
     for (int ch = 0; ch < r.channels; ++ch) {
       const std::string name = static_cast<std::size_t>(ch) < channel_names.size()
                                    ? channel_names[static_cast<std::size_t>(ch)]
                                    : "channel_" + std::to_string(ch);
-      centre[name] = report_number(r.centres[static_cast<std::size_t>(c * r.channels + ch)]);
+      center[name] = report_number(r.centres[static_cast<std::size_t>(c * r.channels + ch)]);
     }
-    cl["centre"] = centre;
+    cl["center"] = center;
     j["clusters"].push_back(cl);
   }
   return report_text(j);
