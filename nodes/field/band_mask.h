@@ -1,7 +1,7 @@
 #pragma once
 // Band mask: how well a value fits a preferred band [min, max], as in the ecosystem rules of SeamScape
 // (Table 1: min, max and sharpness on elevation, relative elevation and slope) and the height / slope splat
-// rules of seed 004. 1 inside the band, falling smoothly (Hermite smoothstep, C1) to 0 at `falloff` beyond
+// rules of Potter 2017. 1 inside the band, falling smoothly (Hermite smoothstep, C1) to 0 at `falloff` beyond
 // either edge, 0 further out.
 #include "nodes/common/smoothstep.h"
 
