@@ -1,6 +1,7 @@
 // Plants and rocks: L-system derivation throughput, turtle and tree meshing of SeamScape's green tree
-// (Chalmers et al. 2016, the preset of graphs/plants.json), and convex hulls of 20 and 100 points on an
-// ellipsoid (CGAL convex_hull_3) and whole hull rocks.
+// (S. Ekman et al. 2016, SeamScape, Appendix A; the preset of graphs/plants.json), and convex hulls of 20 and
+// 100 points on an ellipsoid (CGAL's convex_hull_3, the quickhull of Barber, Dobkin & Huhdanpaa 1996) and
+// whole hull rocks.
 //
 //   Derive/rule_4_20/<iterations>  context-free bracketed grammar (3D Game Worlds rule 4.20, F -> FF)
 //   Derive/green_tree/<iterations> parametric, stochastic, conditional, with random draws

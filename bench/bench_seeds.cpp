@@ -5,12 +5,12 @@
 //
 //   orogen_bench_seeds [--graphs NAME,NAME...] [--resolution NAME=N ...] [--repeat K] [--keep DIR]
 //
-// Full resolutions: the seed's largest figure, or 1 to 2 m per sample where it gives none:
-//   seamscape.json (000)        2049 x 2049 (2 m over its 4096 m square; the seed gives no figure)
-//   rural_resources.json (001)  1024 x 1024 (H. Long 2016 times water flow and k-means up to 1024^2)
-//   voronoi_island.json (002)   1024 x 1024
-//   game_world.json (003)       1025 x 1025 (2 m over its 2048 m square; the seed gives no figure)
-//   forest.json (004)           1025 x 1025 (Unity's 1025^2 heightmap: 1 m over the 1024 m forest)
+// Full resolutions: the source paper's largest figure, or 1 to 2 m per sample where it gives none:
+//   seamscape.json (Ekman et al. 2016)  2049 x 2049 (2 m over its 4096 m square; the paper gives no figure)
+//   rural_resources.json (Long 2016)    1024 x 1024 (H. Long 2016 times water flow and k-means up to 1024^2)
+//   voronoi_island.json (Weiss 2015)    1024 x 1024
+//   game_world.json (Zaiz 2022)         1025 x 1025 (2 m over its 2048 m square; the paper gives no figure)
+//   forest.json (Potter 2017)           1025 x 1025 (Unity's 1025^2 heightmap: 1 m over the 1024 m forest)
 // A missing graph file is skipped with a message. With --repeat K each graph runs K times and the run with
 // the least CPU time is reported (the machine may be shared: compare runs made together).
 #include <sys/resource.h>

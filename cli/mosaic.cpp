@@ -24,27 +24,6 @@ std::string gdal_type(const OIIO::TypeDesc& t) {
   return {};
 }
 
-std::string xml_escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  return out;
-}
-
 }  // namespace
 
 std::string mosaic_vrt(const Domain& full, glm::ivec2 counts, const std::vector<std::string>& tile_files, int channels,
@@ -53,7 +32,7 @@ std::string mosaic_vrt(const Domain& full, glm::ivec2 counts, const std::vector<
   s.precision(17);
   const int height = full.resolution.y;
   s << "<VRTDataset rasterXSize=\"" << full.resolution.x << "\" rasterYSize=\"" << height << "\">\n";
-  if (!crs.empty()) s << "  <SRS>" << xml_escape(crs) << "</SRS>\n";
+  if (!crs.empty()) s << "  <SRS>" << xml_escaped(crs) << "</SRS>\n";
   // Pixel centres at the samples; the first image row is the northern one (as the PAM side files say).
   const GeoTransform g = geotransform_of(full);
   s << "  <GeoTransform>" << g.values[0] << ", " << g.values[1] << ", " << g.values[2] << ", " << g.values[3] << ", "
@@ -66,7 +45,7 @@ std::string mosaic_vrt(const Domain& full, glm::ivec2 counts, const std::vector<
         const int row = height - (w.first.y + w.size.y);  // the tile's northern row in the image
         s << "    <SimpleSource>\n"
           << "      <SourceFilename relativeToVRT=\"1\">"
-          << xml_escape(tile_files[static_cast<std::size_t>(j * counts.x + i)]) << "</SourceFilename>\n"
+          << xml_escaped(tile_files[static_cast<std::size_t>(j * counts.x + i)]) << "</SourceFilename>\n"
           << "      <SourceBand>" << band << "</SourceBand>\n"
           << "      <SrcRect xOff=\"0\" yOff=\"0\" xSize=\"" << w.size.x << "\" ySize=\"" << w.size.y << "\"/>\n"
           << "      <DstRect xOff=\"" << w.first.x << "\" yOff=\"" << row << "\" xSize=\"" << w.size.x << "\" ySize=\""

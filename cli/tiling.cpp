@@ -139,7 +139,7 @@ std::string check_tile_counts(glm::ivec2 resolution, glm::ivec2 counts) {
     std::ostringstream s;
     s << "--tiles " << counts.x << "x" << counts.y << " on " << resolution.x << "x" << resolution.y
       << " samples: " << counts[k] << " tiles along " << (k == 0 ? "x" : "y") << " would have fewer than 2 samples "
-      << "each (neighbours share their border samples, so " << resolution[k] << " samples allow at most "
+      << "each (neighbors share their border samples, so " << resolution[k] << " samples allow at most "
       << std::max(resolution[k] - 1, 0) << " tiles); use fewer tiles or a higher --resolution";
     return s.str();
   }
@@ -292,7 +292,7 @@ std::vector<std::string> seam_warnings(const Graph& graph, GlobalNodes global) {
   if (!ranged.empty())
     warnings.push_back(std::string(ranged.size() == 1 ? "writer " : "writers ") + quoted_list(ranged) +
                        (ranged.size() == 1 ? " maps" : " map") +
-                       " 16-bit heights over each tile's own range (range 'auto'): neighbouring tiles store "
+                       " 16-bit heights over each tile's own range (range 'auto'): neighboring tiles store "
                        "their shared border with different codes; set range to 'fixed' (or write EXR/TIFF) for "
                        "tiles that join");
   return warnings;

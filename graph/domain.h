@@ -4,7 +4,7 @@
 // Samples sit on a global lattice: sample (i, j) of a domain is at
 //   origin + (first + (i, j)) * spacing
 // computed from integers, so a tile cut out of a larger domain (see `subdomain`) has bit-identical sample
-// positions to the same samples of the larger one (seed 000, Appendix B). Border samples are shared: a
+// positions to the same samples of the larger one (SeamScape, Appendix B). Border samples are shared: a
 // domain of size S with N samples has spacing S / (N - 1).
 #include <cstddef>
 #include <cstdint>

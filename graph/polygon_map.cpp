@@ -22,12 +22,12 @@ void check_attributes(const PolygonMap::Attributes& attrs, std::size_t n, const 
 void PolygonMap::check_consistent() const {
   for (const auto& c : cells) {
     check_indices(c.corners, corners.size(), false, "cell corner");
-    check_indices(c.neighbours, cells.size(), false, "cell neighbour");
+    check_indices(c.neighbours, cells.size(), false, "cell neighbor");
     check_indices(c.edges, edges.size(), false, "cell edge");
   }
   for (const auto& q : corners) {
     check_indices(q.cells, cells.size(), false, "corner cell");
-    check_indices(q.adjacent, corners.size(), false, "corner neighbour");
+    check_indices(q.adjacent, corners.size(), false, "corner neighbor");
     check_indices(q.edges, edges.size(), false, "corner edge");
   }
   for (const auto& e : edges) {

@@ -1,6 +1,6 @@
 #pragma once
 // A planar polygon map (dual Voronoi / Delaunay structure, after Patel's polygon map generation used by
-// seed 002): cells around centres, the corners where cells meet, and the edges between corners. Named
+// Weiss 2015): cells around centres, the corners where cells meet, and the edges between corners. Named
 // float attributes per element carry elevation, moisture, water, biome id, river volume, ...
 #include <array>
 #include <cstddef>

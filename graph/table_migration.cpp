@@ -13,6 +13,8 @@
 #include <nlohmann/json.hpp>
 
 #include "graph/table_value.h"
+// Header-only, like nodes/common/hex_color.h in table_value.cpp: the shared core links nothing into graph/.
+#include "nodes/common/text.h"
 
 namespace orogen {
 namespace {
@@ -32,12 +34,6 @@ const char* const kV4DefaultEcosystemTable =
     "slope     | elevation -50 350 2 | relative 0 10 1   | slope 1.4 2.4 2  | plant 4 0.001 0.6 1.8\n"
     "scarp     | elevation -50 350 2 | relative -10 10 1 | slope 2.8 8.4 8  | plant 4 0.001 0.6 1.8 | plant 7 0.001 "
     "0.9 1.0\n";
-
-std::string trim(const std::string& s, const char* space = " \t\r\n") {
-  const auto a = s.find_first_not_of(space);
-  if (a == std::string::npos) return {};
-  return s.substr(a, s.find_last_not_of(space) - a + 1);
-}
 
 // "#rrggbb" in lowercase, as the table writes it; throws for anything else.
 std::string hex_color(const std::string& text, const std::string& where) {
@@ -109,11 +105,11 @@ json biome_rectangles(const std::string& text) {
   int number = 0;
   while (std::getline(in, line)) {
     ++number;
-    if (trim(line, " \t\r").empty()) continue;
+    if (trim(line).empty()) continue;
     std::vector<std::string> f;
     std::stringstream ls(line);
     std::string cell;
-    while (std::getline(ls, cell, ',')) f.push_back(trim(cell, " \t\r"));
+    while (std::getline(ls, cell, ',')) f.push_back(trim(cell));
     const std::string where = "line " + std::to_string(number) + ": ";
     if (f.size() != 6) throw std::runtime_error(where + "expected 'name, t_min, t_max, m_min, m_max, #rrggbb'");
     if (f[0].empty()) throw std::runtime_error(where + "empty name");
@@ -222,7 +218,7 @@ void ecosystem_tables(const std::string& text, json& ecosystems, json& plants) {
 }
 
 double splat_number(const std::string& s, const std::string& where) {
-  const std::string t = trim(s, " \t\r");
+  const std::string t = trim(s);
   char* end = nullptr;
   const double v = std::strtod(t.c_str(), &end);
   if (t.empty() || *end != '\0' || !std::isfinite(v))
@@ -239,20 +235,20 @@ void splat_tables(const std::string& text, json& layers, json& rules) {
   int line_no = 0;
   while (std::getline(in, line)) {
     ++line_no;
-    if (trim(line, " \t\r").empty()) continue;
+    if (trim(line).empty()) continue;
     const std::string where = "layer line " + std::to_string(line_no) + ": ";
     const auto colon = line.find(':');
     if (colon == std::string::npos) throw std::runtime_error(where + "expected 'name: term, term, ...'");
-    const std::string name = trim(line.substr(0, colon), " \t\r");
+    const std::string name = trim(line.substr(0, colon));
     if (name.empty()) throw std::runtime_error(where + "empty layer name");
     double weight = 1.0;
     std::stringstream rest(line.substr(colon + 1));
     std::string term;
     while (std::getline(rest, term, ',')) {
-      term = trim(term, " \t\r");
+      term = trim(term);
       if (term.empty()) continue;
       if (const auto eq = term.find('='); eq != std::string::npos) {
-        if (trim(term.substr(0, eq), " \t\r") != "weight")
+        if (trim(term.substr(0, eq)) != "weight")
           throw std::runtime_error(where + "'" + term + "': only 'weight = w' takes '='");
         weight = splat_number(term.substr(eq + 1), where);
         if (weight < 0.0) throw std::runtime_error(where + "weight must be >= 0");
@@ -261,7 +257,7 @@ void splat_tables(const std::string& text, json& layers, json& rules) {
       const auto op = term.find_first_of("<>");
       if (op == std::string::npos)
         throw std::runtime_error(where + "'" + term + "': expected 'input < t' or 'input > t'");
-      const std::string input = trim(term.substr(0, op), " \t\r");
+      const std::string input = trim(term.substr(0, op));
       static const std::set<std::string> inputs = {"height", "slope", "curvature", "flow", "wetness", "field"};
       if (!inputs.count(input)) throw std::runtime_error(where + "unknown input '" + input + "'");
       std::string value = term.substr(op + 1);

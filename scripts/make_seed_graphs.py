@@ -38,7 +38,7 @@ def add_meshes(N):
     N("rock", "HullRock", None, points=20, radii=[1.6, 1.1, 0.8], sigma=0.1, seed=3)
 
 
-# --- 002: the Voronoi island, eroded, with biomes and vegetation ---
+# --- Weiss 2015: the Voronoi island, eroded, with biomes and vegetation ---
 island = {"format": "orogen-graph", "version": 4, "domain": {"size": [4096, 4096], "resolution": [256, 256]},
           "nodes": [{"id": "island", "type": "VoronoiIsland", "params": {"cells": 4000, "distribution": "poisson", "relaxation": 2, "shape_scale": 1.1, "shape_offset": -0.3, "max_elevation": 900, "ocean_depth": 150, "rivers": 120, "seed": 7}}, {"id": "map", "type": "PolygonMapRaster", "inputs": {"in": "island.out"}, "params": {"perturb_distance": 40, "perturb_feature_size": 400, "river_width": 8, "seed": 7}}, {"id": "shaped", "type": "Power", "inputs": {"in": "map.out"}, "params": {"exponent": 1.5, "pivot": 0, "scale": 900}}, {"id": "detail", "type": "FBM", "inputs": {"roughness": "map.roughness", "amplitude": "map.amplitude"}, "params": {"basis": "perlin", "mode": "multifractal", "feature_size": 600, "amplitude": 80, "octaves": 5, "lacunarity": 2.0, "seed": 8}}, {"id": "coast_fade", "type": "SmoothStep", "inputs": {"in": "map.out"}, "params": {"edge0": 0, "edge1": 150}}, {"id": "dry", "type": "Invert", "inputs": {"in": "map.water"}, "params": {"pivot": 0.5}}, {"id": "detail_mask", "type": "Multiply", "inputs": {"a": "coast_fade.out", "b": "dry.out"}}, {"id": "detail_masked", "type": "Multiply", "inputs": {"a": "detail.out", "b": "detail_mask.out"}}, {"id": "sum", "type": "Add", "inputs": {"a": "shaped.out", "b": "detail_masked.out"}}, {"id": "terrain", "type": "SeaLevelNormalize", "inputs": {"in": "sum.out"}, "params": {"sea_level": 0, "height": 900, "depth": 150}}]}
 nodes = island["nodes"]
@@ -109,7 +109,7 @@ N("save_points", "WritePoints", {"in": "vegetation.out"}, path="voronoi_island/v
 json.dump(island, open(os.path.join(GRAPHS, "voronoi_island.json"), "w"), indent=2)
 
 
-# --- 001: rural resources completed (water flow, flood-filled lake, ecosystem vegetation) ---
+# --- Long 2016: rural resources completed (water flow, flood-filled lake, ecosystem vegetation) ---
 rural_path = os.path.join(GRAPHS, "rural_resources.json")
 g = json.load(open(rural_path))
 nodes = g["nodes"]
@@ -155,7 +155,7 @@ N("save_scene", "WriteScene", {"in": "instances.out", "terrain": "terrain_mesh.o
 json.dump(g, open(rural_path, "w"), indent=2)
 
 
-# --- 004: the forest ---
+# --- Potter 2017: the forest ---
 g = {"format": "orogen-graph", "version": 4, "domain": {"size": [1024, 1024], "resolution": [257, 257]}, "nodes": []}
 nodes = g["nodes"]
 N = make_adder(nodes)

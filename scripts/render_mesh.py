@@ -87,28 +87,29 @@ def main():
     ap.add_argument("--elevation", type=float, default=20.0)
     ap.add_argument("--size", type=int, default=480)
     ap.add_argument("--no-ground", action="store_true")
-    ap.add_argument("--centre", type=str, default="", help="look at x,y,z (m) instead of the model's centre")
-    ap.add_argument("--radius", type=float, default=0.0, help="frame this radius (m) around the centre")
+    ap.add_argument("--center", "--centre", dest="center", type=str, default="",
+                    help="look at x,y,z (m) instead of the model's center")
+    ap.add_argument("--radius", type=float, default=0.0, help="frame this radius (m) around the center")
     a = ap.parse_args()
     verts, cols, faces = read_ply(a.ply)
     lo = [min(v[k] for v in verts) for k in range(3)]
     hi = [max(v[k] for v in verts) for k in range(3)]
-    centre = [(lo[k] + hi[k]) / 2 for k in range(3)]
+    center = [(lo[k] + hi[k]) / 2 for k in range(3)]
     radius = max(1e-9, math.sqrt(sum((hi[k] - lo[k]) ** 2 for k in range(3))) / 2)
-    if a.centre:
-        centre = [float(x) for x in a.centre.split(",")]
+    if a.center:
+        center = [float(x) for x in a.center.split(",")]
     if a.radius > 0:
         radius = a.radius
     if not a.no_ground:
         g = radius * 1.3
         base = len(verts)
         for dx, dy in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
-            verts.append((centre[0] + dx * g, centre[1] + dy * g, 0.0))
+            verts.append((center[0] + dx * g, center[1] + dy * g, 0.0))
             cols.append((200, 200, 190))
         faces += [(base, base + 1, base + 2), (base, base + 2, base + 3)]
     az, el = math.radians(a.azimuth), math.radians(a.elevation)
     fwd = norm((-math.cos(el) * math.sin(az), math.cos(el) * math.cos(az), -math.sin(el)))  # looking along
-    eye = [centre[k] - fwd[k] * radius * 3.2 for k in range(3)]
+    eye = [center[k] - fwd[k] * radius * 3.2 for k in range(3)]
     right = norm(cross(fwd, (0, 0, 1)))
     up = cross(right, fwd)
     light = norm((0.4, -0.6, 0.8))

@@ -153,7 +153,7 @@ std::vector<std::pair<std::string, ParamValue>> perturbations(const ParamDecl& d
         g.stops.push_back({});
       else
         g.stops.front().color.r = other_colour(g.stops.front().color.r);
-      out.push_back({"first stop colour", g});
+      out.push_back({"first stop color", g});
       auto more = std::get<GradientValue>(v);
       more.stops.push_back({more.stops.empty() ? 0.0 : more.stops.back().position + 0.0, {0.3f, 0.6f, 0.9f, 1.0f}});
       out.push_back({"added stop", more});

@@ -34,7 +34,7 @@ OROGEN_NODE(TestEveryParam) {
   b.param_bool("bool", false).description("A bool");
   b.param_vec2("vec2", {1.0, 2.0}).range(-10, 10).unit(Unit::Metre).description("A vec2");
   b.param_vec3("vec3", {0.0, 0.0, 1.0}).unit(Unit::Unitless).description("A vec3");
-  b.param_color("color", {0.2f, 0.4f, 0.6f, 1.0f}).description("A colour");
+  b.param_color("color", {0.2f, 0.4f, 0.6f, 1.0f}).description("A color");
   b.param_enum("enum", {"one", "two", "three"}, "two").description("An enum");
   b.param_string("string", "").description("A string");
   b.param_path("path", "file.exr").extensions({".exr", ".png"}).description("A path");

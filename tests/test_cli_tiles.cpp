@@ -1,5 +1,5 @@
 // End-to-end tests of tiled builds: `orogen eval --tiles NxM [--tile I,J]`, `--origin` and `--size`.
-// Tiles share their border samples (seed 000, Appendix B); with point-wise and local nodes every tile equals
+// Tiles share their border samples (SeamScape, Appendix B); with point-wise and local nodes every tile equals
 // its window of the untiled build bit for bit, and nodes that need the whole domain are named in a warning.
 #include <algorithm>
 #include <cstring>
@@ -94,7 +94,7 @@ Raster read_raster(const fs::path& file, int channel_count = 1) {
 
 bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-// Tile boundaries of seed 000 Appendix B on a lattice: tile I of N over W samples starts at floor(I (W-1) / N).
+// Tile boundaries of SeamScape Appendix B on a lattice: tile I of N over W samples starts at floor(I (W-1) / N).
 int edge(int t, int samples, int tiles) { return t * (samples - 1) / tiles; }
 
 struct LocalBuild {

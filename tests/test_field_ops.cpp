@@ -155,7 +155,7 @@ TEST(Curve, MonotonePointsGiveMonotoneOutput) {
 
 TEST(Power, OddSymmetricAboutThePivotWithFixedPoints) {
   const PowerParams p{1.5, 0.0, 1.0};
-  EXPECT_DOUBLE_EQ(power_value(0.25, p), 0.125);  // 002 Eq 3: 0.25^1.5
+  EXPECT_DOUBLE_EQ(power_value(0.25, p), 0.125);  // Weiss 2015 Eq 3: 0.25^1.5
   EXPECT_DOUBLE_EQ(power_value(-0.25, p), -0.125);
   const PowerParams q{2.3, 120.0, 80.0};
   for (double d : {0.0, 3.0, 40.0, 80.0, 200.0}) {
@@ -253,7 +253,7 @@ TEST(BandMask, OneInsideZeroFarOutsideSmoothBetween) {
   EXPECT_NEAR(out->at(250, 0), 0.5f, 1e-6);
   for (int i = 201; i <= 300; ++i) EXPECT_GE(out->at(i, 0), out->at(i - 1, 0));
   for (int i = 501; i <= 600; ++i) EXPECT_LE(out->at(i, 0), out->at(i - 1, 0));
-  // Sharpness (000 Table 1): width = (max - min) / sharpness = 100 m for sharpness 2 on a 200 m band.
+  // Sharpness (SeamScape Table 1): width = (max - min) / sharpness = 100 m for sharpness 2 on a 200 m band.
   const auto sharp = run_field("BandMask", kLine, {{"min", 300.0}, {"max", 500.0}, {"sharpness", 2.0}}, {{"in", in}});
   EXPECT_TRUE(test::bit_identical(sharp->data, out->data));
   EXPECT_EQ(band_mask_value(299.0, {300.0, 500.0, 0.0}), 0.0);  // no falloff: hard edges

@@ -23,6 +23,9 @@ TEST(Georeference, TheGeotransformPutsEachSampleAtItsPixelCenter) {
   EXPECT_DOUBLE_EQ(g.values[5], -10.0);
   EXPECT_NE(gdal_pam_xml(d, "EPSG:32633").find("<SRS>EPSG:32633</SRS>"), std::string::npos);
   EXPECT_EQ(gdal_pam_xml(d, "").find("<SRS>"), std::string::npos);
+  // A WKT or PROJ string may hold XML's special characters; the side file stays well formed.
+  EXPECT_EQ(xml_escaped(R"(a<b>&"c")"), "a&lt;b&gt;&amp;&quot;c&quot;");
+  EXPECT_NE(gdal_pam_xml(d, "+proj=x <y>").find("<SRS>+proj=x &lt;y&gt;</SRS>"), std::string::npos);
 }
 
 TEST(Georeference, GdalPlacesTheHeightsWhereTheDomainSays) {

@@ -34,7 +34,7 @@ OROGEN_NODE(TestSource) {
   b.param_bool("enabled", true).description("A switch");
   b.param_vec2("offset", {0.0, 0.0}).range(-1e4, 1e4).unit(Unit::Metre).description("A shift");
   b.param_vec3("direction", {0.0, 0.0, 1.0}).unit(Unit::Unitless).description("A direction");
-  b.param_color("tint", {1.0f, 1.0f, 1.0f, 1.0f}).description("A colour");
+  b.param_color("tint", {1.0f, 1.0f, 1.0f, 1.0f}).description("A color");
   b.param_enum("basis", {"perlin", "value", "simplex"}, "perlin").description("A choice");
   b.param_string("label", "").description("A name");
   b.param_path("file", "out.exr").extensions({".exr", ".png"}).description("A file");

@@ -751,7 +751,7 @@ TEST(IslandNodes, RunThroughTheRegistry) {
 }
 
 // ---------------------------------------------------------------------------------------------------------
-// River network (000)
+// River network (SeamScape)
 
 RiverNetworkParams network_params(std::uint64_t seed = 5) {
   RiverNetworkParams p;
@@ -841,7 +841,7 @@ TEST(RiverNetwork, TreesSizesAndHeights) {
     const double size = c.attributes.at("size").front();
     EXPECT_EQ(size, child_sum[k] > 0.0 ? child_sum[k] : 1.0)
         << "size of curve " << k << " is not the sum of its children";
-    // Slope formula of 000 and h_c = h_p + |c - p| d_c.
+    // Slope formula of SeamScape and h_c = h_p + |c - p| d_c.
     const double parent_size = c.parent >= 0
                                    ? net.curves[static_cast<std::size_t>(c.parent)].attributes.at("size").front()
                                    : outlet_size.at({c.points.back().x, c.points.back().y});

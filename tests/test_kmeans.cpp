@@ -228,9 +228,9 @@ TEST(KMeans, ReportNamesCentresByChannelAndNullsNonFiniteNumbers) {
   EXPECT_EQ(j["clusters"][0]["count"], 1);
   EXPECT_EQ(j["clusters"][1]["count"], 2);
   // The third channel has no name: channel_2.
-  EXPECT_EQ(j["clusters"][0]["centre"],
+  EXPECT_EQ(j["clusters"][0]["center"],
             nlohmann::json::parse(R"({"slope": 1.5, "temperature_jan": -2.0, "channel_2": 0.25})"));
-  EXPECT_EQ(j["clusters"][1]["centre"],
+  EXPECT_EQ(j["clusters"][1]["center"],
             nlohmann::json::parse(R"({"slope": 7.0, "temperature_jan": null, "channel_2": 3.0})"));
 }
 

@@ -48,21 +48,96 @@ void expect_american(const std::string& where, const std::string& text) {
     EXPECT_EQ(l.find(word), std::string::npos) << where << ": '" << word << "' in: " << text;
 }
 
+// Whether a parameter or column name names an angle: one of its '_'-separated words is an angle's name
+// (talus_angle, sun_azimuth, latitude). `elevation` alone is a height in metres; the sun's is an angle.
+bool name_is_angle(const std::string& name) {
+  static const std::set<std::string> words = {"angle", "azimuth", "tilt", "dip",  "rotation", "heading",  "bearing",
+                                              "yaw",   "pitch",   "roll", "turn", "latitude", "longitude"};
+  if (name == "sun_elevation") return true;
+  std::size_t start = 0;
+  while (start <= name.size()) {
+    const std::size_t end = std::min(name.find('_', start), name.size());
+    if (words.count(name.substr(start, end - start))) return true;
+    start = end + 1;
+  }
+  return false;
+}
+
+// Whether a description speaks of an angle (degrees Celsius are a temperature).
+bool description_mentions_angle(const std::string& description) {
+  static const std::regex angle(
+      R"(\b(angles?|azimuth|tilt|dip|rotations?|heading|bearing|yaw|pitch|roll|latitude|longitude|degrees?)\b)",
+      std::regex::icase);
+  static const std::regex celsius(R"(\bdegrees? celsius\b)", std::regex::icase);
+  return std::regex_search(std::regex_replace(description, celsius, ""), angle);
+}
+
+// Numbers whose description speaks of an angle without being one, each with the reason.
+const std::set<std::string> kMentionsAngleButIsNot = {
+    "ProjectToTerrain.align",  // a blend factor 0..1 between keeping the rotation and following the normal
+    "PipeErosion.capacity",    // a coefficient per sin(tilt) x speed x depth: the angle enters through its sine
+};
+
+// A number that names or describes an angle is in degrees: a radian angle declared Unitless (or Factor, or
+// Count) fails here even when its description never says "radians". Returns the problem, empty if none.
+std::string angle_unit_problem(const std::string& where, const std::string& name, const std::string& description,
+                               Unit unit) {
+  if (unit == Unit::Degree) return {};
+  if (name_is_angle(name)) return where + ": its name is an angle's; angles are degrees";
+  if (description_mentions_angle(description) && !kMentionsAngleButIsNot.count(where))
+    return where + ": its description speaks of an angle (\"" + description +
+           "\"); angles are degrees (or list it in kMentionsAngleButIsNot with the reason)";
+  return {};
+}
+
 TEST_P(RegistryConventions, EveryNumberHasAUnitAndNoAngleIsInRadians) {
   for (const auto& p : type().params) {
     const std::string where = type().name + "." + p.name;
     if (is_number(p.type)) EXPECT_NE(p.unit, Unit::None) << where << " is a number without a unit";
     if (p.type == orogen::ParamType::Table)
       for (const auto& c : p.table.columns)
-        if (is_number_column(c.type))
+        if (is_number_column(c.type)) {
           EXPECT_NE(c.unit, Unit::None) << where << "." << c.name << " is a number column without a unit";
+          EXPECT_EQ(angle_unit_problem(where + "." + c.name, c.name, c.description, c.unit), "");
+        }
     // Angles are degrees: a description that speaks of radians marks a radian angle.
     static const std::regex radians(R"(\bradians?\b)", std::regex::icase);
     EXPECT_FALSE(std::regex_search(p.description, radians)) << where << ": " << p.description;
+    if (is_number(p.type)) EXPECT_EQ(angle_unit_problem(where, p.name, p.description, p.unit), "");
     if (p.unit == Unit::Degree && p.min && p.max) {
       EXPECT_GE(*p.max - *p.min, 6.3) << where << ": a range this narrow reads like radians";
     }
   }
+}
+
+// The angle rule itself: it must catch a radian angle declared Unitless, by name or by description, and leave
+// alone heights called elevation, temperatures in degrees Celsius and words that merely contain an angle's.
+TEST(RegistryConventionsRule, AnglesAreRecognizedByNameAndDescription) {
+  EXPECT_TRUE(name_is_angle("angle"));
+  EXPECT_TRUE(name_is_angle("talus_angle"));
+  EXPECT_TRUE(name_is_angle("sun_azimuth"));
+  EXPECT_TRUE(name_is_angle("sun_elevation"));
+  EXPECT_TRUE(name_is_angle("rotation_jitter"));
+  EXPECT_TRUE(name_is_angle("max_tilt"));
+  EXPECT_FALSE(name_is_angle("elevation"));
+  EXPECT_FALSE(name_is_angle("rolling"));
+  EXPECT_FALSE(name_is_angle("dipole"));
+  EXPECT_FALSE(name_is_angle("anglers"));
+  EXPECT_TRUE(description_mentions_angle("Rotation about z of each instance"));
+  EXPECT_TRUE(description_mentions_angle("Branch angle"));
+  EXPECT_TRUE(description_mentions_angle("Tilt of the layer"));
+  EXPECT_TRUE(description_mentions_angle("Latitude, north positive"));
+  EXPECT_FALSE(description_mentions_angle("Air temperature at sea level, degrees Celsius"));
+  EXPECT_FALSE(description_mentions_angle("Preferred elevation [min, max] in metres"));
+  EXPECT_FALSE(description_mentions_angle("Rolling hills of the base terrain"));
+  // What the registry test then asks: such a number declared Unitless fails, in degrees it passes, and the
+  // listed exceptions pass whatever their unit.
+  EXPECT_NE(angle_unit_problem("X.rotation", "rotation", "Rotation about z", Unit::Unitless), "");
+  EXPECT_NE(angle_unit_problem("X.spin", "spin", "Turn about the axis, in rotations", Unit::Factor), "");
+  EXPECT_NE(angle_unit_problem("X.bend", "bend", "Branch angle from the parent", Unit::Count), "");
+  EXPECT_EQ(angle_unit_problem("X.rotation", "rotation", "Rotation about z", Unit::Degree), "");
+  EXPECT_EQ(angle_unit_problem("X.height", "elevation", "Preferred elevation in metres", Unit::Metre), "");
+  EXPECT_EQ(angle_unit_problem("ProjectToTerrain.align", "align", "keep the rotation", Unit::Unitless), "");
 }
 
 TEST_P(RegistryConventions, GlossaryNames) {

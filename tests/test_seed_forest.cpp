@@ -1,4 +1,4 @@
-// Promise tests of graphs/forest.json (seed 004, L. Potter 2017, Generating a virtual forest environment using
+// Promise tests of graphs/forest.json (L. Potter 2017, Generating a virtual forest environment using
 // procedural content generation) on the graph's real outputs at a reduced resolution: Poisson-disk minimum
 // distances per class radius, trees spaced by the life cycle's competition rule, ages within the maximum age,
 // shade-loving undergrowth in the crowns' shadow and sun-loving flowers out of it for the sun of the chosen

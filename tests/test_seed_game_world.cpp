@@ -136,7 +136,7 @@ TEST(SeedGameWorld, HydraulicErosionConservesVolume) {
   ASSERT_TRUE(in && out && eroded_map && deposited_map && report);
   const auto r = nlohmann::json::parse(report->json);
   const double eroded = r["eroded"], deposited = r["deposited"], carried_off = r["carried_off"];
-  // 003's 30 K droplets over the map.
+  // Zaiz 2022's 30 K droplets over the map.
   EXPECT_NEAR(r["droplets"].get<double>(), 30000.0, 300.0);
   ASSERT_GT(eroded, 1000.0);  // m^3: the erosion did something
   EXPECT_GT(deposited, 0.5 * eroded);
@@ -188,7 +188,7 @@ TEST(SeedGameWorld, FbmIsThreePerlinAndFourSimplexOctavesAtLacunarity17AndPersis
   EXPECT_NEAR(num("fbm_perlin", "feature_size") / num("fbm_simplex", "feature_size"), std::pow(1.7, 3), 1e-3);
   EXPECT_NEAR(num("fbm_simplex", "amplitude") / num("fbm_perlin", "amplitude"), std::pow(0.4, 3) * s4 / s3, 1e-4);
 
-  // The sum is a terrain with sea and land, as 003's color map shows.
+  // The sum is a terrain with sea and land, as Zaiz 2022's color map shows.
   const auto e = evaluate(g, 129, {"raised", "color_map", "placed"});
   const auto h = e.get<Heightfield>("raised");
   const auto water = std::count_if(h->data.begin(), h->data.end(), [](float v) { return v < 0; });

@@ -1,4 +1,4 @@
-// Promise tests of graphs/voronoi_island.json (seed 002, S. Weiss 2015, Procedural Terrain) on the graph's
+// Promise tests of graphs/voronoi_island.json (S. Weiss 2015, Procedural Terrain) on the graph's
 // real outputs at a reduced resolution: biomes consistent with elevation (through the lapse-rate
 // temperature) and moisture by the Whittaker-style table, rivers that run down to the sea, pipe-model
 // erosion that changed the terrain, vegetation only on land with the species its biome allows.

@@ -1,4 +1,4 @@
-// Promise tests of graphs/rural_resources.json (seed 001, H. Long 2016, Using procedural methods to generate
+// Promise tests of graphs/rural_resources.json (H. Long 2016, Using procedural methods to generate
 // realistic virtual rural worlds) on the graph's real outputs at a reduced resolution: lit hours within the
 // day's length (0..24 h a day, at most 8760 h a year), temperatures that are the seasonal curve minus the
 // lapse rate (within the bounds the terrain's altitudes allow), k clusters covering the map, a water flow that

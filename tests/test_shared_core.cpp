@@ -24,6 +24,7 @@
 #include "nodes/common/hash.h"
 #include "nodes/common/hex_color.h"
 #include "nodes/common/report_builder.h"
+#include "nodes/common/smoothstep.h"
 #include "nodes/common/text.h"
 
 namespace orogen {
@@ -265,6 +266,23 @@ TEST(ReportBuilder, OrderedIndentedAndNullForNonFinite) {
   EXPECT_TRUE(parsed["nan"].is_null());
   EXPECT_EQ(report_text(j), report->json);
   EXPECT_DOUBLE_EQ(report_number(1e300).get<double>(), 1e300);
+  EXPECT_EQ(make_report(report_text(j))->json, report->json) << "text and object give the same report";
+}
+
+// --- smoothstep.h ----------------------------------------------------------------------------------------
+TEST(Smoothstep, HermiteCurveClampedToTheUnitInterval) {
+  EXPECT_EQ(smoothstep01(-3.0), 0.0);
+  EXPECT_EQ(smoothstep01(0.0), 0.0);
+  EXPECT_EQ(smoothstep01(0.5), 0.5);
+  EXPECT_EQ(smoothstep01(1.0), 1.0);
+  EXPECT_EQ(smoothstep01(7.0), 1.0);
+  EXPECT_DOUBLE_EQ(smoothstep01(0.25), 0.15625);  // 0.25^2 * 2.5
+  EXPECT_DOUBLE_EQ(smoothstep01(0.25) + smoothstep01(0.75), 1.0) << "point-symmetric about (0.5, 0.5)";
+  // Zero slope at both ends (C1): the difference quotient vanishes as h^2.
+  const double h = 1e-4;
+  EXPECT_LT(smoothstep01(h) / h, 1e-3);
+  EXPECT_LT((1.0 - smoothstep01(1.0 - h)) / h, 1e-3);
+  EXPECT_TRUE(std::isnan(smoothstep01(std::numeric_limits<double>::quiet_NaN())));
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -349,8 +350,16 @@ TEST(ColorByLayers, ShadeScalesByStrengthClampedAndNonFiniteIsUnshaded) {
     expect_rgb(*out, 2, 0, factor(0.0) * kGrass, 1e-7f);
     expect_rgb(*out, 3, 0, kGrass);
   }
+  // The library takes the shade on the weights' grid only (the node resamples it first), with the shared
+  // precondition's message naming the input.
   Heightfield other(Domain::from_extent({0, 0}, {3, 1}, {5, 2}));
-  EXPECT_THROW(color_by_layers(w, &other, p), NodeError);
+  try {
+    color_by_layers(w, &other, p);
+    ADD_FAILURE() << "accepted a shade on another grid";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("shade ("), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("must lie on the primary grid"), std::string::npos) << e.what();
+  }
 }
 
 // A ColorByLayers.colors table: (layer name, sRGB color) rows.

@@ -175,7 +175,7 @@ int main(int argc, char** argv) {
     }
     std::printf("edit -> updated preview (%d edits, %zu nodes recomputed each):\n", iterations, recomputed);
     print("total (evaluation + preview pixels)", summarise(edit_ms));
-    print("of which preview pixels (colour map+hillshade)", summarise(pixel_ms));
+    print("of which preview pixels (color map+hillshade)", summarise(pixel_ms));
     print("undo -> preview (cache hit)", summarise(undo_ms));
 
     if (build_resolution > 0) {

@@ -79,7 +79,7 @@ App::App(AppOptions options)
   node_library_errors_ = load_editor_node_libraries(node_libraries_, options_.plugins);
   show_node_libraries_ = !node_library_errors_.empty();
   glfwSetErrorCallback(glfw_error);
-  if (!glfwInit()) throw std::runtime_error("cannot initialise GLFW (is there a display?)");
+  if (!glfwInit()) throw std::runtime_error("cannot initialize GLFW (is there a display?)");
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);

@@ -43,8 +43,8 @@ void FrameTiming::print(const BuildStatus& build, const char* renderer) const {
   report("UI thread work per frame, during the build", building_.work);
   report("UI thread CPU per frame, idle", idle_.cpu);
   report("UI thread CPU per frame, during the build", building_.cpu);
-  report("rasterisation per frame, idle", idle_.raster);
-  report("rasterisation per frame, during the build", building_.raster);
+  report("rasterization per frame, idle", idle_.raster);
+  report("rasterization per frame, during the build", building_.raster);
 }
 
 }  // namespace orogen::editor

@@ -332,14 +332,14 @@ std::string kmeans_report(const KMeansResult& r, const std::vector<std::string>&
     cl["count"] = r.counts[static_cast<std::size_t>(c)];
     const glm::vec4 col = categorical_linear(c);
     cl["color"] = {col.r, col.g, col.b};
-    ReportJson centre = ReportJson::object();
+    ReportJson center = ReportJson::object();
     for (int ch = 0; ch < r.channels; ++ch) {
       const std::string name = static_cast<std::size_t>(ch) < channel_names.size()
                                    ? channel_names[static_cast<std::size_t>(ch)]
                                    : "channel_" + std::to_string(ch);
-      centre[name] = report_number(r.centres[static_cast<std::size_t>(c * r.channels + ch)]);
+      center[name] = report_number(r.centres[static_cast<std::size_t>(c * r.channels + ch)]);
     }
-    cl["centre"] = centre;
+    cl["center"] = center;
     j["clusters"].push_back(cl);
   }
   return report_text(j);
@@ -409,10 +409,8 @@ OROGEN_NODE(KMeansClusters) {
                               ctx.param<double>("weight_humidity"), ctx.param<double>("weight_other"));
     const KMeansResult r = kmeans(*img, p, &ctx);
     const KMeansMaps maps = kmeans_maps(r, img->domain);
-    auto report = std::make_shared<Report>();
-    report->json = kmeans_report(r, img->channel_names);
     ctx.set_output("out", maps.ids);
-    ctx.set_output("report", report);
+    ctx.set_output("report", make_report(kmeans_report(r, img->channel_names)));
     ctx.set_output("color", maps.color);
   });
 }

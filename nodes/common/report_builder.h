@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -20,11 +21,14 @@ inline ReportJson report_number(double v) { return std::isfinite(v) ? ReportJson
 // The text of a report object.
 inline std::string report_text(const ReportJson& object) { return object.dump(2); }
 
-// A Report holding `object`.
-inline std::shared_ptr<Report> make_report(const ReportJson& object) {
+// A Report holding `text`, made by report_text (algorithms that return their report's text, e.g. for tests).
+inline std::shared_ptr<Report> make_report(std::string text) {
   auto report = std::make_shared<Report>();
-  report->json = report_text(object);
+  report->json = std::move(text);
   return report;
 }
+
+// A Report holding `object`.
+inline std::shared_ptr<Report> make_report(const ReportJson& object) { return make_report(report_text(object)); }
 
 }  // namespace orogen

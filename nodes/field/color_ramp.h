@@ -13,7 +13,7 @@ namespace orogen {
 std::shared_ptr<Image> color_ramp(const Heightfield& in, const GradientValue& gradient, double lo, double hi,
                                   const ExecContext* ctx = nullptr);
 
-// Height colour bands after seed 003's colour map, over heights -100..900 m (positions = (h + 100) / 1000):
+// Height colour bands after Zaiz 2022's colour map, over heights -100..900 m (positions = (h + 100) / 1000):
 // deep water, shallow water up to a hard shoreline at 0 m, sand to 12 m, grass, forest from about 250 m,
 // rock from 500 m, snow above 800 m. Linear RGB.
 GradientValue terrain_height_gradient();

@@ -1,4 +1,4 @@
-// Power node (002 Eq 3).
+// Power node (Weiss 2015 Eq 3).
 #include "nodes/field/power.h"
 
 #include <cmath>

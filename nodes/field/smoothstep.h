@@ -1,6 +1,6 @@
 #pragma once
 // Smooth and hard thresholds that turn a field into a 0..1 mask.
-#include <algorithm>
+#include "nodes/common/smoothstep.h"
 
 namespace orogen {
 
@@ -8,8 +8,7 @@ namespace orogen {
 // edge0 == edge1 a hard step (1 where h >= edge0).
 inline double smoothstep_value(double h, double edge0, double edge1) {
   if (edge0 == edge1) return h >= edge0 ? 1.0 : 0.0;
-  const double t = std::clamp((h - edge0) / (edge1 - edge0), 0.0, 1.0);
-  return t * t * (3.0 - 2.0 * t);
+  return smoothstep01((h - edge0) / (edge1 - edge0));
 }
 
 }  // namespace orogen

@@ -53,7 +53,7 @@ struct FloodFillResult {
   double level = 0.0;                  // the water level used
 };
 
-// Every cell 8-connected to the seed's nearest sample whose ground is below the level (seed 001 §3.4).
+// Every cell 8-connected to the seed's nearest sample whose ground is below the level (Long 2016 §3.4).
 FloodFillResult flood_fill(const Heightfield& in, const FloodFillParams& p, const ExecContext* ctx = nullptr);
 
 }  // namespace orogen::hydrology

@@ -231,7 +231,7 @@ OROGEN_NODE(DrainageMetrics) {
       .description(
           "Realism figures of a terrain's drainage, to compare with real basins: undrained pits per million cells, "
           "in all and outside lakes (a lake is a depression of the Priority-Flood fill at least lake_depth deep and "
-          "lake_area large; smaller ones are artefacts and their pits count); "
+          "lake_area large; smaller ones are artifacts and their pits count); "
           "the Strahler order map (Strahler 1957) of the channels (D8 contributing area >= threshold on the "
           "Priority-Flood+epsilon filled terrain); Horton's bifurcation and length ratios (Horton 1945; real networks "
           "3-5 and 1.5-3.5); Hack's exponent h of main-stream length L ~ A^h (Hack 1957; 0.5-0.6); and the concavity "
@@ -268,10 +268,8 @@ OROGEN_NODE(DrainageMetrics) {
     DrainageReport r = drainage_metrics(*in, ctx.param<double>("threshold"), &ctx, lake);
     auto order = std::make_shared<Heightfield>(in->domain);
     for (std::size_t c = 0; c < order->data.size(); ++c) order->data[c] = static_cast<float>(r.network.order[c]);
-    auto report = std::make_shared<Report>();
-    report->json = r.json();
     ctx.set_output("out", order);
-    ctx.set_output("report", report);
+    ctx.set_output("report", make_report(r.json()));
   });
 }
 

@@ -181,7 +181,7 @@ OROGEN_NODE(RiverExtract) {
   b.category("hydrology")
       .description(
           "Rivers: cells whose contributing area (D8 on the Priority-Flood+epsilon filled terrain, Barnes et al. 2014) "
-          "exceeds a threshold, vectorised into one polyline per reach (source or confluence to the next confluence or "
+          "exceeds a threshold, vectorized into one polyline per reach (source or confluence to the next confluence or "
           "outlet; parent = the reach it flows into) with per-vertex height (z, from the filled terrain, so it never "
           "rises downstream), discharge Q = area x runoff, Strahler order (Strahler 1957) and width from the "
           "hydraulic-geometry law w = k Q^b (Leopold & Maddock 1953, b about 0.5); plus a raster river mask drawn with "

@@ -180,11 +180,9 @@ OROGEN_NODE(WaterFlow) {
                             ctx.param<double>("threshold"),
                             static_cast<int>(ctx.param<std::int64_t>("max_iterations"))};
     WaterFlowResult r = water_flow(*in, rain.get(), sinks.get(), p, &ctx);
-    auto report = std::make_shared<Report>();
-    report->json = r.json();
     ctx.set_output("out", r.depth);
     ctx.set_output("flux", r.flux);
-    ctx.set_output("report", report);
+    ctx.set_output("report", make_report(r.json()));
   });
 }
 

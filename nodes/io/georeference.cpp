@@ -10,8 +10,6 @@ GeoTransform geotransform_of(const Domain& d) {
   return {{left, d.spacing.x, 0.0, top, 0.0, -d.spacing.y}};
 }
 
-namespace {
-
 std::string xml_escaped(const std::string& text) {
   std::string out;
   for (char c : text) {
@@ -34,8 +32,6 @@ std::string xml_escaped(const std::string& text) {
   }
   return out;
 }
-
-}  // namespace
 
 std::string gdal_pam_xml(const Domain& d, const std::string& crs) {
   const GeoTransform g = geotransform_of(d);

@@ -20,4 +20,8 @@ GeoTransform geotransform_of(const Domain& d);
 // string: GDAL interprets it with OGRSpatialReference::SetFromUserInput).
 std::string gdal_pam_xml(const Domain& d, const std::string& crs);
 
+// `text` with &, <, > and " as XML entities, for attribute values and element text (the PAM file here, the
+// tiled builds' VRT in cli/mosaic.cpp).
+std::string xml_escaped(const std::string& text);
+
 }  // namespace orogen

@@ -10,7 +10,7 @@
 //     diagram (voronoi.h, CGAL Delaunay dual);
 //  3. water per corner: in normalised coordinates (x, y) in [-1, 1]^2 over the map, water iff
 //     noise(x, y) < shape_offset + shape_scale (x^2 + y^2), noise = sum_{i<octaves} perlin(x f 2^i, y f 2^i)
-//     0.5 gain^i (002 Eq 1-2 with f = 6, gain = 1/2.5, scale 2.2, offset -0.2); or mask < 0.5 when a mask
+//     0.5 gain^i (Weiss 2015 Eq 1-2 with f = 6, gain = 1/2.5, scale 2.2, offset -0.2); or mask < 0.5 when a mask
 //     field is given. Corners on the map border are water;
 //  4. a cell is water if at least `water_fraction` of its corners are (and every border cell is); ocean =
 //     water cells flood-filled from the border; lakes = the other water cells; corners: ocean if all their
@@ -96,10 +96,10 @@ struct IslandParams {
   int cells = 2000;                 // number of sites (Poisson: about that many)
   SiteDistribution distribution = SiteDistribution::Poisson;
   int relaxation = 2;  // Lloyd passes
-  // Island shape (002 Eq 1-2), in normalised map coordinates.
+  // Island shape (Weiss 2015 Eq 1-2), in normalised map coordinates.
   double shape_scale = 2.2;
   double shape_offset = -0.2;
-  double shape_frequency = 6.0;  // lattice cells per unit of normalised coordinate (002's o_b)
+  double shape_frequency = 6.0;  // lattice cells per unit of normalised coordinate (Weiss 2015's o_b)
   int shape_octaves = 4;
   double shape_gain = 0.4;      // amplitude ratio per octave (1 / 2.5)
   double water_fraction = 0.3;  // share of water corners making a cell water
@@ -131,7 +131,7 @@ PolygonMap generate_island(const IslandParams& p, const Heightfield* mask = null
 void classify_island(PolygonMap& map, const IslandParams& p, const Heightfield* mask = nullptr,
                      const ExecContext* ctx = nullptr);
 
-// The 002 Eq 1 shape noise at normalised coordinates.
+// The Weiss 2015 Eq 1 shape noise at normalised coordinates.
 double island_shape_noise(const IslandParams& p, double x, double y);
 
 }  // namespace orogen::island

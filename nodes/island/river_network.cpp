@@ -9,6 +9,7 @@
 
 #include "graph/exec_context.h"
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/common/smoothstep.h"
 #include "nodes/common/work_poll.h"
 #include "nodes/island/island.h"
 #include "nodes/island/island_random.h"
@@ -436,8 +437,7 @@ CarveResult carve_rivers(const Heightfield& in, const Curves& rivers, const Carv
         } else if (n.dist < d1) {
           d1 = n.dist;
         }
-        const double t = std::clamp(1.0 - n.dist / radius, 0.0, 1.0);
-        const double w = t * t * (3.0 - 2.0 * t);
+        const double w = smoothstep01(1.0 - n.dist / radius);
         wsum += w;
         zsum += w * n.z;
         wmax = std::max(wmax, w);
@@ -448,7 +448,7 @@ CarveResult carve_rivers(const Heightfield& in, const Curves& rivers, const Carv
       }
       double h = h0;
       if (wsum > 0.0 && std::isfinite(h0)) {
-        // 000 §2.2.4 with the ratio on the right side: the nearest curve's height on it, the weighted mean of
+        // SeamScape §2.2.4 with the ratio on the right side: the nearest curve's height on it, the weighted mean of
         // the curves within the radius where two curves are equally near.
         const double rho = d1 < 1e299 && d1 > 0.0 ? std::clamp(d0 / d1, 0.0, 1.0) : 0.0;
         const double river = (1.0 - rho) * z0 + rho * (zsum / wsum);

@@ -1,6 +1,6 @@
 #pragma once
-// A river network grown as a tree of quadratic Bézier curves before any terrain exists (SeamScape, Chalmers
-// 2016, §2.2 and §3.6, after Génevaux et al. 2013), and its carving into a terrain.
+// A river network grown as a tree of quadratic Bézier curves before any terrain exists (S. Ekman et al.
+// 2016, SeamScape, §2.2 and §3.6, after Génevaux et al. 2013), and its carving into a terrain.
 //
 // Growth (river_network):
 //  - outlets (roots): `outlets` points on the rectangle's border, or on the coastline of a land mask (land
@@ -9,14 +9,14 @@
 //    to the nearest unused inner point within `max_length` whose curve crosses no existing curve (and, with a
 //    mask, stays on land); the new point joins the pool. A pool point with no such candidate leaves the pool.
 //    Inner points never connected are discarded;
-//  - curves: quadratic Bézier B(t) = (1-t)^2 P0 + 2(1-t)t P1 + t^2 P2 (000 prints (1 - t^2): fixed) from the
+//  - curves: quadratic Bézier B(t) = (1-t)^2 P0 + 2(1-t)t P1 + t^2 P2 (SeamScape prints (1 - t^2): fixed) from the
 //    downstream point P0 to the new point P2. The first child of a point that lies within 75 degrees of the
 //    incoming direction continues it: P1 = P0 + tangent * |P2 - P0| / 2, so tangents are continuous at the
 //    join; other branches (and root curves) bend by a hashed offset of the chord's midpoint. Crossing tests use
 //    the same sampled polylines as the output, so the output never crosses;
 //  - sizes: a leaf has size 1, any other point the sum of its children's sizes;
 //  - heights: roots h = 0, slope d = base_slope; child c of p: d_c = d_p - 4 (s_c/s_p)(s_c/s_p - 1) w and
-//    h_c = h_p + |c - p| d_c (000 §2.2.3 with d measured in m/m and w = slope_weight), so heights rise upstream.
+//    h_c = h_p + |c - p| d_c (SeamScape §2.2.3 with d measured in m/m and w = slope_weight), so heights rise upstream.
 //
 // Output: one curve per tree edge, from the upstream point to the downstream one (z falling linearly in t from
 // h_c to h_p), `samples` segments each; parent = the curve leaving the downstream point (-1 at an outlet).
@@ -54,10 +54,10 @@ struct RiverNetworkParams {
 Curves river_network(const RiverNetworkParams& p, const Heightfield* mask = nullptr, const ExecContext* ctx = nullptr);
 
 // Carving (CarveRivers): within `radius` of the curves the terrain blends toward the river height with the
-// smoothstep weight w = s(1 - d/r), s(t) = t^2 (3 - 2t) (000's printed weight goes negative for r > 1.5 and
-// uses r - d unnormalised: fixed); the river height is 000's blend (1 - d0/d1) z0 + (d0/d1) mean, with z0 the
+// smoothstep weight w = s(1 - d/r), s(t) = t^2 (3 - 2t) (SeamScape's printed weight goes negative for r > 1.5 and
+// uses r - d unnormalised: fixed); the river height is SeamScape's blend (1 - d0/d1) z0 + (d0/d1) mean, with z0 the
 // nearest curve's height at its nearest point, d0 <= d1 the distances to the nearest two curves and mean the
-// w-weighted mean over the curves within the radius (000 prints the ratio on the other term, which would put
+// w-weighted mean over the curves within the radius (SeamScape prints the ratio on the other term, which would put
 // the mean, not the curve's own height, on the curve). Inside the channel (d < width/2) the bed is lowered by
 // depth_ratio * width * (1 - (2d/width)^2). Works with any curves with per-vertex width and z (RiverNetwork,
 // RiverExtract, VoronoiIsland rivers).

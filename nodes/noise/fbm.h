@@ -12,8 +12,8 @@
 //             w_k = clamp(2 s_{k-1}, 0, 1); sum amp_k s_k / (sum amp_k * max(offset, 1 - offset)^2), in [0, 1]
 //  - hybrid:  Musgrave's hybrid multifractal: s_k = (n_k + offset) amp_k, result = s_0, w = s_0, then
 //             w = min(w, 1), result += w s_k, w *= s_k; divided by (1 + offset) sum amp_k (about [0, 1]).
-//  - multifractal: seed 002 Eq 4, N = A(x, y) sum_k n_k / r^(k (1 - R(x, y))) with r = lacunarity, R the
-//             roughness (field or parameter) and A the amplitude field; not normalised (as in 002), so it
+//  - multifractal: Weiss 2015 Eq 4, N = A(x, y) sum_k n_k / r^(k (1 - R(x, y))) with r = lacunarity, R the
+//             roughness (field or parameter) and A the amplitude field; not normalised (as in Weiss 2015), so it
 //             spans up to +-sum_k r^(-k(1-R)). gain and offset are not used.
 // The result is multiplied by `amplitude` (metres) and, when connected, by the amplitude field (all
 // modes). For Worley the basis is F1 (Euclidean, jitter 1), in [0, ~1.2] rather than [-1, 1].

@@ -2,7 +2,7 @@
 // Single-octave lattice noises in world space: Perlin, Simplex, Value and White.
 //
 //  - Perlin: improved gradient noise (Perlin 2002): quintic fade 6t^5 - 15t^4 + 10t^3, gradients from a
-//    set of 16 unit vectors at 22.5-degree steps (a proper 2D set, not seed 003's 3D vectors with z
+//    set of 16 unit vectors at 22.5-degree steps (a proper 2D set, not Zaiz 2022's 3D vectors with z
 //    dropped, which collapse onto the axes; see noise_reference.h). 0 at every lattice point; C2-continuous.
 //    Range [-1, 1] * amplitude.
 //  - Simplex: 2D simplex noise (skew F2 = (sqrt3 - 1) / 2, unskew G2 = (3 - sqrt3) / 6), corner

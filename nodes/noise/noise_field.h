@@ -40,7 +40,7 @@ struct NoisePlan {
   FractalMode mode = FractalMode::Fbm;
   std::vector<OctavePlan> octaves;
   float offset = 1.0f;      // ridged and hybrid
-  float lacunarity = 2.0f;  // multifractal: the octave factor r of 002 Eq 4
+  float lacunarity = 2.0f;  // multifractal: the octave factor r of Weiss 2015 Eq 4
   float roughness = 0.5f;   // multifractal: R where no roughness field is given
   float scale = 1.0f;       // multiplies the combined octaves (metres)
 };
@@ -50,7 +50,7 @@ struct NoiseInputs {
   const Heightfield* warp_x = nullptr;     // metres added to x before sampling
   const Heightfield* warp_y = nullptr;     // metres added to y before sampling
   const Heightfield* roughness = nullptr;  // multifractal R in [0, 1]
-  const Heightfield* amplitude = nullptr;  // multiplies the output (002's A)
+  const Heightfield* amplitude = nullptr;  // multiplies the output (Weiss 2015's A)
 };
 
 // Throws NodeError if an input field does not have the domain's resolution or the plan is invalid.

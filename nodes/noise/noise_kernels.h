@@ -130,7 +130,7 @@ void ridged_step(const float* noise, float amp, float offset, bool first, int n,
 // hybrid multifractal (Musgrave): s = (noise + offset) * amp; octave 0: sum = w = s; then
 // w = min(w, 1), sum += w * s, w *= s.
 void hybrid_step(const float* noise, float amp, float offset, bool first, int n, float* sum, float* weight);
-// 002 Eq 4: sum += w * noise, then w *= q (per sample).
+// Weiss 2015 Eq 4: sum += w * noise, then w *= q (per sample).
 void multifractal_step(const float* noise, const float* q, bool first, int n, float* sum, float* w);
 // q = exp(ln_r * (roughness - 1)) = r^-(1 - R), per sample.
 void roughness_ratio(const float* roughness, float ln_r, int n, float* q);

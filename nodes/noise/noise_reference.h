@@ -31,7 +31,7 @@ LatticeCoord split(double u);
 constexpr float fade(float t) { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
 
 // Gradients: the 16 unit vectors at angles k * 22.5 degrees, k = the top 4 bits of the lattice hash. A
-// proper 2D set: evenly spread directions, not seed 003's 3D edge vectors with z dropped (which collapse
+// proper 2D set: evenly spread directions, not Zaiz 2022's 3D edge vectors with z dropped (which collapse
 // onto the axes); and more than the 8 axis-and-diagonal directions, whose lattice bias shows as a maze of
 // horizontal and vertical streaks. Vector k + 8 is the negation of vector k, so the kernels look up the
 // first half (kGradientX/Y) and flip the sign of the dot product with bit 31.

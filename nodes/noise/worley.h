@@ -1,5 +1,5 @@
 #pragma once
-// Worley (cellular) noise in world space (seed 000): one feature point per lattice cell of side
+// Worley (cellular) noise in world space (SeamScape): one feature point per lattice cell of side
 // feature_size, placed at the cell centre plus jitter * (uniform - 1/2) on each axis. The output is a
 // function of the distances F1 <= F2 <= F3 <= F4 from the sample to the nearest feature points, measured in
 // lattice cells and multiplied by amplitude (metres).

@@ -22,11 +22,11 @@
 //
 // Rule selection for a module: the rules whose predecessor (symbol and parameter count), contexts and
 // condition match; if any of them has a context, only those with a context remain (context-sensitive rules
-// take precedence); then one is chosen by the roulette of their weights (Chalmers 2016's priorities); none:
-// the module is copied. Context matching follows ABOP's bracketed rules: the left context is searched
-// towards the root (a ']' skips the whole branch before it, a '[' is stepped over to the parent); the right
-// context skips the branches between modules, a '[' in the pattern enters a branch of the word, a ']' skips
-// the rest of the branch. Symbols in the ignore list are skipped by both.
+// take precedence); then one is chosen by the roulette of their weights (ABOP §1.7's stochastic L-systems,
+// weights normalized to probabilities); none: the module is copied. Context matching follows ABOP's bracketed
+// rules: the left context is searched towards the root (a ']' skips the whole branch before it, a '[' is
+// stepped over to the parent); the right context skips the branches between modules, a '[' in the pattern
+// enters a branch of the word, a ']' skips the rest of the branch. Symbols in the ignore list are skipped by both.
 #include <cstddef>
 #include <cstdint>
 #include <functional>

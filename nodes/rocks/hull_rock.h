@@ -1,7 +1,8 @@
 #pragma once
-// Convex-hull rocks (Chalmers 2016, SeamScape §3.8): points sampled uniformly on an ellipsoid, perturbed by
-// spherical Gaussian noise, their 3D convex hull (CGAL, Barber et al.-style hull of the exact input points)
-// with outward faces; optionally subdivided and displaced along the normals by 3D value noise in world
+// Convex-hull rocks (S. Ekman et al. 2016, SeamScape §3.8): points sampled uniformly on an ellipsoid, perturbed
+// by spherical Gaussian noise, their 3D convex hull (incremental insertion for small sets; CGAL's
+// convex_hull_3, the quickhull of Barber, Dobkin & Huhdanpaa 1996, above 512 points or as a fallback) with
+// outward faces; optionally subdivided and displaced along the normals by 3D value noise in world
 // units for a less faceted look (still closed).
 #include <array>
 #include <cstdint>

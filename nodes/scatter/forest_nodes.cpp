@@ -98,7 +98,7 @@ OROGEN_NODE(ForestLifeCycle) {
   b.reach_global();  // a simulation
   b.category("scatter").description(
       "Forest life cycle after Potter (2017), \"Generating a virtual forest environment using procedural content "
-      "generation\" (stepped ageing): each year every tree ages, "
+      "generation\" (stepped aging): each year every tree ages, "
       "its scale grows linearly from min_scale to max_scale over maturity_age, trees older than max_age die and "
       "drop one or two seeds within dispersal_distance, mature trees drop a seed with dispersal_probability; trees "
       "closer "

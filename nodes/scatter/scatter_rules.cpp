@@ -9,6 +9,7 @@
 #include "graph/exec_context.h"
 #include "graph/table_json.h"
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/common/smoothstep.h"
 #include "nodes/common/work_poll.h"
 #include "nodes/scatter/scatter_hash.h"
 
@@ -16,11 +17,6 @@ namespace orogen {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-double smoothstep01(double t) {
-  t = std::clamp(t, 0.0, 1.0);
-  return t * t * (3.0 - 2.0 * t);
-}
 
 glm::quat yaw(double angle) { return glm::angleAxis(static_cast<float>(angle), glm::vec3(0.0f, 0.0f, 1.0f)); }
 

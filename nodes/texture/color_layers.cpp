@@ -48,8 +48,7 @@ std::vector<glm::vec4> layer_colors(const std::vector<std::string>& channel_name
 
 std::shared_ptr<Image> color_by_layers(const Image& w, const Heightfield* shade, const ColorByLayersParams& p,
                                        const ExecContext* ctx) {
-  if (shade && shade->domain.resolution != w.domain.resolution)
-    throw NodeError("shade: resolution differs from the weights'");
+  if (shade) require_same_grid(shade->domain, w.domain, "shade");  // the node resamples it (secondary_input)
   const std::vector<glm::vec4> colors = layer_colors(w.channel_names, w.channels, p.colors);
   const double strength = p.shade_strength;
   auto out = std::make_shared<Image>(w.domain, 4);

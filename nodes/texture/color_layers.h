@@ -30,7 +30,8 @@ std::vector<glm::vec4> layer_colors(const std::vector<std::string>& channel_name
 
 // Linear RGBA (alpha 1) on the weights' domain: rgb = s x sum_c w_c color_c, with non-finite weights counted
 // as 0 and s = 1 - strength + strength x clamp(shade, 0, 1) (a non-finite shade counts as 1; s = 1 without
-// a shade). The weights are not normalized. Throws NodeError when the shade's resolution differs.
+// a shade). The weights are not normalized. The shade must lie on the weights' grid (require_same_grid: throws
+// std::invalid_argument otherwise); the node brings it there with secondary_input.
 std::shared_ptr<Image> color_by_layers(const Image& weights, const Heightfield* shade, const ColorByLayersParams& p,
                                        const ExecContext* ctx = nullptr);
 

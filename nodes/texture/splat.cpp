@@ -8,6 +8,7 @@
 #include "nodes/common/match_domain.h"
 #include "nodes/field/curvature.h"
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/common/smoothstep.h"
 #include "nodes/field/slope.h"
 #include "nodes/field/surface_derivatives.h"
 
@@ -89,8 +90,7 @@ double splat_term(const SplatTerm& t, double x) {
   if (!std::isfinite(x)) return 0.0;
   double up;
   if (t.softness > 0.0) {
-    const double s = std::clamp((x - (t.threshold - t.softness)) / (2.0 * t.softness), 0.0, 1.0);
-    up = s * s * (3.0 - 2.0 * s);
+    up = smoothstep01((x - (t.threshold - t.softness)) / (2.0 * t.softness));
   } else {
     up = x >= t.threshold ? 1.0 : 0.0;
   }
