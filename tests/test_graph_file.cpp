@@ -210,9 +210,9 @@ TEST(GraphFile, WritesOnlyExplicitParametersInDeclarationOrderAndOmitsEmptySecti
 TEST(GraphFile, EmptyGraphRoundTrips) {
   const Graph g;
   const std::string text = serialize_graph(g);
-  EXPECT_EQ(text,
-            "{\n  \"format\": \"orogen-graph\",\n  \"version\": 5,\n  \"domain\": {\n    \"size\": [1024, 1024],\n"
-            "    \"resolution\": [256, 256]\n  },\n  \"nodes\": []\n}\n");
+  EXPECT_EQ(text, "{\n  \"format\": \"orogen-graph\",\n  \"version\": " + std::to_string(kGraphFormatVersion) +
+                      ",\n  \"domain\": {\n    \"size\": [1024, 1024],\n"
+                      "    \"resolution\": [256, 256]\n  },\n  \"nodes\": []\n}\n");
   const auto loaded = parse_ok(text);
   ASSERT_TRUE(loaded.ok());
   EXPECT_TRUE(*loaded.graph == g);
@@ -359,7 +359,7 @@ TEST(GraphFile, OlderVersionsAreMigrated) {
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(std::get<std::int64_t>(r.graph->param("s", "octaves")), 9);
   // Saving writes the current version.
-  EXPECT_THAT(serialize_graph(*r.graph), HasSubstr("\"version\": 5,"));
+  EXPECT_THAT(serialize_graph(*r.graph), HasSubstr("\"version\": " + std::to_string(kGraphFormatVersion) + ","));
 
   // Problems in a migrated file are still reported, with paths in the migrated document.
   const auto bad = parse_graph(R"({"format": "orogen-graph", "version": 0,
@@ -409,9 +409,11 @@ TEST(GraphFile, DiagnosticText) {
   EXPECT_EQ((Diagnostic{"/format", "", "wrong"}).str(), "/format: wrong");
   EXPECT_EQ((Diagnostic{"", "", "malformed"}).str(), "malformed");
   const auto r = parse_graph(R"({"format": "x", "version": 1, "nodes": [], "extra": 1})");
-  EXPECT_EQ(r.error_text(),
-            "/format: \"format\" must be \"orogen-graph\", found the string \"x\"\n"
-            "/extra: unknown field 'extra' in the file (expected one of: format, version, domain, nodes, editor)\n");
+  EXPECT_EQ(
+      r.error_text(),
+      "/format: \"format\" must be \"orogen-graph\", found the string \"x\"\n"
+      "/extra: unknown field 'extra' in the file (expected one of: format, version, domain, nodes, node_libraries, "
+      "editor)\n");
 }
 
 // Damaged files (characters deleted, inserted or replaced at random) never crash the loader: each gives a
@@ -577,7 +579,7 @@ std::vector<Malformed> malformed_cases() {
       {"WrongFormat", R"({"format": "gaea-graph", "version": 1, "nodes": []})", "/format", "",
        "\"format\" must be \"orogen-graph\", found the string \"gaea-graph\""},
       {"MissingVersion", R"({"format": "orogen-graph", "nodes": []})", "/version", "",
-       "missing \"version\": the format version (this build writes 5)"},
+       "missing \"version\": the format version (this build writes 6)"},
       {"VersionNotInteger", R"({"format": "orogen-graph", "version": 1.0, "nodes": []})", "/version", "",
        "\"version\" must be an integer, found the number 1.0"},
       {"NewerVersion", R"({"format": "orogen-graph", "version": 7, "nodes": [{"bad": 1}], "future": true})", "/version",
