@@ -87,7 +87,7 @@ OROGEN_NODE(WriteMesh) {
                        }});
     }
     files.push_back({target, [&](const std::filesystem::path& temporary, const WriteProgress& progress) {
-                       write_mesh_file(*solid, temporary, *format, options);
+                       write_mesh_file(*solid, temporary, *format, options, progress);
                        if (progress) progress(1.0);
                      }});
     write_node_files(ctx, files);

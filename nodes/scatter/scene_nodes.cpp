@@ -135,8 +135,8 @@ OROGEN_NODE(WriteScene) {
     if (terrain && in->instances && ctx.param<std::string>("ground") == "terrain_mesh") {
       const auto placed_on = ctx.input<Heightfield>("height");
       grounded = *in;
-      grounded.instances =
-          std::make_shared<Points>(ground_on_surface(*in->instances, MeshSurface(terrain->mesh), placed_on.get()));
+      grounded.instances = std::make_shared<Points>(
+          ground_on_surface(*in->instances, MeshSurface(terrain->mesh, &ctx), placed_on.get(), &ctx));
       scene.scene = &grounded;
     }
     scene.terrain = terrain.get();
