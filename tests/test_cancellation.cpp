@@ -192,7 +192,6 @@ const std::map<std::string, std::string> kNotExercised = {
     {"FillDepressions", "Priority-Flood reports no progress and polls every 65536 cells: 129^2 ends before one check"},
     {"FloodFill", "Priority-Flood reports no progress and polls every 65536 cells: 129^2 ends before one check"},
     {"Lakes", "Priority-Flood reports no progress and polls every 65536 cells: 129^2 ends before one check"},
-    {"WaterFlow", "polls and reports before each iteration; the sample terrains settle in the first (progress 0)"},
     {"PlantSprite", "polls per plant, reports progress at its end; the sample input is one plant"},
     {"TreeMesh", "polls per plant, reports progress at its end; the sample input is one plant"},
     {"Turtle3D", "polls per module block, reports progress at its end; the sample word is short"},
@@ -200,6 +199,12 @@ const std::map<std::string, std::string> kNotExercised = {
     {"Instance", "one linear pass over its input points"},
     {"MergePoints", "one linear pass over its input points"},
     {"ProjectToTerrain", "one linear pass over its input points"},
+};
+
+// Optional inputs left unconnected in the run cancelled at its first progress report, where the sample field
+// would end the node's loop at once.
+const std::map<std::string, std::string> kMidRunLeftOut = {
+    {"WaterFlow", "sinks"},  // the bowl is above 0.5 everywhere: every cell a sink, all water gone at once
 };
 
 class EveryNode : public ::testing::TestWithParam<std::string> {};
@@ -243,6 +248,8 @@ TEST_P(EveryNode, StopsWithinTheBoundAtCostlyParameters) {
   if (fields_only)
     for (const auto& in : type->inputs)
       if (in.type == PortType::Heightfield) mid_inputs[in.name] = PortValue(bowl(kMidRun));
+  if (auto left_out = kMidRunLeftOut.find(type->name); left_out != kMidRunLeftOut.end())
+    mid_inputs.erase(left_out->second);
   std::map<std::string, ParamValue> mid_params;
   if (type->name == "ReadHeightfield") {  // a file to read
     const auto png = policy.output_dir / "read.png";
