@@ -131,9 +131,21 @@ struct CheckedOStream::Buffer : std::streambuf {
   }
   bool drain() {
     const auto n = static_cast<std::size_t>(pptr() - pbase());
-    const bool ok = n == 0 || file.write(pbase(), n);
+    const bool ok = !stopped && (n == 0 || file.write(pbase(), n));
     setp(space.data(), space.data() + space.size());
-    return ok;
+    return ok && polled();
+  }
+  // Runs the poll; false (and the exception kept) if it threw.
+  bool polled() {
+    if (stopped) return false;
+    if (!poll) return true;
+    try {
+      poll();
+      return true;
+    } catch (...) {
+      stopped = std::current_exception();
+      return false;
+    }
   }
   int_type overflow(int_type ch) override {
     if (!drain()) return traits_type::eof();
@@ -147,7 +159,15 @@ struct CheckedOStream::Buffer : std::streambuf {
   std::streamsize xsputn(const char* s, std::streamsize n) override {
     if (n > static_cast<std::streamsize>(epptr() - pptr())) {
       if (!drain()) return 0;
-      if (n >= static_cast<std::streamsize>(space.size())) return file.write(s, static_cast<std::size_t>(n)) ? n : 0;
+      if (n >= static_cast<std::streamsize>(space.size())) {
+        // A large block goes straight to the file, polled between buffer-sized pieces.
+        for (std::streamsize done = 0; done < n;) {
+          const auto piece = std::min<std::streamsize>(n - done, static_cast<std::streamsize>(space.size()));
+          if (!file.write(s + done, static_cast<std::size_t>(piece)) || !polled()) return done;
+          done += piece;
+        }
+        return n;
+      }
     }
     std::memcpy(pptr(), s, static_cast<std::size_t>(n));
     pbump(static_cast<int>(n));
@@ -156,6 +176,8 @@ struct CheckedOStream::Buffer : std::streambuf {
   // Seeking is needed by no writer we use; refuse it so a format that needs it fails loudly.
   CheckedFile file;
   std::vector<char> space;
+  std::function<void()> poll;
+  std::exception_ptr stopped;  // what the poll threw
 };
 
 CheckedOStream::CheckedOStream(const std::filesystem::path& path)
@@ -167,8 +189,15 @@ CheckedOStream::~CheckedOStream() { rdbuf(nullptr); }
 
 CheckedFile& CheckedOStream::file() { return buffer_->file; }
 
+void CheckedOStream::set_poll(std::function<void()> poll) { buffer_->poll = std::move(poll); }
+
+void CheckedOStream::rethrow_poll() const {
+  if (buffer_->stopped) std::rethrow_exception(buffer_->stopped);
+}
+
 void CheckedOStream::finish() {
   flush();
+  rethrow_poll();
   if (!buffer_->drain() || bad() || fail()) buffer_->file.fail("the stream reported an error");
   buffer_->file.finish();
 }

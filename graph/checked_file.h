@@ -10,7 +10,9 @@
 // environment variable OROGEN_TEST_ENOSPC_AFTER_BYTES=n, read once) lets the next n bytes through, then
 // every write fails with ENOSPC.
 #include <cstdint>
+#include <exception>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <ostream>
 #include <stdexcept>
@@ -62,8 +64,14 @@ class CheckedOStream : public std::ostream {
  public:
   explicit CheckedOStream(const std::filesystem::path& path);
   ~CheckedOStream() override;
-  void finish();
+  void finish();  // rethrows what the poll threw, if anything, before any write error
   CheckedFile& file();
+
+  // Called after each 64 KiB written: a writer's cancellation check, for libraries that write a whole file in
+  // one call (OpenMesh). An exception it throws is kept and the stream fails, so the library stops writing;
+  // rethrow_poll() (and finish()) rethrow it.
+  void set_poll(std::function<void()> poll);
+  void rethrow_poll() const;
 
  private:
   struct Buffer;

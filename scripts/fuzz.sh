@@ -54,5 +54,9 @@ run orogen_fuzz_heightfield_image "$work/image" "$eighth"
 run orogen_fuzz_param_text "$work/param" "$eighth" -dict=tests/fuzz/graph_file.dict
 run orogen_fuzz_lsystem "$work/lsystem" "$eighth"
 # Whole graphs: a graph's evaluation is cancelled after 0.3 s and must stop within 5 s (else it aborts); the
-# cost model refuses nodes above 256 MB, so an allocation beyond 1 GB is an estimate that was wrong.
-run orogen_fuzz_graph_eval "$work/eval" "$((total - quarter - 3 * eighth))" -malloc_limit_mb=1024
+# cost model refuses nodes above 256 MB (an estimate may be 2x low), so memory far beyond that is an estimate
+# that was wrong. Two limits, as libFuzzer defines them (later flags override run's): -malloc_limit_mb fails
+# a single allocation of 1 GB or more at once; -rss_limit_mb fails the run when the process's resident memory,
+# sampled about once a second, exceeds 1.5 GB (ASan's shadow and quarantine and the corpus take a few hundred
+# MB of it), which catches many smaller allocations adding up.
+run orogen_fuzz_graph_eval "$work/eval" "$((total - quarter - 3 * eighth))" -malloc_limit_mb=1024 -rss_limit_mb=1536

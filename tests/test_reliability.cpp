@@ -36,6 +36,7 @@
 #include "graph/temporary_lock.h"
 #include "nodes/field/bicubic.h"
 #include "support/run_process.h"
+#include "support/sanitizers.h"
 #include "support/test_paths.h"
 
 namespace orogen::test {
@@ -206,6 +207,47 @@ TEST(FullDisk, RealSmallTmpfsKeepsThePreviousFile) {
   EXPECT_NE(r.out.find("SAME"), std::string::npos) << "the previous file changed: " << r.out;
   EXPECT_EQ(r.out.find(".orogen-tmp-"), std::string::npos) << "a temporary was left: " << r.out;
   EXPECT_NE(r.err.find("No space left on device"), std::string::npos) << r.err;
+}
+
+// Issue #30, defect 8 end to end: WriteScene with `instancing: nodes` on about 280,000 instances needs about
+// 600 MB (tinygltf's JSON document of one node per instance); under an address-space limit that cannot hold
+// it, `orogen eval` fails the node (exit 1, the node named on stderr) instead of aborting inside tinygltf's
+// writer. The limit (prlimit --as) counts every mapping, so it is set above what the binary needs to start
+// (probed first with a tiny graph: skipped where that does not fit) and far below what the scene needs.
+// Skipped under AddressSanitizer, whose shadow memory needs terabytes of address space.
+TEST(OutOfMemory, WriteSceneOfInstanceNodesUnderAnAddressSpaceLimitFailsTheNode) {
+#ifdef OROGEN_TEST_ASAN
+  GTEST_SKIP() << "AddressSanitizer reserves more address space than any limit allows";
+#endif
+  if (::access("/usr/bin/prlimit", X_OK) != 0 || ::access("/usr/bin/timeout", X_OK) != 0)
+    GTEST_SKIP() << "no prlimit or timeout";
+  const auto dir = scratch_dir("address-space-limit");
+  const std::string limit = "--as=" + std::to_string(640ull << 20);
+  // Two worker threads and two malloc arenas: the address space the process needs does not grow with the cores.
+  const auto limited = [&](const fs::path& graph) {
+    return run_process("/usr/bin/env", {"MALLOC_ARENA_MAX=2", "/usr/bin/timeout", "60", "/usr/bin/prlimit", limit,
+                                        cli_binary().string(), "eval", graph.string(), "-q", "--threads", "2", "-o",
+                                        (dir / "out").string()});
+  };
+  write_text(dir / "probe.json", constant_graph("probe.exr"));
+  const auto probe = limited(dir / "probe.json");
+  if (probe.exit_code != 0) GTEST_SKIP() << "orogen does not run within " << limit << " here: " << probe.err;
+  write_text(dir / "scene.json", R"({ "format": "orogen-graph", "version": 6,
+    "domain": { "origin": [0, 0], "size": [300, 300], "resolution": [33, 33] },
+    "nodes": [
+      { "id": "spots", "type": "PoissonDisk", "params": { "radius_0": 0.5 } },
+      { "id": "rock", "type": "HullRock" },
+      { "id": "scene", "type": "Instance", "inputs": { "in": "spots.out", "mesh_0": "rock.out" } },
+      { "id": "save", "type": "WriteScene", "inputs": { "in": "scene.out" },
+        "params": { "path": "scene.gltf", "instancing": "nodes" } } ] })");
+  const auto r = limited(dir / "scene.json");
+  EXPECT_EQ(r.exit_code, 1) << "exit " << r.exit_code << " (124: a hang, 134: an abort): " << r.err;
+  EXPECT_NE(r.err.find("node 'save'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("memory"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("terminate called"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out" / "scene.gltf"));
+  for (const auto& e : fs::directory_iterator(dir / "out"))
+    EXPECT_EQ(e.path().filename().string().find(".orogen-tmp-"), std::string::npos) << "a temporary was left";
 }
 
 // ---------------------------------------------------------------------------------------------------------

@@ -179,8 +179,43 @@ TEST(WorkBounds, PipeErosionRefusesNonFiniteRainfallNamingThePort) {
   const std::string e = node_error(
       "PipeErosion", d, {}, {{"in", PortValue(fbm_like(d, 50.0))}, {"rainfall_rate", PortValue(HeightfieldPtr(rain))}});
   EXPECT_NE(e.find("PipeErosion"), std::string::npos) << e;
-  EXPECT_NE(e.find("'rainfall'"), std::string::npos) << e;
+  EXPECT_NE(e.find("'rainfall_rate'"), std::string::npos) << e;  // the node's port, not the library's name
   EXPECT_NE(e.find("(3, 4)"), std::string::npos) << e;
+}
+
+// Non-finite terrain heights: every simulation refuses them up front, naming itself, the port `in`, the kind
+// of value and the first bad sample (before, a NaN height spread through the gradients or ran silently).
+TEST(NonFiniteHeights, EverySimulationRefusesNaNAndInfiniteHeightsNamingThePort) {
+  const Domain d = Domain::from_extent({0, 0}, {320, 320}, {33, 33});
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  for (const char* type : {"HydraulicErosion", "StreamPower", "ThermalErosion", "PipeErosion", "WaterFlow"})
+    for (const float bad : {nan, inf}) {
+      auto h = std::make_shared<Heightfield>(*fbm_like(d, 50.0));
+      h->at(5, 7) = bad;
+      h->at(20, 9) = bad;  // only the first one in row order is named
+      const std::string e = node_error(type, d, {}, {{"in", PortValue(HeightfieldPtr(h))}});
+      EXPECT_NE(e.find(type), std::string::npos) << type << ": " << e;
+      EXPECT_NE(e.find("input 'in'"), std::string::npos) << type << ": " << e;
+      EXPECT_NE(e.find(std::isnan(bad) ? "NaN" : "infinite"), std::string::npos) << type << ": " << e;
+      EXPECT_NE(e.find("(5, 7)"), std::string::npos) << type << ": " << e;
+    }
+}
+
+// The same check covers each simulation's other fields, under the node's port names.
+TEST(NonFiniteHeights, DrivingFieldsAreRefusedUnderTheirPortNames) {
+  const Domain d = Domain::from_extent({0, 0}, {320, 320}, {33, 33});
+  const std::pair<const char*, const char*> cases[] = {
+      {"StreamPower", "uplift"}, {"ThermalErosion", "hardness"}, {"WaterFlow", "rainfall"},
+      {"WaterFlow", "sinks"},    {"HydraulicErosion", "mask"},   {"PipeErosion", "evaporation_factor"}};
+  for (const auto& [type, port] : cases) {
+    auto field = std::make_shared<Heightfield>(d);
+    for (auto& v : field->data) v = 0.5f;
+    field->at(2, 3) = -std::numeric_limits<float>::infinity();
+    const std::string e =
+        node_error(type, d, {}, {{"in", PortValue(fbm_like(d, 50.0))}, {port, PortValue(HeightfieldPtr(field))}});
+    EXPECT_NE(e.find("input '" + std::string(port) + "'"), std::string::npos) << type << ": " << e;
+    EXPECT_NE(e.find("(2, 3)"), std::string::npos) << type << ": " << e;
+  }
 }
 
 // 10 (the rule behind it): whatever makes the water depth overflow, the time step never becomes 0 silently.

@@ -4,8 +4,10 @@
 // still. Simulations therefore refuse a non-finite sample on an input where it has no meaning, naming the
 // node, the port and the first such sample (docs/reliability.md, "Values between nodes").
 #include <cmath>
+#include <initializer_list>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include "graph/exec_context.h"
 #include "graph/heightfield.h"
@@ -23,6 +25,15 @@ inline void require_finite(const Heightfield* field, std::string_view node, std:
                       std::to_string(static_cast<int>(k % static_cast<std::size_t>(w))) + ", " +
                       std::to_string(static_cast<int>(k / static_cast<std::size_t>(w))) +
                       "); a simulation needs finite values there (clamp or replace them upstream)");
+}
+
+// The one check every simulation makes before it runs (HydraulicErosion, StreamPower, ThermalErosion,
+// PipeErosion, WaterFlow): each of its heightfield inputs, by port name, terrain heights included (a NaN
+// height makes every gradient around it NaN and an infinite one an infinite slope). Null entries are
+// unconnected inputs.
+inline void require_finite_inputs(std::string_view node,
+                                  std::initializer_list<std::pair<std::string_view, const Heightfield*>> inputs) {
+  for (const auto& [port, field] : inputs) require_finite(field, node, port);
 }
 
 }  // namespace orogen

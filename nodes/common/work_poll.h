@@ -11,7 +11,10 @@
 // cancel flag is read (a relaxed atomic load) and Cancelled thrown if it is set. Callers choose the unit so
 // that units_per_check of them take well under a millisecond; polling never changes a result. A WorkPoll
 // belongs to one thread: parallel loops make one per task.
+#include <algorithm>
 #include <cstdint>
+#include <functional>
+#include <utility>
 
 #include "graph/exec_context.h"
 
@@ -39,6 +42,38 @@ class WorkPoll {
  private:
   const ExecContext* ctx_;
   std::int64_t every_, left_;
+};
+
+// The same for file writers, which reach the run only through their WriteProgress callback (it checks the
+// cancel flag, then reports progress; nodes/io/file_error.h): every units_per_check units it is called with
+// the fraction of `total` units done, mapped onto [from, to]. A null callback checks nothing.
+class ProgressPoll {
+ public:
+  ProgressPoll(std::function<void(double)> report, double total, double from = 0.0, double to = 1.0,
+               std::int64_t units_per_check = WorkPoll::kUnitsPerCheck)
+      : report_(std::move(report)),
+        total_(total > 0 ? total : 1.0),
+        from_(from),
+        to_(to),
+        every_(units_per_check > 0 ? units_per_check : 1),
+        left_(every_) {}
+
+  void operator()(std::int64_t units = 1) {
+    done_ += units;
+    left_ -= units;
+    if (left_ <= 0) [[unlikely]]
+      check();
+  }
+  // Checks (and reports) now and starts a new count.
+  void check() {
+    left_ = every_;
+    if (report_) report_(from_ + (to_ - from_) * std::min(1.0, static_cast<double>(done_) / total_));
+  }
+
+ private:
+  std::function<void(double)> report_;
+  double total_, from_, to_;
+  std::int64_t every_, left_, done_ = 0;
 };
 
 }  // namespace orogen

@@ -15,6 +15,7 @@
 #include <tbb/parallel_for.h>
 
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/common/finite_inputs.h"
 #include "nodes/common/work_bounds.h"
 #include "nodes/common/work_poll.h"
 
@@ -450,6 +451,7 @@ RunTiles run_tiles_for(bool) {
 
 ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, const Heightfield* mask,
                              const ExecContext* ctx, ParticleStats* stats) {
+  require_finite_inputs("HydraulicErosion", {{"in", &in}, {"mask", mask}});
   const int w = in.width(), h = in.height();
   const double dx = in.domain.spacing.x, dy = in.domain.spacing.y;
   const double cell_area = dx * dy;

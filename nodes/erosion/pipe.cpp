@@ -475,13 +475,15 @@ struct PipeRun {
 PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfield* mask, const Heightfield* rainfall,
                       const Heightfield* moisture, const Heightfield* temperature, const Heightfield* hardness,
                       const ExecContext* ctx, PipeStats* stats, bool check_conservation) {
-  // Non-finite driving fields are refused (an infinite rain rate makes the CFL step 0: time would stand
-  // still); so is a plan above the work ceiling, counted with the largest step the CFL condition allows.
-  require_finite(rainfall, "PipeErosion", "rainfall");
-  require_finite(moisture, "PipeErosion", "moisture");
-  require_finite(temperature, "PipeErosion", "temperature");
-  require_finite(hardness, "PipeErosion", "hardness");
-  require_finite(mask, "PipeErosion", "mask");
+  // Non-finite heights and driving fields are refused (an infinite rain rate makes the CFL step 0: time
+  // would stand still); so is a plan above the work ceiling, counted with the largest step the CFL condition
+  // allows. The names are the node's ports.
+  require_finite_inputs("PipeErosion", {{"in", &in},
+                                        {"mask", mask},
+                                        {"rainfall_rate", rainfall},
+                                        {"moisture", moisture},
+                                        {"evaporation_factor", temperature},
+                                        {"hardness", hardness}});
   {
     const double spacing = std::min(in.domain.spacing.x, in.domain.spacing.y);
     const double dt_max = p.courant * spacing / std::sqrt(p.gravity * p.depth_scale);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/common/finite_inputs.h"
 #include "nodes/common/work_bounds.h"
 #include "nodes/hydrology/basin_graph.h"
 #include "nodes/hydrology/flow_routing.h"
@@ -315,6 +316,7 @@ class StreamPowerRun {
 ErosionMaps stream_power(const Heightfield& in, const StreamPowerParams& p, const Heightfield* uplift,
                          const Heightfield* mask, const ExecContext* ctx, StreamPowerStats* stats,
                          const std::vector<unsigned char>* outlets, std::shared_ptr<Heightfield>* accumulation) {
+  require_finite_inputs("StreamPower", {{"in", &in}, {"uplift", uplift}, {"mask", mask}});
   StreamPowerRun run(in, p, uplift, mask, outlets);
   StreamPowerStats st;
   for (int s = 0; s < run.steps(); ++s) {

@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include "nodes/common/finite_inputs.h"
 #include "nodes/common/work_bounds.h"
 
 namespace orogen::erosion {
@@ -45,6 +46,7 @@ void transfer_row(int w, const float* zr, const float* zn, const float* rc, cons
 
 ErosionMaps thermal_erosion(const Heightfield& in, const ThermalParams& p, const Heightfield* mask,
                             const Heightfield* hardness, const ExecContext* ctx, int* iterations_run) {
+  require_finite_inputs("ThermalErosion", {{"in", &in}, {"mask", mask}, {"hardness", hardness}});
   const int w = in.width(), h = in.height();
   const int pw = w + 2;
   const std::size_t pn = static_cast<std::size_t>(pw) * static_cast<std::size_t>(h + 2);

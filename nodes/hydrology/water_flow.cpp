@@ -8,6 +8,7 @@
 #include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "graph/report.h"
+#include "nodes/common/finite_inputs.h"
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/common/match_domain.h"
 #include "nodes/common/report_builder.h"
@@ -32,6 +33,7 @@ WaterFlowResult water_flow(const Heightfield& in, const Heightfield* rainfall, c
   const FlowGrid g = FlowGrid::of(in.domain);
   if (rainfall) require_same_grid(rainfall->domain, in.domain, "rainfall");
   if (sinks) require_same_grid(sinks->domain, in.domain, "sinks");
+  require_finite_inputs("WaterFlow", {{"in", &in}, {"rainfall", rainfall}, {"sinks", sinks}});
   const std::size_t n = g.size();
   check_work(static_cast<double>(p.max_iterations) * static_cast<double>(n), "WaterFlow (max_iterations x samples)",
              "lower max_iterations or use a coarser grid");

@@ -109,7 +109,13 @@ void write_curves_file(const Curves& curves, const std::filesystem::path& path, 
   }
   try {
     CheckedFile f(path);  // every write checked, synced before the rename (a full disk fails the node)
-    f.write(text.data(), text.size());
+    // Written in blocks of 1 MiB, each followed by a progress report (which polls the cancel flag).
+    constexpr std::size_t kBlock = std::size_t{1} << 20;
+    for (std::size_t at = 0; at < text.size(); at += kBlock) {
+      if (!f.write(text.data() + at, std::min(kBlock, text.size() - at))) break;
+      if (progress)
+        progress(0.9 + 0.09 * std::min(1.0, static_cast<double>(at + kBlock) / static_cast<double>(text.size())));
+    }
     f.finish();
   } catch (const WriteError& e) {
     throw FileError(e.what());

@@ -1,7 +1,7 @@
 #include "nodes/io/gltf_bytes.h"
 
+#include <memory>
 #include <new>
-#include <sstream>
 #include <string>
 
 #include <tiny_gltf.h>
@@ -11,25 +11,31 @@
 
 namespace orogen {
 
-void write_gltf_model(const tinygltf::Model& model, const std::filesystem::path& path, bool binary) {
-  std::string bytes;
+void write_gltf_model(const tinygltf::Model& model, const std::filesystem::path& path, bool binary,
+                      const std::function<void()>& poll) {
+  std::unique_ptr<CheckedOStream> stream;
   try {
-    std::ostringstream stream;
+    stream = std::make_unique<CheckedOStream>(path);
+  } catch (const WriteError& e) {
+    throw FileError(e.what());
+  }
+  // tinygltf writes the JSON and the buffer through the stream; the poll runs after each 64 KiB, and what it
+  // throws (Cancelled) stops the stream and is rethrown here.
+  if (poll) stream->set_poll(poll);
+  bool written = false;
+  try {
     tinygltf::TinyGLTF writer;
-    if (!writer.WriteGltfSceneToStream(&model, stream, !binary, binary) || !stream)
-      throw FileError("cannot write '" + path.string() + "': glTF serialization failed");
-    bytes = std::move(stream).str();
-  } catch (const FileError&) {
-    throw;
+    written = writer.WriteGltfSceneToStream(&model, *stream, !binary, binary);
   } catch (const std::bad_alloc&) {
     throw FileError("cannot write '" + path.string() + "': out of memory while serializing the glTF file");
   } catch (const std::exception& e) {
     throw FileError("cannot write '" + path.string() + "': glTF serialization failed: " + e.what());
   }
+  stream->rethrow_poll();
+  if (!stream->file().ok()) throw FileError(stream->file().error());
+  if (!written || stream->bad()) throw FileError("cannot write '" + path.string() + "': glTF serialization failed");
   try {
-    CheckedFile out(path);
-    out.write(bytes.data(), bytes.size());
-    out.finish();
+    stream->finish();
   } catch (const WriteError& e) {
     throw FileError(e.what());
   }

@@ -5,6 +5,7 @@
 #include <tiny_gltf.h>
 
 #include "graph/mesh.h"
+#include "nodes/common/work_poll.h"
 #include "nodes/io/gltf_bytes.h"
 #include "nodes/io/mesh_file.h"
 
@@ -39,9 +40,11 @@ int add_accessor(tinygltf::Model& m, int view, int component, int type, std::siz
 }  // namespace
 
 void write_gltf_file(const Mesh& mesh, const std::filesystem::path& path, bool binary, bool normals, bool colors,
-                     bool uvs, const std::string& name) {
+                     bool uvs, const std::string& name, const WriteProgress& progress) {
   const TriMesh& src = mesh.mesh;
   const std::size_t nv = src.n_vertices();
+  // Cancellation polled per block of vertices and faces, then per 64 KiB written.
+  ProgressPoll poll(progress, static_cast<double>(nv + src.n_faces()), 0.0, 0.9);
   std::vector<float> position, normal, color, texcoord;
   std::vector<std::uint32_t> index;
   position.reserve(nv * 3);
@@ -68,9 +71,12 @@ void write_gltf_file(const Mesh& mesh, const std::filesystem::path& path, bool b
       const auto t = src.texcoord2D(v);
       texcoord.insert(texcoord.end(), {t[0], 1.0f - t[1]});  // glTF's v runs down the image
     }
+    poll();
   }
-  for (auto f : src.faces())
+  for (auto f : src.faces()) {
     for (auto v : src.fv_range(f)) index.push_back(static_cast<std::uint32_t>(v.idx()));
+    poll();
+  }
   if (index.empty()) throw FileError("cannot write '" + path.string() + "': the mesh has no faces");
 
   tinygltf::Model m;
@@ -114,7 +120,10 @@ void write_gltf_file(const Mesh& mesh, const std::filesystem::path& path, bool b
   m.scenes.push_back(scene);
   m.defaultScene = 0;
 
-  write_gltf_model(m, path, binary);
+  poll.check();  // the model is built
+  write_gltf_model(m, path, binary, [&progress] {
+    if (progress) progress(0.95);
+  });
 }
 
 }  // namespace orogen

@@ -41,14 +41,15 @@ struct MeshWriteOptions {
 std::string material_library_text(const std::string& texture);
 
 // Writes `mesh` to `path` in `format` (OpenMesh picks the writer by extension, so it must match). Not atomic
-// by itself. Throws FileError on failure.
+// by itself. Throws FileError on failure. `progress` (which may throw Cancelled) is called per block of
+// vertices and faces while the file is prepared and per 64 KiB while it is written.
 void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFormat format,
-                     const MeshWriteOptions& options = {});
+                     const MeshWriteOptions& options = {}, const WriteProgress& progress = {});
 
 // glTF 2.0 (.gltf with the buffer embedded, or binary .glb; y-up as glTF requires): positions, optional
 // normals, linear vertex colors (COLOR_0) and the mesh's own texture coordinates (TEXCOORD_0), 32-bit
-// indices, one rough non-metallic material. Throws FileError.
+// indices, one rough non-metallic material. Throws FileError. `progress` as for write_mesh_file.
 void write_gltf_file(const Mesh& mesh, const std::filesystem::path& path, bool binary, bool normals, bool colors,
-                     bool uvs, const std::string& name);
+                     bool uvs, const std::string& name, const WriteProgress& progress = {});
 
 }  // namespace orogen

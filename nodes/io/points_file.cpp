@@ -125,6 +125,7 @@ void write_points_file(const Points& points, const fs::path& path, PointsFormat 
       progress(static_cast<double>(k + 1) / static_cast<double>(n));
     }
   }
+  if (progress) progress(0.95);  // every line is written; a cancel here skips the sync and the rename
   try {
     out.finish();
   } catch (const WriteError& e) {

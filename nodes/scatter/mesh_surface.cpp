@@ -4,12 +4,16 @@
 #include <cmath>
 #include <limits>
 
+#include "nodes/common/work_poll.h"
+
 namespace orogen {
 
-MeshSurface::MeshSurface(const TriMesh& mesh) {
+MeshSurface::MeshSurface(const TriMesh& mesh, const ExecContext* ctx) {
+  WorkPoll poll(ctx);
   triangles_.reserve(mesh.n_faces());
   double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY;
   for (auto f : mesh.faces()) {
+    poll();
     Triangle t{};
     int k = 0;
     for (auto v : mesh.fv_range(f)) {
@@ -51,6 +55,7 @@ MeshSurface::MeshSurface(const TriMesh& mesh) {
     bucket_range(t, i0, i1, j0, j1);
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) ++first_[static_cast<std::size_t>(j) * nx_ + i + 1];
+    poll();
   }
   for (std::size_t b = 1; b < first_.size(); ++b) first_[b] += first_[b - 1];
   items_.resize(first_.back());
@@ -60,6 +65,7 @@ MeshSurface::MeshSurface(const TriMesh& mesh) {
     bucket_range(triangles_[n], i0, i1, j0, j1);
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) items_[fill[static_cast<std::size_t>(j) * nx_ + i]++] = n;
+    poll();
   }
 }
 
@@ -87,9 +93,12 @@ std::optional<double> MeshSurface::height_at(double x, double y) const {
   return best;
 }
 
-Points ground_on_surface(const Points& in, const MeshSurface& surface, const Heightfield* placed_on) {
+Points ground_on_surface(const Points& in, const MeshSurface& surface, const Heightfield* placed_on,
+                         const ExecContext* ctx) {
+  WorkPoll poll(ctx, WorkPoll::kUnitsPerCheck / 8);  // a lookup scans a few buckets of triangles
   Points out = in;
   for (auto& p : out.position) {
+    poll();
     const auto z = surface.height_at(p.x, p.y);
     if (!z) continue;
     if (placed_on) {

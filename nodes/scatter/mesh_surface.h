@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "graph/exec_context.h"
 #include "graph/heightfield.h"
 #include "graph/mesh.h"
 #include "graph/points.h"
@@ -14,7 +15,8 @@ namespace orogen {
 
 class MeshSurface {
  public:
-  explicit MeshSurface(const TriMesh& mesh);
+  // Polls `ctx` (may be null) for cancellation per block of triangles.
+  explicit MeshSurface(const TriMesh& mesh, const ExecContext* ctx = nullptr);
   // The highest z of the mesh's triangles over (x, y) (a heightfield mesh has one; a base or skirt lies below),
   // or nothing where no triangle covers the point. Barycentric interpolation in the triangle found.
   std::optional<double> height_at(double x, double y) const;
@@ -33,7 +35,9 @@ class MeshSurface {
 
 // Moves every instance vertically onto the surface: by surface - height(x, y) when the heightfield the points
 // were placed on is given (so an offset above it, such as a stem sunk by 0.1 m, survives), else so its base
-// lies on the surface. Instances outside the mesh keep their z. Returns the moved points.
-Points ground_on_surface(const Points& in, const MeshSurface& surface, const Heightfield* placed_on);
+// lies on the surface. Instances outside the mesh keep their z. Returns the moved points. Polls `ctx` (may be
+// null) per block of instances.
+Points ground_on_surface(const Points& in, const MeshSurface& surface, const Heightfield* placed_on,
+                         const ExecContext* ctx = nullptr);
 
 }  // namespace orogen

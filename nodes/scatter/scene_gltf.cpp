@@ -6,6 +6,7 @@
 
 #include <tiny_gltf.h>
 
+#include "nodes/common/work_poll.h"
 #include "nodes/io/gltf_bytes.h"
 
 namespace orogen {
@@ -49,7 +50,7 @@ int add_accessor(tinygltf::Model& m, const std::vector<float>& values, int compo
 }
 
 // The mesh as one triangle primitive: POSITION, NORMAL, COLOR_0, uint32 indices. Returns the mesh index.
-int add_mesh(tinygltf::Model& m, const Mesh& mesh, const std::string& name) {
+int add_mesh(tinygltf::Model& m, const Mesh& mesh, const std::string& name, ProgressPoll& poll) {
   const TriMesh& t = mesh.mesh;
   std::vector<float> pos, nrm, col;
   pos.reserve(t.n_vertices() * 3);
@@ -69,11 +70,14 @@ int add_mesh(tinygltf::Model& m, const Mesh& mesh, const std::string& name) {
       const auto c = t.color(v);
       col.insert(col.end(), {c[0], c[1], c[2], c[3]});
     }
+    poll();
   }
   std::vector<std::uint32_t> idx;
   idx.reserve(t.n_faces() * 3);
-  for (auto f : t.faces())
+  for (auto f : t.faces()) {
     for (auto v : t.fv_range(f)) idx.push_back(static_cast<std::uint32_t>(v.idx()));
+    poll();
+  }
   tinygltf::Primitive prim;
   prim.mode = TINYGLTF_MODE_TRIANGLES;
   prim.attributes["POSITION"] = add_accessor(m, pos, 3, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER, true);
@@ -105,6 +109,13 @@ int add_node(tinygltf::Model& m, tinygltf::Node n) {
 
 std::size_t write_scene_gltf(const SceneContent& scene, const std::filesystem::path& path, bool binary,
                              const WriteProgress& progress) {
+  // Cancellation (through `progress`) is polled per block of vertices, faces and instances while the model is
+  // built, and per 64 KiB while it is written: a scene of millions of instances stops within milliseconds.
+  // The units: the terrain's vertices and faces, each class's scan of the instances, and the instances.
+  std::size_t units = scene.terrain ? scene.terrain->mesh.n_vertices() + scene.terrain->mesh.n_faces() : 0;
+  if (scene.scene && scene.scene->instances)
+    units += scene.scene->instances->size() * (scene.scene->classes.size() + 1);
+  ProgressPoll poll(progress, static_cast<double>(units), 0.0, 0.9);
   tinygltf::Model m;
   m.asset.version = "2.0";
   m.asset.generator = "Orogen";
@@ -124,7 +135,7 @@ std::size_t write_scene_gltf(const SceneContent& scene, const std::filesystem::p
   if (scene.terrain) {
     tinygltf::Node n;
     n.name = "terrain";
-    n.mesh = add_mesh(m, *scene.terrain, "terrain");
+    n.mesh = add_mesh(m, *scene.terrain, "terrain", poll);
     children.push_back(add_node(m, n));
   }
   std::size_t instances = 0;
@@ -132,14 +143,16 @@ std::size_t write_scene_gltf(const SceneContent& scene, const std::filesystem::p
     scene.scene->check_consistent();
     const Points& pts = *scene.scene->instances;
     bool gpu = false;
-    std::size_t done = 0;
     for (const auto& [cls, entry] : scene.scene->classes) {
       std::vector<std::size_t> members;
-      for (std::size_t i = 0; i < pts.size(); ++i)
+      for (std::size_t i = 0; i < pts.size(); ++i) {
         if (pts.class_id[i] == cls) members.push_back(i);
+        poll();
+      }
       if (members.empty()) continue;
       const std::string& name = entry.name;
-      const int mesh_index = add_mesh(m, *entry.mesh, name);
+      ProgressPoll mesh_poll(progress, 1.0, 0.0, 0.0);  // a class's mesh: polled, its progress not counted
+      const int mesh_index = add_mesh(m, *entry.mesh, name, mesh_poll);
       tinygltf::Value::Object extras;
       extras["class_id"] = tinygltf::Value(static_cast<int>(cls));
       if (scene.instancing == SceneInstancing::GpuInstancing) {
@@ -151,6 +164,7 @@ std::size_t write_scene_gltf(const SceneContent& scene, const std::filesystem::p
           tr.insert(tr.end(), {p.x, p.y, p.z});
           rot.insert(rot.end(), {q.x, q.y, q.z, q.w});
           sc.insert(sc.end(), {s.x, s.y, s.z});
+          poll();
         }
         tinygltf::Value::Object attrs;
         attrs["TRANSLATION"] = tinygltf::Value(add_accessor(m, tr, 3, TINYGLTF_TYPE_VEC3, 0, true));
@@ -179,7 +193,7 @@ std::size_t write_scene_gltf(const SceneContent& scene, const std::filesystem::p
           n.rotation = {q.x, q.y, q.z, q.w};
           n.scale = {s.x, s.y, s.z};
           group.children.push_back(add_node(m, n));
-          if (++done % 4096 == 0 && progress) progress(0.9 * static_cast<double>(done) / pts.size());
+          poll();
         }
         children.push_back(add_node(m, group));
       }
@@ -199,9 +213,12 @@ std::size_t write_scene_gltf(const SceneContent& scene, const std::filesystem::p
   s.nodes = {root_index};
   m.scenes.push_back(s);
   m.defaultScene = 0;
-  // Buffers are embedded (base64 in .gltf, the BIN chunk in .glb): the file stands alone. Serialized in memory,
-  // then every byte written through a checked file (tinygltf's own file writer ignores a full disk).
-  write_gltf_model(m, path, binary);
+  // Buffers are embedded (base64 in .gltf, the BIN chunk in .glb): the file stands alone. Every byte is written
+  // through a checked file (tinygltf's own file writer ignores a full disk).
+  poll.check();  // the model is built
+  write_gltf_model(m, path, binary, [&progress] {
+    if (progress) progress(0.95);
+  });
   if (progress) progress(1.0);
   return instances;
 }

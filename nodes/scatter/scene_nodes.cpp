@@ -101,11 +101,10 @@ OROGEN_NODE(WriteScene) {
           "terrain_mesh: each instance moves vertically with the written terrain mesh under it (by the mesh's "
           "difference from height, or onto the mesh); keep: positions as they come (instances outside the mesh "
           "always keep theirs)");
-  // The glTF document is built and serialized in memory before it is written: per instance a tinygltf node,
-  // its JSON object and its text (nodes), or its translation, rotation and scale in the buffer and its base64
-  // and file copies (gpu_instancing); the terrain's buffer and file copies (and base64 text in .gltf). Known once
-  // the scene exists, so the check is made just before the node runs. Grounding adds a copy of the points and
-  // the mesh surface's triangles and buckets (about twice the mesh).
+  // The glTF document is built in memory, then streamed to the file: per instance a tinygltf node and its JSON
+  // object (nodes), or its translation, rotation and scale in the buffer and their copies (gpu_instancing); the
+  // terrain's buffer (and base64 text in .gltf). Known once the scene exists, so the check is made just before
+  // the node runs. Grounding adds a copy of the points and the mesh surface's triangles and buckets.
   b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
     std::uint64_t bytes = 0;
     if (const PortValue* v = q.input("in")) {
@@ -113,12 +112,12 @@ OROGEN_NODE(WriteScene) {
       bytes += static_cast<std::uint64_t>(std::get<ScenePtr>(*v)->size()) *
                ((nodes ? 2048 : 160) + sizeof(glm::vec3) + sizeof(glm::quat) + sizeof(glm::vec3) + 8);
     }
-    // The terrain: its buffer and the file's bytes (.glb), and the base64 text of the buffer (.gltf); grounding's
-    // surface (triangles and buckets) about twice the mesh.
+    // The terrain: its buffer (.glb, streamed to the file), and the base64 text of the buffer (.gltf); grounding's
+    // surface (triangles and buckets, about the mesh's size, freed before the file is built).
     const bool text = lower_extension(q.params.get<std::string>("path")) == ".gltf";
     const bool ground = q.params.get<std::string>("ground") == "terrain_mesh";
     if (const PortValue* t = q.input("terrain"))
-      bytes += (text ? 3 * byte_size(*t) : 3 * byte_size(*t) / 2) + (ground ? 2 * byte_size(*t) : 0);
+      bytes += (text ? 2 * byte_size(*t) : byte_size(*t) / 2) + (ground ? byte_size(*t) : 0);
     return bytes;
   });
   b.execute([](ExecContext& ctx) {
@@ -135,8 +134,8 @@ OROGEN_NODE(WriteScene) {
     if (terrain && in->instances && ctx.param<std::string>("ground") == "terrain_mesh") {
       const auto placed_on = ctx.input<Heightfield>("height");
       grounded = *in;
-      grounded.instances =
-          std::make_shared<Points>(ground_on_surface(*in->instances, MeshSurface(terrain->mesh), placed_on.get()));
+      grounded.instances = std::make_shared<Points>(
+          ground_on_surface(*in->instances, MeshSurface(terrain->mesh, &ctx), placed_on.get(), &ctx));
       scene.scene = &grounded;
     }
     scene.terrain = terrain.get();
