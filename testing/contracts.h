@@ -99,6 +99,8 @@ int runs_left_running();
 
 // Every contract above on every case, on small domains (a second or so per node type; the extremes sweep at
 // most ExtremesOptions::budget_seconds more).
-std::vector<ContractResult> check_node_contracts(const NodeType& type);
+// `with_extremes` false leaves the extremes sweep out (a caller that runs check_extremes itself, with its own
+// bounds).
+std::vector<ContractResult> check_node_contracts(const NodeType& type, bool with_extremes = true);
 
 }  // namespace orogen::contracts
