@@ -158,26 +158,25 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
   }();
   (void)quiet;
   if (mesh.face_count() == 0) throw FileError("cannot write '" + path.string() + "': the mesh has no faces");
+  // No format stores a NaN or infinite position meaningfully (OBJ would get "nan" text, GLB and STL NaN
+  // floats that viewers reject): refused, naming the vertex, in every format, by one quick pass (no poll: a
+  // comparison per coordinate) before any format's writer.
+  for (auto v : mesh.mesh.vertices()) {
+    const auto& q = mesh.mesh.point(v);
+    if (!std::isfinite(q[0]) || !std::isfinite(q[1]) || !std::isfinite(q[2]))
+      throw FileError("cannot write '" + path.string() + "': vertex " + std::to_string(v.idx()) +
+                      " has a non-finite position (" + std::to_string(q[0]) + ", " + std::to_string(q[1]) + ", " +
+                      std::to_string(q[2]) +
+                      "); a mesh of a heightfield with NaN or infinite samples cannot be written (fill or clamp them "
+                      "upstream)");
+  }
   if (format == MeshFormat::Gltf || format == MeshFormat::Glb)
     return write_gltf_file(mesh, path, format == MeshFormat::Glb, options.normals, options.colors, options.uvs,
                            options.name, progress);
   // Cancellation is polled per block of vertices and faces (units: the passes below over the vertices, and
   // the OBJ's lines), then per 64 KiB written.
   const double nv = static_cast<double>(mesh.mesh.n_vertices()), nf = static_cast<double>(mesh.mesh.n_faces());
-  ProgressPoll poll(progress, 6 * nv + nf, 0.0, 0.9);
-  // No format stores a NaN or infinite position meaningfully (OBJ would get "nan" text, GLB and STL NaN
-  // floats that viewers reject): refused, naming the vertex, in every format.
-  for (auto v : mesh.mesh.vertices()) {
-    poll();
-    const auto& q = mesh.mesh.point(v);
-    if (!std::isfinite(q[0]) || !std::isfinite(q[1]) || !std::isfinite(q[2]))
-      throw FileError("cannot write '" + path.string() + "': vertex " + std::to_string(v.idx()) +
-                      " has a non-finite "
-                      "position (" +
-                      std::to_string(q[0]) + ", " + std::to_string(q[1]) + ", " + std::to_string(q[2]) +
-                      "); a mesh of a heightfield with NaN or infinite samples cannot be written (fill or clamp them "
-                      "upstream)");
-  }
+  ProgressPoll poll(progress, 5 * nv + nf, 0.0, 0.9);
   // Texture coordinates from the footprint, before any change of axes.
   std::vector<OpenMesh::Vec2f> uvs;
   if (format == MeshFormat::Obj && options.uvs && mesh.mesh.has_vertex_texcoords2D()) {
