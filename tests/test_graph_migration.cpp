@@ -20,6 +20,7 @@
 #include "graph/mesh.h"
 #include "graph/registry.h"
 #include "graph/scene.h"
+#include "support/rename_checks.h"
 #include "support/run_process.h"
 #include "support/test_paths.h"
 
@@ -180,24 +181,7 @@ TEST(GraphMigration, OutputRenamesFollowTheSourceNodesTypeOnly) {
   }
 }
 
-TEST(GraphMigration, RenameTableMatchesTheRegistry) {
-  for (const auto& r : format_v1_renames()) {
-    const NodeType* t = NodeRegistry::instance().find(r.type);
-    ASSERT_NE(t, nullptr) << r.type;
-    for (const auto& [from, to] : r.inputs) {
-      EXPECT_EQ(t->find_input(from), nullptr) << r.type << "." << from;
-      EXPECT_NE(t->find_input(to), nullptr) << r.type << "." << to;
-    }
-    for (const auto& [from, to] : r.outputs) {
-      EXPECT_EQ(t->find_output(from), nullptr) << r.type << "." << from;
-      EXPECT_NE(t->find_output(to), nullptr) << r.type << "." << to;
-    }
-    for (const auto& [from, to] : r.params) {
-      EXPECT_EQ(t->find_param(from), nullptr) << r.type << "." << from;
-      EXPECT_NE(t->find_param(to), nullptr) << r.type << "." << to;
-    }
-  }
-}
+TEST(GraphMigration, RenameTableMatchesTheRegistry) { test::expect_renames_match_registry(format_v1_renames()); }
 
 // The convention itself (docs/conventions.md), over every registered type: a single primary input is `in`
 // unless the type is a binary op (a, b) or a generator; a single output is `out`; nothing a user types is

@@ -15,6 +15,7 @@
 #include "graph/graph_file.h"
 #include "graph/graph_migrations.h"
 #include "graph/registry.h"
+#include "support/rename_checks.h"
 #include "support/run_process.h"
 #include "support/test_paths.h"
 
@@ -25,23 +26,8 @@ using nlohmann::json;
 namespace fs = std::filesystem;
 
 TEST(GraphMigrationV6, RenamesMatchTheRegistry) {
+  test::expect_renames_match_registry(format_v5_renames());
   const auto& registry = NodeRegistry::instance();
-  for (const auto& r : format_v5_renames()) {
-    const NodeType* t = registry.find(r.type);
-    ASSERT_NE(t, nullptr) << r.type;
-    for (const auto& [from, to] : r.inputs) {
-      EXPECT_EQ(t->find_input(from), nullptr) << r.type << "." << from;
-      EXPECT_NE(t->find_input(to), nullptr) << r.type << "." << to;
-    }
-    for (const auto& [from, to] : r.outputs) {
-      EXPECT_EQ(t->find_output(from), nullptr) << r.type << "." << from;
-      EXPECT_NE(t->find_output(to), nullptr) << r.type << "." << to;
-    }
-    for (const auto& [from, to] : r.params) {
-      EXPECT_EQ(t->find_param(from), nullptr) << r.type << "." << from;
-      EXPECT_NE(t->find_param(to), nullptr) << r.type << "." << to;
-    }
-  }
   for (const auto& c : format_v5_converted_params()) {
     const NodeType* t = registry.find(c.type);
     ASSERT_NE(t, nullptr) << c.type;

@@ -6,18 +6,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "editor/model/normalized_path.h"
 #include "graph/atomic_file.h"
 #include "graph/node_library.h"
 
 namespace orogen::editor {
-
-namespace {
-std::filesystem::path normalised(const std::filesystem::path& p) {
-  std::error_code ec;
-  auto abs = std::filesystem::absolute(p, ec);
-  return (ec ? p : abs).lexically_normal();
-}
-}  // namespace
 
 NodeLibraryPreferences::NodeLibraryPreferences(std::filesystem::path file) : file_(std::move(file)) {
   std::ifstream in(file_);
@@ -32,14 +25,14 @@ NodeLibraryPreferences::NodeLibraryPreferences(std::filesystem::path file) : fil
 }
 
 void NodeLibraryPreferences::add(const std::filesystem::path& path) {
-  const auto p = normalised(path);
+  const auto p = normalized_path(path);
   if (std::find(files_.begin(), files_.end(), p) != files_.end()) return;
   files_.push_back(p);
   save();
 }
 
 void NodeLibraryPreferences::remove(const std::filesystem::path& path) {
-  std::erase(files_, normalised(path));
+  std::erase(files_, normalized_path(path));
   save();
 }
 

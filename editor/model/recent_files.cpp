@@ -5,17 +5,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "editor/model/normalized_path.h"
 #include "graph/atomic_file.h"
 
 namespace orogen::editor {
-
-namespace {
-std::filesystem::path normalised(const std::filesystem::path& p) {
-  std::error_code ec;
-  auto abs = std::filesystem::absolute(p, ec);
-  return (ec ? p : abs).lexically_normal();
-}
-}  // namespace
 
 RecentFiles::RecentFiles(std::filesystem::path file) : file_(std::move(file)) {
   std::ifstream in(file_);
@@ -30,7 +23,7 @@ RecentFiles::RecentFiles(std::filesystem::path file) : file_(std::move(file)) {
 }
 
 void RecentFiles::add(const std::filesystem::path& path) {
-  const auto p = normalised(path);
+  const auto p = normalized_path(path);
   std::erase(paths_, p);
   paths_.insert(paths_.begin(), p);
   if (paths_.size() > kMax) paths_.resize(kMax);
@@ -38,7 +31,7 @@ void RecentFiles::add(const std::filesystem::path& path) {
 }
 
 void RecentFiles::remove(const std::filesystem::path& path) {
-  std::erase(paths_, normalised(path));
+  std::erase(paths_, normalized_path(path));
   save();
 }
 
