@@ -66,14 +66,15 @@ struct SegmentIndex {
 
   SegmentIndex(glm::dvec2 lo_, glm::dvec2 size, double cell_) : lo(lo_) {
     cell = std::max(cell_, 1e-9);
-    gw = std::clamp(static_cast<int>(std::ceil(size.x / cell)), 1, 2048);
-    gh = std::clamp(static_cast<int>(std::ceil(size.y / cell)), 1, 2048);
+    // Clamped in double before the cast (a tiny cell over a large size would overflow an int).
+    gw = static_cast<int>(std::clamp(std::ceil(size.x / cell), 1.0, 2048.0));
+    gh = static_cast<int>(std::clamp(std::ceil(size.y / cell), 1.0, 2048.0));
     cell = std::max(size.x / gw, size.y / gh);
     buckets.resize(static_cast<std::size_t>(gw) * static_cast<std::size_t>(gh));
   }
   glm::ivec2 bucket(glm::dvec2 p) const {
-    return {std::clamp(static_cast<int>(std::floor((p.x - lo.x) / cell)), 0, gw - 1),
-            std::clamp(static_cast<int>(std::floor((p.y - lo.y) / cell)), 0, gh - 1)};
+    return {static_cast<int>(std::clamp(std::floor((p.x - lo.x) / cell), 0.0, double(gw - 1))),
+            static_cast<int>(std::clamp(std::floor((p.y - lo.y) / cell), 0.0, double(gh - 1)))};
   }
   template <class Fn>
   void for_buckets(glm::dvec2 a, glm::dvec2 b, Fn&& fn) {
@@ -380,9 +381,10 @@ CarveResult carve_rivers(const Heightfield& in, const Curves& rivers, const Carv
   const double cell = std::max({reach, (hi.x - lo.x) / 1024.0, (hi.y - lo.y) / 1024.0, 1e-9});
   const int gw = std::clamp(static_cast<int>(std::ceil((hi.x - lo.x) / cell)), 1, 1024);
   const int gh = std::clamp(static_cast<int>(std::ceil((hi.y - lo.y) / cell)), 1, 1024);
+  // Clamped before the cast: a segment far outside a tiny domain is billions of buckets away.
   auto bucket = [&](glm::dvec2 q) {
-    return glm::ivec2(std::clamp(static_cast<int>(std::floor((q.x - lo.x) / cell)), 0, gw - 1),
-                      std::clamp(static_cast<int>(std::floor((q.y - lo.y) / cell)), 0, gh - 1));
+    return glm::ivec2(static_cast<int>(std::clamp(std::floor((q.x - lo.x) / cell), 0.0, double(gw - 1))),
+                      static_cast<int>(std::clamp(std::floor((q.y - lo.y) / cell), 0.0, double(gh - 1))));
   };
   std::vector<std::vector<int>> buckets(static_cast<std::size_t>(gw) * static_cast<std::size_t>(gh));
   for (std::size_t s = 0; s < segs.size(); ++s) {
