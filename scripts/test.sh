@@ -28,7 +28,7 @@ cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DOROGEN
   -DOROGEN_EDITOR=OFF -DOROGEN_BENCH=OFF
 cmake --build build/sanitize -j"$jobs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build/sanitize --output-on-failure -j"$jobs"
+  LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp" ctest --test-dir build/sanitize --output-on-failure -j"$jobs"
 
 echo "== libFuzzer targets under ASan + UBSan, 60 s in all"
 OROGEN_FUZZ_REQUIRED=1 bash scripts/fuzz.sh 60
