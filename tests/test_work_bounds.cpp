@@ -85,6 +85,18 @@ TEST(WorkBounds, StreamPowerStepCountOverflowIsRefused) {
   EXPECT_NE(e.find("duration"), std::string::npos) << e;
 }
 
+// PoissonDisk with radii 1e6 times apart built a neighbor-offset table of 1e15 cells before placing any point,
+// out of reach of the cancel (found by fuzz_graph_eval): refused up front naming the radii.
+TEST(WorkBounds, PoissonDiskRadiiFarApartAreRefused) {
+  const Domain d = Domain::from_extent({0, 0}, {1, 1}, {2, 2});
+  const std::string e =
+      node_error("PoissonDisk", d, {{"class_count", std::int64_t{2}}, {"radius_0", 9999.99}, {"radius_1", 0.01}}, {});
+  EXPECT_NE(e.find("radius_0"), std::string::npos) << e;
+  EXPECT_NE(e.find("radius_1"), std::string::npos) << e;
+  EXPECT_EQ(node_error("PoissonDisk", d, {{"class_count", std::int64_t{2}}, {"radius_0", 2.0}, {"radius_1", 0.5}}, {}),
+            "");
+}
+
 // ThermalErosion's iteration count (2 x travel_distance / spacing) did not fit an int at a long travel on a
 // fine grid (UBSan's float-cast-overflow): refused up front with the parameters to change.
 TEST(WorkBounds, ThermalErosionIterationCountIsCheckedNotCast) {

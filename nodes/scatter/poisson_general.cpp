@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "nodes/common/work_poll.h"
 #include "nodes/scatter/poisson_plan.h"
 
 namespace orogen::poisson {
@@ -29,7 +30,10 @@ struct GeneralChunkSampler : PoissonPlan {
       std::vector<int> cells;  // point index or -1
     };
     std::vector<Grid> grids;  // per class
+    // Polled per placement try: one chunk of a tiny radius among huge ones holds millions of tries.
+    WorkPoll poll{nullptr, 256};
   };
+  const ExecContext* ctx = nullptr;
 
   void grid_insert(Local& L, int idx) const {
     auto& g = L.grids[L.cls[idx]];
@@ -163,6 +167,7 @@ struct GeneralChunkSampler : PoissonPlan {
 
   // Tries to place a class-k point at (x, y) (double); returns its local index or -1.
   int try_place(Local& L, int k, double x, double y) const {
+    L.poll();
     const float fx = static_cast<float>(x), fy = static_cast<float>(y);
     const double dx = fx, dy = fy;
     if (!(dx >= L.ax0 && dx < L.ax1 && dy >= L.ay0 && dy < L.ay1)) return -1;
@@ -183,6 +188,7 @@ struct GeneralChunkSampler : PoissonPlan {
   void process(std::int64_t gcx, std::int64_t gcy, int k) {
     const double C = chunk[k], D = reach[k];
     Local L;
+    L.poll = WorkPoll(ctx, 256);
     L.ax0 = static_cast<double>(gcx) * C;
     L.ax1 = static_cast<double>(gcx + 1) * C;
     L.ay0 = static_cast<double>(gcy) * C;
@@ -335,6 +341,7 @@ struct GeneralChunkSampler : PoissonPlan {
 std::vector<ClassChunks> sample_general(const PoissonPlan& plan, glm::dvec2 lo, glm::dvec2 hi,
                                         const std::vector<double>& margin, const ExecContext* ctx) {
   GeneralChunkSampler s(plan);
+  s.ctx = ctx;
   run_chunk_phases(s, lo, hi, margin, ctx, [&](std::int64_t cx, std::int64_t cy, int k) { s.process(cx, cy, k); });
   return std::move(s.grids);
 }

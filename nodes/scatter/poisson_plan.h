@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -106,6 +107,8 @@ struct PoissonPlan {
   bool varies = false;
   bool uniform = false;  // one class, constant radius: the fast sampler
 
+  static constexpr double kMaxOffsetReach = 512.0;  // cells: a table of at most 1025^2 offsets per pair (16 MB)
+
   void make_offsets() {
     const std::size_t K = p.classes.size();
     offsets.assign(K, std::vector<std::vector<std::pair<int, int>>>(K));
@@ -116,7 +119,16 @@ struct PoissonPlan {
         // Cell sizes differ between classes: measure in class j's cells, from a class-k cell that may span
         // several of them (the candidate's position is what is looked up, so one cell of class j suffices).
         const double h = cell[j];
-        const int w = static_cast<int>(std::ceil(reach_kj / h)) + 1;
+        // The table holds (2w + 1)^2 cells: radii (or min_density) far apart would make it unbounded (radii of
+        // 1e4 m and 0.01 m: 1e15 cells, computed before any point and with no chance to cancel).
+        const double wide = std::ceil(reach_kj / h) + 1.0;
+        if (!(wide <= kMaxOffsetReach))
+          throw NodeError("PoissonDisk: the classes' radii are too far apart (class " + std::to_string(k) +
+                          " reaches " + std::to_string(reach_kj) + " m, class " + std::to_string(j) + "'s cells are " +
+                          std::to_string(h) +
+                          " m): their ratio, with min_density, may be at most about 700; bring radius_" +
+                          std::to_string(k) + " and radius_" + std::to_string(j) + " closer or raise min_density");
+        const int w = static_cast<int>(wide);
         std::vector<std::pair<double, std::pair<int, int>>> list;
         for (int dj = -w; dj <= w; ++dj)
           for (int di = -w; di <= w; ++di) {
