@@ -99,8 +99,16 @@ int runs_left_running();
 
 // Every contract above on every case, on small domains (a second or so per node type; the extremes sweep at
 // most ExtremesOptions::budget_seconds more).
-// `with_extremes` false leaves the extremes sweep out (a caller that runs check_extremes itself, with its own
-// bounds).
-std::vector<ContractResult> check_node_contracts(const NodeType& type, bool with_extremes = true);
+// Which contracts check_node_contracts runs (a caller that runs some of them itself, with its own bounds or
+// wider sweeps, leaves them out).
+enum ContractSet : unsigned {
+  kDeclarationContract = 1u << 0,
+  kCacheKeyContract = 1u << 1,
+  kReachContract = 1u << 2,
+  kThreadsContract = 1u << 3,
+  kExtremesContract = 1u << 4,
+  kAllContracts = (1u << 5) - 1,
+};
+std::vector<ContractResult> check_node_contracts(const NodeType& type, unsigned contracts = kAllContracts);
 
 }  // namespace orogen::contracts

@@ -300,17 +300,20 @@ ContractResult check_declaration_contract(const NodeType& type) {
   return r;
 }
 
-std::vector<ContractResult> check_node_contracts(const NodeType& type, bool with_extremes) {
+std::vector<ContractResult> check_node_contracts(const NodeType& type, unsigned contracts) {
   const Domain key_domain = Domain::from_extent({-300.0, 200.0}, {480.0, 384.0}, {16, 13});
   const Domain run_domain = Domain::from_extent({-1234.5, 567.25}, {630.0, 376.0}, {64, 48});
   // More than one thread, as many as the machine has up to 4 (more arena slots than cores only warns).
   const int threads = static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 2u, 4u));
-  std::vector<ContractResult> out{check_declaration_contract(type), check_cache_key(type, key_domain)};
+  std::vector<ContractResult> out;
+  if (contracts & kDeclarationContract) out.push_back(check_declaration_contract(type));
+  if (contracts & kCacheKeyContract) out.push_back(check_cache_key(type, key_domain));
   // Reach and threads over every case, folded into one row each.
-  for (int which = 0; which < 2; ++which) {
-    ContractResult row{which == 0 ? "reach" : "threads", Status::Skipped, {}, ""};
+  for (const unsigned which : {unsigned{kReachContract}, unsigned{kThreadsContract}}) {
+    if (!(contracts & which)) continue;
+    ContractResult row{which == kReachContract ? "reach" : "threads", Status::Skipped, {}, ""};
     for (const auto& c : param_cases(type)) {
-      auto one = which == 0 ? check_reach(type, c) : check_threads(type, c, run_domain, threads);
+      auto one = which == kReachContract ? check_reach(type, c) : check_threads(type, c, run_domain, threads);
       if (one.status != Status::Skipped && row.status == Status::Skipped) row.status = Status::Passed;
       if (one.status == Status::Failed) row.status = Status::Failed;
       if (row.note.empty() || one.status != Status::Skipped) row.note = one.note;
@@ -318,7 +321,7 @@ std::vector<ContractResult> check_node_contracts(const NodeType& type, bool with
     }
     out.push_back(std::move(row));
   }
-  if (with_extremes) out.push_back(check_extremes(type));
+  if (contracts & kExtremesContract) out.push_back(check_extremes(type));
   return out;
 }
 

@@ -24,9 +24,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Every example graph evaluated at 65² into its own folder (graph name -> folder); failures are recorded.
+// Every example graph evaluated at 65² into its own folder (graph name -> folder); failures are recorded. The
+// checks share one test: ctest runs each test in a process of its own, which would evaluate them all again.
 class ExampleOutputs : public ::testing::Test {
- protected:
+ public:
   static void SetUpTestSuite() {
     root_ = new fs::path(scratch_dir("example-outputs"));
     results_ = new std::map<std::string, ProcessResult>;
@@ -61,10 +62,6 @@ class ExampleOutputs : public ::testing::Test {
   static inline fs::path* root_ = nullptr;
   static inline std::map<std::string, ProcessResult>* results_ = nullptr;
 };
-
-TEST_F(ExampleOutputs, EveryExampleRuns) {
-  for (const auto& [name, result] : results()) EXPECT_EQ(result.exit_code, 0) << name << ": " << result.err;
-}
 
 // --- scenes ---------------------------------------------------------------------------------------------------
 
@@ -172,9 +169,9 @@ class Surface {
   std::vector<std::vector<std::size_t>> bins_ = std::vector<std::vector<std::size_t>>(kBins * kBins);
 };
 
-TEST_F(ExampleOutputs, EveryInstanceStandsOnTheTerrainMeshOfItsScene) {
+void expect_every_instance_on_its_scenes_mesh() {
   int scenes = 0;
-  for (const auto& [name, path] : written({".glb", ".gltf"})) {
+  for (const auto& [name, path] : ExampleOutputs::written({".glb", ".gltf"})) {
     const WrittenScene s = read_scene(path);
     if (s.triangles.empty() || s.bases.empty()) continue;  // a mesh alone, or a scene without terrain
     ++scenes;
@@ -221,13 +218,13 @@ std::vector<std::vector<fs::path>> splat_groups(const fs::path& graph_file, cons
   return out;
 }
 
-TEST_F(ExampleOutputs, EverySplatImagesWeightsSumToOnePerPixel) {
+void expect_splat_weights_sum_to_one() {
   int checked = 0;
   for (const auto& entry : fs::directory_iterator(source_dir() / "graphs")) {
     if (entry.path().extension() != ".json") continue;
     const std::string name = entry.path().stem().string();
-    if (results().at(name).exit_code != 0) continue;
-    for (const auto& files : splat_groups(entry.path(), output_dir(name))) {
+    if (ExampleOutputs::results().at(name).exit_code != 0) continue;
+    for (const auto& files : splat_groups(entry.path(), ExampleOutputs::output_dir(name))) {
       SCOPED_TRACE(name + ": " + files.front().filename().string());
       std::vector<double> sum;
       double one = 1.0, rounding = 1e-5;
@@ -255,6 +252,18 @@ TEST_F(ExampleOutputs, EverySplatImagesWeightsSumToOnePerPixel) {
     }
   }
   EXPECT_GE(checked, 3);  // forest's splat.png, textured_terrain's splat0+splat1 and weights.exr
+}
+
+TEST_F(ExampleOutputs, EveryExampleRunsAndWritesWhatImportersRead) {
+  for (const auto& [name, result] : results()) EXPECT_EQ(result.exit_code, 0) << name << ": " << result.err;
+  {
+    SCOPED_TRACE("every instance stands on the terrain mesh of its scene");
+    expect_every_instance_on_its_scenes_mesh();
+  }
+  {
+    SCOPED_TRACE("every splat image's weights sum to one (255) per pixel");
+    expect_splat_weights_sum_to_one();
+  }
 }
 
 }  // namespace

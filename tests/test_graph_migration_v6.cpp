@@ -169,29 +169,5 @@ TEST(GraphMigrationV6, MigrateCommandLaysOutStructuralChanges) {
   EXPECT_EQ(serialize_graph(*migrated.graph), serialize_graph(*current.graph));
 }
 
-// Evaluating a version-5 example and its version-6 rewrite writes the same bytes (through the command line, as
-// a user would): the renames change no output.
-TEST(GraphMigrationV6, Version5ExamplesEvaluateToTheSameBytes) {
-  for (const char* name : {"hydrology.json", "textured_terrain.json"}) {
-    std::map<std::string, std::string> outputs[2];
-    int k = 0;
-    for (const auto& file : {test::source_dir() / "tests/fixtures/v5" / name, test::source_dir() / "graphs" / name}) {
-      const auto dir = test::scratch_dir("migration-v6-eval");
-      const auto run = test::run_process(
-          test::cli_binary(), {"eval", file.string(), "-o", (dir / "out").string(), "--resolution", "65", "--quiet"});
-      ASSERT_EQ(run.exit_code, 0) << name << run.err;
-      for (const auto& e : fs::recursive_directory_iterator(dir / "out"))
-        if (e.is_regular_file()) outputs[k][fs::relative(e.path(), dir / "out").string()] = test::read_text(e.path());
-      ++k;
-    }
-    EXPECT_GE(outputs[0].size(), 3u) << name;
-    EXPECT_EQ(outputs[0].size(), outputs[1].size()) << name;
-    for (const auto& [path, bytes] : outputs[0]) {
-      ASSERT_TRUE(outputs[1].count(path)) << path;
-      EXPECT_TRUE(bytes == outputs[1].at(path)) << name << ": " << path;
-    }
-  }
-}
-
 }  // namespace
 }  // namespace orogen
