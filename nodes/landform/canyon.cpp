@@ -1,0 +1,148 @@
+#include "nodes/landform/canyon.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "graph/registry.h"
+#include "nodes/common/cancellable_rows.h"
+#include "nodes/common/hash.h"
+#include "nodes/landform/landform_common.h"
+
+namespace orogen {
+
+using landform::num;
+using landform::require;
+
+namespace {
+constexpr int kMeanderOctaves = 3;
+}
+
+void check_canyon(const CanyonParams& p) {
+  require(
+      std::hypot(p.end.x - p.start.x, p.end.y - p.start.y) > 0.0, "Canyon",
+      "start and end are the same point (" + num(p.start.x) + ", " + num(p.start.y) + ") m; a canyon needs a length");
+  require(p.depth >= 0.0, "Canyon", "depth (" + num(p.depth) + " m) must be at least 0");
+  require(p.floor_width >= 0.0, "Canyon", "floor_width (" + num(p.floor_width) + " m) must be at least 0");
+  require(p.wall_slope > 0.0 && p.wall_slope < 90.0, "Canyon",
+          "wall_slope (" + num(p.wall_slope) + " deg) must be above 0 and below 90");
+  require(p.terraces >= 0, "Canyon", "terraces (" + num(p.terraces) + ") must be at least 0");
+  require(p.taper_length >= 0.0, "Canyon", "taper_length (" + num(p.taper_length) + " m) must be at least 0");
+  require(p.meander >= 0.0, "Canyon", "meander (" + num(p.meander) + " m) must be at least 0");
+  require(p.meander_feature_size > 0.0, "Canyon",
+          "meander_feature_size (" + num(p.meander_feature_size) + " m) must be positive");
+}
+
+double canyon_offset(const CanyonParams& p, double x, double y) {
+  const double dx = p.end.x - p.start.x, dy = p.end.y - p.start.y;
+  const double length = std::hypot(dx, dy);
+  const double s = std::clamp(((x - p.start.x) * dx + (y - p.start.y) * dy) / length, 0.0, length);
+  const double d = std::hypot(x - (p.start.x + dx * (s / length)), y - (p.start.y + dy * (s / length)));
+  const double a = p.taper_length > 0.0 ? landform::smoothstep01(std::min(s, length - s) / p.taper_length) : 1.0;
+  const double depth = p.depth * a;
+  const double half_floor = 0.5 * p.floor_width;
+  if (d <= half_floor) return -depth;
+  const double wall = depth / std::tan(p.wall_slope * std::numbers::pi / 180.0);
+  if (!(d < half_floor + wall)) return 0.0;
+  double f = (d - half_floor) / wall;
+  if (p.terraces > 0) {
+    const double n = static_cast<double>(p.terraces);
+    const double k = std::min(std::floor(f * n), n - 1.0);
+    const double g = f * n - k;
+    f = (k + std::max(0.0, 2.0 * g - 1.0)) / n;
+  }
+  return -depth * (1.0 - f);
+}
+
+std::shared_ptr<Heightfield> canyon_field(const Domain& domain, const CanyonParams& p, const ExecContext* ctx) {
+  check_canyon(p);
+  Heightfield wx, wy;
+  if (p.meander > 0.0) {
+    wx = landform::unit_noise(domain, p.meander_feature_size, kMeanderOctaves, false, p.seed, ctx);
+    wy = landform::unit_noise(domain, p.meander_feature_size, kMeanderOctaves, false, hash64(p.seed, 1), ctx);
+  }
+  auto out = std::make_shared<Heightfield>(domain);
+  for_each_row(ctx, domain.height(), [&](int j) {
+    const double y = domain.y(j);
+    auto o = out->row(j);
+    for (int i = 0; i < domain.width(); ++i) {
+      double qx = domain.x(i), qy = y;
+      if (p.meander > 0.0) {
+        qx += p.meander * static_cast<double>(wx.at(i, j));
+        qy += p.meander * static_cast<double>(wy.at(i, j));
+      }
+      o[static_cast<std::size_t>(i)] = static_cast<float>(canyon_offset(p, qx, qy));
+    }
+  });
+  return out;
+}
+
+OROGEN_NODE(Canyon) {
+  b.reach_pointwise();
+  b.category("landform")
+      .description(
+          "A canyon cut along the segment start-end, as a height offset (0 away from it, -depth on its floor) to "
+          "Add to a terrain: a flat floor floor_width wide, walls at wall_slope (optionally in `terraces` steps, "
+          "each a flat bench and a riser twice as steep, like the stepped walls of canyons cut through layered "
+          "rock), the depth tapering to 0 over taper_length at each end, and the path meandering by up to "
+          "`meander` (the sample displaced by seeded fBm, K. Perlin (2002), \"Improving noise\", SIGGRAPH).");
+  b.output("out", PortType::Heightfield)
+      .description("Height offset, metres (<= 0): add it to a terrain")
+      .kind(OutputKind::Signed)
+      .unit(Unit::Metre);
+  b.param_vec2("start", {100.0, 700.0})
+      .range(-1e7, 1e7)
+      .unit(Unit::Metre)
+      .description("World position of one end of the canyon");
+  b.param_vec2("end", {924.0, 300.0}).range(-1e7, 1e7).unit(Unit::Metre).description("World position of the other end");
+  b.param_float("depth", 120.0)
+      .range(0.0, 1e5)
+      .soft_range(0.0, 2000.0)
+      .unit(Unit::Metre)
+      .description("Depth of the floor below the surrounding terrain");
+  b.param_float("floor_width", 40.0)
+      .range(0.0, 1e7)
+      .soft_range(0.0, 2000.0)
+      .unit(Unit::Metre)
+      .description("Width of the flat floor");
+  b.param_float("wall_slope", 55.0)
+      .range(1.0, 89.0)
+      .unit(Unit::Degree)
+      .description("Mean steepness of the walls (of each step's bench and riser together when terraced)");
+  b.param_int("terraces", 0)
+      .range(0, 50)
+      .unit(Unit::Count)
+      .description("Steps in each wall, each a flat bench and a riser; 0 for smooth walls");
+  b.param_float("taper_length", 100.0)
+      .range(0.0, 1e7)
+      .soft_range(0.0, 5000.0)
+      .unit(Unit::Metre)
+      .description("Length over which the depth comes up to 0 at each end; 0 for full depth to the ends");
+  b.param_float("meander", 60.0)
+      .range(0.0, 1e6)
+      .soft_range(0.0, 1000.0)
+      .unit(Unit::Metre)
+      .description("How far the path wanders from the straight segment; 0 for a straight canyon");
+  b.param_float("meander_feature_size", 400.0)
+      .range(1e-3, 1e7)
+      .soft_range(20.0, 5000.0)
+      .unit(Unit::Metre)
+      .description("Length of the largest bends");
+  b.param_seed("seed", 0).description("Random seed of the meanders");
+  b.execute([](ExecContext& ctx) {
+    CanyonParams p;
+    p.start = ctx.param<glm::dvec2>("start");
+    p.end = ctx.param<glm::dvec2>("end");
+    p.depth = ctx.param<double>("depth");
+    p.floor_width = ctx.param<double>("floor_width");
+    p.wall_slope = ctx.param<double>("wall_slope");
+    p.terraces = static_cast<int>(ctx.param<std::int64_t>("terraces"));
+    p.taper_length = ctx.param<double>("taper_length");
+    p.meander = ctx.param<double>("meander");
+    p.meander_feature_size = ctx.param<double>("meander_feature_size");
+    p.seed = ctx.param<std::uint64_t>("seed");
+    ctx.set_output("out", canyon_field(ctx.domain(), p, &ctx));
+  });
+}
+
+}  // namespace orogen
