@@ -42,7 +42,8 @@ double canyon_offset(const CanyonParams& p, double x, double y) {
   const double depth = p.depth * a;
   const double half_floor = 0.5 * p.floor_width;
   if (d <= half_floor) return -depth;
-  const double wall = depth / std::tan(p.wall_slope * std::numbers::pi / 180.0);
+  const double a_rad = p.wall_slope * std::numbers::pi / 180.0;
+  const double wall = depth * std::cos(a_rad) / std::sin(a_rad);  // depth / tan: exact at 45 degrees
   if (!(d < half_floor + wall)) return 0.0;
   double f = (d - half_floor) / wall;
   if (p.terraces > 0) {
