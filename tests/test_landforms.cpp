@@ -155,7 +155,9 @@ TEST(Ridge, CrestOnTheSegmentProfileAcrossAndTaperedEnds) {
                                             {"height", 200.0},
                                             {"half_width", 100.0},
                                             {"sharpness", 0.6},
-                                            {"taper_length", 100.0}};
+                                            {"taper_length", 100.0},
+                                            {"meander", 0.0},
+                                            {"roughness", 0.0}};
   const auto h = run_field("Ridge", d, p);
   for (int i = 80; i <= 120; ++i) EXPECT_FLOAT_EQ(h->at(i, 100), 200.0f) << i;  // crest, away from the ends
   // u = 0.5: 0.4 x bell 0.5 + 0.6 x (1 - 0.5)^2 = 0.35.
@@ -176,6 +178,49 @@ TEST(Ridge, CrestOnTheSegmentProfileAcrossAndTaperedEnds) {
   auto blunt = p;
   blunt["taper_length"] = 0.0;
   EXPECT_FLOAT_EQ(run_field("Ridge", d, blunt)->at(160, 100), 200.0f);
+}
+
+TEST(Ridge, BendsAndRoughnessStayUnderTheEnvelopeAndAreSeeded) {
+  const Domain d = square();
+  std::map<std::string, ParamValue> p{{"start", glm::dvec2(200, 500)},
+                                      {"end", glm::dvec2(800, 500)},
+                                      {"height", 200.0},
+                                      {"half_width", 100.0},
+                                      {"taper_length", 0.0},
+                                      {"meander", 0.0},
+                                      {"roughness", 80.0},
+                                      {"seed", std::uint64_t{4}}};
+  const auto rough = run_field("Ridge", d, p);
+  auto smooth_p = p;
+  smooth_p["roughness"] = 0.0;
+  const auto smooth = run_field("Ridge", d, smooth_p);
+  double deviation = 0.0;
+  for (std::size_t k = 0; k < smooth->data.size(); ++k) {
+    const double e = smooth->data[k] / 200.0;
+    ASSERT_LE(std::abs(rough->data[k] - smooth->data[k]), 40.0 * e + 1e-3) << k;  // roughness / 2 x envelope
+    deviation = std::max(deviation, static_cast<double>(std::abs(rough->data[k] - smooth->data[k])));
+  }
+  EXPECT_GT(deviation, 10.0);
+  // Meanders move the crest off the axis, by no more than meander x sqrt(2).
+  p["roughness"] = 0.0;
+  p["meander"] = 50.0;
+  const auto bent = run_field("Ridge", d, p);
+  int crest_off_axis = 0;
+  for (int j = 0; j < 201; ++j)
+    for (int i = 0; i < 201; ++i) {
+      const double off = std::abs(d.y(j) - 500);
+      if (off > 100.0 + 50.0 * std::sqrt(2.0)) ASSERT_EQ(bent->at(i, j), 0.0f) << i << "," << j;
+    }
+  for (int i = 50; i <= 150; ++i) {  // the highest sample of each column, away from the ends
+    int top = 0;
+    for (int j = 1; j < 201; ++j)
+      if (bent->at(i, j) > bent->at(i, top)) top = j;
+    if (std::abs(d.y(top) - 500) > 7.0) ++crest_off_axis;  // more than a sample off
+  }
+  EXPECT_GT(crest_off_axis, 0);
+  EXPECT_TRUE(bit_identical(run_field("Ridge", d, p)->data, bent->data));
+  p["seed"] = std::uint64_t{5};
+  EXPECT_FALSE(bit_identical(run_field("Ridge", d, p)->data, bent->data));
 }
 
 TEST(Ridge, RefusesASegmentOfNoLength) {
@@ -315,7 +360,7 @@ TEST(Mountain, SummitAtHeightEnvelopeBoundsTheRidgesAndZeroBeyond) {
   const auto smooth = run_field(
       "Mountain", d, {{"position", glm::dvec2(500, 500)}, {"radius", 400.0}, {"height", 300.0}, {"roughness", 0.0}});
   EXPECT_FLOAT_EQ(smooth->at(100, 100), 300.0f);
-  EXPECT_NEAR(smooth->at(140, 100), 300.0 * 0.25 * 2.0, 1e-3);  // u = 0.5: (0.5)^2 (1 + 1)
+  EXPECT_NEAR(smooth->at(140, 100), 300.0 * 0.25 * 1.5, 1e-3);  // u = 0.5: (0.5)^2 (1 + 0.5)
   EXPECT_EQ(smooth->at(180, 100), 0.0f);
 
   const std::map<std::string, ParamValue> p{{"position", glm::dvec2(500, 500)},

@@ -35,7 +35,7 @@ std::shared_ptr<Heightfield> mountain_field(const Domain& domain, const Mountain
       const double u = std::hypot(domain.x(i) - p.position.x, y - p.position.y) / p.radius;
       double h = 0.0;
       if (u < 1.0) {
-        const double e = (1.0 - u) * (1.0 - u) * (1.0 + 2.0 * u);
+        const double e = (1.0 - u) * (1.0 - u) * (1.0 + u);
         const double n = p.roughness > 0.0 ? static_cast<double>(noise.at(i, j)) - at_center : 0.0;
         h = e * (p.height + p.roughness * n);
       }
@@ -49,7 +49,7 @@ OROGEN_NODE(Mountain) {
   b.reach_pointwise();
   b.category("landform")
       .description(
-          "A mountain massif: the envelope e = (1 - u)^2 (1 + 2u), u = distance / radius, times height plus "
+          "A mountain massif: the envelope e = (1 - u)^2 (1 + u), u = distance / radius, times height plus "
           "roughness x a seeded ridged multifractal (F. K. Musgrave (1994), \"Methods for realistic landscape "
           "imaging\", in Texturing and Modeling: A Procedural Approach) taken relative to its value at the "
           "summit: the summit is exactly `height`, ridges and gullies fade toward the base, 0 beyond `radius`.");

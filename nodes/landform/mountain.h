@@ -1,6 +1,7 @@
 #pragma once
 // Mountain: a massif of base `radius` around `position`. With u = r / radius (r the distance from the
-// center) and the envelope e(u) = (1 - u)^2 (1 + 2u) (1 at the summit, 0 with zero slope at the base):
+// center) and the envelope e(u) = (1 - u)^2 (1 + u) (1 at a blunt summit, concave lower flanks, 0 with zero slope at
+// the base):
 //   e(u) (height + roughness (n(x, y) - n(position)))      for u < 1, else 0
 // where n is Musgrave's ridged multifractal of seeded Perlin noise in [0, 1] (`octaves` octaves, the largest
 // of size feature_size). Subtracting its value at the center keeps the summit at exactly `height`; the

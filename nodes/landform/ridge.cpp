@@ -4,7 +4,8 @@
 #include <cmath>
 
 #include "graph/registry.h"
-#include "nodes/field/field_map.h"
+#include "nodes/common/cancellable_rows.h"
+#include "nodes/common/hash.h"
 #include "nodes/landform/landform_common.h"
 
 namespace orogen {
@@ -20,7 +21,15 @@ void check_ridge(const RidgeParams& p) {
   require(p.half_width > 0.0, "Ridge", "half_width (" + num(p.half_width) + " m) must be positive");
   require(p.sharpness >= 0.0 && p.sharpness <= 1.0, "Ridge", "sharpness (" + num(p.sharpness) + ") must be 0..1");
   require(p.taper_length >= 0.0, "Ridge", "taper_length (" + num(p.taper_length) + " m) must be at least 0");
+  require(p.meander >= 0.0, "Ridge", "meander (" + num(p.meander) + " m) must be at least 0");
+  require(p.roughness >= 0.0, "Ridge", "roughness (" + num(p.roughness) + " m) must be at least 0");
+  require(p.feature_size > 0.0, "Ridge", "feature_size (" + num(p.feature_size) + " m) must be positive");
 }
+
+namespace {
+constexpr int kMeanderOctaves = 3;
+constexpr int kRoughnessOctaves = 6;
+}  // namespace
 
 double ridge_height(const RidgeParams& p, double x, double y) {
   const double dx = p.end.x - p.start.x, dy = p.end.y - p.start.y;
@@ -39,8 +48,31 @@ double ridge_height(const RidgeParams& p, double x, double y) {
 
 std::shared_ptr<Heightfield> ridge_field(const Domain& domain, const RidgeParams& p, const ExecContext* ctx) {
   check_ridge(p);
-  return generate_field(
-      domain, [&](double x, double y) { return ridge_height(p, x, y); }, ctx);
+  Heightfield wx, wy, rough;
+  if (p.meander > 0.0) {
+    wx = landform::unit_noise(domain, p.feature_size, kMeanderOctaves, false, p.seed, ctx);
+    wy = landform::unit_noise(domain, p.feature_size, kMeanderOctaves, false, hash64(p.seed, 1), ctx);
+  }
+  if (p.roughness > 0.0) rough = landform::unit_noise(domain, p.feature_size, kRoughnessOctaves, true, p.seed, ctx);
+  auto out = std::make_shared<Heightfield>(domain);
+  // The envelope of ridge_height for a unit height, so the roughness rides on the same shape.
+  RidgeParams unit = p;
+  unit.height = 1.0;
+  for_each_row(ctx, domain.height(), [&](int j) {
+    const double y = domain.y(j);
+    auto o = out->row(j);
+    for (int i = 0; i < domain.width(); ++i) {
+      double qx = domain.x(i), qy = y;
+      if (p.meander > 0.0) {
+        qx += p.meander * static_cast<double>(wx.at(i, j));
+        qy += p.meander * static_cast<double>(wy.at(i, j));
+      }
+      const double e = ridge_height(unit, qx, qy);
+      const double n = p.roughness > 0.0 ? static_cast<double>(rough.at(i, j)) - 0.5 : 0.0;
+      o[static_cast<std::size_t>(i)] = static_cast<float>(e * (p.height + p.roughness * n));
+    }
+  });
+  return out;
 }
 
 OROGEN_NODE(Ridge) {
@@ -50,7 +82,10 @@ OROGEN_NODE(Ridge) {
           "A ridge whose crest runs along the segment start-end at `height`, falling to 0 at half_width from it "
           "with the cross profile (1 - sharpness) (1 - 3u^2 + 2u^3) + sharpness (1 - u)^2, u = distance / "
           "half_width (a rounded bell blended with a knife-edge crest over concave flanks), and coming down to "
-          "the ground over taper_length at each end (smoothstep of the distance to the nearer end).");
+          "the ground over taper_length at each end (smoothstep of the distance to the nearer end). The crest bends by "
+          "up to `meander` (the sample displaced by seeded fBm, K. Perlin (2002), \"Improving noise\", SIGGRAPH) and "
+          "`roughness` x (a ridged multifractal - 1/2) (F. K. Musgrave (1994), in Texturing and Modeling: A "
+          "Procedural Approach) carves spurs and gullies under the same profile.");
   b.output("out", PortType::Heightfield).description("Heights, metres").kind(OutputKind::Height).unit(Unit::Metre);
   b.param_vec2("start", {200.0, 300.0})
       .range(-1e7, 1e7)
@@ -79,6 +114,22 @@ OROGEN_NODE(Ridge) {
       .soft_range(0.0, 5000.0)
       .unit(Unit::Metre)
       .description("Length over which the crest comes down to the ground at each end; 0 for full-height ends");
+  b.param_float("meander", 40.0)
+      .range(0.0, 1e6)
+      .soft_range(0.0, 1000.0)
+      .unit(Unit::Metre)
+      .description("How far the crest bends away from the straight segment; 0 for a straight crest");
+  b.param_float("roughness", 60.0)
+      .range(0.0, 1e5)
+      .soft_range(0.0, 1000.0)
+      .unit(Unit::Metre)
+      .description("Amplitude of the ridged noise on the crest and flanks (the crest varies by half of it)");
+  b.param_float("feature_size", 250.0)
+      .range(1e-3, 1e7)
+      .soft_range(20.0, 5000.0)
+      .unit(Unit::Metre)
+      .description("Size of the largest bends, spurs and gullies");
+  b.param_seed("seed", 0).description("Random seed of the bends and the roughness");
   b.execute([](ExecContext& ctx) {
     RidgeParams p;
     p.start = ctx.param<glm::dvec2>("start");
@@ -87,6 +138,10 @@ OROGEN_NODE(Ridge) {
     p.half_width = ctx.param<double>("half_width");
     p.sharpness = ctx.param<double>("sharpness");
     p.taper_length = ctx.param<double>("taper_length");
+    p.meander = ctx.param<double>("meander");
+    p.roughness = ctx.param<double>("roughness");
+    p.feature_size = ctx.param<double>("feature_size");
+    p.seed = ctx.param<std::uint64_t>("seed");
     ctx.set_output("out", ridge_field(ctx.domain(), p, &ctx));
   });
 }

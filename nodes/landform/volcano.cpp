@@ -48,17 +48,17 @@ OROGEN_NODE(Volcano) {
       .range(-1e7, 1e7)
       .unit(Unit::Metre)
       .description("World position of the summit (center of the crater)");
-  b.param_float("radius", 450.0)
+  b.param_float("radius", 500.0)
       .range(1e-3, 1e7)
       .soft_range(50.0, 10000.0)
       .unit(Unit::Metre)
       .description("Base radius: the flanks reach 0 here");
-  b.param_float("height", 300.0)
+  b.param_float("height", 250.0)
       .range(-1e5, 1e5)
       .soft_range(0.0, 4000.0)
       .unit(Unit::Metre)
       .description("Height of the crater rim, the highest ring of the volcano");
-  b.param_float("flank_exponent", 1.6)
+  b.param_float("flank_exponent", 1.5)
       .range(0.1, 10.0)
       .soft_range(0.5, 4.0)
       .unit(Unit::Unitless)

@@ -17,9 +17,9 @@ namespace orogen {
 
 struct VolcanoParams {
   glm::dvec2 position{512.0, 512.0};  // m
-  double radius = 450.0;              // m, base radius, > crater_radius
-  double height = 300.0;              // m, rim height
-  double flank_exponent = 1.6;        // > 0
+  double radius = 500.0;              // m, base radius, > crater_radius
+  double height = 250.0;              // m, rim height
+  double flank_exponent = 1.5;        // > 0
   double crater_radius = 60.0;        // m, >= 0
   double crater_depth = 50.0;         // m, >= 0, below the rim
 };
