@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/common/hash.h"
@@ -80,6 +81,9 @@ std::shared_ptr<Heightfield> canyon_field(const Domain& domain, const CanyonPara
 
 OROGEN_NODE(Canyon) {
   b.reach_pointwise();
+  // The noise fields held beside the output while it is filled.
+  b.extra_bytes(
+      [](const CostQuery& q) { return per_sample_bytes(q, q.params.get<double>("meander") > 0.0 ? 8.0 : 0.0); });
   b.category("landform")
       .description(
           "A canyon cut along the segment start-end, as a height offset (0 away from it, -depth on its floor) to "

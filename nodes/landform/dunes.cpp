@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/landform/landform_common.h"
@@ -74,6 +75,9 @@ std::shared_ptr<Heightfield> dunes_field(const Domain& domain, const DunesParams
 
 OROGEN_NODE(Dunes) {
   b.reach_pointwise();
+  // The noise fields held beside the output while it is filled.
+  b.extra_bytes(
+      [](const CostQuery& q) { return per_sample_bytes(q, q.params.get<double>("sinuosity") > 0.0 ? 4.0 : 0.0); });
   b.category("landform")
       .description(
           "A field of transverse dunes, crests across the wind every `wavelength`: a gentle convex stoss slope "

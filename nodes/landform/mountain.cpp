@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/landform/landform_common.h"
@@ -47,6 +48,9 @@ std::shared_ptr<Heightfield> mountain_field(const Domain& domain, const Mountain
 
 OROGEN_NODE(Mountain) {
   b.reach_pointwise();
+  // The noise fields held beside the output while it is filled.
+  b.extra_bytes(
+      [](const CostQuery& q) { return per_sample_bytes(q, q.params.get<double>("roughness") > 0.0 ? 4.0 : 0.0); });
   b.category("landform")
       .description(
           "A mountain massif: the envelope e = (1 - u)^2 (1 + u), u = distance / radius, times height plus "

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/landform/landform_common.h"
@@ -46,6 +47,9 @@ std::shared_ptr<Heightfield> plateau_field(const Domain& domain, const PlateauPa
 
 OROGEN_NODE(Plateau) {
   b.reach_pointwise();
+  // The noise fields held beside the output while it is filled.
+  b.extra_bytes(
+      [](const CostQuery& q) { return per_sample_bytes(q, q.params.get<double>("edge_roughness") > 0.0 ? 4.0 : 0.0); });
   b.category("landform")
       .description(
           "A plateau or mesa: a flat top at base_height + height within `radius` of `position`, an escarpment "

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/common/hash.h"
@@ -77,6 +78,11 @@ std::shared_ptr<Heightfield> ridge_field(const Domain& domain, const RidgeParams
 
 OROGEN_NODE(Ridge) {
   b.reach_pointwise();
+  // The noise fields held beside the output while it is filled.
+  b.extra_bytes([](const CostQuery& q) {
+    return per_sample_bytes(
+        q, (q.params.get<double>("meander") > 0.0 ? 8.0 : 0.0) + (q.params.get<double>("roughness") > 0.0 ? 4.0 : 0.0));
+  });
   b.category("landform")
       .description(
           "A ridge whose crest runs along the segment start-end at `height`, falling to 0 at half_width from it "
