@@ -40,9 +40,10 @@ OROGEN_NODE(Volcano) {
       .description(
           "A volcano: a cone of base `radius` whose flanks rise as ((radius - r) / (radius - crater_radius))^"
           "flank_exponent to the rim at `height`, with a paraboloid summit crater whose floor lies crater_depth "
-          "below the rim; 0 beyond the base. Concave flanks (exponent above 1) are the stratovolcano profile of "
-          "G. Wood (1980), \"Morphometric evolution of cinder cones\", Journal of Volcanology and Geothermal "
-          "Research 7; add it to a terrain with Add or Max.");
+          "below the rim; 0 beyond the base. flank_exponent 1, crater_radius about 0.4 radius and height about 0.36 "
+          "radius gives the straight-flanked cinder cone of C. A. Wood (1980), \"Morphometric "
+          "evolution of cinder cones\", Journal of Volcanology and Geothermal Research 7; exponents above 1 give "
+          "the concave flanks of stratovolcanoes. Add it to a terrain with Add or Max.");
   b.output("out", PortType::Heightfield).description("Heights, metres").kind(OutputKind::Height).unit(Unit::Metre);
   b.param_vec2("position", {512.0, 512.0})
       .range(-1e7, 1e7)

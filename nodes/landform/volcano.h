@@ -4,8 +4,8 @@
 //   crater_radius < r < radius:    height * ((radius - r) / (radius - crater_radius))^flank_exponent
 //   r >= radius:                   0
 // The rim, at crater_radius, is the highest ring (`height`); the crater floor at the center lies
-// crater_depth below it. flank_exponent 1 gives straight flanks; above 1 concave flanks steepening toward the
-// summit, as on stratovolcanoes; below 1 a convex dome.
+// crater_depth below it. flank_exponent 1 gives straight flanks (cinder cones, C. A. Wood 1980); above 1
+// concave flanks steepening toward the summit, as on stratovolcanoes; below 1 a convex dome.
 #include <memory>
 
 #include <glm/vec2.hpp>
