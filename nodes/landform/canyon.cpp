@@ -87,7 +87,8 @@ OROGEN_NODE(Canyon) {
   b.category("landform")
       .description(
           "A canyon cut along the segment start-end, as a height offset (0 away from it, -depth on its floor) to "
-          "Add to a terrain: a flat floor floor_width wide, walls at wall_slope (optionally in `terraces` steps, "
+          "Add to a terrain (the Min of several canyons is a bent or branching one): a flat floor floor_width wide, "
+          "walls at wall_slope (optionally in `terraces` steps, "
           "each a flat bench and a riser twice as steep, like the stepped walls of canyons cut through layered "
           "rock), the depth tapering to 0 over taper_length at each end, and the path meandering by up to "
           "`meander` (the sample displaced by seeded fBm, K. Perlin (2002), \"Improving noise\", SIGGRAPH).");
