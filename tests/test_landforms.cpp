@@ -12,6 +12,7 @@
 
 #include "field_ops_fixtures.h"
 #include "graph/exec_context.h"
+#include "graph/table_value.h"
 #include "nodes/landform/canyon.h"
 #include "nodes/landform/crater.h"
 #include "nodes/landform/dunes.h"
@@ -233,11 +234,21 @@ TEST(Ridge, RefusesASegmentOfNoLength) {
 
 // ---- Canyon ----
 
+// A Canyon path table from points.
+TableValue path(const std::vector<glm::dvec2>& points) {
+  TableValue t{{"x", "y"}, {}};
+  for (const auto& q : points) t.rows.push_back({q.x, q.y});
+  return t;
+}
+
 TEST(Canyon, DepthOnThePathWallsAtTheirSlopeZeroFarAway) {
   const Domain d = square();
-  std::map<std::string, ParamValue> p{
-      {"start", glm::dvec2(0, 500)}, {"end", glm::dvec2(1000, 500)}, {"depth", 100.0}, {"floor_width", 40.0},
-      {"wall_slope", 45.0},          {"taper_length", 0.0},          {"meander", 0.0}};
+  std::map<std::string, ParamValue> p{{"path", path({{0, 500}, {1000, 500}})},
+                                      {"depth", 100.0},
+                                      {"floor_width", 40.0},
+                                      {"wall_slope", 45.0},
+                                      {"taper_length", 0.0},
+                                      {"meander", 0.0}};
   const auto h = run_field("Canyon", d, p);
   for (int i = 0; i <= 200; ++i) {
     ASSERT_FLOAT_EQ(h->at(i, 100), -100.0f) << i;  // on the path
@@ -262,9 +273,13 @@ TEST(Canyon, DepthOnThePathWallsAtTheirSlopeZeroFarAway) {
 
 TEST(Canyon, MeandersStayWithinTheirAmplitudeAndAreSeeded) {
   const Domain d = square();
-  std::map<std::string, ParamValue> p{
-      {"start", glm::dvec2(0, 500)}, {"end", glm::dvec2(1000, 500)}, {"depth", 80.0},   {"floor_width", 20.0},
-      {"wall_slope", 60.0},          {"taper_length", 0.0},          {"meander", 60.0}, {"seed", std::uint64_t{3}}};
+  std::map<std::string, ParamValue> p{{"path", path({{0, 500}, {1000, 500}})},
+                                      {"depth", 80.0},
+                                      {"floor_width", 20.0},
+                                      {"wall_slope", 60.0},
+                                      {"taper_length", 0.0},
+                                      {"meander", 60.0},
+                                      {"seed", std::uint64_t{3}}};
   const auto h = run_field("Canyon", d, p);
   const double reach = 60.0 * std::sqrt(2.0) + 10.0 + 80.0 / std::tan(60.0 * kDeg);
   int floor_off_axis = 0;
@@ -280,6 +295,33 @@ TEST(Canyon, MeandersStayWithinTheirAmplitudeAndAreSeeded) {
   EXPECT_TRUE(bit_identical(run_field("Canyon", d, p)->data, h->data));
   p["seed"] = std::uint64_t{4};
   EXPECT_FALSE(bit_identical(run_field("Canyon", d, p)->data, h->data));
+}
+
+TEST(Canyon, FollowsABentPathAndTapersByTheDistanceAlongIt) {
+  const Domain d = square();
+  // An L: 300 m east, then 600 m north; 900 m long.
+  const auto h = run_field("Canyon", d,
+                           {{"path", path({{200, 200}, {500, 200}, {500, 800}})},
+                            {"depth", 60.0},
+                            {"floor_width", 20.0},
+                            {"wall_slope", 45.0},
+                            {"taper_length", 100.0},
+                            {"meander", 0.0}});
+  EXPECT_FLOAT_EQ(h->at(70, 40), -60.0f);     // (350, 200) on the first leg
+  EXPECT_FLOAT_EQ(h->at(100, 40), -60.0f);    // the corner
+  EXPECT_FLOAT_EQ(h->at(100, 100), -60.0f);   // (500, 500) on the second leg
+  EXPECT_NEAR(h->at(50, 40), -30.0, 1e-4);    // 50 m from the start: smoothstep(0.5)
+  EXPECT_NEAR(h->at(100, 150), -30.0, 1e-4);  // 50 m from the end, 850 m along the path
+  EXPECT_EQ(h->at(30, 150), 0.0f);            // inside the L, far from both legs
+  EXPECT_EQ(h->at(180, 100), 0.0f);
+}
+
+TEST(Canyon, RefusesAPathOfOnePoint) {
+  CanyonParams p;
+  p.path = {{300, 300}, {300, 300}};
+  const std::string e = error_of([&] { check_canyon(p); });
+  EXPECT_NE(e.find("path"), std::string::npos) << e;
+  EXPECT_NE(e.find("length"), std::string::npos) << e;
 }
 
 TEST(Canyon, RefusesAVerticalWall) {

@@ -1,17 +1,18 @@
 #pragma once
-// Canyon: a channel cut along the segment from `start` to `end`, as a height offset (<= 0) to add to a
-// terrain. With d the distance from the (meandering) path, s the distance along it, D = depth * a(s) the local
-// depth (a the smoothstep taper over taper_length at each end), the floor half-width w = floor_width / 2 and
-// the wall's horizontal width W = D / tan(wall_slope):
+// Canyon: a channel cut along a polyline `path` (two or more points), as a height offset (<= 0) to add to a
+// terrain. With d the distance from the (meandering) path, s the distance along it of the nearest point, D = depth *
+// a(s) the local depth (a the smoothstep taper over taper_length at each end), the floor half-width w = floor_width / 2
+// and the wall's horizontal width W = D / tan(wall_slope):
 //   d <= w:           -D
 //   w < d < w + W:    -D (1 - f'),  f = (d - w) / W the share of the wall climbed
 //   d >= w + W:       0
 // f' = f for smooth walls; with `terraces` N > 0 each of N steps is a flat bench over the first half of its
 // width and a riser twice as steep over the second: f' = (k + max(0, 2g - 1)) / N, k = floor(f N), g = f N - k.
 // The path meanders: the query point is displaced by `meander` times two seeded fBm fields (feature size
-// meander_feature_size) before its distance to the segment is taken.
+// meander_feature_size) before its distance to the path is taken.
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include <glm/vec2.hpp>
 
@@ -21,8 +22,8 @@
 namespace orogen {
 
 struct CanyonParams {
-  glm::dvec2 start{100.0, 700.0};       // m
-  glm::dvec2 end{924.0, 300.0};         // m, != start
+  // m, 2 to 256 points, not all the same
+  std::vector<glm::dvec2> path{{100.0, 700.0}, {480.0, 580.0}, {924.0, 300.0}};
   double depth = 120.0;                 // m, >= 0
   double floor_width = 40.0;            // m, >= 0
   double wall_slope = 55.0;             // deg, (0, 90)
@@ -34,8 +35,6 @@ struct CanyonParams {
 };
 
 void check_canyon(const CanyonParams& p);  // NodeError naming "Canyon" and the parameter
-// The offset at a point whose meander displacement has already been applied.
-double canyon_offset(const CanyonParams& p, double x, double y);
 std::shared_ptr<Heightfield> canyon_field(const Domain& domain, const CanyonParams& p,
                                           const ExecContext* ctx = nullptr);
 
