@@ -4,6 +4,7 @@
 // changed are converted so the outputs stay the same; `orogen migrate` rewrites a file as the loader reads it.
 #include <filesystem>
 #include <map>
+#include <set>
 #include <string>
 
 #include <gmock/gmock.h>
@@ -56,9 +57,11 @@ TEST(GraphMigrationV6, OlderFixturesLoadAsTheExampleGraphs) {
   EXPECT_EQ(compared[1], 3);
   EXPECT_EQ(compared[2], 5);
   EXPECT_EQ(compared[3], 8);
+  // Examples written at version 6 have no older copy.
+  const std::set<std::string> written_at_v6 = {"landforms.json"};
   int examples = 0;
   for (const auto& entry : fs::directory_iterator(test::source_dir() / "graphs"))
-    examples += entry.path().extension() == ".json" ? 1 : 0;
+    examples += entry.path().extension() == ".json" && !written_at_v6.count(entry.path().filename().string()) ? 1 : 0;
   // distributed_hydrology.json was written at version 5.
   EXPECT_EQ(compared[4], examples - 1) << "every example graph of format 4's time has its version-4 copy";
   EXPECT_EQ(compared[5], examples) << "every example graph has its version-5 copy";
