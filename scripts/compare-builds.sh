@@ -12,13 +12,14 @@
 # Each graph is evaluated once per binary into a fresh output directory (no --cache-dir, so no persistent
 # cache is shared); then every file either run wrote is compared with cmp. Prints one line per file:
 #   identical GRAPH/FILE | different GRAPH/FILE | only-old GRAPH/FILE | only-new GRAPH/FILE
-# and a line per graph whose evaluation failed (eval-failed-old / eval-failed-new, with the log's path),
+# a line per graph whose evaluation failed (eval-failed-old / eval-failed-new, with the log's path) or that
+# the old directory lacks (skipped),
 # then a summary. Exit status: 0 when every file is identical, 1 otherwise, 2 on a usage error.
 # Environment: KEEP=1 keeps the output directories (their path is printed) for a closer look.
 set -u
 
 if [[ $# -lt 4 ]]; then
-  sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'
   exit 2
 fi
 old_bin=$1 new_bin=$2 old_dir=$3 new_dir=$4
