@@ -25,7 +25,7 @@ def make_adder(nodes):
 def add_meshes(N):
     """The instance meshes: SeamScape's green tree, a conifer, ABOP's bush (L-systems) and a hull rock."""
     N("tree", "LSystem", None, axiom="T(140,90,40,100)",
-      rules="// SeamScape's green tree (Chalmers et al. 2016, Appendix A, corrected: X ~ U(-30, 30) degrees)\nT(r,g,b,a) -> #(r,g,b)>F(0.5,1)[T(r,g,b,0.99*a)][+(60+U(-30,30))T(r,g,b,0.99*a)][-(60+U(-30,30))T(r,g,b,0.99*a)][&(60+U(-30,30))T(r,g,b,0.99*a)][^(60+U(-30,30))T(r,g,b,0.99*a)] : 75\nF(d,n) -> F(1.7*d,n)>\nT(r,g,b,a) : a < 98 -> F(0.8,1)L(1.2,40,140+U(-30,30),40) : 25",
+      rules="// SeamScape's green tree (S. Ekman et al. 2016, a Chalmers bachelor thesis, Appendix A, corrected: X ~ U(-30, 30) degrees)\nT(r,g,b,a) -> #(r,g,b)>F(0.5,1)[T(r,g,b,0.99*a)][+(60+U(-30,30))T(r,g,b,0.99*a)][-(60+U(-30,30))T(r,g,b,0.99*a)][&(60+U(-30,30))T(r,g,b,0.99*a)][^(60+U(-30,30))T(r,g,b,0.99*a)] : 75\nF(d,n) -> F(1.7*d,n)>\nT(r,g,b,a) : a < 98 -> F(0.8,1)L(1.2,40,140+U(-30,30),40) : 25",
       iterations=5, seed=7)
     N("tree_turtle", "Turtle3D", {"in": "tree.out"}, width=0.9, width_factor=0.8, tropism_strength=0.05, angle=25)
     N("tree_mesh", "TreeMesh", {"in": "tree_turtle.out", "leaves": "tree_turtle.leaves"}, sides=5, max_triangles=2500)
