@@ -102,7 +102,7 @@ TEST(Weightmaps, TheNodeWritesOneMapPerLayerAndItsList) {
   "nodes": [
     { "id": "height", "type": "FBM", "params": { "feature_size": 600, "amplitude": 300, "seed": 2 } },
     { "id": "splat", "type": "SplatWeights", "inputs": { "in": "height.out" } },
-    { "id": "maps", "type": "WriteWeightmaps", "inputs": { "weights": "splat.out" },
+    { "id": "maps", "type": "WriteWeightmaps", "inputs": { "in": "splat.out" },
       "params": { "path": "unreal/paint.json" } }
   ]
 })");
@@ -147,7 +147,7 @@ TEST(Weightmaps, NegativeWeightsFailTheNodeAndWriteNothing) {
   "nodes": [
     { "id": "h", "type": "FBM", "params": { "feature_size": 300, "amplitude": 100 } },
     { "id": "n", "type": "Normals", "inputs": { "in": "h.out" } },
-    { "id": "maps", "type": "WriteWeightmaps", "inputs": { "weights": "n.out" } }
+    { "id": "maps", "type": "WriteWeightmaps", "inputs": { "in": "n.out" } }
   ]
 })");
   const auto r = run_process(cli_binary(), {"eval", (dir / "g.json").string(), "-o", (dir / "out").string(), "-q"});

@@ -21,7 +21,7 @@ OROGEN_NODE(WriteWeightmaps) {
       "every sample (what weight-blended layers expect) and each is within one code of its exact share; samples "
       "with no weight stay 0 in every map. Maps are linear (data, not color), north row first, and share the "
       "heightfield's samples. Files: <stem>_<layer>.png beside `path`, the layer from the channel's name.");
-  b.input("weights", PortType::Image).description("Weights, one channel per layer, >= 0 (any sum)");
+  b.input("in", PortType::Image).description("Weights, one channel per layer, >= 0 (any sum)");
   b.param_path("path", "weightmaps/layers.json")
       .output_file()
       .extensions({".json"})
@@ -29,15 +29,15 @@ OROGEN_NODE(WriteWeightmaps) {
           "The list of weightmaps (layer name and file, in channel order), relative to the output directory; "
           "the PNGs are written beside it as <stem>_<layer>.png");
   // One layer of codes at a time besides the input (measured like WriteImage's encoder).
-  b.extra_bytes([](const CostQuery& q) { return input_bytes(q, "weights") + 224 * 1024; });
+  b.extra_bytes([](const CostQuery& q) { return input_bytes(q, "in") + 224 * 1024; });
   b.execute([](ExecContext& ctx) {
-    const auto weights = ctx.require<Image>("weights");
-    if (weights->channels < 1) throw NodeError("weights: the image has no channel (no layer to write)");
+    const auto weights = ctx.require<Image>("in");
+    if (weights->channels < 1) throw NodeError("in: the image has no channel (no layer to write)");
     std::vector<Image> layers;
     try {
       layers = weightmap_layers(*weights);
     } catch (const std::invalid_argument& e) {
-      throw NodeError(std::string("weights: ") + e.what());
+      throw NodeError(std::string("in: ") + e.what());
     }
     const auto names = weightmap_layer_names(*weights);
     const std::filesystem::path list = ctx.output_path("path");  // NodeError if the path rule refuses it
