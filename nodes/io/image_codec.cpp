@@ -82,9 +82,11 @@ const ImageCodec* load_codec() {
     return entry();  // never unloaded: its writers and readers may live until exit
   }
   if (tried.size() >= 2) tried.resize(tried.size() - 2);
-  throw std::runtime_error("cannot load the image codec module orogen_image_codec.so, which reads and writes " +
-                           std::string("PNG, EXR and TIFF files: tried ") + (tried.empty() ? "no path" : tried) +
-                           " (set OROGEN_IMAGE_CODEC to its path)");
+  const char* env = std::getenv("OROGEN_IMAGE_CODEC");
+  throw std::runtime_error("cannot load the image codec module (which reads and writes PNG, EXR and TIFF files): " +
+                           (env && *env ? "OROGEN_IMAGE_CODEC names " + tried
+                                        : "tried " + (tried.empty() ? std::string("no path") : tried) +
+                                              "; set OROGEN_IMAGE_CODEC to the path of orogen_image_codec.so"));
 }
 
 }  // namespace
