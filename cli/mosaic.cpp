@@ -4,23 +4,22 @@
 #include <set>
 #include <sstream>
 
-#include <OpenImageIO/imageio.h>
-
 #include "cli/tiling.h"
 #include "graph/atomic_file.h"
 #include "nodes/io/georeference.h"
 #include "nodes/io/file_extension.h"
+#include "nodes/io/image_codec.h"
 
 namespace orogen::cli {
 
 namespace {
 
 // GDAL's name for the sample type of an image file's header; empty if a VRT cannot describe it.
-std::string gdal_type(const OIIO::TypeDesc& t) {
-  if (t == OIIO::TypeDesc::FLOAT) return "Float32";
-  if (t == OIIO::TypeDesc::UINT16) return "UInt16";
-  if (t == OIIO::TypeDesc::UINT8) return "Byte";
-  if (t == OIIO::TypeDesc::INT16) return "Int16";
+std::string gdal_type(PixelType t) {
+  if (t == PixelType::F32) return "Float32";
+  if (t == PixelType::U16) return "UInt16";
+  if (t == PixelType::U8) return "Byte";
+  if (t == PixelType::I16) return "Int16";
   return {};
 }
 
@@ -87,21 +86,22 @@ std::vector<std::string> write_mosaics(const Graph& graph, const Domain& full, g
           tiles.push_back(
               fs::path(with_suffix(*path, tile_suffix(named_tile_index(naming, {i, j}, counts)))).filename().string());
       const fs::path first = vrt.parent_path() / tiles.front();
-      auto in = OIIO::ImageInput::open(first.string());
+      std::string error;
+      // The tiles were just written, so the codec is loaded already.
+      const auto in = image_codec().open_reader(first.string(), error);
       if (!in) {
         warnings.push_back("no mosaic for '" + node.id + "': cannot read " + first.string());
         continue;
       }
-      const OIIO::ImageSpec spec = in->spec();
-      in->close();
+      const ImageInfo spec = in->info();
       const std::string data_type = gdal_type(spec.format);
       if (data_type.empty()) {
-        warnings.push_back("no mosaic for '" + node.id + "': GDAL's VRT has no type for " +
-                           std::string(spec.format.c_str()) + " samples");
+        warnings.push_back("no mosaic for '" + node.id + "': GDAL's VRT has no type for " + spec.format_text +
+                           " samples");
         continue;
       }
       const auto* crs = type.find_param("crs") ? std::get_if<std::string>(&graph.param(node.id, "crs")) : nullptr;
-      write_text_atomically(vrt, mosaic_vrt(full, counts, tiles, spec.nchannels, data_type, crs ? *crs : ""));
+      write_text_atomically(vrt, mosaic_vrt(full, counts, tiles, spec.channels, data_type, crs ? *crs : ""));
       written.push_back(vrt.string());
     }
   }

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The node SDK end to end, as a user meets it (issue 26): installs a Release build into a temporary prefix,
 # builds examples/plugin out of tree against it, runs its tests (the testing kit, `orogen test-node` on the
-# built library, a graph that uses it), and checks that the installed orogen lists the library's node.
+# built library, a graph that uses it), and checks that the installed orogen lists the library's node and
+# writes images through the image codec module installed with it.
 #   scripts/test-plugin-sdk.sh [BUILD_DIR]    (default build/release, already built)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,4 +21,12 @@ grep -q "TerracedCanyon .*\[canyon_nodes\]" <<< "$listing" || {
   exit 1
 }
 OROGEN_PLUGIN_PATH="$work/example" "$work/prefix/bin/orogen" validate examples/plugin/canyon.json
+# Image files go through a module loaded on first use: the installed orogen loads the one installed beside it.
+loaded="$(LD_DEBUG=files OROGEN_PLUGIN_PATH="$work/example" "$work/prefix/bin/orogen" eval -q \
+  examples/plugin/canyon.json --resolution 65 -o "$work/out" 2>&1 > /dev/null)"
+grep -q "file=$work/prefix/[^ ]*/orogen_image_codec.so" <<< "$loaded" || {
+  echo "the installed orogen did not load the image codec module of $work/prefix" >&2
+  exit 1
+}
+test -s "$work/out/canyon.exr"
 echo "node SDK: example built against the installed SDK, tested and loaded"

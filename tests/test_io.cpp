@@ -16,6 +16,7 @@
 #include <thread>
 
 #include <gtest/gtest.h>
+#include <OpenImageIO/half.h>
 #include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
 
@@ -360,6 +361,46 @@ TEST_F(IoTest, Reads8BitPngAndChosenChannel) {
       EXPECT_NEAR(green->at(i, j), 255.0 - (hgt - 1 - j) * 20, 1e-4);  // file row 0 is the north row
     }
   EXPECT_THROW(read_height(file, d, {{"channel", std::int64_t(3)}}), NodeError);
+}
+
+TEST_F(IoTest, ReadsHalfFloatExrExactly) {
+  // Every binary16 bit pattern in a half EXR (written by OpenImageIO directly) reads as Imath's value of it:
+  // the reader decodes halves itself (OpenImageIO lives in the image codec module).
+  const fs::path file = dir_ / "half.exr";
+  const int side = 256;
+  std::vector<std::uint16_t> bits(static_cast<std::size_t>(side * side));
+  for (std::size_t k = 0; k < bits.size(); ++k) bits[k] = static_cast<std::uint16_t>(k);
+  {
+    auto out = OIIO::ImageOutput::create(file.string());
+    ASSERT_TRUE(out);
+    OIIO::ImageSpec spec(side, side, 1, OIIO::TypeDesc::HALF);
+    spec.attribute("compression", "none");
+    ASSERT_TRUE(out->open(file.string(), spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::HALF, bits.data()));
+    out->close();
+  }
+  const HeightRaster raster = read_height_raster(file);
+  EXPECT_EQ(raster.format, "half");
+  EXPECT_FALSE(raster.unsigned_integer);
+  ASSERT_EQ(raster.values.size(), bits.size());
+  for (std::size_t k = 0; k < bits.size(); ++k) {
+    Imath::half value;
+    value.setBits(bits[k]);
+    const double expected = static_cast<float>(value);
+    if (std::isnan(expected))
+      EXPECT_TRUE(std::isnan(raster.values[k])) << k;
+    else
+      ASSERT_EQ(raster.values[k], expected) << "bits " << k;
+  }
+  // The streaming reader decodes the same way (heightfield row j is file row side - 1 - j).
+  HeightfieldReadOptions o;
+  o.size = {255.0, 255.0};
+  const Heightfield h = read_heightfield_onto(file, 0, o, Domain::from_extent({0, 0}, {255, 255}, {side, side}));
+  for (const auto [i, j] : {std::pair{7, 200}, std::pair{200, side - 1}, std::pair{3, 40}}) {
+    Imath::half value;
+    value.setBits(static_cast<std::uint16_t>((side - 1 - j) * side + i));
+    EXPECT_EQ(h.at(i, j), static_cast<float>(value)) << i << ", " << j;
+  }
 }
 
 TEST_F(IoTest, ReadResamplesOntoAnotherDomainAndLinearStaysLinear) {

@@ -1,9 +1,9 @@
 #pragma once
-// The zlib (deflate) level of the compressed image formats, set on an OpenImageIO spec.
+// The zlib (deflate) level of the compressed image formats, set on an image file's spec.
 #include <string>
 #include <string_view>
 
-#include <OpenImageIO/imageio.h>
+#include "nodes/io/image_codec.h"
 
 namespace orogen {
 
@@ -14,22 +14,21 @@ namespace orogen {
 
 // `format`: "openexr", "tiff" (zip/deflate) or "png". For OpenEXR, `exr_codec` names the codec ("zip",
 // "none", "piz", "pxr24", ...); the level applies to zip, and level 0 stores whatever the codec.
-inline void set_compression(OIIO::ImageSpec& spec, std::string_view format, int level,
+inline void set_compression(ImageWriteSpec& spec, std::string_view format, int level,
                             std::string_view exr_codec = "zip") {
   if (format == "png") {
-    if (level >= 0) spec.attribute("png:compressionLevel", level);
+    if (level >= 0) spec.set("png:compressionLevel", level);
     // 16-bit heights at the fast levels: libpng's adaptive choice among the five row filters costs more than
     // the deflate itself, and the "up" filter alone gives the same size (terrain is smooth from row to row).
     // 8-bit color keeps the adaptive choice (the "up" filter alone made a color map 40% larger).
-    if (level >= 1 && level <= 3 && spec.format == OIIO::TypeDesc::UINT16)
-      spec.attribute("png:filter", 32 /* PNG_FILTER_UP */);
+    if (level >= 1 && level <= 3 && spec.type == PixelType::U16) spec.set("png:filter", 32 /* PNG_FILTER_UP */);
   } else if (format == "tiff") {
-    spec.attribute("compression", level == 0 ? "none" : "zip");
-    if (level > 0) spec.attribute("tiff:zipquality", level);
+    spec.set("compression", level == 0 ? "none" : "zip");
+    if (level > 0) spec.set("tiff:zipquality", level);
   } else if (level == 0 || exr_codec != "zip") {
-    spec.attribute("compression", level == 0 ? std::string("none") : std::string(exr_codec));
+    spec.set("compression", level == 0 ? std::string("none") : std::string(exr_codec));
   } else {
-    spec.attribute("compression", level > 0 ? "zip:" + std::to_string(level) : std::string("zip"));
+    spec.set("compression", level > 0 ? "zip:" + std::to_string(level) : std::string("zip"));
   }
 }
 

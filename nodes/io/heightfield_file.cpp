@@ -12,12 +12,10 @@
 #include <span>
 #include <type_traits>
 
-#include <OpenImageIO/half.h>
-#include <OpenImageIO/imageio.h>
-
 #include "nodes/common/resample.h"
 #include "nodes/io/checked_image_output.h"
 #include "nodes/io/compression.h"
+#include "nodes/io/image_codec.h"
 
 namespace orogen {
 namespace {
@@ -69,15 +67,16 @@ void report(const WriteProgress& progress, int rows_done, int rows) {
 // Small images still go in a few blocks, so progress (and cancellation) happens during the write.
 int block_rows(int height) { return std::clamp((height / 8 + 15) / 16 * 16, 16, 256); }
 
-// Writes through OpenImageIO in blocks of block_rows() scanlines (north row first). `convert(j, row, out)`
+// Writes through the image codec in blocks of block_rows() scanlines (north row first). `convert(j, row, out)`
 // turns heightfield row j into file samples of type T; for float files the rows go straight from the
 // heightfield (a negative row stride walks them north to south) without a copy.
 template <class T, class Convert>
-void write_oiio(const Heightfield& h, const fs::path& path, OIIO::ImageSpec spec, const WriteProgress& progress,
-                Convert convert) {
-  CheckedIOProxy proxy(path);
+void write_image(const Heightfield& h, const fs::path& path, const ImageWriteSpec& spec, const WriteProgress& progress,
+                 Convert convert) {
+  const ImageCodec& codec = image_codec_for(path, "write");
+  CheckedImageSink sink(path);
   std::string error;
-  auto out = create_checked_output(path, proxy, spec, error);
+  auto out = create_checked_output(codec, path, sink, spec, error);
   if (!out) throw FileError("cannot create '" + path.string() + "': " + error);
   const std::size_t w = static_cast<std::size_t>(h.width());
   std::vector<T> block;
@@ -87,26 +86,24 @@ void write_oiio(const Heightfield& h, const fs::path& path, OIIO::ImageSpec spec
     bool ok = false;
     if constexpr (std::is_same_v<T, float>) {
       const float* first = h.row(h.height() - 1 - r0).data();  // file row r0 is heightfield row H - 1 - r0
-      ok = out->write_scanlines(r0, r1, 0, spec.format, first, OIIO::AutoStride,
-                                -static_cast<OIIO::stride_t>(w * sizeof(float)));
+      ok = out->write_rows(r0, r1, first, -static_cast<std::ptrdiff_t>(w * sizeof(float)));
     } else {
       block.resize(static_cast<std::size_t>(r1 - r0) * w);
       for (int r = r0; r < r1; ++r) {
         const int j = h.height() - 1 - r;
         convert(j, h.row(j), std::span<T>(block.data() + static_cast<std::size_t>(r - r0) * w, w));
       }
-      ok = out->write_scanlines(r0, r1, 0, spec.format, block.data());
+      ok = out->write_rows(r0, r1, block.data(), static_cast<std::ptrdiff_t>(w * sizeof(T)));
     }
     if (!ok)
-      throw FileError(proxy.file().ok() ? "cannot write '" + path.string() + "': " + out->geterror()
-                                        : proxy.file().error());
+      throw FileError(sink.file().ok() ? "cannot write '" + path.string() + "': " + out->error() : sink.file().error());
     report(progress, r1, h.height());
   }
   const bool closed = out->close();
-  if (!proxy.file().ok()) throw FileError(proxy.file().error());  // a short write the plugin ignored
-  if (!closed) throw FileError("cannot finish '" + path.string() + "': " + out->geterror());
+  if (!sink.file().ok()) throw FileError(sink.file().error());  // a short write the plugin ignored
+  if (!closed) throw FileError("cannot finish '" + path.string() + "': " + out->error());
   try {
-    proxy.file().finish();
+    sink.file().finish();
   } catch (const WriteError& e) {
     throw FileError(e.what());
   }
@@ -160,83 +157,77 @@ HeightRaster read_raw16(const fs::path& path, int channel) {
   return r;
 }
 
+// An IEEE 754 binary16 value, exactly.
+float half_to_float(std::uint16_t bits) {
+  const int sign = bits >> 15, exponent = (bits >> 10) & 0x1f, mantissa = bits & 0x3ff;
+  float v = 0.0f;
+  if (exponent == 0)
+    v = std::ldexp(static_cast<float>(mantissa), -24);  // subnormal (or zero)
+  else if (exponent == 31)
+    v = mantissa ? std::numeric_limits<float>::quiet_NaN() : std::numeric_limits<float>::infinity();
+  else
+    v = std::ldexp(static_cast<float>(mantissa | 0x400), exponent - 25);
+  return sign ? -v : v;
+}
+
 // Values of a native-format buffer as doubles: unsigned integers as fractions of full scale, signed integers
 // and floats as stored.
-double native_value(const unsigned char* p, OIIO::TypeDesc t) {
-  using B = OIIO::TypeDesc::BASETYPE;
-  switch (t.basetype) {
-    case B::UINT8:
+double native_value(const unsigned char* p, PixelType t) {
+  switch (t) {
+    case PixelType::U8:
       return *p / 255.0;
-    case B::UINT16: {
+    case PixelType::U16: {
       std::uint16_t v;
       std::memcpy(&v, p, 2);
       return v / 65535.0;
     }
-    case B::UINT32: {
+    case PixelType::U32: {
       std::uint32_t v;
       std::memcpy(&v, p, 4);
       return v / 4294967295.0;
     }
-    case B::INT8:
+    case PixelType::I8:
       return static_cast<double>(*reinterpret_cast<const std::int8_t*>(p));
-    case B::INT16: {
+    case PixelType::I16: {
       std::int16_t v;
       std::memcpy(&v, p, 2);
       return v;
     }
-    case B::INT32: {
+    case PixelType::I32: {
       std::int32_t v;
       std::memcpy(&v, p, 4);
       return v;
     }
-    case B::HALF: {
-      Imath::half v;
+    case PixelType::Half: {
+      std::uint16_t v;
       std::memcpy(&v, p, 2);
-      return static_cast<float>(v);
+      return half_to_float(v);
     }
-    case B::FLOAT: {
+    case PixelType::F32: {
       float v;
       std::memcpy(&v, p, 4);
       return v;
     }
-    case B::DOUBLE: {
+    case PixelType::F64: {
       double v;
       std::memcpy(&v, p, 8);
       return v;
     }
-    default:
-      return std::numeric_limits<double>::quiet_NaN();
+    case PixelType::Other:
+      break;
   }
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
-bool is_unsigned_integer(OIIO::TypeDesc t) {
-  using B = OIIO::TypeDesc::BASETYPE;
-  return t.basetype == B::UINT8 || t.basetype == B::UINT16 || t.basetype == B::UINT32;
-}
+bool is_unsigned_integer(PixelType t) { return t == PixelType::U8 || t == PixelType::U16 || t == PixelType::U32; }
 
-bool is_supported(OIIO::TypeDesc t) {
-  using B = OIIO::TypeDesc::BASETYPE;
-  switch (t.basetype) {
-    case B::UINT8:
-    case B::UINT16:
-    case B::UINT32:
-    case B::INT8:
-    case B::INT16:
-    case B::INT32:
-    case B::HALF:
-    case B::FLOAT:
-    case B::DOUBLE:
-      return true;
-    default:
-      return false;
-  }
-}
+bool is_supported(PixelType t) { return t != PixelType::Other; }
 
-std::optional<HeightRange> mapping_from_spec(const OIIO::ImageSpec& spec) {
-  const std::string lo = spec.get_string_attribute("orogen:height_min");
-  const std::string hi = spec.get_string_attribute("orogen:height_max");
+std::optional<HeightRange> mapping_from_spec(const ImageReader& spec) {
+  const std::string lo = spec.string_attribute("orogen:height_min");
+  const std::string hi = spec.string_attribute("orogen:height_max");
   if (auto a = parse_number(lo), b = parse_number(hi); a && b) return HeightRange{*a, *b};
-  const std::string desc = spec.get_string_attribute("ImageDescription");
+  const std::string desc = spec.string_attribute("ImageDescription");
   if (desc.find("Orogen heightfield") != std::string::npos) {
     auto a = find_key(desc, "height_min"), b = find_key(desc, "height_max");
     if (a && b) return HeightRange{*a, *b};
@@ -311,10 +302,14 @@ std::optional<HeightRange> write_heightfield_file(const Heightfield& h, const fs
   }
 
   const bool is_float = options.format != HeightFormat::Png16;
-  OIIO::ImageSpec spec(h.width(), h.height(), 1, is_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT16);
-  spec.channelnames = {"Y"};
-  spec.attribute("Software", "Orogen");
-  spec.attribute("DateTime", file_timestamp());  // never the time of writing: reproducible files
+  ImageWriteSpec spec;
+  spec.width = h.width();
+  spec.height = h.height();
+  spec.channels = 1;
+  spec.type = is_float ? PixelType::F32 : PixelType::U16;
+  spec.channel_names = {"Y"};
+  spec.set("Software", "Orogen");
+  spec.set("DateTime", file_timestamp());  // never the time of writing: reproducible files
   std::string description = "Orogen heightfield; ";
   set_compression(spec,
                   options.format == HeightFormat::Exr ? "openexr"
@@ -326,23 +321,23 @@ std::optional<HeightRange> write_heightfield_file(const Heightfield& h, const fs
   } else {
     description += "height_min=" + exact_number(range->min) + " m; height_max=" + exact_number(range->max) +
                    " m (heights of 0 and full scale); ";
-    spec.attribute("orogen:height_min", exact_number(range->min));
-    spec.attribute("orogen:height_max", exact_number(range->max));
+    spec.set("orogen:height_min", exact_number(range->min));
+    spec.set("orogen:height_max", exact_number(range->max));
   }
   description += describe_domain(h.domain) + "; north row first";
-  spec.attribute("ImageDescription", description);
+  spec.set("ImageDescription", description);
 
   if (is_float) {
-    write_oiio<float>(h, path, spec, options.progress, [](int, std::span<const float>, std::span<float>) {});
+    write_image<float>(h, path, spec, options.progress, [](int, std::span<const float>, std::span<float>) {});
   } else {
     const HeightRange r = *range;
-    write_oiio<std::uint16_t>(h, path, spec, options.progress,
-                              [&](int j, std::span<const float> row, std::span<std::uint16_t> line) {
-                                for (std::size_t i = 0; i < row.size(); ++i) {
-                                  check_finite(row[i], static_cast<int>(i), j);
-                                  line[i] = quantize16(row[i], r);
-                                }
-                              });
+    write_image<std::uint16_t>(h, path, spec, options.progress,
+                               [&](int j, std::span<const float> row, std::span<std::uint16_t> line) {
+                                 for (std::size_t i = 0; i < row.size(); ++i) {
+                                   check_finite(row[i], static_cast<int>(i), j);
+                                   line[i] = quantize16(row[i], r);
+                                 }
+                               });
   }
   return range;
 }
@@ -361,38 +356,37 @@ void check_readable_file(const fs::path& path) {
 
 // The image in `path` opened by the reader its extension names, its header checked (the channel exists, 2D,
 // at most 65536 per side, a supported pixel type). Throws FileError.
-std::unique_ptr<OIIO::ImageInput> open_height_image(const fs::path& path, const std::string& ext, int channel) {
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);  // never premultiply a height channel by alpha
+std::unique_ptr<ImageReader> open_height_image(const fs::path& path, const std::string& ext, int channel) {
+  const ImageCodec& codec = image_codec_for(path, "read");
   // Only the reader the extension names: OpenImageIO would otherwise try every format plugin it has (movie,
   // camera raw, ...) on a damaged file, a much larger attack surface and slow for nothing.
   // (Given the file name, create() would still sniff the content; given only the extension, it cannot.)
-  auto in = ext.size() > 1 ? OIIO::ImageInput::create(ext.substr(1), /*do_open=*/false) : nullptr;
+  auto in = ext.size() > 1 ? codec.create_reader(ext.substr(1)) : nullptr;
   if (!in)
     throw FileError("cannot read '" + path.string() + "': no image reader for the extension '" + ext +
                     "' (for example .png, .exr, .tif, .raw or .r16)");
-  OIIO::ImageSpec opened;
-  if (!in->open(path.string(), opened, config))
-    throw FileError("cannot read '" + path.string() + "' as " + std::string(in->format_name()) +
-                    " (is the extension right?): " + in->geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  if (channel < 0 || channel >= spec.nchannels)
-    throw FileError("'" + path.string() + "' has " + std::to_string(spec.nchannels) + " channel(s); channel " +
+  // Never premultiplies a height channel by alpha.
+  if (!in->open(path.string()))
+    throw FileError("cannot read '" + path.string() + "' as " + in->format_name() +
+                    " (is the extension right?): " + in->error());
+  const ImageInfo& spec = in->info();
+  if (channel < 0 || channel >= spec.channels)
+    throw FileError("'" + path.string() + "' has " + std::to_string(spec.channels) + " channel(s); channel " +
                     std::to_string(channel) + " does not exist");
   if (spec.width < 1 || spec.height < 1 || spec.depth > 1) throw FileError("'" + path.string() + "' is not a 2D image");
   // A header is not a promise: a few bytes can claim a gigapixel image. Refuse what no domain can hold.
   if (spec.width > 65536 || spec.height > 65536)
     throw FileError("'" + path.string() + "' is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                     " pixels; at most 65536 per side can be read");
-  const OIIO::TypeDesc type = spec.channelformat(channel);
+  const PixelType type = spec.channel_types[static_cast<std::size_t>(channel)];
   if (!is_supported(type))
-    throw FileError("'" + path.string() + "' stores pixels as " + std::string(type.c_str()) +
-                    ", which is not supported");
+    throw FileError("'" + path.string() + "' stores pixels as " +
+                    spec.channel_type_texts[static_cast<std::size_t>(channel)] + ", which is not supported");
   return in;
 }
 
 // Rows decoded in one call when streaming: a tile's height (a tile is decoded whole), else a small band.
-int band_rows_of(const OIIO::ImageSpec& spec) { return spec.tile_height > 0 ? spec.tile_height : 16; }
+int band_rows_of(const ImageInfo& spec) { return spec.tile_height > 0 ? spec.tile_height : 16; }
 
 // The rows of a height file in file order (the northern first), a band at a time: values as read_height_raster
 // gives them (fractions of full scale for unsigned integers, stored values otherwise).
@@ -416,20 +410,21 @@ class HeightRowReader {
       if (!raw_) throw FileError("cannot open '" + path.string() + "'");
       width_ = height_ = shape.width;
       unsigned_integer_ = true;
-      type_ = OIIO::TypeDesc::UINT16;
+      type_ = PixelType::U16;
       band_rows_ = 1;
     } else {
       in_ = open_height_image(path, ext, channel);
-      const OIIO::ImageSpec& spec = in_->spec();
+      const ImageInfo& spec = in_->info();
       width_ = spec.width;
       height_ = spec.height;
       channel_ = channel;
-      type_ = spec.channelformat(channel);
+      type_ = spec.channel_types[static_cast<std::size_t>(channel)];
       unsigned_integer_ = is_unsigned_integer(type_);
-      file_mapping_ = mapping_from_spec(spec);
+      file_mapping_ = mapping_from_spec(*in_);
       band_rows_ = band_rows_of(spec);
     }
-    band_.resize(static_cast<std::size_t>(band_rows_) * static_cast<std::size_t>(width_) * type_.size());
+    type_size_ = pixel_type_size(type_);
+    band_.resize(static_cast<std::size_t>(band_rows_) * static_cast<std::size_t>(width_) * type_size_);
   }
 
   int width() const { return width_; }
@@ -439,7 +434,7 @@ class HeightRowReader {
 
   // File row r (0 = the northern one) into `out` (width() values).
   void read(int r, std::span<double> out) {
-    const std::size_t row_bytes = static_cast<std::size_t>(width_) * type_.size();
+    const std::size_t row_bytes = static_cast<std::size_t>(width_) * type_size_;
     if (raw_.is_open()) {
       raw_.seekg(static_cast<std::streamoff>(r) * static_cast<std::streamoff>(row_bytes));
       raw_.read(reinterpret_cast<char*>(band_.data()), static_cast<std::streamsize>(row_bytes));
@@ -449,29 +444,29 @@ class HeightRowReader {
     }
     if (band_start_ < 0 || r < band_start_ || r >= band_start_ + band_rows_) {
       band_start_ = r - r % band_rows_;
-      const int y0 = in_->spec().y + band_start_;
-      const int y1 = in_->spec().y + std::min(band_start_ + band_rows_, height_);
+      const int y0 = in_->info().y + band_start_;
+      const int y1 = in_->info().y + std::min(band_start_ + band_rows_, height_);
       // Native reads: read_scanlines converting the format would allocate a 64 MB chunk whatever the band.
-      const bool read = in_->spec().tile_width > 0 ? read_tile_row(y0, y1)
-                                                   : in_->read_native_scanlines(0, 0, y0, y1, in_->spec().z, channel_,
-                                                                                channel_ + 1, band_.data());
-      if (!read) throw FileError("cannot read the pixels of '" + path_.string() + "': " + in_->geterror());
+      const bool read = in_->info().tile_width > 0
+                            ? read_tile_row(y0, y1)
+                            : in_->read_native_scanlines(y0, y1, channel_, channel_ + 1, band_.data());
+      if (!read) throw FileError("cannot read the pixels of '" + path_.string() + "': " + in_->error());
     }
     const unsigned char* row = band_.data() + static_cast<std::size_t>(r - band_start_) * row_bytes;
-    for (std::size_t k = 0; k < out.size(); ++k) out[k] = native_value(row + k * type_.size(), type_);
+    for (std::size_t k = 0; k < out.size(); ++k) out[k] = native_value(row + k * type_size_, type_);
   }
 
  private:
   // The channel's rows [y0, y1) of a tiled image into band_, a tile at a time (a tile holds every channel,
   // padded to the tile's size at the image's edges).
   bool read_tile_row(int y0, int y1) {
-    const OIIO::ImageSpec& spec = in_->spec();
+    const ImageInfo& spec = in_->info();
     std::size_t offset = 0;  // of the channel within a native pixel
-    for (int c = 0; c < channel_; ++c) offset += spec.channelformat(c).size();
-    const std::size_t pixel = spec.pixel_bytes(true), value = type_.size();
-    tile_.resize(spec.tile_bytes(true));
+    for (int c = 0; c < channel_; ++c) offset += spec.channel_sizes[static_cast<std::size_t>(c)];
+    const std::size_t pixel = spec.native_pixel_bytes, value = type_size_;
+    tile_.resize(spec.native_tile_bytes);
     for (int x0 = spec.x; x0 < spec.x + width_; x0 += spec.tile_width) {
-      if (!in_->read_native_tile(0, 0, x0, y0, spec.z, tile_.data())) return false;
+      if (!in_->read_native_tile(x0, y0, tile_.data())) return false;
       const int columns = std::min(spec.tile_width, spec.x + width_ - x0);
       for (int y = y0; y < y1; ++y)
         for (int i = 0; i < columns; ++i) {
@@ -490,10 +485,11 @@ class HeightRowReader {
 
   fs::path path_;
   std::vector<unsigned char> tile_;
-  std::unique_ptr<OIIO::ImageInput> in_;
+  std::unique_ptr<ImageReader> in_;
   std::ifstream raw_;
   int width_ = 0, height_ = 0, channel_ = 0, band_rows_ = 1, band_start_ = -1;
-  OIIO::TypeDesc type_;
+  PixelType type_ = PixelType::Other;
+  std::size_t type_size_ = 0;
   bool unsigned_integer_ = false;
   std::optional<HeightRange> file_mapping_;
   std::vector<unsigned char> band_;
@@ -512,8 +508,9 @@ HeightRasterShape probe_height_raster(const fs::path& path, int channel) {
     return {side, side, 1, 2, 1};
   }
   const auto in = open_height_image(path, ext, channel);
-  const OIIO::ImageSpec& spec = in->spec();
-  return {spec.width, spec.height, spec.nchannels, spec.channelformat(channel).size(), band_rows_of(spec)};
+  const ImageInfo& spec = in->info();
+  return {spec.width, spec.height, spec.channels, spec.channel_sizes[static_cast<std::size_t>(channel)],
+          band_rows_of(spec)};
 }
 
 std::uint64_t height_raster_read_bytes(const HeightRasterShape& shape) {
@@ -536,22 +533,23 @@ HeightRaster read_height_raster(const fs::path& path, int channel) {
   const std::string ext = lower_extension(path);
   if (ext == ".raw" || ext == ".r16") return read_raw16(path, channel);
   const auto in = open_height_image(path, ext, channel);
-  const OIIO::ImageSpec& spec = in->spec();
-  const OIIO::TypeDesc type = spec.channelformat(channel);
+  const ImageInfo& spec = in->info();
+  const PixelType type = spec.channel_types[static_cast<std::size_t>(channel)];
+  const std::size_t type_size = pixel_type_size(type);
 
   HeightRaster r;
   r.width = spec.width;
   r.height = spec.height;
-  r.channels = spec.nchannels;
-  r.format = type.c_str();
+  r.channels = spec.channels;
+  r.format = spec.channel_type_texts[static_cast<std::size_t>(channel)];
   r.unsigned_integer = is_unsigned_integer(type);
-  r.file_mapping = mapping_from_spec(spec);
+  r.file_mapping = mapping_from_spec(*in);
   const std::size_t n = static_cast<std::size_t>(spec.width) * static_cast<std::size_t>(spec.height);
-  std::vector<unsigned char> buffer(n * type.size());
-  if (!in->read_image(0, 0, channel, channel + 1, type, buffer.data()))
-    throw FileError("cannot read the pixels of '" + path.string() + "': " + in->geterror());
+  std::vector<unsigned char> buffer(n * type_size);
+  if (!in->read_image(channel, channel + 1, type, buffer.data()))
+    throw FileError("cannot read the pixels of '" + path.string() + "': " + in->error());
   r.values.resize(n);
-  for (std::size_t k = 0; k < n; ++k) r.values[k] = native_value(buffer.data() + k * type.size(), type);
+  for (std::size_t k = 0; k < n; ++k) r.values[k] = native_value(buffer.data() + k * type_size, type);
   return r;
 }
 

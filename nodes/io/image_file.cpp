@@ -10,8 +10,6 @@
 #include <type_traits>
 #include <vector>
 
-#include <OpenImageIO/imageio.h>
-
 #include "nodes/io/compression.h"
 #include "nodes/io/checked_image_output.h"
 
@@ -58,11 +56,12 @@ int block_rows(int height) { return std::clamp((height / 8 + 15) / 16 * 16, 16, 
 // Writes in blocks of block_rows() scanlines, north row first: float files straight from the image (a negative
 // row stride walks it north to south), integer files through a converted block.
 template <class T>
-void write_scanlines(const Image& image, const fs::path& path, const OIIO::ImageSpec& spec,
+void write_scanlines(const Image& image, const fs::path& path, const ImageWriteSpec& spec,
                      const WriteProgress& progress, bool encode_srgb) {
-  CheckedIOProxy proxy(path);
+  const ImageCodec& codec = image_codec_for(path, "write");
+  CheckedImageSink sink(path);
   std::string error;
-  auto out = create_checked_output(path, proxy, spec, error);
+  auto out = create_checked_output(codec, path, sink, spec, error);
   if (!out) throw FileError("cannot create '" + path.string() + "': " + error);
   const int n = image.channels;
   const int alpha = alpha_channel(n);
@@ -73,8 +72,8 @@ void write_scanlines(const Image& image, const fs::path& path, const OIIO::Image
     const int r1 = std::min(r0 + rows_per_block, image.height());
     bool ok = false;
     if constexpr (std::is_same_v<T, float>) {
-      ok = out->write_scanlines(r0, r1, 0, spec.format, image.pixel(0, image.height() - 1 - r0), OIIO::AutoStride,
-                                -static_cast<OIIO::stride_t>(row_samples * sizeof(float)));
+      ok = out->write_rows(r0, r1, image.pixel(0, image.height() - 1 - r0),
+                           -static_cast<std::ptrdiff_t>(row_samples * sizeof(float)));
     } else {
       block.resize(static_cast<std::size_t>(r1 - r0) * row_samples);
       for (int r = r0; r < r1; ++r) {
@@ -87,18 +86,17 @@ void write_scanlines(const Image& image, const fs::path& path, const OIIO::Image
           line[k] = quantize<T>(v);
         }
       }
-      ok = out->write_scanlines(r0, r1, 0, spec.format, block.data());
+      ok = out->write_rows(r0, r1, block.data(), static_cast<std::ptrdiff_t>(row_samples * sizeof(T)));
     }
     if (!ok)
-      throw FileError(proxy.file().ok() ? "cannot write '" + path.string() + "': " + out->geterror()
-                                        : proxy.file().error());
+      throw FileError(sink.file().ok() ? "cannot write '" + path.string() + "': " + out->error() : sink.file().error());
     if (progress) progress(static_cast<double>(r1) / image.height());
   }
   const bool closed = out->close();
-  if (!proxy.file().ok()) throw FileError(proxy.file().error());  // a short write the plugin ignored
-  if (!closed) throw FileError("cannot finish '" + path.string() + "': " + out->geterror());
+  if (!sink.file().ok()) throw FileError(sink.file().error());  // a short write the plugin ignored
+  if (!closed) throw FileError("cannot finish '" + path.string() + "': " + out->error());
   try {
-    proxy.file().finish();
+    sink.file().finish();
   } catch (const WriteError& e) {
     throw FileError(e.what());
   }
@@ -123,22 +121,25 @@ void write_image_file(const Image& image, const fs::path& path, const ImageWrite
   if (png && n > 4)
     throw FileError("cannot write '" + path.string() + "': PNG holds 1 to 4 channels, the image has " +
                     std::to_string(n) + " (use EXR or TIFF)");
-  const OIIO::TypeDesc type = options.format == ImageFormat::Png8    ? OIIO::TypeDesc::UINT8
-                              : options.format == ImageFormat::Png16 ? OIIO::TypeDesc::UINT16
-                                                                     : OIIO::TypeDesc::FLOAT;
-  OIIO::ImageSpec spec(image.width(), image.height(), n, type);
-  spec.channelnames =
+  ImageWriteSpec spec;
+  spec.width = image.width();
+  spec.height = image.height();
+  spec.channels = n;
+  spec.type = options.format == ImageFormat::Png8    ? PixelType::U8
+              : options.format == ImageFormat::Png16 ? PixelType::U16
+                                                     : PixelType::F32;
+  spec.channel_names =
       static_cast<int>(image.channel_names.size()) == n ? image.channel_names : default_channel_names(n);
   spec.alpha_channel = png ? alpha_channel(n) : -1;
-  spec.attribute("Software", "Orogen");
-  spec.attribute("DateTime", file_timestamp());  // never the time of writing: reproducible files
-  spec.attribute("oiio:UnassociatedAlpha", 1);   // our alpha is straight: store it as is
+  spec.set("Software", "Orogen");
+  spec.set("DateTime", file_timestamp());  // never the time of writing: reproducible files
+  spec.set("oiio:UnassociatedAlpha", 1);   // our alpha is straight: store it as is
   set_compression(spec,
                   png                                  ? "png"
                   : options.format == ImageFormat::Exr ? "openexr"
                                                        : "tiff",
                   options.compression_level);
-  spec.attribute("oiio:ColorSpace", png && options.srgb ? "sRGB" : "Linear");
+  spec.set("oiio:ColorSpace", png && options.srgb ? "sRGB" : "Linear");
   const bool srgb = png && options.srgb;
   switch (options.format) {
     case ImageFormat::Png8:
