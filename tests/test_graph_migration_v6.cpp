@@ -18,6 +18,7 @@
 #include "graph/registry.h"
 #include "support/rename_checks.h"
 #include "support/run_process.h"
+#include "support/later_text_edits.h"
 #include "support/test_paths.h"
 
 namespace orogen {
@@ -36,29 +37,6 @@ TEST(GraphMigrationV6, RenamesMatchTheRegistry) {
   }
 }
 
-// Edits made to the example graphs' comment text after their fixtures were taken, which no migration
-// performs: applied to the fixture's text before loading, so everything else must still match exactly.
-struct LaterTextEdit {
-  std::string from, to;
-  int fixtures;  // how many fixtures contain `from`, so a stale entry fails instead of passing silently
-};
-const LaterTextEdit kLaterTextEdits[] = {
-    // The L-system rule comment credited SeamScape to "Chalmers et al."; its authors are S. Ekman et al.
-    {"(Chalmers et al. 2016, Appendix A", "(S. Ekman et al. 2016, a Chalmers bachelor thesis, Appendix A", 11},
-};
-
-std::string with_later_text_edits(std::string text, std::map<std::string, int>& applied) {
-  for (const auto& edit : kLaterTextEdits) {
-    bool found = false;
-    for (auto at = text.find(edit.from); at != std::string::npos; at = text.find(edit.from, at + edit.to.size())) {
-      text.replace(at, edit.from.size(), edit.to);
-      found = true;
-    }
-    applied[edit.from] += found ? 1 : 0;
-  }
-  return text;
-}
-
 // Every fixture of an older version loads (migrated) as exactly the example graph of the same name.
 TEST(GraphMigrationV6, OlderFixturesLoadAsTheExampleGraphs) {
   std::map<int, int> compared;
@@ -70,7 +48,7 @@ TEST(GraphMigrationV6, OlderFixturesLoadAsTheExampleGraphs) {
       const std::string text = test::read_text(entry.path());
       EXPECT_EQ(json::parse(text)["version"], version) << name;
       ASSERT_TRUE(load_graph_file(entry.path()).ok()) << "v" << version << " " << name << " loads unedited";
-      const auto old_file = parse_graph(with_later_text_edits(text, edited));
+      const auto old_file = parse_graph(test::with_later_text_edits(text, edited));
       ASSERT_TRUE(old_file.ok()) << name << ": " << old_file.error_text();
       const auto current = load_graph_file(test::source_dir() / "graphs" / name);
       ASSERT_TRUE(current.ok()) << name << ": " << current.error_text();
@@ -91,7 +69,7 @@ TEST(GraphMigrationV6, OlderFixturesLoadAsTheExampleGraphs) {
   // distributed_hydrology.json was written at version 5.
   EXPECT_EQ(compared[4], examples - 1) << "every example graph of format 4's time has its version-4 copy";
   EXPECT_EQ(compared[5], examples) << "every example graph has its version-5 copy";
-  for (const auto& edit : kLaterTextEdits) EXPECT_EQ(edited[edit.from], edit.fixtures) << edit.from;
+  for (const auto& edit : test::kLaterTextEdits) EXPECT_EQ(edited[edit.from], edit.fixtures) << edit.from;
 }
 
 json migrated_v5_node(const std::string& type, const json& params) {

@@ -100,12 +100,12 @@ TEST(NodeLibrary, AGraphRecordsTheLibrariesOfItsNodes) {
 TEST(NodeLibrary, AMissingTypeNamesItsLibrary) {
   const std::string text = R"({"format": "orogen-graph", "version": 5,
     "domain": {"size": [100, 100], "resolution": [5, 5]},
-    "nodes": [{"id": "c", "type": "Canyon"}],
-    "node_libraries": {"canyons": ["Canyon"]}})";
+    "nodes": [{"id": "c", "type": "Gorge"}],
+    "node_libraries": {"gorges": ["Gorge"]}})";
   const auto r = parse_graph(text);
   ASSERT_FALSE(r.ok());
   EXPECT_TRUE(contains(r.error_text(),
-                       "unknown node type 'Canyon': it comes from node library 'canyons', which is "
+                       "unknown node type 'Gorge': it comes from node library 'gorges', which is "
                        "not loaded"))
       << r.error_text();
   // The editor keeps the node as a placeholder, and saving keeps the record of its library.
@@ -113,11 +113,11 @@ TEST(NodeLibrary, AMissingTypeNamesItsLibrary) {
   partial.keep_partial = true;
   const auto kept = parse_graph(text, partial);
   ASSERT_TRUE(kept.graph);
-  EXPECT_TRUE(contains(serialize_graph(*kept.graph), "\"canyons\": [\"Canyon\"]"));
+  EXPECT_TRUE(contains(serialize_graph(*kept.graph), "\"gorges\": [\"Gorge\"]"));
   // A malformed record is reported where it is.
   const auto bad = parse_graph(R"({"format": "orogen-graph", "version": 5, "domain": {"size": [100, 100],
-    "resolution": [5, 5]}, "nodes": [], "node_libraries": {"canyons": "Canyon"}})");
-  EXPECT_TRUE(contains(bad.error_text(), "/node_libraries/canyons")) << bad.error_text();
+    "resolution": [5, 5]}, "nodes": [], "node_libraries": {"gorges": "Gorge"}})");
+  EXPECT_TRUE(contains(bad.error_text(), "/node_libraries/gorges")) << bad.error_text();
 }
 
 TEST(NodeLibraryCli, PluginTypesAreListedWithTheirLibrary) {

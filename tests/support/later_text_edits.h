@@ -1,0 +1,33 @@
+#pragma once
+// Edits made to the example graphs' comment text after their fixtures (tests/fixtures/v1..v5) were taken,
+// which no migration performs: the tests that compare a migrated fixture with today's example apply them to
+// the fixture's text first, so everything else must still match exactly.
+#include <map>
+#include <string>
+
+namespace orogen::test {
+
+struct LaterTextEdit {
+  std::string from, to;
+  int fixtures;  // how many fixtures contain `from`, so a stale entry fails instead of passing silently
+};
+
+inline const LaterTextEdit kLaterTextEdits[] = {
+    // The L-system rule comment credited SeamScape to "Chalmers et al."; its authors are S. Ekman et al.
+    {"(Chalmers et al. 2016, Appendix A", "(S. Ekman et al. 2016, a Chalmers bachelor thesis, Appendix A", 11},
+};
+
+// `text` with every later edit applied; counts in `applied[from]` the texts each edit changed.
+inline std::string with_later_text_edits(std::string text, std::map<std::string, int>& applied) {
+  for (const auto& edit : kLaterTextEdits) {
+    bool found = false;
+    for (auto at = text.find(edit.from); at != std::string::npos; at = text.find(edit.from, at + edit.to.size())) {
+      text.replace(at, edit.from.size(), edit.to);
+      found = true;
+    }
+    applied[edit.from] += found ? 1 : 0;
+  }
+  return text;
+}
+
+}  // namespace orogen::test
