@@ -27,8 +27,16 @@ echo "== AddressSanitizer + UndefinedBehaviorSanitizer build and tests"
 cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DOROGEN_SANITIZE=ON \
   -DOROGEN_EDITOR=OFF -DOROGEN_BENCH=OFF
 cmake --build build/sanitize -j"$jobs"
-ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp" ctest --test-dir build/sanitize --output-on-failure -j"$jobs"
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp"
+if ! ctest --test-dir build/sanitize --output-on-failure -j"$jobs"; then
+  # LeakSanitizer's own exit-time tracer now and then crashes ("Tracer caught signal 11 ... LeakSanitizer has
+  # encountered a fatal error", google/sanitizers#1353): not a leak and not our failure. Measured here: 2 of 100
+  # sanitized runs of graphs/rural_resources.json at 65^2, 0 of 60 with OpenImageIO's libraries loaded at
+  # start. Tests that failed that way, and only those, run once more; any other failure fails at once.
+  bash scripts/lsan-tracer-retry.sh build/sanitize
+fi
+unset ASAN_OPTIONS UBSAN_OPTIONS LSAN_OPTIONS
 
 echo "== libFuzzer targets under ASan + UBSan, 60 s in all"
 OROGEN_FUZZ_REQUIRED=1 bash scripts/fuzz.sh 60
