@@ -31,9 +31,9 @@ export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktra
   LSAN_OPTIONS="suppressions=$(pwd)/tests/lsan.supp"
 if ! ctest --test-dir build/sanitize --output-on-failure -j"$jobs"; then
   # LeakSanitizer's own exit-time tracer now and then crashes ("Tracer caught signal 11 ... LeakSanitizer has
-  # encountered a fatal error", google/sanitizers#1353): not a leak and not our failure. Measured here: 2 of 100
-  # sanitized runs of graphs/rural_resources.json at 65^2, 0 of 60 with OpenImageIO's libraries loaded at
-  # start. Tests that failed that way, and only those, run once more; any other failure fails at once.
+  # encountered a fatal error", google/sanitizers#1353): not a leak and not our failure (docs/reliability.md;
+  # the sanitized CLI loads OpenImageIO at start, which made it rare). Tests that failed that way, and only
+  # those, run once more; any other failure fails at once.
   bash scripts/lsan-tracer-retry.sh build/sanitize
 fi
 unset ASAN_OPTIONS UBSAN_OPTIONS LSAN_OPTIONS
