@@ -10,6 +10,7 @@
 #include "graph/table_json.h"
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/common/hash.h"
+#include "nodes/common/smoothstep.h"
 #include "nodes/landform/landform_common.h"
 
 namespace orogen {
@@ -54,7 +55,7 @@ void nearest_on_path(const std::vector<Segment>& path, double x, double y, doubl
 double canyon_offset(const CanyonParams& p, const std::vector<Segment>& path, double total, double x, double y) {
   double d = 0.0, s = 0.0;
   nearest_on_path(path, x, y, d, s);
-  const double a = p.taper_length > 0.0 ? landform::smoothstep01(std::min(s, total - s) / p.taper_length) : 1.0;
+  const double a = p.taper_length > 0.0 ? smoothstep01(std::min(s, total - s) / p.taper_length) : 1.0;
   const double depth = p.depth * a;
   const double half_floor = 0.5 * p.floor_width;
   if (d <= half_floor) return -depth;

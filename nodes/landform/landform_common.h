@@ -20,12 +20,6 @@ double unit_noise_at(double x, double y, double feature_size, int octaves, bool 
 // Throws NodeError "<node>: <param> (<value> m) must be <relation>" unless `ok`.
 void require(bool ok, const std::string& node, const std::string& message);
 
-// t in [0, 1] clamped, then 3t^2 - 2t^3.
-inline double smoothstep01(double t) {
-  t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-  return t * t * (3.0 - 2.0 * t);
-}
-
 // A number as the messages show it (%g).
 std::string num(double v);
 

@@ -7,6 +7,7 @@
 #include "graph/registry.h"
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/common/hash.h"
+#include "nodes/common/smoothstep.h"
 #include "nodes/landform/landform_common.h"
 
 namespace orogen {
@@ -43,7 +44,7 @@ double ridge_height(const RidgeParams& p, double x, double y) {
   const double bell = 1.0 - u * u * (3.0 - 2.0 * u);
   const double knife = (1.0 - u) * (1.0 - u);
   const double c = (1.0 - p.sharpness) * bell + p.sharpness * knife;
-  const double a = p.taper_length > 0.0 ? landform::smoothstep01(std::min(s, length - s) / p.taper_length) : 1.0;
+  const double a = p.taper_length > 0.0 ? smoothstep01(std::min(s, length - s) / p.taper_length) : 1.0;
   return p.height * a * c;
 }
 
