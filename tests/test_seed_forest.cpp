@@ -75,6 +75,7 @@ double min_ratio(const std::vector<P>& pts, double reach, Need need) {
 }
 
 TEST_F(ForestSeed, PoissonClassesKeepTheirRadii) {
+  ASSERT_TRUE(run_->ok()) << run_->error;
   ASSERT_NE(points_, nullptr);
   int checked = 0;
   for (const auto& node : run_->graph["nodes"]) {
@@ -96,6 +97,7 @@ TEST_F(ForestSeed, PoissonClassesKeepTheirRadii) {
 }
 
 TEST_F(ForestSeed, TreesAreSpacedByCompetitionAndAgedWithinTheirLifespan) {
+  ASSERT_TRUE(run_->ok()) << run_->error;
   ASSERT_NE(points_, nullptr);
   const auto& lc = node_params(run_->graph, "forest");
   const double competition = lc["competition"].get<double>(), max_age = lc["max_age"].get<double>();
@@ -117,6 +119,7 @@ TEST_F(ForestSeed, TreesAreSpacedByCompetitionAndAgedWithinTheirLifespan) {
 }
 
 TEST_F(ForestSeed, ShadeLovingPlantsStandInShadowAndOthersInTheSun) {
+  ASSERT_TRUE(run_->ok()) << run_->error;
   ASSERT_NE(points_, nullptr);
   const auto& sp = node_params(run_->graph, "undergrowth");
   const auto& fp = node_params(run_->graph, "flowers");
@@ -166,6 +169,7 @@ TEST_F(ForestSeed, ShadeLovingPlantsStandInShadowAndOthersInTheSun) {
 }
 
 TEST_F(ForestSeed, RocksLieOnTheRockLayer) {
+  ASSERT_TRUE(run_->ok()) << run_->error;
   ASSERT_NE(points_, nullptr);
   const auto dominant = read_raster(run_->out / "forest" / "dominant.png");  // 0..1 for layers 0..2
   const double size = run_->graph["domain"]["size"][0].get<double>();

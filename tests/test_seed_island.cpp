@@ -62,7 +62,7 @@ class IslandSeed : public ::testing::Test {
 SeedRun* IslandSeed::run_ = nullptr;
 
 TEST_F(IslandSeed, BiomeTableMatchesTheGraph) {
-  ASSERT_FALSE(run_->out.empty());
+  ASSERT_TRUE(run_->ok()) << run_->error;
   // The ids the test assumes are those the Biomes node reports.
   const auto& biomes = run_->stats["reports"]["biomes"]["report"]["biomes"];
   ASSERT_EQ(biomes.size(), std::size(kNames));
@@ -70,7 +70,7 @@ TEST_F(IslandSeed, BiomeTableMatchesTheGraph) {
 }
 
 TEST_F(IslandSeed, EveryCellHasTheBiomeOfItsElevationAndMoisture) {
-  ASSERT_FALSE(run_->out.empty());
+  ASSERT_TRUE(run_->ok()) << run_->error;
   const auto height = read_raster(file("height.exr"));
   const auto temperature = read_raster(file("temperature.exr"));
   const auto moisture = read_raster(file("moisture.exr"));
@@ -107,7 +107,7 @@ TEST_F(IslandSeed, EveryCellHasTheBiomeOfItsElevationAndMoisture) {
 }
 
 TEST_F(IslandSeed, RiversRunDownToTheSea) {
-  ASSERT_FALSE(run_->out.empty());
+  ASSERT_TRUE(run_->ok()) << run_->error;
   const auto rivers = nlohmann::json::parse(read_text(file("rivers.json")));
   const auto height = read_raster(file("height.exr"));
   const auto& features = rivers["features"];
@@ -157,7 +157,7 @@ TEST_F(IslandSeed, RiversRunDownToTheSea) {
 }
 
 TEST_F(IslandSeed, PipeErosionChangedTheLandAndVegetationGrowsOnlyOnLand) {
-  ASSERT_FALSE(run_->out.empty());
+  ASSERT_TRUE(run_->ok()) << run_->error;
   const auto before = read_raster(file("height_before_erosion.exr"));
   const auto after = read_raster(file("height.exr"));
   double moved = 0;
