@@ -47,11 +47,9 @@ using nlohmann::json;
 struct MigrationTable {
   std::mutex mutex;
   // The format's own history (graph_migrations.h); tests may register more.
-  std::map<int, GraphMigration> by_version{{1, migrate_graph_v1_to_v2},
-                                           {2, migrate_graph_v2_to_v3},
-                                           {3, migrate_graph_v3_to_v4},
-                                           {4, migrate_graph_v4_to_v5},
-                                           {5, migrate_graph_v5_to_v6}};
+  std::map<int, GraphMigration> by_version{{1, migrate_graph_v1_to_v2}, {2, migrate_graph_v2_to_v3},
+                                           {3, migrate_graph_v3_to_v4}, {4, migrate_graph_v4_to_v5},
+                                           {5, migrate_graph_v5_to_v6}, {6, migrate_graph_v6_to_v7}};
 };
 
 MigrationTable& migrations() {

@@ -16,7 +16,7 @@
 
 namespace orogen {
 
-inline constexpr int kGraphFormatVersion = 6;
+inline constexpr int kGraphFormatVersion = 7;
 inline constexpr const char* kGraphFormatName = "orogen-graph";
 
 struct Diagnostic {

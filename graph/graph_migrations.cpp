@@ -4,7 +4,10 @@
 #include "graph/calendar.h"
 #include "graph/table_migration.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <set>
 #include <utility>
@@ -239,6 +242,23 @@ void migrate_graph_v5_to_v6(json& file) {
     if (node["type"] == "Turtle3D" && params.contains("tropism_strength") && params["tropism_strength"].is_number() &&
         params["tropism_strength"] != 0)
       params["tropism_strength"] = degrees_for_radians(params["tropism_strength"].get<double>());
+  }
+}
+
+void migrate_graph_v6_to_v7(json& file) {
+  if (!file.is_object() || !file.contains("nodes") || !file["nodes"].is_array()) return;
+  for (json& node : file["nodes"]) {
+    if (!node.is_object() || node.value("type", json()) != "WriteMesh") continue;
+    if (!node.contains("params")) node["params"] = json::object();
+    json& params = node["params"];
+    if (!params.is_object() || params.contains("up_axis")) continue;
+    // The default path was terrain.obj; a path that is not a string is left for the loader to report.
+    const json path = params.value("path", json("terrain.obj"));
+    if (!path.is_string()) continue;
+    std::string extension = std::filesystem::path(path.get<std::string>()).extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (extension == ".obj") params["up_axis"] = "Z";
   }
 }
 

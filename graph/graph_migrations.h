@@ -64,6 +64,12 @@ struct ConvertedParam {
 const std::vector<ConvertedParam>& format_v5_converted_params();
 void migrate_graph_v5_to_v6(nlohmann::json& file);
 
+// Version 7: WriteMesh.up_axis gains `auto` (the new default): y-up for OBJ, as Blender, Maya and most DCC
+// tools import it, z-up for PLY and STL (3D printing, point-cloud tools); glTF is y-up whatever the setting.
+// An OBJ writer of an older file that relied on the old default (Z) gets it written out, so its file keeps its
+// axes; PLY and STL writers keep theirs under `auto` and are left alone.
+void migrate_graph_v6_to_v7(nlohmann::json& file);
+
 // Rewrites a version-1 file in place: input port names in "inputs", output port names in every link that
 // reads a renamed output, parameter names and enum values in "params". Parts of the file that are not
 // well formed are left as they are, for the loader to report.

@@ -14,6 +14,8 @@
 #include <numbers>
 #include <vector>
 
+#include <tuple>
+
 #include <gtest/gtest.h>
 
 #include "evaluator/run_node.h"
@@ -535,7 +537,8 @@ class MeshFileTest : public ::testing::Test {
 TEST_F(MeshFileTest, ObjPlyStlRoundTripThroughOpenMesh) {
   for (const std::string name : {"t.obj", "t.ply", "t_ascii.ply", "t.stl", "t_ascii.stl"}) {
     const bool ascii = name.find("ascii") != std::string::npos;
-    const fs::path file = write("meshes/" + name, {{"binary", !ascii}});
+    // Orogen's own axes (z-up) in every format, to compare positions as they are.
+    const fs::path file = write("meshes/" + name, {{"binary", !ascii}, {"up_axis", std::string("Z")}});
     ASSERT_TRUE(fs::exists(file)) << name;
     TriMesh back;
     back.request_vertex_normals();
@@ -573,25 +576,42 @@ TEST_F(MeshFileTest, ObjPlyStlRoundTripThroughOpenMesh) {
   }
 }
 
-TEST_F(MeshFileTest, UpAxisYSwapsToYUp) {
-  const fs::path file = write("yup.obj", {{"up_axis", std::string("Y")}});
-  TriMesh back;
-  back.request_vertex_normals();
-  OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexNormal;
-  ASSERT_TRUE(OpenMesh::IO::read_mesh(back, file.string(), opt));
-  ASSERT_EQ(back.n_vertices(), mesh_->vertex_count());
-  for (auto v : back.vertices()) {
-    const auto p = back.point(v), p0 = mesh_->mesh.point(v);
-    ASSERT_NEAR(p[0], p0[0], 1e-4);
-    ASSERT_NEAR(p[1], p0[2], 1e-4);  // height is now y
-    ASSERT_NEAR(p[2], -p0[1], 1e-4);
-    const auto n = back.normal(v), n0 = mesh_->mesh.normal(v);
-    ASSERT_NEAR(n[1], n0[2], 1e-4);
-    ASSERT_NEAR(n[2], -n0[1], 1e-4);
+// up_axis Y, and auto for OBJ (what Blender and most DCC tools import), rotate to y-up; auto leaves PLY and STL
+// z-up, as Z does.
+TEST_F(MeshFileTest, UpAxisYAndAutoForObjSwapToYUp) {
+  const std::string Y = "Y", Z = "Z", automatic = "auto";
+  for (const auto& [name, up_axis, y_up] :
+       {std::tuple{"yup.obj", Y, true}, std::tuple{"auto.obj", automatic, true},
+        std::tuple{"default.obj", std::string(), true}, std::tuple{"auto.ply", automatic, false},
+        std::tuple{"z.obj", Z, false}, std::tuple{"yup.ply", Y, true},
+        std::tuple{"default.ply", std::string(), false}}) {
+    std::map<std::string, ParamValue> params;
+    if (!up_axis.empty()) params["up_axis"] = up_axis;  // empty: the parameter's default
+    const fs::path file = write(name, params);
+    TriMesh back;
+    back.request_vertex_normals();
+    OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexNormal;
+    if (std::string(name).ends_with(".ply")) opt += OpenMesh::IO::Options::Binary;
+    ASSERT_TRUE(OpenMesh::IO::read_mesh(back, file.string(), opt)) << name;
+    ASSERT_EQ(back.n_vertices(), mesh_->vertex_count()) << name;
+    for (auto v : back.vertices()) {
+      const auto p = back.point(v), p0 = mesh_->mesh.point(v);
+      const auto n = back.normal(v), n0 = mesh_->mesh.normal(v);
+      ASSERT_NEAR(p[0], p0[0], 1e-4) << name;
+      if (y_up) {
+        ASSERT_NEAR(p[1], p0[2], 1e-4) << name;  // height is now y
+        ASSERT_NEAR(p[2], -p0[1], 1e-4) << name;
+        ASSERT_NEAR(n[1], n0[2], 1e-4) << name;
+        ASSERT_NEAR(n[2], -n0[1], 1e-4) << name;
+      } else {
+        ASSERT_NEAR(p[1], p0[1], 1e-4) << name;
+        ASSERT_NEAR(p[2], p0[2], 1e-4) << name;
+      }
+    }
+    // A proper rotation: the winding still makes faces point up, along +y or +z.
+    back.update_face_normals();
+    for (auto f : back.faces()) ASSERT_GT(back.normal(f)[y_up ? 1 : 2], 0.0f) << name;
   }
-  // A proper rotation: the winding still makes faces point up, now along +y.
-  back.update_face_normals();
-  for (auto f : back.faces()) ASSERT_GT(back.normal(f)[1], 0.0f);
 }
 
 TEST_F(MeshFileTest, ObjTextureCoordinatesAndMaterial) {

@@ -20,15 +20,18 @@ OROGEN_NODE(WriteMesh) {
       "texture coordinates (the mesh's own, e.g. around and along tree branches, else over its footprint) and, with a "
       "texture, a material library (.mtl beside the "
       "OBJ) that drapes the image over the terrain. base_depth closes a terrain into a solid (skirt walls and a "
-      "flat bottom) for 3D printing. up_axis Y converts Orogen's z-up coordinates to y-up, (x, y, z) -> "
-      "(x, z, -y), for Unity and Blender.");
+      "flat bottom) for 3D printing. Orogen's coordinates are z-up; up_axis auto writes OBJ y-up, (x, y, z) -> "
+      "(x, z, -y), as Blender, Maya, Unity and most DCC tools import OBJ, and PLY and STL z-up as slicers and "
+      "point-cloud tools expect.");
   b.input("in", PortType::Mesh).description("Mesh to write, metres");
   b.param_path("path", "terrain.obj")
       .output_file()
       .extensions({".obj", ".ply", ".stl", ".gltf", ".glb"})
       .description("Output file, relative to the output directory; the extension selects the format");
-  b.param_enum("up_axis", {"Z", "Y"}, "Z")
-      .description("Up axis of the file: Z keeps Orogen's coordinates; Y rotates to y-up (x, z, -y), right-handed");
+  b.param_enum("up_axis", {"auto", "Z", "Y"}, "auto")
+      .description(
+          "Up axis of the file: auto is Y for OBJ and Z for PLY and STL; Z keeps Orogen's coordinates; Y "
+          "rotates to y-up (x, z, -y), right-handed. glTF is y-up whatever the setting (its specification)");
   b.param_bool("binary", true).description("Binary PLY and STL (smaller, faster); off writes text. OBJ is always text");
   b.param_bool("normals", true).description("Write per-vertex normals (OBJ, PLY)");
   b.param_bool("colors", true).description("Write per-vertex colors (PLY only)");
@@ -59,7 +62,8 @@ OROGEN_NODE(WriteMesh) {
     const auto format = mesh_format_from_path(path);
     if (!format) throw NodeError("cannot tell the format of '" + path + "' from its extension");
     MeshWriteOptions options;
-    options.y_up = ctx.param<std::string>("up_axis") == "Y";
+    const std::string& up_axis = ctx.param<std::string>("up_axis");
+    options.y_up = up_axis == "Y" || (up_axis == "auto" && *format == MeshFormat::Obj);
     options.binary = ctx.param<bool>("binary");
     options.normals = ctx.param<bool>("normals");
     options.colors = ctx.param<bool>("colors");

@@ -1,6 +1,6 @@
 #pragma once
-// Edits made to the example graphs' comment text after their fixtures (tests/fixtures/v1..v5) were taken,
-// which no migration performs: the tests that compare a migrated fixture with today's example apply them to
+// Edits made to the example graphs after their fixtures (tests/fixtures/v1..v5) were taken, which no migration
+// performs: the tests that compare a migrated fixture with today's example apply them to
 // the fixture's text first, so everything else must still match exactly.
 #include <map>
 #include <string>
@@ -15,6 +15,19 @@ struct LaterTextEdit {
 inline const LaterTextEdit kLaterTextEdits[] = {
     // The L-system rule comment credited SeamScape to "Chalmers et al."; its authors are S. Ekman et al.
     {"(Chalmers et al. 2016, Appendix A", "(S. Ekman et al. 2016, a Chalmers bachelor thesis, Appendix A", 11},
+    // Format 7: the examples' OBJ writers take the new default, y-up (auto), where a migrated file keeps Z.
+    {"\"params\": { \"path\": \"foundation/terrain.obj\" }",
+     "\"params\": { \"path\": \"foundation/terrain.obj\", \"up_axis\": \"auto\" }", 5},
+    {"\"path\": \"textured_terrain/terrain.obj\",",
+     "\"path\": \"textured_terrain/terrain.obj\",\n        \"up_axis\": \"auto\",", 3},
+    {"\"path\": \"terrain/terrain.obj\", \"texture\"",
+     "\"path\": \"terrain/terrain.obj\", \"up_axis\": \"auto\", \"texture\"", 4},
+    {"\"path\": \"seamscape/terrain.obj\", \"texture\"",
+     "\"path\": \"seamscape/terrain.obj\", \"up_axis\": \"auto\", \"texture\"", 2},
+    {"\"path\": \"game_world/plant_4_19.obj\" }", "\"path\": \"game_world/plant_4_19.obj\", \"up_axis\": \"auto\" }",
+     2},
+    {"\"path\": \"game_world/plant_4_20.obj\" }", "\"path\": \"game_world/plant_4_20.obj\", \"up_axis\": \"auto\" }",
+     2},
 };
 
 // `text` with every later edit applied; counts in `applied[from]` the texts each edit changed.
