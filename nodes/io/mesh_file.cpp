@@ -68,7 +68,8 @@ void write_obj(const TriMesh& m, const std::filesystem::path& path, const MeshWr
   if (!options.material_library.empty()) out += "mtllib " + options.material_library + "\n";
   // Axes converted here, not in a copy of the mesh: copying a mesh of millions of vertices is one long call
   // that cannot be cancelled.
-  auto axes = [&](OpenMesh::Vec3f p) { return options.y_up ? OpenMesh::Vec3f(p[0], p[2], -p[1]) : p; };
+  // 0 - y, not -y: a southern edge at y = 0 is written "0", not "-0".
+  auto axes = [&](OpenMesh::Vec3f p) { return options.y_up ? OpenMesh::Vec3f(p[0], p[2], 0.0f - p[1]) : p; };
   for (auto v : m.vertices()) {
     const auto p = axes(m.point(v));
     out += "v ";
@@ -216,7 +217,7 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
   for (auto v : src.vertices()) {
     auto p = src.point(v);
     auto n = src.normal(v);
-    if (options.y_up) p = {p[0], p[2], -p[1]}, n = {n[0], n[2], -n[1]};
+    if (options.y_up) p = {p[0], p[2], 0.0f - p[1]}, n = {n[0], n[2], 0.0f - n[1]};
     const auto w = out.add_vertex(p);
     copy_of[static_cast<std::size_t>(v.idx())] = w;
     out.set_normal(w, n);
