@@ -52,6 +52,21 @@ TEST(ImageCodec, LoadedOnlyWhenAGraphWritesAnImage) {
   EXPECT_NE(exr.find("orogen_image_codec.so"), std::string::npos) << "LD_DEBUG did not report the module";
   EXPECT_NE(exr.find("libOpenImageIO"), std::string::npos);
   ASSERT_TRUE(fs::exists(dir / "out" / "flat.exr"));
+  write_text(dir / "png.json", graph_writing("flat.png"));
+  loaded_files({"eval", "-q", (dir / "png.json").string(), "-o", (dir / "out").string()});
+  ASSERT_TRUE(fs::exists(dir / "out" / "flat.png"));
+  // Heights read back from them: libpng and OpenEXR read those without the codec (nodes/io/native).
+  for (const std::string format : {"exr", "png"})
+    write_text(dir / ("read_" + format + ".json"), R"({
+  "format": "orogen-graph", "version": 7,
+  "domain": { "size": [100, 100], "resolution": [16, 16] },
+  "nodes": [
+    { "id": "read", "type": "ReadHeightfield", "params": { "path": "out/flat.)" +
+                                                       format + R"(" } },
+    { "id": "save", "type": "WriteHeightfield", "inputs": { "in": "read.out" }, "params": { "path": "back_)" +
+                                                       format + R"(.r16" } }
+  ]
+})");
 
   const std::vector<std::vector<std::string>> without_images = {
       {"--help"},
@@ -60,6 +75,8 @@ TEST(ImageCodec, LoadedOnlyWhenAGraphWritesAnImage) {
       {"validate", (source_dir() / "graphs" / "terrain.json").string()},
       {"validate", (dir / "exr.json").string()},
       {"eval", "-q", (dir / "raw.json").string(), "-o", (dir / "out").string()},
+      {"eval", "-q", (dir / "read_exr.json").string(), "-o", (dir / "out").string()},
+      {"eval", "-q", (dir / "read_png.json").string(), "-o", (dir / "out").string()},
   };
   for (const auto& args : without_images) {
     SCOPED_TRACE(args.front() + (args.size() > 1 ? " " + args[1] : std::string()));
@@ -69,6 +86,8 @@ TEST(ImageCodec, LoadedOnlyWhenAGraphWritesAnImage) {
     EXPECT_EQ(files.find("orogen_image_codec"), std::string::npos) << "the image codec module was loaded";
   }
   EXPECT_TRUE(fs::exists(dir / "out" / "flat.r16"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "back_exr.r16"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "back_png.r16"));
 }
 
 TEST(ImageCodec, MissingModuleNamesThePathAndTheOverride) {

@@ -40,30 +40,49 @@ BilinearRows bilinear_rows(const Domain& source, const Domain& target, int j) {
   return {lower, std::min(lower + 1, h - 1), v};
 }
 
-// The arithmetic of Heightfield::bilinear, on two rows.
-void resample_bilinear_row(const Domain& source, std::span<const float> lower, std::span<const float> upper,
-                           const BilinearRows& rows, const Domain& target, std::span<float> out) {
+BilinearColumns bilinear_columns(const Domain& source, const Domain& target) {
   const int w = source.width();
-  if (rows.lower < 0) {
-    std::fill(out.begin(), out.end(), std::numeric_limits<float>::quiet_NaN());
-    return;
-  }
-  const double fv = rows.v - rows.lower;
-  const auto at = [w](std::span<const float> row, int i) {
-    return row[static_cast<std::size_t>(std::clamp(i, 0, w - 1))];
-  };
+  BilinearColumns columns;
+  columns.left.resize(static_cast<std::size_t>(target.width()));
+  columns.weight.resize(columns.left.size());
   for (int k = 0; k < target.width(); ++k) {
     double u = snap(source.to_sample({target.x(k), 0.0}).x);
     if (std::isnan(u)) {
-      out[static_cast<std::size_t>(k)] = std::numeric_limits<float>::quiet_NaN();
+      columns.left[static_cast<std::size_t>(k)] = -1;
       continue;
     }
     u = std::clamp(u, 0.0, static_cast<double>(w - 1));
     const int i = std::min(static_cast<int>(u), std::max(w - 2, 0));
-    const double fu = u - i;
-    const double a = at(lower, i), b = at(lower, i + 1), c = at(upper, i), d = at(upper, i + 1);
-    out[static_cast<std::size_t>(k)] =
-        static_cast<float>((a * (1 - fu) + b * fu) * (1 - fv) + (c * (1 - fu) + d * fu) * fv);
+    columns.left[static_cast<std::size_t>(k)] = i;
+    columns.weight[static_cast<std::size_t>(k)] = u - i;
+  }
+  return columns;
+}
+
+void resample_bilinear_row(const Domain& source, std::span<const float> lower, std::span<const float> upper,
+                           const BilinearRows& rows, const Domain& target, std::span<float> out) {
+  resample_bilinear_row(bilinear_columns(source, target), lower, upper, rows, out);
+}
+
+// The arithmetic of Heightfield::bilinear, on two rows.
+void resample_bilinear_row(const BilinearColumns& columns, std::span<const float> lower, std::span<const float> upper,
+                           const BilinearRows& rows, std::span<float> out) {
+  if (rows.lower < 0) {
+    std::fill(out.begin(), out.end(), std::numeric_limits<float>::quiet_NaN());
+    return;
+  }
+  const std::size_t last = lower.size() - 1;  // the right column of a one-column source is its only one
+  const double fv = rows.v - rows.lower;
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const int left = columns.left[k];
+    if (left < 0) {
+      out[k] = std::numeric_limits<float>::quiet_NaN();
+      continue;
+    }
+    const std::size_t i = static_cast<std::size_t>(left), right = std::min(i + 1, last);
+    const double fu = columns.weight[k];
+    const double a = lower[i], b = lower[right], c = upper[i], d = upper[right];
+    out[k] = static_cast<float>((a * (1 - fu) + b * fu) * (1 - fv) + (c * (1 - fu) + d * fu) * fv);
   }
 }
 

@@ -8,6 +8,7 @@
 // sample coordinates within 1e-7 of an integer are snapped, so round-off in the world position never blends
 // in a neighbour.
 #include <span>
+#include <vector>
 
 #include "graph/domain.h"
 #include "graph/heightfield.h"
@@ -28,10 +29,20 @@ struct BilinearRows {
   double v = 0.0;  // the row coordinate, snapped and clamped
 };
 BilinearRows bilinear_rows(const Domain& source, const Domain& target, int j);
+// The columns of a source lattice that each column of `target` reads, the same for every row: the left one and
+// the weight of the right one (column -1 where the position is not a number).
+struct BilinearColumns {
+  std::vector<int> left;
+  std::vector<double> weight;
+};
+BilinearColumns bilinear_columns(const Domain& source, const Domain& target);
 // Row j of `target` from the two rows `rows` names of a field on `source` (source.width() values each): the
-// values resample_bilinear_row gives from the whole field, bit for bit.
+// values resample_bilinear_row gives from the whole field, bit for bit. With the columns computed once, a row
+// costs only its arithmetic.
 void resample_bilinear_row(const Domain& source, std::span<const float> lower, std::span<const float> upper,
                            const BilinearRows& rows, const Domain& target, std::span<float> out);
+void resample_bilinear_row(const BilinearColumns& columns, std::span<const float> lower, std::span<const float> upper,
+                           const BilinearRows& rows, std::span<float> out);
 
 // One channel of an image at continuous sample coordinates (column u, row v), bilinear, clamped at the
 // borders like Heightfield::bilinear (NaN coordinates give NaN).

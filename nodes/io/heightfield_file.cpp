@@ -16,6 +16,7 @@
 #include "nodes/io/checked_image_output.h"
 #include "nodes/io/compression.h"
 #include "nodes/io/image_codec.h"
+#include "nodes/io/native/native_image_readers.h"
 
 namespace orogen {
 namespace {
@@ -354,9 +355,15 @@ void check_readable_file(const fs::path& path) {
   if (fs::is_directory(path, ec)) throw FileError("'" + path.string() + "' is a directory, not an image file");
 }
 
+std::unique_ptr<ImageReader> check_height_image(const fs::path& path, std::unique_ptr<ImageReader> in, int channel);
+
 // The image in `path` opened by the reader its extension names, its header checked (the channel exists, 2D,
 // at most 65536 per side, a supported pixel type). Throws FileError.
 std::unique_ptr<ImageReader> open_height_image(const fs::path& path, const std::string& ext, int channel) {
+  // PNG and EXR heights without the codec module when their own libraries read them (its loading costs more
+  // than decoding a 4097^2 heightmap); anything else, and any file they refuse, through the codec.
+  if (auto in = ext.size() > 1 ? open_native_image_reader(ext.substr(1), path.string()) : nullptr)
+    return check_height_image(path, std::move(in), channel);
   const ImageCodec& codec = image_codec_for(path, "read");
   // Only the reader the extension names: OpenImageIO would otherwise try every format plugin it has (movie,
   // camera raw, ...) on a damaged file, a much larger attack surface and slow for nothing.
@@ -369,6 +376,11 @@ std::unique_ptr<ImageReader> open_height_image(const fs::path& path, const std::
   if (!in->open(path.string()))
     throw FileError("cannot read '" + path.string() + "' as " + in->format_name() +
                     " (is the extension right?): " + in->error());
+  return check_height_image(path, std::move(in), channel);
+}
+
+// An opened image's header checked (the channel exists, 2D, at most 65536 per side, a supported pixel type).
+std::unique_ptr<ImageReader> check_height_image(const fs::path& path, std::unique_ptr<ImageReader> in, int channel) {
   const ImageInfo& spec = in->info();
   if (channel < 0 || channel >= spec.channels)
     throw FileError("'" + path.string() + "' has " + std::to_string(spec.channels) + " channel(s); channel " +
@@ -596,15 +608,16 @@ Heightfield read_heightfield_onto(const fs::path& path, int channel, const Heigh
     return row;
   };
   Heightfield out(target);
+  const BilinearColumns columns = bilinear_columns(source, target);
   // From the north down, so the file is read in its own order.
   for (int j = target.height() - 1, done = 1; j >= 0; --j, ++done) {
     const BilinearRows br = bilinear_rows(source, target, j);
     if (br.lower < 0) {
-      resample_bilinear_row(source, {}, {}, br, target, out.row(j));
+      resample_bilinear_row(columns, {}, {}, br, out.row(j));
     } else {
       const std::span<const float> upper = source_row(br.upper);  // the northern of the two: read first
       const std::span<const float> lower = source_row(br.lower);
-      resample_bilinear_row(source, lower, upper, br, target, out.row(j));
+      resample_bilinear_row(columns, lower, upper, br, out.row(j));
     }
     if (row_done) row_done(done);
   }
