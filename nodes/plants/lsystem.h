@@ -65,9 +65,16 @@ class LSystem {
   // The axiom after `iterations` parallel rewriting steps. Throws LSystemError when the word would exceed
   // max_modules; returns early (partial word) when should_stop says so.
   ModuleString derive(const DeriveOptions& options) const;
+  // The same word, written into `word`; `spare` (a distinct object) holds the other word of each step. A caller
+  // that derives again and again keeps both: once they have grown, a derivation allocates nothing and touches no
+  // new pages. On an error both hold unspecified words.
+  void derive(const DeriveOptions& options, ModuleString& word, ModuleString& spare) const;
   // One rewriting step of `word` as step number `iteration` (0-based; part of the random draws' key).
   ModuleString step(const ModuleString& word, int iteration, std::uint64_t seed,
                     std::size_t max_modules = static_cast<std::size_t>(-1)) const;
+  // The same step written into `out` (a distinct object), reusing its buffers.
+  void step(const ModuleString& word, ModuleString& out, int iteration, std::uint64_t seed,
+            std::size_t max_modules = static_cast<std::size_t>(-1)) const;
   // The evaluated axiom (random draws in it use iteration -1).
   ModuleString axiom(std::uint64_t seed) const;
   std::size_t rule_count() const;
