@@ -16,6 +16,7 @@ namespace orogen::plants {
 using lsys::draw_key;
 using lsys::Draws;
 using lsys::eval;
+using lsys::Expr;
 using lsys::kMaxParams;
 using lsys::kMaxSlots;
 using lsys::Pattern;
@@ -410,7 +411,6 @@ void LSystem::Impl::step(const ModuleString& w, ModuleString& out, int iteration
   }
   double vars[kMaxSlots];
   std::vector<Candidate> candidates;
-  float values[kMaxParams];
   for (std::size_t i = 0; i < n; ++i) {
     if ((i & 4095) == 4095 && should_stop && should_stop()) break;
     const char sym = in_symbols[i];
@@ -455,7 +455,7 @@ void LSystem::Impl::step(const ModuleString& w, ModuleString& out, int iteration
     if (!chosen) {
       if (m + 1 > max_modules) throw too_long();
       symbols[m] = sym;
-      std::copy_n(in_params + first, np, params + q);
+      for (std::size_t a = 0; a < np; ++a) params[q + a] = in_params[first + a];  // short: no memmove call
       q += np;
       offsets[++m] = static_cast<std::uint32_t>(q);
       continue;
@@ -474,10 +474,8 @@ void LSystem::Impl::step(const ModuleString& w, ModuleString& out, int iteration
       continue;
     }
     for (const Template& t : chosen->successor) {
-      for (std::size_t a = 0; a < t.args.size(); ++a) values[a] = static_cast<float>(eval(t.args[a], vars, draws));
       symbols[m] = t.symbol;
-      std::copy_n(values, t.args.size(), params + q);
-      q += t.args.size();
+      for (const Expr& e : t.args) params[q++] = static_cast<float>(eval(e, vars, draws));
       offsets[++m] = static_cast<std::uint32_t>(q);
     }
   }

@@ -86,7 +86,11 @@ struct Expr {
 inline constexpr double kDeg = std::numbers::pi / 180.0;
 
 inline double eval(const Expr& e, const double* vars, Draws& draws) {
-  if (e.constant()) return e.code[0].value;
+  if (e.code.size() == 1) {  // a constant or a parameter passed on, the commonest arguments: no stack
+    const Instr& in = e.code[0];
+    if (in.op == Op::Const) return in.value;
+    if (in.op == Op::Var) return vars[in.slot];
+  }
   double stack[64];
   int sp = 0;
   for (const Instr& in : e.code) {
