@@ -63,7 +63,8 @@ struct LSystem::Impl {
     // Bounds on what one module of the symbol becomes (its copy or any rule's successor): for sizing the output.
     std::size_t most_modules = 1, most_params = 0;
   };
-  std::array<SymbolPlan, 256> plans;
+  std::vector<SymbolPlan> plans;            // [0]: the plan of every symbol without rules (copied)
+  std::array<std::uint8_t, 256> plan_of{};  // per symbol: its plan's index
 
   void plan();
   void write_axiom(std::uint64_t seed, ModuleString& w) const;
@@ -95,9 +96,12 @@ void LSystem::Impl::plan() {
     }
     constant_blocks[k] = constant;
   }
+  plans.assign(1, SymbolPlan{});
   for (std::size_t c = 0; c < 256; ++c) {
-    SymbolPlan& p = plans[c];
     const auto& list = by_symbol[c];
+    if (list.empty()) continue;  // symbols are printable ASCII: fewer than 256 plans
+    plan_of[c] = static_cast<std::uint8_t>(plans.size());
+    SymbolPlan& p = plans.emplace_back();
     p.fixed = true;
     for (const int k : list) {
       const Rule& r = rules[static_cast<std::size_t>(k)];
@@ -106,10 +110,7 @@ void LSystem::Impl::plan() {
       p.fixed = p.fixed && !r.has_context() && !r.condition && r.weight.constant() &&
                 r.pred.slots.size() == rules[static_cast<std::size_t>(list.front())].pred.slots.size();
     }
-    if (list.empty() || !p.fixed) {
-      p.fixed = false;
-      continue;
-    }
+    if (!p.fixed) continue;
     p.arity = rules[static_cast<std::size_t>(list.front())].pred.slots.size();
     for (const int k : list) {
       // The general path's test: a weight that is not > 0 (0, or NaN) drops the rule.
@@ -368,7 +369,7 @@ void LSystem::Impl::step(const ModuleString& w, ModuleString& out, int iteration
   // growth, no copy while writing.
   std::size_t most_modules = 0, most_params = 0, widest = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const SymbolPlan& p = plans[static_cast<unsigned char>(in_symbols[i])];
+    const SymbolPlan& p = plans[plan_of[static_cast<unsigned char>(in_symbols[i])]];
     const std::size_t np = in_offsets[i + 1] - in_offsets[i];
     most_modules += p.most_modules;
     most_params += std::max(np, p.most_params);
@@ -414,7 +415,7 @@ void LSystem::Impl::step(const ModuleString& w, ModuleString& out, int iteration
   for (std::size_t i = 0; i < n; ++i) {
     if ((i & 4095) == 4095 && should_stop && should_stop()) break;
     const char sym = in_symbols[i];
-    const SymbolPlan& p = plans[static_cast<unsigned char>(sym)];
+    const SymbolPlan& p = plans[plan_of[static_cast<unsigned char>(sym)]];
     const std::uint32_t first = in_offsets[i];
     const std::size_t np = in_offsets[i + 1] - first;
     if (p.block && np == p.arity) {
