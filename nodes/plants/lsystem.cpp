@@ -499,6 +499,7 @@ void LSystem::step(const ModuleString& word, ModuleString& out, int iteration, s
 ModuleString LSystem::derive(const DeriveOptions& o) const {
   ModuleString word, spare;
   derive(o, word, spare);
+  spare = ModuleString();  // freed before any trimming copy
   // Steps are sized by what each module can become; a word kept (a node's output) gives back a notable excess
   // (conditions or stochastic choices that picked shorter successors).
   const auto trim = [](auto& v) {

@@ -94,7 +94,8 @@ class LSystem {
 
 // The bytes a derivation holds at its peak when its word may grow to `max_modules` modules of at most
 // `parameters` each: the word being read and the word being written (a symbol, an offset and the parameters per
-// module, twice for the vectors' growth) and the bracket-matching index of context rules.
+// module, twice: a step sizes its output by what each module can become, which conditions and stochastic choices
+// may leave unused) and the bracket-matching index of context rules.
 std::uint64_t derive_peak_bytes(std::size_t max_modules, std::size_t parameters);
 
 // Convenience: parse and derive; the text of the result.
