@@ -33,7 +33,6 @@ LSystemError::LSystemError(const std::string& where_, int line_, int column_, co
 struct LSystem::Impl {
   std::vector<lsys::Template> axiom;
   std::vector<lsys::Rule> rules;
-  std::array<std::vector<int>, 256> by_symbol;  // rule indices per predecessor symbol
   std::array<bool, 256> ignored{};
   bool any_context = false;
 
@@ -55,16 +54,24 @@ struct LSystem::Impl {
   // candidates are then the same for every module (those of positive weight, in the order of the text), so no
   // rule is matched or weighed per module. Anything else (other symbols, other arities) goes the general way.
   struct SymbolPlan {
+    std::vector<int> list;  // the indices of the rules for the symbol, in the order of the text
     bool fixed = false;
     std::size_t arity = 0;
     std::vector<Candidate> candidates;  // fixed: the candidates, in rule order
     double total = 0.0;                 // fixed: their weights' sum, added in that order
-    const Block* block = nullptr;       // fixed with a single, constant candidate: its successor
-    // Bounds on what one module of the symbol becomes (its copy or any rule's successor): for sizing the output.
-    std::size_t most_modules = 1, most_params = 0;
   };
-  std::vector<SymbolPlan> plans;            // [0]: the plan of every symbol without rules (copied)
-  std::array<std::uint8_t, 256> plan_of{};  // per symbol: its plan's index
+  std::vector<SymbolPlan> plans;  // [0]: the plan of every symbol without rules (copied)
+  // Per symbol, looked up for every module: the plan's block and the bounds that size a step's output.
+  struct SymbolEntry {
+    const Block* block = nullptr;                     // fixed with a single, constant candidate: its successor
+    std::uint32_t arity = 0;                          // of the plan
+    std::uint32_t most_modules = 1, most_params = 0;  // what one module can become (its copy or any successor)
+    std::uint8_t plan = 0;                            // index in plans
+  };
+  std::array<SymbolEntry, 256> entries;
+  const std::vector<int>& rules_for(char symbol) const {
+    return plans[entries[static_cast<unsigned char>(symbol)].plan].list;
+  }
 
   void plan();
   void write_axiom(std::uint64_t seed, ModuleString& w) const;
@@ -97,21 +104,31 @@ void LSystem::Impl::plan() {
     constant_blocks[k] = constant;
   }
   plans.assign(1, SymbolPlan{});
+  for (std::size_t k = 0; k < rules.size(); ++k) {
+    SymbolEntry& e = entries[static_cast<unsigned char>(rules[k].pred.symbol)];
+    if (e.plan == 0) {  // symbols are printable ASCII: fewer than 256 plans
+      e.plan = static_cast<std::uint8_t>(plans.size());
+      plans.emplace_back();
+    }
+    plans[e.plan].list.push_back(static_cast<int>(k));
+  }
   for (std::size_t c = 0; c < 256; ++c) {
-    const auto& list = by_symbol[c];
-    if (list.empty()) continue;  // symbols are printable ASCII: fewer than 256 plans
-    plan_of[c] = static_cast<std::uint8_t>(plans.size());
-    SymbolPlan& p = plans.emplace_back();
+    SymbolEntry& e = entries[c];
+    if (e.plan == 0) continue;
+    SymbolPlan& p = plans[e.plan];
+    const auto& list = p.list;
     p.fixed = true;
     for (const int k : list) {
       const Rule& r = rules[static_cast<std::size_t>(k)];
-      p.most_modules = std::max(p.most_modules, r.successor.size());
-      p.most_params = std::max(p.most_params, blocks[static_cast<std::size_t>(k)].params.size());
+      e.most_modules = std::max(e.most_modules, static_cast<std::uint32_t>(r.successor.size()));
+      e.most_params =
+          std::max(e.most_params, static_cast<std::uint32_t>(blocks[static_cast<std::size_t>(k)].params.size()));
       p.fixed = p.fixed && !r.has_context() && !r.condition && r.weight.constant() &&
                 r.pred.slots.size() == rules[static_cast<std::size_t>(list.front())].pred.slots.size();
     }
     if (!p.fixed) continue;
     p.arity = rules[static_cast<std::size_t>(list.front())].pred.slots.size();
+    e.arity = static_cast<std::uint32_t>(p.arity);
     for (const int k : list) {
       // The general path's test: a weight that is not > 0 (0, or NaN) drops the rule.
       const double weight = rules[static_cast<std::size_t>(k)].weight.code[0].value;
@@ -119,7 +136,7 @@ void LSystem::Impl::plan() {
     }
     for (const Candidate& d : p.candidates) p.total += d.weight;
     if (p.candidates.size() == 1 && constant_blocks[static_cast<std::size_t>(p.candidates[0].rule)])
-      p.block = &blocks[static_cast<std::size_t>(p.candidates[0].rule)];
+      e.block = &blocks[static_cast<std::size_t>(p.candidates[0].rule)];
   }
 }
 
@@ -133,7 +150,6 @@ LSystem::LSystem(const std::string& axiom, const std::string& rules, const std::
   for (std::size_t k = 0; k < impl_->rules.size(); ++k) {
     const lsys::Rule& r = impl_->rules[k];
     impl_->any_context = impl_->any_context || r.has_context();
-    impl_->by_symbol[static_cast<unsigned char>(r.pred.symbol)].push_back(static_cast<int>(k));
   }
   impl_->plan();
 }
@@ -181,7 +197,7 @@ std::uint64_t LSystem::max_word_length(int iterations, std::uint64_t cap) const 
   // grow[s][t]: the most modules of t one module of s becomes.
   std::vector<double> grow(n * n, 0.0);
   for (std::size_t s = 0; s < n; ++s) {
-    const auto& list = impl_->by_symbol[symbols[s]];
+    const auto& list = impl_->rules_for(static_cast<char>(symbols[s]));
     bool always = false;  // some rule always applies (no condition, no context, the only alternative)
     for (const int k : list) {
       const lsys::Rule& r = impl_->rules[static_cast<std::size_t>(k)];
@@ -311,7 +327,7 @@ bool LSystem::Impl::match_right(const Rule& r, std::size_t p, const ModuleString
 const Rule* LSystem::Impl::choose(const ModuleString& w, const std::vector<std::int32_t>& match, std::size_t i,
                                   int iteration, std::uint64_t seed, double* vars, Draws& draws,
                                   std::vector<Candidate>& candidates) const {
-  const auto& list = by_symbol[static_cast<unsigned char>(w.symbols[i])];
+  const auto& list = rules_for(w.symbols[i]);
   const Rule* chosen = nullptr;
   candidates.clear();
   const std::size_t np = w.param_count(i);
@@ -369,11 +385,11 @@ void LSystem::Impl::step(const ModuleString& w, ModuleString& out, int iteration
   // growth, no copy while writing.
   std::size_t most_modules = 0, most_params = 0, widest = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const SymbolPlan& p = plans[plan_of[static_cast<unsigned char>(in_symbols[i])]];
+    const auto c = static_cast<unsigned char>(in_symbols[i]);
     const std::size_t np = in_offsets[i + 1] - in_offsets[i];
-    most_modules += p.most_modules;
-    most_params += std::max(np, p.most_params);
-    widest = std::max(widest, std::max(np, p.most_params));
+    most_modules += entries[c].most_modules;
+    most_params += std::max<std::size_t>(np, entries[c].most_params);
+    widest = std::max(widest, std::max<std::size_t>(np, entries[c].most_params));
   }
   // Past max_modules the step fails, so no more room is ever needed.
   const std::size_t capacity = std::min(most_modules, max_modules);
@@ -385,6 +401,15 @@ void LSystem::Impl::step(const ModuleString& w, ModuleString& out, int iteration
   float* params = out.params.data();
   offsets[0] = 0;
   std::size_t m = 0, q = 0;  // modules and parameters written
+  const auto write_block = [&](const Block& b) {
+    const std::size_t len = b.symbols.size();
+    std::copy_n(b.symbols.data(), len, symbols + m);
+    const auto base = static_cast<std::uint32_t>(q);
+    for (std::size_t k = 0; k < len; ++k) offsets[m + 1 + k] = base + b.ends[k];
+    std::copy_n(b.params.data(), b.params.size(), params + q);
+    m += len;
+    q += b.params.size();
+  };
   const auto too_long = [&] {
     return LSystemError("derivation", 0, 0,
                         "the word exceeds max_modules (" + std::to_string(max_modules) + ") at iteration " +
@@ -415,22 +440,16 @@ void LSystem::Impl::step(const ModuleString& w, ModuleString& out, int iteration
   for (std::size_t i = 0; i < n; ++i) {
     if ((i & 4095) == 4095 && should_stop && should_stop()) break;
     const char sym = in_symbols[i];
-    const SymbolPlan& p = plans[plan_of[static_cast<unsigned char>(sym)]];
+    const SymbolEntry& e = entries[static_cast<unsigned char>(sym)];
     const std::uint32_t first = in_offsets[i];
     const std::size_t np = in_offsets[i + 1] - first;
-    if (p.block && np == p.arity) {
+    if (e.block && np == e.arity) {
       // The common case of context-free grammars: one rule, constant successor, copied as a block.
-      const Block& b = *p.block;
-      const std::size_t len = b.symbols.size();
-      if (m + len > max_modules) throw too_long();
-      std::copy_n(b.symbols.data(), len, symbols + m);
-      const auto base = static_cast<std::uint32_t>(q);
-      for (std::size_t k = 0; k < len; ++k) offsets[m + 1 + k] = base + b.ends[k];
-      std::copy_n(b.params.data(), b.params.size(), params + q);
-      m += len;
-      q += b.params.size();
+      if (m + e.block->symbols.size() > max_modules) throw too_long();
+      write_block(*e.block);
       continue;
     }
+    const SymbolPlan& p = plans[e.plan];
     const Rule* chosen = nullptr;
     Draws draws{seed, iteration, i, 1};
     if (p.fixed && np == p.arity) {
@@ -450,7 +469,7 @@ void LSystem::Impl::step(const ModuleString& w, ModuleString& out, int iteration
       }
       if (chosen)
         for (std::size_t a = 0; a < np; ++a) vars[chosen->pred.slots[a]] = in_params[first + a];
-    } else if (!by_symbol[static_cast<unsigned char>(sym)].empty()) {
+    } else if (e.plan != 0) {
       chosen = choose(w, match, i, iteration, seed, vars, draws, candidates);
     }
     if (!chosen) {
@@ -464,14 +483,7 @@ void LSystem::Impl::step(const ModuleString& w, ModuleString& out, int iteration
     const auto k = static_cast<std::size_t>(chosen - rules.data());
     if (m + chosen->successor.size() > max_modules) throw too_long();
     if (constant_blocks[k]) {
-      const Block& b = blocks[k];
-      const std::size_t len = b.symbols.size();
-      std::copy_n(b.symbols.data(), len, symbols + m);
-      const auto base = static_cast<std::uint32_t>(q);
-      for (std::size_t j = 0; j < len; ++j) offsets[m + 1 + j] = base + b.ends[j];
-      std::copy_n(b.params.data(), b.params.size(), params + q);
-      m += len;
-      q += b.params.size();
+      write_block(blocks[k]);
       continue;
     }
     for (const Template& t : chosen->successor) {
