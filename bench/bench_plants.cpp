@@ -4,6 +4,8 @@
 // whole hull rocks.
 //
 //   Derive/rule_4_20/<iterations>  context-free bracketed grammar (3D Game Worlds rule 4.20, F -> FF)
+//   DeriveFresh/rule_4_20/<iter.>  the same with new buffers for every derivation (the node's case)
+//   StringRewrite/rule_4_20/<it.>  the reference: the same rule as a plain std::string rewrite
 //   Derive/green_tree/<iterations> parametric, stochastic, conditional, with random draws
 //   Turtle/green_tree/5, TreeMesh/green_tree/5   the 5-iteration tree (skeleton, then mesh with leaves)
 //   Hull/cgal/<n>, Hull/small/<n>  hull alone (CGAL, the small-set incremental hull); HullRock/<n>: sampling
@@ -13,6 +15,8 @@
 //   taskset -c 0 build/release/bench/orogen_bench_plants
 // The machine may be shared.
 #include <benchmark/benchmark.h>
+
+#include <string>
 
 #include "graph/mesh.h"
 #include "nodes/plants/lsystem.h"
@@ -30,25 +34,61 @@ const char* kGreenTree =
     "F(d,n) -> F(1.7*d,n)>\n"
     "T(r,g,b,a) : a < 98 -> F(0.8,1)L(1.2,40,140+U(-30,30),40) : 25";
 
-void derive(benchmark::State& state, const char* axiom, const char* rules) {
+// The word and its spare are reused from one derivation to the next, as a caller deriving repeatedly keeps them:
+// the benchmark measures the rewriting, not the kernel's first touch of fresh pages. DeriveFresh allocates both
+// anew every time, as the LSystem node does for its single derivation.
+void derive(benchmark::State& state, const char* axiom, const char* rules, bool reuse = true) {
   const plants::LSystem l(axiom, rules);
   plants::DeriveOptions o;
   o.iterations = static_cast<int>(state.range(0));
   o.seed = 7;
   o.max_modules = 100000000;
-  std::size_t n = 0;
+  ModuleString word, spare;
   for (auto _ : state) {
-    const ModuleString w = l.derive(o);
-    n = w.size();
-    benchmark::DoNotOptimize(w.symbols.data());
+    if (reuse)
+      l.derive(o, word, spare);
+    else
+      word = l.derive(o);
+    benchmark::DoNotOptimize(word.symbols.data());
   }
-  state.counters["modules"] = static_cast<double>(n);
+  state.counters["modules"] = static_cast<double>(word.size());
   state.counters["modules_per_s"] =
-      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
+      benchmark::Counter(static_cast<double>(word.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_Derive_rule_4_20(benchmark::State& s) { derive(s, "X", "X -> F-[[X]+X]+F[+FX]-X\nF -> FF"); }
 BENCHMARK(BM_Derive_rule_4_20)->Name("Derive/rule_4_20")->Arg(9)->Unit(benchmark::kMillisecond);
+void BM_DeriveFresh_rule_4_20(benchmark::State& s) { derive(s, "X", "X -> F-[[X]+X]+F[+FX]-X\nF -> FF", false); }
+BENCHMARK(BM_DeriveFresh_rule_4_20)->Name("DeriveFresh/rule_4_20")->Arg(9)->Unit(benchmark::kMillisecond);
+
+// The reference: rule 4.20 rewritten as a plain std::string, one byte per module, the two buffers reused.
+void BM_StringRewrite_rule_4_20(benchmark::State& state) {
+  const int iterations = static_cast<int>(state.range(0));
+  const std::string x = "F-[[X]+X]+F[+FX]-X";
+  std::string word, next;
+  for (auto _ : state) {
+    word.clear();  // the axiom X (assign("X") trips a false -Wrestrict of GCC 12)
+    word.push_back('X');
+    for (int it = 0; it < iterations; ++it) {
+      next.clear();
+      for (const char c : word) {
+        if (c == 'X')
+          next.append(x);
+        else if (c == 'F')
+          next.append("FF", 2);
+        else
+          next.push_back(c);
+      }
+      word.swap(next);
+    }
+    benchmark::DoNotOptimize(word.data());
+  }
+  state.counters["modules"] = static_cast<double>(word.size());
+  state.counters["modules_per_s"] =
+      benchmark::Counter(static_cast<double>(word.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_StringRewrite_rule_4_20)->Name("StringRewrite/rule_4_20")->Arg(9)->Unit(benchmark::kMillisecond);
+
 void BM_Derive_green(benchmark::State& s) { derive(s, "T(140,90,40,100)", kGreenTree); }
 BENCHMARK(BM_Derive_green)->Name("Derive/green_tree")->Arg(5)->Arg(8)->Unit(benchmark::kMillisecond);
 

@@ -131,6 +131,62 @@ TEST(LSystem, StochasticSameSeedSameWordOtherSeedOther) {
   EXPECT_NE(derive_text("A", r, 5, 1), derive_text("A", r, 5, 2));
 }
 
+TEST(LSystem, PlannedRulesMatchTheGeneralPath) {
+  // Rules without context or condition and with constant weights skip per-module matching (a constant successor is
+  // copied as a block); a dead conditional rule for the same symbol sends every module down the general path. The
+  // words must be the same, parameters and random draws included.
+  struct Case {
+    const char* axiom;
+    const char* rules;
+    const char* dead;  // never applies, but makes its symbol's rules general
+  };
+  const Case cases[] = {
+      {"X", "X -> F-[[X]+X]+F[+FX]-X; F -> FF", "F : 0 -> Q; X : 0 -> Q"},
+      {"F", "F -> F[+F]F : 1; F -> F[-F]F : 2; F -> FF : 0.5; F -> G : 0", "F : 0 -> Q"},
+      {"A(1)B", "A(x) -> A(x*1.5)[+(25)B(x,2)]G(U(0,1)); B -> BF(0.5,2); F(a,b) -> F(a*2,b)",
+       "A(x) : 0 -> Q; B : 0 -> Q"},
+      {"A(1)A(2,3)AB", "A(x) -> A(x+1)C(7); B -> D(1,2,3)B", "A(x) : 0 -> Q; B : 0 -> Q"},  // other arities: copied
+      {"A", "A -> AB : 3; A -> B(uniform(0, 1)) : 1; B -> ", "A : 0 -> Q; B : 0 -> Q"},     // an empty successor
+  };
+  for (const Case& c : cases)
+    for (int n = 0; n <= 6; ++n) {
+      for (std::uint64_t seed : {0u, 5u}) {
+        const std::string planned = derive_text(c.axiom, c.rules, n, seed);
+        EXPECT_EQ(planned, derive_text(c.axiom, std::string(c.rules) + "; " + c.dead, n, seed))
+            << c.rules << ", " << n << " steps, seed " << seed;
+        if (n == 6) {
+          EXPECT_NE(planned, c.axiom) << c.rules;  // the rules do rewrite
+        }
+      }
+    }
+}
+
+TEST(LSystem, ReusedBuffersGiveTheSameWord) {
+  // A caller keeps the word and its spare between derivations: what they held before must not leak into the next
+  // word (a longer word with parameters first, then shorter ones, then a step into a used word).
+  const LSystem big("T(140,90,40,100)",
+                    "T(r,g,b,a) -> F(0.5,1)[+(U(-30,30))T(r,g,b,0.99*a)]T(r,g,b,a*0.9); F(d,n) -> F(1.7*d,n)");
+  const LSystem small("X", "X -> F[+X][-X]FX; F -> FF");
+  DeriveOptions o;
+  o.seed = 3;
+  ModuleString word, spare;
+  o.iterations = 7;
+  big.derive(o, word, spare);
+  EXPECT_EQ(word.text(), big.derive(o).text());
+  EXPECT_GT(word.size(), 500u);
+  for (int n : {3, 1, 0, 4}) {
+    o.iterations = n;
+    small.derive(o, word, spare);
+    word.check_consistent();
+    EXPECT_EQ(word.text(), small.derive(o).text()) << n;
+    EXPECT_EQ(word.text(), derive_text("X", "X -> F[+X][-X]FX; F -> FF", n)) << n;
+  }
+  ModuleString out = big.derive(o);
+  small.step(word, out, 4, 3);
+  out.check_consistent();
+  EXPECT_EQ(out.text(), small.step(word, 4, 3).text());
+}
+
 TEST(LSystem, StochasticChoiceFollowsWeights) {
   // 20000 independent modules choose among weights 1 : 3 : 6.
   const LSystem l("A", "A -> X : 1; A -> Y : 3; A -> Z : 6");

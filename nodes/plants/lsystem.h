@@ -65,9 +65,16 @@ class LSystem {
   // The axiom after `iterations` parallel rewriting steps. Throws LSystemError when the word would exceed
   // max_modules; returns early (partial word) when should_stop says so.
   ModuleString derive(const DeriveOptions& options) const;
+  // The same word, written into `word`; `spare` (a distinct object) holds the other word of each step. A caller
+  // that derives again and again keeps both: once they have grown, a derivation allocates nothing and touches no
+  // new pages. On an error both hold unspecified words.
+  void derive(const DeriveOptions& options, ModuleString& word, ModuleString& spare) const;
   // One rewriting step of `word` as step number `iteration` (0-based; part of the random draws' key).
   ModuleString step(const ModuleString& word, int iteration, std::uint64_t seed,
                     std::size_t max_modules = static_cast<std::size_t>(-1)) const;
+  // The same step written into `out` (a distinct object), reusing its buffers.
+  void step(const ModuleString& word, ModuleString& out, int iteration, std::uint64_t seed,
+            std::size_t max_modules = static_cast<std::size_t>(-1)) const;
   // The evaluated axiom (random draws in it use iteration -1).
   ModuleString axiom(std::uint64_t seed) const;
   std::size_t rule_count() const;
@@ -87,7 +94,8 @@ class LSystem {
 
 // The bytes a derivation holds at its peak when its word may grow to `max_modules` modules of at most
 // `parameters` each: the word being read and the word being written (a symbol, an offset and the parameters per
-// module, twice for the vectors' growth) and the bracket-matching index of context rules.
+// module, twice: a step sizes its output by what each module can become, which conditions and stochastic choices
+// may leave unused) and the bracket-matching index of context rules.
 std::uint64_t derive_peak_bytes(std::size_t max_modules, std::size_t parameters);
 
 // Convenience: parse and derive; the text of the result.

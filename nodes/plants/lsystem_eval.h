@@ -85,8 +85,8 @@ struct Expr {
 
 inline constexpr double kDeg = std::numbers::pi / 180.0;
 
-inline double eval(const Expr& e, const double* vars, Draws& draws) {
-  if (e.constant()) return e.code[0].value;
+// The stack machine; eval() below is the entry.
+inline double run(const Expr& e, const double* vars, Draws& draws) {
   double stack[64];
   int sp = 0;
   for (const Instr& in : e.code) {
@@ -153,6 +153,17 @@ inline double eval(const Expr& e, const double* vars, Draws& draws) {
     }
   }
   return stack[0];
+}
+
+// A constant or a parameter passed on, the commonest arguments, without the stack machine (and small enough to
+// inline where the rewriter evaluates).
+inline double eval(const Expr& e, const double* vars, Draws& draws) {
+  if (e.code.size() == 1) {
+    const Instr& in = e.code[0];
+    if (in.op == Op::Const) return in.value;
+    if (in.op == Op::Var) return vars[in.slot];
+  }
+  return run(e, vars, draws);
 }
 
 }  // namespace orogen::plants::lsys
