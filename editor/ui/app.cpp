@@ -96,6 +96,8 @@ App::App(AppOptions options)
   ImGui::CreateContext();
   ImGuiIO& io = ImGui::GetIO();
   io.IniFilename = nullptr;  // the layout is ours; nothing to persist in the working directory
+  // A steady caret: a blinking one would need a frame every half second while a text field has the focus.
+  io.ConfigInputTextCursorBlink = false;
   theme::apply_style();
   // DejaVu Sans when installed (fonts-dejavu-core), ImGui's built-in font otherwise. The canvas gets a
   // larger bake of the same font so zoomed-in node text stays sharp.
@@ -192,15 +194,23 @@ int App::run() {
         break;
       }
     }
-    // Nothing changing and no input pending: sleep until an event (input, a finished evaluation posting an
-    // empty event) or a timeout for the autosave, tooltips and the text caret. Otherwise run at display rate.
-    if (animating()) redraw_frames_ = 3;  // and a few frames after, so the final state is drawn
-    if (screenshot || options_.benchmark_build || redraw_frames_ > 0 || !input_queue_.empty()) {
+    // Nothing changing and no input pending: block until an event (input, or a finished evaluation posting an
+    // empty event); a timer only for what changes by itself (model/frame_pacing.h).
+    const bool busy = animating();
+    if (was_busy_ && !busy) redraw_frames_ = 3;  // a few frames after it ends, so the final state is drawn
+    was_busy_ = busy;
+    if (screenshot || options_.benchmark_build) {
       glfwPollEvents();
     } else {
-      const bool recent_input = clock::now() - last_input_ < std::chrono::seconds(2);
-      glfwWaitEventsTimeout(recent_input ? 0.1 : ImGui::GetIO().WantTextInput ? 0.5 : 2.0);
-      redraw_frames_ = 1;
+      const FrameWait wait = next_frame_wait(loop_state());
+      if (wait.mode == FrameWait::Mode::Draw) {
+        glfwPollEvents();
+      } else {
+        if (wait.mode == FrameWait::Mode::WaitForever)
+          glfwWaitEvents();
+        else
+          glfwWaitEventsTimeout(wait.seconds);
+      }
     }
     if (!input_queue_.empty()) redraw_frames_ = 3;
     if (redraw_frames_ > 0) --redraw_frames_;
@@ -277,7 +287,8 @@ void App::install_input_callbacks() {
 
 void App::feed_queued_input() {
   ImGuiIO& io = ImGui::GetIO();
-  if (input_queue_.next_frame(input_state_) > 0) last_input_ = std::chrono::steady_clock::now();
+  // WantTextInput is last frame's: whether a text field has the keyboard now.
+  if (input_queue_.next_frame(input_state_, io.WantTextInput) > 0) last_input_ = std::chrono::steady_clock::now();
   const InputFrame& in = input_state_;
   for (int k = 0; k < InputFrame::kKeys && k < IM_ARRAYSIZE(io.KeysDown); ++k)
     io.KeysDown[k] = in.keys[static_cast<std::size_t>(k)];
@@ -303,8 +314,22 @@ bool App::thumbnails_shown() const {
 }
 
 bool App::animating() const {
-  return evaluation_.preview_busy() || evaluation_.build_status().running || pending_request_ ||
-         std::any_of(input_state_.buttons.begin(), input_state_.buttons.end(), [](bool b) { return b; });
+  return evaluation_.preview_busy() || evaluation_.build_status().running || pending_request_;
+}
+
+LoopState App::loop_state() const {
+  LoopState s;
+  s.now = std::chrono::steady_clock::now();
+  s.input_pending = !input_queue_.empty();
+  s.redraw_frames = redraw_frames_;
+  s.busy = animating();
+  // Modifiers held alone change nothing on screen; other keys repeat, buttons drag.
+  s.held = std::any_of(input_state_.buttons.begin(), input_state_.buttons.end(), [](bool b) { return b; });
+  for (int k = 0; k < InputFrame::kKeys && !s.held; ++k)
+    s.held = input_state_.keys[static_cast<std::size_t>(k)] && (k < GLFW_KEY_LEFT_SHIFT || k > GLFW_KEY_RIGHT_SUPER);
+  if (last_input_ != std::chrono::steady_clock::time_point{}) s.last_input = last_input_;
+  s.autosave_due = autosaver_.next_due(*document_);
+  return s;
 }
 
 void App::frame() {
