@@ -512,7 +512,7 @@ void App::draw_panels() {
   canvas_view_->set_fonts(ImGui::GetIO().Fonts->Fonts[0], canvas_font_);
   canvas_view_->draw(previewed);
   if (frame_canvas_ && canvas_->view().size().x > 60) {
-    canvas_->frame(false);
+    canvas_->frame_opening();
     frame_canvas_ = false;
   }
   if (const auto& id = canvas_view_->double_clicked()) pinned_ = pinned_ == *id ? std::string() : *id;
