@@ -12,6 +12,7 @@
 #include <imgui_impl_opengl3.h>
 #include <imgui_stdlib.h>
 
+#include "editor/model/build_resolutions.h"
 #include "editor/model/node_layout.h"
 #include "editor/model/preview_image.h"
 #include "editor/model/state_dir.h"
@@ -475,9 +476,25 @@ void App::draw_menu_bar() {
   }
   if (ImGui::BeginMenu("Build")) {
     const auto status = evaluation_.build_status();
-    const auto& d = document_->graph().domain;
-    const std::string label = "Build at " + std::to_string(d.resolution.x) + " x " + std::to_string(d.resolution.y);
+    const auto choices = build_resolutions(document_->graph().domain);
+    const glm::ivec2 samples = build_samples();
+    const std::string label = "Build at " + std::to_string(samples.x) + " x " + std::to_string(samples.y);
     if (ImGui::MenuItem(label.c_str(), "Ctrl+B", false, !status.running)) start_build();
+    // The file's resolution, quick builds and the engines' sizes (those of orogen eval --resolution).
+    if (ImGui::BeginMenu("Resolution")) {
+      ImGui::TextDisabled("Samples on the graph's world rectangle (the file is not changed)");
+      auto kind = BuildResolution::Kind::File;
+      for (const auto& c : choices) {
+        if (c.kind != kind) {
+          kind = c.kind;
+          ImGui::Separator();
+          ImGui::TextDisabled("%s", kind == BuildResolution::Kind::Quick ? "Quick" : "Game engines");
+        }
+        const bool chosen = c.kind == BuildResolution::Kind::File ? build_choice_.empty() : build_choice_ == c.name;
+        if (ImGui::MenuItem(c.label().c_str(), nullptr, chosen)) build_choice_ = c.name;
+      }
+      ImGui::EndMenu();
+    }
     if (ImGui::MenuItem("Cancel Build", nullptr, false, status.running)) evaluation_.cancel_build();
     ImGui::Separator();
     std::string dir = output_dir_.string();
@@ -642,7 +659,8 @@ void App::draw_status_bar(float height) {
   } else if (build.finished) {
     std::string text = build.cancelled ? "build cancelled"
                        : build.ok
-                           ? "build done in " + format_duration(build.milliseconds) + " -> " + output_dir_.string() +
+                           ? "build at " + std::to_string(built_samples_.x) + " x " + std::to_string(built_samples_.y) +
+                                 " done in " + format_duration(build.milliseconds) + " -> " + output_dir_.string() +
                                  left_out_note(build.left_out)
                            : "build failed: " + (build.failures.empty() ? std::string("?") : build.failures.front());
     const float w = ImGui::CalcTextSize(text.c_str()).x;
@@ -765,7 +783,7 @@ void App::draw_modals() {
           {"double-click a node", "pin the preview to it"},
           {"Ctrl+Z / Ctrl+Shift+Z", "undo / redo"},
           {"Ctrl+S, Ctrl+Shift+S, Ctrl+O, Ctrl+N", "save, save as, open, new"},
-          {"Ctrl+B", "build at full resolution"},
+          {"Ctrl+B", "build (resolution: Build > Resolution)"},
           {"3D: left / right drag, wheel, F", "orbit / pan, zoom, frame"},
       };
       if (ImGui::BeginTable("##keys", 2, ImGuiTableFlags_RowBg)) {
@@ -851,6 +869,7 @@ void App::set_document(std::unique_ptr<Document> document) {
   requested_revision_ = ~std::uint64_t(0);
   thumbnails_revision_ = 0;
   frame_canvas_ = true;
+  build_choice_.clear();  // another file: its own resolution
 }
 
 void App::open_file(const std::filesystem::path& path) {
@@ -1096,11 +1115,20 @@ PreviewContent App::scene_content(const std::string& node, const SceneSources& s
   return c;
 }
 
+glm::ivec2 App::build_samples() const {
+  const auto& domain = document_->graph().domain;
+  if (!build_choice_.empty())
+    for (const auto& c : build_resolutions(domain))
+      if (c.name == build_choice_) return c.samples;
+  return domain.resolution;
+}
+
 void App::start_build() {
   if (evaluation_.build_status().running) return;
   OutputPolicy policy;
   policy.output_dir = output_dir_;
-  evaluation_.start_build(document_->graph(), policy);
+  built_samples_ = build_samples();
+  evaluation_.start_build(graph_at_resolution(document_->graph(), built_samples_), policy);
 }
 
 }  // namespace orogen::editor

@@ -104,6 +104,7 @@ class App {
 
   // Build.
   void start_build();
+  glm::ivec2 build_samples() const;  // the resolution Build > Resolution chose (the file's by default)
 
   void show_error(std::string text) { error_text_ = std::move(text); }
 
@@ -157,6 +158,8 @@ class App {
   float preview_fraction_ = 0.56f;
 
   std::filesystem::path output_dir_ = "out";
+  std::string build_choice_;     // BuildResolution::name chosen in Build > Resolution ("" the file's)
+  glm::ivec2 built_samples_{0};  // what the last build was started at
   std::string title_;
   bool quit_ = false;
   int frame_count_ = 0;
