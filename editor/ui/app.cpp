@@ -303,6 +303,9 @@ void App::feed_queued_input() {
   // pointer is outside an unfocused window, where the backend reports none).
   if (in.has_pointer && io.MousePos.x > -FLT_MAX)
     io.MousePos = ImVec2(static_cast<float>(in.pointer.x), static_cast<float>(in.pointer.y));
+  // A screenshot shows no hover: wherever the display's pointer rests (Xvfb: its center, over a node now that
+  // files open at a readable zoom), it opens no tooltip.
+  if (!options_.screenshot.empty()) io.MousePos = ImVec2(-FLT_MAX, -FLT_MAX);
   io.MouseWheelH += static_cast<float>(in.wheel.x);
   io.MouseWheel += static_cast<float>(in.wheel.y);
   for (unsigned c : in.chars) io.AddInputCharacter(c);
