@@ -401,9 +401,10 @@ PreviewPixels render_curves(const Curves& curves, const Domain& domain, int max_
 
 namespace {
 
+// 4 significant digits, and whole metres from 1 km on (4096 m, not 4.096e+03 m).
 std::string metres(double m) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g m", m);
+  char buf[48];
+  std::snprintf(buf, sizeof buf, std::abs(m) >= 1000.0 ? "%.0f m" : "%.4g m", m);
   return buf;
 }
 

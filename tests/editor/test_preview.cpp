@@ -38,6 +38,8 @@ TEST(PreviewLabel, APolygonMapIsDescribedByItsCellsAndExtentNotAsARaster) {
 
   const auto field = std::make_shared<Heightfield>(Domain::from_extent({0, 0}, {4096, 4096}, {257, 257}));
   EXPECT_EQ(describe_preview_value(HeightfieldPtr(field)), "257 x 257 samples, spacing 16 m");
+  const auto odd = std::make_shared<Heightfield>(Domain::from_extent({0, 0}, {4096, 4096}, {256, 256}));
+  EXPECT_EQ(describe_preview_value(HeightfieldPtr(odd)), "256 x 256 samples, spacing 16.06 m");
   // Over a terrain: the map is still cells; the raster is the terrain's.
   EXPECT_EQ(describe_preview_value(PolygonMapPtr(map), field.get()),
             "polygon map: 3 cells, 7 edges over 4096 m x 4096 m on 257 x 257 samples, spacing 16 m");
