@@ -660,12 +660,12 @@ void App::draw_status_bar(float height) {
     ImGui::SetCursorPosY(ImGui::GetCursorPosY() - 2);
     if (ImGui::SmallButton("Cancel")) evaluation_.cancel_build();
   } else if (build.finished) {
-    std::string text = build.cancelled ? "build cancelled"
-                       : build.ok
-                           ? "build at " + std::to_string(built_samples_.x) + " x " + std::to_string(built_samples_.y) +
-                                 " done in " + format_duration(build.milliseconds) + " -> " + output_dir_.string() +
-                                 left_out_note(build.left_out)
-                           : "build failed: " + (build.failures.empty() ? std::string("?") : build.failures.front());
+    std::string text =
+        build.cancelled ? "build cancelled"
+        : build.ok      ? "build at " + std::to_string(build.domain.width()) + " x " +
+                         std::to_string(build.domain.height()) + " done in " + format_duration(build.milliseconds) +
+                         " -> " + output_dir_.string() + left_out_note(build.left_out)
+                   : "build failed: " + (build.failures.empty() ? std::string("?") : build.failures.front());
     const float w = ImGui::CalcTextSize(text.c_str()).x;
     ImGui::SameLine(std::max(200.0f, right - w));
     ImGui::TextColored(build.ok ? ImVec4(0.5f, 0.85f, 0.5f, 1) : ImVec4(0.95f, 0.45f, 0.4f, 1), "%s", text.c_str());
@@ -1130,8 +1130,7 @@ void App::start_build() {
   if (evaluation_.build_status().running) return;
   OutputPolicy policy;
   policy.output_dir = output_dir_;
-  built_samples_ = build_samples();
-  evaluation_.start_build(graph_at_resolution(document_->graph(), built_samples_), policy);
+  evaluation_.start_build(graph_at_resolution(document_->graph(), build_samples()), policy);
 }
 
 }  // namespace orogen::editor

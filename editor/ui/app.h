@@ -158,8 +158,7 @@ class App {
   float preview_fraction_ = 0.56f;
 
   std::filesystem::path output_dir_ = "out";
-  std::string build_choice_;     // BuildResolution::name chosen in Build > Resolution ("" the file's)
-  glm::ivec2 built_samples_{0};  // what the last build was started at
+  std::string build_choice_;  // BuildResolution::name chosen in Build > Resolution ("" the file's)
   std::string title_;
   bool quit_ = false;
   int frame_count_ = 0;
