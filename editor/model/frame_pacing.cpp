@@ -11,7 +11,8 @@ FrameWait next_frame_wait(const LoopState& s) {
   std::optional<LoopState::Clock::time_point> wake;
   const auto earliest = [&wake](LoopState::Clock::time_point t) { wake = wake ? std::min(*wake, t) : t; };
   if (s.busy) earliest(s.now + kBusyFrameInterval);
-  if (s.last_input && s.now < *s.last_input + kHoverSettle) earliest(*s.last_input + kHoverSettle);
+  if (s.last_input && (!s.last_frame || *s.last_frame < *s.last_input + kHoverSettle))
+    earliest(*s.last_input + kHoverSettle);
   if (s.autosave_due) earliest(*s.autosave_due);
   if (!wake) return {FrameWait::Mode::WaitForever, 0.0};
   const double seconds = std::chrono::duration<double>(*wake - s.now).count();

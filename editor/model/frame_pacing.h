@@ -17,6 +17,7 @@ struct LoopState {
   bool busy = false;           // a preview or build runs, or a preview request waits to be sent
   bool held = false;           // a key or mouse button is down
   std::optional<Clock::time_point> last_input;    // when the UI last received input
+  std::optional<Clock::time_point> last_frame;    // when the last frame was drawn
   std::optional<Clock::time_point> autosave_due;  // when unsaved work is next written, if any
 };
 
@@ -31,8 +32,8 @@ FrameWait next_frame_wait(const LoopState& s);
 
 // Frame interval while something runs by itself: progress bars and intermediate results at 30 Hz.
 inline constexpr std::chrono::milliseconds kBusyFrameInterval{33};
-// A frame this long after the last input shows what appears after hovering still (the canvas tooltips wait
-// 0.35 s).
+// A frame at least this long after the last input shows what appears after hovering still (the canvas tooltips
+// wait 0.35 s): drawn once, unless a frame was drawn that late already (slow frames after the input).
 inline constexpr std::chrono::milliseconds kHoverSettle{400};
 
 }  // namespace orogen::editor

@@ -224,6 +224,7 @@ int App::run() {
       canvas_->palette().set_query(options_.palette_query);
     }
     const auto work_start = clock::now();
+    last_frame_drawn_ = work_start;
     const double cpu_start = FrameTiming::thread_cpu_ms();
     frame();
     work_ms = std::chrono::duration<double, std::milli>(clock::now() - work_start).count();
@@ -332,6 +333,7 @@ LoopState App::loop_state() const {
   for (int k = 0; k < InputFrame::kKeys && !s.held; ++k)
     s.held = input_state_.keys[static_cast<std::size_t>(k)] && (k < GLFW_KEY_LEFT_SHIFT || k > GLFW_KEY_RIGHT_SUPER);
   if (last_input_ != std::chrono::steady_clock::time_point{}) s.last_input = last_input_;
+  if (last_frame_drawn_ != std::chrono::steady_clock::time_point{}) s.last_frame = last_frame_drawn_;
   s.autosave_due = autosaver_.next_due(*document_);
   return s;
 }

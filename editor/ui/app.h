@@ -169,6 +169,7 @@ class App {
   int redraw_frames_ = 3;  // frames still to draw before waiting for events
   bool was_busy_ = false;  // a preview or build ran at the previous frame
   std::chrono::steady_clock::time_point last_input_{};
+  std::chrono::steady_clock::time_point last_frame_drawn_{};  // when the last frame started
 };
 
 }  // namespace orogen::editor

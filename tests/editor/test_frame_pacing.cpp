@@ -16,7 +16,8 @@ using Clock = std::chrono::steady_clock;
 TEST(FramePacing, IdleBlocksWithoutATimer) {
   LoopState s;
   s.now = Clock::now();
-  s.last_input = s.now - 10s;  // input long ago
+  s.last_input = s.now - 10s;  // input long ago, frames drawn since
+  s.last_frame = s.now - 5s;
   EXPECT_EQ(next_frame_wait(s).mode, FrameWait::Mode::WaitForever);
 }
 
@@ -49,7 +50,12 @@ TEST(FramePacing, OneWakeForTheHoverTooltipAfterInputThenNone) {
   const FrameWait w = next_frame_wait(s);
   EXPECT_EQ(w.mode, FrameWait::Mode::WaitTimeout);
   EXPECT_NEAR(w.seconds, 0.3, 1e-6) << "at last input + 0.4 s, after the canvas tooltips' 0.35 s";
+  s.last_frame = s.now;
   s.now = *s.last_input + kHoverSettle + 1ms;
+  EXPECT_EQ(next_frame_wait(s).mode, FrameWait::Mode::Draw)
+      << "slow frames after the input passed the moment without drawing after it: draw now";
+  s.last_frame = s.now;  // that frame is drawn
+  s.now += 1ms;
   EXPECT_EQ(next_frame_wait(s).mode, FrameWait::Mode::WaitForever);
 }
 
