@@ -408,6 +408,10 @@ void CanvasController::frame(bool selected_only) {
   if (box) view_.frame(*box);
 }
 
+void CanvasController::frame_opening() {
+  if (const auto box = layout().bounds()) view_.frame_readable(*box);
+}
+
 void CanvasController::undo() {
   document_->undo();
   after_edit();

@@ -82,6 +82,7 @@ class CanvasController {
   void paste();
   void select_all();
   void frame(bool selected_only);  // F: selection (or everything); Home: everything
+  void frame_opening();            // a graph just opened: everything, or its start at a readable zoom
   void undo();
   void redo();
 

@@ -24,4 +24,15 @@ void CanvasView::frame(const Rect& world, double margin) {
   scroll_ = world.center() - size_ * 0.5 / zoom_;
 }
 
+void CanvasView::frame_readable(const Rect& world, double min_zoom, double margin) {
+  frame(world, margin);
+  if (zoom_ >= min_zoom) return;
+  zoom_ = std::clamp(min_zoom, kMinZoom, kMaxZoom);
+  const glm::dvec2 shown = size_ / zoom_;  // world units across the viewport
+  const glm::dvec2 pad = glm::dvec2(margin) / zoom_;
+  for (int axis = 0; axis < 2; ++axis)
+    scroll_[axis] = world.size()[axis] + 2.0 * pad[axis] <= shown[axis] ? world.center()[axis] - shown[axis] * 0.5
+                                                                        : world.min[axis] - pad[axis];
+}
+
 }  // namespace orogen::editor

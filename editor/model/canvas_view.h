@@ -12,6 +12,8 @@ class CanvasView {
  public:
   static constexpr double kMinZoom = 0.1;
   static constexpr double kMaxZoom = 3.0;
+  // The least zoom at which node titles can be read (the canvas's 14 px text at 10.5 px).
+  static constexpr double kReadableZoom = 0.75;
 
   // The canvas area on screen (pixels).
   void set_viewport(glm::dvec2 origin, glm::dvec2 size) {
@@ -39,6 +41,10 @@ class CanvasView {
   void zoom_at(glm::dvec2 screen_point, double factor);
   // Fits `world` into the viewport with `margin` pixels around it, zoom clamped to [kMinZoom, 1.5].
   void frame(const Rect& world, double margin = 40.0);
+  // The opening view of a graph: as frame(), but never below `min_zoom`, so that what is shown can be read. A
+  // graph larger than the viewport at that zoom is shown from its top-left corner (where the flow starts),
+  // centered along an axis where it fits; the rest is a pan or Home (frame everything) away.
+  void frame_readable(const Rect& world, double min_zoom = kReadableZoom, double margin = 40.0);
 
  private:
   glm::dvec2 origin_{0.0}, size_{800.0, 600.0};

@@ -22,7 +22,7 @@ void InputQueue::release_all() {
     if (after_.buttons[static_cast<std::size_t>(b)]) push({RawInput::Kind::Button, b, false, {}});
 }
 
-std::size_t InputQueue::next_frame(InputFrame& state) {
+std::size_t InputQueue::next_frame(InputFrame& state, bool typing) {
   state.wheel = glm::dvec2(0.0);
   state.chars.clear();
   std::size_t applied = 0;
@@ -30,10 +30,17 @@ std::size_t InputQueue::next_frame(InputFrame& state) {
   std::array<bool, InputFrame::kButtons> button_changed{};
   while (!events_.empty()) {
     const RawInput e = events_.front();
+    const bool key = e.kind == RawInput::Kind::Key && e.code >= 0 && e.code < InputFrame::kKeys;
+    const auto code = static_cast<std::size_t>(key ? e.code : 0);
+    // While typing, a press followed by its character is text, and so is its release: neither counts as a
+    // change of the key (a frame takes "aa" whole) nor ends the frame.
+    const bool text_press = key && typing && e.down && events_.size() > 1 && events_[1].kind == RawInput::Kind::Char;
+    const bool text_release = key && !e.down && text_keys_[code];
+    const bool text = text_press || text_release;
     // A key or button changes at most once a frame (else a release and a press cancel out).
-    if (e.kind == RawInput::Kind::Key && e.code >= 0 && e.code < InputFrame::kKeys) {
-      if (key_changed[static_cast<std::size_t>(e.code)]) break;
-      key_changed[static_cast<std::size_t>(e.code)] = true;
+    if (key && !text) {
+      if (key_changed[code]) break;
+      key_changed[code] = true;
     }
     if (e.kind == RawInput::Kind::Button && e.code >= 0 && e.code < InputFrame::kButtons) {
       if (button_changed[static_cast<std::size_t>(e.code)]) break;
@@ -44,9 +51,10 @@ std::size_t InputQueue::next_frame(InputFrame& state) {
     bool press = false;
     switch (e.kind) {
       case RawInput::Kind::Key:
-        if (e.code >= 0 && e.code < InputFrame::kKeys) {
-          press = e.down && !state.keys[static_cast<std::size_t>(e.code)];
-          state.keys[static_cast<std::size_t>(e.code)] = e.down;
+        if (key) {
+          press = e.down && !state.keys[code] && !text;
+          state.keys[code] = e.down;
+          text_keys_[code] = e.down && text;
         }
         break;
       case RawInput::Kind::Button:

@@ -10,6 +10,11 @@
 // a press is always seen down for a whole frame, with the modifiers and pointer position it happened with,
 // and releases, moves, wheel and text before it arrive in the same frame. Held keys (repeats) are left to ImGui's own
 // repeat.
+//
+// Typing is the exception: while a text field has the keyboard, a press that types a character (the window system
+// sends the key, then its character) is text, not a shortcut. Its character is all the field reads, so neither
+// that press nor its release ends a frame: every character typed during a slow frame arrives in the next one, in
+// order, up to the first key that edits (Backspace, Enter, arrows, a Ctrl shortcut: no character follows those).
 #include <array>
 #include <cstddef>
 #include <deque>
@@ -42,8 +47,9 @@ class InputQueue {
  public:
   void push(const RawInput& e);
   // Updates `state` (keys, buttons, pointer persist; wheel and chars are this frame's) with the events of the
-  // next frame and removes them. Returns how many were applied.
-  std::size_t next_frame(InputFrame& state);
+  // next frame and removes them. Returns how many were applied. `typing`: a text field has the keyboard
+  // (ImGui's WantTextInput), so the keys that type characters do not end the frame.
+  std::size_t next_frame(InputFrame& state, bool typing = false);
   bool empty() const { return events_.empty(); }
   // Queues the release of every key and button that is down after the queued events (focus lost).
   void release_all();
@@ -51,7 +57,8 @@ class InputQueue {
 
  private:
   std::deque<RawInput> events_;
-  InputFrame after_;  // the state once every queued event is applied
+  InputFrame after_;                                 // the state once every queued event is applied
+  std::array<bool, InputFrame::kKeys> text_keys_{};  // keys whose press was taken as text (until released)
 };
 
 }  // namespace orogen::editor

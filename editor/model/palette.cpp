@@ -102,6 +102,7 @@ PaletteState::PaletteState(std::vector<const NodeType*> types) : types_(std::mov
 
 void PaletteState::set_types(std::vector<const NodeType*> types) {
   types_ = std::move(types);
+  kept_ = nullptr;  // a new search
   set_query(query_);
 }
 
@@ -109,6 +110,9 @@ void PaletteState::set_query(std::string query) {
   query_ = std::move(query);
   results_ = search_palette(query_, types_);
   highlighted_ = 0;
+  for (std::size_t k = 0; kept_ && k < results_.size(); ++k)
+    if (results_[k].type == kept_) highlighted_ = static_cast<int>(k);
+  if (!results_.empty() && results_[static_cast<std::size_t>(highlighted_)].type != kept_) kept_ = nullptr;
 }
 
 void PaletteState::backspace() {
@@ -127,6 +131,7 @@ void PaletteState::set_highlight(int index) {
     return;
   }
   highlighted_ = std::clamp(index, 0, static_cast<int>(results_.size()) - 1);
+  kept_ = results_[static_cast<std::size_t>(highlighted_)].type;
 }
 
 const NodeType* PaletteState::choice() const {

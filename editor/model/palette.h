@@ -29,6 +29,11 @@ std::vector<PaletteMatch> search_palette(std::string_view query, const std::vect
 // row. Where the chosen node goes (and what it connects to) is the canvas's business.
 class PaletteState {
  public:
+  // The palette keeps one size whatever the results (it must not jump under the pointer as they shrink):
+  // this many rows of results, and the highlighted type's description in at most this many lines.
+  static constexpr int kVisibleRows = 14;
+  static constexpr int kDescriptionLines = 5;
+
   explicit PaletteState(std::vector<const NodeType*> types = {});
   void set_types(std::vector<const NodeType*> types);
 
@@ -38,6 +43,8 @@ class PaletteState {
   void backspace();
 
   const std::vector<PaletteMatch>& results() const { return results_; }
+  // The highlighted row: the best match, or the type the user moved the highlight to (arrows, pointer) for as
+  // long as further typing still matches it.
   int highlighted() const { return highlighted_; }
   void move_highlight(int delta);
   void set_highlight(int index);
@@ -49,6 +56,7 @@ class PaletteState {
   std::string query_;
   std::vector<PaletteMatch> results_;
   int highlighted_ = 0;
+  const NodeType* kept_ = nullptr;  // the type the user highlighted
 };
 
 // Where a popup of `size` opened at `anchor` goes so that it stays inside `bounds` (the window): at the

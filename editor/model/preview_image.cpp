@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
 
 #include "editor/model/scene_preview.h"
+#include "graph/polygon_map.h"
+#include "graph/scene.h"
 #include "nodes/common/categorical_palette.h"
 #include "nodes/common/color_space.h"
 
@@ -394,6 +397,48 @@ PreviewPixels render_curves(const Curves& curves, const Domain& domain, int max_
     }
   }
   return px;
+}
+
+namespace {
+
+// 4 significant digits, and whole metres from 1 km on (4096 m, not 4.096e+03 m).
+std::string metres(double m) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, std::abs(m) >= 1000.0 ? "%.0f m" : "%.4g m", m);
+  return buf;
+}
+
+std::string raster(const Domain& d, const char* samples) {
+  std::string s = std::to_string(d.width()) + " x " + std::to_string(d.height()) + " " + samples + ", spacing " +
+                  metres(d.spacing.x);
+  if (d.spacing.y != d.spacing.x) s += " x " + metres(d.spacing.y);
+  return s;
+}
+
+std::string count(std::size_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+}  // namespace
+
+std::string describe_preview_value(const PortValue& value, const Heightfield* backdrop) {
+  std::string s;
+  if (auto* h = std::get_if<HeightfieldPtr>(&value); h && *h) return raster((*h)->domain, "samples");
+  if (auto* im = std::get_if<ImagePtr>(&value); im && *im)
+    s = raster((*im)->domain, "pixels") + ", " +
+        count(static_cast<std::size_t>((*im)->channels), "channel", "channels");
+  else if (auto* m = std::get_if<PolygonMapPtr>(&value); m && *m) {
+    const glm::dvec2 extent = (*m)->max_corner - (*m)->min_corner;
+    s = "polygon map: " + count((*m)->cells.size(), "cell", "cells") + ", " +
+        count((*m)->edges.size(), "edge", "edges") + " over " + metres(extent.x) + " x " + metres(extent.y);
+  } else if (auto* p = std::get_if<PointsPtr>(&value); p && *p)
+    s = count((*p)->size(), "point", "points");
+  else if (auto* c = std::get_if<CurvesPtr>(&value); c && *c)
+    s = count((*c)->size(), "curve", "curves") + ", " + count((*c)->vertex_count(), "vertex", "vertices");
+  else if (auto* sc = std::get_if<ScenePtr>(&value); sc && *sc)
+    s = count((*sc)->size(), "instance", "instances");
+  if (backdrop) s += (s.empty() ? "" : " on ") + raster(backdrop->domain, "samples");
+  return s;
 }
 
 }  // namespace orogen::editor

@@ -6,6 +6,7 @@
 // view seen from above.
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -16,6 +17,7 @@
 #include "graph/image.h"
 #include "graph/node_type.h"
 #include "graph/points.h"
+#include "graph/port_value.h"
 
 namespace orogen::editor {
 
@@ -80,5 +82,11 @@ Heightfield image_channel(const Image& image, int channel);
 // rectangle is clipped.
 PreviewPixels render_points(const Points& points, const Domain& domain, int max_side = 128);
 PreviewPixels render_curves(const Curves& curves, const Domain& domain, int max_side = 128);
+
+// The line under the 2D preview saying what is shown: a raster (height field, image) by its samples and
+// spacing; a polygon map, which is vector cells and not a raster, by its cells and extent; points, curves and
+// scenes by their counts; with the terrain they are drawn over (`backdrop`) when there is one. Lengths in
+// metres as typed in a graph (4096 m, not 4.1e+03 m).
+std::string describe_preview_value(const PortValue& value, const Heightfield* backdrop = nullptr);
 
 }  // namespace orogen::editor

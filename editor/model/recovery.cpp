@@ -155,6 +155,12 @@ bool Autosaver::tick(const Document& document, std::chrono::steady_clock::time_p
   return error_.empty();
 }
 
+std::optional<std::chrono::steady_clock::time_point> Autosaver::next_due(const Document& document) const {
+  if (!document.dirty()) return written_ ? std::optional(last_write_) : std::nullopt;
+  if (written_ && written_revision_ == document.revision()) return std::nullopt;
+  return last_write_ + interval_;  // never written: last_write_ is the epoch, so at once
+}
+
 void Autosaver::reset() {
   written_ = false;
   written_revision_ = 0;

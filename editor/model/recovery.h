@@ -6,6 +6,7 @@
 // Each session holds an flock on a lock file beside its recovery file; the kernel drops the lock when the
 // process dies, however it dies, so "no longer running" needs no pid guessing.
 #include <chrono>
+#include <optional>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -60,6 +61,9 @@ class Autosaver {
   explicit Autosaver(RecoveryStore& store, std::chrono::steady_clock::duration interval = std::chrono::seconds(20));
   // Call regularly (every frame). Returns true if it wrote the recovery file.
   bool tick(const Document& document, std::chrono::steady_clock::time_point now);
+  // When tick() next has something to do for `document` (write or remove the recovery file), or nothing if
+  // it has none: the main loop sleeps until then.
+  std::optional<std::chrono::steady_clock::time_point> next_due(const Document& document) const;
   // Writes now if there is anything unsaved (before a risky operation, or on a signal).
   void flush(const Document& document);
   // Another document replaced the previous one: forget what was written for that one.

@@ -12,6 +12,7 @@
 #include <imgui_impl_opengl3.h>
 #include <imgui_stdlib.h>
 
+#include "editor/model/build_resolutions.h"
 #include "editor/model/node_layout.h"
 #include "editor/model/preview_image.h"
 #include "editor/model/state_dir.h"
@@ -96,6 +97,8 @@ App::App(AppOptions options)
   ImGui::CreateContext();
   ImGuiIO& io = ImGui::GetIO();
   io.IniFilename = nullptr;  // the layout is ours; nothing to persist in the working directory
+  // A steady caret: a blinking one would need a frame every half second while a text field has the focus.
+  io.ConfigInputTextCursorBlink = false;
   theme::apply_style();
   // DejaVu Sans when installed (fonts-dejavu-core), ImGui's built-in font otherwise. The canvas gets a
   // larger bake of the same font so zoomed-in node text stays sharp.
@@ -192,15 +195,23 @@ int App::run() {
         break;
       }
     }
-    // Nothing changing and no input pending: sleep until an event (input, a finished evaluation posting an
-    // empty event) or a timeout for the autosave, tooltips and the text caret. Otherwise run at display rate.
-    if (animating()) redraw_frames_ = 3;  // and a few frames after, so the final state is drawn
-    if (screenshot || options_.benchmark_build || redraw_frames_ > 0 || !input_queue_.empty()) {
+    // Nothing changing and no input pending: block until an event (input, or a finished evaluation posting an
+    // empty event); a timer only for what changes by itself (model/frame_pacing.h).
+    const bool busy = animating();
+    if (was_busy_ && !busy) redraw_frames_ = 3;  // a few frames after it ends, so the final state is drawn
+    was_busy_ = busy;
+    if (screenshot || options_.benchmark_build) {
       glfwPollEvents();
     } else {
-      const bool recent_input = clock::now() - last_input_ < std::chrono::seconds(2);
-      glfwWaitEventsTimeout(recent_input ? 0.1 : ImGui::GetIO().WantTextInput ? 0.5 : 2.0);
-      redraw_frames_ = 1;
+      const FrameWait wait = next_frame_wait(loop_state());
+      if (wait.mode == FrameWait::Mode::Draw) {
+        glfwPollEvents();
+      } else {
+        if (wait.mode == FrameWait::Mode::WaitForever)
+          glfwWaitEvents();
+        else
+          glfwWaitEventsTimeout(wait.seconds);
+      }
     }
     if (!input_queue_.empty()) redraw_frames_ = 3;
     if (redraw_frames_ > 0) --redraw_frames_;
@@ -213,6 +224,7 @@ int App::run() {
       canvas_->palette().set_query(options_.palette_query);
     }
     const auto work_start = clock::now();
+    last_frame_drawn_ = work_start;
     const double cpu_start = FrameTiming::thread_cpu_ms();
     frame();
     work_ms = std::chrono::duration<double, std::milli>(clock::now() - work_start).count();
@@ -277,7 +289,8 @@ void App::install_input_callbacks() {
 
 void App::feed_queued_input() {
   ImGuiIO& io = ImGui::GetIO();
-  if (input_queue_.next_frame(input_state_) > 0) last_input_ = std::chrono::steady_clock::now();
+  // WantTextInput is last frame's: whether a text field has the keyboard now.
+  if (input_queue_.next_frame(input_state_, io.WantTextInput) > 0) last_input_ = std::chrono::steady_clock::now();
   const InputFrame& in = input_state_;
   for (int k = 0; k < InputFrame::kKeys && k < IM_ARRAYSIZE(io.KeysDown); ++k)
     io.KeysDown[k] = in.keys[static_cast<std::size_t>(k)];
@@ -291,6 +304,9 @@ void App::feed_queued_input() {
   // pointer is outside an unfocused window, where the backend reports none).
   if (in.has_pointer && io.MousePos.x > -FLT_MAX)
     io.MousePos = ImVec2(static_cast<float>(in.pointer.x), static_cast<float>(in.pointer.y));
+  // A screenshot shows no hover: wherever the display's pointer rests (Xvfb: its center, over a node now that
+  // files open at a readable zoom), it opens no tooltip.
+  if (!options_.screenshot.empty()) io.MousePos = ImVec2(-FLT_MAX, -FLT_MAX);
   io.MouseWheelH += static_cast<float>(in.wheel.x);
   io.MouseWheel += static_cast<float>(in.wheel.y);
   for (unsigned c : in.chars) io.AddInputCharacter(c);
@@ -303,8 +319,23 @@ bool App::thumbnails_shown() const {
 }
 
 bool App::animating() const {
-  return evaluation_.preview_busy() || evaluation_.build_status().running || pending_request_ ||
-         std::any_of(input_state_.buttons.begin(), input_state_.buttons.end(), [](bool b) { return b; });
+  return evaluation_.preview_busy() || evaluation_.build_status().running || pending_request_;
+}
+
+LoopState App::loop_state() const {
+  LoopState s;
+  s.now = std::chrono::steady_clock::now();
+  s.input_pending = !input_queue_.empty();
+  s.redraw_frames = redraw_frames_;
+  s.busy = animating();
+  // Modifiers held alone change nothing on screen; other keys repeat, buttons drag.
+  s.held = std::any_of(input_state_.buttons.begin(), input_state_.buttons.end(), [](bool b) { return b; });
+  for (int k = 0; k < InputFrame::kKeys && !s.held; ++k)
+    s.held = input_state_.keys[static_cast<std::size_t>(k)] && (k < GLFW_KEY_LEFT_SHIFT || k > GLFW_KEY_RIGHT_SUPER);
+  if (last_input_ != std::chrono::steady_clock::time_point{}) s.last_input = last_input_;
+  if (last_frame_drawn_ != std::chrono::steady_clock::time_point{}) s.last_frame = last_frame_drawn_;
+  s.autosave_due = autosaver_.next_due(*document_);
+  return s;
 }
 
 void App::frame() {
@@ -450,9 +481,25 @@ void App::draw_menu_bar() {
   }
   if (ImGui::BeginMenu("Build")) {
     const auto status = evaluation_.build_status();
-    const auto& d = document_->graph().domain;
-    const std::string label = "Build at " + std::to_string(d.resolution.x) + " x " + std::to_string(d.resolution.y);
+    const auto choices = build_resolutions(document_->graph().domain);
+    const glm::ivec2 samples = build_samples();
+    const std::string label = "Build at " + std::to_string(samples.x) + " x " + std::to_string(samples.y);
     if (ImGui::MenuItem(label.c_str(), "Ctrl+B", false, !status.running)) start_build();
+    // The file's resolution, quick builds and the engines' sizes (those of orogen eval --resolution).
+    if (ImGui::BeginMenu("Resolution")) {
+      ImGui::TextDisabled("Samples on the graph's world rectangle (the file is not changed)");
+      auto kind = BuildResolution::Kind::File;
+      for (const auto& c : choices) {
+        if (c.kind != kind) {
+          kind = c.kind;
+          ImGui::Separator();
+          ImGui::TextDisabled("%s", kind == BuildResolution::Kind::Quick ? "Quick" : "Game engines");
+        }
+        const bool chosen = c.kind == BuildResolution::Kind::File ? build_choice_.empty() : build_choice_ == c.name;
+        if (ImGui::MenuItem(c.label().c_str(), nullptr, chosen)) build_choice_ = c.name;
+      }
+      ImGui::EndMenu();
+    }
     if (ImGui::MenuItem("Cancel Build", nullptr, false, status.running)) evaluation_.cancel_build();
     ImGui::Separator();
     std::string dir = output_dir_.string();
@@ -487,7 +534,7 @@ void App::draw_panels() {
   canvas_view_->set_fonts(ImGui::GetIO().Fonts->Fonts[0], canvas_font_);
   canvas_view_->draw(previewed);
   if (frame_canvas_ && canvas_->view().size().x > 60) {
-    canvas_->frame(false);
+    canvas_->frame_opening();
     frame_canvas_ = false;
   }
   if (const auto& id = canvas_view_->double_clicked()) pinned_ = pinned_ == *id ? std::string() : *id;
@@ -615,11 +662,12 @@ void App::draw_status_bar(float height) {
     ImGui::SetCursorPosY(ImGui::GetCursorPosY() - 2);
     if (ImGui::SmallButton("Cancel")) evaluation_.cancel_build();
   } else if (build.finished) {
-    std::string text = build.cancelled ? "build cancelled"
-                       : build.ok
-                           ? "build done in " + format_duration(build.milliseconds) + " -> " + output_dir_.string() +
-                                 left_out_note(build.left_out)
-                           : "build failed: " + (build.failures.empty() ? std::string("?") : build.failures.front());
+    std::string text =
+        build.cancelled ? "build cancelled"
+        : build.ok      ? "build at " + std::to_string(build.domain.width()) + " x " +
+                         std::to_string(build.domain.height()) + " done in " + format_duration(build.milliseconds) +
+                         " -> " + output_dir_.string() + left_out_note(build.left_out)
+                   : "build failed: " + (build.failures.empty() ? std::string("?") : build.failures.front());
     const float w = ImGui::CalcTextSize(text.c_str()).x;
     ImGui::SameLine(std::max(200.0f, right - w));
     ImGui::TextColored(build.ok ? ImVec4(0.5f, 0.85f, 0.5f, 1) : ImVec4(0.95f, 0.45f, 0.4f, 1), "%s", text.c_str());
@@ -740,7 +788,7 @@ void App::draw_modals() {
           {"double-click a node", "pin the preview to it"},
           {"Ctrl+Z / Ctrl+Shift+Z", "undo / redo"},
           {"Ctrl+S, Ctrl+Shift+S, Ctrl+O, Ctrl+N", "save, save as, open, new"},
-          {"Ctrl+B", "build at full resolution"},
+          {"Ctrl+B", "build (resolution: Build > Resolution)"},
           {"3D: left / right drag, wheel, F", "orbit / pan, zoom, frame"},
       };
       if (ImGui::BeginTable("##keys", 2, ImGuiTableFlags_RowBg)) {
@@ -826,6 +874,7 @@ void App::set_document(std::unique_ptr<Document> document) {
   requested_revision_ = ~std::uint64_t(0);
   thumbnails_revision_ = 0;
   frame_canvas_ = true;
+  build_choice_.clear();  // another file: its own resolution
 }
 
 void App::open_file(const std::filesystem::path& path) {
@@ -1071,11 +1120,19 @@ PreviewContent App::scene_content(const std::string& node, const SceneSources& s
   return c;
 }
 
+glm::ivec2 App::build_samples() const {
+  const auto& domain = document_->graph().domain;
+  if (!build_choice_.empty())
+    for (const auto& c : build_resolutions(domain))
+      if (c.name == build_choice_) return c.samples;
+  return domain.resolution;
+}
+
 void App::start_build() {
   if (evaluation_.build_status().running) return;
   OutputPolicy policy;
   policy.output_dir = output_dir_;
-  evaluation_.start_build(document_->graph(), policy);
+  evaluation_.start_build(graph_at_resolution(document_->graph(), build_samples()), policy);
 }
 
 }  // namespace orogen::editor

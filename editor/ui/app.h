@@ -13,6 +13,7 @@
 #include "editor/model/canvas_controller.h"
 #include "editor/model/document.h"
 #include "editor/model/evaluation_controller.h"
+#include "editor/model/frame_pacing.h"
 #include "editor/model/input_queue.h"
 #include "editor/model/node_library_preferences.h"
 #include "editor/model/recent_files.h"
@@ -75,6 +76,7 @@ class App {
   void install_input_callbacks();
   void feed_queued_input();       // after the backend's NewFrame: this frame's share of the queued events
   bool animating() const;         // something changes on screen without input
+  LoopState loop_state() const;   // what decides when the next frame is drawn (model/frame_pacing.h)
   bool thumbnails_shown() const;  // the canvas shows thumbnails of the current content (or none are wanted)
   void draw_menu_bar();
   void draw_panels();
@@ -102,6 +104,7 @@ class App {
 
   // Build.
   void start_build();
+  glm::ivec2 build_samples() const;  // the resolution Build > Resolution chose (the file's by default)
 
   void show_error(std::string text) { error_text_ = std::move(text); }
 
@@ -155,6 +158,7 @@ class App {
   float preview_fraction_ = 0.56f;
 
   std::filesystem::path output_dir_ = "out";
+  std::string build_choice_;  // BuildResolution::name chosen in Build > Resolution ("" the file's)
   std::string title_;
   bool quit_ = false;
   int frame_count_ = 0;
@@ -163,7 +167,9 @@ class App {
   InputQueue input_queue_;
   InputFrame input_state_;
   int redraw_frames_ = 3;  // frames still to draw before waiting for events
+  bool was_busy_ = false;  // a preview or build ran at the previous frame
   std::chrono::steady_clock::time_point last_input_{};
+  std::chrono::steady_clock::time_point last_frame_drawn_{};  // when the last frame started
 };
 
 }  // namespace orogen::editor

@@ -1,5 +1,6 @@
 #include "editor/ui/inspector.h"
 
+#include <algorithm>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
+#include "editor/model/text_summary.h"
 #include "editor/ui/curve_editor.h"
 #include "editor/ui/table_editor.h"
 #include "editor/ui/theme.h"
@@ -126,16 +128,41 @@ void Inspector::draw_node(Document& document, Selection& selection, const Node& 
   }
   ImGui::TextDisabled("%s  /  %s  v%d", node.type->category.c_str(), node.type->name.c_str(), node.type->version);
   if (!node.type->library.empty()) ImGui::TextDisabled("from node library %s", node.type->library.c_str());
+  // The description in a few lines, so that a long one (a citation, the attributes a node writes) does not
+  // push the parameters out of view: "more" shows it whole, hovering shows it in a tooltip.
+  bool cut = false;
   if (!node.type->description.empty()) {
-    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + ImGui::GetContentRegionAvail().x - 6.0f);
-    ImGui::TextUnformatted(node.type->description.c_str());
-    ImGui::PopTextWrapPos();
+    const float width = ImGui::GetContentRegionAvail().x - 6.0f;
+    const bool whole = description_open_ == node.type->name;
+    const TextSummary summary =
+        summarize_text(node.type->description, width, whole ? 0 : kDescriptionLines,
+                       [](std::string_view t) { return ImGui::CalcTextSize(t.data(), t.data() + t.size()).x; });
+    cut = summary.cut || whole;
+    ImGui::BeginGroup();
+    for (const auto& line : summary.lines) ImGui::TextUnformatted(line.c_str());
+    ImGui::EndGroup();
+    if (summary.cut && ImGui::IsItemHovered()) {
+      ImGui::BeginTooltip();
+      ImGui::PushTextWrapPos(ImGui::GetFontSize() * 32.0f);
+      ImGui::TextUnformatted(node.type->description.c_str());
+      ImGui::PopTextWrapPos();
+      ImGui::EndTooltip();
+    }
   }
   const NodeRunState state = evaluation_.node_state(node.id);
   ImGui::TextColored(ImColor(theme::status_color(state.phase)), "%s", std::string(to_string(state.phase)).c_str());
   if (state.milliseconds > 0.0) {
     ImGui::SameLine();
     ImGui::TextDisabled("last computed in %.1f ms", state.milliseconds);
+  }
+  if (cut) {
+    const bool whole = description_open_ == node.type->name;
+    const char* label = whole ? "less" : "more";
+    ImGui::SameLine(std::max(ImGui::GetCursorPosX() + 8.0f,
+                             ImGui::GetWindowContentRegionMax().x - ImGui::CalcTextSize(label).x - 26.0f));
+    if (ImGui::SmallButton(label)) description_open_ = whole ? std::string() : node.type->name;
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip(whole ? "Show the description in a few lines" : "Show the whole description");
   }
   if (!state.message.empty()) {
     ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + ImGui::GetContentRegionAvail().x - 6.0f);

@@ -33,6 +33,9 @@ class Inspector {
   std::map<std::string, std::string> text_;  // in-progress text of string and path fields, by node.param
   std::string rename_of_, rename_text_;
   std::string error_key_, error_;
+  // Node descriptions take at most this many lines unless the type's is shown whole ("more").
+  static constexpr int kDescriptionLines = 3;
+  std::string description_open_;  // the node type whose description is shown whole
 };
 
 }  // namespace orogen::editor

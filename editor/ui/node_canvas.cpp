@@ -1,6 +1,7 @@
 #include "editor/ui/node_canvas.h"
 
 #include "editor/model/preview_image.h"
+#include "editor/model/text_summary.h"
 
 #include <algorithm>
 #include <cfloat>
@@ -534,9 +535,12 @@ void NodeCanvasView::draw_palette() {
   bool confirm = ImGui::IsKeyPressed(GLFW_KEY_ENTER) || ImGui::IsKeyPressed(GLFW_KEY_KP_ENTER);
   const bool cancel = ImGui::IsKeyPressed(GLFW_KEY_ESCAPE);
 
+  // One size whatever the results: a list of kVisibleRows rows and a description of kDescriptionLines lines
+  // (the whole of it on hover), so the palette stays where it is as typing narrows the results.
   const auto& results = palette.results();
-  const int shown = std::min<int>(static_cast<int>(results.size()), 14);
-  ImGui::BeginChild("##results", {0, shown * ImGui::GetTextLineHeightWithSpacing() + 6}, false);
+  const float row_h = ImGui::GetTextLineHeightWithSpacing();
+  ImGui::BeginChild("##results", {0, PaletteState::kVisibleRows * row_h + 6}, false);
+  if (results.empty()) ImGui::TextDisabled("No node type matches.");
   for (int k = 0; k < static_cast<int>(results.size()); ++k) {
     const NodeType* t = results[static_cast<std::size_t>(k)].type;
     ImGui::PushID(k);
@@ -569,14 +573,23 @@ void NodeCanvasView::draw_palette() {
     ImGui::PopID();
   }
   ImGui::EndChild();
-  if (const NodeType* t = palette.choice(); t && !t->description.empty()) {
-    ImGui::Separator();
-    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + 300);
-    ImGui::TextDisabled("%s", t->description.c_str());
+  ImGui::Separator();
+  const float wrap = ImGui::GetContentRegionAvail().x;
+  const NodeType* described = palette.choice();
+  const TextSummary summary =
+      summarize_text(described ? described->description : std::string(), wrap, PaletteState::kDescriptionLines,
+                     [](std::string_view s) { return ImGui::CalcTextSize(s.data(), s.data() + s.size()).x; });
+  ImGui::BeginChild("##description", {0, PaletteState::kDescriptionLines * ImGui::GetTextLineHeightWithSpacing()},
+                    false, ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+  for (const auto& line : summary.lines) ImGui::TextDisabled("%s", line.c_str());
+  if (summary.cut && ImGui::IsWindowHovered()) {
+    ImGui::BeginTooltip();
+    ImGui::PushTextWrapPos(ImGui::GetFontSize() * 28.0f);
+    ImGui::TextUnformatted(described->description.c_str());
     ImGui::PopTextWrapPos();
-  } else if (results.empty()) {
-    ImGui::TextDisabled("No node type matches.");
+    ImGui::EndTooltip();
   }
+  ImGui::EndChild();
   palette_size_ = {ImGui::GetWindowSize().x, ImGui::GetWindowSize().y};
   ImGui::End();
 

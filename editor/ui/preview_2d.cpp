@@ -421,8 +421,9 @@ void Preview2D::draw(const PreviewContent& content) {
     }
     ImGui::Text("x %.1f m  y %.1f m%s", w.x, w.y, value);
   } else {
-    ImGui::TextDisabled("%s.%s   %d x %d samples, spacing %.3g m", content.node.c_str(), content.port.c_str(),
-                        domain->width(), domain->height(), domain->spacing.x);
+    // What the value is (a polygon map's frame is not a raster: its cells and extent are said).
+    const std::string what = describe_preview_value(content.value, content.backdrop.get());
+    ImGui::TextDisabled("%s.%s   %s", content.node.c_str(), content.port.c_str(), what.c_str());
   }
 }
 

@@ -1,6 +1,7 @@
 // Canvas math: zoom around the cursor, panning, framing, node geometry and hit testing.
 #include <gtest/gtest.h>
 
+#include "editor/model/canvas_controller.h"
 #include "editor/model/canvas_view.h"
 #include "editor/model/node_layout.h"
 #include "support/editor_test_support.h"
@@ -58,6 +59,44 @@ TEST(CanvasView, FrameFitsTheRectangle) {
   EXPECT_TRUE(v.visible().contains(box.max));
   expect_near(v.to_screen(box.center()), {500, 250}, 1e-9);
   EXPECT_NEAR(v.zoom(), 920.0 / 1000.0, 1e-12);  // width-limited: (1000 - 80) / 1000 < (500 - 80) / 400
+}
+
+TEST(CanvasView, TheOpeningViewIsReadableAndStartsAtTheTopLeft) {
+  CanvasView v;
+  v.set_viewport({10, 20}, {800, 600});
+  const Rect wide{{-100, 50}, {3900, 550}};  // fits only at 0.18: titles would be 2.5 px
+  v.frame_readable(wide, CanvasView::kReadableZoom, 40);
+  EXPECT_DOUBLE_EQ(v.zoom(), CanvasView::kReadableZoom);
+  EXPECT_NEAR(v.to_screen(wide.min).x, 10 + 40, 1e-9) << "x overflows: its start at the margin";
+  EXPECT_NEAR(v.to_screen(wide.center()).y, 20 + 300, 1e-9) << "y fits (500 x 0.75 + 80 < 600): centered";
+
+  const Rect small{{0, 0}, {300, 200}};  // fits at more than the readable zoom: as Home frames it
+  CanvasView home = v;
+  home.frame(small, 40);
+  v.frame_readable(small, CanvasView::kReadableZoom, 40);
+  EXPECT_DOUBLE_EQ(v.zoom(), home.zoom());
+  expect_near(v.scroll(), home.scroll());
+}
+
+TEST(CanvasView, SeamscapeOpensWithReadableTitles) {
+  // The example of the report: 43 nodes in a canvas of 1020 x 820 pixels (a 1600 x 900 window).
+  Document doc = Document::open(std::filesystem::path(OROGEN_SOURCE_DIR) / "graphs/seamscape.json");
+  Selection sel;
+  CanvasController canvas(doc, sel);
+  canvas.view().set_viewport({0, 22}, {1020, 820});
+  canvas.frame(false);
+  EXPECT_LT(canvas.view().zoom(), CanvasView::kReadableZoom) << "Home fits it all, too small to read";
+  canvas.frame_opening();
+  const CanvasView& v = canvas.view();
+  EXPECT_GE(v.zoom(), CanvasView::kReadableZoom);
+  // The first node of the flow (the top-left one) has its title bar on screen.
+  const auto& nodes = canvas.layout().nodes();
+  ASSERT_FALSE(nodes.empty());
+  const auto first = std::min_element(nodes.begin(), nodes.end(), [](const auto& a, const auto& b) {
+    return a.rect.min.x + a.rect.min.y < b.rect.min.x + b.rect.min.y;
+  });
+  const Rect title = v.to_screen(first->title);
+  EXPECT_TRUE(v.viewport().contains(title.min) && v.viewport().contains(title.max)) << first->id;
 }
 
 TEST(NodeLayout, PinsSitOnTheEdgesInDeclarationOrder) {

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "cli/resolution_presets.h"
+#include "editor/model/build_resolutions.h"
 #include "editor/model/document.h"
 #include "editor/model/evaluation_controller.h"
 #include "support/editor_test_support.h"
@@ -149,6 +151,65 @@ TEST(EvaluationController, BuildEvaluatesAtFullResolution) {
   EXPECT_FALSE(status.running);
   EXPECT_EQ(status.fraction, 1.0);
   EXPECT_EQ(status.domain.resolution, glm::ivec2(200, 100));
+}
+
+TEST(BuildResolutions, TheFilesQuickSizesAndTheEnginePresetsWithSquareCells) {
+  GraphDomain d;
+  d.size = {4096, 4096};
+  d.resolution = {257, 257};
+  auto choices = build_resolutions(d);
+  ASSERT_FALSE(choices.empty());
+  EXPECT_EQ(choices.front().kind, BuildResolution::Kind::File);
+  EXPECT_EQ(choices.front().samples, glm::ivec2(257, 257));
+  EXPECT_EQ(choices.front().label(), "257 x 257 (the file's)");
+  const auto find = [&](const std::string& name) -> const BuildResolution* {
+    for (const auto& c : choices)
+      if (c.name == name) return &c;
+    return nullptr;
+  };
+  ASSERT_TRUE(find("129"));
+  EXPECT_EQ(find("129")->samples, glm::ivec2(129, 129));
+  EXPECT_FALSE(find("257")) << "the file's size is offered once";
+  // Every preset of the CLI's table, from that table.
+  for (const auto& p : cli::resolution_presets()) {
+    ASSERT_TRUE(find(p.name)) << p.name;
+    EXPECT_EQ(find(p.name)->samples, glm::ivec2(p.samples, p.samples));
+  }
+  EXPECT_EQ(find("unreal-1009")->label(), "unreal-1009: 1009 x 1009");
+
+  // A domain twice as wide as high: y follows the aspect, as orogen eval --resolution N does.
+  d.size = {4096, 2048};
+  d.resolution = {513, 257};
+  choices = build_resolutions(d);
+  EXPECT_EQ(find("129")->samples, glm::ivec2(129, 65));
+  EXPECT_EQ(find("unreal-1009")->samples, glm::ivec2(1009, 505));
+  // An awkward aspect: only the sizes that keep square cells are offered.
+  d.size = {1000, 333};
+  d.resolution = {1001, 334};
+  choices = build_resolutions(d);
+  EXPECT_LT(choices.size(), 5 + cli::resolution_presets().size());
+  for (const auto& c : choices) {
+    const double sx = d.size.x / (c.samples.x - 1), sy = d.size.y / (c.samples.y - 1);
+    EXPECT_NEAR(sx, sy, 1e-9 * sx) << c.label();
+  }
+}
+
+TEST(EvaluationController, BuildAtAChosenResolutionKeepsTheWorld) {
+  EvaluationController ec;
+  Graph g = test::chain_graph();
+  g.domain.size = {1000, 500};
+  g.domain.resolution = {201, 101};
+  const auto choices = build_resolutions(g.domain);
+  const auto quick = std::find_if(choices.begin(), choices.end(), [](const auto& c) { return c.name == "129"; });
+  ASSERT_NE(quick, choices.end());
+  OutputPolicy policy;
+  policy.output_dir = test::scratch_dir("build_resolution");
+  ec.start_build(graph_at_resolution(g, quick->samples), policy);
+  ec.wait_idle();
+  const auto status = ec.build_status();
+  EXPECT_TRUE(status.ok);
+  EXPECT_EQ(status.domain.resolution, glm::ivec2(129, 65));
+  EXPECT_EQ(status.domain.size(), glm::dvec2(1000, 500)) << "the same world rectangle";
 }
 
 TEST(EvaluationController, BuildLeavesOutANodeNotWiredYet) {

@@ -1,5 +1,8 @@
 // The input queue: a key tapped between two frames is seen pressed in exactly one frame, with the modifiers
 // it was pressed with, however slow the frames; releases and moves are not delayed behind nothing.
+#include <cctype>
+#include <string>
+
 #include <gtest/gtest.h>
 
 #include "editor/model/input_queue.h"
@@ -12,6 +15,19 @@ constexpr int kCtrl = 341, kShift = 340, kZ = 90;  // GLFW_KEY_LEFT_CONTROL, GLF
 RawInput key(int code, bool down) { return {RawInput::Kind::Key, code, down, {}}; }
 RawInput button(int b, bool down) { return {RawInput::Kind::Button, b, down, {}}; }
 RawInput move(double x, double y) { return {RawInput::Kind::Move, 0, false, {x, y}}; }
+RawInput chr(unsigned c) { return {RawInput::Kind::Char, static_cast<int>(c), false, {}}; }
+
+// What GLFW sends for a typed letter: the key (GLFW_KEY_A.. are the upper-case ASCII codes), then its character.
+void type(InputQueue& q, const std::string& text) {
+  for (char c : text) {
+    const int code = std::toupper(static_cast<unsigned char>(c));
+    q.push(key(code, true));
+    q.push(chr(static_cast<unsigned char>(c)));
+    q.push(key(code, false));
+  }
+}
+std::string text_of(const InputFrame& f) { return std::string(f.chars.begin(), f.chars.end()); }
+constexpr int kBackspace = 259, kA = 65;  // GLFW_KEY_BACKSPACE, GLFW_KEY_A
 
 // What ImGui 1.86 does with the state it is given each frame: a key is "pressed" in a frame when it is down
 // and was not at the previous frame; Ctrl+Z undoes when Z is pressed while Ctrl is down.
@@ -141,6 +157,57 @@ TEST(InputQueue, WheelAndTextAreThisFramesOnly) {
   q.next_frame(state);
   EXPECT_EQ(state.wheel, glm::dvec2(0, 0));
   EXPECT_TRUE(state.chars.empty());
+}
+
+TEST(InputQueue, SixteenCharactersTypedDuringOneFrameArriveInTheNext) {
+  // A text field has the keyboard: typing must not take a frame per character (16 frames of a slow UI are seconds).
+  InputQueue q;
+  InputFrame state;
+  type(q, "ridges aa valley");  // 16 characters, a letter twice in a row among them
+  EXPECT_EQ(q.next_frame(state, /*typing=*/true), 48u);
+  EXPECT_EQ(text_of(state), "ridges aa valley");
+  EXPECT_TRUE(q.empty());
+  for (bool down : state.keys) EXPECT_FALSE(down);
+}
+
+TEST(InputQueue, AnEditingKeyWhileTypingStillEndsItsFrameInOrder) {
+  // "ab", Backspace, "c": the field must see a, b, then the Backspace, then c (not c before the Backspace).
+  InputQueue q;
+  InputFrame state;
+  type(q, "ab");
+  q.push(key(kBackspace, true));
+  q.push(key(kBackspace, false));
+  type(q, "c");
+  q.next_frame(state, true);
+  EXPECT_EQ(text_of(state), "ab");
+  EXPECT_TRUE(state.keys[kBackspace]) << "the Backspace press is seen down for a whole frame";
+  q.next_frame(state, true);
+  EXPECT_EQ(text_of(state), "c");
+  EXPECT_FALSE(state.keys[kBackspace]);
+  EXPECT_TRUE(q.empty());
+}
+
+TEST(InputQueue, ShortcutsWhileTypingAndLettersOnTheCanvasArePresses) {
+  // Ctrl+A in a field sends no character: a press like any other. On the canvas (not typing) a letter is a
+  // shortcut (F frames, X deletes): it must be seen pressed, so it still ends its frame.
+  InputQueue q;
+  InputFrame state;
+  q.push(key(kCtrl, true));
+  q.push(key(kA, true));
+  q.push(key(kA, false));
+  q.push(key(kCtrl, false));
+  q.next_frame(state, true);  // Ctrl
+  q.next_frame(state, true);
+  EXPECT_TRUE(state.keys[kA] && state.keys[kCtrl]);
+  while (!q.empty()) q.next_frame(state, true);
+
+  type(q, "fx");
+  q.next_frame(state, /*typing=*/false);
+  EXPECT_TRUE(state.keys['F']);
+  EXPECT_TRUE(state.chars.empty()) << "its character comes with the next frame";
+  q.next_frame(state, false);
+  EXPECT_EQ(text_of(state), "f");
+  EXPECT_TRUE(state.keys['X']);
 }
 
 }  // namespace

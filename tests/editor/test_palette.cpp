@@ -4,6 +4,7 @@
 
 #include "editor/model/fuzzy_match.h"
 #include "editor/model/palette.h"
+#include "editor/model/text_summary.h"
 
 namespace orogen::editor {
 namespace {
@@ -96,6 +97,60 @@ TEST_F(PaletteTest, StateTypesBackspacesAndHighlights) {
   EXPECT_EQ(p.highlighted(), static_cast<int>(storage.size()) - 1);
   p.move_highlight(-1000);
   EXPECT_EQ(p.highlighted(), 0);
+}
+
+TEST_F(PaletteTest, TheHighlightStaysOnTheChosenTypeAsTheFilterNarrows) {
+  PaletteState p(types());
+  p.type_text("er");
+  const auto index_of = [&p](std::string_view name) {
+    for (std::size_t k = 0; k < p.results().size(); ++k)
+      if (p.results()[k].type->name == name) return static_cast<int>(k);
+    return -1;
+  };
+  // Of the two erosions, the one that is not the best match of "er" (else the test proves nothing).
+  const std::string other = index_of("ThermalErosion") > 0 ? "ThermalErosion" : "HydraulicErosion";
+  const std::string best = other == "ThermalErosion" ? "HydraulicErosion" : "ThermalErosion";
+  ASSERT_GT(index_of(other), 0);
+  p.set_highlight(index_of(other));  // the user moved to it (arrows or pointer)
+  p.type_text("o");
+  ASSERT_GT(index_of(other), 0);
+  ASSERT_NE(p.choice(), nullptr);
+  EXPECT_EQ(p.choice()->name, other) << "typing on does not take the highlight away";
+  EXPECT_EQ(p.highlighted(), index_of(other));
+  p.set_query(best);  // it no longer matches: the best match is highlighted, and the choice is forgotten
+  EXPECT_EQ(p.choice()->name, best);
+  p.set_query("ero");
+  EXPECT_EQ(p.highlighted(), 0);
+
+  PaletteState q(types());  // without a move of the user's, the highlight follows the best match
+  q.type_text("ther");
+  q.type_text("m");
+  EXPECT_EQ(q.highlighted(), 0);
+  EXPECT_EQ(q.choice()->name, "ThermalErosion");
+}
+
+TEST(TextSummary, WrapsAtSpacesWithinTheWidth) {
+  const TextMeasure chars = [](std::string_view s) { return static_cast<double>(s.size()); };
+  EXPECT_EQ(wrap_text("aaa bbb ccc", 7, chars), (std::vector<std::string>{"aaa bbb", "ccc"}));
+  EXPECT_EQ(wrap_text("a verylongword b", 5, chars), (std::vector<std::string>{"a", "verylongword", "b"}));
+  EXPECT_EQ(wrap_text("one\ntwo three", 20, chars), (std::vector<std::string>{"one", "two three"}));
+  EXPECT_EQ(wrap_text("", 20, chars), (std::vector<std::string>{""}));
+}
+
+TEST(TextSummary, ALongDescriptionIsCutToItsLinesWithAnEllipsis) {
+  const TextMeasure chars = [](std::string_view s) { return static_cast<double>(s.size()); };
+  std::string text;
+  for (int k = 0; k < 60; ++k) text += "word" + std::to_string(k) + " ";
+  const TextSummary s = summarize_text(text, 24, 3, chars);
+  ASSERT_EQ(s.lines.size(), 3u);
+  EXPECT_TRUE(s.cut);
+  for (const auto& line : s.lines) EXPECT_LE(line.size(), 24u) << line;
+  EXPECT_TRUE(s.lines.back().ends_with("...")) << s.lines.back();
+  EXPECT_EQ(s.lines.front().rfind("word0 word1", 0), 0u);
+
+  const TextSummary shorter = summarize_text("Gradient noise on a lattice.", 24, 3, chars);
+  EXPECT_FALSE(shorter.cut);
+  EXPECT_EQ(shorter.lines, (std::vector<std::string>{"Gradient noise on a", "lattice."}));
 }
 
 TEST(PlacePopup, StaysInsideTheWindowNearEveryEdge) {

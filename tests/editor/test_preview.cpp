@@ -10,6 +10,7 @@
 #include "editor/model/scene_preview.h"
 #include "editor/model/terrain_mesh.h"
 #include "graph/graph.h"
+#include "graph/polygon_map.h"
 #include "nodes/common/categorical_palette.h"
 
 #include <algorithm>
@@ -23,6 +24,28 @@ Heightfield ramp_x(int n, float slope) {
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) h.at(i, j) = slope * static_cast<float>(h.domain.x(i));
   return h;
+}
+
+TEST(PreviewLabel, APolygonMapIsDescribedByItsCellsAndExtentNotAsARaster) {
+  // The 2D preview frames a polygon map by its rectangle; the label said "2 x 2 samples, spacing 4.1e+03 m".
+  auto map = std::make_shared<PolygonMap>();
+  map->min_corner = {0, 0};
+  map->max_corner = {4096, 4096};
+  map->cells.resize(3);
+  map->edges.resize(7);
+  const std::string label = describe_preview_value(PolygonMapPtr(map));
+  EXPECT_EQ(label, "polygon map: 3 cells, 7 edges over 4096 m x 4096 m");
+
+  const auto field = std::make_shared<Heightfield>(Domain::from_extent({0, 0}, {4096, 4096}, {257, 257}));
+  EXPECT_EQ(describe_preview_value(HeightfieldPtr(field)), "257 x 257 samples, spacing 16 m");
+  const auto odd = std::make_shared<Heightfield>(Domain::from_extent({0, 0}, {4096, 4096}, {256, 256}));
+  EXPECT_EQ(describe_preview_value(HeightfieldPtr(odd)), "256 x 256 samples, spacing 16.06 m");
+  // Over a terrain: the map is still cells; the raster is the terrain's.
+  EXPECT_EQ(describe_preview_value(PolygonMapPtr(map), field.get()),
+            "polygon map: 3 cells, 7 edges over 4096 m x 4096 m on 257 x 257 samples, spacing 16 m");
+  auto points = std::make_shared<Points>();
+  points->position.resize(1);
+  EXPECT_EQ(describe_preview_value(PointsPtr(points)), "1 point");
 }
 
 TEST(ColorMap, EndpointsAndClamping) {
