@@ -106,6 +106,13 @@ Points inside(const Points& pts, glm::dvec2 lo, glm::dvec2 hi) {
   return out;
 }
 
+std::vector<glm::dvec2> positions(const Points& pts) {
+  std::vector<glm::dvec2> out;
+  out.reserve(pts.size());
+  for (const auto& q : pts.position) out.emplace_back(q.x, q.y);
+  return out;
+}
+
 // A smooth density over a large world rectangle (covers every request and its halo).
 std::shared_ptr<Heightfield> density_field(double lo_value, double hi_value) {
   auto h = std::make_shared<Heightfield>(Domain::from_extent({-2000, -2000}, {4000, 4000}, {401, 401}));
@@ -219,19 +226,46 @@ TEST(PoissonDisk, ConstantRadiusPathTileInvariantDeterministicAndMaximal) {
   EXPECT_LT(per_r2, 0.76);
 }
 
+// fill_border off: the plane's sampling cropped to the domain, tile invariant. On (the default): the domain is
+// sampled up to its edges, so a tile's points differ from the whole domain's near the tile's edges only.
 TEST(PoissonDisk, NodeIsResolutionIndependentAndTileInvariant) {
   const Domain coarse = Domain::from_extent({1000, -500}, {400, 300}, {65, 49});
   const Domain fine = Domain::from_extent({1000, -500}, {400, 300}, {257, 193});
-  const std::map<std::string, ParamValue> params{
-      {"class_count", std::int64_t{2}}, {"radius_0", 6.0}, {"radius_1", 2.0}, {"seed", std::uint64_t{9}}};
-  const auto a = run_node("PoissonDisk", coarse, params).get<Points>();
-  const auto b = run_node("PoissonDisk", fine, params).get<Points>();
-  EXPECT_GT(a->size(), 1000u);
-  EXPECT_TRUE(same_points(*a, *b));
-  // A tile of the fine lattice.
   const Domain tile = fine.subdomain(40, 30, 100, 80);
-  const auto t = run_node("PoissonDisk", tile, params).get<Points>();
-  EXPECT_TRUE(same_points(*t, inside(*b, tile.min_corner(), tile.max_corner())));
+  for (const bool border : {false, true}) {
+    const std::map<std::string, ParamValue> params{{"class_count", std::int64_t{2}},
+                                                   {"radius_0", 6.0},
+                                                   {"radius_1", 2.0},
+                                                   {"seed", std::uint64_t{9}},
+                                                   {"fill_border", border}};
+    const auto a = run_node("PoissonDisk", coarse, params).get<Points>();
+    const auto b = run_node("PoissonDisk", fine, params).get<Points>();
+    EXPECT_GT(a->size(), 1000u);
+    EXPECT_TRUE(same_points(*a, *b)) << border;
+    const auto t = run_node("PoissonDisk", tile, params).get<Points>();
+    const glm::dvec2 lo = tile.min_corner(), hi = tile.max_corner();
+    if (!border) {
+      EXPECT_TRUE(same_points(*t, inside(*b, lo, hi)));
+      continue;
+    }
+    // The tile is sampled on its own up to its edges: its points stay inside, keep their distances, and are
+    // more than the whole domain's sampling has inside the tile (those leave the tile's edges uncovered).
+    for (const auto& q : t->position) EXPECT_TRUE(q.x >= lo.x && q.x <= hi.x && q.y >= lo.y && q.y <= hi.y);
+    PoissonParams p;
+    p.classes = {{6.0, 0, nullptr}, {2.0, 1, nullptr}};
+    expect_min_distance(*t, p);
+    EXPECT_GT(t->size(), inside(*b, lo, hi).size());
+  }
+}
+
+// The node with one class: maximal on its domain, edges included (fill_border, the default).
+TEST(PoissonDisk, NodeFillsItsDomainUpToTheEdges) {
+  const Domain d = Domain::from_extent({-40, 25}, {90, 70}, {131, 71});
+  const auto pts = run_node("PoissonDisk", d, {{"radius_0", 1.5}, {"seed", std::uint64_t{4}}}).get<Points>();
+  EXPECT_GT(pts->size(), 1500u);
+  const auto c = testing::empty_circles(positions(*pts), 1.5, d.min_corner(), d.max_corner(), testing::float_tolerance);
+  EXPECT_EQ(c.interior + c.border, 0u) << c.worst_interior << " " << c.worst_border;
+  EXPECT_GE(c.shortest, 1.5);
 }
 
 TEST(PoissonDisk, CrossClassSeparation) {
@@ -333,13 +367,6 @@ TEST(PoissonDisk, GuaranteeHoldsAtLargeCoordinates) {
   const Points pts = poisson_disk({10000, 10000}, {10030, 10020}, p);
   EXPECT_GT(pts.size(), 1000u);
   expect_min_distance(pts, p);
-}
-
-std::vector<glm::dvec2> positions(const Points& pts) {
-  std::vector<glm::dvec2> out;
-  out.reserve(pts.size());
-  for (const auto& q : pts.position) out.emplace_back(q.x, q.y);
-  return out;
 }
 
 // Maximal sampling checked exactly, on the Delaunay triangulation of the output (testing::empty_circles): no
