@@ -456,6 +456,11 @@ TEST(PoissonDisk, DISABLED_MeasureFreeSpots) {
   p.bounds_lo = lo;
   p.bounds_hi = hi;
   report("bounded to [0, side]", poisson_disk(lo, hi, p), lo, hi);
+  // The general sampler: the same radius through a density field of 1 (radius constant, not the fast path).
+  auto one = std::make_shared<Heightfield>(Domain::from_extent(lo - 400.0, hi - lo + 800.0, {65, 65}));
+  for (float& v : one->data) v = 1.0f;
+  p.density = one.get();
+  report("general sampler, bounded to [0, side]", poisson_disk(lo, hi, p), lo, hi);
 }
 
 TEST(PoissonDisk, RefusesWhatItCannotHonour) {

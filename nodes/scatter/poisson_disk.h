@@ -28,8 +28,12 @@
 // cannot prove covered with the cell's farthest spot from the points (a circumcentre of three, a crossing of
 // a bisector and an edge, or a corner, found exactly in double) and places a point there when it is free.
 // Checked on the output's Delaunay triangulation (tests/support/empty_circles.h). The general sampler
-// (variable radius, several classes) ends its quadtree with darts at the cells' centres: maximal up to spots
-// narrower than its finest cell (the class cell / 256) that a centre dart misses.
+// (variable radius, several classes: a spot is free for class k when every point is at least the conflict
+// distance for the local radius there away) fills gaps by darts on a quadtree and is maximal only up to gaps
+// narrower than its finest cells: from a 32nd of the class's grid cell on, a quadtree cell whose corners and
+// centre are blocked is dropped, and after 8 levels a dart at each remaining cell's centre ends the search.
+// Measured with one class of constant radius routed through it (a density field of 1; r = 5 m, 1 km square):
+// 200 interior spots free by up to 3.6 cm among 27,925 points, none on the edges of the bounded rectangle.
 //
 // Speed: one class of constant radius (no density, no mask) takes a fast path with the same chunks, phases
 // and guarantees: a background grid aligned with the chunk and padded so a 5 x 5 window needs no bounds
