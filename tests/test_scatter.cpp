@@ -373,8 +373,9 @@ TEST(PoissonDisk, GuaranteeHoldsAtLargeCoordinates) {
 // spot of the rectangle, its edges included, is r or farther from every point, up to two float steps at the
 // spot (the sampler stores float positions; a spot free by less may hold no free float). The fast path
 // (one radius), bounded to the rectangle and unbounded (the plane's sampling, checked inside the request).
-// Before the farthest-spot step (a gap the darts missed stayed free) and the bounded mode (the crop left gaps
-// up to 1.8 r along the edges) this found 5 interior and 62 border spots on the unbounded sampling's output.
+// The sampler before the farthest-spot step and the bounded mode failed this: the plane's sampling had 6 free
+// interior spots here (by up to 0.63 mm at r = 1 m: gaps the darts missed), its crop 29 interior and 133
+// border ones (by up to 0.56 m: the points that covered them lay beyond the edges).
 TEST(PoissonDisk, MaximalOnTheDelaunayTriangulation) {
   const glm::dvec2 lo{-61.5, 20.25}, hi{58.5, 110.75};
   PoissonParams p = one_class(1.0, 23);
