@@ -30,18 +30,12 @@
 // Checked on the output's Delaunay triangulation (tests/support/empty_circles.h). The general sampler
 // (variable radius, several classes: a spot is free for class k when every point is at least the conflict
 // distance for the local radius there away) fills gaps by darts on a quadtree and is maximal only up to gaps
-// narrower than its finest cells: from a 32nd of the class's grid cell on, a quadtree cell whose corners and
-// centre are blocked is dropped, and after 8 levels a dart at each remaining cell's centre ends the search.
-// Measured with one class of constant radius routed through it (a density field of 1; r = 5 m, 1 km square):
-// 200 interior spots free by up to 3.6 cm among 27,925 points, none on the edges of the bounded rectangle.
-//
-// Speed: one class of constant radius (no density, no mask) takes a fast path with the same chunks, phases
-// and guarantees: a background grid aligned with the chunk and padded so a 5 x 5 window needs no bounds
-// checks, Bridson's neighbour test filtered in float on grid-relative positions (the double test decides
-// within a 1e-4 margin of r^2), candidates drawn directly in the annulus (no rejection) in blocks, per-thread
-// scratch memory, and gap filling cell by cell: a bitmask of sub-squares inside one disk proves most cells
-// covered, the rest get darts and an exact coverage test (a rectangle has room iff a vertex of its free part,
-// a corner or a crossing of circles and edges, lies outside every other disk).
+// narrower than its finest cells: a cell that two exclusion disks do not cover refines down to a 1024th of
+// the class's grid cell, where a dart at its centre ends the search; along the borders of a density's support
+// (masks) cells stop at a 32nd when their corners and centre are blocked. Measured with one class of constant
+// radius routed through it (a density field of 1; r = 5 m, 2 km square, bounded): 21 interior spots free by
+// up to 1.3 mm among 112,270 points (before the finer quadtree: 837 by up to 4.1 cm), none on the edges.
+
 #include <cstdint>
 #include <vector>
 

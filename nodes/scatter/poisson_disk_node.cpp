@@ -23,15 +23,15 @@ OROGEN_NODE(PoissonDisk) {
       "phase order of Wei (2008), \"Parallel Poisson disk sampling\", and completed by the gap filling of Ebeida "
       "et al. (2011), \"Efficient maximal Poisson-disk sampling\", so the sampling is maximal: exactly (up to the "
       "float rounding of positions) for one class without density or mask, up to gaps narrower than about a "
-      "32nd of r otherwise. Up to four classes (class ids first_class + 0..3), largest radius first; two classes "
-      "keep cross_separation * (r_i + r_j) / 2 apart. A density field makes the radius variable (r / "
-      "sqrt(density)), so counts follow the density. With fill_border (the default) the domain is sampled up to "
-      "its edges, which are filled like its interior. Without it the node returns the points of the plane's "
-      "sampling that fall inside the domain: tile invariant (the points inside any rectangle are the same "
-      "whichever domain asks, so tiles join seamlessly), but a spot within r of the domain's edge may be free, "
-      "its covering point lying beyond. Either way resolution independent and the same for any thread count "
-      "(density fields must cover the domain plus the halo of (4 * classes - 1) chunks of max(2 r_max, "
-      "8 r_min)). Output attribute: radius (m).");
+      "thousandth of r otherwise (a 45th along a mask's border). Up to four classes (class ids first_class + "
+      "0..3), largest radius first; two classes keep cross_separation * (r_i + r_j) / 2 apart. A density field "
+      "makes the radius variable (r / sqrt(density)), so counts follow the density. With fill_border (the "
+      "default) the domain is sampled up to its edges, which are filled like its interior. Without it the node "
+      "returns the points of the plane's sampling that fall inside the domain: tile invariant (the points inside "
+      "any rectangle are the same whichever domain asks, so tiles join seamlessly), but a spot within r of the "
+      "domain's edge may be free, its covering point lying beyond. Either way resolution independent and the "
+      "same for any thread count (density fields must cover the domain plus the halo of (4 * classes - 1) "
+      "chunks of max(2 r_max, 8 r_min)). Output attribute: radius (m).");
   b.input("density", PortType::Heightfield).optional().description("Density for every class, 0..1 (unitless)");
   b.input("mask", PortType::Heightfield).optional().description("Points only where mask >= 0.5 (unitless)");
   for (int k = 0; k < kPoissonSlots; ++k)

@@ -298,21 +298,23 @@ struct GeneralChunkSampler : PoissonPlan {
       const double r = varies ? local_radius(k, x, y) : p.classes[k].radius;
       return r <= 0.0 || !free_at(L, k, x, y, r);
     };
-    // Whether a cell may still hold a point: not inside one exclusion disk and, once cells are small (from
-    // level 5, a 32nd of the class cell across and less), not blocked at its corners and centre.
+    // Whether a cell may still hold a point: not inside one exclusion disk (or two), and where the density
+    // admits points. Cells that need three disks to be covered refine to the last level (a dart at each
+    // remaining cell's centre ends them); once small (from level 5, a 32nd of the class cell across), a cell
+    // that reaches a border of the density's support is dropped when its corners and centre are blocked, so
+    // masks' borders are resolved to that size and do not double the cells at every level.
     auto excluded = [&](double x, double y) { return local_radius(k, x, y) <= 0.0; };
     auto open = [&](const Rect& c, int level) {
-      // Where the density admits no point at the corners and the centre the cell is dropped (masks: their
-      // borders are resolved to the cell size, not beyond).
+      const double mx = 0.5 * (c.x0 + c.x1), my = 0.5 * (c.y0 + c.y1);
+      bool border = false;
       if (varies) {
-        const double mx = 0.5 * (c.x0 + c.x1), my = 0.5 * (c.y0 + c.y1);
-        if (excluded(mx, my) && excluded(c.x0, c.y0) && excluded(c.x1, c.y0) && excluded(c.x0, c.y1) &&
-            excluded(c.x1, c.y1))
-          return false;
+        const bool e[5] = {excluded(mx, my), excluded(c.x0, c.y0), excluded(c.x1, c.y0), excluded(c.x0, c.y1),
+                           excluded(c.x1, c.y1)};
+        if (e[0] && e[1] && e[2] && e[3] && e[4]) return false;  // no point admitted at the corners and centre
+        border = e[0] || e[1] || e[2] || e[3] || e[4];
       }
       if (covered(L, k, c.x0, c.y0, c.x1, c.y1)) return false;
-      if (level < 5) return true;
-      const double mx = 0.5 * (c.x0 + c.x1), my = 0.5 * (c.y0 + c.y1);
+      if (level < 5 || !border) return true;
       return !(point_blocked(mx, my) && point_blocked(c.x0, c.y0) && point_blocked(c.x1, c.y0) &&
                point_blocked(c.x0, c.y1) && point_blocked(c.x1, c.y1));
     };
@@ -329,7 +331,7 @@ struct GeneralChunkSampler : PoissonPlan {
         }
         if (c.x1 > c.x0 && c.y1 > c.y0 && open(c, 0)) cells.push_back(c);
       }
-    constexpr int kLevels = 8;
+    constexpr int kLevels = 10;  // down to a 1024th of the class cell
     for (int level = 0; level <= kLevels && !cells.empty(); ++level) {
       for (const Rect& c : cells)
         try_place(L, k, c.x0 + draw.next() * (c.x1 - c.x0), c.y0 + draw.next() * (c.y1 - c.y0));
