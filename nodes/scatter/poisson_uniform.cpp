@@ -156,11 +156,14 @@ struct UniformChunkSampler : PoissonPlan {
       if (!(maybe[0] | maybe[1] | maybe[2] | maybe[3])) return true;
       return free_at_cell(c, x, y);
     };
-    // Rounds a candidate to float; places it if inside the chunk and free.
+    // The chunk [ax0, ax1) x [ay0, ay1) within the closed sampled rectangle, as one half-open test (v <= b iff
+    // v < the double after b).
+    const double ex0 = std::max(ax0, bx0), ex1 = std::min(ax1, std::nextafter(bx1, INFINITY));
+    const double ey0 = std::max(ay0, by0), ey1 = std::min(ay1, std::nextafter(by1, INFINITY));
+    // Rounds a candidate to float; places it if inside the chunk and the sampled rectangle, and free.
     auto try_place = [&](double x, double y) {
       const double fx = to_float(x), fy = to_float(y);
-      if (!(fx >= ax0 && fx < ax1 && fy >= ay0 && fy < ay1)) return false;
-      if (!(fx >= bx0 && fx <= bx1 && fy >= by0 && fy <= by1)) return false;
+      if (!(fx >= ex0 && fx < ex1 && fy >= ey0 && fy < ey1)) return false;
       const int c = cell_of(fx, fy);
       if (!free_fast(c, fx, fy)) return false;
       gx[c] = fx;
