@@ -90,6 +90,9 @@ Points poisson_disk(glm::dvec2 lo, glm::dvec2 hi, const PoissonParams& p, const 
   if (!(p.cross_separation >= 0.0 && p.cross_separation <= 1.0))
     throw std::invalid_argument("PoissonDisk: cross_separation must be in [0, 1]");
   if (p.attempts < 1) throw std::invalid_argument("PoissonDisk: attempts must be >= 1");
+  if (p.bounded && !(p.bounds_lo.x <= p.bounds_hi.x && p.bounds_lo.y <= p.bounds_hi.y && std::isfinite(p.bounds_lo.x) &&
+                     std::isfinite(p.bounds_lo.y) && std::isfinite(p.bounds_hi.x) && std::isfinite(p.bounds_hi.y)))
+    throw std::invalid_argument("PoissonDisk: the sampled rectangle must be finite and not inverted");
 
   poisson::PoissonPlan s = poisson::make_plan(p);
   const std::size_t K = p.classes.size();

@@ -22,13 +22,20 @@
 // double against the stored (float) positions of their neighbours, so the minimum distance holds exactly for
 // the positions that are output, at any coordinate magnitude the request accepts.
 //
-// Speed: one class of constant radius (no density, no mask) takes a fast path with the same chunks, phases
-// and guarantees: a background grid aligned with the chunk and padded so a 5 x 5 window needs no bounds
-// checks, Bridson's neighbour test filtered in float on grid-relative positions (the double test decides
-// within a 1e-4 margin of r^2), candidates drawn directly in the annulus (no rejection) in blocks, per-thread
-// scratch memory, and gap filling cell by cell: a bitmask of sub-squares inside one disk proves most cells
-// covered, the rest get darts and an exact coverage test (a rectangle has room iff a vertex of its free part,
-// a corner or a crossing of circles and edges, lies outside every other disk).
+// Maximality (one class of constant radius r, the fast path): every spot of the sampled region (the plane,
+// or the bounded rectangle with its edges) is closer than r + 2 u to a point, u the float step at the spot's
+// coordinates (a spot free by less may hold no free float position). The gap filling ends each grid cell it
+// cannot prove covered with the cell's farthest spot from the points (a circumcentre of three, a crossing of
+// a bisector and an edge, or a corner, found exactly in double) and places a point there when it is free.
+// Checked on the output's Delaunay triangulation (tests/support/empty_circles.h). The general sampler
+// (variable radius, several classes: a spot is free for class k when every point is at least the conflict
+// distance for the local radius there away) fills gaps by darts on a quadtree and is maximal only up to gaps
+// narrower than its finest cells: a cell that two exclusion disks do not cover refines down to a 1024th of
+// the class's grid cell, where a dart at its centre ends the search; along the borders of a density's support
+// (masks) cells stop at a 32nd when their corners and centre are blocked. Measured with one class of constant
+// radius routed through it (a density field of 1; r = 5 m, 2 km square, bounded): 21 interior spots free by
+// up to 1.3 mm among 112,270 points (before the finer quadtree: 837 by up to 4.1 cm), none on the edges.
+
 #include <cstdint>
 #include <vector>
 
@@ -61,6 +68,12 @@ struct PoissonParams {
   // spends most of its time retiring active points; 8 gives the same density at about half the cost.
   int attempts = 8;
   bool fill_gaps = true;  // Ebeida's gap filling (maximal sampling)
+  // The region sampled. Unbounded (the default): the whole plane, of which each request gets the points inside
+  // it (tile invariant, but a spot within r of a request's edge may be free: the point that covers it lies
+  // beyond the edge). Bounded: points only inside the closed rectangle [bounds_lo, bounds_hi], which is filled
+  // up to its edges; requests inside it get its points (tile invariant among requests with the same bounds).
+  bool bounded = false;
+  glm::dvec2 bounds_lo{0.0}, bounds_hi{0.0};
   std::uint64_t seed = 0;
   std::size_t max_points = 50'000'000;  // refuse requests that would place more
 };

@@ -21,13 +21,17 @@ OROGEN_NODE(PoissonDisk) {
       "Blue-noise placement: Bridson (2007), \"Fast Poisson disk sampling in arbitrary dimensions\" (k "
       "candidates in the annulus [r, 2r], background grid of cell r/sqrt 2), run over world-space chunks in the "
       "phase order of Wei (2008), \"Parallel Poisson disk sampling\", and completed by the gap filling of Ebeida "
-      "et al. (2011), \"Efficient maximal Poisson-disk sampling\", so the sampling is maximal. Up to four "
-      "classes (class ids first_class + 0..3), largest radius first; two classes keep cross_separation * (r_i + r_j) / "
-      "2 apart. "
-      "A density field makes the radius variable (r / sqrt(density)), so counts follow the density. Tile "
-      "invariant and resolution independent: the points inside any rectangle are the same whichever domain "
-      "asks, at any raster resolution and thread count (density fields must then cover the requested domain "
-      "plus the halo of (4 * classes - 1) chunks of max(2 r_max, 8 r_min)). Output attribute: radius (m).");
+      "et al. (2011), \"Efficient maximal Poisson-disk sampling\", so the sampling is maximal: exactly (up to the "
+      "float rounding of positions) for one class without density or mask, up to gaps narrower than about a "
+      "thousandth of r otherwise (a 45th along a mask's border). Up to four classes (class ids first_class + "
+      "0..3), largest radius first; two classes keep cross_separation * (r_i + r_j) / 2 apart. A density field "
+      "makes the radius variable (r / sqrt(density)), so counts follow the density. With fill_border (the "
+      "default) the domain is sampled up to its edges, which are filled like its interior. Without it the node "
+      "returns the points of the plane's sampling that fall inside the domain: tile invariant (the points inside "
+      "any rectangle are the same whichever domain asks, so tiles join seamlessly), but a spot within r of the "
+      "domain's edge may be free, its covering point lying beyond. Either way resolution independent and the "
+      "same for any thread count (density fields must cover the domain plus the halo of (4 * classes - 1) "
+      "chunks of max(2 r_max, 8 r_min)). Output attribute: radius (m).");
   b.input("density", PortType::Heightfield).optional().description("Density for every class, 0..1 (unitless)");
   b.input("mask", PortType::Heightfield).optional().description("Points only where mask >= 0.5 (unitless)");
   for (int k = 0; k < kPoissonSlots; ++k)
@@ -64,6 +68,10 @@ OROGEN_NODE(PoissonDisk) {
           "gap filling makes the sampling maximal whatever k; a larger k only moves work from it to Bridson)");
   b.param_bool("fill_gaps", true)
       .description("Fill the gaps Bridson's sampling leaves (Ebeida et al. 2011) so no further point fits");
+  b.param_bool("fill_border", true)
+      .description(
+          "Sample the domain up to its edges (maximal on the domain); off: crop the plane's sampling to the "
+          "domain, so tiles join seamlessly but spots near the edges may stay free");
   b.param_int("first_class", 0)
       .range(0, 1000000)
       .unit(Unit::Id)
@@ -103,6 +111,9 @@ OROGEN_NODE(PoissonDisk) {
     p.attempts = static_cast<int>(ctx.param<std::int64_t>("attempts"));
     p.fill_gaps = ctx.param<bool>("fill_gaps");
     p.seed = ctx.param<std::uint64_t>("seed");
+    p.bounded = ctx.param<bool>("fill_border");
+    p.bounds_lo = ctx.domain().min_corner();
+    p.bounds_hi = ctx.domain().max_corner();
     ctx.set_output(
         "out",
         scatter::run_placement(

@@ -171,6 +171,8 @@ struct GeneralChunkSampler : PoissonPlan {
     const float fx = static_cast<float>(x), fy = static_cast<float>(y);
     const double dx = fx, dy = fy;
     if (!(dx >= L.ax0 && dx < L.ax1 && dy >= L.ay0 && dy < L.ay1)) return -1;
+    if (p.bounded && !(dx >= p.bounds_lo.x && dx <= p.bounds_hi.x && dy >= p.bounds_lo.y && dy <= p.bounds_hi.y))
+      return -1;
     const double rk = varies ? local_radius(k, dx, dy) : p.classes[k].radius;
     if (rk <= 0.0) return -1;
     const float rf = static_cast<float>(rk);
@@ -193,6 +195,9 @@ struct GeneralChunkSampler : PoissonPlan {
     L.ax1 = static_cast<double>(gcx + 1) * C;
     L.ay0 = static_cast<double>(gcy) * C;
     L.ay1 = static_cast<double>(gcy + 1) * C;
+    if (p.bounded &&
+        !(L.ax0 <= p.bounds_hi.x && L.ax1 > p.bounds_lo.x && L.ay0 <= p.bounds_hi.y && L.ay1 > p.bounds_lo.y))
+      return;  // outside the sampled rectangle
     L.gx0 = L.ax0 - D;
     L.gy0 = L.ay0 - D;
     L.grids.resize(p.classes.size());
@@ -241,9 +246,14 @@ struct GeneralChunkSampler : PoissonPlan {
         for (const Pt& q : own.at(gcx + dx, gcy + dy)) gather(q);
     scatter::Draws draw{
         scatter::hash(p.seed, 0x5CA77E5ull, static_cast<std::uint64_t>(k), scatter::bits(gcx), scatter::bits(gcy))};
-    // Bridson: one initial dart into the chunk, then grow from the active points (neighbours' included).
+    // Bridson: one initial dart into the chunk (its part inside the sampled rectangle), then grow from the
+    // active points (neighbours' included).
+    const double sx0 = p.bounded ? std::max(L.ax0, p.bounds_lo.x) : L.ax0;
+    const double sy0 = p.bounded ? std::max(L.ay0, p.bounds_lo.y) : L.ay0;
+    const double sw = p.bounded ? std::min(L.ax1, p.bounds_hi.x) - sx0 : C;
+    const double sh = p.bounded ? std::min(L.ay1, p.bounds_hi.y) - sy0 : C;
     for (int t = 0; t < 4; ++t) {
-      const int idx = try_place(L, k, L.ax0 + draw.next() * C, L.ay0 + draw.next() * C);
+      const int idx = try_place(L, k, sx0 + draw.next() * sw, sy0 + draw.next() * sh);
       if (idx >= 0) {
         active.push_back(idx);
         break;
@@ -288,21 +298,23 @@ struct GeneralChunkSampler : PoissonPlan {
       const double r = varies ? local_radius(k, x, y) : p.classes[k].radius;
       return r <= 0.0 || !free_at(L, k, x, y, r);
     };
-    // Whether a cell may still hold a point: not inside one exclusion disk and, once cells are small (from
-    // level 5, a 32nd of the class cell across and less), not blocked at its corners and centre.
+    // Whether a cell may still hold a point: not inside one exclusion disk (or two), and where the density
+    // admits points. Cells that need three disks to be covered refine to the last level (a dart at each
+    // remaining cell's centre ends them); once small (from level 5, a 32nd of the class cell across), a cell
+    // that reaches a border of the density's support is dropped when its corners and centre are blocked, so
+    // masks' borders are resolved to that size and do not double the cells at every level.
     auto excluded = [&](double x, double y) { return local_radius(k, x, y) <= 0.0; };
     auto open = [&](const Rect& c, int level) {
-      // Where the density admits no point at the corners and the centre the cell is dropped (masks: their
-      // borders are resolved to the cell size, not beyond).
+      const double mx = 0.5 * (c.x0 + c.x1), my = 0.5 * (c.y0 + c.y1);
+      bool border = false;
       if (varies) {
-        const double mx = 0.5 * (c.x0 + c.x1), my = 0.5 * (c.y0 + c.y1);
-        if (excluded(mx, my) && excluded(c.x0, c.y0) && excluded(c.x1, c.y0) && excluded(c.x0, c.y1) &&
-            excluded(c.x1, c.y1))
-          return false;
+        const bool e[5] = {excluded(mx, my), excluded(c.x0, c.y0), excluded(c.x1, c.y0), excluded(c.x0, c.y1),
+                           excluded(c.x1, c.y1)};
+        if (e[0] && e[1] && e[2] && e[3] && e[4]) return false;  // no point admitted at the corners and centre
+        border = e[0] || e[1] || e[2] || e[3] || e[4];
       }
       if (covered(L, k, c.x0, c.y0, c.x1, c.y1)) return false;
-      if (level < 5) return true;
-      const double mx = 0.5 * (c.x0 + c.x1), my = 0.5 * (c.y0 + c.y1);
+      if (level < 5 || !border) return true;
       return !(point_blocked(mx, my) && point_blocked(c.x0, c.y0) && point_blocked(c.x1, c.y0) &&
                point_blocked(c.x0, c.y1) && point_blocked(c.x1, c.y1));
     };
@@ -311,9 +323,15 @@ struct GeneralChunkSampler : PoissonPlan {
       for (int i = 0; i < n; ++i) {
         Rect c{L.ax0 + i * h, L.ay0 + j * h, std::min(L.ax0 + (i + 1) * h, L.ax1),
                std::min(L.ay0 + (j + 1) * h, L.ay1)};
+        if (p.bounded) {  // clipped to the sampled rectangle, whose edges are filled too
+          c = {std::max(c.x0, p.bounds_lo.x), std::max(c.y0, p.bounds_lo.y), std::min(c.x1, p.bounds_hi.x),
+               std::min(c.y1, p.bounds_hi.y)};
+          if (c.x1 >= c.x0 && c.y1 >= c.y0 && open(c, 0)) cells.push_back(c);
+          continue;
+        }
         if (c.x1 > c.x0 && c.y1 > c.y0 && open(c, 0)) cells.push_back(c);
       }
-    constexpr int kLevels = 8;
+    constexpr int kLevels = 10;  // down to a 1024th of the class cell
     for (int level = 0; level <= kLevels && !cells.empty(); ++level) {
       for (const Rect& c : cells)
         try_place(L, k, c.x0 + draw.next() * (c.x1 - c.x0), c.y0 + draw.next() * (c.y1 - c.y0));
