@@ -122,7 +122,7 @@ TEST(GraphFile, CanonicalTextIsReproducedExactly) {
   // What serialize_graph writes: this is the documented look of a file.
   const std::string text = R"({
   "format": "orogen-graph",
-  "version": 6,
+  "version": 7,
   "domain": {
     "size": [4096, 2048.5],
     "resolution": [1025, 513],
@@ -579,11 +579,11 @@ std::vector<Malformed> malformed_cases() {
       {"WrongFormat", R"({"format": "gaea-graph", "version": 1, "nodes": []})", "/format", "",
        "\"format\" must be \"orogen-graph\", found the string \"gaea-graph\""},
       {"MissingVersion", R"({"format": "orogen-graph", "nodes": []})", "/version", "",
-       "missing \"version\": the format version (this build writes 6)"},
+       "missing \"version\": the format version (this build writes 7)"},
       {"VersionNotInteger", R"({"format": "orogen-graph", "version": 1.0, "nodes": []})", "/version", "",
        "\"version\" must be an integer, found the number 1.0"},
-      {"NewerVersion", R"({"format": "orogen-graph", "version": 7, "nodes": [{"bad": 1}], "future": true})", "/version",
-       "", "this file was written by a newer Orogen (version 7, this build reads up to 6); update Orogen to open it"},
+      {"NewerVersion", R"({"format": "orogen-graph", "version": 8, "nodes": [{"bad": 1}], "future": true})", "/version",
+       "", "this file was written by a newer Orogen (version 8, this build reads up to 7); update Orogen to open it"},
       {"UnknownTopLevelField", with_nodes("", R"(, "editr": {})"), "/editr", "",
        "unknown field 'editr' in the file (did you mean 'editor'?)"},
       {"MissingNodes", R"({"format": "orogen-graph", "version": 1})", "/nodes", "",
