@@ -1,5 +1,7 @@
 #include "nodes/io/control_map.h"
 
+#include "nodes/io/weightmaps.h"
+
 #include <bit>
 #include <cmath>
 #include <stdexcept>
@@ -18,9 +20,7 @@ std::vector<std::uint32_t> control_words(const Image& weights, const ControlMapF
     const float* w = weights.data.data() + s * static_cast<std::size_t>(n);
     int base = -1, overlay = -1;
     for (int c = 0; c < n; ++c) {
-      if (!std::isfinite(w[c]) || w[c] < 0.0f)
-        throw std::invalid_argument("weight of layer " + std::to_string(c) + " at sample " + std::to_string(s) +
-                                    " is " + std::to_string(w[c]) + "; weights must be finite and >= 0");
+      require_valid_weight(w[c], c, s);
       if (!(w[c] > 0.0f)) continue;
       if (base < 0 || w[c] > w[base]) {
         overlay = base;

@@ -8,6 +8,12 @@
 
 namespace orogen {
 
+void require_valid_weight(float weight, int layer, std::size_t sample) {
+  if (!std::isfinite(weight) || weight < 0.0f)
+    throw std::invalid_argument("weight of layer " + std::to_string(layer) + " at sample " + std::to_string(sample) +
+                                " is " + std::to_string(weight) + "; weights must be finite and >= 0");
+}
+
 std::vector<Image> weightmap_layers(const Image& weights) {
   const int n = weights.channels;
   std::vector<Image> layers;
@@ -21,9 +27,7 @@ std::vector<Image> weightmap_layers(const Image& weights) {
     const float* w = weights.data.data() + s * static_cast<std::size_t>(n);
     double sum = 0.0;
     for (int c = 0; c < n; ++c) {
-      if (!std::isfinite(w[c]) || w[c] < 0.0f)
-        throw std::invalid_argument("weight of layer " + std::to_string(c) + " at sample " + std::to_string(s) +
-                                    " is " + std::to_string(w[c]) + "; weights must be finite and >= 0");
+      require_valid_weight(w[c], c, s);
       sum += w[c];
     }
     if (!(sum > 0.0)) continue;  // no layer here: every map stays 0

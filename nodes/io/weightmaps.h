@@ -8,6 +8,10 @@
 
 namespace orogen {
 
+// Throws std::invalid_argument naming the layer and sample unless the weight is finite and >= 0 (what every
+// reader of splat weights, here and in control_map.h, requires).
+void require_valid_weight(float weight, int layer, std::size_t sample);
+
 // One single-channel image per channel of `weights`, holding codes / 255 of 8-bit codes that sum to exactly
 // 255 at every sample: the weights are normalized by their sum and rounded by largest remainder (each code is
 // within one of 255 * w / sum). A sample whose weights are all zero stays 0 in every map. Throws
