@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -16,6 +17,7 @@
 #include "cli/mpi_rank_group.h"
 #include "cli/progress_display.h"
 #include "cli/stats_report.h"
+#include "cli/tile_graph_stages.h"
 #include "cli/tile_assignment.h"
 #include "cli/tile_naming.h"
 #include "cli/tiling.h"
@@ -255,12 +257,15 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
                               tile_suffix(named_tile_index(tile_naming, {i, j}, counts))});
     }
   }
+  // Tile-graph nodes run across the tiles when every tile is built (cli/tile_graph_stages.h).
+  std::set<std::string> across;
+  if (errors.empty() && tiled && !only_tile) across = across_tile_nodes(graph, domain, global);
   if (errors.empty() && max_memory > 0) {
     // Every tile of a build needs about the same: check the middle one (the widest halos), or the one asked for.
     std::map<std::string, Domain> node_domains;
     if (tiled)
-      node_domains = tile_node_domains(graph, domain,
-                                       tile_window(domain.resolution, counts, only_tile.value_or(counts / 2)), global);
+      node_domains = tile_node_domains(
+          graph, domain, tile_window(domain.resolution, counts, only_tile.value_or(counts / 2)), global, across);
     for (const auto& node : graph.nodes()) {
       const auto it = node_domains.find(node.id);
       const Domain& d = it != node_domains.end() ? it->second : domain;
@@ -292,7 +297,7 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
   // Nodes that need the whole domain cost the whole domain's memory or leave seams: say which (even with
   // --quiet).
   if (tiled && root)
-    for (const auto& w : seam_warnings(graph, global)) std::cerr << "warning: --tiles: " << w << "\n";
+    for (const auto& w : seam_warnings(graph, global, across)) std::cerr << "warning: --tiles: " << w << "\n";
   if (distributed && root && !cmd.quiet)
     std::cerr << counts.x * counts.y << " tiles over " << group.size() << " ranks (" << builds.size()
               << " on rank 0; cli/tile_assignment.h), rank 0 reporting its own\n";
@@ -317,6 +322,33 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
   BuildCounts counted;
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
+  std::vector<std::map<std::string, std::shared_ptr<const CachedResult>>> across_results(builds.size());
+  if (!across.empty()) {
+    TileGraphStages stages;
+    stages.graph = &graph;
+    stages.domain = domain;
+    stages.counts = counts;
+    stages.global = global;
+    stages.across = across;
+    for (const Build& build : builds) stages.tiles.push_back(build.tile->index);
+    stages.output = policy;
+    stages.cancel = &g_interrupt;
+    stages.quiet = quiet;
+    try {
+      across_results = run_tile_graph_stages(stages, evaluator, group);
+    } catch (const TileGraphStageError& e) {
+      std::signal(SIGINT, SIG_DFL);
+      std::signal(SIGTERM, SIG_DFL);
+      std::cerr << (e.cancelled ? "" : "error: ") << e.what() << (e.cancelled ? ": nothing partial was written" : "")
+                << "\n";
+      if (distributed) {
+        if (e.cancelled) std::_Exit(kExitEvalFailed);
+        std::cerr << "error: stopping every rank\n";
+        group.abort(kExitEvalFailed);
+      }
+      return kExitEvalFailed;
+    }
+  }
   for (std::size_t b = 0; b < builds.size(); ++b) {
     const Build& build = builds[b];
     Graph tile_graph = graph;
@@ -326,7 +358,8 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
     std::string label;
     if (build.tile) {
       add_output_suffix(tile_graph, build.suffix);
-      request.node_domains = tile_node_domains(tile_graph, domain, *build.tile, global);
+      request.node_domains = tile_node_domains(tile_graph, domain, *build.tile, global, across);
+      request.given_results = across_results[b];
       const Domain d =
           domain.subdomain(build.tile->first.x, build.tile->first.y, build.tile->size.x, build.tile->size.y);
       const glm::ivec2 named = named_tile_index(tile_naming, build.tile->index, counts);

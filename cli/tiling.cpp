@@ -10,6 +10,7 @@
 #include <glm/common.hpp>
 
 #include "cli/graph_overrides.h"
+#include "graph/tile_graph.h"
 #include "nodes/io/file_extension.h"
 
 namespace orogen::cli {
@@ -206,8 +207,34 @@ std::vector<std::string> whole_domain_nodes(const Graph& graph) {
   return ids;
 }
 
+std::set<std::string> across_tile_nodes(const Graph& graph, const Domain& full, GlobalNodes global) {
+  std::set<std::string> across;
+  if (global != GlobalNodes::Whole) return across;
+  for (const auto& node : graph.nodes()) {
+    const auto& outputs = node.type->outputs;
+    const bool heightfields =
+        std::all_of(outputs.begin(), outputs.end(), [](const PortDecl& p) { return p.type == PortType::Heightfield; });
+    if (!evaluated_whole(graph, node, global) || !heightfields || node.type->own_lattice) continue;
+    const TileGraphFactory* factory = find_tile_graph(node.type->name);
+    const std::vector<ParamValue> params = graph.effective_params(node);
+    if (factory && (*factory)(ParamView(*node.type, params), full)) across.insert(node.id);
+  }
+  // A node whose result some whole-domain node needs is computed on the whole domain for it anyway. Downstream
+  // first, so a chain of tile-graph nodes stays across tiles.
+  const auto order = graph.topological_order();
+  for (auto it = order.rbegin(); it != order.rend(); ++it) {
+    if (!across.count(*it)) continue;
+    for (const auto& down : graph.downstream(*it))
+      if (evaluated_whole(graph, graph.at(down), global) && !across.count(down)) {
+        across.erase(*it);
+        break;
+      }
+  }
+  return across;
+}
+
 std::map<std::string, Domain> tile_node_domains(const Graph& graph, const Domain& full, const TileWindow& window,
-                                                GlobalNodes global) {
+                                                GlobalNodes global, const std::set<std::string>& across_tiles) {
   const std::vector<std::string> order = graph.topological_order();
   std::map<std::string, std::vector<const Node*>> consumers;
   for (const auto& node : graph.nodes())
@@ -221,7 +248,7 @@ std::map<std::string, Domain> tile_node_domains(const Graph& graph, const Domain
     for (const Node* c : consumers[node.id]) n = glm::max(n, need.at(c->id) + halo.at(c->id));
     // A whole-domain node evaluated whole: a halo that covers the domain from any tile.
     const glm::ivec2 own =
-        evaluated_whole(graph, node, global)
+        evaluated_whole(graph, node, global) && !across_tiles.count(node.id)
             ? full.resolution
             : capped_halo(node.type->reach_for(graph.effective_params(node)), full.spacing, full.resolution);
     // Margins beyond the domain's size change nothing: clamped, so long chains of wide halos cannot overflow.
@@ -235,7 +262,8 @@ std::map<std::string, Domain> tile_node_domains(const Graph& graph, const Domain
   return domains;
 }
 
-std::vector<std::string> seam_warnings(const Graph& graph, GlobalNodes global) {
+std::vector<std::string> seam_warnings(const Graph& graph, GlobalNodes global,
+                                       const std::set<std::string>& across_tiles) {
   std::vector<std::string> warnings;
   auto quoted_list = [](const std::vector<std::string>& items) {
     std::string text;
@@ -246,7 +274,7 @@ std::vector<std::string> seam_warnings(const Graph& graph, GlobalNodes global) {
   std::vector<std::string> whole, whole_uncut;
   for (const auto& id : whole_domain_nodes(graph)) {
     const Node& node = graph.at(id);
-    if (!evaluated_whole(graph, node, global)) continue;
+    if (!evaluated_whole(graph, node, global) || across_tiles.count(id)) continue;
     whole.push_back("'" + id + "' (" + node.type->name + ")");
     if (const auto others = other_outputs(*node.type); !others.empty()) whole_uncut.push_back("'" + id + "' " + others);
   }

@@ -18,6 +18,7 @@
 // Image output (a mesh, curves, points) is evaluated per tile in both modes. seam_warnings() names them.
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -68,12 +69,21 @@ std::vector<std::string> whole_domain_nodes(const Graph& graph);
 // The domain each node is evaluated on for tile `window` of `full` (EvalRequest::node_domains): the tile
 // expanded by the halos downstream of the node plus the node's own halo, clipped to `full`; with
 // GlobalNodes::Whole, `full` for the whole-domain nodes and everything upstream of them.
+// Nodes in `across_tiles` run across the tiles (cli/tile_graph_stages.h): on the tile with their consumers' halos,
+// like local nodes of no reach of their own.
 std::map<std::string, Domain> tile_node_domains(const Graph& graph, const Domain& full, const TileWindow& window,
-                                                GlobalNodes global = GlobalNodes::Whole);
+                                                GlobalNodes global = GlobalNodes::Whole,
+                                                const std::set<std::string>& across_tiles = {});
+
+// The whole-domain nodes of `graph` that a build of all its tiles runs across the tiles, exact, instead of on the
+// whole domain (GlobalNodes::Whole only): tile-graph nodes whose type has an algorithm for their parameters
+// (graph/tile_graph.h), whose outputs are all rasters, and that feed no node evaluated on the whole domain.
+std::set<std::string> across_tile_nodes(const Graph& graph, const Domain& full, GlobalNodes global);
 
 // What a tiled build of `graph` cannot make seamless or cheap, one message per node, naming it: the
 // whole-domain nodes (PerTile: with the writers whose outputs then do not join; Whole: computed on the
 // whole domain), and 16-bit heightfield writers whose height mapping follows each tile's own range.
-std::vector<std::string> seam_warnings(const Graph& graph, GlobalNodes global);
+std::vector<std::string> seam_warnings(const Graph& graph, GlobalNodes global,
+                                       const std::set<std::string>& across_tiles = {});
 
 }  // namespace orogen::cli

@@ -5,6 +5,7 @@
 #include <deque>
 #include <mutex>
 #include <set>
+#include <stdexcept>
 #include <unordered_map>
 
 #include <tbb/global_control.h>
@@ -64,7 +65,12 @@ PortValue EvalResult::output(const std::string& node, const std::string& port, c
 
 std::map<std::string, CacheKey> compute_cache_keys(const Graph& graph, const Domain& domain,
                                                    const OutputPolicy& output) {
-  NodeKeys keys(graph, domain, output);
+  return compute_cache_keys(graph, domain, output, {});
+}
+
+std::map<std::string, CacheKey> compute_cache_keys(const Graph& graph, const Domain& domain, const OutputPolicy& output,
+                                                   const std::map<std::string, Domain>& node_domains) {
+  NodeKeys keys(graph, domain, output, &node_domains);
   std::map<std::string, CacheKey> result;
   for (const auto& node : graph.nodes())
     if (const auto& info = keys.of(node.id); info.key) result.emplace(node.id, *info.key);
@@ -281,6 +287,13 @@ class Run {
       return j;
     }
     const NodeType& type = *job.node->type;
+    if (const auto given = request_.given_results.find(id); given != request_.given_results.end()) {
+      if (!given->second || !fits(type, *given->second))
+        throw std::invalid_argument("evaluate: the given result of node '" + id + "' does not fit its outputs");
+      job.result = given->second;
+      job.kind = Job::Kind::Hit;
+      return j;
+    }
     if ((job.result = impl_.lookup(*info.key, type))) {
       job.kind = Job::Kind::Hit;
       return j;
@@ -523,6 +536,21 @@ EvalResult Evaluator::evaluate(const Graph& graph, const EvalRequest& request) {
   std::lock_guard lock(impl_->evaluate_mutex);
   Run run(*impl_, graph, request);
   return run.execute();
+}
+
+void Evaluator::store_result(const CacheKey& key, std::shared_ptr<const CachedResult> result) {
+  impl_->memory.insert(key, result, result->value_bytes());
+  if (!impl_->disk) return;
+  try {
+    impl_->disk->store(key, *result);
+    ++impl_->disk_writes;
+  } catch (...) {
+    ++impl_->disk_write_errors;  // the cache is an optimisation: a full disk must not fail the build
+  }
+}
+
+std::shared_ptr<const CachedResult> Evaluator::find_result(const CacheKey& key, const NodeType& type) {
+  return impl_->lookup(key, type);
 }
 
 CacheStats Evaluator::cache_stats() const {

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "evaluator/cache_key.h"
+#include "evaluator/cached_result.h"
 #include "graph/cancel.h"
 #include "graph/graph.h"
 #include "graph/output_path.h"
@@ -77,6 +78,9 @@ struct EvalRequest {
   // Nodes whose outputs are wanted. Empty: every node that writes files, has no downstream or has a Report
   // output.
   std::vector<std::string> nodes;
+  // Results computed outside this evaluation, by node id (a tiled build's tile-graph stages,
+  // cli/tile_graph_stages.h): used as they are, reported Cached, and the nodes upstream of them not evaluated.
+  std::map<std::string, std::shared_ptr<const CachedResult>> given_results;
   const CancelToken* cancel = nullptr;
   EventCallback on_event;
 };
@@ -103,6 +107,9 @@ struct CacheStats {
 // Cache keys of every node in the graph for `domain`; nodes with an invalid input link get no key.
 std::map<std::string, CacheKey> compute_cache_keys(const Graph& graph, const Domain& domain,
                                                    const OutputPolicy& output = {});
+// The same for nodes evaluated on domains of their own (EvalRequest::node_domains).
+std::map<std::string, CacheKey> compute_cache_keys(const Graph& graph, const Domain& domain, const OutputPolicy& output,
+                                                   const std::map<std::string, Domain>& node_domains);
 
 class Evaluator {
  public:
@@ -113,6 +120,12 @@ class Evaluator {
 
   // One evaluation at a time per Evaluator; cancel through request.cancel from any thread.
   EvalResult evaluate(const Graph& graph, const EvalRequest& request);
+
+  // A result computed outside evaluate() (a tiled build's tile-graph stages), kept like a computed one: in memory
+  // and, with a cache_dir, on disk (synchronously).
+  void store_result(const CacheKey& key, std::shared_ptr<const CachedResult> result);
+  // The valid cached result of `key` for a node of `type` (memory, then disk), or nullptr. Counts as a hit or miss.
+  std::shared_ptr<const CachedResult> find_result(const CacheKey& key, const NodeType& type);
 
   CacheStats cache_stats() const;
   void clear_memory_cache();

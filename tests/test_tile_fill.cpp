@@ -1,15 +1,23 @@
 // Depression filling across tiles (nodes/hydrology/tile_fill.h, Barnes 2016): each tile floods itself, the spill
 // graphs of all tiles are solved once, each tile applies the spill levels; put together, the tiles must equal the
 // whole-domain Priority-Flood (Flat) bit for bit, for every tiling, on terrains whose depressions and flats cross
-// tile borders and corners.
+// tile borders and corners. Then the FillDepressions and Lakes nodes across tiles (lakes joined and numbered
+// across tiles, nodes/hydrology/tile_lakes.h) against the whole-domain nodes.
 #include <cstring>
+#include <map>
 #include <random>
+#include <set>
 
 #include <gtest/gtest.h>
 
 #include "graph/domain.h"
+#include "graph/node_type.h"
+#include "graph/registry.h"
+#include "graph/tile_graph.h"
+#include "nodes/hydrology/depressions.h"
 #include "nodes/hydrology/flow_routing.h"
 #include "nodes/hydrology/tile_fill.h"
+#include "nodes/hydrology/tile_lakes.h"
 
 namespace orogen::hydrology {
 namespace {
@@ -134,5 +142,167 @@ TEST(TileFill, SpillGraphsAreSmallAndTheirBytesAreChecked) {
   EXPECT_THROW(solve_spill_graphs({a, b}, {64, 64}), std::invalid_argument);
 }
 
+// FillDepressions (fill, flat) and Lakes through their registered tile-graph algorithms (graph/tile_graph.h,
+// nodes/hydrology/fill_across_tiles.cpp), every message passing through its bytes: put together, the tiles' outputs
+// must equal the whole-domain node's outputs bit for bit, lake numbers included.
+struct NodeOutputs {
+  std::vector<float> out, depth, id;
+};
+
+std::vector<ParamValue> params_of(const NodeType& type, const std::map<std::string, ParamValue>& set) {
+  std::vector<ParamValue> values;
+  for (const auto& p : type.params) values.push_back(set.count(p.name) ? set.at(p.name) : p.default_value);
+  return values;
+}
+
+Domain domain_of(const Terrain& t) {
+  return Domain::from_extent({0, 0}, {10.0 * (t.size.x - 1), 10.0 * (t.size.y - 1)}, t.size);
+}
+
+NodeOutputs across_tiles(const TileGraphAlgorithm& algorithm, const Terrain& t, glm::ivec2 counts) {
+  const Domain whole = domain_of(t);
+  std::vector<std::unique_ptr<TileGraphTile>> tiles;
+  for (int tj = 0; tj < counts.y; ++tj)
+    for (int ti = 0; ti < counts.x; ++ti) {
+      const glm::ivec2 first{edge(ti, t.size.x, counts.x), edge(tj, t.size.y, counts.y)};
+      const glm::ivec2 size =
+          glm::ivec2(edge(ti + 1, t.size.x, counts.x), edge(tj + 1, t.size.y, counts.y)) - first + 1;
+      auto h = std::make_shared<Heightfield>(whole.subdomain(first.x, first.y, size.x, size.y));
+      for (int j = 0; j < size.y; ++j)
+        for (int i = 0; i < size.x; ++i)
+          h->data[static_cast<std::size_t>(j) * size.x + i] =
+              t.z[static_cast<std::size_t>(first.y + j) * t.size.x + first.x + i];
+      tiles.push_back(algorithm.start({HeightfieldPtr(h)}));
+    }
+  for (int round = 0; round < algorithm.rounds(); ++round) {
+    std::vector<std::string> messages;
+    for (auto& tile : tiles) messages.push_back(tile->message(round));
+    const auto answers = algorithm.solve(round, messages);
+    for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->answer(round, answers[k]);
+  }
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  NodeOutputs joined{std::vector<float>(t.z.size(), nan), std::vector<float>(t.z.size(), nan),
+                     std::vector<float>(t.z.size(), nan)};
+  for (auto& tile : tiles) {
+    const auto outputs = tile->outputs();
+    std::vector<float>* into[] = {&joined.out, &joined.depth, &joined.id};
+    for (std::size_t o = 0; o < 3; ++o) {
+      const Heightfield& h = *std::get<HeightfieldPtr>(outputs[o]);
+      for (int j = 0; j < h.domain.height(); ++j)
+        for (int i = 0; i < h.domain.width(); ++i) {
+          float& v = (*into[o])[static_cast<std::size_t>(h.domain.first.y + j) * t.size.x + h.domain.first.x + i];
+          const float mine = h.data[static_cast<std::size_t>(j) * h.domain.width() + i];
+          EXPECT_TRUE(std::isnan(v) || same_bits({v}, {mine})) << "tiles disagree on a shared sample";
+          v = mine;
+        }
+    }
+  }
+  return joined;
+}
+
+NodeOutputs whole_domain(const FillResult& r) { return {r.out->data, r.depth->data, r.lake_id->data}; }
+
+std::unique_ptr<TileGraphAlgorithm> algorithm_of(const std::string& type_name,
+                                                 const std::map<std::string, ParamValue>& set, const Domain& whole) {
+  const NodeType& type = *NodeRegistry::instance().find(type_name);
+  const auto values = params_of(type, set);
+  const TileGraphFactory* factory = find_tile_graph(type_name);
+  EXPECT_NE(factory, nullptr) << type_name;
+  return factory ? (*factory)(ParamView(type, values), whole) : nullptr;
+}
+
+void expect_same(const NodeOutputs& tiled, const NodeOutputs& whole) {
+  EXPECT_TRUE(same_bits(tiled.out, whole.out)) << "out";
+  EXPECT_TRUE(same_bits(tiled.depth, whole.depth)) << "water_depth";
+  EXPECT_TRUE(same_bits(tiled.id, whole.id)) << "lake_id";
+}
+
+// Distinct lake numbers, and whether one of them lies in several tiles of `counts`.
+std::pair<int, bool> lakes_and_crossing(const NodeOutputs& o, glm::ivec2 size, glm::ivec2 counts) {
+  std::map<int, std::set<int>> tiles_of;
+  for (int j = 0; j < size.y; ++j)
+    for (int i = 0; i < size.x; ++i)
+      if (const int id = static_cast<int>(o.id[static_cast<std::size_t>(j) * size.x + i]); id > 0) {
+        const int ti = std::min(counts.x - 1, i * counts.x / size.x),
+                  tj = std::min(counts.y - 1, j * counts.y / size.y);
+        tiles_of[id].insert(tj * counts.x + ti);
+      }
+  bool crossing = false;
+  for (const auto& [id, tiles] : tiles_of) crossing = crossing || tiles.size() >= 3;
+  return {static_cast<int>(tiles_of.size()), crossing};
+}
+
+TEST(FillAcrossTiles, FillDepressionsAndLakesEqualTheWholeDomainNodesOnEveryTiling) {
+  const std::vector<glm::ivec2> tilings = {{1, 1}, {2, 2}, {3, 2}, {4, 3}, {1, 4}, {7, 6}};
+  for (const glm::ivec2 size : {glm::ivec2(41, 33), glm::ivec2(129, 97)})
+    for (int levels : {0, 4}) {
+      const Terrain t = terrain(size, 5, levels);
+      const Domain whole = domain_of(t);
+      Heightfield ground(whole);
+      ground.data = t.z;
+      const NodeOutputs fill = whole_domain(fill_depressions(ground, FillParams{false, false, 0.0}));
+      // Lakes at least 2 cm deep and 3 cells large: some small lakes go, the large ones that span tiles stay.
+      const LakesParams rule{0.02, 3 * 100.0};
+      const FillResult lake_result = lakes(ground, rule);
+      const NodeOutputs kept = whole_domain(lake_result);
+      const auto all_lakes = lakes_and_crossing(fill, size, {3, 2}).first;
+      ASSERT_GT(lake_result.lakes, 1);
+      ASSERT_LT(lake_result.lakes, all_lakes) << "the rule must drop some lakes for the test to mean something";
+      const auto fill_algorithm = algorithm_of("FillDepressions", {{"flats", std::string("flat")}}, whole);
+      const auto lakes_algorithm =
+          algorithm_of("Lakes", {{"min_depth", rule.min_depth}, {"min_area", rule.min_area}}, whole);
+      ASSERT_TRUE(fill_algorithm && lakes_algorithm);
+      for (const glm::ivec2 counts : tilings) {
+        SCOPED_TRACE(std::to_string(size.x) + "x" + std::to_string(size.y) + " levels " + std::to_string(levels) +
+                     " tiles " + std::to_string(counts.x) + "x" + std::to_string(counts.y));
+        expect_same(across_tiles(*fill_algorithm, t, counts), fill);
+        expect_same(across_tiles(*lakes_algorithm, t, counts), kept);
+        if (counts.x * counts.y >= 6) EXPECT_TRUE(lakes_and_crossing(fill, size, counts).second);
+      }
+    }
+}
+
+TEST(FillAcrossTiles, EpsilonFlatsAndCarvingStayOnTheWholeDomain) {
+  const Domain whole = Domain::from_extent({0, 0}, {640, 640}, {65, 65});
+  EXPECT_EQ(algorithm_of("FillDepressions", {}, whole), nullptr);  // epsilon by default
+  EXPECT_EQ(algorithm_of("FillDepressions", {{"flats", std::string("flat")}, {"mode", std::string("carve")}}, whole),
+            nullptr);
+  EXPECT_NE(algorithm_of("FillDepressions", {{"flats", std::string("flat")}}, whole), nullptr);
+}
+
+TEST(FillAcrossTiles, LakeFiguresAreCheckedAndTravelAsBytes) {
+  const Terrain t = terrain({33, 33}, 4, 4);
+  std::vector<float> water = whole_domain_fill(t);
+  const TileRect rect{{0, 0}, {33, 33}};
+  const auto labels = label_tile_lakes(water, t.z, rect, {33, 33});
+  ASSERT_FALSE(labels.lakes.first_cell.empty());
+  const std::string bytes = encode(labels.lakes);
+  EXPECT_EQ(encode(decode_tile_lakes(bytes)), bytes);
+  EXPECT_THROW(decode_tile_lakes(std::string_view(bytes).substr(0, bytes.size() - 1)), std::invalid_argument);
+  EXPECT_THROW(decode_tile_lakes(bytes + "x"), std::invalid_argument);
+  // Every cell of the single tile is owned by it: the counts add up to the wet cells.
+  std::int64_t wet = 0, counted = 0;
+  for (std::size_t c = 0; c < water.size(); ++c) wet += water[c] > t.z[c];
+  for (const auto n : labels.lakes.cells) counted += n;
+  EXPECT_EQ(counted, wet);
+  // Two tiles that disagree whether a shared sample is under water are refused: two copies of a tile in the
+  // middle, whose perimeter crosses the central bowl, one with a wet perimeter sample made dry.
+  const TileRect middle{{8, 8}, {17, 17}};
+  std::vector<float> mid_water, mid_ground;
+  for (int j = 0; j < 17; ++j)
+    for (int i = 0; i < 17; ++i) {
+      mid_water.push_back(water[static_cast<std::size_t>(8 + j) * 33 + 8 + i]);
+      mid_ground.push_back(t.z[static_cast<std::size_t>(8 + j) * 33 + 8 + i]);
+    }
+  TileLakes a = label_tile_lakes(mid_water, mid_ground, middle, {33, 33}).lakes, b = a;
+  const auto wet_at = std::find_if(a.perimeter.begin(), a.perimeter.end(), [](std::int32_t k) { return k > 0; });
+  ASSERT_NE(wet_at, a.perimeter.end());
+  EXPECT_NO_THROW(solve_tile_lakes({a, b}, {33, 33}, [](float, std::int64_t) { return true; }));
+  b.perimeter[static_cast<std::size_t>(wet_at - a.perimeter.begin())] = 0;
+  EXPECT_THROW(solve_tile_lakes({a, b}, {33, 33}, [](float, std::int64_t) { return true; }), std::invalid_argument);
+  b = a;
+  b.perimeter[0] = static_cast<std::int32_t>(b.first_cell.size()) + 1;  // names no lake of the tile
+  EXPECT_THROW(solve_tile_lakes({a, b}, {33, 33}, [](float, std::int64_t) { return true; }), std::invalid_argument);
+}
 }  // namespace
 }  // namespace orogen::hydrology

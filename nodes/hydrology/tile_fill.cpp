@@ -1,12 +1,13 @@
 #include "nodes/hydrology/tile_fill.h"
 
 #include <algorithm>
-#include <cstring>
 #include <deque>
 #include <map>
 #include <queue>
 #include <stdexcept>
 #include <unordered_map>
+
+#include "graph/tile_bytes.h"
 
 namespace orogen::hydrology {
 
@@ -20,18 +21,11 @@ struct Entry {
 };
 using MinQueue = std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>>;
 
-template <class T>
-void put(std::string& out, const T& v) {
-  out.append(reinterpret_cast<const char*>(&v), sizeof v);
-}
+using bytes::put;
 
 template <class T>
 T take(std::string_view& in) {
-  if (in.size() < sizeof(T)) throw std::invalid_argument("spill graph: truncated bytes");
-  T v;
-  std::memcpy(&v, in.data(), sizeof v);
-  in.remove_prefix(sizeof v);
-  return v;
+  return bytes::take<T>(in, "spill graph");
 }
 
 }  // namespace

@@ -1,0 +1,265 @@
+#include "cli/tile_graph_stages.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+
+#include "cli/tile_assignment.h"
+#include "evaluator/domain_crop.h"
+#include "graph/tile_bytes.h"
+#include "graph/tile_graph.h"
+
+namespace orogen::cli {
+namespace {
+
+using Results = std::map<std::string, std::shared_ptr<const CachedResult>>;
+
+// A rectangle of samples of the whole domain: [lo, hi], both included.
+struct SampleRect {
+  glm::ivec2 lo{0, 0}, hi{-1, -1};
+  bool empty() const { return hi.x < lo.x || hi.y < lo.y; }
+  glm::ivec2 size() const { return hi - lo + 1; }
+};
+
+SampleRect rect_of(const Domain& d, const Domain& whole) {
+  const glm::ivec2 lo = d.first - whole.first;
+  return {lo, lo + d.resolution - 1};
+}
+
+SampleRect overlap(const SampleRect& a, const SampleRect& b) { return {glm::max(a.lo, b.lo), glm::min(a.hi, b.hi)}; }
+
+// The samples of `rect` of every output of a tile's result, as one piece of an exchange: the tile they are for,
+// the rectangle, then the values of each output.
+void put_piece(std::string& out, long long for_tile, const SampleRect& rect, const std::vector<PortValue>& outputs,
+               const Domain& whole) {
+  bytes::put(out, static_cast<std::int64_t>(for_tile));
+  bytes::put(out, rect.lo.x), bytes::put(out, rect.lo.y), bytes::put(out, rect.hi.x), bytes::put(out, rect.hi.y);
+  for (const auto& value : outputs) {
+    const Heightfield& h = *std::get<HeightfieldPtr>(value);
+    const glm::ivec2 at = rect.lo - rect_of(h.domain, whole).lo;
+    for (int j = 0; j <= rect.hi.y - rect.lo.y; ++j) {
+      const auto row = h.row(at.y + j);
+      out.append(reinterpret_cast<const char*>(row.data() + at.x),
+                 static_cast<std::size_t>(rect.size().x) * sizeof(float));
+    }
+  }
+}
+
+// Copies the samples `rect` of a tile's outputs into the outputs of a tile of the same rank being put together.
+void copy_rect(const std::vector<PortValue>& from, const SampleRect& rect,
+               std::vector<std::shared_ptr<Heightfield>>& into, const Domain& whole) {
+  for (std::size_t o = 0; o < from.size(); ++o) {
+    const Heightfield& src = *std::get<HeightfieldPtr>(from[o]);
+    Heightfield& dst = *into[o];
+    const glm::ivec2 s = rect.lo - rect_of(src.domain, whole).lo, d = rect.lo - rect_of(dst.domain, whole).lo;
+    for (int j = 0; j <= rect.hi.y - rect.lo.y; ++j)
+      std::copy_n(src.row(s.y + j).begin() + s.x, rect.size().x, dst.row(d.y + j).begin() + d.x);
+  }
+}
+
+// Copies the samples `rect` of a piece into the tile's outputs being put together.
+void take_piece(std::string_view& in, const SampleRect& rect, std::vector<std::shared_ptr<Heightfield>>& into,
+                const Domain& whole) {
+  for (auto& h : into) {
+    const glm::ivec2 at = rect.lo - rect_of(h->domain, whole).lo;
+    const auto width = static_cast<std::size_t>(rect.size().x);
+    for (int j = 0; j <= rect.hi.y - rect.lo.y; ++j) {
+      if (in.size() < width * sizeof(float)) throw std::runtime_error("tile-graph exchange: truncated piece");
+      std::memcpy(h->row(at.y + j).data() + at.x, in.data(), width * sizeof(float));
+      in.remove_prefix(width * sizeof(float));
+    }
+  }
+}
+
+class Stages {
+ public:
+  Stages(const TileGraphStages& s, Evaluator& evaluator, RankGroup& group)
+      : s_(s), graph_(*s.graph), evaluator_(evaluator), group_(group), given_(s.tiles.size()) {
+    const long long count = static_cast<long long>(s.counts.x) * s.counts.y;
+    domains_.resize(static_cast<std::size_t>(count));
+    for (long long k = 0; k < count; ++k) {
+      const glm::ivec2 index(static_cast<int>(k % s.counts.x), static_cast<int>(k / s.counts.x));
+      domains_[static_cast<std::size_t>(k)] =
+          tile_node_domains(graph_, s.domain, tile_window(s.domain.resolution, s.counts, index), s.global, s.across);
+    }
+  }
+
+  std::vector<Results> run() {
+    for (const auto& id : graph_.topological_order())
+      if (s_.across.count(id)) run_node(graph_.at(id));
+    return std::move(given_);
+  }
+
+ private:
+  long long number(glm::ivec2 index) const { return tile_number(s_.counts, index); }
+  glm::ivec2 index_of(long long k) const {
+    return {static_cast<int>(k % s_.counts.x), static_cast<int>(k / s_.counts.x)};
+  }
+  const Domain& node_domain(long long tile, const std::string& id) const {
+    return domains_[static_cast<std::size_t>(tile)].at(id);
+  }
+  std::string tile_label(glm::ivec2 index) const {
+    return (group_.size() > 1 ? "rank " + std::to_string(group_.rank()) + ": " : std::string()) + "tile " +
+           std::to_string(index.x) + "," + std::to_string(index.y);
+  }
+
+  void run_node(const Node& node) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::size_t mine = s_.tiles.size();
+    std::vector<CacheKey> keys(mine);
+    std::vector<std::shared_ptr<const CachedResult>> found(mine);
+    bool missing = false;
+    for (std::size_t t = 0; t < mine; ++t) {
+      const long long k = number(s_.tiles[t]);
+      keys[t] = compute_cache_keys(graph_, s_.domain, s_.output, domains_[static_cast<std::size_t>(k)]).at(node.id);
+      found[t] = evaluator_.find_result(keys[t], *node.type);
+      missing = missing || !found[t];
+    }
+    if (!any_rank(group_, missing)) {
+      for (std::size_t t = 0; t < mine; ++t) given_[t][node.id] = found[t];
+      say(node, "cached on every tile", t0, 0);
+      return;
+    }
+
+    const std::vector<ParamValue> params = graph_.effective_params(node);
+    const auto algorithm = (*find_tile_graph(node.type->name))(ParamView(*node.type, params), s_.domain);
+    std::vector<std::unique_ptr<TileGraphTile>> tiles(mine);
+    for (std::size_t t = 0; t < mine; ++t) tiles[t] = algorithm->start(tile_inputs(node, t));
+
+    std::size_t exchanged = 0;
+    for (int round = 0; round < algorithm->rounds(); ++round) {
+      std::vector<TilePart> parts(mine);
+      for (std::size_t t = 0; t < mine; ++t) {
+        parts[t] = {number(s_.tiles[t]), tiles[t]->message(round)};
+        exchanged += parts[t].bytes.size();
+      }
+      std::vector<TilePart> all = gather_by_tile(group_, parts);
+      std::vector<std::string> messages(domains_.size());
+      if (all.size() != messages.size()) throw std::runtime_error("tile-graph stage: a tile's message is missing");
+      for (std::size_t k = 0; k < all.size(); ++k) {
+        if (all[k].tile != static_cast<long long>(k)) throw std::runtime_error("tile-graph stage: tiles out of order");
+        messages[k] = std::move(all[k].bytes);
+      }
+      const auto answers = algorithm->solve(round, messages);
+      for (std::size_t t = 0; t < mine; ++t)
+        tiles[t]->answer(round, answers[static_cast<std::size_t>(number(s_.tiles[t]))]);
+    }
+    std::vector<std::vector<PortValue>> cores(mine);
+    for (std::size_t t = 0; t < mine; ++t) {
+      cores[t] = tiles[t]->outputs();
+      tiles[t].reset();
+    }
+    const auto results = put_together(node, cores);
+    for (std::size_t t = 0; t < mine; ++t) {
+      evaluator_.store_result(keys[t], results[t]);
+      given_[t][node.id] = results[t];
+    }
+    say(node, "computed across the tiles", t0, exchanged);
+  }
+
+  // The node's inputs on exactly tile t's samples, from an evaluation of what feeds them on the tile.
+  std::vector<PortValue> tile_inputs(const Node& node, std::size_t t) {
+    const glm::ivec2 index = s_.tiles[t];
+    const long long k = number(index);
+    EvalRequest request;
+    request.domain = s_.domain;
+    request.node_domains = domains_[static_cast<std::size_t>(k)];
+    request.given_results = given_[t];
+    request.cancel = s_.cancel;
+    for (const auto& [port, link] : node.inputs)
+      if (std::find(request.nodes.begin(), request.nodes.end(), link.node) == request.nodes.end())
+        request.nodes.push_back(link.node);
+    const EvalResult result = evaluator_.evaluate(graph_, request);
+    if (result.cancelled) throw TileGraphStageError("interrupted in " + tile_label(index), true);
+    for (const auto& [id, report] : result.nodes)
+      if (report.status == NodeStatus::Failed)
+        throw TileGraphStageError(tile_label(index) + ": node '" + id + "' failed: " + report.message, false);
+    for (const auto& [id, report] : result.nodes)
+      if (report.status == NodeStatus::Skipped)
+        throw TileGraphStageError(tile_label(index) + ": node '" + id + "' skipped: " + report.message, false);
+    const TileWindow w = tile_window(s_.domain.resolution, s_.counts, index);
+    const Domain core = s_.domain.subdomain(w.first.x, w.first.y, w.size.x, w.size.y);
+    std::vector<PortValue> inputs;
+    for (const auto& port : node.type->inputs) {
+      const auto it = node.inputs.find(port.name);
+      inputs.push_back(it == node.inputs.end()
+                           ? PortValue{}
+                           : crop_to_domain(result.output(it->second.node, it->second.port, graph_), core));
+    }
+    return inputs;
+  }
+
+  // Every tile's result on the domain its evaluation needs: its own samples, and its consumers' halo from the
+  // tiles around it, whichever rank holds them.
+  std::vector<std::shared_ptr<const CachedResult>> put_together(const Node& node,
+                                                                const std::vector<std::vector<PortValue>>& cores) {
+    const std::size_t mine = s_.tiles.size();
+    std::vector<std::vector<std::shared_ptr<Heightfield>>> built(mine);
+    for (std::size_t t = 0; t < mine; ++t) {
+      const Domain& d = node_domain(number(s_.tiles[t]), node.id);
+      for (std::size_t o = 0; o < node.type->outputs.size(); ++o) built[t].push_back(std::make_shared<Heightfield>(d));
+    }
+    std::vector<std::string> outgoing(static_cast<std::size_t>(group_.size()));
+    for (std::size_t t = 0; t < mine; ++t) {
+      const SampleRect core = rect_of(std::get<HeightfieldPtr>(cores[t][0])->domain, s_.domain);
+      for (std::size_t u = 0; u < domains_.size(); ++u) {
+        const SampleRect part = overlap(core, rect_of(node_domain(static_cast<long long>(u), node.id), s_.domain));
+        if (part.empty()) continue;
+        const int owner = tile_owner(s_.counts, index_of(static_cast<long long>(u)), group_.size());
+        if (owner == group_.rank()) {
+          const auto to = std::find(s_.tiles.begin(), s_.tiles.end(), index_of(static_cast<long long>(u)));
+          copy_rect(cores[t], part, built[static_cast<std::size_t>(to - s_.tiles.begin())], s_.domain);
+        } else {
+          put_piece(outgoing[static_cast<std::size_t>(owner)], static_cast<long long>(u), part, cores[t], s_.domain);
+        }
+      }
+    }
+    for (const std::string& from : group_.exchange(outgoing)) {
+      std::string_view in(from);
+      while (!in.empty()) {
+        const auto u = bytes::take<std::int64_t>(in, "tile-graph exchange");
+        SampleRect part;
+        part.lo.x = bytes::take<int>(in, "tile-graph exchange"),
+        part.lo.y = bytes::take<int>(in, "tile-graph exchange");
+        part.hi.x = bytes::take<int>(in, "tile-graph exchange"),
+        part.hi.y = bytes::take<int>(in, "tile-graph exchange");
+        const auto it = std::find(s_.tiles.begin(), s_.tiles.end(), index_of(u));
+        if (it == s_.tiles.end()) throw std::runtime_error("tile-graph exchange: a piece for a tile of another rank");
+        take_piece(in, part, built[static_cast<std::size_t>(it - s_.tiles.begin())], s_.domain);
+      }
+    }
+    std::vector<std::shared_ptr<const CachedResult>> results(mine);
+    for (std::size_t t = 0; t < mine; ++t) {
+      auto r = std::make_shared<CachedResult>();
+      for (auto& h : built[t]) r->outputs.push_back(HeightfieldPtr(std::move(h)));
+      results[t] = std::move(r);
+    }
+    return results;
+  }
+
+  void say(const Node& node, const char* what, std::chrono::steady_clock::time_point t0, std::size_t exchanged) {
+    if (s_.quiet || group_.rank() != 0) return;
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    std::fprintf(stderr, "node '%s' (%s) %s in %.1f ms", node.id.c_str(), node.type->name.c_str(), what, ms);
+    if (exchanged > 0) std::fprintf(stderr, " (rank 0's tiles sent %.1f KiB of messages)", exchanged / 1024.0);
+    std::fprintf(stderr, "\n");
+  }
+
+  const TileGraphStages& s_;
+  const Graph& graph_;
+  Evaluator& evaluator_;
+  RankGroup& group_;
+  std::vector<std::map<std::string, Domain>> domains_;  // per tile of the tiling: every node's domain
+  std::vector<Results> given_;                          // per tile of this rank
+};
+
+}  // namespace
+
+std::vector<std::map<std::string, std::shared_ptr<const CachedResult>>> run_tile_graph_stages(
+    const TileGraphStages& stages, Evaluator& evaluator, RankGroup& group) {
+  if (stages.across.empty()) return std::vector<Results>(stages.tiles.size());
+  return Stages(stages, evaluator, group).run();
+}
+
+}  // namespace orogen::cli

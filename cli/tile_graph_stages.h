@@ -1,0 +1,52 @@
+#pragma once
+// The stages of a tiled or distributed build that run tile-graph nodes across the tiles, exact (graph/tile_graph.h,
+// docs/distributed.md), before the tiles are evaluated.
+//
+// For each node of across_tile_nodes() in topological order, every rank:
+//  1. evaluates the node's inputs on each of its tiles (earlier stages' results given, so nothing upstream of them
+//     runs again) and starts the node's algorithm on exactly the tile's samples;
+//  2. runs the algorithm's rounds: each tile's message goes to every rank in tile order (gather_by_tile), every
+//     rank solves all tiles' messages the same way and keeps its own tiles' answers;
+//  3. puts each tile's result together on the domain the tile's evaluation needs it on (the tile plus its
+//     consumers' halos; the halo's samples come from the ranks that own the neighbouring tiles, through exchange)
+//     and keeps it in the cache under the node's key for that tile.
+// A stage whose results every tile finds in the cache (a re-run with the same --cache-dir) is skipped.
+// The tile evaluations then get these results as given (EvalRequest::given_results) and report them cached.
+#include <map>
+#include <memory>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "cli/tiling.h"
+#include "evaluator/evaluator.h"
+#include "graph/rank_group.h"
+
+namespace orogen::cli {
+
+struct TileGraphStages {
+  const Graph* graph = nullptr;
+  Domain domain;            // the whole domain
+  glm::ivec2 counts{1, 1};  // tiles along x and y
+  GlobalNodes global = GlobalNodes::Whole;
+  std::set<std::string> across;   // across_tile_nodes(graph, domain, global)
+  std::vector<glm::ivec2> tiles;  // this rank's tiles
+  OutputPolicy output;            // as the evaluator's (cache keys of writers)
+  const CancelToken* cancel = nullptr;
+  bool quiet = false;  // rank 0 says what each stage did unless quiet
+};
+
+// A stage that could not finish: a node upstream failed on a tile, or the build was cancelled.
+struct TileGraphStageError : std::runtime_error {
+  bool cancelled = false;
+  TileGraphStageError(const std::string& what, bool was_cancelled)
+      : std::runtime_error(what), cancelled(was_cancelled) {}
+};
+
+// Per tile of `stages.tiles` (in that order): the results of the across-tile nodes, by node id. Collective: every
+// rank calls it with its own tiles. Throws TileGraphStageError.
+std::vector<std::map<std::string, std::shared_ptr<const CachedResult>>> run_tile_graph_stages(
+    const TileGraphStages& stages, Evaluator& evaluator, RankGroup& group);
+
+}  // namespace orogen::cli

@@ -1,0 +1,60 @@
+#pragma once
+// How a tile-graph node (graph/distribution.h) runs across the tiles of a tiled or distributed build, exact: the
+// shape of R. Barnes's parallel hydrology (2016, 2017), common to every such algorithm (docs/distributed.md).
+//
+// A run goes in rounds. In each round every tile sends a message (small: perimeters, spill graphs, per-lake
+// figures; never the tile), the messages of all tiles are solved once, identically on every rank, into one answer
+// per tile, and each tile takes in its answer. After the last round each tile has the node's outputs on its own
+// samples. The driver (cli/tile_graph_stages.h) moves the messages between ranks (graph/rank_group.h) and knows
+// nothing of the algorithm; the algorithm knows nothing of ranks, so tests run it on any tiling in one process.
+//
+// Tiles share their border samples with their neighbours (cli/tiling.h), so every pair of 8-neighbours lies in
+// one tile, and what crosses a border is a shared sample, seen by both tiles with the same value.
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "graph/domain.h"
+#include "graph/port_value.h"
+
+namespace orogen {
+
+class ParamView;
+
+// One tile's state in a run.
+class TileGraphTile {
+ public:
+  virtual ~TileGraphTile() = default;
+  // The tile's message in round `round` (0, 1, ... up to the algorithm's rounds() - 1).
+  virtual std::string message(int round) = 0;
+  // The solve's answer for this tile in round `round`.
+  virtual void answer(int round, std::string_view bytes) = 0;
+  // The node's outputs on the tile's samples (in output order), after the last round's answer.
+  virtual std::vector<PortValue> outputs() = 0;
+};
+
+class TileGraphAlgorithm {
+ public:
+  virtual ~TileGraphAlgorithm() = default;
+  virtual int rounds() const = 0;
+  // A tile's state from the node's inputs (in input order) on exactly the tile's samples; their domains say where
+  // the tile lies (Domain::first is its first sample in the whole domain).
+  virtual std::unique_ptr<TileGraphTile> start(const std::vector<PortValue>& inputs) const = 0;
+  // Every tile's message of round `round`, indexed by tile (row-major over the tiling), into every tile's answer.
+  // Throws std::invalid_argument on messages that do not fit together.
+  virtual std::vector<std::string> solve(int round, const std::vector<std::string>& messages) const = 0;
+};
+
+// The algorithm of a node type for its parameter values on the build's whole domain, or nullptr when these values
+// do not run across tiles (the node is then computed on the whole domain).
+using TileGraphFactory =
+    std::function<std::unique_ptr<TileGraphAlgorithm>(const ParamView& params, const Domain& whole)>;
+
+// Registers the algorithm of node type `type` (at static initialisation, next to the node's declaration).
+bool register_tile_graph(const std::string& type, TileGraphFactory factory);
+// The registered factory of node type `type`, or nullptr.
+const TileGraphFactory* find_tile_graph(const std::string& type);
+
+}  // namespace orogen
