@@ -480,6 +480,74 @@ TEST(CliTiles, EveryExampleGraphTilesIntoItsUntiledBuild) {
   EXPECT_GT(total, 3u);
 }
 
+// Tile-graph nodes that run across the tiles (cli/tile_graph_stages.h): depressions filled flat, lakes kept by depth
+// and area and numbered across tiles, and a blur of the filled terrain whose halo comes from the neighboring tiles.
+const char* kAcrossTilesGraph = R"({
+  "format": "orogen-graph", "version": 7,
+  "domain": { "size": [2560, 2560], "resolution": [257, 257] },
+  "nodes": [
+    { "id": "noise", "type": "FBM", "params": { "feature_size": 600, "seed": 11, "amplitude": 80, "octaves": 5 } },
+    { "id": "filled", "type": "FillDepressions", "inputs": { "in": "noise.out" }, "params": { "flats": "flat" } },
+    { "id": "lakes", "type": "Lakes", "inputs": { "in": "noise.out" },
+      "params": { "min_depth": 0.5, "min_area": 2000 } },
+    { "id": "smooth", "type": "Blur", "inputs": { "in": "filled.out" }, "params": { "sigma": 30 } },
+    { "id": "save_filled", "type": "WriteHeightfield", "inputs": { "in": "filled.out" },
+      "params": { "path": "filled.exr" } },
+    { "id": "save_smooth", "type": "WriteHeightfield", "inputs": { "in": "smooth.out" },
+      "params": { "path": "smooth.exr" } },
+    { "id": "save_ids", "type": "WriteHeightfield", "inputs": { "in": "lakes.lake_id" },
+      "params": { "path": "lake_id.exr" } },
+    { "id": "save_depth", "type": "WriteHeightfield", "inputs": { "in": "lakes.water_depth" },
+      "params": { "path": "lake_depth.exr" } }
+  ]
+})";
+
+TEST(CliTiles, TileGraphNodesRunAcrossTheTilesExactlyAndInATilesMemory) {
+  const auto dir = scratch_dir("tiles-across");
+  write_text(dir / "g.json", kAcrossTilesGraph);
+  const auto graph = (dir / "g.json").string();
+  ASSERT_EQ(orogen({"eval", graph, "-o", (dir / "whole").string(), "--quiet"}).exit_code, 0);
+  const std::vector<std::string> tiled_args = {"eval",        graph,
+                                               "-o",          (dir / "tiled").string(),
+                                               "--tiles",     "4x3",
+                                               "--stats",     (dir / "s.json").string(),
+                                               "--cache-dir", (dir / "cache").string()};
+  const auto r = orogen(tiled_args);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("node 'filled' (FillDepressions) computed across the tiles"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("node 'lakes' (Lakes) computed across the tiles"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << "nothing is computed on the whole domain:\n" << r.err;
+  // Every tile is its window of the untiled build, bit for bit: filled heights, the blur's halo, lake numbers.
+  for (const std::string stem : {"filled", "smooth", "lake_id", "lake_depth"})
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 4; ++i)
+        EXPECT_EQ(window_differences(dir / "whole", dir / "tiled", stem, {257, 257}, {4, 3}, i, j), 0u)
+            << stem << " tile " << i << "," << j;
+  // The test means something: several lakes are kept, and one of them spans tiles.
+  const Raster ids = read_raster(dir / "whole" / "lake_id.exr");
+  std::map<int, std::set<int>> tiles_of_lake;
+  for (int y = 0; y < ids.height; ++y)
+    for (int x = 0; x < ids.width; ++x)
+      if (const int id = static_cast<int>(ids.at(0, x, y)); id > 0)
+        tiles_of_lake[id].insert(y * 3 / 257 * 4 + x * 4 / 257);
+  EXPECT_GT(tiles_of_lake.size(), 3u);
+  EXPECT_TRUE(
+      std::any_of(tiles_of_lake.begin(), tiles_of_lake.end(), [](const auto& l) { return l.second.size() > 1; }));
+  // Each tile holds only its part: a memory limit that refuses the untiled fill lets the tiles through.
+  const auto refused = orogen({"eval", graph, "-o", (dir / "m").string(), "--max-memory", "500K", "--quiet"});
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("node 'filled': its type FillDepressions needs"), std::string::npos) << refused.err;
+  const auto accepted =
+      orogen({"eval", graph, "-o", (dir / "m").string(), "--max-memory", "500K", "--tiles", "4x4", "--quiet"});
+  EXPECT_EQ(accepted.exit_code, 0) << accepted.err;
+  // Run again with the same cache: the stages find their results, and no tile computes anything.
+  const auto again = orogen(tiled_args);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.err.find("node 'filled' (FillDepressions) cached on every tile"), std::string::npos) << again.err;
+  const auto stats = nlohmann::json::parse(read_text(dir / "s_x2_y1.json"));
+  for (const auto& [id, node] : stats["nodes"].items()) EXPECT_EQ(node["status"], "cached") << id;
+}
+
 // ---- --origin and --size ---------------------------------------------------------------------------------
 
 TEST(CliTiles, OriginAndSizeEqualAnEditedGraph) {

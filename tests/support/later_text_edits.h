@@ -28,6 +28,16 @@ inline const LaterTextEdit kLaterTextEdits[] = {
      2},
     {"\"path\": \"game_world/plant_4_20.obj\" }", "\"path\": \"game_world/plant_4_20.obj\", \"up_axis\": \"auto\" }",
      2},
+    // Distributed builds: a blur of the lakes filled across tiles, so its halo comes from the neighboring tiles.
+    {"\"path\": \"distributed_hydrology/lake_depth.tif\"\n      }\n    }\n",
+     "\"path\": \"distributed_hydrology/lake_depth.tif\"\n      }\n    },\n    {\n      \"id\": \"filled_smooth\",\n"
+     "      \"type\": \"Blur\",\n      \"inputs\": {\n        \"in\": \"filled_flat.out\"\n      },\n      \"params\": "
+     "{\n"
+     "        \"sigma\": 100\n      }\n    },\n    {\n      \"id\": \"save_filled_smooth\",\n      \"type\": "
+     "\"WriteHeightfield\",\n      \"inputs\": {\n        \"in\": \"filled_smooth.out\"\n      },\n      \"params\": "
+     "{\n"
+     "        \"path\": \"distributed_hydrology/filled_smooth.tif\"\n      }\n    }\n",
+     1},
 };
 
 // `text` with every later edit applied; counts in `applied[from]` the texts each edit changed.
