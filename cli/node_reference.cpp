@@ -6,6 +6,7 @@
 
 #include "graph/graph_file.h"
 #include "graph/registry.h"
+#include "graph/tile_graph.h"
 
 namespace orogen::cli {
 namespace {
@@ -100,8 +101,23 @@ std::string distribution_text(const NodeType& t) {
   std::string s = std::string(to_string(d)) + ": " + describe(d);
   if (t.reach_fn && t.distribution != Distribution::Undeclared && t.distribution != d)
     s += std::string("; ") + to_string(t.distribution) + " when the parameters make the reach global";
-  if (!runs_across_ranks(d)) s += " (for now: computed on the whole domain by every rank that needs it)";
+  if (find_tile_graph(t.name)) {
+    const std::string when = tile_graph_conditions(t.name);
+    s += " (runs across the tiles" + (when.empty() ? std::string() : " " + when) +
+         (when.empty() ? std::string(")") : "; otherwise computed on the whole domain by every rank that needs it)");
+  } else if (!runs_across_ranks(d)) {
+    s += " (for now: computed on the whole domain by every rank that needs it)";
+  }
   return s;
+}
+
+// Whether the type runs across the ranks with its default parameters.
+bool across_ranks_by_default(const NodeType& t) {
+  if (const TileGraphFactory* factory = find_tile_graph(t.name)) {
+    const std::vector<ParamValue> values = defaults(t);
+    return (*factory)(ParamView(t, values), Domain{}) != nullptr;
+  }
+  return runs_across_ranks(t.distribution_for(defaults(t)));
 }
 
 nlohmann::json reach_json(const NodeType& t) {
@@ -151,7 +167,7 @@ nlohmann::json type_json(const NodeType& t) {
                       {"distribution",
                        {{"kind", to_string(t.distribution_for(defaults(t)))},
                         {"declared", to_string(t.distribution)},
-                        {"across_ranks", runs_across_ranks(t.distribution_for(defaults(t)))},
+                        {"across_ranks", across_ranks_by_default(t)},
                         {"summary", distribution_text(t)}}},
                       {"writes_files", t.writes_files},
                       {"domain_independent", t.domain_independent}};

@@ -6,21 +6,31 @@ namespace orogen {
 namespace {
 
 // Filled at static initialisation (one thread), read-only afterwards.
-std::map<std::string, TileGraphFactory>& factories() {
-  static std::map<std::string, TileGraphFactory> map;
+struct Entry {
+  TileGraphFactory factory;
+  std::string conditions;
+};
+
+std::map<std::string, Entry>& factories() {
+  static std::map<std::string, Entry> map;
   return map;
 }
 
 }  // namespace
 
-bool register_tile_graph(const std::string& type, TileGraphFactory factory) {
-  factories()[type] = std::move(factory);
+bool register_tile_graph(const std::string& type, TileGraphFactory factory, std::string conditions) {
+  factories()[type] = {std::move(factory), std::move(conditions)};
   return true;
 }
 
 const TileGraphFactory* find_tile_graph(const std::string& type) {
   const auto it = factories().find(type);
-  return it == factories().end() ? nullptr : &it->second;
+  return it == factories().end() ? nullptr : &it->second.factory;
+}
+
+std::string tile_graph_conditions(const std::string& type) {
+  const auto it = factories().find(type);
+  return it == factories().end() ? std::string() : it->second.conditions;
 }
 
 }  // namespace orogen

@@ -52,9 +52,12 @@ class TileGraphAlgorithm {
 using TileGraphFactory =
     std::function<std::unique_ptr<TileGraphAlgorithm>(const ParamView& params, const Domain& whole)>;
 
-// Registers the algorithm of node type `type` (at static initialisation, next to the node's declaration).
-bool register_tile_graph(const std::string& type, TileGraphFactory factory);
+// Registers the algorithm of node type `type` (at static initialisation, next to the node's declaration);
+// `conditions` says for which parameter values the factory gives one ("" for all), for the node reference.
+bool register_tile_graph(const std::string& type, TileGraphFactory factory, std::string conditions = {});
 // The registered factory of node type `type`, or nullptr.
 const TileGraphFactory* find_tile_graph(const std::string& type);
+// The conditions registered with it ("" if none or no factory).
+std::string tile_graph_conditions(const std::string& type);
 
 }  // namespace orogen

@@ -111,13 +111,16 @@ class FlatFillAcrossTiles : public TileGraphAlgorithm {
 
 // FillDepressions keeps every lake; Lakes those deep and large enough, as the whole-domain node decides
 // (nodes/hydrology/depressions.cpp).
-const bool kFillRegistered = register_tile_graph("FillDepressions", [](const ParamView& p, const Domain& whole) {
-  std::unique_ptr<TileGraphAlgorithm> algorithm;
-  if (p.get<std::string>("mode") == "fill" && p.get<std::string>("flats") == "flat")
-    algorithm = std::make_unique<FlatFillAcrossTiles>(
-        whole.resolution, [](float, std::int64_t) { return true; }, false);
-  return algorithm;
-});
+const bool kFillRegistered = register_tile_graph(
+    "FillDepressions",
+    [](const ParamView& p, const Domain& whole) {
+      std::unique_ptr<TileGraphAlgorithm> algorithm;
+      if (p.get<std::string>("mode") == "fill" && p.get<std::string>("flats") == "flat")
+        algorithm = std::make_unique<FlatFillAcrossTiles>(
+            whole.resolution, [](float, std::int64_t) { return true; }, false);
+      return algorithm;
+    },
+    "with mode 'fill' and flats 'flat'");
 
 const bool kLakesRegistered = register_tile_graph("Lakes", [](const ParamView& p, const Domain& whole) {
   const double min_depth = p.get<double>("min_depth"), min_area = p.get<double>("min_area");
