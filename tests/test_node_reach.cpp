@@ -49,6 +49,9 @@ std::vector<ParamCase> cases_for(const NodeType& t) {
     out.push_back({{{"path", height_file()}, {"origin", glm::dvec2(-1000, 600)}, {"size", glm::dvec2(900, 700)}},
                    "explicit rectangle"});
   }
+  if (t.name == "FlowDirection")  // without filling, a local node of one sample
+    for (const char* method : {"d8", "dinf", "mfd"})
+      out.push_back({{{"fill", false}, {"method", std::string(method)}}, std::string("no fill ") + method});
   if (t.name == "Blur") {  // beyond kDirectMaxSigma samples: the decimated evaluation
     out.push_back({{{"sigma", 230.0}}, "sigma=230"});
     out.push_back({{{"sigma", 170.0}, {"edges", std::string("mirror")}}, "sigma=170 mirror"});

@@ -198,7 +198,10 @@ OROGEN_NODE(FlowAccumulation) {
 
 OROGEN_NODE(FlowDirection) {
   b.distribution(Distribution::TileGraph);
-  b.reach_global();  // flow routing over the whole domain
+  // Filling first makes a cell's direction depend on the whole domain; without it, only on its 8 neighbours (so
+  // tiled and distributed builds compute it per tile with a one-sample halo).
+  b.reach([](const ParamView& p) { return p.get<bool>("fill") ? Reach::global() : Reach::local(0, 1); },
+          "global (fill on); local, 1 sample (fill off)");
   b.category("hydrology")
       .description(
           "Direction water leaves each cell: the proportion-weighted mean of the receiver directions for D8 "
