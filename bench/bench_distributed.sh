@@ -4,7 +4,10 @@
 # RESOLUTION^2, built untiled in one process, then as TILES tiles on R = 1, 2, 4 ranks. Prints the wall time
 # of each job and the peak resident memory of every rank (GNU time's %M).
 #
-# Usage: bench/bench_distributed.sh [ORGEN_BINARY] [RESOLUTION] [TILES] [RANKS...]
+# GRAPH=bench/distributed_fill.json measures the nodes that run across the tiles today (filling flat, lakes,
+# normalization): there each rank holds only its tiles.
+#
+# Usage: [GRAPH=G.json] bench/bench_distributed.sh [ORGEN_BINARY] [RESOLUTION] [TILES] [RANKS...]
 #   bench/bench_distributed.sh build/release/cli/orogen 2049 4x4 1 2 4
 set -euo pipefail
 orogen=${1:-build/release/cli/orogen}
@@ -13,7 +16,7 @@ tiles=${3:-4x4}
 shift $(($# < 3 ? $# : 3))
 ranks=("$@")
 [ ${#ranks[@]} -gt 0 ] || ranks=(1 2 4)
-graph=$(dirname "$0")/../graphs/distributed_hydrology.json
+graph=${GRAPH:-$(dirname "$0")/../graphs/distributed_hydrology.json}
 # Root and more ranks than cores (docs/distributed.md).
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 out=$(mktemp -d)
@@ -31,7 +34,7 @@ run() {  # label, command...: wall seconds and the peak RSS of each process
   printf '%-28s %8.2f s   peak MiB per rank: %s\n' "$label" "$(echo "$t1 - $t0" | bc)" "$peaks"
 }
 
-echo "distributed_hydrology.json at ${res}x${res} ($(nproc) cores)"
+echo "$(basename "$graph") at ${res}x${res} ($(nproc) cores)"
 run "untiled, 1 process" /usr/bin/time -f 'peak-kB %M' "$orogen" eval "$graph" --resolution "$res" -o "$out/a" -q
 for r in "${ranks[@]}"; do
   rm -rf "$out/b"

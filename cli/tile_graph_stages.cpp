@@ -5,6 +5,9 @@
 #include <cstdio>
 #include <cstring>
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include "cli/tile_assignment.h"
 #include "evaluator/domain_crop.h"
 #include "graph/tile_bytes.h"
@@ -72,10 +75,20 @@ void take_piece(std::string_view& in, const SampleRect& rect, std::vector<std::s
   }
 }
 
+// Where a stage's time goes (rank 0's view), for its report.
+struct Phases {
+  double inputs = 0, tiles = 0, communication = 0, solve = 0, halos = 0;
+};
+
 class Stages {
  public:
   Stages(const TileGraphStages& s, Evaluator& evaluator, RankGroup& group)
-      : s_(s), graph_(*s.graph), evaluator_(evaluator), group_(group), given_(s.tiles.size()) {
+      : s_(s),
+        graph_(*s.graph),
+        evaluator_(evaluator),
+        group_(group),
+        given_(s.tiles.size()),
+        arena_(evaluator.options().threads > 0 ? evaluator.options().threads : tbb::task_arena::automatic) {
     const long long count = static_cast<long long>(s.counts.x) * s.counts.y;
     domains_.resize(static_cast<std::size_t>(count));
     for (long long k = 0; k < count; ++k) {
@@ -118,23 +131,38 @@ class Stages {
     }
     if (!any_rank(group_, missing)) {
       for (std::size_t t = 0; t < mine; ++t) given_[t][node.id] = found[t];
-      say(node, "cached on every tile", t0, 0);
+      say(node, "cached on every tile", t0, 0, nullptr);
       return;
     }
 
     const std::vector<ParamValue> params = graph_.effective_params(node);
     const auto algorithm = (*find_tile_graph(node.type->name))(ParamView(*node.type, params), s_.domain);
+    // The tiles' inputs one evaluation after another (each evaluation is parallel), then their steps side by
+    // side: tiles are independent between two solves.
+    Phases phases;
+    auto t_phase = std::chrono::steady_clock::now();
+    auto lap = [&](double& into) {
+      const auto now = std::chrono::steady_clock::now();
+      into += std::chrono::duration<double, std::milli>(now - t_phase).count();
+      t_phase = now;
+    };
+    std::vector<std::vector<PortValue>> inputs(mine);
+    for (std::size_t t = 0; t < mine; ++t) inputs[t] = tile_inputs(node, t);
+    lap(phases.inputs);
     std::vector<std::unique_ptr<TileGraphTile>> tiles(mine);
-    for (std::size_t t = 0; t < mine; ++t) tiles[t] = algorithm->start(tile_inputs(node, t));
+    each_tile([&](std::size_t t) {
+      tiles[t] = algorithm->start(inputs[t]);
+      inputs[t].clear();
+    });
 
     std::size_t exchanged = 0;
     for (int round = 0; round < algorithm->rounds(); ++round) {
       std::vector<TilePart> parts(mine);
-      for (std::size_t t = 0; t < mine; ++t) {
-        parts[t] = {number(s_.tiles[t]), tiles[t]->message(round)};
-        exchanged += parts[t].bytes.size();
-      }
+      each_tile([&](std::size_t t) { parts[t] = {number(s_.tiles[t]), tiles[t]->message(round)}; });
+      for (const TilePart& part : parts) exchanged += part.bytes.size();
+      lap(phases.tiles);
       std::vector<TilePart> all = gather_by_tile(group_, parts);
+      lap(phases.communication);
       std::vector<std::string> messages(domains_.size());
       if (all.size() != messages.size()) throw std::runtime_error("tile-graph stage: a tile's message is missing");
       for (std::size_t k = 0; k < all.size(); ++k) {
@@ -142,20 +170,29 @@ class Stages {
         messages[k] = std::move(all[k].bytes);
       }
       const auto answers = algorithm->solve(round, messages);
-      for (std::size_t t = 0; t < mine; ++t)
-        tiles[t]->answer(round, answers[static_cast<std::size_t>(number(s_.tiles[t]))]);
+      lap(phases.solve);
+      each_tile(
+          [&](std::size_t t) { tiles[t]->answer(round, answers[static_cast<std::size_t>(number(s_.tiles[t]))]); });
     }
     std::vector<std::vector<PortValue>> cores(mine);
-    for (std::size_t t = 0; t < mine; ++t) {
+    each_tile([&](std::size_t t) {
       cores[t] = tiles[t]->outputs();
       tiles[t].reset();
-    }
+    });
+    lap(phases.tiles);
     const auto results = put_together(node, cores);
+    lap(phases.halos);
     for (std::size_t t = 0; t < mine; ++t) {
       evaluator_.store_result(keys[t], results[t]);
       given_[t][node.id] = results[t];
     }
-    say(node, "computed across the tiles", t0, exchanged);
+    say(node, "computed across the tiles", t0, exchanged, &phases);
+  }
+
+  // fn(t) for every tile of this rank, in parallel on the evaluator's threads.
+  template <class Fn>
+  void each_tile(Fn&& fn) {
+    arena_.execute([&] { tbb::parallel_for(std::size_t(0), s_.tiles.size(), [&](std::size_t t) { fn(t); }); });
   }
 
   // The node's inputs on exactly tile t's samples, from an evaluation of what feeds them on the tile.
@@ -238,11 +275,17 @@ class Stages {
     return results;
   }
 
-  void say(const Node& node, const char* what, std::chrono::steady_clock::time_point t0, std::size_t exchanged) {
+  void say(const Node& node, const char* what, std::chrono::steady_clock::time_point t0, std::size_t exchanged,
+           const Phases* phases) {
     if (s_.quiet || group_.rank() != 0) return;
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     std::fprintf(stderr, "node '%s' (%s) %s in %.1f ms", node.id.c_str(), node.type->name.c_str(), what, ms);
-    if (exchanged > 0) std::fprintf(stderr, " (rank 0's tiles sent %.1f KiB of messages)", exchanged / 1024.0);
+    if (phases)
+      std::fprintf(stderr,
+                   ": inputs %.0f ms, tiles %.0f ms, messages %.0f ms (%.1f KiB from rank 0), solve %.0f ms, "
+                   "halos %.0f ms",
+                   phases->inputs, phases->tiles, phases->communication, exchanged / 1024.0, phases->solve,
+                   phases->halos);
     std::fprintf(stderr, "\n");
   }
 
@@ -252,6 +295,7 @@ class Stages {
   RankGroup& group_;
   std::vector<std::map<std::string, Domain>> domains_;  // per tile of the tiling: every node's domain
   std::vector<Results> given_;                          // per tile of this rank
+  tbb::task_arena arena_;
 };
 
 }  // namespace
