@@ -214,7 +214,11 @@ std::set<std::string> across_tile_nodes(const Graph& graph, const Domain& full, 
     const auto& outputs = node.type->outputs;
     const bool heightfields =
         std::all_of(outputs.begin(), outputs.end(), [](const PortDecl& p) { return p.type == PortType::Heightfield; });
-    if (!evaluated_whole(graph, node, global) || !heightfields || node.type->own_lattice) continue;
+    // Inputs on a lattice of their own (resampled by the node) cannot be cut into the tiles.
+    const bool lattice_inputs = std::all_of(node.inputs.begin(), node.inputs.end(), [&](const auto& in) {
+      return !graph.at(in.second.node).type->own_lattice;
+    });
+    if (!evaluated_whole(graph, node, global) || !heightfields || node.type->own_lattice || !lattice_inputs) continue;
     const TileGraphFactory* factory = find_tile_graph(node.type->name);
     const std::vector<ParamValue> params = graph.effective_params(node);
     if (factory && (*factory)(ParamView(*node.type, params), full)) across.insert(node.id);
