@@ -371,6 +371,9 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
     ProgressDisplay display(stderr, tile_graph.nodes().size());
     if (live) request.on_event = [&](const EvalEvent& e) { display.on_event(e); };
     const EvalResult result = evaluator.evaluate(tile_graph, request);
+    // This tile's share of the across-tile results is done with (the cache keeps what fits).
+    request.given_results.clear();
+    across_results[b].clear();
     if (live) display.finish();
     counted.milliseconds += result.milliseconds;
 

@@ -6,7 +6,6 @@
 //
 // FillDepressions' epsilon flats and carve mode are not here: their heights follow the order in which one flood
 // reaches each cell across the whole domain, so they are computed on the whole domain (docs/distributed.md).
-#include <cmath>
 #include <stdexcept>
 
 #include "graph/node_type.h"
