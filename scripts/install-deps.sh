@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
-# Installs every Debian package Orogen's build, tests, benchmarks and editor need.
-# Idempotent and non-interactive; run as root (it uses apt-get).
+# Installs the Debian packages Orogen needs. Idempotent and non-interactive; run as root (it uses apt-get).
+#   install-deps.sh             everything: the build, the editor, the tests, benchmarks, fuzzing, MPI, GDAL, Blender
+#   install-deps.sh --programs  only what building and running orogen and orogen-editor needs (the quick start;
+#                               Blender, Clang, MPI and the test tools are most of the download)
 set -euo pipefail
 
-packages=(
+programs=(
   build-essential cmake ninja-build pkg-config git ccache
+  lld  # links in half the time of GNU ld (CMakeLists.txt: OROGEN_USE_LLD); it changes no object file
   libglm-dev
-  libopenimageio-dev openimageio-tools libopenexr-dev
+  libopenimageio-dev libopenexr-dev
   libcgal-dev libgmp-dev libmpfr-dev
   libopenmesh-dev
   libtinygltf-dev
@@ -14,18 +17,25 @@ packages=(
   nlohmann-json3-dev
   libcli11-dev
   libxxhash-dev libzstd-dev
-  libgtest-dev libgmock-dev
-  libbenchmark-dev
-  libnoise-dev
   libhwy-dev
   libimgui-dev libglfw3-dev libgl-dev libgl1-mesa-dri libegl1 fonts-dejavu-core
-  xvfb xauth
+)
+rest=(
+  openimageio-tools  # oiiotool makes the image fuzzer's seeds (tests/fuzz/make_image_seeds.sh)
+  libgtest-dev libgmock-dev
+  libbenchmark-dev
+  libnoise-dev  # bench_noise compares with it
+  xvfb xauth  # the editor's smoke test and screenshots
   gdal-bin  # gdalinfo, gdal_translate: the georeference and the tiles' VRT mosaics are checked (skipped without)
   blender  # tests/test_blender_import.cpp imports scenes headless (skipped without it)
-  clang-14 libclang-rt-14-dev clang-format-14
-  lld  # links the tests in half the time of GNU ld (CMakeLists.txt: OROGEN_USE_LLD)
-  libopenmpi-dev openmpi-bin
+  clang-14 libclang-rt-14-dev clang-format-14  # libFuzzer targets; the layout check
+  libopenmpi-dev openmpi-bin  # distributed builds (docs/distributed.md)
 )
+case "${1:-}" in
+  "") packages=("${programs[@]}" "${rest[@]}") ;;
+  --programs) packages=("${programs[@]}") ;;
+  *) echo "usage: install-deps.sh [--programs]" >&2; exit 2 ;;
+esac
 
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then

@@ -3,8 +3,9 @@
 # evaluates the example terrain graph into out/. scripts/test.sh builds the rest (tests, benchmarks).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
-cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release
+bash scripts/install-deps.sh --programs
+# Tests and benchmarks are configured, installed for and built by scripts/test.sh.
+cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DOROGEN_TESTS=OFF -DOROGEN_BENCH=OFF
 cmake --build build/release -j"$(nproc)" --target orogen orogen-editor
 ./build/release/cli/orogen eval graphs/terrain.json -o out --stats out/terrain-stats.json
 echo "Outputs written to $(pwd)/out:"
