@@ -15,6 +15,7 @@
 #include "graph/graph_file.h"
 #include "graph/json_util.h"
 #include "graph/output_path.h"
+#include "graph/subgraph.h"
 
 namespace orogen::cli {
 
@@ -53,6 +54,29 @@ std::vector<std::string> apply_param_overrides(Graph& graph, const std::vector<s
     graph.set_param(node_id, name, std::move(*value));
   }
   return errors;
+}
+
+bool expand_for_evaluation(Graph& graph, const std::vector<std::string>& assignments,
+                           std::vector<std::string>& errors) {
+  std::vector<std::string> outer, inner;
+  for (const auto& a : assignments) {
+    const auto slash = a.find('/'), dot = a.find('.');
+    (slash != std::string::npos && (dot == std::string::npos || slash < dot) ? inner : outer).push_back(a);
+  }
+  auto more = apply_param_overrides(graph, outer);
+  errors.insert(errors.end(), more.begin(), more.end());
+  if (has_subgraphs(graph)) {
+    try {
+      Graph expanded = expand_subgraphs(graph).graph;
+      graph = std::move(expanded);
+    } catch (const GraphError& e) {
+      errors.push_back(e.what());
+      return false;
+    }
+  }
+  more = apply_param_overrides(graph, inner);
+  errors.insert(errors.end(), more.begin(), more.end());
+  return errors.empty();
 }
 
 std::optional<glm::ivec2> parse_resolution(const std::string& text) {
