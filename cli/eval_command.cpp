@@ -433,6 +433,7 @@ int run_validate(const ValidateCommand& cmd) {
     std::cerr << cmd.graph_file.string() << ": invalid graph\n" << loaded.error_text();
     return kExitInvalid;
   }
+  const std::size_t node_count = loaded.graph->nodes().size();
   Graph graph = std::move(*loaded.graph);
   std::vector<std::string> expansion_errors;
   if (!expand_for_evaluation(graph, {}, expansion_errors)) {
@@ -449,8 +450,8 @@ int run_validate(const ValidateCommand& cmd) {
     return kExitInvalid;
   }
   const std::size_t warnings = loaded.warnings.size() + files.warnings.size();
-  std::cout << cmd.graph_file.string() << ": valid (" << loaded.graph->nodes().size() << " nodes"
-            << (graph.nodes().size() == loaded.graph->nodes().size()
+  std::cout << cmd.graph_file.string() << ": valid (" << node_count << " nodes"
+            << (graph.nodes().size() == node_count
                     ? std::string()
                     : ", " + std::to_string(graph.nodes().size()) + " with subgraphs expanded")
             << (warnings == 0 ? "" : ", " + std::to_string(warnings) + " warning(s)") << ")\n";
