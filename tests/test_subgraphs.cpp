@@ -105,6 +105,20 @@ TEST(Subgraphs, LibraryAssetsLoadAndAreDocumented) {
   }
 }
 
+TEST(Subgraphs, AssetFilesRoundTripWithTheirInterface) {
+  for (const auto& entry : list_subgraph_library()) {
+    SCOPED_TRACE(entry.name);
+    const auto loaded = load_graph_file(entry.file);
+    ASSERT_TRUE(loaded.ok()) << loaded.error_text();
+    ASSERT_TRUE(loaded.graph->interface);
+    const std::string text = serialize_graph(*loaded.graph);
+    EXPECT_EQ(json::parse(text)["interface"], json::parse(read_text(entry.file))["interface"]);
+    const auto again = parse_graph(text);
+    ASSERT_TRUE(again.ok()) << again.error_text();
+    EXPECT_EQ(serialize_graph(*again.graph), text);
+  }
+}
+
 // For every library asset: an instance evaluates bit for bit like the asset's nodes pasted inline with the
 // exposed values written into them, fed by the same source.
 TEST(Subgraphs, InstancedEqualsInlineForEveryLibraryAsset) {
