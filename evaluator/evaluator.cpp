@@ -65,7 +65,26 @@ PortValue EvalResult::output(const std::string& node, const std::string& port, c
 
 std::map<std::string, CacheKey> compute_cache_keys(const Graph& graph, const Domain& domain,
                                                    const OutputPolicy& output) {
-  if (has_subgraphs(graph)) return compute_cache_keys(expand_subgraphs(graph).graph, domain, output);
+  if (has_subgraphs(graph)) {
+    // The inner nodes' keys ("instance/inner"), and for each instance a key of the inner outputs it presents.
+    const ExpandedGraph expanded = expand_subgraphs(graph);
+    auto keys = compute_cache_keys(expanded.graph, domain, output);
+    for (const auto& [id, outputs] : expanded.outputs) {
+      KeyHasher h;
+      h.add(std::string_view("orogen-subgraph-instance/1"));
+      bool complete = true;
+      for (const auto& ref : outputs) {
+        const auto it = keys.find(ref.node);
+        if (it == keys.end()) {
+          complete = false;
+          break;
+        }
+        h.add(it->second).add(std::string_view(ref.port));
+      }
+      if (complete) keys.emplace(id, h.finish());
+    }
+    return keys;
+  }
   NodeKeys keys(graph, domain, output);
   std::map<std::string, CacheKey> result;
   for (const auto& node : graph.nodes())

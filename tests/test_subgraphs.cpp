@@ -202,6 +202,7 @@ TEST(Subgraphs, TwoInstancesWithEqualInputsShareCacheEntries) {
   const auto equal_keys = compute_cache_keys(graph, graph.domain.to_domain());
   for (const std::string inner : {"noise", "sum", "flip"})
     EXPECT_EQ(equal_keys.at("a/" + inner), equal_keys.at("b/" + inner)) << inner;
+  EXPECT_EQ(equal_keys.at("a"), equal_keys.at("b"));
   // One instance's nodes ran; the other's output node is the same job, reported Cached (and the evaluator
   // need not even plan what feeds it).
   EXPECT_EQ(r.nodes.at("a/flip").key, r.nodes.at("b/flip").key);
@@ -223,6 +224,8 @@ TEST(Subgraphs, TwoInstancesWithEqualInputsShareCacheEntries) {
   const auto keys = compute_cache_keys(graph, graph.domain.to_domain());
   EXPECT_NE(keys.at("a/noise"), keys.at("b/noise"));
   EXPECT_NE(keys.at("a/flip"), keys.at("b/flip"));
+  EXPECT_NE(keys.at("a"), keys.at("b"));
+  EXPECT_EQ(keys.at("a/sum"), equal_keys.at("a/sum"));
   const EvalResult changed = evaluate(evaluator, graph, {"a", "b"});
   EXPECT_EQ(changed.nodes.at("a").status, NodeStatus::Cached);
   EXPECT_EQ(changed.nodes.at("b").status, NodeStatus::Computed);
@@ -253,7 +256,7 @@ TEST(Subgraphs, AnEditInsideTheAssetChangesExactlyTheInstancesAndTheirDownstream
   std::set<std::string> changed;
   for (const auto& [id, key] : k0)
     if (k1.at(id) != key) changed.insert(id);
-  EXPECT_EQ(changed, (std::set<std::string>{"inst/noise", "inst/sum", "inst/flip", "after"}));
+  EXPECT_EQ(changed, (std::set<std::string>{"inst", "inst/noise", "inst/sum", "inst/flip", "after"}));
 
   // Undoing the edit gives the first keys back: a cache hit.
   write_json(dir / "noise.orogen-subgraph.json", noise_asset(1, 4));
@@ -263,6 +266,35 @@ TEST(Subgraphs, AnEditInsideTheAssetChangesExactlyTheInstancesAndTheirDownstream
 }
 
 // Three levels of assets, each promoting the exposed parameter of the one inside it.
+TEST(Subgraphs, AFailureInsideAnInstanceIsReportedByTheInstance) {
+  const fs::path dir = scratch_dir("subgraph_failure");
+  write_json(dir / "reader.orogen-subgraph.json",
+             {{"format", "orogen-graph"},
+              {"version", kGraphFormatVersion},
+              {"interface",
+               {{"asset_version", 1},
+                {"outputs", {{{"name", "out"}, {"type", "Heightfield"}, {"from", "read.out"}}}},
+                {"params", {{{"name", "file"}, {"type", "path"}, {"to", "read.path"}}}}}},
+              {"nodes", {{{"id", "read"}, {"type", "ReadHeightfield"}}}}});
+  auto loaded = load(dir, {{{"id", "inst"},
+                            {"type", "Subgraph"},
+                            {"asset", "reader.orogen-subgraph.json"},
+                            {"asset_version", 1},
+                            {"params", {{"file", "no_such_file.exr"}}}},
+                           {{"id", "after"}, {"type", "Abs"}, {"inputs", {{"in", "inst.out"}}}}});
+  ASSERT_TRUE(loaded.ok()) << loaded.error_text();
+  Evaluator evaluator;
+  const EvalResult r = evaluate(evaluator, *loaded.graph, {"after"});
+  EXPECT_FALSE(r.ok());
+  EXPECT_EQ(r.nodes.at("inst/read").status, NodeStatus::Failed);
+  EXPECT_NE(r.nodes.at("inst/read").message.find("no_such_file.exr"), std::string::npos)
+      << r.nodes.at("inst/read").message;
+  EXPECT_EQ(r.nodes.at("inst").status, NodeStatus::Failed);
+  EXPECT_EQ(r.nodes.at("inst").message.rfind("inst/read: ", 0), 0u) << r.nodes.at("inst").message;
+  EXPECT_EQ(r.nodes.at("after").status, NodeStatus::Skipped);
+  EXPECT_EQ(r.outputs.count("after"), 0u);
+}
+
 TEST(Subgraphs, PromotionThroughThreeLevels) {
   const fs::path dir = scratch_dir("subgraph_promotion");
   auto level = [](const json& node, const std::string& target) {
