@@ -256,7 +256,10 @@ class Expander {
       const std::string id = prefix + node.id;
       const SubgraphAsset* asset = node.type->subgraph;
       if (!asset) {
-        out_.graph.add_expanded_node(*node.type, id).params = node.params;
+        Node& added = out_.graph.add_expanded_node(*node.type, id);
+        added.params = node.params;
+        // Input files named inside an asset are the asset's: they resolve against its folder.
+        if (!prefix.empty()) absolutize_input_paths(added, g.directory);
         continue;
       }
       const std::size_t first = out_.graph.nodes().size();
@@ -275,12 +278,38 @@ class Expander {
   }
 
  private:
-  // The asset's graph with the instance's exposed values (set or default) written into their targets.
+  static bool is_input_path(const ParamDecl& decl) { return decl.type == ParamType::Path && !decl.output_file; }
+
+  // Relative input paths made absolute against `dir` (the current directory when empty, as the evaluator
+  // resolves them for a graph without a folder).
+  static ParamValue absolute_input_path(const ParamValue& value, const fs::path& dir) {
+    const auto* text = std::get_if<std::string>(&value);
+    if (!text || text->empty() || fs::path(*text).is_absolute()) return value;
+    std::error_code ec;
+    const fs::path base = dir.empty() ? fs::current_path(ec) : dir;
+    return (base / *text).lexically_normal().string();
+  }
+
+  static void absolutize_input_paths(Node& node, const fs::path& dir) {
+    for (const auto& decl : node.type->params) {
+      if (!is_input_path(decl)) continue;
+      const auto it = node.params.find(decl.name);
+      const ParamValue& value = it != node.params.end() ? it->second : decl.default_value;
+      if (const auto* text = std::get_if<std::string>(&value); text && !text->empty())
+        node.params[decl.name] = absolute_input_path(value, dir);
+    }
+  }
+
+  // The asset's graph with the instance's exposed values (set or default) written into their targets. An input
+  // path set on the instance resolves against the folder of the graph the instance is in.
   static Graph with_exposed_values(const Graph& g, const Node& instance) {
     const SubgraphAsset& asset = *instance.type->subgraph;
     Graph inner = asset.graph;
     for (const auto& p : asset.interface().params) {
-      const ParamValue& value = g.param(instance.id, p.decl.name);
+      const bool set_here = instance.params.count(p.decl.name) > 0;
+      const ParamValue value = is_input_path(p.decl) && set_here
+                                   ? absolute_input_path(g.param(instance.id, p.decl.name), g.directory)
+                                   : g.param(instance.id, p.decl.name);
       for (const auto& t : p.targets) {
         try {
           inner.set_param(t.node, t.name, value);

@@ -295,6 +295,41 @@ TEST(Subgraphs, AFailureInsideAnInstanceIsReportedByTheInstance) {
   EXPECT_EQ(r.outputs.count("after"), 0u);
 }
 
+// Input files named inside an asset resolve against the asset's folder; those set on the instance against
+// the folder of the graph that sets them.
+TEST(Subgraphs, InputPathsResolveWhereTheyAreWritten) {
+  const fs::path dir = scratch_dir("subgraph_paths");
+  fs::create_directories(dir / "assets");
+  write_json(dir / "assets" / "reader.orogen-subgraph.json",
+             {{"format", "orogen-graph"},
+              {"version", kGraphFormatVersion},
+              {"interface",
+               {{"asset_version", 1},
+                {"outputs",
+                 {{{"name", "a"}, {"type", "Heightfield"}, {"from", "fixed.out"}},
+                  {{"name", "b"}, {"type", "Heightfield"}, {"from", "chosen.out"}}}},
+                {"params", {{{"name", "file"}, {"type", "path"}, {"to", "chosen.path"}}}}}},
+              {"nodes",
+               {{{"id", "fixed"}, {"type", "ReadHeightfield"}, {"params", {{"path", "data/dem.exr"}}}},
+                {{"id", "chosen"}, {"type", "ReadHeightfield"}, {"params", {{"path", "default.exr"}}}}}}});
+  auto loaded = load(dir, {{{"id", "inst"},
+                            {"type", "Subgraph"},
+                            {"asset", "assets/reader.orogen-subgraph.json"},
+                            {"asset_version", 1},
+                            {"params", {{"file", "mine.exr"}}}}});
+  ASSERT_TRUE(loaded.ok()) << loaded.error_text();
+  const fs::path base = fs::weakly_canonical(dir);
+  auto path_of = [](const Graph& g, const std::string& node) {
+    return fs::path(std::get<std::string>(g.param(node, "path")));
+  };
+  const Graph expanded = expand_subgraphs(*loaded.graph).graph;
+  EXPECT_EQ(path_of(expanded, "inst/fixed"), base / "assets" / "data" / "dem.exr");
+  EXPECT_EQ(path_of(expanded, "inst/chosen"), base / "mine.exr");
+  Graph defaults = *loaded.graph;
+  defaults.reset_param("inst", "file");
+  EXPECT_EQ(path_of(expand_subgraphs(defaults).graph, "inst/chosen"), base / "assets" / "default.exr");
+}
+
 TEST(Subgraphs, PromotionThroughThreeLevels) {
   const fs::path dir = scratch_dir("subgraph_promotion");
   auto level = [](const json& node, const std::string& target) {
