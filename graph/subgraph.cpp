@@ -248,7 +248,7 @@ namespace {
 
 class Expander {
  public:
-  explicit Expander(ExpandedGraph& out) : out_(out) {}
+  Expander(ExpandedGraph& out, const InstanceOverrides* overrides) : out_(out), overrides_(overrides) {}
 
   // Adds the nodes of `g` under `prefix`, then its links.
   void expand(const Graph& g, const std::string& prefix) {
@@ -263,7 +263,9 @@ class Expander {
         continue;
       }
       const std::size_t first = out_.graph.nodes().size();
-      Graph inner = with_exposed_values(g, node);
+      out_.types[id] = node.type;
+      const auto extra = overrides_ ? overrides_->find(id) : InstanceOverrides::const_iterator();
+      Graph inner = with_exposed_values(g, node, overrides_ && extra != overrides_->end() ? &extra->second : nullptr);
       expand(inner, id + "/");
       auto& outputs = out_.outputs[id];
       for (const auto& output : asset->interface().outputs) outputs.push_back(source(inner, id + "/", output.source));
@@ -300,16 +302,20 @@ class Expander {
     }
   }
 
-  // The asset's graph with the instance's exposed values (set or default) written into their targets. An input
-  // path set on the instance resolves against the folder of the graph the instance is in.
-  static Graph with_exposed_values(const Graph& g, const Node& instance) {
+  // The asset's graph with the instance's exposed values (`extra`, else set or default) written into their
+  // targets. An input path set on the instance resolves against the folder of the graph the instance is in,
+  // one from `extra` against the folder of the expanded graph.
+  Graph with_exposed_values(const Graph& g, const Node& instance,
+                            const std::map<std::string, ParamValue>* extra) const {
     const SubgraphAsset& asset = *instance.type->subgraph;
     Graph inner = asset.graph;
     for (const auto& p : asset.interface().params) {
+      const auto over = extra ? extra->find(p.decl.name) : std::map<std::string, ParamValue>::const_iterator();
+      const bool overridden = extra && over != extra->end();
       const bool set_here = instance.params.count(p.decl.name) > 0;
-      const ParamValue value = is_input_path(p.decl) && set_here
-                                   ? absolute_input_path(g.param(instance.id, p.decl.name), g.directory)
-                                   : g.param(instance.id, p.decl.name);
+      ParamValue value = overridden ? over->second : g.param(instance.id, p.decl.name);
+      if (is_input_path(p.decl) && (overridden || set_here))
+        value = absolute_input_path(value, overridden ? out_.graph.directory : g.directory);
       for (const auto& t : p.targets) {
         try {
           inner.set_param(t.node, t.name, value);
@@ -348,15 +354,16 @@ class Expander {
   }
 
   ExpandedGraph& out_;
+  const InstanceOverrides* overrides_;
 };
 
 }  // namespace
 
-ExpandedGraph expand_subgraphs(const Graph& graph) {
+ExpandedGraph expand_subgraphs(const Graph& graph, const InstanceOverrides* overrides) {
   ExpandedGraph out;
   out.graph.domain = graph.domain;
   out.graph.directory = graph.directory;
-  Expander(out).expand(graph, "");
+  Expander(out, overrides).expand(graph, "");
   return out;
 }
 

@@ -104,8 +104,12 @@ struct ExpandedGraph {
   // interface outputs (in interface order), and the expanded ids of all the plain nodes inside it.
   std::map<std::string, std::vector<PortRef>> outputs;
   std::map<std::string, std::vector<std::string>> nodes;
+  std::map<std::string, const NodeType*> types;  // every instance's type (its exposed parameters)
 };
+// Exposed-parameter values for instances by expanded id ("a/b"), applied instead of the values the graph or
+// asset gives them: `--set a/b.param=value` on a nested instance. Values must suit the instance's declarations.
+using InstanceOverrides = std::map<std::string, std::map<std::string, ParamValue>>;
 // Throws GraphError naming the instance when an exposed value cannot be applied.
-ExpandedGraph expand_subgraphs(const Graph& graph);
+ExpandedGraph expand_subgraphs(const Graph& graph, const InstanceOverrides* overrides = nullptr);
 
 }  // namespace orogen

@@ -581,5 +581,46 @@ TEST(Subgraphs, CliSetReachesExposedAndInnerParameters) {
   EXPECT_NE(one.out.find("talus_angle : float = 38.0"), std::string::npos) << one.out;
 }
 
+// --set reaches every level: the outer exposed parameter, a nested instance's exposed parameter, and the
+// innermost node's parameter all set the same FBM feature size.
+TEST(Subgraphs, CliSetReachesNestedInstances) {
+  const fs::path dir = scratch_dir("subgraph_cli_nested");
+  auto level = [](const json& node, const std::string& target) {
+    return json{
+        {"format", "orogen-graph"},
+        {"version", kGraphFormatVersion},
+        {"interface",
+         {{"asset_version", 1},
+          {"outputs", {{{"name", "out"}, {"type", "Heightfield"}, {"from", node["id"].get<std::string>() + ".out"}}}},
+          {"params", {{{"name", "size"}, {"type", "float"}, {"to", target}}}}}},
+        {"nodes", {node}}};
+  };
+  write_json(dir / "l1.orogen-subgraph.json",
+             level({{"id", "noise"}, {"type", "FBM"}, {"params", {{"feature_size", 300}}}}, "noise.feature_size"));
+  write_json(dir / "l2.orogen-subgraph.json",
+             level({{"id", "one"}, {"type", "Subgraph"}, {"asset", "l1.orogen-subgraph.json"}, {"asset_version", 1}},
+                   "one.size"));
+  write_text(
+      dir / "graph.json",
+      graph_text({{{"id", "top"}, {"type", "Subgraph"}, {"asset", "l2.orogen-subgraph.json"}, {"asset_version", 1}},
+                  {{"id", "write"}, {"type", "WriteHeightfield"}, {"inputs", {{"in", "top.out"}}}}}));
+  auto eval = [&](const std::string& out, const std::string& set) {
+    const auto r = run_process(
+        cli_binary(), {"eval", (dir / "graph.json").string(), "-o", (dir / out).string(), "--quiet", "--set", set});
+    EXPECT_EQ(r.exit_code, 0) << set << "\n" << r.err;
+    return read_text(dir / out / "height.exr");
+  };
+  const std::string outer = eval("outer", "top.size=777");
+  EXPECT_EQ(eval("nested", "top/one.size=777"), outer);
+  EXPECT_EQ(eval("innermost", "top/one/noise.feature_size=777"), outer);
+  EXPECT_NE(eval("other", "top/one.size=500"), outer);
+  const auto wrong = run_process(
+      cli_binary(), {"eval", (dir / "graph.json").string(), "-o", (dir / "x").string(), "--set", "top/one.sise=1"});
+  EXPECT_NE(wrong.exit_code, 0);
+  EXPECT_NE(wrong.err.find("subgraph instance 'top/one' has no parameter 'sise' (did you mean 'size'?)"),
+            std::string::npos)
+      << wrong.err;
+}
+
 }  // namespace
 }  // namespace orogen::test
