@@ -908,6 +908,7 @@ class GraphReader {
     const std::string name = read_name(e, p, seen);
     const auto targets = read_targets(e, p, "to");
     const ParamDecl* first = nullptr;
+    std::vector<const ParamDecl*> target_decls;
     ParamValue first_value;
     bool ok = !name.empty() && !targets.empty();
     for (const auto& t : targets) {
@@ -932,12 +933,21 @@ class GraphReader {
                "parameter " + t.str() + " is " + std::string(to_string(decl->type)) + ", not " +
                    std::string(to_string(first->type)) + " as the first target");
         ok = false;
+      } else if (decl->choices != first->choices || decl->table.columns.size() != first->table.columns.size()) {
+        report(p + "/to", "", "parameter " + t.str() + " takes other values than the first target");
+        ok = false;
       }
       param.targets.push_back(t);
+      target_decls.push_back(decl);
     }
     if (!ok || !first) return std::nullopt;
     check_declared_type(e, p, std::string(to_string(first->type)));
     ParamDecl decl = *first;
+    // The range every target accepts: the narrowest bounds among them.
+    for (const ParamDecl* t : target_decls) {
+      if (t->min) decl.min = decl.min ? std::max(*decl.min, *t->min) : *t->min;
+      if (t->max) decl.max = decl.max ? std::min(*decl.max, *t->max) : *t->max;
+    }
     decl.name = name;
     decl.label = read_text(e, p, "label");
     if (e.contains("description")) decl.description = read_text(e, p, "description");
@@ -989,6 +999,12 @@ class GraphReader {
       report(p + (e.contains("default") ? "/default" : ""), "", "default of '" + name + "': " + why);
       return std::nullopt;
     }
+    for (std::size_t k = 0; k < target_decls.size(); ++k)
+      if (const std::string why = target_decls[k]->check(decl.default_value); !why.empty()) {
+        report(p + (e.contains("default") ? "/default" : ""), "",
+               "default of '" + name + "' does not suit " + param.targets[k].str() + ": " + why);
+        return std::nullopt;
+      }
     param.decl = std::move(decl);
     return param;
   }

@@ -523,6 +523,29 @@ TEST(Subgraphs, InterfaceErrorsPointIntoTheAsset) {
       << text;
 }
 
+// A parameter exposed over several inner parameters takes the range they all accept.
+TEST(Subgraphs, AnExposedParameterOverSeveralTargetsTakesTheirCommonRange) {
+  const fs::path dir = scratch_dir("subgraph_common_range");
+  json asset = noise_asset();
+  asset["nodes"].push_back({{"id", "more"}, {"type", "FBM"}});
+  asset["interface"]["params"] = json::array(
+      {{{"name", "share"}, {"type", "float"}, {"default", 0.25}, {"to", {"noise.amplitude", "more.gain"}}}});
+  write_json(dir / "shared.orogen-subgraph.json", asset);
+  const AssetLoad load = load_subgraph_asset("shared.orogen-subgraph.json", dir);
+  ASSERT_NE(load.asset, nullptr) << load.error;
+  const ParamDecl& decl = load.asset->type.params.at(0);
+  EXPECT_EQ(decl.min, 0.0);  // FBM.gain is 0..1, FBM.amplitude -1e6..1e6
+  EXPECT_EQ(decl.max, 1.0);
+
+  asset["interface"]["params"][0].erase("default");  // the default would be noise.amplitude's, 200
+  write_json(dir / "shared2.orogen-subgraph.json", asset);
+  const AssetLoad bad = load_subgraph_asset("shared2.orogen-subgraph.json", dir);
+  ASSERT_EQ(bad.asset, nullptr);
+  EXPECT_NE(bad.error.find("/interface/params/0: default of 'share': value 200 is above the maximum 1"),
+            std::string::npos)
+      << bad.error;
+}
+
 TEST(Subgraphs, CliSetReachesExposedAndInnerParameters) {
   const fs::path dir = scratch_dir("subgraph_cli");
   write_json(dir / "noise.orogen-subgraph.json", noise_asset());
