@@ -275,7 +275,7 @@ class Expander {
     for (const auto& node : g.nodes())
       for (const auto& [port, from] : node.inputs) {
         const PortRef src = source(g, prefix, from);
-        for (const auto& sink : sinks(g, prefix, node, port)) out_.graph.connect(src, sink.node, sink.name);
+        for (const auto& sink : sinks(prefix, node, port)) out_.graph.connect(src, sink.node, sink.name);
       }
   }
 
@@ -336,20 +336,18 @@ class Expander {
     return out_.outputs.at(prefix + from.node).at(static_cast<std::size_t>(index));
   }
 
-  // The expanded input ports that input `port` of `node` (a node of `g`) stands for.
-  std::vector<SubgraphTarget> sinks(const Graph& g, const std::string& prefix, const Node& node,
-                                    const std::string& port) const {
+  // The expanded input ports that input `port` of `node` (a node of the graph expanded under `prefix`) stands for.
+  std::vector<SubgraphTarget> sinks(const std::string& prefix, const Node& node, const std::string& port) const {
     const SubgraphAsset* asset = node.type->subgraph;
     if (!asset) return {{prefix + node.id, port}};
     std::vector<SubgraphTarget> out;
     for (const auto& input : asset->interface().inputs) {
       if (input.port.name != port) continue;
       for (const auto& t : input.targets) {
-        auto more = sinks(asset->graph, prefix + node.id + "/", asset->graph.at(t.node), t.name);
+        auto more = sinks(prefix + node.id + "/", asset->graph.at(t.node), t.name);
         out.insert(out.end(), more.begin(), more.end());
       }
     }
-    (void)g;
     return out;
   }
 
