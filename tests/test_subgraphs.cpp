@@ -330,27 +330,33 @@ TEST(Subgraphs, InputPathsResolveWhereTheyAreWritten) {
   EXPECT_EQ(path_of(expand_subgraphs(defaults).graph, "inst/chosen"), base / "assets" / "default.exr");
 }
 
+// An asset of one node presenting its output `out` and exposing `size`, set into `target` (a parameter of the node,
+// or an exposed parameter of a nested instance): a level of the promotion tests.
+json promotion_level(const json& node, const std::string& target) {
+  return json{
+      {"format", "orogen-graph"},
+      {"version", kGraphFormatVersion},
+      {"interface",
+       {{"asset_version", 1},
+        {"outputs", {{{"name", "out"}, {"type", "Heightfield"}, {"from", node["id"].get<std::string>() + ".out"}}}},
+        {"params", {{{"name", "size"}, {"type", "float"}, {"to", target}}}}}},
+      {"nodes", {node}}};
+}
+
 TEST(Subgraphs, PromotionThroughThreeLevels) {
   const fs::path dir = scratch_dir("subgraph_promotion");
-  auto level = [](const json& node, const std::string& target) {
-    return json{
-        {"format", "orogen-graph"},
-        {"version", kGraphFormatVersion},
-        {"interface",
-         {{"asset_version", 1},
-          {"outputs", {{{"name", "out"}, {"type", "Heightfield"}, {"from", node["id"].get<std::string>() + ".out"}}}},
-          {"params", {{{"name", "size"}, {"type", "float"}, {"to", target}}}}}},
-        {"nodes", {node}}};
-  };
-  write_json(dir / "l1.orogen-subgraph.json",
-             level({{"id", "noise"}, {"type", "FBM"}, {"params", {{"feature_size", 300}}}}, "noise.feature_size"));
-  write_json(dir / "l2.orogen-subgraph.json",
-             level({{"id", "one"}, {"type", "Subgraph"}, {"asset", "l1.orogen-subgraph.json"}, {"asset_version", 1}},
-                   "one.size"));
+  write_json(
+      dir / "l1.orogen-subgraph.json",
+      promotion_level({{"id", "noise"}, {"type", "FBM"}, {"params", {{"feature_size", 300}}}}, "noise.feature_size"));
+  write_json(
+      dir / "l2.orogen-subgraph.json",
+      promotion_level({{"id", "one"}, {"type", "Subgraph"}, {"asset", "l1.orogen-subgraph.json"}, {"asset_version", 1}},
+                      "one.size"));
   fs::create_directories(dir / "sub");  // a nested asset's path resolves against its own folder
   write_json(dir / "sub" / "l3.orogen-subgraph.json",
-             level({{"id", "two"}, {"type", "Subgraph"}, {"asset", "../l2.orogen-subgraph.json"}, {"asset_version", 1}},
-                   "two.size"));
+             promotion_level(
+                 {{"id", "two"}, {"type", "Subgraph"}, {"asset", "../l2.orogen-subgraph.json"}, {"asset_version", 1}},
+                 "two.size"));
   auto loaded = load(dir, {{{"id", "top"},
                             {"type", "Subgraph"},
                             {"asset", "sub/l3.orogen-subgraph.json"},
@@ -608,21 +614,13 @@ TEST(Subgraphs, CliSetReachesExposedAndInnerParameters) {
 // innermost node's parameter all set the same FBM feature size.
 TEST(Subgraphs, CliSetReachesNestedInstances) {
   const fs::path dir = scratch_dir("subgraph_cli_nested");
-  auto level = [](const json& node, const std::string& target) {
-    return json{
-        {"format", "orogen-graph"},
-        {"version", kGraphFormatVersion},
-        {"interface",
-         {{"asset_version", 1},
-          {"outputs", {{{"name", "out"}, {"type", "Heightfield"}, {"from", node["id"].get<std::string>() + ".out"}}}},
-          {"params", {{{"name", "size"}, {"type", "float"}, {"to", target}}}}}},
-        {"nodes", {node}}};
-  };
-  write_json(dir / "l1.orogen-subgraph.json",
-             level({{"id", "noise"}, {"type", "FBM"}, {"params", {{"feature_size", 300}}}}, "noise.feature_size"));
-  write_json(dir / "l2.orogen-subgraph.json",
-             level({{"id", "one"}, {"type", "Subgraph"}, {"asset", "l1.orogen-subgraph.json"}, {"asset_version", 1}},
-                   "one.size"));
+  write_json(
+      dir / "l1.orogen-subgraph.json",
+      promotion_level({{"id", "noise"}, {"type", "FBM"}, {"params", {{"feature_size", 300}}}}, "noise.feature_size"));
+  write_json(
+      dir / "l2.orogen-subgraph.json",
+      promotion_level({{"id", "one"}, {"type", "Subgraph"}, {"asset", "l1.orogen-subgraph.json"}, {"asset_version", 1}},
+                      "one.size"));
   write_text(
       dir / "graph.json",
       graph_text({{{"id", "top"}, {"type", "Subgraph"}, {"asset", "l2.orogen-subgraph.json"}, {"asset_version", 1}},
