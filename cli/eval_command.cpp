@@ -156,7 +156,10 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
     for (const auto& w : loaded.warnings) std::cerr << "warning: " << w.str() << "\n";
   Graph graph = std::move(*loaded.graph);
 
-  std::vector<std::string> errors = apply_param_overrides(graph, cmd.set);
+  std::vector<std::string> errors;
+  // Subgraph instances become plain nodes here, so tiling, reach and the reports see ordinary nodes.
+  // Its errors are reported with the other option errors below.
+  expand_for_evaluation(graph, cmd.set, errors);
   std::string why;
   if (!cmd.origin.empty()) {
     if (auto o = parse_number_pair(cmd.origin, "--origin", false, why))
@@ -466,7 +469,15 @@ int run_validate(const ValidateCommand& cmd) {
     std::cerr << cmd.graph_file.string() << ": invalid graph\n" << loaded.error_text();
     return kExitInvalid;
   }
-  const FileCheck files = check_files(*loaded.graph, OutputPolicy{cmd.output_dir, cmd.allow_any_path});
+  const std::size_t node_count = loaded.graph->nodes().size();
+  Graph graph = std::move(*loaded.graph);
+  std::vector<std::string> expansion_errors;
+  if (!expand_for_evaluation(graph, {}, expansion_errors)) {
+    std::cerr << cmd.graph_file.string() << ": invalid graph\n";
+    for (const auto& e : expansion_errors) std::cerr << "error: " << e << "\n";
+    return kExitInvalid;
+  }
+  const FileCheck files = check_files(graph, OutputPolicy{cmd.output_dir, cmd.allow_any_path});
   for (const auto& w : loaded.warnings) std::cerr << "warning: " << w.str() << "\n";
   for (const auto& w : files.warnings) std::cerr << "warning: " << w << "\n";
   if (!files.errors.empty()) {
@@ -475,7 +486,10 @@ int run_validate(const ValidateCommand& cmd) {
     return kExitInvalid;
   }
   const std::size_t warnings = loaded.warnings.size() + files.warnings.size();
-  std::cout << cmd.graph_file.string() << ": valid (" << loaded.graph->nodes().size() << " nodes"
+  std::cout << cmd.graph_file.string() << ": valid (" << node_count << " nodes"
+            << (graph.nodes().size() == node_count
+                    ? std::string()
+                    : ", " + std::to_string(graph.nodes().size()) + " with subgraphs expanded")
             << (warnings == 0 ? "" : ", " + std::to_string(warnings) + " warning(s)") << ")\n";
   return kExitOk;
 }

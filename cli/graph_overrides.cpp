@@ -15,6 +15,7 @@
 #include "graph/graph_file.h"
 #include "graph/json_util.h"
 #include "graph/output_path.h"
+#include "graph/subgraph.h"
 
 namespace orogen::cli {
 
@@ -53,6 +54,58 @@ std::vector<std::string> apply_param_overrides(Graph& graph, const std::vector<s
     graph.set_param(node_id, name, std::move(*value));
   }
   return errors;
+}
+
+bool expand_for_evaluation(Graph& graph, const std::vector<std::string>& assignments,
+                           std::vector<std::string>& errors) {
+  std::vector<std::string> outer, inner;
+  for (const auto& a : assignments) {
+    const auto slash = a.find('/'), dot = a.find('.');
+    (slash != std::string::npos && (dot == std::string::npos || slash < dot) ? inner : outer).push_back(a);
+  }
+  auto more = apply_param_overrides(graph, outer);
+  errors.insert(errors.end(), more.begin(), more.end());
+  if (has_subgraphs(graph)) {
+    try {
+      ExpandedGraph expanded = expand_subgraphs(graph);
+      // INSTANCE/NESTED.PARAM names an exposed parameter of a nested instance, which only exists before its
+      // expansion: expand again with those values.
+      InstanceOverrides nested;
+      std::vector<std::string> plain;
+      for (const auto& a : inner) {
+        const auto eq = a.find('='), dot = a.find('.');
+        const std::string node_id = a.substr(0, dot);
+        const auto type = expanded.types.find(node_id);
+        if (eq == std::string::npos || dot == std::string::npos || dot > eq || type == expanded.types.end()) {
+          plain.push_back(a);
+          continue;
+        }
+        const std::string name = a.substr(dot + 1, eq - dot - 1);
+        const ParamDecl* decl = type->second->find_param(name);
+        if (!decl) {
+          std::vector<std::string> names;
+          for (const auto& p : type->second->params) names.push_back(p.name);
+          errors.push_back("--set '" + a + "': subgraph instance '" + node_id + "' has no parameter '" + name + "'" +
+                           json_util::suggestion(name, names));
+          continue;
+        }
+        std::string why;
+        if (auto value = param_from_text(a.substr(eq + 1), *decl, why))
+          nested[node_id][name] = std::move(*value);
+        else
+          errors.push_back("--set '" + a + "': " + why);
+      }
+      if (!nested.empty()) expanded = expand_subgraphs(graph, &nested);
+      graph = std::move(expanded.graph);
+      inner = std::move(plain);
+    } catch (const GraphError& e) {
+      errors.push_back(e.what());
+      return false;
+    }
+  }
+  more = apply_param_overrides(graph, inner);
+  errors.insert(errors.end(), more.begin(), more.end());
+  return errors.empty();
 }
 
 std::optional<glm::ivec2> parse_resolution(const std::string& text) {

@@ -14,6 +14,11 @@ namespace orogen::cli {
 
 // Applies every assignment; returns one message per assignment that could not be applied.
 std::vector<std::string> apply_param_overrides(Graph& graph, const std::vector<std::string>& assignments);
+// Applies `--set` assignments and expands subgraph instances (graph/subgraph.h) in place: NODE.PARAM reaches a
+// node's parameter or an instance's exposed parameter, INSTANCE/INNER.PARAM an inner node's parameter (applied
+// after the expansion, so it wins over the exposed value) or a nested instance's exposed parameter. False, with
+// `errors` filled, if anything failed.
+bool expand_for_evaluation(Graph& graph, const std::vector<std::string>& assignments, std::vector<std::string>& errors);
 // Parses "WxH" (e.g. 2048x2048) or a single number N for NxN; nullopt if malformed or out of [2, 65536].
 std::optional<glm::ivec2> parse_resolution(const std::string& text);
 // A finite number in [lo, hi] spelled in full (no trailing text; nan, inf and out-of-range values refused).

@@ -19,6 +19,7 @@
 #include "evaluator/memory_estimate.h"
 #include "evaluator/node_keys.h"
 #include "graph/idle_nodes.h"
+#include "graph/subgraph.h"
 #include "graph/exec_context.h"
 
 namespace orogen {
@@ -70,6 +71,26 @@ std::map<std::string, CacheKey> compute_cache_keys(const Graph& graph, const Dom
 
 std::map<std::string, CacheKey> compute_cache_keys(const Graph& graph, const Domain& domain, const OutputPolicy& output,
                                                    const std::map<std::string, Domain>& node_domains) {
+  if (has_subgraphs(graph)) {
+    // The inner nodes' keys ("instance/inner"), and for each instance a key of the inner outputs it presents.
+    const ExpandedGraph expanded = expand_subgraphs(graph);
+    auto keys = compute_cache_keys(expanded.graph, domain, output, node_domains);
+    for (const auto& [id, outputs] : expanded.outputs) {
+      KeyHasher h;
+      h.add(std::string_view("orogen-subgraph-instance/1"));
+      bool complete = true;
+      for (const auto& ref : outputs) {
+        const auto it = keys.find(ref.node);
+        if (it == keys.end()) {
+          complete = false;
+          break;
+        }
+        h.add(it->second).add(std::string_view(ref.port));
+      }
+      if (complete) keys.emplace(id, h.finish());
+    }
+    return keys;
+  }
   NodeKeys keys(graph, domain, output, &node_domains);
   std::map<std::string, CacheKey> result;
   for (const auto& node : graph.nodes())
@@ -532,10 +553,129 @@ struct Evaluator::Impl : EvaluatorState {
 Evaluator::Evaluator(EvaluatorOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
 Evaluator::~Evaluator() = default;
 
+namespace {
+
+// How far a status is from success, to report an instance by its worst inner node.
+int severity(NodeStatus s) {
+  switch (s) {
+    case NodeStatus::Computed:
+    case NodeStatus::Cached:
+      return 0;
+    case NodeStatus::Pending:
+      return 1;
+    case NodeStatus::Skipped:
+      return 2;
+    case NodeStatus::Cancelled:
+      return 3;
+    case NodeStatus::Failed:
+      return 4;
+  }
+  return 4;
+}
+
+// The request on the expanded graph: an instance stands for the nodes feeding its outputs and its inner nodes
+// with a Report output or that write files; a node domain of an instance applies to all its nodes.
+EvalRequest expanded_request(const Graph& graph, const ExpandedGraph& expanded, const EvalRequest& request) {
+  EvalRequest flat;
+  flat.domain = request.domain;
+  flat.cancel = request.cancel;
+  flat.on_event = request.on_event;
+  std::set<std::string> seen;
+  auto add = [&](const std::string& id) {
+    if (seen.insert(id).second) flat.nodes.push_back(id);
+  };
+  for (const auto& id : request.nodes) {
+    const Node* node = graph.find(id);
+    const auto outputs = expanded.outputs.find(id);
+    if (!node || !node->type->subgraph || outputs == expanded.outputs.end()) {
+      if (!expanded.graph.find(id)) throw GraphError("cannot evaluate node '" + id + "': no such node");
+      add(id);
+      continue;
+    }
+    for (const auto& ref : outputs->second) add(ref.node);
+    for (const auto& inner : expanded.nodes.at(id)) {
+      const NodeType& t = *expanded.graph.at(inner).type;
+      const bool reports =
+          std::any_of(t.outputs.begin(), t.outputs.end(), [](const PortDecl& p) { return p.type == PortType::Report; });
+      if (reports || t.writes_files) add(inner);
+    }
+  }
+  for (const auto& [id, domain] : request.node_domains) {
+    if (const auto inner = expanded.nodes.find(id); inner != expanded.nodes.end())
+      for (const auto& n : inner->second) flat.node_domains.emplace(n, domain);
+    else
+      flat.node_domains[id] = domain;
+  }
+  // Given results are of plain nodes (the tiled build's stages run on the expanded graph).
+  flat.given_results = request.given_results;
+  return flat;
+}
+
+}  // namespace
+
 EvalResult Evaluator::evaluate(const Graph& graph, const EvalRequest& request) {
-  std::lock_guard lock(impl_->evaluate_mutex);
-  Run run(*impl_, graph, request);
-  return run.execute();
+  if (!has_subgraphs(graph)) {
+    std::lock_guard lock(impl_->evaluate_mutex);
+    Run run(*impl_, graph, request);
+    return run.execute();
+  }
+  // Instances are expanded into plain nodes first, so planning, caching and parallelism treat them like any
+  // others. The result keeps the inner nodes' reports ("instance/inner") and adds one per instance.
+  const ExpandedGraph expanded = expand_subgraphs(graph);
+  const EvalRequest flat_request = expanded_request(graph, expanded, request);
+  EvalResult result;
+  {
+    std::lock_guard lock(impl_->evaluate_mutex);
+    Run run(*impl_, expanded.graph, flat_request);
+    result = run.execute();
+  }
+  std::set<std::string> requested(request.nodes.begin(), request.nodes.end());
+  if (request.nodes.empty()) {  // by default, instances whose outputs nothing reads give their outputs too
+    std::set<std::string> feeding;
+    for (const auto& n : graph.nodes())
+      for (const auto& [port, link] : n.inputs) feeding.insert(link.node);
+    for (const auto& n : graph.nodes())
+      if (n.type->subgraph && !feeding.count(n.id)) requested.insert(n.id);
+  }
+  for (const auto& node : graph.nodes()) {
+    if (!node.type->subgraph) continue;
+    NodeReport report;
+    bool touched = false;
+    for (const auto& inner : expanded.nodes.at(node.id)) {
+      const auto it = result.nodes.find(inner);
+      if (it == result.nodes.end()) continue;
+      if (!touched || severity(it->second.status) > severity(report.status)) {
+        report.status = it->second.status;
+        report.message = it->second.message.empty() ? std::string() : inner + ": " + it->second.message;
+      }
+      if (!touched) report.key = it->second.key;
+      touched = true;
+      report.milliseconds += it->second.milliseconds;
+      report.output_bytes += it->second.output_bytes;
+    }
+    if (!touched) continue;
+    // Computed if any inner node ran, Cached if all were found.
+    if (severity(report.status) == 0)
+      for (const auto& inner : expanded.nodes.at(node.id))
+        if (const auto it = result.nodes.find(inner);
+            it != result.nodes.end() && it->second.status == NodeStatus::Computed)
+          report.status = NodeStatus::Computed;
+    result.nodes[node.id] = report;
+    if (!requested.count(node.id)) continue;
+    std::vector<PortValue> values;
+    bool complete = true;
+    for (const auto& ref : expanded.outputs.at(node.id)) {
+      const PortValue v = result.output(ref.node, ref.port, expanded.graph);
+      complete = complete && has_value(v);
+      values.push_back(v);
+    }
+    if (complete) result.outputs[node.id] = std::move(values);
+  }
+  // Outputs of inner nodes that were requested only on behalf of an instance are not the caller's.
+  std::set<std::string> asked(request.nodes.begin(), request.nodes.end());
+  for (auto it = result.outputs.begin(); it != result.outputs.end();)
+    it = (!request.nodes.empty() && !asked.count(it->first)) ? result.outputs.erase(it) : std::next(it);
+  return result;
 }
 
 void Evaluator::store_result(const CacheKey& key, std::shared_ptr<const CachedResult> result) {

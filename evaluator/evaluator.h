@@ -104,7 +104,9 @@ struct CacheStats {
   std::size_t disk_writes = 0, disk_write_errors = 0;  // entries written to the cache directory, and failures
 };
 
-// Cache keys of every node in the graph for `domain`; nodes with an invalid input link get no key.
+// Cache keys of every node in the graph for `domain`; nodes with an invalid input link get no key. Subgraph
+// instances are expanded: the keys of their inner nodes are listed as "instance/inner", and an instance's
+// own key combines the keys of the inner outputs it presents.
 std::map<std::string, CacheKey> compute_cache_keys(const Graph& graph, const Domain& domain,
                                                    const OutputPolicy& output = {});
 // The same for nodes evaluated on domains of their own (EvalRequest::node_domains).

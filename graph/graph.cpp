@@ -10,7 +10,7 @@
 namespace orogen {
 
 bool operator==(const Node& a, const Node& b) {
-  return a.id == b.id && a.type == b.type && a.params == b.params && a.inputs == b.inputs;
+  return a.id == b.id && a.type == b.type && a.asset == b.asset && a.params == b.params && a.inputs == b.inputs;
 }
 
 bool Graph::operator==(const Graph& other) const {
@@ -65,6 +65,24 @@ Node& Graph::add_node(const NodeType& type, std::string id) {
   if (id.empty()) id = unique_id(type.name);
   if (!valid_id(id))
     throw GraphError("invalid node id '" + id + "': use letters, digits, '_' and '-', starting with a letter or '_'");
+  if (find(id)) throw GraphError("duplicate node id '" + id + "'");
+  Node n;
+  n.id = std::move(id);
+  n.type = &type;
+  nodes_.push_back(std::move(n));
+  index_[nodes_.back().id] = nodes_.size() - 1;
+  return nodes_.back();
+}
+
+Node& Graph::add_expanded_node(const NodeType& type, std::string id) {
+  std::size_t start = 0;
+  while (true) {  // every '/'-separated part must be a valid id
+    const auto slash = id.find('/', start);
+    if (!valid_id(id.substr(start, slash == std::string::npos ? std::string::npos : slash - start)))
+      throw GraphError("invalid expanded node id '" + id + "'");
+    if (slash == std::string::npos) break;
+    start = slash + 1;
+  }
   if (find(id)) throw GraphError("duplicate node id '" + id + "'");
   Node n;
   n.id = std::move(id);

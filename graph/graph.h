@@ -3,6 +3,7 @@
 // editor's layout. Edits are validated: links are type-checked and cycles are refused.
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -29,9 +30,14 @@ struct PortRef {
   std::string str() const { return node + "." + port; }
 };
 
+struct SubgraphInterface;
+
 struct Node {
   std::string id;
   const NodeType* type = nullptr;
+  // Subgraph instances (type->subgraph set, graph/subgraph.h): the asset as the file names it, a library name
+  // or a path relative to the graph file. Empty for other nodes.
+  std::string asset;
   std::map<std::string, ParamValue> params;  // explicitly set parameters; the rest take their defaults
   std::map<std::string, PortRef> inputs;     // input port name -> the output feeding it
 };
@@ -59,6 +65,8 @@ class Graph {
   // input paths (ReadHeightfield's `path`, ...) resolve; empty: the current directory. Not saved in the
   // file and not part of equality.
   std::filesystem::path directory;
+  // Set for a subgraph asset (graph/subgraph.h): its typed inputs, outputs and exposed parameters.
+  std::shared_ptr<const SubgraphInterface> interface;
 
   const std::vector<Node>& nodes() const { return nodes_; }
   const Node* find(const std::string& id) const;
@@ -70,6 +78,9 @@ class Graph {
   Node& add_node(const std::string& type_name, std::string id = {});
   // Adds a node of a type not (necessarily) in the registry; used by tests and the loader.
   Node& add_node(const NodeType& type, std::string id = {});
+  // Adds a node of an expanded subgraph instance, whose id is a path of valid ids ("instance/inner"); used by
+  // expand_subgraphs (graph/subgraph.h) only, so such ids never appear in files.
+  Node& add_expanded_node(const NodeType& type, std::string id);
   // Removes the node, every link from or to it and its editor position.
   void remove_node(const std::string& id);
   // Renames a node, updating links and editor position.

@@ -22,6 +22,8 @@
 #include "graph/table_json.h"
 #include "graph/json_util.h"
 #include "graph/registry.h"
+#include "graph/subgraph.h"
+#include "graph/units.h"
 
 namespace orogen {
 
@@ -118,14 +120,17 @@ class GraphReader {
     }
     check_format(doc);
     if (!check_version_and_migrate(doc)) return std::nullopt;
-    check_fields(doc, "", "", {"format", "version", "domain", "nodes", "node_libraries", "editor"}, "in the file");
+    check_fields(doc, "", "", {"format", "version", "domain", "interface", "nodes", "node_libraries", "editor"},
+                 "in the file");
 
     if (doc.contains("node_libraries")) read_node_libraries(doc["node_libraries"]);
     if (doc.contains("domain")) read_domain(doc["domain"]);
+    if (doc.contains("interface")) note_interface_inputs(doc["interface"]);
     if (!doc.contains("nodes"))
       report("/nodes", "", "missing \"nodes\": the list of nodes (may be empty: [])");
     else
       read_nodes(doc["nodes"]);
+    if (doc.contains("interface") && nodes_read_) read_interface(doc["interface"]);
     if (doc.contains("editor")) read_editor(doc["editor"]);
 
     if (!diagnostics_.empty() && !options_.keep_partial) return std::nullopt;
@@ -298,7 +303,12 @@ class GraphReader {
       id = n["id"].get<std::string>();
       mentioned_ids_.insert(id);
     }
-    check_fields(n, path, id, {"id", "type", "params", "inputs"}, "in a node");
+    const bool instance = n.contains("type") && n["type"] == kSubgraphTypeName;
+    if (instance)
+      check_fields(n, path, id, {"id", "type", "asset", "asset_version", "interface", "params", "inputs"},
+                   "in a subgraph instance");
+    else
+      check_fields(n, path, id, {"id", "type", "params", "inputs"}, "in a node");
     if (!n.contains("id")) {
       report(path + "/id", "", "missing \"id\": every node needs a unique id");
     } else if (!n["id"].is_string()) {
@@ -315,7 +325,9 @@ class GraphReader {
     }
 
     const NodeType* type = nullptr;
-    if (!n.contains("type")) {
+    if (instance) {
+      type = read_instance(n, path, id);
+    } else if (!n.contains("type")) {
       report(path + "/type", id, "missing \"type\": the name of the node type");
     } else if (!n["type"].is_string()) {
       report(path + "/type", id, "\"type\" must be a string, found " + describe(n["type"]));
@@ -337,6 +349,7 @@ class GraphReader {
 
     Node* node = nullptr;
     if (id_ok && type) node = &graph_.add_node(*type, id);
+    if (node && instance) node->asset = n["asset"].get<std::string>();
     if (id_ok && !type && options_.keep_partial && n.contains("type") && n["type"].is_string())
       unknown_[id] = {i, n["type"].get<std::string>()};
     if (n.contains("params")) read_params(n["params"], path + "/params", id, type, node);
@@ -497,6 +510,7 @@ class GraphReader {
       const std::size_t index = index_of_id_.at(node.id);
       for (const auto& input : node.type->inputs) {
         if (input.optional || node.inputs.count(input.name)) continue;
+        if (interface_fed_.count({node.id, input.name})) continue;  // an input of the asset's interface
         // A link that was written but is broken is reported as such; a dropped dangling link is expected.
         if (links_attempted_.count({index, input.name})) continue;
         const std::string path = "/nodes/" + std::to_string(index) + "/inputs/" + pointer_token(input.name);
@@ -608,8 +622,396 @@ class GraphReader {
     }
   }
 
+  // The asset of a "Subgraph" node, after checking its reference, version and recorded interface; reports and
+  // returns null when it cannot be used.
+  const NodeType* read_instance(const json& n, const std::string& path, const std::string& id) {
+    if (!n.contains("asset") || !n["asset"].is_string()) {
+      report(path + "/asset", id,
+             n.contains("asset")
+                 ? "\"asset\" must be a string (a library name or a path), found " + describe(n["asset"])
+                 : "missing \"asset\": the subgraph asset this instance uses (a library name or a path)");
+      return nullptr;
+    }
+    const std::string reference = n["asset"].get<std::string>();
+    AssetLoadContext own;
+    AssetLoad load =
+        load_subgraph_asset(reference, options_.directory, options_.asset_context ? options_.asset_context : &own);
+    if (!load.asset) {
+      report(path + "/asset", id, load.error);
+      return nullptr;
+    }
+    const SubgraphInterface& current = load.asset->interface();
+    if (!n.contains("asset_version") || !n["asset_version"].is_number_integer()) {
+      report(path + "/asset_version", id,
+             "\"asset_version\" must be the integer version of asset '" + load.asset->name +
+                 "' the instance was made with (the asset is at version " + std::to_string(current.asset_version) +
+                 ")" + (n.contains("asset_version") ? ", found " + describe(n["asset_version"]) : ""));
+      return nullptr;
+    }
+    const std::int64_t made_with = n["asset_version"].get<std::int64_t>();
+    const std::string versions = "made with version " + std::to_string(made_with) + ", the asset (" +
+                                 load.asset->file.string() + ") is at version " + std::to_string(current.asset_version);
+    if (made_with > current.asset_version) {
+      report(path + "/asset_version", id,
+             "subgraph asset '" + load.asset->name + "' is older than this instance: " + versions);
+      return nullptr;
+    }
+    if (n.contains("interface")) {
+      const json& recorded = n["interface"];
+      if (!recorded.is_object()) {
+        report(path + "/interface", id,
+               "\"interface\" must be an object {\"inputs\": {...}, \"outputs\": {...}, \"params\": {...}}, found " +
+                   describe(recorded));
+        return nullptr;
+      }
+      const std::string change = describe_interface_change(recorded, interface_signature(current));
+      if (!change.empty()) {
+        report(path + "/interface", id,
+               "the interface of subgraph asset '" + load.asset->name + "' changed (" + versions + "): " + change +
+                   (made_with == current.asset_version ? " (without a version bump)" : "") +
+                   "; update the instance or use the asset version it was made with");
+        return nullptr;
+      }
+    }
+    return &load.asset->type;
+  }
+
+  // "node.name" inside an interface entry; reports and returns nullopt when malformed.
+  std::optional<SubgraphTarget> read_target(const json& j, const std::string& path) {
+    if (!j.is_string()) {
+      report(path, "",
+             "expected \"node.name\" (an inner node and one of its ports or parameters), found " + describe(j));
+      return std::nullopt;
+    }
+    const std::string text = j.get<std::string>();
+    const auto dot = text.find('.');
+    if (dot == std::string::npos || dot == 0 || dot + 1 == text.size() ||
+        text.find('.', dot + 1) != std::string::npos) {
+      report(path, "", "malformed \"" + text + "\": expected \"node.name\"");
+      return std::nullopt;
+    }
+    return SubgraphTarget{text.substr(0, dot), text.substr(dot + 1)};
+  }
+
+  // The targets of an interface entry: one "node.name" or a list of them.
+  std::vector<SubgraphTarget> read_targets(const json& entry, const std::string& path, const std::string& field) {
+    std::vector<SubgraphTarget> out;
+    if (!entry.contains(field)) {
+      report(path + "/" + field, "",
+             "missing \"" + field + "\": the inner \"node.name\" (or a list of them) it maps to");
+      return out;
+    }
+    const json& j = entry[field];
+    if (j.is_array()) {
+      for (std::size_t k = 0; k < j.size(); ++k)
+        if (auto t = read_target(j[k], path + "/" + field + "/" + std::to_string(k))) out.push_back(*t);
+      if (j.empty()) report(path + "/" + field, "", "the list of inner targets is empty");
+    } else if (auto t = read_target(j, path + "/" + field)) {
+      out.push_back(*t);
+    }
+    return out;
+  }
+
+  // Before the nodes are read: the inner inputs the interface feeds, which may stay unconnected inside.
+  void note_interface_inputs(const json& in) {
+    if (!in.is_object() || !in.contains("inputs") || !in["inputs"].is_array()) return;
+    for (const auto& entry : in["inputs"]) {
+      if (!entry.is_object() || !entry.contains("to")) continue;
+      const json& to = entry["to"];
+      for (const auto& t : to.is_array() ? to : json::array({to}))
+        if (t.is_string())
+          if (const auto dot = t.get<std::string>().find('.'); dot != std::string::npos)
+            interface_fed_.insert({t.get<std::string>().substr(0, dot), t.get<std::string>().substr(dot + 1)});
+    }
+  }
+
+  const Node* interface_node(const SubgraphTarget& t, const std::string& path) {
+    const Node* node = graph_.find(t.node);
+    if (!node) {
+      std::vector<std::string> ids;
+      for (const auto& n : graph_.nodes()) ids.push_back(n.id);
+      report(path, "", "no inner node '" + t.node + "'" + suggestion(t.node, ids));
+    }
+    return node;
+  }
+
+  std::string read_name(const json& entry, const std::string& path, std::set<std::string>& seen) {
+    if (!entry.contains("name") || !entry["name"].is_string() || !Graph::valid_id(entry["name"].get<std::string>())) {
+      report(path + "/name", "",
+             "\"name\" must be an identifier (letters, digits, '_' and '-', starting with a letter or '_')" +
+                 (entry.contains("name") ? ", found " + describe(entry["name"]) : std::string()));
+      return {};
+    }
+    const std::string name = entry["name"].get<std::string>();
+    if (!seen.insert(name).second) {
+      report(path + "/name", "", "duplicate name '" + name + "'");
+      return {};
+    }
+    return name;
+  }
+
+  std::string read_text(const json& entry, const std::string& path, const char* field) {
+    if (!entry.contains(field)) return {};
+    if (!entry[field].is_string()) {
+      report(path + "/" + field, "",
+             std::string("\"") + field + "\" must be a string, found " + describe(entry[field]));
+      return {};
+    }
+    return entry[field].get<std::string>();
+  }
+
+  // A port type named in the interface must match the inner port's.
+  void check_declared_type(const json& entry, const std::string& path, const std::string& actual) {
+    if (!entry.contains("type")) {
+      report(path + "/type", "", "missing \"type\" (" + actual + ", the type of the inner port or parameter)");
+    } else if (!entry["type"].is_string() || entry["type"].get<std::string>() != actual) {
+      report(path + "/type", "", "\"type\" is " + describe(entry["type"]) + " but the inner target is " + actual);
+    }
+  }
+
+  std::optional<double> read_bound(const json& entry, const std::string& path, const char* field) {
+    if (!entry.contains(field)) return std::nullopt;
+    if (!entry[field].is_number()) {
+      report(path + "/" + field, "",
+             std::string("\"") + field + "\" must be a number, found " + describe(entry[field]));
+      return std::nullopt;
+    }
+    return entry[field].get<double>();
+  }
+
+  // "interface": what makes the file a subgraph asset (graph/subgraph.h, docs/subgraphs.md).
+  void read_interface(const json& in) {
+    const std::string base = "/interface";
+    if (!in.is_object()) {
+      report(base, "",
+             "\"interface\" must be an object {\"asset_version\": 1, \"inputs\": [...], ...}, found " + describe(in));
+      return;
+    }
+    check_fields(in, base, "", {"asset_version", "description", "inputs", "outputs", "params"}, "in \"interface\"");
+    auto result = std::make_shared<SubgraphInterface>();
+    result->json_text = in.dump();
+    if (!in.contains("asset_version") || !in["asset_version"].is_number_integer() ||
+        in["asset_version"].get<std::int64_t>() < 1 || in["asset_version"].get<std::int64_t>() > INT32_MAX)
+      report(base + "/asset_version", "",
+             "\"asset_version\" must be a positive integer (raise it when the interface changes)" +
+                 (in.contains("asset_version") ? ", found " + describe(in["asset_version"]) : std::string()));
+    else
+      result->asset_version = static_cast<int>(in["asset_version"].get<std::int64_t>());
+    result->description = read_text(in, base, "description");
+    auto list = [&](const char* field) -> const json* {
+      if (!in.contains(field)) return nullptr;
+      if (!in[field].is_array()) {
+        report(base + "/" + field, "", std::string("\"") + field + "\" must be an array, found " + describe(in[field]));
+        return nullptr;
+      }
+      return &in[field];
+    };
+    std::set<std::string> port_names, output_names, param_names;
+    if (const json* inputs = list("inputs"))
+      for (std::size_t i = 0; i < inputs->size(); ++i) {
+        const json& e = (*inputs)[i];
+        const std::string p = base + "/inputs/" + std::to_string(i);
+        if (!e.is_object()) {
+          report(p, "", "an input must be an object {\"name\", \"type\", \"to\"}, found " + describe(e));
+          continue;
+        }
+        check_fields(e, p, "", {"name", "type", "description", "label", "to"}, "in an interface input");
+        SubgraphInput input;
+        input.port.name = read_name(e, p, port_names);
+        input.port.description = read_text(e, p, "description");
+        input.port.label = read_text(e, p, "label");
+        input.port.optional = true;
+        bool typed = false;
+        for (const auto& t : read_targets(e, p, "to")) {
+          const Node* node = interface_node(t, p + "/to");
+          if (!node) continue;
+          const PortDecl* decl = node->type->find_input(t.name);
+          if (!decl) {
+            report(p + "/to", "",
+                   "node '" + t.node + "' (" + node->type->name + ") has no input '" + t.name + "'" +
+                       suggestion(t.name, names_of(node->type->inputs)));
+            continue;
+          }
+          if (node->inputs.count(t.name)) {
+            report(p + "/to", "", "input " + t.str() + " is linked inside the asset already");
+            continue;
+          }
+          if (typed && decl->type != input.port.type) {
+            report(p + "/to", "",
+                   "input " + t.str() + " takes " + std::string(to_string(decl->type)) + ", not " +
+                       std::string(to_string(input.port.type)) + " as the other targets");
+            continue;
+          }
+          if (!typed) check_declared_type(e, p, std::string(to_string(decl->type)));
+          input.port.type = decl->type;
+          input.port.optional = input.port.optional && decl->optional;  // required if any target is
+          input.port.unit = decl->unit;
+          typed = true;
+          input.targets.push_back(t);
+        }
+        if (!input.port.name.empty() && typed) result->inputs.push_back(std::move(input));
+      }
+    if (const json* outputs = list("outputs"))
+      for (std::size_t i = 0; i < outputs->size(); ++i) {
+        const json& e = (*outputs)[i];
+        const std::string p = base + "/outputs/" + std::to_string(i);
+        if (!e.is_object()) {
+          report(p, "", "an output must be an object {\"name\", \"type\", \"from\"}, found " + describe(e));
+          continue;
+        }
+        check_fields(e, p, "", {"name", "type", "description", "label", "from"}, "in an interface output");
+        SubgraphOutput output;
+        output.port.name = read_name(e, p, output_names);
+        output.port.description = read_text(e, p, "description");
+        output.port.label = read_text(e, p, "label");
+        if (!e.contains("from")) {
+          report(p + "/from", "", "missing \"from\": the inner \"node.port\" output it presents");
+          continue;
+        }
+        const auto t = read_target(e["from"], p + "/from");
+        if (!t) continue;
+        const Node* node = interface_node(*t, p + "/from");
+        if (!node) continue;
+        const PortDecl* decl = node->type->find_output(t->name);
+        if (!decl) {
+          report(p + "/from", "",
+                 "node '" + t->node + "' (" + node->type->name + ") has no output '" + t->name + "'" +
+                     suggestion(t->name, names_of(node->type->outputs)));
+          continue;
+        }
+        check_declared_type(e, p, std::string(to_string(decl->type)));
+        output.port.type = decl->type;
+        output.port.kind = decl->kind;
+        output.port.unit = decl->unit;
+        output.source = PortRef{t->node, t->name};
+        if (!output.port.name.empty()) result->outputs.push_back(std::move(output));
+      }
+    if (const json* params = list("params"))
+      for (std::size_t i = 0; i < params->size(); ++i)
+        if (auto param = read_exposed_param((*params)[i], base + "/params/" + std::to_string(i), param_names))
+          result->params.push_back(std::move(*param));
+    graph_.interface = std::move(result);
+  }
+
+  // An exposed parameter: its declaration starts as a copy of its first target's (type, range, unit, choices,
+  // table schema), which the entry may narrow and document; every target must take the same type.
+  std::optional<SubgraphParam> read_exposed_param(const json& e, const std::string& p, std::set<std::string>& seen) {
+    if (!e.is_object()) {
+      report(p, "", "a parameter must be an object {\"name\", \"type\", \"to\", ...}, found " + describe(e));
+      return std::nullopt;
+    }
+    check_fields(
+        e, p, "",
+        {"name", "type", "default", "min", "max", "soft_min", "soft_max", "unit", "description", "label", "to"},
+        "in an exposed parameter");
+    SubgraphParam param;
+    const std::string name = read_name(e, p, seen);
+    const auto targets = read_targets(e, p, "to");
+    const ParamDecl* first = nullptr;
+    std::vector<const ParamDecl*> target_decls;
+    ParamValue first_value;
+    bool ok = !name.empty() && !targets.empty();
+    for (const auto& t : targets) {
+      const Node* node = interface_node(t, p + "/to");
+      if (!node) {
+        ok = false;
+        continue;
+      }
+      const ParamDecl* decl = node->type->find_param(t.name);
+      if (!decl) {
+        report(p + "/to", "",
+               "node '" + t.node + "' (" + node->type->name + ") has no parameter '" + t.name + "'" +
+                   suggestion(t.name, names_of(node->type->params)));
+        ok = false;
+        continue;
+      }
+      if (!first) {
+        first = decl;
+        first_value = graph_.param(t.node, t.name);
+      } else if (decl->type != first->type) {
+        report(p + "/to", "",
+               "parameter " + t.str() + " is " + std::string(to_string(decl->type)) + ", not " +
+                   std::string(to_string(first->type)) + " as the first target");
+        ok = false;
+      } else if (decl->choices != first->choices || decl->table.columns.size() != first->table.columns.size()) {
+        report(p + "/to", "", "parameter " + t.str() + " takes other values than the first target");
+        ok = false;
+      }
+      param.targets.push_back(t);
+      target_decls.push_back(decl);
+    }
+    if (!ok || !first) return std::nullopt;
+    check_declared_type(e, p, std::string(to_string(first->type)));
+    ParamDecl decl = *first;
+    // The range every target accepts: the narrowest bounds among them.
+    for (const ParamDecl* t : target_decls) {
+      if (t->min) decl.min = decl.min ? std::max(*decl.min, *t->min) : *t->min;
+      if (t->max) decl.max = decl.max ? std::min(*decl.max, *t->max) : *t->max;
+    }
+    decl.name = name;
+    decl.label = read_text(e, p, "label");
+    if (e.contains("description")) decl.description = read_text(e, p, "description");
+    // Bounds may only narrow the targets' own, so every value the exposed parameter accepts is valid inside.
+    auto narrow = [&](const char* field, std::optional<double>& bound, bool lower) {
+      const auto v = read_bound(e, p, field);
+      if (!v) return;
+      if (bound && (lower ? *v < *bound : *v > *bound)) {
+        report(p + "/" + field, "",
+               std::string("\"") + field + "\" " + json_util::format_double(*v) +
+                   " is outside the inner parameter's range (" + (lower ? "min " : "max ") +
+                   json_util::format_double(*bound) + ")");
+        return;
+      }
+      bound = v;
+    };
+    narrow("min", decl.min, true);
+    narrow("max", decl.max, false);
+    if (auto v = read_bound(e, p, "soft_min")) decl.soft_min = v;
+    if (auto v = read_bound(e, p, "soft_max")) decl.soft_max = v;
+    if (e.contains("unit")) {
+      const auto unit = e["unit"].is_string() ? unit_from_id(e["unit"].get<std::string>()) : std::nullopt;
+      if (!unit)
+        report(p + "/unit", "", "unknown unit " + describe(e["unit"]) + " (use the ids `orogen nodes --json` writes)");
+      else
+        decl.unit = *unit;
+    }
+    decl.default_value = first_value;
+    if (e.contains("default")) {
+      if (decl.type == ParamType::Table) {
+        TableProblem problem;
+        auto table = table_from_json(e["default"], decl.table, problem);
+        if (!table) {
+          report(p + "/default" + problem.pointer(), "", "default." + problem.str(name));
+          return std::nullopt;
+        }
+        decl.default_value = std::move(*table);
+      } else {
+        std::string error;
+        auto v = param_from_json(e["default"], decl, error);
+        if (!v) {
+          report(p + "/default", "", "default of '" + name + "': " + error);
+          return std::nullopt;
+        }
+        decl.default_value = std::move(*v);
+      }
+    }
+    if (const std::string why = decl.check(decl.default_value); !why.empty()) {
+      report(p + (e.contains("default") ? "/default" : ""), "", "default of '" + name + "': " + why);
+      return std::nullopt;
+    }
+    for (std::size_t k = 0; k < target_decls.size(); ++k)
+      if (const std::string why = target_decls[k]->check(decl.default_value); !why.empty()) {
+        report(p + (e.contains("default") ? "/default" : ""), "",
+               "default of '" + name + "' does not suit " + param.targets[k].str() + ": " + why);
+        return std::nullopt;
+      }
+    param.decl = std::move(decl);
+    return param;
+  }
+
   const LoadOptions& options_;
   std::vector<Diagnostic>& diagnostics_;
+  std::set<std::pair<std::string, std::string>> interface_fed_;  // (inner node, input) fed by the interface
   std::vector<Diagnostic> warnings_;
   Graph graph_;
   std::set<std::string> mentioned_ids_;             // every string id in the file, valid or not
@@ -723,7 +1125,13 @@ LoadResult load_graph_file(const std::filesystem::path& path, const LoadOptions&
                                       " MiB, the limit of a graph file"});
     return result;
   }
-  auto result = parse_graph(text, options);
+  LoadOptions with_directory = options;
+  if (with_directory.directory.empty()) {
+    std::error_code ec;
+    const auto absolute = std::filesystem::absolute(path, ec);
+    with_directory.directory = (ec ? path : absolute).lexically_normal().parent_path();
+  }
+  auto result = parse_graph(text, with_directory);
   if (result.graph) {
     std::error_code ec;
     const auto absolute = std::filesystem::absolute(path, ec);

@@ -45,6 +45,8 @@ struct LoadResult {
   std::string error_text() const;  // every diagnostic, one per line
 };
 
+struct AssetLoadContext;  // graph/subgraph.h
+
 struct LoadOptions {
   // Accept links to nodes that are not in the file and drop them (pasting a fragment in the editor).
   bool drop_dangling_links = false;
@@ -58,6 +60,11 @@ struct LoadOptions {
   // out (see LoadResult::dropped_links), duplicate and invalid ids are dropped. A file that is not a graph
   // (not JSON, another format, a newer version) still gives no graph.
   bool keep_partial = false;
+  // Where subgraph assets named by a relative path resolve (graph/subgraph.h); load_graph_file sets it to the
+  // file's folder when empty. Empty: the current directory.
+  std::filesystem::path directory;
+  // The assets being loaded around this file (recursion detection); set by load_subgraph_asset.
+  AssetLoadContext* asset_context = nullptr;
 };
 
 LoadResult parse_graph(std::string_view json_text, const LoadOptions& options = {});

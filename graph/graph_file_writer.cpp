@@ -14,6 +14,7 @@
 #include "graph/atomic_file.h"
 #include "graph/graph_file.h"
 #include "graph/json_util.h"
+#include "graph/subgraph.h"
 #include "graph/table_json.h"
 
 namespace orogen {
@@ -162,6 +163,11 @@ std::string serialize_graph(const Graph& graph) {
   w.newline(1);
   out += '}';
 
+  if (graph.interface) {  // a subgraph asset: its interface as read
+    w.key("interface", 1, false);
+    w.value(json::parse(graph.interface->json_text), 1);
+  }
+
   w.key("nodes", 1, false);
   out += '[';
   bool first_node = true;
@@ -174,6 +180,15 @@ std::string serialize_graph(const Graph& graph) {
     w.string(node.id);
     w.key("type", 3, false);
     w.string(node.type->name);
+    if (const SubgraphAsset* asset = node.type->subgraph) {
+      // The asset, and the version and interface this instance was made with (saved: the one it loaded with).
+      w.key("asset", 3, false);
+      w.string(node.asset);
+      w.key("asset_version", 3, false);
+      out += std::to_string(asset->interface().asset_version);
+      w.key("interface", 3, false);
+      w.value(interface_signature(asset->interface()), 3);
+    }
     // Parameters and inputs in declaration order, so files diff the same way the inspector reads.
     if (has_declared(node.params, node.type->params)) {
       w.key("params", 3, false);

@@ -73,6 +73,7 @@ struct ParamDecl {
 };
 
 struct NodeType;
+struct SubgraphAsset;
 using ExecuteFn = std::function<void(ExecContext&)>;
 
 // How far a node's output at one sample depends on its inputs: the tiled build's halos, and the nodes it
@@ -156,6 +157,9 @@ struct NodeType {
   // Memory beyond the default estimate (outputs by type at the domain's sample count), when the node knows it
   // needs more: see graph/cost_query.h and evaluator/memory_estimate.h.
   CostFn extra_bytes;
+  // Set for the type of a subgraph instance (graph/subgraph.h): the asset whose interface it presents. Such
+  // nodes are expanded into the asset's nodes before evaluation; they never run themselves.
+  const SubgraphAsset* subgraph = nullptr;
 
   // The reach for these effective parameter values (declaration order, as Graph::effective_params).
   Reach reach_for(const std::vector<ParamValue>& params) const;

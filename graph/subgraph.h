@@ -1,0 +1,115 @@
+#pragma once
+// Reusable subgraphs (docs/subgraphs.md): a subgraph asset is a graph file with an "interface" section (typed
+// inputs and outputs, exposed parameters, an asset version); a graph uses it through a node of type
+// "Subgraph" that names the asset. Instances are linked: they hold no copy of the asset's nodes, and the
+// evaluator expands them into plain nodes ("instance/inner") before planning.
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "graph/graph.h"
+
+namespace orogen {
+
+inline constexpr const char* kSubgraphTypeName = "Subgraph";
+inline constexpr const char* kSubgraphFileSuffix = ".orogen-subgraph.json";
+
+// An inner node's input port or parameter: "node.name" in files.
+struct SubgraphTarget {
+  std::string node, name;
+  std::string str() const { return node + "." + name; }
+};
+
+struct SubgraphInput {
+  PortDecl port;
+  std::vector<SubgraphTarget> targets;  // inner input ports fed by it (at least one)
+};
+struct SubgraphOutput {
+  PortDecl port;
+  PortRef source;  // the inner output it presents
+};
+struct SubgraphParam {
+  ParamDecl decl;
+  // Inner parameters it sets: a node's parameter, or an exposed parameter of a nested instance (promotion).
+  std::vector<SubgraphTarget> targets;
+};
+
+struct SubgraphInterface {
+  int asset_version = 1;
+  std::string description;
+  std::vector<SubgraphInput> inputs;
+  std::vector<SubgraphOutput> outputs;
+  std::vector<SubgraphParam> params;
+  std::string json_text;  // the section as read, written back unchanged by serialize_graph
+};
+
+// A loaded asset. Assets live for the whole program (instance node types point into them); loading the same
+// file content again returns the same asset.
+struct SubgraphAsset {
+  std::string name;            // the library name, or the file name without ".orogen-subgraph.json"
+  std::filesystem::path file;  // absolute
+  Graph graph;                 // the inner graph; graph.interface is set
+  NodeType type;               // the type of its instances: the interface's ports and exposed parameters
+  const SubgraphInterface& interface() const { return *graph.interface; }
+};
+
+// Where library names resolve: the folders of OROGEN_LIBRARY_PATH (':'-separated, searched first, so a user
+// asset can stand in for a shipped one), then the shipped graphs/library.
+std::vector<std::filesystem::path> subgraph_library_dirs();
+struct LibraryAssetFile {
+  std::string name;
+  std::filesystem::path file;
+};
+// Every asset file in the library folders, by name (the first folder that has a name wins).
+std::vector<LibraryAssetFile> list_subgraph_library();
+
+// The chain of assets being loaded, to refuse recursion with the cycle named, and the assets loaded so far.
+struct AssetLoadContext {
+  std::vector<std::string> chain;  // asset names, outermost first
+  std::vector<std::filesystem::path> files;
+  std::map<std::filesystem::path, const SubgraphAsset*> loaded;
+};
+
+struct AssetLoad {
+  const SubgraphAsset* asset = nullptr;
+  std::string error;  // set when asset is null: missing, recursive, or invalid (with the file's diagnostics)
+};
+// Loads the asset `reference` names: a path (it contains '/' or ends with ".json") relative to `directory`,
+// or a library name.
+AssetLoad load_subgraph_asset(const std::string& reference, const std::filesystem::path& directory,
+                              AssetLoadContext* context = nullptr);
+
+// A new instance of `asset` in `graph`, naming it by `reference` in files.
+Node& add_subgraph_instance(Graph& graph, const SubgraphAsset& asset, const std::string& reference,
+                            std::string id = {});
+
+// {"inputs": {"name": "Type"}, "outputs": {...}, "params": {...}}: what an instance records of the interface
+// it was made with, so a changed asset can say what changed.
+nlohmann::json interface_signature(const SubgraphInterface& interface);
+// "input 'mask' added (Heightfield); param 'gain' removed; output 'color' retyped Image -> Heightfield", or ""
+// when the signatures are equal.
+std::string describe_interface_change(const nlohmann::json& recorded, const nlohmann::json& current);
+
+bool has_subgraphs(const Graph& graph);
+
+// A graph with every instance replaced, recursively, by its asset's nodes. Inner nodes are named
+// "instance/inner" (deeper: "a/b/inner"); an instance's exposed parameter values are written into the inner
+// parameters they map to, and its links reach the inner ports its inputs map to.
+struct ExpandedGraph {
+  Graph graph;
+  // Every instance, at any depth (expanded id, e.g. "a" or "a/b"): the expanded output feeding each of its
+  // interface outputs (in interface order), and the expanded ids of all the plain nodes inside it.
+  std::map<std::string, std::vector<PortRef>> outputs;
+  std::map<std::string, std::vector<std::string>> nodes;
+  std::map<std::string, const NodeType*> types;  // every instance's type (its exposed parameters)
+};
+// Exposed-parameter values for instances by expanded id ("a/b"), applied instead of the values the graph or
+// asset gives them: `--set a/b.param=value` on a nested instance. Values must suit the instance's declarations.
+using InstanceOverrides = std::map<std::string, std::map<std::string, ParamValue>>;
+// Throws GraphError naming the instance when an exposed value cannot be applied.
+ExpandedGraph expand_subgraphs(const Graph& graph, const InstanceOverrides* overrides = nullptr);
+
+}  // namespace orogen
