@@ -8,6 +8,7 @@
 // writes every file to /tmp/wb and the manifest to /tmp/wb/writer_bytes.txt.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -21,6 +22,7 @@
 #include "graph/mesh.h"
 #include "graph/points.h"
 #include "graph/scene.h"
+#include "nodes/common/color_space.h"
 #include "nodes/io/mesh_file.h"
 #include "nodes/scatter/scene_gltf.h"
 #include "support/test_paths.h"
@@ -181,6 +183,30 @@ TEST(WriterBytes, EveryFormatAndOptionWritesTheReferenceBytes) {
     ASSERT_NE(it, reference.end()) << file << " is not in the manifest";
     EXPECT_EQ(line, it->second) << file << ": size and hash differ from the reference writer's";
   }
+}
+
+// PLY colors: the table lookup gives the byte of the pow-per-channel chain for every float at and around each
+// code's threshold, on a dense sweep of [0, 1] (every 97th float) and outside it.
+TEST(WriterBytes, SrgbByteTableMatchesThePowChain) {
+  for (std::uint32_t bits = 0; bits <= std::bit_cast<std::uint32_t>(1.0f); bits += 97) {
+    const float c = std::bit_cast<float>(bits);
+    ASSERT_EQ(srgb_byte(c), srgb_byte_reference(c)) << c;
+  }
+  for (int b = 1; b < 256; ++b) {
+    std::uint32_t lo = 0, hi = std::bit_cast<std::uint32_t>(1.0f);  // the first float reaching code b
+    while (lo < hi) {
+      const std::uint32_t mid = lo + (hi - lo) / 2;
+      if (srgb_byte_reference(std::bit_cast<float>(mid)) >= b)
+        hi = mid;
+      else
+        lo = mid + 1;
+    }
+    ASSERT_GE(srgb_byte_reference(std::bit_cast<float>(lo)), b);
+    for (std::uint32_t k = lo - 32; k <= lo + 32; ++k)
+      ASSERT_EQ(srgb_byte(std::bit_cast<float>(k)), srgb_byte_reference(std::bit_cast<float>(k))) << k;
+  }
+  for (float c : {-1.0f, -0.0f, 1.0f, 1.5f, 1e30f, std::nanf(""), INFINITY, -INFINITY})
+    EXPECT_EQ(srgb_byte(c), srgb_byte_reference(c)) << c;
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "graph/mesh.h"
 #include "nodes/common/work_poll.h"
 #include "nodes/io/block_writer.h"
+#include "nodes/common/color_space.h"
 #include "nodes/io/image_file.h"
 
 #include <limits>
@@ -201,11 +202,10 @@ void write_ply(const TriMesh& m, const std::filesystem::path& path, const MeshWr
     }
     if (options.colors) {
       // sRGB clamped to 0..1, rounded to bytes as OpenMesh's color_cast rounds them.
-      auto c = m.color(v);
-      for (int k = 0; k < 3; ++k) c[k] = static_cast<float>(linear_to_srgb(static_cast<double>(c[k])));
-      c[3] = std::clamp(std::isnan(c[3]) ? 1.0f : c[3], 0.0f, 1.0f);
+      const auto c = m.color(v);
+      const float alpha = std::clamp(std::isnan(c[3]) ? 1.0f : c[3], 0.0f, 1.0f);
       for (int k = 0; k < (translucent ? 4 : 3); ++k) {
-        const auto byte = static_cast<unsigned char>(c[k] * 255.0f + 0.5f);
+        const auto byte = k < 3 ? srgb_byte(c[k]) : static_cast<unsigned char>(alpha * 255.0f + 0.5f);
         if (binary) {
           *p++ = static_cast<char>(byte);
         } else {
