@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -23,6 +24,7 @@
 #include "graph/points.h"
 #include "graph/scene.h"
 #include "nodes/common/color_space.h"
+#include "nodes/io/float_text.h"
 #include "nodes/io/mesh_file.h"
 #include "nodes/scatter/scene_gltf.h"
 #include "support/test_paths.h"
@@ -207,6 +209,39 @@ TEST(WriterBytes, SrgbByteTableMatchesThePowChain) {
   }
   for (float c : {-1.0f, -0.0f, 1.0f, 1.5f, 1e30f, std::nanf(""), INFINITY, -INFINITY})
     EXPECT_EQ(srgb_byte(c), srgb_byte_reference(c)) << c;
+}
+
+// The text formats' number formatting is printf's %.{6,9,10}g (std::to_chars with the same precision) for
+// every float tried: random bit patterns (all magnitudes), random terrain-like values, powers of ten and their
+// neighbours (where the exponent guess and carries go wrong), decimal halves (ties), zeros, NaN, infinities.
+template <int P>
+void expect_same_text(float v) {
+  char fast[64], exact[64];
+  char* f = format_float_g<P>(fast, v);
+  char* x = std::to_chars(exact, exact + sizeof exact, v, std::chars_format::general, P).ptr;
+  ASSERT_EQ(std::string(fast, f), std::string(exact, x))
+      << "precision " << P << ", bits " << std::bit_cast<std::uint32_t>(v);
+}
+
+TEST(WriterBytes, FloatTextMatchesPrintf) {
+  std::mt19937 rng(7);
+  std::vector<float> values;
+  for (int i = 0; i < 400000; ++i) values.push_back(std::bit_cast<float>(static_cast<std::uint32_t>(rng())));
+  std::uniform_real_distribution<float> terrain(-20000.0f, 20000.0f), unit(-1.0f, 1.0f);
+  for (int i = 0; i < 400000; ++i) values.push_back(terrain(rng)), values.push_back(unit(rng));
+  for (int e = -45; e <= 38; ++e) {
+    float t = std::pow(10.0f, static_cast<float>(e));
+    for (int k = 0; k < 40; ++k) t = std::nextafter(t, 0.0f);
+    for (int k = 0; k < 80; ++k, t = std::nextafter(t, INFINITY)) values.push_back(t), values.push_back(-t);
+  }
+  for (int i = 0; i < 100000; ++i) values.push_back(static_cast<float>(i) * 0.5f), values.push_back(i * 0.03125f);
+  for (float v : {0.0f, -0.0f, std::nanf(""), INFINITY, -INFINITY, 1e-12f, 9.9999999e14f, 1e15f}) values.push_back(v);
+  for (float v : values) {
+    expect_same_text<6>(v);
+    expect_same_text<9>(v);
+    expect_same_text<10>(v);
+    if (HasFatalFailure()) return;
+  }
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "graph/mesh.h"
 #include "nodes/common/work_poll.h"
 #include "nodes/io/block_writer.h"
+#include "nodes/io/float_text.h"
 #include "nodes/common/color_space.h"
 #include "nodes/io/image_file.h"
 
@@ -36,9 +37,7 @@ std::optional<MeshFormat> mesh_format_from_path(const std::filesystem::path& pat
 namespace {
 
 // printf's %.{precision}g of the float's exact value (what an ostream with that precision writes), at `p`.
-char* put_float(char* p, float value, int precision) {
-  return std::to_chars(p, p + 48, value, std::chars_format::general, precision).ptr;
-}
+char* put_float(char* p, float value, int precision) { return format_float_g(p, value, precision); }
 char* put_uint(char* p, unsigned value) { return std::to_chars(p, p + 16, value).ptr; }
 char* put_text(char* p, std::string_view s) {
   std::memcpy(p, s.data(), s.size());
