@@ -7,6 +7,7 @@
 // rounded product and its exact error, which is enough to round to an integer exactly (ties to even, as
 // printf). Values the fast path does not cover (zero, |v| < 1e-12, large ones where k < 0, NaN, infinities)
 // go to std::to_chars, which is exact.
+#include <bit>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -29,7 +30,10 @@ char* format_float_g(char* out, float value) {
   const auto fallback = [&] { return std::to_chars(out, out + 48, value, std::chars_format::general, P).ptr; };
   const double a = std::fabs(static_cast<double>(value));
   if (!(a >= 1e-12 && a < 1e15)) return fallback();
-  int e = static_cast<int>(std::floor(std::log10(a)));
+  // The decimal exponent from the binary one: a in [2^b, 2^(b+1)) puts log10(a) in [b log10 2, (b+1) log10 2),
+  // so the guess is exact or one short (raised below when the scaled value reaches 10^P).
+  const int b = static_cast<int>((std::bit_cast<std::uint32_t>(value) >> 23) & 255) - 127;
+  int e = static_cast<int>(std::floor(b * 0.30102999566398120));
   double p = 0.0, err = 0.0;
   const auto scale = [&](int exponent) {
     const int k = P - 1 - exponent;
