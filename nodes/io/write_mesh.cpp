@@ -13,7 +13,7 @@ namespace orogen {
 OROGEN_NODE(WriteMesh) {
   b.reach_global();
   b.category("io").writes_files().description(
-      "Writes a mesh to OBJ, PLY or STL (through OpenMesh) or glTF 2.0 (.gltf or binary .glb, through tinygltf; "
+      "Writes a mesh to OBJ, PLY or STL or glTF 2.0 (.gltf or binary .glb; "
       "always y-up, linear vertex colors, the mesh's own texture coordinates) inside the output directory, "
       "atomically. Vertex "
       "normals go to OBJ and PLY, vertex colors to PLY (sRGB 8-bit); STL has face normals only. OBJ also gets "
