@@ -33,7 +33,7 @@ char* format_float_g(char* out, float value) {
   // The decimal exponent from the binary one: a in [2^b, 2^(b+1)) puts log10(a) in [b log10 2, (b+1) log10 2),
   // so the guess is exact or one short (raised below when the scaled value reaches 10^P).
   const int b = static_cast<int>((std::bit_cast<std::uint32_t>(value) >> 23) & 255) - 127;
-  int e = static_cast<int>(std::floor(b * 0.30102999566398120));
+  int e = (b * 78913) >> 18;  // floor(b log10 2) for |b| < 1000 (the shift floors negatives too)
   double p = 0.0, err = 0.0;
   const auto scale = [&](int exponent) {
     const int k = P - 1 - exponent;
@@ -50,15 +50,21 @@ char* format_float_g(char* out, float value) {
   }
   // Round p + err to an integer. frac and 0.5 are multiples of ulp(p) (p < 2^52), so a nonzero difference
   // outweighs err (at most half an ulp); at an exact half err decides, and with no error the tie goes to even.
-  const double whole = std::floor(p);
+  const double whole = static_cast<double>(static_cast<std::int64_t>(p));  // floor: p > 0
   const double d = (p - whole) - 0.5;
   std::uint64_t r = static_cast<std::uint64_t>(whole);
   if (d > 0 || (d == 0 && (err > 0 || (err == 0 && (r & 1))))) ++r;
   if (r == kHigh) r = kLow, ++e;
   if (r < kLow || r >= kHigh) return fallback();
 
-  char digits[P];
-  for (int i = P - 1; i >= 0; --i) digits[i] = static_cast<char>('0' + r % 10), r /= 10;
+  static constexpr char kPairs[] =
+      "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+      "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+      "8081828384858687888990919293949596979899";
+  char digits[P + 1];
+  int i = P;
+  for (; i >= 2; i -= 2, r /= 100) std::memcpy(digits + i - 2, kPairs + 2 * (r % 100), 2);
+  if (i == 1) digits[0] = static_cast<char>('0' + r);
   int n = P;  // significant digits left after trailing zeros go
   while (n > 1 && digits[n - 1] == '0') --n;
   char* o = out;

@@ -110,15 +110,17 @@ void write_obj(const TriMesh& m, const std::filesystem::path& path, const MeshWr
     char* p = start;
     *p++ = 'f';
     for (auto v : m.fv_range(f)) {
-      const unsigned i = static_cast<unsigned>(v.idx()) + 1;
+      // The vertex, texture and normal indices are the same number: formatted once, copied.
       *p++ = ' ';
-      p = put_uint(p, i);
+      char* const number = p;
+      p = put_uint(p, static_cast<unsigned>(v.idx()) + 1);
+      const auto digits = static_cast<std::size_t>(p - number);
       if (uv || options.normals) {
         *p++ = '/';
-        if (uv) p = put_uint(p, i);
+        if (uv) p = static_cast<char*>(std::memcpy(p, number, digits)) + digits;
         if (options.normals) {
           *p++ = '/';
-          p = put_uint(p, i);
+          p = static_cast<char*>(std::memcpy(p, number, digits)) + digits;
         }
       }
     }
