@@ -1,3 +1,8 @@
+// Mesh and scene writers (Mesh/*, Scene/*) at a 1025^2 grid mesh, 2.1 M triangles (OROGEN_BENCH_MESH_SIDE=n for
+// another side): PLY (binary and ASCII), OBJ, STL, glTF and GLB, and a glTF scene of that terrain with instances.
+// Their bytes_per_second (and MB_per_s) is the file's size over the wall-clock time of one write, e.g.
+//   build/release/bench/orogen_bench_writers --benchmark_filter='Mesh|Scene' --benchmark_min_time=2
+//
 // File writers at 4096^2: a heightfield to EXR (float32), 16-bit PNG, TIFF (float32) and RAW16, and a colour
 // image (RGB) to 8-bit PNG and EXR, each at its default and at the fastest compression level.
 //
@@ -8,6 +13,9 @@
 // inflates wall time. The machine may be shared: run e.g.
 //   build/release/bench/orogen_bench_writers --benchmark_min_time=1
 // and say how loaded it was.
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <map>
@@ -18,8 +26,13 @@
 #include "evaluator/run_node.h"
 #include "graph/heightfield.h"
 #include "graph/image.h"
+#include "graph/mesh.h"
+#include "graph/points.h"
+#include "graph/scene.h"
 #include "nodes/io/heightfield_file.h"
 #include "nodes/io/image_file.h"
+#include "nodes/io/mesh_file.h"
+#include "nodes/scatter/scene_gltf.h"
 
 namespace {
 
@@ -120,7 +133,102 @@ void Color(benchmark::State& state, ImageFormat format, const char* name, int le
   finish(state, path, bytes_per_sample * 3 * kSide * kSide, cpu);
 }
 
+// A grid mesh of side^2 vertices (2 (side - 1)^2 triangles) over a rolling surface, with normals and colors as
+// the terrain mesher gives them.
+const Mesh& grid_mesh() {
+  static const Mesh m = [] {
+    const char* env = std::getenv("OROGEN_BENCH_MESH_SIDE");
+    const int side = env ? std::max(2, std::atoi(env)) : 1025;
+    Mesh out;
+    TriMesh& t = out.mesh;
+    t.reserve(static_cast<std::size_t>(side) * side, 3u * side * side, 2u * side * side);
+    std::vector<TriMesh::VertexHandle> v;
+    v.reserve(static_cast<std::size_t>(side) * side);
+    for (int j = 0; j < side; ++j)
+      for (int i = 0; i < side; ++i) {
+        const float x = 16.0f * i, y = 16.0f * j;
+        const float z = 300.0f * std::sin(x / 900.0f) * std::cos(y / 1300.0f) + 0.37f * ((i * 7 + j * 13) % 17);
+        const auto h = t.add_vertex({x, y, z});
+        t.set_color(h, {0.2f + 0.5f * z / 300.0f, 0.45f, 0.3f, 1.0f});
+        v.push_back(h);
+      }
+    for (int j = 0; j + 1 < side; ++j)
+      for (int i = 0; i + 1 < side; ++i) {
+        const auto a = v[static_cast<std::size_t>(j) * side + i], b = v[static_cast<std::size_t>(j) * side + i + 1];
+        const auto c = v[static_cast<std::size_t>(j + 1) * side + i],
+                   d = v[static_cast<std::size_t>(j + 1) * side + i + 1];
+        t.add_face(a, b, d);
+        t.add_face(a, d, c);
+      }
+    t.update_normals();
+    return out;
+  }();
+  return m;
+}
+
+// Output bytes per second: the file's size over the write's wall time.
+void finish_file(benchmark::State& state, const fs::path& path) {
+  const double bytes = static_cast<double>(fs::file_size(path));
+  state.SetBytesProcessed(static_cast<std::int64_t>(static_cast<double>(state.iterations()) * bytes));
+  state.counters["MB_per_s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * bytes / 1e6, benchmark::Counter::kIsRate);
+  state.counters["file_MB"] = bytes / 1e6;
+  state.counters["triangles"] = static_cast<double>(grid_mesh().face_count());
+  fs::remove(path);
+}
+
+void MeshFile(benchmark::State& state, const char* name, bool binary) {
+  const Mesh& m = grid_mesh();
+  const fs::path path = scratch(name);
+  MeshWriteOptions options;
+  options.binary = binary;
+  for (auto _ : state) {
+    remove_untimed(state, path);
+    write_mesh_file(m, path, *mesh_format_from_path(path), options);
+  }
+  finish_file(state, path);
+}
+
+// The terrain and 10,000 instances of two small meshes, as WriteScene writes them.
+void SceneFile(benchmark::State& state, const char* name, bool binary) {
+  static const auto plant = [] {
+    auto p = std::make_shared<Mesh>();
+    TriMesh& t = p->mesh;
+    const auto a = t.add_vertex({0, 0, 0}), b = t.add_vertex({1, 0, 0}), c = t.add_vertex({0, 1, 2});
+    t.add_face(a, b, c);
+    t.update_normals();
+    return p;
+  }();
+  static const Scene scene = [] {
+    Scene s;
+    auto pts = std::make_shared<Points>();
+    for (int k = 0; k < 10000; ++k) pts->add({1.5f * (k % 100), 2.5f * (k / 100), 3.0f}, k % 2);
+    s.instances = pts;
+    s.classes[0] = SceneClass{"plant_a", plant, false};
+    s.classes[1] = SceneClass{"plant_b", plant, false};
+    return s;
+  }();
+  SceneContent content;
+  content.terrain = &grid_mesh();
+  content.scene = &scene;
+  const fs::path path = scratch(name);
+  for (auto _ : state) {
+    remove_untimed(state, path);
+    write_scene_gltf(content, path, binary);
+  }
+  finish_file(state, path);
+}
+
 }  // namespace
+
+BENCHMARK_CAPTURE(MeshFile, ply_binary, "m.ply", true)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(MeshFile, ply_ascii, "m.ply", false)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(MeshFile, obj, "m.obj", true)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(MeshFile, stl_binary, "m.stl", true)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(MeshFile, glb, "m.glb", true)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(MeshFile, gltf, "m.gltf", true)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(SceneFile, glb, "s.glb", true)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(SceneFile, gltf, "s.gltf", false)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // -1: each library's default level (what Orogen wrote before the compression_level parameter); 1: the
 // fastest zlib level (WriteHeightfield's default now; WriteImage keeps 6). EXR heights: WriteHeightfield's

@@ -114,6 +114,15 @@ bool CheckedFile::pwrite(const void* data, std::size_t size, std::int64_t offset
   return write_at(static_cast<const char*>(data), size, offset);
 }
 
+void CheckedFile::start_writeback(std::int64_t offset, std::int64_t bytes) noexcept {
+#ifdef __linux__
+  if (fd_ >= 0 && error_.empty() && bytes > 0)
+    (void)::sync_file_range(fd_, static_cast<off64_t>(offset), static_cast<off64_t>(bytes), SYNC_FILE_RANGE_WRITE);
+#else
+  (void)offset, (void)bytes;
+#endif
+}
+
 void CheckedFile::finish() {
   if (fd_ >= 0) {
     if (error_.empty() && ::fsync(fd_) != 0 && errno != EINVAL && errno != EROFS) record_errno("syncing", errno);

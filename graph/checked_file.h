@@ -36,6 +36,10 @@ class CheckedFile {
   // Appends at the current position / writes at `offset`. Return false (and keep the error) on failure.
   bool write(const void* data, std::size_t size) noexcept;
   bool pwrite(const void* data, std::size_t size, std::int64_t offset) noexcept;
+  // Asks the kernel to start writing [offset, offset + bytes) to the device now, without waiting (Linux's
+  // sync_file_range; nothing elsewhere): a writer producing a large file overlaps the device's work with its
+  // own instead of leaving it all to finish()'s fsync. Failures are left to finish() to report.
+  void start_writeback(std::int64_t offset, std::int64_t bytes) noexcept;
   std::int64_t position() const { return position_; }
   std::int64_t size() const { return size_; }
 

@@ -1,5 +1,8 @@
 // glTF 2.0 (Khronos 2017) through tinygltf (Debian libtinygltf-dev): one mesh, one node, vertex colors,
 // normals and texture coordinates, 32-bit indices; .gltf with the buffer embedded as a data URI or binary .glb.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstring>
 
 #include <tiny_gltf.h>
@@ -12,17 +15,12 @@
 namespace orogen {
 namespace {
 
-template <class T>
-int add_view(tinygltf::Model& m, const std::vector<T>& data, int target) {
-  auto& buffer = m.buffers[0].data;
-  while (buffer.size() % 4) buffer.push_back(0);
+int add_view(tinygltf::Model& m, GltfBuffer& buffer, std::size_t bytes, GltfBuffer::Emit emit, int target) {
   tinygltf::BufferView view;
   view.buffer = 0;
-  view.byteOffset = buffer.size();
-  view.byteLength = data.size() * sizeof(T);
+  view.byteOffset = buffer.add(bytes, std::move(emit));
+  view.byteLength = bytes;
   view.target = target;
-  const auto* bytes = reinterpret_cast<const unsigned char*>(data.data());
-  buffer.insert(buffer.end(), bytes, bytes + view.byteLength);
   m.bufferViews.push_back(view);
   return static_cast<int>(m.bufferViews.size()) - 1;
 }
@@ -37,19 +35,31 @@ int add_accessor(tinygltf::Model& m, int view, int component, int type, std::siz
   return static_cast<int>(m.accessors.size()) - 1;
 }
 
+// One float attribute of every vertex, `components` floats each from `get` (v, out), staged for the sink.
+template <int components, class Get>
+GltfBuffer::Emit vertex_floats(const TriMesh& src, Get get) {
+  return [&src, get](const GltfBuffer::Sink& sink) {
+    SinkStaging<float> out(sink);
+    float q[components];
+    for (auto v : src.vertices()) {
+      get(v, q);
+      for (int k = 0; k < components; ++k) out.push(q[k]);
+    }
+    out.done();
+  };
+}
+
 }  // namespace
 
 void write_gltf_file(const Mesh& mesh, const std::filesystem::path& path, bool binary, bool normals, bool colors,
                      bool uvs, const std::string& name, const WriteProgress& progress) {
   const TriMesh& src = mesh.mesh;
   const std::size_t nv = src.n_vertices();
-  // Cancellation polled per block of vertices and faces, then per 64 KiB written.
-  ProgressPoll poll(progress, static_cast<double>(nv + src.n_faces()), 0.0, 0.9);
-  std::vector<float> position, normal, color, texcoord;
-  std::vector<std::uint32_t> index;
-  position.reserve(nv * 3);
+  // Cancellation polled per block of vertices while the bounds are found, then per MiB written: the arrays go
+  // from the mesh to the file in one pass.
+  ProgressPoll poll(progress, static_cast<double>(nv), 0.0, 0.1);
   float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-  const bool has_uv = uvs && src.has_vertex_texcoords2D();
+  std::size_t live_vertices = 0, live_faces = 0;
   for (auto v : src.vertices()) {
     // glTF is y-up, right-handed: (x, y, z) -> (x, z, -y).
     const auto p = src.point(v);
@@ -57,50 +67,80 @@ void write_gltf_file(const Mesh& mesh, const std::filesystem::path& path, bool b
     for (int k = 0; k < 3; ++k) {
       lo[k] = v.idx() == 0 ? q[k] : std::min(lo[k], q[k]);
       hi[k] = v.idx() == 0 ? q[k] : std::max(hi[k], q[k]);
-      position.push_back(q[k]);
     }
-    if (normals && src.has_vertex_normals()) {
-      const auto n = src.normal(v);
-      normal.insert(normal.end(), {n[0], n[2], -n[1]});
-    }
-    if (colors && src.has_vertex_colors()) {
-      const auto c = src.color(v);  // linear, as glTF expects
-      for (int k = 0; k < 4; ++k) color.push_back(std::clamp(std::isnan(c[k]) ? 1.0f : c[k], 0.0f, 1.0f));
-    }
-    if (has_uv) {
-      const auto t = src.texcoord2D(v);
-      texcoord.insert(texcoord.end(), {t[0], 1.0f - t[1]});  // glTF's v runs down the image
-    }
+    ++live_vertices;
     poll();
   }
   for (auto f : src.faces()) {
-    for (auto v : src.fv_range(f)) index.push_back(static_cast<std::uint32_t>(v.idx()));
-    poll();
+    (void)f;
+    ++live_faces;
   }
-  if (index.empty()) throw FileError("cannot write '" + path.string() + "': the mesh has no faces");
+  if (live_faces == 0) throw FileError("cannot write '" + path.string() + "': the mesh has no faces");
+  const bool has_normal = normals && src.has_vertex_normals(), has_color = colors && src.has_vertex_colors();
+  const bool has_uv = uvs && src.has_vertex_texcoords2D();
 
   tinygltf::Model m;
   m.asset.version = "2.0";
   m.asset.generator = "Orogen";
   m.buffers.resize(1);
+  GltfBuffer buffer;
   tinygltf::Primitive prim;
   prim.mode = TINYGLTF_MODE_TRIANGLES;
-  const int pos = add_accessor(m, add_view(m, position, TINYGLTF_TARGET_ARRAY_BUFFER), TINYGLTF_COMPONENT_TYPE_FLOAT,
-                               TINYGLTF_TYPE_VEC3, nv);
+  const std::size_t vec3_bytes = live_vertices * 3 * sizeof(float);
+  const int pos = add_accessor(m,
+                               add_view(m, buffer, vec3_bytes,
+                                        vertex_floats<3>(src,
+                                                         [&src](auto v, float* q) {
+                                                           const auto p = src.point(v);
+                                                           q[0] = p[0], q[1] = p[2], q[2] = -p[1];
+                                                         }),
+                                        TINYGLTF_TARGET_ARRAY_BUFFER),
+                               TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, nv);
   m.accessors[static_cast<std::size_t>(pos)].minValues = {lo[0], lo[1], lo[2]};
   m.accessors[static_cast<std::size_t>(pos)].maxValues = {hi[0], hi[1], hi[2]};
   prim.attributes["POSITION"] = pos;
-  if (!normal.empty())
-    prim.attributes["NORMAL"] = add_accessor(m, add_view(m, normal, TINYGLTF_TARGET_ARRAY_BUFFER),
+  if (has_normal)
+    prim.attributes["NORMAL"] = add_accessor(m,
+                                             add_view(m, buffer, vec3_bytes,
+                                                      vertex_floats<3>(src,
+                                                                       [&src](auto v, float* q) {
+                                                                         const auto n = src.normal(v);
+                                                                         q[0] = n[0], q[1] = n[2], q[2] = -n[1];
+                                                                       }),
+                                                      TINYGLTF_TARGET_ARRAY_BUFFER),
                                              TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, nv);
-  if (!color.empty())
-    prim.attributes["COLOR_0"] = add_accessor(m, add_view(m, color, TINYGLTF_TARGET_ARRAY_BUFFER),
-                                              TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, nv);
-  if (!texcoord.empty())
-    prim.attributes["TEXCOORD_0"] = add_accessor(m, add_view(m, texcoord, TINYGLTF_TARGET_ARRAY_BUFFER),
-                                                 TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, nv);
-  prim.indices = add_accessor(m, add_view(m, index, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
-                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, index.size());
+  if (has_color)
+    prim.attributes["COLOR_0"] =
+        add_accessor(m,
+                     add_view(m, buffer, live_vertices * 4 * sizeof(float),
+                              vertex_floats<4>(src,
+                                               [&src](auto v, float* q) {
+                                                 const auto c = src.color(v);  // linear, as glTF expects
+                                                 for (int k = 0; k < 4; ++k)
+                                                   q[k] = std::clamp(std::isnan(c[k]) ? 1.0f : c[k], 0.0f, 1.0f);
+                                               }),
+                              TINYGLTF_TARGET_ARRAY_BUFFER),
+                     TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, nv);
+  if (has_uv)
+    prim.attributes["TEXCOORD_0"] =
+        add_accessor(m,
+                     add_view(m, buffer, live_vertices * 2 * sizeof(float),
+                              vertex_floats<2>(src,
+                                               [&src](auto v, float* q) {
+                                                 const auto t = src.texcoord2D(v);
+                                                 q[0] = t[0], q[1] = 1.0f - t[1];  // glTF's v runs down the image
+                                               }),
+                              TINYGLTF_TARGET_ARRAY_BUFFER),
+                     TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, nv);
+  const auto indices = [&src](const GltfBuffer::Sink& sink) {
+    SinkStaging<std::uint32_t> out(sink);
+    for (auto f : src.faces())
+      for (auto v : src.fv_range(f)) out.push(static_cast<std::uint32_t>(v.idx()));
+    out.done();
+  };
+  prim.indices = add_accessor(
+      m, add_view(m, buffer, live_faces * 3 * sizeof(std::uint32_t), indices, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+      TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, live_faces * 3);
   tinygltf::Material mat;
   mat.name = "orogen";
   mat.pbrMetallicRoughness.baseColorFactor = {1.0, 1.0, 1.0, 1.0};
@@ -120,9 +160,9 @@ void write_gltf_file(const Mesh& mesh, const std::filesystem::path& path, bool b
   m.scenes.push_back(scene);
   m.defaultScene = 0;
 
-  poll.check();  // the model is built
-  write_gltf_model(m, path, binary, [&progress] {
-    if (progress) progress(0.95);
+  poll.check();  // the model is described
+  write_gltf_model(m, buffer, path, binary, [&progress](double written) {
+    if (progress) progress(0.1 + 0.9 * written);
   });
 }
 

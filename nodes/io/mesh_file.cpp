@@ -1,20 +1,22 @@
-// OpenMesh's IO header must come before any mesh kernel header: it registers the readers and writers.
-#include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/System/omstream.hh>
-
 #include "nodes/io/mesh_file.h"
 #include "nodes/io/file_extension.h"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
+#include <cstdint>
+#include <cstring>
 #include <cmath>
 #include <memory>
 #include <string>
+#include <string_view>
 
-#include "graph/checked_file.h"
 #include "graph/file_text.h"
 #include "graph/mesh.h"
 #include "nodes/common/work_poll.h"
+#include "nodes/io/block_writer.h"
+#include "nodes/io/float_text.h"
+#include "nodes/common/color_space.h"
 #include "nodes/io/image_file.h"
 
 #include <limits>
@@ -34,103 +36,268 @@ std::optional<MeshFormat> mesh_format_from_path(const std::filesystem::path& pat
 
 namespace {
 
-// 9 significant digits: a float reads back exactly.
-void append(std::string& out, float value) {
-  char buffer[32];
-  const auto r = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 9);
-  out.append(buffer, r.ptr);
+// printf's %.{precision}g of the float's exact value (what an ostream with that precision writes), at `p`.
+char* put_float(char* p, float value, int precision) { return format_float_g(p, value, precision); }
+char* put_uint(char* p, unsigned value) { return std::to_chars(p, p + 16, value).ptr; }
+char* put_text(char* p, std::string_view s) {
+  std::memcpy(p, s.data(), s.size());
+  return p + s.size();
 }
-void append(std::string& out, unsigned value) {
-  char buffer[16];
-  const auto r = std::to_chars(buffer, buffer + sizeof buffer, value);
-  out.append(buffer, r.ptr);
+template <class T>
+char* put_raw(char* p, T value) {  // little-endian, as every supported host is
+  std::memcpy(p, &value, sizeof value);
+  return p + sizeof value;
 }
+
+// The three corners of a triangle, in the order OpenMesh's face-vertex circulator visits them (the order the
+// old copy of the mesh, and so its writers, used).
+std::array<TriMesh::VertexHandle, 3> corners(const TriMesh& m, TriMesh::FaceHandle f) {
+  const auto h0 = m.halfedge_handle(f), h1 = m.next_halfedge_handle(h0), h2 = m.next_halfedge_handle(h1);
+  return {m.to_vertex_handle(h0), m.to_vertex_handle(h1), m.to_vertex_handle(h2)};
+}
+
+// Orogen is z-up; y_up writes (x, z, -y). 0 - y, not -y: a southern edge at y = 0 is written "0", not "-0".
+OpenMesh::Vec3f axes(OpenMesh::Vec3f p, bool y_up) { return y_up ? OpenMesh::Vec3f(p[0], p[2], 0.0f - p[1]) : p; }
 
 // OBJ (Wavefront) text with positions, optional normals and texture coordinates, and an optional material.
 // Written here rather than by OpenMesh's OBJ writer, which has no way to name a texture for vertex UVs.
-// Formatted in memory in blocks of rows and flushed to the file as it goes.
+// Formatted straight into the output block, which is written as it fills.
 void write_obj(const TriMesh& m, const std::filesystem::path& path, const MeshWriteOptions& options,
                const std::vector<OpenMesh::Vec2f>& uvs, ProgressPoll& poll) {
-  std::unique_ptr<CheckedFile> file;
-  try {
-    file = std::make_unique<CheckedFile>(path);
-  } catch (const WriteError& e) {
-    throw FileError(e.what());
-  }
-  std::string out;
-  out.reserve(1 << 20);
-  auto flush = [&](bool force) {
-    if (!force && out.size() < (1u << 20)) return;
-    if (!file->write(out.data(), out.size())) throw FileError(file->error());
-    out.clear();
-  };
-  out += "# Orogen terrain mesh, metres\n";
-  if (!options.material_library.empty()) out += "mtllib " + options.material_library + "\n";
+  BlockWriter out(path);
+  out.put("# Orogen terrain mesh, metres\n");
+  if (!options.material_library.empty()) out.put("mtllib " + options.material_library + "\n");
   // Axes converted here, not in a copy of the mesh: copying a mesh of millions of vertices is one long call
   // that cannot be cancelled.
-  // 0 - y, not -y: a southern edge at y = 0 is written "0", not "-0".
-  auto axes = [&](OpenMesh::Vec3f p) { return options.y_up ? OpenMesh::Vec3f(p[0], p[2], 0.0f - p[1]) : p; };
   for (auto v : m.vertices()) {
-    const auto p = axes(m.point(v));
-    out += "v ";
-    append(out, p[0]);
-    out += ' ';
-    append(out, p[1]);
-    out += ' ';
-    append(out, p[2]);
-    out += '\n';
-    flush(false);
+    const auto q = axes(m.point(v), options.y_up);
+    char* p = put_text(out.room(), "v ");
+    p = put_float(p, q[0], 9);
+    *p++ = ' ';
+    p = put_float(p, q[1], 9);
+    *p++ = ' ';
+    p = put_float(p, q[2], 9);
+    *p++ = '\n';
+    out.advance(static_cast<std::size_t>(p - out.room()));
     poll();
   }
   const bool uv = !uvs.empty();
-  for (std::size_t k = 0; k < uvs.size(); ++k) {
-    out += "vt ";
-    append(out, uvs[k][0]);
-    out += ' ';
-    append(out, uvs[k][1]);
-    out += '\n';
-    flush(false);
+  for (const auto& t : uvs) {
+    char* p = put_text(out.room(), "vt ");
+    p = put_float(p, t[0], 9);
+    *p++ = ' ';
+    p = put_float(p, t[1], 9);
+    *p++ = '\n';
+    out.advance(static_cast<std::size_t>(p - out.room()));
     poll();
   }
   if (options.normals)
     for (auto v : m.vertices()) {
-      const auto n = axes(m.normal(v));
-      out += "vn ";
-      append(out, n[0]);
-      out += ' ';
-      append(out, n[1]);
-      out += ' ';
-      append(out, n[2]);
-      out += '\n';
-      flush(false);
+      const auto n = axes(m.normal(v), options.y_up);
+      char* p = put_text(out.room(), "vn ");
+      p = put_float(p, n[0], 9);
+      *p++ = ' ';
+      p = put_float(p, n[1], 9);
+      *p++ = ' ';
+      p = put_float(p, n[2], 9);
+      *p++ = '\n';
+      out.advance(static_cast<std::size_t>(p - out.room()));
       poll();
     }
-  if (!options.material_library.empty()) out += "usemtl terrain\n";
+  if (!options.material_library.empty()) out.put("usemtl terrain\n");
   for (auto f : m.faces()) {
-    out += 'f';
+    char* const start = out.room();
+    char* p = start;
+    *p++ = 'f';
     for (auto v : m.fv_range(f)) {
-      const unsigned i = static_cast<unsigned>(v.idx()) + 1;
-      out += ' ';
-      append(out, i);
+      // The vertex, texture and normal indices are the same number: formatted once, copied.
+      *p++ = ' ';
+      char* const number = p;
+      p = put_uint(p, static_cast<unsigned>(v.idx()) + 1);
+      const auto digits = static_cast<std::size_t>(p - number);
       if (uv || options.normals) {
-        out += '/';
-        if (uv) append(out, i);
+        *p++ = '/';
+        if (uv) p = static_cast<char*>(std::memcpy(p, number, digits)) + digits;
         if (options.normals) {
-          out += '/';
-          append(out, i);
+          *p++ = '/';
+          p = static_cast<char*>(std::memcpy(p, number, digits)) + digits;
         }
       }
     }
-    out += '\n';
-    flush(false);
+    *p++ = '\n';
+    out.advance(static_cast<std::size_t>(p - start));
     poll();
   }
-  flush(true);
-  try {
-    file->finish();
-  } catch (const WriteError& e) {
-    throw FileError(e.what());
+  out.finish();
+}
+
+// The vertices and faces a file holds: the mesh's, less any marked deleted (which the file skips, numbering
+// the rest consecutively, as OpenMesh's writers did).
+struct LiveElements {
+  std::size_t vertices = 0, faces = 0;
+  std::vector<unsigned> index;  // file index by vertex handle; empty when no vertex is deleted
+};
+
+LiveElements live_elements(const TriMesh& m) {
+  LiveElements live;
+  for (auto v : m.vertices()) {
+    (void)v;
+    ++live.vertices;
   }
+  for (auto f : m.faces()) {
+    (void)f;
+    ++live.faces;
+  }
+  if (live.vertices != m.n_vertices()) {
+    live.index.assign(m.n_vertices(), 0);
+    unsigned k = 0;
+    for (auto v : m.vertices()) live.index[static_cast<std::size_t>(v.idx())] = k++;
+  }
+  return live;
+}
+
+// PLY (Stanford), ASCII or binary little-endian: positions, optional vertex normals and sRGB 8-bit colors
+// (with alpha when some vertex is not opaque), triangles as lists of int indices. The bytes OpenMesh's PLY
+// writer wrote from a copy of the mesh (9 significant digits in text), written here in one pass without it.
+void write_ply(const TriMesh& m, const std::filesystem::path& path, const MeshWriteOptions& options,
+               ProgressPoll& poll) {
+  const LiveElements live = live_elements(m);
+  bool translucent = false;
+  if (options.colors)
+    for (auto v : m.vertices()) {
+      const float a = m.color(v)[3];
+      translucent = translucent || std::clamp(std::isnan(a) ? 1.0f : a, 0.0f, 1.0f) < 1.0f;
+      poll();
+    }
+  const bool binary = options.binary;
+  BlockWriter out(path);
+  std::string header = "ply\nformat ";
+  header += binary ? "binary_little_endian 1.0\n" : "ascii 1.0\n";
+  header += "element vertex " + std::to_string(live.vertices) + "\n";
+  header += "property float x\nproperty float y\nproperty float z\n";
+  if (options.normals) header += "property float nx\nproperty float ny\nproperty float nz\n";
+  if (options.colors) {
+    header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+    if (translucent) header += "property uchar alpha\n";
+  }
+  header += "element face " + std::to_string(live.faces) + "\n";
+  header += "property list uchar int vertex_indices\nend_header\n";
+  out.put(header);
+  for (auto v : m.vertices()) {
+    const auto q = axes(m.point(v), options.y_up);
+    char* const start = out.room();
+    char* p = start;
+    float values[6] = {q[0], q[1], q[2], 0, 0, 0};
+    int count = 3;
+    if (options.normals) {
+      const auto n = axes(m.normal(v), options.y_up);
+      values[3] = n[0], values[4] = n[1], values[5] = n[2], count = 6;
+    }
+    for (int k = 0; k < count; ++k) {
+      if (binary) {
+        p = put_raw(p, values[k]);
+      } else {
+        if (k) *p++ = ' ';
+        p = put_float(p, values[k], 9);
+      }
+    }
+    if (options.colors) {
+      // sRGB clamped to 0..1, rounded to bytes as OpenMesh's color_cast rounds them.
+      const auto c = m.color(v);
+      const float alpha = std::clamp(std::isnan(c[3]) ? 1.0f : c[3], 0.0f, 1.0f);
+      for (int k = 0; k < (translucent ? 4 : 3); ++k) {
+        const auto byte = k < 3 ? srgb_byte(c[k]) : static_cast<unsigned char>(alpha * 255.0f + 0.5f);
+        if (binary) {
+          *p++ = static_cast<char>(byte);
+        } else {
+          *p++ = ' ';
+          p = put_uint(p, byte);
+        }
+      }
+    }
+    if (!binary) *p++ = '\n';
+    out.advance(static_cast<std::size_t>(p - start));
+    poll();
+  }
+  for (auto f : m.faces()) {
+    const auto c = corners(m, f);
+    unsigned idx[3];
+    for (int k = 0; k < 3; ++k)
+      idx[k] =
+          live.index.empty() ? static_cast<unsigned>(c[k].idx()) : live.index[static_cast<std::size_t>(c[k].idx())];
+    char* const start = out.room();
+    char* p = start;
+    if (binary) {
+      *p++ = 3;
+      for (unsigned i : idx) p = put_raw(p, static_cast<std::int32_t>(i));
+    } else {
+      *p++ = '3';
+      for (unsigned i : idx) {
+        *p++ = ' ';
+        p = put_uint(p, i);
+      }
+      *p++ = '\n';
+    }
+    out.advance(static_cast<std::size_t>(p - start));
+    poll();
+  }
+  out.finish();
+}
+
+// STL, ASCII or binary: one facet per triangle with its face normal, computed as OpenMesh's
+// update_face_normals computes it, from the corners in file axes. The bytes OpenMesh's STL writer wrote (in
+// text the first facet normal at its stream's default 6 significant digits, everything after at 10).
+void write_stl(const TriMesh& m, const std::filesystem::path& path, const MeshWriteOptions& options,
+               ProgressPoll& poll) {
+  const LiveElements live = live_elements(m);
+  BlockWriter out(path);
+  const bool binary = options.binary;
+  if (binary) {
+    char header[80];
+    std::memset(header, ' ', sizeof header);
+    std::memcpy(header, "binary stl file", 15);
+    header[79] = '\0';
+    out.put(header, sizeof header);
+    const auto n = static_cast<std::int32_t>(live.faces);
+    out.put(&n, sizeof n);
+  } else {
+    out.put("solid \n");
+  }
+  int precision = 6;
+  for (auto f : m.faces()) {
+    const auto c = corners(m, f);
+    const OpenMesh::Vec3f a = axes(m.point(c[0]), options.y_up), b = axes(m.point(c[1]), options.y_up),
+                          d = axes(m.point(c[2]), options.y_up);
+    const OpenMesh::Vec3f n = static_cast<const TriMesh::PolyMesh&>(m).calc_face_normal(a, b, d);
+    char* const start = out.room();
+    char* p = start;
+    if (binary) {
+      for (const auto* v : {&n, &a, &b, &d})
+        for (int k = 0; k < 3; ++k) p = put_raw(p, (*v)[k]);
+      p = put_raw(p, std::uint16_t(0));
+    } else {
+      p = put_text(p, "facet normal ");
+      for (int k = 0; k < 3; ++k) {
+        if (k) *p++ = ' ';
+        p = put_float(p, n[k], precision);
+      }
+      p = put_text(p, "\nouter loop\n");
+      precision = 10;
+      for (const auto* v : {&a, &b, &d}) {
+        p = put_text(p, "vertex ");
+        for (int k = 0; k < 3; ++k) {
+          if (k) *p++ = ' ';
+          p = put_float(p, (*v)[k], precision);
+        }
+        *p++ = '\n';
+      }
+      p = put_text(p, "\nendloop\nendfacet\n");
+    }
+    out.advance(static_cast<std::size_t>(p - start));
+    poll();
+  }
+  if (!binary) out.put("endsolid\n");
+  out.finish();
 }
 
 }  // namespace
@@ -151,13 +318,6 @@ std::string material_library_text(const std::string& texture) {
 
 void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFormat format,
                      const MeshWriteOptions& options, const WriteProgress& progress) {
-  // OpenMesh narrates every write on its log stream ("[OBJWriter] : write file"); the CLI and the editor
-  // should stay quiet. Its error stream stays on. Done once, before any writer runs.
-  static const bool quiet = [] {
-    omlog().disable();
-    return true;
-  }();
-  (void)quiet;
   if (mesh.face_count() == 0) throw FileError("cannot write '" + path.string() + "': the mesh has no faces");
   // No format stores a NaN or infinite position meaningfully (OBJ would get "nan" text, GLB and STL NaN
   // floats that viewers reject): refused, naming the vertex, in every format, by one quick pass (no poll: a
@@ -175,9 +335,9 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
     return write_gltf_file(mesh, path, format == MeshFormat::Glb, options.normals, options.colors, options.uvs,
                            options.name, progress);
   // Cancellation is polled per block of vertices and faces (units: the passes below over the vertices, and
-  // the OBJ's lines), then per 64 KiB written.
+  // the lines or records written, which go to the file as they are formatted).
   const double nv = static_cast<double>(mesh.mesh.n_vertices()), nf = static_cast<double>(mesh.mesh.n_faces());
-  ProgressPoll poll(progress, 5 * nv + nf, 0.0, 0.9);
+  ProgressPoll poll(progress, 3 * nv + nf, 0.0, 1.0);
   // Texture coordinates from the footprint, before any change of axes.
   std::vector<OpenMesh::Vec2f> uvs;
   if (format == MeshFormat::Obj && options.uvs && mesh.mesh.has_vertex_texcoords2D()) {
@@ -202,76 +362,12 @@ void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFo
       poll();
     }
   }
-  if (format == MeshFormat::Obj) {  // positions and normals only: no copy needed
+  if (format == MeshFormat::Obj)
     write_obj(mesh.mesh, path, options, uvs, poll);
-    return;
-  }
-  // A copy in file conventions, built vertex by vertex and face by face (polled: OpenMesh's copy of a mesh of
-  // millions of vertices is one long call): axes, and colors as 8-bit viewers expect them (sRGB, clamped to
-  // 0..1, which also keeps OpenMesh's float-to-byte conversion in range).
-  const TriMesh& src = mesh.mesh;
-  TriMesh out;
-  out.reserve(src.n_vertices(), src.n_edges(), src.n_faces());
-  std::vector<TriMesh::VertexHandle> copy_of(src.n_vertices());
-  bool translucent = false;
-  for (auto v : src.vertices()) {
-    auto p = src.point(v);
-    auto n = src.normal(v);
-    if (options.y_up) p = {p[0], p[2], 0.0f - p[1]}, n = {n[0], n[2], 0.0f - n[1]};
-    const auto w = out.add_vertex(p);
-    copy_of[static_cast<std::size_t>(v.idx())] = w;
-    out.set_normal(w, n);
-    auto c = src.color(v);
-    for (int k = 0; k < 3; ++k) c[k] = static_cast<float>(linear_to_srgb(static_cast<double>(c[k])));
-    c[3] = std::clamp(std::isnan(c[3]) ? 1.0f : c[3], 0.0f, 1.0f);
-    translucent = translucent || c[3] < 1.0f;
-    out.set_color(w, c);
-    poll();
-  }
-  std::vector<TriMesh::VertexHandle> corners;
-  for (auto f : src.faces()) {
-    corners.clear();
-    for (auto v : src.fv_range(f)) corners.push_back(copy_of[static_cast<std::size_t>(v.idx())]);
-    // The source is an OpenMesh mesh, so its faces are always accepted again, in the same order.
-    if (!out.add_face(corners).is_valid())
-      throw FileError("cannot write '" + path.string() + "': face " + std::to_string(f.idx()) + " could not be copied");
-    poll();
-  }
-  out.update_face_normals();
-  poll.check();  // the copy in file conventions is ready
-
-  OpenMesh::IO::Options opt;
-  if (options.binary && format != MeshFormat::Obj) opt += OpenMesh::IO::Options::Binary;
-  if (options.normals && format != MeshFormat::Stl) opt += OpenMesh::IO::Options::VertexNormal;
-  if (options.colors && format == MeshFormat::Ply) {
-    opt += OpenMesh::IO::Options::VertexColor;
-    if (translucent) opt += OpenMesh::IO::Options::ColorAlpha;
-  }
-  if (format == MeshFormat::Stl) opt += OpenMesh::IO::Options::FaceNormal;
-  // 9 significant digits: text formats read back the same float (OpenMesh's default of 6 would round
-  // x = 12345.67 m to 12345.7 m).
-  std::unique_ptr<CheckedOStream> stream;
-  try {
-    stream = std::make_unique<CheckedOStream>(path);
-  } catch (const WriteError& e) {
-    throw FileError(e.what());
-  }
-  // OpenMesh writes the whole file in one call: the stream polls per 64 KiB, and what the poll throws
-  // (Cancelled) fails the stream, which stops OpenMesh, and is rethrown here.
-  stream->set_poll([&progress] {
-    if (progress) progress(0.95);
-  });
-  // OpenMesh picks its writer by this name: from the format decided once, never from the file's spelling.
-  const char* ext = format == MeshFormat::Ply ? ".ply" : ".stl";
-  const bool written = OpenMesh::IO::write_mesh(out, *stream, ext, opt, 9);
-  stream->rethrow_poll();
-  if (!stream->file().ok()) throw FileError(stream->file().error());
-  if (!written) throw FileError("cannot write '" + path.string() + "' (OpenMesh could not write the mesh)");
-  try {
-    stream->finish();
-  } catch (const WriteError& e) {
-    throw FileError(e.what());
-  }
+  else if (format == MeshFormat::Ply)
+    write_ply(mesh.mesh, path, options, poll);
+  else
+    write_stl(mesh.mesh, path, options, poll);
 }
 
 }  // namespace orogen

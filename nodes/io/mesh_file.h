@@ -1,5 +1,6 @@
 #pragma once
-// Meshes to OBJ, PLY and STL through OpenMesh's writers, and glTF 2.0 through tinygltf.
+// Meshes to OBJ, PLY and STL (the bytes OpenMesh's writers wrote, formatted in one pass from the mesh), and glTF
+// 2.0 (tinygltf's document, the buffer streamed from the mesh).
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -40,9 +41,8 @@ struct MeshWriteOptions {
 // `texture` is not one printable line (a newline would add directives to the library).
 std::string material_library_text(const std::string& texture);
 
-// Writes `mesh` to `path` in `format` (OpenMesh picks the writer by extension, so it must match). Not atomic
-// by itself. Throws FileError on failure. `progress` (which may throw Cancelled) is called per block of
-// vertices and faces while the file is prepared and per 64 KiB while it is written.
+// Writes `mesh` to `path` in `format`. Not atomic by itself. Throws FileError on failure. `progress` (which
+// may throw Cancelled) is called per block of vertices and faces (and per MiB of glTF) as the file is written.
 void write_mesh_file(const Mesh& mesh, const std::filesystem::path& path, MeshFormat format,
                      const MeshWriteOptions& options = {}, const WriteProgress& progress = {});
 

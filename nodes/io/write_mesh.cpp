@@ -13,7 +13,7 @@ namespace orogen {
 OROGEN_NODE(WriteMesh) {
   b.reach_global();
   b.category("io").writes_files().description(
-      "Writes a mesh to OBJ, PLY or STL (through OpenMesh) or glTF 2.0 (.gltf or binary .glb, through tinygltf; "
+      "Writes a mesh to OBJ, PLY or STL or glTF 2.0 (.gltf or binary .glb; "
       "always y-up, linear vertex colors, the mesh's own texture coordinates) inside the output directory, "
       "atomically. Vertex "
       "normals go to OBJ and PLY, vertex colors to PLY (sRGB 8-bit); STL has face normals only. OBJ also gets "
@@ -53,9 +53,12 @@ OROGEN_NODE(WriteMesh) {
       .description(
           "Closes the mesh into a solid (every edge shared by two faces) for 3D printing: walls down from the open "
           "border to this many metres below the lowest vertex and a flat bottom. 0: the open surface");
-  // The exporter holds about 1.5 times the mesh (OBJ: texture coordinates and the text; PLY and STL a copy in
-  // file conventions; glTF its vectors and buffer; measured: tests/test_peak_memory.cpp).
-  b.extra_bytes([](const CostQuery& q) { return 3 * input_bytes(q, "in") / 2; });
+  // The writers stream the file from the mesh through a 1 MiB block: beyond it only OBJ's texture coordinates
+  // (8 of a vertex's ~100 bytes; a quarter of the mesh allowed), and with base_depth the closed copy of the mesh.
+  b.extra_bytes([](const CostQuery& q) {
+    const std::uint64_t in = input_bytes(q, "in");
+    return in / 4 + (q.params.get<double>("base_depth") > 0.0 ? 3 * in / 2 : 0);
+  });
   b.execute([](ExecContext& ctx) {
     const auto mesh = ctx.require<Mesh>("in");
     const std::string& path = ctx.param<std::string>("path");

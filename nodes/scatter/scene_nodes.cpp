@@ -102,9 +102,10 @@ OROGEN_NODE(WriteScene) {
           "difference from height, or onto the mesh); keep: positions as they come (instances outside the mesh "
           "always keep theirs)");
   // The glTF document is built in memory, then streamed to the file: per instance a tinygltf node and its JSON
-  // object (nodes), or its translation, rotation and scale in the buffer and their copies (gpu_instancing); the
-  // terrain's buffer (and base64 text in .gltf). Known once the scene exists, so the check is made just before
-  // the node runs. Grounding adds a copy of the points and the mesh surface's triangles and buckets.
+  // object (nodes), or its translation, rotation and scale in the buffer (gpu_instancing). The meshes go from
+  // their arrays to the file through a 1 MiB block (no buffer copy, no base64 text). Known once the scene
+  // exists, so the check is made just before the node runs. Grounding adds a copy of the points and the mesh
+  // surface's triangles and buckets.
   b.extra_bytes([](const CostQuery& q) -> std::uint64_t {
     std::uint64_t bytes = 0;
     if (const PortValue* v = q.input("in")) {
@@ -112,12 +113,10 @@ OROGEN_NODE(WriteScene) {
       bytes += static_cast<std::uint64_t>(std::get<ScenePtr>(*v)->size()) *
                ((nodes ? 2048 : 160) + sizeof(glm::vec3) + sizeof(glm::quat) + sizeof(glm::vec3) + 8);
     }
-    // The terrain: its buffer (.glb, streamed to the file), and the base64 text of the buffer (.gltf); grounding's
-    // surface (triangles and buckets, about the mesh's size, freed before the file is built).
-    const bool text = lower_extension(q.params.get<std::string>("path")) == ".gltf";
+    // The terrain: grounding's surface (triangles and buckets, about the mesh's size, freed before the file is
+    // built).
     const bool ground = q.params.get<std::string>("ground") == "terrain_mesh";
-    if (const PortValue* t = q.input("terrain"))
-      bytes += (text ? 2 * byte_size(*t) : byte_size(*t) / 2) + (ground ? byte_size(*t) : 0);
+    if (const PortValue* t = q.input("terrain")) bytes += ground ? byte_size(*t) : 0;
     return bytes;
   });
   b.execute([](ExecContext& ctx) {
