@@ -14,12 +14,12 @@ namespace orogen::hydrology {
 namespace {
 
 // Priority queue entry: the lowest level first, ties by cell (or node) index, so the run is deterministic.
-struct Entry {
+struct FloodEntry {
   float level;
   std::int64_t index;
-  bool operator>(const Entry& o) const { return level > o.level || (level == o.level && index > o.index); }
+  bool operator>(const FloodEntry& o) const { return level > o.level || (level == o.level && index > o.index); }
 };
-using MinQueue = std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>>;
+using MinQueue = std::priority_queue<FloodEntry, std::vector<FloodEntry>, std::greater<FloodEntry>>;
 
 using bytes::put;
 
@@ -151,7 +151,7 @@ std::vector<std::vector<float>> solve_spill_graphs(const std::vector<TileSpillGr
   // Minimax Dijkstra: the lowest level at which water from each node reaches the border.
   std::vector<std::uint8_t> done(links.size(), 0);
   while (!queue.empty()) {
-    const Entry top = queue.top();
+    const FloodEntry top = queue.top();
     queue.pop();
     const auto u = static_cast<std::size_t>(top.index);
     if (done[u]) continue;

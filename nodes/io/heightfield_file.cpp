@@ -13,6 +13,7 @@
 #include <type_traits>
 
 #include "nodes/common/resample.h"
+#include "nodes/io/block_rows.h"
 #include "nodes/io/checked_image_output.h"
 #include "nodes/io/compression.h"
 #include "nodes/io/image_codec.h"
@@ -62,11 +63,6 @@ void check_finite(float v, int i, int j) {
 void report(const WriteProgress& progress, int rows_done, int rows) {
   if (progress) progress(static_cast<double>(rows_done) / std::max(rows, 1));
 }
-
-// Rows per write call: enough zip chunks (16 rows each for EXR) for OpenEXR to compress them in parallel on
-// every core, few enough that the converted block stays small (at most 256 rows: 4 MB at 4096 floats).
-// Small images still go in a few blocks, so progress (and cancellation) happens during the write.
-int block_rows(int height) { return std::clamp((height / 8 + 15) / 16 * 16, 16, 256); }
 
 // Writes through the image codec in blocks of block_rows() scanlines (north row first). `convert(j, row, out)`
 // turns heightfield row j into file samples of type T; for float files the rows go straight from the

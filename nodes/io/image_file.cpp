@@ -10,6 +10,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "nodes/io/block_rows.h"
 #include "nodes/io/compression.h"
 #include "nodes/io/checked_image_output.h"
 
@@ -47,11 +48,6 @@ std::vector<std::string> default_channel_names(int n) {
 
 // Index of the alpha channel of a PNG-able layout, or -1.
 int alpha_channel(int channels) { return channels == 2 ? 1 : channels == 4 ? 3 : -1; }
-
-// Rows per write call: enough zip chunks (16 rows each for EXR) for OpenEXR to compress them in parallel on
-// every core, few enough that the converted block stays small (at most 256 rows).
-// Small images still go in a few blocks, so progress (and cancellation) happens during the write.
-int block_rows(int height) { return std::clamp((height / 8 + 15) / 16 * 16, 16, 256); }
 
 // Writes in blocks of block_rows() scanlines, north row first: float files straight from the image (a negative
 // row stride walks it north to south), integer files through a converted block.

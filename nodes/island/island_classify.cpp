@@ -6,6 +6,7 @@
 #include <queue>
 
 #include "graph/exec_context.h"
+#include "nodes/island/cell_index.h"
 #include "nodes/island/island.h"
 #include "nodes/island/island_random.h"
 #include "nodes/noise/lattice_hash.h"
@@ -13,9 +14,6 @@
 
 namespace orogen::island {
 namespace {
-
-using Index = std::size_t;
-inline Index ix(int k) { return static_cast<Index>(k); }
 
 // Dijkstra over corners with a deterministic order (distance, then index).
 struct QueueItem {

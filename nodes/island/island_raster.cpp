@@ -6,6 +6,7 @@
 
 #include "graph/exec_context.h"
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/island/cell_index.h"
 #include "nodes/island/island.h"
 #include "nodes/island/island_random.h"
 #include "nodes/noise/fbm.h"
@@ -13,9 +14,6 @@
 
 namespace orogen::island {
 namespace {
-
-using Index = std::size_t;
-inline Index ix(int k) { return static_cast<Index>(k); }
 
 double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
 

@@ -11,14 +11,12 @@
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/common/smoothstep.h"
 #include "nodes/common/work_poll.h"
+#include "nodes/island/cell_index.h"
 #include "nodes/island/island.h"
 #include "nodes/island/island_random.h"
 
 namespace orogen::island {
 namespace {
-
-using Index = std::size_t;
-inline Index ix(int k) { return static_cast<Index>(k); }
 
 double cross(glm::dvec2 a, glm::dvec2 b) { return a.x * b.y - a.y * b.x; }
 

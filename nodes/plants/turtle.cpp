@@ -24,7 +24,7 @@ glm::dvec3 rodrigues(const glm::dvec3& v, const glm::dvec3& k, double c, double 
   return v * c + glm::cross(k, v) * s + k * glm::dot(k, v) * (1.0 - c);
 }
 
-struct Branch {  // a curve under construction
+struct OpenBranch {  // a curve under construction
   std::vector<float> r, g, b, depth;
 };
 
@@ -64,7 +64,7 @@ TurtleResult interpret(const ModuleString& word, const TurtleOptions& o) {
     int depth;
   };
   TurtleResult result;
-  std::vector<Branch> extra;
+  std::vector<OpenBranch> extra;
   State st{TurtleFrame{}, o.width, o.color, -1, true, 0};
   std::vector<State> stack;
   const glm::dvec3 tropism = glm::length(o.tropism) > 0.0 ? glm::normalize(o.tropism) : glm::dvec3(0.0);
@@ -72,7 +72,7 @@ TurtleResult interpret(const ModuleString& word, const TurtleOptions& o) {
 
   auto add_point = [&](int curve) {
     Curve& c = result.skeleton.curves[static_cast<std::size_t>(curve)];
-    Branch& x = extra[static_cast<std::size_t>(curve)];
+    OpenBranch& x = extra[static_cast<std::size_t>(curve)];
     c.points.push_back(glm::vec3(st.frame.position));
     c.width.push_back(static_cast<float>(st.width));
     x.r.push_back(static_cast<float>(st.color.r));
