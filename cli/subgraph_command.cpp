@@ -45,11 +45,14 @@ int run_subgraph_extract(const ExtractCommand& cmd) {
     }
     const Graph rewritten = rewrite_with_instance(*loaded.graph, request, ex, *asset.asset);
     save_graph_file(rewritten, request.graph_file);
-    const Node& instance = rewritten.nodes().back();
+    const Node* instance = nullptr;
+    for (const auto& n : rewritten.nodes())
+      if (const Node* old = loaded.graph->find(n.id); n.type->subgraph == asset.asset && (!old || old->type != n.type))
+        instance = &n;
     std::cout << "wrote asset " << request.asset_file.string() << " (" << ex.inputs.size() << " inputs, "
               << ex.outputs.size() << " outputs, " << ex.params.size() << " parameters)\n"
               << "wrote " << request.graph_file.string() << ": " << request.nodes.size()
-              << " nodes replaced by instance '" << instance.id << "' (asset \"" << instance.asset << "\")\n";
+              << " nodes replaced by instance '" << instance->id << "' (asset \"" << instance->asset << "\")\n";
   } catch (const GraphError& e) {
     std::cerr << "error: cannot extract a subgraph from " << cmd.graph_file.string() << ": " << e.what() << "\n";
     return kExitInvalid;

@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -266,23 +267,53 @@ Extraction make_subgraph_asset(const Graph& graph, const ExtractRequest& request
 
 Graph rewrite_with_instance(const Graph& graph, const ExtractRequest& request, const Extraction& ex,
                             const SubgraphAsset& asset) {
-  Graph out = graph;
-  glm::dvec2 position{0.0};
-  int placed = 0;
-  for (const auto& id : request.nodes) {
-    if (const auto it = graph.editor.positions.find(id); it != graph.editor.positions.end()) {
-      position += it->second;
-      ++placed;
-    }
-    out.remove_node(id);
-  }
+  const std::set<std::string> selected(request.nodes.begin(), request.nodes.end());
   std::string id = request.instance_id;
-  if (id.empty()) id = out.unique_id(Graph::valid_id(ex.asset_name) ? ex.asset_name : "subgraph");
-  add_subgraph_instance(out, asset, ex.reference, id);
+  if (id.empty()) {
+    // Free once the selection is gone: the asset's name, or a selected node's id.
+    Graph rest;
+    for (const auto& n : graph.nodes())
+      if (!selected.count(n.id)) rest.add_node(*n.type, n.id);
+    id = rest.unique_id(Graph::valid_id(ex.asset_name) ? ex.asset_name : "subgraph");
+  }
+  // The nodes in their order, the instance where the first selected node was, so the file's diff stays local.
+  Graph out;
+  out.domain = graph.domain;
+  out.directory = graph.directory;
+  bool placed = false;
+  for (const auto& n : graph.nodes()) {
+    if (selected.count(n.id)) {
+      if (!placed) add_subgraph_instance(out, asset, ex.reference, id);
+      placed = true;
+      continue;
+    }
+    Node& copy = out.add_node(*n.type, n.id);
+    copy.asset = n.asset;
+    copy.params = n.params;
+  }
+  std::map<PortRef, std::string, bool (*)(const PortRef&, const PortRef&)> output_name(
+      [](const PortRef& a, const PortRef& b) { return std::tie(a.node, a.port) < std::tie(b.node, b.port); });
+  for (const auto& output : ex.outputs) output_name[output.source] = output.name;
+  for (const auto& n : graph.nodes()) {
+    if (selected.count(n.id)) continue;
+    for (const auto& [port, from] : n.inputs)
+      out.connect(selected.count(from.node) ? PortRef{id, output_name.at(from)} : from, n.id, port);
+  }
   for (const auto& input : ex.inputs) out.connect(input.source, id, input.name);
-  for (const auto& output : ex.outputs)
-    for (const auto& [node, port] : output.sinks) out.connect({id, output.name}, node, port);
-  if (placed) out.editor.positions[id] = position / static_cast<double>(placed);
+
+  glm::dvec2 position{0.0};
+  int positioned = 0;
+  for (const auto& n : graph.nodes()) {
+    const auto it = graph.editor.positions.find(n.id);
+    if (it == graph.editor.positions.end()) continue;
+    if (!selected.count(n.id)) {
+      out.editor.positions[n.id] = it->second;
+      continue;
+    }
+    position += it->second;
+    ++positioned;
+  }
+  if (positioned) out.editor.positions[id] = position / static_cast<double>(positioned);
   return out;
 }
 
