@@ -12,6 +12,8 @@
 #include "graph/graph_file.h"
 #include "graph/heightfield.h"
 #include "graph/image.h"
+#include "graph/points.h"
+#include "graph/curves.h"
 #include "graph/subgraph.h"
 #include "support/run_process.h"
 #include "support/test_paths.h"
@@ -22,17 +24,34 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-// The raw bytes of a raster value, to compare bit for bit.
+// The raw bytes of a value (rasters, points, curves), to compare bit for bit.
 std::vector<unsigned char> bytes_of(const PortValue& v) {
   std::vector<unsigned char> out;
-  auto append = [&](const std::vector<float>& data) {
-    out.resize(data.size() * sizeof(float));
-    if (!data.empty()) std::memcpy(out.data(), data.data(), out.size());
+  auto append = [&](const auto& data) {
+    const std::size_t at = out.size(), n = data.size() * sizeof(data[0]);
+    out.resize(at + n);
+    if (n) std::memcpy(out.data() + at, data.data(), n);
   };
-  if (const auto* h = std::get_if<HeightfieldPtr>(&v))
+  if (const auto* h = std::get_if<HeightfieldPtr>(&v)) {
     append((*h)->data);
-  else if (const auto* i = std::get_if<ImagePtr>(&v))
+  } else if (const auto* i = std::get_if<ImagePtr>(&v)) {
     append((*i)->data);
+  } else if (const auto* p = std::get_if<PointsPtr>(&v)) {
+    append((*p)->position);
+    append((*p)->rotation);
+    append((*p)->scale);
+    append((*p)->class_id);
+    for (const auto& [name, values] : (*p)->attributes) append(values);
+    if ((*p)->size() == 0) out.push_back(0);  // an empty set of points is a value too
+  } else if (const auto* c = std::get_if<CurvesPtr>(&v)) {
+    for (const auto& curve : (*c)->curves) {
+      append(curve.points);
+      append(curve.width);
+      for (const auto& [name, values] : curve.attributes) append(values);
+      append(std::vector<int>{curve.parent});
+    }
+    if ((*c)->size() == 0) out.push_back(0);
+  }
   return out;
 }
 
@@ -130,7 +149,7 @@ TEST(Subgraphs, InstancedEqualsInlineForEveryLibraryAsset) {
 
     // Instanced: a source feeding every heightfield input, one instance with a non-default exposed value.
     Graph instanced;
-    instanced.domain.size = {4096, 4096};
+    instanced.domain.size = load.asset->graph.domain.size;  // the scale the asset was made for (forest: 1 km)
     instanced.domain.resolution = {48, 48};
     const std::map<std::string, ParamValue> src_params{{"amplitude", 400.0}, {"feature_size", 900.0}};
     instanced.add_node("FBM", "src").params = src_params;
@@ -607,7 +626,7 @@ TEST(Subgraphs, CliSetReachesExposedAndInnerParameters) {
       << nodes.out;
   const auto one = run_process(cli_binary(), {"nodes", "eroded_mountain_range"});
   EXPECT_EQ(one.exit_code, 0);
-  EXPECT_NE(one.out.find("talus_angle : float = 38.0"), std::string::npos) << one.out;
+  EXPECT_NE(one.out.find("talus_angle : float = 40.0"), std::string::npos) << one.out;
 }
 
 // --set reaches every level: the outer exposed parameter, a nested instance's exposed parameter, and the
