@@ -629,6 +629,58 @@ TEST(Subgraphs, CliSetReachesExposedAndInnerParameters) {
   EXPECT_NE(one.out.find("talus_angle : float = 40.0"), std::string::npos) << one.out;
 }
 
+// `orogen nodes --json` and `--markdown` document the library's assets after the node types.
+TEST(Subgraphs, NodeReferenceListsTheLibrary) {
+  const auto out = run_process(cli_binary(), {"nodes", "--json"});
+  ASSERT_EQ(out.exit_code, 0) << out.err;
+  const json all = json::parse(out.out);
+  ASSERT_TRUE(all.is_array());
+  std::map<std::string, json> assets;
+  bool types_first = true, seen_asset = false;
+  for (const auto& t : all) {
+    const bool asset = t.value("type", "") == "Subgraph";
+    if (!asset && seen_asset) types_first = false;
+    seen_asset = seen_asset || asset;
+    if (asset) assets[t["name"]] = t;
+  }
+  EXPECT_TRUE(types_first);
+  std::set<std::string> names;
+  for (const auto& entry : list_subgraph_library()) names.insert(entry.name);
+  ASSERT_EQ(assets.size(), names.size());
+  for (const auto& name : names) ASSERT_TRUE(assets.count(name)) << name;
+  const json& range = assets.at("eroded_mountain_range");
+  EXPECT_EQ(range["asset_version"], 2);
+  EXPECT_EQ(range["category"], "subgraph library");
+  EXPECT_NE(range["description"].get<std::string>().find("HydraulicErosion"), std::string::npos);
+  ASSERT_EQ(range["inputs"].size(), 1u);
+  EXPECT_EQ(range["inputs"][0]["name"], "uplift");
+  std::vector<std::string> outputs;
+  for (const auto& o : range["outputs"]) outputs.push_back(o["name"]);
+  EXPECT_EQ(outputs, (std::vector<std::string>{"out", "flow", "erosion", "deposition", "stream_power"}));
+  bool talus = false;
+  for (const auto& p : range["params"])
+    if (p["name"] == "talus_angle") {
+      talus = true;
+      EXPECT_EQ(p["default"], 40.0);
+      EXPECT_EQ(p["unit"], "deg");  // the inner parameter's unit
+      EXPECT_FALSE(p["description"].get<std::string>().empty());
+    }
+  EXPECT_TRUE(talus);
+  // One asset alone, as for a node type.
+  const auto one = run_process(cli_binary(), {"nodes", "river_valley", "--json"});
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  EXPECT_EQ(json::parse(one.out), assets.at("river_valley"));
+
+  const auto md = run_process(cli_binary(), {"nodes", "--markdown"});
+  ASSERT_EQ(md.exit_code, 0) << md.err;
+  const auto library = md.out.find("\n## Subgraph library\n");
+  ASSERT_NE(library, std::string::npos);
+  EXPECT_GT(library, md.out.find("### Slope"));  // after the node types
+  for (const auto& name : names) EXPECT_NE(md.out.find("### " + name + "\n", library), std::string::npos) << name;
+  EXPECT_NE(md.out.find("- `uplift` Uplift (Heightfield, optional)", library), std::string::npos);
+  EXPECT_NE(md.out.find("| `talus_angle` | Talus angle | float | `40.0` |", library), std::string::npos);
+}
+
 // --set reaches every level: the outer exposed parameter, a nested instance's exposed parameter, and the
 // innermost node's parameter all set the same FBM feature size.
 TEST(Subgraphs, CliSetReachesNestedInstances) {
