@@ -44,10 +44,17 @@ const Node* instance_of(const Graph& g) {
   return nullptr;
 }
 
+// A graph of graphs/ as it was before it used the subgraph library (tests/fixtures/before_library), else as it is.
+fs::path plain_graph(const std::string& name) {
+  const fs::path before = source_dir() / "tests/fixtures/before_library" / name;
+  return fs::exists(before) ? before : source_dir() / "graphs" / name;
+}
+
 struct Case {
-  std::string graph;  // in graphs/
+  std::string graph;  // in graphs/ (plain_graph)
   std::string nodes, expose;
   std::size_t inputs, outputs;
+  bool as_is = false;  // the graph as it is in graphs/ (with library instances), not its plain form
 };
 
 // Seed graphs: the selection moves into an asset in a subfolder and the graph is written elsewhere, so both
@@ -61,14 +68,17 @@ TEST(SubgraphExtract, OutputsStayByteIdentical) {
       {"terrain.json", "warp_x,warp_y,ridges,mountain_mask,land,lifted", "ridges.amplitude", 1, 1},
       // A chain in the middle: inputs from map (several ports), outputs read by writers and later nodes.
       {"voronoi_island.json", "shaped,detail,coast_fade,dry,detail_mask,detail_masked,sum,terrain", "", 4, 1},
+      // A library instance in the selection (named by the library, not rebased), its parameter promoted.
+      {"river_network.json", "hills,terrain,network_height,valley", "valley.seed,hills.amplitude", 0, 3, true},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.graph);
     const fs::path dir = scratch_dir("extract_" + fs::path(c.graph).stem().string());
+    const fs::path source = c.as_is ? source_dir() / "graphs" / c.graph : plain_graph(c.graph);
     fs::create_directories(dir / "graphs" / "lib");
     fs::create_directories(dir / "out_graphs");
     const fs::path original = dir / "graphs" / c.graph;
-    fs::copy_file(source_dir() / "graphs" / c.graph, original);
+    fs::copy_file(source, original);
     const auto before = eval(original, dir / "before");
     ASSERT_EQ(before.exit_code, 0) << before.err;
 
@@ -79,7 +89,7 @@ TEST(SubgraphExtract, OutputsStayByteIdentical) {
     if (!c.expose.empty()) args.insert(args.end(), {"--expose", c.expose});
     const auto ex = extract(args);
     ASSERT_EQ(ex.exit_code, 0) << ex.err;
-    EXPECT_EQ(read_text(original), read_text(source_dir() / "graphs" / c.graph));  // --graph-out: untouched
+    EXPECT_EQ(read_text(original), read_text(source));  // --graph-out: untouched
 
     const auto loaded = load_graph_file(rewritten);
     ASSERT_TRUE(loaded.ok()) << loaded.error_text();
@@ -110,7 +120,7 @@ TEST(SubgraphExtract, OutputsStayByteIdentical) {
 TEST(SubgraphExtract, ExposedParametersKeepValueAndMeaning) {
   const fs::path dir = scratch_dir("extract_expose");
   const fs::path original = dir / "terrain.json";
-  fs::copy_file(source_dir() / "graphs" / "terrain.json", original);
+  fs::copy_file(plain_graph("terrain.json"), original);
   const auto ex = extract({original.string(), "--nodes", "warp_x,warp_y,ridges,land", "--expose",
                            "ridges.amplitude,warp_x.seed", "-o", (dir / "ridges.orogen-subgraph.json").string(),
                            "--graph-out", (dir / "new.json").string(), "--id", "rugged"});
@@ -238,7 +248,7 @@ TEST(SubgraphExtract, InterfaceNamesAreUniqueAndInputsGroupedBySource) {
 TEST(SubgraphExtract, RefusesWhatCannotBeExtracted) {
   const fs::path dir = scratch_dir("extract_refused");
   const fs::path graph = dir / "g.json";
-  fs::copy_file(source_dir() / "graphs" / "eroded_mountains.json", graph);
+  fs::copy_file(plain_graph("eroded_mountains.json"), graph);
   const std::string text = read_text(graph);
   const std::string asset = (dir / "a.orogen-subgraph.json").string();
   auto refused = [&](const std::vector<std::string>& extra, const std::string& message) {
