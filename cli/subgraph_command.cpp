@@ -32,14 +32,19 @@ int run_subgraph_extract(const ExtractCommand& cmd) {
               << " exists: an asset may be used by other graphs; choose another file or pass --force\n";
     return kExitInvalid;
   }
+  bool wrote_asset = false;
+  // Never leave an asset behind when the graph is not rewritten.
+  auto remove_asset = [&] {
+    std::error_code ec;
+    if (wrote_asset) fs::remove(request.asset_file, ec);
+  };
   try {
     const Extraction ex = make_subgraph_asset(*loaded.graph, request);
     write_text_atomically(request.asset_file, ex.asset_text);
+    wrote_asset = true;
     const AssetLoad asset = load_subgraph_asset(fs::absolute(request.asset_file).string(), {});
     if (!asset.asset) {
-      // Never leave an asset that does not load behind.
-      std::error_code ec;
-      fs::remove(request.asset_file, ec);
+      remove_asset();
       std::cerr << "error: the extracted asset does not load: " << asset.error << "\n";
       return kExitInvalid;
     }
@@ -52,10 +57,16 @@ int run_subgraph_extract(const ExtractCommand& cmd) {
     std::cout << "wrote asset " << request.asset_file.string() << " (" << ex.inputs.size() << " inputs, "
               << ex.outputs.size() << " outputs, " << ex.params.size() << " parameters)\n"
               << "wrote " << request.graph_file.string() << ": " << request.nodes.size()
-              << " nodes replaced by instance '" << instance->id << "' (asset \"" << instance->asset << "\")\n";
+              << " nodes replaced by instance '" << (instance ? instance->id : "?") << "' (asset \"" << ex.reference
+              << "\")\n";
   } catch (const GraphError& e) {
+    remove_asset();
     std::cerr << "error: cannot extract a subgraph from " << cmd.graph_file.string() << ": " << e.what() << "\n";
     return kExitInvalid;
+  } catch (const std::exception& e) {
+    remove_asset();
+    std::cerr << "error: cannot write the extraction of " << cmd.graph_file.string() << ": " << e.what() << "\n";
+    return kExitEvalFailed;
   }
   return kExitOk;
 }

@@ -125,6 +125,14 @@ Extraction make_subgraph_asset(const Graph& graph, const ExtractRequest& request
                        "' too, or leave out the nodes on one side of it");
   }
 
+  if (!request.instance_id.empty()) {
+    if (!Graph::valid_id(request.instance_id))
+      throw GraphError("invalid instance id '" + request.instance_id +
+                       "': letters, digits, '_' and '-', starting with a letter or '_'");
+    if (graph.find(request.instance_id) && !selected.count(request.instance_id))
+      throw GraphError("the instance id '" + request.instance_id + "' is taken by a node that stays in the graph");
+  }
+
   Extraction ex;
   ex.asset_name = asset_name_of(request.asset_file);
   const fs::path graph_dir = resolved_dir(graph.directory);

@@ -271,6 +271,8 @@ TEST(SubgraphExtract, RefusesWhatCannotBeExtracted) {
           "the same file");
   refused({"--nodes", "base", "--expose", "base.octves"}, "node 'base' (FBM) has no parameter 'octves'");
   refused({"--nodes", "base", "--expose", "talus.talus_angle"}, "node 'talus' is not in the selection");
+  refused({"--nodes", "base", "--id", "talus"}, "the instance id 'talus' is taken by a node that stays in the graph");
+  refused({"--nodes", "base", "--id", "9x"}, "invalid instance id '9x'");
   // An existing asset is not overwritten without --force.
   write_text(asset, "{}");
   const auto r = extract({graph.string(), "-o", asset, "--nodes", "base"});
