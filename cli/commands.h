@@ -44,6 +44,19 @@ int run_nodes(const std::string& type, bool json, bool markdown);
 // Rewrites each file at the current format version (exit 2 if one cannot be read or migrated); check_only:
 // only say which files are older (exit 1 if any is).
 int run_migrate(const std::vector<std::filesystem::path>& files, bool check_only);
+struct ExtractCommand {
+  std::filesystem::path graph_file;
+  std::vector<std::string> nodes;   // the selection
+  std::vector<std::string> expose;  // NODE.PARAM of selected nodes
+  std::filesystem::path asset_file;
+  std::filesystem::path graph_out;  // empty: rewrite graph_file in place
+  std::string instance_id;
+  std::string description;
+  bool force = false;  // overwrite an existing asset file
+};
+// `orogen subgraph extract`: writes the asset and the rewritten graph (exit 2 if the selection cannot be
+// extracted, with the reason).
+int run_subgraph_extract(const ExtractCommand& cmd);
 // Runs the node contracts on each type and prints a table; 1 if any contract fails.
 int run_test_node(const std::vector<std::string>& types);
 

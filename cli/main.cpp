@@ -93,6 +93,27 @@ int main(int argc, char** argv) {
   migrate_cmd->add_option("FILES", migrate_files, "Graph files (.json)")->required();
   migrate_cmd->add_flag("--check", migrate_check, "Write nothing; exit 1 if a file is at an older version");
 
+  ExtractCommand extract;
+  auto* subgraph_cmd = app.add_subcommand("subgraph", "Work with subgraph assets (docs/subgraphs.md)");
+  subgraph_cmd->require_subcommand(1);
+  auto* extract_cmd = subgraph_cmd->add_subcommand(
+      "extract",
+      "Turn a selection of a graph's nodes into a subgraph asset and rewrite the graph to use one instance of it, "
+      "wired as the selection was (outputs unchanged)");
+  extract_cmd->add_option("FILE", extract.graph_file, "Graph file (.json)")->required();
+  extract_cmd->add_option("--nodes", extract.nodes, "The nodes to extract: a,b,c")->required()->delimiter(',');
+  extract_cmd->add_option("-o,--output", extract.asset_file, "The asset file to write (NAME.orogen-subgraph.json)")
+      ->required();
+  extract_cmd
+      ->add_option("--expose", extract.expose,
+                   "Parameters of selected nodes to expose on the instance: node.param,...; each defaults to its "
+                   "current value")
+      ->delimiter(',');
+  extract_cmd->add_option("--graph-out", extract.graph_out, "Write the rewritten graph here instead of over FILE");
+  extract_cmd->add_option("--id", extract.instance_id, "Id of the instance (default: the asset's name)");
+  extract_cmd->add_option("--description", extract.description, "Description of the asset");
+  extract_cmd->add_flag("--force", extract.force, "Overwrite an existing asset file");
+
   std::vector<std::string> test_types;
   bool test_all = false;
   auto* test_cmd =
@@ -114,6 +135,7 @@ int main(int argc, char** argv) {
     if (*eval_cmd) return run_eval(eval);
     if (*validate_cmd) return run_validate(validate);
     if (*nodes_cmd) return run_nodes(node_type, json, markdown);
+    if (*extract_cmd) return run_subgraph_extract(extract);
     if (*migrate_cmd) return run_migrate(migrate_files, migrate_check);
     if (*test_cmd) {
       if (test_all)

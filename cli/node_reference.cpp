@@ -6,6 +6,7 @@
 
 #include "graph/graph_file.h"
 #include "graph/registry.h"
+#include "graph/subgraph.h"
 #include "graph/tile_graph.h"
 
 namespace orogen::cli {
@@ -131,8 +132,11 @@ nlohmann::json reach_json(const NodeType& t) {
   return j;
 }
 
-nlohmann::json type_json(const NodeType& t) {
-  nlohmann::json inputs = nlohmann::json::array(), outputs = nlohmann::json::array(), params = nlohmann::json::array();
+// The ports and parameters of a type (or of a subgraph asset's instances) as JSON.
+void interface_json(const NodeType& t, nlohmann::json& inputs, nlohmann::json& outputs, nlohmann::json& params) {
+  inputs = nlohmann::json::array();
+  outputs = nlohmann::json::array();
+  params = nlohmann::json::array();
   for (const auto& p : t.inputs) inputs.push_back(port_json(p));
   for (const auto& p : t.outputs) outputs.push_back(port_json(p));
   for (const auto& p : t.params) {
@@ -156,6 +160,11 @@ nlohmann::json type_json(const NodeType& t) {
     }
     params.push_back(std::move(j));
   }
+}
+
+nlohmann::json type_json(const NodeType& t) {
+  nlohmann::json inputs, outputs, params;
+  interface_json(t, inputs, outputs, params);
   nlohmann::json j = {{"name", t.name},
                       {"category", t.category},
                       {"version", t.version},
@@ -173,6 +182,32 @@ nlohmann::json type_json(const NodeType& t) {
                       {"domain_independent", t.domain_independent}};
   if (!t.library.empty()) j["library"] = t.library;  // a type from a node library (graph/node_library.h)
   return j;
+}
+
+// A subgraph library asset (graph/subgraph.h), used as {"type": "Subgraph", "asset": NAME}: its name, asset
+// version, interface and description; no reach, the instance is expanded into its nodes.
+nlohmann::json asset_json(const SubgraphAsset& asset) {
+  nlohmann::json inputs, outputs, params;
+  interface_json(asset.type, inputs, outputs, params);
+  return {{"name", asset.name},
+          {"category", "subgraph library"},
+          {"type", kSubgraphTypeName},
+          {"asset", asset.name},
+          {"asset_version", asset.interface().asset_version},
+          {"description", asset.interface().description},
+          {"file", asset.file.generic_string()},
+          {"inputs", inputs},
+          {"outputs", outputs},
+          {"params", params}};
+}
+
+// The library's assets that load, by name (one that does not load is left out of the reference; `orogen nodes`
+// lists it with its error).
+std::vector<const SubgraphAsset*> library_assets() {
+  std::vector<const SubgraphAsset*> out;
+  for (const auto& entry : list_subgraph_library())
+    if (const AssetLoad load = load_subgraph_asset(entry.name, {}); load.asset) out.push_back(load.asset);
+  return out;
 }
 
 }  // namespace
@@ -233,10 +268,55 @@ std::string node_reference_text(const NodeType& t) {
 }
 
 std::string node_reference_json(const NodeType* only) {
+  if (only && only->subgraph) return asset_json(*only->subgraph).dump(2) + "\n";
   if (only) return type_json(*only).dump(2) + "\n";
   nlohmann::json all = nlohmann::json::array();
   for (const auto* t : NodeRegistry::instance().all()) all.push_back(type_json(*t));
+  // The subgraph library after the node types, marked by "type": "Subgraph".
+  for (const auto* asset : library_assets()) all.push_back(asset_json(*asset));
   return all.dump(2) + "\n";
+}
+
+// The ports and the parameter table of a type (or of a subgraph asset's instances), in Markdown.
+static void markdown_interface(std::ostringstream& s, const NodeType& t) {
+  auto ports = [&](const char* title, const std::vector<PortDecl>& list) {
+    if (list.empty()) return;
+    s << "\n" << title << ":\n\n";
+    for (const auto& p : list)
+      s << "- `" << p.name << "` " << p.display_label() << " (" << to_string(p.type)
+        << (p.unit != Unit::None ? ", " + unit_text(p.unit) : "") << (p.optional ? ", optional" : "")
+        << "): " << p.description << "\n";
+  };
+  ports("Inputs", t.inputs);
+  ports("Outputs", t.outputs);
+  if (!t.params.empty()) {
+    s << "\n| parameter | label | type | default | unit | range | description |\n|---|---|---|---|---|---|---|\n";
+    for (const auto& p : t.params) {
+      std::string desc = p.description;
+      if (!p.choices.empty()) {
+        desc += " Choices:";
+        for (const auto& c : p.choices) desc += " `" + c + "`";
+      }
+      s << "| `" << p.name << "` | " << p.display_label() << " | " << to_string(p.type) << " | `" << default_text(p)
+        << "` | " << unit_text(p.unit) << " | " << range_text(p) << " | " << desc << " |\n";
+    }
+    for (const auto& p : t.params) {
+      if (p.type != ParamType::Table) continue;
+      s << "\nColumns of `" << p.name
+        << "` (one JSON object per row):\n\n| column | type | unit | range | required | "
+           "description |\n|---|---|---|---|---|---|\n";
+      for (const auto& c : p.table.columns) {
+        std::string desc = c.description;
+        if (!c.choices.empty()) {
+          desc += " Choices:";
+          for (const auto& choice : c.choices) desc += " `" + choice + "`";
+        }
+        if (c.open_ends) desc += " `null` for an open end.";
+        s << "| `" << c.name << "` | " << to_string(c.type) << " | " << unit_text(c.unit) << " | "
+          << column_range_text(c) << " | " << (c.required ? "yes" : "no") << " | " << desc << " |\n";
+      }
+    }
+  }
 }
 
 std::string node_reference_markdown() {
@@ -254,44 +334,17 @@ std::string node_reference_markdown() {
     s << "\n### " << t->name << "\n\n"
       << t->description << "\n\nReach: " << t->reach_text() << ".\n\nDistribution: " << distribution_text(*t) << ".\n";
     if (!t->library.empty()) s << "\nFrom node library `" << t->library << "`.\n";
-    auto ports = [&](const char* title, const std::vector<PortDecl>& list) {
-      if (list.empty()) return;
-      s << "\n" << title << ":\n\n";
-      for (const auto& p : list)
-        s << "- `" << p.name << "` " << p.display_label() << " (" << to_string(p.type)
-          << (p.unit != Unit::None ? ", " + unit_text(p.unit) : "") << (p.optional ? ", optional" : "")
-          << "): " << p.description << "\n";
-    };
-    ports("Inputs", t->inputs);
-    ports("Outputs", t->outputs);
-    if (!t->params.empty()) {
-      s << "\n| parameter | label | type | default | unit | range | description |\n|---|---|---|---|---|---|---|\n";
-      for (const auto& p : t->params) {
-        std::string desc = p.description;
-        if (!p.choices.empty()) {
-          desc += " Choices:";
-          for (const auto& c : p.choices) desc += " `" + c + "`";
-        }
-        s << "| `" << p.name << "` | " << p.display_label() << " | " << to_string(p.type) << " | `" << default_text(p)
-          << "` | " << unit_text(p.unit) << " | " << range_text(p) << " | " << desc << " |\n";
-      }
-      for (const auto& p : t->params) {
-        if (p.type != ParamType::Table) continue;
-        s << "\nColumns of `" << p.name
-          << "` (one JSON object per row):\n\n| column | type | unit | range | required | "
-             "description |\n|---|---|---|---|---|---|\n";
-        for (const auto& c : p.table.columns) {
-          std::string desc = c.description;
-          if (!c.choices.empty()) {
-            desc += " Choices:";
-            for (const auto& choice : c.choices) desc += " `" + choice + "`";
-          }
-          if (c.open_ends) desc += " `null` for an open end.";
-          s << "| `" << c.name << "` | " << to_string(c.type) << " | " << unit_text(c.unit) << " | "
-            << column_range_text(c) << " | " << (c.required ? "yes" : "no") << " | " << desc << " |\n";
-        }
-      }
-    }
+    markdown_interface(s, *t);
+  }
+  // The subgraph library after the node types.
+  const auto assets = library_assets();
+  if (!assets.empty())
+    s << "\n## Subgraph library\n\nAssets of `graphs/library/` (and `OROGEN_LIBRARY_PATH`), used as "
+         "`{\"type\": \"Subgraph\", \"asset\": \"NAME\", \"asset_version\": N}`; see docs/subgraphs.md.\n";
+  for (const auto* asset : assets) {
+    s << "\n### " << asset->name << "\n\n"
+      << asset->interface().description << "\n\nAsset version " << asset->interface().asset_version << ".\n";
+    markdown_interface(s, asset->type);
   }
   return s.str();
 }

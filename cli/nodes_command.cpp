@@ -64,6 +64,15 @@ int run_nodes(const std::string& type, bool json, bool markdown) {
   if (!t) {
     for (const auto& entry : list_subgraph_library())
       if (entry.name == type) {
+        if (json) {
+          const AssetLoad load = load_subgraph_asset(entry.name, {});
+          if (!load.asset) {
+            std::cerr << "error: " << load.error << "\n";
+            return kExitInvalid;
+          }
+          std::cout << node_reference_json(&load.asset->type);
+          return kExitOk;
+        }
         std::cout << "subgraph library asset, used as {\"type\": \"Subgraph\", \"asset\": \"" << type << "\"}:\n"
                   << library_asset_text(entry, true);
         return kExitOk;

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang (ASan + UBSan + fuzzer coverage) in build/fuzz and runs each for a
-# share of a fixed time budget (default 60 s in all), from the seed corpora: graphs/*.json for the graph
-# reader, small images of each format for ReadHeightfield, parameter texts for the text grammars, and the
+# share of a fixed time budget (default 60 s in all), from the seed corpora: graphs/*.json, the subgraph
+# library and tests/fuzz/graph_file_seeds for the graph reader, small images of each format for ReadHeightfield, parameter texts for the text grammars, and the
 # L-system grammars of graphs/plants.json for LSystem, byte strings that decode to whole graphs of the newer
 # families for the evaluation under a time and memory budget.
 #   scripts/fuzz.sh [SECONDS]
@@ -33,7 +33,10 @@ cmake --build build/fuzz -j"$(nproc)" --target orogen_fuzz_graph_file orogen_fuz
 work=build/fuzz/run
 mkdir -p "$work/graph" "$work/image" "$work/param" "$work/lsystem" "$work/eval" build/fuzz/artifacts
 cp graphs/*.json "$work/graph/"
-cp tests/fixtures/v4/*.json "$work/graph/"  # version 4: the string tables the migration converts
+# Version 4: the string tables the migration converts (renamed so that today's graphs, some of which use
+# subgraph instances, are kept beside them).
+for f in tests/fixtures/v4/*.json; do cp "$f" "$work/graph/v4_$(basename "$f")"; done
+cp graphs/library/*.json tests/fuzz/graph_file_seeds/*.json "$work/graph/"  # subgraph assets and instances
 bash tests/fuzz/make_image_seeds.sh "$work/image"
 cp tests/fuzz/param_seeds/* "$work/param/" 2>/dev/null || true
 cp tests/fuzz/lsystem_seeds/* "$work/lsystem/"

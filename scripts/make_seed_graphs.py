@@ -1,6 +1,11 @@
 """Writes the seed graphs graphs/voronoi_island.json (S. Weiss 2015), graphs/forest.json (L. Potter 2017) and
 completes graphs/rural_resources.json (H. Long 2016) after scripts/make_climate_graphs.py has written its base
-(run from anywhere; it runs make_climate_graphs.py first)."""
+(run from anywhere; it runs make_climate_graphs.py first).
+
+voronoi_island.json and forest.json were since rewritten to use the subgraph library (assets island and
+forest_cover, docs/subgraphs.md) with byte-identical outputs; this script writes their plain form, kept as
+tests/fixtures/before_library/, which tests/test_library_rewrites.cpp compares them with. After regenerating,
+rebuild the rewrite with `orogen subgraph extract` or copy the result over that fixture."""
 import json
 import os
 import runpy

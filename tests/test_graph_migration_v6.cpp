@@ -19,6 +19,7 @@
 #include "support/rename_checks.h"
 #include "support/run_process.h"
 #include "support/later_text_edits.h"
+#include "support/library_rewrites.h"
 #include "support/test_paths.h"
 
 namespace orogen {
@@ -52,8 +53,13 @@ TEST(GraphMigrationV6, OlderFixturesLoadAsTheExampleGraphs) {
       ASSERT_TRUE(old_file.ok()) << name << ": " << old_file.error_text();
       const auto current = load_graph_file(test::source_dir() / "graphs" / name);
       ASSERT_TRUE(current.ok()) << name << ": " << current.error_text();
-      EXPECT_TRUE(*old_file.graph == *current.graph) << "v" << version << " " << name;
-      EXPECT_EQ(serialize_graph(*old_file.graph), serialize_graph(*current.graph)) << "v" << version << " " << name;
+      if (test::kLibraryRewrites.count(name.string())) {
+        EXPECT_EQ(test::canonical_graph_text(*old_file.graph), test::canonical_graph_text(*current.graph))
+            << "v" << version << " " << name;
+      } else {
+        EXPECT_TRUE(*old_file.graph == *current.graph) << "v" << version << " " << name;
+        EXPECT_EQ(serialize_graph(*old_file.graph), serialize_graph(*current.graph)) << "v" << version << " " << name;
+      }
       ++compared[version];
     }
   }

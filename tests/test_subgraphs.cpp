@@ -12,6 +12,8 @@
 #include "graph/graph_file.h"
 #include "graph/heightfield.h"
 #include "graph/image.h"
+#include "graph/points.h"
+#include "graph/curves.h"
 #include "graph/subgraph.h"
 #include "support/run_process.h"
 #include "support/test_paths.h"
@@ -22,17 +24,34 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-// The raw bytes of a raster value, to compare bit for bit.
+// The raw bytes of a value (rasters, points, curves), to compare bit for bit.
 std::vector<unsigned char> bytes_of(const PortValue& v) {
   std::vector<unsigned char> out;
-  auto append = [&](const std::vector<float>& data) {
-    out.resize(data.size() * sizeof(float));
-    if (!data.empty()) std::memcpy(out.data(), data.data(), out.size());
+  auto append = [&](const auto& data) {
+    const std::size_t at = out.size(), n = data.size() * sizeof(data[0]);
+    out.resize(at + n);
+    if (n) std::memcpy(out.data() + at, data.data(), n);
   };
-  if (const auto* h = std::get_if<HeightfieldPtr>(&v))
+  if (const auto* h = std::get_if<HeightfieldPtr>(&v)) {
     append((*h)->data);
-  else if (const auto* i = std::get_if<ImagePtr>(&v))
+  } else if (const auto* i = std::get_if<ImagePtr>(&v)) {
     append((*i)->data);
+  } else if (const auto* p = std::get_if<PointsPtr>(&v)) {
+    append((*p)->position);
+    append((*p)->rotation);
+    append((*p)->scale);
+    append((*p)->class_id);
+    for (const auto& [name, values] : (*p)->attributes) append(values);
+    if ((*p)->size() == 0) out.push_back(0);  // an empty set of points is a value too
+  } else if (const auto* c = std::get_if<CurvesPtr>(&v)) {
+    for (const auto& curve : (*c)->curves) {
+      append(curve.points);
+      append(curve.width);
+      for (const auto& [name, values] : curve.attributes) append(values);
+      append(std::vector<int>{curve.parent});
+    }
+    if ((*c)->size() == 0) out.push_back(0);
+  }
   return out;
 }
 
@@ -130,7 +149,7 @@ TEST(Subgraphs, InstancedEqualsInlineForEveryLibraryAsset) {
 
     // Instanced: a source feeding every heightfield input, one instance with a non-default exposed value.
     Graph instanced;
-    instanced.domain.size = {4096, 4096};
+    instanced.domain.size = load.asset->graph.domain.size;  // the scale the asset was made for (forest: 1 km)
     instanced.domain.resolution = {48, 48};
     const std::map<std::string, ParamValue> src_params{{"amplitude", 400.0}, {"feature_size", 900.0}};
     instanced.add_node("FBM", "src").params = src_params;
@@ -607,7 +626,59 @@ TEST(Subgraphs, CliSetReachesExposedAndInnerParameters) {
       << nodes.out;
   const auto one = run_process(cli_binary(), {"nodes", "eroded_mountain_range"});
   EXPECT_EQ(one.exit_code, 0);
-  EXPECT_NE(one.out.find("talus_angle : float = 38.0"), std::string::npos) << one.out;
+  EXPECT_NE(one.out.find("talus_angle : float = 40.0"), std::string::npos) << one.out;
+}
+
+// `orogen nodes --json` and `--markdown` document the library's assets after the node types.
+TEST(Subgraphs, NodeReferenceListsTheLibrary) {
+  const auto out = run_process(cli_binary(), {"nodes", "--json"});
+  ASSERT_EQ(out.exit_code, 0) << out.err;
+  const json all = json::parse(out.out);
+  ASSERT_TRUE(all.is_array());
+  std::map<std::string, json> assets;
+  bool types_first = true, seen_asset = false;
+  for (const auto& t : all) {
+    const bool asset = t.value("type", "") == "Subgraph";
+    if (!asset && seen_asset) types_first = false;
+    seen_asset = seen_asset || asset;
+    if (asset) assets[t["name"]] = t;
+  }
+  EXPECT_TRUE(types_first);
+  std::set<std::string> names;
+  for (const auto& entry : list_subgraph_library()) names.insert(entry.name);
+  ASSERT_EQ(assets.size(), names.size());
+  for (const auto& name : names) ASSERT_TRUE(assets.count(name)) << name;
+  const json& range = assets.at("eroded_mountain_range");
+  EXPECT_EQ(range["asset_version"], 2);
+  EXPECT_EQ(range["category"], "subgraph library");
+  EXPECT_NE(range["description"].get<std::string>().find("HydraulicErosion"), std::string::npos);
+  ASSERT_EQ(range["inputs"].size(), 1u);
+  EXPECT_EQ(range["inputs"][0]["name"], "uplift");
+  std::vector<std::string> outputs;
+  for (const auto& o : range["outputs"]) outputs.push_back(o["name"]);
+  EXPECT_EQ(outputs, (std::vector<std::string>{"out", "flow", "erosion", "deposition", "stream_power"}));
+  bool talus = false;
+  for (const auto& p : range["params"])
+    if (p["name"] == "talus_angle") {
+      talus = true;
+      EXPECT_EQ(p["default"], 40.0);
+      EXPECT_EQ(p["unit"], "deg");  // the inner parameter's unit
+      EXPECT_FALSE(p["description"].get<std::string>().empty());
+    }
+  EXPECT_TRUE(talus);
+  // One asset alone, as for a node type.
+  const auto one = run_process(cli_binary(), {"nodes", "river_valley", "--json"});
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  EXPECT_EQ(json::parse(one.out), assets.at("river_valley"));
+
+  const auto md = run_process(cli_binary(), {"nodes", "--markdown"});
+  ASSERT_EQ(md.exit_code, 0) << md.err;
+  const auto library = md.out.find("\n## Subgraph library\n");
+  ASSERT_NE(library, std::string::npos);
+  EXPECT_GT(library, md.out.find("### Slope"));  // after the node types
+  for (const auto& name : names) EXPECT_NE(md.out.find("### " + name + "\n", library), std::string::npos) << name;
+  EXPECT_NE(md.out.find("- `uplift` Uplift (Heightfield, optional)", library), std::string::npos);
+  EXPECT_NE(md.out.find("| `talus_angle` | Talus angle | float | `40.0` |", library), std::string::npos);
 }
 
 // --set reaches every level: the outer exposed parameter, a nested instance's exposed parameter, and the

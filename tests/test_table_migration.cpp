@@ -13,6 +13,7 @@
 #include "graph/graph_file.h"
 #include "graph/table_migration.h"
 #include "support/later_text_edits.h"
+#include "support/library_rewrites.h"
 #include "support/run_process.h"
 #include "support/test_paths.h"
 
@@ -49,7 +50,10 @@ TEST(TableMigration, FixturesMigrateToTheRewrittenGraphs) {
     ASSERT_TRUE(old_file.ok()) << name << ": " << old_file.error_text();
     const auto rewritten = load_graph_file(test::source_dir() / "graphs" / name);
     ASSERT_TRUE(rewritten.ok()) << name << ": " << rewritten.error_text();
-    EXPECT_EQ(serialize_graph(*old_file.graph), serialize_graph(*rewritten.graph)) << name;
+    if (test::kLibraryRewrites.count(name.string()))
+      EXPECT_EQ(test::canonical_graph_text(*old_file.graph), test::canonical_graph_text(*rewritten.graph)) << name;
+    else
+      EXPECT_EQ(serialize_graph(*old_file.graph), serialize_graph(*rewritten.graph)) << name;
     ++compared;
   }
   EXPECT_EQ(compared, 15) << "every example graph has its version-4 copy";

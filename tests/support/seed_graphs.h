@@ -12,7 +12,7 @@ namespace orogen::test {
 
 struct SeedRun {
   std::filesystem::path out;  // the output directory
-  nlohmann::json graph;       // the graph file as parsed (its parameters are the tests' reference)
+  nlohmann::json graph;       // the graph as parsed, instances expanded (its parameters are the tests' reference)
   nlohmann::json stats;       // the --stats file (nodes, reports)
   std::string error;          // why the command failed; empty when it succeeded
   bool ok() const { return error.empty(); }

@@ -1,0 +1,74 @@
+// `orogen subgraph extract G.json --nodes a,b,c -o asset.orogen-subgraph.json`: a selection of nodes becomes a
+// subgraph asset and the graph is rewritten to use an instance of it (graph/subgraph_extract.h).
+#include <filesystem>
+#include <iostream>
+
+#include "cli/commands.h"
+#include "graph/atomic_file.h"
+#include "graph/graph_file.h"
+#include "graph/subgraph.h"
+#include "graph/subgraph_extract.h"
+
+namespace orogen::cli {
+
+namespace fs = std::filesystem;
+
+int run_subgraph_extract(const ExtractCommand& cmd) {
+  const LoadResult loaded = load_graph_file(cmd.graph_file);
+  if (!loaded.ok()) {
+    std::cerr << "error: " << cmd.graph_file.string() << " is not a valid graph:\n" << loaded.error_text();
+    return kExitInvalid;
+  }
+  ExtractRequest request;
+  request.nodes = cmd.nodes;
+  request.expose = cmd.expose;
+  request.asset_file = cmd.asset_file;
+  request.graph_file = cmd.graph_out.empty() ? cmd.graph_file : cmd.graph_out;
+  request.instance_id = cmd.instance_id;
+  request.description = cmd.description;
+  request.source = cmd.graph_file.filename().string();
+  if (fs::exists(request.asset_file) && !cmd.force) {
+    std::cerr << "error: " << request.asset_file.string()
+              << " exists: an asset may be used by other graphs; choose another file or pass --force\n";
+    return kExitInvalid;
+  }
+  bool wrote_asset = false;
+  // Never leave an asset behind when the graph is not rewritten.
+  auto remove_asset = [&] {
+    std::error_code ec;
+    if (wrote_asset) fs::remove(request.asset_file, ec);
+  };
+  try {
+    const Extraction ex = make_subgraph_asset(*loaded.graph, request);
+    write_text_atomically(request.asset_file, ex.asset_text);
+    wrote_asset = true;
+    const AssetLoad asset = load_subgraph_asset(fs::absolute(request.asset_file).string(), {});
+    if (!asset.asset) {
+      remove_asset();
+      std::cerr << "error: the extracted asset does not load: " << asset.error << "\n";
+      return kExitInvalid;
+    }
+    const Graph rewritten = rewrite_with_instance(*loaded.graph, request, ex, *asset.asset);
+    save_graph_file(rewritten, request.graph_file);
+    const Node* instance = nullptr;
+    for (const auto& n : rewritten.nodes())
+      if (const Node* old = loaded.graph->find(n.id); n.type->subgraph == asset.asset && (!old || old->type != n.type))
+        instance = &n;
+    std::cout << "wrote asset " << request.asset_file.string() << " (" << ex.inputs.size() << " inputs, "
+              << ex.outputs.size() << " outputs, " << ex.params.size() << " parameters)\n"
+              << "wrote " << request.graph_file.string() << ": " << request.nodes.size()
+              << " nodes replaced by instance '" << (instance ? instance->id : "?") << "' (asset \"" << ex.reference
+              << "\")\n";
+  } catch (const GraphError& e) {
+    remove_asset();
+    std::cerr << "error: cannot extract a subgraph from " << cmd.graph_file.string() << ": " << e.what() << "\n";
+    return kExitInvalid;
+  } catch (const std::exception& e) {
+    remove_asset();
+    std::cerr << "error: cannot write the extraction of " << cmd.graph_file.string() << ": " << e.what() << "\n";
+    return kExitEvalFailed;
+  }
+  return kExitOk;
+}
+
+}  // namespace orogen::cli
