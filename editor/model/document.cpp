@@ -130,6 +130,23 @@ void Document::set_domain(const GraphDomain& domain) {
   edit("Change domain", [&](Graph& g) { g.domain = domain; });
 }
 
+bool Document::rebind_asset(const std::filesystem::path& file, const SubgraphAsset& asset) {
+  auto rebind = [&](Graph& g) {
+    bool any = false;
+    for (const auto& n : g.nodes())
+      if (n.type->subgraph && n.type->subgraph != &asset && n.type->subgraph->file == file) {
+        g.find(n.id)->type = &asset.type;
+        any = true;
+      }
+    return any;
+  };
+  history_.for_each_graph([&](Graph& g) { rebind(g); });
+  if (!rebind(graph_)) return false;
+  ++revision_;
+  ++content_revision_;
+  return true;
+}
+
 void Document::save() {
   if (!has_path()) throw std::runtime_error("the document has no file name yet: use Save As");
   save_graph_file(graph_, path_);
