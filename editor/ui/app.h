@@ -19,6 +19,7 @@
 #include "editor/model/recent_files.h"
 #include "editor/model/recovery.h"
 #include "editor/model/selection.h"
+#include "editor/model/subgraph_navigation.h"
 #include "editor/ui/file_dialog.h"
 #include "editor/ui/inspector.h"
 #include "editor/ui/node_canvas.h"
@@ -53,6 +54,8 @@ struct AppOptions {
   // and exit when it is done.
   bool benchmark_build = false;
   std::string palette_query;
+  std::vector<std::string> group;  // documentation screenshots: group these nodes at start (Ctrl+G)
+  std::string enter;               // documentation screenshots: enter this subgraph instance at start
   std::vector<std::string>
       plugins;  // node libraries to load at start, besides the preferences' and OROGEN_PLUGIN_PATH's
   bool offer_recovery_in_screenshot = false;  // screenshots normally skip the crash-recovery prompt  // documentation
@@ -112,7 +115,15 @@ class App {
   GLFWwindow* window_ = nullptr;
   ImFont* canvas_font_ = nullptr;
 
-  std::unique_ptr<Document> document_;
+  std::unique_ptr<Document> document_;  // the root: the file opened
+  // The subgraph levels entered (editor/model/subgraph_navigation.h); the canvas, preview and inspector work
+  // on its current level, saving and building on the root.
+  std::unique_ptr<SubgraphNavigator> navigator_;
+  Document& doc() { return navigator_->current(); }
+  const Document& doc() const { return navigator_->current(); }
+  const Document* shown_level_ = nullptr;  // the level the preview state belongs to
+  void level_changed();
+  void draw_breadcrumbs();
   Selection selection_;
   EvaluationController evaluation_;
   std::unique_ptr<CanvasController> canvas_;
@@ -132,7 +143,7 @@ class App {
   std::vector<RecoveryFile> recovery_offer_;
 
   FileDialog file_dialog_;
-  enum class FileAction { None, Open, SaveAs, SaveAsThen } file_action_ = FileAction::None;
+  enum class FileAction { None, Open, SaveAs, SaveAsThen, GroupTo } file_action_ = FileAction::None;
   std::function<void()> after_save_;      // continuation of Save As from the unsaved-changes prompt
   std::function<void()> pending_action_;  // waiting for the unsaved-changes prompt
   bool prompt_unsaved_ = false;

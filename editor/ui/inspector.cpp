@@ -1,5 +1,7 @@
 #include "editor/ui/inspector.h"
 
+#include "graph/subgraph.h"
+
 #include <algorithm>
 #include <cinttypes>
 #include <cmath>
@@ -126,7 +128,25 @@ void Inspector::draw_node(Document& document, Selection& selection, const Node& 
       rename_text_ = old_id;
     }
   }
-  ImGui::TextDisabled("%s  /  %s  v%d", node.type->category.c_str(), node.type->name.c_str(), node.type->version);
+  if (const SubgraphAsset* asset = node.type->subgraph) {
+    // An instance: which asset, and the ways into it. Its exposed parameters are below like any node's.
+    ImGui::TextDisabled("subgraph  /  asset %s  v%d", asset->name.c_str(), node.type->version);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", asset->file.string().c_str());
+    if (ImGui::SmallButton("Enter")) {
+      if (enter_) enter_(node.id);
+      return;  // another level: `node` is not on the canvas any more
+    }
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("Edit the asset's nodes here (Tab or double-click); every instance follows the edits");
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Open asset")) {
+      if (open_asset_) open_asset_(asset->file);
+      return;
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Open %s as the document", asset->file.filename().string().c_str());
+  } else {
+    ImGui::TextDisabled("%s  /  %s  v%d", node.type->category.c_str(), node.type->name.c_str(), node.type->version);
+  }
   if (!node.type->library.empty()) ImGui::TextDisabled("from node library %s", node.type->library.c_str());
   // The description in a few lines, so that a long one (a citation, the attributes a node writes) does not
   // push the parameters out of view: "more" shows it whole, hovering shows it in a tooltip.

@@ -210,17 +210,11 @@ void NodeCanvasView::feed_input(bool hovered) {
     else
       controller_.handle(KeyUp{Key::Space});
   }
-  static constexpr std::pair<int, Key> kKeys[] = {{GLFW_KEY_TAB, Key::Tab},
-                                                  {GLFW_KEY_DELETE, Key::Delete},
-                                                  {GLFW_KEY_X, Key::X},
-                                                  {GLFW_KEY_D, Key::D},
-                                                  {GLFW_KEY_C, Key::C},
-                                                  {GLFW_KEY_V, Key::V},
-                                                  {GLFW_KEY_A, Key::A},
-                                                  {GLFW_KEY_F, Key::F},
-                                                  {GLFW_KEY_HOME, Key::Home},
-                                                  {GLFW_KEY_ESCAPE, Key::Escape},
-                                                  {GLFW_KEY_BACKSPACE, Key::Delete}};
+  static constexpr std::pair<int, Key> kKeys[] = {
+      {GLFW_KEY_TAB, Key::Tab},   {GLFW_KEY_DELETE, Key::Delete}, {GLFW_KEY_X, Key::X},
+      {GLFW_KEY_D, Key::D},       {GLFW_KEY_C, Key::C},           {GLFW_KEY_V, Key::V},
+      {GLFW_KEY_A, Key::A},       {GLFW_KEY_F, Key::F},           {GLFW_KEY_G, Key::G},
+      {GLFW_KEY_HOME, Key::Home}, {GLFW_KEY_ESCAPE, Key::Escape}, {GLFW_KEY_BACKSPACE, Key::Delete}};
   for (const auto& [glfw_key, key] : kKeys)
     if (ImGui::IsKeyPressed(glfw_key, false)) controller_.handle(KeyDown{key, mods});
 }
