@@ -90,15 +90,20 @@ void EvaluationController::request_preview(const Graph& graph, std::vector<std::
   }
   {
     std::lock_guard lock(mutex_);
-    std::erase_if(states_, [&](const auto& kv) { return !job.graph.find(kv.first); });
-    for (const auto& node : job.graph.nodes()) {
-      auto& s = states_[node.id];
-      const auto k = keys.find(node.id);
+    // Inner nodes of instances ("instance/inner") stay while their instance does.
+    std::erase_if(states_, [&](const auto& kv) { return !job.graph.find(kv.first.substr(0, kv.first.find('/'))); });
+    std::vector<std::string> ids;
+    for (const auto& node : job.graph.nodes()) ids.push_back(node.id);
+    for (const auto& [id, state] : states_)
+      if (id.find('/') != std::string::npos) ids.push_back(id);
+    for (const auto& id : ids) {
+      auto& s = states_[id];
+      const auto k = keys.find(id);
       bool current = k != keys.end() && s.key && *s.key == k->second &&
                      (s.phase == NodeRunState::Phase::Computed || s.phase == NodeRunState::Phase::Cached);
       if (s.by_build) {
         // A build's state holds until an edit changes the node (its key differs from the last request's).
-        const auto before = requested_keys_.find(node.id);
+        const auto before = requested_keys_.find(id);
         current = k != keys.end() && before != requested_keys_.end() && before->second == k->second;
         if (!current) s.by_build = false;
       }
@@ -130,7 +135,50 @@ std::map<std::string, NodeRunState> EvaluationController::node_states() const {
 NodeRunState EvaluationController::node_state(const std::string& id) const {
   std::lock_guard lock(mutex_);
   auto it = states_.find(id);
-  return it == states_.end() ? NodeRunState{} : it->second;
+  NodeRunState own = it == states_.end() ? NodeRunState{} : it->second;
+  // A subgraph instance runs as its inner nodes ("id/inner", at any depth): its state is the worst of
+  // theirs, its time their sum, its message the first inner failure's.
+  const std::string prefix = id + "/";
+  auto inner = states_.lower_bound(prefix);
+  if (inner == states_.end() || inner->first.compare(0, prefix.size(), prefix) != 0) return own;
+  auto rank = [](NodeRunState::Phase p) {
+    switch (p) {
+      case NodeRunState::Phase::Unknown:
+        return 0;
+      case NodeRunState::Phase::Cached:
+        return 1;
+      case NodeRunState::Phase::Computed:
+        return 2;
+      case NodeRunState::Phase::Stale:
+        return 3;
+      case NodeRunState::Phase::Computing:
+        return 4;
+      case NodeRunState::Phase::Skipped:
+        return 5;
+      case NodeRunState::Phase::Failed:
+        return 6;
+    }
+    return 0;
+  };
+  NodeRunState sum;
+  sum.key = own.key;
+  double progress = 0.0;
+  int known = 0;
+  for (; inner != states_.end() && inner->first.compare(0, prefix.size(), prefix) == 0; ++inner) {
+    const NodeRunState& s = inner->second;
+    if (s.phase == NodeRunState::Phase::Unknown) continue;  // not needed for what was requested
+    if (rank(s.phase) > rank(sum.phase)) {
+      sum.phase = s.phase;
+      if (!s.message.empty()) sum.message = "inner node '" + inner->first.substr(prefix.size()) + "': " + s.message;
+    }
+    sum.milliseconds += s.milliseconds;
+    sum.by_build = sum.by_build || s.by_build;
+    progress += s.phase == NodeRunState::Phase::Computing ? s.progress : 1.0;
+    ++known;
+  }
+  if (known == 0) return own;
+  sum.progress = progress / known;
+  return sum;
 }
 
 void EvaluationController::on_preview_event(const EvalEvent& e) {

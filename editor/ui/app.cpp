@@ -135,7 +135,8 @@ App::App(AppOptions options)
   canvas_->set_navigator(navigator_.get());
   inspector_.set_subgraph_actions(
       [this](const std::string& id) { canvas_->enter_subgraph(id); },
-      [this](const std::filesystem::path& file) { guard_unsaved([this, file] { open_file(file); }); });
+      // Opened after the frame's drawing: the inspector is still drawing the node of the document it replaces.
+      [this](const std::filesystem::path& file) { open_asset_ = file; });
   canvas_view_ = std::make_unique<NodeCanvasView>(*canvas_, evaluation_);
   canvas_->set_thumbnails(options_.thumbnails);
   viewport_3d_ = std::make_unique<Viewport3D>();
@@ -376,6 +377,7 @@ void App::frame() {
   ImGui::End();
   draw_modals();
 
+  if (!open_asset_.empty()) guard_unsaved([this, file = std::exchange(open_asset_, {})] { open_file(file); });
   // Edits inside a subgraph go to its asset file, and every instance above follows.
   if (navigator_->inside()) navigator_->sync();
   if (&doc() != shown_level_) level_changed();

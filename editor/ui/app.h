@@ -124,6 +124,7 @@ class App {
   const Document* shown_level_ = nullptr;  // the level the preview state belongs to
   void level_changed();
   void draw_breadcrumbs();
+  std::filesystem::path open_asset_;  // the inspector's "Open asset", done after the frame's drawing
   Selection selection_;
   EvaluationController evaluation_;
   std::unique_ptr<CanvasController> canvas_;

@@ -10,6 +10,7 @@
 
 #include "editor/model/asset_palette.h"
 #include "editor/model/canvas_controller.h"
+#include "editor/model/evaluation_controller.h"
 #include "editor/model/grouping.h"
 #include "editor/model/palette.h"
 #include "editor/model/subgraph_navigation.h"
@@ -309,6 +310,27 @@ TEST(EditorSubgraphs, AnEditThatBreaksTheAssetIsNotWritten) {
   inner.undo();
   EXPECT_EQ(nav.sync(), "");
   EXPECT_EQ(nav.sync_error(), "");
+}
+
+TEST(EditorSubgraphs, AnInstanceShowsTheStateOfItsInnerNodes) {
+  Document root = saved_diamond("instance-state");
+  const GroupResult r = group_nodes(root, {"a", "b"});
+  EvaluationController evaluation;
+  evaluation.request_preview(root.graph(), {"fin"}, root.content_revision());
+  evaluation.wait_idle();
+  const NodeRunState s = evaluation.node_state(r.instance);
+  EXPECT_EQ(s.phase, NodeRunState::Phase::Computed);
+  const double inner_ms =
+      evaluation.node_state(r.instance + "/a").milliseconds + evaluation.node_state(r.instance + "/b").milliseconds;
+  EXPECT_DOUBLE_EQ(s.milliseconds, inner_ms);
+  // An edit inside the asset runs the instance again; what feeds it is cached.
+  SubgraphNavigator nav(root);
+  nav.enter(r.instance).set_param("a", "weight", 0.9);
+  ASSERT_EQ(nav.sync(), "");
+  evaluation.request_preview(root.graph(), {"fin"}, root.content_revision());
+  evaluation.wait_idle();
+  EXPECT_EQ(evaluation.node_state(r.instance).phase, NodeRunState::Phase::Computed);
+  EXPECT_EQ(evaluation.node_state("s1").phase, NodeRunState::Phase::Cached);
 }
 
 TEST(EditorSubgraphs, EnteringRefusesPlainNodes) {
