@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <set>
 
 #include "graph/idle_nodes.h"
 
@@ -129,11 +130,22 @@ bool EvaluationController::preview_busy() const {
 
 std::map<std::string, NodeRunState> EvaluationController::node_states() const {
   std::lock_guard lock(mutex_);
-  return states_;
+  std::map<std::string, NodeRunState> out = states_;
+  // Instances (every prefix "a", "a/b" of an inner id) get the state of their inner nodes.
+  std::set<std::string> instances;
+  for (const auto& [id, state] : states_)
+    for (std::size_t slash = id.find('/'); slash != std::string::npos; slash = id.find('/', slash + 1))
+      instances.insert(id.substr(0, slash));
+  for (const auto& instance : instances) out[instance] = state_of(instance);
+  return out;
 }
 
 NodeRunState EvaluationController::node_state(const std::string& id) const {
   std::lock_guard lock(mutex_);
+  return state_of(id);
+}
+
+NodeRunState EvaluationController::state_of(const std::string& id) const {
   auto it = states_.find(id);
   NodeRunState own = it == states_.end() ? NodeRunState{} : it->second;
   // A subgraph instance runs as its inner nodes ("id/inner", at any depth): its state is the worst of

@@ -160,8 +160,9 @@ class EvaluationController {
   CancelToken preview_cancel_;
   int preview_resolution_ = kDefaultPreviewResolution;
   std::map<std::string, NodeRunState> states_;
-  std::map<std::string, CacheKey> running_keys_;    // keys of the graph being evaluated
-  std::map<std::string, CacheKey> requested_keys_;  // keys of the last preview request
+  NodeRunState state_of(const std::string& id) const;  // node_state() with the mutex held
+  std::map<std::string, CacheKey> running_keys_;       // keys of the graph being evaluated
+  std::map<std::string, CacheKey> requested_keys_;     // keys of the last preview request
   std::shared_ptr<const PreviewResult> preview_;
   std::uint64_t serial_ = 0;
 

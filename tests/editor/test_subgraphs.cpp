@@ -323,6 +323,7 @@ TEST(EditorSubgraphs, AnInstanceShowsTheStateOfItsInnerNodes) {
   const double inner_ms =
       evaluation.node_state(r.instance + "/a").milliseconds + evaluation.node_state(r.instance + "/b").milliseconds;
   EXPECT_DOUBLE_EQ(s.milliseconds, inner_ms);
+  EXPECT_EQ(evaluation.node_states().at(r.instance).phase, NodeRunState::Phase::Computed);  // what the canvas shows
   // An edit inside the asset runs the instance again; what feeds it is cached.
   SubgraphNavigator nav(root);
   nav.enter(r.instance).set_param("a", "weight", 0.9);
