@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include <nlohmann/json.hpp>
+
 #include "editor/model/node_layout.h"
 #include "graph/graph_file.h"
 
@@ -55,7 +57,11 @@ void Document::replace(Graph graph, std::uint64_t state) {
 bool Document::edit(const std::string& label, const std::function<void(Graph&)>& fn, const std::string& merge_key) {
   Graph next = graph_;
   fn(next);
-  if (next == graph_) return false;
+  // The interface of an asset (exposing a parameter) is part of the document, though not of graph equality.
+  const bool same_interface =
+      next.interface == graph_.interface ||
+      (next.interface && graph_.interface && next.interface->json_text == graph_.interface->json_text);
+  if (next == graph_ && same_interface) return false;
   const auto state = history_.record(graph_, state_, label, merge_key);
   replace(std::move(next), state);
   return true;
@@ -141,7 +147,14 @@ bool Document::rebind_asset(const std::filesystem::path& file, const SubgraphAss
     return any;
   };
   history_.for_each_graph([&](Graph& g) { rebind(g); });
+  const SubgraphAsset* before = nullptr;
+  for (const auto& n : graph_.nodes())
+    if (n.type->subgraph && n.type->subgraph->file == file) before = n.type->subgraph;
   if (!rebind(graph_)) return false;
+  // Instances record the asset version and interface in the file: a changed one must be saved.
+  if (before->interface().asset_version != asset.interface().asset_version ||
+      interface_signature(before->interface()) != interface_signature(asset.interface()))
+    mark_unsaved();
   ++revision_;
   ++content_revision_;
   return true;

@@ -1,5 +1,6 @@
 #include "editor/ui/inspector.h"
 
+#include "editor/model/exposed_params.h"
 #include "graph/subgraph.h"
 
 #include <algorithm>
@@ -254,6 +255,29 @@ void Inspector::draw_param(Document& document, const Node& node, const ParamDecl
   ImGui::TableNextRow();
   ImGui::TableSetColumnIndex(0);
   ImGui::AlignTextToFramePadding();
+  if (document.graph().interface) {
+    // Editing an asset: which inner parameters its instances expose (editor/model/exposed_params.h).
+    const std::string as = exposed_as(document.graph(), node.id, decl.name);
+    bool on = !as.empty();
+    ImGui::PushStyleVar(ImGuiStyleVar_FramePadding, {2, 2});
+    if (ImGui::Checkbox("##expose", &on)) {
+      try {
+        set_exposed(document, node.id, decl.name, on);
+        error_.clear();
+      } catch (const std::exception& e) {
+        error_key_ = key;
+        error_ = e.what();
+      }
+    }
+    ImGui::PopStyleVar();
+    if (ImGui::IsItemHovered()) {
+      if (as.empty())
+        ImGui::SetTooltip("Expose on every instance of this asset");
+      else
+        ImGui::SetTooltip("Exposed on every instance as '%s': uncheck to hide", as.c_str());
+    }
+    ImGui::SameLine(0, 4);
+  }
   if (is_set)
     ImGui::TextUnformatted(decl.display_label().c_str());
   else

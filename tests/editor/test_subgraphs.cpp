@@ -11,6 +11,7 @@
 #include "editor/model/asset_palette.h"
 #include "editor/model/canvas_controller.h"
 #include "editor/model/evaluation_controller.h"
+#include "editor/model/exposed_params.h"
 #include "editor/model/grouping.h"
 #include "editor/model/palette.h"
 #include "editor/model/subgraph_navigation.h"
@@ -332,6 +333,44 @@ TEST(EditorSubgraphs, AnInstanceShowsTheStateOfItsInnerNodes) {
   evaluation.wait_idle();
   EXPECT_EQ(evaluation.node_state(r.instance).phase, NodeRunState::Phase::Computed);
   EXPECT_EQ(evaluation.node_state("s1").phase, NodeRunState::Phase::Cached);
+}
+
+TEST(EditorSubgraphs, ExposingAnInnerParameterReachesEveryInstance) {
+  Document root = saved_diamond("expose");
+  const GroupResult r = group_nodes(root, {"a", "b"});
+  root.save();
+  SubgraphNavigator nav(root);
+  Document& inner = nav.enter(r.instance);
+  EXPECT_EQ(exposed_as(inner.graph(), "a", "weight"), "");
+  EXPECT_EQ(set_exposed(inner, "a", "weight", true), "weight");
+  EXPECT_EQ(exposed_as(inner.graph(), "a", "weight"), "weight");
+  EXPECT_EQ(set_exposed(inner, "b", "weight", true), "b_weight");  // the name is taken: made unique
+  ASSERT_EQ(nav.sync(), "");
+  // The instance has the parameters, declared as the inner ones (range, unit, default = the inner value).
+  const NodeType& type = *root.graph().at(r.instance).type;
+  ASSERT_EQ(type.params.size(), 2u);
+  EXPECT_EQ(type.params[0].name, "weight");
+  EXPECT_EQ(std::get<double>(type.params[0].default_value), 0.25);
+  EXPECT_EQ(type.params[0].max, 1.0);
+  EXPECT_EQ(type.version, 3);  // one version per interface change
+  EXPECT_TRUE(root.dirty());   // the graph file records the version and interface it was made with
+  // Setting it on the instance evaluates as the inline graph with that value.
+  root.set_param(r.instance, "weight", 0.9);
+  Graph inline_edit = diamond_graph();
+  inline_edit.set_param("a", "weight", 0.9);
+  EXPECT_EQ(evaluate_bytes(root.graph()), evaluate_bytes(inline_edit));
+  root.save();
+  const LoadResult reopened = load_graph_file(root.path());
+  EXPECT_TRUE(reopened.ok()) << reopened.error_text();
+
+  // Hiding is the reverse, and undo inside brings the exposed parameter back.
+  set_exposed(inner, "a", "weight", false);
+  EXPECT_EQ(exposed_as(inner.graph(), "a", "weight"), "");
+  EXPECT_EQ(exposed_as(inner.graph(), "b", "weight"), "b_weight");
+  ASSERT_TRUE(inner.undo());
+  EXPECT_EQ(exposed_as(inner.graph(), "a", "weight"), "weight");
+  // A plain graph has nothing to expose.
+  EXPECT_THROW(set_exposed(root, "fin", "weight", true), DocumentError);
 }
 
 TEST(EditorSubgraphs, EnteringRefusesPlainNodes) {
