@@ -334,7 +334,7 @@ void App::feed_queued_input() {
 bool App::thumbnails_shown() const {
   if (!canvas_->thumbnails()) return true;
   const auto t = evaluation_.thumbnails();
-  return t && t->revision == document_->content_revision() && thumbnails_revision_ == document_->content_revision() + 1;
+  return t && t->revision == preview_revision() && thumbnails_revision_ == preview_revision() + 1;
 }
 
 bool App::animating() const {
@@ -1068,21 +1068,21 @@ std::vector<std::string> App::preview_request(const std::string& node) const {
 void App::update_preview() {
   // Thumbnails follow the content once the preview is done (they never delay it).
   if (canvas_->thumbnails() && !evaluation_.preview_busy() && !pending_request_ &&
-      thumbnails_revision_ != doc().content_revision() + 1) {
-    evaluation_.request_thumbnails(doc().graph(), doc().content_revision());
-    thumbnails_revision_ = doc().content_revision() + 1;  // + 1: 0 means none requested
+      thumbnails_revision_ != preview_revision() + 1) {
+    evaluation_.request_thumbnails(preview_graph(), preview_revision(), &doc().graph());
+    thumbnails_revision_ = preview_revision() + 1;  // + 1: 0 means none requested
   }
   const std::string node = preview_node();
   const auto nodes = preview_request(node);
-  const bool changed = doc().content_revision() != requested_revision_ || nodes != requested_nodes_ ||
+  const bool changed = preview_revision() != requested_revision_ || nodes != requested_nodes_ ||
                        evaluation_.preview_resolution() != requested_resolution_;
   pending_request_ = changed && !nodes.empty();
   if (!pending_request_) return;
   // While a run is busy, superseding it at most every few frames lets drags show intermediate results.
   const auto now = std::chrono::steady_clock::now();
   if (evaluation_.preview_busy() && now - last_request_ < kRequestThrottle) return;
-  evaluation_.request_preview(doc().graph(), nodes, doc().content_revision());
-  requested_revision_ = doc().content_revision();
+  evaluation_.request_preview(preview_graph(), nodes, preview_revision());
+  requested_revision_ = preview_revision();
   requested_nodes_ = nodes;
   requested_resolution_ = evaluation_.preview_resolution();
   last_request_ = now;
@@ -1188,6 +1188,8 @@ void App::start_build() {
 void App::level_changed() {
   // Another level's nodes: nothing of the preview state of the last one applies.
   shown_level_ = &doc();
+  // Inside an instance, its nodes are previewed in the root graph, fed by the instance's inputs.
+  evaluation_.set_context(navigator_->inside() ? navigator_->instance_path() + "/" : std::string());
   canvas_view_->document_changed();
   pinned_.clear();
   shown_port_.clear();

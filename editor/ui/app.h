@@ -123,6 +123,10 @@ class App {
   const Document& doc() const { return navigator_->current(); }
   const Document* shown_level_ = nullptr;  // the level the preview state belongs to
   void level_changed();
+  // What previews evaluate: the root graph (in the entered instance's context, EvaluationController::
+  // set_context), and the revision that tags its results.
+  const Graph& preview_graph() const { return document_->graph(); }
+  std::uint64_t preview_revision() const { return document_->content_revision(); }
   void draw_breadcrumbs();
   std::filesystem::path open_asset_;  // the inspector's "Open asset", done after the frame's drawing
   Selection selection_;

@@ -373,6 +373,48 @@ TEST(EditorSubgraphs, ExposingAnInnerParameterReachesEveryInstance) {
   EXPECT_THROW(set_exposed(root, "fin", "weight", true), DocumentError);
 }
 
+TEST(EditorSubgraphs, InnerNodesArePreviewedWithTheInstancesInputs) {
+  Document root = saved_diamond("context");
+  const GroupResult r = group_nodes(root, {"a", "b"});
+  SubgraphNavigator nav(root);
+  const Document& inner = nav.enter(r.instance);
+  EvaluationController evaluation;
+  evaluation.set_context(nav.instance_path() + "/");
+  // The asset's own ids, evaluated inside the root graph: b's input comes from s1 outside.
+  evaluation.request_preview(root.graph(), {"b"}, root.content_revision());
+  evaluation.wait_idle();
+  const auto result = evaluation.preview();
+  ASSERT_TRUE(result);
+  EXPECT_EQ(result->error, "");
+  EXPECT_EQ(result->requested, (std::vector<std::string>{"b"}));
+  ASSERT_TRUE(result->outputs.count("b"));
+  EXPECT_EQ(evaluation.node_state("a").phase, NodeRunState::Phase::Computed);
+  EXPECT_EQ(evaluation.node_state("s1").phase, NodeRunState::Phase::Unknown);  // outside: not this level's
+  const auto& field = *std::get<HeightfieldPtr>(result->outputs.at("b").front());
+  // Bit for bit the inline graph's b at the same (preview) domain.
+  Graph plain = diamond_graph();
+  Evaluator evaluator;
+  EvalRequest request;
+  request.domain = result->domain;
+  request.nodes = {"b"};
+  const EvalResult expected = evaluator.evaluate(plain, request);
+  const auto& want = *std::get<HeightfieldPtr>(expected.outputs.at("b").front());
+  ASSERT_EQ(field.data.size(), want.data.size());
+  EXPECT_EQ(std::memcmp(field.data.data(), want.data.data(), want.data.size() * sizeof(float)), 0);
+  // Thumbnails of the level's nodes, by their ids.
+  evaluation.request_thumbnails(root.graph(), root.content_revision(), &inner.graph());
+  evaluation.wait_idle();
+  const auto thumbs = evaluation.thumbnails();
+  ASSERT_TRUE(thumbs);
+  EXPECT_TRUE(thumbs->outputs.count("a") && thumbs->outputs.count("b"));
+  EXPECT_EQ(thumbs->outputs.size(), 2u);
+  // Back at the root, ids are the root's again.
+  evaluation.set_context("");
+  evaluation.request_preview(root.graph(), {"fin"}, root.content_revision());
+  evaluation.wait_idle();
+  EXPECT_TRUE(evaluation.preview()->outputs.count("fin"));
+}
+
 TEST(EditorSubgraphs, EnteringRefusesPlainNodes) {
   Document root = saved_diamond("enter-plain");
   SubgraphNavigator nav(root);
