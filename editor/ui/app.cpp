@@ -25,6 +25,7 @@
 #include "editor/ui/theme.h"
 #include "graph/graph_file.h"
 #include "graph/registry.h"
+#include "graph/subgraph.h"
 
 namespace orogen::editor {
 
@@ -138,6 +139,8 @@ App::App(AppOptions options)
       // Opened after the frame's drawing: the inspector is still drawing the node of the document it replaces.
       [this](const std::filesystem::path& file) { open_asset_ = file; });
   canvas_view_ = std::make_unique<NodeCanvasView>(*canvas_, evaluation_);
+  canvas_view_->set_output_kind(
+      [this](const std::string& node, const std::string& port) { return output_kind(node, port); });
   canvas_->set_thumbnails(options_.thumbnails);
   viewport_3d_ = std::make_unique<Viewport3D>();
   show_3d_ = options_.view == "3d";
@@ -1048,8 +1051,7 @@ std::vector<std::string> App::preview_request(const std::string& node) const {
       n->type->outputs.empty() || n->type->outputs[static_cast<std::size_t>(port)].type == PortType::Heightfield;
   // Water depth is shown on the terrain it lies in.
   const bool water = field && !n->type->outputs.empty() &&
-                     resolve_output_kind(doc().graph(), node, n->type->outputs[static_cast<std::size_t>(port)].name) ==
-                         OutputKind::WaterDepth;
+                     output_kind(node, n->type->outputs[static_cast<std::size_t>(port)].name) == OutputKind::WaterDepth;
   if (!field || water) {
     // Points, curves, maps and meshes are drawn over the heightfield they came from; images are draped
     // over it in 3D.
@@ -1109,7 +1111,7 @@ PreviewContent App::preview_content(const std::string& node) const {
       std::clamp(shown_port_.count(node) ? shown_port_.at(node) : 0, 0, static_cast<int>(n->type->outputs.size()) - 1);
   c.port = n->type->outputs[static_cast<std::size_t>(port)].name;
   if (n->type->outputs[static_cast<std::size_t>(port)].type == PortType::Heightfield)
-    c.kind = resolve_output_kind(doc().graph(), node, c.port);
+    c.kind = output_kind(node, c.port);
   const auto result = evaluation_.preview();
   c.stale = evaluation_.preview_busy() || pending_request_;
   if (!result) return c;
@@ -1222,6 +1224,23 @@ void App::draw_breadcrumbs() {
     ImGui::PopID();
   }
   ImGui::PopStyleColor();
+}
+
+OutputKind App::output_kind(const std::string& node, const std::string& port) const {
+  if (!navigator_->inside()) return resolve_output_kind(doc().graph(), node, port);
+  // Inner inputs fed by the interface are unconnected in the asset: follow them in the expanded root.
+  if (kind_graph_revision_ != preview_revision()) {
+    kind_graph_revision_ = preview_revision();
+    kind_graph_.reset();
+    try {
+      kind_graph_ = expand_subgraphs(document_->graph()).graph;
+    } catch (const std::exception&) {
+      // An invalid root: the asset's own links are all there is to go by.
+    }
+  }
+  const std::string id = navigator_->instance_path() + "/" + node;
+  if (!kind_graph_ || !kind_graph_->find(id)) return resolve_output_kind(doc().graph(), node, port);
+  return resolve_output_kind(*kind_graph_, id, port);
 }
 
 }  // namespace orogen::editor

@@ -7,6 +7,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -127,6 +128,11 @@ class App {
   // set_context), and the revision that tags its results.
   const Graph& preview_graph() const { return document_->graph(); }
   std::uint64_t preview_revision() const { return document_->content_revision(); }
+  // What output `port` of a node of the current level holds (resolve_output_kind); inside an instance, through
+  // its inputs in the expanded root graph, kept per root revision.
+  OutputKind output_kind(const std::string& node, const std::string& port) const;
+  mutable std::optional<Graph> kind_graph_;
+  mutable std::uint64_t kind_graph_revision_ = ~std::uint64_t(0);
   void draw_breadcrumbs();
   std::filesystem::path open_asset_;  // the inspector's "Open asset", done after the frame's drawing
   Selection selection_;

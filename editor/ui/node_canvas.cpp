@@ -120,7 +120,9 @@ void NodeCanvasView::draw_thumbnail(ImDrawList* dl, const Node& node, const Rect
   if (t.data != data) {
     PreviewPixels px;
     if (auto* h = std::get_if<HeightfieldPtr>(shown))
-      px = render_heightfield(**h, style_for(resolve_output_kind(controller_.document().graph(), node.id, port)));
+      px = render_heightfield(
+          **h, style_for(output_kind_ ? output_kind_(node.id, port)
+                                      : resolve_output_kind(controller_.document().graph(), node.id, port)));
     else if (auto* im = std::get_if<ImagePtr>(shown))
       px = render_image(**im);
     else if (auto* p = std::get_if<PointsPtr>(shown))
