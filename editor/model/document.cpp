@@ -128,8 +128,49 @@ void Document::move_nodes(const std::vector<std::string>& ids, glm::dvec2 delta,
       gesture ? std::string("move") : std::string());
 }
 
+namespace {
+
+// The interface of an asset after inner node `id` became `new_id`: its "node.name" references follow.
+std::shared_ptr<const SubgraphInterface> renamed_interface(const Graph& renamed, const std::string& id,
+                                                           const std::string& new_id) {
+  nlohmann::json in = nlohmann::json::parse(renamed.interface->json_text);
+  auto rename = [&](nlohmann::json& ref) {
+    if (!ref.is_string()) return;
+    const std::string text = ref.get<std::string>();
+    if (text.size() > id.size() && text.compare(0, id.size() + 1, id + ".") == 0) ref = new_id + text.substr(id.size());
+  };
+  for (const char* section : {"inputs", "outputs", "params"}) {
+    if (!in.contains(section) || !in[section].is_array()) continue;
+    for (auto& entry : in[section])
+      for (const char* field : {"to", "from"}) {
+        if (!entry.is_object() || !entry.contains(field)) continue;
+        if (entry[field].is_array())
+          for (auto& ref : entry[field]) rename(ref);
+        else
+          rename(entry[field]);
+      }
+  }
+  // Read back whole (targets, declarations) from the file form.
+  Graph next = renamed;
+  auto text = std::make_shared<SubgraphInterface>(*renamed.interface);
+  text->json_text = in.dump();
+  next.interface = text;
+  LoadOptions options;
+  options.directory = renamed.directory;
+  options.allow_unconnected_inputs = true;
+  options.keep_partial = true;
+  const LoadResult reread = parse_graph(serialize_graph(next), options);
+  return reread.graph && reread.graph->interface ? reread.graph->interface : next.interface;
+}
+
+}  // namespace
+
 void Document::rename_node(const std::string& id, const std::string& new_id) {
-  edit("Rename " + id + " to " + new_id, [&](Graph& g) { g.rename_node(id, new_id); });
+  edit("Rename " + id + " to " + new_id, [&](Graph& g) {
+    g.rename_node(id, new_id);
+    // In an asset, the interface names inner nodes: it follows the rename.
+    if (g.interface) g.interface = renamed_interface(g, id, new_id);
+  });
 }
 
 void Document::set_domain(const GraphDomain& domain) {

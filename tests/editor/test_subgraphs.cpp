@@ -415,6 +415,24 @@ TEST(EditorSubgraphs, InnerNodesArePreviewedWithTheInstancesInputs) {
   EXPECT_TRUE(evaluation.preview()->outputs.count("fin"));
 }
 
+TEST(EditorSubgraphs, RenamingAnInnerNodeKeepsTheInterface) {
+  Document root = saved_diamond("rename-inner");
+  const GroupResult r = group_nodes(root, {"a", "b"});
+  const auto before = evaluate_bytes(root.graph());
+  SubgraphNavigator nav(root);
+  Document& inner = nav.enter(r.instance);
+  set_exposed(inner, "a", "weight", true);
+  inner.rename_node("a", "first");
+  EXPECT_EQ(exposed_as(inner.graph(), "first", "weight"), "weight");
+  ASSERT_EQ(nav.sync(), "");
+  const SubgraphInterface& in = root.graph().at(r.instance).type->subgraph->interface();
+  EXPECT_EQ(in.inputs[0].targets[0].str(), "first.a");
+  EXPECT_EQ(in.outputs[0].source, (PortRef{"first", "out"}));
+  EXPECT_EQ(evaluate_bytes(root.graph()), before);
+  ASSERT_TRUE(inner.undo());
+  EXPECT_EQ(exposed_as(inner.graph(), "a", "weight"), "weight");
+}
+
 TEST(EditorSubgraphs, EnteringRefusesPlainNodes) {
   Document root = saved_diamond("enter-plain");
   SubgraphNavigator nav(root);
