@@ -13,6 +13,7 @@
 #include <imgui_stdlib.h>
 
 #include "editor/ui/theme.h"
+#include "graph/subgraph.h"
 
 namespace orogen::editor {
 
@@ -316,6 +317,15 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
   const auto& drag = controller_.link_drag();
   const Rect viewport = v.viewport();
 
+  // In an asset (a subgraph entered or opened): the inner ports its interface feeds and presents, drawn as
+  // linked to the outside, with the interface port's name.
+  std::map<std::pair<std::string, std::string>, std::string> interface_ports;
+  if (graph.interface) {
+    for (const auto& in : graph.interface->inputs)
+      for (const auto& t : in.targets) interface_ports[{t.node, t.name}] = in.port.name;
+    for (const auto& out : graph.interface->outputs)
+      interface_ports[{out.source.node, out.source.port}] = out.port.name;
+  }
   // Which outputs are used, to fill their pins.
   std::set<std::pair<std::string, std::string>> used_outputs;
   for (const auto& n : graph.nodes())
@@ -376,8 +386,10 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
     for (const auto* pins : {&nl.inputs, &nl.outputs})
       for (const auto& p : *pins) {
         const ImVec2 c = iv(v.to_screen(p.position));
+        const auto exposed = interface_ports.find({nl.id, p.pin.port});
         const bool connected =
-            p.pin.output ? used_outputs.count({nl.id, p.pin.port}) != 0 : node.inputs.count(p.pin.port) != 0;
+            exposed != interface_ports.end() ||
+            (p.pin.output ? used_outputs.count({nl.id, p.pin.port}) != 0 : node.inputs.count(p.pin.port) != 0);
         float alpha = 1.0f;
         bool highlight = false;
         if (drag) {
@@ -392,6 +404,20 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
         dl->AddCircleFilled(c, radius, connected ? color : theme::with_alpha(IM_COL32(30, 32, 36, 255), alpha));
         dl->AddCircle(c, radius, color, 0, 1.8f * std::max(zoom, 0.6f));
         if (highlight) dl->AddCircle(c, radius + 3.0f * zoom, IM_COL32(255, 255, 255, 200), 0, 1.5f);
+        if (exposed != interface_ports.end()) {
+          // A stub out of the node to the interface port it is linked to.
+          const float dir = p.pin.output ? 1.0f : -1.0f, stub = 26.0f * zoom;
+          dl->AddLine({c.x + dir * radius, c.y}, {c.x + dir * stub, c.y}, theme::with_alpha(color, 0.8f * alpha),
+                      2.0f * std::max(zoom, 0.6f));
+          dl->AddCircle({c.x + dir * stub, c.y}, radius * 0.7f, color, 0, 1.5f);
+          if (show_text) {
+            const std::string label = (p.pin.output ? "out: " : "in: ") + exposed->second;
+            const ImVec2 ts = font->CalcTextSizeA(font_size * 0.85f, FLT_MAX, 0.0f, label.c_str());
+            const float x = p.pin.output ? c.x + stub + 8.0f * zoom : c.x - stub - 8.0f * zoom - ts.x;
+            dl->AddText(font, font_size * 0.85f, {x, c.y - font_size * 0.45f},
+                        theme::with_alpha(theme::kTextDim, alpha), label.c_str());
+          }
+        }
         if (show_text) {
           const char* label = p.pin.port.c_str();
           const ImVec2 ts = font->CalcTextSizeA(font_size, FLT_MAX, 0.0f, label);
