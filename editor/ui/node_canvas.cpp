@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <set>
+#include <tuple>
 
 #include <GLFW/glfw3.h>
 #include <imgui_stdlib.h>
@@ -320,6 +321,7 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
   // In an asset (a subgraph entered or opened): the inner ports its interface feeds and presents, drawn as
   // linked to the outside, with the interface port's name.
   std::map<std::pair<std::string, std::string>, std::string> interface_ports;
+  std::vector<std::tuple<ImVec2, std::string, ImU32>> stub_labels;
   if (graph.interface) {
     for (const auto& in : graph.interface->inputs)
       for (const auto& t : in.targets) interface_ports[{t.node, t.name}] = in.port.name;
@@ -411,11 +413,11 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
                       2.0f * std::max(zoom, 0.6f));
           dl->AddCircle({c.x + dir * stub, c.y}, radius * 0.7f, color, 0, 1.5f);
           if (show_text) {
-            const std::string label = (p.pin.output ? "out: " : "in: ") + exposed->second;
+            const std::string& label = exposed->second;
             const ImVec2 ts = font->CalcTextSizeA(font_size * 0.85f, FLT_MAX, 0.0f, label.c_str());
             const float x = p.pin.output ? c.x + stub + 8.0f * zoom : c.x - stub - 8.0f * zoom - ts.x;
-            dl->AddText(font, font_size * 0.85f, {x, c.y - font_size * 0.45f},
-                        theme::with_alpha(theme::kTextDim, alpha), label.c_str());
+            stub_labels.emplace_back(ImVec2{x, c.y - font_size * 0.45f}, label,
+                                     theme::with_alpha(theme::kTextDim, alpha));
           }
         }
         if (show_text) {
@@ -459,6 +461,14 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
         dl->PopClipRect();
       }
     }
+  }
+  // Interface stubs' labels over every node: they stick out into the space between nodes.
+  for (const auto& [pos, label, color] : stub_labels) {
+    const ImVec2 ts = font->CalcTextSizeA(font_size * 0.85f, FLT_MAX, 0.0f, label.c_str());
+    const float pad = 3.0f * zoom;
+    dl->AddRectFilled({pos.x - pad, pos.y - pad * 0.5f}, {pos.x + ts.x + pad, pos.y + ts.y + pad * 0.5f},
+                      IM_COL32(24, 26, 30, 235), 3.0f * zoom);
+    dl->AddText(font, font_size * 0.85f, pos, color, label.c_str());
   }
 }
 
