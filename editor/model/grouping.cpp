@@ -224,6 +224,10 @@ GroupResult group_nodes(Document& document, const std::vector<std::string>& ids,
   fs::create_directories(asset_dir, ec);
   LoadOptions options;
   options.directory = asset_dir;
+  AssetLoadContext context;  // a selection holding an instance of the file it would overwrite is recursion
+  context.chain.push_back(asset_file.stem().stem().string());
+  context.files.push_back(fs::weakly_canonical(asset_file, ec));
+  options.asset_context = &context;
   const std::string text = serialize_graph(asset_graph);
   if (const LoadResult check = parse_graph(text, options); !check.ok())
     throw DocumentError("cannot group " + listed + ": the asset would be invalid:\n" + check.error_text());

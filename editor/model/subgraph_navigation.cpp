@@ -75,6 +75,11 @@ std::string SubgraphNavigator::sync() {
     level.synced_revision = doc.revision();
     LoadOptions options;
     options.directory = level.file.parent_path();
+    // Loaded as the asset itself would be, so that an instance of it inside it is refused before it is written.
+    AssetLoadContext context;
+    context.chain.push_back(level.asset);
+    context.files.push_back(level.file);
+    options.asset_context = &context;
     const LoadResult check = parse_graph(serialize_graph(doc.graph()), options);
     if (!check.ok() || !check.graph->interface) {
       add_problem(problems, "asset '" + level.asset +

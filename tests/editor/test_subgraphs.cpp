@@ -433,6 +433,18 @@ TEST(EditorSubgraphs, RenamingAnInnerNodeKeepsTheInterface) {
   EXPECT_EQ(exposed_as(inner.graph(), "a", "weight"), "weight");
 }
 
+TEST(EditorSubgraphs, AnAssetContainingItselfIsNotWritten) {
+  Document root = saved_diamond("self");
+  const GroupResult r = group_nodes(root, {"a", "b"});
+  const std::string asset_before = read_file(r.asset_file);
+  SubgraphNavigator nav(root);
+  Document& inner = nav.enter(r.instance);
+  inner.edit("self", [&](Graph& g) { add_subgraph_instance(g, *r.asset, "group.orogen-subgraph.json", "me"); });
+  const std::string error = nav.sync();
+  EXPECT_NE(error.find("contains itself"), std::string::npos) << error;
+  EXPECT_EQ(read_file(r.asset_file), asset_before);
+}
+
 TEST(EditorSubgraphs, EnteringRefusesPlainNodes) {
   Document root = saved_diamond("enter-plain");
   SubgraphNavigator nav(root);
