@@ -467,12 +467,21 @@ void CanvasController::ungroup_selection() {
     return;
   }
   try {
-    for (const auto& id : instances) {
-      auto more = ungroup_node(*document_, id);
-      added.insert(added.end(), more.begin(), more.end());
+    if (instances.size() == 1) {
+      added = ungroup_node(*document_, instances.front());
+    } else {
+      const auto dir = document_directory(*document_);
+      document_->edit("Ungroup " + std::to_string(instances.size()) + " instances", [&](Graph& g) {
+        added.clear();
+        for (const auto& id : instances) {
+          auto more = inline_instance(g, id, dir);
+          added.insert(added.end(), more.begin(), more.end());
+        }
+      });
     }
   } catch (const std::exception& e) {
     message_ = e.what();
+    added.clear();
   }
   after_edit();
   selection_.set(added);
@@ -498,14 +507,16 @@ bool CanvasController::enter_subgraph(const std::string& id) {
 
 bool CanvasController::leave_subgraph() {
   if (!navigator_ || !navigator_->inside()) return false;
+  if (!navigator_->leave()) {
+    message_ = navigator_->sync_error() + " (undo or fix it before leaving)";
+    return false;
+  }
   std::optional<SavedLevel> saved;
   if (!outer_views_.empty()) {
     saved = outer_views_.back();
     outer_views_.pop_back();
   }
-  navigator_->leave();
   set_document(navigator_->current());
-  if (!navigator_->sync_error().empty()) message_ = navigator_->sync_error();
   if (saved) {
     // Back to where the user was, with the instance they left selected.
     const Rect viewport = view_.viewport();  // the canvas panel may have been resized inside

@@ -9,6 +9,7 @@ namespace fs = std::filesystem;
 
 namespace {
 void add_problem(std::string& problems, const std::string& text) {
+  if (text.empty()) return;
   if (!problems.empty()) problems += '\n';
   problems += text;
 }
@@ -53,13 +54,14 @@ Document& SubgraphNavigator::enter(const std::string& id) {
 
 bool SubgraphNavigator::leave() {
   if (levels_.empty()) return false;
-  sync();
+  // Edits the file could not take would be lost with the level: stay until they are fixed or undone.
+  if (!sync().empty()) return false;
   levels_.pop_back();
   return true;
 }
 
 void SubgraphNavigator::leave_to(std::size_t depth) {
-  while (levels_.size() > depth) leave();
+  while (levels_.size() > depth && leave()) {}
 }
 
 std::string SubgraphNavigator::sync() {
@@ -71,8 +73,12 @@ std::string SubgraphNavigator::sync() {
     Level& level = levels_[k];
     Document& doc = *level.document;
     const bool edited = doc.revision() != level.synced_revision;
-    if (!edited && !below_changed) continue;
+    if (!edited && !below_changed) {
+      add_problem(problems, level.error);  // still not written
+      continue;
+    }
     level.synced_revision = doc.revision();
+    level.error.clear();
     LoadOptions options;
     options.directory = level.file.parent_path();
     // Loaded as the asset itself would be, so that an instance of it inside it is refused before it is written.
@@ -82,21 +88,24 @@ std::string SubgraphNavigator::sync() {
     options.asset_context = &context;
     const LoadResult check = parse_graph(serialize_graph(doc.graph()), options);
     if (!check.ok() || !check.graph->interface) {
-      add_problem(problems, "asset '" + level.asset +
-                                "' not saved: " + (check.ok() ? "it lost its interface" : check.error_text()));
+      level.error =
+          "asset '" + level.asset + "' not saved: " + (check.ok() ? "it lost its interface" : check.error_text());
+      add_problem(problems, level.error);
       below_changed = false;  // the levels above keep the content the file still has
       continue;
     }
     try {
       doc.save();
     } catch (const std::exception& e) {
-      add_problem(problems, "asset '" + level.asset + "' not saved: " + e.what());
+      level.error = "asset '" + level.asset + "' not saved: " + e.what();
+      add_problem(problems, level.error);
       below_changed = false;
       continue;
     }
     const AssetLoad load = load_subgraph_asset(level.file.string(), level.file.parent_path());
     if (!load.asset) {
-      add_problem(problems, load.error);
+      level.error = load.error;
+      add_problem(problems, level.error);
       below_changed = false;
       continue;
     }

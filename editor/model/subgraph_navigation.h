@@ -31,7 +31,8 @@ class SubgraphNavigator {
     std::string asset;     // its asset's name
     std::filesystem::path file;
     std::unique_ptr<Document> document;  // the asset file, opened
-    std::uint64_t synced_revision = 0;   // the document revision last written to the file
+    std::uint64_t synced_revision = 0;   // the document revision last written to the file (or refused)
+    std::string error;                   // why that revision could not be written
   };
   const std::vector<Level>& levels() const { return levels_; }
 
@@ -43,9 +44,10 @@ class SubgraphNavigator {
   // Enters instance `id` of the current document: opens its asset file. Throws DocumentError when `id` is
   // not an instance or its asset cannot be opened.
   Document& enter(const std::string& id);
-  // Leaves the innermost level (syncing it first); false at the root.
+  // Leaves the innermost level, syncing it first; false at the root, and when an asset could not be written
+  // (sync_error() says why: the edits would be lost, so they must be fixed or undone first).
   bool leave();
-  // Leaves levels until `depth` are left (0: the root).
+  // Leaves levels until `depth` are left (0: the root), or one cannot be left.
   void leave_to(std::size_t depth);
 
   // Writes every level edited since the last sync to its asset file and points the instances above at the

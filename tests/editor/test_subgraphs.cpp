@@ -308,9 +308,12 @@ TEST(EditorSubgraphs, AnEditThatBreaksTheAssetIsNotWritten) {
   EXPECT_NE(error.find("'b'"), std::string::npos) << error;
   EXPECT_EQ(read_file(r.asset_file), asset_before);
   EXPECT_EQ(root.graph().at(r.instance).type->subgraph, r.asset);
+  EXPECT_FALSE(nav.leave());  // leaving would lose the edit: stay
+  EXPECT_TRUE(nav.inside());
   inner.undo();
   EXPECT_EQ(nav.sync(), "");
   EXPECT_EQ(nav.sync_error(), "");
+  EXPECT_TRUE(nav.leave());
 }
 
 TEST(EditorSubgraphs, AnInstanceShowsTheStateOfItsInnerNodes) {
