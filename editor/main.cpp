@@ -51,6 +51,11 @@ int main(int argc, char** argv) {
   cli.add_option("--plugin", options.plugins,
                  "Load a node library (.so built with orogen_add_node_library); repeatable. Libraries of "
                  "OROGEN_PLUGIN_PATH and of Help > Node Libraries load too");
+  cli.add_option("--group", options.group,
+                 "Group these nodes into a subgraph at start, as Ctrl+G does (screenshots; writes the asset beside "
+                 "the file)")
+      ->delimiter(',');
+  cli.add_option("--enter", options.enter, "Enter this subgraph instance at start, as Tab does (screenshots)");
   cli.add_option("--palette", options.palette_query, "Open the node palette with this search typed (screenshots)");
   cli.add_flag("--offer-recovery", options.offer_recovery_in_screenshot,
                "With --screenshot: still offer crash-recovery files (screenshots of the prompt)");

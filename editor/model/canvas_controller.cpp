@@ -1,5 +1,9 @@
 #include "editor/model/canvas_controller.h"
 
+#include "editor/model/asset_palette.h"
+#include "editor/model/grouping.h"
+#include "graph/subgraph.h"
+
 #include <cmath>
 #include <memory>
 
@@ -40,6 +44,9 @@ void CanvasController::set_document(Document& document) {
   hovered_pin_.reset();
   hovered_node_.reset();
   selection_.clear();
+  // Views saved for levels that are gone (another root document, levels left).
+  if (outer_views_.size() > (navigator_ ? navigator_->depth() : 0))
+    outer_views_.resize(navigator_ ? navigator_->depth() : 0);
 }
 
 const CanvasLayout& CanvasController::layout() {
@@ -231,7 +238,21 @@ void CanvasController::on_key_down(const KeyDown& e) {
       space_held_ = true;
       break;
     case Key::Tab:
-      if (mode_ == Mode::Idle) open_palette(view_.viewport().contains(mouse_) ? mouse_ : view_.viewport().center());
+      if (mode_ != Mode::Idle) break;
+      if (e.mods.shift) {
+        leave_subgraph();
+        break;
+      }
+      // Like Blender's node groups: Tab on a selected instance goes into it; elsewhere it adds a node.
+      if (navigator_ && selection_.size() == 1 && !selection_.active().empty())
+        if (const Node* n = document_->graph().find(selection_.active()); n && n->type->subgraph) {
+          enter_subgraph(n->id);
+          break;
+        }
+      open_palette(view_.viewport().contains(mouse_) ? mouse_ : view_.viewport().center());
+      break;
+    case Key::G:
+      if (ctrl && mode_ == Mode::Idle) e.mods.shift ? ungroup_selection() : (void)group_selection();
       break;
     case Key::Delete:
     case Key::X:
@@ -331,7 +352,8 @@ std::string CanvasController::confirm_palette(const NodeType* type) {
   std::string id;
   try {
     document_->edit("Add " + type->name, [&](Graph& g) {
-      id = g.add_node(*type).id;
+      // A library asset's entry stands for an instance of it, named in files by its library name.
+      id = is_asset_entry(*type) ? add_subgraph_instance(g, *type->subgraph, type->name).id : g.add_node(*type).id;
       g.editor.positions[id] = at;
       if (palette_link_) {
         // Connect the link that opened the palette to the new node's first matching pin.
@@ -420,6 +442,93 @@ void CanvasController::undo() {
 void CanvasController::redo() {
   document_->redo();
   after_edit();
+}
+
+std::string CanvasController::group_selection(const std::filesystem::path& asset_file) {
+  message_.clear();
+  try {
+    const GroupResult r = group_nodes(*document_, selection_.ordered(document_->graph()), asset_file);
+    after_edit();
+    selection_.select_only(r.instance);
+    return r.instance;
+  } catch (const std::exception& e) {
+    message_ = e.what();
+    return {};
+  }
+}
+
+void CanvasController::ungroup_selection() {
+  message_.clear();
+  std::vector<std::string> instances, added;
+  for (const auto& id : selection_.ordered(document_->graph()))
+    if (document_->graph().at(id).type->subgraph) instances.push_back(id);
+  if (instances.empty()) {
+    message_ = "nothing to ungroup: select a subgraph instance";
+    return;
+  }
+  try {
+    if (instances.size() == 1) {
+      added = ungroup_node(*document_, instances.front());
+    } else {
+      const auto dir = document_directory(*document_);
+      document_->edit("Ungroup " + std::to_string(instances.size()) + " instances", [&](Graph& g) {
+        added.clear();
+        for (const auto& id : instances) {
+          auto more = inline_instance(g, id, dir);
+          added.insert(added.end(), more.begin(), more.end());
+        }
+      });
+    }
+  } catch (const std::exception& e) {
+    message_ = e.what();
+    added.clear();
+  }
+  after_edit();
+  selection_.set(added);
+}
+
+bool CanvasController::enter_subgraph(const std::string& id) {
+  message_.clear();
+  const std::string target = id.empty() ? selection_.active() : id;
+  if (!navigator_ || target.empty()) return false;
+  try {
+    navigator_->sync();
+    navigator_->enter(target);
+  } catch (const std::exception& e) {
+    message_ = e.what();
+    return false;
+  }
+  const CanvasView outer = view_;
+  set_document(navigator_->current());
+  outer_views_.push_back({outer, target});
+  frame(false);
+  return true;
+}
+
+bool CanvasController::leave_subgraph() {
+  if (!navigator_ || !navigator_->inside()) return false;
+  if (!navigator_->leave()) {
+    message_ = navigator_->sync_error() + " (undo or fix it before leaving)";
+    return false;
+  }
+  std::optional<SavedLevel> saved;
+  if (!outer_views_.empty()) {
+    saved = outer_views_.back();
+    outer_views_.pop_back();
+  }
+  set_document(navigator_->current());
+  if (saved) {
+    // Back to where the user was, with the instance they left selected.
+    const Rect viewport = view_.viewport();  // the canvas panel may have been resized inside
+    view_ = saved->view;
+    view_.set_viewport(viewport.min, viewport.max - viewport.min);
+    if (document_->graph().find(saved->instance)) selection_.select_only(saved->instance);
+  }
+  return true;
+}
+
+void CanvasController::leave_subgraph_to(std::size_t depth) {
+  while (navigator_ && navigator_->depth() > depth && leave_subgraph()) {}
 }
 
 }  // namespace orogen::editor

@@ -2,6 +2,7 @@
 // What the mouse and keyboard do on the node canvas, without any drawing: selection (click, Shift-click,
 // box), moving nodes, panning and zooming, link dragging, the palette, delete, duplicate, copy and paste,
 // framing, undo and redo. The UI feeds it InputEvents and draws its state; tests do the same headless.
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
@@ -14,6 +15,7 @@
 #include "editor/model/node_layout.h"
 #include "editor/model/palette.h"
 #include "editor/model/selection.h"
+#include "editor/model/subgraph_navigation.h"
 
 namespace orogen::editor {
 
@@ -33,6 +35,10 @@ class CanvasController {
 
   // Which document the canvas edits (File > Open replaces it). Resets the interaction state.
   void set_document(Document& document);
+  // Entering subgraphs: the navigator whose current level the canvas edits (the app's; none in tests that do
+  // not enter). The canvas follows it on enter and leave.
+  void set_navigator(SubgraphNavigator* navigator) { navigator_ = navigator; }
+  SubgraphNavigator* navigator() { return navigator_; }
   Document& document() { return *document_; }
 
   void handle(const InputEvent& event);
@@ -85,6 +91,16 @@ class CanvasController {
   void frame_opening();            // a graph just opened: everything, or its start at a readable zoom
   void undo();
   void redo();
+  // Subgraphs (editor/model/grouping.h): Ctrl+G groups the selection into an asset written beside the
+  // document (or to `asset_file`) and selects the new instance; Ctrl+Shift+G ungroups the selected
+  // instances. Refusals go to message().
+  std::string group_selection(const std::filesystem::path& asset_file = {});
+  void ungroup_selection();
+  // Tab (one instance selected) or double-click: enter the instance (the active node by default);
+  // Shift+Tab or a breadcrumb: leave, back to the view the level above had. Need a navigator.
+  bool enter_subgraph(const std::string& id = {});
+  bool leave_subgraph();
+  void leave_subgraph_to(std::size_t depth);
 
   // The last refused action (wrong link, failed paste), for the status bar; cleared by the next action.
   const std::string& message() const { return message_; }
@@ -128,6 +144,13 @@ class CanvasController {
   std::vector<const NodeType*> palette_types_;
 
   std::string message_;
+
+  SubgraphNavigator* navigator_ = nullptr;
+  struct SavedLevel {
+    CanvasView view;
+    std::string instance;
+  };
+  std::vector<SavedLevel> outer_views_;  // the views of the levels above the current one
 };
 
 }  // namespace orogen::editor

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include <nlohmann/json.hpp>
+
 #include "editor/model/node_layout.h"
 #include "graph/graph_file.h"
 
@@ -55,7 +57,11 @@ void Document::replace(Graph graph, std::uint64_t state) {
 bool Document::edit(const std::string& label, const std::function<void(Graph&)>& fn, const std::string& merge_key) {
   Graph next = graph_;
   fn(next);
-  if (next == graph_) return false;
+  // The interface of an asset (exposing a parameter) is part of the document, though not of graph equality.
+  const bool same_interface =
+      next.interface == graph_.interface ||
+      (next.interface && graph_.interface && next.interface->json_text == graph_.interface->json_text);
+  if (next == graph_ && same_interface) return false;
   const auto state = history_.record(graph_, state_, label, merge_key);
   replace(std::move(next), state);
   return true;
@@ -122,12 +128,77 @@ void Document::move_nodes(const std::vector<std::string>& ids, glm::dvec2 delta,
       gesture ? std::string("move") : std::string());
 }
 
+namespace {
+
+// The interface of an asset after inner node `id` became `new_id`: its "node.name" references follow.
+std::shared_ptr<const SubgraphInterface> renamed_interface(const Graph& renamed, const std::string& id,
+                                                           const std::string& new_id) {
+  nlohmann::json in = nlohmann::json::parse(renamed.interface->json_text);
+  auto rename = [&](nlohmann::json& ref) {
+    if (!ref.is_string()) return;
+    const std::string text = ref.get<std::string>();
+    if (text.size() > id.size() && text.compare(0, id.size() + 1, id + ".") == 0) ref = new_id + text.substr(id.size());
+  };
+  for (const char* section : {"inputs", "outputs", "params"}) {
+    if (!in.contains(section) || !in[section].is_array()) continue;
+    for (auto& entry : in[section])
+      for (const char* field : {"to", "from"}) {
+        if (!entry.is_object() || !entry.contains(field)) continue;
+        if (entry[field].is_array())
+          for (auto& ref : entry[field]) rename(ref);
+        else
+          rename(entry[field]);
+      }
+  }
+  // Read back whole (targets, declarations) from the file form.
+  Graph next = renamed;
+  auto text = std::make_shared<SubgraphInterface>(*renamed.interface);
+  text->json_text = in.dump();
+  next.interface = text;
+  LoadOptions options;
+  options.directory = renamed.directory;
+  options.allow_unconnected_inputs = true;
+  options.keep_partial = true;
+  const LoadResult reread = parse_graph(serialize_graph(next), options);
+  return reread.graph && reread.graph->interface ? reread.graph->interface : next.interface;
+}
+
+}  // namespace
+
 void Document::rename_node(const std::string& id, const std::string& new_id) {
-  edit("Rename " + id + " to " + new_id, [&](Graph& g) { g.rename_node(id, new_id); });
+  edit("Rename " + id + " to " + new_id, [&](Graph& g) {
+    g.rename_node(id, new_id);
+    // In an asset, the interface names inner nodes: it follows the rename.
+    if (g.interface) g.interface = renamed_interface(g, id, new_id);
+  });
 }
 
 void Document::set_domain(const GraphDomain& domain) {
   edit("Change domain", [&](Graph& g) { g.domain = domain; });
+}
+
+bool Document::rebind_asset(const std::filesystem::path& file, const SubgraphAsset& asset) {
+  auto rebind = [&](Graph& g) {
+    bool any = false;
+    for (const auto& n : g.nodes())
+      if (n.type->subgraph && n.type->subgraph != &asset && n.type->subgraph->file == file) {
+        g.find(n.id)->type = &asset.type;
+        any = true;
+      }
+    return any;
+  };
+  history_.for_each_graph([&](Graph& g) { rebind(g); });
+  const SubgraphAsset* before = nullptr;
+  for (const auto& n : graph_.nodes())
+    if (n.type->subgraph && n.type->subgraph->file == file) before = n.type->subgraph;
+  if (!rebind(graph_)) return false;
+  // Instances record the asset version and interface in the file: a changed one must be saved.
+  if (before->interface().asset_version != asset.interface().asset_version ||
+      interface_signature(before->interface()) != interface_signature(asset.interface()))
+    mark_unsaved();
+  ++revision_;
+  ++content_revision_;
+  return true;
 }
 
 void Document::save() {

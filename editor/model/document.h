@@ -14,6 +14,7 @@
 #include "editor/model/undo_history.h"
 #include "graph/graph.h"
 #include "graph/graph_file.h"
+#include "graph/subgraph.h"
 
 namespace orogen::editor {
 
@@ -81,6 +82,12 @@ class Document {
   void move_nodes(const std::vector<std::string>& ids, glm::dvec2 delta, bool gesture = false);
   void rename_node(const std::string& id, const std::string& new_id);
   void set_domain(const GraphDomain& domain);
+
+  // Points the subgraph instances of the asset file `file` at `asset`, its new content (an asset edited in
+  // the editor, editor/model/subgraph_navigation.h), in the graph and in every undo step: the file is the
+  // truth for all of them. Not an edit (nothing to undo, the dirty flag is kept), but a content change.
+  // Returns whether any instance was found.
+  bool rebind_asset(const std::filesystem::path& file, const SubgraphAsset& asset);
 
   // Atomic writes (save_graph_file). save() needs a path; both throw std::runtime_error on failure and then
   // leave the document dirty.

@@ -3,10 +3,24 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <set>
 
 #include "graph/idle_nodes.h"
 
 namespace orogen::editor {
+
+namespace {
+// The entries of a map keyed by expanded ids that lie under `prefix`, keyed by the rest of the id.
+template <class T>
+std::map<std::string, T> under_prefix(std::map<std::string, T> in, const std::string& prefix) {
+  if (prefix.empty()) return in;
+  std::map<std::string, T> out;
+  for (auto& [id, v] : in)
+    if (id.size() > prefix.size() && id.compare(0, prefix.size(), prefix) == 0)
+      out.emplace(id.substr(prefix.size()), std::move(v));
+  return out;
+}
+}  // namespace
 
 std::string_view to_string(NodeRunState::Phase phase) {
   switch (phase) {
@@ -79,26 +93,49 @@ Domain EvaluationController::preview_domain(const GraphDomain& domain) const {
                              {along(domain.size.x, domain.resolution.x), along(domain.size.y, domain.resolution.y)});
 }
 
+void EvaluationController::set_context(std::string prefix) {
+  std::lock_guard lock(mutex_);
+  if (prefix == context_) return;
+  context_ = std::move(prefix);
+  states_.clear();
+  requested_keys_.clear();
+  preview_.reset();
+  thumbnails_.reset();
+}
+
 void EvaluationController::request_preview(const Graph& graph, std::vector<std::string> nodes, std::uint64_t revision) {
-  Job job{graph, std::move(nodes), revision, preview_domain(graph.domain)};
+  Job job{graph, std::move(nodes), revision, preview_domain(graph.domain), context_};
+  for (auto& id : job.nodes) id = job.prefix + id;
   // Which results the edit made stale: the nodes whose key changed.
   std::map<std::string, CacheKey> keys;
   try {
-    keys = compute_cache_keys(job.graph, job.domain);
+    keys = under_prefix(compute_cache_keys(job.graph, job.domain), job.prefix);
   } catch (const std::exception&) {
     // An invalid graph (the evaluator reports why when it runs); every state becomes stale.
   }
   {
     std::lock_guard lock(mutex_);
-    std::erase_if(states_, [&](const auto& kv) { return !job.graph.find(kv.first); });
-    for (const auto& node : job.graph.nodes()) {
-      auto& s = states_[node.id];
-      const auto k = keys.find(node.id);
+    // Inner nodes of instances ("instance/inner") stay while their instance does.
+    auto exists = [&](const std::string& id) {
+      return job.prefix.empty() ? job.graph.find(id) != nullptr : keys.count(id) > 0;
+    };
+    std::erase_if(states_, [&](const auto& kv) { return !exists(kv.first.substr(0, kv.first.find('/'))); });
+    std::vector<std::string> ids;
+    if (job.prefix.empty())
+      for (const auto& node : job.graph.nodes()) ids.push_back(node.id);
+    else
+      for (const auto& [id, key] : keys)
+        if (id.find('/') == std::string::npos) ids.push_back(id);
+    for (const auto& [id, state] : states_)
+      if (id.find('/') != std::string::npos) ids.push_back(id);
+    for (const auto& id : ids) {
+      auto& s = states_[id];
+      const auto k = keys.find(id);
       bool current = k != keys.end() && s.key && *s.key == k->second &&
                      (s.phase == NodeRunState::Phase::Computed || s.phase == NodeRunState::Phase::Cached);
       if (s.by_build) {
         // A build's state holds until an edit changes the node (its key differs from the last request's).
-        const auto before = requested_keys_.find(node.id);
+        const auto before = requested_keys_.find(id);
         current = k != keys.end() && before != requested_keys_.end() && before->second == k->second;
         if (!current) s.by_build = false;
       }
@@ -124,19 +161,76 @@ bool EvaluationController::preview_busy() const {
 
 std::map<std::string, NodeRunState> EvaluationController::node_states() const {
   std::lock_guard lock(mutex_);
-  return states_;
+  std::map<std::string, NodeRunState> out = states_;
+  // Instances (every prefix "a", "a/b" of an inner id) get the state of their inner nodes.
+  std::set<std::string> instances;
+  for (const auto& [id, state] : states_)
+    for (std::size_t slash = id.find('/'); slash != std::string::npos; slash = id.find('/', slash + 1))
+      instances.insert(id.substr(0, slash));
+  for (const auto& instance : instances) out[instance] = state_of(instance);
+  return out;
 }
 
 NodeRunState EvaluationController::node_state(const std::string& id) const {
   std::lock_guard lock(mutex_);
+  return state_of(id);
+}
+
+NodeRunState EvaluationController::state_of(const std::string& id) const {
   auto it = states_.find(id);
-  return it == states_.end() ? NodeRunState{} : it->second;
+  NodeRunState own = it == states_.end() ? NodeRunState{} : it->second;
+  // A subgraph instance runs as its inner nodes ("id/inner", at any depth): its state is the worst of
+  // theirs, its time their sum, its message the first inner failure's.
+  const std::string prefix = id + "/";
+  auto inner = states_.lower_bound(prefix);
+  if (inner == states_.end() || inner->first.compare(0, prefix.size(), prefix) != 0) return own;
+  auto rank = [](NodeRunState::Phase p) {
+    switch (p) {
+      case NodeRunState::Phase::Unknown:
+        return 0;
+      case NodeRunState::Phase::Cached:
+        return 1;
+      case NodeRunState::Phase::Computed:
+        return 2;
+      case NodeRunState::Phase::Stale:
+        return 3;
+      case NodeRunState::Phase::Computing:
+        return 4;
+      case NodeRunState::Phase::Skipped:
+        return 5;
+      case NodeRunState::Phase::Failed:
+        return 6;
+    }
+    return 0;
+  };
+  NodeRunState sum;
+  sum.key = own.key;
+  double progress = 0.0;
+  int known = 0;
+  for (; inner != states_.end() && inner->first.compare(0, prefix.size(), prefix) == 0; ++inner) {
+    const NodeRunState& s = inner->second;
+    if (s.phase == NodeRunState::Phase::Unknown) continue;  // not needed for what was requested
+    if (rank(s.phase) > rank(sum.phase)) {
+      sum.phase = s.phase;
+      if (!s.message.empty()) sum.message = "inner node '" + inner->first.substr(prefix.size()) + "': " + s.message;
+    }
+    sum.milliseconds += s.milliseconds;
+    sum.by_build = sum.by_build || s.by_build;
+    progress += s.phase == NodeRunState::Phase::Computing ? s.progress : 1.0;
+    ++known;
+  }
+  if (known == 0) return own;
+  sum.progress = progress / known;
+  return sum;
 }
 
 void EvaluationController::on_preview_event(const EvalEvent& e) {
   std::lock_guard lock(mutex_);
-  auto& s = states_[e.node];
-  const auto key = running_keys_.find(e.node);
+  const std::string& prefix = running_prefix_;
+  if (e.node.size() <= prefix.size() || e.node.compare(0, prefix.size(), prefix) != 0) return;  // outside the context
+  const std::string id = e.node.substr(prefix.size());
+  auto& s = states_[id];
+  const auto key = running_keys_.find(id);
   switch (e.kind) {
     case EvalEvent::Kind::Started:
       s.phase = NodeRunState::Phase::Computing;
@@ -201,11 +295,12 @@ void EvaluationController::preview_loop() {
     }
     std::map<std::string, CacheKey> keys;
     try {
-      keys = compute_cache_keys(job.graph, job.domain);
+      keys = under_prefix(compute_cache_keys(job.graph, job.domain), job.prefix);
     } catch (const std::exception&) {}
     {
       std::lock_guard lock(mutex_);
       running_keys_ = std::move(keys);
+      running_prefix_ = job.prefix;
     }
 
     if (job.nodes.empty()) {
@@ -226,9 +321,11 @@ void EvaluationController::preview_loop() {
       request.on_event = [this](const EvalEvent& e) { on_preview_event(e); };
       EvalResult r = preview_evaluator_.evaluate(job.graph, request);
       cancelled = r.cancelled;
-      result->outputs = std::move(r.outputs);
-      result->reports = std::move(r.nodes);
+      result->outputs = under_prefix(std::move(r.outputs), job.prefix);
+      result->reports = under_prefix(std::move(r.nodes), job.prefix);
       result->milliseconds = r.milliseconds;
+      if (!job.prefix.empty())
+        for (auto& id : result->requested) id = id.substr(job.prefix.size());
     } catch (const std::exception& e) {
       result->error = e.what();
     }
@@ -236,6 +333,8 @@ void EvaluationController::preview_loop() {
     {
       std::lock_guard lock(mutex_);
       running_ = false;
+      // A result of another context (the user left or entered meanwhile) is not this one's.
+      if (job.prefix != context_) cancelled = true;
       if (!cancelled) {
         result->serial = ++serial_;
         preview_ = std::move(result);
@@ -246,7 +345,7 @@ void EvaluationController::preview_loop() {
   }
 }
 
-void EvaluationController::request_thumbnails(const Graph& graph, std::uint64_t revision) {
+void EvaluationController::request_thumbnails(const Graph& graph, std::uint64_t revision, const Graph* level) {
   Domain domain = preview_domain(graph.domain);
   {
     const double longer = std::max(graph.domain.size.x, graph.domain.size.y);
@@ -256,9 +355,9 @@ void EvaluationController::request_thumbnails(const Graph& graph, std::uint64_t 
     domain = Domain::from_extent(graph.domain.origin, graph.domain.size,
                                  {along(graph.domain.size.x), along(graph.domain.size.y)});
   }
-  Job job{graph, {}, revision, domain};
-  for (const auto& node : graph.nodes())
-    if (!node.type->writes_files && !node.type->outputs.empty()) job.nodes.push_back(node.id);
+  Job job{graph, {}, revision, domain, context_};
+  for (const auto& node : (level && !context_.empty() ? *level : graph).nodes())
+    if (!node.type->writes_files && !node.type->outputs.empty()) job.nodes.push_back(job.prefix + node.id);
   {
     std::lock_guard lock(mutex_);
     pending_thumbnails_ = std::move(job);
@@ -284,17 +383,19 @@ void EvaluationController::run_thumbnails(Job job) {  // NOLINT(performance-unne
     request.cancel = &preview_cancel_;
     EvalResult r = preview_evaluator_.evaluate(job.graph, request);
     cancelled = r.cancelled;
-    result->outputs = std::move(r.outputs);
+    result->outputs = under_prefix(std::move(r.outputs), job.prefix);
   } catch (const std::exception&) {
     // An invalid graph: no thumbnails (the preview reports why).
   }
   {
     std::lock_guard lock(mutex_);
     thumbnails_running_ = false;
-    if (!cancelled) {
+    if (!cancelled && job.prefix != context_) {
+      // Another context's: dropped, not resumed.
+    } else if (!cancelled) {
       result->serial = ++serial_;
       thumbnails_ = std::move(result);
-    } else if (!pending_thumbnails_ && !stop_) {
+    } else if (!pending_thumbnails_ && !stop_ && job.prefix == context_) {
       pending_thumbnails_ = std::move(job);  // cut short by a preview: resumed after it (from the cache)
     }
   }

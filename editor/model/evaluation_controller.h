@@ -108,7 +108,15 @@ class EvaluationController {
   // Evaluates every node that does not write files at thumbnail resolution, in the background, when no
   // preview is waiting (a preview request cancels it); replaces the thumbnail request in flight. Node states
   // are not touched.
-  void request_thumbnails(const Graph& graph, std::uint64_t revision);
+  // With a context (set_context), `graph` is the root and `level` the entered asset whose nodes get thumbnails.
+  void request_thumbnails(const Graph& graph, std::uint64_t revision, const Graph* level = nullptr);
+  // Previews inside an entered subgraph instance (editor/model/subgraph_navigation.h), in the context of that
+  // instance's inputs: the graph given to request_preview and request_thumbnails is then the root graph, and
+  // node ids (requested, results, reports, states, thumbnails) are the entered asset's, evaluated as
+  // `prefix` + id in the expanded root ("a/b/" + "relief"). Empty: ids are the graph's own. Changing it
+  // forgets the node states and results of the other context.
+  void set_context(std::string prefix);
+  const std::string& context() const { return context_; }
   std::shared_ptr<const Thumbnails> thumbnails() const;
 
   // The newest finished (not cancelled) preview, or null.
@@ -140,7 +148,10 @@ class EvaluationController {
     std::vector<std::string> nodes;
     std::uint64_t revision = 0;
     Domain domain;
+    std::string prefix;  // the context the job was requested in
   };
+  std::string context_;         // set_context (UI thread)
+  std::string running_prefix_;  // the running preview's context (events arrive with expanded ids)
   void preview_loop();
   void run_thumbnails(Job job);
   void on_preview_event(const EvalEvent& e);
@@ -160,8 +171,9 @@ class EvaluationController {
   CancelToken preview_cancel_;
   int preview_resolution_ = kDefaultPreviewResolution;
   std::map<std::string, NodeRunState> states_;
-  std::map<std::string, CacheKey> running_keys_;    // keys of the graph being evaluated
-  std::map<std::string, CacheKey> requested_keys_;  // keys of the last preview request
+  NodeRunState state_of(const std::string& id) const;  // node_state() with the mutex held
+  std::map<std::string, CacheKey> running_keys_;       // keys of the graph being evaluated
+  std::map<std::string, CacheKey> requested_keys_;     // keys of the last preview request
   std::shared_ptr<const PreviewResult> preview_;
   std::uint64_t serial_ = 0;
 

@@ -11,7 +11,7 @@ namespace orogen::editor {
 enum class MouseButton { Left, Right, Middle };
 
 // Only the keys the editor binds.
-enum class Key { Tab, Enter, Escape, Up, Down, Backspace, Delete, Space, A, C, D, F, V, X, Y, Z, Home };
+enum class Key { Tab, Enter, Escape, Up, Down, Backspace, Delete, Space, A, C, D, F, G, V, X, Y, Z, Home };
 
 struct Modifiers {
   bool ctrl = false, shift = false, alt = false;

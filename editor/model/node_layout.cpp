@@ -1,5 +1,7 @@
 #include "editor/model/node_layout.h"
 
+#include "graph/subgraph.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -15,12 +17,14 @@ const PinLayout* NodeLayout::find_pin(const std::string& port, bool output) cons
 }
 
 std::string node_title(const Node& node) {
+  // An instance shows its asset: "mountains : eroded_mountain_range", not "Subgraph".
+  const std::string& type = node.type->subgraph ? node.type->subgraph->name : node.type->name;
   std::string type_lower, id_stem;
-  for (char c : node.type->name) type_lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (char c : type) type_lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   id_stem = node.id;
   while (!id_stem.empty() && std::isdigit(static_cast<unsigned char>(id_stem.back()))) id_stem.pop_back();
   if (id_stem == type_lower) return node.id;
-  return node.id + " : " + node.type->name;
+  return node.id + " : " + type;
 }
 
 double monospace_width(std::string_view text) { return static_cast<double>(text.size()) * NodeMetrics::kGlyphWidth; }

@@ -50,4 +50,9 @@ void UndoHistory::clear() {
   open_merge_key_.clear();
 }
 
+void UndoHistory::for_each_graph(const std::function<void(Graph&)>& fn) {
+  for (auto& step : undo_) fn(step.graph);
+  for (auto& step : redo_) fn(step.graph);
+}
+
 }  // namespace orogen::editor

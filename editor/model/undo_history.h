@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -39,6 +40,9 @@ class UndoHistory {
   std::optional<Restored> redo(const Graph& current, std::uint64_t current_state);
 
   void clear();
+  // Every graph the history holds (undo and redo steps), for changes that are not edits: instances pointed
+  // at the new content of an asset file edited elsewhere (Document::rebind_asset).
+  void for_each_graph(const std::function<void(Graph&)>& fn);
   std::size_t undo_size() const { return undo_.size(); }
   std::size_t redo_size() const { return redo_.size(); }
 

@@ -12,7 +12,9 @@
 #include <imgui_impl_opengl3.h>
 #include <imgui_stdlib.h>
 
+#include "editor/model/asset_palette.h"
 #include "editor/model/build_resolutions.h"
+#include "editor/model/grouping.h"
 #include "editor/model/node_layout.h"
 #include "editor/model/preview_image.h"
 #include "editor/model/state_dir.h"
@@ -23,6 +25,7 @@
 #include "editor/ui/theme.h"
 #include "graph/graph_file.h"
 #include "graph/registry.h"
+#include "graph/subgraph.h"
 
 namespace orogen::editor {
 
@@ -118,14 +121,26 @@ App::App(AppOptions options)
   evaluation_.set_on_change([] { glfwPostEmptyEvent(); });
   evaluation_.set_preview_resolution(options_.preview_resolution);
   output_dir_ = options_.output_dir;
+  navigator_ = std::make_unique<SubgraphNavigator>(*document_);
+  std::vector<std::string> library_errors;
+  auto palette_types = palette_types_with_library(&library_errors);
+  for (const auto& e : library_errors) std::fprintf(stderr, "orogen-editor: %s\n", e.c_str());
   canvas_ = std::make_unique<CanvasController>(
       *document_, selection_,
       ClipboardAccess{[] {
                         const char* t = ImGui::GetClipboardText();
                         return std::string(t ? t : "");
                       },
-                      [](const std::string& s) { ImGui::SetClipboardText(s.c_str()); }});
+                      [](const std::string& s) { ImGui::SetClipboardText(s.c_str()); }},
+      std::move(palette_types));
+  canvas_->set_navigator(navigator_.get());
+  inspector_.set_subgraph_actions(
+      [this](const std::string& id) { canvas_->enter_subgraph(id); },
+      // Opened after the frame's drawing: the inspector is still drawing the node of the document it replaces.
+      [this](const std::filesystem::path& file) { open_asset_ = file; });
   canvas_view_ = std::make_unique<NodeCanvasView>(*canvas_, evaluation_);
+  canvas_view_->set_output_kind(
+      [this](const std::string& node, const std::string& port) { return output_kind(node, port); });
   canvas_->set_thumbnails(options_.thumbnails);
   viewport_3d_ = std::make_unique<Viewport3D>();
   show_3d_ = options_.view == "3d";
@@ -135,13 +150,20 @@ App::App(AppOptions options)
   preview_2d_.set_start(options_.channel, options_.color_map);
 
   if (!options_.file.empty()) open_file(options_.file);
-  if (!document_->graph().find(options_.drape))
+  if (!options_.group.empty()) {
+    selection_.set(options_.group);
+    canvas_->group_selection();
+    if (!canvas_->message().empty()) std::fprintf(stderr, "orogen-editor: %s\n", canvas_->message().c_str());
+  }
+  if (!options_.enter.empty() && !canvas_->enter_subgraph(options_.enter))
+    std::fprintf(stderr, "orogen-editor: %s\n", canvas_->message().c_str());
+  if (!doc().graph().find(options_.drape))
     drape_node_.clear();
   else
     drape_node_ = options_.drape;
-  if (!options_.select.empty() && document_->graph().find(options_.select)) {
+  if (!options_.select.empty() && doc().graph().find(options_.select)) {
     selection_.select_only(options_.select);
-    if (const int k = document_->graph().at(options_.select).type->output_index(options_.port); k >= 0)
+    if (const int k = doc().graph().at(options_.select).type->output_index(options_.port); k >= 0)
       shown_port_[options_.select] = k;
   }
   // A screenshot run is not a session: it never offers (or takes) someone's recovery files.
@@ -315,7 +337,7 @@ void App::feed_queued_input() {
 bool App::thumbnails_shown() const {
   if (!canvas_->thumbnails()) return true;
   const auto t = evaluation_.thumbnails();
-  return t && t->revision == document_->content_revision() && thumbnails_revision_ == document_->content_revision() + 1;
+  return t && t->revision == preview_revision() && thumbnails_revision_ == preview_revision() + 1;
 }
 
 bool App::animating() const {
@@ -358,6 +380,10 @@ void App::frame() {
   ImGui::End();
   draw_modals();
 
+  if (!open_asset_.empty()) guard_unsaved([this, file = std::exchange(open_asset_, {})] { open_file(file); });
+  // Edits inside a subgraph go to its asset file, and every instance above follows.
+  if (navigator_->inside()) navigator_->sync();
+  if (&doc() != shown_level_) level_changed();
   update_preview();
   autosaver_.tick(*document_, std::chrono::steady_clock::now());
   const std::string title = document_->window_title();
@@ -440,7 +466,7 @@ void App::draw_menu_bar() {
     ImGui::EndMenu();
   }
   if (ImGui::BeginMenu("Edit")) {
-    const auto& h = document_->history();
+    const auto& h = doc().history();
     if (ImGui::MenuItem(h.can_undo() ? ("Undo " + h.undo_label()).c_str() : "Undo", "Ctrl+Z", false, h.can_undo()))
       canvas_->undo();
     if (ImGui::MenuItem(h.can_redo() ? ("Redo " + h.redo_label()).c_str() : "Redo", "Ctrl+Shift+Z", false,
@@ -454,6 +480,20 @@ void App::draw_menu_bar() {
     if (ImGui::MenuItem("Delete", "Del / X", false, any)) canvas_->delete_selection();
     ImGui::Separator();
     if (ImGui::MenuItem("Select All", "Ctrl+A")) canvas_->select_all();
+    ImGui::Separator();
+    bool instance_selected = false;
+    for (const auto& id : selection_.ids())
+      if (const Node* n = doc().graph().find(id); n && n->type->subgraph) instance_selected = true;
+    if (ImGui::MenuItem("Group into Subgraph", "Ctrl+G", false, any)) canvas_->group_selection();
+    if (ImGui::MenuItem("Group into Subgraph File...", nullptr, false, any)) {
+      file_action_ = FileAction::GroupTo;
+      file_dialog_.show(FileDialog::Mode::Save, "Group into Subgraph File", free_asset_path(document_directory(doc())),
+                        {".json"});
+    }
+    if (ImGui::MenuItem("Ungroup", "Ctrl+Shift+G", false, instance_selected)) canvas_->ungroup_selection();
+    if (ImGui::MenuItem("Enter Subgraph", "Tab", false, instance_selected && selection_.size() == 1))
+      canvas_->enter_subgraph();
+    if (ImGui::MenuItem("Leave Subgraph", "Shift+Tab", false, navigator_->inside())) canvas_->leave_subgraph();
     if (ImGui::MenuItem("Add Node...", "Tab")) canvas_->open_palette(canvas_->view().viewport().center());
     ImGui::EndMenu();
   }
@@ -468,8 +508,7 @@ void App::draw_menu_bar() {
     if (ImGui::MenuItem("Node Thumbnails", nullptr, canvas_->thumbnails())) {
       canvas_->set_thumbnails(!canvas_->thumbnails());
       // Nodes grow: move apart those that would overlap (one undoable step).
-      if (canvas_->thumbnails())
-        document_->edit("Make Room for Thumbnails", [](Graph& g) { make_room_for_thumbnails(g); });
+      if (canvas_->thumbnails()) doc().edit("Make Room for Thumbnails", [](Graph& g) { make_room_for_thumbnails(g); });
     }
     if (ImGui::BeginMenu("Preview Resolution")) {
       for (int r : {128, 256, 512, 1024, 2048})
@@ -537,7 +576,15 @@ void App::draw_panels() {
     canvas_->frame_opening();
     frame_canvas_ = false;
   }
-  if (const auto& id = canvas_view_->double_clicked()) pinned_ = pinned_ == *id ? std::string() : *id;
+  draw_breadcrumbs();
+  if (const auto& id = canvas_view_->double_clicked()) {
+    // Double-click goes into an instance (as Tab does); on other nodes it pins the preview.
+    const Node* n = doc().graph().find(*id);
+    if (n && n->type->subgraph)
+      canvas_->enter_subgraph(*id);
+    else
+      pinned_ = pinned_ == *id ? std::string() : *id;
+  }
   ImGui::EndChild();
 
   ImGui::SameLine(0, 0);
@@ -557,7 +604,7 @@ void App::draw_panels() {
     ImGui::SameLine();
     if (ImGui::RadioButton("3D", show_3d_)) show_3d_ = true;
     ImGui::SameLine();
-    const Node* node = previewed.empty() ? nullptr : document_->graph().find(previewed);
+    const Node* node = previewed.empty() ? nullptr : doc().graph().find(previewed);
     if (node) {
       ImGui::TextColored(ImColor(theme::category_color(node->type->category)), "%s", previewed.c_str());
       if (node->type->outputs.size() > 1) {
@@ -584,7 +631,7 @@ void App::draw_panels() {
     if (show_3d_) {
       ImGui::SameLine();
       std::vector<std::string> images;
-      for (const auto& n : document_->graph().nodes())
+      for (const auto& n : doc().graph().nodes())
         for (const auto& o : n.type->outputs)
           if (o.type == PortType::Image) {
             images.push_back(n.id);
@@ -613,7 +660,7 @@ void App::draw_panels() {
   ImGui::SetCursorPos({8, 6});
   ImGui::BeginGroup();
   ImGui::PushItemWidth(-1);
-  inspector_.draw(*document_, selection_);
+  inspector_.draw(doc(), selection_);
   ImGui::PopItemWidth();
   ImGui::EndGroup();
   ImGui::EndChild();
@@ -629,6 +676,8 @@ void App::draw_status_bar(float height) {
   const auto build = evaluation_.build_status();
   if (!canvas_->message().empty()) {
     ImGui::TextColored(ImColor(theme::kError), "%s", canvas_->message().c_str());
+  } else if (!navigator_->sync_error().empty()) {
+    ImGui::TextColored(ImColor(theme::kError), "%s", navigator_->sync_error().c_str());
   } else if (!autosaver_.last_error().empty()) {
     ImGui::TextColored(ImColor(theme::kError), "%s", autosaver_.last_error().c_str());
   } else if (auto p = evaluation_.preview()) {
@@ -681,6 +730,8 @@ void App::draw_modals() {
     const auto action = std::exchange(file_action_, FileAction::None);
     if (action == FileAction::Open)
       open_file(*chosen);
+    else if (action == FileAction::GroupTo)
+      canvas_->group_selection(*chosen);
     else if (action == FileAction::SaveAs || action == FileAction::SaveAsThen) {
       save_as(*chosen);
       if (action == FileAction::SaveAsThen && !document_->dirty() && after_save_) std::exchange(after_save_, nullptr)();
@@ -776,7 +827,7 @@ void App::draw_modals() {
     ImGui::SetNextWindowSize({520, 0}, ImGuiCond_Appearing);
     if (ImGui::Begin("Keyboard and Mouse", &show_shortcuts_, ImGuiWindowFlags_NoSavedSettings)) {
       static constexpr const char* kRows[][2] = {
-          {"Tab / right-click", "add a node (type to search)"},
+          {"Tab / right-click", "add a node or library asset (type to search)"},
           {"drag pin to pin", "connect (incompatible pins dim)"},
           {"drag from a connected input", "move or detach its link"},
           {"click / Shift-click / drag on empty", "select / toggle / box select"},
@@ -785,7 +836,9 @@ void App::draw_modals() {
           {"Ctrl+D, Ctrl+C, Ctrl+V", "duplicate, copy, paste (graph JSON)"},
           {"F / Home", "frame selected / all"},
           {"middle drag or Space+drag, wheel", "pan, zoom around the cursor"},
-          {"double-click a node", "pin the preview to it"},
+          {"double-click a node", "pin the preview to it (an instance: enter it)"},
+          {"Ctrl+G / Ctrl+Shift+G", "group the selection into a subgraph / ungroup"},
+          {"Tab on an instance / Shift+Tab", "enter the subgraph / leave it (or click a breadcrumb)"},
           {"Ctrl+Z / Ctrl+Shift+Z", "undo / redo"},
           {"Ctrl+S, Ctrl+Shift+S, Ctrl+O, Ctrl+N", "save, save as, open, new"},
           {"Ctrl+B", "build (resolution: Build > Resolution)"},
@@ -866,6 +919,7 @@ void App::set_document(std::unique_ptr<Document> document) {
   recovery_.discard();
   autosaver_.reset();
   document_ = std::move(document);
+  navigator_->set_root(*document_);
   canvas_->set_document(*document_);
   canvas_view_->document_changed();
   pinned_.clear();
@@ -941,7 +995,7 @@ std::vector<std::filesystem::path> App::examples() const {
 }
 
 std::string App::preview_node() const {
-  const Graph& g = document_->graph();
+  const Graph& g = doc().graph();
   auto viewable = [&](const std::string& id) -> std::string {
     const Node* n = g.find(id);
     if (!n) return {};
@@ -979,13 +1033,13 @@ std::string App::preview_node() const {
 
 std::vector<std::string> App::preview_request(const std::string& node) const {
   std::vector<std::string> nodes;
-  const Node* n = document_->graph().find(node);
+  const Node* n = doc().graph().find(node);
   if (!n) return nodes;
-  if (const auto scene = scene_sources(document_->graph(), node)) {
+  if (const auto scene = scene_sources(doc().graph(), node)) {
     // A writer itself is not evaluated (it would write files): the nodes feeding it are. A node making a
     // scene (Instance) is evaluated with the ground under it.
     nodes = scene->nodes();
-    if (show_3d_ && !drape_node_.empty() && document_->graph().find(drape_node_) &&
+    if (show_3d_ && !drape_node_.empty() && doc().graph().find(drape_node_) &&
         std::find(nodes.begin(), nodes.end(), drape_node_) == nodes.end())
       nodes.push_back(drape_node_);
     return nodes;
@@ -996,10 +1050,8 @@ std::vector<std::string> App::preview_request(const std::string& node) const {
   const bool field =
       n->type->outputs.empty() || n->type->outputs[static_cast<std::size_t>(port)].type == PortType::Heightfield;
   // Water depth is shown on the terrain it lies in.
-  const bool water =
-      field && !n->type->outputs.empty() &&
-      resolve_output_kind(document_->graph(), node, n->type->outputs[static_cast<std::size_t>(port)].name) ==
-          OutputKind::WaterDepth;
+  const bool water = field && !n->type->outputs.empty() &&
+                     output_kind(node, n->type->outputs[static_cast<std::size_t>(port)].name) == OutputKind::WaterDepth;
   if (!field || water) {
     // Points, curves, maps and meshes are drawn over the heightfield they came from; images are draped
     // over it in 3D.
@@ -1010,7 +1062,7 @@ std::vector<std::string> App::preview_request(const std::string& node) const {
           break;
         }
   }
-  if (show_3d_ && !drape_node_.empty() && document_->graph().find(drape_node_) && drape_node_ != node)
+  if (show_3d_ && !drape_node_.empty() && doc().graph().find(drape_node_) && drape_node_ != node)
     nodes.push_back(drape_node_);
   return nodes;
 }
@@ -1018,21 +1070,21 @@ std::vector<std::string> App::preview_request(const std::string& node) const {
 void App::update_preview() {
   // Thumbnails follow the content once the preview is done (they never delay it).
   if (canvas_->thumbnails() && !evaluation_.preview_busy() && !pending_request_ &&
-      thumbnails_revision_ != document_->content_revision() + 1) {
-    evaluation_.request_thumbnails(document_->graph(), document_->content_revision());
-    thumbnails_revision_ = document_->content_revision() + 1;  // + 1: 0 means none requested
+      thumbnails_revision_ != preview_revision() + 1) {
+    evaluation_.request_thumbnails(preview_graph(), preview_revision(), &doc().graph());
+    thumbnails_revision_ = preview_revision() + 1;  // + 1: 0 means none requested
   }
   const std::string node = preview_node();
   const auto nodes = preview_request(node);
-  const bool changed = document_->content_revision() != requested_revision_ || nodes != requested_nodes_ ||
+  const bool changed = preview_revision() != requested_revision_ || nodes != requested_nodes_ ||
                        evaluation_.preview_resolution() != requested_resolution_;
   pending_request_ = changed && !nodes.empty();
   if (!pending_request_) return;
   // While a run is busy, superseding it at most every few frames lets drags show intermediate results.
   const auto now = std::chrono::steady_clock::now();
   if (evaluation_.preview_busy() && now - last_request_ < kRequestThrottle) return;
-  evaluation_.request_preview(document_->graph(), nodes, document_->content_revision());
-  requested_revision_ = document_->content_revision();
+  evaluation_.request_preview(preview_graph(), nodes, preview_revision());
+  requested_revision_ = preview_revision();
   requested_nodes_ = nodes;
   requested_resolution_ = evaluation_.preview_resolution();
   last_request_ = now;
@@ -1051,15 +1103,15 @@ ImagePtr App::drape_image(const PreviewResult& result) const {
 PreviewContent App::preview_content(const std::string& node) const {
   PreviewContent c;
   c.node = node;
-  const Node* n = node.empty() ? nullptr : document_->graph().find(node);
+  const Node* n = node.empty() ? nullptr : doc().graph().find(node);
   if (n)
-    if (const auto sources = scene_sources(document_->graph(), node)) return scene_content(node, *sources);
+    if (const auto sources = scene_sources(doc().graph(), node)) return scene_content(node, *sources);
   if (!n || n->type->outputs.empty()) return c;
   const int port =
       std::clamp(shown_port_.count(node) ? shown_port_.at(node) : 0, 0, static_cast<int>(n->type->outputs.size()) - 1);
   c.port = n->type->outputs[static_cast<std::size_t>(port)].name;
   if (n->type->outputs[static_cast<std::size_t>(port)].type == PortType::Heightfield)
-    c.kind = resolve_output_kind(document_->graph(), node, c.port);
+    c.kind = output_kind(node, c.port);
   const auto result = evaluation_.preview();
   c.stale = evaluation_.preview_busy() || pending_request_;
   if (!result) return c;
@@ -1109,7 +1161,7 @@ PreviewContent App::scene_content(const std::string& node, const SceneSources& s
       break;
     }
   if (!result->error.empty()) c.error = result->error;
-  ScenePreview scene = assemble_scene(document_->graph(), sources, result->outputs);
+  ScenePreview scene = assemble_scene(doc().graph(), sources, result->outputs);
   if (scene.points) c.value = scene.points;
   if (scene.ground) {
     c.backdrop = scene.ground;
@@ -1121,7 +1173,7 @@ PreviewContent App::scene_content(const std::string& node, const SceneSources& s
 }
 
 glm::ivec2 App::build_samples() const {
-  const auto& domain = document_->graph().domain;
+  const auto& domain = doc().graph().domain;
   if (!build_choice_.empty())
     for (const auto& c : build_resolutions(domain))
       if (c.name == build_choice_) return c.samples;
@@ -1133,6 +1185,62 @@ void App::start_build() {
   OutputPolicy policy;
   policy.output_dir = output_dir_;
   evaluation_.start_build(graph_at_resolution(document_->graph(), build_samples()), policy);
+}
+
+void App::level_changed() {
+  // Another level's nodes: nothing of the preview state of the last one applies.
+  shown_level_ = &doc();
+  // Inside an instance, its nodes are previewed in the root graph, fed by the instance's inputs.
+  evaluation_.set_context(navigator_->inside() ? navigator_->instance_path() + "/" : std::string());
+  canvas_view_->document_changed();
+  pinned_.clear();
+  shown_port_.clear();
+  if (!doc().graph().find(drape_node_)) drape_node_.clear();
+  requested_revision_ = ~std::uint64_t(0);
+  thumbnails_revision_ = 0;
+}
+
+void App::draw_breadcrumbs() {
+  if (!navigator_->inside()) return;
+  // Where the canvas is: the graph file, then each instance entered; a click goes back to that level.
+  const auto crumbs = navigator_->breadcrumbs();
+  ImGui::SetCursorPos({10, 8});
+  ImGui::PushStyleColor(ImGuiCol_Button, ImVec4(0.16f, 0.18f, 0.21f, 0.92f));
+  for (std::size_t k = 0; k < crumbs.size(); ++k) {
+    if (k > 0) {
+      ImGui::SameLine(0, 6);
+      ImGui::TextUnformatted(">");
+      ImGui::SameLine(0, 6);
+    }
+    ImGui::PushID(static_cast<int>(k));
+    const bool here = k + 1 == crumbs.size();
+    if (here) ImGui::PushStyleColor(ImGuiCol_Button, ImVec4(0.24f, 0.36f, 0.52f, 0.95f));
+    if (ImGui::Button(crumbs[k].c_str()) && !here) canvas_->leave_subgraph_to(k);
+    if (here) ImGui::PopStyleColor();
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip(here ? "Editing this asset: changes are saved to %s and every instance follows"
+                             : "Back to this level (Shift+Tab leaves one level)",
+                        navigator_->levels().back().file.string().c_str());
+    ImGui::PopID();
+  }
+  ImGui::PopStyleColor();
+}
+
+OutputKind App::output_kind(const std::string& node, const std::string& port) const {
+  if (!navigator_->inside()) return resolve_output_kind(doc().graph(), node, port);
+  // Inner inputs fed by the interface are unconnected in the asset: follow them in the expanded root.
+  if (kind_graph_revision_ != preview_revision()) {
+    kind_graph_revision_ = preview_revision();
+    kind_graph_.reset();
+    try {
+      kind_graph_ = expand_subgraphs(document_->graph()).graph;
+    } catch (const std::exception&) {
+      // An invalid root: the asset's own links are all there is to go by.
+    }
+  }
+  const std::string id = navigator_->instance_path() + "/" + node;
+  if (!kind_graph_ || !kind_graph_->find(id)) return resolve_output_kind(doc().graph(), node, port);
+  return resolve_output_kind(*kind_graph_, id, port);
 }
 
 }  // namespace orogen::editor

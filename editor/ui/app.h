@@ -7,6 +7,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include "editor/model/recent_files.h"
 #include "editor/model/recovery.h"
 #include "editor/model/selection.h"
+#include "editor/model/subgraph_navigation.h"
 #include "editor/ui/file_dialog.h"
 #include "editor/ui/inspector.h"
 #include "editor/ui/node_canvas.h"
@@ -53,6 +55,8 @@ struct AppOptions {
   // and exit when it is done.
   bool benchmark_build = false;
   std::string palette_query;
+  std::vector<std::string> group;  // documentation screenshots: group these nodes at start (Ctrl+G)
+  std::string enter;               // documentation screenshots: enter this subgraph instance at start
   std::vector<std::string>
       plugins;  // node libraries to load at start, besides the preferences' and OROGEN_PLUGIN_PATH's
   bool offer_recovery_in_screenshot = false;  // screenshots normally skip the crash-recovery prompt  // documentation
@@ -112,7 +116,25 @@ class App {
   GLFWwindow* window_ = nullptr;
   ImFont* canvas_font_ = nullptr;
 
-  std::unique_ptr<Document> document_;
+  std::unique_ptr<Document> document_;  // the root: the file opened
+  // The subgraph levels entered (editor/model/subgraph_navigation.h); the canvas, preview and inspector work
+  // on its current level, saving and building on the root.
+  std::unique_ptr<SubgraphNavigator> navigator_;
+  Document& doc() { return navigator_->current(); }
+  const Document& doc() const { return navigator_->current(); }
+  const Document* shown_level_ = nullptr;  // the level the preview state belongs to
+  void level_changed();
+  // What previews evaluate: the root graph (in the entered instance's context, EvaluationController::
+  // set_context), and the revision that tags its results.
+  const Graph& preview_graph() const { return document_->graph(); }
+  std::uint64_t preview_revision() const { return document_->content_revision(); }
+  // What output `port` of a node of the current level holds (resolve_output_kind); inside an instance, through
+  // its inputs in the expanded root graph, kept per root revision.
+  OutputKind output_kind(const std::string& node, const std::string& port) const;
+  mutable std::optional<Graph> kind_graph_;
+  mutable std::uint64_t kind_graph_revision_ = ~std::uint64_t(0);
+  void draw_breadcrumbs();
+  std::filesystem::path open_asset_;  // the inspector's "Open asset", done after the frame's drawing
   Selection selection_;
   EvaluationController evaluation_;
   std::unique_ptr<CanvasController> canvas_;
@@ -132,7 +154,7 @@ class App {
   std::vector<RecoveryFile> recovery_offer_;
 
   FileDialog file_dialog_;
-  enum class FileAction { None, Open, SaveAs, SaveAsThen } file_action_ = FileAction::None;
+  enum class FileAction { None, Open, SaveAs, SaveAsThen, GroupTo } file_action_ = FileAction::None;
   std::function<void()> after_save_;      // continuation of Save As from the unsaved-changes prompt
   std::function<void()> pending_action_;  // waiting for the unsaved-changes prompt
   bool prompt_unsaved_ = false;

@@ -1,5 +1,8 @@
 #include "editor/ui/inspector.h"
 
+#include "editor/model/exposed_params.h"
+#include "graph/subgraph.h"
+
 #include <algorithm>
 #include <cinttypes>
 #include <cmath>
@@ -126,7 +129,25 @@ void Inspector::draw_node(Document& document, Selection& selection, const Node& 
       rename_text_ = old_id;
     }
   }
-  ImGui::TextDisabled("%s  /  %s  v%d", node.type->category.c_str(), node.type->name.c_str(), node.type->version);
+  if (const SubgraphAsset* asset = node.type->subgraph) {
+    // An instance: which asset, and the ways into it. Its exposed parameters are below like any node's.
+    ImGui::TextDisabled("subgraph  /  asset %s  v%d", asset->name.c_str(), node.type->version);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", asset->file.string().c_str());
+    if (ImGui::SmallButton("Enter")) {
+      if (enter_) enter_(node.id);
+      return;  // another level: `node` is not on the canvas any more
+    }
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("Edit the asset's nodes here (Tab or double-click); every instance follows the edits");
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Open asset")) {
+      if (open_asset_) open_asset_(asset->file);
+      return;
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Open %s as the document", asset->file.filename().string().c_str());
+  } else {
+    ImGui::TextDisabled("%s  /  %s  v%d", node.type->category.c_str(), node.type->name.c_str(), node.type->version);
+  }
   if (!node.type->library.empty()) ImGui::TextDisabled("from node library %s", node.type->library.c_str());
   // The description in a few lines, so that a long one (a citation, the attributes a node writes) does not
   // push the parameters out of view: "more" shows it whole, hovering shows it in a tooltip.
@@ -234,6 +255,29 @@ void Inspector::draw_param(Document& document, const Node& node, const ParamDecl
   ImGui::TableNextRow();
   ImGui::TableSetColumnIndex(0);
   ImGui::AlignTextToFramePadding();
+  if (document.graph().interface) {
+    // Editing an asset: which inner parameters its instances expose (editor/model/exposed_params.h).
+    const std::string as = exposed_as(document.graph(), node.id, decl.name);
+    bool on = !as.empty();
+    ImGui::PushStyleVar(ImGuiStyleVar_FramePadding, {2, 2});
+    if (ImGui::Checkbox("##expose", &on)) {
+      try {
+        set_exposed(document, node.id, decl.name, on);
+        error_.clear();
+      } catch (const std::exception& e) {
+        error_key_ = key;
+        error_ = e.what();
+      }
+    }
+    ImGui::PopStyleVar();
+    if (ImGui::IsItemHovered()) {
+      if (as.empty())
+        ImGui::SetTooltip("Expose on every instance of this asset");
+      else
+        ImGui::SetTooltip("Exposed on every instance as '%s': uncheck to hide", as.c_str());
+    }
+    ImGui::SameLine(0, 4);
+  }
   if (is_set)
     ImGui::TextUnformatted(decl.display_label().c_str());
   else

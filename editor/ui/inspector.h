@@ -3,6 +3,8 @@
 // with units and ranges, seeds with re-roll, enum combos, curve, gradient and table editors, file paths), each
 // with its description on hover and a reset to the default. With no node selected it shows the graph's
 // domain and the preview resolution.
+#include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 
@@ -17,6 +19,13 @@ class Inspector {
  public:
   explicit Inspector(EvaluationController& evaluation) : evaluation_(evaluation) {}
   void draw(Document& document, Selection& selection);
+  // What the "Enter" and "Open asset" buttons of a subgraph instance do (the app's navigation and File >
+  // Open). There is no "Make unique": the core has no embedded assets yet.
+  void set_subgraph_actions(std::function<void(const std::string&)> enter,
+                            std::function<void(const std::filesystem::path&)> open_asset) {
+    enter_ = std::move(enter);
+    open_asset_ = std::move(open_asset);
+  }
 
  private:
   void draw_node(Document& document, Selection& selection, const Node& node);
@@ -28,6 +37,8 @@ class Inspector {
   void apply(Document& document, const Node& node, const ParamDecl& decl, const ParamValue& value, bool gesture);
 
   EvaluationController& evaluation_;
+  std::function<void(const std::string&)> enter_;
+  std::function<void(const std::filesystem::path&)> open_asset_;
   FileDialog file_dialog_;
   std::string browse_node_, browse_param_;
   std::map<std::string, std::string> text_;  // in-progress text of string and path fields, by node.param

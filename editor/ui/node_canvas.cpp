@@ -8,11 +8,13 @@
 #include <cmath>
 #include <cstdio>
 #include <set>
+#include <tuple>
 
 #include <GLFW/glfw3.h>
 #include <imgui_stdlib.h>
 
 #include "editor/ui/theme.h"
+#include "graph/subgraph.h"
 
 namespace orogen::editor {
 
@@ -120,7 +122,9 @@ void NodeCanvasView::draw_thumbnail(ImDrawList* dl, const Node& node, const Rect
   if (t.data != data) {
     PreviewPixels px;
     if (auto* h = std::get_if<HeightfieldPtr>(shown))
-      px = render_heightfield(**h, style_for(resolve_output_kind(controller_.document().graph(), node.id, port)));
+      px = render_heightfield(
+          **h, style_for(output_kind_ ? output_kind_(node.id, port)
+                                      : resolve_output_kind(controller_.document().graph(), node.id, port)));
     else if (auto* im = std::get_if<ImagePtr>(shown))
       px = render_image(**im);
     else if (auto* p = std::get_if<PointsPtr>(shown))
@@ -210,17 +214,11 @@ void NodeCanvasView::feed_input(bool hovered) {
     else
       controller_.handle(KeyUp{Key::Space});
   }
-  static constexpr std::pair<int, Key> kKeys[] = {{GLFW_KEY_TAB, Key::Tab},
-                                                  {GLFW_KEY_DELETE, Key::Delete},
-                                                  {GLFW_KEY_X, Key::X},
-                                                  {GLFW_KEY_D, Key::D},
-                                                  {GLFW_KEY_C, Key::C},
-                                                  {GLFW_KEY_V, Key::V},
-                                                  {GLFW_KEY_A, Key::A},
-                                                  {GLFW_KEY_F, Key::F},
-                                                  {GLFW_KEY_HOME, Key::Home},
-                                                  {GLFW_KEY_ESCAPE, Key::Escape},
-                                                  {GLFW_KEY_BACKSPACE, Key::Delete}};
+  static constexpr std::pair<int, Key> kKeys[] = {
+      {GLFW_KEY_TAB, Key::Tab},   {GLFW_KEY_DELETE, Key::Delete}, {GLFW_KEY_X, Key::X},
+      {GLFW_KEY_D, Key::D},       {GLFW_KEY_C, Key::C},           {GLFW_KEY_V, Key::V},
+      {GLFW_KEY_A, Key::A},       {GLFW_KEY_F, Key::F},           {GLFW_KEY_G, Key::G},
+      {GLFW_KEY_HOME, Key::Home}, {GLFW_KEY_ESCAPE, Key::Escape}, {GLFW_KEY_BACKSPACE, Key::Delete}};
   for (const auto& [glfw_key, key] : kKeys)
     if (ImGui::IsKeyPressed(glfw_key, false)) controller_.handle(KeyDown{key, mods});
 }
@@ -320,6 +318,16 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
   const auto& drag = controller_.link_drag();
   const Rect viewport = v.viewport();
 
+  // In an asset (a subgraph entered or opened): the inner ports its interface feeds and presents, drawn as
+  // linked to the outside, with the interface port's name.
+  std::map<std::pair<std::string, std::string>, std::string> interface_ports;
+  std::vector<std::tuple<ImVec2, std::string, ImU32>> stub_labels;
+  if (graph.interface) {
+    for (const auto& in : graph.interface->inputs)
+      for (const auto& t : in.targets) interface_ports[{t.node, t.name}] = in.port.name;
+    for (const auto& out : graph.interface->outputs)
+      interface_ports[{out.source.node, out.source.port}] = out.port.name;
+  }
   // Which outputs are used, to fill their pins.
   std::set<std::pair<std::string, std::string>> used_outputs;
   for (const auto& n : graph.nodes())
@@ -380,8 +388,10 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
     for (const auto* pins : {&nl.inputs, &nl.outputs})
       for (const auto& p : *pins) {
         const ImVec2 c = iv(v.to_screen(p.position));
+        const auto exposed = interface_ports.find({nl.id, p.pin.port});
         const bool connected =
-            p.pin.output ? used_outputs.count({nl.id, p.pin.port}) != 0 : node.inputs.count(p.pin.port) != 0;
+            exposed != interface_ports.end() ||
+            (p.pin.output ? used_outputs.count({nl.id, p.pin.port}) != 0 : node.inputs.count(p.pin.port) != 0);
         float alpha = 1.0f;
         bool highlight = false;
         if (drag) {
@@ -396,6 +406,20 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
         dl->AddCircleFilled(c, radius, connected ? color : theme::with_alpha(IM_COL32(30, 32, 36, 255), alpha));
         dl->AddCircle(c, radius, color, 0, 1.8f * std::max(zoom, 0.6f));
         if (highlight) dl->AddCircle(c, radius + 3.0f * zoom, IM_COL32(255, 255, 255, 200), 0, 1.5f);
+        if (exposed != interface_ports.end()) {
+          // A stub out of the node to the interface port it is linked to.
+          const float dir = p.pin.output ? 1.0f : -1.0f, stub = 26.0f * zoom;
+          dl->AddLine({c.x + dir * radius, c.y}, {c.x + dir * stub, c.y}, theme::with_alpha(color, 0.8f * alpha),
+                      2.0f * std::max(zoom, 0.6f));
+          dl->AddCircle({c.x + dir * stub, c.y}, radius * 0.7f, color, 0, 1.5f);
+          if (show_text) {
+            const std::string& label = exposed->second;
+            const ImVec2 ts = font->CalcTextSizeA(font_size * 0.85f, FLT_MAX, 0.0f, label.c_str());
+            const float x = p.pin.output ? c.x + stub + 8.0f * zoom : c.x - stub - 8.0f * zoom - ts.x;
+            stub_labels.emplace_back(ImVec2{x, c.y - font_size * 0.45f}, label,
+                                     theme::with_alpha(theme::kTextDim, alpha));
+          }
+        }
         if (show_text) {
           const char* label = p.pin.port.c_str();
           const ImVec2 ts = font->CalcTextSizeA(font_size, FLT_MAX, 0.0f, label);
@@ -437,6 +461,14 @@ void NodeCanvasView::draw_nodes(ImDrawList* dl, const std::string& previewed) {
         dl->PopClipRect();
       }
     }
+  }
+  // Interface stubs' labels over every node: they stick out into the space between nodes.
+  for (const auto& [pos, label, color] : stub_labels) {
+    const ImVec2 ts = font->CalcTextSizeA(font_size * 0.85f, FLT_MAX, 0.0f, label.c_str());
+    const float pad = 3.0f * zoom;
+    dl->AddRectFilled({pos.x - pad, pos.y - pad * 0.5f}, {pos.x + ts.x + pad, pos.y + ts.y + pad * 0.5f},
+                      IM_COL32(24, 26, 30, 235), 3.0f * zoom);
+    dl->AddText(font, font_size * 0.85f, pos, color, label.c_str());
   }
 }
 

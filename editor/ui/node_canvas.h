@@ -2,6 +2,7 @@
 // The node canvas view: draws the graph (grid, links, nodes with their status, the link being dragged,
 // the selection box, the palette) and turns this frame's ImGui input into InputEvents for the
 // CanvasController, which does all the deciding.
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -10,6 +11,7 @@
 
 #include "editor/model/canvas_controller.h"
 #include "editor/model/evaluation_controller.h"
+#include "editor/model/preview_image.h"
 #include "editor/ui/gl_texture.h"
 
 namespace orogen::editor {
@@ -22,6 +24,11 @@ class NodeCanvasView {
   NodeCanvasView(CanvasController& controller, const EvaluationController& evaluation);
   // Text is drawn with the bake closest to its size: `small` when zoomed out, `large` when zoomed in
   // (glyphs minified far below their bake size break up). Null: the current font.
+  // What a heightfield output holds, for its thumbnail's colors (the app's: inside a subgraph it looks through
+  // the instance's inputs). Default: resolve_output_kind on the canvas's graph.
+  void set_output_kind(std::function<OutputKind(const std::string& node, const std::string& port)> kind) {
+    output_kind_ = std::move(kind);
+  }
   void set_fonts(ImFont* small, ImFont* large) {
     small_font_ = small;
     large_font_ = large;
@@ -60,6 +67,7 @@ class NodeCanvasView {
   ImFont* text_font(float size) const;
 
   CanvasController& controller_;
+  std::function<OutputKind(const std::string&, const std::string&)> output_kind_;
   ImFont* small_font_ = nullptr;
   ImFont* large_font_ = nullptr;
   const EvaluationController& evaluation_;

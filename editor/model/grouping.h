@@ -1,0 +1,69 @@
+#pragma once
+// Group and ungroup (Ctrl+G, Ctrl+Shift+G): a selection of nodes becomes a subgraph asset file plus one
+// instance wired the way the selection was; an instance becomes its asset's nodes again. Both are one undo
+// step of the document (the asset file stays on disk: redo needs it). See docs/subgraphs.md, "In the editor".
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "editor/model/document.h"
+#include "graph/subgraph.h"
+
+namespace orogen::editor {
+
+// What a selection needs from outside and gives to it: the links crossing its border.
+struct GroupPlan {
+  std::vector<std::string> nodes;  // the selection, in graph order
+  struct Input {
+    std::string name;  // the interface input
+    PortType type = PortType::Heightfield;
+    PortRef source;                       // the outside output feeding it
+    std::vector<SubgraphTarget> targets;  // the inside inputs it feeds
+  };
+  struct Output {
+    std::string name;  // the interface output
+    PortType type = PortType::Heightfield;
+    PortRef source;                         // the inside output it presents
+    std::vector<SubgraphTarget> consumers;  // the outside inputs it feeds
+  };
+  std::vector<Input> inputs;    // one per distinct outside output feeding the selection
+  std::vector<Output> outputs;  // one per inside output feeding something outside
+};
+
+// Throws DocumentError for an empty selection, unknown ids, or a selection that cannot be grouped without
+// making a cycle (a path leaves the selection and comes back into it).
+GroupPlan plan_group(const Graph& graph, const std::vector<std::string>& ids);
+
+// The asset file a plan makes: the selected nodes (positions moved to start at 0,0) and the interface the
+// crossing links need. Nested instances and relative input paths are rebased from `graph_dir` to the asset's
+// folder. `description` documents the asset.
+Graph make_group_asset(const Graph& graph, const GroupPlan& plan, const std::filesystem::path& graph_dir,
+                       const std::filesystem::path& asset_dir, const std::string& description);
+
+// A free "NAME.orogen-subgraph.json" in `dir` (group, group2, ...), not taken by a file.
+std::filesystem::path free_asset_path(const std::filesystem::path& dir, const std::string& base = "group");
+
+// The folder relative asset references and input paths of a document resolve against: its file's folder,
+// else the graph's directory (empty: the current directory).
+std::filesystem::path document_directory(const Document& document);
+
+struct GroupResult {
+  std::string instance;              // the new instance's id
+  std::filesystem::path asset_file;  // the asset written
+  const SubgraphAsset* asset = nullptr;
+};
+// Groups `ids` of the document: writes the asset to `asset_file` (default: a free name beside the document's
+// file, which must then have one), and replaces the selection with an instance wired like it, in one undo
+// step. Throws DocumentError (nothing written, nothing changed) when the selection cannot be grouped.
+GroupResult group_nodes(Document& document, const std::vector<std::string>& ids, std::filesystem::path asset_file = {});
+
+// Replaces instance `id` of `graph` by its asset's nodes (one level): the exposed values written into the
+// parameters they map to, links rewired through the interface, positions around the instance's. Inner ids
+// keep their names when free. Returns the new nodes' ids. Throws GraphError if `id` is not an instance.
+std::vector<std::string> inline_instance(Graph& graph, const std::string& id, const std::filesystem::path& graph_dir);
+// The same as one undo step of the document.
+std::vector<std::string> ungroup_node(Document& document, const std::string& id);
+
+}  // namespace orogen::editor
