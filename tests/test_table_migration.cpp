@@ -20,6 +20,14 @@
 namespace orogen {
 namespace {
 
+// Loader options with unconnected inputs accepted (a designated initializer would leave later fields to
+// -Wmissing-field-initializers).
+LoadOptions unconnected_inputs_allowed() {
+  LoadOptions options;
+  options.allow_unconnected_inputs = true;
+  return options;
+}
+
 using nlohmann::json;
 
 // A version-4 file with one node of `type` and these params, migrated; returns the node's params.
@@ -156,7 +164,7 @@ TEST(TableMigration, LeavesWhatItCannotReadToTheLoader) {
   EXPECT_EQ(p["colors"], 3);
   const auto r = parse_graph(R"({"format": "orogen-graph", "version": 4, "nodes": [
     {"id": "c", "type": "ColorByLayers", "params": {"colors": 3}}]})",
-                             LoadOptions{.allow_unconnected_inputs = true});
+                             unconnected_inputs_allowed());
   ASSERT_EQ(r.diagnostics.size(), 1u) << r.error_text();
   EXPECT_EQ(r.diagnostics[0].path, "/nodes/0/params/colors");
   // A string the old parser refused fails the migration with the node and the line.

@@ -5,6 +5,7 @@
 #include "graph/mesh.h"
 #include "graph/registry.h"
 #include "nodes/geometry/mesh_base.h"
+#include "nodes/io/block_writer.h"
 #include "nodes/io/mesh_file.h"
 #include "nodes/io/write_output.h"
 
@@ -53,11 +54,12 @@ OROGEN_NODE(WriteMesh) {
       .description(
           "Closes the mesh into a solid (every edge shared by two faces) for 3D printing: walls down from the open "
           "border to this many metres below the lowest vertex and a flat bottom. 0: the open surface");
-  // The writers stream the file from the mesh through a 1 MiB block: beyond it only OBJ's texture coordinates
+  // The writers stream the file from the mesh through a 1 MiB block (counted); beyond it only OBJ's texture coordinates
   // (8 of a vertex's ~100 bytes; a quarter of the mesh allowed), and with base_depth the closed copy of the mesh.
   b.extra_bytes([](const CostQuery& q) {
     const std::uint64_t in = input_bytes(q, "in");
-    return in / 4 + (q.params.get<double>("base_depth") > 0.0 ? 3 * in / 2 : 0);
+    return BlockWriter::kBlock + BlockWriter::kMaxRoom + in / 4 +
+           (q.params.get<double>("base_depth") > 0.0 ? 3 * in / 2 : 0);
   });
   b.execute([](ExecContext& ctx) {
     const auto mesh = ctx.require<Mesh>("in");

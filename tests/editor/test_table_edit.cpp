@@ -11,13 +11,21 @@
 namespace orogen::editor {
 namespace {
 
+// Loader options with unconnected inputs accepted (a designated initializer would leave later fields to
+// -Wmissing-field-initializers).
+LoadOptions unconnected_inputs_allowed() {
+  LoadOptions options;
+  options.allow_unconnected_inputs = true;
+  return options;
+}
+
 // A ColorByLayers node: its `colors` table is (name: text, color: color).
 Graph color_graph() {
   const auto r = parse_graph(R"({"format": "orogen-graph", "version": 6,
     "domain": {"size": [100, 100], "resolution": [9, 9]},
     "nodes": [{"id": "color", "type": "ColorByLayers", "params": {"colors": [
       {"name": "grass", "color": "#5b7f32"}, {"name": "rock", "color": "#80786f"}]}}]})",
-                             LoadOptions{.allow_unconnected_inputs = true});
+                             unconnected_inputs_allowed());
   EXPECT_TRUE(r.ok()) << r.error_text();
   return *r.graph;
 }
@@ -88,7 +96,7 @@ TEST(TableEdit, DraggingACellMergesIntoOneStep) {
   TableSchema s = NodeRegistry::instance().find("SplatWeights")->find_param("rules")->table;
   const auto r =
       parse_graph(R"({"format": "orogen-graph", "version": 6, "nodes": [{"id": "s", "type": "SplatWeights"}]})",
-                  LoadOptions{.allow_unconnected_inputs = true});
+                  unconnected_inputs_allowed());
   ASSERT_TRUE(r.ok()) << r.error_text();
   Document doc(*r.graph);
   const int threshold = s.index("threshold");
@@ -116,7 +124,7 @@ TEST(TableEdit, InvalidEditsAreRefusedWithRowAndColumn) {
   // Removing below the minimum row count (SplatWeights needs a layer) is refused too.
   const auto r = parse_graph(R"({"format": "orogen-graph", "version": 6, "nodes": [{"id": "s", "type": "SplatWeights",
     "params": {"layers": [{"name": "only", "weight": 1}], "rules": []}}]})",
-                             LoadOptions{.allow_unconnected_inputs = true});
+                             unconnected_inputs_allowed());
   ASSERT_TRUE(r.ok()) << r.error_text();
   Document splat(*r.graph);
   EXPECT_THROW(splat.set_param("s", "layers", remove_row(std::get<TableValue>(splat.graph().param("s", "layers")), 0)),
