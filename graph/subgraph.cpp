@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "graph/asset_reference.h"
 #include "graph/exec_context.h"
 #include "graph/graph_file.h"
 
@@ -57,19 +58,6 @@ std::vector<LibraryAssetFile> list_subgraph_library() {
 }
 
 namespace {
-
-bool is_path_reference(const std::string& reference) {
-  return reference.find('/') != std::string::npos || reference.find('\\') != std::string::npos ||
-         (reference.size() >= 5 && reference.compare(reference.size() - 5, 5, ".json") == 0);
-}
-
-std::string asset_name_of(const fs::path& file) {
-  std::string name = file.filename().string();
-  const std::string suffix = kSubgraphFileSuffix;
-  if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
-    return name.substr(0, name.size() - suffix.size());
-  return file.stem().string();
-}
 
 // The type of an asset's instances: the interface's ports and exposed parameters. It never runs: the
 // evaluator expands instances first.

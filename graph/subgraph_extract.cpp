@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "graph/asset_reference.h"
 #include "graph/graph_file.h"
 #include "graph/json_util.h"
 #include "graph/subgraph.h"
@@ -42,11 +43,6 @@ std::string rebase(const std::string& value, const fs::path& from, const fs::pat
   return relative.empty() ? target.string() : relative.generic_string();
 }
 
-bool is_path_reference(const std::string& reference) {
-  return reference.find('/') != std::string::npos || reference.find('\\') != std::string::npos ||
-         (reference.size() >= 5 && reference.compare(reference.size() - 5, 5, ".json") == 0);
-}
-
 // An interface name from `base` (a port or parameter name, or "node_port"): letters, digits, '_' and '-'.
 std::string identifier(std::string base) {
   for (char& c : base)
@@ -63,14 +59,6 @@ std::string unique_name(std::set<std::string>& used, const std::string& preferre
   for (int k = 2; used.count(name); ++k) name = base + std::to_string(k);
   used.insert(name);
   return name;
-}
-
-std::string asset_name_of(const fs::path& file) {
-  std::string name = file.filename().string();
-  const std::string suffix = kSubgraphFileSuffix;
-  if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
-    return name.substr(0, name.size() - suffix.size());
-  return file.stem().string();
 }
 
 bool writes_files(const Node& node) {

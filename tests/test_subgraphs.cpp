@@ -362,8 +362,8 @@ json promotion_level(const json& node, const std::string& target) {
       {"nodes", {node}}};
 }
 
-TEST(Subgraphs, PromotionThroughThreeLevels) {
-  const fs::path dir = scratch_dir("subgraph_promotion");
+// l1 (an FBM exposing its feature size as `size`) and l2 (an instance of l1 promoting it) in `dir`.
+void write_two_promotion_levels(const fs::path& dir) {
   write_json(
       dir / "l1.orogen-subgraph.json",
       promotion_level({{"id", "noise"}, {"type", "FBM"}, {"params", {{"feature_size", 300}}}}, "noise.feature_size"));
@@ -371,6 +371,11 @@ TEST(Subgraphs, PromotionThroughThreeLevels) {
       dir / "l2.orogen-subgraph.json",
       promotion_level({{"id", "one"}, {"type", "Subgraph"}, {"asset", "l1.orogen-subgraph.json"}, {"asset_version", 1}},
                       "one.size"));
+}
+
+TEST(Subgraphs, PromotionThroughThreeLevels) {
+  const fs::path dir = scratch_dir("subgraph_promotion");
+  write_two_promotion_levels(dir);
   fs::create_directories(dir / "sub");  // a nested asset's path resolves against its own folder
   write_json(dir / "sub" / "l3.orogen-subgraph.json",
              promotion_level(
@@ -685,13 +690,7 @@ TEST(Subgraphs, NodeReferenceListsTheLibrary) {
 // innermost node's parameter all set the same FBM feature size.
 TEST(Subgraphs, CliSetReachesNestedInstances) {
   const fs::path dir = scratch_dir("subgraph_cli_nested");
-  write_json(
-      dir / "l1.orogen-subgraph.json",
-      promotion_level({{"id", "noise"}, {"type", "FBM"}, {"params", {{"feature_size", 300}}}}, "noise.feature_size"));
-  write_json(
-      dir / "l2.orogen-subgraph.json",
-      promotion_level({{"id", "one"}, {"type", "Subgraph"}, {"asset", "l1.orogen-subgraph.json"}, {"asset_version", 1}},
-                      "one.size"));
+  write_two_promotion_levels(dir);
   write_text(
       dir / "graph.json",
       graph_text({{{"id", "top"}, {"type", "Subgraph"}, {"asset", "l2.orogen-subgraph.json"}, {"asset_version", 1}},
