@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "editor/model/interface_reread.h"
 #include "editor/model/node_layout.h"
 #include "graph/graph_file.h"
 
@@ -150,17 +151,11 @@ std::shared_ptr<const SubgraphInterface> renamed_interface(const Graph& renamed,
           rename(entry[field]);
       }
   }
-  // Read back whole (targets, declarations) from the file form.
-  Graph next = renamed;
-  auto text = std::make_shared<SubgraphInterface>(*renamed.interface);
-  text->json_text = in.dump();
-  next.interface = text;
-  LoadOptions options;
-  options.directory = renamed.directory;
-  options.allow_unconnected_inputs = true;
-  options.keep_partial = true;
-  const LoadResult reread = parse_graph(serialize_graph(next), options);
-  return reread.graph && reread.graph->interface ? reread.graph->interface : next.interface;
+  const LoadResult reread = reread_with_interface(renamed, in, /*keep_partial=*/true);
+  if (reread.graph && reread.graph->interface) return reread.graph->interface;
+  auto text_only = std::make_shared<SubgraphInterface>(*renamed.interface);  // what could not be read whole
+  text_only->json_text = in.dump();
+  return text_only;
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "editor/model/interface_reread.h"
 #include "graph/graph_file.h"
 #include "graph/subgraph.h"
 
@@ -65,14 +66,7 @@ std::string set_exposed(Document& document, const std::string& node, const std::
       1;
 
   // The interface read back from the file form, so that it is whole (targets, declarations), not just text.
-  Graph next = graph;
-  auto text_only = std::make_shared<SubgraphInterface>(*graph.interface);
-  text_only->json_text = in.dump();
-  next.interface = text_only;
-  LoadOptions options;
-  options.directory = graph.directory;
-  options.allow_unconnected_inputs = true;
-  const LoadResult reread = parse_graph(serialize_graph(next), options);
+  const LoadResult reread = reread_with_interface(graph, in, /*keep_partial=*/false);
   if (!reread.graph || !reread.graph->interface)
     throw DocumentError("cannot " + std::string(exposed ? "expose " : "hide ") + target + ":\n" + reread.error_text());
   for (const auto& d : reread.diagnostics)

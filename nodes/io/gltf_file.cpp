@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 
 #include <tiny_gltf.h>
 
@@ -86,52 +87,39 @@ void write_gltf_file(const Mesh& mesh, const std::filesystem::path& path, bool b
   GltfBuffer buffer;
   tinygltf::Primitive prim;
   prim.mode = TINYGLTF_MODE_TRIANGLES;
-  const std::size_t vec3_bytes = live_vertices * 3 * sizeof(float);
-  const int pos = add_accessor(m,
-                               add_view(m, buffer, vec3_bytes,
-                                        vertex_floats<3>(src,
-                                                         [&src](auto v, float* q) {
-                                                           const auto p = src.point(v);
-                                                           q[0] = p[0], q[1] = p[2], q[2] = -p[1];
-                                                         }),
-                                        TINYGLTF_TARGET_ARRAY_BUFFER),
-                               TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, nv);
+  // A float attribute of N components per vertex, streamed from the mesh by `get` (vertex, out).
+  const auto attribute = [&]<int N>(std::integral_constant<int, N>, int type, auto get) {
+    return add_accessor(m,
+                        add_view(m, buffer, live_vertices * N * sizeof(float), vertex_floats<N>(src, get),
+                                 TINYGLTF_TARGET_ARRAY_BUFFER),
+                        TINYGLTF_COMPONENT_TYPE_FLOAT, type, nv);
+  };
+  constexpr std::integral_constant<int, 2> two;
+  constexpr std::integral_constant<int, 3> three;
+  constexpr std::integral_constant<int, 4> four;
+  // glTF is y-up, right-handed: (x, y, z) -> (x, z, -y).
+  const int pos = attribute(three, TINYGLTF_TYPE_VEC3, [&src](auto v, float* q) {
+    const auto p = src.point(v);
+    q[0] = p[0], q[1] = p[2], q[2] = -p[1];
+  });
   m.accessors[static_cast<std::size_t>(pos)].minValues = {lo[0], lo[1], lo[2]};
   m.accessors[static_cast<std::size_t>(pos)].maxValues = {hi[0], hi[1], hi[2]};
   prim.attributes["POSITION"] = pos;
   if (has_normal)
-    prim.attributes["NORMAL"] = add_accessor(m,
-                                             add_view(m, buffer, vec3_bytes,
-                                                      vertex_floats<3>(src,
-                                                                       [&src](auto v, float* q) {
-                                                                         const auto n = src.normal(v);
-                                                                         q[0] = n[0], q[1] = n[2], q[2] = -n[1];
-                                                                       }),
-                                                      TINYGLTF_TARGET_ARRAY_BUFFER),
-                                             TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, nv);
+    prim.attributes["NORMAL"] = attribute(three, TINYGLTF_TYPE_VEC3, [&src](auto v, float* q) {
+      const auto n = src.normal(v);
+      q[0] = n[0], q[1] = n[2], q[2] = -n[1];
+    });
   if (has_color)
-    prim.attributes["COLOR_0"] =
-        add_accessor(m,
-                     add_view(m, buffer, live_vertices * 4 * sizeof(float),
-                              vertex_floats<4>(src,
-                                               [&src](auto v, float* q) {
-                                                 const auto c = src.color(v);  // linear, as glTF expects
-                                                 for (int k = 0; k < 4; ++k)
-                                                   q[k] = std::clamp(std::isnan(c[k]) ? 1.0f : c[k], 0.0f, 1.0f);
-                                               }),
-                              TINYGLTF_TARGET_ARRAY_BUFFER),
-                     TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, nv);
+    prim.attributes["COLOR_0"] = attribute(four, TINYGLTF_TYPE_VEC4, [&src](auto v, float* q) {
+      const auto c = src.color(v);  // linear, as glTF expects
+      for (int k = 0; k < 4; ++k) q[k] = std::clamp(std::isnan(c[k]) ? 1.0f : c[k], 0.0f, 1.0f);
+    });
   if (has_uv)
-    prim.attributes["TEXCOORD_0"] =
-        add_accessor(m,
-                     add_view(m, buffer, live_vertices * 2 * sizeof(float),
-                              vertex_floats<2>(src,
-                                               [&src](auto v, float* q) {
-                                                 const auto t = src.texcoord2D(v);
-                                                 q[0] = t[0], q[1] = 1.0f - t[1];  // glTF's v runs down the image
-                                               }),
-                              TINYGLTF_TARGET_ARRAY_BUFFER),
-                     TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, nv);
+    prim.attributes["TEXCOORD_0"] = attribute(two, TINYGLTF_TYPE_VEC2, [&src](auto v, float* q) {
+      const auto t = src.texcoord2D(v);
+      q[0] = t[0], q[1] = 1.0f - t[1];  // glTF's v runs down the image
+    });
   const auto indices = [&src](const GltfBuffer::Sink& sink) {
     SinkStaging<std::uint32_t> out(sink);
     for (auto f : src.faces())

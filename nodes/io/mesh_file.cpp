@@ -59,6 +59,18 @@ std::array<TriMesh::VertexHandle, 3> corners(const TriMesh& m, TriMesh::FaceHand
 // Orogen is z-up; y_up writes (x, z, -y). 0 - y, not -y: a southern edge at y = 0 is written "0", not "-0".
 OpenMesh::Vec3f axes(OpenMesh::Vec3f p, bool y_up) { return y_up ? OpenMesh::Vec3f(p[0], p[2], 0.0f - p[1]) : p; }
 
+// One OBJ line: `prefix` and `count` floats at 9 significant digits (they read back exactly).
+void put_obj_line(BlockWriter& out, std::string_view prefix, const float* values, int count) {
+  char* const start = out.room();
+  char* p = put_text(start, prefix);
+  for (int k = 0; k < count; ++k) {
+    if (k > 0) *p++ = ' ';
+    p = put_float(p, values[k], 9);
+  }
+  *p++ = '\n';
+  out.advance(static_cast<std::size_t>(p - start));
+}
+
 // OBJ (Wavefront) text with positions, optional normals and texture coordinates, and an optional material.
 // Written here rather than by OpenMesh's OBJ writer, which has no way to name a texture for vertex UVs.
 // Formatted straight into the output block, which is written as it fills.
@@ -70,38 +82,17 @@ void write_obj(const TriMesh& m, const std::filesystem::path& path, const MeshWr
   // Axes converted here, not in a copy of the mesh: copying a mesh of millions of vertices is one long call
   // that cannot be cancelled.
   for (auto v : m.vertices()) {
-    const auto q = axes(m.point(v), options.y_up);
-    char* p = put_text(out.room(), "v ");
-    p = put_float(p, q[0], 9);
-    *p++ = ' ';
-    p = put_float(p, q[1], 9);
-    *p++ = ' ';
-    p = put_float(p, q[2], 9);
-    *p++ = '\n';
-    out.advance(static_cast<std::size_t>(p - out.room()));
+    put_obj_line(out, "v ", axes(m.point(v), options.y_up).data(), 3);
     poll();
   }
   const bool uv = !uvs.empty();
   for (const auto& t : uvs) {
-    char* p = put_text(out.room(), "vt ");
-    p = put_float(p, t[0], 9);
-    *p++ = ' ';
-    p = put_float(p, t[1], 9);
-    *p++ = '\n';
-    out.advance(static_cast<std::size_t>(p - out.room()));
+    put_obj_line(out, "vt ", t.data(), 2);
     poll();
   }
   if (options.normals)
     for (auto v : m.vertices()) {
-      const auto n = axes(m.normal(v), options.y_up);
-      char* p = put_text(out.room(), "vn ");
-      p = put_float(p, n[0], 9);
-      *p++ = ' ';
-      p = put_float(p, n[1], 9);
-      *p++ = ' ';
-      p = put_float(p, n[2], 9);
-      *p++ = '\n';
-      out.advance(static_cast<std::size_t>(p - out.room()));
+      put_obj_line(out, "vn ", axes(m.normal(v), options.y_up).data(), 3);
       poll();
     }
   if (!options.material_library.empty()) out.put("usemtl terrain\n");
