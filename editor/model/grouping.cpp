@@ -7,6 +7,7 @@
 #include <glm/common.hpp>
 #include <nlohmann/json.hpp>
 
+#include "graph/asset_reference.h"
 #include "graph/graph_file.h"
 
 namespace orogen::editor {
@@ -15,11 +16,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-
-bool is_path_reference(const std::string& reference) {
-  return reference.find('/') != std::string::npos || reference.find('\\') != std::string::npos ||
-         (reference.size() >= 5 && reference.compare(reference.size() - 5, 5, ".json") == 0);
-}
 
 fs::path or_current(const fs::path& dir) {
   if (!dir.empty()) return dir;
