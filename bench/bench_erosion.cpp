@@ -13,6 +13,9 @@
 //     the DrainageMetrics figures (pits per million cells outside lakes, Flint's concavity and its R^2, Hack's
 //     exponent, the bifurcation ratio) and the time to evaluate. --drainage=eroded_mountains,game_world picks
 //     graphs; --drainage_sides=257,513 picks resolutions (0: the file's).
+//   orogen_bench_erosion --storm=1024 [--storm_reference=DIR]  the island's storm (graphs/voronoi_island.json at
+//     1024^2): its time and volumes moved, and against DIR (where an older build wrote the graph at the same
+//     resolution) the reference's volumes and the correlation of the two change maps
 //   orogen_bench_erosion --benchmark_filter='StreamPower/threads:1/side:1024/routing:0' --sp_steps=5
 //     StreamPower's arguments: threads, side, routing (0 basin graph, 1 Priority-Flood) and start (0 raw fBm,
 //     1 after --sp_warm_steps=20 steps); --sp_steps time steps per run
@@ -38,6 +41,7 @@
 #include <tbb/task_arena.h>
 
 #include "bench/heap_reuse.h"
+#include "graph/subgraph.h"
 #include "evaluator/evaluator.h"
 #include "graph/graph_file.h"
 #include "graph/report.h"
@@ -321,6 +325,92 @@ int study(const std::string& only, double channel_area, double pipe_duration) {
   return 0;
 }
 
+// ---- The island's storm against a reference build (issue 27, item 1) ----
+
+// Box average of a map onto a 256^2 lattice of whole blocks (side / 256 samples a block; the remainder rows and
+// columns are left out).
+std::vector<double> blocks256(const Heightfield& m, const Heightfield* minus = nullptr) {
+  const int f = std::max(1, m.width() / 256);
+  std::vector<double> c(256 * 256, 0.0);
+  for (int j = 0; j < 256 * f && j < m.height(); ++j)
+    for (int i = 0; i < 256 * f && i < m.width(); ++i)
+      c[(j / f) * 256 + i / f] += static_cast<double>(m.at(i, j)) - (minus ? minus->at(i, j) : 0.0f);
+  return c;
+}
+
+// Removed and deposited volume (m^3) of the change out - in over the land (in >= 0).
+std::pair<double, double> moved_volume(const Heightfield& in, const Heightfield& out) {
+  double removed = 0, deposited = 0;
+  const double cell = in.domain.spacing.x * in.domain.spacing.y;
+  for (std::size_t k = 0; k < in.data.size(); ++k) {
+    if (in.data[k] < 0.0f) continue;
+    const double c = static_cast<double>(out.data[k]) - in.data[k];
+    (c < 0 ? removed : deposited) += std::abs(c) * cell;
+  }
+  return {removed, deposited};
+}
+
+// graphs/voronoi_island.json at `side` samples: the PipeErosion storm's time and result, and, with `reference`
+// (a folder where an older build wrote the graph at the same resolution, e.g. `orogen eval
+// graphs/voronoi_island.json --resolution 1024 -o REF`), the same figures for the reference and the
+// correlation of the two change maps (eroded minus initial height, box-averaged to 256^2, and per sample).
+int storm(int side, const std::string& reference, const std::string& set) {
+  const std::string path = std::string(OROGEN_SOURCE_DIR) + "/graphs/voronoi_island.json";
+  auto loaded = load_graph_file(path);
+  if (!loaded.ok()) {
+    std::fprintf(stderr, "%s: %s\n", path.c_str(), loaded.error_text().c_str());
+    return 1;
+  }
+  // Expanded, so that the storm's inner node can be set and read ("island/eroded", fed by "island/terrain").
+  Graph graph = expand_subgraphs(*loaded.graph).graph;
+  if (!set.empty()) {  // NODE.PARAM=NUMBER, e.g. island/eroded.courant=0.5
+    const auto dot = set.rfind('.', set.find('=')), eq = set.find('=');
+    graph.set_param(set.substr(0, dot), set.substr(dot + 1, eq - dot - 1), std::atof(set.c_str() + eq + 1));
+  }
+  std::vector<std::string> request_nodes = {"island/eroded", "island/terrain"};
+  if (!reference.empty()) {
+    graph.add_node("ReadHeightfield", "reference_height");
+    graph.set_param("reference_height", "path", reference + "/voronoi_island/height.exr");
+    request_nodes.push_back("reference_height");
+  }
+  GraphDomain gd = graph.domain;
+  const double cell = gd.size.x / (side - 1);
+  gd.resolution = {side, static_cast<int>(std::lround(gd.size.y / cell)) + 1};
+  Evaluator evaluator;
+  EvalRequest request;
+  request.domain = gd.to_domain();
+  request.nodes = request_nodes;
+  const std::clock_t c0 = std::clock();
+  const auto result = evaluator.evaluate(graph, request);
+  const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  if (!result.ok()) {
+    for (const auto& [id, rep] : result.nodes)
+      if (!rep.message.empty()) std::fprintf(stderr, "%s: %s\n", id.c_str(), rep.message.c_str());
+    return 1;
+  }
+  const auto field = [&](const std::string& node, const std::string& port) {
+    return std::get<std::shared_ptr<const Heightfield>>(result.output(node, port, graph));
+  };
+  const auto initial = field("island/terrain", "out"), eroded = field("island/eroded", "out");
+  const auto storm_ms = result.nodes.at("island/eroded").milliseconds;
+  const auto [removed, deposited] = moved_volume(*initial, *eroded);
+  std::printf("voronoi_island at %d^2: storm %.1f s wall, evaluation %.1f s CPU; removed %.4g m3, deposited %.4g m3\n",
+              side, storm_ms / 1e3, cpu, removed, deposited);
+  if (!reference.empty()) {
+    const auto ref = field("reference_height", "out");
+    const auto [ref_removed, ref_deposited] = moved_volume(*initial, *ref);
+    std::vector<double> a(initial->data.size()), b(initial->data.size());
+    for (std::size_t k = 0; k < a.size(); ++k)
+      a[k] = static_cast<double>(eroded->data[k]) - initial->data[k],
+      b[k] = static_cast<double>(ref->data[k]) - initial->data[k];
+    std::printf("reference: removed %.4g m3, deposited %.4g m3; removed ratio %.3f, deposited ratio %.3f\n",
+                ref_removed, ref_deposited, removed / ref_removed, deposited / ref_deposited);
+    std::printf("correlation of the change maps: %.3f box-averaged to 256^2, %.3f per sample\n",
+                correlation(blocks256(*eroded, initial.get()), blocks256(*ref, initial.get())), correlation(a, b));
+  }
+  return 0;
+}
+
 // ---- Drainage realism of the eroding example graphs (issue 29) ----
 
 // A graph that erodes, the node whose output is its eroded terrain, the terrain before its particle or pipe
@@ -442,6 +532,8 @@ int main(int argc, char** argv) {
   std::string only;
   double channel_area = 0.0;
   double pipe_duration = 240.0;
+  int storm_side = 0;
+  std::string storm_reference, storm_set;
   for (int i = 0; i < argc; ++i) {
     if (std::strcmp(argv[i], "--study") == 0)
       run_study = true;
@@ -457,6 +549,12 @@ int main(int argc, char** argv) {
       channel_area = std::atof(argv[i] + 15);
     else if (std::strncmp(argv[i], "--pipe_duration=", 16) == 0)
       pipe_duration = std::atof(argv[i] + 16);
+    else if (std::strncmp(argv[i], "--storm=", 8) == 0)
+      storm_side = std::atoi(argv[i] + 8);
+    else if (std::strncmp(argv[i], "--storm_reference=", 18) == 0)
+      storm_reference = argv[i] + 18;
+    else if (std::strncmp(argv[i], "--storm_set=", 12) == 0)
+      storm_set = argv[i] + 12;
     else if (std::strncmp(argv[i], "--side=", 7) == 0)
       g_side = std::atoi(argv[i] + 7);
     else if (std::strncmp(argv[i], "--sp_steps=", 11) == 0)
@@ -468,6 +566,7 @@ int main(int argc, char** argv) {
   }
   if (run_study) return study(only, channel_area, pipe_duration);
   if (run_drainage) return drainage(drainage_graphs, drainage_sides);
+  if (storm_side > 1) return storm(storm_side, storm_reference, storm_set);
   int n = static_cast<int>(args.size());
   benchmark::Initialize(&n, args.data());
   benchmark::RunSpecifiedBenchmarks();

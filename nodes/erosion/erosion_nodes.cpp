@@ -261,7 +261,7 @@ OROGEN_NODE(PipeErosion) {
       .unit(Unit::Metre)
       .description("Soil doubles in hardness every layer_depth eroded (0: uniform soil)");
   b.param_float("sea_level", -1e4).range(-1e9, 1e9).unit(Unit::Metre).description("Cells below are sinks");
-  b.param_seed("seed", 0).description("Drops mode: where drops fall hashes (seed, step, cell)");
+  b.param_seed("seed", 0).description("Drops mode: where drops fall hashes (seed, step, row)");
   // Working memory beyond the outputs, 64 bytes a sample (calibrated on its measured peak:
   // tests/test_peak_memory.cpp).
   b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 64); });

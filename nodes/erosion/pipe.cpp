@@ -19,14 +19,16 @@ namespace {
 // Rows per chunk of the fused sweep (the chunking changes no result, only the share of recomputed rows).
 constexpr int kChunkRows = 64;
 
-// Per-thread rows of the sweep: a ring of 4 rows of rained depth, water surface and concentration, and the
-// new fluxes of the two rows just outside a chunk.
+// Per-thread rows of the sweep: a ring of 4 rows of rained depth, water surface and concentration, the
+// new fluxes of the two rows just outside a chunk, and a row where the vectorised update writes the speed
+// before the last step (only the last step's speed is kept: no traffic to the speed map).
 struct Scratch {
-  std::vector<float> dr, surf, conc, halo;
+  std::vector<float> dr, surf, conc, halo, speed;
   void resize(int w) {
     const std::size_t need = static_cast<std::size_t>(4) * w;
     if (dr.size() != need)
-      dr.assign(need, 0.0f), surf.assign(need, 0.0f), conc.assign(need, 0.0f), halo.assign(2 * need, 0.0f);
+      dr.assign(need, 0.0f), surf.assign(need, 0.0f), conc.assign(need, 0.0f), halo.assign(2 * need, 0.0f),
+          speed.assign(w, 0.0f);
   }
 };
 
@@ -49,17 +51,22 @@ void flux_interior(int w, const float* __restrict DR, const float* __restrict SF
 }
 
 struct UpdateConst {
-  float t, area, dx, dy, two_dx, two_dy, kc, ks1, kd, evap;
+  float t, area, dx, dy, two_dx, two_dy, kc, ks1, kd;
+  float evap;  // with a temperature field the share evaporated at factor 1, else the share of water kept
 };
 
-// The interior cells (1 .. w-2) of a row without sinks or optional fields: water, transport, velocity,
+// The interior cells (1 .. w-2) of a row without mask, hardness or soil layers: water, transport, velocity,
 // dissolution/deposition, evaporation with the same arithmetic as the generic cell, selects for branches.
-void update_interior(int w, const float* __restrict FL, const float* __restrict FR, const float* __restrict FD,
-                     const float* __restrict FU, const float* __restrict FUd, const float* __restrict FDu,
-                     const float* __restrict DR, const float* __restrict C, const float* __restrict Cd,
-                     const float* __restrict Cu, const float* __restrict S, const float* __restrict B,
-                     const float* __restrict Bd, const float* __restrict Bu, float* __restrict B2, float* __restrict D2,
-                     float* __restrict S2, float* __restrict SPD, float* __restrict FACC, UpdateConst k) {
+// kTemperature: T is the row of the evaporation factor field; kSinks: SINK marks the row's sinks, which
+// neither erode nor deposit and count 0 water in the flow map (the caller empties them afterwards).
+template <bool kTemperature, bool kSinks>
+void update_interior(int w, const float* __restrict T, const unsigned char* __restrict SINK, const float* __restrict FL,
+                     const float* __restrict FR, const float* __restrict FD, const float* __restrict FU,
+                     const float* __restrict FUd, const float* __restrict FDu, const float* __restrict DR,
+                     const float* __restrict C, const float* __restrict Cd, const float* __restrict Cu,
+                     const float* __restrict S, const float* __restrict B, const float* __restrict Bd,
+                     const float* __restrict Bu, float* __restrict B2, float* __restrict D2, float* __restrict S2,
+                     float* __restrict SPD, float* __restrict FACC, UpdateConst k) {
   const float t = k.t, area = k.area, ddx = k.dx, ddy = k.dy, tdx = k.two_dx, tdy = k.two_dy, kcap = k.kc;
   const float ks1 = k.ks1, kdep = k.kd, evap = k.evap;
   for (int i = 1; i < w - 1; ++i) {
@@ -88,11 +95,26 @@ void update_interior(int w, const float* __restrict FL, const float* __restrict 
     const float cap = kcap * sin_tilt * speed * d1;
     const float e1 = ks1 * (cap - s1), e2 = kdep * (s1 - cap);
     const bool dissolve = cap > s1;
-    const float bk = dissolve ? B[i] - e1 : B[i] + e2;
-    s1 = dissolve ? s1 + e1 : s1 - e2;
-    d1 *= evap;
-    B2[i] = bk, D2[i] = d1, S2[i] = s1, SPD[i] = speed;
-    FACC[i] += t * speed * d1;
+    float bk = dissolve ? B[i] - e1 : B[i] + e2;
+    float s2 = dissolve ? s1 + e1 : s1 - e2;
+    if constexpr (kSinks) {
+      const bool sink = SINK[i] != 0;
+      bk = sink ? B[i] : bk;
+      s2 = sink ? s1 : s2;
+    }
+    if constexpr (kTemperature) {
+      const float temp = T[i] > 0.0f ? T[i] : 0.0f;
+      const float keep = 1.0f - evap * temp;
+      d1 *= keep > 0.0f ? keep : 0.0f;
+    } else {
+      d1 *= evap;
+    }
+    B2[i] = bk, D2[i] = d1, S2[i] = s2, SPD[i] = speed;
+    if constexpr (kSinks) {
+      FACC[i] += t * speed * (SINK[i] ? 0.0f : d1);
+    } else {
+      FACC[i] += t * speed * d1;
+    }
   }
 }
 
@@ -131,8 +153,10 @@ struct PipeRun {
   std::vector<float> spd, flow_acc;
   std::vector<double> row_sed_out, row_water_out, row_dmax, row_sum;
   tbb::enumerable_thread_specific<Scratch> scratch;
-  std::vector<unsigned char> sink, row_sink;
-  bool plain = false;  // no optional field: the interior of rows without sinks takes the vectorised path
+  // Sinks; rows with a sink; rows of sinks only, whose water and fluxes stay 0 (sinks catch no rain and
+  // empty every step): the sweep skips them (still sea far from the coast) and writes what they compute.
+  std::vector<unsigned char> sink, row_sink, row_all_sink;
+  bool plain = false;  // no mask, hardness or soil layers: the interior of rows takes the vectorised path
 
   PipeRun(const Heightfield& in_, const PipeParams& p_, const Heightfield* mask_, const Heightfield* rainfall_,
           const Heightfield* moisture_, const Heightfield* temperature_, const Heightfield* hardness_)
@@ -173,9 +197,14 @@ struct PipeRun {
         row_dmax(h),
         row_sum(h),
         sink(n),
-        row_sink(h, 0) {
-    for (std::size_t k = 0; k < n; ++k) sink[k] = in.data[k] < p.sea_level, row_sink[k / w] |= sink[k];
-    plain = !mask && !hardness && !temperature && !(p.layer_depth > 0);
+        row_sink(h, 0),
+        row_all_sink(h, 1) {
+    for (std::size_t k = 0; k < n; ++k) {
+      sink[k] = in.data[k] < p.sea_level;
+      row_sink[k / w] |= sink[k];
+      row_all_sink[k / w] &= sink[k];
+    }
+    plain = !mask && !hardness && !(p.layer_depth > 0);
   }
 
   // Sum of (b + s) x A, rows summed in order.
@@ -226,11 +255,37 @@ struct PipeRun {
     }
   };
 
+  // Drops mode: the drops of row r this step. Each cell catches a drop with probability min(1, moisture x
+  // drop_chance x dt); the cells that do are drawn as gaps of a geometric law at the largest chance (moisture
+  // 1), each kept with probability moisture, so a row costs a few draws per drop instead of one per cell. The
+  // draws hash (seed, step, row): every chunk that recomputes the row gets the same drops. Sinks catch none:
+  // rain on them would be removed in the same step.
+  void rain_drops(const StepConstants& cs, int r, float* __restrict DR) const {
+    const double chance = std::min(1.0, p.drop_chance * cs.dt);
+    if (!(chance > 0)) return;
+    const std::size_t row = static_cast<std::size_t>(r) * w;
+    std::uint64_t state = hash64(p.seed, cs.step * static_cast<std::uint64_t>(h) + static_cast<std::uint64_t>(r));
+    const auto draw = [&] { return unit_double(splitmix64(state++)); };
+    const double log_miss = chance < 1.0 ? std::log1p(-chance) : 0.0;  // log of a cell's chance of no drop
+    const float depth = static_cast<float>(p.rain_rate * mm_per_h / std::max(p.drop_chance, 1e-9));
+    for (double i = -1;;) {
+      // The cells skipped before the next candidate: floor(log(U) / log(1 - chance)), 0 when chance is 1.
+      i += 1 + (chance < 1.0 ? std::floor(std::log1p(-draw()) / log_miss) : 0.0);
+      if (!(i < w)) break;
+      const std::size_t k = row + static_cast<std::size_t>(i);
+      if (sink[k]) continue;
+      const float m = moisture ? std::clamp(moisture->data[k], 0.0f, 1.0f) : 1.0f;
+      if (m < 1.0f && !(draw() < m)) continue;
+      DR[k - row] +=
+          rainfall ? static_cast<float>(std::max(0.0f, rainfall->data[k]) * mm_per_h / std::max(p.drop_chance, 1e-9))
+                   : depth;
+    }
+  }
+
   // 1. Rain, then the water surface and each cell's sediment concentration (per m^3 of water) of row r.
   void prep(const Chunk& ch, const StepConstants& cs, int r) const {
     const float rain_uniform = cs.rain_uniform;
     const double dt = cs.dt;
-    const std::uint64_t step = cs.step;
     const std::size_t row = static_cast<std::size_t>(r) * w;
     float* __restrict DR = ch.DRrow(r);
     float* __restrict SF = ch.SFrow(r);
@@ -238,22 +293,16 @@ struct PipeRun {
     const float* __restrict D = d.data() + row;
     const float* __restrict S = s.data() + row;
     const float* __restrict B = b.data() + row;
-    if (p.rain_mode == RainMode::Uniform && !rainfall) {
-      for (int i = 0; i < w; ++i) DR[i] = D[i] + rain_uniform;
+    const unsigned char* __restrict SINK = sink.data() + row;
+    if (p.rain_mode == RainMode::Drops) {
+      for (int i = 0; i < w; ++i) DR[i] = D[i];
+      rain_drops(cs, r, DR);
+    } else if (!rainfall) {
+      for (int i = 0; i < w; ++i) DR[i] = D[i] + (SINK[i] ? 0.0f : rain_uniform);
     } else {
       for (int i = 0; i < w; ++i) {
-        const std::size_t k = row + i;
-        const double rate = (rainfall ? std::max(0.0f, rainfall->data[k]) : p.rain_rate) * mm_per_h;
-        float dk = D[i];
-        if (p.rain_mode == RainMode::Uniform) {
-          dk += static_cast<float>(dt * rate);
-        } else {
-          const double m = moisture ? std::clamp(static_cast<double>(moisture->data[k]), 0.0, 1.0) : 1.0;
-          const double chance = std::min(1.0, m * p.drop_chance * dt);
-          if (chance > 0 && hash01(p.seed, step * n + k) < chance)
-            dk += static_cast<float>(rate / std::max(p.drop_chance, 1e-9));
-        }
-        DR[i] = dk;
+        const double rate = std::max(0.0f, rainfall->data[row + i]) * mm_per_h;
+        DR[i] = D[i] + (SINK[i] ? 0.0f : static_cast<float>(dt * rate));
       }
     }
     for (int i = 0; i < w; ++i) {
@@ -280,6 +329,10 @@ struct PipeRun {
     float* __restrict NR = ch.Frow(r, 1);
     float* __restrict ND = ch.Frow(r, 2);
     float* __restrict NU = ch.Frow(r, 3);
+    if (row_all_sink[r]) {  // no water: every flux is 0 (K = 0, or 1 on zero fluxes)
+      std::fill_n(NL, w, 0.0f), std::fill_n(NR, w, 0.0f), std::fill_n(ND, w, 0.0f), std::fill_n(NU, w, 0.0f);
+      return;
+    }
     auto finish = [&](int i, float dk, float l, float rr, float dn, float up) {
       l = std::max(0.0f, l), rr = std::max(0.0f, rr), dn = std::max(0.0f, dn), up = std::max(0.0f, up);
       const float total = (l + rr + dn + up) * fdt;
@@ -309,6 +362,14 @@ struct PipeRun {
     const bool last = cs.last;
     double sed_out = 0, water_out = 0, dm = 0;
     const std::size_t row = static_cast<std::size_t>(j) * w;
+    if (row_all_sink[j] && (j == 0 || row_all_sink[j - 1]) && (j == h - 1 || row_all_sink[j + 1])) {
+      // Sinks among sinks, no water anywhere near: the terrain stays, water and sediment stay 0, nothing moves.
+      std::copy_n(b.data() + row, w, b2.data() + row);
+      std::fill_n(d2.data() + row, w, 0.0f), std::fill_n(s2.data() + row, w, 0.0f);
+      if (cs.last) std::fill_n(spd.data() + row, w, 0.0f);
+      row_sed_out[j] = 0, row_water_out[j] = 0, row_dmax[j] = 0;
+      return;
+    }
     const float* __restrict FL = ch.Frow(j, 0);
     const float* __restrict FR = ch.Frow(j, 1);
     const float* __restrict FD = ch.Frow(j, 2);
@@ -328,7 +389,7 @@ struct PipeRun {
     float* __restrict B2 = b2.data() + row;
     float* __restrict D2 = d2.data() + row;
     float* __restrict S2 = s2.data() + row;
-    float* __restrict SPD = spd.data() + row;
+    float* __restrict SPD = last ? spd.data() + row : ch.sc.speed.data();
     float* __restrict FACC = flow_acc.data() + row;
     auto cell = [&](int i) {
       const std::size_t k = row + i;
@@ -405,17 +466,39 @@ struct PipeRun {
         d1 = 0, s1 = 0;
       }
       B2[i] = bk, D2[i] = d1, S2[i] = s1;
-      if (last) SPD[i] = speed;
+      SPD[i] = speed;
       FACC[i] += fdt * speed * d1;
       dm = std::max<double>(dm, d1);
     };
-    if (!plain || j == 0 || j == h - 1 || row_sink[j] || w < 3) {
+    if (!plain || j == 0 || j == h - 1 || w < 3) {
       for (int i = 0; i < w; ++i) cell(i);
     } else {
       cell(0);
-      update_interior(
-          w, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, S2, SPD, FACC,
-          {fdt, A, fdx, fdy, two_dx, two_dy, kc, std::min(1.0f, ks), kd, std::max(0.0f, 1.0f - keep * 1.0f)});
+      const float* T = temperature ? temperature->data.data() + row : nullptr;
+      const UpdateConst uc{fdt,    A,
+                           fdx,    fdy,
+                           two_dx, two_dy,
+                           kc,     std::min(1.0f, ks),
+                           kd,     temperature ? keep : std::max(0.0f, 1.0f - keep * 1.0f)};
+      const auto run = [&](auto interior) {
+        interior(w, T, SINK, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, S2, SPD, FACC, uc);
+      };
+      if (T && row_sink[j])
+        run(update_interior<true, true>);
+      else if (T)
+        run(update_interior<true, false>);
+      else if (row_sink[j])
+        run(update_interior<false, true>);
+      else
+        run(update_interior<false, false>);
+      // Sinks take what reached them, in cell order as the generic cell does.
+      if (row_sink[j])
+        for (int i = 1; i < w - 1; ++i)
+          if (SINK[i]) {
+            water_out += static_cast<double>(D2[i]) * A;
+            sed_out += static_cast<double>(S2[i]) * A;
+            D2[i] = 0, S2[i] = 0;
+          }
       float dmf = 0.0f;
       for (int i = 1; i < w - 1; ++i) dmf = D2[i] > dmf ? D2[i] : dmf;
       dm = std::max<double>(dm, dmf);

@@ -16,6 +16,9 @@
 // to float rounding, except what leaves through the domain border or into sinks (cells under sea level),
 // which is counted.
 //
+// Rain falls on land only: a sink (a cell under sea level) would lose it in the same step. In Drops mode each
+// cell catches a drop of rate / drop_chance with probability moisture x drop_chance x dt per step.
+//
 // Time: the step follows a CFL condition on the cell size, dt = courant x spacing / sqrt(g x max depth), so a finer
 // grid takes more, smaller steps of the same physical duration (seconds). Every pass is a gather over rows,
 // bit-identical for any thread count.
