@@ -299,6 +299,41 @@ TEST(PipeErosion, SeaCatchesNoRainAndStaysStill) {
   }
 }
 
+// The sweep computes each row only where land is within reach (the sea far from the coast never changes).
+// An island in the sea must evolve exactly as the same island with land along the left and right borders,
+// which makes every row's span the whole row: sinks take all water that reaches them, so nothing crosses the
+// sea between the two, and drops fall where they would (their draws do not depend on the sinks).
+TEST(PipeErosion, SkippingTheOpenSeaChangesNothing) {
+  const int side = 150;  // three chunks of rows
+  const auto land = terrain(side);
+  auto island = std::make_shared<Heightfield>(*land), framed = std::make_shared<Heightfield>(*land);
+  for (int j = 0; j < side; ++j)
+    for (int i = 0; i < side; ++i) {
+      const double r = std::hypot(i - 70.0, j - 80.0);
+      if (r > 45 + 10 * std::sin(0.3 * i)) island->at(i, j) = framed->at(i, j) = -5.0f;
+      if (i < 3 || i >= side - 3) framed->at(i, j) = 50.0f + static_cast<float>(j);
+    }
+  for (const RainMode mode : {RainMode::Uniform, RainMode::Drops}) {
+    PipeParams p;
+    p.duration = 400;
+    p.rain_rate = 150;
+    p.rain_mode = mode;
+    p.sea_level = 0;
+    p.seed = 8;
+    const auto a = test::with_threads(test::several_threads(), [&] { return pipe_erosion(*island, p); });
+    const auto b = pipe_erosion(*framed, p);
+    double changed = 0;
+    for (int j = 0; j < side; ++j)
+      for (int i = 6; i < side - 6; ++i) {
+        ASSERT_EQ(a.out->at(i, j), b.out->at(i, j)) << i << "," << j;
+        ASSERT_EQ(a.water->at(i, j), b.water->at(i, j)) << i << "," << j;
+        ASSERT_EQ(a.velocity->at(i, j), b.velocity->at(i, j)) << i << "," << j;
+        changed += std::abs(a.out->at(i, j) - island->at(i, j));
+      }
+    EXPECT_GT(changed, 0.0) << "the storm eroded the island";
+  }
+}
+
 // ---- Stream power ----
 
 // A 1D profile: one row, base level at its left end only. Steady state of U = K A^m S^n with A the

@@ -32,13 +32,13 @@ struct Scratch {
   }
 };
 
-// The interior cells (1 .. w-2) of a row's outflow fluxes: plain pointers and selects rather than branches,
-// so the loop vectorises (the same arithmetic as the generic cell).
-void flux_interior(int w, const float* __restrict DR, const float* __restrict SF, const float* __restrict SFd,
+// The interior cells [i0, i1) (within 1 .. w-2) of a row's outflow fluxes: plain pointers and selects rather than
+// branches, so the loop vectorises (the same arithmetic as the generic cell).
+void flux_interior(int i0, int i1, const float* __restrict DR, const float* __restrict SF, const float* __restrict SFd,
                    const float* __restrict SFu, const float* __restrict FL, const float* __restrict FR,
                    const float* __restrict FD, const float* __restrict FU, float* __restrict NL, float* __restrict NR,
                    float* __restrict ND, float* __restrict NU, float cx, float cy, float t, float area) {
-  for (int i = 1; i < w - 1; ++i) {
+  for (int i = i0; i < i1; ++i) {
     const float dk = DR[i], hk = SF[i];
     float l = FL[i] + cx * dk * (hk - SF[i - 1]), rr = FR[i] + cx * dk * (hk - SF[i + 1]);
     float dn = FD[i] + cy * dk * (hk - SFd[i]), up = FU[i] + cy * dk * (hk - SFu[i]);
@@ -55,21 +55,21 @@ struct UpdateConst {
   float evap;  // with a temperature field the share evaporated at factor 1, else the share of water kept
 };
 
-// The interior cells (1 .. w-2) of a row without mask, hardness or soil layers: water, transport, velocity,
-// dissolution/deposition, evaporation with the same arithmetic as the generic cell, selects for branches.
+// The interior cells [i0, i1) (within 1 .. w-2) of a row without mask, hardness or soil layers: water, transport,
+// velocity, dissolution/deposition, evaporation with the same arithmetic as the generic cell, selects for branches.
 // kTemperature: T is the row of the evaporation factor field; kSinks: SINK marks the row's sinks, which
 // neither erode nor deposit and count 0 water in the flow map (the caller empties them afterwards).
 template <bool kTemperature, bool kSinks>
-void update_interior(int w, const float* __restrict T, const unsigned char* __restrict SINK, const float* __restrict FL,
-                     const float* __restrict FR, const float* __restrict FD, const float* __restrict FU,
-                     const float* __restrict FUd, const float* __restrict FDu, const float* __restrict DR,
-                     const float* __restrict C, const float* __restrict Cd, const float* __restrict Cu,
-                     const float* __restrict S, const float* __restrict B, const float* __restrict Bd,
-                     const float* __restrict Bu, float* __restrict B2, float* __restrict D2, float* __restrict S2,
-                     float* __restrict SPD, float* __restrict FACC, UpdateConst k) {
+void update_interior(int i0, int i1, const float* __restrict T, const unsigned char* __restrict SINK,
+                     const float* __restrict FL, const float* __restrict FR, const float* __restrict FD,
+                     const float* __restrict FU, const float* __restrict FUd, const float* __restrict FDu,
+                     const float* __restrict DR, const float* __restrict C, const float* __restrict Cd,
+                     const float* __restrict Cu, const float* __restrict S, const float* __restrict B,
+                     const float* __restrict Bd, const float* __restrict Bu, float* __restrict B2, float* __restrict D2,
+                     float* __restrict S2, float* __restrict SPD, float* __restrict FACC, UpdateConst k) {
   const float t = k.t, area = k.area, ddx = k.dx, ddy = k.dy, tdx = k.two_dx, tdy = k.two_dy, kcap = k.kc;
   const float ks1 = k.ks1, kdep = k.kd, evap = k.evap;
-  for (int i = 1; i < w - 1; ++i) {
+  for (int i = i0; i < i1; ++i) {
     const float dk = DR[i], conc = C[i];
     const float vl = FL[i] * t, vr = FR[i] * t, vd = FD[i] * t, vu = FU[i] * t;
     const float out_v = (FL[i] + FR[i] + FD[i] + FU[i]) * t;
@@ -153,9 +153,15 @@ struct PipeRun {
   std::vector<float> spd, flow_acc;
   std::vector<double> row_sed_out, row_water_out, row_dmax, row_sum;
   tbb::enumerable_thread_specific<Scratch> scratch;
-  // Sinks; rows with a sink; rows of sinks only, whose water and fluxes stay 0 (sinks catch no rain and
-  // empty every step): the sweep skips them (still sea far from the coast) and writes what they compute.
-  std::vector<unsigned char> sink, row_sink, row_all_sink;
+  // Sinks, and rows with a sink. A sink among sinks holds no water and moves nothing (sinks catch no rain and
+  // empty every step), so the sweep computes each row only on its span: the columns within one cell of land
+  // in the rows around (the sea far from the coast is never touched; outside the span every field keeps its
+  // initial value, which is what computing it would give). The prep span is wider: the rows around read it.
+  struct Span {
+    int lo = 0, hi = -1;  // inclusive columns; empty when lo > hi
+  };
+  std::vector<unsigned char> sink, row_sink;
+  std::vector<Span> span, prep_span;
   bool plain = false;  // no mask, hardness or soil layers: the interior of rows takes the vectorised path
 
   PipeRun(const Heightfield& in_, const PipeParams& p_, const Heightfield* mask_, const Heightfield* rainfall_,
@@ -177,7 +183,7 @@ struct PipeRun {
         kx(static_cast<float>(dy / dx)),
         ky(static_cast<float>(dx / dy)),
         b(in_.data),
-        b2(n),
+        b2(in_.data),
         d(n, 0.0f),
         d2(n),
         s(n, 0.0f),
@@ -198,12 +204,25 @@ struct PipeRun {
         row_sum(h),
         sink(n),
         row_sink(h, 0),
-        row_all_sink(h, 1) {
-    for (std::size_t k = 0; k < n; ++k) {
-      sink[k] = in.data[k] < p.sea_level;
-      row_sink[k / w] |= sink[k];
-      row_all_sink[k / w] &= sink[k];
-    }
+        span(h),
+        prep_span(h) {
+    std::vector<Span> land(h);  // first and last land column of each row
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) {
+        const std::size_t k = static_cast<std::size_t>(j) * w + i;
+        sink[k] = in.data[k] < p.sea_level;
+        row_sink[j] |= sink[k];
+        if (!sink[k]) land[j].lo = land[j].hi < land[j].lo ? i : land[j].lo, land[j].hi = i;
+      }
+    // The land of rows j - r .. j + r, widened by r columns, within the grid.
+    const auto widened = [&](int j, int r) {
+      Span out{w, -1};
+      for (int q = std::max(0, j - r); q <= std::min(h - 1, j + r); ++q)
+        if (land[q].lo <= land[q].hi)
+          out.lo = std::min(out.lo, land[q].lo - r), out.hi = std::max(out.hi, land[q].hi + r);
+      return out.lo <= out.hi ? Span{std::max(0, out.lo), std::min(w - 1, out.hi)} : Span{};
+    };
+    for (int j = 0; j < h; ++j) span[j] = widened(j, 1), prep_span[j] = widened(j, 2);
     plain = !mask && !hardness && !(p.layer_depth > 0);
   }
 
@@ -294,18 +313,19 @@ struct PipeRun {
     const float* __restrict S = s.data() + row;
     const float* __restrict B = b.data() + row;
     const unsigned char* __restrict SINK = sink.data() + row;
+    const int i0 = prep_span[r].lo, i1 = prep_span[r].hi + 1;
     if (p.rain_mode == RainMode::Drops) {
-      for (int i = 0; i < w; ++i) DR[i] = D[i];
+      for (int i = i0; i < i1; ++i) DR[i] = D[i];
       rain_drops(cs, r, DR);
     } else if (!rainfall) {
-      for (int i = 0; i < w; ++i) DR[i] = D[i] + (SINK[i] ? 0.0f : rain_uniform);
+      for (int i = i0; i < i1; ++i) DR[i] = D[i] + (SINK[i] ? 0.0f : rain_uniform);
     } else {
-      for (int i = 0; i < w; ++i) {
+      for (int i = i0; i < i1; ++i) {
         const double rate = std::max(0.0f, rainfall->data[row + i]) * mm_per_h;
         DR[i] = D[i] + (SINK[i] ? 0.0f : static_cast<float>(dt * rate));
       }
     }
-    for (int i = 0; i < w; ++i) {
+    for (int i = i0; i < i1; ++i) {
       const float dk = DR[i];
       SF[i] = B[i] + dk;
       const float q = S[i] / (dk * A);  // computed unconditionally (a select, not a branch: vectorises)
@@ -329,10 +349,14 @@ struct PipeRun {
     float* __restrict NR = ch.Frow(r, 1);
     float* __restrict ND = ch.Frow(r, 2);
     float* __restrict NU = ch.Frow(r, 3);
-    if (row_all_sink[r]) {  // no water: every flux is 0 (K = 0, or 1 on zero fluxes)
-      std::fill_n(NL, w, 0.0f), std::fill_n(NR, w, 0.0f), std::fill_n(ND, w, 0.0f), std::fill_n(NU, w, 0.0f);
-      return;
+    const int lo = span[r].lo, hi = span[r].hi;
+    if (r < ch.j0 || r >= ch.j1) {  // a scratch row, which held another row: 0 outside the span
+      for (float* f : {NL, NR, ND, NU}) {
+        std::fill(f, f + std::max(0, std::min(lo, w)), 0.0f);
+        std::fill(f + std::max(0, hi + 1), f + w, 0.0f);
+      }
     }
+    if (lo > hi) return;
     auto finish = [&](int i, float dk, float l, float rr, float dn, float up) {
       l = std::max(0.0f, l), rr = std::max(0.0f, rr), dn = std::max(0.0f, dn), up = std::max(0.0f, up);
       const float total = (l + rr + dn + up) * fdt;
@@ -346,12 +370,13 @@ struct PipeRun {
       finish(i, dk, FL[i] + c * kx * hl, FR[i] + c * kx * hr, FD[i] + c * ky * hd, FU[i] + c * ky * hu);
     };
     if (r == 0 || r == h - 1 || w < 3) {
-      for (int i = 0; i < w; ++i) generic(i);
+      for (int i = lo; i <= hi; ++i) generic(i);
       return;
     }
-    generic(0);
-    flux_interior(w, DR, SF, SFd, SFu, FL, FR, FD, FU, NL, NR, ND, NU, cgx, cgy, fdt, A);
-    generic(w - 1);
+    if (lo == 0) generic(0);
+    flux_interior(std::max(lo, 1), std::min(hi, w - 2) + 1, DR, SF, SFd, SFu, FL, FR, FD, FU, NL, NR, ND, NU, cgx, cgy,
+                  fdt, A);
+    if (hi == w - 1) generic(w - 1);
   }
 
   // 3. Water, sediment transport, velocity, dissolution/deposition, evaporation, sinks of row j; the row's
@@ -362,11 +387,8 @@ struct PipeRun {
     const bool last = cs.last;
     double sed_out = 0, water_out = 0, dm = 0;
     const std::size_t row = static_cast<std::size_t>(j) * w;
-    if (row_all_sink[j] && (j == 0 || row_all_sink[j - 1]) && (j == h - 1 || row_all_sink[j + 1])) {
-      // Sinks among sinks, no water anywhere near: the terrain stays, water and sediment stay 0, nothing moves.
-      std::copy_n(b.data() + row, w, b2.data() + row);
-      std::fill_n(d2.data() + row, w, 0.0f), std::fill_n(s2.data() + row, w, 0.0f);
-      if (cs.last) std::fill_n(spd.data() + row, w, 0.0f);
+    const int lo = span[j].lo, hi = span[j].hi;
+    if (lo > hi) {
       row_sed_out[j] = 0, row_water_out[j] = 0, row_dmax[j] = 0;
       return;
     }
@@ -471,9 +493,10 @@ struct PipeRun {
       dm = std::max<double>(dm, d1);
     };
     if (!plain || j == 0 || j == h - 1 || w < 3) {
-      for (int i = 0; i < w; ++i) cell(i);
+      for (int i = lo; i <= hi; ++i) cell(i);
     } else {
-      cell(0);
+      const int i0 = std::max(lo, 1), i1 = std::min(hi, w - 2) + 1;
+      if (lo == 0) cell(0);
       const float* T = temperature ? temperature->data.data() + row : nullptr;
       const UpdateConst uc{fdt,    A,
                            fdx,    fdy,
@@ -481,7 +504,7 @@ struct PipeRun {
                            kc,     std::min(1.0f, ks),
                            kd,     temperature ? keep : std::max(0.0f, 1.0f - keep * 1.0f)};
       const auto run = [&](auto interior) {
-        interior(w, T, SINK, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, S2, SPD, FACC, uc);
+        interior(i0, i1, T, SINK, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, S2, SPD, FACC, uc);
       };
       if (T && row_sink[j])
         run(update_interior<true, true>);
@@ -493,16 +516,16 @@ struct PipeRun {
         run(update_interior<false, false>);
       // Sinks take what reached them, in cell order as the generic cell does.
       if (row_sink[j])
-        for (int i = 1; i < w - 1; ++i)
+        for (int i = i0; i < i1; ++i)
           if (SINK[i]) {
             water_out += static_cast<double>(D2[i]) * A;
             sed_out += static_cast<double>(S2[i]) * A;
             D2[i] = 0, S2[i] = 0;
           }
       float dmf = 0.0f;
-      for (int i = 1; i < w - 1; ++i) dmf = D2[i] > dmf ? D2[i] : dmf;
+      for (int i = i0; i < i1; ++i) dmf = D2[i] > dmf ? D2[i] : dmf;
       dm = std::max<double>(dm, dmf);
-      cell(w - 1);
+      if (hi == w - 1) cell(w - 1);
     }
     row_sed_out[j] = sed_out, row_water_out[j] = water_out, row_dmax[j] = dm;
   }
