@@ -20,6 +20,7 @@
 #include "graph/heightfield.h"
 #include "graph/points.h"
 #include "graph/subgraph.h"
+#include "graph/subgraph_extract.h"
 #include "support/editor_test_support.h"
 
 namespace orogen::editor {
@@ -99,9 +100,14 @@ Document saved_diamond(const std::string& name, fs::path* dir_out = nullptr) {
   return Document::open(dir / "g.json");
 }
 
+// Grouping uses the core's extraction (graph/subgraph_extract.h), with writers allowed.
 TEST(EditorSubgraphs, PlanListsExactlyTheLinksCrossingTheSelection) {
-  const GroupPlan plan = plan_group(diamond_graph(), {"b", "a"});
-  EXPECT_EQ(plan.nodes, (std::vector<std::string>{"a", "b"}));  // graph order
+  ExtractRequest request;
+  request.nodes = {"b", "a"};
+  request.asset_file = "group.orogen-subgraph.json";
+  request.graph_file = "g.json";
+  request.allow_writers = true;
+  const Extraction plan = make_subgraph_asset(diamond_graph(), request);
   ASSERT_EQ(plan.inputs.size(), 2u);
   EXPECT_EQ(plan.inputs[0].source, (PortRef{"s1", "out"}));  // one input for one outside output ...
   ASSERT_EQ(plan.inputs[0].targets.size(), 2u);              // ... however many inputs it feeds
@@ -110,14 +116,16 @@ TEST(EditorSubgraphs, PlanListsExactlyTheLinksCrossingTheSelection) {
   EXPECT_EQ(plan.inputs[1].source, (PortRef{"s2", "out"}));
   ASSERT_EQ(plan.inputs[1].targets.size(), 1u);
   EXPECT_EQ(plan.inputs[1].targets[0].str(), "a.b");
-  EXPECT_NE(plan.inputs[0].name, plan.inputs[1].name);
+  EXPECT_EQ(plan.inputs[0].name, "a");
+  EXPECT_EQ(plan.inputs[1].name, "b");
   ASSERT_EQ(plan.outputs.size(), 2u);
   EXPECT_EQ(plan.outputs[0].source, (PortRef{"a", "out"}));
-  EXPECT_EQ(plan.outputs[0].consumers.size(), 1u);
-  EXPECT_EQ(plan.outputs[0].consumers[0].str(), "pts.height");
+  ASSERT_EQ(plan.outputs[0].sinks.size(), 1u);
+  EXPECT_EQ(plan.outputs[0].sinks[0], (std::pair<std::string, std::string>{"pts", "height"}));
   EXPECT_EQ(plan.outputs[1].source, (PortRef{"b", "out"}));
-  EXPECT_EQ(plan.outputs[1].consumers[0].str(), "fin.a");
-  EXPECT_NE(plan.outputs[0].name, plan.outputs[1].name);
+  EXPECT_EQ(plan.outputs[1].sinks[0], (std::pair<std::string, std::string>{"fin", "a"}));
+  EXPECT_EQ(plan.outputs[0].name, "out");
+  EXPECT_EQ(plan.outputs[1].name, "b_out");  // taken: named after its node
 }
 
 TEST(EditorSubgraphs, GroupWritesAnAssetWhoseInterfaceIsTheCrossingLinks) {
@@ -217,7 +225,9 @@ TEST(EditorSubgraphs, GroupRefusesWhatWouldFeedItselfAndChangesNothing) {
     group_nodes(doc, {"a", "fin"});
     FAIL() << "expected a refusal";
   } catch (const DocumentError& e) {
-    EXPECT_NE(std::string(e.what()).find("node 'b' is fed by the selection and feeds it"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("cannot group: the selection is not convex: node 'b' (not selected) is fed "
+                                         "by selected node 'a' and feeds selected node 'fin'"),
+              std::string::npos)
         << e.what();
   }
   EXPECT_TRUE(doc.graph() == before);
