@@ -324,5 +324,70 @@ TEST(EmbeddedSubgraphs, MakeUniqueRebasesRelativePaths) {
   EXPECT_EQ(bytes_of(evaluate(fresh, *reloaded.graph, {"inst"}), "inst"), before);
 }
 
+// `orogen subgraph make-unique`: in place or to -o, the written graph evaluates to the same files; refusals write
+// nothing.
+TEST(EmbeddedSubgraphs, TheCommandLineMakesAnInstanceUnique) {
+  const fs::path dir = scratch_dir("embedded_cli");
+  json doc = {{"format", "orogen-graph"},
+              {"version", kGraphFormatVersion},
+              {"domain", {{"size", {4096, 4096}}, {"resolution", {64, 64}}}},
+              {"nodes",
+               {{{"id", "base"}, {"type", "FBM"}, {"params", {{"seed", 4}, {"amplitude", 800}}}},
+                {{"id", "colors"},
+                 {"type", "Subgraph"},
+                 {"asset", "terrain_colors"},
+                 {"asset_version", 1},
+                 {"inputs", {{"height", "base.out"}}}},
+                {{"id", "save"},
+                 {"type", "WriteImage"},
+                 {"params", {{"path", "color.png"}}},
+                 {"inputs", {{"in", "colors.color"}}}}}}};
+  const fs::path graph = dir / "g.json";
+  write_text(graph, doc.dump(2));
+  const std::string text = read_text(graph);
+  auto run = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), {"subgraph", "make-unique"});
+    return run_process(cli_binary(), args);
+  };
+  auto eval = [&](const fs::path& g, const fs::path& out) {
+    const auto r = run_process(cli_binary(), {"eval", g.string(), "-o", out.string(), "--quiet"});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return read_text(out / "color.png");
+  };
+  const std::string before = eval(graph, dir / "before");
+  ASSERT_FALSE(before.empty());
+
+  // Refused, nothing written: not an instance, an unknown node, an output in another folder.
+  auto refused = [&](const std::vector<std::string>& args, const std::string& message) {
+    const auto r = run(args);
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    EXPECT_EQ(read_text(graph), text);
+  };
+  refused({graph.string(), "--node", "base"}, "node 'base' is a FBM, not a subgraph instance");
+  refused({graph.string(), "--node", "colours"}, "no node 'colours' in the graph (did you mean 'colors'?)");
+  refused({graph.string(), "--node", "colors", "-o", (dir / "sub" / "u.json").string()}, "is not in the folder of");
+
+  const auto r = run({graph.string(), "--node", "colors", "-o", (dir / "unique.json").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("instance 'colors' now uses the embedded asset \"#terrain_colors\" (a copy of "
+                       "\"terrain_colors\""),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(read_text(graph), text);  // -o: the graph itself is unchanged
+  const json unique = json::parse(read_text(dir / "unique.json"));
+  EXPECT_EQ(unique["nodes"][1]["asset"], "#terrain_colors");
+  EXPECT_TRUE(unique["subgraphs"].contains("terrain_colors"));
+  EXPECT_EQ(eval(dir / "unique.json", dir / "after"), before);
+  refused({graph.string(), "--node", "colors", "-o", (dir / "unique.json").string()}, "exists; choose another file");
+
+  // In place; then the instance is unique already.
+  ASSERT_EQ(run({graph.string(), "--node", "colors"}).exit_code, 0);
+  EXPECT_EQ(read_text(graph), read_text(dir / "unique.json"));
+  const auto again = run({graph.string(), "--node", "colors"});
+  EXPECT_EQ(again.exit_code, 2);
+  EXPECT_NE(again.err.find("instance 'colors' is unique already"), std::string::npos) << again.err;
+}
+
 }  // namespace
 }  // namespace orogen::test
