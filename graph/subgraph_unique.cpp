@@ -2,6 +2,7 @@
 #include "graph/subgraph_unique.h"
 
 #include <algorithm>
+#include <map>
 
 #include <nlohmann/json.hpp>
 
@@ -67,18 +68,77 @@ MadeUnique make_instance_unique(Graph& graph, const std::string& id) {
     siblings.emplace(name, nested);
   }
 
-  // The document as the graph file's "subgraphs" section will hold it (compact, as the loader reads entries),
-  // so that saving and loading again gives the same asset.
-  nlohmann::json document = nlohmann::json::parse(serialize_graph(copy));
-  document.erase("subgraphs");
   const std::string name = free_embedded_name(graph, asset->name);
-  const AssetLoad load = load_embedded_asset(name, document.dump(), to, siblings);
+  const AssetLoad load = load_embedded_asset(name, embedded_document_text(copy), to, siblings);
   if (!load.asset)
     throw GraphError("cannot make instance '" + id + "' unique: the copy of asset '" + asset->name +
                      "' does not load: " + load.error);
   node->type = &load.asset->type;
   node->asset = std::string(1, kEmbeddedReferencePrefix) + name;
   return {name, load.asset};
+}
+
+std::string embedded_document_text(const Graph& asset_graph) {
+  // As the graph file's "subgraphs" section will hold it, so that saving and loading again gives the same asset.
+  nlohmann::json document = nlohmann::json::parse(serialize_graph(asset_graph));
+  document.erase("subgraphs");
+  return document.dump();
+}
+
+AssetLoad load_embedded_graph(const std::string& name, const Graph& asset_graph) {
+  std::map<std::string, const SubgraphAsset*> siblings;
+  try {
+    siblings = embedded_assets_of(asset_graph);
+  } catch (const GraphError& e) {
+    return {nullptr, e.what()};
+  }
+  // "#name" inside itself: the loader sees the same name again and names the cycle.
+  if (siblings.count(name))
+    return {nullptr, "subgraph asset '#" + name + "' contains itself: #" + name + " -> #" + name};
+  return load_embedded_asset(name, embedded_document_text(asset_graph), asset_graph.directory, siblings);
+}
+
+namespace {
+
+bool uses_embedded(const Graph& graph, const std::string& name) {
+  for (const auto& node : graph.nodes()) {
+    const SubgraphAsset* inner = node.type->subgraph;
+    if (!inner || inner->embedded.empty()) continue;
+    if (inner->embedded == name || uses_embedded(inner->graph, name)) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool replace_embedded_asset(Graph& graph, const SubgraphAsset& asset) {
+  bool changed = false;
+  std::map<const SubgraphAsset*, const SubgraphAsset*> rebuilt;  // each embedded asset using it, once
+  std::vector<std::string> ids;
+  for (const auto& n : graph.nodes()) ids.push_back(n.id);
+  for (const auto& id : ids) {
+    Node& node = *graph.find(id);
+    const SubgraphAsset* current = node.type->subgraph;
+    if (!current || current->embedded.empty() || current == &asset) continue;
+    const SubgraphAsset* replacement = nullptr;
+    if (current->embedded == asset.embedded) {
+      replacement = &asset;
+    } else if (const auto it = rebuilt.find(current); it != rebuilt.end()) {
+      replacement = it->second;
+    } else if (uses_embedded(current->graph, asset.embedded)) {
+      Graph copy = current->graph;
+      replace_embedded_asset(copy, asset);
+      const AssetLoad load = load_embedded_graph(current->embedded, copy);
+      if (!load.asset)
+        throw GraphError("embedded asset '#" + current->embedded + "' uses '#" + asset.embedded +
+                         "', and no longer loads with its new version: " + load.error);
+      replacement = rebuilt[current] = load.asset;
+    }
+    if (!replacement || replacement == current) continue;
+    node.type = &replacement->type;
+    changed = true;
+  }
+  return changed;
 }
 
 }  // namespace orogen

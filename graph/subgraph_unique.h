@@ -5,10 +5,9 @@
 #include <string>
 
 #include "graph/graph.h"
+#include "graph/subgraph.h"
 
 namespace orogen {
-
-struct SubgraphAsset;
 
 struct MadeUnique {
   std::string name;                      // the embedded asset's name: the instance names it "#name"
@@ -24,5 +23,18 @@ struct MadeUnique {
 // cannot come along (one of their names is taken in the graph by a different asset, or they are in another
 // folder, where their relative paths would change meaning).
 MadeUnique make_instance_unique(Graph& graph, const std::string& id);
+
+// The document an embedded asset with the nodes and interface of `asset_graph` has in a "subgraphs" section
+// (compact, as the loader reads entries: equal content loads as the same asset).
+std::string embedded_document_text(const Graph& asset_graph);
+
+// Loads `asset_graph` (an edited embedded asset) as embedded asset `name`, its "#other" instances resolving
+// among the embedded assets they use. An instance of "#name" inside it is refused as recursion.
+AssetLoad load_embedded_graph(const std::string& name, const Graph& asset_graph);
+
+// Points every instance of embedded asset `asset.embedded` in `graph` at `asset` (an edited version), and
+// rebuilds the embedded assets of `graph` that use it, at any depth, so that all agree. Returns whether
+// anything changed. Throws GraphError when a rebuilt asset no longer loads.
+bool replace_embedded_asset(Graph& graph, const SubgraphAsset& asset);
 
 }  // namespace orogen

@@ -9,6 +9,7 @@
 #include "graph/atomic_file.h"
 #include "graph/graph_file.h"
 #include "graph/subgraph_extract.h"
+#include "graph/subgraph_unique.h"
 
 namespace orogen::editor {
 
@@ -169,6 +170,25 @@ std::vector<std::string> ungroup_node(Document& document, const std::string& id)
   std::vector<std::string> added;
   document.edit("Ungroup " + id + " (" + name + ")", [&](Graph& g) { added = inline_instance(g, id, dir); });
   return added;
+}
+
+std::string make_unique_node(Document& document, const std::string& id) {
+  std::string name;
+  try {
+    Graph check = document.graph();
+    check.directory = document_directory(document);  // the copy's paths are rebased to the document's folder
+    name = make_instance_unique(check, id).name;
+  } catch (const GraphError& e) {
+    throw DocumentError("cannot make '" + id + "' unique: " + e.what());
+  }
+  const fs::path dir = document_directory(document);
+  document.edit("Make " + id + " unique (#" + name + ")", [&](Graph& g) {
+    const fs::path directory = g.directory;
+    g.directory = dir;
+    make_instance_unique(g, id);
+    g.directory = directory;
+  });
+  return name;
 }
 
 }  // namespace orogen::editor

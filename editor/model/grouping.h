@@ -39,4 +39,8 @@ std::vector<std::string> inline_instance(Graph& graph, const std::string& id, co
 // The same as one undo step of the document.
 std::vector<std::string> ungroup_node(Document& document, const std::string& id);
 
+// "Make unique": instance `id` gets its own copy of its asset, embedded in the document (graph/subgraph_unique.h),
+// in one undo step. Returns the embedded asset's name. Throws DocumentError with the reason.
+std::string make_unique_node(Document& document, const std::string& id);
+
 }  // namespace orogen::editor

@@ -260,7 +260,8 @@ TEST(EditorSubgraphs, EnteringEditsTheAssetFileAndEveryInstanceSeesIt) {
   const GroupResult r = group_nodes(root, {"a", "b"});
   // A second instance of the same asset, fed the same way, read by a second consumer.
   root.edit("second", [&](Graph& g) {
-    Node& copy = add_subgraph_instance(g, *r.asset, g.at(r.instance).asset, "twin");
+    const std::string reference = g.at(r.instance).asset;  // a copy: adding a node may move the nodes
+    Node& copy = add_subgraph_instance(g, *r.asset, reference, "twin");
     copy.inputs = g.at(r.instance).inputs;
     g.add_node("EdBlend", "fin2");
     g.connect({"twin", g.at("fin").inputs.at("a").port}, "fin2", "a");
@@ -464,6 +465,107 @@ TEST(EditorSubgraphs, EnteringRefusesPlainNodes) {
   EXPECT_THROW(nav.enter("a"), DocumentError);
   EXPECT_THROW(nav.enter("nope"), DocumentError);
   EXPECT_FALSE(nav.inside());
+}
+
+// Make unique: one undo step, evaluation unchanged, the file asset and its other instances untouched.
+TEST(EditorSubgraphs, MakeUniqueEmbedsACopyInOneUndoStep) {
+  fs::path dir;
+  Document root = saved_diamond("make-unique", &dir);
+  const GroupResult r = group_nodes(root, {"a", "b"});
+  root.edit("second", [&](Graph& g) {
+    const std::string reference = g.at(r.instance).asset;  // a copy: adding a node may move the nodes
+    Node& copy = add_subgraph_instance(g, *r.asset, reference, "twin");
+    copy.inputs = g.at(r.instance).inputs;
+  });
+  root.save();
+  const Graph before = root.graph();
+  const auto bytes = evaluate_bytes(root.graph());
+  const std::size_t steps = root.history().undo_size();
+
+  EXPECT_EQ(make_unique_node(root, r.instance), "group");
+  const Node& inst = root.graph().at(r.instance);
+  EXPECT_EQ(inst.asset, "#group");
+  ASSERT_TRUE(inst.type->subgraph);
+  EXPECT_EQ(inst.type->subgraph->embedded, "group");
+  EXPECT_EQ(root.graph().at("twin").type->subgraph, r.asset);  // the other instance keeps the file
+  EXPECT_EQ(root.history().undo_size(), steps + 1);
+  EXPECT_EQ(root.history().undo_label(), "Make " + r.instance + " unique (#group)");
+  EXPECT_TRUE(root.dirty());
+  EXPECT_EQ(evaluate_bytes(root.graph()), bytes);
+  // Saved: the file holds the copy; opened again it evaluates the same.
+  root.save();
+  const Document reopened = Document::open(root.path());
+  EXPECT_TRUE(reopened.load_problems().empty()) << reopened.load_problems().diagnostics.front().str();
+  EXPECT_EQ(reopened.graph().at(r.instance).asset, "#group");
+  EXPECT_EQ(evaluate_bytes(reopened.graph()), bytes);
+  // Twice is refused, plain nodes too; nothing changes.
+  EXPECT_THROW(make_unique_node(root, r.instance), DocumentError);
+  EXPECT_THROW(make_unique_node(root, "fin"), DocumentError);
+  EXPECT_EQ(root.history().undo_size(), steps + 1);
+
+  ASSERT_TRUE(root.undo());
+  EXPECT_TRUE(root.graph() == before);
+  EXPECT_EQ(root.graph().at(r.instance).type->subgraph, r.asset);
+  ASSERT_TRUE(root.redo());
+  EXPECT_EQ(root.graph().at(r.instance).asset, "#group");
+}
+
+// Entering an embedded asset edits the copy inside the document: no file is written, the document is unsaved,
+// and only the instances of the copy change.
+TEST(EditorSubgraphs, EditingAnEmbeddedAssetChangesTheDocumentNotTheFile) {
+  fs::path dir;
+  Document root = saved_diamond("edit-embedded", &dir);
+  const GroupResult r = group_nodes(root, {"a", "b"});
+  root.edit("second", [&](Graph& g) {
+    const std::string reference = g.at(r.instance).asset;  // a copy: adding a node may move the nodes
+    Node& copy = add_subgraph_instance(g, *r.asset, reference, "twin");
+    copy.inputs = g.at(r.instance).inputs;
+    g.add_node("EdBlend", "fin2");
+    g.connect({"twin", g.at("fin").inputs.at("a").port}, "fin2", "a");
+  });
+  make_unique_node(root, r.instance);
+  root.save();
+  const std::string asset_text = read_file(r.asset_file);
+  const auto twin_before = evaluate_bytes(root.graph(), {"fin2"});
+
+  SubgraphNavigator nav(root);
+  Document& inner = nav.enter(r.instance);
+  EXPECT_EQ(nav.breadcrumbs(), (std::vector<std::string>{"g.json", r.instance + " (#group)"}));
+  EXPECT_FALSE(inner.has_path());
+  ASSERT_TRUE(inner.graph().interface);
+  inner.set_param("a", "weight", 0.9);
+  EXPECT_EQ(nav.sync(), "");
+  EXPECT_EQ(read_file(r.asset_file), asset_text);  // the file asset is untouched
+  EXPECT_TRUE(root.dirty());                       // the copy is part of the document
+  // The made-unique instance evaluates the edit, the twin (the file asset) does not.
+  Graph inline_edit = diamond_graph();
+  inline_edit.set_param("a", "weight", 0.9);
+  EXPECT_EQ(evaluate_bytes(root.graph(), {"fin"}), evaluate_bytes(inline_edit, {"fin"}));
+  EXPECT_EQ(evaluate_bytes(root.graph(), {"fin2"}), twin_before);
+  // Undo inside puts the copy back as it was.
+  ASSERT_TRUE(inner.undo());
+  EXPECT_EQ(nav.sync(), "");
+  EXPECT_EQ(evaluate_bytes(root.graph(), {"fin"}), evaluate_bytes(diamond_graph(), {"fin"}));
+  ASSERT_TRUE(inner.redo());
+  EXPECT_EQ(nav.sync(), "");
+  // An instance of the copy inside itself is refused and not applied.
+  const SubgraphAsset* applied = root.graph().at(r.instance).type->subgraph;
+  inner.edit("self", [&](Graph& g) {
+    Node& me = add_subgraph_instance(g, *applied, "#group", "me");
+    (void)me;
+  });
+  const std::string error = nav.sync();
+  EXPECT_NE(error.find("contains itself"), std::string::npos) << error;
+  EXPECT_EQ(root.graph().at(r.instance).type->subgraph, applied);
+  EXPECT_FALSE(nav.leave());
+  inner.undo();
+  EXPECT_TRUE(nav.leave());
+  // Saved and opened again: the edited copy is in the file.
+  root.save();
+  const Document reopened = Document::open(root.path());
+  EXPECT_TRUE(reopened.load_problems().empty());
+  EXPECT_EQ(evaluate_bytes(reopened.graph(), {"fin"}), evaluate_bytes(inline_edit, {"fin"}));
+  EXPECT_DOUBLE_EQ(std::get<double>(reopened.graph().at(r.instance).type->subgraph->graph.param("a", "weight")), 0.9);
 }
 
 TEST(EditorSubgraphs, PaletteListsLibraryAssetsAndAddsInstances) {
