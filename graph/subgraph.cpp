@@ -222,13 +222,14 @@ std::map<std::string, const SubgraphAsset*> embedded_assets_of(const Graph& grap
   return out;
 }
 
-std::string free_embedded_name(const Graph& graph, const std::string& base) {
+std::string free_embedded_name(const Graph& graph, const std::string& base, const Graph* holder) {
   std::string name = base;
   for (char& c : name)
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-') c = '_';
   if (name.empty() || (!std::isalpha(static_cast<unsigned char>(name[0])) && name[0] != '_')) name = "_" + name;
   if (name.size() > 100) name.resize(100);
-  const auto taken = embedded_assets_of(graph);
+  auto taken = embedded_assets_of(graph);
+  if (holder) taken.merge(embedded_assets_of(*holder));
   std::string candidate = name;
   for (int k = 2; taken.count(candidate); ++k) candidate = name + std::to_string(k);
   return candidate;

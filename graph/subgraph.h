@@ -117,9 +117,9 @@ AssetLoad load_embedded_asset(const std::string& name, const std::string& text, 
 // different assets have the same name.
 std::map<std::string, const SubgraphAsset*> embedded_assets_of(const Graph& graph);
 
-// A name for a new embedded asset: `base` (made an identifier) if no embedded asset of `graph` has it, else
-// base2, base3, ...
-std::string free_embedded_name(const Graph& graph, const std::string& base);
+// A name for a new embedded asset: `base` (made an identifier) if no embedded asset of `graph` (nor of `holder`,
+// when given) has it, else base2, base3, ...
+std::string free_embedded_name(const Graph& graph, const std::string& base, const Graph* holder = nullptr);
 
 // A new instance of `asset` in `graph`, naming it by `reference` in files.
 Node& add_subgraph_instance(Graph& graph, const SubgraphAsset& asset, const std::string& reference,

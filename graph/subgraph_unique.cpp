@@ -26,7 +26,7 @@ fs::path folder(const fs::path& dir) {
 
 }  // namespace
 
-MadeUnique make_instance_unique(Graph& graph, const std::string& id) {
+MadeUnique make_instance_unique(Graph& graph, const std::string& id, const Graph* holder) {
   Node* node = graph.find(id);
   if (!node) {
     std::vector<std::string> ids;
@@ -68,7 +68,7 @@ MadeUnique make_instance_unique(Graph& graph, const std::string& id) {
     siblings.emplace(name, nested);
   }
 
-  const std::string name = free_embedded_name(graph, asset->name);
+  const std::string name = free_embedded_name(graph, asset->name, holder);
   const AssetLoad load = load_embedded_asset(name, embedded_document_text(copy), to, siblings);
   if (!load.asset)
     throw GraphError("cannot make instance '" + id + "' unique: the copy of asset '" + asset->name +

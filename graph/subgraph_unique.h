@@ -22,7 +22,9 @@ struct MadeUnique {
 // instance, an instance that already has an embedded asset of its own, and an asset whose own embedded assets
 // cannot come along (one of their names is taken in the graph by a different asset, or they are in another
 // folder, where their relative paths would change meaning).
-MadeUnique make_instance_unique(Graph& graph, const std::string& id);
+// `holder`: the graph whose "subgraphs" section the copy will be saved in, when `graph` is itself an embedded
+// asset of it (being edited): the name is made free there too.
+MadeUnique make_instance_unique(Graph& graph, const std::string& id, const Graph* holder = nullptr);
 
 // The document an embedded asset with the nodes and interface of `asset_graph` has in a "subgraphs" section
 // (compact, as the loader reads entries: equal content loads as the same asset).

@@ -172,12 +172,12 @@ std::vector<std::string> ungroup_node(Document& document, const std::string& id)
   return added;
 }
 
-std::string make_unique_node(Document& document, const std::string& id) {
+std::string make_unique_node(Document& document, const std::string& id, const Graph* holder) {
   std::string name;
   try {
     Graph check = document.graph();
     check.directory = document_directory(document);  // the copy's paths are rebased to the document's folder
-    name = make_instance_unique(check, id).name;
+    name = make_instance_unique(check, id, holder).name;
   } catch (const GraphError& e) {
     throw DocumentError("cannot make '" + id + "' unique: " + e.what());
   }
@@ -185,7 +185,7 @@ std::string make_unique_node(Document& document, const std::string& id) {
   document.edit("Make " + id + " unique (#" + name + ")", [&](Graph& g) {
     const fs::path directory = g.directory;
     g.directory = dir;
-    make_instance_unique(g, id);
+    make_instance_unique(g, id, holder);
     g.directory = directory;
   });
   return name;

@@ -41,6 +41,8 @@ std::vector<std::string> ungroup_node(Document& document, const std::string& id)
 
 // "Make unique": instance `id` gets its own copy of its asset, embedded in the document (graph/subgraph_unique.h),
 // in one undo step. Returns the embedded asset's name. Throws DocumentError with the reason.
-std::string make_unique_node(Document& document, const std::string& id);
+// `holder`: the graph of the document whose file will hold the copy, when `document` is an embedded asset of it
+// being edited (SubgraphNavigator::make_unique).
+std::string make_unique_node(Document& document, const std::string& id, const Graph* holder = nullptr);
 
 }  // namespace orogen::editor

@@ -1,5 +1,6 @@
 #include "editor/model/subgraph_navigation.h"
 
+#include "editor/model/grouping.h"
 #include "graph/graph_file.h"
 #include "graph/subgraph.h"
 #include "graph/subgraph_unique.h"
@@ -60,6 +61,14 @@ Document& SubgraphNavigator::enter(const std::string& id) {
   level.synced_revision = level.document->revision();
   levels_.push_back(std::move(level));
   return current();
+}
+
+std::string SubgraphNavigator::make_unique(const std::string& id) {
+  // The document whose file holds the current level's embedded assets: the nearest file level above, or the root.
+  std::size_t owner = levels_.size();
+  while (owner > 0 && !levels_[owner - 1].embedded.empty()) --owner;
+  const Document* holder = owner == levels_.size() ? nullptr : owner == 0 ? root_ : levels_[owner - 1].document.get();
+  return make_unique_node(current(), id, holder ? &holder->graph() : nullptr);
 }
 
 bool SubgraphNavigator::leave() {

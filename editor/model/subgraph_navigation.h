@@ -58,6 +58,10 @@ class SubgraphNavigator {
   // maps to was deleted, ...) is not written; returns why (empty when everything is written). Cheap when nothing
   // changed.
   std::string sync();
+  // Make unique (editor/model/grouping.h) of instance `id` of the current document; inside an embedded asset
+  // the copy's name is made free in the document that holds it too. Returns the embedded asset's name.
+  std::string make_unique(const std::string& id);
+
   // The last sync's problem, until a sync succeeds.
   const std::string& sync_error() const { return sync_error_; }
 

@@ -167,7 +167,10 @@ void Inspector::draw_node(Document& document, Selection& selection, const Node& 
       if (ImGui::SmallButton("Make unique")) {
         const std::string id = node.id;
         try {
-          make_unique_node(document, id);
+          if (make_unique_)
+            make_unique_(id);
+          else
+            make_unique_node(document, id);
           error_.clear();
         } catch (const std::exception& e) {
           error_key_ = id + ".";

@@ -568,6 +568,36 @@ TEST(EditorSubgraphs, EditingAnEmbeddedAssetChangesTheDocumentNotTheFile) {
   EXPECT_DOUBLE_EQ(std::get<double>(reopened.graph().at(r.instance).type->subgraph->graph.param("a", "weight")), 0.9);
 }
 
+// Inside an embedded asset, Make unique names the copy freely in the file that will hold it (the root's section
+// already has "#group" and "#group2").
+TEST(EditorSubgraphs, MakeUniqueInsideAnEmbeddedAssetPicksANameFreeInTheFile) {
+  fs::path dir;
+  Document root = saved_diamond("unique-nested", &dir);
+  const auto before = evaluate_bytes(root.graph());
+  const GroupResult inner = group_nodes(root, {"a"});
+  const GroupResult outer = group_nodes(root, {inner.instance, "b"});
+  root.edit("solo", [&](Graph& g) {
+    Node& solo = add_subgraph_instance(g, *inner.asset, "group.orogen-subgraph.json", "solo");
+    solo.inputs = {{"a", {"s1", "out"}}};
+  });
+  EXPECT_EQ(make_unique_node(root, "solo"), "group");
+  EXPECT_EQ(make_unique_node(root, outer.instance), "group2");
+  SubgraphNavigator nav(root);
+  nav.enter(outer.instance);
+  EXPECT_EQ(nav.make_unique(inner.instance), "group3");
+  EXPECT_EQ(nav.current().graph().at(inner.instance).asset, "#group3");
+  ASSERT_EQ(nav.sync(), "");
+  ASSERT_TRUE(nav.leave());
+  EXPECT_EQ(evaluate_bytes(root.graph()), before);
+  root.save();
+  const Document reopened = Document::open(root.path());
+  ASSERT_TRUE(reopened.load_problems().empty()) << reopened.load_problems().diagnostics.front().str();
+  EXPECT_EQ(evaluate_bytes(reopened.graph()), before);
+  const std::string text = read_file(root.path());
+  EXPECT_NE(text.find("\"group3\": {"), std::string::npos);
+  EXPECT_NE(text.find("\"asset\": \"#group3\""), std::string::npos);
+}
+
 TEST(EditorSubgraphs, PaletteListsLibraryAssetsAndAddsInstances) {
   const auto types = palette_types_with_library();
   const NodeType* colors = nullptr;
