@@ -295,15 +295,60 @@ TEST(EmbeddedSubgraphs, MakeUniqueOfALibraryAssetEvaluatesByteIdenticallyAndRoun
   EXPECT_EQ(bytes_of(evaluate(fresh, *reloaded.graph, {"colors"}), "colors"), before);
 }
 
+// An embedded asset two instances share: making one unique gives it a copy under a new name; each evaluates
+// as before, and the copy can then be changed alone.
+TEST(EmbeddedSubgraphs, MakeUniqueOfASharedEmbeddedAssetCopiesIt) {
+  const fs::path dir = scratch_dir("embedded_shared");
+  json doc = graph_doc("#noise", {{"noise", noise_asset()}});
+  doc["nodes"].push_back({{"id", "other"},
+                          {"type", "Subgraph"},
+                          {"asset", "#noise"},
+                          {"asset_version", 1},
+                          {"inputs", {{"base", "inst.out"}}}});
+  const LoadResult loaded = load_doc(dir, doc);
+  ASSERT_TRUE(loaded.ok()) << loaded.error_text();
+  Graph graph = *loaded.graph;
+  Evaluator evaluator;
+  const auto before = bytes_of(evaluate(evaluator, graph, {"other"}), "other");
+  const MadeUnique made = make_instance_unique(graph, "other");
+  EXPECT_EQ(made.name, "noise2");
+  EXPECT_EQ(graph.at("other").asset, "#noise2");
+  EXPECT_EQ(graph.at("inst").asset, "#noise");
+  Evaluator fresh;
+  EXPECT_EQ(bytes_of(evaluate(fresh, graph, {"other"}), "other"), before);
+  const json saved = json::parse(serialize_graph(graph));
+  EXPECT_TRUE(saved["subgraphs"].contains("noise") && saved["subgraphs"].contains("noise2"));
+  EXPECT_THROW(make_instance_unique(graph, "other"), GraphError);  // unique now
+}
+
 // A file asset in another folder: the copy's relative paths (an input file, a nested asset) are rebased to the
 // graph's folder and still name the same files.
 TEST(EmbeddedSubgraphs, MakeUniqueRebasesRelativePaths) {
   const fs::path dir = scratch_dir("embedded_rebase");
   write_text(dir / "assets" / "noise.orogen-subgraph.json", noise_asset().dump(2));
+  // An input file beside the assets: made by evaluating a writer there.
+  write_text(dir / "assets" / "make.json",
+             json{{"format", "orogen-graph"},
+                  {"version", kGraphFormatVersion},
+                  {"domain", {{"size", {4096, 4096}}, {"resolution", {48, 48}}}},
+                  {"nodes",
+                   {{{"id", "n"}, {"type", "FBM"}, {"params", {{"amplitude", 80}, {"seed", 11}}}},
+                    {{"id", "w"},
+                     {"type", "WriteHeightfield"},
+                     {"inputs", {{"in", "n.out"}}},
+                     {"params", {{"path", "dem.exr"}}}}}}}
+                 .dump());
+  ASSERT_EQ(run_process(cli_binary(),
+                        {"eval", (dir / "assets" / "make.json").string(), "-o", (dir / "assets").string(), "--quiet"})
+                .exit_code,
+            0);
+  ASSERT_TRUE(fs::exists(dir / "assets" / "dem.exr"));
   json outer = noise_asset();
   outer["interface"]["params"] = json::array();
   outer["nodes"] = {{{"id", "n"}, {"type", "Subgraph"}, {"asset", "noise.orogen-subgraph.json"}, {"asset_version", 1}},
-                    {{"id", "flip"}, {"type", "Invert"}, {"inputs", {{"in", "n.out"}}}}};
+                    {{"id", "read"}, {"type", "ReadHeightfield"}, {"params", {{"path", "dem.exr"}}}},
+                    {{"id", "sum"}, {"type", "Add"}, {"inputs", {{"a", "n.out"}, {"b", "read.out"}}}},
+                    {{"id", "flip"}, {"type", "Invert"}, {"inputs", {{"in", "sum.out"}}}}};
   outer["interface"]["inputs"][0]["to"] = "n.base";
   write_text(dir / "assets" / "outer.orogen-subgraph.json", outer.dump(2));
   json doc = graph_doc("assets/outer.orogen-subgraph.json");
@@ -316,6 +361,7 @@ TEST(EmbeddedSubgraphs, MakeUniqueRebasesRelativePaths) {
   const MadeUnique made = make_instance_unique(graph, "inst");
   EXPECT_EQ(made.name, "outer");
   EXPECT_EQ(made.asset->graph.at("n").asset, "assets/noise.orogen-subgraph.json");
+  EXPECT_EQ(std::get<std::string>(made.asset->graph.param("read", "path")), "assets/dem.exr");
   Evaluator fresh;
   EXPECT_EQ(bytes_of(evaluate(fresh, graph, {"inst"}), "inst"), before);
   save_graph_file(graph, dir / "unique.json");
