@@ -3,9 +3,6 @@
 #include <algorithm>
 #include <set>
 
-#include <glm/common.hpp>
-#include <nlohmann/json.hpp>
-
 #include "graph/atomic_file.h"
 #include "graph/graph_file.h"
 #include "graph/subgraph_extract.h"
@@ -14,7 +11,6 @@
 namespace orogen::editor {
 
 namespace fs = std::filesystem;
-using nlohmann::json;
 
 fs::path free_asset_path(const fs::path& dir, const std::string& base) {
   for (int k = 1;; ++k) {
@@ -103,7 +99,7 @@ std::vector<std::string> inline_instance(Graph& graph, const std::string& id, co
   const SubgraphAsset* asset = instance.type->subgraph;
   if (!asset) throw GraphError("node '" + id + "' is not a subgraph instance: there is nothing to ungroup");
   const SubgraphInterface& in = asset->interface();
-  const fs::path asset_dir = asset->file.parent_path();
+  const fs::path asset_dir = asset->graph.directory;  // its file's folder; for an embedded one, the graph's
 
   // The asset's nodes with the instance's exposed values, as the expansion writes them (graph/subgraph.cpp):
   // defaults are the asset's values (relative paths in them are the asset's), values set on the instance are

@@ -508,6 +508,10 @@ TEST(EditorSubgraphs, MakeUniqueEmbedsACopyInOneUndoStep) {
   EXPECT_EQ(root.graph().at(r.instance).type->subgraph, r.asset);
   ASSERT_TRUE(root.redo());
   EXPECT_EQ(root.graph().at(r.instance).asset, "#group");
+  // An embedded instance ungroups like any other.
+  ungroup_node(root, r.instance);
+  EXPECT_FALSE(root.graph().find(r.instance));
+  EXPECT_EQ(evaluate_bytes(root.graph()), bytes);
 }
 
 // Entering an embedded asset edits the copy inside the document: no file is written, the document is unsaved,
