@@ -508,6 +508,17 @@ TEST(EditorSubgraphs, MakeUniqueEmbedsACopyInOneUndoStep) {
   EXPECT_EQ(root.graph().at(r.instance).type->subgraph, r.asset);
   ASSERT_TRUE(root.redo());
   EXPECT_EQ(root.graph().at(r.instance).asset, "#group");
+  // Deleting the last instance of the copy says that saving drops it; undo brings it back.
+  {
+    Selection selection;
+    CanvasController canvas(root, selection);
+    selection.select_only(r.instance);
+    canvas.delete_selection();
+    EXPECT_EQ(canvas.message(),
+              "embedded asset #group has no instance left: saving the graph drops it (undo keeps it)");
+    canvas.undo();
+    EXPECT_EQ(root.graph().at(r.instance).asset, "#group");
+  }
   // An embedded instance ungroups like any other.
   ungroup_node(root, r.instance);
   EXPECT_FALSE(root.graph().find(r.instance));
