@@ -297,9 +297,15 @@ class Run {
     // A node added but not wired yet, that no output needs, is left out (graph/idle_nodes.h).
     const std::vector<std::string> idle_ids = idle_unwired_nodes(graph_);
     const std::set<std::string> idle(idle_ids.begin(), idle_ids.end());
-    for (const auto& n : graph_.nodes())
-      if ((n.type->writes_files || !feeding.count(n.id) || reports(*n.type)) && !idle.count(n.id))
+    for (const auto& n : graph_.nodes()) {
+      if (idle.count(n.id)) continue;
+      if (n.type->writes_files || !feeding.count(n.id)) {
         requested_.push_back(n.id);
+      } else if (reports(*n.type)) {
+        requested_.push_back(n.id);
+        for_reports_only_.insert(&n);
+      }
+    }
     return requested_;
   }
 
@@ -318,7 +324,11 @@ class Run {
     for (const auto& id : requested) {
       const Node& n = graph_.at(id);
       auto& v = need(n);
-      std::fill(v.begin(), v.end(), true);
+      // A node requested by default for its figures alone (it feeds other nodes) gives its Report outputs;
+      // the links add the others they use.
+      const bool reports_only = for_reports_only_.count(&n) > 0;
+      for (std::size_t i = 0; i < v.size(); ++i)
+        v[i] = v[i] || !reports_only || n.type->outputs[i].type == PortType::Report;
       if (seen.insert(&n).second) stack.push_back(&n);
     }
     while (!stack.empty()) {
@@ -617,6 +627,7 @@ class Run {
   OutputPolicy policy_;
   NodeKeys keys_;
   std::vector<std::string> requested_;
+  std::unordered_set<const Node*> for_reports_only_;  // default request: nodes requested for their reports only
   std::deque<Job> jobs_;
   std::unordered_map<std::string, int> job_of_node_;
   std::unordered_map<CacheKey, int, CacheKeyHash> job_of_key_;

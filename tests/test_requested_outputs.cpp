@@ -15,6 +15,7 @@
 #include "evaluator/run_node.h"
 #include "graph/exec_context.h"
 #include "graph/registry.h"
+#include "graph/report.h"
 #include "support/depression_terrain.h"
 #include "support/test_paths.h"
 
@@ -66,6 +67,29 @@ OROGEN_NODE(TestTake) {
     auto out = std::make_shared<Heightfield>(*ctx.require<Heightfield>("in"));
     for (float& v : out->data) v += static_cast<float>(ctx.param<double>("offset"));
     ctx.set_output("out", out);
+  });
+}
+
+// A field and a report, as the nodes the default request asks for their figures (DrainageMetrics, ...).
+OROGEN_NODE(TestReporter) {
+  b.category("test").description("A field, a second field and a report, recording what it was asked for.");
+  b.output("out", PortType::Heightfield).description("1");
+  b.output("extra", PortType::Heightfield).description("2");
+  b.output("report", PortType::Report).description("A figure");
+  b.execute([](ExecContext& ctx) {
+    const std::vector<bool> wanted{ctx.output_requested("out"), ctx.output_requested("extra"),
+                                   ctx.output_requested("report")};
+    {
+      std::lock_guard lock(g_mutex);
+      g_asked.push_back(wanted);
+    }
+    if (wanted[0]) ctx.set_output("out", std::make_shared<const Heightfield>(ctx.domain(), 1.0f));
+    if (wanted[1]) ctx.set_output("extra", std::make_shared<const Heightfield>(ctx.domain(), 2.0f));
+    if (wanted[2]) {
+      auto report = std::make_shared<Report>();
+      report->json = "{\"figure\": 42}";
+      ctx.set_output("report", std::shared_ptr<const Report>(report));
+    }
   });
 }
 
@@ -154,6 +178,26 @@ TEST_F(RequestedOutputs, ARequestedNodeAndTheDefaultRequestGetEveryOutput) {
   EXPECT_EQ(status(d, "triple"), NodeStatus::Cached);  // the complete result serves the link too
   ASSERT_EQ(asked().size(), 2u);
   EXPECT_EQ(asked()[1], kAll);
+}
+
+TEST_F(RequestedOutputs, DefaultRequestAsksANodeThatFeedsOthersForItsReportAndLinksOnly) {
+  Graph g;
+  g.add_node("TestReporter", "reporter");
+  g.add_node("TestTake", "take");
+  g.connect({"reporter", "out"}, "take", "in");
+  Evaluator ev;
+  const auto r = ev.evaluate(g, request({}));
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(asked().size(), 1u);
+  EXPECT_EQ(asked()[0], (std::vector<bool>{true, false, true}));
+  EXPECT_EQ(value(r, g, "take"), 1.0f);
+  const auto report = std::get<ReportPtr>(r.output("reporter", "report", g));
+  EXPECT_NE(report->json.find("42"), std::string::npos);
+  EXPECT_FALSE(has_value(r.output("reporter", "extra", g)));
+  // Asked for by name, it gives everything.
+  const auto named = ev.evaluate(g, request({"reporter"}));
+  ASSERT_TRUE(named.ok());
+  EXPECT_EQ(value(named, g, "reporter", "extra"), 2.0f);
 }
 
 TEST_F(RequestedOutputs, LinkingAnotherOutputLaterRecomputesTheUnion) {
@@ -319,7 +363,10 @@ void expect_subsets_match(const std::string& type, const std::map<std::string, P
       SCOPED_TRACE(type + " mask " + std::to_string(mask) + " output " + t.outputs[i].name);
       if (!(mask >> i & 1)) continue;
       ASSERT_TRUE(has_value(part.outputs[i]));
-      EXPECT_EQ(part.get<Heightfield>(i)->data, full.get<Heightfield>(i)->data);
+      if (t.outputs[i].type == PortType::Report)
+        EXPECT_EQ(part.get<Report>(i)->json, full.get<Report>(i)->json);
+      else
+        EXPECT_EQ(part.get<Heightfield>(i)->data, full.get<Heightfield>(i)->data);
     }
     for (const auto& group : skipped) {
       const bool wanted = std::any_of(group.begin(), group.end(), [&](const std::string& name) {
@@ -354,6 +401,11 @@ TEST(RequestedOutputsNodes, FlowAccumulationSkipsFlowAndWetness) {
 TEST(RequestedOutputsNodes, FlowDirectionSkipsUnusedMaps) {
   for (const std::string method : {"d8", "mfd"})
     expect_subsets_match("FlowDirection", {{"method", method}}, {{"out"}, {"dx", "dy"}, {"gradient"}});
+}
+
+TEST(RequestedOutputsNodes, HydraulicErosionSkipsItsChangeAndFlowMaps) {
+  // 128^2 at 10 m: about 33k droplets.
+  expect_subsets_match("HydraulicErosion", {}, {{"erosion", "deposition"}, {"flow"}});
 }
 
 TEST(RequestedOutputsNodes, FillDepressionsInAGraphComputesLakeMapsOnlyOnceLinked) {
