@@ -173,6 +173,10 @@ void BM_Particles(benchmark::State& state) {
 // the node (run_node: its outputs and report too), 0 the library call. A fixed cost shows as the CPU time at 0
 // droplets and as steps per second that grow with the density.
 //   orogen_bench_erosion --benchmark_filter=ParticlesDensity
+// Measured (warm heap): 3.4 ms at 0 droplets, 39.5 M steps/s at 50k droplets, 51 M at one droplet per cell: the
+// library call has no large fixed cost once its memory is warm. In a process (orogen eval, fresh memory) the
+// node's fixed cost was first-touch page faults of the six grids it allocated (~5,800 faults, 130-160 ms of its
+// time at 0 droplets): with only its height linked it now allocates one grid (18 ms).
 void BM_ParticlesDensity(benchmark::State& state) {
   ParticleParams p;
   p.droplets_per_km2 = static_cast<double>(state.range(0));

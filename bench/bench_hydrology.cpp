@@ -24,6 +24,9 @@
 //    D8Accumulation, the node with fill off on the filled terrain); .../all: every output requested, as
 //    before requested outputs. #27 item 8's figures:
 //    orogen_bench_hydrology --benchmark_filter='^(FillEpsilon|FillDepressionsNode|D8Accumulation|D8AccumulationNode)'
+//    Measured (process CPU, medians of 6 runs on the shared 2-core machine): FillDepressionsNode 583 ms against
+//    FillEpsilon 590 ms (1.0x), all outputs 882 ms; D8AccumulationNode 343 ms against D8Accumulation 310 ms
+//    (1.1x), all outputs 808 ms.
 #include <algorithm>
 #include <cstdio>
 #include <map>
