@@ -15,6 +15,10 @@ namespace huge_pages {
 // std::bad_alloc when there is none.
 void* allocate(std::size_t bytes);
 void release(void* p);
+// Asks for huge pages under the whole 2 MB pages of [p, p + bytes), before anything touches them (a hint, for
+// memory owned elsewhere, e.g. a large std::vector's reserved buffer): a 64 MB grid then takes 32 first-touch
+// faults instead of 16,384, which on this VM cost more CPU than filling it. Below kMinBytes it does nothing.
+void advise(void* p, std::size_t bytes);
 }  // namespace huge_pages
 
 template <class T>
