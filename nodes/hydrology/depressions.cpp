@@ -5,6 +5,7 @@
 
 #include "graph/cost_query.h"
 #include "graph/registry.h"
+#include "nodes/common/huge_page_buffer.h"
 #include "nodes/hydrology/flow_routing.h"
 
 namespace orogen::hydrology {
@@ -51,7 +52,9 @@ FillResult fill_depressions(const Heightfield& in, const FillParams& p, const Ex
   // no lake kept when max_depth is 0, since every wet cell is strictly deeper than 0).
   if (!p.lake_maps && (!p.carve || !(p.max_depth > 0.0))) {
     FillResult r;
-    r.out = std::make_shared<Heightfield>(in);
+    r.out = std::make_shared<Heightfield>();
+    r.out->domain = in.domain;
+    huge_pages::assign_fresh(r.out->data, in.data);  // fewer first-touch faults than a plain copy
     const FlatMode mode = p.epsilon ? FlatMode::Epsilon : FlatMode::Flat;
     if (!p.carve) {
       fill_depressions(g, r.out->data, mode, {}, ctx);
