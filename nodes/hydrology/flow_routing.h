@@ -86,17 +86,20 @@ struct Outlets {
 
 enum class FlatMode {
   Flat,     // filled areas are exactly flat at their spill level (Priority-Flood+Flat)
-  Epsilon,  // filled areas rise by one float ulp per cell away from the spill, so every cell has a strictly
-            // lower path to an outlet (Priority-Flood+epsilon)
+  Epsilon,  // filled areas rise by float ulps away from the spill, so every cell but an outlet has a strictly
+            // lower neighbour (Priority-Flood+epsilon): the least surface e with e = z at the outlets and
+            // e(n) = max(z(n), min over the 8 neighbours m of nextafter(e(m), +inf)) elsewhere. That fixed point
+            // is unique, so it does not depend on the order in which a flood visits ties (tiles reproduce it
+            // exactly, nodes/hydrology/tile_fill.h); it equals the epsilon surface of the Flat-filled heights
+            // (e >= the flat fill F, and F <= e makes F's own equation hold wherever e is raised).
 };
 
 // Raises every cell that has no descending path to an outlet to its spill level, in place. Priority-Flood
 // (Barnes et al. 2014) with the depression and slope queues of Zhou et al. 2016: only cells that can be
 // spill points enter the priority queue. O(n) plus O(m log m) for the m queued cells.
 // `spill_level` (optional, size nx*ny) receives the flat water level of every cell: max(input, the spill
-// level of its depression), the input where nothing was raised. With Flat it equals the result; with Epsilon
-// it is the flat fill computed in the same pass (within a few ulps of it on level ground at a spill), so
-// `spill_level > input` marks the lakes without a second fill.
+// level of its depression), the input where nothing was raised, so `spill_level > input` marks the lakes. With
+// Flat it equals the result; with Epsilon it is exactly the Flat fill, from a pass of its own.
 void fill_depressions(const FlowGrid& g, std::span<float> z, FlatMode mode, const Outlets& outlets = {},
                       const ExecContext* ctx = nullptr, std::span<float> spill_level = {});
 
