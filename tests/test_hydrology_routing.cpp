@@ -126,6 +126,15 @@ TEST(HydrologyFill, EpsilonIsTheLeastFixedPointOfItsDefinitionBitForBit) {
     std::vector<float> out = z;
     fill_depressions(g, out, FlatMode::Epsilon, outlets);
     ASSERT_EQ(0, std::memcmp(out.data(), expected.data(), out.size() * sizeof(float)));
+    // The incremental form from the outlets, with the seeds in a scrambled order.
+    std::vector<float> relaxed(g.size(), INFINITY);
+    std::vector<std::int32_t> seeds;
+    for (int j = 0; j < g.ny; ++j)
+      for (int i = 0; i < g.nx; ++i)
+        if (outlets.is_outlet(g, i, j)) seeds.push_back(g.index(i, j)), relaxed[g.index(i, j)] = z[g.index(i, j)];
+    std::reverse(seeds.begin(), seeds.end());
+    relax_epsilon(g.nx, g.ny, z, relaxed, seeds);
+    ASSERT_EQ(0, std::memcmp(relaxed.data(), expected.data(), out.size() * sizeof(float)));
     std::vector<float> flat = z;
     fill_depressions(g, flat, FlatMode::Flat, outlets);
     std::vector<float> from_flat = flat;

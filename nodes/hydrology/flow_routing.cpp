@@ -591,6 +591,42 @@ void fill_depressions(const FlowGrid& g, std::span<float> z, FlatMode mode, cons
   fill_impl<true>(g, z, outlets, ctx);
 }
 
+void relax_epsilon(int nx, int ny, std::span<const float> level, std::span<float> e,
+                   std::span<const std::int32_t> seeds) {
+  // Unraised cells (at their level) go to the monotone heap, raised ones (one ulp above the cell expanded) to
+  // a FIFO that stays sorted because expanded values never decrease; the smaller front goes first. A cell
+  // lowered again leaves a stale entry behind, skipped when its value no longer matches.
+  MinHeap heap;
+  for (const std::int32_t c : seeds) heap.push(e[static_cast<std::size_t>(c)], c);
+  std::vector<QueuedCell> fifo;
+  std::size_t head = 0;
+  while (head < fifo.size() || !heap.empty()) {
+    QueuedCell q;
+    if (head < fifo.size() && (heap.empty() || fifo[head].z <= heap.peek_z())) {
+      q = fifo[head];
+      if (++head == fifo.size()) fifo.clear(), head = 0;
+    } else {
+      const Entry top = heap.pop();
+      q = {top.c, top.z};
+    }
+    if (q.z != e[static_cast<std::size_t>(q.c)]) continue;
+    const float r = next_up(q.z);
+    const int i = q.c % nx, j = q.c / nx;
+    for (int k = 0; k < 8; ++k) {
+      const int x = i + kDi[k], y = j + kDj[k];
+      if (x < 0 || y < 0 || x >= nx || y >= ny) continue;
+      const std::int32_t n = y * nx + x;
+      const float v = std::max(level[static_cast<std::size_t>(n)], r);
+      if (!(v < e[static_cast<std::size_t>(n)])) continue;
+      e[static_cast<std::size_t>(n)] = v;
+      if (v == r)
+        fifo.push_back({n, v});
+      else
+        heap.push(v, n);
+    }
+  }
+}
+
 void breach_depressions(const FlowGrid& g, std::span<float> z, FlatMode mode, const Outlets& outlets,
                         const ExecContext* ctx) {
   if (g.size() == 0) return;

@@ -103,6 +103,15 @@ enum class FlatMode {
 void fill_depressions(const FlowGrid& g, std::span<float> z, FlatMode mode, const Outlets& outlets = {},
                       const ExecContext* ctx = nullptr, std::span<float> spill_level = {});
 
+// The incremental form of the epsilon surface, for pieces of a domain (the fill across tiles,
+// nodes/hydrology/tile_fill.h): `e` holds upper bounds of the epsilon surface of `level` on an nx * ny grid
+// (+inf where nothing is known yet; `level` at the outlets), and `seeds` the cells whose bound was just set or
+// lowered. Lowers every cell to the least value its neighbours allow, e(n) = min(e(n), max(level(n),
+// next_up(e(m)))), in Dijkstra order from the seeds, so each cell is final when its value is. Called with
+// e = level at the outlets, +inf elsewhere, and the outlets as seeds, it gives fill_depressions(Epsilon).
+void relax_epsilon(int nx, int ny, std::span<const float> level, std::span<float> e,
+                   std::span<const std::int32_t> seeds);
+
 // Carves instead of filling, in place: from every pit a channel is cut back along the least-cost
 // Priority-Flood path to the spill and beyond until the path descends (complete breaching, Lindsay 2016).
 // Epsilon: the carved channel descends by one ulp per cell; Flat: it is level.
