@@ -18,7 +18,7 @@ int label_components(int nx, int ny, const std::vector<std::uint8_t>& mask, std:
 
 struct FillParams {
   bool carve = false;      // breach (carve) depressions instead of filling them
-  bool epsilon = true;     // give filled areas a drainage gradient (one float ulp per cell) instead of flats
+  bool epsilon = true;     // give filled areas a drainage gradient (FlatMode::Epsilon) instead of flats
   double max_depth = 0.0;  // carve: depressions at most this deep (m) are filled and kept as lakes
 };
 
