@@ -16,6 +16,7 @@
 #include "graph/tile_graph.h"
 #include "nodes/hydrology/depressions.h"
 #include "nodes/hydrology/flow_routing.h"
+#include "nodes/hydrology/tile_accumulation.h"
 #include "nodes/hydrology/tile_fill.h"
 #include "nodes/hydrology/tile_lakes.h"
 
@@ -405,5 +406,77 @@ TEST(FillAcrossTiles, LakeFiguresAreCheckedAndTravelAsBytes) {
   b.perimeter[0] = static_cast<std::int32_t>(b.first_cell.size()) + 1;  // names no lake of the tile
   EXPECT_THROW(solve_tile_lakes({a, b}, {33, 33}, [](float, std::int64_t) { return true; }), std::invalid_argument);
 }
+// D8 accumulation across tiles (nodes/hydrology/tile_accumulation.h, Barnes 2017) on the epsilon-filled terrains:
+// whole cell counts, so bit for bit the whole-domain accumulate_d8 of unit weights on every tiling, and at every
+// outlet the number of cells whose D8 path ends there.
+TEST(AccumulationAcrossTiles, CountsEqualTheWholeDomainOnEveryTiling) {
+  const std::vector<glm::ivec2> tilings = {{1, 1}, {2, 2}, {3, 2}, {4, 3}, {1, 4}, {7, 6}};
+  for (const glm::ivec2 size : {glm::ivec2(41, 33), glm::ivec2(129, 97)})
+    for (int levels : {0, 2}) {
+      Terrain t = terrain(size, 9, levels);
+      const FlowGrid g(size.x, size.y);
+      fill_depressions(g, t.z, FlatMode::Epsilon);
+      const D8Flow f = d8_flow(g, t.z);
+      const auto whole = accumulate_d8(g, f, std::vector<float>(g.size(), 1.0f));
+      // Outlets: the cells whose D8 path ends at them, counted by following the paths.
+      std::vector<std::int64_t> ending(g.size(), 0);
+      for (std::int32_t c = 0; c < static_cast<std::int32_t>(g.size()); ++c) {
+        std::int32_t x = c;
+        while (f.receiver[static_cast<std::size_t>(x)] != x) x = f.receiver[static_cast<std::size_t>(x)];
+        ++ending[static_cast<std::size_t>(x)];
+      }
+      for (const glm::ivec2 counts : tilings) {
+        SCOPED_TRACE(std::to_string(size.x) + "x" + std::to_string(size.y) + " levels " + std::to_string(levels) +
+                     " tiles " + std::to_string(counts.x) + "x" + std::to_string(counts.y));
+        std::vector<TileAccumulation> tiles;
+        std::vector<std::string> messages;
+        for (int tj = 0; tj < counts.y; ++tj)
+          for (int ti = 0; ti < counts.x; ++ti) {
+            TileRect r;
+            r.first = {edge(ti, size.x, counts.x), edge(tj, size.y, counts.y)};
+            r.size = glm::ivec2(edge(ti + 1, size.x, counts.x), edge(tj + 1, size.y, counts.y)) - r.first + 1;
+            std::vector<std::uint8_t> direction;
+            for (int j = 0; j < r.size.y; ++j)
+              for (int i = 0; i < r.size.x; ++i)
+                direction.push_back(f.direction[static_cast<std::size_t>(g.index(r.first.x + i, r.first.y + j))]);
+            tiles.push_back(start_tile_accumulation(direction, r, size));
+            messages.push_back(accumulation_message(tiles.back()));
+          }
+        const auto answers = solve_tile_accumulation(messages, size);
+        std::vector<std::int64_t> joined(g.size(), -1);
+        for (std::size_t k = 0; k < tiles.size(); ++k) {
+          const auto acc = finish_tile_accumulation(tiles[k], answers[k]);
+          const TileRect& r = tiles[k].rect;
+          for (int j = 0; j < r.size.y; ++j)
+            for (int i = 0; i < r.size.x; ++i) {
+              auto& v = joined[static_cast<std::size_t>(g.index(r.first.x + i, r.first.y + j))];
+              const std::int64_t mine = acc[static_cast<std::size_t>(j) * r.size.x + i];
+              ASSERT_TRUE(v < 0 || v == mine) << "tiles disagree at " << r.first.x + i << "," << r.first.y + j;
+              v = mine;
+            }
+        }
+        for (std::size_t c = 0; c < g.size(); ++c) {
+          ASSERT_EQ(static_cast<double>(joined[c]), whole[c]) << "cell " << c;
+          if (f.receiver[c] == static_cast<std::int32_t>(c)) ASSERT_EQ(joined[c], ending[c]) << "outlet " << c;
+        }
+      }
+    }
+}
+
+TEST(AccumulationAcrossTiles, MalformedMessagesAndLoopsAreRefused) {
+  const TileRect r{{0, 0}, {3, 3}};
+  std::vector<std::uint8_t> direction(9, kNoDirection);
+  direction[4] = 0;  // the centre drains east
+  const auto t = start_tile_accumulation(direction, r, {3, 3});
+  const std::string m = accumulation_message(t);
+  EXPECT_NO_THROW(solve_tile_accumulation({m}, {3, 3}));
+  EXPECT_THROW(solve_tile_accumulation({m + "x"}, {3, 3}), std::invalid_argument);
+  EXPECT_THROW(solve_tile_accumulation({m.substr(0, m.size() - 1)}, {3, 3}), std::invalid_argument);
+  EXPECT_THROW(solve_tile_accumulation({m}, {2, 3}), std::invalid_argument);
+  direction[5] = 4;  // east drains back west: a loop
+  EXPECT_THROW(start_tile_accumulation(direction, r, {3, 3}), std::invalid_argument);
+  EXPECT_THROW(finish_tile_accumulation(t, "x"), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace orogen::hydrology
