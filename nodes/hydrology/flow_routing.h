@@ -90,8 +90,9 @@ enum class FlatMode {
             // lower neighbour (Priority-Flood+epsilon): the least surface e with e = z at the outlets and
             // e(n) = max(z(n), min over the 8 neighbours m of nextafter(e(m), +inf)) elsewhere. That fixed point
             // is unique, so it does not depend on the order in which a flood visits ties (tiles reproduce it
-            // exactly, nodes/hydrology/tile_fill.h); it equals the epsilon surface of the Flat-filled heights
-            // (e >= the flat fill F, and F <= e makes F's own equation hold wherever e is raised).
+            // exactly, nodes/hydrology/tile_fill.h); it equals the epsilon surface of the Flat-filled heights F
+            // (z <= F <= e: where e is raised the max in its equation ignores F as it ignored z, and where it
+            // is not, F = z).
 };
 
 // Raises every cell that has no descending path to an outlet to its spill level, in place. Priority-Flood
