@@ -457,7 +457,9 @@ TEST(AccumulationAcrossTiles, CountsEqualTheWholeDomainOnEveryTiling) {
         }
         for (std::size_t c = 0; c < g.size(); ++c) {
           ASSERT_EQ(static_cast<double>(joined[c]), whole[c]) << "cell " << c;
-          if (f.receiver[c] == static_cast<std::int32_t>(c)) ASSERT_EQ(joined[c], ending[c]) << "outlet " << c;
+          if (f.receiver[c] == static_cast<std::int32_t>(c)) {
+            ASSERT_EQ(joined[c], ending[c]) << "outlet " << c;
+          }
         }
       }
     }

@@ -295,18 +295,21 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
     return {open, le & open};
   };
   // Closes the open neighbours of c: those at or below r join the depression at level r, the others are slope
-  // cells (final height).
+  // cells (final height). Epsilon: trace_min is the lowest slope cell not climbed from yet.
+  float trace_min = kInf;
   auto expand_pit = [&](std::int32_t c, float r) {
     const Masks m = masks(c, r);
     for (unsigned x = m.open; x; x &= x - 1) {
       const int b = std::countr_zero(x);
       const std::int32_t n = c + noff[b];
+      const float zn = zw[n];
       set_bit(closed, n);
       if (m.low >> b & 1) {
         zw[n] = r;
         pit.push_back({n, r});
       } else {
-        trace.push_back({n, zw[n]});
+        trace.push_back({n, zn});
+        if constexpr (kEpsilon) trace_min = std::min(trace_min, zn);
       }
     }
   };
@@ -350,16 +353,21 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
     // The heap's minimum (kInf when empty): found after a pop, lowered by what the climbs push.
     float top = kInf;
     for (;;) {
-      // The pit cells no higher than the heap's minimum, in FIFO order.
-      while (head < pit.size() && pit[head].z <= top) {
-        const QueuedCell q = pit[head++];
-        expand_pit(q.c, next_up(q.z));
-        ++work;
-        if (!trace.empty()) {
-          const auto [climbed, lowest] = climb();
-          work += climbed;
-          top = std::min(top, lowest);
+      // The pit cells no higher than the heap's minimum, in FIFO order. The slope cells found meanwhile are
+      // climbed from (their spills pushed) before the first pit cell above them: as late as that, most of their
+      // lower neighbours have been closed by the depression, so few of them wait in the heap for nothing.
+      for (;;) {
+        while (head < pit.size() && pit[head].z <= top && pit[head].z <= trace_min) {
+          const QueuedCell q = pit[head++];
+          expand_pit(q.c, next_up(q.z));
+          ++work;
         }
+        if (trace.empty()) break;
+        const auto [climbed, lowest] = climb();
+        work += climbed;
+        top = std::min(top, lowest);
+        trace_min = kInf;
+        if (!(head < pit.size() && pit[head].z <= top)) break;
       }
       if (head == pit.size()) {
         pit.clear(), head = 0;
@@ -383,11 +391,6 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
       if (!open_around(e.c)) continue;
       expand_pit(e.c, next_up(e.z));
       ++work;
-      if (!trace.empty()) {
-        const auto [climbed, lowest] = climb();
-        work += climbed;
-        top = std::min(top, lowest);
-      }
     }
   } else {
     while (!heap.empty()) {
