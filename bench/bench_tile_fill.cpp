@@ -2,6 +2,10 @@
 // Priority-Flood (Flat) on one fBm terrain: the per-tile flood, the solve of all tiles' spill graphs (what one rank
 // does once for the job) and the per-tile application, each as cells per second of one core, and the bytes of the
 // spill graphs that travel. Barnes (2016) reports about 2.5 M cells per core-second for the whole parallel fill.
+// Then the epsilon surface across the tiles from their flat levels (TileEpsilon) against the whole-domain epsilon
+// fill.
+#include <memory>
+
 #include <benchmark/benchmark.h>
 
 #include "nodes/hydrology/flow_routing.h"
@@ -93,7 +97,58 @@ void ApplyOneTile(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(phases().floods[k].level.size()));
 }
 
+void WholeDomainEpsilon(benchmark::State& state) {
+  const FlowGrid g = FlowGrid::of(terrain().domain);
+  for (auto _ : state) {
+    std::vector<float> z = terrain().data;
+    fill_depressions(g, z, FlatMode::Epsilon);
+    benchmark::DoNotOptimize(z.data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(terrain().data.size()));
+}
+
+// The epsilon surface across the 16 tiles from their flat levels (TileEpsilon): every tile's first relaxation,
+// then rounds of the perimeter values that fell until none does (all tiles on this core: what the ranks do
+// together). Counters: the rounds, the bytes of all messages and answers, and whether the joined tiles equal the
+// whole-domain epsilon fill bit for bit (checked once, outside the timing).
+void EpsilonAllTiles(benchmark::State& state) {
+  std::vector<std::vector<float>> flat(phases().floods.size());
+  for (std::size_t k = 0; k < flat.size(); ++k) flat[k] = apply_spill_levels(phases().floods[k], phases().levels[k]);
+  int rounds = 0;
+  std::size_t bytes = 0;
+  std::vector<std::unique_ptr<TileEpsilon>> tiles;
+  for (auto _ : state) {
+    tiles.clear();
+    rounds = 0, bytes = 0;
+    for (std::size_t k = 0; k < flat.size(); ++k)
+      tiles.push_back(std::make_unique<TileEpsilon>(flat[k], phases().graphs[k].rect, glm::ivec2(kSide)));
+    for (bool fell = true; fell; ++rounds) {
+      std::vector<std::string> messages;
+      for (auto& t : tiles) messages.push_back(t->message()), bytes += messages.back().size();
+      fell = epsilon_values_fell(messages);
+      const auto answers = solve_epsilon_perimeters(messages, glm::ivec2(kSide));
+      for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->answer(answers[k]), bytes += answers[k].size();
+    }
+  }
+  std::vector<float> whole = terrain().data;
+  fill_depressions(FlowGrid::of(terrain().domain), whole, FlatMode::Epsilon);
+  bool equal = true;
+  for (std::size_t k = 0; k < tiles.size(); ++k) {
+    const TileRect& r = phases().graphs[k].rect;
+    for (int j = 0; j < r.size.y; ++j)
+      for (int i = 0; i < r.size.x; ++i)
+        equal = equal && tiles[k]->surface()[static_cast<std::size_t>(j) * r.size.x + i] ==
+                             whole[static_cast<std::size_t>(r.first.y + j) * kSide + r.first.x + i];
+  }
+  state.counters["rounds"] = rounds;
+  state.counters["message_MiB"] = static_cast<double>(bytes) / (1 << 20);
+  state.counters["equal"] = equal;
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(terrain().data.size()));
+}
+
 BENCHMARK(WholeDomainFlat)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+BENCHMARK(WholeDomainEpsilon)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+BENCHMARK(EpsilonAllTiles)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->Iterations(1);
 BENCHMARK(FloodOneTile)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
 BENCHMARK(SolveAllSpillGraphs)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
 BENCHMARK(ApplyOneTile)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();

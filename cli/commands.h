@@ -57,6 +57,15 @@ struct ExtractCommand {
 // `orogen subgraph extract`: writes the asset and the rewritten graph (exit 2 if the selection cannot be
 // extracted, with the reason).
 int run_subgraph_extract(const ExtractCommand& cmd);
+struct MakeUniqueCommand {
+  std::filesystem::path graph_file;
+  std::string node;              // the instance
+  std::filesystem::path output;  // empty: rewrite graph_file in place
+  bool force = false;            // overwrite an existing output file
+};
+// `orogen subgraph make-unique`: the instance uses an embedded copy of its asset (exit 2, nothing written, if it
+// cannot, with the reason).
+int run_subgraph_make_unique(const MakeUniqueCommand& cmd);
 // Runs the node contracts on each type and prints a table; 1 if any contract fails.
 int run_test_node(const std::vector<std::string>& types);
 

@@ -114,6 +114,17 @@ int main(int argc, char** argv) {
   extract_cmd->add_option("--description", extract.description, "Description of the asset");
   extract_cmd->add_flag("--force", extract.force, "Overwrite an existing asset file");
 
+  MakeUniqueCommand make_unique;
+  auto* make_unique_cmd = subgraph_cmd->add_subcommand(
+      "make-unique",
+      "Give an instance its own copy of its asset, embedded in the graph file (\"#name\"), so that editing it "
+      "changes no other graph (outputs unchanged)");
+  make_unique_cmd->add_option("FILE", make_unique.graph_file, "Graph file (.json)")->required();
+  make_unique_cmd->add_option("--node", make_unique.node, "The instance to make unique")->required();
+  make_unique_cmd->add_option("-o,--output", make_unique.output,
+                              "Write the graph here (in FILE's folder) instead of over FILE");
+  make_unique_cmd->add_flag("--force", make_unique.force, "Overwrite an existing output file");
+
   std::vector<std::string> test_types;
   bool test_all = false;
   auto* test_cmd =
@@ -136,6 +147,7 @@ int main(int argc, char** argv) {
     if (*validate_cmd) return run_validate(validate);
     if (*nodes_cmd) return run_nodes(node_type, json, markdown);
     if (*extract_cmd) return run_subgraph_extract(extract);
+    if (*make_unique_cmd) return run_subgraph_make_unique(make_unique);
     if (*migrate_cmd) return run_migrate(migrate_files, migrate_check);
     if (*test_cmd) {
       if (test_all)

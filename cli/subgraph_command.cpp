@@ -1,5 +1,7 @@
 // `orogen subgraph extract G.json --nodes a,b,c -o asset.orogen-subgraph.json`: a selection of nodes becomes a
 // subgraph asset and the graph is rewritten to use an instance of it (graph/subgraph_extract.h).
+// `orogen subgraph make-unique G.json --node ID [-o OUT.json]`: the instance gets an embedded copy of its asset
+// (graph/subgraph_unique.h).
 #include <filesystem>
 #include <iostream>
 
@@ -8,6 +10,7 @@
 #include "graph/graph_file.h"
 #include "graph/subgraph.h"
 #include "graph/subgraph_extract.h"
+#include "graph/subgraph_unique.h"
 
 namespace orogen::cli {
 
@@ -66,6 +69,47 @@ int run_subgraph_extract(const ExtractCommand& cmd) {
   } catch (const std::exception& e) {
     remove_asset();
     std::cerr << "error: cannot write the extraction of " << cmd.graph_file.string() << ": " << e.what() << "\n";
+    return kExitEvalFailed;
+  }
+  return kExitOk;
+}
+
+int run_subgraph_make_unique(const MakeUniqueCommand& cmd) {
+  LoadResult loaded = load_graph_file(cmd.graph_file);
+  if (!loaded.ok()) {
+    std::cerr << "error: " << cmd.graph_file.string() << " is not a valid graph:\n" << loaded.error_text();
+    return kExitInvalid;
+  }
+  const fs::path output = cmd.output.empty() ? cmd.graph_file : cmd.output;
+  std::error_code ec;
+  const fs::path in_dir = fs::weakly_canonical(fs::absolute(cmd.graph_file, ec).parent_path(), ec);
+  const fs::path out_dir = fs::weakly_canonical(fs::absolute(output, ec).parent_path(), ec);
+  if (in_dir != out_dir) {
+    std::cerr << "error: " << output.string() << " is not in the folder of " << cmd.graph_file.string()
+              << ": relative paths in the graph (and in the embedded copy) resolve against its folder\n";
+    return kExitInvalid;
+  }
+  if (!cmd.output.empty() && !cmd.force && fs::exists(output) && !fs::equivalent(output, cmd.graph_file, ec)) {
+    std::cerr << "error: " << output.string() << " exists; choose another file or pass --force\n";
+    return kExitInvalid;
+  }
+  Graph& graph = *loaded.graph;
+  try {
+    const std::string shared = [&] {
+      const Node* node = graph.find(cmd.node);
+      return node && node->type->subgraph ? node->asset : std::string();
+    }();
+    const MadeUnique made = make_instance_unique(graph, cmd.node);
+    save_graph_file(graph, output);
+    std::cout << "instance '" << cmd.node << "' now uses the embedded asset \"#" << made.name << "\" (a copy of \""
+              << shared << "\", " << made.asset->graph.nodes().size() << " nodes)\n"
+              << "wrote " << output.string() << "\n";
+  } catch (const GraphError& e) {
+    std::cerr << "error: cannot make node '" << cmd.node << "' of " << cmd.graph_file.string()
+              << " unique: " << e.what() << "\n";
+    return kExitInvalid;
+  } catch (const std::exception& e) {
+    std::cerr << "error: cannot write " << output.string() << ": " << e.what() << "\n";
     return kExitEvalFailed;
   }
   return kExitOk;

@@ -78,6 +78,7 @@ void take_piece(std::string_view& in, const SampleRect& rect, std::vector<std::s
 // Where a stage's time goes (rank 0's view), for its report.
 struct Phases {
   double inputs = 0, tiles = 0, communication = 0, solve = 0, halos = 0;
+  int rounds = 0;
 };
 
 class Stages {
@@ -156,7 +157,7 @@ class Stages {
     });
 
     std::size_t exchanged = 0;
-    for (int round = 0; round < algorithm->rounds(); ++round) {
+    for (int round = 0;; ++round) {
       std::vector<TilePart> parts(mine);
       each_tile([&](std::size_t t) { parts[t] = {number(s_.tiles[t]), tiles[t]->message(round)}; });
       for (const TilePart& part : parts) exchanged += part.bytes.size();
@@ -173,6 +174,8 @@ class Stages {
       lap(phases.solve);
       each_tile(
           [&](std::size_t t) { tiles[t]->answer(round, answers[static_cast<std::size_t>(number(s_.tiles[t]))]); });
+      ++phases.rounds;
+      if (!algorithm->another_round(round, messages)) break;
     }
     std::vector<std::vector<PortValue>> cores(mine);
     each_tile([&](std::size_t t) {
@@ -282,10 +285,10 @@ class Stages {
     std::fprintf(stderr, "node '%s' (%s) %s in %.1f ms", node.id.c_str(), node.type->name.c_str(), what, ms);
     if (phases)
       std::fprintf(stderr,
-                   ": inputs %.0f ms, tiles %.0f ms, messages %.0f ms (%.1f KiB from rank 0), solve %.0f ms, "
-                   "halos %.0f ms",
-                   phases->inputs, phases->tiles, phases->communication, exchanged / 1024.0, phases->solve,
-                   phases->halos);
+                   ": inputs %.0f ms, tiles %.0f ms, messages %.0f ms (%d rounds, %.1f KiB from rank 0), solve %.0f "
+                   "ms, halos %.0f ms",
+                   phases->inputs, phases->tiles, phases->communication, phases->rounds, exchanged / 1024.0,
+                   phases->solve, phases->halos);
     std::fprintf(stderr, "\n");
   }
 

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <memory>
 #include <stdexcept>
+#include <string_view>
 #include <system_error>
 #include <vector>
 
@@ -75,8 +77,24 @@ std::vector<EntryInfo> list_entries(const fs::path& dir) {
   return entries;
 }
 
-std::string encode_payload(const CachedResult& result) {
-  ByteWriter w;
+// What a thread reuses from one store to the next: the serialized payload, the compressed bytes and zstd's
+// context. Serializing and compressing into fresh memory cost more than the compression (page faults and
+// zero-filling of tens of MB per entry); buffers above kKeptBufferBytes are freed after each store, so a rare
+// huge entry does not hold its memory for the rest of the run.
+constexpr std::size_t kKeptBufferBytes = std::size_t(64) << 20;
+struct StoreBuffers {
+  std::string payload;
+  std::unique_ptr<char[]> packed;
+  std::size_t packed_capacity = 0;
+  std::unique_ptr<ZSTD_CCtx, decltype(&ZSTD_freeCCtx)> context{ZSTD_createCCtx(), &ZSTD_freeCCtx};
+};
+StoreBuffers& store_buffers() {
+  thread_local StoreBuffers buffers;
+  return buffers;
+}
+
+std::string encode_payload(const CachedResult& result, std::string reuse) {
+  ByteWriter w(std::move(reuse));
   w.u64(result.outputs.size());
   for (const auto& v : result.outputs) write_value(w, v);
   w.u64(result.files.size());
@@ -115,11 +133,27 @@ std::filesystem::path DiskCache::path_of(const CacheKey& key) const {
 }
 
 void DiskCache::store(const CacheKey& key, const CachedResult& result) const {
-  const std::string payload = encode_payload(result);
-  std::string stored(ZSTD_compressBound(payload.size()), '\0');
-  const std::size_t packed = ZSTD_compress(stored.data(), stored.size(), payload.data(), payload.size(), kZstdLevel);
+  StoreBuffers& buffers = store_buffers();
+  std::string payload = encode_payload(result, std::move(buffers.payload));
+  const std::size_t bound = ZSTD_compressBound(payload.size());
+  if (buffers.packed_capacity < bound) {
+    buffers.packed.reset();  // first: the old buffer goes before the new one is faulted in
+    buffers.packed = std::make_unique_for_overwrite<char[]>(bound);
+    buffers.packed_capacity = bound;
+  }
+  if (!buffers.context) throw std::runtime_error("zstd: cannot create a compression context");
+  const std::size_t packed =
+      ZSTD_compressCCtx(buffers.context.get(), buffers.packed.get(), bound, payload.data(), payload.size(), kZstdLevel);
   if (ZSTD_isError(packed)) throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(packed));
-  stored.resize(packed);
+  const std::string_view stored(buffers.packed.get(), packed);
+  struct GiveBack {  // the buffers return to the thread (or are freed if huge) however the store ends
+    StoreBuffers& buffers;
+    std::string& payload;
+    ~GiveBack() {
+      if (payload.capacity() <= kKeptBufferBytes) buffers.payload = std::move(payload);
+      if (buffers.packed_capacity > kKeptBufferBytes) buffers.packed.reset(), buffers.packed_capacity = 0;
+    }
+  } give_back{buffers, payload};
   ByteWriter header;
   header.raw(kMagic, sizeof kMagic);
   header.u32(kContainerVersion);
@@ -139,12 +173,17 @@ void DiskCache::store(const CacheKey& key, const CachedResult& result) const {
   if (fs::exists(status) && !fs::is_directory(status)) remove_entry(sub);
   fs::create_directories(sub);
   if (fs::is_directory(fs::symlink_status(path, ec))) remove_entry(path);  // a rename cannot replace a directory
-  write_file_atomically(path, [&](const fs::path& temporary) {
-    CheckedFile out(temporary);
-    out.write(header.buffer().data(), header.buffer().size());
-    out.write(stored.data(), stored.size());
-    out.finish();
-  });
+  // Unsynced: an entry a crash leaves torn fails its checksum and is recomputed; two fsyncs per entry cost more
+  // than writing it.
+  write_file_atomically(
+      path,
+      [&](const fs::path& temporary) {
+        CheckedFile out(temporary);
+        out.write(header.buffer().data(), header.buffer().size());
+        out.write(stored.data(), stored.size());
+        out.finish();
+      },
+      Durability::Unsynced);
 
   const auto bytes = static_cast<std::int64_t>(kHeaderBytes + stored.size());
   std::int64_t estimate = estimate_.load();

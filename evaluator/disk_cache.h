@@ -3,10 +3,11 @@
 //
 // A file is a fixed header (magic, container and value format versions, the key, the stored and the
 // uncompressed payload lengths and an XXH3-64 checksum of the stored payload) followed by the serialized
-// CachedResult compressed with zstd at a fast level. Files are written to a temporary name, synced and
-// renamed, so a crash or a concurrent process sees either a whole entry or none; anything at an entry's
-// place that is not a valid entry (a directory, a link, an unreadable, truncated or corrupted file, another
-// format version, the wrong key) is rejected: removed if possible, and reported so the node is recomputed.
+// CachedResult compressed with zstd at a fast level. Files are written to a temporary name and renamed, so a
+// concurrent process sees either a whole entry or none; they are not fsynced (a crash may leave an entry torn,
+// which its checksum rejects). Anything at an entry's place that is not a valid entry (a directory, a link, an
+// unreadable, truncated or corrupted file, another format version, the wrong key) is rejected: removed if
+// possible, and reported so the node is recomputed.
 // The cache never fails a build: every error of a lookup is a miss.
 //
 // The directory is bounded: after a store that takes it past max_bytes, the least recently used entries

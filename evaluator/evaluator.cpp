@@ -7,6 +7,7 @@
 #include <set>
 #include <stdexcept>
 #include <unordered_map>
+#include <unordered_set>
 
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
@@ -100,11 +101,19 @@ std::map<std::string, CacheKey> compute_cache_keys(const Graph& graph, const Dom
 
 namespace {
 
-// Whether a cached result has the shape of `type`'s outputs: every output set, with the declared type.
+// Whether a cached result has the shape of `type`'s outputs: one value per output, each unset or of the declared
+// type. Unset outputs are those nobody requested when it was computed (ExecContext::output_requested).
 bool fits(const NodeType& type, const CachedResult& r) {
   if (r.outputs.size() != type.outputs.size()) return false;
   for (std::size_t i = 0; i < r.outputs.size(); ++i)
-    if (!has_value(r.outputs[i]) || port_type_of(r.outputs[i]) != type.outputs[i].type) return false;
+    if (has_value(r.outputs[i]) && port_type_of(r.outputs[i]) != type.outputs[i].type) return false;
+  return true;
+}
+
+// Whether a result that fits has every output in `needed` (by output index; empty: every output).
+bool covers(const CachedResult& r, const std::vector<bool>& needed) {
+  for (std::size_t i = 0; i < r.outputs.size(); ++i)
+    if ((needed.empty() || needed[i]) && !has_value(r.outputs[i])) return false;
   return true;
 }
 
@@ -134,14 +143,24 @@ struct EvaluatorState {
   std::mutex evaluate_mutex;  // one evaluation at a time
   std::atomic<std::size_t> hits{0}, misses{0}, disk_hits{0}, disk_rejected{0}, disk_writes{0}, disk_write_errors{0};
 
-  // The valid cached result of `key` for a node of `type`, from memory or disk, or nullptr.
-  std::shared_ptr<const CachedResult> lookup(const CacheKey& key, const NodeType& type) {
+  // The valid cached result of `key` for a node of `type` that has every output in `needed` (empty: all), from
+  // memory or disk, or nullptr. A valid result that lacks a needed output is a miss, not damage: it is kept
+  // (the new result replaces it) and returned through `partial`, so the caller can compute what it had too.
+  std::shared_ptr<const CachedResult> lookup(const CacheKey& key, const NodeType& type,
+                                             const std::vector<bool>& needed = {},
+                                             std::shared_ptr<const CachedResult>* partial = nullptr) {
+    auto keep_partial = [&](const std::shared_ptr<const CachedResult>& r) {
+      if (partial && !*partial) *partial = r;
+    };
     if (auto r = memory.find(key)) {
-      if (fits(type, *r) && (!type.writes_files || r->files_unchanged())) {
+      if (!fits(type, *r) || (type.writes_files && !r->files_unchanged())) {
+        memory.erase(key);  // a writer whose files changed, or an entry that does not fit
+      } else if (covers(*r, needed)) {
         ++hits;
         return r;
+      } else {
+        keep_partial(r);  // the disk may still hold a more complete result
       }
-      memory.erase(key);  // a writer whose files changed, or an entry that does not fit
     }
     if (disk) {
       DiskCache::Loaded loaded;
@@ -156,10 +175,13 @@ struct EvaluatorState {
         disk->remove(key);
         ++disk_rejected;
       } else if (loaded.result && (!type.writes_files || loaded.result->files_unchanged())) {
-        ++hits;
-        ++disk_hits;
-        memory.insert(key, loaded.result, loaded.result->value_bytes());
-        return loaded.result;
+        if (covers(*loaded.result, needed)) {
+          ++hits;
+          ++disk_hits;
+          memory.insert(key, loaded.result, loaded.result->value_bytes());
+          return loaded.result;
+        }
+        keep_partial(loaded.result);
       }
     }
     ++misses;
@@ -176,6 +198,7 @@ struct Job {
   std::vector<std::string> ids;  // every node of the request with this key; ids[0] is the representative
   std::string planned_message;   // Fail: the node's error; Skip: the upstream node that has the error
   bool requested = false;
+  std::vector<bool> needed;  // outputs something uses, by output index (Run and Hit jobs)
 
   struct Input {
     int job = -1;   // producer job, -1 for an unconnected optional input
@@ -211,7 +234,9 @@ class Run {
 
   EvalResult execute() {
     const auto t0 = Clock::now();
-    for (const auto& id : requested_ids()) jobs_[static_cast<std::size_t>(plan(id))].requested = true;
+    const std::vector<std::string>& requested = requested_ids();
+    find_needed_outputs(requested);
+    for (const auto& id : requested) jobs_[static_cast<std::size_t>(plan(id))].requested = true;
     for (auto& job : jobs_) job.consumers_left.store(static_cast<int>(job.consumers.size()));
 
     const bool anything_to_run =
@@ -272,10 +297,64 @@ class Run {
     // A node added but not wired yet, that no output needs, is left out (graph/idle_nodes.h).
     const std::vector<std::string> idle_ids = idle_unwired_nodes(graph_);
     const std::set<std::string> idle(idle_ids.begin(), idle_ids.end());
-    for (const auto& n : graph_.nodes())
-      if ((n.type->writes_files || !feeding.count(n.id) || reports(*n.type)) && !idle.count(n.id))
+    for (const auto& n : graph_.nodes()) {
+      if (idle.count(n.id)) continue;
+      if (n.type->writes_files || !feeding.count(n.id)) {
         requested_.push_back(n.id);
+      } else if (reports(*n.type)) {
+        requested_.push_back(n.id);
+        for_reports_only_.insert(&n);
+      }
+    }
     return requested_;
+  }
+
+  // The outputs of every node upstream of the request that anything may use: all of a requested node's, and
+  // each output a node of the closure is linked from. Nodes with equal keys share one job, so their needs are
+  // united by key. (A consumer that turns out to be a cache hit still counts: the producer then computes an
+  // output this run does not use, never one too few.)
+  void find_needed_outputs(const std::vector<std::string>& requested) {
+    auto need = [&](const Node& n) -> std::vector<bool>& {
+      auto& v = needed_by_node_[&n];
+      v.resize(n.type->outputs.size(), false);
+      return v;
+    };
+    std::vector<const Node*> stack;
+    std::unordered_set<const Node*> seen;
+    for (const auto& id : requested) {
+      const Node& n = graph_.at(id);
+      auto& v = need(n);
+      // A node requested by default for its figures alone (it feeds other nodes) gives its Report outputs;
+      // the links add the others they use.
+      const bool reports_only = for_reports_only_.count(&n) > 0;
+      for (std::size_t i = 0; i < v.size(); ++i)
+        v[i] = v[i] || !reports_only || n.type->outputs[i].type == PortType::Report;
+      if (seen.insert(&n).second) stack.push_back(&n);
+    }
+    while (!stack.empty()) {
+      const Node& n = *stack.back();
+      stack.pop_back();
+      if (request_.given_results.count(n.id)) continue;  // its upstream is not evaluated
+      for (const auto& port : n.type->inputs) {
+        const ResolvedLink link = resolve_link(graph_, n, port);
+        if (!link.source || link.output < 0) continue;
+        need(*link.source)[static_cast<std::size_t>(link.output)] = true;
+        if (seen.insert(link.source).second) stack.push_back(link.source);
+      }
+    }
+    for (const auto& [node, v] : needed_by_node_) {
+      const NodeKeyInfo& info = keys_.of(*node);
+      if (!info.key) continue;
+      auto& united = needed_by_key_[*info.key];
+      united.resize(v.size(), false);
+      for (std::size_t i = 0; i < v.size(); ++i) united[i] = united[i] || v[i];
+    }
+  }
+
+  // The outputs of the node with `key` that anything in this run may use.
+  std::vector<bool> needed_outputs(const CacheKey& key, const NodeType& type) const {
+    const auto it = needed_by_key_.find(key);
+    return it != needed_by_key_.end() ? it->second : std::vector<bool>(type.outputs.size(), true);
   }
 
   // Walks back from node `id`, stopping at cache hits; returns its job.
@@ -309,16 +388,23 @@ class Run {
     }
     const NodeType& type = *job.node->type;
     if (const auto given = request_.given_results.find(id); given != request_.given_results.end()) {
-      if (!given->second || !fits(type, *given->second))
+      if (!given->second || !fits(type, *given->second) || !covers(*given->second, {}))
         throw std::invalid_argument("evaluate: the given result of node '" + id + "' does not fit its outputs");
       job.result = given->second;
       job.kind = Job::Kind::Hit;
       return j;
     }
-    if ((job.result = impl_.lookup(*info.key, type))) {
+    job.needed = needed_outputs(*info.key, type);
+    std::shared_ptr<const CachedResult> partial;
+    if ((job.result = impl_.lookup(*info.key, type, job.needed, &partial))) {
       job.kind = Job::Kind::Hit;
       return j;
     }
+    // Recomputing over a result that lacked a needed output: compute what it had too, so the entry that
+    // replaces it never has fewer outputs.
+    if (partial)
+      for (std::size_t i = 0; i < job.needed.size(); ++i)
+        job.needed[i] = job.needed[i] || has_value(partial->outputs[i]);
     job.kind = Job::Kind::Run;
     job.inputs.resize(type.inputs.size());
     for (std::size_t i = 0; i < type.inputs.size(); ++i) {
@@ -446,11 +532,15 @@ class Run {
       ctx.set_output_policy(policy_);
       ctx.set_input_dir(graph_.directory);
       if (request_.on_event) ctx.set_progress_callback([this, &job](double f) { progress(job, f); });
+      if (std::find(job.needed.begin(), job.needed.end(), false) != job.needed.end())
+        ctx.set_requested_outputs(job.needed);
       type.execute(ctx);
       // A node that returns after a cancel may have stopped early without saying so: never keep its result.
       if (cancel_requested()) throw Cancelled{};
+      // Outputs nobody requested may stay unset: the cached result then lacks them, and a later run that needs
+      // one finds it incomplete (a miss) and computes it.
       for (std::size_t i = 0; i < type.outputs.size(); ++i)
-        if (!has_value(ctx.outputs()[i]))
+        if ((job.needed.empty() || job.needed[i]) && !has_value(ctx.outputs()[i]))
           throw NodeError("the node did not set its output '" + type.outputs[i].name + "'");
       result = std::make_shared<CachedResult>();
       result->outputs = std::move(ctx.outputs());
@@ -537,9 +627,12 @@ class Run {
   OutputPolicy policy_;
   NodeKeys keys_;
   std::vector<std::string> requested_;
+  std::unordered_set<const Node*> for_reports_only_;  // default request: nodes requested for their reports only
   std::deque<Job> jobs_;
   std::unordered_map<std::string, int> job_of_node_;
   std::unordered_map<CacheKey, int, CacheKeyHash> job_of_key_;
+  std::unordered_map<const Node*, std::vector<bool>> needed_by_node_;
+  std::unordered_map<CacheKey, std::vector<bool>, CacheKeyHash> needed_by_key_;
   tbb::task_group group_;
   std::mutex event_mutex_;
 };

@@ -9,6 +9,12 @@
 //
 // Details of the contract:
 // - Nodes with equal keys in one request (identical subgraphs) run once; the others report Cached.
+// - A node computes only the outputs something uses (ExecContext::output_requested): those linked to a node
+//   that may run, and all outputs of a requested node (but see EvalRequest::nodes); nodes with equal keys get
+//   the union. Keys do not depend
+//   on it: a cached result that lacks an output needed now is a miss, and the node runs again for the union of
+//   what is needed and what the entry had. Such partial results are cached (in memory and on disk) with their
+//   unset outputs marked, and never returned where a complete result is expected (find_result, given_results).
 // - Every computed result goes to the memory LRU (unless it alone exceeds the bound) and, with a cache_dir,
 //   to disk; a damaged disk entry is deleted and recomputed. Failed and cancelled nodes are never cached.
 //   Nodes that completed before a cancel keep their cached results: they are complete and content-addressed,
@@ -76,7 +82,8 @@ struct EvalRequest {
   // of the same lattice are cropped to its domain before it runs. The domain enters the node's cache key.
   std::map<std::string, Domain> node_domains;
   // Nodes whose outputs are wanted. Empty: every node that writes files, has no downstream or has a Report
-  // output.
+  // output; of a node requested only for its Report outputs (it has a downstream), the result holds those and
+  // the outputs its links use, the others unset.
   std::vector<std::string> nodes;
   // Results computed outside this evaluation, by node id (a tiled build's tile-graph stages,
   // cli/tile_graph_stages.h): used as they are, reported Cached, and the nodes upstream of them not evaluated.

@@ -8,11 +8,19 @@
 
 namespace orogen {
 
-NodeRun run_node(const std::string& type_name, const Domain& domain, const std::map<std::string, ParamValue>& params,
-                 const std::map<std::string, PortValue>& inputs, const OutputPolicy& output, const CancelToken* cancel,
-                 std::function<void(double)> on_progress) {
+namespace {
+
+const NodeType& find_type(const std::string& type_name) {
   const NodeType* type = NodeRegistry::instance().find(type_name);
   if (!type) throw std::logic_error("run_node: unknown node type '" + type_name + "'");
+  return *type;
+}
+
+// `requested`: by output index, empty for all.
+NodeRun run(const NodeType* type, const std::string& type_name, const Domain& domain,
+            const std::map<std::string, ParamValue>& params, const std::map<std::string, PortValue>& inputs,
+            const OutputPolicy& output, const CancelToken* cancel, std::function<void(double)> on_progress,
+            std::vector<bool> requested) {
   std::vector<ParamValue> values;
   for (const auto& decl : type->params) {
     const auto it = params.find(decl.name);
@@ -42,12 +50,34 @@ NodeRun run_node(const std::string& type_name, const Domain& domain, const std::
   ctx.set_output_policy(output);
   ctx.set_cancel_token(cancel);
   if (on_progress) ctx.set_progress_callback(std::move(on_progress));
+  ctx.set_requested_outputs(requested);
   type->execute(ctx);
-  // The same contract as in a graph: every declared output is set.
+  // The same contract as in a graph: every requested output is set.
   for (std::size_t i = 0; i < type->outputs.size(); ++i)
-    if (!has_value(ctx.outputs()[i]))
+    if ((requested.empty() || requested[i]) && !has_value(ctx.outputs()[i]))
       throw NodeError("the node did not set its output '" + type->outputs[i].name + "'");
   return NodeRun{std::move(ctx.outputs())};
+}
+
+}  // namespace
+
+NodeRun run_node(const std::string& type_name, const Domain& domain, const std::map<std::string, ParamValue>& params,
+                 const std::map<std::string, PortValue>& inputs, const OutputPolicy& output, const CancelToken* cancel,
+                 std::function<void(double)> on_progress) {
+  return run(&find_type(type_name), type_name, domain, params, inputs, output, cancel, std::move(on_progress), {});
+}
+
+NodeRun run_node_for_outputs(const std::vector<std::string>& outputs, const std::string& type_name,
+                             const Domain& domain, const std::map<std::string, ParamValue>& params,
+                             const std::map<std::string, PortValue>& inputs) {
+  const NodeType& type = find_type(type_name);
+  std::vector<bool> requested(type.outputs.size(), false);
+  for (const auto& name : outputs) {
+    const int i = type.output_index(name);
+    if (i < 0) throw std::logic_error("run_node: '" + type_name + "' has no output '" + name + "'");
+    requested[static_cast<std::size_t>(i)] = true;
+  }
+  return run(&type, type_name, domain, params, inputs, {}, nullptr, {}, std::move(requested));
 }
 
 }  // namespace orogen

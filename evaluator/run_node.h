@@ -30,4 +30,10 @@ NodeRun run_node(const std::string& type_name, const Domain& domain,
                  const std::map<std::string, PortValue>& inputs = {}, const OutputPolicy& output = {},
                  const CancelToken* cancel = nullptr, std::function<void(double)> on_progress = {});
 
+// run_node as the evaluator runs a node of which only `outputs` are used (ExecContext::output_requested): those
+// must be set, the others may be left unset (monostate). Throws std::logic_error for an unknown output name.
+NodeRun run_node_for_outputs(const std::vector<std::string>& outputs, const std::string& type_name,
+                             const Domain& domain, const std::map<std::string, ParamValue>& params = {},
+                             const std::map<std::string, PortValue>& inputs = {});
+
 }  // namespace orogen

@@ -26,6 +26,9 @@ struct SerializationError : std::runtime_error {
 // Appends little-endian primitives to a byte string.
 class ByteWriter {
  public:
+  ByteWriter() = default;
+  // Writes into `reuse`, emptied first: its capacity is kept (no reallocation, no fresh pages to fault in).
+  explicit ByteWriter(std::string reuse) : buffer_(std::move(reuse)) { buffer_.clear(); }
   void u8(std::uint8_t v) { buffer_.push_back(static_cast<char>(v)); }
   void u32(std::uint32_t v);
   void u64(std::uint64_t v);

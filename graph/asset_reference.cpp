@@ -5,9 +5,12 @@
 namespace orogen {
 
 bool is_path_reference(const std::string& reference) {
+  if (is_embedded_reference(reference)) return false;
   return reference.find('/') != std::string::npos || reference.find('\\') != std::string::npos ||
          (reference.size() >= 5 && reference.compare(reference.size() - 5, 5, ".json") == 0);
 }
+
+bool is_embedded_reference(const std::string& reference) { return !reference.empty() && reference[0] == '#'; }
 
 std::string asset_name_of(const std::filesystem::path& file) {
   std::string name = file.filename().string();

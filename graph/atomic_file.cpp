@@ -94,7 +94,8 @@ std::size_t remove_stale_temporaries(const std::filesystem::path& dir, int depth
   return removed;
 }
 
-void write_files_atomically(const std::vector<AtomicWrite>& files) {
+void write_files_atomically(const std::vector<AtomicWrite>& files, Durability durability) {
+  const bool synced = durability == Durability::Synced;
   namespace fs = std::filesystem;
   for (const auto& f : files) check_target(f.path);
   std::vector<Pending> pending;
@@ -110,7 +111,7 @@ void write_files_atomically(const std::vector<AtomicWrite>& files) {
       p.temporary = f.path.parent_path() / name;
       pending.push_back(std::move(p));
       f.write(pending.back().temporary);
-      sync_temporary(pending.back());
+      if (synced) sync_temporary(pending.back());
     }
     for (auto& p : pending) {
       if (::rename(p.temporary.c_str(), p.target.c_str()) != 0)
@@ -127,16 +128,18 @@ void write_files_atomically(const std::vector<AtomicWrite>& files) {
       }
     throw;
   }
-  std::set<fs::path> synced;
+  if (!synced) return;
+  std::set<fs::path> synced_dirs;
   for (const auto& p : pending)
-    if (synced.insert(p.target.parent_path()).second)
+    if (synced_dirs.insert(p.target.parent_path()).second)
       if (const int err = sync_directory(p.target.parent_path()); err != 0)
         throw std::runtime_error("cannot sync the directory of '" + p.target.string() + "': " + std::strerror(err));
 }
 
 void write_file_atomically(const std::filesystem::path& path,
-                           const std::function<void(const std::filesystem::path& temporary)>& write) {
-  write_files_atomically({{path, write}});
+                           const std::function<void(const std::filesystem::path& temporary)>& write,
+                           Durability durability) {
+  write_files_atomically({{path, write}}, durability);
 }
 
 void write_text_atomically(const std::filesystem::path& path, std::string_view contents) {

@@ -19,8 +19,15 @@ namespace orogen {
 // by a lock: the file ".orogen-lck-<owner>-<n>" beside it, created and locked (flock) before the temporary
 // exists and removed after the rename. remove_stale_temporaries deletes only temporaries whose lock no live
 // process holds.
+// Synced: the temporary and the directory are fsynced, so after a crash `path` holds the old or the new
+// contents. Unsynced skips both: still never a half-written file seen by a running process, but a crash may
+// leave the new file empty or partial; only for files whose reader verifies them (the result cache checksums
+// its entries), where the two fsyncs cost more than the write.
+enum class Durability { Synced, Unsynced };
+
 void write_file_atomically(const std::filesystem::path& path,
-                           const std::function<void(const std::filesystem::path& temporary)>& write);
+                           const std::function<void(const std::filesystem::path& temporary)>& write,
+                           Durability durability = Durability::Synced);
 
 // One file of a set written together: its target and the function that writes its temporary.
 struct AtomicWrite {
@@ -32,7 +39,7 @@ struct AtomicWrite {
 // in the given order (a file that names another, like an OBJ its material library, comes after it). A failure
 // in any write, sync or rename removes the temporaries not yet renamed, so every target whose write failed
 // keeps its previous contents; the exception propagates.
-void write_files_atomically(const std::vector<AtomicWrite>& files);
+void write_files_atomically(const std::vector<AtomicWrite>& files, Durability durability = Durability::Synced);
 
 // Convenience: atomically replace `path` with `contents`.
 void write_text_atomically(const std::filesystem::path& path, std::string_view contents);

@@ -39,6 +39,12 @@ std::size_t ExecContext::param_slot(std::string_view name) const {
   return static_cast<std::size_t>(i);
 }
 
+bool ExecContext::output_requested(std::string_view name) const {
+  const int i = type_.output_index(name);
+  if (i < 0) throw std::logic_error("node type '" + type_.name + "' has no output '" + std::string(name) + "'");
+  return requested_outputs_.empty() || requested_outputs_.at(static_cast<std::size_t>(i));
+}
+
 int ExecContext::enum_index(std::string_view name) const {
   const auto& decl = type_.params[param_slot(name)];
   const auto& value = param<std::string>(name);

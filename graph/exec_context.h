@@ -55,6 +55,11 @@ class ExecContext {
   // Index of an enum parameter's value among its choices.
   int enum_index(std::string_view name) const;
 
+  // Whether anything uses output `name`: a consumer linked to it, or a caller that wants all the node's outputs
+  // (a node requested directly). A node may skip the work behind an output nobody requested and leave it unset;
+  // every requested output must be set. True for every output unless the evaluator said otherwise.
+  bool output_requested(std::string_view name) const;
+
   template <class T>
   void set_output(std::string_view name, std::shared_ptr<const T> value) {
     outputs_.at(output_slot(name, PortTypeOf<T>::value)) = std::move(value);
@@ -88,6 +93,9 @@ class ExecContext {
   void set_input_dir(std::filesystem::path dir) { input_dir_ = std::move(dir); }
   const std::filesystem::path& input_dir() const { return input_dir_; }
   std::vector<PortValue>& outputs() { return outputs_; }
+  // Which outputs are requested, by output index; empty (the default) requests all of them.
+  void set_requested_outputs(std::vector<bool> requested) { requested_outputs_ = std::move(requested); }
+  const std::vector<bool>& requested_outputs() const { return requested_outputs_; }
   const std::vector<std::filesystem::path>& written_files() const { return written_files_; }
 
  private:
@@ -101,6 +109,7 @@ class ExecContext {
   std::vector<PortValue> inputs_;
   std::vector<ParamValue> params_;
   std::vector<PortValue> outputs_;
+  std::vector<bool> requested_outputs_;  // empty: all
   const CancelToken* cancel_ = nullptr;
   std::function<void(double)> on_progress_;
   OutputPolicy output_policy_;

@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -118,10 +119,35 @@ class GraphReader {
       report("", "", "a graph file must be a JSON object {\"format\": \"orogen-graph\", ...}, found " + describe(doc));
       return std::nullopt;
     }
+    // An embedded asset's document shares the "subgraphs" section of the file it is in; any other document
+    // (the graph, an asset file) has its own, which its "#name" instances look in.
+    AssetLoadContext& assets = context();
+    const bool embedded = std::exchange(assets.embedded_document, false);
+    const std::string scope_key = std::exchange(assets.next_scope_key, std::string());
     check_format(doc);
     if (!check_version_and_migrate(doc)) return std::nullopt;
-    check_fields(doc, "", "", {"format", "version", "domain", "interface", "nodes", "node_libraries", "editor"},
+    check_fields(doc, "", "",
+                 {"format", "version", "domain", "interface", "subgraphs", "nodes", "node_libraries", "editor"},
                  "in the file");
+    struct PopScope {
+      AssetLoadContext* context = nullptr;
+      ~PopScope() {
+        if (context) context->scopes.pop_back();
+      }
+    } pop;
+    if (embedded) {
+      if (doc.contains("subgraphs"))
+        report("/subgraphs", "",
+               "an embedded asset cannot have a \"subgraphs\" section of its own: every embedded asset of a file is "
+               "in the file's top-level section, where \"#name\" finds it");
+    } else {
+      EmbeddedScope scope;
+      scope.key = scope_key.empty() ? "graph:" + options_.directory.string() : scope_key;
+      scope.directory = options_.directory;
+      if (doc.contains("subgraphs") && check_embedded_section(doc["subgraphs"])) scope.section = &doc["subgraphs"];
+      assets.scopes.push_back(std::move(scope));
+      pop.context = &assets;
+    }
 
     if (doc.contains("node_libraries")) read_node_libraries(doc["node_libraries"]);
     if (doc.contains("domain")) read_domain(doc["domain"]);
@@ -132,12 +158,14 @@ class GraphReader {
       read_nodes(doc["nodes"]);
     if (doc.contains("interface") && nodes_read_) read_interface(doc["interface"]);
     if (doc.contains("editor")) read_editor(doc["editor"]);
+    if (pop.context) check_unused_embedded();
 
     if (!diagnostics_.empty() && !options_.keep_partial) return std::nullopt;
     return std::move(graph_);
   }
 
   std::vector<DroppedLink> take_dropped_links() { return std::move(dropped_); }
+  AssetLoadContext& context() { return options_.asset_context ? *options_.asset_context : own_context_; }
   std::vector<Diagnostic> take_warnings() { return std::move(warnings_); }
 
  private:
@@ -622,20 +650,67 @@ class GraphReader {
     }
   }
 
+  // "subgraphs": {"name": {asset document}, ...}, the file's embedded assets (docs/subgraphs.md). Their documents
+  // are read when an instance names them ("#name"), or at the end if none does.
+  bool check_embedded_section(const json& section) {
+    if (!section.is_object()) {
+      report("/subgraphs", "",
+             "\"subgraphs\" must be an object of embedded assets {\"name\": {asset document}}, found " +
+                 describe(section));
+      return false;
+    }
+    // A bad entry is reported and left unread; the others stay usable.
+    for (const auto& [name, entry] : section.items()) {
+      const std::string p = "/subgraphs/" + pointer_token(name);
+      if (!Graph::valid_id(name)) {
+        report(p, "",
+               "invalid embedded asset name '" + name +
+                   "': use up to 128 letters, digits, '_' and '-', starting with a letter or '_'");
+      } else if (!entry.is_object()) {
+        report(p, "",
+               "an embedded asset must be an asset document {\"format\": \"orogen-graph\", \"version\": ..., "
+               "\"interface\": ..., \"nodes\": [...]}, found " +
+                   describe(entry));
+      }
+    }
+    return true;
+  }
+
+  // Embedded assets no instance named are read now, so that their problems are reported too; saving drops them.
+  void check_unused_embedded() {
+    AssetLoadContext& assets = context();
+    const EmbeddedScope& scope = assets.scopes.back();
+    if (!scope.section) return;
+    std::vector<std::string> unused;
+    for (const auto& [name, entry] : scope.section->items())
+      if (!scope.attempted.count(name) && Graph::valid_id(name) && entry.is_object()) unused.push_back(name);
+    for (const auto& name : unused) {
+      const AssetLoad load = load_subgraph_asset(std::string(1, kEmbeddedReferencePrefix) + name, {}, &assets);
+      const std::string p = "/subgraphs/" + pointer_token(name);
+      if (!load.asset)
+        report(p, "", load.error);
+      else
+        warnings_.push_back({p, "",
+                             "embedded asset '#" + name +
+                                 "' is used by no instance: saving the graph drops it (add an instance with "
+                                 "\"asset\": \"#" +
+                                 name + "\" to keep it)"});
+    }
+  }
+
   // The asset of a "Subgraph" node, after checking its reference, version and recorded interface; reports and
   // returns null when it cannot be used.
   const NodeType* read_instance(const json& n, const std::string& path, const std::string& id) {
     if (!n.contains("asset") || !n["asset"].is_string()) {
       report(path + "/asset", id,
              n.contains("asset")
-                 ? "\"asset\" must be a string (a library name or a path), found " + describe(n["asset"])
-                 : "missing \"asset\": the subgraph asset this instance uses (a library name or a path)");
+                 ? "\"asset\" must be a string (a library name, a path or \"#name\" of an embedded asset), found " +
+                       describe(n["asset"])
+                 : "missing \"asset\": the subgraph asset this instance uses (a library name, a path or \"#name\")");
       return nullptr;
     }
     const std::string reference = n["asset"].get<std::string>();
-    AssetLoadContext own;
-    AssetLoad load =
-        load_subgraph_asset(reference, options_.directory, options_.asset_context ? options_.asset_context : &own);
+    AssetLoad load = load_subgraph_asset(reference, options_.directory, &context());
     if (!load.asset) {
       report(path + "/asset", id, load.error);
       return nullptr;
@@ -650,7 +725,7 @@ class GraphReader {
     }
     const std::int64_t made_with = n["asset_version"].get<std::int64_t>();
     const std::string versions = "made with version " + std::to_string(made_with) + ", the asset (" +
-                                 load.asset->file.string() + ") is at version " + std::to_string(current.asset_version);
+                                 load.asset->location() + ") is at version " + std::to_string(current.asset_version);
     if (made_with > current.asset_version) {
       report(path + "/asset_version", id,
              "subgraph asset '" + load.asset->name + "' is older than this instance: " + versions);
@@ -1013,6 +1088,7 @@ class GraphReader {
   std::vector<Diagnostic>& diagnostics_;
   std::set<std::pair<std::string, std::string>> interface_fed_;  // (inner node, input) fed by the interface
   std::vector<Diagnostic> warnings_;
+  AssetLoadContext own_context_;  // when the caller gives none: the assets this file's instances load
   Graph graph_;
   std::set<std::string> mentioned_ids_;             // every string id in the file, valid or not
   std::map<std::string, std::size_t> index_of_id_;  // node id -> index in "nodes", for nodes in the graph

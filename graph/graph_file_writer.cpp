@@ -139,9 +139,17 @@ bool has_declared(const Map& values, const Decls& decls) {
   return false;
 }
 
+// `with_embedded`: write the "subgraphs" section of the embedded assets the instances use. An embedded asset's
+// own document has none (it shares the file's).
+std::string serialize(const Graph& graph, bool with_embedded);
+
 }  // namespace
 
-std::string serialize_graph(const Graph& graph) {
+std::string serialize_graph(const Graph& graph) { return serialize(graph, true); }
+
+namespace {
+
+std::string serialize(const Graph& graph, bool with_embedded) {
   JsonWriter w;
   std::string& out = w.text();
   out += '{';
@@ -244,6 +252,29 @@ std::string serialize_graph(const Graph& graph) {
     out += '}';
   }
 
+  // Embedded assets: those the instances use, at any depth (an unused one has no instance to keep it).
+  if (with_embedded) {
+    const auto embedded = embedded_assets_of(graph);
+    if (!embedded.empty()) {
+      w.key("subgraphs", 1, false);
+      out += '{';
+      bool first = true;
+      for (const auto& [name, asset] : embedded) {
+        w.key(name, 2, first);
+        // The asset's document as its own file would have it, indented to its place.
+        std::string text = serialize(asset->graph, false);
+        while (!text.empty() && text.back() == '\n') text.pop_back();
+        for (const char c : text) {
+          out += c;
+          if (c == '\n') out.append(4, ' ');
+        }
+        first = false;
+      }
+      w.newline(1);
+      out += '}';
+    }
+  }
+
   // Positions in node order; positions of nodes no longer in the graph are not worth keeping.
   bool any_position = false;
   for (const auto& node : graph.nodes()) {
@@ -268,6 +299,8 @@ std::string serialize_graph(const Graph& graph) {
   out += "\n}\n";
   return out;
 }
+
+}  // namespace
 
 void save_graph_file(const Graph& graph, const std::filesystem::path& path) {
   write_text_atomically(path, serialize_graph(graph));

@@ -4,6 +4,7 @@
 #include "graph/subgraph.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <deque>
 #include <fstream>
@@ -83,7 +84,9 @@ NodeType instance_type(const SubgraphAsset& asset) {
 const SubgraphAsset* intern(std::unique_ptr<SubgraphAsset> asset, const std::string& text) {
   static std::mutex mutex;
   static std::map<std::string, std::unique_ptr<SubgraphAsset>> assets;
-  std::string key = asset->file.string() + '\0' + asset->name + '\0' + text;
+  // An embedded asset's relative paths resolve in the folder of the file holding it: part of what it is.
+  std::string key = asset->file.string() + '\0' + asset->name + '\0' + asset->embedded + '\0' +
+                    (asset->embedded.empty() ? std::string() : asset->graph.directory.string()) + '\0' + text;
   for (const auto& node : asset->graph.nodes())
     if (node.type->subgraph) key += '\0' + std::to_string(reinterpret_cast<std::uintptr_t>(node.type->subgraph));
   std::lock_guard lock(mutex);
@@ -95,7 +98,142 @@ const SubgraphAsset* intern(std::unique_ptr<SubgraphAsset> asset, const std::str
   return slot.get();
 }
 
+std::string join_names(const std::vector<std::string>& names) {
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  return list;
+}
+
+// Reads embedded asset `name` from `text` in scope `scope` of `context`: recursion refused with the cycle, the
+// document checked like an asset file (format, version, interface, its own instances).
+AssetLoad parse_embedded(const std::string& name, const std::string& text, AssetLoadContext& context,
+                         std::size_t scope) {
+  AssetLoad result;
+  const std::string shown = kEmbeddedReferencePrefix + name;
+  const fs::path key = context.scopes[scope].key + shown;
+  if (const auto it = std::find(context.files.begin(), context.files.end(), key); it != context.files.end()) {
+    std::string cycle;
+    for (std::size_t k = static_cast<std::size_t>(it - context.files.begin()); k < context.chain.size(); ++k)
+      cycle += context.chain[k] + " -> ";
+    result.error = "subgraph asset '" + shown + "' contains itself: " + cycle + shown;
+    return result;
+  }
+  if (const auto it = context.loaded.find(key); it != context.loaded.end()) {
+    result.asset = it->second;
+    return result;
+  }
+  const fs::path directory = context.scopes[scope].directory;
+  context.chain.push_back(shown);
+  context.files.push_back(key);
+  context.embedded_document = true;
+  LoadOptions options;
+  options.directory = directory;
+  options.asset_context = &context;
+  LoadResult loaded = parse_graph(text, options);
+  context.embedded_document = false;
+  context.chain.pop_back();
+  context.files.pop_back();
+  if (!loaded.ok()) {
+    result.error = "embedded subgraph asset '" + shown + "' is invalid:";
+    for (const auto& d : loaded.diagnostics) result.error += "\n  /subgraphs/" + name + d.str();
+    return result;
+  }
+  if (!loaded.graph->interface) {
+    result.error = "embedded subgraph asset '" + shown + "' has no \"interface\" section: it is a graph, not an asset";
+    return result;
+  }
+  auto asset = std::make_unique<SubgraphAsset>();
+  asset->name = name;
+  asset->embedded = name;
+  asset->graph = std::move(*loaded.graph);
+  asset->graph.directory = directory;
+  result.asset = intern(std::move(asset), text);
+  context.loaded[key] = result.asset;
+  context.scopes[scope].loaded[name] = result.asset;
+  return result;
+}
+
+AssetLoad load_embedded_reference(const std::string& reference, AssetLoadContext& context) {
+  AssetLoad result;
+  const std::string name = reference.substr(1);
+  if (context.scopes.empty()) {
+    result.error = "'" + reference + "' names an embedded subgraph asset, which only a graph file can hold";
+    return result;
+  }
+  const std::size_t scope = context.scopes.size() - 1;
+  context.scopes[scope].attempted.insert(name);
+  if (const auto it = context.scopes[scope].loaded.find(name); it != context.scopes[scope].loaded.end()) {
+    result.asset = it->second;
+    return result;
+  }
+  const nlohmann::json* section = context.scopes[scope].section;
+  if (!section || !section->contains(name)) {
+    std::vector<std::string> names;
+    if (section)
+      for (const auto& [n, entry] : section->items())
+        if (Graph::valid_id(n)) names.push_back(kEmbeddedReferencePrefix + n);
+    for (const auto& [n, asset] : context.scopes[scope].loaded)
+      if (!section || !section->contains(n)) names.push_back(kEmbeddedReferencePrefix + n);
+    result.error = "embedded subgraph asset '" + reference + "' not found: " +
+                   (names.empty() ? std::string("the file has no embedded assets (no \"subgraphs\" section)")
+                                  : "the file's embedded assets are " + join_names(names));
+    return result;
+  }
+  return parse_embedded(name, (*section)[name].dump(), context, scope);
+}
+
 }  // namespace
+
+std::string SubgraphAsset::location() const {
+  return embedded.empty() ? file.string()
+                          : "embedded asset '" + std::string(1, kEmbeddedReferencePrefix) + embedded + "'";
+}
+
+AssetLoad load_embedded_asset(const std::string& name, const std::string& text, const fs::path& directory,
+                              const std::map<std::string, const SubgraphAsset*>& siblings) {
+  AssetLoadContext context;
+  EmbeddedScope scope;
+  scope.key = "given:" + directory.string();
+  scope.directory = directory;
+  scope.loaded = siblings;
+  scope.loaded.erase(name);
+  context.scopes.push_back(std::move(scope));
+  return parse_embedded(name, text, context, 0);
+}
+
+std::map<std::string, const SubgraphAsset*> embedded_assets_of(const Graph& graph) {
+  std::map<std::string, const SubgraphAsset*> out;
+  std::vector<const Graph*> pending{&graph};
+  while (!pending.empty()) {
+    const Graph* g = pending.back();
+    pending.pop_back();
+    for (const auto& node : g->nodes()) {
+      const SubgraphAsset* asset = node.type->subgraph;
+      if (!asset || asset->embedded.empty()) continue;
+      const auto [it, added] = out.emplace(asset->embedded, asset);
+      if (added) {
+        pending.push_back(&asset->graph);
+      } else if (it->second != asset && serialize_graph(it->second->graph) != serialize_graph(asset->graph)) {
+        throw GraphError("two different embedded subgraph assets are named '#" + asset->embedded + "' (instance '" +
+                         node.id + "' uses one of them); make one of them unique again");
+      }
+    }
+  }
+  return out;
+}
+
+std::string free_embedded_name(const Graph& graph, const std::string& base, const Graph* holder) {
+  std::string name = base;
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-') c = '_';
+  if (name.empty() || (!std::isalpha(static_cast<unsigned char>(name[0])) && name[0] != '_')) name = "_" + name;
+  if (name.size() > 100) name.resize(100);
+  auto taken = embedded_assets_of(graph);
+  if (holder) taken.merge(embedded_assets_of(*holder));
+  std::string candidate = name;
+  for (int k = 2; taken.count(candidate); ++k) candidate = name + std::to_string(k);
+  return candidate;
+}
 
 AssetLoad load_subgraph_asset(const std::string& reference, const fs::path& directory, AssetLoadContext* context) {
   AssetLoadContext own;
@@ -107,6 +245,7 @@ AssetLoad load_subgraph_asset(const std::string& reference, const fs::path& dire
     result.error = "the asset reference is empty";
     return result;
   }
+  if (is_embedded_reference(reference)) return load_embedded_reference(reference, *context);
   if (is_path_reference(reference)) {
     file = fs::path(reference).is_absolute() ? fs::path(reference) : directory / reference;
     name = asset_name_of(file);
@@ -164,6 +303,7 @@ AssetLoad load_subgraph_asset(const std::string& reference, const fs::path& dire
   const std::string text = buffer.str();
   context->chain.push_back(name);
   context->files.push_back(canonical);
+  context->next_scope_key = canonical.string();  // "#name" inside it names its own embedded assets
   LoadOptions options;
   options.directory = canonical.parent_path();
   options.asset_context = context;

@@ -2,11 +2,13 @@
 #include "graph/subgraph_extract.h"
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <memory>
 #include <set>
 #include <tuple>
 
+#include <glm/common.hpp>
 #include <nlohmann/json.hpp>
 
 #include "graph/asset_reference.h"
@@ -61,12 +63,38 @@ std::string unique_name(std::set<std::string>& used, const std::string& preferre
   return name;
 }
 
+// The top-left corner of the positions of `ids` (0,0 when none has one).
+glm::dvec2 top_left(const Graph& graph, const std::set<std::string>& ids) {
+  glm::dvec2 corner(std::numeric_limits<double>::max());
+  bool any = false;
+  for (const auto& id : ids)
+    if (const auto it = graph.editor.positions.find(id); it != graph.editor.positions.end()) {
+      corner = glm::min(corner, it->second);
+      any = true;
+    }
+  return any ? corner : glm::dvec2(0.0);
+}
+
 bool writes_files(const Node& node) {
   return std::any_of(node.type->params.begin(), node.type->params.end(),
                      [](const ParamDecl& d) { return d.type == ParamType::Path && d.output_file; });
 }
 
 }  // namespace
+
+void rebase_node_paths(Node& node, const fs::path& from, const fs::path& to) {
+  const fs::path a = resolved_dir(from), b = resolved_dir(to);
+  if (a == b) return;
+  for (const auto& decl : node.type->params) {
+    if (decl.type != ParamType::Path || decl.output_file) continue;
+    const auto it = node.params.find(decl.name);
+    const auto* text = std::get_if<std::string>(it != node.params.end() ? &it->second : &decl.default_value);
+    if (!text) continue;
+    const std::string moved = rebase(*text, a, b);
+    if (moved != *text) node.params[decl.name] = moved;
+  }
+  if (node.type->subgraph && is_path_reference(node.asset)) node.asset = rebase(node.asset, a, b);
+}
 
 Extraction make_subgraph_asset(const Graph& graph, const ExtractRequest& request) {
   // The selection: known, distinct ids, no writers.
@@ -88,8 +116,9 @@ Extraction make_subgraph_asset(const Graph& graph, const ExtractRequest& request
     throw GraphError(text);
   }
   if (!repeated.empty()) throw GraphError("node " + join(repeated) + " is selected twice");
-  for (const auto& n : graph.nodes())
-    if (selected.count(n.id) && writes_files(n)) writers.push_back(n.id + "' (" + n.type->name + ")");
+  if (!request.allow_writers)
+    for (const auto& n : graph.nodes())
+      if (selected.count(n.id) && writes_files(n)) writers.push_back(n.id + "' (" + n.type->name + ")");
   if (!writers.empty()) {
     std::string list;
     for (const auto& w : writers) list += (list.empty() ? "'" : ", '") + w;
@@ -131,7 +160,8 @@ Extraction make_subgraph_asset(const Graph& graph, const ExtractRequest& request
   if (!is_path_reference(reference)) reference = "./" + reference;
   ex.reference = reference;
 
-  // The inner graph: the selected nodes, in graph order, with the links among them.
+  // The inner graph: the selected nodes, in graph order, with the links among them, placed from 0,0.
+  const glm::dvec2 corner = top_left(graph, selected);
   Graph inner;
   inner.domain = graph.domain;
   for (const auto& n : graph.nodes()) {
@@ -140,16 +170,9 @@ Extraction make_subgraph_asset(const Graph& graph, const ExtractRequest& request
     copy.asset = n.asset;
     copy.params = n.params;
     // Relative paths inside an asset resolve against the asset's folder.
-    for (const auto& decl : n.type->params) {
-      if (decl.type != ParamType::Path || decl.output_file) continue;
-      const auto* text = std::get_if<std::string>(&graph.param(n.id, decl.name));
-      if (!text) continue;
-      const std::string moved = rebase(*text, graph_dir, asset_dir);
-      if (moved != *text) copy.params[decl.name] = moved;
-    }
-    if (n.type->subgraph && is_path_reference(n.asset)) copy.asset = rebase(n.asset, graph_dir, asset_dir);
+    rebase_node_paths(copy, graph_dir, asset_dir);
     if (const auto it = graph.editor.positions.find(n.id); it != graph.editor.positions.end())
-      inner.editor.positions[n.id] = it->second;
+      inner.editor.positions[n.id] = it->second - corner;
   }
   for (const auto& n : graph.nodes()) {
     if (!selected.count(n.id)) continue;
@@ -276,6 +299,7 @@ Graph rewrite_with_instance(const Graph& graph, const ExtractRequest& request, c
   Graph out;
   out.domain = graph.domain;
   out.directory = graph.directory;
+  out.interface = graph.interface;  // grouping inside an asset keeps it an asset
   bool placed = false;
   for (const auto& n : graph.nodes()) {
     if (selected.count(n.id)) {
@@ -297,19 +321,16 @@ Graph rewrite_with_instance(const Graph& graph, const ExtractRequest& request, c
   }
   for (const auto& input : ex.inputs) out.connect(input.source, id, input.name);
 
-  glm::dvec2 position{0.0};
-  int positioned = 0;
+  bool positioned = false;
   for (const auto& n : graph.nodes()) {
     const auto it = graph.editor.positions.find(n.id);
     if (it == graph.editor.positions.end()) continue;
-    if (!selected.count(n.id)) {
+    if (selected.count(n.id))
+      positioned = true;
+    else
       out.editor.positions[n.id] = it->second;
-      continue;
-    }
-    position += it->second;
-    ++positioned;
   }
-  if (positioned) out.editor.positions[id] = position / static_cast<double>(positioned);
+  if (positioned) out.editor.positions[id] = top_left(graph, selected);
   return out;
 }
 

@@ -2,11 +2,12 @@
 // How a tile-graph node (graph/distribution.h) runs across the tiles of a tiled or distributed build, exact: the
 // shape of R. Barnes's parallel hydrology (2016, 2017), common to every such algorithm (docs/distributed.md).
 //
-// A run goes in rounds. In each round every tile sends a message (small: perimeters, spill graphs, per-lake
-// figures; never the tile), the messages of all tiles are solved once, identically on every rank, into one answer
-// per tile, and each tile takes in its answer. After the last round each tile has the node's outputs on its own
-// samples. The driver (cli/tile_graph_stages.h) moves the messages between ranks (graph/rank_group.h) and knows
-// nothing of the algorithm; the algorithm knows nothing of ranks, so tests run it on any tiling in one process.
+// A run goes in rounds (a fixed number, or until a round changes nothing). In each round every tile sends a message
+// (small: perimeters, spill graphs, per-lake figures; never the tile), the messages of all tiles are solved once,
+// identically on every rank, into one answer per tile, and each tile takes in its answer. After the last round each
+// tile has the node's outputs on its own samples. The driver (cli/tile_graph_stages.h) moves the messages between ranks
+// (graph/rank_group.h) and knows nothing of the algorithm; the algorithm knows nothing of ranks, so tests run it on any
+// tiling in one process.
 //
 // Tiles share their border samples with their neighbours (cli/tiling.h), so every pair of 8-neighbours lies in
 // one tile, and what crosses a border is a shared sample, seen by both tiles with the same value.
@@ -27,7 +28,7 @@ class ParamView;
 class TileGraphTile {
  public:
   virtual ~TileGraphTile() = default;
-  // The tile's message in round `round` (0, 1, ... up to the algorithm's rounds() - 1).
+  // The tile's message in round `round` (0, 1, ... while the algorithm's another_round() says so).
   virtual std::string message(int round) = 0;
   // The solve's answer for this tile in round `round`.
   virtual void answer(int round, std::string_view bytes) = 0;
@@ -38,7 +39,14 @@ class TileGraphTile {
 class TileGraphAlgorithm {
  public:
   virtual ~TileGraphAlgorithm() = default;
+  // The number of rounds, or for an algorithm that iterates to a fixed point the rounds it always runs.
   virtual int rounds() const = 0;
+  // Whether another round follows round `round`, from that round's messages of every tile (so every rank
+  // decides the same). Runs to a fixed point end when a round changes nothing.
+  virtual bool another_round(int round, const std::vector<std::string>& messages) const {
+    (void)messages;
+    return round + 1 < rounds();
+  }
   // A tile's state from the node's inputs (in input order) on exactly the tile's samples; their domains say where
   // the tile lies (Domain::first is its first sample in the whole domain).
   virtual std::unique_ptr<TileGraphTile> start(const std::vector<PortValue>& inputs) const = 0;

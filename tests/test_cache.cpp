@@ -470,6 +470,30 @@ TEST(DiskCache, StoresAndLoads) {
   EXPECT_EQ(files, 1u);
 }
 
+// A thread reuses its serialization and compression buffers from one store to the next: entries of every size,
+// in any order, must each read back as stored (a stale tail of a larger entry would corrupt a smaller one).
+TEST(DiskCache, StoresOfEverySizeInTurnReadBackExactly) {
+  const DiskCache cache(test::scratch_dir("disk-cache-sizes"));
+  const int sides[] = {300, 5, 120, 1, 300, 17};
+  for (int n = 0; n < 6; ++n) {
+    Domain d;
+    d.resolution = {sides[n], sides[n] + 1};
+    auto h = std::make_shared<Heightfield>(d);
+    for (std::size_t k = 0; k < h->data.size(); ++k) h->data[k] = static_cast<float>((k * 2654435761u + n) % 1000);
+    CachedResult r;
+    r.outputs.push_back(HeightfieldPtr(h));
+    cache.store(CacheKey{1, static_cast<std::uint64_t>(n)}, r);
+  }
+  for (int n = 0; n < 6; ++n) {
+    const auto loaded = cache.load(CacheKey{1, static_cast<std::uint64_t>(n)});
+    ASSERT_TRUE(loaded.result) << n << ": " << loaded.reason;
+    const auto& h = *std::get<HeightfieldPtr>(loaded.result->outputs[0]);
+    ASSERT_EQ(h.width(), sides[n]);
+    for (std::size_t k = 0; k < h.data.size(); ++k)
+      ASSERT_EQ(h.data[k], static_cast<float>((k * 2654435761u + n) % 1000)) << n << " at " << k;
+  }
+}
+
 void expect_rejected_after(const std::function<void(const std::filesystem::path&)>& damage, const char* what) {
   const DiskCache cache(test::scratch_dir("disk-cache-bad"));
   const CacheKey k{77, 88};

@@ -50,13 +50,14 @@ const char* kLocalGraph = R"({
 })";
 
 // A local chain plus nodes that need the whole domain (a normalization and a depression fill).
+// 'filled' carves: a node that still needs the whole domain (filling runs across the tiles).
 const char* kGlobalGraph = R"({
   "format": "orogen-graph", "version": 6,
   "domain": { "size": [640, 640], "resolution": [65, 65] },
   "nodes": [
     { "id": "noise", "type": "FBM", "params": { "feature_size": 200, "seed": 5, "amplitude": 50 } },
     { "id": "stretch", "type": "Normalize", "inputs": { "in": "noise.out" } },
-    { "id": "filled", "type": "FillDepressions", "inputs": { "in": "noise.out" } },
+    { "id": "filled", "type": "FillDepressions", "inputs": { "in": "noise.out" }, "params": { "mode": "carve" } },
     { "id": "smooth", "type": "Blur", "inputs": { "in": "noise.out" }, "params": { "sigma": 20 } },
     { "id": "save_stretch", "type": "WriteHeightfield", "inputs": { "in": "stretch.out" },
       "params": { "path": "stretch.exr" } },
@@ -486,7 +487,8 @@ TEST(CliTiles, EveryExampleGraphTilesIntoItsUntiledBuild) {
   EXPECT_GT(total, 3u);
 }
 
-// Nodes that run across the tiles (cli/tile_graph_stages.h): depressions filled flat, lakes kept by depth and area
+// Nodes that run across the tiles (cli/tile_graph_stages.h): depressions filled flat and with epsilon flats (rounds
+// until no tile's perimeter falls), lakes kept by depth and area
 // and numbered across tiles, a blur of the filled terrain whose halo comes from the neighboring tiles, and a
 // normalization of the blur over the whole domain's range (a reduction after a tile-graph node).
 const char* kAcrossTilesGraph = R"({
@@ -495,6 +497,9 @@ const char* kAcrossTilesGraph = R"({
   "nodes": [
     { "id": "noise", "type": "FBM", "params": { "feature_size": 600, "seed": 11, "amplitude": 80, "octaves": 5 } },
     { "id": "filled", "type": "FillDepressions", "inputs": { "in": "noise.out" }, "params": { "flats": "flat" } },
+    { "id": "filled_eps", "type": "FillDepressions", "inputs": { "in": "noise.out" } },
+    { "id": "save_filled_eps", "type": "WriteHeightfield", "inputs": { "in": "filled_eps.out" },
+      "params": { "path": "filled_eps.exr" } },
     { "id": "lakes", "type": "Lakes", "inputs": { "in": "noise.out" },
       "params": { "min_depth": 0.5, "min_area": 2000 } },
     { "id": "smooth", "type": "Blur", "inputs": { "in": "filled.out" }, "params": { "sigma": 30 } },
@@ -525,11 +530,12 @@ TEST(CliTiles, TileGraphAndReductionNodesRunAcrossTheTilesExactlyAndInATilesMemo
   const auto r = orogen(tiled_args);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("node 'filled' (FillDepressions) computed across the tiles"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("node 'filled_eps' (FillDepressions) computed across the tiles"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("node 'lakes' (Lakes) computed across the tiles"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << "nothing is computed on the whole domain:\n" << r.err;
   // Every tile is its window of the untiled build, bit for bit: filled heights, the blur's halo, lake numbers.
   EXPECT_NE(r.err.find("node 'stretch' (Normalize) computed across the tiles"), std::string::npos) << r.err;
-  for (const std::string stem : {"filled", "smooth", "lake_id", "lake_depth", "stretch"})
+  for (const std::string stem : {"filled", "filled_eps", "smooth", "lake_id", "lake_depth", "stretch"})
     for (int j = 0; j < 3; ++j)
       for (int i = 0; i < 4; ++i)
         EXPECT_EQ(window_differences(dir / "whole", dir / "tiled", stem, {257, 257}, {4, 3}, i, j), 0u)

@@ -140,6 +140,9 @@ fs::path run_distributed(const Job& job) {
   const auto r = mpirun(job.ranks, {"eval", (source_dir() / "graphs" / job.graph).string(), "-o", dir.string(),
                                     "--resolution", std::to_string(job.resolution), "--tiles", tiles_text(job.tiles)});
   EXPECT_EQ(r.exit_code, 0) << r.err;
+  // FillDepressions with epsilon flats runs across the ranks' tiles (its perimeter rounds), not on the whole domain.
+  if (std::string(job.graph) == "distributed_hydrology.json" && job.tiles.x * job.tiles.y > 1)
+    EXPECT_NE(r.err.find("node 'filled' (FillDepressions) computed across the tiles"), std::string::npos) << r.err;
   const auto mine = files_under(dir), single = files_under(single_process_build(job));
   EXPECT_EQ(mine.size(), single.size());
   std::size_t differing = 0;

@@ -409,10 +409,12 @@ TEST(GraphFile, DiagnosticText) {
   EXPECT_EQ((Diagnostic{"/format", "", "wrong"}).str(), "/format: wrong");
   EXPECT_EQ((Diagnostic{"", "", "malformed"}).str(), "malformed");
   const auto r = parse_graph(R"({"format": "x", "version": 1, "nodes": [], "extra": 1})");
-  EXPECT_EQ(r.error_text(),
-            "/format: \"format\" must be \"orogen-graph\", found the string \"x\"\n"
-            "/extra: unknown field 'extra' in the file (expected one of: format, version, domain, interface, nodes, "
-            "node_libraries, editor)\n");
+  EXPECT_EQ(
+      r.error_text(),
+      "/format: \"format\" must be \"orogen-graph\", found the string \"x\"\n"
+      "/extra: unknown field 'extra' in the file (expected one of: format, version, domain, interface, subgraphs, "
+      "nodes, "
+      "node_libraries, editor)\n");
 }
 
 // Damaged files (characters deleted, inserted or replaced at random) never crash the loader: each gives a

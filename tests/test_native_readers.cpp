@@ -113,6 +113,10 @@ TEST(NativeReaders, ExrReadsAsTheCodecDoes) {
   // A data window away from the origin, and a tiled file.
   expect_as_the_codec_reads(write_image(dir / "window.exr", 19, 17, 1, OIIO::TypeDesc::FLOAT, {}, -4, 7));
   expect_as_the_codec_reads(write_image(dir / "tiled.exr", 50, 45, 1, OIIO::TypeDesc::FLOAT, {}, 0, 0, 16));
+  // Uncompressed, as Orogen writes heights: rows copied from the file's chunks.
+  for (const OIIO::TypeDesc type : {OIIO::TypeDesc::HALF, OIIO::TypeDesc::FLOAT, OIIO::TypeDesc::UINT32})
+    expect_as_the_codec_reads(write_image(dir / ("raw" + std::to_string(type.size()) + ".exr"), 43, 31, 1, type,
+                                          {{"compression", "none"}}, -3, 5));
 }
 
 // What the native readers leave to the codec: it presents these differently (expanded palettes, an alpha made

@@ -16,6 +16,7 @@
 #include "graph/tile_graph.h"
 #include "nodes/hydrology/depressions.h"
 #include "nodes/hydrology/flow_routing.h"
+#include "nodes/hydrology/tile_accumulation.h"
 #include "nodes/hydrology/tile_fill.h"
 #include "nodes/hydrology/tile_lakes.h"
 
@@ -159,7 +160,8 @@ Domain domain_of(const Terrain& t) {
   return Domain::from_extent({0, 0}, {10.0 * (t.size.x - 1), 10.0 * (t.size.y - 1)}, t.size);
 }
 
-NodeOutputs across_tiles(const TileGraphAlgorithm& algorithm, const Terrain& t, glm::ivec2 counts) {
+NodeOutputs across_tiles(const TileGraphAlgorithm& algorithm, const Terrain& t, glm::ivec2 counts,
+                         int* rounds_run = nullptr) {
   const Domain whole = domain_of(t);
   std::vector<std::unique_ptr<TileGraphTile>> tiles;
   for (int tj = 0; tj < counts.y; ++tj)
@@ -174,11 +176,13 @@ NodeOutputs across_tiles(const TileGraphAlgorithm& algorithm, const Terrain& t, 
               t.z[static_cast<std::size_t>(first.y + j) * t.size.x + first.x + i];
       tiles.push_back(algorithm.start({HeightfieldPtr(h)}));
     }
-  for (int round = 0; round < algorithm.rounds(); ++round) {
+  for (int round = 0;; ++round) {
     std::vector<std::string> messages;
     for (auto& tile : tiles) messages.push_back(tile->message(round));
     const auto answers = algorithm.solve(round, messages);
     for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->answer(round, answers[k]);
+    if (rounds_run) *rounds_run = round + 1;
+    if (!algorithm.another_round(round, messages)) break;
   }
   const float nan = std::numeric_limits<float>::quiet_NaN();
   NodeOutputs joined{std::vector<float>(t.z.size(), nan), std::vector<float>(t.z.size(), nan),
@@ -262,11 +266,109 @@ TEST(FillAcrossTiles, FillDepressionsAndLakesEqualTheWholeDomainNodesOnEveryTili
     }
 }
 
-TEST(FillAcrossTiles, EpsilonFlatsAndCarvingStayOnTheWholeDomain) {
+// FillDepressions with its default epsilon flats across tiles: the spill graphs give the flat levels, then rounds
+// relax the epsilon surface until no tile's perimeter value falls. Bit for bit the whole-domain node on every
+// tiling, on terrains made of ties (integer levels: flats that span tiles and cross their corners, lakes with flat
+// floors) and continuous ones; a lake whose epsilon gradient crosses three tiles needs several rounds.
+TEST(FillAcrossTiles, EpsilonFillEqualsTheWholeDomainNodeOnEveryTiling) {
+  const std::vector<glm::ivec2> tilings = {{1, 1}, {2, 2}, {3, 2}, {4, 3}, {1, 4}, {7, 6}};
+  int most_rounds = 0;
+  for (const glm::ivec2 size : {glm::ivec2(41, 33), glm::ivec2(64, 64), glm::ivec2(129, 97)})
+    for (unsigned seed : {5u, 6u})
+      for (int levels : {0, 2, 4}) {
+        const Terrain t = terrain(size, seed, levels);
+        const Domain whole = domain_of(t);
+        Heightfield ground(whole);
+        ground.data = t.z;
+        const NodeOutputs fill = whole_domain(fill_depressions(ground, FillParams{false, true, 0.0}));
+        ASSERT_FALSE(same_bits(fill.out, whole_domain_fill(t))) << "the epsilon surface must differ from the flat one";
+        const auto algorithm = algorithm_of("FillDepressions", {}, whole);  // epsilon by default
+        ASSERT_TRUE(algorithm);
+        for (const glm::ivec2 counts : tilings) {
+          SCOPED_TRACE(std::to_string(size.x) + "x" + std::to_string(size.y) + " seed " + std::to_string(seed) +
+                       " levels " + std::to_string(levels) + " tiles " + std::to_string(counts.x) + "x" +
+                       std::to_string(counts.y));
+          int rounds = 0;
+          expect_same(across_tiles(*algorithm, t, counts, &rounds), fill);
+          most_rounds = std::max(most_rounds, rounds);
+        }
+      }
+  EXPECT_GE(most_rounds, 5) << "some surface must need values from tiles beyond the neighbours";
+}
+
+// A closed basin whose flat floor spans all four tiles of 2x2 around their common corner and drains through one
+// notch: the epsilon surface rises away from the notch across the tile borders, so the tiles away from the notch
+// learn their gradient from the others; and a flat island on the corner of four tiles.
+TEST(FillAcrossTiles, EpsilonLakeAndPlateauOnTheCornerOfFourTiles) {
+  Terrain t{{33, 33}, std::vector<float>(33 * 33, 6.0f)};
+  for (int j = 0; j < 33; ++j)
+    for (int i = 0; i < 33; ++i) {
+      float& z = t.z[static_cast<std::size_t>(j) * 33 + i];
+      if (i >= 8 && j >= 8 && i <= 24 && j <= 24) z = (i == 8 || j == 8 || i == 24 || j == 24) ? 5.0f : 0.0f;
+      if (i >= 12 && j >= 12 && i <= 20 && j <= 20) z = 3.0f;  // a plateau in the lake (an island)
+      if (j < 4 || i < 4) z = 7.0f - 0.1f * static_cast<float>(std::min(i, j));
+    }
+  t.z[16 * 33 + 8] = 2.0f;  // the notch
+  for (int i = 0; i < 8; ++i) t.z[16 * 33 + static_cast<std::size_t>(i)] = 1.0f;
+  const Domain whole = domain_of(t);
+  Heightfield ground(whole);
+  ground.data = t.z;
+  const NodeOutputs fill = whole_domain(fill_depressions(ground, FillParams{false, true, 0.0}));
+  const auto algorithm = algorithm_of("FillDepressions", {}, whole);
+  ASSERT_TRUE(algorithm);
+  for (const glm::ivec2 counts : {glm::ivec2(2, 2), glm::ivec2(3, 3), glm::ivec2(4, 3)}) {
+    const NodeOutputs tiled = across_tiles(*algorithm, t, counts);
+    expect_same(tiled, fill);
+    // No undrained cell: every cell but the border has a strictly lower neighbour.
+    for (int j = 1; j < 32; ++j)
+      for (int i = 1; i < 32; ++i) {
+        bool lower = false;
+        for (int k = 0; k < 8; ++k)
+          lower |= tiled.out[static_cast<std::size_t>(j + kDj[k]) * 33 + i + kDi[k]] <
+                   tiled.out[static_cast<std::size_t>(j) * 33 + i];
+        ASSERT_TRUE(lower) << i << "," << j;
+      }
+  }
+  // The island's flat top rises by ulps towards its middle (four cells from its shore); the lake stands at its notch.
+  EXPECT_EQ(fill.out[16 * 33 + 16],
+            std::nextafter(std::nextafter(std::nextafter(std::nextafter(3.0f, 4.0f), 4.0f), 4.0f), 4.0f));
+  EXPECT_GT(fill.out[10 * 33 + 10], 2.0f);
+  EXPECT_LT(fill.out[10 * 33 + 10], 2.0001f);
+}
+
+TEST(FillAcrossTiles, EpsilonPerimeterValuesTravelAsCheckedBytes) {
+  const Terrain t = terrain({33, 33}, 4, 4);
+  const TileRect a{{0, 0}, {17, 33}}, b{{16, 0}, {17, 33}};
+  const auto cut = [&](const TileRect& r) {
+    std::vector<float> z;
+    for (int j = 0; j < r.size.y; ++j)
+      for (int i = 0; i < r.size.x; ++i) z.push_back(t.z[static_cast<std::size_t>(j) * 33 + r.first.x + i]);
+    return z;
+  };
+  TileEpsilon ea(cut(a), a, {33, 33}), eb(cut(b), b, {33, 33});
+  const std::vector<std::string> messages = {ea.message(), eb.message()};
+  EXPECT_TRUE(epsilon_values_fell(messages));
+  const auto answers = solve_epsilon_perimeters(messages, {33, 33});
+  EXPECT_THROW(solve_epsilon_perimeters({messages[0].substr(0, messages[0].size() - 1)}, {33, 33}),
+               std::invalid_argument);
+  EXPECT_THROW(solve_epsilon_perimeters({messages[0] + "x"}, {33, 33}), std::invalid_argument);
+  EXPECT_THROW(solve_epsilon_perimeters({messages[0]}, {16, 33}), std::invalid_argument);  // outside the domain
+  EXPECT_THROW(ea.answer(answers[0] + "x"), std::invalid_argument);
+  ea.answer(answers[0]);
+  eb.answer(answers[1]);
+  // Nothing new to say after an answer that lowered nothing it had not sent.
+  TileEpsilon alone(cut({{0, 0}, {33, 33}}), {{0, 0}, {33, 33}}, {33, 33});
+  const std::vector<std::string> first = {alone.message()};
+  alone.answer(solve_epsilon_perimeters(first, {33, 33})[0]);
+  EXPECT_FALSE(epsilon_values_fell({alone.message()}));
+}
+
+TEST(FillAcrossTiles, CarvingStaysOnTheWholeDomain) {
   const Domain whole = Domain::from_extent({0, 0}, {640, 640}, {65, 65});
-  EXPECT_EQ(algorithm_of("FillDepressions", {}, whole), nullptr);  // epsilon by default
+  EXPECT_NE(algorithm_of("FillDepressions", {}, whole), nullptr);  // epsilon by default
   EXPECT_EQ(algorithm_of("FillDepressions", {{"flats", std::string("flat")}, {"mode", std::string("carve")}}, whole),
             nullptr);
+  EXPECT_EQ(algorithm_of("FillDepressions", {{"mode", std::string("carve")}}, whole), nullptr);
   EXPECT_NE(algorithm_of("FillDepressions", {{"flats", std::string("flat")}}, whole), nullptr);
 }
 
@@ -304,5 +406,79 @@ TEST(FillAcrossTiles, LakeFiguresAreCheckedAndTravelAsBytes) {
   b.perimeter[0] = static_cast<std::int32_t>(b.first_cell.size()) + 1;  // names no lake of the tile
   EXPECT_THROW(solve_tile_lakes({a, b}, {33, 33}, [](float, std::int64_t) { return true; }), std::invalid_argument);
 }
+// D8 accumulation across tiles (nodes/hydrology/tile_accumulation.h, Barnes 2017) on the epsilon-filled terrains:
+// whole cell counts, so bit for bit the whole-domain accumulate_d8 of unit weights on every tiling, and at every
+// outlet the number of cells whose D8 path ends there.
+TEST(AccumulationAcrossTiles, CountsEqualTheWholeDomainOnEveryTiling) {
+  const std::vector<glm::ivec2> tilings = {{1, 1}, {2, 2}, {3, 2}, {4, 3}, {1, 4}, {7, 6}};
+  for (const glm::ivec2 size : {glm::ivec2(41, 33), glm::ivec2(129, 97)})
+    for (int levels : {0, 2}) {
+      Terrain t = terrain(size, 9, levels);
+      const FlowGrid g(size.x, size.y);
+      fill_depressions(g, t.z, FlatMode::Epsilon);
+      const D8Flow f = d8_flow(g, t.z);
+      const auto whole = accumulate_d8(g, f, std::vector<float>(g.size(), 1.0f));
+      // Outlets: the cells whose D8 path ends at them, counted by following the paths.
+      std::vector<std::int64_t> ending(g.size(), 0);
+      for (std::int32_t c = 0; c < static_cast<std::int32_t>(g.size()); ++c) {
+        std::int32_t x = c;
+        while (f.receiver[static_cast<std::size_t>(x)] != x) x = f.receiver[static_cast<std::size_t>(x)];
+        ++ending[static_cast<std::size_t>(x)];
+      }
+      for (const glm::ivec2 counts : tilings) {
+        SCOPED_TRACE(std::to_string(size.x) + "x" + std::to_string(size.y) + " levels " + std::to_string(levels) +
+                     " tiles " + std::to_string(counts.x) + "x" + std::to_string(counts.y));
+        std::vector<TileAccumulation> tiles;
+        std::vector<std::string> messages;
+        for (int tj = 0; tj < counts.y; ++tj)
+          for (int ti = 0; ti < counts.x; ++ti) {
+            TileRect r;
+            r.first = {edge(ti, size.x, counts.x), edge(tj, size.y, counts.y)};
+            r.size = glm::ivec2(edge(ti + 1, size.x, counts.x), edge(tj + 1, size.y, counts.y)) - r.first + 1;
+            std::vector<std::uint8_t> direction;
+            for (int j = 0; j < r.size.y; ++j)
+              for (int i = 0; i < r.size.x; ++i)
+                direction.push_back(f.direction[static_cast<std::size_t>(g.index(r.first.x + i, r.first.y + j))]);
+            tiles.push_back(start_tile_accumulation(direction, r, size));
+            messages.push_back(accumulation_message(tiles.back()));
+          }
+        const auto answers = solve_tile_accumulation(messages, size);
+        std::vector<std::int64_t> joined(g.size(), -1);
+        for (std::size_t k = 0; k < tiles.size(); ++k) {
+          const auto acc = finish_tile_accumulation(tiles[k], answers[k]);
+          const TileRect& r = tiles[k].rect;
+          for (int j = 0; j < r.size.y; ++j)
+            for (int i = 0; i < r.size.x; ++i) {
+              auto& v = joined[static_cast<std::size_t>(g.index(r.first.x + i, r.first.y + j))];
+              const std::int64_t mine = acc[static_cast<std::size_t>(j) * r.size.x + i];
+              ASSERT_TRUE(v < 0 || v == mine) << "tiles disagree at " << r.first.x + i << "," << r.first.y + j;
+              v = mine;
+            }
+        }
+        for (std::size_t c = 0; c < g.size(); ++c) {
+          ASSERT_EQ(static_cast<double>(joined[c]), whole[c]) << "cell " << c;
+          if (f.receiver[c] == static_cast<std::int32_t>(c)) {
+            ASSERT_EQ(joined[c], ending[c]) << "outlet " << c;
+          }
+        }
+      }
+    }
+}
+
+TEST(AccumulationAcrossTiles, MalformedMessagesAndLoopsAreRefused) {
+  const TileRect r{{0, 0}, {3, 3}};
+  std::vector<std::uint8_t> direction(9, kNoDirection);
+  direction[4] = 0;  // the centre drains east
+  const auto t = start_tile_accumulation(direction, r, {3, 3});
+  const std::string m = accumulation_message(t);
+  EXPECT_NO_THROW(solve_tile_accumulation({m}, {3, 3}));
+  EXPECT_THROW(solve_tile_accumulation({m + "x"}, {3, 3}), std::invalid_argument);
+  EXPECT_THROW(solve_tile_accumulation({m.substr(0, m.size() - 1)}, {3, 3}), std::invalid_argument);
+  EXPECT_THROW(solve_tile_accumulation({m}, {2, 3}), std::invalid_argument);
+  direction[5] = 4;  // east drains back west: a loop
+  EXPECT_THROW(start_tile_accumulation(direction, r, {3, 3}), std::invalid_argument);
+  EXPECT_THROW(finish_tile_accumulation(t, "x"), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace orogen::hydrology

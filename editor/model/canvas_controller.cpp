@@ -5,6 +5,7 @@
 #include "graph/subgraph.h"
 
 #include <cmath>
+#include <map>
 #include <memory>
 
 #include <glm/geometric.hpp>
@@ -379,7 +380,23 @@ std::string CanvasController::confirm_palette(const NodeType* type) {
 }
 
 void CanvasController::delete_selection() {
+  // An embedded asset lives as long as an instance uses it: say so when the last one goes, so that it is not
+  // dropped from the file without the user knowing (docs/subgraphs.md, "Embedded assets").
+  auto embedded_names = [&] {
+    std::map<std::string, const SubgraphAsset*> names;
+    try {
+      names = embedded_assets_of(document_->graph());
+    } catch (const GraphError&) {}
+    return names;
+  };
+  const auto before = embedded_names();
   document_->remove_nodes(selection_.ordered(document_->graph()));
+  const auto after = embedded_names();
+  std::string lost;
+  for (const auto& [name, asset] : before)
+    if (!after.count(name)) lost += std::string(lost.empty() ? "" : ", ") + "#" + name;
+  if (!lost.empty())
+    message_ = "embedded asset " + lost + " has no instance left: saving the graph drops it (undo keeps it)";
   after_edit();
 }
 

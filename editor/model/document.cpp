@@ -7,6 +7,7 @@
 #include "editor/model/interface_reread.h"
 #include "editor/model/node_layout.h"
 #include "graph/graph_file.h"
+#include "graph/subgraph_unique.h"
 
 namespace orogen::editor {
 
@@ -191,6 +192,15 @@ bool Document::rebind_asset(const std::filesystem::path& file, const SubgraphAss
   if (before->interface().asset_version != asset.interface().asset_version ||
       interface_signature(before->interface()) != interface_signature(asset.interface()))
     mark_unsaved();
+  ++revision_;
+  ++content_revision_;
+  return true;
+}
+
+bool Document::rebind_embedded(const SubgraphAsset& asset) {
+  history_.for_each_graph([&](Graph& g) { replace_embedded_asset(g, asset); });
+  if (!replace_embedded_asset(graph_, asset)) return false;
+  mark_unsaved();  // the embedded asset is part of the file
   ++revision_;
   ++content_revision_;
   return true;

@@ -88,6 +88,9 @@ class Document {
   // truth for all of them. Not an edit (nothing to undo, the dirty flag is kept), but a content change.
   // Returns whether any instance was found.
   bool rebind_asset(const std::filesystem::path& file, const SubgraphAsset& asset);
+  // The same for an edited embedded asset of this document (its "subgraphs" section): its instances, and the
+  // embedded assets that use it, follow. The file must be saved to keep the edit: the document is unsaved.
+  bool rebind_embedded(const SubgraphAsset& asset);
 
   // Atomic writes (save_graph_file). save() needs a path; both throw std::runtime_error on failure and then
   // leave the document dirty.

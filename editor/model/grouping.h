@@ -13,35 +13,6 @@
 
 namespace orogen::editor {
 
-// What a selection needs from outside and gives to it: the links crossing its border.
-struct GroupPlan {
-  std::vector<std::string> nodes;  // the selection, in graph order
-  struct Input {
-    std::string name;  // the interface input
-    PortType type = PortType::Heightfield;
-    PortRef source;                       // the outside output feeding it
-    std::vector<SubgraphTarget> targets;  // the inside inputs it feeds
-  };
-  struct Output {
-    std::string name;  // the interface output
-    PortType type = PortType::Heightfield;
-    PortRef source;                         // the inside output it presents
-    std::vector<SubgraphTarget> consumers;  // the outside inputs it feeds
-  };
-  std::vector<Input> inputs;    // one per distinct outside output feeding the selection
-  std::vector<Output> outputs;  // one per inside output feeding something outside
-};
-
-// Throws DocumentError for an empty selection, unknown ids, or a selection that cannot be grouped without
-// making a cycle (a path leaves the selection and comes back into it).
-GroupPlan plan_group(const Graph& graph, const std::vector<std::string>& ids);
-
-// The asset file a plan makes: the selected nodes (positions moved to start at 0,0) and the interface the
-// crossing links need. Nested instances and relative input paths are rebased from `graph_dir` to the asset's
-// folder. `description` documents the asset.
-Graph make_group_asset(const Graph& graph, const GroupPlan& plan, const std::filesystem::path& graph_dir,
-                       const std::filesystem::path& asset_dir, const std::string& description);
-
 // A free "NAME.orogen-subgraph.json" in `dir` (group, group2, ...), not taken by a file.
 std::filesystem::path free_asset_path(const std::filesystem::path& dir, const std::string& base = "group");
 
@@ -56,7 +27,9 @@ struct GroupResult {
 };
 // Groups `ids` of the document: writes the asset to `asset_file` (default: a free name beside the document's
 // file, which must then have one), and replaces the selection with an instance wired like it, in one undo
-// step. Throws DocumentError (nothing written, nothing changed) when the selection cannot be grouped.
+// step. The asset and the rewrite are graph/subgraph_extract.h's, as `orogen subgraph extract` makes them,
+// except that writers may be grouped. Throws DocumentError (nothing written, nothing changed) when the
+// selection cannot be grouped.
 GroupResult group_nodes(Document& document, const std::vector<std::string>& ids, std::filesystem::path asset_file = {});
 
 // Replaces instance `id` of `graph` by its asset's nodes (one level): the exposed values written into the
@@ -65,5 +38,11 @@ GroupResult group_nodes(Document& document, const std::vector<std::string>& ids,
 std::vector<std::string> inline_instance(Graph& graph, const std::string& id, const std::filesystem::path& graph_dir);
 // The same as one undo step of the document.
 std::vector<std::string> ungroup_node(Document& document, const std::string& id);
+
+// "Make unique": instance `id` gets its own copy of its asset, embedded in the document (graph/subgraph_unique.h),
+// in one undo step. Returns the embedded asset's name. Throws DocumentError with the reason.
+// `holder`: the graph of the document whose file will hold the copy, when `document` is an embedded asset of it
+// being edited (SubgraphNavigator::make_unique).
+std::string make_unique_node(Document& document, const std::string& id, const Graph* holder = nullptr);
 
 }  // namespace orogen::editor

@@ -17,8 +17,12 @@ const PinLayout* NodeLayout::find_pin(const std::string& port, bool output) cons
 }
 
 std::string node_title(const Node& node) {
-  // An instance shows its asset: "mountains : eroded_mountain_range", not "Subgraph".
-  const std::string& type = node.type->subgraph ? node.type->subgraph->name : node.type->name;
+  // An instance shows its asset: "mountains : eroded_mountain_range", not "Subgraph"; an embedded (unique)
+  // one "#name", as the file names it.
+  const SubgraphAsset* asset = node.type->subgraph;
+  const std::string type = !asset                    ? node.type->name
+                           : asset->embedded.empty() ? asset->name
+                                                     : std::string(1, kEmbeddedReferencePrefix) + asset->embedded;
   std::string type_lower, id_stem;
   for (char c : type) type_lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   id_stem = node.id;

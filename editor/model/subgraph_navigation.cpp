@@ -1,7 +1,9 @@
 #include "editor/model/subgraph_navigation.h"
 
+#include "editor/model/grouping.h"
 #include "graph/graph_file.h"
 #include "graph/subgraph.h"
+#include "graph/subgraph_unique.h"
 
 namespace orogen::editor {
 
@@ -43,6 +45,15 @@ Document& SubgraphNavigator::enter(const std::string& id) {
   level.instance = id;
   level.asset = asset->name;
   level.file = asset->file;
+  if (!asset->embedded.empty()) {
+    // Part of the document above: edited in memory, no file to open.
+    level.asset = std::string(1, kEmbeddedReferencePrefix) + asset->embedded;
+    level.embedded = asset->embedded;
+    level.document = std::make_unique<Document>(asset->graph);
+    level.synced_revision = level.document->revision();
+    levels_.push_back(std::move(level));
+    return current();
+  }
   level.document = std::make_unique<Document>(Document::open(asset->file));
   if (!level.document->load_problems().empty())
     throw DocumentError("cannot enter '" + id + "': its asset " + asset->file.string() + " has problems:\n" +
@@ -50,6 +61,14 @@ Document& SubgraphNavigator::enter(const std::string& id) {
   level.synced_revision = level.document->revision();
   levels_.push_back(std::move(level));
   return current();
+}
+
+std::string SubgraphNavigator::make_unique(const std::string& id) {
+  // The document whose file holds the current level's embedded assets: the nearest file level above, or the root.
+  std::size_t owner = levels_.size();
+  while (owner > 0 && !levels_[owner - 1].embedded.empty()) --owner;
+  const Document* holder = owner == levels_.size() ? nullptr : owner == 0 ? root_ : levels_[owner - 1].document.get();
+  return make_unique_node(current(), id, holder ? &holder->graph() : nullptr);
 }
 
 bool SubgraphNavigator::leave() {
@@ -79,6 +98,30 @@ std::string SubgraphNavigator::sync() {
     }
     level.synced_revision = doc.revision();
     level.error.clear();
+    if (!level.embedded.empty()) {
+      // Into the document holding it (the nearest file level above, or the root) and the embedded levels
+      // between, which hold instances of it too.
+      const AssetLoad load = load_embedded_graph(level.embedded, doc.graph());
+      if (!load.asset) {
+        level.error = "asset '" + level.asset + "' not updated: " + load.error;
+        add_problem(problems, level.error);
+        below_changed = false;
+        continue;
+      }
+      std::size_t owner = k;
+      while (owner > 0 && !levels_[owner - 1].embedded.empty()) --owner;
+      try {
+        if (owner == 0) root_->rebind_embedded(*load.asset);
+        for (std::size_t j = owner == 0 ? 0 : owner - 1; j < k; ++j) levels_[j].document->rebind_embedded(*load.asset);
+      } catch (const std::exception& e) {
+        level.error = "asset '" + level.asset + "' not updated: " + e.what();
+        add_problem(problems, level.error);
+        below_changed = false;
+        continue;
+      }
+      below_changed = true;
+      continue;
+    }
     LoadOptions options;
     options.directory = level.file.parent_path();
     // Loaded as the asset itself would be, so that an instance of it inside it is refused before it is written.

@@ -2,7 +2,9 @@
 // Entering subgraphs (Tab or double-click on an instance): the canvas edits the instance's asset file as a
 // document of its own, one level per instance entered, with breadcrumbs back out. Edits inside are written to
 // the asset file (sync()), and every instance of that asset in the levels above, undo steps included, is
-// pointed at the new content, so they all evaluate it.
+// pointed at the new content, so they all evaluate it. An embedded asset ("#name", made by Make unique) has no
+// file: its edits go into the document that holds it (the nearest level above that is a file), which becomes
+// unsaved.
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -27,10 +29,11 @@ class SubgraphNavigator {
   std::size_t depth() const { return levels_.size(); }
 
   struct Level {
-    std::string instance;  // the instance entered, in the level above
-    std::string asset;     // its asset's name
-    std::filesystem::path file;
-    std::unique_ptr<Document> document;  // the asset file, opened
+    std::string instance;                // the instance entered, in the level above
+    std::string asset;                   // its asset's name
+    std::filesystem::path file;          // empty for an embedded asset
+    std::string embedded;                // an embedded asset's name ("#name"): edits go to the document above
+    std::unique_ptr<Document> document;  // the asset file, opened (an embedded asset: its nodes, untitled)
     std::uint64_t synced_revision = 0;   // the document revision last written to the file (or refused)
     std::string error;                   // why that revision could not be written
   };
@@ -50,10 +53,15 @@ class SubgraphNavigator {
   // Leaves levels until `depth` are left (0: the root), or one cannot be left.
   void leave_to(std::size_t depth);
 
-  // Writes every level edited since the last sync to its asset file and points the instances above at the
-  // new content. An asset the edits made invalid (an inner node the interface maps to was deleted, ...) is
-  // not written; returns why (empty when everything is written). Cheap when nothing changed.
+  // Writes every level edited since the last sync to its asset file (an embedded one into the document holding
+  // it) and points the instances above at the new content. An asset the edits made invalid (an inner node the interface
+  // maps to was deleted, ...) is not written; returns why (empty when everything is written). Cheap when nothing
+  // changed.
   std::string sync();
+  // Make unique (editor/model/grouping.h) of instance `id` of the current document; inside an embedded asset
+  // the copy's name is made free in the document that holds it too. Returns the embedded asset's name.
+  std::string make_unique(const std::string& id);
+
   // The last sync's problem, until a sync succeeds.
   const std::string& sync_error() const { return sync_error_; }
 

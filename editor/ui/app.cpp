@@ -137,7 +137,8 @@ App::App(AppOptions options)
   inspector_.set_subgraph_actions(
       [this](const std::string& id) { canvas_->enter_subgraph(id); },
       // Opened after the frame's drawing: the inspector is still drawing the node of the document it replaces.
-      [this](const std::filesystem::path& file) { open_asset_ = file; });
+      [this](const std::filesystem::path& file) { open_asset_ = file; },
+      [this](const std::string& id) { navigator_->make_unique(id); });
   canvas_view_ = std::make_unique<NodeCanvasView>(*canvas_, evaluation_);
   canvas_view_->set_output_kind(
       [this](const std::string& node, const std::string& port) { return output_kind(node, port); });

@@ -1,6 +1,7 @@
 #include "editor/ui/inspector.h"
 
 #include "editor/model/exposed_params.h"
+#include "editor/model/grouping.h"
 #include "graph/subgraph.h"
 
 #include <algorithm>
@@ -131,20 +132,57 @@ void Inspector::draw_node(Document& document, Selection& selection, const Node& 
   }
   if (const SubgraphAsset* asset = node.type->subgraph) {
     // An instance: which asset, and the ways into it. Its exposed parameters are below like any node's.
-    ImGui::TextDisabled("subgraph  /  asset %s  v%d", asset->name.c_str(), node.type->version);
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", asset->file.string().c_str());
+    if (!asset->embedded.empty()) {
+      ImGui::TextDisabled("subgraph  /  embedded asset #%s  v%d", asset->embedded.c_str(), node.type->version);
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("A unique copy saved inside this graph file: editing it changes no other graph");
+    } else {
+      ImGui::TextDisabled("subgraph  /  asset %s  v%d", asset->name.c_str(), node.type->version);
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", asset->file.string().c_str());
+    }
     if (ImGui::SmallButton("Enter")) {
       if (enter_) enter_(node.id);
       return;  // another level: `node` is not on the canvas any more
     }
     if (ImGui::IsItemHovered())
-      ImGui::SetTooltip("Edit the asset's nodes here (Tab or double-click); every instance follows the edits");
-    ImGui::SameLine();
-    if (ImGui::SmallButton("Open asset")) {
-      if (open_asset_) open_asset_(asset->file);
-      return;
+      ImGui::SetTooltip(asset->embedded.empty()
+                            ? "Edit the asset's nodes here (Tab or double-click); every instance follows the edits"
+                            : "Edit the embedded copy's nodes here (Tab or double-click); the graph file keeps them");
+    if (asset->embedded.empty()) {
+      ImGui::SameLine();
+      if (ImGui::SmallButton("Open asset")) {
+        if (open_asset_) open_asset_(asset->file);
+        return;
+      }
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("Open %s as the document", asset->file.filename().string().c_str());
     }
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("Open %s as the document", asset->file.filename().string().c_str());
+    // A shared asset (a file, or an embedded copy other instances use too) can become this instance's own.
+    bool shared = asset->embedded.empty();
+    for (const auto& other : document.graph().nodes())
+      if (other.id != node.id && other.type->subgraph && other.type->subgraph->embedded == asset->embedded &&
+          !asset->embedded.empty())
+        shared = true;
+    if (shared) {
+      ImGui::SameLine();
+      if (ImGui::SmallButton("Make unique")) {
+        const std::string id = node.id;
+        try {
+          if (make_unique_)
+            make_unique_(id);
+          else
+            make_unique_node(document, id);
+          error_.clear();
+        } catch (const std::exception& e) {
+          error_key_ = id + ".";
+          error_ = e.what();
+        }
+        return;  // the node has a new type
+      }
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "Give this instance its own copy of the asset, saved inside this graph file, so that "
+            "editing it changes no other instance or graph");
+    }
   } else {
     ImGui::TextDisabled("%s  /  %s  v%d", node.type->category.c_str(), node.type->name.c_str(), node.type->version);
   }

@@ -19,12 +19,14 @@ class Inspector {
  public:
   explicit Inspector(EvaluationController& evaluation) : evaluation_(evaluation) {}
   void draw(Document& document, Selection& selection);
-  // What the "Enter" and "Open asset" buttons of a subgraph instance do (the app's navigation and File >
-  // Open). There is no "Make unique": the core has no embedded assets yet.
+  // What the "Enter", "Open asset" and "Make unique" buttons of a subgraph instance do (the app's navigation,
+  // File > Open, SubgraphNavigator::make_unique). Without make_unique, make_unique_node on the document.
   void set_subgraph_actions(std::function<void(const std::string&)> enter,
-                            std::function<void(const std::filesystem::path&)> open_asset) {
+                            std::function<void(const std::filesystem::path&)> open_asset,
+                            std::function<void(const std::string&)> make_unique = {}) {
     enter_ = std::move(enter);
     open_asset_ = std::move(open_asset);
+    make_unique_ = std::move(make_unique);
   }
 
  private:
@@ -39,6 +41,7 @@ class Inspector {
   EvaluationController& evaluation_;
   std::function<void(const std::string&)> enter_;
   std::function<void(const std::filesystem::path&)> open_asset_;
+  std::function<void(const std::string&)> make_unique_;
   FileDialog file_dialog_;
   std::string browse_node_, browse_param_;
   std::map<std::string, std::string> text_;  // in-progress text of string and path fields, by node.param

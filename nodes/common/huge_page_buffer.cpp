@@ -1,5 +1,6 @@
 #include "nodes/common/huge_page_buffer.h"
 
+#include <cstdint>
 #include <cstdlib>
 #include <new>
 
@@ -30,5 +31,14 @@ void* allocate(std::size_t bytes) {
 }
 
 void release(void* p) { std::free(p); }
+
+void advise([[maybe_unused]] void* p, std::size_t bytes) {
+  if (!p || bytes < kMinBytes) return;
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+  const auto begin = (reinterpret_cast<std::uintptr_t>(p) + kHugePage - 1) / kHugePage * kHugePage;
+  const auto end = (reinterpret_cast<std::uintptr_t>(p) + bytes) / kHugePage * kHugePage;
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#endif
+}
 
 }  // namespace orogen::huge_pages

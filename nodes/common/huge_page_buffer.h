@@ -7,6 +7,7 @@
 // The elements are not initialised: the owner writes every element before it reads it.
 #include <cstddef>
 #include <type_traits>
+#include <vector>
 
 namespace orogen {
 
@@ -15,6 +16,25 @@ namespace huge_pages {
 // std::bad_alloc when there is none.
 void* allocate(std::size_t bytes);
 void release(void* p);
+// Asks for huge pages under the whole 2 MB pages of [p, p + bytes), before anything touches them (a hint, for
+// memory owned elsewhere, e.g. a large std::vector's reserved buffer): a 64 MB grid then takes 32 first-touch
+// faults instead of 16,384, which on this VM cost more CPU than filling it. Below kMinBytes it does nothing.
+void advise(void* p, std::size_t bytes);
+
+// An empty vector given n value-initialised elements, or a copy of `from`, in huge pages where advise gives
+// them (large grids a node returns: the same values as resize / assignment).
+template <class T>
+void resize_fresh(std::vector<T>& v, std::size_t n) {
+  v.reserve(n);
+  advise(v.data(), v.capacity() * sizeof(T));
+  v.resize(n);
+}
+template <class T>
+void assign_fresh(std::vector<T>& v, const std::vector<T>& from) {
+  v.reserve(from.size());
+  advise(v.data(), v.capacity() * sizeof(T));
+  v.assign(from.begin(), from.end());
+}
 }  // namespace huge_pages
 
 template <class T>

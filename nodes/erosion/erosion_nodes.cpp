@@ -32,11 +32,12 @@ void declare_common_ports(NodeBuilder& b, const char* mask_text) {
   b.output("flow", PortType::Heightfield).description("Where water (or material) ran, 0..1").kind(OutputKind::Mask);
 }
 
+// The maps a node computed: those it skipped (nothing linked to them) stay unset.
 void set_common_outputs(ExecContext& ctx, ErosionMaps& m) {
   ctx.set_output("out", m.out);
-  ctx.set_output("erosion", m.erosion);
-  ctx.set_output("deposition", m.deposition);
-  ctx.set_output("flow", m.flow);
+  if (m.erosion) ctx.set_output("erosion", m.erosion);
+  if (m.deposition) ctx.set_output("deposition", m.deposition);
+  if (m.flow) ctx.set_output("flow", m.flow);
 }
 
 }  // namespace
@@ -174,6 +175,8 @@ OROGEN_NODE(HydraulicErosion) {
     p.evaporation = ctx.param<double>("evaporation");
     p.gravity = ctx.param<double>("gravity");
     p.seed = ctx.param<std::uint64_t>("seed");
+    p.change_maps = ctx.output_requested("erosion") || ctx.output_requested("deposition");
+    p.flow_map = ctx.output_requested("flow");
     erosion::ParticleStats stats;
     auto m = erosion::particle_erosion(*in, p, mask.get(), &ctx, &stats);
     set_common_outputs(ctx, m);

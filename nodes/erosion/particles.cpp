@@ -317,7 +317,8 @@ struct Sim {
     std::ptrdiff_t visited[kVisitBatch];
     int visit_count = 0;
     auto count_visits = [&] {
-      for (int q = 0; q < visit_count; ++q) ++V[visited[q]];
+      if (V)  // (no flow map: no counts)
+        for (int q = 0; q < visit_count; ++q) ++V[visited[q]];
       visit_count = 0;
     };
     WorkPoll poll(ctx);
@@ -449,6 +450,27 @@ RunTiles run_tiles_for(bool) {
 
 }  // namespace
 
+// Flow: visits per unit length of path crossing a cell, log-scaled to 0..1 (a table per visit count).
+static void flow_map(const std::vector<std::uint32_t>& visits, int pitch, const Domain& domain, ErosionMaps& maps) {
+  const int w = domain.width(), h = domain.height();
+  maps.flow = std::make_shared<Heightfield>(domain);
+  std::uint32_t vmax_visits = 0;
+  for (auto vv : visits) vmax_visits = std::max(vmax_visits, vv);
+  const double lmax = std::log1p(static_cast<double>(vmax_visits));
+  if (lmax > 0) {
+    std::vector<float> table(std::min<std::size_t>(vmax_visits, 1u << 20) + 1);
+    for (std::size_t k = 0; k < table.size(); ++k)
+      table[k] = static_cast<float>(std::log1p(static_cast<double>(k)) / lmax);
+    float* flow = maps.flow->data.data();
+    for_each_row(nullptr, h, [&](int j) {
+      const std::uint32_t* vj = visits.data() + static_cast<std::size_t>(j) * pitch;
+      float* fj = flow + static_cast<std::size_t>(j) * w;
+      for (int i = 0; i < w; ++i)
+        fj[i] = vj[i] < table.size() ? table[vj[i]] : static_cast<float>(std::log1p(static_cast<double>(vj[i])) / lmax);
+    });
+  }
+}
+
 ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, const Heightfield* mask,
                              const ExecContext* ctx, ParticleStats* stats) {
   require_finite_inputs("HydraulicErosion", {{"in", &in}, {"mask", mask}});
@@ -513,7 +535,9 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
     for (int j = 0; j < h; ++j)
       std::copy_n(in.data.data() + static_cast<std::size_t>(j) * w, w, z.data() + static_cast<std::size_t>(j) * pitch);
   }
-  std::vector<std::uint32_t> visits(z.size(), 0);
+  // Visit counts only for the flow map: fresh memory costs this machine ~15 us a page on first touch, and at
+  // 50k droplets on 1024^2 the grids a call allocates cost more than its droplets.
+  std::vector<std::uint32_t> visits(p.flow_map ? z.size() : 0, 0);
 
   // Schedule (the determinism): droplets run in rounds of a fixed number (set by the grid, not the thread
   // count). A round bins its droplets by the tile of the grid their origin falls in; tiles are at least twice
@@ -546,7 +570,7 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
 
   Sim sim;
   sim.Z = z.data();
-  sim.V = visits.data();
+  sim.V = p.flow_map ? visits.data() : nullptr;
   sim.mask = mask;
   sim.brush = &brush;
   sim.ctx = ctx;
@@ -641,32 +665,17 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   ErosionMaps maps;
   maps.out = std::make_shared<Heightfield>();  // (not Heightfield(domain): its zeros would be thrown away)
   maps.out->domain = in.domain;
-  if (pitch == w) {
-    maps.out->data = std::move(z);
-  } else {
-    maps.out->data.resize(static_cast<std::size_t>(w) * h);
-    for (int j = 0; j < h; ++j)
-      std::copy_n(z.data() + static_cast<std::size_t>(j) * pitch, w,
-                  maps.out->data.data() + static_cast<std::size_t>(j) * w);
+  // The rows packed in place (each moves down to a lower address) rather than copied to fresh memory: a page
+  // touched for the first time costs this machine more than copying it.
+  if (pitch != w) {
+    for (int j = 1; j < h; ++j)
+      std::memmove(z.data() + static_cast<std::size_t>(j) * w, z.data() + static_cast<std::size_t>(j) * pitch,
+                   static_cast<std::size_t>(w) * sizeof(float));
+    z.resize(static_cast<std::size_t>(w) * h);
   }
-  maps.flow = std::make_shared<Heightfield>(in.domain);
-  // Flow: visits per unit length of path crossing a cell, log-scaled to 0..1 (a table per visit count).
-  std::uint32_t vmax_visits = 0;
-  for (auto vv : visits) vmax_visits = std::max(vmax_visits, vv);
-  const double lmax = std::log1p(static_cast<double>(vmax_visits));
-  if (lmax > 0) {
-    std::vector<float> table(std::min<std::size_t>(vmax_visits, 1u << 20) + 1);
-    for (std::size_t k = 0; k < table.size(); ++k)
-      table[k] = static_cast<float>(std::log1p(static_cast<double>(k)) / lmax);
-    float* flow = maps.flow->data.data();
-    for_each_row(nullptr, h, [&](int j) {
-      const std::uint32_t* vj = visits.data() + static_cast<std::size_t>(j) * pitch;
-      float* fj = flow + static_cast<std::size_t>(j) * w;
-      for (int i = 0; i < w; ++i)
-        fj[i] = vj[i] < table.size() ? table[vj[i]] : static_cast<float>(std::log1p(static_cast<double>(vj[i])) / lmax);
-    });
-  }
-  fill_change_maps(in, maps, ctx);
+  maps.out->data = std::move(z);
+  if (p.flow_map) flow_map(visits, pitch, in.domain, maps);
+  if (p.change_maps) fill_change_maps(in, maps, ctx);
   return maps;
 }
 

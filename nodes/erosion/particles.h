@@ -39,6 +39,8 @@ struct ParticleParams {
   double evaporation = 0.01;          // 0..1 share of the water evaporated per step
   double gravity = 4.0;               // m/s^2 per metre of drop (speed^2 gain per metre)
   std::uint64_t seed = 0;
+  bool change_maps = true;  // also the erosion and deposition maps (false: left null)
+  bool flow_map = true;     // also the flow map and the visit counts behind it (false: left null)
 };
 
 struct ParticleStats {

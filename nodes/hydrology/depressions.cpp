@@ -5,6 +5,7 @@
 
 #include "graph/cost_query.h"
 #include "graph/registry.h"
+#include "nodes/common/huge_page_buffer.h"
 #include "nodes/hydrology/flow_routing.h"
 
 namespace orogen::hydrology {
@@ -46,6 +47,23 @@ std::vector<float> flat_filled(const Heightfield& in, const ExecContext* ctx) {
 
 FillResult fill_depressions(const Heightfield& in, const FillParams& p, const ExecContext* ctx) {
   const FlowGrid g = FlowGrid::of(in.domain);
+  // Without the lake maps, and unless carving keeps some depressions as lakes, no water level nor lake label
+  // is needed: the result is the routing core's call on a copy (the same heights as below, which carves with
+  // no lake kept when max_depth is 0, since every wet cell is strictly deeper than 0).
+  if (!p.lake_maps && (!p.carve || !(p.max_depth > 0.0))) {
+    FillResult r;
+    r.out = std::make_shared<Heightfield>();
+    r.out->domain = in.domain;
+    huge_pages::assign_fresh(r.out->data, in.data);  // fewer first-touch faults than a plain copy
+    const FlatMode mode = p.epsilon ? FlatMode::Epsilon : FlatMode::Flat;
+    if (!p.carve) {
+      fill_depressions(g, r.out->data, mode, {}, ctx);
+    } else {
+      breach_depressions(g, r.out->data, mode, {}, ctx);
+      if (p.epsilon) fill_depressions(g, r.out->data, FlatMode::Epsilon, {}, ctx);
+    }
+    return r;
+  }
   // Fill with epsilon gives the flat water levels in the same pass.
   std::vector<float> eps, flat;
   if (!p.carve && p.epsilon) {
@@ -61,8 +79,6 @@ FillResult fill_depressions(const Heightfield& in, const FillParams& p, const Ex
   int count = label_components(g.nx, g.ny, wet, label);
   FillResult r;
   r.out = std::make_shared<Heightfield>(in.domain);
-  r.depth = std::make_shared<Heightfield>(in.domain);
-  r.lake_id = std::make_shared<Heightfield>(in.domain);
   std::vector<float>& out = r.out->data;
   const FlatMode mode = p.epsilon ? FlatMode::Epsilon : FlatMode::Flat;
   std::vector<std::uint8_t> keep(static_cast<std::size_t>(count) + 1, 1);
@@ -81,6 +97,9 @@ FillResult fill_depressions(const Heightfield& in, const FillParams& p, const Ex
     breach_depressions(g, out, mode, {}, ctx);
     if (p.epsilon) fill_depressions(g, out, FlatMode::Epsilon, {}, ctx);
   }
+  if (!p.lake_maps) return r;
+  r.depth = std::make_shared<Heightfield>(in.domain);
+  r.lake_id = std::make_shared<Heightfield>(in.domain);
   // Renumber the kept lakes 1..n in order.
   std::vector<std::int32_t> renum(static_cast<std::size_t>(count) + 1, 0);
   int lakes = 0;
@@ -115,12 +134,15 @@ FillResult lakes(const Heightfield& in, const LakesParams& p, const ExecContext*
     if (deepest[l] >= p.min_depth && static_cast<double>(cells[l]) * g.cell_area() >= p.min_area) renum[l] = ++n;
   FillResult r;
   r.out = std::make_shared<Heightfield>(in);
-  r.depth = std::make_shared<Heightfield>(in.domain);
-  r.lake_id = std::make_shared<Heightfield>(in.domain);
+  if (p.lake_maps) {
+    r.depth = std::make_shared<Heightfield>(in.domain);
+    r.lake_id = std::make_shared<Heightfield>(in.domain);
+  }
   for (std::size_t c = 0; c < flat.size(); ++c) {
     const std::int32_t id = renum[label[c]];
     if (!id) continue;
     r.out->data[c] = flat[c];
+    if (!p.lake_maps) continue;
     r.depth->data[c] = flat[c] - in.data[c];
     r.lake_id->data[c] = static_cast<float>(id);
   }
@@ -164,11 +186,17 @@ FloodFillResult flood_fill(const Heightfield& in, const FloodFillParams& p, cons
   return r;
 }
 
-// The three outputs FillDepressions and Lakes share: water surface (or filled ground), depth and lake id.
+// Whether FillDepressions' or Lakes' depth or lake id map is linked (or the node requested whole).
+static bool lake_maps_requested(const ExecContext& ctx) {
+  return ctx.output_requested("water_depth") || ctx.output_requested("lake_id");
+}
+
+// The three outputs FillDepressions and Lakes share: water surface (or filled ground), depth and lake id; the
+// maps only when computed (lake_maps), since nothing uses them otherwise.
 static void set_fill_outputs(ExecContext& ctx, const FillResult& r) {
   ctx.set_output("out", r.out);
-  ctx.set_output("water_depth", r.depth);
-  ctx.set_output("lake_id", r.lake_id);
+  if (r.depth) ctx.set_output("water_depth", r.depth);
+  if (r.lake_id) ctx.set_output("lake_id", r.lake_id);
 }
 
 OROGEN_NODE(FillDepressions) {
@@ -180,9 +208,11 @@ OROGEN_NODE(FillDepressions) {
           "2014, 'Priority-Flood: an optimal depression-filling and watershed-labeling algorithm') with the slope "
           "and depression queues of Zhou, Sun & Fu 2016. 'fill' raises each depression to its spill level; 'carve' "
           "cuts a channel from each pit through the rim instead (complete breaching, Lindsay 2016), keeping "
-          "depressions no deeper than max_depth as filled lakes. 'epsilon' flats rise by one float ulp per cell so "
-          "every cell has a strictly descending path (flow routing needs it); 'flat' leaves them level. The lakes "
-          "(filled water) come out as a depth and an id per lake.");
+          "depressions no deeper than max_depth as filled lakes. 'epsilon' flats rise by one float ulp per cell away "
+          "from their outlet so every cell has a strictly lower neighbour (flow routing needs it): each cell is "
+          "max(its height, one ulp above its lowest neighbour), the least such surface, which depends on the "
+          "heights alone (so tiles reproduce it exactly); 'flat' leaves them level. The lakes (filled water, from "
+          "the flat levels in either case) come out as a depth and an id per lake.");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Filled or carved height, metres");
   b.output("water_depth", PortType::Heightfield)
@@ -206,7 +236,8 @@ OROGEN_NODE(FillDepressions) {
   b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 8); });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    const FillParams p{ctx.enum_index("mode") == 1, ctx.enum_index("flats") == 0, ctx.param<double>("max_depth")};
+    const FillParams p{ctx.enum_index("mode") == 1, ctx.enum_index("flats") == 0, ctx.param<double>("max_depth"),
+                       lake_maps_requested(ctx)};
     set_fill_outputs(ctx, fill_depressions(*in, p, &ctx));
   });
 }
@@ -240,7 +271,8 @@ OROGEN_NODE(Lakes) {
       .description("Depressions covering less than this area are not lakes");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
-    set_fill_outputs(ctx, lakes(*in, LakesParams{ctx.param<double>("min_depth"), ctx.param<double>("min_area")}, &ctx));
+    const LakesParams p{ctx.param<double>("min_depth"), ctx.param<double>("min_area"), lake_maps_requested(ctx)};
+    set_fill_outputs(ctx, lakes(*in, p, &ctx));
   });
 }
 

@@ -18,8 +18,10 @@ int label_components(int nx, int ny, const std::vector<std::uint8_t>& mask, std:
 
 struct FillParams {
   bool carve = false;      // breach (carve) depressions instead of filling them
-  bool epsilon = true;     // give filled areas a drainage gradient (one float ulp per cell) instead of flats
+  bool epsilon = true;     // give filled areas a drainage gradient (FlatMode::Epsilon) instead of flats
   double max_depth = 0.0;  // carve: depressions at most this deep (m) are filled and kept as lakes
+  bool lake_maps = true;   // also the depth and lake id maps and the lake count; false leaves them null (and
+                           // fill, or carve without kept lakes, is then the routing core's call alone)
 };
 
 struct FillResult {
@@ -34,6 +36,7 @@ FillResult fill_depressions(const Heightfield& in, const FillParams& p, const Ex
 struct LakesParams {
   double min_depth = 0.0;  // m: shallower depressions are not lakes
   double min_area = 0.0;   // m^2: smaller depressions are not lakes
+  bool lake_maps = true;   // also the depth and lake id maps; false leaves them null
 };
 
 // Every closed depression, filled to its spill level: out = water surface where there is a lake, the ground

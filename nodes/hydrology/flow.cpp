@@ -8,6 +8,7 @@
 #include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/common/huge_page_buffer.h"
 #include "nodes/common/match_domain.h"
 
 namespace orogen::hydrology {
@@ -37,7 +38,9 @@ float flow_map_value(double acc, double lo, double hi) {
 AccumulationResult flow_accumulation(const Heightfield& in, const Heightfield* rainfall, const AccumulationParams& p,
                                      const ExecContext* ctx) {
   const FlowGrid g = FlowGrid::of(in.domain);
-  const std::vector<float> z = routed_height(in, p.fill, ctx);
+  // Routed on the input itself when nothing is filled: no copy.
+  const std::vector<float> filled = p.fill ? routed_height(in, true, ctx) : std::vector<float>();
+  const std::span<const float> z = p.fill ? std::span<const float>(filled) : std::span<const float>(in.data);
   std::vector<float> weight;
   if (rainfall) {
     require_same_grid(rainfall->domain, in.domain, "rainfall");
@@ -46,40 +49,53 @@ AccumulationResult flow_accumulation(const Heightfield& in, const Heightfield* r
       weight[c] = static_cast<float>(std::max(0.0f, rainfall->data[c]) * g.cell_area());
   }
   const std::vector<double> acc = accumulate(g, z, RoutingOptions{p.method, p.exponent, {}}, weight, ctx);
-  const std::vector<float> slope = steepest_slope(g, z, ctx);
+  // The flow map and the wetness index (a slope pass and two logarithms per cell) only when asked for.
+  const std::vector<float> slope = p.wetness ? steepest_slope(g, z, ctx) : std::vector<float>();
   AccumulationResult r;
-  r.accumulation = std::make_shared<Heightfield>(in.domain);
-  r.flow = std::make_shared<Heightfield>(in.domain);
-  r.wetness = std::make_shared<Heightfield>(in.domain);
+  r.accumulation = std::make_shared<Heightfield>();
+  r.accumulation->domain = in.domain;
+  huge_pages::resize_fresh(r.accumulation->data, g.size());  // fewer first-touch faults than a plain grid
+  if (p.flow_map) r.flow = std::make_shared<Heightfield>(in.domain);
+  if (p.wetness) r.wetness = std::make_shared<Heightfield>(in.domain);
   const double lo = p.flow_min_area > 0.0 ? p.flow_min_area : g.cell_area();
-  const double hi = p.flow_max_area > 0.0 ? p.flow_max_area : *std::max_element(acc.begin(), acc.end());
+  const double hi = !p.flow_map             ? 0.0
+                    : p.flow_max_area > 0.0 ? p.flow_max_area
+                                            : *std::max_element(acc.begin(), acc.end());
   const double width = std::sqrt(g.cell_area());  // contour width of a cell
   for_each_row(ctx, g.ny, [&](int j) {
-    for (int i = 0; i < g.nx; ++i) {
-      const std::size_t c = static_cast<std::size_t>(g.index(i, j));
+    const std::size_t row = static_cast<std::size_t>(g.index(0, j));
+    for (std::size_t c = row; c < row + static_cast<std::size_t>(g.nx); ++c)
       r.accumulation->data[c] = static_cast<float>(acc[c]);
-      r.flow->data[c] = flow_map_value(acc[c], lo, hi);
-      r.wetness->data[c] =
-          static_cast<float>(std::log(std::max(acc[c], 1e-12) / width / std::max<double>(slope[c], p.min_slope)));
-    }
+    if (p.flow_map)
+      for (std::size_t c = row; c < row + static_cast<std::size_t>(g.nx); ++c)
+        r.flow->data[c] = flow_map_value(acc[c], lo, hi);
+    if (p.wetness)
+      for (std::size_t c = row; c < row + static_cast<std::size_t>(g.nx); ++c)
+        r.wetness->data[c] =
+            static_cast<float>(std::log(std::max(acc[c], 1e-12) / width / std::max<double>(slope[c], p.min_slope)));
   });
   return r;
 }
 
 DirectionResult flow_direction(const Heightfield& in, FlowMethod method, double exponent, bool fill,
-                               const ExecContext* ctx) {
+                               const ExecContext* ctx, DirectionMaps maps) {
   const FlowGrid g = FlowGrid::of(in.domain);
   const std::vector<float> z = routed_height(in, fill, ctx);
   DirectionResult r;
-  r.angle = std::make_shared<Heightfield>(in.domain);
-  r.dx = std::make_shared<Heightfield>(in.domain);
-  r.dy = std::make_shared<Heightfield>(in.domain);
-  r.slope = std::make_shared<Heightfield>(in.domain);
-  const std::vector<float> slope = steepest_slope(g, z, ctx);
+  if (maps.angle) r.angle = std::make_shared<Heightfield>(in.domain);
+  if (maps.vector) {
+    r.dx = std::make_shared<Heightfield>(in.domain);
+    r.dy = std::make_shared<Heightfield>(in.domain);
+  }
+  const std::vector<float> slope = maps.slope ? steepest_slope(g, z, ctx) : std::vector<float>();
+  if (maps.slope) r.slope = std::make_shared<Heightfield>(in.domain);
+  const bool directions = maps.angle || maps.vector;
   const RoutingOptions opt{method, exponent, {}};
   for_each_row(ctx, g.ny, [&](int j) {
     for (int i = 0; i < g.nx; ++i) {
       const std::size_t c = static_cast<std::size_t>(g.index(i, j));
+      if (maps.slope) r.slope->data[c] = slope[c];
+      if (!directions) continue;
       int nb[8];
       double fr[8];
       const int n = flow_proportions(g, z, i, j, opt, nb, fr);
@@ -91,15 +107,18 @@ DirectionResult flow_direction(const Heightfield& in, FlowMethod method, double 
       }
       const double len = std::hypot(vx, vy);
       if (len > 0.0) {
-        r.dx->data[c] = static_cast<float>(vx / len);
-        r.dy->data[c] = static_cast<float>(vy / len);
-        double a = std::atan2(vy, vx) * (180.0 / std::numbers::pi);
-        if (a < 0.0) a += 360.0;
-        r.angle->data[c] = static_cast<float>(a >= 360.0 ? 0.0 : a);
-      } else {
+        if (maps.vector) {
+          r.dx->data[c] = static_cast<float>(vx / len);
+          r.dy->data[c] = static_cast<float>(vy / len);
+        }
+        if (maps.angle) {
+          double a = std::atan2(vy, vx) * (180.0 / std::numbers::pi);
+          if (a < 0.0) a += 360.0;
+          r.angle->data[c] = static_cast<float>(a >= 360.0 ? 0.0 : a);
+        }
+      } else if (maps.angle) {
         r.angle->data[c] = -1.0f;
       }
-      r.slope->data[c] = slope[c];
     }
   });
   return r;
@@ -188,11 +207,13 @@ OROGEN_NODE(FlowAccumulation) {
                                ctx.param<bool>("fill"),
                                ctx.param<double>("flow_min_area"),
                                ctx.param<double>("flow_max_area"),
-                               ctx.param<double>("min_gradient")};
+                               ctx.param<double>("min_gradient"),
+                               ctx.output_requested("flow"),
+                               ctx.output_requested("wetness")};
     AccumulationResult r = flow_accumulation(*in, rain.get(), p, &ctx);
     ctx.set_output("out", r.accumulation);
-    ctx.set_output("flow", r.flow);
-    ctx.set_output("wetness", r.wetness);
+    if (r.flow) ctx.set_output("flow", r.flow);
+    if (r.wetness) ctx.set_output("wetness", r.wetness);
   });
 }
 
@@ -230,12 +251,14 @@ OROGEN_NODE(FlowDirection) {
   b.param_bool("fill", true).description("Fill depressions (epsilon) first, so every cell but the border drains");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
+    const DirectionMaps maps{ctx.output_requested("out"), ctx.output_requested("dx") || ctx.output_requested("dy"),
+                             ctx.output_requested("gradient")};
     DirectionResult r =
-        flow_direction(*in, method_of(ctx), ctx.param<double>("exponent"), ctx.param<bool>("fill"), &ctx);
-    ctx.set_output("out", r.angle);
-    ctx.set_output("dx", r.dx);
-    ctx.set_output("dy", r.dy);
-    ctx.set_output("gradient", r.slope);
+        flow_direction(*in, method_of(ctx), ctx.param<double>("exponent"), ctx.param<bool>("fill"), &ctx, maps);
+    if (r.angle) ctx.set_output("out", r.angle);
+    if (r.dx) ctx.set_output("dx", r.dx);
+    if (r.dy) ctx.set_output("dy", r.dy);
+    if (r.slope) ctx.set_output("gradient", r.slope);
   });
 }
 

@@ -16,6 +16,8 @@ struct AccumulationParams {
   double flow_min_area = 0.0;  // m^2 mapped to 0 in the flow map (0: one cell)
   double flow_max_area = 0.0;  // m^2 mapped to 1 (0: the largest accumulation)
   double min_slope = 1e-3;     // tan beta floor of the wetness index
+  bool flow_map = true;        // compute the flow map (false: left null)
+  bool wetness = true;         // compute the wetness index and the slope behind it (false: left null)
 };
 
 struct AccumulationResult {
@@ -37,8 +39,13 @@ struct DirectionResult {
   std::shared_ptr<Heightfield> slope;   // tan beta of the steepest descent
 };
 
+// Which of flow_direction's maps to compute; the others are left null.
+struct DirectionMaps {
+  bool angle = true, vector = true, slope = true;
+};
+
 DirectionResult flow_direction(const Heightfield& in, FlowMethod method, double exponent, bool fill,
-                               const ExecContext* ctx = nullptr);
+                               const ExecContext* ctx = nullptr, DirectionMaps maps = {});
 
 struct WatershedResult {
   std::shared_ptr<Heightfield> id;    // 1..n by decreasing area; 0 for basins under the minimum area

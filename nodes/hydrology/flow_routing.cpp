@@ -94,6 +94,18 @@ class MinHeap {
     const std::uint32_t bits = (zb & 0x80000000u) ? (zb & 0x7FFFFFFFu) : ~zb;
     return {std::bit_cast<float>(bits), static_cast<std::int32_t>(static_cast<std::uint32_t>(item))};
   }
+  // The height pop() will return next (not empty()).
+  float peek_z() {
+    std::uint64_t item;
+    if (!early_.empty()) {
+      item = early_.front();
+    } else {
+      settle();
+      item = buckets_[0][current_].back();
+    }
+    const std::uint32_t zb = static_cast<std::uint32_t>(item >> 32);
+    return std::bit_cast<float>((zb & 0x80000000u) ? (zb & 0x7FFFFFFFu) : ~zb);
+  }
   // The cell pop() will return next (-1 if empty), so its neighbourhood can be prefetched.
   std::int32_t peek_cell() {
     if (!early_.empty()) return static_cast<std::int32_t>(static_cast<std::uint32_t>(early_.front()));
@@ -222,9 +234,18 @@ void clear_bits(std::uint8_t* bits, std::int32_t from, std::int32_t to) {
 //   that neighbour has nearly always been closed from elsewhere: the closed bits show it without touching
 //   the heights, both before the push (after the climb) and at the pop;
 // - the heights travel in the queues; 32-bit radix heap keys; outlets enumerated along the border only.
+//
+// Epsilon computes the least surface e with e = z at the outlets and e(n) = max(z(n), min over the 8 neighbours
+// m of next_up(e(m))) elsewhere: a shortest-path fixed point with the monotone edge map x -> max(z(n),
+// next_up(x)), unique, so it depends on the heights alone and not on the order ties are visited in (which is
+// what lets tiles reproduce it, nodes/hydrology/tile_fill.h). Dijkstra computes it exactly when cells are
+// expanded in non-decreasing order of their value: a raised (pit) cell enters the FIFO at next_up(value of the
+// cell expanded), and expanded values never decrease, so the FIFO is sorted and the next cell is the smaller
+// of its front and the priority queue's top. Slope cells are final at their own height whenever they are
+// found (max(z(n), next_up(x)) = z(n) for every x whose next_up is at most z(n)), so they climb in any order.
+// Flat needs no interleaving: every pit cell has the level of the cell popped, the queue's minimum.
 template <bool kEpsilon>
-void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, const ExecContext* ctx,
-               std::span<float> spill_level) {
+void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, const ExecContext* ctx) {
   const std::int32_t W = g.nx + 2;
   const std::size_t cells = static_cast<std::size_t>(W) * static_cast<std::size_t>(g.ny + 2);
   auto p = [W](int i, int j) { return (j + 1) * W + (i + 1); };
@@ -242,11 +263,6 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
     clear_bits(closed, p(0, j), p(g.nx, j));
   }
   std::fill(zw + p(g.nx, g.ny - 1), zw + cells + 4, kInf);
-  // Level of the flat water surface of every raised cell: the height of the queue cell its depression
-  // search started from (an unraised height).
-  std::vector<float> level_store;
-  if (!spill_level.empty()) level_store.assign(zw, zw + cells);
-  float* level = level_store.empty() ? nullptr : level_store.data();
   auto step = [](float v) { return kEpsilon ? next_up(v) : v; };
   MinHeap heap;
   for_each_outlet(g, outlets, [&](int i, int j) {
@@ -279,8 +295,9 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
     return {open, le & open};
   };
   // Closes the open neighbours of c: those at or below r join the depression at level r, the others are slope
-  // cells (final height).
-  auto expand_pit = [&](std::int32_t c, float r, float spill) {
+  // cells (final height). Epsilon: trace_min is the lowest slope cell not climbed from yet.
+  float trace_min = kInf;
+  auto expand_pit = [&](std::int32_t c, float r) {
     const Masks m = masks(c, r);
     for (unsigned x = m.open; x; x &= x - 1) {
       const int b = std::countr_zero(x);
@@ -288,35 +305,19 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
       const float zn = zw[n];
       set_bit(closed, n);
       if (m.low >> b & 1) {
-        if (level) level[n] = std::max(zn, spill);
         zw[n] = r;
         pit.push_back({n, r});
       } else {
         trace.push_back({n, zn});
+        if constexpr (kEpsilon) trace_min = std::min(trace_min, zn);
       }
     }
   };
-  std::size_t work = 0, done = 0;
-  while (!heap.empty()) {
-    const Entry e = heap.pop();
-    // Popped cells are scattered over the grid: fetch the next one's closed bits while this one works.
-    if (const std::int32_t nx = heap.peek_cell(); nx >= 0) {
-      for (std::int32_t r : {nx - W, nx, nx + W}) __builtin_prefetch(closed + ((r - 1) >> 3));
-    }
-    // Nearly all popped cells (96% on fBm) are stale: the lower neighbour that sent them to the queue has
-    // been closed since. The bits tell without reading their heights, which are far from cache.
-    if (!open_around(e.c)) continue;
-    expand_pit(e.c, step(e.z), e.z);
-    // Depression cells: breadth first at the spill level (FIFO keeps the epsilon gradient short).
-    for (std::size_t head = 0; head < pit.size(); ++head) {
-      const QueuedCell q = pit[head];
-      expand_pit(q.c, step(q.z), e.z);
-    }
-    work += pit.size();
-    pit.clear();
-    // Slope cells: their height is final; climb while no open neighbour could be lower (a potential spill
-    // into another depression), otherwise hand the cell to the priority queue. Breadth first: the front
-    // stays compact, so half as many cells end up in the priority queue as with a stack.
+  // Slope cells: their height is final; climb while no open neighbour could be lower (a potential spill into
+  // another depression), otherwise hand the cell to the priority queue. Breadth first: the front stays compact,
+  // so half as many cells end up in the priority queue as with a stack. A fifth of the handed cells have had all
+  // their lower neighbours closed by the rest of the climb: they need not wait in the queue.
+  auto climb = [&] {
     for (std::size_t th = 0; th < trace.size(); ++th) {
       const QueuedCell q = trace[th];
       const Masks m = masks(q.c, step(q.z));
@@ -330,26 +331,88 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
         set_bit(closed, n);
       }
     }
-    work += trace.size();
+    const std::size_t climbed = trace.size();
     trace.clear();
-    // A fifth of them have had all their lower neighbours closed by the rest of the climb: they need not wait
-    // in the queue (they would be stale when popped). Same order of the others, so the same result.
+    float lowest = kInf;  // of the cells pushed
     for (const QueuedCell& q : spill)
-      if (open_around(q.c)) heap.push(q.z, q.c);
+      if (open_around(q.c)) heap.push(q.z, q.c), lowest = std::min(lowest, q.z);
     spill.clear();
+    return std::make_pair(climbed, lowest);
+  };
+  std::size_t work = 0, done = 0;
+  auto report = [&] {
     if (work > (1u << 18)) {
       done += work;
       work = 0;
       check(ctx);
       if (ctx) ctx->progress(std::min(1.0, static_cast<double>(done) / static_cast<double>(g.size())));
     }
+  };
+  if constexpr (kEpsilon) {
+    std::size_t head = 0;  // front of the pit FIFO
+    // The heap's minimum (kInf when empty): found after a pop, lowered by what the climbs push.
+    float top = kInf;
+    for (;;) {
+      // The pit cells no higher than the heap's minimum, in FIFO order. The slope cells found meanwhile are
+      // climbed from (their spills pushed) before the first pit cell above them: as late as that, most of their
+      // lower neighbours have been closed by the depression, so few of them wait in the heap for nothing.
+      for (;;) {
+        while (head < pit.size() && pit[head].z <= top && pit[head].z <= trace_min) {
+          const QueuedCell q = pit[head++];
+          expand_pit(q.c, next_up(q.z));
+          ++work;
+        }
+        if (trace.empty()) break;
+        const auto [climbed, lowest] = climb();
+        work += climbed;
+        top = std::min(top, lowest);
+        trace_min = kInf;
+        if (!(head < pit.size() && pit[head].z <= top)) break;
+      }
+      if (head == pit.size()) {
+        pit.clear(), head = 0;
+      } else if (head > (1u << 16) && head * 2 > pit.size()) {
+        // A long FIFO whose front has moved far: drop the expanded part.
+        pit.erase(pit.begin(), pit.begin() + static_cast<std::ptrdiff_t>(head)), head = 0;
+      }
+      report();
+      if (heap.empty()) {
+        if (head == pit.size()) break;
+        top = kInf;
+        continue;
+      }
+      const Entry e = heap.pop();
+      if (const std::int32_t nx = heap.peek_cell(); nx >= 0) {
+        for (std::int32_t r : {nx - W, nx, nx + W}) __builtin_prefetch(closed + ((r - 1) >> 3));
+      }
+      top = heap.empty() ? kInf : heap.peek_z();
+      // Nearly all popped cells (96% on fBm) are stale: the lower neighbour that sent them to the queue has
+      // been closed since. The bits tell without reading their heights, which are far from cache.
+      if (!open_around(e.c)) continue;
+      expand_pit(e.c, next_up(e.z));
+      ++work;
+    }
+  } else {
+    while (!heap.empty()) {
+      const Entry e = heap.pop();
+      // Popped cells are scattered over the grid: fetch the next one's closed bits while this one works.
+      if (const std::int32_t nx = heap.peek_cell(); nx >= 0) {
+        for (std::int32_t r : {nx - W, nx, nx + W}) __builtin_prefetch(closed + ((r - 1) >> 3));
+      }
+      // Nearly all popped cells (96% on fBm) are stale: the lower neighbour that sent them to the queue has
+      // been closed since. The bits tell without reading their heights, which are far from cache.
+      if (!open_around(e.c)) continue;
+      expand_pit(e.c, e.z);
+      // Depression cells: breadth first at the spill level.
+      for (std::size_t head = 0; head < pit.size(); ++head) expand_pit(pit[head].c, pit[head].z);
+      work += pit.size();
+      pit.clear();
+      work += climb().first;
+      report();
+    }
   }
   for (int j = 0; j < g.ny; ++j)
     std::copy_n(zw + p(0, j), g.nx, z.data() + static_cast<std::size_t>(j) * static_cast<std::size_t>(g.nx));
-  if (level)
-    for (int j = 0; j < g.ny; ++j)
-      std::copy_n(level + p(0, j), g.nx,
-                  spill_level.data() + static_cast<std::size_t>(j) * static_cast<std::size_t>(g.nx));
 }
 
 template <bool kEpsilon>
@@ -528,10 +591,54 @@ bool interior_cell(const FlowGrid& g, int i, int j) { return i > 0 && j > 0 && i
 void fill_depressions(const FlowGrid& g, std::span<float> z, FlatMode mode, const Outlets& outlets,
                       const ExecContext* ctx, std::span<float> spill_level) {
   if (g.size() == 0) return;
-  if (mode == FlatMode::Epsilon)
-    fill_impl<true>(g, z, outlets, ctx, spill_level);
-  else
-    fill_impl<false>(g, z, outlets, ctx, spill_level);
+  if (mode == FlatMode::Flat) {
+    fill_impl<false>(g, z, outlets, ctx);
+    if (!spill_level.empty()) std::copy(z.begin(), z.end(), spill_level.begin());
+    return;
+  }
+  // The flat levels exactly (a pass of their own: the epsilon flood's order is not theirs). The epsilon surface
+  // of the filled heights is the epsilon surface of the heights (the header), so it starts from either.
+  if (!spill_level.empty()) {
+    std::copy(z.begin(), z.end(), spill_level.begin());
+    fill_impl<false>(g, spill_level, outlets, ctx);
+  }
+  fill_impl<true>(g, z, outlets, ctx);
+}
+
+void relax_epsilon(int nx, int ny, std::span<const float> level, std::span<float> e,
+                   std::span<const std::int32_t> seeds) {
+  // Unraised cells (at their level) go to the monotone heap, raised ones (one ulp above the cell expanded) to
+  // a FIFO that stays sorted because expanded values never decrease; the smaller front goes first. A cell
+  // lowered again leaves a stale entry behind, skipped when its value no longer matches.
+  MinHeap heap;
+  for (const std::int32_t c : seeds) heap.push(e[static_cast<std::size_t>(c)], c);
+  std::vector<QueuedCell> fifo;
+  std::size_t head = 0;
+  while (head < fifo.size() || !heap.empty()) {
+    QueuedCell q;
+    if (head < fifo.size() && (heap.empty() || fifo[head].z <= heap.peek_z())) {
+      q = fifo[head];
+      if (++head == fifo.size()) fifo.clear(), head = 0;
+    } else {
+      const Entry top = heap.pop();
+      q = {top.c, top.z};
+    }
+    if (q.z != e[static_cast<std::size_t>(q.c)]) continue;
+    const float r = next_up(q.z);
+    const int i = q.c % nx, j = q.c / nx;
+    for (int k = 0; k < 8; ++k) {
+      const int x = i + kDi[k], y = j + kDj[k];
+      if (x < 0 || y < 0 || x >= nx || y >= ny) continue;
+      const std::int32_t n = y * nx + x;
+      const float v = std::max(level[static_cast<std::size_t>(n)], r);
+      if (!(v < e[static_cast<std::size_t>(n)])) continue;
+      e[static_cast<std::size_t>(n)] = v;
+      if (v == r)
+        fifo.push_back({n, v});
+      else
+        heap.push(v, n);
+    }
+  }
 }
 
 void breach_depressions(const FlowGrid& g, std::span<float> z, FlatMode mode, const Outlets& outlets,

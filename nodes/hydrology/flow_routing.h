@@ -86,19 +86,32 @@ struct Outlets {
 
 enum class FlatMode {
   Flat,     // filled areas are exactly flat at their spill level (Priority-Flood+Flat)
-  Epsilon,  // filled areas rise by one float ulp per cell away from the spill, so every cell has a strictly
-            // lower path to an outlet (Priority-Flood+epsilon)
+  Epsilon,  // filled areas rise by float ulps away from the spill, so every cell but an outlet has a strictly
+            // lower neighbour (Priority-Flood+epsilon): the least surface e with e = z at the outlets and
+            // e(n) = max(z(n), min over the 8 neighbours m of nextafter(e(m), +inf)) elsewhere. That fixed point
+            // is unique, so it does not depend on the order in which a flood visits ties (tiles reproduce it
+            // exactly, nodes/hydrology/tile_fill.h); it equals the epsilon surface of the Flat-filled heights F
+            // (z <= F <= e: where e is raised the max in its equation ignores F as it ignored z, and where it
+            // is not, F = z).
 };
 
 // Raises every cell that has no descending path to an outlet to its spill level, in place. Priority-Flood
 // (Barnes et al. 2014) with the depression and slope queues of Zhou et al. 2016: only cells that can be
 // spill points enter the priority queue. O(n) plus O(m log m) for the m queued cells.
 // `spill_level` (optional, size nx*ny) receives the flat water level of every cell: max(input, the spill
-// level of its depression), the input where nothing was raised. With Flat it equals the result; with Epsilon
-// it is the flat fill computed in the same pass (within a few ulps of it on level ground at a spill), so
-// `spill_level > input` marks the lakes without a second fill.
+// level of its depression), the input where nothing was raised, so `spill_level > input` marks the lakes. With
+// Flat it equals the result; with Epsilon it is exactly the Flat fill, from a pass of its own.
 void fill_depressions(const FlowGrid& g, std::span<float> z, FlatMode mode, const Outlets& outlets = {},
                       const ExecContext* ctx = nullptr, std::span<float> spill_level = {});
+
+// The incremental form of the epsilon surface, for pieces of a domain (the fill across tiles,
+// nodes/hydrology/tile_fill.h): `e` holds upper bounds of the epsilon surface of `level` on an nx * ny grid
+// (+inf where nothing is known yet; `level` at the outlets), and `seeds` the cells whose bound was just set or
+// lowered. Lowers every cell to the least value its neighbours allow, e(n) = min(e(n), max(level(n),
+// next_up(e(m)))), in Dijkstra order from the seeds, so each cell is final when its value is. Called with
+// e = level at the outlets, +inf elsewhere, and the outlets as seeds, it gives fill_depressions(Epsilon).
+void relax_epsilon(int nx, int ny, std::span<const float> level, std::span<float> e,
+                   std::span<const std::int32_t> seeds);
 
 // Carves instead of filling, in place: from every pit a channel is cut back along the least-cost
 // Priority-Flood path to the spill and beyond until the path descends (complete breaching, Lindsay 2016).

@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "graph/tile_bytes.h"
+#include "nodes/hydrology/flow_routing.h"
 
 namespace orogen::hydrology {
 
@@ -177,6 +178,129 @@ std::vector<float> apply_spill_levels(const TileFlood& flood, std::span<const fl
   for (std::size_t c = 0; c < out.size(); ++c)
     out[c] = std::max(flood.level[c], spill_levels[static_cast<std::size_t>(flood.label[c])]);
   return out;
+}
+
+namespace {
+
+// A round's message: the tile's rectangle, then (perimeter index, value) pairs.
+void put_rect(std::string& out, const TileRect& r) {
+  put(out, r.first.x), put(out, r.first.y), put(out, r.size.x), put(out, r.size.y);
+}
+TileRect take_rect(std::string_view& in) {
+  TileRect r;
+  r.first.x = take<int>(in), r.first.y = take<int>(in);
+  r.size.x = take<int>(in), r.size.y = take<int>(in);
+  return r;
+}
+struct PerimeterValue {
+  std::int32_t k;
+  float value;
+};
+std::vector<PerimeterValue> take_values(std::string_view& in, std::size_t perimeter) {
+  const auto n = take<std::uint64_t>(in);
+  if (n > in.size() / (sizeof(std::int32_t) + sizeof(float))) throw std::invalid_argument("epsilon values: truncated");
+  std::vector<PerimeterValue> values(static_cast<std::size_t>(n));
+  for (auto& v : values) {
+    v.k = take<std::int32_t>(in), v.value = take<float>(in);
+    if (v.k < 0 || static_cast<std::size_t>(v.k) >= perimeter)
+      throw std::invalid_argument("epsilon values: a value names no perimeter cell");
+  }
+  if (!in.empty()) throw std::invalid_argument("epsilon values: trailing bytes");
+  return values;
+}
+
+}  // namespace
+
+TileEpsilon::TileEpsilon(std::vector<float> level, const TileRect& rect, glm::ivec2 domain_size)
+    : rect_(rect), level_(std::move(level)), perimeter_(perimeter_cells(rect.size)) {
+  if (level_.size() != static_cast<std::size_t>(rect.size.x) * static_cast<std::size_t>(rect.size.y))
+    throw std::invalid_argument("TileEpsilon: levels do not match the tile's size");
+  e_.assign(level_.size(), std::numeric_limits<float>::infinity());
+  sent_.assign(perimeter_.size(), std::numeric_limits<float>::infinity());
+  // The domain's border drains at its own height (the outlets of fill_depressions).
+  std::vector<std::int32_t> seeds;
+  for (const std::int32_t c : perimeter_) {
+    const int gx = rect.first.x + c % rect.size.x, gy = rect.first.y + c / rect.size.x;
+    if (gx == 0 || gy == 0 || gx == domain_size.x - 1 || gy == domain_size.y - 1) {
+      e_[static_cast<std::size_t>(c)] = level_[static_cast<std::size_t>(c)];
+      seeds.push_back(c);
+    }
+  }
+  relax_epsilon(rect.size.x, rect.size.y, level_, e_, seeds);
+}
+
+std::string TileEpsilon::message() {
+  std::vector<PerimeterValue> fell;
+  for (std::size_t k = 0; k < perimeter_.size(); ++k) {
+    const float v = e_[static_cast<std::size_t>(perimeter_[k])];
+    if (v < sent_[k]) fell.push_back({static_cast<std::int32_t>(k), v}), sent_[k] = v;
+  }
+  std::string out;
+  put_rect(out, rect_);
+  put(out, static_cast<std::uint64_t>(fell.size()));
+  for (const auto& f : fell) put(out, f.k), put(out, f.value);
+  return out;
+}
+
+void TileEpsilon::answer(std::string_view bytes) {
+  std::vector<std::int32_t> seeds;
+  for (const auto& [k, value] : take_values(bytes, perimeter_.size())) {
+    sent_[static_cast<std::size_t>(k)] = std::min(sent_[static_cast<std::size_t>(k)], value);  // known to all
+    float& e = e_[static_cast<std::size_t>(perimeter_[static_cast<std::size_t>(k)])];
+    if (value < e) e = value, seeds.push_back(perimeter_[static_cast<std::size_t>(k)]);
+  }
+  if (!seeds.empty()) relax_epsilon(rect_.size.x, rect_.size.y, level_, e_, seeds);
+}
+
+std::vector<std::string> solve_epsilon_perimeters(const std::vector<std::string>& messages, glm::ivec2 domain_size) {
+  struct Tile {
+    TileRect rect;
+    std::vector<std::int32_t> perimeter;
+    std::vector<PerimeterValue> values;
+  };
+  std::vector<Tile> tiles(messages.size());
+  // The lowest value reported for every shared sample, by sample index.
+  std::unordered_map<std::int64_t, float> lowest;
+  auto sample = [&](const Tile& t, std::int32_t k) {
+    const std::int32_t c = t.perimeter[static_cast<std::size_t>(k)];
+    return static_cast<std::int64_t>(t.rect.first.y + c / t.rect.size.x) * domain_size.x + t.rect.first.x +
+           c % t.rect.size.x;
+  };
+  for (std::size_t t = 0; t < messages.size(); ++t) {
+    std::string_view in(messages[t]);
+    Tile& tile = tiles[t];
+    tile.rect = take_rect(in);
+    const TileRect& r = tile.rect;
+    if (r.size.x < 1 || r.size.y < 1 || r.first.x < 0 || r.first.y < 0 || r.first.x + r.size.x > domain_size.x ||
+        r.first.y + r.size.y > domain_size.y)
+      throw std::invalid_argument("solve_epsilon_perimeters: a tile lies outside the domain");
+    tile.perimeter = perimeter_cells(r.size);
+    tile.values = take_values(in, tile.perimeter.size());
+    for (const auto& [k, value] : tile.values) {
+      auto [it, fresh] = lowest.emplace(sample(tile, k), value);
+      if (!fresh) it->second = std::min(it->second, value);
+    }
+  }
+  std::vector<std::string> answers(messages.size());
+  for (std::size_t t = 0; t < tiles.size(); ++t) {
+    std::vector<PerimeterValue> mine;
+    if (!lowest.empty())
+      for (std::size_t k = 0; k < tiles[t].perimeter.size(); ++k)
+        if (const auto it = lowest.find(sample(tiles[t], static_cast<std::int32_t>(k))); it != lowest.end())
+          mine.push_back({static_cast<std::int32_t>(k), it->second});
+    put(answers[t], static_cast<std::uint64_t>(mine.size()));
+    for (const auto& m : mine) put(answers[t], m.k), put(answers[t], m.value);
+  }
+  return answers;
+}
+
+bool epsilon_values_fell(const std::vector<std::string>& messages) {
+  for (const std::string& m : messages) {
+    std::string_view in(m);
+    take_rect(in);
+    if (take<std::uint64_t>(in) > 0) return true;
+  }
+  return false;
 }
 
 std::string encode(const TileSpillGraph& g) {

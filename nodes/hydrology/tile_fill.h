@@ -67,6 +67,41 @@ std::vector<std::vector<float>> solve_spill_graphs(const std::vector<TileSpillGr
 // Phase 3: the filled heights of the tile, row-major.
 std::vector<float> apply_spill_levels(const TileFlood& flood, std::span<const float> spill_levels);
 
+// ---- Epsilon surface across tiles -------------------------------------------------------------------------
+// FlatMode::Epsilon's surface (nodes/hydrology/flow_routing.h) is the least fixed point of e(n) = max(level(n),
+// min over 8-neighbours m of next_up(e(m))) with e = level on the domain's border, and it is the same for the
+// heights and for their Flat fill. So after the spill graphs (the Flat levels, exact on every tile) each tile
+// relaxes the epsilon surface of its levels from what it knows (relax_epsilon): the domain's border cells it
+// holds, then the perimeter values other tiles found. Rounds exchange the perimeter values that fell: a sample
+// shared by several tiles takes the lowest of their values, and a tile relaxes again from the perimeter cells
+// whose value fell. Every value is a path's cost, so none falls below the fixed point, and when a round lowers
+// nothing anywhere the values satisfy the equation on every cell (every 8-neighbour pair lies in one tile), so
+// they are the fixed point: the single-process fill's surface bit for bit, for any tiling. Values only fall,
+// so the rounds end; their number grows with how many tiles the longest filled flat crosses.
+class TileEpsilon {
+ public:
+  // `level`: the tile's Flat-filled heights (rect.size, row-major).
+  TileEpsilon(std::vector<float> level, const TileRect& rect, glm::ivec2 domain_size);
+  // The perimeter values that fell since the last message (the first: every value found), as bytes.
+  std::string message();
+  // The lowest values of this tile's shared samples (solve_epsilon_perimeters); relaxes from those that fell.
+  void answer(std::string_view bytes);
+  // The epsilon surface on the tile once no round lowers anything (+inf where nothing reached yet).
+  const std::vector<float>& surface() const { return e_; }
+
+ private:
+  TileRect rect_;
+  std::vector<float> level_, e_;
+  std::vector<std::int32_t> perimeter_;
+  std::vector<float> sent_;  // per perimeter cell: the lowest value sent or received
+};
+
+// Every tile's message of a round (indexed by tile) into every tile's answer. Throws std::invalid_argument on
+// malformed messages.
+std::vector<std::string> solve_epsilon_perimeters(const std::vector<std::string>& messages, glm::ivec2 domain_size);
+// Whether any of a round's messages lowered a value (else the surface is final and the rounds end).
+bool epsilon_values_fell(const std::vector<std::string>& messages);
+
 // A spill graph as bytes and back (what ranks exchange; graph/rank_group.h). decode throws std::invalid_argument
 // on malformed bytes.
 std::string encode(const TileSpillGraph& graph);

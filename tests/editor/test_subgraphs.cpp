@@ -20,6 +20,7 @@
 #include "graph/heightfield.h"
 #include "graph/points.h"
 #include "graph/subgraph.h"
+#include "graph/subgraph_extract.h"
 #include "support/editor_test_support.h"
 
 namespace orogen::editor {
@@ -99,9 +100,14 @@ Document saved_diamond(const std::string& name, fs::path* dir_out = nullptr) {
   return Document::open(dir / "g.json");
 }
 
+// Grouping uses the core's extraction (graph/subgraph_extract.h), with writers allowed.
 TEST(EditorSubgraphs, PlanListsExactlyTheLinksCrossingTheSelection) {
-  const GroupPlan plan = plan_group(diamond_graph(), {"b", "a"});
-  EXPECT_EQ(plan.nodes, (std::vector<std::string>{"a", "b"}));  // graph order
+  ExtractRequest request;
+  request.nodes = {"b", "a"};
+  request.asset_file = "group.orogen-subgraph.json";
+  request.graph_file = "g.json";
+  request.allow_writers = true;
+  const Extraction plan = make_subgraph_asset(diamond_graph(), request);
   ASSERT_EQ(plan.inputs.size(), 2u);
   EXPECT_EQ(plan.inputs[0].source, (PortRef{"s1", "out"}));  // one input for one outside output ...
   ASSERT_EQ(plan.inputs[0].targets.size(), 2u);              // ... however many inputs it feeds
@@ -110,14 +116,16 @@ TEST(EditorSubgraphs, PlanListsExactlyTheLinksCrossingTheSelection) {
   EXPECT_EQ(plan.inputs[1].source, (PortRef{"s2", "out"}));
   ASSERT_EQ(plan.inputs[1].targets.size(), 1u);
   EXPECT_EQ(plan.inputs[1].targets[0].str(), "a.b");
-  EXPECT_NE(plan.inputs[0].name, plan.inputs[1].name);
+  EXPECT_EQ(plan.inputs[0].name, "a");
+  EXPECT_EQ(plan.inputs[1].name, "b");
   ASSERT_EQ(plan.outputs.size(), 2u);
   EXPECT_EQ(plan.outputs[0].source, (PortRef{"a", "out"}));
-  EXPECT_EQ(plan.outputs[0].consumers.size(), 1u);
-  EXPECT_EQ(plan.outputs[0].consumers[0].str(), "pts.height");
+  ASSERT_EQ(plan.outputs[0].sinks.size(), 1u);
+  EXPECT_EQ(plan.outputs[0].sinks[0], (std::pair<std::string, std::string>{"pts", "height"}));
   EXPECT_EQ(plan.outputs[1].source, (PortRef{"b", "out"}));
-  EXPECT_EQ(plan.outputs[1].consumers[0].str(), "fin.a");
-  EXPECT_NE(plan.outputs[0].name, plan.outputs[1].name);
+  EXPECT_EQ(plan.outputs[1].sinks[0], (std::pair<std::string, std::string>{"fin", "a"}));
+  EXPECT_EQ(plan.outputs[0].name, "out");
+  EXPECT_EQ(plan.outputs[1].name, "b_out");  // taken: named after its node
 }
 
 TEST(EditorSubgraphs, GroupWritesAnAssetWhoseInterfaceIsTheCrossingLinks) {
@@ -217,7 +225,9 @@ TEST(EditorSubgraphs, GroupRefusesWhatWouldFeedItselfAndChangesNothing) {
     group_nodes(doc, {"a", "fin"});
     FAIL() << "expected a refusal";
   } catch (const DocumentError& e) {
-    EXPECT_NE(std::string(e.what()).find("node 'b' is fed by the selection and feeds it"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("cannot group: the selection is not convex: node 'b' (not selected) is fed "
+                                         "by selected node 'a' and feeds selected node 'fin'"),
+              std::string::npos)
         << e.what();
   }
   EXPECT_TRUE(doc.graph() == before);
@@ -250,7 +260,8 @@ TEST(EditorSubgraphs, EnteringEditsTheAssetFileAndEveryInstanceSeesIt) {
   const GroupResult r = group_nodes(root, {"a", "b"});
   // A second instance of the same asset, fed the same way, read by a second consumer.
   root.edit("second", [&](Graph& g) {
-    Node& copy = add_subgraph_instance(g, *r.asset, g.at(r.instance).asset, "twin");
+    const std::string reference = g.at(r.instance).asset;  // a copy: adding a node may move the nodes
+    Node& copy = add_subgraph_instance(g, *r.asset, reference, "twin");
     copy.inputs = g.at(r.instance).inputs;
     g.add_node("EdBlend", "fin2");
     g.connect({"twin", g.at("fin").inputs.at("a").port}, "fin2", "a");
@@ -454,6 +465,152 @@ TEST(EditorSubgraphs, EnteringRefusesPlainNodes) {
   EXPECT_THROW(nav.enter("a"), DocumentError);
   EXPECT_THROW(nav.enter("nope"), DocumentError);
   EXPECT_FALSE(nav.inside());
+}
+
+// Make unique: one undo step, evaluation unchanged, the file asset and its other instances untouched.
+TEST(EditorSubgraphs, MakeUniqueEmbedsACopyInOneUndoStep) {
+  fs::path dir;
+  Document root = saved_diamond("make-unique", &dir);
+  const GroupResult r = group_nodes(root, {"a", "b"});
+  root.edit("second", [&](Graph& g) {
+    const std::string reference = g.at(r.instance).asset;  // a copy: adding a node may move the nodes
+    Node& copy = add_subgraph_instance(g, *r.asset, reference, "twin");
+    copy.inputs = g.at(r.instance).inputs;
+  });
+  root.save();
+  const Graph before = root.graph();
+  const auto bytes = evaluate_bytes(root.graph());
+  const std::size_t steps = root.history().undo_size();
+
+  EXPECT_EQ(make_unique_node(root, r.instance), "group");
+  const Node& inst = root.graph().at(r.instance);
+  EXPECT_EQ(inst.asset, "#group");
+  ASSERT_TRUE(inst.type->subgraph);
+  EXPECT_EQ(inst.type->subgraph->embedded, "group");
+  EXPECT_EQ(root.graph().at("twin").type->subgraph, r.asset);  // the other instance keeps the file
+  EXPECT_EQ(root.history().undo_size(), steps + 1);
+  EXPECT_EQ(root.history().undo_label(), "Make " + r.instance + " unique (#group)");
+  EXPECT_TRUE(root.dirty());
+  EXPECT_EQ(evaluate_bytes(root.graph()), bytes);
+  // Saved: the file holds the copy; opened again it evaluates the same.
+  root.save();
+  const Document reopened = Document::open(root.path());
+  EXPECT_TRUE(reopened.load_problems().empty()) << reopened.load_problems().diagnostics.front().str();
+  EXPECT_EQ(reopened.graph().at(r.instance).asset, "#group");
+  EXPECT_EQ(evaluate_bytes(reopened.graph()), bytes);
+  // Twice is refused, plain nodes too; nothing changes.
+  EXPECT_THROW(make_unique_node(root, r.instance), DocumentError);
+  EXPECT_THROW(make_unique_node(root, "fin"), DocumentError);
+  EXPECT_EQ(root.history().undo_size(), steps + 1);
+
+  ASSERT_TRUE(root.undo());
+  EXPECT_TRUE(root.graph() == before);
+  EXPECT_EQ(root.graph().at(r.instance).type->subgraph, r.asset);
+  ASSERT_TRUE(root.redo());
+  EXPECT_EQ(root.graph().at(r.instance).asset, "#group");
+  // Deleting the last instance of the copy says that saving drops it; undo brings it back.
+  {
+    Selection selection;
+    CanvasController canvas(root, selection);
+    selection.select_only(r.instance);
+    canvas.delete_selection();
+    EXPECT_EQ(canvas.message(),
+              "embedded asset #group has no instance left: saving the graph drops it (undo keeps it)");
+    canvas.undo();
+    EXPECT_EQ(root.graph().at(r.instance).asset, "#group");
+  }
+  // An embedded instance ungroups like any other.
+  ungroup_node(root, r.instance);
+  EXPECT_FALSE(root.graph().find(r.instance));
+  EXPECT_EQ(evaluate_bytes(root.graph()), bytes);
+}
+
+// Entering an embedded asset edits the copy inside the document: no file is written, the document is unsaved,
+// and only the instances of the copy change.
+TEST(EditorSubgraphs, EditingAnEmbeddedAssetChangesTheDocumentNotTheFile) {
+  fs::path dir;
+  Document root = saved_diamond("edit-embedded", &dir);
+  const GroupResult r = group_nodes(root, {"a", "b"});
+  root.edit("second", [&](Graph& g) {
+    const std::string reference = g.at(r.instance).asset;  // a copy: adding a node may move the nodes
+    Node& copy = add_subgraph_instance(g, *r.asset, reference, "twin");
+    copy.inputs = g.at(r.instance).inputs;
+    g.add_node("EdBlend", "fin2");
+    g.connect({"twin", g.at("fin").inputs.at("a").port}, "fin2", "a");
+  });
+  make_unique_node(root, r.instance);
+  root.save();
+  const std::string asset_text = read_file(r.asset_file);
+  const auto twin_before = evaluate_bytes(root.graph(), {"fin2"});
+
+  SubgraphNavigator nav(root);
+  Document& inner = nav.enter(r.instance);
+  EXPECT_EQ(nav.breadcrumbs(), (std::vector<std::string>{"g.json", r.instance + " (#group)"}));
+  EXPECT_FALSE(inner.has_path());
+  ASSERT_TRUE(inner.graph().interface);
+  inner.set_param("a", "weight", 0.9);
+  EXPECT_EQ(nav.sync(), "");
+  EXPECT_EQ(read_file(r.asset_file), asset_text);  // the file asset is untouched
+  EXPECT_TRUE(root.dirty());                       // the copy is part of the document
+  // The made-unique instance evaluates the edit, the twin (the file asset) does not.
+  Graph inline_edit = diamond_graph();
+  inline_edit.set_param("a", "weight", 0.9);
+  EXPECT_EQ(evaluate_bytes(root.graph(), {"fin"}), evaluate_bytes(inline_edit, {"fin"}));
+  EXPECT_EQ(evaluate_bytes(root.graph(), {"fin2"}), twin_before);
+  // Undo inside puts the copy back as it was.
+  ASSERT_TRUE(inner.undo());
+  EXPECT_EQ(nav.sync(), "");
+  EXPECT_EQ(evaluate_bytes(root.graph(), {"fin"}), evaluate_bytes(diamond_graph(), {"fin"}));
+  ASSERT_TRUE(inner.redo());
+  EXPECT_EQ(nav.sync(), "");
+  // An instance of the copy inside itself is refused and not applied.
+  const SubgraphAsset* applied = root.graph().at(r.instance).type->subgraph;
+  inner.edit("self", [&](Graph& g) {
+    Node& me = add_subgraph_instance(g, *applied, "#group", "me");
+    (void)me;
+  });
+  const std::string error = nav.sync();
+  EXPECT_NE(error.find("contains itself"), std::string::npos) << error;
+  EXPECT_EQ(root.graph().at(r.instance).type->subgraph, applied);
+  EXPECT_FALSE(nav.leave());
+  inner.undo();
+  EXPECT_TRUE(nav.leave());
+  // Saved and opened again: the edited copy is in the file.
+  root.save();
+  const Document reopened = Document::open(root.path());
+  EXPECT_TRUE(reopened.load_problems().empty());
+  EXPECT_EQ(evaluate_bytes(reopened.graph(), {"fin"}), evaluate_bytes(inline_edit, {"fin"}));
+  EXPECT_DOUBLE_EQ(std::get<double>(reopened.graph().at(r.instance).type->subgraph->graph.param("a", "weight")), 0.9);
+}
+
+// Inside an embedded asset, Make unique names the copy freely in the file that will hold it (the root's section
+// already has "#group" and "#group2").
+TEST(EditorSubgraphs, MakeUniqueInsideAnEmbeddedAssetPicksANameFreeInTheFile) {
+  fs::path dir;
+  Document root = saved_diamond("unique-nested", &dir);
+  const auto before = evaluate_bytes(root.graph());
+  const GroupResult inner = group_nodes(root, {"a"});
+  const GroupResult outer = group_nodes(root, {inner.instance, "b"});
+  root.edit("solo", [&](Graph& g) {
+    Node& solo = add_subgraph_instance(g, *inner.asset, "group.orogen-subgraph.json", "solo");
+    solo.inputs = {{"a", {"s1", "out"}}};
+  });
+  EXPECT_EQ(make_unique_node(root, "solo"), "group");
+  EXPECT_EQ(make_unique_node(root, outer.instance), "group2");
+  SubgraphNavigator nav(root);
+  nav.enter(outer.instance);
+  EXPECT_EQ(nav.make_unique(inner.instance), "group3");
+  EXPECT_EQ(nav.current().graph().at(inner.instance).asset, "#group3");
+  ASSERT_EQ(nav.sync(), "");
+  ASSERT_TRUE(nav.leave());
+  EXPECT_EQ(evaluate_bytes(root.graph()), before);
+  root.save();
+  const Document reopened = Document::open(root.path());
+  ASSERT_TRUE(reopened.load_problems().empty()) << reopened.load_problems().diagnostics.front().str();
+  EXPECT_EQ(evaluate_bytes(reopened.graph()), before);
+  const std::string text = read_file(root.path());
+  EXPECT_NE(text.find("\"group3\": {"), std::string::npos);
+  EXPECT_NE(text.find("\"asset\": \"#group3\""), std::string::npos);
 }
 
 TEST(EditorSubgraphs, PaletteListsLibraryAssetsAndAddsInstances) {

@@ -1,7 +1,8 @@
 // libFuzzer target: the graph-file reader (JSON parsing, migration, validation of every node and parameter).
 // Seed corpus: graphs/*.json, the subgraph library graphs/library/*.json and tests/fuzz/graph_file_seeds
-// (interface sections, Subgraph instances and their errors); dictionary: tests/fuzz/graph_file.dict. Assets
-// named by a path resolve against the current directory (fuzz.sh runs in the repository).
+// (interface sections, Subgraph instances and their errors, embedded assets "#name"); dictionary:
+// tests/fuzz/graph_file.dict. Assets named by a path resolve against the current directory (fuzz.sh runs in the
+// repository).
 #include <cstddef>
 #include <cstdint>
 #include <string_view>

@@ -8,6 +8,8 @@
 #include <OpenEXR/ImfStandardAttributes.h>
 #include <OpenEXR/ImfStringAttribute.h>
 
+#include <bit>
+#include <cstring>
 #include <exception>
 #include <memory>
 #include <string>
@@ -56,6 +58,11 @@ class ExrReader final : public ImageReader {
           return false;
       }
       type_ = channel.type;
+      // Uncompressed scanlines (Orogen's writer's default) hold each row as the channel's little-endian samples,
+      // one row a chunk: on a little-endian machine they are copied as they are. OpenEXR's own path assembles
+      // every sample from its bytes, a third of the CPU time of reading a 4096^2 height file.
+      raw_rows_ = header.compression() == Imf::NO_COMPRESSION && !header.hasTileDescription() &&
+                  std::endian::native == std::endian::little;
       info_.channel_types = {info_.format};
       info_.channel_type_texts = {info_.format_text};
       info_.channel_sizes = {pixel_type_size(info_.format)};
@@ -82,6 +89,7 @@ class ExrReader final : public ImageReader {
     }
     try {
       const std::size_t size = info_.native_pixel_bytes;
+      if (raw_rows_ && read_raw_rows(y0, y1, static_cast<unsigned char*>(data))) return true;
       Imf::FrameBuffer frame;
       // The buffer holds rows [y0, y1) of the data window: its origin is the window's corner at row y0.
       frame.insert(name_, Imf::Slice::Make(type_, data, Imath::V2i(info_.x, y0), info_.width, y1 - y0, size,
@@ -111,7 +119,25 @@ class ExrReader final : public ImageReader {
   std::string error() override { return error_; }
 
  private:
+  // Rows [y0, y1) of an uncompressed scanline file, chunk by chunk; false (nothing promised about `data`) when a
+  // chunk is not exactly one row, so the caller reads through OpenEXR instead.
+  bool read_raw_rows(int y0, int y1, unsigned char* data) {
+    const std::size_t row = info_.native_pixel_bytes * static_cast<std::size_t>(info_.width);
+    for (int y = y0; y < y1; ++y) {
+      const char* bytes = nullptr;
+      int count = 0;
+      file_->rawPixelData(y, bytes, count);
+      if (!bytes || count < 0 || static_cast<std::size_t>(count) != row) {
+        raw_rows_ = false;
+        return false;
+      }
+      std::memcpy(data + static_cast<std::size_t>(y - y0) * row, bytes, row);
+    }
+    return true;
+  }
+
   std::unique_ptr<Imf::InputFile> file_;
+  bool raw_rows_ = false;
   std::string name_, error_;
   Imf::PixelType type_ = Imf::FLOAT;
   ImageInfo info_;
