@@ -209,8 +209,8 @@ OROGEN_NODE(FillDepressions) {
           "and depression queues of Zhou, Sun & Fu 2016. 'fill' raises each depression to its spill level; 'carve' "
           "cuts a channel from each pit through the rim instead (complete breaching, Lindsay 2016), keeping "
           "depressions no deeper than max_depth as filled lakes. 'epsilon' flats rise by one float ulp per cell away "
-          "from their outlet so every cell has a strictly lower neighbour (flow routing needs it): each cell is "
-          "max(its height, one ulp above its lowest neighbour), the least such surface, which depends on the "
+          "from their outlet so every cell has a strictly lower neighbor (flow routing needs it): each cell is "
+          "max(its height, one ulp above its lowest neighbor), the least such surface, which depends on the "
           "heights alone (so tiles reproduce it exactly); 'flat' leaves them level. The lakes (filled water, from "
           "the flat levels in either case) come out as a depth and an id per lake.");
   b.input("in", PortType::Heightfield).description("Height, metres");
