@@ -27,7 +27,7 @@ T take(std::string_view& in, const char* what) {
 template <class T>
 void put_vector(std::string& out, const std::vector<T>& v) {
   put(out, static_cast<std::uint64_t>(v.size()));
-  out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  if (!v.empty()) out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
 
 template <class T>
@@ -35,7 +35,7 @@ std::vector<T> take_vector(std::string_view& in, const char* what) {
   const auto n = take<std::uint64_t>(in, what);
   if (n > in.size() / sizeof(T)) throw std::invalid_argument(std::string(what) + ": truncated bytes");
   std::vector<T> v(static_cast<std::size_t>(n));
-  std::memcpy(v.data(), in.data(), v.size() * sizeof(T));
+  if (n > 0) std::memcpy(v.data(), in.data(), v.size() * sizeof(T));  // an empty vector's data() may be null
   in.remove_prefix(v.size() * sizeof(T));
   return v;
 }
