@@ -23,6 +23,7 @@
 #include "graph/image.h"
 #include "graph/registry.h"
 #include "nodes/common/cancellable_rows.h"
+#include "support/eval_results.h"
 #include "support/test_paths.h"
 
 namespace orogen {
@@ -242,7 +243,7 @@ std::string numbered(const char* prefix, int k) {
   return s;
 }
 
-const Domain kDomain = Domain::from_extent({0.0, 0.0}, {100.0, 100.0}, {16, 16});
+const Domain& kDomain = test::kEvalDomain;
 
 class EvaluatorTest : public ::testing::Test {
  protected:
@@ -255,23 +256,9 @@ EvaluatorOptions writing_to(const std::filesystem::path& dir) {
   return o;
 }
 
-EvalRequest request(std::vector<std::string> nodes, const Domain& d = kDomain) {
-  EvalRequest r;
-  r.domain = d;
-  r.nodes = std::move(nodes);
-  return r;
-}
-
-NodeStatus status(const EvalResult& r, const std::string& id) {
-  const auto it = r.nodes.find(id);
-  return it == r.nodes.end() ? NodeStatus::Pending : it->second.status;
-}
-
-HeightfieldPtr field(const EvalResult& r, const Graph& g, const std::string& id, const std::string& port = "out") {
-  const auto v = r.output(id, port, g);
-  const auto* p = std::get_if<HeightfieldPtr>(&v);
-  return p ? *p : nullptr;
-}
+using test::field;
+using test::request;
+using test::status;
 
 // source -> a -> b, plus an independent source2 -> c.
 Graph two_branches() {

@@ -17,6 +17,7 @@
 #include "graph/registry.h"
 #include "graph/report.h"
 #include "support/depression_terrain.h"
+#include "support/eval_results.h"
 #include "support/test_paths.h"
 
 namespace orogen {
@@ -106,26 +107,12 @@ OROGEN_NODE(TestHills) {
 
 namespace {
 
-const Domain kDomain = Domain::from_extent({0.0, 0.0}, {100.0, 100.0}, {16, 16});
+const Domain& kDomain = test::kEvalDomain;
 const std::vector<bool> kAll{true, true, true};
 
-EvalRequest request(std::vector<std::string> nodes, const Domain& d = kDomain) {
-  EvalRequest r;
-  r.domain = d;
-  r.nodes = std::move(nodes);
-  return r;
-}
-
-NodeStatus status(const EvalResult& r, const std::string& id) {
-  const auto it = r.nodes.find(id);
-  return it == r.nodes.end() ? NodeStatus::Pending : it->second.status;
-}
-
-HeightfieldPtr field(const EvalResult& r, const Graph& g, const std::string& id, const std::string& port = "out") {
-  const auto v = r.output(id, port, g);
-  const auto* p = std::get_if<HeightfieldPtr>(&v);
-  return p ? *p : nullptr;
-}
+using test::field;
+using test::request;
+using test::status;
 
 float value(const EvalResult& r, const Graph& g, const std::string& id, const std::string& port = "out") {
   const auto f = field(r, g, id, port);

@@ -47,6 +47,20 @@ EvalResult evaluate(Evaluator& evaluator, const Graph& graph, const std::vector<
   return evaluator.evaluate(graph, request);
 }
 
+// A 64^2 graph: FBM "base" colored by an instance "colors" of the library's terrain_colors.
+json colors_doc() {
+  return {{"format", "orogen-graph"},
+          {"version", kGraphFormatVersion},
+          {"domain", {{"size", {4096, 4096}}, {"resolution", {64, 64}}}},
+          {"nodes",
+           {{{"id", "base"}, {"type", "FBM"}, {"params", {{"seed", 4}, {"amplitude", 800}}}},
+            {{"id", "colors"},
+             {"type", "Subgraph"},
+             {"asset", "terrain_colors"},
+             {"asset_version", 1},
+             {"inputs", {{"height", "base.out"}}}}}}};
+}
+
 // FBM noise (feature size exposed as `size`) added to an input, then inverted.
 json noise_asset(int asset_version = 1) {
   return {{"format", "orogen-graph"},
@@ -240,17 +254,8 @@ TEST(EmbeddedSubgraphs, VersionsInterfacesAndTheSectionAreCheckedLikeFiles) {
 
 TEST(EmbeddedSubgraphs, MakeUniqueOfALibraryAssetEvaluatesByteIdenticallyAndRoundTrips) {
   const fs::path dir = scratch_dir("embedded_make_unique");
-  json doc = {{"format", "orogen-graph"},
-              {"version", kGraphFormatVersion},
-              {"domain", {{"size", {4096, 4096}}, {"resolution", {64, 64}}}},
-              {"nodes",
-               {{{"id", "base"}, {"type", "FBM"}, {"params", {{"seed", 4}, {"amplitude", 800}}}},
-                {{"id", "colors"},
-                 {"type", "Subgraph"},
-                 {"asset", "terrain_colors"},
-                 {"asset_version", 1},
-                 {"params", {{"sun_azimuth", 120}}},
-                 {"inputs", {{"height", "base.out"}}}}}}};
+  json doc = colors_doc();
+  doc["nodes"][1]["params"] = {{"sun_azimuth", 120}};
   LoadResult loaded = load_doc(dir, doc);
   ASSERT_TRUE(loaded.ok()) << loaded.error_text();
   Graph graph = *loaded.graph;
@@ -374,20 +379,11 @@ TEST(EmbeddedSubgraphs, MakeUniqueRebasesRelativePaths) {
 // nothing.
 TEST(EmbeddedSubgraphs, TheCommandLineMakesAnInstanceUnique) {
   const fs::path dir = scratch_dir("embedded_cli");
-  json doc = {{"format", "orogen-graph"},
-              {"version", kGraphFormatVersion},
-              {"domain", {{"size", {4096, 4096}}, {"resolution", {64, 64}}}},
-              {"nodes",
-               {{{"id", "base"}, {"type", "FBM"}, {"params", {{"seed", 4}, {"amplitude", 800}}}},
-                {{"id", "colors"},
-                 {"type", "Subgraph"},
-                 {"asset", "terrain_colors"},
-                 {"asset_version", 1},
-                 {"inputs", {{"height", "base.out"}}}},
-                {{"id", "save"},
-                 {"type", "WriteImage"},
-                 {"params", {{"path", "color.png"}}},
-                 {"inputs", {{"in", "colors.color"}}}}}}};
+  json doc = colors_doc();
+  doc["nodes"].push_back({{"id", "save"},
+                          {"type", "WriteImage"},
+                          {"params", {{"path", "color.png"}}},
+                          {"inputs", {{"in", "colors.color"}}}});
   const fs::path graph = dir / "g.json";
   write_text(graph, doc.dump(2));
   const std::string text = read_text(graph);

@@ -100,6 +100,19 @@ Document saved_diamond(const std::string& name, fs::path* dir_out = nullptr) {
   return Document::open(dir / "g.json");
 }
 
+// A second instance "twin" of the group's asset, fed as the group is (one undo step, "second"); with a reader,
+// also "fin2", which reads twin's output as "fin" reads the group's.
+void add_twin(Document& root, const GroupResult& r, bool with_reader) {
+  root.edit("second", [&](Graph& g) {
+    const std::string reference = g.at(r.instance).asset;  // a copy: adding a node may move the nodes
+    Node& copy = add_subgraph_instance(g, *r.asset, reference, "twin");
+    copy.inputs = g.at(r.instance).inputs;
+    if (!with_reader) return;
+    g.add_node("EdBlend", "fin2");
+    g.connect({"twin", g.at("fin").inputs.at("a").port}, "fin2", "a");
+  });
+}
+
 // Grouping uses the core's extraction (graph/subgraph_extract.h), with writers allowed.
 TEST(EditorSubgraphs, PlanListsExactlyTheLinksCrossingTheSelection) {
   ExtractRequest request;
@@ -259,13 +272,7 @@ TEST(EditorSubgraphs, EnteringEditsTheAssetFileAndEveryInstanceSeesIt) {
   Document root = saved_diamond("enter", &dir);
   const GroupResult r = group_nodes(root, {"a", "b"});
   // A second instance of the same asset, fed the same way, read by a second consumer.
-  root.edit("second", [&](Graph& g) {
-    const std::string reference = g.at(r.instance).asset;  // a copy: adding a node may move the nodes
-    Node& copy = add_subgraph_instance(g, *r.asset, reference, "twin");
-    copy.inputs = g.at(r.instance).inputs;
-    g.add_node("EdBlend", "fin2");
-    g.connect({"twin", g.at("fin").inputs.at("a").port}, "fin2", "a");
-  });
+  add_twin(root, r, true);
   root.save();
   const std::string asset_before = read_file(r.asset_file);
   const auto before = evaluate_bytes(root.graph(), {"fin", "fin2"});
@@ -472,11 +479,7 @@ TEST(EditorSubgraphs, MakeUniqueEmbedsACopyInOneUndoStep) {
   fs::path dir;
   Document root = saved_diamond("make-unique", &dir);
   const GroupResult r = group_nodes(root, {"a", "b"});
-  root.edit("second", [&](Graph& g) {
-    const std::string reference = g.at(r.instance).asset;  // a copy: adding a node may move the nodes
-    Node& copy = add_subgraph_instance(g, *r.asset, reference, "twin");
-    copy.inputs = g.at(r.instance).inputs;
-  });
+  add_twin(root, r, false);
   root.save();
   const Graph before = root.graph();
   const auto bytes = evaluate_bytes(root.graph());
@@ -531,13 +534,7 @@ TEST(EditorSubgraphs, EditingAnEmbeddedAssetChangesTheDocumentNotTheFile) {
   fs::path dir;
   Document root = saved_diamond("edit-embedded", &dir);
   const GroupResult r = group_nodes(root, {"a", "b"});
-  root.edit("second", [&](Graph& g) {
-    const std::string reference = g.at(r.instance).asset;  // a copy: adding a node may move the nodes
-    Node& copy = add_subgraph_instance(g, *r.asset, reference, "twin");
-    copy.inputs = g.at(r.instance).inputs;
-    g.add_node("EdBlend", "fin2");
-    g.connect({"twin", g.at("fin").inputs.at("a").port}, "fin2", "a");
-  });
+  add_twin(root, r, true);
   make_unique_node(root, r.instance);
   root.save();
   const std::string asset_text = read_file(r.asset_file);
