@@ -314,6 +314,7 @@ struct PipeRun {
     const float* __restrict B = b.data() + row;
     const unsigned char* __restrict SINK = sink.data() + row;
     const int i0 = prep_span[r].lo, i1 = prep_span[r].hi + 1;
+    if (i0 >= i1) return;  // open sea: nothing here is read, and its drops would fall on sinks
     if (p.rain_mode == RainMode::Drops) {
       for (int i = i0; i < i1; ++i) DR[i] = D[i];
       rain_drops(cs, r, DR);
