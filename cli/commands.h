@@ -29,6 +29,7 @@ struct EvalCommand {
   std::string tiles;                   // "NxM": a tiled build (cli/tiling.h); empty: one build of the whole domain
   std::string tile;                    // "I,J": only this tile of --tiles; empty: every tile
   std::string global_nodes;            // "whole" or "tile": how --tiles evaluates whole-domain nodes; empty: whole
+  bool merge = false;                  // with --tiles: each height raster's tiles become one file (cli/merge_tiles.h)
   std::string tile_naming = "orogen";  // "orogen" (_y0 south) or "unreal" (_x0_y0 top-left): cli/tile_naming.h
 };
 

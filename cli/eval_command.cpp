@@ -13,6 +13,7 @@
 
 #include "cli/commands.h"
 #include "cli/graph_overrides.h"
+#include "cli/merge_tiles.h"
 #include "cli/mosaic.h"
 #include "cli/mpi_rank_group.h"
 #include "cli/progress_display.h"
@@ -105,11 +106,24 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group);
 
 // After every tile of a tiled build succeeded: the GDAL mosaics of its rasters (cli/mosaic.h). Returns false
 // (error printed) if one cannot be written.
+// With --merge, first the merged files of the rasters that merge (cli/merge_tiles.h); they get no mosaic.
 bool write_tile_mosaics(const Graph& graph, const Domain& domain, glm::ivec2 counts, TileNaming naming,
-                        const OutputPolicy& policy, bool quiet) {
+                        const OutputPolicy& policy, bool quiet, bool merge) {
   std::vector<std::string> warnings;
+  std::set<std::string> merged;
+  if (merge) try {
+      MergeResult m = merge_tiles(graph, domain, counts, naming, policy);
+      for (const auto& w : m.warnings) std::cerr << "warning: --merge: " << w << "\n";
+      if (!quiet && !m.files.empty())
+        std::cerr << m.files.size() << (m.files.size() == 1 ? " merged file" : " merged files")
+                  << " of the tiles, e.g. " << m.files.front() << "\n";
+      merged = std::move(m.merged_nodes);
+    } catch (const std::exception& e) {
+      std::cerr << "error: cannot merge the tiles: " << e.what() << "\n";
+      return false;
+    }
   try {
-    const auto written = write_mosaics(graph, domain, counts, naming, policy, warnings);
+    const auto written = write_mosaics(graph, domain, counts, naming, policy, warnings, merged);
     for (const auto& w : warnings) std::cerr << "warning: --tiles: " << w << "\n";
     if (!quiet && !written.empty())
       std::cerr << written.size() << (written.size() == 1 ? " mosaic" : " mosaics") << " of the tiles (GDAL VRT), e.g. "
@@ -217,6 +231,11 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
   const Domain domain = graph.domain.to_domain();
   if (tiled)
     if (auto e = check_tile_counts(domain.resolution, counts); !e.empty()) errors.push_back(e);
+  if (cmd.merge) {
+    if (!tiled || only_tile)
+      errors.push_back("--merge joins the files of every tile: it needs --tiles NxM without --tile");
+    for (auto& e : merge_errors(graph)) errors.push_back(std::move(e));
+  }
   OutputPolicy policy{cmd.output_dir, cmd.allow_any_path};
   {
     // Tiles write suffixed names; two writers collide in one tile exactly when they collide in every tile.
@@ -251,7 +270,8 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
       builds.push_back({});
     } else if (distributed) {
       for (const glm::ivec2 t : tiles_of_rank(counts, group.rank(), group.size()))
-        builds.push_back({tile_window(domain.resolution, counts, t), tile_suffix(t)});
+        builds.push_back(
+            {tile_window(domain.resolution, counts, t), tile_suffix(named_tile_index(tile_naming, t, counts))});
     } else {
       for (int j = 0; j < counts.y; ++j)
         for (int i = 0; i < counts.x; ++i)
@@ -449,14 +469,15 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
                    job.tiles, group.size(), job.failed_tiles, job.computed, job.cached, job.failed, job.skipped,
                    job.milliseconds);
     if (job.failed != 0) return kExitEvalFailed;
-    return !root || write_tile_mosaics(graph, domain, counts, tile_naming, policy, cmd.quiet) ? kExitOk
-                                                                                              : kExitEvalFailed;
+    return !root || write_tile_mosaics(graph, domain, counts, tile_naming, policy, cmd.quiet, cmd.merge)
+               ? kExitOk
+               : kExitEvalFailed;
   }
   if (tiled && !cmd.quiet && builds.size() > 1)
     std::fprintf(stderr, "%zu tiles built, %zu with failures, in %.1f ms\n", builds.size(), counted.failed_tiles,
                  counted.milliseconds);
   if (counted.failed != 0) return kExitEvalFailed;
-  if (tiled && !only_tile && !write_tile_mosaics(graph, domain, counts, tile_naming, policy, cmd.quiet))
+  if (tiled && !only_tile && !write_tile_mosaics(graph, domain, counts, tile_naming, policy, cmd.quiet, cmd.merge))
     return kExitEvalFailed;
   return kExitOk;
 }

@@ -50,6 +50,11 @@ int main(int argc, char** argv) {
                        "With --tiles, which tile is _x0_y0: 'orogen' (default) counts rows from the south (the "
                        "world's y); 'unreal' makes _x0_y0 the top-left (north-west) tile and counts rows down, as "
                        "Unreal Engine's tiled landscape import and World Machine name tiles");
+  eval_cmd->add_flag("--merge", eval.merge,
+                     "With --tiles, once every tile is built: write each height raster as one file (the untiled "
+                     "build's name and bytes) instead of its tiles, streamed a band of rows at a time through one "
+                     "process, so none holds the whole raster. 16-bit heights need range 'fixed'; writers that "
+                     "cannot merge keep their tiles and say so");
   eval_cmd->add_option("--global-nodes", eval.global_nodes,
                        "With --tiles, how nodes that need the whole domain (reach global: erosion, flow, "
                        "normalization) are built: 'whole' (default) evaluates them once on the whole domain and "

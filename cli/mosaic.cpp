@@ -58,13 +58,14 @@ std::string mosaic_vrt(const Domain& full, glm::ivec2 counts, const std::vector<
 }
 
 std::vector<std::string> write_mosaics(const Graph& graph, const Domain& full, glm::ivec2 counts, TileNaming naming,
-                                       const OutputPolicy& policy, std::vector<std::string>& warnings) {
+                                       const OutputPolicy& policy, std::vector<std::string>& warnings,
+                                       const std::set<std::string>& skip_nodes) {
   namespace fs = std::filesystem;
   std::vector<std::string> written;
   std::set<fs::path> taken;
   for (const auto& node : graph.nodes()) {
     const NodeType& type = *node.type;
-    if (!type.writes_files) continue;
+    if (!type.writes_files || skip_nodes.count(node.id)) continue;
     const bool raster = std::any_of(type.inputs.begin(), type.inputs.end(), [](const PortDecl& p) {
       return p.type == PortType::Heightfield || p.type == PortType::Image;
     });

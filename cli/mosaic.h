@@ -5,6 +5,7 @@
 // their border samples (cli/tiling.h); the VRT draws them in tile order over each other, and the shared samples
 // are equal. Georeferenced by the domain (pixel centres at the samples, +y north) with the writer's `crs` when
 // it has one. EXR tiles get none: Debian's GDAL has no EXR driver (write TIFF for a mosaic); nor do RAW tiles.
+#include <set>
 #include <string>
 #include <vector>
 
@@ -17,11 +18,12 @@
 
 namespace orogen::cli {
 
-// Writes the mosaics of `graph`'s raster writers for a build of every tile of `counts`; each file replaces the
-// previous one atomically; tiles are found by their names under `naming`. Returns the files written; `warnings`
-// gets what was left out and why.
+// Writes the mosaics of `graph`'s raster writers, but those of `skip_nodes`, for a build of every tile of
+// `counts`; each file replaces the previous one atomically; tiles are found by their names under `naming`.
+// Returns the files written; `warnings` gets what was left out and why.
 std::vector<std::string> write_mosaics(const Graph& graph, const Domain& full, glm::ivec2 counts, TileNaming naming,
-                                       const OutputPolicy& policy, std::vector<std::string>& warnings);
+                                       const OutputPolicy& policy, std::vector<std::string>& warnings,
+                                       const std::set<std::string>& skip_nodes = {});
 
 // The VRT document of tiles `tile_files` (row-major, tile (I, J) at I + J N) of `counts` over `full`, each with
 // `channels` bands of GDAL type `data_type` ("Float32", "UInt16", "Byte"); file names relative to the VRT; `crs`

@@ -403,5 +403,31 @@ TEST(Distributed, ARerunWithTheSameCacheRecomputesOnlyTheUnfinishedTiles) {
   EXPECT_NE(computed("stats_x2_y1.json").find("save_height"), std::string::npos) << "the failed tile writes now";
 }
 
+// --merge across ranks: rank 0 streams the tiles every rank wrote into one file per raster, the untiled build's
+// bytes; and the ranks name their tiles as --tile-naming says, as the single-process tiled build does.
+TEST(Distributed, MergedFilesAndNamedTilesEqualTheSingleProcessBuilds) {
+  SKIP_WITHOUT_MPI();
+  const fs::path dir = scratch_dir("distributed-merge");
+  const std::string graph = (source_dir() / "graphs" / "distributed_hydrology.json").string();
+  const std::vector<std::string> size = {"--resolution", "97"};
+  const auto run = [&](std::vector<std::string> args) {
+    args.insert(args.begin() + 1, size.begin(), size.end());
+    return args;
+  };
+  ASSERT_EQ(orogen(run({"eval", graph, "-o", (dir / "whole").string(), "-q"})).exit_code, 0);
+  auto r = mpirun(3, run({"eval", graph, "-o", (dir / "merged").string(), "--tiles", "3x2", "--tile-naming", "unreal",
+                          "--merge", "-q"}));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(files_under(dir / "merged"), files_under(dir / "whole"));
+  const std::vector<std::string> tiled = {"--tiles", "3x2", "--tile-naming", "unreal", "-q"};
+  auto one = run({"eval", graph, "-o", (dir / "one").string()});
+  auto three = run({"eval", graph, "-o", (dir / "three").string()});
+  one.insert(one.end(), tiled.begin(), tiled.end());
+  three.insert(three.end(), tiled.begin(), tiled.end());
+  ASSERT_EQ(orogen(one).exit_code, 0);
+  ASSERT_EQ(mpirun(3, three).exit_code, 0);
+  EXPECT_EQ(files_under(dir / "three"), files_under(dir / "one"));
+}
+
 }  // namespace
 }  // namespace orogen::test

@@ -4,9 +4,8 @@
 
 namespace orogen {
 
-std::string height_sidecar_json(const Heightfield& h, HeightFormat format, const HeightRange& range,
+std::string height_sidecar_json(const Domain& d, HeightFormat format, const HeightRange& range,
                                 const std::string& image_file_name) {
-  const Domain& d = h.domain;
   nlohmann::ordered_json j;
   j["image"] = image_file_name;
   j["format"] = to_string(format);

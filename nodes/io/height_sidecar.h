@@ -10,7 +10,11 @@
 
 namespace orogen {
 
-std::string height_sidecar_json(const Heightfield& h, HeightFormat format, const HeightRange& range,
+std::string height_sidecar_json(const Domain& domain, HeightFormat format, const HeightRange& range,
                                 const std::string& image_file_name);
+inline std::string height_sidecar_json(const Heightfield& h, HeightFormat format, const HeightRange& range,
+                                       const std::string& image_file_name) {
+  return height_sidecar_json(h.domain, format, range, image_file_name);
+}
 
 }  // namespace orogen

@@ -282,27 +282,14 @@ double dequantize16(std::uint16_t q, const HeightRange& range) {
   return range.min + (q / 65535.0) * (range.max - range.min);
 }
 
-std::optional<HeightRange> write_heightfield_file(const Heightfield& h, const fs::path& path,
-                                                  const HeightfieldWriteOptions& options) {
-  if (h.width() < 1 || h.height() < 1 || h.data.size() != h.domain.sample_count())
-    throw FileError("cannot write '" + path.string() + "': the heightfield is empty or inconsistent");
-  const bool sixteen = options.format == HeightFormat::Png16 || options.format == HeightFormat::Raw16;
-  std::optional<HeightRange> range;
-  if (sixteen) {
-    range = options.range ? *options.range : data_range(h);
-    if (range->max < range->min)
-      throw FileError("height range maximum " + exact_number(range->max) + " m is below the minimum " +
-                      exact_number(range->min) + " m");
-  }
-  if (options.format == HeightFormat::Raw16) {
-    write_raw16(h, path, *range, options.progress);
-    return range;
-  }
-
+ImageWriteSpec heightfield_image_spec(const Domain& domain, const HeightfieldWriteOptions& options,
+                                      const std::optional<HeightRange>& range) {
+  if (options.format == HeightFormat::Raw16) throw FileError("RAW files have no image header");
+  if (options.format == HeightFormat::Png16 && !range) throw FileError("a 16-bit PNG needs its height range");
   const bool is_float = options.format != HeightFormat::Png16;
   ImageWriteSpec spec;
-  spec.width = h.width();
-  spec.height = h.height();
+  spec.width = domain.width();
+  spec.height = domain.height();
   spec.channels = 1;
   spec.type = is_float ? PixelType::F32 : PixelType::U16;
   spec.channel_names = {"Y"};
@@ -322,9 +309,30 @@ std::optional<HeightRange> write_heightfield_file(const Heightfield& h, const fs
     spec.set("orogen:height_min", exact_number(range->min));
     spec.set("orogen:height_max", exact_number(range->max));
   }
-  description += describe_domain(h.domain) + "; north row first";
+  description += describe_domain(domain) + "; north row first";
   spec.set("ImageDescription", description);
+  return spec;
+}
 
+std::optional<HeightRange> write_heightfield_file(const Heightfield& h, const fs::path& path,
+                                                  const HeightfieldWriteOptions& options) {
+  if (h.width() < 1 || h.height() < 1 || h.data.size() != h.domain.sample_count())
+    throw FileError("cannot write '" + path.string() + "': the heightfield is empty or inconsistent");
+  const bool sixteen = options.format == HeightFormat::Png16 || options.format == HeightFormat::Raw16;
+  std::optional<HeightRange> range;
+  if (sixteen) {
+    range = options.range ? *options.range : data_range(h);
+    if (range->max < range->min)
+      throw FileError("height range maximum " + exact_number(range->max) + " m is below the minimum " +
+                      exact_number(range->min) + " m");
+  }
+  if (options.format == HeightFormat::Raw16) {
+    write_raw16(h, path, *range, options.progress);
+    return range;
+  }
+
+  const bool is_float = options.format != HeightFormat::Png16;
+  const ImageWriteSpec spec = heightfield_image_spec(h.domain, options, range);
   if (is_float) {
     write_image<float>(h, path, spec, options.progress, [](int, std::span<const float>, std::span<float>) {});
   } else {

@@ -19,6 +19,8 @@
 
 namespace orogen {
 
+struct ImageWriteSpec;  // nodes/io/image_codec.h
+
 enum class HeightFormat {
   Exr,    // OpenEXR, float32, zip (lossless), written in blocks of scanlines that OpenEXR compresses in parallel
   Png16,  // PNG, 16-bit grey, mapped through a HeightRange
@@ -66,6 +68,12 @@ struct HeightfieldWriteOptions {
 // Throws FileError on failure; `options.progress` may throw to abort.
 std::optional<HeightRange> write_heightfield_file(const Heightfield& h, const std::filesystem::path& path,
                                                   const HeightfieldWriteOptions& options);
+
+// The image header write_heightfield_file gives a heightfield of `domain` in `options.format` (EXR, PNG16 or
+// TIFF; `range` is the 16-bit mapping, needed for PNG16): also what a merge of a tiled build's files writes
+// (cli/merge_tiles.h), so that the merged file equals the untiled build's. Throws FileError for RAW16.
+ImageWriteSpec heightfield_image_spec(const Domain& domain, const HeightfieldWriteOptions& options,
+                                      const std::optional<HeightRange>& range);
 
 // One channel of an image file as read, before any mapping, top (north) row first.
 struct HeightRaster {

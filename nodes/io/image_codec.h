@@ -66,6 +66,7 @@ struct ImageInfo {
   std::vector<PixelType> channel_types;
   std::vector<std::string> channel_type_texts;
   std::vector<std::size_t> channel_sizes;  // bytes of each channel's native sample
+  std::vector<std::string> channel_names;  // as the file names them; empty when the reader does not say
   std::size_t native_pixel_bytes = 0, native_tile_bytes = 0;
 };
 
@@ -107,4 +108,4 @@ const ImageCodec& image_codec();
 }  // namespace orogen
 
 // The module's entry point; the version in the name keeps a stale module from being used.
-#define OROGEN_IMAGE_CODEC_ENTRY "orogen_image_codec_v1"
+#define OROGEN_IMAGE_CODEC_ENTRY "orogen_image_codec_v2"

@@ -108,25 +108,19 @@ std::optional<ImageFormat> image_format_from_path(const fs::path& path) {
   return std::nullopt;
 }
 
-void write_image_file(const Image& image, const fs::path& path, const ImageWriteOptions& options) {
-  const int n = image.channels;
-  if (n < 1 || image.width() < 1 || image.height() < 1 ||
-      image.data.size() != image.domain.sample_count() * static_cast<std::size_t>(n))
-    throw FileError("cannot write '" + path.string() + "': the image is empty or inconsistent");
+ImageWriteSpec image_file_spec(int width, int height, int channels, const std::vector<std::string>& channel_names,
+                               const ImageWriteOptions& options) {
   const bool png = options.format == ImageFormat::Png8 || options.format == ImageFormat::Png16;
-  if (png && n > 4)
-    throw FileError("cannot write '" + path.string() + "': PNG holds 1 to 4 channels, the image has " +
-                    std::to_string(n) + " (use EXR or TIFF)");
   ImageWriteSpec spec;
-  spec.width = image.width();
-  spec.height = image.height();
-  spec.channels = n;
+  spec.width = width;
+  spec.height = height;
+  spec.channels = channels;
   spec.type = options.format == ImageFormat::Png8    ? PixelType::U8
               : options.format == ImageFormat::Png16 ? PixelType::U16
                                                      : PixelType::F32;
   spec.channel_names =
-      static_cast<int>(image.channel_names.size()) == n ? image.channel_names : default_channel_names(n);
-  spec.alpha_channel = png ? alpha_channel(n) : -1;
+      static_cast<int>(channel_names.size()) == channels ? channel_names : default_channel_names(channels);
+  spec.alpha_channel = png ? alpha_channel(channels) : -1;
   spec.set("Software", "Orogen");
   spec.set("DateTime", file_timestamp());  // never the time of writing: reproducible files
   spec.set("oiio:UnassociatedAlpha", 1);   // our alpha is straight: store it as is
@@ -136,6 +130,19 @@ void write_image_file(const Image& image, const fs::path& path, const ImageWrite
                                                        : "tiff",
                   options.compression_level);
   spec.set("oiio:ColorSpace", png && options.srgb ? "sRGB" : "Linear");
+  return spec;
+}
+
+void write_image_file(const Image& image, const fs::path& path, const ImageWriteOptions& options) {
+  const int n = image.channels;
+  if (n < 1 || image.width() < 1 || image.height() < 1 ||
+      image.data.size() != image.domain.sample_count() * static_cast<std::size_t>(n))
+    throw FileError("cannot write '" + path.string() + "': the image is empty or inconsistent");
+  const bool png = options.format == ImageFormat::Png8 || options.format == ImageFormat::Png16;
+  if (png && n > 4)
+    throw FileError("cannot write '" + path.string() + "': PNG holds 1 to 4 channels, the image has " +
+                    std::to_string(n) + " (use EXR or TIFF)");
+  const ImageWriteSpec spec = image_file_spec(image.width(), image.height(), n, image.channel_names, options);
   const bool srgb = png && options.srgb;
   switch (options.format) {
     case ImageFormat::Png8:

@@ -3,12 +3,16 @@
 // Rows are stored north (largest y) first, like heightfields (see heightfield_file.h).
 #include <filesystem>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "graph/image.h"
 #include "nodes/common/color_space.h"  // linear_to_srgb for PNG encoding
 #include "nodes/io/file_error.h"
 
 namespace orogen {
+
+struct ImageWriteSpec;  // nodes/io/image_codec.h
 
 enum class ImageFormat { Png8, Png16, Exr, Tiff };
 
@@ -20,6 +24,12 @@ struct ImageWriteOptions {
   int compression_level = -1;  // see HeightfieldWriteOptions::compression_level
   WriteProgress progress;      // optional
 };
+
+// The image header write_image_file gives an image of `width` x `height` samples of `channels` channels named
+// `channel_names` (default names when their count differs): also what a merge of a tiled build's files writes
+// (cli/merge_tiles.h), so that the merged file equals the untiled build's.
+ImageWriteSpec image_file_spec(int width, int height, int channels, const std::vector<std::string>& channel_names,
+                               const ImageWriteOptions& options);
 
 // Writes `image` to `path`. PNG takes 1 (grey), 2 (grey + alpha), 3 (RGB) or 4 (RGBA) channels; values are
 // clamped to 0..1 and rounded to the nearest code (NaN stores 0). Alpha, when present, is straight (not

@@ -155,6 +155,7 @@ class OiioReader final : public ImageReader {
       info_.channel_types.push_back(from_oiio(t));
       info_.channel_type_texts.push_back(t.c_str());
       info_.channel_sizes.push_back(t.size());
+      info_.channel_names.push_back(spec.channel_name(c));
     }
     info_.native_pixel_bytes = spec.pixel_bytes(true);
     info_.native_tile_bytes = spec.tile_width > 0 ? static_cast<std::size_t>(spec.tile_bytes(true)) : 0;
@@ -222,7 +223,7 @@ class OiioCodec final : public ImageCodec {
 }  // namespace
 }  // namespace orogen
 
-extern "C" __attribute__((visibility("default"))) const orogen::ImageCodec* orogen_image_codec_v1() {
+extern "C" __attribute__((visibility("default"))) const orogen::ImageCodec* orogen_image_codec_v2() {
   static const orogen::OiioCodec codec;
   return &codec;
 }
