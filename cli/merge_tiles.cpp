@@ -1,5 +1,6 @@
 #include "cli/merge_tiles.h"
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -8,18 +9,21 @@
 #include <optional>
 #include <stdexcept>
 
+#include "cli/join_tiles.h"
 #include "cli/tiling.h"
 #include "graph/atomic_file.h"
 #include "graph/checked_file.h"
 #include "nodes/io/block_rows.h"
 #include "nodes/io/block_writer.h"
 #include "nodes/io/checked_image_output.h"
+#include "nodes/io/curves_file.h"
 #include "nodes/io/file_extension.h"
 #include "nodes/io/georeference.h"
 #include "nodes/io/height_sidecar.h"
 #include "nodes/io/heightfield_file.h"
 #include "nodes/io/image_codec.h"
 #include "nodes/io/image_file.h"
+#include "nodes/io/points_file.h"
 
 namespace orogen::cli {
 
@@ -89,6 +93,40 @@ class RawTileRows final : public TileRows {
   std::size_t row_bytes_;
   std::ifstream in_;
 };
+
+// The files of the tiles of a writer of `path` (resolved: `target`), tile (I, J) at I + J N.
+std::vector<fs::path> tile_files(const fs::path& target, const std::string& path, glm::ivec2 counts,
+                                 TileNaming naming) {
+  std::vector<fs::path> tiles;
+  for (int j = 0; j < counts.y; ++j)
+    for (int i = 0; i < counts.x; ++i)
+      tiles.push_back(target.parent_path() /
+                      fs::path(with_suffix(path, tile_suffix(named_tile_index(naming, {i, j}, counts)))).filename());
+  return tiles;
+}
+
+// Whether the files hold the same bytes (compared a block at a time).
+bool same_files(const std::vector<fs::path>& files) {
+  std::error_code ec;
+  const auto size = fs::file_size(files.front(), ec);
+  if (ec) throw std::runtime_error("cannot read the tile " + files.front().string() + ": " + ec.message());
+  for (std::size_t k = 1; k < files.size(); ++k)
+    if (fs::file_size(files[k], ec) != size || ec) return false;
+  std::vector<char> first(1 << 16), other(1 << 16);
+  std::ifstream a(files.front(), std::ios::binary);
+  for (std::size_t k = 1; k < files.size(); ++k) {
+    std::ifstream b(files[k], std::ios::binary);
+    a.clear();
+    a.seekg(0);
+    while (a && b) {
+      a.read(first.data(), static_cast<std::streamsize>(first.size()));
+      b.read(other.data(), static_cast<std::streamsize>(other.size()));
+      if (a.gcount() != b.gcount() || !std::equal(first.begin(), first.begin() + a.gcount(), other.begin()))
+        return false;
+    }
+  }
+  return true;
+}
 
 // One raster writer's merge: its tiles, how to read them and the merged file's header.
 struct RasterMerge {
@@ -183,17 +221,14 @@ std::optional<RasterMerge> plan_merge(const Graph& graph, const Node& node, cons
                                       TileNaming naming, const OutputPolicy& policy, std::string& why) {
   const std::string& type = node.type->name;
   if (type != "WriteHeightfield" && type != "WriteImage") {
-    why = type + " files are not merged yet";
+    why = type + " files are not merged";
     return std::nullopt;
   }
   const std::string& path = param<std::string>(graph, node.id, "path");
   RasterMerge m;
   m.node = node.id;
   m.target = resolve_output_path(policy, path);
-  for (int j = 0; j < counts.y; ++j)
-    for (int i = 0; i < counts.x; ++i)
-      m.tiles.push_back(m.target.parent_path() /
-                        fs::path(with_suffix(path, tile_suffix(named_tile_index(naming, {i, j}, counts)))).filename());
+  m.tiles = tile_files(m.target, path, counts, naming);
   if (type == "WriteImage") {
     ImageWriteOptions options;
     options.format = image_format_from_path(path).value();  // the tiles were written: the extension is known
@@ -258,8 +293,46 @@ std::vector<std::string> merge_errors(const Graph& graph) {
 MergeResult merge_tiles(const Graph& graph, const Domain& full, glm::ivec2 counts, TileNaming naming,
                         const OutputPolicy& policy) {
   MergeResult result;
+  // The lines of samples neighboring tiles share: only points on them can be written by two tiles.
+  std::vector<double> border_x, border_y;
+  for (int i = 1; i < counts.x; ++i) border_x.push_back(full.x(tile_window(full.resolution, counts, {i, 0}).first.x));
+  for (int j = 1; j < counts.y; ++j) border_y.push_back(full.y(tile_window(full.resolution, counts, {0, j}).first.y));
+  const auto replace = [&](const Node& node, const fs::path& target, const std::vector<fs::path>& tiles,
+                           std::vector<AtomicWrite> files) {
+    write_files_atomically(files);
+    // The merged file replaces the tiles, their side files and a mosaic of them left by an earlier build.
+    std::error_code ignored;
+    for (const auto& tile : tiles)
+      for (const char* extra : {"", ".json", ".aux.xml"}) fs::remove(fs::path(tile) += extra, ignored);
+    fs::remove(fs::path(target).replace_extension(".vrt"), ignored);
+    result.files.push_back(target.string());
+    result.merged_nodes.insert(node.id);
+  };
   for (const auto& node : graph.nodes()) {
-    if (!writes_rasters(*node.type)) continue;
+    if (!node.type->writes_files) continue;
+    const std::string& type = node.type->name;
+    if (type == "WritePoints" || type == "WriteCurves") {
+      const std::string& path = param<std::string>(graph, node.id, "path");
+      const fs::path target = resolve_output_path(policy, path);
+      const std::vector<fs::path> tiles = tile_files(target, path, counts, naming);
+      std::function<void(const fs::path&)> join;
+      if (type == "WritePoints")
+        join = [&, ply = points_format_from_path(path) == PointsFormat::Ply](const fs::path& out) {
+          ply ? join_points_ply(tiles, out, border_x, border_y) : join_points_csv(tiles, out, border_x, border_y);
+        };
+      else
+        join = [&, obj = curves_format_from_path(path) == CurvesFormat::Obj](const fs::path& out) {
+          obj ? join_curves_obj(tiles, out) : join_curves_json(tiles, out);
+        };
+      // A value every tile computes whole (a replicated river network) is in every tile's file: written once.
+      if (same_files(tiles)) join = [&](const fs::path& out) { fs::copy_file(tiles.front(), out); };
+      replace(node, target, tiles, {{target, join}});
+      continue;
+    }
+    if (!writes_rasters(*node.type)) {
+      result.warnings.push_back("'" + node.id + "' keeps its tiles: " + type + " files are not merged");
+      continue;
+    }
     std::string why;
     const auto m = plan_merge(graph, node, full, counts, naming, policy, why);
     if (!m) {
@@ -269,14 +342,7 @@ MergeResult merge_tiles(const Graph& graph, const Domain& full, glm::ivec2 count
     std::vector<AtomicWrite> files;
     files.push_back({m->target, [&](const fs::path& temporary) { write_merged(*m, full, counts, temporary); }});
     for (const auto& f : m->side_files) files.push_back(f);
-    write_files_atomically(files);
-    // The merged file replaces the tiles, their side files and a mosaic of them left by an earlier build.
-    std::error_code ignored;
-    for (const auto& tile : m->tiles)
-      for (const char* extra : {"", ".json", ".aux.xml"}) fs::remove(fs::path(tile) += extra, ignored);
-    fs::remove(fs::path(m->target).replace_extension(".vrt"), ignored);
-    result.files.push_back(m->target.string());
-    result.merged_nodes.insert(node.id);
+    replace(node, m->target, m->tiles, std::move(files));
   }
   return result;
 }

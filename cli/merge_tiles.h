@@ -6,9 +6,12 @@
 // removed once the merged file is in place; a failure leaves the previous merged file (and the tiles) as
 // they were.
 //
-// What merges: WriteHeightfield in every format (EXR, TIFF, PNG16 and RAW16; the 16-bit ones with a fixed
-// range, since with 'auto' each tile maps its own range) and WriteImage in every format. Every other writer
-// (weight maps, control maps) keeps its tiles (and their GDAL mosaic), named in a warning.
+// What merges:
+// - WriteHeightfield in every format (EXR, TIFF, PNG16 and RAW16; the 16-bit ones need a fixed range, since
+//   with 'auto' each tile maps its own range) and WriteImage in every format: the untiled build's bytes.
+// - WritePoints and WriteCurves: one file joining the tiles' (cli/join_tiles.h); a value every tile computes
+//   whole (a replicated river network) is in every tile's file alike and is written once.
+// Every other writer (weight maps, control maps, meshes, scenes) keeps its tiles, named in a warning.
 #include <set>
 #include <string>
 #include <vector>

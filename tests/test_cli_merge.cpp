@@ -1,6 +1,7 @@
 // End-to-end tests of `orogen eval --tiles NxM --merge` (cli/merge_tiles.h): each height raster's tiles become
 // one file that equals the untiled build's byte for byte, streamed through one process; the tiles go away, what
 // cannot merge keeps its tiles and says so, and what can never merge is refused before anything runs.
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 
@@ -77,6 +78,76 @@ TEST(CliMerge, MergedFilesEqualTheUntiledBuildByteForByteAndReplaceTheTiles) {
       EXPECT_EQ(files, kMerged.size());
       EXPECT_NE(r.err.find("7 merged files"), std::string::npos) << r.err;
     }
+}
+
+// The lines of a CSV or PLY points file after its header, sorted: the points as a set in a canonical order.
+std::vector<std::string> sorted_rows(const fs::path& file) {
+  std::ifstream in(file);
+  std::vector<std::string> rows;
+  std::string line;
+  bool body = file.extension() == ".csv";
+  bool header = body;
+  while (std::getline(in, line)) {
+    if (header) {
+      header = false;
+      continue;
+    }
+    if (body) rows.push_back(line);
+    if (line == "end_header") body = true;
+  }
+  std::sort(rows.begin(), rows.end());
+  return rows;
+}
+
+TEST(CliMerge, PointsAndCurvesJoinIntoOneFile) {
+  const fs::path dir = scratch_dir("cli_merge_vectors");
+  const fs::path graph = write_graph(dir, R"({
+    "format": "orogen-graph", "version": 7,
+    "domain": { "size": [4096, 4096], "resolution": [97, 97] },
+    "nodes": [
+      { "id": "valley", "type": "Subgraph", "asset": "river_valley", "asset_version": 1,
+        "inputs": { "terrain": "terrain.out" } },
+      { "id": "hills", "type": "FBM", "params": { "feature_size": 1200, "amplitude": 60, "seed": 21 } },
+      { "id": "raise", "type": "Constant", "params": { "value": 90 } },
+      { "id": "terrain", "type": "Add", "inputs": { "a": "hills.out", "b": "raise.out" } },
+      { "id": "spots", "type": "PoissonDisk", "params": { "radius_0": 80, "seed": 4 } },
+      { "id": "csv", "type": "WritePoints", "inputs": { "in": "spots.out" }, "params": { "path": "spots.csv" } },
+      { "id": "ply", "type": "WritePoints", "inputs": { "in": "spots.out" }, "params": { "path": "spots.ply" } },
+      { "id": "json", "type": "WriteCurves", "inputs": { "in": "valley.rivers" }, "params": { "path": "rivers.json" } },
+      { "id": "obj", "type": "WriteCurves", "inputs": { "in": "valley.rivers" }, "params": { "path": "rivers.obj" } }
+    ]
+  })");
+  ASSERT_EQ(orogen({"eval", graph.string(), "-o", (dir / "whole").string(), "-q"}).exit_code, 0);
+  ASSERT_EQ(orogen({"eval", graph.string(), "-o", (dir / "tiles").string(), "--tiles", "3x2", "-q"}).exit_code, 0);
+  const auto r = orogen({"eval", graph.string(), "-o", (dir / "merged").string(), "--tiles", "3x2", "--merge", "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // The river network is replicated: every tile writes it whole, and the joined file is the untiled build's.
+  for (const std::string f : {"rivers.json", "rivers.obj"}) {
+    ASSERT_TRUE(fs::exists(dir / "merged" / f)) << f;
+    EXPECT_TRUE(file_bytes(dir / "merged" / f) == file_bytes(dir / "whole" / f)) << f;
+  }
+  // The points are the union of the tiles' points, each once.
+  for (const std::string f : {"spots.csv", "spots.ply"}) {
+    const fs::path stem = fs::path(f).stem(), ext = fs::path(f).extension();
+    std::vector<std::string> tiles;
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 3; ++i) {
+        const auto rows = sorted_rows(
+            dir / "tiles" / (stem.string() + "_x" + std::to_string(i) + "_y" + std::to_string(j) + ext.string()));
+        tiles.insert(tiles.end(), rows.begin(), rows.end());
+      }
+    std::sort(tiles.begin(), tiles.end());
+    tiles.erase(std::unique(tiles.begin(), tiles.end()), tiles.end());
+    const auto joined = sorted_rows(dir / "merged" / f);
+    EXPECT_GT(joined.size(), 50u) << f;
+    EXPECT_EQ(joined, tiles) << f;
+  }
+  const std::string ply = file_bytes(dir / "merged" / "spots.ply");
+  EXPECT_NE(ply.find("element vertex " + std::to_string(sorted_rows(dir / "merged" / "spots.ply").size()) + "\n"),
+            std::string::npos);
+  std::size_t files = 0;
+  for (const auto& e : fs::recursive_directory_iterator(dir / "merged")) files += e.is_regular_file() ? 1 : 0;
+  EXPECT_EQ(files, 4u);
 }
 
 TEST(CliMerge, AMergeReplacesAnEarlierTiledBuildsTilesAndMosaic) {
