@@ -112,7 +112,9 @@ bool write_tile_mosaics(const Graph& graph, const Domain& domain, glm::ivec2 cou
   std::vector<std::string> warnings;
   std::set<std::string> merged;
   if (merge) try {
-      MergeResult m = merge_tiles(graph, domain, counts, naming, policy);
+      MergeResult m = merge_tiles(graph, domain, counts, naming, policy, [quiet](const std::string& file) {
+        if (!quiet) std::cerr << "merging the tiles into " << file << "\n";
+      });
       for (const auto& w : m.warnings) std::cerr << "warning: --merge: " << w << "\n";
       if (!quiet && !m.files.empty())
         std::cerr << m.files.size() << (m.files.size() == 1 ? " merged file" : " merged files")

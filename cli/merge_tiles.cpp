@@ -291,7 +291,7 @@ std::vector<std::string> merge_errors(const Graph& graph) {
 }
 
 MergeResult merge_tiles(const Graph& graph, const Domain& full, glm::ivec2 counts, TileNaming naming,
-                        const OutputPolicy& policy) {
+                        const OutputPolicy& policy, const std::function<void(const std::string&)>& starting) {
   MergeResult result;
   // The lines of samples neighboring tiles share: only points on them can be written by two tiles.
   std::vector<double> border_x, border_y;
@@ -299,6 +299,7 @@ MergeResult merge_tiles(const Graph& graph, const Domain& full, glm::ivec2 count
   for (int j = 1; j < counts.y; ++j) border_y.push_back(full.y(tile_window(full.resolution, counts, {0, j}).first.y));
   const auto replace = [&](const Node& node, const fs::path& target, const std::vector<fs::path>& tiles,
                            std::vector<AtomicWrite> files) {
+    if (starting) starting(target.string());
     write_files_atomically(files);
     // The merged file replaces the tiles, their side files and a mosaic of them left by an earlier build.
     std::error_code ignored;

@@ -12,6 +12,7 @@
 // - WritePoints and WriteCurves: one file joining the tiles' (cli/join_tiles.h); a value every tile computes
 //   whole (a replicated river network) is in every tile's file alike and is written once.
 // Every other writer (weight maps, control maps, meshes, scenes) keeps its tiles, named in a warning.
+#include <functional>
 #include <set>
 #include <string>
 #include <vector>
@@ -34,9 +35,10 @@ struct MergeResult {
   std::vector<std::string> warnings;   // writers left as tiles, and why
 };
 
-// Merges the tiles of a build of every tile of `counts` over `full`, found by their names under `naming`.
+// Merges the tiles of a build of every tile of `counts` over `full`, found by their names under `naming`;
+// `starting(file)`, if given, is called before each merged file is written (progress of a long merge).
 // Throws std::runtime_error (naming the file) if a tile is missing or does not fit, or a write fails.
 MergeResult merge_tiles(const Graph& graph, const Domain& full, glm::ivec2 counts, TileNaming naming,
-                        const OutputPolicy& policy);
+                        const OutputPolicy& policy, const std::function<void(const std::string&)>& starting = {});
 
 }  // namespace orogen::cli
