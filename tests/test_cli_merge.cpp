@@ -164,18 +164,20 @@ TEST(CliMerge, AMergeReplacesAnEarlierTiledBuildsTilesAndMosaic) {
   EXPECT_TRUE(fs::exists(out / "height.r16"));
 }
 
+// A 41 x 41 graph of FBM noise ('noise') and the nodes `nodes` (JSON objects, comma-separated).
+std::string small_graph(const std::string& nodes) {
+  return R"({ "format": "orogen-graph", "version": 7, "domain": { "size": [400, 400], "resolution": [41, 41] },
+    "nodes": [ { "id": "noise", "type": "FBM", "params": { "feature_size": 200, "seed": 2, "amplitude": 50 } },)" +
+         nodes + "] }";
+}
+
 TEST(CliMerge, WritersThatCannotMergeKeepTheirTilesAndSaySo) {
   const fs::path dir = scratch_dir("cli_merge_weightmaps");
-  const fs::path graph = write_graph(dir, R"({
-    "format": "orogen-graph", "version": 7,
-    "domain": { "size": [400, 400], "resolution": [41, 41] },
-    "nodes": [
-      { "id": "noise", "type": "FBM", "params": { "feature_size": 200, "seed": 2, "amplitude": 50 } },
-      { "id": "weights", "type": "SplatWeights", "inputs": { "in": "noise.out" } },
+  const fs::path graph = write_graph(
+      dir, small_graph(R"(      { "id": "weights", "type": "SplatWeights", "inputs": { "in": "noise.out" } },
       { "id": "maps", "type": "WriteWeightmaps", "inputs": { "in": "weights.out" }, "params": { "path": "layers.json" } },
       { "id": "save", "type": "WriteHeightfield", "inputs": { "in": "noise.out" }, "params": { "path": "height.tif" } }
-    ]
-  })");
+  )"));
   const fs::path out = dir / "out";
   const auto r = orogen({"eval", graph.string(), "-o", out.string(), "--tiles", "2x2", "--merge"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -188,16 +190,13 @@ TEST(CliMerge, WritersThatCannotMergeKeepTheirTilesAndSaySo) {
 
 TEST(CliMerge, WhatCannotMergeIsRefusedBeforeAnythingRuns) {
   const fs::path dir = scratch_dir("cli_merge_refused");
-  const fs::path graph = write_graph(dir, R"({
-    "format": "orogen-graph", "version": 7,
-    "domain": { "size": [400, 400], "resolution": [41, 41] },
-    "nodes": [
-      { "id": "noise", "type": "FBM", "params": { "feature_size": 200, "seed": 2, "amplitude": 50 } },
-      { "id": "save_png", "type": "WriteHeightfield", "inputs": { "in": "noise.out" }, "params": { "path": "h.png" } },
+  const fs::path graph = write_graph(
+      dir,
+      small_graph(
+          R"(      { "id": "save_png", "type": "WriteHeightfield", "inputs": { "in": "noise.out" }, "params": { "path": "h.png" } },
       { "id": "save_raw", "type": "WriteHeightfield", "inputs": { "in": "noise.out" },
         "params": { "path": "h.raw", "range": "fixed", "height_min": -60, "height_max": 60 } }
-    ]
-  })");
+  )"));
   const fs::path out = dir / "out";
   auto r = orogen({"eval", graph.string(), "-o", out.string(), "--tiles", "2x2", "--merge"});
   EXPECT_EQ(r.exit_code, 2);
