@@ -5,7 +5,7 @@
 # every build alike. Prints each build's peak resident memory (GNU time's %M) and CPU time (perf's task-clock,
 # every thread, user and system), then the medians.
 #
-# Usage: bench/bench_tile_memory.sh GRAPH RESOLUTION TILES REPS ORGEN_BINARY...
+# Usage: bench/bench_tile_memory.sh GRAPH RESOLUTION TILES REPS OROGEN_BINARY...
 #   bench/bench_tile_memory.sh bench/tiled_local.json 4097 4x4 3 /tmp/old/bin/orogen build/release/cli/orogen
 # A copied binary finds its image codec in ../lib/orogen beside it (or set OROGEN_IMAGE_CODEC).
 set -euo pipefail
