@@ -19,6 +19,7 @@
 #include "cli/progress_display.h"
 #include "cli/stats_report.h"
 #include "cli/tile_graph_stages.h"
+#include "cli/tile_memory.h"
 #include "cli/tile_assignment.h"
 #include "cli/tile_naming.h"
 #include "cli/tiling.h"
@@ -374,17 +375,40 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
       return kExitEvalFailed;
     }
   }
+  // A build's graph (a tile's writers write files with its suffix) and its nodes' domains.
+  const auto tile_graph_of = [&](const Build& build) {
+    Graph g = graph;
+    if (build.tile) add_output_suffix(g, build.suffix);
+    return g;
+  };
+  const auto node_domains_of = [&](const Graph& g, const Build& build) {
+    return build.tile ? tile_node_domains(g, domain, *build.tile, global, across) : std::map<std::string, Domain>{};
+  };
+  // Tiles are evaluated one after another; the memory cache keeps only the results a later tile looks up
+  // (cli/tile_memory.h), so the build holds one tile's working set, not every tile's results.
+  std::vector<KeySet> wanted_later;
+  if (tiled) {
+    std::vector<std::map<std::string, CacheKey>> keys;
+    std::vector<std::set<std::string>> given;
+    for (std::size_t b = 0; b < builds.size(); ++b) {
+      const Graph g = tile_graph_of(builds[b]);
+      keys.push_back(compute_cache_keys(g, domain, policy, node_domains_of(g, builds[b])));
+      given.emplace_back();
+      for (const auto& [id, r] : across_results[b]) given.back().insert(id);
+    }
+    wanted_later = keys_wanted_later(graph, keys, given);
+  }
   for (std::size_t b = 0; b < builds.size(); ++b) {
     const Build& build = builds[b];
-    Graph tile_graph = graph;
+    Graph tile_graph = tile_graph_of(build);
     EvalRequest request;
     request.domain = domain;
     request.cancel = &g_interrupt;
     std::string label;
     if (build.tile) {
-      add_output_suffix(tile_graph, build.suffix);
-      request.node_domains = tile_node_domains(tile_graph, domain, *build.tile, global, across);
+      request.node_domains = node_domains_of(tile_graph, build);
       request.given_results = across_results[b];
+      request.keep_in_memory = [&kept = wanted_later[b]](const CacheKey& key) { return kept.count(key) > 0; };
       const Domain d =
           domain.subdomain(build.tile->first.x, build.tile->first.y, build.tile->size.x, build.tile->size.y);
       const glm::ivec2 named = named_tile_index(tile_naming, build.tile->index, counts);
@@ -396,7 +420,7 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
     ProgressDisplay display(stderr, tile_graph.nodes().size());
     if (live) request.on_event = [&](const EvalEvent& e) { display.on_event(e); };
     const EvalResult result = evaluator.evaluate(tile_graph, request);
-    // This tile's share of the across-tile results is done with (the cache keeps what fits).
+    // This tile's share of the across-tile results is done with (kept in memory only if a later tile wants it).
     request.given_results.clear();
     across_results[b].clear();
     if (live) display.finish();

@@ -392,12 +392,14 @@ class Run {
         throw std::invalid_argument("evaluate: the given result of node '" + id + "' does not fit its outputs");
       job.result = given->second;
       job.kind = Job::Kind::Hit;
+      forget_unless_kept(*info.key);
       return j;
     }
     job.needed = needed_outputs(*info.key, type);
     std::shared_ptr<const CachedResult> partial;
     if ((job.result = impl_.lookup(*info.key, type, job.needed, &partial))) {
       job.kind = Job::Kind::Hit;
+      forget_unless_kept(*info.key);  // the job holds it as long as this run needs it
       return j;
     }
     // Recomputing over a result that lacked a needed output: compute what it had too, so the entry that
@@ -586,9 +588,18 @@ class Run {
     emit_for_all(job, EvalEvent::Kind::Failed);
   }
 
+  // Whether the memory cache keeps the result of `key` after this run (EvalRequest::keep_in_memory).
+  bool kept_in_memory(const CacheKey& key) const { return !request_.keep_in_memory || request_.keep_in_memory(key); }
+  void forget_unless_kept(const CacheKey& key) {
+    if (!kept_in_memory(key)) impl_.memory.erase(key);
+  }
+
   // Keeps a complete result: in memory now, on disk in a separate task so consumers need not wait for it.
   void store(const CacheKey& key, std::shared_ptr<const CachedResult> result, std::size_t bytes) {
-    impl_.memory.insert(key, result, bytes);
+    if (kept_in_memory(key))
+      impl_.memory.insert(key, result, bytes);
+    else
+      impl_.memory.erase(key);  // a partial entry this result completes
     if (!impl_.disk) return;
     group_.run([this, key, result] {
       try {
@@ -701,6 +712,7 @@ EvalRequest expanded_request(const Graph& graph, const ExpandedGraph& expanded, 
   }
   // Given results are of plain nodes (the tiled build's stages run on the expanded graph).
   flat.given_results = request.given_results;
+  flat.keep_in_memory = request.keep_in_memory;
   return flat;
 }
 

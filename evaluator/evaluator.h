@@ -88,6 +88,11 @@ struct EvalRequest {
   // Results computed outside this evaluation, by node id (a tiled build's tile-graph stages,
   // cli/tile_graph_stages.h): used as they are, reported Cached, and the nodes upstream of them not evaluated.
   std::map<std::string, std::shared_ptr<const CachedResult>> given_results;
+  // Which results the memory cache keeps after this evaluation, by key; empty: all (up to its bound). A tiled
+  // build keeps only what a later tile looks up (cli/tile_memory.h): other results this evaluation computes or
+  // is given stay out of memory, and entries of them it finds there are dropped once taken, so each value
+  // lives only while a node of this evaluation needs it. The disk cache stores as before.
+  std::function<bool(const CacheKey&)> keep_in_memory;
   const CancelToken* cancel = nullptr;
   EventCallback on_event;
 };

@@ -421,6 +421,36 @@ TEST_F(EvaluatorTest, IntermediateValuesAreReleasedWhenTheirConsumersAreDone) {
   EXPECT_EQ(g_probe_saw_source_alive, 1);
 }
 
+TEST_F(EvaluatorTest, KeepInMemoryLeavesOnlyTheChosenResultsInTheCache) {
+  // A tiled build's choice (cli/tile_memory.h): with a cache far larger than the values, only the kept keys stay,
+  // and the others live only while a node of the evaluation needs them.
+  Graph g;
+  g.add_node("TestSource", "source");
+  g.add_node("TestAdd", "a");
+  g.add_node("TestProbe", "probe");
+  g.connect({"source", "out"}, "a", "a");
+  g.connect({"a", "out"}, "probe", "in");
+  const auto keys = compute_cache_keys(g, test::kEvalDomain);
+  Evaluator ev;
+  auto keep_a = request({"probe"});
+  keep_a.keep_in_memory = [&](const CacheKey& k) { return k == keys.at("a"); };
+  ASSERT_TRUE(ev.evaluate(g, keep_a).ok());
+  EXPECT_EQ(g_probe_saw_source_alive, 0) << "the source is released once 'a' has used it";
+  EXPECT_EQ(ev.cache_stats().entries, 1u);
+  // The kept result is found, then dropped when nothing is kept: nothing stays.
+  auto keep_nothing = request({"probe"});
+  keep_nothing.keep_in_memory = [](const CacheKey&) { return false; };
+  const auto r = ev.evaluate(g, keep_nothing);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(status(r, "a"), NodeStatus::Cached);
+  EXPECT_EQ(g_add_runs, 1);
+  EXPECT_EQ(ev.cache_stats().entries, 0u);
+  // Without the choice, everything computed is kept.
+  ASSERT_TRUE(ev.evaluate(g, request({"probe"})).ok());
+  EXPECT_EQ(g_source_runs, 2);
+  EXPECT_EQ(ev.cache_stats().entries, 3u);
+}
+
 TEST_F(EvaluatorTest, PersistentCacheIsSharedAcrossEvaluators) {
   const auto dir = test::scratch_dir("eval-persist");
   const Graph g = two_branches();
