@@ -10,9 +10,10 @@
 // movement over all tiles: the whole domain's, since tiles agree on the samples they share.
 #include <algorithm>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <tuple>
 #include <stdexcept>
 
@@ -31,6 +32,7 @@ constexpr int kHalo = 2;  // one iteration reads the heights within 2 samples
 struct SampleRect {
   glm::ivec2 lo{0, 0}, hi{-1, -1};
   glm::ivec2 size() const { return hi - lo + 1; }
+  bool operator==(const SampleRect& o) const { return lo == o.lo && hi == o.hi; }
   bool operator<(const SampleRect& o) const {
     return std::tie(lo.x, lo.y, hi.x, hi.y) < std::tie(o.lo.x, o.lo.y, o.hi.x, o.hi.y);
   }
@@ -249,9 +251,6 @@ class ThermalAcrossTiles : public TileGraphAlgorithm {
     (void)round;
     const std::size_t count = messages.size();
     std::vector<Header> headers(count);
-    std::vector<Bands> bands;
-    std::map<SampleRect, std::size_t> tile_at;
-    std::vector<std::pair<int, int>> columns, rows;
     float most_moved = 0.0f;
     for (std::size_t t = 0; t < count; ++t) {
       headers[t] = take_header(messages[t]);
@@ -259,13 +258,49 @@ class ThermalAcrossTiles : public TileGraphAlgorithm {
       if (h.channels != headers[0].channels || h.channels < 1 || h.rect.lo.x < 0 || h.rect.lo.y < 0 ||
           h.rect.hi.x >= whole_.x || h.rect.hi.y >= whole_.y || h.rect.size().x < 2 || h.rect.size().y < 2)
         throw std::invalid_argument("thermal erosion bands: a tile's rectangle or channels do not fit");
-      bands.emplace_back(h.rect, whole_);
-      if (messages[t].size() != kHeaderBytes + static_cast<std::size_t>(h.channels) * bands[t].size() * sizeof(float))
+      if (messages[t].size() !=
+          kHeaderBytes + static_cast<std::size_t>(h.channels) * Bands(h.rect, whole_).size() * sizeof(float))
         throw std::invalid_argument("thermal erosion bands: truncated bytes");
-      tile_at[h.rect] = t;
-      columns.emplace_back(h.rect.lo.x, h.rect.hi.x);
-      rows.emplace_back(h.rect.lo.y, h.rect.hi.y);
       most_moved = std::max(most_moved, h.most_moved);
+    }
+    const auto halos = plan(headers);
+    std::vector<std::string> answers(count);
+    for (std::size_t u = 0; u < count; ++u) {
+      std::string& out = answers[u];
+      out.reserve(sizeof(float) * (1 + halos->sources[u].size() * static_cast<std::size_t>(headers[u].channels)));
+      bytes::put(out, most_moved);
+      for (std::int32_t c = 0; c < headers[u].channels; ++c)
+        for (const auto& [v, at] : halos->sources[u])
+          out.append(messages[v].data() + at + static_cast<std::size_t>(c) * halos->stride[v], sizeof(float));
+    }
+    return answers;
+  }
+
+ private:
+  // Where the halo samples of each tile lie in the messages (the tile sending it, the byte offset of its value in the
+  // first channel) and each message's channel stride in bytes: the same every round, so made once per tiling.
+  struct HaloPlan {
+    std::vector<SampleRect> rects;
+    std::vector<std::size_t> stride;
+    std::vector<std::vector<std::pair<std::size_t, std::size_t>>> sources;
+  };
+
+  std::shared_ptr<const HaloPlan> plan(const std::vector<Header>& headers) const {
+    std::vector<SampleRect> rects;
+    for (const Header& h : headers) rects.push_back(h.rect);
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (plan_ && plan_->rects == rects) return plan_;
+    auto p = std::make_shared<HaloPlan>();
+    const std::size_t count = rects.size();
+    std::vector<Bands> bands;
+    std::map<SampleRect, std::size_t> tile_at;
+    std::vector<std::pair<int, int>> columns, rows;
+    for (std::size_t t = 0; t < count; ++t) {
+      bands.emplace_back(rects[t], whole_);
+      p->stride.push_back(bands[t].size() * sizeof(float));
+      tile_at[rects[t]] = t;
+      columns.emplace_back(rects[t].lo.x, rects[t].hi.x);
+      rows.emplace_back(rects[t].lo.y, rects[t].hi.y);
     }
     for (auto* axis : {&columns, &rows}) {
       std::sort(axis->begin(), axis->end());
@@ -284,33 +319,28 @@ class ThermalAcrossTiles : public TileGraphAlgorithm {
           best = range;
       return best;
     };
-    std::vector<std::string> answers(count);
+    p->sources.resize(count);
     for (std::size_t u = 0; u < count; ++u) {
-      const SampleRect& r = headers[u].rect;
-      std::string& out = answers[u];
-      bytes::put(out, most_moved);
-      for (std::int32_t c = 0; c < headers[u].channels; ++c)
-        for_each_halo(r, whole_, [&](glm::ivec2 s) {
-          const auto cx = nearest(columns, r.lo.x, r.hi.x, s.x), cy = nearest(rows, r.lo.y, r.hi.y, s.y);
-          const auto it = tile_at.find(SampleRect{{cx.first, cy.first}, {cx.second, cy.second}});
-          const std::size_t v = it == tile_at.end() ? count : it->second;
-          const std::size_t at = v < count ? bands[v].index(s) : Bands::npos;
-          if (at == Bands::npos) throw std::invalid_argument("thermal erosion bands: a halo sample no tile sends");
-          float value;
-          std::memcpy(
-              &value,
-              messages[v].data() + kHeaderBytes + (static_cast<std::size_t>(c) * bands[v].size() + at) * sizeof(float),
-              sizeof value);
-          bytes::put(out, value);
-        });
+      const SampleRect& r = rects[u];
+      for_each_halo(r, whole_, [&](glm::ivec2 s) {
+        const auto cx = nearest(columns, r.lo.x, r.hi.x, s.x), cy = nearest(rows, r.lo.y, r.hi.y, s.y);
+        const auto it = tile_at.find(SampleRect{{cx.first, cy.first}, {cx.second, cy.second}});
+        const std::size_t v = it == tile_at.end() ? count : it->second;
+        const std::size_t at = v < count ? bands[v].index(s) : Bands::npos;
+        if (at == Bands::npos) throw std::invalid_argument("thermal erosion bands: a halo sample no tile sends");
+        p->sources[u].emplace_back(v, kHeaderBytes + at * sizeof(float));
+      });
     }
-    return answers;
+    p->rects = std::move(rects);
+    plan_ = p;
+    return plan_;
   }
 
- private:
   ThermalParams params_;
   ThermalStencil stencil_;
   glm::ivec2 whole_first_, whole_;
+  mutable std::mutex mutex_;
+  mutable std::shared_ptr<const HaloPlan> plan_;  // of the last tiling solved
 };
 
 // Every parameter value runs across the tiles; a run the whole-domain node would refuse (too many iterations) stays
