@@ -15,6 +15,7 @@
 #include "graph/registry.h"
 #include "graph/tile_graph.h"
 #include "nodes/erosion/thermal.h"
+#include "nodes/erosion/thermal_across_tiles.h"
 
 namespace orogen::erosion {
 namespace {
@@ -131,97 +132,115 @@ void expect_same(const Maps& tiled, const Maps& whole) {
 
 std::string label(glm::ivec2 v) { return std::to_string(v.x) + "x" + std::to_string(v.y); }
 
+ThermalParams params(double travel_distance, double tolerance) {
+  ThermalParams p;
+  p.talus_angle = 30.0, p.strength = 0.5, p.travel_distance = travel_distance, p.tolerance = tolerance;
+  return p;
+}
+
+// The registered algorithm (iterations per exchange from the tiles) and ones exchanging every 1, 3 and 8 iterations
+// (halos of 2, 6 and 16 samples, wider than the smallest tiles below).
+std::vector<std::pair<int, std::unique_ptr<TileGraphAlgorithm>>> algorithms(const ThermalParams& p,
+                                                                            const Domain& whole) {
+  std::vector<std::pair<int, std::unique_ptr<TileGraphAlgorithm>>> all;
+  all.emplace_back(0, algorithm_of({{"talus_angle", p.talus_angle},
+                                    {"strength", p.strength},
+                                    {"travel_distance", p.travel_distance},
+                                    {"tolerance", p.tolerance}},
+                                   whole));
+  for (const int k : {1, 3, 8}) all.emplace_back(k, thermal_across_tiles(p, whole, k));
+  return all;
+}
+
 TEST(ThermalAcrossTiles, EveryTilingEqualsTheWholeDomainRunBitForBit) {
   const Fields f = fields({97, 81}, 3);
+  // 30 degrees over 10 m: 12 iterations, every one moving material (tolerance 0).
+  const ThermalParams p = params(60.0, 0.0);
+  const auto all = algorithms(p, f.domain);
   for (const bool mask : {false, true})
     for (const bool hardness : {false, true}) {
-      // 30 degrees over 10 m: 12 iterations, every one moving material (tolerance 0).
-      ThermalParams p;
-      p.talus_angle = 30.0, p.strength = 0.5, p.travel_distance = 60.0, p.tolerance = 0.0;
       int iterations = 0;
       const Maps whole = whole_domain(f, p, mask, hardness, &iterations);
       ASSERT_EQ(iterations, 12);
       ASSERT_FALSE(same_bits(whole.out, f.in->data)) << "the run must move material";
-      const auto algorithm = algorithm_of(
-          {{"talus_angle", 30.0}, {"strength", 0.5}, {"travel_distance", 60.0}, {"tolerance", 0.0}}, f.domain);
-      ASSERT_TRUE(algorithm);
-      for (const glm::ivec2 counts : {glm::ivec2(1, 1), glm::ivec2(2, 2), glm::ivec2(3, 2), glm::ivec2(4, 3),
-                                      glm::ivec2(1, 4), glm::ivec2(7, 6)}) {
-        SCOPED_TRACE("mask " + std::to_string(mask) + " hardness " + std::to_string(hardness) + " tiles " +
-                     label(counts));
-        int rounds = 0;
-        expect_same(across_tiles(*algorithm, f, counts, mask, hardness, &rounds), whole);
-        EXPECT_EQ(rounds, 1 + iterations);
+      for (const auto& [k, algorithm] : all) {
+        ASSERT_TRUE(algorithm);
+        for (const glm::ivec2 counts : {glm::ivec2(1, 1), glm::ivec2(2, 2), glm::ivec2(3, 2), glm::ivec2(4, 3),
+                                        glm::ivec2(1, 4), glm::ivec2(7, 6)}) {
+          SCOPED_TRACE("mask " + std::to_string(mask) + " hardness " + std::to_string(hardness) + " every " +
+                       std::to_string(k) + " iterations, tiles " + label(counts));
+          int rounds = 0;
+          expect_same(across_tiles(*algorithm, f, counts, mask, hardness, &rounds), whole);
+          // Iterations per exchange, then the first bands, then a round per block (small tiles: 1 by default).
+          const int block = k > 0 ? k : 1;
+          EXPECT_EQ(rounds, 2 + (iterations + block - 1) / block);
+        }
       }
     }
 }
 
-// Tiles of 2 and 3 samples: a halo sample then lies in the tile beyond the neighbor.
+// Tiles of 2 and 3 samples: a halo sample then lies in a tile beyond the neighbor (up to 8 tiles away for a halo of
+// 16 samples).
 TEST(ThermalAcrossTiles, TilesNarrowerThanTheHaloTakeItFromTilesFurtherOn) {
   const Fields f = fields({41, 33}, 4);
-  ThermalParams p;
-  p.talus_angle = 30.0, p.strength = 0.5, p.travel_distance = 40.0, p.tolerance = 0.0;
+  const ThermalParams p = params(40.0, 0.0);
   int iterations = 0;
   const Maps whole = whole_domain(f, p, true, true, &iterations);
-  const auto algorithm =
-      algorithm_of({{"talus_angle", 30.0}, {"strength", 0.5}, {"travel_distance", 40.0}, {"tolerance", 0.0}}, f.domain);
-  ASSERT_TRUE(algorithm);
-  for (const glm::ivec2 counts : {glm::ivec2(40, 1), glm::ivec2(20, 16), glm::ivec2(13, 32)}) {
-    SCOPED_TRACE("tiles " + label(counts));
-    int rounds = 0;
-    expect_same(across_tiles(*algorithm, f, counts, true, true, &rounds), whole);
-  }
+  for (const auto& [k, algorithm] : algorithms(p, f.domain))
+    for (const glm::ivec2 counts : {glm::ivec2(40, 1), glm::ivec2(20, 16), glm::ivec2(13, 32)}) {
+      SCOPED_TRACE("every " + std::to_string(k) + " iterations, tiles " + label(counts));
+      int rounds = 0;
+      expect_same(across_tiles(*algorithm, f, counts, true, true, &rounds), whole);
+    }
 }
 
 // A tolerance the run reaches before its iteration count: every tile stops after the same iteration as the
-// whole-domain run, from the largest change over all tiles.
+// whole-domain run, from the largest change over all tiles; a tile that ran past it within its block goes back.
 TEST(ThermalAcrossTiles, AllTilesStopByToleranceWhereTheWholeDomainRunStops) {
   const Fields f = fields({97, 81}, 5);
-  ThermalParams p;
-  p.talus_angle = 30.0, p.strength = 0.5, p.travel_distance = 500.0, p.tolerance = 0.3;
+  const ThermalParams p = params(500.0, 0.3);
   int iterations = 0;
   const Maps whole = whole_domain(f, p, true, false, &iterations);
   ASSERT_GT(iterations, 3);
   ASSERT_LT(iterations, 100) << "the run must stop early by tolerance";
-  const auto algorithm = algorithm_of({{"talus_angle", 30.0}, {"strength", 0.5}, {"tolerance", 0.3}}, f.domain);
-  ASSERT_TRUE(algorithm);
-  for (const glm::ivec2 counts : {glm::ivec2(1, 1), glm::ivec2(3, 2), glm::ivec2(7, 6)}) {
-    SCOPED_TRACE("tiles " + label(counts));
-    int rounds = 0;
-    expect_same(across_tiles(*algorithm, f, counts, true, false, &rounds), whole);
-    EXPECT_EQ(rounds, 1 + iterations);
-  }
+  ASSERT_NE(iterations % 3, 0) << "the run must stop inside a block of 3";
+  for (const auto& [k, algorithm] : algorithms(p, f.domain))
+    for (const glm::ivec2 counts : {glm::ivec2(1, 1), glm::ivec2(3, 2), glm::ivec2(7, 6)}) {
+      SCOPED_TRACE("every " + std::to_string(k) + " iterations, tiles " + label(counts));
+      int rounds = 0;
+      expect_same(across_tiles(*algorithm, f, counts, true, false, &rounds), whole);
+      const int block = k > 0 ? k : 1;
+      EXPECT_EQ(rounds, 2 + (iterations + block - 1) / block);
+    }
 }
 
-// The mutation check: one tile missing one halo exchange (its halo stays stale for one iteration) changes the
-// result, so the equality above depends on every exchange.
+// The mutation check: one tile missing one halo exchange (its halo stays stale) changes the result, so the equality
+// above depends on every exchange.
 TEST(ThermalAcrossTiles, SkippingOneHaloExchangeBreaksTheEquality) {
   const Fields f = fields({97, 81}, 3);
-  ThermalParams p;
-  p.talus_angle = 30.0, p.strength = 0.5, p.travel_distance = 60.0, p.tolerance = 0.0;
+  const ThermalParams p = params(60.0, 0.0);
   int iterations = 0;
   const Maps whole = whole_domain(f, p, false, false, &iterations);
-  const auto algorithm =
-      algorithm_of({{"talus_angle", 30.0}, {"strength", 0.5}, {"travel_distance", 60.0}, {"tolerance", 0.0}}, f.domain);
-  ASSERT_TRUE(algorithm);
-  int rounds = 0;
-  expect_same(across_tiles(*algorithm, f, {3, 2}, false, false, &rounds), whole);
-  for (const int round : {0, 5}) {
-    SCOPED_TRACE("skipped round " + std::to_string(round));
-    int disagreements = 0;
-    const Maps mutated = across_tiles(
-        *algorithm, f, {3, 2}, false, false, &rounds, [&](std::size_t tile, int r) { return tile == 4 && r == round; },
-        &disagreements);
-    EXPECT_FALSE(same_bits(mutated.out, whole.out));
-    EXPECT_GT(disagreements, 0) << "the stale tile's border must differ from its neighbors'";
+  for (const int k : {1, 3}) {
+    const auto algorithm = thermal_across_tiles(p, f.domain, k);
+    int rounds = 0;
+    expect_same(across_tiles(*algorithm, f, {3, 2}, false, false, &rounds), whole);
+    for (const int round : {1, 3}) {
+      SCOPED_TRACE("every " + std::to_string(k) + " iterations, skipped round " + std::to_string(round));
+      int disagreements = 0;
+      const Maps mutated = across_tiles(
+          *algorithm, f, {3, 2}, false, false, &rounds,
+          [&](std::size_t tile, int r) { return tile == 4 && r == round; }, &disagreements);
+      EXPECT_FALSE(same_bits(mutated.out, whole.out));
+      EXPECT_GT(disagreements, 0) << "the stale tile's border must differ from its neighbors'";
+    }
   }
 }
 
-// What travels per iteration is the tiles' border bands, not the tiles; damaged bytes are refused.
+// What travels per exchange is the tiles' border bands, not the tiles; damaged bytes are refused.
 TEST(ThermalAcrossTiles, BandsAreSmallAndTheirBytesAreChecked) {
   const Fields f = fields({97, 81}, 3);
-  const auto algorithm = algorithm_of({{"travel_distance", 60.0}}, f.domain);
-  ASSERT_TRUE(algorithm);
+  const auto algorithm = thermal_across_tiles(params(60.0, 0.0), f.domain, 3);
   std::vector<std::unique_ptr<TileGraphTile>> tiles;
   std::vector<std::string> messages;
   for (int tj = 0; tj < 2; ++tj)
@@ -232,10 +251,14 @@ TEST(ThermalAcrossTiles, BandsAreSmallAndTheirBytesAreChecked) {
       for (int j = 0; j < n.y; ++j)
         for (int i = 0; i < n.x; ++i) c->at(i, j) = f.in->at(first.x + i, first.y + j);
       tiles.push_back(algorithm->start({HeightfieldPtr(c), PortValue{}, PortValue{}}));
-      messages.push_back(tiles.back()->message(1));
+      messages.push_back(tiles.back()->message(0));
     }
-  // Tile (0, 0) is 49 x 41 samples with neighbors right and below: 2 rows of 49 and 2 columns of 41 heights.
-  EXPECT_EQ(messages[0].size(), 28u + 4u * (2 * 49 + 2 * 41));
+  const auto blocks = algorithm->solve(0, messages);
+  for (std::size_t t = 0; t < tiles.size(); ++t) tiles[t]->answer(0, blocks[t]);
+  messages.clear();
+  for (auto& tile : tiles) messages.push_back(tile->message(1));
+  // Tile (0, 0) is 49 x 41 samples with neighbors right and below: 6 rows of 49 and 6 columns of 41 heights and rates.
+  EXPECT_EQ(messages[0].size(), 28u + 2u * 4u * (6 * 49 + 6 * 41));
   auto damaged = messages;
   damaged[1].pop_back();
   EXPECT_THROW(algorithm->solve(1, damaged), std::invalid_argument);
