@@ -199,7 +199,7 @@ class ThermalTile : public TileGraphTile {
       }
       for (std::vector<float>* c : channels(round))
         for_each_halo(rect_, whole_, halo_, [&](glm::ivec2 s) { (*c)[cell(s)] = bytes::take<float>(in, what); });
-      z_start_ = grids_->z, moved_start_ = grids_->moved;
+      if (block_ > 1) z_start_ = grids_->z, moved_start_ = grids_->moved;  // a block of 1 never goes back
     }
     if (!in.empty()) throw std::invalid_argument("thermal erosion halo: bytes left over");
   }
