@@ -405,7 +405,7 @@ TEST(Distributed, ARerunWithTheSameCacheRecomputesOnlyTheUnfinishedTiles) {
   EXPECT_NE(computed("stats_x2_y1.json").find("save_height"), std::string::npos) << "the failed tile writes now";
 }
 
-// ThermalErosion across the ranks' tiles, its halos exchanged every iteration (bench/distributed_thermal.json: fBm
+// ThermalErosion across the ranks' tiles, its halos exchanged every few iterations (bench/distributed_thermal.json: fBm
 // with mask and hardness linked, every output written, and a blur downstream whose halo comes from the neighboring
 // ranks' tiles): the single-process tiled build's files, and put together every raster of the untiled build.
 TEST(Distributed, ThermalErosionAcrossRanksEqualsTheUntiledBuild) {

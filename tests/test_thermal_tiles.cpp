@@ -1,7 +1,7 @@
 // ThermalErosion across tiles (nodes/erosion/thermal_across_tiles.cpp): each tile iterates on its samples with a
-// 2-sample halo exchanged every iteration; put together, the tiles must equal the whole-domain run bit for bit on
-// every tiling (tiles of 2 samples included), with mask and hardness linked or not, stopping at the same iteration.
-// A run that skips one halo exchange must not.
+// 2k-sample halo exchanged every k iterations; put together, the tiles must equal the whole-domain run bit for bit on
+// every tiling (tiles of 2 samples included), for k = 1, 3, 8 and the chosen one, with mask and hardness linked or
+// not, stopping at the same iteration (inside a block too). A run that skips one halo exchange must not.
 #include <cmath>
 #include <cstring>
 #include <functional>
