@@ -6,6 +6,8 @@
 #
 # GRAPH=bench/distributed_fill.json measures the nodes that run across the tiles today (filling flat, lakes,
 # normalization): there each rank holds only its tiles.
+# GRAPH=bench/distributed_thermal.json measures ThermalErosion across the tiles (halos exchanged every k
+# iterations).
 #
 # Usage: [GRAPH=G.json] bench/bench_distributed.sh [ORGEN_BINARY] [RESOLUTION] [TILES] [RANKS...]
 #   bench/bench_distributed.sh build/release/cli/orogen 2049 4x4 1 2 4

@@ -37,7 +37,8 @@ const char* describe(Distribution kind) {
       return "exact across tiles through a graph of tile perimeters solved once (Barnes 2016, 2017); "
              "perimeters travel, not tiles";
     case Distribution::HaloExchange:
-      return "an explicit simulation run per tile, halos exchanged between ranks every iteration";
+      return "an explicit simulation run per tile, halos exchanged between ranks every iteration (or every k "
+             "iterations with a k times wider halo)";
     case Distribution::Gathered:
       return "the whole domain on one rank, within --max-memory";
     case Distribution::Undeclared:

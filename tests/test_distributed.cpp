@@ -143,6 +143,8 @@ fs::path run_distributed(const Job& job) {
   // FillDepressions with epsilon flats runs across the ranks' tiles (its perimeter rounds), not on the whole domain.
   if (std::string(job.graph) == "distributed_hydrology.json" && job.tiles.x * job.tiles.y > 1)
     EXPECT_NE(r.err.find("node 'filled' (FillDepressions) computed across the tiles"), std::string::npos) << r.err;
+  if (std::string(job.graph).find("distributed_thermal.json") != std::string::npos && job.tiles.x * job.tiles.y > 1)
+    EXPECT_NE(r.err.find("node 'thermal' (ThermalErosion) computed across the tiles"), std::string::npos) << r.err;
   const auto mine = files_under(dir), single = files_under(single_process_build(job));
   EXPECT_EQ(mine.size(), single.size());
   std::size_t differing = 0;
@@ -427,6 +429,24 @@ TEST(Distributed, MergedFilesAndNamedTilesEqualTheSingleProcessBuilds) {
   ASSERT_EQ(orogen(one).exit_code, 0);
   ASSERT_EQ(mpirun(3, three).exit_code, 0);
   EXPECT_EQ(files_under(dir / "three"), files_under(dir / "one"));
+
+// ThermalErosion across the ranks' tiles, its halos exchanged every few iterations (bench/distributed_thermal.json: fBm
+// with mask and hardness linked, every output written, and a blur downstream whose halo comes from the neighboring
+// ranks' tiles): the single-process tiled build's files, and put together every raster of the untiled build.
+TEST(Distributed, ThermalErosionAcrossRanksEqualsTheUntiledBuild) {
+  SKIP_WITHOUT_MPI();
+  const char* graph = "../bench/distributed_thermal.json";  // resolved under graphs/
+  const fs::path& untiled = single_process_build({graph, 129, {0, 0}, 1});
+  for (const Job& job : {Job{graph, 129, {2, 2}, 2}, Job{graph, 129, {3, 2}, 4}, Job{graph, 129, {2, 2}, 3}}) {
+    SCOPED_TRACE(tiles_text(job.tiles) + " on " + std::to_string(job.ranks) + " ranks");
+    const fs::path dir = run_distributed(job);
+    for (const char* name : {"height", "erosion", "deposition", "flow", "smooth"}) {
+      const Raster whole = read_raster(untiled / "distributed_thermal" / (std::string(name) + ".tif"));
+      const Raster joined =
+          stitch(dir, std::string("distributed_thermal/") + name, ".tif", job.tiles, {whole.width, whole.height});
+      EXPECT_TRUE(same_bits(whole, joined)) << name;
+    }
+  }
 }
 
 }  // namespace

@@ -50,7 +50,8 @@ OROGEN_NODE(ThermalErosion) {
       "neighbors until no slope exceeds the angle (Musgrave, Kolb and Mace 1989, 'The synthesis and "
       "rendering of eroded fractal terrains'; Olsen 2004, 'Realtime procedural terrain generation'). Slopes "
       "are measured over the true distance to all 8 neighbors, so an angle gives the same slopes at any "
-      "resolution. Volume is conserved; bit-identical for any thread count.");
+      "resolution. Volume is conserved; bit-identical for any thread count, and in a tiled or distributed build, "
+      "where tiles exchange halos every few iterations, for any tiling and rank count.");
   declare_common_ports(b, "Scales how fast material leaves each cell, 0..1 (1 if unconnected)");
   b.input("hardness", PortType::Heightfield)
       .optional()

@@ -1,0 +1,481 @@
+// ThermalErosion across the tiles of a tiled or distributed build, exact (graph/tile_graph.h): each tile iterates on
+// its own samples with a halo taken from its neighbors' border bands every k iterations.
+//
+// One iteration reads the heights within 2 samples, so k iterations need a halo of 2k: a tile runs iteration i of a
+// block of k on itself grown by 2 (k - 1 - i) samples, and after the block its own samples are exact. Round 0 settles
+// k (the same for every tile, from the smallest tile: the halo's repeated work stays small); round 1 exchanges the
+// bands of the heights, the rates (strength x mask) and, with a hardness input, the talus tangents; round r >= 2
+// runs block r - 2 on every tile (nodes/erosion/thermal_step.h, the whole-domain run's own kernel) and exchanges the
+// new height bands, with each tile's largest change and largest total movement after each iteration of the block.
+// Every tile sees every message, so all stop after the iteration the whole-domain run stops after (the first whose
+// largest change over all tiles is <= tolerance, or the iteration count): a tile that ran past it goes back to the
+// block's start and runs again to it. `flow` divides by the largest movement over all tiles at that iteration: the
+// whole domain's, since tiles agree on the samples they share.
+#include "nodes/erosion/thermal_across_tiles.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <tuple>
+
+#include "graph/node_type.h"
+#include "graph/tile_bytes.h"
+#include "graph/tile_graph.h"
+#include "nodes/common/finite_inputs.h"
+#include "nodes/erosion/thermal_step.h"
+
+namespace orogen::erosion {
+namespace {
+
+constexpr int kReach = 2;  // one iteration reads the heights within 2 samples
+
+// Iterations per exchange when the factory does not fix it: one per 64 samples of the smallest tile side, so the
+// halo ring's repeated work stays within about 4 k / side ~ 6% of a tile's, and at most 8.
+int block_for(glm::ivec2 smallest_tile) { return std::clamp(std::min(smallest_tile.x, smallest_tile.y) / 64, 1, 8); }
+
+// A rectangle of samples of the whole domain, both ends included.
+struct SampleRect {
+  glm::ivec2 lo{0, 0}, hi{-1, -1};
+  glm::ivec2 size() const { return hi - lo + 1; }
+  bool operator==(const SampleRect& o) const { return lo == o.lo && hi == o.hi; }
+  bool operator<(const SampleRect& o) const {
+    return std::tie(lo.x, lo.y, hi.x, hi.y) < std::tie(o.lo.x, o.lo.y, o.hi.x, o.hi.y);
+  }
+};
+
+// A tile's border bands of width `width`: its samples 1 to `width` inside each border it shares with a neighbor (the
+// border samples themselves both tiles hold). One channel lays out the top rows, the bottom rows, the left columns
+// and the right columns, each present when a neighbor lies on that side, and no wider than the tile.
+class Bands {
+ public:
+  Bands(const SampleRect& r, glm::ivec2 whole, int width) : r_(r) {
+    const glm::ivec2 s = r.size();
+    top_ = r.lo.y > 0 ? std::min(width, s.y - 1) : 0;
+    bottom_ = r.hi.y < whole.y - 1 ? std::min(width, s.y - 1) : 0;
+    left_ = r.lo.x > 0 ? std::min(width, s.x - 1) : 0;
+    right_ = r.hi.x < whole.x - 1 ? std::min(width, s.x - 1) : 0;
+  }
+
+  // Values per channel.
+  std::size_t size() const {
+    const glm::ivec2 s = r_.size();
+    return static_cast<std::size_t>(top_ + bottom_) * s.x + static_cast<std::size_t>(left_ + right_) * s.y;
+  }
+
+  // fn(sample) for every band sample in layout order.
+  template <class Fn>
+  void for_each(Fn&& fn) const {
+    for (int y = r_.lo.y + 1; y <= r_.lo.y + top_; ++y)
+      for (int x = r_.lo.x; x <= r_.hi.x; ++x) fn(glm::ivec2(x, y));
+    for (int y = r_.hi.y - bottom_; y < r_.hi.y; ++y)
+      for (int x = r_.lo.x; x <= r_.hi.x; ++x) fn(glm::ivec2(x, y));
+    for (int y = r_.lo.y; y <= r_.hi.y; ++y)
+      for (int x = r_.lo.x + 1; x <= r_.lo.x + left_; ++x) fn(glm::ivec2(x, y));
+    for (int y = r_.lo.y; y <= r_.hi.y; ++y)
+      for (int x = r_.hi.x - right_; x < r_.hi.x; ++x) fn(glm::ivec2(x, y));
+  }
+
+  // Where sample `s` lies in a channel, or npos when no band holds it.
+  std::size_t index(glm::ivec2 s) const {
+    const auto sx = static_cast<std::size_t>(r_.size().x), sy = static_cast<std::size_t>(r_.size().y);
+    const auto lx = static_cast<std::size_t>(s.x - r_.lo.x), ly = static_cast<std::size_t>(s.y - r_.lo.y);
+    std::size_t at = 0;
+    if (s.y >= r_.lo.y + 1 && s.y <= r_.lo.y + top_) return (ly - 1) * sx + lx;
+    at += static_cast<std::size_t>(top_) * sx;
+    if (s.y >= r_.hi.y - bottom_ && s.y < r_.hi.y)
+      return at + static_cast<std::size_t>(s.y - (r_.hi.y - bottom_)) * sx + lx;
+    at += static_cast<std::size_t>(bottom_) * sx;
+    if (s.x >= r_.lo.x + 1 && s.x <= r_.lo.x + left_) return at + ly * left_ + (lx - 1);
+    at += static_cast<std::size_t>(left_) * sy;
+    if (s.x >= r_.hi.x - right_ && s.x < r_.hi.x)
+      return at + ly * right_ + static_cast<std::size_t>(s.x - (r_.hi.x - right_));
+    return npos;
+  }
+  static constexpr std::size_t npos = std::numeric_limits<std::size_t>::max();
+
+ private:
+  SampleRect r_;
+  int top_ = 0, bottom_ = 0, left_ = 0, right_ = 0;
+};
+
+// fn(sample) for every sample of the domain within `width` of tile `r` and outside it, row by row.
+template <class Fn>
+void for_each_halo(const SampleRect& r, glm::ivec2 whole, int width, Fn&& fn) {
+  const glm::ivec2 lo = glm::max(r.lo - width, glm::ivec2(0)), hi = glm::min(r.hi + width, whole - 1);
+  for (int y = lo.y; y <= hi.y; ++y)
+    for (int x = lo.x; x <= hi.x; ++x)
+      if (x < r.lo.x || x > r.hi.x || y < r.lo.y || y > r.hi.y) fn(glm::ivec2(x, y));
+}
+
+// A message: the tile's rectangle, the width of its bands, its channel count, the iterations it ran this round with
+// its largest change in each and its largest total movement after each, then each channel's bands.
+struct Header {
+  SampleRect rect;
+  std::int32_t width = 0, channels = 0;
+  std::vector<float> change, most_moved;  // per iteration run
+  std::size_t bytes() const { return 7 * sizeof(std::int32_t) + 2 * change.size() * sizeof(float); }
+};
+
+void put_header(std::string& out, const Header& h) {
+  for (const std::int32_t v : {h.rect.lo.x, h.rect.lo.y, h.rect.hi.x, h.rect.hi.y, h.width, h.channels,
+                               static_cast<std::int32_t>(h.change.size())})
+    bytes::put(out, v);
+  for (const float v : h.change) bytes::put(out, v);
+  for (const float v : h.most_moved) bytes::put(out, v);
+}
+
+Header take_header(std::string_view in) {
+  const char* what = "thermal erosion bands";
+  Header h;
+  h.rect.lo.x = bytes::take<std::int32_t>(in, what), h.rect.lo.y = bytes::take<std::int32_t>(in, what);
+  h.rect.hi.x = bytes::take<std::int32_t>(in, what), h.rect.hi.y = bytes::take<std::int32_t>(in, what);
+  h.width = bytes::take<std::int32_t>(in, what), h.channels = bytes::take<std::int32_t>(in, what);
+  const auto ran = bytes::take<std::int32_t>(in, what);
+  if (ran < 0 || static_cast<std::size_t>(ran) > in.size() / (2 * sizeof(float)))
+    throw std::invalid_argument("thermal erosion bands: truncated bytes");
+  for (std::int32_t i = 0; i < ran; ++i) h.change.push_back(bytes::take<float>(in, what));
+  for (std::int32_t i = 0; i < ran; ++i) h.most_moved.push_back(bytes::take<float>(in, what));
+  return h;
+}
+
+class ThermalTile : public TileGraphTile {
+ public:
+  ThermalTile(HeightfieldPtr in, HeightfieldPtr mask, HeightfieldPtr hardness, const ThermalParams& p,
+              const ThermalStencil& stencil, glm::ivec2 whole_first, glm::ivec2 whole)
+      : in_(std::move(in)),
+        mask_(std::move(mask)),
+        hardness_(std::move(hardness)),
+        p_(p),
+        stencil_(stencil),
+        whole_(whole) {
+    rect_.lo = in_->domain.first - whole_first;
+    rect_.hi = rect_.lo + in_->domain.resolution - 1;
+  }
+
+  std::string message(int round) override {
+    Header h;
+    h.rect = rect_;
+    h.width = halo_;
+    if (round >= 2) {
+      const int ran = std::min(block_, stencil_.iterations - (round - 2) * block_);
+      for (int i = 0; i < ran; ++i) {
+        h.change.push_back(thermal_iteration(*grids_, stencil_, window(ran - 1 - i), window(ran - 1 - i, 1)));
+        h.most_moved.push_back(most_moved());
+      }
+    }
+    std::string out;
+    if (round == 0) {
+      put_header(out, h);
+      return out;
+    }
+    const auto channels = this->channels(round);
+    h.channels = static_cast<std::int32_t>(channels.size());
+    put_header(out, h);
+    const Bands bands(rect_, whole_, halo_);
+    out.reserve(out.size() + channels.size() * bands.size() * sizeof(float));
+    for (const std::vector<float>* c : channels) bands.for_each([&](glm::ivec2 s) { bytes::put(out, (*c)[cell(s)]); });
+    return out;
+  }
+
+  void answer(int round, std::string_view in) override {
+    const char* what = "thermal erosion halo";
+    if (round == 0) {
+      block_ = bytes::take<std::int32_t>(in, what);
+      if (block_ < 1) throw std::invalid_argument("thermal erosion halo: no iterations per exchange");
+      start_grids();
+    } else {
+      const auto keep = bytes::take<std::int32_t>(in, what);
+      most_moved_everywhere_ = bytes::take<float>(in, what);
+      if (round >= 2 && keep < std::min(block_, stencil_.iterations - (round - 2) * block_)) {
+        // The run stopped inside the block: back to its start, and the kept iterations again.
+        grids_->z = z_start_, grids_->moved = moved_start_;
+        for (int i = 0; i < keep; ++i)
+          thermal_iteration(*grids_, stencil_, window(keep - 1 - i), window(keep - 1 - i, 1));
+        return;
+      }
+      for (std::vector<float>* c : channels(round))
+        for_each_halo(rect_, whole_, halo_, [&](glm::ivec2 s) { (*c)[cell(s)] = bytes::take<float>(in, what); });
+      if (block_ > 1) z_start_ = grids_->z, moved_start_ = grids_->moved;  // a block of 1 never goes back
+    }
+    if (!in.empty()) throw std::invalid_argument("thermal erosion halo: bytes left over");
+  }
+
+  std::vector<PortValue> outputs() override {
+    ErosionMaps maps;
+    maps.out = std::make_shared<Heightfield>(in_->domain);
+    maps.flow = std::make_shared<Heightfield>(in_->domain);
+    for (int j = 0; j < in_->height(); ++j)
+      for (int i = 0; i < in_->width(); ++i) {
+        const std::size_t q = grids_->at(i + halo_, j + halo_);
+        maps.out->at(i, j) = grids_->z[q];
+        maps.flow->at(i, j) = thermal_flow(grids_->moved[q], most_moved_everywhere_);
+      }
+    fill_change_maps(*in_, maps, nullptr);
+    return {HeightfieldPtr(maps.out), HeightfieldPtr(maps.erosion), HeightfieldPtr(maps.deposition),
+            HeightfieldPtr(maps.flow)};
+  }
+
+ private:
+  // The grids with the halo of `block_` iterations around the tile's own samples.
+  void start_grids() {
+    halo_ = kReach * block_;
+    grids_ = std::make_unique<ThermalGrids>(in_->width() + 2 * halo_, in_->height() + 2 * halo_, hardness_ != nullptr);
+    for (int j = 0; j < in_->height(); ++j)
+      for (int i = 0; i < in_->width(); ++i) {
+        const std::size_t k = in_->index(i, j), q = grids_->at(i + halo_, j + halo_);
+        grids_->z[q] = in_->data[k];
+        grids_->rate[q] = thermal_rate(p_, mask_ ? mask_->data[k] : 1.0f);
+        if (hardness_) grids_->tan_cell[q] = thermal_tangent(p_, hardness_->data[k]);
+      }
+    mask_.reset(), hardness_.reset();
+  }
+
+  // The tile grown by kReach x `later` samples (the iterations after this one in the block) and by `more`, within
+  // the domain, in grid cells.
+  GridWindow window(int later, int more = 0) const {
+    const int g = kReach * later + more;
+    const glm::ivec2 lo = glm::max(rect_.lo - g, glm::ivec2(0)) - rect_.lo + halo_,
+                     hi = glm::min(rect_.hi + g, whole_ - 1) - rect_.lo + halo_;
+    return {lo.x, lo.y, hi.x + 1, hi.y + 1};
+  }
+
+  // The most any of the tile's own samples sent so far.
+  float most_moved() const {
+    float m = 0.0f;
+    for (int j = 0; j < in_->height(); ++j) {
+      const float* row = grids_->moved.data() + grids_->at(halo_, j + halo_);
+      for (int i = 0; i < in_->width(); ++i) m = std::max(m, row[i]);
+    }
+    return m;
+  }
+
+  // What travels in round `round` (>= 1): first the heights, rates and tangents, then the heights.
+  std::vector<std::vector<float>*> channels(int round) {
+    std::vector<std::vector<float>*> c{&grids_->z};
+    if (round == 1) {
+      c.push_back(&grids_->rate);
+      if (!grids_->tan_cell.empty()) c.push_back(&grids_->tan_cell);
+    }
+    return c;
+  }
+  std::size_t cell(glm::ivec2 s) const { return grids_->at(s.x - rect_.lo.x + halo_, s.y - rect_.lo.y + halo_); }
+
+  HeightfieldPtr in_, mask_, hardness_;
+  ThermalParams p_;
+  ThermalStencil stencil_;
+  glm::ivec2 whole_;
+  SampleRect rect_;
+  int block_ = 0, halo_ = 0;  // iterations per exchange, and the halo they need
+  std::unique_ptr<ThermalGrids> grids_;
+  std::vector<float> z_start_, moved_start_;  // at the start of the block
+  float most_moved_everywhere_ = 0.0f;        // over all tiles, at the iteration the run is at
+};
+
+class ThermalAcrossTiles : public TileGraphAlgorithm {
+ public:
+  ThermalAcrossTiles(const ThermalParams& p, const ThermalStencil& stencil, const Domain& whole, int block)
+      : params_(p), stencil_(stencil), whole_first_(whole.first), whole_(whole.resolution), fixed_block_(block) {}
+
+  int rounds() const override { return 2; }
+
+  // Round r >= 2 ran block r - 2; the run stops after the iteration the whole-domain run stops after.
+  bool another_round(int round, const std::vector<std::string>& messages) const override {
+    if (round == 0) return true;
+    if (round == 1) return stencil_.iterations > 0;
+    const auto headers = take_headers(messages);
+    const std::vector<float> change = largest_changes(headers);
+    if (std::any_of(change.begin(), change.end(), [&](float c) { return c <= params_.tolerance; })) return false;
+    return (round - 1) * block(headers) < stencil_.iterations;
+  }
+
+  std::unique_ptr<TileGraphTile> start(const std::vector<PortValue>& inputs) const override {
+    auto field = [&](std::size_t k) -> HeightfieldPtr {
+      const auto* h = k < inputs.size() ? std::get_if<HeightfieldPtr>(&inputs[k]) : nullptr;
+      return h ? *h : nullptr;
+    };
+    const HeightfieldPtr in = field(0), mask = field(1), hardness = field(2);
+    if (!in) throw std::invalid_argument("thermal erosion across tiles needs a heightfield input");
+    for (const auto& f : {mask, hardness})
+      if (f && f->domain.resolution != in->domain.resolution)
+        throw std::invalid_argument("thermal erosion across tiles: mask and hardness must lie on the tile");
+    require_finite_inputs("ThermalErosion", {{"in", in.get()}, {"mask", mask.get()}, {"hardness", hardness.get()}});
+    return std::make_unique<ThermalTile>(in, mask, hardness, params_, stencil_, whole_first_, whole_);
+  }
+
+  // Round 0: the iterations per exchange. Then each tile's halo, sample by sample from the bands of the tile holding
+  // it nearest to this one, with the iterations of the block to keep and the most any sample moved by then.
+  std::vector<std::string> solve(int round, const std::vector<std::string>& messages) const override {
+    const std::size_t count = messages.size();
+    const auto headers = take_headers(messages);
+    const int k = block(headers);
+    std::vector<std::string> answers(count);
+    if (round == 0) {
+      for (auto& a : answers) bytes::put(a, static_cast<std::int32_t>(k));
+      return answers;
+    }
+    const std::vector<float> change = largest_changes(headers);
+    std::int32_t keep = 0;
+    while (keep < static_cast<std::int32_t>(change.size()) &&
+           change[static_cast<std::size_t>(keep)] > params_.tolerance)
+      ++keep;
+    if (keep < static_cast<std::int32_t>(change.size())) ++keep;  // the iteration that settled the run counts
+    float most_moved = 0.0f;
+    for (const Header& h : headers) {
+      if (h.width != kReach * k || h.channels < 1 || h.channels != headers[0].channels ||
+          h.change.size() != change.size())
+        throw std::invalid_argument("thermal erosion bands: the tiles' bands do not fit together");
+      if (keep > 0) most_moved = std::max(most_moved, h.most_moved[static_cast<std::size_t>(keep - 1)]);
+    }
+    for (std::size_t t = 0; t < count; ++t)
+      if (messages[t].size() != headers[t].bytes() + static_cast<std::size_t>(headers[t].channels) *
+                                                         Bands(headers[t].rect, whole_, kReach * k).size() *
+                                                         sizeof(float))
+        throw std::invalid_argument("thermal erosion bands: truncated bytes");
+    const auto halos = plan(headers, kReach * k);
+    for (std::size_t u = 0; u < count; ++u) {
+      std::string& out = answers[u];
+      out.reserve(sizeof(float) * (2 + halos->sources[u].size() * static_cast<std::size_t>(headers[u].channels)));
+      bytes::put(out, keep);
+      bytes::put(out, most_moved);
+      for (std::int32_t c = 0; c < headers[u].channels; ++c)
+        for (const auto& [v, at] : halos->sources[u])
+          out.append(messages[v].data() + headers[v].bytes() + at + static_cast<std::size_t>(c) * halos->stride[v],
+                     sizeof(float));
+    }
+    return answers;
+  }
+
+ private:
+  std::vector<Header> take_headers(const std::vector<std::string>& messages) const {
+    std::vector<Header> headers;
+    for (const auto& m : messages) {
+      headers.push_back(take_header(m));
+      const SampleRect& r = headers.back().rect;
+      if (r.lo.x < 0 || r.lo.y < 0 || r.hi.x >= whole_.x || r.hi.y >= whole_.y || r.size().x < 2 || r.size().y < 2)
+        throw std::invalid_argument("thermal erosion bands: a tile's rectangle does not fit the domain");
+    }
+    if (headers.empty()) throw std::invalid_argument("thermal erosion bands: no tiles");
+    return headers;
+  }
+
+  // Iterations per exchange: fixed, or from the smallest tile.
+  int block(const std::vector<Header>& headers) const {
+    if (fixed_block_ > 0) return fixed_block_;
+    glm::ivec2 smallest = whole_;
+    for (const Header& h : headers) smallest = glm::min(smallest, h.rect.size());
+    return block_for(smallest);
+  }
+
+  // The largest change over all tiles in each iteration of the block.
+  static std::vector<float> largest_changes(const std::vector<Header>& headers) {
+    std::vector<float> change(headers[0].change.size(), 0.0f);
+    for (const Header& h : headers) {
+      if (h.change.size() != change.size())
+        throw std::invalid_argument("thermal erosion bands: tiles ran different iterations");
+      for (std::size_t i = 0; i < change.size(); ++i) change[i] = std::max(change[i], h.change[i]);
+    }
+    return change;
+  }
+
+  // Where the halo samples of each tile lie in the messages (the tile sending it, the byte offset of its value in the
+  // first channel after the header) and each message's channel stride in bytes: the same every round, so made once
+  // per tiling.
+  struct HaloPlan {
+    std::vector<SampleRect> rects;
+    int width = 0;
+    std::vector<std::size_t> stride;
+    std::vector<std::vector<std::pair<std::size_t, std::size_t>>> sources;
+  };
+
+  std::shared_ptr<const HaloPlan> plan(const std::vector<Header>& headers, int width) const {
+    std::vector<SampleRect> rects;
+    for (const Header& h : headers) rects.push_back(h.rect);
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (plan_ && plan_->rects == rects && plan_->width == width) return plan_;
+    auto p = std::make_shared<HaloPlan>();
+    const std::size_t count = rects.size();
+    std::vector<Bands> bands;
+    std::map<SampleRect, std::size_t> tile_at;
+    std::vector<std::pair<int, int>> columns, rows;
+    for (std::size_t t = 0; t < count; ++t) {
+      bands.emplace_back(rects[t], whole_, width);
+      p->stride.push_back(bands[t].size() * sizeof(float));
+      tile_at[rects[t]] = t;
+      columns.emplace_back(rects[t].lo.x, rects[t].hi.x);
+      rows.emplace_back(rects[t].lo.y, rects[t].hi.y);
+    }
+    for (auto* axis : {&columns, &rows}) {
+      std::sort(axis->begin(), axis->end());
+      axis->erase(std::unique(axis->begin(), axis->end()), axis->end());
+    }
+    if (tile_at.size() != count || columns.size() * rows.size() != count)
+      throw std::invalid_argument("thermal erosion bands: the tiles do not form a tiling");
+    // The column (row) holding coordinate v nearest to the tile's own [lo, hi]: past a shared border sample, so v
+    // lies 1 to `width` samples inside the border facing the tile, in that tile's bands.
+    auto nearest = [](const std::vector<std::pair<int, int>>& axis, int lo, int hi, int v) {
+      if (v >= lo && v <= hi) return std::make_pair(lo, hi);
+      std::pair<int, int> best{0, -1};
+      for (const auto& range : axis)
+        if (v >= range.first && v <= range.second &&
+            (best.second < best.first || (v > hi) == (range.first < best.first)))
+          best = range;
+      return best;
+    };
+    p->sources.resize(count);
+    for (std::size_t u = 0; u < count; ++u) {
+      const SampleRect& r = rects[u];
+      for_each_halo(r, whole_, width, [&](glm::ivec2 s) {
+        const auto cx = nearest(columns, r.lo.x, r.hi.x, s.x), cy = nearest(rows, r.lo.y, r.hi.y, s.y);
+        const auto it = tile_at.find(SampleRect{{cx.first, cy.first}, {cx.second, cy.second}});
+        const std::size_t v = it == tile_at.end() ? count : it->second;
+        const std::size_t at = v < count ? bands[v].index(s) : Bands::npos;
+        if (at == Bands::npos) throw std::invalid_argument("thermal erosion bands: a halo sample no tile sends");
+        p->sources[u].emplace_back(v, at * sizeof(float));
+      });
+    }
+    p->rects = std::move(rects);
+    p->width = width;
+    plan_ = p;
+    return plan_;
+  }
+
+  ThermalParams params_;
+  ThermalStencil stencil_;
+  glm::ivec2 whole_first_, whole_;
+  int fixed_block_;  // iterations per exchange, or 0: from the smallest tile
+  mutable std::mutex mutex_;
+  mutable std::shared_ptr<const HaloPlan> plan_;  // of the last tiling solved
+};
+
+ThermalParams params_of(const ParamView& v) {
+  ThermalParams p;
+  p.talus_angle = v.get<double>("talus_angle");
+  p.strength = v.get<double>("strength");
+  p.travel_distance = v.get<double>("travel_distance");
+  p.tolerance = v.get<double>("tolerance");
+  return p;
+}
+
+// Every parameter value runs across the tiles; a run the whole-domain node would refuse (too many iterations) stays
+// on the whole domain, whose node reports why.
+const bool kThermalRegistered = register_tile_graph("ThermalErosion", [](const ParamView& v, const Domain& whole) {
+  std::unique_ptr<TileGraphAlgorithm> algorithm;
+  try {
+    algorithm = thermal_across_tiles(params_of(v), whole);
+  } catch (const NodeError&) {}
+  return algorithm;
+});
+
+}  // namespace
+
+std::unique_ptr<TileGraphAlgorithm> thermal_across_tiles(const ThermalParams& p, const Domain& whole,
+                                                         int iterations_per_exchange) {
+  return std::make_unique<ThermalAcrossTiles>(p, thermal_stencil(p, whole.spacing, whole.resolution), whole,
+                                              iterations_per_exchange);
+}
+
+}  // namespace orogen::erosion
