@@ -429,6 +429,7 @@ TEST(Distributed, MergedFilesAndNamedTilesEqualTheSingleProcessBuilds) {
   ASSERT_EQ(orogen(one).exit_code, 0);
   ASSERT_EQ(mpirun(3, three).exit_code, 0);
   EXPECT_EQ(files_under(dir / "three"), files_under(dir / "one"));
+}
 
 // ThermalErosion across the ranks' tiles, its halos exchanged every few iterations (bench/distributed_thermal.json: fBm
 // with mask and hardness linked, every output written, and a blur downstream whose halo comes from the neighboring
