@@ -1,5 +1,6 @@
 // Cache building blocks: the canonical key hasher, value serialization of every port type, the LRU memory
 // cache, the checksummed disk cache, and the key checks node tests use.
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 
@@ -468,6 +469,28 @@ TEST(DiskCache, StoresAndLoads) {
   for ([[maybe_unused]] const auto& e : std::filesystem::recursive_directory_iterator(cache.directory()))
     files += e.is_regular_file();
   EXPECT_EQ(files, 1u);
+}
+
+TEST(DiskCache, AValueIsWorthAnEntryWhenRecomputingItCostsMore) {
+  ::unsetenv("OROGEN_CACHE_STORE");
+  const DiskCache cache(test::scratch_dir("disk-cache-worth"));
+  constexpr std::uint64_t kMiB = std::uint64_t(1) << 20;
+  const double entry_ms = 64 * DiskCache::kStoreAndLoadMsPerMiB;  // writing and reading 64 MiB
+  // Small values always: leaving them out would save next to nothing.
+  EXPECT_TRUE(cache.worth_storing(0.0, DiskCache::kAlwaysStoredBytes - 1));
+  EXPECT_FALSE(cache.worth_storing(0.0, DiskCache::kAlwaysStoredBytes));
+  EXPECT_FALSE(cache.worth_storing(0.5 * entry_ms, 64 * kMiB));
+  EXPECT_FALSE(cache.worth_storing(entry_ms, 64 * kMiB));
+  EXPECT_TRUE(cache.worth_storing(1.01 * entry_ms, 64 * kMiB));
+  EXPECT_TRUE(cache.worth_storing(1.01 * entry_ms / 64, kMiB));
+  // OROGEN_CACHE_STORE=all keeps everything; any other value is the default.
+  ASSERT_EQ(::setenv("OROGEN_CACHE_STORE", "all", 1), 0);
+  const DiskCache all(cache.directory());
+  ASSERT_EQ(::setenv("OROGEN_CACHE_STORE", "some", 1), 0);
+  const DiskCache other(cache.directory());
+  ::unsetenv("OROGEN_CACHE_STORE");
+  EXPECT_TRUE(all.worth_storing(0.0, 64 * kMiB));
+  EXPECT_FALSE(other.worth_storing(0.0, 64 * kMiB));
 }
 
 // A thread reuses its serialization and compression buffers from one store to the next: entries of every size,
