@@ -48,9 +48,9 @@ class DiskCache {
   // variable OROGEN_CACHE_STORE=all, every value does.
   bool worth_storing(double recompute_ms, std::uint64_t bytes) const;
   static constexpr std::uint64_t kAlwaysStoredBytes = std::uint64_t(1) << 20;
-  // CPU time to write an entry (serialize, compress, checksum, write: about 5 ms) and to read it back (about 2 ms),
+  // CPU time to write an entry (serialize, compress, checksum, write: about 2 ms) and to read it back (about 2 ms),
   // per MiB of value: measured on the heightfields, images and meshes of graphs/seamscape.json at 2049^2.
-  static constexpr double kStoreAndLoadMsPerMiB = 7.0;
+  static constexpr double kStoreAndLoadMsPerMiB = 4.0;
   bool stores_everything() const { return store_everything_; }
 
   // Deletes the entry (e.g. when it does not fit the node it was looked up for).
