@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <stdexcept>
@@ -121,10 +122,22 @@ std::shared_ptr<CachedResult> decode_payload(std::string_view payload) {
   return result;
 }
 
+bool store_everything_requested() {
+  const char* value = std::getenv("OROGEN_CACHE_STORE");
+  return value && std::string_view(value) == "all";
+}
+
 }  // namespace
 
-DiskCache::DiskCache(std::filesystem::path dir, std::uint64_t max_bytes) : dir_(std::move(dir)), max_bytes_(max_bytes) {
+DiskCache::DiskCache(std::filesystem::path dir, std::uint64_t max_bytes)
+    : dir_(std::move(dir)), max_bytes_(max_bytes), store_everything_(store_everything_requested()) {
   remove_stale_temporaries(dir_, 1);  // left by killed processes
+}
+
+bool DiskCache::worth_storing(double recompute_ms, std::uint64_t bytes) const {
+  if (store_everything_ || bytes < kAlwaysStoredBytes) return true;
+  const double mib = static_cast<double>(bytes) / double(std::uint64_t(1) << 20);
+  return recompute_ms > mib * kStoreAndLoadMsPerMiB;
 }
 
 std::filesystem::path DiskCache::path_of(const CacheKey& key) const {

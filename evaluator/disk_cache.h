@@ -10,6 +10,9 @@
 // possible, and reported so the node is recomputed.
 // The cache never fails a build: every error of a lookup is a miss.
 //
+// Not every computed value is worth an entry (worth_storing): writing a value and reading it back costs CPU
+// time in proportion to its size, and a value that a later run recomputes faster than that is left out.
+//
 // The directory is bounded: after a store that takes it past max_bytes, the least recently used entries
 // (by modification time, which a hit refreshes) are removed until it is at 90% of the bound.
 #include <atomic>
@@ -38,6 +41,18 @@ class DiskCache {
   Loaded load(const CacheKey& key) const;
   // Writes the entry atomically; throws std::exception on an I/O failure.
   void store(const CacheKey& key, const CachedResult& result) const;
+  // Whether a computed value deserves an entry. Values under kAlwaysStoredBytes always do (they cost next to
+  // nothing either way); a larger one when a later run would spend longer recomputing it than writing and reading
+  // the entry costs (kStoreAndLoadMsPerMiB). `recompute_ms` is the node's compute time plus that of the values
+  // upstream that were not stored either, since a later run would recompute them with it. With the environment
+  // variable OROGEN_CACHE_STORE=all, every value does.
+  bool worth_storing(double recompute_ms, std::uint64_t bytes) const;
+  static constexpr std::uint64_t kAlwaysStoredBytes = std::uint64_t(1) << 20;
+  // CPU time to write an entry (serialize, compress, checksum, write: about 2 ms) and to read it back (about 2 ms),
+  // per MiB of value: measured on the heightfields, images and meshes of graphs/seamscape.json at 2049^2.
+  static constexpr double kStoreAndLoadMsPerMiB = 4.0;
+  bool stores_everything() const { return store_everything_; }
+
   // Deletes the entry (e.g. when it does not fit the node it was looked up for).
   void remove(const CacheKey& key) const;
 
@@ -56,6 +71,7 @@ class DiskCache {
  private:
   std::filesystem::path dir_;
   std::uint64_t max_bytes_;
+  bool store_everything_;                           // OROGEN_CACHE_STORE=all
   mutable std::atomic<std::int64_t> estimate_{-1};  // bytes in the directory as this process sees it; -1: unknown
   mutable std::mutex evict_mutex_;
 };

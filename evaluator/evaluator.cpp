@@ -216,6 +216,7 @@ struct Job {
   std::shared_ptr<const CachedResult> result;
   double milliseconds = 0.0;
   std::size_t bytes = 0;
+  double unstored_ms = 0.0;  // what recomputing it would cost a later run if it is not on disk (0 if it is)
 
   std::mutex progress_mutex;
   double last_fraction = -1.0;
@@ -574,7 +575,7 @@ class Run {
     job.bytes = result->value_bytes();
     job.result = result;
     job.status = NodeStatus::Computed;
-    store(*job.key, result, job.bytes);
+    store(job, result);
 
     emit({EvalEvent::Kind::Finished, id, 1.0, job.milliseconds, job.bytes, {}});
     for (std::size_t k = 1; k < job.ids.size(); ++k)
@@ -594,13 +595,22 @@ class Run {
     if (!kept_in_memory(key)) impl_.memory.erase(key);
   }
 
-  // Keeps a complete result: in memory now, on disk in a separate task so consumers need not wait for it.
-  void store(const CacheKey& key, std::shared_ptr<const CachedResult> result, std::size_t bytes) {
+  // Keeps a complete result: in memory now (if the request keeps it) and, if it is worth an entry, on disk in a
+  // separate task so consumers need not wait for it. A later run without the entry recomputes the unstored
+  // values it is made from too.
+  void store(Job& job, std::shared_ptr<const CachedResult> result) {
+    const CacheKey key = *job.key;
     if (kept_in_memory(key))
-      impl_.memory.insert(key, result, bytes);
+      impl_.memory.insert(key, result, job.bytes);
     else
       impl_.memory.erase(key);  // a partial entry this result completes
     if (!impl_.disk) return;
+    double recompute_ms = job.milliseconds;
+    for (int p : job.producers) recompute_ms += jobs_[static_cast<std::size_t>(p)].unstored_ms;
+    if (!impl_.disk->worth_storing(recompute_ms, job.bytes)) {
+      job.unstored_ms = recompute_ms;
+      return;
+    }
     group_.run([this, key, result] {
       try {
         impl_.disk->store(key, *result);

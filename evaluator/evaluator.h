@@ -15,8 +15,9 @@
 //   on it: a cached result that lacks an output needed now is a miss, and the node runs again for the union of
 //   what is needed and what the entry had. Such partial results are cached (in memory and on disk) with their
 //   unset outputs marked, and never returned where a complete result is expected (find_result, given_results).
-// - Every computed result goes to the memory LRU (unless it alone exceeds the bound) and, with a cache_dir,
-//   to disk; a damaged disk entry is deleted and recomputed. Failed and cancelled nodes are never cached.
+// - Every computed result goes to the memory LRU (unless it alone exceeds the bound, or the request keeps only
+//   some: EvalRequest::keep_in_memory) and, with a cache_dir, to disk if it is worth an entry (small, or slower
+//   to recompute than to read: evaluator/disk_cache.h); a damaged disk entry is deleted and recomputed. Failed and cancelled nodes are never cached.
 //   Nodes that completed before a cancel keep their cached results: they are complete and content-addressed,
 //   so the next run reuses them. A node that returns normally after the cancel is treated as cancelled.
 // - A writer's result records the files it wrote (size, modification time); it is a hit only while all of

@@ -17,7 +17,7 @@
 namespace orogen {
 
 inline constexpr std::uint32_t kValueFormatVersion =
-    4;  // 2: ModuleString; optional mesh texcoords. 3: Scene. 4: Image.color
+    5;  // 2: ModuleString; optional mesh texcoords. 3: Scene. 4: Image.color. 5: floats by byte plane
 
 struct SerializationError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -38,7 +38,7 @@ class ByteWriter {
   void f64(double v);
   void str(std::string_view s);
   void raw(const void* data, std::size_t n);
-  // A count followed by the elements (float, int32 or any other 4-byte-aligned plain type of floats/ints).
+  // A count followed by the elements: ints as they lie, floats as four byte planes (lowest bytes first).
   void floats(const std::vector<float>& v);
   void ints(const std::vector<int>& v);
 

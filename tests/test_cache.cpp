@@ -1,5 +1,6 @@
 // Cache building blocks: the canonical key hasher, value serialization of every port type, the LRU memory
 // cache, the checksummed disk cache, and the key checks node tests use.
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 
@@ -207,6 +208,30 @@ TEST(ValueSerialization, Heightfield) {
   EXPECT_EQ(back->domain, h->domain);
   EXPECT_EQ(std::memcmp(back->data.data(), h->data.data(), h->data.size() * sizeof(float)), 0);
   expect_prefixes_rejected(HeightfieldPtr(h));
+}
+
+// Floats go as byte planes (lowest bytes of all values first), which zstd compresses better; every bit pattern
+// comes back, NaN payloads and signed zeros included.
+TEST(ValueSerialization, FloatsAreWrittenAsBytePlanesAndReadBackBitExact) {
+  const std::vector<std::uint32_t> bits = {0x11223344u, 0xa1b2c3d4u, 0x7fc01234u, 0x80000000u, 0x00000001u};
+  std::vector<float> values(bits.size());
+  std::memcpy(values.data(), bits.data(), bits.size() * 4);
+  ByteWriter w;
+  w.floats(values);
+  const std::string bytes = w.take();
+  ASSERT_EQ(bytes.size(), 8 + 4 * bits.size());
+  for (std::size_t plane = 0; plane < 4; ++plane)
+    for (std::size_t i = 0; i < bits.size(); ++i)
+      EXPECT_EQ(static_cast<unsigned char>(bytes[8 + plane * bits.size() + i]), (bits[i] >> (8 * plane)) & 0xffu)
+          << plane << "," << i;
+  ByteReader r(bytes);
+  const std::vector<float> back = r.floats();
+  EXPECT_TRUE(r.at_end());
+  ASSERT_EQ(back.size(), values.size());
+  EXPECT_EQ(std::memcmp(back.data(), values.data(), values.size() * 4), 0);
+  // A count beyond the bytes is refused before anything is read.
+  ByteReader short_read(std::string_view(bytes).substr(0, bytes.size() - 1));
+  EXPECT_THROW(short_read.floats(), SerializationError);
 }
 
 TEST(ValueSerialization, Image) {
@@ -468,6 +493,28 @@ TEST(DiskCache, StoresAndLoads) {
   for ([[maybe_unused]] const auto& e : std::filesystem::recursive_directory_iterator(cache.directory()))
     files += e.is_regular_file();
   EXPECT_EQ(files, 1u);
+}
+
+TEST(DiskCache, AValueIsWorthAnEntryWhenRecomputingItCostsMore) {
+  ::unsetenv("OROGEN_CACHE_STORE");
+  const DiskCache cache(test::scratch_dir("disk-cache-worth"));
+  constexpr std::uint64_t kMiB = std::uint64_t(1) << 20;
+  const double entry_ms = 64 * DiskCache::kStoreAndLoadMsPerMiB;  // writing and reading 64 MiB
+  // Small values always: leaving them out would save next to nothing.
+  EXPECT_TRUE(cache.worth_storing(0.0, DiskCache::kAlwaysStoredBytes - 1));
+  EXPECT_FALSE(cache.worth_storing(0.0, DiskCache::kAlwaysStoredBytes));
+  EXPECT_FALSE(cache.worth_storing(0.5 * entry_ms, 64 * kMiB));
+  EXPECT_FALSE(cache.worth_storing(entry_ms, 64 * kMiB));
+  EXPECT_TRUE(cache.worth_storing(1.01 * entry_ms, 64 * kMiB));
+  EXPECT_TRUE(cache.worth_storing(1.01 * entry_ms / 64, kMiB));
+  // OROGEN_CACHE_STORE=all keeps everything; any other value is the default.
+  ASSERT_EQ(::setenv("OROGEN_CACHE_STORE", "all", 1), 0);
+  const DiskCache all(cache.directory());
+  ASSERT_EQ(::setenv("OROGEN_CACHE_STORE", "some", 1), 0);
+  const DiskCache other(cache.directory());
+  ::unsetenv("OROGEN_CACHE_STORE");
+  EXPECT_TRUE(all.worth_storing(0.0, 64 * kMiB));
+  EXPECT_FALSE(other.worth_storing(0.0, 64 * kMiB));
 }
 
 // A thread reuses its serialization and compression buffers from one store to the next: entries of every size,

@@ -29,7 +29,8 @@
 namespace orogen {
 namespace {
 
-std::atomic<int> g_source_runs{0}, g_add_runs{0}, g_slow_runs{0}, g_fail_runs{0}, g_writer_runs{0}, g_ripple_runs{0};
+std::atomic<int> g_source_runs{0}, g_add_runs{0}, g_slow_runs{0}, g_fail_runs{0}, g_writer_runs{0}, g_ripple_runs{0},
+    g_delay_runs{0};
 
 // TestSlow: signals that it started, then waits until released or cancelled.
 std::mutex g_slow_mutex;
@@ -48,8 +49,8 @@ int g_rendezvous_arrived = 0;
 std::atomic<int> g_rendezvous_met{0};
 
 void reset_counters() {
-  for (auto* c :
-       {&g_source_runs, &g_add_runs, &g_slow_runs, &g_fail_runs, &g_writer_runs, &g_ripple_runs, &g_rendezvous_met})
+  for (auto* c : {&g_source_runs, &g_add_runs, &g_slow_runs, &g_fail_runs, &g_writer_runs, &g_ripple_runs,
+                  &g_delay_runs, &g_rendezvous_met})
     c->store(0);
   {
     std::lock_guard lock(g_slow_mutex);
@@ -90,6 +91,21 @@ OROGEN_NODE(TestAdd) {
     auto out = std::make_shared<Heightfield>(*a);
     const float offset = static_cast<float>(ctx.param<double>("offset"));
     for (std::size_t k = 0; k < out->data.size(); ++k) out->data[k] += (bb ? bb->data[k] : 0.0f) + offset;
+    ctx.set_output("out", out);
+  });
+}
+
+// Takes at least `milliseconds` (a sleep), then adds 1 to its input: a node whose compute time has a known floor.
+OROGEN_NODE(TestDelay) {
+  b.category("test").description("Waits, then adds 1 to its input, counting its executions.");
+  b.input("in", PortType::Heightfield).description("The field");
+  b.output("out", PortType::Heightfield).description("The field plus 1");
+  b.param_float("milliseconds", 1.0).range(0.0, 1e4).description("How long it waits");
+  b.execute([](ExecContext& ctx) {
+    ++g_delay_runs;
+    std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(ctx.param<double>("milliseconds")));
+    auto out = std::make_shared<Heightfield>(*ctx.require<Heightfield>("in"));
+    for (auto& v : out->data) v += 1.0f;
     ctx.set_output("out", out);
   });
 }
@@ -479,6 +495,67 @@ TEST_F(EvaluatorTest, PersistentCacheIsSharedAcrossEvaluators) {
   EXPECT_EQ(status(ev2.evaluate(g, request({"b"})), "b"), NodeStatus::Cached);
   EXPECT_EQ(ev2.cache_stats().disk_hits, 1u);
   EXPECT_EQ(ev2.cache_stats().hits, 2u);
+}
+
+// A source, three delays that each take 0.4 of what an entry of their value costs, then one that takes 2.
+Graph delay_chain(double entry_ms) {
+  Graph g;
+  g.add_node("TestSource", "s");
+  std::string upstream = "s";
+  for (const auto& [id, share] : {std::pair{"d1", 0.4}, {"d2", 0.4}, {"d3", 0.4}, {"slow", 2.0}}) {
+    g.add_node("TestDelay", id).params["milliseconds"] = share * entry_ms;
+    g.connect({upstream, "out"}, id, "in");
+    upstream = id;
+  }
+  return g;
+}
+
+// The cache directory keeps what a later run could not get back more cheaply by recomputing it. Sleeps bound the
+// compute times from below; a loaded machine only makes more values worth storing, and no time is asserted.
+TEST_F(EvaluatorTest, CacheDirectoryKeepsWhatCostsMoreToRecomputeThanToStore) {
+  const auto dir = test::scratch_dir("eval-worth-storing");
+  const Domain big = Domain::from_extent({0.0, 0.0}, {1000.0, 1000.0}, {1025, 1025});  // 4 MiB per field
+  const double entry_ms = 1025.0 * 1025.0 * sizeof(float) / double(1 << 20) * DiskCache::kStoreAndLoadMsPerMiB;
+  const Graph g = delay_chain(entry_ms);
+  EvaluatorOptions options;
+  options.cache_dir = dir;
+  { ASSERT_TRUE(Evaluator(options).evaluate(g, request({"slow"}, big)).ok()); }
+  const auto keys = compute_cache_keys(g, big);
+  const DiskCache cache(dir);
+  ASSERT_FALSE(cache.stores_everything());
+  const auto stored = [&](const char* id) { return std::filesystem::exists(cache.path_of(keys.at(id))); };
+  EXPECT_TRUE(stored("slow"));
+  // Recomputing d1 to d3 costs more than an entry: one of them is stored, though none alone is worth it.
+  EXPECT_TRUE(stored("d1") || stored("d2") || stored("d3"));
+  // A re-run of the same request computes nothing; one that needs d3 recomputes at most two cheap delays.
+  Evaluator warm(options);
+  const auto again = warm.evaluate(g, request({"slow"}, big));
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(status(again, "slow"), NodeStatus::Cached);
+  EXPECT_EQ(g_delay_runs, 4);
+  const auto d3 = Evaluator(options).evaluate(g, request({"d3"}, big));
+  ASSERT_TRUE(d3.ok());
+  EXPECT_LE(g_delay_runs, 4 + 2);
+  ASSERT_TRUE(field(d3, g, "d3"));
+  EXPECT_EQ(field(d3, g, "d3")->at(7, 7), 4.0f);  // 1 + three delays
+}
+
+TEST_F(EvaluatorTest, CacheStoreAllKeepsEveryValue) {
+  const auto dir = test::scratch_dir("eval-store-all");
+  const Domain big = Domain::from_extent({0.0, 0.0}, {1000.0, 1000.0}, {1025, 1025});
+  ASSERT_EQ(::setenv("OROGEN_CACHE_STORE", "all", 1), 0);
+  EvaluatorOptions options;
+  options.cache_dir = dir;
+  {
+    Evaluator ev(options);
+    const bool ok = ev.evaluate(delay_chain(0.0), request({"slow"}, big)).ok();
+    ::unsetenv("OROGEN_CACHE_STORE");
+    ASSERT_TRUE(ok);
+    EXPECT_EQ(ev.cache_stats().disk_writes, 5u);
+  }
+  const Graph g = delay_chain(0.0);
+  for (const auto& [id, key] : compute_cache_keys(g, big))
+    EXPECT_TRUE(std::filesystem::exists(DiskCache(dir).path_of(key))) << id;
 }
 
 // Damages the disk entry of node `id` and checks that a fresh evaluator rejects and recomputes it.
