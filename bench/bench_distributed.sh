@@ -5,7 +5,8 @@
 # of each job and the peak resident memory of every rank (GNU time's %M).
 #
 # GRAPH=bench/distributed_fill.json measures the nodes that run across the tiles today (filling flat, lakes,
-# normalization): there each rank holds only its tiles.
+# normalization), GRAPH=bench/distributed_flow.json the flow nodes (epsilon fill, D8 direction, D8 accumulation with
+# its flow map and wetness index): there each rank holds only its tiles.
 #
 # Usage: [GRAPH=G.json] bench/bench_distributed.sh [ORGEN_BINARY] [RESOLUTION] [TILES] [RANKS...]
 #   bench/bench_distributed.sh build/release/cli/orogen 2049 4x4 1 2 4
