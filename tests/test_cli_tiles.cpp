@@ -492,7 +492,8 @@ TEST(CliTiles, EveryExampleGraphTilesIntoItsUntiledBuild) {
 // and numbered across tiles, a blur of the filled terrain whose halo comes from the neighboring tiles, a
 // normalization of the blur over the whole domain's range (a reduction after a tile-graph node), and flow directions
 // and D8 accumulation with its flow map and wetness index (the epsilon fill's rounds, a ring of the filled surface
-// from the neighboring tiles, cell counts through perimeter links, the largest count).
+// from the neighboring tiles, cell counts through perimeter links, the largest count), and watersheds numbered
+// across the tiles.
 const char* kAcrossTilesGraph = R"({
   "format": "orogen-graph", "version": 7,
   "domain": { "size": [2560, 2560], "resolution": [257, 257] },
@@ -527,7 +528,12 @@ const char* kAcrossTilesGraph = R"({
     { "id": "save_flow_map", "type": "WriteHeightfield", "inputs": { "in": "flow.flow" },
       "params": { "path": "flow_map.exr" } },
     { "id": "save_wetness", "type": "WriteHeightfield", "inputs": { "in": "flow.wetness" },
-      "params": { "path": "wetness.exr" } }
+      "params": { "path": "wetness.exr" } },
+    { "id": "basins", "type": "Watersheds", "inputs": { "in": "noise.out" }, "params": { "min_area": 50000 } },
+    { "id": "save_basins", "type": "WriteHeightfield", "inputs": { "in": "basins.out" },
+      "params": { "path": "basins.exr" } },
+    { "id": "save_basin_area", "type": "WriteHeightfield", "inputs": { "in": "basins.area" },
+      "params": { "path": "basin_area.exr" } }
   ]
 })";
 
@@ -548,11 +554,12 @@ TEST(CliTiles, TileGraphAndReductionNodesRunAcrossTheTilesExactlyAndInATilesMemo
   EXPECT_NE(r.err.find("node 'lakes' (Lakes) computed across the tiles"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("node 'direction' (FlowDirection) computed across the tiles"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("node 'flow' (FlowAccumulation) computed across the tiles"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("node 'basins' (Watersheds) computed across the tiles"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << "nothing is computed on the whole domain:\n" << r.err;
   // Every tile is its window of the untiled build, bit for bit: filled heights, the blur's halo, lake numbers.
   EXPECT_NE(r.err.find("node 'stretch' (Normalize) computed across the tiles"), std::string::npos) << r.err;
   for (const std::string stem : {"filled", "filled_eps", "smooth", "lake_id", "lake_depth", "stretch", "direction",
-                                 "gradient", "flow", "flow_map", "wetness"})
+                                 "gradient", "flow", "flow_map", "wetness", "basins", "basin_area"})
     for (int j = 0; j < 3; ++j)
       for (int i = 0; i < 4; ++i)
         EXPECT_EQ(window_differences(dir / "whole", dir / "tiled", stem, {257, 257}, {4, 3}, i, j), 0u)

@@ -1,15 +1,18 @@
-// FlowDirection (fill on) and FlowAccumulation (D8) across tiles through their registered tile-graph algorithms
-// (nodes/hydrology/flow_across_tiles.cpp): the epsilon fill's rounds, a one-sample ring of the filled surface from
-// the tiles around, D8 counts through perimeter links (Barnes 2017) and the largest count for the flow map. Put
-// together, the tiles' outputs must equal the whole-domain functions the nodes call bit for bit, on every tiling, on
-// terrains whose lakes, flats and drainage cross tile borders and corners; and the accumulation at every outlet is
-// the area that drains to it.
+// FlowDirection (fill on), FlowAccumulation (D8) and Watersheds across tiles through their registered tile-graph
+// algorithms (nodes/hydrology/flow_across_tiles.cpp): the epsilon fill's rounds, a one-sample ring of the filled
+// surface from the tiles around, D8 counts through perimeter links (Barnes 2017), the largest count for the flow map,
+// and basin labels through the same links with the cells of each basin added up across tiles. Put together, the tiles'
+// outputs must equal the whole-domain functions the nodes call bit for bit, on every tiling, on terrains whose lakes,
+// flats and drainage cross tile borders and corners; and the accumulation at every outlet is the area that drains to
+// it.
+#include <map>
 #include <set>
 
 #include <gtest/gtest.h>
 
 #include "graph/tile_bytes.h"
 #include "nodes/hydrology/flow.h"
+#include "nodes/hydrology/tile_basins.h"
 #include "nodes/hydrology/tile_ring.h"
 #include "support/tile_graph_run.h"
 
@@ -125,6 +128,68 @@ TEST(FlowAcrossTiles, D8AccumulationEqualsTheWholeDomainNodeAndSumsToTheAreaOfEa
   EXPECT_GE(most_tiles_crossed, 4) << "some drainage must cross several tiles and their corners";
 }
 
+// Watersheds: every cell labeled with its D8 outlet through the perimeter links, basins numbered by decreasing area
+// over the whole domain (ties by outlet index), the small ones dropped; with filling (outlets on the border only) and
+// without (pits too, many of them inside tiles).
+TEST(FlowAcrossTiles, WatershedsEqualTheWholeDomainNodeOnEveryTiling) {
+  bool crossing = false;
+  for (const glm::ivec2 size : {glm::ivec2(41, 33), glm::ivec2(129, 97)})
+    for (int levels : {0, 2})
+      for (bool fill : {true, false})
+        for (double min_area : {0.0, 2000.0}) {
+          SCOPED_TRACE(std::string(fill ? "fill" : "no fill") + " min_area " + std::to_string(min_area));
+          const Terrain t = terrain(size, 13, levels);
+          const Domain whole = domain_of(t);
+          Heightfield ground(whole);
+          ground.data = t.z;
+          const WatershedResult r = watersheds(ground, fill, min_area);
+          ASSERT_GT(r.basins, 1);
+          const auto algorithm = algorithm_of("Watersheds", {{"fill", fill}, {"min_area", min_area}}, whole);
+          ASSERT_TRUE(algorithm);
+          for (const glm::ivec2 counts : kTilings) {
+            SCOPED_TRACE(tiling_text(size, levels, counts));
+            const auto tiled = test::run_across_tiles(*algorithm, t, counts);
+            expect_same(tiled, {r.id, r.area}, {"out", "area"});
+            if (counts.x * counts.y < 4) continue;
+            std::map<int, std::set<int>> tiles_of;
+            for (int j = 0; j < size.y; ++j)
+              for (int i = 0; i < size.x; ++i)
+                if (const int id = static_cast<int>(r.id->data[static_cast<std::size_t>(j * size.x + i)]); id > 0)
+                  tiles_of[id].insert(tile_of(i, j, size, counts));
+            for (const auto& [id, tiles] : tiles_of) crossing = crossing || tiles.size() >= 3;
+          }
+        }
+  EXPECT_TRUE(crossing) << "some basin must span three tiles";
+}
+
+TEST(FlowAcrossTiles, BasinLinksAndCountsTravelAsCheckedBytes) {
+  const TileRect r{{0, 0}, {3, 3}};
+  std::vector<std::uint8_t> direction(9, kNoDirection);
+  direction[4] = 0;  // the centre drains east, to a border outlet
+  direction[3] = 0;  // and the west perimeter cell to the centre: a link from the perimeter to the perimeter
+  auto basins = start_tile_basins(start_tile_accumulation(direction, r, {3, 3}));
+  const std::string links = basin_links_message(basins);
+  const auto answers = solve_basin_links({links}, {3, 3});
+  EXPECT_THROW(solve_basin_links({links + "x"}, {3, 3}), std::invalid_argument);
+  EXPECT_THROW(solve_basin_links({links.substr(0, links.size() - 1)}, {3, 3}), std::invalid_argument);
+  EXPECT_THROW(solve_basin_links({links}, {2, 3}), std::invalid_argument);
+  EXPECT_THROW(solve_basin_links({links, links}, {3, 3}), std::invalid_argument);  // one edge taken twice
+  EXPECT_THROW(take_basin_outlets(basins, answers[0] + "x"), std::invalid_argument);
+  take_basin_outlets(basins, answers[0]);
+  EXPECT_EQ(basins.outlet[4], 5);
+  EXPECT_EQ(basins.outlet[3], 5);
+  const std::string counts = basin_count_message(basins);
+  const auto numbers = solve_basin_counts({counts}, 1.0, 0.0);
+  EXPECT_THROW(solve_basin_counts({counts + "x"}, 1.0, 0.0), std::invalid_argument);
+  std::vector<float> id(9), area(9);
+  EXPECT_THROW(basin_maps(basins, numbers[0] + "x", 1.0, id, area), std::invalid_argument);
+  basin_maps(basins, numbers[0], 1.0, id, area);
+  EXPECT_EQ(id[4], 1.0f);  // the largest basin: the outlet east of the centre, with three cells
+  EXPECT_EQ(area[4], 3.0f);
+  EXPECT_EQ(id[0], 2.0f);  // then the one-cell basins by outlet index
+  EXPECT_EQ(area[0], 1.0f);
+}
+
 TEST(FlowAcrossTiles, WeightedAndDispersiveAccumulationStayOnTheWholeDomain) {
   const Domain whole = Domain::from_extent({0, 0}, {640, 640}, {65, 65});
   EXPECT_NE(algorithm_of("FlowAccumulation", {{"method", std::string("d8")}}, whole), nullptr);
@@ -136,6 +201,7 @@ TEST(FlowAcrossTiles, WeightedAndDispersiveAccumulationStayOnTheWholeDomain) {
   // A linked rainfall weight keeps the node on the whole domain (cli/tiling.h), and the algorithm refuses one.
   EXPECT_EQ(tile_graph_unlinked_inputs("FlowAccumulation"), std::vector<std::string>{"rainfall_weight"});
   EXPECT_TRUE(tile_graph_unlinked_inputs("FlowDirection").empty());
+  EXPECT_NE(algorithm_of("Watersheds", {{"fill", false}}, whole), nullptr);
   const auto algorithm = algorithm_of("FlowAccumulation", {{"method", std::string("d8")}}, whole);
   auto h = std::make_shared<Heightfield>(whole);
   EXPECT_THROW(algorithm->start({HeightfieldPtr(h), HeightfieldPtr(h)}), std::invalid_argument);

@@ -1,6 +1,6 @@
-// FlowDirection (fill on) and FlowAccumulation (D8, no rainfall weight) across the tiles of a tiled or distributed
-// build, exact (graph/tile_graph.h, docs/distributed.md). The rounds go in phases, each message and answer tagged
-// with its phase so every rank and tile knows where the run stands:
+// FlowDirection (fill on), FlowAccumulation (D8, no rainfall weight) and Watersheds across the tiles of a tiled or
+// distributed build, exact (graph/tile_graph.h, docs/distributed.md). The rounds go in phases, each message and answer
+// tagged with its phase so every rank and tile knows where the run stands:
 //
 //  - fill (with `fill` on): the spill graphs of all tiles (Barnes 2016, nodes/hydrology/tile_fill.h), then rounds of
 //    the epsilon surface until no perimeter value falls: the whole-domain Priority-Flood+epsilon bit for bit;
@@ -10,7 +10,9 @@
 //  - accumulation (FlowAccumulation): D8 cell counts through perimeter links (Barnes 2017,
 //    nodes/hydrology/tile_accumulation.h), whole numbers, so exact; the area is the count times the cell area, as
 //    the whole-domain node computes it;
-//  - maximum (the flow map with flow_max_area 0): the largest count of any tile, the flow map's upper end.
+//  - maximum (the flow map with flow_max_area 0): the largest count of any tile, the flow map's upper end;
+//  - links and basins (Watersheds): where each perimeter cell's D8 path ends, joined into every cell's outlet, then
+//    the cells per outlet added up and the basins numbered by decreasing area (nodes/hydrology/tile_basins.h).
 //
 // D-infinity and MFD accumulation and a rainfall weight are not here: their floating-point sums depend on the order
 // of addition, which tiles cannot reproduce, so they are computed on the whole domain (docs/distributed.md).
@@ -23,13 +25,14 @@
 #include "graph/tile_graph.h"
 #include "nodes/hydrology/flow.h"
 #include "nodes/hydrology/tile_accumulation.h"
+#include "nodes/hydrology/tile_basins.h"
 #include "nodes/hydrology/tile_fill.h"
 #include "nodes/hydrology/tile_ring.h"
 
 namespace orogen::hydrology {
 namespace {
 
-enum class Phase : std::uint8_t { Spill, Epsilon, Ring, Accumulate, Maximum, Done };
+enum class Phase : std::uint8_t { Spill, Epsilon, Ring, Accumulate, Maximum, Links, Basins, Done };
 
 constexpr const char* kWhat = "flow across tiles";
 
@@ -47,12 +50,17 @@ Phase take_phase(std::string_view& bytes) {
 
 // What the tiles compute once they have the ring.
 struct FlowJob {
-  bool accumulation = false;  // FlowAccumulation (D8); else FlowDirection's maps
+  enum class Output { Directions, Accumulation, Basins } output = Output::Directions;
   bool fill = true;
-  RoutingOptions routing;  // FlowDirection's method and exponent
-  AccumulationParams accumulation_params;
+  RoutingOptions routing;                  // FlowDirection's method and exponent
+  AccumulationParams accumulation_params;  // FlowAccumulation's
+  double min_area = 0.0;                   // Watersheds'
+  // The phase after the ring, and after the accumulation.
+  Phase after_ring() const {
+    return output == Output::Accumulation ? Phase::Accumulate : output == Output::Basins ? Phase::Links : Phase::Done;
+  }
   // Whether the flow map needs the largest accumulation (a maximum round).
-  bool needs_maximum() const { return accumulation && !(accumulation_params.flow_max_area > 0.0); }
+  Phase after_accumulation() const { return accumulation_params.flow_max_area > 0.0 ? Phase::Done : Phase::Maximum; }
 };
 
 class FlowTile : public TileGraphTile {
@@ -84,6 +92,10 @@ class FlowTile : public TileGraphTile {
         bytes::put(out, *std::max_element(counts_.begin(), counts_.end()));
         return tagged(phase_, std::move(out));
       }
+      case Phase::Links:
+        return tagged(phase_, basin_links_message(basins_));
+      case Phase::Basins:
+        return tagged(phase_, basin_count_message(basins_));
       case Phase::Done:
         break;
     }
@@ -117,6 +129,16 @@ class FlowTile : public TileGraphTile {
         largest_ = bytes::take<std::int64_t>(bytes, kWhat);
         if (!bytes.empty()) throw std::invalid_argument("flow across tiles: trailing bytes");
         break;
+      case Phase::Links:
+        take_basin_outlets(basins_, bytes);
+        break;
+      case Phase::Basins: {
+        id_ = std::make_shared<Heightfield>(ground_->domain);
+        area_ = std::make_shared<Heightfield>(ground_->domain);
+        basin_maps(basins_, bytes, grid_.cell_area(), id_->data, area_->data);
+        basins_ = {};
+        break;
+      }
       case Phase::Done:
         throw std::logic_error("flow across tiles: an answer after the last round");
     }
@@ -125,9 +147,10 @@ class FlowTile : public TileGraphTile {
 
   std::vector<PortValue> outputs() override {
     if (phase_ != Phase::Done) throw std::logic_error("flow across tiles: outputs before the last round");
-    if (!job_.accumulation)
+    if (job_.output == FlowJob::Output::Directions)
       return {HeightfieldPtr(maps_.angle), HeightfieldPtr(maps_.dx), HeightfieldPtr(maps_.dy),
               HeightfieldPtr(maps_.slope)};
+    if (job_.output == FlowJob::Output::Basins) return {HeightfieldPtr(id_), HeightfieldPtr(area_)};
     // As flow_accumulation on the whole domain: the area is the cell count times the cell area.
     const Domain& d = ground_->domain;
     const AccumulationParams& p = job_.accumulation_params;
@@ -156,7 +179,7 @@ class FlowTile : public TileGraphTile {
     // and every neighbour of the tile's cells is in it.
     const FlowGrid g(ringed.size.x, ringed.size.y, grid_.dx, grid_.dy);
     const glm::ivec2 at = rect_.first - ringed.first;
-    if (!job_.accumulation) {
+    if (job_.output == FlowJob::Output::Directions) {
       const Domain& d = ground_->domain;
       maps_.angle = std::make_shared<Heightfield>(d);
       maps_.dx = std::make_shared<Heightfield>(d);
@@ -165,18 +188,23 @@ class FlowTile : public TileGraphTile {
       direction_maps(g, z, at, job_.routing, maps_);
       return;
     }
+    const bool basins = job_.output == FlowJob::Output::Basins;
     const D8Flow f = d8_flow(g, z);
-    const std::vector<float> slope = steepest_slope(g, z);
+    const std::vector<float> slope = basins ? std::vector<float>() : steepest_slope(g, z);
     std::vector<std::uint8_t> direction;
     direction.reserve(static_cast<std::size_t>(rect_.size.x) * static_cast<std::size_t>(rect_.size.y));
-    slope_.reserve(direction.capacity());
+    if (!basins) slope_.reserve(direction.capacity());
     for (int j = 0; j < rect_.size.y; ++j)
       for (int i = 0; i < rect_.size.x; ++i) {
         const auto c = static_cast<std::size_t>(g.index(at.x + i, at.y + j));
         direction.push_back(f.direction[c]);
-        slope_.push_back(slope[c]);
+        if (!basins) slope_.push_back(slope[c]);
       }
     accumulation_ = start_tile_accumulation(direction, rect_, whole_);
+    if (basins) {
+      basins_ = start_tile_basins(accumulation_);
+      accumulation_ = {};
+    }
   }
 
   HeightfieldPtr ground_;
@@ -193,6 +221,8 @@ class FlowTile : public TileGraphTile {
   std::vector<float> slope_;
   std::vector<std::int64_t> counts_;
   std::int64_t largest_ = 0;
+  TileBasins basins_;
+  std::shared_ptr<Heightfield> id_, area_;
 };
 
 class FlowAcrossTiles : public TileGraphAlgorithm {
@@ -210,9 +240,11 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
       case Phase::Epsilon:
         return true;  // more epsilon rounds, or the ring
       case Phase::Ring:
-        return job_.accumulation;
+        return job_.after_ring() != Phase::Done;
       case Phase::Accumulate:
-        return job_.needs_maximum();
+        return job_.after_accumulation() != Phase::Done;
+      case Phase::Links:
+        return true;
       default:
         return false;
     }
@@ -256,11 +288,18 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
         break;
       case Phase::Ring:
         answers = solve_rings(messages, size);
-        next = job_.accumulation ? Phase::Accumulate : Phase::Done;
+        next = job_.after_ring();
         break;
       case Phase::Accumulate:
         answers = solve_tile_accumulation(messages, size);
-        next = job_.needs_maximum() ? Phase::Maximum : Phase::Done;
+        next = job_.after_accumulation();
+        break;
+      case Phase::Links:
+        answers = solve_basin_links(messages, size);
+        next = Phase::Basins;
+        break;
+      case Phase::Basins:
+        answers = solve_basin_counts(messages, FlowGrid::of(whole_).cell_area(), job_.min_area);
         break;
       case Phase::Maximum: {
         std::int64_t largest = 0;
@@ -309,7 +348,7 @@ const bool kAccumulationRegistered = register_tile_graph(
       std::unique_ptr<TileGraphAlgorithm> algorithm;
       if (p.get<std::string>("method") != "d8") return algorithm;
       FlowJob job;
-      job.accumulation = true;
+      job.output = FlowJob::Output::Accumulation;
       job.fill = p.get<bool>("fill");
       job.accumulation_params.fill = job.fill;
       job.accumulation_params.flow_min_area = p.get<double>("flow_min_area");
@@ -321,6 +360,16 @@ const bool kAccumulationRegistered = register_tile_graph(
     "with method 'd8' and no rainfall_weight linked (the weighted and the D-infinity and MFD sums are floating "
     "point, whose rounding depends on the order of addition)",
     {"rainfall_weight"});
+
+// Watersheds, fill on or off: D8 labels through perimeter links, whole cell counts per basin.
+const bool kWatershedsRegistered = register_tile_graph("Watersheds", [](const ParamView& p, const Domain& whole) {
+  FlowJob job;
+  job.output = FlowJob::Output::Basins;
+  job.fill = p.get<bool>("fill");
+  job.min_area = p.get<double>("min_area");
+  std::unique_ptr<TileGraphAlgorithm> algorithm = std::make_unique<FlowAcrossTiles>(std::move(job), whole);
+  return algorithm;
+});
 
 }  // namespace
 }  // namespace orogen::hydrology
