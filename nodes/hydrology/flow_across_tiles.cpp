@@ -55,24 +55,25 @@ struct FlowJob {
   RoutingOptions routing;                  // FlowDirection's method and exponent
   AccumulationParams accumulation_params;  // FlowAccumulation's
   double min_area = 0.0;                   // Watersheds'
-  // The phase after the ring, and after the accumulation.
+  // What follows the ring: the accumulation, the basins' links, or nothing (the directions are done).
   Phase after_ring() const {
     return output == Output::Accumulation ? Phase::Accumulate : output == Output::Basins ? Phase::Links : Phase::Done;
   }
-  // Whether the flow map needs the largest accumulation (a maximum round).
+  // What follows the accumulation: the largest count, unless flow_max_area fixes the flow map's upper end.
   Phase after_accumulation() const { return accumulation_params.flow_max_area > 0.0 ? Phase::Done : Phase::Maximum; }
 };
 
 class FlowTile : public TileGraphTile {
  public:
-  FlowTile(HeightfieldPtr ground, const FlowJob& job, const Domain& whole)
-      : ground_(std::move(ground)), job_(job), whole_(whole.resolution), grid_(FlowGrid::of(whole)) {
-    rect_ = {ground_->domain.first, ground_->domain.resolution};
+  // The tile keeps no reference to `ground`: the stage lets it go once every tile has started.
+  FlowTile(const Heightfield& ground, const FlowJob& job, const Domain& whole)
+      : domain_(ground.domain), job_(job), whole_(whole.resolution), grid_(FlowGrid::of(whole)) {
+    rect_ = {domain_.first, domain_.resolution};
     if (job_.fill) {
-      flood_ = flood_tile(ground_->data, rect_);
+      flood_ = flood_tile(ground.data, rect_);
       phase_ = Phase::Spill;
     } else {
-      surface_ = ground_->data;
+      surface_ = ground.data;
       phase_ = Phase::Ring;
     }
   }
@@ -85,8 +86,11 @@ class FlowTile : public TileGraphTile {
         return tagged(phase_, epsilon_->message());
       case Phase::Ring:
         return tagged(phase_, ring_message(surface_, rect_));
-      case Phase::Accumulate:
-        return tagged(phase_, accumulation_message(accumulation_));
+      case Phase::Accumulate: {
+        std::string out = tagged(phase_, accumulation_message(accumulation_));
+        accumulation_.local = {};  // only the message needs the local counts
+        return out;
+      }
       case Phase::Maximum: {
         std::string out;
         bytes::put(out, *std::max_element(counts_.begin(), counts_.end()));
@@ -133,8 +137,8 @@ class FlowTile : public TileGraphTile {
         take_basin_outlets(basins_, bytes);
         break;
       case Phase::Basins: {
-        id_ = std::make_shared<Heightfield>(ground_->domain);
-        area_ = std::make_shared<Heightfield>(ground_->domain);
+        id_ = std::make_shared<Heightfield>(domain_);
+        area_ = std::make_shared<Heightfield>(domain_);
         basin_maps(basins_, bytes, grid_.cell_area(), id_->data, area_->data);
         basins_ = {};
         break;
@@ -152,7 +156,7 @@ class FlowTile : public TileGraphTile {
               HeightfieldPtr(maps_.slope)};
     if (job_.output == FlowJob::Output::Basins) return {HeightfieldPtr(id_), HeightfieldPtr(area_)};
     // As flow_accumulation on the whole domain: the area is the cell count times the cell area.
-    const Domain& d = ground_->domain;
+    const Domain& d = domain_;
     const AccumulationParams& p = job_.accumulation_params;
     auto out = std::make_shared<Heightfield>(d), flow = std::make_shared<Heightfield>(d),
          wetness = std::make_shared<Heightfield>(d);
@@ -180,7 +184,7 @@ class FlowTile : public TileGraphTile {
     const FlowGrid g(ringed.size.x, ringed.size.y, grid_.dx, grid_.dy);
     const glm::ivec2 at = rect_.first - ringed.first;
     if (job_.output == FlowJob::Output::Directions) {
-      const Domain& d = ground_->domain;
+      const Domain& d = domain_;
       maps_.angle = std::make_shared<Heightfield>(d);
       maps_.dx = std::make_shared<Heightfield>(d);
       maps_.dy = std::make_shared<Heightfield>(d);
@@ -207,7 +211,7 @@ class FlowTile : public TileGraphTile {
     }
   }
 
-  HeightfieldPtr ground_;
+  Domain domain_;  // the tile's samples
   FlowJob job_;
   glm::ivec2 whole_;
   FlowGrid grid_;  // the whole domain's spacing
@@ -255,7 +259,7 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
     if (!ground || !*ground) throw std::invalid_argument("flow routing across tiles needs a heightfield input");
     if (inputs.size() > 1 && has_value(inputs[1]))
       throw std::invalid_argument("flow accumulation across tiles takes no rainfall weight");
-    return std::make_unique<FlowTile>(*ground, job_, whole_);
+    return std::make_unique<FlowTile>(**ground, job_, whole_);
   }
 
   std::vector<std::string> solve(int, const std::vector<std::string>& tagged_messages) const override {
