@@ -787,8 +787,8 @@ std::vector<std::int32_t> basin_labels(const D8Flow& f, std::span<const std::int
 
 namespace {
 
-// accumulate_d8 with `unit` as the weight of every cell when `weight` is empty.
-std::vector<double> accumulate_d8_of(const FlowGrid& g, const D8Flow& f, std::span<const float> weight, double unit,
+// accumulate_d8 with `area` as the weight of every cell when `weight` is empty.
+std::vector<double> accumulate_d8_of(const FlowGrid& g, const D8Flow& f, std::span<const float> weight, double area,
                                      const ExecContext* ctx) {
   const std::size_t n = f.receiver.size();
   std::vector<double> acc(n);
@@ -809,7 +809,6 @@ std::vector<double> accumulate_d8_of(const FlowGrid& g, const D8Flow& f, std::sp
     count_donors(0, n);
   std::int32_t off[8];
   for (int k = 0; k < 8; ++k) off[k] = g.offset(k);
-  const double area = unit;
   const std::int32_t* rec = f.receiver.data();
   const std::uint8_t* donors = f.donors.data();
   double* a = acc.data();

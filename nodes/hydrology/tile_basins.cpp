@@ -12,18 +12,6 @@ namespace {
 
 constexpr const char* kWhat = "tile basins";
 
-std::int64_t sample_of(const TileRect& r, glm::ivec2 domain, std::int32_t c) {
-  return static_cast<std::int64_t>(r.first.y + c / r.size.x) * domain.x + r.first.x + c % r.size.x;
-}
-
-// Per tile cell: its index in perimeter order, or -1.
-std::vector<std::int32_t> perimeter_index(glm::ivec2 size, const std::vector<std::int32_t>& perimeter) {
-  std::vector<std::int32_t> index(static_cast<std::size_t>(size.x) * static_cast<std::size_t>(size.y), -1);
-  for (std::size_t k = 0; k < perimeter.size(); ++k)
-    index[static_cast<std::size_t>(perimeter[k])] = static_cast<std::int32_t>(k);
-  return index;
-}
-
 }  // namespace
 
 TileBasins start_tile_basins(const TileAccumulation& edges) {
@@ -52,17 +40,16 @@ TileBasins start_tile_basins(const TileAccumulation& edges) {
 
 std::string basin_links_message(const TileBasins& t) {
   std::string out;
-  bytes::put(out, t.rect.first.x), bytes::put(out, t.rect.first.y), bytes::put(out, t.rect.size.x),
-      bytes::put(out, t.rect.size.y);
+  put_tile_rect(out, t.rect);
   const auto perimeter = perimeter_cells(t.rect.size);
-  const auto index = perimeter_index(t.rect.size, perimeter);
+  const auto index = perimeter_index(t.rect.size);
   std::vector<std::int32_t> link;
   std::vector<std::int64_t> inside;
   for (const std::int32_t p : perimeter) {
     const std::int32_t e = t.end[static_cast<std::size_t>(p)];
     const std::int32_t k = index[static_cast<std::size_t>(e)];
     link.push_back(e != p && k >= 0 ? k : -1);
-    inside.push_back(k < 0 ? sample_of(t.rect, t.domain, e) : -1);
+    inside.push_back(k < 0 ? domain_sample(t.rect, t.domain, e) : -1);
   }
   bytes::put_vector(out, link);
   bytes::put_vector(out, inside);
@@ -76,12 +63,7 @@ std::vector<std::string> solve_basin_links(const std::vector<std::string>& messa
   std::vector<std::vector<std::int32_t>> nodes(messages.size());
   for (std::size_t t = 0; t < messages.size(); ++t) {
     std::string_view in(messages[t]);
-    TileRect r;
-    r.first.x = bytes::take<int>(in, kWhat), r.first.y = bytes::take<int>(in, kWhat);
-    r.size.x = bytes::take<int>(in, kWhat), r.size.y = bytes::take<int>(in, kWhat);
-    if (r.size.x < 1 || r.size.y < 1 || r.first.x < 0 || r.first.y < 0 || r.first.x + r.size.x > domain_size.x ||
-        r.first.y + r.size.y > domain_size.y)
-      throw std::invalid_argument("tile basins: a tile lies outside the domain");
+    const TileRect r = take_tile_rect(in, domain_size, kWhat);
     const auto perimeter = perimeter_cells(r.size);
     const auto link = bytes::take_vector<std::int32_t>(in, kWhat);
     const auto inside = bytes::take_vector<std::int64_t>(in, kWhat);
@@ -89,7 +71,7 @@ std::vector<std::string> solve_basin_links(const std::vector<std::string>& messa
     if (link.size() != perimeter.size() || inside.size() != perimeter.size())
       throw std::invalid_argument("tile basins: a tile's perimeter does not match its size");
     for (const std::int32_t c : perimeter) {
-      const std::int64_t s = sample_of(r, domain_size, c);
+      const std::int64_t s = domain_sample(r, domain_size, c);
       const auto [it, fresh] = node_of.emplace(s, static_cast<std::int32_t>(sample.size()));
       if (fresh) sample.push_back(s), fixed.push_back(-1), next.push_back(-1);
       nodes[t].push_back(it->second);
@@ -142,12 +124,12 @@ void take_basin_outlets(TileBasins& t, std::string_view answer) {
   if (!answer.empty()) throw std::invalid_argument("tile basins: trailing bytes");
   const auto perimeter = perimeter_cells(t.rect.size);
   if (y.size() != perimeter.size()) throw std::invalid_argument("tile basins: one outlet per perimeter cell");
-  const auto index = perimeter_index(t.rect.size, perimeter);
+  const auto index = perimeter_index(t.rect.size);
   t.outlet.resize(t.end.size());
   for (std::size_t c = 0; c < t.end.size(); ++c) {
     const std::int32_t e = t.end[c];
     const std::int32_t k = index[static_cast<std::size_t>(e)];
-    t.outlet[c] = k >= 0 ? y[static_cast<std::size_t>(k)] : sample_of(t.rect, t.domain, e);
+    t.outlet[c] = k >= 0 ? y[static_cast<std::size_t>(k)] : domain_sample(t.rect, t.domain, e);
   }
 }
 

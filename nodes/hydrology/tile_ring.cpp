@@ -32,12 +32,6 @@ void for_each_ring_cell(const TileRect& rect, const TileRect& ringed, Fn&& fn) {
       if (i < lo.x || j < lo.y || i > hi.x || j > hi.y) fn(i, j);
 }
 
-void check_inside(const TileRect& r, glm::ivec2 domain_size) {
-  if (r.size.x < 1 || r.size.y < 1 || r.first.x < 0 || r.first.y < 0 || r.first.x + r.size.x > domain_size.x ||
-      r.first.y + r.size.y > domain_size.y)
-    throw std::invalid_argument("tile ring: a tile lies outside the domain");
-}
-
 }  // namespace
 
 TileRect ringed_rect(const TileRect& rect, glm::ivec2 domain_size) {
@@ -50,8 +44,7 @@ std::string ring_message(std::span<const float> values, const TileRect& rect) {
   if (values.size() != static_cast<std::size_t>(rect.size.x) * static_cast<std::size_t>(rect.size.y))
     throw std::invalid_argument("ring_message: values do not match the tile's size");
   std::string out;
-  bytes::put(out, rect.first.x), bytes::put(out, rect.first.y), bytes::put(out, rect.size.x),
-      bytes::put(out, rect.size.y);
+  put_tile_rect(out, rect);
   std::vector<float> band;
   for_each_band_cell(rect.size, [&](int i, int j) {
     band.push_back(
@@ -66,10 +59,7 @@ std::vector<std::string> solve_rings(const std::vector<std::string>& messages, g
   std::unordered_map<std::int64_t, float> value_of;  // sample index -> value, over every tile's band
   for (std::size_t t = 0; t < messages.size(); ++t) {
     std::string_view in(messages[t]);
-    TileRect& r = rects[t];
-    r.first.x = bytes::take<int>(in, kWhat), r.first.y = bytes::take<int>(in, kWhat);
-    r.size.x = bytes::take<int>(in, kWhat), r.size.y = bytes::take<int>(in, kWhat);
-    check_inside(r, domain_size);
+    const TileRect& r = rects[t] = take_tile_rect(in, domain_size, kWhat);
     const auto band = bytes::take_vector<float>(in, kWhat);
     if (!in.empty()) throw std::invalid_argument("tile ring: trailing bytes");
     std::size_t k = 0;
@@ -79,9 +69,8 @@ std::vector<std::string> solve_rings(const std::vector<std::string>& messages, g
         fits = false;
         return;
       }
-      const std::int64_t sample = static_cast<std::int64_t>(r.first.y + j) * domain_size.x + r.first.x + i;
       const float v = band[k++];
-      const auto [it, fresh] = value_of.emplace(sample, v);
+      const auto [it, fresh] = value_of.emplace(domain_sample(r, domain_size, j * r.size.x + i), v);
       if (!fresh && std::bit_cast<std::uint32_t>(it->second) != std::bit_cast<std::uint32_t>(v))
         throw std::invalid_argument("tile ring: tiles disagree on a shared sample");
     });
