@@ -342,12 +342,7 @@ TEST(AccumulationAcrossTiles, CountsEqualTheWholeDomainOnEveryTiling) {
       const D8Flow f = d8_flow(g, t.z);
       const auto whole = accumulate_d8(g, f, std::vector<float>(g.size(), 1.0f));
       // Outlets: the cells whose D8 path ends at them, counted by following the paths.
-      std::vector<std::int64_t> ending(g.size(), 0);
-      for (std::int32_t c = 0; c < static_cast<std::int32_t>(g.size()); ++c) {
-        std::int32_t x = c;
-        while (f.receiver[static_cast<std::size_t>(x)] != x) x = f.receiver[static_cast<std::size_t>(x)];
-        ++ending[static_cast<std::size_t>(x)];
-      }
+      const auto ending = test::cells_ending_at(f.receiver);
       for (const glm::ivec2 counts : tilings) {
         SCOPED_TRACE(std::to_string(size.x) + "x" + std::to_string(size.y) + " levels " + std::to_string(levels) +
                      " tiles " + std::to_string(counts.x) + "x" + std::to_string(counts.y));

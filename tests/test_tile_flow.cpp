@@ -56,8 +56,7 @@ TEST(FlowAcrossTiles, FlowDirectionWithFillEqualsTheWholeDomainNodeOnEveryTiling
     for (int levels : {0, 2}) {
       const Terrain t = terrain(size, 11, levels);
       const Domain whole = domain_of(t);
-      Heightfield ground(whole);
-      ground.data = t.z;
+      const Heightfield ground = test::heights_of(t);
       for (const char* method : {"d8", "dinf", "mfd"}) {
         SCOPED_TRACE(method);
         const auto kind = std::string(method) == "d8"     ? FlowMethod::D8
@@ -84,8 +83,7 @@ TEST(FlowAcrossTiles, D8AccumulationEqualsTheWholeDomainNodeAndSumsToTheAreaOfEa
           SCOPED_TRACE(std::string(fill ? "fill" : "no fill") + " flow_max_area " + std::to_string(max_area));
           const Terrain t = terrain(size, 12, levels);
           const Domain whole = domain_of(t);
-          Heightfield ground(whole);
-          ground.data = t.z;
+          const Heightfield ground = test::heights_of(t);
           AccumulationParams p;
           p.method = FlowMethod::D8;
           p.fill = fill;
@@ -99,12 +97,7 @@ TEST(FlowAcrossTiles, D8AccumulationEqualsTheWholeDomainNodeAndSumsToTheAreaOfEa
           std::vector<float> z = t.z;
           if (fill) fill_depressions(g, z, FlatMode::Epsilon);
           const D8Flow f = d8_flow(g, z);
-          std::vector<std::int64_t> ending(g.size(), 0);
-          for (std::int32_t c = 0; c < static_cast<std::int32_t>(g.size()); ++c) {
-            std::int32_t x = c;
-            while (f.receiver[static_cast<std::size_t>(x)] != x) x = f.receiver[static_cast<std::size_t>(x)];
-            ++ending[static_cast<std::size_t>(x)];
-          }
+          const auto ending = test::cells_ending_at(f.receiver);
           for (const glm::ivec2 counts : kTilings) {
             SCOPED_TRACE(tiling_text(size, levels, counts));
             const auto tiled = test::run_across_tiles(*algorithm, t, counts, 2);
@@ -140,8 +133,7 @@ TEST(FlowAcrossTiles, WatershedsEqualTheWholeDomainNodeOnEveryTiling) {
           SCOPED_TRACE(std::string(fill ? "fill" : "no fill") + " min_area " + std::to_string(min_area));
           const Terrain t = terrain(size, 13, levels);
           const Domain whole = domain_of(t);
-          Heightfield ground(whole);
-          ground.data = t.z;
+          const Heightfield ground = test::heights_of(t);
           const WatershedResult r = watersheds(ground, fill, min_area);
           ASSERT_GT(r.basins, 1);
           const auto algorithm = algorithm_of("Watersheds", {{"fill", fill}, {"min_area", min_area}}, whole);

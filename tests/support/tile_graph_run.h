@@ -5,6 +5,7 @@
 // tiles' outputs put together (shared samples must agree bit for bit).
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <map>
@@ -52,6 +53,18 @@ inline Terrain terrain(glm::ivec2 size, unsigned seed, int levels) {
   return t;
 }
 
+// Per cell: the number of cells whose path along `receiver` (a cell's receiver, itself at an outlet or pit) ends
+// at it: the area, in cells, that drains to each outlet.
+inline std::vector<std::int64_t> cells_ending_at(const std::vector<std::int32_t>& receiver) {
+  std::vector<std::int64_t> ending(receiver.size(), 0);
+  for (std::int32_t c = 0; c < static_cast<std::int32_t>(receiver.size()); ++c) {
+    std::int32_t x = c;
+    while (receiver[static_cast<std::size_t>(x)] != x) x = receiver[static_cast<std::size_t>(x)];
+    ++ending[static_cast<std::size_t>(x)];
+  }
+  return ending;
+}
+
 inline bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
@@ -59,6 +72,13 @@ inline bool same_bits(const std::vector<float>& a, const std::vector<float>& b) 
 // 10 m between samples.
 inline Domain domain_of(const Terrain& t) {
   return Domain::from_extent({0, 0}, {10.0 * (t.size.x - 1), 10.0 * (t.size.y - 1)}, t.size);
+}
+
+// The terrain as a heightfield on domain_of(t).
+inline Heightfield heights_of(const Terrain& t) {
+  Heightfield h(domain_of(t));
+  h.data = t.z;
+  return h;
 }
 
 inline std::vector<ParamValue> params_of(const NodeType& type, const std::map<std::string, ParamValue>& set) {
