@@ -5,7 +5,8 @@
 # of each job and the peak resident memory of every rank (GNU time's %M).
 #
 # GRAPH=bench/distributed_fill.json measures the nodes that run across the tiles today (filling flat, lakes,
-# normalization): there each rank holds only its tiles.
+# normalization), GRAPH=bench/distributed_flow.json the flow nodes (epsilon fill, D8 direction, D8 accumulation with
+# its flow map and wetness index): there each rank holds only its tiles.
 # GRAPH=bench/distributed_thermal.json measures ThermalErosion across the tiles (halos exchanged every k
 # iterations).
 #

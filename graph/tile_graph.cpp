@@ -9,6 +9,7 @@ namespace {
 struct Entry {
   TileGraphFactory factory;
   std::string conditions;
+  std::vector<std::string> unlinked_inputs;
 };
 
 std::map<std::string, Entry>& factories() {
@@ -18,8 +19,9 @@ std::map<std::string, Entry>& factories() {
 
 }  // namespace
 
-bool register_tile_graph(const std::string& type, TileGraphFactory factory, std::string conditions) {
-  factories()[type] = {std::move(factory), std::move(conditions)};
+bool register_tile_graph(const std::string& type, TileGraphFactory factory, std::string conditions,
+                         std::vector<std::string> unlinked_inputs) {
+  factories()[type] = {std::move(factory), std::move(conditions), std::move(unlinked_inputs)};
   return true;
 }
 
@@ -31,6 +33,11 @@ const TileGraphFactory* find_tile_graph(const std::string& type) {
 std::string tile_graph_conditions(const std::string& type) {
   const auto it = factories().find(type);
   return it == factories().end() ? std::string() : it->second.conditions;
+}
+
+std::vector<std::string> tile_graph_unlinked_inputs(const std::string& type) {
+  const auto it = factories().find(type);
+  return it == factories().end() ? std::vector<std::string>() : it->second.unlinked_inputs;
 }
 
 }  // namespace orogen

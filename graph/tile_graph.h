@@ -62,10 +62,15 @@ using TileGraphFactory =
 
 // Registers the algorithm of node type `type` (at static initialisation, next to the node's declaration);
 // `conditions` says for which parameter values the factory gives one ("" for all), for the node reference.
-bool register_tile_graph(const std::string& type, TileGraphFactory factory, std::string conditions = {});
+// `unlinked_inputs` names the input ports the algorithm cannot take (FlowAccumulation's rainfall weight): a node
+// with one of them linked is computed on the whole domain (cli/tiling.h across_tile_nodes).
+bool register_tile_graph(const std::string& type, TileGraphFactory factory, std::string conditions = {},
+                         std::vector<std::string> unlinked_inputs = {});
 // The registered factory of node type `type`, or nullptr.
 const TileGraphFactory* find_tile_graph(const std::string& type);
 // The conditions registered with it ("" if none or no factory).
 std::string tile_graph_conditions(const std::string& type);
+// The input ports that must be unlinked for the algorithm to run (empty if none or no factory).
+std::vector<std::string> tile_graph_unlinked_inputs(const std::string& type);
 
 }  // namespace orogen

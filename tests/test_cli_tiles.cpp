@@ -489,8 +489,11 @@ TEST(CliTiles, EveryExampleGraphTilesIntoItsUntiledBuild) {
 
 // Nodes that run across the tiles (cli/tile_graph_stages.h): depressions filled flat and with epsilon flats (rounds
 // until no tile's perimeter falls), lakes kept by depth and area
-// and numbered across tiles, a blur of the filled terrain whose halo comes from the neighboring tiles, and a
-// normalization of the blur over the whole domain's range (a reduction after a tile-graph node).
+// and numbered across tiles, a blur of the filled terrain whose halo comes from the neighboring tiles, a
+// normalization of the blur over the whole domain's range (a reduction after a tile-graph node), and flow directions
+// and D8 accumulation with its flow map and wetness index (the epsilon fill's rounds, a ring of the filled surface
+// from the neighboring tiles, cell counts through perimeter links, the largest count), and watersheds numbered
+// across the tiles.
 const char* kAcrossTilesGraph = R"({
   "format": "orogen-graph", "version": 7,
   "domain": { "size": [2560, 2560], "resolution": [257, 257] },
@@ -513,7 +516,24 @@ const char* kAcrossTilesGraph = R"({
     { "id": "save_ids", "type": "WriteHeightfield", "inputs": { "in": "lakes.lake_id" },
       "params": { "path": "lake_id.exr" } },
     { "id": "save_depth", "type": "WriteHeightfield", "inputs": { "in": "lakes.water_depth" },
-      "params": { "path": "lake_depth.exr" } }
+      "params": { "path": "lake_depth.exr" } },
+    { "id": "direction", "type": "FlowDirection", "inputs": { "in": "noise.out" }, "params": { "method": "dinf" } },
+    { "id": "save_direction", "type": "WriteHeightfield", "inputs": { "in": "direction.out" },
+      "params": { "path": "direction.exr" } },
+    { "id": "save_gradient", "type": "WriteHeightfield", "inputs": { "in": "direction.gradient" },
+      "params": { "path": "gradient.exr" } },
+    { "id": "flow", "type": "FlowAccumulation", "inputs": { "in": "noise.out" }, "params": { "method": "d8" } },
+    { "id": "save_flow", "type": "WriteHeightfield", "inputs": { "in": "flow.out" },
+      "params": { "path": "flow.exr" } },
+    { "id": "save_flow_map", "type": "WriteHeightfield", "inputs": { "in": "flow.flow" },
+      "params": { "path": "flow_map.exr" } },
+    { "id": "save_wetness", "type": "WriteHeightfield", "inputs": { "in": "flow.wetness" },
+      "params": { "path": "wetness.exr" } },
+    { "id": "basins", "type": "Watersheds", "inputs": { "in": "noise.out" }, "params": { "min_area": 50000 } },
+    { "id": "save_basins", "type": "WriteHeightfield", "inputs": { "in": "basins.out" },
+      "params": { "path": "basins.exr" } },
+    { "id": "save_basin_area", "type": "WriteHeightfield", "inputs": { "in": "basins.area" },
+      "params": { "path": "basin_area.exr" } }
   ]
 })";
 
@@ -532,10 +552,14 @@ TEST(CliTiles, TileGraphAndReductionNodesRunAcrossTheTilesExactlyAndInATilesMemo
   EXPECT_NE(r.err.find("node 'filled' (FillDepressions) computed across the tiles"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("node 'filled_eps' (FillDepressions) computed across the tiles"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("node 'lakes' (Lakes) computed across the tiles"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("node 'direction' (FlowDirection) computed across the tiles"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("node 'flow' (FlowAccumulation) computed across the tiles"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("node 'basins' (Watersheds) computed across the tiles"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << "nothing is computed on the whole domain:\n" << r.err;
   // Every tile is its window of the untiled build, bit for bit: filled heights, the blur's halo, lake numbers.
   EXPECT_NE(r.err.find("node 'stretch' (Normalize) computed across the tiles"), std::string::npos) << r.err;
-  for (const std::string stem : {"filled", "filled_eps", "smooth", "lake_id", "lake_depth", "stretch"})
+  for (const std::string stem : {"filled", "filled_eps", "smooth", "lake_id", "lake_depth", "stretch", "direction",
+                                 "gradient", "flow", "flow_map", "wetness", "basins", "basin_area"})
     for (int j = 0; j < 3; ++j)
       for (int i = 0; i < 4; ++i)
         EXPECT_EQ(window_differences(dir / "whole", dir / "tiled", stem, {257, 257}, {4, 3}, i, j), 0u)
@@ -563,6 +587,37 @@ TEST(CliTiles, TileGraphAndReductionNodesRunAcrossTheTilesExactlyAndInATilesMemo
   EXPECT_NE(again.err.find("node 'filled' (FillDepressions) cached on every tile"), std::string::npos) << again.err;
   const auto stats = nlohmann::json::parse(read_text(dir / "s_x2_y1.json"));
   for (const auto& [id, node] : stats["nodes"].items()) EXPECT_EQ(node["status"], "cached") << id;
+}
+
+// A rainfall weight makes the accumulation a sum of floating-point weights, whose rounding depends on the order of
+// addition: that FlowAccumulation is computed on the whole domain (named in the warning), the unweighted one across
+// the tiles, and both equal the untiled build.
+TEST(CliTiles, WeightedFlowAccumulationStaysOnTheWholeDomain) {
+  const auto dir = scratch_dir("tiles-rainfall");
+  write_text(dir / "g.json", R"({
+  "format": "orogen-graph", "version": 7,
+  "domain": { "size": [640, 640], "resolution": [65, 65] },
+  "nodes": [
+    { "id": "noise", "type": "FBM", "params": { "feature_size": 200, "seed": 3, "amplitude": 30 } },
+    { "id": "rain", "type": "FBM", "params": { "feature_size": 300, "seed": 4, "amplitude": 0.5 } },
+    { "id": "flow", "type": "FlowAccumulation", "inputs": { "in": "noise.out" }, "params": { "method": "d8" } },
+    { "id": "wet", "type": "FlowAccumulation", "inputs": { "in": "noise.out", "rainfall_weight": "rain.out" },
+      "params": { "method": "d8" } },
+    { "id": "save_flow", "type": "WriteHeightfield", "inputs": { "in": "flow.out" }, "params": { "path": "flow.exr" } },
+    { "id": "save_wet", "type": "WriteHeightfield", "inputs": { "in": "wet.out" }, "params": { "path": "wet.exr" } }
+  ]
+})");
+  ASSERT_EQ(orogen({"eval", (dir / "g.json").string(), "-o", (dir / "whole").string(), "--quiet"}).exit_code, 0);
+  const auto r = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "tiled").string(), "--tiles", "2x2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("node 'flow' (FlowAccumulation) computed across the tiles"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("'wet' (FlowAccumulation)"), std::string::npos) << r.err;  // in the whole-domain warning
+  EXPECT_EQ(r.err.find("node 'wet' (FlowAccumulation) computed across the tiles"), std::string::npos) << r.err;
+  for (const std::string stem : {"flow", "wet"})
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i)
+        EXPECT_EQ(window_differences(dir / "whole", dir / "tiled", stem, {65, 65}, {2, 2}, i, j), 0u)
+            << stem << " tile " << i << "," << j;
 }
 
 // ---- --origin and --size ---------------------------------------------------------------------------------

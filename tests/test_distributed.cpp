@@ -140,9 +140,14 @@ fs::path run_distributed(const Job& job) {
   const auto r = mpirun(job.ranks, {"eval", (source_dir() / "graphs" / job.graph).string(), "-o", dir.string(),
                                     "--resolution", std::to_string(job.resolution), "--tiles", tiles_text(job.tiles)});
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  // FillDepressions with epsilon flats runs across the ranks' tiles (its perimeter rounds), not on the whole domain.
-  if (std::string(job.graph) == "distributed_hydrology.json" && job.tiles.x * job.tiles.y > 1)
-    EXPECT_NE(r.err.find("node 'filled' (FillDepressions) computed across the tiles"), std::string::npos) << r.err;
+  // FillDepressions with epsilon flats, FlowDirection with filling, D8 FlowAccumulation and Watersheds run across the
+  // ranks' tiles (perimeter rounds, a ring of the filled surface, counts and outlets through perimeter links), not on
+  // the whole domain.
+  if (std::string(job.graph) == "distributed_hydrology.json" && job.tiles.x * job.tiles.y > 1) {
+    for (const char* node : {"'filled' (FillDepressions)", "'direction' (FlowDirection)",
+                             "'flow_d8' (FlowAccumulation)", "'basins_id' (Watersheds)"})
+      EXPECT_NE(r.err.find(std::string("node ") + node + " computed across the tiles"), std::string::npos) << r.err;
+  }
   if (std::string(job.graph).find("distributed_thermal.json") != std::string::npos && job.tiles.x * job.tiles.y > 1)
     EXPECT_NE(r.err.find("node 'thermal' (ThermalErosion) computed across the tiles"), std::string::npos) << r.err;
   const auto mine = files_under(dir), single = files_under(single_process_build(job));
@@ -213,7 +218,7 @@ TEST(Distributed, OneRankWithoutTilesIsThePlainBuild) {
 
 // The test graph's shapes, checked on the joined tiles of a 3x2 build on 4 ranks: one lake across three tiles,
 // an exactly flat plateau on the corner of four tiles of 2x2; no undrained cell after filling (either mode); D8
-// accumulation at every outlet equal to the area whose D8 paths end there.
+// accumulation (computed across the tiles) at every outlet exactly the area whose D8 paths end there.
 TEST(Distributed, HydrologyAcrossTilesDrainsEveryCellAndConservesArea) {
   SKIP_WITHOUT_MPI();
   const int n = 129;
@@ -281,7 +286,7 @@ TEST(Distributed, HydrologyAcrossTilesDrainsEveryCellAndConservesArea) {
   }
 
   // Area: follow each cell's D8 direction to its outlet (-1: nothing drains on, the border); the accumulation
-  // there is the number of cells that end there times one cell's area (the smallest accumulation).
+  // there is the number of cells that end there times one cell's area (the smallest accumulation), exactly.
   const float cell_area = *std::min_element(flow.values.begin(), flow.values.end());
   std::vector<long long> draining(flow.values.size(), 0);
   for (int j = 0; j < n; ++j)
@@ -300,7 +305,7 @@ TEST(Distributed, HydrologyAcrossTilesDrainsEveryCellAndConservesArea) {
     if (draining[k] == 0) continue;
     ++outlets;
     total += draining[k];
-    EXPECT_NEAR(flow.values[k] / cell_area, static_cast<double>(draining[k]), 1e-4 * draining[k])
+    EXPECT_EQ(flow.values[k], static_cast<float>(static_cast<double>(draining[k]) * cell_area))
         << "outlet " << k % n << "," << k / n;
   }
   EXPECT_EQ(total, static_cast<long long>(n) * n);

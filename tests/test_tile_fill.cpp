@@ -19,17 +19,17 @@
 #include "nodes/hydrology/tile_accumulation.h"
 #include "nodes/hydrology/tile_fill.h"
 #include "nodes/hydrology/tile_lakes.h"
+#include "support/tile_graph_run.h"
 
 namespace orogen::hydrology {
 namespace {
 
-struct Terrain {
-  glm::ivec2 size;
-  std::vector<float> z;
-};
-
-// Tile I of N over W samples: [floor(I (W-1) / N), floor((I+1) (W-1) / N)] (cli/tiling.h).
-int edge(int t, int samples, int tiles) { return static_cast<int>(static_cast<long long>(t) * (samples - 1) / tiles); }
+using test::algorithm_of;
+using test::domain_of;
+using test::edge;
+using test::same_bits;
+using test::Terrain;
+using test::terrain;
 
 std::vector<float> whole_domain_fill(const Terrain& t) {
   std::vector<float> z = t.z;
@@ -70,28 +70,6 @@ std::vector<float> tiled_fill(const Terrain& t, glm::ivec2 counts) {
       }
   }
   return out;
-}
-
-// Random heights: `levels` > 0 quantizes them to integers (wide flats and ties), else continuous; plus a bowl on
-// the domain's centre and a trench along its lower quarter, so depressions span tiles and cross their corners.
-Terrain terrain(glm::ivec2 size, unsigned seed, int levels) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  Terrain t{size, {}};
-  for (int j = 0; j < size.y; ++j)
-    for (int i = 0; i < size.x; ++i) {
-      float v = u(rng) * 10.0f;
-      if (levels > 0) v = std::floor(v * levels / 10.0f);
-      const float dx = (i - size.x / 2.0f) / size.x, dy = (j - size.y / 2.0f) / size.y;
-      v -= 30.0f * std::max(0.0f, 0.3f - std::sqrt(dx * dx + dy * dy));
-      if (std::abs(j - size.y / 4) <= 1 && i > 2 && i < size.x - 3) v -= 8.0f;
-      t.z.push_back(v + 0.05f * static_cast<float>(i));
-    }
-  return t;
-}
-
-bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
 TEST(TileFill, EveryTilingEqualsTheWholeDomainFillBitForBit) {
@@ -150,70 +128,15 @@ struct NodeOutputs {
   std::vector<float> out, depth, id;
 };
 
-std::vector<ParamValue> params_of(const NodeType& type, const std::map<std::string, ParamValue>& set) {
-  std::vector<ParamValue> values;
-  for (const auto& p : type.params) values.push_back(set.count(p.name) ? set.at(p.name) : p.default_value);
-  return values;
-}
-
-Domain domain_of(const Terrain& t) {
-  return Domain::from_extent({0, 0}, {10.0 * (t.size.x - 1), 10.0 * (t.size.y - 1)}, t.size);
-}
-
 NodeOutputs across_tiles(const TileGraphAlgorithm& algorithm, const Terrain& t, glm::ivec2 counts,
                          int* rounds_run = nullptr) {
-  const Domain whole = domain_of(t);
-  std::vector<std::unique_ptr<TileGraphTile>> tiles;
-  for (int tj = 0; tj < counts.y; ++tj)
-    for (int ti = 0; ti < counts.x; ++ti) {
-      const glm::ivec2 first{edge(ti, t.size.x, counts.x), edge(tj, t.size.y, counts.y)};
-      const glm::ivec2 size =
-          glm::ivec2(edge(ti + 1, t.size.x, counts.x), edge(tj + 1, t.size.y, counts.y)) - first + 1;
-      auto h = std::make_shared<Heightfield>(whole.subdomain(first.x, first.y, size.x, size.y));
-      for (int j = 0; j < size.y; ++j)
-        for (int i = 0; i < size.x; ++i)
-          h->data[static_cast<std::size_t>(j) * size.x + i] =
-              t.z[static_cast<std::size_t>(first.y + j) * t.size.x + first.x + i];
-      tiles.push_back(algorithm.start({HeightfieldPtr(h)}));
-    }
-  for (int round = 0;; ++round) {
-    std::vector<std::string> messages;
-    for (auto& tile : tiles) messages.push_back(tile->message(round));
-    const auto answers = algorithm.solve(round, messages);
-    for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->answer(round, answers[k]);
-    if (rounds_run) *rounds_run = round + 1;
-    if (!algorithm.another_round(round, messages)) break;
-  }
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  NodeOutputs joined{std::vector<float>(t.z.size(), nan), std::vector<float>(t.z.size(), nan),
-                     std::vector<float>(t.z.size(), nan)};
-  for (auto& tile : tiles) {
-    const auto outputs = tile->outputs();
-    std::vector<float>* into[] = {&joined.out, &joined.depth, &joined.id};
-    for (std::size_t o = 0; o < 3; ++o) {
-      const Heightfield& h = *std::get<HeightfieldPtr>(outputs[o]);
-      for (int j = 0; j < h.domain.height(); ++j)
-        for (int i = 0; i < h.domain.width(); ++i) {
-          float& v = (*into[o])[static_cast<std::size_t>(h.domain.first.y + j) * t.size.x + h.domain.first.x + i];
-          const float mine = h.data[static_cast<std::size_t>(j) * h.domain.width() + i];
-          EXPECT_TRUE(std::isnan(v) || same_bits({v}, {mine})) << "tiles disagree on a shared sample";
-          v = mine;
-        }
-    }
-  }
-  return joined;
+  auto joined = test::run_across_tiles(algorithm, t, counts, 1, rounds_run);
+  EXPECT_EQ(joined.size(), 3u);
+  joined.resize(3);
+  return {std::move(joined[0]), std::move(joined[1]), std::move(joined[2])};
 }
 
 NodeOutputs whole_domain(const FillResult& r) { return {r.out->data, r.depth->data, r.lake_id->data}; }
-
-std::unique_ptr<TileGraphAlgorithm> algorithm_of(const std::string& type_name,
-                                                 const std::map<std::string, ParamValue>& set, const Domain& whole) {
-  const NodeType& type = *NodeRegistry::instance().find(type_name);
-  const auto values = params_of(type, set);
-  const TileGraphFactory* factory = find_tile_graph(type_name);
-  EXPECT_NE(factory, nullptr) << type_name;
-  return factory ? (*factory)(ParamView(type, values), whole) : nullptr;
-}
 
 void expect_same(const NodeOutputs& tiled, const NodeOutputs& whole) {
   EXPECT_TRUE(same_bits(tiled.out, whole.out)) << "out";
@@ -419,12 +342,7 @@ TEST(AccumulationAcrossTiles, CountsEqualTheWholeDomainOnEveryTiling) {
       const D8Flow f = d8_flow(g, t.z);
       const auto whole = accumulate_d8(g, f, std::vector<float>(g.size(), 1.0f));
       // Outlets: the cells whose D8 path ends at them, counted by following the paths.
-      std::vector<std::int64_t> ending(g.size(), 0);
-      for (std::int32_t c = 0; c < static_cast<std::int32_t>(g.size()); ++c) {
-        std::int32_t x = c;
-        while (f.receiver[static_cast<std::size_t>(x)] != x) x = f.receiver[static_cast<std::size_t>(x)];
-        ++ending[static_cast<std::size_t>(x)];
-      }
+      const auto ending = test::cells_ending_at(f.receiver);
       for (const glm::ivec2 counts : tilings) {
         SCOPED_TRACE(std::to_string(size.x) + "x" + std::to_string(size.y) + " levels " + std::to_string(levels) +
                      " tiles " + std::to_string(counts.x) + "x" + std::to_string(counts.y));

@@ -35,6 +35,10 @@ float flow_map_value(double acc, double lo, double hi) {
   return static_cast<float>(std::clamp(t, 0.0, 1.0));
 }
 
+float wetness_value(double acc, double width, float slope, double min_slope) {
+  return static_cast<float>(std::log(std::max(acc, 1e-12) / width / std::max<double>(slope, min_slope)));
+}
+
 AccumulationResult flow_accumulation(const Heightfield& in, const Heightfield* rainfall, const AccumulationParams& p,
                                      const ExecContext* ctx) {
   const FlowGrid g = FlowGrid::of(in.domain);
@@ -48,7 +52,13 @@ AccumulationResult flow_accumulation(const Heightfield& in, const Heightfield* r
     for (std::size_t c = 0; c < g.size(); ++c)
       weight[c] = static_cast<float>(std::max(0.0f, rainfall->data[c]) * g.cell_area());
   }
-  const std::vector<double> acc = accumulate(g, z, RoutingOptions{p.method, p.exponent, {}}, weight, ctx);
+  std::vector<double> acc;
+  if (p.method == FlowMethod::D8 && !rainfall) {
+    acc = count_d8(g, d8_flow(g, z, {}, ctx), ctx);
+    for (double& a : acc) a *= g.cell_area();
+  } else {
+    acc = accumulate(g, z, RoutingOptions{p.method, p.exponent, {}}, weight, ctx);
+  }
   // The flow map and the wetness index (a slope pass and two logarithms per cell) only when asked for.
   const std::vector<float> slope = p.wetness ? steepest_slope(g, z, ctx) : std::vector<float>();
   AccumulationResult r;
@@ -71,8 +81,7 @@ AccumulationResult flow_accumulation(const Heightfield& in, const Heightfield* r
         r.flow->data[c] = flow_map_value(acc[c], lo, hi);
     if (p.wetness)
       for (std::size_t c = row; c < row + static_cast<std::size_t>(g.nx); ++c)
-        r.wetness->data[c] =
-            static_cast<float>(std::log(std::max(acc[c], 1e-12) / width / std::max<double>(slope[c], p.min_slope)));
+        r.wetness->data[c] = wetness_value(acc[c], width, slope[c], p.min_slope);
   });
   return r;
 }
@@ -87,18 +96,27 @@ DirectionResult flow_direction(const Heightfield& in, FlowMethod method, double 
     r.dx = std::make_shared<Heightfield>(in.domain);
     r.dy = std::make_shared<Heightfield>(in.domain);
   }
-  const std::vector<float> slope = maps.slope ? steepest_slope(g, z, ctx) : std::vector<float>();
   if (maps.slope) r.slope = std::make_shared<Heightfield>(in.domain);
-  const bool directions = maps.angle || maps.vector;
-  const RoutingOptions opt{method, exponent, {}};
-  for_each_row(ctx, g.ny, [&](int j) {
-    for (int i = 0; i < g.nx; ++i) {
-      const std::size_t c = static_cast<std::size_t>(g.index(i, j));
-      if (maps.slope) r.slope->data[c] = slope[c];
+  direction_maps(g, z, {0, 0}, RoutingOptions{method, exponent, {}}, r, ctx);
+  return r;
+}
+
+void direction_maps(const FlowGrid& g, std::span<const float> z, glm::ivec2 first, const RoutingOptions& opt,
+                    DirectionResult& r, const ExecContext* ctx) {
+  const Heightfield* any = r.angle ? r.angle.get() : r.dx ? r.dx.get() : r.slope.get();
+  if (!any) return;
+  const int w = any->domain.width(), h = any->domain.height();
+  const std::vector<float> slope = r.slope ? steepest_slope(g, z, ctx) : std::vector<float>();
+  const bool directions = r.angle || r.dx;
+  for_each_row(ctx, h, [&](int j) {
+    for (int i = 0; i < w; ++i) {
+      const std::size_t c = static_cast<std::size_t>(j) * static_cast<std::size_t>(w) + static_cast<std::size_t>(i);
+      const int gi = first.x + i, gj = first.y + j;
+      if (r.slope) r.slope->data[c] = slope[static_cast<std::size_t>(g.index(gi, gj))];
       if (!directions) continue;
       int nb[8];
       double fr[8];
-      const int n = flow_proportions(g, z, i, j, opt, nb, fr);
+      const int n = flow_proportions(g, z, gi, gj, opt, nb, fr);
       double vx = 0.0, vy = 0.0;
       for (int m = 0; m < n; ++m) {
         const double ex = kDi[nb[m]] * g.dx, ey = kDj[nb[m]] * g.dy, len = std::hypot(ex, ey);
@@ -107,21 +125,20 @@ DirectionResult flow_direction(const Heightfield& in, FlowMethod method, double 
       }
       const double len = std::hypot(vx, vy);
       if (len > 0.0) {
-        if (maps.vector) {
+        if (r.dx) {
           r.dx->data[c] = static_cast<float>(vx / len);
           r.dy->data[c] = static_cast<float>(vy / len);
         }
-        if (maps.angle) {
+        if (r.angle) {
           double a = std::atan2(vy, vx) * (180.0 / std::numbers::pi);
           if (a < 0.0) a += 360.0;
           r.angle->data[c] = static_cast<float>(a >= 360.0 ? 0.0 : a);
         }
-      } else if (maps.angle) {
+      } else if (r.angle) {
         r.angle->data[c] = -1.0f;
       }
     }
   });
-  return r;
 }
 
 WatershedResult watersheds(const Heightfield& in, bool fill, double min_area, const ExecContext* ctx) {

@@ -785,8 +785,11 @@ std::vector<std::int32_t> basin_labels(const D8Flow& f, std::span<const std::int
   return label;
 }
 
-std::vector<double> accumulate_d8(const FlowGrid& g, const D8Flow& f, std::span<const float> weight,
-                                  const ExecContext* ctx) {
+namespace {
+
+// accumulate_d8 with `area` as the weight of every cell when `weight` is empty.
+std::vector<double> accumulate_d8_of(const FlowGrid& g, const D8Flow& f, std::span<const float> weight, double area,
+                                     const ExecContext* ctx) {
   const std::size_t n = f.receiver.size();
   std::vector<double> acc(n);
   std::vector<std::uint8_t> remaining(n);
@@ -806,7 +809,6 @@ std::vector<double> accumulate_d8(const FlowGrid& g, const D8Flow& f, std::span<
     count_donors(0, n);
   std::int32_t off[8];
   for (int k = 0; k < 8; ++k) off[k] = g.offset(k);
-  const double area = g.cell_area();
   const std::int32_t* rec = f.receiver.data();
   const std::uint8_t* donors = f.donors.data();
   double* a = acc.data();
@@ -886,6 +888,17 @@ std::vector<double> accumulate_d8(const FlowGrid& g, const D8Flow& f, std::span<
   }
   check(ctx);
   return acc;
+}
+
+}  // namespace
+
+std::vector<double> accumulate_d8(const FlowGrid& g, const D8Flow& f, std::span<const float> weight,
+                                  const ExecContext* ctx) {
+  return accumulate_d8_of(g, f, weight, g.cell_area(), ctx);
+}
+
+std::vector<double> count_d8(const FlowGrid& g, const D8Flow& f, const ExecContext* ctx) {
+  return accumulate_d8_of(g, f, {}, 1.0, ctx);
 }
 
 int flow_proportions(const FlowGrid& g, std::span<const float> z, int i, int j, const RoutingOptions& opt, int nbr[8],

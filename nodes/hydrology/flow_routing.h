@@ -146,6 +146,10 @@ std::vector<std::int32_t> basin_labels(const D8Flow& f, std::span<const std::int
 // (Barnes 2017 dependency counting), deterministic.
 std::vector<double> accumulate_d8(const FlowGrid& g, const D8Flow& f, std::span<const float> weight = {},
                                   const ExecContext* ctx = nullptr);
+// The number of cells draining through every cell, itself included: accumulate_d8 of unit weights, whole numbers
+// (exact in double up to 2^53 cells). Times the cell area it is the contributing area as one product per cell, the
+// same on any tiling (nodes/hydrology/tile_accumulation.h), where summing the areas rounds by the order of the sum.
+std::vector<double> count_d8(const FlowGrid& g, const D8Flow& f, const ExecContext* ctx = nullptr);
 
 // ---- Dispersive routing --------------------------------------------------------------------------------
 

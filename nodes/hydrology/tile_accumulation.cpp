@@ -66,9 +66,8 @@ TileAccumulation start_tile_accumulation(std::span<const std::uint8_t> direction
   t.local = accumulate(t.receiver, std::vector<std::int64_t>(t.owned.begin(), t.owned.end()));
   // The next perimeter cell downstream of every cell, receivers first.
   const auto perimeter = perimeter_cells(rect.size);
-  std::vector<std::int32_t> index(direction.size(), -1), next(direction.size(), -1);
-  for (std::size_t k = 0; k < perimeter.size(); ++k)
-    index[static_cast<std::size_t>(perimeter[k])] = static_cast<std::int32_t>(k);
+  const auto index = perimeter_index(rect.size);
+  std::vector<std::int32_t> next(direction.size(), -1);
   const auto order = upstream_first(t.receiver);
   for (auto it = order.rbegin(); it != order.rend(); ++it) {
     const std::int32_t r = t.receiver[static_cast<std::size_t>(*it)];
@@ -83,8 +82,7 @@ TileAccumulation start_tile_accumulation(std::span<const std::uint8_t> direction
 
 std::string accumulation_message(const TileAccumulation& t) {
   std::string out;
-  bytes::put(out, t.rect.first.x), bytes::put(out, t.rect.first.y), bytes::put(out, t.rect.size.x),
-      bytes::put(out, t.rect.size.y);
+  put_tile_rect(out, t.rect);
   const auto perimeter = perimeter_cells(t.rect.size);
   bytes::put(out, static_cast<std::uint64_t>(perimeter.size()));
   for (std::size_t k = 0; k < perimeter.size(); ++k)
@@ -105,18 +103,12 @@ std::vector<std::string> solve_tile_accumulation(const std::vector<std::string>&
   for (std::size_t t = 0; t < messages.size(); ++t) {
     std::string_view in(messages[t]);
     Tile& tile = tiles[t];
-    TileRect& r = tile.rect;
-    r.first.x = take<int>(in), r.first.y = take<int>(in), r.size.x = take<int>(in), r.size.y = take<int>(in);
-    if (r.size.x < 1 || r.size.y < 1 || r.first.x < 0 || r.first.y < 0 || r.first.x + r.size.x > domain_size.x ||
-        r.first.y + r.size.y > domain_size.y)
-      throw std::invalid_argument("solve_tile_accumulation: a tile lies outside the domain");
+    const TileRect& r = tile.rect = take_tile_rect(in, domain_size, "solve_tile_accumulation");
     const auto perimeter = perimeter_cells(r.size);
     if (take<std::uint64_t>(in) != perimeter.size())
       throw std::invalid_argument("solve_tile_accumulation: a tile's perimeter does not match its size");
     for (const std::int32_t c : perimeter) {
-      const std::int64_t sample =
-          static_cast<std::int64_t>(r.first.y + c / r.size.x) * domain_size.x + r.first.x + c % r.size.x;
-      const auto [it, fresh] = node_of.emplace(sample, static_cast<std::int32_t>(acc.size()));
+      const auto [it, fresh] = node_of.emplace(domain_sample(r, domain_size, c), static_cast<std::int32_t>(acc.size()));
       if (fresh) acc.push_back(0);
       tile.node.push_back(it->second);
       tile.local.push_back(take<std::int64_t>(in));

@@ -39,6 +39,32 @@ std::vector<std::int32_t> perimeter_cells(glm::ivec2 size) {
   return cells;
 }
 
+std::vector<std::int32_t> perimeter_index(glm::ivec2 size) {
+  std::vector<std::int32_t> index(static_cast<std::size_t>(size.x) * static_cast<std::size_t>(size.y), -1);
+  const auto perimeter = perimeter_cells(size);
+  for (std::size_t k = 0; k < perimeter.size(); ++k)
+    index[static_cast<std::size_t>(perimeter[k])] = static_cast<std::int32_t>(k);
+  return index;
+}
+
+std::int64_t domain_sample(const TileRect& r, glm::ivec2 domain_size, std::int32_t c) {
+  return static_cast<std::int64_t>(r.first.y + c / r.size.x) * domain_size.x + r.first.x + c % r.size.x;
+}
+
+void put_tile_rect(std::string& out, const TileRect& r) {
+  put(out, r.first.x), put(out, r.first.y), put(out, r.size.x), put(out, r.size.y);
+}
+
+TileRect take_tile_rect(std::string_view& in, glm::ivec2 domain_size, const char* what) {
+  TileRect r;
+  r.first.x = bytes::take<int>(in, what), r.first.y = bytes::take<int>(in, what);
+  r.size.x = bytes::take<int>(in, what), r.size.y = bytes::take<int>(in, what);
+  if (r.size.x < 1 || r.size.y < 1 || r.first.x < 0 || r.first.y < 0 || r.first.x + r.size.x > domain_size.x ||
+      r.first.y + r.size.y > domain_size.y)
+    throw std::invalid_argument(std::string(what) + ": a tile lies outside the domain");
+  return r;
+}
+
 TileFlood flood_tile(std::span<const float> z, const TileRect& rect) {
   const int w = rect.size.x, h = rect.size.y;
   if (w < 1 || h < 1 || z.size() != static_cast<std::size_t>(w) * h)
@@ -183,9 +209,6 @@ std::vector<float> apply_spill_levels(const TileFlood& flood, std::span<const fl
 namespace {
 
 // A round's message: the tile's rectangle, then (perimeter index, value) pairs.
-void put_rect(std::string& out, const TileRect& r) {
-  put(out, r.first.x), put(out, r.first.y), put(out, r.size.x), put(out, r.size.y);
-}
 TileRect take_rect(std::string_view& in) {
   TileRect r;
   r.first.x = take<int>(in), r.first.y = take<int>(in);
@@ -236,7 +259,7 @@ std::string TileEpsilon::message() {
     if (v < sent_[k]) fell.push_back({static_cast<std::int32_t>(k), v}), sent_[k] = v;
   }
   std::string out;
-  put_rect(out, rect_);
+  put_tile_rect(out, rect_);
   put(out, static_cast<std::uint64_t>(fell.size()));
   for (const auto& f : fell) put(out, f.k), put(out, f.value);
   return out;
@@ -262,18 +285,12 @@ std::vector<std::string> solve_epsilon_perimeters(const std::vector<std::string>
   // The lowest value reported for every shared sample, by sample index.
   std::unordered_map<std::int64_t, float> lowest;
   auto sample = [&](const Tile& t, std::int32_t k) {
-    const std::int32_t c = t.perimeter[static_cast<std::size_t>(k)];
-    return static_cast<std::int64_t>(t.rect.first.y + c / t.rect.size.x) * domain_size.x + t.rect.first.x +
-           c % t.rect.size.x;
+    return domain_sample(t.rect, domain_size, t.perimeter[static_cast<std::size_t>(k)]);
   };
   for (std::size_t t = 0; t < messages.size(); ++t) {
     std::string_view in(messages[t]);
     Tile& tile = tiles[t];
-    tile.rect = take_rect(in);
-    const TileRect& r = tile.rect;
-    if (r.size.x < 1 || r.size.y < 1 || r.first.x < 0 || r.first.y < 0 || r.first.x + r.size.x > domain_size.x ||
-        r.first.y + r.size.y > domain_size.y)
-      throw std::invalid_argument("solve_epsilon_perimeters: a tile lies outside the domain");
+    const TileRect& r = tile.rect = take_tile_rect(in, domain_size, "solve_epsilon_perimeters");
     tile.perimeter = perimeter_cells(r.size);
     tile.values = take_values(in, tile.perimeter.size());
     for (const auto& [k, value] : tile.values) {

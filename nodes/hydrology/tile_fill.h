@@ -49,6 +49,16 @@ struct TileSpillGraph {
 // The tile's perimeter cells (i == 0, j == 0, i == w-1 or j == h-1), as tile cell indices in row-major order:
 // the perimeter order that labels refer to.
 std::vector<std::int32_t> perimeter_cells(glm::ivec2 size);
+// Per tile cell: its index in perimeter order, or -1.
+std::vector<std::int32_t> perimeter_index(glm::ivec2 size);
+// The index in the domain (row-major, `domain_size` samples) of tile cell `c` (row-major in the tile).
+std::int64_t domain_sample(const TileRect& rect, glm::ivec2 domain_size, std::int32_t c);
+
+// A tile's rectangle at the front of a message, and back (every tile-graph message of the hydrology tiles starts
+// with it). take_tile_rect throws std::invalid_argument, naming `what`, on truncated bytes or a rectangle outside a
+// domain of `domain_size` samples.
+void put_tile_rect(std::string& out, const TileRect& rect);
+TileRect take_tile_rect(std::string_view& in, glm::ivec2 domain_size, const char* what);
 
 struct TileFlood {
   std::vector<float> level;         // per tile cell: filled with the tile's perimeter as the outlet

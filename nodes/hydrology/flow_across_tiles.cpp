@@ -1,0 +1,379 @@
+// FlowDirection (fill on), FlowAccumulation (D8, no rainfall weight) and Watersheds across the tiles of a tiled or
+// distributed build, exact (graph/tile_graph.h, docs/distributed.md). The rounds go in phases, each message and answer
+// tagged with its phase so every rank and tile knows where the run stands:
+//
+//  - fill (with `fill` on): the spill graphs of all tiles (Barnes 2016, nodes/hydrology/tile_fill.h), then rounds of
+//    the epsilon surface until no perimeter value falls: the whole-domain Priority-Flood+epsilon bit for bit;
+//  - ring: each tile gets the one-sample ring of that surface from the tiles around it (nodes/hydrology/tile_ring.h),
+//    so the direction, proportions and slope of its perimeter cells see their neighbours across the border, and
+//    every per-cell map is the same function of the same nine heights as on the whole domain;
+//  - accumulation (FlowAccumulation): D8 cell counts through perimeter links (Barnes 2017,
+//    nodes/hydrology/tile_accumulation.h), whole numbers, so exact; the area is the count times the cell area, as
+//    the whole-domain node computes it;
+//  - maximum (the flow map with flow_max_area 0): the largest count of any tile, the flow map's upper end;
+//  - links and basins (Watersheds): where each perimeter cell's D8 path ends, joined into every cell's outlet, then
+//    the cells per outlet added up and the basins numbered by decreasing area (nodes/hydrology/tile_basins.h).
+//
+// D-infinity and MFD accumulation and a rainfall weight are not here: their floating-point sums depend on the order
+// of addition, which tiles cannot reproduce, so they are computed on the whole domain (docs/distributed.md).
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "graph/node_type.h"
+#include "graph/tile_bytes.h"
+#include "graph/tile_graph.h"
+#include "nodes/hydrology/flow.h"
+#include "nodes/hydrology/tile_accumulation.h"
+#include "nodes/hydrology/tile_basins.h"
+#include "nodes/hydrology/tile_fill.h"
+#include "nodes/hydrology/tile_ring.h"
+
+namespace orogen::hydrology {
+namespace {
+
+enum class Phase : std::uint8_t { Spill, Epsilon, Ring, Accumulate, Maximum, Links, Basins, Done };
+
+constexpr const char* kWhat = "flow across tiles";
+
+std::string tagged(Phase phase, std::string payload) {
+  payload.insert(payload.begin(), static_cast<char>(phase));
+  return payload;
+}
+
+// The phase a message or answer is tagged with; `bytes` keeps the rest.
+Phase take_phase(std::string_view& bytes) {
+  const auto p = bytes::take<std::uint8_t>(bytes, kWhat);
+  if (p > static_cast<std::uint8_t>(Phase::Done)) throw std::invalid_argument("flow across tiles: unknown phase");
+  return static_cast<Phase>(p);
+}
+
+// What the tiles compute once they have the ring.
+struct FlowJob {
+  enum class Output { Directions, Accumulation, Basins } output = Output::Directions;
+  bool fill = true;
+  RoutingOptions routing;                  // FlowDirection's method and exponent
+  AccumulationParams accumulation_params;  // FlowAccumulation's
+  double min_area = 0.0;                   // Watersheds'
+  // What follows the ring: the accumulation, the basins' links, or nothing (the directions are done).
+  Phase after_ring() const {
+    return output == Output::Accumulation ? Phase::Accumulate : output == Output::Basins ? Phase::Links : Phase::Done;
+  }
+  // What follows the accumulation: the largest count, unless flow_max_area fixes the flow map's upper end.
+  Phase after_accumulation() const { return accumulation_params.flow_max_area > 0.0 ? Phase::Done : Phase::Maximum; }
+};
+
+class FlowTile : public TileGraphTile {
+ public:
+  // The tile keeps no reference to `ground`: the stage lets it go once every tile has started.
+  FlowTile(const Heightfield& ground, const FlowJob& job, const Domain& whole)
+      : domain_(ground.domain), job_(job), whole_(whole.resolution), grid_(FlowGrid::of(whole)) {
+    rect_ = {domain_.first, domain_.resolution};
+    if (job_.fill) {
+      flood_ = flood_tile(ground.data, rect_);
+      phase_ = Phase::Spill;
+    } else {
+      surface_ = ground.data;
+      phase_ = Phase::Ring;
+    }
+  }
+
+  std::string message(int) override {
+    switch (phase_) {
+      case Phase::Spill:
+        return tagged(phase_, encode(flood_.graph));
+      case Phase::Epsilon:
+        return tagged(phase_, epsilon_->message());
+      case Phase::Ring:
+        return tagged(phase_, ring_message(surface_, rect_));
+      case Phase::Accumulate: {
+        std::string out = tagged(phase_, accumulation_message(accumulation_));
+        accumulation_.local = {};  // only the message needs the local counts
+        return out;
+      }
+      case Phase::Maximum: {
+        std::string out;
+        bytes::put(out, *std::max_element(counts_.begin(), counts_.end()));
+        return tagged(phase_, std::move(out));
+      }
+      case Phase::Links:
+        return tagged(phase_, basin_links_message(basins_));
+      case Phase::Basins:
+        return tagged(phase_, basin_count_message(basins_));
+      case Phase::Done:
+        break;
+    }
+    throw std::logic_error("flow across tiles: a message after the last round");
+  }
+
+  void answer(int, std::string_view bytes) override {
+    const Phase next = take_phase(bytes);
+    switch (phase_) {
+      case Phase::Spill: {
+        const auto levels = bytes::take_vector<float>(bytes, kWhat);
+        epsilon_ = std::make_unique<TileEpsilon>(apply_spill_levels(flood_, levels), rect_, whole_);
+        flood_ = {};
+        break;
+      }
+      case Phase::Epsilon:
+        epsilon_->answer(bytes);
+        if (next != Phase::Epsilon) {
+          surface_ = epsilon_->surface();
+          epsilon_.reset();
+        }
+        break;
+      case Phase::Ring:
+        take_ring(bytes);
+        break;
+      case Phase::Accumulate:
+        counts_ = finish_tile_accumulation(accumulation_, bytes);
+        accumulation_ = {};
+        break;
+      case Phase::Maximum:
+        largest_ = bytes::take<std::int64_t>(bytes, kWhat);
+        if (!bytes.empty()) throw std::invalid_argument("flow across tiles: trailing bytes");
+        break;
+      case Phase::Links:
+        take_basin_outlets(basins_, bytes);
+        break;
+      case Phase::Basins: {
+        id_ = std::make_shared<Heightfield>(domain_);
+        area_ = std::make_shared<Heightfield>(domain_);
+        basin_maps(basins_, bytes, grid_.cell_area(), id_->data, area_->data);
+        basins_ = {};
+        break;
+      }
+      case Phase::Done:
+        throw std::logic_error("flow across tiles: an answer after the last round");
+    }
+    phase_ = next;
+  }
+
+  std::vector<PortValue> outputs() override {
+    if (phase_ != Phase::Done) throw std::logic_error("flow across tiles: outputs before the last round");
+    if (job_.output == FlowJob::Output::Directions)
+      return {HeightfieldPtr(maps_.angle), HeightfieldPtr(maps_.dx), HeightfieldPtr(maps_.dy),
+              HeightfieldPtr(maps_.slope)};
+    if (job_.output == FlowJob::Output::Basins) return {HeightfieldPtr(id_), HeightfieldPtr(area_)};
+    // As flow_accumulation on the whole domain: the area is the cell count times the cell area.
+    const Domain& d = domain_;
+    const AccumulationParams& p = job_.accumulation_params;
+    auto out = std::make_shared<Heightfield>(d), flow = std::make_shared<Heightfield>(d),
+         wetness = std::make_shared<Heightfield>(d);
+    const double area = grid_.cell_area();
+    const double lo = p.flow_min_area > 0.0 ? p.flow_min_area : area;
+    const double hi = p.flow_max_area > 0.0 ? p.flow_max_area : static_cast<double>(largest_) * area;
+    const double width = std::sqrt(area);
+    for (std::size_t c = 0; c < counts_.size(); ++c) {
+      const double acc = static_cast<double>(counts_[c]) * area;
+      out->data[c] = static_cast<float>(acc);
+      flow->data[c] = flow_map_value(acc, lo, hi);
+      wetness->data[c] = wetness_value(acc, width, slope_[c], p.min_slope);
+    }
+    return {HeightfieldPtr(out), HeightfieldPtr(flow), HeightfieldPtr(wetness)};
+  }
+
+ private:
+  // The surface with its ring from the tiles around: the tile's maps, or its D8 directions and slopes.
+  void take_ring(std::string_view bytes) {
+    const TileRect ringed = ringed_rect(rect_, whole_);
+    const std::vector<float> z = with_ring(surface_, rect_, whole_, bytes);
+    surface_ = {};
+    // The ringed tile as a grid of its own: its cells are border cells (outlets) only where the domain's border is,
+    // and every neighbour of the tile's cells is in it.
+    const FlowGrid g(ringed.size.x, ringed.size.y, grid_.dx, grid_.dy);
+    const glm::ivec2 at = rect_.first - ringed.first;
+    if (job_.output == FlowJob::Output::Directions) {
+      const Domain& d = domain_;
+      maps_.angle = std::make_shared<Heightfield>(d);
+      maps_.dx = std::make_shared<Heightfield>(d);
+      maps_.dy = std::make_shared<Heightfield>(d);
+      maps_.slope = std::make_shared<Heightfield>(d);
+      direction_maps(g, z, at, job_.routing, maps_);
+      return;
+    }
+    const bool basins = job_.output == FlowJob::Output::Basins;
+    const D8Flow f = d8_flow(g, z);
+    const std::vector<float> slope = basins ? std::vector<float>() : steepest_slope(g, z);
+    std::vector<std::uint8_t> direction;
+    direction.reserve(static_cast<std::size_t>(rect_.size.x) * static_cast<std::size_t>(rect_.size.y));
+    if (!basins) slope_.reserve(direction.capacity());
+    for (int j = 0; j < rect_.size.y; ++j)
+      for (int i = 0; i < rect_.size.x; ++i) {
+        const auto c = static_cast<std::size_t>(g.index(at.x + i, at.y + j));
+        direction.push_back(f.direction[c]);
+        if (!basins) slope_.push_back(slope[c]);
+      }
+    accumulation_ = start_tile_accumulation(direction, rect_, whole_);
+    if (basins) {
+      basins_ = start_tile_basins(accumulation_);
+      accumulation_ = {};
+    }
+  }
+
+  Domain domain_;  // the tile's samples
+  FlowJob job_;
+  glm::ivec2 whole_;
+  FlowGrid grid_;  // the whole domain's spacing
+  TileRect rect_;
+  Phase phase_ = Phase::Ring;
+  TileFlood flood_;
+  std::unique_ptr<TileEpsilon> epsilon_;
+  std::vector<float> surface_;  // the routed heights on the tile: filled (epsilon) or the input
+  DirectionResult maps_;
+  TileAccumulation accumulation_;
+  std::vector<float> slope_;
+  std::vector<std::int64_t> counts_;
+  std::int64_t largest_ = 0;
+  TileBasins basins_;
+  std::shared_ptr<Heightfield> id_, area_;
+};
+
+class FlowAcrossTiles : public TileGraphAlgorithm {
+ public:
+  FlowAcrossTiles(FlowJob job, const Domain& whole) : job_(std::move(job)), whole_(whole) {}
+
+  int rounds() const override { return 1; }
+
+  // Every tile is in the same phase: the first message's tag says which, and what follows it.
+  bool another_round(int, const std::vector<std::string>& messages) const override {
+    if (messages.empty()) return false;
+    std::string_view first(messages.front());
+    switch (take_phase(first)) {
+      case Phase::Spill:
+      case Phase::Epsilon:
+        return true;  // more epsilon rounds, or the ring
+      case Phase::Ring:
+        return job_.after_ring() != Phase::Done;
+      case Phase::Accumulate:
+        return job_.after_accumulation() != Phase::Done;
+      case Phase::Links:
+        return true;
+      default:
+        return false;
+    }
+  }
+
+  std::unique_ptr<TileGraphTile> start(const std::vector<PortValue>& inputs) const override {
+    const auto* ground = inputs.empty() ? nullptr : std::get_if<HeightfieldPtr>(&inputs[0]);
+    if (!ground || !*ground) throw std::invalid_argument("flow routing across tiles needs a heightfield input");
+    if (inputs.size() > 1 && has_value(inputs[1]))
+      throw std::invalid_argument("flow accumulation across tiles takes no rainfall weight");
+    return std::make_unique<FlowTile>(**ground, job_, whole_);
+  }
+
+  std::vector<std::string> solve(int, const std::vector<std::string>& tagged_messages) const override {
+    std::vector<std::string_view> views;
+    Phase phase = Phase::Done;
+    for (const std::string& m : tagged_messages) {
+      std::string_view v(m);
+      const Phase p = take_phase(v);
+      if (!views.empty() && p != phase) throw std::invalid_argument("flow across tiles: tiles in different phases");
+      phase = p;
+      views.push_back(v);
+    }
+    const std::vector<std::string> messages(views.begin(), views.end());
+    const glm::ivec2 size = whole_.resolution;
+    std::vector<std::string> answers(messages.size());
+    Phase next = Phase::Done;
+    switch (phase) {
+      case Phase::Spill: {
+        std::vector<TileSpillGraph> graphs;
+        graphs.reserve(messages.size());
+        for (const auto& m : messages) graphs.push_back(decode_spill_graph(m));
+        const auto levels = solve_spill_graphs(graphs, size);
+        for (std::size_t t = 0; t < levels.size(); ++t) bytes::put_vector(answers[t], levels[t]);
+        next = Phase::Epsilon;
+        break;
+      }
+      case Phase::Epsilon:
+        answers = solve_epsilon_perimeters(messages, size);
+        next = epsilon_values_fell(messages) ? Phase::Epsilon : Phase::Ring;
+        break;
+      case Phase::Ring:
+        answers = solve_rings(messages, size);
+        next = job_.after_ring();
+        break;
+      case Phase::Accumulate:
+        answers = solve_tile_accumulation(messages, size);
+        next = job_.after_accumulation();
+        break;
+      case Phase::Links:
+        answers = solve_basin_links(messages, size);
+        next = Phase::Basins;
+        break;
+      case Phase::Basins:
+        answers = solve_basin_counts(messages, FlowGrid::of(whole_).cell_area(), job_.min_area);
+        break;
+      case Phase::Maximum: {
+        std::int64_t largest = 0;
+        for (std::string_view m : views) {
+          largest = std::max(largest, bytes::take<std::int64_t>(m, kWhat));
+          if (!m.empty()) throw std::invalid_argument("flow across tiles: trailing bytes");
+        }
+        for (auto& a : answers) bytes::put(a, largest);
+        break;
+      }
+      case Phase::Done:
+        throw std::invalid_argument("flow across tiles: a message after the last round");
+    }
+    for (auto& a : answers) a = tagged(next, std::move(a));
+    return answers;
+  }
+
+ private:
+  FlowJob job_;
+  Domain whole_;
+};
+
+FlowMethod method_named(const std::string& name) {
+  if (name == "d8") return FlowMethod::D8;
+  if (name == "dinf") return FlowMethod::DInfinity;
+  if (name == "mfd") return FlowMethod::MFD;
+  throw std::invalid_argument("flow across tiles: unknown method '" + name + "'");
+}
+
+// FlowDirection with fill on, every method: each map is a function of a cell's nine filled heights. (With fill off
+// it is a local node of one sample, per tile with a halo, and needs no rounds.)
+const bool kDirectionRegistered = register_tile_graph("FlowDirection", [](const ParamView& p, const Domain& whole) {
+  std::unique_ptr<TileGraphAlgorithm> algorithm;
+  if (!p.get<bool>("fill")) return algorithm;
+  FlowJob job;
+  job.routing.method = method_named(p.get<std::string>("method"));
+  job.routing.exponent = p.get<double>("exponent");
+  algorithm = std::make_unique<FlowAcrossTiles>(std::move(job), whole);
+  return algorithm;
+});
+
+// FlowAccumulation with D8 and no rainfall weight, fill on or off.
+const bool kAccumulationRegistered = register_tile_graph(
+    "FlowAccumulation",
+    [](const ParamView& p, const Domain& whole) {
+      std::unique_ptr<TileGraphAlgorithm> algorithm;
+      if (p.get<std::string>("method") != "d8") return algorithm;
+      FlowJob job;
+      job.output = FlowJob::Output::Accumulation;
+      job.fill = p.get<bool>("fill");
+      job.accumulation_params.fill = job.fill;
+      job.accumulation_params.flow_min_area = p.get<double>("flow_min_area");
+      job.accumulation_params.flow_max_area = p.get<double>("flow_max_area");
+      job.accumulation_params.min_slope = p.get<double>("min_gradient");
+      algorithm = std::make_unique<FlowAcrossTiles>(std::move(job), whole);
+      return algorithm;
+    },
+    "with method 'd8' and no rainfall_weight linked (the weighted and the D-infinity and MFD sums are floating "
+    "point, whose rounding depends on the order of addition)",
+    {"rainfall_weight"});
+
+// Watersheds, fill on or off: D8 labels through perimeter links, whole cell counts per basin.
+const bool kWatershedsRegistered = register_tile_graph("Watersheds", [](const ParamView& p, const Domain& whole) {
+  FlowJob job;
+  job.output = FlowJob::Output::Basins;
+  job.fill = p.get<bool>("fill");
+  job.min_area = p.get<double>("min_area");
+  std::unique_ptr<TileGraphAlgorithm> algorithm = std::make_unique<FlowAcrossTiles>(std::move(job), whole);
+  return algorithm;
+});
+
+}  // namespace
+}  // namespace orogen::hydrology

@@ -1,0 +1,115 @@
+#include "nodes/hydrology/tile_ring.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "graph/tile_bytes.h"
+
+namespace orogen::hydrology {
+namespace {
+
+constexpr const char* kWhat = "tile ring";
+
+// Calls fn(i, j) for the cells of a w x h tile within one sample of its perimeter, row-major.
+template <class Fn>
+void for_each_band_cell(glm::ivec2 size, Fn&& fn) {
+  for (int j = 0; j < size.y; ++j) {
+    const bool edge_row = j <= 1 || j >= size.y - 2;
+    for (int i = 0; i < size.x; ++i)
+      if (edge_row || i <= 1 || i >= size.x - 2) fn(i, j);
+  }
+}
+
+// Calls fn(i, j) for the cells of ringed_rect(rect) outside rect, in its coordinates, row-major.
+template <class Fn>
+void for_each_ring_cell(const TileRect& rect, const TileRect& ringed, Fn&& fn) {
+  const glm::ivec2 lo = rect.first - ringed.first, hi = lo + rect.size - 1;
+  for (int j = 0; j < ringed.size.y; ++j)
+    for (int i = 0; i < ringed.size.x; ++i)
+      if (i < lo.x || j < lo.y || i > hi.x || j > hi.y) fn(i, j);
+}
+
+}  // namespace
+
+TileRect ringed_rect(const TileRect& rect, glm::ivec2 domain_size) {
+  const glm::ivec2 lo = glm::max(rect.first - 1, glm::ivec2(0));
+  const glm::ivec2 hi = glm::min(rect.first + rect.size, domain_size - 1);
+  return {lo, hi - lo + 1};
+}
+
+std::string ring_message(std::span<const float> values, const TileRect& rect) {
+  if (values.size() != static_cast<std::size_t>(rect.size.x) * static_cast<std::size_t>(rect.size.y))
+    throw std::invalid_argument("ring_message: values do not match the tile's size");
+  std::string out;
+  put_tile_rect(out, rect);
+  std::vector<float> band;
+  for_each_band_cell(rect.size, [&](int i, int j) {
+    band.push_back(
+        values[static_cast<std::size_t>(j) * static_cast<std::size_t>(rect.size.x) + static_cast<std::size_t>(i)]);
+  });
+  bytes::put_vector(out, band);
+  return out;
+}
+
+std::vector<std::string> solve_rings(const std::vector<std::string>& messages, glm::ivec2 domain_size) {
+  std::vector<TileRect> rects(messages.size());
+  std::unordered_map<std::int64_t, float> value_of;  // sample index -> value, over every tile's band
+  for (std::size_t t = 0; t < messages.size(); ++t) {
+    std::string_view in(messages[t]);
+    const TileRect& r = rects[t] = take_tile_rect(in, domain_size, kWhat);
+    const auto band = bytes::take_vector<float>(in, kWhat);
+    if (!in.empty()) throw std::invalid_argument("tile ring: trailing bytes");
+    std::size_t k = 0;
+    bool fits = true;
+    for_each_band_cell(r.size, [&](int i, int j) {
+      if (k >= band.size()) {
+        fits = false;
+        return;
+      }
+      const float v = band[k++];
+      const auto [it, fresh] = value_of.emplace(domain_sample(r, domain_size, j * r.size.x + i), v);
+      if (!fresh && std::bit_cast<std::uint32_t>(it->second) != std::bit_cast<std::uint32_t>(v))
+        throw std::invalid_argument("tile ring: tiles disagree on a shared sample");
+    });
+    if (!fits || k != band.size()) throw std::invalid_argument("tile ring: a tile's band does not match its size");
+  }
+  std::vector<std::string> answers(messages.size());
+  for (std::size_t t = 0; t < messages.size(); ++t) {
+    const TileRect ringed = ringed_rect(rects[t], domain_size);
+    std::vector<float> ring;
+    for_each_ring_cell(rects[t], ringed, [&](int i, int j) {
+      const auto it = value_of.find(static_cast<std::int64_t>(ringed.first.y + j) * domain_size.x + ringed.first.x + i);
+      if (it == value_of.end()) throw std::invalid_argument("tile ring: no tile holds a sample around a tile");
+      ring.push_back(it->second);
+    });
+    bytes::put_vector(answers[t], ring);
+  }
+  return answers;
+}
+
+std::vector<float> with_ring(std::span<const float> values, const TileRect& rect, glm::ivec2 domain_size,
+                             std::string_view answer) {
+  if (values.size() != static_cast<std::size_t>(rect.size.x) * static_cast<std::size_t>(rect.size.y))
+    throw std::invalid_argument("with_ring: values do not match the tile's size");
+  const TileRect ringed = ringed_rect(rect, domain_size);
+  const auto ring = bytes::take_vector<float>(answer, kWhat);
+  if (!answer.empty()) throw std::invalid_argument("tile ring: trailing bytes");
+  const auto width = static_cast<std::size_t>(ringed.size.x);
+  std::vector<float> out(width * static_cast<std::size_t>(ringed.size.y));
+  std::size_t k = 0;
+  for_each_ring_cell(rect, ringed, [&](int i, int j) {
+    if (k >= ring.size()) throw std::invalid_argument("tile ring: too few values around the tile");
+    out[static_cast<std::size_t>(j) * width + static_cast<std::size_t>(i)] = ring[k++];
+  });
+  if (k != ring.size()) throw std::invalid_argument("tile ring: too many values around the tile");
+  const glm::ivec2 at = rect.first - ringed.first;
+  for (int j = 0; j < rect.size.y; ++j)
+    std::copy_n(values.begin() + static_cast<std::ptrdiff_t>(j) * rect.size.x, rect.size.x,
+                out.begin() + static_cast<std::ptrdiff_t>((at.y + j) * ringed.size.x + at.x));
+  return out;
+}
+
+}  // namespace orogen::hydrology

@@ -1,0 +1,39 @@
+#pragma once
+// A tile's values grown by a one-sample ring from the tiles around it, for what looks one sample across a tile's
+// border: the D8 direction, the flow proportions and the slope of a perimeter cell (the flow routing across tiles,
+// nodes/hydrology/flow_across_tiles.cpp). Tiles share their border samples (cli/tiling.h), so the ring of a tile is
+// its neighbours' second row or column from the shared border (their first, on a tile two samples wide).
+//
+// One round of a tile-graph run (graph/tile_graph.h): each tile sends the values within one sample of its
+// perimeter (ring_message, O(perimeter)); the solve hands every tile the values of its ring (solve_rings), which
+// lie in those bands of the tiles around it; each tile puts them around its own (with_ring). A sample held by
+// several tiles must have the same value in each (bit for bit): they are copies of one whole-domain value.
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/common.hpp>
+#include <glm/vec2.hpp>
+
+#include "nodes/hydrology/tile_fill.h"
+
+namespace orogen::hydrology {
+
+// The tile's rectangle grown by one sample on every side, clipped to the domain.
+TileRect ringed_rect(const TileRect& rect, glm::ivec2 domain_size);
+
+// The tile's message: its rectangle and its values within one sample of its perimeter. `values`: rect.size,
+// row-major.
+std::string ring_message(std::span<const float> values, const TileRect& rect);
+
+// Every tile's message (indexed by tile) into every tile's answer: the values of its ring (the samples of
+// ringed_rect outside the tile, row-major). Throws std::invalid_argument on malformed messages, a ring sample no
+// tile holds, or tiles that disagree on a shared sample.
+std::vector<std::string> solve_rings(const std::vector<std::string>& messages, glm::ivec2 domain_size);
+
+// The tile's values on ringed_rect(rect, domain_size), row-major: its own, and its ring from `answer`.
+std::vector<float> with_ring(std::span<const float> values, const TileRect& rect, glm::ivec2 domain_size,
+                             std::string_view answer);
+
+}  // namespace orogen::hydrology

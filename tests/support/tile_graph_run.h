@@ -1,0 +1,149 @@
+#pragma once
+// Running a node type's tile-graph algorithm (graph/tile_graph.h) over a tiling in one process, as the stages of a
+// tiled or distributed build do (cli/tile_graph_stages.h), for the tests that compare it with the whole-domain node:
+// random terrains whose depressions, flats and drainage cross tile borders and corners, the tiling's windows, and the
+// tiles' outputs put together (shared samples must agree bit for bit).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <gtest/gtest.h>
+
+#include "graph/domain.h"
+#include "graph/heightfield.h"
+#include "graph/node_type.h"
+#include "graph/registry.h"
+#include "graph/tile_graph.h"
+
+namespace orogen::test {
+
+struct Terrain {
+  glm::ivec2 size;
+  std::vector<float> z;
+};
+
+// Tile I of N over W samples: [floor(I (W-1) / N), floor((I+1) (W-1) / N)] (cli/tiling.h).
+inline int edge(int t, int samples, int tiles) {
+  return static_cast<int>(static_cast<long long>(t) * (samples - 1) / tiles);
+}
+
+// Random heights: `levels` > 0 quantizes them to integers (wide flats and ties), else continuous; plus a bowl on
+// the domain's centre and a trench along its lower quarter, so depressions span tiles and cross their corners.
+inline Terrain terrain(glm::ivec2 size, unsigned seed, int levels) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  Terrain t{size, {}};
+  for (int j = 0; j < size.y; ++j)
+    for (int i = 0; i < size.x; ++i) {
+      float v = u(rng) * 10.0f;
+      if (levels > 0) v = std::floor(v * levels / 10.0f);
+      const float dx = (i - size.x / 2.0f) / size.x, dy = (j - size.y / 2.0f) / size.y;
+      v -= 30.0f * std::max(0.0f, 0.3f - std::sqrt(dx * dx + dy * dy));
+      if (std::abs(j - size.y / 4) <= 1 && i > 2 && i < size.x - 3) v -= 8.0f;
+      t.z.push_back(v + 0.05f * static_cast<float>(i));
+    }
+  return t;
+}
+
+// Per cell: the number of cells whose path along `receiver` (a cell's receiver, itself at an outlet or pit) ends
+// at it: the area, in cells, that drains to each outlet.
+inline std::vector<std::int64_t> cells_ending_at(const std::vector<std::int32_t>& receiver) {
+  std::vector<std::int64_t> ending(receiver.size(), 0);
+  for (std::int32_t c = 0; c < static_cast<std::int32_t>(receiver.size()); ++c) {
+    std::int32_t x = c;
+    while (receiver[static_cast<std::size_t>(x)] != x) x = receiver[static_cast<std::size_t>(x)];
+    ++ending[static_cast<std::size_t>(x)];
+  }
+  return ending;
+}
+
+inline bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+// 10 m between samples.
+inline Domain domain_of(const Terrain& t) {
+  return Domain::from_extent({0, 0}, {10.0 * (t.size.x - 1), 10.0 * (t.size.y - 1)}, t.size);
+}
+
+// The terrain as a heightfield on domain_of(t).
+inline Heightfield heights_of(const Terrain& t) {
+  Heightfield h(domain_of(t));
+  h.data = t.z;
+  return h;
+}
+
+inline std::vector<ParamValue> params_of(const NodeType& type, const std::map<std::string, ParamValue>& set) {
+  std::vector<ParamValue> values;
+  for (const auto& p : type.params) values.push_back(set.count(p.name) ? set.at(p.name) : p.default_value);
+  return values;
+}
+
+// The registered algorithm of `type_name` for the parameters `set` (the rest at their defaults), or nullptr.
+inline std::unique_ptr<TileGraphAlgorithm> algorithm_of(const std::string& type_name,
+                                                        const std::map<std::string, ParamValue>& set,
+                                                        const Domain& whole) {
+  const NodeType& type = *NodeRegistry::instance().find(type_name);
+  const auto values = params_of(type, set);
+  const TileGraphFactory* factory = find_tile_graph(type_name);
+  EXPECT_NE(factory, nullptr) << type_name;
+  return factory ? (*factory)(ParamView(type, values), whole) : nullptr;
+}
+
+// Runs `algorithm` on the tiles of `counts` over `t` (the heights as the first input, `inputs` - 1 unlinked
+// inputs after it), every message through its bytes, and puts every output of the tiles together on the whole
+// domain. `rounds_run` gets the number of rounds.
+inline std::vector<std::vector<float>> run_across_tiles(const TileGraphAlgorithm& algorithm, const Terrain& t,
+                                                        glm::ivec2 counts, std::size_t inputs = 1,
+                                                        int* rounds_run = nullptr) {
+  const Domain whole = domain_of(t);
+  std::vector<std::unique_ptr<TileGraphTile>> tiles;
+  for (int tj = 0; tj < counts.y; ++tj)
+    for (int ti = 0; ti < counts.x; ++ti) {
+      const glm::ivec2 first{edge(ti, t.size.x, counts.x), edge(tj, t.size.y, counts.y)};
+      const glm::ivec2 size =
+          glm::ivec2(edge(ti + 1, t.size.x, counts.x), edge(tj + 1, t.size.y, counts.y)) - first + 1;
+      auto h = std::make_shared<Heightfield>(whole.subdomain(first.x, first.y, size.x, size.y));
+      for (int j = 0; j < size.y; ++j)
+        for (int i = 0; i < size.x; ++i)
+          h->data[static_cast<std::size_t>(j) * size.x + i] =
+              t.z[static_cast<std::size_t>(first.y + j) * t.size.x + first.x + i];
+      std::vector<PortValue> values(inputs);
+      values[0] = HeightfieldPtr(h);
+      tiles.push_back(algorithm.start(values));
+    }
+  for (int round = 0;; ++round) {
+    std::vector<std::string> messages;
+    for (auto& tile : tiles) messages.push_back(tile->message(round));
+    const auto answers = algorithm.solve(round, messages);
+    for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->answer(round, answers[k]);
+    if (rounds_run) *rounds_run = round + 1;
+    if (!algorithm.another_round(round, messages)) break;
+  }
+  std::vector<std::vector<float>> joined;
+  for (auto& tile : tiles) {
+    const auto outputs = tile->outputs();
+    joined.resize(outputs.size(), std::vector<float>(t.z.size(), std::numeric_limits<float>::quiet_NaN()));
+    for (std::size_t o = 0; o < outputs.size(); ++o) {
+      const Heightfield& h = *std::get<HeightfieldPtr>(outputs[o]);
+      for (int j = 0; j < h.domain.height(); ++j)
+        for (int i = 0; i < h.domain.width(); ++i) {
+          float& v = joined[o][static_cast<std::size_t>(h.domain.first.y + j) * t.size.x + h.domain.first.x + i];
+          const float mine = h.data[static_cast<std::size_t>(j) * h.domain.width() + i];
+          EXPECT_TRUE(std::isnan(v) || same_bits({v}, {mine})) << "tiles disagree on a shared sample";
+          v = mine;
+        }
+    }
+  }
+  return joined;
+}
+
+}  // namespace orogen::test
