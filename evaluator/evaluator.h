@@ -17,9 +17,10 @@
 //   unset outputs marked, and never returned where a complete result is expected (find_result, given_results).
 // - Every computed result goes to the memory LRU (unless it alone exceeds the bound, or the request keeps only
 //   some: EvalRequest::keep_in_memory) and, with a cache_dir, to disk if it is worth an entry (small, or slower
-//   to recompute than to read: evaluator/disk_cache.h); a damaged disk entry is deleted and recomputed. Failed and cancelled nodes are never cached.
-//   Nodes that completed before a cancel keep their cached results: they are complete and content-addressed,
-//   so the next run reuses them. A node that returns normally after the cancel is treated as cancelled.
+//   to recompute than to read: evaluator/disk_cache.h); a damaged disk entry is deleted and recomputed. Failed and
+//   cancelled nodes are never cached. Nodes that completed before a cancel keep their cached results: they are complete
+//   and content-addressed, so the next run reuses them. A node that returns normally after the cancel is treated as
+//   cancelled.
 // - A writer's result records the files it wrote (size, modification time); it is a hit only while all of
 //   them are unchanged, otherwise the writer runs again (with its inputs from the cache).
 // - Values between nodes are released as soon as every consumer in the run is done, unless requested.
