@@ -105,11 +105,10 @@ std::vector<std::string> distribution_errors(int ranks, bool tiled, bool one_til
 
 int run_eval_on(const EvalCommand& cmd, RankGroup& group);
 
-// After every tile of a tiled build succeeded: the GDAL mosaics of its rasters (cli/mosaic.h). Returns false
-// (error printed) if one cannot be written.
-// With --merge, first the merged files of the rasters that merge (cli/merge_tiles.h); they get no mosaic.
-bool write_tile_mosaics(const Graph& graph, const Domain& domain, glm::ivec2 counts, TileNaming naming,
-                        const OutputPolicy& policy, bool quiet, bool merge) {
+// After every tile of a tiled build succeeded: with --merge the merged files (cli/merge_tiles.h), then the GDAL
+// mosaics of the rasters not merged (cli/mosaic.h). Returns false (error printed) if one cannot be written.
+bool write_tiled_outputs(const Graph& graph, const Domain& domain, glm::ivec2 counts, TileNaming naming,
+                         const OutputPolicy& policy, bool quiet, bool merge) {
   std::vector<std::string> warnings;
   std::set<std::string> merged;
   if (merge) try {
@@ -495,7 +494,7 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
                    job.tiles, group.size(), job.failed_tiles, job.computed, job.cached, job.failed, job.skipped,
                    job.milliseconds);
     if (job.failed != 0) return kExitEvalFailed;
-    return !root || write_tile_mosaics(graph, domain, counts, tile_naming, policy, cmd.quiet, cmd.merge)
+    return !root || write_tiled_outputs(graph, domain, counts, tile_naming, policy, cmd.quiet, cmd.merge)
                ? kExitOk
                : kExitEvalFailed;
   }
@@ -503,7 +502,7 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
     std::fprintf(stderr, "%zu tiles built, %zu with failures, in %.1f ms\n", builds.size(), counted.failed_tiles,
                  counted.milliseconds);
   if (counted.failed != 0) return kExitEvalFailed;
-  if (tiled && !only_tile && !write_tile_mosaics(graph, domain, counts, tile_naming, policy, cmd.quiet, cmd.merge))
+  if (tiled && !only_tile && !write_tiled_outputs(graph, domain, counts, tile_naming, policy, cmd.quiet, cmd.merge))
     return kExitEvalFailed;
   return kExitOk;
 }

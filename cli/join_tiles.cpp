@@ -25,8 +25,6 @@ std::ifstream open_tile(const fs::path& tile) {
   throw std::runtime_error("the tile " + tile.string() + " " + what + ": was it written by this build?");
 }
 
-std::string number_text(long long v) { return std::to_string(v); }
-
 long long parse_integer(const std::string& text, std::size_t& at, const fs::path& tile) {
   long long v = 0;
   const auto r = std::from_chars(text.data() + at, text.data() + text.size(), v);
@@ -122,7 +120,7 @@ void join_points_ply(const std::vector<fs::path>& tiles, const fs::path& target,
   long long total = 0;
   for_each_point_row(tiles, header.size(), ' ', border_x, border_y, [&](const std::string&) { ++total; });
   BlockWriter out(target);
-  for (const auto& line : header) put_line(out, line == "element vertex" ? line + " " + number_text(total) : line);
+  for (const auto& line : header) put_line(out, line == "element vertex" ? line + " " + std::to_string(total) : line);
   for_each_point_row(tiles, header.size(), ' ', border_x, border_y,
                      [&](const std::string& row) { put_line(out, row); });
   out.finish();
@@ -158,7 +156,7 @@ void join_curves_json(const std::vector<fs::path>& tiles, const fs::path& target
       const long long parent = parse_integer(line, parent_end, tile);
       out.put(written == 0 ? "\n" : ",\n");
       out.put(line.substr(0, index_at));
-      out.put(number_text(index + offset) + kParent + number_text(parent < 0 ? parent : parent + offset));
+      out.put(std::to_string(index + offset) + kParent + std::to_string(parent < 0 ? parent : parent + offset));
       out.put(line.substr(parent_end));
       ++written;
     }
@@ -179,7 +177,7 @@ void join_curves_obj(const std::vector<fs::path>& tiles, const fs::path& target)
     total += parse_integer(line, at, tile);
   }
   BlockWriter out(target);
-  put_line(out, kHeader + number_text(total) + kHeaderEnd);
+  put_line(out, kHeader + std::to_string(total) + kHeaderEnd);
   long long curves = 0, vertices = 0;
   for (const auto& tile : tiles) {
     std::ifstream in = open_tile(tile);
@@ -188,21 +186,21 @@ void join_curves_obj(const std::vector<fs::path>& tiles, const fs::path& target)
     while (std::getline(in, line)) {
       if (line.rfind("g curve_", 0) == 0) {
         std::size_t at = 8;
-        put_line(out, "g curve_" + number_text(parse_integer(line, at, tile) + curve_offset));
+        put_line(out, "g curve_" + std::to_string(parse_integer(line, at, tile) + curve_offset));
         ++curves;
       } else if (line.rfind("# parent ", 0) == 0) {
         std::size_t at = 9;
         const long long k = parse_integer(line, at, tile);
         ++at;
         const long long parent = parse_integer(line, at, tile);
-        put_line(out, "# parent " + number_text(k + curve_offset) + " " +
-                          number_text(parent < 0 ? parent : parent + curve_offset));
+        put_line(out, "# parent " + std::to_string(k + curve_offset) + " " +
+                          std::to_string(parent < 0 ? parent : parent + curve_offset));
       } else if (line.rfind("l ", 0) == 0) {
         std::string moved = "l";
         std::size_t at = 1;
         while (at < line.size()) {
           ++at;  // the space
-          moved += " " + number_text(parse_integer(line, at, tile) + vertex_offset);
+          moved += " " + std::to_string(parse_integer(line, at, tile) + vertex_offset);
         }
         put_line(out, moved);
       } else {

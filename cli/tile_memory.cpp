@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "graph/output_nodes.h"
+
 namespace orogen::cli {
 
 namespace {
@@ -9,9 +11,7 @@ namespace {
 // Whether a build asks for the node by default (Evaluator: writers, nodes nothing reads, and nodes with a Report
 // output). Idle nodes count too: keeping one result too many costs memory, never a wrong result.
 bool requested(const Node& node, const std::vector<std::string>& consumers) {
-  const auto& outputs = node.type->outputs;
-  return node.type->writes_files || consumers.empty() ||
-         std::any_of(outputs.begin(), outputs.end(), [](const PortDecl& p) { return p.type == PortType::Report; });
+  return is_output_node(*node.type) || consumers.empty();
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include "evaluator/memory_estimate.h"
 #include "evaluator/node_keys.h"
 #include "graph/idle_nodes.h"
+#include "graph/output_nodes.h"
 #include "graph/subgraph.h"
 #include "graph/exec_context.h"
 
@@ -290,11 +291,7 @@ class Run {
     std::set<std::string> feeding;
     for (const auto& n : graph_.nodes())
       for (const auto& [port, link] : n.inputs) feeding.insert(link.node);
-    // Nodes with a Report output are requested too: their figures are results in their own right.
-    auto reports = [](const NodeType& t) {
-      return std::any_of(t.outputs.begin(), t.outputs.end(),
-                         [](const PortDecl& p) { return p.type == PortType::Report; });
-    };
+    // Nodes with a Report output are requested too (graph/output_nodes.h).
     // A node added but not wired yet, that no output needs, is left out (graph/idle_nodes.h).
     const std::vector<std::string> idle_ids = idle_unwired_nodes(graph_);
     const std::set<std::string> idle(idle_ids.begin(), idle_ids.end());
@@ -302,7 +299,7 @@ class Run {
       if (idle.count(n.id)) continue;
       if (n.type->writes_files || !feeding.count(n.id)) {
         requested_.push_back(n.id);
-      } else if (reports(*n.type)) {
+      } else if (has_report_output(*n.type)) {
         requested_.push_back(n.id);
         for_reports_only_.insert(&n);
       }
@@ -709,9 +706,7 @@ EvalRequest expanded_request(const Graph& graph, const ExpandedGraph& expanded, 
     for (const auto& ref : outputs->second) add(ref.node);
     for (const auto& inner : expanded.nodes.at(id)) {
       const NodeType& t = *expanded.graph.at(inner).type;
-      const bool reports =
-          std::any_of(t.outputs.begin(), t.outputs.end(), [](const PortDecl& p) { return p.type == PortType::Report; });
-      if (reports || t.writes_files) add(inner);
+      if (is_output_node(t)) add(inner);
     }
   }
   for (const auto& [id, domain] : request.node_domains) {

@@ -4,18 +4,16 @@
 #include <map>
 #include <set>
 
+#include "graph/output_nodes.h"
+
 namespace orogen {
 
 std::vector<std::string> idle_unwired_nodes(const Graph& graph) {
-  auto is_output = [](const NodeType& t) {
-    return t.writes_files || std::any_of(t.outputs.begin(), t.outputs.end(),
-                                         [](const PortDecl& p) { return p.type == PortType::Report; });
-  };
   std::map<std::string, std::vector<std::string>> readers;  // node -> the nodes reading its outputs
   std::vector<std::string> needed_stack, blocked_stack;
   for (const auto& n : graph.nodes()) {
     for (const auto& [port, link] : n.inputs) readers[link.node].push_back(n.id);
-    if (is_output(*n.type)) needed_stack.push_back(n.id);
+    if (is_output_node(*n.type)) needed_stack.push_back(n.id);
     for (const auto& input : n.type->inputs)
       if (!input.optional && !n.inputs.count(input.name)) {
         blocked_stack.push_back(n.id);

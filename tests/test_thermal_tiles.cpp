@@ -152,6 +152,13 @@ std::vector<std::pair<int, std::unique_ptr<TileGraphAlgorithm>>> algorithms(cons
   return all;
 }
 
+// The rounds of a run of `iterations` exchanging every k iterations (0: the default, 1 on these small tiles): the
+// iterations per exchange, the first bands, then a round per block.
+int expected_rounds(int k, int iterations) {
+  const int block = k > 0 ? k : 1;
+  return 2 + (iterations + block - 1) / block;
+}
+
 TEST(ThermalAcrossTiles, EveryTilingEqualsTheWholeDomainRunBitForBit) {
   const Fields f = fields({97, 81}, 3);
   // 30 degrees over 10 m: 12 iterations, every one moving material (tolerance 0).
@@ -171,9 +178,7 @@ TEST(ThermalAcrossTiles, EveryTilingEqualsTheWholeDomainRunBitForBit) {
                        std::to_string(k) + " iterations, tiles " + label(counts));
           int rounds = 0;
           expect_same(across_tiles(*algorithm, f, counts, mask, hardness, &rounds), whole);
-          // Iterations per exchange, then the first bands, then a round per block (small tiles: 1 by default).
-          const int block = k > 0 ? k : 1;
-          EXPECT_EQ(rounds, 2 + (iterations + block - 1) / block);
+          EXPECT_EQ(rounds, expected_rounds(k, iterations));
         }
       }
     }
@@ -209,8 +214,7 @@ TEST(ThermalAcrossTiles, AllTilesStopByToleranceWhereTheWholeDomainRunStops) {
       SCOPED_TRACE("every " + std::to_string(k) + " iterations, tiles " + label(counts));
       int rounds = 0;
       expect_same(across_tiles(*algorithm, f, counts, true, false, &rounds), whole);
-      const int block = k > 0 ? k : 1;
-      EXPECT_EQ(rounds, 2 + (iterations + block - 1) / block);
+      EXPECT_EQ(rounds, expected_rounds(k, iterations));
     }
 }
 
