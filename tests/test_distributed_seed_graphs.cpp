@@ -1,10 +1,11 @@
 // The seed graphs built on 1 to 4 MPI ranks (issue 24): `mpirun -n R orogen eval G --tiles NxM` must give the
 // terrain one process gives. Every float raster, 16-bit height with a fixed range and image, put together from the
 // ranks' tiles, equals the untiled single-process file bit for bit; points equal as sets (a point on a line of samples
-// two tiles share is in both tiles' files); curves computed whole (a replicated RiverNetwork) are the untiled file in
-// every tile. 16-bit heights with `range: auto` map each tile over its own range, so both builds write them as float
-// EXR instead (`--set ID.path=...exr`); meshes and scenes are per tile by design (docs/distributed.md, "Outputs").
-// Small domains (129^2) keep CI short.
+// two tiles share is in both tiles' files; PoissonDisk with fill_border, ForestLifeCycle and ShadePlacement are
+// computed on the whole domain and each tile gets the points inside it); curves computed whole (a replicated
+// RiverNetwork) are the untiled file in every tile. 16-bit heights with `range: auto` map each tile over its own range,
+// so both builds write them as float EXR instead (`--set ID.path=...exr`); meshes and scenes are per tile by design
+// (docs/distributed.md, "Outputs"). Small domains (129^2) keep CI short.
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
@@ -116,8 +117,6 @@ struct SeedJob {
   const char* graph;
   glm::ivec2 tiles;
   int ranks;
-  // Point files whose nodes run per tile from the tile's own part (not yet tile invariant), not compared.
-  std::set<std::string> points_not_compared;
 };
 
 std::string tiles_text(glm::ivec2 t) { return std::to_string(t.x) + "x" + std::to_string(t.y); }
@@ -127,17 +126,11 @@ TEST(DistributedSeedGraphs, EverySeedGraphOnOneToFourRanksEqualsOneProcess) {
   ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
   ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
   ::setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 1);
-  // forest.json: PoissonDisk with fill_border samples up to the edges of the domain it is asked for (a tile's),
-  // and ForestLifeCycle's competition reaches across the tile borders; both run per tile (the tiled build says so
-  // in a warning), so its points are not compared.
-  const std::set<std::string> forest_points = {"forest/points.csv"};
   const std::vector<SeedJob> jobs = {
-      {"eroded_mountains.json", {2, 2}, 4, {}},  {"eroded_mountains.json", {3, 2}, 1, {}},
-      {"game_world.json", {2, 2}, 2, {}},        {"game_world.json", {3, 2}, 3, {}},
-      {"rural_resources.json", {2, 2}, 3, {}},   {"rural_resources.json", {3, 2}, 4, {}},
-      {"voronoi_island.json", {2, 2}, 1, {}},    {"voronoi_island.json", {3, 2}, 2, {}},
-      {"forest.json", {2, 2}, 4, forest_points}, {"forest.json", {3, 2}, 3, forest_points},
-      {"seamscape.json", {2, 2}, 2, {}},         {"seamscape.json", {3, 2}, 4, {}},
+      {"eroded_mountains.json", {2, 2}, 4}, {"eroded_mountains.json", {3, 2}, 1}, {"game_world.json", {2, 2}, 2},
+      {"game_world.json", {3, 2}, 3},       {"rural_resources.json", {2, 2}, 3},  {"rural_resources.json", {3, 2}, 4},
+      {"voronoi_island.json", {2, 2}, 1},   {"voronoi_island.json", {3, 2}, 2},   {"forest.json", {2, 2}, 4},
+      {"forest.json", {3, 2}, 3},           {"seamscape.json", {2, 2}, 2},        {"seamscape.json", {3, 2}, 4},
   };
   std::map<std::string, fs::path> untiled;
   for (const SeedJob& job : jobs) {
@@ -180,7 +173,7 @@ TEST(DistributedSeedGraphs, EverySeedGraphOnOneToFourRanksEqualsOneProcess) {
       if (ext == ".exr" || ext == ".tif" || ext == ".tiff" || ext == ".png") {
         EXPECT_EQ(differing_samples(f.path(), dir, rel, job.tiles), 0u);
         ++rasters;
-      } else if (ext == ".csv" && !job.points_not_compared.count(rel.generic_string())) {
+      } else if (ext == ".csv") {
         std::set<std::string> joined;
         for (int j = 0; j < job.tiles.y; ++j)
           for (int i = 0; i < job.tiles.x; ++i) {
