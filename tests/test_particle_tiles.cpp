@@ -159,7 +159,7 @@ TEST(ParticlesAcrossTiles, TheScheduleHasSeveralBlocksAndRoundsAtTheseSizes) {
   const DropletSchedule schedule(p, f.domain);
   EXPECT_EQ(schedule.blocks(), glm::ivec2(5, 4));
   EXPECT_EQ(schedule.rounds(), 3u);
-  // Rectangles, first values, 3 rounds of 4 colours, totals and visits, the most visits.
+  // Rectangles, first values, 3 rounds of 4 colors, totals and visits, the most visits.
   EXPECT_EQ(algorithm->rounds(), 2 + 12 + 2);
 }
 
@@ -181,7 +181,7 @@ TEST(ParticlesAcrossTiles, EveryTilingEqualsTheWholeDomainNodeBitForBit) {
 }
 
 // Tiles of 2 and 3 samples, far narrower than a droplet's reach (10 samples) or a block (32): a block's droplets run
-// on the tile holding its centre, with heights from many tiles around it.
+// on the tile holding its center, with heights from many tiles around it.
 TEST(ParticlesAcrossTiles, TilesNarrowerThanADropletsReachWork) {
   const Fields f = fields({65, 49}, 2);
   const auto algorithm = algorithm_of(kParams, f.domain);

@@ -4,8 +4,8 @@
 // in the same order on every sample.
 //
 // Droplets run in rounds of a fixed number; a round bins its droplets by the block of the whole domain's grid their
-// origin falls in (blocks at least twice a droplet's reach across), and runs the four colours of a 2 x 2
-// checkerboard of blocks one after the other: a phase per colour. The droplets of two blocks of one colour never
+// origin falls in (blocks at least twice a droplet's reach across), and runs the four colors of a 2 x 2
+// checkerboard of blocks one after the other: a phase per color. The droplets of two blocks of one color never
 // touch the same sample, and a block's droplets read and change samples within margin() of the block only. All of
 // it is a function of the parameters and the whole domain, never of threads, tiles or ranks.
 #include <cmath>
@@ -64,9 +64,8 @@ class DropletSchedule {
   // Block b's first and last samples (both included).
   glm::ivec2 block_lo(int b) const;
   glm::ivec2 block_hi(int b) const;
-  int colour(int b) const;  // 0 to 3
-  // The blocks of colour c (0 to 3; the phases run the colours in this order), in block order.
-  const std::vector<int>& colour_blocks(int c) const;
+  // The blocks of color c (0 to 3; the phases run the colors in this order), in block order.
+  const std::vector<int>& color_blocks(int c) const;
   // Samples beyond its block, on each side, within which a block's droplets read and change heights.
   glm::ivec2 margin() const;
   // Row pitch (floats) for a window `width` samples wide: wider where rows would alias in the cache (no value
@@ -75,7 +74,7 @@ class DropletSchedule {
 
   // Round `round`'s droplets into `bins` (reusing its memory).
   void bin(std::uint64_t round, DropletBins& bins) const;
-  // Runs the droplets of `bins` of the blocks `blocks` (all of one colour) on `grid`, blocks side by side on the
+  // Runs the droplets of `bins` of the blocks `blocks` (all of one color) on `grid`, blocks side by side on the
   // threads, adding to stats[b] for block b (stats indexed by block). `ctx` (nullable) is polled for cancellation.
   void run(const DropletGrid& grid, const DropletBins& bins, const std::vector<int>& blocks, DropletBlockStats* stats,
            const ExecContext* ctx) const;

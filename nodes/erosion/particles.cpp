@@ -487,7 +487,8 @@ struct DropletSchedule::Impl {
   int dj_lo = 0, rx = 0;
   Sim sim{};  // everything but the grid
   RunTiles run = nullptr;
-  std::size_t together = 1;  // tiles a run_tiles call steps together
+  RunTiles run_one = nullptr;  // one tile alone (the baseline kernel: no idle half of an 8-lane vector)
+  std::size_t together = 1;    // tiles a run_tiles call steps together
 };
 
 DropletSchedule::DropletSchedule(const ParticleParams& p, const Domain& whole) : impl_(std::make_unique<Impl>()) {
@@ -600,19 +601,23 @@ DropletSchedule::DropletSchedule(const ParticleParams& p, const Domain& whole) :
   // unrolled over a row's width only.
   const bool avx2 = (hwy::SupportedTargets() & HWY_AVX2) != 0;
   s.together = avx2 ? 2 : 1;
-  s.run = run_tiles_for<0, 0>(avx2);
-  if (row_width == 8 && sim.rows == 5)
-    s.run = run_tiles_for<8, 5>(avx2);
-  else if (row_width == 8 && sim.rows == 3)
-    s.run = run_tiles_for<8, 3>(avx2);
-  else if (row_width == 4)
-    s.run = run_tiles_for<4, 0>(avx2);
-  else if (row_width == 8)
-    s.run = run_tiles_for<8, 0>(avx2);
-  else if (row_width == 12)
-    s.run = run_tiles_for<12, 0>(avx2);
-  else if (row_width == 16)
-    s.run = run_tiles_for<16, 0>(avx2);
+  for (RunTiles* into : {&s.run, &s.run_one}) {
+    const bool two = into == &s.run && avx2;
+    RunTiles& run = *into;
+    run = run_tiles_for<0, 0>(two);
+    if (row_width == 8 && sim.rows == 5)
+      run = run_tiles_for<8, 5>(two);
+    else if (row_width == 8 && sim.rows == 3)
+      run = run_tiles_for<8, 3>(two);
+    else if (row_width == 4)
+      run = run_tiles_for<4, 0>(two);
+    else if (row_width == 8)
+      run = run_tiles_for<8, 0>(two);
+    else if (row_width == 12)
+      run = run_tiles_for<12, 0>(two);
+    else if (row_width == 16)
+      run = run_tiles_for<16, 0>(two);
+  }
 }
 
 DropletSchedule::~DropletSchedule() = default;
@@ -627,8 +632,7 @@ glm::ivec2 DropletSchedule::block_lo(int b) const {
 glm::ivec2 DropletSchedule::block_hi(int b) const {
   return glm::min(block_lo(b) + glm::ivec2(impl_->tile_w, impl_->tile_h), size()) - 1;
 }
-int DropletSchedule::colour(int b) const { return (b / impl_->tiles_x & 1) * 2 + (b % impl_->tiles_x & 1); }
-const std::vector<int>& DropletSchedule::colour_blocks(int c) const { return impl_->colour_tiles[c]; }
+const std::vector<int>& DropletSchedule::color_blocks(int c) const { return impl_->colour_tiles[c]; }
 glm::ivec2 DropletSchedule::margin() const { return impl_->margin; }
 int DropletSchedule::pitch_for(int width) { return row_pitch(width); }
 
@@ -674,17 +678,16 @@ void DropletSchedule::run(const DropletGrid& grid, const DropletBins& bins, cons
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, groups, 1), [&](const tbb::blocked_range<std::size_t>& br) {
     for (std::size_t q = br.begin(); q != br.end(); ++q) {
       TileRun runs[2];
-      DropletBlockStats none;  // (a missing second tile: no droplets)
+      std::size_t n = 0;
       for (std::size_t g = 0; g < together; ++g) {
         const std::size_t k = q * together + g;
         if (k < blocks.size()) {
           const int t = blocks[k];
-          runs[g] = {bins.order.data() + bins.start[t], bins.start[t + 1] - bins.start[t], &stats[t]};
-        } else {
-          runs[g] = {nullptr, 0, &none};
+          runs[n++] = {bins.order.data() + bins.start[t], bins.start[t + 1] - bins.start[t], &stats[t]};
         }
       }
-      s.run(sim, bins.first, runs);
+      // A tile left without a partner runs alone (both kernels give every tile the same bits).
+      (n == together ? s.run : s.run_one)(sim, bins.first, runs);
     }
   });
 }
@@ -718,7 +721,7 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
     check_cancelled(ctx);
     schedule.bin(r, bins);
     for (int c = 0; c < 4; ++c) {
-      schedule.run(grid, bins, schedule.colour_blocks(c), block_stats.data(), ctx);
+      schedule.run(grid, bins, schedule.color_blocks(c), block_stats.data(), ctx);
       check_cancelled(ctx);
       report(ctx, (static_cast<double>(r) + (c + 1) / 4.0) / static_cast<double>(rounds));
     }

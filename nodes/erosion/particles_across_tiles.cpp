@@ -1,10 +1,10 @@
 // HydraulicErosion across the tiles of a tiled or distributed build, exact (graph/tile_graph.h).
 //
 // The whole-domain run's schedule (droplet_schedule.h) is a function of the whole domain: droplet rounds, blocks at
-// least twice a droplet's reach across, four colour phases per round, each block's droplets in index order. The
+// least twice a droplet's reach across, four color phases per round, each block's droplets in index order. The
 // tiles run that same schedule, a tile-graph round per phase:
 //  - round 0: each tile sends its rectangle; every tile then knows which tile runs each block (the one holding the
-//    block's centre, the first in tile order on a shared border) and the region each tile keeps: its own samples
+//    block's center, the first in tile order on a shared border) and the region each tile keeps: its own samples
 //    and the blocks it runs grown by the droplets' reach (DropletSchedule::margin), clipped to the domain;
 //  - round 1: each tile sends the heights (and mask) of its own samples that lie in other tiles' regions;
 //  - round 2 + p runs phase p: each tile runs its blocks of the phase on its region, then sends, for each such
@@ -69,8 +69,8 @@ std::shared_ptr<const Plan> make_plan(const DropletSchedule& schedule, std::vect
   plan->regions = rects;
   const int blocks = schedule.block_count();
   for (int b = 0; b < blocks; ++b) {
-    const glm::ivec2 lo = schedule.block_lo(b), hi = schedule.block_hi(b), centre = (lo + hi) / 2;
-    const auto it = std::find_if(rects.begin(), rects.end(), [&](const SampleRect& r) { return r.contains(centre); });
+    const glm::ivec2 lo = schedule.block_lo(b), hi = schedule.block_hi(b), center = (lo + hi) / 2;
+    const auto it = std::find_if(rects.begin(), rects.end(), [&](const SampleRect& r) { return r.contains(center); });
     if (it == rects.end()) throw std::invalid_argument(std::string(kWhat) + ": the tiles do not cover the domain");
     const int t = static_cast<int>(it - rects.begin());
     const SampleRect reach = overlap({lo - schedule.margin(), hi + schedule.margin()}, whole);
@@ -114,7 +114,7 @@ struct PartWriter {
       words.reserve(set * 4);
       for (int y = r.lo.y; y <= r.hi.y; ++y)
         for (int x = r.lo.x; x <= r.hi.x; ++x, ++k)
-          if (mask[k / 8] >> (k % 8) & 1) bytes::put(words, word(c, x, y));
+          if (static_cast<unsigned char>(mask[k / 8]) >> (k % 8) & 1u) bytes::put(words, word(c, x, y));
       out += words;
     }
     ++parts;
@@ -131,7 +131,6 @@ struct PartHeader {
 
 // Takes one part from the front of `in`.
 PartHeader take_part(std::string_view& in, const glm::ivec2 whole, std::size_t tiles) {
-  const std::string_view start = in;
   PartHeader p;
   p.target = bytes::take<std::int32_t>(in, kWhat);
   p.rect.lo.x = bytes::take<std::int32_t>(in, kWhat), p.rect.lo.y = bytes::take<std::int32_t>(in, kWhat);
@@ -149,18 +148,17 @@ PartHeader take_part(std::string_view& in, const glm::ivec2 whole, std::size_t t
   if (in.size() < words) throw std::invalid_argument(std::string(kWhat) + ": truncated bytes");
   p.words = in.substr(0, words);
   in.remove_prefix(words);
-  (void)start;
   return p;
 }
 
-// fn(x, y, word of channel 0, ..., pointer to the part's words) for every sample of the part, in order:
-// fn(x, y, k) with k the index of the sample among those sent.
+// fn(x, y, n) for every sample (x, y) the part sends, in order, n counting them (word_at(p, c, n) is its word in
+// channel c).
 template <class Fn>
 void for_each_sent(const PartHeader& p, Fn&& fn) {
   std::size_t k = 0, n = 0;
   for (int y = p.rect.lo.y; y <= p.rect.hi.y; ++y)
     for (int x = p.rect.lo.x; x <= p.rect.hi.x; ++x, ++k)
-      if (p.bits[k / 8] >> (k % 8) & 1) fn(x, y, n++);
+      if (static_cast<unsigned char>(p.bits[k / 8]) >> (k % 8) & 1u) fn(x, y, n++);
 }
 
 template <class T>
@@ -199,7 +197,7 @@ class ParticleTile : public TileGraphTile {
   std::vector<float> z_, m_;
   std::vector<std::uint32_t> visits_;
   std::vector<DropletBlockStats> stats_;  // per block (those this tile runs)
-  std::vector<int> mine_[4];              // this tile's blocks of each colour
+  std::vector<int> mine_[4];              // this tile's blocks of each color
   ParticleStats totals_;
   std::uint32_t most_visits_ = 0;
 };
@@ -208,17 +206,17 @@ class ParticlesAcrossTiles : public TileGraphAlgorithm {
  public:
   ParticlesAcrossTiles(const ParticleParams& p, const Domain& whole) : params_(p), whole_(whole), schedule_(p, whole) {
     for (int c = 0; c < 4; ++c)
-      if (!schedule_.colour_blocks(c).empty()) colours_.push_back(c);
-    phases_ = static_cast<int>(schedule_.rounds()) * static_cast<int>(colours_.size());
+      if (!schedule_.color_blocks(c).empty()) colors_.push_back(c);
+    phases_ = static_cast<int>(schedule_.rounds()) * static_cast<int>(colors_.size());
   }
 
   // Rectangles, first values, a round per phase, the totals and visits, the most visits.
   int rounds() const override { return 2 + phases_ + 2; }
   int phases() const { return phases_; }
-  // Droplet round and colour of phase `phase`.
+  // Droplet round and color of phase `phase`.
   std::pair<std::uint64_t, int> phase(int phase) const {
-    const auto n = static_cast<int>(colours_.size());
-    return {static_cast<std::uint64_t>(phase / n), colours_[static_cast<std::size_t>(phase % n)]};
+    const auto n = static_cast<int>(colors_.size());
+    return {static_cast<std::uint64_t>(phase / n), colors_[static_cast<std::size_t>(phase % n)]};
   }
 
   const DropletSchedule& schedule() const { return schedule_; }
@@ -346,7 +344,7 @@ class ParticlesAcrossTiles : public TileGraphAlgorithm {
   ParticleParams params_;
   Domain whole_;
   DropletSchedule schedule_;
-  std::vector<int> colours_;  // the colours with blocks, in phase order
+  std::vector<int> colors_;  // the colors with blocks, in phase order
   int phases_ = 0;
   mutable std::mutex mutex_;
   mutable std::shared_ptr<const Plan> plan_;
@@ -416,8 +414,8 @@ std::string ParticleTile::message(int round) {
 }
 
 std::string ParticleTile::run_phase(int phase) {
-  const auto [round, colour] = algorithm_.phase(phase);
-  const std::vector<int>& blocks = mine_[colour];
+  const auto [round, color] = algorithm_.phase(phase);
+  const std::vector<int>& blocks = mine_[color];
   // The heights each block's droplets may change in other tiles' regions, before they run: what differs after is
   // sent. (Blocks inside the tile's own samples, far from other regions, send nothing and copy nothing.)
   struct Outgoing {
@@ -525,7 +523,7 @@ void ParticleTile::start_region() {
   mask_.reset();  // (kept in m_)
   stats_.assign(plan_->owner.size(), DropletBlockStats{});
   for (int c = 0; c < 4; ++c)
-    for (const int b : schedule_.colour_blocks(c))
+    for (const int b : schedule_.color_blocks(c))
       if (plan_->owner[static_cast<std::size_t>(b)] == me_) mine_[c].push_back(b);
 }
 

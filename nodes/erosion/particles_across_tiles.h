@@ -1,7 +1,7 @@
 #pragma once
 // HydraulicErosion (particles.h) across the tiles of a tiled or distributed build, exact (graph/tile_graph.h): the
 // whole-domain run's own schedule (droplet_schedule.h), a round per phase, each block's droplets run by the tile
-// holding the block's centre, the samples they changed sent to the tiles that hold them (particles_across_tiles.cpp).
+// holding the block's center, the samples they changed sent to the tiles that hold them (particles_across_tiles.cpp).
 #include <memory>
 
 #include "graph/domain.h"
