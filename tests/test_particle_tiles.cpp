@@ -214,6 +214,18 @@ TEST(ParticlesAcrossTiles, OneBlockAndNoDropletsToo) {
   }
 }
 
+// Droplet phases beyond what rounds of all-gathers are worth (a dense run on a tiny grid): no algorithm, so the node
+// stays on the whole domain, exact either way.
+TEST(ParticlesAcrossTiles, TooManyPhasesStayOnTheWholeDomain) {
+  const Fields f = fields({65, 65}, 3);
+  auto params = kParams;
+  params["droplets_per_km2"] = 1e8;  // 41 M droplets in 10,000 rounds of 4096: 40,000 phases
+  EXPECT_TRUE(algorithm_of(params, f.domain));
+  params["droplets_per_km2"] = 1e8, params["step_length"] = 60.0;
+  const Domain wide = Domain::from_extent({0, 0}, {64000.0, 64000.0}, {65, 65});  // 4096 km^2: 4e11 droplets
+  EXPECT_FALSE(algorithm_of(params, wide));
+}
+
 // The mutation check: one tile missing one exchange (the first values, a phase's changes, the visits or the most
 // visits) changes the result, so the equality above depends on every kind of exchange.
 TEST(ParticlesAcrossTiles, SkippingOneExchangeBreaksTheEquality) {

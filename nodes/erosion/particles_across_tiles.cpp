@@ -26,6 +26,7 @@
 #include <limits>
 #include <mutex>
 #include <stdexcept>
+#include <string>
 
 #include "graph/node_type.h"
 #include "graph/tile_bytes.h"
@@ -51,6 +52,7 @@ SampleRect overlap(const SampleRect& a, const SampleRect& b) { return {glm::max(
 SampleRect bounding(const SampleRect& a, const SampleRect& b) { return {glm::min(a.lo, b.lo), glm::max(a.hi, b.hi)}; }
 
 constexpr const char* kWhat = "hydraulic erosion across tiles";
+constexpr int kMaxPhases = 1 << 20;
 
 // Who runs which block and what each tile keeps, from every tile's rectangle: the same on every rank.
 struct Plan {
@@ -207,7 +209,12 @@ class ParticlesAcrossTiles : public TileGraphAlgorithm {
   ParticlesAcrossTiles(const ParticleParams& p, const Domain& whole) : params_(p), whole_(whole), schedule_(p, whole) {
     for (int c = 0; c < 4; ++c)
       if (!schedule_.color_blocks(c).empty()) colors_.push_back(c);
-    phases_ = static_cast<int>(schedule_.rounds()) * static_cast<int>(colors_.size());
+    // A round per phase: beyond a million rounds (dense droplets on a small grid) the all-gathers would cost more
+    // than the droplets, and the count must fit the rounds' numbering; such runs stay on the whole domain.
+    const double phases = static_cast<double>(schedule_.rounds()) * static_cast<double>(colors_.size());
+    if (phases > kMaxPhases)
+      throw NodeError("HydraulicErosion across tiles: over " + std::to_string(kMaxPhases) + " droplet phases");
+    phases_ = static_cast<int>(phases);
   }
 
   // Rectangles, first values, a round per phase, the totals and visits, the most visits.
