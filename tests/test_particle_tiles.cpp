@@ -192,6 +192,30 @@ TEST(ParticlesAcrossTiles, TilesNarrowerThanADropletsReachWork) {
   }
 }
 
+// Other brush shapes (rows of 12 and 16 weights, padding on the right), non-square cells and droplets that run for
+// many steps: the margins around each block hold every sample its droplets touch.
+TEST(ParticlesAcrossTiles, BrushShapesAndNonSquareCells) {
+  Fields f = fields({97, 81}, 4);
+  const Domain d = Domain::from_extent({0, 0}, {960.0, 1600.0}, {97, 81});  // 10 m x 20 m cells
+  auto in = std::make_shared<Heightfield>(*f.in), mask = std::make_shared<Heightfield>(*f.mask);
+  in->domain = d, mask->domain = d;
+  f.domain = d, f.in = in, f.mask = mask;
+  for (const double radius : {40.0, 65.0}) {
+    auto params = kParams;
+    params["radius"] = radius, params["lifetime"] = 150.0, params["step_length"] = 7.0, params["inertia"] = 0.3;
+    const auto algorithm = algorithm_of(params, f.domain);
+    const NodeRun r =
+        run_node("HydraulicErosion", f.domain, params, {{"in", PortValue(f.in)}, {"mask", PortValue(f.mask)}});
+    Maps whole;
+    for (std::size_t o = 0; o < 4; ++o) whole.rasters.push_back(r.get<Heightfield>(o)->data);
+    whole.report = r.get<Report>(4)->json;
+    for (const glm::ivec2 counts : {glm::ivec2(3, 2), glm::ivec2(7, 6), glm::ivec2(24, 20)}) {
+      SCOPED_TRACE("radius " + std::to_string(radius) + ", tiles " + label(counts));
+      expect_same(across_tiles(*algorithm, f, counts, true), whole);
+    }
+  }
+}
+
 // A whole-domain schedule of one block (a reach wider than half the domain) and no droplets at all.
 TEST(ParticlesAcrossTiles, OneBlockAndNoDropletsToo) {
   const Fields f = fields({65, 65}, 3);
