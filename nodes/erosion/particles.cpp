@@ -1,7 +1,5 @@
 #include "nodes/erosion/particles.h"
 
-#include "nodes/erosion/droplet_schedule.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -20,6 +18,7 @@
 #include "nodes/common/finite_inputs.h"
 #include "nodes/common/work_bounds.h"
 #include "nodes/common/work_poll.h"
+#include "nodes/erosion/droplet_schedule.h"
 
 namespace orogen::erosion {
 namespace {
