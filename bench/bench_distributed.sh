@@ -8,7 +8,9 @@
 # normalization), GRAPH=bench/distributed_flow.json the flow nodes (epsilon fill, D8 direction, D8 accumulation with
 # its flow map and wetness index): there each rank holds only its tiles.
 # GRAPH=bench/distributed_thermal.json measures ThermalErosion across the tiles (halos exchanged every k
-# iterations).
+# iterations). GRAPH=bench/distributed_particles.json measures HydraulicErosion across the tiles (a round per droplet
+# phase); its density is low for the tests: ARGS='--set droplets.droplets_per_km2=20000' gives two droplets a sample at
+# 1025^2. ARGS (split on spaces) goes to every orogen eval.
 #
 # Usage: [GRAPH=G.json] bench/bench_distributed.sh [ORGEN_BINARY] [RESOLUTION] [TILES] [RANKS...]
 #   bench/bench_distributed.sh build/release/cli/orogen 2049 4x4 1 2 4
@@ -20,6 +22,7 @@ shift $(($# < 3 ? $# : 3))
 ranks=("$@")
 [ ${#ranks[@]} -gt 0 ] || ranks=(1 2 4)
 graph=${GRAPH:-$(dirname "$0")/../graphs/distributed_hydrology.json}
+read -r -a extra <<<"${ARGS:-}"
 # Root and more ranks than cores (docs/distributed.md).
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 out=$(mktemp -d)
@@ -38,9 +41,10 @@ run() {  # label, command...: wall seconds and the peak RSS of each process
 }
 
 echo "$(basename "$graph") at ${res}x${res} ($(nproc) cores)"
-run "untiled, 1 process" /usr/bin/time -f 'peak-kB %M' "$orogen" eval "$graph" --resolution "$res" -o "$out/a" -q
+run "untiled, 1 process" /usr/bin/time -f 'peak-kB %M' "$orogen" eval "$graph" --resolution "$res" -o "$out/a" -q \
+  ${extra[@]+"${extra[@]}"}
 for r in "${ranks[@]}"; do
   rm -rf "$out/b"
   run "--tiles $tiles on $r ranks" mpirun -n "$r" /usr/bin/time -f 'peak-kB %M' "$orogen" eval "$graph" \
-    --resolution "$res" --tiles "$tiles" -o "$out/b" -q
+    --resolution "$res" --tiles "$tiles" -o "$out/b" -q ${extra[@]+"${extra[@]}"}
 done

@@ -32,7 +32,8 @@ class TileGraphTile {
   virtual std::string message(int round) = 0;
   // The solve's answer for this tile in round `round`.
   virtual void answer(int round, std::string_view bytes) = 0;
-  // The node's outputs on the tile's samples (in output order), after the last round's answer.
+  // The node's outputs on the tile's samples (in output order), after the last round's answer; a Report output is
+  // the whole domain's, the same on every tile.
   virtual std::vector<PortValue> outputs() = 0;
 };
 

@@ -150,6 +150,8 @@ fs::path run_distributed(const Job& job) {
   }
   if (std::string(job.graph).find("distributed_thermal.json") != std::string::npos && job.tiles.x * job.tiles.y > 1)
     EXPECT_NE(r.err.find("node 'thermal' (ThermalErosion) computed across the tiles"), std::string::npos) << r.err;
+  if (std::string(job.graph).find("distributed_particles.json") != std::string::npos && job.tiles.x * job.tiles.y > 1)
+    EXPECT_NE(r.err.find("node 'droplets' (HydraulicErosion) computed across the tiles"), std::string::npos) << r.err;
   const auto mine = files_under(dir), single = files_under(single_process_build(job));
   EXPECT_EQ(mine.size(), single.size());
   std::size_t differing = 0;
@@ -450,6 +452,25 @@ TEST(Distributed, ThermalErosionAcrossRanksEqualsTheUntiledBuild) {
       const Raster whole = read_raster(untiled / "distributed_thermal" / (std::string(name) + ".tif"));
       const Raster joined =
           stitch(dir, std::string("distributed_thermal/") + name, ".tif", job.tiles, {whole.width, whole.height});
+      EXPECT_TRUE(same_bits(whole, joined)) << name;
+    }
+  }
+}
+
+// HydraulicErosion across the ranks' tiles, the whole-domain droplet schedule's phases with the changed samples
+// exchanged between them (bench/distributed_particles.json: fBm with a mask linked, every output written, a blur
+// downstream): the single-process tiled build's files, and put together every raster of the untiled build.
+TEST(Distributed, HydraulicErosionAcrossRanksEqualsTheUntiledBuild) {
+  SKIP_WITHOUT_MPI();
+  const char* graph = "../bench/distributed_particles.json";  // resolved under graphs/
+  const fs::path& untiled = single_process_build({graph, 129, {0, 0}, 1});
+  for (const Job& job : {Job{graph, 129, {2, 2}, 2}, Job{graph, 129, {3, 2}, 4}, Job{graph, 129, {4, 3}, 3}}) {
+    SCOPED_TRACE(tiles_text(job.tiles) + " on " + std::to_string(job.ranks) + " ranks");
+    const fs::path dir = run_distributed(job);
+    for (const char* name : {"height", "erosion", "deposition", "flow", "smooth"}) {
+      const Raster whole = read_raster(untiled / "distributed_particles" / (std::string(name) + ".tif"));
+      const Raster joined =
+          stitch(dir, std::string("distributed_particles/") + name, ".tif", job.tiles, {whole.width, whole.height});
       EXPECT_TRUE(same_bits(whole, joined)) << name;
     }
   }

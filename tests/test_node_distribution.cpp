@@ -48,7 +48,7 @@ TEST(NodeDistribution, KindsOfTheHydrologyCoreReductionsWritersAndGenerators) {
   EXPECT_EQ(kind_of("WriteHeightfield"), Distribution::PerTile);
   EXPECT_EQ(kind_of("LSystem"), Distribution::Replicated);
   EXPECT_EQ(kind_of("ThermalErosion"), Distribution::HaloExchange);
-  EXPECT_EQ(kind_of("HydraulicErosion"), Distribution::Gathered);
+  EXPECT_EQ(kind_of("HydraulicErosion"), Distribution::HaloExchange);
   EXPECT_TRUE(runs_across_ranks(Distribution::PerTile));
   EXPECT_FALSE(runs_across_ranks(Distribution::TileGraph));
 }

@@ -92,7 +92,9 @@ OROGEN_NODE(ThermalErosion) {
 }
 
 OROGEN_NODE(HydraulicErosion) {
-  b.distribution(Distribution::Gathered);
+  // Across tiles: the droplet schedule's phases, the changed samples exchanged between them
+  // (particles_across_tiles.cpp).
+  b.distribution(Distribution::HaloExchange);
   b.reach_global();  // a simulation: every output sample depends on the whole input
   // Version 2: the report output (the volume balance). Version 3: deposits with the erosion's brush, and a
   // droplet in a hollow fills it up to its spill height (issue 29: fewer closed pits on fine grids).
@@ -102,9 +104,10 @@ OROGEN_NODE(HydraulicErosion) {
       "can carry more and deposit with the same brush where they carry too much; a droplet that runs into a "
       "hollow fills it up to where it spills rather than leaving a closed pit. Droplets per km^2, brush "
       "radius, step length and lifetime are in metres and sediment is a volume, so results agree across "
-      "resolutions. Droplets run in parallel in fixed batches whose height changes are applied in droplet "
-      "order: bit-identical for any thread count. The report balances the volumes: eroded = deposited + "
-      "carried off the border.");
+      "resolutions. Droplets run in a fixed schedule of blocks of the domain, each block's droplets in index "
+      "order: bit-identical for any thread count, and for any tiling and rank count, where tiles run the "
+      "blocks and exchange the samples each phase changed. The report balances the volumes: eroded = "
+      "deposited + carried off the border.");
   declare_common_ports(b, "Scales erosion and deposition per cell, 0..1 (1 if unconnected)");
   b.output("report", PortType::Report)
       .description(

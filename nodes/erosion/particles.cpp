@@ -18,20 +18,16 @@
 #include "nodes/common/finite_inputs.h"
 #include "nodes/common/work_bounds.h"
 #include "nodes/common/work_poll.h"
+#include "nodes/erosion/droplet_schedule.h"
 
 namespace orogen::erosion {
 namespace {
-
-struct TileStats {
-  double eroded = 0.0, deposited = 0.0, carried_off = 0.0;  // m^3
-  std::uint64_t steps = 0;
-};
 
 // One tile's droplets for run_tiles: indices (from the round's first) in their order, and its totals.
 struct TileRun {
   const std::uint32_t* ids;
   std::uint32_t count;
-  TileStats* stats;
+  DropletBlockStats* stats;
 };
 
 // (The 8-lane helpers are only inlined: GCC's note that passing 32-byte vectors by value without AVX changes
@@ -94,11 +90,11 @@ inline bool any(I m) {
 // The 2 x 2 samples (a b / c d) of the cells (i[k], j[k]) of the four lanes, read one float at a time (an
 // 8-byte read across two of the brush's vector stores could not be forwarded from them), then transposed
 // into one vector per corner.
-inline void gather_cells(const float* Z, int pitch, i4 i, i4 j, f4& a, f4& b, f4& c, f4& d) {
+inline void gather_cells(const float* Z, int pitch, std::ptrdiff_t origin, i4 i, i4 j, f4& a, f4& b, f4& c, f4& d) {
 #if defined(__SSE2__)
   __m128 ab[4], cd[4];
   for (int k = 0; k < 4; ++k) {
-    const float* zk = Z + static_cast<std::ptrdiff_t>(j[k]) * pitch + i[k];
+    const float* zk = Z + (static_cast<std::ptrdiff_t>(j[k]) * pitch + i[k] - origin);
     ab[k] = _mm_unpacklo_ps(_mm_load_ss(zk), _mm_load_ss(zk + 1));
     cd[k] = _mm_unpacklo_ps(_mm_load_ss(zk + pitch), _mm_load_ss(zk + pitch + 1));
   }
@@ -108,15 +104,15 @@ inline void gather_cells(const float* Z, int pitch, i4 i, i4 j, f4& a, f4& b, f4
   c = _mm_movelh_ps(b01, b23), d = _mm_movehl_ps(b23, b01);
 #else
   for (int k = 0; k < 4; ++k) {
-    const float* zk = Z + static_cast<std::ptrdiff_t>(j[k]) * pitch + i[k];
+    const float* zk = Z + (static_cast<std::ptrdiff_t>(j[k]) * pitch + i[k] - origin);
     a[k] = zk[0], b[k] = zk[1], c[k] = zk[pitch], d[k] = zk[pitch + 1];
   }
 #endif
 }
-inline void gather_cells(const float* Z, int pitch, i8 i, i8 j, f8& a, f8& b, f8& c, f8& d) {
+inline void gather_cells(const float* Z, int pitch, std::ptrdiff_t origin, i8 i, i8 j, f8& a, f8& b, f8& c, f8& d) {
   f4 a0, b0, c0, d0, a1, b1, c1, d1;
-  gather_cells(Z, pitch, quarter(i, 0), quarter(j, 0), a0, b0, c0, d0);
-  gather_cells(Z, pitch, quarter(i, 1), quarter(j, 1), a1, b1, c1, d1);
+  gather_cells(Z, pitch, origin, quarter(i, 0), quarter(j, 0), a0, b0, c0, d0);
+  gather_cells(Z, pitch, origin, quarter(i, 1), quarter(j, 1), a1, b1, c1, d1);
   a = join(a0, a1), b = join(b0, b1), c = join(c0, c1), d = join(d0, d1);
 }
 
@@ -185,11 +181,15 @@ struct BrushTap {
 };
 
 // The droplets' simulation over the shared heights (run_tile copies the parameters into locals first: stores
-// to the heights cannot then alias them, and they stay in registers).
+// to the heights cannot then alias them, and they stay in registers). Positions and sample indices are the whole
+// domain's; the grids hold a window of it (DropletGrid), sample (i, j) at j * pitch + i - origin.
 struct Sim {
   float* Z;
   std::uint32_t* V;
-  const Heightfield* mask;
+  const float* M;         // the mask, sample (i, j) at j * mask_pitch + i - mask_origin; nullptr: none
+  std::ptrdiff_t origin;  // y0 * pitch + x0 of the window
+  std::ptrdiff_t mask_origin;
+  int mask_pitch;
   const std::vector<BrushTap>* brush;
   const ExecContext* ctx;  // cancellation, polled by droplet steps (one droplet can take 1e7 steps)
   std::ptrdiff_t row0;     // brush rows: offset of the first row's first column from the centre sample
@@ -212,7 +212,7 @@ struct Sim {
     a /= inside;
     for (const auto& t : *brush) {
       const int i = ni + t.di, j = nj + t.dj;
-      if (i >= 0 && i < w && j >= 0 && j < h) Z[static_cast<std::size_t>(j) * pitch + i] += a * t.w;
+      if (i >= 0 && i < w && j >= 0 && j < h) Z[static_cast<std::ptrdiff_t>(j) * pitch + i - origin] += a * t.w;
     }
   }
 
@@ -237,7 +237,9 @@ struct Sim {
     using I = std::conditional_t<T == 1, i4, i8>;
     float* __restrict const Z = this->Z;
     std::uint32_t* __restrict const V = this->V;
-    const float* __restrict const M = mask ? mask->data.data() : nullptr;
+    const float* __restrict const M = this->M;
+    const std::ptrdiff_t origin = this->origin, mask_origin = this->mask_origin;
+    const int mask_pitch = this->mask_pitch;
     const float* __restrict const RW = this->RW;
     const std::ptrdiff_t row0 = this->row0;
     const int rows = this->rows, row_width = this->row_width;
@@ -280,7 +282,7 @@ struct Sim {
       float u, v;
       droplet_origin(key[k], w, h, u, v);
       const int i = static_cast<int>(std::min(u, imax)), j = static_cast<int>(std::min(v, jmax));
-      const float* zk = Z + static_cast<std::ptrdiff_t>(j) * pitch + i;
+      const float* zk = Z + (static_cast<std::ptrdiff_t>(j) * pitch + i - origin);
       f4 hgt, gx, gy;
       const float fu = u - static_cast<float>(i), fv = v - static_cast<float>(j);
       bilinear(f4{} + zk[0], f4{} + zk[1], f4{} + zk[pitch], f4{} + zk[pitch + 1], f4{} + fu, f4{} + fv, hgt, gx, gy);
@@ -301,7 +303,8 @@ struct Sim {
       if (brush_fits && static_cast<unsigned>(ni - rx) <= bu && static_cast<unsigned>(nj - ry) <= bv) [[likely]] {
         // Row by row over padded rows of a multiple of 4 weights (0 outside the disc; adding a x 0 changes
         // nothing, so no branch on whether the step changed anything).
-        brush_rows<W, R, Wide>(Z + static_cast<std::ptrdiff_t>(nj) * pitch + ni + row0, a, pitch, RW, rows, row_width);
+        brush_rows<W, R, Wide>(Z + (static_cast<std::ptrdiff_t>(nj) * pitch + ni + row0 - origin), a, pitch, RW, rows,
+                               row_width);
       } else if (a != 0) {
         brush_border(a, ni, nj);
       }
@@ -352,13 +355,14 @@ struct Sim {
       const I ncj = __builtin_convertvector(min_v(nv, F{} + jmax), I);
       const F nfu = nu - __builtin_convertvector(nci, F), nfv = nv - __builtin_convertvector(ncj, F);
       F za, zb, zc, zd;
-      gather_cells(Z, pitch, nci, ncj, za, zb, zc, zd);
+      gather_cells(Z, pitch, origin, nci, ncj, za, zb, zc, zd);
       F nh, ngx, ngy;
       bilinear(za, zb, zc, zd, nfu, nfv, nh, ngx, ngy);
       const F dh = nh - HG;
       F m = F{} + 1;
       if (M) {
-        for (int k = 0; k < N; ++k) m[k] = std::clamp(M[static_cast<std::ptrdiff_t>(NJ[k]) * w + NI[k]], 0.0f, 1.0f);
+        for (int k = 0; k < N; ++k)
+          m[k] = std::clamp(M[static_cast<std::ptrdiff_t>(NJ[k]) * mask_pitch + NI[k] - mask_origin], 0.0f, 1.0f);
       }
       const F cap = max_v(-dh * inv_step, F{} + min_slope) * SP * WA * capacity;
       // Uphill: the droplet sits in a hollow; fill it up to its spill height along the path (the next height)
@@ -373,7 +377,7 @@ struct Sim {
       for (int k = 0; k < N; ++k) {
         if (!(live >> k & 1)) continue;
         const int ni = NI[k], nj = NJ[k];
-        visited[visit_count++] = static_cast<std::ptrdiff_t>(nj) * pitch + ni;
+        visited[visit_count++] = static_cast<std::ptrdiff_t>(nj) * pitch + ni - origin;
         apply_brush(da[k], ni, nj);
       }
       // Totals in double, per tile two lanes at a time (0 for lanes that changed nothing).
@@ -412,7 +416,7 @@ struct Sim {
     }
     count_visits();
     for (int t = 0; t < T; ++t) {
-      TileStats& ts = *tiles[t].stats;
+      DropletBlockStats& ts = *tiles[t].stats;
       ts.eroded += eroded[t] + eroded2[t][0] + eroded2[t][1];
       ts.deposited += deposited[t] + deposited2[t][0] + deposited2[t][1];
       ts.carried_off += carried_off[t];
@@ -450,7 +454,8 @@ RunTiles run_tiles_for(bool) {
 
 }  // namespace
 
-// Flow: visits per unit length of path crossing a cell, log-scaled to 0..1 (a table per visit count).
+// Flow: visits per unit length of path crossing a cell, log-scaled to 0..1 (a table per visit count; each entry is
+// droplet_flow's value, so tiles that compute it sample by sample agree).
 static void flow_map(const std::vector<std::uint32_t>& visits, int pitch, const Domain& domain, ErosionMaps& maps) {
   const int w = domain.width(), h = domain.height();
   maps.flow = std::make_shared<Heightfield>(domain);
@@ -459,25 +464,39 @@ static void flow_map(const std::vector<std::uint32_t>& visits, int pitch, const 
   const double lmax = std::log1p(static_cast<double>(vmax_visits));
   if (lmax > 0) {
     std::vector<float> table(std::min<std::size_t>(vmax_visits, 1u << 20) + 1);
-    for (std::size_t k = 0; k < table.size(); ++k)
-      table[k] = static_cast<float>(std::log1p(static_cast<double>(k)) / lmax);
+    for (std::size_t k = 0; k < table.size(); ++k) table[k] = droplet_flow(static_cast<std::uint32_t>(k), lmax);
     float* flow = maps.flow->data.data();
     for_each_row(nullptr, h, [&](int j) {
       const std::uint32_t* vj = visits.data() + static_cast<std::size_t>(j) * pitch;
       float* fj = flow + static_cast<std::size_t>(j) * w;
-      for (int i = 0; i < w; ++i)
-        fj[i] = vj[i] < table.size() ? table[vj[i]] : static_cast<float>(std::log1p(static_cast<double>(vj[i])) / lmax);
+      for (int i = 0; i < w; ++i) fj[i] = vj[i] < table.size() ? table[vj[i]] : droplet_flow(vj[i], lmax);
     });
   }
 }
 
-ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, const Heightfield* mask,
-                             const ExecContext* ctx, ParticleStats* stats) {
-  require_finite_inputs("HydraulicErosion", {{"in", &in}, {"mask", mask}});
-  const int w = in.width(), h = in.height();
-  const double dx = in.domain.spacing.x, dy = in.domain.spacing.y;
+struct DropletSchedule::Impl {
+  int w = 0, h = 0;
+  std::uint64_t droplets = 0, round_size = 1, rounds = 0;
+  int tile_w = 1, tile_h = 1, tiles_x = 1, tiles_y = 1;
+  glm::ivec2 margin{0, 0};
+  std::uint64_t seed = 0;
+  std::vector<int> colour_tiles[4];
+  std::vector<BrushTap> brush;
+  std::vector<float> row_weights;
+  int dj_lo = 0, rx = 0;
+  Sim sim{};  // everything but the grid
+  RunTiles run = nullptr;
+  RunTiles run_one = nullptr;  // one tile alone (the baseline kernel: no idle half of an 8-lane vector)
+  std::size_t together = 1;    // tiles a run_tiles call steps together
+};
+
+DropletSchedule::DropletSchedule(const ParticleParams& p, const Domain& whole) : impl_(std::make_unique<Impl>()) {
+  Impl& s = *impl_;
+  const int w = whole.width(), h = whole.height();
+  s.w = w, s.h = h, s.seed = p.seed;
+  const double dx = whole.spacing.x, dy = whole.spacing.y;
   const double cell_area = dx * dy;
-  const glm::dvec2 size = in.domain.size();
+  const glm::dvec2 size = whole.size();
   const double area_km2 = size.x * size.y * 1e-6;
   // Counts checked, never cast: a huge domain times a high density does not fit a 64-bit count.
   const double wanted = std::max(0.0, p.droplets_per_km2) * area_km2;
@@ -490,7 +509,7 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
 
   // Brush around the nearest sample: weights 1 - distance / radius, normalised; a table of offsets and
   // weights computed once.
-  std::vector<BrushTap> brush;
+  std::vector<BrushTap>& brush = s.brush;
   // Taps farther than the grid's extent never land on a sample; clamping them keeps the brush finite on
   // fine grids and huge radii without changing any result (deposits are normalised by the taps inside).
   const int rx = static_cast<int>(std::min<double>(std::ceil(p.radius / dx), w));
@@ -518,26 +537,14 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   const int row_width = (2 * rx + 1 + 3) / 4 * 4, pad = row_width - (2 * rx + 1);
   int dj_lo = ry, dj_hi = -ry;
   for (const auto& t : brush) dj_lo = std::min(dj_lo, t.dj), dj_hi = std::max(dj_hi, t.dj);
-  std::vector<float> row_weights(static_cast<std::size_t>(dj_hi - dj_lo + 1) * row_width, 0.0f);
-  for (const auto& t : brush) row_weights[static_cast<std::size_t>(t.dj - dj_lo) * row_width + t.di + rx] = t.w;
+  s.row_weights.assign(static_cast<std::size_t>(dj_hi - dj_lo + 1) * row_width, 0.0f);
+  for (const auto& t : brush) s.row_weights[static_cast<std::size_t>(t.dj - dj_lo) * row_width + t.di + rx] = t.w;
+  s.dj_lo = dj_lo, s.rx = rx;
   float w_centre = 0.0f;
   for (const auto& t : brush)
     if (t.di == 0 && t.dj == 0) w_centre = t.w;
   // The erosion of one step never lowers the brush centre by more than the drop: volume <= -dh x area / w0.
   const float brush_area = static_cast<float>(cell_area / std::max(w_centre, 1e-6f));
-
-  const int pitch = row_pitch(w);
-  std::vector<float> z;
-  if (pitch == w) {
-    z = in.data;
-  } else {
-    z.resize(static_cast<std::size_t>(h) * pitch);
-    for (int j = 0; j < h; ++j)
-      std::copy_n(in.data.data() + static_cast<std::size_t>(j) * w, w, z.data() + static_cast<std::size_t>(j) * pitch);
-  }
-  // Visit counts only for the flow map: fresh memory costs this machine ~15 us a page on first touch, and at
-  // 50k droplets on 1024^2 the grids a call allocates cost more than its droplets.
-  std::vector<std::uint32_t> visits(p.flow_map ? z.size() : 0, 0);
 
   // Schedule (the determinism): droplets run in rounds of a fixed number (set by the grid, not the thread
   // count). A round bins its droplets by the tile of the grid their origin falls in; tiles are at least twice
@@ -556,30 +563,29 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   // rows' padding; more padding widens the reach.)
   const double reach_u = max_steps * static_cast<double>(step_u) + rx + 2.0 + std::max(0, pad - 1);
   const double reach_v = max_steps * static_cast<double>(step_v) + ry + 2.0;
-  const int tile_w = static_cast<int>(std::min<double>(w, std::max(32.0, 2.0 * std::ceil(reach_u))));
-  const int tile_h = static_cast<int>(std::min<double>(h, std::max(32.0, 2.0 * std::ceil(reach_v))));
-  const int tiles_x = (w + tile_w - 1) / tile_w, tiles_y = (h + tile_h - 1) / tile_h;
-  const int tiles = tiles_x * tiles_y;
-  std::vector<int> colour_tiles[4];
-  for (int ty = 0; ty < tiles_y; ++ty)
-    for (int tx = 0; tx < tiles_x; ++tx) colour_tiles[(ty & 1) * 2 + (tx & 1)].push_back(ty * tiles_x + tx);
-  const std::uint64_t round_size = std::max<std::uint64_t>(4096, static_cast<std::uint64_t>(w) * h / 8);
-  std::vector<std::uint32_t> tile_start(tiles + 1), order(static_cast<std::size_t>(std::min(round_size, droplets)));
-  std::vector<std::uint32_t> tile_of(order.size());
-  std::vector<TileStats> tile_stats(tiles);
+  s.tile_w = static_cast<int>(std::min<double>(w, std::max(32.0, 2.0 * std::ceil(reach_u))));
+  s.tile_h = static_cast<int>(std::min<double>(h, std::max(32.0, 2.0 * std::ceil(reach_v))));
+  s.tiles_x = (w + s.tile_w - 1) / s.tile_w, s.tiles_y = (h + s.tile_h - 1) / s.tile_h;
+  for (int ty = 0; ty < s.tiles_y; ++ty)
+    for (int tx = 0; tx < s.tiles_x; ++tx) s.colour_tiles[(ty & 1) * 2 + (tx & 1)].push_back(ty * s.tiles_x + tx);
+  // A block's droplets, on each side: the steps' travel, the brush (its padding on the right), the bilinear cell and
+  // the nearest sample, and the float rounding of a position over its steps (at most max_steps x (an ulp of the
+  // domain's size + a relative 2^-21 of a step), within 2^-21 x max_steps x (size + step)).
+  const double drift = std::ldexp(max_steps * (std::max(w, h) + std::max<double>(step_u, step_v)), -21);
+  s.margin.x =
+      static_cast<int>(std::min<double>(w, std::ceil(max_steps * static_cast<double>(step_u) + drift) + rx + pad + 3));
+  s.margin.y =
+      static_cast<int>(std::min<double>(h, std::ceil(max_steps * static_cast<double>(step_v) + drift) + ry + 3));
+  s.round_size = std::max<std::uint64_t>(4096, static_cast<std::uint64_t>(w) * h / 8);
+  s.droplets = droplets;
+  s.rounds = (droplets + s.round_size - 1) / s.round_size;
 
-  Sim sim;
-  sim.Z = z.data();
-  sim.V = p.flow_map ? visits.data() : nullptr;
-  sim.mask = mask;
-  sim.brush = &brush;
-  sim.ctx = ctx;
-  sim.row0 = static_cast<std::ptrdiff_t>(dj_lo) * pitch - rx;
-  sim.RW = row_weights.data();
+  Sim& sim = s.sim;
+  sim.brush = &s.brush;
+  sim.RW = s.row_weights.data();
   sim.rows = dj_hi - dj_lo + 1;
   sim.row_width = row_width;
   sim.w = w, sim.h = h, sim.rx = rx, sim.ry = ry, sim.max_steps = max_steps;
-  sim.pitch = pitch;
   sim.seed = p.seed;
   sim.step_u = step_u, sim.step_v = step_v;
   sim.inv_dx = static_cast<float>(1.0 / dx), sim.inv_dy = static_cast<float>(1.0 / dy);
@@ -593,68 +599,135 @@ ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, con
   // The brush loop unrolled for the common shapes (radius 3 cells: 5 rows of 8; 1.5 cells: 3 rows of 4), else
   // unrolled over a row's width only.
   const bool avx2 = (hwy::SupportedTargets() & HWY_AVX2) != 0;
-  const std::size_t together = avx2 ? 2 : 1;  // tiles a run_tiles call steps together
-  RunTiles run = run_tiles_for<0, 0>(avx2);
-  if (row_width == 8 && sim.rows == 5)
-    run = run_tiles_for<8, 5>(avx2);
-  else if (row_width == 8 && sim.rows == 3)
-    run = run_tiles_for<8, 3>(avx2);
-  else if (row_width == 4)
-    run = run_tiles_for<4, 0>(avx2);
-  else if (row_width == 8)
-    run = run_tiles_for<8, 0>(avx2);
-  else if (row_width == 12)
-    run = run_tiles_for<12, 0>(avx2);
-  else if (row_width == 16)
-    run = run_tiles_for<16, 0>(avx2);
+  s.together = avx2 ? 2 : 1;
+  for (RunTiles* into : {&s.run, &s.run_one}) {
+    const bool two = into == &s.run && avx2;
+    RunTiles& run = *into;
+    run = run_tiles_for<0, 0>(two);
+    if (row_width == 8 && sim.rows == 5)
+      run = run_tiles_for<8, 5>(two);
+    else if (row_width == 8 && sim.rows == 3)
+      run = run_tiles_for<8, 3>(two);
+    else if (row_width == 4)
+      run = run_tiles_for<4, 0>(two);
+    else if (row_width == 8)
+      run = run_tiles_for<8, 0>(two);
+    else if (row_width == 12)
+      run = run_tiles_for<12, 0>(two);
+    else if (row_width == 16)
+      run = run_tiles_for<16, 0>(two);
+  }
+}
 
-  const std::uint64_t rounds = (droplets + round_size - 1) / round_size;
+DropletSchedule::~DropletSchedule() = default;
+
+glm::ivec2 DropletSchedule::size() const { return {impl_->w, impl_->h}; }
+std::uint64_t DropletSchedule::droplets() const { return impl_->droplets; }
+std::uint64_t DropletSchedule::rounds() const { return impl_->rounds; }
+glm::ivec2 DropletSchedule::blocks() const { return {impl_->tiles_x, impl_->tiles_y}; }
+glm::ivec2 DropletSchedule::block_lo(int b) const {
+  return {b % impl_->tiles_x * impl_->tile_w, b / impl_->tiles_x * impl_->tile_h};
+}
+glm::ivec2 DropletSchedule::block_hi(int b) const {
+  return glm::min(block_lo(b) + glm::ivec2(impl_->tile_w, impl_->tile_h), size()) - 1;
+}
+const std::vector<int>& DropletSchedule::color_blocks(int c) const { return impl_->colour_tiles[c]; }
+glm::ivec2 DropletSchedule::margin() const { return impl_->margin; }
+int DropletSchedule::pitch_for(int width) { return row_pitch(width); }
+
+void DropletSchedule::bin(std::uint64_t round, DropletBins& bins) const {
+  const Impl& s = *impl_;
+  const int tiles = s.tiles_x * s.tiles_y;
+  const std::uint64_t first = round * s.round_size;
+  const auto count = static_cast<std::uint32_t>(std::min(s.round_size, s.droplets - first));
+  bins.first = first;
+  bins.start.assign(static_cast<std::size_t>(tiles) + 1, 0u);
+  bins.order.resize(count);
+  bins.block_of.resize(count);
+  // Bin the round's droplets by the tile of their origin (a counting sort keeps index order per tile).
+  for (std::uint32_t k = 0; k < count; ++k) {
+    float u, v;
+    droplet_origin(hash64(s.seed, first + k), s.w, s.h, u, v);
+    const int i = static_cast<int>(u), j = static_cast<int>(v);
+    const std::uint32_t t = static_cast<std::uint32_t>(std::min(j / s.tile_h, s.tiles_y - 1) * s.tiles_x +
+                                                       std::min(i / s.tile_w, s.tiles_x - 1));
+    bins.block_of[k] = t;
+    ++bins.start[t + 1];
+  }
+  for (int t = 0; t < tiles; ++t) bins.start[t + 1] += bins.start[t];
+  std::vector<std::uint32_t> fill(bins.start.begin(), bins.start.end() - 1);
+  for (std::uint32_t k = 0; k < count; ++k) bins.order[fill[bins.block_of[k]]++] = k;
+}
+
+void DropletSchedule::run(const DropletGrid& grid, const DropletBins& bins, const std::vector<int>& blocks,
+                          DropletBlockStats* stats, const ExecContext* ctx) const {
+  const Impl& s = *impl_;
+  Sim sim = s.sim;
+  sim.Z = grid.z;
+  sim.V = grid.visits;
+  sim.M = grid.mask;
+  sim.pitch = grid.pitch;
+  sim.origin = static_cast<std::ptrdiff_t>(grid.y0) * grid.pitch + grid.x0;
+  sim.mask_pitch = grid.mask_pitch;
+  sim.mask_origin = static_cast<std::ptrdiff_t>(grid.y0) * grid.mask_pitch + grid.x0;
+  sim.row0 = static_cast<std::ptrdiff_t>(s.dj_lo) * grid.pitch - s.rx;
+  sim.ctx = ctx;
+  const std::size_t together = s.together;
+  const std::size_t groups = (blocks.size() + together - 1) / together;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, groups, 1), [&](const tbb::blocked_range<std::size_t>& br) {
+    for (std::size_t q = br.begin(); q != br.end(); ++q) {
+      TileRun runs[2];
+      std::size_t n = 0;
+      for (std::size_t g = 0; g < together; ++g) {
+        const std::size_t k = q * together + g;
+        if (k < blocks.size()) {
+          const int t = blocks[k];
+          runs[n++] = {bins.order.data() + bins.start[t], bins.start[t + 1] - bins.start[t], &stats[t]};
+        }
+      }
+      // A tile left without a partner runs alone (both kernels give every tile the same bits).
+      (n == together ? s.run : s.run_one)(sim, bins.first, runs);
+    }
+  });
+}
+
+ErosionMaps particle_erosion(const Heightfield& in, const ParticleParams& p, const Heightfield* mask,
+                             const ExecContext* ctx, ParticleStats* stats) {
+  require_finite_inputs("HydraulicErosion", {{"in", &in}, {"mask", mask}});
+  const DropletSchedule schedule(p, in.domain);
+  const int w = in.width(), h = in.height();
+  const int pitch = row_pitch(w);
+  std::vector<float> z;
+  if (pitch == w) {
+    z = in.data;
+  } else {
+    z.resize(static_cast<std::size_t>(h) * pitch);
+    for (int j = 0; j < h; ++j)
+      std::copy_n(in.data.data() + static_cast<std::size_t>(j) * w, w, z.data() + static_cast<std::size_t>(j) * pitch);
+  }
+  // Visit counts only for the flow map: fresh memory costs this machine ~15 us a page on first touch, and at
+  // 50k droplets on 1024^2 the grids a call allocates cost more than its droplets.
+  std::vector<std::uint32_t> visits(p.flow_map ? z.size() : 0, 0);
+  DropletGrid grid;
+  grid.z = z.data();
+  grid.visits = p.flow_map ? visits.data() : nullptr;
+  grid.mask = mask ? mask->data.data() : nullptr;
+  grid.pitch = pitch, grid.mask_pitch = w;
+  std::vector<DropletBlockStats> block_stats(static_cast<std::size_t>(schedule.block_count()));
+  DropletBins bins;
+  const std::uint64_t rounds = schedule.rounds();
   for (std::uint64_t r = 0; r < rounds; ++r) {
     check_cancelled(ctx);
-    const std::uint64_t first = r * round_size;
-    const std::uint32_t count = static_cast<std::uint32_t>(std::min(round_size, droplets - first));
-    // Bin the round's droplets by the tile of their origin (a counting sort keeps index order per tile).
-    std::fill(tile_start.begin(), tile_start.end(), 0u);
-    for (std::uint32_t k = 0; k < count; ++k) {
-      float u, v;
-      droplet_origin(hash64(p.seed, first + k), w, h, u, v);
-      const int i = static_cast<int>(u), j = static_cast<int>(v);
-      const std::uint32_t t =
-          static_cast<std::uint32_t>(std::min(j / tile_h, tiles_y - 1) * tiles_x + std::min(i / tile_w, tiles_x - 1));
-      tile_of[k] = t;
-      ++tile_start[t + 1];
-    }
-    for (int t = 0; t < tiles; ++t) tile_start[t + 1] += tile_start[t];
-    {
-      std::vector<std::uint32_t> fill(tile_start.begin(), tile_start.end() - 1);
-      for (std::uint32_t k = 0; k < count; ++k) order[fill[tile_of[k]]++] = k;
-    }
+    schedule.bin(r, bins);
     for (int c = 0; c < 4; ++c) {
-      const auto& list = colour_tiles[c];
-      const std::size_t groups = (list.size() + together - 1) / together;
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, groups, 1), [&](const tbb::blocked_range<std::size_t>& br) {
-        for (std::size_t q = br.begin(); q != br.end(); ++q) {
-          TileRun runs[2];
-          TileStats none;  // (a missing second tile: no droplets)
-          for (std::size_t g = 0; g < together; ++g) {
-            const std::size_t k = q * together + g;
-            if (k < list.size()) {
-              const int t = list[k];
-              runs[g] = {order.data() + tile_start[t], tile_start[t + 1] - tile_start[t], &tile_stats[t]};
-            } else {
-              runs[g] = {nullptr, 0, &none};
-            }
-          }
-          run(sim, first, runs);
-        }
-      });
+      schedule.run(grid, bins, schedule.color_blocks(c), block_stats.data(), ctx);
       check_cancelled(ctx);
       report(ctx, (static_cast<double>(r) + (c + 1) / 4.0) / static_cast<double>(rounds));
     }
   }
   ParticleStats st;
-  st.droplets = droplets;
-  for (const auto& ts : tile_stats) {
+  st.droplets = schedule.droplets();
+  for (const auto& ts : block_stats) {
     st.eroded += ts.eroded;
     st.deposited += ts.deposited;
     st.carried_off += ts.carried_off;
