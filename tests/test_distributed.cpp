@@ -148,8 +148,14 @@ fs::path run_distributed(const Job& job) {
                              "'flow_d8' (FlowAccumulation)", "'basins_id' (Watersheds)"})
       EXPECT_NE(r.err.find(std::string("node ") + node + " computed across the tiles"), std::string::npos) << r.err;
   }
-  if (std::string(job.graph).find("distributed_thermal.json") != std::string::npos && job.tiles.x * job.tiles.y > 1)
+  if (std::string(job.graph).find("distributed_flood.json") != std::string::npos && job.tiles.x * job.tiles.y > 1) {
+    for (const char* node : {"'lake' (FloodFill)", "'flood' (FloodFill)"})
+      EXPECT_NE(r.err.find(std::string("node ") + node + " computed across the tiles"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << "nothing is computed on the whole domain:\n" << r.err;
+  }
+  if (std::string(job.graph).find("distributed_thermal.json") != std::string::npos && job.tiles.x * job.tiles.y > 1) {
     EXPECT_NE(r.err.find("node 'thermal' (ThermalErosion) computed across the tiles"), std::string::npos) << r.err;
+  }
   const auto mine = files_under(dir), single = files_under(single_process_build(job));
   EXPECT_EQ(mine.size(), single.size());
   std::size_t differing = 0;
@@ -450,6 +456,37 @@ TEST(Distributed, ThermalErosionAcrossRanksEqualsTheUntiledBuild) {
       const Raster whole = read_raster(untiled / "distributed_thermal" / (std::string(name) + ".tif"));
       const Raster joined =
           stitch(dir, std::string("distributed_thermal/") + name, ".tif", job.tiles, {whole.width, whole.height});
+      EXPECT_TRUE(same_bits(whole, joined)) << name;
+    }
+  }
+}
+
+// FloodFill across the ranks' tiles (bench/distributed_flood.json: a lake filled to its spill level from the middle of
+// a bowl over the tiles' corner, a flood to a given level along a trench, and a blur of the lake whose halo comes from
+// the neighboring ranks' tiles): the single-process tiled build's files, and put together every raster of the untiled
+// build.
+TEST(Distributed, FloodFillAcrossRanksEqualsTheUntiledBuild) {
+  SKIP_WITHOUT_MPI();
+  const char* graph = "../bench/distributed_flood.json";  // resolved under graphs/
+  const fs::path& untiled = single_process_build({graph, 129, {0, 0}, 1});
+  // The lake and the flood span the tiles of every tiling below.
+  const Raster lake = read_raster(untiled / "distributed_flood" / "lake_mask.tif");
+  const Raster flood = read_raster(untiled / "distributed_flood" / "flood_depth.tif");
+  EXPECT_EQ(lake.at(64, 64), 1.0f);  // on the corner of the 2x2 tiles
+  std::array<std::size_t, 4> quadrants{};
+  for (int j = 0; j < lake.height; ++j)
+    for (int i = 0; i < lake.width; ++i) quadrants[(j < 64 ? 0 : 2) + (i < 64 ? 0 : 1)] += lake.at(i, j) > 0.0f;
+  for (const std::size_t q : quadrants) EXPECT_GT(q, 100u);
+  std::size_t flooded = 0;
+  for (const float d : flood.values) flooded += d > 0.0f;
+  EXPECT_GT(flooded, 200u);
+  for (const Job& job : {Job{graph, 129, {2, 2}, 2}, Job{graph, 129, {3, 2}, 4}, Job{graph, 129, {4, 3}, 3}}) {
+    SCOPED_TRACE(tiles_text(job.tiles) + " on " + std::to_string(job.ranks) + " ranks");
+    const fs::path dir = run_distributed(job);
+    for (const char* name : {"terrain", "lake", "lake_depth", "lake_mask", "flood_depth", "lake_smooth"}) {
+      const Raster whole = read_raster(untiled / "distributed_flood" / (std::string(name) + ".tif"));
+      const Raster joined =
+          stitch(dir, std::string("distributed_flood/") + name, ".tif", job.tiles, {whole.width, whole.height});
       EXPECT_TRUE(same_bits(whole, joined)) << name;
     }
   }
