@@ -148,6 +148,10 @@ fs::path run_distributed(const Job& job) {
                              "'flow_d8' (FlowAccumulation)", "'basins_id' (Watersheds)"})
       EXPECT_NE(r.err.find(std::string("node ") + node + " computed across the tiles"), std::string::npos) << r.err;
   }
+  // RiverExtract across the ranks' tiles: every tile gets the whole joined network (compared below).
+  if (std::string(job.graph) == "hydrology.json" && job.tiles.x * job.tiles.y > 1) {
+    EXPECT_NE(r.err.find("node 'rivers' (RiverExtract) computed across the tiles"), std::string::npos) << r.err;
+  }
   if (std::string(job.graph).find("distributed_flood.json") != std::string::npos && job.tiles.x * job.tiles.y > 1) {
     for (const char* node : {"'lake' (FloodFill)", "'flood' (FloodFill)"})
       EXPECT_NE(r.err.find(std::string("node ") + node + " computed across the tiles"), std::string::npos) << r.err;
@@ -210,6 +214,17 @@ TEST(Distributed, AnyRankCountWritesTheSingleProcessTilesAndTheyJoinIntoTheUntil
       ++compared;
     }
     EXPECT_GT(compared, 0u);
+    // Curves: every tile's file is the untiled build's (RiverExtract's network joined across the tiles).
+    for (const auto& f : fs::recursive_directory_iterator(untiled)) {
+      if (f.path().extension() != ".json" || f.path().filename().string().find("rivers") == std::string::npos) continue;
+      const auto rel = fs::relative(f.path(), untiled);
+      for (int tj = 0; tj < job.tiles.y; ++tj)
+        for (int ti = 0; ti < job.tiles.x; ++ti) {
+          const fs::path tile = dir / rel.parent_path() /
+                                (rel.stem().string() + "_x" + std::to_string(ti) + "_y" + std::to_string(tj) + ".json");
+          EXPECT_EQ(file_bytes(tile), file_bytes(f.path())) << tile;
+        }
+    }
   }
 }
 
@@ -440,6 +455,14 @@ TEST(Distributed, MergedFilesAndNamedTilesEqualTheSingleProcessBuilds) {
   ASSERT_EQ(orogen(one).exit_code, 0);
   ASSERT_EQ(mpirun(3, three).exit_code, 0);
   EXPECT_EQ(files_under(dir / "three"), files_under(dir / "one"));
+  // hydrology.json: the rivers, joined across the ranks' tiles, merge into the untiled build's curve files (every
+  // tile holds the whole network, so --merge writes it once), its mask and every other file too.
+  const std::string rivers = (source_dir() / "graphs" / "hydrology.json").string();
+  ASSERT_EQ(orogen(run({"eval", rivers, "-o", (dir / "rivers_whole").string(), "-q"})).exit_code, 0);
+  r = mpirun(2, run({"eval", rivers, "-o", (dir / "rivers_merged").string(), "--tiles", "3x2", "--merge", "-q"}));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(files_under(dir / "rivers_merged"), files_under(dir / "rivers_whole"));
+  EXPECT_GT(file_bytes(dir / "rivers_whole" / "hydrology" / "rivers.json").size(), 1000u);
 }
 
 // ThermalErosion across the ranks' tiles, its halos exchanged every few iterations (bench/distributed_thermal.json: fBm
