@@ -604,15 +604,18 @@ TEST(CliTiles, TileGraphAndReductionNodesRunAcrossTheTilesExactlyAndInATilesMemo
 // `orogen nodes TYPE` says which of the tile-graph nodes run across the tiles and which are, for now, computed on the
 // whole domain.
 TEST(CliTiles, TheNodeReferenceSaysWhichHydrologyNodesRunAcrossTheTiles) {
-  for (const char* type : {"FillDepressions", "Lakes", "FlowDirection", "Watersheds", "FloodFill", "RiverExtract"}) {
+  for (const char* type :
+       {"FillDepressions", "Lakes", "FlowDirection", "Watersheds", "FloodFill", "RiverExtract", "DrainageMetrics"}) {
     const auto r = orogen({"nodes", type});
     ASSERT_EQ(r.exit_code, 0) << type;
     EXPECT_NE(r.out.find("(runs across the tiles"), std::string::npos) << type << ":\n" << r.out;
   }
-  for (const char* type : {"DrainageMetrics"}) {
+  // With the parameters or inputs an algorithm cannot take, the node is computed on the whole domain: said too.
+  for (const char* type : {"RiverExtract", "FlowAccumulation"}) {
     const auto r = orogen({"nodes", type});
     ASSERT_EQ(r.exit_code, 0) << type;
-    EXPECT_NE(r.out.find("(for now: computed on the whole domain by every rank that needs it)"), std::string::npos)
+    EXPECT_NE(r.out.find("no rainfall_weight linked"), std::string::npos) << type << ":\n" << r.out;
+    EXPECT_NE(r.out.find("otherwise computed on the whole domain by every rank that needs it)"), std::string::npos)
         << type << ":\n"
         << r.out;
   }

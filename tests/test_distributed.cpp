@@ -151,6 +151,7 @@ fs::path run_distributed(const Job& job) {
   // RiverExtract across the ranks' tiles: every tile gets the whole joined network (compared below).
   if (std::string(job.graph) == "hydrology.json" && job.tiles.x * job.tiles.y > 1) {
     EXPECT_NE(r.err.find("node 'rivers' (RiverExtract) computed across the tiles"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("node 'metrics' (DrainageMetrics) computed across the tiles"), std::string::npos) << r.err;
   }
   if (std::string(job.graph).find("distributed_flood.json") != std::string::npos && job.tiles.x * job.tiles.y > 1) {
     for (const char* node : {"'lake' (FloodFill)", "'flood' (FloodFill)"})
@@ -457,12 +458,25 @@ TEST(Distributed, MergedFilesAndNamedTilesEqualTheSingleProcessBuilds) {
   EXPECT_EQ(files_under(dir / "three"), files_under(dir / "one"));
   // hydrology.json: the rivers, joined across the ranks' tiles, merge into the untiled build's curve files (every
   // tile holds the whole network, so --merge writes it once), its mask and every other file too.
+  // Its DrainageMetrics, across the ranks' tiles too, reports in every tile's statistics what the untiled build does.
   const std::string rivers = (source_dir() / "graphs" / "hydrology.json").string();
-  ASSERT_EQ(orogen(run({"eval", rivers, "-o", (dir / "rivers_whole").string(), "-q"})).exit_code, 0);
-  r = mpirun(2, run({"eval", rivers, "-o", (dir / "rivers_merged").string(), "--tiles", "3x2", "--merge", "-q"}));
+  fs::create_directories(dir / "stats");
+  ASSERT_EQ(orogen(run({"eval", rivers, "-o", (dir / "rivers_whole").string(), "--stats",
+                        (dir / "stats" / "whole.json").string(), "-q"}))
+                .exit_code,
+            0);
+  r = mpirun(2, run({"eval", rivers, "-o", (dir / "rivers_merged").string(), "--tiles", "3x2", "--merge", "--stats",
+                     (dir / "stats" / "tiled.json").string(), "-q"}));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(files_under(dir / "rivers_merged"), files_under(dir / "rivers_whole"));
   EXPECT_GT(file_bytes(dir / "rivers_whole" / "hydrology" / "rivers.json").size(), 1000u);
+  const auto report = nlohmann::json::parse(file_bytes(dir / "stats" / "whole.json"))["reports"];
+  ASSERT_TRUE(report.contains("metrics")) << report.dump();
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const fs::path tile = dir / "stats" / ("tiled_x" + std::to_string(i) + "_y" + std::to_string(j) + ".json");
+      EXPECT_EQ(nlohmann::json::parse(file_bytes(tile))["reports"], report) << tile;
+    }
 }
 
 // ThermalErosion across the ranks' tiles, its halos exchanged every few iterations (bench/distributed_thermal.json: fBm

@@ -1,6 +1,6 @@
 #pragma once
-// Strahler orders of a D8 channel network across tiles, exact: RiverExtract's (nodes/hydrology/rivers_across_tiles.cpp)
-// and a building block for DrainageMetrics' tile-graph distribution (docs/distributed.md).
+// Strahler orders of a D8 channel network across tiles, exact: RiverExtract's and DrainageMetrics' tile-graph
+// distribution (nodes/hydrology/rivers_across_tiles.cpp, drainage_across_tiles.cpp, docs/distributed.md).
 //
 // The whole-domain order (strahler_orders, nodes/hydrology/channels.h) of a channel cell is 1 at a source, else the
 // highest order o among its channel donors, plus one when two or more donors have o. It is a function of one
