@@ -39,7 +39,7 @@ void put_piece(std::string& out, long long for_tile, const SampleRect& rect, con
   bytes::put(out, static_cast<std::int64_t>(for_tile));
   bytes::put(out, rect.lo.x), bytes::put(out, rect.lo.y), bytes::put(out, rect.hi.x), bytes::put(out, rect.hi.y);
   for (const auto& value : outputs) {
-    if (!std::holds_alternative<HeightfieldPtr>(value)) continue;  // a report: the same on every tile
+    if (!std::holds_alternative<HeightfieldPtr>(value)) continue;  // curves and reports: every tile has them whole
     const Heightfield& h = *std::get<HeightfieldPtr>(value);
     const glm::ivec2 at = rect.lo - rect_of(h.domain, whole).lo;
     for (int j = 0; j <= rect.hi.y - rect.lo.y; ++j) {
@@ -54,7 +54,7 @@ void put_piece(std::string& out, long long for_tile, const SampleRect& rect, con
 void copy_rect(const std::vector<PortValue>& from, const SampleRect& rect,
                std::vector<std::shared_ptr<Heightfield>>& into, const Domain& whole) {
   for (std::size_t o = 0; o < from.size(); ++o) {
-    if (!into[o]) continue;  // a report: the same on every tile
+    if (!into[o]) continue;  // not a raster: curves and reports are whole on every tile
     const Heightfield& src = *std::get<HeightfieldPtr>(from[o]);
     Heightfield& dst = *into[o];
     const glm::ivec2 s = rect.lo - rect_of(src.domain, whole).lo, d = rect.lo - rect_of(dst.domain, whole).lo;
@@ -67,7 +67,7 @@ void copy_rect(const std::vector<PortValue>& from, const SampleRect& rect,
 void take_piece(std::string_view& in, const SampleRect& rect, std::vector<std::shared_ptr<Heightfield>>& into,
                 const Domain& whole) {
   for (auto& h : into) {
-    if (!h) continue;  // a report: the same on every tile
+    if (!h) continue;  // not a raster: curves and reports are whole on every tile
     const glm::ivec2 at = rect.lo - rect_of(h->domain, whole).lo;
     const auto width = static_cast<std::size_t>(rect.size().x);
     for (int j = 0; j <= rect.hi.y - rect.lo.y; ++j) {
@@ -241,13 +241,15 @@ class Stages {
     std::vector<std::vector<std::shared_ptr<Heightfield>>> built(mine);
     for (std::size_t t = 0; t < mine; ++t) {
       const Domain& d = node_domain(number(s_.tiles[t]), node.id);
-      for (std::size_t o = 0; o < node.type->outputs.size(); ++o)
-        built[t].push_back(node.type->outputs[o].type == PortType::Heightfield ? std::make_shared<Heightfield>(d)
-                                                                               : nullptr);
+      for (const auto& port : node.type->outputs)
+        built[t].push_back(port.type == PortType::Heightfield ? std::make_shared<Heightfield>(d) : nullptr);
     }
     std::vector<std::string> outgoing(static_cast<std::size_t>(group_.size()));
     for (std::size_t t = 0; t < mine; ++t) {
-      const SampleRect core = rect_of(std::get<HeightfieldPtr>(cores[t][0])->domain, s_.domain);
+      const auto raster = std::find_if(cores[t].begin(), cores[t].end(),
+                                       [](const PortValue& v) { return std::holds_alternative<HeightfieldPtr>(v); });
+      if (raster == cores[t].end()) throw std::runtime_error("tile-graph stage: a node without a raster output");
+      const SampleRect core = rect_of(std::get<HeightfieldPtr>(*raster)->domain, s_.domain);
       for (std::size_t u = 0; u < domains_.size(); ++u) {
         const SampleRect part = overlap(core, rect_of(node_domain(static_cast<long long>(u), node.id), s_.domain));
         if (part.empty()) continue;

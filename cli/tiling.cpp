@@ -229,10 +229,14 @@ std::set<std::string> across_tile_nodes(const Graph& graph, const Domain& full, 
   if (global != GlobalNodes::Whole) return across;
   for (const auto& node : graph.nodes()) {
     const auto& outputs = node.type->outputs;
-    // Rasters, and reports: a report of an algorithm across tiles is the whole domain's, the same on every tile.
-    const bool heightfields = std::all_of(outputs.begin(), outputs.end(), [](const PortDecl& p) {
-      return p.type == PortType::Heightfield || p.type == PortType::Report;
-    });
+    // Rasters are cut into the tiles; curves (RiverExtract's network) and reports (DrainageMetrics') are given
+    // whole to every tile.
+    const bool heightfields =
+        std::any_of(outputs.begin(), outputs.end(),
+                    [](const PortDecl& p) { return p.type == PortType::Heightfield; }) &&
+        std::all_of(outputs.begin(), outputs.end(), [](const PortDecl& p) {
+          return p.type == PortType::Heightfield || p.type == PortType::Curves || p.type == PortType::Report;
+        });
     // Inputs on a lattice of their own (resampled by the node) cannot be cut into the tiles.
     const bool lattice_inputs = std::all_of(node.inputs.begin(), node.inputs.end(), [&](const auto& in) {
       return !graph.at(in.second.node).type->own_lattice;

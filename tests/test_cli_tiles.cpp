@@ -439,7 +439,7 @@ TEST(CliTiles, PointsJoinIntoTheUntiledPointsWhetherComputedWholeOrPerTile) {
 
 TEST(CliTiles, WholeDomainNodesWithoutRastersAreBuiltPerTileAndSaySo) {
   // A mesh cannot be cut from a whole-domain result: each tile meshes its own samples (and is named), while
-  // the rivers' raster mask is cut from one whole-domain result and their curves cover the whole domain.
+  // the rivers, computed across the tiles, give each tile the whole network and its window of the mask.
   const auto dir = scratch_dir("tiles-mesh");
   write_text(dir / "g.json", R"({
   "format": "orogen-graph", "version": 6,
@@ -465,13 +465,9 @@ TEST(CliTiles, WholeDomainNodesWithoutRastersAreBuiltPerTileAndSaySo) {
                        "cannot be cut from a whole-domain result: each tile computes it from its own part only"),
             std::string::npos)
       << r.err;
-  EXPECT_NE(r.err.find("node 'rivers' (RiverExtract) depends on the whole domain (reach global): computed once on "
-                       "the whole domain"),
-            std::string::npos)
-      << r.err;
-  EXPECT_NE(r.err.find("outputs that cannot be cut cover the whole domain in every tile: 'rivers' curves 'out'"),
-            std::string::npos)
-      << r.err;
+  // RiverExtract runs across the tiles (not named with the whole-domain nodes): every tile gets the whole joined
+  // network and its window of the mask.
+  EXPECT_EQ(r.err.find("'rivers'"), std::string::npos) << r.err;
   // Resample puts its output on a lattice of its own: it cannot be cut either, and resamples each tile.
   EXPECT_NE(r.err.find("node 'lod' (Resample, reach global) depends on the whole domain: its 'out' on its own lattice "
                        "cannot be cut from a whole-domain result: each tile computes it"),
@@ -548,8 +544,8 @@ TEST(CliTiles, EveryExampleGraphTilesIntoItsUntiledBuild) {
 // and numbered across tiles, a blur of the filled terrain whose halo comes from the neighboring tiles, a
 // normalization of the blur over the whole domain's range (a reduction after a tile-graph node), and flow directions
 // and D8 accumulation with its flow map and wetness index (the epsilon fill's rounds, a ring of the filled surface
-// from the neighboring tiles, cell counts through perimeter links, the largest count), and watersheds numbered
-// across the tiles.
+// from the neighboring tiles, cell counts through perimeter links, the largest count), watersheds numbered
+// across the tiles, and a flood from a seed (to a given level, and to the seed's spill level) joined across them.
 const char* kAcrossTilesGraph = R"({
   "format": "orogen-graph", "version": 7,
   "domain": { "size": [2560, 2560], "resolution": [257, 257] },
@@ -589,7 +585,13 @@ const char* kAcrossTilesGraph = R"({
     { "id": "save_basins", "type": "WriteHeightfield", "inputs": { "in": "basins.out" },
       "params": { "path": "basins.exr" } },
     { "id": "save_basin_area", "type": "WriteHeightfield", "inputs": { "in": "basins.area" },
-      "params": { "path": "basin_area.exr" } }
+      "params": { "path": "basin_area.exr" } },
+    { "id": "flood", "type": "FloodFill", "inputs": { "in": "noise.out" },
+      "params": { "position": [1280, 1280], "level_mode": "level", "level": 0 } },
+    { "id": "save_flood", "type": "WriteHeightfield", "inputs": { "in": "flood.water_depth" },
+      "params": { "path": "flood_depth.exr" } },
+    { "id": "pond", "type": "FloodFill", "inputs": { "in": "noise.out" }, "params": { "position": [1280, 1280] } },
+    { "id": "save_pond", "type": "WriteHeightfield", "inputs": { "in": "pond.out" }, "params": { "path": "pond.exr" } }
   ]
 })";
 
@@ -611,11 +613,14 @@ TEST(CliTiles, TileGraphAndReductionNodesRunAcrossTheTilesExactlyAndInATilesMemo
   EXPECT_NE(r.err.find("node 'direction' (FlowDirection) computed across the tiles"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("node 'flow' (FlowAccumulation) computed across the tiles"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("node 'basins' (Watersheds) computed across the tiles"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("node 'flood' (FloodFill) computed across the tiles"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("node 'pond' (FloodFill) computed across the tiles"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << "nothing is computed on the whole domain:\n" << r.err;
   // Every tile is its window of the untiled build, bit for bit: filled heights, the blur's halo, lake numbers.
   EXPECT_NE(r.err.find("node 'stretch' (Normalize) computed across the tiles"), std::string::npos) << r.err;
-  for (const std::string stem : {"filled", "filled_eps", "smooth", "lake_id", "lake_depth", "stretch", "direction",
-                                 "gradient", "flow", "flow_map", "wetness", "basins", "basin_area"})
+  for (const std::string stem :
+       {"filled", "filled_eps", "smooth", "lake_id", "lake_depth", "stretch", "direction", "gradient", "flow",
+        "flow_map", "wetness", "basins", "basin_area", "flood_depth", "pond"})
     for (int j = 0; j < 3; ++j)
       for (int i = 0; i < 4; ++i)
         EXPECT_EQ(window_differences(dir / "whole", dir / "tiled", stem, {257, 257}, {4, 3}, i, j), 0u)
@@ -630,6 +635,13 @@ TEST(CliTiles, TileGraphAndReductionNodesRunAcrossTheTilesExactlyAndInATilesMemo
   EXPECT_GT(tiles_of_lake.size(), 3u);
   EXPECT_TRUE(
       std::any_of(tiles_of_lake.begin(), tiles_of_lake.end(), [](const auto& l) { return l.second.size() > 1; }));
+  // The flood from the middle spans several tiles.
+  const Raster flood = read_raster(dir / "whole" / "flood_depth.exr");
+  std::set<int> flooded_tiles;
+  for (int y = 0; y < flood.height; ++y)
+    for (int x = 0; x < flood.width; ++x)
+      if (flood.at(0, x, y) > 0.0f) flooded_tiles.insert(y * 3 / 257 * 4 + x * 4 / 257);
+  EXPECT_GE(flooded_tiles.size(), 3u);
   // Each tile holds only its part: a memory limit that refuses the untiled fill lets the tiles through.
   const auto refused = orogen({"eval", graph, "-o", (dir / "m").string(), "--max-memory", "500K", "--quiet"});
   EXPECT_EQ(refused.exit_code, 2);
@@ -643,6 +655,26 @@ TEST(CliTiles, TileGraphAndReductionNodesRunAcrossTheTilesExactlyAndInATilesMemo
   EXPECT_NE(again.err.find("node 'filled' (FillDepressions) cached on every tile"), std::string::npos) << again.err;
   const auto stats = nlohmann::json::parse(read_text(dir / "s_x2_y1.json"));
   for (const auto& [id, node] : stats["nodes"].items()) EXPECT_EQ(node["status"], "cached") << id;
+}
+
+// `orogen nodes TYPE` says which of the tile-graph nodes run across the tiles and which are, for now, computed on the
+// whole domain.
+TEST(CliTiles, TheNodeReferenceSaysWhichHydrologyNodesRunAcrossTheTiles) {
+  for (const char* type :
+       {"FillDepressions", "Lakes", "FlowDirection", "Watersheds", "FloodFill", "RiverExtract", "DrainageMetrics"}) {
+    const auto r = orogen({"nodes", type});
+    ASSERT_EQ(r.exit_code, 0) << type;
+    EXPECT_NE(r.out.find("(runs across the tiles"), std::string::npos) << type << ":\n" << r.out;
+  }
+  // With the parameters or inputs an algorithm cannot take, the node is computed on the whole domain: said too.
+  for (const char* type : {"RiverExtract", "FlowAccumulation"}) {
+    const auto r = orogen({"nodes", type});
+    ASSERT_EQ(r.exit_code, 0) << type;
+    EXPECT_NE(r.out.find("no rainfall_weight linked"), std::string::npos) << type << ":\n" << r.out;
+    EXPECT_NE(r.out.find("otherwise computed on the whole domain by every rank that needs it)"), std::string::npos)
+        << type << ":\n"
+        << r.out;
+  }
 }
 
 // A rainfall weight makes the accumulation a sum of floating-point weights, whose rounding depends on the order of

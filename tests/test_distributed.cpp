@@ -148,8 +148,19 @@ fs::path run_distributed(const Job& job) {
                              "'flow_d8' (FlowAccumulation)", "'basins_id' (Watersheds)"})
       EXPECT_NE(r.err.find(std::string("node ") + node + " computed across the tiles"), std::string::npos) << r.err;
   }
-  if (std::string(job.graph).find("distributed_thermal.json") != std::string::npos && job.tiles.x * job.tiles.y > 1)
+  // RiverExtract across the ranks' tiles: every tile gets the whole joined network (compared below).
+  if (std::string(job.graph) == "hydrology.json" && job.tiles.x * job.tiles.y > 1) {
+    EXPECT_NE(r.err.find("node 'rivers' (RiverExtract) computed across the tiles"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("node 'metrics' (DrainageMetrics) computed across the tiles"), std::string::npos) << r.err;
+  }
+  if (std::string(job.graph).find("distributed_flood.json") != std::string::npos && job.tiles.x * job.tiles.y > 1) {
+    for (const char* node : {"'lake' (FloodFill)", "'flood' (FloodFill)"})
+      EXPECT_NE(r.err.find(std::string("node ") + node + " computed across the tiles"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << "nothing is computed on the whole domain:\n" << r.err;
+  }
+  if (std::string(job.graph).find("distributed_thermal.json") != std::string::npos && job.tiles.x * job.tiles.y > 1) {
     EXPECT_NE(r.err.find("node 'thermal' (ThermalErosion) computed across the tiles"), std::string::npos) << r.err;
+  }
   if (std::string(job.graph).find("distributed_particles.json") != std::string::npos && job.tiles.x * job.tiles.y > 1)
     EXPECT_NE(r.err.find("node 'droplets' (HydraulicErosion) computed across the tiles"), std::string::npos) << r.err;
   const auto mine = files_under(dir), single = files_under(single_process_build(job));
@@ -206,6 +217,17 @@ TEST(Distributed, AnyRankCountWritesTheSingleProcessTilesAndTheyJoinIntoTheUntil
       ++compared;
     }
     EXPECT_GT(compared, 0u);
+    // Curves: every tile's file is the untiled build's (RiverExtract's network joined across the tiles).
+    for (const auto& f : fs::recursive_directory_iterator(untiled)) {
+      if (f.path().extension() != ".json" || f.path().filename().string().find("rivers") == std::string::npos) continue;
+      const auto rel = fs::relative(f.path(), untiled);
+      for (int tj = 0; tj < job.tiles.y; ++tj)
+        for (int ti = 0; ti < job.tiles.x; ++ti) {
+          const fs::path tile = dir / rel.parent_path() /
+                                (rel.stem().string() + "_x" + std::to_string(ti) + "_y" + std::to_string(tj) + ".json");
+          EXPECT_EQ(file_bytes(tile), file_bytes(f.path())) << tile;
+        }
+    }
   }
 }
 
@@ -436,6 +458,27 @@ TEST(Distributed, MergedFilesAndNamedTilesEqualTheSingleProcessBuilds) {
   ASSERT_EQ(orogen(one).exit_code, 0);
   ASSERT_EQ(mpirun(3, three).exit_code, 0);
   EXPECT_EQ(files_under(dir / "three"), files_under(dir / "one"));
+  // hydrology.json: the rivers, joined across the ranks' tiles, merge into the untiled build's curve files (every
+  // tile holds the whole network, so --merge writes it once), its mask and every other file too.
+  // Its DrainageMetrics, across the ranks' tiles too, reports in every tile's statistics what the untiled build does.
+  const std::string rivers = (source_dir() / "graphs" / "hydrology.json").string();
+  fs::create_directories(dir / "stats");
+  ASSERT_EQ(orogen(run({"eval", rivers, "-o", (dir / "rivers_whole").string(), "--stats",
+                        (dir / "stats" / "whole.json").string(), "-q"}))
+                .exit_code,
+            0);
+  r = mpirun(2, run({"eval", rivers, "-o", (dir / "rivers_merged").string(), "--tiles", "3x2", "--merge", "--stats",
+                     (dir / "stats" / "tiled.json").string(), "-q"}));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(files_under(dir / "rivers_merged"), files_under(dir / "rivers_whole"));
+  EXPECT_GT(file_bytes(dir / "rivers_whole" / "hydrology" / "rivers.json").size(), 1000u);
+  const auto report = nlohmann::json::parse(file_bytes(dir / "stats" / "whole.json"))["reports"];
+  ASSERT_TRUE(report.contains("metrics")) << report.dump();
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const fs::path tile = dir / "stats" / ("tiled_x" + std::to_string(i) + "_y" + std::to_string(j) + ".json");
+      EXPECT_EQ(nlohmann::json::parse(file_bytes(tile))["reports"], report) << tile;
+    }
 }
 
 // ThermalErosion across the ranks' tiles, its halos exchanged every few iterations (bench/distributed_thermal.json: fBm
@@ -471,6 +514,37 @@ TEST(Distributed, HydraulicErosionAcrossRanksEqualsTheUntiledBuild) {
       const Raster whole = read_raster(untiled / "distributed_particles" / (std::string(name) + ".tif"));
       const Raster joined =
           stitch(dir, std::string("distributed_particles/") + name, ".tif", job.tiles, {whole.width, whole.height});
+      EXPECT_TRUE(same_bits(whole, joined)) << name;
+    }
+  }
+}
+
+// FloodFill across the ranks' tiles (bench/distributed_flood.json: a lake filled to its spill level from the middle of
+// a bowl over the tiles' corner, a flood to a given level along a trench, and a blur of the lake whose halo comes from
+// the neighboring ranks' tiles): the single-process tiled build's files, and put together every raster of the untiled
+// build.
+TEST(Distributed, FloodFillAcrossRanksEqualsTheUntiledBuild) {
+  SKIP_WITHOUT_MPI();
+  const char* graph = "../bench/distributed_flood.json";  // resolved under graphs/
+  const fs::path& untiled = single_process_build({graph, 129, {0, 0}, 1});
+  // The lake and the flood span the tiles of every tiling below.
+  const Raster lake = read_raster(untiled / "distributed_flood" / "lake_mask.tif");
+  const Raster flood = read_raster(untiled / "distributed_flood" / "flood_depth.tif");
+  EXPECT_EQ(lake.at(64, 64), 1.0f);  // on the corner of the 2x2 tiles
+  std::array<std::size_t, 4> quadrants{};
+  for (int j = 0; j < lake.height; ++j)
+    for (int i = 0; i < lake.width; ++i) quadrants[(j < 64 ? 0 : 2) + (i < 64 ? 0 : 1)] += lake.at(i, j) > 0.0f;
+  for (const std::size_t q : quadrants) EXPECT_GT(q, 100u);
+  std::size_t flooded = 0;
+  for (const float d : flood.values) flooded += d > 0.0f;
+  EXPECT_GT(flooded, 200u);
+  for (const Job& job : {Job{graph, 129, {2, 2}, 2}, Job{graph, 129, {3, 2}, 4}, Job{graph, 129, {4, 3}, 3}}) {
+    SCOPED_TRACE(tiles_text(job.tiles) + " on " + std::to_string(job.ranks) + " ranks");
+    const fs::path dir = run_distributed(job);
+    for (const char* name : {"terrain", "lake", "lake_depth", "lake_mask", "flood_depth", "lake_smooth"}) {
+      const Raster whole = read_raster(untiled / "distributed_flood" / (std::string(name) + ".tif"));
+      const Raster joined =
+          stitch(dir, std::string("distributed_flood/") + name, ".tif", job.tiles, {whole.width, whole.height});
       EXPECT_TRUE(same_bits(whole, joined)) << name;
     }
   }

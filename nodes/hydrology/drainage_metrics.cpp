@@ -63,16 +63,12 @@ LogFit binned_log_fit(std::span<const double> x, std::span<const double> y, doub
 NetworkMetrics network_metrics(const FlowGrid& g, const D8Flow& f, std::span<const std::int32_t> stack,
                                std::span<const std::uint8_t> channel, std::span<const double> area,
                                std::span<const float> z, std::span<const std::uint8_t> exclude_slope) {
-  NetworkMetrics m;
-  m.cells = g.size();
-  m.order = strahler_orders(g, f, stack, channel);
+  NetworkSamples s;
+  std::vector<std::int32_t> order = strahler_orders(g, f, stack, channel);
   // Horton streams: maximal runs of one order. A stream starts at a channel cell none of whose channel
   // donors has its order; it continues through the (unique) donor of the same order.
   std::vector<std::int32_t> stream(g.size(), -1);
-  std::vector<int> stream_order;
-  std::vector<double> stream_length;
   std::vector<double> longest(g.size(), 0.0);  // main-stream length: longest flow path from the divide
-  std::vector<double> ax, hl, sa, ss;
   for (auto it = stack.rbegin(); it != stack.rend(); ++it) {
     const std::int32_t c = *it;
     double best = 0.0;
@@ -81,32 +77,41 @@ NetworkMetrics network_metrics(const FlowGrid& g, const D8Flow& f, std::span<con
       const int k = std::countr_zero(mask);
       const std::int32_t d = c + g.offset(k);
       best = std::max(best, longest[d] + g.distance(opposite(k)));
-      if (channel[c] && channel[d] && m.order[d] == m.order[c]) same = d;
+      if (channel[c] && channel[d] && order[d] == order[c]) same = d;
     }
     longest[c] = best;
     if (!channel[c]) continue;
-    ++m.channel_cells;
+    ++s.channel_cells;
     if (same >= 0) {
       stream[c] = stream[same];
     } else {
-      stream[c] = static_cast<std::int32_t>(stream_order.size());
-      stream_order.push_back(m.order[c]);
-      stream_length.push_back(0.0);
+      stream[c] = static_cast<std::int32_t>(s.stream_order.size());
+      s.stream_order.push_back(order[c]);
+      s.stream_length.push_back(0.0);
     }
-    if (f.receiver[c] != c) stream_length[static_cast<std::size_t>(stream[c])] += g.distance(f.direction[c]);
-    ax.push_back(area[c]);
-    hl.push_back(best);
+    if (f.receiver[c] != c) s.stream_length[static_cast<std::size_t>(stream[c])] += g.distance(f.direction[c]);
+    s.area.push_back(area[c]);
+    s.main_length.push_back(best);
     if (f.receiver[c] != c && (exclude_slope.empty() || !exclude_slope[c])) {
-      sa.push_back(area[c]);
-      ss.push_back((static_cast<double>(z[c]) - z[f.receiver[c]]) / g.distance(f.direction[c]));
+      s.slope_area.push_back(area[c]);
+      s.slope.push_back((static_cast<double>(z[c]) - z[f.receiver[c]]) / g.distance(f.direction[c]));
     }
   }
-  for (int o : stream_order) m.max_order = std::max(m.max_order, o);
+  NetworkMetrics m = network_figures(s, g.size());
+  m.order = std::move(order);
+  return m;
+}
+
+NetworkMetrics network_figures(const NetworkSamples& s, std::size_t cells) {
+  NetworkMetrics m;
+  m.cells = cells;
+  m.channel_cells = s.channel_cells;
+  for (int o : s.stream_order) m.max_order = std::max(m.max_order, o);
   m.stream_counts.assign(static_cast<std::size_t>(m.max_order), 0);
   m.mean_stream_length.assign(static_cast<std::size_t>(m.max_order), 0.0);
-  for (std::size_t s = 0; s < stream_order.size(); ++s) {
-    ++m.stream_counts[static_cast<std::size_t>(stream_order[s] - 1)];
-    m.mean_stream_length[static_cast<std::size_t>(stream_order[s] - 1)] += stream_length[s];
+  for (std::size_t k = 0; k < s.stream_order.size(); ++k) {
+    ++m.stream_counts[static_cast<std::size_t>(s.stream_order[k] - 1)];
+    m.mean_stream_length[static_cast<std::size_t>(s.stream_order[k] - 1)] += s.stream_length[k];
   }
   std::vector<double> w, ln, ll;
   std::vector<double> wl;
@@ -122,8 +127,8 @@ NetworkMetrics network_metrics(const FlowGrid& g, const D8Flow& f, std::span<con
   }
   if (w.size() >= 2) m.bifurcation_ratio = std::pow(10.0, -line_fit(w, ln).slope);
   if (wl.size() >= 2) m.length_ratio = std::pow(10.0, line_fit(wl, ll).slope);
-  m.hack = binned_log_fit(ax, hl);
-  m.flint = binned_log_fit(sa, ss);
+  m.hack = binned_log_fit(s.area, s.main_length);
+  m.flint = binned_log_fit(s.slope_area, s.slope);
   return m;
 }
 
@@ -217,7 +222,9 @@ DrainageReport drainage_metrics(const Heightfield& in, double threshold, const E
   r.lake_cells_fraction = static_cast<double>(lake_cells) / static_cast<double>(std::max<std::size_t>(1, g.size()));
   const D8Flow f = d8_flow(g, z, {}, ctx);
   const auto stack = stack_order(g, f);
-  const auto area = accumulate_d8(g, f, {}, ctx);
+  // Whole cells times the cell area, as FlowAccumulation's D8 area: exact in any order, so across tiles too.
+  auto area = count_d8(g, f, ctx);
+  for (double& a : area) a *= g.cell_area();
   std::vector<std::uint8_t> channel(g.size());
   for (std::size_t c = 0; c < g.size(); ++c) channel[c] = area[c] >= threshold;
   r.network = network_metrics(g, f, stack, channel, area, z, lake);

@@ -36,6 +36,21 @@ struct NetworkMetrics {
   std::vector<std::int32_t> order;         // Strahler order per cell (0 off the network)
 };
 
+// What the figures of a network are made of, channel cell by channel cell in reverse stack order (upstream first):
+// Horton streams (their order and length, m), and per channel cell its area (m^2) and main-stream length (m), and
+// where it has a receiver outside lakes its area and slope.
+struct NetworkSamples {
+  std::size_t channel_cells = 0;
+  std::vector<int> stream_order;
+  std::vector<double> stream_length;
+  std::vector<double> area, main_length;
+  std::vector<double> slope_area, slope;
+};
+
+// The figures of a network of `cells` cells from its samples (every field of NetworkMetrics but `order`), as
+// network_metrics computes them: the sums run in the samples' order.
+NetworkMetrics network_figures(const NetworkSamples& s, std::size_t cells);
+
 // Metrics of the network of channel cells (channel[c] != 0; receivers of channel cells must be channel cells).
 // `z` gives the channel slopes (cells with `exclude_slope` set, e.g. lakes, are left out of Flint's fit).
 NetworkMetrics network_metrics(const FlowGrid& g, const D8Flow& f, std::span<const std::int32_t> stack,

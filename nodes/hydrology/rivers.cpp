@@ -41,10 +41,10 @@ Line chaikin(const Line& in) {
 
 }  // namespace
 
-void draw_curves(const Curves& curves, Heightfield& mask) {
+void draw_curves(const Curves& curves, Heightfield& mask, const Domain* whole) {
   const Domain& d = mask.domain;
   const double pixel = std::sqrt(std::abs(d.spacing.x * d.spacing.y));
-  const double span = glm::length(d.size()) + pixel;
+  const double span = glm::length((whole ? *whole : d).size()) + pixel;
   for (const Curve& c : curves.curves) {
     for (std::size_t k = 0; k + 1 < c.points.size(); ++k) {
       const glm::dvec2 a(c.points[k].x, c.points[k].y), b(c.points[k + 1].x, c.points[k + 1].y);
@@ -78,32 +78,11 @@ void draw_curves(const Curves& curves, Heightfield& mask) {
   }
 }
 
-RiverResult extract_rivers(const Heightfield& in, const Heightfield* rainfall, const RiverParams& p,
-                           const ExecContext* ctx) {
-  const FlowGrid g = FlowGrid::of(in.domain);
-  std::vector<float> z = in.data, spill(g.size());
-  fill_depressions(g, z, FlatMode::Epsilon, {}, ctx, spill);
-  const D8Flow f = d8_flow(g, z, {}, ctx);
-  std::vector<float> weight;
-  if (rainfall) {
-    require_same_grid(rainfall->domain, in.domain, "rainfall");
-    weight.resize(g.size());
-    for (std::size_t c = 0; c < g.size(); ++c)
-      weight[c] = static_cast<float>(std::max(0.0f, rainfall->data[c]) * g.cell_area());
-  }
-  const std::vector<double> acc = accumulate_d8(g, f, weight, ctx);
-  const auto order = stack_order(g, f);
-  std::vector<std::uint8_t> channel(g.size());
-  for (std::size_t c = 0; c < g.size(); ++c) channel[c] = acc[c] >= p.threshold;
-  const auto strahler = strahler_orders(g, f, order, channel);
-  const auto reaches = extract_reaches(g, f, order, channel, strahler);
-  if (ctx) ctx->check_cancelled();
+std::shared_ptr<Curves> reach_curves(const std::vector<Reach>& reaches,
+                                     const std::function<RiverCell(std::int32_t)>& cell, const RiverParams& p) {
   const double runoff = p.runoff / 1000.0 / 3600.0;  // m/s
   auto width_of = [&](double area) { return p.width_coefficient * std::pow(area * runoff, p.width_exponent); };
-  // Lake cells: below the flat spill level of their depression.
-  std::vector<std::uint8_t> lake(g.size(), 0);
-  if (p.split_at_lakes)
-    for (std::size_t c = 0; c < g.size(); ++c) lake[c] = spill[c] > in.data[c];
+  auto lake = [&](std::int32_t c) { return p.split_at_lakes && cell(c).lake; };
   // Pieces of every reach outside lakes (a piece may start and end on one lake cell, the mouth or the
   // outflow). Reaches come downstream first, so the parent's first piece is known when a reach is cut.
   std::vector<std::vector<std::int32_t>> pieces;
@@ -120,12 +99,12 @@ RiverResult extract_rivers(const Heightfield& in, const Heightfield* rainfall, c
       cur.clear();
     };
     for (std::size_t k = 0; k < cells.size();) {
-      if (!lake[cells[k]]) {
+      if (!lake(cells[k])) {
         cur.push_back(cells[k++]);
         continue;
       }
       std::size_t e = k;  // the wet run is k..e
-      while (e + 1 < cells.size() && lake[cells[e + 1]]) ++e;
+      while (e + 1 < cells.size() && lake(cells[e + 1])) ++e;
       if (!cur.empty()) cur.push_back(cells[k]);  // the mouth
       flush();
       if (e + 1 < cells.size()) cur.push_back(cells[e]);  // the outflow starts at the lake's last cell
@@ -142,16 +121,15 @@ RiverResult extract_rivers(const Heightfield& in, const Heightfield* rainfall, c
     }
     first_piece[ri] = next;
   }
-  RiverResult r;
-  r.curves = std::make_shared<Curves>();
-  r.curves->curves.reserve(pieces.size());
+  auto curves = std::make_shared<Curves>();
+  curves->curves.reserve(pieces.size());
   for (std::size_t pi = 0; pi < pieces.size(); ++pi) {
     Line line;
     for (const std::int32_t c : pieces[pi]) {
-      const int i = g.column(c), j = g.row(c);
-      line.p.emplace_back(in.domain.x(i), in.domain.y(j), static_cast<double>(z[c]));
-      line.area.push_back(acc[c]);
-      line.width.push_back(width_of(acc[c]));
+      const RiverCell rc = cell(c);
+      line.p.emplace_back(rc.x, rc.y, static_cast<double>(rc.z));
+      line.area.push_back(rc.area);
+      line.width.push_back(width_of(rc.area));
       line.order.push_back(piece_order[pi]);
     }
     for (int s = 0; s < p.smoothing; ++s) line = chaikin(line);
@@ -168,8 +146,44 @@ RiverResult extract_rivers(const Heightfield& in, const Heightfield* rainfall, c
       area.push_back(static_cast<float>(line.area[k]));
       so.push_back(static_cast<float>(line.order[k]));
     }
-    r.curves->curves.push_back(std::move(curve));
+    curves->curves.push_back(std::move(curve));
   }
+  return curves;
+}
+
+RiverResult extract_rivers(const Heightfield& in, const Heightfield* rainfall, const RiverParams& p,
+                           const ExecContext* ctx) {
+  const FlowGrid g = FlowGrid::of(in.domain);
+  std::vector<float> z = in.data, spill(g.size());
+  fill_depressions(g, z, FlatMode::Epsilon, {}, ctx, spill);
+  const D8Flow f = d8_flow(g, z, {}, ctx);
+  std::vector<double> acc;
+  if (rainfall) {
+    require_same_grid(rainfall->domain, in.domain, "rainfall");
+    std::vector<float> weight(g.size());
+    for (std::size_t c = 0; c < g.size(); ++c)
+      weight[c] = static_cast<float>(std::max(0.0f, rainfall->data[c]) * g.cell_area());
+    acc = accumulate_d8(g, f, weight, ctx);
+  } else {
+    // Whole cells times the cell area, as FlowAccumulation's D8 area: exact in any order, so across tiles too.
+    acc = count_d8(g, f, ctx);
+    for (double& a : acc) a *= g.cell_area();
+  }
+  const auto order = stack_order(g, f);
+  std::vector<std::uint8_t> channel(g.size());
+  for (std::size_t c = 0; c < g.size(); ++c) channel[c] = acc[c] >= p.threshold;
+  const auto strahler = strahler_orders(g, f, order, channel);
+  const auto reaches = extract_reaches(g, f, order, channel, strahler);
+  if (ctx) ctx->check_cancelled();
+  RiverResult r;
+  // Lake cells: below the flat spill level of their depression.
+  r.curves = reach_curves(
+      reaches,
+      [&](std::int32_t c) {
+        const auto u = static_cast<std::size_t>(c);
+        return RiverCell{in.domain.x(g.column(c)), in.domain.y(g.row(c)), z[u], acc[u], spill[u] > in.data[u]};
+      },
+      p);
   r.mask = std::make_shared<Heightfield>(in.domain);
   draw_curves(*r.curves, *r.mask);
   return r;

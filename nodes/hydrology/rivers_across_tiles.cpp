@@ -1,0 +1,417 @@
+// RiverExtract (no rainfall weight) across the tiles of a tiled or distributed build, exact (graph/tile_graph.h,
+// docs/distributed.md). The rounds go in phases, each message and answer tagged with its phase:
+//
+//  - fill: the spill graphs of all tiles (Barnes 2016), then rounds of the epsilon surface until no perimeter value
+//    falls (nodes/hydrology/tile_fill.h): the whole-domain Priority-Flood+epsilon bit for bit, and its flat levels,
+//    which say which cells are lakes;
+//  - ring: the one-sample ring of the filled surface from the tiles around (nodes/hydrology/tile_ring.h), so the D8
+//    direction of every cell is the whole domain's;
+//  - accumulation: D8 cell counts through perimeter links (Barnes 2017, nodes/hydrology/tile_accumulation.h); the
+//    area is the count times the cell area, as the whole-domain node computes it, so the channel cells are the same;
+//  - Strahler: the orders of the channel cells, rounds of donor summaries at the perimeters until none changes
+//    (nodes/hydrology/tile_strahler.h);
+//  - network: each tile sends its own channel cells (a shared sample by the one tile that owns it): position, D8
+//    direction, filled height, count, lake and order. The solve puts the channel network together, orders it as the
+//    whole-domain stack order restricted to the channel (outlets in row-major order, each tree depth first with the
+//    donors in neighbor order: non-channel cells have no channel cell upstream, so leaving them out keeps the
+//    order), cuts it into reaches and builds the curves with the whole-domain node's own code (reach_curves).
+//
+// Every tile gets the whole joined network, in the untiled node's order (so the tiles' curve files are alike and
+// `--merge` writes the untiled file), and draws its part of the river mask from it. What travels in the network
+// phase is O(channel cells), the size of the curves themselves, not O(tile).
+#include <algorithm>
+#include <stdexcept>
+
+#include "graph/node_type.h"
+#include "graph/tile_bytes.h"
+#include "graph/tile_graph.h"
+#include "nodes/hydrology/rivers.h"
+#include "nodes/hydrology/tile_accumulation.h"
+#include "nodes/hydrology/tile_fill.h"
+#include "nodes/hydrology/tile_ring.h"
+#include "nodes/hydrology/tile_strahler.h"
+
+namespace orogen::hydrology {
+namespace {
+
+enum class Phase : std::uint8_t { Spill, Epsilon, Ring, Accumulate, Strahler, Network, Done };
+
+constexpr const char* kWhat = "rivers across tiles";
+
+std::string tagged(Phase phase, std::string payload) {
+  payload.insert(payload.begin(), static_cast<char>(phase));
+  return payload;
+}
+
+Phase take_phase(std::string_view& bytes) {
+  const auto p = bytes::take<std::uint8_t>(bytes, kWhat);
+  if (p > static_cast<std::uint8_t>(Phase::Done)) throw std::invalid_argument("rivers across tiles: unknown phase");
+  return static_cast<Phase>(p);
+}
+
+// A channel cell as a tile sends it.
+#pragma pack(push, 1)
+struct ChannelCell {
+  std::int64_t sample;  // row-major index in the whole domain
+  std::int64_t count;   // cells draining through it
+  float z;              // filled height
+  std::int32_t order;   // Strahler
+  std::uint8_t direction;
+  std::uint8_t lake;
+};
+#pragma pack(pop)
+
+void put_curves(std::string& out, const Curves& curves) {
+  bytes::put(out, static_cast<std::uint64_t>(curves.curves.size()));
+  for (const Curve& c : curves.curves) {
+    bytes::put(out, static_cast<std::int32_t>(c.parent));
+    bytes::put_vector(out, c.points);
+    bytes::put_vector(out, c.width);
+    bytes::put(out, static_cast<std::uint64_t>(c.attributes.size()));
+    for (const auto& [name, values] : c.attributes) {
+      bytes::put_vector(out, std::vector<char>(name.begin(), name.end()));
+      bytes::put_vector(out, values);
+    }
+  }
+}
+
+std::shared_ptr<Curves> take_curves(std::string_view& in) {
+  auto curves = std::make_shared<Curves>();
+  const auto n = bytes::take<std::uint64_t>(in, kWhat);
+  if (n > in.size()) throw std::invalid_argument("rivers across tiles: truncated curves");
+  curves->curves.resize(static_cast<std::size_t>(n));
+  for (Curve& c : curves->curves) {
+    c.parent = bytes::take<std::int32_t>(in, kWhat);
+    c.points = bytes::take_vector<glm::vec3>(in, kWhat);
+    c.width = bytes::take_vector<float>(in, kWhat);
+    const auto attributes = bytes::take<std::uint64_t>(in, kWhat);
+    if (attributes > in.size()) throw std::invalid_argument("rivers across tiles: truncated curves");
+    for (std::uint64_t a = 0; a < attributes; ++a) {
+      const auto name = bytes::take_vector<char>(in, kWhat);
+      c.attributes[std::string(name.begin(), name.end())] = bytes::take_vector<float>(in, kWhat);
+    }
+  }
+  try {
+    curves->check_consistent();
+  } catch (const std::logic_error& e) {
+    throw std::invalid_argument(std::string("rivers across tiles: ") + e.what());
+  }
+  return curves;
+}
+
+class RiverTile : public TileGraphTile {
+ public:
+  RiverTile(const Heightfield& ground, const Domain& whole, const RiverParams& p)
+      : domain_(ground.domain), whole_(whole), size_(whole.resolution), grid_(FlowGrid::of(whole)), params_(p) {
+    rect_ = {domain_.first, domain_.resolution};
+    ground_ = ground.data;
+    flood_ = flood_tile(ground_, rect_);
+  }
+
+  std::string message(int) override {
+    switch (phase_) {
+      case Phase::Spill:
+        return tagged(phase_, encode(flood_.graph));
+      case Phase::Epsilon:
+        return tagged(phase_, epsilon_->message());
+      case Phase::Ring:
+        return tagged(phase_, ring_message(surface_, rect_));
+      case Phase::Accumulate:
+        return tagged(phase_, accumulation_message(accumulation_));
+      case Phase::Strahler:
+        return tagged(phase_, strahler_->message());
+      case Phase::Network:
+        return tagged(phase_, network_message());
+      case Phase::Done:
+        break;
+    }
+    throw std::logic_error("rivers across tiles: a message after the last round");
+  }
+
+  void answer(int, std::string_view bytes) override {
+    const Phase next = take_phase(bytes);
+    switch (phase_) {
+      case Phase::Spill: {
+        const auto levels = bytes::take_vector<float>(bytes, kWhat);
+        std::vector<float> flat = apply_spill_levels(flood_, levels);
+        flood_ = {};
+        lake_.resize(flat.size());
+        for (std::size_t c = 0; c < flat.size(); ++c) lake_[c] = flat[c] > ground_[c];  // as extract_rivers
+        ground_ = {};
+        epsilon_ = std::make_unique<TileEpsilon>(std::move(flat), rect_, size_);
+        break;
+      }
+      case Phase::Epsilon:
+        epsilon_->answer(bytes);
+        if (next != Phase::Epsilon) {
+          surface_ = epsilon_->surface();
+          epsilon_.reset();
+        }
+        break;
+      case Phase::Ring:
+        take_ring(bytes);
+        break;
+      case Phase::Accumulate: {
+        counts_ = finish_tile_accumulation(accumulation_, bytes);
+        std::vector<std::uint8_t> channel(counts_.size());
+        for (std::size_t c = 0; c < counts_.size(); ++c)
+          channel[c] = static_cast<double>(counts_[c]) * grid_.cell_area() >= params_.threshold;
+        strahler_ = std::make_unique<TileStrahler>(accumulation_.receiver, std::move(channel), rect_, size_);
+        break;
+      }
+      case Phase::Strahler:
+        strahler_->answer(bytes);
+        break;
+      case Phase::Network: {
+        curves_ = take_curves(bytes);
+        if (!bytes.empty()) throw std::invalid_argument("rivers across tiles: trailing bytes");
+        mask_ = std::make_shared<Heightfield>(domain_);
+        draw_curves(*curves_, *mask_, &whole_);
+        break;
+      }
+      case Phase::Done:
+        throw std::logic_error("rivers across tiles: an answer after the last round");
+    }
+    phase_ = next;
+  }
+
+  std::vector<PortValue> outputs() override {
+    if (phase_ != Phase::Done) throw std::logic_error("rivers across tiles: outputs before the last round");
+    return {CurvesPtr(curves_), HeightfieldPtr(mask_)};
+  }
+
+ private:
+  // The D8 directions of the tile's cells on the filled surface grown by its ring, as on the whole domain.
+  void take_ring(std::string_view bytes) {
+    const TileRect ringed = ringed_rect(rect_, size_);
+    const std::vector<float> z = with_ring(surface_, rect_, size_, bytes);
+    const FlowGrid g(ringed.size.x, ringed.size.y, grid_.dx, grid_.dy);
+    const glm::ivec2 at = rect_.first - ringed.first;
+    const D8Flow f = d8_flow(g, z);
+    direction_.clear();
+    direction_.reserve(surface_.size());
+    for (int j = 0; j < rect_.size.y; ++j)
+      for (int i = 0; i < rect_.size.x; ++i)
+        direction_.push_back(f.direction[static_cast<std::size_t>(g.index(at.x + i, at.y + j))]);
+    accumulation_ = start_tile_accumulation(direction_, rect_, size_);
+  }
+
+  // The channel cells this tile owns.
+  std::string network_message() const {
+    std::vector<ChannelCell> cells;
+    const auto& order = strahler_->orders();
+    for (std::size_t c = 0; c < order.size(); ++c) {
+      if (!order[c] || !accumulation_.owned[c]) continue;
+      const int i = static_cast<int>(c) % rect_.size.x, j = static_cast<int>(c) / rect_.size.x;
+      cells.push_back({static_cast<std::int64_t>(rect_.first.y + j) * size_.x + rect_.first.x + i, counts_[c],
+                       surface_[c], order[c], direction_[c], lake_[c]});
+    }
+    std::string out;
+    bytes::put_vector(out, cells);
+    return out;
+  }
+
+  Domain domain_;  // the tile's samples
+  Domain whole_;
+  glm::ivec2 size_;
+  FlowGrid grid_;
+  RiverParams params_;
+  TileRect rect_;
+  Phase phase_ = Phase::Spill;
+  std::vector<float> ground_;
+  TileFlood flood_;
+  std::vector<std::uint8_t> lake_;
+  std::unique_ptr<TileEpsilon> epsilon_;
+  std::vector<float> surface_;  // the epsilon-filled heights on the tile
+  std::vector<std::uint8_t> direction_;
+  TileAccumulation accumulation_;
+  std::vector<std::int64_t> counts_;
+  std::unique_ptr<TileStrahler> strahler_;
+  std::shared_ptr<Curves> curves_;
+  std::shared_ptr<Heightfield> mask_;
+};
+
+class RiversAcrossTiles : public TileGraphAlgorithm {
+ public:
+  RiversAcrossTiles(const RiverParams& p, const Domain& whole) : params_(p), whole_(whole) {}
+
+  int rounds() const override { return 1; }
+
+  // Every tile is in the same phase: the first message's tag says which, and what follows it.
+  bool another_round(int, const std::vector<std::string>& messages) const override {
+    if (messages.empty()) return false;
+    std::string_view first(messages.front());
+    return take_phase(first) != Phase::Network;
+  }
+
+  std::unique_ptr<TileGraphTile> start(const std::vector<PortValue>& inputs) const override {
+    const auto* ground = inputs.empty() ? nullptr : std::get_if<HeightfieldPtr>(&inputs[0]);
+    if (!ground || !*ground) throw std::invalid_argument("rivers across tiles need a heightfield input");
+    if (inputs.size() > 1 && has_value(inputs[1]))
+      throw std::invalid_argument("rivers across tiles take no rainfall weight");
+    return std::make_unique<RiverTile>(**ground, whole_, params_);
+  }
+
+  std::vector<std::string> solve(int, const std::vector<std::string>& tagged_messages) const override {
+    std::vector<std::string> messages;
+    Phase phase = Phase::Done;
+    for (const std::string& m : tagged_messages) {
+      std::string_view v(m);
+      const Phase p = take_phase(v);
+      if (!messages.empty() && p != phase)
+        throw std::invalid_argument("rivers across tiles: tiles in different phases");
+      phase = p;
+      messages.emplace_back(v);
+    }
+    const glm::ivec2 size = whole_.resolution;
+    std::vector<std::string> answers(messages.size());
+    Phase next = Phase::Done;
+    switch (phase) {
+      case Phase::Spill: {
+        std::vector<TileSpillGraph> graphs;
+        graphs.reserve(messages.size());
+        for (const auto& m : messages) graphs.push_back(decode_spill_graph(m));
+        const auto levels = solve_spill_graphs(graphs, size);
+        for (std::size_t t = 0; t < levels.size(); ++t) bytes::put_vector(answers[t], levels[t]);
+        next = Phase::Epsilon;
+        break;
+      }
+      case Phase::Epsilon:
+        answers = solve_epsilon_perimeters(messages, size);
+        next = epsilon_values_fell(messages) ? Phase::Epsilon : Phase::Ring;
+        break;
+      case Phase::Ring:
+        answers = solve_rings(messages, size);
+        next = Phase::Accumulate;
+        break;
+      case Phase::Accumulate:
+        answers = solve_tile_accumulation(messages, size);
+        next = Phase::Strahler;
+        break;
+      case Phase::Strahler:
+        answers = solve_strahler_perimeters(messages, size);
+        next = strahler_changed(messages) ? Phase::Strahler : Phase::Network;
+        break;
+      case Phase::Network: {
+        std::string curves;
+        put_curves(curves, *network_curves(messages));
+        std::fill(answers.begin(), answers.end(), curves);
+        break;
+      }
+      case Phase::Done:
+        throw std::invalid_argument("rivers across tiles: a message after the last round");
+    }
+    for (auto& a : answers) a = tagged(next, std::move(a));
+    return answers;
+  }
+
+ private:
+  // The channel network of every tile's channel cells, cut into reaches as extract_reaches cuts the whole domain's.
+  std::shared_ptr<Curves> network_curves(const std::vector<std::string>& messages) const {
+    std::vector<ChannelCell> cells;
+    for (const std::string& m : messages) {
+      std::string_view in(m);
+      const auto part = bytes::take_vector<ChannelCell>(in, kWhat);
+      if (!in.empty()) throw std::invalid_argument("rivers across tiles: trailing bytes");
+      cells.insert(cells.end(), part.begin(), part.end());
+    }
+    std::sort(cells.begin(), cells.end(),
+              [](const ChannelCell& a, const ChannelCell& b) { return a.sample < b.sample; });
+    const glm::ivec2 size = whole_.resolution;
+    const std::int64_t samples = static_cast<std::int64_t>(size.x) * size.y;
+    auto id_of = [&](std::int64_t sample) {
+      const auto it = std::lower_bound(cells.begin(), cells.end(), sample,
+                                       [](const ChannelCell& c, std::int64_t s) { return c.sample < s; });
+      return it != cells.end() && it->sample == sample ? static_cast<std::int32_t>(it - cells.begin()) : -1;
+    };
+    const auto n = static_cast<std::int32_t>(cells.size());
+    // Receivers, and donors by neighbor index k as seen from the receiver (D8Flow::donors' bits).
+    std::vector<std::int32_t> receiver(cells.size());
+    std::vector<std::vector<std::pair<int, std::int32_t>>> donors(cells.size());
+    for (std::int32_t c = 0; c < n; ++c) {
+      const ChannelCell& cell = cells[static_cast<std::size_t>(c)];
+      if (cell.sample < 0 || cell.sample >= samples ||
+          (c > 0 && cells[static_cast<std::size_t>(c - 1)].sample == cell.sample))
+        throw std::invalid_argument("rivers across tiles: a channel cell outside the domain or sent twice");
+      receiver[static_cast<std::size_t>(c)] = c;
+      if (cell.direction == kNoDirection) continue;
+      if (cell.direction > 7) throw std::invalid_argument("rivers across tiles: not a D8 direction");
+      const int i = static_cast<int>(cell.sample % size.x) + kDi[cell.direction];
+      const int j = static_cast<int>(cell.sample / size.x) + kDj[cell.direction];
+      const std::int32_t r =
+          i < 0 || j < 0 || i >= size.x || j >= size.y ? -1 : id_of(static_cast<std::int64_t>(j) * size.x + i);
+      if (r < 0) throw std::invalid_argument("rivers across tiles: a channel cell drains off the channel network");
+      receiver[static_cast<std::size_t>(c)] = r;
+      donors[static_cast<std::size_t>(r)].emplace_back(opposite(cell.direction), c);
+    }
+    // stack_order restricted to the channel: roots in row-major order, donors pushed in neighbor order.
+    std::vector<std::int32_t> order, stack;
+    order.reserve(cells.size());
+    for (auto& d : donors) std::sort(d.begin(), d.end());
+    for (std::int32_t c = 0; c < n; ++c) {
+      if (receiver[static_cast<std::size_t>(c)] != c) continue;
+      stack.push_back(c);
+      while (!stack.empty()) {
+        const std::int32_t x = stack.back();
+        stack.pop_back();
+        order.push_back(x);
+        for (const auto& [k, d] : donors[static_cast<std::size_t>(x)]) stack.push_back(d);
+      }
+    }
+    if (order.size() != cells.size()) throw std::invalid_argument("rivers across tiles: the channel network loops");
+    // extract_reaches on the channel cells.
+    std::vector<std::int32_t> reach_of_head(cells.size(), -1);
+    std::vector<Reach> reaches;
+    for (const std::int32_t head : order) {
+      if (donors[static_cast<std::size_t>(head)].size() == 1) continue;
+      Reach r;
+      r.order = cells[static_cast<std::size_t>(head)].order;
+      r.cells.push_back(head);
+      for (std::int32_t x = head;;) {
+        const std::int32_t next = receiver[static_cast<std::size_t>(x)];
+        if (next == x) break;
+        r.cells.push_back(next);
+        if (donors[static_cast<std::size_t>(next)].size() >= 2) {
+          r.parent = reach_of_head[static_cast<std::size_t>(next)];
+          break;
+        }
+        x = next;
+      }
+      if (r.cells.size() < 2) continue;  // a confluence that is itself an outlet
+      reach_of_head[static_cast<std::size_t>(head)] = static_cast<std::int32_t>(reaches.size());
+      reaches.push_back(std::move(r));
+    }
+    const double cell_area = FlowGrid::of(whole_).cell_area();
+    return reach_curves(
+        reaches,
+        [&](std::int32_t c) {
+          const ChannelCell& cell = cells[static_cast<std::size_t>(c)];
+          const int i = static_cast<int>(cell.sample % size.x), j = static_cast<int>(cell.sample / size.x);
+          return RiverCell{whole_.x(i), whole_.y(j), cell.z, static_cast<double>(cell.count) * cell_area,
+                           cell.lake != 0};
+        },
+        params_);
+  }
+
+  RiverParams params_;
+  Domain whole_;
+};
+
+const bool kRiversRegistered = register_tile_graph(
+    "RiverExtract",
+    [](const ParamView& p, const Domain& whole) {
+      const RiverParams params{p.get<double>("threshold"),
+                               p.get<double>("runoff"),
+                               p.get<double>("width_coefficient"),
+                               p.get<double>("width_exponent"),
+                               static_cast<int>(p.get<std::int64_t>("smoothing")),
+                               p.get<bool>("split_at_lakes")};
+      std::unique_ptr<TileGraphAlgorithm> algorithm = std::make_unique<RiversAcrossTiles>(params, whole);
+      return algorithm;
+    },
+    "with no rainfall_weight linked (the weighted area is a floating-point sum, whose rounding depends on the order "
+    "of addition)",
+    {"rainfall_weight"});
+
+}  // namespace
+}  // namespace orogen::hydrology

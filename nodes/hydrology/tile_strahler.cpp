@@ -1,0 +1,154 @@
+#include "nodes/hydrology/tile_strahler.h"
+
+#include <stdexcept>
+#include <unordered_map>
+
+#include "graph/tile_bytes.h"
+
+namespace orogen::hydrology {
+namespace {
+
+constexpr const char* kWhat = "tile Strahler orders";
+
+// The donors of two disjoint sets together.
+DonorSummary merged(DonorSummary a, DonorSummary b) {
+  if (a.order != b.order) return a.order > b.order ? a : b;
+  return {a.order, a.count + b.count};
+}
+
+bool operator!=(DonorSummary a, DonorSummary b) { return a.order != b.order || a.count != b.count; }
+
+// Cells in an order where every cell comes before its receiver (Kahn); throws if the receivers form a cycle.
+std::vector<std::int32_t> upstream_first(const std::vector<std::int32_t>& receiver) {
+  std::vector<std::int32_t> donors(receiver.size(), 0), order;
+  order.reserve(receiver.size());
+  for (const std::int32_t r : receiver) {
+    if (r < -1 || r >= static_cast<std::int32_t>(receiver.size()))
+      throw std::invalid_argument("tile Strahler orders: a receiver outside the tile");
+    if (r >= 0) ++donors[static_cast<std::size_t>(r)];
+  }
+  for (std::size_t c = 0; c < receiver.size(); ++c)
+    if (!donors[c]) order.push_back(static_cast<std::int32_t>(c));
+  for (std::size_t h = 0; h < order.size(); ++h)
+    if (const std::int32_t r = receiver[static_cast<std::size_t>(order[h])];
+        r >= 0 && !--donors[static_cast<std::size_t>(r)])
+      order.push_back(r);
+  if (order.size() != receiver.size()) throw std::invalid_argument("tile Strahler orders: the flow directions loop");
+  return order;
+}
+
+struct Message {
+  TileRect rect;
+  bool changed = false;
+  std::vector<DonorSummary> own;
+};
+
+Message decode(std::string_view in, glm::ivec2 domain_size) {
+  Message m;
+  m.rect = take_tile_rect(in, domain_size, kWhat);
+  m.changed = bytes::take<std::uint8_t>(in, kWhat) != 0;
+  m.own = bytes::take_vector<DonorSummary>(in, kWhat);
+  if (!in.empty()) throw std::invalid_argument("tile Strahler orders: trailing bytes");
+  if (m.own.size() != perimeter_cells(m.rect.size).size())
+    throw std::invalid_argument("tile Strahler orders: one summary per perimeter cell expected");
+  for (const DonorSummary& s : m.own)
+    if (s.order < 0 || s.count < 0) throw std::invalid_argument("tile Strahler orders: a negative summary");
+  return m;
+}
+
+}  // namespace
+
+TileStrahler::TileStrahler(std::vector<std::int32_t> receiver, std::vector<std::uint8_t> channel, const TileRect& rect,
+                           glm::ivec2 domain_size)
+    : rect_(rect), domain_(domain_size), receiver_(std::move(receiver)), channel_(std::move(channel)) {
+  const std::size_t n = static_cast<std::size_t>(rect.size.x) * static_cast<std::size_t>(rect.size.y);
+  if (rect.size.x < 1 || rect.size.y < 1 || receiver_.size() != n || channel_.size() != n)
+    throw std::invalid_argument("TileStrahler: receivers and channel cells must cover the tile");
+  upstream_first_ = upstream_first(receiver_);
+  perimeter_ = perimeter_index(rect.size);
+  const std::size_t perimeter_count = perimeter_cells(rect.size).size();
+  own_.resize(perimeter_count);
+  external_.resize(perimeter_count);
+  sent_.resize(perimeter_count);
+  compute();
+}
+
+void TileStrahler::compute() {
+  std::vector<DonorSummary> donors(receiver_.size());  // this tile's donors of each cell, upstream ones done first
+  order_.assign(receiver_.size(), 0);
+  for (const std::int32_t c : upstream_first_) {
+    const auto u = static_cast<std::size_t>(c);
+    DonorSummary all = donors[u];
+    if (const std::int32_t p = perimeter_[u]; p >= 0) {
+      own_[static_cast<std::size_t>(p)] = donors[u];
+      all = merged(all, external_[static_cast<std::size_t>(p)]);
+    }
+    if (!channel_[u]) continue;
+    // As strahler_orders: 1 at a source, the highest donor order, plus one where two or more donors have it.
+    order_[u] = all.order == 0 ? 1 : all.count >= 2 ? all.order + 1 : all.order;
+    if (const std::int32_t r = receiver_[u]; r >= 0)
+      donors[static_cast<std::size_t>(r)] = merged(donors[static_cast<std::size_t>(r)], {order_[u], 1});
+  }
+}
+
+std::string TileStrahler::message() {
+  bool changed = first_;
+  for (std::size_t k = 0; k < own_.size(); ++k) changed = changed || own_[k] != sent_[k];
+  sent_ = own_;
+  first_ = false;
+  std::string out;
+  put_tile_rect(out, rect_);
+  bytes::put(out, static_cast<std::uint8_t>(changed));
+  bytes::put_vector(out, own_);
+  return out;
+}
+
+void TileStrahler::answer(std::string_view bytes) {
+  auto external = bytes::take_vector<DonorSummary>(bytes, kWhat);
+  if (!bytes.empty()) throw std::invalid_argument("tile Strahler orders: trailing bytes");
+  if (external.size() != external_.size())
+    throw std::invalid_argument("tile Strahler orders: one summary per perimeter cell expected");
+  external_ = std::move(external);
+  compute();
+}
+
+std::vector<std::string> solve_strahler_perimeters(const std::vector<std::string>& messages, glm::ivec2 domain_size) {
+  std::vector<Message> tiles;
+  tiles.reserve(messages.size());
+  for (const std::string& m : messages) tiles.push_back(decode(m, domain_size));
+  // Per shared sample: the tiles' summaries there, as (tile, perimeter index).
+  struct Holder {
+    std::int32_t tile, k;
+  };
+  std::unordered_map<std::int64_t, std::vector<Holder>> holders;
+  std::vector<std::vector<std::int64_t>> sample(tiles.size());
+  for (std::size_t t = 0; t < tiles.size(); ++t) {
+    const auto cells = perimeter_cells(tiles[t].rect.size);
+    sample[t].reserve(cells.size());
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+      sample[t].push_back(domain_sample(tiles[t].rect, domain_size, cells[k]));
+      holders[sample[t].back()].push_back({static_cast<std::int32_t>(t), static_cast<std::int32_t>(k)});
+    }
+  }
+  std::vector<std::string> answers(tiles.size());
+  for (std::size_t t = 0; t < tiles.size(); ++t) {
+    std::vector<DonorSummary> external(tiles[t].own.size());
+    for (std::size_t k = 0; k < external.size(); ++k)
+      for (const Holder& h : holders.at(sample[t][k]))
+        if (h.tile != static_cast<std::int32_t>(t))
+          external[k] = merged(external[k], tiles[static_cast<std::size_t>(h.tile)].own[static_cast<std::size_t>(h.k)]);
+    bytes::put_vector(answers[t], external);
+  }
+  return answers;
+}
+
+bool strahler_changed(const std::vector<std::string>& messages) {
+  for (const std::string& m : messages) {
+    std::string_view in(m);
+    for (int k = 0; k < 4; ++k) bytes::take<int>(in, kWhat);  // the tile's rectangle
+    if (bytes::take<std::uint8_t>(in, kWhat)) return true;
+  }
+  return false;
+}
+
+}  // namespace orogen::hydrology

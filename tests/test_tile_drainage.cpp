@@ -1,0 +1,107 @@
+// DrainageMetrics across tiles through its registered tile-graph algorithm (nodes/hydrology/drainage_across_tiles.cpp):
+// depressions joined and kept as lakes across tiles, pits through the ring of the input, D8 counts, Strahler orders
+// and main-stream lengths through the perimeters, then the channel cells joined into one network whose figures are
+// computed in the whole-domain order. Every tile must get the whole-domain node's report, character for character,
+// and its window of the Strahler map, on every tiling (tiles two samples wide included).
+#include <gtest/gtest.h>
+
+#include "nodes/hydrology/drainage_metrics.h"
+#include "support/tile_graph_run.h"
+
+namespace orogen::hydrology {
+namespace {
+
+using test::algorithm_of;
+using test::domain_of;
+using test::edge;
+using test::same_bits;
+using test::Terrain;
+using test::terrain;
+
+// The last: tiles of two samples on the 41 x 33 terrain.
+const std::vector<glm::ivec2> kTilings = {{1, 1}, {2, 2}, {3, 2}, {4, 3}, {1, 4}, {7, 6}, {40, 32}};
+
+struct Tiled {
+  std::vector<std::string> reports;  // per tile
+  std::vector<float> order;          // joined
+};
+
+Tiled run_metrics(const TileGraphAlgorithm& algorithm, const Terrain& t, glm::ivec2 counts) {
+  const Domain whole = domain_of(t);
+  std::vector<std::unique_ptr<TileGraphTile>> tiles;
+  for (int tj = 0; tj < counts.y; ++tj)
+    for (int ti = 0; ti < counts.x; ++ti) {
+      const glm::ivec2 first{edge(ti, t.size.x, counts.x), edge(tj, t.size.y, counts.y)};
+      const glm::ivec2 size =
+          glm::ivec2(edge(ti + 1, t.size.x, counts.x), edge(tj + 1, t.size.y, counts.y)) - first + 1;
+      auto h = std::make_shared<Heightfield>(whole.subdomain(first.x, first.y, size.x, size.y));
+      for (int j = 0; j < size.y; ++j)
+        for (int i = 0; i < size.x; ++i)
+          h->data[static_cast<std::size_t>(j) * size.x + i] =
+              t.z[static_cast<std::size_t>(first.y + j) * t.size.x + first.x + i];
+      tiles.push_back(algorithm.start({HeightfieldPtr(h)}));
+    }
+  for (int round = 0;; ++round) {
+    std::vector<std::string> messages;
+    for (auto& tile : tiles) messages.push_back(tile->message(round));
+    const auto answers = algorithm.solve(round, messages);
+    for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->answer(round, answers[k]);
+    if (!algorithm.another_round(round, messages)) break;
+  }
+  Tiled out;
+  out.order.assign(t.z.size(), std::numeric_limits<float>::quiet_NaN());
+  for (auto& tile : tiles) {
+    const auto outputs = tile->outputs();
+    out.reports.push_back(std::get<ReportPtr>(outputs.at(1))->json);
+    const Heightfield& h = *std::get<HeightfieldPtr>(outputs.at(0));
+    for (int j = 0; j < h.domain.height(); ++j)
+      for (int i = 0; i < h.domain.width(); ++i)
+        out.order[static_cast<std::size_t>(h.domain.first.y + j) * t.size.x + h.domain.first.x + i] =
+            h.data[static_cast<std::size_t>(j) * h.domain.width() + i];
+  }
+  return out;
+}
+
+TEST(DrainageMetricsAcrossTiles, EveryTileGetsTheWholeDomainReportAndItsWindowOfTheOrders) {
+  int highest_order = 0;
+  std::size_t most_lakes = 0;
+  for (const glm::ivec2 size : {glm::ivec2(41, 33), glm::ivec2(129, 97)})
+    for (int levels : {0, 2})
+      for (const double threshold : {800.0, 5000.0}) {
+        SCOPED_TRACE(std::to_string(size.x) + "x" + std::to_string(size.y) + " levels " + std::to_string(levels) +
+                     " threshold " + std::to_string(threshold));
+        const Terrain t = terrain(size, 51, levels);
+        const Domain whole = domain_of(t);
+        // Lakes from 0.5 m deep and 4 cells: some kept, some not, some across tiles.
+        const LakeThreshold lake{0.5, 400.0};
+        const DrainageReport r = drainage_metrics(test::heights_of(t), threshold, nullptr, lake);
+        highest_order = std::max(highest_order, r.network.max_order);
+        most_lakes = std::max(most_lakes, r.lakes);
+        std::vector<float> order(r.network.order.begin(), r.network.order.end());
+        const std::string report = r.json();
+        const auto algorithm = algorithm_of(
+            "DrainageMetrics", {{"threshold", threshold}, {"lake_depth", 0.5}, {"lake_area", 400.0}}, whole);
+        ASSERT_TRUE(algorithm);
+        for (const glm::ivec2 counts : kTilings) {
+          if (counts.x >= 40 && size.x > 41) continue;  // tiles two samples wide: on the small terrain only
+          SCOPED_TRACE("tiles " + std::to_string(counts.x) + "x" + std::to_string(counts.y));
+          const Tiled tiled = run_metrics(*algorithm, t, counts);
+          for (const std::string& text : tiled.reports) ASSERT_EQ(text, report);
+          EXPECT_TRUE(same_bits(tiled.order, order)) << "Strahler map";
+        }
+      }
+  EXPECT_GE(highest_order, 3) << "the networks must branch";
+  EXPECT_GE(most_lakes, 2u) << "some depressions must be kept as lakes";
+}
+
+TEST(DrainageMetricsAcrossTiles, RefusesMalformedMessages) {
+  const Terrain t = terrain({9, 9}, 3, 0);
+  const auto algorithm = algorithm_of("DrainageMetrics", {}, domain_of(t));
+  ASSERT_TRUE(algorithm);
+  EXPECT_THROW(algorithm->start({}), std::invalid_argument);
+  EXPECT_THROW(algorithm->solve(0, {std::string("\x0b")}), std::invalid_argument);  // no such phase
+  EXPECT_THROW(algorithm->solve(0, {std::string("\x01")}), std::invalid_argument);  // truncated depressions
+}
+
+}  // namespace
+}  // namespace orogen::hydrology
