@@ -18,6 +18,7 @@
 #include "nodes/hydrology/tile_basins.h"
 #include "nodes/hydrology/tile_ring.h"
 #include "nodes/hydrology/tile_shares.h"
+#include "nodes/hydrology/tile_surface_memo.h"
 #include "support/tile_graph_run.h"
 
 namespace orogen::hydrology {
@@ -72,6 +73,7 @@ TEST(FlowAcrossTiles, FlowDirectionWithFillEqualsTheWholeDomainNodeOnEveryTiling
         ASSERT_TRUE(algorithm);
         for (const glm::ivec2 counts : kTilings) {
           SCOPED_TRACE(tiling_text(size, levels, counts));
+          forget_filled_surfaces();  // the fill's rounds, not a surface an earlier run kept
           expect_same(test::run_across_tiles(*algorithm, t, counts), {r.angle, r.dx, r.dy, r.slope},
                       {"out", "dx", "dy", "gradient"});
         }
@@ -105,6 +107,7 @@ TEST(FlowAcrossTiles, D8AccumulationEqualsTheWholeDomainNodeAndSumsToTheAreaOfEa
           const auto ending = test::cells_ending_at(f.receiver);
           for (const glm::ivec2 counts : kTilings) {
             SCOPED_TRACE(tiling_text(size, levels, counts));
+            forget_filled_surfaces();  // the fill's rounds, not a surface an earlier run kept
             const auto tiled = test::run_across_tiles(*algorithm, t, counts, 2);
             expect_same(tiled, {r.accumulation, r.flow, r.wetness}, {"out", "flow", "wetness"});
             for (std::size_t c = 0; c < g.size(); ++c)
@@ -145,6 +148,7 @@ TEST(FlowAcrossTiles, WatershedsEqualTheWholeDomainNodeOnEveryTiling) {
           ASSERT_TRUE(algorithm);
           for (const glm::ivec2 counts : kTilings) {
             SCOPED_TRACE(tiling_text(size, levels, counts));
+            forget_filled_surfaces();  // the fill's rounds, not a surface an earlier run kept
             const auto tiled = test::run_across_tiles(*algorithm, t, counts);
             expect_same(tiled, {r.id, r.area}, {"out", "area"});
             if (counts.x * counts.y < 4) continue;
@@ -302,6 +306,7 @@ TEST(FlowAcrossTiles, AccumulationBySharesEqualsTheWholeDomainNodeOnEveryTiling)
           for (const glm::ivec2 counts : kTilings) {
             SCOPED_TRACE(tiling_text(size, shape, counts));
             int rounds = 0;
+            forget_filled_surfaces();  // the fill's rounds, not a surface an earlier run kept
             const auto tiled =
                 test::run_across_tiles(*algorithm, t, counts, 2, &rounds, {k.rain ? &rain.data : nullptr});
             expect_same(tiled, {r.accumulation, r.flow, r.wetness}, {"out", "flow", "wetness"});
@@ -424,6 +429,51 @@ TEST(FlowAcrossTiles, SharesTravelAsCheckedBytes) {
   const auto right = tiles[1]->accumulation();
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i < 3; ++i) EXPECT_EQ(right[j * 3 + i], whole[j * 5 + 2 + i]);
+}
+
+// A flow node keeps each tile's filled surface; the next flow node on the same heights takes it instead of filling
+// again (one round of agreement, then the ring), and fills when any tile's heights differ, so no tile ever takes a
+// surface of other heights and all tiles stay in step.
+TEST(FlowAcrossTiles, TheFilledSurfaceIsSharedBetweenFlowNodesOnTheSameHeights) {
+  const Terrain t = terrain({41, 33}, 16, 2);
+  const Domain whole = domain_of(t);
+  const Heightfield ground = test::heights_of(t);
+  AccumulationParams p;
+  p.method = FlowMethod::MFD;
+  const AccumulationResult r = flow_accumulation(ground, nullptr, p);
+  const auto direction = algorithm_of("FlowDirection", {}, whole);
+  const auto accumulation = algorithm_of("FlowAccumulation", {{"method", std::string("mfd")}}, whole);
+  for (const glm::ivec2 counts : {glm::ivec2(1, 1), glm::ivec2(3, 2), glm::ivec2(40, 32)}) {
+    SCOPED_TRACE(tiling_text(t.size, 2, counts));
+    forget_filled_surfaces();
+    int filling = 0, sharing = 0, again = 0;
+    const auto fresh = test::run_across_tiles(*accumulation, t, counts, 2, &filling);
+    forget_filled_surfaces();
+    test::run_across_tiles(*direction, t, counts);
+    const auto shared = test::run_across_tiles(*accumulation, t, counts, 2, &sharing);
+    expect_same(fresh, {r.accumulation, r.flow, r.wetness}, {"out", "flow", "wetness"});
+    expect_same(shared, {r.accumulation, r.flow, r.wetness}, {"out", "flow", "wetness"});
+    EXPECT_LT(sharing, filling);  // the fill's rounds skipped
+    // Other heights in one tile's interior (the last tile's middle sample): every tile fills again.
+    Terrain other = t;
+    other.z[other.z.size() - static_cast<std::size_t>(t.size.x) * 2 - 2] -= 3.0f;
+    Heightfield other_ground = test::heights_of(other);
+    const AccumulationResult o = flow_accumulation(other_ground, nullptr, p);
+    forget_filled_surfaces();
+    test::run_across_tiles(*direction, t, counts);
+    const auto refilled = test::run_across_tiles(*accumulation, other, counts, 2, &again);
+    expect_same(refilled, {o.accumulation, o.flow, o.wetness}, {"out", "flow", "wetness"});
+    EXPECT_GT(again, sharing);
+  }
+  forget_filled_surfaces();
+  const TileRect rect{{0, 0}, {2, 2}};
+  const HeightsHash h = hash_heights(std::vector<float>{1, 2, 3, 4});
+  EXPECT_FALSE(h == hash_heights(std::vector<float>{1, 2, 4, 3}));
+  keep_filled_surface(rect, {5, 5}, h, {1, 2, 3, 4});
+  EXPECT_NE(find_filled_surface(rect, {5, 5}, h), nullptr);
+  EXPECT_EQ(find_filled_surface(rect, {5, 6}, h), nullptr);  // another domain
+  EXPECT_EQ(find_filled_surface(rect, {5, 5}, hash_heights(std::vector<float>{1, 2, 3, 5})), nullptr);
+  forget_filled_surfaces();
 }
 
 TEST(FlowAcrossTiles, RingsComeFromTheTilesAroundAsCheckedBytes) {

@@ -1,7 +1,9 @@
-// FlowDirection (fill on), FlowAccumulation (D8, no rainfall weight) and Watersheds across the tiles of a tiled or
-// distributed build, exact (graph/tile_graph.h, docs/distributed.md). The rounds go in phases, each message and answer
-// tagged with its phase so every rank and tile knows where the run stands:
+// FlowDirection (fill on), FlowAccumulation (every method) and Watersheds across the tiles of a tiled or distributed
+// build, exact (graph/tile_graph.h, docs/distributed.md). The rounds go in phases, each message and answer tagged with
+// its phase so every rank and tile knows where the run stands:
 //
+//  - surface (with `fill` on): whether every tile kept the filled surface of the same heights from an earlier flow
+//    node (nodes/hydrology/tile_surface_memo.h); if so the fill's rounds are skipped;
 //  - fill (with `fill` on): the spill graphs of all tiles (Barnes 2016, nodes/hydrology/tile_fill.h), then rounds of
 //    the epsilon surface until no perimeter value falls: the whole-domain Priority-Flood+epsilon bit for bit;
 //  - ring: each tile gets the one-sample ring of that surface from the tiles around it (nodes/hydrology/tile_ring.h),
@@ -30,11 +32,24 @@
 #include "nodes/hydrology/tile_fill.h"
 #include "nodes/hydrology/tile_ring.h"
 #include "nodes/hydrology/tile_shares.h"
+#include "nodes/hydrology/tile_surface_memo.h"
 
 namespace orogen::hydrology {
 namespace {
 
-enum class Phase : std::uint8_t { Spill, Epsilon, Ring, Accumulate, Maximum, Links, Basins, Edges, Shares, Done };
+enum class Phase : std::uint8_t {
+  Spill,
+  Epsilon,
+  Ring,
+  Accumulate,
+  Maximum,
+  Links,
+  Basins,
+  Edges,
+  Shares,
+  Surface,
+  Done
+};
 
 constexpr const char* kWhat = "flow across tiles";
 
@@ -82,8 +97,11 @@ class FlowTile : public TileGraphTile {
         weight_[c] = static_cast<float>(std::max(0.0f, rainfall->data[c]) * grid_.cell_area());
     }
     if (job_.fill) {
-      flood_ = flood_tile(ground.data, rect_);
-      phase_ = Phase::Spill;
+      // The heights until the tiles decide whether to fill them or take the surfaces they kept.
+      heights_hash_ = hash_heights(ground.data);
+      kept_ = find_filled_surface(rect_, whole_, heights_hash_);
+      surface_ = ground.data;
+      phase_ = Phase::Surface;
     } else {
       surface_ = ground.data;
       phase_ = Phase::Ring;
@@ -92,6 +110,11 @@ class FlowTile : public TileGraphTile {
 
   std::string message(int) override {
     switch (phase_) {
+      case Phase::Surface: {
+        std::string out;
+        bytes::put(out, static_cast<std::uint8_t>(kept_ != nullptr));
+        return tagged(phase_, std::move(out));
+      }
       case Phase::Spill:
         return tagged(phase_, encode(flood_.graph));
       case Phase::Epsilon:
@@ -125,6 +148,17 @@ class FlowTile : public TileGraphTile {
   void answer(int, std::string_view bytes) override {
     const Phase next = take_phase(bytes);
     switch (phase_) {
+      case Phase::Surface:
+        if (!bytes.empty()) throw std::invalid_argument("flow across tiles: trailing bytes");
+        if (next == Phase::Ring) {
+          if (!kept_) throw std::invalid_argument("flow across tiles: no kept surface to take");
+          surface_ = *kept_;
+        } else {
+          flood_ = flood_tile(surface_, rect_);
+          surface_ = {};
+        }
+        kept_.reset();
+        break;
       case Phase::Spill: {
         const auto levels = bytes::take_vector<float>(bytes, kWhat);
         epsilon_ = std::make_unique<TileEpsilon>(apply_spill_levels(flood_, levels), rect_, whole_);
@@ -136,6 +170,7 @@ class FlowTile : public TileGraphTile {
         if (next != Phase::Epsilon) {
           surface_ = epsilon_->surface();
           epsilon_.reset();
+          keep_filled_surface(rect_, whole_, heights_hash_, surface_);
         }
         break;
       case Phase::Ring:
@@ -266,6 +301,8 @@ class FlowTile : public TileGraphTile {
   FlowGrid grid_;  // the whole domain's spacing
   TileRect rect_;
   Phase phase_ = Phase::Ring;
+  HeightsHash heights_hash_;                        // of the input heights (with `fill`)
+  std::shared_ptr<const std::vector<float>> kept_;  // their filled surface, from an earlier flow node
   TileFlood flood_;
   std::unique_ptr<TileEpsilon> epsilon_;
   std::vector<float> surface_;  // the routed heights on the tile: filled (epsilon) or the input
@@ -293,6 +330,7 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
     if (messages.empty()) return false;
     std::string_view first(messages.front());
     switch (take_phase(first)) {
+      case Phase::Surface:
       case Phase::Spill:
       case Phase::Epsilon:
         return true;  // more epsilon rounds, or the ring
@@ -336,6 +374,17 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
     std::vector<std::string> answers(messages.size());
     Phase next = Phase::Done;
     switch (phase) {
+      case Phase::Surface: {
+        // The fill's rounds unless every tile kept its surface.
+        bool all = true;
+        for (std::string_view m : views) {
+          const bool kept = bytes::take<std::uint8_t>(m, kWhat) != 0;
+          all = all && kept;
+          if (!m.empty()) throw std::invalid_argument("flow across tiles: trailing bytes");
+        }
+        next = all ? Phase::Ring : Phase::Spill;
+        break;
+      }
       case Phase::Spill: {
         std::vector<TileSpillGraph> graphs;
         graphs.reserve(messages.size());
