@@ -1,10 +1,11 @@
-// FlowDirection (fill on), FlowAccumulation (D8) and Watersheds across tiles through their registered tile-graph
-// algorithms (nodes/hydrology/flow_across_tiles.cpp): the epsilon fill's rounds, a one-sample ring of the filled
-// surface from the tiles around, D8 counts through perimeter links (Barnes 2017), the largest count for the flow map,
-// and basin labels through the same links with the cells of each basin added up across tiles. Put together, the tiles'
-// outputs must equal the whole-domain functions the nodes call bit for bit, on every tiling, on terrains whose lakes,
-// flats and drainage cross tile borders and corners; and the accumulation at every outlet is the area that drains to
-// it.
+// FlowDirection (fill on), FlowAccumulation (every method) and Watersheds across tiles through their registered
+// tile-graph algorithms (nodes/hydrology/flow_across_tiles.cpp): the epsilon fill's rounds (or the filled surface an
+// earlier flow node kept), a one-sample ring of the filled surface from the tiles around, D8 counts through perimeter
+// links (Barnes 2017), D-infinity, MFD and rainfall-weighted shares pulled in neighbour order in rounds, the largest
+// area for the flow map, and basin labels through the same links with the cells of each basin added up across tiles.
+// Put together, the tiles' outputs must equal the whole-domain functions the nodes call bit for bit, on every tiling,
+// on terrains whose lakes, flats and drainage cross tile borders and corners; and the accumulation at every outlet is
+// the area that drains to it.
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -14,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "graph/tile_bytes.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/hydrology/flow.h"
 #include "nodes/hydrology/tile_basins.h"
 #include "nodes/hydrology/tile_ring.h"
@@ -205,8 +207,22 @@ TEST(FlowAcrossTiles, EveryAccumulationRunsAcrossTiles) {
   EXPECT_NE(algorithm_of("Watersheds", {{"fill", false}}, whole), nullptr);
   const auto algorithm = algorithm_of("FlowAccumulation", {{"method", std::string("mfd")}}, whole);
   auto h = std::make_shared<Heightfield>(whole);
-  auto other = std::make_shared<Heightfield>(Domain::from_extent({0, 0}, {640, 640}, {33, 33}));
-  EXPECT_THROW(algorithm->start({HeightfieldPtr(h), HeightfieldPtr(other)}), std::invalid_argument);
+  // A rainfall weight on another lattice is resampled onto each tile, sample for sample as the whole-domain node
+  // resamples it onto the domain (positions are origin + (first + i) * spacing); one that misses the domain is refused.
+  auto other = std::make_shared<Heightfield>(Domain::from_extent({-7, 3}, {650, 600}, {33, 29}));
+  for (std::size_t c = 0; c < other->data.size(); ++c) other->data[c] = 0.5f + 0.37f * static_cast<float>(c % 23);
+  EXPECT_NO_THROW(algorithm->start({HeightfieldPtr(h), HeightfieldPtr(other)}));
+  const HeightfieldPtr resampled = match_domain(other, whole);
+  for (const glm::ivec2 first : {glm::ivec2(0, 0), glm::ivec2(21, 10), glm::ivec2(42, 53)}) {
+    const Domain tile = whole.subdomain(first.x, first.y, 12, 12);
+    const HeightfieldPtr mine = match_domain(other, tile);
+    for (int j = 0; j < 12; ++j)
+      for (int i = 0; i < 12; ++i)
+        ASSERT_TRUE(same_bits({mine->data[static_cast<std::size_t>(j * 12 + i)]},
+                              {resampled->data[static_cast<std::size_t>((first.y + j) * 65 + first.x + i)]}));
+  }
+  auto far = std::make_shared<Heightfield>(Domain::from_extent({5000, 5000}, {5640, 5640}, {33, 33}));
+  EXPECT_THROW(algorithm->start({HeightfieldPtr(h), HeightfieldPtr(far)}), std::invalid_argument);
   EXPECT_NO_THROW(algorithm->start({HeightfieldPtr(h), HeightfieldPtr(h)}));
   EXPECT_NO_THROW(algorithm->start({HeightfieldPtr(h), PortValue{}}));
 }

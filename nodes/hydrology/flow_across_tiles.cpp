@@ -26,6 +26,7 @@
 #include "graph/node_type.h"
 #include "graph/tile_bytes.h"
 #include "graph/tile_graph.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/hydrology/flow.h"
 #include "nodes/hydrology/tile_accumulation.h"
 #include "nodes/hydrology/tile_basins.h"
@@ -353,10 +354,16 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
     const auto* ground = inputs.empty() ? nullptr : std::get_if<HeightfieldPtr>(&inputs[0]);
     if (!ground || !*ground) throw std::invalid_argument("flow routing across tiles needs a heightfield input");
     const auto* rain = inputs.size() > 1 ? std::get_if<HeightfieldPtr>(&inputs[1]) : nullptr;
-    const Heightfield* rainfall = rain && *rain ? rain->get() : nullptr;
-    if (rainfall && rainfall->domain.resolution != (*ground)->domain.resolution)
-      throw std::invalid_argument("flow accumulation across tiles: the rainfall weight must lie on the tile");
-    return std::make_unique<FlowTile>(**ground, rainfall, job_, whole_);
+    HeightfieldPtr rainfall = rain ? *rain : nullptr;
+    if (rainfall && rainfall->domain != (*ground)->domain) {
+      // On another lattice: resampled onto the tile as the whole-domain node resamples it onto the domain (every
+      // sample from its world position, origin + (first + i) * spacing, so the tile's samples are the domain's).
+      if (!domains_overlap(rainfall->domain, whole_))
+        throw std::invalid_argument("FlowAccumulation: input 'rainfall_weight' (" + rainfall->domain.describe() +
+                                    ") does not overlap the domain (" + whole_.describe() + ")");
+      rainfall = match_domain(rainfall, (*ground)->domain);
+    }
+    return std::make_unique<FlowTile>(**ground, rainfall.get(), job_, whole_);
   }
 
   std::vector<std::string> solve(int, const std::vector<std::string>& tagged_messages) const override {
