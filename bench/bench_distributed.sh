@@ -7,6 +7,8 @@
 # GRAPH=bench/distributed_fill.json measures the nodes that run across the tiles today (filling flat, lakes,
 # normalization), GRAPH=bench/distributed_flow.json the flow nodes (epsilon fill, D8 direction, D8 accumulation with
 # its flow map and wetness index): there each rank holds only its tiles.
+# GRAPH=bench/distributed_mfd.json measures MFD FlowAccumulation across the tiles (the epsilon fill, the ring, the
+# shares' rounds) with its flow map and wetness index.
 # GRAPH=bench/distributed_thermal.json measures ThermalErosion across the tiles (halos exchanged every k
 # iterations). GRAPH=bench/distributed_particles.json measures HydraulicErosion across the tiles (a round per droplet
 # phase); its density is low for the tests: ARGS='--set droplets.droplets_per_km2=20000' gives two droplets a sample at

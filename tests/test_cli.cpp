@@ -260,6 +260,10 @@ TEST(Cli, NodeReferenceComesFromTheRegistry) {
   EXPECT_NE(one.out.find("Parameters"), std::string::npos);
   EXPECT_NE(one.out.find("Reach: point-wise"), std::string::npos) << one.out;
   EXPECT_NE(orogen({"nodes", "Blur"}).out.find("Reach: local: 5 sigma + 2 samples"), std::string::npos);
+  // Every method of FlowAccumulation, weighted or not, runs across the tiles: no condition, no whole-domain case.
+  const auto accumulation = orogen({"nodes", "FlowAccumulation"}).out;
+  EXPECT_NE(accumulation.find("(runs across the tiles)"), std::string::npos) << accumulation;
+  EXPECT_EQ(accumulation.find("otherwise computed on the whole domain"), std::string::npos) << accumulation;
   auto markdown = orogen({"nodes", "--markdown"});
   EXPECT_NE(markdown.out.find("### Slope"), std::string::npos);
   EXPECT_NE(markdown.out.find("Reach: local: 1 sample."), std::string::npos);

@@ -660,14 +660,14 @@ TEST(CliTiles, TileGraphAndReductionNodesRunAcrossTheTilesExactlyAndInATilesMemo
 // `orogen nodes TYPE` says which of the tile-graph nodes run across the tiles and which are, for now, computed on the
 // whole domain.
 TEST(CliTiles, TheNodeReferenceSaysWhichHydrologyNodesRunAcrossTheTiles) {
-  for (const char* type :
-       {"FillDepressions", "Lakes", "FlowDirection", "Watersheds", "FloodFill", "RiverExtract", "DrainageMetrics"}) {
+  for (const char* type : {"FillDepressions", "Lakes", "FlowDirection", "FlowAccumulation", "Watersheds", "FloodFill",
+                           "RiverExtract", "DrainageMetrics"}) {
     const auto r = orogen({"nodes", type});
     ASSERT_EQ(r.exit_code, 0) << type;
     EXPECT_NE(r.out.find("(runs across the tiles"), std::string::npos) << type << ":\n" << r.out;
   }
   // With the parameters or inputs an algorithm cannot take, the node is computed on the whole domain: said too.
-  for (const char* type : {"RiverExtract", "FlowAccumulation"}) {
+  for (const char* type : {"RiverExtract"}) {
     const auto r = orogen({"nodes", type});
     ASSERT_EQ(r.exit_code, 0) << type;
     EXPECT_NE(r.out.find("no rainfall_weight linked"), std::string::npos) << type << ":\n" << r.out;
@@ -677,10 +677,10 @@ TEST(CliTiles, TheNodeReferenceSaysWhichHydrologyNodesRunAcrossTheTiles) {
   }
 }
 
-// A rainfall weight makes the accumulation a sum of floating-point weights, whose rounding depends on the order of
-// addition: that FlowAccumulation is computed on the whole domain (named in the warning), the unweighted one across
-// the tiles, and both equal the untiled build.
-TEST(CliTiles, WeightedFlowAccumulationStaysOnTheWholeDomain) {
+// A rainfall weight makes the accumulation a sum of floating-point weights, and D-infinity and MFD sums of fractions:
+// they run across the tiles too (shares pulled in neighbour order, nodes/hydrology/tile_shares.h), as the unweighted
+// D8 counts do, and all equal the untiled build.
+TEST(CliTiles, WeightedAndDispersiveFlowAccumulationRunAcrossTheTiles) {
   const auto dir = scratch_dir("tiles-rainfall");
   write_text(dir / "g.json", R"({
   "format": "orogen-graph", "version": 7,
@@ -691,20 +691,27 @@ TEST(CliTiles, WeightedFlowAccumulationStaysOnTheWholeDomain) {
     { "id": "flow", "type": "FlowAccumulation", "inputs": { "in": "noise.out" }, "params": { "method": "d8" } },
     { "id": "wet", "type": "FlowAccumulation", "inputs": { "in": "noise.out", "rainfall_weight": "rain.out" },
       "params": { "method": "d8" } },
+    { "id": "spread", "type": "FlowAccumulation", "inputs": { "in": "noise.out", "rainfall_weight": "rain.out" },
+      "params": { "method": "mfd" } },
+    { "id": "facets", "type": "FlowAccumulation", "inputs": { "in": "noise.out" }, "params": { "method": "dinf" } },
     { "id": "save_flow", "type": "WriteHeightfield", "inputs": { "in": "flow.out" }, "params": { "path": "flow.exr" } },
-    { "id": "save_wet", "type": "WriteHeightfield", "inputs": { "in": "wet.out" }, "params": { "path": "wet.exr" } }
+    { "id": "save_wet", "type": "WriteHeightfield", "inputs": { "in": "wet.out" }, "params": { "path": "wet.exr" } },
+    { "id": "save_spread", "type": "WriteHeightfield", "inputs": { "in": "spread.flow" },
+      "params": { "path": "spread.exr" } },
+    { "id": "save_facets", "type": "WriteHeightfield", "inputs": { "in": "facets.wetness" },
+      "params": { "path": "facets.exr" } }
   ]
 })");
   ASSERT_EQ(orogen({"eval", (dir / "g.json").string(), "-o", (dir / "whole").string(), "--quiet"}).exit_code, 0);
-  const auto r = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "tiled").string(), "--tiles", "2x2"});
+  const auto r = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "tiled").string(), "--tiles", "3x2"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.err.find("node 'flow' (FlowAccumulation) computed across the tiles"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("'wet' (FlowAccumulation)"), std::string::npos) << r.err;  // in the whole-domain warning
-  EXPECT_EQ(r.err.find("node 'wet' (FlowAccumulation) computed across the tiles"), std::string::npos) << r.err;
-  for (const std::string stem : {"flow", "wet"})
+  for (const std::string node : {"flow", "wet", "spread", "facets"})
+    EXPECT_NE(r.err.find("node '" + node + "' (FlowAccumulation) computed across the tiles"), std::string::npos)
+        << r.err;
+  for (const std::string stem : {"flow", "wet", "spread", "facets"})
     for (int j = 0; j < 2; ++j)
-      for (int i = 0; i < 2; ++i)
-        EXPECT_EQ(window_differences(dir / "whole", dir / "tiled", stem, {65, 65}, {2, 2}, i, j), 0u)
+      for (int i = 0; i < 3; ++i)
+        EXPECT_EQ(window_differences(dir / "whole", dir / "tiled", stem, {65, 65}, {3, 2}, i, j), 0u)
             << stem << " tile " << i << "," << j;
 }
 

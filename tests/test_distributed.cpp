@@ -140,12 +140,13 @@ fs::path run_distributed(const Job& job) {
   const auto r = mpirun(job.ranks, {"eval", (source_dir() / "graphs" / job.graph).string(), "-o", dir.string(),
                                     "--resolution", std::to_string(job.resolution), "--tiles", tiles_text(job.tiles)});
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  // FillDepressions with epsilon flats, FlowDirection with filling, D8 FlowAccumulation and Watersheds run across the
-  // ranks' tiles (perimeter rounds, a ring of the filled surface, counts and outlets through perimeter links), not on
-  // the whole domain.
+  // FillDepressions with epsilon flats, FlowDirection with filling, D8 and MFD FlowAccumulation and Watersheds run
+  // across the ranks' tiles (perimeter rounds, a ring of the filled surface, counts and outlets through perimeter
+  // links, MFD shares in rounds), not on the whole domain.
   if (std::string(job.graph) == "distributed_hydrology.json" && job.tiles.x * job.tiles.y > 1) {
-    for (const char* node : {"'filled' (FillDepressions)", "'direction' (FlowDirection)",
-                             "'flow_d8' (FlowAccumulation)", "'basins_id' (Watersheds)"})
+    for (const char* node :
+         {"'filled' (FillDepressions)", "'direction' (FlowDirection)", "'flow_d8' (FlowAccumulation)",
+          "'flow_mfd' (FlowAccumulation)", "'basins_id' (Watersheds)"})
       EXPECT_NE(r.err.find(std::string("node ") + node + " computed across the tiles"), std::string::npos) << r.err;
   }
   // RiverExtract across the ranks' tiles: every tile gets the whole joined network (compared below).

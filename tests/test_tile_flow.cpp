@@ -1,19 +1,26 @@
-// FlowDirection (fill on), FlowAccumulation (D8) and Watersheds across tiles through their registered tile-graph
-// algorithms (nodes/hydrology/flow_across_tiles.cpp): the epsilon fill's rounds, a one-sample ring of the filled
-// surface from the tiles around, D8 counts through perimeter links (Barnes 2017), the largest count for the flow map,
-// and basin labels through the same links with the cells of each basin added up across tiles. Put together, the tiles'
-// outputs must equal the whole-domain functions the nodes call bit for bit, on every tiling, on terrains whose lakes,
-// flats and drainage cross tile borders and corners; and the accumulation at every outlet is the area that drains to
-// it.
+// FlowDirection (fill on), FlowAccumulation (every method) and Watersheds across tiles through their registered
+// tile-graph algorithms (nodes/hydrology/flow_across_tiles.cpp): the epsilon fill's rounds (or the filled surface an
+// earlier flow node kept), a one-sample ring of the filled surface from the tiles around, D8 counts through perimeter
+// links (Barnes 2017), D-infinity, MFD and rainfall-weighted shares pulled in neighbour order in rounds, the largest
+// area for the flow map, and basin labels through the same links with the cells of each basin added up across tiles.
+// Put together, the tiles' outputs must equal the whole-domain functions the nodes call bit for bit, on every tiling,
+// on terrains whose lakes, flats and drainage cross tile borders and corners; and the accumulation at every outlet is
+// the area that drains to it.
+#include <cmath>
+#include <cstring>
 #include <map>
+#include <numeric>
 #include <set>
 
 #include <gtest/gtest.h>
 
 #include "graph/tile_bytes.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/hydrology/flow.h"
 #include "nodes/hydrology/tile_basins.h"
 #include "nodes/hydrology/tile_ring.h"
+#include "nodes/hydrology/tile_shares.h"
+#include "nodes/hydrology/tile_surface_memo.h"
 #include "support/tile_graph_run.h"
 
 namespace orogen::hydrology {
@@ -68,6 +75,7 @@ TEST(FlowAcrossTiles, FlowDirectionWithFillEqualsTheWholeDomainNodeOnEveryTiling
         ASSERT_TRUE(algorithm);
         for (const glm::ivec2 counts : kTilings) {
           SCOPED_TRACE(tiling_text(size, levels, counts));
+          forget_filled_surfaces();  // the fill's rounds, not a surface an earlier run kept
           expect_same(test::run_across_tiles(*algorithm, t, counts), {r.angle, r.dx, r.dy, r.slope},
                       {"out", "dx", "dy", "gradient"});
         }
@@ -101,6 +109,7 @@ TEST(FlowAcrossTiles, D8AccumulationEqualsTheWholeDomainNodeAndSumsToTheAreaOfEa
           const auto ending = test::cells_ending_at(f.receiver);
           for (const glm::ivec2 counts : kTilings) {
             SCOPED_TRACE(tiling_text(size, levels, counts));
+            forget_filled_surfaces();  // the fill's rounds, not a surface an earlier run kept
             const auto tiled = test::run_across_tiles(*algorithm, t, counts, 2);
             expect_same(tiled, {r.accumulation, r.flow, r.wetness}, {"out", "flow", "wetness"});
             for (std::size_t c = 0; c < g.size(); ++c)
@@ -141,6 +150,7 @@ TEST(FlowAcrossTiles, WatershedsEqualTheWholeDomainNodeOnEveryTiling) {
           ASSERT_TRUE(algorithm);
           for (const glm::ivec2 counts : kTilings) {
             SCOPED_TRACE(tiling_text(size, levels, counts));
+            forget_filled_surfaces();  // the fill's rounds, not a surface an earlier run kept
             const auto tiled = test::run_across_tiles(*algorithm, t, counts);
             expect_same(tiled, {r.id, r.area}, {"out", "area"});
             if (counts.x * counts.y < 4) continue;
@@ -183,22 +193,303 @@ TEST(FlowAcrossTiles, BasinLinksAndCountsTravelAsCheckedBytes) {
   EXPECT_EQ(area[0], 1.0f);
 }
 
-TEST(FlowAcrossTiles, WeightedAndDispersiveAccumulationStayOnTheWholeDomain) {
+TEST(FlowAcrossTiles, EveryAccumulationRunsAcrossTiles) {
   const Domain whole = Domain::from_extent({0, 0}, {640, 640}, {65, 65});
-  EXPECT_NE(algorithm_of("FlowAccumulation", {{"method", std::string("d8")}}, whole), nullptr);
-  EXPECT_NE(algorithm_of("FlowAccumulation", {{"method", std::string("d8")}, {"fill", false}}, whole), nullptr);
-  EXPECT_EQ(algorithm_of("FlowAccumulation", {{"method", std::string("mfd")}}, whole), nullptr);
-  EXPECT_EQ(algorithm_of("FlowAccumulation", {{"method", std::string("dinf")}}, whole), nullptr);
+  for (const char* method : {"d8", "dinf", "mfd"}) {
+    EXPECT_NE(algorithm_of("FlowAccumulation", {{"method", std::string(method)}}, whole), nullptr) << method;
+    EXPECT_NE(algorithm_of("FlowAccumulation", {{"method", std::string(method)}, {"fill", false}}, whole), nullptr);
+  }
   EXPECT_NE(algorithm_of("FlowDirection", {{"method", std::string("mfd")}}, whole), nullptr);
   EXPECT_EQ(algorithm_of("FlowDirection", {{"fill", false}}, whole), nullptr);  // a local node then
-  // A linked rainfall weight keeps the node on the whole domain (cli/tiling.h), and the algorithm refuses one.
-  EXPECT_EQ(tile_graph_unlinked_inputs("FlowAccumulation"), std::vector<std::string>{"rainfall_weight"});
+  // A linked rainfall weight runs across the tiles too (by shares); it must lie on the tile.
+  EXPECT_TRUE(tile_graph_unlinked_inputs("FlowAccumulation").empty());
   EXPECT_TRUE(tile_graph_unlinked_inputs("FlowDirection").empty());
   EXPECT_NE(algorithm_of("Watersheds", {{"fill", false}}, whole), nullptr);
-  const auto algorithm = algorithm_of("FlowAccumulation", {{"method", std::string("d8")}}, whole);
+  const auto algorithm = algorithm_of("FlowAccumulation", {{"method", std::string("mfd")}}, whole);
   auto h = std::make_shared<Heightfield>(whole);
-  EXPECT_THROW(algorithm->start({HeightfieldPtr(h), HeightfieldPtr(h)}), std::invalid_argument);
+  // A rainfall weight on another lattice is resampled onto each tile, sample for sample as the whole-domain node
+  // resamples it onto the domain (positions are origin + (first + i) * spacing); one that misses the domain is refused.
+  auto other = std::make_shared<Heightfield>(Domain::from_extent({-7, 3}, {650, 600}, {33, 29}));
+  for (std::size_t c = 0; c < other->data.size(); ++c) other->data[c] = 0.5f + 0.37f * static_cast<float>(c % 23);
+  EXPECT_NO_THROW(algorithm->start({HeightfieldPtr(h), HeightfieldPtr(other)}));
+  const HeightfieldPtr resampled = match_domain(other, whole);
+  for (const glm::ivec2 first : {glm::ivec2(0, 0), glm::ivec2(21, 10), glm::ivec2(42, 53)}) {
+    const Domain tile = whole.subdomain(first.x, first.y, 12, 12);
+    const HeightfieldPtr mine = match_domain(other, tile);
+    for (int j = 0; j < 12; ++j)
+      for (int i = 0; i < 12; ++i)
+        ASSERT_TRUE(same_bits({mine->data[static_cast<std::size_t>(j * 12 + i)]},
+                              {resampled->data[static_cast<std::size_t>((first.y + j) * 65 + first.x + i)]}));
+  }
+  auto far = std::make_shared<Heightfield>(Domain::from_extent({5000, 5000}, {5640, 5640}, {33, 33}));
+  EXPECT_THROW(algorithm->start({HeightfieldPtr(h), HeightfieldPtr(far)}), std::invalid_argument);
+  EXPECT_NO_THROW(algorithm->start({HeightfieldPtr(h), HeightfieldPtr(h)}));
   EXPECT_NO_THROW(algorithm->start({HeightfieldPtr(h), PortValue{}}));
+}
+
+// The whole-domain accumulation by shares (flow_shares.h) is the pull of every cell's donors in neighbour order: a
+// plain serial reference that visits the cells from the highest down (flow descends) gives the same bits.
+TEST(FlowAcrossTiles, WholeDomainSharesArePulledInNeighbourOrder) {
+  const Terrain t = terrain({57, 43}, 21, 0);
+  const FlowGrid g = FlowGrid::of(domain_of(t));
+  std::vector<float> z = t.z;
+  fill_depressions(g, z, FlatMode::Epsilon);
+  std::vector<float> weight(g.size());
+  for (std::size_t c = 0; c < g.size(); ++c) weight[c] = 50.0f + static_cast<float>(c % 13);
+  std::vector<std::int32_t> order(g.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) { return z[a] > z[b]; });
+  for (const FlowMethod m : {FlowMethod::DInfinity, FlowMethod::MFD}) {
+    const RoutingOptions opt{m, 1.7, {}};
+    const auto acc = accumulate(g, z, opt, weight);
+    std::vector<double> ref(g.size(), 0.0);
+    for (const std::int32_t c : order) {
+      double sum = weight[static_cast<std::size_t>(c)];
+      for (int k = 0; k < 8; ++k) {
+        const int i = g.column(c) + kDi[k], j = g.row(c) + kDj[k];
+        if (!g.inside(i, j)) continue;
+        int nb[8];
+        double fr[8];
+        const int n = flow_proportions(g, z, i, j, opt, nb, fr);
+        for (int q = 0; q < n; ++q)
+          if (nb[q] == opposite(k)) {
+            const double share = m == FlowMethod::DInfinity && n == 2
+                                     ? (q == 0 ? static_cast<double>(static_cast<float>(fr[0]))
+                                               : 1.0 - static_cast<double>(static_cast<float>(fr[0])))
+                                     : fr[q];
+            sum += ref[static_cast<std::size_t>(g.index(i, j))] * share;
+          }
+      }
+      ref[static_cast<std::size_t>(c)] = sum;
+    }
+    EXPECT_EQ(std::memcmp(acc.data(), ref.data(), acc.size() * sizeof(double)), 0)
+        << (m == FlowMethod::MFD ? "mfd" : "dinf");
+  }
+}
+
+// A valley that meanders along the border between tile columns (and the trench and bowl of the random terrains):
+// MFD and D-infinity paths cross the border at almost every step, so the shares go back and forth in many rounds.
+Terrain border_valley(glm::ivec2 size, unsigned seed) {
+  Terrain t = terrain(size, seed, 0);
+  const float axis = static_cast<float>(test::edge(1, size.x, 2));
+  for (int j = 0; j < size.y; ++j)
+    for (int i = 0; i < size.x; ++i) {
+      const float meander = axis + 1.5f * std::sin(0.7f * static_cast<float>(j));
+      t.z[static_cast<std::size_t>(j * size.x + i)] = 0.3f * t.z[static_cast<std::size_t>(j * size.x + i)] +
+                                                      4.0f * std::abs(static_cast<float>(i) - meander) +
+                                                      1.0f * static_cast<float>(j);
+    }
+  return t;
+}
+
+// D-infinity, MFD and rainfall-weighted D8 accumulation across tiles: the shares pulled in neighbour order through the
+// tiles' borders, round after round, equal the whole-domain node bit for bit on every tiling (tiles two samples wide
+// too), with and without filling and a rainfall weight; and the area reaching the outlets is the domain's.
+TEST(FlowAcrossTiles, AccumulationBySharesEqualsTheWholeDomainNodeOnEveryTiling) {
+  int most_rounds = 0;
+  struct Case {
+    const char* method;
+    FlowMethod kind;
+    bool rain;
+  };
+  for (const Case& k : {Case{"mfd", FlowMethod::MFD, false}, Case{"dinf", FlowMethod::DInfinity, false},
+                        Case{"mfd", FlowMethod::MFD, true}, Case{"dinf", FlowMethod::DInfinity, true},
+                        Case{"d8", FlowMethod::D8, true}})
+    for (const glm::ivec2 size : {glm::ivec2(41, 33), glm::ivec2(97, 65)})
+      for (int shape : {0, 1, 2})
+        for (bool fill : {true, false}) {
+          if (size.x > 41 && (k.rain || shape == 1)) continue;  // the larger terrain without the rarer cases
+          if (k.rain && !fill) continue;
+          SCOPED_TRACE(std::string(k.method) + (k.rain ? " rainfall " : " ") + (fill ? "fill" : "no fill") +
+                       " terrain " + std::to_string(shape));
+          const Terrain t = shape == 2 ? border_valley(size, 14) : terrain(size, 14, shape == 1 ? 2 : 0);
+          const Domain whole = domain_of(t);
+          const Heightfield ground = test::heights_of(t);
+          Heightfield rain(whole);
+          for (std::size_t c = 0; c < rain.data.size(); ++c) rain.data[c] = 0.25f + 0.1f * static_cast<float>(c % 17);
+          rain.data[5] = -1.0f;  // clamped to 0
+          const double max_area = shape == 1 ? 5e4 : 0.0;
+          AccumulationParams p;
+          p.method = k.kind;
+          p.fill = fill;
+          p.exponent = 1.1;
+          p.flow_max_area = max_area;
+          const AccumulationResult r = flow_accumulation(ground, k.rain ? &rain : nullptr, p);
+          const auto algorithm =
+              algorithm_of("FlowAccumulation",
+                           {{"method", std::string(k.method)}, {"fill", fill}, {"flow_max_area", max_area}}, whole);
+          ASSERT_TRUE(algorithm);
+          for (const glm::ivec2 counts : kTilings) {
+            SCOPED_TRACE(tiling_text(size, shape, counts));
+            int rounds = 0;
+            forget_filled_surfaces();  // the fill's rounds, not a surface an earlier run kept
+            const auto tiled =
+                test::run_across_tiles(*algorithm, t, counts, 2, &rounds, {k.rain ? &rain.data : nullptr});
+            expect_same(tiled, {r.accumulation, r.flow, r.wetness}, {"out", "flow", "wetness"});
+            most_rounds = std::max(most_rounds, rounds);
+          }
+          if (!fill || k.rain) continue;
+          // With filling only the border drains: what reaches it is the whole domain's area.
+          const FlowGrid g = FlowGrid::of(whole);
+          double drained = 0.0;
+          for (int j = 0; j < g.ny; ++j)
+            for (int i = 0; i < g.nx; ++i)
+              if (g.on_border(i, j)) drained += r.accumulation->data[static_cast<std::size_t>(g.index(i, j))];
+          // (minus what the border cells pass to each other: none, they are outlets)
+          EXPECT_NEAR(drained / (static_cast<double>(g.size()) * g.cell_area()), 1.0, 1e-5);
+        }
+  // The fill's rounds, the ring, the edges and then many rounds of shares crossing the valley's tile border.
+  EXPECT_GE(most_rounds, 30) << "some flow must cross tile borders many times";
+}
+
+// The shares' dataflow alone, in double (the node's float outputs would hide a difference in the last bits of a sum):
+// every tile's accumulation equals accumulate() on the whole domain bit for bit, on every tiling.
+TEST(FlowAcrossTiles, SharesInDoubleEqualTheWholeDomainOnEveryTiling) {
+  for (const FlowMethod m : {FlowMethod::MFD, FlowMethod::DInfinity, FlowMethod::D8})
+    for (int shape : {0, 1, 2})
+      for (bool weighted : {false, true}) {
+        SCOPED_TRACE("method " + std::to_string(static_cast<int>(m)) + " terrain " + std::to_string(shape) +
+                     (weighted ? " weighted" : ""));
+        const glm::ivec2 size(41, 33);
+        const Terrain t = shape == 2 ? border_valley(size, 15) : terrain(size, 15, shape == 1 ? 2 : 0);
+        const FlowGrid g = FlowGrid::of(domain_of(t));
+        std::vector<float> z = t.z;
+        fill_depressions(g, z, FlatMode::Epsilon);
+        std::vector<float> weight;
+        if (weighted)
+          for (std::size_t c = 0; c < g.size(); ++c) weight.push_back(30.0f + 7.0f * static_cast<float>(c % 11));
+        const RoutingOptions opt{m, 1.3, {}};
+        const auto whole = accumulate(g, z, opt, weight);
+        for (const glm::ivec2 counts : kTilings) {
+          SCOPED_TRACE(tiling_text(size, shape, counts));
+          std::vector<TileRect> rects;
+          std::vector<std::unique_ptr<TileShares>> tiles;
+          for (int tj = 0; tj < counts.y; ++tj)
+            for (int ti = 0; ti < counts.x; ++ti) {
+              const glm::ivec2 first{test::edge(ti, size.x, counts.x), test::edge(tj, size.y, counts.y)};
+              const TileRect r{
+                  first,
+                  glm::ivec2(test::edge(ti + 1, size.x, counts.x), test::edge(tj + 1, size.y, counts.y)) - first + 1};
+              const TileRect ringed = ringed_rect(r, size);
+              std::vector<float> rz, w;
+              for (int j = 0; j < ringed.size.y; ++j)
+                for (int i = 0; i < ringed.size.x; ++i)
+                  rz.push_back(z[static_cast<std::size_t>(g.index(ringed.first.x + i, ringed.first.y + j))]);
+              if (weighted)
+                for (int j = 0; j < r.size.y; ++j)
+                  for (int i = 0; i < r.size.x; ++i)
+                    w.push_back(weight[static_cast<std::size_t>(g.index(first.x + i, first.y + j))]);
+              rects.push_back(r);
+              tiles.push_back(std::make_unique<TileShares>(rz, r, size, g.dx, g.dy, opt, w));
+            }
+          std::vector<std::string> messages;
+          for (auto& tile : tiles) messages.push_back(tile->edges_message());
+          auto answers = solve_share_edges(messages, size);
+          for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->take_edges(answers[k]);
+          for (int round = 0;; ++round) {
+            ASSERT_LT(round, 10000);
+            messages.clear();
+            for (auto& tile : tiles) messages.push_back(tile->shares_message());
+            answers = solve_shares(messages, size);
+            for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->take_shares(answers[k]);
+            if (shares_done(messages)) break;
+          }
+          for (std::size_t k = 0; k < tiles.size(); ++k) {
+            const auto acc = tiles[k]->accumulation();
+            for (int j = 0; j < rects[k].size.y; ++j)
+              for (int i = 0; i < rects[k].size.x; ++i) {
+                const double a = acc[static_cast<std::size_t>(j * rects[k].size.x + i)];
+                const double b = whole[static_cast<std::size_t>(g.index(rects[k].first.x + i, rects[k].first.y + j))];
+                ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0) << "tile " << k << " cell " << i << "," << j;
+              }
+          }
+        }
+      }
+}
+
+TEST(FlowAcrossTiles, SharesTravelAsCheckedBytes) {
+  // A 5 x 3 domain in two tiles sharing column 2, falling to the east: flow crosses from tile 0 into tile 1 only.
+  const glm::ivec2 domain(5, 3);
+  const std::vector<TileRect> rects = {{{0, 0}, {3, 3}}, {{2, 0}, {3, 3}}};
+  const std::vector<float> z = {9, 8, 7, 6, 5, 9, 8, 7, 6, 5, 9, 8, 7, 6, 5};
+  const RoutingOptions opt{FlowMethod::MFD, 1.1, {}};
+  std::vector<std::unique_ptr<TileShares>> tiles;
+  for (const TileRect& r : rects) {
+    const TileRect ringed = ringed_rect(r, domain);
+    std::vector<float> rz;
+    for (int j = 0; j < ringed.size.y; ++j)
+      for (int i = 0; i < ringed.size.x; ++i) rz.push_back(z[(ringed.first.y + j) * domain.x + ringed.first.x + i]);
+    tiles.push_back(std::make_unique<TileShares>(rz, r, domain, 1.0, 1.0, opt, std::vector<float>{}));
+  }
+  std::vector<std::string> edges = {tiles[0]->edges_message(), tiles[1]->edges_message()};
+  EXPECT_THROW(solve_share_edges({edges[0] + "x", edges[1]}, domain), std::invalid_argument);
+  EXPECT_THROW(solve_share_edges({edges[0]}, {2, 2}), std::invalid_argument);  // outside the domain
+  const auto answers = solve_share_edges(edges, domain);
+  EXPECT_THROW(tiles[1]->take_edges(answers[1] + "x"), std::invalid_argument);
+  EXPECT_THROW(tiles[1]->take_edges(answers[0]), std::invalid_argument);  // not its edges
+  for (std::size_t t = 0; t < 2; ++t) tiles[t]->take_edges(answers[t]);
+  EXPECT_TRUE(tiles[0]->done());
+  EXPECT_FALSE(tiles[1]->done());  // column 2 waits for column 1, held by tile 0 alone
+  std::vector<std::string> shares = {tiles[0]->shares_message(), tiles[1]->shares_message()};
+  EXPECT_FALSE(shares_done(shares));
+  EXPECT_THROW(solve_shares({shares[0].substr(0, shares[0].size() - 1), shares[1]}, domain), std::invalid_argument);
+  const auto delivered = solve_shares(shares, domain);
+  EXPECT_THROW(tiles[0]->take_shares(delivered[1]), std::invalid_argument);  // tile 0 waits for nothing
+  tiles[1]->take_shares(delivered[1]);
+  EXPECT_TRUE(tiles[1]->done());
+  // No share moved while a tile waits: a cycle, refused.
+  EXPECT_THROW(
+      solve_shares({tiles[0]->shares_message(), shares[1].substr(0, 1) + tiles[0]->shares_message().substr(1)}, domain),
+      std::invalid_argument);
+  const auto whole = accumulate(FlowGrid(5, 3), z, opt);
+  const auto right = tiles[1]->accumulation();
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(right[j * 3 + i], whole[j * 5 + 2 + i]);
+}
+
+// A flow node keeps each tile's filled surface; the next flow node on the same heights takes it instead of filling
+// again (one round of agreement, then the ring), and fills when any tile's heights differ, so no tile ever takes a
+// surface of other heights and all tiles stay in step.
+TEST(FlowAcrossTiles, TheFilledSurfaceIsSharedBetweenFlowNodesOnTheSameHeights) {
+  const Terrain t = terrain({41, 33}, 16, 2);
+  const Domain whole = domain_of(t);
+  const Heightfield ground = test::heights_of(t);
+  AccumulationParams p;
+  p.method = FlowMethod::MFD;
+  const AccumulationResult r = flow_accumulation(ground, nullptr, p);
+  const auto direction = algorithm_of("FlowDirection", {}, whole);
+  const auto accumulation = algorithm_of("FlowAccumulation", {{"method", std::string("mfd")}}, whole);
+  for (const glm::ivec2 counts : {glm::ivec2(1, 1), glm::ivec2(3, 2), glm::ivec2(40, 32)}) {
+    SCOPED_TRACE(tiling_text(t.size, 2, counts));
+    forget_filled_surfaces();
+    int filling = 0, sharing = 0, again = 0;
+    const auto fresh = test::run_across_tiles(*accumulation, t, counts, 2, &filling);
+    forget_filled_surfaces();
+    test::run_across_tiles(*direction, t, counts);
+    const auto shared = test::run_across_tiles(*accumulation, t, counts, 2, &sharing);
+    expect_same(fresh, {r.accumulation, r.flow, r.wetness}, {"out", "flow", "wetness"});
+    expect_same(shared, {r.accumulation, r.flow, r.wetness}, {"out", "flow", "wetness"});
+    EXPECT_LT(sharing, filling);  // the fill's rounds skipped
+    // Other heights in one tile's interior (the last tile's middle sample): every tile fills again.
+    Terrain other = t;
+    other.z[other.z.size() - static_cast<std::size_t>(t.size.x) * 2 - 2] -= 3.0f;
+    Heightfield other_ground = test::heights_of(other);
+    const AccumulationResult o = flow_accumulation(other_ground, nullptr, p);
+    forget_filled_surfaces();
+    test::run_across_tiles(*direction, t, counts);
+    const auto refilled = test::run_across_tiles(*accumulation, other, counts, 2, &again);
+    expect_same(refilled, {o.accumulation, o.flow, o.wetness}, {"out", "flow", "wetness"});
+    EXPECT_GT(again, sharing);
+  }
+  forget_filled_surfaces();
+  const TileRect rect{{0, 0}, {2, 2}};
+  const HeightsHash h = hash_heights(std::vector<float>{1, 2, 3, 4});
+  EXPECT_FALSE(h == hash_heights(std::vector<float>{1, 2, 4, 3}));
+  keep_filled_surface(rect, {5, 5}, h, {1, 2, 3, 4});
+  EXPECT_NE(find_filled_surface(rect, {5, 5}, h), nullptr);
+  EXPECT_EQ(find_filled_surface(rect, {5, 6}, h), nullptr);  // another domain
+  EXPECT_EQ(find_filled_surface(rect, {5, 5}, hash_heights(std::vector<float>{1, 2, 3, 5})), nullptr);
+  forget_filled_surfaces();
 }
 
 TEST(FlowAcrossTiles, RingsComeFromTheTilesAroundAsCheckedBytes) {

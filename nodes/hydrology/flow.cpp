@@ -179,7 +179,8 @@ OROGEN_NODE(FlowAccumulation) {
           "2014) so flow crosses lakes. Also the normalized log flow map used for texturing (0 at flow_min_area, 1 at "
           "flow_max_area) and the topographic wetness index ln(a / tan beta) (Beven & Kirkby 1979) with a the "
           "specific catchment area (area per metre of contour). Accumulation by dependency counting (Barnes 2017, "
-          "'Parallel non-divergent flow accumulation for trillion cell digital elevation models').");
+          "'Parallel non-divergent flow accumulation for trillion cell digital elevation models'); each cell adds its "
+          "donors' shares in a fixed neighbor order, so tiled and distributed builds give the same sums bit for bit.");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.input("rainfall_weight", PortType::Heightfield)
       .unit(Unit::Unitless)

@@ -1,7 +1,9 @@
-// FlowDirection (fill on), FlowAccumulation (D8, no rainfall weight) and Watersheds across the tiles of a tiled or
-// distributed build, exact (graph/tile_graph.h, docs/distributed.md). The rounds go in phases, each message and answer
-// tagged with its phase so every rank and tile knows where the run stands:
+// FlowDirection (fill on), FlowAccumulation (every method) and Watersheds across the tiles of a tiled or distributed
+// build, exact (graph/tile_graph.h, docs/distributed.md). The rounds go in phases, each message and answer tagged with
+// its phase so every rank and tile knows where the run stands:
 //
+//  - surface (with `fill` on): whether every tile kept the filled surface of the same heights from an earlier flow
+//    node (nodes/hydrology/tile_surface_memo.h); if so the fill's rounds are skipped;
 //  - fill (with `fill` on): the spill graphs of all tiles (Barnes 2016, nodes/hydrology/tile_fill.h), then rounds of
 //    the epsilon surface until no perimeter value falls: the whole-domain Priority-Flood+epsilon bit for bit;
 //  - ring: each tile gets the one-sample ring of that surface from the tiles around it (nodes/hydrology/tile_ring.h),
@@ -10,12 +12,13 @@
 //  - accumulation (FlowAccumulation): D8 cell counts through perimeter links (Barnes 2017,
 //    nodes/hydrology/tile_accumulation.h), whole numbers, so exact; the area is the count times the cell area, as
 //    the whole-domain node computes it;
-//  - maximum (the flow map with flow_max_area 0): the largest count of any tile, the flow map's upper end;
+//  - edges and shares (FlowAccumulation with D-infinity, MFD or a rainfall weight): the floating-point sums, each
+//    cell's donors pulled in neighbour order as the whole-domain node does, as a dataflow across the tiles' borders
+//    in rounds until every tile is done (nodes/hydrology/tile_shares.h);
+//  - maximum (the flow map with flow_max_area 0): the largest area of any tile, the flow map's upper end;
 //  - links and basins (Watersheds): where each perimeter cell's D8 path ends, joined into every cell's outlet, then
 //    the cells per outlet added up and the basins numbered by decreasing area (nodes/hydrology/tile_basins.h).
 //
-// D-infinity and MFD accumulation and a rainfall weight are not here: their floating-point sums depend on the order
-// of addition, which tiles cannot reproduce, so they are computed on the whole domain (docs/distributed.md).
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -23,16 +26,31 @@
 #include "graph/node_type.h"
 #include "graph/tile_bytes.h"
 #include "graph/tile_graph.h"
+#include "nodes/common/match_domain.h"
 #include "nodes/hydrology/flow.h"
 #include "nodes/hydrology/tile_accumulation.h"
 #include "nodes/hydrology/tile_basins.h"
 #include "nodes/hydrology/tile_fill.h"
 #include "nodes/hydrology/tile_ring.h"
+#include "nodes/hydrology/tile_shares.h"
+#include "nodes/hydrology/tile_surface_memo.h"
 
 namespace orogen::hydrology {
 namespace {
 
-enum class Phase : std::uint8_t { Spill, Epsilon, Ring, Accumulate, Maximum, Links, Basins, Done };
+enum class Phase : std::uint8_t {
+  Spill,
+  Epsilon,
+  Ring,
+  Accumulate,
+  Maximum,
+  Links,
+  Basins,
+  Edges,
+  Shares,
+  Surface,
+  Done
+};
 
 constexpr const char* kWhat = "flow across tiles";
 
@@ -52,7 +70,7 @@ Phase take_phase(std::string_view& bytes) {
 struct FlowJob {
   enum class Output { Directions, Accumulation, Basins } output = Output::Directions;
   bool fill = true;
-  RoutingOptions routing;                  // FlowDirection's method and exponent
+  RoutingOptions routing;                  // FlowDirection's and FlowAccumulation's method and exponent
   AccumulationParams accumulation_params;  // FlowAccumulation's
   double min_area = 0.0;                   // Watersheds'
   // What follows the ring: the accumulation, the basins' links, or nothing (the directions are done).
@@ -66,12 +84,25 @@ struct FlowJob {
 class FlowTile : public TileGraphTile {
  public:
   // The tile keeps no reference to `ground`: the stage lets it go once every tile has started.
-  FlowTile(const Heightfield& ground, const FlowJob& job, const Domain& whole)
+  // `rainfall`: FlowAccumulation's weight on the tile, or null.
+  FlowTile(const Heightfield& ground, const Heightfield* rainfall, const FlowJob& job, const Domain& whole)
       : domain_(ground.domain), job_(job), whole_(whole.resolution), grid_(FlowGrid::of(whole)) {
     rect_ = {domain_.first, domain_.resolution};
+    // The counts of whole cells serve D8 without a weight; every other accumulation sums floating-point shares.
+    by_shares_ =
+        job_.output == FlowJob::Output::Accumulation && (job_.routing.method != FlowMethod::D8 || rainfall != nullptr);
+    if (rainfall) {
+      // As flow_accumulation: the weight times the cell area, in single precision.
+      weight_.resize(rainfall->data.size());
+      for (std::size_t c = 0; c < weight_.size(); ++c)
+        weight_[c] = static_cast<float>(std::max(0.0f, rainfall->data[c]) * grid_.cell_area());
+    }
     if (job_.fill) {
-      flood_ = flood_tile(ground.data, rect_);
-      phase_ = Phase::Spill;
+      // The heights until the tiles decide whether to fill them or take the surfaces they kept.
+      heights_hash_ = hash_heights(ground.data);
+      kept_ = find_filled_surface(rect_, whole_, heights_hash_);
+      surface_ = ground.data;
+      phase_ = Phase::Surface;
     } else {
       surface_ = ground.data;
       phase_ = Phase::Ring;
@@ -80,6 +111,11 @@ class FlowTile : public TileGraphTile {
 
   std::string message(int) override {
     switch (phase_) {
+      case Phase::Surface: {
+        std::string out;
+        bytes::put(out, static_cast<std::uint8_t>(kept_ != nullptr));
+        return tagged(phase_, std::move(out));
+      }
       case Phase::Spill:
         return tagged(phase_, encode(flood_.graph));
       case Phase::Epsilon:
@@ -93,9 +129,13 @@ class FlowTile : public TileGraphTile {
       }
       case Phase::Maximum: {
         std::string out;
-        bytes::put(out, *std::max_element(counts_.begin(), counts_.end()));
+        bytes::put(out, largest_area());
         return tagged(phase_, std::move(out));
       }
+      case Phase::Edges:
+        return tagged(phase_, shares_->edges_message());
+      case Phase::Shares:
+        return tagged(phase_, shares_->shares_message());
       case Phase::Links:
         return tagged(phase_, basin_links_message(basins_));
       case Phase::Basins:
@@ -109,6 +149,17 @@ class FlowTile : public TileGraphTile {
   void answer(int, std::string_view bytes) override {
     const Phase next = take_phase(bytes);
     switch (phase_) {
+      case Phase::Surface:
+        if (!bytes.empty()) throw std::invalid_argument("flow across tiles: trailing bytes");
+        if (next == Phase::Ring) {
+          if (!kept_) throw std::invalid_argument("flow across tiles: no kept surface to take");
+          surface_ = *kept_;
+        } else {
+          flood_ = flood_tile(surface_, rect_);
+          surface_ = {};
+        }
+        kept_.reset();
+        break;
       case Phase::Spill: {
         const auto levels = bytes::take_vector<float>(bytes, kWhat);
         epsilon_ = std::make_unique<TileEpsilon>(apply_spill_levels(flood_, levels), rect_, whole_);
@@ -120,17 +171,33 @@ class FlowTile : public TileGraphTile {
         if (next != Phase::Epsilon) {
           surface_ = epsilon_->surface();
           epsilon_.reset();
+          keep_filled_surface(rect_, whole_, heights_hash_, surface_);
         }
         break;
       case Phase::Ring:
         take_ring(bytes);
+        // The solve names the accumulation that follows the ring; the tile knows which of the two it runs.
+        if (next == Phase::Accumulate && by_shares_) {
+          phase_ = Phase::Edges;
+          return;
+        }
+        break;
+      case Phase::Edges:
+        shares_->take_edges(bytes);
+        break;
+      case Phase::Shares:
+        shares_->take_shares(bytes);
+        if (next != Phase::Shares) {
+          areas_ = shares_->accumulation();
+          shares_.reset();
+        }
         break;
       case Phase::Accumulate:
         counts_ = finish_tile_accumulation(accumulation_, bytes);
         accumulation_ = {};
         break;
       case Phase::Maximum:
-        largest_ = bytes::take<std::int64_t>(bytes, kWhat);
+        largest_ = bytes::take<double>(bytes, kWhat);
         if (!bytes.empty()) throw std::invalid_argument("flow across tiles: trailing bytes");
         break;
       case Phase::Links:
@@ -155,17 +222,18 @@ class FlowTile : public TileGraphTile {
       return {HeightfieldPtr(maps_.angle), HeightfieldPtr(maps_.dx), HeightfieldPtr(maps_.dy),
               HeightfieldPtr(maps_.slope)};
     if (job_.output == FlowJob::Output::Basins) return {HeightfieldPtr(id_), HeightfieldPtr(area_)};
-    // As flow_accumulation on the whole domain: the area is the cell count times the cell area.
+    // As flow_accumulation on the whole domain: the area is the cell count times the cell area, or the sum of shares.
     const Domain& d = domain_;
     const AccumulationParams& p = job_.accumulation_params;
     auto out = std::make_shared<Heightfield>(d), flow = std::make_shared<Heightfield>(d),
          wetness = std::make_shared<Heightfield>(d);
     const double area = grid_.cell_area();
     const double lo = p.flow_min_area > 0.0 ? p.flow_min_area : area;
-    const double hi = p.flow_max_area > 0.0 ? p.flow_max_area : static_cast<double>(largest_) * area;
+    const double hi = p.flow_max_area > 0.0 ? p.flow_max_area : largest_;
     const double width = std::sqrt(area);
-    for (std::size_t c = 0; c < counts_.size(); ++c) {
-      const double acc = static_cast<double>(counts_[c]) * area;
+    const std::size_t n = by_shares_ ? areas_.size() : counts_.size();
+    for (std::size_t c = 0; c < n; ++c) {
+      const double acc = by_shares_ ? areas_[c] : static_cast<double>(counts_[c]) * area;
       out->data[c] = static_cast<float>(acc);
       flow->data[c] = flow_map_value(acc, lo, hi);
       wetness->data[c] = wetness_value(acc, width, slope_[c], p.min_slope);
@@ -174,6 +242,13 @@ class FlowTile : public TileGraphTile {
   }
 
  private:
+  // The largest accumulation on the tile, in m^2 (for counts the largest count times the cell area: the same
+  // product, since rounding is monotone).
+  double largest_area() const {
+    if (by_shares_) return *std::max_element(areas_.begin(), areas_.end());
+    return static_cast<double>(*std::max_element(counts_.begin(), counts_.end())) * grid_.cell_area();
+  }
+
   // The surface with its ring from the tiles around: the tile's maps, or its D8 directions and slopes.
   void take_ring(std::string_view bytes) {
     const TileRect ringed = ringed_rect(rect_, whole_);
@@ -193,6 +268,16 @@ class FlowTile : public TileGraphTile {
       return;
     }
     const bool basins = job_.output == FlowJob::Output::Basins;
+    if (by_shares_) {
+      const std::vector<float> slope = steepest_slope(g, z);
+      slope_.reserve(static_cast<std::size_t>(rect_.size.x) * static_cast<std::size_t>(rect_.size.y));
+      for (int j = 0; j < rect_.size.y; ++j)
+        for (int i = 0; i < rect_.size.x; ++i)
+          slope_.push_back(slope[static_cast<std::size_t>(g.index(at.x + i, at.y + j))]);
+      shares_ = std::make_unique<TileShares>(z, rect_, whole_, grid_.dx, grid_.dy, job_.routing, std::move(weight_));
+      weight_ = {};
+      return;
+    }
     const D8Flow f = d8_flow(g, z);
     const std::vector<float> slope = basins ? std::vector<float>() : steepest_slope(g, z);
     std::vector<std::uint8_t> direction;
@@ -217,6 +302,8 @@ class FlowTile : public TileGraphTile {
   FlowGrid grid_;  // the whole domain's spacing
   TileRect rect_;
   Phase phase_ = Phase::Ring;
+  HeightsHash heights_hash_;                        // of the input heights (with `fill`)
+  std::shared_ptr<const std::vector<float>> kept_;  // their filled surface, from an earlier flow node
   TileFlood flood_;
   std::unique_ptr<TileEpsilon> epsilon_;
   std::vector<float> surface_;  // the routed heights on the tile: filled (epsilon) or the input
@@ -224,7 +311,11 @@ class FlowTile : public TileGraphTile {
   TileAccumulation accumulation_;
   std::vector<float> slope_;
   std::vector<std::int64_t> counts_;
-  std::int64_t largest_ = 0;
+  bool by_shares_ = false;
+  std::vector<float> weight_;  // the rainfall weight times the cell area, until the shares start
+  std::unique_ptr<TileShares> shares_;
+  std::vector<double> areas_;  // the accumulation by shares
+  double largest_ = 0.0;
   TileBasins basins_;
   std::shared_ptr<Heightfield> id_, area_;
 };
@@ -240,6 +331,7 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
     if (messages.empty()) return false;
     std::string_view first(messages.front());
     switch (take_phase(first)) {
+      case Phase::Surface:
       case Phase::Spill:
       case Phase::Epsilon:
         return true;  // more epsilon rounds, or the ring
@@ -247,6 +339,10 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
         return job_.after_ring() != Phase::Done;
       case Phase::Accumulate:
         return job_.after_accumulation() != Phase::Done;
+      case Phase::Edges:
+        return true;
+      case Phase::Shares:
+        return !shares_done(trimmed(messages)) || job_.after_accumulation() != Phase::Done;
       case Phase::Links:
         return true;
       default:
@@ -257,9 +353,17 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
   std::unique_ptr<TileGraphTile> start(const std::vector<PortValue>& inputs) const override {
     const auto* ground = inputs.empty() ? nullptr : std::get_if<HeightfieldPtr>(&inputs[0]);
     if (!ground || !*ground) throw std::invalid_argument("flow routing across tiles needs a heightfield input");
-    if (inputs.size() > 1 && has_value(inputs[1]))
-      throw std::invalid_argument("flow accumulation across tiles takes no rainfall weight");
-    return std::make_unique<FlowTile>(**ground, job_, whole_);
+    const auto* rain = inputs.size() > 1 ? std::get_if<HeightfieldPtr>(&inputs[1]) : nullptr;
+    HeightfieldPtr rainfall = rain ? *rain : nullptr;
+    if (rainfall && rainfall->domain != (*ground)->domain) {
+      // On another lattice: resampled onto the tile as the whole-domain node resamples it onto the domain (every
+      // sample from its world position, origin + (first + i) * spacing, so the tile's samples are the domain's).
+      if (!domains_overlap(rainfall->domain, whole_))
+        throw std::invalid_argument("FlowAccumulation: input 'rainfall_weight' (" + rainfall->domain.describe() +
+                                    ") does not overlap the domain (" + whole_.describe() + ")");
+      rainfall = match_domain(rainfall, (*ground)->domain);
+    }
+    return std::make_unique<FlowTile>(**ground, rainfall.get(), job_, whole_);
   }
 
   std::vector<std::string> solve(int, const std::vector<std::string>& tagged_messages) const override {
@@ -277,6 +381,17 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
     std::vector<std::string> answers(messages.size());
     Phase next = Phase::Done;
     switch (phase) {
+      case Phase::Surface: {
+        // The fill's rounds unless every tile kept its surface.
+        bool all = true;
+        for (std::string_view m : views) {
+          const bool kept = bytes::take<std::uint8_t>(m, kWhat) != 0;
+          all = all && kept;
+          if (!m.empty()) throw std::invalid_argument("flow across tiles: trailing bytes");
+        }
+        next = all ? Phase::Ring : Phase::Spill;
+        break;
+      }
       case Phase::Spill: {
         std::vector<TileSpillGraph> graphs;
         graphs.reserve(messages.size());
@@ -298,6 +413,14 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
         answers = solve_tile_accumulation(messages, size);
         next = job_.after_accumulation();
         break;
+      case Phase::Edges:
+        answers = solve_share_edges(messages, size);
+        next = Phase::Shares;
+        break;
+      case Phase::Shares:
+        answers = solve_shares(messages, size);
+        next = shares_done(messages) ? job_.after_accumulation() : Phase::Shares;
+        break;
       case Phase::Links:
         answers = solve_basin_links(messages, size);
         next = Phase::Basins;
@@ -306,9 +429,9 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
         answers = solve_basin_counts(messages, FlowGrid::of(whole_).cell_area(), job_.min_area);
         break;
       case Phase::Maximum: {
-        std::int64_t largest = 0;
+        double largest = 0.0;
         for (std::string_view m : views) {
-          largest = std::max(largest, bytes::take<std::int64_t>(m, kWhat));
+          largest = std::max(largest, bytes::take<double>(m, kWhat));
           if (!m.empty()) throw std::invalid_argument("flow across tiles: trailing bytes");
         }
         for (auto& a : answers) bytes::put(a, largest);
@@ -322,6 +445,14 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
   }
 
  private:
+  // The messages without their phase tags.
+  static std::vector<std::string> trimmed(const std::vector<std::string>& messages) {
+    std::vector<std::string> out;
+    out.reserve(messages.size());
+    for (const std::string& m : messages) out.push_back(m.substr(1));
+    return out;
+  }
+
   FlowJob job_;
   Domain whole_;
 };
@@ -345,25 +476,22 @@ const bool kDirectionRegistered = register_tile_graph("FlowDirection", [](const 
   return algorithm;
 });
 
-// FlowAccumulation with D8 and no rainfall weight, fill on or off.
-const bool kAccumulationRegistered = register_tile_graph(
-    "FlowAccumulation",
-    [](const ParamView& p, const Domain& whole) {
-      std::unique_ptr<TileGraphAlgorithm> algorithm;
-      if (p.get<std::string>("method") != "d8") return algorithm;
+// FlowAccumulation, every method, fill on or off, the rainfall weight linked or not: D8 without it by whole cell
+// counts, the others by shares pulled in a fixed order.
+const bool kAccumulationRegistered =
+    register_tile_graph("FlowAccumulation", [](const ParamView& p, const Domain& whole) {
       FlowJob job;
       job.output = FlowJob::Output::Accumulation;
+      job.routing.method = method_named(p.get<std::string>("method"));
+      job.routing.exponent = p.get<double>("exponent");
       job.fill = p.get<bool>("fill");
       job.accumulation_params.fill = job.fill;
       job.accumulation_params.flow_min_area = p.get<double>("flow_min_area");
       job.accumulation_params.flow_max_area = p.get<double>("flow_max_area");
       job.accumulation_params.min_slope = p.get<double>("min_gradient");
-      algorithm = std::make_unique<FlowAcrossTiles>(std::move(job), whole);
+      std::unique_ptr<TileGraphAlgorithm> algorithm = std::make_unique<FlowAcrossTiles>(std::move(job), whole);
       return algorithm;
-    },
-    "with method 'd8' and no rainfall_weight linked (the weighted and the D-infinity and MFD sums are floating "
-    "point, whose rounding depends on the order of addition)",
-    {"rainfall_weight"});
+    });
 
 // Watersheds, fill on or off: D8 labels through perimeter links, whole cell counts per basin.
 const bool kWatershedsRegistered = register_tile_graph("Watersheds", [](const ParamView& p, const Domain& whole) {

@@ -1,5 +1,7 @@
 #include "nodes/hydrology/flow_routing.h"
 
+#include "nodes/hydrology/flow_shares.h"
+
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -493,10 +495,18 @@ inline int steepest(const FlowGrid& g, const NeighbourTable& t, const float* z, 
 
 double cell_weight(std::span<const float> w, std::size_t c, double area) { return w.empty() ? area : w[c]; }
 
-// Dispersive receivers of (i, j) for MFD and D-infinity; returns their count.
+// The MFD weight (s / smax)^p of a receiver of slope s, before normalisation, in single precision (expf/logf are
+// several times cheaper than pow; the proportions are normalised, so they still sum to 1).
+inline double mfd_weight(double s, double smax, double exponent) {
+  const float t = static_cast<float>(s / smax);
+  return exponent == 1.0 ? t : std::exp(static_cast<float>(exponent) * std::log(t));
+}
+
+// Dispersive receivers of (i, j) for MFD and D-infinity; returns their count. MFD: `inverse_sum` (optional)
+// receives 1 / the sum of the weights, the factor of every proportion.
 template <bool kInterior>
 int route_cell(const FlowGrid& g, const NeighbourTable& t, const float* z, int i, int j, const RoutingOptions& opt,
-               int nbr[8], double frac[8]) {
+               int nbr[8], double frac[8], double* inverse_sum = nullptr) {
   const std::int32_t c = g.index(i, j);
   // Interior cells are never border outlets: only the mask can make them one.
   if (kInterior ? (!opt.outlets.mask.empty() && opt.outlets.mask[static_cast<std::size_t>(c)] != 0)
@@ -518,16 +528,13 @@ int route_cell(const FlowGrid& g, const NeighbourTable& t, const float* z, int i
     }
     if (n == 0) return 0;
     double sum = 0.0;
-    // (s / smax)^p in single precision (expf/logf are several times cheaper than pow; the proportions are
-    // normalised below, so they still sum to 1).
-    const float p = static_cast<float>(opt.exponent);
     for (int m = 0; m < n; ++m) {
-      const float t = static_cast<float>(frac[m] / smax);
-      frac[m] = opt.exponent == 1.0 ? t : std::exp(p * std::log(t));
+      frac[m] = mfd_weight(frac[m], smax, opt.exponent);
       sum += frac[m];
     }
     const double inv = 1.0 / sum;
     for (int m = 0; m < n; ++m) frac[m] *= inv;
+    if (inverse_sum) *inverse_sum = inv;
     return n;
   }
   if (opt.method == FlowMethod::DInfinity) {
@@ -907,39 +914,70 @@ int flow_proportions(const FlowGrid& g, std::span<const float> z, int i, int j, 
   return route_cell<false>(g, t, z.data(), i, j, opt, nbr, frac);
 }
 
+FlowShares::FlowShares(const FlowGrid& g, std::span<const float> z, const RoutingOptions& opt, const ExecContext* ctx)
+    : g_(g), z_(z.data()), opt_(opt) {
+  const NeighbourTable t(g);
+  for (int k = 0; k < 8; ++k) off_[k] = t.off[k], inv_dist_[k] = t.inv_dist[k];
+  const std::size_t n = g.size();
+  receivers_.assign(n, 0);
+  if (opt.method == FlowMethod::D8) {
+    const D8Flow f = d8_flow(g, z, opt.outlets, ctx);
+    for (std::size_t c = 0; c < n; ++c)
+      if (f.direction[c] != kNoDirection) receivers_[c] = static_cast<std::uint8_t>(1u << f.direction[c]);
+    return;
+  }
+  const bool mfd = opt.method == FlowMethod::MFD;
+  if (mfd)
+    inverse_sum_.assign(n, 0.0);
+  else
+    split_.assign(n, 1.0f);
+  for_each_row(
+      ctx, g.ny,
+      [&](int j) {
+        for (int i = 0; i < g.nx; ++i) {
+          int nb[8];
+          double fr[8], inv = 0.0;
+          const int cnt = interior_cell(g, i, j) ? route_cell<true>(g, t, z_, i, j, opt, nb, fr, &inv)
+                                                 : route_cell<false>(g, t, z_, i, j, opt, nb, fr, &inv);
+          const auto c = static_cast<std::size_t>(g.index(i, j));
+          std::uint8_t bits = 0;
+          for (int m = 0; m < cnt; ++m) bits |= static_cast<std::uint8_t>(1u << nb[m]);
+          receivers_[c] = bits;
+          if (mfd) {
+            inverse_sum_[c] = inv;
+          } else if (cnt == 2) {
+            split_[c] = static_cast<float>(fr[0]);  // nb[0] is the facet's cardinal neighbour
+          }
+        }
+      },
+      0.0, 0.3);
+}
+
+double FlowShares::fraction(std::int32_t c, int k) const {
+  if (opt_.method == FlowMethod::D8) return 1.0;
+  const auto u = static_cast<std::size_t>(c);
+  if (opt_.method == FlowMethod::DInfinity) {
+    // Two receivers: the cardinal one (even k) gets the split, the diagonal one the rest; one receiver gets all.
+    if (std::popcount(static_cast<unsigned>(receivers_[u])) < 2) return 1.0;
+    return (k & 1) ? 1.0 - static_cast<double>(split_[u]) : static_cast<double>(split_[u]);
+  }
+  // MFD: the weight of receiver k over the largest slope, as route_cell computes it, times the stored 1 / sum.
+  const double zc = z_[c];
+  double smax = 0.0;
+  for (unsigned m = receivers_[u]; m; m &= m - 1) {
+    const int q = std::countr_zero(m);
+    smax = std::max(smax, (zc - z_[c + off_[q]]) * inv_dist_[q]);
+  }
+  const double s = (zc - z_[c + off_[k]]) * inv_dist_[k];
+  return mfd_weight(s, smax, opt_.exponent) * inverse_sum_[u];
+}
+
 std::vector<double> accumulate(const FlowGrid& g, std::span<const float> z, const RoutingOptions& opt,
                                std::span<const float> weight, const ExecContext* ctx) {
   if (opt.method == FlowMethod::D8) return accumulate_d8(g, d8_flow(g, z, opt.outlets, ctx), weight, ctx);
   const std::size_t n = g.size();
+  const FlowShares shares(g, z, opt, ctx);
   const NeighbourTable t(g);
-  const float* zz = z.data();
-  // D-infinity: receivers stored (two neighbours and a split); MFD: recomputed when pushed.
-  std::vector<std::uint8_t> dk1, dk2;
-  std::vector<float> dfrac;
-  const bool dinf = opt.method == FlowMethod::DInfinity;
-  if (dinf) {
-    dk1.assign(n, kNoDirection);
-    dk2.assign(n, kNoDirection);
-    dfrac.assign(n, 0.0f);
-    for_each_row(
-        ctx, g.ny,
-        [&](int j) {
-          for (int i = 0; i < g.nx; ++i) {
-            int nb[8];
-            double fr[8];
-            const int cnt = interior_cell(g, i, j) ? route_cell<true>(g, t, zz, i, j, opt, nb, fr)
-                                                   : route_cell<false>(g, t, zz, i, j, opt, nb, fr);
-            const std::int32_t c = g.index(i, j);
-            if (cnt >= 1) {
-              dk1[c] = static_cast<std::uint8_t>(nb[0]);
-              dfrac[c] = static_cast<float>(fr[0]);
-            }
-            if (cnt == 2) dk2[c] = static_cast<std::uint8_t>(nb[1]);
-            if (cnt == 1) dfrac[c] = 1.0f;
-          }
-        },
-        0.0, 0.3);
-  }
   // Number of neighbours that send flow to each cell.
   std::vector<std::uint8_t> remaining(n);
   for_each_row(
@@ -948,76 +986,58 @@ std::vector<double> accumulate(const FlowGrid& g, std::span<const float> z, cons
         for (int i = 0; i < g.nx; ++i) {
           const std::int32_t c = g.index(i, j);
           int cnt = 0;
-          if (!dinf && interior_cell(g, i, j) && opt.outlets.mask.empty() && !opt.outlets.border) {
-            for (int k = 0; k < 8; ++k) cnt += zz[c + t.off[k]] > zz[c];
-          } else if (!dinf && i > 1 && j > 1 && i < g.nx - 2 && j < g.ny - 2 && opt.outlets.mask.empty()) {
-            for (int k = 0; k < 8; ++k) cnt += zz[c + t.off[k]] > zz[c];  // no neighbour is on the border
-          } else {
-            for (int k = 0; k < 8; ++k) {
-              const int ii = i + kDi[k], jj = j + kDj[k];
-              if (!g.inside(ii, jj)) continue;
-              const std::int32_t m = c + t.off[k];
-              if (dinf) {
-                cnt += (dk1[m] == opposite(k)) + (dk2[m] == opposite(k));
-              } else {
-                cnt += zz[m] > zz[c] && !opt.outlets.is_outlet(g, ii, jj);
-              }
-            }
-          }
-          remaining[c] = static_cast<std::uint8_t>(cnt);
+          const bool interior = interior_cell(g, i, j);
+          for (int k = 0; k < 8; ++k)
+            if (interior || g.inside(i + kDi[k], j + kDj[k])) cnt += shares.donor(c, k);
+          remaining[static_cast<std::size_t>(c)] = static_cast<std::uint8_t>(cnt);
         }
       },
       0.3, 0.5);
   std::vector<double> acc(n);
   const double area = g.cell_area();
-  for (std::size_t c = 0; c < n; ++c) acc[c] = cell_weight(weight, c, area);
-  // Parallel after Barnes 2017: the rows are cut into a FIXED number of bands (it depends on the grid only,
-  // never on the thread count), merged pairwise up a fixed binary tree. A leaf does dependency counting inside
-  // its band; a share for a cell outside the band is recorded instead of added. A tree node adds the shares
-  // its two halves recorded for cells inside its range (left half's list first, each in recording order) and
-  // continues downstream from the cells they complete, again recording what leaves its range; the halves run
-  // in parallel. Every cell therefore receives its shares in the same order for any thread count: results are
-  // bit-identical. Only the root's work is serial (about a tenth of the cells on 4096^2 fBm with MFD).
-  constexpr std::uint8_t kDone = 0xFF;
-  struct Share {
-    std::int32_t cell;
-    double amount;
+  // A cell whose donors are all done: its own weight plus their shares pulled in neighbour order (flow_shares.h),
+  // so its value does not depend on the order in which the traversal below reaches it.
+  auto pull = [&](std::int32_t c) __attribute__((always_inline)) {
+    double sum = cell_weight(weight, static_cast<std::size_t>(c), area);
+    const int i = g.column(c), j = g.row(c);
+    const bool interior = interior_cell(g, i, j);
+    for (int k = 0; k < 8; ++k) {
+      if (!interior && !g.inside(i + kDi[k], j + kDj[k])) continue;
+      if (!shares.donor(c, k)) continue;
+      const std::int32_t m = c + t.off[k];
+      sum += acc[static_cast<std::size_t>(m)] * shares.fraction(m, opposite(k));
+    }
+    acc[static_cast<std::size_t>(c)] = sum;
   };
+  // Parallel after Barnes 2017: the rows are cut into a fixed number of bands, merged pairwise up a binary tree. A
+  // leaf does dependency counting inside its band; a receiver outside the band is recorded instead of counted down.
+  // A tree node counts down the cells its two halves recorded inside its range and continues downstream from those
+  // they complete, again recording what leaves its range; the halves run in parallel. Every cell is pulled once,
+  // when its donors are done, so the result is the same for any thread count and band layout. Only the root's work
+  // is serial (about a tenth of the cells on 4096^2 fBm with MFD).
+  constexpr std::uint8_t kDone = 0xFF;
   const int rows_per_band = std::max(64, (g.ny + 7) / 8);
   const int bands = (g.ny + rows_per_band - 1) / rows_per_band;
   const bool parallel = tbb::this_task_arena::max_concurrency() > 1 && bands > 1;
-  // Hands x's accumulation to its receivers; cells in [lo, hi) are counted down (and pushed on `st` when
-  // complete), others recorded in `out`.
-  // (always_inline: called once per cell; out of line it costs a tenth of the single-thread time.)
+  // Counts down x's receivers; those in [lo, hi) that complete are pulled and pushed on `st`, the others recorded
+  // in `out`.
   auto route = [&](std::int32_t x, std::int32_t lo, std::int32_t hi, std::vector<std::int32_t> & st,
-                   std::vector<Share> & out) __attribute__((always_inline)) {
-    const double ax = acc[x];
+                   std::vector<std::int32_t> & out) __attribute__((always_inline)) {
     const std::uint32_t span = static_cast<std::uint32_t>(hi - lo);
-    auto give = [&](int k, double fr) __attribute__((always_inline)) {
-      const std::int32_t m = x + t.off[k];
+    for (unsigned b = shares.receivers(x); b; b &= b - 1) {
+      const std::int32_t m = x + t.off[std::countr_zero(b)];
       if (static_cast<std::uint32_t>(m - lo) >= span) {
-        out.push_back({m, ax * fr});
-        return;
+        out.push_back(m);
+        continue;
       }
-      acc[m] += ax * fr;
-      if (--remaining[m] == 0) {
-        remaining[m] = kDone;
+      if (--remaining[static_cast<std::size_t>(m)] == 0) {
+        remaining[static_cast<std::size_t>(m)] = kDone;
+        pull(m);
         st.push_back(m);
       }
-    };
-    if (dinf) {
-      if (dk1[x] != kNoDirection) give(dk1[x], dk2[x] != kNoDirection ? dfrac[x] : 1.0);
-      if (dk2[x] != kNoDirection) give(dk2[x], 1.0 - static_cast<double>(dfrac[x]));
-    } else {
-      const int i = g.column(x), j = g.row(x);
-      int nb[8];
-      double fr[8];
-      const int cnt = interior_cell(g, i, j) ? route_cell<true>(g, t, zz, i, j, opt, nb, fr)
-                                             : route_cell<false>(g, t, zz, i, j, opt, nb, fr);
-      for (int m = 0; m < cnt; ++m) give(nb[m], fr[m]);
     }
   };
-  auto drain = [&](std::int32_t lo, std::int32_t hi, std::vector<std::int32_t>& st, std::vector<Share>& out) {
+  auto drain = [&](std::int32_t lo, std::int32_t hi, std::vector<std::int32_t>& st, std::vector<std::int32_t>& out) {
     while (!st.empty()) {
       const std::int32_t x = st.back();
       st.pop_back();
@@ -1026,15 +1046,15 @@ std::vector<double> accumulate(const FlowGrid& g, std::span<const float> z, cons
   };
   auto band_begin = [&](int b) { return g.index(0, std::min(g.ny, b * rows_per_band)); };
   std::atomic<int> leaves_done{0};
-  std::function<std::vector<Share>(int, int)> solve = [&](int b0, int b1) -> std::vector<Share> {
+  std::function<std::vector<std::int32_t>(int, int)> solve = [&](int b0, int b1) -> std::vector<std::int32_t> {
     const std::int32_t lo = band_begin(b0), hi = band_begin(b1);
-    std::vector<Share> out;
-    std::vector<std::int32_t> st;
+    std::vector<std::int32_t> out, st;
     std::size_t work = 0;
     if (b1 - b0 == 1) {
       for (std::int32_t c0 = lo; c0 < hi; ++c0) {
-        if (remaining[c0] != 0) continue;
-        remaining[c0] = kDone;
+        if (remaining[static_cast<std::size_t>(c0)] != 0) continue;
+        remaining[static_cast<std::size_t>(c0)] = kDone;
+        pull(c0);
         st.push_back(c0);
         drain(lo, hi, st, out);
         if (++work > (1u << 16)) {
@@ -1047,21 +1067,21 @@ std::vector<double> accumulate(const FlowGrid& g, std::span<const float> z, cons
       return out;
     }
     const int mid = (b0 + b1) / 2;
-    std::vector<Share> left, right;
+    std::vector<std::int32_t> left, right;
     if (parallel)
       tbb::parallel_invoke([&] { left = solve(b0, mid); }, [&] { right = solve(mid, b1); });
     else
       left = solve(b0, mid), right = solve(mid, b1);
-    for (const std::vector<Share>* in : {&left, &right})
-      for (const Share& sh : *in) {
-        if (sh.cell < lo || sh.cell >= hi) {
-          out.push_back(sh);
+    for (const std::vector<std::int32_t>* in : {&left, &right})
+      for (const std::int32_t m : *in) {
+        if (m < lo || m >= hi) {
+          out.push_back(m);
           continue;
         }
-        acc[sh.cell] += sh.amount;
-        if (--remaining[sh.cell] != 0) continue;
-        remaining[sh.cell] = kDone;
-        st.push_back(sh.cell);
+        if (--remaining[static_cast<std::size_t>(m)] != 0) continue;
+        remaining[static_cast<std::size_t>(m)] = kDone;
+        pull(m);
+        st.push_back(m);
         drain(lo, hi, st, out);
         if (++work > (1u << 14)) {
           work = 0;

@@ -168,8 +168,9 @@ int flow_proportions(const FlowGrid& g, std::span<const float> z, int i, int j, 
                      double frac[8]);
 
 // Accumulation with any method (D8 delegates to accumulate_d8). Dependency counting, in parallel over a
-// fixed set of row bands merged up a fixed tree (Barnes 2017), so every cell sums its shares in the same
-// order: bit-identical for any thread count. Pits keep what reaches them.
+// fixed set of row bands merged up a fixed tree (Barnes 2017); every cell pulls its donors' shares in neighbour
+// order once they are done (nodes/hydrology/flow_shares.h), so its sum does not depend on the traversal: the same
+// for any thread count, and on tiles (nodes/hydrology/tile_shares.h). Pits keep what reaches them.
 std::vector<double> accumulate(const FlowGrid& g, std::span<const float> z, const RoutingOptions& opt,
                                std::span<const float> weight = {}, const ExecContext* ctx = nullptr);
 

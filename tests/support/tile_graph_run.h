@@ -98,12 +98,13 @@ inline std::unique_ptr<TileGraphAlgorithm> algorithm_of(const std::string& type_
   return factory ? (*factory)(ParamView(type, values), whole) : nullptr;
 }
 
-// Runs `algorithm` on the tiles of `counts` over `t` (the heights as the first input, `inputs` - 1 unlinked
-// inputs after it), every message through its bytes, and puts every output of the tiles together on the whole
-// domain. `rounds_run` gets the number of rounds.
+// Runs `algorithm` on the tiles of `counts` over `t` (the heights as the first input, `inputs` - 1 inputs after it:
+// fields[k - 1] cut into the tiles for input k, unlinked where it is null or missing), every message through its
+// bytes, and puts every output of the tiles together on the whole domain. `rounds_run` gets the number of rounds.
 inline std::vector<std::vector<float>> run_across_tiles(const TileGraphAlgorithm& algorithm, const Terrain& t,
                                                         glm::ivec2 counts, std::size_t inputs = 1,
-                                                        int* rounds_run = nullptr) {
+                                                        int* rounds_run = nullptr,
+                                                        const std::vector<const std::vector<float>*>& fields = {}) {
   const Domain whole = domain_of(t);
   std::vector<std::unique_ptr<TileGraphTile>> tiles;
   for (int tj = 0; tj < counts.y; ++tj)
@@ -111,13 +112,18 @@ inline std::vector<std::vector<float>> run_across_tiles(const TileGraphAlgorithm
       const glm::ivec2 first{edge(ti, t.size.x, counts.x), edge(tj, t.size.y, counts.y)};
       const glm::ivec2 size =
           glm::ivec2(edge(ti + 1, t.size.x, counts.x), edge(tj + 1, t.size.y, counts.y)) - first + 1;
-      auto h = std::make_shared<Heightfield>(whole.subdomain(first.x, first.y, size.x, size.y));
-      for (int j = 0; j < size.y; ++j)
-        for (int i = 0; i < size.x; ++i)
-          h->data[static_cast<std::size_t>(j) * size.x + i] =
-              t.z[static_cast<std::size_t>(first.y + j) * t.size.x + first.x + i];
+      auto cut = [&](const std::vector<float>& field) {
+        auto h = std::make_shared<Heightfield>(whole.subdomain(first.x, first.y, size.x, size.y));
+        for (int j = 0; j < size.y; ++j)
+          for (int i = 0; i < size.x; ++i)
+            h->data[static_cast<std::size_t>(j) * size.x + i] =
+                field[static_cast<std::size_t>(first.y + j) * t.size.x + first.x + i];
+        return HeightfieldPtr(h);
+      };
       std::vector<PortValue> values(inputs);
-      values[0] = HeightfieldPtr(h);
+      values[0] = cut(t.z);
+      for (std::size_t k = 1; k < inputs; ++k)
+        if (k - 1 < fields.size() && fields[k - 1]) values[k] = cut(*fields[k - 1]);
       tiles.push_back(algorithm.start(values));
     }
   for (int round = 0;; ++round) {

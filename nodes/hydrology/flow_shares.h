@@ -1,0 +1,50 @@
+#pragma once
+// The share of its flow each cell hands to each of its receivers, for the accumulations whose sums are floating
+// point (D-infinity, MFD, and D8 with a weight per cell), and the pull that adds a cell's shares up.
+//
+// A cell's accumulation is defined as a function of its upstream neighbours' accumulations alone, whatever order a
+// traversal of the flow graph takes (accumulate() on the whole domain, nodes/hydrology/tile_shares.h across tiles):
+//
+//     acc(c) = w(c) + sum over k = 0, 1, ..., 7 (in that order) of acc(m_k) * fraction(m_k, opposite(k))
+//
+// over the neighbours m_k of c that send it flow, in double. The fraction is a function of the donor's nine heights
+// (flow_proportions), so a tile that sees one sample beyond its border computes every fraction of its own cells as
+// the whole domain does, and the sum above is the same sequence of roundings wherever it is computed.
+// (Implemented in flow_routing.cpp, next to the routing it shares.)
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "nodes/hydrology/flow_routing.h"
+
+namespace orogen::hydrology {
+
+class FlowShares {
+ public:
+  // Receivers of every cell of `g` with the heights `z` (kept by reference: it must outlive this) and `opt`'s method
+  // and outlets. O(n) memory: a byte a cell, and 8 bytes more for MFD (its normaliser) and 4 for D-infinity (its
+  // split).
+  FlowShares(const FlowGrid& g, std::span<const float> z, const RoutingOptions& opt, const ExecContext* ctx = nullptr);
+
+  // Bit k set: cell c sends part of its flow to its neighbour k.
+  std::uint8_t receivers(std::int32_t c) const { return receivers_[static_cast<std::size_t>(c)]; }
+  // The fraction of c's flow that its receiver k gets: exactly the proportion flow_proportions gives (for D-infinity
+  // its split in single precision, as accumulate always stored it; 1 for D8).
+  double fraction(std::int32_t c, int k) const;
+  // Whether neighbour k of c (inside the grid) sends c flow.
+  bool donor(std::int32_t c, int k) const { return (receivers(c + off_[k]) >> opposite(k)) & 1u; }
+  const FlowGrid& grid() const { return g_; }
+  std::int32_t offset(int k) const { return off_[k]; }
+
+ private:
+  FlowGrid g_;
+  const float* z_;
+  RoutingOptions opt_;
+  std::int32_t off_[8];
+  double inv_dist_[8];
+  std::vector<std::uint8_t> receivers_;
+  std::vector<double> inverse_sum_;  // MFD: 1 / the sum of the cell's weights
+  std::vector<float> split_;         // D-infinity: the share of the cardinal receiver when there are two
+};
+
+}  // namespace orogen::hydrology
