@@ -123,11 +123,11 @@ class PipeTile : public TileGraphTile {
     if (last) h.most = static_cast<float>(own_max(grid_->field(PipeGrid::Accumulated)));
     h.channels = last ? 0 : kStepFields;
     put_header(out, h);
-    const Bands bands(rect_, whole_, kHalo);
-    out.reserve(out.size() + static_cast<std::size_t>(h.channels) * bands.size() * sizeof(float));
+    std::size_t at = out.size();
+    out.resize(at + static_cast<std::size_t>(h.channels) * band_cells_.size() * sizeof(float));
     for (int c = 0; c < h.channels; ++c) {
-      const std::vector<float>& f = grid_->field(static_cast<PipeGrid::Field>(c));
-      bands.for_each([&](glm::ivec2 s) { bytes::put(out, f[cell(s)]); });
+      const float* f = grid_->field(static_cast<PipeGrid::Field>(c)).data();
+      for (const std::size_t q : band_cells_) std::memcpy(out.data() + at, f + q, sizeof(float)), at += sizeof(float);
     }
     return out;
   }
@@ -140,9 +140,12 @@ class PipeTile : public TileGraphTile {
       deepest_ = bytes::take<double>(in, what);
       most_ = bytes::take<float>(in, what);
       const auto channels = bytes::take<std::int32_t>(in, what);
+      if (channels < 0 || channels > kStepFields ||
+          in.size() < static_cast<std::size_t>(channels) * halo_cells_.size() * sizeof(float))
+        throw std::invalid_argument("pipe erosion halo: truncated bytes");
       for (int c = 0; c < channels; ++c) {
-        std::vector<float>& f = grid_->field(static_cast<PipeGrid::Field>(c));
-        for_each_halo(rect_, whole_, kHalo, [&](glm::ivec2 s) { f[cell(s)] = bytes::take<float>(in, what); });
+        float* f = grid_->field(static_cast<PipeGrid::Field>(c)).data();
+        for (const std::size_t q : halo_cells_) std::memcpy(f + q, in.data(), sizeof(float)), in.remove_prefix(4);
       }
     }
     if (!in.empty()) throw std::invalid_argument("pipe erosion halo: bytes left over");
@@ -194,6 +197,9 @@ class PipeTile : public TileGraphTile {
         for_each_halo(rect_, whole_, kHalo, [&](glm::ivec2 s) {
           grids_[static_cast<std::size_t>(f)]->data[cell(s)] = bytes::take<float>(in, what);
         });
+    const Bands bands(rect_, whole_, kHalo);
+    bands.for_each([&](glm::ivec2 s) { band_cells_.push_back(cell(s)); });
+    for_each_halo(rect_, whole_, kHalo, [&](glm::ivec2 s) { halo_cells_.push_back(cell(s)); });
     PipeWindow window;
     window.first = grid_lo_;
     window.whole = whole_;
@@ -231,6 +237,7 @@ class PipeTile : public TileGraphTile {
   SampleRect rect_;
   glm::ivec2 grid_lo_, grid_size_;  // the grid: the tile grown by the halo, within the domain
   std::unique_ptr<PipeGrid> grid_;
+  std::vector<std::size_t> band_cells_, halo_cells_;  // the grid cells of the tile's bands and halo, in sending order
   double time_ = 0.0, deepest_ = 0.0;  // simulated time, deepest water over all tiles after the last step
   float most_ = 0.0f;                  // largest accumulated flow over all tiles, after the last step
 };
@@ -316,11 +323,13 @@ class PipeAcrossTiles : public TileGraphAlgorithm {
         bytes::put(out, most);
         bytes::put(out, headers[u].channels);
       }
-      out.reserve(out.size() + halos->sources[u].size() * static_cast<std::size_t>(headers[u].channels) * 4);
+      std::size_t to = out.size();
+      out.resize(to + halos->sources[u].size() * static_cast<std::size_t>(headers[u].channels) * sizeof(float));
       for (std::int32_t c = 0; c < headers[u].channels; ++c)
-        for (const auto& [v, at] : halos->sources[u])
-          out.append(messages[v].data() + Header::kBytes + at + static_cast<std::size_t>(c) * halos->stride[v],
-                     sizeof(float));
+        for (const auto& [v, at] : halos->sources[u]) {
+          const char* from = messages[v].data() + Header::kBytes + at + static_cast<std::size_t>(c) * halos->stride[v];
+          std::memcpy(out.data() + to, from, sizeof(float)), to += sizeof(float);
+        }
       if (!domain_bits.empty()) {
         // The bits of columns 0 .. x0 - 1 on the rows of the tile's grid.
         const SampleRect& r = headers[u].rect;

@@ -85,9 +85,13 @@ class Bands {
 template <class Fn>
 void for_each_halo(const SampleRect& r, glm::ivec2 whole, int width, Fn&& fn) {
   const glm::ivec2 lo = glm::max(r.lo - width, glm::ivec2(0)), hi = glm::min(r.hi + width, whole - 1);
-  for (int y = lo.y; y <= hi.y; ++y)
-    for (int x = lo.x; x <= hi.x; ++x)
-      if (x < r.lo.x || x > r.hi.x || y < r.lo.y || y > r.hi.y) fn(glm::ivec2(x, y));
+  for (int y = lo.y; y <= hi.y; ++y) {
+    const bool beside = y >= r.lo.y && y <= r.hi.y;  // a row of the tile: only the columns left and right of it
+    for (int x = lo.x; x <= hi.x; ++x) {
+      if (beside && x == r.lo.x) x = r.hi.x + 1;
+      if (x <= hi.x) fn(glm::ivec2(x, y));
+    }
+  }
 }
 
 // Where the halo samples of each tile lie in the messages (the tile sending it, the byte offset of its value in the
