@@ -9,6 +9,8 @@
 # its flow map and wetness index): there each rank holds only its tiles.
 # GRAPH=bench/distributed_thermal.json measures ThermalErosion across the tiles (halos exchanged every k
 # iterations).
+# GRAPH=bench/distributed_pipe.json measures PipeErosion across the tiles (a 2-sample halo and a reduction every time
+# step).
 #
 # Usage: [GRAPH=G.json] bench/bench_distributed.sh [ORGEN_BINARY] [RESOLUTION] [TILES] [RANKS...]
 #   bench/bench_distributed.sh build/release/cli/orogen 2049 4x4 1 2 4
