@@ -242,6 +242,28 @@ TEST(PipeAcrossTiles, AZeroDurationRunsNoStep) {
   EXPECT_EQ(rounds, 1);
 }
 
+// Water that overflows makes the time step 0: the tiles fail with the whole-domain run's error, at the same step.
+TEST(PipeAcrossTiles, OverflowingWaterIsTheWholeDomainRunsError) {
+  Fields f = fields({33, 33}, 6);
+  for (auto& v : std::const_pointer_cast<Heightfield>(f.f[2])->data) v = 3e38f;
+  auto set = node_params(false);
+  set["duration"] = 1e4;
+  std::string whole, tiled;
+  try {
+    whole_domain(f, pipe_params(set), true, nullptr);
+  } catch (const NodeError& e) {
+    whole = e.what();
+  }
+  try {
+    int rounds = 0;
+    across_tiles(*algorithm_of(set, f.domain), f, {3, 2}, true, &rounds);
+  } catch (const NodeError& e) {
+    tiled = e.what();
+  }
+  EXPECT_NE(whole.find("PipeErosion: the CFL time step became"), std::string::npos) << whole;
+  EXPECT_EQ(tiled, whole);
+}
+
 // What travels per step is the tiles' border bands, not the tiles; damaged bytes are refused.
 TEST(PipeAcrossTiles, BandsAreSmallAndTheirBytesAreChecked) {
   const Fields f = fields({65, 49}, 3);
