@@ -603,6 +603,13 @@ void check_pipe_work(const PipeParams& p, const Domain& domain) {
              "lower duration, or use a coarser grid");
 }
 
+void check_pipe_step(double dt, double t, double deepest) {
+  if (!(dt > 0.0) || !(t + dt > t))
+    throw NodeError("PipeErosion: the CFL time step became " + std::to_string(dt) + " s at t = " + std::to_string(t) +
+                    " s (a water depth of " + std::to_string(deepest) +
+                    " m): simulated time cannot advance; lower rain_rate or the rainfall input, or duration");
+}
+
 struct PipeGrid::Run {
   PipeRun run;
 };
@@ -650,10 +657,7 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
     check_cancelled(ctx);
     double dt = pipe_time_step(p, spacing, dmax);
     dt = std::min(dt, p.duration - t);
-    if (!(dt > 0.0) || !(t + dt > t))
-      throw NodeError("PipeErosion: the CFL time step became " + std::to_string(dt) + " s at t = " + std::to_string(t) +
-                      " s (a water depth of " + std::to_string(dmax) +
-                      " m): simulated time cannot advance; lower rain_rate or the rainfall input, or duration");
+    check_pipe_step(dt, t, dmax);
     const double before = check_conservation ? run.volume(ctx) : 0.0;
     run.sweep(run.constants(dt, step, t + dt >= p.duration - 1e-9));
     double sed_out = 0;

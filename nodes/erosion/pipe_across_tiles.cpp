@@ -108,12 +108,9 @@ class PipeTile : public TileGraphTile {
       return out;
     }
     // Step round - 1, its length from the deepest water over all tiles after the step before.
-    double dt = std::min(pipe_time_step(p_, std::min(whole_domain_.spacing.x, whole_domain_.spacing.y), deepest_),
-                         p_.duration - time_);
-    if (!(dt > 0.0) || !(time_ + dt > time_))
-      throw NodeError("PipeErosion: the CFL time step became " + std::to_string(dt) +
-                      " s at t = " + std::to_string(time_) + " s (a water depth of " + std::to_string(deepest_) +
-                      " m): simulated time cannot advance; lower rain_rate or the rainfall input, or duration");
+    const double dt = std::min(pipe_time_step(p_, std::min(whole_domain_.spacing.x, whole_domain_.spacing.y), deepest_),
+                               p_.duration - time_);
+    check_pipe_step(dt, time_, deepest_);
     const bool last = time_ + dt >= p_.duration - kTimeSlack;
     grid_->step(dt, static_cast<std::uint64_t>(round - 1), last);
     time_ += dt;

@@ -50,6 +50,10 @@ inline float pipe_flow(float accumulated, double scale, float area) {
 // Refuses (NodeError) a run on `domain` above the work ceiling, counted with the largest step the CFL condition allows.
 void check_pipe_work(const PipeParams& p, const Domain& domain);
 
+// Refuses (NodeError) a step of `dt` seconds at time `t` that cannot advance the simulated time (water `deepest` metres
+// deep made it 0 or too small to add).
+void check_pipe_step(double dt, double t, double deepest);
+
 // A run of the pipe model on a grid: `in` and the optional fields (null if absent) on the grid, as pipe_erosion
 // takes them. The grid keeps references to all of them and to `p`.
 class PipeGrid {
