@@ -11,6 +11,7 @@
 
 #include "cli/graph_overrides.h"
 #include "graph/tile_graph.h"
+#include "graph/tile_variance.h"
 #include "nodes/io/file_extension.h"
 
 namespace orogen::cli {
@@ -45,11 +46,25 @@ bool has_raster_output(const NodeType& type) {
   });
 }
 
-// "mesh 'out'", "curves 'rivers' and points 'sources'": the outputs of `type` that are not rasters.
+// Points are cut too: a node evaluated on a tile's domain gets the points of a larger domain's result that lie
+// in its own (evaluator/domain_crop.h).
+bool has_points_output(const NodeType& type) {
+  return std::any_of(type.outputs.begin(), type.outputs.end(),
+                     [](const PortDecl& p) { return p.type == PortType::Points; });
+}
+
+// Declared per tile (tile invariant: a tile's evaluation is the untiled result's part of it) and not made to depend
+// on the domain by its parameter values (graph/tile_variance.h).
+bool tile_invariant(const Graph& graph, const Node& node) {
+  const std::vector<ParamValue> params = graph.effective_params(node);
+  return node.type->distribution_for(params) == Distribution::PerTile && tile_variance(*node.type, params).empty();
+}
+
+// "mesh 'out'", "curves 'rivers'": the outputs of `type` that cannot be cut into the tiles.
 std::string other_outputs(const NodeType& type) {
   std::vector<std::string> parts;
   for (const auto& p : type.outputs)
-    if (p.type == PortType::Report) {
+    if (p.type == PortType::Report || p.type == PortType::Points) {
       continue;
     } else if (p.type != PortType::Heightfield && p.type != PortType::Image) {
       std::string t(to_string(p.type));
@@ -64,9 +79,11 @@ std::string other_outputs(const NodeType& type) {
   return text;
 }
 
-// Evaluated on the whole domain and cut into the tiles (GlobalNodes::Whole and a raster output to cut).
+// Evaluated on the whole domain and cut into the tiles (GlobalNodes::Whole, and a raster output to cut, or points
+// that a per-tile evaluation would not give exactly).
 bool evaluated_whole(const Graph& graph, const Node& node, GlobalNodes global) {
-  return global == GlobalNodes::Whole && needs_whole_domain(graph, node) && has_raster_output(*node.type);
+  if (global != GlobalNodes::Whole || !needs_whole_domain(graph, node)) return false;
+  return has_raster_output(*node.type) || (has_points_output(*node.type) && !tile_invariant(graph, node));
 }
 
 // Reach::halo, computed in double and capped at `cap` (a halo wider than the domain is the whole domain),
@@ -295,11 +312,11 @@ std::vector<std::string> seam_warnings(const Graph& graph, GlobalNodes global,
                        (whole_uncut.empty() ? std::string()
                                             : "; outputs that cannot be cut cover the whole domain in every tile: " +
                                                   quoted_list(whole_uncut)));
-  // Computed per tile: not seamless. One warning per node, with the writers it reaches.
+  // Computed per tile: not seamless (unless tile invariant). One warning per node, with the writers it reaches.
   for (const auto& id : whole_domain_nodes(graph)) {
     const Node& node = graph.at(id);
     const NodeType& type = *node.type;
-    if (evaluated_whole(graph, node, global)) continue;
+    if (evaluated_whole(graph, node, global) || tile_invariant(graph, node)) continue;
     std::vector<std::string> writers;
     for (const auto& down : graph.downstream(id))
       if (graph.at(down).type->writes_files) writers.push_back("'" + down + "'");

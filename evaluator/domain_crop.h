@@ -1,5 +1,5 @@
 #pragma once
-// Cutting a raster value down to a smaller domain of the same lattice: how a tiled build hands a node's
+// Cutting a raster or points value down to a smaller domain of the same lattice: how a tiled build hands a node's
 // inputs, computed on a larger (halo-expanded) domain, to a node evaluated on its own domain.
 #include "graph/domain.h"
 #include "graph/port_value.h"
@@ -13,5 +13,10 @@ bool domain_contains(const Domain& outer, const Domain& inner);
 // lattice; `value` itself when it already lies on `target`, is of another type, or is on another lattice
 // (the node then resamples it as usual).
 PortValue crop_to_domain(const PortValue& value, const Domain& target);
+
+// The points of `value` (Points computed on `source`) inside `target`'s rectangle, borders included, when `source`
+// contains `target` and is larger: how a node evaluated on a tile gets its part of points computed on the whole
+// domain. `value` itself otherwise (other types, or the same domain: an untiled build never drops a point).
+PortValue crop_points_to_domain(const PortValue& value, const Domain& source, const Domain& target);
 
 }  // namespace orogen

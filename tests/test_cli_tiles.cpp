@@ -310,7 +310,9 @@ TEST(CliTiles, GlobalNodesAreNamedInAWarning) {
             << r.err;
         std::istringstream lines(r.err);
         for (std::string line; std::getline(lines, line);)
-          if (line.rfind("warning:", 0) == 0) EXPECT_EQ(line.find("stretch"), std::string::npos) << line;
+          if (line.rfind("warning:", 0) == 0) {
+            EXPECT_EQ(line.find("stretch"), std::string::npos) << line;
+          }
       }
       // Local and point-wise nodes and the writers themselves are not reported.
       EXPECT_EQ(r.err.find("node 'smooth'"), std::string::npos) << r.err;
@@ -378,6 +380,60 @@ TEST(CliTiles, GlobalNodesJoinWhenEvaluatedWholeAndNotPerTile) {
           EXPECT_EQ(stats["nodes"]["stretch"]["status"], "computed");
         }
       }
+  }
+}
+
+// Points that depend on the domain asked for (PoissonDisk filling up to the edges, ForestLifeCycle's competition)
+// are computed on the whole domain and each tile gets the points inside it; tile-invariant scatterings (PoissonDisk
+// cropped to the domain, ScatterRules) run per tile. Either way the tiles' files hold exactly the untiled points,
+// and only the first kind is named in the whole-domain warning.
+TEST(CliTiles, PointsJoinIntoTheUntiledPointsWhetherComputedWholeOrPerTile) {
+  const auto dir = scratch_dir("tiles-points");
+  write_text(dir / "g.json", R"({
+  "format": "orogen-graph", "version": 7,
+  "domain": { "size": [300, 200], "resolution": [61, 41] },
+  "nodes": [
+    { "id": "noise", "type": "FBM", "params": { "feature_size": 120, "seed": 3, "amplitude": 40 } },
+    { "id": "bordered", "type": "PoissonDisk", "inputs": { "height": "noise.out" },
+      "params": { "radius_0": 6, "seed": 2 } },
+    { "id": "cropped", "type": "PoissonDisk", "params": { "radius_0": 6, "seed": 2, "fill_border": false } },
+    { "id": "forest", "type": "ForestLifeCycle", "inputs": { "in": "cropped.out", "height": "noise.out" },
+      "params": { "years": 20 } },
+    { "id": "plants", "type": "ScatterRules", "inputs": { "in": "noise.out" } },
+    { "id": "save_bordered", "type": "WritePoints", "inputs": { "in": "bordered.out" }, "params": { "path": "b.csv" } },
+    { "id": "save_cropped", "type": "WritePoints", "inputs": { "in": "cropped.out" }, "params": { "path": "c.csv" } },
+    { "id": "save_forest", "type": "WritePoints", "inputs": { "in": "forest.out" }, "params": { "path": "f.csv" } },
+    { "id": "save_plants", "type": "WritePoints", "inputs": { "in": "plants.out" }, "params": { "path": "p.csv" } }
+  ]
+})");
+  ASSERT_EQ(orogen({"eval", (dir / "g.json").string(), "-o", (dir / "whole").string(), "--quiet"}).exit_code, 0);
+  auto rows = [](const fs::path& file, std::multiset<std::string>& into) {
+    std::istringstream in(read_text(file));
+    std::string line;
+    std::getline(in, line);  // the header
+    while (std::getline(in, line)) into.insert(line);
+  };
+  for (const glm::ivec2 tiles : {glm::ivec2(2, 2), glm::ivec2(3, 2), glm::ivec2(1, 4)}) {
+    const std::string text = std::to_string(tiles.x) + "x" + std::to_string(tiles.y);
+    SCOPED_TRACE(text);
+    const fs::path out = dir / ("tiled" + text);
+    const auto r = orogen({"eval", (dir / "g.json").string(), "-o", out.string(), "--tiles", text, "--quiet"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string whole_nodes = r.err.substr(0, r.err.find('\n'));
+    EXPECT_NE(whole_nodes.find("'bordered' (PoissonDisk)"), std::string::npos) << r.err;
+    EXPECT_NE(whole_nodes.find("'forest' (ForestLifeCycle)"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("'cropped'"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("'plants'"), std::string::npos) << r.err;
+    for (const char* name : {"b", "c", "f", "p"}) {
+      std::multiset<std::string> untiled, joined;
+      rows(dir / "whole" / (std::string(name) + ".csv"), untiled);
+      for (int j = 0; j < tiles.y; ++j)
+        for (int i = 0; i < tiles.x; ++i) rows(out / tile_name(name, i, j, ".csv"), joined);
+      EXPECT_GT(untiled.size(), 20u) << name;
+      // No point lies on a tile border here, so the tiles partition the untiled points.
+      EXPECT_TRUE(joined == untiled) << name << ": " << joined.size() << " points in the tiles, " << untiled.size()
+                                     << " untiled";
+    }
   }
 }
 

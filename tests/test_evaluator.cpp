@@ -21,6 +21,7 @@
 #include "graph/atomic_file.h"
 #include "graph/exec_context.h"
 #include "graph/image.h"
+#include "graph/points.h"
 #include "graph/registry.h"
 #include "nodes/common/cancellable_rows.h"
 #include "support/eval_results.h"
@@ -1090,6 +1091,34 @@ TEST(DomainCrop, CutsRastersOnTheSameLatticeAndLeavesTheRestAlone) {
   EXPECT_EQ(std::get<HeightfieldPtr>(crop_to_domain(hp, d.resampled({19, 13}))), hp);
   EXPECT_FALSE(domain_contains(d, d.subdomain(-1, 0, 3, 3)));
   EXPECT_TRUE(domain_contains(d, d.subdomain(9, 6, 1, 1)));
+}
+
+// Points computed on a larger domain reach a node on a tile as the points inside the tile, borders included, with
+// their rotations, scales, classes and attributes; on the same domain (an untiled build) every point stays.
+TEST(DomainCrop, PointsOfALargerDomainAreCutToTheTileBordersIncluded) {
+  const Domain d = Domain::from_extent({0, 0}, {100, 60}, {11, 7});  // samples every 10 m
+  auto pts = std::make_shared<Points>();
+  const glm::vec3 at[] = {{5, 5, 1}, {20, 10, 2}, {40, 30, 3}, {41, 30, 4}, {30, 20, 5}, {-1, 10, 6}, {35, 25, 7}};
+  for (int k = 0; k < 7; ++k) {
+    pts->add(at[k], k);
+    pts->scale.back() = glm::vec3(static_cast<float>(k));
+  }
+  auto& age = pts->attribute("age");
+  for (int k = 0; k < 7; ++k) age[static_cast<std::size_t>(k)] = 10.0f * static_cast<float>(k);
+  const PortValue value = std::shared_ptr<const Points>(pts);
+  const Domain tile = d.subdomain(2, 1, 3, 3);  // x in [20, 40], y in [10, 30]
+  const auto cut = std::get<std::shared_ptr<const Points>>(crop_points_to_domain(value, d, tile));
+  ASSERT_EQ(cut->size(), 4u);  // (20, 10) and (40, 30) on the tile's corners, (30, 20) and (35, 25) inside
+  const int kept[] = {1, 2, 4, 6};
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(cut->position[k], at[kept[k]]);
+    EXPECT_EQ(cut->class_id[k], kept[k]);
+    EXPECT_EQ(cut->scale[k], glm::vec3(static_cast<float>(kept[k])));
+    EXPECT_EQ(cut->attributes.at("age")[k], 10.0f * static_cast<float>(kept[k]));
+  }
+  cut->check_consistent();
+  EXPECT_EQ(std::get<std::shared_ptr<const Points>>(crop_points_to_domain(value, d, d)), pts);     // the same domain
+  EXPECT_EQ(std::get<std::shared_ptr<const Points>>(crop_points_to_domain(value, tile, d)), pts);  // not contained
 }
 
 }  // namespace

@@ -104,10 +104,12 @@ TEST(SeedSeamscape, TiledBuildSharesItsBordersBitForBitAndEqualsTheWholeBuild) {
   ASSERT_EQ(tiles[0][0].width, 65);
   ASSERT_EQ(tiles[0][0].height, 65);
   EXPECT_EQ(differing_border_samples(tiles), 0);
-  // The nodes that need the whole domain are named: the placement (each tile places its own plants and
-  // writes its own terrain mesh and scene). RiverNetwork grows over its own fixed rectangle (min_corner,
-  // size), whatever the tile, so its curves are the same for every tile.
-  EXPECT_NE(warning.find("'plants'"), std::string::npos) << warning;
+  // The nodes that need the whole domain and cannot be cut into the tiles are named: the terrain mesh (each tile
+  // writes its own mesh and scene). The placement is not: ScatterRules draws every candidate from a hash of its
+  // world cell, so each tile places exactly the untiled plants inside it. RiverNetwork grows over its own fixed
+  // rectangle (min_corner, size), whatever the tile, so its curves are the same for every tile.
+  EXPECT_NE(warning.find("'terrain_mesh'"), std::string::npos) << warning;
+  EXPECT_EQ(warning.find("'plants'"), std::string::npos) << warning;
   // Each tile's terrain OBJ drapes its own tile of the color map.
   const std::string mtl = test::read_text(dir / "tiles" / "seamscape" / "terrain_x1_y0.mtl");
   EXPECT_NE(mtl.find("map_Kd color_x1_y0.png"), std::string::npos) << mtl;
