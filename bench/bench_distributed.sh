@@ -13,6 +13,8 @@
 # iterations). GRAPH=bench/distributed_particles.json measures HydraulicErosion across the tiles (a round per droplet
 # phase); its density is low for the tests: ARGS='--set droplets.droplets_per_km2=20000' gives two droplets a sample at
 # 1025^2. ARGS (split on spaces) goes to every orogen eval.
+# GRAPH=bench/distributed_pipe.json measures PipeErosion across the tiles (a 2-sample halo and a reduction every time
+# step).
 #
 # Usage: [GRAPH=G.json] bench/bench_distributed.sh [ORGEN_BINARY] [RESOLUTION] [TILES] [RANKS...]
 #   bench/bench_distributed.sh build/release/cli/orogen 2049 4x4 1 2 4

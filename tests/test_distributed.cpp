@@ -164,6 +164,8 @@ fs::path run_distributed(const Job& job) {
   }
   if (std::string(job.graph).find("distributed_particles.json") != std::string::npos && job.tiles.x * job.tiles.y > 1)
     EXPECT_NE(r.err.find("node 'droplets' (HydraulicErosion) computed across the tiles"), std::string::npos) << r.err;
+  if (std::string(job.graph).find("distributed_pipe.json") != std::string::npos && job.tiles.x * job.tiles.y > 1)
+    EXPECT_NE(r.err.find("node 'storm' (PipeErosion) computed across the tiles"), std::string::npos) << r.err;
   const auto mine = files_under(dir), single = files_under(single_process_build(job));
   EXPECT_EQ(mine.size(), single.size());
   std::size_t differing = 0;
@@ -546,6 +548,26 @@ TEST(Distributed, FloodFillAcrossRanksEqualsTheUntiledBuild) {
       const Raster whole = read_raster(untiled / "distributed_flood" / (std::string(name) + ".tif"));
       const Raster joined =
           stitch(dir, std::string("distributed_flood/") + name, ".tif", job.tiles, {whole.width, whole.height});
+      EXPECT_TRUE(same_bits(whole, joined)) << name;
+    }
+  }
+}
+
+// PipeErosion across the ranks' tiles, a 2-sample halo exchanged every step and the step from the deepest water over
+// all tiles (bench/distributed_pipe.json: fBm with sea below -60 m, Drops rain driven by a moisture field, an
+// evaporation field, every output written, and a blur downstream whose halo comes from the neighboring ranks' tiles):
+// the single-process tiled build's files, and put together every raster of the untiled build.
+TEST(Distributed, PipeErosionAcrossRanksEqualsTheUntiledBuild) {
+  SKIP_WITHOUT_MPI();
+  const char* graph = "../bench/distributed_pipe.json";  // resolved under graphs/
+  const fs::path& untiled = single_process_build({graph, 129, {0, 0}, 1});
+  for (const Job& job : {Job{graph, 129, {2, 2}, 2}, Job{graph, 129, {3, 2}, 4}}) {
+    SCOPED_TRACE(tiles_text(job.tiles) + " on " + std::to_string(job.ranks) + " ranks");
+    const fs::path dir = run_distributed(job);
+    for (const char* name : {"height", "erosion", "deposition", "flow", "water", "velocity", "smooth"}) {
+      const Raster whole = read_raster(untiled / "distributed_pipe" / (std::string(name) + ".tif"));
+      const Raster joined =
+          stitch(dir, std::string("distributed_pipe/") + name, ".tif", job.tiles, {whole.width, whole.height});
       EXPECT_TRUE(same_bits(whole, joined)) << name;
     }
   }

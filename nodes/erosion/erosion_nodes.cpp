@@ -203,7 +203,9 @@ OROGEN_NODE(PipeErosion) {
       "capacity from speed and tilt, dissolution, deposition, transport with the water, evaporation. The "
       "time step follows a CFL condition on the cell size, so a finer grid takes more, smaller steps of the "
       "same physical duration. Cells under sea level are sinks; water and sediment leave at the border. "
-      "Bit-identical for any thread count.");
+      "Bit-identical for any thread count, and in a tiled or distributed build, where tiles exchange a 2-sample "
+      "halo every time step and all take the step of the deepest water over all tiles, for any tiling and rank "
+      "count.");
   declare_common_ports(b, "Scales dissolution and deposition per cell, 0..1 (1 if unconnected)");
   b.input("rainfall_rate", PortType::Heightfield)
       .unit(Unit::MillimetrePerHour)

@@ -1,5 +1,7 @@
 #include "nodes/erosion/pipe.h"
 
+#include "nodes/erosion/pipe_step.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -139,6 +141,8 @@ struct StepConstants {
 struct PipeRun {
   const Heightfield& in;
   const PipeParams& p;
+  const PipeWindow& window;  // where the grid lies in the whole domain (for the Drops rain)
+  const int whole_h;         // rows of the whole domain
   const Heightfield *mask, *rainfall, *moisture, *temperature, *hardness;
   const int w, h;
   const std::size_t n;
@@ -165,9 +169,12 @@ struct PipeRun {
   bool plain = false;  // no mask, hardness or soil layers: the interior of rows takes the vectorised path
 
   PipeRun(const Heightfield& in_, const PipeParams& p_, const Heightfield* mask_, const Heightfield* rainfall_,
-          const Heightfield* moisture_, const Heightfield* temperature_, const Heightfield* hardness_)
+          const Heightfield* moisture_, const Heightfield* temperature_, const Heightfield* hardness_,
+          const PipeWindow& window_)
       : in(in_),
         p(p_),
+        window(window_),
+        whole_h(window_.whole.y > 0 ? window_.whole.y : in_.height()),
         mask(mask_),
         rainfall(rainfall_),
         moisture(moisture_),
@@ -282,16 +289,25 @@ struct PipeRun {
   void rain_drops(const StepConstants& cs, int r, float* __restrict DR) const {
     const double chance = std::min(1.0, p.drop_chance * cs.dt);
     if (!(chance > 0)) return;
+    // The draws follow the whole domain's row from its first column; the grid holds columns x0 .. x_end - 1.
     const std::size_t row = static_cast<std::size_t>(r) * w;
-    std::uint64_t state = hash64(p.seed, cs.step * static_cast<std::uint64_t>(h) + static_cast<std::uint64_t>(r));
+    const double x0 = window.first.x, x_end = window.first.x + w;
+    std::uint64_t state =
+        hash64(p.seed, cs.step * static_cast<std::uint64_t>(whole_h) + static_cast<std::uint64_t>(r + window.first.y));
     const auto draw = [&] { return unit_double(splitmix64(state++)); };
     const double log_miss = chance < 1.0 ? std::log1p(-chance) : 0.0;  // log of a cell's chance of no drop
     const float depth = static_cast<float>(p.rain_rate * mm_per_h / std::max(p.drop_chance, 1e-9));
     for (double i = -1;;) {
       // The cells skipped before the next candidate: floor(log(U) / log(1 - chance)), 0 when chance is 1.
       i += 1 + (chance < 1.0 ? std::floor(std::log1p(-draw()) / log_miss) : 0.0);
-      if (!(i < w)) break;
-      const std::size_t k = row + static_cast<std::size_t>(i);
+      if (!(i < x_end)) break;
+      if (i < x0) {  // a column before the grid: only its draws count
+        const std::size_t b =
+            static_cast<std::size_t>(r) * static_cast<std::size_t>(window.first.x) + static_cast<std::size_t>(i);
+        if ((window.draws_before[b >> 6] >> (b & 63)) & 1u) draw();
+        continue;
+      }
+      const std::size_t k = row + static_cast<std::size_t>(i - x0);
       if (sink[k]) continue;
       const float m = moisture ? std::clamp(moisture->data[k], 0.0f, 1.0f) : 1.0f;
       if (m < 1.0f && !(draw() < m)) continue;
@@ -564,13 +580,12 @@ struct PipeRun {
     maps.flow = std::make_shared<Heightfield>(in.domain);
     float fmax = 0;
     for (std::size_t k = 0; k < n; ++k) fmax = std::max(fmax, flow_acc[k]);
-    const double lmax = std::log1p(static_cast<double>(fmax) / A * 1e3);
+    const double lmax = pipe_flow_scale(fmax, A);
     for (std::size_t k = 0; k < n; ++k) {
       maps.out->data[k] = b[k] + s[k];  // what is still suspended settles
       maps.water->data[k] = d[k];
       maps.velocity->data[k] = spd[k];
-      maps.flow->data[k] =
-          lmax > 0 ? static_cast<float>(std::log1p(static_cast<double>(flow_acc[k]) / A * 1e3) / lmax) : 0.0f;
+      maps.flow->data[k] = pipe_flow(flow_acc[k], lmax, A);
     }
     fill_change_maps(in, maps, ctx);
     return maps;
@@ -578,6 +593,44 @@ struct PipeRun {
 };
 
 }  // namespace
+
+void check_pipe_work(const PipeParams& p, const Domain& domain) {
+  const double spacing = std::min(domain.spacing.x, domain.spacing.y);
+  const double dt_max = p.courant * spacing / std::sqrt(p.gravity * p.depth_scale);
+  const double steps = p.duration / dt_max;
+  check_work(steps * static_cast<double>(domain.resolution.x) * static_cast<double>(domain.resolution.y),
+             "PipeErosion: sample updates (at least duration / CFL time step x samples)",
+             "lower duration, or use a coarser grid");
+}
+
+void check_pipe_step(double dt, double t, double deepest) {
+  if (!(dt > 0.0) || !(t + dt > t))
+    throw NodeError("PipeErosion: the CFL time step became " + std::to_string(dt) + " s at t = " + std::to_string(t) +
+                    " s (a water depth of " + std::to_string(deepest) +
+                    " m): simulated time cannot advance; lower rain_rate or the rainfall input, or duration");
+}
+
+struct PipeGrid::Run {
+  PipeRun run;
+};
+
+PipeGrid::PipeGrid(const Heightfield& in, const PipeParams& p, const Heightfield* mask, const Heightfield* rainfall,
+                   const Heightfield* moisture, const Heightfield* temperature, const Heightfield* hardness,
+                   PipeWindow window)
+    : window_(std::move(window)),
+      run_(new Run{PipeRun(in, p, mask, rainfall, moisture, temperature, hardness, window_)}) {}
+
+PipeGrid::~PipeGrid() = default;
+
+void PipeGrid::step(double dt, std::uint64_t step, bool last) { run_->run.sweep(run_->run.constants(dt, step, last)); }
+
+float PipeGrid::cell_area() const { return run_->run.A; }
+
+std::vector<float>& PipeGrid::field(Field f) {
+  PipeRun& r = run_->run;
+  std::vector<float>* all[kFields] = {&r.b, &r.d, &r.s, &r.fl, &r.fr, &r.fd, &r.fu, &r.spd, &r.flow_acc};
+  return *all[f];
+}
 
 PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfield* mask, const Heightfield* rainfall,
                       const Heightfield* moisture, const Heightfield* temperature, const Heightfield* hardness,
@@ -591,15 +644,9 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
                                         {"moisture", moisture},
                                         {"evaporation_factor", temperature},
                                         {"hardness", hardness}});
-  {
-    const double spacing = std::min(in.domain.spacing.x, in.domain.spacing.y);
-    const double dt_max = p.courant * spacing / std::sqrt(p.gravity * p.depth_scale);
-    const double steps = p.duration / dt_max;
-    check_work(steps * static_cast<double>(in.data.size()),
-               "PipeErosion: sample updates (at least duration / CFL time step x samples)",
-               "lower duration, or use a coarser grid");
-  }
-  PipeRun run(in, p, mask, rainfall, moisture, temperature, hardness);
+  check_pipe_work(p, in.domain);
+  const PipeWindow whole;
+  PipeRun run(in, p, mask, rainfall, moisture, temperature, hardness, whole);
   PipeStats st;
   st.total_volume = 0;
   for (float v : in.data) st.total_volume += std::abs(static_cast<double>(v)) * run.A;
@@ -608,15 +655,9 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
   std::uint64_t step = 0;
   while (t < p.duration - 1e-9) {
     check_cancelled(ctx);
-    // The gravity-wave speed sqrt(g d) bounds the stable step of the pipe model. (The flow speed is not
-    // added: in thin films the flux limiter already caps it at spacing / dt, and feeding that back would
-    // shrink the step without end.)
-    double dt = p.courant * spacing / std::sqrt(p.gravity * std::max(dmax, p.depth_scale));
+    double dt = pipe_time_step(p, spacing, dmax);
     dt = std::min(dt, p.duration - t);
-    if (!(dt > 0.0) || !(t + dt > t))
-      throw NodeError("PipeErosion: the CFL time step became " + std::to_string(dt) + " s at t = " + std::to_string(t) +
-                      " s (a water depth of " + std::to_string(dmax) +
-                      " m): simulated time cannot advance; lower rain_rate or the rainfall input, or duration");
+    check_pipe_step(dt, t, dmax);
     const double before = check_conservation ? run.volume(ctx) : 0.0;
     run.sweep(run.constants(dt, step, t + dt >= p.duration - 1e-9));
     double sed_out = 0;

@@ -21,7 +21,8 @@
 //
 // Time: the step follows a CFL condition on the cell size, dt = courant x spacing / sqrt(g x max depth), so a finer
 // grid takes more, smaller steps of the same physical duration (seconds). Every pass is a gather over rows,
-// bit-identical for any thread count.
+// bit-identical for any thread count; across the tiles of a tiled or distributed build too (pipe_step.h,
+// pipe_across_tiles.cpp).
 #include <cstdint>
 
 #include "nodes/erosion/erosion_common.h"

@@ -27,6 +27,7 @@
 #include "graph/tile_graph.h"
 #include "nodes/common/finite_inputs.h"
 #include "nodes/erosion/thermal_step.h"
+#include "nodes/erosion/tile_bands.h"
 
 namespace orogen::erosion {
 namespace {
@@ -36,80 +37,6 @@ constexpr int kReach = 2;  // one iteration reads the heights within 2 samples
 // Iterations per exchange when the factory does not fix it: one per 64 samples of the smallest tile side, so the
 // halo ring's repeated work stays within about 4 k / side ~ 6% of a tile's, and at most 8.
 int block_for(glm::ivec2 smallest_tile) { return std::clamp(std::min(smallest_tile.x, smallest_tile.y) / 64, 1, 8); }
-
-// A rectangle of samples of the whole domain, both ends included.
-struct SampleRect {
-  glm::ivec2 lo{0, 0}, hi{-1, -1};
-  glm::ivec2 size() const { return hi - lo + 1; }
-  bool operator==(const SampleRect& o) const { return lo == o.lo && hi == o.hi; }
-  bool operator<(const SampleRect& o) const {
-    return std::tie(lo.x, lo.y, hi.x, hi.y) < std::tie(o.lo.x, o.lo.y, o.hi.x, o.hi.y);
-  }
-};
-
-// A tile's border bands of width `width`: its samples 1 to `width` inside each border it shares with a neighbor (the
-// border samples themselves both tiles hold). One channel lays out the top rows, the bottom rows, the left columns
-// and the right columns, each present when a neighbor lies on that side, and no wider than the tile.
-class Bands {
- public:
-  Bands(const SampleRect& r, glm::ivec2 whole, int width) : r_(r) {
-    const glm::ivec2 s = r.size();
-    top_ = r.lo.y > 0 ? std::min(width, s.y - 1) : 0;
-    bottom_ = r.hi.y < whole.y - 1 ? std::min(width, s.y - 1) : 0;
-    left_ = r.lo.x > 0 ? std::min(width, s.x - 1) : 0;
-    right_ = r.hi.x < whole.x - 1 ? std::min(width, s.x - 1) : 0;
-  }
-
-  // Values per channel.
-  std::size_t size() const {
-    const glm::ivec2 s = r_.size();
-    return static_cast<std::size_t>(top_ + bottom_) * s.x + static_cast<std::size_t>(left_ + right_) * s.y;
-  }
-
-  // fn(sample) for every band sample in layout order.
-  template <class Fn>
-  void for_each(Fn&& fn) const {
-    for (int y = r_.lo.y + 1; y <= r_.lo.y + top_; ++y)
-      for (int x = r_.lo.x; x <= r_.hi.x; ++x) fn(glm::ivec2(x, y));
-    for (int y = r_.hi.y - bottom_; y < r_.hi.y; ++y)
-      for (int x = r_.lo.x; x <= r_.hi.x; ++x) fn(glm::ivec2(x, y));
-    for (int y = r_.lo.y; y <= r_.hi.y; ++y)
-      for (int x = r_.lo.x + 1; x <= r_.lo.x + left_; ++x) fn(glm::ivec2(x, y));
-    for (int y = r_.lo.y; y <= r_.hi.y; ++y)
-      for (int x = r_.hi.x - right_; x < r_.hi.x; ++x) fn(glm::ivec2(x, y));
-  }
-
-  // Where sample `s` lies in a channel, or npos when no band holds it.
-  std::size_t index(glm::ivec2 s) const {
-    const auto sx = static_cast<std::size_t>(r_.size().x), sy = static_cast<std::size_t>(r_.size().y);
-    const auto lx = static_cast<std::size_t>(s.x - r_.lo.x), ly = static_cast<std::size_t>(s.y - r_.lo.y);
-    std::size_t at = 0;
-    if (s.y >= r_.lo.y + 1 && s.y <= r_.lo.y + top_) return (ly - 1) * sx + lx;
-    at += static_cast<std::size_t>(top_) * sx;
-    if (s.y >= r_.hi.y - bottom_ && s.y < r_.hi.y)
-      return at + static_cast<std::size_t>(s.y - (r_.hi.y - bottom_)) * sx + lx;
-    at += static_cast<std::size_t>(bottom_) * sx;
-    if (s.x >= r_.lo.x + 1 && s.x <= r_.lo.x + left_) return at + ly * left_ + (lx - 1);
-    at += static_cast<std::size_t>(left_) * sy;
-    if (s.x >= r_.hi.x - right_ && s.x < r_.hi.x)
-      return at + ly * right_ + static_cast<std::size_t>(s.x - (r_.hi.x - right_));
-    return npos;
-  }
-  static constexpr std::size_t npos = std::numeric_limits<std::size_t>::max();
-
- private:
-  SampleRect r_;
-  int top_ = 0, bottom_ = 0, left_ = 0, right_ = 0;
-};
-
-// fn(sample) for every sample of the domain within `width` of tile `r` and outside it, row by row.
-template <class Fn>
-void for_each_halo(const SampleRect& r, glm::ivec2 whole, int width, Fn&& fn) {
-  const glm::ivec2 lo = glm::max(r.lo - width, glm::ivec2(0)), hi = glm::min(r.hi + width, whole - 1);
-  for (int y = lo.y; y <= hi.y; ++y)
-    for (int x = lo.x; x <= hi.x; ++x)
-      if (x < r.lo.x || x > r.hi.x || y < r.lo.y || y > r.hi.y) fn(glm::ivec2(x, y));
-}
 
 // A message: the tile's rectangle, the width of its bands, its channel count, the iterations it ran this round with
 // its largest change in each and its largest total movement after each, then each channel's bands.
@@ -381,65 +308,13 @@ class ThermalAcrossTiles : public TileGraphAlgorithm {
     return change;
   }
 
-  // Where the halo samples of each tile lie in the messages (the tile sending it, the byte offset of its value in the
-  // first channel after the header) and each message's channel stride in bytes: the same every round, so made once
-  // per tiling.
-  struct HaloPlan {
-    std::vector<SampleRect> rects;
-    int width = 0;
-    std::vector<std::size_t> stride;
-    std::vector<std::vector<std::pair<std::size_t, std::size_t>>> sources;
-  };
-
+  // The halo plan of this tiling, made once per tiling.
   std::shared_ptr<const HaloPlan> plan(const std::vector<Header>& headers, int width) const {
     std::vector<SampleRect> rects;
     for (const Header& h : headers) rects.push_back(h.rect);
     const std::lock_guard<std::mutex> lock(mutex_);
     if (plan_ && plan_->rects == rects && plan_->width == width) return plan_;
-    auto p = std::make_shared<HaloPlan>();
-    const std::size_t count = rects.size();
-    std::vector<Bands> bands;
-    std::map<SampleRect, std::size_t> tile_at;
-    std::vector<std::pair<int, int>> columns, rows;
-    for (std::size_t t = 0; t < count; ++t) {
-      bands.emplace_back(rects[t], whole_, width);
-      p->stride.push_back(bands[t].size() * sizeof(float));
-      tile_at[rects[t]] = t;
-      columns.emplace_back(rects[t].lo.x, rects[t].hi.x);
-      rows.emplace_back(rects[t].lo.y, rects[t].hi.y);
-    }
-    for (auto* axis : {&columns, &rows}) {
-      std::sort(axis->begin(), axis->end());
-      axis->erase(std::unique(axis->begin(), axis->end()), axis->end());
-    }
-    if (tile_at.size() != count || columns.size() * rows.size() != count)
-      throw std::invalid_argument("thermal erosion bands: the tiles do not form a tiling");
-    // The column (row) holding coordinate v nearest to the tile's own [lo, hi]: past a shared border sample, so v
-    // lies 1 to `width` samples inside the border facing the tile, in that tile's bands.
-    auto nearest = [](const std::vector<std::pair<int, int>>& axis, int lo, int hi, int v) {
-      if (v >= lo && v <= hi) return std::make_pair(lo, hi);
-      std::pair<int, int> best{0, -1};
-      for (const auto& range : axis)
-        if (v >= range.first && v <= range.second &&
-            (best.second < best.first || (v > hi) == (range.first < best.first)))
-          best = range;
-      return best;
-    };
-    p->sources.resize(count);
-    for (std::size_t u = 0; u < count; ++u) {
-      const SampleRect& r = rects[u];
-      for_each_halo(r, whole_, width, [&](glm::ivec2 s) {
-        const auto cx = nearest(columns, r.lo.x, r.hi.x, s.x), cy = nearest(rows, r.lo.y, r.hi.y, s.y);
-        const auto it = tile_at.find(SampleRect{{cx.first, cy.first}, {cx.second, cy.second}});
-        const std::size_t v = it == tile_at.end() ? count : it->second;
-        const std::size_t at = v < count ? bands[v].index(s) : Bands::npos;
-        if (at == Bands::npos) throw std::invalid_argument("thermal erosion bands: a halo sample no tile sends");
-        p->sources[u].emplace_back(v, at * sizeof(float));
-      });
-    }
-    p->rects = std::move(rects);
-    p->width = width;
-    plan_ = p;
+    plan_ = make_halo_plan(std::move(rects), whole_, width, "thermal erosion bands");
     return plan_;
   }
 

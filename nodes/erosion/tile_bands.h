@@ -1,0 +1,112 @@
+#pragma once
+// The border bands and halos of the tiles of a halo-exchange node run across tiles (graph/tile_graph.h): each tile
+// sends its samples 1 to `width` inside each border it shares with a neighbor, and every tile takes its `width`-sample
+// halo sample by sample from the tile holding it nearest to it (a tile narrower than the halo takes it from the tiles
+// beyond). Shared by ThermalErosion and PipeErosion across tiles (docs/distributed.md).
+#include <cstddef>
+#include <limits>
+#include <memory>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include <glm/common.hpp>
+#include <glm/vec2.hpp>
+
+namespace orogen::erosion {
+
+// A rectangle of samples of the whole domain, both ends included.
+struct SampleRect {
+  glm::ivec2 lo{0, 0}, hi{-1, -1};
+  glm::ivec2 size() const { return hi - lo + 1; }
+  bool operator==(const SampleRect& o) const { return lo == o.lo && hi == o.hi; }
+  bool operator<(const SampleRect& o) const {
+    return std::tie(lo.x, lo.y, hi.x, hi.y) < std::tie(o.lo.x, o.lo.y, o.hi.x, o.hi.y);
+  }
+};
+
+// A tile's border bands of width `width`: its samples 1 to `width` inside each border it shares with a neighbor (the
+// border samples themselves both tiles hold). One channel lays out the top rows, the bottom rows, the left columns
+// and the right columns, each present when a neighbor lies on that side, and no wider than the tile.
+class Bands {
+ public:
+  Bands(const SampleRect& r, glm::ivec2 whole, int width) : r_(r) {
+    const glm::ivec2 s = r.size();
+    top_ = r.lo.y > 0 ? std::min(width, s.y - 1) : 0;
+    bottom_ = r.hi.y < whole.y - 1 ? std::min(width, s.y - 1) : 0;
+    left_ = r.lo.x > 0 ? std::min(width, s.x - 1) : 0;
+    right_ = r.hi.x < whole.x - 1 ? std::min(width, s.x - 1) : 0;
+  }
+
+  // Values per channel.
+  std::size_t size() const {
+    const glm::ivec2 s = r_.size();
+    return static_cast<std::size_t>(top_ + bottom_) * s.x + static_cast<std::size_t>(left_ + right_) * s.y;
+  }
+
+  // fn(sample) for every band sample in layout order.
+  template <class Fn>
+  void for_each(Fn&& fn) const {
+    for (int y = r_.lo.y + 1; y <= r_.lo.y + top_; ++y)
+      for (int x = r_.lo.x; x <= r_.hi.x; ++x) fn(glm::ivec2(x, y));
+    for (int y = r_.hi.y - bottom_; y < r_.hi.y; ++y)
+      for (int x = r_.lo.x; x <= r_.hi.x; ++x) fn(glm::ivec2(x, y));
+    for (int y = r_.lo.y; y <= r_.hi.y; ++y)
+      for (int x = r_.lo.x + 1; x <= r_.lo.x + left_; ++x) fn(glm::ivec2(x, y));
+    for (int y = r_.lo.y; y <= r_.hi.y; ++y)
+      for (int x = r_.hi.x - right_; x < r_.hi.x; ++x) fn(glm::ivec2(x, y));
+  }
+
+  // Where sample `s` lies in a channel, or npos when no band holds it.
+  std::size_t index(glm::ivec2 s) const {
+    const auto sx = static_cast<std::size_t>(r_.size().x), sy = static_cast<std::size_t>(r_.size().y);
+    const auto lx = static_cast<std::size_t>(s.x - r_.lo.x), ly = static_cast<std::size_t>(s.y - r_.lo.y);
+    std::size_t at = 0;
+    if (s.y >= r_.lo.y + 1 && s.y <= r_.lo.y + top_) return (ly - 1) * sx + lx;
+    at += static_cast<std::size_t>(top_) * sx;
+    if (s.y >= r_.hi.y - bottom_ && s.y < r_.hi.y)
+      return at + static_cast<std::size_t>(s.y - (r_.hi.y - bottom_)) * sx + lx;
+    at += static_cast<std::size_t>(bottom_) * sx;
+    if (s.x >= r_.lo.x + 1 && s.x <= r_.lo.x + left_) return at + ly * left_ + (lx - 1);
+    at += static_cast<std::size_t>(left_) * sy;
+    if (s.x >= r_.hi.x - right_ && s.x < r_.hi.x)
+      return at + ly * right_ + static_cast<std::size_t>(s.x - (r_.hi.x - right_));
+    return npos;
+  }
+  static constexpr std::size_t npos = std::numeric_limits<std::size_t>::max();
+
+ private:
+  SampleRect r_;
+  int top_ = 0, bottom_ = 0, left_ = 0, right_ = 0;
+};
+
+// fn(sample) for every sample of the domain within `width` of tile `r` and outside it, row by row.
+template <class Fn>
+void for_each_halo(const SampleRect& r, glm::ivec2 whole, int width, Fn&& fn) {
+  const glm::ivec2 lo = glm::max(r.lo - width, glm::ivec2(0)), hi = glm::min(r.hi + width, whole - 1);
+  for (int y = lo.y; y <= hi.y; ++y) {
+    const bool beside = y >= r.lo.y && y <= r.hi.y;  // a row of the tile: only the columns left and right of it
+    for (int x = lo.x; x <= hi.x; ++x) {
+      if (beside && x == r.lo.x) x = r.hi.x + 1;
+      if (x <= hi.x) fn(glm::ivec2(x, y));
+    }
+  }
+}
+
+// Where the halo samples of each tile lie in the messages (the tile sending it, the byte offset of its value in the
+// first channel of that tile's bands) and each message's channel stride in bytes: the same every round, so made once
+// per tiling.
+struct HaloPlan {
+  std::vector<SampleRect> rects;
+  int width = 0;
+  std::vector<std::size_t> stride;
+  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> sources;
+};
+
+// The plan of the tiles `rects` (row-major over the tiling) of a `whole`-sample domain for halos of `width` samples.
+// Throws std::invalid_argument, its message starting with `what`, when the rectangles do not form a tiling.
+std::shared_ptr<const HaloPlan> make_halo_plan(std::vector<SampleRect> rects, glm::ivec2 whole, int width,
+                                               const std::string& what);
+
+}  // namespace orogen::erosion
