@@ -140,32 +140,28 @@ fs::path run_distributed(const Job& job) {
   const auto r = mpirun(job.ranks, {"eval", (source_dir() / "graphs" / job.graph).string(), "-o", dir.string(),
                                     "--resolution", std::to_string(job.resolution), "--tiles", tiles_text(job.tiles)});
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  // FillDepressions with epsilon flats, FlowDirection with filling, D8 and MFD FlowAccumulation and Watersheds run
-  // across the ranks' tiles (perimeter rounds, a ring of the filled surface, counts and outlets through perimeter
-  // links, MFD shares in rounds), not on the whole domain.
-  if (std::string(job.graph) == "distributed_hydrology.json" && job.tiles.x * job.tiles.y > 1) {
-    for (const char* node :
-         {"'filled' (FillDepressions)", "'direction' (FlowDirection)", "'flow_d8' (FlowAccumulation)",
-          "'flow_mfd' (FlowAccumulation)", "'basins_id' (Watersheds)"})
-      EXPECT_NE(r.err.find(std::string("node ") + node + " computed across the tiles"), std::string::npos) << r.err;
+  // The nodes of each test graph that run across the ranks' tiles, not on the whole domain: FillDepressions with
+  // epsilon flats, FlowDirection with filling, D8 and MFD FlowAccumulation and Watersheds (perimeter rounds, a ring of
+  // the filled surface, counts and outlets through perimeter links, MFD shares in rounds); RiverExtract (every tile
+  // gets the whole joined network, compared below) and DrainageMetrics; FloodFill; the erosion nodes.
+  static const std::map<std::string, std::vector<std::string>> across = {
+      {"distributed_hydrology.json",
+       {"'filled' (FillDepressions)", "'direction' (FlowDirection)", "'flow_d8' (FlowAccumulation)",
+        "'flow_mfd' (FlowAccumulation)", "'basins_id' (Watersheds)"}},
+      {"hydrology.json", {"'rivers' (RiverExtract)", "'metrics' (DrainageMetrics)"}},
+      {"../bench/distributed_flood.json", {"'lake' (FloodFill)", "'flood' (FloodFill)"}},
+      {"../bench/distributed_thermal.json", {"'thermal' (ThermalErosion)"}},
+      {"../bench/distributed_particles.json", {"'droplets' (HydraulicErosion)"}},
+      {"../bench/distributed_pipe.json", {"'storm' (PipeErosion)"}},
+  };
+  if (const auto it = across.find(job.graph); it != across.end() && job.tiles.x * job.tiles.y > 1) {
+    for (const std::string& node : it->second) {
+      EXPECT_NE(r.err.find("node " + node + " computed across the tiles"), std::string::npos) << r.err;
+    }
   }
-  // RiverExtract across the ranks' tiles: every tile gets the whole joined network (compared below).
-  if (std::string(job.graph) == "hydrology.json" && job.tiles.x * job.tiles.y > 1) {
-    EXPECT_NE(r.err.find("node 'rivers' (RiverExtract) computed across the tiles"), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("node 'metrics' (DrainageMetrics) computed across the tiles"), std::string::npos) << r.err;
-  }
-  if (std::string(job.graph).find("distributed_flood.json") != std::string::npos && job.tiles.x * job.tiles.y > 1) {
-    for (const char* node : {"'lake' (FloodFill)", "'flood' (FloodFill)"})
-      EXPECT_NE(r.err.find(std::string("node ") + node + " computed across the tiles"), std::string::npos) << r.err;
+  if (std::string(job.graph) == "../bench/distributed_flood.json" && job.tiles.x * job.tiles.y > 1) {
     EXPECT_EQ(r.err.find("warning"), std::string::npos) << "nothing is computed on the whole domain:\n" << r.err;
   }
-  if (std::string(job.graph).find("distributed_thermal.json") != std::string::npos && job.tiles.x * job.tiles.y > 1) {
-    EXPECT_NE(r.err.find("node 'thermal' (ThermalErosion) computed across the tiles"), std::string::npos) << r.err;
-  }
-  if (std::string(job.graph).find("distributed_particles.json") != std::string::npos && job.tiles.x * job.tiles.y > 1)
-    EXPECT_NE(r.err.find("node 'droplets' (HydraulicErosion) computed across the tiles"), std::string::npos) << r.err;
-  if (std::string(job.graph).find("distributed_pipe.json") != std::string::npos && job.tiles.x * job.tiles.y > 1)
-    EXPECT_NE(r.err.find("node 'storm' (PipeErosion) computed across the tiles"), std::string::npos) << r.err;
   const auto mine = files_under(dir), single = files_under(single_process_build(job));
   EXPECT_EQ(mine.size(), single.size());
   std::size_t differing = 0;
