@@ -927,9 +927,10 @@ FlowShares::FlowShares(const FlowGrid& g, std::span<const float> z, const Routin
     return;
   }
   const bool mfd = opt.method == FlowMethod::MFD;
-  if (mfd)
+  if (mfd) {
     inverse_sum_.assign(n, 0.0);
-  else
+    largest_slope_.assign(n, 0.0);
+  } else
     split_.assign(n, 1.0f);
   for_each_row(
       ctx, g.ny,
@@ -945,6 +946,12 @@ FlowShares::FlowShares(const FlowGrid& g, std::span<const float> z, const Routin
           receivers_[c] = bits;
           if (mfd) {
             inverse_sum_[c] = inv;
+            double smax = 0.0;  // as route_cell computes it, so fraction() need not look at every receiver again
+            for (unsigned m = bits; m; m &= m - 1) {
+              const int q = std::countr_zero(m);
+              smax = std::max(smax, (static_cast<double>(z_[c]) - z_[c + off_[q]]) * inv_dist_[q]);
+            }
+            largest_slope_[c] = smax;
           } else if (cnt == 2) {
             split_[c] = static_cast<float>(fr[0]);  // nb[0] is the facet's cardinal neighbour
           }
@@ -962,14 +969,8 @@ double FlowShares::fraction(std::int32_t c, int k) const {
     return (k & 1) ? 1.0 - static_cast<double>(split_[u]) : static_cast<double>(split_[u]);
   }
   // MFD: the weight of receiver k over the largest slope, as route_cell computes it, times the stored 1 / sum.
-  const double zc = z_[c];
-  double smax = 0.0;
-  for (unsigned m = receivers_[u]; m; m &= m - 1) {
-    const int q = std::countr_zero(m);
-    smax = std::max(smax, (zc - z_[c + off_[q]]) * inv_dist_[q]);
-  }
-  const double s = (zc - z_[c + off_[k]]) * inv_dist_[k];
-  return mfd_weight(s, smax, opt_.exponent) * inverse_sum_[u];
+  const double s = (static_cast<double>(z_[c]) - z_[c + off_[k]]) * inv_dist_[k];
+  return mfd_weight(s, largest_slope_[u], opt_.exponent) * inverse_sum_[u];
 }
 
 std::vector<double> accumulate(const FlowGrid& g, std::span<const float> z, const RoutingOptions& opt,

@@ -22,8 +22,8 @@ namespace orogen::hydrology {
 class FlowShares {
  public:
   // Receivers of every cell of `g` with the heights `z` (kept by reference: it must outlive this) and `opt`'s method
-  // and outlets. O(n) memory: a byte a cell, and 8 bytes more for MFD (its normaliser) and 4 for D-infinity (its
-  // split).
+  // and outlets. O(n) memory: a byte a cell, and 16 bytes more for MFD (its normaliser and steepest slope) and 4 for
+  // D-infinity (its split).
   FlowShares(const FlowGrid& g, std::span<const float> z, const RoutingOptions& opt, const ExecContext* ctx = nullptr);
 
   // Bit k set: cell c sends part of its flow to its neighbour k.
@@ -43,8 +43,9 @@ class FlowShares {
   std::int32_t off_[8];
   double inv_dist_[8];
   std::vector<std::uint8_t> receivers_;
-  std::vector<double> inverse_sum_;  // MFD: 1 / the sum of the cell's weights
-  std::vector<float> split_;         // D-infinity: the share of the cardinal receiver when there are two
+  std::vector<double> inverse_sum_;    // MFD: 1 / the sum of the cell's weights
+  std::vector<double> largest_slope_;  // MFD: the steepest of the cell's downhill slopes
+  std::vector<float> split_;           // D-infinity: the share of the cardinal receiver when there are two
 };
 
 }  // namespace orogen::hydrology
