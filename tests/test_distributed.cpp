@@ -150,6 +150,8 @@ fs::path run_distributed(const Job& job) {
   }
   if (std::string(job.graph).find("distributed_thermal.json") != std::string::npos && job.tiles.x * job.tiles.y > 1)
     EXPECT_NE(r.err.find("node 'thermal' (ThermalErosion) computed across the tiles"), std::string::npos) << r.err;
+  if (std::string(job.graph).find("distributed_kmeans.json") != std::string::npos && job.tiles.x * job.tiles.y > 1)
+    EXPECT_NE(r.err.find("node 'clusters' (KMeansClusters) computed across the tiles"), std::string::npos) << r.err;
   const auto mine = files_under(dir), single = files_under(single_process_build(job));
   EXPECT_EQ(mine.size(), single.size());
   std::size_t differing = 0;
@@ -450,6 +452,25 @@ TEST(Distributed, ThermalErosionAcrossRanksEqualsTheUntiledBuild) {
       const Raster whole = read_raster(untiled / "distributed_thermal" / (std::string(name) + ".tif"));
       const Raster joined =
           stitch(dir, std::string("distributed_thermal/") + name, ".tif", job.tiles, {whole.width, whole.height});
+      EXPECT_TRUE(same_bits(whole, joined)) << name;
+    }
+  }
+}
+
+// KMeansClusters across the ranks' tiles (bench/distributed_kmeans.json: slope and temperature of an fBm terrain, six
+// clusters to convergence, the ids, their colors and a blur of the ids written): each rank tallies its tiles' cells,
+// the exact sums add up to the whole domain's, so the ids equal the untiled build's bit for bit.
+TEST(Distributed, KMeansAcrossRanksEqualsTheUntiledBuild) {
+  SKIP_WITHOUT_MPI();
+  const char* graph = "../bench/distributed_kmeans.json";  // resolved under graphs/
+  const fs::path& untiled = single_process_build({graph, 129, {0, 0}, 1});
+  for (const Job& job : {Job{graph, 129, {2, 2}, 2}, Job{graph, 129, {3, 2}, 4}, Job{graph, 129, {4, 3}, 3}}) {
+    SCOPED_TRACE(tiles_text(job.tiles) + " on " + std::to_string(job.ranks) + " ranks");
+    const fs::path dir = run_distributed(job);
+    for (const char* name : {"cluster_id", "smooth"}) {
+      const Raster whole = read_raster(untiled / "distributed_kmeans" / (std::string(name) + ".tif"));
+      const Raster joined =
+          stitch(dir, std::string("distributed_kmeans/") + name, ".tif", job.tiles, {whole.width, whole.height});
       EXPECT_TRUE(same_bits(whole, joined)) << name;
     }
   }
