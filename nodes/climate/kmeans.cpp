@@ -155,23 +155,23 @@ KMeansFeatures kmeans_features(const Image& features, const std::vector<double>&
   // A cell with a NaN or infinite feature belongs to no cluster (label -1, NaN in the output): it is left out
   // of every assignment, sum and count (NaN propagates; it never becomes a cluster id).
   f.valid.assign(n, 1);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kBlock), [&](const tbb::blocked_range<std::size_t>& r) {
-    if (ctx) ctx->check_cancelled();
-    for (std::size_t q = r.begin(); q != r.end(); ++q)
-      for (std::size_t c = 0; c < uc; ++c) {
-        const float v = features.data[q * uc + c];
-        f.x[q * uc + c] = std::isfinite(v) ? static_cast<float>(v * f.sw[c]) : 0.0f;
-        if (!std::isfinite(v)) f.valid[q] = 0;
-      }
-  });
+  // Block by block, each block's exponent range right after its features (still in cache).
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
   f.double_exact.assign(blocks * uc, 0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 16), [&](const tbb::blocked_range<std::size_t>& r) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    if (ctx) ctx->check_cancelled();
     constexpr float kInf = std::numeric_limits<float>::infinity();
     std::vector<float> lo(uc), hi(uc);  // per channel: the least positive and the largest magnitude
     for (std::size_t b = r.begin(); b != r.end(); ++b) {
+      const std::size_t q0 = b * kBlock, q1 = std::min(n, (b + 1) * kBlock);
+      for (std::size_t q = q0; q < q1; ++q)
+        for (std::size_t c = 0; c < uc; ++c) {
+          const float v = features.data[q * uc + c];
+          f.x[q * uc + c] = std::isfinite(v) ? static_cast<float>(v * f.sw[c]) : 0.0f;
+          if (!std::isfinite(v)) f.valid[q] = 0;
+        }
       std::fill(lo.begin(), lo.end(), kInf), std::fill(hi.begin(), hi.end(), 0.0f);
-      for (std::size_t q = b * kBlock; q < std::min(n, (b + 1) * kBlock); ++q) {
+      for (std::size_t q = q0; q < q1; ++q) {
         if (!f.valid[q]) continue;
         const float* xq = f.x.data() + q * uc;
         for (std::size_t c = 0; c < uc; ++c) {
