@@ -32,50 +32,82 @@ SampleRect rect_of(const Domain& d, const Domain& whole) {
 
 SampleRect overlap(const SampleRect& a, const SampleRect& b) { return {glm::max(a.lo, b.lo), glm::min(a.hi, b.hi)}; }
 
+// A raster output's samples as rows of `channels` floats a sample (a heightfield has one, an image its channels);
+// data is null for an output that is not a raster (a report: the same on every tile, taken from the tile itself).
+struct Raster {
+  float* data = nullptr;
+  int channels = 0;
+  Domain domain;
+  float* row(int j) const {
+    return data + static_cast<std::size_t>(j) * static_cast<std::size_t>(domain.resolution.x) *
+                      static_cast<std::size_t>(channels);
+  }
+};
+
+Raster raster_of(const PortValue& value) {
+  if (const auto* h = std::get_if<HeightfieldPtr>(&value); h && *h)
+    return {const_cast<float*>((*h)->data.data()), 1, (*h)->domain};
+  if (const auto* i = std::get_if<ImagePtr>(&value); i && *i)
+    return {const_cast<float*>((*i)->data.data()), (*i)->channels, (*i)->domain};
+  return {};
+}
+
 // The samples of `rect` of every output of a tile's result, as one piece of an exchange: the tile they are for,
-// the rectangle, then the values of each output.
+// the rectangle, then the values of each raster output.
 void put_piece(std::string& out, long long for_tile, const SampleRect& rect, const std::vector<PortValue>& outputs,
                const Domain& whole) {
   bytes::put(out, static_cast<std::int64_t>(for_tile));
   bytes::put(out, rect.lo.x), bytes::put(out, rect.lo.y), bytes::put(out, rect.hi.x), bytes::put(out, rect.hi.y);
   for (const auto& value : outputs) {
-    if (!std::holds_alternative<HeightfieldPtr>(value)) continue;  // curves and reports: every tile has them whole
-    const Heightfield& h = *std::get<HeightfieldPtr>(value);
+    const Raster h = raster_of(value);
+    if (!h.data) continue;
     const glm::ivec2 at = rect.lo - rect_of(h.domain, whole).lo;
-    for (int j = 0; j <= rect.hi.y - rect.lo.y; ++j) {
-      const auto row = h.row(at.y + j);
-      out.append(reinterpret_cast<const char*>(row.data() + at.x),
-                 static_cast<std::size_t>(rect.size().x) * sizeof(float));
-    }
+    for (int j = 0; j <= rect.hi.y - rect.lo.y; ++j)
+      out.append(reinterpret_cast<const char*>(h.row(at.y + j) + static_cast<std::size_t>(at.x) * h.channels),
+                 static_cast<std::size_t>(rect.size().x) * static_cast<std::size_t>(h.channels) * sizeof(float));
   }
 }
 
 // Copies the samples `rect` of a tile's outputs into the outputs of a tile of the same rank being put together.
-void copy_rect(const std::vector<PortValue>& from, const SampleRect& rect,
-               std::vector<std::shared_ptr<Heightfield>>& into, const Domain& whole) {
+void copy_rect(const std::vector<PortValue>& from, const SampleRect& rect, std::vector<PortValue>& into,
+               const Domain& whole) {
   for (std::size_t o = 0; o < from.size(); ++o) {
-    if (!into[o]) continue;  // not a raster: curves and reports are whole on every tile
-    const Heightfield& src = *std::get<HeightfieldPtr>(from[o]);
-    Heightfield& dst = *into[o];
+    const Raster src = raster_of(from[o]), dst = raster_of(into[o]);
+    if (!src.data || !dst.data) continue;
     const glm::ivec2 s = rect.lo - rect_of(src.domain, whole).lo, d = rect.lo - rect_of(dst.domain, whole).lo;
+    const std::size_t width = static_cast<std::size_t>(rect.size().x) * static_cast<std::size_t>(src.channels);
     for (int j = 0; j <= rect.hi.y - rect.lo.y; ++j)
-      std::copy_n(src.row(s.y + j).begin() + s.x, rect.size().x, dst.row(d.y + j).begin() + d.x);
+      std::copy_n(src.row(s.y + j) + static_cast<std::size_t>(s.x) * src.channels, width,
+                  dst.row(d.y + j) + static_cast<std::size_t>(d.x) * dst.channels);
   }
 }
 
 // Copies the samples `rect` of a piece into the tile's outputs being put together.
-void take_piece(std::string_view& in, const SampleRect& rect, std::vector<std::shared_ptr<Heightfield>>& into,
-                const Domain& whole) {
-  for (auto& h : into) {
-    if (!h) continue;  // not a raster: curves and reports are whole on every tile
-    const glm::ivec2 at = rect.lo - rect_of(h->domain, whole).lo;
-    const auto width = static_cast<std::size_t>(rect.size().x);
+void take_piece(std::string_view& in, const SampleRect& rect, std::vector<PortValue>& into, const Domain& whole) {
+  for (auto& value : into) {
+    const Raster h = raster_of(value);
+    if (!h.data) continue;
+    const glm::ivec2 at = rect.lo - rect_of(h.domain, whole).lo;
+    const auto width = static_cast<std::size_t>(rect.size().x) * static_cast<std::size_t>(h.channels);
     for (int j = 0; j <= rect.hi.y - rect.lo.y; ++j) {
       if (in.size() < width * sizeof(float)) throw std::runtime_error("tile-graph exchange: truncated piece");
-      std::memcpy(h->row(at.y + j).data() + at.x, in.data(), width * sizeof(float));
+      std::memcpy(h.row(at.y + j) + static_cast<std::size_t>(at.x) * h.channels, in.data(), width * sizeof(float));
       in.remove_prefix(width * sizeof(float));
     }
   }
+}
+
+// An output of the tile being put together on domain d, shaped as the tile's own result `core` (a report is the
+// tile's own: the same on every tile).
+PortValue blank_like(const PortValue& core, const Domain& d) {
+  if (std::holds_alternative<HeightfieldPtr>(core)) return HeightfieldPtr(std::make_shared<Heightfield>(d));
+  if (const auto* i = std::get_if<ImagePtr>(&core); i && *i) {
+    auto image = std::make_shared<Image>(d, (*i)->channels);
+    image->channel_names = (*i)->channel_names;
+    image->color = (*i)->color;
+    return ImagePtr(std::move(image));
+  }
+  return core;
 }
 
 // Where a stage's time goes (rank 0's view), for its report.
@@ -238,18 +270,18 @@ class Stages {
   std::vector<std::shared_ptr<const CachedResult>> put_together(const Node& node,
                                                                 const std::vector<std::vector<PortValue>>& cores) {
     const std::size_t mine = s_.tiles.size();
-    std::vector<std::vector<std::shared_ptr<Heightfield>>> built(mine);
+    std::vector<std::vector<PortValue>> built(mine);
     for (std::size_t t = 0; t < mine; ++t) {
       const Domain& d = node_domain(number(s_.tiles[t]), node.id);
-      for (const auto& port : node.type->outputs)
-        built[t].push_back(port.type == PortType::Heightfield ? std::make_shared<Heightfield>(d) : nullptr);
+      for (const PortValue& core : cores[t]) built[t].push_back(blank_like(core, d));
     }
     std::vector<std::string> outgoing(static_cast<std::size_t>(group_.size()));
     for (std::size_t t = 0; t < mine; ++t) {
+      // The first raster output tells the tile's samples (RiverExtract's first output is its curves).
       const auto raster = std::find_if(cores[t].begin(), cores[t].end(),
-                                       [](const PortValue& v) { return std::holds_alternative<HeightfieldPtr>(v); });
+                                       [](const PortValue& v) { return raster_of(v).data != nullptr; });
       if (raster == cores[t].end()) throw std::runtime_error("tile-graph stage: a node without a raster output");
-      const SampleRect core = rect_of(std::get<HeightfieldPtr>(*raster)->domain, s_.domain);
+      const SampleRect core = rect_of(raster_of(*raster).domain, s_.domain);
       for (std::size_t u = 0; u < domains_.size(); ++u) {
         const SampleRect part = overlap(core, rect_of(node_domain(static_cast<long long>(u), node.id), s_.domain));
         if (part.empty()) continue;
@@ -279,8 +311,7 @@ class Stages {
     std::vector<std::shared_ptr<const CachedResult>> results(mine);
     for (std::size_t t = 0; t < mine; ++t) {
       auto r = std::make_shared<CachedResult>();
-      for (std::size_t o = 0; o < built[t].size(); ++o)
-        r->outputs.push_back(built[t][o] ? PortValue(HeightfieldPtr(std::move(built[t][o]))) : cores[t][o]);
+      r->outputs = std::move(built[t]);
       results[t] = std::move(r);
     }
     return results;

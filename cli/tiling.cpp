@@ -229,19 +229,18 @@ std::set<std::string> across_tile_nodes(const Graph& graph, const Domain& full, 
   if (global != GlobalNodes::Whole) return across;
   for (const auto& node : graph.nodes()) {
     const auto& outputs = node.type->outputs;
-    // Rasters are cut into the tiles; curves (RiverExtract's network) and reports (DrainageMetrics') are given
-    // whole to every tile.
-    const bool heightfields =
-        std::any_of(outputs.begin(), outputs.end(),
-                    [](const PortDecl& p) { return p.type == PortType::Heightfield; }) &&
-        std::all_of(outputs.begin(), outputs.end(), [](const PortDecl& p) {
-          return p.type == PortType::Heightfield || p.type == PortType::Curves || p.type == PortType::Report;
-        });
+    // Rasters (heightfields and images) are cut into the tiles and put together; curves (RiverExtract's network) and
+    // reports (DrainageMetrics', KMeansClusters') are given whole to every tile.
+    const auto raster = [](const PortDecl& p) { return p.type == PortType::Heightfield || p.type == PortType::Image; };
+    const bool rasters = std::any_of(outputs.begin(), outputs.end(), raster) &&
+                         std::all_of(outputs.begin(), outputs.end(), [&](const PortDecl& p) {
+                           return raster(p) || p.type == PortType::Curves || p.type == PortType::Report;
+                         });
     // Inputs on a lattice of their own (resampled by the node) cannot be cut into the tiles.
     const bool lattice_inputs = std::all_of(node.inputs.begin(), node.inputs.end(), [&](const auto& in) {
       return !graph.at(in.second.node).type->own_lattice;
     });
-    if (!evaluated_whole(graph, node, global) || !heightfields || node.type->own_lattice || !lattice_inputs) continue;
+    if (!evaluated_whole(graph, node, global) || !rasters || node.type->own_lattice || !lattice_inputs) continue;
     const TileGraphFactory* factory = find_tile_graph(node.type->name);
     const auto refused = tile_graph_unlinked_inputs(node.type->name);
     const bool refused_input_linked = std::any_of(refused.begin(), refused.end(),

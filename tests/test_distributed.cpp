@@ -153,6 +153,7 @@ fs::path run_distributed(const Job& job) {
       {"../bench/distributed_thermal.json", {"'thermal' (ThermalErosion)"}},
       {"../bench/distributed_particles.json", {"'droplets' (HydraulicErosion)"}},
       {"../bench/distributed_pipe.json", {"'storm' (PipeErosion)"}},
+      {"../bench/distributed_kmeans.json", {"'clusters' (KMeansClusters)"}},
   };
   if (const auto it = across.find(job.graph); it != across.end() && job.tiles.x * job.tiles.y > 1) {
     for (const std::string& node : it->second) {
@@ -564,6 +565,25 @@ TEST(Distributed, PipeErosionAcrossRanksEqualsTheUntiledBuild) {
       const Raster whole = read_raster(untiled / "distributed_pipe" / (std::string(name) + ".tif"));
       const Raster joined =
           stitch(dir, std::string("distributed_pipe/") + name, ".tif", job.tiles, {whole.width, whole.height});
+      EXPECT_TRUE(same_bits(whole, joined)) << name;
+    }
+  }
+}
+
+// KMeansClusters across the ranks' tiles (bench/distributed_kmeans.json: slope and temperature of an fBm terrain, six
+// clusters to convergence, the ids, their colors and a blur of the ids written): each rank tallies its tiles' cells,
+// the exact sums add up to the whole domain's, so the ids equal the untiled build's bit for bit.
+TEST(Distributed, KMeansAcrossRanksEqualsTheUntiledBuild) {
+  SKIP_WITHOUT_MPI();
+  const char* graph = "../bench/distributed_kmeans.json";  // resolved under graphs/
+  const fs::path& untiled = single_process_build({graph, 129, {0, 0}, 1});
+  for (const Job& job : {Job{graph, 129, {2, 2}, 2}, Job{graph, 129, {3, 2}, 4}, Job{graph, 129, {4, 3}, 3}}) {
+    SCOPED_TRACE(tiles_text(job.tiles) + " on " + std::to_string(job.ranks) + " ranks");
+    const fs::path dir = run_distributed(job);
+    for (const char* name : {"cluster_id", "smooth"}) {
+      const Raster whole = read_raster(untiled / "distributed_kmeans" / (std::string(name) + ".tif"));
+      const Raster joined =
+          stitch(dir, std::string("distributed_kmeans/") + name, ".tif", job.tiles, {whole.width, whole.height});
       EXPECT_TRUE(same_bits(whole, joined)) << name;
     }
   }

@@ -1,16 +1,21 @@
 #include "nodes/climate/kmeans.h"
 
+#include <cstring>
+#include <stdexcept>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include <nlohmann/json.hpp>
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "graph/heightfield.h"
 #include "graph/registry.h"
 #include "graph/report.h"
+#include "nodes/climate/kmeans_steps.h"
 #include "nodes/common/categorical_palette.h"
 #include "nodes/common/hash.h"
 #include "nodes/common/report_builder.h"
@@ -18,7 +23,7 @@
 namespace orogen::climate {
 namespace {
 
-constexpr std::size_t kBlock = 4096;  // cells per partial sum (fixed: results do not depend on threads)
+constexpr std::size_t kBlock = kmeans_block;  // cells per task and per fast exact sum
 
 // Nearest centre of `count` cells (features x, uc per cell) among k centres transposed to ct[channel][kp]:
 // float squared distances summed channel by channel; ties go to the lower id. Every variant below performs
@@ -140,6 +145,275 @@ std::vector<double> group_weights(const std::vector<std::string>& names, int cha
   return w;
 }
 
+KMeansFeatures kmeans_features(const Image& features, const std::vector<double>& weights, const ExecContext* ctx) {
+  KMeansFeatures f;
+  f.width = features.width(), f.height = features.height(), f.channels = features.channels;
+  const std::size_t n = features.domain.sample_count(), uc = static_cast<std::size_t>(features.channels);
+  f.sw.assign(uc, 1.0);
+  for (std::size_t c = 0; c < uc && c < weights.size(); ++c) f.sw[c] = std::sqrt(std::max(0.0, weights[c]));
+  f.x.resize(n * uc);
+  // A cell with a NaN or infinite feature belongs to no cluster (label -1, NaN in the output): it is left out
+  // of every assignment, sum and count (NaN propagates; it never becomes a cluster id).
+  f.valid.assign(n, 1);
+  // Block by block, each block's exponent range right after its features (still in cache).
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  f.double_exact.assign(blocks * uc, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    if (ctx) ctx->check_cancelled();
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    std::vector<float> lo(uc), hi(uc);  // per channel: the least positive and the largest magnitude
+    for (std::size_t b = r.begin(); b != r.end(); ++b) {
+      const std::size_t q0 = b * kBlock, q1 = std::min(n, (b + 1) * kBlock);
+      for (std::size_t q = q0; q < q1; ++q)
+        for (std::size_t c = 0; c < uc; ++c) {
+          const float v = features.data[q * uc + c];
+          f.x[q * uc + c] = std::isfinite(v) ? static_cast<float>(v * f.sw[c]) : 0.0f;
+          if (!std::isfinite(v)) f.valid[q] = 0;
+        }
+      std::fill(lo.begin(), lo.end(), kInf), std::fill(hi.begin(), hi.end(), 0.0f);
+      for (std::size_t q = q0; q < q1; ++q) {
+        if (!f.valid[q]) continue;
+        const float* xq = f.x.data() + q * uc;
+        for (std::size_t c = 0; c < uc; ++c) {
+          const float a = std::abs(xq[c]);
+          lo[c] = std::min(lo[c], a > 0.0f ? a : kInf);
+          hi[c] = std::max(hi[c], a);
+        }
+      }
+      for (std::size_t c = 0; c < uc; ++c) {
+        std::uint32_t lo_bits, hi_bits;
+        std::memcpy(&lo_bits, &lo[c], sizeof lo_bits), std::memcpy(&hi_bits, &hi[c], sizeof hi_bits);
+        const int lo_e = std::max(static_cast<int>(lo_bits >> 23), 1), hi_e = static_cast<int>(hi_bits >> 23);
+        // All zero; or finite (an infinite x is never fast) within 2^17 in exponent.
+        f.double_exact[b * uc + c] = hi[c] == 0.0f || (hi_e < 0xFF && hi_e - lo_e <= 17);
+      }
+    }
+  });
+  return f;
+}
+
+KMeansTally::KMeansTally(int k, int channels)
+    : counts(static_cast<std::size_t>(k), 0),
+      sums(static_cast<std::size_t>(k) * static_cast<std::size_t>(channels)),
+      raw(sums.size()) {}
+
+void KMeansTally::add(const KMeansTally& o) {
+  for (std::size_t c = 0; c < counts.size(); ++c) counts[c] += o.counts[c];
+  changed += o.changed;
+  objective.add(o.objective);
+  for (std::size_t e = 0; e < sums.size(); ++e) sums[e].add(o.sums[e]);
+  if (!o.with_raw) return;
+  with_raw = true;
+  for (std::size_t e = 0; e < raw.size(); ++e) raw[e].add(o.raw[e]);
+}
+
+void KMeansTally::put(std::string& out) const {
+  auto put64 = [&](std::int64_t v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  put64(changed);
+  for (std::int64_t c : counts) put64(c);
+  objective.put(out);
+  for (const auto& s : sums) s.put(out);
+  out.push_back(static_cast<char>(with_raw));
+  if (with_raw)
+    for (const auto& s : raw) s.put(out);
+}
+
+KMeansTally KMeansTally::take(std::string_view& in, int k, int channels) {
+  KMeansTally t(k, channels);
+  auto take64 = [&]() {
+    std::int64_t v;
+    if (in.size() < sizeof v) throw std::invalid_argument("k-means tally: truncated");
+    std::memcpy(&v, in.data(), sizeof v);
+    in.remove_prefix(sizeof v);
+    return v;
+  };
+  t.changed = take64();
+  for (auto& c : t.counts) c = take64();
+  bool ok = t.objective.take(in);
+  for (auto& s : t.sums) ok = ok && s.take(in);
+  ok = ok && !in.empty();
+  if (ok) {
+    t.with_raw = in.front() != 0;
+    in.remove_prefix(1);
+  }
+  if (t.with_raw)
+    for (auto& s : t.raw) ok = ok && s.take(in);
+  if (!ok) throw std::invalid_argument("k-means tally: truncated");
+  return t;
+}
+
+KMeansTally kmeans_assign(const KMeansFeatures& f, const Image& raw, const std::vector<double>& centres, int k,
+                          glm::ivec2 counted, std::vector<std::int32_t>& labels, const ExecContext* ctx) {
+  const std::size_t n = f.valid.size(), uc = static_cast<std::size_t>(f.channels), uk = static_cast<std::size_t>(k);
+  // Distances in float, vectorised across clusters: centres transposed to [channel][cluster], padded to 4.
+  const std::size_t kp = (uk + 3) & ~std::size_t{3};
+  std::vector<float> ct(uc * kp, 0.0f);
+  for (std::size_t c = 0; c < uk; ++c)
+    for (std::size_t ch = 0; ch < uc; ++ch) ct[ch * kp + c] = static_cast<float>(centres[c * uc + ch]);
+  std::vector<std::size_t> unweighted;  // channels whose unscaled features are summed for the report
+  for (std::size_t ch = 0; ch < uc; ++ch)
+    if (!(f.sw[ch] > 0.0)) unweighted.push_back(ch);
+  const std::size_t W = static_cast<std::size_t>(f.width);
+  const std::size_t cw = static_cast<std::size_t>(std::max(0, counted.x)),
+                    chh = static_cast<std::size_t>(std::max(0, counted.y));
+  // Each thread tallies the blocks it gets; the exact sums make the total independent of how the blocks fall. Within
+  // a block a channel's sums go to doubles where the block's values make them exact (KMeansFeatures::double_exact),
+  // else to buckets of doubles (exact for up to FloatBuckets::kMaxAdds cells), moved into the clusters' exact sums at
+  // the block's end and before the buckets could take more.
+  static_assert(kBlock <= static_cast<std::size_t>(FloatBuckets::kMaxAdds));
+  struct Local {
+    KMeansTally tally;
+    std::vector<double> fast;             // k x channels, this block's sums
+    std::vector<FloatBuckets> slow, raw;  // k x channels
+    FloatBuckets objective;
+    std::vector<char> touched;  // per cluster: members in the buckets since they were last moved
+    std::size_t pending = 0;    // cells since then
+    void move(std::size_t uc, const std::vector<std::size_t>& unweighted) {
+      objective.move_into(tally.objective);
+      for (std::size_t c = 0; c < touched.size(); ++c) {
+        if (!touched[c]) continue;
+        touched[c] = 0;
+        for (std::size_t ch = 0; ch < uc; ++ch) slow[c * uc + ch].move_into(tally.sums[c * uc + ch]);
+        for (std::size_t ch : unweighted) raw[c * uc + ch].move_into(tally.raw[c * uc + ch]);
+      }
+      pending = 0;
+    }
+  };
+  KMeansTally empty(k, f.channels);
+  empty.with_raw = !unweighted.empty();
+  tbb::enumerable_thread_specific<Local> locals([&] {
+    return Local{empty,
+                 std::vector<double>(uk * uc, 0.0),
+                 std::vector<FloatBuckets>(uk * uc),
+                 std::vector<FloatBuckets>(unweighted.empty() ? 0 : uk * uc),
+                 FloatBuckets{},
+                 std::vector<char>(uk, 0),
+                 0};
+  });
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+    if (ctx) ctx->check_cancelled();
+    Local& local = locals.local();
+    KMeansTally& t = local.tally;
+    std::int32_t best_of[kBlock];
+    float dist_of[kBlock];
+    std::uint8_t keep[kBlock];  // valid and counted
+    std::int64_t members[64];
+    std::vector<std::size_t> slow;
+    for (std::size_t b = r.begin(); b != r.end(); ++b) {
+      const std::size_t q0 = b * kBlock, q1 = std::min(n, (b + 1) * kBlock);
+      if (local.pending + (q1 - q0) > static_cast<std::size_t>(FloatBuckets::kMaxAdds)) local.move(uc, unweighted);
+      local.pending += q1 - q0;
+      const std::uint8_t* exact = f.double_exact.data() + b * uc;
+      slow.clear();
+      for (std::size_t ch = 0; ch < uc; ++ch)
+        if (!exact[ch]) slow.push_back(ch);
+      std::fill(members, members + uk, 0);
+      nearest_centres(f.x.data() + q0 * uc, q1 - q0, uc, ct.data(), kp, k, best_of, dist_of);
+      // The distances too add up exactly in a double when they lie within 2^17 of each other (as double_exact).
+      float lo = std::numeric_limits<float>::infinity(), hi = 0.0f;  // the least positive and the largest
+      for (std::size_t i = 0; i < q1 - q0; ++i) {
+        const float d = dist_of[i];
+        lo = std::min(lo, d > 0.0f ? d : std::numeric_limits<float>::infinity());
+        hi = std::max(hi, d);
+      }
+      std::uint32_t lo_bits, hi_bits;
+      std::memcpy(&lo_bits, &lo, sizeof lo), std::memcpy(&hi_bits, &hi, sizeof hi);
+      const int lo_e = std::max(static_cast<int>(lo_bits >> 23), 1), hi_e = static_cast<int>(hi_bits >> 23);
+      // hi is 0 when every distance is (lo is then infinite); a NaN distance makes a NaN sum either way.
+      const bool objective_fast = hi == 0.0f || (hi_e < 0xFF && hi_e - lo_e <= 17);
+      double objective = 0.0;
+      std::size_t i = q0 % W, j = q0 / W;  // the cell's column and row
+      for (std::size_t q = q0; q < q1; ++q) {
+        const bool counted = i < cw && j < chh;  // else another tile's sample
+        if (++i == W) i = 0, ++j;
+        keep[q - q0] = 0;
+        if (!f.valid[q]) continue;  // label stays -1
+        const int best = best_of[q - q0];
+        const bool changed = labels[q] != best;
+        labels[q] = best;
+        if (!counted) continue;
+        keep[q - q0] = 1;
+        t.changed += changed;
+        if (objective_fast)
+          objective += dist_of[q - q0];
+        else
+          local.objective.add(dist_of[q - q0]);
+        ++members[best];
+      }
+      // The sums, in a loop of their own (tight: the compiler vectorizes across the channels).
+      double* const fast = local.fast.data();
+      const float* const x = f.x.data() + q0 * uc;
+      for (std::size_t e = 0; e < q1 - q0; ++e) {
+        if (!keep[e]) continue;
+        double* d = fast + static_cast<std::size_t>(best_of[e]) * uc;
+        const float* xq = x + e * uc;
+        for (std::size_t ch = 0; ch < uc; ++ch) d[ch] += xq[ch];
+      }
+      if (!slow.empty() || !unweighted.empty())
+        for (std::size_t e = 0; e < q1 - q0; ++e) {
+          if (!keep[e]) continue;
+          const std::size_t best = static_cast<std::size_t>(best_of[e]);
+          local.touched[best] = 1;
+          FloatBuckets* s = local.slow.data() + best * uc;
+          for (std::size_t ch : slow) s[ch].add(x[e * uc + ch]);
+          if (unweighted.empty()) continue;
+          FloatBuckets* rs = local.raw.data() + best * uc;
+          for (std::size_t ch : unweighted) rs[ch].add(raw.data[(q0 + e) * uc + ch]);  // finite: the cell is valid
+        }
+      t.objective.add_exact(objective);
+      for (std::size_t c = 0; c < uk; ++c) {
+        if (!members[c]) continue;
+        t.counts[c] += members[c];
+        double* d = local.fast.data() + c * uc;
+        for (std::size_t ch = 0; ch < uc; ++ch) {
+          if (exact[ch]) t.sums[c * uc + ch].add_exact(d[ch]);
+          d[ch] = 0.0;
+        }
+      }
+    }
+  });
+  for (Local& l : locals) l.move(uc, unweighted);
+  KMeansTally total(k, f.channels);
+  total.with_raw = !unweighted.empty();
+  for (const Local& l : locals) total.add(l.tally);
+  return total;
+}
+
+void kmeans_update(const KMeansTally& t, int k, int channels, std::vector<double>& centres) {
+  const std::size_t uc = static_cast<std::size_t>(channels);
+  for (std::size_t c = 0; c < static_cast<std::size_t>(k); ++c)
+    if (t.counts[c] > 0)
+      for (std::size_t ch = 0; ch < uc; ++ch)
+        centres[c * uc + ch] = t.sums[c * uc + ch].value() / static_cast<double>(t.counts[c]);
+}
+
+std::vector<double> kmeans_raw_means(const KMeansTally& t, int k, int channels) {
+  const std::size_t uc = static_cast<std::size_t>(channels);
+  std::vector<double> m(static_cast<std::size_t>(k) * uc, 0.0);
+  for (std::size_t c = 0; c < static_cast<std::size_t>(k); ++c)
+    if (t.counts[c] > 0)
+      for (std::size_t ch = 0; ch < uc; ++ch)
+        m[c * uc + ch] = t.raw[c * uc + ch].value() / static_cast<double>(t.counts[c]);
+  return m;
+}
+
+void kmeans_finish(const std::vector<std::int64_t>& counts, const std::vector<double>& centres,
+                   const std::vector<double>& raw_means, const std::vector<double>& sw, KMeansResult& r) {
+  const std::size_t uc = sw.size(), uk = counts.size();
+  r.counts = counts;
+  r.centres.resize(uk * uc);
+  // With a zero weight a channel's centre is the plain mean of its members.
+  for (std::size_t c = 0; c < uk; ++c)
+    for (std::size_t ch = 0; ch < uc; ++ch)
+      r.centres[c * uc + ch] = sw[ch] > 0.0 ? centres[c * uc + ch] / sw[ch] : raw_means[c * uc + ch];
+}
+
+glm::ivec2 kmeans_diagonal_cell(int c, int k, int width, int height) {
+  const double t = (c + 0.5) / k;
+  return {static_cast<int>(std::lround(t * (width - 1))), static_cast<int>(std::lround(t * (height - 1)))};
+}
+
 KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecContext* ctx) {
   const int C = features.channels;
   const std::size_t n = features.domain.sample_count();
@@ -148,21 +422,9 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
   if (p.max_iterations < 1) throw NodeError("k-means: max_iterations must be at least 1");
   const int k = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(p.k), n));
   const std::size_t uc = static_cast<std::size_t>(C), uk = static_cast<std::size_t>(k);
-  // Features scaled by sqrt(weight): plain squared distance afterwards.
-  std::vector<double> sw(uc, 1.0);
-  for (std::size_t c = 0; c < uc && c < p.weights.size(); ++c) sw[c] = std::sqrt(std::max(0.0, p.weights[c]));
-  std::vector<float> x(n * uc);
-  // A cell with a NaN or infinite feature belongs to no cluster (label -1, NaN in the output): it is left out
-  // of every assignment, sum and count (NaN propagates; it never becomes a cluster id).
-  std::vector<char> valid(n, 1);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kBlock), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t q = r.begin(); q != r.end(); ++q)
-      for (std::size_t c = 0; c < uc; ++c) {
-        const float v = features.data[q * uc + c];
-        x[q * uc + c] = std::isfinite(v) ? static_cast<float>(v * sw[c]) : 0.0f;
-        if (!std::isfinite(v)) valid[q] = 0;
-      }
-  });
+  const KMeansFeatures f = kmeans_features(features, p.weights, ctx);
+  const std::vector<float>& x = f.x;
+  const std::vector<char>& valid = f.valid;
   auto dist2 = [&](std::size_t q, const double* centre) {
     double d = 0.0;
     const float* xq = x.data() + q * uc;
@@ -181,11 +443,9 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
   const int W = features.width(), H = features.height();
   if (p.init == KMeansInit::Diagonal) {
     for (int c = 0; c < k; ++c) {
-      const double t = (c + 0.5) / k;
-      const int i = static_cast<int>(std::lround(t * (W - 1))), j = static_cast<int>(std::lround(t * (H - 1)));
-      set_centre(c, features.domain.sample_count()
-                        ? static_cast<std::size_t>(j) * static_cast<std::size_t>(W) + static_cast<std::size_t>(i)
-                        : 0);
+      const glm::ivec2 cell = kmeans_diagonal_cell(c, k, W, H);
+      set_centre(
+          c, n ? static_cast<std::size_t>(cell.y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(cell.x) : 0);
     }
   } else {
     set_centre(0, static_cast<std::size_t>(hash64(p.seed, 0) % n));
@@ -218,86 +478,19 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
   res.k = k;
   res.channels = C;
   res.labels.assign(n, -1);
-  const std::size_t blocks = (n + kBlock - 1) / kBlock;
-  std::vector<double> block_sums(blocks * uk * uc), block_obj(blocks);
-  std::vector<std::int64_t> block_counts(blocks * uk), block_changed(blocks);
-  std::vector<std::int64_t> counts(uk);
-  // Distances in float, vectorised across clusters: centres transposed to [channel][cluster], padded to 4.
-  const std::size_t kp = (uk + 3) & ~std::size_t{3};
-  std::vector<float> ct(uc * kp, 0.0f);
+  KMeansTally last(k, C);
   for (int it = 0; it < p.max_iterations; ++it) {
-    for (std::size_t c = 0; c < uk; ++c)
-      for (std::size_t ch = 0; ch < uc; ++ch) ct[ch * kp + c] = static_cast<float>(centres[c * uc + ch]);
-    // Assignment and per-block sums.
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-      if (ctx) ctx->check_cancelled();
-      std::int32_t best_of[kBlock];
-      float dist_of[kBlock];
-      for (std::size_t b = r.begin(); b != r.end(); ++b) {
-        double* sums = block_sums.data() + b * uk * uc;
-        std::int64_t* cnt = block_counts.data() + b * uk;
-        std::fill(sums, sums + uk * uc, 0.0);
-        std::fill(cnt, cnt + uk, 0);
-        double obj = 0.0;
-        std::int64_t changed = 0;
-        const std::size_t q0 = b * kBlock, q1 = std::min(n, (b + 1) * kBlock);
-        nearest_centres(x.data() + q0 * uc, q1 - q0, uc, ct.data(), kp, k, best_of, dist_of);
-        for (std::size_t q = q0; q < q1; ++q) {
-          if (!valid[q]) continue;  // label stays -1
-          const int best = best_of[q - q0];
-          changed += res.labels[q] != best;
-          res.labels[q] = best;
-          obj += dist_of[q - q0];
-          ++cnt[best];
-          double* s = sums + static_cast<std::size_t>(best) * uc;
-          const float* xq = x.data() + q * uc;
-          for (std::size_t ch = 0; ch < uc; ++ch) s[ch] += xq[ch];
-        }
-        block_obj[b] = obj;
-        block_changed[b] = changed;
-      }
-    });
-    // Fixed-order reduction.
-    double obj = 0.0;
-    std::int64_t changed = 0;
-    std::vector<double> sums(uk * uc, 0.0);
-    std::fill(counts.begin(), counts.end(), 0);
-    for (std::size_t b = 0; b < blocks; ++b) {
-      obj += block_obj[b];
-      changed += block_changed[b];
-      for (std::size_t c = 0; c < uk; ++c) counts[c] += block_counts[b * uk + c];
-      const double* s = block_sums.data() + b * uk * uc;
-      for (std::size_t e = 0; e < uk * uc; ++e) sums[e] += s[e];
-    }
-    res.objective.push_back(obj);
+    last = kmeans_assign(f, features, centres, k, {W, H}, res.labels, ctx);
+    res.objective.push_back(last.objective.value());
     res.iterations = it + 1;
-    if (static_cast<double>(changed) <= p.tolerance * static_cast<double>(n)) {
+    if (kmeans_converged(last.changed, p.tolerance, n)) {
       res.converged = true;
       break;
     }
-    for (std::size_t c = 0; c < uk; ++c)
-      if (counts[c] > 0)
-        for (std::size_t ch = 0; ch < uc; ++ch)
-          centres[c * uc + ch] = sums[c * uc + ch] / static_cast<double>(counts[c]);
+    kmeans_update(last, k, C, centres);
     if (ctx) ctx->progress(static_cast<double>(it + 1) / p.max_iterations);
   }
-  res.counts = counts;
-  res.centres.resize(uk * uc);
-  for (std::size_t c = 0; c < uk; ++c)
-    for (std::size_t ch = 0; ch < uc; ++ch)
-      res.centres[c * uc + ch] = sw[ch] > 0.0 ? centres[c * uc + ch] / sw[ch] : 0.0;
-  // With a zero weight a channel's centre is the plain mean of its members.
-  for (std::size_t ch = 0; ch < uc; ++ch) {
-    if (sw[ch] > 0.0) continue;
-    std::vector<double> s(uk, 0.0);
-    for (std::size_t q = 0; q < n; ++q) {
-      if (res.labels[q] < 0) continue;
-      const float v = features.data[q * uc + ch];
-      s[static_cast<std::size_t>(res.labels[q])] += std::isfinite(v) ? v : 0.0;
-    }
-    for (std::size_t c = 0; c < uk; ++c)
-      res.centres[c * uc + ch] = counts[c] ? s[c] / static_cast<double>(counts[c]) : 0.0;
-  }
+  kmeans_finish(last.counts, centres, kmeans_raw_means(last, k, C), f.sw, res);
   return res;
 }
 
@@ -355,7 +548,10 @@ OROGEN_NODE(KMeansClusters) {
       "(chapter 4; his weights: slope, temperature and illumination 1, soil humidity 0.1). Initial centers "
       "at equal steps along the terrain diagonal (Long) or by k-means++ from the seed (D. Arthur, S. "
       "Vassilvitskii (2007), k-means++: the advantages of careful seeding). Iterates until at most tolerance x the "
-      "cells change cluster (0: none) or max_iterations. Bit-identical for any thread count.");
+      "cells change cluster (0: none) or max_iterations. The new centers are exact sums of the members' features "
+      "rounded once, so the result is bit-identical for any thread count, and a tiled or distributed build with "
+      "init diagonal runs it across the tiles (each tile sums its cells; one small all-gather per iteration) with "
+      "the untiled build's labels; k-means++ computes on the whole domain.");
   b.input("in", PortType::Image).description("Features per cell (ResourceStack.out or any image)");
   b.output("out", PortType::Heightfield)
       .description("Cluster id 0..k-1 (NaN where a feature is NaN or infinite)")

@@ -6,8 +6,9 @@
 // from a seed (D. Arthur, S. Vassilvitskii (2007), k-means++: the advantages of careful seeding).
 //
 // Iterates until at most `tolerance` x cells change cluster in an assignment (0: none) or max_iterations.
-// Deterministic for any thread count: assignment is per cell (float distances); the new means are sums over fixed
-// blocks of cells reduced in block order, in double precision. Empty clusters keep their centre. Ties go to the lower
+// Deterministic for any thread count and any tiling: assignment is per cell (float distances); the new means are the
+// exact sums of the members' features (ExactFloatSum, independent of the order of addition) rounded once to double,
+// divided by the member count (nodes/climate/kmeans_steps.h). Empty clusters keep their centre. Ties go to the lower
 // cluster id. Non-finite features count as 0.
 #include <cstdint>
 #include <memory>
