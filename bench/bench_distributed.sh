@@ -7,6 +7,8 @@
 # GRAPH=bench/distributed_fill.json measures the nodes that run across the tiles today (filling flat, lakes,
 # normalization), GRAPH=bench/distributed_flow.json the flow nodes (epsilon fill, D8 direction, D8 accumulation with
 # its flow map and wetness index): there each rank holds only its tiles.
+# GRAPH=bench/scale_hydrology.json measures the whole hydrology core across the tiles (fill, D8 and MFD accumulation,
+# rivers, watersheds) for the scale table.
 # GRAPH=bench/distributed_mfd.json measures MFD FlowAccumulation across the tiles (the epsilon fill, the ring, the
 # shares' rounds) with its flow map and wetness index.
 # GRAPH=bench/distributed_thermal.json measures ThermalErosion across the tiles (halos exchanged every k
