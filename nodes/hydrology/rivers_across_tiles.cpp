@@ -25,6 +25,7 @@
 #include "graph/node_type.h"
 #include "graph/tile_bytes.h"
 #include "graph/tile_graph.h"
+#include "nodes/hydrology/channel_network.h"
 #include "nodes/hydrology/rivers.h"
 #include "nodes/hydrology/tile_accumulation.h"
 #include "nodes/hydrology/tile_fill.h"
@@ -315,54 +316,14 @@ class RiversAcrossTiles : public TileGraphAlgorithm {
       if (!in.empty()) throw std::invalid_argument("rivers across tiles: trailing bytes");
       cells.insert(cells.end(), part.begin(), part.end());
     }
-    std::sort(cells.begin(), cells.end(),
-              [](const ChannelCell& a, const ChannelCell& b) { return a.sample < b.sample; });
     const glm::ivec2 size = whole_.resolution;
-    const std::int64_t samples = static_cast<std::int64_t>(size.x) * size.y;
-    auto id_of = [&](std::int64_t sample) {
-      const auto it = std::lower_bound(cells.begin(), cells.end(), sample,
-                                       [](const ChannelCell& c, std::int64_t s) { return c.sample < s; });
-      return it != cells.end() && it->sample == sample ? static_cast<std::int32_t>(it - cells.begin()) : -1;
-    };
-    const auto n = static_cast<std::int32_t>(cells.size());
-    // Receivers, and donors by neighbor index k as seen from the receiver (D8Flow::donors' bits).
-    std::vector<std::int32_t> receiver(cells.size());
-    std::vector<std::vector<std::pair<int, std::int32_t>>> donors(cells.size());
-    for (std::int32_t c = 0; c < n; ++c) {
-      const ChannelCell& cell = cells[static_cast<std::size_t>(c)];
-      if (cell.sample < 0 || cell.sample >= samples ||
-          (c > 0 && cells[static_cast<std::size_t>(c - 1)].sample == cell.sample))
-        throw std::invalid_argument("rivers across tiles: a channel cell outside the domain or sent twice");
-      receiver[static_cast<std::size_t>(c)] = c;
-      if (cell.direction == kNoDirection) continue;
-      if (cell.direction > 7) throw std::invalid_argument("rivers across tiles: not a D8 direction");
-      const int i = static_cast<int>(cell.sample % size.x) + kDi[cell.direction];
-      const int j = static_cast<int>(cell.sample / size.x) + kDj[cell.direction];
-      const std::int32_t r =
-          i < 0 || j < 0 || i >= size.x || j >= size.y ? -1 : id_of(static_cast<std::int64_t>(j) * size.x + i);
-      if (r < 0) throw std::invalid_argument("rivers across tiles: a channel cell drains off the channel network");
-      receiver[static_cast<std::size_t>(c)] = r;
-      donors[static_cast<std::size_t>(r)].emplace_back(opposite(cell.direction), c);
-    }
-    // stack_order restricted to the channel: roots in row-major order, donors pushed in neighbor order.
-    std::vector<std::int32_t> order, stack;
-    order.reserve(cells.size());
-    for (auto& d : donors) std::sort(d.begin(), d.end());
-    for (std::int32_t c = 0; c < n; ++c) {
-      if (receiver[static_cast<std::size_t>(c)] != c) continue;
-      stack.push_back(c);
-      while (!stack.empty()) {
-        const std::int32_t x = stack.back();
-        stack.pop_back();
-        order.push_back(x);
-        for (const auto& [k, d] : donors[static_cast<std::size_t>(x)]) stack.push_back(d);
-      }
-    }
-    if (order.size() != cells.size()) throw std::invalid_argument("rivers across tiles: the channel network loops");
+    const ChannelNetwork net = sorted_channel_network(cells, size, "rivers across tiles");
+    const auto& receiver = net.receiver;
+    const auto& donors = net.donors;
     // extract_reaches on the channel cells.
     std::vector<std::int32_t> reach_of_head(cells.size(), -1);
     std::vector<Reach> reaches;
-    for (const std::int32_t head : order) {
+    for (const std::int32_t head : net.order) {
       if (donors[static_cast<std::size_t>(head)].size() == 1) continue;
       Reach r;
       r.order = cells[static_cast<std::size_t>(head)].order;
