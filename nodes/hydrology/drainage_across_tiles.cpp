@@ -32,6 +32,7 @@
 #include "nodes/hydrology/drainage_metrics.h"
 #include "nodes/hydrology/tile_accumulation.h"
 #include "nodes/hydrology/tile_fill.h"
+#include "nodes/hydrology/tile_phases.h"
 #include "nodes/hydrology/tile_ring.h"
 #include "nodes/hydrology/tile_strahler.h"
 
@@ -42,20 +43,11 @@ enum class Phase : std::uint8_t { Spill, Depressions, Epsilon, Ring, Accumulate,
 
 constexpr const char* kWhat = "drainage metrics across tiles";
 
-std::string tagged(Phase phase, std::string payload) {
-  payload.insert(payload.begin(), static_cast<char>(phase));
-  return payload;
-}
+constexpr const char* kWho = "drainage metrics";  // starts the error messages
 
-Phase take_phase(std::string_view& bytes) {
-  const auto p = bytes::take<std::uint8_t>(bytes, kWhat);
-  if (p > static_cast<std::uint8_t>(Phase::Done)) throw std::invalid_argument("drainage metrics: unknown phase");
-  return static_cast<Phase>(p);
-}
+Phase take_phase(std::string_view& bytes) { return hydrology::take_phase<Phase>(bytes, kWhat, kWho); }
 
-void expect_end(std::string_view in) {
-  if (!in.empty()) throw std::invalid_argument("drainage metrics: trailing bytes");
-}
+void expect_end(std::string_view in) { hydrology::expect_end(in, kWho); }
 
 void put_string(std::string& out, const std::string& s) {
   bytes::put_vector(out, std::vector<char>(s.begin(), s.end()));
@@ -431,15 +423,9 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
   }
 
   std::vector<std::string> solve(int, const std::vector<std::string>& tagged_messages) const override {
-    std::vector<std::string> messages;
-    Phase phase = Phase::Done;
-    for (const std::string& m : tagged_messages) {
-      std::string_view v(m);
-      const Phase p = take_phase(v);
-      if (!messages.empty() && p != phase) throw std::invalid_argument("drainage metrics: tiles in different phases");
-      phase = p;
-      messages.emplace_back(v);
-    }
+    std::vector<std::string_view> views;
+    const Phase phase = untag_messages<Phase>(tagged_messages, views, kWhat, kWho);
+    const std::vector<std::string> messages(views.begin(), views.end());
     const glm::ivec2 size = whole_.resolution;
     std::vector<std::string> answers(messages.size());
     Phase next = Phase::Done;
@@ -466,7 +452,7 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
           std::string_view in(m);
           filled.push_back(take_string(in));
           input.push_back(take_string(in));
-          if (!in.empty()) throw std::invalid_argument("drainage metrics: trailing bytes");
+          expect_end(in);
         }
         const auto a = solve_rings(filled, size), b = solve_rings(input, size);
         for (std::size_t t = 0; t < answers.size(); ++t) put_string(answers[t], a[t]), put_string(answers[t], b[t]);
@@ -581,7 +567,7 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
       pits_outside += bytes::take<std::int64_t>(in, kWhat);
       lake_cells += bytes::take<std::int64_t>(in, kWhat);
       const auto part = bytes::take_vector<ChannelCell>(in, kWhat);
-      if (!in.empty()) throw std::invalid_argument("drainage metrics: trailing bytes");
+      expect_end(in);
       cells.insert(cells.end(), part.begin(), part.end());
     }
     const glm::ivec2 size = whole_.resolution;

@@ -29,6 +29,7 @@
 #include "nodes/hydrology/rivers.h"
 #include "nodes/hydrology/tile_accumulation.h"
 #include "nodes/hydrology/tile_fill.h"
+#include "nodes/hydrology/tile_phases.h"
 #include "nodes/hydrology/tile_ring.h"
 #include "nodes/hydrology/tile_strahler.h"
 
@@ -39,16 +40,7 @@ enum class Phase : std::uint8_t { Spill, Epsilon, Ring, Accumulate, Strahler, Ne
 
 constexpr const char* kWhat = "rivers across tiles";
 
-std::string tagged(Phase phase, std::string payload) {
-  payload.insert(payload.begin(), static_cast<char>(phase));
-  return payload;
-}
-
-Phase take_phase(std::string_view& bytes) {
-  const auto p = bytes::take<std::uint8_t>(bytes, kWhat);
-  if (p > static_cast<std::uint8_t>(Phase::Done)) throw std::invalid_argument("rivers across tiles: unknown phase");
-  return static_cast<Phase>(p);
-}
+Phase take_phase(std::string_view& bytes) { return hydrology::take_phase<Phase>(bytes, kWhat, kWhat); }
 
 // A channel cell as a tile sends it.
 #pragma pack(push, 1)
@@ -165,7 +157,7 @@ class RiverTile : public TileGraphTile {
         break;
       case Phase::Network: {
         curves_ = take_curves(bytes);
-        if (!bytes.empty()) throw std::invalid_argument("rivers across tiles: trailing bytes");
+        expect_end(bytes, kWhat);
         mask_ = std::make_shared<Heightfield>(domain_);
         draw_curves(*curves_, *mask_, &whole_);
         break;
@@ -254,16 +246,9 @@ class RiversAcrossTiles : public TileGraphAlgorithm {
   }
 
   std::vector<std::string> solve(int, const std::vector<std::string>& tagged_messages) const override {
-    std::vector<std::string> messages;
-    Phase phase = Phase::Done;
-    for (const std::string& m : tagged_messages) {
-      std::string_view v(m);
-      const Phase p = take_phase(v);
-      if (!messages.empty() && p != phase)
-        throw std::invalid_argument("rivers across tiles: tiles in different phases");
-      phase = p;
-      messages.emplace_back(v);
-    }
+    std::vector<std::string_view> views;
+    const Phase phase = untag_messages<Phase>(tagged_messages, views, kWhat, kWhat);
+    const std::vector<std::string> messages(views.begin(), views.end());
     const glm::ivec2 size = whole_.resolution;
     std::vector<std::string> answers(messages.size());
     Phase next = Phase::Done;
@@ -313,7 +298,7 @@ class RiversAcrossTiles : public TileGraphAlgorithm {
     for (const std::string& m : messages) {
       std::string_view in(m);
       const auto part = bytes::take_vector<ChannelCell>(in, kWhat);
-      if (!in.empty()) throw std::invalid_argument("rivers across tiles: trailing bytes");
+      expect_end(in, kWhat);
       cells.insert(cells.end(), part.begin(), part.end());
     }
     const glm::ivec2 size = whole_.resolution;
