@@ -22,6 +22,7 @@
 #include "graph/node_type.h"
 #include "graph/registry.h"
 #include "graph/tile_graph.h"
+#include "support/tile_windows.h"
 
 namespace orogen::test {
 
@@ -29,11 +30,6 @@ struct Terrain {
   glm::ivec2 size;
   std::vector<float> z;
 };
-
-// Tile I of N over W samples: [floor(I (W-1) / N), floor((I+1) (W-1) / N)] (cli/tiling.h).
-inline int edge(int t, int samples, int tiles) {
-  return static_cast<int>(static_cast<long long>(t) * (samples - 1) / tiles);
-}
 
 // Random heights: `levels` > 0 quantizes them to integers (wide flats and ties), else continuous; plus a bowl on
 // the domain's centre and a trench along its lower quarter, so depressions span tiles and cross their corners.
