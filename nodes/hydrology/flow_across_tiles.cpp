@@ -377,11 +377,7 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
         break;
       }
       case Phase::Spill: {
-        std::vector<TileSpillGraph> graphs;
-        graphs.reserve(messages.size());
-        for (const auto& m : messages) graphs.push_back(decode_spill_graph(m));
-        const auto levels = solve_spill_graphs(graphs, size);
-        for (std::size_t t = 0; t < levels.size(); ++t) bytes::put_vector(answers[t], levels[t]);
+        answers = solve_spill_messages(messages, size);
         next = Phase::Epsilon;
         break;
       }

@@ -146,10 +146,8 @@ class RiverTile : public TileGraphTile {
         break;
       case Phase::Accumulate: {
         counts_ = finish_tile_accumulation(accumulation_, bytes);
-        std::vector<std::uint8_t> channel(counts_.size());
-        for (std::size_t c = 0; c < counts_.size(); ++c)
-          channel[c] = static_cast<double>(counts_[c]) * grid_.cell_area() >= params_.threshold;
-        strahler_ = std::make_unique<TileStrahler>(accumulation_.receiver, std::move(channel), rect_, size_);
+        strahler_ = std::make_unique<TileStrahler>(
+            accumulation_.receiver, channel_cells(counts_, grid_.cell_area(), params_.threshold), rect_, size_);
         break;
       }
       case Phase::Strahler:
@@ -254,11 +252,7 @@ class RiversAcrossTiles : public TileGraphAlgorithm {
     Phase next = Phase::Done;
     switch (phase) {
       case Phase::Spill: {
-        std::vector<TileSpillGraph> graphs;
-        graphs.reserve(messages.size());
-        for (const auto& m : messages) graphs.push_back(decode_spill_graph(m));
-        const auto levels = solve_spill_graphs(graphs, size);
-        for (std::size_t t = 0; t < levels.size(); ++t) bytes::put_vector(answers[t], levels[t]);
+        answers = solve_spill_messages(messages, size);
         next = Phase::Epsilon;
         break;
       }
