@@ -18,12 +18,13 @@
 #include "graph/tile_graph.h"
 #include "nodes/erosion/droplet_schedule.h"
 #include "nodes/erosion/particles_across_tiles.h"
-#include "support/tile_windows.h"
+#include "support/tile_graph_run.h"
 
 namespace orogen::erosion {
 namespace {
 
 using test::edge;
+using test::same_bits;
 
 struct Fields {
   Domain domain;
@@ -58,17 +59,8 @@ struct Maps {
   std::string report;
 };
 
-bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
-}
-
 std::unique_ptr<TileGraphAlgorithm> algorithm_of(const std::map<std::string, ParamValue>& set, const Domain& whole) {
-  const NodeType& type = *NodeRegistry::instance().find("HydraulicErosion");
-  std::vector<ParamValue> values;
-  for (const auto& p : type.params) values.push_back(set.count(p.name) ? set.at(p.name) : p.default_value);
-  const TileGraphFactory* factory = find_tile_graph("HydraulicErosion");
-  EXPECT_NE(factory, nullptr);
-  return factory ? (*factory)(ParamView(type, values), whole) : nullptr;
+  return test::algorithm_of("HydraulicErosion", set, whole);
 }
 
 Maps whole_domain(const Fields& f, bool mask) {

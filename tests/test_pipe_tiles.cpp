@@ -16,12 +16,13 @@
 #include "graph/tile_graph.h"
 #include "nodes/erosion/pipe.h"
 #include "nodes/erosion/pipe_across_tiles.h"
-#include "support/tile_windows.h"
+#include "support/tile_graph_run.h"
 
 namespace orogen::erosion {
 namespace {
 
 using test::edge;
+using test::same_bits;
 
 // The node's inputs in input order: in, mask, rainfall_rate, moisture, evaporation_factor, hardness.
 struct Fields {
@@ -55,10 +56,6 @@ struct Maps {
   std::vector<std::vector<float>> m;  // out, erosion, deposition, flow, water_depth, velocity
 };
 
-bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
-}
-
 std::map<std::string, ParamValue> node_params(bool drops) {
   return {{"duration", 120.0},
           {"rainfall_rate", 1500.0},
@@ -84,12 +81,7 @@ PipeParams pipe_params(const std::map<std::string, ParamValue>& set) {
 }
 
 std::unique_ptr<TileGraphAlgorithm> algorithm_of(const std::map<std::string, ParamValue>& set, const Domain& whole) {
-  const NodeType& type = *NodeRegistry::instance().find("PipeErosion");
-  std::vector<ParamValue> values;
-  for (const auto& p : type.params) values.push_back(set.count(p.name) ? set.at(p.name) : p.default_value);
-  const TileGraphFactory* factory = find_tile_graph("PipeErosion");
-  EXPECT_NE(factory, nullptr);
-  return factory ? (*factory)(ParamView(type, values), whole) : nullptr;
+  return test::algorithm_of("PipeErosion", set, whole);
 }
 
 // The answer of a step round without its halos (the deepest water and largest flow kept): a halo exchange left out.

@@ -16,12 +16,13 @@
 #include "graph/tile_graph.h"
 #include "nodes/erosion/thermal.h"
 #include "nodes/erosion/thermal_across_tiles.h"
-#include "support/tile_windows.h"
+#include "support/tile_graph_run.h"
 
 namespace orogen::erosion {
 namespace {
 
 using test::edge;
+using test::same_bits;
 
 struct Fields {
   Domain domain;
@@ -49,17 +50,8 @@ struct Maps {
   std::vector<float> out, erosion, deposition, flow;
 };
 
-bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
-}
-
 std::unique_ptr<TileGraphAlgorithm> algorithm_of(const std::map<std::string, ParamValue>& set, const Domain& whole) {
-  const NodeType& type = *NodeRegistry::instance().find("ThermalErosion");
-  std::vector<ParamValue> values;
-  for (const auto& p : type.params) values.push_back(set.count(p.name) ? set.at(p.name) : p.default_value);
-  const TileGraphFactory* factory = find_tile_graph("ThermalErosion");
-  EXPECT_NE(factory, nullptr);
-  return factory ? (*factory)(ParamView(type, values), whole) : nullptr;
+  return test::algorithm_of("ThermalErosion", set, whole);
 }
 
 // The tiles' rounds as the driver runs them (messages through their bytes); `skip(tile, round)` drops that tile's
