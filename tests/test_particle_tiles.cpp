@@ -90,15 +90,7 @@ Maps across_tiles(const TileGraphAlgorithm& algorithm, const Fields& f, glm::ive
       const glm::ivec2 n = glm::ivec2(edge(ti + 1, size.x, counts.x), edge(tj + 1, size.y, counts.y)) - first + 1;
       tiles.push_back(algorithm.start({crop(f.in, first, n), mask ? PortValue(crop(f.mask, first, n)) : PortValue{}}));
     }
-  for (int round = 0;; ++round) {
-    std::vector<std::string> messages;
-    for (auto& tile : tiles) messages.push_back(tile->message(round));
-    const auto answers = algorithm.solve(round, messages);
-    for (std::size_t k = 0; k < tiles.size(); ++k)
-      if (!skip || !skip(k, round)) tiles[k]->answer(round, answers[k]);
-    if (rounds_run) *rounds_run = round + 1;
-    if (!algorithm.another_round(round, messages)) break;
-  }
+  test::run_rounds(algorithm, tiles, skip, rounds_run);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   Maps joined;
   joined.rasters.assign(4, std::vector<float>(f.in->data.size(), nan));

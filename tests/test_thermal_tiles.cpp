@@ -72,15 +72,7 @@ Maps across_tiles(const TileGraphAlgorithm& algorithm, const Fields& f, glm::ive
       tiles.push_back(algorithm.start({crop(f.in, first, n), mask ? PortValue(crop(f.mask, first, n)) : PortValue{},
                                        hardness ? PortValue(crop(f.hardness, first, n)) : PortValue{}}));
     }
-  for (int round = 0;; ++round) {
-    std::vector<std::string> messages;
-    for (auto& tile : tiles) messages.push_back(tile->message(round));
-    const auto answers = algorithm.solve(round, messages);
-    for (std::size_t k = 0; k < tiles.size(); ++k)
-      if (!skip || !skip(k, round)) tiles[k]->answer(round, answers[k]);
-    *rounds_run = round + 1;
-    if (!algorithm.another_round(round, messages)) break;
-  }
+  test::run_rounds(algorithm, tiles, skip, rounds_run);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   Maps joined{std::vector<float>(f.in->data.size(), nan), std::vector<float>(f.in->data.size(), nan),
               std::vector<float>(f.in->data.size(), nan), std::vector<float>(f.in->data.size(), nan)};

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <map>
 #include <memory>
@@ -123,13 +124,17 @@ inline std::vector<std::unique_ptr<TileGraphTile>> start_tiles(
   return tiles;
 }
 
-// The tiles' rounds until the algorithm is done, every message through its bytes; the number of rounds.
-inline int run_rounds(const TileGraphAlgorithm& algorithm, std::vector<std::unique_ptr<TileGraphTile>>& tiles) {
+// The tiles' rounds until the algorithm is done, every message through its bytes; the number of rounds, also in
+// `rounds_run` after every round. `skip(tile, round)` drops that tile's answer of that round (a test's mutation).
+inline int run_rounds(const TileGraphAlgorithm& algorithm, std::vector<std::unique_ptr<TileGraphTile>>& tiles,
+                      const std::function<bool(std::size_t, int)>& skip = {}, int* rounds_run = nullptr) {
   for (int round = 0;; ++round) {
     std::vector<std::string> messages;
     for (auto& tile : tiles) messages.push_back(tile->message(round));
     const auto answers = algorithm.solve(round, messages);
-    for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->answer(round, answers[k]);
+    for (std::size_t k = 0; k < tiles.size(); ++k)
+      if (!skip || !skip(k, round)) tiles[k]->answer(round, answers[k]);
+    if (rounds_run) *rounds_run = round + 1;
     if (!algorithm.another_round(round, messages)) return round + 1;
   }
 }
