@@ -16,12 +16,13 @@
 #include "graph/tile_graph.h"
 #include "nodes/erosion/pipe.h"
 #include "nodes/erosion/pipe_across_tiles.h"
+#include "support/tile_graph_run.h"
 
 namespace orogen::erosion {
 namespace {
 
-// Tile I of N over W samples: [floor(I (W-1) / N), floor((I+1) (W-1) / N)] (cli/tiling.h).
-int edge(int t, int samples, int tiles) { return static_cast<int>(static_cast<long long>(t) * (samples - 1) / tiles); }
+using test::edge;
+using test::same_bits;
 
 // The node's inputs in input order: in, mask, rainfall_rate, moisture, evaporation_factor, hardness.
 struct Fields {
@@ -55,10 +56,6 @@ struct Maps {
   std::vector<std::vector<float>> m;  // out, erosion, deposition, flow, water_depth, velocity
 };
 
-bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
-}
-
 std::map<std::string, ParamValue> node_params(bool drops) {
   return {{"duration", 120.0},
           {"rainfall_rate", 1500.0},
@@ -84,12 +81,7 @@ PipeParams pipe_params(const std::map<std::string, ParamValue>& set) {
 }
 
 std::unique_ptr<TileGraphAlgorithm> algorithm_of(const std::map<std::string, ParamValue>& set, const Domain& whole) {
-  const NodeType& type = *NodeRegistry::instance().find("PipeErosion");
-  std::vector<ParamValue> values;
-  for (const auto& p : type.params) values.push_back(set.count(p.name) ? set.at(p.name) : p.default_value);
-  const TileGraphFactory* factory = find_tile_graph("PipeErosion");
-  EXPECT_NE(factory, nullptr);
-  return factory ? (*factory)(ParamView(type, values), whole) : nullptr;
+  return test::algorithm_of("PipeErosion", set, whole);
 }
 
 // The answer of a step round without its halos (the deepest water and largest flow kept): a halo exchange left out.
@@ -107,10 +99,7 @@ Maps across_tiles(const TileGraphAlgorithm& algorithm, const Fields& f, glm::ive
                   const std::function<bool(std::size_t, int)>& stale = {}, int* disagreements = nullptr) {
   const glm::ivec2 size = f.domain.resolution;
   auto crop = [&](const HeightfieldPtr& h, glm::ivec2 first, glm::ivec2 n) {
-    auto c = std::make_shared<Heightfield>(f.domain.subdomain(first.x, first.y, n.x, n.y));
-    for (int j = 0; j < n.y; ++j)
-      for (int i = 0; i < n.x; ++i) c->at(i, j) = h->at(first.x + i, first.y + j);
-    return HeightfieldPtr(c);
+    return test::crop(f.domain, h, first, n);
   };
   std::vector<std::unique_ptr<TileGraphTile>> tiles;
   for (int tj = 0; tj < counts.y; ++tj)
@@ -137,18 +126,7 @@ Maps across_tiles(const TileGraphAlgorithm& algorithm, const Fields& f, glm::ive
     const auto outputs = tile->outputs();
     for (std::size_t o = 0; o < 6; ++o) {
       const Heightfield& h = *std::get<HeightfieldPtr>(outputs[o]);
-      for (int j = 0; j < h.height(); ++j)
-        for (int i = 0; i < h.width(); ++i) {
-          float& v = joined.m[o][static_cast<std::size_t>(h.domain.first.y + j) * size.x + h.domain.first.x + i];
-          const float mine = h.at(i, j);
-          if (!std::isnan(v) && std::memcmp(&v, &mine, sizeof v) != 0) {
-            if (disagreements)
-              ++*disagreements;
-            else
-              ADD_FAILURE() << "tiles disagree on a shared sample";
-          }
-          v = mine;
-        }
+      test::join_tile_map(joined.m[o], h, size.x, disagreements);
     }
   }
   return joined;

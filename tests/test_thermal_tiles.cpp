@@ -16,12 +16,13 @@
 #include "graph/tile_graph.h"
 #include "nodes/erosion/thermal.h"
 #include "nodes/erosion/thermal_across_tiles.h"
+#include "support/tile_graph_run.h"
 
 namespace orogen::erosion {
 namespace {
 
-// Tile I of N over W samples: [floor(I (W-1) / N), floor((I+1) (W-1) / N)] (cli/tiling.h).
-int edge(int t, int samples, int tiles) { return static_cast<int>(static_cast<long long>(t) * (samples - 1) / tiles); }
+using test::edge;
+using test::same_bits;
 
 struct Fields {
   Domain domain;
@@ -49,17 +50,8 @@ struct Maps {
   std::vector<float> out, erosion, deposition, flow;
 };
 
-bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
-}
-
 std::unique_ptr<TileGraphAlgorithm> algorithm_of(const std::map<std::string, ParamValue>& set, const Domain& whole) {
-  const NodeType& type = *NodeRegistry::instance().find("ThermalErosion");
-  std::vector<ParamValue> values;
-  for (const auto& p : type.params) values.push_back(set.count(p.name) ? set.at(p.name) : p.default_value);
-  const TileGraphFactory* factory = find_tile_graph("ThermalErosion");
-  EXPECT_NE(factory, nullptr);
-  return factory ? (*factory)(ParamView(type, values), whole) : nullptr;
+  return test::algorithm_of("ThermalErosion", set, whole);
 }
 
 // The tiles' rounds as the driver runs them (messages through their bytes); `skip(tile, round)` drops that tile's
@@ -70,10 +62,7 @@ Maps across_tiles(const TileGraphAlgorithm& algorithm, const Fields& f, glm::ive
                   int* disagreements = nullptr) {
   const glm::ivec2 size = f.domain.resolution;
   auto crop = [&](const HeightfieldPtr& h, glm::ivec2 first, glm::ivec2 n) {
-    auto c = std::make_shared<Heightfield>(f.domain.subdomain(first.x, first.y, n.x, n.y));
-    for (int j = 0; j < n.y; ++j)
-      for (int i = 0; i < n.x; ++i) c->at(i, j) = h->at(first.x + i, first.y + j);
-    return HeightfieldPtr(c);
+    return test::crop(f.domain, h, first, n);
   };
   std::vector<std::unique_ptr<TileGraphTile>> tiles;
   for (int tj = 0; tj < counts.y; ++tj)
@@ -83,15 +72,7 @@ Maps across_tiles(const TileGraphAlgorithm& algorithm, const Fields& f, glm::ive
       tiles.push_back(algorithm.start({crop(f.in, first, n), mask ? PortValue(crop(f.mask, first, n)) : PortValue{},
                                        hardness ? PortValue(crop(f.hardness, first, n)) : PortValue{}}));
     }
-  for (int round = 0;; ++round) {
-    std::vector<std::string> messages;
-    for (auto& tile : tiles) messages.push_back(tile->message(round));
-    const auto answers = algorithm.solve(round, messages);
-    for (std::size_t k = 0; k < tiles.size(); ++k)
-      if (!skip || !skip(k, round)) tiles[k]->answer(round, answers[k]);
-    *rounds_run = round + 1;
-    if (!algorithm.another_round(round, messages)) break;
-  }
+  test::run_rounds(algorithm, tiles, skip, rounds_run);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   Maps joined{std::vector<float>(f.in->data.size(), nan), std::vector<float>(f.in->data.size(), nan),
               std::vector<float>(f.in->data.size(), nan), std::vector<float>(f.in->data.size(), nan)};
@@ -100,18 +81,7 @@ Maps across_tiles(const TileGraphAlgorithm& algorithm, const Fields& f, glm::ive
     std::vector<float>* into[] = {&joined.out, &joined.erosion, &joined.deposition, &joined.flow};
     for (std::size_t o = 0; o < 4; ++o) {
       const Heightfield& h = *std::get<HeightfieldPtr>(outputs[o]);
-      for (int j = 0; j < h.height(); ++j)
-        for (int i = 0; i < h.width(); ++i) {
-          float& v = (*into[o])[static_cast<std::size_t>(h.domain.first.y + j) * size.x + h.domain.first.x + i];
-          const float mine = h.at(i, j);
-          if (!std::isnan(v) && std::memcmp(&v, &mine, sizeof v) != 0) {
-            if (disagreements)
-              ++*disagreements;
-            else
-              ADD_FAILURE() << "tiles disagree on a shared sample";
-          }
-          v = mine;
-        }
+      test::join_tile_map((*into[o]), h, size.x, disagreements);
     }
   }
   return joined;

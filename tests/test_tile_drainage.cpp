@@ -13,7 +13,6 @@ namespace {
 
 using test::algorithm_of;
 using test::domain_of;
-using test::edge;
 using test::same_bits;
 using test::Terrain;
 using test::terrain;
@@ -27,27 +26,8 @@ struct Tiled {
 };
 
 Tiled run_metrics(const TileGraphAlgorithm& algorithm, const Terrain& t, glm::ivec2 counts) {
-  const Domain whole = domain_of(t);
-  std::vector<std::unique_ptr<TileGraphTile>> tiles;
-  for (int tj = 0; tj < counts.y; ++tj)
-    for (int ti = 0; ti < counts.x; ++ti) {
-      const glm::ivec2 first{edge(ti, t.size.x, counts.x), edge(tj, t.size.y, counts.y)};
-      const glm::ivec2 size =
-          glm::ivec2(edge(ti + 1, t.size.x, counts.x), edge(tj + 1, t.size.y, counts.y)) - first + 1;
-      auto h = std::make_shared<Heightfield>(whole.subdomain(first.x, first.y, size.x, size.y));
-      for (int j = 0; j < size.y; ++j)
-        for (int i = 0; i < size.x; ++i)
-          h->data[static_cast<std::size_t>(j) * size.x + i] =
-              t.z[static_cast<std::size_t>(first.y + j) * t.size.x + first.x + i];
-      tiles.push_back(algorithm.start({HeightfieldPtr(h)}));
-    }
-  for (int round = 0;; ++round) {
-    std::vector<std::string> messages;
-    for (auto& tile : tiles) messages.push_back(tile->message(round));
-    const auto answers = algorithm.solve(round, messages);
-    for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->answer(round, answers[k]);
-    if (!algorithm.another_round(round, messages)) break;
-  }
+  auto tiles = test::start_tiles(algorithm, t, counts);
+  test::run_rounds(algorithm, tiles);
   Tiled out;
   out.order.assign(t.z.size(), std::numeric_limits<float>::quiet_NaN());
   for (auto& tile : tiles) {

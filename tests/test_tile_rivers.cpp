@@ -53,41 +53,14 @@ struct Tiled {
 };
 
 Tiled run_rivers(const TileGraphAlgorithm& algorithm, const Terrain& t, glm::ivec2 counts) {
-  const Domain whole = domain_of(t);
-  std::vector<std::unique_ptr<TileGraphTile>> tiles;
-  for (int tj = 0; tj < counts.y; ++tj)
-    for (int ti = 0; ti < counts.x; ++ti) {
-      const glm::ivec2 first{edge(ti, t.size.x, counts.x), edge(tj, t.size.y, counts.y)};
-      const glm::ivec2 size =
-          glm::ivec2(edge(ti + 1, t.size.x, counts.x), edge(tj + 1, t.size.y, counts.y)) - first + 1;
-      auto h = std::make_shared<Heightfield>(whole.subdomain(first.x, first.y, size.x, size.y));
-      for (int j = 0; j < size.y; ++j)
-        for (int i = 0; i < size.x; ++i)
-          h->data[static_cast<std::size_t>(j) * size.x + i] =
-              t.z[static_cast<std::size_t>(first.y + j) * t.size.x + first.x + i];
-      tiles.push_back(algorithm.start({HeightfieldPtr(h), PortValue{}}));
-    }
+  auto tiles = test::start_tiles(algorithm, t, counts, 2);
   Tiled out;
-  for (int round = 0;; ++round) {
-    std::vector<std::string> messages;
-    for (auto& tile : tiles) messages.push_back(tile->message(round));
-    const auto answers = algorithm.solve(round, messages);
-    for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->answer(round, answers[k]);
-    out.rounds = round + 1;
-    if (!algorithm.another_round(round, messages)) break;
-  }
+  out.rounds = test::run_rounds(algorithm, tiles);
   out.mask.assign(t.z.size(), std::numeric_limits<float>::quiet_NaN());
   for (auto& tile : tiles) {
     const auto outputs = tile->outputs();
     out.curves.push_back(std::get<CurvesPtr>(outputs.at(0)));
-    const Heightfield& h = *std::get<HeightfieldPtr>(outputs.at(1));
-    for (int j = 0; j < h.domain.height(); ++j)
-      for (int i = 0; i < h.domain.width(); ++i) {
-        float& v = out.mask[static_cast<std::size_t>(h.domain.first.y + j) * t.size.x + h.domain.first.x + i];
-        const float mine = h.data[static_cast<std::size_t>(j) * h.domain.width() + i];
-        EXPECT_TRUE(std::isnan(v) || same_bits({v}, {mine})) << "tiles disagree on a shared sample";
-        v = mine;
-      }
+    test::join_window(out.mask, *std::get<HeightfieldPtr>(outputs.at(1)), t.size.x);
   }
   return out;
 }

@@ -27,10 +27,12 @@
 #include "graph/tile_bytes.h"
 #include "graph/tile_graph.h"
 #include "nodes/common/report_builder.h"
+#include "nodes/hydrology/channel_network.h"
 #include "nodes/hydrology/depressions.h"
 #include "nodes/hydrology/drainage_metrics.h"
 #include "nodes/hydrology/tile_accumulation.h"
 #include "nodes/hydrology/tile_fill.h"
+#include "nodes/hydrology/tile_phases.h"
 #include "nodes/hydrology/tile_ring.h"
 #include "nodes/hydrology/tile_strahler.h"
 
@@ -41,20 +43,11 @@ enum class Phase : std::uint8_t { Spill, Depressions, Epsilon, Ring, Accumulate,
 
 constexpr const char* kWhat = "drainage metrics across tiles";
 
-std::string tagged(Phase phase, std::string payload) {
-  payload.insert(payload.begin(), static_cast<char>(phase));
-  return payload;
-}
+constexpr const char* kWho = "drainage metrics";  // starts the error messages
 
-Phase take_phase(std::string_view& bytes) {
-  const auto p = bytes::take<std::uint8_t>(bytes, kWhat);
-  if (p > static_cast<std::uint8_t>(Phase::Done)) throw std::invalid_argument("drainage metrics: unknown phase");
-  return static_cast<Phase>(p);
-}
+Phase take_phase(std::string_view& bytes) { return hydrology::take_phase<Phase>(bytes, kWhat, kWho); }
 
-void expect_end(std::string_view in) {
-  if (!in.empty()) throw std::invalid_argument("drainage metrics: trailing bytes");
-}
+void expect_end(std::string_view in) { hydrology::expect_end(in, kWho); }
 
 void put_string(std::string& out, const std::string& s) {
   bytes::put_vector(out, std::vector<char>(s.begin(), s.end()));
@@ -287,10 +280,8 @@ class DrainageTile : public TileGraphTile {
       }
       case Phase::Accumulate: {
         counts_ = finish_tile_accumulation(accumulation_, bytes);
-        std::vector<std::uint8_t> channel(counts_.size());
-        for (std::size_t c = 0; c < counts_.size(); ++c)
-          channel[c] = static_cast<double>(counts_[c]) * grid_.cell_area() >= params_.threshold;
-        strahler_ = std::make_unique<TileStrahler>(accumulation_.receiver, std::move(channel), rect_, size_);
+        strahler_ = std::make_unique<TileStrahler>(
+            accumulation_.receiver, channel_cells(counts_, grid_.cell_area(), params_.threshold), rect_, size_);
         break;
       }
       case Phase::Strahler:
@@ -430,24 +421,15 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
   }
 
   std::vector<std::string> solve(int, const std::vector<std::string>& tagged_messages) const override {
-    std::vector<std::string> messages;
-    Phase phase = Phase::Done;
-    for (const std::string& m : tagged_messages) {
-      std::string_view v(m);
-      const Phase p = take_phase(v);
-      if (!messages.empty() && p != phase) throw std::invalid_argument("drainage metrics: tiles in different phases");
-      phase = p;
-      messages.emplace_back(v);
-    }
+    std::vector<std::string_view> views;
+    const Phase phase = untag_messages<Phase>(tagged_messages, views, kWhat, kWho);
+    const std::vector<std::string> messages(views.begin(), views.end());
     const glm::ivec2 size = whole_.resolution;
     std::vector<std::string> answers(messages.size());
     Phase next = Phase::Done;
     switch (phase) {
       case Phase::Spill: {
-        std::vector<TileSpillGraph> graphs;
-        for (const auto& m : messages) graphs.push_back(decode_spill_graph(m));
-        const auto levels = solve_spill_graphs(graphs, size);
-        for (std::size_t t = 0; t < levels.size(); ++t) bytes::put_vector(answers[t], levels[t]);
+        answers = solve_spill_messages(messages, size);
         next = Phase::Depressions;
         break;
       }
@@ -465,7 +447,7 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
           std::string_view in(m);
           filled.push_back(take_string(in));
           input.push_back(take_string(in));
-          if (!in.empty()) throw std::invalid_argument("drainage metrics: trailing bytes");
+          expect_end(in);
         }
         const auto a = solve_rings(filled, size), b = solve_rings(input, size);
         for (std::size_t t = 0; t < answers.size(); ++t) put_string(answers[t], a[t]), put_string(answers[t], b[t]);
@@ -580,52 +562,16 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
       pits_outside += bytes::take<std::int64_t>(in, kWhat);
       lake_cells += bytes::take<std::int64_t>(in, kWhat);
       const auto part = bytes::take_vector<ChannelCell>(in, kWhat);
-      if (!in.empty()) throw std::invalid_argument("drainage metrics: trailing bytes");
+      expect_end(in);
       cells.insert(cells.end(), part.begin(), part.end());
     }
-    std::sort(cells.begin(), cells.end(),
-              [](const ChannelCell& a, const ChannelCell& b) { return a.sample < b.sample; });
     const glm::ivec2 size = whole_.resolution;
     const FlowGrid g = FlowGrid::of(whole_);
     const std::int64_t samples = static_cast<std::int64_t>(size.x) * size.y;
-    auto id_of = [&](std::int64_t sample) {
-      const auto it = std::lower_bound(cells.begin(), cells.end(), sample,
-                                       [](const ChannelCell& c, std::int64_t s) { return c.sample < s; });
-      return it != cells.end() && it->sample == sample ? static_cast<std::int32_t>(it - cells.begin()) : -1;
-    };
-    const auto n = static_cast<std::int32_t>(cells.size());
-    std::vector<std::int32_t> receiver(cells.size());
-    std::vector<std::vector<std::pair<int, std::int32_t>>> donors(cells.size());
-    for (std::int32_t c = 0; c < n; ++c) {
-      const ChannelCell& cell = cells[static_cast<std::size_t>(c)];
-      if (cell.sample < 0 || cell.sample >= samples ||
-          (c > 0 && cells[static_cast<std::size_t>(c - 1)].sample == cell.sample))
-        throw std::invalid_argument("drainage metrics: a channel cell outside the domain or sent twice");
-      receiver[static_cast<std::size_t>(c)] = c;
-      if (cell.direction == kNoDirection) continue;
-      if (cell.direction > 7) throw std::invalid_argument("drainage metrics: not a D8 direction");
-      const int i = static_cast<int>(cell.sample % size.x) + kDi[cell.direction];
-      const int j = static_cast<int>(cell.sample / size.x) + kDj[cell.direction];
-      const std::int32_t r =
-          i < 0 || j < 0 || i >= size.x || j >= size.y ? -1 : id_of(static_cast<std::int64_t>(j) * size.x + i);
-      if (r < 0) throw std::invalid_argument("drainage metrics: a channel cell drains off the channel network");
-      receiver[static_cast<std::size_t>(c)] = r;
-      donors[static_cast<std::size_t>(r)].emplace_back(opposite(cell.direction), c);
-    }
-    // stack_order restricted to the channel cells: roots in row-major order, donors pushed in neighbor order.
-    std::vector<std::int32_t> order, stack;
-    for (auto& d : donors) std::sort(d.begin(), d.end());
-    for (std::int32_t c = 0; c < n; ++c) {
-      if (receiver[static_cast<std::size_t>(c)] != c) continue;
-      stack.push_back(c);
-      while (!stack.empty()) {
-        const std::int32_t x = stack.back();
-        stack.pop_back();
-        order.push_back(x);
-        for (const auto& [k, d] : donors[static_cast<std::size_t>(x)]) stack.push_back(d);
-      }
-    }
-    if (order.size() != cells.size()) throw std::invalid_argument("drainage metrics: the channel network loops");
+    const ChannelNetwork net = sorted_channel_network(cells, size, "drainage metrics");
+    const auto& receiver = net.receiver;
+    const auto& donors = net.donors;
+    const auto& order = net.order;
     // network_metrics' traversal over the channel cells, upstream first.
     NetworkSamples s;
     std::vector<std::int32_t> stream(cells.size(), -1);

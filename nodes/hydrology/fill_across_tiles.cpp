@@ -103,20 +103,13 @@ class FlatFillAcrossTiles : public TileGraphAlgorithm {
 
   std::vector<std::string> solve(int round, const std::vector<std::string>& messages) const override {
     if (round >= 2) return solve_epsilon_perimeters(messages, whole_);
+    if (round == 0) return solve_spill_messages(messages, whole_);
     std::vector<std::string> answers(messages.size());
-    if (round == 0) {
-      std::vector<TileSpillGraph> graphs;
-      graphs.reserve(messages.size());
-      for (const auto& m : messages) graphs.push_back(decode_spill_graph(m));
-      const auto levels = solve_spill_graphs(graphs, whole_);
-      for (std::size_t t = 0; t < levels.size(); ++t) bytes::put_vector(answers[t], levels[t]);
-    } else {
-      std::vector<TileLakes> lakes;
-      lakes.reserve(messages.size());
-      for (const auto& m : messages) lakes.push_back(decode_tile_lakes(m));
-      const auto numbers = solve_tile_lakes(lakes, whole_, keep_);
-      for (std::size_t t = 0; t < numbers.size(); ++t) bytes::put_vector(answers[t], numbers[t]);
-    }
+    std::vector<TileLakes> lakes;
+    lakes.reserve(messages.size());
+    for (const auto& m : messages) lakes.push_back(decode_tile_lakes(m));
+    const auto numbers = solve_tile_lakes(lakes, whole_, keep_);
+    for (std::size_t t = 0; t < numbers.size(); ++t) bytes::put_vector(answers[t], numbers[t]);
     return answers;
   }
 

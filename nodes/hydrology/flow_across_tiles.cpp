@@ -31,6 +31,7 @@
 #include "nodes/hydrology/tile_accumulation.h"
 #include "nodes/hydrology/tile_basins.h"
 #include "nodes/hydrology/tile_fill.h"
+#include "nodes/hydrology/tile_phases.h"
 #include "nodes/hydrology/tile_ring.h"
 #include "nodes/hydrology/tile_shares.h"
 #include "nodes/hydrology/tile_surface_memo.h"
@@ -54,17 +55,7 @@ enum class Phase : std::uint8_t {
 
 constexpr const char* kWhat = "flow across tiles";
 
-std::string tagged(Phase phase, std::string payload) {
-  payload.insert(payload.begin(), static_cast<char>(phase));
-  return payload;
-}
-
-// The phase a message or answer is tagged with; `bytes` keeps the rest.
-Phase take_phase(std::string_view& bytes) {
-  const auto p = bytes::take<std::uint8_t>(bytes, kWhat);
-  if (p > static_cast<std::uint8_t>(Phase::Done)) throw std::invalid_argument("flow across tiles: unknown phase");
-  return static_cast<Phase>(p);
-}
+Phase take_phase(std::string_view& bytes) { return hydrology::take_phase<Phase>(bytes, kWhat, kWhat); }
 
 // What the tiles compute once they have the ring.
 struct FlowJob {
@@ -150,7 +141,7 @@ class FlowTile : public TileGraphTile {
     const Phase next = take_phase(bytes);
     switch (phase_) {
       case Phase::Surface:
-        if (!bytes.empty()) throw std::invalid_argument("flow across tiles: trailing bytes");
+        expect_end(bytes, kWhat);
         if (next == Phase::Ring) {
           if (!kept_) throw std::invalid_argument("flow across tiles: no kept surface to take");
           surface_ = *kept_;
@@ -198,7 +189,7 @@ class FlowTile : public TileGraphTile {
         break;
       case Phase::Maximum:
         largest_ = bytes::take<double>(bytes, kWhat);
-        if (!bytes.empty()) throw std::invalid_argument("flow across tiles: trailing bytes");
+        expect_end(bytes, kWhat);
         break;
       case Phase::Links:
         take_basin_outlets(basins_, bytes);
@@ -368,14 +359,7 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
 
   std::vector<std::string> solve(int, const std::vector<std::string>& tagged_messages) const override {
     std::vector<std::string_view> views;
-    Phase phase = Phase::Done;
-    for (const std::string& m : tagged_messages) {
-      std::string_view v(m);
-      const Phase p = take_phase(v);
-      if (!views.empty() && p != phase) throw std::invalid_argument("flow across tiles: tiles in different phases");
-      phase = p;
-      views.push_back(v);
-    }
+    const Phase phase = untag_messages<Phase>(tagged_messages, views, kWhat, kWhat);
     const std::vector<std::string> messages(views.begin(), views.end());
     const glm::ivec2 size = whole_.resolution;
     std::vector<std::string> answers(messages.size());
@@ -387,17 +371,13 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
         for (std::string_view m : views) {
           const bool kept = bytes::take<std::uint8_t>(m, kWhat) != 0;
           all = all && kept;
-          if (!m.empty()) throw std::invalid_argument("flow across tiles: trailing bytes");
+          expect_end(m, kWhat);
         }
         next = all ? Phase::Ring : Phase::Spill;
         break;
       }
       case Phase::Spill: {
-        std::vector<TileSpillGraph> graphs;
-        graphs.reserve(messages.size());
-        for (const auto& m : messages) graphs.push_back(decode_spill_graph(m));
-        const auto levels = solve_spill_graphs(graphs, size);
-        for (std::size_t t = 0; t < levels.size(); ++t) bytes::put_vector(answers[t], levels[t]);
+        answers = solve_spill_messages(messages, size);
         next = Phase::Epsilon;
         break;
       }
@@ -432,7 +412,7 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
         double largest = 0.0;
         for (std::string_view m : views) {
           largest = std::max(largest, bytes::take<double>(m, kWhat));
-          if (!m.empty()) throw std::invalid_argument("flow across tiles: trailing bytes");
+          expect_end(m, kWhat);
         }
         for (auto& a : answers) bytes::put(a, largest);
         break;

@@ -330,6 +330,16 @@ std::string encode(const TileSpillGraph& g) {
   return out;
 }
 
+std::vector<std::string> solve_spill_messages(const std::vector<std::string>& messages, glm::ivec2 domain_size) {
+  std::vector<TileSpillGraph> graphs;
+  graphs.reserve(messages.size());
+  for (const auto& m : messages) graphs.push_back(decode_spill_graph(m));
+  const auto levels = solve_spill_graphs(graphs, domain_size);
+  std::vector<std::string> answers(messages.size());
+  for (std::size_t t = 0; t < levels.size(); ++t) bytes::put_vector(answers[t], levels[t]);
+  return answers;
+}
+
 TileSpillGraph decode_spill_graph(std::string_view in) {
   TileSpillGraph g;
   g.rect.first.x = take<int>(in), g.rect.first.y = take<int>(in);

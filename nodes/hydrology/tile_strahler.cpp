@@ -112,6 +112,12 @@ void TileStrahler::answer(std::string_view bytes) {
   compute();
 }
 
+std::vector<std::uint8_t> channel_cells(const std::vector<std::int64_t>& counts, double cell_area, double threshold) {
+  std::vector<std::uint8_t> channel(counts.size());
+  for (std::size_t c = 0; c < counts.size(); ++c) channel[c] = static_cast<double>(counts[c]) * cell_area >= threshold;
+  return channel;
+}
+
 std::vector<std::string> solve_strahler_perimeters(const std::vector<std::string>& messages, glm::ivec2 domain_size) {
   std::vector<Message> tiles;
   tiles.reserve(messages.size());

@@ -66,6 +66,10 @@ class TileStrahler {
   bool first_ = true;
 };
 
+// The channel cells: those whose count of draining cells times `cell_area` reaches `threshold`, as the whole-domain
+// nodes pick them.
+std::vector<std::uint8_t> channel_cells(const std::vector<std::int64_t>& counts, double cell_area, double threshold);
+
 // Every tile's message of a round (indexed by tile) into every tile's answer. Throws std::invalid_argument on
 // malformed messages.
 std::vector<std::string> solve_strahler_perimeters(const std::vector<std::string>& messages, glm::ivec2 domain_size);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <map>
 #include <memory>
@@ -22,6 +23,7 @@
 #include "graph/node_type.h"
 #include "graph/registry.h"
 #include "graph/tile_graph.h"
+#include "support/tile_windows.h"
 
 namespace orogen::test {
 
@@ -29,11 +31,6 @@ struct Terrain {
   glm::ivec2 size;
   std::vector<float> z;
 };
-
-// Tile I of N over W samples: [floor(I (W-1) / N), floor((I+1) (W-1) / N)] (cli/tiling.h).
-inline int edge(int t, int samples, int tiles) {
-  return static_cast<int>(static_cast<long long>(t) * (samples - 1) / tiles);
-}
 
 // Random heights: `levels` > 0 quantizes them to integers (wide flats and ties), else continuous; plus a bowl on
 // the domain's centre and a trench along its lower quarter, so depressions span tiles and cross their corners.
@@ -98,13 +95,11 @@ inline std::unique_ptr<TileGraphAlgorithm> algorithm_of(const std::string& type_
   return factory ? (*factory)(ParamView(type, values), whole) : nullptr;
 }
 
-// Runs `algorithm` on the tiles of `counts` over `t` (the heights as the first input, `inputs` - 1 inputs after it:
-// fields[k - 1] cut into the tiles for input k, unlinked where it is null or missing), every message through its
-// bytes, and puts every output of the tiles together on the whole domain. `rounds_run` gets the number of rounds.
-inline std::vector<std::vector<float>> run_across_tiles(const TileGraphAlgorithm& algorithm, const Terrain& t,
-                                                        glm::ivec2 counts, std::size_t inputs = 1,
-                                                        int* rounds_run = nullptr,
-                                                        const std::vector<const std::vector<float>*>& fields = {}) {
+// Starts `algorithm` on the tiles of `counts` over `t`: the heights as the first input, `inputs` - 1 inputs after it
+// (fields[k - 1] cut into the tiles for input k, unlinked where it is null or missing).
+inline std::vector<std::unique_ptr<TileGraphTile>> start_tiles(
+    const TileGraphAlgorithm& algorithm, const Terrain& t, glm::ivec2 counts, std::size_t inputs = 1,
+    const std::vector<const std::vector<float>*>& fields = {}) {
   const Domain whole = domain_of(t);
   std::vector<std::unique_ptr<TileGraphTile>> tiles;
   for (int tj = 0; tj < counts.y; ++tj)
@@ -126,28 +121,50 @@ inline std::vector<std::vector<float>> run_across_tiles(const TileGraphAlgorithm
         if (k - 1 < fields.size() && fields[k - 1]) values[k] = cut(*fields[k - 1]);
       tiles.push_back(algorithm.start(values));
     }
+  return tiles;
+}
+
+// The tiles' rounds until the algorithm is done, every message through its bytes; the number of rounds, also in
+// `rounds_run` after every round. `skip(tile, round)` drops that tile's answer of that round (a test's mutation).
+inline int run_rounds(const TileGraphAlgorithm& algorithm, std::vector<std::unique_ptr<TileGraphTile>>& tiles,
+                      const std::function<bool(std::size_t, int)>& skip = {}, int* rounds_run = nullptr) {
   for (int round = 0;; ++round) {
     std::vector<std::string> messages;
     for (auto& tile : tiles) messages.push_back(tile->message(round));
     const auto answers = algorithm.solve(round, messages);
-    for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->answer(round, answers[k]);
+    for (std::size_t k = 0; k < tiles.size(); ++k)
+      if (!skip || !skip(k, round)) tiles[k]->answer(round, answers[k]);
     if (rounds_run) *rounds_run = round + 1;
-    if (!algorithm.another_round(round, messages)) break;
+    if (!algorithm.another_round(round, messages)) return round + 1;
   }
+}
+
+// Puts a tile's map `h` into `joined` (row-major, `width` samples a row); a sample already there must agree.
+inline void join_window(std::vector<float>& joined, const Heightfield& h, int width) {
+  for (int j = 0; j < h.domain.height(); ++j)
+    for (int i = 0; i < h.domain.width(); ++i) {
+      float& v = joined[static_cast<std::size_t>(h.domain.first.y + j) * width + h.domain.first.x + i];
+      const float mine = h.data[static_cast<std::size_t>(j) * h.domain.width() + i];
+      EXPECT_TRUE(std::isnan(v) || same_bits({v}, {mine})) << "tiles disagree on a shared sample";
+      v = mine;
+    }
+}
+
+// Runs `algorithm` on the tiles (start_tiles) and puts every output of the tiles together on the whole domain.
+// `rounds_run` gets the number of rounds.
+inline std::vector<std::vector<float>> run_across_tiles(const TileGraphAlgorithm& algorithm, const Terrain& t,
+                                                        glm::ivec2 counts, std::size_t inputs = 1,
+                                                        int* rounds_run = nullptr,
+                                                        const std::vector<const std::vector<float>*>& fields = {}) {
+  auto tiles = start_tiles(algorithm, t, counts, inputs, fields);
+  const int rounds = run_rounds(algorithm, tiles);
+  if (rounds_run) *rounds_run = rounds;
   std::vector<std::vector<float>> joined;
   for (auto& tile : tiles) {
     const auto outputs = tile->outputs();
     joined.resize(outputs.size(), std::vector<float>(t.z.size(), std::numeric_limits<float>::quiet_NaN()));
-    for (std::size_t o = 0; o < outputs.size(); ++o) {
-      const Heightfield& h = *std::get<HeightfieldPtr>(outputs[o]);
-      for (int j = 0; j < h.domain.height(); ++j)
-        for (int i = 0; i < h.domain.width(); ++i) {
-          float& v = joined[o][static_cast<std::size_t>(h.domain.first.y + j) * t.size.x + h.domain.first.x + i];
-          const float mine = h.data[static_cast<std::size_t>(j) * h.domain.width() + i];
-          EXPECT_TRUE(std::isnan(v) || same_bits({v}, {mine})) << "tiles disagree on a shared sample";
-          v = mine;
-        }
-    }
+    for (std::size_t o = 0; o < outputs.size(); ++o)
+      join_window(joined[o], *std::get<HeightfieldPtr>(outputs[o]), t.size.x);
   }
   return joined;
 }
