@@ -184,7 +184,9 @@ TEST(FillAcrossTiles, FillDepressionsAndLakesEqualTheWholeDomainNodesOnEveryTili
                      " tiles " + std::to_string(counts.x) + "x" + std::to_string(counts.y));
         expect_same(across_tiles(*fill_algorithm, t, counts), fill);
         expect_same(across_tiles(*lakes_algorithm, t, counts), kept);
-        if (counts.x * counts.y >= 6) EXPECT_TRUE(lakes_and_crossing(fill, size, counts).second);
+        if (counts.x * counts.y >= 6) {
+          EXPECT_TRUE(lakes_and_crossing(fill, size, counts).second);
+        }
       }
     }
 }
