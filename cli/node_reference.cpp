@@ -8,6 +8,7 @@
 #include "graph/registry.h"
 #include "graph/subgraph.h"
 #include "graph/tile_graph.h"
+#include "graph/tile_variance.h"
 
 namespace orogen::cli {
 namespace {
@@ -56,8 +57,9 @@ std::string column_range_text(const TableColumn& c) {
 // "slope : range deg [0, 90], optional"
 std::string column_summary(const TableColumn& c) {
   std::string s = c.name + " : " + std::string(to_string(c.type));
-  if (c.unit != Unit::None) s += " " + unit_text(c.unit);
-  if (auto r = column_range_text(c); !r.empty()) s += " " + r;
+  // append, not " " + text: GCC 12 inlines that into a false -Wrestrict warning.
+  if (c.unit != Unit::None) s.append(" ").append(unit_text(c.unit));
+  if (auto r = column_range_text(c); !r.empty()) s.append(" ").append(r);
   if (!c.choices.empty()) {
     s += " (";
     for (std::size_t k = 0; k < c.choices.size(); ++k) s += (k ? ", " : "") + c.choices[k];
@@ -108,6 +110,11 @@ std::string distribution_text(const NodeType& t) {
          (when.empty() ? std::string(")") : "; otherwise computed on the whole domain by every rank that needs it)");
   } else if (!runs_across_ranks(d)) {
     s += " (for now: computed on the whole domain by every rank that needs it)";
+  } else if (const std::string why = tile_variance(t, defaults(t)); !why.empty()) {
+    // Tile invariant only for other parameter values (graph/tile_variance.h).
+    s += " (except that by default ";
+    s += why;
+    s += ": tiled builds then compute it on the whole domain and give each tile its part)";
   }
   return s;
 }

@@ -18,8 +18,9 @@ inline constexpr int kPoissonSlots = 4;
 // Without fill_border the points inside any rectangle are the same whichever domain asks (tile invariant); with it
 // the sampling fills up to the edges of the domain asked for.
 const bool kPoissonTileVariance = register_tile_variance("PoissonDisk", [](const ParamView& p) {
-  return p.get<bool>("fill_border") ? std::string("fill_border samples up to the edges of the domain it is asked for")
-                                    : std::string();
+  return p.get<bool>("fill_border")
+             ? std::string("with fill_border it samples up to the edges of the domain it is asked for")
+             : std::string();
 });
 
 OROGEN_NODE(PoissonDisk) {
