@@ -179,7 +179,6 @@ bool longest_changed(const std::vector<std::string>& messages) {
   return false;
 }
 
-#pragma pack(push, 1)
 struct ChannelCell {
   std::int64_t sample;
   std::int64_t count;
@@ -188,8 +187,10 @@ struct ChannelCell {
   std::int32_t order;
   std::uint8_t direction;
   std::uint8_t lake;  // nonzero in a depression: left out of the slope-area fit
+  // Zeroed and explicit, not packed: the cells travel as bytes, and packed members would be misaligned in memory.
+  std::uint8_t padding[6]{};
 };
-#pragma pack(pop)
+static_assert(sizeof(ChannelCell) == 40, "no padding beyond the explicit bytes");
 
 struct Params {
   double threshold = 1e5;

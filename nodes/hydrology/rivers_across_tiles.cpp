@@ -43,7 +43,6 @@ constexpr const char* kWhat = "rivers across tiles";
 Phase take_phase(std::string_view& bytes) { return hydrology::take_phase<Phase>(bytes, kWhat, kWhat); }
 
 // A channel cell as a tile sends it.
-#pragma pack(push, 1)
 struct ChannelCell {
   std::int64_t sample;  // row-major index in the whole domain
   std::int64_t count;   // cells draining through it
@@ -51,8 +50,10 @@ struct ChannelCell {
   std::int32_t order;   // Strahler
   std::uint8_t direction;
   std::uint8_t lake;
+  // Zeroed and explicit, not packed: the cells travel as bytes, and packed members would be misaligned in memory.
+  std::uint8_t padding[6]{};
 };
-#pragma pack(pop)
+static_assert(sizeof(ChannelCell) == 32, "no padding beyond the explicit bytes");
 
 void put_curves(std::string& out, const Curves& curves) {
   bytes::put(out, static_cast<std::uint64_t>(curves.curves.size()));
