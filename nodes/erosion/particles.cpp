@@ -189,6 +189,7 @@ struct Sim {
   const float* M;         // the mask, sample (i, j) at j * mask_pitch + i - mask_origin; nullptr: none
   std::ptrdiff_t origin;  // y0 * pitch + x0 of the window
   std::ptrdiff_t mask_origin;
+  int x0 = 0, y0 = 0;  // the window's first sample: where lanes without a droplet read, inside the grids
   int mask_pitch;
   const std::vector<BrushTap>* brush;
   const ExecContext* ctx;  // cancellation, polled by droplet steps (one droplet can take 1e7 steps)
@@ -264,8 +265,10 @@ struct Sim {
 
     // Lane state: position (samples), its 2 x 2 cell (first sample ci, cj; offsets fu, fv), direction,
     // speed, water, sediment, and the bilinear height and gradient read when the droplet got there.
-    F U{}, Vp{}, FU{}, FV{}, DX{}, DY{}, SP{}, WA{}, SE{}, HG{}, GX{}, GY{};
-    I CI{}, CJ{}, S{};
+    // Lanes that never get a droplet read (and change nothing) at the window's first sample.
+    F U = F{} + static_cast<float>(this->x0), Vp = F{} + static_cast<float>(this->y0);
+    F FU{}, FV{}, DX{}, DY{}, SP{}, WA{}, SE{}, HG{}, GX{}, GY{};
+    I CI = I{} + this->x0, CJ = I{} + this->y0, S{};
     std::uint64_t key[N] = {};
     int live = 0;  // bit k: lane k holds a droplet
     I on{};        // the same as lane masks
@@ -668,6 +671,7 @@ void DropletSchedule::run(const DropletGrid& grid, const DropletBins& bins, cons
   sim.M = grid.mask;
   sim.pitch = grid.pitch;
   sim.origin = static_cast<std::ptrdiff_t>(grid.y0) * grid.pitch + grid.x0;
+  sim.x0 = grid.x0, sim.y0 = grid.y0;
   sim.mask_pitch = grid.mask_pitch;
   sim.mask_origin = static_cast<std::ptrdiff_t>(grid.y0) * grid.mask_pitch + grid.x0;
   sim.row0 = static_cast<std::ptrdiff_t>(s.dj_lo) * grid.pitch - s.rx;
