@@ -48,9 +48,10 @@ Canopy::Canopy(const Points& casters, const CanopyParams& p) : sun_(glm::normali
   }
   if (spheres_.empty()) return;
   cell_ = std::max(2.0 * max_r_, 1e-3);
-  // Keep the index to a few million cells whatever the spread.
-  const double area_cells = (xmax - xmin) / cell_ * ((ymax - ymin) / cell_);
-  if (area_cells > 4e6) cell_ *= std::sqrt(area_cells / 4e6);
+  // Keep the index to a few million cells whatever the spread, a line of crowns too (its area is 0, its cells not).
+  const auto cells_for = [&](double cell) { return ((xmax - xmin) / cell + 1.0) * ((ymax - ymin) / cell + 1.0); };
+  if (const double cells = cells_for(cell_); cells > 4e6) cell_ *= std::sqrt(cells / 4e6);
+  while (cells_for(cell_) > 4e6) cell_ *= 2.0;
   x0_ = xmin;
   y0_ = ymin;
   nx_ = static_cast<int>((xmax - xmin) / cell_) + 1;
