@@ -503,10 +503,11 @@ inline double mfd_weight(double s, double smax, double exponent) {
 }
 
 // Dispersive receivers of (i, j) for MFD and D-infinity; returns their count. MFD: `inverse_sum` (optional)
-// receives 1 / the sum of the weights, the factor of every proportion.
+// receives 1 / the sum of the weights, the factor of every proportion, and `weights` (optional) the weights
+// themselves, floats (mfd_weight's), so that weights[m] * inverse_sum is frac[m] bit for bit.
 template <bool kInterior>
 int route_cell(const FlowGrid& g, const NeighbourTable& t, const float* z, int i, int j, const RoutingOptions& opt,
-               int nbr[8], double frac[8], double* inverse_sum = nullptr) {
+               int nbr[8], double frac[8], double* inverse_sum = nullptr, float* weights = nullptr) {
   const std::int32_t c = g.index(i, j);
   // Interior cells are never border outlets: only the mask can make them one.
   if (kInterior ? (!opt.outlets.mask.empty() && opt.outlets.mask[static_cast<std::size_t>(c)] != 0)
@@ -533,6 +534,8 @@ int route_cell(const FlowGrid& g, const NeighbourTable& t, const float* z, int i
       sum += frac[m];
     }
     const double inv = 1.0 / sum;
+    if (weights)
+      for (int m = 0; m < n; ++m) weights[m] = static_cast<float>(frac[m]);  // exact: mfd_weight is a float
     for (int m = 0; m < n; ++m) frac[m] *= inv;
     if (inverse_sum) *inverse_sum = inv;
     return n;
@@ -915,9 +918,9 @@ int flow_proportions(const FlowGrid& g, std::span<const float> z, int i, int j, 
 }
 
 FlowShares::FlowShares(const FlowGrid& g, std::span<const float> z, const RoutingOptions& opt, const ExecContext* ctx)
-    : g_(g), z_(z.data()), opt_(opt) {
+    : method_(opt.method) {
   const NeighbourTable t(g);
-  for (int k = 0; k < 8; ++k) off_[k] = t.off[k], inv_dist_[k] = t.inv_dist[k];
+  for (int k = 0; k < 8; ++k) off_[k] = t.off[k];
   const std::size_t n = g.size();
   receivers_.assign(n, 0);
   if (opt.method == FlowMethod::D8) {
@@ -929,48 +932,42 @@ FlowShares::FlowShares(const FlowGrid& g, std::span<const float> z, const Routin
   const bool mfd = opt.method == FlowMethod::MFD;
   if (mfd) {
     inverse_sum_.assign(n, 0.0);
-    largest_slope_.assign(n, 0.0);
-  } else
+    weights_of_.assign(n, nullptr);
+    row_weights_.resize(static_cast<std::size_t>(g.ny));
+  } else {
     split_.assign(n, 1.0f);
+  }
   for_each_row(
       ctx, g.ny,
       [&](int j) {
+        // MFD: the row's weights, receiver after receiver, and where each cell's start.
+        std::vector<float> row;
+        std::vector<std::uint32_t> first(mfd ? static_cast<std::size_t>(g.nx) : 0);
         for (int i = 0; i < g.nx; ++i) {
           int nb[8];
           double fr[8], inv = 0.0;
-          const int cnt = interior_cell(g, i, j) ? route_cell<true>(g, t, z_, i, j, opt, nb, fr, &inv)
-                                                 : route_cell<false>(g, t, z_, i, j, opt, nb, fr, &inv);
+          float w[8];
+          const int cnt = interior_cell(g, i, j) ? route_cell<true>(g, t, z.data(), i, j, opt, nb, fr, &inv, w)
+                                                 : route_cell<false>(g, t, z.data(), i, j, opt, nb, fr, &inv, w);
           const auto c = static_cast<std::size_t>(g.index(i, j));
           std::uint8_t bits = 0;
           for (int m = 0; m < cnt; ++m) bits |= static_cast<std::uint8_t>(1u << nb[m]);
           receivers_[c] = bits;
           if (mfd) {
             inverse_sum_[c] = inv;
-            double smax = 0.0;  // as route_cell computes it, so fraction() need not look at every receiver again
-            for (unsigned m = bits; m; m &= m - 1) {
-              const int q = std::countr_zero(m);
-              smax = std::max(smax, (static_cast<double>(z_[c]) - z_[c + off_[q]]) * inv_dist_[q]);
-            }
-            largest_slope_[c] = smax;
+            first[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(row.size());
+            row.insert(row.end(), w, w + cnt);
           } else if (cnt == 2) {
             split_[c] = static_cast<float>(fr[0]);  // nb[0] is the facet's cardinal neighbour
           }
         }
+        if (!mfd) return;
+        auto& kept = row_weights_[static_cast<std::size_t>(j)];
+        kept = std::move(row);
+        for (int i = 0; i < g.nx; ++i)
+          weights_of_[static_cast<std::size_t>(g.index(i, j))] = kept.data() + first[static_cast<std::size_t>(i)];
       },
       0.0, 0.3);
-}
-
-double FlowShares::fraction(std::int32_t c, int k) const {
-  if (opt_.method == FlowMethod::D8) return 1.0;
-  const auto u = static_cast<std::size_t>(c);
-  if (opt_.method == FlowMethod::DInfinity) {
-    // Two receivers: the cardinal one (even k) gets the split, the diagonal one the rest; one receiver gets all.
-    if (std::popcount(static_cast<unsigned>(receivers_[u])) < 2) return 1.0;
-    return (k & 1) ? 1.0 - static_cast<double>(split_[u]) : static_cast<double>(split_[u]);
-  }
-  // MFD: the weight of receiver k over the largest slope, as route_cell computes it, times the stored 1 / sum.
-  const double s = (static_cast<double>(z_[c]) - z_[c + off_[k]]) * inv_dist_[k];
-  return mfd_weight(s, largest_slope_[u], opt_.exponent) * inverse_sum_[u];
 }
 
 std::vector<double> accumulate(const FlowGrid& g, std::span<const float> z, const RoutingOptions& opt,
