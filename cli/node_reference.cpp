@@ -8,7 +8,6 @@
 #include "graph/registry.h"
 #include "graph/subgraph.h"
 #include "graph/tile_graph.h"
-#include "graph/tile_variance.h"
 
 namespace orogen::cli {
 namespace {
@@ -102,7 +101,9 @@ const char* default_reach_kind(const NodeType& t) { return to_string(t.reach_for
 std::string distribution_text(const NodeType& t) {
   const Distribution d = t.distribution_for(defaults(t));
   std::string s = std::string(to_string(d)) + ": " + describe(d);
-  if (t.reach_fn && t.distribution != Distribution::Undeclared && t.distribution != d)
+  if (t.distribution_fn)
+    s.append("; ").append(t.distribution_summary);
+  else if (t.reach_fn && t.distribution != Distribution::Undeclared && t.distribution != d)
     s += std::string("; ") + to_string(t.distribution) + " when the parameters make the reach global";
   if (find_tile_graph(t.name)) {
     const std::string when = tile_graph_conditions(t.name);
@@ -110,11 +111,6 @@ std::string distribution_text(const NodeType& t) {
          (when.empty() ? std::string(")") : "; otherwise computed on the whole domain by every rank that needs it)");
   } else if (!runs_across_ranks(d)) {
     s += " (for now: computed on the whole domain by every rank that needs it)";
-  } else if (const std::string why = tile_variance(t, defaults(t)); !why.empty()) {
-    // Tile invariant only for other parameter values (graph/tile_variance.h).
-    s += " (except that by default ";
-    s += why;
-    s += ": tiled builds then compute it on the whole domain and give each tile its part)";
   }
   return s;
 }

@@ -11,7 +11,6 @@
 
 #include "cli/graph_overrides.h"
 #include "graph/tile_graph.h"
-#include "graph/tile_variance.h"
 #include "nodes/io/file_extension.h"
 
 namespace orogen::cli {
@@ -39,11 +38,11 @@ bool needs_whole_domain(const Graph& graph, const Node& node) {
          node.type->reach_for(graph.effective_params(node)).is_global();
 }
 
+bool is_raster(const PortDecl& p) { return p.type == PortType::Heightfield || p.type == PortType::Image; }
+
 // Whether a node has an output that can be cut into tiles (a raster on the domain's lattice).
 bool has_raster_output(const NodeType& type) {
-  return !type.own_lattice && std::any_of(type.outputs.begin(), type.outputs.end(), [](const PortDecl& p) {
-    return p.type == PortType::Heightfield || p.type == PortType::Image;
-  });
+  return !type.own_lattice && std::any_of(type.outputs.begin(), type.outputs.end(), is_raster);
 }
 
 // Points are cut too: a node evaluated on a tile's domain gets the points of a larger domain's result that lie
@@ -53,11 +52,9 @@ bool has_points_output(const NodeType& type) {
                      [](const PortDecl& p) { return p.type == PortType::Points; });
 }
 
-// Declared per tile (tile invariant: a tile's evaluation is the untiled result's part of it) and not made to depend
-// on the domain by its parameter values (graph/tile_variance.h).
+// Per tile for its parameter values: tile invariant, a tile's evaluation is the untiled result's part of it.
 bool tile_invariant(const Graph& graph, const Node& node) {
-  const std::vector<ParamValue> params = graph.effective_params(node);
-  return node.type->distribution_for(params) == Distribution::PerTile && tile_variance(*node.type, params).empty();
+  return node.type->distribution_for(graph.effective_params(node)) == Distribution::PerTile;
 }
 
 // "mesh 'out'", "curves 'rivers'": the outputs of `type` that cannot be cut into the tiles.
@@ -66,7 +63,7 @@ std::string other_outputs(const NodeType& type) {
   for (const auto& p : type.outputs)
     if (p.type == PortType::Report || p.type == PortType::Points) {
       continue;
-    } else if (p.type != PortType::Heightfield && p.type != PortType::Image) {
+    } else if (!is_raster(p)) {
       std::string t(to_string(p.type));
       std::transform(t.begin(), t.end(), t.begin(), [](unsigned char c) { return std::tolower(c); });
       parts.push_back(t + " '" + p.name + "'");
@@ -79,11 +76,11 @@ std::string other_outputs(const NodeType& type) {
   return text;
 }
 
-// Evaluated on the whole domain and cut into the tiles (GlobalNodes::Whole, and a raster output to cut, or points
-// that a per-tile evaluation would not give exactly).
+// Evaluated on the whole domain and cut into the tiles (GlobalNodes::Whole, not tile invariant, and a raster or
+// points output to cut).
 bool evaluated_whole(const Graph& graph, const Node& node, GlobalNodes global) {
-  if (global != GlobalNodes::Whole || !needs_whole_domain(graph, node)) return false;
-  return has_raster_output(*node.type) || (has_points_output(*node.type) && !tile_invariant(graph, node));
+  if (global != GlobalNodes::Whole || !needs_whole_domain(graph, node) || tile_invariant(graph, node)) return false;
+  return has_raster_output(*node.type) || has_points_output(*node.type);
 }
 
 // Reach::halo, computed in double and capped at `cap` (a halo wider than the domain is the whole domain),
@@ -230,17 +227,16 @@ std::set<std::string> across_tile_nodes(const Graph& graph, const Domain& full, 
   for (const auto& node : graph.nodes()) {
     const auto& outputs = node.type->outputs;
     // Rasters (heightfields and images) are cut into the tiles and put together; curves (RiverExtract's network) and
-    // reports (DrainageMetrics', KMeansClusters') are given whole to every tile.
-    const auto raster = [](const PortDecl& p) { return p.type == PortType::Heightfield || p.type == PortType::Image; };
-    const bool rasters = std::any_of(outputs.begin(), outputs.end(), raster) &&
-                         std::all_of(outputs.begin(), outputs.end(), [&](const PortDecl& p) {
-                           return raster(p) || p.type == PortType::Curves || p.type == PortType::Report;
-                         });
+    // reports (DrainageMetrics', KMeansClusters') are given whole to every tile. (Evaluated whole, the node has a
+    // raster output on the domain's lattice or points, which are not among these.)
+    const bool rasters = std::all_of(outputs.begin(), outputs.end(), [](const PortDecl& p) {
+      return is_raster(p) || p.type == PortType::Curves || p.type == PortType::Report;
+    });
     // Inputs on a lattice of their own (resampled by the node) cannot be cut into the tiles.
     const bool lattice_inputs = std::all_of(node.inputs.begin(), node.inputs.end(), [&](const auto& in) {
       return !graph.at(in.second.node).type->own_lattice;
     });
-    if (!evaluated_whole(graph, node, global) || !rasters || node.type->own_lattice || !lattice_inputs) continue;
+    if (!evaluated_whole(graph, node, global) || !rasters || !lattice_inputs) continue;
     const TileGraphFactory* factory = find_tile_graph(node.type->name);
     const auto refused = tile_graph_unlinked_inputs(node.type->name);
     const bool refused_input_linked = std::any_of(refused.begin(), refused.end(),

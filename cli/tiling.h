@@ -77,9 +77,8 @@ std::map<std::string, Domain> tile_node_domains(const Graph& graph, const Domain
 
 // The whole-domain nodes of `graph` that a build of all its tiles runs across the tiles, exact, instead of on the
 // whole domain (GlobalNodes::Whole only): tile-graph nodes whose type has an algorithm for their parameters
-// (graph/tile_graph.h) and none of the inputs it refuses linked, whose outputs are all rasters (or reports, the
-// same on every tile), and that feed no
-// node evaluated on the whole domain.
+// (graph/tile_graph.h) and none of the inputs it refuses linked, whose outputs are all rasters (or curves and
+// reports, the whole domain's on every tile), and that feed no node evaluated on the whole domain.
 std::set<std::string> across_tile_nodes(const Graph& graph, const Domain& full, GlobalNodes global);
 
 // What a tiled build of `graph` cannot make seamless or cheap, one message per node, naming it: the

@@ -262,6 +262,11 @@ NodeBuilder& NodeBuilder::distribution(Distribution kind) {
   type_.distribution = kind;
   return *this;
 }
+NodeBuilder& NodeBuilder::distribution(DistributionFn fn, std::string summary) {
+  type_.distribution_fn = std::move(fn);
+  type_.distribution_summary = std::move(summary);
+  return *this;
+}
 NodeBuilder& NodeBuilder::extra_bytes(CostFn fn) {
   type_.extra_bytes = std::move(fn);
   return *this;
@@ -336,6 +341,7 @@ std::string NodeType::reach_text() const { return reach_fn ? reach_summary : rea
 
 Distribution NodeType::distribution_for(const std::vector<ParamValue>& params) const {
   if (!reach_for(params).is_global()) return Distribution::PerTile;
+  if (distribution_fn) return distribution_fn(ParamView(*this, params));
   if (distribution != Distribution::Undeclared) return distribution;
   if (writes_files) return Distribution::PerTile;
   if (domain_independent) return Distribution::Replicated;
@@ -410,8 +416,10 @@ void check_declaration(const NodeType& type) {
   if (type.description.empty()) fail("no description");
   if (!type.execute) fail("no execute function");
   if (type.reach_fn && type.reach_summary.empty()) fail("a reach function needs a summary for the node reference");
-  if (type.can_be_global() && type.distribution == Distribution::Undeclared && !type.writes_files &&
-      !type.domain_independent)
+  if (type.distribution_fn && type.distribution_summary.empty())
+    fail("a distribution function needs a summary for the node reference");
+  if (type.can_be_global() && type.distribution == Distribution::Undeclared && !type.distribution_fn &&
+      !type.writes_files && !type.domain_independent)
     fail(
         "its reach can be global, so it must declare how it runs across ranks: b.distribution(Distribution::...) "
         "(graph/distribution.h)");

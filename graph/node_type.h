@@ -122,6 +122,8 @@ class ParamView {
 
 // A reach that depends on parameter values (Blur's sigma, Normalize's range mode, ...).
 using ReachFn = std::function<Reach(const ParamView&)>;
+// A distribution that depends on parameter values (PoissonDisk is tile invariant only without fill_border).
+using DistributionFn = std::function<Distribution(const ParamView&)>;
 
 // Bytes a node needs beyond the default estimate (graph/cost_query.h).
 struct CostQuery;
@@ -152,8 +154,11 @@ struct NodeType {
   Reach reach;
   ReachFn reach_fn;
   std::string reach_summary;
-  // How the node runs across ranks when its reach is global (graph/distribution.h); derived otherwise.
+  // How the node runs across ranks when its reach is global (graph/distribution.h); derived otherwise. Fixed, or
+  // computed from the parameters by distribution_fn when that is set, `distribution_summary` saying how.
   Distribution distribution = Distribution::Undeclared;
+  DistributionFn distribution_fn;
+  std::string distribution_summary;
   // Memory beyond the default estimate (outputs by type at the domain's sample count), when the node knows it
   // needs more: see graph/cost_query.h and evaluator/memory_estimate.h.
   CostFn extra_bytes;
@@ -232,6 +237,7 @@ class NodeBuilder {
   NodeBuilder& reach(ReachFn fn, std::string summary);
   // How the node runs across ranks (graph/distribution.h); required when the reach can be global.
   NodeBuilder& distribution(Distribution kind);
+  NodeBuilder& distribution(DistributionFn fn, std::string summary);
   // Memory the node needs beyond the default estimate (see NodeType::extra_bytes).
   NodeBuilder& extra_bytes(CostFn fn);
   void execute(ExecuteFn fn);

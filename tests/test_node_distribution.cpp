@@ -20,9 +20,13 @@ TEST_P(DistributionContract, DeclaredOrDerivedFromTheReach) {
   const NodeType& t = *NodeRegistry::instance().find(GetParam());
   const Distribution d = t.distribution_for(defaults(t));
   EXPECT_NE(d, Distribution::Undeclared) << t.name << " cannot run distributed";
-  if (!t.reach_for(defaults(t)).is_global()) EXPECT_EQ(d, Distribution::PerTile) << t.name;
-  if (t.can_be_global() && !t.writes_files && !t.domain_independent)
-    EXPECT_NE(t.distribution, Distribution::Undeclared) << t.name << ": a global reach needs a declared kind";
+  if (!t.reach_for(defaults(t)).is_global()) {
+    EXPECT_EQ(d, Distribution::PerTile) << t.name;
+  }
+  if (t.can_be_global() && !t.writes_files && !t.domain_independent) {
+    EXPECT_TRUE(t.distribution != Distribution::Undeclared || t.distribution_fn)
+        << t.name << ": a global reach needs a declared kind";
+  }
   EXPECT_STRNE(describe(d), describe(Distribution::Undeclared));
 }
 
@@ -49,6 +53,9 @@ TEST(NodeDistribution, KindsOfTheHydrologyCoreReductionsWritersAndGenerators) {
   EXPECT_EQ(kind_of("LSystem"), Distribution::Replicated);
   EXPECT_EQ(kind_of("ThermalErosion"), Distribution::HaloExchange);
   EXPECT_EQ(kind_of("HydraulicErosion"), Distribution::HaloExchange);
+  // PoissonDisk fills up to the edges of the domain it is asked for only with fill_border.
+  EXPECT_EQ(kind_of("PoissonDisk"), Distribution::Gathered);
+  EXPECT_EQ(kind_of("PoissonDisk", {{"fill_border", false}}), Distribution::PerTile);
   EXPECT_TRUE(runs_across_ranks(Distribution::PerTile));
   EXPECT_FALSE(runs_across_ranks(Distribution::TileGraph));
 }
@@ -68,6 +75,12 @@ TEST(NodeDistribution, AGlobalNodeWithoutAKindIsRefusedAtRegistration) {
     EXPECT_NE(std::string(e.what()).find("must declare how it runs across ranks"), std::string::npos) << e.what();
   }
   b.distribution(Distribution::Gathered);
+  EXPECT_NO_THROW(check_declaration(t));
+  // A distribution function is a declaration too, with a summary for the node reference.
+  t.distribution = Distribution::Undeclared;
+  b.distribution([](const ParamView&) { return Distribution::Gathered; }, "");
+  EXPECT_THROW(check_declaration(t), std::logic_error);
+  b.distribution([](const ParamView&) { return Distribution::Gathered; }, "always gathered");
   EXPECT_NO_THROW(check_declaration(t));
   // A reach function may make the reach global: it needs a kind too.
   NodeType f;

@@ -6,7 +6,6 @@
 #include "graph/cost_query.h"
 #include "graph/exec_context.h"
 #include "graph/registry.h"
-#include "graph/tile_variance.h"
 #include "nodes/common/match_domain.h"
 #include "nodes/scatter/poisson_disk.h"
 #include "nodes/scatter/run_placement.h"
@@ -15,16 +14,12 @@ namespace orogen {
 
 inline constexpr int kPoissonSlots = 4;
 
-// Without fill_border the points inside any rectangle are the same whichever domain asks (tile invariant); with it
-// the sampling fills up to the edges of the domain asked for.
-const bool kPoissonTileVariance = register_tile_variance("PoissonDisk", [](const ParamView& p) {
-  return p.get<bool>("fill_border")
-             ? std::string("with fill_border it samples up to the edges of the domain it is asked for")
-             : std::string();
-});
-
 OROGEN_NODE(PoissonDisk) {
-  b.distribution(Distribution::PerTile);
+  // Without fill_border the points inside any rectangle are the same whichever domain asks (tile invariant); with it
+  // the sampling fills up to the edges of the domain asked for, so tiled builds compute it whole and cut it.
+  b.distribution(
+      [](const ParamView& p) { return p.get<bool>("fill_border") ? Distribution::Gathered : Distribution::PerTile; },
+      "gathered with fill_border (it fills up to the edges of the domain it is asked for), else per-tile");
   b.reach_global();  // outputs points, not a field
   b.category("scatter").description(
       "Blue-noise placement: Bridson (2007), \"Fast Poisson disk sampling in arbitrary dimensions\" (k "
