@@ -42,29 +42,23 @@ PortValue crop_to_domain(const PortValue& value, const Domain& target) {
 }
 
 PortValue crop_points_to_domain(const PortValue& value, const Domain& source, const Domain& target) {
-  const auto* p = std::get_if<std::shared_ptr<const Points>>(&value);
+  const auto* p = std::get_if<PointsPtr>(&value);
   if (!p || !*p || source == target || !domain_contains(source, target)) return value;
   const Points& src = **p;
   const glm::dvec2 lo = target.min_corner(), hi = target.max_corner();
-  std::vector<std::size_t> kept;
-  for (std::size_t k = 0; k < src.size(); ++k) {
+  const auto inside = [&](std::size_t k) {
     const glm::dvec2 at(src.position[k].x, src.position[k].y);
-    if (at.x >= lo.x && at.x <= hi.x && at.y >= lo.y && at.y <= hi.y) kept.push_back(k);
-  }
-  if (kept.size() == src.size()) return value;
-  auto out = std::make_shared<Points>();
-  for (const std::size_t k : kept) {
-    out->position.push_back(src.position[k]);
-    out->rotation.push_back(src.rotation[k]);
-    out->scale.push_back(src.scale[k]);
-    out->class_id.push_back(src.class_id[k]);
-  }
-  for (const auto& [name, values] : src.attributes) {
-    auto& to = out->attributes[name];
-    to.reserve(kept.size());
-    for (const std::size_t k : kept) to.push_back(values[k]);
-  }
-  return std::shared_ptr<const Points>(std::move(out));
+    return at.x >= lo.x && at.x <= hi.x && at.y >= lo.y && at.y <= hi.y;
+  };
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < src.size(); ++k) kept += inside(k);
+  if (kept == src.size()) return value;
+  return PointsPtr(std::make_shared<Points>(src.subset(inside)));
+}
+
+PortValue crop_input(const PortValue& value, const Domain& source, const Domain& target) {
+  return std::holds_alternative<PointsPtr>(value) ? crop_points_to_domain(value, source, target)
+                                                  : crop_to_domain(value, target);
 }
 
 }  // namespace orogen

@@ -19,4 +19,8 @@ PortValue crop_to_domain(const PortValue& value, const Domain& target);
 // domain. `value` itself otherwise (other types, or the same domain: an untiled build never drops a point).
 PortValue crop_points_to_domain(const PortValue& value, const Domain& source, const Domain& target);
 
+// A node's input `value` (computed on `source`) as a node on `target` takes it: rasters by crop_to_domain, points
+// by crop_points_to_domain.
+PortValue crop_input(const PortValue& value, const Domain& source, const Domain& target);
+
 }  // namespace orogen

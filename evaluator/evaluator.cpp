@@ -517,8 +517,7 @@ class Run {
         if (job.inputs[i].job >= 0) {
           const Job& from = jobs_[static_cast<std::size_t>(job.inputs[i].job)];
           inputs[i] = from.result->outputs[static_cast<std::size_t>(job.inputs[i].port)];
-          if (!request_.node_domains.empty())
-            inputs[i] = crop_points_to_domain(crop_to_domain(inputs[i], domain), domain_of(from.ids.front()), domain);
+          if (!request_.node_domains.empty()) inputs[i] = crop_input(inputs[i], domain_of(from.ids.front()), domain);
         }
       if (auto why = check_domain(domain); !why.empty()) throw NodeError(why);
       std::vector<ParamValue> params = graph_.effective_params(node);

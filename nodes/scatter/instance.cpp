@@ -77,17 +77,8 @@ Scene make_scene(std::shared_ptr<const Points> points, const std::map<std::int32
       return scene;
     }
     case MissingMesh::Skip: {
-      auto kept = std::make_shared<Points>();
-      for (const auto& [attr, values] : points->attributes) kept->attributes[attr];
-      for (std::size_t i = 0; i < points->size(); ++i) {
-        if (missing.count(points->class_id[i])) continue;
-        kept->position.push_back(points->position[i]);
-        kept->rotation.push_back(points->rotation[i]);
-        kept->scale.push_back(points->scale[i]);
-        kept->class_id.push_back(points->class_id[i]);
-        for (const auto& [attr, values] : points->attributes) kept->attributes[attr].push_back(values[i]);
-      }
-      scene.instances = std::move(kept);
+      scene.instances =
+          std::make_shared<Points>(points->subset([&](std::size_t i) { return !missing.count(points->class_id[i]); }));
       return scene;
     }
   }
