@@ -33,22 +33,22 @@ SampleRect rect_of(const Domain& d, const Domain& whole) {
 SampleRect overlap(const SampleRect& a, const SampleRect& b) { return {glm::max(a.lo, b.lo), glm::min(a.hi, b.hi)}; }
 
 // A raster output's samples as rows of `channels` floats a sample (a heightfield has one, an image its channels);
-// data is null for an output that is not a raster (a report: the same on every tile, taken from the tile itself).
+// data is null for an output that is not a raster (curves and reports: the same whole value on every tile). F is
+// const float for a tile's own result, float for the outputs being put together.
+template <class F>
 struct Raster {
-  float* data = nullptr;
+  F* data = nullptr;
   int channels = 0;
   Domain domain;
-  float* row(int j) const {
+  F* row(int j) const {
     return data + static_cast<std::size_t>(j) * static_cast<std::size_t>(domain.resolution.x) *
                       static_cast<std::size_t>(channels);
   }
 };
 
-Raster raster_of(const PortValue& value) {
-  if (const auto* h = std::get_if<HeightfieldPtr>(&value); h && *h)
-    return {const_cast<float*>((*h)->data.data()), 1, (*h)->domain};
-  if (const auto* i = std::get_if<ImagePtr>(&value); i && *i)
-    return {const_cast<float*>((*i)->data.data()), (*i)->channels, (*i)->domain};
+Raster<const float> raster_of(const PortValue& value) {
+  if (const auto* h = std::get_if<HeightfieldPtr>(&value); h && *h) return {(*h)->data.data(), 1, (*h)->domain};
+  if (const auto* i = std::get_if<ImagePtr>(&value); i && *i) return {(*i)->data.data(), (*i)->channels, (*i)->domain};
   return {};
 }
 
@@ -59,7 +59,7 @@ void put_piece(std::string& out, long long for_tile, const SampleRect& rect, con
   bytes::put(out, static_cast<std::int64_t>(for_tile));
   bytes::put(out, rect.lo.x), bytes::put(out, rect.lo.y), bytes::put(out, rect.hi.x), bytes::put(out, rect.hi.y);
   for (const auto& value : outputs) {
-    const Raster h = raster_of(value);
+    const auto h = raster_of(value);
     if (!h.data) continue;
     const glm::ivec2 at = rect.lo - rect_of(h.domain, whole).lo;
     for (int j = 0; j <= rect.hi.y - rect.lo.y; ++j)
@@ -69,10 +69,11 @@ void put_piece(std::string& out, long long for_tile, const SampleRect& rect, con
 }
 
 // Copies the samples `rect` of a tile's outputs into the outputs of a tile of the same rank being put together.
-void copy_rect(const std::vector<PortValue>& from, const SampleRect& rect, std::vector<PortValue>& into,
+void copy_rect(const std::vector<PortValue>& from, const SampleRect& rect, const std::vector<Raster<float>>& into,
                const Domain& whole) {
   for (std::size_t o = 0; o < from.size(); ++o) {
-    const Raster src = raster_of(from[o]), dst = raster_of(into[o]);
+    const auto src = raster_of(from[o]);
+    const Raster<float>& dst = into[o];
     if (!src.data || !dst.data) continue;
     const glm::ivec2 s = rect.lo - rect_of(src.domain, whole).lo, d = rect.lo - rect_of(dst.domain, whole).lo;
     const std::size_t width = static_cast<std::size_t>(rect.size().x) * static_cast<std::size_t>(src.channels);
@@ -83,9 +84,9 @@ void copy_rect(const std::vector<PortValue>& from, const SampleRect& rect, std::
 }
 
 // Copies the samples `rect` of a piece into the tile's outputs being put together.
-void take_piece(std::string_view& in, const SampleRect& rect, std::vector<PortValue>& into, const Domain& whole) {
-  for (auto& value : into) {
-    const Raster h = raster_of(value);
+void take_piece(std::string_view& in, const SampleRect& rect, const std::vector<Raster<float>>& into,
+                const Domain& whole) {
+  for (const Raster<float>& h : into) {
     if (!h.data) continue;
     const glm::ivec2 at = rect.lo - rect_of(h.domain, whole).lo;
     const auto width = static_cast<std::size_t>(rect.size().x) * static_cast<std::size_t>(h.channels);
@@ -97,17 +98,22 @@ void take_piece(std::string_view& in, const SampleRect& rect, std::vector<PortVa
   }
 }
 
-// An output of the tile being put together on domain d, shaped as the tile's own result `core` (a report is the
-// tile's own: the same on every tile).
-PortValue blank_like(const PortValue& core, const Domain& d) {
-  if (std::holds_alternative<HeightfieldPtr>(core)) return HeightfieldPtr(std::make_shared<Heightfield>(d));
+// An output of the tile being put together on domain d, shaped as the tile's own result `core`, and where its
+// samples go (curves and reports are the tile's own: the same whole value on every tile).
+std::pair<PortValue, Raster<float>> blank_like(const PortValue& core, const Domain& d) {
+  if (std::holds_alternative<HeightfieldPtr>(core)) {
+    auto h = std::make_shared<Heightfield>(d);
+    Raster<float> r{h->data.data(), 1, d};
+    return {HeightfieldPtr(std::move(h)), r};
+  }
   if (const auto* i = std::get_if<ImagePtr>(&core); i && *i) {
     auto image = std::make_shared<Image>(d, (*i)->channels);
     image->channel_names = (*i)->channel_names;
     image->color = (*i)->color;
-    return ImagePtr(std::move(image));
+    Raster<float> r{image->data.data(), image->channels, d};
+    return {ImagePtr(std::move(image)), r};
   }
-  return core;
+  return {core, {}};
 }
 
 // Where a stage's time goes (rank 0's view), for its report.
@@ -271,9 +277,14 @@ class Stages {
                                                                 const std::vector<std::vector<PortValue>>& cores) {
     const std::size_t mine = s_.tiles.size();
     std::vector<std::vector<PortValue>> built(mine);
+    std::vector<std::vector<Raster<float>>> samples(mine);  // where the built outputs' samples go
     for (std::size_t t = 0; t < mine; ++t) {
       const Domain& d = node_domain(number(s_.tiles[t]), node.id);
-      for (const PortValue& core : cores[t]) built[t].push_back(blank_like(core, d));
+      for (const PortValue& core : cores[t]) {
+        auto [value, raster] = blank_like(core, d);
+        built[t].push_back(std::move(value));
+        samples[t].push_back(raster);
+      }
     }
     std::vector<std::string> outgoing(static_cast<std::size_t>(group_.size()));
     for (std::size_t t = 0; t < mine; ++t) {
@@ -288,7 +299,7 @@ class Stages {
         const int owner = tile_owner(s_.counts, index_of(static_cast<long long>(u)), group_.size());
         if (owner == group_.rank()) {
           const auto to = std::find(s_.tiles.begin(), s_.tiles.end(), index_of(static_cast<long long>(u)));
-          copy_rect(cores[t], part, built[static_cast<std::size_t>(to - s_.tiles.begin())], s_.domain);
+          copy_rect(cores[t], part, samples[static_cast<std::size_t>(to - s_.tiles.begin())], s_.domain);
         } else {
           put_piece(outgoing[static_cast<std::size_t>(owner)], static_cast<long long>(u), part, cores[t], s_.domain);
         }
@@ -305,7 +316,7 @@ class Stages {
         part.hi.y = bytes::take<int>(in, "tile-graph exchange");
         const auto it = std::find(s_.tiles.begin(), s_.tiles.end(), index_of(u));
         if (it == s_.tiles.end()) throw std::runtime_error("tile-graph exchange: a piece for a tile of another rank");
-        take_piece(in, part, built[static_cast<std::size_t>(it - s_.tiles.begin())], s_.domain);
+        take_piece(in, part, samples[static_cast<std::size_t>(it - s_.tiles.begin())], s_.domain);
       }
     }
     std::vector<std::shared_ptr<const CachedResult>> results(mine);
