@@ -102,7 +102,8 @@ void replace_once(std::string& s, const std::string& from, const std::string& to
 // object without its map, whose destructor then aborts the process instead of failing the node. So the address
 // space the tree needs, with a margin, is reserved and released first (PROT_NONE and MAP_NORESERVE: no memory is
 // committed, but a limit on the address space, `ulimit -v`, counts it), and a scene that cannot have it fails
-// here, cleanly.
+// here, cleanly. It is a check, not a reservation: another thread may take the space in between, so the abort
+// becomes unlikely, not impossible, until tinygltf can serialize without its tree.
 void require_room_for_document(const tinygltf::Model& model, const std::filesystem::path& path) {
   const std::size_t objects = model.nodes.size() + model.accessors.size() + model.bufferViews.size() +
                               model.meshes.size() + model.materials.size() + 64;
