@@ -275,7 +275,9 @@ TEST(Cli, NodeReferenceComesFromTheRegistry) {
   for (const auto& t : all) {
     EXPECT_FALSE(t["description"].get<std::string>().empty()) << t["name"];
     // Subgraph library assets come after the types, without a reach (their instances are expanded).
-    if (t.value("type", "") != "Subgraph") EXPECT_NE(t["reach"]["kind"], "undeclared") << t["name"];
+    if (t.value("type", "") != "Subgraph") {
+      EXPECT_NE(t["reach"]["kind"], "undeclared") << t["name"];
+    }
     if (t["name"] == "Slope") {
       EXPECT_EQ(t["reach"]["kind"], "local");
       EXPECT_EQ(t["reach"]["samples"], 1);
@@ -290,8 +292,9 @@ TEST(Cli, NodeReferenceComesFromTheRegistry) {
     for (const auto& p : t["params"]) {
       EXPECT_FALSE(p["label"].get<std::string>().empty()) << t["name"] << "." << p["name"];
       const auto type = p["type"].get<std::string>();
-      if (type == "float" || type == "int" || type == "vec2" || type == "vec3")
+      if (type == "float" || type == "int" || type == "vec2" || type == "vec3") {
         EXPECT_TRUE(p.contains("unit") && p.contains("unit_name")) << t["name"] << "." << p["name"];
+      }
     }
     for (const char* side : {"inputs", "outputs"})
       for (const auto& p : t[side])
