@@ -33,23 +33,10 @@
 #include "nodes/common/finite_inputs.h"
 #include "nodes/common/report_builder.h"
 #include "nodes/erosion/droplet_schedule.h"
+#include "nodes/erosion/sample_rect.h"
 
 namespace orogen::erosion {
 namespace {
-
-// A rectangle of samples of the whole domain, both ends included.
-struct SampleRect {
-  glm::ivec2 lo{0, 0}, hi{-1, -1};
-  bool empty() const { return hi.x < lo.x || hi.y < lo.y; }
-  glm::ivec2 size() const { return hi - lo + 1; }
-  std::size_t area() const { return empty() ? 0 : static_cast<std::size_t>(size().x) * size().y; }
-  bool contains(glm::ivec2 s) const { return s.x >= lo.x && s.x <= hi.x && s.y >= lo.y && s.y <= hi.y; }
-  bool within(const SampleRect& o) const { return !empty() && o.contains(lo) && o.contains(hi); }
-  bool operator==(const SampleRect& o) const { return lo == o.lo && hi == o.hi; }
-};
-
-SampleRect overlap(const SampleRect& a, const SampleRect& b) { return {glm::max(a.lo, b.lo), glm::min(a.hi, b.hi)}; }
-SampleRect bounding(const SampleRect& a, const SampleRect& b) { return {glm::min(a.lo, b.lo), glm::max(a.hi, b.hi)}; }
 
 constexpr const char* kWhat = "hydraulic erosion across tiles";
 constexpr int kMaxPhases = 1 << 20;
@@ -96,7 +83,9 @@ struct PartWriter {
   void put(int target, const SampleRect& r, int channels, Send&& send, Word&& word) {
     if (r.empty()) return;
     const std::size_t at = out.size(), bits = (r.area() + 7) / 8;
-    for (const std::int32_t v : {target, r.lo.x, r.lo.y, r.hi.x, r.hi.y, channels}) bytes::put(out, v);
+    bytes::put(out, static_cast<std::int32_t>(target));
+    bytes::put(out, r);
+    bytes::put(out, static_cast<std::int32_t>(channels));
     out.append(bits, '\0');
     std::size_t k = 0, set = 0;
     for (int y = r.lo.y; y <= r.hi.y; ++y)
@@ -135,8 +124,7 @@ struct PartHeader {
 PartHeader take_part(std::string_view& in, const glm::ivec2 whole, std::size_t tiles) {
   PartHeader p;
   p.target = bytes::take<std::int32_t>(in, kWhat);
-  p.rect.lo.x = bytes::take<std::int32_t>(in, kWhat), p.rect.lo.y = bytes::take<std::int32_t>(in, kWhat);
-  p.rect.hi.x = bytes::take<std::int32_t>(in, kWhat), p.rect.hi.y = bytes::take<std::int32_t>(in, kWhat);
+  p.rect = bytes::take<SampleRect>(in, kWhat);
   p.channels = bytes::take<std::int32_t>(in, kWhat);
   if (p.target < 0 || static_cast<std::size_t>(p.target) >= tiles || p.channels < 1 || p.channels > 2 ||
       !p.rect.within({{0, 0}, whole - 1}))
@@ -174,7 +162,7 @@ class ParticlesAcrossTiles;
 
 class ParticleTile : public TileGraphTile {
  public:
-  ParticleTile(const ParticlesAcrossTiles& algorithm, HeightfieldPtr in, HeightfieldPtr mask, glm::ivec2 whole_first);
+  ParticleTile(const ParticlesAcrossTiles& algorithm, HeightfieldPtr in, HeightfieldPtr mask);
   std::string message(int round) override;
   void answer(int round, std::string_view bytes) override;
   std::vector<PortValue> outputs() override;
@@ -239,7 +227,7 @@ class ParticlesAcrossTiles : public TileGraphAlgorithm {
     if (mask && mask->domain.resolution != in->domain.resolution)
       throw std::invalid_argument(std::string(kWhat) + ": the mask must lie on the tile");
     require_finite_inputs("HydraulicErosion", {{"in", in.get()}, {"mask", mask.get()}});
-    return std::make_unique<ParticleTile>(*this, in, mask, whole_.first);
+    return std::make_unique<ParticleTile>(*this, in, mask);
   }
 
   std::vector<std::string> solve(int round, const std::vector<std::string>& messages) const override {
@@ -248,7 +236,7 @@ class ParticlesAcrossTiles : public TileGraphAlgorithm {
     if (round == 0) {
       std::string all;
       for (const std::string& m : messages) {
-        if (m.size() != 4 * sizeof(std::int32_t)) throw std::invalid_argument(std::string(kWhat) + ": a damaged tile");
+        if (m.size() != sizeof(SampleRect)) throw std::invalid_argument(std::string(kWhat) + ": a damaged tile");
         all += m;
       }
       std::fill(answers.begin(), answers.end(), all);
@@ -359,17 +347,17 @@ class ParticlesAcrossTiles : public TileGraphAlgorithm {
   mutable std::uint64_t bins_round_ = 0;
 };
 
-ParticleTile::ParticleTile(const ParticlesAcrossTiles& algorithm, HeightfieldPtr in, HeightfieldPtr mask,
-                           glm::ivec2 whole_first)
-    : algorithm_(algorithm), schedule_(algorithm.schedule()), in_(std::move(in)), mask_(std::move(mask)) {
-  own_.lo = in_->domain.first - whole_first;
-  own_.hi = own_.lo + in_->domain.resolution - 1;
-}
+ParticleTile::ParticleTile(const ParticlesAcrossTiles& algorithm, HeightfieldPtr in, HeightfieldPtr mask)
+    : algorithm_(algorithm),
+      schedule_(algorithm.schedule()),
+      in_(std::move(in)),
+      mask_(std::move(mask)),
+      own_(rect_of(in_->domain, algorithm.whole())) {}
 
 std::string ParticleTile::message(int round) {
   std::string out;
   if (round == 0) {
-    for (const std::int32_t v : {own_.lo.x, own_.lo.y, own_.hi.x, own_.hi.y}) bytes::put(out, v);
+    bytes::put(out, own_);
     return out;
   }
   const std::size_t tiles = plan_->rects.size();
@@ -472,12 +460,7 @@ void ParticleTile::answer(int round, std::string_view in) {
   const int phases = algorithm_.phases();
   if (round == 0) {
     std::vector<SampleRect> rects;
-    while (!in.empty()) {
-      SampleRect r;
-      r.lo.x = bytes::take<std::int32_t>(in, kWhat), r.lo.y = bytes::take<std::int32_t>(in, kWhat);
-      r.hi.x = bytes::take<std::int32_t>(in, kWhat), r.hi.y = bytes::take<std::int32_t>(in, kWhat);
-      rects.push_back(r);
-    }
+    while (!in.empty()) rects.push_back(bytes::take<SampleRect>(in, kWhat));
     plan_ = algorithm_.plan(std::move(rects));
     const auto it = std::find(plan_->rects.begin(), plan_->rects.end(), own_);
     if (it == plan_->rects.end()) throw std::invalid_argument(std::string(kWhat) + ": the tile is not in the tiling");
