@@ -35,10 +35,9 @@
 namespace orogen::erosion {
 namespace {
 
-constexpr int kHalo = 2;             // a step reads the fields within 2 samples
-constexpr int kStaticFields = 6;     // in, mask, rainfall_rate, moisture, evaporation_factor, hardness (input order)
-constexpr int kStepFields = 7;       // PipeGrid::Terrain .. PipeGrid::FluxUp
-constexpr double kTimeSlack = 1e-9;  // seconds: the run ends within this of its duration (as pipe_erosion)
+constexpr int kHalo = 2;          // a step reads the fields within 2 samples
+constexpr int kStaticFields = 6;  // in, mask, rainfall_rate, moisture, evaporation_factor, hardness (input order)
+constexpr int kStepFields = 7;    // PipeGrid::Terrain .. PipeGrid::FluxUp
 
 // A message: the tile's rectangle, which static fields it sends (a bit per input, round 0) and how many channels,
 // whether its Drops bits follow, then after a step its simulated time, its deepest water and (last step) its largest
@@ -107,10 +106,8 @@ class PipeTile : public TileGraphTile {
       return out;
     }
     // Step round - 1, its length from the deepest water over all tiles after the step before.
-    const double dt = std::min(pipe_time_step(p_, std::min(whole_domain_.spacing.x, whole_domain_.spacing.y), deepest_),
-                               p_.duration - time_);
-    check_pipe_step(dt, time_, deepest_);
-    const bool last = time_ + dt >= p_.duration - kTimeSlack;
+    const auto [dt, last] =
+        pipe_step_length(p_, std::min(whole_domain_.spacing.x, whole_domain_.spacing.y), time_, deepest_);
     grid_->step(dt, static_cast<std::uint64_t>(round - 1), last);
     time_ += dt;
     h.time = time_;
@@ -239,7 +236,7 @@ class PipeAcrossTiles : public TileGraphAlgorithm {
 
   // Round r >= 1 ran step r - 1; the run ends at the step that reaches the duration, as the whole-domain run does.
   bool another_round(int round, const std::vector<std::string>& messages) const override {
-    if (round == 0) return params_.duration > kTimeSlack;
+    if (round == 0) return params_.duration > kPipeTimeSlack;
     return !take_headers(messages)[0].last;
   }
 
