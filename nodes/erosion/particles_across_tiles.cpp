@@ -47,6 +47,13 @@ struct Plan {
   std::vector<SampleRect> regions;  // each tile's samples and the reach of the blocks it runs
   std::vector<int> owner;           // per block: the tile that runs it
   std::vector<SampleRect> reach;    // per block: the samples its droplets may read or change
+  // Per block: each other tile whose region meets the block's reach, and that overlap (what the block may change
+  // there).
+  struct Send {
+    int target;
+    SampleRect rect;
+  };
+  std::vector<std::vector<Send>> sends;
 };
 
 std::shared_ptr<const Plan> make_plan(const DropletSchedule& schedule, std::vector<SampleRect> rects) {
@@ -67,6 +74,12 @@ std::shared_ptr<const Plan> make_plan(const DropletSchedule& schedule, std::vect
     plan->reach.push_back(reach);
     plan->regions[static_cast<std::size_t>(t)] = bounding(plan->regions[static_cast<std::size_t>(t)], reach);
   }
+  plan->sends.resize(static_cast<std::size_t>(blocks));
+  for (std::size_t b = 0; b < plan->sends.size(); ++b)
+    for (std::size_t t = 0; t < rects.size(); ++t) {
+      const SampleRect r = overlap(plan->reach[b], plan->regions[t]);
+      if (static_cast<int>(t) != plan->owner[b] && !r.empty()) plan->sends[b].push_back({static_cast<int>(t), r});
+    }
   plan->rects = std::move(rects);
   return plan;
 }
@@ -194,7 +207,7 @@ class ParticleTile : public TileGraphTile {
 
 class ParticlesAcrossTiles : public TileGraphAlgorithm {
  public:
-  ParticlesAcrossTiles(const ParticleParams& p, const Domain& whole) : params_(p), whole_(whole), schedule_(p, whole) {
+  ParticlesAcrossTiles(const ParticleParams& p, const Domain& whole) : whole_(whole), schedule_(p, whole) {
     for (int c = 0; c < 4; ++c)
       if (!schedule_.color_blocks(c).empty()) colors_.push_back(c);
     // A round per phase: beyond a million rounds (dense droplets on a small grid) the all-gathers would cost more
@@ -309,8 +322,6 @@ class ParticlesAcrossTiles : public TileGraphAlgorithm {
     return bins_;
   }
 
-  const ParticleParams& params() const { return params_; }
-
  private:
   // Every message's parts (after `rest`'s prefix, read) forwarded to their target tile, in tile order; each answer
   // starts with `prefix` and the number of parts.
@@ -336,7 +347,6 @@ class ParticlesAcrossTiles : public TileGraphAlgorithm {
     }
   }
 
-  ParticleParams params_;
   Domain whole_;
   DropletSchedule schedule_;
   std::vector<int> colors_;  // the colors with blocks, in phase order
@@ -419,12 +429,9 @@ std::string ParticleTile::run_phase(int phase) {
     std::vector<float> before;
   };
   std::vector<Outgoing> outgoing;
-  const std::size_t tiles = plan_->rects.size();
   for (const int b : blocks)
-    for (std::size_t t = 0; t < tiles; ++t) {
-      const SampleRect r = overlap(plan_->reach[static_cast<std::size_t>(b)], plan_->regions[t]);
-      if (static_cast<int>(t) == me_ || r.empty()) continue;
-      Outgoing o{static_cast<int>(t), r, {}};
+    for (const auto& [t, r] : plan_->sends[static_cast<std::size_t>(b)]) {
+      Outgoing o{t, r, {}};
       o.before.reserve(r.area());
       for (int y = r.lo.y; y <= r.hi.y; ++y)
         o.before.insert(o.before.end(), z_.begin() + static_cast<std::ptrdiff_t>(at(r.lo.x, y)),
@@ -518,20 +525,18 @@ void ParticleTile::start_region() {
 }
 
 std::vector<PortValue> ParticleTile::outputs() {
-  const ParticleParams& p = algorithm_.params();
   ErosionMaps maps;
   maps.out = std::make_shared<Heightfield>(in_->domain);
   for (int j = 0; j < in_->height(); ++j)
     for (int i = 0; i < in_->width(); ++i) maps.out->at(i, j) = z_[at(own_.lo.x + i, own_.lo.y + j)];
-  if (p.flow_map) {
-    maps.flow = std::make_shared<Heightfield>(in_->domain);
-    const double lmax = std::log1p(static_cast<double>(most_visits_));
-    if (lmax > 0)
-      for (int j = 0; j < in_->height(); ++j)
-        for (int i = 0; i < in_->width(); ++i)
-          maps.flow->at(i, j) = droplet_flow(visits_[at(own_.lo.x + i, own_.lo.y + j)], lmax);
-  }
-  if (p.change_maps) fill_change_maps(*in_, maps, nullptr);
+  // Every map: the algorithm cannot know which outputs are linked (the whole-domain node skips the unlinked ones).
+  maps.flow = std::make_shared<Heightfield>(in_->domain);
+  const double lmax = std::log1p(static_cast<double>(most_visits_));
+  if (lmax > 0)
+    for (int j = 0; j < in_->height(); ++j)
+      for (int i = 0; i < in_->width(); ++i)
+        maps.flow->at(i, j) = droplet_flow(visits_[at(own_.lo.x + i, own_.lo.y + j)], lmax);
+  fill_change_maps(*in_, maps, nullptr);
   ReportJson j;
   j["eroded"] = report_number(totals_.eroded);
   j["deposited"] = report_number(totals_.deposited);
