@@ -85,8 +85,10 @@ std::shared_ptr<const Plan> make_plan(const DropletSchedule& schedule, std::vect
 }
 
 // A part of a message: the samples of `rect` that one tile sends another, as 4-byte words per channel (floats, or
-// visit counts), only those whose bit is set: target tile, rectangle, channels, a bit per sample (row-major), then
-// each channel's words of the set bits. The solve forwards parts to their target unread beyond their size.
+// visit counts), only those whose bit is set: target tile, the part's size in bytes, rectangle, channels, a bit per
+// sample (row-major), then each channel's words of the set bits. The solve forwards parts to their target unread
+// beyond their target and size.
+constexpr std::size_t kPartHeader = 2 * sizeof(std::int32_t) + sizeof(std::uint64_t) + sizeof(SampleRect);
 struct PartWriter {
   std::string& out;
   std::int32_t& parts;
@@ -97,6 +99,7 @@ struct PartWriter {
     if (r.empty()) return;
     const std::size_t at = out.size(), bits = (r.area() + 7) / 8;
     bytes::put(out, static_cast<std::int32_t>(target));
+    bytes::put(out, std::uint64_t{0});  // the size, once known
     bytes::put(out, r);
     bytes::put(out, static_cast<std::int32_t>(channels));
     out.append(bits, '\0');
@@ -104,7 +107,7 @@ struct PartWriter {
     for (int y = r.lo.y; y <= r.hi.y; ++y)
       for (int x = r.lo.x; x <= r.hi.x; ++x, ++k)
         if (send(x, y)) {
-          out[at + 6 * sizeof(std::int32_t) + k / 8] |= static_cast<char>(1u << (k % 8));
+          out[at + kPartHeader + k / 8] |= static_cast<char>(1u << (k % 8));
           ++set;
         }
     if (set == 0) {  // nothing to send
@@ -113,7 +116,7 @@ struct PartWriter {
     }
     for (int c = 0; c < channels; ++c) {
       k = 0;
-      const char* mask = out.data() + at + 6 * sizeof(std::int32_t);
+      const char* mask = out.data() + at + kPartHeader;
       std::string words;
       words.reserve(set * 4);
       for (int y = r.lo.y; y <= r.hi.y; ++y)
@@ -121,6 +124,8 @@ struct PartWriter {
           if (static_cast<unsigned char>(mask[k / 8]) >> (k % 8) & 1u) bytes::put(words, word(c, x, y));
       out += words;
     }
+    const auto size = static_cast<std::uint64_t>(out.size() - at);
+    std::memcpy(out.data() + at + sizeof(std::int32_t), &size, sizeof size);
     ++parts;
   }
 };
@@ -137,6 +142,7 @@ struct PartHeader {
 PartHeader take_part(std::string_view& in, const glm::ivec2 whole, std::size_t tiles) {
   PartHeader p;
   p.target = bytes::take<std::int32_t>(in, kWhat);
+  const auto size = bytes::take<std::uint64_t>(in, kWhat);
   p.rect = bytes::take<SampleRect>(in, kWhat);
   p.channels = bytes::take<std::int32_t>(in, kWhat);
   if (p.target < 0 || static_cast<std::size_t>(p.target) >= tiles || p.channels < 1 || p.channels > 2 ||
@@ -151,6 +157,7 @@ PartHeader take_part(std::string_view& in, const glm::ivec2 whole, std::size_t t
   if (in.size() < words) throw std::invalid_argument(std::string(kWhat) + ": truncated bytes");
   p.words = in.substr(0, words);
   in.remove_prefix(words);
+  if (size != kPartHeader + bits + words) throw std::invalid_argument(std::string(kWhat) + ": a damaged part");
   return p;
 }
 
@@ -324,27 +331,32 @@ class ParticlesAcrossTiles : public TileGraphAlgorithm {
 
  private:
   // Every message's parts (after `rest`'s prefix, read) forwarded to their target tile, in tile order; each answer
-  // starts with `prefix` and the number of parts.
+  // starts with `prefix` and the number of parts. Only a part's target and size are read here: its tile checks the
+  // rest (take_part).
   void route(const std::vector<std::string_view>& messages, const std::string& prefix,
              std::vector<std::string>& answers) const {
     const std::size_t count = answers.size();
     std::vector<std::int32_t> parts(count, 0);
-    std::vector<std::string> bodies(count);
+    for (std::string& a : answers) {
+      a = prefix;
+      bytes::put(a, std::int32_t{0});  // the number of parts, once known
+    }
     for (std::string_view in : messages) {
       const auto n = bytes::take<std::int32_t>(in, kWhat);
       for (std::int32_t i = 0; i < n; ++i) {
-        const std::string_view start = in;
-        const PartHeader p = take_part(in, whole_.resolution, count);
-        bodies[static_cast<std::size_t>(p.target)].append(start.data(), start.size() - in.size());
-        ++parts[static_cast<std::size_t>(p.target)];
+        std::string_view header = in;
+        const auto target = bytes::take<std::int32_t>(header, kWhat);
+        const auto size = bytes::take<std::uint64_t>(header, kWhat);
+        if (target < 0 || static_cast<std::size_t>(target) >= count || size < kPartHeader)
+          throw std::invalid_argument(std::string(kWhat) + ": a damaged part");
+        if (size > in.size()) throw std::invalid_argument(std::string(kWhat) + ": truncated bytes");
+        answers[static_cast<std::size_t>(target)].append(in.data(), static_cast<std::size_t>(size));
+        in.remove_prefix(static_cast<std::size_t>(size));
+        ++parts[static_cast<std::size_t>(target)];
       }
       if (!in.empty()) throw std::invalid_argument(std::string(kWhat) + ": bytes left over");
     }
-    for (std::size_t t = 0; t < count; ++t) {
-      answers[t] = prefix;
-      bytes::put(answers[t], parts[t]);
-      answers[t] += bodies[t];
-    }
+    for (std::size_t t = 0; t < count; ++t) std::memcpy(answers[t].data() + prefix.size(), &parts[t], sizeof parts[t]);
   }
 
   Domain whole_;
