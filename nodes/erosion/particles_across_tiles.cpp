@@ -33,23 +33,10 @@
 #include "nodes/common/finite_inputs.h"
 #include "nodes/common/report_builder.h"
 #include "nodes/erosion/droplet_schedule.h"
+#include "nodes/erosion/sample_rect.h"
 
 namespace orogen::erosion {
 namespace {
-
-// A rectangle of samples of the whole domain, both ends included.
-struct SampleRect {
-  glm::ivec2 lo{0, 0}, hi{-1, -1};
-  bool empty() const { return hi.x < lo.x || hi.y < lo.y; }
-  glm::ivec2 size() const { return hi - lo + 1; }
-  std::size_t area() const { return empty() ? 0 : static_cast<std::size_t>(size().x) * size().y; }
-  bool contains(glm::ivec2 s) const { return s.x >= lo.x && s.x <= hi.x && s.y >= lo.y && s.y <= hi.y; }
-  bool within(const SampleRect& o) const { return !empty() && o.contains(lo) && o.contains(hi); }
-  bool operator==(const SampleRect& o) const { return lo == o.lo && hi == o.hi; }
-};
-
-SampleRect overlap(const SampleRect& a, const SampleRect& b) { return {glm::max(a.lo, b.lo), glm::min(a.hi, b.hi)}; }
-SampleRect bounding(const SampleRect& a, const SampleRect& b) { return {glm::min(a.lo, b.lo), glm::max(a.hi, b.hi)}; }
 
 constexpr const char* kWhat = "hydraulic erosion across tiles";
 constexpr int kMaxPhases = 1 << 20;
@@ -60,6 +47,13 @@ struct Plan {
   std::vector<SampleRect> regions;  // each tile's samples and the reach of the blocks it runs
   std::vector<int> owner;           // per block: the tile that runs it
   std::vector<SampleRect> reach;    // per block: the samples its droplets may read or change
+  // Per block: each other tile whose region meets the block's reach, and that overlap (what the block may change
+  // there).
+  struct Send {
+    int target;
+    SampleRect rect;
+  };
+  std::vector<std::vector<Send>> sends;
 };
 
 std::shared_ptr<const Plan> make_plan(const DropletSchedule& schedule, std::vector<SampleRect> rects) {
@@ -80,13 +74,21 @@ std::shared_ptr<const Plan> make_plan(const DropletSchedule& schedule, std::vect
     plan->reach.push_back(reach);
     plan->regions[static_cast<std::size_t>(t)] = bounding(plan->regions[static_cast<std::size_t>(t)], reach);
   }
+  plan->sends.resize(static_cast<std::size_t>(blocks));
+  for (std::size_t b = 0; b < plan->sends.size(); ++b)
+    for (std::size_t t = 0; t < rects.size(); ++t) {
+      const SampleRect r = overlap(plan->reach[b], plan->regions[t]);
+      if (static_cast<int>(t) != plan->owner[b] && !r.empty()) plan->sends[b].push_back({static_cast<int>(t), r});
+    }
   plan->rects = std::move(rects);
   return plan;
 }
 
 // A part of a message: the samples of `rect` that one tile sends another, as 4-byte words per channel (floats, or
-// visit counts), only those whose bit is set: target tile, rectangle, channels, a bit per sample (row-major), then
-// each channel's words of the set bits. The solve forwards parts to their target unread beyond their size.
+// visit counts), only those whose bit is set: target tile, the part's size in bytes, rectangle, channels, a bit per
+// sample (row-major), then each channel's words of the set bits. The solve forwards parts to their target unread
+// beyond their target and size.
+constexpr std::size_t kPartHeader = 2 * sizeof(std::int32_t) + sizeof(std::uint64_t) + sizeof(SampleRect);
 struct PartWriter {
   std::string& out;
   std::int32_t& parts;
@@ -96,13 +98,16 @@ struct PartWriter {
   void put(int target, const SampleRect& r, int channels, Send&& send, Word&& word) {
     if (r.empty()) return;
     const std::size_t at = out.size(), bits = (r.area() + 7) / 8;
-    for (const std::int32_t v : {target, r.lo.x, r.lo.y, r.hi.x, r.hi.y, channels}) bytes::put(out, v);
+    bytes::put(out, static_cast<std::int32_t>(target));
+    bytes::put(out, std::uint64_t{0});  // the size, once known
+    bytes::put(out, r);
+    bytes::put(out, static_cast<std::int32_t>(channels));
     out.append(bits, '\0');
     std::size_t k = 0, set = 0;
     for (int y = r.lo.y; y <= r.hi.y; ++y)
       for (int x = r.lo.x; x <= r.hi.x; ++x, ++k)
         if (send(x, y)) {
-          out[at + 6 * sizeof(std::int32_t) + k / 8] |= static_cast<char>(1u << (k % 8));
+          out[at + kPartHeader + k / 8] |= static_cast<char>(1u << (k % 8));
           ++set;
         }
     if (set == 0) {  // nothing to send
@@ -111,7 +116,7 @@ struct PartWriter {
     }
     for (int c = 0; c < channels; ++c) {
       k = 0;
-      const char* mask = out.data() + at + 6 * sizeof(std::int32_t);
+      const char* mask = out.data() + at + kPartHeader;
       std::string words;
       words.reserve(set * 4);
       for (int y = r.lo.y; y <= r.hi.y; ++y)
@@ -119,6 +124,8 @@ struct PartWriter {
           if (static_cast<unsigned char>(mask[k / 8]) >> (k % 8) & 1u) bytes::put(words, word(c, x, y));
       out += words;
     }
+    const auto size = static_cast<std::uint64_t>(out.size() - at);
+    std::memcpy(out.data() + at + sizeof(std::int32_t), &size, sizeof size);
     ++parts;
   }
 };
@@ -135,8 +142,8 @@ struct PartHeader {
 PartHeader take_part(std::string_view& in, const glm::ivec2 whole, std::size_t tiles) {
   PartHeader p;
   p.target = bytes::take<std::int32_t>(in, kWhat);
-  p.rect.lo.x = bytes::take<std::int32_t>(in, kWhat), p.rect.lo.y = bytes::take<std::int32_t>(in, kWhat);
-  p.rect.hi.x = bytes::take<std::int32_t>(in, kWhat), p.rect.hi.y = bytes::take<std::int32_t>(in, kWhat);
+  const auto size = bytes::take<std::uint64_t>(in, kWhat);
+  p.rect = bytes::take<SampleRect>(in, kWhat);
   p.channels = bytes::take<std::int32_t>(in, kWhat);
   if (p.target < 0 || static_cast<std::size_t>(p.target) >= tiles || p.channels < 1 || p.channels > 2 ||
       !p.rect.within({{0, 0}, whole - 1}))
@@ -150,6 +157,7 @@ PartHeader take_part(std::string_view& in, const glm::ivec2 whole, std::size_t t
   if (in.size() < words) throw std::invalid_argument(std::string(kWhat) + ": truncated bytes");
   p.words = in.substr(0, words);
   in.remove_prefix(words);
+  if (size != kPartHeader + bits + words) throw std::invalid_argument(std::string(kWhat) + ": a damaged part");
   return p;
 }
 
@@ -174,7 +182,7 @@ class ParticlesAcrossTiles;
 
 class ParticleTile : public TileGraphTile {
  public:
-  ParticleTile(const ParticlesAcrossTiles& algorithm, HeightfieldPtr in, HeightfieldPtr mask, glm::ivec2 whole_first);
+  ParticleTile(const ParticlesAcrossTiles& algorithm, HeightfieldPtr in, HeightfieldPtr mask);
   std::string message(int round) override;
   void answer(int round, std::string_view bytes) override;
   std::vector<PortValue> outputs() override;
@@ -206,7 +214,7 @@ class ParticleTile : public TileGraphTile {
 
 class ParticlesAcrossTiles : public TileGraphAlgorithm {
  public:
-  ParticlesAcrossTiles(const ParticleParams& p, const Domain& whole) : params_(p), whole_(whole), schedule_(p, whole) {
+  ParticlesAcrossTiles(const ParticleParams& p, const Domain& whole) : whole_(whole), schedule_(p, whole) {
     for (int c = 0; c < 4; ++c)
       if (!schedule_.color_blocks(c).empty()) colors_.push_back(c);
     // A round per phase: beyond a million rounds (dense droplets on a small grid) the all-gathers would cost more
@@ -239,7 +247,7 @@ class ParticlesAcrossTiles : public TileGraphAlgorithm {
     if (mask && mask->domain.resolution != in->domain.resolution)
       throw std::invalid_argument(std::string(kWhat) + ": the mask must lie on the tile");
     require_finite_inputs("HydraulicErosion", {{"in", in.get()}, {"mask", mask.get()}});
-    return std::make_unique<ParticleTile>(*this, in, mask, whole_.first);
+    return std::make_unique<ParticleTile>(*this, in, mask);
   }
 
   std::vector<std::string> solve(int round, const std::vector<std::string>& messages) const override {
@@ -248,7 +256,7 @@ class ParticlesAcrossTiles : public TileGraphAlgorithm {
     if (round == 0) {
       std::string all;
       for (const std::string& m : messages) {
-        if (m.size() != 4 * sizeof(std::int32_t)) throw std::invalid_argument(std::string(kWhat) + ": a damaged tile");
+        if (m.size() != sizeof(SampleRect)) throw std::invalid_argument(std::string(kWhat) + ": a damaged tile");
         all += m;
       }
       std::fill(answers.begin(), answers.end(), all);
@@ -321,34 +329,36 @@ class ParticlesAcrossTiles : public TileGraphAlgorithm {
     return bins_;
   }
 
-  const ParticleParams& params() const { return params_; }
-
  private:
   // Every message's parts (after `rest`'s prefix, read) forwarded to their target tile, in tile order; each answer
-  // starts with `prefix` and the number of parts.
+  // starts with `prefix` and the number of parts. Only a part's target and size are read here: its tile checks the
+  // rest (take_part).
   void route(const std::vector<std::string_view>& messages, const std::string& prefix,
              std::vector<std::string>& answers) const {
     const std::size_t count = answers.size();
     std::vector<std::int32_t> parts(count, 0);
-    std::vector<std::string> bodies(count);
+    for (std::string& a : answers) {
+      a = prefix;
+      bytes::put(a, std::int32_t{0});  // the number of parts, once known
+    }
     for (std::string_view in : messages) {
       const auto n = bytes::take<std::int32_t>(in, kWhat);
       for (std::int32_t i = 0; i < n; ++i) {
-        const std::string_view start = in;
-        const PartHeader p = take_part(in, whole_.resolution, count);
-        bodies[static_cast<std::size_t>(p.target)].append(start.data(), start.size() - in.size());
-        ++parts[static_cast<std::size_t>(p.target)];
+        std::string_view header = in;
+        const auto target = bytes::take<std::int32_t>(header, kWhat);
+        const auto size = bytes::take<std::uint64_t>(header, kWhat);
+        if (target < 0 || static_cast<std::size_t>(target) >= count || size < kPartHeader)
+          throw std::invalid_argument(std::string(kWhat) + ": a damaged part");
+        if (size > in.size()) throw std::invalid_argument(std::string(kWhat) + ": truncated bytes");
+        answers[static_cast<std::size_t>(target)].append(in.data(), static_cast<std::size_t>(size));
+        in.remove_prefix(static_cast<std::size_t>(size));
+        ++parts[static_cast<std::size_t>(target)];
       }
       if (!in.empty()) throw std::invalid_argument(std::string(kWhat) + ": bytes left over");
     }
-    for (std::size_t t = 0; t < count; ++t) {
-      answers[t] = prefix;
-      bytes::put(answers[t], parts[t]);
-      answers[t] += bodies[t];
-    }
+    for (std::size_t t = 0; t < count; ++t) std::memcpy(answers[t].data() + prefix.size(), &parts[t], sizeof parts[t]);
   }
 
-  ParticleParams params_;
   Domain whole_;
   DropletSchedule schedule_;
   std::vector<int> colors_;  // the colors with blocks, in phase order
@@ -359,17 +369,17 @@ class ParticlesAcrossTiles : public TileGraphAlgorithm {
   mutable std::uint64_t bins_round_ = 0;
 };
 
-ParticleTile::ParticleTile(const ParticlesAcrossTiles& algorithm, HeightfieldPtr in, HeightfieldPtr mask,
-                           glm::ivec2 whole_first)
-    : algorithm_(algorithm), schedule_(algorithm.schedule()), in_(std::move(in)), mask_(std::move(mask)) {
-  own_.lo = in_->domain.first - whole_first;
-  own_.hi = own_.lo + in_->domain.resolution - 1;
-}
+ParticleTile::ParticleTile(const ParticlesAcrossTiles& algorithm, HeightfieldPtr in, HeightfieldPtr mask)
+    : algorithm_(algorithm),
+      schedule_(algorithm.schedule()),
+      in_(std::move(in)),
+      mask_(std::move(mask)),
+      own_(rect_of(in_->domain, algorithm.whole())) {}
 
 std::string ParticleTile::message(int round) {
   std::string out;
   if (round == 0) {
-    for (const std::int32_t v : {own_.lo.x, own_.lo.y, own_.hi.x, own_.hi.y}) bytes::put(out, v);
+    bytes::put(out, own_);
     return out;
   }
   const std::size_t tiles = plan_->rects.size();
@@ -431,12 +441,9 @@ std::string ParticleTile::run_phase(int phase) {
     std::vector<float> before;
   };
   std::vector<Outgoing> outgoing;
-  const std::size_t tiles = plan_->rects.size();
   for (const int b : blocks)
-    for (std::size_t t = 0; t < tiles; ++t) {
-      const SampleRect r = overlap(plan_->reach[static_cast<std::size_t>(b)], plan_->regions[t]);
-      if (static_cast<int>(t) == me_ || r.empty()) continue;
-      Outgoing o{static_cast<int>(t), r, {}};
+    for (const auto& [t, r] : plan_->sends[static_cast<std::size_t>(b)]) {
+      Outgoing o{t, r, {}};
       o.before.reserve(r.area());
       for (int y = r.lo.y; y <= r.hi.y; ++y)
         o.before.insert(o.before.end(), z_.begin() + static_cast<std::ptrdiff_t>(at(r.lo.x, y)),
@@ -472,12 +479,7 @@ void ParticleTile::answer(int round, std::string_view in) {
   const int phases = algorithm_.phases();
   if (round == 0) {
     std::vector<SampleRect> rects;
-    while (!in.empty()) {
-      SampleRect r;
-      r.lo.x = bytes::take<std::int32_t>(in, kWhat), r.lo.y = bytes::take<std::int32_t>(in, kWhat);
-      r.hi.x = bytes::take<std::int32_t>(in, kWhat), r.hi.y = bytes::take<std::int32_t>(in, kWhat);
-      rects.push_back(r);
-    }
+    while (!in.empty()) rects.push_back(bytes::take<SampleRect>(in, kWhat));
     plan_ = algorithm_.plan(std::move(rects));
     const auto it = std::find(plan_->rects.begin(), plan_->rects.end(), own_);
     if (it == plan_->rects.end()) throw std::invalid_argument(std::string(kWhat) + ": the tile is not in the tiling");
@@ -535,20 +537,18 @@ void ParticleTile::start_region() {
 }
 
 std::vector<PortValue> ParticleTile::outputs() {
-  const ParticleParams& p = algorithm_.params();
   ErosionMaps maps;
   maps.out = std::make_shared<Heightfield>(in_->domain);
   for (int j = 0; j < in_->height(); ++j)
     for (int i = 0; i < in_->width(); ++i) maps.out->at(i, j) = z_[at(own_.lo.x + i, own_.lo.y + j)];
-  if (p.flow_map) {
-    maps.flow = std::make_shared<Heightfield>(in_->domain);
-    const double lmax = std::log1p(static_cast<double>(most_visits_));
-    if (lmax > 0)
-      for (int j = 0; j < in_->height(); ++j)
-        for (int i = 0; i < in_->width(); ++i)
-          maps.flow->at(i, j) = droplet_flow(visits_[at(own_.lo.x + i, own_.lo.y + j)], lmax);
-  }
-  if (p.change_maps) fill_change_maps(*in_, maps, nullptr);
+  // Every map: the algorithm cannot know which outputs are linked (the whole-domain node skips the unlinked ones).
+  maps.flow = std::make_shared<Heightfield>(in_->domain);
+  const double lmax = std::log1p(static_cast<double>(most_visits_));
+  if (lmax > 0)
+    for (int j = 0; j < in_->height(); ++j)
+      for (int i = 0; i < in_->width(); ++i)
+        maps.flow->at(i, j) = droplet_flow(visits_[at(own_.lo.x + i, own_.lo.y + j)], lmax);
+  fill_change_maps(*in_, maps, nullptr);
   ReportJson j;
   j["eroded"] = report_number(totals_.eroded);
   j["deposited"] = report_number(totals_.deposited);

@@ -11,8 +11,8 @@
 namespace orogen::erosion {
 
 // The algorithm for `p` on `whole`. Throws NodeError where the whole-domain node would refuse the droplet count or
-// the work. The outputs of each tile: out, erosion, deposition, flow (whatever p.change_maps and p.flow_map say),
-// and the report, the whole domain's, the same on every tile.
+// the work. The outputs of each tile: out, erosion, deposition, flow (all of them, whatever p.change_maps and
+// p.flow_map say), and the report, the whole domain's, the same on every tile.
 std::unique_ptr<TileGraphAlgorithm> particles_across_tiles(const ParticleParams& p, const Domain& whole);
 
 }  // namespace orogen::erosion

@@ -141,8 +141,8 @@ struct StepConstants {
 struct PipeRun {
   const Heightfield& in;
   const PipeParams& p;
-  const PipeWindow& window;  // where the grid lies in the whole domain (for the Drops rain)
-  const int whole_h;         // rows of the whole domain
+  const PipeWindow window;  // where the grid lies in the whole domain (for the Drops rain)
+  const int whole_h;        // rows of the whole domain
   const Heightfield *mask, *rainfall, *moisture, *temperature, *hardness;
   const int w, h;
   const std::size_t n;
@@ -170,11 +170,11 @@ struct PipeRun {
 
   PipeRun(const Heightfield& in_, const PipeParams& p_, const Heightfield* mask_, const Heightfield* rainfall_,
           const Heightfield* moisture_, const Heightfield* temperature_, const Heightfield* hardness_,
-          const PipeWindow& window_)
+          PipeWindow window_)
       : in(in_),
         p(p_),
-        window(window_),
-        whole_h(window_.whole.y > 0 ? window_.whole.y : in_.height()),
+        window(std::move(window_)),
+        whole_h(window.whole.y > 0 ? window.whole.y : in_.height()),
         mask(mask_),
         rainfall(rainfall_),
         moisture(moisture_),
@@ -310,7 +310,7 @@ struct PipeRun {
       const std::size_t k = row + static_cast<std::size_t>(i - x0);
       if (sink[k]) continue;
       const float m = moisture ? std::clamp(moisture->data[k], 0.0f, 1.0f) : 1.0f;
-      if (m < 1.0f && !(draw() < m)) continue;
+      if (pipe_drop_draws(p, in.data[k], m) && !(draw() < m)) continue;  // the second draw keeps it with chance m
       DR[k - row] +=
           rainfall ? static_cast<float>(std::max(0.0f, rainfall->data[k]) * mm_per_h / std::max(p.drop_chance, 1e-9))
                    : depth;
@@ -603,6 +603,12 @@ void check_pipe_work(const PipeParams& p, const Domain& domain) {
              "lower duration, or use a coarser grid");
 }
 
+PipeStepLength pipe_step_length(const PipeParams& p, double spacing, double t, double deepest) {
+  const double dt = std::min(pipe_time_step(p, spacing, deepest), p.duration - t);
+  check_pipe_step(dt, t, deepest);
+  return {dt, t + dt >= p.duration - kPipeTimeSlack};
+}
+
 void check_pipe_step(double dt, double t, double deepest) {
   if (!(dt > 0.0) || !(t + dt > t))
     throw NodeError("PipeErosion: the CFL time step became " + std::to_string(dt) + " s at t = " + std::to_string(t) +
@@ -617,8 +623,7 @@ struct PipeGrid::Run {
 PipeGrid::PipeGrid(const Heightfield& in, const PipeParams& p, const Heightfield* mask, const Heightfield* rainfall,
                    const Heightfield* moisture, const Heightfield* temperature, const Heightfield* hardness,
                    PipeWindow window)
-    : window_(std::move(window)),
-      run_(new Run{PipeRun(in, p, mask, rainfall, moisture, temperature, hardness, window_)}) {}
+    : run_(new Run{PipeRun(in, p, mask, rainfall, moisture, temperature, hardness, std::move(window))}) {}
 
 PipeGrid::~PipeGrid() = default;
 
@@ -645,21 +650,18 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
                                         {"evaporation_factor", temperature},
                                         {"hardness", hardness}});
   check_pipe_work(p, in.domain);
-  const PipeWindow whole;
-  PipeRun run(in, p, mask, rainfall, moisture, temperature, hardness, whole);
+  PipeRun run(in, p, mask, rainfall, moisture, temperature, hardness, PipeWindow{});
   PipeStats st;
   st.total_volume = 0;
   for (float v : in.data) st.total_volume += std::abs(static_cast<double>(v)) * run.A;
   double t = 0.0, dmax = 0.0;
   const double spacing = std::min(run.dx, run.dy);
   std::uint64_t step = 0;
-  while (t < p.duration - 1e-9) {
+  while (t < p.duration - kPipeTimeSlack) {
     check_cancelled(ctx);
-    double dt = pipe_time_step(p, spacing, dmax);
-    dt = std::min(dt, p.duration - t);
-    check_pipe_step(dt, t, dmax);
+    const auto [dt, last] = pipe_step_length(p, spacing, t, dmax);
     const double before = check_conservation ? run.volume(ctx) : 0.0;
-    run.sweep(run.constants(dt, step, t + dt >= p.duration - 1e-9));
+    run.sweep(run.constants(dt, step, last));
     double sed_out = 0;
     dmax = 0;
     for (int j = 0; j < run.h; ++j) {

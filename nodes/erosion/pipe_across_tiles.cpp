@@ -21,7 +21,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
-#include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -35,10 +35,9 @@
 namespace orogen::erosion {
 namespace {
 
-constexpr int kHalo = 2;             // a step reads the fields within 2 samples
-constexpr int kStaticFields = 6;     // in, mask, rainfall_rate, moisture, evaporation_factor, hardness (input order)
-constexpr int kStepFields = 7;       // PipeGrid::Terrain .. PipeGrid::FluxUp
-constexpr double kTimeSlack = 1e-9;  // seconds: the run ends within this of its duration (as pipe_erosion)
+constexpr int kHalo = 2;          // a step reads the fields within 2 samples
+constexpr int kStaticFields = 6;  // in, mask, rainfall_rate, moisture, evaporation_factor, hardness (input order)
+constexpr int kStepFields = 7;    // PipeGrid::Terrain .. PipeGrid::FluxUp
 
 // A message: the tile's rectangle, which static fields it sends (a bit per input, round 0) and how many channels,
 // whether its Drops bits follow, then after a step its simulated time, its deepest water and (last step) its largest
@@ -52,17 +51,15 @@ struct Header {
 };
 
 void put_header(std::string& out, const Header& h) {
-  for (const std::int32_t v :
-       {h.rect.lo.x, h.rect.lo.y, h.rect.hi.x, h.rect.hi.y, h.fields, h.channels, h.drop_bits, h.last})
-    bytes::put(out, v);
+  bytes::put(out, h.rect);
+  for (const std::int32_t v : {h.fields, h.channels, h.drop_bits, h.last}) bytes::put(out, v);
   bytes::put(out, h.time), bytes::put(out, h.deepest), bytes::put(out, h.most);
 }
 
 Header take_header(std::string_view in) {
   const char* what = "pipe erosion bands";
   Header h;
-  h.rect.lo.x = bytes::take<std::int32_t>(in, what), h.rect.lo.y = bytes::take<std::int32_t>(in, what);
-  h.rect.hi.x = bytes::take<std::int32_t>(in, what), h.rect.hi.y = bytes::take<std::int32_t>(in, what);
+  h.rect = bytes::take<SampleRect>(in, what);
   h.fields = bytes::take<std::int32_t>(in, what), h.channels = bytes::take<std::int32_t>(in, what);
   h.drop_bits = bytes::take<std::int32_t>(in, what), h.last = bytes::take<std::int32_t>(in, what);
   h.time = bytes::take<double>(in, what), h.deepest = bytes::take<double>(in, what);
@@ -75,10 +72,11 @@ std::size_t words_of(std::size_t bits) { return (bits + 63) / 64; }
 class PipeTile : public TileGraphTile {
  public:
   PipeTile(std::vector<HeightfieldPtr> fields, const PipeParams& p, const Domain& whole)
-      : fields_(std::move(fields)), p_(p), whole_domain_(whole), whole_(whole.resolution) {
-    const Heightfield& in = *fields_[0];
-    rect_.lo = in.domain.first - whole.first;
-    rect_.hi = rect_.lo + in.domain.resolution - 1;
+      : fields_(std::move(fields)),
+        p_(p),
+        whole_domain_(whole),
+        whole_(whole.resolution),
+        rect_(rect_of(fields_[0]->domain, whole)) {
     grid_lo_ = glm::max(rect_.lo - kHalo, glm::ivec2(0));
     grid_size_ = glm::min(rect_.hi + kHalo, whole_ - 1) - grid_lo_ + 1;
   }
@@ -108,10 +106,8 @@ class PipeTile : public TileGraphTile {
       return out;
     }
     // Step round - 1, its length from the deepest water over all tiles after the step before.
-    const double dt = std::min(pipe_time_step(p_, std::min(whole_domain_.spacing.x, whole_domain_.spacing.y), deepest_),
-                               p_.duration - time_);
-    check_pipe_step(dt, time_, deepest_);
-    const bool last = time_ + dt >= p_.duration - kTimeSlack;
+    const auto [dt, last] =
+        pipe_step_length(p_, std::min(whole_domain_.spacing.x, whole_domain_.spacing.y), time_, deepest_);
     grid_->step(dt, static_cast<std::uint64_t>(round - 1), last);
     time_ += dt;
     h.time = time_;
@@ -120,12 +116,9 @@ class PipeTile : public TileGraphTile {
     if (last) h.most = static_cast<float>(own_max(grid_->field(PipeGrid::Accumulated)));
     h.channels = last ? 0 : kStepFields;
     put_header(out, h);
-    std::size_t at = out.size();
-    out.resize(at + static_cast<std::size_t>(h.channels) * band_cells_.size() * sizeof(float));
-    for (int c = 0; c < h.channels; ++c) {
-      const float* f = grid_->field(static_cast<PipeGrid::Field>(c)).data();
-      for (const std::size_t q : band_cells_) std::memcpy(out.data() + at, f + q, sizeof(float)), at += sizeof(float);
-    }
+    out.reserve(out.size() + static_cast<std::size_t>(h.channels) * cells_->bands.size() * sizeof(float));
+    for (int c = 0; c < h.channels; ++c)
+      cells_->bands.append(out, grid_->field(static_cast<PipeGrid::Field>(c)).data());
     return out;
   }
 
@@ -138,12 +131,10 @@ class PipeTile : public TileGraphTile {
       most_ = bytes::take<float>(in, what);
       const auto channels = bytes::take<std::int32_t>(in, what);
       if (channels < 0 || channels > kStepFields ||
-          in.size() < static_cast<std::size_t>(channels) * halo_cells_.size() * sizeof(float))
+          in.size() < static_cast<std::size_t>(channels) * cells_->halo.size() * sizeof(float))
         throw std::invalid_argument("pipe erosion halo: truncated bytes");
-      for (int c = 0; c < channels; ++c) {
-        float* f = grid_->field(static_cast<PipeGrid::Field>(c)).data();
-        for (const std::size_t q : halo_cells_) std::memcpy(f + q, in.data(), sizeof(float)), in.remove_prefix(4);
-      }
+      for (int c = 0; c < channels; ++c)
+        cells_->halo.take(in, grid_->field(static_cast<PipeGrid::Field>(c)).data(), what);
     }
     if (!in.empty()) throw std::invalid_argument("pipe erosion halo: bytes left over");
   }
@@ -194,9 +185,7 @@ class PipeTile : public TileGraphTile {
         for_each_halo(rect_, whole_, kHalo, [&](glm::ivec2 s) {
           grids_[static_cast<std::size_t>(f)]->data[cell(s)] = bytes::take<float>(in, what);
         });
-    const Bands bands(rect_, whole_, kHalo);
-    bands.for_each([&](glm::ivec2 s) { band_cells_.push_back(cell(s)); });
-    for_each_halo(rect_, whole_, kHalo, [&](glm::ivec2 s) { halo_cells_.push_back(cell(s)); });
+    cells_.emplace(rect_, whole_, kHalo, [&](glm::ivec2 s) { return cell(s); });
     PipeWindow window;
     window.first = grid_lo_;
     window.whole = whole_;
@@ -234,7 +223,7 @@ class PipeTile : public TileGraphTile {
   SampleRect rect_;
   glm::ivec2 grid_lo_, grid_size_;  // the grid: the tile grown by the halo, within the domain
   std::unique_ptr<PipeGrid> grid_;
-  std::vector<std::size_t> band_cells_, halo_cells_;  // the grid cells of the tile's bands and halo, in sending order
+  std::optional<BandCells> cells_;     // of the grid
   double time_ = 0.0, deepest_ = 0.0;  // simulated time, deepest water over all tiles after the last step
   float most_ = 0.0f;                  // largest accumulated flow over all tiles, after the last step
 };
@@ -247,7 +236,7 @@ class PipeAcrossTiles : public TileGraphAlgorithm {
 
   // Round r >= 1 ran step r - 1; the run ends at the step that reaches the duration, as the whole-domain run does.
   bool another_round(int round, const std::vector<std::string>& messages) const override {
-    if (round == 0) return params_.duration > kTimeSlack;
+    if (round == 0) return params_.duration > kPipeTimeSlack;
     return !take_headers(messages)[0].last;
   }
 
@@ -277,18 +266,22 @@ class PipeAcrossTiles : public TileGraphAlgorithm {
     const auto headers = take_headers(messages);
     const glm::ivec2 whole = whole_domain_.resolution;
     std::vector<std::size_t> bands_bytes(count);
+    std::vector<SampleRect> rects;
+    for (const Header& h : headers) rects.push_back(h.rect);
+    const auto halos = plans_.get(std::move(rects), whole, kHalo, "pipe erosion bands");
+    std::vector<const char*> bands(count);
     for (std::size_t t = 0; t < count; ++t) {
       const Header& h = headers[t];
       if (h.channels != headers[0].channels || h.fields != headers[0].fields || h.last != headers[0].last ||
           h.time != headers[0].time || h.drop_bits != headers[0].drop_bits)
         throw std::invalid_argument("pipe erosion bands: the tiles' messages do not fit together");
-      bands_bytes[t] = static_cast<std::size_t>(h.channels) * Bands(h.rect, whole, kHalo).size() * sizeof(float);
+      bands_bytes[t] = static_cast<std::size_t>(h.channels) * halos->stride[t];
+      bands[t] = messages[t].data() + Header::kBytes;
       const glm::ivec2 size = h.rect.size();
       const std::size_t bits = h.drop_bits ? words_of(static_cast<std::size_t>(size.x) * size.y) * 8 : 0;
       if (messages[t].size() != Header::kBytes + bands_bytes[t] + bits)
         throw std::invalid_argument("pipe erosion bands: truncated bytes");
     }
-    const auto halos = plan(headers);
     std::vector<std::string> answers(count);
     double deepest = 0.0;
     float most = 0.0f;
@@ -320,13 +313,7 @@ class PipeAcrossTiles : public TileGraphAlgorithm {
         bytes::put(out, most);
         bytes::put(out, headers[u].channels);
       }
-      std::size_t to = out.size();
-      out.resize(to + halos->sources[u].size() * static_cast<std::size_t>(headers[u].channels) * sizeof(float));
-      for (std::int32_t c = 0; c < headers[u].channels; ++c)
-        for (const auto& [v, at] : halos->sources[u]) {
-          const char* from = messages[v].data() + Header::kBytes + at + static_cast<std::size_t>(c) * halos->stride[v];
-          std::memcpy(out.data() + to, from, sizeof(float)), to += sizeof(float);
-        }
+      append_halo(out, *halos, u, headers[u].channels, bands);
       if (!domain_bits.empty()) {
         // The bits of columns 0 .. x0 - 1 on the rows of the tile's grid.
         const SampleRect& r = headers[u].rect;
@@ -353,28 +340,15 @@ class PipeAcrossTiles : public TileGraphAlgorithm {
     const glm::ivec2 whole = whole_domain_.resolution;
     for (const auto& m : messages) {
       headers.push_back(take_header(m));
-      const SampleRect& r = headers.back().rect;
-      if (r.lo.x < 0 || r.lo.y < 0 || r.hi.x >= whole.x || r.hi.y >= whole.y || r.size().x < 2 || r.size().y < 2)
-        throw std::invalid_argument("pipe erosion bands: a tile's rectangle does not fit the domain");
+      check_tile_rect(headers.back().rect, whole, "pipe erosion bands");
     }
     if (headers.empty()) throw std::invalid_argument("pipe erosion bands: no tiles");
     return headers;
   }
 
-  // The halo plan of this tiling, made once per tiling.
-  std::shared_ptr<const HaloPlan> plan(const std::vector<Header>& headers) const {
-    std::vector<SampleRect> rects;
-    for (const Header& h : headers) rects.push_back(h.rect);
-    const std::lock_guard<std::mutex> lock(mutex_);
-    if (!plan_ || plan_->rects != rects)
-      plan_ = make_halo_plan(std::move(rects), whole_domain_.resolution, kHalo, "pipe erosion bands");
-    return plan_;
-  }
-
   PipeParams params_;
   Domain whole_domain_;
-  mutable std::mutex mutex_;
-  mutable std::shared_ptr<const HaloPlan> plan_;  // of the last tiling solved
+  mutable HaloPlanCache plans_;
 };
 
 }  // namespace

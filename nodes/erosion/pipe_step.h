@@ -54,6 +54,18 @@ void check_pipe_work(const PipeParams& p, const Domain& domain);
 // deep made it 0 or too small to add).
 void check_pipe_step(double dt, double t, double deepest);
 
+// Seconds: a run ends within this of its duration.
+inline constexpr double kPipeTimeSlack = 1e-9;
+
+// The step at simulated time `t` after a step whose deepest water over the whole domain was `deepest` metres: its
+// length (the CFL step on a grid of `spacing` metres, cut at the duration; refused as check_pipe_step does) and
+// whether it is the run's last.
+struct PipeStepLength {
+  double dt;
+  bool last;
+};
+PipeStepLength pipe_step_length(const PipeParams& p, double spacing, double t, double deepest);
+
 // A run of the pipe model on a grid: `in` and the optional fields (null if absent) on the grid, as pipe_erosion
 // takes them. The grid keeps references to all of them and to `p`.
 class PipeGrid {
@@ -70,7 +82,6 @@ class PipeGrid {
 
  private:
   struct Run;
-  PipeWindow window_;
   std::unique_ptr<Run> run_;
 };
 

@@ -16,11 +16,9 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
-#include <map>
 #include <memory>
-#include <mutex>
+#include <optional>
 #include <stdexcept>
-#include <tuple>
 
 #include "graph/node_type.h"
 #include "graph/tile_bytes.h"
@@ -48,9 +46,8 @@ struct Header {
 };
 
 void put_header(std::string& out, const Header& h) {
-  for (const std::int32_t v : {h.rect.lo.x, h.rect.lo.y, h.rect.hi.x, h.rect.hi.y, h.width, h.channels,
-                               static_cast<std::int32_t>(h.change.size())})
-    bytes::put(out, v);
+  bytes::put(out, h.rect);
+  for (const std::int32_t v : {h.width, h.channels, static_cast<std::int32_t>(h.change.size())}) bytes::put(out, v);
   for (const float v : h.change) bytes::put(out, v);
   for (const float v : h.most_moved) bytes::put(out, v);
 }
@@ -58,8 +55,7 @@ void put_header(std::string& out, const Header& h) {
 Header take_header(std::string_view in) {
   const char* what = "thermal erosion bands";
   Header h;
-  h.rect.lo.x = bytes::take<std::int32_t>(in, what), h.rect.lo.y = bytes::take<std::int32_t>(in, what);
-  h.rect.hi.x = bytes::take<std::int32_t>(in, what), h.rect.hi.y = bytes::take<std::int32_t>(in, what);
+  h.rect = bytes::take<SampleRect>(in, what);
   h.width = bytes::take<std::int32_t>(in, what), h.channels = bytes::take<std::int32_t>(in, what);
   const auto ran = bytes::take<std::int32_t>(in, what);
   if (ran < 0 || static_cast<std::size_t>(ran) > in.size() / (2 * sizeof(float)))
@@ -72,16 +68,14 @@ Header take_header(std::string_view in) {
 class ThermalTile : public TileGraphTile {
  public:
   ThermalTile(HeightfieldPtr in, HeightfieldPtr mask, HeightfieldPtr hardness, const ThermalParams& p,
-              const ThermalStencil& stencil, glm::ivec2 whole_first, glm::ivec2 whole)
+              const ThermalStencil& stencil, const Domain& whole)
       : in_(std::move(in)),
         mask_(std::move(mask)),
         hardness_(std::move(hardness)),
         p_(p),
         stencil_(stencil),
-        whole_(whole) {
-    rect_.lo = in_->domain.first - whole_first;
-    rect_.hi = rect_.lo + in_->domain.resolution - 1;
-  }
+        whole_(whole.resolution),
+        rect_(rect_of(in_->domain, whole)) {}
 
   std::string message(int round) override {
     Header h;
@@ -102,9 +96,8 @@ class ThermalTile : public TileGraphTile {
     const auto channels = this->channels(round);
     h.channels = static_cast<std::int32_t>(channels.size());
     put_header(out, h);
-    const Bands bands(rect_, whole_, halo_);
-    out.reserve(out.size() + channels.size() * bands.size() * sizeof(float));
-    for (const std::vector<float>* c : channels) bands.for_each([&](glm::ivec2 s) { bytes::put(out, (*c)[cell(s)]); });
+    out.reserve(out.size() + channels.size() * cells_->bands.size() * sizeof(float));
+    for (const std::vector<float>* c : channels) cells_->bands.append(out, c->data());
     return out;
   }
 
@@ -124,8 +117,7 @@ class ThermalTile : public TileGraphTile {
           thermal_iteration(*grids_, stencil_, window(keep - 1 - i), window(keep - 1 - i, 1));
         return;
       }
-      for (std::vector<float>* c : channels(round))
-        for_each_halo(rect_, whole_, halo_, [&](glm::ivec2 s) { (*c)[cell(s)] = bytes::take<float>(in, what); });
+      for (std::vector<float>* c : channels(round)) cells_->halo.take(in, c->data(), what);
       if (block_ > 1) z_start_ = grids_->z, moved_start_ = grids_->moved;  // a block of 1 never goes back
     }
     if (!in.empty()) throw std::invalid_argument("thermal erosion halo: bytes left over");
@@ -159,6 +151,8 @@ class ThermalTile : public TileGraphTile {
         if (hardness_) grids_->tan_cell[q] = thermal_tangent(p_, hardness_->data[k]);
       }
     mask_.reset(), hardness_.reset();
+    cells_.emplace(rect_, whole_, halo_,
+                   [&](glm::ivec2 s) { return grids_->at(s.x - rect_.lo.x + halo_, s.y - rect_.lo.y + halo_); });
   }
 
   // The tile grown by kReach x `later` samples (the iterations after this one in the block) and by `more`, within
@@ -189,7 +183,6 @@ class ThermalTile : public TileGraphTile {
     }
     return c;
   }
-  std::size_t cell(glm::ivec2 s) const { return grids_->at(s.x - rect_.lo.x + halo_, s.y - rect_.lo.y + halo_); }
 
   HeightfieldPtr in_, mask_, hardness_;
   ThermalParams p_;
@@ -198,6 +191,7 @@ class ThermalTile : public TileGraphTile {
   SampleRect rect_;
   int block_ = 0, halo_ = 0;  // iterations per exchange, and the halo they need
   std::unique_ptr<ThermalGrids> grids_;
+  std::optional<BandCells> cells_;            // of the grids
   std::vector<float> z_start_, moved_start_;  // at the start of the block
   float most_moved_everywhere_ = 0.0f;        // over all tiles, at the iteration the run is at
 };
@@ -205,7 +199,7 @@ class ThermalTile : public TileGraphTile {
 class ThermalAcrossTiles : public TileGraphAlgorithm {
  public:
   ThermalAcrossTiles(const ThermalParams& p, const ThermalStencil& stencil, const Domain& whole, int block)
-      : params_(p), stencil_(stencil), whole_first_(whole.first), whole_(whole.resolution), fixed_block_(block) {}
+      : params_(p), stencil_(stencil), whole_domain_(whole), whole_(whole.resolution), fixed_block_(block) {}
 
   int rounds() const override { return 2; }
 
@@ -230,7 +224,7 @@ class ThermalAcrossTiles : public TileGraphAlgorithm {
       if (f && f->domain.resolution != in->domain.resolution)
         throw std::invalid_argument("thermal erosion across tiles: mask and hardness must lie on the tile");
     require_finite_inputs("ThermalErosion", {{"in", in.get()}, {"mask", mask.get()}, {"hardness", hardness.get()}});
-    return std::make_unique<ThermalTile>(in, mask, hardness, params_, stencil_, whole_first_, whole_);
+    return std::make_unique<ThermalTile>(in, mask, hardness, params_, stencil_, whole_domain_);
   }
 
   // Round 0: the iterations per exchange. Then each tile's halo, sample by sample from the bands of the tile holding
@@ -257,21 +251,20 @@ class ThermalAcrossTiles : public TileGraphAlgorithm {
         throw std::invalid_argument("thermal erosion bands: the tiles' bands do not fit together");
       if (keep > 0) most_moved = std::max(most_moved, h.most_moved[static_cast<std::size_t>(keep - 1)]);
     }
-    for (std::size_t t = 0; t < count; ++t)
-      if (messages[t].size() != headers[t].bytes() + static_cast<std::size_t>(headers[t].channels) *
-                                                         Bands(headers[t].rect, whole_, kReach * k).size() *
-                                                         sizeof(float))
+    std::vector<SampleRect> rects;
+    for (const Header& h : headers) rects.push_back(h.rect);
+    const auto halos = plans_.get(std::move(rects), whole_, kReach * k, "thermal erosion bands");
+    std::vector<const char*> bands(count);
+    for (std::size_t t = 0; t < count; ++t) {
+      if (messages[t].size() != headers[t].bytes() + static_cast<std::size_t>(headers[t].channels) * halos->stride[t])
         throw std::invalid_argument("thermal erosion bands: truncated bytes");
-    const auto halos = plan(headers, kReach * k);
+      bands[t] = messages[t].data() + headers[t].bytes();
+    }
     for (std::size_t u = 0; u < count; ++u) {
       std::string& out = answers[u];
-      out.reserve(sizeof(float) * (2 + halos->sources[u].size() * static_cast<std::size_t>(headers[u].channels)));
       bytes::put(out, keep);
       bytes::put(out, most_moved);
-      for (std::int32_t c = 0; c < headers[u].channels; ++c)
-        for (const auto& [v, at] : halos->sources[u])
-          out.append(messages[v].data() + headers[v].bytes() + at + static_cast<std::size_t>(c) * halos->stride[v],
-                     sizeof(float));
+      append_halo(out, *halos, u, headers[u].channels, bands);
     }
     return answers;
   }
@@ -281,9 +274,7 @@ class ThermalAcrossTiles : public TileGraphAlgorithm {
     std::vector<Header> headers;
     for (const auto& m : messages) {
       headers.push_back(take_header(m));
-      const SampleRect& r = headers.back().rect;
-      if (r.lo.x < 0 || r.lo.y < 0 || r.hi.x >= whole_.x || r.hi.y >= whole_.y || r.size().x < 2 || r.size().y < 2)
-        throw std::invalid_argument("thermal erosion bands: a tile's rectangle does not fit the domain");
+      check_tile_rect(headers.back().rect, whole_, "thermal erosion bands");
     }
     if (headers.empty()) throw std::invalid_argument("thermal erosion bands: no tiles");
     return headers;
@@ -308,22 +299,12 @@ class ThermalAcrossTiles : public TileGraphAlgorithm {
     return change;
   }
 
-  // The halo plan of this tiling, made once per tiling.
-  std::shared_ptr<const HaloPlan> plan(const std::vector<Header>& headers, int width) const {
-    std::vector<SampleRect> rects;
-    for (const Header& h : headers) rects.push_back(h.rect);
-    const std::lock_guard<std::mutex> lock(mutex_);
-    if (plan_ && plan_->rects == rects && plan_->width == width) return plan_;
-    plan_ = make_halo_plan(std::move(rects), whole_, width, "thermal erosion bands");
-    return plan_;
-  }
-
   ThermalParams params_;
   ThermalStencil stencil_;
-  glm::ivec2 whole_first_, whole_;
+  Domain whole_domain_;
+  glm::ivec2 whole_;
   int fixed_block_;  // iterations per exchange, or 0: from the smallest tile
-  mutable std::mutex mutex_;
-  mutable std::shared_ptr<const HaloPlan> plan_;  // of the last tiling solved
+  mutable HaloPlanCache plans_;
 };
 
 ThermalParams params_of(const ParamView& v) {

@@ -6,25 +6,17 @@
 #include <cstddef>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <string>
-#include <tuple>
-#include <utility>
+#include <string_view>
 #include <vector>
 
 #include <glm/common.hpp>
 #include <glm/vec2.hpp>
 
-namespace orogen::erosion {
+#include "nodes/erosion/sample_rect.h"
 
-// A rectangle of samples of the whole domain, both ends included.
-struct SampleRect {
-  glm::ivec2 lo{0, 0}, hi{-1, -1};
-  glm::ivec2 size() const { return hi - lo + 1; }
-  bool operator==(const SampleRect& o) const { return lo == o.lo && hi == o.hi; }
-  bool operator<(const SampleRect& o) const {
-    return std::tie(lo.x, lo.y, hi.x, hi.y) < std::tie(o.lo.x, o.lo.y, o.hi.x, o.hi.y);
-  }
-};
+namespace orogen::erosion {
 
 // A tile's border bands of width `width`: its samples 1 to `width` inside each border it shares with a neighbor (the
 // border samples themselves both tiles hold). One channel lays out the top rows, the bottom rows, the left columns
@@ -94,19 +86,75 @@ void for_each_halo(const SampleRect& r, glm::ivec2 whole, int width, Fn&& fn) {
   }
 }
 
-// Where the halo samples of each tile lie in the messages (the tile sending it, the byte offset of its value in the
-// first channel of that tile's bands) and each message's channel stride in bytes: the same every round, so made once
-// per tiling.
+// Throws std::invalid_argument, its message starting with `what`, unless tile `r` lies in a `whole`-sample domain and
+// is at least 2 x 2 samples (its bands lie inside its borders).
+void check_tile_rect(const SampleRect& r, glm::ivec2 whole, const std::string& what);
+
+// `count` values of one channel of a tile's bands, at byte `at` of that channel.
+struct HaloRun {
+  std::size_t tile = 0, at = 0, count = 0;
+};
+
+// Where the halo samples of each tile lie in the messages, as runs of values consecutive in both the halo and one
+// tile's bands, and each message's channel stride in bytes: the same every round, so made once per tiling.
 struct HaloPlan {
   std::vector<SampleRect> rects;
   int width = 0;
   std::vector<std::size_t> stride;
-  std::vector<std::vector<std::pair<std::size_t, std::size_t>>> sources;
+  std::vector<std::vector<HaloRun>> sources;
+  std::vector<std::size_t> halo_size;  // values per channel of each tile's halo
 };
 
 // The plan of the tiles `rects` (row-major over the tiling) of a `whole`-sample domain for halos of `width` samples.
 // Throws std::invalid_argument, its message starting with `what`, when the rectangles do not form a tiling.
 std::shared_ptr<const HaloPlan> make_halo_plan(std::vector<SampleRect> rects, glm::ivec2 whole, int width,
                                                const std::string& what);
+
+// The plan of the last tiling asked for, kept across the rounds of a run (solve is const and may run on several
+// threads).
+class HaloPlanCache {
+ public:
+  std::shared_ptr<const HaloPlan> get(std::vector<SampleRect> rects, glm::ivec2 whole, int width,
+                                      const std::string& what);
+
+ private:
+  std::mutex mutex_;
+  std::shared_ptr<const HaloPlan> last_;
+};
+
+// Appends the halo of tile `u` in `channels` channels, each from the bands of the tile holding it: `bands[v]` is
+// where tile v's bands start in its message (each channel plan.stride[v] bytes).
+void append_halo(std::string& out, const HaloPlan& plan, std::size_t u, int channels,
+                 const std::vector<const char*>& bands);
+
+// Cells of a grid in an order, kept as runs of consecutive cells so values move a run per memcpy.
+class CellRuns {
+ public:
+  void push_back(std::size_t cell);
+  std::size_t size() const { return size_; }  // cells
+  // Appends the values of `field` at the cells, in order.
+  void append(std::string& out, const float* field) const;
+  // Writes the cells of `field` from the front of `in`, in order; throws std::invalid_argument naming `what` when
+  // `in` is too short.
+  void take(std::string_view& in, float* field, const char* what) const;
+
+ private:
+  struct Run {
+    std::size_t first = 0, count = 0;
+  };
+  std::vector<Run> runs_;
+  std::size_t size_ = 0;
+};
+
+// The grid cells of a tile's bands and of its halo, in sending order, made once per tile: `cell(sample)` is the grid
+// cell of a sample of the whole domain.
+struct BandCells {
+  CellRuns bands, halo;
+  template <class Cell>
+  BandCells(const SampleRect& r, glm::ivec2 whole, int width, Cell&& cell) {
+    Bands(r, whole, width).for_each([&](glm::ivec2 s) { bands.push_back(cell(s)); });
+    for_each_halo(r, whole, width, [&](glm::ivec2 s) { halo.push_back(cell(s)); });
+  }
+};
 
 }  // namespace orogen::erosion
