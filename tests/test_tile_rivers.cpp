@@ -60,7 +60,7 @@ Tiled run_rivers(const TileGraphAlgorithm& algorithm, const Terrain& t, glm::ive
   for (auto& tile : tiles) {
     const auto outputs = tile->outputs();
     out.curves.push_back(std::get<CurvesPtr>(outputs.at(0)));
-    test::join_window(out.mask, *std::get<HeightfieldPtr>(outputs.at(1)), t.size.x);
+    test::join_tile_map(out.mask, *std::get<HeightfieldPtr>(outputs.at(1)), t.size.x, nullptr);
   }
   return out;
 }
