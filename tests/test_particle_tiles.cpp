@@ -109,8 +109,6 @@ void expect_same(const Maps& tiled, const Maps& whole) {
   EXPECT_EQ(tiled.report, whole.report);
 }
 
-std::string label(glm::ivec2 v) { return std::to_string(v.x) + "x" + std::to_string(v.y); }
-
 TEST(ParticlesAcrossTiles, TheScheduleHasSeveralBlocksAndRoundsAtTheseSizes) {
   const Fields f = fields({129, 113}, 1);
   const auto algorithm = algorithm_of(kParams, f.domain);
@@ -133,7 +131,7 @@ TEST(ParticlesAcrossTiles, EveryTilingEqualsTheWholeDomainNodeBitForBit) {
     ASSERT_FALSE(same_bits(whole.rasters[0], f.in->data)) << "the droplets must erode";
     for (const glm::ivec2 counts :
          {glm::ivec2(1, 1), glm::ivec2(2, 2), glm::ivec2(3, 2), glm::ivec2(4, 3), glm::ivec2(1, 4), glm::ivec2(7, 6)}) {
-      SCOPED_TRACE("mask " + std::to_string(mask) + ", tiles " + label(counts));
+      SCOPED_TRACE("mask " + std::to_string(mask) + ", tiles " + test::tiles_text(counts));
       int rounds = 0;
       expect_same(across_tiles(*algorithm, f, counts, mask, &rounds), whole);
       EXPECT_EQ(rounds, algorithm->rounds());
@@ -149,7 +147,7 @@ TEST(ParticlesAcrossTiles, TilesNarrowerThanADropletsReachWork) {
   const auto algorithm = algorithm_of(kParams, f.domain);
   const Maps whole = whole_domain(f, true);
   for (const glm::ivec2 counts : {glm::ivec2(64, 1), glm::ivec2(3, 48), glm::ivec2(32, 24), glm::ivec2(21, 16)}) {
-    SCOPED_TRACE("tiles " + label(counts));
+    SCOPED_TRACE("tiles " + test::tiles_text(counts));
     expect_same(across_tiles(*algorithm, f, counts, true), whole);
   }
 }
@@ -172,7 +170,7 @@ TEST(ParticlesAcrossTiles, BrushShapesAndNonSquareCells) {
     for (std::size_t o = 0; o < 4; ++o) whole.rasters.push_back(r.get<Heightfield>(o)->data);
     whole.report = r.get<Report>(4)->json;
     for (const glm::ivec2 counts : {glm::ivec2(3, 2), glm::ivec2(7, 6), glm::ivec2(24, 20)}) {
-      SCOPED_TRACE("radius " + std::to_string(radius) + ", tiles " + label(counts));
+      SCOPED_TRACE("radius " + std::to_string(radius) + ", tiles " + test::tiles_text(counts));
       expect_same(across_tiles(*algorithm, f, counts, true), whole);
     }
   }
@@ -193,7 +191,7 @@ TEST(ParticlesAcrossTiles, OneBlockAndNoDropletsToo) {
       whole.report = r.get<Report>(4)->json;
       for (const glm::ivec2 counts : {glm::ivec2(1, 1), glm::ivec2(3, 2)}) {
         SCOPED_TRACE("lifetime " + std::to_string(lifetime) + ", density " + std::to_string(density) + ", tiles " +
-                     label(counts));
+                     test::tiles_text(counts));
         expect_same(across_tiles(*algorithm, f, counts, false), whole);
       }
     }

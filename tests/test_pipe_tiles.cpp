@@ -127,8 +127,6 @@ void expect_same(const Maps& tiled, const Maps& whole) {
   for (std::size_t o = 0; o < 6; ++o) EXPECT_TRUE(same_bits(tiled.m[o], whole.m[o])) << names[o];
 }
 
-std::string label(glm::ivec2 v) { return std::to_string(v.x) + "x" + std::to_string(v.y); }
-
 bool moved_and_flowed(const Maps& m, const Fields& f) {
   float water = 0.0f, speed = 0.0f;
   for (float v : m.m[4]) water = std::max(water, v);
@@ -150,7 +148,7 @@ TEST(PipeAcrossTiles, EveryTilingEqualsTheWholeDomainRunBitForBit) {
       for (const glm::ivec2 counts : {glm::ivec2(1, 1), glm::ivec2(2, 2), glm::ivec2(3, 2), glm::ivec2(4, 3),
                                       glm::ivec2(1, 4), glm::ivec2(5, 1), glm::ivec2(7, 6)}) {
         SCOPED_TRACE(std::string(drops ? "drops" : "uniform") + (linked ? ", fields linked" : "") + ", tiles " +
-                     label(counts));
+                     test::tiles_text(counts));
         int rounds = 0;
         expect_same(across_tiles(*algorithm, f, counts, linked, &rounds), whole);
         EXPECT_EQ(rounds, 1 + stats.steps) << "a round for the static halos, then one per step";
@@ -166,7 +164,7 @@ TEST(PipeAcrossTiles, TilesNarrowerThanTheHaloTakeItFromTheTilesBeyond) {
     const Maps whole = whole_domain(f, pipe_params(set), true, nullptr);
     const auto algorithm = algorithm_of(set, f.domain);
     for (const glm::ivec2 counts : {glm::ivec2(40, 1), glm::ivec2(20, 16), glm::ivec2(13, 32)}) {
-      SCOPED_TRACE(std::string(drops ? "drops" : "uniform") + ", tiles " + label(counts));
+      SCOPED_TRACE(std::string(drops ? "drops" : "uniform") + ", tiles " + test::tiles_text(counts));
       int rounds = 0;
       expect_same(across_tiles(*algorithm, f, counts, true, &rounds), whole);
     }

@@ -91,8 +91,6 @@ void expect_same(const Maps& tiled, const Maps& whole) {
   EXPECT_TRUE(same_bits(tiled.flow, whole.flow)) << "flow";
 }
 
-std::string label(glm::ivec2 v) { return std::to_string(v.x) + "x" + std::to_string(v.y); }
-
 ThermalParams params(double travel_distance, double tolerance) {
   ThermalParams p;
   p.talus_angle = 30.0, p.strength = 0.5, p.travel_distance = travel_distance, p.tolerance = tolerance;
@@ -136,7 +134,7 @@ TEST(ThermalAcrossTiles, EveryTilingEqualsTheWholeDomainRunBitForBit) {
         for (const glm::ivec2 counts : {glm::ivec2(1, 1), glm::ivec2(2, 2), glm::ivec2(3, 2), glm::ivec2(4, 3),
                                         glm::ivec2(1, 4), glm::ivec2(7, 6)}) {
           SCOPED_TRACE("mask " + std::to_string(mask) + " hardness " + std::to_string(hardness) + " every " +
-                       std::to_string(k) + " iterations, tiles " + label(counts));
+                       std::to_string(k) + " iterations, tiles " + test::tiles_text(counts));
           int rounds = 0;
           expect_same(across_tiles(*algorithm, f, counts, mask, hardness, &rounds), whole);
           EXPECT_EQ(rounds, expected_rounds(k, iterations));
@@ -154,7 +152,7 @@ TEST(ThermalAcrossTiles, TilesNarrowerThanTheHaloTakeItFromTilesFurtherOn) {
   const Maps whole = whole_domain(f, p, true, true, &iterations);
   for (const auto& [k, algorithm] : algorithms(p, f.domain))
     for (const glm::ivec2 counts : {glm::ivec2(40, 1), glm::ivec2(20, 16), glm::ivec2(13, 32)}) {
-      SCOPED_TRACE("every " + std::to_string(k) + " iterations, tiles " + label(counts));
+      SCOPED_TRACE("every " + std::to_string(k) + " iterations, tiles " + test::tiles_text(counts));
       int rounds = 0;
       expect_same(across_tiles(*algorithm, f, counts, true, true, &rounds), whole);
     }
@@ -172,7 +170,7 @@ TEST(ThermalAcrossTiles, AllTilesStopByToleranceWhereTheWholeDomainRunStops) {
   ASSERT_NE(iterations % 3, 0) << "the run must stop inside a block of 3";
   for (const auto& [k, algorithm] : algorithms(p, f.domain))
     for (const glm::ivec2 counts : {glm::ivec2(1, 1), glm::ivec2(3, 2), glm::ivec2(7, 6)}) {
-      SCOPED_TRACE("every " + std::to_string(k) + " iterations, tiles " + label(counts));
+      SCOPED_TRACE("every " + std::to_string(k) + " iterations, tiles " + test::tiles_text(counts));
       int rounds = 0;
       expect_same(across_tiles(*algorithm, f, counts, true, false, &rounds), whole);
       EXPECT_EQ(rounds, expected_rounds(k, iterations));

@@ -32,12 +32,8 @@ using test::same_bits;
 using test::Terrain;
 using test::terrain;
 
-// The last: tiles of two samples on the 41 x 33 terrain (a neighbour's ring is its whole tile).
-const std::vector<glm::ivec2> kTilings = {{1, 1}, {2, 2}, {3, 2}, {4, 3}, {1, 4}, {7, 6}, {40, 32}};
-
 std::string tiling_text(glm::ivec2 size, int levels, glm::ivec2 counts) {
-  return std::to_string(size.x) + "x" + std::to_string(size.y) + " levels " + std::to_string(levels) + " tiles " +
-         std::to_string(counts.x) + "x" + std::to_string(counts.y);
+  return test::tiles_text(size) + " levels " + std::to_string(levels) + " tiles " + test::tiles_text(counts);
 }
 
 void expect_same(const std::vector<std::vector<float>>& tiled, const std::vector<HeightfieldPtr>& whole,
@@ -47,16 +43,6 @@ void expect_same(const std::vector<std::vector<float>>& tiled, const std::vector
     ASSERT_TRUE(whole[o]) << names[o];
     EXPECT_TRUE(same_bits(tiled[o], whole[o]->data)) << names[o];
   }
-}
-
-// The lowest-numbered tile of `counts` holding sample (i, j) of a domain of `size` samples.
-int tile_of(int i, int j, glm::ivec2 size, glm::ivec2 counts) {
-  auto index = [](int s, int samples, int tiles) {
-    int t = 0;
-    while (t + 1 < tiles && test::edge(t + 1, samples, tiles) < s) ++t;
-    return t;
-  };
-  return index(j, size.y, counts.y) * counts.x + index(i, size.x, counts.x);
 }
 
 TEST(FlowAcrossTiles, FlowDirectionWithFillEqualsTheWholeDomainNodeOnEveryTiling) {
@@ -73,7 +59,7 @@ TEST(FlowAcrossTiles, FlowDirectionWithFillEqualsTheWholeDomainNodeOnEveryTiling
         const DirectionResult r = flow_direction(ground, kind, 1.1, true);
         const auto algorithm = algorithm_of("FlowDirection", {{"method", std::string(method)}}, whole);
         ASSERT_TRUE(algorithm);
-        for (const glm::ivec2 counts : kTilings) {
+        for (const glm::ivec2 counts : test::kTilings) {
           SCOPED_TRACE(tiling_text(size, levels, counts));
           forget_filled_surfaces();  // the fill's rounds, not a surface an earlier run kept
           expect_same(test::run_across_tiles(*algorithm, t, counts), {r.angle, r.dx, r.dy, r.slope},
@@ -107,7 +93,7 @@ TEST(FlowAcrossTiles, D8AccumulationEqualsTheWholeDomainNodeAndSumsToTheAreaOfEa
           if (fill) fill_depressions(g, z, FlatMode::Epsilon);
           const D8Flow f = d8_flow(g, z);
           const auto ending = test::cells_ending_at(f.receiver);
-          for (const glm::ivec2 counts : kTilings) {
+          for (const glm::ivec2 counts : test::kTilings) {
             SCOPED_TRACE(tiling_text(size, levels, counts));
             forget_filled_surfaces();  // the fill's rounds, not a surface an earlier run kept
             const auto tiled = test::run_across_tiles(*algorithm, t, counts, 2);
@@ -121,7 +107,7 @@ TEST(FlowAcrossTiles, D8AccumulationEqualsTheWholeDomainNodeAndSumsToTheAreaOfEa
             for (std::int32_t c = 0; c < static_cast<std::int32_t>(g.size()); c += 7) {
               std::set<int> crossed;
               for (std::int32_t x = c;; x = f.receiver[static_cast<std::size_t>(x)]) {
-                crossed.insert(tile_of(g.column(x), g.row(x), size, counts));
+                crossed.insert(test::tile_of(g.column(x), g.row(x), size, counts));
                 if (f.receiver[static_cast<std::size_t>(x)] == x) break;
               }
               most_tiles_crossed = std::max(most_tiles_crossed, static_cast<int>(crossed.size()));
@@ -148,7 +134,7 @@ TEST(FlowAcrossTiles, WatershedsEqualTheWholeDomainNodeOnEveryTiling) {
           ASSERT_GT(r.basins, 1);
           const auto algorithm = algorithm_of("Watersheds", {{"fill", fill}, {"min_area", min_area}}, whole);
           ASSERT_TRUE(algorithm);
-          for (const glm::ivec2 counts : kTilings) {
+          for (const glm::ivec2 counts : test::kTilings) {
             SCOPED_TRACE(tiling_text(size, levels, counts));
             forget_filled_surfaces();  // the fill's rounds, not a surface an earlier run kept
             const auto tiled = test::run_across_tiles(*algorithm, t, counts);
@@ -158,7 +144,7 @@ TEST(FlowAcrossTiles, WatershedsEqualTheWholeDomainNodeOnEveryTiling) {
             for (int j = 0; j < size.y; ++j)
               for (int i = 0; i < size.x; ++i)
                 if (const int id = static_cast<int>(r.id->data[static_cast<std::size_t>(j * size.x + i)]); id > 0)
-                  tiles_of[id].insert(tile_of(i, j, size, counts));
+                  tiles_of[id].insert(test::tile_of(i, j, size, counts));
             for (const auto& [id, tiles] : tiles_of) crossing = crossing || tiles.size() >= 3;
           }
         }
@@ -319,7 +305,7 @@ TEST(FlowAcrossTiles, AccumulationBySharesEqualsTheWholeDomainNodeOnEveryTiling)
               algorithm_of("FlowAccumulation",
                            {{"method", std::string(k.method)}, {"fill", fill}, {"flow_max_area", max_area}}, whole);
           ASSERT_TRUE(algorithm);
-          for (const glm::ivec2 counts : kTilings) {
+          for (const glm::ivec2 counts : test::kTilings) {
             SCOPED_TRACE(tiling_text(size, shape, counts));
             int rounds = 0;
             forget_filled_surfaces();  // the fill's rounds, not a surface an earlier run kept
@@ -360,7 +346,7 @@ TEST(FlowAcrossTiles, SharesInDoubleEqualTheWholeDomainOnEveryTiling) {
           for (std::size_t c = 0; c < g.size(); ++c) weight.push_back(30.0f + 7.0f * static_cast<float>(c % 11));
         const RoutingOptions opt{m, 1.3, {}};
         const auto whole = accumulate(g, z, opt, weight);
-        for (const glm::ivec2 counts : kTilings) {
+        for (const glm::ivec2 counts : test::kTilings) {
           SCOPED_TRACE(tiling_text(size, shape, counts));
           std::vector<TileRect> rects;
           std::vector<std::unique_ptr<TileShares>> tiles;

@@ -10,7 +10,6 @@
 
 #include "nodes/io/heightfield_file.h"
 #include "support/test_paths.h"
-#include "support/tile_windows.h"
 
 namespace orogen::test {
 
@@ -33,8 +32,6 @@ std::string file_bytes(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), {}};
 }
-
-std::string tiles_text(glm::ivec2 t) { return std::to_string(t.x) + "x" + std::to_string(t.y); }
 
 fs::path tile_file(const fs::path& dir, const fs::path& rel, int i, int j) {
   return dir / rel.parent_path() /

@@ -8,6 +8,7 @@
 #include <glm/vec2.hpp>
 
 #include "support/run_process.h"
+#include "support/tile_windows.h"  // edge, tiles_text
 
 namespace orogen::test {
 
@@ -18,9 +19,6 @@ void allow_launcher();
 ProcessResult mpirun(const std::string& mpiexec, int ranks, const std::vector<std::string>& args);
 
 std::string file_bytes(const std::filesystem::path& p);
-
-// "NxM", as --tiles takes it.
-std::string tiles_text(glm::ivec2 t);
 
 // The file tile i,j writes for the untiled build's `rel` under `dir`: "<stem>_xI_yJ<ext>".
 std::filesystem::path tile_file(const std::filesystem::path& dir, const std::filesystem::path& rel, int i, int j);
