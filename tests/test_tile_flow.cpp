@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include "evaluator/run_node.h"
 #include "graph/tile_bytes.h"
 #include "nodes/common/match_domain.h"
 #include "nodes/hydrology/flow.h"
@@ -192,20 +193,35 @@ TEST(FlowAcrossTiles, EveryAccumulationRunsAcrossTiles) {
   EXPECT_TRUE(tile_graph_unlinked_inputs("FlowDirection").empty());
   EXPECT_NE(algorithm_of("Watersheds", {{"fill", false}}, whole), nullptr);
   const auto algorithm = algorithm_of("FlowAccumulation", {{"method", std::string("mfd")}}, whole);
-  auto h = std::make_shared<Heightfield>(whole);
-  // A rainfall weight on another lattice is resampled onto each tile, sample for sample as the whole-domain node
-  // resamples it onto the domain (positions are origin + (first + i) * spacing); one that misses the domain is refused.
+  const Terrain t = terrain({65, 65}, 17, 0);
+  auto h = std::make_shared<Heightfield>(test::heights_of(t));
+  h->domain = whole;
+  // A rainfall weight on another lattice is resampled onto each tile as the whole-domain node resamples it onto the
+  // domain (positions are origin + (first + i) * spacing): the tiles equal the node end to end. One that misses the
+  // domain is refused.
   auto other = std::make_shared<Heightfield>(Domain::from_extent({-7, 3}, {650, 600}, {33, 29}));
   for (std::size_t c = 0; c < other->data.size(); ++c) other->data[c] = 0.5f + 0.37f * static_cast<float>(c % 23);
-  EXPECT_NO_THROW(algorithm->start({HeightfieldPtr(h), HeightfieldPtr(other)}));
-  const HeightfieldPtr resampled = match_domain(other, whole);
-  for (const glm::ivec2 first : {glm::ivec2(0, 0), glm::ivec2(21, 10), glm::ivec2(42, 53)}) {
-    const Domain tile = whole.subdomain(first.x, first.y, 12, 12);
-    const HeightfieldPtr mine = match_domain(other, tile);
-    for (int j = 0; j < 12; ++j)
-      for (int i = 0; i < 12; ++i)
-        ASSERT_TRUE(same_bits({mine->data[static_cast<std::size_t>(j * 12 + i)]},
-                              {resampled->data[static_cast<std::size_t>((first.y + j) * 65 + first.x + i)]}));
+  const NodeRun node =
+      run_node("FlowAccumulation", whole, {{"method", std::string("mfd")}},
+               {{"in", PortValue(HeightfieldPtr(h))}, {"rainfall_weight", PortValue(HeightfieldPtr(other))}});
+  for (const glm::ivec2 counts : {glm::ivec2(3, 2), glm::ivec2(6, 5)}) {
+    SCOPED_TRACE("tiles " + test::tiles_text(counts));
+    std::vector<std::unique_ptr<TileGraphTile>> tiles;
+    for (int tj = 0; tj < counts.y; ++tj)
+      for (int ti = 0; ti < counts.x; ++ti) {
+        const glm::ivec2 first{test::edge(ti, 65, counts.x), test::edge(tj, 65, counts.y)};
+        const glm::ivec2 n = glm::ivec2(test::edge(ti + 1, 65, counts.x), test::edge(tj + 1, 65, counts.y)) - first + 1;
+        tiles.push_back(algorithm->start({test::crop(whole, h, first, n), HeightfieldPtr(other)}));
+      }
+    forget_filled_surfaces();
+    test::run_rounds(*algorithm, tiles);
+    std::vector<std::vector<float>> joined(3, std::vector<float>(65 * 65, std::numeric_limits<float>::quiet_NaN()));
+    for (auto& tile : tiles) {
+      const auto outputs = tile->outputs();
+      for (std::size_t o = 0; o < 3; ++o)
+        test::join_tile_map(joined[o], *std::get<HeightfieldPtr>(outputs[o]), 65, nullptr);
+    }
+    for (std::size_t o = 0; o < 3; ++o) EXPECT_TRUE(same_bits(joined[o], node.get<Heightfield>(o)->data)) << o;
   }
   auto far = std::make_shared<Heightfield>(Domain::from_extent({5000, 5000}, {5640, 5640}, {33, 33}));
   EXPECT_THROW(algorithm->start({HeightfieldPtr(h), HeightfieldPtr(far)}), std::invalid_argument);
