@@ -21,8 +21,10 @@
 #include <glm/vec2.hpp>
 
 #include "nodes/io/heightfield_file.h"
+#include "support/distributed_builds.h"
 #include "support/run_process.h"
 #include "support/test_paths.h"
+#include "support/tile_windows.h"
 
 namespace orogen::test {
 namespace {
@@ -36,25 +38,6 @@ const std::string kMpiexec = OROGEN_MPIEXEC;  // empty: built without MPI
 
 ProcessResult orogen(const std::vector<std::string>& args) { return run_process(cli_binary(), args); }
 
-// Open MPI refuses root without these, and more ranks than cores; MPICH ignores them.
-void allow_launcher() {
-  ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
-  ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
-  ::setenv("OMPI_MCA_rmaps_base_oversubscribe", "1", 1);
-}
-
-ProcessResult mpirun(int ranks, const std::vector<std::string>& args) {
-  allow_launcher();
-  std::vector<std::string> all = {"-n", std::to_string(ranks), cli_binary().string()};
-  all.insert(all.end(), args.begin(), args.end());
-  return run_process(kMpiexec, all);
-}
-
-std::string file_bytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
-
 // Every file under `dir`, by relative path.
 std::map<std::string, std::string> files_under(const fs::path& dir) {
   std::map<std::string, std::string> files;
@@ -63,55 +46,12 @@ std::map<std::string, std::string> files_under(const fs::path& dir) {
   return files;
 }
 
-// Tile I of N over W samples starts at floor(I (W-1) / N) (cli/tiling.h).
-int edge(int t, int samples, int tiles) { return t * (samples - 1) / tiles; }
-
-// A whole raster, south row first: at(i, j) with j growing northwards (+y).
-struct Raster {
-  int width = 0, height = 0;
-  std::vector<float> values;
-  float at(int i, int j) const { return values[static_cast<std::size_t>(j) * width + i]; }
-  float& at(int i, int j) { return values[static_cast<std::size_t>(j) * width + i]; }
-};
-
-Raster read_raster(const fs::path& file) {
-  const auto raw = read_height_raster(file);
-  Raster r{raw.width, raw.height, std::vector<float>(raw.values.size())};
-  for (int j = 0; j < r.height; ++j)  // files store the northern row first
-    for (int i = 0; i < r.width; ++i)
-      r.at(i, j) = static_cast<float>(raw.values[static_cast<std::size_t>(r.height - 1 - j) * r.width + i]);
-  return r;
-}
-
-// The tiles "<stem>_xI_yJ<ext>" of `dir` put together into one raster of `size` samples.
-Raster stitch(const fs::path& dir, const std::string& stem, const std::string& ext, glm::ivec2 counts,
-              glm::ivec2 size) {
-  Raster whole{size.x, size.y, std::vector<float>(static_cast<std::size_t>(size.x) * size.y, NAN)};
-  for (int tj = 0; tj < counts.y; ++tj)
-    for (int ti = 0; ti < counts.x; ++ti) {
-      const Raster t = read_raster(dir / (stem + "_x" + std::to_string(ti) + "_y" + std::to_string(tj) + ext));
-      const int i0 = edge(ti, size.x, counts.x), j0 = edge(tj, size.y, counts.y);
-      EXPECT_EQ(t.width, edge(ti + 1, size.x, counts.x) - i0 + 1);
-      EXPECT_EQ(t.height, edge(tj + 1, size.y, counts.y) - j0 + 1);
-      for (int j = 0; j < t.height; ++j)
-        for (int i = 0; i < t.width; ++i) whole.at(i0 + i, j0 + j) = t.at(i, j);
-    }
-  return whole;
-}
-
-bool same_bits(const Raster& a, const Raster& b) {
-  return a.width == b.width && a.height == b.height &&
-         std::memcmp(a.values.data(), b.values.data(), a.values.size() * sizeof(float)) == 0;
-}
-
 struct Job {
   const char* graph;  // under graphs/
   int resolution;
   glm::ivec2 tiles;
   int ranks;
 };
-
-std::string tiles_text(glm::ivec2 t) { return std::to_string(t.x) + "x" + std::to_string(t.y); }
 
 // The outputs of `graph` at `resolution`: untiled in one process, and per tiling in one process (cached).
 struct SingleProcess {
@@ -137,18 +77,22 @@ const fs::path& single_process_build(const Job& job) {
 // Runs `job` on its ranks and checks its files equal the single-process tiled build's, byte for byte.
 fs::path run_distributed(const Job& job) {
   const fs::path dir = scratch_dir("distributed-mpi");
-  const auto r = mpirun(job.ranks, {"eval", (source_dir() / "graphs" / job.graph).string(), "-o", dir.string(),
-                                    "--resolution", std::to_string(job.resolution), "--tiles", tiles_text(job.tiles)});
+  const auto r = mpirun(kMpiexec, job.ranks,
+                        {"eval", (source_dir() / "graphs" / job.graph).string(), "-o", dir.string(), "--resolution",
+                         std::to_string(job.resolution), "--tiles", tiles_text(job.tiles)});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   // The nodes of each test graph that run across the ranks' tiles, not on the whole domain: FillDepressions with
-  // epsilon flats, FlowDirection with filling, D8 and MFD FlowAccumulation and Watersheds (perimeter rounds, a ring of
-  // the filled surface, counts and outlets through perimeter links, MFD shares in rounds); RiverExtract (every tile
-  // gets the whole joined network, compared below) and DrainageMetrics; FloodFill; the erosion nodes.
+  // epsilon flats, FlowDirection with filling, D8 and MFD FlowAccumulation (hydrology.json's 'flow' is MFD) and
+  // Watersheds (perimeter rounds, a ring of the filled surface, counts and outlets through perimeter links, MFD shares
+  // in rounds); RiverExtract (every tile gets the whole joined network, compared below), Lakes and DrainageMetrics;
+  // FloodFill; the erosion nodes.
   static const std::map<std::string, std::vector<std::string>> across = {
       {"distributed_hydrology.json",
        {"'filled' (FillDepressions)", "'direction' (FlowDirection)", "'flow_d8' (FlowAccumulation)",
         "'flow_mfd' (FlowAccumulation)", "'basins_id' (Watersheds)"}},
-      {"hydrology.json", {"'rivers' (RiverExtract)", "'metrics' (DrainageMetrics)"}},
+      {"hydrology.json",
+       {"'filled' (FillDepressions)", "'flow' (FlowAccumulation)", "'rivers' (RiverExtract)", "'lakes' (Lakes)",
+        "'metrics' (DrainageMetrics)"}},
       {"../bench/distributed_flood.json", {"'lake' (FloodFill)", "'flood' (FloodFill)"}},
       {"../bench/distributed_thermal.json", {"'thermal' (ThermalErosion)"}},
       {"../bench/distributed_particles.json", {"'droplets' (HydraulicErosion)"}},
@@ -211,22 +155,25 @@ TEST(Distributed, AnyRankCountWritesTheSingleProcessTilesAndTheyJoinIntoTheUntil
       if (read_height_raster(f.path()).channels != 1) continue;
       const auto rel = fs::relative(f.path(), untiled);
       const Raster whole = read_raster(f.path());
-      const Raster joined = stitch(dir, (rel.parent_path() / rel.stem()).generic_string(), rel.extension().string(),
-                                   job.tiles, {whole.width, whole.height});
+      const Raster joined = stitch(dir, rel, job.tiles, {whole.width, whole.height});
       EXPECT_TRUE(same_bits(whole, joined)) << rel.generic_string();
       ++compared;
     }
     EXPECT_GT(compared, 0u);
     // Curves: every tile's file is the untiled build's (RiverExtract's network joined across the tiles).
+    std::size_t curve_files = 0;
     for (const auto& f : fs::recursive_directory_iterator(untiled)) {
       if (f.path().extension() != ".json" || f.path().filename().string().find("rivers") == std::string::npos) continue;
       const auto rel = fs::relative(f.path(), untiled);
       for (int tj = 0; tj < job.tiles.y; ++tj)
         for (int ti = 0; ti < job.tiles.x; ++ti) {
-          const fs::path tile = dir / rel.parent_path() /
-                                (rel.stem().string() + "_x" + std::to_string(ti) + "_y" + std::to_string(tj) + ".json");
+          const fs::path tile = tile_file(dir, rel, ti, tj);
           EXPECT_EQ(file_bytes(tile), file_bytes(f.path())) << tile;
         }
+      ++curve_files;
+    }
+    if (std::string(job.graph) == "hydrology.json") {
+      EXPECT_GT(curve_files, 0u) << "no rivers curve file compared";
     }
   }
 }
@@ -234,8 +181,9 @@ TEST(Distributed, AnyRankCountWritesTheSingleProcessTilesAndTheyJoinIntoTheUntil
 TEST(Distributed, OneRankWithoutTilesIsThePlainBuild) {
   SKIP_WITHOUT_MPI();
   const fs::path dir = scratch_dir("distributed-one");
-  const auto r = mpirun(1, {"eval", (source_dir() / "graphs" / "distributed_hydrology.json").string(), "-o",
-                            dir.string(), "--resolution", "129"});
+  const auto r = mpirun(kMpiexec, 1,
+                        {"eval", (source_dir() / "graphs" / "distributed_hydrology.json").string(), "-o", dir.string(),
+                         "--resolution", "129"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(files_under(dir), files_under(single_process_build({"distributed_hydrology.json", 129, {0, 0}, 1})));
 }
@@ -248,7 +196,7 @@ TEST(Distributed, HydrologyAcrossTilesDrainsEveryCellAndConservesArea) {
   const int n = 129;
   const glm::ivec2 tiles{3, 2};
   const fs::path dir = run_distributed({"distributed_hydrology.json", n, tiles, 4}) / "distributed_hydrology";
-  const auto joined = [&](const std::string& name) { return stitch(dir, name, ".tif", tiles, {n, n}); };
+  const auto joined = [&](const std::string& name) { return stitch(dir, name + ".tif", tiles, {n, n}); };
   const Raster height = joined("height"), depth = joined("depth"), direction = joined("direction");
   const Raster flow = joined("flow_d8");
 
@@ -358,13 +306,14 @@ TEST(Distributed, BadRankCountsAreRefusedBeforeAnythingRuns) {
   SKIP_WITHOUT_MPI();
   const std::string graph = (source_dir() / "graphs" / "distributed_hydrology.json").string();
   const fs::path dir = scratch_dir("distributed-bad");
-  auto r = mpirun(4, {"eval", graph, "-o", dir.string(), "--resolution", "129", "--tiles", "1x2"});
+  auto r = mpirun(kMpiexec, 4, {"eval", graph, "-o", dir.string(), "--resolution", "129", "--tiles", "1x2"});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("has only 2 tiles, so 2 ranks would have none"), std::string::npos) << r.err;
-  r = mpirun(2, {"eval", graph, "-o", dir.string(), "--resolution", "129"});
+  r = mpirun(kMpiexec, 2, {"eval", graph, "-o", dir.string(), "--resolution", "129"});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("add --tiles NxM"), std::string::npos) << r.err;
-  r = mpirun(2, {"eval", graph, "-o", dir.string(), "--resolution", "129", "--tiles", "2x2", "--tile", "0,0"});
+  r = mpirun(kMpiexec, 2,
+             {"eval", graph, "-o", dir.string(), "--resolution", "129", "--tiles", "2x2", "--tile", "0,0"});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--tile builds one tile in one process"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "distributed_hydrology"));
@@ -375,8 +324,9 @@ TEST(Distributed, AFailingRankStopsTheJobNamingRankTileAndNode) {
   const fs::path dir = scratch_dir("distributed-fail");
   // A directory where tile 2,1's height file goes: its writer fails on rank 2 of 3 (tiles 4 and 5).
   fs::create_directories(dir / "distributed_hydrology" / "height_x2_y1.tif");
-  const auto r = mpirun(3, {"eval", (source_dir() / "graphs" / "distributed_hydrology.json").string(), "-o",
-                            dir.string(), "--resolution", "129", "--tiles", "3x2", "-q"});
+  const auto r = mpirun(kMpiexec, 3,
+                        {"eval", (source_dir() / "graphs" / "distributed_hydrology.json").string(), "-o", dir.string(),
+                         "--resolution", "129", "--tiles", "3x2", "-q"});
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("rank 2: tile 2,1"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("node 'save_height' failed"), std::string::npos) << r.err;
@@ -400,7 +350,7 @@ TEST(Distributed, ARerunWithTheSameCacheRecomputesOnlyTheUnfinishedTiles) {
                                          "--stats",
                                          (dir / "stats.json").string(),
                                          "-q"};
-  ASSERT_EQ(mpirun(3, args).exit_code, 1);
+  ASSERT_EQ(mpirun(kMpiexec, 3, args).exit_code, 1);
   // The tiles that finished before the job stopped wrote their stats (the failed one's and the stopped ones' too).
   const auto statuses = [&](const std::string& name) {
     std::map<std::string, std::string> s;
@@ -422,7 +372,7 @@ TEST(Distributed, ARerunWithTheSameCacheRecomputesOnlyTheUnfinishedTiles) {
     }
   EXPECT_FALSE(finished.empty());
   fs::remove(blocker);
-  const auto r = mpirun(3, args);
+  const auto r = mpirun(kMpiexec, 3, args);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto computed = [&](const std::string& name) {
     std::string ids;
@@ -446,8 +396,9 @@ TEST(Distributed, MergedFilesAndNamedTilesEqualTheSingleProcessBuilds) {
     return args;
   };
   ASSERT_EQ(orogen(run({"eval", graph, "-o", (dir / "whole").string(), "-q"})).exit_code, 0);
-  auto r = mpirun(3, run({"eval", graph, "-o", (dir / "merged").string(), "--tiles", "3x2", "--tile-naming", "unreal",
-                          "--merge", "-q"}));
+  auto r = mpirun(kMpiexec, 3,
+                  run({"eval", graph, "-o", (dir / "merged").string(), "--tiles", "3x2", "--tile-naming", "unreal",
+                       "--merge", "-q"}));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(files_under(dir / "merged"), files_under(dir / "whole"));
   const std::vector<std::string> tiled = {"--tiles", "3x2", "--tile-naming", "unreal", "-q"};
@@ -456,7 +407,7 @@ TEST(Distributed, MergedFilesAndNamedTilesEqualTheSingleProcessBuilds) {
   one.insert(one.end(), tiled.begin(), tiled.end());
   three.insert(three.end(), tiled.begin(), tiled.end());
   ASSERT_EQ(orogen(one).exit_code, 0);
-  ASSERT_EQ(mpirun(3, three).exit_code, 0);
+  ASSERT_EQ(mpirun(kMpiexec, 3, three).exit_code, 0);
   EXPECT_EQ(files_under(dir / "three"), files_under(dir / "one"));
   // hydrology.json: the rivers, joined across the ranks' tiles, merge into the untiled build's curve files (every
   // tile holds the whole network, so --merge writes it once), its mask and every other file too.
@@ -467,8 +418,9 @@ TEST(Distributed, MergedFilesAndNamedTilesEqualTheSingleProcessBuilds) {
                         (dir / "stats" / "whole.json").string(), "-q"}))
                 .exit_code,
             0);
-  r = mpirun(2, run({"eval", rivers, "-o", (dir / "rivers_merged").string(), "--tiles", "3x2", "--merge", "--stats",
-                     (dir / "stats" / "tiled.json").string(), "-q"}));
+  r = mpirun(kMpiexec, 2,
+             run({"eval", rivers, "-o", (dir / "rivers_merged").string(), "--tiles", "3x2", "--merge", "--stats",
+                  (dir / "stats" / "tiled.json").string(), "-q"}));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(files_under(dir / "rivers_merged"), files_under(dir / "rivers_whole"));
   EXPECT_GT(file_bytes(dir / "rivers_whole" / "hydrology" / "rivers.json").size(), 1000u);
@@ -481,52 +433,52 @@ TEST(Distributed, MergedFilesAndNamedTilesEqualTheSingleProcessBuilds) {
     }
 }
 
-// ThermalErosion across the ranks' tiles, its halos exchanged every few iterations (bench/distributed_thermal.json: fBm
-// with mask and hardness linked, every output written, and a blur downstream whose halo comes from the neighboring
-// ranks' tiles): the single-process tiled build's files, and put together every raster of the untiled build.
-TEST(Distributed, ThermalErosionAcrossRanksEqualsTheUntiledBuild) {
-  SKIP_WITHOUT_MPI();
-  const char* graph = "../bench/distributed_thermal.json";  // resolved under graphs/
-  const fs::path& untiled = single_process_build({graph, 129, {0, 0}, 1});
-  for (const Job& job : {Job{graph, 129, {2, 2}, 2}, Job{graph, 129, {3, 2}, 4}, Job{graph, 129, {2, 2}, 3}}) {
+// `graph` (under bench/) on every tiling and rank count of `jobs`: the single-process tiled build's files
+// (run_distributed), and every raster `names` of the untiled build (under its folder `stem`), put together from the
+// ranks' tiles, bit for bit.
+void expect_ranks_equal_untiled(const std::string& graph, const std::string& stem,
+                                const std::vector<std::string>& names,
+                                const std::vector<std::pair<glm::ivec2, int>>& jobs) {
+  const std::string path = "../bench/" + graph;  // resolved under graphs/
+  const fs::path& untiled = single_process_build({path.c_str(), 129, {0, 0}, 1});
+  for (const auto& [tiles, ranks] : jobs) {
+    const Job job{path.c_str(), 129, tiles, ranks};
     SCOPED_TRACE(tiles_text(job.tiles) + " on " + std::to_string(job.ranks) + " ranks");
     const fs::path dir = run_distributed(job);
-    for (const char* name : {"height", "erosion", "deposition", "flow", "smooth"}) {
-      const Raster whole = read_raster(untiled / "distributed_thermal" / (std::string(name) + ".tif"));
-      const Raster joined =
-          stitch(dir, std::string("distributed_thermal/") + name, ".tif", job.tiles, {whole.width, whole.height});
-      EXPECT_TRUE(same_bits(whole, joined)) << name;
+    for (const std::string& name : names) {
+      const Raster whole = read_raster(untiled / stem / (name + ".tif"));
+      EXPECT_TRUE(same_bits(whole, stitch(dir, stem + "/" + name + ".tif", job.tiles, {whole.width, whole.height})))
+          << name;
     }
   }
+}
+
+// ThermalErosion across the ranks' tiles, its halos exchanged every few iterations (bench/distributed_thermal.json: fBm
+// with mask and hardness linked, every output written, and a blur downstream whose halo comes from the neighboring
+// ranks' tiles).
+TEST(Distributed, ThermalErosionAcrossRanksEqualsTheUntiledBuild) {
+  SKIP_WITHOUT_MPI();
+  expect_ranks_equal_untiled("distributed_thermal.json", "distributed_thermal",
+                             {"height", "erosion", "deposition", "flow", "smooth"},
+                             {{{2, 2}, 2}, {{3, 2}, 4}, {{2, 2}, 3}});
 }
 
 // HydraulicErosion across the ranks' tiles, the whole-domain droplet schedule's phases with the changed samples
 // exchanged between them (bench/distributed_particles.json: fBm with a mask linked, every output written, a blur
-// downstream): the single-process tiled build's files, and put together every raster of the untiled build.
+// downstream).
 TEST(Distributed, HydraulicErosionAcrossRanksEqualsTheUntiledBuild) {
   SKIP_WITHOUT_MPI();
-  const char* graph = "../bench/distributed_particles.json";  // resolved under graphs/
-  const fs::path& untiled = single_process_build({graph, 129, {0, 0}, 1});
-  for (const Job& job : {Job{graph, 129, {2, 2}, 2}, Job{graph, 129, {3, 2}, 4}, Job{graph, 129, {4, 3}, 3}}) {
-    SCOPED_TRACE(tiles_text(job.tiles) + " on " + std::to_string(job.ranks) + " ranks");
-    const fs::path dir = run_distributed(job);
-    for (const char* name : {"height", "erosion", "deposition", "flow", "smooth"}) {
-      const Raster whole = read_raster(untiled / "distributed_particles" / (std::string(name) + ".tif"));
-      const Raster joined =
-          stitch(dir, std::string("distributed_particles/") + name, ".tif", job.tiles, {whole.width, whole.height});
-      EXPECT_TRUE(same_bits(whole, joined)) << name;
-    }
-  }
+  expect_ranks_equal_untiled("distributed_particles.json", "distributed_particles",
+                             {"height", "erosion", "deposition", "flow", "smooth"},
+                             {{{2, 2}, 2}, {{3, 2}, 4}, {{4, 3}, 3}});
 }
 
 // FloodFill across the ranks' tiles (bench/distributed_flood.json: a lake filled to its spill level from the middle of
 // a bowl over the tiles' corner, a flood to a given level along a trench, and a blur of the lake whose halo comes from
-// the neighboring ranks' tiles): the single-process tiled build's files, and put together every raster of the untiled
-// build.
+// the neighboring ranks' tiles).
 TEST(Distributed, FloodFillAcrossRanksEqualsTheUntiledBuild) {
   SKIP_WITHOUT_MPI();
-  const char* graph = "../bench/distributed_flood.json";  // resolved under graphs/
-  const fs::path& untiled = single_process_build({graph, 129, {0, 0}, 1});
+  const fs::path& untiled = single_process_build({"../bench/distributed_flood.json", 129, {0, 0}, 1});
   // The lake and the flood span the tiles of every tiling below.
   const Raster lake = read_raster(untiled / "distributed_flood" / "lake_mask.tif");
   const Raster flood = read_raster(untiled / "distributed_flood" / "flood_depth.tif");
@@ -538,36 +490,19 @@ TEST(Distributed, FloodFillAcrossRanksEqualsTheUntiledBuild) {
   std::size_t flooded = 0;
   for (const float d : flood.values) flooded += d > 0.0f;
   EXPECT_GT(flooded, 200u);
-  for (const Job& job : {Job{graph, 129, {2, 2}, 2}, Job{graph, 129, {3, 2}, 4}, Job{graph, 129, {4, 3}, 3}}) {
-    SCOPED_TRACE(tiles_text(job.tiles) + " on " + std::to_string(job.ranks) + " ranks");
-    const fs::path dir = run_distributed(job);
-    for (const char* name : {"terrain", "lake", "lake_depth", "lake_mask", "flood_depth", "lake_smooth"}) {
-      const Raster whole = read_raster(untiled / "distributed_flood" / (std::string(name) + ".tif"));
-      const Raster joined =
-          stitch(dir, std::string("distributed_flood/") + name, ".tif", job.tiles, {whole.width, whole.height});
-      EXPECT_TRUE(same_bits(whole, joined)) << name;
-    }
-  }
+  expect_ranks_equal_untiled("distributed_flood.json", "distributed_flood",
+                             {"terrain", "lake", "lake_depth", "lake_mask", "flood_depth", "lake_smooth"},
+                             {{{2, 2}, 2}, {{3, 2}, 4}, {{4, 3}, 3}});
 }
 
 // PipeErosion across the ranks' tiles, a 2-sample halo exchanged every step and the step from the deepest water over
 // all tiles (bench/distributed_pipe.json: fBm with sea below -60 m, Drops rain driven by a moisture field, an
-// evaporation field, every output written, and a blur downstream whose halo comes from the neighboring ranks' tiles):
-// the single-process tiled build's files, and put together every raster of the untiled build.
+// evaporation field, every output written, and a blur downstream whose halo comes from the neighboring ranks' tiles).
 TEST(Distributed, PipeErosionAcrossRanksEqualsTheUntiledBuild) {
   SKIP_WITHOUT_MPI();
-  const char* graph = "../bench/distributed_pipe.json";  // resolved under graphs/
-  const fs::path& untiled = single_process_build({graph, 129, {0, 0}, 1});
-  for (const Job& job : {Job{graph, 129, {2, 2}, 2}, Job{graph, 129, {3, 2}, 4}}) {
-    SCOPED_TRACE(tiles_text(job.tiles) + " on " + std::to_string(job.ranks) + " ranks");
-    const fs::path dir = run_distributed(job);
-    for (const char* name : {"height", "erosion", "deposition", "flow", "water", "velocity", "smooth"}) {
-      const Raster whole = read_raster(untiled / "distributed_pipe" / (std::string(name) + ".tif"));
-      const Raster joined =
-          stitch(dir, std::string("distributed_pipe/") + name, ".tif", job.tiles, {whole.width, whole.height});
-      EXPECT_TRUE(same_bits(whole, joined)) << name;
-    }
-  }
+  expect_ranks_equal_untiled("distributed_pipe.json", "distributed_pipe",
+                             {"height", "erosion", "deposition", "flow", "water", "velocity", "smooth"},
+                             {{{2, 2}, 2}, {{3, 2}, 4}});
 }
 
 // KMeansClusters across the ranks' tiles (bench/distributed_kmeans.json: slope and temperature of an fBm terrain, six
@@ -575,18 +510,8 @@ TEST(Distributed, PipeErosionAcrossRanksEqualsTheUntiledBuild) {
 // the exact sums add up to the whole domain's, so the ids equal the untiled build's bit for bit.
 TEST(Distributed, KMeansAcrossRanksEqualsTheUntiledBuild) {
   SKIP_WITHOUT_MPI();
-  const char* graph = "../bench/distributed_kmeans.json";  // resolved under graphs/
-  const fs::path& untiled = single_process_build({graph, 129, {0, 0}, 1});
-  for (const Job& job : {Job{graph, 129, {2, 2}, 2}, Job{graph, 129, {3, 2}, 4}, Job{graph, 129, {4, 3}, 3}}) {
-    SCOPED_TRACE(tiles_text(job.tiles) + " on " + std::to_string(job.ranks) + " ranks");
-    const fs::path dir = run_distributed(job);
-    for (const char* name : {"cluster_id", "smooth"}) {
-      const Raster whole = read_raster(untiled / "distributed_kmeans" / (std::string(name) + ".tif"));
-      const Raster joined =
-          stitch(dir, std::string("distributed_kmeans/") + name, ".tif", job.tiles, {whole.width, whole.height});
-      EXPECT_TRUE(same_bits(whole, joined)) << name;
-    }
-  }
+  expect_ranks_equal_untiled("distributed_kmeans.json", "distributed_kmeans", {"cluster_id", "smooth"},
+                             {{{2, 2}, 2}, {{3, 2}, 4}, {{4, 3}, 3}});
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <map>
 #include <random>
 
+#include <glm/common.hpp>
 #include <gtest/gtest.h>
 
 #include "graph/domain.h"
@@ -22,12 +23,14 @@
 #include "nodes/climate/kmeans_across_tiles.h"
 #include "nodes/climate/kmeans_steps.h"
 #include "nodes/common/exact_float_sum.h"
+#include "support/tile_graph_run.h"
+#include "support/tile_windows.h"
 
 namespace orogen::climate {
 namespace {
 
-// Tile I of N over W samples: [floor(I (W-1) / N), floor((I+1) (W-1) / N)] (cli/tiling.h).
-int edge(int t, int samples, int tiles) { return static_cast<int>(static_cast<long long>(t) * (samples - 1) / tiles); }
+using test::edge;
+using test::same_bits;
 
 TEST(ExactFloatSum, IndependentOfOrderAndCorrectlyRounded) {
   std::mt19937 rng(3);
@@ -102,15 +105,18 @@ struct Joined {
 std::string report_of(const PortValue& v) { return std::get<ReportPtr>(v)->json; }
 
 // The tiles' rounds as the driver runs them (messages through their bytes); `skip(tile, round)` drops that tile's
-// answer of that round (a lost exchange: the mutation).
+// answer of that round (a lost exchange: the mutation). With `overlap`, each tile's window reaches one sample further
+// right and up where it can, so every tile tallies the samples it shares with the tiles after it (a mutation: those
+// count twice).
 Joined across_tiles(const TileGraphAlgorithm& algorithm, const Image& img, glm::ivec2 counts,
-                    const std::function<bool(std::size_t, int)>& skip = {}) {
+                    const std::function<bool(std::size_t, int)>& skip = {}, bool overlap = false) {
   const glm::ivec2 size = img.domain.resolution;
   std::vector<std::unique_ptr<TileGraphTile>> tiles;
   for (int tj = 0; tj < counts.y; ++tj)
     for (int ti = 0; ti < counts.x; ++ti) {
       const glm::ivec2 first{edge(ti, size.x, counts.x), edge(tj, size.y, counts.y)};
-      const glm::ivec2 n = glm::ivec2(edge(ti + 1, size.x, counts.x), edge(tj + 1, size.y, counts.y)) - first + 1;
+      glm::ivec2 n = glm::ivec2(edge(ti + 1, size.x, counts.x), edge(tj + 1, size.y, counts.y)) - first + 1;
+      if (overlap) n = glm::min(n + 1, size - first);
       auto c = std::make_shared<Image>(img.domain.subdomain(first.x, first.y, n.x, n.y), img.channels);
       c->channel_names = img.channel_names;
       for (int j = 0; j < n.y; ++j)
@@ -118,15 +124,7 @@ Joined across_tiles(const TileGraphAlgorithm& algorithm, const Image& img, glm::
       tiles.push_back(algorithm.start({ImagePtr(c)}));
     }
   Joined joined;
-  for (int round = 0;; ++round) {
-    std::vector<std::string> messages;
-    for (auto& tile : tiles) messages.push_back(tile->message(round));
-    const auto answers = algorithm.solve(round, messages);
-    for (std::size_t k = 0; k < tiles.size(); ++k)
-      if (!skip || !skip(k, round)) tiles[k]->answer(round, answers[k]);
-    joined.rounds = round + 1;
-    if (!algorithm.another_round(round, messages)) break;
-  }
+  joined.rounds = test::run_rounds(algorithm, tiles, test::dropping(skip));
   const std::size_t n = img.domain.sample_count();
   joined.ids.assign(n, -1.0f);
   joined.color.assign(n * 4, -1.0f);
@@ -159,12 +157,6 @@ KMeansParams params_of(const Case& c, const Image& img) {
   return p;
 }
 
-bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
-}
-
-std::string label(glm::ivec2 v) { return std::to_string(v.x) + "x" + std::to_string(v.y); }
-
 void expect_every_tiling(const Image& img, const Case& c) {
   const KMeansParams p = params_of(c, img);
   const KMeansResult whole = kmeans(img, p);
@@ -174,14 +166,14 @@ void expect_every_tiling(const Image& img, const Case& c) {
   std::vector<glm::ivec2> tilings;
   for (int ny = 1; ny <= 6; ++ny)
     for (int nx = 1; nx <= 7; ++nx) tilings.push_back({nx, ny});
-  tilings.push_back({(img.width() - 1) / 2, 1});   // tiles two samples wide
-  tilings.push_back({2, (img.height() - 1) / 2});  // and two samples high
+  tilings.push_back({img.width() - 1, 1});   // tiles two samples wide
+  tilings.push_back({2, img.height() - 1});  // and two samples high
   for (const glm::ivec2 counts : tilings) {
     const Joined j = across_tiles(*algorithm, img, counts);
-    EXPECT_TRUE(same_bits(j.ids, maps.ids->data)) << label(counts);
-    EXPECT_TRUE(same_bits(j.color, maps.color->data)) << label(counts);
-    EXPECT_EQ(j.rounds, whole.iterations + 1) << label(counts);
-    for (const auto& r : j.reports) EXPECT_EQ(r, report) << label(counts);
+    EXPECT_TRUE(same_bits(j.ids, maps.ids->data)) << test::tiles_text(counts);
+    EXPECT_TRUE(same_bits(j.color, maps.color->data)) << test::tiles_text(counts);
+    EXPECT_EQ(j.rounds, whole.iterations + 1) << test::tiles_text(counts);
+    for (const auto& r : j.reports) EXPECT_EQ(r, report) << test::tiles_text(counts);
   }
 }
 
@@ -223,9 +215,10 @@ TEST(KMeansTiles, MoreClustersThanSamplesAndOneSampleWideDomains) {
   expect_every_tiling(*features({9, 7}, 4, false), c);
 }
 
-// The mutations: a tile that misses one round's new centres gives another report (so the tests above can fail); a
-// tally leaves out the samples a tile shares with the tiles after it.
-TEST(KMeansTiles, ALostAnswerChangesTheReportAndTalliesLeaveOutSharedSamples) {
+// The mutations: a tile that misses one round's new centres gives another report, and so do tiles whose tallies count
+// the samples they share twice (so the tests above can fail); a tally leaves out the samples a tile shares with the
+// tiles after it.
+TEST(KMeansTiles, ALostAnswerOrSharedSamplesCountedTwiceChangeTheReportAndTalliesLeaveOutSharedSamples) {
   const auto img = features({33, 29}, 1, false);
   const Case c;
   const KMeansParams p = params_of(c, *img);
@@ -239,6 +232,10 @@ TEST(KMeansTiles, ALostAnswerChangesTheReportAndTalliesLeaveOutSharedSamples) {
   // Lloyd's iterations heal a lost round here (the same labels in the end), but not the figures on the way: a tile
   // that got every answer reports other objectives.
   EXPECT_NE(lost.reports[1], report);
+  // Tiles of 2 x 1 whose tallies count their shared column twice (no initial centre on it: each is owned once).
+  for (int k = 0; k < c.k; ++k) ASSERT_NE(kmeans_diagonal_cell(k, c.k, 33, 29).x, edge(1, 33, 2));
+  const Joined twice = across_tiles(*algorithm, *img, {2, 1}, {}, true);
+  for (const auto& r : twice.reports) EXPECT_NE(r, report);
   // The sums of a tiling whose tiles count every sample they hold (the shared ones twice) differ from the whole's.
   const KMeansFeatures f = kmeans_features(*img, p.weights);
   std::vector<double> centres(static_cast<std::size_t>(c.k) * 5);
@@ -260,16 +257,9 @@ TEST(KMeansTiles, ALostAnswerChangesTheReportAndTalliesLeaveOutSharedSamples) {
 }
 
 TEST(KMeansTiles, RegisteredForDiagonalInitOnly) {
-  const NodeType& type = *NodeRegistry::instance().find("KMeansClusters");
-  const TileGraphFactory* factory = find_tile_graph("KMeansClusters");
-  ASSERT_NE(factory, nullptr);
-  std::vector<ParamValue> values;
-  for (const auto& p : type.params) values.push_back(p.default_value);
   const Domain d = Domain::from_extent({0, 0}, {320, 320}, {33, 33});
-  EXPECT_NE((*factory)(ParamView(type, values), d), nullptr);
-  for (std::size_t i = 0; i < type.params.size(); ++i)
-    if (type.params[i].name == "init") values[i] = ParamValue(std::string("kmeans++"));
-  EXPECT_EQ((*factory)(ParamView(type, values), d), nullptr);
+  EXPECT_NE(test::algorithm_of("KMeansClusters", {}, d), nullptr);
+  EXPECT_EQ(test::algorithm_of("KMeansClusters", {{"init", ParamValue(std::string("kmeans++"))}}, d), nullptr);
 }
 
 }  // namespace

@@ -21,7 +21,6 @@
 namespace orogen::erosion {
 namespace {
 
-using test::edge;
 using test::same_bits;
 
 // The node's inputs in input order: in, mask, rainfall_rate, moisture, evaporation_factor, hardness.
@@ -98,28 +97,13 @@ std::string without_halos(std::string answer) {
 Maps across_tiles(const TileGraphAlgorithm& algorithm, const Fields& f, glm::ivec2 counts, bool linked, int* rounds_run,
                   const std::function<bool(std::size_t, int)>& stale = {}, int* disagreements = nullptr) {
   const glm::ivec2 size = f.domain.resolution;
-  auto crop = [&](const HeightfieldPtr& h, glm::ivec2 first, glm::ivec2 n) {
-    return test::crop(f.domain, h, first, n);
-  };
-  std::vector<std::unique_ptr<TileGraphTile>> tiles;
-  for (int tj = 0; tj < counts.y; ++tj)
-    for (int ti = 0; ti < counts.x; ++ti) {
-      const glm::ivec2 first{edge(ti, size.x, counts.x), edge(tj, size.y, counts.y)};
-      const glm::ivec2 n = glm::ivec2(edge(ti + 1, size.x, counts.x), edge(tj + 1, size.y, counts.y)) - first + 1;
-      std::vector<PortValue> inputs;
-      for (std::size_t k = 0; k < f.f.size(); ++k)
-        inputs.push_back(k == 0 || linked ? PortValue(crop(f.f[k], first, n)) : PortValue{});
-      tiles.push_back(algorithm.start(inputs));
-    }
-  for (int round = 0;; ++round) {
-    std::vector<std::string> messages;
-    for (auto& tile : tiles) messages.push_back(tile->message(round));
-    const auto answers = algorithm.solve(round, messages);
-    for (std::size_t k = 0; k < tiles.size(); ++k)
-      tiles[k]->answer(round, stale && stale(k, round) ? without_halos(answers[k]) : answers[k]);
-    *rounds_run = round + 1;
-    if (!algorithm.another_round(round, messages)) break;
-  }
+  std::vector<HeightfieldPtr> inputs;
+  for (std::size_t k = 0; k < f.f.size(); ++k) inputs.push_back(k == 0 || linked ? f.f[k] : nullptr);
+  auto tiles = test::start_tiles(algorithm, f.domain, counts, inputs);
+  *rounds_run = test::run_rounds(algorithm, tiles, [&](std::size_t tile, int round, std::string& answer) {
+    if (stale && stale(tile, round)) answer = without_halos(answer);
+    return true;
+  });
   const float nan = std::numeric_limits<float>::quiet_NaN();
   Maps joined{std::vector<std::vector<float>>(6, std::vector<float>(f.f[0]->data.size(), nan))};
   for (auto& tile : tiles) {
@@ -143,8 +127,6 @@ void expect_same(const Maps& tiled, const Maps& whole) {
   for (std::size_t o = 0; o < 6; ++o) EXPECT_TRUE(same_bits(tiled.m[o], whole.m[o])) << names[o];
 }
 
-std::string label(glm::ivec2 v) { return std::to_string(v.x) + "x" + std::to_string(v.y); }
-
 bool moved_and_flowed(const Maps& m, const Fields& f) {
   float water = 0.0f, speed = 0.0f;
   for (float v : m.m[4]) water = std::max(water, v);
@@ -166,7 +148,7 @@ TEST(PipeAcrossTiles, EveryTilingEqualsTheWholeDomainRunBitForBit) {
       for (const glm::ivec2 counts : {glm::ivec2(1, 1), glm::ivec2(2, 2), glm::ivec2(3, 2), glm::ivec2(4, 3),
                                       glm::ivec2(1, 4), glm::ivec2(5, 1), glm::ivec2(7, 6)}) {
         SCOPED_TRACE(std::string(drops ? "drops" : "uniform") + (linked ? ", fields linked" : "") + ", tiles " +
-                     label(counts));
+                     test::tiles_text(counts));
         int rounds = 0;
         expect_same(across_tiles(*algorithm, f, counts, linked, &rounds), whole);
         EXPECT_EQ(rounds, 1 + stats.steps) << "a round for the static halos, then one per step";
@@ -182,7 +164,7 @@ TEST(PipeAcrossTiles, TilesNarrowerThanTheHaloTakeItFromTheTilesBeyond) {
     const Maps whole = whole_domain(f, pipe_params(set), true, nullptr);
     const auto algorithm = algorithm_of(set, f.domain);
     for (const glm::ivec2 counts : {glm::ivec2(40, 1), glm::ivec2(20, 16), glm::ivec2(13, 32)}) {
-      SCOPED_TRACE(std::string(drops ? "drops" : "uniform") + ", tiles " + label(counts));
+      SCOPED_TRACE(std::string(drops ? "drops" : "uniform") + ", tiles " + test::tiles_text(counts));
       int rounds = 0;
       expect_same(across_tiles(*algorithm, f, counts, true, &rounds), whole);
     }
@@ -246,18 +228,9 @@ TEST(PipeAcrossTiles, OverflowingWaterIsTheWholeDomainRunsError) {
 TEST(PipeAcrossTiles, BandsAreSmallAndTheirBytesAreChecked) {
   const Fields f = fields({65, 49}, 3);
   const auto algorithm = algorithm_of(node_params(false), f.domain);
-  std::vector<std::unique_ptr<TileGraphTile>> tiles;
+  auto tiles = test::start_tiles(*algorithm, f.domain, {2, 2}, {f.f[0]});
   std::vector<std::string> messages;
-  for (int tj = 0; tj < 2; ++tj)
-    for (int ti = 0; ti < 2; ++ti) {
-      const glm::ivec2 first{edge(ti, 65, 2), edge(tj, 49, 2)};
-      const glm::ivec2 n = glm::ivec2(edge(ti + 1, 65, 2), edge(tj + 1, 49, 2)) - first + 1;
-      auto c = std::make_shared<Heightfield>(f.domain.subdomain(first.x, first.y, n.x, n.y));
-      for (int j = 0; j < n.y; ++j)
-        for (int i = 0; i < n.x; ++i) c->at(i, j) = f.f[0]->at(first.x + i, first.y + j);
-      tiles.push_back(algorithm->start({HeightfieldPtr(c)}));
-      messages.push_back(tiles.back()->message(0));
-    }
+  for (auto& tile : tiles) messages.push_back(tile->message(0));
   const std::size_t header = 8 * 4 + 2 * 8 + 4;
   // Tile (0, 0) is 33 x 25 samples with neighbors right and below: 2 rows of 33 and 2 columns of 25 heights.
   EXPECT_EQ(messages[0].size(), header + 4u * (2 * 33 + 2 * 25));
@@ -267,14 +240,7 @@ TEST(PipeAcrossTiles, BandsAreSmallAndTheirBytesAreChecked) {
   for (auto& tile : tiles) messages.push_back(tile->message(1));
   // After a step: the seven fields a step reads.
   EXPECT_EQ(messages[0].size(), header + 7u * 4u * (2 * 33 + 2 * 25));
-  auto damaged = messages;
-  damaged[1].pop_back();
-  EXPECT_THROW(algorithm->solve(1, damaged), std::invalid_argument);
-  damaged = messages;
-  damaged.pop_back();
-  EXPECT_THROW(algorithm->solve(1, damaged), std::invalid_argument);
-  const auto answers = algorithm->solve(1, messages);
-  EXPECT_THROW(tiles[0]->answer(1, std::string_view(answers[0]).substr(1)), std::invalid_argument);
+  test::expect_damaged_bytes_refused(*algorithm, tiles, 1, messages);
 }
 
 }  // namespace

@@ -21,7 +21,6 @@
 namespace orogen::erosion {
 namespace {
 
-using test::edge;
 using test::same_bits;
 
 struct Fields {
@@ -61,18 +60,10 @@ Maps across_tiles(const TileGraphAlgorithm& algorithm, const Fields& f, glm::ive
                   int* rounds_run, const std::function<bool(std::size_t, int)>& skip = {},
                   int* disagreements = nullptr) {
   const glm::ivec2 size = f.domain.resolution;
-  auto crop = [&](const HeightfieldPtr& h, glm::ivec2 first, glm::ivec2 n) {
-    return test::crop(f.domain, h, first, n);
-  };
-  std::vector<std::unique_ptr<TileGraphTile>> tiles;
-  for (int tj = 0; tj < counts.y; ++tj)
-    for (int ti = 0; ti < counts.x; ++ti) {
-      const glm::ivec2 first{edge(ti, size.x, counts.x), edge(tj, size.y, counts.y)};
-      const glm::ivec2 n = glm::ivec2(edge(ti + 1, size.x, counts.x), edge(tj + 1, size.y, counts.y)) - first + 1;
-      tiles.push_back(algorithm.start({crop(f.in, first, n), mask ? PortValue(crop(f.mask, first, n)) : PortValue{},
-                                       hardness ? PortValue(crop(f.hardness, first, n)) : PortValue{}}));
-    }
-  test::run_rounds(algorithm, tiles, skip, rounds_run);
+  auto tiles =
+      test::start_tiles(algorithm, f.domain, counts, {f.in, mask ? f.mask : nullptr, hardness ? f.hardness : nullptr});
+  const int rounds = test::run_rounds(algorithm, tiles, test::dropping(skip));
+  if (rounds_run) *rounds_run = rounds;
   const float nan = std::numeric_limits<float>::quiet_NaN();
   Maps joined{std::vector<float>(f.in->data.size(), nan), std::vector<float>(f.in->data.size(), nan),
               std::vector<float>(f.in->data.size(), nan), std::vector<float>(f.in->data.size(), nan)};
@@ -99,8 +90,6 @@ void expect_same(const Maps& tiled, const Maps& whole) {
   EXPECT_TRUE(same_bits(tiled.deposition, whole.deposition)) << "deposition";
   EXPECT_TRUE(same_bits(tiled.flow, whole.flow)) << "flow";
 }
-
-std::string label(glm::ivec2 v) { return std::to_string(v.x) + "x" + std::to_string(v.y); }
 
 ThermalParams params(double travel_distance, double tolerance) {
   ThermalParams p;
@@ -145,7 +134,7 @@ TEST(ThermalAcrossTiles, EveryTilingEqualsTheWholeDomainRunBitForBit) {
         for (const glm::ivec2 counts : {glm::ivec2(1, 1), glm::ivec2(2, 2), glm::ivec2(3, 2), glm::ivec2(4, 3),
                                         glm::ivec2(1, 4), glm::ivec2(7, 6)}) {
           SCOPED_TRACE("mask " + std::to_string(mask) + " hardness " + std::to_string(hardness) + " every " +
-                       std::to_string(k) + " iterations, tiles " + label(counts));
+                       std::to_string(k) + " iterations, tiles " + test::tiles_text(counts));
           int rounds = 0;
           expect_same(across_tiles(*algorithm, f, counts, mask, hardness, &rounds), whole);
           EXPECT_EQ(rounds, expected_rounds(k, iterations));
@@ -163,7 +152,7 @@ TEST(ThermalAcrossTiles, TilesNarrowerThanTheHaloTakeItFromTilesFurtherOn) {
   const Maps whole = whole_domain(f, p, true, true, &iterations);
   for (const auto& [k, algorithm] : algorithms(p, f.domain))
     for (const glm::ivec2 counts : {glm::ivec2(40, 1), glm::ivec2(20, 16), glm::ivec2(13, 32)}) {
-      SCOPED_TRACE("every " + std::to_string(k) + " iterations, tiles " + label(counts));
+      SCOPED_TRACE("every " + std::to_string(k) + " iterations, tiles " + test::tiles_text(counts));
       int rounds = 0;
       expect_same(across_tiles(*algorithm, f, counts, true, true, &rounds), whole);
     }
@@ -181,7 +170,7 @@ TEST(ThermalAcrossTiles, AllTilesStopByToleranceWhereTheWholeDomainRunStops) {
   ASSERT_NE(iterations % 3, 0) << "the run must stop inside a block of 3";
   for (const auto& [k, algorithm] : algorithms(p, f.domain))
     for (const glm::ivec2 counts : {glm::ivec2(1, 1), glm::ivec2(3, 2), glm::ivec2(7, 6)}) {
-      SCOPED_TRACE("every " + std::to_string(k) + " iterations, tiles " + label(counts));
+      SCOPED_TRACE("every " + std::to_string(k) + " iterations, tiles " + test::tiles_text(counts));
       int rounds = 0;
       expect_same(across_tiles(*algorithm, f, counts, true, false, &rounds), whole);
       EXPECT_EQ(rounds, expected_rounds(k, iterations));
@@ -215,32 +204,16 @@ TEST(ThermalAcrossTiles, SkippingOneHaloExchangeBreaksTheEquality) {
 TEST(ThermalAcrossTiles, BandsAreSmallAndTheirBytesAreChecked) {
   const Fields f = fields({97, 81}, 3);
   const auto algorithm = thermal_across_tiles(params(60.0, 0.0), f.domain, 3);
-  std::vector<std::unique_ptr<TileGraphTile>> tiles;
+  auto tiles = test::start_tiles(*algorithm, f.domain, {2, 2}, {f.in, nullptr, nullptr});
   std::vector<std::string> messages;
-  for (int tj = 0; tj < 2; ++tj)
-    for (int ti = 0; ti < 2; ++ti) {
-      const glm::ivec2 first{edge(ti, 97, 2), edge(tj, 81, 2)};
-      const glm::ivec2 n = glm::ivec2(edge(ti + 1, 97, 2), edge(tj + 1, 81, 2)) - first + 1;
-      auto c = std::make_shared<Heightfield>(f.domain.subdomain(first.x, first.y, n.x, n.y));
-      for (int j = 0; j < n.y; ++j)
-        for (int i = 0; i < n.x; ++i) c->at(i, j) = f.in->at(first.x + i, first.y + j);
-      tiles.push_back(algorithm->start({HeightfieldPtr(c), PortValue{}, PortValue{}}));
-      messages.push_back(tiles.back()->message(0));
-    }
+  for (auto& tile : tiles) messages.push_back(tile->message(0));
   const auto blocks = algorithm->solve(0, messages);
   for (std::size_t t = 0; t < tiles.size(); ++t) tiles[t]->answer(0, blocks[t]);
   messages.clear();
   for (auto& tile : tiles) messages.push_back(tile->message(1));
   // Tile (0, 0) is 49 x 41 samples with neighbors right and below: 6 rows of 49 and 6 columns of 41 heights and rates.
   EXPECT_EQ(messages[0].size(), 28u + 2u * 4u * (6 * 49 + 6 * 41));
-  auto damaged = messages;
-  damaged[1].pop_back();
-  EXPECT_THROW(algorithm->solve(1, damaged), std::invalid_argument);
-  damaged = messages;
-  damaged.pop_back();
-  EXPECT_THROW(algorithm->solve(1, damaged), std::invalid_argument);
-  const auto answers = algorithm->solve(1, messages);
-  EXPECT_THROW(tiles[0]->answer(1, std::string_view(answers[0]).substr(1)), std::invalid_argument);
+  test::expect_damaged_bytes_refused(*algorithm, tiles, 1, messages);
 }
 
 }  // namespace

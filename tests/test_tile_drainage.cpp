@@ -17,9 +17,6 @@ using test::same_bits;
 using test::Terrain;
 using test::terrain;
 
-// The last: tiles of two samples on the 41 x 33 terrain.
-const std::vector<glm::ivec2> kTilings = {{1, 1}, {2, 2}, {3, 2}, {4, 3}, {1, 4}, {7, 6}, {40, 32}};
-
 struct Tiled {
   std::vector<std::string> reports;  // per tile
   std::vector<float> order;          // joined
@@ -33,11 +30,7 @@ Tiled run_metrics(const TileGraphAlgorithm& algorithm, const Terrain& t, glm::iv
   for (auto& tile : tiles) {
     const auto outputs = tile->outputs();
     out.reports.push_back(std::get<ReportPtr>(outputs.at(1))->json);
-    const Heightfield& h = *std::get<HeightfieldPtr>(outputs.at(0));
-    for (int j = 0; j < h.domain.height(); ++j)
-      for (int i = 0; i < h.domain.width(); ++i)
-        out.order[static_cast<std::size_t>(h.domain.first.y + j) * t.size.x + h.domain.first.x + i] =
-            h.data[static_cast<std::size_t>(j) * h.domain.width() + i];
+    test::join_tile_map(out.order, *std::get<HeightfieldPtr>(outputs.at(0)), t.size.x, nullptr);
   }
   return out;
 }
@@ -48,8 +41,8 @@ TEST(DrainageMetricsAcrossTiles, EveryTileGetsTheWholeDomainReportAndItsWindowOf
   for (const glm::ivec2 size : {glm::ivec2(41, 33), glm::ivec2(129, 97)})
     for (int levels : {0, 2})
       for (const double threshold : {800.0, 5000.0}) {
-        SCOPED_TRACE(std::to_string(size.x) + "x" + std::to_string(size.y) + " levels " + std::to_string(levels) +
-                     " threshold " + std::to_string(threshold));
+        SCOPED_TRACE(test::tiles_text(size) + " levels " + std::to_string(levels) + " threshold " +
+                     std::to_string(threshold));
         const Terrain t = terrain(size, 51, levels);
         const Domain whole = domain_of(t);
         // Lakes from 0.5 m deep and 4 cells: some kept, some not, some across tiles.
@@ -62,9 +55,9 @@ TEST(DrainageMetricsAcrossTiles, EveryTileGetsTheWholeDomainReportAndItsWindowOf
         const auto algorithm = algorithm_of(
             "DrainageMetrics", {{"threshold", threshold}, {"lake_depth", 0.5}, {"lake_area", 400.0}}, whole);
         ASSERT_TRUE(algorithm);
-        for (const glm::ivec2 counts : kTilings) {
+        for (const glm::ivec2 counts : test::kTilings) {
           if (counts.x >= 40 && size.x > 41) continue;  // tiles two samples wide: on the small terrain only
-          SCOPED_TRACE("tiles " + std::to_string(counts.x) + "x" + std::to_string(counts.y));
+          SCOPED_TRACE("tiles " + test::tiles_text(counts));
           const Tiled tiled = run_metrics(*algorithm, t, counts);
           for (const std::string& text : tiled.reports) ASSERT_EQ(text, report);
           EXPECT_TRUE(same_bits(tiled.order, order)) << "Strahler map";

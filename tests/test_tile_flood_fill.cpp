@@ -19,9 +19,6 @@ using test::same_bits;
 using test::Terrain;
 using test::terrain;
 
-// The last: tiles of two samples on the 41 x 33 terrain.
-const std::vector<glm::ivec2> kTilings = {{1, 1}, {2, 2}, {3, 2}, {4, 3}, {1, 4}, {7, 6}, {40, 32}};
-
 // The tiles of `counts` holding sample (i, j) (several on a shared sample).
 std::set<int> tiles_holding(int i, int j, glm::ivec2 size, glm::ivec2 counts) {
   std::set<int> out;
@@ -51,8 +48,8 @@ TEST(FloodFillAcrossTiles, EqualsTheWholeDomainNodeOnEveryTiling) {
       for (const glm::dvec2 seed : seeds)
         for (const bool spill : {true, false})
           for (const double level : spill ? std::vector<double>{0.0} : std::vector<double>{-6.0, 3.0}) {
-            SCOPED_TRACE(std::to_string(size.x) + "x" + std::to_string(size.y) + " levels " + std::to_string(levels) +
-                         " seed " + std::to_string(seed.x) + "," + std::to_string(seed.y) +
+            SCOPED_TRACE(test::tiles_text(size) + " levels " + std::to_string(levels) + " seed " +
+                         std::to_string(seed.x) + "," + std::to_string(seed.y) +
                          (spill ? " spill" : " level " + std::to_string(level)));
             const FloodFillResult r = flood_fill(ground, {seed, spill, level});
             const auto algorithm = algorithm_of(
@@ -64,8 +61,8 @@ TEST(FloodFillAcrossTiles, EqualsTheWholeDomainNodeOnEveryTiling) {
             for (const float m : r.mask->data) flooded += m > 0.0f;
             cases_flooded += flooded > 1;
             bowls_filled += spill && seed == seeds[0] && flooded > 1;
-            for (const glm::ivec2 counts : kTilings) {
-              SCOPED_TRACE("tiles " + std::to_string(counts.x) + "x" + std::to_string(counts.y));
+            for (const glm::ivec2 counts : test::kTilings) {
+              SCOPED_TRACE("tiles " + test::tiles_text(counts));
               int rounds = 0;
               const auto tiled = test::run_across_tiles(*algorithm, t, counts, 1, &rounds);
               EXPECT_EQ(rounds, spill ? 2 : 1);

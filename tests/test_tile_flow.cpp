@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include "evaluator/run_node.h"
 #include "graph/tile_bytes.h"
 #include "nodes/common/match_domain.h"
 #include "nodes/hydrology/flow.h"
@@ -32,12 +33,8 @@ using test::same_bits;
 using test::Terrain;
 using test::terrain;
 
-// The last: tiles of two samples on the 41 x 33 terrain (a neighbour's ring is its whole tile).
-const std::vector<glm::ivec2> kTilings = {{1, 1}, {2, 2}, {3, 2}, {4, 3}, {1, 4}, {7, 6}, {40, 32}};
-
 std::string tiling_text(glm::ivec2 size, int levels, glm::ivec2 counts) {
-  return std::to_string(size.x) + "x" + std::to_string(size.y) + " levels " + std::to_string(levels) + " tiles " +
-         std::to_string(counts.x) + "x" + std::to_string(counts.y);
+  return test::tiles_text(size) + " levels " + std::to_string(levels) + " tiles " + test::tiles_text(counts);
 }
 
 void expect_same(const std::vector<std::vector<float>>& tiled, const std::vector<HeightfieldPtr>& whole,
@@ -47,16 +44,6 @@ void expect_same(const std::vector<std::vector<float>>& tiled, const std::vector
     ASSERT_TRUE(whole[o]) << names[o];
     EXPECT_TRUE(same_bits(tiled[o], whole[o]->data)) << names[o];
   }
-}
-
-// The lowest-numbered tile of `counts` holding sample (i, j) of a domain of `size` samples.
-int tile_of(int i, int j, glm::ivec2 size, glm::ivec2 counts) {
-  auto index = [](int s, int samples, int tiles) {
-    int t = 0;
-    while (t + 1 < tiles && test::edge(t + 1, samples, tiles) < s) ++t;
-    return t;
-  };
-  return index(j, size.y, counts.y) * counts.x + index(i, size.x, counts.x);
 }
 
 TEST(FlowAcrossTiles, FlowDirectionWithFillEqualsTheWholeDomainNodeOnEveryTiling) {
@@ -73,7 +60,7 @@ TEST(FlowAcrossTiles, FlowDirectionWithFillEqualsTheWholeDomainNodeOnEveryTiling
         const DirectionResult r = flow_direction(ground, kind, 1.1, true);
         const auto algorithm = algorithm_of("FlowDirection", {{"method", std::string(method)}}, whole);
         ASSERT_TRUE(algorithm);
-        for (const glm::ivec2 counts : kTilings) {
+        for (const glm::ivec2 counts : test::kTilings) {
           SCOPED_TRACE(tiling_text(size, levels, counts));
           forget_filled_surfaces();  // the fill's rounds, not a surface an earlier run kept
           expect_same(test::run_across_tiles(*algorithm, t, counts), {r.angle, r.dx, r.dy, r.slope},
@@ -107,7 +94,7 @@ TEST(FlowAcrossTiles, D8AccumulationEqualsTheWholeDomainNodeAndSumsToTheAreaOfEa
           if (fill) fill_depressions(g, z, FlatMode::Epsilon);
           const D8Flow f = d8_flow(g, z);
           const auto ending = test::cells_ending_at(f.receiver);
-          for (const glm::ivec2 counts : kTilings) {
+          for (const glm::ivec2 counts : test::kTilings) {
             SCOPED_TRACE(tiling_text(size, levels, counts));
             forget_filled_surfaces();  // the fill's rounds, not a surface an earlier run kept
             const auto tiled = test::run_across_tiles(*algorithm, t, counts, 2);
@@ -121,7 +108,7 @@ TEST(FlowAcrossTiles, D8AccumulationEqualsTheWholeDomainNodeAndSumsToTheAreaOfEa
             for (std::int32_t c = 0; c < static_cast<std::int32_t>(g.size()); c += 7) {
               std::set<int> crossed;
               for (std::int32_t x = c;; x = f.receiver[static_cast<std::size_t>(x)]) {
-                crossed.insert(tile_of(g.column(x), g.row(x), size, counts));
+                crossed.insert(test::tile_of(g.column(x), g.row(x), size, counts));
                 if (f.receiver[static_cast<std::size_t>(x)] == x) break;
               }
               most_tiles_crossed = std::max(most_tiles_crossed, static_cast<int>(crossed.size()));
@@ -148,7 +135,7 @@ TEST(FlowAcrossTiles, WatershedsEqualTheWholeDomainNodeOnEveryTiling) {
           ASSERT_GT(r.basins, 1);
           const auto algorithm = algorithm_of("Watersheds", {{"fill", fill}, {"min_area", min_area}}, whole);
           ASSERT_TRUE(algorithm);
-          for (const glm::ivec2 counts : kTilings) {
+          for (const glm::ivec2 counts : test::kTilings) {
             SCOPED_TRACE(tiling_text(size, levels, counts));
             forget_filled_surfaces();  // the fill's rounds, not a surface an earlier run kept
             const auto tiled = test::run_across_tiles(*algorithm, t, counts);
@@ -158,7 +145,7 @@ TEST(FlowAcrossTiles, WatershedsEqualTheWholeDomainNodeOnEveryTiling) {
             for (int j = 0; j < size.y; ++j)
               for (int i = 0; i < size.x; ++i)
                 if (const int id = static_cast<int>(r.id->data[static_cast<std::size_t>(j * size.x + i)]); id > 0)
-                  tiles_of[id].insert(tile_of(i, j, size, counts));
+                  tiles_of[id].insert(test::tile_of(i, j, size, counts));
             for (const auto& [id, tiles] : tiles_of) crossing = crossing || tiles.size() >= 3;
           }
         }
@@ -206,20 +193,35 @@ TEST(FlowAcrossTiles, EveryAccumulationRunsAcrossTiles) {
   EXPECT_TRUE(tile_graph_unlinked_inputs("FlowDirection").empty());
   EXPECT_NE(algorithm_of("Watersheds", {{"fill", false}}, whole), nullptr);
   const auto algorithm = algorithm_of("FlowAccumulation", {{"method", std::string("mfd")}}, whole);
-  auto h = std::make_shared<Heightfield>(whole);
-  // A rainfall weight on another lattice is resampled onto each tile, sample for sample as the whole-domain node
-  // resamples it onto the domain (positions are origin + (first + i) * spacing); one that misses the domain is refused.
+  const Terrain t = terrain({65, 65}, 17, 0);
+  auto h = std::make_shared<Heightfield>(test::heights_of(t));
+  h->domain = whole;
+  // A rainfall weight on another lattice is resampled onto each tile as the whole-domain node resamples it onto the
+  // domain (positions are origin + (first + i) * spacing): the tiles equal the node end to end. One that misses the
+  // domain is refused.
   auto other = std::make_shared<Heightfield>(Domain::from_extent({-7, 3}, {650, 600}, {33, 29}));
   for (std::size_t c = 0; c < other->data.size(); ++c) other->data[c] = 0.5f + 0.37f * static_cast<float>(c % 23);
-  EXPECT_NO_THROW(algorithm->start({HeightfieldPtr(h), HeightfieldPtr(other)}));
-  const HeightfieldPtr resampled = match_domain(other, whole);
-  for (const glm::ivec2 first : {glm::ivec2(0, 0), glm::ivec2(21, 10), glm::ivec2(42, 53)}) {
-    const Domain tile = whole.subdomain(first.x, first.y, 12, 12);
-    const HeightfieldPtr mine = match_domain(other, tile);
-    for (int j = 0; j < 12; ++j)
-      for (int i = 0; i < 12; ++i)
-        ASSERT_TRUE(same_bits({mine->data[static_cast<std::size_t>(j * 12 + i)]},
-                              {resampled->data[static_cast<std::size_t>((first.y + j) * 65 + first.x + i)]}));
+  const NodeRun node =
+      run_node("FlowAccumulation", whole, {{"method", std::string("mfd")}},
+               {{"in", PortValue(HeightfieldPtr(h))}, {"rainfall_weight", PortValue(HeightfieldPtr(other))}});
+  for (const glm::ivec2 counts : {glm::ivec2(3, 2), glm::ivec2(6, 5)}) {
+    SCOPED_TRACE("tiles " + test::tiles_text(counts));
+    std::vector<std::unique_ptr<TileGraphTile>> tiles;
+    for (int tj = 0; tj < counts.y; ++tj)
+      for (int ti = 0; ti < counts.x; ++ti) {
+        const glm::ivec2 first{test::edge(ti, 65, counts.x), test::edge(tj, 65, counts.y)};
+        const glm::ivec2 n = glm::ivec2(test::edge(ti + 1, 65, counts.x), test::edge(tj + 1, 65, counts.y)) - first + 1;
+        tiles.push_back(algorithm->start({test::crop(whole, h, first, n), HeightfieldPtr(other)}));
+      }
+    forget_filled_surfaces();
+    test::run_rounds(*algorithm, tiles);
+    std::vector<std::vector<float>> joined(3, std::vector<float>(65 * 65, std::numeric_limits<float>::quiet_NaN()));
+    for (auto& tile : tiles) {
+      const auto outputs = tile->outputs();
+      for (std::size_t o = 0; o < 3; ++o)
+        test::join_tile_map(joined[o], *std::get<HeightfieldPtr>(outputs[o]), 65, nullptr);
+    }
+    for (std::size_t o = 0; o < 3; ++o) EXPECT_TRUE(same_bits(joined[o], node.get<Heightfield>(o)->data)) << o;
   }
   auto far = std::make_shared<Heightfield>(Domain::from_extent({5000, 5000}, {5640, 5640}, {33, 33}));
   EXPECT_THROW(algorithm->start({HeightfieldPtr(h), HeightfieldPtr(far)}), std::invalid_argument);
@@ -319,7 +321,7 @@ TEST(FlowAcrossTiles, AccumulationBySharesEqualsTheWholeDomainNodeOnEveryTiling)
               algorithm_of("FlowAccumulation",
                            {{"method", std::string(k.method)}, {"fill", fill}, {"flow_max_area", max_area}}, whole);
           ASSERT_TRUE(algorithm);
-          for (const glm::ivec2 counts : kTilings) {
+          for (const glm::ivec2 counts : test::kTilings) {
             SCOPED_TRACE(tiling_text(size, shape, counts));
             int rounds = 0;
             forget_filled_surfaces();  // the fill's rounds, not a surface an earlier run kept
@@ -360,7 +362,7 @@ TEST(FlowAcrossTiles, SharesInDoubleEqualTheWholeDomainOnEveryTiling) {
           for (std::size_t c = 0; c < g.size(); ++c) weight.push_back(30.0f + 7.0f * static_cast<float>(c % 11));
         const RoutingOptions opt{m, 1.3, {}};
         const auto whole = accumulate(g, z, opt, weight);
-        for (const glm::ivec2 counts : kTilings) {
+        for (const glm::ivec2 counts : test::kTilings) {
           SCOPED_TRACE(tiling_text(size, shape, counts));
           std::vector<TileRect> rects;
           std::vector<std::unique_ptr<TileShares>> tiles;

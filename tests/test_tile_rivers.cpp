@@ -21,9 +21,6 @@ using test::same_bits;
 using test::Terrain;
 using test::terrain;
 
-// The last: tiles of two samples on the 41 x 33 terrain.
-const std::vector<glm::ivec2> kTilings = {{1, 1}, {2, 2}, {3, 2}, {4, 3}, {1, 4}, {7, 6}, {40, 32}};
-
 template <class T>
 bool same_vector(const std::vector<T>& a, const std::vector<T>& b) {
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
@@ -60,19 +57,9 @@ Tiled run_rivers(const TileGraphAlgorithm& algorithm, const Terrain& t, glm::ive
   for (auto& tile : tiles) {
     const auto outputs = tile->outputs();
     out.curves.push_back(std::get<CurvesPtr>(outputs.at(0)));
-    test::join_window(out.mask, *std::get<HeightfieldPtr>(outputs.at(1)), t.size.x);
+    test::join_tile_map(out.mask, *std::get<HeightfieldPtr>(outputs.at(1)), t.size.x, nullptr);
   }
   return out;
-}
-
-// The lowest-numbered tile holding sample (i, j).
-int tile_of(int i, int j, glm::ivec2 size, glm::ivec2 counts) {
-  auto index = [](int s, int samples, int tiles) {
-    int t = 0;
-    while (t + 1 < tiles && edge(t + 1, samples, tiles) < s) ++t;
-    return t;
-  };
-  return index(j, size.y, counts.y) * counts.x + index(i, size.x, counts.x);
 }
 
 TEST(RiversAcrossTiles, EveryTileGetsTheWholeDomainNetworkAndItsWindowOfTheMask) {
@@ -83,8 +70,8 @@ TEST(RiversAcrossTiles, EveryTileGetsTheWholeDomainNetworkAndItsWindowOfTheMask)
       for (const double threshold : {800.0, 5000.0})
         for (const bool split : {true, false})
           for (const std::int64_t smoothing : {std::int64_t{0}, std::int64_t{2}}) {
-            SCOPED_TRACE(std::to_string(size.x) + "x" + std::to_string(size.y) + " levels " + std::to_string(levels) +
-                         " threshold " + std::to_string(threshold) + (split ? " split" : " not split") + " smoothing " +
+            SCOPED_TRACE(test::tiles_text(size) + " levels " + std::to_string(levels) + " threshold " +
+                         std::to_string(threshold) + (split ? " split" : " not split") + " smoothing " +
                          std::to_string(smoothing));
             const Terrain t = terrain(size, 41, levels);
             const Domain whole = domain_of(t);
@@ -102,9 +89,9 @@ TEST(RiversAcrossTiles, EveryTileGetsTheWholeDomainNetworkAndItsWindowOfTheMask)
                                                  {"width_coefficient", 12.0}},
                                                 whole);
             ASSERT_TRUE(algorithm);
-            for (const glm::ivec2 counts : kTilings) {
+            for (const glm::ivec2 counts : test::kTilings) {
               if (counts.x >= 40 && size.x > 41) continue;  // tiles two samples wide: on the small terrain only
-              SCOPED_TRACE("tiles " + std::to_string(counts.x) + "x" + std::to_string(counts.y));
+              SCOPED_TRACE("tiles " + test::tiles_text(counts));
               const Tiled tiled = run_rivers(*algorithm, t, counts);
               for (const CurvesPtr& c : tiled.curves) {
                 ASSERT_TRUE(c);
@@ -115,8 +102,8 @@ TEST(RiversAcrossTiles, EveryTileGetsTheWholeDomainNetworkAndItsWindowOfTheMask)
                 std::set<int> crossed;
                 for (const glm::vec3& q : c.points) {
                   const glm::dvec2 s = whole.to_sample({q.x, q.y});
-                  crossed.insert(
-                      tile_of(static_cast<int>(std::lround(s.x)), static_cast<int>(std::lround(s.y)), size, counts));
+                  crossed.insert(test::tile_of(static_cast<int>(std::lround(s.x)), static_cast<int>(std::lround(s.y)),
+                                               size, counts));
                 }
                 most_tiles_crossed = std::max(most_tiles_crossed, static_cast<int>(crossed.size()));
               }

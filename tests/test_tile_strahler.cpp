@@ -15,8 +15,6 @@ namespace {
 using test::edge;
 using test::Terrain;
 
-const std::vector<glm::ivec2> kTilings = {{1, 1}, {2, 2}, {3, 2}, {4, 3}, {1, 4}, {7, 6}, {40, 32}};
-
 struct Network {
   D8Flow flow;
   std::vector<std::uint8_t> channel;
@@ -83,13 +81,13 @@ TEST(StrahlerAcrossTiles, EqualsTheWholeDomainOrdersOnEveryTiling) {
     for (int levels : {0, 2})
       for (const bool fill : {true, false})
         for (const double threshold : {1.0, 6.0, 40.0}) {
-          SCOPED_TRACE(std::to_string(size.x) + "x" + std::to_string(size.y) + " levels " + std::to_string(levels) +
-                       (fill ? " fill" : " no fill") + " threshold " + std::to_string(threshold));
+          SCOPED_TRACE(test::tiles_text(size) + " levels " + std::to_string(levels) + (fill ? " fill" : " no fill") +
+                       " threshold " + std::to_string(threshold));
           const Terrain t = test::terrain(size, 31, levels);
           const Network n = network_of(t, fill, threshold);
           for (const std::int32_t o : n.order) highest_order = std::max(highest_order, o);
-          for (const glm::ivec2 counts : kTilings) {
-            SCOPED_TRACE("tiles " + std::to_string(counts.x) + "x" + std::to_string(counts.y));
+          for (const glm::ivec2 counts : test::kTilings) {
+            SCOPED_TRACE("tiles " + test::tiles_text(counts));
             int rounds = 0;
             EXPECT_EQ(tiled_orders(t, n, counts, rounds), n.order);
             most_rounds = std::max(most_rounds, rounds);

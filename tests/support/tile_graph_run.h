@@ -12,7 +12,9 @@
 #include <map>
 #include <memory>
 #include <random>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -95,59 +97,62 @@ inline std::unique_ptr<TileGraphAlgorithm> algorithm_of(const std::string& type_
   return factory ? (*factory)(ParamView(type, values), whole) : nullptr;
 }
 
+// Starts `algorithm` on the tiles of `counts` over `whole`: input k is inputs[k] (on `whole`) cut into the tile's
+// window, unlinked where it is null.
+inline std::vector<std::unique_ptr<TileGraphTile>> start_tiles(const TileGraphAlgorithm& algorithm, const Domain& whole,
+                                                               glm::ivec2 counts,
+                                                               const std::vector<HeightfieldPtr>& inputs) {
+  const glm::ivec2 size = whole.resolution;
+  std::vector<std::unique_ptr<TileGraphTile>> tiles;
+  for (int tj = 0; tj < counts.y; ++tj)
+    for (int ti = 0; ti < counts.x; ++ti) {
+      const glm::ivec2 first{edge(ti, size.x, counts.x), edge(tj, size.y, counts.y)};
+      const glm::ivec2 n = glm::ivec2(edge(ti + 1, size.x, counts.x), edge(tj + 1, size.y, counts.y)) - first + 1;
+      std::vector<PortValue> values(inputs.size());
+      for (std::size_t k = 0; k < inputs.size(); ++k)
+        if (inputs[k]) values[k] = crop(whole, inputs[k], first, n);
+      tiles.push_back(algorithm.start(values));
+    }
+  return tiles;
+}
+
 // Starts `algorithm` on the tiles of `counts` over `t`: the heights as the first input, `inputs` - 1 inputs after it
 // (fields[k - 1] cut into the tiles for input k, unlinked where it is null or missing).
 inline std::vector<std::unique_ptr<TileGraphTile>> start_tiles(
     const TileGraphAlgorithm& algorithm, const Terrain& t, glm::ivec2 counts, std::size_t inputs = 1,
     const std::vector<const std::vector<float>*>& fields = {}) {
   const Domain whole = domain_of(t);
-  std::vector<std::unique_ptr<TileGraphTile>> tiles;
-  for (int tj = 0; tj < counts.y; ++tj)
-    for (int ti = 0; ti < counts.x; ++ti) {
-      const glm::ivec2 first{edge(ti, t.size.x, counts.x), edge(tj, t.size.y, counts.y)};
-      const glm::ivec2 size =
-          glm::ivec2(edge(ti + 1, t.size.x, counts.x), edge(tj + 1, t.size.y, counts.y)) - first + 1;
-      auto cut = [&](const std::vector<float>& field) {
-        auto h = std::make_shared<Heightfield>(whole.subdomain(first.x, first.y, size.x, size.y));
-        for (int j = 0; j < size.y; ++j)
-          for (int i = 0; i < size.x; ++i)
-            h->data[static_cast<std::size_t>(j) * size.x + i] =
-                field[static_cast<std::size_t>(first.y + j) * t.size.x + first.x + i];
-        return HeightfieldPtr(h);
-      };
-      std::vector<PortValue> values(inputs);
-      values[0] = cut(t.z);
-      for (std::size_t k = 1; k < inputs; ++k)
-        if (k - 1 < fields.size() && fields[k - 1]) values[k] = cut(*fields[k - 1]);
-      tiles.push_back(algorithm.start(values));
+  std::vector<HeightfieldPtr> maps(inputs);
+  maps[0] = std::make_shared<Heightfield>(heights_of(t));
+  for (std::size_t k = 1; k < inputs; ++k)
+    if (k - 1 < fields.size() && fields[k - 1]) {
+      auto h = std::make_shared<Heightfield>(whole);
+      h->data = *fields[k - 1];
+      maps[k] = h;
     }
-  return tiles;
+  return start_tiles(algorithm, whole, counts, maps);
 }
 
-// The tiles' rounds until the algorithm is done, every message through its bytes; the number of rounds, also in
-// `rounds_run` after every round. `skip(tile, round)` drops that tile's answer of that round (a test's mutation).
+// A test's hook on the answers: it may change tile `tile`'s answer of round `round` (a mutation), or drop it (false).
+using AnswerHook = std::function<bool(std::size_t tile, int round, std::string& answer)>;
+
+// The tiles' rounds until the algorithm is done, every message through its bytes; the number of rounds.
 inline int run_rounds(const TileGraphAlgorithm& algorithm, std::vector<std::unique_ptr<TileGraphTile>>& tiles,
-                      const std::function<bool(std::size_t, int)>& skip = {}, int* rounds_run = nullptr) {
+                      const AnswerHook& hook = {}) {
   for (int round = 0;; ++round) {
     std::vector<std::string> messages;
     for (auto& tile : tiles) messages.push_back(tile->message(round));
-    const auto answers = algorithm.solve(round, messages);
+    auto answers = algorithm.solve(round, messages);
     for (std::size_t k = 0; k < tiles.size(); ++k)
-      if (!skip || !skip(k, round)) tiles[k]->answer(round, answers[k]);
-    if (rounds_run) *rounds_run = round + 1;
+      if (!hook || hook(k, round, answers[k])) tiles[k]->answer(round, answers[k]);
     if (!algorithm.another_round(round, messages)) return round + 1;
   }
 }
 
-// Puts a tile's map `h` into `joined` (row-major, `width` samples a row); a sample already there must agree.
-inline void join_window(std::vector<float>& joined, const Heightfield& h, int width) {
-  for (int j = 0; j < h.domain.height(); ++j)
-    for (int i = 0; i < h.domain.width(); ++i) {
-      float& v = joined[static_cast<std::size_t>(h.domain.first.y + j) * width + h.domain.first.x + i];
-      const float mine = h.data[static_cast<std::size_t>(j) * h.domain.width() + i];
-      EXPECT_TRUE(std::isnan(v) || same_bits({v}, {mine})) << "tiles disagree on a shared sample";
-      v = mine;
-    }
+// A hook that drops the answers for which `skip(tile, round)` holds.
+inline AnswerHook dropping(const std::function<bool(std::size_t tile, int round)>& skip) {
+  if (!skip) return {};
+  return [skip](std::size_t tile, int round, std::string&) { return !skip(tile, round); };
 }
 
 // Runs `algorithm` on the tiles (start_tiles) and puts every output of the tiles together on the whole domain.
@@ -164,9 +169,28 @@ inline std::vector<std::vector<float>> run_across_tiles(const TileGraphAlgorithm
     const auto outputs = tile->outputs();
     joined.resize(outputs.size(), std::vector<float>(t.z.size(), std::numeric_limits<float>::quiet_NaN()));
     for (std::size_t o = 0; o < outputs.size(); ++o)
-      join_window(joined[o], *std::get<HeightfieldPtr>(outputs[o]), t.size.x);
+      join_tile_map(joined[o], *std::get<HeightfieldPtr>(outputs[o]), t.size.x, nullptr);
   }
   return joined;
+}
+
+// Damaged bytes of round `round` are refused: a message one byte short, a tile's message missing, an answer one byte
+// short. `messages` are the tiles' messages of that round, after the answers of the rounds before. Without
+// `missing_refused` a missing message is not checked (an algorithm whose solve does not count the tiles).
+inline void expect_damaged_bytes_refused(const TileGraphAlgorithm& algorithm,
+                                         std::vector<std::unique_ptr<TileGraphTile>>& tiles, int round,
+                                         const std::vector<std::string>& messages, bool missing_refused = true) {
+  auto damaged = messages;
+  damaged[1].pop_back();
+  EXPECT_THROW(algorithm.solve(round, damaged), std::invalid_argument) << "a truncated message";
+  if (missing_refused) {
+    damaged = messages;
+    damaged.pop_back();
+    EXPECT_THROW(algorithm.solve(round, damaged), std::invalid_argument) << "a missing message";
+  }
+  const auto answers = algorithm.solve(round, messages);
+  EXPECT_THROW(tiles[0]->answer(round, std::string_view(answers[0]).substr(1)), std::invalid_argument)
+      << "a truncated answer";
 }
 
 }  // namespace orogen::test

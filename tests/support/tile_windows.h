@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -17,6 +18,22 @@ namespace orogen::test {
 // Tile I of N over W samples: [floor(I (W-1) / N), floor((I+1) (W-1) / N)] (cli/tiling.h).
 inline int edge(int t, int samples, int tiles) {
   return static_cast<int>(static_cast<long long>(t) * (samples - 1) / tiles);
+}
+
+// "NxM": a tiling's counts, as --tiles takes them.
+inline std::string tiles_text(glm::ivec2 counts) { return std::to_string(counts.x) + "x" + std::to_string(counts.y); }
+
+// The tilings of the tests on 41 x 33 terrains; the last: tiles of two samples (a neighbor's ring is its whole tile).
+inline const std::vector<glm::ivec2> kTilings = {{1, 1}, {2, 2}, {3, 2}, {4, 3}, {1, 4}, {7, 6}, {40, 32}};
+
+// The lowest-numbered tile of `counts` holding sample (i, j) of a domain of `size` samples.
+inline int tile_of(int i, int j, glm::ivec2 size, glm::ivec2 counts) {
+  auto index = [](int s, int samples, int tiles) {
+    int t = 0;
+    while (t + 1 < tiles && edge(t + 1, samples, tiles) < s) ++t;
+    return t;
+  };
+  return index(j, size.y, counts.y) * counts.x + index(i, size.x, counts.x);
 }
 
 // `h` (on `domain`) in the window of `n` samples from `first`.
