@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 
@@ -39,13 +40,16 @@ class ExactFloatSum {
     if (++pending_ == kNormalizeEvery) normalize();
   }
 
-  // Adds a double that is itself an exact sum of floats (a multiple of 2^-149 below 2^200: FloatBuckets' buckets).
+  // Adds a double that is itself an exact sum of floats: a multiple of 2^-149 below 2^159 in magnitude (the sums of
+  // FloatBuckets stay below 2^142). Its 53-bit significand, shifted within its lowest limb, spans limbs i .. i+2, and
+  // i + 2 <= kLimbs - 1 holds for |d| < 2^159 only; throws std::out_of_range above.
   void add_exact(double d) {
     if (!std::isfinite(d)) {
       add_special(static_cast<float>(d));
       return;
     }
     if (d == 0.0) return;
+    if (!(std::abs(d) < 0x1p159)) throw std::out_of_range("ExactFloatSum::add_exact: a sum of 2^159 or more");
     std::uint64_t bits;
     std::memcpy(&bits, &d, sizeof bits);
     const int biased = static_cast<int>((bits >> 52) & 0x7FF);
