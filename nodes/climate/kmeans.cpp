@@ -15,6 +15,7 @@
 #include "graph/heightfield.h"
 #include "graph/registry.h"
 #include "graph/report.h"
+#include "graph/tile_bytes.h"
 #include "nodes/climate/kmeans_steps.h"
 #include "nodes/common/categorical_palette.h"
 #include "nodes/common/hash.h"
@@ -208,34 +209,24 @@ void KMeansTally::add(const KMeansTally& o) {
 }
 
 void KMeansTally::put(std::string& out) const {
-  auto put64 = [&](std::int64_t v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); };
-  put64(changed);
-  for (std::int64_t c : counts) put64(c);
+  bytes::put(out, changed);
+  for (std::int64_t c : counts) bytes::put(out, c);
   objective.put(out);
   for (const auto& s : sums) s.put(out);
-  out.push_back(static_cast<char>(with_raw));
+  bytes::put(out, static_cast<std::uint8_t>(with_raw));
   if (with_raw)
     for (const auto& s : raw) s.put(out);
 }
 
 KMeansTally KMeansTally::take(std::string_view& in, int k, int channels) {
+  constexpr const char* what = "k-means tally";
   KMeansTally t(k, channels);
-  auto take64 = [&]() {
-    std::int64_t v;
-    if (in.size() < sizeof v) throw std::invalid_argument("k-means tally: truncated");
-    std::memcpy(&v, in.data(), sizeof v);
-    in.remove_prefix(sizeof v);
-    return v;
-  };
-  t.changed = take64();
-  for (auto& c : t.counts) c = take64();
+  t.changed = bytes::take<std::int64_t>(in, what);
+  for (auto& c : t.counts) c = bytes::take<std::int64_t>(in, what);
   bool ok = t.objective.take(in);
   for (auto& s : t.sums) ok = ok && s.take(in);
-  ok = ok && !in.empty();
-  if (ok) {
-    t.with_raw = in.front() != 0;
-    in.remove_prefix(1);
-  }
+  if (!ok) throw std::invalid_argument("k-means tally: truncated");
+  t.with_raw = bytes::take<std::uint8_t>(in, what) != 0;
   if (t.with_raw)
     for (auto& s : t.raw) ok = ok && s.take(in);
   if (!ok) throw std::invalid_argument("k-means tally: truncated");

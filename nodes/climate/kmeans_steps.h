@@ -48,6 +48,7 @@ struct KMeansTally {
   KMeansTally() = default;
   KMeansTally(int k, int channels);
   void add(const KMeansTally& o);
+  // The bytes begin with `changed`.
   void put(std::string& out) const;
   // Throws std::invalid_argument on bytes that do not hold a tally of k x channels.
   static KMeansTally take(std::string_view& in, int k, int channels);
