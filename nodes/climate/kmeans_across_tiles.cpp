@@ -35,8 +35,10 @@ class KMeansTile : public TileGraphTile {
                 at.y + size.y == whole.resolution.y ? size.y : size.y - 1};
     at_ = at;
     whole_size_ = whole.resolution;
-    features_ = kmeans_features(img, group_weights(img.channel_names, img.channels, g.slope, g.temperature,
-                                                   g.illumination, g.humidity, g.other));
+    features_ = kmeans_features(
+        img,
+        group_weights(img.channel_names, img.channels, g.slope, g.temperature, g.illumination, g.humidity, g.other),
+        counted_);
     labels_.assign(img.domain.sample_count(), -1);
   }
 
@@ -56,8 +58,11 @@ class KMeansTile : public TileGraphTile {
       }
       return out;
     }
-    // The tally first: its bytes begin with `changed`, all that another_round reads.
-    kmeans_assign(features_, *image_, centres_, k_, counted_, labels_).put(out);
+    // The tally first: its bytes begin with `changed`, all that another_round reads. The raw sums go every round (a
+    // tile does not know which round is the last); the solve uses the last round's.
+    KMeansTally tally = kmeans_assign(features_, centres_, k_, labels_);
+    tally.raw = kmeans_raw_sums(features_, *image_, labels_, k_);
+    tally.put(out);
     bytes::put_vector(out, centres_);
     return out;
   }
@@ -76,7 +81,7 @@ class KMeansTile : public TileGraphTile {
     if (done) {
       counts_.resize(static_cast<std::size_t>(k_));
       for (auto& c : counts_) c = bytes::take<std::int64_t>(in, "k-means verdict");
-      raw_means_ = take_centres(in, cells, "k-means verdict");
+      raw_means_ = bytes::take_vector<double>(in, "k-means verdict");
     }
   }
 
@@ -180,7 +185,7 @@ class KMeansAcrossTiles : public TileGraphAlgorithm {
     bytes::put_vector(answer, centres);
     if (done) {
       for (std::int64_t c : total.counts) bytes::put(answer, c);
-      bytes::put_vector(answer, kmeans_raw_means(total, k_, channels));
+      bytes::put_vector(answer, kmeans_raw_means(total.raw, total.counts));
     }
     return std::vector<std::string>(messages.size(), answer);
   }
