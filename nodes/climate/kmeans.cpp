@@ -161,13 +161,13 @@ KMeansFeatures kmeans_features(const Image& features, const std::vector<double>&
   // of every assignment, sum and count (NaN propagates; it never becomes a cluster id).
   f.valid.assign(n, 1);
   f.tallied.assign(n, 0);
-  // Block by block, each block's exponent range right after its features (still in cache).
+  // Block by block, each block's floors right after its features (still in cache).
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
-  f.double_exact.assign(blocks * uc, 0);
+  f.fast_floor.assign(blocks * uc, 0.0f);
+  f.below_floor.assign(blocks * uc, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
     if (ctx) ctx->check_cancelled();
-    constexpr float kInf = std::numeric_limits<float>::infinity();
-    std::vector<float> lo(uc), hi(uc);  // per channel: the least positive and the largest magnitude
+    std::vector<float> hi(uc);  // per channel: the largest magnitude (NaN left out)
     for (std::size_t b = r.begin(); b != r.end(); ++b) {
       const std::size_t q0 = b * kBlock, q1 = std::min(n, (b + 1) * kBlock);
       for (std::size_t q = q0; q < q1; ++q) {
@@ -178,22 +178,19 @@ KMeansFeatures kmeans_features(const Image& features, const std::vector<double>&
         }
         f.tallied[q] = f.valid[q] && q % W < cw && q / W < chh;  // else another tile's sample
       }
-      std::fill(lo.begin(), lo.end(), kInf), std::fill(hi.begin(), hi.end(), 0.0f);
+      std::fill(hi.begin(), hi.end(), 0.0f);
       for (std::size_t q = q0; q < q1; ++q) {
         if (!f.tallied[q]) continue;
         const float* xq = f.x.data() + q * uc;
-        for (std::size_t c = 0; c < uc; ++c) {
-          const float a = std::abs(xq[c]);
-          lo[c] = std::min(lo[c], a > 0.0f ? a : kInf);
-          hi[c] = std::max(hi[c], a);
-        }
+        for (std::size_t c = 0; c < uc; ++c) hi[c] = std::max(hi[c], std::abs(xq[c]));
       }
-      for (std::size_t c = 0; c < uc; ++c) {
-        std::uint32_t lo_bits, hi_bits;
-        std::memcpy(&lo_bits, &lo[c], sizeof lo_bits), std::memcpy(&hi_bits, &hi[c], sizeof hi_bits);
-        const int lo_e = std::max(static_cast<int>(lo_bits >> 23), 1), hi_e = static_cast<int>(hi_bits >> 23);
-        // All zero; or finite (an infinite x is never fast) within 2^17 in exponent.
-        f.double_exact[b * uc + c] = hi[c] == 0.0f || (hi_e < 0xFF && hi_e - lo_e <= 17);
+      float* const floor = f.fast_floor.data() + b * uc;
+      std::uint8_t* const below = f.below_floor.data() + b * uc;
+      for (std::size_t c = 0; c < uc; ++c) floor[c] = exact_double_floor(hi[c], kmeans_block_bits);
+      for (std::size_t q = q0; q < q1; ++q) {
+        if (!f.tallied[q]) continue;
+        const float* xq = f.x.data() + q * uc;
+        for (std::size_t c = 0; c < uc; ++c) below[c] |= !(std::abs(xq[c]) >= floor[c]) && xq[c] != 0.0f;
       }
     }
   });
@@ -248,31 +245,34 @@ KMeansTally kmeans_assign(const KMeansFeatures& f, const std::vector<double>& ce
   for (std::size_t c = 0; c < uk; ++c)
     for (std::size_t ch = 0; ch < uc; ++ch) ct[ch * kp + c] = static_cast<float>(centres[c * uc + ch]);
   // Each thread tallies the blocks it gets; the exact sums make the total independent of how the blocks fall. Within
-  // a block a channel's sums go to doubles where the block's values make them exact (KMeansFeatures::double_exact),
-  // else to buckets of doubles (exact for up to FloatBuckets::kMaxAdds cells), moved into the clusters' exact sums at
-  // the block's end and before the buckets could take more.
+  // a block the values of a channel at or above its floor (KMeansFeatures::fast_floor) add up exactly in a double; the
+  // few below go to buckets of doubles (exact for up to FloatBuckets::kMaxAdds cells), moved into the clusters' exact
+  // sums before they could take more and at the end. The distances likewise, with a floor per block.
   static_assert(kBlock <= static_cast<std::size_t>(FloatBuckets::kMaxAdds));
   struct Local {
     KMeansTally tally;
-    std::vector<double> fast;        // k x channels, this block's sums
-    std::vector<FloatBuckets> slow;  // k x channels
-    FloatBuckets objective;
-    std::vector<char> touched;  // per cluster: members in the buckets since they were last moved
-    std::size_t pending = 0;    // cells since then
-    void move(std::size_t uc) {
+    std::vector<double> fast;        // k x channels, this block's sums at or above the floor
+    std::vector<FloatBuckets> rest;  // channels x k: the values below the floor
+    std::vector<char> touched;       // per channel: values in `rest` since they were last moved
+    FloatBuckets objective;          // the distances below the floor
+    std::size_t pending = 0;         // cells since then
+    void move(std::size_t uc, std::size_t uk) {
       objective.move_into(tally.objective);
-      for (std::size_t c = 0; c < touched.size(); ++c) {
-        if (!touched[c]) continue;
-        touched[c] = 0;
-        for (std::size_t ch = 0; ch < uc; ++ch) slow[c * uc + ch].move_into(tally.sums[c * uc + ch]);
+      for (std::size_t ch = 0; ch < uc; ++ch) {
+        if (!touched[ch]) continue;
+        touched[ch] = 0;
+        for (std::size_t c = 0; c < uk; ++c) rest[ch * uk + c].move_into(tally.sums[c * uc + ch]);
       }
       pending = 0;
     }
   };
   tbb::enumerable_thread_specific<Local> locals([&] {
-    return Local{KMeansTally(k, f.channels),         std::vector<double>(uk * uc, 0.0),
-                 std::vector<FloatBuckets>(uk * uc), FloatBuckets{},
-                 std::vector<char>(uk, 0),           0};
+    return Local{KMeansTally(k, f.channels),
+                 std::vector<double>(uk * uc, 0.0),
+                 std::vector<FloatBuckets>(uc * uk),
+                 std::vector<char>(uc, 0),
+                 FloatBuckets{},
+                 0};
   });
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -282,30 +282,18 @@ KMeansTally kmeans_assign(const KMeansFeatures& f, const std::vector<double>& ce
     std::int32_t best_of[kBlock];
     float dist_of[kBlock];
     std::int64_t members[64];
-    std::vector<std::size_t> slow;
     for (std::size_t b = r.begin(); b != r.end(); ++b) {
       const std::size_t q0 = b * kBlock, q1 = std::min(n, (b + 1) * kBlock), m = q1 - q0;
-      if (local.pending + m > static_cast<std::size_t>(FloatBuckets::kMaxAdds)) local.move(uc);
+      if (local.pending + m > static_cast<std::size_t>(FloatBuckets::kMaxAdds)) local.move(uc, uk);
       local.pending += m;
-      const std::uint8_t* exact = f.double_exact.data() + b * uc;
+      const float* const floor = f.fast_floor.data() + b * uc;
+      const std::uint8_t* const below = f.below_floor.data() + b * uc;
       const std::uint8_t* const tallied = f.tallied.data() + q0;
-      slow.clear();
-      for (std::size_t ch = 0; ch < uc; ++ch)
-        if (!exact[ch]) slow.push_back(ch);
       std::fill(members, members + uk, 0);
       nearest_centres(f.x.data() + q0 * uc, m, uc, ct.data(), kp, k, best_of, dist_of);
-      // The distances too add up exactly in a double when they lie within 2^17 of each other (as double_exact).
-      float lo = std::numeric_limits<float>::infinity(), hi = 0.0f;  // the least positive and the largest
-      for (std::size_t e = 0; e < m; ++e) {
-        const float d = dist_of[e];
-        lo = std::min(lo, d > 0.0f ? d : std::numeric_limits<float>::infinity());
-        hi = std::max(hi, d);
-      }
-      std::uint32_t lo_bits, hi_bits;
-      std::memcpy(&lo_bits, &lo, sizeof lo), std::memcpy(&hi_bits, &hi, sizeof hi);
-      const int lo_e = std::max(static_cast<int>(lo_bits >> 23), 1), hi_e = static_cast<int>(hi_bits >> 23);
-      // hi is 0 when every distance is (lo is then infinite); a NaN distance makes a NaN sum either way.
-      const bool objective_fast = hi == 0.0f || (hi_e < 0xFF && hi_e - lo_e <= 17);
+      float hi = 0.0f;  // the largest distance (NaN left out)
+      for (std::size_t e = 0; e < m; ++e) hi = std::max(hi, dist_of[e]);
+      const float objective_floor = exact_double_floor(hi, kmeans_block_bits);
       double objective = 0.0;
       for (std::size_t e = 0; e < m; ++e) {
         if (!f.valid[q0 + e]) continue;  // label stays -1
@@ -314,42 +302,56 @@ KMeansTally kmeans_assign(const KMeansFeatures& f, const std::vector<double>& ce
         labels[q0 + e] = best;
         if (!tallied[e]) continue;
         t.changed += changed;
-        if (objective_fast)
-          objective += dist_of[e];
+        const float d = dist_of[e];
+        if (d >= objective_floor)
+          objective += d;
         else
-          local.objective.add(dist_of[e]);
+          local.objective.add(d);
         ++members[best];
       }
-      // The sums, in a loop of their own (tight: the compiler vectorizes across the channels).
+      // The sums at or above the floors, in a loop of their own (tight: the compiler vectorizes across the channels);
+      // a value below its floor adds 0 there.
       double* const fast = local.fast.data();
       const float* const x = f.x.data() + q0 * uc;
-      for (std::size_t e = 0; e < m; ++e) {
-        if (!tallied[e]) continue;
-        double* d = fast + static_cast<std::size_t>(best_of[e]) * uc;
-        const float* xq = x + e * uc;
-        for (std::size_t ch = 0; ch < uc; ++ch) d[ch] += xq[ch];
-      }
-      if (!slow.empty())
+      const bool any_below = std::any_of(below, below + uc, [](std::uint8_t v) { return v != 0; });
+      if (!any_below) {
         for (std::size_t e = 0; e < m; ++e) {
           if (!tallied[e]) continue;
-          const std::size_t best = static_cast<std::size_t>(best_of[e]);
-          local.touched[best] = 1;
-          FloatBuckets* s = local.slow.data() + best * uc;
-          for (std::size_t ch : slow) s[ch].add(x[e * uc + ch]);
+          double* d = fast + static_cast<std::size_t>(best_of[e]) * uc;
+          const float* xq = x + e * uc;
+          for (std::size_t ch = 0; ch < uc; ++ch) d[ch] += xq[ch];
         }
+      } else {
+        for (std::size_t e = 0; e < m; ++e) {
+          if (!tallied[e]) continue;
+          double* d = fast + static_cast<std::size_t>(best_of[e]) * uc;
+          const float* xq = x + e * uc;
+          for (std::size_t ch = 0; ch < uc; ++ch) d[ch] += std::abs(xq[ch]) >= floor[ch] ? xq[ch] : 0.0f;
+        }
+        // The values below the floors, channel by channel (a channel's k buckets stay in cache).
+        for (std::size_t ch = 0; ch < uc; ++ch) {
+          if (!below[ch]) continue;
+          local.touched[ch] = 1;
+          FloatBuckets* const rest = local.rest.data() + ch * uk;
+          for (std::size_t e = 0; e < m; ++e) {
+            const float v = x[e * uc + ch];
+            if (tallied[e] && !(std::abs(v) >= floor[ch])) rest[best_of[e]].add(v);
+          }
+        }
+      }
       t.objective.add_exact(objective);
       for (std::size_t c = 0; c < uk; ++c) {
         if (!members[c]) continue;
         t.counts[c] += members[c];
         double* d = fast + c * uc;
         for (std::size_t ch = 0; ch < uc; ++ch) {
-          if (exact[ch]) t.sums[c * uc + ch].add_exact(d[ch]);
+          t.sums[c * uc + ch].add_exact(d[ch]);
           d[ch] = 0.0;
         }
       }
     }
   });
-  for (Local& l : locals) l.move(uc);
+  for (Local& l : locals) l.move(uc, uk);
   KMeansTally total(k, f.channels);
   for (const Local& l : locals) total.add(l.tally);
   return total;

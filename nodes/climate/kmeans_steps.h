@@ -29,12 +29,14 @@ struct KMeansFeatures {
   std::vector<float> x;    // cells x channels
   std::vector<char> valid;
   std::vector<std::uint8_t> tallied;  // per cell: valid and counted (the cells whose figures the tallies take in)
-  // Blocks of kmeans_block cells (in row order) x channels: 1 where the block's tallied values of the channel lie
-  // within 2^17 of each other in binary exponent, so that adding up to a block of them in double is exact (at most 24 +
-  // 17 + 12 bits from the least ulp up): the fast sums of kmeans_assign.
-  std::vector<std::uint8_t> double_exact;
+  // Blocks of kmeans_block cells (in row order) x channels: the block's tallied values of the channel of magnitude at
+  // least fast_floor add up exactly in a double, in any order (exact_double_floor); below_floor is 1 where a tallied
+  // value lies below it (non-zero, or NaN): only those go to the exact sums one by one (kmeans_assign).
+  std::vector<float> fast_floor;
+  std::vector<std::uint8_t> below_floor;
 };
-inline constexpr std::size_t kmeans_block = 4096;
+inline constexpr int kmeans_block_bits = 12;
+inline constexpr std::size_t kmeans_block = std::size_t{1} << kmeans_block_bits;
 // `counted`: the tallies take in the cells i < counted.x, j < counted.y (a tile counts the samples it shares with the
 // tiles after it only once: they are theirs); every cell by default.
 KMeansFeatures kmeans_features(const Image& features, const std::vector<double>& weights,
