@@ -245,9 +245,9 @@ TEST(KMeansTiles, ALostAnswerOrSharedSamplesCountedTwiceChangeTheReportAndTallie
       centres[static_cast<std::size_t>(k * 5 + ch)] = f.x[(static_cast<std::size_t>(cell.y) * 33 + cell.x) * 5 + ch];
   }
   std::vector<std::int32_t> labels(f.valid.size(), -1);
-  const KMeansTally all = kmeans_assign(f, *img, centres, c.k, {33, 29}, labels);
+  const KMeansTally all = kmeans_assign(f, centres, c.k, labels);
   std::vector<std::int32_t> again(f.valid.size(), -1);
-  const KMeansTally fewer = kmeans_assign(f, *img, centres, c.k, {32, 29}, again);
+  const KMeansTally fewer = kmeans_assign(kmeans_features(*img, p.weights, {32, 29}), centres, c.k, again);
   std::int64_t n_all = 0, n_fewer = 0;
   for (auto v : all.counts) n_all += v;
   for (auto v : fewer.counts) n_fewer += v;

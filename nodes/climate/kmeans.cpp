@@ -15,6 +15,7 @@
 #include "graph/heightfield.h"
 #include "graph/registry.h"
 #include "graph/report.h"
+#include "graph/tile_bytes.h"
 #include "nodes/climate/kmeans_steps.h"
 #include "nodes/common/categorical_palette.h"
 #include "nodes/common/hash.h"
@@ -145,47 +146,51 @@ std::vector<double> group_weights(const std::vector<std::string>& names, int cha
   return w;
 }
 
-KMeansFeatures kmeans_features(const Image& features, const std::vector<double>& weights, const ExecContext* ctx) {
+KMeansFeatures kmeans_features(const Image& features, const std::vector<double>& weights, glm::ivec2 counted,
+                               const ExecContext* ctx) {
   KMeansFeatures f;
   f.width = features.width(), f.height = features.height(), f.channels = features.channels;
   const std::size_t n = features.domain.sample_count(), uc = static_cast<std::size_t>(features.channels);
+  const std::size_t W = static_cast<std::size_t>(f.width);
+  const std::size_t cw = static_cast<std::size_t>(std::max(0, counted.x)),
+                    chh = static_cast<std::size_t>(std::max(0, counted.y));
   f.sw.assign(uc, 1.0);
   for (std::size_t c = 0; c < uc && c < weights.size(); ++c) f.sw[c] = std::sqrt(std::max(0.0, weights[c]));
   f.x.resize(n * uc);
   // A cell with a NaN or infinite feature belongs to no cluster (label -1, NaN in the output): it is left out
   // of every assignment, sum and count (NaN propagates; it never becomes a cluster id).
   f.valid.assign(n, 1);
-  // Block by block, each block's exponent range right after its features (still in cache).
+  f.tallied.assign(n, 0);
+  // Block by block, each block's floors right after its features (still in cache).
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
-  f.double_exact.assign(blocks * uc, 0);
+  f.fast_floor.assign(blocks * uc, 0.0f);
+  f.below_floor.assign(blocks * uc, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
     if (ctx) ctx->check_cancelled();
-    constexpr float kInf = std::numeric_limits<float>::infinity();
-    std::vector<float> lo(uc), hi(uc);  // per channel: the least positive and the largest magnitude
+    std::vector<float> hi(uc);  // per channel: the largest magnitude (NaN left out)
     for (std::size_t b = r.begin(); b != r.end(); ++b) {
       const std::size_t q0 = b * kBlock, q1 = std::min(n, (b + 1) * kBlock);
-      for (std::size_t q = q0; q < q1; ++q)
+      for (std::size_t q = q0; q < q1; ++q) {
         for (std::size_t c = 0; c < uc; ++c) {
           const float v = features.data[q * uc + c];
           f.x[q * uc + c] = std::isfinite(v) ? static_cast<float>(v * f.sw[c]) : 0.0f;
           if (!std::isfinite(v)) f.valid[q] = 0;
         }
-      std::fill(lo.begin(), lo.end(), kInf), std::fill(hi.begin(), hi.end(), 0.0f);
-      for (std::size_t q = q0; q < q1; ++q) {
-        if (!f.valid[q]) continue;
-        const float* xq = f.x.data() + q * uc;
-        for (std::size_t c = 0; c < uc; ++c) {
-          const float a = std::abs(xq[c]);
-          lo[c] = std::min(lo[c], a > 0.0f ? a : kInf);
-          hi[c] = std::max(hi[c], a);
-        }
+        f.tallied[q] = f.valid[q] && q % W < cw && q / W < chh;  // else another tile's sample
       }
-      for (std::size_t c = 0; c < uc; ++c) {
-        std::uint32_t lo_bits, hi_bits;
-        std::memcpy(&lo_bits, &lo[c], sizeof lo_bits), std::memcpy(&hi_bits, &hi[c], sizeof hi_bits);
-        const int lo_e = std::max(static_cast<int>(lo_bits >> 23), 1), hi_e = static_cast<int>(hi_bits >> 23);
-        // All zero; or finite (an infinite x is never fast) within 2^17 in exponent.
-        f.double_exact[b * uc + c] = hi[c] == 0.0f || (hi_e < 0xFF && hi_e - lo_e <= 17);
+      std::fill(hi.begin(), hi.end(), 0.0f);
+      for (std::size_t q = q0; q < q1; ++q) {
+        if (!f.tallied[q]) continue;
+        const float* xq = f.x.data() + q * uc;
+        for (std::size_t c = 0; c < uc; ++c) hi[c] = std::max(hi[c], std::abs(xq[c]));
+      }
+      float* const floor = f.fast_floor.data() + b * uc;
+      std::uint8_t* const below = f.below_floor.data() + b * uc;
+      for (std::size_t c = 0; c < uc; ++c) floor[c] = exact_double_floor(hi[c], kmeans_block_bits);
+      for (std::size_t q = q0; q < q1; ++q) {
+        if (!f.tallied[q]) continue;
+        const float* xq = f.x.data() + q * uc;
+        for (std::size_t c = 0; c < uc; ++c) below[c] |= !(std::abs(xq[c]) >= floor[c]) && xq[c] != 0.0f;
       }
     }
   });
@@ -193,101 +198,80 @@ KMeansFeatures kmeans_features(const Image& features, const std::vector<double>&
 }
 
 KMeansTally::KMeansTally(int k, int channels)
-    : counts(static_cast<std::size_t>(k), 0),
-      sums(static_cast<std::size_t>(k) * static_cast<std::size_t>(channels)),
-      raw(sums.size()) {}
+    : counts(static_cast<std::size_t>(k), 0), sums(static_cast<std::size_t>(k) * static_cast<std::size_t>(channels)) {}
 
 void KMeansTally::add(const KMeansTally& o) {
   for (std::size_t c = 0; c < counts.size(); ++c) counts[c] += o.counts[c];
   changed += o.changed;
   objective.add(o.objective);
   for (std::size_t e = 0; e < sums.size(); ++e) sums[e].add(o.sums[e]);
-  if (!o.with_raw) return;
-  with_raw = true;
+  if (raw.empty()) raw.resize(o.raw.size());
+  if (raw.size() != o.raw.size()) throw std::invalid_argument("k-means tally: different zero-weight channels");
   for (std::size_t e = 0; e < raw.size(); ++e) raw[e].add(o.raw[e]);
 }
 
 void KMeansTally::put(std::string& out) const {
-  auto put64 = [&](std::int64_t v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); };
-  put64(changed);
-  for (std::int64_t c : counts) put64(c);
+  bytes::put(out, changed);
+  for (std::int64_t c : counts) bytes::put(out, c);
   objective.put(out);
   for (const auto& s : sums) s.put(out);
-  out.push_back(static_cast<char>(with_raw));
-  if (with_raw)
-    for (const auto& s : raw) s.put(out);
+  bytes::put(out, static_cast<std::uint64_t>(raw.size()));
+  for (const auto& s : raw) s.put(out);
 }
 
 KMeansTally KMeansTally::take(std::string_view& in, int k, int channels) {
+  constexpr const char* what = "k-means tally";
   KMeansTally t(k, channels);
-  auto take64 = [&]() {
-    std::int64_t v;
-    if (in.size() < sizeof v) throw std::invalid_argument("k-means tally: truncated");
-    std::memcpy(&v, in.data(), sizeof v);
-    in.remove_prefix(sizeof v);
-    return v;
-  };
-  t.changed = take64();
-  for (auto& c : t.counts) c = take64();
+  t.changed = bytes::take<std::int64_t>(in, what);
+  for (auto& c : t.counts) c = bytes::take<std::int64_t>(in, what);
   bool ok = t.objective.take(in);
   for (auto& s : t.sums) ok = ok && s.take(in);
-  ok = ok && !in.empty();
-  if (ok) {
-    t.with_raw = in.front() != 0;
-    in.remove_prefix(1);
-  }
-  if (t.with_raw)
-    for (auto& s : t.raw) ok = ok && s.take(in);
   if (!ok) throw std::invalid_argument("k-means tally: truncated");
+  const auto raw = bytes::take<std::uint64_t>(in, what);
+  if (raw > t.sums.size() || raw % t.counts.size() != 0)
+    throw std::invalid_argument("k-means tally: a bad number of raw sums");
+  t.raw.resize(static_cast<std::size_t>(raw));
+  for (auto& s : t.raw)
+    if (!s.take(in)) throw std::invalid_argument("k-means tally: truncated");
   return t;
 }
 
-KMeansTally kmeans_assign(const KMeansFeatures& f, const Image& raw, const std::vector<double>& centres, int k,
-                          glm::ivec2 counted, std::vector<std::int32_t>& labels, const ExecContext* ctx) {
+KMeansTally kmeans_assign(const KMeansFeatures& f, const std::vector<double>& centres, int k,
+                          std::vector<std::int32_t>& labels, const ExecContext* ctx) {
   const std::size_t n = f.valid.size(), uc = static_cast<std::size_t>(f.channels), uk = static_cast<std::size_t>(k);
   // Distances in float, vectorised across clusters: centres transposed to [channel][cluster], padded to 4.
   const std::size_t kp = (uk + 3) & ~std::size_t{3};
   std::vector<float> ct(uc * kp, 0.0f);
   for (std::size_t c = 0; c < uk; ++c)
     for (std::size_t ch = 0; ch < uc; ++ch) ct[ch * kp + c] = static_cast<float>(centres[c * uc + ch]);
-  std::vector<std::size_t> unweighted;  // channels whose unscaled features are summed for the report
-  for (std::size_t ch = 0; ch < uc; ++ch)
-    if (!(f.sw[ch] > 0.0)) unweighted.push_back(ch);
-  const std::size_t W = static_cast<std::size_t>(f.width);
-  const std::size_t cw = static_cast<std::size_t>(std::max(0, counted.x)),
-                    chh = static_cast<std::size_t>(std::max(0, counted.y));
   // Each thread tallies the blocks it gets; the exact sums make the total independent of how the blocks fall. Within
-  // a block a channel's sums go to doubles where the block's values make them exact (KMeansFeatures::double_exact),
-  // else to buckets of doubles (exact for up to FloatBuckets::kMaxAdds cells), moved into the clusters' exact sums at
-  // the block's end and before the buckets could take more.
+  // a block the values of a channel at or above its floor (KMeansFeatures::fast_floor) add up exactly in a double; the
+  // few below go to buckets of doubles (exact for up to FloatBuckets::kMaxAdds cells), moved into the clusters' exact
+  // sums before they could take more and at the end. The distances likewise, with a floor per block.
   static_assert(kBlock <= static_cast<std::size_t>(FloatBuckets::kMaxAdds));
   struct Local {
     KMeansTally tally;
-    std::vector<double> fast;             // k x channels, this block's sums
-    std::vector<FloatBuckets> slow, raw;  // k x channels
-    FloatBuckets objective;
-    std::vector<char> touched;  // per cluster: members in the buckets since they were last moved
-    std::size_t pending = 0;    // cells since then
-    void move(std::size_t uc, const std::vector<std::size_t>& unweighted) {
+    std::vector<double> fast;        // k x channels, this block's sums at or above the floor
+    std::vector<FloatBuckets> rest;  // channels x k: the values below the floor
+    std::vector<char> touched;       // per channel: values in `rest` since they were last moved
+    FloatBuckets objective;          // the distances below the floor
+    std::size_t pending = 0;         // cells since then
+    void move(std::size_t uc, std::size_t uk) {
       objective.move_into(tally.objective);
-      for (std::size_t c = 0; c < touched.size(); ++c) {
-        if (!touched[c]) continue;
-        touched[c] = 0;
-        for (std::size_t ch = 0; ch < uc; ++ch) slow[c * uc + ch].move_into(tally.sums[c * uc + ch]);
-        for (std::size_t ch : unweighted) raw[c * uc + ch].move_into(tally.raw[c * uc + ch]);
+      for (std::size_t ch = 0; ch < uc; ++ch) {
+        if (!touched[ch]) continue;
+        touched[ch] = 0;
+        for (std::size_t c = 0; c < uk; ++c) rest[ch * uk + c].move_into(tally.sums[c * uc + ch]);
       }
       pending = 0;
     }
   };
-  KMeansTally empty(k, f.channels);
-  empty.with_raw = !unweighted.empty();
   tbb::enumerable_thread_specific<Local> locals([&] {
-    return Local{empty,
+    return Local{KMeansTally(k, f.channels),
                  std::vector<double>(uk * uc, 0.0),
-                 std::vector<FloatBuckets>(uk * uc),
-                 std::vector<FloatBuckets>(unweighted.empty() ? 0 : uk * uc),
+                 std::vector<FloatBuckets>(uc * uk),
+                 std::vector<char>(uc, 0),
                  FloatBuckets{},
-                 std::vector<char>(uk, 0),
                  0};
   });
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
@@ -297,86 +281,103 @@ KMeansTally kmeans_assign(const KMeansFeatures& f, const Image& raw, const std::
     KMeansTally& t = local.tally;
     std::int32_t best_of[kBlock];
     float dist_of[kBlock];
-    std::uint8_t keep[kBlock];  // valid and counted
     std::int64_t members[64];
-    std::vector<std::size_t> slow;
     for (std::size_t b = r.begin(); b != r.end(); ++b) {
-      const std::size_t q0 = b * kBlock, q1 = std::min(n, (b + 1) * kBlock);
-      if (local.pending + (q1 - q0) > static_cast<std::size_t>(FloatBuckets::kMaxAdds)) local.move(uc, unweighted);
-      local.pending += q1 - q0;
-      const std::uint8_t* exact = f.double_exact.data() + b * uc;
-      slow.clear();
-      for (std::size_t ch = 0; ch < uc; ++ch)
-        if (!exact[ch]) slow.push_back(ch);
+      const std::size_t q0 = b * kBlock, q1 = std::min(n, (b + 1) * kBlock), m = q1 - q0;
+      if (local.pending + m > static_cast<std::size_t>(FloatBuckets::kMaxAdds)) local.move(uc, uk);
+      local.pending += m;
+      const float* const floor = f.fast_floor.data() + b * uc;
+      const std::uint8_t* const below = f.below_floor.data() + b * uc;
+      const std::uint8_t* const tallied = f.tallied.data() + q0;
       std::fill(members, members + uk, 0);
-      nearest_centres(f.x.data() + q0 * uc, q1 - q0, uc, ct.data(), kp, k, best_of, dist_of);
-      // The distances too add up exactly in a double when they lie within 2^17 of each other (as double_exact).
-      float lo = std::numeric_limits<float>::infinity(), hi = 0.0f;  // the least positive and the largest
-      for (std::size_t i = 0; i < q1 - q0; ++i) {
-        const float d = dist_of[i];
-        lo = std::min(lo, d > 0.0f ? d : std::numeric_limits<float>::infinity());
-        hi = std::max(hi, d);
-      }
-      std::uint32_t lo_bits, hi_bits;
-      std::memcpy(&lo_bits, &lo, sizeof lo), std::memcpy(&hi_bits, &hi, sizeof hi);
-      const int lo_e = std::max(static_cast<int>(lo_bits >> 23), 1), hi_e = static_cast<int>(hi_bits >> 23);
-      // hi is 0 when every distance is (lo is then infinite); a NaN distance makes a NaN sum either way.
-      const bool objective_fast = hi == 0.0f || (hi_e < 0xFF && hi_e - lo_e <= 17);
+      nearest_centres(f.x.data() + q0 * uc, m, uc, ct.data(), kp, k, best_of, dist_of);
+      float hi = 0.0f;  // the largest distance (NaN left out)
+      for (std::size_t e = 0; e < m; ++e) hi = std::max(hi, dist_of[e]);
+      const float objective_floor = exact_double_floor(hi, kmeans_block_bits);
       double objective = 0.0;
-      std::size_t i = q0 % W, j = q0 / W;  // the cell's column and row
-      for (std::size_t q = q0; q < q1; ++q) {
-        const bool counted = i < cw && j < chh;  // else another tile's sample
-        if (++i == W) i = 0, ++j;
-        keep[q - q0] = 0;
-        if (!f.valid[q]) continue;  // label stays -1
-        const int best = best_of[q - q0];
-        const bool changed = labels[q] != best;
-        labels[q] = best;
-        if (!counted) continue;
-        keep[q - q0] = 1;
+      for (std::size_t e = 0; e < m; ++e) {
+        if (!f.valid[q0 + e]) continue;  // label stays -1
+        const int best = best_of[e];
+        const bool changed = labels[q0 + e] != best;
+        labels[q0 + e] = best;
+        if (!tallied[e]) continue;
         t.changed += changed;
-        if (objective_fast)
-          objective += dist_of[q - q0];
+        const float d = dist_of[e];
+        if (d >= objective_floor)
+          objective += d;
         else
-          local.objective.add(dist_of[q - q0]);
+          local.objective.add(d);
         ++members[best];
       }
-      // The sums, in a loop of their own (tight: the compiler vectorizes across the channels).
+      // The sums at or above the floors, in a loop of their own (tight: the compiler vectorizes across the channels);
+      // a value below its floor adds 0 there.
       double* const fast = local.fast.data();
       const float* const x = f.x.data() + q0 * uc;
-      for (std::size_t e = 0; e < q1 - q0; ++e) {
-        if (!keep[e]) continue;
-        double* d = fast + static_cast<std::size_t>(best_of[e]) * uc;
-        const float* xq = x + e * uc;
-        for (std::size_t ch = 0; ch < uc; ++ch) d[ch] += xq[ch];
-      }
-      if (!slow.empty() || !unweighted.empty())
-        for (std::size_t e = 0; e < q1 - q0; ++e) {
-          if (!keep[e]) continue;
-          const std::size_t best = static_cast<std::size_t>(best_of[e]);
-          local.touched[best] = 1;
-          FloatBuckets* s = local.slow.data() + best * uc;
-          for (std::size_t ch : slow) s[ch].add(x[e * uc + ch]);
-          if (unweighted.empty()) continue;
-          FloatBuckets* rs = local.raw.data() + best * uc;
-          for (std::size_t ch : unweighted) rs[ch].add(raw.data[(q0 + e) * uc + ch]);  // finite: the cell is valid
+      const bool any_below = std::any_of(below, below + uc, [](std::uint8_t v) { return v != 0; });
+      if (!any_below) {
+        for (std::size_t e = 0; e < m; ++e) {
+          if (!tallied[e]) continue;
+          double* d = fast + static_cast<std::size_t>(best_of[e]) * uc;
+          const float* xq = x + e * uc;
+          for (std::size_t ch = 0; ch < uc; ++ch) d[ch] += xq[ch];
         }
+      } else {
+        for (std::size_t e = 0; e < m; ++e) {
+          if (!tallied[e]) continue;
+          double* d = fast + static_cast<std::size_t>(best_of[e]) * uc;
+          const float* xq = x + e * uc;
+          for (std::size_t ch = 0; ch < uc; ++ch) d[ch] += std::abs(xq[ch]) >= floor[ch] ? xq[ch] : 0.0f;
+        }
+        // The values below the floors, channel by channel (a channel's k buckets stay in cache).
+        for (std::size_t ch = 0; ch < uc; ++ch) {
+          if (!below[ch]) continue;
+          local.touched[ch] = 1;
+          FloatBuckets* const rest = local.rest.data() + ch * uk;
+          for (std::size_t e = 0; e < m; ++e) {
+            const float v = x[e * uc + ch];
+            if (tallied[e] && !(std::abs(v) >= floor[ch])) rest[best_of[e]].add(v);
+          }
+        }
+      }
       t.objective.add_exact(objective);
       for (std::size_t c = 0; c < uk; ++c) {
         if (!members[c]) continue;
         t.counts[c] += members[c];
-        double* d = local.fast.data() + c * uc;
+        double* d = fast + c * uc;
         for (std::size_t ch = 0; ch < uc; ++ch) {
-          if (exact[ch]) t.sums[c * uc + ch].add_exact(d[ch]);
+          t.sums[c * uc + ch].add_exact(d[ch]);
           d[ch] = 0.0;
         }
       }
     }
   });
-  for (Local& l : locals) l.move(uc, unweighted);
+  for (Local& l : locals) l.move(uc, uk);
   KMeansTally total(k, f.channels);
-  total.with_raw = !unweighted.empty();
   for (const Local& l : locals) total.add(l.tally);
+  return total;
+}
+
+std::vector<ExactFloatSum> kmeans_raw_sums(const KMeansFeatures& f, const Image& raw,
+                                           const std::vector<std::int32_t>& labels, int k, const ExecContext* ctx) {
+  const std::size_t uc = static_cast<std::size_t>(f.channels), uk = static_cast<std::size_t>(k);
+  std::vector<std::size_t> zero;  // the zero-weight channels
+  for (std::size_t ch = 0; ch < uc; ++ch)
+    if (!(f.sw[ch] > 0.0)) zero.push_back(ch);
+  if (zero.empty()) return {};
+  const std::size_t nz = zero.size(), n = f.tallied.size();
+  tbb::enumerable_thread_specific<std::vector<ExactFloatSum>> locals(uk * nz);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, kBlock), [&](const tbb::blocked_range<std::size_t>& r) {
+    if (ctx) ctx->check_cancelled();
+    ExactFloatSum* const sums = locals.local().data();
+    for (std::size_t q = r.begin(); q != r.end(); ++q) {
+      if (!f.tallied[q]) continue;
+      ExactFloatSum* s = sums + static_cast<std::size_t>(labels[q]) * nz;
+      for (std::size_t i = 0; i < nz; ++i) s[i].add(raw.data[q * uc + zero[i]]);  // finite: the cell is valid
+    }
+  });
+  std::vector<ExactFloatSum> total(uk * nz);
+  for (const auto& l : locals)
+    for (std::size_t e = 0; e < total.size(); ++e) total[e].add(l[e]);
   return total;
 }
 
@@ -388,25 +389,28 @@ void kmeans_update(const KMeansTally& t, int k, int channels, std::vector<double
         centres[c * uc + ch] = t.sums[c * uc + ch].value() / static_cast<double>(t.counts[c]);
 }
 
-std::vector<double> kmeans_raw_means(const KMeansTally& t, int k, int channels) {
-  const std::size_t uc = static_cast<std::size_t>(channels);
-  std::vector<double> m(static_cast<std::size_t>(k) * uc, 0.0);
-  for (std::size_t c = 0; c < static_cast<std::size_t>(k); ++c)
-    if (t.counts[c] > 0)
-      for (std::size_t ch = 0; ch < uc; ++ch)
-        m[c * uc + ch] = t.raw[c * uc + ch].value() / static_cast<double>(t.counts[c]);
+std::vector<double> kmeans_raw_means(const std::vector<ExactFloatSum>& raw, const std::vector<std::int64_t>& counts) {
+  std::vector<double> m(raw.size(), 0.0);
+  const std::size_t per_cluster = counts.empty() ? 0 : raw.size() / counts.size();
+  for (std::size_t c = 0; c < counts.size(); ++c)
+    if (counts[c] > 0)
+      for (std::size_t i = 0; i < per_cluster; ++i)
+        m[c * per_cluster + i] = raw[c * per_cluster + i].value() / static_cast<double>(counts[c]);
   return m;
 }
 
 void kmeans_finish(const std::vector<std::int64_t>& counts, const std::vector<double>& centres,
                    const std::vector<double>& raw_means, const std::vector<double>& sw, KMeansResult& r) {
   const std::size_t uc = sw.size(), uk = counts.size();
+  const std::size_t zero =
+      static_cast<std::size_t>(std::count_if(sw.begin(), sw.end(), [](double w) { return !(w > 0.0); }));
+  if (raw_means.size() != uk * zero) throw std::invalid_argument("k-means: raw means of other channels");
   r.counts = counts;
   r.centres.resize(uk * uc);
   // With a zero weight a channel's centre is the plain mean of its members.
   for (std::size_t c = 0; c < uk; ++c)
-    for (std::size_t ch = 0; ch < uc; ++ch)
-      r.centres[c * uc + ch] = sw[ch] > 0.0 ? centres[c * uc + ch] / sw[ch] : raw_means[c * uc + ch];
+    for (std::size_t ch = 0, i = 0; ch < uc; ++ch)
+      r.centres[c * uc + ch] = sw[ch] > 0.0 ? centres[c * uc + ch] / sw[ch] : raw_means[c * zero + i++];
 }
 
 glm::ivec2 kmeans_diagonal_cell(int c, int k, int width, int height) {
@@ -422,7 +426,8 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
   if (p.max_iterations < 1) throw NodeError("k-means: max_iterations must be at least 1");
   const int k = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(p.k), n));
   const std::size_t uc = static_cast<std::size_t>(C), uk = static_cast<std::size_t>(k);
-  const KMeansFeatures f = kmeans_features(features, p.weights, ctx);
+  const int W = features.width(), H = features.height();
+  const KMeansFeatures f = kmeans_features(features, p.weights, {W, H}, ctx);
   const std::vector<float>& x = f.x;
   const std::vector<char>& valid = f.valid;
   auto dist2 = [&](std::size_t q, const double* centre) {
@@ -440,7 +445,6 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
   auto set_centre = [&](int c, std::size_t q) {
     for (std::size_t ch = 0; ch < uc; ++ch) centres[static_cast<std::size_t>(c) * uc + ch] = x[q * uc + ch];
   };
-  const int W = features.width(), H = features.height();
   if (p.init == KMeansInit::Diagonal) {
     for (int c = 0; c < k; ++c) {
       const glm::ivec2 cell = kmeans_diagonal_cell(c, k, W, H);
@@ -480,7 +484,7 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
   res.labels.assign(n, -1);
   KMeansTally last(k, C);
   for (int it = 0; it < p.max_iterations; ++it) {
-    last = kmeans_assign(f, features, centres, k, {W, H}, res.labels, ctx);
+    last = kmeans_assign(f, centres, k, res.labels, ctx);
     res.objective.push_back(last.objective.value());
     res.iterations = it + 1;
     if (kmeans_converged(last.changed, p.tolerance, n)) {
@@ -490,7 +494,8 @@ KMeansResult kmeans(const Image& features, const KMeansParams& p, const ExecCont
     kmeans_update(last, k, C, centres);
     if (ctx) ctx->progress(static_cast<double>(it + 1) / p.max_iterations);
   }
-  kmeans_finish(last.counts, centres, kmeans_raw_means(last, k, C), f.sw, res);
+  kmeans_finish(last.counts, centres, kmeans_raw_means(kmeans_raw_sums(f, features, res.labels, k, ctx), last.counts),
+                f.sw, res);
   return res;
 }
 

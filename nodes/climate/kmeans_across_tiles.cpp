@@ -1,7 +1,6 @@
 #include "nodes/climate/kmeans_across_tiles.h"
 
 #include <algorithm>
-#include <cstring>
 #include <stdexcept>
 
 #include "graph/registry.h"
@@ -18,42 +17,29 @@ namespace {
 // end, the counts and the means of the zero-weight channels). A tile owns the samples it holds but for the last
 // column and row it shares with the tiles after it (tiles share their border samples, cli/tiling.h).
 
-void put_doubles(std::string& out, const std::vector<double>& v) {
-  out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double));
-}
-
-std::vector<double> take_doubles(std::string_view& in, std::size_t count, const char* what) {
-  std::vector<double> v(count);
-  if (in.size() < count * sizeof(double)) throw std::invalid_argument(std::string(what) + ": truncated");
-  std::memcpy(v.data(), in.data(), count * sizeof(double));
-  in.remove_prefix(count * sizeof(double));
+// k x channels centres; throws std::invalid_argument naming `what` on bytes that do not hold them.
+std::vector<double> take_centres(std::string_view& in, std::size_t count, const char* what) {
+  auto v = bytes::take_vector<double>(in, what);
+  if (v.size() != count) throw std::invalid_argument(std::string(what) + ": a bad number of centres");
   return v;
 }
 
-// What every tile takes from a round's solve.
-struct Verdict {
-  bool done = false, converged = false;
-  double objective = 0.0;
-  std::vector<double> centres;       // k x channels, scaled units
-  std::vector<std::int64_t> counts;  // per cluster (at the end)
-  std::vector<double> raw_means;     // k x channels (at the end)
-};
-
 class KMeansTile : public TileGraphTile {
  public:
-  KMeansTile(ImagePtr image, const KMeansParams& p, const KMeansGroupWeights& g, const Domain& whole, int k)
+  KMeansTile(ImagePtr image, const KMeansGroupWeights& g, const Domain& whole, int k)
       : image_(std::move(image)), k_(k) {
     const Image& img = *image_;
     if (img.channels < 1) throw NodeError("k-means: the image has no channels");
-    features_ = kmeans_features(img, group_weights(img.channel_names, img.channels, g.slope, g.temperature,
-                                                   g.illumination, g.humidity, g.other));
-    labels_.assign(img.domain.sample_count(), -1);
     const glm::ivec2 at = img.domain.first - whole.first, size = img.domain.resolution;
     counted_ = {at.x + size.x == whole.resolution.x ? size.x : size.x - 1,
                 at.y + size.y == whole.resolution.y ? size.y : size.y - 1};
     at_ = at;
     whole_size_ = whole.resolution;
-    (void)p;
+    features_ = kmeans_features(
+        img,
+        group_weights(img.channel_names, img.channels, g.slope, g.temperature, g.illumination, g.humidity, g.other),
+        counted_);
+    labels_.assign(img.domain.sample_count(), -1);
   }
 
   std::string message(int round) override {
@@ -67,30 +53,35 @@ class KMeansTile : public TileGraphTile {
         bytes::put(out, static_cast<std::int32_t>(c));
         const std::size_t q = static_cast<std::size_t>(cell.y) * static_cast<std::size_t>(features_.width) +
                               static_cast<std::size_t>(cell.x);
-        out.append(reinterpret_cast<const char*>(features_.x.data() + q * uc), uc * sizeof(float));
+        const float* x = features_.x.data() + q * uc;
+        bytes::put_vector(out, std::vector<float>(x, x + uc));
       }
       return out;
     }
-    put_doubles(out, centres_);
-    kmeans_assign(features_, *image_, centres_, k_, counted_, labels_).put(out);
+    // The tally first: its bytes begin with `changed`, all that another_round reads. The raw sums go every round (a
+    // tile does not know which round is the last); the solve uses the last round's.
+    KMeansTally tally = kmeans_assign(features_, centres_, k_, labels_);
+    tally.raw = kmeans_raw_sums(features_, *image_, labels_, k_);
+    tally.put(out);
+    bytes::put_vector(out, centres_);
     return out;
   }
 
   void answer(int round, std::string_view in) override {
     const std::size_t cells = static_cast<std::size_t>(k_) * static_cast<std::size_t>(features_.channels);
     if (round == 0) {
-      centres_ = take_doubles(in, cells, "k-means centres");
+      centres_ = take_centres(in, cells, "k-means centres");
       return;
     }
     const auto done = bytes::take<std::uint8_t>(in, "k-means verdict");
     converged_ = bytes::take<std::uint8_t>(in, "k-means verdict") != 0;
     objective_.push_back(bytes::take<double>(in, "k-means verdict"));
     iterations_ = round;
-    centres_ = take_doubles(in, cells, "k-means verdict");
+    centres_ = take_centres(in, cells, "k-means verdict");
     if (done) {
       counts_.resize(static_cast<std::size_t>(k_));
       for (auto& c : counts_) c = bytes::take<std::int64_t>(in, "k-means verdict");
-      raw_means_ = take_doubles(in, cells, "k-means verdict");
+      raw_means_ = bytes::take_vector<double>(in, "k-means verdict");
     }
   }
 
@@ -133,14 +124,18 @@ class KMeansAcrossTiles : public TileGraphAlgorithm {
   bool another_round(int round, const std::vector<std::string>& messages) const override {
     if (round == 0) return true;
     std::int64_t changed = 0;
-    for (const auto& m : messages) changed += tally_of(m).changed;
-    return !kmeans_converged(changed, p_.tolerance, whole_.sample_count()) && round < p_.max_iterations;
+    for (const auto& m : messages) {
+      std::string_view in(m);
+      bytes::take<std::int32_t>(in, "k-means tally");  // the channel count
+      changed += bytes::take<std::int64_t>(in, "k-means tally");
+    }
+    return !finished(round, changed);
   }
 
   std::unique_ptr<TileGraphTile> start(const std::vector<PortValue>& inputs) const override {
     const auto* in = inputs.empty() ? nullptr : std::get_if<ImagePtr>(&inputs[0]);
     if (!in || !*in) throw std::invalid_argument("KMeansClusters across tiles needs an image input");
-    return std::make_unique<KMeansTile>(*in, p_, g_, whole_, k_);
+    return std::make_unique<KMeansTile>(*in, g_, whole_, k_);
   }
 
   std::vector<std::string> solve(int round, const std::vector<std::string>& messages) const override {
@@ -157,11 +152,9 @@ class KMeansAcrossTiles : public TileGraphAlgorithm {
           throw std::invalid_argument("k-means across tiles: tiles with different channel counts");
         while (!in.empty()) {
           const auto c = bytes::take<std::int32_t>(in, "k-means centres");
-          if (c < 0 || c >= k_ || in.size() < uc * sizeof(float))
+          const auto x = bytes::take_vector<float>(in, "k-means centres");
+          if (c < 0 || c >= k_ || x.size() != uc)
             throw std::invalid_argument("k-means across tiles: a bad initial centre");
-          std::vector<float> x(uc);
-          std::memcpy(x.data(), in.data(), uc * sizeof(float));
-          in.remove_prefix(uc * sizeof(float));
           std::copy(x.begin(), x.end(),
                     centres.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(c) * uc));
           ++found[static_cast<std::size_t>(c)];
@@ -169,7 +162,7 @@ class KMeansAcrossTiles : public TileGraphAlgorithm {
       }
       if (std::any_of(found.begin(), found.end(), [](int f) { return f != 1; }))
         throw std::invalid_argument("k-means across tiles: an initial centre's cell owned by no tile or by two");
-      put_doubles(answer, centres);
+      bytes::put_vector(answer, centres);
       return std::vector<std::string>(messages.size(), answer);
     }
     KMeansTally total(k_, channels);
@@ -178,21 +171,21 @@ class KMeansAcrossTiles : public TileGraphAlgorithm {
       std::string_view in(messages[t]);
       if (bytes::take<std::int32_t>(in, "k-means tally") != channels)
         throw std::invalid_argument("k-means across tiles: tiles with different channel counts");
-      auto held = take_doubles(in, uk * uc, "k-means tally");
-      if (t == 0) centres = std::move(held);
       total.add(KMeansTally::take(in, k_, channels));
+      auto held = take_centres(in, uk * uc, "k-means tally");
+      if (t == 0) centres = std::move(held);
       if (!in.empty()) throw std::invalid_argument("k-means tally: trailing bytes");
     }
     const bool converged = kmeans_converged(total.changed, p_.tolerance, whole_.sample_count());
-    const bool done = converged || round >= p_.max_iterations;
+    const bool done = finished(round, total.changed);
     if (!converged) kmeans_update(total, k_, channels, centres);
     bytes::put(answer, static_cast<std::uint8_t>(done));
     bytes::put(answer, static_cast<std::uint8_t>(converged));
     bytes::put(answer, total.objective.value());
-    put_doubles(answer, centres);
+    bytes::put_vector(answer, centres);
     if (done) {
       for (std::int64_t c : total.counts) bytes::put(answer, c);
-      put_doubles(answer, kmeans_raw_means(total, k_, channels));
+      bytes::put_vector(answer, kmeans_raw_means(total.raw, total.counts));
     }
     return std::vector<std::string>(messages.size(), answer);
   }
@@ -204,11 +197,9 @@ class KMeansAcrossTiles : public TileGraphAlgorithm {
     if (c < 1) throw std::invalid_argument("k-means across tiles: an image without channels");
     return c;
   }
-  KMeansTally tally_of(const std::string& m) const {
-    std::string_view in(m);
-    const int channels = bytes::take<std::int32_t>(in, "k-means tally");
-    take_doubles(in, static_cast<std::size_t>(k_) * static_cast<std::size_t>(channels), "k-means tally");
-    return KMeansTally::take(in, k_, channels);
+  // Whether round `round`'s assignment, in which `changed` cells changed cluster, ends the iterations.
+  bool finished(int round, std::int64_t changed) const {
+    return kmeans_converged(changed, p_.tolerance, whole_.sample_count()) || round >= p_.max_iterations;
   }
 
   KMeansParams p_;

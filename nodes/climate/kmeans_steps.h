@@ -7,6 +7,7 @@
 // depend on the order of addition, so tallies of any split of the cells (threads, tiles, ranks) add up to the same
 // totals bit for bit, and the new centres (each exact sum rounded once to double, divided by the count) with them.
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -27,13 +28,19 @@ struct KMeansFeatures {
   std::vector<double> sw;  // sqrt(weight) per channel
   std::vector<float> x;    // cells x channels
   std::vector<char> valid;
-  // Blocks of kmeans_block cells (in row order) x channels: 1 where the block's valid values of the channel lie within
-  // 2^17 of each other in binary exponent, so that adding up to a block of them in double is exact (at most 24 + 17 +
-  // 12 bits from the least ulp up): the fast sums of kmeans_assign.
-  std::vector<std::uint8_t> double_exact;
+  std::vector<std::uint8_t> tallied;  // per cell: valid and counted (the cells whose figures the tallies take in)
+  // Blocks of kmeans_block cells (in row order) x channels: the block's tallied values of the channel of magnitude at
+  // least fast_floor add up exactly in a double, in any order (exact_double_floor); below_floor is 1 where a tallied
+  // value lies below it (non-zero, or NaN): only those go to the exact sums one by one (kmeans_assign).
+  std::vector<float> fast_floor;
+  std::vector<std::uint8_t> below_floor;
 };
-inline constexpr std::size_t kmeans_block = 4096;
+inline constexpr int kmeans_block_bits = 12;
+inline constexpr std::size_t kmeans_block = std::size_t{1} << kmeans_block_bits;
+// `counted`: the tallies take in the cells i < counted.x, j < counted.y (a tile counts the samples it shares with the
+// tiles after it only once: they are theirs); every cell by default.
 KMeansFeatures kmeans_features(const Image& features, const std::vector<double>& weights,
+                               glm::ivec2 counted = glm::ivec2(std::numeric_limits<int>::max()),
                                const ExecContext* ctx = nullptr);
 
 // The clusters' figures after an assignment.
@@ -42,22 +49,28 @@ struct KMeansTally {
   std::int64_t changed = 0;          // cells whose label changed
   ExactFloatSum objective;           // of the squared distances (float) to the nearest centre
   std::vector<ExactFloatSum> sums;   // k x channels: the scaled features of the members
-  std::vector<ExactFloatSum> raw;    // k x channels: the unscaled features of zero-weight channels (else zero)
-  bool with_raw = false;             // whether any channel has a zero weight (else raw is all zero, and not sent)
+  std::vector<ExactFloatSum> raw;    // k x zero-weight channels, or empty: kmeans_raw_sums
 
   KMeansTally() = default;
   KMeansTally(int k, int channels);
   void add(const KMeansTally& o);
+  // The bytes begin with `changed`.
   void put(std::string& out) const;
   // Throws std::invalid_argument on bytes that do not hold a tally of k x channels.
   static KMeansTally take(std::string_view& in, int k, int channels);
 };
 
 // Assigns every valid cell of the grid to its nearest centre (k x channels, scaled units), updating `labels`
-// (one per cell of the grid), and tallies the cells i < counted.x, j < counted.y (a tile counts the samples it
-// shares with the tiles after it only once: they are theirs). `raw` is the unscaled image.
-KMeansTally kmeans_assign(const KMeansFeatures& f, const Image& raw, const std::vector<double>& centres, int k,
-                          glm::ivec2 counted, std::vector<std::int32_t>& labels, const ExecContext* ctx = nullptr);
+// (one per cell of the grid), and tallies the tallied cells (without raw sums).
+KMeansTally kmeans_assign(const KMeansFeatures& f, const std::vector<double>& centres, int k,
+                          std::vector<std::int32_t>& labels, const ExecContext* ctx = nullptr);
+
+// The exact sums of the unscaled features (`raw`, the unscaled image) of the zero-weight channels over the tallied
+// cells by label: k x those channels (empty without any). Only the last assignment's are used: the whole-domain run
+// tallies them once after its iterations.
+std::vector<ExactFloatSum> kmeans_raw_sums(const KMeansFeatures& f, const Image& raw,
+                                           const std::vector<std::int32_t>& labels, int k,
+                                           const ExecContext* ctx = nullptr);
 
 // Whether the assignment that gave `changed` ends the iterations: at most tolerance x cells changed cluster.
 inline bool kmeans_converged(std::int64_t changed, double tolerance, std::size_t cells) {
@@ -67,11 +80,12 @@ inline bool kmeans_converged(std::int64_t changed, double tolerance, std::size_t
 // The new centres from a tally: each cluster's mean; a cluster without members keeps its centre.
 void kmeans_update(const KMeansTally& t, int k, int channels, std::vector<double>& centres);
 
-// The mean unscaled feature of each cluster for each channel (0 for an empty cluster), from the tally's raw sums.
-std::vector<double> kmeans_raw_means(const KMeansTally& t, int k, int channels);
+// The mean unscaled feature of each cluster (counts.size() of them) for each zero-weight channel (0 for an empty
+// cluster), from their raw sums (kmeans_raw_sums): k x zero-weight channels.
+std::vector<double> kmeans_raw_means(const std::vector<ExactFloatSum>& raw, const std::vector<std::int64_t>& counts);
 
 // The result's counts and centres in feature units from the last tally's counts, the scaled centres and the
-// raw means (for zero-weight channels).
+// raw means (k x zero-weight channels: kmeans_raw_means).
 void kmeans_finish(const std::vector<std::int64_t>& counts, const std::vector<double>& centres,
                    const std::vector<double>& raw_means, const std::vector<double>& sw, KMeansResult& r);
 

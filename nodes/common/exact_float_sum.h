@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 
@@ -39,13 +40,17 @@ class ExactFloatSum {
     if (++pending_ == kNormalizeEvery) normalize();
   }
 
-  // Adds a double that is itself an exact sum of floats (a multiple of 2^-149 below 2^200: FloatBuckets' buckets).
+  // Adds a double that is itself an exact sum of floats: a multiple of 2^-149 below 2^159 in magnitude (FloatBuckets'
+  // sums stay below 2^142, those of up to 2^count_bits floats at or above exact_double_floor below 2^140). Its 53-bit
+  // significand, shifted within its lowest limb, spans limbs i .. i+2, and i + 2 <= kLimbs - 1 holds for |d| < 2^159
+  // only; throws std::out_of_range above.
   void add_exact(double d) {
     if (!std::isfinite(d)) {
       add_special(static_cast<float>(d));
       return;
     }
     if (d == 0.0) return;
+    if (!(std::abs(d) < 0x1p159)) throw std::out_of_range("ExactFloatSum::add_exact: a sum of 2^159 or more");
     std::uint64_t bits;
     std::memcpy(&bits, &d, sizeof bits);
     const int biased = static_cast<int>((bits >> 52) & 0x7FF);
@@ -161,6 +166,27 @@ class ExactFloatSum {
   std::int64_t pending_ = 0;
   std::int64_t pos_inf_ = 0, neg_inf_ = 0, nan_ = 0;
 };
+
+// The least float T (0 or a power of two) such that any 2^count_bits floats whose magnitudes lie in [T, largest] add up
+// exactly in a double, in any order (then a plain double sums them, and only the rest needs an ExactFloatSum).
+// Proof: let e >= 1 be the biased exponent of largest and f = e - (29 - count_bits). Every float of magnitude at least
+// T = 2^(f - 127) has a biased exponent of at least f, so it is an integer multiple of u = 2^(f - 150); below
+// 2^(e - 126) = 2^(53 - count_bits) u, it is a multiple of u below 2^(53 - count_bits) u. A sum of up to 2^count_bits
+// of them, and every partial sum, is a multiple of u below 2^53 u: a double holds it, so every addition is exact. For
+// f <= 1 every float is a multiple of 2^-149 and largest < 2^(e - 126) <= 2^(53 - count_bits) 2^-149: T = 0 (all).
+// An infinite (or NaN) largest gives T = infinity: only infinities, which a double adds as IEEE addition does.
+inline float exact_double_floor(float largest, int count_bits) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &largest, sizeof bits);
+  const int e = static_cast<int>((bits >> 23) & 0xFFu);
+  if (e == 0xFF) return std::numeric_limits<float>::infinity();
+  const int f = e - (29 - count_bits);
+  if (f <= 1) return 0.0f;
+  const std::uint32_t t = static_cast<std::uint32_t>(f) << 23;
+  float r;
+  std::memcpy(&r, &t, sizeof r);
+  return r;
+}
 
 // A fast front for ExactFloatSum: up to kMaxAdds floats summed exactly in 16 doubles, one per range of 16 binary
 // exponents, then moved into an ExactFloatSum. The floats of one range are multiples of its least ulp and below 2^39
