@@ -340,13 +340,9 @@ class DrainageTile : public TileGraphTile {
     const std::vector<float> z = with_ring(surface_, rect_, size_, filled);
     const std::vector<float> in = with_ring(ground_, rect_, size_, input);
     const FlowGrid g(ringed.size.x, ringed.size.y, grid_.dx, grid_.dy);
-    const glm::ivec2 at = rect_.first - ringed.first;
-    const D8Flow f = d8_flow(g, z);
-    direction_.clear();
-    for (int j = 0; j < rect_.size.y; ++j)
-      for (int i = 0; i < rect_.size.x; ++i)
-        direction_.push_back(f.direction[static_cast<std::size_t>(g.index(at.x + i, at.y + j))]);
+    direction_ = without_ring<std::uint8_t>(d8_flow(g, z).direction, rect_, size_);
     accumulation_ = start_tile_accumulation(direction_, rect_, size_);
+    const glm::ivec2 at = rect_.first - ringed.first;
     // Pits among the interior cells the tile owns, and lake cells.
     for (int j = 0; j < rect_.size.y; ++j)
       for (int i = 0; i < rect_.size.x; ++i) {

@@ -260,27 +260,14 @@ class FlowTile : public TileGraphTile {
     }
     const bool basins = job_.output == FlowJob::Output::Basins;
     if (by_shares_) {
-      const std::vector<float> slope = steepest_slope(g, z);
-      slope_.reserve(static_cast<std::size_t>(rect_.size.x) * static_cast<std::size_t>(rect_.size.y));
-      for (int j = 0; j < rect_.size.y; ++j)
-        for (int i = 0; i < rect_.size.x; ++i)
-          slope_.push_back(slope[static_cast<std::size_t>(g.index(at.x + i, at.y + j))]);
+      slope_ = without_ring<float>(steepest_slope(g, z), rect_, whole_);
       shares_ = std::make_unique<TileShares>(z, rect_, whole_, grid_.dx, grid_.dy, job_.routing, std::move(weight_));
       weight_ = {};
       return;
     }
-    const D8Flow f = d8_flow(g, z);
-    const std::vector<float> slope = basins ? std::vector<float>() : steepest_slope(g, z);
-    std::vector<std::uint8_t> direction;
-    direction.reserve(static_cast<std::size_t>(rect_.size.x) * static_cast<std::size_t>(rect_.size.y));
-    if (!basins) slope_.reserve(direction.capacity());
-    for (int j = 0; j < rect_.size.y; ++j)
-      for (int i = 0; i < rect_.size.x; ++i) {
-        const auto c = static_cast<std::size_t>(g.index(at.x + i, at.y + j));
-        direction.push_back(f.direction[c]);
-        if (!basins) slope_.push_back(slope[c]);
-      }
-    accumulation_ = start_tile_accumulation(direction, rect_, whole_);
+    if (!basins) slope_ = without_ring<float>(steepest_slope(g, z), rect_, whole_);
+    accumulation_ =
+        start_tile_accumulation(without_ring<std::uint8_t>(d8_flow(g, z).direction, rect_, whole_), rect_, whole_);
     if (basins) {
       basins_ = start_tile_basins(accumulation_);
       accumulation_ = {};

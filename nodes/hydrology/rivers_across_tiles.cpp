@@ -178,13 +178,7 @@ class RiverTile : public TileGraphTile {
     const TileRect ringed = ringed_rect(rect_, size_);
     const std::vector<float> z = with_ring(surface_, rect_, size_, bytes);
     const FlowGrid g(ringed.size.x, ringed.size.y, grid_.dx, grid_.dy);
-    const glm::ivec2 at = rect_.first - ringed.first;
-    const D8Flow f = d8_flow(g, z);
-    direction_.clear();
-    direction_.reserve(surface_.size());
-    for (int j = 0; j < rect_.size.y; ++j)
-      for (int i = 0; i < rect_.size.x; ++i)
-        direction_.push_back(f.direction[static_cast<std::size_t>(g.index(at.x + i, at.y + j))]);
+    direction_ = without_ring<std::uint8_t>(d8_flow(g, z).direction, rect_, size_);
     accumulation_ = start_tile_accumulation(direction_, rect_, size_);
   }
 

@@ -254,11 +254,7 @@ void TileShares::take_shares(std::string_view answer) {
 
 std::vector<double> TileShares::accumulation() const {
   if (!done()) throw std::logic_error("flow shares across tiles: accumulation before every cell is done");
-  std::vector<double> out;
-  out.reserve(static_cast<std::size_t>(rect_.size.x) * static_cast<std::size_t>(rect_.size.y));
-  for (int j = 0; j < rect_.size.y; ++j)
-    for (int i = 0; i < rect_.size.x; ++i) out.push_back(acc_[static_cast<std::size_t>(ringed_cell(i, j))]);
-  return out;
+  return without_ring<double>(acc_, rect_, domain_);
 }
 
 std::vector<std::string> solve_share_edges(const std::vector<std::string>& messages, glm::ivec2 domain_size) {
