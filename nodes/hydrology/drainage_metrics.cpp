@@ -223,8 +223,7 @@ DrainageReport drainage_metrics(const Heightfield& in, double threshold, const E
   const D8Flow f = d8_flow(g, z, {}, ctx);
   const auto stack = stack_order(g, f);
   // Whole cells times the cell area, as FlowAccumulation's D8 area: exact in any order, so across tiles too.
-  auto area = count_d8(g, f, ctx);
-  for (double& a : area) a *= g.cell_area();
+  const auto area = d8_area(g, f, ctx);
   std::vector<std::uint8_t> channel(g.size());
   for (std::size_t c = 0; c < g.size(); ++c) channel[c] = area[c] >= threshold;
   r.network = network_metrics(g, f, stack, channel, area, z, lake);
