@@ -76,7 +76,7 @@ class TileShares {
 
   TileRect rect_;
   glm::ivec2 domain_, at_;
-  int gw_ = 0, gh_ = 0;
+  int gw_ = 0;  // the ringed tile's width
   std::vector<float> z_;
   std::unique_ptr<FlowShares> shares_;
   std::vector<float> weight_;
