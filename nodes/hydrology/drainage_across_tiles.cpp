@@ -138,15 +138,14 @@ class TileLongest {
 };
 
 // Every tile's perimeter lengths into the other tiles' largest at each of its perimeter cells.
-std::vector<std::string> solve_longest(const std::vector<std::string>& messages, glm::ivec2 size) {
+std::vector<std::string> solve_longest(std::span<const std::string_view> messages, glm::ivec2 size) {
   struct Tile {
     TileRect rect;
     std::vector<double> own;
   };
   std::vector<Tile> tiles;
   std::unordered_map<std::int64_t, std::vector<std::pair<std::size_t, std::size_t>>> holders;
-  for (const std::string& m : messages) {
-    std::string_view in(m);
+  for (std::string_view in : messages) {
     Tile t;
     t.rect = take_tile_rect(in, size, kWhat);
     bytes::take<std::uint8_t>(in, kWhat);
@@ -170,9 +169,8 @@ std::vector<std::string> solve_longest(const std::vector<std::string>& messages,
   return answers;
 }
 
-bool longest_changed(const std::vector<std::string>& messages) {
-  for (const std::string& m : messages) {
-    std::string_view in(m);
+bool longest_changed(std::span<const std::string_view> messages) {
+  for (std::string_view in : messages) {
     for (int k = 0; k < 4; ++k) bytes::take<int>(in, kWhat);
     if (bytes::take<std::uint8_t>(in, kWhat)) return true;
   }
@@ -418,9 +416,7 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
   }
 
   std::vector<std::string> solve(int, const std::vector<std::string>& tagged_messages) const override {
-    std::vector<std::string_view> views;
-    const Phase phase = untag_messages<Phase>(tagged_messages, views, kWhat, kWho);
-    const std::vector<std::string> messages(views.begin(), views.end());
+    const auto [phase, messages] = untag_messages<Phase>(tagged_messages, kWhat, kWho);
     const glm::ivec2 size = whole_.resolution;
     std::vector<std::string> answers(messages.size());
     Phase next = Phase::Done;
@@ -440,13 +436,12 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
         break;
       case Phase::Ring: {
         std::vector<std::string> filled, input;
-        for (const auto& m : messages) {
-          std::string_view in(m);
+        for (std::string_view in : messages) {
           filled.push_back(take_string(in));
           input.push_back(take_string(in));
           expect_end(in);
         }
-        const auto a = solve_rings(filled, size), b = solve_rings(input, size);
+        const auto a = solve_rings(message_views(filled), size), b = solve_rings(message_views(input), size);
         for (std::size_t t = 0; t < answers.size(); ++t) put_string(answers[t], a[t]), put_string(answers[t], b[t]);
         next = Phase::Accumulate;
         break;
@@ -477,7 +472,7 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
   }
 
  private:
-  std::vector<std::string> solve_depressions(const std::vector<std::string>& messages) const {
+  std::vector<std::string> solve_depressions(std::span<const std::string_view> messages) const {
     const glm::ivec2 size = whole_.resolution;
     struct Tile {
       TileRect rect;
@@ -487,8 +482,7 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
     };
     std::vector<Tile> tiles;
     std::vector<std::int32_t> offset{0};
-    for (const std::string& m : messages) {
-      std::string_view in(m);
+    for (std::string_view in : messages) {
       Tile t;
       t.rect = take_tile_rect(in, size, kWhat);
       t.depth = bytes::take_vector<double>(in, kWhat);
@@ -548,11 +542,10 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
   }
 
   // The report from every tile's channel cells and counts, as drainage_metrics writes it.
-  std::string report_json(const std::vector<std::string>& messages) const {
+  std::string report_json(std::span<const std::string_view> messages) const {
     std::int64_t depressions = 0, lakes = 0, pits = 0, pits_outside = 0, lake_cells = 0;
     std::vector<ChannelCell> cells;
-    for (const std::string& m : messages) {
-      std::string_view in(m);
+    for (std::string_view in : messages) {
       depressions = bytes::take<std::int64_t>(in, kWhat);  // the whole domain's, alike in every tile
       lakes = bytes::take<std::int64_t>(in, kWhat);
       pits += bytes::take<std::int64_t>(in, kWhat);

@@ -320,7 +320,8 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
       case Phase::Edges:
         return true;
       case Phase::Shares:
-        return !shares_done(trimmed(messages)) || job_.after_accumulation() != Phase::Done;
+        return !shares_done(untag_messages<Phase>(messages, kWhat, kWhat).views) ||
+               job_.after_accumulation() != Phase::Done;
       case Phase::Links:
         return true;
       default:
@@ -345,9 +346,7 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
   }
 
   std::vector<std::string> solve(int, const std::vector<std::string>& tagged_messages) const override {
-    std::vector<std::string_view> views;
-    const Phase phase = untag_messages<Phase>(tagged_messages, views, kWhat, kWhat);
-    const std::vector<std::string> messages(views.begin(), views.end());
+    const auto [phase, messages] = untag_messages<Phase>(tagged_messages, kWhat, kWhat);
     const glm::ivec2 size = whole_.resolution;
     std::vector<std::string> answers(messages.size());
     Phase next = Phase::Done;
@@ -355,7 +354,7 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
       case Phase::Surface: {
         // The fill's rounds unless every tile kept its surface.
         bool all = true;
-        for (std::string_view m : views) {
+        for (std::string_view m : messages) {
           const bool kept = bytes::take<std::uint8_t>(m, kWhat) != 0;
           all = all && kept;
           expect_end(m, kWhat);
@@ -397,7 +396,7 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
         break;
       case Phase::Maximum: {
         double largest = 0.0;
-        for (std::string_view m : views) {
+        for (std::string_view m : messages) {
           largest = std::max(largest, bytes::take<double>(m, kWhat));
           expect_end(m, kWhat);
         }
@@ -412,14 +411,6 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
   }
 
  private:
-  // The messages without their phase tags.
-  static std::vector<std::string> trimmed(const std::vector<std::string>& messages) {
-    std::vector<std::string> out;
-    out.reserve(messages.size());
-    for (const std::string& m : messages) out.push_back(m.substr(1));
-    return out;
-  }
-
   FlowJob job_;
   Domain whole_;
 };

@@ -239,9 +239,7 @@ class RiversAcrossTiles : public TileGraphAlgorithm {
   }
 
   std::vector<std::string> solve(int, const std::vector<std::string>& tagged_messages) const override {
-    std::vector<std::string_view> views;
-    const Phase phase = untag_messages<Phase>(tagged_messages, views, kWhat, kWhat);
-    const std::vector<std::string> messages(views.begin(), views.end());
+    const auto [phase, messages] = untag_messages<Phase>(tagged_messages, kWhat, kWhat);
     const glm::ivec2 size = whole_.resolution;
     std::vector<std::string> answers(messages.size());
     Phase next = Phase::Done;
@@ -282,10 +280,9 @@ class RiversAcrossTiles : public TileGraphAlgorithm {
 
  private:
   // The channel network of every tile's channel cells, cut into reaches as extract_reaches cuts the whole domain's.
-  std::shared_ptr<Curves> network_curves(const std::vector<std::string>& messages) const {
+  std::shared_ptr<Curves> network_curves(std::span<const std::string_view> messages) const {
     std::vector<ChannelCell> cells;
-    for (const std::string& m : messages) {
-      std::string_view in(m);
+    for (std::string_view in : messages) {
       const auto part = bytes::take_vector<ChannelCell>(in, kWhat);
       expect_end(in, kWhat);
       cells.insert(cells.end(), part.begin(), part.end());

@@ -258,11 +258,10 @@ std::vector<double> TileShares::accumulation() const {
   return without_ring<double>(acc_, rect_, domain_);
 }
 
-std::vector<std::string> solve_share_edges(const std::vector<std::string>& messages, glm::ivec2 domain_size) {
+std::vector<std::string> solve_share_edges(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
   std::vector<TileRect> rects;
   std::vector<std::vector<std::int64_t>> keys;
-  for (const std::string& m : messages) {
-    std::string_view in(m);
+  for (std::string_view in : messages) {
     rects.push_back(take_tile_rect(in, domain_size, kWhat));
     keys.push_back(bytes::take_vector<std::int64_t>(in, kWhat));
     if (!in.empty()) throw std::invalid_argument("flow shares across tiles: trailing bytes");
@@ -286,21 +285,19 @@ std::vector<std::string> solve_share_edges(const std::vector<std::string>& messa
   return answers;
 }
 
-bool shares_done(const std::vector<std::string>& messages) {
-  for (const std::string& m : messages) {
-    std::string_view in(m);
+bool shares_done(std::span<const std::string_view> messages) {
+  for (std::string_view in : messages) {
     if (!bytes::take<std::uint8_t>(in, kWhat)) return false;
   }
   return true;
 }
 
-std::vector<std::string> solve_shares(const std::vector<std::string>& messages, glm::ivec2 domain_size) {
+std::vector<std::string> solve_shares(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
   std::vector<TileRect> rects;
   std::vector<std::vector<std::int64_t>> keys;
   std::vector<std::vector<double>> values;
   bool moved = false, all_done = true;
-  for (const std::string& m : messages) {
-    std::string_view in(m);
+  for (std::string_view in : messages) {
     all_done = bytes::take<std::uint8_t>(in, kWhat) != 0 && all_done;
     rects.push_back(take_tile_rect(in, domain_size, kWhat));
     keys.push_back(bytes::take_vector<std::int64_t>(in, kWhat));
