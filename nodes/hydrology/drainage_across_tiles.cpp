@@ -19,7 +19,6 @@
 //    (network_figures), sums in the same order. Every tile gets the report.
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -31,6 +30,7 @@
 #include "nodes/hydrology/depressions.h"
 #include "nodes/hydrology/drainage_metrics.h"
 #include "nodes/hydrology/tile_accumulation.h"
+#include "nodes/hydrology/tile_components.h"
 #include "nodes/hydrology/tile_fill.h"
 #include "nodes/hydrology/tile_phases.h"
 #include "nodes/hydrology/tile_ring.h"
@@ -56,24 +56,6 @@ std::string take_string(std::string_view& in) {
   const auto v = bytes::take_vector<char>(in, kWhat);
   return {v.begin(), v.end()};
 }
-
-// Union-find, the lowest index as the root.
-struct Joined {
-  std::vector<std::int32_t> parent;
-  explicit Joined(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  std::int32_t root(std::int32_t a) {
-    while (parent[static_cast<std::size_t>(a)] != a) {
-      auto& up = parent[static_cast<std::size_t>(a)];
-      up = parent[static_cast<std::size_t>(up)];
-      a = up;
-    }
-    return a;
-  }
-  void join(std::int32_t a, std::int32_t b) {
-    a = root(a), b = root(b);
-    if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-  }
-};
 
 // The longest flow path from the divide to every cell of a tile, through the other tiles' values at its perimeter.
 class TileLongest {
@@ -497,20 +479,16 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
       offset.push_back(offset.back() + static_cast<std::int32_t>(t.depth.size()));
       tiles.push_back(std::move(t));
     }
-    Joined joined(static_cast<std::size_t>(offset.back()));
-    std::unordered_map<std::int64_t, std::int32_t> shared;
-    for (std::size_t t = 0; t < tiles.size(); ++t) {
-      const auto cells = perimeter_cells(tiles[t].rect.size);
-      for (std::size_t p = 0; p < cells.size(); ++p) {
-        const std::int32_t k = tiles[t].perimeter[p];
-        const std::int32_t node = k ? offset[t] + k - 1 : -1;
-        const auto [it, fresh] = shared.try_emplace(domain_sample(tiles[t].rect, size, cells[p]), node);
-        if (fresh) continue;
-        if ((it->second < 0) != (node < 0))
-          throw std::invalid_argument("drainage metrics: tiles disagree whether a shared sample is raised");
-        if (node >= 0) joined.join(it->second, node);
-      }
-    }
+    LowestRootUnionFind joined(static_cast<std::size_t>(offset.back()));
+    std::vector<TileRect> rects;
+    for (const Tile& t : tiles) rects.push_back(t.rect);
+    join_perimeter_components(
+        joined, rects, size,
+        [&](std::size_t t, std::size_t p) {
+          const std::int32_t k = tiles[t].perimeter[p];
+          return k ? offset[t] + k - 1 : -1;
+        },
+        "drainage metrics: tiles disagree whether a shared sample is raised");
     const auto n = static_cast<std::size_t>(offset.back());
     std::vector<double> depth(n, 0.0);
     std::vector<std::int64_t> cells(n, 0);
