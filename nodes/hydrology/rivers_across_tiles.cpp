@@ -26,6 +26,7 @@
 #include "graph/tile_bytes.h"
 #include "graph/tile_graph.h"
 #include "nodes/hydrology/channel_network.h"
+#include "nodes/hydrology/channels.h"
 #include "nodes/hydrology/rivers.h"
 #include "nodes/hydrology/tile_accumulation.h"
 #include "nodes/hydrology/tile_fill.h"
@@ -289,30 +290,14 @@ class RiversAcrossTiles : public TileGraphAlgorithm {
     }
     const glm::ivec2 size = whole_.resolution;
     const ChannelNetwork net = sorted_channel_network(cells, size, "rivers across tiles");
-    const auto& receiver = net.receiver;
-    const auto& donors = net.donors;
-    // extract_reaches on the channel cells.
-    std::vector<std::int32_t> reach_of_head(cells.size(), -1);
-    std::vector<Reach> reaches;
-    for (const std::int32_t head : net.order) {
-      if (donors[static_cast<std::size_t>(head)].size() == 1) continue;
-      Reach r;
-      r.order = cells[static_cast<std::size_t>(head)].order;
-      r.cells.push_back(head);
-      for (std::int32_t x = head;;) {
-        const std::int32_t next = receiver[static_cast<std::size_t>(x)];
-        if (next == x) break;
-        r.cells.push_back(next);
-        if (donors[static_cast<std::size_t>(next)].size() >= 2) {
-          r.parent = reach_of_head[static_cast<std::size_t>(next)];
-          break;
-        }
-        x = next;
-      }
-      if (r.cells.size() < 2) continue;  // a confluence that is itself an outlet
-      reach_of_head[static_cast<std::size_t>(head)] = static_cast<std::int32_t>(reaches.size());
-      reaches.push_back(std::move(r));
+    std::vector<std::uint8_t> donors(cells.size());
+    std::vector<std::int32_t> strahler(cells.size());
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      donors[c] = static_cast<std::uint8_t>(net.donors[c].size());
+      strahler[c] = cells[c].order;
     }
+    const std::vector<Reach> reaches =
+        channel_reaches(net.order, std::vector<std::uint8_t>(cells.size(), 1), net.receiver, donors, strahler);
     const double cell_area = FlowGrid::of(whole_).cell_area();
     return reach_curves(
         reaches,
