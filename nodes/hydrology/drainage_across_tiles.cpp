@@ -549,24 +549,17 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
       std::int32_t same = -1;
       for (const auto& [k, d] : donors[c])
         if (cells[static_cast<std::size_t>(d)].order == cell.order) same = d;
-      ++s.channel_cells;
-      if (same >= 0) {
-        stream[c] = stream[static_cast<std::size_t>(same)];
-      } else {
-        stream[c] = static_cast<std::int32_t>(s.stream_order.size());
-        s.stream_order.push_back(cell.order);
-        s.stream_length.push_back(0.0);
-      }
       const bool drains = receiver[c] != static_cast<std::int32_t>(c);
-      if (drains) s.stream_length[static_cast<std::size_t>(stream[c])] += g.distance(cell.direction);
-      const double area = static_cast<double>(cell.count) * g.cell_area();
-      s.area.push_back(area);
-      s.main_length.push_back(cell.longest);
-      if (drains && !cell.lake) {
-        s.slope_area.push_back(area);
-        s.slope.push_back((static_cast<double>(cell.z) - cells[static_cast<std::size_t>(receiver[c])].z) /
-                          g.distance(cell.direction));
-      }
+      ChannelSample sample{same,
+                           cell.order,
+                           drains ? g.distance(cell.direction) : 0.0,
+                           static_cast<double>(cell.count) * g.cell_area(),
+                           cell.longest,
+                           std::nullopt};
+      if (drains && !cell.lake)
+        sample.slope =
+            (static_cast<double>(cell.z) - cells[static_cast<std::size_t>(receiver[c])].z) / g.distance(cell.direction);
+      add_channel_sample(s, stream, c, sample);
     }
     DrainageReport r;
     r.threshold = params_.threshold;
