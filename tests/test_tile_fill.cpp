@@ -19,6 +19,7 @@
 #include "nodes/hydrology/tile_accumulation.h"
 #include "nodes/hydrology/tile_fill.h"
 #include "nodes/hydrology/tile_lakes.h"
+#include "nodes/hydrology/tile_phases.h"
 #include "support/tile_graph_run.h"
 
 namespace orogen::hydrology {
@@ -272,20 +273,21 @@ TEST(FillAcrossTiles, EpsilonPerimeterValuesTravelAsCheckedBytes) {
   };
   TileEpsilon ea(cut(a), a, {33, 33}), eb(cut(b), b, {33, 33});
   const std::vector<std::string> messages = {ea.message(), eb.message()};
-  EXPECT_TRUE(epsilon_values_fell(messages));
-  const auto answers = solve_epsilon_perimeters(messages, {33, 33});
-  EXPECT_THROW(solve_epsilon_perimeters({messages[0].substr(0, messages[0].size() - 1)}, {33, 33}),
+  EXPECT_TRUE(epsilon_values_fell(message_views(messages)));
+  const auto answers = solve_epsilon_perimeters(message_views(messages), {33, 33});
+  EXPECT_THROW(solve_epsilon_perimeters(message_views({messages[0].substr(0, messages[0].size() - 1)}), {33, 33}),
                std::invalid_argument);
-  EXPECT_THROW(solve_epsilon_perimeters({messages[0] + "x"}, {33, 33}), std::invalid_argument);
-  EXPECT_THROW(solve_epsilon_perimeters({messages[0]}, {16, 33}), std::invalid_argument);  // outside the domain
+  EXPECT_THROW(solve_epsilon_perimeters(message_views({messages[0] + "x"}), {33, 33}), std::invalid_argument);
+  EXPECT_THROW(solve_epsilon_perimeters(message_views({messages[0]}), {16, 33}),
+               std::invalid_argument);  // outside the domain
   EXPECT_THROW(ea.answer(answers[0] + "x"), std::invalid_argument);
   ea.answer(answers[0]);
   eb.answer(answers[1]);
   // Nothing new to say after an answer that lowered nothing it had not sent.
   TileEpsilon alone(cut({{0, 0}, {33, 33}}), {{0, 0}, {33, 33}}, {33, 33});
   const std::vector<std::string> first = {alone.message()};
-  alone.answer(solve_epsilon_perimeters(first, {33, 33})[0]);
-  EXPECT_FALSE(epsilon_values_fell({alone.message()}));
+  alone.answer(solve_epsilon_perimeters(message_views(first), {33, 33})[0]);
+  EXPECT_FALSE(epsilon_values_fell(message_views({alone.message()})));
 }
 
 TEST(FillAcrossTiles, CarvingStaysOnTheWholeDomain) {
@@ -362,7 +364,7 @@ TEST(AccumulationAcrossTiles, CountsEqualTheWholeDomainOnEveryTiling) {
             tiles.push_back(start_tile_accumulation(direction, r, size));
             messages.push_back(accumulation_message(tiles.back()));
           }
-        const auto answers = solve_tile_accumulation(messages, size);
+        const auto answers = solve_tile_accumulation(message_views(messages), size);
         std::vector<std::int64_t> joined(g.size(), -1);
         for (std::size_t k = 0; k < tiles.size(); ++k) {
           const auto acc = finish_tile_accumulation(tiles[k], answers[k]);
@@ -391,10 +393,10 @@ TEST(AccumulationAcrossTiles, MalformedMessagesAndLoopsAreRefused) {
   direction[4] = 0;  // the centre drains east
   const auto t = start_tile_accumulation(direction, r, {3, 3});
   const std::string m = accumulation_message(t);
-  EXPECT_NO_THROW(solve_tile_accumulation({m}, {3, 3}));
-  EXPECT_THROW(solve_tile_accumulation({m + "x"}, {3, 3}), std::invalid_argument);
-  EXPECT_THROW(solve_tile_accumulation({m.substr(0, m.size() - 1)}, {3, 3}), std::invalid_argument);
-  EXPECT_THROW(solve_tile_accumulation({m}, {2, 3}), std::invalid_argument);
+  EXPECT_NO_THROW(solve_tile_accumulation(message_views({m}), {3, 3}));
+  EXPECT_THROW(solve_tile_accumulation(message_views({m + "x"}), {3, 3}), std::invalid_argument);
+  EXPECT_THROW(solve_tile_accumulation(message_views({m.substr(0, m.size() - 1)}), {3, 3}), std::invalid_argument);
+  EXPECT_THROW(solve_tile_accumulation(message_views({m}), {2, 3}), std::invalid_argument);
   direction[5] = 4;  // east drains back west: a loop
   EXPECT_THROW(start_tile_accumulation(direction, r, {3, 3}), std::invalid_argument);
   EXPECT_THROW(finish_tile_accumulation(t, "x"), std::invalid_argument);

@@ -22,6 +22,7 @@
 #include "nodes/hydrology/tile_ring.h"
 #include "nodes/hydrology/tile_shares.h"
 #include "nodes/hydrology/tile_surface_memo.h"
+#include "nodes/hydrology/tile_phases.h"
 #include "support/tile_graph_run.h"
 
 namespace orogen::hydrology {
@@ -159,18 +160,19 @@ TEST(FlowAcrossTiles, BasinLinksAndCountsTravelAsCheckedBytes) {
   direction[3] = 0;  // and the west perimeter cell to the centre: a link from the perimeter to the perimeter
   auto basins = start_tile_basins(start_tile_accumulation(direction, r, {3, 3}));
   const std::string links = basin_links_message(basins);
-  const auto answers = solve_basin_links({links}, {3, 3});
-  EXPECT_THROW(solve_basin_links({links + "x"}, {3, 3}), std::invalid_argument);
-  EXPECT_THROW(solve_basin_links({links.substr(0, links.size() - 1)}, {3, 3}), std::invalid_argument);
-  EXPECT_THROW(solve_basin_links({links}, {2, 3}), std::invalid_argument);
-  EXPECT_THROW(solve_basin_links({links, links}, {3, 3}), std::invalid_argument);  // one edge taken twice
+  const auto answers = solve_basin_links(message_views({links}), {3, 3});
+  EXPECT_THROW(solve_basin_links(message_views({links + "x"}), {3, 3}), std::invalid_argument);
+  EXPECT_THROW(solve_basin_links(message_views({links.substr(0, links.size() - 1)}), {3, 3}), std::invalid_argument);
+  EXPECT_THROW(solve_basin_links(message_views({links}), {2, 3}), std::invalid_argument);
+  EXPECT_THROW(solve_basin_links(message_views({links, links}), {3, 3}),
+               std::invalid_argument);  // one edge taken twice
   EXPECT_THROW(take_basin_outlets(basins, answers[0] + "x"), std::invalid_argument);
   take_basin_outlets(basins, answers[0]);
   EXPECT_EQ(basins.outlet[4], 5);
   EXPECT_EQ(basins.outlet[3], 5);
   const std::string counts = basin_count_message(basins);
-  const auto numbers = solve_basin_counts({counts}, 1.0, 0.0);
-  EXPECT_THROW(solve_basin_counts({counts + "x"}, 1.0, 0.0), std::invalid_argument);
+  const auto numbers = solve_basin_counts(message_views({counts}), 1.0, 0.0);
+  EXPECT_THROW(solve_basin_counts(message_views({counts + "x"}), 1.0, 0.0), std::invalid_argument);
   std::vector<float> id(9), area(9);
   EXPECT_THROW(basin_maps(basins, numbers[0] + "x", 1.0, id, area), std::invalid_argument);
   basin_maps(basins, numbers[0], 1.0, id, area);
@@ -386,15 +388,15 @@ TEST(FlowAcrossTiles, SharesInDoubleEqualTheWholeDomainOnEveryTiling) {
             }
           std::vector<std::string> messages;
           for (auto& tile : tiles) messages.push_back(tile->edges_message());
-          auto answers = solve_share_edges(messages, size);
+          auto answers = solve_share_edges(message_views(messages), size);
           for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->take_edges(answers[k]);
           for (int round = 0;; ++round) {
             ASSERT_LT(round, 10000);
             messages.clear();
             for (auto& tile : tiles) messages.push_back(tile->shares_message());
-            answers = solve_shares(messages, size);
+            answers = solve_shares(message_views(messages), size);
             for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->take_shares(answers[k]);
-            if (shares_done(messages)) break;
+            if (shares_done(message_views(messages))) break;
           }
           for (std::size_t k = 0; k < tiles.size(); ++k) {
             const auto acc = tiles[k]->accumulation();
@@ -424,25 +426,27 @@ TEST(FlowAcrossTiles, SharesTravelAsCheckedBytes) {
     tiles.push_back(std::make_unique<TileShares>(rz, r, domain, 1.0, 1.0, opt, std::vector<float>{}));
   }
   std::vector<std::string> edges = {tiles[0]->edges_message(), tiles[1]->edges_message()};
-  EXPECT_THROW(solve_share_edges({edges[0] + "x", edges[1]}, domain), std::invalid_argument);
-  EXPECT_THROW(solve_share_edges({edges[0]}, {2, 2}), std::invalid_argument);  // outside the domain
-  const auto answers = solve_share_edges(edges, domain);
+  EXPECT_THROW(solve_share_edges(message_views({edges[0] + "x", edges[1]}), domain), std::invalid_argument);
+  EXPECT_THROW(solve_share_edges(message_views({edges[0]}), {2, 2}), std::invalid_argument);  // outside the domain
+  const auto answers = solve_share_edges(message_views(edges), domain);
   EXPECT_THROW(tiles[1]->take_edges(answers[1] + "x"), std::invalid_argument);
   EXPECT_THROW(tiles[1]->take_edges(answers[0]), std::invalid_argument);  // not its edges
   for (std::size_t t = 0; t < 2; ++t) tiles[t]->take_edges(answers[t]);
   EXPECT_TRUE(tiles[0]->done());
   EXPECT_FALSE(tiles[1]->done());  // column 2 waits for column 1, held by tile 0 alone
   std::vector<std::string> shares = {tiles[0]->shares_message(), tiles[1]->shares_message()};
-  EXPECT_FALSE(shares_done(shares));
-  EXPECT_THROW(solve_shares({shares[0].substr(0, shares[0].size() - 1), shares[1]}, domain), std::invalid_argument);
-  const auto delivered = solve_shares(shares, domain);
+  EXPECT_FALSE(shares_done(message_views(shares)));
+  EXPECT_THROW(solve_shares(message_views({shares[0].substr(0, shares[0].size() - 1), shares[1]}), domain),
+               std::invalid_argument);
+  const auto delivered = solve_shares(message_views(shares), domain);
   EXPECT_THROW(tiles[0]->take_shares(delivered[1]), std::invalid_argument);  // tile 0 waits for nothing
   tiles[1]->take_shares(delivered[1]);
   EXPECT_TRUE(tiles[1]->done());
   // No share moved while a tile waits: a cycle, refused.
-  EXPECT_THROW(
-      solve_shares({tiles[0]->shares_message(), shares[1].substr(0, 1) + tiles[0]->shares_message().substr(1)}, domain),
-      std::invalid_argument);
+  EXPECT_THROW(solve_shares(message_views({tiles[0]->shares_message(),
+                                           shares[1].substr(0, 1) + tiles[0]->shares_message().substr(1)}),
+                            domain),
+               std::invalid_argument);
   const auto whole = accumulate(FlowGrid(5, 3), z, opt);
   const auto right = tiles[1]->accumulation();
   for (int j = 0; j < 3; ++j)
@@ -506,7 +510,7 @@ TEST(FlowAcrossTiles, RingsComeFromTheTilesAroundAsCheckedBytes) {
   };
   std::vector<std::string> messages;
   for (const auto& r : rects) messages.push_back(ring_message(values_of(r), r));
-  const auto answers = solve_rings(messages, domain);
+  const auto answers = solve_rings(message_views(messages), domain);
   for (std::size_t t = 0; t < rects.size(); ++t) {
     const TileRect ringed = ringed_rect(rects[t], domain);
     const auto z = with_ring(values_of(rects[t]), rects[t], domain, answers[t]);
@@ -519,14 +523,16 @@ TEST(FlowAcrossTiles, RingsComeFromTheTilesAroundAsCheckedBytes) {
   EXPECT_EQ(ringed_rect(rects[3], domain).first, glm::ivec2(3, 2));
   EXPECT_EQ(ringed_rect(rects[3], domain).size, glm::ivec2(6, 5));  // clipped at the domain's border
   // Malformed bytes, tiles that disagree on a shared sample, a ring no tile holds, answers of the wrong length.
-  EXPECT_THROW(solve_rings({messages[0] + "x"}, domain), std::invalid_argument);
-  EXPECT_THROW(solve_rings({messages[0].substr(0, messages[0].size() - 1)}, domain), std::invalid_argument);
-  EXPECT_THROW(solve_rings({messages[0]}, {4, 4}), std::invalid_argument);  // outside the domain
-  EXPECT_THROW(solve_rings({messages[0]}, domain), std::invalid_argument);  // nothing around tile 0
+  EXPECT_THROW(solve_rings(message_views({messages[0] + "x"}), domain), std::invalid_argument);
+  EXPECT_THROW(solve_rings(message_views({messages[0].substr(0, messages[0].size() - 1)}), domain),
+               std::invalid_argument);
+  EXPECT_THROW(solve_rings(message_views({messages[0]}), {4, 4}), std::invalid_argument);  // outside the domain
+  EXPECT_THROW(solve_rings(message_views({messages[0]}), domain), std::invalid_argument);  // nothing around tile 0
   auto other = values_of(rects[1]);
   other[0] += 1.0f;  // its shared corner with tile 0
-  EXPECT_THROW(solve_rings({messages[0], ring_message(other, rects[1]), messages[2], messages[3]}, domain),
-               std::invalid_argument);
+  EXPECT_THROW(
+      solve_rings(message_views({messages[0], ring_message(other, rects[1]), messages[2], messages[3]}), domain),
+      std::invalid_argument);
   std::string short_answer;
   bytes::put_vector(short_answer, std::vector<float>(3, 0.0f));
   EXPECT_THROW(with_ring(values_of(rects[0]), rects[0], domain, short_answer), std::invalid_argument);

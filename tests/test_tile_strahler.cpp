@@ -7,6 +7,7 @@
 #include "nodes/hydrology/channels.h"
 #include "nodes/hydrology/tile_accumulation.h"
 #include "nodes/hydrology/tile_strahler.h"
+#include "nodes/hydrology/tile_phases.h"
 #include "support/tile_graph_run.h"
 
 namespace orogen::hydrology {
@@ -56,9 +57,9 @@ std::vector<std::int32_t> tiled_orders(const Terrain& t, const Network& n, glm::
   for (rounds = 1;; ++rounds) {
     std::vector<std::string> messages;
     for (auto& tile : tiles) messages.push_back(tile->message());
-    const auto answers = solve_strahler_perimeters(messages, t.size);
+    const auto answers = solve_strahler_perimeters(message_views(messages), t.size);
     for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->answer(answers[k]);
-    if (!strahler_changed(messages)) break;
+    if (!strahler_changed(message_views(messages))) break;
     if (rounds > 1000) throw std::logic_error("the rounds do not end");
   }
   std::vector<std::int32_t> joined(t.z.size(), -1);
@@ -105,9 +106,9 @@ TEST(StrahlerAcrossTiles, RefusesMalformedInput) {
   EXPECT_THROW(TileStrahler(loop, std::vector<std::uint8_t>(9, 1), r, {3, 3}), std::invalid_argument);
   TileStrahler tile(std::vector<std::int32_t>(9, -1), std::vector<std::uint8_t>(9, 1), r, {3, 3});
   const std::string m = tile.message();
-  EXPECT_EQ(solve_strahler_perimeters({m}, {3, 3}).size(), 1u);
-  EXPECT_THROW(solve_strahler_perimeters({m.substr(0, m.size() - 1)}, {3, 3}), std::invalid_argument);
-  EXPECT_THROW(solve_strahler_perimeters({m}, {2, 2}), std::invalid_argument);  // the tile lies outside
+  EXPECT_EQ(solve_strahler_perimeters(message_views({m}), {3, 3}).size(), 1u);
+  EXPECT_THROW(solve_strahler_perimeters(message_views({m.substr(0, m.size() - 1)}), {3, 3}), std::invalid_argument);
+  EXPECT_THROW(solve_strahler_perimeters(message_views({m}), {2, 2}), std::invalid_argument);  // the tile lies outside
   EXPECT_THROW(tile.answer("\x01"), std::invalid_argument);
 }
 

@@ -33,7 +33,6 @@ ChannelNetwork sorted_channel_network(std::vector<Cell>& cells, glm::ivec2 size,
   std::vector<std::int64_t> samples;
   std::vector<std::uint8_t> directions;
   samples.reserve(cells.size()), directions.reserve(cells.size());
-  // Copies, not references: the cells are packed as they travel, so `sample` may be misaligned.
   for (const Cell& c : cells) {
     samples.push_back(static_cast<std::int64_t>(c.sample));
     directions.push_back(static_cast<std::uint8_t>(c.direction));

@@ -40,8 +40,13 @@ std::vector<std::int32_t> strahler_orders(const FlowGrid& g, const D8Flow& f, st
 
 std::vector<Reach> extract_reaches(const FlowGrid& g, const D8Flow& f, std::span<const std::int32_t> order,
                                    std::span<const std::uint8_t> channel, std::span<const std::int32_t> strahler) {
-  const std::vector<std::uint8_t> donors = channel_donor_counts(g, f, channel);
-  std::vector<std::int32_t> reach_of_head(f.receiver.size(), -1);
+  return channel_reaches(order, channel, f.receiver, channel_donor_counts(g, f, channel), strahler);
+}
+
+std::vector<Reach> channel_reaches(std::span<const std::int32_t> order, std::span<const std::uint8_t> channel,
+                                   std::span<const std::int32_t> receiver, std::span<const std::uint8_t> donors,
+                                   std::span<const std::int32_t> strahler) {
+  std::vector<std::int32_t> reach_of_head(receiver.size(), -1);
   std::vector<Reach> reaches;
   for (const std::int32_t head : order) {
     if (!channel[head] || donors[head] == 1) continue;
@@ -49,7 +54,7 @@ std::vector<Reach> extract_reaches(const FlowGrid& g, const D8Flow& f, std::span
     r.order = strahler[head];
     r.cells.push_back(head);
     for (std::int32_t x = head;;) {
-      const std::int32_t next = f.receiver[x];
+      const std::int32_t next = receiver[x];
       if (next == x) break;
       r.cells.push_back(next);
       if (donors[next] >= 2) {

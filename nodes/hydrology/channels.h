@@ -30,5 +30,11 @@ struct Reach {
 // parent's index is lower than its children's).
 std::vector<Reach> extract_reaches(const FlowGrid& g, const D8Flow& f, std::span<const std::int32_t> order,
                                    std::span<const std::uint8_t> channel, std::span<const std::int32_t> strahler);
+// extract_reaches on any indexing of the cells (the channel cells the tiles send, nodes/hydrology/channel_network.h):
+// `order` has every cell after its receiver; per cell, whether it is a channel cell, its receiver (itself at an
+// outlet), its number of channel donors and its Strahler order.
+std::vector<Reach> channel_reaches(std::span<const std::int32_t> order, std::span<const std::uint8_t> channel,
+                                   std::span<const std::int32_t> receiver, std::span<const std::uint8_t> channel_donors,
+                                   std::span<const std::int32_t> strahler);
 
 }  // namespace orogen::hydrology

@@ -19,7 +19,6 @@
 //    (network_figures), sums in the same order. Every tile gets the report.
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -31,6 +30,7 @@
 #include "nodes/hydrology/depressions.h"
 #include "nodes/hydrology/drainage_metrics.h"
 #include "nodes/hydrology/tile_accumulation.h"
+#include "nodes/hydrology/tile_components.h"
 #include "nodes/hydrology/tile_fill.h"
 #include "nodes/hydrology/tile_phases.h"
 #include "nodes/hydrology/tile_ring.h"
@@ -56,24 +56,6 @@ std::string take_string(std::string_view& in) {
   const auto v = bytes::take_vector<char>(in, kWhat);
   return {v.begin(), v.end()};
 }
-
-// Union-find, the lowest index as the root.
-struct Joined {
-  std::vector<std::int32_t> parent;
-  explicit Joined(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  std::int32_t root(std::int32_t a) {
-    while (parent[static_cast<std::size_t>(a)] != a) {
-      auto& up = parent[static_cast<std::size_t>(a)];
-      up = parent[static_cast<std::size_t>(up)];
-      a = up;
-    }
-    return a;
-  }
-  void join(std::int32_t a, std::int32_t b) {
-    a = root(a), b = root(b);
-    if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-  }
-};
 
 // The longest flow path from the divide to every cell of a tile, through the other tiles' values at its perimeter.
 class TileLongest {
@@ -138,15 +120,14 @@ class TileLongest {
 };
 
 // Every tile's perimeter lengths into the other tiles' largest at each of its perimeter cells.
-std::vector<std::string> solve_longest(const std::vector<std::string>& messages, glm::ivec2 size) {
+std::vector<std::string> solve_longest(std::span<const std::string_view> messages, glm::ivec2 size) {
   struct Tile {
     TileRect rect;
     std::vector<double> own;
   };
   std::vector<Tile> tiles;
   std::unordered_map<std::int64_t, std::vector<std::pair<std::size_t, std::size_t>>> holders;
-  for (const std::string& m : messages) {
-    std::string_view in(m);
+  for (std::string_view in : messages) {
     Tile t;
     t.rect = take_tile_rect(in, size, kWhat);
     bytes::take<std::uint8_t>(in, kWhat);
@@ -170,9 +151,8 @@ std::vector<std::string> solve_longest(const std::vector<std::string>& messages,
   return answers;
 }
 
-bool longest_changed(const std::vector<std::string>& messages) {
-  for (const std::string& m : messages) {
-    std::string_view in(m);
+bool longest_changed(std::span<const std::string_view> messages) {
+  for (std::string_view in : messages) {
     for (int k = 0; k < 4; ++k) bytes::take<int>(in, kWhat);
     if (bytes::take<std::uint8_t>(in, kWhat)) return true;
   }
@@ -340,13 +320,9 @@ class DrainageTile : public TileGraphTile {
     const std::vector<float> z = with_ring(surface_, rect_, size_, filled);
     const std::vector<float> in = with_ring(ground_, rect_, size_, input);
     const FlowGrid g(ringed.size.x, ringed.size.y, grid_.dx, grid_.dy);
-    const glm::ivec2 at = rect_.first - ringed.first;
-    const D8Flow f = d8_flow(g, z);
-    direction_.clear();
-    for (int j = 0; j < rect_.size.y; ++j)
-      for (int i = 0; i < rect_.size.x; ++i)
-        direction_.push_back(f.direction[static_cast<std::size_t>(g.index(at.x + i, at.y + j))]);
+    direction_ = without_ring<std::uint8_t>(d8_flow(g, z).direction, rect_, size_);
     accumulation_ = start_tile_accumulation(direction_, rect_, size_);
+    const glm::ivec2 at = rect_.first - ringed.first;
     // Pits among the interior cells the tile owns, and lake cells.
     for (int j = 0; j < rect_.size.y; ++j)
       for (int i = 0; i < rect_.size.x; ++i) {
@@ -422,9 +398,7 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
   }
 
   std::vector<std::string> solve(int, const std::vector<std::string>& tagged_messages) const override {
-    std::vector<std::string_view> views;
-    const Phase phase = untag_messages<Phase>(tagged_messages, views, kWhat, kWho);
-    const std::vector<std::string> messages(views.begin(), views.end());
+    const auto [phase, messages] = untag_messages<Phase>(tagged_messages, kWhat, kWho);
     const glm::ivec2 size = whole_.resolution;
     std::vector<std::string> answers(messages.size());
     Phase next = Phase::Done;
@@ -444,13 +418,12 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
         break;
       case Phase::Ring: {
         std::vector<std::string> filled, input;
-        for (const auto& m : messages) {
-          std::string_view in(m);
+        for (std::string_view in : messages) {
           filled.push_back(take_string(in));
           input.push_back(take_string(in));
           expect_end(in);
         }
-        const auto a = solve_rings(filled, size), b = solve_rings(input, size);
+        const auto a = solve_rings(message_views(filled), size), b = solve_rings(message_views(input), size);
         for (std::size_t t = 0; t < answers.size(); ++t) put_string(answers[t], a[t]), put_string(answers[t], b[t]);
         next = Phase::Accumulate;
         break;
@@ -481,7 +454,7 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
   }
 
  private:
-  std::vector<std::string> solve_depressions(const std::vector<std::string>& messages) const {
+  std::vector<std::string> solve_depressions(std::span<const std::string_view> messages) const {
     const glm::ivec2 size = whole_.resolution;
     struct Tile {
       TileRect rect;
@@ -491,8 +464,7 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
     };
     std::vector<Tile> tiles;
     std::vector<std::int32_t> offset{0};
-    for (const std::string& m : messages) {
-      std::string_view in(m);
+    for (std::string_view in : messages) {
       Tile t;
       t.rect = take_tile_rect(in, size, kWhat);
       t.depth = bytes::take_vector<double>(in, kWhat);
@@ -507,20 +479,16 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
       offset.push_back(offset.back() + static_cast<std::int32_t>(t.depth.size()));
       tiles.push_back(std::move(t));
     }
-    Joined joined(static_cast<std::size_t>(offset.back()));
-    std::unordered_map<std::int64_t, std::int32_t> shared;
-    for (std::size_t t = 0; t < tiles.size(); ++t) {
-      const auto cells = perimeter_cells(tiles[t].rect.size);
-      for (std::size_t p = 0; p < cells.size(); ++p) {
-        const std::int32_t k = tiles[t].perimeter[p];
-        const std::int32_t node = k ? offset[t] + k - 1 : -1;
-        const auto [it, fresh] = shared.try_emplace(domain_sample(tiles[t].rect, size, cells[p]), node);
-        if (fresh) continue;
-        if ((it->second < 0) != (node < 0))
-          throw std::invalid_argument("drainage metrics: tiles disagree whether a shared sample is raised");
-        if (node >= 0) joined.join(it->second, node);
-      }
-    }
+    LowestRootUnionFind joined(static_cast<std::size_t>(offset.back()));
+    std::vector<TileRect> rects;
+    for (const Tile& t : tiles) rects.push_back(t.rect);
+    join_perimeter_components(
+        joined, rects, size,
+        [&](std::size_t t, std::size_t p) {
+          const std::int32_t k = tiles[t].perimeter[p];
+          return k ? offset[t] + k - 1 : -1;
+        },
+        "drainage metrics: tiles disagree whether a shared sample is raised");
     const auto n = static_cast<std::size_t>(offset.back());
     std::vector<double> depth(n, 0.0);
     std::vector<std::int64_t> cells(n, 0);
@@ -552,11 +520,10 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
   }
 
   // The report from every tile's channel cells and counts, as drainage_metrics writes it.
-  std::string report_json(const std::vector<std::string>& messages) const {
+  std::string report_json(std::span<const std::string_view> messages) const {
     std::int64_t depressions = 0, lakes = 0, pits = 0, pits_outside = 0, lake_cells = 0;
     std::vector<ChannelCell> cells;
-    for (const std::string& m : messages) {
-      std::string_view in(m);
+    for (std::string_view in : messages) {
       depressions = bytes::take<std::int64_t>(in, kWhat);  // the whole domain's, alike in every tile
       lakes = bytes::take<std::int64_t>(in, kWhat);
       pits += bytes::take<std::int64_t>(in, kWhat);
@@ -582,24 +549,17 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
       std::int32_t same = -1;
       for (const auto& [k, d] : donors[c])
         if (cells[static_cast<std::size_t>(d)].order == cell.order) same = d;
-      ++s.channel_cells;
-      if (same >= 0) {
-        stream[c] = stream[static_cast<std::size_t>(same)];
-      } else {
-        stream[c] = static_cast<std::int32_t>(s.stream_order.size());
-        s.stream_order.push_back(cell.order);
-        s.stream_length.push_back(0.0);
-      }
       const bool drains = receiver[c] != static_cast<std::int32_t>(c);
-      if (drains) s.stream_length[static_cast<std::size_t>(stream[c])] += g.distance(cell.direction);
-      const double area = static_cast<double>(cell.count) * g.cell_area();
-      s.area.push_back(area);
-      s.main_length.push_back(cell.longest);
-      if (drains && !cell.lake) {
-        s.slope_area.push_back(area);
-        s.slope.push_back((static_cast<double>(cell.z) - cells[static_cast<std::size_t>(receiver[c])].z) /
-                          g.distance(cell.direction));
-      }
+      ChannelSample sample{same,
+                           cell.order,
+                           drains ? g.distance(cell.direction) : 0.0,
+                           static_cast<double>(cell.count) * g.cell_area(),
+                           cell.longest,
+                           std::nullopt};
+      if (drains && !cell.lake)
+        sample.slope =
+            (static_cast<double>(cell.z) - cells[static_cast<std::size_t>(receiver[c])].z) / g.distance(cell.direction);
+      add_channel_sample(s, stream, c, sample);
     }
     DrainageReport r;
     r.threshold = params_.threshold;

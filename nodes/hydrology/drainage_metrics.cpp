@@ -81,25 +81,33 @@ NetworkMetrics network_metrics(const FlowGrid& g, const D8Flow& f, std::span<con
     }
     longest[c] = best;
     if (!channel[c]) continue;
-    ++s.channel_cells;
-    if (same >= 0) {
-      stream[c] = stream[same];
-    } else {
-      stream[c] = static_cast<std::int32_t>(s.stream_order.size());
-      s.stream_order.push_back(order[c]);
-      s.stream_length.push_back(0.0);
-    }
-    if (f.receiver[c] != c) s.stream_length[static_cast<std::size_t>(stream[c])] += g.distance(f.direction[c]);
-    s.area.push_back(area[c]);
-    s.main_length.push_back(best);
-    if (f.receiver[c] != c && (exclude_slope.empty() || !exclude_slope[c])) {
-      s.slope_area.push_back(area[c]);
-      s.slope.push_back((static_cast<double>(z[c]) - z[f.receiver[c]]) / g.distance(f.direction[c]));
-    }
+    const bool drains = f.receiver[c] != c;
+    ChannelSample cell{same, order[c], drains ? g.distance(f.direction[c]) : 0.0, area[c], best, std::nullopt};
+    if (drains && (exclude_slope.empty() || !exclude_slope[c]))
+      cell.slope = (static_cast<double>(z[c]) - z[f.receiver[c]]) / g.distance(f.direction[c]);
+    add_channel_sample(s, stream, static_cast<std::size_t>(c), cell);
   }
   NetworkMetrics m = network_figures(s, g.size());
   m.order = std::move(order);
   return m;
+}
+
+void add_channel_sample(NetworkSamples& s, std::span<std::int32_t> stream, std::size_t c, const ChannelSample& cell) {
+  ++s.channel_cells;
+  if (cell.same >= 0) {
+    stream[c] = stream[static_cast<std::size_t>(cell.same)];
+  } else {
+    stream[c] = static_cast<std::int32_t>(s.stream_order.size());
+    s.stream_order.push_back(cell.order);
+    s.stream_length.push_back(0.0);
+  }
+  if (cell.step > 0.0) s.stream_length[static_cast<std::size_t>(stream[c])] += cell.step;
+  s.area.push_back(cell.area);
+  s.main_length.push_back(cell.main_length);
+  if (cell.slope) {
+    s.slope_area.push_back(cell.area);
+    s.slope.push_back(*cell.slope);
+  }
 }
 
 NetworkMetrics network_figures(const NetworkSamples& s, std::size_t cells) {
@@ -223,8 +231,7 @@ DrainageReport drainage_metrics(const Heightfield& in, double threshold, const E
   const D8Flow f = d8_flow(g, z, {}, ctx);
   const auto stack = stack_order(g, f);
   // Whole cells times the cell area, as FlowAccumulation's D8 area: exact in any order, so across tiles too.
-  auto area = count_d8(g, f, ctx);
-  for (double& a : area) a *= g.cell_area();
+  const auto area = d8_area(g, f, ctx);
   std::vector<std::uint8_t> channel(g.size());
   for (std::size_t c = 0; c < g.size(); ++c) channel[c] = area[c] >= threshold;
   r.network = network_metrics(g, f, stack, channel, area, z, lake);

@@ -3,6 +3,7 @@
 // Strahler 1957, Hack 1957, Flint 1974).
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -46,6 +47,17 @@ struct NetworkSamples {
   std::vector<double> area, main_length;
   std::vector<double> slope_area, slope;
 };
+
+// One channel cell as network_metrics samples it.
+struct ChannelSample {
+  std::int32_t same = -1;  // its channel donor of its order, whose Horton stream it continues; -1: a stream starts
+  int order = 0;           // Strahler
+  double step = 0.0;       // the distance to its receiver, 0 at an outlet
+  double area = 0.0, main_length = 0.0;
+  std::optional<double> slope;  // for Flint's fit: none at an outlet or where left out (lakes)
+};
+// Adds channel cell c to the samples, the cells visited upstream first; `stream` (per cell) gets its Horton stream.
+void add_channel_sample(NetworkSamples& s, std::span<std::int32_t> stream, std::size_t c, const ChannelSample& cell);
 
 // The figures of a network of `cells` cells from its samples (every field of NetworkMetrics but `order`), as
 // network_metrics computes them: the sums run in the samples' order.

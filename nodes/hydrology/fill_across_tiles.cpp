@@ -14,6 +14,7 @@
 #include "graph/tile_graph.h"
 #include "nodes/hydrology/flow_routing.h"
 #include "graph/tile_bytes.h"
+#include "nodes/hydrology/tile_phases.h"
 #include "nodes/hydrology/tile_fill.h"
 #include "nodes/hydrology/tile_lakes.h"
 
@@ -92,7 +93,7 @@ class FlatFillAcrossTiles : public TileGraphAlgorithm {
 
   bool another_round(int round, const std::vector<std::string>& messages) const override {
     if (round + 1 < rounds()) return true;
-    return epsilon_ && epsilon_values_fell(messages);
+    return epsilon_ && epsilon_values_fell(message_views(messages));
   }
 
   std::unique_ptr<TileGraphTile> start(const std::vector<PortValue>& inputs) const override {
@@ -102,8 +103,8 @@ class FlatFillAcrossTiles : public TileGraphAlgorithm {
   }
 
   std::vector<std::string> solve(int round, const std::vector<std::string>& messages) const override {
-    if (round >= 2) return solve_epsilon_perimeters(messages, whole_);
-    if (round == 0) return solve_spill_messages(messages, whole_);
+    if (round >= 2) return solve_epsilon_perimeters(message_views(messages), whole_);
+    if (round == 0) return solve_spill_messages(message_views(messages), whole_);
     std::vector<std::string> answers(messages.size());
     std::vector<TileLakes> lakes;
     lakes.reserve(messages.size());

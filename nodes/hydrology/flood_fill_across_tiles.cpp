@@ -17,7 +17,6 @@
 // domain. Messages are O(perimeter) a tile, two rounds with the spill level, one with a given level.
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -25,33 +24,13 @@
 #include "graph/tile_bytes.h"
 #include "graph/tile_graph.h"
 #include "nodes/hydrology/depressions.h"
+#include "nodes/hydrology/tile_components.h"
 #include "nodes/hydrology/tile_fill.h"
 
 namespace orogen::hydrology {
 namespace {
 
 constexpr const char* kWhat = "flood fill across tiles";
-
-// Union-find, the lowest index as the root.
-struct Joined {
-  std::vector<std::int32_t> parent;
-  std::int32_t add() {
-    parent.push_back(static_cast<std::int32_t>(parent.size()));
-    return parent.back();
-  }
-  std::int32_t root(std::int32_t a) {
-    while (parent[static_cast<std::size_t>(a)] != a) {
-      auto& up = parent[static_cast<std::size_t>(a)];
-      up = parent[static_cast<std::size_t>(up)];  // path halving
-      a = up;
-    }
-    return a;
-  }
-  void join(std::int32_t a, std::int32_t b) {
-    a = root(a), b = root(b);
-    if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-  }
-};
 
 class FloodFillTile : public TileGraphTile {
  public:
@@ -170,39 +149,37 @@ class FloodFillAcrossTiles : public TileGraphAlgorithm {
   // Joins the tiles' components through their shared samples; answers each tile with its components that are the
   // seed's.
   std::vector<std::string> solve_components(const std::vector<std::string>& messages) const {
-    Joined joined;
+    std::vector<TileRect> rects;
+    std::vector<std::vector<std::int32_t>> perimeters;
+    std::size_t seed_tile = messages.size();
+    std::int32_t seed = -1;
+    for (std::size_t t = 0; t < messages.size(); ++t) {
+      std::string_view m(messages[t]);
+      rects.push_back(take_tile_rect(m, whole_, kWhat));
+      const auto s = bytes::take<std::int32_t>(m, kWhat);
+      perimeters.push_back(bytes::take_vector<std::int32_t>(m, kWhat));
+      if (!m.empty() || perimeters.back().size() != perimeter_cells(rects.back().size).size())
+        throw std::invalid_argument("flood fill across tiles: one component per perimeter cell expected");
+      for (const std::int32_t k : perimeters.back())
+        if (k < 0) throw std::invalid_argument("flood fill across tiles: a negative component");
+      if (s >= 0 && seed_tile == messages.size()) seed_tile = t, seed = s;
+    }
+    if (seed_tile == messages.size()) throw std::invalid_argument("flood fill across tiles: no tile holds the seed");
+    LowestRootUnionFind joined;
     std::vector<std::unordered_map<std::int32_t, std::int32_t>> node(messages.size());  // tile component -> node
     auto node_of = [&](std::size_t t, std::int32_t k) {
       const auto [it, fresh] = node[t].try_emplace(k, 0);
       if (fresh) it->second = joined.add();
       return it->second;
     };
-    std::unordered_map<std::int64_t, std::int32_t> shared;  // sample -> the first tile's node there, or -1: dry
-    std::int32_t seed_node = -1;
-    bool seed_found = false;
-    for (std::size_t t = 0; t < messages.size(); ++t) {
-      std::string_view m(messages[t]);
-      const TileRect r = take_tile_rect(m, whole_, kWhat);
-      const auto seed = bytes::take<std::int32_t>(m, kWhat);
-      const auto perimeter = bytes::take_vector<std::int32_t>(m, kWhat);
-      const auto cells = perimeter_cells(r.size);
-      if (!m.empty() || perimeter.size() != cells.size())
-        throw std::invalid_argument("flood fill across tiles: one component per perimeter cell expected");
-      if (seed >= 0 && !seed_found) {
-        seed_found = true;
-        if (seed > 0) seed_node = node_of(t, seed);
-      }
-      for (std::size_t p = 0; p < cells.size(); ++p) {
-        if (perimeter[p] < 0) throw std::invalid_argument("flood fill across tiles: a negative component");
-        const std::int32_t n = perimeter[p] ? node_of(t, perimeter[p]) : -1;
-        const auto [it, fresh] = shared.try_emplace(domain_sample(r, whole_, cells[p]), n);
-        if (fresh) continue;
-        if ((it->second < 0) != (n < 0))
-          throw std::invalid_argument("flood fill across tiles: tiles disagree whether a shared sample is flooded");
-        if (n >= 0) joined.join(it->second, n);
-      }
-    }
-    if (!seed_found) throw std::invalid_argument("flood fill across tiles: no tile holds the seed");
+    const std::int32_t seed_node = seed > 0 ? node_of(seed_tile, seed) : -1;
+    join_perimeter_components(
+        joined, rects, whole_,
+        [&](std::size_t t, std::size_t p) {
+          const std::int32_t k = perimeters[t][p];
+          return k ? node_of(t, k) : -1;
+        },
+        "flood fill across tiles: tiles disagree whether a shared sample is flooded");
     std::vector<std::string> answers(messages.size());
     for (std::size_t t = 0; t < messages.size(); ++t) {
       std::vector<std::int32_t> flooded;

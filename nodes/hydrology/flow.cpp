@@ -54,8 +54,7 @@ AccumulationResult flow_accumulation(const Heightfield& in, const Heightfield* r
   }
   std::vector<double> acc;
   if (p.method == FlowMethod::D8 && !rainfall) {
-    acc = count_d8(g, d8_flow(g, z, {}, ctx), ctx);
-    for (double& a : acc) a *= g.cell_area();
+    acc = d8_area(g, d8_flow(g, z, {}, ctx), ctx);
   } else {
     acc = accumulate(g, z, RoutingOptions{p.method, p.exponent, {}}, weight, ctx);
   }

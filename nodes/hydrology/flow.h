@@ -30,7 +30,7 @@ struct AccumulationResult {
 };
 
 // `rainfall` (optional, same domain): relative weight per cell, 1 = nominal. D8 without rainfall: the number of
-// cells upstream times the cell area (count_d8), one product per cell, so the tiles of a tiled or distributed build
+// cells upstream times the cell area (d8_area), one product per cell, so the tiles of a tiled or distributed build
 // compute the same (nodes/hydrology/flow_across_tiles.cpp); every other case sums shares in a fixed order
 // (nodes/hydrology/flow_shares.h), which tiles reproduce too.
 AccumulationResult flow_accumulation(const Heightfield& in, const Heightfield* rainfall, const AccumulationParams& p,

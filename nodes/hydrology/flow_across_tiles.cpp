@@ -260,27 +260,14 @@ class FlowTile : public TileGraphTile {
     }
     const bool basins = job_.output == FlowJob::Output::Basins;
     if (by_shares_) {
-      const std::vector<float> slope = steepest_slope(g, z);
-      slope_.reserve(static_cast<std::size_t>(rect_.size.x) * static_cast<std::size_t>(rect_.size.y));
-      for (int j = 0; j < rect_.size.y; ++j)
-        for (int i = 0; i < rect_.size.x; ++i)
-          slope_.push_back(slope[static_cast<std::size_t>(g.index(at.x + i, at.y + j))]);
+      slope_ = without_ring<float>(steepest_slope(g, z), rect_, whole_);
       shares_ = std::make_unique<TileShares>(z, rect_, whole_, grid_.dx, grid_.dy, job_.routing, std::move(weight_));
       weight_ = {};
       return;
     }
-    const D8Flow f = d8_flow(g, z);
-    const std::vector<float> slope = basins ? std::vector<float>() : steepest_slope(g, z);
-    std::vector<std::uint8_t> direction;
-    direction.reserve(static_cast<std::size_t>(rect_.size.x) * static_cast<std::size_t>(rect_.size.y));
-    if (!basins) slope_.reserve(direction.capacity());
-    for (int j = 0; j < rect_.size.y; ++j)
-      for (int i = 0; i < rect_.size.x; ++i) {
-        const auto c = static_cast<std::size_t>(g.index(at.x + i, at.y + j));
-        direction.push_back(f.direction[c]);
-        if (!basins) slope_.push_back(slope[c]);
-      }
-    accumulation_ = start_tile_accumulation(direction, rect_, whole_);
+    if (!basins) slope_ = without_ring<float>(steepest_slope(g, z), rect_, whole_);
+    accumulation_ =
+        start_tile_accumulation(without_ring<std::uint8_t>(d8_flow(g, z).direction, rect_, whole_), rect_, whole_);
     if (basins) {
       basins_ = start_tile_basins(accumulation_);
       accumulation_ = {};
@@ -333,7 +320,8 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
       case Phase::Edges:
         return true;
       case Phase::Shares:
-        return !shares_done(trimmed(messages)) || job_.after_accumulation() != Phase::Done;
+        return !shares_done(untag_messages<Phase>(messages, kWhat, kWhat).views) ||
+               job_.after_accumulation() != Phase::Done;
       case Phase::Links:
         return true;
       default:
@@ -358,9 +346,7 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
   }
 
   std::vector<std::string> solve(int, const std::vector<std::string>& tagged_messages) const override {
-    std::vector<std::string_view> views;
-    const Phase phase = untag_messages<Phase>(tagged_messages, views, kWhat, kWhat);
-    const std::vector<std::string> messages(views.begin(), views.end());
+    const auto [phase, messages] = untag_messages<Phase>(tagged_messages, kWhat, kWhat);
     const glm::ivec2 size = whole_.resolution;
     std::vector<std::string> answers(messages.size());
     Phase next = Phase::Done;
@@ -368,7 +354,7 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
       case Phase::Surface: {
         // The fill's rounds unless every tile kept its surface.
         bool all = true;
-        for (std::string_view m : views) {
+        for (std::string_view m : messages) {
           const bool kept = bytes::take<std::uint8_t>(m, kWhat) != 0;
           all = all && kept;
           expect_end(m, kWhat);
@@ -410,7 +396,7 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
         break;
       case Phase::Maximum: {
         double largest = 0.0;
-        for (std::string_view m : views) {
+        for (std::string_view m : messages) {
           largest = std::max(largest, bytes::take<double>(m, kWhat));
           expect_end(m, kWhat);
         }
@@ -425,14 +411,6 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
   }
 
  private:
-  // The messages without their phase tags.
-  static std::vector<std::string> trimmed(const std::vector<std::string>& messages) {
-    std::vector<std::string> out;
-    out.reserve(messages.size());
-    for (const std::string& m : messages) out.push_back(m.substr(1));
-    return out;
-  }
-
   FlowJob job_;
   Domain whole_;
 };

@@ -911,6 +911,12 @@ std::vector<double> count_d8(const FlowGrid& g, const D8Flow& f, const ExecConte
   return accumulate_d8_of(g, f, {}, 1.0, ctx);
 }
 
+std::vector<double> d8_area(const FlowGrid& g, const D8Flow& f, const ExecContext* ctx) {
+  std::vector<double> area = count_d8(g, f, ctx);
+  for (double& a : area) a *= g.cell_area();
+  return area;
+}
+
 int flow_proportions(const FlowGrid& g, std::span<const float> z, int i, int j, const RoutingOptions& opt, int nbr[8],
                      double frac[8]) {
   const NeighbourTable t(g);

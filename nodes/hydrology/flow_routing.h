@@ -150,6 +150,9 @@ std::vector<double> accumulate_d8(const FlowGrid& g, const D8Flow& f, std::span<
 // (exact in double up to 2^53 cells). Times the cell area it is the contributing area as one product per cell, the
 // same on any tiling (nodes/hydrology/tile_accumulation.h), where summing the areas rounds by the order of the sum.
 std::vector<double> count_d8(const FlowGrid& g, const D8Flow& f, const ExecContext* ctx = nullptr);
+// The contributing area in m^2 as count_d8 times the cell area, one product per cell: FlowAccumulation's D8 area,
+// which the tiles reproduce exactly.
+std::vector<double> d8_area(const FlowGrid& g, const D8Flow& f, const ExecContext* ctx = nullptr);
 
 // ---- Dispersive routing --------------------------------------------------------------------------------
 

@@ -166,8 +166,7 @@ RiverResult extract_rivers(const Heightfield& in, const Heightfield* rainfall, c
     acc = accumulate_d8(g, f, weight, ctx);
   } else {
     // Whole cells times the cell area, as FlowAccumulation's D8 area: exact in any order, so across tiles too.
-    acc = count_d8(g, f, ctx);
-    for (double& a : acc) a *= g.cell_area();
+    acc = d8_area(g, f, ctx);
   }
   const auto order = stack_order(g, f);
   std::vector<std::uint8_t> channel(g.size());

@@ -26,6 +26,7 @@
 #include "graph/tile_bytes.h"
 #include "graph/tile_graph.h"
 #include "nodes/hydrology/channel_network.h"
+#include "nodes/hydrology/channels.h"
 #include "nodes/hydrology/rivers.h"
 #include "nodes/hydrology/tile_accumulation.h"
 #include "nodes/hydrology/tile_fill.h"
@@ -178,13 +179,7 @@ class RiverTile : public TileGraphTile {
     const TileRect ringed = ringed_rect(rect_, size_);
     const std::vector<float> z = with_ring(surface_, rect_, size_, bytes);
     const FlowGrid g(ringed.size.x, ringed.size.y, grid_.dx, grid_.dy);
-    const glm::ivec2 at = rect_.first - ringed.first;
-    const D8Flow f = d8_flow(g, z);
-    direction_.clear();
-    direction_.reserve(surface_.size());
-    for (int j = 0; j < rect_.size.y; ++j)
-      for (int i = 0; i < rect_.size.x; ++i)
-        direction_.push_back(f.direction[static_cast<std::size_t>(g.index(at.x + i, at.y + j))]);
+    direction_ = without_ring<std::uint8_t>(d8_flow(g, z).direction, rect_, size_);
     accumulation_ = start_tile_accumulation(direction_, rect_, size_);
   }
 
@@ -245,9 +240,7 @@ class RiversAcrossTiles : public TileGraphAlgorithm {
   }
 
   std::vector<std::string> solve(int, const std::vector<std::string>& tagged_messages) const override {
-    std::vector<std::string_view> views;
-    const Phase phase = untag_messages<Phase>(tagged_messages, views, kWhat, kWhat);
-    const std::vector<std::string> messages(views.begin(), views.end());
+    const auto [phase, messages] = untag_messages<Phase>(tagged_messages, kWhat, kWhat);
     const glm::ivec2 size = whole_.resolution;
     std::vector<std::string> answers(messages.size());
     Phase next = Phase::Done;
@@ -288,40 +281,23 @@ class RiversAcrossTiles : public TileGraphAlgorithm {
 
  private:
   // The channel network of every tile's channel cells, cut into reaches as extract_reaches cuts the whole domain's.
-  std::shared_ptr<Curves> network_curves(const std::vector<std::string>& messages) const {
+  std::shared_ptr<Curves> network_curves(std::span<const std::string_view> messages) const {
     std::vector<ChannelCell> cells;
-    for (const std::string& m : messages) {
-      std::string_view in(m);
+    for (std::string_view in : messages) {
       const auto part = bytes::take_vector<ChannelCell>(in, kWhat);
       expect_end(in, kWhat);
       cells.insert(cells.end(), part.begin(), part.end());
     }
     const glm::ivec2 size = whole_.resolution;
     const ChannelNetwork net = sorted_channel_network(cells, size, "rivers across tiles");
-    const auto& receiver = net.receiver;
-    const auto& donors = net.donors;
-    // extract_reaches on the channel cells.
-    std::vector<std::int32_t> reach_of_head(cells.size(), -1);
-    std::vector<Reach> reaches;
-    for (const std::int32_t head : net.order) {
-      if (donors[static_cast<std::size_t>(head)].size() == 1) continue;
-      Reach r;
-      r.order = cells[static_cast<std::size_t>(head)].order;
-      r.cells.push_back(head);
-      for (std::int32_t x = head;;) {
-        const std::int32_t next = receiver[static_cast<std::size_t>(x)];
-        if (next == x) break;
-        r.cells.push_back(next);
-        if (donors[static_cast<std::size_t>(next)].size() >= 2) {
-          r.parent = reach_of_head[static_cast<std::size_t>(next)];
-          break;
-        }
-        x = next;
-      }
-      if (r.cells.size() < 2) continue;  // a confluence that is itself an outlet
-      reach_of_head[static_cast<std::size_t>(head)] = static_cast<std::int32_t>(reaches.size());
-      reaches.push_back(std::move(r));
+    std::vector<std::uint8_t> donors(cells.size());
+    std::vector<std::int32_t> strahler(cells.size());
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      donors[c] = static_cast<std::uint8_t>(net.donors[c].size());
+      strahler[c] = cells[c].order;
     }
+    const std::vector<Reach> reaches =
+        channel_reaches(net.order, std::vector<std::uint8_t>(cells.size(), 1), net.receiver, donors, strahler);
     const double cell_area = FlowGrid::of(whole_).cell_area();
     return reach_curves(
         reaches,

@@ -90,7 +90,7 @@ std::string accumulation_message(const TileAccumulation& t) {
   return out;
 }
 
-std::vector<std::string> solve_tile_accumulation(const std::vector<std::string>& messages, glm::ivec2 domain_size) {
+std::vector<std::string> solve_tile_accumulation(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
   struct Tile {
     TileRect rect;
     std::vector<std::int32_t> node;  // per perimeter cell: its sample's node

@@ -47,7 +47,7 @@ TileAccumulation start_tile_accumulation(std::span<const std::uint8_t> direction
 std::string accumulation_message(const TileAccumulation& tile);
 // Phase 2: every tile's message (indexed by tile) into every tile's answer (Y per perimeter cell). Throws
 // std::invalid_argument on malformed messages or links that form a cycle.
-std::vector<std::string> solve_tile_accumulation(const std::vector<std::string>& messages, glm::ivec2 domain_size);
+std::vector<std::string> solve_tile_accumulation(std::span<const std::string_view> messages, glm::ivec2 domain_size);
 // Phase 3: the number of cells draining through every tile cell (itself included), row-major.
 std::vector<std::int64_t> finish_tile_accumulation(const TileAccumulation& tile, std::string_view answer);
 

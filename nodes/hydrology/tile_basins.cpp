@@ -56,7 +56,7 @@ std::string basin_links_message(const TileBasins& t) {
   return out;
 }
 
-std::vector<std::string> solve_basin_links(const std::vector<std::string>& messages, glm::ivec2 domain_size) {
+std::vector<std::string> solve_basin_links(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
   std::unordered_map<std::int64_t, std::int32_t> node_of;  // sample -> node
   std::vector<std::int64_t> sample, fixed;                 // per node: its sample; an outlet inside a tile, or -1
   std::vector<std::int32_t> next;                          // per node: the node its path stops at, or -1
@@ -145,7 +145,7 @@ std::string basin_count_message(TileBasins& t) {
   return out;
 }
 
-std::vector<std::string> solve_basin_counts(const std::vector<std::string>& messages, double cell_area,
+std::vector<std::string> solve_basin_counts(std::span<const std::string_view> messages, double cell_area,
                                             double min_area) {
   std::vector<std::vector<std::int64_t>> outlets(messages.size());
   std::map<std::int64_t, std::int64_t> cells;

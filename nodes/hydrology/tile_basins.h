@@ -39,14 +39,14 @@ TileBasins start_tile_basins(const TileAccumulation& edges);
 std::string basin_links_message(const TileBasins& tile);
 // Phase 2: every tile's message (indexed by tile) into every tile's answer (the outlet of each perimeter cell).
 // Throws std::invalid_argument on malformed messages, an edge taken twice, or links that loop.
-std::vector<std::string> solve_basin_links(const std::vector<std::string>& messages, glm::ivec2 domain_size);
+std::vector<std::string> solve_basin_links(std::span<const std::string_view> messages, glm::ivec2 domain_size);
 // Phase 3: the outlet of every cell of the tile.
 void take_basin_outlets(TileBasins& tile, std::string_view answer);
 // The tile's outlets and the number of its owned cells draining to each.
 std::string basin_count_message(TileBasins& tile);
 // Phase 4: every tile's counts into every tile's answer: per outlet of its message, the basin number (0 under
 // `min_area`) and the basin's cell count. Throws std::invalid_argument on malformed messages.
-std::vector<std::string> solve_basin_counts(const std::vector<std::string>& messages, double cell_area,
+std::vector<std::string> solve_basin_counts(std::span<const std::string_view> messages, double cell_area,
                                             double min_area);
 // The basin number and area (count x cell area) of every cell of the tile, row-major, as watersheds() writes them.
 void basin_maps(const TileBasins& tile, std::string_view answer, double cell_area, std::span<float> id,

@@ -275,7 +275,7 @@ void TileEpsilon::answer(std::string_view bytes) {
   if (!seeds.empty()) relax_epsilon(rect_.size.x, rect_.size.y, level_, e_, seeds);
 }
 
-std::vector<std::string> solve_epsilon_perimeters(const std::vector<std::string>& messages, glm::ivec2 domain_size) {
+std::vector<std::string> solve_epsilon_perimeters(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
   struct Tile {
     TileRect rect;
     std::vector<std::int32_t> perimeter;
@@ -311,9 +311,8 @@ std::vector<std::string> solve_epsilon_perimeters(const std::vector<std::string>
   return answers;
 }
 
-bool epsilon_values_fell(const std::vector<std::string>& messages) {
-  for (const std::string& m : messages) {
-    std::string_view in(m);
+bool epsilon_values_fell(std::span<const std::string_view> messages) {
+  for (std::string_view in : messages) {
     take_rect(in);
     if (take<std::uint64_t>(in) > 0) return true;
   }
@@ -330,10 +329,10 @@ std::string encode(const TileSpillGraph& g) {
   return out;
 }
 
-std::vector<std::string> solve_spill_messages(const std::vector<std::string>& messages, glm::ivec2 domain_size) {
+std::vector<std::string> solve_spill_messages(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
   std::vector<TileSpillGraph> graphs;
   graphs.reserve(messages.size());
-  for (const auto& m : messages) graphs.push_back(decode_spill_graph(m));
+  for (std::string_view m : messages) graphs.push_back(decode_spill_graph(m));
   const auto levels = solve_spill_graphs(graphs, domain_size);
   std::vector<std::string> answers(messages.size());
   for (std::size_t t = 0; t < levels.size(); ++t) bytes::put_vector(answers[t], levels[t]);

@@ -108,12 +108,12 @@ class TileEpsilon {
 
 // Every tile's message of a round (indexed by tile) into every tile's answer. Throws std::invalid_argument on
 // malformed messages.
-std::vector<std::string> solve_epsilon_perimeters(const std::vector<std::string>& messages, glm::ivec2 domain_size);
+std::vector<std::string> solve_epsilon_perimeters(std::span<const std::string_view> messages, glm::ivec2 domain_size);
 // Whether any of a round's messages lowered a value (else the surface is final and the rounds end).
-bool epsilon_values_fell(const std::vector<std::string>& messages);
+bool epsilon_values_fell(std::span<const std::string_view> messages);
 
 // The spill round's solve on the tiles' encoded spill graphs (decode_spill_graph): each tile's levels as its answer.
-std::vector<std::string> solve_spill_messages(const std::vector<std::string>& messages, glm::ivec2 domain_size);
+std::vector<std::string> solve_spill_messages(std::span<const std::string_view> messages, glm::ivec2 domain_size);
 
 // A spill graph as bytes and back (what ranks exchange; graph/rank_group.h). decode throws std::invalid_argument
 // on malformed bytes.

@@ -1,35 +1,17 @@
 #include "nodes/hydrology/tile_lakes.h"
 
 #include <algorithm>
-#include <numeric>
 #include <stdexcept>
-#include <unordered_map>
 
 #include "nodes/hydrology/depressions.h"
 #include "graph/tile_bytes.h"
+#include "nodes/hydrology/tile_components.h"
 
 namespace orogen::hydrology {
 
 namespace {
 
 constexpr const char* kWhat = "tile lakes";
-
-// Union-find over every component of every tile, the lowest index as the root (so roots are deterministic).
-struct Components {
-  std::vector<std::int32_t> parent;
-  explicit Components(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  std::int32_t root(std::int32_t a) {
-    while (parent[static_cast<std::size_t>(a)] != a) {
-      parent[static_cast<std::size_t>(a)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(a)])];
-      a = parent[static_cast<std::size_t>(a)];
-    }
-    return a;
-  }
-  void join(std::int32_t a, std::int32_t b) {
-    a = root(a), b = root(b);
-    if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-  }
-};
 
 }  // namespace
 
@@ -86,24 +68,16 @@ std::vector<std::vector<std::int32_t>> solve_tile_lakes(const std::vector<TileLa
         throw std::invalid_argument("tile lakes: tile " + std::to_string(t) + " names an unknown lake");
     offset[t + 1] = offset[t] + static_cast<std::int32_t>(count);
   }
-  Components components(static_cast<std::size_t>(offset.back()));
-  // Samples shared by tiles: the first tile that shows one gives its component (or -1: dry); the others join it.
-  std::unordered_map<std::int64_t, std::int32_t> shared;
-  for (std::size_t t = 0; t < tiles.size(); ++t) {
-    const TileRect& r = tiles[t].rect;
-    const auto perimeter = perimeter_cells(r.size);
-    for (std::size_t p = 0; p < perimeter.size(); ++p) {
-      const int i = perimeter[p] % r.size.x, j = perimeter[p] / r.size.x;
-      const std::int64_t g = static_cast<std::int64_t>(r.first.y + j) * whole.x + r.first.x + i;
-      const std::int32_t k = tiles[t].perimeter[p];
-      const std::int32_t node = k ? offset[t] + k - 1 : -1;
-      const auto [it, fresh] = shared.try_emplace(g, node);
-      if (fresh) continue;
-      if ((it->second < 0) != (node < 0))
-        throw std::invalid_argument("tile lakes: neighboring tiles disagree whether a shared sample is under water");
-      if (node >= 0) components.join(it->second, node);
-    }
-  }
+  LowestRootUnionFind components(static_cast<std::size_t>(offset.back()));
+  std::vector<TileRect> rects;
+  for (const TileLakes& l : tiles) rects.push_back(l.rect);
+  join_perimeter_components(
+      components, rects, whole,
+      [&](std::size_t t, std::size_t p) {
+        const std::int32_t k = tiles[t].perimeter[p];
+        return k ? offset[t] + k - 1 : -1;
+      },
+      "tile lakes: neighboring tiles disagree whether a shared sample is under water");
   // Per whole lake (its root): the lowest first cell, the deepest water, the cells.
   const auto n = static_cast<std::size_t>(offset.back());
   std::vector<std::int64_t> first(n, -1), cells(n, 0);

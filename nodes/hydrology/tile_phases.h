@@ -26,20 +26,31 @@ Phase take_phase(std::string_view& bytes, const char* what, const std::string& w
   return static_cast<Phase>(p);
 }
 
-// The tiles' messages without their tags, into `views`, and their phase (Done if none): every tile must be in the
-// same one.
 template <class Phase>
-Phase untag_messages(const std::vector<std::string>& tagged_messages, std::vector<std::string_view>& views,
-                     const char* what, const std::string& who) {
+struct UntaggedMessages {
   Phase phase = Phase::Done;
+  std::vector<std::string_view> views;  // into the tagged messages, past their tags
+};
+
+// The tiles' messages without their tags, and their phase (Done if none): every tile must be in the same one.
+template <class Phase>
+UntaggedMessages<Phase> untag_messages(const std::vector<std::string>& tagged_messages, const char* what,
+                                       const std::string& who) {
+  UntaggedMessages<Phase> out;
+  out.views.reserve(tagged_messages.size());
   for (const std::string& m : tagged_messages) {
     std::string_view v(m);
     const Phase p = take_phase<Phase>(v, what, who);
-    if (!views.empty() && p != phase) throw std::invalid_argument(who + ": tiles in different phases");
-    phase = p;
-    views.push_back(v);
+    if (!out.views.empty() && p != out.phase) throw std::invalid_argument(who + ": tiles in different phases");
+    out.phase = p;
+    out.views.push_back(v);
   }
-  return phase;
+  return out;
+}
+
+// Views of whole messages, for the solves that take views (std::span<const std::string_view>).
+inline std::vector<std::string_view> message_views(const std::vector<std::string>& messages) {
+  return {messages.begin(), messages.end()};
 }
 
 inline void expect_end(std::string_view in, const std::string& who) {

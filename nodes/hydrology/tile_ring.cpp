@@ -54,7 +54,7 @@ std::string ring_message(std::span<const float> values, const TileRect& rect) {
   return out;
 }
 
-std::vector<std::string> solve_rings(const std::vector<std::string>& messages, glm::ivec2 domain_size) {
+std::vector<std::string> solve_rings(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
   std::vector<TileRect> rects(messages.size());
   std::unordered_map<std::int64_t, float> value_of;  // sample index -> value, over every tile's band
   for (std::size_t t = 0; t < messages.size(); ++t) {

@@ -8,6 +8,7 @@
 // perimeter (ring_message, O(perimeter)); the solve hands every tile the values of its ring (solve_rings), which
 // lie in those bands of the tiles around it; each tile puts them around its own (with_ring). A sample held by
 // several tiles must have the same value in each (bit for bit): they are copies of one whole-domain value.
+#include <cstddef>
 #include <span>
 #include <string>
 #include <string_view>
@@ -30,10 +31,25 @@ std::string ring_message(std::span<const float> values, const TileRect& rect);
 // Every tile's message (indexed by tile) into every tile's answer: the values of its ring (the samples of
 // ringed_rect outside the tile, row-major). Throws std::invalid_argument on malformed messages, a ring sample no
 // tile holds, or tiles that disagree on a shared sample.
-std::vector<std::string> solve_rings(const std::vector<std::string>& messages, glm::ivec2 domain_size);
+std::vector<std::string> solve_rings(std::span<const std::string_view> messages, glm::ivec2 domain_size);
 
 // The tile's values on ringed_rect(rect, domain_size), row-major: its own, and its ring from `answer`.
 std::vector<float> with_ring(std::span<const float> values, const TileRect& rect, glm::ivec2 domain_size,
                              std::string_view answer);
+
+// The inverse of with_ring: the tile's values (rect.size, row-major) out of `ringed_values` on
+// ringed_rect(rect, domain_size), row-major.
+template <class T>
+std::vector<T> without_ring(std::span<const T> ringed_values, const TileRect& rect, glm::ivec2 domain_size) {
+  const TileRect ringed = ringed_rect(rect, domain_size);
+  const glm::ivec2 at = rect.first - ringed.first;
+  std::vector<T> out;
+  out.reserve(static_cast<std::size_t>(rect.size.x) * static_cast<std::size_t>(rect.size.y));
+  for (int j = 0; j < rect.size.y; ++j) {
+    const auto row = ringed_values.begin() + static_cast<std::ptrdiff_t>(at.y + j) * ringed.size.x + at.x;
+    out.insert(out.end(), row, row + rect.size.x);
+  }
+  return out;
+}
 
 }  // namespace orogen::hydrology

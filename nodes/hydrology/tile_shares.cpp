@@ -84,9 +84,10 @@ TileShares::TileShares(std::vector<float> ringed_z, const TileRect& rect, glm::i
     : rect_(rect), domain_(domain_size), z_(std::move(ringed_z)), weight_(std::move(weight)), area_(dx * dy) {
   const TileRect ringed = ringed_rect(rect, domain_size);
   at_ = rect.first - ringed.first;
-  gw_ = ringed.size.x, gh_ = ringed.size.y;
+  gw_ = ringed.size.x;
+  const int gh = ringed.size.y;
   const std::size_t tile_cells = static_cast<std::size_t>(rect.size.x) * static_cast<std::size_t>(rect.size.y);
-  if (z_.size() != static_cast<std::size_t>(gw_) * static_cast<std::size_t>(gh_))
+  if (z_.size() != static_cast<std::size_t>(gw_) * static_cast<std::size_t>(gh))
     throw std::invalid_argument("flow shares across tiles: heights do not match the tile and its ring");
   if (!weight_.empty() && weight_.size() != tile_cells)
     throw std::invalid_argument("flow shares across tiles: weights do not match the tile");
@@ -94,12 +95,12 @@ TileShares::TileShares(std::vector<float> ringed_z, const TileRect& rect, glm::i
   // domain's border, and the ring's cells are never donors here (their shares come from the tiles holding them).
   RoutingOptions opt = routing;
   opt.outlets = {};
-  shares_ = std::make_unique<FlowShares>(FlowGrid(gw_, gh_, dx, dy), z_, opt);
+  shares_ = std::make_unique<FlowShares>(FlowGrid(gw_, gh, dx, dy), z_, opt);
   const FlowShares& s = *shares_;
   acc_.assign(z_.size(), 0.0);
   remaining_.assign(z_.size(), kDone);
   perimeter_ = perimeter_index(rect.size);
-  outside_.assign(static_cast<std::size_t>(*std::max_element(perimeter_.begin(), perimeter_.end()) + 1), 0);
+  outside_.assign(perimeter_cells(rect.size).size(), 0);
   inflow_.assign(outside_.size() * 8, 0.0);
   exports_.assign(z_.size(), 0);
   pending_ = static_cast<std::int64_t>(tile_cells);
@@ -254,18 +255,13 @@ void TileShares::take_shares(std::string_view answer) {
 
 std::vector<double> TileShares::accumulation() const {
   if (!done()) throw std::logic_error("flow shares across tiles: accumulation before every cell is done");
-  std::vector<double> out;
-  out.reserve(static_cast<std::size_t>(rect_.size.x) * static_cast<std::size_t>(rect_.size.y));
-  for (int j = 0; j < rect_.size.y; ++j)
-    for (int i = 0; i < rect_.size.x; ++i) out.push_back(acc_[static_cast<std::size_t>(ringed_cell(i, j))]);
-  return out;
+  return without_ring<double>(acc_, rect_, domain_);
 }
 
-std::vector<std::string> solve_share_edges(const std::vector<std::string>& messages, glm::ivec2 domain_size) {
+std::vector<std::string> solve_share_edges(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
   std::vector<TileRect> rects;
   std::vector<std::vector<std::int64_t>> keys;
-  for (const std::string& m : messages) {
-    std::string_view in(m);
+  for (std::string_view in : messages) {
     rects.push_back(take_tile_rect(in, domain_size, kWhat));
     keys.push_back(bytes::take_vector<std::int64_t>(in, kWhat));
     if (!in.empty()) throw std::invalid_argument("flow shares across tiles: trailing bytes");
@@ -289,22 +285,20 @@ std::vector<std::string> solve_share_edges(const std::vector<std::string>& messa
   return answers;
 }
 
-bool shares_done(const std::vector<std::string>& messages) {
-  for (const std::string& m : messages) {
-    std::string_view in(m);
+bool shares_done(std::span<const std::string_view> messages) {
+  for (std::string_view in : messages) {
     if (!bytes::take<std::uint8_t>(in, kWhat)) return false;
   }
   return true;
 }
 
-std::vector<std::string> solve_shares(const std::vector<std::string>& messages, glm::ivec2 domain_size) {
+std::vector<std::string> solve_shares(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
   std::vector<TileRect> rects;
   std::vector<std::vector<std::int64_t>> keys;
   std::vector<std::vector<double>> values;
-  bool moved = false;
-  for (const std::string& m : messages) {
-    std::string_view in(m);
-    bytes::take<std::uint8_t>(in, kWhat);
+  bool moved = false, all_done = true;
+  for (std::string_view in : messages) {
+    all_done = bytes::take<std::uint8_t>(in, kWhat) != 0 && all_done;
     rects.push_back(take_tile_rect(in, domain_size, kWhat));
     keys.push_back(bytes::take_vector<std::int64_t>(in, kWhat));
     values.push_back(bytes::take_vector<double>(in, kWhat));
@@ -312,7 +306,7 @@ std::vector<std::string> solve_shares(const std::vector<std::string>& messages, 
       throw std::invalid_argument("flow shares across tiles: malformed shares");
     moved = moved || !keys.back().empty();
   }
-  if (!moved && !shares_done(messages))
+  if (!moved && !all_done)
     throw std::invalid_argument("flow shares across tiles: no share moved but cells wait (a cycle in the flow)");
   const TileLocator tiles(rects);
   std::vector<std::vector<std::int64_t>> to_keys(messages.size());

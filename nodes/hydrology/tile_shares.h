@@ -76,7 +76,7 @@ class TileShares {
 
   TileRect rect_;
   glm::ivec2 domain_, at_;
-  int gw_ = 0, gh_ = 0;
+  int gw_ = 0;  // the ringed tile's width
   std::vector<float> z_;
   std::unique_ptr<FlowShares> shares_;
   std::vector<float> weight_;
@@ -95,11 +95,11 @@ class TileShares {
 
 // Round 1's solve: every tile's edges message (indexed by tile) into its answer. Throws std::invalid_argument on
 // malformed messages.
-std::vector<std::string> solve_share_edges(const std::vector<std::string>& messages, glm::ivec2 domain_size);
+std::vector<std::string> solve_share_edges(std::span<const std::string_view> messages, glm::ivec2 domain_size);
 // A shares round's solve. Throws std::invalid_argument on malformed messages, and when no tile is done yet no share
 // moved (a cycle: heights that are not finite).
-std::vector<std::string> solve_shares(const std::vector<std::string>& messages, glm::ivec2 domain_size);
+std::vector<std::string> solve_shares(std::span<const std::string_view> messages, glm::ivec2 domain_size);
 // Whether every tile was done when it sent its shares message: the last round.
-bool shares_done(const std::vector<std::string>& messages);
+bool shares_done(std::span<const std::string_view> messages);
 
 }  // namespace orogen::hydrology

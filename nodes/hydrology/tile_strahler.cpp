@@ -118,10 +118,10 @@ std::vector<std::uint8_t> channel_cells(const std::vector<std::int64_t>& counts,
   return channel;
 }
 
-std::vector<std::string> solve_strahler_perimeters(const std::vector<std::string>& messages, glm::ivec2 domain_size) {
+std::vector<std::string> solve_strahler_perimeters(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
   std::vector<Message> tiles;
   tiles.reserve(messages.size());
-  for (const std::string& m : messages) tiles.push_back(decode(m, domain_size));
+  for (std::string_view m : messages) tiles.push_back(decode(m, domain_size));
   // Per shared sample: the tiles' summaries there, as (tile, perimeter index).
   struct Holder {
     std::int32_t tile, k;
@@ -148,9 +148,8 @@ std::vector<std::string> solve_strahler_perimeters(const std::vector<std::string
   return answers;
 }
 
-bool strahler_changed(const std::vector<std::string>& messages) {
-  for (const std::string& m : messages) {
-    std::string_view in(m);
+bool strahler_changed(std::span<const std::string_view> messages) {
+  for (std::string_view in : messages) {
     for (int k = 0; k < 4; ++k) bytes::take<int>(in, kWhat);  // the tile's rectangle
     if (bytes::take<std::uint8_t>(in, kWhat)) return true;
   }

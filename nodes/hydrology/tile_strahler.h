@@ -72,8 +72,8 @@ std::vector<std::uint8_t> channel_cells(const std::vector<std::int64_t>& counts,
 
 // Every tile's message of a round (indexed by tile) into every tile's answer. Throws std::invalid_argument on
 // malformed messages.
-std::vector<std::string> solve_strahler_perimeters(const std::vector<std::string>& messages, glm::ivec2 domain_size);
+std::vector<std::string> solve_strahler_perimeters(std::span<const std::string_view> messages, glm::ivec2 domain_size);
 // Whether any tile's summaries changed in this round's messages (else the orders are final).
-bool strahler_changed(const std::vector<std::string>& messages);
+bool strahler_changed(std::span<const std::string_view> messages);
 
 }  // namespace orogen::hydrology

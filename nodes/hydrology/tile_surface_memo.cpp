@@ -1,9 +1,10 @@
 #include "nodes/hydrology/tile_surface_memo.h"
 
-#include <bit>
 #include <map>
 #include <mutex>
 #include <tuple>
+
+#include <xxhash.h>
 
 namespace orogen::hydrology {
 namespace {
@@ -28,26 +29,14 @@ std::map<Key, Kept>& memo() {
   return m;
 }
 
-inline std::uint64_t mix(std::uint64_t h) {  // the murmur3 finalizer
-  h ^= h >> 33;
-  h *= 0xff51afd7ed558ccdull;
-  h ^= h >> 33;
-  h *= 0xc4ceb9fe1a85ec53ull;
-  return h ^ (h >> 33);
-}
-
 }  // namespace
 
 HeightsHash hash_heights(std::span<const float> heights) {
-  // Two independent polynomial hashes of the bit patterns, finalized: 128 bits, so two different tiles of heights
-  // collide with a probability of about 2^-128 per pair.
-  std::uint64_t a = 0x9e3779b97f4a7c15ull ^ heights.size(), b = 0xc2b2ae3d27d4eb4full + heights.size();
-  for (const float v : heights) {
-    const std::uint64_t x = std::bit_cast<std::uint32_t>(v);
-    a = (a ^ x) * 0x100000001b3ull;
-    b = (b + x) * 0xff51afd7ed558ccdull + 0x165667b19e3779f9ull;
-  }
-  return {mix(a), mix(b ^ a)};
+  // XXH3's 128-bit hash of the heights' bit patterns (the byte count included). It is not cryptographic: for heights
+  // not crafted to collide, two different tiles of heights collide about as often as two random 128-bit values
+  // (2^-128 per pair), far below any other failure; a collision would hand a tile another tile's filled surface.
+  const XXH128_hash_t h = XXH3_128bits(heights.data(), heights.size_bytes());
+  return {h.low64, h.high64};
 }
 
 std::shared_ptr<const std::vector<float>> find_filled_surface(const TileRect& rect, glm::ivec2 whole,

@@ -3,10 +3,10 @@
 // node on the same heights (FlowDirection, FlowAccumulation and Watersheds often share their terrain) takes it instead
 // of filling again (nodes/hydrology/flow_across_tiles.cpp, docs/distributed.md).
 //
-// A surface is found by the tile's rectangle, the whole domain's size and a 128-bit hash of the tile's input heights.
-// One surface is kept per tile rectangle (the latest), so the memo holds at most one float per sample of the tiles
-// this process runs. Whether a tile finds its surface is decided by every tile together (one round): the tiles run
-// the fill's rounds unless all of them found theirs, so tiles on different ranks never disagree on the phase.
+// A surface is found by the tile's rectangle, the whole domain's size and XXH3's 128-bit hash of the tile's input
+// heights. One surface is kept per tile rectangle (the latest), so the memo holds at most one float per sample of the
+// tiles this process runs. Whether a tile finds its surface is decided by every tile together (one round): the tiles
+// run the fill's rounds unless all of them found theirs, so tiles on different ranks never disagree on the phase.
 #include <cstdint>
 #include <memory>
 #include <span>
