@@ -154,8 +154,8 @@ TEST(Distributed, AnyRankCountWritesTheSingleProcessTilesAndTheyJoinIntoTheUntil
       if (f.path().extension() != ".exr" && f.path().extension() != ".tif") continue;
       if (read_height_raster(f.path()).channels != 1) continue;
       const auto rel = fs::relative(f.path(), untiled);
-      const Raster whole = read_raster(f.path());
-      const Raster joined = stitch(dir, rel, job.tiles, {whole.width, whole.height});
+      const FloatRaster whole = read_float_raster(f.path());
+      const FloatRaster joined = stitch(dir, rel, job.tiles, {whole.width, whole.height});
       EXPECT_TRUE(same_bits(whole, joined)) << rel.generic_string();
       ++compared;
     }
@@ -197,8 +197,8 @@ TEST(Distributed, HydrologyAcrossTilesDrainsEveryCellAndConservesArea) {
   const glm::ivec2 tiles{3, 2};
   const fs::path dir = run_distributed({"distributed_hydrology.json", n, tiles, 4}) / "distributed_hydrology";
   const auto joined = [&](const std::string& name) { return stitch(dir, name + ".tif", tiles, {n, n}); };
-  const Raster height = joined("height"), depth = joined("depth"), direction = joined("direction");
-  const Raster flow = joined("flow_d8");
+  const FloatRaster height = joined("height"), depth = joined("depth"), direction = joined("direction");
+  const FloatRaster flow = joined("flow_d8");
 
   // The lake: depth > 0 in each of the three lower tiles of 3x2, connected through lake cells.
   {
@@ -233,7 +233,7 @@ TEST(Distributed, HydrologyAcrossTilesDrainsEveryCellAndConservesArea) {
 
   // Drained: from the border, climbing (never descending) reaches every cell of the filled terrain.
   for (const char* name : {"filled", "filled_flat"}) {
-    const Raster filled = joined(name);
+    const FloatRaster filled = joined(name);
     std::vector<char> reached(filled.values.size(), 0);
     std::deque<int> queue;
     for (int j = 0; j < n; ++j)
@@ -297,8 +297,8 @@ TEST(Distributed, TheMosaicOpensInGdalAsTheUntiledRaster) {
     const fs::path whole = dir / (std::string(name) + "_from_vrt.tif");
     const auto r = run_process(gdal_translate, {"-q", vrt.string(), whole.string()});
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_TRUE(
-        same_bits(read_raster(whole), read_raster(untiled / "distributed_hydrology" / (std::string(name) + ".tif"))));
+    EXPECT_TRUE(same_bits(read_float_raster(whole),
+                          read_float_raster(untiled / "distributed_hydrology" / (std::string(name) + ".tif"))));
   }
 }
 
@@ -446,7 +446,7 @@ void expect_ranks_equal_untiled(const std::string& graph, const std::string& ste
     SCOPED_TRACE(tiles_text(job.tiles) + " on " + std::to_string(job.ranks) + " ranks");
     const fs::path dir = run_distributed(job);
     for (const std::string& name : names) {
-      const Raster whole = read_raster(untiled / stem / (name + ".tif"));
+      const FloatRaster whole = read_float_raster(untiled / stem / (name + ".tif"));
       EXPECT_TRUE(same_bits(whole, stitch(dir, stem + "/" + name + ".tif", job.tiles, {whole.width, whole.height})))
           << name;
     }
@@ -480,8 +480,8 @@ TEST(Distributed, FloodFillAcrossRanksEqualsTheUntiledBuild) {
   SKIP_WITHOUT_MPI();
   const fs::path& untiled = single_process_build({"../bench/distributed_flood.json", 129, {0, 0}, 1});
   // The lake and the flood span the tiles of every tiling below.
-  const Raster lake = read_raster(untiled / "distributed_flood" / "lake_mask.tif");
-  const Raster flood = read_raster(untiled / "distributed_flood" / "flood_depth.tif");
+  const FloatRaster lake = read_float_raster(untiled / "distributed_flood" / "lake_mask.tif");
+  const FloatRaster flood = read_float_raster(untiled / "distributed_flood" / "flood_depth.tif");
   EXPECT_EQ(lake.at(64, 64), 1.0f);  // on the corner of the 2x2 tiles
   std::array<std::size_t, 4> quadrants{};
   for (int j = 0; j < lake.height; ++j)

@@ -41,8 +41,8 @@ std::size_t differing_samples(const fs::path& whole, const fs::path& dir, const 
   const int channels = probe_height_raster(whole).channels;
   std::size_t differing = 0;
   for (int c = 0; c < channels; ++c) {
-    const Raster full = read_raster(whole, c);
-    const Raster joined = stitch(dir, rel, tiles, {full.width, full.height}, c);
+    const FloatRaster full = read_float_raster(whole, c);
+    const FloatRaster joined = stitch(dir, rel, tiles, {full.width, full.height}, c);
     for (std::size_t k = 0; k < full.values.size(); ++k)
       differing += std::memcmp(&full.values[k], &joined.values[k], sizeof(float)) != 0;
   }

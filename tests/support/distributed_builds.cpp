@@ -38,20 +38,20 @@ fs::path tile_file(const fs::path& dir, const fs::path& rel, int i, int j) {
          (rel.stem().string() + "_x" + std::to_string(i) + "_y" + std::to_string(j) + rel.extension().string());
 }
 
-Raster read_raster(const fs::path& file, int channel) {
+FloatRaster read_float_raster(const fs::path& file, int channel) {
   const auto raw = read_height_raster(file, channel);
-  Raster r{raw.width, raw.height, std::vector<float>(raw.values.size())};
+  FloatRaster r{raw.width, raw.height, std::vector<float>(raw.values.size())};
   for (int j = 0; j < r.height; ++j)  // files store the northern row first
     for (int i = 0; i < r.width; ++i)
       r.at(i, j) = static_cast<float>(raw.values[static_cast<std::size_t>(r.height - 1 - j) * r.width + i]);
   return r;
 }
 
-Raster stitch(const fs::path& dir, const fs::path& rel, glm::ivec2 counts, glm::ivec2 size, int channel) {
-  Raster whole{size.x, size.y, std::vector<float>(static_cast<std::size_t>(size.x) * size.y, NAN)};
+FloatRaster stitch(const fs::path& dir, const fs::path& rel, glm::ivec2 counts, glm::ivec2 size, int channel) {
+  FloatRaster whole{size.x, size.y, std::vector<float>(static_cast<std::size_t>(size.x) * size.y, NAN)};
   for (int tj = 0; tj < counts.y; ++tj)
     for (int ti = 0; ti < counts.x; ++ti) {
-      const Raster t = read_raster(tile_file(dir, rel, ti, tj), channel);
+      const FloatRaster t = read_float_raster(tile_file(dir, rel, ti, tj), channel);
       const int i0 = edge(ti, size.x, counts.x), j0 = edge(tj, size.y, counts.y);
       const bool window =
           t.width == edge(ti + 1, size.x, counts.x) - i0 + 1 && t.height == edge(tj + 1, size.y, counts.y) - j0 + 1;
@@ -64,7 +64,7 @@ Raster stitch(const fs::path& dir, const fs::path& rel, glm::ivec2 counts, glm::
   return whole;
 }
 
-bool same_bits(const Raster& a, const Raster& b) {
+bool same_bits(const FloatRaster& a, const FloatRaster& b) {
   return a.width == b.width && a.height == b.height &&
          std::memcmp(a.values.data(), b.values.data(), a.values.size() * sizeof(float)) == 0;
 }

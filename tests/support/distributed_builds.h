@@ -24,7 +24,7 @@ std::string file_bytes(const std::filesystem::path& p);
 std::filesystem::path tile_file(const std::filesystem::path& dir, const std::filesystem::path& rel, int i, int j);
 
 // A whole raster, south row first: at(i, j) with j growing northwards (+y).
-struct Raster {
+struct FloatRaster {
   int width = 0, height = 0;
   std::vector<float> values;
   float at(int i, int j) const { return values[static_cast<std::size_t>(j) * width + i]; }
@@ -32,13 +32,13 @@ struct Raster {
 };
 
 // Channel `channel` of a raster file.
-Raster read_raster(const std::filesystem::path& file, int channel = 0);
+FloatRaster read_float_raster(const std::filesystem::path& file, int channel = 0);
 
 // The tiles of the untiled build's `rel` under `dir` (tile_file) put together into one raster of `size` samples. A
 // tile whose window is not the tiling's fails the test and leaves its samples NaN.
-Raster stitch(const std::filesystem::path& dir, const std::filesystem::path& rel, glm::ivec2 counts, glm::ivec2 size,
-              int channel = 0);
+FloatRaster stitch(const std::filesystem::path& dir, const std::filesystem::path& rel, glm::ivec2 counts,
+                   glm::ivec2 size, int channel = 0);
 
-bool same_bits(const Raster& a, const Raster& b);
+bool same_bits(const FloatRaster& a, const FloatRaster& b);
 
 }  // namespace orogen::test
