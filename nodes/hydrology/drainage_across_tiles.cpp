@@ -482,12 +482,8 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
     LowestRootUnionFind joined(static_cast<std::size_t>(offset.back()));
     std::vector<TileRect> rects;
     for (const Tile& t : tiles) rects.push_back(t.rect);
-    join_perimeter_components(
-        joined, rects, size,
-        [&](std::size_t t, std::size_t p) {
-          const std::int32_t k = tiles[t].perimeter[p];
-          return k ? offset[t] + k - 1 : -1;
-        },
+    join_numbered_components(
+        joined, rects, size, offset, [&](std::size_t t) -> const auto& { return tiles[t].perimeter; },
         "drainage metrics: tiles disagree whether a shared sample is raised");
     const auto n = static_cast<std::size_t>(offset.back());
     std::vector<double> depth(n, 0.0);

@@ -60,4 +60,18 @@ void join_perimeter_components(LowestRootUnionFind& joined, std::span<const Tile
   }
 }
 
+// The common case: tile t numbers its components 1..count, `perimeter(t)[p]` is the number at its perimeter cell p
+// (0: none), and the joined nodes are offset[t] + number - 1 (offset[t]: the components of the tiles before t).
+template <class PerimeterOf>
+void join_numbered_components(LowestRootUnionFind& joined, std::span<const TileRect> rects, glm::ivec2 whole,
+                              std::span<const std::int32_t> offset, PerimeterOf&& perimeter, const char* disagreement) {
+  join_perimeter_components(
+      joined, rects, whole,
+      [&](std::size_t t, std::size_t p) {
+        const std::int32_t k = perimeter(t)[p];
+        return k ? offset[t] + k - 1 : -1;
+      },
+      disagreement);
+}
+
 }  // namespace orogen::hydrology

@@ -71,12 +71,8 @@ std::vector<std::vector<std::int32_t>> solve_tile_lakes(const std::vector<TileLa
   LowestRootUnionFind components(static_cast<std::size_t>(offset.back()));
   std::vector<TileRect> rects;
   for (const TileLakes& l : tiles) rects.push_back(l.rect);
-  join_perimeter_components(
-      components, rects, whole,
-      [&](std::size_t t, std::size_t p) {
-        const std::int32_t k = tiles[t].perimeter[p];
-        return k ? offset[t] + k - 1 : -1;
-      },
+  join_numbered_components(
+      components, rects, whole, offset, [&](std::size_t t) -> const auto& { return tiles[t].perimeter; },
       "tile lakes: neighboring tiles disagree whether a shared sample is under water");
   // Per whole lake (its root): the lowest first cell, the deepest water, the cells.
   const auto n = static_cast<std::size_t>(offset.back());
