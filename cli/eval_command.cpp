@@ -367,6 +367,8 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
       std::cerr << (e.cancelled ? "" : "error: ") << e.what() << (e.cancelled ? ": nothing partial was written" : "")
                 << "\n";
       if (distributed) {
+        // Ranks that stopped together meet once more, so none is taken down by the launcher before it has said so.
+        if (e.every_rank) group.barrier();
         if (e.cancelled) std::_Exit(kExitEvalFailed);
         std::cerr << "error: stopping every rank\n";
         group.abort(kExitEvalFailed);

@@ -199,6 +199,12 @@ class Stages {
 
     std::size_t exchanged = 0;
     for (int round = 0;; ++round) {
+      // Ctrl+C between two rounds: every rank learns of it in the same round (an interrupted rank alone would leave
+      // the others waiting in the exchange), so all of them stop there. A round is one step of the simulations.
+      if (any_rank(group_, s_.cancel && s_.cancel->cancelled()))
+        throw TileGraphStageError("interrupted in node '" + node.id + "' (" + node.type->name +
+                                      ") across the tiles, at round " + std::to_string(round),
+                                  true, true);
       std::vector<TilePart> parts(mine);
       each_tile([&](std::size_t t) { parts[t] = {number(s_.tiles[t]), tiles[t]->message(round)}; });
       for (const TilePart& part : parts) exchanged += part.bytes.size();

@@ -38,10 +38,13 @@ struct TileGraphStages {
 };
 
 // A stage that could not finish: a node upstream failed on a tile, or the build was cancelled.
+// `every_rank`: every rank throws it at the same point (an interruption agreed between two rounds), so the ranks can
+// meet once more before they exit.
 struct TileGraphStageError : std::runtime_error {
   bool cancelled = false;
-  TileGraphStageError(const std::string& what, bool was_cancelled)
-      : std::runtime_error(what), cancelled(was_cancelled) {}
+  bool every_rank = false;
+  TileGraphStageError(const std::string& what, bool was_cancelled, bool on_every_rank = false)
+      : std::runtime_error(what), cancelled(was_cancelled), every_rank(on_every_rank) {}
 };
 
 // Per tile of `stages.tiles` (in that order): the results of the across-tile nodes, by node id. Collective: every
