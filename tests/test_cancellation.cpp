@@ -355,6 +355,21 @@ TEST(CancellationRepro, ScatterRulesWithCellsOfTenKilometres) {
                       run_timed("ScatterRules", d, {{"cell_size", 9999.99}}, {{"in", PortValue(bowl(d))}}, {}));
 }
 
+// Found by fuzz_graph_eval: one rock of 9855 points on its ellipsoid (sigma 0: all on the hull) refined 4 times, 5
+// million triangles and seconds even without sanitizers, polled only between rocks.
+TEST(CancellationRepro, RockSetOfFiveMillionTriangles) {
+  const Timed t = run_timed("RockSet", kSmall,
+                            {{"count", std::int64_t{1}},
+                             {"points", std::int64_t{9855}},
+                             {"subdivisions", std::int64_t{4}},
+                             {"sigma", 0.0},
+                             {"displacement", 999.999},
+                             {"wavelength", 999.999}},
+                            {}, {});
+  EXPECT_TRUE(t.cancelled_in_flight) << t.outcome;
+  expect_within_bound("RockSet", t);
+}
+
 // Simulations at legal but long settings: PipeErosion for 1e7 s, StreamPower for 1e10 yr in 1e5-yr steps.
 TEST(CancellationRepro, LongSimulations) {
   const auto in = PortValue(bowl(kSmall));

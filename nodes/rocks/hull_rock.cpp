@@ -49,7 +49,13 @@ double value_noise(const glm::dvec3& p, std::uint64_t seed) {
   return lerp(lerp(x00, x10, s.y), lerp(x01, x11, s.y), s.z);
 }
 
-void subdivide(Hull& h) {
+// Every kPollEvery elements of a long loop, a cancelled build stops (ExecContext::check_cancelled throws).
+constexpr std::size_t kPollEvery = 1u << 14;
+void poll(const ExecContext* ctx, std::size_t k) {
+  if (ctx && k % kPollEvery == 0) ctx->check_cancelled();
+}
+
+void subdivide(Hull& h, const ExecContext* ctx) {
   std::map<std::pair<int, int>, int> mid;
   auto midpoint = [&](int a, int b) {
     const auto key = std::minmax(a, b);
@@ -62,7 +68,9 @@ void subdivide(Hull& h) {
   };
   std::vector<std::array<int, 3>> faces;
   faces.reserve(h.faces.size() * 4);
-  for (const auto& f : h.faces) {
+  for (std::size_t k = 0; k < h.faces.size(); ++k) {
+    poll(ctx, k);
+    const auto& f = h.faces[k];
     const int ab = midpoint(f[0], f[1]), bc = midpoint(f[1], f[2]), ca = midpoint(f[2], f[0]);
     faces.push_back({f[0], ab, ca});
     faces.push_back({ab, f[1], bc});
@@ -116,25 +124,28 @@ std::vector<glm::dvec3> rock_points(const HullRockOptions& o) {
   return out;
 }
 
-Hull hull_rock(const HullRockOptions& o) {
+Hull hull_rock(const HullRockOptions& o, const ExecContext* ctx) {
   Hull h = convex_hull(rock_points(o));
   if (o.subdivisions > 0) {
-    for (int s = 0; s < o.subdivisions; ++s) subdivide(h);
+    for (int s = 0; s < o.subdivisions; ++s) subdivide(h, ctx);
   }
   if (o.displacement != 0.0 && o.wavelength > 0.0) {
     const auto n = vertex_normals(h);
     const std::uint64_t key = mix64(o.seed ^ mix64(o.variant + 0x51ED27u));
-    for (std::size_t v = 0; v < h.vertices.size(); ++v)
+    for (std::size_t v = 0; v < h.vertices.size(); ++v) {
+      poll(ctx, v);
       h.vertices[v] += n[v] * (o.displacement * value_noise(h.vertices[v] / o.wavelength, key));
+    }
   }
   return h;
 }
 
 void append_hull(TriMesh& m, const Hull& h, const glm::dvec3& offset, const glm::dquat& rotation,
-                 const TriMesh::Color& color) {
+                 const TriMesh::Color& color, const ExecContext* ctx) {
   const auto normals = vertex_normals(h);
   std::vector<TriMesh::VertexHandle> vh(h.vertices.size());
   for (std::size_t v = 0; v < h.vertices.size(); ++v) {
+    poll(ctx, v);
     const glm::dvec3 p = offset + rotation * h.vertices[v];
     const glm::dvec3 n = rotation * normals[v];
     vh[v] = m.add_vertex({static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)});
@@ -147,14 +158,17 @@ void append_hull(TriMesh& m, const Hull& h, const glm::dvec3& offset, const glm:
                                static_cast<float>(0.5 + std::asin(std::clamp(d.z, -1.0, 1.0)) / std::numbers::pi)});
     }
   }
-  for (const auto& f : h.faces)
+  for (std::size_t k = 0; k < h.faces.size(); ++k) {
+    poll(ctx, k);
+    const auto& f = h.faces[k];
     m.add_face(vh[static_cast<std::size_t>(f[0])], vh[static_cast<std::size_t>(f[1])],
                vh[static_cast<std::size_t>(f[2])]);
+  }
 }
 
 void append_hull_rock(TriMesh& m, const HullRockOptions& o, const glm::dvec3& offset, const glm::dquat& rotation,
-                      const TriMesh::Color& color) {
-  append_hull(m, hull_rock(o), offset, rotation, color);
+                      const TriMesh::Color& color, const ExecContext* ctx) {
+  append_hull(m, hull_rock(o, ctx), offset, rotation, color, ctx);
 }
 
 }  // namespace orogen::rocks

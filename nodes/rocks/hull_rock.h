@@ -11,6 +11,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
 
+#include "graph/exec_context.h"
 #include "graph/mesh.h"
 
 namespace orogen::rocks {
@@ -45,12 +46,13 @@ Hull convex_hull_cgal(const std::vector<glm::dvec3>& points);
 Hull convex_hull_small(const std::vector<glm::dvec3>& points);
 // convex_hull_small up to 512 points, CGAL above.
 Hull convex_hull(const std::vector<glm::dvec3>& points);
-// The rock of `options` (hull, then refinement).
-Hull hull_rock(const HullRockOptions& options);
+// The rock of `options` (hull, then refinement). With `ctx`, the refinement polls for cancellation (4 levels of
+// 10000 points make a million triangles).
+Hull hull_rock(const HullRockOptions& options, const ExecContext* ctx = nullptr);
 // Appends the rock transformed by `rotation` then moved to `offset`, with a color and per-vertex normals.
 void append_hull_rock(TriMesh& mesh, const HullRockOptions& options, const glm::dvec3& offset,
-                      const glm::dquat& rotation, const TriMesh::Color& color);
+                      const glm::dquat& rotation, const TriMesh::Color& color, const ExecContext* ctx = nullptr);
 void append_hull(TriMesh& mesh, const Hull& hull, const glm::dvec3& offset, const glm::dquat& rotation,
-                 const TriMesh::Color& color);
+                 const TriMesh::Color& color, const ExecContext* ctx = nullptr);
 
 }  // namespace orogen::rocks

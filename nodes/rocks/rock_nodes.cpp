@@ -85,7 +85,8 @@ OROGEN_NODE(HullRock) {
     auto mesh = std::make_shared<Mesh>();
     mesh->mesh.request_vertex_texcoords2D();
     try {
-      rocks::append_hull_rock(mesh->mesh, rock_options(ctx), glm::dvec3(0.0), glm::dquat(1, 0, 0, 0), color_of(ctx));
+      rocks::append_hull_rock(mesh->mesh, rock_options(ctx), glm::dvec3(0.0), glm::dquat(1, 0, 0, 0), color_of(ctx),
+                              &ctx);
     } catch (const std::invalid_argument& e) {
       throw NodeError(std::string("no rock: ") + e.what() + " (raise sigma or the radii)");
     }

@@ -21,7 +21,7 @@ void append_rock_set(TriMesh& mesh, Points& placements, const RockSetParams& p, 
     if (k > 0) x += half;
     const glm::dvec3 center(x, 0.0, 0.0);
     try {
-      append_hull_rock(mesh, o, center, glm::dquat(1, 0, 0, 0), p.color);
+      append_hull_rock(mesh, o, center, glm::dquat(1, 0, 0, 0), p.color, ctx);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument("rock " + std::to_string(k) + ": " + e.what());
     }
