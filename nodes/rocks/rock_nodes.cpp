@@ -1,5 +1,6 @@
 // Rock nodes: HullRock (one convex-hull rock) and RockSet (K variants for scattering). Thin adapters over
 // hull_rock.h.
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -53,6 +54,16 @@ void declare_rock_params(NodeBuilder& b) {
   b.param_seed("seed", 0).description("Key of the random points (and of each variant's radii)");
 }
 
+// Bytes of one rock's mesh at most: a hull of N points has at most 2N - 4 triangles (all points on it, sigma 0), each
+// refinement level 4 times as many, and the mesh with its normals, colors and texture coordinates, the refined hull
+// and its edge map hold about 160 bytes a triangle (measured: 794 MB peak for one rock of 5 million triangles); at
+// least 8 KB a rock (tests/test_peak_memory.cpp).
+double rock_bytes(const ParamView& p) {
+  const double triangles = (2.0 * static_cast<double>(p.get<std::int64_t>("points")) - 4.0) *
+                           std::pow(4.0, static_cast<double>(p.get<std::int64_t>("subdivisions")));
+  return std::max(8192.0, 160.0 * triangles);
+}
+
 rocks::HullRockOptions rock_options(const ExecContext& ctx) {
   rocks::HullRockOptions o;
   o.points = static_cast<int>(ctx.param<std::int64_t>("points"));
@@ -81,6 +92,7 @@ OROGEN_NODE(HullRock) {
                                   "faceted look; the surface stays closed.");
   b.output("out", PortType::Mesh).description("The rock, metres, z up");
   declare_rock_params(b);
+  b.extra_bytes([](const CostQuery& q) { return per_item_bytes(1.0, rock_bytes(q.params)); });
   b.execute([](ExecContext& ctx) {
     auto mesh = std::make_shared<Mesh>();
     mesh->mesh.request_vertex_texcoords2D();
@@ -118,9 +130,8 @@ OROGEN_NODE(RockSet) {
       .unit(Unit::Metre)
       .description("Gap between neighboring variants in the row");
   declare_rock_params(b);
-  // About 8 KB per rock variant (measured: tests/test_peak_memory.cpp).
   b.extra_bytes([](const CostQuery& q) {
-    return per_item_bytes(static_cast<double>(q.params.get<std::int64_t>("count")), 8192.0);
+    return per_item_bytes(static_cast<double>(q.params.get<std::int64_t>("count")), rock_bytes(q.params));
   });
   b.execute([](ExecContext& ctx) {
     rocks::RockSetParams p;
