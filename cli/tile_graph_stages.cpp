@@ -10,6 +10,7 @@
 
 #include "cli/tile_assignment.h"
 #include "evaluator/domain_crop.h"
+#include "graph/sample_rect.h"
 #include "graph/tile_bytes.h"
 #include "graph/tile_graph.h"
 
@@ -17,20 +18,6 @@ namespace orogen::cli {
 namespace {
 
 using Results = std::map<std::string, std::shared_ptr<const CachedResult>>;
-
-// A rectangle of samples of the whole domain: [lo, hi], both included.
-struct SampleRect {
-  glm::ivec2 lo{0, 0}, hi{-1, -1};
-  bool empty() const { return hi.x < lo.x || hi.y < lo.y; }
-  glm::ivec2 size() const { return hi - lo + 1; }
-};
-
-SampleRect rect_of(const Domain& d, const Domain& whole) {
-  const glm::ivec2 lo = d.first - whole.first;
-  return {lo, lo + d.resolution - 1};
-}
-
-SampleRect overlap(const SampleRect& a, const SampleRect& b) { return {glm::max(a.lo, b.lo), glm::min(a.hi, b.hi)}; }
 
 // A raster output's samples as rows of `channels` floats a sample (a heightfield has one, an image its channels);
 // data is null for an output that is not a raster (curves and reports: the same whole value on every tile). F is
@@ -57,7 +44,7 @@ Raster<const float> raster_of(const PortValue& value) {
 void put_piece(std::string& out, long long for_tile, const SampleRect& rect, const std::vector<PortValue>& outputs,
                const Domain& whole) {
   bytes::put(out, static_cast<std::int64_t>(for_tile));
-  bytes::put(out, rect.lo.x), bytes::put(out, rect.lo.y), bytes::put(out, rect.hi.x), bytes::put(out, rect.hi.y);
+  bytes::put(out, rect);
   for (const auto& value : outputs) {
     const auto h = raster_of(value);
     if (!h.data) continue;
@@ -315,11 +302,7 @@ class Stages {
       std::string_view in(from);
       while (!in.empty()) {
         const auto u = bytes::take<std::int64_t>(in, "tile-graph exchange");
-        SampleRect part;
-        part.lo.x = bytes::take<int>(in, "tile-graph exchange"),
-        part.lo.y = bytes::take<int>(in, "tile-graph exchange");
-        part.hi.x = bytes::take<int>(in, "tile-graph exchange"),
-        part.hi.y = bytes::take<int>(in, "tile-graph exchange");
+        const auto part = bytes::take<SampleRect>(in, "tile-graph exchange");
         const auto it = std::find(s_.tiles.begin(), s_.tiles.end(), index_of(u));
         if (it == s_.tiles.end()) throw std::runtime_error("tile-graph exchange: a piece for a tile of another rank");
         take_piece(in, part, samples[static_cast<std::size_t>(it - s_.tiles.begin())], s_.domain);

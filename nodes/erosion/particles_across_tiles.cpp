@@ -33,7 +33,7 @@
 #include "nodes/common/finite_inputs.h"
 #include "nodes/common/report_builder.h"
 #include "nodes/erosion/droplet_schedule.h"
-#include "nodes/erosion/sample_rect.h"
+#include "graph/sample_rect.h"
 
 namespace orogen::erosion {
 namespace {

@@ -14,7 +14,7 @@
 #include <glm/common.hpp>
 #include <glm/vec2.hpp>
 
-#include "nodes/erosion/sample_rect.h"
+#include "graph/sample_rect.h"
 
 namespace orogen::erosion {
 

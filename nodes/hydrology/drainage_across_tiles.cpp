@@ -479,12 +479,8 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
       offset.push_back(offset.back() + static_cast<std::int32_t>(t.depth.size()));
       tiles.push_back(std::move(t));
     }
-    LowestRootUnionFind joined(static_cast<std::size_t>(offset.back()));
-    std::vector<TileRect> rects;
-    for (const Tile& t : tiles) rects.push_back(t.rect);
-    join_numbered_components(
-        joined, rects, size, offset, [&](std::size_t t) -> const auto& { return tiles[t].perimeter; },
-        "drainage metrics: tiles disagree whether a shared sample is raised");
+    LowestRootUnionFind joined = join_numbered_components(
+        tiles, size, offset, "drainage metrics: tiles disagree whether a shared sample is raised");
     const auto n = static_cast<std::size_t>(offset.back());
     std::vector<double> depth(n, 0.0);
     std::vector<std::int64_t> cells(n, 0);

@@ -60,18 +60,23 @@ void join_perimeter_components(LowestRootUnionFind& joined, std::span<const Tile
   }
 }
 
-// The common case: tile t numbers its components 1..count, `perimeter(t)[p]` is the number at its perimeter cell p
-// (0: none), and the joined nodes are offset[t] + number - 1 (offset[t]: the components of the tiles before t).
-template <class PerimeterOf>
-void join_numbered_components(LowestRootUnionFind& joined, std::span<const TileRect> rects, glm::ivec2 whole,
-                              std::span<const std::int32_t> offset, PerimeterOf&& perimeter, const char* disagreement) {
+// The common case: each tile (a `rect` and a `perimeter`) numbers its components 1..count, perimeter[p] is the number
+// at its perimeter cell p (0: none), and the joined nodes are offset[t] + number - 1 (offset[t]: the components of the
+// tiles before t, offset.back() of them in all). Returns their union-find.
+template <class Tile>
+LowestRootUnionFind join_numbered_components(const std::vector<Tile>& tiles, glm::ivec2 whole,
+                                             std::span<const std::int32_t> offset, const char* disagreement) {
+  LowestRootUnionFind joined(static_cast<std::size_t>(offset.back()));
+  std::vector<TileRect> rects;
+  for (const Tile& t : tiles) rects.push_back(t.rect);
   join_perimeter_components(
       joined, rects, whole,
       [&](std::size_t t, std::size_t p) {
-        const std::int32_t k = perimeter(t)[p];
+        const std::int32_t k = tiles[t].perimeter[p];
         return k ? offset[t] + k - 1 : -1;
       },
       disagreement);
+  return joined;
 }
 
 }  // namespace orogen::hydrology

@@ -68,12 +68,8 @@ std::vector<std::vector<std::int32_t>> solve_tile_lakes(const std::vector<TileLa
         throw std::invalid_argument("tile lakes: tile " + std::to_string(t) + " names an unknown lake");
     offset[t + 1] = offset[t] + static_cast<std::int32_t>(count);
   }
-  LowestRootUnionFind components(static_cast<std::size_t>(offset.back()));
-  std::vector<TileRect> rects;
-  for (const TileLakes& l : tiles) rects.push_back(l.rect);
-  join_numbered_components(
-      components, rects, whole, offset, [&](std::size_t t) -> const auto& { return tiles[t].perimeter; },
-      "tile lakes: neighboring tiles disagree whether a shared sample is under water");
+  LowestRootUnionFind components = join_numbered_components(
+      tiles, whole, offset, "tile lakes: neighboring tiles disagree whether a shared sample is under water");
   // Per whole lake (its root): the lowest first cell, the deepest water, the cells.
   const auto n = static_cast<std::size_t>(offset.back());
   std::vector<std::int64_t> first(n, -1), cells(n, 0);

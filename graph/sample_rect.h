@@ -1,6 +1,6 @@
 #pragma once
-// A rectangle of samples of the whole domain, as the erosion nodes run across tiles name a tile, its bands or the
-// reach of a block of droplets (thermal_across_tiles.cpp, pipe_across_tiles.cpp, particles_across_tiles.cpp).
+// A rectangle of samples of the whole domain, as runs across tiles name a tile, its bands, the reach of a block of
+// droplets (nodes/erosion/*_across_tiles.cpp) or the piece of a result another tile needs (cli/tile_graph_stages.cpp).
 #include <cstddef>
 #include <cstdint>
 #include <tuple>
@@ -11,7 +11,7 @@
 
 #include "graph/domain.h"
 
-namespace orogen::erosion {
+namespace orogen {
 
 // [lo, hi], both ends included; empty when hi < lo on either axis. It travels in messages as its four int32 (lo.x,
 // lo.y, hi.x, hi.y) through bytes::put and bytes::take (graph/tile_bytes.h).
@@ -43,4 +43,4 @@ inline SampleRect rect_of(const Domain& tile, const Domain& whole) {
   return {lo, lo + tile.resolution - 1};
 }
 
-}  // namespace orogen::erosion
+}  // namespace orogen
