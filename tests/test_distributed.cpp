@@ -98,6 +98,7 @@ fs::path run_distributed(const Job& job) {
       {"../bench/distributed_particles.json", {"'droplets' (HydraulicErosion)"}},
       {"../bench/distributed_pipe.json", {"'storm' (PipeErosion)"}},
       {"../bench/distributed_kmeans.json", {"'clusters' (KMeansClusters)"}},
+      {"../bench/distributed_stream_power.json", {"'landscape' (StreamPower)"}},
   };
   if (const auto it = across.find(job.graph); it != across.end() && job.tiles.x * job.tiles.y > 1) {
     for (const std::string& node : it->second) {
@@ -512,6 +513,16 @@ TEST(Distributed, KMeansAcrossRanksEqualsTheUntiledBuild) {
   SKIP_WITHOUT_MPI();
   expect_ranks_equal_untiled("distributed_kmeans.json", "distributed_kmeans", {"cluster_id", "smooth"},
                              {{{2, 2}, 2}, {{3, 2}, 4}, {{4, 3}, 3}});
+}
+
+// StreamPower across the ranks' tiles, step by step (bench/distributed_stream_power.json: fBm with uplift and mask
+// fields, 50 steps with the Priority-Flood fill, every output written, a blur downstream whose halo comes from the
+// neighboring ranks' tiles).
+TEST(Distributed, StreamPowerAcrossRanksEqualsTheUntiledBuild) {
+  SKIP_WITHOUT_MPI();
+  expect_ranks_equal_untiled("distributed_stream_power.json", "distributed_stream_power",
+                             {"height", "erosion", "deposition", "flow", "accumulation", "smooth"},
+                             {{{2, 2}, 2}, {{3, 2}, 4}, {{2, 2}, 3}});
 }
 
 }  // namespace

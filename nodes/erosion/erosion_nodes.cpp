@@ -303,7 +303,14 @@ OROGEN_NODE(PipeErosion) {
 }
 
 OROGEN_NODE(StreamPower) {
-  b.distribution(Distribution::Gathered);
+  // With the Priority-Flood fill every stage of a step runs across tiles, exact (stream_power_across_tiles.cpp); the
+  // basin graph's reroutes follow a minimum spanning tree of the whole domain's pits, so it is computed whole.
+  b.distribution(
+      [](const ParamView& p) {
+        return p.get<std::string>("depressions") == "priority_flood" ? Distribution::TileGraph : Distribution::Gathered;
+      },
+      "tile-graph with depressions 'priority_flood' (each step's fill, routing, areas and incision exact across "
+      "tiles), gathered with 'basin_graph'");
   b.reach_global();  // a simulation: every output sample depends on the whole input
   b.category("erosion").description(
       "Landscape evolution by the stream-power law dz/dt = U - K A^m S^n + D laplacian(z) (Howard 1994; "
@@ -355,6 +362,15 @@ OROGEN_NODE(StreamPower) {
           "Channel initiation: fluvial incision only where the drainage area reaches this; smaller areas are "
           "hillslopes shaped by diffusion alone. A threshold above a few cells makes the result converge with "
           "resolution (0: every cell incises, as in Braun and Willett 2013)");
+  b.param_enum("depressions", {"basin_graph", "priority_flood"}, "basin_graph")
+      .description(
+          "How each step crosses closed depressions; both fill them with sediment to their spill level. "
+          "'basin_graph' routes the double heights by D8 and reroutes only the basins of pits over their passes "
+          "(Cordonnier, Bovy and Braun 2019): no more than D8 when the surface has no pit, the fastest on one "
+          "machine. 'priority_flood' routes the heights rounded to float, filled by Priority-Flood+epsilon where they "
+          "have a pit (Barnes et al. 2014), which tiled and distributed builds run across the tiles exactly (with "
+          "'basin_graph' they compute the node on the whole domain). The two differ by rounding-level routing "
+          "choices on flats; docs/distributed.md gives the difference after 100 steps");
   // Working memory beyond the outputs, 144 bytes a sample (calibrated on its measured peak:
   // tests/test_peak_memory.cpp).
   b.extra_bytes([](const CostQuery& q) { return per_sample_bytes(q, 144); });
@@ -372,6 +388,8 @@ OROGEN_NODE(StreamPower) {
     p.duration = ctx.param<double>("duration");
     p.sea_level = ctx.param<double>("sea_level");
     p.channel_area = ctx.param<double>("channel_area");
+    p.depressions = ctx.enum_index("depressions") == 1 ? erosion::StreamPowerParams::Depressions::PriorityFlood
+                                                       : erosion::StreamPowerParams::Depressions::BasinGraph;
     std::shared_ptr<Heightfield> acc;
     auto m = erosion::stream_power(*in, p, up.get(), mask.get(), &ctx, nullptr, nullptr, &acc);
     set_common_outputs(ctx, m);

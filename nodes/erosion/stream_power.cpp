@@ -9,15 +9,12 @@
 
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/common/finite_inputs.h"
-#include "nodes/common/work_bounds.h"
 #include "nodes/hydrology/basin_graph.h"
+#include "nodes/erosion/stream_power_kernel.h"
 #include "nodes/hydrology/flow_routing.h"
 
 namespace orogen::erosion {
 namespace {
-
-constexpr int kDi[8] = {-1, 1, 0, 0, -1, 1, -1, 1};
-constexpr int kDj[8] = {0, 0, -1, 1, -1, -1, 1, 1};
 
 // The smallest increment that still orders the filled surface: relative to the height so that it survives
 // double rounding, and far below any real relief.
@@ -38,7 +35,9 @@ class StreamPowerRun {
         dx_(in.domain.spacing.x),
         dy_(in.domain.spacing.y),
         grid_(hydrology::FlowGrid::of(in.domain)),
-        basin_graph_(p.depressions == StreamPowerParams::Depressions::BasinGraph) {
+        basin_graph_(p.depressions == StreamPowerParams::Depressions::BasinGraph),
+        schedule_(StreamPowerSchedule::of(p, dx_, dy_, n_)),
+        incision_(p, grid_, schedule_.dt) {
     // Fixed base level: the given outlets, else the border. Cells under sea level join them step by step
     // (uplift can lift the sea floor into land).
     fixed_.assign(n_, 0);
@@ -60,30 +59,12 @@ class StreamPowerRun {
       kfac_[k] = mask_at(mask, k);
       ufac_[k] = fixed_[k] ? 0.0 : p.uplift * (uplift ? std::max(0.0f, uplift->data[k]) : 1.0f);
     }
-    // Counts checked before anything runs (a bare cast of 1e10 steps to int is undefined and ran one step).
-    steps_ = static_cast<int>(checked_count(p.duration / p.dt - 1e-9, "StreamPower: time steps (duration / time_step)",
-                                            "raise time_step or lower duration"));
-    dt_ = p.duration / steps_;
-    // Diffusion sub-steps: explicit FTCS is stable for D dt_sub (2/dx^2 + 2/dy^2) <= 1.
-    const double dt_diff_max = 0.9 / (std::max(p.diffusion, 1e-30) * (2.0 / (dx_ * dx_) + 2.0 / (dy_ * dy_)));
-    diff_steps_ = p.diffusion > 0
-                      ? static_cast<int>(checked_count(dt_ / dt_diff_max,
-                                                       "StreamPower: diffusion sub-steps per time step "
-                                                       "(diffusion x time_step / spacing^2)",
-                                                       "lower diffusion or time_step, or use a coarser grid"))
-                      : 0;
-    check_work(static_cast<double>(steps_) * (1.0 + diff_steps_) * static_cast<double>(n_),
-               "StreamPower: sample updates (time steps x (1 + diffusion sub-steps) x samples)",
-               "raise time_step, lower duration or diffusion, or use a coarser grid");
+    steps_ = schedule_.steps;
+    dt_ = schedule_.dt;
+    diff_steps_ = schedule_.diff_steps;
     row_max_.resize(static_cast<std::size_t>(h_));
     row_sum_.resize(static_cast<std::size_t>(h_));
     row_count_.resize(static_cast<std::size_t>(h_));
-    // A^m by table for areas of up to kTable whole cells (exactly count x cell area, as the unweighted
-    // accumulation gives): the same pow() values, computed once; L^n per direction.
-    cell_area_ = grid_.cell_area();
-    area_pow_.resize(kTable);
-    for (int q = 0; q < kTable; ++q) area_pow_[static_cast<std::size_t>(q)] = std::pow(q * cell_area_, p.m);
-    for (int q = 0; q < 8; ++q) len_pow_[q] = std::pow(grid_.distance(q), p.n);
     outs_.border = false;
     outs_.mask = outlet_;
   }
@@ -117,9 +98,7 @@ class StreamPowerRun {
       for_each_row_unreported(ctx, h, [&](int j) {
         auto cell = [&](int i, std::size_t k, double zw, double ze, double zs, double zn) {
           const double zc = z[k];
-          const double lx = (zw + ze - 2 * zc) * cx;
-          const double ly = (zs + zn - 2 * zc) * cy;
-          const double dz = outlet[k] ? 0.0 : c * kfac[k] * (lx + ly);
+          const double dz = diffusion_change(outlet[k], c, kfac[k], cx, cy, zc, zw, ze, zs, zn);
           ztmp[k] = zc + dz;
           // Branch-free: adding +0.0 leaves a sum unchanged.
           ero[k] += std::max(-dz, 0.0);
@@ -170,7 +149,8 @@ class StreamPowerRun {
         }
       flow_ = hydrology::d8_flow(grid_, zf_, outs_, ctx);
       order_ = hydrology::stack_order(grid_, flow_);
-      area_ = hydrology::accumulate_d8(grid_, flow_, {}, ctx);
+      // Whole cells times the cell area, as the run across tiles counts them (exact for any order).
+      area_ = hydrology::d8_area(grid_, flow_, ctx);
       for (const std::int32_t k : order_) incise(k, flow_.receiver[k], flow_.direction[k]);
     }
   }
@@ -249,42 +229,10 @@ class StreamPowerRun {
   }
 
  private:
-  static constexpr int kTable = 1 << 16;
-
   // Implicit incision of cell k towards its receiver rc (already at t + dt) along D8 direction `direction`.
   void incise(std::int32_t k, std::int32_t rc, int direction) {
-    if (rc == k || area_[k] < p_.channel_area) return;
-    const double a = area_[k], cells = std::nearbyint(a / cell_area_);
-    const double am =
-        cells < kTable && cells * cell_area_ == a ? area_pow_[static_cast<std::size_t>(cells)] : std::pow(a, p_.m);
-    const double f = p_.k * kfac_[k] * dt_ * am / len_pow_[direction];
-    const double z0 = z_[k], zr = z_[rc];
-    double zn = z0;
-    if (z0 > zr && f > 0) {
-      if (p_.n == 1.0) {
-        zn = (z0 + f * zr) / (1.0 + f);
-      } else {
-        // Newton on g(z) = z - z0 + f (z - zr)^n over (zr, z0], safeguarded by bisection.
-        double lo = zr, hi = z0;
-        zn = z0;
-        for (int it = 0; it < 50; ++it) {
-          const double d = zn - zr;
-          const double g = zn - z0 + f * std::pow(d, p_.n);
-          if (g > 0)
-            hi = zn;
-          else
-            lo = zn;
-          const double gp = 1.0 + f * p_.n * std::pow(d, p_.n - 1.0);
-          double next = zn - g / gp;
-          if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-          if (std::abs(next - zn) <= 1e-12 * std::max(1.0, std::abs(zn))) {
-            zn = next;
-            break;
-          }
-          zn = next;
-        }
-      }
-    }
+    if (rc == k || !incision_.incises(area_[k])) return;
+    const double z0 = z_[k], zn = incision_.incised(z0, z_[rc], area_[k], kfac_[k], direction);
     ero_[k] += z0 - zn;
     z_[k] = zn;
   }
@@ -296,12 +244,12 @@ class StreamPowerRun {
   const double dx_, dy_;
   const hydrology::FlowGrid grid_;
   const bool basin_graph_;
+  const StreamPowerSchedule schedule_;
+  const StreamPowerIncision incision_;
   int steps_ = 1, diff_steps_ = 0;
-  double dt_ = 0.0, cell_area_ = 0.0;
+  double dt_ = 0.0;
   std::vector<unsigned char> fixed_, outlet_;
   std::vector<double> z_, ero_, dep_, zprev_, ztmp_, kfac_, ufac_, area_;
-  std::vector<double> area_pow_;
-  double len_pow_[8];
   std::vector<float> zf_, zround_;
   hydrology::D8Flow flow_;
   hydrology::BasinRouting routing_;

@@ -40,12 +40,19 @@ TileRect ringed_rect(const TileRect& rect, glm::ivec2 domain_size) {
   return {lo, hi - lo + 1};
 }
 
-std::string ring_message(std::span<const float> values, const TileRect& rect) {
+namespace {
+
+// The bits of a value, to compare copies of one sample exactly.
+inline std::uint32_t bits_of(float v) { return std::bit_cast<std::uint32_t>(v); }
+inline std::uint64_t bits_of(double v) { return std::bit_cast<std::uint64_t>(v); }
+
+template <class T>
+std::string ring_message_of(std::span<const T> values, const TileRect& rect) {
   if (values.size() != static_cast<std::size_t>(rect.size.x) * static_cast<std::size_t>(rect.size.y))
     throw std::invalid_argument("ring_message: values do not match the tile's size");
   std::string out;
   put_tile_rect(out, rect);
-  std::vector<float> band;
+  std::vector<T> band;
   for_each_band_cell(rect.size, [&](int i, int j) {
     band.push_back(
         values[static_cast<std::size_t>(j) * static_cast<std::size_t>(rect.size.x) + static_cast<std::size_t>(i)]);
@@ -54,13 +61,14 @@ std::string ring_message(std::span<const float> values, const TileRect& rect) {
   return out;
 }
 
-std::vector<std::string> solve_rings(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
+template <class T>
+std::vector<std::string> solve_rings_of(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
   std::vector<TileRect> rects(messages.size());
-  std::unordered_map<std::int64_t, float> value_of;  // sample index -> value, over every tile's band
+  std::unordered_map<std::int64_t, T> value_of;  // sample index -> value, over every tile's band
   for (std::size_t t = 0; t < messages.size(); ++t) {
     std::string_view in(messages[t]);
     const TileRect& r = rects[t] = take_tile_rect(in, domain_size, kWhat);
-    const auto band = bytes::take_vector<float>(in, kWhat);
+    const auto band = bytes::take_vector<T>(in, kWhat);
     if (!in.empty()) throw std::invalid_argument("tile ring: trailing bytes");
     std::size_t k = 0;
     bool fits = true;
@@ -69,9 +77,9 @@ std::vector<std::string> solve_rings(std::span<const std::string_view> messages,
         fits = false;
         return;
       }
-      const float v = band[k++];
+      const T v = band[k++];
       const auto [it, fresh] = value_of.emplace(domain_sample(r, domain_size, j * r.size.x + i), v);
-      if (!fresh && std::bit_cast<std::uint32_t>(it->second) != std::bit_cast<std::uint32_t>(v))
+      if (!fresh && bits_of(it->second) != bits_of(v))
         throw std::invalid_argument("tile ring: tiles disagree on a shared sample");
     });
     if (!fits || k != band.size()) throw std::invalid_argument("tile ring: a tile's band does not match its size");
@@ -79,7 +87,7 @@ std::vector<std::string> solve_rings(std::span<const std::string_view> messages,
   std::vector<std::string> answers(messages.size());
   for (std::size_t t = 0; t < messages.size(); ++t) {
     const TileRect ringed = ringed_rect(rects[t], domain_size);
-    std::vector<float> ring;
+    std::vector<T> ring;
     for_each_ring_cell(rects[t], ringed, [&](int i, int j) {
       const auto it = value_of.find(static_cast<std::int64_t>(ringed.first.y + j) * domain_size.x + ringed.first.x + i);
       if (it == value_of.end()) throw std::invalid_argument("tile ring: no tile holds a sample around a tile");
@@ -90,15 +98,16 @@ std::vector<std::string> solve_rings(std::span<const std::string_view> messages,
   return answers;
 }
 
-std::vector<float> with_ring(std::span<const float> values, const TileRect& rect, glm::ivec2 domain_size,
-                             std::string_view answer) {
+template <class T>
+std::vector<T> with_ring_of(std::span<const T> values, const TileRect& rect, glm::ivec2 domain_size,
+                            std::string_view answer) {
   if (values.size() != static_cast<std::size_t>(rect.size.x) * static_cast<std::size_t>(rect.size.y))
     throw std::invalid_argument("with_ring: values do not match the tile's size");
   const TileRect ringed = ringed_rect(rect, domain_size);
-  const auto ring = bytes::take_vector<float>(answer, kWhat);
+  const auto ring = bytes::take_vector<T>(answer, kWhat);
   if (!answer.empty()) throw std::invalid_argument("tile ring: trailing bytes");
   const auto width = static_cast<std::size_t>(ringed.size.x);
-  std::vector<float> out(width * static_cast<std::size_t>(ringed.size.y));
+  std::vector<T> out(width * static_cast<std::size_t>(ringed.size.y));
   std::size_t k = 0;
   for_each_ring_cell(rect, ringed, [&](int i, int j) {
     if (k >= ring.size()) throw std::invalid_argument("tile ring: too few values around the tile");
@@ -110,6 +119,27 @@ std::vector<float> with_ring(std::span<const float> values, const TileRect& rect
     std::copy_n(values.begin() + static_cast<std::ptrdiff_t>(j) * rect.size.x, rect.size.x,
                 out.begin() + static_cast<std::ptrdiff_t>((at.y + j) * ringed.size.x + at.x));
   return out;
+}
+
+}  // namespace
+
+std::string ring_message(std::span<const float> values, const TileRect& rect) { return ring_message_of(values, rect); }
+std::string ring_message(std::span<const double> values, const TileRect& rect) { return ring_message_of(values, rect); }
+
+std::vector<std::string> solve_rings(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
+  return solve_rings_of<float>(messages, domain_size);
+}
+std::vector<std::string> solve_double_rings(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
+  return solve_rings_of<double>(messages, domain_size);
+}
+
+std::vector<float> with_ring(std::span<const float> values, const TileRect& rect, glm::ivec2 domain_size,
+                             std::string_view answer) {
+  return with_ring_of(values, rect, domain_size, answer);
+}
+std::vector<double> with_ring(std::span<const double> values, const TileRect& rect, glm::ivec2 domain_size,
+                              std::string_view answer) {
+  return with_ring_of(values, rect, domain_size, answer);
 }
 
 }  // namespace orogen::hydrology

@@ -27,15 +27,20 @@ TileRect ringed_rect(const TileRect& rect, glm::ivec2 domain_size);
 // The tile's message: its rectangle and its values within one sample of its perimeter. `values`: rect.size,
 // row-major.
 std::string ring_message(std::span<const float> values, const TileRect& rect);
+std::string ring_message(std::span<const double> values, const TileRect& rect);
 
 // Every tile's message (indexed by tile) into every tile's answer: the values of its ring (the samples of
 // ringed_rect outside the tile, row-major). Throws std::invalid_argument on malformed messages, a ring sample no
 // tile holds, or tiles that disagree on a shared sample.
 std::vector<std::string> solve_rings(std::span<const std::string_view> messages, glm::ivec2 domain_size);
+// The same for the rings of double values (ring_message of doubles).
+std::vector<std::string> solve_double_rings(std::span<const std::string_view> messages, glm::ivec2 domain_size);
 
 // The tile's values on ringed_rect(rect, domain_size), row-major: its own, and its ring from `answer`.
 std::vector<float> with_ring(std::span<const float> values, const TileRect& rect, glm::ivec2 domain_size,
                              std::string_view answer);
+std::vector<double> with_ring(std::span<const double> values, const TileRect& rect, glm::ivec2 domain_size,
+                              std::string_view answer);
 
 // The inverse of with_ring: the tile's values (rect.size, row-major) out of `ringed_values` on
 // ringed_rect(rect, domain_size), row-major.
