@@ -28,6 +28,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -37,7 +38,9 @@
 #include "nodes/erosion/erosion_common.h"
 #include "nodes/erosion/stream_power_kernel.h"
 #include "nodes/hydrology/flow_routing.h"
+#include "nodes/hydrology/pit_basin_fill.h"
 #include "nodes/hydrology/tile_accumulation.h"
+#include "nodes/hydrology/tile_basins.h"
 #include "nodes/hydrology/tile_fill.h"
 #include "nodes/hydrology/tile_phases.h"
 #include "nodes/hydrology/tile_ring.h"
@@ -48,7 +51,25 @@ namespace {
 using hydrology::FlowGrid;
 using hydrology::TileRect;
 
-enum class Phase : std::uint8_t { Check, Halo, Pits, Spill, Epsilon, Ring, Accumulate, Incise, Maximum, Done };
+enum class Phase : std::uint8_t {
+  Check,
+  Halo,
+  Pits,
+  Basins,
+  Region,
+  Spill,
+  Epsilon,
+  Ring,
+  Accumulate,
+  Incise,
+  Maximum,
+  Done
+};
+
+// A tile fills its pit basins by sending them to the solve when they hold at most 1/kRegionShare of its cells (or
+// kRegionCells), and every tile's do; else the whole fill runs across the tiles.
+constexpr std::size_t kRegionShare = 16, kRegionCells = 1024;
+std::size_t default_region_limit(std::size_t tile_cells) { return std::max(kRegionCells, tile_cells / kRegionShare); }
 
 constexpr const char* kWhat = "stream power across tiles";
 
@@ -58,7 +79,7 @@ class StreamPowerTile : public TileGraphTile {
  public:
   StreamPowerTile(const Heightfield& in, const Heightfield* mask, const Heightfield* uplift, const StreamPowerParams& p,
                   const StreamPowerSchedule& schedule, std::shared_ptr<const StreamPowerIncision> incision,
-                  const Domain& whole)
+                  const Domain& whole, std::optional<std::size_t> region_limit)
       : p_(p),
         schedule_(schedule),
         incision_(std::move(incision)),
@@ -67,7 +88,8 @@ class StreamPowerTile : public TileGraphTile {
         grid_(FlowGrid::of(whole)),
         rect_{in.domain.first, in.domain.resolution},
         ringed_(hydrology::ringed_rect(rect_, whole_)),
-        n_(in.data.size()) {
+        n_(in.data.size()),
+        region_limit_(region_limit.value_or(default_region_limit(n_))) {
     z_.assign(in.data.begin(), in.data.end());
     ero_.assign(n_, 0.0);
     dep_.assign(n_, 0.0);
@@ -96,6 +118,12 @@ class StreamPowerTile : public TileGraphTile {
         break;
       case Phase::Pits:
         bytes::put(out, static_cast<std::uint8_t>(has_pit()));
+        break;
+      case Phase::Basins:
+        out = hydrology::basin_links_message(basins_);
+        break;
+      case Phase::Region:
+        out = region_message();
         break;
       case Phase::Spill:
         out = hydrology::encode(flood_.graph);
@@ -137,22 +165,50 @@ class StreamPowerTile : public TileGraphTile {
         }
         return;
       case Phase::Pits:
+        // The routed surface is the heights in float, ring included, unless a fill raises some.
+        ringed_surface_.resize(ringed_z_.size());
+        for (std::size_t k = 0; k < ringed_z_.size(); ++k) ringed_surface_[k] = static_cast<float>(ringed_z_[k]);
         if (bytes::take<std::uint8_t>(bytes, kWhat) != 0) {
+          // Which cells drain to a pit: the D8 paths of the surface as it is, joined across the tiles.
+          basins_ = hydrology::start_tile_basins(hydrology::start_tile_accumulation(directions(), rect_, whole_));
+          phase_ = Phase::Basins;
+        } else {
+          after_fill();
+        }
+        break;
+      case Phase::Basins:
+        hydrology::take_basin_outlets(basins_, bytes);
+        in_basin_.assign(n_, 0);
+        for (std::size_t k = 0; k < n_; ++k) {
+          const std::int64_t o = basins_.outlet[k];
+          const int x = static_cast<int>(o % whole_.x), y = static_cast<int>(o / whole_.x);
+          in_basin_[k] = !(x == 0 || y == 0 || x == whole_.x - 1 || y == whole_.y - 1);
+        }
+        basins_ = {};
+        phase_ = Phase::Region;
+        break;
+      case Phase::Region:
+        if (bytes::take<std::uint8_t>(bytes, kWhat) != 0) {
+          // Too large to gather: the fill across the tiles, of the pit basins alone (every other cell keeps its
+          // height, nodes/hydrology/pit_basin_fill.h).
+          hydrology::expect_end(bytes, kWhat);
           surface_.resize(n_);
-          for (std::size_t k = 0; k < n_; ++k) surface_[k] = static_cast<float>(z_[k]);
-          flood_ = hydrology::flood_tile(surface_, rect_);
+          for (std::size_t k = 0; k < n_; ++k) {
+            surface_[k] = static_cast<float>(z_[k]);
+            in_basin_[k] = !in_basin_[k];  // now: drained
+          }
+          flood_ = hydrology::flood_tile(surface_, rect_, in_basin_);
           phase_ = Phase::Spill;
         } else {
-          // Nothing to fill: the routed surface is the heights in float, ring included.
-          ringed_surface_.resize(ringed_z_.size());
-          for (std::size_t k = 0; k < ringed_z_.size(); ++k) ringed_surface_[k] = static_cast<float>(ringed_z_[k]);
+          take_region_fill(bytes);
           after_fill();
         }
         break;
       case Phase::Spill:
         epsilon_ = std::make_unique<hydrology::TileEpsilon>(
-            hydrology::apply_spill_levels(flood_, bytes::take_vector<float>(bytes, kWhat)), rect_, whole_);
+            hydrology::apply_spill_levels(flood_, bytes::take_vector<float>(bytes, kWhat)), rect_, whole_, in_basin_);
         flood_ = {};
+        in_basin_ = {};
         phase_ = Phase::Epsilon;
         break;
       case Phase::Epsilon: {
@@ -286,6 +342,73 @@ class StreamPowerTile : public TileGraphTile {
     return false;
   }
 
+  // The D8 directions of the tile's cells over the ringed surface (the ringed tile as a grid of its own: its border
+  // cells are outlets only where the domain's border is, and every neighbour of the tile's cells is in it).
+  std::vector<std::uint8_t> directions() const {
+    const FlowGrid g(ringed_.size.x, ringed_.size.y, grid_.dx, grid_.dy);
+    return hydrology::without_ring<std::uint8_t>(hydrology::d8_flow(g, ringed_surface_).direction, rect_, whole_);
+  }
+
+  // The tile's cells in pit basins with their 8-neighbours outside them (those in the ring may lie in a basin
+  // another tile sends), or only a flag when they are too many to gather.
+  std::string region_message() const {
+    std::string out;
+    hydrology::put_tile_rect(out, rect_);
+    const auto inside = static_cast<std::size_t>(std::count(in_basin_.begin(), in_basin_.end(), std::uint8_t{1}));
+    const bool large = inside > region_limit_;
+    bytes::put(out, static_cast<std::uint8_t>(large));
+    if (large) return out;
+    const glm::ivec2 at = rect_.first - ringed_.first;
+    std::vector<std::int64_t> samples;
+    std::vector<float> heights;
+    std::vector<std::uint8_t> flags;
+    auto add = [&](int x, int y, bool in) {  // ringed coordinates
+      samples.push_back(static_cast<std::int64_t>(ringed_.first.y + y) * whole_.x + ringed_.first.x + x);
+      heights.push_back(ringed_surface_[static_cast<std::size_t>(y) * ringed_.size.x + static_cast<std::size_t>(x)]);
+      flags.push_back(in);
+    };
+    for (int j = 0; j < rect_.size.y; ++j)
+      for (int i = 0; i < rect_.size.x; ++i) {
+        if (!in_basin_[static_cast<std::size_t>(j) * rect_.size.x + i]) continue;
+        add(at.x + i, at.y + j, true);
+        for (int d = 0; d < 8; ++d) {
+          const int x = at.x + i + hydrology::kDi[d], y = at.y + j + hydrology::kDj[d];
+          if (x < 0 || y < 0 || x >= ringed_.size.x || y >= ringed_.size.y) continue;
+          const int ti = x - at.x, tj = y - at.y;
+          const bool own = ti >= 0 && tj >= 0 && ti < rect_.size.x && tj < rect_.size.y;
+          if (!own || !in_basin_[static_cast<std::size_t>(tj) * rect_.size.x + ti]) add(x, y, false);
+        }
+      }
+    bytes::put_vector(out, samples);
+    bytes::put_vector(out, heights);
+    bytes::put_vector(out, flags);
+    return out;
+  }
+
+  // The filled heights of the pit basins' samples on the ringed tile: the surface there, and on the tile's own
+  // cells the heights, the raise counting as deposition (as the whole-domain run does).
+  void take_region_fill(std::string_view bytes) {
+    const auto samples = bytes::take_vector<std::int64_t>(bytes, kWhat);
+    const auto heights = bytes::take_vector<float>(bytes, kWhat);
+    hydrology::expect_end(bytes, kWhat);
+    if (samples.size() != heights.size()) throw std::invalid_argument("stream power across tiles: truncated fill");
+    const glm::ivec2 at = rect_.first - ringed_.first;
+    for (std::size_t s = 0; s < samples.size(); ++s) {
+      const int x = static_cast<int>(samples[s] % whole_.x) - ringed_.first.x,
+                y = static_cast<int>(samples[s] / whole_.x) - ringed_.first.y;
+      if (x < 0 || y < 0 || x >= ringed_.size.x || y >= ringed_.size.y)
+        throw std::invalid_argument("stream power across tiles: a filled sample outside the tile");
+      ringed_surface_[static_cast<std::size_t>(y) * ringed_.size.x + static_cast<std::size_t>(x)] = heights[s];
+      const int i = x - at.x, j = y - at.y;
+      if (i < 0 || j < 0 || i >= rect_.size.x || j >= rect_.size.y) continue;
+      const std::size_t k = static_cast<std::size_t>(j) * rect_.size.x + static_cast<std::size_t>(i);
+      if (heights[s] != static_cast<float>(z_[k])) {
+        dep_[k] += static_cast<double>(heights[s]) - z_[k];
+        z_[k] = heights[s];
+      }
+    }
+  }
+
   // The float surface is final on the tile and its ring: the D8 directions, then the counts (or, after the last
   // step, the largest area).
   void after_fill() {
@@ -293,8 +416,7 @@ class StreamPowerTile : public TileGraphTile {
       phase_ = Phase::Maximum;
       return;
     }
-    const FlowGrid g(ringed_.size.x, ringed_.size.y, grid_.dx, grid_.dy);
-    direction_ = hydrology::without_ring<std::uint8_t>(hydrology::d8_flow(g, ringed_surface_).direction, rect_, whole_);
+    direction_ = directions();
     ringed_surface_ = {};
     accumulation_ = hydrology::start_tile_accumulation(direction_, rect_, whole_);
     phase_ = Phase::Accumulate;
@@ -405,6 +527,7 @@ class StreamPowerTile : public TileGraphTile {
   FlowGrid grid_;
   TileRect rect_, ringed_;
   std::size_t n_ = 0;
+  std::size_t region_limit_ = 0;  // the most cells in pit basins the tile sends to be filled in one piece
   Phase phase_ = Phase::Check;
   int step_ = 0, substep_ = 0;
   bool finishing_ = false, below_sea_ = false;
@@ -413,6 +536,8 @@ class StreamPowerTile : public TileGraphTile {
   std::vector<double> ringed_z_;       // the heights with their ring, from the last halo
   std::vector<float> surface_;         // the filled float surface on the tile
   std::vector<float> ringed_surface_;  // and with its ring
+  hydrology::TileBasins basins_;
+  std::vector<std::uint8_t> in_basin_;  // per tile cell: its D8 path ends in a pit
   hydrology::TileFlood flood_;
   std::unique_ptr<hydrology::TileEpsilon> epsilon_;
   std::vector<std::uint8_t> direction_;
@@ -426,8 +551,9 @@ class StreamPowerTile : public TileGraphTile {
 
 class StreamPowerAcrossTiles : public TileGraphAlgorithm {
  public:
-  StreamPowerAcrossTiles(const StreamPowerParams& p, const Domain& whole)
+  StreamPowerAcrossTiles(const StreamPowerParams& p, const Domain& whole, std::optional<std::size_t> region_limit)
       : p_(p),
+        region_limit_(region_limit),
         whole_(whole),
         schedule_(StreamPowerSchedule::of(p, whole.spacing.x, whole.spacing.y, whole.sample_count())),
         incision_(std::make_shared<StreamPowerIncision>(p, FlowGrid::of(whole), schedule_.dt)) {}
@@ -454,7 +580,8 @@ class StreamPowerAcrossTiles : public TileGraphAlgorithm {
     if (in->width() < 2 || in->height() < 2)
       throw std::invalid_argument("stream power across tiles: a tile narrower than 2 samples");
     require_finite_inputs("StreamPower", {{"in", in.get()}, {"uplift", uplift.get()}, {"mask", mask.get()}});
-    auto tile = std::make_unique<StreamPowerTile>(*in, mask.get(), uplift.get(), p_, schedule_, incision_, whole_);
+    auto tile = std::make_unique<StreamPowerTile>(*in, mask.get(), uplift.get(), p_, schedule_, incision_, whole_,
+                                                  region_limit_);
     tile->set_whole_spacing(whole_.spacing);
     return tile;
   }
@@ -477,6 +604,10 @@ class StreamPowerAcrossTiles : public TileGraphAlgorithm {
       case Phase::Pits:
       case Phase::Maximum:
         return same_answer(untagged.phase, views);
+      case Phase::Basins:
+        return hydrology::solve_basin_links(views, whole);
+      case Phase::Region:
+        return fill_regions(views);
       case Phase::Spill:
         return hydrology::solve_spill_messages(views, whole);
       case Phase::Epsilon: {
@@ -511,6 +642,52 @@ class StreamPowerAcrossTiles : public TileGraphAlgorithm {
       bytes::put(answer, largest);
     }
     return std::vector<std::string>(views.size(), answer);
+  }
+
+  // The pit basins of every tile filled in one piece, each tile answered with the filled samples on it and its ring;
+  // or, when a tile's basins were too large to send, the word to fill across the tiles.
+  std::vector<std::string> fill_regions(const std::vector<std::string_view>& views) const {
+    const glm::ivec2 whole = whole_.resolution;
+    std::vector<TileRect> rects;
+    std::vector<hydrology::BasinSample> samples;
+    bool large = false;
+    for (std::string_view in : views) {
+      rects.push_back(hydrology::take_tile_rect(in, whole, kWhat));
+      if (bytes::take<std::uint8_t>(in, kWhat) != 0) {
+        large = true;
+        hydrology::expect_end(in, kWhat);
+        continue;
+      }
+      const auto s = bytes::take_vector<std::int64_t>(in, kWhat);
+      const auto h = bytes::take_vector<float>(in, kWhat);
+      const auto f = bytes::take_vector<std::uint8_t>(in, kWhat);
+      hydrology::expect_end(in, kWhat);
+      if (s.size() != h.size() || s.size() != f.size())
+        throw std::invalid_argument("stream power across tiles: truncated pit basins");
+      if (!large)
+        for (std::size_t q = 0; q < s.size(); ++q) samples.push_back({s[q], h[q], f[q] != 0});
+    }
+    std::vector<std::string> answers(views.size());
+    if (large) {
+      for (std::string& a : answers) bytes::put(a, std::uint8_t{1});
+      return answers;
+    }
+    const auto filled = hydrology::fill_pit_basins(std::move(samples), whole);
+    for (std::size_t t = 0; t < views.size(); ++t) {
+      const TileRect ringed = hydrology::ringed_rect(rects[t], whole);
+      std::vector<std::int64_t> s;
+      std::vector<float> h;
+      for (const auto& [sample, height] : filled) {
+        const int x = static_cast<int>(sample % whole.x), y = static_cast<int>(sample / whole.x);
+        if (x >= ringed.first.x && y >= ringed.first.y && x < ringed.first.x + ringed.size.x &&
+            y < ringed.first.y + ringed.size.y)
+          s.push_back(sample), h.push_back(height);
+      }
+      bytes::put(answers[t], std::uint8_t{0});
+      bytes::put_vector(answers[t], s);
+      bytes::put_vector(answers[t], h);
+    }
+    return answers;
   }
 
   // Each tile's finished shared samples to the other tiles holding them, and whether any tile sent one.
@@ -558,6 +735,7 @@ class StreamPowerAcrossTiles : public TileGraphAlgorithm {
   }
 
   StreamPowerParams p_;
+  std::optional<std::size_t> region_limit_;
   Domain whole_;
   StreamPowerSchedule schedule_;
   std::shared_ptr<const StreamPowerIncision> incision_;
@@ -594,10 +772,11 @@ const bool kStreamPowerRegistered = register_tile_graph(
 
 }  // namespace
 
-std::unique_ptr<TileGraphAlgorithm> stream_power_across_tiles(const StreamPowerParams& p, const Domain& whole) {
+std::unique_ptr<TileGraphAlgorithm> stream_power_across_tiles(const StreamPowerParams& p, const Domain& whole,
+                                                              std::optional<std::size_t> largest_gathered_basins) {
   if (p.depressions != StreamPowerParams::Depressions::PriorityFlood)
     throw std::invalid_argument("stream power across tiles: only with the Priority-Flood fill");
-  return std::make_unique<StreamPowerAcrossTiles>(p, whole);
+  return std::make_unique<StreamPowerAcrossTiles>(p, whole, largest_gathered_basins);
 }
 
 }  // namespace orogen::erosion

@@ -65,25 +65,49 @@ TileRect take_tile_rect(std::string_view& in, glm::ivec2 domain_size, const char
   return r;
 }
 
-TileFlood flood_tile(std::span<const float> z, const TileRect& rect) {
+TileFlood flood_tile(std::span<const float> z, const TileRect& rect, std::span<const std::uint8_t> drained) {
   const int w = rect.size.x, h = rect.size.y;
   if (w < 1 || h < 1 || z.size() != static_cast<std::size_t>(w) * h)
     throw std::invalid_argument("flood_tile: heights do not match the tile's size");
+  if (!drained.empty() && drained.size() != z.size())
+    throw std::invalid_argument("flood_tile: the drained cells do not match the tile's size");
+  auto is_drained = [&](std::size_t c) { return !drained.empty() && drained[c] != 0; };
   TileFlood f;
   f.graph.rect = rect;
-  f.level.assign(z.size(), 0.0f);
+  f.level.assign(z.begin(), z.end());
   f.label.assign(z.size(), -1);
   MinQueue queue;
   const auto perimeter = perimeter_cells(rect.size);
+  const auto drained_label = static_cast<std::int32_t>(perimeter.size());
+  // The lowest spill level between each pair of labels met.
+  std::map<std::pair<std::int32_t, std::int32_t>, float> edges;
   for (std::size_t k = 0; k < perimeter.size(); ++k) {
     const auto c = static_cast<std::size_t>(perimeter[k]);
-    f.level[c] = z[c];
     f.label[c] = static_cast<std::int32_t>(k);
     f.graph.perimeter.push_back(z[c]);
     queue.push({z[c], static_cast<std::int64_t>(c)});
+    if (is_drained(c)) edges.emplace(std::make_pair(static_cast<std::int32_t>(k), drained_label), z[c]);
   }
-  // The lowest spill level between each pair of labels met.
-  std::map<std::pair<std::int32_t, std::int32_t>, float> edges;
+  const auto neighbours = [&](std::size_t c, auto&& fn) {
+    const int i = static_cast<int>(c % static_cast<std::size_t>(w)),
+              j = static_cast<int>(c / static_cast<std::size_t>(w));
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di) {
+        const int x = i + di, y = j + dj;
+        if ((di == 0 && dj == 0) || x < 0 || y < 0 || x >= w || y >= h) continue;
+        fn(static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x));
+      }
+  };
+  // Drained cells next to the others flood from their own height, as one label of their own.
+  if (!drained.empty())
+    for (std::size_t c = 0; c < z.size(); ++c) {
+      if (!is_drained(c) || f.label[c] >= 0) continue;
+      bool border = false;
+      neighbours(c, [&](std::size_t n) { border = border || !is_drained(n); });
+      if (!border) continue;
+      f.label[c] = drained_label;
+      queue.push({z[c], static_cast<std::int64_t>(c)});
+    }
   // Cells raised to their flooder's level go through a plain queue, ahead of the priority queue (the pit queue of
   // Barnes, Lehman and Mulla 2014, Priority-Flood): the same levels, far fewer heap operations.
   std::deque<std::size_t> pit;
@@ -99,27 +123,23 @@ TileFlood flood_tile(std::span<const float> z, const TileRect& rect) {
     }
     if (done[c]) continue;
     done[c] = 1;
-    const int i = static_cast<int>(c % static_cast<std::size_t>(w)),
-              j = static_cast<int>(c / static_cast<std::size_t>(w));
-    for (int dj = -1; dj <= 1; ++dj)
-      for (int di = -1; di <= 1; ++di) {
-        const int x = i + di, y = j + dj;
-        if ((di == 0 && dj == 0) || x < 0 || y < 0 || x >= w || y >= h) continue;
-        const auto n = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
-        if (f.label[n] < 0) {
-          f.label[n] = f.label[c];
-          f.level[n] = std::max(z[n], f.level[c]);
-          if (f.level[n] == f.level[c])
-            pit.push_back(n);
-          else
-            queue.push({f.level[n], static_cast<std::int64_t>(n)});
-        } else if (f.label[n] != f.label[c]) {
-          const auto key = std::minmax(f.label[c], f.label[n]);
-          const float level = std::max(f.level[c], f.level[n]);
-          auto [it, fresh] = edges.emplace(key, level);
-          if (!fresh) it->second = std::min(it->second, level);
-        }
+    const bool from_drained = is_drained(c);
+    neighbours(c, [&](std::size_t n) {
+      if (f.label[n] < 0) {
+        if (from_drained && is_drained(n)) return;  // drained ground stays as it is: no flood crosses it
+        f.label[n] = f.label[c];
+        f.level[n] = std::max(z[n], f.level[c]);
+        if (f.level[n] == f.level[c])
+          pit.push_back(n);
+        else
+          queue.push({f.level[n], static_cast<std::int64_t>(n)});
+      } else if (f.label[n] != f.label[c]) {
+        const auto key = std::minmax(f.label[c], f.label[n]);
+        const float level = std::max(f.level[c], f.level[n]);
+        auto [it, fresh] = edges.emplace(key, level);
+        if (!fresh) it->second = std::min(it->second, level);
       }
+    });
   }
   for (const auto& [pair, level] : edges) f.graph.edges.push_back({pair.first, pair.second, level});
   return f;
@@ -134,7 +154,7 @@ std::vector<std::vector<float>> solve_spill_graphs(const std::vector<TileSpillGr
       throw std::invalid_argument("solve_spill_graphs: a tile lies outside the domain");
     if (tiles[t].perimeter.size() != perimeter_cells(r.size).size())
       throw std::invalid_argument("solve_spill_graphs: a tile's perimeter does not match its size");
-    offset[t + 1] = offset[t] + static_cast<std::int64_t>(tiles[t].perimeter.size());
+    offset[t + 1] = offset[t] + static_cast<std::int64_t>(tiles[t].perimeter.size()) + 1;  // and its drained node
   }
   struct Link {
     std::int64_t to;
@@ -152,6 +172,10 @@ std::vector<std::vector<float>> solve_spill_graphs(const std::vector<TileSpillGr
   for (std::size_t t = 0; t < tiles.size(); ++t) {
     const TileSpillGraph& g = tiles[t];
     const auto cells = perimeter_cells(g.rect.size);
+    // The tile's drained cells (flood_tile) drain whatever reaches them.
+    const std::int64_t drained = offset[t] + static_cast<std::int64_t>(cells.size());
+    level[static_cast<std::size_t>(drained)] = -std::numeric_limits<float>::infinity();
+    queue.push({level[static_cast<std::size_t>(drained)], drained});
     for (std::size_t k = 0; k < cells.size(); ++k) {
       const std::int64_t node = offset[t] + static_cast<std::int64_t>(k);
       const int gx = g.rect.first.x + cells[k] % g.rect.size.x, gy = g.rect.first.y + cells[k] / g.rect.size.x;
@@ -170,7 +194,7 @@ std::vector<std::vector<float>> solve_spill_graphs(const std::vector<TileSpillGr
     }
     for (const SpillEdge& e : g.edges) {
       if (e.a < 0 || e.b < 0 || e.a >= static_cast<std::int32_t>(cells.size()) ||
-          e.b >= static_cast<std::int32_t>(cells.size()))
+          e.b > static_cast<std::int32_t>(cells.size()))
         throw std::invalid_argument("solve_spill_graphs: a spill edge names no perimeter cell");
       link(offset[t] + e.a, offset[t] + e.b, e.level);
     }
@@ -193,7 +217,7 @@ std::vector<std::vector<float>> solve_spill_graphs(const std::vector<TileSpillGr
   }
   std::vector<std::vector<float>> out(tiles.size());
   for (std::size_t t = 0; t < tiles.size(); ++t)
-    out[t].assign(level.begin() + offset[t], level.begin() + offset[t + 1]);
+    out[t].assign(level.begin() + offset[t], level.begin() + offset[t + 1] - 1);
   return out;
 }
 
@@ -201,8 +225,12 @@ std::vector<float> apply_spill_levels(const TileFlood& flood, std::span<const fl
   if (spill_levels.size() != flood.graph.perimeter.size())
     throw std::invalid_argument("apply_spill_levels: one level per perimeter cell expected");
   std::vector<float> out(flood.level.size());
-  for (std::size_t c = 0; c < out.size(); ++c)
-    out[c] = std::max(flood.level[c], spill_levels[static_cast<std::size_t>(flood.label[c])]);
+  for (std::size_t c = 0; c < out.size(); ++c) {
+    // Drained cells and those the flood never reached (drained too) keep their height.
+    const auto label = static_cast<std::size_t>(flood.label[c]);
+    out[c] = flood.label[c] >= 0 && label < spill_levels.size() ? std::max(flood.level[c], spill_levels[label])
+                                                                : flood.level[c];
+  }
   return out;
 }
 
@@ -234,14 +262,30 @@ std::vector<PerimeterValue> take_values(std::string_view& in, std::size_t perime
 
 }  // namespace
 
-TileEpsilon::TileEpsilon(std::vector<float> level, const TileRect& rect, glm::ivec2 domain_size)
+TileEpsilon::TileEpsilon(std::vector<float> level, const TileRect& rect, glm::ivec2 domain_size,
+                         std::span<const std::uint8_t> drained)
     : rect_(rect), level_(std::move(level)), perimeter_(perimeter_cells(rect.size)) {
-  if (level_.size() != static_cast<std::size_t>(rect.size.x) * static_cast<std::size_t>(rect.size.y))
+  if (level_.size() != static_cast<std::size_t>(rect.size.x) * static_cast<std::size_t>(rect.size.y) ||
+      (!drained.empty() && drained.size() != level_.size()))
     throw std::invalid_argument("TileEpsilon: levels do not match the tile's size");
   e_.assign(level_.size(), std::numeric_limits<float>::infinity());
   sent_.assign(perimeter_.size(), std::numeric_limits<float>::infinity());
-  // The domain's border drains at its own height (the outlets of fill_depressions).
+  // Drained cells are final at their level (their height); those next to the others relax them.
   std::vector<std::int32_t> seeds;
+  const int w = rect.size.x, h = rect.size.y;
+  for (std::size_t c = 0; c < drained.size(); ++c) {
+    if (!drained[c]) continue;
+    e_[c] = level_[c];
+    const int i = static_cast<int>(c) % w, j = static_cast<int>(c) / w;
+    bool border = false;
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di) {
+        const int x = i + di, y = j + dj;
+        if (x >= 0 && y >= 0 && x < w && y < h) border = border || !drained[static_cast<std::size_t>(y * w + x)];
+      }
+    if (border) seeds.push_back(static_cast<std::int32_t>(c));
+  }
+  // The domain's border drains at its own height (the outlets of fill_depressions).
   for (const std::int32_t c : perimeter_) {
     const int gx = rect.first.x + c % rect.size.x, gy = rect.first.y + c / rect.size.x;
     if (gx == 0 || gy == 0 || gx == domain_size.x - 1 || gy == domain_size.y - 1) {

@@ -35,7 +35,8 @@ struct TileRect {
 };
 
 struct SpillEdge {
-  std::int32_t a = 0, b = 0;  // labels: indices of perimeter cells of the tile (perimeter order)
+  std::int32_t a = 0, b = 0;  // labels: indices of perimeter cells of the tile (perimeter order), or the
+                              // perimeter's size for the tile's drained cells (flood_tile)
   float level = 0.0f;
 };
 
@@ -66,8 +67,12 @@ struct TileFlood {
   TileSpillGraph graph;
 };
 
-// Phase 1: `z` holds the tile's heights (rect.size, row-major).
-TileFlood flood_tile(std::span<const float> z, const TileRect& rect);
+// Phase 1: `z` holds the tile's heights (rect.size, row-major). `drained` (optional, one byte per cell) marks cells
+// known to keep their height in the fill (a strictly descending path leads them to the domain's border, as every cell
+// outside a pit basin): the flood starts from those next to the others, at their own height, as one more label whose
+// spill level is -inf (edges to it name label perimeter.size()), never crosses them, and leaves them as they are. The
+// flood's work is then that of the other cells. Without `drained` every cell is flooded.
+TileFlood flood_tile(std::span<const float> z, const TileRect& rect, std::span<const std::uint8_t> drained = {});
 
 // Phase 2: the spill level of every perimeter cell of every tile (indexed like `tiles`, then perimeter order), for
 // a domain of `domain_size` samples that the tiles cover. Throws std::invalid_argument if a tile lies outside the
@@ -90,8 +95,10 @@ std::vector<float> apply_spill_levels(const TileFlood& flood, std::span<const fl
 // so the rounds end; their number grows with how many tiles the longest filled flat crosses.
 class TileEpsilon {
  public:
-  // `level`: the tile's Flat-filled heights (rect.size, row-major).
-  TileEpsilon(std::vector<float> level, const TileRect& rect, glm::ivec2 domain_size);
+  // `level`: the tile's Flat-filled heights (rect.size, row-major). `drained` (optional): as flood_tile's, cells
+  // final at their level, relaxed from where they meet the others.
+  TileEpsilon(std::vector<float> level, const TileRect& rect, glm::ivec2 domain_size,
+              std::span<const std::uint8_t> drained = {});
   // The perimeter values that fell since the last message (the first: every value found), as bytes.
   std::string message();
   // The lowest values of this tile's shared samples (solve_epsilon_perimeters); relaxes from those that fell.
