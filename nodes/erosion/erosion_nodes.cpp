@@ -319,7 +319,9 @@ OROGEN_NODE(StreamPower) {
       "for n != 1), over D8 routing with closed depressions crossed through the basin graph of Cordonnier, "
       "Bovy and Braun 2019, 'A versatile, linear complexity algorithm for flow routing in topographies with "
       "depressions' (only the basins of pits are rerouted, over the minimum spanning tree of their passes; "
-      "depressions fill with sediment to their spill level). Border cells and cells below sea level are base level. "
+      "depressions fill with sediment to their spill level), or with depressions 'priority_flood' by the "
+      "Priority-Flood+epsilon fill of the pit basins, which tiled and distributed builds run across the tiles "
+      "bit for bit. Border cells and cells below sea level are base level. "
       "Produces real drainage networks.");
   declare_common_ports(b, "Scales erodibility K and diffusivity D per cell, 0..1 (1 if unconnected)");
   b.input("uplift", PortType::Heightfield)

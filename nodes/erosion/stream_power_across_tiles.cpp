@@ -8,9 +8,14 @@
 //  - pits: whether any tile has a cell other than the domain's border with no strictly lower 8-neighbour in float.
 //    If none, the Priority-Flood+epsilon fill leaves the float surface as it is (every cell already has a lower
 //    neighbour, so the epsilon surface is the surface itself), and the fill's rounds are skipped;
-//  - spill and epsilon (only with pits): the fill across tiles (nodes/hydrology/tile_fill.h), the whole-domain
-//    Priority-Flood+epsilon bit for bit; raised cells count as deposition, as on the whole domain;
-//  - ring: the filled surface's ring, so the D8 receivers of the tile's perimeter cells see across its border;
+//  - basins (only with pits): the D8 paths joined through perimeter links (nodes/hydrology/tile_basins.h) say which
+//    cells drain to a pit; only those can change in the fill (nodes/hydrology/pit_basin_fill.h);
+//  - region: each tile's pit-basin cells with the cells around them, filled in one piece by the solve when every
+//    tile's are few, bit for bit the whole-domain fill there; else only a flag, and
+//  - spill and epsilon: the fill across tiles (nodes/hydrology/tile_fill.h) with the cells outside the pit basins
+//    drained, the whole-domain Priority-Flood+epsilon bit for bit, then the ring of the filled surface so the D8
+//    receivers of the tile's perimeter cells see across its border. Raised cells count as deposition, as on the whole
+//    domain;
 //  - accumulate: D8 cell counts through perimeter links (nodes/hydrology/tile_accumulation.h), whole numbers, so the
 //    area (count x cell area) is the whole-domain run's exactly;
 //  - incise: the implicit incision goes from the outlets upstream, each cell from its receiver's new height. A tile
@@ -19,7 +24,7 @@
 //    shared samples it finished and takes those others finished, until a round sends nothing. Every cell is computed
 //    by the same function of the same doubles as on the whole domain.
 //
-// After the last step, the float fill of the result (pits, spill, epsilon) and the largest drainage area over all
+// After the last step, the float fill of the result (pits, basins, the fill) and the largest drainage area over all
 // tiles (for the flow map). Cells below sea level are base level on the whole domain; the tiles' fill knows only the
 // domain's border as base level, so a run with such cells is refused (the first round finds them; no cell can sink
 // below the lowest sample later: diffusion averages, incision stops at the receiver and filling raises).
@@ -67,7 +72,7 @@ enum class Phase : std::uint8_t {
 };
 
 // A tile fills its pit basins by sending them to the solve when they hold at most 1/kRegionShare of its cells (or
-// kRegionCells), and every tile's do; else the whole fill runs across the tiles.
+// kRegionCells), and every tile's do; else the fill of the pit basins runs across the tiles.
 constexpr std::size_t kRegionShare = 16, kRegionCells = 1024;
 std::size_t default_region_limit(std::size_t tile_cells) { return std::max(kRegionCells, tile_cells / kRegionShare); }
 
@@ -85,6 +90,7 @@ class StreamPowerTile : public TileGraphTile {
         incision_(std::move(incision)),
         domain_(in.domain),
         whole_(whole.resolution),
+        whole_spacing_(whole.spacing),
         grid_(FlowGrid::of(whole)),
         rect_{in.domain.first, in.domain.resolution},
         ringed_(hydrology::ringed_rect(rect_, whole_)),
@@ -193,11 +199,12 @@ class StreamPowerTile : public TileGraphTile {
           // height, nodes/hydrology/pit_basin_fill.h).
           hydrology::expect_end(bytes, kWhat);
           surface_.resize(n_);
+          drained_.resize(n_);
           for (std::size_t k = 0; k < n_; ++k) {
             surface_[k] = static_cast<float>(z_[k]);
-            in_basin_[k] = !in_basin_[k];  // now: drained
+            drained_[k] = !in_basin_[k];
           }
-          flood_ = hydrology::flood_tile(surface_, rect_, in_basin_);
+          flood_ = hydrology::flood_tile(surface_, rect_, drained_);
           phase_ = Phase::Spill;
         } else {
           take_region_fill(bytes);
@@ -206,9 +213,9 @@ class StreamPowerTile : public TileGraphTile {
         break;
       case Phase::Spill:
         epsilon_ = std::make_unique<hydrology::TileEpsilon>(
-            hydrology::apply_spill_levels(flood_, bytes::take_vector<float>(bytes, kWhat)), rect_, whole_, in_basin_);
+            hydrology::apply_spill_levels(flood_, bytes::take_vector<float>(bytes, kWhat)), rect_, whole_, drained_);
         flood_ = {};
-        in_basin_ = {};
+        drained_ = {};
         phase_ = Phase::Epsilon;
         break;
       case Phase::Epsilon: {
@@ -289,8 +296,6 @@ class StreamPowerTile : public TileGraphTile {
     return {HeightfieldPtr(out), HeightfieldPtr(erosion), HeightfieldPtr(deposition), HeightfieldPtr(flow),
             HeightfieldPtr(accumulation)};
   }
-
-  void set_whole_spacing(glm::dvec2 spacing) { whole_spacing_ = spacing; }
 
  private:
   // Uplift, then the diffusion sub-steps' halos.
@@ -523,7 +528,7 @@ class StreamPowerTile : public TileGraphTile {
   std::shared_ptr<const StreamPowerIncision> incision_;
   Domain domain_;
   glm::ivec2 whole_;
-  glm::dvec2 whole_spacing_{1.0, 1.0};
+  glm::dvec2 whole_spacing_;
   FlowGrid grid_;
   TileRect rect_, ringed_;
   std::size_t n_ = 0;
@@ -538,6 +543,7 @@ class StreamPowerTile : public TileGraphTile {
   std::vector<float> ringed_surface_;  // and with its ring
   hydrology::TileBasins basins_;
   std::vector<std::uint8_t> in_basin_;  // per tile cell: its D8 path ends in a pit
+  std::vector<std::uint8_t> drained_;   // the others, while the fill runs across the tiles
   hydrology::TileFlood flood_;
   std::unique_ptr<hydrology::TileEpsilon> epsilon_;
   std::vector<std::uint8_t> direction_;
@@ -580,10 +586,8 @@ class StreamPowerAcrossTiles : public TileGraphAlgorithm {
     if (in->width() < 2 || in->height() < 2)
       throw std::invalid_argument("stream power across tiles: a tile narrower than 2 samples");
     require_finite_inputs("StreamPower", {{"in", in.get()}, {"uplift", uplift.get()}, {"mask", mask.get()}});
-    auto tile = std::make_unique<StreamPowerTile>(*in, mask.get(), uplift.get(), p_, schedule_, incision_, whole_,
-                                                  region_limit_);
-    tile->set_whole_spacing(whole_.spacing);
-    return tile;
+    return std::make_unique<StreamPowerTile>(*in, mask.get(), uplift.get(), p_, schedule_, incision_, whole_,
+                                             region_limit_);
   }
 
   std::vector<std::string> solve(int, const std::vector<std::string>& messages) const override {
