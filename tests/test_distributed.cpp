@@ -99,6 +99,7 @@ fs::path run_distributed(const Job& job) {
       {"../bench/distributed_pipe.json", {"'storm' (PipeErosion)"}},
       {"../bench/distributed_kmeans.json", {"'clusters' (KMeansClusters)"}},
       {"../bench/distributed_stream_power.json", {"'landscape' (StreamPower)"}},
+      {"../bench/distributed_water_flow.json", {"'water' (WaterFlow)"}},
   };
   if (const auto it = across.find(job.graph); it != across.end() && job.tiles.x * job.tiles.y > 1) {
     for (const std::string& node : it->second) {
@@ -523,6 +524,36 @@ TEST(Distributed, StreamPowerAcrossRanksEqualsTheUntiledBuild) {
   expect_ranks_equal_untiled("distributed_stream_power.json", "distributed_stream_power",
                              {"height", "erosion", "deposition", "flow", "accumulation", "smooth"},
                              {{{2, 2}, 2}, {{3, 2}, 4}, {{2, 2}, 3}});
+}
+
+// WaterFlow across the ranks' tiles, a 2-sample halo of water exchanged every iteration and the stop test from exact
+// sums over all tiles (bench/distributed_water_flow.json: fBm with rainfall and sinks fields linked, depth and flux
+// written, and a blur downstream whose halo comes from the neighboring ranks' tiles); every tile's statistics report
+// the untiled build's water balance.
+TEST(Distributed, WaterFlowAcrossRanksEqualsTheUntiledBuild) {
+  SKIP_WITHOUT_MPI();
+  expect_ranks_equal_untiled("distributed_water_flow.json", "distributed_water_flow", {"depth", "flux", "smooth"},
+                             {{{2, 2}, 2}, {{3, 2}, 4}});
+  const std::string graph = (source_dir() / "bench" / "distributed_water_flow.json").string();
+  const fs::path dir = scratch_dir("distributed-water-flow");
+  fs::create_directories(dir / "stats");
+  ASSERT_EQ(orogen({"eval", graph, "-o", (dir / "whole").string(), "--resolution", "129", "--stats",
+                    (dir / "stats" / "whole.json").string(), "-q"})
+                .exit_code,
+            0);
+  const auto r = mpirun(kMpiexec, 4,
+                        {"eval", graph, "-o", (dir / "tiled").string(), "--resolution", "129", "--tiles", "3x2",
+                         "--stats", (dir / "stats" / "tiled.json").string(), "-q"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = nlohmann::json::parse(file_bytes(dir / "stats" / "whole.json"))["reports"];
+  ASSERT_TRUE(report.contains("water")) << report.dump();
+  EXPECT_GT(report["water"]["report"]["iterations"].get<int>(), 20);
+  EXPECT_GT(report["water"]["report"]["sink_inflow_m3"].get<double>(), 0.0);
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const fs::path tile = dir / "stats" / ("tiled_x" + std::to_string(i) + "_y" + std::to_string(j) + ".json");
+      EXPECT_EQ(nlohmann::json::parse(file_bytes(tile))["reports"], report) << tile;
+    }
 }
 
 }  // namespace

@@ -53,6 +53,7 @@ TEST(NodeDistribution, KindsOfTheHydrologyCoreReductionsWritersAndGenerators) {
   EXPECT_EQ(kind_of("LSystem"), Distribution::Replicated);
   EXPECT_EQ(kind_of("ThermalErosion"), Distribution::HaloExchange);
   EXPECT_EQ(kind_of("HydraulicErosion"), Distribution::HaloExchange);
+  EXPECT_EQ(kind_of("WaterFlow"), Distribution::HaloExchange);
   // PoissonDisk fills up to the edges of the domain it is asked for only with fill_border.
   EXPECT_EQ(kind_of("PoissonDisk"), Distribution::Gathered);
   EXPECT_EQ(kind_of("PoissonDisk", {{"fill_border", false}}), Distribution::PerTile);

@@ -14,6 +14,7 @@
 #include "nodes/common/report_builder.h"
 #include "nodes/common/work_bounds.h"
 #include "nodes/hydrology/flow_routing.h"
+#include "nodes/hydrology/water_flow_step.h"
 
 namespace orogen::hydrology {
 
@@ -37,101 +38,64 @@ WaterFlowResult water_flow(const Heightfield& in, const Heightfield* rainfall, c
   const std::size_t n = g.size();
   check_work(static_cast<double>(p.max_iterations) * static_cast<double>(n), "WaterFlow (max_iterations x samples)",
              "lower max_iterations or use a coarser grid");
-  const double area = g.cell_area();
-  std::vector<double> w(n), next(n), out(n, 0.0), scale(n, 0.0), flux(n, 0.0);
-  std::vector<std::uint8_t> drain(n, 0);
+  WaterFlowGrid grid(g.nx, g.ny, g.cell_area(), in.data.data());
+  // Every sum over the domain is exact (order independent), so tiles' partial sums give the same bits.
+  ExactDoubleSum rain, border, sink, stored;
+  std::vector<std::size_t> drains;
   for (int j = 0; j < g.ny; ++j)
     for (int i = 0; i < g.nx; ++i) {
-      const std::size_t c = static_cast<std::size_t>(g.index(i, j));
-      const double mm = rainfall ? rainfall->data[c] : p.rainfall;
-      w[c] = std::max(0.0, mm - p.infiltration) / 1000.0;
-      drain[c] = g.on_border(i, j) ? 1 : (sinks && sinks->data[c] > 0.5f ? 2 : 0);
+      const std::size_t c = grid.at(i, j);
+      grid.w[c] = water_initial_depth(rainfall ? rainfall->data[c] : p.rainfall, p.infiltration);
+      rain.add(grid.w[c] * grid.area);
+      grid.drain[c] = g.on_border(i, j) ? kBorderDrain : (sinks && sinks->data[c] > 0.5f ? kSinkDrain : kNoDrain);
+      if (grid.drain[c]) drains.push_back(c);
     }
-  WaterFlowResult r;
-  for (double v : w) r.rain += v * area;
   // Water on a drain leaves at once (counted).
-  auto empty_drains = [&](std::vector<double>& water) {
-    for (std::size_t c = 0; c < n; ++c)
-      if (drain[c]) {
-        (drain[c] == 1 ? r.border : r.sinks) += water[c] * area;
-        water[c] = 0.0;
-      }
+  auto empty_drains = [&] {
+    for (const std::size_t c : drains) {
+      (grid.drain[c] == kBorderDrain ? border : sink).add(grid.w[c] * grid.area);
+      grid.w[c] = 0.0;
+    }
   };
-  empty_drains(w);
-  const float* z = in.data.data();
-  std::vector<double> row_moved(static_cast<std::size_t>(g.ny));
-  double total_moved = 0.0;
+  empty_drains();
+  WaterFlowResult r;
+  std::vector<ExactDoubleSum> row_moved(static_cast<std::size_t>(g.ny));
+  ExactDoubleSum total_moved;
   for (int it = 0; it < p.max_iterations; ++it) {
     if (ctx) {
       ctx->check_cancelled();
       ctx->progress(static_cast<double>(it) / p.max_iterations);
     }
-    // Each wet cell sends min(w, largest surface drop / 2) to its lower neighbours (on the water surface),
-    // in proportion to the drops.
     for_each_row(nullptr, g.ny, [&](int j) {
-      double moved = 0.0;
-      for (int i = 0; i < g.nx; ++i) {
-        const std::int32_t c = g.index(i, j);
-        out[c] = scale[c] = 0.0;
-        if (!(w[c] > 0.0)) continue;
-        const double s = z[c] + w[c];
-        double dmax = 0.0, dsum = 0.0;
-        for (int k = 0; k < 8; ++k) {
-          if (!g.inside(i + kDi[k], j + kDj[k])) continue;
-          const std::int32_t m = c + g.offset(k);
-          const double d = s - (z[m] + w[m]);
-          if (d > 0.0) {
-            dmax = std::max(dmax, d);
-            dsum += d;
-          }
-        }
-        if (dsum > 0.0) {
-          out[c] = std::min(w[c], 0.5 * dmax);
-          scale[c] = out[c] / dsum;
-          moved += out[c];
-        }
-      }
-      row_moved[static_cast<std::size_t>(j)] = moved;
+      ExactDoubleSum& m = row_moved[static_cast<std::size_t>(j)];
+      m = ExactDoubleSum();
+      water_spread_row(grid, j, 0, g.nx, 0, g.nx, m);
     });
-    double moved = 0.0;
-    for (double m : row_moved) moved += m;
+    ExactDoubleSum moved_sum;
+    for (const ExactDoubleSum& m : row_moved) moved_sum.add(m);
+    const double moved = moved_sum.value();
     if (!(moved > 0.0)) break;
-    // Gather what the neighbours send (same drops as they computed), so each row is independent.
-    for_each_row(nullptr, g.ny, [&](int j) {
-      for (int i = 0; i < g.nx; ++i) {
-        const std::int32_t c = g.index(i, j);
-        const double s = z[c] + w[c];
-        double gain = 0.0;
-        for (int k = 0; k < 8; ++k) {
-          if (!g.inside(i + kDi[k], j + kDj[k])) continue;
-          const std::int32_t m = c + g.offset(k);
-          if (scale[m] == 0.0) continue;
-          const double d = (z[m] + w[m]) - s;
-          if (d > 0.0) gain += scale[m] * d;
-        }
-        next[c] = w[c] - out[c] + gain;
-        flux[c] += out[c] * area;
-      }
-    });
-    std::swap(w, next);
-    empty_drains(w);
-    total_moved += moved;
+    for_each_row(nullptr, g.ny, [&](int j) { water_gather_row(grid, j, 0, g.nx); });
+    std::swap(grid.w, grid.next);
+    empty_drains();
+    total_moved.add(moved_sum);
     r.iterations = it + 1;
-    if (moved < p.threshold * total_moved) break;
+    if (water_flow_settled(moved, total_moved.value(), p.threshold)) break;
   }
   r.depth = std::make_shared<Heightfield>(in.domain);
   r.flux = std::make_shared<Heightfield>(in.domain);
   for (std::size_t c = 0; c < n; ++c) {
-    r.depth->data[c] = static_cast<float>(std::max(0.0, w[c]));
-    r.flux->data[c] = static_cast<float>(flux[c]);
-    r.stored += w[c] * area;
+    r.depth->data[c] = static_cast<float>(std::max(0.0, grid.w[c]));
+    r.flux->data[c] = static_cast<float>(grid.flux[c]);
+    stored.add(grid.w[c] * grid.area);
   }
+  r.rain = rain.value(), r.stored = stored.value(), r.border = border.value(), r.sinks = sink.value();
   return r;
 }
 
 OROGEN_NODE(WaterFlow) {
-  b.distribution(Distribution::Gathered);
-  b.reach_global();  // flow routing over the whole domain
+  b.distribution(Distribution::HaloExchange);
+  b.reach_global();  // a simulation: every output sample depends on the whole input
   b.category("hydrology")
       .description(
           "Where rain water settles: rainfall minus infiltration as the initial water, then repeated 8-neighbor "
@@ -139,7 +103,10 @@ OROGEN_NODE(WaterFlow) {
           "virtual rural worlds', section 3.3, corrected so that water follows the water surface and never moves "
           "uphill): each wet cell sends min(depth, half its largest surface drop) to its lower neighbors in "
           "proportion to the drops, until an iteration moves less than `threshold` times all water moved so far. "
-          "Water is conserved exactly except what drains at the border or into sink cells, which the report counts.");
+          "Water is conserved exactly except what drains at the border or into sink cells, which the report counts. "
+          "Every sum over the domain (the stop test, the report) is exact, independent of the order of addition, so "
+          "the result is bit-identical for any thread count, and in a tiled or distributed build, where tiles "
+          "exchange halos of water every few iterations, for any tiling and rank count.");
   b.input("in", PortType::Heightfield).description("Terrain height, metres");
   b.input("rainfall", PortType::Heightfield)
       .unit(Unit::Millimetre)
