@@ -273,8 +273,8 @@ SunInstant sun_instant(const Heightfield& z, const SunParams& p, int month, doub
 }
 
 OROGEN_NODE(SunIllumination) {
-  b.distribution(Distribution::Gathered);
-  b.reach_global();  // a shadow can fall from anywhere in the domain
+  b.distribution(Distribution::TileGraph);  // nodes/climate/sun_across_tiles.cpp
+  b.reach_global();                         // a shadow can fall from anywhere in the domain
   b.category("climate").description(
       "Direct sunlight with terrain shadows over the day, per month: lit hours per day and the 24-hour mean "
       "direct irradiance on the slope (irradiance x cosine of the incidence on the surface), plus the lit "
@@ -284,7 +284,10 @@ OROGEN_NODE(SunIllumination) {
       "monthly declination after H. Long (2016), Using procedural methods to generate realistic virtual "
       "rural worlds. Shadows by a horizon sweep per sun azimuth with a running convex hull, O(n) per "
       "direction (V. Timonen, J. Westerholm (2010), Scalable height field self-shadowing). +y is north, +x "
-      "east; terrain outside the domain casts no shadow; no atmosphere or diffuse light.");
+      "east; terrain outside the domain casts no shadow; no atmosphere or diffuse light. A tiled or distributed build "
+      "runs it across the tiles with the untiled build's outputs bit for bit: each sun direction's sweep passes its "
+      "lines' hulls from tile to tile along the sweep, all directions together in one wavefront of rounds (tiles "
+      "across + tiles down + 1 rounds).");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Image).description("Lit hours per day, hours, one channel per month (jan..dec)");
   b.output("irradiance", PortType::Image)

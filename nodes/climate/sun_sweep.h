@@ -23,8 +23,8 @@
 
 namespace orogen::climate::sweep {
 
-inline constexpr float kNone = -std::numeric_limits<float>::infinity();          // nothing ahead: no horizon
-inline constexpr float kOutside = std::numeric_limits<float>::quiet_NaN();        // no line sample there
+inline constexpr float kNone = -std::numeric_limits<float>::infinity();     // nothing ahead: no horizon
+inline constexpr float kOutside = std::numeric_limits<float>::quiet_NaN();  // no line sample there
 
 // Throws NodeError on parameters out of range.
 void check_params(const SunParams& p);
@@ -84,10 +84,10 @@ glm::vec3 normal_at(const Heightfield& z, int i, int j);
 // the direction changes faster along in index space), indexed by a = the major index and b = the minor one. Line l
 // holds the points b = l + s m at steps s = 0..A-1 away from the sun.
 struct Geometry {
-  bool major_x = true;       // the major axis is x
+  bool major_x = true;        // the major axis is x
   bool a_descending = false;  // the sun lies toward larger a: step 0 is a = A - 1
-  int A = 0, B = 0;          // samples along the major and minor axes
-  double m = 0.0;            // minor-index change per step away from the sun, |m| <= 1
+  int A = 0, B = 0;           // samples along the major and minor axes
+  double m = 0.0;             // minor-index change per step away from the sun, |m| <= 1
   double ea = 0.0, eb = 0.0;  // metres toward the sun per index along a and b
   int column(int s) const { return a_descending ? A - 1 - s : s; }  // also the step of column s
 };
@@ -114,10 +114,10 @@ inline std::optional<Geometry> geometry(glm::ivec2 resolution, glm::dvec2 spacin
 
 // Where every line crosses the column of step s: at b = l + boff + f, the same fraction f of a sample for all.
 struct Crossing {
-  int a = 0;             // the column
+  int a = 0;  // the column
   double sm = 0.0, f = 0.0;
   int boff = 0;
-  double u_s = 0.0;      // distance away from the sun of line 0's point
+  double u_s = 0.0;  // distance away from the sun of line 0's point
 };
 inline Crossing crossing(const Geometry& g, int s) {
   Crossing c;
