@@ -46,6 +46,8 @@ namespace {
 
 constexpr const char* kWhat = "sun across tiles";
 
+constexpr std::size_t kHullPointBytes = sizeof(std::int32_t) + sizeof(double);  // its step and height
+
 [[noreturn]] void refuse(const std::string& why) { throw std::invalid_argument(std::string(kWhat) + ": " + why); }
 
 // The tiling: the first sample of each tile column and row. A sample (or line sample) belongs to the tile of largest
@@ -189,9 +191,11 @@ struct Frame {
   }
 };
 
-// The hull of a line's samples so far.
+// The hull of a line's samples so far, with the step of each point (a point's distance away from the sun follows
+// from its step and line: it travels as the step).
 struct Hull {
   std::vector<double> u, z;
+  std::vector<std::int32_t> step;
   std::size_t n = 0;
   int last_step = -1;
   bool started = false;
@@ -237,12 +241,17 @@ class SunTile : public TileGraphTile {
         const auto e = bytes::take<std::int32_t>(in, kWhat), line = bytes::take<std::int32_t>(in, kWhat);
         const auto n = bytes::take<std::int32_t>(in, kWhat);
         if (e < 0 || static_cast<std::size_t>(e) >= swept_.size() || n < 1 ||
-            static_cast<std::size_t>(n) > in.size() / (2 * sizeof(double)))
+            static_cast<std::size_t>(n) > in.size() / kHullPointBytes)
           refuse("a damaged line hull");
+        const sweep::Geometry& g = swept_[static_cast<std::size_t>(e)].pos->geo;
         Hull h;
         h.n = static_cast<std::size_t>(n);
-        h.u.resize(h.n + 1), h.z.resize(h.n + 1);
-        for (std::size_t k = 0; k < h.n; ++k) h.u[k] = bytes::take<double>(in, kWhat);
+        h.u.resize(h.n + 1), h.z.resize(h.n + 1), h.step.resize(h.n + 1);
+        for (std::size_t k = 0; k < h.n; ++k) {
+          h.step[k] = bytes::take<std::int32_t>(in, kWhat);
+          if (h.step[k] < 0 || h.step[k] >= g.A) refuse("a damaged line hull");
+          h.u[k] = sweep::line_distance(g, sweep::crossing(g, h.step[k]), line);
+        }
         for (std::size_t k = 0; k < h.n; ++k) h.z[k] = bytes::take<double>(in, kWhat);
         swept_[static_cast<std::size_t>(e)].incoming.emplace(line, std::move(h));
       }
@@ -380,9 +389,10 @@ class SunTile : public TileGraphTile {
         const int l = b0 - c.boff;
         Hull& h = hulls[static_cast<std::size_t>(l - lmin)];
         if (!h.started) start_line(w, g, s, l, h);
-        if (h.u.size() < h.n + 1) h.u.resize(2 * h.n + 8), h.z.resize(2 * h.n + 8);
+        if (h.u.size() < h.n + 1) h.u.resize(2 * h.n + 8), h.z.resize(2 * h.n + 8), h.step.resize(2 * h.n + 8);
         const double zp = sweep::line_height(c, z(c.a, b0), c.f == 0.0 ? 0.0f : z(c.a, b0 + 1));
         at(c.a, b0) = sweep::hull_step(h.u.data(), h.z.data(), h.n, sweep::line_distance(g, c, l), zp);
+        h.step[h.n - 1] = s;
         h.last_step = s;
       }
     }
@@ -401,7 +411,7 @@ class SunTile : public TileGraphTile {
       for (const std::int32_t v :
            {to.x, to.y, static_cast<std::int32_t>(e), static_cast<std::int32_t>(l), static_cast<std::int32_t>(h.n)})
         bytes::put(out, v);
-      out.append(reinterpret_cast<const char*>(h.u.data()), h.n * sizeof(double));
+      out.append(reinterpret_cast<const char*>(h.step.data()), h.n * sizeof(std::int32_t));
       out.append(reinterpret_cast<const char*>(h.z.data()), h.n * sizeof(double));
     }
     // Interior cells (not on the last column or on the first or last row of the sweep) read only the tile's own
@@ -522,12 +532,12 @@ class SunAcrossTiles : public TileGraphAlgorithm {
           const auto e = bytes::take<std::int32_t>(in, kWhat), line = bytes::take<std::int32_t>(in, kWhat);
           const auto n = bytes::take<std::int32_t>(in, kWhat);
           if (tx < 0 || tx >= g.nx() || ty < 0 || ty >= g.ny() || n < 1 ||
-              static_cast<std::size_t>(n) > in.size() / (2 * sizeof(double)))
+              static_cast<std::size_t>(n) > in.size() / kHullPointBytes)
             refuse("a damaged line hull");
           std::string& to = answers[tile_at[static_cast<std::size_t>(ty) * static_cast<std::size_t>(g.nx()) +
                                             static_cast<std::size_t>(tx)]];
           for (const std::int32_t v : {e, line, n}) bytes::put(to, v);
-          const std::size_t hull_bytes = 2 * static_cast<std::size_t>(n) * sizeof(double);
+          const std::size_t hull_bytes = static_cast<std::size_t>(n) * kHullPointBytes;
           to.append(in.substr(0, hull_bytes));
           in.remove_prefix(hull_bytes);
         }
