@@ -86,14 +86,16 @@ struct SeedJob {
 };
 
 // The nodes of each seed graph that run across the ranks' tiles (each build's stage line names them), so a fallback
-// to the whole domain fails the test: erosion, clustering, drainage figures, flow accumulation, lakes and flood fill.
+// to the whole domain fails the test: erosion, clustering, drainage figures, flow accumulation, lakes, flood fill and
+// sunlight.
 // forest.json and seamscape.json have none.
 const std::map<std::string, std::vector<std::string>> kAcross = {
     {"eroded_mountains.json",
      {"'metrics' (DrainageMetrics)", "'metrics_stream_power' (DrainageMetrics)", "'range/detail' (HydraulicErosion)"}},
     {"game_world.json", {"'hydraulic' (HydraulicErosion)", "'thermal' (ThermalErosion)"}},
     {"rural_resources.json",
-     {"'clusters' (KMeansClusters)", "'flow' (FlowAccumulation)", "'lake' (FloodFill)", "'lakes' (Lakes)"}},
+     {"'clusters' (KMeansClusters)", "'flow' (FlowAccumulation)", "'lake' (FloodFill)", "'lakes' (Lakes)",
+      "'sun' (SunIllumination)"}},
     {"voronoi_island.json", {"'island/eroded' (PipeErosion)"}},
 };
 
