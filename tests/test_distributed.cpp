@@ -100,6 +100,7 @@ fs::path run_distributed(const Job& job) {
       {"../bench/distributed_kmeans.json", {"'clusters' (KMeansClusters)"}},
       {"../bench/distributed_stream_power.json", {"'landscape' (StreamPower)"}},
       {"../bench/distributed_water_flow.json", {"'water' (WaterFlow)"}},
+      {"../bench/distributed_sun.json", {"'sun' (SunIllumination)", "'sun_south' (SunIllumination)"}},
   };
   if (const auto it = across.find(job.graph); it != across.end() && job.tiles.x * job.tiles.y > 1) {
     for (const std::string& node : it->second) {
@@ -437,21 +438,24 @@ TEST(Distributed, MergedFilesAndNamedTilesEqualTheSingleProcessBuilds) {
 
 // `graph` (under bench/) on every tiling and rank count of `jobs`: the single-process tiled build's files
 // (run_distributed), and every raster `names` of the untiled build (under its folder `stem`), put together from the
-// ranks' tiles, bit for bit.
+// ranks' tiles, bit for bit (each of `channels` of a multi-channel image).
 void expect_ranks_equal_untiled(const std::string& graph, const std::string& stem,
                                 const std::vector<std::string>& names,
-                                const std::vector<std::pair<glm::ivec2, int>>& jobs) {
+                                const std::vector<std::pair<glm::ivec2, int>>& jobs,
+                                const std::vector<int>& channels = {0}) {
   const std::string path = "../bench/" + graph;  // resolved under graphs/
   const fs::path& untiled = single_process_build({path.c_str(), 129, {0, 0}, 1});
   for (const auto& [tiles, ranks] : jobs) {
     const Job job{path.c_str(), 129, tiles, ranks};
     SCOPED_TRACE(tiles_text(job.tiles) + " on " + std::to_string(job.ranks) + " ranks");
     const fs::path dir = run_distributed(job);
-    for (const std::string& name : names) {
-      const FloatRaster whole = read_float_raster(untiled / stem / (name + ".tif"));
-      EXPECT_TRUE(same_bits(whole, stitch(dir, stem + "/" + name + ".tif", job.tiles, {whole.width, whole.height})))
-          << name;
-    }
+    for (const std::string& name : names)
+      for (const int channel : channels) {
+        const FloatRaster whole = read_float_raster(untiled / stem / (name + ".tif"), channel);
+        EXPECT_TRUE(
+            same_bits(whole, stitch(dir, stem + "/" + name + ".tif", job.tiles, {whole.width, whole.height}, channel)))
+            << name << " channel " << channel;
+      }
   }
 }
 
@@ -554,6 +558,19 @@ TEST(Distributed, WaterFlowAcrossRanksEqualsTheUntiledBuild) {
       const fs::path tile = dir / "stats" / ("tiled_x" + std::to_string(i) + "_y" + std::to_string(j) + ".json");
       EXPECT_EQ(nlohmann::json::parse(file_bytes(tile))["reports"], report) << tile;
     }
+}
+
+// SunIllumination across the ranks' tiles, each sun direction's sweep handing its lines' hulls from tile to tile
+// (bench/distributed_sun.json: fBm hills under a low winter sun far north, all twelve months, and a southern winter
+// morning every half hour for one month, every output written, and a blur of the lit mask downstream whose halo comes
+// from the neighboring ranks' tiles). The monthly images channel by channel: January, June, September, December.
+TEST(Distributed, SunIlluminationAcrossRanksEqualsTheUntiledBuild) {
+  SKIP_WITHOUT_MPI();
+  const std::vector<std::pair<glm::ivec2, int>> jobs = {{{2, 2}, 2}, {{3, 2}, 4}};
+  expect_ranks_equal_untiled(
+      "distributed_sun.json", "distributed_sun",
+      {"lit", "direct", "south_lit", "south_direct", "south_hours", "south_irradiance", "smooth"}, jobs);
+  expect_ranks_equal_untiled("distributed_sun.json", "distributed_sun", {"hours", "irradiance"}, jobs, {0, 5, 8, 11});
 }
 
 }  // namespace

@@ -86,8 +86,8 @@ struct SeedJob {
 };
 
 // The nodes of each seed graph that run across the ranks' tiles (each build's stage line names them), so a fallback
-// to the whole domain fails the test: erosion, clustering, drainage figures, flow accumulation, lakes, flood fill and
-// water flow.
+// to the whole domain fails the test: erosion, clustering, drainage figures, flow accumulation, lakes, flood fill,
+// water flow and sunlight.
 // forest.json and seamscape.json have none.
 const std::map<std::string, std::vector<std::string>> kAcross = {
     {"eroded_mountains.json",
@@ -95,7 +95,7 @@ const std::map<std::string, std::vector<std::string>> kAcross = {
     {"game_world.json", {"'hydraulic' (HydraulicErosion)", "'thermal' (ThermalErosion)"}},
     {"rural_resources.json",
      {"'clusters' (KMeansClusters)", "'flow' (FlowAccumulation)", "'lake' (FloodFill)", "'lakes' (Lakes)",
-      "'water' (WaterFlow)"}},
+      "'water' (WaterFlow)", "'sun' (SunIllumination)"}},
     {"voronoi_island.json", {"'island/eroded' (PipeErosion)"}},
 };
 

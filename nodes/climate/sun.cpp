@@ -12,6 +12,7 @@
 #include "graph/cost_query.h"
 #include "graph/registry.h"
 #include "nodes/common/cancellable_rows.h"
+#include "nodes/climate/sun_sweep.h"
 #include "nodes/field/surface_derivatives.h"
 
 namespace orogen::climate {
@@ -56,25 +57,17 @@ namespace {
 // lines passing either side of it in its column, interpolated linearly (exact on planes).
 template <class Fn>
 void sweep_horizon(const Heightfield& z, glm::dvec2 toward, const ExecContext* ctx, Fn&& fn) {
-  const int W = z.width(), H = z.height();
-  const double sx = std::abs(z.domain.spacing.x), sy = std::abs(z.domain.spacing.y);
-  const double len = std::hypot(toward.x, toward.y);
-  constexpr float kNone = -std::numeric_limits<float>::infinity();
-  if (!(len > 0.0) || !std::isfinite(len)) {
+  using namespace sweep;
+  const auto geo = geometry(z.domain.resolution, z.domain.spacing, toward);
+  if (!geo) {
     for (std::size_t c = 0; c < z.data.size(); ++c) fn(c, kNone);
     return;
   }
-  const glm::dvec2 d = toward / len;
-  const double gx = d.x / sx, gy = d.y / sy;  // direction in index space
-  const bool major_x = std::abs(gx) >= std::abs(gy);
-  const int A = major_x ? W : H, B = major_x ? H : W;
-  const double ga = major_x ? gx : gy, gb = major_x ? gy : gx;
-  const double m = -gb / std::abs(ga);  // minor-index change per step away from the sun, |m| <= 1
-  const bool a_descending = ga > 0.0;   // the sun lies toward larger index: start from the far end
-  const double ea = major_x ? sx * d.x : sy * d.y,
-               eb = major_x ? sy * d.y : sx * d.x;  // metres toward the sun per index
-  // Line l holds the points b = l + s m at steps s = 0..A-1; lines l0..l1 bracket every cell.
-  const double span = (A - 1) * m;
+  const Geometry& g = *geo;
+  const bool major_x = g.major_x;
+  const int A = g.A, B = g.B;
+  // Lines l0..l1 bracket every cell.
+  const double span = (A - 1) * g.m;
   const int l0 = static_cast<int>(std::floor(-std::max(0.0, span))) - 1;
   const int l1 = B + static_cast<int>(std::ceil(-std::min(0.0, span))) + 1;
   // T: the horizon tangent of line l at step s (NaN where the line is outside the grid), laid out so the
@@ -83,7 +76,6 @@ void sweep_horizon(const Heightfield& z, glm::dvec2 toward, const ExecContext* c
   const std::size_t L = static_cast<std::size_t>(l1 - l0 + 1);
   const std::size_t line_stride = major_x ? static_cast<std::size_t>(A) : 1;
   const std::size_t step_stride = major_x ? 1 : L;
-  constexpr float kOutside = std::numeric_limits<float>::quiet_NaN();
   std::vector<float> T(L * static_cast<std::size_t>(A), kOutside);
   auto height = [&](int a, int b) { return major_x ? z.at(a, b) : z.at(b, a); };
   constexpr int kLines = 16;  // lines swept together by one task
@@ -95,51 +87,33 @@ void sweep_horizon(const Heightfield& z, glm::dvec2 toward, const ExecContext* c
     std::vector<double> hz(hu.size());
     std::vector<std::size_t> count(static_cast<std::size_t>(nl), 0);
     for (int s = 0; s < A; ++s) {
-      const int a = a_descending ? A - 1 - s : s;
+      const Crossing c = crossing(g, s);
       float* out = T.data() + static_cast<std::size_t>(s) * step_stride;
-      // Every line crosses this column at the same fraction f of a cell: y = l + s m = (l + boff) + f.
-      const double sm = s * m, fsm = std::floor(sm), f = sm - fsm;
-      const int boff = static_cast<int>(fsm);
-      const double u_s = -(a * ea + sm * eb);
       for (int q = 0; q < nl; ++q) {
         const int l = range.begin() + q;
-        const int b0 = l + boff;
-        if (b0 < 0 || b0 > B - 1 || (b0 == B - 1 && f > 0.0)) continue;  // outside the grid: no sample
-        const double zp = f == 0.0 ? height(a, b0) : (1.0 - f) * height(a, b0) + f * height(a, b0 + 1);
-        const double u = u_s - l * eb;  // distance away from the sun, increasing along the line
-        double* U = hu.data() + static_cast<std::size_t>(q) * static_cast<std::size_t>(A);
-        double* Z = hz.data() + static_cast<std::size_t>(q) * static_cast<std::size_t>(A);
-        std::size_t n = count[static_cast<std::size_t>(q)];
-        while (n >= 2 && (Z[n - 1] - Z[n - 2]) * (u - U[n - 2]) <= (zp - Z[n - 2]) * (U[n - 1] - U[n - 2])) --n;
+        const int b0 = l + c.boff;
+        if (!on_grid(g, c, b0)) continue;  // outside the grid: no sample
+        const double zp = line_height(c, height(c.a, b0), c.f == 0.0 ? 0.0f : height(c.a, b0 + 1));
         out[static_cast<std::size_t>(l - l0) * line_stride] =
-            n ? static_cast<float>((Z[n - 1] - zp) / (u - U[n - 1])) : kNone;
-        U[n] = u;
-        Z[n] = zp;
-        count[static_cast<std::size_t>(q)] = n + 1;
+            hull_step(hu.data() + static_cast<std::size_t>(q) * static_cast<std::size_t>(A),
+                      hz.data() + static_cast<std::size_t>(q) * static_cast<std::size_t>(A),
+                      count[static_cast<std::size_t>(q)], line_distance(g, c, l), zp);
       }
     }
   });
   if (ctx) ctx->check_cancelled();
-  // Gather: cell (a, b) at step s lies at line coordinate lambda = b - s m, between lines b + base and
-  // b + base + 1 with base = floor(-s m), at the fraction f = -s m - base (the same for the whole column).
-  auto blend = [](float t0, float t1, float f) {
-    if (!(f > 0.0f)) return t0;
-    if (std::isnan(t0)) return t1;  // the line below runs outside the grid here
-    if (std::isnan(t1)) return t0;
-    return (std::isinf(t0) || std::isinf(t1)) ? std::max(t0, t1) : (1.0f - f) * t0 + f * t1;
-  };
-  std::vector<std::ptrdiff_t> base(static_cast<std::size_t>(A));  // per step: T offset of line b + base at b = 0
+  // Gather: cell (a, b) reads lines b + below(a) and the next at step s(a).
+  std::vector<std::ptrdiff_t> base(static_cast<std::size_t>(A));  // per column: T offset of line b + below at b = 0
   std::vector<float> frac(static_cast<std::size_t>(A));
   for (int a = 0; a < A; ++a) {
-    const int s = a_descending ? A - 1 - a : a;
-    const double ms = -s * m, fl = std::floor(ms);
+    const ColumnRead r = column_read(g, a);
     base[static_cast<std::size_t>(a)] =
-        static_cast<std::ptrdiff_t>(s) * static_cast<std::ptrdiff_t>(step_stride) +
-        static_cast<std::ptrdiff_t>(static_cast<int>(fl) - l0) * static_cast<std::ptrdiff_t>(line_stride);
-    frac[static_cast<std::size_t>(a)] = static_cast<float>(ms - fl);
+        static_cast<std::ptrdiff_t>(g.column(a)) * static_cast<std::ptrdiff_t>(step_stride) +
+        static_cast<std::ptrdiff_t>(r.below - l0) * static_cast<std::ptrdiff_t>(line_stride);
+    frac[static_cast<std::size_t>(a)] = r.frac;
   }
   const std::ptrdiff_t ls = static_cast<std::ptrdiff_t>(line_stride);
-  if (major_x) {  // grid row b: cell (a, b) reads lines b + base(a) and the next at step s(a)
+  if (major_x) {  // grid row b: cell (a, b) reads lines b + below(a) and the next at step s(a)
     tbb::parallel_for(tbb::blocked_range<int>(0, B, 4), [&](const tbb::blocked_range<int>& range) {
       for (int b = range.begin(); b != range.end(); ++b)
         for (int a = 0; a < A; ++a) {
@@ -170,23 +144,43 @@ std::vector<float> horizon_tangent(const Heightfield& z, glm::dvec2 toward, cons
 std::vector<glm::vec3> surface_normals(const Heightfield& z, const ExecContext* ctx) {
   std::vector<glm::vec3> n(z.data.size());
   for_each_row(ctx, z.height(), [&](int j) {
-    for (int i = 0; i < z.width(); ++i) {
-      double p = 0.0, q = 0.0;
-      if (z.width() > 1 || z.height() > 1) gradient_at(z, i, j, p, q);
-      const double k = 1.0 / std::sqrt(1.0 + p * p + q * q);
-      n[z.index(i, j)] = glm::vec3(static_cast<float>(-p * k), static_cast<float>(-q * k), static_cast<float>(k));
-    }
+    for (int i = 0; i < z.width(); ++i) n[z.index(i, j)] = sweep::normal_at(z, i, j);
   });
   return n;
 }
 
-namespace {
+namespace sweep {
 
-// Adds weight and weight * irradiance * cos(incidence) to every cell lit by the sun in direction s.
-// Largest |dz/dx| and |dz/dy| between neighbouring samples. No horizon tangent toward a unit direction d can
-// exceed gx |d.x| + gy |d.y| (every chord of the interpolated lines is an average of steps bounded so), so a
-// sun higher than that lights every cell and needs no sweep.
-glm::dvec2 max_gradient(const Heightfield& z) {
+glm::vec3 normal_at(const Heightfield& z, int i, int j) {
+  double p = 0.0, q = 0.0;
+  if (z.width() > 1 || z.height() > 1) gradient_at(z, i, j, p, q);
+  const double k = 1.0 / std::sqrt(1.0 + p * p + q * q);
+  return glm::vec3(static_cast<float>(-p * k), static_cast<float>(-q * k), static_cast<float>(k));
+}
+
+void check_params(const SunParams& p) {
+  if (!(std::abs(p.latitude) <= 90.0)) throw NodeError("latitude must be in [-90, 90] degrees");
+  if (!(p.time_step >= 0.01 && p.time_step <= 24.0)) throw NodeError("time_step must be in [0.01, 24] hours");
+}
+
+std::vector<double> declinations(std::span<const int> months) {
+  std::vector<double> decls;
+  for (int m : months)
+    if (std::find(decls.begin(), decls.end(), declination_deg(m)) == decls.end()) decls.push_back(declination_deg(m));
+  return decls;
+}
+
+int day_steps(const SunParams& p) { return static_cast<int>(std::ceil(24.0 / p.time_step - 1e-9)); }
+
+std::optional<SunPosition> day_position(const SunParams& p, double decl, int k) {
+  const double h0 = sunset_hour_angle_deg(p.latitude, decl) / 15.0;
+  const double rise = 12.0 - h0, set = 12.0 + h0;
+  const double a = std::max(rise, k * p.time_step), b = std::min(set, std::min(24.0, (k + 1) * p.time_step));
+  if (!(b > a)) return std::nullopt;
+  return SunPosition{sun_direction(p.latitude, decl, 0.5 * (a + b)), b - a};
+}
+
+glm::dvec2 largest_steps(const Heightfield& z) {
   double gx = 0.0, gy = 0.0;
   for (int j = 0; j < z.height(); ++j)
     for (int i = 0; i < z.width(); ++i) {
@@ -195,73 +189,63 @@ glm::dvec2 max_gradient(const Heightfield& z) {
       if (std::isnan(z.at(i, j)))
         return {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
     }
-  return {gx / std::abs(z.domain.spacing.x), gy / std::abs(z.domain.spacing.y)};
+  return {gx, gy};
 }
 
+}  // namespace sweep
+
+namespace {
+
+// Largest |dz/dx| and |dz/dy| between neighbouring samples (sweep::casts_shadows).
+glm::dvec2 max_gradient(const Heightfield& z) {
+  const glm::dvec2 g = sweep::largest_steps(z);
+  return {g.x / std::abs(z.domain.spacing.x), g.y / std::abs(z.domain.spacing.y)};
+}
+
+// Adds weight and weight * irradiance * cos(incidence) to every cell lit by the sun in direction s.
 void accumulate_sun(const Heightfield& z, const std::vector<glm::vec3>& normals, glm::dvec2 max_grad, glm::dvec3 s,
                     double weight, double irradiance, float* hours, float* irr, const ExecContext* ctx) {
   if (!(s.z > 0.0)) return;
-  const double horiz = std::hypot(s.x, s.y);
-  const float w = static_cast<float>(weight);
-  const glm::vec3 sf(s);
-  auto add = [&](std::size_t c) {
-    if (hours) hours[c] += w;
-    if (irr) {
-      const float cosi = glm::dot(normals[c], sf);
-      if (cosi > 0.0f) irr[c] += static_cast<float>(weight * irradiance) * cosi;
-    }
-  };
-  const double bound = (max_grad.x * std::abs(s.x) + max_grad.y * std::abs(s.y)) / std::max(horiz, 1e-300);
-  if (horiz < 1e-12 || s.z / std::max(horiz, 1e-300) > bound * (1.0 + 1e-6) + 1e-9) {
+  const sweep::Light light(s, weight, irradiance);
+  auto add = [&](std::size_t c) { light.add(normals[c], hours ? hours + c : nullptr, irr ? irr + c : nullptr); };
+  if (!sweep::casts_shadows(max_grad, s)) {
     // Sun at the zenith or above every possible horizon: nothing casts a shadow.
     for_each_row(ctx, z.height(), [&](int j) {
       for (std::size_t c = z.index(0, j); c < z.index(0, j) + static_cast<std::size_t>(z.width()); ++c) add(c);
     });
     return;
   }
-  const float tan_e = static_cast<float>(s.z / horiz);
+  const float tan_e = sweep::sun_tangent(s);
   sweep_horizon(z, {s.x, s.y}, ctx, [&](std::size_t c, float th) {
     if (tan_e > th) add(c);
   });
 }
 
-std::shared_ptr<Image> month_image(const Domain& d, std::span<const int> months) {
+}  // namespace
+
+std::shared_ptr<Image> sweep::month_image(const Domain& d, std::span<const int> months) {
   auto img = std::make_shared<Image>(d, static_cast<int>(months.size()));
   for (int m : months) img->channel_names.push_back(kMonthNames[static_cast<std::size_t>(m - 1)]);
   return img;
 }
 
-void check_params(const SunParams& p) {
-  if (!(std::abs(p.latitude) <= 90.0)) throw NodeError("latitude must be in [-90, 90] degrees");
-  if (!(p.time_step >= 0.01 && p.time_step <= 24.0)) throw NodeError("time_step must be in [0.01, 24] hours");
-}
-
-}  // namespace
-
 SunDaily sun_daily(const Heightfield& z, const SunParams& p, std::span<const int> months, const ExecContext* ctx) {
-  check_params(p);
-  SunDaily out{month_image(z.domain, months), month_image(z.domain, months)};
+  sweep::check_params(p);
+  SunDaily out{sweep::month_image(z.domain, months), sweep::month_image(z.domain, months)};
   const auto normals = surface_normals(z, ctx);
   const glm::dvec2 max_grad = max_gradient(z);
   const std::size_t n = z.data.size();
   const int nm = static_cast<int>(months.size());
-  // Months sharing a declination share the computation.
-  std::vector<double> decls;
-  for (int m : months)
-    if (std::find(decls.begin(), decls.end(), declination_deg(m)) == decls.end()) decls.push_back(declination_deg(m));
-  const int steps = static_cast<int>(std::ceil(24.0 / p.time_step - 1e-9));
+  const std::vector<double> decls = sweep::declinations(months);
+  const int steps = sweep::day_steps(p);
   std::vector<float> hours(n), irr(n);
   int done = 0;
   for (double decl : decls) {
     std::fill(hours.begin(), hours.end(), 0.0f);
     std::fill(irr.begin(), irr.end(), 0.0f);
-    const double h0 = sunset_hour_angle_deg(p.latitude, decl) / 15.0;
-    const double rise = 12.0 - h0, set = 12.0 + h0;
     for (int k = 0; k < steps; ++k) {
-      const double a = std::max(rise, k * p.time_step), b = std::min(set, std::min(24.0, (k + 1) * p.time_step));
-      if (b > a)
-        accumulate_sun(z, normals, max_grad, sun_direction(p.latitude, decl, 0.5 * (a + b)), b - a, p.irradiance,
-                       hours.data(), irr.data(), ctx);
+      if (const auto sun = sweep::day_position(p, decl, k))
+        accumulate_sun(z, normals, max_grad, sun->s, sun->weight, p.irradiance, hours.data(), irr.data(), ctx);
       if (ctx) {
         ctx->check_cancelled();
         ctx->progress((done * steps + k + 1.0) / (static_cast<double>(decls.size()) * steps));
@@ -280,7 +264,7 @@ SunDaily sun_daily(const Heightfield& z, const SunParams& p, std::span<const int
 }
 
 SunInstant sun_instant(const Heightfield& z, const SunParams& p, int month, double hour, const ExecContext* ctx) {
-  check_params(p);
+  sweep::check_params(p);
   SunInstant out{std::make_shared<Heightfield>(z.domain), std::make_shared<Heightfield>(z.domain)};
   const auto normals = surface_normals(z, ctx);
   accumulate_sun(z, normals, max_gradient(z), sun_direction(p.latitude, declination_deg(month), hour), 1.0,
@@ -289,8 +273,8 @@ SunInstant sun_instant(const Heightfield& z, const SunParams& p, int month, doub
 }
 
 OROGEN_NODE(SunIllumination) {
-  b.distribution(Distribution::Gathered);
-  b.reach_global();  // a shadow can fall from anywhere in the domain
+  b.distribution(Distribution::TileGraph);  // nodes/climate/sun_across_tiles.cpp
+  b.reach_global();                         // a shadow can fall from anywhere in the domain
   b.category("climate").description(
       "Direct sunlight with terrain shadows over the day, per month: lit hours per day and the 24-hour mean "
       "direct irradiance on the slope (irradiance x cosine of the incidence on the surface), plus the lit "
@@ -300,7 +284,10 @@ OROGEN_NODE(SunIllumination) {
       "monthly declination after H. Long (2016), Using procedural methods to generate realistic virtual "
       "rural worlds. Shadows by a horizon sweep per sun azimuth with a running convex hull, O(n) per "
       "direction (V. Timonen, J. Westerholm (2010), Scalable height field self-shadowing). +y is north, +x "
-      "east; terrain outside the domain casts no shadow; no atmosphere or diffuse light.");
+      "east; terrain outside the domain casts no shadow; no atmosphere or diffuse light. A tiled or distributed build "
+      "runs it across the tiles with the untiled build's outputs bit for bit: each sun direction's sweep passes its "
+      "lines' hulls from tile to tile along the sweep, all directions together in one wavefront of rounds (tiles "
+      "across + tiles down + 1 rounds).");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Image).description("Lit hours per day, hours, one channel per month (jan..dec)");
   b.output("irradiance", PortType::Image)
