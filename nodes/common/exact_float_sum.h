@@ -3,9 +3,8 @@
 // split over threads, tiles or ranks in any way agree bit for bit (KMeansClusters across tiles).
 //
 // Every finite float is an integer multiple of 2^-149 below 2^128: a fixed-point number of 32-bit limbs from 2^-149
-// up holds it exactly. A float's 24-bit significand, shifted within its limb, spans at most two limbs; each limb is
-// kept in an int64 with its carries deferred, so a limb takes in 2^31 floats before it must be normalized (add()
-// normalizes every 2^30 additions). Infinities and NaN are counted apart and give the IEEE sum's infinity or NaN.
+// up holds it exactly (nodes/common/exact_limb_sum.h). A float's 24-bit significand, shifted within its limb, spans at
+// most two limbs. Infinities and NaN are counted apart and give the IEEE sum's infinity or NaN.
 #include <array>
 #include <bit>
 #include <cmath>
@@ -16,12 +15,12 @@
 #include <string>
 #include <string_view>
 
+#include "nodes/common/exact_limb_sum.h"
+
 namespace orogen {
 
-class ExactFloatSum {
+class ExactFloatSum : public ExactLimbSum<10, 149> {  // 9 limbs span 2^-149 .. 2^139; the tenth takes carries and sign
  public:
-  static constexpr int kLimbs = 10;  // 9 limbs span 2^-149 .. 2^139; the tenth takes carries and the sign
-
   void add(float v) {
     std::uint32_t u;
     std::memcpy(&u, &v, sizeof u);
@@ -33,11 +32,8 @@ class ExactFloatSum {
     const std::uint64_t m = (u & 0x7FFFFFu) | (e ? 0x800000u : 0u);
     const std::uint32_t s = e ? e - 1 : 0;  // v = m 2^(s - 149)
     const std::uint64_t w = m << (s & 31u);
-    const std::int64_t neg = -static_cast<std::int64_t>(u >> 31);  // 0 or -1
-    const std::int64_t lo = static_cast<std::int64_t>(w & 0xFFFFFFFFu), hi = static_cast<std::int64_t>(w >> 32);
-    limb_[s >> 5] += (lo ^ neg) - neg;
-    limb_[(s >> 5) + 1] += (hi ^ neg) - neg;
-    if (++pending_ == kNormalizeEvery) normalize();
+    const std::int64_t parts[2] = {static_cast<std::int64_t>(w & 0xFFFFFFFFu), static_cast<std::int64_t>(w >> 32)};
+    add_parts(s >> 5, parts, 2, (u >> 31) != 0);
   }
 
   // Adds a double that is itself an exact sum of floats: a multiple of 2^-149 below 2^159 in magnitude (FloatBuckets'
@@ -46,7 +42,7 @@ class ExactFloatSum {
   // only; throws std::out_of_range above.
   void add_exact(double d) {
     if (!std::isfinite(d)) {
-      add_special(static_cast<float>(d));
+      add_special(d);
       return;
     }
     if (d == 0.0) return;
@@ -61,110 +57,13 @@ class ExactFloatSum {
       shift = 0;
     }
     const unsigned __int128 w = static_cast<unsigned __int128>(m) << (shift & 31);
-    const std::int64_t neg = d < 0.0 ? -1 : 0;
-    const std::size_t i = static_cast<std::size_t>(shift >> 5);
     const std::int64_t parts[3] = {static_cast<std::int64_t>(static_cast<std::uint64_t>(w) & 0xFFFFFFFFu),
                                    static_cast<std::int64_t>(static_cast<std::uint64_t>(w >> 32) & 0xFFFFFFFFu),
                                    static_cast<std::int64_t>(static_cast<std::uint64_t>(w >> 64))};
-    for (std::size_t k = 0; k < 3; ++k) limb_[i + k] += (parts[k] ^ neg) - neg;
-    if (++pending_ == kNormalizeEvery) normalize();
+    add_parts(static_cast<std::size_t>(shift >> 5), parts, 3, d < 0.0);
   }
 
-  void add(const ExactFloatSum& o) {
-    ExactFloatSum b = o;
-    b.normalize();
-    normalize();
-    for (int i = 0; i < kLimbs; ++i) limb_[i] += b.limb_[i];
-    pos_inf_ += b.pos_inf_, neg_inf_ += b.neg_inf_, nan_ += b.nan_;
-    normalize();
-  }
-
-  // The exact sum rounded to the nearest double (ties to even).
-  double value() const {
-    if (nan_ || (pos_inf_ && neg_inf_)) return std::numeric_limits<double>::quiet_NaN();
-    if (pos_inf_) return std::numeric_limits<double>::infinity();
-    if (neg_inf_) return -std::numeric_limits<double>::infinity();
-    ExactFloatSum a = *this;
-    a.normalize();
-    const bool negative = a.limb_[kLimbs - 1] < 0;
-    if (negative) {
-      for (auto& l : a.limb_) l = -l;
-      a.normalize();
-    }
-    int h = kLimbs - 1;
-    while (h > 0 && a.limb_[h] == 0) --h;
-    if (h < 2) h = 2;
-    // The top three limbs (at most 96 bits: the top limb stays below 2^32 here) and whether anything lies below.
-    const unsigned __int128 top = (static_cast<unsigned __int128>(a.limb_[h]) << 64) |
-                                  (static_cast<unsigned __int128>(a.limb_[h - 1]) << 32) |
-                                  static_cast<unsigned __int128>(a.limb_[h - 2]);
-    bool sticky = false;
-    for (int i = 0; i < h - 2; ++i) sticky = sticky || a.limb_[i] != 0;
-    const int exponent = 32 * (h - 2) - 149;
-    const std::uint64_t high = static_cast<std::uint64_t>(top >> 64), low = static_cast<std::uint64_t>(top);
-    const int bits = high ? 128 - std::countl_zero(high) : (low ? 64 - std::countl_zero(low) : 0);
-    double r;
-    if (bits <= 53) {
-      r = std::ldexp(static_cast<double>(low), exponent);
-    } else {
-      const int shift = bits - 53;
-      std::uint64_t mant = static_cast<std::uint64_t>(top >> shift);
-      const unsigned __int128 rem = top & ((static_cast<unsigned __int128>(1) << shift) - 1);
-      const unsigned __int128 half = static_cast<unsigned __int128>(1) << (shift - 1);
-      if (rem > half || (rem == half && (sticky || (mant & 1u)))) ++mant;
-      r = std::ldexp(static_cast<double>(mant), exponent + shift);
-    }
-    return negative ? -r : r;
-  }
-
-  // Appends the sum's bytes (normalized, so equal sums give equal bytes) / takes them back.
-  void put(std::string& out) const {
-    ExactFloatSum a = *this;
-    a.normalize();
-    out.append(reinterpret_cast<const char*>(a.limb_.data()), sizeof a.limb_);
-    out.append(reinterpret_cast<const char*>(&a.pos_inf_), sizeof a.pos_inf_);
-    out.append(reinterpret_cast<const char*>(&a.neg_inf_), sizeof a.neg_inf_);
-    out.append(reinterpret_cast<const char*>(&a.nan_), sizeof a.nan_);
-  }
-  static constexpr std::size_t kBytes = sizeof(std::int64_t) * (kLimbs + 3);
-  // Returns false if fewer than kBytes bytes remain.
-  bool take(std::string_view& in) {
-    if (in.size() < kBytes) return false;
-    std::memcpy(limb_.data(), in.data(), sizeof limb_);
-    in.remove_prefix(sizeof limb_);
-    for (std::int64_t* c : {&pos_inf_, &neg_inf_, &nan_}) {
-      std::memcpy(c, in.data(), sizeof *c);
-      in.remove_prefix(sizeof *c);
-    }
-    pending_ = 0;
-    return true;
-  }
-
- private:
-  static constexpr std::int64_t kNormalizeEvery = std::int64_t{1} << 30;
-
-  void add_special(float v) {
-    if (std::isnan(v))
-      ++nan_;
-    else if (v > 0)
-      ++pos_inf_;
-    else
-      ++neg_inf_;
-  }
-
-  // Limbs 0 .. kLimbs-2 into [0, 2^32), their carries moved up; the top limb keeps the sign.
-  void normalize() {
-    for (int i = 0; i + 1 < kLimbs; ++i) {
-      const std::int64_t carry = limb_[i] >> 32;  // arithmetic shift: floor division by 2^32
-      limb_[i] -= carry * (std::int64_t{1} << 32);
-      limb_[i + 1] += carry;
-    }
-    pending_ = 0;
-  }
-
-  std::array<std::int64_t, kLimbs> limb_{};
-  std::int64_t pending_ = 0;
-  std::int64_t pos_inf_ = 0, neg_inf_ = 0, nan_ = 0;
+  void add(const ExactFloatSum& o) { add_sum(o); }
 };
 
 // The least float T (0 or a power of two) such that any 2^count_bits floats whose magnitudes lie in [T, largest] add up
