@@ -9,8 +9,8 @@
 
 #include "nodes/common/cancellable_rows.h"
 #include "nodes/common/finite_inputs.h"
-#include "nodes/hydrology/basin_graph.h"
 #include "nodes/erosion/stream_power_kernel.h"
+#include "nodes/hydrology/basin_graph.h"
 #include "nodes/hydrology/flow_routing.h"
 
 namespace orogen::erosion {

@@ -8,8 +8,9 @@
 //  - pits: whether any tile has a cell other than the domain's border with no strictly lower 8-neighbour in float.
 //    If none, the Priority-Flood+epsilon fill leaves the float surface as it is (every cell already has a lower
 //    neighbour, so the epsilon surface is the surface itself), and the fill's rounds are skipped;
-//  - basins (only with pits): the D8 paths joined through perimeter links (nodes/hydrology/tile_basins.h) say which
-//    cells drain to a pit; only those can change in the fill (nodes/hydrology/pit_basin_fill.h);
+//  - basins and terminals (only with pits): the D8 paths joined through perimeter links (nodes/hydrology/tile_basins.h)
+//    say where each cell's path ends, and the pits at those ends say which cells drain to a pit; only those can change
+//    in the fill (nodes/hydrology/pit_basin_fill.h);
 //  - region: each tile's pit-basin cells with the cells around them, filled in one piece by the solve when every
 //    tile's are few, bit for bit the whole-domain fill there; else only a flag, and
 //  - spill and epsilon: the fill across tiles (nodes/hydrology/tile_fill.h) with the cells outside the pit basins
@@ -25,9 +26,10 @@
 //    by the same function of the same doubles as on the whole domain.
 //
 // After the last step, the float fill of the result (pits, basins, the fill) and the largest drainage area over all
-// tiles (for the flow map). Cells below sea level are base level on the whole domain; the tiles' fill knows only the
-// domain's border as base level, so a run with such cells is refused (the first round finds them; no cell can sink
-// below the lowest sample later: diffusion averages, incision stops at the receiver and filling raises).
+// tiles (for the flow map). Base level is the domain's border and, as on the whole domain, the cells under sea level
+// after each step's uplift: they take no diffusion, have no receiver, and are drained cells of the fill. Which pits
+// end the paths of the tile's cells: its own, and those other tiles name for the paths from their perimeters (a path
+// that enters a tile does so through its perimeter), one round.
 #include "nodes/erosion/stream_power_across_tiles.h"
 
 #include <algorithm>
@@ -57,10 +59,10 @@ using hydrology::FlowGrid;
 using hydrology::TileRect;
 
 enum class Phase : std::uint8_t {
-  Check,
   Halo,
   Pits,
   Basins,
+  Terminals,
   Region,
   Spill,
   Epsilon,
@@ -101,24 +103,22 @@ class StreamPowerTile : public TileGraphTile {
     dep_.assign(n_, 0.0);
     kfac_.resize(n_);
     ufac_.resize(n_);
-    border_.resize(n_);
+    fixed_.resize(n_);
+    outlet_.resize(n_);
     for (int j = 0; j < rect_.size.y; ++j)
       for (int i = 0; i < rect_.size.x; ++i) {
         const std::size_t k = in.index(i, j);
         const int gi = rect_.first.x + i, gj = rect_.first.y + j;
-        border_[k] = gi == 0 || gj == 0 || gi == whole_.x - 1 || gj == whole_.y - 1;
+        fixed_[k] = gi == 0 || gj == 0 || gi == whole_.x - 1 || gj == whole_.y - 1;
         kfac_[k] = mask_at(mask, k);
-        ufac_[k] = border_[k] ? 0.0 : p.uplift * (uplift ? std::max(0.0f, uplift->data[k]) : 1.0f);
-        below_sea_ = below_sea_ || (!border_[k] && z_[k] < p.sea_level);
+        ufac_[k] = fixed_[k] ? 0.0 : p.uplift * (uplift ? std::max(0.0f, uplift->data[k]) : 1.0f);
       }
+    start_step();
   }
 
   std::string message(int) override {
     std::string out;
     switch (phase_) {
-      case Phase::Check:
-        bytes::put(out, static_cast<std::uint8_t>(below_sea_));
-        break;
       case Phase::Halo:
         out = hydrology::ring_message(std::span<const double>(z_), rect_);
         break;
@@ -127,6 +127,9 @@ class StreamPowerTile : public TileGraphTile {
         break;
       case Phase::Basins:
         out = hydrology::basin_links_message(basins_);
+        break;
+      case Phase::Terminals:
+        bytes::put_vector(out, pits_ending_at_perimeter());
         break;
       case Phase::Region:
         out = region_message();
@@ -158,9 +161,6 @@ class StreamPowerTile : public TileGraphTile {
 
   void answer(int, std::string_view bytes) override {
     switch (phase_) {
-      case Phase::Check:
-        start_step();
-        break;
       case Phase::Halo:
         ringed_z_ = hydrology::with_ring(std::span<const double>(z_), rect_, whole_, bytes);
         if (substep_ < schedule_.diff_steps) {
@@ -176,7 +176,8 @@ class StreamPowerTile : public TileGraphTile {
         for (std::size_t k = 0; k < ringed_z_.size(); ++k) ringed_surface_[k] = static_cast<float>(ringed_z_[k]);
         if (bytes::take<std::uint8_t>(bytes, kWhat) != 0) {
           // Which cells drain to a pit: the D8 paths of the surface as it is, joined across the tiles.
-          basins_ = hydrology::start_tile_basins(hydrology::start_tile_accumulation(directions(), rect_, whole_));
+          pre_direction_ = directions();
+          basins_ = hydrology::start_tile_basins(hydrology::start_tile_accumulation(pre_direction_, rect_, whole_));
           phase_ = Phase::Basins;
         } else {
           after_fill();
@@ -184,15 +185,23 @@ class StreamPowerTile : public TileGraphTile {
         break;
       case Phase::Basins:
         hydrology::take_basin_outlets(basins_, bytes);
+        phase_ = Phase::Terminals;
+        break;
+      case Phase::Terminals: {
+        // A cell is in a pit basin when its path ends at a pit: one of the tile's own, or one another tile named.
+        std::vector<std::int64_t> pits = bytes::take_vector<std::int64_t>(bytes, kWhat);
+        hydrology::expect_end(bytes, kWhat);
+        const std::vector<std::int64_t> own = own_pits();
+        pits.insert(pits.end(), own.begin(), own.end());
+        std::sort(pits.begin(), pits.end());
         in_basin_.assign(n_, 0);
-        for (std::size_t k = 0; k < n_; ++k) {
-          const std::int64_t o = basins_.outlet[k];
-          const int x = static_cast<int>(o % whole_.x), y = static_cast<int>(o / whole_.x);
-          in_basin_[k] = !(x == 0 || y == 0 || x == whole_.x - 1 || y == whole_.y - 1);
-        }
+        for (std::size_t k = 0; k < n_; ++k)
+          in_basin_[k] = std::binary_search(pits.begin(), pits.end(), basins_.outlet[k]);
         basins_ = {};
+        pre_direction_ = {};
         phase_ = Phase::Region;
         break;
+      }
       case Phase::Region:
         if (bytes::take<std::uint8_t>(bytes, kWhat) != 0) {
           // Too large to gather: the fill across the tiles, of the pit basins alone (every other cell keeps its
@@ -260,8 +269,9 @@ class StreamPowerTile : public TileGraphTile {
         if (++step_ < schedule_.steps) {
           start_step();
         } else {
-          // The last routing's fill of the result in float.
+          // The last routing's fill of the result in float, with the base level of the result.
           finishing_ = true;
+          for (std::size_t k = 0; k < n_; ++k) outlet_[k] = fixed_[k] || z_[k] < p_.sea_level;
           phase_ = Phase::Halo;
         }
         return;
@@ -298,9 +308,13 @@ class StreamPowerTile : public TileGraphTile {
   }
 
  private:
-  // Uplift, then the diffusion sub-steps' halos.
+  // Uplift and the base level after it (the domain's border and the cells under sea level), then the diffusion
+  // sub-steps' halos.
   void start_step() {
-    for (std::size_t k = 0; k < n_; ++k) z_[k] += ufac_[k] * schedule_.dt;
+    for (std::size_t k = 0; k < n_; ++k) {
+      z_[k] += ufac_[k] * schedule_.dt;
+      outlet_[k] = fixed_[k] || z_[k] < p_.sea_level;
+    }
     substep_ = 0;
     phase_ = Phase::Halo;
   }
@@ -321,7 +335,7 @@ class StreamPowerTile : public TileGraphTile {
         const double zc = ringed_z_[q];
         const double zw = gi > 0 ? ringed_z_[q - 1] : zc, ze = gi < whole_.x - 1 ? ringed_z_[q + 1] : zc;
         const double zs = gj > 0 ? ringed_z_[q - rw] : zc, zn = gj < whole_.y - 1 ? ringed_z_[q + rw] : zc;
-        const double dz = diffusion_change(border_[k], c, kfac_[k], cx, cy, zc, zw, ze, zs, zn);
+        const double dz = diffusion_change(outlet_[k], c, kfac_[k], cx, cy, zc, zw, ze, zs, zn);
         z_[k] = zc + dz;
         ero_[k] += std::max(-dz, 0.0);
         dep_[k] += std::max(dz, 0.0);
@@ -329,7 +343,7 @@ class StreamPowerTile : public TileGraphTile {
     }
   }
 
-  // Whether a cell of the tile other than the domain's border has no strictly lower 8-neighbour in float.
+  // Whether a cell of the tile other than the base level has no strictly lower 8-neighbour in float.
   bool has_pit() const {
     const glm::ivec2 at = rect_.first - ringed_.first;
     auto zf = [&](int x, int y) {
@@ -337,7 +351,7 @@ class StreamPowerTile : public TileGraphTile {
     };
     for (int j = 0; j < rect_.size.y; ++j)
       for (int i = 0; i < rect_.size.x; ++i) {
-        if (border_[static_cast<std::size_t>(j) * rect_.size.x + i]) continue;
+        if (outlet_[static_cast<std::size_t>(j) * rect_.size.x + i]) continue;
         const int x = at.x + i, y = at.y + j;
         const float z = zf(x, y);
         bool lower = false;
@@ -349,9 +363,40 @@ class StreamPowerTile : public TileGraphTile {
 
   // The D8 directions of the tile's cells over the ringed surface (the ringed tile as a grid of its own: its border
   // cells are outlets only where the domain's border is, and every neighbour of the tile's cells is in it).
+  // A cell's direction depends on its own base-level flag alone, so the ring's flags are left 0.
   std::vector<std::uint8_t> directions() const {
     const FlowGrid g(ringed_.size.x, ringed_.size.y, grid_.dx, grid_.dy);
-    return hydrology::without_ring<std::uint8_t>(hydrology::d8_flow(g, ringed_surface_).direction, rect_, whole_);
+    std::vector<std::uint8_t> base(ringed_surface_.size(), 0);
+    const glm::ivec2 at = rect_.first - ringed_.first;
+    for (int j = 0; j < rect_.size.y; ++j)
+      std::copy_n(outlet_.begin() + static_cast<std::ptrdiff_t>(j) * rect_.size.x, rect_.size.x,
+                  base.begin() + static_cast<std::ptrdiff_t>(at.y + j) * ringed_.size.x + at.x);
+    hydrology::Outlets outlets;
+    outlets.mask = base;
+    return hydrology::without_ring<std::uint8_t>(hydrology::d8_flow(g, ringed_surface_, outlets).direction, rect_,
+                                                 whole_);
+  }
+
+  // The tile's pits (cells other than the base level without a direction), as domain samples in increasing order.
+  std::vector<std::int64_t> own_pits() const {
+    std::vector<std::int64_t> pits;
+    for (std::size_t k = 0; k < n_; ++k)
+      if (!outlet_[k] && pre_direction_[k] == hydrology::kNoDirection)
+        pits.push_back(hydrology::domain_sample(rect_, whole_, static_cast<std::int32_t>(k)));
+    return pits;
+  }
+
+  // The tile's pits where paths from its perimeter end: the only ones whose basins other tiles may share.
+  std::vector<std::int64_t> pits_ending_at_perimeter() const {
+    const std::vector<std::int64_t> own = own_pits();
+    std::vector<std::int64_t> ends;
+    for (const std::int32_t c : hydrology::perimeter_cells(rect_.size)) {
+      const std::int64_t t = basins_.outlet[static_cast<std::size_t>(c)];
+      if (std::binary_search(own.begin(), own.end(), t)) ends.push_back(t);
+    }
+    std::sort(ends.begin(), ends.end());
+    ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+    return ends;
   }
 
   // The tile's cells in pit basins with their 8-neighbours outside them (those in the ring may lie in a basin
@@ -533,11 +578,12 @@ class StreamPowerTile : public TileGraphTile {
   TileRect rect_, ringed_;
   std::size_t n_ = 0;
   std::size_t region_limit_ = 0;  // the most cells in pit basins the tile sends to be filled in one piece
-  Phase phase_ = Phase::Check;
+  Phase phase_ = Phase::Halo;
   int step_ = 0, substep_ = 0;
-  bool finishing_ = false, below_sea_ = false;
+  bool finishing_ = false;
   std::vector<double> z_, ero_, dep_, kfac_, ufac_, area_;
-  std::vector<std::uint8_t> border_;
+  std::vector<std::uint8_t> fixed_;    // the domain's border: base level always
+  std::vector<std::uint8_t> outlet_;   // base level this step: fixed, or under sea level after the uplift
   std::vector<double> ringed_z_;       // the heights with their ring, from the last halo
   std::vector<float> surface_;         // the filled float surface on the tile
   std::vector<float> ringed_surface_;  // and with its ring
@@ -546,7 +592,7 @@ class StreamPowerTile : public TileGraphTile {
   std::vector<std::uint8_t> drained_;   // the others, while the fill runs across the tiles
   hydrology::TileFlood flood_;
   std::unique_ptr<hydrology::TileEpsilon> epsilon_;
-  std::vector<std::uint8_t> direction_;
+  std::vector<std::uint8_t> direction_, pre_direction_;  // D8 over the filled surface, and before the fill
   hydrology::TileAccumulation accumulation_;
   std::vector<std::int64_t> count_;
   std::int64_t largest_ = 0;
@@ -595,14 +641,6 @@ class StreamPowerAcrossTiles : public TileGraphAlgorithm {
     const auto& views = untagged.views;
     const glm::ivec2 whole = whole_.resolution;
     switch (untagged.phase) {
-      case Phase::Check:
-        for (std::string_view v : views)
-          if (bytes::take<std::uint8_t>(v, kWhat) != 0)
-            throw std::invalid_argument(
-                "StreamPower across tiles: samples lie below sea_level, which the tiles' depression filling cannot "
-                "take as base level; lower sea_level below the terrain, or build this node on the whole domain "
-                "(--global-nodes whole, or depressions: basin_graph)");
-        return std::vector<std::string>(views.size());
       case Phase::Halo:
         return hydrology::solve_double_rings(views, whole);
       case Phase::Pits:
@@ -610,6 +648,20 @@ class StreamPowerAcrossTiles : public TileGraphAlgorithm {
         return same_answer(untagged.phase, views);
       case Phase::Basins:
         return hydrology::solve_basin_links(views, whole);
+      case Phase::Terminals: {
+        // Every tile's pits that paths from its perimeter end at, to every tile.
+        std::vector<std::int64_t> pits;
+        for (std::string_view v : views) {
+          const auto p = bytes::take_vector<std::int64_t>(v, kWhat);
+          hydrology::expect_end(v, kWhat);
+          pits.insert(pits.end(), p.begin(), p.end());
+        }
+        std::sort(pits.begin(), pits.end());
+        pits.erase(std::unique(pits.begin(), pits.end()), pits.end());
+        std::string answer;
+        bytes::put_vector(answer, pits);
+        return std::vector<std::string>(views.size(), answer);
+      }
       case Phase::Region:
         return fill_regions(views);
       case Phase::Spill:
