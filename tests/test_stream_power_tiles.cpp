@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 #include <random>
+#include <set>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -218,6 +219,32 @@ TEST(StreamPowerAcrossTiles, CellsBelowSeaLevelAreBaseLevelAsOnTheWholeDomain) {
         SCOPED_TRACE(name + ", fields " + std::to_string(linked) + ", tiles " + test::tiles_text(counts));
         expect_same(across_tiles(*algorithm, f, counts, linked, linked), expected);
       }
+  }
+}
+
+// Damaged bytes are refused in every phase: a message one byte short (the solve throws) and an answer one byte short
+// (the tile throws), checked on the first round of each phase of a run that fills across the tiles and gathers.
+TEST(StreamPowerAcrossTiles, DamagedMessagesAndAnswersAreRefusedInEveryPhase) {
+  const Fields f = fields({61, 47}, 7);
+  StreamPowerParams p = params(1.0, 0.0);
+  p.duration = 3 * p.dt;
+  for (const std::size_t limit : {std::size_t{0}, std::size_t{1} << 40}) {
+    const auto algorithm = stream_power_across_tiles(p, test::domain_of(f.terrain), limit);
+    auto tiles = test::start_tiles(*algorithm, f.terrain, {3, 2}, 3);
+    std::set<char> checked;
+    for (int round = 0;; ++round) {
+      std::vector<std::string> messages;
+      for (auto& tile : tiles) messages.push_back(tile->message(round));
+      const char phase = messages[0][0];
+      if (checked.insert(phase).second) {
+        SCOPED_TRACE("limit " + std::to_string(limit) + ", phase " + std::to_string(phase));
+        test::expect_damaged_bytes_refused(*algorithm, tiles, round, messages, false);
+      }
+      const auto answers = algorithm->solve(round, messages);
+      for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->answer(round, answers[k]);
+      if (!algorithm->another_round(round, messages)) break;
+    }
+    EXPECT_GE(checked.size(), limit == 0 ? 10u : 8u) << "the run must go through the phases";
   }
 }
 
