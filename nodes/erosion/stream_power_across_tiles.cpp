@@ -82,6 +82,26 @@ constexpr const char* kWhat = "stream power across tiles";
 
 Phase take_phase(std::string_view& bytes) { return hydrology::take_phase<Phase>(bytes, kWhat, kWhat); }
 
+// Heights at domain samples (row-major indices), as the fill's and the incision's rounds carry them.
+template <class T>
+struct SampleHeights {
+  std::vector<std::int64_t> samples;
+  std::vector<T> heights;
+
+  void push(std::int64_t sample, T height) { samples.push_back(sample), heights.push_back(height); }
+  void put(std::string& out) const { bytes::put_vector(out, samples), bytes::put_vector(out, heights); }
+  static SampleHeights take(std::string_view& in) {
+    SampleHeights h{bytes::take_vector<std::int64_t>(in, kWhat), bytes::take_vector<T>(in, kWhat)};
+    if (h.samples.size() != h.heights.size())
+      throw std::invalid_argument("stream power across tiles: truncated heights");
+    return h;
+  }
+};
+
+bool holds(const TileRect& r, int x, int y) {
+  return x >= r.first.x && y >= r.first.y && x < r.first.x + r.size.x && y < r.first.y + r.size.y;
+}
+
 class StreamPowerTile : public TileGraphTile {
  public:
   StreamPowerTile(const Heightfield& in, const Heightfield* mask, const Heightfield* uplift, const StreamPowerParams& p,
@@ -438,10 +458,8 @@ class StreamPowerTile : public TileGraphTile {
   // The filled heights of the pit basins' samples on the ringed tile: the surface there, and on the tile's own
   // cells the heights, the raise counting as deposition (as the whole-domain run does).
   void take_region_fill(std::string_view bytes) {
-    const auto samples = bytes::take_vector<std::int64_t>(bytes, kWhat);
-    const auto heights = bytes::take_vector<float>(bytes, kWhat);
+    const auto [samples, heights] = SampleHeights<float>::take(bytes);
     hydrology::expect_end(bytes, kWhat);
-    if (samples.size() != heights.size()) throw std::invalid_argument("stream power across tiles: truncated fill");
     const glm::ivec2 at = rect_.first - ringed_.first;
     for (std::size_t s = 0; s < samples.size(); ++s) {
       const int x = static_cast<int>(samples[s] % whole_.x) - ringed_.first.x,
@@ -534,26 +552,20 @@ class StreamPowerTile : public TileGraphTile {
 
   // The perimeter samples incised since the last message, as domain sample indices and heights.
   std::string finished_message() {
-    std::vector<std::int64_t> samples;
-    std::vector<double> heights;
-    for (const std::int32_t k : finished_) {
-      samples.push_back(hydrology::domain_sample(rect_, whole_, k));
-      heights.push_back(z_[static_cast<std::size_t>(k)]);
-    }
+    SampleHeights<double> finished;
+    for (const std::int32_t k : finished_)
+      finished.push(hydrology::domain_sample(rect_, whole_, k), z_[static_cast<std::size_t>(k)]);
     finished_.clear();
     std::string out;
     hydrology::put_tile_rect(out, rect_);
-    bytes::put_vector(out, samples);
-    bytes::put_vector(out, heights);
+    finished.put(out);
     return out;
   }
 
   // Shared samples other tiles incised: their heights, and the walk up from them.
   void take_finished(std::string_view bytes) {
-    const auto samples = bytes::take_vector<std::int64_t>(bytes, kWhat);
-    const auto heights = bytes::take_vector<double>(bytes, kWhat);
+    const auto [samples, heights] = SampleHeights<double>::take(bytes);
     hydrology::expect_end(bytes, kWhat);
-    if (samples.size() != heights.size()) throw std::invalid_argument("stream power across tiles: truncated heights");
     for (std::size_t s = 0; s < samples.size(); ++s) {
       const std::int64_t x = samples[s] % whole_.x - rect_.first.x, y = samples[s] / whole_.x - rect_.first.y;
       if (x < 0 || y < 0 || x >= rect_.size.x || y >= rect_.size.y)
@@ -731,17 +743,12 @@ class StreamPowerAcrossTiles : public TileGraphAlgorithm {
     const auto filled = hydrology::fill_pit_basins(std::move(samples), whole);
     for (std::size_t t = 0; t < views.size(); ++t) {
       const TileRect ringed = hydrology::ringed_rect(rects[t], whole);
-      std::vector<std::int64_t> s;
-      std::vector<float> h;
-      for (const auto& [sample, height] : filled) {
-        const int x = static_cast<int>(sample % whole.x), y = static_cast<int>(sample / whole.x);
-        if (x >= ringed.first.x && y >= ringed.first.y && x < ringed.first.x + ringed.size.x &&
-            y < ringed.first.y + ringed.size.y)
-          s.push_back(sample), h.push_back(height);
-      }
+      SampleHeights<float> mine;
+      for (const auto& [sample, height] : filled)
+        if (holds(ringed, static_cast<int>(sample % whole.x), static_cast<int>(sample / whole.x)))
+          mine.push(sample, height);
       bytes::put(answers[t], std::uint8_t{0});
-      bytes::put_vector(answers[t], s);
-      bytes::put_vector(answers[t], h);
+      mine.put(answers[t]);
     }
     return answers;
   }
@@ -751,41 +758,29 @@ class StreamPowerAcrossTiles : public TileGraphAlgorithm {
     const glm::ivec2 whole = whole_.resolution;
     const std::size_t count = views.size();
     std::vector<TileRect> rects(count);
-    std::vector<std::vector<std::int64_t>> samples(count);
-    std::vector<std::vector<double>> heights(count);
-    std::vector<std::vector<std::int64_t>> sent(count);
-    std::vector<std::vector<double>> sent_heights(count);
+    std::vector<SampleHeights<double>> sent(count), received(count);
     for (std::size_t t = 0; t < count; ++t) {
       std::string_view in = views[t];
       rects[t] = hydrology::take_tile_rect(in, whole, kWhat);
-      sent[t] = bytes::take_vector<std::int64_t>(in, kWhat);
-      sent_heights[t] = bytes::take_vector<double>(in, kWhat);
+      sent[t] = SampleHeights<double>::take(in);
       hydrology::expect_end(in, kWhat);
-      if (sent[t].size() != sent_heights[t].size())
-        throw std::invalid_argument("stream power across tiles: truncated heights");
     }
     bool any = false;
     for (std::size_t t = 0; t < count; ++t) {
-      any = any || !sent[t].empty();
-      for (std::size_t q = 0; q < sent[t].size(); ++q) {
-        const std::int64_t s = sent[t][q];
+      any = any || !sent[t].samples.empty();
+      for (std::size_t q = 0; q < sent[t].samples.size(); ++q) {
+        const std::int64_t s = sent[t].samples[q];
         if (s < 0 || s >= static_cast<std::int64_t>(whole.x) * whole.y)
           throw std::invalid_argument("stream power across tiles: a sample outside the domain");
         const int x = static_cast<int>(s % whole.x), y = static_cast<int>(s / whole.x);
-        for (std::size_t u = 0; u < count; ++u) {
-          const TileRect& r = rects[u];
-          if (u != t && x >= r.first.x && y >= r.first.y && x < r.first.x + r.size.x && y < r.first.y + r.size.y) {
-            samples[u].push_back(s);
-            heights[u].push_back(sent_heights[t][q]);
-          }
-        }
+        for (std::size_t u = 0; u < count; ++u)
+          if (u != t && holds(rects[u], x, y)) received[u].push(s, sent[t].heights[q]);
       }
     }
     std::vector<std::string> answers(count);
     for (std::size_t u = 0; u < count; ++u) {
       bytes::put(answers[u], static_cast<std::uint8_t>(any));
-      bytes::put_vector(answers[u], samples[u]);
-      bytes::put_vector(answers[u], heights[u]);
+      received[u].put(answers[u]);
     }
     return answers;
   }
