@@ -34,12 +34,18 @@ struct Scratch {
   }
 };
 
+// The vectorised loops below are also compiled for AVX2, chosen at run time where the CPU has it: twice the lanes,
+// the same IEEE operations in the same order (AVX2 without FMA: no product is fused), so the same bits.
+#define OROGEN_PIPE_VECTOR_LOOP __attribute__((target_clones("avx2", "default")))
+
 // The interior cells [i0, i1) (within 1 .. w-2) of a row's outflow fluxes: plain pointers and selects rather than
 // branches, so the loop vectorises (the same arithmetic as the generic cell).
-void flux_interior(int i0, int i1, const float* __restrict DR, const float* __restrict SF, const float* __restrict SFd,
-                   const float* __restrict SFu, const float* __restrict FL, const float* __restrict FR,
-                   const float* __restrict FD, const float* __restrict FU, float* __restrict NL, float* __restrict NR,
-                   float* __restrict ND, float* __restrict NU, float cx, float cy, float t, float area) {
+OROGEN_PIPE_VECTOR_LOOP void flux_interior(int i0, int i1, const float* __restrict DR, const float* __restrict SF,
+                                           const float* __restrict SFd, const float* __restrict SFu,
+                                           const float* __restrict FL, const float* __restrict FR,
+                                           const float* __restrict FD, const float* __restrict FU, float* __restrict NL,
+                                           float* __restrict NR, float* __restrict ND, float* __restrict NU, float cx,
+                                           float cy, float t, float area) {
   for (int i = i0; i < i1; ++i) {
     const float dk = DR[i], hk = SF[i];
     float l = FL[i] + cx * dk * (hk - SF[i - 1]), rr = FR[i] + cx * dk * (hk - SF[i + 1]);
@@ -52,6 +58,19 @@ void flux_interior(int i0, int i1, const float* __restrict DR, const float* __re
   }
 }
 
+// The largest of n depths (0 if none is positive), in 8 lanes so the loop vectorises: a maximum is the same in
+// any order.
+OROGEN_PIPE_VECTOR_LOOP float deepest(const float* __restrict depth, int n) {
+  float lane[8] = {};
+  int i = 0;
+  for (; i + 8 <= n; i += 8)
+    for (int l = 0; l < 8; ++l) lane[l] = depth[i + l] > lane[l] ? depth[i + l] : lane[l];
+  float most = 0.0f;
+  for (; i < n; ++i) most = depth[i] > most ? depth[i] : most;
+  for (const float v : lane) most = v > most ? v : most;
+  return most;
+}
+
 struct UpdateConst {
   float t, area, dx, dy, two_dx, two_dy, kc, ks1, kd;
   float evap;  // with a temperature field the share evaporated at factor 1, else the share of water kept
@@ -62,13 +81,13 @@ struct UpdateConst {
 // kTemperature: T is the row of the evaporation factor field; kSinks: SINK marks the row's sinks, which
 // neither erode nor deposit and count 0 water in the flow map (the caller empties them afterwards).
 template <bool kTemperature, bool kSinks>
-void update_interior(int i0, int i1, const float* __restrict T, const unsigned char* __restrict SINK,
-                     const float* __restrict FL, const float* __restrict FR, const float* __restrict FD,
-                     const float* __restrict FU, const float* __restrict FUd, const float* __restrict FDu,
-                     const float* __restrict DR, const float* __restrict C, const float* __restrict Cd,
-                     const float* __restrict Cu, const float* __restrict S, const float* __restrict B,
-                     const float* __restrict Bd, const float* __restrict Bu, float* __restrict B2, float* __restrict D2,
-                     float* __restrict S2, float* __restrict SPD, float* __restrict FACC, UpdateConst k) {
+OROGEN_PIPE_VECTOR_LOOP void update_interior(
+    int i0, int i1, const float* __restrict T, const unsigned char* __restrict SINK, const float* __restrict FL,
+    const float* __restrict FR, const float* __restrict FD, const float* __restrict FU, const float* __restrict FUd,
+    const float* __restrict FDu, const float* __restrict DR, const float* __restrict C, const float* __restrict Cd,
+    const float* __restrict Cu, const float* __restrict S, const float* __restrict B, const float* __restrict Bd,
+    const float* __restrict Bu, float* __restrict B2, float* __restrict D2, float* __restrict S2, float* __restrict SPD,
+    float* __restrict FACC, UpdateConst k) {
   const float t = k.t, area = k.area, ddx = k.dx, ddy = k.dy, tdx = k.two_dx, tdy = k.two_dy, kcap = k.kc;
   const float ks1 = k.ks1, kdep = k.kd, evap = k.evap;
   for (int i = i0; i < i1; ++i) {
@@ -158,19 +177,21 @@ struct PipeRun {
   std::vector<double> row_sed_out, row_water_out, row_dmax, row_sum;
   tbb::enumerable_thread_specific<Scratch> scratch;
   // Sinks, and rows with a sink. A sink among sinks holds no water and moves nothing (sinks catch no rain and
-  // empty every step), so the sweep computes each row only on its span: the columns within one cell of land
-  // in the rows around (the sea far from the coast is never touched; outside the span every field keeps its
-  // initial value, which is what computing it would give). The prep span is wider: the rows around read it.
+  // empty every step), so the sweep computes each row only on its spans: the runs of columns within one cell of
+  // land in the rows around (the sea away from the coast, inside the island's lagoons and between its shores as
+  // well as around it, is never touched; outside the spans every field keeps its initial value, which is what
+  // computing it would give, and adds 0 to the row's totals). The prep spans are wider: the rows around read them.
   struct Span {
-    int lo = 0, hi = -1;  // inclusive columns; empty when lo > hi
+    int lo = 0, hi = -1;  // inclusive columns
   };
+  using Spans = std::vector<Span>;  // disjoint and apart, left to right
   std::vector<unsigned char> sink, row_sink;
-  std::vector<Span> span, prep_span;
+  std::vector<Spans> span, prep_span;
   bool plain = false;  // no mask, hardness or soil layers: the interior of rows takes the vectorised path
 
   PipeRun(const Heightfield& in_, const PipeParams& p_, const Heightfield* mask_, const Heightfield* rainfall_,
           const Heightfield* moisture_, const Heightfield* temperature_, const Heightfield* hardness_,
-          PipeWindow window_)
+          PipeWindow window_, bool every_cell = false)
       : in(in_),
         p(p_),
         window(std::move(window_)),
@@ -213,23 +234,32 @@ struct PipeRun {
         row_sink(h, 0),
         span(h),
         prep_span(h) {
-    std::vector<Span> land(h);  // first and last land column of each row
+    std::vector<Spans> land(h);  // the runs of land columns of each row
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i) {
         const std::size_t k = static_cast<std::size_t>(j) * w + i;
         sink[k] = in.data[k] < p.sea_level;
         row_sink[j] |= sink[k];
-        if (!sink[k]) land[j].lo = land[j].hi < land[j].lo ? i : land[j].lo, land[j].hi = i;
+        if (sink[k]) continue;
+        if (land[j].empty() || land[j].back().hi < i - 1) land[j].push_back({i, i});
+        land[j].back().hi = i;
       }
     // The land of rows j - r .. j + r, widened by r columns, within the grid.
     const auto widened = [&](int j, int r) {
-      Span out{w, -1};
+      Spans runs;
       for (int q = std::max(0, j - r); q <= std::min(h - 1, j + r); ++q)
-        if (land[q].lo <= land[q].hi)
-          out.lo = std::min(out.lo, land[q].lo - r), out.hi = std::max(out.hi, land[q].hi + r);
-      return out.lo <= out.hi ? Span{std::max(0, out.lo), std::min(w - 1, out.hi)} : Span{};
+        for (const Span& s : land[q]) runs.push_back({std::max(0, s.lo - r), std::min(w - 1, s.hi + r)});
+      std::sort(runs.begin(), runs.end(), [](const Span& a, const Span& b) { return a.lo < b.lo; });
+      Spans out;
+      for (const Span& s : runs)
+        if (!out.empty() && s.lo <= out.back().hi + 1)
+          out.back().hi = std::max(out.back().hi, s.hi);
+        else
+          out.push_back(s);
+      return out;
     };
     for (int j = 0; j < h; ++j) span[j] = widened(j, 1), prep_span[j] = widened(j, 2);
+    if (every_cell) std::fill(span.begin(), span.end(), Spans{{0, w - 1}}), prep_span = span;
     plain = !mask && !hardness && !(p.layer_depth > 0);
   }
 
@@ -310,7 +340,8 @@ struct PipeRun {
       const std::size_t k = row + static_cast<std::size_t>(i - x0);
       if (sink[k]) continue;
       const float m = moisture ? std::clamp(moisture->data[k], 0.0f, 1.0f) : 1.0f;
-      if (pipe_drop_draws(p, in.data[k], m) && !(draw() < m)) continue;  // the second draw keeps it with chance m
+      // The second draw keeps it with chance m (pipe_drop_draws on a cell known to be land: only m is read).
+      if (m < 1.0f && !(draw() < m)) continue;
       DR[k - row] +=
           rainfall ? static_cast<float>(std::max(0.0f, rainfall->data[k]) * mm_per_h / std::max(p.drop_chance, 1e-9))
                    : depth;
@@ -329,25 +360,29 @@ struct PipeRun {
     const float* __restrict S = s.data() + row;
     const float* __restrict B = b.data() + row;
     const unsigned char* __restrict SINK = sink.data() + row;
-    const int i0 = prep_span[r].lo, i1 = prep_span[r].hi + 1;
-    if (i0 >= i1) return;  // open sea: nothing here is read, and its drops would fall on sinks
-    if (p.rain_mode == RainMode::Drops) {
-      for (int i = i0; i < i1; ++i) DR[i] = D[i];
-      rain_drops(cs, r, DR);
-    } else if (!rainfall) {
-      for (int i = i0; i < i1; ++i) DR[i] = D[i] + (SINK[i] ? 0.0f : rain_uniform);
-    } else {
-      for (int i = i0; i < i1; ++i) {
-        const double rate = std::max(0.0f, rainfall->data[row + i]) * mm_per_h;
-        DR[i] = D[i] + (SINK[i] ? 0.0f : static_cast<float>(dt * rate));
+    const Spans& spans = prep_span[r];
+    if (spans.empty()) return;  // open sea: nothing here is read, and its drops would fall on sinks
+    for (const Span& sp : spans) {
+      const int i0 = sp.lo, i1 = sp.hi + 1;
+      if (p.rain_mode == RainMode::Drops) {
+        for (int i = i0; i < i1; ++i) DR[i] = D[i];
+      } else if (!rainfall) {
+        for (int i = i0; i < i1; ++i) DR[i] = D[i] + (SINK[i] ? 0.0f : rain_uniform);
+      } else {
+        for (int i = i0; i < i1; ++i) {
+          const double rate = std::max(0.0f, rainfall->data[row + i]) * mm_per_h;
+          DR[i] = D[i] + (SINK[i] ? 0.0f : static_cast<float>(dt * rate));
+        }
       }
     }
-    for (int i = i0; i < i1; ++i) {
-      const float dk = DR[i];
-      SF[i] = B[i] + dk;
-      const float q = S[i] / (dk * A);  // computed unconditionally (a select, not a branch: vectorises)
-      CC[i] = dk > 0.0f ? q : 0.0f;
-    }
+    if (p.rain_mode == RainMode::Drops) rain_drops(cs, r, DR);  // drops fall on land, always inside the spans
+    for (const Span& sp : spans)
+      for (int i = sp.lo; i <= sp.hi; ++i) {
+        const float dk = DR[i];
+        SF[i] = B[i] + dk;
+        const float q = S[i] / (dk * A);  // computed unconditionally (a select, not a branch: vectorises)
+        CC[i] = dk > 0.0f ? q : 0.0f;
+      }
   }
 
   // 2. Outflow fluxes of row r: a generic cell for the border, an unchecked loop for the interior.
@@ -366,14 +401,15 @@ struct PipeRun {
     float* __restrict NR = ch.Frow(r, 1);
     float* __restrict ND = ch.Frow(r, 2);
     float* __restrict NU = ch.Frow(r, 3);
-    const int lo = span[r].lo, hi = span[r].hi;
-    if (r < ch.j0 || r >= ch.j1) {  // a scratch row, which held another row: 0 outside the span
-      for (float* f : {NL, NR, ND, NU}) {
-        std::fill(f, f + std::max(0, std::min(lo, w)), 0.0f);
-        std::fill(f + std::max(0, hi + 1), f + w, 0.0f);
+    const Spans& spans = span[r];
+    if (r < ch.j0 || r >= ch.j1) {  // a scratch row, which held another row: 0 outside the spans
+      int from = 0;
+      for (const Span& sp : spans) {
+        for (float* f : {NL, NR, ND, NU}) std::fill(f + from, f + sp.lo, 0.0f);
+        from = sp.hi + 1;
       }
+      for (float* f : {NL, NR, ND, NU}) std::fill(f + from, f + w, 0.0f);
     }
-    if (lo > hi) return;
     auto finish = [&](int i, float dk, float l, float rr, float dn, float up) {
       l = std::max(0.0f, l), rr = std::max(0.0f, rr), dn = std::max(0.0f, dn), up = std::max(0.0f, up);
       const float total = (l + rr + dn + up) * fdt;
@@ -386,14 +422,16 @@ struct PipeRun {
       const float hd = SFd ? hk - SFd[i] : dk, hu = SFu ? hk - SFu[i] : dk;
       finish(i, dk, FL[i] + c * kx * hl, FR[i] + c * kx * hr, FD[i] + c * ky * hd, FU[i] + c * ky * hu);
     };
-    if (r == 0 || r == h - 1 || w < 3) {
-      for (int i = lo; i <= hi; ++i) generic(i);
-      return;
+    for (const Span& sp : spans) {
+      if (r == 0 || r == h - 1 || w < 3) {
+        for (int i = sp.lo; i <= sp.hi; ++i) generic(i);
+        continue;
+      }
+      if (sp.lo == 0) generic(0);
+      flux_interior(std::max(sp.lo, 1), std::min(sp.hi, w - 2) + 1, DR, SF, SFd, SFu, FL, FR, FD, FU, NL, NR, ND, NU,
+                    cgx, cgy, fdt, A);
+      if (sp.hi == w - 1) generic(w - 1);
     }
-    if (lo == 0) generic(0);
-    flux_interior(std::max(lo, 1), std::min(hi, w - 2) + 1, DR, SF, SFd, SFu, FL, FR, FD, FU, NL, NR, ND, NU, cgx, cgy,
-                  fdt, A);
-    if (hi == w - 1) generic(w - 1);
   }
 
   // 3. Water, sediment transport, velocity, dissolution/deposition, evaporation, sinks of row j; the row's
@@ -404,8 +442,8 @@ struct PipeRun {
     const bool last = cs.last;
     double sed_out = 0, water_out = 0, dm = 0;
     const std::size_t row = static_cast<std::size_t>(j) * w;
-    const int lo = span[j].lo, hi = span[j].hi;
-    if (lo > hi) {
+    const Spans& spans = span[j];
+    if (spans.empty()) {
       row_sed_out[j] = 0, row_water_out[j] = 0, row_dmax[j] = 0;
       return;
     }
@@ -510,39 +548,43 @@ struct PipeRun {
       dm = std::max<double>(dm, d1);
     };
     if (!plain || j == 0 || j == h - 1 || w < 3) {
-      for (int i = lo; i <= hi; ++i) cell(i);
+      for (const Span& sp : spans)
+        for (int i = sp.lo; i <= sp.hi; ++i) cell(i);
     } else {
-      const int i0 = std::max(lo, 1), i1 = std::min(hi, w - 2) + 1;
-      if (lo == 0) cell(0);
       const float* T = temperature ? temperature->data.data() + row : nullptr;
       const UpdateConst uc{fdt,    A,
                            fdx,    fdy,
                            two_dx, two_dy,
                            kc,     std::min(1.0f, ks),
                            kd,     temperature ? keep : std::max(0.0f, 1.0f - keep * 1.0f)};
-      const auto run = [&](auto interior) {
-        interior(i0, i1, T, SINK, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, S2, SPD, FACC, uc);
-      };
-      if (T && row_sink[j])
-        run(update_interior<true, true>);
-      else if (T)
-        run(update_interior<true, false>);
-      else if (row_sink[j])
-        run(update_interior<false, true>);
-      else
-        run(update_interior<false, false>);
-      // Sinks take what reached them, in cell order as the generic cell does.
-      if (row_sink[j])
-        for (int i = i0; i < i1; ++i)
-          if (SINK[i]) {
-            water_out += static_cast<double>(D2[i]) * A;
-            sed_out += static_cast<double>(S2[i]) * A;
-            D2[i] = 0, S2[i] = 0;
-          }
-      float dmf = 0.0f;
-      for (int i = i0; i < i1; ++i) dmf = D2[i] > dmf ? D2[i] : dmf;
-      dm = std::max<double>(dm, dmf);
-      if (hi == w - 1) cell(w - 1);
+      for (const Span& sp : spans) {
+        const int i0 = std::max(sp.lo, 1), i1 = std::min(sp.hi, w - 2) + 1;
+        if (sp.lo == 0) cell(0);
+        const auto run = [&](auto interior) {
+          interior(i0, i1, T, SINK, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, S2, SPD, FACC, uc);
+        };
+        if (T && row_sink[j])
+          run(update_interior<true, true>);
+        else if (T)
+          run(update_interior<true, false>);
+        else if (row_sink[j])
+          run(update_interior<false, true>);
+        else
+          run(update_interior<false, false>);
+        // Sinks take what reached them, in cell order as the generic cell does (the sums kept in registers).
+        if (row_sink[j]) {
+          double water = water_out, sediment = sed_out;
+          for (int i = i0; i < i1; ++i)
+            if (SINK[i]) {
+              water += static_cast<double>(D2[i]) * A;
+              sediment += static_cast<double>(S2[i]) * A;
+              D2[i] = 0, S2[i] = 0;
+            }
+          water_out = water, sed_out = sediment;
+        }
+        dm = std::max<double>(dm, deepest(D2 + i0, i1 - i0));
+        if (sp.hi == w - 1) cell(w - 1);
+      }
     }
     row_sed_out[j] = sed_out, row_water_out[j] = water_out, row_dmax[j] = dm;
   }
@@ -639,7 +681,7 @@ std::vector<float>& PipeGrid::field(Field f) {
 
 PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfield* mask, const Heightfield* rainfall,
                       const Heightfield* moisture, const Heightfield* temperature, const Heightfield* hardness,
-                      const ExecContext* ctx, PipeStats* stats, bool check_conservation) {
+                      const ExecContext* ctx, PipeStats* stats, PipeChecks checks) {
   // Non-finite heights and driving fields are refused (an infinite rain rate makes the CFL step 0: time
   // would stand still); so is a plan above the work ceiling, counted with the largest step the CFL condition
   // allows. The names are the node's ports.
@@ -650,7 +692,7 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
                                         {"evaporation_factor", temperature},
                                         {"hardness", hardness}});
   check_pipe_work(p, in.domain);
-  PipeRun run(in, p, mask, rainfall, moisture, temperature, hardness, PipeWindow{});
+  PipeRun run(in, p, mask, rainfall, moisture, temperature, hardness, PipeWindow{}, checks.every_cell);
   PipeStats st;
   st.total_volume = 0;
   for (float v : in.data) st.total_volume += std::abs(static_cast<double>(v)) * run.A;
@@ -660,7 +702,7 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
   while (t < p.duration - kPipeTimeSlack) {
     check_cancelled(ctx);
     const auto [dt, last] = pipe_step_length(p, spacing, t, dmax);
-    const double before = check_conservation ? run.volume(ctx) : 0.0;
+    const double before = checks.conservation ? run.volume(ctx) : 0.0;
     run.sweep(run.constants(dt, step, last));
     double sed_out = 0;
     dmax = 0;
@@ -670,7 +712,7 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
       dmax = std::max(dmax, run.row_dmax[j]);
     }
     st.sediment_out += sed_out;
-    if (check_conservation)
+    if (checks.conservation)
       st.max_conservation_error = std::max(st.max_conservation_error, std::abs(run.volume(ctx) + sed_out - before));
     t += dt;
     ++step;

@@ -65,10 +65,14 @@ struct PipeMaps : ErosionMaps {
 // Optional fields (null if absent, on in.domain): mask (0..1) scales dissolution and deposition; rainfall
 // (mm/h) replaces rain_rate; moisture (0..1) drives the drop probability in Drops mode; temperature (a
 // factor, 1 = nominal) scales evaporation; hardness (0..1) slows dissolution by (1 - hardness).
-// check_conservation: measure the per-step conservation error (extra passes, tests only).
+// What tests ask of a run beyond its result.
+struct PipeChecks {
+  bool conservation = false;  // measure the per-step conservation error (extra passes)
+  bool every_cell = false;    // compute every cell of every row, the sea far from land too (the sweep skips it)
+};
 PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfield* mask = nullptr,
                       const Heightfield* rainfall = nullptr, const Heightfield* moisture = nullptr,
                       const Heightfield* temperature = nullptr, const Heightfield* hardness = nullptr,
-                      const ExecContext* ctx = nullptr, PipeStats* stats = nullptr, bool check_conservation = false);
+                      const ExecContext* ctx = nullptr, PipeStats* stats = nullptr, PipeChecks checks = {});
 
 }  // namespace orogen::erosion
