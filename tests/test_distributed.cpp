@@ -13,6 +13,8 @@
 #include <iterator>
 #include <map>
 #include <numbers>
+#include <set>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
@@ -107,7 +109,9 @@ fs::path run_distributed(const Job& job) {
       EXPECT_NE(r.err.find("node " + node + " computed across the tiles"), std::string::npos) << r.err;
     }
   }
-  if (std::string(job.graph) == "../bench/distributed_flood.json" && job.tiles.x * job.tiles.y > 1) {
+  const std::string graph = job.graph;
+  if ((graph == "../bench/distributed_flood.json" || graph == "../bench/distributed_shade.json") &&
+      job.tiles.x * job.tiles.y > 1) {
     EXPECT_EQ(r.err.find("warning"), std::string::npos) << "nothing is computed on the whole domain:\n" << r.err;
   }
   const auto mine = files_under(dir), single = files_under(single_process_build(job));
@@ -571,6 +575,35 @@ TEST(Distributed, SunIlluminationAcrossRanksEqualsTheUntiledBuild) {
       "distributed_sun.json", "distributed_sun",
       {"lit", "direct", "south_lit", "south_direct", "south_hours", "south_irradiance", "smooth"}, jobs);
   expect_ranks_equal_untiled("distributed_sun.json", "distributed_sun", {"hours", "irradiance"}, jobs, {0, 5, 8, 11});
+}
+
+// ShadePlacement with max_shadow_distance: per tile, each tile evaluated with the casters within that distance
+// (bench/distributed_shade.json: trees and undergrowth by PoissonDisk on fBm ground under a low sun, the shadow map and
+// a blur of it downstream written, and the shaded undergrowth). The maps bit for bit; the points as sets of lines (a
+// point on a line of samples two tiles share is in both tiles' files).
+TEST(Distributed, ShadePlacementWithABoundedShadowAcrossRanksEqualsTheUntiledBuild) {
+  SKIP_WITHOUT_MPI();
+  expect_ranks_equal_untiled("distributed_shade.json", "distributed_shade", {"shade", "smooth"},
+                             {{{2, 2}, 2}, {{3, 2}, 3}});
+  const auto lines = [](const std::vector<fs::path>& files) {
+    std::set<std::string> out;
+    for (const fs::path& f : files) {
+      std::istringstream text(file_bytes(f));
+      std::string line;
+      std::getline(text, line);  // the header
+      while (std::getline(text, line)) out.insert(line);
+    }
+    return out;
+  };
+  const fs::path untiled = single_process_build({"../bench/distributed_shade.json", 129, {0, 0}, 1});
+  // The ranks' files are the single-process tiled build's, byte for byte (run_distributed).
+  const fs::path tiled = single_process_build({"../bench/distributed_shade.json", 129, {3, 2}, 1});
+  std::vector<fs::path> tiles;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 3; ++i) tiles.push_back(tile_file(tiled, "distributed_shade/undergrowth.csv", i, j));
+  const auto whole = lines({untiled / "distributed_shade" / "undergrowth.csv"});
+  EXPECT_GT(whole.size(), 500u);
+  EXPECT_EQ(lines(tiles), whole);
 }
 
 }  // namespace

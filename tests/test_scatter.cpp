@@ -13,12 +13,14 @@
 #include <tbb/global_control.h>
 #include <tiny_gltf.h>
 
+#include "evaluator/domain_crop.h"
 #include "evaluator/run_node.h"
 #include "evaluator/value_serialization.h"
 #include "graph/exec_context.h"
 #include "graph/heightfield.h"
 #include "graph/mesh.h"
 #include "graph/points.h"
+#include "graph/registry.h"
 #include "graph/table_json.h"
 #include "nodes/climate/sun.h"
 #include "nodes/scatter/forest.h"
@@ -1054,6 +1056,121 @@ TEST(ShadePlacement, ShadowOfOneCrownIsTheExpectedEllipse) {
   // Higher ground is closer to the crown: at z = 5 the shadow centre is 5 m north.
   EXPECT_TRUE(canopy.shaded(0, 5, 5));
   EXPECT_FALSE(canopy.shaded(0, 10, 5 + 4.0));
+}
+
+// Crowns of random sizes and heights over rolling ground; candidates among them.
+struct Grove {
+  Points casters, candidates;
+};
+Grove random_grove(std::uint32_t seed, double extent, int casters, int candidates) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> at(0.0f, static_cast<float>(extent)), size(0.3f, 1.6f), ground(0.0f, 12.0f);
+  Grove g;
+  for (int k = 0; k < casters; ++k) {
+    const std::size_t i = g.casters.add({at(rng), at(rng), ground(rng)});
+    const float s = size(rng);
+    g.casters.scale[i] = {s, s, size(rng)};
+  }
+  for (int k = 0; k < candidates; ++k) g.candidates.add({at(rng), at(rng), ground(rng)});
+  return g;
+}
+
+// max_shadow_distance: a point is shaded exactly when a crown whose center lies within that horizontal distance
+// meets the ray toward the sun (0: any crown), checked against every crown in turn.
+TEST(ShadePlacement, ShadowDistanceKeepsTheCrownsWithinItAndNoOther) {
+  const Grove g = random_grove(5, 200.0, 120, 3000);
+  std::vector<std::size_t> counts;  // shaded candidates at each distance
+  for (const double distance : {0.0, 6.0, 25.0}) {
+    ShadePlacementParams p;
+    p.preference = ShadePreference::Any;
+    p.canopy.crown_radius = 3.0;
+    p.canopy.crown_height = 9.0;
+    p.canopy.sun = sun_direction(200.0, 20.0);
+    p.canopy.max_shadow_distance = distance;
+    const Domain d = Domain::from_extent({0, 0}, {200, 200}, {21, 21});
+    const auto r = shade_placement(g.candidates, g.casters, d, nullptr, p);
+    ASSERT_EQ(r.points.size(), g.candidates.size());
+    const glm::dvec3 sun = glm::normalize(p.canopy.sun);
+    std::size_t shaded = 0;
+    for (std::size_t i = 0; i < g.candidates.size(); ++i) {
+      const glm::dvec3 q = g.candidates.position[i];
+      bool expected = false;
+      for (std::size_t c = 0; c < g.casters.size() && !expected; ++c) {
+        const glm::dvec3 centre(g.casters.position[c].x, g.casters.position[c].y,
+                                g.casters.position[c].z + p.canopy.crown_height * g.casters.scale[c].z);
+        const double radius = p.canopy.crown_radius * std::abs(g.casters.scale[c].x);
+        const glm::dvec3 w = centre - q;
+        if (distance > 0 && w.x * w.x + w.y * w.y > distance * distance) continue;
+        const double along = glm::dot(w, sun);
+        expected = (along < 0.0 ? glm::dot(w, w) : glm::dot(w, w) - along * along) < radius * radius;
+      }
+      ASSERT_EQ(r.points.attributes.at("shade")[i], expected ? 1.0f : 0.0f) << "candidate " << i << " at " << distance;
+      shaded += expected;
+    }
+    counts.push_back(shaded);
+  }
+  // Shadows longer than 6 m are cut (the sun at 20 degrees casts a crown 9 m up about 25 m away); 25 m keeps most.
+  EXPECT_GT(counts[1], 20u);
+  EXPECT_LT(counts[1], counts[2]);
+  EXPECT_LT(counts[2], counts[0]);
+  EXPECT_GT(counts[2], counts[0] / 2);
+}
+
+// With max_shadow_distance the node has a local reach: a tile expanded by its halo, given the points inside the
+// expansion as a tiled build gives them, computes the tile's shadow map and the shade of its candidates as the
+// whole domain does, bit for bit.
+TEST(ShadePlacement, ATileWithItsHaloShadesAsTheWholeDomain) {
+  const Grove g = random_grove(9, 300.0, 300, 4000);
+  const Domain whole = Domain::from_extent({0, 0}, {300, 300}, {151, 151});
+  auto height = std::make_shared<Heightfield>(whole);
+  for (int j = 0; j < whole.height(); ++j)
+    for (int i = 0; i < whole.width(); ++i)
+      height->at(i, j) = static_cast<float>(6.0 + 5.0 * std::sin(whole.x(i) / 37.0) * std::cos(whole.y(j) / 53.0));
+  const std::map<std::string, ParamValue> params{{"crown_radius", 3.0},         {"crown_height", 9.0},
+                                                 {"sun_elevation", 25.0},       {"sun_azimuth", 160.0},
+                                                 {"max_shadow_distance", 30.0}, {"preference", std::string("any")}};
+  const NodeType& type = *NodeRegistry::instance().find("ShadePlacement");
+  std::vector<ParamValue> effective;
+  for (const auto& decl : type.params)
+    effective.push_back(params.count(decl.name) ? params.at(decl.name) : decl.default_value);
+  const Reach reach = type.reach_for(effective);
+  ASSERT_EQ(reach.kind, ReachKind::Local);
+  EXPECT_EQ(type.distribution_for(effective), Distribution::PerTile);
+  const glm::ivec2 halo = reach.halo(whole.spacing);
+  const auto points = [](const Points& p) { return PortValue(PointsPtr(std::make_shared<Points>(p))); };
+  const auto all = run_node("ShadePlacement", whole, params,
+                            {{"in", points(g.candidates)}, {"casters", points(g.casters)}, {"height", height}});
+  const auto& all_map = *all.get<Heightfield>(1);
+  const auto& all_points = *all.get<Points>(0);
+  double shaded = 0;
+  for (const float v : all_map.data) shaded += v;
+  EXPECT_GT(shaded, 0.05 * static_cast<double>(all_map.data.size()));
+  const glm::ivec2 tile{50, 50}, size{50, 50};
+  const Domain expanded = whole.subdomain(tile.x - halo.x, tile.y - halo.y, size.x + 2 * halo.x, size.y + 2 * halo.y);
+  const auto crop = [&](const Points& p) { return crop_points_to_domain(points(p), whole, expanded); };
+  const auto part = run_node("ShadePlacement", expanded, params,
+                             {{"in", crop(g.candidates)}, {"casters", crop(g.casters)}, {"height", height}});
+  const auto& part_map = *part.get<Heightfield>(1);
+  for (int j = 0; j < size.y; ++j)
+    for (int i = 0; i < size.x; ++i)
+      ASSERT_EQ(part_map.at(halo.x + i, halo.y + j), all_map.at(tile.x + i, tile.y + j)) << i << "," << j;
+  // The tile's candidates carry the shade the whole domain gives them.
+  const Domain own = whole.subdomain(tile.x, tile.y, size.x, size.y);
+  std::map<std::pair<float, float>, float> expected;
+  for (std::size_t i = 0; i < all_points.size(); ++i)
+    if (all_points.position[i].x >= own.min_corner().x && all_points.position[i].x <= own.max_corner().x &&
+        all_points.position[i].y >= own.min_corner().y && all_points.position[i].y <= own.max_corner().y)
+      expected[{all_points.position[i].x, all_points.position[i].y}] = all_points.attributes.at("shade")[i];
+  const auto& part_points = *part.get<Points>(0);
+  std::size_t matched = 0;
+  for (std::size_t i = 0; i < part_points.size(); ++i) {
+    const auto it = expected.find({part_points.position[i].x, part_points.position[i].y});
+    if (it == expected.end()) continue;
+    EXPECT_EQ(part_points.attributes.at("shade")[i], it->second);
+    ++matched;
+  }
+  EXPECT_EQ(matched, expected.size());
+  EXPECT_GT(matched, 50u);
 }
 
 TEST(ShadePlacement, NodeKeepsShadeLoversInShadeAndOthersInSun) {

@@ -29,7 +29,8 @@ glm::dvec3 sun_direction(double azimuth_deg, double elevation_deg) {
   return {std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el)};
 }
 
-Canopy::Canopy(const Points& casters, const CanopyParams& p) : sun_(glm::normalize(p.sun)) {
+Canopy::Canopy(const Points& casters, const CanopyParams& p)
+    : max_distance_(p.max_shadow_distance), sun_(glm::normalize(p.sun)) {
   double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY;
   max_top_ = -INFINITY;
   for (std::size_t i = 0; i < casters.size(); ++i) {
@@ -70,7 +71,9 @@ bool Canopy::shaded(double x, double y, double z, WorkPoll* poll) const {
   const double hl = glm::length(h);
   // Horizontal distance the ray travels before it rises above every crown.
   const double rise = std::max(0.0, max_top_ - z);
-  const double L = sun_.z > 1e-9 ? rise * hl / sun_.z : 1e9;
+  double L = sun_.z > 1e-9 ? rise * hl / sun_.z : 1e9;
+  // A crown within max_distance_ meets the ray, if at all, within its radius beyond that distance.
+  if (max_distance_ > 0.0) L = std::min(L, max_distance_ + max_r_);
   const glm::dvec2 dir = hl > 0 ? h / hl : glm::dvec2(0.0);
   const double step = 0.5 * cell_;
   // Steps k = 0 .. steps at l = min(k step, L), in 64 bits (a small crown and a low sun take more than 2^31).
@@ -119,6 +122,7 @@ bool Canopy::shaded(double x, double y, double z, WorkPoll* poll) const {
         for (int idx : cells_[static_cast<std::size_t>(j) * nx_ + i]) {
           const Sphere& s = spheres_[idx];
           const glm::dvec3 w(s.x - x, s.y - y, s.z - z);
+          if (max_distance_ > 0.0 && w.x * w.x + w.y * w.y > max_distance_ * max_distance_) continue;
           const double tc = glm::dot(w, sun_);
           const double d2 = tc < 0.0 ? glm::dot(w, w) : glm::dot(w, w) - tc * tc;
           if (d2 < s.r * s.r) return true;

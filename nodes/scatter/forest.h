@@ -22,6 +22,9 @@ struct CanopyParams {
   double crown_radius = 3.0;  // m, at scale 1 (times the point's scale x)
   double crown_height = 8.0;  // m, height of the crown's centre above the point, at scale 1 (times scale z)
   glm::dvec3 sun{0.0, -0.7071067811865476, 0.7071067811865476};  // toward the sun, unit
+  // m: a crown whose center lies farther than this from a point, measured horizontally, does not shade it (0: any
+  // distance). A bound makes the shade of a point depend only on the casters within it: the node's reach.
+  double max_shadow_distance = 0.0;
 };
 
 // The casters' crowns as spheres, indexed for shadow queries along the sun direction.
@@ -40,7 +43,7 @@ class Canopy {
   };
   std::vector<Sphere> spheres_;
   std::vector<std::vector<int>> cells_;
-  double cell_ = 1.0, x0_ = 0.0, y0_ = 0.0, max_r_ = 0.0, max_top_ = 0.0;
+  double cell_ = 1.0, x0_ = 0.0, y0_ = 0.0, max_r_ = 0.0, max_top_ = 0.0, max_distance_ = 0.0;
   int nx_ = 0, ny_ = 0;
   glm::dvec3 sun_;
 };

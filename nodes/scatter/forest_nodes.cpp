@@ -14,8 +14,19 @@
 namespace orogen {
 
 OROGEN_NODE(ShadePlacement) {
-  b.distribution(Distribution::Gathered);
-  b.reach_global();  // a shadow cast from points anywhere in the domain
+  // A shadow is cast from crowns anywhere in the domain, unless max_shadow_distance bounds it: then a tile needs
+  // the casters within that distance of it, its halo, and the tiles are computed apart.
+  b.reach(
+      [](const ParamView& p) {
+        const double d = p.get<double>("max_shadow_distance");
+        return d > 0.0 ? Reach::local(d, 1) : Reach::global();
+      },
+      "global; local: max_shadow_distance + 1 sample when it is set");
+  b.distribution(
+      [](const ParamView& p) {
+        return p.get<double>("max_shadow_distance") > 0.0 ? Distribution::PerTile : Distribution::Gathered;
+      },
+      "gathered; per-tile with max_shadow_distance (each tile with the casters within it)");
   b.category("scatter").description(
       "Context-sensitive placement by light, after Potter (2017), \"Generating a virtual forest environment using "
       "procedural content generation\" (shadow-map placement): "
@@ -70,6 +81,14 @@ OROGEN_NODE(ShadePlacement) {
       .unit(Unit::Metre)
       .description(
           "Height of the crown's center above the caster point at scale 1, metres in [0, 1000] (times its z scale)");
+  b.param_float("max_shadow_distance", 0.0)
+      .range(0.0, 1e6)
+      .unit(Unit::Metre)
+      .description(
+          "A crown whose center lies farther than this from a point, measured horizontally, does not shade it; "
+          "metres in [0, 1e6], 0 for any distance. Set it (longer than the longest shadow that matters, about "
+          "crown height / tan(sun elevation)) to let tiled and distributed builds compute each tile with its "
+          "neighborhood only, instead of the whole domain on one rank");
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Points>("in");
     const auto casters = ctx.require<Points>("casters");
@@ -77,6 +96,7 @@ OROGEN_NODE(ShadePlacement) {
     ShadePlacementParams p;
     p.canopy.crown_radius = ctx.param<double>("crown_radius");
     p.canopy.crown_height = ctx.param<double>("crown_height");
+    p.canopy.max_shadow_distance = ctx.param<double>("max_shadow_distance");
     if (ctx.param<std::string>("sun") == "time")
       p.canopy.sun = climate::sun_direction(
           ctx.param<double>("latitude"),
