@@ -80,14 +80,17 @@ struct UpdateConst {
 // velocity, dissolution/deposition, evaporation with the same arithmetic as the generic cell, selects for branches.
 // kTemperature: T is the row of the evaporation factor field; kSinks: SINK marks the row's sinks, which
 // neither erode nor deposit and count 0 water in the flow map (the caller empties them afterwards).
+#define OROGEN_PIPE_UPDATE_PARAMS                                                                                      \
+  int i0, int i1, const float *__restrict T, const unsigned char *__restrict SINK, const float *__restrict FL,         \
+      const float *__restrict FR, const float *__restrict FD, const float *__restrict FU, const float *__restrict FUd, \
+      const float *__restrict FDu, const float *__restrict DR, const float *__restrict C, const float *__restrict Cd,  \
+      const float *__restrict Cu, const float *__restrict S, const float *__restrict B, const float *__restrict Bd,    \
+      const float *__restrict Bu, float *__restrict B2, float *__restrict D2, float *__restrict S2,                    \
+      float *__restrict SPD, float *__restrict FACC, UpdateConst k
+#define OROGEN_PIPE_UPDATE_ARGS \
+  i0, i1, T, SINK, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, S2, SPD, FACC, k
 template <bool kTemperature, bool kSinks>
-OROGEN_PIPE_VECTOR_LOOP void update_interior(
-    int i0, int i1, const float* __restrict T, const unsigned char* __restrict SINK, const float* __restrict FL,
-    const float* __restrict FR, const float* __restrict FD, const float* __restrict FU, const float* __restrict FUd,
-    const float* __restrict FDu, const float* __restrict DR, const float* __restrict C, const float* __restrict Cd,
-    const float* __restrict Cu, const float* __restrict S, const float* __restrict B, const float* __restrict Bd,
-    const float* __restrict Bu, float* __restrict B2, float* __restrict D2, float* __restrict S2, float* __restrict SPD,
-    float* __restrict FACC, UpdateConst k) {
+[[gnu::always_inline]] inline void update_cells(OROGEN_PIPE_UPDATE_PARAMS) {
   const float t = k.t, area = k.area, ddx = k.dx, ddy = k.dy, tdx = k.two_dx, tdy = k.two_dy, kcap = k.kc;
   const float ks1 = k.ks1, kdep = k.kd, evap = k.evap;
   for (int i = i0; i < i1; ++i) {
@@ -138,6 +141,22 @@ OROGEN_PIPE_VECTOR_LOOP void update_interior(
     }
   }
 }
+
+// The four variants, each also compiled for AVX2 (multiversioned functions cannot be templates).
+OROGEN_PIPE_VECTOR_LOOP void update_interior(OROGEN_PIPE_UPDATE_PARAMS) {
+  update_cells<false, false>(OROGEN_PIPE_UPDATE_ARGS);
+}
+OROGEN_PIPE_VECTOR_LOOP void update_interior_sinks(OROGEN_PIPE_UPDATE_PARAMS) {
+  update_cells<false, true>(OROGEN_PIPE_UPDATE_ARGS);
+}
+OROGEN_PIPE_VECTOR_LOOP void update_interior_evaporation(OROGEN_PIPE_UPDATE_PARAMS) {
+  update_cells<true, false>(OROGEN_PIPE_UPDATE_ARGS);
+}
+OROGEN_PIPE_VECTOR_LOOP void update_interior_evaporation_sinks(OROGEN_PIPE_UPDATE_PARAMS) {
+  update_cells<true, true>(OROGEN_PIPE_UPDATE_ARGS);
+}
+#undef OROGEN_PIPE_UPDATE_PARAMS
+#undef OROGEN_PIPE_UPDATE_ARGS
 
 // The constants of one time step.
 struct StepConstants {
@@ -564,13 +583,13 @@ struct PipeRun {
           interior(i0, i1, T, SINK, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, S2, SPD, FACC, uc);
         };
         if (T && row_sink[j])
-          run(update_interior<true, true>);
+          run(update_interior_evaporation_sinks);
         else if (T)
-          run(update_interior<true, false>);
+          run(update_interior_evaporation);
         else if (row_sink[j])
-          run(update_interior<false, true>);
+          run(update_interior_sinks);
         else
-          run(update_interior<false, false>);
+          run(update_interior);
         // Sinks take what reached them, in cell order as the generic cell does (the sums kept in registers).
         if (row_sink[j]) {
           double water = water_out, sediment = sed_out;
