@@ -117,9 +117,9 @@ std::string distribution_text(const NodeType& t) {
 
 // Whether the type runs across the ranks with its default parameters.
 bool across_ranks_by_default(const NodeType& t) {
-  if (const TileGraphFactory* factory = find_tile_graph(t.name)) {
+  if (find_tile_graph(t.name)) {
     const std::vector<ParamValue> values = defaults(t);
-    return (*factory)(ParamView(t, values), Domain{}) != nullptr;
+    return tile_graph_for(t.name, ParamView(t, values), Domain{}) != nullptr;
   }
   return runs_across_ranks(t.distribution_for(defaults(t)));
 }

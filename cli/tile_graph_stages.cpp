@@ -165,7 +165,8 @@ class Stages {
     }
 
     const std::vector<ParamValue> params = graph_.effective_params(node);
-    const auto algorithm = (*find_tile_graph(node.type->name))(ParamView(*node.type, params), s_.domain);
+    const auto algorithm = tile_graph_for(node.type->name, ParamView(*node.type, params), s_.domain);
+    if (!algorithm) throw std::logic_error("node '" + node.id + "' was planned across the tiles but has no algorithm");
     // The tiles' inputs one evaluation after another (each evaluation is parallel), then their steps side by
     // side: tiles are independent between two solves.
     Phases phases;

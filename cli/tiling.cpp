@@ -237,12 +237,12 @@ std::set<std::string> across_tile_nodes(const Graph& graph, const Domain& full, 
       return !graph.at(in.second.node).type->own_lattice;
     });
     if (!evaluated_whole(graph, node, global) || !rasters || !lattice_inputs) continue;
-    const TileGraphFactory* factory = find_tile_graph(node.type->name);
     const auto refused = tile_graph_unlinked_inputs(node.type->name);
     const bool refused_input_linked = std::any_of(refused.begin(), refused.end(),
                                                   [&](const std::string& port) { return node.inputs.count(port) > 0; });
     const std::vector<ParamValue> params = graph.effective_params(node);
-    if (factory && !refused_input_linked && (*factory)(ParamView(*node.type, params), full)) across.insert(node.id);
+    if (!refused_input_linked && tile_graph_for(node.type->name, ParamView(*node.type, params), full))
+      across.insert(node.id);
   }
   // A node whose result some whole-domain node needs is computed on the whole domain for it anyway. Downstream
   // first, so a chain of tile-graph nodes stays across tiles.

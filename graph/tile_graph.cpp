@@ -2,6 +2,8 @@
 
 #include <map>
 
+#include "graph/exec_context.h"
+
 namespace orogen {
 namespace {
 
@@ -28,6 +30,17 @@ bool register_tile_graph(const std::string& type, TileGraphFactory factory, std:
 const TileGraphFactory* find_tile_graph(const std::string& type) {
   const auto it = factories().find(type);
   return it == factories().end() ? nullptr : &it->second.factory;
+}
+
+std::unique_ptr<TileGraphAlgorithm> tile_graph_for(const std::string& type, const ParamView& params,
+                                                   const Domain& whole) {
+  const TileGraphFactory* factory = find_tile_graph(type);
+  if (!factory) return nullptr;
+  try {
+    return (*factory)(params, whole);
+  } catch (const NodeError&) {
+    return nullptr;
+  }
 }
 
 std::string tile_graph_conditions(const std::string& type) {

@@ -69,6 +69,11 @@ bool register_tile_graph(const std::string& type, TileGraphFactory factory, std:
                          std::vector<std::string> unlinked_inputs = {});
 // The registered factory of node type `type`, or nullptr.
 const TileGraphFactory* find_tile_graph(const std::string& type);
+// The algorithm of node type `type` for `params` on the build's whole domain `whole`, or nullptr: when the type
+// registered none, when these values do not run across tiles, or when the factory refuses the run with a NodeError
+// (too much work), which the node computed on the whole domain then reports itself.
+std::unique_ptr<TileGraphAlgorithm> tile_graph_for(const std::string& type, const ParamView& params,
+                                                   const Domain& whole);
 // The conditions registered with it ("" if none or no factory).
 std::string tile_graph_conditions(const std::string& type);
 // The input ports that must be unlinked for the algorithm to run (empty if none or no factory).

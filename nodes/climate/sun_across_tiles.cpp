@@ -634,8 +634,7 @@ class SunAcrossTiles : public TileGraphAlgorithm {
 // Every parameter value runs across the tiles; values the whole-domain node refuses, and domains narrower than two
 // samples, stay on the whole domain (whose node reports why).
 const bool kSunRegistered = register_tile_graph("SunIllumination", [](const ParamView& v, const Domain& whole) {
-  std::unique_ptr<TileGraphAlgorithm> algorithm;
-  if (whole.resolution.x < 2 || whole.resolution.y < 2) return algorithm;
+  if (whole.resolution.x < 2 || whole.resolution.y < 2) return std::unique_ptr<TileGraphAlgorithm>();
   SunParams p;
   p.latitude = v.get<double>("latitude");
   p.time_step = v.get<double>("time_step");
@@ -646,10 +645,7 @@ const bool kSunRegistered = register_tile_graph("SunIllumination", [](const Para
     for (int m = 1; m <= 12; ++m) months.push_back(m);
   else
     months.push_back(month);
-  try {
-    algorithm = sun_across_tiles(p, months, month, v.get<double>("hour"), whole);
-  } catch (const NodeError&) {}
-  return algorithm;
+  return sun_across_tiles(p, months, month, v.get<double>("hour"), whole);
 });
 
 }  // namespace

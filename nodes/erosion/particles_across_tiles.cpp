@@ -577,13 +577,9 @@ ParticleParams params_of(const ParamView& v) {
 }
 
 // Every parameter value runs across the tiles; a run the whole-domain node would refuse (too many droplets or too
-// much work) stays on the whole domain, whose node reports why.
+// much work) stays on the whole domain, whose node reports why (tile_graph_for).
 const bool kParticlesRegistered = register_tile_graph("HydraulicErosion", [](const ParamView& v, const Domain& whole) {
-  std::unique_ptr<TileGraphAlgorithm> algorithm;
-  try {
-    algorithm = particles_across_tiles(params_of(v), whole);
-  } catch (const NodeError&) {}
-  return algorithm;
+  return particles_across_tiles(params_of(v), whole);
 });
 
 }  // namespace

@@ -380,14 +380,9 @@ PipeParams pipe_params_of(const ParamView& v) {
 }
 
 // Every parameter value and every linked input runs across the tiles; a run the whole-domain node would refuse (too
-// much work) stays on the whole domain, whose node reports why.
-const bool kPipeRegistered = register_tile_graph("PipeErosion", [](const ParamView& v, const Domain& whole) {
-  std::unique_ptr<TileGraphAlgorithm> algorithm;
-  try {
-    algorithm = pipe_across_tiles(pipe_params_of(v), whole);
-  } catch (const NodeError&) {}
-  return algorithm;
-});
+// much work) stays on the whole domain, whose node reports why (tile_graph_for).
+const bool kPipeRegistered = register_tile_graph(
+    "PipeErosion", [](const ParamView& v, const Domain& whole) { return pipe_across_tiles(pipe_params_of(v), whole); });
 
 }  // namespace
 }  // namespace orogen::erosion

@@ -812,12 +812,8 @@ StreamPowerParams params_of(const ParamView& v) {
 const bool kStreamPowerRegistered = register_tile_graph(
     "StreamPower",
     [](const ParamView& v, const Domain& whole) {
-      std::unique_ptr<TileGraphAlgorithm> algorithm;
-      if (v.get<std::string>("depressions") != "priority_flood") return algorithm;
-      try {
-        algorithm = stream_power_across_tiles(params_of(v), whole);
-      } catch (const NodeError&) {}
-      return algorithm;
+      if (v.get<std::string>("depressions") != "priority_flood") return std::unique_ptr<TileGraphAlgorithm>();
+      return stream_power_across_tiles(params_of(v), whole);
     },
     "with depressions 'priority_flood'");
 

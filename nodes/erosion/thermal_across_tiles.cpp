@@ -32,10 +32,6 @@ namespace {
 
 constexpr int kReach = 2;  // one iteration reads the heights within 2 samples
 
-// Iterations per exchange when the factory does not fix it: one per 64 samples of the smallest tile side, so the
-// halo ring's repeated work stays within about 4 k / side ~ 6% of a tile's, and at most 8.
-int block_for(glm::ivec2 smallest_tile) { return std::clamp(std::min(smallest_tile.x, smallest_tile.y) / 64, 1, 8); }
-
 // A message: the tile's rectangle, the width of its bands, its channel count, the iterations it ran this round with
 // its largest change in each and its largest total movement after each, then each channel's bands.
 struct Header {
@@ -251,21 +247,11 @@ class ThermalAcrossTiles : public TileGraphAlgorithm {
         throw std::invalid_argument("thermal erosion bands: the tiles' bands do not fit together");
       if (keep > 0) most_moved = std::max(most_moved, h.most_moved[static_cast<std::size_t>(keep - 1)]);
     }
-    std::vector<SampleRect> rects;
-    for (const Header& h : headers) rects.push_back(h.rect);
-    const auto halos = plans_.get(std::move(rects), whole_, kReach * k, "thermal erosion bands");
-    std::vector<const char*> bands(count);
-    for (std::size_t t = 0; t < count; ++t) {
-      if (messages[t].size() != headers[t].bytes() + static_cast<std::size_t>(headers[t].channels) * halos->stride[t])
-        throw std::invalid_argument("thermal erosion bands: truncated bytes");
-      bands[t] = messages[t].data() + headers[t].bytes();
-    }
-    for (std::size_t u = 0; u < count; ++u) {
-      std::string& out = answers[u];
+    for (std::string& out : answers) {
       bytes::put(out, keep);
       bytes::put(out, most_moved);
-      append_halo(out, *halos, u, headers[u].channels, bands);
     }
+    append_halos(answers, headers, messages, plans_, whole_, kReach * k, "thermal erosion bands");
     return answers;
   }
 
@@ -282,10 +268,7 @@ class ThermalAcrossTiles : public TileGraphAlgorithm {
 
   // Iterations per exchange: fixed, or from the smallest tile.
   int block(const std::vector<Header>& headers) const {
-    if (fixed_block_ > 0) return fixed_block_;
-    glm::ivec2 smallest = whole_;
-    for (const Header& h : headers) smallest = glm::min(smallest, h.rect.size());
-    return block_for(smallest);
+    return fixed_block_ > 0 ? fixed_block_ : iterations_per_exchange(headers, whole_);
   }
 
   // The largest change over all tiles in each iteration of the block.
@@ -317,13 +300,9 @@ ThermalParams params_of(const ParamView& v) {
 }
 
 // Every parameter value runs across the tiles; a run the whole-domain node would refuse (too many iterations) stays
-// on the whole domain, whose node reports why.
+// on the whole domain, whose node reports why (tile_graph_for).
 const bool kThermalRegistered = register_tile_graph("ThermalErosion", [](const ParamView& v, const Domain& whole) {
-  std::unique_ptr<TileGraphAlgorithm> algorithm;
-  try {
-    algorithm = thermal_across_tiles(params_of(v), whole);
-  } catch (const NodeError&) {}
-  return algorithm;
+  return thermal_across_tiles(params_of(v), whole);
 });
 
 }  // namespace

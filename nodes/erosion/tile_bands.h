@@ -2,11 +2,13 @@
 // The border bands and halos of the tiles of a halo-exchange node run across tiles (graph/tile_graph.h): each tile
 // sends its samples 1 to `width` inside each border it shares with a neighbor, and every tile takes its `width`-sample
 // halo sample by sample from the tile holding it nearest to it (a tile narrower than the halo takes it from the tiles
-// beyond). Shared by ThermalErosion and PipeErosion across tiles (docs/distributed.md).
+// beyond). Shared by ThermalErosion, PipeErosion, WaterFlow and SunIllumination across tiles (docs/distributed.md).
+#include <algorithm>
 #include <cstddef>
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -126,6 +128,35 @@ class HaloPlanCache {
 // where tile v's bands start in its message (each channel plan.stride[v] bytes).
 void append_halo(std::string& out, const HaloPlan& plan, std::size_t u, int channels,
                  const std::vector<const char*>& bands);
+
+// The iterative stencils that exchange a k-wide halo every k iterations (ThermalErosion, WaterFlow): one iteration per
+// 64 samples of the smallest tile side, so the halo ring's repeated work stays within about 4 k / side ~ 6% of a
+// tile's, and at most 8. `headers` are the tiles' message headers (each with its `rect`).
+template <class Header>
+int iterations_per_exchange(const std::vector<Header>& headers, glm::ivec2 whole) {
+  glm::ivec2 smallest = whole;
+  for (const Header& h : headers) smallest = glm::min(smallest, h.rect.size());
+  return std::clamp(std::min(smallest.x, smallest.y) / 64, 1, 8);
+}
+
+// Appends to each answer u the halo of tile u, `width` samples wide, taken from the tiles' messages: message t is
+// its header (`headers[t]`: `rect`, `bytes()`, `channels`) followed by `channels` channels of its bands. Throws
+// std::invalid_argument, its message starting with `what`, when a message holds anything else.
+template <class Header>
+void append_halos(std::vector<std::string>& answers, const std::vector<Header>& headers,
+                  const std::vector<std::string>& messages, HaloPlanCache& plans, glm::ivec2 whole, int width,
+                  const std::string& what) {
+  std::vector<SampleRect> rects;
+  for (const Header& h : headers) rects.push_back(h.rect);
+  const auto halos = plans.get(std::move(rects), whole, width, what);
+  std::vector<const char*> bands(messages.size());
+  for (std::size_t t = 0; t < messages.size(); ++t) {
+    if (messages[t].size() != headers[t].bytes() + static_cast<std::size_t>(headers[t].channels) * halos->stride[t])
+      throw std::invalid_argument(what + ": truncated bytes");
+    bands[t] = messages[t].data() + headers[t].bytes();
+  }
+  for (std::size_t u = 0; u < answers.size(); ++u) append_halo(answers[u], *halos, u, headers[u].channels, bands);
+}
 
 // Cells of a grid in an order, kept as runs of consecutive cells so values move a run per memcpy.
 class CellRuns {

@@ -44,10 +44,6 @@ using erosion::for_each_halo;
 
 constexpr int kReach = 2;  // one iteration reads the water within 2 samples
 
-// Iterations per exchange when the factory does not fix it: one per 64 samples of the smallest tile side, so the
-// halo ring's repeated work stays within about 4 k / side ~ 6% of a tile's, and at most 8.
-int block_for(glm::ivec2 smallest_tile) { return std::clamp(std::min(smallest_tile.x, smallest_tile.y) / 64, 1, 8); }
-
 // A message: the tile's rectangle, the width of its bands, its 4-byte channels of bands, whether it is the last
 // round's, the iterations run before this round and in it, and how many exact sums follow; then the sums (a block
 // round: the run's total moved before the block, then the tile's moved in each iteration of the block; the last
@@ -400,19 +396,8 @@ class WaterFlowAcrossTiles : public TileGraphAlgorithm {
         return answers;
       }
     }
-    std::vector<SampleRect> rects;
-    for (const Header& h : headers) rects.push_back(h.rect);
-    const auto halos = plans_.get(std::move(rects), whole_, kReach * k, "water flow bands");
-    std::vector<const char*> bands(count);
-    for (std::size_t t = 0; t < count; ++t) {
-      if (messages[t].size() != headers[t].bytes() + static_cast<std::size_t>(headers[t].channels) * halos->stride[t])
-        throw std::invalid_argument("water flow bands: truncated bytes");
-      bands[t] = messages[t].data() + headers[t].bytes();
-    }
-    for (std::size_t u = 0; u < count; ++u) {
-      answers[u] = verdict;
-      erosion::append_halo(answers[u], *halos, u, headers[u].channels, bands);
-    }
+    answers.assign(count, verdict);
+    erosion::append_halos(answers, headers, messages, plans_, whole_, kReach * k, "water flow bands");
     return answers;
   }
 
@@ -459,10 +444,7 @@ class WaterFlowAcrossTiles : public TileGraphAlgorithm {
 
   // Iterations per exchange: fixed, or from the smallest tile.
   int block(const std::vector<Header>& headers) const {
-    if (fixed_block_ > 0) return fixed_block_;
-    glm::ivec2 smallest = whole_;
-    for (const Header& h : headers) smallest = glm::min(smallest, h.rect.size());
-    return block_for(smallest);
+    return fixed_block_ > 0 ? fixed_block_ : erosion::iterations_per_exchange(headers, whole_);
   }
 
   WaterFlowParams params_;
@@ -482,14 +464,9 @@ WaterFlowParams params_of(const ParamView& v) {
 }
 
 // Every parameter value and every linked input runs across the tiles; a run the whole-domain node would refuse (too
-// much work) stays on the whole domain, whose node reports why.
-const bool kWaterFlowRegistered = register_tile_graph("WaterFlow", [](const ParamView& v, const Domain& whole) {
-  std::unique_ptr<TileGraphAlgorithm> algorithm;
-  try {
-    algorithm = water_flow_across_tiles(params_of(v), whole);
-  } catch (const NodeError&) {}
-  return algorithm;
-});
+// much work) stays on the whole domain, whose node reports why (tile_graph_for).
+const bool kWaterFlowRegistered = register_tile_graph(
+    "WaterFlow", [](const ParamView& v, const Domain& whole) { return water_flow_across_tiles(params_of(v), whole); });
 
 }  // namespace
 

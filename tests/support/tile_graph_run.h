@@ -92,9 +92,8 @@ inline std::unique_ptr<TileGraphAlgorithm> algorithm_of(const std::string& type_
                                                         const Domain& whole) {
   const NodeType& type = *NodeRegistry::instance().find(type_name);
   const auto values = params_of(type, set);
-  const TileGraphFactory* factory = find_tile_graph(type_name);
-  EXPECT_NE(factory, nullptr) << type_name;
-  return factory ? (*factory)(ParamView(type, values), whole) : nullptr;
+  EXPECT_NE(find_tile_graph(type_name), nullptr) << type_name;
+  return tile_graph_for(type_name, ParamView(type, values), whole);
 }
 
 // Starts `algorithm` on the tiles of `counts` over `whole`: input k is inputs[k] (on `whole`) cut into the tile's
