@@ -56,6 +56,13 @@ class TileGraphAlgorithm {
   virtual std::vector<std::string> solve(int round, const std::vector<std::string>& messages) const = 0;
 };
 
+// Input k of a tile (TileGraphAlgorithm::start) as a heightfield, or nullptr when the port is unlinked (or holds no
+// heightfield).
+inline HeightfieldPtr tile_heightfield(const std::vector<PortValue>& inputs, std::size_t k) {
+  const auto* h = k < inputs.size() ? std::get_if<HeightfieldPtr>(&inputs[k]) : nullptr;
+  return h ? *h : nullptr;
+}
+
 // The algorithm of a node type for its parameter values on the build's whole domain, or nullptr when these values
 // do not run across tiles (the node is then computed on the whole domain).
 using TileGraphFactory =

@@ -238,11 +238,7 @@ class ParticlesAcrossTiles : public TileGraphAlgorithm {
   const Domain& whole() const { return whole_; }
 
   std::unique_ptr<TileGraphTile> start(const std::vector<PortValue>& inputs) const override {
-    auto field = [&](std::size_t k) -> HeightfieldPtr {
-      const auto* h = k < inputs.size() ? std::get_if<HeightfieldPtr>(&inputs[k]) : nullptr;
-      return h ? *h : nullptr;
-    };
-    const HeightfieldPtr in = field(0), mask = field(1);
+    const HeightfieldPtr in = tile_heightfield(inputs, 0), mask = tile_heightfield(inputs, 1);
     if (!in) throw std::invalid_argument(std::string(kWhat) + " needs a heightfield input");
     if (mask && mask->domain.resolution != in->domain.resolution)
       throw std::invalid_argument(std::string(kWhat) + ": the mask must lie on the tile");

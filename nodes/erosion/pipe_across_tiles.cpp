@@ -242,10 +242,7 @@ class PipeAcrossTiles : public TileGraphAlgorithm {
 
   std::unique_ptr<TileGraphTile> start(const std::vector<PortValue>& inputs) const override {
     std::vector<HeightfieldPtr> fields;
-    for (std::size_t k = 0; k < kStaticFields; ++k) {
-      const auto* h = k < inputs.size() ? std::get_if<HeightfieldPtr>(&inputs[k]) : nullptr;
-      fields.push_back(h ? *h : nullptr);
-    }
+    for (std::size_t k = 0; k < kStaticFields; ++k) fields.push_back(tile_heightfield(inputs, k));
     if (!fields[0]) throw std::invalid_argument("pipe erosion across tiles needs a heightfield input");
     for (const auto& f : fields)
       if (f && f->domain.resolution != fields[0]->domain.resolution)

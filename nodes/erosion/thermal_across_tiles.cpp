@@ -210,11 +210,8 @@ class ThermalAcrossTiles : public TileGraphAlgorithm {
   }
 
   std::unique_ptr<TileGraphTile> start(const std::vector<PortValue>& inputs) const override {
-    auto field = [&](std::size_t k) -> HeightfieldPtr {
-      const auto* h = k < inputs.size() ? std::get_if<HeightfieldPtr>(&inputs[k]) : nullptr;
-      return h ? *h : nullptr;
-    };
-    const HeightfieldPtr in = field(0), mask = field(1), hardness = field(2);
+    const HeightfieldPtr in = tile_heightfield(inputs, 0), mask = tile_heightfield(inputs, 1),
+                         hardness = tile_heightfield(inputs, 2);
     if (!in) throw std::invalid_argument("thermal erosion across tiles needs a heightfield input");
     for (const auto& f : {mask, hardness})
       if (f && f->domain.resolution != in->domain.resolution)

@@ -342,11 +342,8 @@ class WaterFlowAcrossTiles : public TileGraphAlgorithm {
   }
 
   std::unique_ptr<TileGraphTile> start(const std::vector<PortValue>& inputs) const override {
-    auto field = [&](std::size_t k) -> HeightfieldPtr {
-      const auto* h = k < inputs.size() ? std::get_if<HeightfieldPtr>(&inputs[k]) : nullptr;
-      return h ? *h : nullptr;
-    };
-    const HeightfieldPtr in = field(0), rainfall = field(1), sinks = field(2);
+    const HeightfieldPtr in = tile_heightfield(inputs, 0), rainfall = tile_heightfield(inputs, 1),
+                         sinks = tile_heightfield(inputs, 2);
     if (!in) throw std::invalid_argument("water flow across tiles needs a heightfield input");
     for (const auto& f : {rainfall, sinks})
       if (f && f->domain.resolution != in->domain.resolution)
