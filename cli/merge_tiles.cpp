@@ -202,7 +202,7 @@ void write_merged(const RasterMerge& m, const Domain& full, glm::ivec2 counts, c
   CheckedImageSink sink(temporary);
   std::string error;
   // The target's name gives the format (the temporary's extension is not the target's).
-  auto out = create_checked_output(image_codec(), m.target, sink, *m.spec, error);
+  auto out = create_checked_output(m.target, sink, *m.spec, error);
   if (!out) throw std::runtime_error("cannot create " + m.target.string() + ": " + error);
   const auto row_stride = static_cast<std::ptrdiff_t>(std::size_t(full.resolution.x) * m.pixel_bytes);
   stream_rows(m, full, counts, [&](int r0, int r1, const unsigned char* rows) {

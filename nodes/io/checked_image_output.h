@@ -9,7 +9,9 @@
 
 #include "graph/checked_file.h"
 #include "nodes/io/file_error.h"
+#include "nodes/io/file_extension.h"
 #include "nodes/io/image_codec.h"
+#include "nodes/io/native/native_image_writers.h"
 
 namespace orogen {
 
@@ -36,12 +38,16 @@ inline const ImageCodec& image_codec_for(const std::filesystem::path& path, cons
 }
 
 // A writer for the format of `format_name`'s extension, writing `spec` into `sink`; null with `error` set when
-// the format is unknown or cannot be opened.
-inline std::unique_ptr<ImageWriter> create_checked_output(const ImageCodec& codec,
-                                                          const std::filesystem::path& format_name,
+// the format is unknown or cannot be opened. Files the native writers write exactly as the codec would
+// (nodes/io/native/native_image_writers.h) never load the codec; throws FileError when it is needed and cannot
+// be loaded.
+inline std::unique_ptr<ImageWriter> create_checked_output(const std::filesystem::path& format_name,
                                                           CheckedImageSink& sink, const ImageWriteSpec& spec,
                                                           std::string& error) {
-  auto out = codec.create_writer(format_name.string(), sink, spec, error);
+  const std::string ext = lower_extension(format_name);
+  auto out = create_native_image_writer(ext.empty() ? ext : ext.substr(1), sink, spec, error);
+  if (!out && error.empty())
+    out = image_codec_for(format_name, "write").create_writer(format_name.string(), sink, spec, error);
   // A plugin that writes its header on open reports "could not open" for a full disk: give the reason.
   if (!out && !sink.file().ok()) error = sink.file().error();
   return out;

@@ -65,16 +65,15 @@ void report(const WriteProgress& progress, int rows_done, int rows) {
   if (progress) progress(static_cast<double>(rows_done) / std::max(rows, 1));
 }
 
-// Writes through the image codec in blocks of block_rows() scanlines (north row first). `convert(j, row, out)`
-// turns heightfield row j into file samples of type T; for float files the rows go straight from the
-// heightfield (a negative row stride walks them north to south) without a copy.
+// Writes through an image writer (create_checked_output) in blocks of block_rows() scanlines (north row first).
+// `convert(j, row, out)` turns heightfield row j into file samples of type T; for float files the rows go straight from
+// the heightfield (a negative row stride walks them north to south) without a copy.
 template <class T, class Convert>
 void write_image(const Heightfield& h, const fs::path& path, const ImageWriteSpec& spec, const WriteProgress& progress,
                  Convert convert) {
-  const ImageCodec& codec = image_codec_for(path, "write");
   CheckedImageSink sink(path);
   std::string error;
-  auto out = create_checked_output(codec, path, sink, spec, error);
+  auto out = create_checked_output(path, sink, spec, error);
   if (!out) throw FileError("cannot create '" + path.string() + "': " + error);
   const std::size_t w = static_cast<std::size_t>(h.width());
   std::vector<T> block;

@@ -54,10 +54,9 @@ int alpha_channel(int channels) { return channels == 2 ? 1 : channels == 4 ? 3 :
 template <class T>
 void write_scanlines(const Image& image, const fs::path& path, const ImageWriteSpec& spec,
                      const WriteProgress& progress, bool encode_srgb) {
-  const ImageCodec& codec = image_codec_for(path, "write");
   CheckedImageSink sink(path);
   std::string error;
-  auto out = create_checked_output(codec, path, sink, spec, error);
+  auto out = create_checked_output(path, sink, spec, error);
   if (!out) throw FileError("cannot create '" + path.string() + "': " + error);
   const int n = image.channels;
   const int alpha = alpha_channel(n);
