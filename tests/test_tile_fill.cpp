@@ -3,8 +3,11 @@
 // whole-domain Priority-Flood (Flat) bit for bit, for every tiling, on terrains whose depressions and flats cross
 // tile borders and corners. Then the FillDepressions and Lakes nodes across tiles (lakes joined and numbered
 // across tiles, nodes/hydrology/tile_lakes.h) against the whole-domain nodes.
+#include <bit>
 #include <cstring>
+#include <deque>
 #include <map>
+#include <queue>
 #include <random>
 #include <set>
 
@@ -88,6 +91,110 @@ TEST(TileFill, EveryTilingEqualsTheWholeDomainFillBitForBit) {
           EXPECT_TRUE(same_bits(tiled_fill(t, counts), whole));
         }
       }
+}
+
+// flood_tile's definition, written plainly: a priority queue of (level, cell) pairs, a pit queue ahead of it, every
+// neighbour found with bounds checks, the spill edges in an ordered map. The labels, levels and edges of the real one
+// (a packed key queue, unchecked interior neighbours, hashed edges) must be these, bit for bit.
+TileFlood plain_flood(const std::vector<float>& z, const TileRect& rect, const std::vector<std::uint8_t>& drained) {
+  const int w = rect.size.x, h = rect.size.y;
+  const auto is_drained = [&](std::size_t c) { return !drained.empty() && drained[c] != 0; };
+  struct Entry {
+    float level;
+    std::size_t cell;
+    bool operator>(const Entry& o) const { return level > o.level || (level == o.level && cell > o.cell); }
+  };
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  TileFlood f;
+  f.graph.rect = rect;
+  f.level = z;
+  f.label.assign(z.size(), -1);
+  const auto perimeter = perimeter_cells(rect.size);
+  const auto drained_label = static_cast<std::int32_t>(perimeter.size());
+  std::map<std::pair<std::int32_t, std::int32_t>, float> edges;
+  for (std::size_t k = 0; k < perimeter.size(); ++k) {
+    const auto c = static_cast<std::size_t>(perimeter[k]);
+    f.label[c] = static_cast<std::int32_t>(k);
+    f.graph.perimeter.push_back(z[c]);
+    queue.push({z[c], c});
+    if (is_drained(c)) edges.emplace(std::make_pair(static_cast<std::int32_t>(k), drained_label), z[c]);
+  }
+  const auto neighbours = [&](std::size_t c, auto&& fn) {
+    const int i = static_cast<int>(c % w), j = static_cast<int>(c / w);
+    for (int dj = -1; dj <= 1; ++dj)
+      for (int di = -1; di <= 1; ++di)
+        if ((di != 0 || dj != 0) && i + di >= 0 && j + dj >= 0 && i + di < w && j + dj < h)
+          fn(static_cast<std::size_t>(j + dj) * w + static_cast<std::size_t>(i + di));
+  };
+  if (!drained.empty())
+    for (std::size_t c = 0; c < z.size(); ++c) {
+      if (!is_drained(c) || f.label[c] >= 0) continue;
+      bool border = false;
+      neighbours(c, [&](std::size_t n) { border = border || !is_drained(n); });
+      if (border) f.label[c] = drained_label, queue.push({z[c], c});
+    }
+  std::deque<std::size_t> pit;
+  std::vector<bool> done(z.size(), false);
+  while (!queue.empty() || !pit.empty()) {
+    std::size_t c;
+    if (!pit.empty()) {
+      c = pit.front(), pit.pop_front();
+    } else {
+      c = queue.top().cell, queue.pop();
+    }
+    if (done[c]) continue;
+    done[c] = true;
+    neighbours(c, [&](std::size_t n) {
+      if (f.label[n] < 0) {
+        if (is_drained(c) && is_drained(n)) return;
+        f.label[n] = f.label[c];
+        f.level[n] = std::max(z[n], f.level[c]);
+        if (f.level[n] == f.level[c])
+          pit.push_back(n);
+        else
+          queue.push({f.level[n], n});
+      } else if (f.label[n] != f.label[c]) {
+        const float level = std::max(f.level[c], f.level[n]);
+        auto [it, fresh] = edges.emplace(std::minmax(f.label[c], f.label[n]), level);
+        if (!fresh) it->second = std::min(it->second, level);
+      }
+    });
+  }
+  for (const auto& [pair, level] : edges) f.graph.edges.push_back({pair.first, pair.second, level});
+  return f;
+}
+
+// Terrains that exercise the order of the queue: fBm-like noise, plateaus of equal heights (ties by cell), heights
+// of both signs with -0 and +0 among them, with and without drained cells.
+TEST(TileFill, FloodTileEqualsAPlainPriorityFloodBitForBit) {
+  std::mt19937 rng(12);
+  for (int trial = 0; trial < 24; ++trial) {
+    const glm::ivec2 size{3 + static_cast<int>(rng() % 60), 2 + static_cast<int>(rng() % 50)};
+    std::vector<float> z(static_cast<std::size_t>(size.x) * size.y);
+    const int levels = trial % 3 == 0 ? 4 : 1000;  // few distinct heights: wide plateaus and ties
+    for (float& v : z) {
+      v = static_cast<float>(static_cast<int>(rng() % levels) - levels / 2) * 0.25f;
+      if (v == 0.0f && rng() % 2) v = -0.0f;
+    }
+    std::vector<std::uint8_t> drained;
+    if (trial % 2 == 1) {
+      drained.resize(z.size());
+      for (auto& d : drained) d = rng() % 3 == 0;
+    }
+    const TileRect rect{{static_cast<int>(rng() % 7), static_cast<int>(rng() % 7)}, size};
+    const TileFlood mine = flood_tile(z, rect, drained), theirs = plain_flood(z, rect, drained);
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    EXPECT_EQ(mine.label, theirs.label);
+    EXPECT_TRUE(same_bits(mine.level, theirs.level));
+    EXPECT_TRUE(same_bits(mine.graph.perimeter, theirs.graph.perimeter));
+    ASSERT_EQ(mine.graph.edges.size(), theirs.graph.edges.size());
+    for (std::size_t k = 0; k < mine.graph.edges.size(); ++k) {
+      EXPECT_EQ(mine.graph.edges[k].a, theirs.graph.edges[k].a);
+      EXPECT_EQ(mine.graph.edges[k].b, theirs.graph.edges[k].b);
+      EXPECT_EQ(std::bit_cast<std::uint32_t>(mine.graph.edges[k].level),
+                std::bit_cast<std::uint32_t>(theirs.graph.edges[k].level));
+    }
+  }
 }
 
 TEST(TileFill, ALakeAcrossFourTilesFillsToItsSpillAndDrains) {

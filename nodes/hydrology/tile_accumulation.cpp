@@ -30,8 +30,10 @@ std::vector<std::int32_t> upstream_first(const std::vector<std::int32_t>& receiv
   return order;
 }
 
-std::vector<std::int64_t> accumulate(const std::vector<std::int32_t>& receiver, std::vector<std::int64_t> weight) {
-  for (const std::int32_t c : upstream_first(receiver))
+// `weight` summed down the receivers, visiting the cells in `order` (upstream_first of `receiver`).
+std::vector<std::int64_t> accumulate(const std::vector<std::int32_t>& receiver, const std::vector<std::int32_t>& order,
+                                     std::vector<std::int64_t> weight) {
+  for (const std::int32_t c : order)
     if (const std::int32_t r = receiver[static_cast<std::size_t>(c)]; r >= 0)
       weight[static_cast<std::size_t>(r)] += weight[static_cast<std::size_t>(c)];
   return weight;
@@ -63,13 +65,13 @@ TileAccumulation start_tile_accumulation(std::span<const std::uint8_t> direction
       if ((left && i == 0 && ri == 0) || (below && j == 0 && rj == 0)) continue;  // the tile before takes it
       t.receiver[c] = rj * w + ri;
     }
-  t.local = accumulate(t.receiver, std::vector<std::int64_t>(t.owned.begin(), t.owned.end()));
+  t.order = upstream_first(t.receiver);
+  t.local = accumulate(t.receiver, t.order, std::vector<std::int64_t>(t.owned.begin(), t.owned.end()));
   // The next perimeter cell downstream of every cell, receivers first.
   const auto perimeter = perimeter_cells(rect.size);
   const auto index = perimeter_index(rect.size);
   std::vector<std::int32_t> next(direction.size(), -1);
-  const auto order = upstream_first(t.receiver);
-  for (auto it = order.rbegin(); it != order.rend(); ++it) {
+  for (auto it = t.order.rbegin(); it != t.order.rend(); ++it) {
     const std::int32_t r = t.receiver[static_cast<std::size_t>(*it)];
     if (r >= 0)
       next[static_cast<std::size_t>(*it)] = index[static_cast<std::size_t>(r)] >= 0 ? index[static_cast<std::size_t>(r)]
@@ -165,7 +167,7 @@ std::vector<std::int64_t> finish_tile_accumulation(const TileAccumulation& t, st
   if (y.size() != perimeter.size()) throw std::invalid_argument("tile accumulation: one inflow per perimeter cell");
   std::vector<std::int64_t> weight(t.owned.begin(), t.owned.end());
   for (std::size_t k = 0; k < perimeter.size(); ++k) weight[static_cast<std::size_t>(perimeter[k])] += y[k];
-  return accumulate(t.receiver, std::move(weight));
+  return accumulate(t.receiver, t.order, std::move(weight));
 }
 
 }  // namespace orogen::hydrology

@@ -1,8 +1,7 @@
 #include "nodes/hydrology/tile_fill.h"
 
 #include <algorithm>
-#include <deque>
-#include <map>
+#include <bit>
 #include <queue>
 #include <stdexcept>
 #include <unordered_map>
@@ -33,9 +32,14 @@ T take(std::string_view& in) {
 
 std::vector<std::int32_t> perimeter_cells(glm::ivec2 size) {
   std::vector<std::int32_t> cells;
+  cells.reserve(static_cast<std::size_t>(2 * (size.x + size.y)));
   for (int j = 0; j < size.y; ++j)
-    for (int i = 0; i < size.x; ++i)
-      if (i == 0 || j == 0 || i == size.x - 1 || j == size.y - 1) cells.push_back(j * size.x + i);
+    if (j == 0 || j == size.y - 1) {
+      for (int i = 0; i < size.x; ++i) cells.push_back(j * size.x + i);
+    } else {
+      cells.push_back(j * size.x);
+      if (size.x > 1) cells.push_back(j * size.x + size.x - 1);
+    }
   return cells;
 }
 
@@ -65,10 +69,26 @@ TileRect take_tile_rect(std::string_view& in, glm::ivec2 domain_size, const char
   return r;
 }
 
+namespace {
+
+// A flood queue entry in one integer: the level's bits turned to sort as unsigned integers (negative levels
+// reversed, -0 taken as +0), then the cell. Every cell is queued once, so the keys are distinct and the pops come in
+// (level, cell) order, as a queue of (level, cell) pairs gives them; half the bytes, and no float compares.
+std::uint64_t flood_key(float level, std::size_t cell) {
+  const auto bits = std::bit_cast<std::uint32_t>(level + 0.0f);  // -0 + 0 is +0
+  const std::uint32_t ordered = (bits & 0x80000000u) != 0 ? ~bits : bits | 0x80000000u;
+  return static_cast<std::uint64_t>(ordered) << 32 | static_cast<std::uint64_t>(cell);
+}
+std::size_t key_cell(std::uint64_t key) { return static_cast<std::size_t>(key & 0xffffffffu); }
+
+}  // namespace
+
 TileFlood flood_tile(std::span<const float> z, const TileRect& rect, std::span<const std::uint8_t> drained) {
   const int w = rect.size.x, h = rect.size.y;
   if (w < 1 || h < 1 || z.size() != static_cast<std::size_t>(w) * h)
     throw std::invalid_argument("flood_tile: heights do not match the tile's size");
+  if (z.size() > std::size_t{0xffffffffu})
+    throw std::invalid_argument("flood_tile: a tile of more than 2^32 - 1 samples");
   if (!drained.empty() && drained.size() != z.size())
     throw std::invalid_argument("flood_tile: the drained cells do not match the tile's size");
   auto is_drained = [&](std::size_t c) { return !drained.empty() && drained[c] != 0; };
@@ -76,27 +96,43 @@ TileFlood flood_tile(std::span<const float> z, const TileRect& rect, std::span<c
   f.graph.rect = rect;
   f.level.assign(z.begin(), z.end());
   f.label.assign(z.size(), -1);
-  MinQueue queue;
+  std::priority_queue<std::uint64_t, std::vector<std::uint64_t>, std::greater<std::uint64_t>> queue;
   const auto perimeter = perimeter_cells(rect.size);
   const auto drained_label = static_cast<std::int32_t>(perimeter.size());
-  // The lowest spill level between each pair of labels met.
-  std::map<std::pair<std::int32_t, std::int32_t>, float> edges;
+  // The lowest spill level between each pair of labels met, keyed by (lower label, higher label); sorted by the key
+  // at the end, the edges come in pair order.
+  std::unordered_map<std::uint64_t, float> edges;
+  const auto edge_key = [](std::int32_t a, std::int32_t b) {
+    return static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32 | static_cast<std::uint32_t>(b);
+  };
   for (std::size_t k = 0; k < perimeter.size(); ++k) {
     const auto c = static_cast<std::size_t>(perimeter[k]);
     f.label[c] = static_cast<std::int32_t>(k);
     f.graph.perimeter.push_back(z[c]);
-    queue.push({z[c], static_cast<std::int64_t>(c)});
-    if (is_drained(c)) edges.emplace(std::make_pair(static_cast<std::int32_t>(k), drained_label), z[c]);
+    queue.push(flood_key(z[c], c));
+    if (is_drained(c)) edges.emplace(edge_key(static_cast<std::int32_t>(k), drained_label), z[c]);
   }
+  // The 8 neighbours in the order (dj, di) = (-1, -1), (-1, 0), ... (1, 1); an interior cell's without bounds checks.
+  const std::ptrdiff_t sw = w;
+  const std::ptrdiff_t offsets[8] = {-sw - 1, -sw, -sw + 1, -1, 1, sw - 1, sw, sw + 1};
+  // The neighbours are listed first and visited in one loop, so that `fn` is inlined at one place.
   const auto neighbours = [&](std::size_t c, auto&& fn) {
     const int i = static_cast<int>(c % static_cast<std::size_t>(w)),
               j = static_cast<int>(c / static_cast<std::size_t>(w));
-    for (int dj = -1; dj <= 1; ++dj)
-      for (int di = -1; di <= 1; ++di) {
-        const int x = i + di, y = j + dj;
-        if ((di == 0 && dj == 0) || x < 0 || y < 0 || x >= w || y >= h) continue;
-        fn(static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x));
-      }
+    std::size_t list[8];
+    int count = 0;
+    if (i > 0 && j > 0 && i < w - 1 && j < h - 1) {
+      for (const std::ptrdiff_t o : offsets)
+        list[count++] = static_cast<std::size_t>(static_cast<std::ptrdiff_t>(c) + o);
+    } else {
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+          const int x = i + di, y = j + dj;
+          if ((di == 0 && dj == 0) || x < 0 || y < 0 || x >= w || y >= h) continue;
+          list[count++] = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
+        }
+    }
+    for (int k = 0; k < count; ++k) fn(list[k]);
   };
   // Drained cells next to the others flood from their own height, as one label of their own.
   if (!drained.empty())
@@ -106,42 +142,48 @@ TileFlood flood_tile(std::span<const float> z, const TileRect& rect, std::span<c
       neighbours(c, [&](std::size_t n) { border = border || !is_drained(n); });
       if (!border) continue;
       f.label[c] = drained_label;
-      queue.push({z[c], static_cast<std::int64_t>(c)});
+      queue.push(flood_key(z[c], c));
     }
   // Cells raised to their flooder's level go through a plain queue, ahead of the priority queue (the pit queue of
   // Barnes, Lehman and Mulla 2014, Priority-Flood): the same levels, far fewer heap operations.
-  std::deque<std::size_t> pit;
-  std::vector<std::uint8_t> done(z.size(), 0);
-  while (!queue.empty() || !pit.empty()) {
+  std::vector<std::size_t> pit;
+  std::size_t pit_head = 0;
+  // Every cell is queued once (when it is labelled), so each pop is a cell not yet flooded from.
+  while (!queue.empty() || pit_head < pit.size()) {
     std::size_t c;
-    if (!pit.empty()) {
-      c = pit.front();
-      pit.pop_front();
+    if (pit_head < pit.size()) {
+      c = pit[pit_head++];
+      if (pit_head == pit.size()) pit.clear(), pit_head = 0;
     } else {
-      c = static_cast<std::size_t>(queue.top().index);
+      c = key_cell(queue.top());
       queue.pop();
     }
-    if (done[c]) continue;
-    done[c] = 1;
     const bool from_drained = is_drained(c);
+    const std::int32_t label = f.label[c];
+    const float level = f.level[c];
     neighbours(c, [&](std::size_t n) {
       if (f.label[n] < 0) {
         if (from_drained && is_drained(n)) return;  // drained ground stays as it is: no flood crosses it
-        f.label[n] = f.label[c];
-        f.level[n] = std::max(z[n], f.level[c]);
-        if (f.level[n] == f.level[c])
+        f.label[n] = label;
+        f.level[n] = std::max(z[n], level);
+        if (f.level[n] == level)
           pit.push_back(n);
         else
-          queue.push({f.level[n], static_cast<std::int64_t>(n)});
-      } else if (f.label[n] != f.label[c]) {
-        const auto key = std::minmax(f.label[c], f.label[n]);
-        const float level = std::max(f.level[c], f.level[n]);
-        auto [it, fresh] = edges.emplace(key, level);
-        if (!fresh) it->second = std::min(it->second, level);
+          queue.push(flood_key(f.level[n], n));
+      } else if (f.label[n] != label) {
+        const auto [a, b] = std::minmax(label, f.label[n]);
+        const float spill = std::max(level, f.level[n]);
+        auto [it, fresh] = edges.emplace(edge_key(a, b), spill);
+        if (!fresh) it->second = std::min(it->second, spill);
       }
     });
   }
-  for (const auto& [pair, level] : edges) f.graph.edges.push_back({pair.first, pair.second, level});
+  std::vector<std::pair<std::uint64_t, float>> sorted(edges.begin(), edges.end());
+  std::sort(sorted.begin(), sorted.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  f.graph.edges.reserve(sorted.size());
+  for (const auto& [key, spill] : sorted)
+    f.graph.edges.push_back(
+        {static_cast<std::int32_t>(key >> 32), static_cast<std::int32_t>(key & 0xffffffffu), spill});
   return f;
 }
 
