@@ -622,6 +622,8 @@ void relax_epsilon(int nx, int ny, std::span<const float> level, std::span<float
   // lowered again leaves a stale entry behind, skipped when its value no longer matches.
   MinHeap heap;
   for (const std::int32_t c : seeds) heap.push(e[static_cast<std::size_t>(c)], c);
+  std::int32_t offsets[8];
+  for (int k = 0; k < 8; ++k) offsets[k] = kDj[k] * nx + kDi[k];
   std::vector<QueuedCell> fifo;
   std::size_t head = 0;
   while (head < fifo.size() || !heap.empty()) {
@@ -635,18 +637,23 @@ void relax_epsilon(int nx, int ny, std::span<const float> level, std::span<float
     }
     if (q.z != e[static_cast<std::size_t>(q.c)]) continue;
     const float r = next_up(q.z);
-    const int i = q.c % nx, j = q.c / nx;
-    for (int k = 0; k < 8; ++k) {
-      const int x = i + kDi[k], y = j + kDj[k];
-      if (x < 0 || y < 0 || x >= nx || y >= ny) continue;
-      const std::int32_t n = y * nx + x;
+    const auto lower = [&](std::int32_t n) {
       const float v = std::max(level[static_cast<std::size_t>(n)], r);
-      if (!(v < e[static_cast<std::size_t>(n)])) continue;
+      if (!(v < e[static_cast<std::size_t>(n)])) return;
       e[static_cast<std::size_t>(n)] = v;
       if (v == r)
         fifo.push_back({n, v});
       else
         heap.push(v, n);
+    };
+    const int i = q.c % nx, j = q.c / nx;
+    if (i > 0 && j > 0 && i < nx - 1 && j < ny - 1) {  // an interior cell: its neighbours without bounds checks
+      for (const std::int32_t o : offsets) lower(q.c + o);
+      continue;
+    }
+    for (int k = 0; k < 8; ++k) {
+      const int x = i + kDi[k], y = j + kDj[k];
+      if (x >= 0 && y >= 0 && x < nx && y < ny) lower(y * nx + x);
     }
   }
 }
