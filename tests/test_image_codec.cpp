@@ -1,6 +1,6 @@
 // The image codec module (nodes/io/image_codec.h) is loaded only when an image file is read or written that
 // libpng and OpenEXR do not handle themselves (nodes/io/native): the CLI's start-up, `nodes`, `validate`,
-// graphs without image files and graphs that write EXR or read PNG and EXR heights never map OpenImageIO
+// graphs without image files and graphs that write PNG or EXR files or read PNG and EXR heights never map OpenImageIO
 // (issue 27: it cost every start ~0.6 s of CPU and 130 MB), and a module that cannot be loaded gives an error
 // naming its path.
 #include <gtest/gtest.h>
@@ -49,12 +49,13 @@ TEST(ImageCodec, LoadedOnlyWhenAGraphWritesAnImageTheNativeWritersDoNot) {
   const fs::path dir = scratch_dir("image-codec");
   write_text(dir / "raw.json", graph_writing("flat.r16"));
   write_text(dir / "exr.json", graph_writing("flat.exr"));
-  // The control: writing a PNG loads the module and OpenImageIO, and the loader says so.
+  // The control: writing a TIFF loads the module and OpenImageIO, and the loader says so.
+  write_text(dir / "tif.json", graph_writing("flat.tif"));
+  const std::string tif = loaded_files({"eval", "-q", (dir / "tif.json").string(), "-o", (dir / "out").string()});
+  EXPECT_NE(tif.find("orogen_image_codec.so"), std::string::npos) << "LD_DEBUG did not report the module";
+  EXPECT_NE(tif.find("libOpenImageIO"), std::string::npos);
+  ASSERT_TRUE(fs::exists(dir / "out" / "flat.tif"));
   write_text(dir / "png.json", graph_writing("flat.png"));
-  const std::string png = loaded_files({"eval", "-q", (dir / "png.json").string(), "-o", (dir / "out").string()});
-  EXPECT_NE(png.find("orogen_image_codec.so"), std::string::npos) << "LD_DEBUG did not report the module";
-  EXPECT_NE(png.find("libOpenImageIO"), std::string::npos);
-  ASSERT_TRUE(fs::exists(dir / "out" / "flat.png"));
   // Heights read back from them: libpng and OpenEXR read those without the codec (nodes/io/native).
   for (const std::string format : {"exr", "png"})
     write_text(dir / ("read_" + format + ".json"), R"({
@@ -76,6 +77,7 @@ TEST(ImageCodec, LoadedOnlyWhenAGraphWritesAnImageTheNativeWritersDoNot) {
       {"validate", (dir / "exr.json").string()},
       {"eval", "-q", (dir / "raw.json").string(), "-o", (dir / "out").string()},
       {"eval", "-q", (dir / "exr.json").string(), "-o", (dir / "out").string()},
+      {"eval", "-q", (dir / "png.json").string(), "-o", (dir / "out").string()},
       {"eval", "-q", (dir / "read_exr.json").string(), "-o", (dir / "out").string()},
       {"eval", "-q", (dir / "read_png.json").string(), "-o", (dir / "out").string()},
   };
@@ -94,24 +96,24 @@ TEST(ImageCodec, LoadedOnlyWhenAGraphWritesAnImageTheNativeWritersDoNot) {
 
 TEST(ImageCodec, MissingModuleNamesThePathAndTheOverride) {
   const fs::path dir = scratch_dir("image-codec-missing");
-  write_text(dir / "png.json", graph_writing("flat.png"));
-  write_text(dir / "raw.json", graph_writing("flat.r16"));
-  write_text(dir / "exr.json", graph_writing("flat.exr"));
+  write_text(dir / "tif.json", graph_writing("flat.tif"));
+  for (const std::string format : {"r16", "exr", "png"})
+    write_text(dir / (format + ".json"), graph_writing("flat." + format));
   const std::string missing = "/nonexistent/orogen_image_codec.so";
   const ProcessResult r = orogen_with({"OROGEN_IMAGE_CODEC=" + missing},
-                                      {"eval", "-q", (dir / "png.json").string(), "-o", (dir / "out").string()});
+                                      {"eval", "-q", (dir / "tif.json").string(), "-o", (dir / "out").string()});
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("save"), std::string::npos) << r.err;  // the failing writer
   EXPECT_NE(r.err.find("cannot load the image codec module"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("'" + missing + "'"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("OROGEN_IMAGE_CODEC"), std::string::npos) << r.err;
-  EXPECT_FALSE(fs::exists(dir / "out" / "flat.png"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "flat.tif"));
 
-  // Formats of Orogen's own, and EXR (written by OpenEXR itself), need no module.
-  for (const std::string format : {"r16", "exr"}) {
-    const ProcessResult ok = orogen_with(
-        {"OROGEN_IMAGE_CODEC=" + missing},
-        {"eval", "-q", (dir / (format == "r16" ? "raw.json" : "exr.json")).string(), "-o", (dir / "out").string()});
+  // Formats of Orogen's own, and EXR and PNG (written by OpenEXR and libpng themselves), need no module.
+  for (const std::string format : {"r16", "exr", "png"}) {
+    const ProcessResult ok =
+        orogen_with({"OROGEN_IMAGE_CODEC=" + missing},
+                    {"eval", "-q", (dir / (format + ".json")).string(), "-o", (dir / "out").string()});
     EXPECT_EQ(ok.exit_code, 0) << ok.err;
     EXPECT_TRUE(fs::exists(dir / "out" / ("flat." + format)));
   }
@@ -119,7 +121,7 @@ TEST(ImageCodec, MissingModuleNamesThePathAndTheOverride) {
   // A file that is not a module: the loader's reason is given.
   write_text(dir / "not_a_module.so", std::string(4096, 'x'));
   const ProcessResult bad = orogen_with({"OROGEN_IMAGE_CODEC=" + (dir / "not_a_module.so").string()},
-                                        {"eval", "-q", (dir / "png.json").string(), "-o", (dir / "out").string()});
+                                        {"eval", "-q", (dir / "tif.json").string(), "-o", (dir / "out").string()});
   EXPECT_EQ(bad.exit_code, 1) << bad.err;
   // dlerror() names the file, then the reason.
   EXPECT_NE(bad.err.find("(" + (dir / "not_a_module.so").string() + ": "), std::string::npos) << bad.err;

@@ -210,10 +210,8 @@ class ExrWriter final : public ImageWriter {
 
 }  // namespace
 
-std::unique_ptr<ImageWriter> create_native_image_writer(const std::string& extension, ImageByteSink& sink,
-                                                        const ImageWriteSpec& spec, std::string& error) {
-  error.clear();
-  if (extension != "exr") return nullptr;
+std::unique_ptr<ImageWriter> create_native_exr_writer(ImageByteSink& sink, const ImageWriteSpec& spec,
+                                                      std::string& error) {
   const auto header = exr_header(spec);
   if (!header) return nullptr;
   auto writer = std::make_unique<ExrWriter>(sink, spec);
