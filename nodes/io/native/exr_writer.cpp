@@ -1,6 +1,6 @@
 // Scanline EXR through OpenEXR, the header as OpenImageIO's writer makes it (see native_image_writers.h): the
 // same attributes under the same names, so the same OpenEXR library writes the same bytes
-// (tests/test_native_image_writers.cpp compares them with the codec's files).
+// (tests/test_native_writers.cpp compares them with the codec's files).
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfCompression.h>
 #include <OpenEXR/ImfFrameBuffer.h>
