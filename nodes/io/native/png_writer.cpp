@@ -139,6 +139,8 @@ class PngWriter final : public ImageWriter {
       png_set_gAMA(png_, info_, 1.0);
     else if (s.space == PngSettings::Space::Srgb)
       png_set_sRGB_gAMA_and_cHRM(png_, info_, PNG_sRGB_INTENT_ABSOLUTE);
+    // OpenImageIO asks zlib for its default strategy; libpng's own default for filtered rows (Z_FILTERED) gives
+    // other bytes.
     png_set_compression_strategy(png_, Z_DEFAULT_STRATEGY);
     if (s.level) png_set_compression_level(png_, *s.level);
     if (s.filter) png_set_filter(png_, 0, *s.filter);
