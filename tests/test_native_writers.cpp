@@ -272,6 +272,10 @@ TEST(NativeWriters, FailuresAreReported) {
     ASSERT_TRUE(writer->write_rows(0, 8, samples.data(), static_cast<std::ptrdiff_t>(row))) << writer->error();
     EXPECT_FALSE(writer->close());
     EXPECT_NE(writer->error().find("8 of 48 rows"), std::string::npos) << writer->error();
+    // Closed is closed, whole or not.
+    EXPECT_FALSE(writer->write_rows(8, 16, samples.data() + 8 * row, static_cast<std::ptrdiff_t>(row)));
+    EXPECT_NE(writer->error().find("closed"), std::string::npos) << writer->error();
+    EXPECT_FALSE(writer->close());
   }
 }
 

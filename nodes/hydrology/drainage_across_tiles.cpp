@@ -60,19 +60,10 @@ std::string take_string(std::string_view& in) {
 // The longest flow path from the divide to every cell of a tile, through the other tiles' values at its perimeter.
 class TileLongest {
  public:
-  TileLongest(std::vector<std::int32_t> receiver, std::vector<double> step, const TileRect& rect)
-      : rect_(rect), receiver_(std::move(receiver)), step_(std::move(step)) {
-    // Upstream first (Kahn); the receivers form no cycle (checked by the accumulation).
-    std::vector<std::int32_t> donors(receiver_.size(), 0);
-    for (const std::int32_t r : receiver_)
-      if (r >= 0) ++donors[static_cast<std::size_t>(r)];
-    for (std::size_t c = 0; c < receiver_.size(); ++c)
-      if (!donors[c]) order_.push_back(static_cast<std::int32_t>(c));
-    for (std::size_t h = 0; h < order_.size(); ++h)
-      if (const std::int32_t r = receiver_[static_cast<std::size_t>(order_[h])];
-          r >= 0 && !--donors[static_cast<std::size_t>(r)])
-        order_.push_back(r);
-    if (order_.size() != receiver_.size()) throw std::invalid_argument("drainage metrics: the flow directions loop");
+  // `order`: the cells upstream first (the accumulation's, TileAccumulation::order, of the same receivers).
+  TileLongest(std::vector<std::int32_t> receiver, std::vector<std::int32_t> order, std::vector<double> step,
+              const TileRect& rect)
+      : rect_(rect), receiver_(std::move(receiver)), order_(std::move(order)), step_(std::move(step)) {
     perimeter_ = perimeter_index(rect.size);
     const std::size_t n = perimeter_cells(rect.size).size();
     own_.assign(n, 0.0), external_.assign(n, 0.0), sent_.assign(n, -1.0);
@@ -271,7 +262,7 @@ class DrainageTile : public TileGraphTile {
           std::vector<double> step(direction_.size(), 0.0);
           for (std::size_t c = 0; c < step.size(); ++c)
             if (direction_[c] != kNoDirection) step[c] = grid_.distance(direction_[c]);
-          longest_ = std::make_unique<TileLongest>(accumulation_.receiver, std::move(step), rect_);
+          longest_ = std::make_unique<TileLongest>(accumulation_.receiver, accumulation_.order, std::move(step), rect_);
         }
         break;
       case Phase::Longest:

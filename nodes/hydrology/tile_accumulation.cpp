@@ -14,22 +14,6 @@ T take(std::string_view& in) {
   return bytes::take<T>(in, "tile accumulation");
 }
 
-// Cells in an order where every cell comes before its receiver (Kahn); throws if the receivers form a cycle.
-std::vector<std::int32_t> upstream_first(const std::vector<std::int32_t>& receiver) {
-  std::vector<std::int32_t> donors(receiver.size(), 0), order;
-  order.reserve(receiver.size());
-  for (const std::int32_t r : receiver)
-    if (r >= 0) ++donors[static_cast<std::size_t>(r)];
-  for (std::size_t c = 0; c < receiver.size(); ++c)
-    if (!donors[c]) order.push_back(static_cast<std::int32_t>(c));
-  for (std::size_t h = 0; h < order.size(); ++h)
-    if (const std::int32_t r = receiver[static_cast<std::size_t>(order[h])];
-        r >= 0 && !--donors[static_cast<std::size_t>(r)])
-      order.push_back(r);
-  if (order.size() != receiver.size()) throw std::invalid_argument("tile accumulation: the flow directions loop");
-  return order;
-}
-
 // `weight` summed down the receivers, visiting the cells in `order` (upstream_first of `receiver`).
 std::vector<std::int64_t> accumulate(const std::vector<std::int32_t>& receiver, const std::vector<std::int32_t>& order,
                                      std::vector<std::int64_t> weight) {
@@ -40,6 +24,24 @@ std::vector<std::int64_t> accumulate(const std::vector<std::int32_t>& receiver, 
 }
 
 }  // namespace
+
+std::vector<std::int32_t> upstream_first(const std::vector<std::int32_t>& receiver, const char* what) {
+  std::vector<std::int32_t> donors(receiver.size(), 0), order;
+  order.reserve(receiver.size());
+  for (const std::int32_t r : receiver) {
+    if (r < -1 || r >= static_cast<std::int32_t>(receiver.size()))
+      throw std::invalid_argument(std::string(what) + ": a receiver outside the tile");
+    if (r >= 0) ++donors[static_cast<std::size_t>(r)];
+  }
+  for (std::size_t c = 0; c < receiver.size(); ++c)
+    if (!donors[c]) order.push_back(static_cast<std::int32_t>(c));
+  for (std::size_t h = 0; h < order.size(); ++h)
+    if (const std::int32_t r = receiver[static_cast<std::size_t>(order[h])];
+        r >= 0 && !--donors[static_cast<std::size_t>(r)])
+      order.push_back(r);
+  if (order.size() != receiver.size()) throw std::invalid_argument(std::string(what) + ": the flow directions loop");
+  return order;
+}
 
 TileAccumulation start_tile_accumulation(std::span<const std::uint8_t> direction, const TileRect& rect,
                                          glm::ivec2 domain_size) {
@@ -65,7 +67,7 @@ TileAccumulation start_tile_accumulation(std::span<const std::uint8_t> direction
       if ((left && i == 0 && ri == 0) || (below && j == 0 && rj == 0)) continue;  // the tile before takes it
       t.receiver[c] = rj * w + ri;
     }
-  t.order = upstream_first(t.receiver);
+  t.order = upstream_first(t.receiver, "tile accumulation");
   t.local = accumulate(t.receiver, t.order, std::vector<std::int64_t>(t.owned.begin(), t.owned.end()));
   // The next perimeter cell downstream of every cell, receivers first.
   const auto perimeter = perimeter_cells(rect.size);

@@ -30,6 +30,11 @@
 
 namespace orogen::hydrology {
 
+// The cells of a tile in an order where every cell comes before its receiver (Kahn's algorithm; `receiver` holds
+// each cell's receiver, or -1). Throws std::invalid_argument, naming `what`, when a receiver lies outside the tile
+// or the receivers form a cycle.
+std::vector<std::int32_t> upstream_first(const std::vector<std::int32_t>& receiver, const char* what);
+
 struct TileAccumulation {
   TileRect rect;
   glm::ivec2 domain{1, 1};

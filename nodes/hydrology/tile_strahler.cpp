@@ -4,6 +4,7 @@
 #include <unordered_map>
 
 #include "graph/tile_bytes.h"
+#include "nodes/hydrology/tile_accumulation.h"
 
 namespace orogen::hydrology {
 namespace {
@@ -17,25 +18,6 @@ DonorSummary merged(DonorSummary a, DonorSummary b) {
 }
 
 bool operator!=(DonorSummary a, DonorSummary b) { return a.order != b.order || a.count != b.count; }
-
-// Cells in an order where every cell comes before its receiver (Kahn); throws if the receivers form a cycle.
-std::vector<std::int32_t> upstream_first(const std::vector<std::int32_t>& receiver) {
-  std::vector<std::int32_t> donors(receiver.size(), 0), order;
-  order.reserve(receiver.size());
-  for (const std::int32_t r : receiver) {
-    if (r < -1 || r >= static_cast<std::int32_t>(receiver.size()))
-      throw std::invalid_argument("tile Strahler orders: a receiver outside the tile");
-    if (r >= 0) ++donors[static_cast<std::size_t>(r)];
-  }
-  for (std::size_t c = 0; c < receiver.size(); ++c)
-    if (!donors[c]) order.push_back(static_cast<std::int32_t>(c));
-  for (std::size_t h = 0; h < order.size(); ++h)
-    if (const std::int32_t r = receiver[static_cast<std::size_t>(order[h])];
-        r >= 0 && !--donors[static_cast<std::size_t>(r)])
-      order.push_back(r);
-  if (order.size() != receiver.size()) throw std::invalid_argument("tile Strahler orders: the flow directions loop");
-  return order;
-}
 
 struct Message {
   TileRect rect;
@@ -64,7 +46,7 @@ TileStrahler::TileStrahler(std::vector<std::int32_t> receiver, std::vector<std::
   const std::size_t n = static_cast<std::size_t>(rect.size.x) * static_cast<std::size_t>(rect.size.y);
   if (rect.size.x < 1 || rect.size.y < 1 || receiver_.size() != n || channel_.size() != n)
     throw std::invalid_argument("TileStrahler: receivers and channel cells must cover the tile");
-  upstream_first_ = upstream_first(receiver_);
+  upstream_first_ = upstream_first(receiver_, "tile Strahler orders");
   perimeter_ = perimeter_index(rect.size);
   const std::size_t perimeter_count = perimeter_cells(rect.size).size();
   own_.resize(perimeter_count);

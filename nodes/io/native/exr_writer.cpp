@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "nodes/io/native/native_image_writers.h"
+#include "nodes/io/native/row_order.h"
 
 namespace orogen {
 namespace {
@@ -131,7 +132,7 @@ void use_every_core_once() {
 
 class ExrWriter final : public ImageWriter {
  public:
-  ExrWriter(ImageByteSink& sink, const ImageWriteSpec& spec) : stream_("exr", sink), spec_(spec) {}
+  ExrWriter(ImageByteSink& sink, const ImageWriteSpec& spec) : stream_("exr", sink), spec_(spec), order_(spec.height) {}
 
   bool open(const Imf::Header& header) {
     try {
@@ -149,11 +150,7 @@ class ExrWriter final : public ImageWriter {
   }
 
   bool write_rows(int y0, int y1, const void* data, std::ptrdiff_t row_stride) override {
-    if (!file_ || y0 != next_row_ || y1 <= y0 || y1 > spec_.height) {
-      error_ = "rows " + std::to_string(y0) + " to " + std::to_string(y1) + " written out of order (next is row " +
-               std::to_string(next_row_) + " of " + std::to_string(spec_.height) + ")";
-      return false;
-    }
+    if (error_ = order_.check(y0, y1); !error_.empty()) return false;
     const std::size_t sample = pixel_type_size(spec_.type);
     const std::size_t pixel = sample * static_cast<std::size_t>(spec_.channels);
     const std::size_t row_bytes = pixel * static_cast<std::size_t>(spec_.width);
@@ -174,7 +171,7 @@ class ExrWriter final : public ImageWriter {
                                       Imath::V2i(0, y0), spec_.width, y1 - y0, pixel, row_bytes));
       file_->setFrameBuffer(frame);
       file_->writePixels(y1 - y0);
-      next_row_ = y1;
+      order_.written(y1);
       return true;
     } catch (const std::exception& e) {
       error_ = e.what();
@@ -183,18 +180,13 @@ class ExrWriter final : public ImageWriter {
   }
 
   bool close() override {
-    if (!file_) return false;
+    const bool open = !order_.closed();
+    error_ = order_.close();  // "the file is closed" when it was
+    if (!open) return false;
     // OpenEXR writes the table of chunk offsets when the file is destroyed, and swallows a failure there.
     file_.reset();
-    if (stream_.failed()) {
-      error_ = "cannot write the table of chunk offsets";
-      return false;
-    }
-    if (next_row_ != spec_.height) {
-      error_ = "closed after " + std::to_string(next_row_) + " of " + std::to_string(spec_.height) + " rows";
-      return false;
-    }
-    return true;
+    if (stream_.failed()) error_ = "cannot write the table of chunk offsets";
+    return error_.empty();
   }
 
   std::string error() override { return error_; }
@@ -204,7 +196,7 @@ class ExrWriter final : public ImageWriter {
   ImageWriteSpec spec_;
   std::optional<Imf::OutputFile> file_;  // destroyed before stream_ (declared after)
   std::vector<char> packed_;
-  int next_row_ = 0;
+  RowOrder order_;
   std::string error_;
 };
 

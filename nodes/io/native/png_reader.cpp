@@ -11,18 +11,10 @@
 #include <vector>
 
 #include "nodes/io/native/native_image_readers.h"
+#include "nodes/io/native/png_errors.h"
 
 namespace orogen {
 namespace {
-
-// libpng reports errors by longjmp to the setjmp of the calling function: every function below that calls into
-// libpng sets it, and holds nothing with a destructor across the calls.
-void on_error(png_structp png, png_const_charp message) {
-  auto* error = static_cast<std::string*>(png_get_error_ptr(png));
-  if (error) *error = message ? message : "libpng error";
-  png_longjmp(png, 1);
-}
-void on_warning(png_structp, png_const_charp) {}
 
 class PngReader final : public ImageReader {
  public:
@@ -36,7 +28,7 @@ class PngReader final : public ImageReader {
       error_ = "cannot open the file";
       return false;
     }
-    png_ = png_create_read_struct(PNG_LIBPNG_VER_STRING, &error_, on_error, on_warning);
+    png_ = png_create_read_struct(PNG_LIBPNG_VER_STRING, &error_, png_errors::on_error, png_errors::on_warning);
     if (png_) info_ptr_ = png_create_info_struct(png_);
     if (!png_ || !info_ptr_) {
       error_ = "out of memory";

@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "nodes/io/native/native_image_writers.h"
+#include "nodes/io/native/png_errors.h"
+#include "nodes/io/native/row_order.h"
 
 namespace orogen {
 namespace {
@@ -71,24 +73,15 @@ std::optional<PngSettings> png_settings(const ImageWriteSpec& spec) {
   return s;
 }
 
-// libpng reports errors by longjmp to the setjmp of the calling function: every function below that calls into
-// libpng sets it, and holds nothing with a destructor across the calls.
-void on_error(png_structp png, png_const_charp message) {
-  auto* error = static_cast<std::string*>(png_get_error_ptr(png));
-  if (error) *error = message ? message : "libpng error";
-  png_longjmp(png, 1);
-}
-void on_warning(png_structp, png_const_charp) {}
-
 class PngWriter final : public ImageWriter {
  public:
-  PngWriter(ImageByteSink& sink, const ImageWriteSpec& spec) : sink_(sink), spec_(spec) {}
+  PngWriter(ImageByteSink& sink, const ImageWriteSpec& spec) : sink_(sink), spec_(spec), order_(spec.height) {}
   ~PngWriter() override {
     if (png_) png_destroy_write_struct(&png_, &info_);
   }
 
   bool open(const PngSettings& s) {
-    png_ = png_create_write_struct(PNG_LIBPNG_VER_STRING, &error_, on_error, on_warning);
+    png_ = png_create_write_struct(PNG_LIBPNG_VER_STRING, &error_, png_errors::on_error, png_errors::on_warning);
     if (png_) info_ = png_create_info_struct(png_);
     if (!png_ || !info_) {
       error_ = "out of memory";
@@ -107,22 +100,14 @@ class PngWriter final : public ImageWriter {
   }
 
   bool write_rows(int y0, int y1, const void* data, std::ptrdiff_t row_stride) override {
-    if (!png_ || y0 != next_row_ || y1 <= y0 || y1 > spec_.height) {
-      error_ = "rows " + std::to_string(y0) + " to " + std::to_string(y1) + " written out of order (next is row " +
-               std::to_string(next_row_) + " of " + std::to_string(spec_.height) + ")";
-      return false;
-    }
+    if (error_ = order_.check(y0, y1); !error_.empty()) return false;
     if (!rows(y0, y1, static_cast<const unsigned char*>(data), row_stride)) return false;
-    next_row_ = y1;
+    order_.written(y1);
     return true;
   }
 
   bool close() override {
-    if (!png_) return false;
-    if (next_row_ != spec_.height) {
-      error_ = "closed after " + std::to_string(next_row_) + " of " + std::to_string(spec_.height) + " rows";
-      return false;
-    }
+    if (error_ = order_.close(); !error_.empty()) return false;
     return end();
   }
 
@@ -175,7 +160,7 @@ class PngWriter final : public ImageWriter {
   png_infop info_ = nullptr;
   std::vector<std::pair<std::string, std::string>> text_;
   std::int64_t position_ = 0;
-  int next_row_ = 0;
+  RowOrder order_;
   std::string error_;
 };
 
