@@ -21,16 +21,16 @@ namespace {
 // Rows per chunk of the fused sweep (the chunking changes no result, only the share of recomputed rows).
 constexpr int kChunkRows = 64;
 
-// Per-thread rows of the sweep: a ring of 4 rows of rained depth, water surface and concentration, the
-// new fluxes of the two rows just outside a chunk, and a row where the vectorised update writes the speed
-// before the last step (only the last step's speed is kept: no traffic to the speed map).
+// Per-thread rows of the sweep: rings of 4 rows of rained depth, water surface and concentration, the new fluxes
+// (L, R, D, U) of the two rows just outside a chunk, a ring of 2 rows of new terrain, and a row where the vectorised
+// update writes the speed before the last step (only the last step's speed is kept: no traffic to the speed map).
 struct Scratch {
-  std::vector<float> dr, surf, conc, halo, speed;
+  std::vector<float> dr, surf, conc, flux, out, speed;
   void resize(int w) {
     const std::size_t need = static_cast<std::size_t>(4) * w;
     if (dr.size() != need)
-      dr.assign(need, 0.0f), surf.assign(need, 0.0f), conc.assign(need, 0.0f), halo.assign(2 * need, 0.0f),
-          speed.assign(w, 0.0f);
+      dr.assign(need, 0.0f), surf.assign(need, 0.0f), conc.assign(need, 0.0f), flux.assign(2 * need, 0.0f),
+          out.assign(2 * static_cast<std::size_t>(w), 0.0f), speed.assign(w, 0.0f);
   }
 };
 
@@ -38,23 +38,21 @@ struct Scratch {
 // the same IEEE operations in the same order (AVX2 without FMA: no product is fused), so the same bits.
 #define OROGEN_PIPE_VECTOR_LOOP __attribute__((target_clones("avx2", "default")))
 
-// The interior cells [i0, i1) (within 1 .. w-2) of a row's outflow fluxes: plain pointers and selects rather than
-// branches, so the loop vectorises (the same arithmetic as the generic cell).
+// The interior cells [i0, i1) (within 1 .. w-2) of a row's outflow fluxes, L, R, D and U in place: plain pointers
+// and selects rather than branches, so the loop vectorises (the same arithmetic as the generic cell).
 OROGEN_PIPE_VECTOR_LOOP void flux_interior(int i0, int i1, const float* __restrict DR, const float* __restrict SF,
                                            const float* __restrict SFd, const float* __restrict SFu,
-                                           const float* __restrict FL, const float* __restrict FR,
-                                           const float* __restrict FD, const float* __restrict FU, float* __restrict NL,
-                                           float* __restrict NR, float* __restrict ND, float* __restrict NU, float cx,
-                                           float cy, float t, float area) {
+                                           float* __restrict L, float* __restrict R, float* __restrict D,
+                                           float* __restrict U, float cx, float cy, float t, float area) {
   for (int i = i0; i < i1; ++i) {
     const float dk = DR[i], hk = SF[i];
-    float l = FL[i] + cx * dk * (hk - SF[i - 1]), rr = FR[i] + cx * dk * (hk - SF[i + 1]);
-    float dn = FD[i] + cy * dk * (hk - SFd[i]), up = FU[i] + cy * dk * (hk - SFu[i]);
+    float l = L[i] + cx * dk * (hk - SF[i - 1]), rr = R[i] + cx * dk * (hk - SF[i + 1]);
+    float dn = D[i] + cy * dk * (hk - SFd[i]), up = U[i] + cy * dk * (hk - SFu[i]);
     l = l > 0.0f ? l : 0.0f, rr = rr > 0.0f ? rr : 0.0f, dn = dn > 0.0f ? dn : 0.0f, up = up > 0.0f ? up : 0.0f;
     const float total = (l + rr + dn + up) * t;
     const float q = dk * area / total;
     const float K = total > dk * area ? q : 1.0f;
-    NL[i] = l * K, NR[i] = rr * K, ND[i] = dn * K, NU[i] = up * K;
+    L[i] = l * K, R[i] = rr * K, D[i] = dn * K, U[i] = up * K;
   }
 }
 
@@ -94,11 +92,11 @@ struct UpdateConst {
   int i0, int i1, const float *__restrict T, const unsigned char *__restrict SINK, const float *__restrict FL,         \
       const float *__restrict FR, const float *__restrict FD, const float *__restrict FU, const float *__restrict FUd, \
       const float *__restrict FDu, const float *__restrict DR, const float *__restrict C, const float *__restrict Cd,  \
-      const float *__restrict Cu, const float *__restrict S, const float *__restrict B, const float *__restrict Bd,    \
-      const float *__restrict Bu, float *__restrict B2, float *__restrict D2, float *__restrict S2,                    \
-      float *__restrict SPD, float *__restrict FACC, UpdateConst k
+      const float *__restrict Cu, float *__restrict S, const float *__restrict B, const float *__restrict Bd,          \
+      const float *__restrict Bu, float *__restrict B2, float *__restrict D2, float *__restrict SPD,                   \
+      float *__restrict FACC, UpdateConst k
 #define OROGEN_PIPE_UPDATE_ARGS \
-  i0, i1, T, SINK, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, S2, SPD, FACC, k
+  i0, i1, T, SINK, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, SPD, FACC, k
 template <bool kTemperature, bool kSinks>
 [[gnu::always_inline]] inline void update_cells(OROGEN_PIPE_UPDATE_PARAMS) {
   const float t = k.t, area = k.area, ddx = k.dx, ddy = k.dy, tdx = k.two_dx, tdy = k.two_dy, kcap = k.kc;
@@ -143,7 +141,7 @@ template <bool kTemperature, bool kSinks>
     } else {
       d1 *= evap;
     }
-    B2[i] = bk, D2[i] = d1, S2[i] = s2, SPD[i] = speed;
+    B2[i] = bk, D2[i] = d1, S[i] = s2, SPD[i] = speed;
     if constexpr (kSinks) {
       FACC[i] += t * speed * (SINK[i] ? 0.0f : d1);
     } else {
@@ -184,8 +182,14 @@ struct StepConstants {
 // One run of the pipe model: the fields, and the stages of a step. A step is one fused sweep over rows
 // (rain, water surface and concentration; outflow fluxes; water, transport, velocity, dissolution and
 // deposition, evaporation, sinks), pipelined over chunks of rows: chunks run in parallel, each recomputing
-// the one or two rows it needs beyond its edges from the previous step's fields (which no chunk writes), so
-// every value is the same whatever the chunking and thread count.
+// the one or two rows it needs beyond its edges from the previous step's fields, so every value is the same
+// whatever the chunking and thread count.
+//
+// The fields are updated in place: a row's new values go back into its fields as soon as nothing in the chunk
+// reads the old ones (fluxes right away, terrain, water and sediment once the next row is updated). In-place
+// stores land on lines the step has just read, where a second copy of every field would cost a fill of each
+// line written and twice the memory. The two rows at each end of a chunk, which the neighbouring chunks read
+// while it runs, go to the chunk's edge rows instead and into the fields when every chunk is done.
 struct PipeRun {
   const Heightfield& in;
   const PipeParams& p;
@@ -200,9 +204,13 @@ struct PipeRun {
   // Pipe geometry: flux (m^3/s) += dt x g x (width x depth) x dh / length.
   const float kx, ky;
   static constexpr double mm_per_h = 1.0 / 3.6e6;  // mm/h -> m/s
-  std::vector<float> b, b2, d, d2, s, s2;
-  std::vector<float> fl, fr, fd, fu, nfl, nfr, nfd, nfu;
+  std::vector<float> b, d, s;
+  std::vector<float> fl, fr, fd, fu;
   std::vector<float> spd, flow_acc;
+  // The new values of the rows the neighbouring chunks read: per chunk, 4 rows (kEdgeRows) of the 7 fields a step
+  // writes (kEdgeFields: terrain, water, sediment, fluxes L, R, D, U).
+  static constexpr int kEdgeRows = 4, kEdgeFields = 7;
+  std::vector<float> edge;
   std::vector<double> row_sed_out, row_water_out, row_dmax, row_sum;
   tbb::enumerable_thread_specific<Scratch> scratch;
   // Sinks, and rows with a sink. A sink among sinks holds no water and moves nothing (sinks catch no rain and
@@ -216,6 +224,10 @@ struct PipeRun {
   using Spans = std::vector<Span>;  // disjoint and apart, left to right
   std::vector<unsigned char> sink, row_sink;
   std::vector<Spans> span, prep_span;
+  // Per row, the columns outside its spans where the updates of the rows around read its new fluxes (one column
+  // beyond the spans of rows r - 1 .. r + 1): 0 there, as in every cell the sweep skips, though its ring row held
+  // another row's fluxes.
+  std::vector<Spans> flux_zero;
   bool plain = false;  // no mask, hardness or soil layers: the interior of rows takes the vectorised path
 
   PipeRun(const Heightfield& in_, const PipeParams& p_, const Heightfield* mask_, const Heightfield* rainfall_,
@@ -240,19 +252,12 @@ struct PipeRun {
         kx(static_cast<float>(dy / dx)),
         ky(static_cast<float>(dx / dy)),
         b(in_.data),
-        b2(in_.data),
         d(n, 0.0f),
-        d2(n),
         s(n, 0.0f),
-        s2(n),
         fl(n, 0.0f),
         fr(n, 0.0f),
         fd(n, 0.0f),
         fu(n, 0.0f),
-        nfl(n),
-        nfr(n),
-        nfd(n),
-        nfu(n),
         spd(n, 0.0f),
         flow_acc(n, 0.0f),
         row_sed_out(h),
@@ -289,6 +294,20 @@ struct PipeRun {
     };
     for (int j = 0; j < h; ++j) span[j] = widened(j, 1), prep_span[j] = widened(j, 2);
     if (every_cell) std::fill(span.begin(), span.end(), Spans{{0, w - 1}}), prep_span = span;
+    flux_zero.resize(h);
+    for (int r = 0; r < h; ++r) {
+      std::vector<unsigned char> read(w, 0);
+      for (int q = std::max(0, r - 1); q <= std::min(h - 1, r + 1); ++q)
+        for (const Span& sp : span[q])
+          std::fill(read.begin() + std::max(0, sp.lo - 1), read.begin() + std::min(w - 1, sp.hi + 1) + 1, 1);
+      for (const Span& sp : span[r]) std::fill(read.begin() + sp.lo, read.begin() + sp.hi + 1, 0);
+      for (int i = 0; i < w; ++i) {
+        if (!read[i]) continue;
+        if (flux_zero[r].empty() || flux_zero[r].back().hi < i - 1) flux_zero[r].push_back({i, i});
+        flux_zero[r].back().hi = i;
+      }
+    }
+    edge.assign(static_cast<std::size_t>(chunks()) * kEdgeRows * kEdgeFields * w, 0.0f);
     plain = !mask && !hardness && !(p.layer_depth > 0);
   }
 
@@ -324,21 +343,44 @@ struct PipeRun {
     return c;
   }
 
-  // The rows of one chunk [j0, j1) of the sweep: the thread's ring of 4 rows (r & 3) of rained depth,
-  // surface and concentration, and the new fluxes (the chunk's rows in the global arrays, the rows just
-  // outside it in the scratch).
+  int chunks() const { return (h + kChunkRows - 1) / kChunkRows; }
+
+  // The rows of one chunk [j0, j1) of the sweep: the thread's rings of 4 rows (r & 3) of rained depth, surface,
+  // concentration and new fluxes, its ring of 2 rows (r & 1) of new terrain, water and sediment, and where each
+  // row's new values go: the fields, or the chunk's edge rows for the two rows at either end.
   struct Chunk {
     Scratch& sc;
     int w, j0, j1;
-    float* nf[4];  // new fluxes L, R, D, U
+    float* edge;                 // the chunk's kEdgeRows x kEdgeFields rows
+    float* fields[kEdgeFields];  // terrain, water, sediment, fluxes L, R, D, U
     float* DRrow(int r) const { return sc.dr.data() + static_cast<std::size_t>(r & 3) * w; }
     float* SFrow(int r) const { return sc.surf.data() + static_cast<std::size_t>(r & 3) * w; }
     float* CCrow(int r) const { return sc.conc.data() + static_cast<std::size_t>(r & 3) * w; }
+    // Where row r's new fluxes are (which: L, R, D, U): the chunk's rows in the fields or the edge rows, the rows
+    // just outside it in the scratch.
     float* Frow(int r, int which) const {
-      if (r >= j0 && r < j1) return nf[which] + static_cast<std::size_t>(r) * w;
-      return sc.halo.data() + (static_cast<std::size_t>(r < j0 ? 0 : 4) + which) * w;
+      if (r >= j0 && r < j1) return target(r, 3 + which);
+      return sc.flux.data() + (static_cast<std::size_t>(r < j0 ? 0 : 4) + which) * w;
+    }
+    float* Brow(int r) const { return sc.out.data() + static_cast<std::size_t>(r & 1) * w; }
+    // Row r's edge row (r within the chunk), or -1 if the neighbouring chunks never read it.
+    int edge_slot(int r) const {
+      if (r - j0 < 2) return r - j0;
+      if (r >= j1 - 2) return 2 + r - (j1 - 2);
+      return -1;
+    }
+    // Where row r's new values of field f (0..6, as kEdgeFields) go.
+    float* target(int r, int f) const {
+      const int slot = edge_slot(r);
+      if (slot < 0) return fields[f] + static_cast<std::size_t>(r) * w;
+      return edge + (static_cast<std::size_t>(slot) * kEdgeFields + f) * w;
     }
   };
+
+  // Copies the columns of `spans` from `from` to `to`.
+  static void copy_spans(const Spans& spans, const float* from, float* to) {
+    for (const Span& sp : spans) std::copy(from + sp.lo, from + sp.hi + 1, to + sp.lo);
+  }
 
   // Drops mode: the drops of row r this step. Each cell catches a drop with probability min(1, moisture x
   // drop_chance x dt); the cells that do are drawn as gaps of a geometric law at the largest chance (moisture
@@ -427,7 +469,8 @@ struct PipeRun {
       }
   }
 
-  // 2. Outflow fluxes of row r: a generic cell for the border, an unchecked loop for the interior.
+  // 2. Outflow fluxes of row r, in place where Frow puts them (the old ones copied there first if that is not the
+  // fields): a generic cell for the border, an unchecked loop for the interior.
   void flux(const Chunk& ch, const StepConstants& cs, int r) const {
     const float fdt = cs.fdt, cgx = cs.cgx, cgy = cs.cgy;
     const std::size_t row = static_cast<std::size_t>(r) * w;
@@ -435,34 +478,24 @@ struct PipeRun {
     const float* __restrict SF = ch.SFrow(r);
     const float* __restrict SFd = r > 0 ? ch.SFrow(r - 1) : nullptr;
     const float* __restrict SFu = r < h - 1 ? ch.SFrow(r + 1) : nullptr;
-    const float* __restrict FL = fl.data() + row;
-    const float* __restrict FR = fr.data() + row;
-    const float* __restrict FD = fd.data() + row;
-    const float* __restrict FU = fu.data() + row;
-    float* __restrict NL = ch.Frow(r, 0);
-    float* __restrict NR = ch.Frow(r, 1);
-    float* __restrict ND = ch.Frow(r, 2);
-    float* __restrict NU = ch.Frow(r, 3);
+    float* const F[4] = {ch.Frow(r, 0), ch.Frow(r, 1), ch.Frow(r, 2), ch.Frow(r, 3)};
     const Spans& spans = span[r];
-    if (r < ch.j0 || r >= ch.j1) {  // a scratch row, which held another row: 0 outside the spans
-      int from = 0;
-      for (const Span& sp : spans) {
-        for (float* f : {NL, NR, ND, NU}) std::fill(f + from, f + sp.lo, 0.0f);
-        from = sp.hi + 1;
-      }
-      for (float* f : {NL, NR, ND, NU}) std::fill(f + from, f + w, 0.0f);
-    }
-    auto finish = [&](int i, float dk, float l, float rr, float dn, float up) {
-      l = std::max(0.0f, l), rr = std::max(0.0f, rr), dn = std::max(0.0f, dn), up = std::max(0.0f, up);
-      const float total = (l + rr + dn + up) * fdt;
-      const float K = total > dk * A ? dk * A / total : 1.0f;
-      NL[i] = l * K, NR[i] = rr * K, ND[i] = dn * K, NU[i] = up * K;
-    };
+    const std::vector<float>* old[4] = {&fl, &fr, &fd, &fu};
+    for (int f = 0; f < 4; ++f)
+      if (F[f] != old[f]->data() + row) copy_spans(spans, old[f]->data() + row, F[f]);
+    if (r < ch.j0 || r >= ch.j1)  // a ring row, which held another row: 0 where the updates read beyond the spans
+      for (const Span& sp : flux_zero[r])
+        for (float* f : F) std::fill(f + sp.lo, f + sp.hi + 1, 0.0f);
+    float *L = F[0], *R = F[1], *D = F[2], *U = F[3];
     auto generic = [&](int i) {
       const float dk = DR[i], hk = SF[i], c = fdt * g * dk;
       const float hl = i > 0 ? hk - SF[i - 1] : dk, hr = i < w - 1 ? hk - SF[i + 1] : dk;
       const float hd = SFd ? hk - SFd[i] : dk, hu = SFu ? hk - SFu[i] : dk;
-      finish(i, dk, FL[i] + c * kx * hl, FR[i] + c * kx * hr, FD[i] + c * ky * hd, FU[i] + c * ky * hu);
+      const float l = std::max(0.0f, L[i] + c * kx * hl), rr = std::max(0.0f, R[i] + c * kx * hr);
+      const float dn = std::max(0.0f, D[i] + c * ky * hd), up = std::max(0.0f, U[i] + c * ky * hu);
+      const float total = (l + rr + dn + up) * fdt;
+      const float K = total > dk * A ? dk * A / total : 1.0f;
+      L[i] = l * K, R[i] = rr * K, D[i] = dn * K, U[i] = up * K;
     };
     for (const Span& sp : spans) {
       if (r == 0 || r == h - 1 || w < 3) {
@@ -470,14 +503,14 @@ struct PipeRun {
         continue;
       }
       if (sp.lo == 0) generic(0);
-      flux_interior(std::max(sp.lo, 1), std::min(sp.hi, w - 2) + 1, DR, SF, SFd, SFu, FL, FR, FD, FU, NL, NR, ND, NU,
-                    cgx, cgy, fdt, A);
+      flux_interior(std::max(sp.lo, 1), std::min(sp.hi, w - 2) + 1, DR, SF, SFd, SFu, L, R, D, U, cgx, cgy, fdt, A);
       if (sp.hi == w - 1) generic(w - 1);
     }
   }
 
-  // 3. Water, sediment transport, velocity, dissolution/deposition, evaporation, sinks of row j; the row's
-  // outflow through the border and sinks and its deepest water into the row totals.
+  // 3. Water, sediment transport, velocity, dissolution/deposition, evaporation, sinks of row j; the row's outflow
+  // through the border and sinks and its deepest water into the row totals. The terrain of rows j - 1 and j + 1
+  // that it reads is still the old one: row j - 1 is retired after this.
   void update(const Chunk& ch, const StepConstants& cs, int j) {
     const float fdt = cs.fdt, ks = cs.ks, kd = cs.kd, kc = cs.kc, keep = cs.keep;
     const float fdx = cs.fdx, fdy = cs.fdy, two_dx = cs.two_dx, two_dy = cs.two_dy;
@@ -499,15 +532,17 @@ struct PipeRun {
     const float* __restrict C = ch.CCrow(j);
     const float* __restrict Cd = j > 0 ? ch.CCrow(j - 1) : nullptr;
     const float* __restrict Cu = j < h - 1 ? ch.CCrow(j + 1) : nullptr;
-    const float* __restrict S = s.data() + row;
+    // Sediment in place (the chunk's edge rows from a copy); water into the fields or the edge rows: the prep
+    // stage, the only other reader, is past this row; terrain into the ring, until the next row's update is done.
+    float* __restrict S = ch.target(j, 2);
+    if (S != s.data() + row) copy_spans(spans, s.data() + row, S);
     const float* __restrict B = b.data() + row;
     const float* __restrict Bd = j > 0 ? B - w : B;
     const float* __restrict Bu = j < h - 1 ? B + w : B;
     const float by_len = j > 0 && j < h - 1 ? two_dy : fdy;
     const unsigned char* __restrict SINK = sink.data() + row;
-    float* __restrict B2 = b2.data() + row;
-    float* __restrict D2 = d2.data() + row;
-    float* __restrict S2 = s2.data() + row;
+    float* __restrict B2 = ch.Brow(j);
+    float* __restrict D2 = ch.target(j, 1);
     float* __restrict SPD = last ? spd.data() + row : ch.sc.speed.data();
     float* __restrict FACC = flow_acc.data() + row;
     auto cell = [&](int i) {
@@ -584,7 +619,7 @@ struct PipeRun {
         sed_out += static_cast<double>(s1) * A;
         d1 = 0, s1 = 0;
       }
-      B2[i] = bk, D2[i] = d1, S2[i] = s1;
+      B2[i] = bk, D2[i] = d1, S[i] = s1;
       SPD[i] = speed;
       FACC[i] += fdt * speed * d1;
       dm = std::max<double>(dm, d1);
@@ -603,7 +638,7 @@ struct PipeRun {
         const int i0 = std::max(sp.lo, 1), i1 = std::min(sp.hi, w - 2) + 1;
         if (sp.lo == 0) cell(0);
         const auto run = [&](auto interior) {
-          interior(i0, i1, T, SINK, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, S2, SPD, FACC, uc);
+          interior(i0, i1, T, SINK, FL, FR, FD, FU, FUd, FDu, DR, C, Cd, Cu, S, B, Bd, Bu, B2, D2, SPD, FACC, uc);
         };
         if (T && row_sink[j])
           run(update_interior_evaporation_sinks);
@@ -619,8 +654,8 @@ struct PipeRun {
           for (int i = i0; i < i1; ++i)
             if (SINK[i]) {
               water += static_cast<double>(D2[i]) * A;
-              sediment += static_cast<double>(S2[i]) * A;
-              D2[i] = 0, S2[i] = 0;
+              sediment += static_cast<double>(S[i]) * A;
+              D2[i] = 0, S[i] = 0;
             }
           water_out = water, sed_out = sediment;
         }
@@ -631,16 +666,29 @@ struct PipeRun {
     row_sed_out[j] = sed_out, row_water_out[j] = water_out, row_dmax[j] = dm;
   }
 
+  // Row r's new terrain from the ring into the field (or the edge rows).
+  void retire(const Chunk& ch, int r) const { copy_spans(span[r], ch.Brow(r), ch.target(r, 0)); }
+
+  Chunk chunk(Scratch& sc, int index) {
+    const int j0 = index * kChunkRows, j1 = std::min(h, j0 + kChunkRows);
+    return Chunk{sc,
+                 w,
+                 j0,
+                 j1,
+                 edge.data() + static_cast<std::size_t>(index) * kEdgeRows * kEdgeFields * w,
+                 {b.data(), d.data(), s.data(), fl.data(), fr.data(), fd.data(), fu.data()}};
+  }
+
   // The fused sweep of one step over all rows: the pipeline preps rows j0-2 .. j1+1, fluxes j0-1 .. j1 and
-  // updates j0 .. j1-1 of each chunk (within the grid), each as soon as the rows it reads are ready.
+  // updates j0 .. j1-1 of each chunk (within the grid), each as soon as the rows it reads are ready; then the
+  // chunks' edge rows go into the fields.
   void sweep(const StepConstants& c) {
-    const int chunks = (h + kChunkRows - 1) / kChunkRows;
-    tbb::parallel_for(tbb::blocked_range<int>(0, chunks, 1), [&](const tbb::blocked_range<int>& cr) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, chunks(), 1), [&](const tbb::blocked_range<int>& cr) {
       Scratch& sc = scratch.local();
       sc.resize(w);
-      for (int chunk = cr.begin(); chunk != cr.end(); ++chunk) {
-        const int j0 = chunk * kChunkRows, j1 = std::min(h, j0 + kChunkRows);
-        const Chunk ch{sc, w, j0, j1, {nfl.data(), nfr.data(), nfd.data(), nfu.data()}};
+      for (int index = cr.begin(); index != cr.end(); ++index) {
+        const Chunk ch = chunk(sc, index);
+        const int j0 = ch.j0, j1 = ch.j1;
         const int pr_lo = std::max(0, j0 - 2), pr_hi = std::min(h, j1 + 2);
         const int fl_lo = std::max(0, j0 - 1), fl_hi = std::min(h, j1 + 1);
         int nf = fl_lo, nm = j0;
@@ -648,12 +696,27 @@ struct PipeRun {
           if (r + 1 < pr_hi) prefetch_row(r + 1);
           prep(ch, c, r);
           while (nf < fl_hi && r >= std::min(nf + 1, h - 1)) flux(ch, c, nf++);
-          while (nm < j1 && nf >= std::min(nm + 2, h)) update(ch, c, nm++);
+          while (nm < j1 && nf >= std::min(nm + 2, h)) {
+            update(ch, c, nm);
+            if (nm > j0) retire(ch, nm - 1);
+            ++nm;
+          }
+        }
+        retire(ch, j1 - 1);
+      }
+    });
+    tbb::parallel_for(tbb::blocked_range<int>(0, chunks(), 1), [&](const tbb::blocked_range<int>& cr) {
+      Scratch& sc = scratch.local();
+      for (int index = cr.begin(); index != cr.end(); ++index) {
+        const Chunk ch = chunk(sc, index);
+        for (int r = ch.j0; r < ch.j1; ++r) {
+          const int slot = ch.edge_slot(r);
+          if (slot < 0) continue;
+          for (int f = 0; f < kEdgeFields; ++f)
+            copy_spans(span[r], ch.target(r, f), ch.fields[f] + static_cast<std::size_t>(r) * w);
         }
       }
     });
-    std::swap(fl, nfl), std::swap(fr, nfr), std::swap(fd, nfd), std::swap(fu, nfu);
-    std::swap(b, b2), std::swap(d, d2), std::swap(s, s2);
   }
 
   // The maps at the end: heights with the suspended sediment settled, water, speed, normalized flow.
