@@ -126,8 +126,8 @@ void EpsilonAllTiles(benchmark::State& state) {
     for (bool fell = true; fell; ++rounds) {
       std::vector<std::string> messages;
       for (auto& t : tiles) messages.push_back(t->message()), bytes += messages.back().size();
-      fell = epsilon_values_fell(message_views(messages));
-      const auto answers = solve_epsilon_perimeters(message_views(messages), glm::ivec2(kSide));
+      fell = perimeter_minima_fell(message_views(messages));
+      const auto answers = solve_perimeter_minima(message_views(messages), glm::ivec2(kSide));
       for (std::size_t k = 0; k < tiles.size(); ++k) tiles[k]->answer(answers[k]), bytes += answers[k].size();
     }
   }

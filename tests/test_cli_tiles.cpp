@@ -50,19 +50,19 @@ const char* kLocalGraph = R"({
 })";
 
 // A local chain plus nodes that need the whole domain (a normalization and a depression fill).
-// 'filled' carves: a node that still needs the whole domain (filling runs across the tiles).
+// 'warped' is a node that still needs the whole domain (a warp by fields reads anywhere).
 const char* kGlobalGraph = R"({
   "format": "orogen-graph", "version": 6,
   "domain": { "size": [640, 640], "resolution": [65, 65] },
   "nodes": [
     { "id": "noise", "type": "FBM", "params": { "feature_size": 200, "seed": 5, "amplitude": 50 } },
     { "id": "stretch", "type": "Normalize", "inputs": { "in": "noise.out" } },
-    { "id": "filled", "type": "FillDepressions", "inputs": { "in": "noise.out" }, "params": { "mode": "carve" } },
+    { "id": "warped", "type": "Warp", "inputs": { "in": "noise.out", "dx": "noise.out", "dy": "noise.out" } },
     { "id": "smooth", "type": "Blur", "inputs": { "in": "noise.out" }, "params": { "sigma": 20 } },
     { "id": "save_stretch", "type": "WriteHeightfield", "inputs": { "in": "stretch.out" },
       "params": { "path": "stretch.exr" } },
-    { "id": "save_filled", "type": "WriteHeightfield", "inputs": { "in": "filled.out" },
-      "params": { "path": "filled.exr" } },
+    { "id": "save_warped", "type": "WriteHeightfield", "inputs": { "in": "warped.out" },
+      "params": { "path": "warped.exr" } },
     { "id": "save_smooth", "type": "WriteHeightfield", "inputs": { "in": "smooth.out" },
       "params": { "path": "smooth.png" } },
     { "id": "save_smooth_exr", "type": "WriteHeightfield", "inputs": { "in": "smooth.out" },
@@ -293,8 +293,8 @@ TEST(CliTiles, GlobalNodesAreNamedInAWarning) {
       // Every global node is named with its type: evaluated whole, in one warning; per tile, one warning each
       // with the writers it reaches.
       if (mode == "tile") {
-        for (const auto& [node, type, writer] : {std::tuple{"stretch", "Normalize", "save_stretch"},
-                                                 std::tuple{"filled", "FillDepressions", "save_filled"}}) {
+        for (const auto& [node, type, writer] :
+             {std::tuple{"stretch", "Normalize", "save_stretch"}, std::tuple{"warped", "Warp", "save_warped"}}) {
           const auto at = r.err.find(std::string("warning: --tiles: node '") + node + "' (" + type + ", reach global)");
           ASSERT_NE(at, std::string::npos) << r.err;
           const auto line = r.err.substr(at, r.err.find('\n', at) - at);
@@ -304,7 +304,7 @@ TEST(CliTiles, GlobalNodesAreNamedInAWarning) {
         }
       } else {
         // The normalization runs across the tiles (a reduction of their ranges): not named.
-        EXPECT_NE(r.err.find("warning: --tiles: node 'filled' (FillDepressions) depends on the whole domain (reach "
+        EXPECT_NE(r.err.find("warning: --tiles: node 'warped' (Warp) depends on the whole domain (reach "
                              "global): computed once on the whole domain"),
                   std::string::npos)
             << r.err;
@@ -322,7 +322,7 @@ TEST(CliTiles, GlobalNodesAreNamedInAWarning) {
       EXPECT_NE(r.err.find("warning: --tiles: writer 'save_smooth' maps 16-bit heights over each tile's own range"),
                 std::string::npos)
           << r.err;
-      EXPECT_TRUE(fs::exists(dir / "out" / "filled_x1_y1.exr"));
+      EXPECT_TRUE(fs::exists(dir / "out" / "warped_x1_y1.exr"));
     }
   // The warnings are about tiling: the untiled build has none.
   const auto whole = orogen({"eval", (dir / "g.json").string(), "-o", (dir / "whole").string()});
@@ -364,14 +364,14 @@ TEST(CliTiles, GlobalNodesJoinWhenEvaluatedWholeAndNotPerTile) {
         // The local blur equals the untiled build in both modes.
         EXPECT_EQ(window_differences(dir / "whole", out, "smooth", {65, 65}, {2, 2}, i, j), 0u);
         const auto stretch = window_differences(dir / "whole", out, "stretch", {65, 65}, {2, 2}, i, j);
-        const auto filled = window_differences(dir / "whole", out, "filled", {65, 65}, {2, 2}, i, j);
+        const auto warped = window_differences(dir / "whole", out, "warped", {65, 65}, {2, 2}, i, j);
         const auto stats = nlohmann::json::parse(read_text(dir / tile_name(mode, i, j, ".json")));
         if (mode == "whole") {
           // Cut from one whole-domain result, or run across the tiles: the same samples as the untiled build.
           EXPECT_EQ(stretch, 0u);
-          EXPECT_EQ(filled, 0u);
+          EXPECT_EQ(warped, 0u);
           const std::string expected = i == 0 && j == 0 ? "computed" : "cached";
-          EXPECT_EQ(stats["nodes"]["filled"]["status"], expected);
+          EXPECT_EQ(stats["nodes"]["warped"]["status"], expected);
           // The normalization ran across the tiles before they were evaluated: given to each tile.
           EXPECT_EQ(stats["nodes"]["stretch"]["status"], "cached");
         } else {

@@ -676,8 +676,8 @@ class StreamPowerAcrossTiles : public TileGraphAlgorithm {
       case Phase::Spill:
         return hydrology::solve_spill_messages(views, whole);
       case Phase::Epsilon: {
-        std::vector<std::string> answers = hydrology::solve_epsilon_perimeters(views, whole);
-        const bool fell = hydrology::epsilon_values_fell(views);
+        std::vector<std::string> answers = hydrology::solve_perimeter_minima(views, whole);
+        const bool fell = hydrology::perimeter_minima_fell(views);
         for (std::string& a : answers) a.insert(a.begin(), static_cast<char>(fell));
         return answers;
       }

@@ -59,8 +59,7 @@ FillResult fill_depressions(const Heightfield& in, const FillParams& p, const Ex
     if (!p.carve) {
       fill_depressions(g, r.out->data, mode, {}, ctx);
     } else {
-      breach_depressions(g, r.out->data, mode, {}, ctx);
-      if (p.epsilon) fill_depressions(g, r.out->data, FlatMode::Epsilon, {}, ctx);
+      breach_depressions(g, r.out->data, mode, {}, ctx);  // epsilon: already its own epsilon fill
     }
     return r;
   }
@@ -94,8 +93,7 @@ FillResult fill_depressions(const Heightfield& in, const FillParams& p, const Ex
     out = in.data;
     for (std::size_t c = 0; c < flat.size(); ++c)
       if (keep[label[c]]) out[c] = flat[c];
-    breach_depressions(g, out, mode, {}, ctx);
-    if (p.epsilon) fill_depressions(g, out, FlatMode::Epsilon, {}, ctx);
+    breach_depressions(g, out, mode, {}, ctx);  // epsilon: already its own epsilon fill
   }
   if (!p.lake_maps) return r;
   r.depth = std::make_shared<Heightfield>(in.domain);
@@ -207,12 +205,13 @@ OROGEN_NODE(FillDepressions) {
           "Removes closed depressions so every cell drains to the border: Priority-Flood (Barnes, Lehman & Mulla "
           "2014, 'Priority-Flood: an optimal depression-filling and watershed-labeling algorithm') with the slope "
           "and depression queues of Zhou, Sun & Fu 2016. 'fill' raises each depression to its spill level; 'carve' "
-          "cuts a channel from each pit through the rim instead (complete breaching, Lindsay 2016), keeping "
-          "depressions no deeper than max_depth as filled lakes. 'epsilon' flats rise by one float ulp per cell away "
-          "from their outlet so every cell has a strictly lower neighbor (flow routing needs it): each cell is "
-          "max(its height, one ulp above its lowest neighbor), the least such surface, which depends on the "
-          "heights alone (so tiles reproduce it exactly); 'flat' leaves them level. The lakes (filled water, from "
-          "the flat levels in either case) come out as a depth and an id per lake.");
+          "cuts a channel from each pit through the rim instead (complete breaching, Lindsay 2016: down the D8 path "
+          "of the epsilon surface, every cell higher than the pit lowered to it), keeping depressions no deeper "
+          "than max_depth as filled lakes; tiles and ranks carve the same channels. 'epsilon' flats rise by one "
+          "float ulp per cell away from their outlet so every cell has a strictly lower neighbor (flow routing needs "
+          "it): each cell is max(its height, one ulp above its lowest neighbor), the least such surface, which "
+          "depends on the heights alone (so tiles reproduce it exactly); 'flat' leaves them level. The lakes (filled "
+          "water, from the flat levels in either case) come out as a depth and an id per lake.");
   b.input("in", PortType::Heightfield).description("Height, metres");
   b.output("out", PortType::Heightfield).description("Filled or carved height, metres");
   b.output("water_depth", PortType::Heightfield)

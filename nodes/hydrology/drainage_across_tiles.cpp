@@ -404,8 +404,8 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
         next = Phase::Epsilon;
         break;
       case Phase::Epsilon:
-        answers = solve_epsilon_perimeters(messages, size);
-        next = epsilon_values_fell(messages) ? Phase::Epsilon : Phase::Ring;
+        answers = solve_perimeter_minima(messages, size);
+        next = perimeter_minima_fell(messages) ? Phase::Epsilon : Phase::Ring;
         break;
       case Phase::Ring: {
         std::vector<std::string> filled, input;

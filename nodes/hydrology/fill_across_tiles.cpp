@@ -6,12 +6,12 @@
 //
 // With epsilon flats, rounds 2, 3, ... relax the epsilon surface of the flat levels across tiles until no perimeter
 // value falls (nodes/hydrology/tile_fill.h, TileEpsilon): the least fixed point of its definition, the whole-domain
-// fill's surface bit for bit. Carve mode is not here: a breach follows the order in which one flood reaches each
-// cell across the whole domain, so it is computed on the whole domain (docs/distributed.md).
+// fill's surface bit for bit. Carve mode has rounds of its own (nodes/hydrology/carve_across_tiles.h).
 #include <stdexcept>
 
 #include "graph/node_type.h"
 #include "graph/tile_graph.h"
+#include "nodes/hydrology/carve_across_tiles.h"
 #include "nodes/hydrology/flow_routing.h"
 #include "graph/tile_bytes.h"
 #include "nodes/hydrology/tile_phases.h"
@@ -93,7 +93,7 @@ class FlatFillAcrossTiles : public TileGraphAlgorithm {
 
   bool another_round(int round, const std::vector<std::string>& messages) const override {
     if (round + 1 < rounds()) return true;
-    return epsilon_ && epsilon_values_fell(message_views(messages));
+    return epsilon_ && perimeter_minima_fell(message_views(messages));
   }
 
   std::unique_ptr<TileGraphTile> start(const std::vector<PortValue>& inputs) const override {
@@ -103,7 +103,7 @@ class FlatFillAcrossTiles : public TileGraphAlgorithm {
   }
 
   std::vector<std::string> solve(int round, const std::vector<std::string>& messages) const override {
-    if (round >= 2) return solve_epsilon_perimeters(message_views(messages), whole_);
+    if (round >= 2) return solve_perimeter_minima(message_views(messages), whole_);
     if (round == 0) return solve_spill_messages(message_views(messages), whole_);
     std::vector<std::string> answers(messages.size());
     std::vector<TileLakes> lakes;
@@ -121,19 +121,15 @@ class FlatFillAcrossTiles : public TileGraphAlgorithm {
   bool epsilon_;
 };
 
-// FillDepressions keeps every lake; Lakes those deep and large enough, as the whole-domain node decides
-// (nodes/hydrology/depressions.cpp).
-const bool kFillRegistered = register_tile_graph(
-    "FillDepressions",
-    [](const ParamView& p, const Domain& whole) {
-      std::unique_ptr<TileGraphAlgorithm> algorithm;
-      if (p.get<std::string>("mode") == "fill")
-        algorithm = std::make_unique<FlatFillAcrossTiles>(
-            whole.resolution, [](float, std::int64_t) { return true; }, false,
-            p.get<std::string>("flats") == "epsilon");
-      return algorithm;
-    },
-    "with mode 'fill'");
+// FillDepressions keeps every lake (or, carving, those no deeper than max_depth); Lakes those deep and large enough,
+// as the whole-domain node decides (nodes/hydrology/depressions.cpp).
+const bool kFillRegistered = register_tile_graph("FillDepressions", [](const ParamView& p, const Domain& whole) {
+  const bool epsilon = p.get<std::string>("flats") == "epsilon";
+  if (p.get<std::string>("mode") == "carve") return carve_across_tiles(whole, p.get<double>("max_depth"), epsilon);
+  std::unique_ptr<TileGraphAlgorithm> algorithm = std::make_unique<FlatFillAcrossTiles>(
+      whole.resolution, [](float, std::int64_t) { return true; }, false, epsilon);
+  return algorithm;
+});
 
 const bool kLakesRegistered = register_tile_graph("Lakes", [](const ParamView& p, const Domain& whole) {
   const double min_depth = p.get<double>("min_depth"), min_area = p.get<double>("min_area");

@@ -368,8 +368,8 @@ class FlowAcrossTiles : public TileGraphAlgorithm {
         break;
       }
       case Phase::Epsilon:
-        answers = solve_epsilon_perimeters(messages, size);
-        next = epsilon_values_fell(messages) ? Phase::Epsilon : Phase::Ring;
+        answers = solve_perimeter_minima(messages, size);
+        next = perimeter_minima_fell(messages) ? Phase::Epsilon : Phase::Ring;
         break;
       case Phase::Ring:
         answers = solve_rings(messages, size);

@@ -1,5 +1,6 @@
 #include "nodes/hydrology/flow_routing.h"
 
+#include "nodes/hydrology/breach_rule.h"
 #include "nodes/hydrology/flow_shares.h"
 
 #include <algorithm>
@@ -417,52 +418,6 @@ void fill_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, co
     std::copy_n(zw + p(0, j), g.nx, z.data() + static_cast<std::size_t>(j) * static_cast<std::size_t>(g.nx));
 }
 
-template <bool kEpsilon>
-void breach_impl(const FlowGrid& g, std::span<float> z, const Outlets& outlets, const ExecContext* ctx) {
-  Padded P(g, z);
-  float* zp = P.z.data();
-  std::uint8_t* closed = P.closed.data();
-  const std::int32_t* off = P.off;
-  std::vector<std::uint8_t> is_outlet(P.z.size(), 0);
-  MinHeap heap;
-  for_each_outlet(g, outlets, [&](int i, int j) {
-    const std::int32_t c = P.p(i, j);
-    closed[c] = 1;
-    is_outlet[c] = 1;
-    heap.push(zp[c], c);
-  });
-  std::vector<std::int32_t> backlink(P.z.size(), -1);
-  std::size_t work = 0;
-  while (!heap.empty()) {
-    const Entry e = heap.pop();
-    const std::int32_t c = e.c;
-    if (!is_outlet[c]) {
-      bool pit = true;
-      for (int k = 0; k < 8 && pit; ++k) pit = !(zp[c + off[k]] < zp[c]);
-      if (pit) {
-        float target = kEpsilon ? next_down(zp[c]) : zp[c];
-        for (std::int32_t b = backlink[c]; b >= 0; b = backlink[b]) {
-          if (zp[b] <= target) break;
-          zp[b] = target;
-          if (kEpsilon) target = next_down(target);
-        }
-      }
-    }
-    for (int k = 0; k < 8; ++k) {
-      const std::int32_t n = c + off[k];
-      if (closed[n]) continue;
-      closed[n] = 1;
-      backlink[n] = c;
-      heap.push(std::max(zp[n], e.z), n);  // the queue is monotone: a pit waits at the current level
-    }
-    if (++work > (1u << 16)) {
-      work = 0;
-      check(ctx);
-    }
-  }
-  P.copy_back(g, z);
-}
-
 struct NeighbourTable {
   std::int32_t off[8];
   double inv_dist[8];
@@ -658,13 +613,40 @@ void relax_epsilon(int nx, int ny, std::span<const float> level, std::span<float
   }
 }
 
+std::vector<std::uint8_t> breach_pits(const FlowGrid& g, std::span<const float> z, const Outlets& outlets) {
+  std::vector<std::uint8_t> pit(g.size(), 0);
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) {
+      if (outlets.is_outlet(g, i, j)) continue;
+      const std::int32_t c = g.index(i, j);
+      bool lower = false;
+      for (int k = 0; k < 8 && !lower; ++k)
+        if (g.inside(i + kDi[k], j + kDj[k])) lower = z[static_cast<std::size_t>(c + g.offset(k))] < z[c];
+      pit[static_cast<std::size_t>(c)] = !lower;
+    }
+  return pit;
+}
+
 void breach_depressions(const FlowGrid& g, std::span<float> z, FlatMode mode, const Outlets& outlets,
                         const ExecContext* ctx) {
   if (g.size() == 0) return;
-  if (mode == FlatMode::Epsilon)
-    breach_impl<true>(g, z, outlets, ctx);
-  else
-    breach_impl<false>(g, z, outlets, ctx);
+  // The tree (nodes/hydrology/breach_rule.h): the D8 receivers of the epsilon surface.
+  std::vector<float> e(z.begin(), z.end());
+  fill_depressions(g, e, FlatMode::Epsilon, outlets, ctx);
+  const D8Flow f = d8_flow(g, e, outlets, ctx);
+  e = {};
+  check(ctx);
+  const std::vector<std::uint8_t> pit = breach_pits(g, z, outlets);
+  const std::vector<std::int32_t> order = stack_order(g, f);  // every cell after its receiver
+  std::vector<float> arrived(g.size(), std::numeric_limits<float>::infinity());
+  const bool epsilon = mode == FlatMode::Epsilon;
+  for (auto it = order.rbegin(); it != order.rend(); ++it) {  // donors first
+    const std::int32_t c = *it, r = f.receiver[static_cast<std::size_t>(c)];
+    if (r == c) continue;
+    const float passed = breach_passed(z[c], arrived[c], pit[c] != 0, epsilon);
+    if (passed < arrived[r]) arrived[r] = passed;
+  }
+  for (std::size_t c = 0; c < z.size(); ++c) z[c] = std::min(z[c], arrived[c]);
 }
 
 D8Flow d8_flow(const FlowGrid& g, std::span<const float> z, const Outlets& outlets, const ExecContext* ctx) {

@@ -113,11 +113,15 @@ void fill_depressions(const FlowGrid& g, std::span<float> z, FlatMode mode, cons
 void relax_epsilon(int nx, int ny, std::span<const float> level, std::span<float> e,
                    std::span<const std::int32_t> seeds);
 
-// Carves instead of filling, in place: from every pit a channel is cut back along the least-cost
-// Priority-Flood path to the spill and beyond until the path descends (complete breaching, Lindsay 2016).
-// Epsilon: the carved channel descends by one ulp per cell; Flat: it is level.
+// Carves instead of filling, in place: from every pit a channel is cut down the D8 paths of the epsilon surface
+// (to the spill point and beyond) until the path is no higher than the pit (complete breaching, Lindsay 2016, on a
+// tree the heights alone define: nodes/hydrology/breach_rule.h). Epsilon: the carved channel descends by one ulp
+// per cell, so every cell but an outlet has a strictly lower neighbour (the epsilon fill of the result is the
+// result); Flat: it is level, and every cell has a path to an outlet that never rises.
 void breach_depressions(const FlowGrid& g, std::span<float> z, FlatMode mode, const Outlets& outlets = {},
                         const ExecContext* ctx = nullptr);
+// Per cell: 1 for a pit of breach_depressions (no outlet, no strictly lower neighbour in `z`), else 0.
+std::vector<std::uint8_t> breach_pits(const FlowGrid& g, std::span<const float> z, const Outlets& outlets = {});
 
 // ---- D8 ------------------------------------------------------------------------------------------------
 

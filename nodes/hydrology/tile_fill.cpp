@@ -291,27 +291,56 @@ struct PerimeterValue {
 };
 std::vector<PerimeterValue> take_values(std::string_view& in, std::size_t perimeter) {
   const auto n = take<std::uint64_t>(in);
-  if (n > in.size() / (sizeof(std::int32_t) + sizeof(float))) throw std::invalid_argument("epsilon values: truncated");
+  if (n > in.size() / (sizeof(std::int32_t) + sizeof(float)))
+    throw std::invalid_argument("perimeter values: truncated");
   std::vector<PerimeterValue> values(static_cast<std::size_t>(n));
   for (auto& v : values) {
     v.k = take<std::int32_t>(in), v.value = take<float>(in);
     if (v.k < 0 || static_cast<std::size_t>(v.k) >= perimeter)
-      throw std::invalid_argument("epsilon values: a value names no perimeter cell");
+      throw std::invalid_argument("perimeter values: a value names no perimeter cell");
   }
-  if (!in.empty()) throw std::invalid_argument("epsilon values: trailing bytes");
+  if (!in.empty()) throw std::invalid_argument("perimeter values: trailing bytes");
   return values;
 }
 
 }  // namespace
 
+PerimeterMinima::PerimeterMinima(const TileRect& rect)
+    : rect_(rect),
+      perimeter_(perimeter_cells(rect.size)),
+      sent_(perimeter_.size(), std::numeric_limits<float>::infinity()) {}
+
+std::string PerimeterMinima::message(std::span<const float> values) {
+  std::vector<PerimeterValue> fell;
+  for (std::size_t k = 0; k < perimeter_.size(); ++k) {
+    const float v = values[static_cast<std::size_t>(perimeter_[k])];
+    if (v < sent_[k]) fell.push_back({static_cast<std::int32_t>(k), v}), sent_[k] = v;
+  }
+  std::string out;
+  put_tile_rect(out, rect_);
+  put(out, static_cast<std::uint64_t>(fell.size()));
+  for (const auto& f : fell) put(out, f.k), put(out, f.value);
+  return out;
+}
+
+std::vector<std::int32_t> PerimeterMinima::answer(std::string_view bytes, std::span<float> values) {
+  std::vector<std::int32_t> fell;
+  for (const auto& [k, value] : take_values(bytes, perimeter_.size())) {
+    sent_[static_cast<std::size_t>(k)] = std::min(sent_[static_cast<std::size_t>(k)], value);  // known to all
+    const std::int32_t c = perimeter_[static_cast<std::size_t>(k)];
+    float& v = values[static_cast<std::size_t>(c)];
+    if (value < v) v = value, fell.push_back(c);
+  }
+  return fell;
+}
+
 TileEpsilon::TileEpsilon(std::vector<float> level, const TileRect& rect, glm::ivec2 domain_size,
                          std::span<const std::uint8_t> drained)
-    : rect_(rect), level_(std::move(level)), perimeter_(perimeter_cells(rect.size)) {
+    : rect_(rect), level_(std::move(level)), minima_(rect) {
   if (level_.size() != static_cast<std::size_t>(rect.size.x) * static_cast<std::size_t>(rect.size.y) ||
       (!drained.empty() && drained.size() != level_.size()))
     throw std::invalid_argument("TileEpsilon: levels do not match the tile's size");
   e_.assign(level_.size(), std::numeric_limits<float>::infinity());
-  sent_.assign(perimeter_.size(), std::numeric_limits<float>::infinity());
   // Drained cells are final at their level (their height); those next to the others relax them.
   std::vector<std::int32_t> seeds;
   const int w = rect.size.x, h = rect.size.y;
@@ -328,7 +357,7 @@ TileEpsilon::TileEpsilon(std::vector<float> level, const TileRect& rect, glm::iv
     if (border) seeds.push_back(static_cast<std::int32_t>(c));
   }
   // The domain's border drains at its own height (the outlets of fill_depressions).
-  for (const std::int32_t c : perimeter_) {
+  for (const std::int32_t c : minima_.perimeter()) {
     const int gx = rect.first.x + c % rect.size.x, gy = rect.first.y + c / rect.size.x;
     if (gx == 0 || gy == 0 || gx == domain_size.x - 1 || gy == domain_size.y - 1) {
       e_[static_cast<std::size_t>(c)] = level_[static_cast<std::size_t>(c)];
@@ -338,30 +367,12 @@ TileEpsilon::TileEpsilon(std::vector<float> level, const TileRect& rect, glm::iv
   relax_epsilon(rect.size.x, rect.size.y, level_, e_, seeds);
 }
 
-std::string TileEpsilon::message() {
-  std::vector<PerimeterValue> fell;
-  for (std::size_t k = 0; k < perimeter_.size(); ++k) {
-    const float v = e_[static_cast<std::size_t>(perimeter_[k])];
-    if (v < sent_[k]) fell.push_back({static_cast<std::int32_t>(k), v}), sent_[k] = v;
-  }
-  std::string out;
-  put_tile_rect(out, rect_);
-  put(out, static_cast<std::uint64_t>(fell.size()));
-  for (const auto& f : fell) put(out, f.k), put(out, f.value);
-  return out;
-}
-
 void TileEpsilon::answer(std::string_view bytes) {
-  std::vector<std::int32_t> seeds;
-  for (const auto& [k, value] : take_values(bytes, perimeter_.size())) {
-    sent_[static_cast<std::size_t>(k)] = std::min(sent_[static_cast<std::size_t>(k)], value);  // known to all
-    float& e = e_[static_cast<std::size_t>(perimeter_[static_cast<std::size_t>(k)])];
-    if (value < e) e = value, seeds.push_back(perimeter_[static_cast<std::size_t>(k)]);
-  }
+  const std::vector<std::int32_t> seeds = minima_.answer(bytes, e_);
   if (!seeds.empty()) relax_epsilon(rect_.size.x, rect_.size.y, level_, e_, seeds);
 }
 
-std::vector<std::string> solve_epsilon_perimeters(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
+std::vector<std::string> solve_perimeter_minima(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
   struct Tile {
     TileRect rect;
     std::vector<std::int32_t> perimeter;
@@ -376,7 +387,7 @@ std::vector<std::string> solve_epsilon_perimeters(std::span<const std::string_vi
   for (std::size_t t = 0; t < messages.size(); ++t) {
     std::string_view in(messages[t]);
     Tile& tile = tiles[t];
-    const TileRect& r = tile.rect = take_tile_rect(in, domain_size, "solve_epsilon_perimeters");
+    const TileRect& r = tile.rect = take_tile_rect(in, domain_size, "solve_perimeter_minima");
     tile.perimeter = perimeter_cells(r.size);
     tile.values = take_values(in, tile.perimeter.size());
     for (const auto& [k, value] : tile.values) {
@@ -397,7 +408,7 @@ std::vector<std::string> solve_epsilon_perimeters(std::span<const std::string_vi
   return answers;
 }
 
-bool epsilon_values_fell(std::span<const std::string_view> messages) {
+bool perimeter_minima_fell(std::span<const std::string_view> messages) {
   for (std::string_view in : messages) {
     take_rect(in);
     if (take<std::uint64_t>(in) > 0) return true;

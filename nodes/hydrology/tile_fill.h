@@ -82,6 +82,34 @@ std::vector<std::vector<float>> solve_spill_graphs(const std::vector<TileSpillGr
 // Phase 3: the filled heights of the tile, row-major.
 std::vector<float> apply_spill_levels(const TileFlood& flood, std::span<const float> spill_levels);
 
+// ---- Values that only fall, across tiles ------------------------------------------------------------------
+// What the epsilon surface below and the breach of carved depressions (nodes/hydrology/tile_breach.h) exchange in
+// rounds: per-cell values that only ever fall, of which a sample shared by several tiles must end with the lowest
+// any tile found. Each message carries the tile's perimeter values that fell since its last message (the first:
+// every finite one); the solve (solve_perimeter_minima) gives every tile, for each of its perimeter samples some
+// tile reported, the lowest value reported; the rounds end when no message carries a value (perimeter_minima_fell).
+class PerimeterMinima {
+ public:
+  explicit PerimeterMinima(const TileRect& rect);
+  // The message for `values` (the tile's cells, rect.size row-major).
+  std::string message(std::span<const float> values);
+  // Takes an answer into `values`: returns the perimeter cells (tile cell indices) whose value fell.
+  std::vector<std::int32_t> answer(std::string_view bytes, std::span<float> values);
+  // The tile's perimeter cells (perimeter_cells).
+  const std::vector<std::int32_t>& perimeter() const { return perimeter_; }
+
+ private:
+  TileRect rect_;
+  std::vector<std::int32_t> perimeter_;
+  std::vector<float> sent_;  // per perimeter cell: the lowest value sent or received
+};
+
+// Every tile's message of a round (indexed by tile) into every tile's answer. Throws std::invalid_argument on
+// malformed messages.
+std::vector<std::string> solve_perimeter_minima(std::span<const std::string_view> messages, glm::ivec2 domain_size);
+// Whether any of a round's messages lowered a value (else the values are final and the rounds end).
+bool perimeter_minima_fell(std::span<const std::string_view> messages);
+
 // ---- Epsilon surface across tiles -------------------------------------------------------------------------
 // FlatMode::Epsilon's surface (nodes/hydrology/flow_routing.h) is the least fixed point of e(n) = max(level(n),
 // min over 8-neighbours m of next_up(e(m))) with e = level on the domain's border, and it is the same for the
@@ -99,9 +127,9 @@ class TileEpsilon {
   // final at their level, relaxed from where they meet the others.
   TileEpsilon(std::vector<float> level, const TileRect& rect, glm::ivec2 domain_size,
               std::span<const std::uint8_t> drained = {});
-  // The perimeter values that fell since the last message (the first: every value found), as bytes.
-  std::string message();
-  // The lowest values of this tile's shared samples (solve_epsilon_perimeters); relaxes from those that fell.
+  // The perimeter values that fell since the last message (PerimeterMinima).
+  std::string message() { return minima_.message(e_); }
+  // The lowest values of this tile's shared samples (solve_perimeter_minima); relaxes from those that fell.
   void answer(std::string_view bytes);
   // The epsilon surface on the tile once no round lowers anything (+inf where nothing reached yet).
   const std::vector<float>& surface() const { return e_; }
@@ -109,15 +137,8 @@ class TileEpsilon {
  private:
   TileRect rect_;
   std::vector<float> level_, e_;
-  std::vector<std::int32_t> perimeter_;
-  std::vector<float> sent_;  // per perimeter cell: the lowest value sent or received
+  PerimeterMinima minima_;
 };
-
-// Every tile's message of a round (indexed by tile) into every tile's answer. Throws std::invalid_argument on
-// malformed messages.
-std::vector<std::string> solve_epsilon_perimeters(std::span<const std::string_view> messages, glm::ivec2 domain_size);
-// Whether any of a round's messages lowered a value (else the surface is final and the rounds end).
-bool epsilon_values_fell(std::span<const std::string_view> messages);
 
 // The spill round's solve on the tiles' encoded spill graphs (decode_spill_graph): each tile's levels as its answer.
 std::vector<std::string> solve_spill_messages(std::span<const std::string_view> messages, glm::ivec2 domain_size);
