@@ -84,14 +84,15 @@ fs::path run_distributed(const Job& job) {
                          std::to_string(job.resolution), "--tiles", tiles_text(job.tiles)});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   // The nodes of each test graph that run across the ranks' tiles, not on the whole domain: FillDepressions with
-  // epsilon flats, FlowDirection with filling, D8 and MFD FlowAccumulation (hydrology.json's 'flow' is MFD) and
-  // Watersheds (perimeter rounds, a ring of the filled surface, counts and outlets through perimeter links, MFD shares
-  // in rounds); RiverExtract (every tile gets the whole joined network, compared below), Lakes and DrainageMetrics;
-  // FloodFill; the erosion nodes.
+  // epsilon flats and carving, FlowDirection with filling, D8 and MFD FlowAccumulation (hydrology.json's 'flow' is MFD)
+  // and Watersheds (perimeter rounds, a ring of the filled surface, counts and outlets through perimeter links, MFD
+  // shares in rounds); RiverExtract (every tile gets the whole joined network, compared below), Lakes and
+  // DrainageMetrics; FloodFill; the erosion nodes.
   static const std::map<std::string, std::vector<std::string>> across = {
       {"distributed_hydrology.json",
        {"'filled' (FillDepressions)", "'direction' (FlowDirection)", "'flow_d8' (FlowAccumulation)",
         "'flow_mfd' (FlowAccumulation)", "'basins_id' (Watersheds)"}},
+      {"../bench/distributed_carve.json", {"'carved' (FillDepressions)", "'carved_flat' (FillDepressions)"}},
       {"hydrology.json",
        {"'filled' (FillDepressions)", "'flow' (FlowAccumulation)", "'rivers' (RiverExtract)", "'lakes' (Lakes)",
         "'metrics' (DrainageMetrics)"}},
@@ -502,6 +503,27 @@ TEST(Distributed, FloodFillAcrossRanksEqualsTheUntiledBuild) {
   EXPECT_GT(flooded, 200u);
   expect_ranks_equal_untiled("distributed_flood.json", "distributed_flood",
                              {"terrain", "lake", "lake_depth", "lake_mask", "flood_depth", "lake_smooth"},
+                             {{{2, 2}, 2}, {{3, 2}, 4}, {{4, 3}, 3}});
+}
+
+// FillDepressions carving across the ranks' tiles (bench/distributed_carve.json: the bowl over the tiles' corner,
+// deeper than max_depth, breached through its rim; shallow depressions kept as lakes; flat channels too; a blur
+// downstream).
+TEST(Distributed, CarvingAcrossRanksEqualsTheUntiledBuild) {
+  SKIP_WITHOUT_MPI();
+  const fs::path& untiled = single_process_build({"../bench/distributed_carve.json", 129, {0, 0}, 1});
+  const FloatRaster terrain = read_float_raster(untiled / "distributed_carve" / "terrain.tif");
+  const FloatRaster carved = read_float_raster(untiled / "distributed_carve" / "carved.tif");
+  std::array<std::size_t, 4> quadrants{};  // cells lowered, per quadrant of the 2x2 tiling
+  for (int j = 0; j < carved.height; ++j)
+    for (int i = 0; i < carved.width; ++i)
+      quadrants[(j < 64 ? 0 : 2) + (i < 64 ? 0 : 1)] += carved.at(i, j) < terrain.at(i, j);
+  EXPECT_GE(std::count_if(quadrants.begin(), quadrants.end(), [](std::size_t q) { return q > 0; }), 2)
+      << "a channel must cross a tile border";
+  const FloatRaster lakes = read_float_raster(untiled / "distributed_carve" / "lakes.tif");
+  EXPECT_GT(*std::max_element(lakes.values.begin(), lakes.values.end()), 0.0f) << "shallow depressions are kept";
+  expect_ranks_equal_untiled("distributed_carve.json", "distributed_carve",
+                             {"carved", "lakes", "carved_flat", "carved_smooth"},
                              {{{2, 2}, 2}, {{3, 2}, 4}, {{4, 3}, 3}});
 }
 
