@@ -93,9 +93,10 @@ TEST(TileFill, EveryTilingEqualsTheWholeDomainFillBitForBit) {
       }
 }
 
-// flood_tile's definition, written plainly: a priority queue of (level, cell) pairs, a pit queue ahead of it, every
-// neighbour found with bounds checks, the spill edges in an ordered map. The labels, levels and edges of the real one
-// (a packed key queue, unchecked interior neighbours, hashed edges) must be these, bit for bit.
+// flood_tile's definition, written plainly: a priority queue of (level, cell) pairs, a pit queue and a stack of slope
+// cells (no unlabelled neighbour lower) ahead of it, every neighbour found with bounds checks, the spill edges in an
+// ordered map. The labels, levels and edges of the real one (a packed key queue, unchecked interior neighbours, hashed
+// edges) must be these, bit for bit.
 TileFlood plain_flood(const std::vector<float>& z, const TileRect& rect, const std::vector<std::uint8_t>& drained) {
   const int w = rect.size.x, h = rect.size.y;
   const auto is_drained = [&](std::size_t c) { return !drained.empty() && drained[c] != 0; };
@@ -134,11 +135,15 @@ TileFlood plain_flood(const std::vector<float>& z, const TileRect& rect, const s
       if (border) f.label[c] = drained_label, queue.push({z[c], c});
     }
   std::deque<std::size_t> pit;
+  std::vector<std::size_t> slope;
   std::vector<bool> done(z.size(), false);
-  while (!queue.empty() || !pit.empty()) {
+  while (!queue.empty() || !pit.empty() || !slope.empty()) {
     std::size_t c;
+    bool from_slope = false;
     if (!pit.empty()) {
       c = pit.front(), pit.pop_front();
+    } else if (!slope.empty()) {
+      c = slope.back(), slope.pop_back(), from_slope = true;
     } else {
       c = queue.top().cell, queue.pop();
     }
@@ -149,8 +154,14 @@ TileFlood plain_flood(const std::vector<float>& z, const TileRect& rect, const s
         if (is_drained(c) && is_drained(n)) return;
         f.label[n] = f.label[c];
         f.level[n] = std::max(z[n], f.level[c]);
-        if (f.level[n] == f.level[c])
+        bool lower = false;
+        neighbours(n, [&](std::size_t m) {
+          if (f.label[m] < 0 && z[m] < z[n] && !(is_drained(n) && is_drained(m))) lower = true;
+        });
+        if (f.level[n] == f.level[c] && !from_slope)
           pit.push_back(n);
+        else if (!lower)
+          slope.push_back(n);
         else
           queue.push({f.level[n], n});
       } else if (f.label[n] != f.label[c]) {

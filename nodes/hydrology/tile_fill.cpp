@@ -148,12 +148,31 @@ TileFlood flood_tile(std::span<const float> z, const TileRect& rect, std::span<c
   // Barnes, Lehman and Mulla 2014, Priority-Flood): the same levels, far fewer heap operations.
   std::vector<std::size_t> pit;
   std::size_t pit_head = 0;
+  // A cell above its flooder's level whose unlabelled neighbours are none of them lower than it is flooded from at
+  // once, off a stack (the slope cells of Zhou, Sun and Fu 2016): each of those neighbours gets its own height as its
+  // level, the least it can have, whenever the flood reaches it, so the order does not matter. Only cells that may
+  // spill into lower ground wait in the priority queue. A label still passes from a cell to a neighbour whose level
+  // is no lower, so the spill graph's solve gives the same levels (the labels may differ from a strict flood's).
+  std::vector<std::size_t> slope;
+  const auto on_slope = [&](std::size_t n) {
+    bool lower = false;
+    const bool drained_n = is_drained(n);
+    neighbours(n, [&](std::size_t m) {
+      lower = lower || (f.label[m] < 0 && z[m] < z[n] && !(drained_n && is_drained(m)));
+    });
+    return !lower;
+  };
   // Every cell is queued once (when it is labelled), so each pop is a cell not yet flooded from.
-  while (!queue.empty() || pit_head < pit.size()) {
+  while (!queue.empty() || pit_head < pit.size() || !slope.empty()) {
     std::size_t c;
+    bool from_slope = false;
     if (pit_head < pit.size()) {
       c = pit[pit_head++];
       if (pit_head == pit.size()) pit.clear(), pit_head = 0;
+    } else if (!slope.empty()) {
+      c = slope.back();
+      slope.pop_back();
+      from_slope = true;
     } else {
       c = key_cell(queue.top());
       queue.pop();
@@ -166,8 +185,12 @@ TileFlood flood_tile(std::span<const float> z, const TileRect& rect, std::span<c
         if (from_drained && is_drained(n)) return;  // drained ground stays as it is: no flood crosses it
         f.label[n] = label;
         f.level[n] = std::max(z[n], level);
-        if (f.level[n] == level)
+        // A slope cell's level is above the queue's: a neighbour at that level floods on from it only as a slope
+        // cell (the pit queue's cells flood at the level being drained).
+        if (f.level[n] == level && !from_slope)
           pit.push_back(n);
+        else if (on_slope(n))
+          slope.push_back(n);
         else
           queue.push(flood_key(f.level[n], n));
       } else if (f.label[n] != label) {
