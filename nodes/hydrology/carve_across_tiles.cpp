@@ -165,9 +165,9 @@ class CarveAcrossTiles : public TileGraphAlgorithm {
   }
 
   std::unique_ptr<TileGraphTile> start(const std::vector<PortValue>& inputs) const override {
-    const auto* ground = inputs.empty() ? nullptr : std::get_if<HeightfieldPtr>(&inputs[0]);
-    if (!ground || !*ground) throw std::invalid_argument("carving across tiles needs a heightfield input");
-    return std::make_unique<CarveTile>(**ground, whole_, epsilon_);
+    const HeightfieldPtr ground = tile_heightfield(inputs, 0);
+    if (!ground) throw std::invalid_argument("carving across tiles needs a heightfield input");
+    return std::make_unique<CarveTile>(*ground, whole_, epsilon_);
   }
 
   std::vector<std::string> solve(int, const std::vector<std::string>& tagged_messages) const override {
