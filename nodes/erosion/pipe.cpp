@@ -185,8 +185,9 @@ struct StepConstants {
 // the one or two rows it needs beyond its edges from the previous step's fields, so every value is the same
 // whatever the chunking and thread count.
 //
-// The fields are updated in place: a row's new values go back into its fields as soon as nothing in the chunk
-// reads the old ones (fluxes right away, terrain, water and sediment once the next row is updated). In-place
+// The fields are updated in place: a row's new values go into its fields where nothing in the chunk reads the old
+// ones any more (fluxes, water and sediment as they are computed; terrain, which the next row's tilt reads, once that
+// row is updated). In-place
 // stores land on lines the step has just read, where a second copy of every field would cost a fill of each
 // line written and twice the memory. The two rows at each end of a chunk, which the neighbouring chunks read
 // while it runs, go to the chunk's edge rows instead and into the fields when every chunk is done.
@@ -225,8 +226,8 @@ struct PipeRun {
   std::vector<unsigned char> sink, row_sink;
   std::vector<Spans> span, prep_span;
   // Per row, the columns outside its spans where the updates of the rows around read its new fluxes (one column
-  // beyond the spans of rows r - 1 .. r + 1): 0 there, as in every cell the sweep skips, though its ring row held
-  // another row's fluxes.
+  // beyond the spans of rows r - 1 .. r + 1): 0 there, as in every cell the sweep skips, though the scratch row that
+  // holds them when the row lies just outside a chunk held another row's fluxes.
   std::vector<Spans> flux_zero;
   bool plain = false;  // no mask, hardness or soil layers: the interior of rows takes the vectorised path
 
@@ -345,9 +346,9 @@ struct PipeRun {
 
   int chunks() const { return (h + kChunkRows - 1) / kChunkRows; }
 
-  // The rows of one chunk [j0, j1) of the sweep: the thread's rings of 4 rows (r & 3) of rained depth, surface,
-  // concentration and new fluxes, its ring of 2 rows (r & 1) of new terrain, water and sediment, and where each
-  // row's new values go: the fields, or the chunk's edge rows for the two rows at either end.
+  // The rows of one chunk [j0, j1) of the sweep: the thread's rings of 4 rows (r & 3) of rained depth, surface and
+  // concentration, its ring of 2 rows (r & 1) of new terrain, and where each row's new values go: the fields, or the
+  // chunk's edge rows for the two rows at either end (the new fluxes of the rows just outside it: the scratch).
   struct Chunk {
     Scratch& sc;
     int w, j0, j1;
@@ -483,7 +484,7 @@ struct PipeRun {
     const std::vector<float>* old[4] = {&fl, &fr, &fd, &fu};
     for (int f = 0; f < 4; ++f)
       if (F[f] != old[f]->data() + row) copy_spans(spans, old[f]->data() + row, F[f]);
-    if (r < ch.j0 || r >= ch.j1)  // a ring row, which held another row: 0 where the updates read beyond the spans
+    if (r < ch.j0 || r >= ch.j1)  // a scratch row, which held another row: 0 where the updates read beyond the spans
       for (const Span& sp : flux_zero[r])
         for (float* f : F) std::fill(f + sp.lo, f + sp.hi + 1, 0.0f);
     float *L = F[0], *R = F[1], *D = F[2], *U = F[3];
