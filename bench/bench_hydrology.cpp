@@ -16,7 +16,7 @@
 //    flags as bits, stale queue cells skipped on their bits, working array in huge pages (serial)
 //  - Breach: complete breaching down the D8 tree of the epsilon surface (the epsilon fill, D8, the tree's order and
 //    one pass; 18.7 M cells/s at 4096^2 on 2026-12-07, where the Priority-Flood breach it replaced took every cell
-//    through the priority queue at about 8)
+//    through the priority queue at 6-8 M cells/s, measured by the CLI)
 //  - D8Accumulation: D8 receivers and donors (parallel rows) + dependency-counting accumulation (parallel)
 //  - MFDAccumulation / DinfAccumulation: receivers and in-degrees (parallel) + accumulation in row bands merged up a
 //  fixed tree (parallel)
