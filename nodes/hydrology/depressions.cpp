@@ -233,9 +233,8 @@ OROGEN_NODE(FillDepressions) {
   // Working memory beyond the outputs, 8 bytes a sample filling (calibrated on its measured peak:
   // tests/test_peak_memory.cpp); carving holds the epsilon surface, the D8 tree, its order, the pits and the values
   // carried down, 20 (measured at 4097^2: 459 MB against 227 MB filling).
-  b.extra_bytes([](const CostQuery& q) {
-    return per_sample_bytes(q, q.params.get<std::string>("mode") == "carve" ? 20 : 8);
-  });
+  b.extra_bytes(
+      [](const CostQuery& q) { return per_sample_bytes(q, q.params.get<std::string>("mode") == "carve" ? 20 : 8); });
   b.execute([](ExecContext& ctx) {
     const auto in = ctx.require<Heightfield>("in");
     const FillParams p{ctx.enum_index("mode") == 1, ctx.enum_index("flats") == 0, ctx.param<double>("max_depth"),

@@ -157,9 +157,8 @@ TileFlood flood_tile(std::span<const float> z, const TileRect& rect, std::span<c
   const auto on_slope = [&](std::size_t n) {
     bool lower = false;
     const bool drained_n = is_drained(n);
-    neighbours(n, [&](std::size_t m) {
-      lower = lower || (f.label[m] < 0 && z[m] < z[n] && !(drained_n && is_drained(m)));
-    });
+    neighbours(
+        n, [&](std::size_t m) { lower = lower || (f.label[m] < 0 && z[m] < z[n] && !(drained_n && is_drained(m))); });
     return !lower;
   };
   // Every cell is queued once (when it is labelled), so each pop is a cell not yet flooded from.
