@@ -19,7 +19,7 @@ namespace orogen::erosion {
 namespace {
 
 // Rows per chunk of the fused sweep (the chunking changes no result, only the share of recomputed rows).
-constexpr int kChunkRows = 64;
+constexpr int kDefaultChunkRows = 64;
 
 // Per-thread rows of the sweep: rings of 4 rows of rained depth, water surface and concentration, the new fluxes
 // (L, R, D, U) of the two rows just outside a chunk, a ring of 2 rows of new terrain, and a row where the vectorised
@@ -198,6 +198,7 @@ struct PipeRun {
   const int whole_h;        // rows of the whole domain
   const Heightfield *mask, *rainfall, *moisture, *temperature, *hardness;
   const int w, h;
+  const int chunk_rows;  // rows per chunk of the sweep
   const std::size_t n;
   const double dx, dy;
   const float A;  // cell area, m^2
@@ -233,7 +234,7 @@ struct PipeRun {
 
   PipeRun(const Heightfield& in_, const PipeParams& p_, const Heightfield* mask_, const Heightfield* rainfall_,
           const Heightfield* moisture_, const Heightfield* temperature_, const Heightfield* hardness_,
-          PipeWindow window_, bool every_cell = false)
+          PipeWindow window_, bool every_cell = false, int chunk_rows_ = kDefaultChunkRows)
       : in(in_),
         p(p_),
         window(std::move(window_)),
@@ -245,6 +246,7 @@ struct PipeRun {
         hardness(hardness_),
         w(in_.width()),
         h(in_.height()),
+        chunk_rows(std::max(1, chunk_rows_)),
         n(in_.data.size()),
         dx(in_.domain.spacing.x),
         dy(in_.domain.spacing.y),
@@ -344,7 +346,7 @@ struct PipeRun {
     return c;
   }
 
-  int chunks() const { return (h + kChunkRows - 1) / kChunkRows; }
+  int chunks() const { return (h + chunk_rows - 1) / chunk_rows; }
 
   // The rows of one chunk [j0, j1) of the sweep: the thread's rings of 4 rows (r & 3) of rained depth, surface and
   // concentration, its ring of 2 rows (r & 1) of new terrain, and where each row's new values go: the fields, or the
@@ -671,7 +673,7 @@ struct PipeRun {
   void retire(const Chunk& ch, int r) const { copy_spans(span[r], ch.Brow(r), ch.target(r, 0)); }
 
   Chunk chunk(Scratch& sc, int index) {
-    const int j0 = index * kChunkRows, j1 = std::min(h, j0 + kChunkRows);
+    const int j0 = index * chunk_rows, j1 = std::min(h, j0 + chunk_rows);
     return Chunk{sc,
                  w,
                  j0,
@@ -799,7 +801,8 @@ PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfi
                                         {"evaporation_factor", temperature},
                                         {"hardness", hardness}});
   check_pipe_work(p, in.domain);
-  PipeRun run(in, p, mask, rainfall, moisture, temperature, hardness, PipeWindow{}, checks.every_cell);
+  PipeRun run(in, p, mask, rainfall, moisture, temperature, hardness, PipeWindow{}, checks.every_cell,
+              checks.chunk_rows > 0 ? checks.chunk_rows : kDefaultChunkRows);
   PipeStats st;
   st.total_volume = 0;
   for (float v : in.data) st.total_volume += std::abs(static_cast<double>(v)) * run.A;

@@ -69,6 +69,7 @@ struct PipeMaps : ErosionMaps {
 struct PipeChecks {
   bool conservation = false;  // measure the per-step conservation error (extra passes)
   bool every_cell = false;    // compute every cell of every row, the sea far from land too (the sweep skips it)
+  int chunk_rows = 0;         // rows per chunk of the sweep (0: the default); no result depends on it
 };
 PipeMaps pipe_erosion(const Heightfield& in, const PipeParams& p, const Heightfield* mask = nullptr,
                       const Heightfield* rainfall = nullptr, const Heightfield* moisture = nullptr,
