@@ -198,6 +198,7 @@ static void set_fill_outputs(ExecContext& ctx, const FillResult& r) {
 }
 
 OROGEN_NODE(FillDepressions) {
+  b.version(2);  // 2: carving down the D8 tree of the epsilon surface (tile-exact), not the Priority-Flood's backlinks
   b.distribution(Distribution::TileGraph);
   b.reach_global();  // flow routing over the whole domain
   b.category("hydrology")
