@@ -537,6 +537,27 @@ TEST(FlowAcrossTiles, RingsComeFromTheTilesAroundAsCheckedBytes) {
   bytes::put_vector(short_answer, std::vector<float>(3, 0.0f));
   EXPECT_THROW(with_ring(values_of(rects[0]), rects[0], domain, short_answer), std::invalid_argument);
   EXPECT_THROW(with_ring(values_of(rects[0]), rects[0], domain, answers[0] + "x"), std::invalid_argument);
+  // Two fields in one round: each comes back with its own ring (the second field is the first negated).
+  auto negated = [&](const TileRect& r) {
+    auto v = values_of(r);
+    for (float& x : v) x = -x;
+    return v;
+  };
+  std::vector<std::string> pairs;
+  for (const auto& r : rects) pairs.push_back(ring_pair_message(values_of(r), negated(r), r));
+  const auto pair_answers = solve_ring_pairs(message_views(pairs), domain);
+  for (std::size_t t = 0; t < rects.size(); ++t) {
+    const auto [first, second] =
+        with_ring_pair(values_of(rects[t]), negated(rects[t]), rects[t], domain, pair_answers[t]);
+    EXPECT_EQ(first, with_ring(values_of(rects[t]), rects[t], domain, answers[t]));
+    ASSERT_EQ(second.size(), first.size());
+    for (std::size_t k = 0; k < first.size(); ++k) EXPECT_EQ(second[k], -first[k]);
+  }
+  EXPECT_THROW(solve_ring_pairs(message_views({pairs[0].substr(0, pairs[0].size() - 1)}), domain),
+               std::invalid_argument);
+  EXPECT_THROW(solve_ring_pairs(message_views({pairs[0] + "x"}), domain), std::invalid_argument);
+  EXPECT_THROW(with_ring_pair(values_of(rects[0]), negated(rects[0]), rects[0], domain, pair_answers[0] + "x"),
+               std::invalid_argument);
 }
 
 }  // namespace

@@ -29,20 +29,6 @@ constexpr const char* kWhat = "carving across tiles";
 
 Phase take_phase(std::string_view& bytes) { return hydrology::take_phase<Phase>(bytes, kWhat, kWhat); }
 
-// Two rings in one message (the surface's, then the heights'): each behind its length.
-std::string two_rings(std::string first, const std::string& second) {
-  std::string out;
-  bytes::put(out, static_cast<std::uint64_t>(first.size()));
-  out += first;
-  out += second;
-  return out;
-}
-std::pair<std::string_view, std::string_view> split_rings(std::string_view bytes) {
-  const auto n = bytes::take<std::uint64_t>(bytes, kWhat);
-  if (n > bytes.size()) throw std::invalid_argument("carving across tiles: truncated rings");
-  return {bytes.substr(0, static_cast<std::size_t>(n)), bytes.substr(static_cast<std::size_t>(n))};
-}
-
 class CarveTile : public TileGraphTile {
  public:
   CarveTile(const Heightfield& ground, const Domain& whole, bool epsilon)
@@ -62,7 +48,7 @@ class CarveTile : public TileGraphTile {
       case Phase::Epsilon:
         return tagged(phase_, epsilon_surface_->message());
       case Phase::Ring:
-        return tagged(phase_, two_rings(ring_message(surface_, rect_), ring_message(carved_ground_, rect_)));
+        return tagged(phase_, ring_pair_message(surface_, carved_ground_, rect_));
       case Phase::Breach:
         return tagged(phase_, breach_->message());
       case Phase::Done:
@@ -98,10 +84,8 @@ class CarveTile : public TileGraphTile {
         }
         break;
       case Phase::Ring: {
-        const auto [surface_ring, ground_ring] = split_rings(bytes);
-        breach_ = std::make_unique<TileBreach>(with_ring(carved_ground_, rect_, whole_, ground_ring),
-                                               with_ring(surface_, rect_, whole_, surface_ring), rect_, whole_, dx_,
-                                               dy_, epsilon_);
+        const auto [surface, ground] = with_ring_pair(surface_, carved_ground_, rect_, whole_, bytes);
+        breach_ = std::make_unique<TileBreach>(ground, surface, rect_, whole_, dx_, dy_, epsilon_);
         surface_ = {}, carved_ground_ = {};
         break;
       }
@@ -181,15 +165,11 @@ class CarveAcrossTiles : public TileGraphAlgorithm {
         next = Phase::Lakes;
         break;
       case Phase::Lakes: {
-        std::vector<TileLakes> lakes;
-        lakes.reserve(messages.size());
-        for (std::string_view m : messages) lakes.push_back(decode_tile_lakes(m));
         // As the whole-domain node: a lake no deeper than max_depth is kept (none when it is 0: every lake is
         // deeper).
         const double max_depth = max_depth_;
-        const auto numbers =
-            solve_tile_lakes(lakes, size, [max_depth](float deepest, std::int64_t) { return deepest <= max_depth; });
-        for (std::size_t t = 0; t < numbers.size(); ++t) bytes::put_vector(answers[t], numbers[t]);
+        answers = solve_lake_messages(messages, size,
+                                      [max_depth](float deepest, std::int64_t) { return deepest <= max_depth; });
         next = Phase::Epsilon;
         break;
       }
@@ -197,17 +177,10 @@ class CarveAcrossTiles : public TileGraphAlgorithm {
         answers = solve_perimeter_minima(messages, size);
         next = perimeter_minima_fell(messages) ? Phase::Epsilon : Phase::Ring;
         break;
-      case Phase::Ring: {
-        std::vector<std::string_view> surfaces, grounds;
-        for (std::string_view m : messages) {
-          const auto [s, g] = split_rings(m);
-          surfaces.push_back(s), grounds.push_back(g);
-        }
-        const auto a = solve_rings(surfaces, size), b = solve_rings(grounds, size);
-        for (std::size_t t = 0; t < answers.size(); ++t) answers[t] = two_rings(a[t], b[t]);
+      case Phase::Ring:
+        answers = solve_ring_pairs(messages, size);
         next = Phase::Breach;
         break;
-      }
       case Phase::Breach:
         answers = solve_perimeter_minima(messages, size);
         next = perimeter_minima_fell(messages) ? Phase::Breach : Phase::Done;

@@ -194,12 +194,8 @@ class DrainageTile : public TileGraphTile {
       }
       case Phase::Epsilon:
         return tagged(phase_, epsilon_->message());
-      case Phase::Ring: {
-        std::string out;
-        put_string(out, ring_message(surface_, rect_));
-        put_string(out, ring_message(ground_, rect_));
-        return tagged(phase_, std::move(out));
-      }
+      case Phase::Ring:
+        return tagged(phase_, ring_pair_message(surface_, ground_, rect_));
       case Phase::Accumulate:
         return tagged(phase_, accumulation_message(accumulation_));
       case Phase::Strahler:
@@ -245,8 +241,7 @@ class DrainageTile : public TileGraphTile {
         }
         break;
       case Phase::Ring: {
-        const std::string filled = take_string(bytes), input = take_string(bytes);
-        expect_end(bytes);
+        const auto [filled, input] = with_ring_pair(surface_, ground_, rect_, size_, bytes);
         take_rings(filled, input);
         break;
       }
@@ -306,10 +301,9 @@ class DrainageTile : public TileGraphTile {
       }
   }
 
-  void take_rings(const std::string& filled, const std::string& input) {
+  // `z` and `in`: the filled surface and the input heights with their rings (ringed_rect).
+  void take_rings(const std::vector<float>& z, const std::vector<float>& in) {
     const TileRect ringed = ringed_rect(rect_, size_);
-    const std::vector<float> z = with_ring(surface_, rect_, size_, filled);
-    const std::vector<float> in = with_ring(ground_, rect_, size_, input);
     const FlowGrid g(ringed.size.x, ringed.size.y, grid_.dx, grid_.dy);
     direction_ = without_ring<std::uint8_t>(d8_flow(g, z).direction, rect_, size_);
     accumulation_ = start_tile_accumulation(direction_, rect_, size_);
@@ -407,18 +401,10 @@ class DrainageAcrossTiles : public TileGraphAlgorithm {
         answers = solve_perimeter_minima(messages, size);
         next = perimeter_minima_fell(messages) ? Phase::Epsilon : Phase::Ring;
         break;
-      case Phase::Ring: {
-        std::vector<std::string> filled, input;
-        for (std::string_view in : messages) {
-          filled.push_back(take_string(in));
-          input.push_back(take_string(in));
-          expect_end(in);
-        }
-        const auto a = solve_rings(message_views(filled), size), b = solve_rings(message_views(input), size);
-        for (std::size_t t = 0; t < answers.size(); ++t) put_string(answers[t], a[t]), put_string(answers[t], b[t]);
+      case Phase::Ring:
+        answers = solve_ring_pairs(messages, size);
         next = Phase::Accumulate;
         break;
-      }
       case Phase::Accumulate:
         answers = solve_tile_accumulation(messages, size);
         next = Phase::Strahler;

@@ -105,13 +105,7 @@ class FlatFillAcrossTiles : public TileGraphAlgorithm {
   std::vector<std::string> solve(int round, const std::vector<std::string>& messages) const override {
     if (round >= 2) return solve_perimeter_minima(message_views(messages), whole_);
     if (round == 0) return solve_spill_messages(message_views(messages), whole_);
-    std::vector<std::string> answers(messages.size());
-    std::vector<TileLakes> lakes;
-    lakes.reserve(messages.size());
-    for (const auto& m : messages) lakes.push_back(decode_tile_lakes(m));
-    const auto numbers = solve_tile_lakes(lakes, whole_, keep_);
-    for (std::size_t t = 0; t < numbers.size(); ++t) bytes::put_vector(answers[t], numbers[t]);
-    return answers;
+    return solve_lake_messages(message_views(messages), whole_, keep_);
   }
 
  private:

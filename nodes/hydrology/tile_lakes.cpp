@@ -123,4 +123,15 @@ TileLakes decode_tile_lakes(std::string_view in) {
   return l;
 }
 
+std::vector<std::string> solve_lake_messages(std::span<const std::string_view> messages, glm::ivec2 whole,
+                                             const KeepLake& keep) {
+  std::vector<TileLakes> lakes;
+  lakes.reserve(messages.size());
+  for (std::string_view m : messages) lakes.push_back(decode_tile_lakes(m));
+  const auto numbers = solve_tile_lakes(lakes, whole, keep);
+  std::vector<std::string> answers(numbers.size());
+  for (std::size_t t = 0; t < numbers.size(); ++t) bytes::put_vector(answers[t], numbers[t]);
+  return answers;
+}
+
 }  // namespace orogen::hydrology

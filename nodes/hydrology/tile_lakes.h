@@ -54,4 +54,8 @@ std::vector<std::vector<std::int32_t>> solve_tile_lakes(const std::vector<TileLa
 std::string encode(const TileLakes& lakes);
 TileLakes decode_tile_lakes(std::string_view bytes);
 
+// The lakes round's solve on the tiles' encoded figures (encode): each tile's lake numbers as its answer.
+std::vector<std::string> solve_lake_messages(std::span<const std::string_view> messages, glm::ivec2 whole,
+                                             const KeepLake& keep);
+
 }  // namespace orogen::hydrology

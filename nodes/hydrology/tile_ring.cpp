@@ -142,4 +142,48 @@ std::vector<double> with_ring(std::span<const double> values, const TileRect& re
   return with_ring_of(values, rect, domain_size, answer);
 }
 
+namespace {
+
+void put_part(std::string& out, std::string_view part) {
+  bytes::put(out, static_cast<std::uint64_t>(part.size()));
+  out += part;
+}
+std::string_view take_part(std::string_view& in) {
+  const auto n = bytes::take<std::uint64_t>(in, kWhat);
+  if (n > in.size()) throw std::invalid_argument("tile ring: a truncated pair");
+  const std::string_view part = in.substr(0, static_cast<std::size_t>(n));
+  in.remove_prefix(static_cast<std::size_t>(n));
+  return part;
+}
+
+}  // namespace
+
+std::string ring_pair_message(std::span<const float> first, std::span<const float> second, const TileRect& rect) {
+  std::string out;
+  put_part(out, ring_message(first, rect));
+  put_part(out, ring_message(second, rect));
+  return out;
+}
+
+std::vector<std::string> solve_ring_pairs(std::span<const std::string_view> messages, glm::ivec2 domain_size) {
+  std::vector<std::string_view> first, second;
+  for (std::string_view in : messages) {
+    first.push_back(take_part(in));
+    second.push_back(take_part(in));
+    if (!in.empty()) throw std::invalid_argument("tile ring: trailing bytes");
+  }
+  const auto a = solve_rings(first, domain_size), b = solve_rings(second, domain_size);
+  std::vector<std::string> answers(messages.size());
+  for (std::size_t t = 0; t < answers.size(); ++t) put_part(answers[t], a[t]), put_part(answers[t], b[t]);
+  return answers;
+}
+
+std::pair<std::vector<float>, std::vector<float>> with_ring_pair(std::span<const float> first,
+                                                                 std::span<const float> second, const TileRect& rect,
+                                                                 glm::ivec2 domain_size, std::string_view answer) {
+  const std::string_view a = take_part(answer), b = take_part(answer);
+  if (!answer.empty()) throw std::invalid_argument("tile ring: trailing bytes");
+  return {with_ring(first, rect, domain_size, a), with_ring(second, rect, domain_size, b)};
+}
+
 }  // namespace orogen::hydrology

@@ -12,6 +12,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <glm/common.hpp>
@@ -41,6 +42,15 @@ std::vector<float> with_ring(std::span<const float> values, const TileRect& rect
                              std::string_view answer);
 std::vector<double> with_ring(std::span<const double> values, const TileRect& rect, glm::ivec2 domain_size,
                               std::string_view answer);
+
+// Two fields' rings in one round (a surface to route on and a field beside it): a message holds the two fields' ring
+// messages, an answer their two answers (solve_ring_pairs), each behind its length. with_ring_pair puts both around
+// the tile's own values.
+std::string ring_pair_message(std::span<const float> first, std::span<const float> second, const TileRect& rect);
+std::vector<std::string> solve_ring_pairs(std::span<const std::string_view> messages, glm::ivec2 domain_size);
+std::pair<std::vector<float>, std::vector<float>> with_ring_pair(std::span<const float> first,
+                                                                 std::span<const float> second, const TileRect& rect,
+                                                                 glm::ivec2 domain_size, std::string_view answer);
 
 // The inverse of with_ring: the tile's values (rect.size, row-major) out of `ringed_values` on
 // ringed_rect(rect, domain_size), row-major.
