@@ -20,6 +20,7 @@
 #include "cli/stats_report.h"
 #include "cli/tile_graph_stages.h"
 #include "cli/tile_memory.h"
+#include "cli/tile_result_spill.h"
 #include "cli/tile_assignment.h"
 #include "cli/tile_naming.h"
 #include "cli/tiling.h"
@@ -347,7 +348,8 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
   BuildCounts counted;
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
-  std::vector<std::map<std::string, std::shared_ptr<const CachedResult>>> across_results(builds.size());
+  // The across-tile nodes' results of this rank's tiles, on disk in the output folder until their tile is built.
+  std::unique_ptr<TileResultSpill> across_results;
   if (!across.empty()) {
     TileGraphStages stages;
     stages.graph = &graph;
@@ -360,7 +362,8 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
     stages.cancel = &g_interrupt;
     stages.quiet = quiet;
     try {
-      across_results = run_tile_graph_stages(stages, evaluator, group);
+      across_results = std::make_unique<TileResultSpill>(cmd.output_dir);
+      run_tile_graph_stages(stages, evaluator, group, *across_results);
     } catch (const TileGraphStageError& e) {
       std::signal(SIGINT, SIG_DFL);
       std::signal(SIGTERM, SIG_DFL);
@@ -373,6 +376,13 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
         std::cerr << "error: stopping every rank\n";
         group.abort(kExitEvalFailed);
       }
+      return kExitEvalFailed;
+    } catch (const std::runtime_error& e) {  // the spill could not be written or read (a full disk)
+      std::signal(SIGINT, SIG_DFL);
+      std::signal(SIGTERM, SIG_DFL);
+      std::cerr << "error: " << (distributed ? "rank " + std::to_string(group.rank()) + ": " : std::string())
+                << "keeping the across-tile results: " << e.what() << "\n";
+      if (distributed) group.abort(kExitEvalFailed);
       return kExitEvalFailed;
     }
   }
@@ -394,8 +404,7 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
     for (std::size_t b = 0; b < builds.size(); ++b) {
       const Graph g = tile_graph_of(builds[b]);
       keys.push_back(compute_cache_keys(g, domain, policy, node_domains_of(g, builds[b])));
-      given.emplace_back();
-      for (const auto& [id, r] : across_results[b]) given.back().insert(id);
+      given.push_back(across_results ? across_results->nodes(b) : std::set<std::string>{});
     }
     wanted_later = keys_wanted_later(graph, keys, given);
   }
@@ -408,7 +417,18 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
     std::string label;
     if (build.tile) {
       request.node_domains = node_domains_of(tile_graph, build);
-      request.given_results = across_results[b];
+      if (across_results) {
+        try {
+          request.given_results = across_results->take(b);
+        } catch (const std::runtime_error& e) {
+          std::cerr << "error: " << (distributed ? "rank " + std::to_string(group.rank()) + ": " : std::string())
+                    << "reading the across-tile results back: " << e.what() << "\n";
+          if (distributed) group.abort(kExitEvalFailed);
+          std::signal(SIGINT, SIG_DFL);
+          std::signal(SIGTERM, SIG_DFL);
+          return kExitEvalFailed;
+        }
+      }
       request.keep_in_memory = [&kept = wanted_later[b]](const CacheKey& key) { return kept.count(key) > 0; };
       const Domain d =
           domain.subdomain(build.tile->first.x, build.tile->first.y, build.tile->size.x, build.tile->size.y);
@@ -423,7 +443,6 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
     const EvalResult result = evaluator.evaluate(tile_graph, request);
     // This tile's share of the across-tile results is done with (kept in memory only if a later tile wants it).
     request.given_results.clear();
-    across_results[b].clear();
     if (live) display.finish();
     counted.milliseconds += result.milliseconds;
 

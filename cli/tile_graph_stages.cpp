@@ -8,16 +8,17 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "cli/stats_report.h"
 #include "cli/tile_assignment.h"
+#include "cli/tile_memory.h"
 #include "evaluator/domain_crop.h"
+#include "evaluator/node_keys.h"
 #include "graph/sample_rect.h"
 #include "graph/tile_bytes.h"
 #include "graph/tile_graph.h"
 
 namespace orogen::cli {
 namespace {
-
-using Results = std::map<std::string, std::shared_ptr<const CachedResult>>;
 
 // A raster output's samples as rows of `channels` floats a sample (a heightfield has one, an image its channels);
 // data is null for an output that is not a raster (curves and reports: the same whole value on every tile). F is
@@ -105,18 +106,18 @@ std::pair<PortValue, Raster<float>> blank_like(const PortValue& core, const Doma
 
 // Where a stage's time goes (rank 0's view), for its report.
 struct Phases {
-  double inputs = 0, tiles = 0, communication = 0, solve = 0, halos = 0;
+  double inputs = 0, tiles = 0, communication = 0, solve = 0, halos = 0, keeping = 0;
   int rounds = 0;
 };
 
 class Stages {
  public:
-  Stages(const TileGraphStages& s, Evaluator& evaluator, RankGroup& group)
+  Stages(const TileGraphStages& s, Evaluator& evaluator, RankGroup& group, TileResultSpill& kept)
       : s_(s),
         graph_(*s.graph),
         evaluator_(evaluator),
         group_(group),
-        given_(s.tiles.size()),
+        kept_(kept),
         arena_(evaluator.options().threads > 0 ? evaluator.options().threads : tbb::task_arena::automatic) {
     const long long count = static_cast<long long>(s.counts.x) * s.counts.y;
     domains_.resize(static_cast<std::size_t>(count));
@@ -127,10 +128,18 @@ class Stages {
     }
   }
 
-  std::vector<Results> run() {
+  void run() {
+    std::vector<std::string> order;
     for (const auto& id : graph_.topological_order())
-      if (s_.across.count(id)) run_node(graph_.at(id));
-    return std::move(given_);
+      if (s_.across.count(id)) order.push_back(id);
+    for (std::size_t n = 0; n < order.size(); ++n) {
+      // What feeds the stages still to come stays in memory from one stage's input evaluations to the next (fBm
+      // under five flow nodes is computed once a tile); everything else those evaluations compute is released.
+      feeding_later_.clear();
+      for (std::size_t later = n + 1; later < order.size(); ++later)
+        for (const auto& [port, link] : graph_.at(order[later]).inputs) feeding_later_.insert(link.node);
+      run_node(graph_.at(order[n]));
+    }
   }
 
  private:
@@ -151,15 +160,16 @@ class Stages {
     const std::size_t mine = s_.tiles.size();
     std::vector<CacheKey> keys(mine);
     std::vector<std::shared_ptr<const CachedResult>> found(mine);
+    const std::vector<bool> needed = needed_outputs(node);
     bool missing = false;
     for (std::size_t t = 0; t < mine; ++t) {
       const long long k = number(s_.tiles[t]);
       keys[t] = compute_cache_keys(graph_, s_.domain, s_.output, domains_[static_cast<std::size_t>(k)]).at(node.id);
-      found[t] = evaluator_.find_result(keys[t], *node.type);
+      found[t] = evaluator_.find_result(keys[t], *node.type, needed);
       missing = missing || !found[t];
     }
     if (!any_rank(group_, missing)) {
-      for (std::size_t t = 0; t < mine; ++t) given_[t][node.id] = found[t];
+      for (std::size_t t = 0; t < mine; ++t) kept_.put(t, node.id, *found[t]);
       say(node, "cached on every tile", t0, 0, nullptr);
       return;
     }
@@ -216,14 +226,21 @@ class Stages {
     each_tile([&](std::size_t t) {
       cores[t] = tiles[t]->outputs();
       tiles[t].reset();
+      // Outputs nobody links are not kept (as the evaluator leaves them unset): they would only cost memory.
+      for (std::size_t o = 0; o < cores[t].size() && o < needed.size(); ++o)
+        if (!needed[o]) cores[t][o] = PortValue{};
     });
     lap(phases.tiles);
-    const auto results = put_together(node, cores);
+    auto results = put_together(node, cores);
+    cores.clear();
     lap(phases.halos);
+    // Each tile's result to the disk (the cache, and the spill the later evaluations read it from), not kept here.
     for (std::size_t t = 0; t < mine; ++t) {
-      evaluator_.store_result(keys[t], results[t]);
-      given_[t][node.id] = results[t];
+      evaluator_.store_result(keys[t], results[t], false);
+      kept_.put(t, node.id, *results[t]);
+      results[t].reset();
     }
+    lap(phases.keeping);
     say(node, "computed across the tiles", t0, exchanged, &phases);
   }
 
@@ -240,12 +257,25 @@ class Stages {
     EvalRequest request;
     request.domain = s_.domain;
     request.node_domains = domains_[static_cast<std::size_t>(k)];
-    request.given_results = given_[t];
     request.cancel = s_.cancel;
+    // Earlier stages' results upstream of the inputs, read back (the evaluation must not compute them on the tile).
+    // An input fed by one of them directly is taken as it is (a requested node would owe every output).
+    const std::set<std::string> done = kept_.nodes(t);
+    for (const auto& id : graph_.upstream(node.id))
+      if (done.count(id)) request.given_results[id] = kept_.get(t, id);
     for (const auto& [port, link] : node.inputs)
-      if (std::find(request.nodes.begin(), request.nodes.end(), link.node) == request.nodes.end())
+      if (!done.count(link.node) &&
+          std::find(request.nodes.begin(), request.nodes.end(), link.node) == request.nodes.end())
         request.nodes.push_back(link.node);
-    const EvalResult result = evaluator_.evaluate(graph_, request);
+    KeySet keep;
+    if (!feeding_later_.empty()) {
+      const auto keys = compute_cache_keys(graph_, s_.domain, s_.output, domains_[static_cast<std::size_t>(k)]);
+      for (const auto& id : feeding_later_)
+        if (const auto it = keys.find(id); it != keys.end()) keep.insert(it->second);
+    }
+    request.keep_in_memory = [&keep](const CacheKey& key) { return keep.count(key) > 0; };
+    EvalResult result;
+    if (!request.nodes.empty()) result = evaluator_.evaluate(graph_, request);
     if (result.cancelled) throw TileGraphStageError("interrupted in " + tile_label(index), true);
     for (const auto& [id, report] : result.nodes)
       if (report.status == NodeStatus::Failed)
@@ -258,9 +288,17 @@ class Stages {
     std::vector<PortValue> inputs;
     for (const auto& port : node.type->inputs) {
       const auto it = node.inputs.find(port.name);
-      inputs.push_back(it == node.inputs.end()
-                           ? PortValue{}
-                           : crop_to_domain(result.output(it->second.node, it->second.port, graph_), core));
+      if (it == node.inputs.end()) {
+        inputs.emplace_back();
+      } else if (const auto given = request.given_results.find(it->second.node);
+                 given != request.given_results.end() && done.count(it->second.node)) {
+        const ResolvedLink link = resolve_link(graph_, node, port);
+        if (link.output < 0 || static_cast<std::size_t>(link.output) >= given->second->outputs.size())
+          throw std::logic_error("tile-graph stage: input '" + port.name + "' of node '" + node.id + "' not found");
+        inputs.push_back(crop_to_domain(given->second->outputs[static_cast<std::size_t>(link.output)], core));
+      } else {
+        inputs.push_back(crop_to_domain(result.output(it->second.node, it->second.port, graph_), core));
+      }
     }
     return inputs;
   }
@@ -282,11 +320,8 @@ class Stages {
     }
     std::vector<std::string> outgoing(static_cast<std::size_t>(group_.size()));
     for (std::size_t t = 0; t < mine; ++t) {
-      // The first raster output tells the tile's samples (RiverExtract's first output is its curves).
-      const auto raster = std::find_if(cores[t].begin(), cores[t].end(),
-                                       [](const PortValue& v) { return raster_of(v).data != nullptr; });
-      if (raster == cores[t].end()) throw std::runtime_error("tile-graph stage: a node without a raster output");
-      const SampleRect core = rect_of(raster_of(*raster).domain, s_.domain);
+      const TileWindow w = tile_window(s_.domain.resolution, s_.counts, s_.tiles[t]);
+      const SampleRect core = rect_of(s_.domain.subdomain(w.first.x, w.first.y, w.size.x, w.size.y), s_.domain);
       for (std::size_t u = 0; u < domains_.size(); ++u) {
         const SampleRect part = overlap(core, rect_of(node_domain(static_cast<long long>(u), node.id), s_.domain));
         if (part.empty()) continue;
@@ -326,27 +361,47 @@ class Stages {
     if (phases)
       std::fprintf(stderr,
                    ": inputs %.0f ms, tiles %.0f ms, messages %.0f ms (%d rounds, %.1f KiB from rank 0), solve %.0f "
-                   "ms, halos %.0f ms",
+                   "ms, halos %.0f ms, kept on disk %.0f ms",
                    phases->inputs, phases->tiles, phases->communication, phases->rounds, exchanged / 1024.0,
-                   phases->solve, phases->halos);
-    std::fprintf(stderr, "\n");
+                   phases->solve, phases->halos, phases->keeping);
+    std::fprintf(stderr, "; resident %.0f MiB, peak %.0f MiB\n", resident_memory_bytes() / 1048576.0,
+                 peak_memory_bytes() / 1048576.0);
+  }
+
+  // Per output of `node`: whether the build uses it (a link, a Report output, or any output of a node nothing
+  // links: the evaluator's rule for requested nodes).
+  // The links are resolved as the evaluator resolves them; a subgraph instance's inner node keeps all its outputs
+  // (what its instance presents is the instance's business).
+  std::vector<bool> needed_outputs(const Node& node) const {
+    std::vector<bool> needed(node.type->outputs.size(), false);
+    bool linked = false;
+    for (const auto& other : graph_.nodes())
+      for (const auto& port : other.type->inputs) {
+        const ResolvedLink link = resolve_link(graph_, other, port);
+        if (link.source == &node && link.output >= 0 && static_cast<std::size_t>(link.output) < needed.size())
+          needed[static_cast<std::size_t>(link.output)] = linked = true;
+      }
+    const bool inner = node.id.find('/') != std::string::npos;
+    for (std::size_t o = 0; o < needed.size(); ++o)
+      needed[o] = needed[o] || !linked || inner || node.type->outputs[o].type == PortType::Report;
+    return needed;
   }
 
   const TileGraphStages& s_;
   const Graph& graph_;
   Evaluator& evaluator_;
   RankGroup& group_;
+  TileResultSpill& kept_;                               // every stage's results on this rank's tiles
   std::vector<std::map<std::string, Domain>> domains_;  // per tile of the tiling: every node's domain
-  std::vector<Results> given_;                          // per tile of this rank
+  std::set<std::string> feeding_later_;                 // nodes linked to a stage after the current one
   tbb::task_arena arena_;
 };
 
 }  // namespace
 
-std::vector<std::map<std::string, std::shared_ptr<const CachedResult>>> run_tile_graph_stages(
-    const TileGraphStages& stages, Evaluator& evaluator, RankGroup& group) {
-  if (stages.across.empty()) return std::vector<Results>(stages.tiles.size());
-  return Stages(stages, evaluator, group).run();
+void run_tile_graph_stages(const TileGraphStages& stages, Evaluator& evaluator, RankGroup& group,
+                           TileResultSpill& kept) {
+  if (!stages.across.empty()) Stages(stages, evaluator, group, kept).run();
 }
 
 }  // namespace orogen::cli

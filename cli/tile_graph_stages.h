@@ -8,10 +8,14 @@
 //  2. runs the algorithm's rounds: each tile's message goes to every rank in tile order (gather_by_tile), every
 //     rank solves all tiles' messages the same way and keeps its own tiles' answers;
 //  3. puts each tile's result together on the domain the tile's evaluation needs it on (the tile plus its
-//     consumers' halos; the halo's samples come from the ranks that own the neighbouring tiles, through exchange)
-//     and keeps it in the cache under the node's key for that tile.
-// A stage whose results every tile finds in the cache (a re-run with the same --cache-dir) is skipped.
-// The tile evaluations then get these results as given (EvalRequest::given_results) and report them cached.
+//     consumers' halos; the halo's samples come from the ranks that own the neighbouring tiles, through exchange),
+//     without the outputs nobody links, and keeps it on disk: in the cache under the node's key for that tile (with
+//     a --cache-dir) and in the build's spill (cli/tile_result_spill.h), not in memory.
+// The inputs' evaluations keep in memory only what feeds a later stage; a later stage's inputs and the tiles'
+// evaluations read the results they are given back from the spill, one tile at a time.
+// A stage whose results every tile finds in the cache (a re-run with the same --cache-dir) is skipped (its results
+// copied to the spill). The tile evaluations then get these results as given (EvalRequest::given_results) and
+// report them cached.
 #include <map>
 #include <memory>
 #include <set>
@@ -19,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/tile_result_spill.h"
 #include "cli/tiling.h"
 #include "evaluator/evaluator.h"
 #include "graph/rank_group.h"
@@ -47,9 +52,10 @@ struct TileGraphStageError : std::runtime_error {
       : std::runtime_error(what), cancelled(was_cancelled), every_rank(on_every_rank) {}
 };
 
-// Per tile of `stages.tiles` (in that order): the results of the across-tile nodes, by node id. Collective: every
-// rank calls it with its own tiles. Throws TileGraphStageError.
-std::vector<std::map<std::string, std::shared_ptr<const CachedResult>>> run_tile_graph_stages(
-    const TileGraphStages& stages, Evaluator& evaluator, RankGroup& group);
+// Puts the results of the across-tile nodes into `kept`, per tile of `stages.tiles` (by its index there) and node id.
+// Collective: every rank calls it with its own tiles. Throws TileGraphStageError, and std::runtime_error when `kept`
+// cannot write (a full disk).
+void run_tile_graph_stages(const TileGraphStages& stages, Evaluator& evaluator, RankGroup& group,
+                           TileResultSpill& kept);
 
 }  // namespace orogen::cli

@@ -386,7 +386,7 @@ class Run {
     }
     const NodeType& type = *job.node->type;
     if (const auto given = request_.given_results.find(id); given != request_.given_results.end()) {
-      if (!given->second || !fits(type, *given->second) || !covers(*given->second, {}))
+      if (!given->second || !fits(type, *given->second) || !covers(*given->second, needed_outputs(*info.key, type)))
         throw std::invalid_argument("evaluate: the given result of node '" + id + "' does not fit its outputs");
       job.result = given->second;
       job.kind = Job::Kind::Hit;
@@ -788,8 +788,8 @@ EvalResult Evaluator::evaluate(const Graph& graph, const EvalRequest& request) {
   return result;
 }
 
-void Evaluator::store_result(const CacheKey& key, std::shared_ptr<const CachedResult> result) {
-  impl_->memory.insert(key, result, result->value_bytes());
+void Evaluator::store_result(const CacheKey& key, std::shared_ptr<const CachedResult> result, bool in_memory) {
+  if (in_memory) impl_->memory.insert(key, result, result->value_bytes());
   if (!impl_->disk) return;
   try {
     impl_->disk->store(key, *result);
@@ -799,8 +799,9 @@ void Evaluator::store_result(const CacheKey& key, std::shared_ptr<const CachedRe
   }
 }
 
-std::shared_ptr<const CachedResult> Evaluator::find_result(const CacheKey& key, const NodeType& type) {
-  return impl_->lookup(key, type);
+std::shared_ptr<const CachedResult> Evaluator::find_result(const CacheKey& key, const NodeType& type,
+                                                           const std::vector<bool>& needed) {
+  return impl_->lookup(key, type, needed);
 }
 
 CacheStats Evaluator::cache_stats() const {

@@ -14,7 +14,8 @@
 //   the union. Keys do not depend
 //   on it: a cached result that lacks an output needed now is a miss, and the node runs again for the union of
 //   what is needed and what the entry had. Such partial results are cached (in memory and on disk) with their
-//   unset outputs marked, and never returned where a complete result is expected (find_result, given_results).
+//   unset outputs marked, and never returned where a complete result is expected (find_result without
+//   `needed`).
 // - Every computed result goes to the memory LRU (unless it alone exceeds the bound, or the request keeps only
 //   some: EvalRequest::keep_in_memory) and, with a cache_dir, to disk if it is worth an entry (small, or slower
 //   to recompute than to read: evaluator/disk_cache.h); a damaged disk entry is deleted and recomputed. Failed and
@@ -88,7 +89,8 @@ struct EvalRequest {
   // the outputs its links use, the others unset.
   std::vector<std::string> nodes;
   // Results computed outside this evaluation, by node id (a tiled build's tile-graph stages,
-  // cli/tile_graph_stages.h): used as they are, reported Cached, and the nodes upstream of them not evaluated.
+  // cli/tile_graph_stages.h): used as they are, reported Cached, and the nodes upstream of them not evaluated. Each
+  // must hold every output this evaluation uses (the others may be unset); throws std::invalid_argument otherwise.
   std::map<std::string, std::shared_ptr<const CachedResult>> given_results;
   // Which results the memory cache keeps after this evaluation, by key; empty: all (up to its bound). A tiled
   // build keeps only what a later tile looks up (cli/tile_memory.h): other results this evaluation computes or
@@ -138,10 +140,12 @@ class Evaluator {
   EvalResult evaluate(const Graph& graph, const EvalRequest& request);
 
   // A result computed outside evaluate() (a tiled build's tile-graph stages), kept like a computed one: in memory
-  // and, with a cache_dir, on disk (synchronously).
-  void store_result(const CacheKey& key, std::shared_ptr<const CachedResult> result);
-  // The valid cached result of `key` for a node of `type` (memory, then disk), or nullptr. Counts as a hit or miss.
-  std::shared_ptr<const CachedResult> find_result(const CacheKey& key, const NodeType& type);
+  // (unless `in_memory` is false: the caller keeps it elsewhere) and, with a cache_dir, on disk (synchronously).
+  void store_result(const CacheKey& key, std::shared_ptr<const CachedResult> result, bool in_memory = true);
+  // The valid cached result of `key` for a node of `type` (memory, then disk) that has every output in `needed` (by
+  // output index; empty: every output), or nullptr. Counts as a hit or miss.
+  std::shared_ptr<const CachedResult> find_result(const CacheKey& key, const NodeType& type,
+                                                  const std::vector<bool>& needed = {});
 
   CacheStats cache_stats() const;
   void clear_memory_cache();

@@ -85,6 +85,9 @@ std::size_t remove_stale_temporaries(const std::filesystem::path& dir, int depth
     const TemporaryKind kind = temporary_kind(name, &tag);
     if (fs::is_regular_file(status) && kind == TemporaryKind::Temporary) {
       if (claim_stale_tag(base, tag) && ::unlink(entry.path().c_str()) == 0) ++removed;
+    } else if (fs::is_directory(status) && kind == TemporaryKind::Temporary) {
+      // A temporary directory (a tiled build's kept stage results, cli/tile_result_spill.h): removed whole.
+      if (claim_stale_tag(base, tag) && fs::remove_all(entry.path(), ignored) > 0 && !ignored) ++removed;
     } else if (fs::is_regular_file(status) && kind == TemporaryKind::Lock) {
       claim_stale_tag(base, tag);  // a lock its owner left without a temporary: removed once nobody holds it
     } else if (depth > 0 && fs::is_directory(status)) {

@@ -48,7 +48,8 @@ void write_text_atomically(const std::filesystem::path& path, std::string_view c
 bool is_temporary_name(std::string_view filename);
 
 // Removes temporaries of our naming in `dir` (and its subdirectories up to `depth` levels below, never
-// following symbolic links) whose lock no live process holds, and lock files nobody holds. Safe while other
+// following symbolic links) whose lock no live process holds, and lock files nobody holds. A temporary that is a
+// directory (cli/tile_result_spill.h) is removed with everything in it. Safe while other
 // processes, in any PID namespace or on any host sharing the file system, write into `dir`. Returns how many
 // temporaries were removed; errors are ignored (a directory we cannot read holds nothing we wrote).
 std::size_t remove_stale_temporaries(const std::filesystem::path& dir, int depth = 0);
