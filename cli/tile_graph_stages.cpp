@@ -5,6 +5,10 @@
 #include <cstdio>
 #include <cstring>
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -192,6 +196,7 @@ class Stages {
     std::vector<std::unique_ptr<TileGraphTile>> tiles(mine);
     each_tile([&](std::size_t t) {
       tiles[t] = algorithm->start(inputs[t]);
+      tiles[t]->set_needed_outputs(needed);
       inputs[t].clear();
     });
 
@@ -241,6 +246,11 @@ class Stages {
       results[t].reset();
     }
     lap(phases.keeping);
+#ifdef __GLIBC__
+    // The stage's round state was many blocks freed in a different order than they came: hand the free pages back,
+    // so the next stage's peak is its own and not on top of this one's leftovers.
+    malloc_trim(0);
+#endif
     say(node, "computed across the tiles", t0, exchanged, &phases);
   }
 

@@ -33,8 +33,17 @@ class TileGraphTile {
   // The solve's answer for this tile in round `round`.
   virtual void answer(int round, std::string_view bytes) = 0;
   // The node's outputs on the tile's samples (in output order), after the last round's answer; a Report output is
-  // the whole domain's, the same on every tile.
+  // the whole domain's, the same on every tile. An output the build does not use (output_needed) may be left unset.
   virtual std::vector<PortValue> outputs() = 0;
+
+  // Which outputs the build uses, by output index (the driver says so right after start(); empty: all).
+  void set_needed_outputs(std::vector<bool> needed) { needed_ = std::move(needed); }
+  bool output_needed(std::size_t output) const {
+    return needed_.empty() || output >= needed_.size() || needed_[output];
+  }
+
+ private:
+  std::vector<bool> needed_;
 };
 
 class TileGraphAlgorithm {

@@ -523,3 +523,23 @@ TEST(AccumulationAcrossTiles, MalformedMessagesAndLoopsAreRefused) {
 
 }  // namespace
 }  // namespace orogen::hydrology
+
+namespace orogen::hydrology {
+namespace {
+
+// perimeter_position is perimeter_index without its array, on every shape a tile can take (a single row or column
+// included).
+TEST(TilePerimeter, PositionsAreTheIndexWithoutTheArray) {
+  for (const glm::ivec2 size :
+       {glm::ivec2(1, 1), glm::ivec2(1, 5), glm::ivec2(5, 1), glm::ivec2(2, 2), glm::ivec2(2, 7), glm::ivec2(7, 2),
+        glm::ivec2(3, 3), glm::ivec2(6, 4), glm::ivec2(33, 17)}) {
+    const auto index = perimeter_index(size);
+    for (int j = 0; j < size.y; ++j)
+      for (int i = 0; i < size.x; ++i)
+        ASSERT_EQ(perimeter_position(size, i, j), index[static_cast<std::size_t>(j * size.x + i)])
+            << size.x << "x" << size.y << " at " << i << "," << j;
+  }
+}
+
+}  // namespace
+}  // namespace orogen::hydrology

@@ -60,7 +60,7 @@ std::string take_string(std::string_view& in) {
 // The longest flow path from the divide to every cell of a tile, through the other tiles' values at its perimeter.
 class TileLongest {
  public:
-  // `order`: the cells upstream first (the accumulation's, TileAccumulation::order, of the same receivers).
+  // `order`: the cells upstream first (upstream_first of the same receivers).
   TileLongest(std::vector<std::int32_t> receiver, std::vector<std::int32_t> order, std::vector<double> step,
               const TileRect& rect)
       : rect_(rect), receiver_(std::move(receiver)), order_(std::move(order)), step_(std::move(step)) {
@@ -257,7 +257,9 @@ class DrainageTile : public TileGraphTile {
           std::vector<double> step(direction_.size(), 0.0);
           for (std::size_t c = 0; c < step.size(); ++c)
             if (direction_[c] != kNoDirection) step[c] = grid_.distance(direction_[c]);
-          longest_ = std::make_unique<TileLongest>(accumulation_.receiver, accumulation_.order, std::move(step), rect_);
+          longest_ = std::make_unique<TileLongest>(accumulation_.receiver,
+                                                   upstream_first(accumulation_.receiver, "drainage metrics"),
+                                                   std::move(step), rect_);
         }
         break;
       case Phase::Longest:

@@ -216,8 +216,10 @@ class FlowTile : public TileGraphTile {
     // As flow_accumulation on the whole domain: the area is the cell count times the cell area, or the sum of shares.
     const Domain& d = domain_;
     const AccumulationParams& p = job_.accumulation_params;
-    auto out = std::make_shared<Heightfield>(d), flow = std::make_shared<Heightfield>(d),
-         wetness = std::make_shared<Heightfield>(d);
+    // The flow map and the wetness index only where the build uses them (their logarithms cost more than the rest).
+    auto out = std::make_shared<Heightfield>(d);
+    auto flow = output_needed(1) ? std::make_shared<Heightfield>(d) : nullptr;
+    auto wetness = output_needed(2) ? std::make_shared<Heightfield>(d) : nullptr;
     const double area = grid_.cell_area();
     const double lo = p.flow_min_area > 0.0 ? p.flow_min_area : area;
     const double hi = p.flow_max_area > 0.0 ? p.flow_max_area : largest_;
@@ -226,10 +228,11 @@ class FlowTile : public TileGraphTile {
     for (std::size_t c = 0; c < n; ++c) {
       const double acc = by_shares_ ? areas_[c] : static_cast<double>(counts_[c]) * area;
       out->data[c] = static_cast<float>(acc);
-      flow->data[c] = flow_map_value(acc, lo, hi);
-      wetness->data[c] = wetness_value(acc, width, slope_[c], p.min_slope);
+      if (flow) flow->data[c] = flow_map_value(acc, lo, hi);
+      if (wetness) wetness->data[c] = wetness_value(acc, width, slope_[c], p.min_slope);
     }
-    return {HeightfieldPtr(out), HeightfieldPtr(flow), HeightfieldPtr(wetness)};
+    return {HeightfieldPtr(out), flow ? PortValue(HeightfieldPtr(flow)) : PortValue{},
+            wetness ? PortValue(HeightfieldPtr(wetness)) : PortValue{}};
   }
 
  private:
@@ -259,13 +262,15 @@ class FlowTile : public TileGraphTile {
       return;
     }
     const bool basins = job_.output == FlowJob::Output::Basins;
+    // The slope serves the wetness index alone.
+    const bool wetness = !basins && output_needed(2);
     if (by_shares_) {
-      slope_ = without_ring<float>(steepest_slope(g, z), rect_, whole_);
+      if (wetness) slope_ = without_ring<float>(steepest_slope(g, z), rect_, whole_);
       shares_ = std::make_unique<TileShares>(z, rect_, whole_, grid_.dx, grid_.dy, job_.routing, std::move(weight_));
       weight_ = {};
       return;
     }
-    if (!basins) slope_ = without_ring<float>(steepest_slope(g, z), rect_, whole_);
+    if (wetness) slope_ = without_ring<float>(steepest_slope(g, z), rect_, whole_);
     accumulation_ =
         start_tile_accumulation(without_ring<std::uint8_t>(d8_flow(g, z).direction, rect_, whole_), rect_, whole_);
     if (basins) {

@@ -958,6 +958,7 @@ FlowShares::FlowShares(const FlowGrid& g, std::span<const float> z, const Routin
         }
         if (!mfd) return;
         auto& kept = row_weights_[static_cast<std::size_t>(j)];
+        row.shrink_to_fit();  // the row grew by doubling: up to half its capacity would be kept empty
         kept = std::move(row);
         for (int i = 0; i < g.nx; ++i)
           weights_of_[static_cast<std::size_t>(g.index(i, j))] = kept.data() + first[static_cast<std::size_t>(i)];

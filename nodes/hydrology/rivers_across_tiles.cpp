@@ -111,8 +111,11 @@ class RiverTile : public TileGraphTile {
         return tagged(phase_, epsilon_->message());
       case Phase::Ring:
         return tagged(phase_, ring_message(surface_, rect_));
-      case Phase::Accumulate:
-        return tagged(phase_, accumulation_message(accumulation_));
+      case Phase::Accumulate: {
+        std::string out = tagged(phase_, accumulation_message(accumulation_));
+        accumulation_.local = {};  // only the message needs the local counts
+        return out;
+      }
       case Phase::Strahler:
         return tagged(phase_, strahler_->message());
       case Phase::Network:
@@ -147,9 +150,13 @@ class RiverTile : public TileGraphTile {
         take_ring(bytes);
         break;
       case Phase::Accumulate: {
-        counts_ = finish_tile_accumulation(accumulation_, bytes);
-        strahler_ = std::make_unique<TileStrahler>(
-            accumulation_.receiver, channel_cells(counts_, grid_.cell_area(), params_.threshold), rect_, size_);
+        const std::vector<std::int64_t> counts = finish_tile_accumulation(accumulation_, bytes);
+        std::vector<std::uint8_t> channel = channel_cells(counts, grid_.cell_area(), params_.threshold);
+        // Only the channel cells' counts go on (in cell order), and the receivers to the orders' rounds.
+        for (std::size_t c = 0; c < counts.size(); ++c)
+          if (channel[c]) channel_counts_.push_back(counts[c]);
+        strahler_ = std::make_unique<TileStrahler>(std::move(accumulation_.receiver), std::move(channel), rect_, size_);
+        accumulation_.receiver = {};
         break;
       }
       case Phase::Strahler:
@@ -187,12 +194,16 @@ class RiverTile : public TileGraphTile {
   std::string network_message() const {
     std::vector<ChannelCell> cells;
     const auto& order = strahler_->orders();
+    std::size_t k = 0;  // channel_counts_ index: the channel cells are those with an order
     for (std::size_t c = 0; c < order.size(); ++c) {
-      if (!order[c] || !accumulation_.owned[c]) continue;
+      if (!order[c]) continue;
+      const std::int64_t count = channel_counts_[k++];
+      if (!accumulation_.owned[c]) continue;
       const int i = static_cast<int>(c) % rect_.size.x, j = static_cast<int>(c) / rect_.size.x;
-      cells.push_back({static_cast<std::int64_t>(rect_.first.y + j) * size_.x + rect_.first.x + i, counts_[c],
-                       surface_[c], order[c], direction_[c], lake_[c]});
+      cells.push_back({static_cast<std::int64_t>(rect_.first.y + j) * size_.x + rect_.first.x + i, count, surface_[c],
+                       order[c], direction_[c], lake_[c]});
     }
+    if (k != channel_counts_.size()) throw std::logic_error("rivers across tiles: channel cells without an order");
     std::string out;
     bytes::put_vector(out, cells);
     return out;
@@ -212,7 +223,7 @@ class RiverTile : public TileGraphTile {
   std::vector<float> surface_;  // the epsilon-filled heights on the tile
   std::vector<std::uint8_t> direction_;
   TileAccumulation accumulation_;
-  std::vector<std::int64_t> counts_;
+  std::vector<std::int64_t> channel_counts_;  // cells draining through each channel cell, in cell order
   std::unique_ptr<TileStrahler> strahler_;
   std::shared_ptr<Curves> curves_;
   std::shared_ptr<Heightfield> mask_;

@@ -14,12 +14,36 @@ T take(std::string_view& in) {
   return bytes::take<T>(in, "tile accumulation");
 }
 
-// `weight` summed down the receivers, visiting the cells in `order` (upstream_first of `receiver`).
-std::vector<std::int64_t> accumulate(const std::vector<std::int32_t>& receiver, const std::vector<std::int32_t>& order,
-                                     std::vector<std::int64_t> weight) {
-  for (const std::int32_t c : order)
-    if (const std::int32_t r = receiver[static_cast<std::size_t>(c)]; r >= 0)
-      weight[static_cast<std::size_t>(r)] += weight[static_cast<std::size_t>(c)];
+// `weight` summed down the receivers (-1: none). Each cell whose donors are all done passes its sum on: a walk down
+// from every source cell goes on for as long as it brings a receiver's last donor, so every cell is visited once,
+// along the flow paths (neighbouring samples), without an order of the cells held in memory. Throws
+// std::invalid_argument, naming `what`, when the receivers loop.
+std::vector<std::int64_t> accumulate(const std::vector<std::int32_t>& receiver, std::vector<std::int64_t> weight,
+                                     const char* what) {
+  constexpr std::uint8_t kDone = 0xff;  // a D8 cell has at most 8 donors
+  const std::size_t n = receiver.size();
+  std::vector<std::uint8_t> donors(n, 0);
+  for (const std::int32_t r : receiver)
+    if (r >= 0) ++donors[static_cast<std::size_t>(r)];
+  const std::int32_t* rec = receiver.data();
+  std::uint8_t* left = donors.data();
+  std::int64_t* sum = weight.data();
+  std::size_t walked = 0;
+  for (std::size_t c = 0; c < n; ++c) {
+    if (left[c] != 0) continue;  // a donor is still to come (or the cell is done)
+    std::size_t x = c;
+    for (;;) {
+      left[x] = kDone;
+      ++walked;
+      const std::int32_t r = rec[x];
+      if (r < 0) break;
+      const auto y = static_cast<std::size_t>(r);
+      sum[y] += sum[x];
+      if (--left[y] != 0) break;
+      x = y;
+    }
+  }
+  if (walked != n) throw std::invalid_argument(std::string(what) + ": the flow directions loop");
   return weight;
 }
 
@@ -67,20 +91,34 @@ TileAccumulation start_tile_accumulation(std::span<const std::uint8_t> direction
       if ((left && i == 0 && ri == 0) || (below && j == 0 && rj == 0)) continue;  // the tile before takes it
       t.receiver[c] = rj * w + ri;
     }
-  t.order = upstream_first(t.receiver, "tile accumulation");
-  t.local = accumulate(t.receiver, t.order, std::vector<std::int64_t>(t.owned.begin(), t.owned.end()));
-  // The next perimeter cell downstream of every cell, receivers first.
+  t.local = accumulate(t.receiver, std::vector<std::int64_t>(t.owned.begin(), t.owned.end()), "tile accumulation");
+  // The next perimeter cell downstream of each perimeter cell: a walk down to a perimeter cell, an end, or a cell an
+  // earlier walk passed (whose answer it noted), so each cell is walked once.
   const auto perimeter = perimeter_cells(rect.size);
   const auto index = perimeter_index(rect.size);
-  std::vector<std::int32_t> next(direction.size(), -1);
-  for (auto it = t.order.rbegin(); it != t.order.rend(); ++it) {
-    const std::int32_t r = t.receiver[static_cast<std::size_t>(*it)];
-    if (r >= 0)
-      next[static_cast<std::size_t>(*it)] = index[static_cast<std::size_t>(r)] >= 0 ? index[static_cast<std::size_t>(r)]
-                                                                                    : next[static_cast<std::size_t>(r)];
-  }
+  constexpr std::int32_t kUnknown = -2;
+  std::vector<std::int32_t> next(direction.size(), kUnknown), path;
   t.link.reserve(perimeter.size());
-  for (const std::int32_t c : perimeter) t.link.push_back(next[static_cast<std::size_t>(c)]);
+  for (const std::int32_t p : perimeter) {
+    path.clear();
+    std::int32_t found = -1;
+    for (std::int32_t x = p;;) {
+      const std::int32_t r = t.receiver[static_cast<std::size_t>(x)];
+      if (r < 0) break;
+      if (index[static_cast<std::size_t>(r)] >= 0) {
+        found = index[static_cast<std::size_t>(r)];
+        break;
+      }
+      if (next[static_cast<std::size_t>(r)] != kUnknown) {
+        found = next[static_cast<std::size_t>(r)];
+        break;
+      }
+      path.push_back(r);
+      x = r;
+    }
+    for (const std::int32_t y : path) next[static_cast<std::size_t>(y)] = found;
+    t.link.push_back(found);
+  }
   return t;
 }
 
@@ -169,7 +207,7 @@ std::vector<std::int64_t> finish_tile_accumulation(const TileAccumulation& t, st
   if (y.size() != perimeter.size()) throw std::invalid_argument("tile accumulation: one inflow per perimeter cell");
   std::vector<std::int64_t> weight(t.owned.begin(), t.owned.end());
   for (std::size_t k = 0; k < perimeter.size(); ++k) weight[static_cast<std::size_t>(perimeter[k])] += y[k];
-  return accumulate(t.receiver, t.order, std::move(weight));
+  return accumulate(t.receiver, std::move(weight), "tile accumulation");
 }
 
 }  // namespace orogen::hydrology

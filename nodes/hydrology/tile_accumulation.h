@@ -42,7 +42,6 @@ struct TileAccumulation {
   std::vector<std::uint8_t> owned;     // per tile cell: counted by this tile
   std::vector<std::int64_t> local;     // L: owned cells upstream along taken edges, the cell included if owned
   std::vector<std::int32_t> link;      // per perimeter cell (perimeter order): next perimeter cell downstream, or -1
-  std::vector<std::int32_t> order;     // the tile cells, each before its receiver (made once, used by both phases)
 };
 
 // Phase 1. `direction`: the D8 direction k (flow_routing.h) of every tile cell as on the whole domain (it may

@@ -52,6 +52,15 @@ struct TileSpillGraph {
 std::vector<std::int32_t> perimeter_cells(glm::ivec2 size);
 // Per tile cell: its index in perimeter order, or -1.
 std::vector<std::int32_t> perimeter_index(glm::ivec2 size);
+// The index in perimeter order of cell (i, j) of a tile of `size` samples, or -1: perimeter_index without the array.
+inline std::int32_t perimeter_position(glm::ivec2 size, int i, int j) {
+  const int side = size.x > 1 ? 2 : 1;  // perimeter cells in a row between the first and the last
+  if (j == 0) return i;
+  if (j == size.y - 1) return size.x + (size.y - 2) * side + i;
+  if (i == 0) return size.x + (j - 1) * side;
+  if (i == size.x - 1) return size.x + (j - 1) * side + 1;
+  return -1;
+}
 // The index in the domain (row-major, `domain_size` samples) of tile cell `c` (row-major in the tile).
 std::int64_t domain_sample(const TileRect& rect, glm::ivec2 domain_size, std::int32_t c);
 

@@ -99,7 +99,6 @@ TileShares::TileShares(std::vector<float> ringed_z, const TileRect& rect, glm::i
   const FlowShares& s = *shares_;
   acc_.assign(z_.size(), 0.0);
   remaining_.assign(z_.size(), kDone);
-  perimeter_ = perimeter_index(rect.size);
   outside_.assign(perimeter_cells(rect.size).size(), 0);
   inflow_.assign(outside_.size() * 8, 0.0);
   exports_.assign(z_.size(), 0);
@@ -108,7 +107,7 @@ TileShares::TileShares(std::vector<float> ringed_z, const TileRect& rect, glm::i
   for (int j = 0; j < rect.size.y; ++j)
     for (int i = 0; i < rect.size.x; ++i) {
       const std::int32_t c = ringed_cell(i, j);
-      const bool perimeter = perimeter_[static_cast<std::size_t>(j * rect.size.x + i)] >= 0;
+      const bool perimeter = perimeter_position(rect.size, i, j) >= 0;
       int donors = 0;
       for (int k = 0; k < 8; ++k) {
         const int ii = i + kDi[k], jj = j + kDj[k];
@@ -159,7 +158,7 @@ void TileShares::take_edges(std::string_view answer) {
   for (const std::int64_t key : incoming) {
     const std::int64_t cell = key >> 3;
     const int k = static_cast<int>(key & 7);
-    const std::int32_t p = cell >= 0 && cell < cells ? perimeter_[static_cast<std::size_t>(cell)] : -1;
+    const std::int32_t p = cell >= 0 && cell < cells ? perimeter_of(cell) : -1;
     if (p < 0 || (outside_[static_cast<std::size_t>(p)] >> k) & 1u)
       throw std::invalid_argument("flow shares across tiles: an edge from outside that is not on the perimeter");
     outside_[static_cast<std::size_t>(p)] |= static_cast<std::uint8_t>(1u << k);
@@ -181,7 +180,7 @@ void TileShares::finish(std::int32_t r, std::vector<std::int32_t>& ready) {
   // The pull of flow_shares.h: own weight, then every donor's share in neighbour order, from this tile's own cells or
   // from the shares that arrived.
   double sum = weight_.empty() ? area_ : static_cast<double>(weight_[cell]);
-  const std::int32_t p = perimeter_[cell];
+  const std::int32_t p = perimeter_position(rect_.size, i, j);
   const std::uint8_t outside = p >= 0 ? outside_[static_cast<std::size_t>(p)] : 0;
   for (int k = 0; k < 8; ++k) {
     const int ii = i + kDi[k], jj = j + kDj[k];
@@ -241,7 +240,7 @@ void TileShares::take_shares(std::string_view answer) {
   for (std::size_t e = 0; e < keys.size(); ++e) {
     const std::int64_t cell = keys[e] >> 3;
     const int k = static_cast<int>(keys[e] & 7);
-    const std::int32_t p = cell >= 0 && cell < cells ? perimeter_[static_cast<std::size_t>(cell)] : -1;
+    const std::int32_t p = cell >= 0 && cell < cells ? perimeter_of(cell) : -1;
     if (p < 0 || !((outside_[static_cast<std::size_t>(p)] >> k) & 1u))
       throw std::invalid_argument("flow shares across tiles: a share along an edge the tile does not wait for");
     inflow_[static_cast<std::size_t>(p) * 8 + static_cast<std::size_t>(k)] = values[e];

@@ -71,6 +71,10 @@ class TileShares {
   };
   std::int32_t ringed_cell(int i, int j) const { return (at_.y + j) * gw_ + at_.x + i; }
   bool in_tile(std::int32_t r) const;
+  // The perimeter index of tile cell `cell` (row-major in the tile), or -1.
+  std::int32_t perimeter_of(std::int64_t cell) const {
+    return perimeter_position(rect_.size, static_cast<int>(cell % rect_.size.x), static_cast<int>(cell / rect_.size.x));
+  }
   void finish(std::int32_t r, std::vector<std::int32_t>& ready);  // pulls r, then counts down its receivers
   void run(std::vector<std::int32_t>& ready);
 
@@ -83,7 +87,6 @@ class TileShares {
   double area_ = 0.0;
   std::vector<double> acc_;              // per ringed cell
   std::vector<std::uint8_t> remaining_;  // donors not done, per ringed cell of the tile
-  std::vector<std::int32_t> perimeter_;  // per tile cell: perimeter index or -1
   std::vector<std::uint8_t> outside_;    // per perimeter cell: bit k when neighbour k sends from outside the tile
   std::vector<double> inflow_;           // per perimeter cell, 8 slots: those shares
   std::vector<OutEdge> out_;             // sorted by donor

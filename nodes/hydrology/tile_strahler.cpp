@@ -47,7 +47,6 @@ TileStrahler::TileStrahler(std::vector<std::int32_t> receiver, std::vector<std::
   if (rect.size.x < 1 || rect.size.y < 1 || receiver_.size() != n || channel_.size() != n)
     throw std::invalid_argument("TileStrahler: receivers and channel cells must cover the tile");
   upstream_first_ = upstream_first(receiver_, "tile Strahler orders");
-  perimeter_ = perimeter_index(rect.size);
   const std::size_t perimeter_count = perimeter_cells(rect.size).size();
   own_.resize(perimeter_count);
   external_.resize(perimeter_count);
@@ -60,12 +59,14 @@ void TileStrahler::compute() {
   order_.assign(receiver_.size(), 0);
   for (const std::int32_t c : upstream_first_) {
     const auto u = static_cast<std::size_t>(c);
+    // Off the network a cell has no channel donor (a channel cell's receiver drains more cells, so it is one too):
+    // nothing to say at the perimeter, no order.
+    if (!channel_[u]) continue;
     DonorSummary all = donors[u];
-    if (const std::int32_t p = perimeter_[u]; p >= 0) {
+    if (const std::int32_t p = perimeter_position(rect_.size, c % rect_.size.x, c / rect_.size.x); p >= 0) {
       own_[static_cast<std::size_t>(p)] = donors[u];
       all = merged(all, external_[static_cast<std::size_t>(p)]);
     }
-    if (!channel_[u]) continue;
     // As strahler_orders: 1 at a source, the highest donor order, plus one where two or more donors have it.
     order_[u] = all.order == 0 ? 1 : all.count >= 2 ? all.order + 1 : all.order;
     if (const std::int32_t r = receiver_[u]; r >= 0)

@@ -58,7 +58,7 @@ class TileStrahler {
 
   TileRect rect_;
   glm::ivec2 domain_;
-  std::vector<std::int32_t> receiver_, upstream_first_, perimeter_, order_;
+  std::vector<std::int32_t> receiver_, upstream_first_, order_;
   std::vector<std::uint8_t> channel_;
   std::vector<DonorSummary> own_;       // per perimeter cell: this tile's donors
   std::vector<DonorSummary> external_;  // per perimeter cell: the other tiles' donors, as last received
