@@ -34,6 +34,20 @@
 namespace orogen::cli {
 namespace {
 
+// Why a node that runs across the tiles does not fit: this rank holds `tiles` of them at once, each needing `need`
+// bytes (estimate_node_bytes on tile domain `d`), and how many ranks (or smaller tiles) would do.
+std::string across_memory_refusal(const Node& node, const Domain& d, std::uint64_t need, std::size_t tiles,
+                                  std::uint64_t limit, std::size_t all_tiles) {
+  const std::uint64_t fit = limit / need;  // tiles a rank can hold, at least 1 (the caller checked one)
+  const std::size_t ranks = static_cast<std::size_t>((all_tiles + fit - 1) / fit);
+  return "node '" + node.id +
+         "' runs across the tiles, and a rank holds its state for all of its tiles at once: " + std::to_string(tiles) +
+         " tiles of " + std::to_string(d.resolution.x) + "x" + std::to_string(d.resolution.y) +
+         " samples need at least " + format_bytes(need * tiles) + " (" + node.type->name + ": " + format_bytes(need) +
+         " a tile); the memory limit is " + format_bytes(limit) + " a rank (--max-memory); run it on " +
+         std::to_string(ranks) + " ranks or more, or raise --max-memory";
+}
+
 CancelToken g_interrupt;  // set by SIGINT/SIGTERM; CancelToken is a lock-free atomic, safe in a handler
 
 extern "C" void on_interrupt(int) { g_interrupt.cancel(); }
@@ -255,7 +269,8 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
   const auto cache_disk_mb = parse_number(cmd.cache_disk_mb, 0.0, 1e9);
   if (!cache_disk_mb)
     errors.push_back("--cache-disk-mb '" + cmd.cache_disk_mb + "': expected a number of MiB from 0 to 1e9");
-  std::uint64_t max_memory = available_memory_bytes();
+  // By default a rank may take its share of what this machine has free.
+  std::uint64_t max_memory = available_memory_bytes() / static_cast<std::uint64_t>(std::max(1, group.local_size()));
   if (!cmd.max_memory.empty()) {
     if (auto m = parse_memory_size(cmd.max_memory); m && *m > 0)
       max_memory = *m;
@@ -299,8 +314,13 @@ int run_eval_on(const EvalCommand& cmd, RankGroup& group) {
       CostQuery query{*node.type, d, ParamView(*node.type, params), nullptr, graph.directory, {}};
       for (const auto& port : node.type->inputs) query.linked.push_back(node.inputs.contains(port.name));
       const auto need = estimate_node_bytes(query);
-      if (need > max_memory)
+      if (need > max_memory) {
         errors.push_back("node '" + node.id + "': " + memory_refusal(*node.type, d, need, max_memory));
+      } else if (across.count(node.id) && need * builds.size() > max_memory) {
+        // Across the tiles a rank holds the node's state for all its tiles at once (cli/tile_graph_stages.h).
+        errors.push_back(across_memory_refusal(node, d, need, builds.size(), max_memory,
+                                               static_cast<std::size_t>(counts.x) * counts.y));
+      }
     }
   }
   if (distributed) {

@@ -68,8 +68,8 @@ int main(int argc, char** argv) {
                    "Bound of the --cache-dir directory in MiB (0 to 1e9); least recently used entries are evicted")
       ->capture_default_str();
   eval_cmd->add_option("--max-memory", eval.max_memory,
-                       "Refuse nodes whose estimated memory exceeds this (MiB, or with a unit: 512M, 8G); "
-                       "default: the machine's available memory");
+                       "Refuse nodes whose estimated memory exceeds this (MiB, or with a unit: 512M, 8G), per "
+                       "process (per rank under MPI); default: the machine's available memory, shared by its ranks");
   eval_cmd->add_option("--stats", eval.stats_file, "Write per-node status, timings and memory as JSON");
   eval_cmd->add_flag("-q,--quiet", eval.quiet, "Print nothing but errors (and the seam warnings of --tiles)");
   eval_cmd->add_flag("--allow-any-path", eval.allow_any_path,

@@ -628,7 +628,7 @@ const char* kAcrossTilesGraph = R"({
   ]
 })";
 
-TEST(CliTiles, TileGraphAndReductionNodesRunAcrossTheTilesExactlyAndInATilesMemory) {
+TEST(CliTiles, TileGraphAndReductionNodesRunAcrossTheTilesExactly) {
   const auto dir = scratch_dir("tiles-across");
   write_text(dir / "g.json", kAcrossTilesGraph);
   const auto graph = (dir / "g.json").string();
@@ -675,12 +675,22 @@ TEST(CliTiles, TileGraphAndReductionNodesRunAcrossTheTilesExactlyAndInATilesMemo
     for (int x = 0; x < flood.width; ++x)
       if (flood.at(0, x, y) > 0.0f) flooded_tiles.insert(y * 3 / 257 * 4 + x * 4 / 257);
   EXPECT_GE(flooded_tiles.size(), 3u);
-  // Each tile holds only its part: a memory limit that refuses the untiled fill lets the tiles through.
+  // A memory limit that refuses the untiled fill refuses the tiles of one process too: across the tiles a rank holds
+  // every one of its tiles' state at once, so such a limit is met by spreading the tiles over ranks
+  // (test_distributed.cpp), and the refusal says over how many.
   const auto refused = orogen({"eval", graph, "-o", (dir / "m").string(), "--max-memory", "500K", "--quiet"});
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.err.find("node 'filled': its type FillDepressions needs"), std::string::npos) << refused.err;
-  const auto accepted =
+  const auto tiles_refused =
       orogen({"eval", graph, "-o", (dir / "m").string(), "--max-memory", "500K", "--tiles", "4x4", "--quiet"});
+  EXPECT_EQ(tiles_refused.exit_code, 2);
+  EXPECT_NE(tiles_refused.err.find("node 'filled' runs across the tiles, and a rank holds its state for all of its "
+                                   "tiles at once: 16 tiles of 99x99 samples"),
+            std::string::npos)
+      << tiles_refused.err;
+  EXPECT_NE(tiles_refused.err.find("run it on 8 ranks or more"), std::string::npos) << tiles_refused.err;
+  const auto accepted =
+      orogen({"eval", graph, "-o", (dir / "m").string(), "--max-memory", "8M", "--tiles", "4x4", "--quiet"});
   EXPECT_EQ(accepted.exit_code, 0) << accepted.err;
   // Run again with the same cache: the stages find their results, and no tile computes anything.
   const auto again = orogen(tiled_args);

@@ -327,6 +327,28 @@ TEST(Distributed, BadRankCountsAreRefusedBeforeAnythingRuns) {
   EXPECT_FALSE(fs::exists(dir / "distributed_hydrology"));
 }
 
+// Across the tiles a rank holds the state of all its tiles at once: a --max-memory (per rank) that fits four tiles
+// but not sixteen refuses the one-process build up front, naming the ranks that would do, and lets four ranks build.
+TEST(Distributed, AMemoryLimitARankCannotMeetIsRefusedNamingTheRanksThatWould) {
+  SKIP_WITHOUT_MPI();
+  const std::string graph = (source_dir() / "graphs" / "distributed_hydrology.json").string();
+  const fs::path dir = scratch_dir("distributed-memory");
+  const std::vector<std::string> args = {"eval",         graph,  "-o",      (dir / "out").string(),
+                                         "--resolution", "129",  "--tiles", "4x4",
+                                         "--max-memory", "400K", "--quiet"};
+  const auto one = orogen(args);
+  EXPECT_EQ(one.exit_code, 2) << one.err;
+  EXPECT_NE(one.err.find("node 'filled' runs across the tiles, and a rank holds its state for all of its tiles at "
+                         "once: 16 tiles"),
+            std::string::npos)
+      << one.err;
+  EXPECT_NE(one.err.find("run it on 4 ranks or more"), std::string::npos) << one.err;
+  EXPECT_FALSE(fs::exists(dir / "out" / "distributed_hydrology"));
+  const auto four = mpirun(kMpiexec, 4, args);
+  EXPECT_EQ(four.exit_code, 0) << four.err;
+  EXPECT_TRUE(fs::exists(dir / "out" / "distributed_hydrology"));
+}
+
 TEST(Distributed, AFailingRankStopsTheJobNamingRankTileAndNode) {
   SKIP_WITHOUT_MPI();
   const fs::path dir = scratch_dir("distributed-fail");
