@@ -270,9 +270,21 @@ class Stages {
     request.cancel = s_.cancel;
     // Earlier stages' results upstream of the inputs, read back (the evaluation must not compute them on the tile).
     // An input fed by one of them directly is taken as it is (a requested node would owe every output).
+    // Only the nearest ones: the evaluation stops at them, so those further up would be read for nothing.
     const std::set<std::string> done = kept_.nodes(t);
-    for (const auto& id : graph_.upstream(node.id))
-      if (done.count(id)) request.given_results[id] = kept_.get(t, id);
+    std::vector<std::string> walk;
+    std::set<std::string> seen;
+    for (const auto& [port, link] : node.inputs) walk.push_back(link.node);
+    while (!walk.empty()) {
+      const std::string id = walk.back();
+      walk.pop_back();
+      if (!seen.insert(id).second) continue;
+      if (done.count(id)) {
+        request.given_results[id] = kept_.get(t, id);
+        continue;
+      }
+      for (const auto& [port, link] : graph_.at(id).inputs) walk.push_back(link.node);
+    }
     for (const auto& [port, link] : node.inputs)
       if (!done.count(link.node) &&
           std::find(request.nodes.begin(), request.nodes.end(), link.node) == request.nodes.end())
@@ -300,8 +312,7 @@ class Stages {
       const auto it = node.inputs.find(port.name);
       if (it == node.inputs.end()) {
         inputs.emplace_back();
-      } else if (const auto given = request.given_results.find(it->second.node);
-                 given != request.given_results.end() && done.count(it->second.node)) {
+      } else if (const auto given = request.given_results.find(it->second.node); given != request.given_results.end()) {
         const ResolvedLink link = resolve_link(graph_, node, port);
         if (link.output < 0 || static_cast<std::size_t>(link.output) >= given->second->outputs.size())
           throw std::logic_error("tile-graph stage: input '" + port.name + "' of node '" + node.id + "' not found");
