@@ -272,19 +272,9 @@ class Stages {
     // An input fed by one of them directly is taken as it is (a requested node would owe every output).
     // Only the nearest ones: the evaluation stops at them, so those further up would be read for nothing.
     const std::set<std::string> done = kept_.nodes(t);
-    std::vector<std::string> walk;
-    std::set<std::string> seen;
-    for (const auto& [port, link] : node.inputs) walk.push_back(link.node);
-    while (!walk.empty()) {
-      const std::string id = walk.back();
-      walk.pop_back();
-      if (!seen.insert(id).second) continue;
-      if (done.count(id)) {
-        request.given_results[id] = kept_.get(t, id);
-        continue;
-      }
-      for (const auto& [port, link] : graph_.at(id).inputs) walk.push_back(link.node);
-    }
+    const auto is_done = [&](const std::string& id) { return done.count(id) > 0; };
+    for (const auto& id : graph_.upstream(node.id, is_done))
+      if (is_done(id)) request.given_results[id] = kept_.get(t, id);
     for (const auto& [port, link] : node.inputs)
       if (!done.count(link.node) &&
           std::find(request.nodes.begin(), request.nodes.end(), link.node) == request.nodes.end())

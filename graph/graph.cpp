@@ -199,6 +199,11 @@ std::vector<std::string> Graph::topological_order() const {
 }
 
 std::vector<std::string> Graph::upstream(const std::string& id) const {
+  return upstream(id, [](const std::string&) { return false; });
+}
+
+std::vector<std::string> Graph::upstream(const std::string& id,
+                                         const std::function<bool(const std::string&)>& stop_at) const {
   std::vector<std::string> out;
   std::set<std::string> seen;
   std::vector<std::string> stack{id};
@@ -210,7 +215,7 @@ std::vector<std::string> Graph::upstream(const std::string& id) const {
     for (const auto& [port, src] : n->inputs)
       if (seen.insert(src.node).second) {
         out.push_back(src.node);
-        stack.push_back(src.node);
+        if (!stop_at(src.node)) stack.push_back(src.node);
       }
   }
   return out;

@@ -2,6 +2,7 @@
 // The graph: node instances with their parameter values and input links, the default domain, and the
 // editor's layout. Edits are validated: links are type-checked and cycles are refused.
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -106,6 +107,10 @@ class Graph {
   std::vector<std::string> topological_order() const;
   // Ids of the nodes that (transitively) feed `id`, not including it.
   std::vector<std::string> upstream(const std::string& id) const;
+  // The same, without walking past a node for which `stop_at` is true: it is listed, the nodes that reach `id` only
+  // through such nodes are not.
+  std::vector<std::string> upstream(const std::string& id,
+                                    const std::function<bool(const std::string&)>& stop_at) const;
   // Ids of the nodes that `id` (transitively) feeds, not including it.
   std::vector<std::string> downstream(const std::string& id) const;
   // A fresh id: `base` if free, else base2, base3, ...

@@ -321,6 +321,15 @@ TEST(Graph, UpstreamAndDownstreamAreTransitive) {
   EXPECT_TRUE(g.upstream("other").empty());
 }
 
+TEST(Graph, UpstreamStopsAtTheNodesItIsToldTo) {
+  const Graph g = diamond();  // gen feeds x and y, which feed z
+  const auto at = [](std::set<std::string> ids) { return [ids](const std::string& id) { return ids.count(id) > 0; }; };
+  EXPECT_EQ(sorted(g.upstream("z", at({"x"}))), (Ids{"gen", "x", "y"}));  // gen still reaches z through y
+  EXPECT_EQ(sorted(g.upstream("z", at({"x", "y"}))), (Ids{"x", "y"}));
+  EXPECT_EQ(sorted(g.upstream("z", at({"gen"}))), (Ids{"gen", "x", "y"}));
+  EXPECT_EQ(sorted(g.upstream("x", at({"gen"}))), (Ids{"gen"}));
+}
+
 TEST(Graph, EqualityComparesEverythingThatIsSaved) {
   const Graph a = diamond();
   Graph b = diamond();
