@@ -112,6 +112,8 @@ std::pair<PortValue, Raster<float>> blank_like(const PortValue& core, const Doma
 struct Phases {
   double inputs = 0, tiles = 0, communication = 0, solve = 0, halos = 0, keeping = 0;
   int rounds = 0;
+  // Every rank's `tiles` (on more than one rank): a rank that works less than the slowest waits in `communication`.
+  double fewest_tiles = 0, most_tiles = 0;
 };
 
 class Stages {
@@ -204,7 +206,11 @@ class Stages {
     for (int round = 0;; ++round) {
       // Ctrl+C between two rounds: every rank learns of it in the same round (an interrupted rank alone would leave
       // the others waiting in the exchange), so all of them stop there. A round is one step of the simulations.
-      if (any_rank(group_, s_.cancel && s_.cancel->cancelled()))
+      // The agreement waits for the slowest rank to take its answers in: that wait is communication, not tile work.
+      lap(phases.tiles);
+      const bool interrupted = any_rank(group_, s_.cancel && s_.cancel->cancelled());
+      lap(phases.communication);
+      if (interrupted)
         throw TileGraphStageError("interrupted in node '" + node.id + "' (" + node.type->name +
                                       ") across the tiles, at round " + std::to_string(round),
                                   true, true);
@@ -251,6 +257,17 @@ class Stages {
     // so the next stage's peak is its own and not on top of this one's leftovers.
     malloc_trim(0);
 #endif
+    if (group_.size() > 1) {
+      // Every rank's time in its tiles, so the report shows how evenly the assignment spread the work.
+      char mine[32];
+      std::snprintf(mine, sizeof mine, "%.17g", phases.tiles);
+      const std::vector<std::string> all = group_.all_gather(mine);
+      phases.fewest_tiles = phases.most_tiles = phases.tiles;
+      for (const std::string& r : all) {
+        phases.fewest_tiles = std::min(phases.fewest_tiles, std::stod(r));
+        phases.most_tiles = std::max(phases.most_tiles, std::stod(r));
+      }
+    }
     say(node, "computed across the tiles", t0, exchanged, &phases);
   }
 
@@ -369,12 +386,16 @@ class Stages {
     if (s_.quiet || group_.rank() != 0) return;
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     std::fprintf(stderr, "node '%s' (%s) %s in %.1f ms", node.id.c_str(), node.type->name.c_str(), what, ms);
-    if (phases)
+    if (phases) {
+      std::fprintf(stderr, ": inputs %.0f ms, tiles %.0f ms", phases->inputs, phases->tiles);
+      if (group_.size() > 1)
+        std::fprintf(stderr, " (the ranks %.0f to %.0f ms)", phases->fewest_tiles, phases->most_tiles);
       std::fprintf(stderr,
-                   ": inputs %.0f ms, tiles %.0f ms, messages %.0f ms (%d rounds, %.1f KiB from rank 0), solve %.0f "
+                   ", messages %.0f ms (%d rounds, %.1f KiB from rank 0), solve %.0f "
                    "ms, halos %.0f ms, kept on disk %.0f ms",
-                   phases->inputs, phases->tiles, phases->communication, phases->rounds, exchanged / 1024.0,
-                   phases->solve, phases->halos, phases->keeping);
+                   phases->communication, phases->rounds, exchanged / 1024.0, phases->solve, phases->halos,
+                   phases->keeping);
+    }
     std::fprintf(stderr, "; resident %.0f MiB, peak %.0f MiB\n", resident_memory_bytes() / 1048576.0,
                  peak_memory_bytes() / 1048576.0);
   }

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <regex>
 #include <numbers>
 #include <set>
 #include <sstream>
@@ -76,6 +77,27 @@ const fs::path& single_process_build(const Job& job) {
   return built[key] = dir;
 }
 
+// On more than one rank, each stage's line gives the fewest and the most time any rank spent in its tiles, with
+// rank 0's own in between; on one rank there is nothing to compare.
+void expect_every_ranks_tile_time(const std::string& err, int ranks) {
+  static const std::regex stage(R"(computed across the tiles in [0-9.]+ ms: inputs [0-9]+ ms, tiles ([0-9]+) ms)"
+                                R"(( \(the ranks ([0-9]+) to ([0-9]+) ms\))?)");
+  int lines = 0;
+  for (auto m = std::sregex_iterator(err.begin(), err.end(), stage); m != std::sregex_iterator(); ++m, ++lines) {
+    const auto& match = *m;
+    ASSERT_EQ(match[2].matched, ranks > 1) << match.str();
+    if (ranks == 1) continue;
+    const long long own = std::stoll(match[1]), fewest = std::stoll(match[3]), most = std::stoll(match[4]);
+    EXPECT_LE(fewest, own) << match.str();
+    EXPECT_LE(own, most) << match.str();
+  }
+  int stages = 0;
+  for (auto at = err.find("computed across the tiles in"); at != std::string::npos;
+       at = err.find("computed across the tiles in", at + 1))
+    ++stages;
+  EXPECT_EQ(lines, stages) << "every stage line gives its times as above:\n" << err;
+}
+
 // Runs `job` on its ranks and checks its files equal the single-process tiled build's, byte for byte.
 fs::path run_distributed(const Job& job) {
   const fs::path dir = scratch_dir("distributed-mpi");
@@ -110,6 +132,7 @@ fs::path run_distributed(const Job& job) {
       EXPECT_NE(r.err.find("node " + node + " computed across the tiles"), std::string::npos) << r.err;
     }
   }
+  expect_every_ranks_tile_time(r.err, job.ranks);
   const std::string graph = job.graph;
   if ((graph == "../bench/distributed_flood.json" || graph == "../bench/distributed_shade.json") &&
       job.tiles.x * job.tiles.y > 1) {
