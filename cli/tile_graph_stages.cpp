@@ -259,13 +259,14 @@ class Stages {
 #endif
     if (group_.size() > 1) {
       // Every rank's time in its tiles, so the report shows how evenly the assignment spread the work.
-      char mine[32];
-      std::snprintf(mine, sizeof mine, "%.17g", phases.tiles);
-      const std::vector<std::string> all = group_.all_gather(mine);
+      std::string mine;
+      bytes::put(mine, phases.tiles);
       phases.fewest_tiles = phases.most_tiles = phases.tiles;
-      for (const std::string& r : all) {
-        phases.fewest_tiles = std::min(phases.fewest_tiles, std::stod(r));
-        phases.most_tiles = std::max(phases.most_tiles, std::stod(r));
+      for (const std::string& rank : group_.all_gather(mine)) {
+        std::string_view in = rank;
+        const double tiles = bytes::take<double>(in, "a rank's tile time");
+        phases.fewest_tiles = std::min(phases.fewest_tiles, tiles);
+        phases.most_tiles = std::max(phases.most_tiles, tiles);
       }
     }
     say(node, "computed across the tiles", t0, exchanged, &phases);
@@ -293,7 +294,7 @@ class Stages {
     for (const auto& id : graph_.upstream(node.id, is_done))
       if (is_done(id)) request.given_results[id] = kept_.get(t, id);
     for (const auto& [port, link] : node.inputs)
-      if (!done.count(link.node) &&
+      if (!is_done(link.node) &&
           std::find(request.nodes.begin(), request.nodes.end(), link.node) == request.nodes.end())
         request.nodes.push_back(link.node);
     KeySet keep;

@@ -12,8 +12,8 @@
 #include <fstream>
 #include <iterator>
 #include <map>
-#include <regex>
 #include <numbers>
+#include <regex>
 #include <set>
 #include <sstream>
 
