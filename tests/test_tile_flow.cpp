@@ -399,7 +399,7 @@ TEST(FlowAcrossTiles, SharesInDoubleEqualTheWholeDomainOnEveryTiling) {
             if (shares_done(message_views(messages))) break;
           }
           for (std::size_t k = 0; k < tiles.size(); ++k) {
-            const auto acc = tiles[k]->accumulation();
+            const auto acc = tiles[k]->take_accumulation();
             for (int j = 0; j < rects[k].size.y; ++j)
               for (int i = 0; i < rects[k].size.x; ++i) {
                 const double a = acc[static_cast<std::size_t>(j * rects[k].size.x + i)];
@@ -448,7 +448,7 @@ TEST(FlowAcrossTiles, SharesTravelAsCheckedBytes) {
                             domain),
                std::invalid_argument);
   const auto whole = accumulate(FlowGrid(5, 3), z, opt);
-  const auto right = tiles[1]->accumulation();
+  const auto right = tiles[1]->take_accumulation();
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i < 3; ++i) EXPECT_EQ(right[j * 3 + i], whole[j * 5 + 2 + i]);
 }

@@ -179,7 +179,7 @@ class FlowTile : public TileGraphTile {
       case Phase::Shares:
         shares_->take_shares(bytes);
         if (next != Phase::Shares) {
-          areas_ = shares_->accumulation();
+          areas_ = shares_->take_accumulation();
           shares_.reset();
         }
         break;

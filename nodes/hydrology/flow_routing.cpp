@@ -10,6 +10,7 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <stdexcept>
 
 #include <emmintrin.h>
 #include <xmmintrin.h>
@@ -906,6 +907,25 @@ std::vector<double> d8_area(const FlowGrid& g, const D8Flow& f, const ExecContex
   return area;
 }
 
+// MFD's receivers of (i, j) as route_cell finds them (bit k: neighbour k), without their weights' exp and log and
+// without a branch a neighbour (which way the slope goes is a coin toss on rough ground).
+template <bool kInterior>
+std::uint8_t mfd_receivers(const FlowGrid& g, const NeighbourTable& t, const float* z, int i, int j,
+                           const RoutingOptions& opt) {
+  const std::int32_t c = g.index(i, j);
+  if (kInterior ? (!opt.outlets.mask.empty() && opt.outlets.mask[static_cast<std::size_t>(c)] != 0)
+                : opt.outlets.is_outlet(g, i, j))
+    return 0;
+  const double zc = z[c];
+  unsigned bits = 0;
+  for (int k = 0; k < 8; ++k) {
+    if (!kInterior && !g.inside(i + kDi[k], j + kDj[k])) continue;
+    const double s = (zc - z[c + t.off[k]]) * t.inv_dist[k];
+    bits |= static_cast<unsigned>(!(s <= 0.0)) << k;  // route_cell's test, NaN included
+  }
+  return static_cast<std::uint8_t>(bits);
+}
+
 int flow_proportions(const FlowGrid& g, std::span<const float> z, int i, int j, const RoutingOptions& opt, int nbr[8],
                      double frac[8]) {
   const NeighbourTable t(g);
@@ -926,44 +946,53 @@ FlowShares::FlowShares(const FlowGrid& g, std::span<const float> z, const Routin
   }
   const bool mfd = opt.method == FlowMethod::MFD;
   if (mfd) {
-    inverse_sum_.assign(n, 0.0);
-    weights_of_.assign(n, nullptr);
-    row_weights_.resize(static_cast<std::size_t>(g.ny));
+    // The receivers first (comparisons only), so every cell's weights have their place in one array before they
+    // are computed: no row's weights are held twice.
+    for_each_row(
+        ctx, g.ny,
+        [&](int j) {
+          for (int i = 0; i < g.nx; ++i)
+            receivers_[static_cast<std::size_t>(g.index(i, j))] = interior_cell(g, i, j)
+                                                                      ? mfd_receivers<true>(g, t, z.data(), i, j, opt)
+                                                                      : mfd_receivers<false>(g, t, z.data(), i, j, opt);
+        },
+        0.0, 0.1);
+    block_first_.resize((n + kBlock - 1) / kBlock);
+    before_in_block_.resize(n);
+    std::uint64_t weights = 0;
+    for (std::size_t c = 0; c < n; ++c) {
+      if (c % kBlock == 0) block_first_[c / kBlock] = weights;
+      before_in_block_[c] = static_cast<std::uint8_t>(weights - block_first_[c / kBlock]);
+      weights += static_cast<std::uint64_t>(bit_count(receivers_[c]));
+    }
+    weights_.resize(weights + 8);
   } else {
     split_.assign(n, 1.0f);
   }
   for_each_row(
       ctx, g.ny,
       [&](int j) {
-        // MFD: the row's weights, receiver after receiver, and where each cell's start.
-        std::vector<float> row;
-        std::vector<std::uint32_t> first(mfd ? static_cast<std::size_t>(g.nx) : 0);
         for (int i = 0; i < g.nx; ++i) {
           int nb[8];
           double fr[8], inv = 0.0;
-          float w[8];
-          const int cnt = interior_cell(g, i, j) ? route_cell<true>(g, t, z.data(), i, j, opt, nb, fr, &inv, w)
-                                                 : route_cell<false>(g, t, z.data(), i, j, opt, nb, fr, &inv, w);
           const auto c = static_cast<std::size_t>(g.index(i, j));
-          std::uint8_t bits = 0;
-          for (int m = 0; m < cnt; ++m) bits |= static_cast<std::uint8_t>(1u << nb[m]);
-          receivers_[c] = bits;
+          // MFD's weights go straight to their place (a copy of a few floats was a slow `rep movs`); the slack at
+          // weights_' end keeps a count that disagreed with the receivers' inside it until the check below.
+          float* to = mfd ? weights_.data() + block_first_[c / kBlock] + before_in_block_[c] : nullptr;
+          const int cnt = interior_cell(g, i, j) ? route_cell<true>(g, t, z.data(), i, j, opt, nb, fr, &inv, to)
+                                                 : route_cell<false>(g, t, z.data(), i, j, opt, nb, fr, &inv, to);
           if (mfd) {
-            inverse_sum_[c] = inv;
-            first[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(row.size());
-            row.insert(row.end(), w, w + cnt);
-          } else if (cnt == 2) {
-            split_[c] = static_cast<float>(fr[0]);  // nb[0] is the facet's cardinal neighbour
+            if (cnt != bit_count(receivers_[c]))
+              throw std::logic_error("flow shares: MFD receivers changed between their two passes");
+          } else {
+            std::uint8_t bits = 0;
+            for (int m = 0; m < cnt; ++m) bits |= static_cast<std::uint8_t>(1u << nb[m]);
+            receivers_[c] = bits;
+            if (cnt == 2) split_[c] = static_cast<float>(fr[0]);  // nb[0] is the facet's cardinal neighbour
           }
         }
-        if (!mfd) return;
-        auto& kept = row_weights_[static_cast<std::size_t>(j)];
-        row.shrink_to_fit();  // the row grew by doubling: up to half its capacity would be kept empty
-        kept = std::move(row);
-        for (int i = 0; i < g.nx; ++i)
-          weights_of_[static_cast<std::size_t>(g.index(i, j))] = kept.data() + first[static_cast<std::size_t>(i)];
       },
-      0.0, 0.3);
+      mfd ? 0.1 : 0.0, 0.3);
 }
 
 std::vector<double> accumulate(const FlowGrid& g, std::span<const float> z, const RoutingOptions& opt,

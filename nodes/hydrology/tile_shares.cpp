@@ -81,13 +81,14 @@ void for_each_waiting(const TileLocator& tiles, std::int64_t key, glm::ivec2 dom
 
 TileShares::TileShares(std::vector<float> ringed_z, const TileRect& rect, glm::ivec2 domain_size, double dx, double dy,
                        const RoutingOptions& routing, std::vector<float> weight)
-    : rect_(rect), domain_(domain_size), z_(std::move(ringed_z)), weight_(std::move(weight)), area_(dx * dy) {
+    : rect_(rect), domain_(domain_size), weight_(std::move(weight)), area_(dx * dy) {
   const TileRect ringed = ringed_rect(rect, domain_size);
   at_ = rect.first - ringed.first;
   gw_ = ringed.size.x;
   const int gh = ringed.size.y;
   const std::size_t tile_cells = static_cast<std::size_t>(rect.size.x) * static_cast<std::size_t>(rect.size.y);
-  if (z_.size() != static_cast<std::size_t>(gw_) * static_cast<std::size_t>(gh))
+  const std::size_t ringed_cells = static_cast<std::size_t>(gw_) * static_cast<std::size_t>(gh);
+  if (ringed_z.size() != ringed_cells)
     throw std::invalid_argument("flow shares across tiles: heights do not match the tile and its ring");
   if (!weight_.empty() && weight_.size() != tile_cells)
     throw std::invalid_argument("flow shares across tiles: weights do not match the tile");
@@ -95,13 +96,14 @@ TileShares::TileShares(std::vector<float> ringed_z, const TileRect& rect, glm::i
   // domain's border, and the ring's cells are never donors here (their shares come from the tiles holding them).
   RoutingOptions opt = routing;
   opt.outlets = {};
-  shares_ = std::make_unique<FlowShares>(FlowGrid(gw_, gh, dx, dy), z_, opt);
+  shares_ = std::make_unique<FlowShares>(FlowGrid(gw_, gh, dx, dy), ringed_z, opt);
+  ringed_z = {};  // the shares are all the rounds need of the heights
   const FlowShares& s = *shares_;
-  acc_.assign(z_.size(), 0.0);
-  remaining_.assign(z_.size(), kDone);
+  acc_.assign(ringed_cells, 0.0);
+  remaining_.assign(ringed_cells, kDone);
   outside_.assign(perimeter_cells(rect.size).size(), 0);
   inflow_.assign(outside_.size() * 8, 0.0);
-  exports_.assign(z_.size(), 0);
+  exports_.assign(ringed_cells, 0);
   pending_ = static_cast<std::int64_t>(tile_cells);
   const bool after_column = rect.first.x > 0, after_row = rect.first.y > 0;
   for (int j = 0; j < rect.size.y; ++j)
@@ -252,9 +254,14 @@ void TileShares::take_shares(std::string_view answer) {
   run(ready);
 }
 
-std::vector<double> TileShares::accumulation() const {
+std::vector<double> TileShares::take_accumulation() {
   if (!done()) throw std::logic_error("flow shares across tiles: accumulation before every cell is done");
-  return without_ring<double>(acc_, rect_, domain_);
+  // What the rounds needed goes first, so the tile's accumulation is never held beside it.
+  shares_.reset();
+  remaining_ = {};
+  exports_ = {};
+  std::vector<double> acc = std::move(acc_);
+  return without_ring<double>(acc, rect_, domain_);
 }
 
 std::vector<std::string> solve_share_edges(std::span<const std::string_view> messages, glm::ivec2 domain_size) {

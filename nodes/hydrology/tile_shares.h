@@ -59,8 +59,9 @@ class TileShares {
   void take_shares(std::string_view answer);
 
   bool done() const { return pending_ == 0; }
-  // The accumulation of every tile cell (rect.size, row-major), once done.
-  std::vector<double> accumulation() const;
+  // The accumulation of every tile cell (rect.size, row-major), once done; the tile lets go of its state (it can
+  // take no more answers).
+  std::vector<double> take_accumulation();
 
  private:
   struct OutEdge {
@@ -81,7 +82,6 @@ class TileShares {
   TileRect rect_;
   glm::ivec2 domain_, at_;
   int gw_ = 0;  // the ringed tile's width
-  std::vector<float> z_;
   std::unique_ptr<FlowShares> shares_;
   std::vector<float> weight_;
   double area_ = 0.0;
