@@ -68,7 +68,7 @@ std::vector<std::int32_t> tiled_orders(const Terrain& t, const Network& n, glm::
     for (int j = 0; j < r.size.y; ++j)
       for (int i = 0; i < r.size.x; ++i) {
         std::int32_t& v = joined[static_cast<std::size_t>(r.first.y + j) * t.size.x + r.first.x + i];
-        const std::int32_t mine = tiles[k]->orders()[static_cast<std::size_t>(j * r.size.x + i)];
+        const std::int32_t mine = tiles[k]->order_of(j * r.size.x + i);
         EXPECT_TRUE(v < 0 || v == mine) << "tiles disagree on a shared sample";
         v = mine;
       }

@@ -278,8 +278,10 @@ class DrainageTile : public TileGraphTile {
   std::vector<PortValue> outputs() override {
     if (phase_ != Phase::Done) throw std::logic_error("drainage metrics: outputs before the last round");
     auto order = std::make_shared<Heightfield>(domain_);
+    const auto& cells = strahler_->cells();
     const auto& o = strahler_->orders();
-    for (std::size_t c = 0; c < o.size(); ++c) order->data[c] = static_cast<float>(o[c]);
+    for (std::size_t k = 0; k < cells.size(); ++k)
+      order->data[static_cast<std::size_t>(cells[k])] = static_cast<float>(o[k]);
     return {HeightfieldPtr(order), ReportPtr(make_report(report_))};
   }
 
@@ -329,13 +331,15 @@ class DrainageTile : public TileGraphTile {
 
   std::string network_message() const {
     std::vector<ChannelCell> cells;
+    const auto& channel = strahler_->cells();
     const auto& order = strahler_->orders();
     const auto& longest = longest_->values();
-    for (std::size_t c = 0; c < order.size(); ++c) {
-      if (!order[c] || !accumulation_.owned[c]) continue;
+    for (std::size_t k = 0; k < channel.size(); ++k) {
+      const auto c = static_cast<std::size_t>(channel[k]);
+      if (!accumulation_.owned[c]) continue;
       const int i = static_cast<int>(c) % rect_.size.x, j = static_cast<int>(c) / rect_.size.x;
       cells.push_back({static_cast<std::int64_t>(rect_.first.y + j) * size_.x + rect_.first.x + i, counts_[c],
-                       longest[c], surface_[c], order[c], direction_[c], lake_[c]});
+                       longest[c], surface_[c], order[k], direction_[c], lake_[c]});
     }
     std::string out;
     bytes::put(out, depressions_), bytes::put(out, lakes_);

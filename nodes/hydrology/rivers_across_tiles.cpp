@@ -151,12 +151,21 @@ class RiverTile : public TileGraphTile {
         break;
       case Phase::Accumulate: {
         const std::vector<std::int64_t> counts = finish_tile_accumulation(accumulation_, bytes);
-        std::vector<std::uint8_t> channel = channel_cells(counts, grid_.cell_area(), params_.threshold);
-        // Only the channel cells' counts go on (in cell order), and the receivers to the orders' rounds.
-        for (std::size_t c = 0; c < counts.size(); ++c)
-          if (channel[c]) channel_counts_.push_back(counts[c]);
-        strahler_ = std::make_unique<TileStrahler>(std::move(accumulation_.receiver), std::move(channel), rect_, size_);
-        accumulation_.receiver = {};
+        strahler_ = std::make_unique<TileStrahler>(
+            accumulation_.receiver, channel_cells(counts, grid_.cell_area(), params_.threshold), rect_, size_);
+        // The orders' rounds and the network need the channel cells alone: what the network message takes of each
+        // is kept, the tile's maps go.
+        for (const std::int32_t c : strahler_->cells()) {
+          const auto u = static_cast<std::size_t>(c);
+          const int i = c % rect_.size.x, j = c / rect_.size.x;
+          channel_.push_back({static_cast<std::int64_t>(rect_.first.y + j) * size_.x + rect_.first.x + i, counts[u],
+                              surface_[u], 0, direction_[u], lake_[u]});
+          channel_owned_.push_back(accumulation_.owned[u]);
+        }
+        accumulation_ = {};
+        surface_ = {};
+        direction_ = {};
+        lake_ = {};
         break;
       }
       case Phase::Strahler:
@@ -190,20 +199,15 @@ class RiverTile : public TileGraphTile {
     accumulation_ = start_tile_accumulation(direction_, rect_, size_);
   }
 
-  // The channel cells this tile owns.
+  // The channel cells this tile owns, with their orders.
   std::string network_message() const {
     std::vector<ChannelCell> cells;
     const auto& order = strahler_->orders();
-    std::size_t k = 0;  // channel_counts_ index: the channel cells are those with an order
-    for (std::size_t c = 0; c < order.size(); ++c) {
-      if (!order[c]) continue;
-      const std::int64_t count = channel_counts_[k++];
-      if (!accumulation_.owned[c]) continue;
-      const int i = static_cast<int>(c) % rect_.size.x, j = static_cast<int>(c) / rect_.size.x;
-      cells.push_back({static_cast<std::int64_t>(rect_.first.y + j) * size_.x + rect_.first.x + i, count, surface_[c],
-                       order[c], direction_[c], lake_[c]});
+    for (std::size_t k = 0; k < channel_.size(); ++k) {
+      if (!channel_owned_[k]) continue;
+      cells.push_back(channel_[k]);
+      cells.back().order = order[k];
     }
-    if (k != channel_counts_.size()) throw std::logic_error("rivers across tiles: channel cells without an order");
     std::string out;
     bytes::put_vector(out, cells);
     return out;
@@ -223,8 +227,9 @@ class RiverTile : public TileGraphTile {
   std::vector<float> surface_;  // the epsilon-filled heights on the tile
   std::vector<std::uint8_t> direction_;
   TileAccumulation accumulation_;
-  std::vector<std::int64_t> channel_counts_;  // cells draining through each channel cell, in cell order
   std::unique_ptr<TileStrahler> strahler_;
+  std::vector<ChannelCell> channel_;         // per channel cell (TileStrahler::cells), all but its order
+  std::vector<std::uint8_t> channel_owned_;  // per channel cell: this tile sends it
   std::shared_ptr<Curves> curves_;
   std::shared_ptr<Heightfield> mask_;
 };

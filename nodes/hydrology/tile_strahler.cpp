@@ -1,5 +1,6 @@
 #include "nodes/hydrology/tile_strahler.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -40,12 +41,24 @@ Message decode(std::string_view in, glm::ivec2 domain_size) {
 
 }  // namespace
 
-TileStrahler::TileStrahler(std::vector<std::int32_t> receiver, std::vector<std::uint8_t> channel, const TileRect& rect,
-                           glm::ivec2 domain_size)
-    : rect_(rect), domain_(domain_size), receiver_(std::move(receiver)), channel_(std::move(channel)) {
+TileStrahler::TileStrahler(const std::vector<std::int32_t>& receiver, const std::vector<std::uint8_t>& channel,
+                           const TileRect& rect, glm::ivec2 domain_size)
+    : rect_(rect), domain_(domain_size) {
   const std::size_t n = static_cast<std::size_t>(rect.size.x) * static_cast<std::size_t>(rect.size.y);
-  if (rect.size.x < 1 || rect.size.y < 1 || receiver_.size() != n || channel_.size() != n)
+  if (rect.size.x < 1 || rect.size.y < 1 || receiver.size() != n || channel.size() != n)
     throw std::invalid_argument("TileStrahler: receivers and channel cells must cover the tile");
+  for (std::size_t c = 0; c < n; ++c)
+    if (channel[c]) cells_.push_back(static_cast<std::int32_t>(c));
+  // Off the network a cell has no channel donor (a channel cell's receiver drains more cells, so it is one too), so
+  // the orders need the channel's own edges alone.
+  receiver_.assign(cells_.size(), -1);
+  for (std::size_t u = 0; u < cells_.size(); ++u) {
+    const std::int32_t r = receiver[static_cast<std::size_t>(cells_[u])];
+    if (r < -1 || r >= static_cast<std::int32_t>(n))
+      throw std::invalid_argument("tile Strahler orders: a receiver outside the tile");
+    if (r >= 0 && channel[static_cast<std::size_t>(r)])
+      receiver_[u] = static_cast<std::int32_t>(std::lower_bound(cells_.begin(), cells_.end(), r) - cells_.begin());
+  }
   upstream_first_ = upstream_first(receiver_, "tile Strahler orders");
   const std::size_t perimeter_count = perimeter_cells(rect.size).size();
   own_.resize(perimeter_count);
@@ -54,23 +67,26 @@ TileStrahler::TileStrahler(std::vector<std::int32_t> receiver, std::vector<std::
   compute();
 }
 
+std::int32_t TileStrahler::order_of(std::int32_t cell) const {
+  const auto it = std::lower_bound(cells_.begin(), cells_.end(), cell);
+  return it != cells_.end() && *it == cell ? order_[static_cast<std::size_t>(it - cells_.begin())] : 0;
+}
+
 void TileStrahler::compute() {
-  std::vector<DonorSummary> donors(receiver_.size());  // this tile's donors of each cell, upstream ones done first
-  order_.assign(receiver_.size(), 0);
-  for (const std::int32_t c : upstream_first_) {
-    const auto u = static_cast<std::size_t>(c);
-    // Off the network a cell has no channel donor (a channel cell's receiver drains more cells, so it is one too):
-    // nothing to say at the perimeter, no order.
-    if (!channel_[u]) continue;
-    DonorSummary all = donors[u];
+  std::vector<DonorSummary> donors(cells_.size());  // this tile's donors of each channel cell, upstream ones first
+  order_.assign(cells_.size(), 0);
+  for (const std::int32_t u : upstream_first_) {
+    const auto k = static_cast<std::size_t>(u);
+    const std::int32_t c = cells_[k];
+    DonorSummary all = donors[k];
     if (const std::int32_t p = perimeter_position(rect_.size, c % rect_.size.x, c / rect_.size.x); p >= 0) {
-      own_[static_cast<std::size_t>(p)] = donors[u];
+      own_[static_cast<std::size_t>(p)] = donors[k];
       all = merged(all, external_[static_cast<std::size_t>(p)]);
     }
     // As strahler_orders: 1 at a source, the highest donor order, plus one where two or more donors have it.
-    order_[u] = all.order == 0 ? 1 : all.count >= 2 ? all.order + 1 : all.order;
-    if (const std::int32_t r = receiver_[u]; r >= 0)
-      donors[static_cast<std::size_t>(r)] = merged(donors[static_cast<std::size_t>(r)], {order_[u], 1});
+    order_[k] = all.order == 0 ? 1 : all.count >= 2 ? all.order + 1 : all.order;
+    if (const std::int32_t r = receiver_[k]; r >= 0)
+      donors[static_cast<std::size_t>(r)] = merged(donors[static_cast<std::size_t>(r)], {order_[k], 1});
   }
 }
 

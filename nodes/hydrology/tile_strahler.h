@@ -43,25 +43,32 @@ class TileStrahler {
  public:
   // `receiver`: per tile cell, the tile cell its flow edge goes to if this tile takes the edge, else -1
   // (TileAccumulation::receiver); `channel`: per tile cell, nonzero on the channel network. Both rect.size,
-  // row-major. Throws std::invalid_argument if the sizes disagree or the receivers form a cycle.
-  TileStrahler(std::vector<std::int32_t> receiver, std::vector<std::uint8_t> channel, const TileRect& rect,
-               glm::ivec2 domain_size);
+  // row-major. The tile keeps the channel cells alone (a few in a hundred), not a value a cell. Throws
+  // std::invalid_argument if the sizes disagree or the channel's receivers form a cycle.
+  TileStrahler(const std::vector<std::int32_t>& receiver, const std::vector<std::uint8_t>& channel,
+               const TileRect& rect, glm::ivec2 domain_size);
   // The summaries of this tile's own donors at its perimeter cells, and whether any changed since the last message.
   std::string message();
   // The other tiles' summaries at this tile's perimeter cells; the orders are computed again from them.
   void answer(std::string_view bytes);
-  // The Strahler order of every tile cell (0 off the network): the whole domain's once no round changes anything.
+  // The channel cells (tile cells, ascending) and their Strahler orders, in that order: the whole domain's once no
+  // round changes anything.
+  const std::vector<std::int32_t>& cells() const { return cells_; }
   const std::vector<std::int32_t>& orders() const { return order_; }
+  // The order of tile cell `cell`, 0 off the network.
+  std::int32_t order_of(std::int32_t cell) const;
 
  private:
   void compute();
 
   TileRect rect_;
   glm::ivec2 domain_;
-  std::vector<std::int32_t> receiver_, upstream_first_, order_;
-  std::vector<std::uint8_t> channel_;
-  std::vector<DonorSummary> own_;       // per perimeter cell: this tile's donors
-  std::vector<DonorSummary> external_;  // per perimeter cell: the other tiles' donors, as last received
+  std::vector<std::int32_t> cells_;           // the channel cells, ascending
+  std::vector<std::int32_t> receiver_;        // per channel cell: its receiver's index in cells_, or -1
+  std::vector<std::int32_t> upstream_first_;  // indices in cells_, every one before its receiver
+  std::vector<std::int32_t> order_;           // per channel cell
+  std::vector<DonorSummary> own_;             // per perimeter cell: this tile's donors
+  std::vector<DonorSummary> external_;        // per perimeter cell: the other tiles' donors, as last received
   std::vector<DonorSummary> sent_;
   bool first_ = true;
 };
