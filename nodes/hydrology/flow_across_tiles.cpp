@@ -246,7 +246,7 @@ class FlowTile : public TileGraphTile {
   // The surface with its ring from the tiles around: the tile's maps, or its D8 directions and slopes.
   void take_ring(std::string_view bytes) {
     const TileRect ringed = ringed_rect(rect_, whole_);
-    const std::vector<float> z = with_ring(surface_, rect_, whole_, bytes);
+    std::vector<float> z = with_ring(surface_, rect_, whole_, bytes);
     surface_ = {};
     // The ringed tile as a grid of its own: its cells are border cells (outlets) only where the domain's border is,
     // and every neighbour of the tile's cells is in it.
@@ -266,7 +266,8 @@ class FlowTile : public TileGraphTile {
     const bool wetness = !basins && output_needed(2);
     if (by_shares_) {
       if (wetness) slope_ = without_ring<float>(steepest_slope(g, z), rect_, whole_);
-      shares_ = std::make_unique<TileShares>(z, rect_, whole_, grid_.dx, grid_.dy, job_.routing, std::move(weight_));
+      shares_ = std::make_unique<TileShares>(std::move(z), rect_, whole_, grid_.dx, grid_.dy, job_.routing,
+                                             std::move(weight_));
       weight_ = {};
       return;
     }

@@ -24,8 +24,8 @@ namespace orogen::hydrology {
 class FlowShares {
  public:
   // Receivers of every cell of `g` with the heights `z` and `opt`'s method and outlets. O(n) memory: a byte a cell;
-  // for MFD also its normaliser (8 bytes), a float per receiver (each weight computed once: its exp and log are most
-  // of MFD's cost) and where its weights are (1.5 bytes); for D-infinity 4 bytes (its split).
+  // for MFD also a float per receiver (each weight computed once: its exp and log are most of MFD's cost) and where
+  // they are (1.5 bytes); for D-infinity 4 bytes (its split).
   FlowShares(const FlowGrid& g, std::span<const float> z, const RoutingOptions& opt, const ExecContext* ctx = nullptr);
 
   // Bit k set: cell c sends part of its flow to its neighbour k.

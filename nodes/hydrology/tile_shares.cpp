@@ -256,7 +256,7 @@ void TileShares::take_shares(std::string_view answer) {
 
 std::vector<double> TileShares::take_accumulation() {
   if (!done()) throw std::logic_error("flow shares across tiles: accumulation before every cell is done");
-  // What the rounds needed goes first, so the tile's accumulation is never held beside it.
+  // What the rounds needed goes first: only the accumulation and its copy without the ring are ever held together.
   shares_.reset();
   remaining_ = {};
   exports_ = {};
