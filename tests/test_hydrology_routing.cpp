@@ -10,6 +10,7 @@
 #include <tbb/task_arena.h>
 
 #include "nodes/hydrology/flow_routing.h"
+#include "nodes/hydrology/flow_shares.h"
 #include "support/depression_terrain.h"
 
 namespace orogen::hydrology {
@@ -496,6 +497,57 @@ TEST(HydrologyAccumulation, BandedAccumulationMatchesSerialReference) {
       ASSERT_EQ(more, one) << threads << " threads";
     }
   }
+}
+
+// The shares that accumulate keeps (MFD: the weights in one array found by blocks of cells, the normaliser added
+// again) give every cell's every proportion bit for bit as flow_proportions computes it, border cells and a last
+// partial block included, with and without an outlet mask; cells with no receiver have none.
+TEST(HydrologyAccumulation, SharesGiveEveryProportionBitForBit) {
+  const FlowGrid g(37, 23, 3.0, 5.0);  // 851 cells: not a whole number of 16-cell blocks
+  std::vector<float> z = bumpy(g, 29, 4.0);
+  std::vector<std::uint8_t> mask(g.size(), 0);
+  for (std::size_t c = 0; c < mask.size(); c += 41) mask[c] = 1;
+  std::vector<float> rough = z;
+  fill_depressions(g, z, FlatMode::Epsilon);
+  int checked = 0, many = 0;
+  for (const auto& heights : {z, rough})
+    for (FlowMethod m : {FlowMethod::MFD, FlowMethod::DInfinity, FlowMethod::D8})
+      for (const bool masked : {false, true}) {
+        RoutingOptions opt{m, 1.3, {}};
+        if (masked) opt.outlets.mask = mask;
+        const FlowShares shares(g, heights, opt);
+        const D8Flow d8 = d8_flow(g, heights, opt.outlets);
+        for (int j = 0; j < g.ny; ++j)
+          for (int i = 0; i < g.nx; ++i) {
+            const std::int32_t c = g.index(i, j);
+            int nb[8];
+            double fr[8];
+            int n = 0;
+            if (m == FlowMethod::D8) {
+              if (d8.direction[static_cast<std::size_t>(c)] != kNoDirection)
+                nb[n] = d8.direction[static_cast<std::size_t>(c)], fr[n++] = 1.0;
+            } else {
+              n = flow_proportions(g, heights, i, j, opt, nb, fr);
+            }
+            std::uint8_t bits = 0;
+            for (int k = 0; k < n; ++k) bits |= static_cast<std::uint8_t>(1u << nb[k]);
+            ASSERT_EQ(shares.receivers(c), bits) << i << "," << j;
+            // D-infinity keeps its split in single precision (as accumulate always did): the cardinal receiver
+            // (nb[0]) gets it, the diagonal one the rest.
+            if (m == FlowMethod::DInfinity && n == 2) {
+              fr[0] = static_cast<double>(static_cast<float>(fr[0]));
+              fr[1] = 1.0 - fr[0];
+            }
+            for (int k = 0; k < n; ++k) {
+              ASSERT_EQ(shares.fraction(c, nb[k]), fr[k])
+                  << i << "," << j << " receiver " << nb[k] << " method " << static_cast<int>(m);
+              ++checked;
+            }
+            many += n >= 4;
+          }
+      }
+  EXPECT_GT(checked, 5000);
+  EXPECT_GT(many, 100) << "cells with several receivers must be checked";
 }
 
 }  // namespace
