@@ -976,8 +976,8 @@ FlowShares::FlowShares(const FlowGrid& g, std::span<const float> z, const Routin
           int nb[8];
           double fr[8], inv = 0.0;
           const auto c = static_cast<std::size_t>(g.index(i, j));
-          // MFD's weights go straight to their place (a copy of a few floats was a slow `rep movs`); the slack at
-          // weights_' end keeps a count that disagreed with the receivers' inside it until the check below.
+          // MFD's weights go straight to their place (a copy of a few floats was a slow `rep movs`); weights_ has
+          // 8 floats of slack at its end, so a count that disagreed with the receivers' (refused below) stays inside.
           float* to = mfd ? weights_.data() + block_first_[c / kBlock] + before_in_block_[c] : nullptr;
           const int cnt = interior_cell(g, i, j) ? route_cell<true>(g, t, z.data(), i, j, opt, nb, fr, &inv, to)
                                                  : route_cell<false>(g, t, z.data(), i, j, opt, nb, fr, &inv, to);
