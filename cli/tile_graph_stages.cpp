@@ -259,10 +259,10 @@ class Stages {
 #endif
     if (group_.size() > 1) {
       // Every rank's time in its tiles, so the report shows how evenly the assignment spread the work.
-      std::string mine;
-      bytes::put(mine, phases.tiles);
+      std::string own;
+      bytes::put(own, phases.tiles);
       phases.fewest_tiles = phases.most_tiles = phases.tiles;
-      for (const std::string& rank : group_.all_gather(mine)) {
+      for (const std::string& rank : group_.all_gather(own)) {
         std::string_view in = rank;
         const double tiles = bytes::take<double>(in, "a rank's tile time");
         phases.fewest_tiles = std::min(phases.fewest_tiles, tiles);

@@ -458,17 +458,28 @@ inline double mfd_weight(double s, double smax, double exponent) {
   return exponent == 1.0 ? t : std::exp(static_cast<float>(exponent) * std::log(t));
 }
 
-// Dispersive receivers of (i, j) for MFD and D-infinity; returns their count. MFD: `inverse_sum` (optional)
-// receives 1 / the sum of the weights, the factor of every proportion, and `weights` (optional) the weights
-// themselves, floats (mfd_weight's), so that weights[m] * inverse_sum is frac[m] bit for bit.
+// Whether cell c = (i, j) is an outlet of `opt` (it sends nothing). Interior cells are never border outlets: only
+// the mask can make them one.
+template <bool kInterior>
+bool routed_outlet(const FlowGrid& g, const RoutingOptions& opt, std::int32_t c, int i, int j) {
+  return kInterior ? (!opt.outlets.mask.empty() && opt.outlets.mask[static_cast<std::size_t>(c)] != 0)
+                   : opt.outlets.is_outlet(g, i, j);
+}
+
+// MFD's slope from cell c, of height zc, down to its neighbour k (height per unit distance); k receives where it is
+// not <= 0 (route_cell and mfd_receivers decide alike, NaN included).
+inline double mfd_slope(const NeighbourTable& t, const float* z, std::int32_t c, double zc, int k) {
+  return (zc - z[c + t.off[k]]) * t.inv_dist[k];
+}
+
+// Dispersive receivers of (i, j) for MFD and D-infinity; returns their count. MFD: `weights` (optional) receives the
+// weights themselves, floats (mfd_weight's), so that weights[m] times 1 / their sum (added in order) is frac[m] bit
+// for bit.
 template <bool kInterior>
 int route_cell(const FlowGrid& g, const NeighbourTable& t, const float* z, int i, int j, const RoutingOptions& opt,
-               int nbr[8], double frac[8], double* inverse_sum = nullptr, float* weights = nullptr) {
+               int nbr[8], double frac[8], float* weights = nullptr) {
   const std::int32_t c = g.index(i, j);
-  // Interior cells are never border outlets: only the mask can make them one.
-  if (kInterior ? (!opt.outlets.mask.empty() && opt.outlets.mask[static_cast<std::size_t>(c)] != 0)
-                : opt.outlets.is_outlet(g, i, j))
-    return 0;
+  if (routed_outlet<kInterior>(g, opt, c, i, j)) return 0;
   const double zc = z[c];
   if (opt.method == FlowMethod::MFD) {
     // Weights (tan beta / max tan beta)^p: the largest is 1, so no underflow for large exponents.
@@ -476,7 +487,7 @@ int route_cell(const FlowGrid& g, const NeighbourTable& t, const float* z, int i
     double smax = 0.0;
     for (int k = 0; k < 8; ++k) {
       if (!kInterior && !g.inside(i + kDi[k], j + kDj[k])) continue;
-      const double s = (zc - z[c + t.off[k]]) * t.inv_dist[k];
+      const double s = mfd_slope(t, z, c, zc, k);
       if (s <= 0.0) continue;
       nbr[n] = k;
       frac[n] = s;
@@ -493,7 +504,6 @@ int route_cell(const FlowGrid& g, const NeighbourTable& t, const float* z, int i
     if (weights)
       for (int m = 0; m < n; ++m) weights[m] = static_cast<float>(frac[m]);  // exact: mfd_weight is a float
     for (int m = 0; m < n; ++m) frac[m] *= inv;
-    if (inverse_sum) *inverse_sum = inv;
     return n;
   }
   if (opt.method == FlowMethod::DInfinity) {
@@ -913,15 +923,12 @@ template <bool kInterior>
 std::uint8_t mfd_receivers(const FlowGrid& g, const NeighbourTable& t, const float* z, int i, int j,
                            const RoutingOptions& opt) {
   const std::int32_t c = g.index(i, j);
-  if (kInterior ? (!opt.outlets.mask.empty() && opt.outlets.mask[static_cast<std::size_t>(c)] != 0)
-                : opt.outlets.is_outlet(g, i, j))
-    return 0;
+  if (routed_outlet<kInterior>(g, opt, c, i, j)) return 0;
   const double zc = z[c];
   unsigned bits = 0;
   for (int k = 0; k < 8; ++k) {
     if (!kInterior && !g.inside(i + kDi[k], j + kDj[k])) continue;
-    const double s = (zc - z[c + t.off[k]]) * t.inv_dist[k];
-    bits |= static_cast<unsigned>(!(s <= 0.0)) << k;  // route_cell's test, NaN included
+    bits |= static_cast<unsigned>(!(mfd_slope(t, z, c, zc, k) <= 0.0)) << k;
   }
   return static_cast<std::uint8_t>(bits);
 }
@@ -974,13 +981,13 @@ FlowShares::FlowShares(const FlowGrid& g, std::span<const float> z, const Routin
       [&](int j) {
         for (int i = 0; i < g.nx; ++i) {
           int nb[8];
-          double fr[8], inv = 0.0;
+          double fr[8];
           const auto c = static_cast<std::size_t>(g.index(i, j));
           // MFD's weights go straight to their place (a copy of a few floats was a slow `rep movs`); weights_ has
           // 8 floats of slack at its end, so a count that disagreed with the receivers' (refused below) stays inside.
           float* to = mfd ? weights_.data() + block_first_[c / kBlock] + before_in_block_[c] : nullptr;
-          const int cnt = interior_cell(g, i, j) ? route_cell<true>(g, t, z.data(), i, j, opt, nb, fr, &inv, to)
-                                                 : route_cell<false>(g, t, z.data(), i, j, opt, nb, fr, &inv, to);
+          const int cnt = interior_cell(g, i, j) ? route_cell<true>(g, t, z.data(), i, j, opt, nb, fr, to)
+                                                 : route_cell<false>(g, t, z.data(), i, j, opt, nb, fr, to);
           if (mfd) {
             if (cnt != bit_count(receivers_[c]))
               throw std::logic_error("flow shares: MFD receivers changed between their two passes");

@@ -67,11 +67,6 @@ TileStrahler::TileStrahler(const std::vector<std::int32_t>& receiver, const std:
   compute();
 }
 
-std::int32_t TileStrahler::order_of(std::int32_t cell) const {
-  const auto it = std::lower_bound(cells_.begin(), cells_.end(), cell);
-  return it != cells_.end() && *it == cell ? order_[static_cast<std::size_t>(it - cells_.begin())] : 0;
-}
-
 void TileStrahler::compute() {
   std::vector<DonorSummary> donors(cells_.size());  // this tile's donors of each channel cell, upstream ones first
   order_.assign(cells_.size(), 0);

@@ -55,8 +55,6 @@ class TileStrahler {
   // round changes anything.
   const std::vector<std::int32_t>& cells() const { return cells_; }
   const std::vector<std::int32_t>& orders() const { return order_; }
-  // The order of tile cell `cell`, 0 off the network.
-  std::int32_t order_of(std::int32_t cell) const;
 
  private:
   void compute();
