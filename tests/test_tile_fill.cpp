@@ -93,8 +93,9 @@ TEST(TileFill, EveryTilingEqualsTheWholeDomainFillBitForBit) {
       }
 }
 
-// flood_tile's definition, written plainly: a priority queue of (level, cell) pairs, a pit queue and a stack of slope
-// cells (no unlabelled neighbour lower) ahead of it, every neighbour found with bounds checks, the spill edges in an
+// flood_tile's definition, written plainly: a priority queue of (level, cell) pairs, a pit queue and a FIFO of slope
+// cells (those with no unlabelled neighbour lower when they leave it flood at once, the others join the priority
+// queue) ahead of it, every neighbour found with bounds checks, the spill edges in an
 // ordered map. The labels, levels and edges of the real one (a packed key queue, unchecked interior neighbours, hashed
 // edges) must be these, bit for bit.
 TileFlood plain_flood(const std::vector<float>& z, const TileRect& rect, const std::vector<std::uint8_t>& drained) {
@@ -134,8 +135,7 @@ TileFlood plain_flood(const std::vector<float>& z, const TileRect& rect, const s
       neighbours(c, [&](std::size_t n) { border = border || !is_drained(n); });
       if (border) f.label[c] = drained_label, queue.push({z[c], c});
     }
-  std::deque<std::size_t> pit;
-  std::vector<std::size_t> slope;
+  std::deque<std::size_t> pit, slope;
   std::vector<bool> done(z.size(), false);
   while (!queue.empty() || !pit.empty() || !slope.empty()) {
     std::size_t c;
@@ -143,7 +143,18 @@ TileFlood plain_flood(const std::vector<float>& z, const TileRect& rect, const s
     if (!pit.empty()) {
       c = pit.front(), pit.pop_front();
     } else if (!slope.empty()) {
-      c = slope.back(), slope.pop_back(), from_slope = true;
+      c = slope.front(), slope.pop_front();
+      // A cell above its flooder's level floods on at once unless it still has an unflooded lower neighbour: then
+      // it waits in the priority queue.
+      bool lower = false;
+      neighbours(c, [&](std::size_t m) {
+        if (f.label[m] < 0 && z[m] < z[c] && !(is_drained(c) && is_drained(m))) lower = true;
+      });
+      if (lower) {
+        queue.push({f.level[c], c});
+        continue;
+      }
+      from_slope = true;
     } else {
       c = queue.top().cell, queue.pop();
     }
@@ -154,16 +165,10 @@ TileFlood plain_flood(const std::vector<float>& z, const TileRect& rect, const s
         if (is_drained(c) && is_drained(n)) return;
         f.label[n] = f.label[c];
         f.level[n] = std::max(z[n], f.level[c]);
-        bool lower = false;
-        neighbours(n, [&](std::size_t m) {
-          if (f.label[m] < 0 && z[m] < z[n] && !(is_drained(n) && is_drained(m))) lower = true;
-        });
         if (f.level[n] == f.level[c] && !from_slope)
           pit.push_back(n);
-        else if (!lower)
-          slope.push_back(n);
         else
-          queue.push({f.level[n], n});
+          slope.push_back(n);
       } else if (f.label[n] != f.label[c]) {
         const float level = std::max(f.level[c], f.level[n]);
         auto [it, fresh] = edges.emplace(std::minmax(f.label[c], f.label[n]), level);

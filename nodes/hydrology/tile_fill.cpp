@@ -155,11 +155,16 @@ TileFlood flood_tile(std::span<const float> z, const TileRect& rect, std::span<c
   std::vector<std::size_t> pit;
   std::size_t pit_head = 0;
   // A cell above its flooder's level whose unlabelled neighbours are none of them lower than it is flooded from at
-  // once, off a stack (the slope cells of Zhou, Sun and Fu 2016): each of those neighbours gets its own height as its
+  // once, off a FIFO (the slope cells of Zhou, Sun and Fu 2016): each of those neighbours gets its own height as its
   // level, the least it can have, whenever the flood reaches it, so the order does not matter. Only cells that may
   // spill into lower ground wait in the priority queue. A label still passes from a cell to a neighbour whose level
   // is no lower, so the spill graph's solve gives the same levels (the labels may differ from a strict flood's).
+  // The test for lower ground is made when a cell leaves the FIFO, not when it joins: breadth first, by then the
+  // climb around it has usually flooded its lower neighbours, and it need not wait in the priority queue (on a 1025^2
+  // fBm tile 217 thousand cells wait in it where 536 thousand did; the whole-domain fill's climb, flow_routing.cpp,
+  // found the same).
   std::vector<std::size_t> slope;
+  std::size_t slope_head = 0;
   const auto on_slope = [&](std::size_t n) {
     bool lower = false;
     const bool drained_n = is_drained(n);
@@ -168,15 +173,19 @@ TileFlood flood_tile(std::span<const float> z, const TileRect& rect, std::span<c
     return !lower;
   };
   // Every cell is queued once (when it is labelled), so each pop is a cell not yet flooded from.
-  while (!queue.empty() || pit_head < pit.size() || !slope.empty()) {
+  while (!queue.empty() || pit_head < pit.size() || slope_head < slope.size()) {
     std::size_t c;
     bool from_slope = false;
     if (pit_head < pit.size()) {
       c = pit[pit_head++];
       if (pit_head == pit.size()) pit.clear(), pit_head = 0;
-    } else if (!slope.empty()) {
-      c = slope.back();
-      slope.pop_back();
+    } else if (slope_head < slope.size()) {
+      c = slope[slope_head++];
+      if (slope_head == slope.size()) slope.clear(), slope_head = 0;
+      if (!on_slope(c)) {
+        queue.push(flood_key(f.level[c], c));
+        continue;
+      }
       from_slope = true;
     } else {
       c = key_cell(queue.pop());
@@ -193,10 +202,8 @@ TileFlood flood_tile(std::span<const float> z, const TileRect& rect, std::span<c
         // cell (the pit queue's cells flood at the level being drained).
         if (f.level[n] == level && !from_slope)
           pit.push_back(n);
-        else if (on_slope(n))
-          slope.push_back(n);
         else
-          queue.push(flood_key(f.level[n], n));
+          slope.push_back(n);
       } else if (f.label[n] != label) {
         const auto [a, b] = std::minmax(label, f.label[n]);
         const float spill = std::max(level, f.level[n]);
