@@ -509,8 +509,11 @@ TEST(HydrologyAccumulation, SharesGiveEveryProportionBitForBit) {
   for (std::size_t c = 0; c < mask.size(); c += 41) mask[c] = 1;
   std::vector<float> rough = z;
   fill_depressions(g, z, FlatMode::Epsilon);
+  // Whole metres: ties, several receivers at the steepest slope or at equal slopes.
+  std::vector<float> terraced = rough;
+  for (float& v : terraced) v = std::round(v);
   int checked = 0, many = 0;
-  for (const auto& heights : {z, rough})
+  for (const auto& heights : {z, rough, terraced})
     for (FlowMethod m : {FlowMethod::MFD, FlowMethod::DInfinity, FlowMethod::D8})
       for (const bool masked : {false, true}) {
         RoutingOptions opt{m, 1.3, {}};

@@ -1,7 +1,10 @@
 #include "nodes/hydrology/tile_accumulation.h"
 
+#include <bit>
 #include <stdexcept>
 #include <unordered_map>
+
+#include <emmintrin.h>
 
 #include "graph/tile_bytes.h"
 #include "nodes/hydrology/flow_routing.h"
@@ -25,24 +28,34 @@ std::vector<std::int64_t> accumulate(const std::vector<std::int32_t>& receiver, 
   std::vector<std::uint8_t> donors(n, 0);
   for (const std::int32_t r : receiver)
     if (r >= 0) ++donors[static_cast<std::size_t>(r)];
-  const std::int32_t* rec = receiver.data();
-  std::uint8_t* left = donors.data();
-  std::int64_t* sum = weight.data();
+  const std::int32_t* __restrict rec = receiver.data();
+  std::uint8_t* __restrict left = donors.data();
+  std::int64_t* __restrict sum = weight.data();
   std::size_t walked = 0;
-  for (std::size_t c = 0; c < n; ++c) {
-    if (left[c] != 0) continue;  // a donor is still to come (or the cell is done)
-    std::size_t x = c;
+  const auto walk = [&](std::size_t x) {
     for (;;) {
       left[x] = kDone;
       ++walked;
       const std::int32_t r = rec[x];
-      if (r < 0) break;
+      if (r < 0) return;
       const auto y = static_cast<std::size_t>(r);
       sum[y] += sum[x];
-      if (--left[y] != 0) break;
+      if (--left[y] != 0) return;
       x = y;
     }
+  };
+  // The sources (no donor) 16 at a time, a compare and a bit mask, instead of a branch a cell that goes either way
+  // at random. A block's sources are those of its start: a walk never enters a source, and a cell it brings to
+  // zero it walks on from at once.
+  const __m128i zero = _mm_setzero_si128();
+  std::size_t c = 0;
+  for (; c + 16 <= n; c += 16) {
+    auto sources = static_cast<unsigned>(
+        _mm_movemask_epi8(_mm_cmpeq_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(left + c)), zero)));
+    for (; sources; sources &= sources - 1) walk(c + static_cast<std::size_t>(std::countr_zero(sources)));
   }
+  for (; c < n; ++c)
+    if (left[c] == 0) walk(c);
   if (walked != n) throw std::invalid_argument(std::string(what) + ": the flow directions loop");
   return weight;
 }
