@@ -181,7 +181,12 @@ TileFlood flood_tile(std::span<const float> z, const TileRect& rect, std::span<c
       if (pit_head == pit.size()) pit.clear(), pit_head = 0;
     } else if (slope_head < slope.size()) {
       c = slope[slope_head++];
-      if (slope_head == slope.size()) slope.clear(), slope_head = 0;
+      if (slope_head == slope.size()) {
+        slope.clear(), slope_head = 0;
+      } else if (slope_head > (std::size_t{1} << 16) && slope_head * 2 > slope.size()) {
+        // A long climb whose front has moved far: drop what was taken, so the FIFO holds its front, not the climb.
+        slope.erase(slope.begin(), slope.begin() + static_cast<std::ptrdiff_t>(slope_head)), slope_head = 0;
+      }
       if (!on_slope(c)) {
         queue.push(flood_key(f.level[c], c));
         continue;
